@@ -36,6 +36,11 @@ def _register_commands() -> None:
                 raise
 
 
+@app.callback()
+def _root() -> None:
+    """Calibrated thermal models of buildings from cheap measurements."""
+
+
 @app.command()
 def version() -> None:
     """Print the thermocal version."""
@@ -56,22 +61,10 @@ def main() -> None:
     from thermocal.errors import ThermocalInputError
 
     try:
-        app(standalone_mode=False)
+        app()
     except ThermocalInputError as exc:
         typer.secho(f"error: {exc}", err=True, fg=typer.colors.RED)
         raise SystemExit(2) from None
-    except typer.Abort:
-        typer.secho("aborted", err=True)
-        raise SystemExit(1) from None
-    except SystemExit:
-        raise
-    except Exception as exc:  # click usage errors
-        import click
-
-        if isinstance(exc, click.ClickException):
-            exc.show()
-            raise SystemExit(exc.exit_code) from None
-        raise
 
 
 if __name__ == "__main__":

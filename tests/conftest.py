@@ -1,0 +1,33 @@
+"""Shared test fixtures.
+
+External reference data lives in ``../shared/data`` next to the repository (see its INDEX.md). It is never
+copied into the repository: tests that need it are skipped, with the reason, when it is absent (a user's fresh
+clone has no shared/ folder). ``THERMOCAL_SHARED_DATA`` overrides the location.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+SHARED_DATA = Path(os.environ.get("THERMOCAL_SHARED_DATA", REPO_ROOT.parent / "shared" / "data"))
+
+
+def shared_data_path(*parts: str) -> Path:
+    """Path to a file or folder of the external test data, skipping the test when it is absent."""
+    path = SHARED_DATA.joinpath(*parts)
+    if not path.exists():
+        pytest.skip(
+            f"external test data {path} is absent (expected ../shared/data next to the repository; "
+            "set THERMOCAL_SHARED_DATA to its location to run this test)"
+        )
+    return path
+
+
+@pytest.fixture
+def shared_data():
+    """The :func:`shared_data_path` function, as a fixture."""
+    return shared_data_path

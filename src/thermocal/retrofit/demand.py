@@ -1,0 +1,162 @@
+"""Annual heating demand of the fifth-order model (paper 000, "Heating demand simulation").
+
+The indoor temperature becomes an input: a 24-hour profile from the measured ``Ti``, repeated
+every day, is the set point of an ideal heating-only controller, and a year of hourly weather
+drives the model. The heat delivered each hour to hold the profile (never negative; when sun
+or stored heat lift ``Ti`` above the profile the building floats) gives hourly, monthly and
+annual demand. All uncertainty draws and retrofit scenarios run as one batch: the system is
+discretised once per draw and scenario and the simulation loop is compiled (numba).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from thermocal.retrofit.model import (
+    ESTIMATED_PARAMETERS,
+    EnvelopeComponents,
+    FifthOrderModel,
+    discretize_zoh,
+    system_matrices,
+)
+from thermocal.retrofit.simulation import ideal_heating_batch
+
+#: Inputs of the demand model, in order (the heating power is appended by the simulation).
+DEMAND_INPUTS: tuple[str, ...] = ("Te", "Tgr", "phi_sol", "phi_abs_roof", "phi_abs_walls")
+
+
+@dataclass
+class DemandResult:
+    """Hourly heating power of every scenario and draw.
+
+    Attributes
+    ----------
+    heat : ndarray (n_scenarios, n_draws, n_steps) [W]
+    index : pd.DatetimeIndex of the steps (interval starts)
+    """
+
+    heat: np.ndarray
+    index: pd.DatetimeIndex
+
+    @property
+    def step_hours(self) -> float:
+        return (self.index[1] - self.index[0]) / pd.Timedelta(hours=1)
+
+    def annual_kwh(self) -> np.ndarray:
+        """Annual demand [kWh], shape (n_scenarios, n_draws)."""
+        return self.heat.sum(axis=-1) * self.step_hours / 1000.0
+
+    def monthly_kwh(self) -> np.ndarray:
+        """Monthly demand [kWh], shape (n_scenarios, n_draws, 12)."""
+        months = self.index.month.to_numpy()
+        out = np.zeros(self.heat.shape[:2] + (12,))
+        for m in range(1, 13):
+            sel = months == m
+            out[..., m - 1] = self.heat[..., sel].sum(axis=-1) * self.step_hours / 1000.0
+        return out
+
+
+def setpoint_series(index: pd.DatetimeIndex, profile) -> np.ndarray:
+    """Repeat a 24-hour profile [C] (hour 0..23) or a constant over ``index``.
+
+    Parameters
+    ----------
+    index : pd.DatetimeIndex
+        Interval starts; the set point applies at the END of each interval.
+    profile : float or array-like (24,) [C]
+    """
+    prof = np.asarray(profile, dtype=float)
+    if prof.ndim == 0:
+        return np.full(len(index), float(prof))
+    if prof.shape != (24,):
+        raise ValueError(f"indoor profile needs 24 hourly values, got shape {prof.shape}")
+    step = index[1] - index[0]
+    end_hours = (index + step).hour
+    return prof[np.asarray(end_hours)]
+
+
+def simulate_demand(
+    model: FifthOrderModel,
+    params_si: dict[str, np.ndarray],
+    envelopes: list[EnvelopeComponents],
+    inputs: pd.DataFrame,
+    profile,
+    *,
+    warmup_days: float = 14.0,
+) -> DemandResult:
+    """Heating demand of every (scenario, draw) pair over the weather in ``inputs``.
+
+    Parameters
+    ----------
+    model : FifthOrderModel
+    params_si : dict
+        Estimated parameters in SI (``H_est`` [W/K], capacities [J/K]), each an array of shape
+        (n_draws,) (the first draw is usually the estimate itself).
+    envelopes : list of EnvelopeComponents
+        One per scenario (U-values after the retrofit).
+    inputs : pd.DataFrame
+        Regular time index; columns ``DEMAND_INPUTS`` (Te, Tgr [C]; gains [W]).
+    profile : float or array (24,) [C]
+        Indoor set point.
+    warmup_days : float
+        The last days of the period run first to bring the capacities to a periodic state
+        (a typical year wraps from December 31 to January 1).
+
+    Returns
+    -------
+    DemandResult
+    """
+    index = inputs.index
+    dt = (index[1] - index[0]).total_seconds()
+    u = inputs.loc[:, list(DEMAND_INPUTS)].to_numpy(dtype=float)
+    sp = setpoint_series(index, profile)
+    n_draws = len(np.atleast_1d(params_si["H_est"]))
+    n_scen = len(envelopes)
+    h_all: dict[str, list] = {}
+    for env in envelopes:
+        for k, v in model.conductances(env).items():
+            h_all.setdefault(k, []).append(v)
+    h = {k: np.repeat(np.asarray(v, dtype=float), n_draws) for k, v in h_all.items()}
+    p = {
+        k: np.tile(np.atleast_1d(np.asarray(params_si[k], dtype=float)), n_scen)
+        for k in ESTIMATED_PARAMETERS
+    }
+    a, b = system_matrices(h, p, indoor_input=True)
+    ad, bd = discretize_zoh(a, b, dt)
+    n_warm = min(int(round(warmup_days * 86400 / dt)), len(index) - 1)
+    # initial state: steady state with the mean warm-up inputs and zero heating from the
+    # set point, then the warm-up period
+    u0 = u[-n_warm:].mean(axis=0) if n_warm else u[0]
+    x0 = _steady_state_with_setpoint(a, b, u0, float(sp[-1]))
+    if n_warm:
+        _, _, x0 = ideal_heating_batch(ad, bd, x0, u[-n_warm:], sp[-n_warm:])
+    heat, _, _ = ideal_heating_batch(ad, bd, x0, u, sp)
+    return DemandResult(heat.reshape(n_scen, n_draws, -1), index)
+
+
+def _steady_state_with_setpoint(a, b, u, ti):
+    """States with ``Ti`` fixed at ``ti`` and the others in equilibrium with inputs ``u``."""
+    n, ns, _ = a.shape
+    x = np.empty((n, ns))
+    x[:, 0] = ti
+    rest = slice(1, ns)
+    rhs = -(a[:, rest, 0] * ti + np.einsum("nij,j->ni", b[:, rest, : u.shape[0]], u))
+    x[:, rest] = np.linalg.solve(a[:, rest, rest], rhs[..., None])[..., 0]
+    return x
+
+
+def steady_state_demand(
+    model: FifthOrderModel,
+    h_est: float,
+    temp_in: float,
+    temp_out: float,
+    envelope: EnvelopeComponents | None = None,
+) -> float:
+    """Hand calculation: heating power [W] = HLC x (Ti - Te), ground at outdoor temperature."""
+    from thermocal.retrofit.model import calculated_hlc
+
+    hlc = calculated_hlc(model.conductances(envelope)) + h_est
+    return max(hlc * (temp_in - temp_out), 0.0)

@@ -1,0 +1,571 @@
+"""The fifth-order RC model of paper 000 (Fig. 3), built from a building description.
+
+States (in this order): indoor air ``Ti``, lumped roof + external walls ``Tenv``, ground floor /
+cellar ceiling ``Tgf``, internal mass ``Tim``, heating system ``Th``.
+
+Inputs (in this order): external air temperature ``Te`` [C], ground temperature at 2 m ``Tgr``
+[C], heating power ``phi_h`` [W] (into ``Th``), solar gains through windows ``phi_sol`` [W]
+(fraction ``f_im`` into ``Tim``, the rest into ``Ti``), and the solar radiation absorbed on the
+outer surfaces of the roof and of the external walls minus their long-wave loss to the sky,
+``phi_abs_roof`` and ``phi_abs_walls`` [W]. The absorbed radiation reaches the ``Tenv`` node
+through the outer half of the element: only the share ``2 Hc / (he A + 2 Hc)`` enters the node
+(the rest is re-emitted at the outer surface), exactly what eliminating the massless outer
+surface node gives; so retrofits, which change ``Hc``, change the solar share as well.
+
+Element network (``Hc = A / Rc`` conduction conductance, ``Rc = 1/U - Rsi - Rse``):
+
+- env (roof + walls): ``Ti --[A/Rsi (+) 2Hc]-- Tenv --[2Hc (+) A/Rse]-- Te`` per component,
+  summed over roof and walls; ``(+)`` is the series connection. The capacity sits in the middle
+  of the construction. In steady state the path carries exactly ``U A``.
+- win: massless ``U A`` between ``Te`` and ``Ti`` (U-values include surface resistances).
+- gf: cellar ceiling over an unheated basement (ISO 13370:2017 clause 9.4):
+  ``Ti --[A/Rsi (+) 2Hc]-- Tgf --[2Hc (+) A/Rse]-- cellar``; the massless cellar node connects to
+  the ground (basement floor and walls below grade, ``A Ubf + z P Ubw``) and to the outdoor air
+  (walls above grade and cellar ventilation, ``h P Uw + 0.33 n V``); eliminating it (star-delta)
+  gives two conductances from ``Tgf``, to ``Tgr`` and to ``Te``. Slab on ground: the ISO 13370
+  slab U-value, the capacity below the inner surface resistance and half the floor construction.
+- est: one estimated conductance ``Hest`` between ``Te`` and ``Ti`` (ventilation, infiltration,
+  thermal bridges, doors).
+- ``Hh`` (heating surface) and ``Him`` (internal mass surface) from areas estimated from the
+  floor area, number of floors and emitter type, times ISO 52016-1 surface coefficients.
+
+Estimated parameters: ``H_est`` [W/K], ``C_env``, ``C_gf``, ``C_im``, ``C_i``, ``C_h`` [MJ/K],
+with bounds from ISO 52016-1 / ISO 13790 typical areal capacities.
+
+References
+----------
+Paper 000, "Fifth-order RC model for retrofit analysis" and Fig. 3.
+ISO 52016-1:2017, Table 25 (surface heat transfer coefficients), Table B.14 (areal heat
+capacities of construction classes).
+ISO 6946:2017, Table 7 (surface resistances).
+ISO 13370:2017, clauses 7.1-7.3 (slab on ground) and 9.3-9.4 (basements).
+ISO 13790:2008, 12.2.2 (internal heat capacity classes, effective mass area).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+
+STATE_NAMES: tuple[str, ...] = ("Ti", "Tenv", "Tgf", "Tim", "Th")
+INPUT_NAMES: tuple[str, ...] = ("Te", "Tgr", "phi_h", "phi_sol", "phi_abs_roof", "phi_abs_walls")
+ESTIMATED_PARAMETERS: tuple[str, ...] = ("H_est", "C_env", "C_gf", "C_im", "C_i", "C_h")
+
+# ISO 52016-1:2017 Table 25 / ISO 6946:2017 Table 7: surface resistances [m2 K/W] and
+# convective / radiative coefficients [W/(m2 K)] (emissivity 0.9).
+R_SI = {"upward": 0.10, "horizontal": 0.13, "downward": 0.17}
+R_SE = 0.04
+H_CI = {"upward": 5.0, "horizontal": 2.5, "downward": 0.7}
+H_RI = 5.13
+H_RE = 4.14
+
+#: Emitter surface per m2 of heated floor area [m2/m2] and its surface coefficient
+#: [W/(m2 K)] (radiators, convectors: vertical surface hci + hri; floor heating: upward).
+EMITTERS: dict[str, tuple[float, float]] = {
+    "radiators": (0.2, H_CI["horizontal"] + H_RI),
+    "convectors": (0.1, 3.0 * H_CI["horizontal"] + H_RI),
+    "floor_heating": (0.8, H_CI["upward"] + H_RI),
+}
+
+#: Effective internal mass area per m2 of heated floor area (ISO 13790 Table 12, medium class).
+INTERNAL_MASS_AREA_PER_FLOOR_AREA = 2.5
+
+#: Bounds of areal heat capacities [kJ/(m2 K)]: opaque elements from ISO 52016-1 Table B.14
+#: (very light 50 .. very heavy 250, widened by a factor 2 either side); per m2 of floor area
+#: for internal mass (ISO 13790 Table 12: 80 .. 370), air + furniture (ISO 52016-1 6.5.5.2:
+#: 10 kJ/(m2 K)) and the heating system (radiators: water + steel; floor heating: screed).
+AREAL_CAPACITY_BOUNDS: dict[str, tuple[float, float, float]] = {
+    # name: (lower, initial, upper)
+    "C_env": (20.0, 110.0, 500.0),
+    "C_gf": (20.0, 175.0, 500.0),
+    "C_im": (10.0, 80.0, 400.0),
+    "C_i": (2.0, 10.0, 40.0),
+}
+HEATING_CAPACITY_BOUNDS: dict[str, tuple[float, float, float]] = {
+    "radiators": (0.3, 2.0, 15.0),
+    "convectors": (0.1, 0.5, 5.0),
+    "floor_heating": (20.0, 80.0, 200.0),
+}
+
+
+def element_conductances(area, u_value, r_si, r_se):
+    """Split a construction's ``U A`` into the inner and outer conductance of a mid-mass node.
+
+    Parameters
+    ----------
+    area : float or array [m2]
+    u_value : float or array [W/(m2 K)]
+        Thermal transmittance including the surface resistances.
+    r_si, r_se : float [m2 K/W]
+        Internal and external surface resistances.
+
+    Returns
+    -------
+    h_in, h_out : [W/K]
+        ``A/Rsi (+) 2Hc`` and ``2Hc (+) A/Rse`` with ``Hc = A / (1/U - Rsi - Rse)``; their
+        series connection is ``U A``.
+    solar_share : [-]
+        Share ``2Hc / (A/Rse + 2Hc)`` of radiation absorbed at the outer surface that enters
+        the mass node.
+
+    References
+    ----------
+    ISO 6946:2017, 6.7.1 (total resistance = Rsi + sum of layer resistances + Rse).
+    """
+    area = np.asarray(area, dtype=float)
+    u_value = np.asarray(u_value, dtype=float)
+    r_cond = 1.0 / u_value - r_si - r_se
+    r_cond = np.maximum(r_cond, 1e-3)  # single glazing-like elements: conduction negligible
+    h2 = 2.0 * area / r_cond
+    h_in = 1.0 / (r_si / area + 1.0 / h2)
+    h_out = 1.0 / (r_se / area + 1.0 / h2)
+    share = h2 / (area / r_se + h2)
+    return h_in, h_out, share
+
+
+def iso13370_slab_u_value(
+    area, perimeter, floor_resistance, *, wall_thickness=0.3, soil_conductivity=2.0, depth=0.0
+):
+    """Steady-state U-value of a slab on ground or heated-basement floor (ISO 13370).
+
+    Parameters
+    ----------
+    area : float [m2]
+    perimeter : float [m] exposed perimeter.
+    floor_resistance : float [m2 K/W] thermal resistance of the floor construction (Rf).
+    wall_thickness : float [m]
+    soil_conductivity : float [W/(m K)]
+    depth : float [m] depth of the floor below ground (0 for slab on ground).
+
+    Returns
+    -------
+    float [W/(m2 K)]
+
+    References
+    ----------
+    ISO 13370:2017, Eq. (5)-(7) (slab) and Eq. (12)-(13) (basement floor).
+    """
+    b_prime = area / (0.5 * perimeter)
+    d_t = wall_thickness + soil_conductivity * (R_SI["downward"] + floor_resistance + R_SE)
+    d_eff = d_t + 0.5 * depth
+    if d_eff < b_prime:
+        return (
+            2.0
+            * soil_conductivity
+            / (math.pi * b_prime + d_eff)
+            * math.log(math.pi * b_prime / d_eff + 1.0)
+        )
+    return soil_conductivity / (0.457 * b_prime + d_eff)
+
+
+def iso13370_basement_wall_u_value(
+    depth, wall_resistance, floor_equivalent_thickness, soil_conductivity=2.0
+):
+    """U-value of basement walls below grade, ISO 13370:2017 Eq. (14).
+
+    Parameters
+    ----------
+    depth : float [m] depth of the basement floor below ground.
+    wall_resistance : float [m2 K/W]
+    floor_equivalent_thickness : float [m] ``d_t`` of the basement floor.
+    soil_conductivity : float [W/(m K)]
+
+    Returns
+    -------
+    float [W/(m2 K)]
+    """
+    d_w = soil_conductivity * (R_SI["horizontal"] + wall_resistance + R_SE)
+    d_t = floor_equivalent_thickness
+    return (
+        (2.0 * soil_conductivity / (math.pi * depth))
+        * (1.0 + 0.5 * d_t / (d_t + depth))
+        * (math.log(depth / d_w + 1.0))
+    )
+
+
+@dataclass(frozen=True)
+class GroundPath:
+    """Boundary side of the ground element: conductances from the cellar (or slab) outward."""
+
+    to_ground: float  # [W/K] cellar -> Tgr (basement floor and walls below grade)
+    to_air: float  # [W/K] cellar -> Te (walls above grade, cellar ventilation)
+    kind: str  # "unheated_basement" or "slab"
+
+
+@dataclass(frozen=True)
+class EnvelopeComponents:
+    """Areas [m2] and U-values [W/(m2 K)] of the retrofit-relevant components."""
+
+    roof_area: float
+    roof_u: float
+    walls_area: float
+    walls_u: float
+    windows_area: float
+    windows_u: float
+    floor_area: float  # cellar ceiling or ground floor
+    floor_u: float
+    floor_kind: str  # "cellar_ceiling" or "ground_floor"
+
+    def with_measures(self, u_values: dict[str, float]) -> EnvelopeComponents:
+        """Copy with the U-values of the given measures replaced (capacities unchanged)."""
+        key = {
+            "roof": "roof_u",
+            "walls": "walls_u",
+            "windows": "windows_u",
+            "cellar_ceiling": "floor_u",
+        }
+        return replace(self, **{key[m]: float(u) for m, u in u_values.items()})
+
+
+def _area_weighted_u(components) -> tuple[float, float]:
+    area = sum(float(c.area) for c in components)
+    if area <= 0:
+        return 0.0, 1.0
+    return area, sum(float(c.area) * float(c.u_value) for c in components) / area
+
+
+def envelope_from_building(building) -> EnvelopeComponents:
+    """Aggregate the building file's components into roof, walls, windows and floor."""
+
+    def of(kind):
+        return [c for c in building.components if c.type == kind]
+
+    roof_a, roof_u = _area_weighted_u(of("roof"))
+    wall_a, wall_u = _area_weighted_u(of("external_wall"))
+    win_a, win_u = _area_weighted_u(of("window"))
+    cel_a, cel_u = _area_weighted_u(of("cellar_ceiling"))
+    gfl_a, gfl_u = _area_weighted_u(of("ground_floor"))
+    if wall_a + roof_a <= 0:
+        raise ThermocalInputError(
+            f"building {building.name!r} has no roof or external_wall components: the env element "
+            "of the fifth-order model needs at least one"
+        )
+    if cel_a > 0:
+        floor = (cel_a, cel_u, "cellar_ceiling")
+    elif gfl_a > 0:
+        floor = (gfl_a, gfl_u, "ground_floor")
+    else:
+        raise ThermocalInputError(
+            f"building {building.name!r} has neither a cellar_ceiling nor a ground_floor "
+            "component: the gf element of the fifth-order model needs one"
+        )
+    return EnvelopeComponents(roof_a, roof_u, wall_a, wall_u, win_a, win_u, *floor)
+
+
+def ground_path(building, envelope: EnvelopeComponents) -> GroundPath:
+    """ISO 13370 conductances between the cellar (or below-slab) and the boundaries [W/K]."""
+    g = building.ground
+    if g is None:
+        raise ThermocalInputError(
+            f"building {building.name!r}: the ground section (perimeter, wall_thickness, "
+            "basement, ...) is needed for the ISO 13370 ground path of the gf element"
+        )
+    basement = g.basement
+    lam = float(g.soil_conductivity)
+    perimeter = float(g.perimeter)
+    w = float(g.wall_thickness)
+    area = float(g.floor_area or envelope.floor_area)
+    if envelope.floor_kind == "cellar_ceiling":
+        if basement == "heated":
+            raise ThermocalInputError(
+                "building file: a cellar_ceiling component with ground.basement 'heated' is "
+                "contradictory; use 'unheated' (cellar below the heated floors)"
+            )
+        depth = float(g.basement_depth) if g.basement_depth > 0 else 2.0
+        # uninsulated 1950s concrete unless the file says otherwise
+        u_floor = float(g.basement_floor_u_value or 2.5)
+        u_wall = float(g.basement_wall_u_value or 1.8)
+        r_floor = max(1.0 / u_floor - R_SI["downward"] - R_SE, 0.0)
+        r_wall = max(1.0 / u_wall - R_SI["horizontal"] - R_SE, 0.0)
+        h_above = float(g.basement_wall_height_above_ground)
+        ach = float(g.basement_air_change_rate)
+        volume = float(g.basement_volume or area * (depth + h_above))
+        u_bf = iso13370_slab_u_value(
+            area, perimeter, r_floor, wall_thickness=w, soil_conductivity=lam, depth=depth
+        )
+        d_t = w + lam * (R_SI["downward"] + r_floor + R_SE)
+        u_bw = iso13370_basement_wall_u_value(depth, r_wall, d_t, lam)
+        to_ground = area * u_bf + depth * perimeter * u_bw
+        to_air = h_above * perimeter * u_wall + 0.33 * ach * volume
+        return GroundPath(to_ground, to_air, "unheated_basement")
+    r_floor = max(1.0 / envelope.floor_u - R_SI["downward"] - R_SE, 0.0)
+    u_slab = iso13370_slab_u_value(
+        area, perimeter, r_floor, wall_thickness=w, soil_conductivity=lam
+    )
+    return GroundPath(u_slab * area, 0.0, "slab")
+
+
+def _series(*conductances):
+    return 1.0 / sum(1.0 / np.asarray(h, dtype=float) for h in conductances)
+
+
+@dataclass
+class FifthOrderModel:
+    """The calculated part of the fifth-order model plus bounds of the estimated part.
+
+    Build it with :func:`build_fifth_order_model`; :meth:`conductances` recomputes the
+    calculated conductances for other U-values (retrofits).
+    """
+
+    envelope: EnvelopeComponents
+    ground: GroundPath
+    heating_conductance: float  # Hh [W/K]
+    internal_mass_conductance: float  # Him [W/K]
+    solar_to_internal_mass: float  # f_im [-]
+    estimated: dict[str, tuple[float, float, float, str]] = field(default_factory=dict)
+    # name -> (lower, initial, upper, unit)
+    audit_h_est: float = 0.0  # [W/K] calculated prior of Hest (ventilation, bridges, doors)
+
+    def conductances(self, envelope: EnvelopeComponents | None = None) -> dict[str, float]:
+        """Calculated conductances [W/K] (and solar shares [-]) for the given U-values."""
+        env = envelope or self.envelope
+        out: dict[str, float] = {}
+        r_in, r_out, s_roof = element_conductances(
+            max(env.roof_area, 1e-9), env.roof_u, R_SI["upward"], R_SE
+        )
+        w_in, w_out, s_walls = element_conductances(
+            max(env.walls_area, 1e-9), env.walls_u, R_SI["horizontal"], R_SE
+        )
+        if env.roof_area <= 0:
+            r_in = r_out = s_roof = 0.0
+        if env.walls_area <= 0:
+            w_in = w_out = s_walls = 0.0
+        out["H_env_in"] = float(r_in + w_in)
+        out["H_env_out"] = float(r_out + w_out)
+        out["share_roof"] = float(s_roof)
+        out["share_walls"] = float(s_walls)
+        out["H_win"] = float(env.windows_area * env.windows_u)
+        if self.ground.kind == "unheated_basement":
+            # floor above an unheated space: Rse = Rsi (ISO 6946 Table 7 note)
+            g_in, g_out, _ = element_conductances(
+                env.floor_area, env.floor_u, R_SI["downward"], R_SI["downward"]
+            )
+            total = g_out + self.ground.to_ground + self.ground.to_air
+            out["H_gf_in"] = float(g_in)
+            out["H_gf_gr"] = float(g_out * self.ground.to_ground / total)
+            out["H_gf_e"] = float(g_out * self.ground.to_air / total)
+        else:
+            r_cond = max(1.0 / env.floor_u - R_SI["downward"] - R_SE, 1e-3)
+            g_in = 1.0 / (R_SI["downward"] / env.floor_area + 0.5 * r_cond / env.floor_area)
+            if self.envelope.floor_kind == "ground_floor" and env is not self.envelope:
+                u13370 = self.ground.to_ground / self.envelope.floor_area
+                # retrofit adds resistance: Delta R from the change in the construction's U
+                d_r = 1.0 / env.floor_u - 1.0 / self.envelope.floor_u
+                u13370 = 1.0 / (1.0 / u13370 + d_r)
+                total = u13370 * env.floor_area
+            else:
+                total = self.ground.to_ground
+            out["H_gf_in"] = float(g_in)
+            out["H_gf_gr"] = float(1.0 / (1.0 / total - 1.0 / g_in))
+            out["H_gf_e"] = 0.0
+        out["H_h"] = float(self.heating_conductance)
+        out["H_im"] = float(self.internal_mass_conductance)
+        out["f_im"] = float(self.solar_to_internal_mass)
+        return out
+
+    def calculated_heat_loss_coefficient(self, envelope: EnvelopeComponents | None = None) -> float:
+        """Steady-state HLC [W/K] of the calculated conductances (without Hest)."""
+        h = self.conductances(envelope)
+        return calculated_hlc(h)
+
+
+def calculated_hlc(h: dict[str, float]) -> float:
+    """Steady-state conductance [W/K] of the calculated paths from ``Ti`` to all boundaries."""
+    env = _series(h["H_env_in"], h["H_env_out"]) if h["H_env_in"] > 0 else 0.0
+    gf = _series(h["H_gf_in"], h["H_gf_gr"] + h["H_gf_e"])
+    return float(env + h["H_win"] + gf)
+
+
+def build_fifth_order_model(building, *, solar_to_internal_mass: float = 0.5) -> FifthOrderModel:
+    """Calculated conductances and estimation bounds of the fifth-order model for a building.
+
+    Parameters
+    ----------
+    building : thermocal.io.building.Building
+    solar_to_internal_mass : float [-]
+        Fraction of the window solar gains absorbed by the internal mass.
+
+    Returns
+    -------
+    FifthOrderModel
+    """
+    envelope = envelope_from_building(building)
+    ground = ground_path(building, envelope)
+    floor_area = float(building.heated_floor_area)
+    if floor_area <= 0:
+        raise ThermocalInputError("building file: heated_floor_area must be > 0 m2")
+    emitter = getattr(building, "emitter", "radiators") or "radiators"
+    if emitter not in EMITTERS:
+        raise ThermocalInputError(
+            f"building file: emitter {emitter!r} unknown; use one of {sorted(EMITTERS)}"
+        )
+    a_frac, h_em = EMITTERS[emitter]
+    h_h = a_frac * floor_area * h_em
+    h_im = INTERNAL_MASS_AREA_PER_FLOOR_AREA * floor_area * (H_CI["horizontal"] + H_RI)
+
+    # prior of Hest: ventilation/infiltration 0.5 1/h, thermal bridges, doors
+    volume = float(building.volume)
+    opaque = envelope.roof_area + envelope.walls_area + envelope.floor_area
+    bridges = float(getattr(building, "thermal_bridge_allowance", 0.05) or 0.0) * opaque
+    doors = sum(float(c.area) * float(c.u_value) for c in building.components if c.type == "door")
+    air = 1200.0 / 3600.0  # rho c of air [Wh/(m3 K)] -> [W h/(m3 K)]
+    h_est0 = air * 0.5 * volume + bridges + doors
+    h_est_lo = air * 0.05 * volume + 0.25 * bridges + doors * 0.5
+    h_est_hi = air * 3.0 * volume + 4.0 * bridges + 2.0 * doors
+    estimated: dict[str, tuple[float, float, float, str]] = {
+        "H_est": (h_est_lo, h_est0, h_est_hi, "W/K")
+    }
+    area_of = {
+        "C_env": envelope.roof_area + envelope.walls_area,
+        "C_gf": envelope.floor_area,
+        "C_im": floor_area,
+        "C_i": floor_area,
+    }
+    for name, (lo, ini, hi) in AREAL_CAPACITY_BOUNDS.items():
+        a = area_of[name]
+        estimated[name] = (lo * a / 1000.0, ini * a / 1000.0, hi * a / 1000.0, "MJ/K")
+    lo, ini, hi = HEATING_CAPACITY_BOUNDS[emitter]
+    estimated["C_h"] = (
+        lo * floor_area / 1000,
+        ini * floor_area / 1000,
+        hi * floor_area / 1000,
+        "MJ/K",
+    )
+    # the air itself is the least capacity of C_i
+    lo_i, ini_i, hi_i, unit = estimated["C_i"]
+    estimated["C_i"] = (max(lo_i, 1.2e-3 * volume), max(ini_i, 2.4e-3 * volume), hi_i, unit)
+    return FifthOrderModel(
+        envelope=envelope,
+        ground=ground,
+        heating_conductance=float(h_h),
+        internal_mass_conductance=float(h_im),
+        solar_to_internal_mass=float(solar_to_internal_mass),
+        estimated=estimated,
+        audit_h_est=float(h_est0),
+    )
+
+
+def system_matrices(h: dict, p: dict, *, indoor_input: bool = False):
+    """Continuous-time matrices of the fifth-order model, batched over parameter draws.
+
+    Parameters
+    ----------
+    h : dict
+        Calculated conductances [W/K] and shares from :meth:`FifthOrderModel.conductances`;
+        values may be floats or arrays of shape (n,).
+    p : dict
+        Estimated parameters in SI: ``H_est`` [W/K], ``C_env``, ``C_gf``, ``C_im``, ``C_i``,
+        ``C_h`` [J/K]; floats or arrays of shape (n,).
+    indoor_input : bool
+        False: the calibration model, states ``STATE_NAMES``, inputs ``INPUT_NAMES``.
+        True: the demand model: states (Ti, Tenv, Tgf, Tim) with the heating power delivered
+        directly into ``Ti`` as the LAST input column, inputs (Te, Tgr, phi_sol, phi_abs_roof,
+        phi_abs_walls, Q); the heating-system node is dropped (its small capacity only shifts
+        heat by minutes).
+
+    Returns
+    -------
+    A : ndarray (n, ns, ns) [1/s]
+    B : ndarray (n, ns, ni) [K/s per unit input]
+    """
+    keys = (
+        "H_env_in",
+        "H_env_out",
+        "H_win",
+        "H_gf_in",
+        "H_gf_gr",
+        "H_gf_e",
+        "H_h",
+        "H_im",
+        "share_roof",
+        "share_walls",
+        "f_im",
+    )
+    arrays = [np.atleast_1d(np.asarray(h[k], dtype=float)) for k in keys]
+    arrays += [np.atleast_1d(np.asarray(p[k], dtype=float)) for k in ESTIMATED_PARAMETERS]
+    n = max(a.shape[0] for a in arrays)
+    (
+        h_ei,
+        h_eo,
+        h_w,
+        h_gi,
+        h_gg,
+        h_ge,
+        h_h,
+        h_im,
+        s_r,
+        s_w,
+        f_im,
+        h_est,
+        c_env,
+        c_gf,
+        c_im,
+        c_i,
+        c_h,
+    ) = [np.broadcast_to(a, (n,)) for a in arrays]
+    ns = 4 if indoor_input else 5
+    ni = 6
+    a = np.zeros((n, ns, ns))
+    b = np.zeros((n, ns, ni))
+    TI, ENV, GF, IM, TH = 0, 1, 2, 3, 4
+    a[:, TI, TI] = -(h_ei + h_gi + h_im + h_w + h_est + (0.0 if indoor_input else h_h))
+    a[:, TI, ENV] = h_ei
+    a[:, TI, GF] = h_gi
+    a[:, TI, IM] = h_im
+    a[:, ENV, TI] = h_ei
+    a[:, ENV, ENV] = -(h_ei + h_eo)
+    a[:, GF, TI] = h_gi
+    a[:, GF, GF] = -(h_gi + h_gg + h_ge)
+    a[:, IM, TI] = h_im
+    a[:, IM, IM] = -h_im
+    if indoor_input:
+        te, tgr, sol, roof, walls, q = range(6)
+        b[:, TI, q] = 1.0
+    else:
+        te, tgr, phih, sol, roof, walls = range(6)
+        a[:, TI, TH] = h_h
+        a[:, TH, TI] = h_h
+        a[:, TH, TH] = -h_h
+        b[:, TH, phih] = 1.0
+    b[:, TI, te] = h_w + h_est
+    b[:, ENV, te] = h_eo
+    b[:, GF, te] = h_ge
+    b[:, GF, tgr] = h_gg
+    b[:, TI, sol] = 1.0 - f_im
+    b[:, IM, sol] = f_im
+    b[:, ENV, roof] = s_r
+    b[:, ENV, walls] = s_w
+    caps = [c_i, c_env, c_gf, c_im, c_h][:ns]
+    for i, c in enumerate(caps):
+        a[:, i, :] /= c[:, None]
+        b[:, i, :] /= c[:, None]
+    return a, b
+
+
+def discretize_zoh(a, b, dt: float):
+    """Zero-order-hold discretisation of a batch of continuous systems.
+
+    Parameters
+    ----------
+    a : ndarray (n, ns, ns) [1/s]
+    b : ndarray (n, ns, ni)
+    dt : float [s]
+
+    Returns
+    -------
+    ad : ndarray (n, ns, ns), bd : ndarray (n, ns, ni)
+        ``x[k+1] = ad x[k] + bd u[k]`` with ``u`` held constant over ``[t_k, t_k + dt)``.
+    """
+    from scipy.linalg import expm
+
+    n, ns, _ = a.shape
+    ni = b.shape[2]
+    m = np.zeros((n, ns + ni, ns + ni))
+    m[:, :ns, :ns] = a * dt
+    m[:, :ns, ns:] = b * dt
+    e = expm(m)
+    return np.ascontiguousarray(e[:, :ns, :ns]), np.ascontiguousarray(e[:, :ns, ns:])

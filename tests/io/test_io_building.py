@@ -1,0 +1,344 @@
+"""Tests of thermocal.io.building: schema, plausibility messages, conveniences, file reading."""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+import pytest
+from pydantic import ValidationError
+
+from thermocal.errors import ThermocalInputError
+from thermocal.io.building import (
+    Building,
+    building_from_dict,
+    read_building,
+)
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+EXAMPLE = REPO_ROOT / "examples" / "buildings" / "single_family_house_1953.yaml"
+
+
+def minimal() -> dict:
+    """A small, valid building description (a box with one wall per orientation)."""
+    walls = [
+        {"name": f"wall {o}", "type": "external_wall", "area": 20.0, "u_value": 0.3, "azimuth": a}
+        for o, a in (("N", 0), ("E", 90), ("S", 180), ("W", 270))
+    ]
+    return {
+        "name": "box",
+        "location": {"latitude": 47.38, "longitude": 8.54, "timezone": "Europe/Zurich"},
+        "floors": 1,
+        "heated_floor_area": 100.0,
+        "volume": 250.0,
+        "emitter": "floor_heating",
+        "components": [
+            *walls,
+            {"name": "roof", "type": "roof", "area": 100.0, "u_value": 0.2, "tilt": 0},
+            {
+                "name": "window S",
+                "type": "window",
+                "area": 10.0,
+                "u_value": 1.0,
+                "azimuth": "S",
+                "g_value": 0.5,
+            },
+            {"name": "slab", "type": "ground_floor", "area": 100.0, "u_value": 0.25},
+        ],
+    }
+
+
+def error_text(data: dict) -> str:
+    with pytest.raises(ThermocalInputError) as info:
+        building_from_dict(data, source="house.yaml")
+    return str(info.value)
+
+
+# ------------------------------------------------------------------------------ valid input
+def test_defaults_by_component_type():
+    building = Building.model_validate(minimal())
+    wall = building.component("wall E")
+    assert wall.tilt == 90.0 and wall.azimuth == 90.0 and wall.absorptance == 0.6
+    assert wall.g_value is None and wall.frame_fraction is None
+    window = building.windows[0]
+    assert window.azimuth == 180.0  # compass name "S"
+    assert window.frame_fraction == 0.3 and window.shading_factor == 1.0
+    assert window.absorptance is None
+    slab = building.component("slab")
+    assert slab.tilt == 180.0  # floors face down
+    assert building.thermal_bridge_allowance == 0.05
+    assert building.ground is None and building.construction_year is None
+
+
+def test_transmission_coefficient_is_sum_ua_plus_thermal_bridges():
+    building = Building.model_validate(minimal())
+    sum_ua = 4 * 20 * 0.3 + 100 * 0.2 + 10 * 1.0 + 100 * 0.25
+    opaque = 4 * 20 + 100 + 100
+    assert building.opaque_area == pytest.approx(opaque)
+    assert building.envelope_area == pytest.approx(opaque + 10)
+    assert building.thermal_bridge_heat_transfer_coefficient == pytest.approx(0.05 * opaque)
+    assert building.transmission_heat_transfer_coefficient == pytest.approx(sum_ua + 0.05 * opaque)
+    per_type = building.heat_transfer_coefficients()
+    assert per_type["external_wall"] == pytest.approx(24.0)
+    assert per_type["door"] == 0.0 and per_type["cellar_ceiling"] == 0.0
+
+
+def test_area_and_components_of_type():
+    building = Building.model_validate(minimal())
+    assert building.area("external_wall") == pytest.approx(80.0)
+    assert building.area("window") == pytest.approx(10.0)
+    assert building.area("door") == 0.0
+    assert building.area() == pytest.approx(building.envelope_area)
+    assert [c.name for c in building.components_of_type("external_wall")] == [
+        "wall N",
+        "wall E",
+        "wall S",
+        "wall W",
+    ]
+    with pytest.raises(ThermocalInputError, match="did you mean 'external_wall'"):
+        building.components_of_type("external_walls")
+    with pytest.raises(ThermocalInputError, match="did you mean 'wall S'"):
+        building.component("wall s")
+
+
+def test_example_building_file_is_valid_and_matches_paper_000_audit():
+    building = read_building(EXAMPLE)
+    assert building.floors == 3 and building.construction_year == 1953
+    assert building.emitter == "radiators"
+    assert building.ground is not None and building.ground.basement == "unheated"
+    kinds = {c.type for c in building.components}
+    assert kinds == {"roof", "external_wall", "window", "door", "cellar_ceiling", "ground_floor"}
+    # windows in all four orientations
+    assert sorted(w.azimuth for w in building.windows) == [0.0, 90.0, 180.0, 270.0]
+    # H_T + ventilation 0.34 Wh/(m3 K) x 0.3 1/h x V reproduces the audit HLC of 512 W/K
+    ventilation = 0.34 * 0.3 * building.volume
+    assert building.transmission_heat_transfer_coefficient + ventilation == pytest.approx(
+        512, abs=2
+    )
+    # the computed conveniences agree with a hand sum over the file
+    hand = sum(c.u_value * c.area for c in building.components)
+    hand += 0.05 * sum(c.area for c in building.components if c.type != "window")
+    assert building.transmission_heat_transfer_coefficient == pytest.approx(hand)
+
+
+def test_toml_and_yaml_give_the_same_building(tmp_path):
+    import yaml
+
+    data = minimal()
+    yaml_path = tmp_path / "b.yaml"
+    yaml_path.write_text(yaml.safe_dump(data))
+    toml_lines = [
+        'name = "box"',
+        "floors = 1",
+        "heated_floor_area = 100.0",
+        "volume = 250.0",
+        'emitter = "floor_heating"',
+        "[location]",
+        "latitude = 47.38",
+        "longitude = 8.54",
+        'timezone = "Europe/Zurich"',
+    ]
+    for component in data["components"]:
+        toml_lines.append("[[components]]")
+        for key, value in component.items():
+            toml_lines.append(f"{key} = {value!r}".replace("'", '"'))
+    toml_path = tmp_path / "b.toml"
+    toml_path.write_text("\n".join(toml_lines) + "\n")
+    assert read_building(toml_path) == read_building(yaml_path)
+
+
+def test_model_dump_round_trips():
+    building = Building.model_validate(minimal())
+    assert Building.model_validate(building.model_dump()) == building
+
+
+def test_timezone_as_offset_in_hours():
+    data = minimal()
+    data["location"]["timezone"] = 1
+    assert Building.model_validate(data).location.timezone == 1.0
+
+
+# ------------------------------------------------------------------------------ bad input
+def test_wall_u_value_of_19_is_reported_as_typo_for_0_19():
+    data = minimal()
+    data["components"][2]["u_value"] = 19
+    message = error_text(data)
+    assert "house.yaml" in message
+    assert "components[2] ('wall S')" in message
+    assert "u_value = 19 W/(m2 K)" in message
+    assert "0.08 to 4 W/(m2 K)" in message
+    assert "external wall" in message
+    assert "did you mean 0.19" in message
+
+
+def test_window_u_value_range_differs_from_opaque():
+    data = minimal()
+    data["components"][5]["u_value"] = 5.5  # single glazing: plausible for a window
+    Building.model_validate(data)
+    data["components"][0]["u_value"] = 5.5  # not for a wall
+    message = error_text(data)
+    assert "wall N" in message and "0.08 to 4 W/(m2 K)" in message
+    data = minimal()
+    data["components"][5]["u_value"] = 0.3  # below the best windows
+    assert "0.5 to 6 W/(m2 K)" in error_text(data)
+
+
+@pytest.mark.parametrize(
+    ("index", "field", "value", "expected"),
+    [
+        (5, "g_value", 60, ["g_value = 60", "0.1 to 0.9", "did you mean 0.6", "percentage"]),
+        (5, "frame_fraction", 30, ["frame_fraction = 30", "0 to 0.6", "did you mean 0.3"]),
+        (5, "shading_factor", 1.5, ["shading_factor = 1.5", "0 to 1"]),
+        (0, "area", -3, ["area = -3 m2", "> 0 m2"]),
+        (0, "area", 0, ["area = 0 m2"]),
+        (0, "tilt", 200, ["tilt = 200 deg", "0 to 180 deg"]),
+        (0, "azimuth", 400, ["azimuth = 400 deg", "0 to 360 deg"]),
+        (0, "azimuth", -90, ["azimuth = -90 deg", "did you mean 270"]),
+        (0, "absorptance", 1.2, ["absorptance = 1.2", "0 to 1"]),
+    ],
+)
+def test_component_range_messages(index, field, value, expected):
+    data = minimal()
+    data["components"][index][field] = value
+    message = error_text(data)
+    for part in expected:
+        assert part in message, (part, message)
+
+
+def test_window_needs_g_value_and_opaque_rejects_window_fields():
+    data = minimal()
+    del data["components"][5]["g_value"]
+    assert "g_value [-] is required for a window" in error_text(data)
+    data = minimal()
+    data["components"][0]["g_value"] = 0.5
+    assert "g_value applies to windows only" in error_text(data)
+    data = minimal()
+    data["components"][5]["absorptance"] = 0.5
+    assert "absorptance applies to opaque components only" in error_text(data)
+
+
+def test_tilted_roof_needs_azimuth_flat_roof_does_not():
+    data = minimal()
+    del data["components"][4]["tilt"]  # default 35 deg: pitched
+    message = error_text(data)
+    assert "azimuth is required for a roof with tilt 35 deg" in message
+    assert "tilt: 0 for a flat roof" in message
+
+
+def test_unknown_field_and_bad_literal_named():
+    data = minimal()
+    data["components"][1]["u-value"] = 0.3
+    message = error_text(data)
+    assert "unknown field 'u-value'" in message and "did you mean 'u_value'" in message
+    data = minimal()
+    data["emitter"] = "radiator"
+    message = error_text(data)
+    assert "emitter" in message and "'radiator'" in message and "radiators" in message
+    data = minimal()
+    data["components"][0]["type"] = "wall"
+    assert "components[0] ('wall N').type" in error_text(data)
+
+
+def test_missing_required_field_named():
+    data = minimal()
+    del data["volume"]
+    assert "required field 'volume' is missing" in error_text(data)
+
+
+def test_building_level_consistency():
+    data = minimal()
+    data["volume"] = 25.0  # 0.25 m rooms: litres? a typo
+    message = error_text(data)
+    assert "volume / heated_floor_area" in message and "0.25 m" in message
+    data = minimal()
+    data["floors"] = 12
+    assert "floors = 12 is outside the plausible range 1 to 10" in error_text(data)
+    data = minimal()
+    data["components"][1]["name"] = "wall N"
+    assert "already used by components[0]" in error_text(data)
+    data = minimal()
+    data["thermal_bridge_allowance"] = 5
+    assert "did you mean 0.05" in error_text(data)
+
+
+def test_location_and_ground_ranges():
+    data = minimal()
+    data["location"]["latitude"] = 147.4
+    assert "latitude = 147.4 deg N is outside the plausible range -90 to 90" in error_text(data)
+    data = minimal()
+    data["location"]["timezone"] = "Europe/Zurch"
+    assert "not a known time-zone name" in error_text(data)
+    data = minimal()
+    data["ground"] = {"perimeter": 40, "wall_thickness": 30}
+    message = error_text(data)
+    assert "wall_thickness = 30 m" in message and "did you mean 0.3 (centimetres" in message
+    data = minimal()
+    data["ground"] = {"perimeter": 40, "wall_thickness": 0.3, "basement_depth": 2.0}
+    assert "basement = 'none'" in error_text(data)
+    data = minimal()
+    data["components"][6]["type"] = "cellar_ceiling"
+    data["ground"] = {"perimeter": 40, "wall_thickness": 0.3}
+    assert "cellar_ceiling component implies a basement" in error_text(data)
+
+
+def test_all_problems_listed_at_once():
+    data = minimal()
+    data["components"][0]["u_value"] = 30
+    data["components"][5]["g_value"] = 65
+    message = error_text(data)
+    assert "(2 problems)" in message
+    assert "did you mean 0.3" in message and "did you mean 0.65" in message
+
+
+def test_model_validate_raises_pydantic_error_with_the_same_text():
+    data = minimal()
+    data["components"][2]["u_value"] = 19
+    with pytest.raises(ValidationError, match="did you mean 0.19"):
+        Building.model_validate(data)
+
+
+def test_yaml_errors_carry_line_numbers(tmp_path):
+    text = EXAMPLE.read_text().replace(
+        "u_value: 0.80\n    azimuth: 90.0", "u_value: 80\n    azimuth: 90.0"
+    )
+    path = tmp_path / "house.yaml"
+    path.write_text(text)
+    with pytest.raises(ThermocalInputError) as info:
+        read_building(path)
+    message = str(info.value)
+    line = next(
+        i + 1 for i, row in enumerate(text.splitlines()) if row.strip() == "- name: wall east"
+    )
+    assert f"components[3] ('wall east') (line {line})" in message
+    assert "did you mean 0.8" in message
+
+
+def test_file_level_errors(tmp_path):
+    with pytest.raises(ThermocalInputError, match="does not exist"):
+        read_building(tmp_path / "missing.yaml")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: [unclosed\n")
+    with pytest.raises(ThermocalInputError, match="not valid YAML at line"):
+        read_building(bad)
+    bad_toml = tmp_path / "bad.toml"
+    bad_toml.write_text("name = \n")
+    with pytest.raises(ThermocalInputError, match="not valid TOML"):
+        read_building(bad_toml)
+    other = tmp_path / "b.json"
+    other.write_text("{}")
+    with pytest.raises(ThermocalInputError, match="use .yaml, .yml or .toml"):
+        read_building(other)
+    empty = tmp_path / "e.yaml"
+    empty.write_text("")
+    with pytest.raises(ThermocalInputError, match="empty"):
+        read_building(empty)
+
+
+def test_building_is_immutable():
+    building = Building.model_validate(minimal())
+    with pytest.raises(ValidationError):
+        building.floors = 2
+    changed = building.model_copy(update={"floors": 2})
+    assert changed.floors == 2 and building.floors == 1
+    data = copy.deepcopy(minimal())
+    assert Building.model_validate(data) == building

@@ -306,9 +306,9 @@ def test_yaml_errors_carry_line_numbers(tmp_path):
     with pytest.raises(ThermocalInputError) as info:
         read_building(path)
     message = str(info.value)
-    line = next(
-        i + 1 for i, row in enumerate(text.splitlines()) if row.strip() == "- name: wall east"
-    )
+    lines = text.splitlines()
+    start = lines.index("  - name: wall east")
+    line = next(i + 1 for i in range(start, len(lines)) if "u_value: 80" in lines[i])
     assert f"components[3] ('wall east') (line {line})" in message
     assert "did you mean 0.8" in message
 

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 import tomllib
 from collections.abc import Mapping
 from functools import cached_property
@@ -757,7 +758,8 @@ def _format_validation_error(
         where = _describe_location(loc, data)
         line = None
         if lines:
-            probe = loc
+            named = re.match(r"(\w+) (=|applies|\[)", item["msg"])
+            probe = loc + (named.group(1),) if named and loc + (named.group(1),) in lines else loc
             while probe and probe not in lines:
                 probe = probe[:-1]
             line = lines.get(probe)

@@ -100,6 +100,7 @@ class ModelConfig(_Strict):
     solar_to_internal_mass: float = Field(
         0.5, ge=0, le=1, description="fraction of window solar gains absorbed by internal mass"
     )
+    solar_gains: bool = Field(True, description="model solar gains (needs windows, dni, dhi)")
     n_starts: int = Field(1, ge=1, description="optimiser starts of the maximum likelihood fit")
     max_correlation: float = Field(0.98, gt=0, le=1)
     ground_depth: float = Field(2.0, gt=0, description="depth of the ground temperature [m]")

@@ -1,0 +1,138 @@
+"""Reading and checking the measurements of the retrofit workflow.
+
+The measurement file is a CSV (or parquet) table with a time column and one column per
+quantity (names mapped by the configuration). Timestamps label the START of the averaging
+interval (thermocal convention); naive timestamps are local standard time of the configured
+time zone (default: the building's). Everything is averaged onto the configured step.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+from thermocal.retrofit.config import FLOW_UNITS, MEASUREMENT_COLUMNS, MeasurementsConfig
+from thermocal.retrofit.inputs import heating_power
+
+TEMPERATURE_COLUMNS = ("temp_out", "temp_supply", "temp_return", "temp_in")
+
+
+def _timezone(tz):
+    import datetime as _dt
+
+    if tz is None:
+        return None
+    if isinstance(tz, int | float):
+        return _dt.timezone(_dt.timedelta(hours=float(tz)))
+    return tz
+
+
+def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.DataFrame:
+    """Measurement table with standard column names, on a tz-aware DatetimeIndex.
+
+    Raises
+    ------
+    ThermocalInputError
+        File missing or unreadable, time column missing or unparsable, duplicated or
+        unsorted timestamps, a mapped column missing, non-numeric values, negative flows,
+        temperatures that look like Kelvin.
+    """
+    path = Path(cfg.file)
+    if not path.is_file():
+        raise ThermocalInputError(f"measurement file {path} not found")
+    try:
+        table = pd.read_parquet(path) if path.suffix == ".parquet" else pd.read_csv(path)
+    except Exception as exc:  # noqa: BLE001 - any parser failure is an input error
+        raise ThermocalInputError(f"measurement file {path} cannot be read: {exc}") from None
+    if cfg.time_column not in table.columns:
+        raise ThermocalInputError(
+            f"measurement file {path}: time column {cfg.time_column!r} not found; columns are "
+            f"{list(table.columns)} (set measurements.time_column in the configuration)"
+        )
+    missing = {std: col for std, col in cfg.columns.items() if col not in table.columns}
+    if missing:
+        what = ", ".join(f"{col!r} ({MEASUREMENT_COLUMNS[std]})" for std, col in missing.items())
+        raise ThermocalInputError(
+            f"measurement file {path}: missing column(s) {what}; the file has {list(table.columns)}"
+            " (map your names in measurements.columns of the configuration)"
+        )
+    try:
+        times = pd.to_datetime(table[cfg.time_column])
+    except Exception as exc:  # noqa: BLE001
+        raise ThermocalInputError(
+            f"measurement file {path}: column {cfg.time_column!r} is not a date/time: {exc}"
+        ) from None
+    index = pd.DatetimeIndex(times)
+    tz = _timezone(cfg.timezone) or _timezone(default_tz)
+    if index.tz is None:
+        if tz is None:
+            raise ThermocalInputError(
+                f"measurement file {path}: timestamps have no time zone; set measurements.timezone"
+            )
+        index = index.tz_localize(tz)
+    if index.has_duplicates:
+        dup = index[index.duplicated()][0]
+        raise ThermocalInputError(f"measurement file {path}: duplicated timestamp {dup}")
+    if not index.is_monotonic_increasing:
+        pos = int(np.argmax(np.diff(index.asi8) < 0)) + 1
+        raise ThermocalInputError(
+            f"measurement file {path}: timestamps not increasing at row {pos + 2} "
+            f"({index[pos]}); sort the file by time"
+        )
+    out = pd.DataFrame(index=index)
+    for std, col in cfg.columns.items():
+        values = pd.to_numeric(table[col], errors="coerce").to_numpy(float)
+        bad = np.isnan(values) & table[col].notna().to_numpy()
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise ThermocalInputError(
+                f"measurement file {path}: column {col!r} row {row + 2} is not a number "
+                f"({table[col].iloc[row]!r})"
+            )
+        out[std] = values
+    out["flow"] = out["flow"] * FLOW_UNITS[cfg.flow_unit]
+    neg = out["flow"].to_numpy() < 0
+    if neg.any():
+        row = int(np.argmax(neg))
+        raise ThermocalInputError(
+            f"measurement file {path}: heating flow column {cfg.columns['flow']!r} is negative "
+            f"({table[cfg.columns['flow']].iloc[row]}) at row {row + 2} ({index[row]}); flows "
+            "must be >= 0 (check the sensor direction or sign convention)"
+        )
+    for std in TEMPERATURE_COLUMNS:
+        high = np.nanmax(out[std].to_numpy()) if out[std].notna().any() else np.nan
+        if np.isfinite(high) and high > 150.0:
+            raise ThermocalInputError(
+                f"measurement file {path}: column {cfg.columns[std]!r} reaches {high:.1f}; "
+                "temperatures must be in degrees C (Kelvin? subtract 273.15)"
+            )
+    for std in ("dni", "dhi"):
+        low = np.nanmin(out[std].to_numpy()) if out[std].notna().any() else 0.0
+        if low < -10.0:
+            raise ThermocalInputError(
+                f"measurement file {path}: irradiance column {cfg.columns[std]!r} has "
+                f"{low:.1f} W/m2 < 0"
+            )
+    return out
+
+
+def prepare_measurements(raw: pd.DataFrame, step: str) -> pd.DataFrame:
+    """Average onto a regular grid and add the heating power ``phi_h`` [W].
+
+    The heating power is computed at the raw resolution (flow x temperature difference does
+    not commute with averaging) and then averaged.
+    """
+    frame = raw.copy()
+    frame["phi_h"] = heating_power(frame["flow"], frame["temp_supply"], frame["temp_return"])
+    frame["dni"] = frame["dni"].clip(lower=0.0)
+    frame["dhi"] = frame["dhi"].clip(lower=0.0)
+    try:
+        grid = frame.resample(step).mean()
+    except ValueError as exc:
+        raise ThermocalInputError(
+            f"measurements.step {step!r} is not a valid step: {exc}"
+        ) from None
+    return grid

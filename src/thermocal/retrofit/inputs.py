@@ -1,0 +1,201 @@
+"""Model inputs of the fifth-order model from measurements, weather and the building file.
+
+- heating power ``phi_h`` [W] from water flow and supply / return temperatures;
+- ground temperature at 2 m ``Tgr`` [C] from the annual cycle of the site's typical year;
+- solar gains through the windows ``phi_sol`` [W] (ISO 52016-1 6.5.13: aperture x g-value x
+  shading x non-normal-incidence factor 0.9 x irradiance on the window plane);
+- solar radiation absorbed on the outer surfaces of roof and walls minus their long-wave loss
+  to the sky, ``phi_abs_roof``, ``phi_abs_walls`` [W] (ISO 52016-1 6.5.13.3; ISO 13790 11.3.5:
+  ``F_r h_r Delta theta_er`` with the sky view factor ``F_r = (1 + cos tilt) / 2``,
+  ``h_r = 4.14 W/(m2 K)`` and ``Delta theta_er = 11 K``).
+
+Irradiance columns are interval means labelled by the interval start (thermocal convention),
+so sun positions are taken at the interval midpoints.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+
+#: ISO 52016-1 default correction of the g-value for non-normal incidence [-].
+WINDOW_INCIDENCE_FACTOR = 0.9
+#: ISO 13790 11.3.5 / ISO 52016-1: external radiative coefficient [W/(m2 K)] and mean
+#: difference between air and apparent sky temperature [K].
+H_RE_SKY = 4.14
+DELTA_THETA_ER = 11.0
+
+
+def heating_power(flow, temp_supply, temp_return):
+    """Heat delivered by the heating water [W].
+
+    Parameters
+    ----------
+    flow : array-like [m3/s]
+    temp_supply, temp_return : array-like [C]
+
+    Returns
+    -------
+    array [W]
+
+    Notes
+    -----
+    Uses :func:`thermocal.physics.hydronics.heating_power` (temperature-dependent density and
+    specific heat) when available, otherwise water at the mean temperature with
+    ``rho = 1000 - 0.0062 (T - 4)^2`` [kg/m3] (less than 0.1 % off 10-90 C) and
+    ``cp = 4186 J/(kg K)``.
+    """
+    try:
+        from thermocal.physics.hydronics import heating_power as _hp
+
+        return _hp(flow, temp_supply, temp_return)
+    except ImportError:  # physics module not available: private fallback
+        t_mean = 0.5 * (np.asarray(temp_supply, float) + np.asarray(temp_return, float))
+        rho = 1000.0 - 0.0062 * (t_mean - 4.0) ** 2
+        return (
+            np.asarray(flow, float)
+            * rho
+            * 4186.0
+            * (np.asarray(temp_supply, float) - np.asarray(temp_return, float))
+        )
+
+
+def ground_temperature_parameters(weather: pd.DataFrame) -> dict[str, float]:
+    """Annual mean, amplitude [K] and day of the minimum of the air temperature of a year.
+
+    Fits ``T(d) = mean - amplitude cos(2 pi (d - phase_day) / 365.25)`` to daily means.
+    """
+    daily = weather["temp_air"].resample("1D").mean().dropna()
+    doy = daily.index.dayofyear.to_numpy(float)
+    w = 2 * np.pi / 365.25
+    design = np.column_stack([np.ones_like(doy), np.cos(w * doy), np.sin(w * doy)])
+    coef, *_ = np.linalg.lstsq(design, daily.to_numpy(float), rcond=None)
+    amplitude = float(np.hypot(coef[1], coef[2]))
+    phase = float(np.arctan2(-coef[2], -coef[1]) / w) % 365.25  # day of the minimum
+    return {"annual_mean": float(coef[0]), "amplitude": amplitude, "phase_day": phase}
+
+
+def ground_temperature(
+    times: pd.DatetimeIndex,
+    params: dict[str, float],
+    depth: float = 2.0,
+    diffusivity: float = 0.5e-6,
+) -> pd.Series:
+    """Undisturbed ground temperature at ``depth`` [C] (damped, delayed annual wave).
+
+    Parameters
+    ----------
+    times : pd.DatetimeIndex
+    params : dict from :func:`ground_temperature_parameters`
+    depth : float [m]
+    diffusivity : float [m2/s] of the soil (0.5e-6 moist soil).
+
+    References
+    ----------
+    Kusuda, T. and Achenbach, P. R. (1965); ISO 13370:2017 Annex F (periodic ground
+    temperatures); the approach of Zuercher & Frank (2018) cited by paper 000.
+    """
+    period = 365.25 * 86400.0
+    damping = depth * np.sqrt(np.pi / (diffusivity * period))
+    doy = (times.dayofyear.to_numpy(float) - 1.0) + times.hour.to_numpy(float) / 24.0
+    arg = 2 * np.pi * (doy - params["phase_day"]) / 365.25 - damping
+    values = params["annual_mean"] - params["amplitude"] * np.exp(-damping) * np.cos(arg)
+    return pd.Series(values, index=times, name="Tgr")
+
+
+def _surface_irradiance(
+    frame: pd.DataFrame,
+    latitude: float,
+    longitude: float,
+    altitude: float,
+    tilt: float,
+    azimuth: float,
+    solpos: pd.DataFrame,
+) -> np.ndarray:
+    """Global irradiance on a tilted plane [W/m2] (Perez), via pvlib."""
+    import pvlib
+
+    dni_extra = pvlib.irradiance.get_extra_radiation(solpos.index)
+    airmass = pvlib.atmosphere.get_relative_airmass(solpos["apparent_zenith"])
+    poa = pvlib.irradiance.get_total_irradiance(
+        surface_tilt=tilt,
+        surface_azimuth=azimuth,
+        solar_zenith=solpos["apparent_zenith"],
+        solar_azimuth=solpos["azimuth"],
+        dni=frame["dni"].to_numpy(float),
+        ghi=frame["ghi"].to_numpy(float),
+        dhi=frame["dhi"].to_numpy(float),
+        dni_extra=dni_extra,
+        airmass=airmass,
+        albedo=0.2,
+        model="perez",
+    )
+    return np.nan_to_num(np.asarray(poa["poa_global"], float), nan=0.0).clip(min=0.0)
+
+
+def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
+    """Window gains and absorbed outer-surface radiation of roof and walls [W].
+
+    Parameters
+    ----------
+    frame : pd.DataFrame
+        Regular DatetimeIndex (interval starts) with ``dni`` and ``dhi`` [W/m2] (``ghi`` is
+        computed as ``dhi + dni cos(zenith)`` when absent).
+    building : thermocal.io.building.Building
+
+    Returns
+    -------
+    pd.DataFrame with columns ``phi_sol``, ``phi_abs_roof``, ``phi_abs_walls`` [W].
+    """
+    import pvlib
+
+    loc = building.location
+    step = frame.index[1] - frame.index[0]
+    mid = frame.index + step / 2
+    solpos = pvlib.solarposition.get_solarposition(
+        mid, loc.latitude, loc.longitude, altitude=loc.altitude
+    )
+    data = frame[["dni", "dhi"]].copy()
+    if "ghi" in frame:
+        data["ghi"] = frame["ghi"]
+    else:
+        cosz = np.cos(np.radians(solpos["zenith"].to_numpy(float))).clip(min=0.0)
+        data["ghi"] = frame["dhi"].to_numpy(float) + frame["dni"].to_numpy(float) * cosz
+    solpos.index = frame.index
+    data.index = frame.index
+    cache: dict[tuple[float, float], np.ndarray] = {}
+
+    def poa(tilt, azimuth):
+        key = (round(float(tilt), 3), round(float(azimuth), 3))
+        if key not in cache:
+            cache[key] = _surface_irradiance(
+                data, loc.latitude, loc.longitude, loc.altitude, key[0], key[1], solpos
+            )
+        return cache[key]
+
+    n = len(frame)
+    phi_sol = np.zeros(n)
+    absorbed = {"roof": np.zeros(n), "external_wall": np.zeros(n)}
+    for c in building.components:
+        tilt = float(c.tilt if c.tilt is not None else 90.0)
+        azimuth = float(c.azimuth if c.azimuth is not None else 180.0)
+        if c.type == "window":
+            g = float(c.g_value if c.g_value is not None else 0.6)
+            ff = float(c.frame_fraction if c.frame_fraction is not None else 0.3)
+            fsh = float(c.shading_factor if c.shading_factor is not None else 1.0)
+            phi_sol += c.area * (1 - ff) * g * fsh * WINDOW_INCIDENCE_FACTOR * poa(tilt, azimuth)
+        elif c.type in absorbed:
+            alpha = float(c.absorptance if c.absorptance is not None else 0.6)
+            sky_view = 0.5 * (1.0 + np.cos(np.radians(tilt)))
+            absorbed[c.type] += c.area * (
+                alpha * poa(tilt, azimuth) - sky_view * H_RE_SKY * DELTA_THETA_ER
+            )
+    return pd.DataFrame(
+        {
+            "phi_sol": phi_sol,
+            "phi_abs_roof": absorbed["roof"],
+            "phi_abs_walls": absorbed["external_wall"],
+        },
+        index=frame.index,
+    )

@@ -18,7 +18,6 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-
 #: ISO 52016-1 default correction of the g-value for non-normal incidence [-].
 WINDOW_INCIDENCE_FACTOR = 0.9
 #: ISO 13790 11.3.5 / ISO 52016-1: external radiative coefficient [W/(m2 K)] and mean

@@ -1,0 +1,1034 @@
+"""Optical and thermal properties of glazing: layered glass/gas systems and the EnergyPlus simple model.
+
+Layered glazing (EnergyPlus ``WindowMaterial:Glazing`` + ``WindowMaterial:Gas``):
+
+* Each pane's normal-incidence solar transmittance and reflectance are inverted into the air/glass
+  interface reflectance, the refractive index and the internal (absorption) transmittance of the
+  glass -- the procedure EnergyPlus and WINDOW use for uncoated glass -- so that Fresnel's equations
+  (both polarisations) and Bouguer's law give the pane's properties at any angle of incidence.
+* The panes are combined by the net-radiation (multiple reflection) method into the system
+  transmittance, reflectance and the absorptance of every pane.
+* The centre-of-glass U-value comes from the ISO 15099 steady-state heat balance: gas properties
+  as linear functions of temperature (ISO 15099 Annex B, Table B.1, the defaults of EnergyPlus),
+  Nusselt number of vertical cavities (ISO 15099 §5.3.3.3, Wright's correlation), grey-body
+  radiation between panes, and the boundary conditions of NFRC 100 (winter: -18 C outside with
+  a 26 W/(m2 K) convective coefficient, 21 C inside with the ISO 15099 §8.3.2.2 natural convection
+  coefficient for a 1 m high window, radiation to surroundings at air temperature) -- the
+  conditions EnergyPlus uses for the U-factor it reports. The EN 673 calculation (fixed
+  h_e = 23, h_i = 3.6 + 4.4 eps/0.837 W/(m2 K), gas properties at 283 K with 15 K across the
+  glazing) is available too.
+* SHGC(angle) = tau(angle) + sum_i N_i alpha_i(angle), the inward-flowing fraction N_i of the solar
+  energy absorbed in pane i coming from the thermal network solved at the NFRC summer conditions
+  (32 C outside, h_c,out = 15 W/(m2 K), 24 C inside, 783 W/m2 at normal incidence).
+
+Simple glazing (EnergyPlus ``WindowMaterial:SimpleGlazingSystem``): :func:`simple_glazing_system`
+converts a U-factor and SHGC into an equivalent single layer (thickness, conductivity, normal solar
+transmittance, reflectance, absorptance) following the EnergyPlus Engineering Reference, "Simple
+Window Model" (Arasteh, Kohler, Griffith, LBNL-2804E, 2009).
+
+References
+----------
+ISO 15099:2003, Thermal performance of windows, doors and shading devices -- Detailed calculations:
+    §5.3 (gap heat transfer), §6 (optical properties, multiple reflections), §8.3 (boundary
+    conditions), Annex B (gas properties).
+EN 673:2011 / ISO 10292, Glass in building -- Determination of thermal transmittance (U value).
+NFRC 100-2010, Procedure for determining fenestration product U-factors (environmental conditions).
+EnergyPlus Engineering Reference, "Window Calculation Module": "Optical properties of glazing"
+    (uncoated glass angular dependence), "Simple Window Model".
+ASHRAE Standard 140-2020, Case 600 window: n = 1.526, extinction 0.0196/mm, U = 3.0 W/(m2 K)
+    with h_out = 21.0 and h_in = 8.29 W/(m2 K), SHGC 0.789, tau 0.747 at normal incidence.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+
+__all__ = [
+    "STEFAN_BOLTZMANN",
+    "Gas",
+    "GASES",
+    "gas",
+    "GlassPane",
+    "GasGap",
+    "BoundaryConditions",
+    "NFRC_WINTER",
+    "NFRC_SUMMER",
+    "pane_optical_constants",
+    "pane_angular_properties",
+    "multilayer_optics",
+    "gap_nusselt_vertical",
+    "indoor_convection_coefficient",
+    "solve_glazing_heat_balance",
+    "LayeredGlazing",
+    "en673_u_value",
+    "SimpleGlazing",
+    "simple_glazing_system",
+    "hemispherical_average",
+]
+
+STEFAN_BOLTZMANN = 5.670374419e-8  # W/(m2 K4)
+GRAVITY = 9.81  # m/s2, ISO 15099
+UNIVERSAL_GAS_CONSTANT = 8314.462618  # J/(kmol K)
+STANDARD_PRESSURE = 101325.0  # Pa
+KELVIN = 273.15
+
+
+# ------------------------------------------------------------------------------------------------
+# Gas properties
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Gas:
+    """A fill gas with ISO 15099 Annex B property polynomials ``a + b T + c T^2`` (T in K).
+
+    Attributes
+    ----------
+    name : str
+    conductivity : tuple of 3 floats [W/(m K)]
+    viscosity : tuple of 3 floats [Pa s]
+    specific_heat : tuple of 3 floats [J/(kg K)]
+    molar_mass : float [kg/kmol]
+    """
+
+    name: str
+    conductivity: tuple[float, float, float]
+    viscosity: tuple[float, float, float]
+    specific_heat: tuple[float, float, float]
+    molar_mass: float
+
+    def properties(self, temperature: float, pressure: float = STANDARD_PRESSURE):
+        """Conductivity [W/(m K)], viscosity [Pa s], specific heat [J/(kg K)], density [kg/m3].
+
+        Parameters
+        ----------
+        temperature : float [K]
+        pressure : float [Pa]
+        """
+        t = temperature
+
+        def poly(c):
+            return c[0] + c[1] * t + c[2] * t * t
+
+        density = pressure * self.molar_mass / (UNIVERSAL_GAS_CONSTANT * t)
+        return poly(self.conductivity), poly(self.viscosity), poly(self.specific_heat), density
+
+
+#: ISO 15099 Table B.1 coefficients (also the EnergyPlus ``WindowMaterial:Gas`` defaults).
+GASES: dict[str, Gas] = {
+    "air": Gas(
+        "air",
+        (2.873e-3, 7.760e-5, 0.0),
+        (3.723e-6, 4.940e-8, 0.0),
+        (1002.737, 1.2324e-2, 0.0),
+        28.97,
+    ),
+    "argon": Gas(
+        "argon", (2.285e-3, 5.149e-5, 0.0), (3.379e-6, 6.451e-8, 0.0), (521.929, 0.0, 0.0), 39.948
+    ),
+    "krypton": Gas(
+        "krypton", (9.443e-4, 2.826e-5, 0.0), (2.213e-6, 7.777e-8, 0.0), (248.091, 0.0, 0.0), 83.80
+    ),
+    "xenon": Gas(
+        "xenon", (4.538e-4, 1.723e-5, 0.0), (1.069e-6, 7.414e-8, 0.0), (158.340, 0.0, 0.0), 131.30
+    ),
+}
+
+
+def gas(name: str) -> Gas:
+    """The :class:`Gas` named ``name`` (air, argon, krypton, xenon; case-insensitive)."""
+    key = name.strip().lower()
+    if key not in GASES:
+        raise ThermocalInputError(
+            f"unknown gas '{name}'; use one of {sorted(GASES)} or give a custom Gas(...)."
+        )
+    return GASES[key]
+
+
+# ------------------------------------------------------------------------------------------------
+# Layers
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class GlassPane:
+    """One glazing layer (EnergyPlus ``WindowMaterial:Glazing``, spectral-average data).
+
+    Attributes
+    ----------
+    thickness : float [m]
+    solar_transmittance : float [-]
+        At normal incidence.
+    front_solar_reflectance, back_solar_reflectance : float [-]
+        At normal incidence; front faces outdoors.
+    front_emissivity, back_emissivity : float [-]
+        Hemispherical infrared emissivities.
+    conductivity : float [W/(m K)]
+    infrared_transmittance : float [-]
+        Must be 0 (opaque to long-wave radiation, true for glass).
+    name : str
+    """
+
+    thickness: float
+    solar_transmittance: float
+    front_solar_reflectance: float
+    back_solar_reflectance: float
+    front_emissivity: float = 0.84
+    back_emissivity: float = 0.84
+    conductivity: float = 1.0
+    infrared_transmittance: float = 0.0
+    name: str = "glass"
+
+    def __post_init__(self):
+        label = f"glazing layer '{self.name}'"
+        if not self.thickness > 0:
+            raise ThermocalInputError(f"{label}: thickness must be > 0 m, got {self.thickness}.")
+        if not self.conductivity > 0:
+            raise ThermocalInputError(
+                f"{label}: conductivity must be > 0, got {self.conductivity}."
+            )
+        for attr in ("solar_transmittance", "front_solar_reflectance", "back_solar_reflectance"):
+            value = getattr(self, attr)
+            if not 0.0 <= value <= 1.0:
+                raise ThermocalInputError(f"{label}: {attr} = {value} is outside [0, 1].")
+        for refl in (self.front_solar_reflectance, self.back_solar_reflectance):
+            if self.solar_transmittance + refl > 1.0 + 1e-12:
+                raise ThermocalInputError(
+                    f"{label}: solar transmittance + reflectance = "
+                    f"{self.solar_transmittance + refl:.4f} > 1; check the optical data."
+                )
+        for attr in ("front_emissivity", "back_emissivity"):
+            value = getattr(self, attr)
+            if not 0.0 < value <= 1.0:
+                raise ThermocalInputError(f"{label}: {attr} = {value} is outside (0, 1].")
+        if self.infrared_transmittance > 0.0:
+            raise ThermocalInputError(
+                f"{label}: infrared transmittance {self.infrared_transmittance} > 0 is not "
+                "supported (glass is opaque in the long-wave range); set it to 0."
+            )
+
+
+@dataclass(frozen=True)
+class GasGap:
+    """A gas-filled cavity between two panes (EnergyPlus ``WindowMaterial:Gas``).
+
+    Attributes
+    ----------
+    thickness : float [m]
+    fill : Gas
+    name : str
+    """
+
+    thickness: float
+    fill: Gas = GASES["air"]
+    name: str = "gap"
+
+    def __post_init__(self):
+        if not self.thickness > 0:
+            raise ThermocalInputError(
+                f"gas layer '{self.name}': thickness must be > 0 m, got {self.thickness}."
+            )
+
+
+# ------------------------------------------------------------------------------------------------
+# Optics
+# ------------------------------------------------------------------------------------------------
+
+
+def pane_optical_constants(solar_transmittance: float, solar_reflectance: float):
+    """Interface reflectance, refractive index and internal transmittance of an uncoated pane.
+
+    Inverts the slab equations ``tau = (1-r)^2 T / (1 - r^2 T^2)``, ``rho = r + r T tau`` for the
+    air/glass interface reflectance ``r`` and the internal transmittance ``T = exp(-K d)``.
+
+    Parameters
+    ----------
+    solar_transmittance : float [-]
+        At normal incidence.
+    solar_reflectance : float [-]
+        At normal incidence.
+
+    Returns
+    -------
+    interface_reflectance : float [-]
+    refractive_index : float [-]
+        ``(1 + sqrt(r)) / (1 - sqrt(r))``.
+    internal_transmittance : float [-]
+        At normal incidence (in (0, 1]).
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, Window Calculation Module, "Glass optical properties at
+    non-normal incidence (uncoated glass)"; ISO 15099 §6.
+    """
+    tau = float(solar_transmittance)
+    rho = float(solar_reflectance)
+    if tau <= 0.0:
+        return rho, 1.0, 0.0
+    beta = tau * tau - rho * rho + 2.0 * rho + 1.0
+    disc = max(beta * beta - 4.0 * (2.0 - rho) * rho, 0.0)
+    r = (beta - math.sqrt(disc)) / (2.0 * (2.0 - rho))
+    if r <= 0.0:
+        return 0.0, 1.0, tau
+    internal = min((rho - r) / (r * tau), 1.0)
+    internal = max(internal, 1e-12)
+    sqrt_r = math.sqrt(r)
+    return r, (1.0 + sqrt_r) / (1.0 - sqrt_r), internal
+
+
+def _uncoated_slab(cos_incidence: np.ndarray, n: float, internal0: float):
+    """Fresnel + Bouguer slab properties at the given cosines (polarisation-averaged)."""
+    c = np.clip(np.asarray(cos_incidence, dtype=float), 0.0, 1.0)
+    sin2 = 1.0 - c * c
+    cos_t = np.sqrt(np.maximum(1.0 - sin2 / (n * n), 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r_s = ((c - n * cos_t) / (c + n * cos_t)) ** 2
+        r_p = ((n * c - cos_t) / (n * c + cos_t)) ** 2
+        internal = np.where(cos_t > 0, internal0 ** (1.0 / np.maximum(cos_t, 1e-12)), 0.0)
+    tau = np.zeros_like(c)
+    rho = np.zeros_like(c)
+    for r in (r_s, r_p):
+        r = np.nan_to_num(r, nan=1.0)
+        denom = 1.0 - r * r * internal * internal
+        t = np.where(denom > 0, (1.0 - r) ** 2 * internal / np.where(denom > 0, denom, 1.0), 0.0)
+        tau += 0.5 * t
+        rho += 0.5 * (r + r * internal * t)
+    tau = np.where(c <= 0.0, 0.0, tau)
+    rho = np.where(c <= 0.0, 1.0, rho)
+    return tau, rho
+
+
+def pane_angular_properties(pane: GlassPane, incidence_angle):
+    """Solar transmittance and front/back reflectance of one pane at an angle of incidence.
+
+    Parameters
+    ----------
+    pane : GlassPane
+    incidence_angle : float or array-like [deg]
+        0 = normal incidence, 90 = grazing.
+
+    Returns
+    -------
+    tau, rho_front, rho_back : numpy.ndarray [-]
+
+    Notes
+    -----
+    Uncoated glass (front and back reflectances equal within 0.1 % relative, the EnergyPlus
+    criterion) uses the Fresnel/Bouguer model with the constants of
+    :func:`pane_optical_constants`, which reproduces the normal-incidence data exactly. For coated
+    glass the same model is built from the mean reflectance and used as a shape function:
+    ``tau(theta) = tau0 * t(theta)/t(0)`` and ``rho(theta) = rho0 + (1 - rho0)(r(theta) - r(0)) /
+    (1 - r(0))`` for each side -- an approximation (EnergyPlus uses fixed reference curves).
+    """
+    angle = np.atleast_1d(np.asarray(incidence_angle, dtype=float))
+    cos_i = np.cos(np.radians(np.clip(angle, 0.0, 90.0)))
+    cos_i = np.where(angle >= 90.0, 0.0, cos_i)
+    tau0 = pane.solar_transmittance
+    rf0, rb0 = pane.front_solar_reflectance, pane.back_solar_reflectance
+    uncoated = abs(rf0 - rb0) <= 1e-3 * max(rf0 + rb0, 1e-12)
+    rho_mean = 0.5 * (rf0 + rb0)
+    _, n, internal0 = pane_optical_constants(tau0, rho_mean)
+    if tau0 <= 0.0:
+        zeros = np.zeros_like(cos_i)
+        return zeros, np.full_like(cos_i, rf0), np.full_like(cos_i, rb0)
+    t, r = _uncoated_slab(cos_i, n, internal0)
+    if uncoated:
+        # exact at normal incidence by construction; rescale round-off
+        t0, r0 = _uncoated_slab(np.array([1.0]), n, internal0)
+        tau = t * (tau0 / t0[0])
+        rho_f = rf0 + (1.0 - rf0) * (r - r0[0]) / (1.0 - r0[0])
+        rho_b = rb0 + (1.0 - rb0) * (r - r0[0]) / (1.0 - r0[0])
+        return tau, rho_f, rho_b
+    t0, r0 = _uncoated_slab(np.array([1.0]), n, internal0)
+    tau = tau0 * t / t0[0]
+    rho_f = rf0 + (1.0 - rf0) * (r - r0[0]) / (1.0 - r0[0])
+    rho_b = rb0 + (1.0 - rb0) * (r - r0[0]) / (1.0 - r0[0])
+    return tau, rho_f, rho_b
+
+
+def multilayer_optics(tau, rho_front, rho_back):
+    """Net-radiation combination of layers: system transmittance, reflectance, layer absorptances.
+
+    Parameters
+    ----------
+    tau, rho_front, rho_back : sequence of floats [-]
+        Properties of each layer, outermost first, for one angle of incidence (radiation arriving
+        from outdoors on the front side).
+
+    Returns
+    -------
+    transmittance : float [-]
+    reflectance : float [-]
+        Front (outdoor side) reflectance of the system.
+    absorptance : numpy.ndarray [-]
+        Fraction of the incident radiation absorbed in each layer (front + back incidence from the
+        inter-reflections).
+
+    References
+    ----------
+    ISO 15099 §6.1 (multiple reflections between parallel layers); Finlayson et al., WINDOW 4.0
+    documentation, LBL-33943 (1993), net radiation method.
+    """
+    tau = np.asarray(tau, dtype=float)
+    rf = np.asarray(rho_front, dtype=float)
+    rb = np.asarray(rho_back, dtype=float)
+    n = tau.size
+    if tau[0] <= 0.0 and rf[0] >= 1.0:  # grazing incidence: everything reflected by layer 1
+        return 0.0, 1.0, np.zeros(n)
+    # unknowns: f_1..f_n (inward flux after layer i), b_0..b_{n-1} (outward flux before layer i+1)
+    # f_0 = 1 (incident), b_n = 0.
+    size = 2 * n
+    a = np.zeros((size, size))
+    rhs = np.zeros(size)
+
+    def fi(i):  # index of f_i, i = 1..n
+        return i - 1
+
+    def bi(i):  # index of b_i, i = 0..n-1
+        return n + i
+
+    for layer in range(1, n + 1):
+        t, front, back = tau[layer - 1], rf[layer - 1], rb[layer - 1]
+        # f_i = t f_{i-1} + back * b_i
+        row = fi(layer)
+        a[row, fi(layer)] = 1.0
+        if layer > 1:
+            a[row, fi(layer - 1)] -= t
+        else:
+            rhs[row] += t
+        if layer < n:
+            a[row, bi(layer)] -= back
+        # b_{i-1} = front f_{i-1} + t b_i
+        row = bi(layer - 1)
+        a[row, bi(layer - 1)] = 1.0
+        if layer > 1:
+            a[row, fi(layer - 1)] -= front
+        else:
+            rhs[row] += front
+        if layer < n:
+            a[row, bi(layer)] -= t
+    x = np.linalg.solve(a, rhs)
+    f = np.concatenate([[1.0], x[:n]])  # f_0..f_n
+    b = np.concatenate([x[n:], [0.0]])  # b_0..b_n
+    alpha_f = 1.0 - tau - rf
+    alpha_b = 1.0 - tau - rb
+    absorbed = alpha_f * f[:-1] + alpha_b * b[1:]
+    return float(f[-1]), float(b[0]), absorbed
+
+
+def hemispherical_average(values_at_angle, *, n_points: int = 40) -> float:
+    """Diffuse (hemispherical, isotropic) average ``2 * int_0^pi/2 v(t) sin t cos t dt``.
+
+    Parameters
+    ----------
+    values_at_angle : callable
+        Function of the incidence angle [deg] (array in, array out).
+    n_points : int
+        Gauss-Legendre points in ``cos^2`` (exact for polynomials of degree < 2 n in cos^2).
+    """
+    # substitute u = cos^2(t): 2 sin t cos t dt = -du, integral over u in [0, 1]
+    nodes, weights = np.polynomial.legendre.leggauss(n_points)
+    u = 0.5 * (nodes + 1.0)
+    angles = np.degrees(np.arccos(np.sqrt(u)))
+    return float(0.5 * np.sum(weights * np.asarray(values_at_angle(angles), dtype=float)))
+
+
+# ------------------------------------------------------------------------------------------------
+# Heat transfer
+# ------------------------------------------------------------------------------------------------
+
+
+def gap_nusselt_vertical(rayleigh: float, aspect_ratio: float) -> float:
+    """Nusselt number of a vertical gas cavity (ISO 15099 §5.3.3.3, tilt 90 deg).
+
+    Parameters
+    ----------
+    rayleigh : float [-]
+        Rayleigh number based on the gap width.
+    aspect_ratio : float [-]
+        Cavity height / gap width.
+    """
+    ra = max(rayleigh, 0.0)
+    if ra > 5.0e4:
+        nu1 = 0.0673838 * ra ** (1.0 / 3.0)
+    elif ra > 1.0e4:
+        nu1 = 0.028154 * ra**0.4134
+    else:
+        nu1 = 1.0 + 1.7596678e-10 * ra**2.2984755
+    nu2 = 0.242 * (ra / aspect_ratio) ** 0.272 if ra > 0 else 0.0
+    return max(nu1, nu2, 1.0)
+
+
+def indoor_convection_coefficient(
+    temp_surface: float, temp_air: float, *, height: float = 1.0, tilt: float = 90.0
+) -> float:
+    """Natural-convection coefficient on the room side of a window [W/(m2 K)].
+
+    ISO 15099 §8.3.2.2: ``h = Nu k / H`` with ``Ra = rho^2 H^3 g c_p |dT| / (T_mf mu k)``,
+    film temperature ``T_mf = T_air + (T_surface - T_air)/4``; for the laminar range
+    ``Nu = 0.56 (Ra sin(tilt))^(1/4)``, turbulent above ``Ra_cv``.
+
+    Parameters
+    ----------
+    temp_surface, temp_air : float [K]
+    height : float [m]
+        Window height (NFRC/EnergyPlus nominal: 1 m).
+    tilt : float [deg]
+        90 = vertical (only near-vertical windows are handled by this correlation).
+    """
+    dt = abs(temp_surface - temp_air)
+    if dt < 1e-9:
+        return 0.0
+    t_film = temp_air + 0.25 * (temp_surface - temp_air)
+    k, mu, cp, rho = GASES["air"].properties(t_film)
+    rayleigh = rho * rho * height**3 * GRAVITY * cp * dt / (t_film * mu * k)
+    gamma = math.radians(tilt)
+    sin_g = max(math.sin(gamma), 1e-6)
+    ra_cv = 2.5e5 * (math.exp(0.72 * tilt) / sin_g) ** 0.2
+    if rayleigh <= ra_cv:
+        nusselt = 0.56 * (rayleigh * sin_g) ** 0.25
+    else:
+        nusselt = 0.13 * (rayleigh ** (1 / 3) - ra_cv ** (1 / 3)) + 0.56 * (ra_cv * sin_g) ** 0.25
+    return nusselt * k / height
+
+
+@dataclass(frozen=True)
+class BoundaryConditions:
+    """Environmental conditions for the glazing heat balance.
+
+    Attributes
+    ----------
+    temp_out, temp_in : float [C]
+        Outdoor and indoor air temperatures; radiant surroundings at the same temperatures.
+    h_conv_out : float [W/(m2 K)]
+        Outdoor convective coefficient (radiation is computed separately from the emissivity).
+    h_conv_in : float or None [W/(m2 K)]
+        Indoor convective coefficient; None = ISO 15099 natural convection for ``height``.
+    solar_irradiance : float [W/m2]
+        At normal incidence (for the SHGC calculation).
+    height : float [m]
+        Window height for the indoor convection and the cavity aspect ratio.
+    name : str
+    """
+
+    temp_out: float
+    temp_in: float
+    h_conv_out: float
+    h_conv_in: float | None = None
+    solar_irradiance: float = 0.0
+    height: float = 1.0
+    name: str = "custom"
+
+
+#: NFRC 100 winter conditions (EnergyPlus nominal U-factor).
+NFRC_WINTER = BoundaryConditions(-18.0, 21.0, 26.0, None, 0.0, 1.0, "NFRC winter")
+#: NFRC 200 summer conditions (EnergyPlus nominal SHGC).
+NFRC_SUMMER = BoundaryConditions(32.0, 24.0, 15.0, None, 783.0, 1.0, "NFRC summer")
+
+
+@dataclass(frozen=True)
+class HeatBalanceResult:
+    """Converged glazing heat balance.
+
+    Attributes
+    ----------
+    temperatures : numpy.ndarray [C]
+        Per pane: (front surface, centre, back surface), shape (n_panes, 3).
+    heat_flux_in : float [W/m2]
+        Heat flux into the room (positive inward).
+    resistances : numpy.ndarray [m2 K/W]
+        Series resistances of the linearised network: outdoor film, each pane half, each gap
+        (convection and radiation in parallel), indoor film (length 2 n + 2 (n-1) ... see code).
+    inward_fractions : numpy.ndarray [-]
+        Share of the heat absorbed at each pane centre that flows into the room.
+    h_in : float [W/(m2 K)]
+        Indoor combined (convective + radiative) coefficient.
+    h_out : float [W/(m2 K)]
+        Outdoor combined coefficient.
+    gap_conductances : numpy.ndarray [W/(m2 K)]
+        Combined conductance of every gap.
+    """
+
+    temperatures: np.ndarray
+    heat_flux_in: float
+    resistances: np.ndarray
+    inward_fractions: np.ndarray
+    h_in: float
+    h_out: float
+    gap_conductances: np.ndarray
+
+
+def solve_glazing_heat_balance(
+    panes: Sequence[GlassPane],
+    gaps: Sequence[GasGap],
+    conditions: BoundaryConditions,
+    absorbed_solar: Sequence[float] | None = None,
+    *,
+    tolerance: float = 1e-9,
+    max_iterations: int = 200,
+) -> HeatBalanceResult:
+    """Steady-state centre-of-glass heat balance (ISO 15099 §8, one-dimensional).
+
+    Each pane has three nodes (outer face, centre, inner face) joined by conductances ``2 k / d``;
+    absorbed solar heat is released at the centre. Gaps transfer heat by convection
+    (``Nu k / s``, :func:`gap_nusselt_vertical`, gas properties at the mean gap temperature) and
+    grey-body radiation ``sigma (T1^2 + T2^2)(T1 + T2) / (1/e1 + 1/e2 - 1)``; the outdoor and
+    indoor faces exchange radiation with surroundings at the air temperatures. Non-linear
+    coefficients are updated by successive substitution.
+
+    Parameters
+    ----------
+    panes : sequence of GlassPane
+        Outermost first.
+    gaps : sequence of GasGap
+        ``len(panes) - 1`` gaps, outermost first.
+    conditions : BoundaryConditions
+    absorbed_solar : sequence of float or None [W/m2]
+        Heat absorbed in each pane; None = no sun.
+
+    Returns
+    -------
+    HeatBalanceResult
+    """
+    n = len(panes)
+    if n == 0:
+        raise ThermocalInputError("a glazing system needs at least one glass layer.")
+    if len(gaps) != n - 1:
+        raise ThermocalInputError(
+            f"a glazing system with {n} glass layers needs {n - 1} gas layers, got {len(gaps)}."
+        )
+    source = np.zeros(n) if absorbed_solar is None else np.asarray(absorbed_solar, dtype=float)
+    t_out = conditions.temp_out + KELVIN
+    t_in = conditions.temp_in + KELVIN
+    n_nodes = 3 * n
+    temps = np.linspace(t_out, t_in, n_nodes + 2)[1:-1]
+    sigma = STEFAN_BOLTZMANN
+    result_h = None
+    for _ in range(max_iterations):
+        # series conductances between consecutive nodes: out-air, nodes..., in-air
+        conductances = []
+        t_face = temps[0]
+        e_front = panes[0].front_emissivity
+        h_out = conditions.h_conv_out + e_front * sigma * (t_face**2 + t_out**2) * (t_face + t_out)
+        conductances.append(h_out)
+        gap_h = []
+        for i, pane in enumerate(panes):
+            k_half = 2.0 * pane.conductivity / pane.thickness
+            conductances += [k_half, k_half]
+            if i < n - 1:
+                t1, t2 = temps[3 * i + 2], temps[3 * i + 3]
+                gap = gaps[i]
+                t_mean = 0.5 * (t1 + t2)
+                k, mu, cp, rho = gap.fill.properties(t_mean)
+                dt = abs(t1 - t2)
+                rayleigh = rho * rho * gap.thickness**3 * GRAVITY * cp * dt / (t_mean * mu * k)
+                nusselt = gap_nusselt_vertical(rayleigh, conditions.height / gap.thickness)
+                h_conv = nusselt * k / gap.thickness
+                e1, e2 = pane.back_emissivity, panes[i + 1].front_emissivity
+                h_rad = sigma * (t1**2 + t2**2) * (t1 + t2) / (1.0 / e1 + 1.0 / e2 - 1.0)
+                gap_h.append(h_conv + h_rad)
+                conductances.append(h_conv + h_rad)
+        t_face = temps[-1]
+        h_conv_in = (
+            conditions.h_conv_in
+            if conditions.h_conv_in is not None
+            else indoor_convection_coefficient(t_face, t_in, height=conditions.height)
+        )
+        e_back = panes[-1].back_emissivity
+        h_in = h_conv_in + e_back * sigma * (t_face**2 + t_in**2) * (t_face + t_in)
+        conductances.append(h_in)
+        g = np.asarray(conductances)
+        # assemble the chain: node j connected to j-1 by g[j] and to j+1 by g[j+1]
+        a = np.zeros((n_nodes, n_nodes))
+        rhs = np.zeros(n_nodes)
+        for j in range(n_nodes):
+            a[j, j] = g[j] + g[j + 1]
+            if j > 0:
+                a[j, j - 1] = -g[j]
+            else:
+                rhs[j] += g[0] * t_out
+            if j < n_nodes - 1:
+                a[j, j + 1] = -g[j + 1]
+            else:
+                rhs[j] += g[-1] * t_in
+        rhs[1::3] += source
+        new = np.linalg.solve(a, rhs)
+        change = float(np.max(np.abs(new - temps)))
+        temps = new
+        result_h = (g, h_in, h_out, np.asarray(gap_h))
+        if change < tolerance:
+            break
+    g, h_in, h_out, gap_h = result_h
+    resistances = 1.0 / g
+    total = resistances.sum()
+    cumulative = np.cumsum(resistances)
+    # resistance from the outdoor air to each pane centre = cumulative up to that node
+    centre_nodes = np.arange(n) * 3 + 1
+    inward = cumulative[centre_nodes] / total
+    heat_flux_in = float(g[-1] * (temps[-1] - t_in))
+    return HeatBalanceResult(
+        temperatures=(temps - KELVIN).reshape(n, 3),
+        heat_flux_in=heat_flux_in,
+        resistances=resistances,
+        inward_fractions=inward,
+        h_in=float(h_in),
+        h_out=float(h_out),
+        gap_conductances=gap_h,
+    )
+
+
+def en673_u_value(panes: Sequence[GlassPane], gaps: Sequence[GasGap]) -> float:
+    """Centre-of-glass U-value by EN 673 / ISO 10292 [W/(m2 K)].
+
+    ``1/U = 1/h_e + sum d_j/k_j + sum 1/h_s + 1/h_i`` with ``h_e = 23``,
+    ``h_i = 3.6 + 4.4 eps/0.837`` W/(m2 K), gap conductance ``h_s = h_r + h_g``,
+    ``h_r = 4 sigma T_m^3 / (1/e1 + 1/e2 - 1)``, ``h_g = Nu k / s``, ``Nu = max(1, 0.035 (Gr Pr)^0.38)``
+    for vertical glazing, properties at ``T_m = 283 K`` with 15 K shared equally by the gaps.
+
+    Parameters
+    ----------
+    panes : sequence of GlassPane
+    gaps : sequence of GasGap
+
+    References
+    ----------
+    EN 673:2011 §5 and Table 1 constants (vertical glazing).
+    """
+    t_mean = 283.0
+    dt_per_gap = 15.0 / max(len(gaps), 1)
+    resistance = 1.0 / 23.0 + sum(p.thickness / p.conductivity for p in panes)
+    resistance += 1.0 / (3.6 + 4.4 * panes[-1].back_emissivity / 0.837)
+    for i, gap_layer in enumerate(gaps):
+        k, mu, cp, rho = gap_layer.fill.properties(t_mean)
+        s = gap_layer.thickness
+        grashof = GRAVITY * s**3 * dt_per_gap * rho * rho / (t_mean * mu * mu)
+        prandtl = mu * cp / k
+        nusselt = max(1.0, 0.035 * (grashof * prandtl) ** 0.38)
+        e1, e2 = panes[i].back_emissivity, panes[i + 1].front_emissivity
+        h_r = 4.0 * STEFAN_BOLTZMANN * t_mean**3 / (1.0 / e1 + 1.0 / e2 - 1.0)
+        resistance += 1.0 / (h_r + nusselt * k / s)
+    return 1.0 / resistance
+
+
+class LayeredGlazing:
+    """A glazing system of glass panes and gas gaps (outermost first).
+
+    Parameters
+    ----------
+    panes : sequence of GlassPane
+    gaps : sequence of GasGap
+        One fewer than the panes.
+    name : str
+
+    Examples
+    --------
+    >>> clear = GlassPane(0.003175, 0.86156, 0.07846, 0.07846, 0.84, 0.84, 1.06)
+    >>> glazing = LayeredGlazing([clear, clear], [GasGap(0.013, gas("air"))])
+    >>> round(glazing.transmittance(0.0), 3)
+    0.747
+    """
+
+    def __init__(self, panes: Sequence[GlassPane], gaps: Sequence[GasGap], name: str = "glazing"):
+        self.panes = tuple(panes)
+        self.gaps = tuple(gaps)
+        self.name = name
+        if not self.panes:
+            raise ThermocalInputError(f"glazing '{name}': no glass layer.")
+        if len(self.gaps) != len(self.panes) - 1:
+            raise ThermocalInputError(
+                f"glazing '{name}': {len(self.panes)} glass layers need {len(self.panes) - 1} "
+                f"gas layers between them, got {len(self.gaps)}; layers must alternate "
+                "glass/gas starting and ending with glass."
+            )
+
+    # -- optics ---------------------------------------------------------------------------------
+    def optics(self, incidence_angle):
+        """System transmittance, front reflectance and pane absorptances at the angle(s).
+
+        Parameters
+        ----------
+        incidence_angle : float or array-like [deg]
+
+        Returns
+        -------
+        tau : numpy.ndarray [-], shape (n_angles,)
+        rho : numpy.ndarray [-], shape (n_angles,)
+        absorptance : numpy.ndarray [-], shape (n_angles, n_panes)
+        """
+        angles = np.atleast_1d(np.asarray(incidence_angle, dtype=float))
+        props = [pane_angular_properties(p, angles) for p in self.panes]
+        tau = np.empty(angles.size)
+        rho = np.empty(angles.size)
+        absorbed = np.empty((angles.size, len(self.panes)))
+        for k in range(angles.size):
+            t_k = [p[0][k] for p in props]
+            rf_k = [p[1][k] for p in props]
+            rb_k = [p[2][k] for p in props]
+            tau[k], rho[k], absorbed[k] = multilayer_optics(t_k, rf_k, rb_k)
+        return tau, rho, absorbed
+
+    def transmittance(self, incidence_angle=0.0):
+        """Direct solar transmittance [-] at the angle(s) of incidence [deg]."""
+        tau = self.optics(incidence_angle)[0]
+        return float(tau[0]) if np.ndim(incidence_angle) == 0 else tau
+
+    def absorptance(self, incidence_angle=0.0):
+        """Solar absorptance of every pane [-], shape (n_angles, n_panes) (or (n_panes,))."""
+        a = self.optics(incidence_angle)[2]
+        return a[0] if np.ndim(incidence_angle) == 0 else a
+
+    @cached_property
+    def diffuse_transmittance(self) -> float:
+        """Hemispherical (isotropic diffuse) solar transmittance [-]."""
+        return hemispherical_average(lambda a: self.optics(a)[0])
+
+    @cached_property
+    def diffuse_absorptance(self) -> np.ndarray:
+        """Hemispherical solar absorptance of every pane [-]."""
+        return np.array(
+            [
+                hemispherical_average(lambda a, i=i: self.optics(a)[2][:, i])
+                for i in range(len(self.panes))
+            ]
+        )
+
+    # -- heat transfer --------------------------------------------------------------------------
+    def heat_balance(self, conditions: BoundaryConditions = NFRC_WINTER, absorbed_solar=None):
+        """:func:`solve_glazing_heat_balance` for this system."""
+        return solve_glazing_heat_balance(self.panes, self.gaps, conditions, absorbed_solar)
+
+    def u_value(self, conditions: BoundaryConditions | str = NFRC_WINTER) -> float:
+        """Centre-of-glass U-value incl. surface coefficients [W/(m2 K)].
+
+        Parameters
+        ----------
+        conditions : BoundaryConditions or "nfrc" or "en673"
+            ``"nfrc"`` (default, :data:`NFRC_WINTER`, the EnergyPlus U-factor conditions) or
+            ``"en673"`` (:func:`en673_u_value`).
+        """
+        if isinstance(conditions, str):
+            key = conditions.lower()
+            if key == "en673":
+                return en673_u_value(self.panes, self.gaps)
+            if key != "nfrc":
+                raise ThermocalInputError(f"unknown U-value conditions '{conditions}'.")
+            conditions = NFRC_WINTER
+        result = self.heat_balance(conditions)
+        return result.heat_flux_in / (conditions.temp_out - conditions.temp_in)
+
+    @cached_property
+    def inward_flowing_fractions(self) -> np.ndarray:
+        """Share of the solar heat absorbed in each pane that reaches the room [-] (NFRC summer).
+
+        Evaluated with the network linearised at the converged NFRC summer state with the
+        normal-incidence absorbed solar heat.
+        """
+        absorbed = self.absorptance(0.0) * NFRC_SUMMER.solar_irradiance
+        return self.heat_balance(NFRC_SUMMER, absorbed).inward_fractions
+
+    def shgc(self, incidence_angle=0.0):
+        """Solar heat gain coefficient [-] at the angle(s) of incidence [deg].
+
+        ``tau(theta) + sum_i N_i alpha_i(theta)`` with the NFRC summer inward-flowing fractions.
+        """
+        tau, _, absorbed = self.optics(incidence_angle)
+        g = tau + absorbed @ self.inward_flowing_fractions
+        return float(g[0]) if np.ndim(incidence_angle) == 0 else g
+
+    @cached_property
+    def diffuse_shgc(self) -> float:
+        """Hemispherical (isotropic diffuse) SHGC [-]."""
+        return hemispherical_average(lambda a: self.shgc(a))
+
+    def angular_table(self, angles=(0, 10, 20, 30, 40, 50, 60, 70, 80, 90)):
+        """Transmittance, reflectance, pane absorptances and SHGC at the given angles.
+
+        Returns
+        -------
+        pandas.DataFrame indexed by angle [deg].
+        """
+        import pandas as pd
+
+        angles = np.asarray(angles, dtype=float)
+        tau, rho, absorbed = self.optics(angles)
+        frame = pd.DataFrame({"transmittance": tau, "reflectance": rho}, index=angles)
+        for i in range(absorbed.shape[1]):
+            frame[f"absorptance_{i + 1}"] = absorbed[:, i]
+        frame["shgc"] = tau + absorbed @ self.inward_flowing_fractions
+        frame.index.name = "incidence_angle"
+        return frame
+
+
+# ------------------------------------------------------------------------------------------------
+# EnergyPlus simple glazing system
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class SimpleGlazing:
+    """Equivalent single layer of the EnergyPlus simple glazing model.
+
+    Attributes
+    ----------
+    u_factor, shgc : float [W/(m2 K)], [-]
+        Input values.
+    thickness : float [m]
+    conductivity : float [W/(m K)]
+    solar_transmittance : float [-]
+        Normal incidence.
+    solar_reflectance : float [-]
+        Front = back, normal incidence.
+    solar_absorptance : float [-]
+    inward_flowing_fraction : float [-]
+    resistance_inside_winter, resistance_outside_winter, resistance_layer : float [m2 K/W]
+    resistance_inside_summer, resistance_outside_summer : float [m2 K/W]
+    visible_transmittance : float [-]
+    """
+
+    u_factor: float
+    shgc: float
+    thickness: float
+    conductivity: float
+    solar_transmittance: float
+    solar_reflectance: float
+    solar_absorptance: float
+    inward_flowing_fraction: float
+    resistance_inside_winter: float
+    resistance_outside_winter: float
+    resistance_layer: float
+    resistance_inside_summer: float
+    resistance_outside_summer: float
+    visible_transmittance: float
+
+    def as_pane(self, name: str = "simple glazing") -> GlassPane:
+        """The equivalent layer as a :class:`GlassPane` (emissivities 0.84, as EnergyPlus)."""
+        return GlassPane(
+            self.thickness,
+            self.solar_transmittance,
+            self.solar_reflectance,
+            self.solar_reflectance,
+            0.84,
+            0.84,
+            self.conductivity,
+            0.0,
+            name,
+        )
+
+
+def _interpolate_u(u: float, low_value: float, high_value: float) -> float:
+    """Linear interpolation between the U <= 3.4 and U >= 4.5 correlations."""
+    if u <= 3.4:
+        return low_value
+    if u >= 4.5:
+        return high_value
+    w = (u - 3.4) / (4.5 - 3.4)
+    return low_value + w * (high_value - low_value)
+
+
+def simple_glazing_system(
+    u_factor: float, shgc: float, visible_transmittance: float | None = None, *, name: str = ""
+) -> SimpleGlazing:
+    """EnergyPlus ``WindowMaterial:SimpleGlazingSystem`` -> equivalent glazing layer.
+
+    Steps of the EnergyPlus Engineering Reference ("Simple Window Model"):
+
+    1. Winter film resistances ``R_i,w = 1/(0.359073 ln U + 6.949915)`` (U < 5.85) or
+       ``1/(1.788041 U - 2.886625)``, ``R_o,w = 1/(0.025342 U + 29.163853)``; layer resistance
+       ``R_l,w = 1/U - R_i,w - R_o,w``.
+    2. Thickness ``0.002 m`` if ``1/R_l,w > 7`` else ``0.05914 - 0.00714/R_l,w``; conductivity
+       ``thickness / R_l,w``.
+    3. Normal solar transmittance from SHGC by the U >= 4.5 and U <= 3.4 correlations, linear in U
+       between.
+    4. Summer film resistances from ``SHGC - T_sol`` (same interpolation), inward-flowing fraction
+       ``N = (R_o,s + R_l,w/2)/(R_o,s + R_l,w + R_i,s)``, absorptance ``(SHGC - T_sol)/N``,
+       reflectance ``1 - T_sol - absorptance``.
+
+    Parameters
+    ----------
+    u_factor : float [W/(m2 K)]
+        NFRC U-factor incl. surface films (0 < U <= 7).
+    shgc : float [-]
+        Normal-incidence SHGC (0 < SHGC < 1).
+    visible_transmittance : float or None [-]
+        Defaults to the solar transmittance.
+    name : str
+        For messages.
+
+    Returns
+    -------
+    SimpleGlazing
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, Window Calculation Module, "Simple Window Model";
+    D. Arasteh, J. C. Kohler, B. Griffith, "Modeling windows in EnergyPlus with simple performance
+    indices", LBNL-2804E, 2009.
+    """
+    label = f"WindowMaterial:SimpleGlazingSystem '{name}'" if name else "simple glazing"
+    if not 0.0 < u_factor <= 7.0:
+        raise ThermocalInputError(
+            f"{label}: U-factor {u_factor} W/(m2 K) must be in (0, 7] (the film resistances "
+            "alone limit the model to U <= 7)."
+        )
+    if not 0.0 < shgc < 1.0:
+        raise ThermocalInputError(f"{label}: SHGC {shgc} must be in (0, 1).")
+    u = float(u_factor)
+    if u < 5.85:
+        r_iw = 1.0 / (0.359073 * math.log(u) + 6.949915)
+    else:
+        r_iw = 1.0 / (1.788041 * u - 2.886625)
+    r_ow = 1.0 / (0.025342 * u + 29.163853)
+    r_lw = 1.0 / u - r_iw - r_ow
+    if r_lw <= 0.0:
+        raise ThermocalInputError(
+            f"{label}: U-factor {u} is higher than the surface films alone allow; lower it."
+        )
+    thickness = 0.002 if 1.0 / r_lw > 7.0 else 0.05914 - 0.00714 / r_lw
+    conductivity = thickness / r_lw
+
+    def tsol_high(g):
+        return 0.939998 * g * g + 0.20332 * g if g < 0.7206 else 1.30415 * g - 0.30515
+
+    def tsol_low(g):
+        return 0.41040 * g if g <= 0.15 else 0.085775 * g * g + 0.963954 * g - 0.084958
+
+    t_sol = max(_interpolate_u(u, tsol_low(shgc), tsol_high(shgc)), 0.0)
+    x = shgc - t_sol
+    r_is = _interpolate_u(
+        u,
+        1.0 / (199.8208128 * x**3 - 90.639733 * x**2 + 19.737055 * x + 6.766575),
+        1.0 / (29.436546 * x**3 - 21.943415 * x**2 + 9.945872 * x + 7.426151),
+    )
+    r_os = _interpolate_u(u, 1.0 / (5.763355 * x + 20.541528), 1.0 / (2.225824 * x + 20.57708))
+    inward = (r_os + 0.5 * r_lw) / (r_os + r_lw + r_is)
+    absorptance = x / inward
+    reflectance = 1.0 - t_sol - absorptance
+    if reflectance < 0.0:
+        raise ThermocalInputError(
+            f"{label}: U = {u}, SHGC = {shgc} give a negative solar reflectance "
+            f"({reflectance:.3f}); the combination is outside the simple model's range."
+        )
+    tvis = t_sol if visible_transmittance is None else float(visible_transmittance)
+    return SimpleGlazing(
+        u_factor=u,
+        shgc=float(shgc),
+        thickness=thickness,
+        conductivity=conductivity,
+        solar_transmittance=t_sol,
+        solar_reflectance=reflectance,
+        solar_absorptance=absorptance,
+        inward_flowing_fraction=inward,
+        resistance_inside_winter=r_iw,
+        resistance_outside_winter=r_ow,
+        resistance_layer=r_lw,
+        resistance_inside_summer=r_is,
+        resistance_outside_summer=r_os,
+        visible_transmittance=tvis,
+    )

@@ -1,0 +1,315 @@
+"""Calibration of the fifth-order model with the grey-box engine (:mod:`thermocal.statespace`).
+
+The calculated conductances enter the RC network as constants; ``H_est`` and the five
+capacities are estimated by maximum likelihood together with the diffusion (process noise) of
+every state, the measurement noise and the initial temperatures of the slow states. Initial
+guesses come from the building description and the first measured day.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+from thermocal.retrofit.model import (
+    ESTIMATED_PARAMETERS,
+    STATE_NAMES,
+    FifthOrderModel,
+    calculated_hlc,
+    system_matrices,
+)
+
+#: Data columns of the calibration model: boundary temperatures, heat inputs, output.
+BOUNDARY_COLUMNS = ("Te", "Tgr")
+HEAT_COLUMNS = ("phi_h", "phi_sol", "phi_abs_roof", "phi_abs_walls")
+OUTPUT_COLUMN = "Ti_measured"
+
+
+def steady_initial_state(
+    model: FifthOrderModel, params_si: dict, inputs: np.ndarray, temp_in: float
+) -> np.ndarray:
+    """Initial states: ``Ti`` as measured, the others in equilibrium with mean inputs."""
+    h = model.conductances()
+    a, b = system_matrices(h, params_si)
+    a, b = a[0], b[0]
+    x = np.empty(5)
+    x[0] = temp_in
+    rest = slice(1, 5)
+    rhs = -(a[rest, 0] * temp_in + b[rest] @ inputs)
+    x[rest] = np.linalg.solve(a[rest, rest], rhs)
+    return x
+
+
+def initial_params_si(model: FifthOrderModel) -> dict[str, float]:
+    """Initial values of the estimated parameters in SI units (W/K, J/K)."""
+    out = {}
+    for name, (_, ini, _, unit) in model.estimated.items():
+        out[name] = ini * (1e6 if unit == "MJ/K" else 1.0)
+    return out
+
+
+def rc_spec(model: FifthOrderModel, x0: np.ndarray) -> dict:
+    """The fifth-order model as a :class:`thermocal.statespace.RCModel` specification.
+
+    Parameters
+    ----------
+    model : FifthOrderModel
+    x0 : ndarray (5,) [C]
+        Initial guesses of the state temperatures (Ti, Tenv, Tgf, Tim, Th).
+    """
+    h = model.conductances()
+    states = {}
+    params: dict[str, dict] = {}
+    noise_init = {"Ti": 0.1, "Tenv": 0.05, "Tgf": 0.05, "Tim": 0.05, "Th": 1.0}
+    capacity = {"Ti": "C_i", "Tenv": "C_env", "Tgf": "C_gf", "Tim": "C_im", "Th": "C_h"}
+    for i, s in enumerate(STATE_NAMES):
+        states[s] = {
+            "capacity": capacity[s],
+            "noise": f"sigma_{s}",
+            "initial_mean": f"{s}0",
+            "initial_std": 0.5 if s == "Ti" else 2.0,
+        }
+        params[f"sigma_{s}"] = {
+            "value": noise_init[s],
+            "lower": 1e-5,
+            "upper": 20.0,
+            "unit": "K/sqrt(h)",
+        }
+        lo, hi = (x0[i] - 15.0, x0[i] + 15.0) if s != "Ti" else (x0[i] - 3.0, x0[i] + 3.0)
+        params[f"{s}0"] = {
+            "value": float(x0[i]),
+            "lower": float(lo),
+            "upper": float(hi),
+            "unit": "C",
+            "fixed": s == "Th",
+        }
+    for name, (lo, ini, hi, unit) in model.estimated.items():
+        params[name] = {"value": ini, "lower": lo, "upper": hi, "unit": unit}
+    params["e_std"] = {"value": 0.1, "lower": 1e-4, "upper": 3.0, "unit": "C"}
+    conductances = [
+        {"between": ["Ti", "Tenv"], "conductance": h["H_env_in"]},
+        {"between": ["Tenv", "Te"], "conductance": h["H_env_out"]},
+        {"between": ["Ti", "Tgf"], "conductance": h["H_gf_in"]},
+        {"between": ["Tgf", "Tgr"], "conductance": h["H_gf_gr"]},
+        {"between": ["Ti", "Tim"], "conductance": h["H_im"]},
+        {"between": ["Ti", "Th"], "conductance": h["H_h"]},
+        {"between": ["Ti", "Te"], "conductance": "H_est"},
+    ]
+    if h["H_win"] > 0:
+        conductances.append({"between": ["Ti", "Te"], "conductance": h["H_win"]})
+    if h["H_gf_e"] > 0:
+        conductances.append({"between": ["Tgf", "Te"], "conductance": h["H_gf_e"]})
+    f_im = h["f_im"]
+    heat_inputs = [
+        {"column": "phi_h", "unit": "W", "into": "Th"},
+        {"column": "phi_sol", "unit": "W", "into": {"Ti": 1.0 - f_im, "Tim": f_im}},
+        {"column": "phi_abs_roof", "unit": "W", "into": "Tenv", "scale": h["share_roof"]},
+        {"column": "phi_abs_walls", "unit": "W", "into": "Tenv", "scale": h["share_walls"]},
+    ]
+    return {
+        "name": "fifth_order_retrofit",
+        "description": "Fifth-order RC model of paper 000 (Fig. 3)",
+        "states": states,
+        "conductances": conductances,
+        "heat_inputs": heat_inputs,
+        "outputs": [{"column": OUTPUT_COLUMN, "state": "Ti", "noise": "e_std"}],
+        "parameters": params,
+    }
+
+
+@dataclass
+class Calibration:
+    """Outcome of the calibration, in the units the report uses."""
+
+    estimates_si: dict[str, float]  # H_est [W/K], capacities [J/K]
+    cov_si: np.ndarray  # covariance of ESTIMATED_PARAMETERS in SI
+    params: pd.Series  # all parameters, declared units
+    bse: pd.Series
+    correlation: pd.DataFrame
+    loglike: float
+    aic: float
+    bic: float
+    converged: bool
+    flags: list[str]
+    x0: np.ndarray  # initial state for deterministic simulation [C]
+    fit_seconds: float
+    heat_loss_coefficient: float = 0.0
+    heat_loss_coefficient_std: float = 0.0
+    correlated_pairs: list[tuple[str, str, float]] = field(default_factory=list)
+    at_bounds: list[str] = field(default_factory=list)
+
+
+def calibrate(
+    model: FifthOrderModel,
+    data: pd.DataFrame,
+    *,
+    n_starts: int = 1,
+    seed: int = 0,
+    max_correlation: float = 0.98,
+) -> Calibration:
+    """Maximum-likelihood calibration of the fifth-order model.
+
+    Parameters
+    ----------
+    model : FifthOrderModel
+    data : pd.DataFrame
+        Training data: ``Te``, ``Tgr`` [C], ``phi_h``, ``phi_sol``, ``phi_abs_roof``,
+        ``phi_abs_walls`` [W] and the measured indoor temperature ``Ti_measured`` [C].
+    n_starts, seed : optimiser starts (see :meth:`thermocal.statespace.RCModel.fit`).
+    max_correlation : float
+        Pairs of estimated parameters correlated beyond this are reported (paper 000: 0.98).
+
+    Returns
+    -------
+    Calibration
+    """
+    from thermocal.statespace import RCModel
+
+    first_day = data.iloc[: max(1, min(24, len(data)))]
+    u_mean = first_day[list(BOUNDARY_COLUMNS + HEAT_COLUMNS)].mean().to_numpy(float)
+    p0 = initial_params_si(model)
+    ti0 = float(data[OUTPUT_COLUMN].dropna().iloc[0])
+    x0_guess = steady_initial_state(model, p0, u_mean, ti0)
+    rc = RCModel.from_dict(rc_spec(model, x0_guess), source="fifth-order retrofit model")
+    res = rc.fit(data, n_starts=n_starts, seed=seed)
+    # nuisance parameters (diffusions, initial states) ending on a bound make the Hessian
+    # singular in the unconstrained space: fix them there and re-estimate the rest from the
+    # optimum, so the standard errors of the physical parameters are defined
+    stuck = _nuisance_at_bounds(rc, res.params)
+    if stuck:
+        free_values = {n: float(res.params[n]) for n in rc.free_parameter_names if n not in stuck}
+        rc = rc.with_parameters(free_values).with_parameters(
+            {n: float(res.params[n]) for n in stuck}, fix=True
+        )
+        first_seconds = res.fit_seconds
+        res = rc.fit(data, n_starts=1, seed=seed)
+        res.fit_seconds += first_seconds
+    params = res.params
+    bse = res.bse
+    cov = res.cov_params()
+    names = list(ESTIMATED_PARAMETERS)
+    factors = np.array([1e6 if model.estimated[n][3] == "MJ/K" else 1.0 for n in names])
+    cov_sub = cov.reindex(index=names, columns=names).to_numpy(float)
+    cov_si = cov_sub * np.outer(factors, factors)
+    estimates = {n: float(params[n]) * f for n, f in zip(names, factors, strict=True)}
+    corr = res.correlation
+    pairs = []
+    free = list(corr.columns)
+    for i, a in enumerate(free):
+        for b in free[i + 1 :]:
+            r = float(corr.loc[a, b])
+            if np.isfinite(r) and abs(r) >= max_correlation:
+                pairs.append((a, b, r))
+    flags = list(res.flags)
+    for a, b, r in pairs:
+        if not any(a in f and b in f for f in flags):
+            flags.append(
+                f"parameters {a} and {b} are correlated (r = {r:+.3f}, |r| >= "
+                f"{max_correlation}): fix one of them or lengthen the training period"
+            )
+    at_bounds = []
+    for n in names:
+        lo, _, hi, _ = model.estimated[n]
+        v = float(params[n])
+        if v <= lo + 1e-3 * (hi - lo) or v >= hi - 1e-3 * (hi - lo):
+            at_bounds.append(n)
+            flags.append(f"parameter {n} = {v:.4g} is at its bound [{lo:.4g}, {hi:.4g}]")
+    # initial state for the deterministic simulation: smoothed state at the first sample
+    try:
+        smoothed = res.smooth(data)
+        x0 = smoothed[list(STATE_NAMES)].iloc[0].to_numpy(float)
+    except Exception:  # noqa: BLE001 - fall back to the estimated initial means
+        x0 = np.array([float(params[f"{s}0"]) for s in STATE_NAMES])
+    hlc = calculated_hlc(model.conductances()) + estimates["H_est"]
+    return Calibration(
+        estimates_si=estimates,
+        cov_si=cov_si,
+        params=params,
+        bse=bse,
+        correlation=corr,
+        loglike=float(res.loglike),
+        aic=float(res.aic),
+        bic=float(res.bic),
+        converged=bool(res.converged),
+        flags=flags,
+        x0=x0,
+        fit_seconds=float(res.fit_seconds),
+        heat_loss_coefficient=float(hlc),
+        heat_loss_coefficient_std=float(bse["H_est"]),
+        correlated_pairs=pairs,
+        at_bounds=at_bounds,
+    )
+
+
+def _nuisance_at_bounds(rc, params: pd.Series, tol: float = 1e-3) -> list[str]:
+    stuck = []
+    for name in rc.free_parameter_names:
+        if name in ESTIMATED_PARAMETERS:
+            continue
+        p = rc.parameters[name]
+        x = float(params[name])
+        if not (np.isfinite(p.lower) and np.isfinite(p.upper)):
+            continue
+        if name.startswith("sigma_"):  # scale parameters: relative position in log space
+            lo, hi, v = np.log(p.lower), np.log(p.upper), np.log(max(x, p.lower))
+            rel_tol = 0.05
+        else:
+            lo, hi, v = p.lower, p.upper, x
+            rel_tol = tol
+        if min(v - lo, hi - v) < rel_tol * (hi - lo):
+            stuck.append(name)
+    return stuck
+
+
+def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed: int = 0):
+    """Parameter draws from the estimated covariance (first draw = the estimate).
+
+    Draws outside the estimation bounds are redrawn (truncated multivariate normal); a
+    covariance that is not positive semi-definite is projected onto the nearest one.
+
+    Returns
+    -------
+    dict name -> ndarray (n_draws + 1,) in SI units.
+    """
+    names = list(ESTIMATED_PARAMETERS)
+    mean = np.array([cal.estimates_si[n] for n in names])
+    cov = np.nan_to_num(cal.cov_si)
+    w, v = np.linalg.eigh(0.5 * (cov + cov.T))
+    cov = (v * np.clip(w, 0.0, None)) @ v.T
+    lo = np.array(
+        [model.estimated[n][0] * (1e6 if model.estimated[n][3] == "MJ/K" else 1.0) for n in names]
+    )
+    hi = np.array(
+        [model.estimated[n][2] * (1e6 if model.estimated[n][3] == "MJ/K" else 1.0) for n in names]
+    )
+    rng = np.random.default_rng(seed)
+    out = np.empty((n_draws, len(names)))
+    filled = 0
+    for _ in range(50):
+        if filled >= n_draws:
+            break
+        cand = rng.multivariate_normal(mean, cov, size=2 * (n_draws - filled) + 10, method="eigh")
+        ok = np.all((cand > lo) & (cand < hi), axis=1)
+        take = cand[ok][: n_draws - filled]
+        out[filled : filled + len(take)] = take
+        filled += len(take)
+    if filled < n_draws:
+        out[filled:] = np.clip(rng.multivariate_normal(mean, cov, size=n_draws - filled), lo, hi)
+    allp = np.vstack([mean[None, :], out])
+    return {n: allp[:, i] for i, n in enumerate(names)}
+
+
+def check_training_data(data: pd.DataFrame, source: str = "measurements") -> None:
+    """Raise a clear error when the training data cannot be used."""
+    for col in BOUNDARY_COLUMNS + HEAT_COLUMNS + (OUTPUT_COLUMN,):
+        if col not in data:
+            raise ThermocalInputError(f"{source}: training data lacks column {col!r}")
+        frac = float(data[col].isna().mean())
+        if col != OUTPUT_COLUMN and frac > 0:
+            raise ThermocalInputError(
+                f"{source}: input {col!r} has {int(data[col].isna().sum())} missing values in the "
+                "training period; inputs must be complete (fill or shorten the period)"
+            )

@@ -1,0 +1,1028 @@
+"""Weather files (EPW, TMY3, CSV) into one standard, tz-aware frame.
+
+Every reader returns ``(weather, metadata)``.
+
+Standard columns (a quantity absent from the file is absent from the frame, never faked):
+
+=================  ======  ===========  ==================================================
+column             unit    kind         meaning
+=================  ======  ===========  ==================================================
+temp_air           C       instant      dry-bulb air temperature
+temp_dew           C       instant      dew-point temperature
+relative_humidity  %       instant      relative humidity
+pressure           Pa      instant      atmospheric station pressure
+wind_speed         m/s     instant      wind speed
+wind_direction     deg     instant      wind direction (from; 0 N, 90 E)
+ghi                W/m2    interval     global horizontal irradiance
+dni                W/m2    interval     direct normal irradiance
+dhi                W/m2    interval     diffuse horizontal irradiance
+ghi_infrared       W/m2    interval     horizontal long-wave (infrared) irradiance from the sky
+albedo             -       interval     ground reflectance
+=================  ======  ===========  ==================================================
+
+Time convention (the same for every format)
+-------------------------------------------
+* The index is tz-aware. EPW and TMY3 files are in the site's local *standard* time (no daylight
+  saving); the index carries that fixed UTC offset (e.g. ``UTC+01:00`` for Zurich) unless ``tz=``
+  asks for a conversion.
+* Each row is **labelled by the start of the interval it describes**: the row ``2015-01-01 00:00``
+  describes ``[00:00, 01:00)``. EPW "hour 1" and TMY3 "01:00" (hour-ending labels) therefore become
+  ``00:00``.
+* Interval quantities (``ghi, dni, dhi, ghi_infrared, albedo``) are **means over**
+  ``[t, t + step)``: the EPW/TMY3 irradiation of the *preceding* hour [Wh/m2] equals the mean
+  irradiance [W/m2] of the hour that our label starts.
+* Instant quantities (temperatures, humidity, pressure, wind) are kept at their **true time**: the
+  files report them at the end of the hour, so the value of file row *k* (hour ending ``t_k + 1h``)
+  becomes the value at label ``t_k + 1h``, i.e. of the next row. Linear interpolation between rows
+  then gives the right value at any time (this is what EnergyPlus does with hourly weather) and
+  :func:`resample_weather` interpolates them. The first row's instant values (the end of the hour
+  *before* the file starts) are taken from the file's last row when the file covers a whole year (a
+  typical year is cyclic; EnergyPlus wraps the same way), otherwise the first file row is repeated.
+  Downstream code that needs an interval mean of the temperature uses
+  ``(T(t) + T(t + step)) / 2``.
+* Sun positions for interval data must be computed at the interval midpoints ``t + step / 2``:
+  :func:`thermocal.physics.solar.irradiance_on_surface` does this.
+
+Years
+-----
+EPW files of *typical* years (TMY, IWEC, ...) take each month from a different year, so the year
+column varies from row to row and the raw time stamps are not monotonic. When the file's own years
+give a strictly increasing, regular index (actual-year files such as ``Zuerich-SMA_2015.epw``) they
+are kept. Otherwise all rows are coerced to one year: ``coerce_year`` if given, else the latest
+year in 2001-2023 (non-leap unless the file contains 29 February) whose calendar puts the file's
+first day on the weekday declared in the EPW ``DATA PERIODS`` line (so weekday schedules match
+EnergyPlus), or 2001/2004 when no weekday is declared. ``metadata["coerced_year"]`` records it.
+
+References
+----------
+.. [1] EnergyPlus Auxiliary Programs, "Weather Converter Program", section "EnergyPlus Weather File
+   (EPW) Data Dictionary".
+.. [2] Wilcox, S. and Marion, W. (2008), "Users Manual for TMY3 Data Sets", NREL/TP-581-43156.
+.. [3] ISO 52010-1:2017, clause 6.4 (interval conventions for solar calculations).
+"""
+
+from __future__ import annotations
+
+import calendar
+import io
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+
+__all__ = [
+    "STANDARD_COLUMNS",
+    "INTERVAL_COLUMNS",
+    "INSTANT_COLUMNS",
+    "read_weather",
+    "read_epw",
+    "read_tmy3",
+    "read_weather_csv",
+    "resample_weather",
+    "weather_step",
+]
+
+#: Quantities that are means over the interval ``[t, t + step)`` [W/m2 or -].
+INTERVAL_COLUMNS = ("ghi", "dni", "dhi", "ghi_infrared", "albedo")
+#: Quantities that are instantaneous values at the label time.
+INSTANT_COLUMNS = (
+    "temp_air",
+    "temp_dew",
+    "relative_humidity",
+    "pressure",
+    "wind_speed",
+    "wind_direction",
+)
+#: All standard columns, in the order they appear in the returned frame.
+STANDARD_COLUMNS = (
+    "temp_air",
+    "temp_dew",
+    "relative_humidity",
+    "pressure",
+    "ghi",
+    "dni",
+    "dhi",
+    "ghi_infrared",
+    "wind_speed",
+    "wind_direction",
+    "albedo",
+)
+
+# EPW "missing" codes per field (EnergyPlus Auxiliary Programs, EPW data dictionary); a value
+# >= the code is missing.
+_EPW_MISSING = {
+    "temp_air": 99.9,
+    "temp_dew": 99.9,
+    "relative_humidity": 999.0,
+    "pressure": 999999.0,
+    "ghi_infrared": 9999.0,
+    "ghi": 9999.0,
+    "dni": 9999.0,
+    "dhi": 9999.0,
+    "wind_direction": 999.0,
+    "wind_speed": 999.0,
+    "albedo": 999.0,
+}
+
+# Physically plausible ranges used to catch unit mix-ups and corrupt values.
+_PLAUSIBLE = {
+    "temp_air": (-90.0, 70.0, "C"),
+    "temp_dew": (-100.0, 50.0, "C"),
+    "relative_humidity": (0.0, 110.0, "%"),
+    "pressure": (30_000.0, 120_000.0, "Pa"),
+    "ghi": (-10.0, 1600.0, "W/m2"),
+    "dni": (-10.0, 1500.0, "W/m2"),
+    "dhi": (-10.0, 1000.0, "W/m2"),
+    "ghi_infrared": (0.0, 700.0, "W/m2"),
+    "wind_speed": (0.0, 80.0, "m/s"),
+    "wind_direction": (0.0, 360.0, "deg"),
+    "albedo": (0.0, 1.0, "-"),
+}
+
+_EPW_FIELDS = 35
+_WEEKDAYS = {name.lower(): i for i, name in enumerate(calendar.day_name)}
+
+
+# --------------------------------------------------------------------------------------------
+# public API
+# --------------------------------------------------------------------------------------------
+def read_weather(
+    path: str | Path,
+    *,
+    format: str | None = None,
+    columns: Mapping[str, str] | None = None,
+    tz: str | float | None = None,
+    time_column: str = "time",
+    time_label: str = "start",
+    coerce_year: int | None = None,
+    metadata: Mapping[str, Any] | None = None,
+) -> tuple[pd.DataFrame, dict]:
+    """Read a weather file (EPW, TMY3 or CSV) into the standard frame.
+
+    Parameters
+    ----------
+    path : str or Path
+        The weather file.
+    format : {"epw", "tmy3", "csv"}, optional
+        File format; detected from the extension and the first line when omitted.
+    columns : mapping, optional
+        CSV only: ``{standard_name: file_column}``, e.g. ``{"temp_air": "T_out", "ghi": "G"}``.
+        Values must already be in the standard units (see the module docstring).
+    tz : str or float, optional
+        EPW/TMY3: convert the index to this time zone (name, or hours east of UTC).
+        CSV: the time zone of naive time stamps (required for them); aware stamps are converted.
+    time_column : str
+        CSV only: the name of the time-stamp column [-].
+    time_label : {"start", "end"}
+        CSV only: whether each time stamp labels the start (default) or the end of the interval
+        over which the irradiance columns are averaged.
+    coerce_year : int, optional
+        EPW/TMY3: put every row in this year (typical-year files). See the module docstring.
+    metadata : mapping, optional
+        CSV only: site metadata (``latitude`` [deg N], ``longitude`` [deg E], ``altitude`` [m],
+        ``name``), copied into the returned metadata.
+
+    Returns
+    -------
+    weather : pandas.DataFrame
+        Standard columns, tz-aware index labelled by interval start.
+    metadata : dict
+        ``latitude`` [deg N], ``longitude`` [deg E], ``altitude`` [m], ``tz`` [h east of UTC or
+        name], ``name``, ``source`` (path), ``format``, ``step`` (pandas Timedelta),
+        ``time_label`` ("interval start"), ``coerced_year`` (int or None), ``missing``
+        ({column: number of missing values}) and, for EPW, ``ground_temperatures``
+        ({depth [m]: 12 monthly means [C]}).
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Unreadable file, unknown format, bad or missing columns, non-numeric values, irregular or
+        duplicated time stamps, implausible values (e.g. Kelvin instead of Celsius); the message
+        names the file, column and line.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ThermocalInputError(f"weather file {path} does not exist (check the path)")
+    fmt = (format or _detect_format(path)).lower()
+    if fmt == "epw":
+        return read_epw(path, tz=tz, coerce_year=coerce_year)
+    if fmt in ("tmy3", "tmy"):
+        return read_tmy3(path, tz=tz, coerce_year=coerce_year)
+    if fmt == "csv":
+        return read_weather_csv(
+            path,
+            columns=columns,
+            tz=tz,
+            time_column=time_column,
+            time_label=time_label,
+            metadata=metadata,
+        )
+    raise ThermocalInputError(
+        f"weather file {path}: unknown format {format!r}; use 'epw', 'tmy3' or 'csv'"
+    )
+
+
+def read_epw(
+    path: str | Path, *, tz: str | float | None = None, coerce_year: int | None = None
+) -> tuple[pd.DataFrame, dict]:
+    """Read an EnergyPlus weather (EPW) file into the standard frame.
+
+    Uses :func:`pvlib.iotools.read_epw` for parsing; builds the interval-start index itself (see
+    the module docstring for the conventions).
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.epw`` file.
+    tz : str or float, optional
+        Convert the index to this time zone (name, or hours east of UTC).
+    coerce_year : int, optional
+        Put every row in this year.
+
+    Returns
+    -------
+    weather : pandas.DataFrame
+    metadata : dict
+        See :func:`read_weather`.
+
+    References
+    ----------
+    .. [1] EnergyPlus Auxiliary Programs, EPW data dictionary.
+    """
+    import pvlib
+
+    path = Path(path)
+    header = _read_epw_header(path)
+    try:
+        raw, meta = pvlib.iotools.read_epw(_epw_buffer(path))
+    except Exception as exc:  # pvlib fails deep inside pandas: find the culprit ourselves
+        _diagnose_epw(path, exc)
+        raise ThermocalInputError(f"weather file {path} is not a readable EPW file: {exc}") from exc
+    n_header = 8
+    raw = raw.reset_index(drop=True)
+    for column in ("year", "month", "day", "hour", "minute"):
+        _require_numeric(raw, column, path, first_line=n_header + 1, what="EPW field")
+    records_per_hour = header["records_per_hour"]
+    step = pd.Timedelta(minutes=60 // records_per_hour)
+    # start of each record: (hour - 1) + (minute_end - step) for sub-hourly files
+    if records_per_hour == 1:
+        offset = pd.to_timedelta(raw["hour"].astype(int) - 1, unit="h")
+    else:
+        minute_end = raw["minute"].astype(int).where(raw["minute"].astype(int) > 0, 60)
+        offset = (
+            pd.to_timedelta(raw["hour"].astype(int) - 1, unit="h")
+            + pd.to_timedelta(minute_end, unit="min")
+            - step
+        )
+    start, coerced = _dates_with_years(
+        raw[["year", "month", "day"]].astype(int),
+        offset,
+        step,
+        path,
+        first_line=n_header + 1,
+        coerce_year=coerce_year,
+        first_weekday=header["start_weekday"],
+    )
+    utc_offset = float(meta["TZ"])
+    index = pd.DatetimeIndex(start).tz_localize(_fixed_offset(utc_offset))
+    frame = pd.DataFrame(index=index)
+    missing: dict[str, int] = {}
+    for column in STANDARD_COLUMNS:
+        source = "atmospheric_pressure" if column == "pressure" else column
+        if source not in raw.columns:
+            continue
+        _require_numeric(raw, source, path, first_line=n_header + 1, what="EPW field")
+        values = raw[source].to_numpy(dtype=float)
+        values = np.where(values >= _EPW_MISSING[column], np.nan, values)
+        if np.all(np.isnan(values)):
+            continue  # absent from the file: absent from the frame
+        frame[column] = values
+    if "albedo" in frame and np.nanmax(frame["albedo"].to_numpy()) <= 0.0:
+        frame = frame.drop(columns="albedo")  # EPW writers put 0 when unknown
+    _check_plausible(frame, path, first_line=n_header + 1)
+    full_year = _covers_whole_year(index, step)
+    frame = _instant_values_to_true_time(frame, wrap=full_year)
+    for column in frame.columns:
+        n_missing = int(frame[column].isna().sum())
+        if n_missing:
+            missing[column] = n_missing
+    if tz is not None:
+        frame.index = frame.index.tz_convert(_as_tz(tz, path))
+    metadata = {
+        "latitude": float(meta["latitude"]),
+        "longitude": float(meta["longitude"]),
+        "altitude": float(meta["altitude"]),
+        "tz": utc_offset,
+        "name": str(meta.get("city", "")).strip() or path.stem,
+        "source": str(path),
+        "format": "epw",
+        "step": step,
+        "time_label": "interval start",
+        "coerced_year": coerced,
+        "missing": missing,
+        "ground_temperatures": header["ground_temperatures"],
+        "wmo": str(meta.get("WMO_code", "")).strip(),
+    }
+    return frame, metadata
+
+
+def read_tmy3(
+    path: str | Path, *, tz: str | float | None = None, coerce_year: int | None = None
+) -> tuple[pd.DataFrame, dict]:
+    """Read an NREL TMY3 file into the standard frame.
+
+    Uses :func:`pvlib.iotools.read_tmy3`; TMY3 time stamps are hour-ending in local standard time
+    (``01:00`` is the hour 00:00-01:00, ``24:00`` the last hour of the day) and are re-labelled by
+    interval start; pressure is converted from mbar to Pa. TMY3 has no infrared irradiance.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TMY3 ``.csv`` file.
+    tz : str or float, optional
+        Convert the index to this time zone.
+    coerce_year : int, optional
+        Put every row in this year (default: see the module docstring).
+
+    Returns
+    -------
+    weather : pandas.DataFrame
+    metadata : dict
+        See :func:`read_weather`.
+
+    References
+    ----------
+    .. [1] Wilcox, S. and Marion, W. (2008), "Users Manual for TMY3 Data Sets",
+       NREL/TP-581-43156, section 2.
+    """
+    import pvlib
+
+    path = Path(path)
+    try:
+        raw, meta = pvlib.iotools.read_tmy3(str(path), map_variables=True)
+    except Exception as exc:
+        _diagnose_tmy3(path, exc)
+        raise ThermocalInputError(
+            f"weather file {path} is not a readable TMY3 file: {exc} (the first line holds the "
+            "site, the second the column names, e.g. 'Date (MM/DD/YYYY),Time (HH:MM),...')"
+        ) from exc
+    n_header = 2
+    raw = raw.reset_index(drop=True)
+    # rebuild the stamps from the file's own date and hour-ending time (pvlib moves 24:00 to the
+    # next day and 29 February to 1 March, which breaks typical-year files)
+    dates = pd.to_datetime(raw["Date (MM/DD/YYYY)"], format="%m/%d/%Y", errors="coerce")
+    clock = raw["Time (HH:MM)"].astype(str).str.split(":", expand=True)
+    hours = pd.to_numeric(clock[0], errors="coerce")
+    minutes = pd.to_numeric(clock[1], errors="coerce") if clock.shape[1] > 1 else hours * np.nan
+    bad = dates.isna() | hours.isna() | minutes.isna() | (hours < 1) | (hours > 24)
+    if bad.any():
+        row = int(np.flatnonzero(bad.to_numpy())[0])
+        raise ThermocalInputError(
+            f"weather file {path}, line {row + n_header + 1}: cannot read date/time "
+            f"{raw['Date (MM/DD/YYYY)'].iloc[row]!r} {raw['Time (HH:MM)'].iloc[row]!r} "
+            "(expected MM/DD/YYYY and an hour-ending HH:MM from 01:00 to 24:00)"
+        )
+    step = pd.Timedelta(hours=1)
+    ymd = pd.DataFrame({"year": dates.dt.year, "month": dates.dt.month, "day": dates.dt.day})
+    offset = pd.to_timedelta(hours - 1, unit="h") + pd.to_timedelta(minutes, unit="min")
+    start, coerced = _dates_with_years(
+        ymd,
+        offset,
+        step,
+        path,
+        first_line=n_header + 1,
+        coerce_year=coerce_year,
+        first_weekday=None,
+    )
+    utc_offset = float(meta["TZ"])
+    index = pd.DatetimeIndex(start).tz_localize(_fixed_offset(utc_offset))
+    frame = pd.DataFrame(index=index)
+    for column in STANDARD_COLUMNS:
+        if column not in raw.columns:
+            continue
+        _require_numeric(raw, column, path, first_line=n_header + 1, what="TMY3 column")
+        values = raw[column].to_numpy(dtype=float)
+        if column == "pressure":
+            values = values * 100.0  # mbar -> Pa
+        if column == "albedo":
+            values = np.where(values <= 0.0, np.nan, values)
+        if np.all(np.isnan(values)):
+            continue
+        frame[column] = values
+    _check_plausible(frame, path, first_line=n_header + 1)
+    frame = _instant_values_to_true_time(frame, wrap=_covers_whole_year(index, step))
+    missing = {c: int(frame[c].isna().sum()) for c in frame.columns if frame[c].isna().any()}
+    if tz is not None:
+        frame.index = frame.index.tz_convert(_as_tz(tz, path))
+    metadata = {
+        "latitude": float(meta["latitude"]),
+        "longitude": float(meta["longitude"]),
+        "altitude": float(meta["altitude"]),
+        "tz": utc_offset,
+        "name": str(meta.get("Name", "")).strip().strip('"') or path.stem,
+        "source": str(path),
+        "format": "tmy3",
+        "step": step,
+        "time_label": "interval start",
+        "coerced_year": coerced,
+        "missing": missing,
+        "wmo": str(meta.get("USAF", "")),
+    }
+    return frame, metadata
+
+
+def read_weather_csv(
+    path: str | Path,
+    *,
+    columns: Mapping[str, str] | None,
+    tz: str | float | None = None,
+    time_column: str = "time",
+    time_label: str = "start",
+    metadata: Mapping[str, Any] | None = None,
+) -> tuple[pd.DataFrame, dict]:
+    """Read a plain CSV weather file with a column mapping into the standard frame.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file (comma separated, one header line).
+    columns : mapping
+        ``{standard_name: file_column}``; values in standard units (temperatures [C], pressure
+        [Pa], irradiance [W/m2] as interval means, wind [m/s], [deg], relative humidity [%]).
+    tz : str or float, optional
+        Time zone of naive time stamps (name or hours east of UTC); required if they are naive.
+    time_column : str
+        Name of the time-stamp column [-].
+    time_label : {"start", "end"}
+        Whether a time stamp labels the start or the end of its averaging interval. With "end"
+        the rows are re-labelled by interval start and instant quantities are kept at their true
+        time, exactly as for EPW files.
+    metadata : mapping, optional
+        ``latitude`` [deg N], ``longitude`` [deg E], ``altitude`` [m], ``name``.
+
+    Returns
+    -------
+    weather : pandas.DataFrame
+    metadata : dict
+        See :func:`read_weather`.
+    """
+    path = Path(path)
+    if not columns:
+        raise ThermocalInputError(
+            f"weather file {path}: a CSV weather file needs a column mapping "
+            "{standard_name: file_column}, e.g. columns={'temp_air': 'T_out', 'ghi': 'G_h'}; "
+            f"standard names are {', '.join(STANDARD_COLUMNS)}"
+        )
+    unknown = [name for name in columns if name not in STANDARD_COLUMNS]
+    if unknown:
+        raise ThermocalInputError(
+            f"weather file {path}: unknown standard column name(s) {unknown} in the column "
+            f"mapping; allowed: {', '.join(STANDARD_COLUMNS)}"
+        )
+    if time_label not in ("start", "end"):
+        raise ThermocalInputError(
+            f"weather file {path}: time_label must be 'start' or 'end', got {time_label!r}"
+        )
+    try:
+        raw = pd.read_csv(path)
+    except Exception as exc:
+        raise ThermocalInputError(f"weather file {path} is not a readable CSV file: {exc}") from exc
+    needed = [time_column, *columns.values()]
+    absent = [c for c in needed if c not in raw.columns]
+    if absent:
+        raise ThermocalInputError(
+            f"weather file {path}: column(s) {absent} not found; the file has "
+            f"{list(raw.columns)} (fix the column mapping or time_column=)"
+        )
+    first_line = 2  # header is line 1
+    times = pd.to_datetime(raw[time_column], errors="coerce", format="mixed")
+    bad = times.isna()
+    if bad.any():
+        row = int(np.flatnonzero(bad.to_numpy())[0])
+        raise ThermocalInputError(
+            f"weather file {path}, column {time_column!r}, line {row + first_line}: cannot read "
+            f"the time stamp {raw[time_column].iloc[row]!r} (use ISO 8601, e.g. 2015-01-01 00:00)"
+        )
+    index = pd.DatetimeIndex(times)
+    if index.tz is None:
+        if tz is None:
+            raise ThermocalInputError(
+                f"weather file {path}, column {time_column!r}: time stamps have no time zone; "
+                "pass tz= (a name such as 'Etc/GMT-1' or hours east of UTC such as 1.0)"
+            )
+        try:
+            index = index.tz_localize(_as_tz(tz, path), ambiguous="raise", nonexistent="raise")
+        except Exception as exc:
+            raise ThermocalInputError(
+                f"weather file {path}, column {time_column!r}: the naive time stamps cannot be "
+                f"placed in time zone {tz!r} ({exc}); weather data are usually in standard time: "
+                "pass a fixed offset, e.g. tz=1.0"
+            ) from exc
+    elif tz is not None:
+        index = index.tz_convert(_as_tz(tz, path))
+    _check_time_index(index, path, time_column, first_line)
+    step = pd.Timedelta(index[1] - index[0]) if len(index) > 1 else pd.Timedelta(hours=1)
+    frame = pd.DataFrame(index=index)
+    for name in STANDARD_COLUMNS:
+        if name not in columns:
+            continue
+        source = columns[name]
+        _require_numeric(raw, source, path, first_line=first_line, what="column")
+        frame[name] = raw[source].to_numpy(dtype=float)
+    _check_plausible(frame, path, first_line=first_line, names=dict(columns))
+    if time_label == "end":
+        frame.index = frame.index - step
+        frame = _instant_values_to_true_time(frame, wrap=False)
+    meta = dict(metadata or {})
+    missing = {c: int(frame[c].isna().sum()) for c in frame.columns if frame[c].isna().any()}
+    tzinfo = frame.index.tz
+    utc = frame.index[0].utcoffset() if len(frame) else None
+    out = {
+        "latitude": _float_or_none(meta.get("latitude")),
+        "longitude": _float_or_none(meta.get("longitude")),
+        "altitude": _float_or_none(meta.get("altitude", 0.0)),
+        "tz": utc.total_seconds() / 3600.0
+        if _is_fixed(tzinfo) and utc is not None
+        else str(tzinfo),
+        "name": str(meta.get("name", path.stem)),
+        "source": str(path),
+        "format": "csv",
+        "step": step,
+        "time_label": "interval start",
+        "coerced_year": None,
+        "missing": missing,
+    }
+    return frame, out
+
+
+def weather_step(weather: pd.DataFrame) -> pd.Timedelta:
+    """The regular time step of a weather frame.
+
+    Parameters
+    ----------
+    weather : pandas.DataFrame
+        Frame with a regular DatetimeIndex.
+
+    Returns
+    -------
+    pandas.Timedelta
+        The step; one hour for a single-row frame.
+    """
+    index = weather.index
+    if len(index) < 2:
+        return pd.Timedelta(hours=1)
+    steps = np.diff(_ns(index))
+    step = int(np.median(steps))
+    return pd.Timedelta(step, unit="ns")
+
+
+def resample_weather(weather: pd.DataFrame, step: str | pd.Timedelta) -> pd.DataFrame:
+    """Resample a standard weather frame to another regular step.
+
+    Interval quantities (irradiance, albedo) become exact means over the new intervals (the
+    source is treated as piecewise constant over its intervals, so energy is conserved in up- and
+    down-sampling); a new interval less than half covered by valid data is NaN. Instant
+    quantities (temperatures, humidity, pressure, wind speed) are interpolated linearly in time at
+    the new labels; wind direction is interpolated as a unit vector. Instant values beyond the
+    last source label are held. Other columns are treated as instant values.
+
+    Parameters
+    ----------
+    weather : pandas.DataFrame
+        Standard weather frame (interval-start labels, regular step).
+    step : str or pandas.Timedelta
+        New step, e.g. ``"5min"`` or ``"1h"``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Same columns, index from the first label to the end of the covered period, labelled by
+        interval start.
+    """
+    if not isinstance(weather.index, pd.DatetimeIndex):
+        raise ThermocalInputError("resample_weather: the weather frame needs a DatetimeIndex")
+    try:
+        new_step = pd.Timedelta(step)
+    except ValueError as exc:
+        raise ThermocalInputError(
+            f"resample_weather: cannot read step {step!r} (use e.g. '5min' or '1h')"
+        ) from exc
+    if new_step <= pd.Timedelta(0):
+        raise ThermocalInputError(f"resample_weather: step must be positive, got {step!r}")
+    _check_time_index(weather.index, "weather frame", "index", 0)
+    old_step = weather_step(weather)
+    start = weather.index[0]
+    end = weather.index[-1] + old_step
+    n_new = int((end - start) // new_step)
+    new_index = start + new_step * np.arange(n_new)
+    new_index = pd.DatetimeIndex(new_index)
+    t_old = (_ns(weather.index) - start.value).astype(float)
+    t_new = (_ns(new_index) - start.value).astype(float)
+    out = pd.DataFrame(index=new_index)
+    for column in weather.columns:
+        values = weather[column].to_numpy(dtype=float)
+        if column in INTERVAL_COLUMNS:
+            out[column] = _interval_means(values, t_old, old_step.value, t_new, new_step.value)
+        elif column == "wind_direction":
+            rad = np.deg2rad(values)
+            east = _interp_nan(t_new, t_old, np.sin(rad))
+            north = _interp_nan(t_new, t_old, np.cos(rad))
+            out[column] = np.mod(np.rad2deg(np.arctan2(east, north)), 360.0)
+        else:
+            out[column] = _interp_nan(t_new, t_old, values)
+    return out
+
+
+# --------------------------------------------------------------------------------------------
+# helpers
+# --------------------------------------------------------------------------------------------
+def _detect_format(path: Path) -> str:
+    suffix = path.suffix.lower()
+    if suffix == ".epw":
+        return "epw"
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            first = handle.readline()
+            second = handle.readline()
+    except OSError as exc:
+        raise ThermocalInputError(f"weather file {path} cannot be opened: {exc}") from exc
+    if first.upper().startswith("LOCATION,"):
+        return "epw"
+    if "Date (MM/DD/YYYY)" in second:
+        return "tmy3"
+    if suffix in (".csv", ".txt", ".tsv"):
+        return "csv"
+    raise ThermocalInputError(
+        f"weather file {path}: cannot tell the format from the extension or the content; "
+        "pass format='epw', 'tmy3' or 'csv'"
+    )
+
+
+def _read_epw_header(path: Path) -> dict:
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            lines = [handle.readline() for _ in range(8)]
+    except OSError as exc:
+        raise ThermocalInputError(f"weather file {path} cannot be opened: {exc}") from exc
+    if not lines[0].upper().startswith("LOCATION"):
+        raise ThermocalInputError(
+            f"weather file {path}, line 1: an EPW file starts with 'LOCATION,...', found "
+            f"{lines[0][:40]!r}"
+        )
+    records_per_hour = 1
+    start_weekday = None
+    ground: dict[float, list[float]] = {}
+    for number, line in enumerate(lines, start=1):
+        fields = [f.strip() for f in line.rstrip("\n").split(",")]
+        key = fields[0].upper()
+        if key == "DATA PERIODS" and len(fields) >= 5:
+            try:
+                records_per_hour = int(fields[2])
+            except ValueError as exc:
+                raise ThermocalInputError(
+                    f"weather file {path}, line {number} (DATA PERIODS): the number of records "
+                    f"per hour {fields[2]!r} is not an integer"
+                ) from exc
+            if records_per_hour < 1 or 60 % records_per_hour:
+                raise ThermocalInputError(
+                    f"weather file {path}, line {number} (DATA PERIODS): {records_per_hour} "
+                    "records per hour does not divide an hour"
+                )
+            start_weekday = _WEEKDAYS.get(fields[4].lower())
+        elif key == "GROUND TEMPERATURES" and len(fields) > 2:
+            try:
+                n_depths = int(fields[1])
+                for i in range(n_depths):
+                    block = fields[2 + 16 * i : 2 + 16 * (i + 1)]
+                    ground[float(block[0])] = [float(v) for v in block[4:16]]
+            except (ValueError, IndexError):
+                ground = {}  # informative header only: ignore a malformed one
+    return {
+        "records_per_hour": records_per_hour,
+        "start_weekday": start_weekday,
+        "ground_temperatures": ground,
+    }
+
+
+def _epw_buffer(path: Path) -> io.StringIO:
+    """The EPW text, data lines padded to the 35 fields pvlib expects.
+
+    Older EPW files (e.g. the ASHRAE 140 ``DRYCOLDTMY.epw``) end after field 32 and lack albedo
+    and liquid precipitation; the padded fields read as missing.
+    """
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise ThermocalInputError(f"weather file {path} cannot be opened: {exc}") from exc
+    lines = text.splitlines()
+    n_fields = _EPW_FIELDS
+    for i in range(8, len(lines)):
+        count = lines[i].count(",") + 1
+        if count < n_fields and lines[i].strip():
+            lines[i] = lines[i] + "," * (n_fields - count)
+    return io.StringIO("\n".join(lines) + "\n")
+
+
+def _diagnose_epw(path: Path, exc: Exception) -> None:
+    """Raise a precise error for an EPW file pvlib could not parse (if we can find why)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            lines = handle.readlines()
+    except OSError:
+        return
+    for number, line in enumerate(lines[8:], start=9):
+        fields = line.rstrip("\n").split(",")
+        if len(fields) < 22:
+            raise ThermocalInputError(
+                f"weather file {path}, line {number}: only {len(fields)} comma-separated fields, "
+                "an EPW data line has 35 (truncated or corrupt line)"
+            ) from exc
+        for position, name in ((0, "year"), (1, "month"), (2, "day"), (3, "hour")):
+            try:
+                int(float(fields[position]))
+            except ValueError:
+                raise ThermocalInputError(
+                    f"weather file {path}, line {number}, field {position + 1} ({name}): "
+                    f"{fields[position]!r} is not a number"
+                ) from exc
+
+
+def _diagnose_tmy3(path: Path, exc: Exception) -> None:
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            lines = handle.readlines()
+    except OSError:
+        return
+    if len(lines) < 3 or "Date (MM/DD/YYYY)" not in lines[1]:
+        raise ThermocalInputError(
+            f"weather file {path}, line 2: a TMY3 file has the column names on line 2 starting "
+            "with 'Date (MM/DD/YYYY),Time (HH:MM)'"
+        ) from exc
+    for number, line in enumerate(lines[2:], start=3):
+        fields = line.split(",")
+        try:
+            pd.to_datetime(fields[0], format="%m/%d/%Y")
+            hour, minute = fields[1].split(":")
+            int(hour), int(minute)
+        except (ValueError, IndexError):
+            raise ThermocalInputError(
+                f"weather file {path}, line {number}: cannot read the date/time "
+                f"{','.join(fields[:2])!r} (expected MM/DD/YYYY,HH:MM)"
+            ) from exc
+
+
+def _require_numeric(
+    raw: pd.DataFrame, column: str, path: Path | str, *, first_line: int, what: str
+) -> None:
+    series = raw[column]
+    if pd.api.types.is_numeric_dtype(series):
+        return
+    converted = pd.to_numeric(series, errors="coerce")
+    bad = converted.isna() & series.notna()
+    if bad.any():
+        row = int(np.flatnonzero(bad.to_numpy())[0])
+        raise ThermocalInputError(
+            f"weather file {path}, {what} {column!r}, line {row + first_line}: "
+            f"{series.iloc[row]!r} is not a number"
+        )
+    raw[column] = converted
+
+
+def _check_plausible(
+    frame: pd.DataFrame,
+    path: Path | str,
+    *,
+    first_line: int,
+    names: Mapping[str, str] | None = None,
+) -> None:
+    for column in frame.columns:
+        low, high, unit = _PLAUSIBLE[column]
+        values = frame[column].to_numpy(dtype=float)
+        label = f"{names[column]!r} (mapped to {column})" if names else repr(column)
+        bad = (values < low) | (values > high)
+        if not bad.any():
+            continue
+        row = int(np.flatnonzero(bad)[0])
+        hint = ""
+        finite = values[np.isfinite(values)]
+        if column in ("temp_air", "temp_dew") and finite.size and np.median(finite) > 200:
+            hint = " (looks like Kelvin: subtract 273.15)"
+        elif column == "pressure" and finite.size and np.median(finite) < 2000:
+            hint = " (looks like hPa/mbar: multiply by 100)"
+        elif column == "relative_humidity" and finite.size and np.max(finite) <= 1.0:
+            hint = " (looks like a fraction: multiply by 100)"
+        raise ThermocalInputError(
+            f"weather file {path}, column {label}, line {row + first_line}: value "
+            f"{values[row]:g} outside the plausible range [{low:g}, {high:g}] {unit}{hint}"
+        )
+    if names is not None and "relative_humidity" in frame:
+        finite = frame["relative_humidity"].dropna().to_numpy()
+        if finite.size and finite.max() <= 1.0:
+            raise ThermocalInputError(
+                f"weather file {path}, column {names['relative_humidity']!r}: relative humidity "
+                "never exceeds 1; it looks like a fraction: give it in % (multiply by 100)"
+            )
+
+
+def _check_time_index(index: pd.DatetimeIndex, path: Path | str, column: str, first_line: int):
+    if len(index) < 2:
+        return
+    diffs = np.diff(_ns(index))
+    if (diffs <= 0).any():
+        row = int(np.flatnonzero(diffs <= 0)[0]) + 1
+        kind = "duplicated" if diffs[row - 1] == 0 else "earlier than the previous one"
+        raise ThermocalInputError(
+            f"weather file {path}, column {column!r}, line {row + first_line}: time stamp "
+            f"{index[row]} is {kind}; sort the file and remove duplicates"
+        )
+    step = diffs[0]
+    irregular = diffs != step
+    if irregular.any():
+        row = int(np.flatnonzero(irregular)[0]) + 1
+        raise ThermocalInputError(
+            f"weather file {path}, column {column!r}, line {row + first_line}: time step "
+            f"{pd.Timedelta(int(diffs[row - 1]), unit='ns')} differs from the first step "
+            f"{pd.Timedelta(int(step), unit='ns')}; weather data must be on a regular grid "
+            "(fill or resample the gap first)"
+        )
+
+
+def _dates_with_years(
+    ymd: pd.DataFrame,
+    offset: pd.Series,
+    step: pd.Timedelta,
+    path: Path,
+    *,
+    first_line: int,
+    coerce_year: int | None,
+    first_weekday: int | None,
+) -> tuple[pd.Series, int | None]:
+    """Interval-start stamps from year/month/day + offset; coerce years when needed."""
+    month = ymd["month"].to_numpy()
+    day = ymd["day"].to_numpy()
+    bad = (month < 1) | (month > 12) | (day < 1) | (day > 31)
+    if bad.any():
+        row = int(np.flatnonzero(bad)[0])
+        raise ThermocalInputError(
+            f"weather file {path}, line {row + first_line}: invalid month/day "
+            f"{month[row]}/{day[row]}"
+        )
+
+    def build(years: np.ndarray) -> pd.Series:
+        frame = pd.DataFrame({"year": years, "month": month, "day": day})
+        dates = pd.to_datetime(frame, errors="coerce")
+        if dates.isna().any():
+            row = int(np.flatnonzero(dates.isna().to_numpy())[0])
+            raise ThermocalInputError(
+                f"weather file {path}, line {row + first_line}: the date "
+                f"{years[row]}-{month[row]:02d}-{day[row]:02d} does not exist (29 February in a "
+                "non-leap year?); pass coerce_year= a leap year"
+            )
+        return dates + offset.to_numpy()
+
+    years = ymd["year"].to_numpy()
+    coerced: int | None = None
+    if coerce_year is None:
+        if np.all(years == years[0]) or _regular(build(years), step):
+            stamps = build(years)
+        else:
+            has_feb29 = bool(np.any((month == 2) & (day == 29)))
+            coerced = _typical_year(int(month[0]), int(day[0]), first_weekday, has_feb29)
+            stamps = build(np.full_like(years, coerced))
+    else:
+        coerced = int(coerce_year)
+        stamps = build(np.full_like(years, coerced))
+    values = stamps.to_numpy()
+    diffs = np.diff(values).astype("timedelta64[ns]").astype(np.int64)
+    wrong = diffs != step.value
+    if wrong.any():
+        row = int(np.flatnonzero(wrong)[0]) + 1
+        raise ThermocalInputError(
+            f"weather file {path}, line {row + first_line}: time stamp "
+            f"{pd.Timestamp(values[row])} (interval start) does not follow "
+            f"{pd.Timestamp(values[row - 1])} by one step of {step}; rows are missing, "
+            "duplicated or out of order"
+        )
+    return stamps, coerced
+
+
+def _regular(stamps: pd.Series, step: pd.Timedelta) -> bool:
+    values = stamps.to_numpy().astype("datetime64[ns]").astype(np.int64)
+    return bool(np.all(np.diff(values) == step.value))
+
+
+def _typical_year(month: int, day: int, weekday: int | None, leap: bool) -> int:
+    candidates = [y for y in range(2023, 2000, -1) if calendar.isleap(y) == leap]
+    if weekday is None:
+        return 2004 if leap else 2001
+    for year in candidates:
+        if calendar.weekday(year, month, day) == weekday:
+            return year
+    return candidates[0]
+
+
+def _covers_whole_year(index: pd.DatetimeIndex, step: pd.Timedelta) -> bool:
+    if len(index) == 0:
+        return False
+    span = index[-1] + step - index[0]
+    return (
+        index[0].month == 1
+        and index[0].day == 1
+        and span
+        in (
+            pd.Timedelta(days=365),
+            pd.Timedelta(days=366),
+        )
+    )
+
+
+def _instant_values_to_true_time(frame: pd.DataFrame, *, wrap: bool) -> pd.DataFrame:
+    """Move instant values from hour-ending rows to their true time (the next row's label)."""
+    out = frame.copy()
+    for column in frame.columns:
+        if column not in INSTANT_COLUMNS:
+            continue
+        values = frame[column].to_numpy(dtype=float)
+        shifted = np.empty_like(values)
+        shifted[1:] = values[:-1]
+        shifted[0] = values[-1] if wrap else values[0]
+        out[column] = shifted
+    return out
+
+
+def _interval_means(
+    values: np.ndarray, t_old: np.ndarray, old_step: int, t_new: np.ndarray, new_step: int
+) -> np.ndarray:
+    """Exact means over new intervals of a piecewise-constant signal (NaN-aware)."""
+    valid = np.isfinite(values)
+    edges_old = np.append(t_old, t_old[-1] + old_step)
+    energy = np.concatenate([[0.0], np.cumsum(np.where(valid, values, 0.0) * old_step)])
+    covered = np.concatenate([[0.0], np.cumsum(valid * float(old_step))])
+    edges_new = np.append(t_new, t_new[-1] + new_step) if len(t_new) else t_new
+    e = np.interp(edges_new, edges_old, energy)
+    c = np.interp(edges_new, edges_old, covered)
+    d_energy = np.diff(e)
+    d_cover = np.diff(c)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        means = d_energy / d_cover
+    means[d_cover < 0.5 * new_step] = np.nan
+    return means
+
+
+def _interp_nan(t_new: np.ndarray, t_old: np.ndarray, values: np.ndarray) -> np.ndarray:
+    valid = np.isfinite(values)
+    if not valid.any():
+        return np.full(t_new.shape, np.nan)
+    out = np.interp(t_new, t_old[valid], values[valid])
+    # do not bridge gaps: a new point between two valid neighbours more than one old step apart
+    # from a missing value is NaN
+    if not valid.all():
+        nearest = np.searchsorted(t_old, t_new, side="right") - 1
+        nearest = np.clip(nearest, 0, len(t_old) - 1)
+        following = np.clip(nearest + 1, 0, len(t_old) - 1)
+        on_point = t_new == t_old[nearest]
+        missing = ~valid[nearest] | (~on_point & ~valid[following])
+        out[missing] = np.nan
+    return out
+
+
+def _ns(index: pd.DatetimeIndex) -> np.ndarray:
+    """Integer nanoseconds of a DatetimeIndex whatever its resolution (pandas 3 uses us)."""
+    return index.as_unit("ns").asi8
+
+
+def _fixed_offset(hours: float):
+    import datetime as _dt
+
+    return _dt.timezone(_dt.timedelta(hours=hours))
+
+
+def _as_tz(tz: str | float, path: Path | str):
+    if isinstance(tz, (int, float)) and not isinstance(tz, bool):
+        if not -14 <= float(tz) <= 14 or math.isnan(float(tz)):
+            raise ThermocalInputError(
+                f"weather file {path}: tz={tz!r} hours is not a valid UTC offset (-14..14)"
+            )
+        return _fixed_offset(float(tz))
+    try:
+        return pd.Timestamp("2000-01-01").tz_localize(tz).tz
+    except Exception as exc:
+        raise ThermocalInputError(
+            f"weather file {path}: unknown time zone {tz!r} (use an IANA name such as "
+            "'Europe/Zurich' or 'Etc/GMT-1', or hours east of UTC such as 1.0)"
+        ) from exc
+
+
+def _is_fixed(tzinfo) -> bool:
+    import datetime as _dt
+
+    return isinstance(tzinfo, _dt.timezone)
+
+
+def _float_or_none(value) -> float | None:
+    return None if value is None else float(value)

@@ -1,0 +1,192 @@
+"""Binding a data table to a model: time axis in seconds, input and output matrices, validation."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+from thermocal.statespace.units import time_unit_seconds
+
+#: A temperature column whose median exceeds this [C] is taken for Kelvin by mistake.
+KELVIN_SUSPICION_C = 150.0
+
+
+@dataclass
+class PreparedData:
+    """Data of one model, ready for the kernels.
+
+    Attributes
+    ----------
+    index : pandas.Index
+        The data's time labels (DatetimeIndex, or numeric times in the given unit).
+    seconds : ndarray [s]
+        Time of each sample since the first one.
+    dts : ndarray [s]
+        Interval from each sample to the next (length N - 1; padded with the last interval).
+    U : ndarray (N, n_inputs)
+        Inputs in the model's input order, in the columns' own units.
+    Y : ndarray (N, n_outputs) [C]
+        Outputs; NaN = not observed.
+    """
+
+    index: pd.Index
+    seconds: np.ndarray
+    dts: np.ndarray
+    U: np.ndarray
+    Y: np.ndarray
+
+    @property
+    def nobs(self) -> int:
+        """Number of observed scalar output values."""
+        return int(np.isfinite(self.Y).sum())
+
+    @property
+    def uniform(self) -> bool:
+        """True when all sampling intervals are equal (to 1e-9 relative)."""
+        d = self.dts[:-1] if self.dts.size > 1 else self.dts
+        return bool(d.size == 0 or np.all(np.abs(d - d[0]) <= 1e-9 * d[0]))
+
+
+def time_axis(
+    data: pd.DataFrame,
+    *,
+    time_column: str | None = None,
+    time_unit: str = "s",
+    source: str = "data",
+) -> tuple[pd.Index, np.ndarray]:
+    """Time labels and seconds since the first sample, validated strictly increasing.
+
+    Parameters
+    ----------
+    data : DataFrame
+        With a DatetimeIndex, or a ``time_column`` (datetimes, or numbers in ``time_unit``), or a
+        numeric index in ``time_unit``.
+    time_column : str, optional
+        Column holding the time.
+    time_unit : str
+        Unit of numeric times: ``s``, ``min``, ``h``, ``d``.
+    source : str
+        Name of the data (file), for error messages.
+
+    Returns
+    -------
+    index : pandas.Index
+    seconds : ndarray [s]
+    """
+    if time_column is not None:
+        if time_column not in data.columns:
+            raise ThermocalInputError(
+                f"{source}: no time column '{time_column}'; columns present: "
+                f"{', '.join(map(str, data.columns))}"
+            )
+        raw = data[time_column]
+    else:
+        raw = data.index.to_series()
+    if isinstance(raw.dtype, pd.DatetimeTZDtype) or pd.api.types.is_datetime64_any_dtype(raw):
+        index = pd.DatetimeIndex(raw)
+        if index.isna().any():
+            row = int(np.flatnonzero(index.isna())[0])
+            raise ThermocalInputError(f"{source}: time stamp missing in row {row}")
+        seconds = (index - index[0]).total_seconds().to_numpy(dtype=float)
+    elif pd.api.types.is_numeric_dtype(raw):
+        values = raw.to_numpy(dtype=float)
+        if not np.all(np.isfinite(values)):
+            row = int(np.flatnonzero(~np.isfinite(values))[0])
+            raise ThermocalInputError(f"{source}: time value missing or not finite in row {row}")
+        index = pd.Index(values, name=time_column or raw.name)
+        seconds = (values - values[0]) * time_unit_seconds(time_unit)
+    else:
+        try:
+            index = pd.DatetimeIndex(pd.to_datetime(raw))
+        except (ValueError, TypeError) as exc:
+            raise ThermocalInputError(
+                f"{source}: time column '{time_column}' is neither numeric nor date-time ({exc}); "
+                "give numeric times with --time-unit or ISO 8601 time stamps"
+            ) from None
+        seconds = (index - index[0]).total_seconds().to_numpy(dtype=float)
+    if seconds.size < 2:
+        raise ThermocalInputError(f"{source}: at least two samples are needed, got {seconds.size}")
+    step = np.diff(seconds)
+    if np.any(step == 0):
+        row = int(np.flatnonzero(step == 0)[0]) + 1
+        raise ThermocalInputError(
+            f"{source}: duplicated time stamp {index[row]} in row {row} (data row, 0-based); "
+            "remove or average the duplicates"
+        )
+    if np.any(step < 0):
+        row = int(np.flatnonzero(step < 0)[0]) + 1
+        raise ThermocalInputError(
+            f"{source}: time stamps are not increasing at row {row} ({index[row - 1]} then "
+            f"{index[row]}); sort the data by time"
+        )
+    return index, seconds
+
+
+def prepare_data(
+    model,
+    data: pd.DataFrame,
+    *,
+    time_column: str | None = None,
+    time_unit: str = "s",
+    source: str = "data",
+    require_outputs: bool = True,
+) -> PreparedData:
+    """Validate ``data`` against ``model`` and build the kernel arrays.
+
+    Inputs must be complete (no NaN: fill or drop gaps first); outputs may contain NaN (those
+    values are skipped by the filter) but must not be all NaN.
+    """
+    if not isinstance(data, pd.DataFrame):
+        raise ThermocalInputError(
+            f"{source}: expected a pandas DataFrame, got {type(data).__name__}"
+        )
+    index, seconds = time_axis(data, time_column=time_column, time_unit=time_unit, source=source)
+    needed = [(c, "boundary temperature [C]") for c in model.boundary_names]
+    needed += [(c, "heat input") for c in model.heat_input_names]
+    if require_outputs:
+        needed += [(c, "output (measured temperature) [C]") for c in model.output_names]
+    missing = [(c, role) for c, role in needed if c not in data.columns]
+    if missing:
+        names = ", ".join(f"'{c}' ({role})" for c, role in missing)
+        raise ThermocalInputError(
+            f"{source}: model '{model.name}' needs column(s) {names}, not in the data; columns "
+            f"present: {', '.join(map(str, data.columns))}. Rename the column or fix the model file"
+        )
+    U = np.empty((len(data), len(model.input_names)))
+    for j, col in enumerate(model.input_names):
+        values = pd.to_numeric(data[col], errors="coerce").to_numpy(dtype=float)
+        bad = ~np.isfinite(values)
+        if bad.any():
+            row = int(np.flatnonzero(bad)[0])
+            raise ThermocalInputError(
+                f"{source}: input column '{col}' has {int(bad.sum())} missing or "
+                f"non-numeric value(s), "
+                f"first at row {row} ({index[row]}); inputs must be complete: fill the gaps "
+                "(e.g. interpolate) or cut the period"
+            )
+        U[:, j] = values
+    temperature_columns = list(model.boundary_names)
+    Y = np.full((len(data), len(model.output_names)), np.nan)
+    if require_outputs:
+        for r, col in enumerate(model.output_names):
+            Y[:, r] = pd.to_numeric(data[col], errors="coerce").to_numpy(dtype=float)
+            if not np.isfinite(Y[:, r]).any():
+                raise ThermocalInputError(
+                    f"{source}: output column '{col}' has no valid value (all NaN); "
+                    "check the column or the period selected"
+                )
+        temperature_columns += model.output_names
+    for col in temperature_columns:
+        values = pd.to_numeric(data[col], errors="coerce")
+        if values.median() > KELVIN_SUSPICION_C:
+            raise ThermocalInputError(
+                f"{source}: temperature column '{col}' has median "
+                f"{values.median():.1f}, which looks "
+                "like kelvin; temperatures must be in degrees C (subtract 273.15)"
+            )
+    dts = np.diff(seconds)
+    dts = np.append(dts, dts[-1])
+    return PreparedData(index=index, seconds=seconds, dts=dts, U=U, Y=Y)

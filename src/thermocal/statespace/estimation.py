@@ -1,0 +1,313 @@
+"""Maximum-likelihood estimation, simulation and filtering of :class:`RCModel` objects.
+
+The optimiser works on the unconstrained vector ``theta`` of the free parameters (log, negated
+log or bounded-logit transforms of the declared-unit values, see :class:`Parameter`). The
+gradient is a central difference computed inside the compiled kernel; standard errors come from a
+central-difference Hessian of the log-likelihood in ``theta`` mapped to the declared units by the
+delta method.
+
+References
+----------
+.. [1] N. R. Kristensen, H. Madsen, S. B. Jorgensen, "Parameter estimation in stochastic grey-box
+   models", Automatica 40(2), 225-237, 2004.
+.. [2] P. Bacher, H. Madsen, "Identifying suitable models for the heat dynamics of buildings",
+   Energy and Buildings 43(7), 1511-1522, 2011.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+from scipy import optimize
+
+from thermocal.errors import ThermocalInputError
+from thermocal.statespace import kernels
+from thermocal.statespace.data import PreparedData, prepare_data
+
+#: Relative step of the central-difference gradient in theta.
+GRADIENT_STEP = 1e-6
+#: |correlation| above which a pair of estimates is flagged (Madsen et al. 2016; paper 000).
+CORRELATION_LIMIT = 0.98
+#: Relative distance to a bound below which an estimate is flagged.
+BOUND_TOLERANCE = 1e-3
+
+
+def _hold_flag(hold: str) -> bool:
+    if hold not in ("zoh", "foh"):
+        raise ThermocalInputError(f"hold must be 'zoh' or 'foh', got '{hold}'")
+    return hold == "foh"
+
+
+def _prepared(model, data, time_column, time_unit, source="data") -> PreparedData:
+    if isinstance(data, PreparedData):
+        return data
+    return prepare_data(model, data, time_column=time_column, time_unit=time_unit, source=source)
+
+
+def loglike(model, data, params=None, *, hold="zoh", time_column=None, time_unit="s") -> float:
+    """Log-likelihood [-] of the outputs in ``data`` at ``params`` [declared units]."""
+    prep = _prepared(model, data, time_column, time_unit)
+    return _loglike_values(model, model.values_si(params), prep, _hold_flag(hold))
+
+
+def _loglike_values(model, values, prep: PreparedData, foh: bool) -> float:
+    st = model.structure()
+    lam, T, Tinv, TB, M, meas_var, x0, P0 = kernels.system_from_values(
+        values, *st.arrays, st.n_inputs
+    )
+    e2, e3 = np.empty((0, 0)), np.empty((0, 0, 0))
+    return float(
+        kernels.kalman_filter(
+            lam, T, Tinv, TB, M, st.C, meas_var, x0, P0, prep.dts, prep.U, prep.Y, foh,
+            False, e2, e3, e2, e3, e3,
+        )
+    )  # fmt: skip
+
+
+class LikelihoodProblem:
+    """The negative log-likelihood of a model on prepared data, as a function of ``theta``."""
+
+    def __init__(self, model, prep: PreparedData, foh: bool) -> None:
+        self.model = model
+        self.prep = prep
+        self.foh = foh
+        st = model.structure()
+        self.tr = model.transform_arrays()
+        self.st = st.arrays
+        self.C = st.C
+
+    def loglike(self, theta: np.ndarray) -> float:
+        """Log-likelihood at ``theta``."""
+        p = self.prep
+        return float(
+            kernels.loglike_theta(
+                np.asarray(theta, dtype=float), self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh
+            )
+        )
+
+    def objective(self, theta: np.ndarray) -> tuple[float, np.ndarray]:
+        """Negative log-likelihood and its gradient (non-finite values replaced by a penalty)."""
+        p = self.prep
+        f, g = kernels.negloglike_and_gradient(
+            np.asarray(theta, dtype=float),
+            self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh, GRADIENT_STEP,
+        )  # fmt: skip
+        if not math.isfinite(f):
+            return 1e20, np.zeros_like(theta)
+        g = np.where(np.isfinite(g), g, 0.0)
+        return float(f), g
+
+    def hessian(self, theta: np.ndarray) -> np.ndarray:
+        """Central-difference Hessian of the log-likelihood in ``theta``."""
+        theta = np.asarray(theta, dtype=float)
+        k = theta.size
+        h = np.finfo(float).eps ** 0.25 * np.maximum(np.abs(theta), 1.0)
+        f0 = self.loglike(theta)
+        H = np.empty((k, k))
+        fp = np.empty(k)
+        fm = np.empty(k)
+        for i in range(k):
+            e = np.zeros(k)
+            e[i] = h[i]
+            fp[i] = self.loglike(theta + e)
+            fm[i] = self.loglike(theta - e)
+            H[i, i] = (fp[i] - 2.0 * f0 + fm[i]) / h[i] ** 2
+        for i in range(k):
+            for j in range(i + 1, k):
+                ei = np.zeros(k)
+                ej = np.zeros(k)
+                ei[i] = h[i]
+                ej[j] = h[j]
+                fpp = self.loglike(theta + ei + ej)
+                fpm = self.loglike(theta + ei - ej)
+                fmp = self.loglike(theta - ei + ej)
+                fmm = self.loglike(theta - ei - ej)
+                H[i, j] = H[j, i] = (fpp - fpm - fmp + fmm) / (4.0 * h[i] * h[j])
+        return H
+
+
+def _start_points(model, n_starts: int, seed: int | None) -> list[np.ndarray]:
+    theta0 = model.theta0()
+    starts = [theta0]
+    rng = np.random.default_rng(seed)
+    free = [model.parameters[n] for n in model.free_parameter_names]
+    for _ in range(max(n_starts, 1) - 1):
+        theta = theta0.copy()
+        for i, p in enumerate(free):
+            if p.transform == kernels.TRANSFORM_LOGIT:
+                # uniform over the middle 98 % of the bounded range
+                u = rng.uniform(0.01, 0.99)
+                theta[i] = math.log(u) - math.log1p(-u)
+            elif p.transform in (kernels.TRANSFORM_LOG, kernels.TRANSFORM_NEGLOG):
+                theta[i] = theta0[i] + rng.normal(0.0, 1.0)  # a factor e either way
+            else:
+                theta[i] = theta0[i] + rng.normal(0.0, max(1.0, 0.2 * abs(theta0[i])))
+        starts.append(theta)
+    return starts
+
+
+def fit(
+    model,
+    data,
+    *,
+    hold: str = "zoh",
+    n_starts: int = 1,
+    seed: int | None = None,
+    time_column: str | None = None,
+    time_unit: str = "s",
+    method: str = "L-BFGS-B",
+    maxiter: int = 2000,
+    source: str = "data",
+    compute_hessian: bool = True,
+):
+    """Estimate the free parameters of ``model`` by maximum likelihood.
+
+    Parameters
+    ----------
+    model : RCModel
+    data : DataFrame
+        Inputs and outputs with a DatetimeIndex, a numeric index in ``time_unit`` or a
+        ``time_column``.
+    hold : {"zoh", "foh"}
+        Input interpolation between samples: zero-order hold (``u[k]`` over ``[t_k, t_k+1)``) or
+        first-order hold (linear from ``u[k]`` to ``u[k+1]``).
+    n_starts : int
+        Number of optimiser starts: the declared values first, then random starts (uniform in
+        bounded ranges, a factor ``e`` either way for one-sided bounds); the best is kept.
+    seed : int, optional
+        Seed of the random starts.
+    time_column, time_unit : str
+        See :func:`thermocal.statespace.data.time_axis`.
+    method : str
+        ``scipy.optimize.minimize`` method using the gradient (``L-BFGS-B`` or ``BFGS``).
+    maxiter : int
+        Iteration limit per start.
+    source : str
+        Name of the data, for error messages.
+    compute_hessian : bool
+        Compute standard errors (skip for speed when only the optimum is needed).
+
+    Returns
+    -------
+    FitResults
+    """
+    from thermocal.statespace.results import FitResults
+
+    t_start = time.perf_counter()
+    foh = _hold_flag(hold)
+    prep = _prepared(model, data, time_column, time_unit, source)
+    if model.n_free == 0:
+        raise ThermocalInputError(
+            f"model '{model.name}' has no free parameter to estimate; set 'fixed: false' on some"
+        )
+    problem = LikelihoodProblem(model, prep, foh)
+    best = None
+    start_loglikes = []
+    for theta_start in _start_points(model, n_starts, seed):
+        f0, _ = problem.objective(theta_start)
+        if f0 >= 1e20:
+            start_loglikes.append(float("nan"))
+            continue
+        res = optimize.minimize(
+            problem.objective,
+            theta_start,
+            jac=True,
+            method=method,
+            options={"maxiter": maxiter}
+            if method != "L-BFGS-B"
+            else {"maxiter": maxiter, "ftol": 1e-13, "gtol": 1e-6},
+        )
+        start_loglikes.append(-float(res.fun))
+        if best is None or res.fun < best.fun:
+            best = res
+    if best is None:
+        raise ThermocalInputError(
+            f"model '{model.name}': the likelihood is not finite at any start; check initial values"
+        )
+    theta = np.asarray(best.x, dtype=float)
+    ll = problem.loglike(theta)
+    _, grad = problem.objective(theta)
+    grad_norm = float(np.max(np.abs(grad))) if grad.size else 0.0
+    converged = bool(best.success) or grad_norm < 1e-3
+    hessian = problem.hessian(theta) if compute_hessian else None
+    return FitResults(
+        model=model,
+        theta=theta,
+        loglike=ll,
+        hessian=hessian,
+        nobs=prep.nobs,
+        converged=converged,
+        message=str(best.message),
+        n_iterations=int(getattr(best, "nit", -1)),
+        gradient_norm=grad_norm,
+        start_loglikes=start_loglikes,
+        hold=hold,
+        data=prep,
+        fit_seconds=time.perf_counter() - t_start,
+    )
+
+
+def simulate(model, data, params=None, *, hold="zoh", time_column=None, time_unit="s"):
+    """Deterministic state and output trajectories from the initial-state mean.
+
+    Returns a DataFrame (index = the data's time labels) with one column per state [C] and one per
+    output (named after its data column) [C].
+    """
+    prep = (
+        data
+        if isinstance(data, PreparedData)
+        else prepare_data(
+            model, data, time_column=time_column, time_unit=time_unit, require_outputs=False
+        )
+    )
+    lam, T, Tinv, TB, M, _, x0, _ = model.system(params)
+    X = kernels.simulate_states(lam, T, Tinv, TB, M, x0, prep.dts, prep.U, _hold_flag(hold))
+    out = pd.DataFrame(X, index=prep.index, columns=model.state_names)
+    Yhat = X @ model.structure().C.T
+    for r, col in enumerate(model.output_names):
+        out[col] = Yhat[:, r]
+    return out
+
+
+def filter_arrays(model, prep: PreparedData, params: Mapping[str, float] | None, foh: bool):
+    """Run the Kalman filter storing predicted and filtered moments.
+
+    Returns a dict with ``xp, Pp`` (predicted before the update at each sample), ``xf, Pf``
+    (filtered), ``Ads`` (transition k -> k+1), ``loglike`` and the system.
+    """
+    st = model.structure()
+    lam, T, Tinv, TB, M, meas_var, x0, P0 = model.system(params)
+    N, n = prep.Y.shape[0], st.n_states
+    xp, xf = np.empty((N, n)), np.empty((N, n))
+    Pp, Pf, Ads = np.empty((N, n, n)), np.empty((N, n, n)), np.zeros((N, n, n))
+    ll = kernels.kalman_filter(
+        lam, T, Tinv, TB, M, st.C, meas_var, x0, P0, prep.dts, prep.U, prep.Y, foh,
+        True, xp, Pp, xf, Pf, Ads,
+    )  # fmt: skip
+    return {
+        "xp": xp, "Pp": Pp, "xf": xf, "Pf": Pf, "Ads": Ads, "loglike": float(ll),
+        "system": (lam, T, Tinv, TB, M), "meas_var": meas_var, "C": st.C,
+    }  # fmt: skip
+
+
+def rts_smoother(filtered: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Rauch-Tung-Striebel smoothed state means [C] and covariances [K2].
+
+    References
+    ----------
+    .. [1] H. E. Rauch, F. Tung, C. T. Striebel, "Maximum likelihood estimates of linear dynamic
+       systems", AIAA Journal 3(8), 1445-1450, 1965.
+    """
+    xp, Pp, xf, Pf, Ads = (filtered[k] for k in ("xp", "Pp", "xf", "Pf", "Ads"))
+    N = xf.shape[0]
+    xs, Ps = xf.copy(), Pf.copy()
+    for k in range(N - 2, -1, -1):
+        J = np.linalg.solve(Pp[k + 1].T, (Pf[k] @ Ads[k].T).T).T  # Pf A^T Pp^-1
+        xs[k] = xf[k] + J @ (xs[k + 1] - xp[k + 1])
+        Ps[k] = Pf[k] + J @ (Ps[k + 1] - Pp[k + 1]) @ J.T
+        Ps[k] = 0.5 * (Ps[k] + Ps[k].T)
+    return xs, Ps

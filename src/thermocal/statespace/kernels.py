@@ -1,0 +1,551 @@
+"""Compiled numerical kernels: RC system assembly, exact discretisation, Kalman filter.
+
+The kernels work on a *compiled model structure* (integer index arrays produced by
+:meth:`thermocal.statespace.RCModel.structure`) and a vector ``values`` of all parameter values
+in SI units followed by the model's literal constants. All loops are small and fixed-size so
+that numba compiles them to allocation-free machine code.
+
+Discretisation
+--------------
+An RC network has ``A = D^-1 G`` with ``D = diag(capacities)`` and ``G`` the symmetric
+(negative semi-definite) conductance matrix, so ``A`` is similar to the symmetric matrix
+``S = D^-1/2 G D^-1/2 = V diag(lam) V^T``. With ``T = D^-1/2 V`` the matrix exponential and the
+hold integrals have closed forms::
+
+    exp(A dt)                       = T diag(exp(lam dt)) T^-1
+    int_0^dt exp(A r) dr B          = T diag(dt phi1(lam dt)) T^-1 B          (zero-order hold)
+    int_0^dt exp(A r) r/dt dr B     = T diag(dt phi2(lam dt)) T^-1 B          (first-order hold)
+    int_0^dt exp(A r) S S^T exp(A^T r) dr = T [M_ij dt phi1((lam_i + lam_j) dt)] T^T  (Van Loan)
+
+with ``phi1(z) = (e^z - 1)/z``, ``phi2(z) = (e^z (z - 1) + 1)/z^2`` and
+``M = T^-1 Sigma Sigma^T T^-T``. These are the exact discretisations of Van Loan (1978); the
+tests check them against ``scipy.linalg.expm`` of the augmented matrices.
+
+References
+----------
+.. [1] C. F. Van Loan, "Computing integrals involving the matrix exponential", IEEE Trans.
+   Automatic Control 23(3), 395-404, 1978.
+.. [2] H. Madsen, "Time Series Analysis", Chapman & Hall, 2008, ch. 10 (Kalman filter,
+   prediction-error decomposition of the likelihood).
+.. [3] N. R. Kristensen, H. Madsen, S. B. Jorgensen, "Parameter estimation in stochastic grey-box
+   models", Automatica 40(2), 225-237, 2004.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+LOG_2PI = math.log(2.0 * math.pi)
+
+# transform kinds (free parameters)
+TRANSFORM_IDENTITY = 1
+TRANSFORM_LOG = 2  # x = lower + exp(theta)
+TRANSFORM_NEGLOG = 3  # x = upper - exp(theta)
+TRANSFORM_LOGIT = 4  # x = lower + (upper - lower) / (1 + exp(-theta))
+
+
+@njit(cache=True)
+def phi1(z):
+    """(exp(z) - 1) / z, continuous at 0."""
+    if abs(z) < 1e-5:
+        return 1.0 + z * (0.5 + z / 6.0)
+    return math.expm1(z) / z
+
+
+@njit(cache=True)
+def phi2(z):
+    """Integral of exp(z s) s over s in [0, 1] = (exp(z)(z - 1) + 1) / z^2, continuous at 0."""
+    if abs(z) < 1e-2:
+        total = 0.0
+        term = 1.0  # z^k / k!
+        for k in range(10):
+            total += term / (k + 2.0)
+            term *= z / (k + 1.0)
+        return total
+    return (math.exp(z) * (z - 1.0) + 1.0) / (z * z)
+
+
+@njit(cache=True)
+def to_natural(theta_i, kind, lower, upper):
+    """Map one unconstrained value to the parameter's declared-unit value."""
+    if kind == TRANSFORM_LOG:
+        return lower + math.exp(theta_i)
+    if kind == TRANSFORM_NEGLOG:
+        return upper - math.exp(theta_i)
+    if kind == TRANSFORM_LOGIT:
+        if theta_i >= 0.0:
+            e = math.exp(-theta_i)
+            return lower + (upper - lower) / (1.0 + e)
+        e = math.exp(theta_i)
+        return lower + (upper - lower) * e / (1.0 + e)
+    return theta_i
+
+
+@njit(cache=True)
+def fill_values(theta, free_idx, kind, lower, upper, si_factor, base_values):
+    """SI value vector with the free parameters set from ``theta``."""
+    values = base_values.copy()
+    for i in range(theta.size):
+        p = free_idx[i]
+        values[p] = to_natural(theta[i], kind[i], lower[i], upper[i]) * si_factor[p]
+    return values
+
+
+@njit(cache=True)
+def build_network(
+    values,
+    cap_idx,
+    edge_a,
+    edge_b,
+    link_ptr,
+    link_idx,
+    link_is_resistance,
+    heat_state,
+    heat_input,
+    heat_factor,
+    heat_scale_idx,
+    frac_const,
+    frac_ptr,
+    frac_idx,
+    frac_sign,
+    noise_idx,
+    n_inputs,
+):
+    """Assemble capacities, conductance matrix G, raw input matrix and diffusion stds.
+
+    Returns ``cap`` [J/K], ``G`` [W/K] (symmetric), ``B_raw`` [W/K or W per column unit] with
+    ``A = G / cap[:, None]``, ``B = B_raw / cap[:, None]``, and ``sigma`` [K/sqrt(s)].
+    """
+    n = cap_idx.size
+    cap = np.empty(n)
+    for i in range(n):
+        cap[i] = values[cap_idx[i]]
+    G = np.zeros((n, n))
+    B_raw = np.zeros((n, n_inputs))
+    for e in range(edge_a.size):
+        resistance = 0.0
+        for q in range(link_ptr[e], link_ptr[e + 1]):
+            val = values[link_idx[q]]
+            if link_is_resistance[q]:
+                resistance += val
+            else:
+                resistance += 1.0 / val
+        g = 1.0 / resistance
+        a = edge_a[e]
+        b = edge_b[e]
+        G[a, a] -= g
+        if b >= 0:
+            G[b, b] -= g
+            G[a, b] += g
+            G[b, a] += g
+        else:
+            B_raw[a, -b - 1] += g
+    for h in range(heat_state.size):
+        c = heat_factor[h]
+        if heat_scale_idx[h] >= 0:
+            c *= values[heat_scale_idx[h]]
+        f = frac_const[h]
+        for q in range(frac_ptr[h], frac_ptr[h + 1]):
+            f += frac_sign[q] * values[frac_idx[q]]
+        B_raw[heat_state[h], heat_input[h]] += c * f
+    sigma = np.zeros(n)
+    for i in range(n):
+        if noise_idx[i] >= 0:
+            sigma[i] = values[noise_idx[i]]
+    return cap, G, B_raw, sigma
+
+
+@njit(cache=True)
+def eigen_network(cap, G, B_raw, sigma):
+    """Eigen-decomposition of the RC system used by :func:`discretise_from_eigen`.
+
+    Returns ``lam`` [1/s], ``T`` (= D^-1/2 V), ``Tinv`` (= V^T D^1/2), ``TB`` (= T^-1 B) and
+    ``M`` (= T^-1 Sigma Sigma^T T^-T).
+    """
+    n = cap.size
+    dh = np.empty(n)
+    sq = np.empty(n)
+    for i in range(n):
+        sq[i] = math.sqrt(cap[i])
+        dh[i] = 1.0 / sq[i]
+    S = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            S[i, j] = dh[i] * G[i, j] * dh[j]
+    lam, V = np.linalg.eigh(S)
+    T = np.empty((n, n))
+    Tinv = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            T[i, j] = dh[i] * V[i, j]
+            Tinv[i, j] = V[j, i] * sq[j]
+    m = B_raw.shape[1]
+    TB = np.zeros((n, m))
+    for i in range(n):
+        for k in range(m):
+            acc = 0.0
+            for j in range(n):
+                acc += Tinv[i, j] * B_raw[j, k] / cap[j]
+            TB[i, k] = acc
+    M = np.zeros((n, n))
+    for i in range(n):
+        for j in range(n):
+            acc = 0.0
+            for k in range(n):
+                acc += Tinv[i, k] * sigma[k] * sigma[k] * Tinv[j, k]
+            M[i, j] = acc
+    return lam, T, Tinv, TB, M
+
+
+@njit(cache=True)
+def discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q):
+    """Exact discretisation over ``dt`` [s], written into ``Ad, Gam0, Gam1, Q``.
+
+    ``x[k+1] = Ad x[k] + Gam0 u[k] + Gam1 u[k+1] + w`` with ``w ~ N(0, Q)``. Zero-order hold
+    (``foh=False``) gives ``Gam1 = 0``; first-order hold interpolates the inputs linearly.
+    """
+    n = lam.size
+    m = TB.shape[1]
+    e = np.empty(n)
+    g = np.empty(n)
+    g1 = np.empty(n)
+    for i in range(n):
+        z = lam[i] * dt
+        e[i] = math.exp(z)
+        g[i] = dt * phi1(z)
+        g1[i] = dt * phi2(z)
+    for i in range(n):
+        for j in range(n):
+            acc = 0.0
+            for k in range(n):
+                acc += T[i, k] * e[k] * Tinv[k, j]
+            Ad[i, j] = acc
+    for i in range(n):
+        for c in range(m):
+            acc_zoh = 0.0
+            acc_k = 0.0
+            for k in range(n):
+                acc_zoh += T[i, k] * g[k] * TB[k, c]
+                acc_k += T[i, k] * g1[k] * TB[k, c]
+            if foh:
+                Gam0[i, c] = acc_k
+                Gam1[i, c] = acc_zoh - acc_k
+            else:
+                Gam0[i, c] = acc_zoh
+                Gam1[i, c] = 0.0
+    W = np.empty((n, n))
+    for a in range(n):
+        for b in range(n):
+            W[a, b] = M[a, b] * dt * phi1((lam[a] + lam[b]) * dt)
+    for i in range(n):
+        for j in range(i, n):
+            acc = 0.0
+            for a in range(n):
+                for b in range(n):
+                    acc += T[i, a] * W[a, b] * T[j, b]
+            Q[i, j] = acc
+            Q[j, i] = acc
+
+
+@njit(cache=True)
+def kalman_filter(
+    lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, xp, Pp, xf, Pf, Ads
+):
+    """Kalman filter over the samples; returns the log-likelihood of ``Y``.
+
+    Observations are processed one scalar at a time (exact because the measurement noise is
+    diagonal); NaN entries are skipped, so partially observed vectors are handled. The
+    covariance update is in Joseph form. ``dts[k]`` [s] is the interval from sample k to k+1;
+    the discretisation is recomputed only when it changes (uniform sampling: once).
+    With ``store`` the predicted (``xp``, ``Pp``) and filtered (``xf``, ``Pf``) moments and the
+    transition matrices ``Ads[k]`` (k -> k+1) are written into the given arrays.
+    """
+    n = lam.size
+    m = TB.shape[1]
+    ny = C.shape[0]
+    N = Y.shape[0]
+    x = x0.copy()
+    P = P0.copy()
+    Ad = np.empty((n, n))
+    Gam0 = np.empty((n, m))
+    Gam1 = np.empty((n, m))
+    Q = np.empty((n, n))
+    PC = np.empty(n)
+    K = np.empty(n)
+    xn = np.empty(n)
+    AP = np.empty((n, n))
+    last_dt = -1.0
+    loglike = 0.0
+    for k in range(N):
+        if store:
+            for i in range(n):
+                xp[k, i] = x[i]
+                for j in range(n):
+                    Pp[k, i, j] = P[i, j]
+        # measurement update, one scalar observation at a time
+        for r in range(ny):
+            y = Y[k, r]
+            if math.isnan(y):
+                continue
+            v = y
+            for i in range(n):
+                v -= C[r, i] * x[i]
+            s = meas_var[r]
+            for i in range(n):
+                acc = 0.0
+                for j in range(n):
+                    acc += P[i, j] * C[r, j]
+                PC[i] = acc
+                s += C[r, i] * acc
+            if not (s > 0.0) or not math.isfinite(s):
+                return -np.inf
+            for i in range(n):
+                K[i] = PC[i] / s
+                x[i] += K[i] * v
+            # Joseph form: P = L P L^T + r K K^T with L = I - K c
+            for i in range(n):
+                for j in range(n):
+                    acc = P[i, j]
+                    for q in range(n):
+                        acc -= K[i] * C[r, q] * P[q, j]
+                    AP[i, j] = acc  # L P
+            for i in range(n):
+                for j in range(i, n):
+                    acc = meas_var[r] * K[i] * K[j]
+                    for q in range(n):
+                        acc += AP[i, q] * ((1.0 if q == j else 0.0) - K[j] * C[r, q])
+                    P[i, j] = acc
+                    P[j, i] = acc
+            loglike -= 0.5 * (LOG_2PI + math.log(s) + v * v / s)
+        if store:
+            for i in range(n):
+                xf[k, i] = x[i]
+                for j in range(n):
+                    Pf[k, i, j] = P[i, j]
+        if k == N - 1:
+            break
+        # time update to sample k+1
+        dt = dts[k]
+        if dt != last_dt:
+            discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q)
+            last_dt = dt
+        if store:
+            for i in range(n):
+                for j in range(n):
+                    Ads[k, i, j] = Ad[i, j]
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += Ad[i, j] * x[j]
+            for c in range(m):
+                acc += Gam0[i, c] * U[k, c]
+            if foh:
+                for c in range(m):
+                    acc += Gam1[i, c] * U[k + 1, c]
+            xn[i] = acc
+        for i in range(n):
+            x[i] = xn[i]
+            for j in range(n):
+                acc = 0.0
+                for q in range(n):
+                    acc += Ad[i, q] * P[q, j]
+                AP[i, j] = acc
+        for i in range(n):
+            for j in range(i, n):
+                acc = Q[i, j]
+                for q in range(n):
+                    acc += AP[i, q] * Ad[j, q]
+                P[i, j] = acc
+                P[j, i] = acc
+    return loglike
+
+
+@njit(cache=True)
+def simulate_states(lam, T, Tinv, TB, M, x0, dts, U, foh):
+    """Deterministic (noise-free) state trajectory [C] from ``x0`` through all samples."""
+    n = lam.size
+    m = TB.shape[1]
+    N = U.shape[0]
+    X = np.empty((N, n))
+    Ad = np.empty((n, n))
+    Gam0 = np.empty((n, m))
+    Gam1 = np.empty((n, m))
+    Q = np.empty((n, n))
+    x = x0.copy()
+    last_dt = -1.0
+    for k in range(N):
+        for i in range(n):
+            X[k, i] = x[i]
+        if k == N - 1:
+            break
+        dt = dts[k]
+        if dt != last_dt:
+            discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q)
+            last_dt = dt
+        xn = np.zeros(n)
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += Ad[i, j] * x[j]
+            for c in range(m):
+                acc += Gam0[i, c] * U[k, c]
+                if foh:
+                    acc += Gam1[i, c] * U[k + 1, c]
+            xn[i] = acc
+        x = xn
+    return X
+
+
+@njit(cache=True)
+def predict_ahead(lam, T, Tinv, TB, M, xf, Pf, dts, U, foh, steps):
+    """k-step predictions: mean and covariance of x[t] given observations up to t - steps.
+
+    Rows ``t < steps`` are NaN.
+    """
+    n = lam.size
+    m = TB.shape[1]
+    N = U.shape[0]
+    Xk = np.full((N, n), np.nan)
+    Pk = np.full((N, n, n), np.nan)
+    Ad = np.empty((n, n))
+    Gam0 = np.empty((n, m))
+    Gam1 = np.empty((n, m))
+    Q = np.empty((n, n))
+    last_dt = -1.0
+    for t in range(steps, N):
+        x = xf[t - steps].copy()
+        P = Pf[t - steps].copy()
+        for k in range(t - steps, t):
+            dt = dts[k]
+            if dt != last_dt:
+                discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q)
+                last_dt = dt
+            xn = Ad @ x
+            for i in range(n):
+                for c in range(m):
+                    xn[i] += Gam0[i, c] * U[k, c]
+                    if foh:
+                        xn[i] += Gam1[i, c] * U[k + 1, c]
+            x = xn
+            P = Ad @ P @ Ad.T + Q
+        Xk[t] = x
+        Pk[t] = P
+    return Xk, Pk
+
+
+@njit(cache=True)
+def system_from_values(
+    values,
+    cap_idx,
+    edge_a,
+    edge_b,
+    link_ptr,
+    link_idx,
+    link_is_resistance,
+    heat_state,
+    heat_input,
+    heat_factor,
+    heat_scale_idx,
+    frac_const,
+    frac_ptr,
+    frac_idx,
+    frac_sign,
+    noise_idx,
+    meas_idx,
+    x0_idx,
+    p0_idx,
+    n_inputs,
+):
+    """Eigen-form system, measurement variances [K2], initial mean [C] and covariance [K2]."""
+    cap, G, B_raw, sigma = build_network(
+        values,
+        cap_idx,
+        edge_a,
+        edge_b,
+        link_ptr,
+        link_idx,
+        link_is_resistance,
+        heat_state,
+        heat_input,
+        heat_factor,
+        heat_scale_idx,
+        frac_const,
+        frac_ptr,
+        frac_idx,
+        frac_sign,
+        noise_idx,
+        n_inputs,
+    )
+    lam, T, Tinv, TB, M = eigen_network(cap, G, B_raw, sigma)
+    n = cap.size
+    ny = meas_idx.size
+    meas_var = np.empty(ny)
+    for r in range(ny):
+        meas_var[r] = values[meas_idx[r]] ** 2
+    x0 = np.empty(n)
+    P0 = np.zeros((n, n))
+    for i in range(n):
+        x0[i] = values[x0_idx[i]]
+        P0[i, i] = values[p0_idx[i]] ** 2
+    return lam, T, Tinv, TB, M, meas_var, x0, P0
+
+
+@njit(cache=True)
+def loglike_theta(theta, tr, st, C, dts, U, Y, foh):
+    """Log-likelihood at unconstrained parameters ``theta``.
+
+    ``tr`` = (free_idx, kind, lower, upper, si_factor, base_values) and ``st`` = the structure
+    tuple of :meth:`RCModel.structure` (see :func:`system_from_values`).
+    """
+    values = fill_values(theta, tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
+    lam, T, Tinv, TB, M, meas_var, x0, P0 = system_from_values(
+        values,
+        st[0],
+        st[1],
+        st[2],
+        st[3],
+        st[4],
+        st[5],
+        st[6],
+        st[7],
+        st[8],
+        st[9],
+        st[10],
+        st[11],
+        st[12],
+        st[13],
+        st[14],
+        st[15],
+        st[16],
+        st[17],
+        U.shape[1],
+    )
+    e2 = np.empty((0, 0))
+    e3 = np.empty((0, 0, 0))
+    ll = kalman_filter(
+        lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, False, e2, e3, e2, e3, e3
+    )
+    if not math.isfinite(ll):
+        return -np.inf
+    return ll
+
+
+@njit(cache=True)
+def negloglike_and_gradient(theta, tr, st, C, dts, U, Y, foh, rel_step):
+    """Negative log-likelihood and its central-difference gradient in ``theta``."""
+    f0 = -loglike_theta(theta, tr, st, C, dts, U, Y, foh)
+    p = theta.size
+    grad = np.empty(p)
+    th = theta.copy()
+    for i in range(p):
+        h = rel_step * max(1.0, abs(theta[i]))
+        th[i] = theta[i] + h
+        fp = -loglike_theta(th, tr, st, C, dts, U, Y, foh)
+        th[i] = theta[i] - h
+        fm = -loglike_theta(th, tr, st, C, dts, U, Y, foh)
+        th[i] = theta[i]
+        grad[i] = (fp - fm) / (2.0 * h)
+    return f0, grad

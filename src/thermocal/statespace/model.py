@@ -1,0 +1,1010 @@
+"""Declaring a grey-box RC model: states, conductances, heat inputs, outputs, noise, parameters.
+
+A model is declared as an RC network (never as matrices), in Python or in a YAML model file with
+the same structure (see ``docs/model-file.md``)::
+
+    name: TiTe
+    states:
+      Ti: {capacity: Ci, noise: sigma_i, initial_mean: Ti0, initial_std: 1.0}
+      Te: {capacity: Ce, noise: sigma_e, initial_mean: Te0, initial_std: 2.0}
+    conductances:
+      - {between: [Ti, Te], resistance: Rie}
+      - {between: [Te, Ta], resistance: Rea}      # Ta: a boundary-temperature data column
+    heat_inputs:
+      - {column: Ph, unit: kW, into: Ti}
+      - {column: Ps, unit: kW/m2, into: Ti, scale: Aw}
+    outputs:
+      - {column: yTi, state: Ti, noise: e_std}
+    parameters:
+      Ci: {value: 1.0, lower: 1.0e-5, upper: 20, unit: kWh/K}
+      ...
+
+Wherever a parameter name is expected a plain number is accepted too; it is then a constant in SI
+units (J/K, W/K, K/W, K/sqrt(s), C, K, m2, -).
+
+Order of the input vector ``u`` (:attr:`RCModel.input_names`): the boundary-temperature columns in
+order of first appearance in ``conductances``, then the heat-input columns in order of first
+appearance in ``heat_inputs``.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+from thermocal.statespace import kernels
+from thermocal.statespace.units import UNIT_KIND, parameter_si_factor
+
+_TOP_LEVEL_KEYS = {
+    "name",
+    "description",
+    "states",
+    "conductances",
+    "heat_inputs",
+    "outputs",
+    "parameters",
+}
+_STATE_KEYS = {"capacity", "noise", "initial_mean", "initial_std", "description"}
+_CONDUCTANCE_KEYS = {"between", "conductance", "resistance", "description"}
+_HEAT_KEYS = {"column", "into", "scale", "unit", "description"}
+_OUTPUT_KEYS = {"column", "state", "states", "noise", "description"}
+_PARAMETER_KEYS = {"value", "lower", "upper", "fixed", "unit", "description"}
+
+#: Unit kinds allowed for each role a parameter can play.
+_ROLE_KINDS = {
+    "capacity": {"capacity"},
+    "conductance": {"conductance"},
+    "resistance": {"resistance"},
+    "noise": {"diffusion"},
+    "measurement noise": {"temperature"},
+    "initial mean": {"temperature"},
+    "initial std": {"temperature"},
+    "scale": {"area", "dimensionless"},
+    "fraction": {"dimensionless"},
+}
+_POSITIVE_ROLES = {"capacity", "conductance", "resistance"}
+_NONNEGATIVE_ROLES = {"noise", "measurement noise", "initial std"}
+
+#: Default initial-state standard deviation [K] when a state declares none.
+DEFAULT_INITIAL_STD = 1.0
+
+
+@dataclass
+class Parameter:
+    """One model parameter, in its declared unit.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name.
+    value : float [unit]
+        Initial (or fixed) value.
+    unit : str
+        Declared unit (see :data:`thermocal.statespace.units.PARAMETER_UNITS`).
+    lower, upper : float [unit]
+        Bounds; the optimiser keeps the estimate strictly inside them.
+    fixed : bool
+        Fixed parameters are not estimated.
+    """
+
+    name: str
+    value: float
+    unit: str
+    lower: float = -math.inf
+    upper: float = math.inf
+    fixed: bool = False
+    description: str = ""
+    #: True when ``lower`` was not given; it is then set to 0 for positive quantities.
+    auto_lower: bool = field(default=False, repr=False)
+
+    @property
+    def si_factor(self) -> float:
+        """Factor from the declared unit to SI [-]."""
+        return parameter_si_factor(self.unit, parameter=self.name)
+
+    @property
+    def transform(self) -> int:
+        """Kind of unconstrained transform (see :mod:`thermocal.statespace.kernels`)."""
+        lo_finite, hi_finite = math.isfinite(self.lower), math.isfinite(self.upper)
+        if lo_finite and hi_finite:
+            return kernels.TRANSFORM_LOGIT
+        if lo_finite:
+            return kernels.TRANSFORM_LOG
+        if hi_finite:
+            return kernels.TRANSFORM_NEGLOG
+        return kernels.TRANSFORM_IDENTITY
+
+    def to_unconstrained(self, value: float) -> float:
+        """Unconstrained value ``theta`` of a declared-unit ``value``."""
+        kind = self.transform
+        if kind == kernels.TRANSFORM_LOG:
+            return math.log(value - self.lower)
+        if kind == kernels.TRANSFORM_NEGLOG:
+            return math.log(self.upper - value)
+        if kind == kernels.TRANSFORM_LOGIT:
+            p = (value - self.lower) / (self.upper - self.lower)
+            return math.log(p) - math.log1p(-p)
+        return float(value)
+
+    def from_unconstrained(self, theta: float) -> float:
+        """Declared-unit value of an unconstrained ``theta``."""
+        return float(kernels.to_natural(theta, self.transform, self.lower, self.upper))
+
+    def derivative(self, theta: float) -> float:
+        """d value / d theta [unit], for the delta method."""
+        kind = self.transform
+        if kind in (kernels.TRANSFORM_LOG, kernels.TRANSFORM_NEGLOG):
+            return math.exp(theta) * (1.0 if kind == kernels.TRANSFORM_LOG else -1.0)
+        if kind == kernels.TRANSFORM_LOGIT:
+            p = (
+                1.0 / (1.0 + math.exp(-theta))
+                if theta >= 0
+                else math.exp(theta) / (1 + math.exp(theta))
+            )
+            return (self.upper - self.lower) * p * (1.0 - p)
+        return 1.0
+
+    def to_dict(self) -> dict[str, Any]:
+        """Model-file representation."""
+        out: dict[str, Any] = {"value": self.value, "unit": self.unit}
+        if math.isfinite(self.lower):
+            out["lower"] = self.lower
+        if math.isfinite(self.upper):
+            out["upper"] = self.upper
+        if self.fixed:
+            out["fixed"] = True
+        if self.description:
+            out["description"] = self.description
+        return out
+
+
+@dataclass
+class Structure:
+    """Compiled model structure: index arrays into the value vector (parameters then constants)."""
+
+    arrays: tuple
+    C: np.ndarray
+    n_states: int
+    n_inputs: int
+    constants: np.ndarray
+    roles: dict[str, set[str]] = field(default_factory=dict)
+
+
+def _as_float(value: Any, what: str) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ThermocalInputError(f"{what}: '{value}' is not a number") from None
+
+
+class RCModel:
+    """A continuous-time stochastic RC model ``dx = (A x + B u) dt + Sigma dw``, ``y = C x + e``.
+
+    Build it from a model file (:meth:`from_yaml`), a dictionary of the same structure
+    (:meth:`from_dict`), or step by step (:meth:`add_state`, :meth:`add_conductance`,
+    :meth:`add_heat_input`, :meth:`add_output`, :meth:`add_parameter`). Nothing is computed until
+    the model is used; every use validates the declaration first.
+
+    Parameters
+    ----------
+    name : str
+        Model name (used in reports).
+    description : str
+        Free text.
+    """
+
+    def __init__(self, name: str = "model", description: str = "") -> None:
+        self.name = name
+        self.description = description
+        self._states: dict[str, dict[str, Any]] = {}
+        self._conductances: list[dict[str, Any]] = []
+        self._heat_inputs: list[dict[str, Any]] = []
+        self._outputs: list[dict[str, Any]] = []
+        self.parameters: dict[str, Parameter] = {}
+        self._structure: Structure | None = None
+        self.source = "<in memory>"
+
+    # ------------------------------------------------------------------ declaration
+    def add_state(
+        self,
+        name: str,
+        *,
+        capacity: str | float | None,
+        noise: str | float | None = None,
+        initial_mean: str | float | None = None,
+        initial_std: str | float | None = None,
+    ) -> RCModel:
+        """Declare a node temperature [C] with its heat capacity and noise.
+
+        Parameters
+        ----------
+        name : str
+            State name.
+        capacity : str or float [J/K]
+            Heat-capacity parameter (or SI constant).
+        noise : str or float [K/sqrt(s)], optional
+            Diffusion standard deviation of the state (``dx = f dt + sigma dw``); 0 if omitted.
+        initial_mean : str or float [C]
+            Mean of the state at the first sample.
+        initial_std : str or float [K], optional
+            Standard deviation of the state at the first sample (default 1 K).
+        """
+        if name in self._states:
+            raise ThermocalInputError(f"model '{self.name}': state '{name}' is declared twice")
+        self._states[name] = {
+            "capacity": capacity,
+            "noise": noise,
+            "initial_mean": initial_mean,
+            "initial_std": initial_std,
+        }
+        self._structure = None
+        return self
+
+    def add_conductance(
+        self,
+        a: str,
+        b: str,
+        *,
+        conductance: str | float | Sequence[str | float] | None = None,
+        resistance: str | float | Sequence[str | float] | None = None,
+    ) -> RCModel:
+        """Connect two states, or a state and a boundary-temperature column, by a heat path.
+
+        Parameters
+        ----------
+        a, b : str
+            State names; a name that is not a state is a boundary-temperature data column [C].
+        conductance : str, float or list [W/K]
+            Heat transfer coefficient; a list is a series connection ``1 / sum(1/H)``.
+        resistance : str, float or list [K/W]
+            Thermal resistance; a list is a series connection ``sum(R)``.
+        """
+        self._conductances.append(
+            {"between": [a, b], "conductance": conductance, "resistance": resistance}
+        )
+        self._structure = None
+        return self
+
+    def add_heat_input(
+        self,
+        column: str,
+        *,
+        into: str | Mapping[str, str | float],
+        scale: str | float | None = None,
+        unit: str = "W",
+    ) -> RCModel:
+        """Inject a heat-flow data column into one or several states.
+
+        Parameters
+        ----------
+        column : str
+            Data column, in ``unit``.
+        into : str or mapping
+            A state name, or ``{state: fraction}`` with fractions as numbers, parameter names or
+            ``"rest"`` (one minus the other fractions).
+        scale : str or float [m2 or -], optional
+            Parameter multiplying the column (e.g. an effective solar aperture ``Aw`` [m2]).
+        unit : str
+            Unit of the column: ``W``, ``kW``, ``MW``, ``W/m2``, ``kW/m2``.
+        """
+        self._heat_inputs.append({"column": column, "into": into, "scale": scale, "unit": unit})
+        self._structure = None
+        return self
+
+    def add_output(
+        self,
+        column: str,
+        *,
+        state: str | None = None,
+        states: Mapping[str, float] | None = None,
+        noise: str | float,
+    ) -> RCModel:
+        """Declare an observed data column [C] = a state (or a linear combination) + noise.
+
+        Parameters
+        ----------
+        column : str
+            Data column of the measurement [C].
+        state : str, optional
+            The observed state.
+        states : mapping, optional
+            ``{state: coefficient}`` for a linear combination (coefficients are numbers).
+        noise : str or float [K]
+            Measurement standard deviation.
+        """
+        self._outputs.append({"column": column, "state": state, "states": states, "noise": noise})
+        self._structure = None
+        return self
+
+    def add_parameter(
+        self,
+        name: str,
+        value: float,
+        *,
+        unit: str,
+        lower: float | None = None,
+        upper: float | None = None,
+        fixed: bool = False,
+        description: str = "",
+    ) -> RCModel:
+        """Declare a parameter with its initial value, unit, bounds and whether it is fixed.
+
+        Parameters
+        ----------
+        name : str
+            Parameter name.
+        value : float [unit]
+            Initial value (the value itself when ``fixed``).
+        unit : str
+            Declared unit, e.g. ``kWh/K``, ``W/K``, ``K/kW``, ``m2``, ``K/sqrt(h)``, ``C``, ``K``.
+        lower, upper : float [unit], optional
+            Bounds (default: 0 and +inf for capacities, conductances, resistances and standard
+            deviations; unbounded otherwise).
+        fixed : bool
+            Keep the value fixed during estimation.
+        """
+        if name in self.parameters:
+            raise ThermocalInputError(f"model '{self.name}': parameter '{name}' is declared twice")
+        parameter_si_factor(unit, parameter=name)
+        value = _as_float(value, f"parameter '{name}' value")
+        kind = UNIT_KIND[unit]
+        default_lower = (
+            0.0 if kind in {"capacity", "conductance", "resistance", "diffusion"} else -math.inf
+        )
+        self.parameters[name] = Parameter(
+            name=name,
+            value=value,
+            unit=unit,
+            lower=default_lower if lower is None else _as_float(lower, f"parameter '{name}' lower"),
+            upper=math.inf if upper is None else _as_float(upper, f"parameter '{name}' upper"),
+            fixed=bool(fixed),
+            description=description,
+            auto_lower=lower is None,
+        )
+        self._structure = None
+        return self
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def from_dict(cls, spec: Mapping[str, Any], *, source: str = "<dict>") -> RCModel:
+        """Build a model from a dictionary with the structure of the model file.
+
+        Parameters
+        ----------
+        spec : mapping
+            Keys ``name``, ``description``, ``states``, ``conductances``, ``heat_inputs``,
+            ``outputs``, ``parameters`` (see ``docs/model-file.md``).
+        source : str
+            Where the specification came from, used in error messages.
+        """
+        if not isinstance(spec, Mapping):
+            raise ThermocalInputError(f"{source}: a model file must be a mapping of sections")
+        unknown = set(spec) - _TOP_LEVEL_KEYS
+        if unknown:
+            raise ThermocalInputError(
+                f"{source}: unknown section(s) {sorted(unknown)}; "
+                f"allowed: {sorted(_TOP_LEVEL_KEYS)}"
+            )
+        model = cls(
+            name=str(spec.get("name", "model")), description=str(spec.get("description", ""))
+        )
+        model.source = source
+        where = f"{source} (model '{model.name}')"
+
+        params = spec.get("parameters") or {}
+        if not isinstance(params, Mapping):
+            raise ThermocalInputError(f"{where}: 'parameters' must map names to settings")
+        for pname, pspec in params.items():
+            if not isinstance(pspec, Mapping):
+                raise ThermocalInputError(
+                    f"{where}: parameter '{pname}' must be a mapping with value, unit "
+                    "(and optional lower, upper, fixed)"
+                )
+            _check_keys(pspec, _PARAMETER_KEYS, f"{where}: parameter '{pname}'")
+            for key in ("value", "unit"):
+                if key not in pspec:
+                    raise ThermocalInputError(f"{where}: parameter '{pname}' has no '{key}'")
+            model.add_parameter(
+                str(pname),
+                pspec["value"],
+                unit=str(pspec["unit"]),
+                lower=pspec.get("lower"),
+                upper=pspec.get("upper"),
+                fixed=bool(pspec.get("fixed", False)),
+                description=str(pspec.get("description", "")),
+            )
+
+        states = spec.get("states") or {}
+        if isinstance(states, Sequence) and not isinstance(states, str):
+            states = {s.get("name"): {k: v for k, v in s.items() if k != "name"} for s in states}
+        if not isinstance(states, Mapping) or not states:
+            raise ThermocalInputError(f"{where}: 'states' must declare at least one state")
+        for sname, sspec in states.items():
+            sspec = sspec or {}
+            _check_keys(sspec, _STATE_KEYS, f"{where}: state '{sname}'")
+            model.add_state(
+                str(sname),
+                capacity=sspec.get("capacity"),
+                noise=sspec.get("noise"),
+                initial_mean=sspec.get("initial_mean"),
+                initial_std=sspec.get("initial_std"),
+            )
+        for i, cspec in enumerate(spec.get("conductances") or []):
+            _check_keys(cspec, _CONDUCTANCE_KEYS, f"{where}: conductances[{i}]")
+            between = cspec.get("between")
+            if not isinstance(between, Sequence) or isinstance(between, str) or len(between) != 2:
+                raise ThermocalInputError(
+                    f"{where}: conductances[{i}] needs 'between: [node, node]' (two names)"
+                )
+            model.add_conductance(
+                str(between[0]),
+                str(between[1]),
+                conductance=cspec.get("conductance"),
+                resistance=cspec.get("resistance"),
+            )
+        for i, hspec in enumerate(spec.get("heat_inputs") or []):
+            _check_keys(hspec, _HEAT_KEYS, f"{where}: heat_inputs[{i}]")
+            if "column" not in hspec or "into" not in hspec:
+                raise ThermocalInputError(f"{where}: heat_inputs[{i}] needs 'column' and 'into'")
+            model.add_heat_input(
+                str(hspec["column"]),
+                into=hspec["into"],
+                scale=hspec.get("scale"),
+                unit=str(hspec.get("unit", "W")),
+            )
+        for i, ospec in enumerate(spec.get("outputs") or []):
+            _check_keys(ospec, _OUTPUT_KEYS, f"{where}: outputs[{i}]")
+            if "column" not in ospec or "noise" not in ospec:
+                raise ThermocalInputError(
+                    f"{where}: outputs[{i}] needs 'column' and 'noise' (measurement std)"
+                )
+            model.add_output(
+                str(ospec["column"]),
+                state=ospec.get("state"),
+                states=ospec.get("states"),
+                noise=ospec["noise"],
+            )
+        model.structure()  # validate now, with the file name in the messages
+        return model
+
+    @classmethod
+    def from_yaml(cls, path: str | Path) -> RCModel:
+        """Read a YAML model file (see ``docs/model-file.md``)."""
+        import yaml
+
+        path = Path(path)
+        if not path.exists():
+            raise ThermocalInputError(f"model file {path} does not exist")
+        try:
+            spec = yaml.safe_load(path.read_text())
+        except yaml.YAMLError as exc:
+            raise ThermocalInputError(f"model file {path} is not valid YAML: {exc}") from None
+        return cls.from_dict(spec, source=str(path))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The model as a dictionary with the structure of the model file."""
+
+        def clean(d: Mapping[str, Any]) -> dict[str, Any]:
+            return {k: v for k, v in d.items() if v is not None}
+
+        return {
+            "name": self.name,
+            "description": self.description,
+            "states": {k: clean(v) for k, v in self._states.items()},
+            "conductances": [clean(c) for c in self._conductances],
+            "heat_inputs": [clean(h) for h in self._heat_inputs],
+            "outputs": [clean(o) for o in self._outputs],
+            "parameters": {k: p.to_dict() for k, p in self.parameters.items()},
+        }
+
+    def copy(self) -> RCModel:
+        """Deep copy (e.g. to change parameter settings without touching the original)."""
+        return copy.deepcopy(self)
+
+    def with_parameters(self, values: Mapping[str, float], *, fix: bool = False) -> RCModel:
+        """Copy with new parameter values [declared units] (and optionally fixed)."""
+        model = self.copy()
+        for name, val in values.items():
+            if name not in model.parameters:
+                raise ThermocalInputError(f"model '{self.name}': unknown parameter '{name}'")
+            model.parameters[name].value = float(val)
+            if fix:
+                model.parameters[name].fixed = True
+        model._structure = None
+        return model
+
+    # ------------------------------------------------------------------ names
+    @property
+    def state_names(self) -> list[str]:
+        """State (node temperature) names, in state-vector order."""
+        return list(self._states)
+
+    @property
+    def boundary_names(self) -> list[str]:
+        """Boundary-temperature data columns [C], in order of first appearance."""
+        names: list[str] = []
+        for c in self._conductances:
+            for node in c["between"]:
+                if node not in self._states and node not in names:
+                    names.append(node)
+        return names
+
+    @property
+    def heat_input_names(self) -> list[str]:
+        """Heat-input data columns, in order of first appearance."""
+        names: list[str] = []
+        for h in self._heat_inputs:
+            if h["column"] not in names:
+                names.append(h["column"])
+        return names
+
+    @property
+    def input_names(self) -> list[str]:
+        """Input vector order: boundary temperatures first, then heat inputs."""
+        return self.boundary_names + self.heat_input_names
+
+    @property
+    def output_names(self) -> list[str]:
+        """Observed data columns, in output-vector order."""
+        return [o["column"] for o in self._outputs]
+
+    @property
+    def parameter_names(self) -> list[str]:
+        """All parameter names, in declaration order."""
+        return list(self.parameters)
+
+    @property
+    def free_parameter_names(self) -> list[str]:
+        """Names of the parameters that are estimated."""
+        return [p.name for p in self.parameters.values() if not p.fixed]
+
+    @property
+    def n_free(self) -> int:
+        """Number of estimated parameters."""
+        return len(self.free_parameter_names)
+
+    # ------------------------------------------------------------------ compilation
+    def structure(self) -> Structure:
+        """Validate the declaration and compile it into index arrays for the kernels."""
+        if self._structure is None:
+            self._structure = _compile(self)
+        return self._structure
+
+    def values_si(self, params: Mapping[str, float] | None = None) -> np.ndarray:
+        """Vector of all parameter values in SI followed by the model's constants."""
+        st = self.structure()
+        values = np.empty(len(self.parameters) + st.constants.size)
+        for i, p in enumerate(self.parameters.values()):
+            val = p.value if params is None or p.name not in params else float(params[p.name])
+            values[i] = val * p.si_factor
+        values[len(self.parameters) :] = st.constants
+        return values
+
+    def transform_arrays(self) -> tuple:
+        """(free_idx, kind, lower, upper, si_factor, base_values) for the kernels."""
+        names = self.parameter_names
+        free = [self.parameters[n] for n in self.free_parameter_names]
+        st = self.structure()
+        si = np.array([p.si_factor for p in self.parameters.values()] + [1.0] * st.constants.size)
+        return (
+            np.array([names.index(p.name) for p in free], dtype=np.int64),
+            np.array([p.transform for p in free], dtype=np.int64),
+            np.array([p.lower for p in free], dtype=float),
+            np.array([p.upper for p in free], dtype=float),
+            si,
+            self.values_si(),
+        )
+
+    def theta0(self) -> np.ndarray:
+        """Unconstrained start vector from the declared values of the free parameters."""
+        return np.array(
+            [
+                self.parameters[n].to_unconstrained(self.parameters[n].value)
+                for n in self.free_parameter_names
+            ]
+        )
+
+    def system(self, params: Mapping[str, float] | None = None):
+        """Eigen-form system used by the kernels (see :func:`kernels.system_from_values`)."""
+        st = self.structure()
+        return kernels.system_from_values(self.values_si(params), *st.arrays, st.n_inputs)
+
+    def continuous_matrices(
+        self, params: Mapping[str, float] | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Continuous-time matrices ``(A, B, C, D)`` in SI units (time in seconds).
+
+        Parameters
+        ----------
+        params : mapping, optional
+            Parameter values [declared units] overriding the declared ones.
+
+        Returns
+        -------
+        A : ndarray (n_states, n_states) [1/s]
+        B : ndarray (n_states, n_inputs) [K/(s C)] for boundary temperatures, [K/(s W)] (times
+            the column-unit factor) for heat inputs
+        C : ndarray (n_outputs, n_states) [-]
+        D : ndarray (n_outputs, n_inputs) [-], zero
+        """
+        st = self.structure()
+        cap, G, B_raw, _ = kernels.build_network(
+            self.values_si(params), *st.arrays[:15], st.n_inputs
+        )
+        A = G / cap[:, None]
+        B = B_raw / cap[:, None]
+        D = np.zeros((st.C.shape[0], st.n_inputs))
+        return A, B, st.C.copy(), D
+
+    def diffusion_matrix(self, params: Mapping[str, float] | None = None) -> np.ndarray:
+        """Diagonal diffusion matrix ``Sigma`` [K/sqrt(s)] of ``dx = f dt + Sigma dw``."""
+        st = self.structure()
+        _, _, _, sigma = kernels.build_network(self.values_si(params), *st.arrays[:15], st.n_inputs)
+        return np.diag(sigma)
+
+    # ------------------------------------------------------------------ estimation & simulation
+    def fit(
+        self,
+        data,
+        *,
+        hold: str = "zoh",
+        n_starts: int = 1,
+        seed: int | None = None,
+        time_column: str | None = None,
+        time_unit: str = "s",
+        **opts,
+    ):
+        """Maximum-likelihood estimation; returns :class:`~thermocal.statespace.FitResults`.
+
+        See :func:`thermocal.statespace.estimation.fit` for the options.
+        """
+        from thermocal.statespace.estimation import fit
+
+        return fit(
+            self,
+            data,
+            hold=hold,
+            n_starts=n_starts,
+            seed=seed,
+            time_column=time_column,
+            time_unit=time_unit,
+            **opts,
+        )
+
+    def simulate(
+        self,
+        data,
+        params: Mapping[str, float] | None = None,
+        *,
+        hold: str = "zoh",
+        time_column: str | None = None,
+        time_unit: str = "s",
+    ):
+        """Deterministic (noise-free) state and output trajectories from the initial-state mean.
+
+        Returns a DataFrame on the data's index with one column per state and per output
+        (outputs named after their data column).
+        """
+        from thermocal.statespace.estimation import simulate
+
+        return simulate(self, data, params, hold=hold, time_column=time_column, time_unit=time_unit)
+
+    def loglike(
+        self,
+        data,
+        params: Mapping[str, float] | None = None,
+        *,
+        hold: str = "zoh",
+        time_column: str | None = None,
+        time_unit: str = "s",
+    ) -> float:
+        """Log-likelihood of the outputs in ``data`` at ``params`` [declared units]."""
+        from thermocal.statespace.estimation import loglike
+
+        return loglike(self, data, params, hold=hold, time_column=time_column, time_unit=time_unit)
+
+    def __repr__(self) -> str:
+        return (
+            f"RCModel(name={self.name!r}, states={self.state_names}, inputs={self.input_names}, "
+            f"outputs={self.output_names}, free={self.free_parameter_names})"
+        )
+
+
+def _check_keys(spec: Any, allowed: set[str], where: str) -> None:
+    if not isinstance(spec, Mapping):
+        raise ThermocalInputError(f"{where} must be a mapping")
+    unknown = set(spec) - allowed
+    if unknown:
+        raise ThermocalInputError(
+            f"{where}: unknown key(s) {sorted(unknown)}; allowed: {sorted(allowed)}"
+        )
+
+
+class _Compiler:
+    def __init__(self, model: RCModel) -> None:
+        self.model = model
+        self.where = f"{model.source} (model '{model.name}')"
+        self.param_index = {name: i for i, name in enumerate(model.parameters)}
+        self.constants: list[float] = []
+        self.roles: dict[str, set[str]] = {}
+
+    def ref(self, value: Any, role: str, what: str) -> int:
+        """Index of a parameter name or literal constant in the value vector."""
+        if value is None:
+            raise ThermocalInputError(f"{self.where}: {what} is missing ({role})")
+        if isinstance(value, bool):
+            raise ThermocalInputError(f"{self.where}: {what} must be a parameter name or number")
+        if isinstance(value, str):
+            if value not in self.param_index:
+                try:
+                    value = float(value)
+                except ValueError:
+                    raise ThermocalInputError(
+                        f"{self.where}: {what} refers to '{value}', which is neither a declared "
+                        f"parameter nor a number; declare it under 'parameters:' "
+                        f"(declared: {', '.join(self.param_index) or 'none'})"
+                    ) from None
+            else:
+                self.roles.setdefault(value, set()).add(role)
+                return self.param_index[value]
+        number = _as_float(value, f"{self.where}: {what}")
+        if role in _POSITIVE_ROLES and not number > 0:
+            raise ThermocalInputError(f"{self.where}: {what} = {number} must be positive")
+        if role in _NONNEGATIVE_ROLES and not number >= 0:
+            raise ThermocalInputError(f"{self.where}: {what} = {number} must not be negative")
+        self.constants.append(number)
+        return len(self.model.parameters) + len(self.constants) - 1
+
+
+def _compile(model: RCModel) -> Structure:
+    cp = _Compiler(model)
+    where = cp.where
+    states = model.state_names
+    if not states:
+        raise ThermocalInputError(f"{where}: the model declares no states")
+    sidx = {s: i for i, s in enumerate(states)}
+    boundary = model.boundary_names
+    heat_cols = model.heat_input_names
+    n_b = len(boundary)
+
+    cap_idx = []
+    noise_idx = []
+    x0_idx = []
+    p0_idx = []
+    for s in states:
+        spec = model._states[s]
+        if spec.get("capacity") is None:
+            raise ThermocalInputError(
+                f"{where}: state '{s}' has no capacity; give it 'capacity: <parameter>' "
+                "(a heat capacity in J/K, kJ/K, MJ/K or kWh/K)"
+            )
+        cap_idx.append(cp.ref(spec["capacity"], "capacity", f"capacity of state '{s}'"))
+        noise = spec.get("noise")
+        noise_idx.append(-1 if noise is None else cp.ref(noise, "noise", f"noise of state '{s}'"))
+        if spec.get("initial_mean") is None:
+            raise ThermocalInputError(
+                f"{where}: state '{s}' has no 'initial_mean' (its temperature at the first sample "
+                "[C], a parameter or a number)"
+            )
+        x0_idx.append(cp.ref(spec["initial_mean"], "initial mean", f"initial_mean of '{s}'"))
+        std = spec.get("initial_std")
+        p0_idx.append(
+            cp.ref(
+                DEFAULT_INITIAL_STD if std is None else std, "initial std", f"initial_std of '{s}'"
+            )
+        )
+
+    edge_a, edge_b, link_ptr, link_idx, link_res = [], [], [0], [], []
+    for i, c in enumerate(model._conductances):
+        a, b = c["between"]
+        what = f"conductances[{i}] ({a}-{b})"
+        if a == b:
+            raise ThermocalInputError(f"{where}: {what} connects '{a}' to itself")
+        if a not in sidx and b not in sidx:
+            raise ThermocalInputError(
+                f"{where}: {what}: neither '{a}' nor '{b}' is a state "
+                f"(states: {', '.join(states)}); "
+                "at least one end must be a state, the other may be a boundary-temperature column"
+            )
+        if a not in sidx:
+            a, b = b, a
+        edge_a.append(sidx[a])
+        edge_b.append(sidx[b] if b in sidx else -(boundary.index(b) + 1))
+        has_g, has_r = c.get("conductance") is not None, c.get("resistance") is not None
+        if has_g == has_r:
+            raise ThermocalInputError(
+                f"{where}: {what} needs exactly one of 'conductance' [W/K] or 'resistance' [K/W]"
+            )
+        role = "conductance" if has_g else "resistance"
+        links = c[role]
+        if isinstance(links, str) or not isinstance(links, Sequence):
+            links = [links]
+        if not links:
+            raise ThermocalInputError(f"{where}: {what}: empty {role} list")
+        for link in links:
+            link_idx.append(cp.ref(link, role, f"{role} of {what}"))
+            link_res.append(1 if role == "resistance" else 0)
+        link_ptr.append(len(link_idx))
+
+    heat_state, heat_input, heat_factor, heat_scale = [], [], [], []
+    frac_const, frac_ptr, frac_idx, frac_sign = [], [0], [], []
+    from thermocal.statespace.units import HEAT_COLUMN_UNITS
+
+    for i, h in enumerate(model._heat_inputs):
+        col = h["column"]
+        what = f"heat_inputs[{i}] (column '{col}')"
+        unit = h.get("unit") or "W"
+        if unit not in HEAT_COLUMN_UNITS:
+            raise ThermocalInputError(
+                f"{where}: {what}: unknown column unit '{unit}'; use one of "
+                f"{', '.join(HEAT_COLUMN_UNITS)}"
+            )
+        if col in sidx:
+            raise ThermocalInputError(f"{where}: {what}: '{col}' is a state, not a data column")
+        scale = h.get("scale")
+        scale_idx = -1 if scale is None else cp.ref(scale, "scale", f"scale of {what}")
+        into = h["into"]
+        if isinstance(into, str):
+            into = {into: 1.0}
+        if not isinstance(into, Mapping) or not into:
+            raise ThermocalInputError(
+                f"{where}: {what}: 'into' must be a state or {{state: fraction}}"
+            )
+        rest_states = [s for s, f in into.items() if f == "rest"]
+        if len(rest_states) > 1:
+            raise ThermocalInputError(f"{where}: {what}: only one fraction may be 'rest'")
+        for s, f in into.items():
+            if s not in sidx:
+                raise ThermocalInputError(
+                    f"{where}: {what} goes into '{s}', which is not a state "
+                    f"(states: {', '.join(states)})"
+                )
+            heat_state.append(sidx[s])
+            heat_input.append(n_b + heat_cols.index(col))
+            heat_factor.append(HEAT_COLUMN_UNITS[unit])
+            heat_scale.append(scale_idx)
+            if f == "rest":
+                const = 1.0
+                for s2, f2 in into.items():
+                    if s2 == s:
+                        continue
+                    if isinstance(f2, str) and f2 in cp.param_index:
+                        frac_idx.append(cp.ref(f2, "fraction", f"fraction of {what} into '{s2}'"))
+                        frac_sign.append(-1.0)
+                    else:
+                        const -= _as_float(f2, f"{where}: fraction of {what} into '{s2}'")
+                frac_const.append(const)
+            elif isinstance(f, str) and f in cp.param_index:
+                frac_idx.append(cp.ref(f, "fraction", f"fraction of {what} into '{s}'"))
+                frac_sign.append(1.0)
+                frac_const.append(0.0)
+            else:
+                frac_const.append(_as_float(f, f"{where}: fraction of {what} into '{s}'"))
+            frac_ptr.append(len(frac_idx))
+
+    if not model._outputs:
+        raise ThermocalInputError(f"{where}: the model declares no outputs (observed columns)")
+    C = np.zeros((len(model._outputs), len(states)))
+    meas_idx = []
+    for r, o in enumerate(model._outputs):
+        what = f"outputs[{r}] (column '{o['column']}')"
+        combo = o.get("states")
+        if o.get("state") is not None:
+            if combo is not None:
+                raise ThermocalInputError(f"{where}: {what}: give 'state' or 'states', not both")
+            combo = {o["state"]: 1.0}
+        if not combo:
+            raise ThermocalInputError(f"{where}: {what} needs 'state: <state>' (or 'states')")
+        for s, coef in combo.items():
+            if s not in sidx:
+                raise ThermocalInputError(
+                    f"{where}: {what} observes '{s}', which is not a state "
+                    f"(states: {', '.join(states)})"
+                )
+            C[r, sidx[s]] += _as_float(coef, f"{where}: {what} coefficient of '{s}'")
+        meas_idx.append(cp.ref(o["noise"], "measurement noise", f"noise of {what}"))
+
+    _check_parameters(model, cp.roles, where)
+    # every state must lose heat somewhere or be connected: warn via error only if isolated
+    connected = {i: False for i in range(len(states))}
+    for a, b in zip(edge_a, edge_b, strict=True):
+        connected[a] = True
+        if b >= 0:
+            connected[b] = True
+    for i, ok in connected.items():
+        if not ok and len(states) > 1:
+            raise ThermocalInputError(
+                f"{where}: state '{states[i]}' has no conductance to any other node; connect it"
+            )
+
+    i64 = lambda x: np.asarray(x, dtype=np.int64)  # noqa: E731
+    f64 = lambda x: np.asarray(x, dtype=np.float64)  # noqa: E731
+    arrays = (
+        i64(cap_idx),
+        i64(edge_a),
+        i64(edge_b),
+        i64(link_ptr),
+        i64(link_idx),
+        i64(link_res),
+        i64(heat_state),
+        i64(heat_input),
+        f64(heat_factor),
+        i64(heat_scale),
+        f64(frac_const),
+        i64(frac_ptr),
+        i64(frac_idx),
+        f64(frac_sign),
+        i64(noise_idx),
+        i64(meas_idx),
+        i64(x0_idx),
+        i64(p0_idx),
+    )
+    return Structure(
+        arrays=arrays,
+        C=C,
+        n_states=len(states),
+        n_inputs=n_b + len(heat_cols),
+        constants=np.asarray(cp.constants, dtype=float),
+        roles=cp.roles,
+    )
+
+
+def _check_parameters(model: RCModel, roles: dict[str, set[str]], where: str) -> None:
+    for name, p in model.parameters.items():
+        pwhere = f"{where}: parameter '{name}'"
+        if not p.lower < p.upper:
+            raise ThermocalInputError(
+                f"{pwhere}: lower bound {p.lower} must be below upper bound {p.upper}"
+            )
+        if not math.isfinite(p.value):
+            raise ThermocalInputError(f"{pwhere}: value must be a finite number")
+        if not p.fixed and not (p.lower < p.value < p.upper):
+            raise ThermocalInputError(
+                f"{pwhere}: initial value {p.value} {p.unit} is outside its bounds "
+                f"[{p.lower}, {p.upper}] (it must lie strictly inside); "
+                "change the value or the bounds"
+            )
+        if p.fixed and not (p.lower <= p.value <= p.upper):
+            raise ThermocalInputError(
+                f"{pwhere}: fixed value {p.value} {p.unit} is outside its bounds "
+                f"[{p.lower}, {p.upper}]; change the value or the bounds"
+            )
+        used = roles.get(name, set())
+        if not used and not p.fixed:
+            raise ThermocalInputError(
+                f"{pwhere} is estimated but not used anywhere in the model; use it or remove it"
+            )
+        kind = UNIT_KIND[p.unit]
+        if p.auto_lower and used & (_POSITIVE_ROLES | _NONNEGATIVE_ROLES):
+            p.lower = 0.0
+        for role in used:
+            if kind not in _ROLE_KINDS[role]:
+                raise ThermocalInputError(
+                    f"{pwhere} is used as {role} but has unit '{p.unit}' ({kind}); "
+                    f"give it a unit of kind {sorted(_ROLE_KINDS[role])}"
+                )
+            if role in _POSITIVE_ROLES:
+                if not p.value > 0:
+                    raise ThermocalInputError(f"{pwhere} ({role}) must be positive, got {p.value}")
+                if not p.fixed and p.lower < 0:
+                    raise ThermocalInputError(
+                        f"{pwhere} ({role}) has a negative lower bound {p.lower}; use lower >= 0"
+                    )
+            if role in _NONNEGATIVE_ROLES:
+                if not p.value >= 0:
+                    raise ThermocalInputError(f"{pwhere} ({role}) must not be negative")
+                if not p.fixed and p.lower < 0:
+                    raise ThermocalInputError(
+                        f"{pwhere} ({role}) has a negative lower bound {p.lower}; use lower >= 0"
+                    )
+            if role == "measurement noise" and not p.value > 0:
+                raise ThermocalInputError(
+                    f"{pwhere}: a measurement standard deviation must be positive"
+                )

@@ -1,0 +1,338 @@
+"""Results of a maximum-likelihood fit, in the statsmodels spirit (model separate from results)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from thermocal.statespace import kernels
+from thermocal.statespace.data import PreparedData, prepare_data
+from thermocal.statespace.estimation import (
+    BOUND_TOLERANCE,
+    CORRELATION_LIMIT,
+    _hold_flag,
+    filter_arrays,
+    rts_smoother,
+    simulate,
+)
+
+
+class FitResults:
+    """Estimates, uncertainty and diagnostics of a fitted :class:`RCModel`.
+
+    Attributes
+    ----------
+    model : RCModel
+        The model that was fitted (declared values untouched).
+    params : pandas.Series
+        All parameters [declared units]; fixed ones at their fixed value.
+    bse : pandas.Series
+        Standard errors [declared units] (NaN for fixed parameters or a singular Hessian).
+    loglike : float
+        Maximised log-likelihood (natural log) of the observations.
+    nobs : int
+        Number of observed scalar output values.
+    aic, bic : float
+        ``-2 loglike + 2 k`` and ``-2 loglike + k ln(nobs)``, ``k`` free parameters.
+    converged : bool
+    fit_seconds : float [s]
+    flags : list of str
+        Warnings: non-convergence, non-finite or not positive definite Hessian,
+        |correlation| > 0.98 (naming the pair), parameters at a bound.
+    """
+
+    def __init__(
+        self,
+        *,
+        model,
+        theta: np.ndarray,
+        loglike: float,
+        hessian: np.ndarray | None,
+        nobs: int,
+        converged: bool,
+        message: str,
+        n_iterations: int,
+        gradient_norm: float,
+        start_loglikes: list[float],
+        hold: str,
+        data: PreparedData,
+        fit_seconds: float,
+    ) -> None:
+        self.model = model
+        self.theta = theta
+        self.loglike = float(loglike)
+        self.hessian = hessian
+        self.nobs = int(nobs)
+        self.converged = bool(converged)
+        self.message = message
+        self.n_iterations = n_iterations
+        self.gradient_norm = gradient_norm
+        self.start_loglikes = start_loglikes
+        self.hold = hold
+        self.data = data
+        self.fit_seconds = float(fit_seconds)
+        free = model.free_parameter_names
+        values = {p.name: p.value for p in model.parameters.values()}
+        for i, name in enumerate(free):
+            values[name] = model.parameters[name].from_unconstrained(theta[i])
+        self.params = pd.Series(values, name="estimate", dtype=float)
+        self.flags: list[str] = []
+        if not self.converged:
+            self.flags.append(f"optimiser did not converge: {message}")
+        self._cov_theta = None
+        jac = np.array([model.parameters[n].derivative(theta[i]) for i, n in enumerate(free)])
+        cov = np.full((len(free), len(free)), np.nan)
+        if hessian is not None:
+            if not np.all(np.isfinite(hessian)):
+                self.flags.append("Hessian of the log-likelihood is not finite: no standard errors")
+            else:
+                info = -0.5 * (hessian + hessian.T)
+                eig = np.linalg.eigvalsh(info)
+                if eig.min() <= 0:
+                    weakest = free[int(np.argmin(np.abs(np.diag(info))))]
+                    self.flags.append(
+                        "Hessian is not negative definite (parameters not identifiable, e.g. "
+                        f"'{weakest}'): standard errors unreliable"
+                    )
+                try:
+                    self._cov_theta = np.linalg.inv(info)
+                    cov = jac[:, None] * self._cov_theta * jac[None, :]
+                except np.linalg.LinAlgError:
+                    self.flags.append("Hessian is singular: no standard errors")
+        self._cov = pd.DataFrame(cov, index=free, columns=free)
+        bse = pd.Series(np.nan, index=self.params.index, name="std_error")
+        diag = np.diag(cov)
+        bse[free] = np.where(diag >= 0, np.sqrt(np.abs(diag)), np.nan)
+        self.bse = bse
+        with np.errstate(invalid="ignore", divide="ignore"):
+            sd = np.sqrt(np.diag(cov))
+            corr = cov / np.outer(sd, sd)
+        self.correlation = pd.DataFrame(corr, index=free, columns=free)
+        for i in range(len(free)):
+            for j in range(i + 1, len(free)):
+                if abs(corr[i, j]) > CORRELATION_LIMIT:
+                    self.flags.append(
+                        f"|correlation({free[i]}, {free[j]})| = {abs(corr[i, j]):.3f} > "
+                        f"{CORRELATION_LIMIT}: over-parameterised, fix one of them"
+                    )
+        for name in free:
+            p = model.parameters[name]
+            x = self.params[name]
+            if p.transform == kernels.TRANSFORM_LOGIT:
+                rel = min(x - p.lower, p.upper - x) / (p.upper - p.lower)
+                near = p.lower if x - p.lower < p.upper - x else p.upper
+                at_bound = rel < BOUND_TOLERANCE
+            elif p.transform == kernels.TRANSFORM_LOG:
+                near = p.lower
+                at_bound = (x - p.lower) < BOUND_TOLERANCE * (p.value - p.lower)
+            elif p.transform == kernels.TRANSFORM_NEGLOG:
+                near = p.upper
+                at_bound = (p.upper - x) < BOUND_TOLERANCE * (p.upper - p.value)
+            else:
+                at_bound = False
+            if at_bound:
+                self.flags.append(
+                    f"parameter '{name}' = {x:.6g} {p.unit} is at its bound {near:g}: widen the "
+                    "bound, fix the parameter, or simplify the model"
+                )
+
+    # ------------------------------------------------------------------ statistics
+    @property
+    def n_free(self) -> int:
+        """Number of estimated parameters."""
+        return len(self.model.free_parameter_names)
+
+    @property
+    def aic(self) -> float:
+        """Akaike information criterion."""
+        return -2.0 * self.loglike + 2.0 * self.n_free
+
+    @property
+    def bic(self) -> float:
+        """Bayesian information criterion."""
+        return -2.0 * self.loglike + self.n_free * math.log(self.nobs)
+
+    def cov_params(self) -> pd.DataFrame:
+        """Covariance matrix of the free-parameter estimates [declared units]."""
+        return self._cov.copy()
+
+    def conf_int(self, alpha: float = 0.05) -> pd.DataFrame:
+        """Wald confidence intervals [declared units] of the free parameters."""
+        from scipy import stats
+
+        z = stats.norm.ppf(1 - alpha / 2)
+        free = self.model.free_parameter_names
+        est, se = self.params[free], self.bse[free]
+        return pd.DataFrame({"lower": est - z * se, "upper": est + z * se})
+
+    @property
+    def fitted_model(self):
+        """Copy of the model with the estimates as declared values."""
+        return self.model.with_parameters(self.params.to_dict())
+
+    # ------------------------------------------------------------------ use of the estimates
+    def _prep(self, data, time_column=None, time_unit="s", require_outputs=True) -> PreparedData:
+        if data is None:
+            return self.data
+        if isinstance(data, PreparedData):
+            return data
+        return prepare_data(
+            self.model,
+            data,
+            time_column=time_column,
+            time_unit=time_unit,
+            require_outputs=require_outputs,
+        )
+
+    def simulate(self, data=None, *, time_column=None, time_unit="s") -> pd.DataFrame:
+        """Deterministic simulation at the estimates (default: over the fit data)."""
+        prep = self._prep(data, time_column, time_unit, require_outputs=False)
+        return simulate(self.model, prep, self.params.to_dict(), hold=self.hold)
+
+    def _filter(self, prep):
+        return filter_arrays(self.model, prep, self.params.to_dict(), _hold_flag(self.hold))
+
+    def one_step_residuals(self, data=None, *, time_column=None, time_unit="s") -> pd.DataFrame:
+        """One-step predictions and residuals of each output [C].
+
+        Columns per output ``y``: ``y`` (measured), ``y_pred`` (one-step prediction),
+        ``y_std`` (its standard deviation incl. measurement noise [K]), ``y_residual``,
+        ``y_standardized``.
+        """
+        prep = self._prep(data, time_column, time_unit)
+        f = self._filter(prep)
+        C, R = f["C"], f["meas_var"]
+        pred = f["xp"] @ C.T
+        var = np.einsum("ri,kij,rj->kr", C, f["Pp"], C) + R[None, :]
+        out = pd.DataFrame(index=prep.index)
+        for r, col in enumerate(self.model.output_names):
+            out[col] = prep.Y[:, r]
+            out[f"{col}_pred"] = pred[:, r]
+            out[f"{col}_std"] = np.sqrt(var[:, r])
+            out[f"{col}_residual"] = prep.Y[:, r] - pred[:, r]
+            out[f"{col}_standardized"] = out[f"{col}_residual"] / out[f"{col}_std"]
+        return out
+
+    @property
+    def residuals(self) -> pd.DataFrame:
+        """One-step residuals [C] of each output over the fit data (columns = outputs)."""
+        res = self.one_step_residuals()
+        return res[[f"{c}_residual" for c in self.model.output_names]].rename(
+            columns=lambda c: c.removesuffix("_residual")
+        )
+
+    def predict(
+        self, data=None, steps: int = 1, *, time_column=None, time_unit="s"
+    ) -> pd.DataFrame:
+        """k-step-ahead predictions of the outputs: mean [C] and standard deviation [K].
+
+        The prediction at sample ``t`` uses the observations up to ``t - steps`` and the known
+        inputs; the first ``steps`` rows are NaN. ``steps=1`` is the one-step prediction.
+        """
+        if steps < 1:
+            raise ValueError("steps must be >= 1")
+        prep = self._prep(data, time_column, time_unit)
+        f = self._filter(prep)
+        lam, T, Tinv, TB, M = f["system"]
+        Xk, Pk = kernels.predict_ahead(
+            lam, T, Tinv, TB, M, f["xf"], f["Pf"], prep.dts, prep.U, _hold_flag(self.hold), steps
+        )
+        C, R = f["C"], f["meas_var"]
+        out = pd.DataFrame(index=prep.index)
+        mean = Xk @ C.T
+        var = np.einsum("ri,kij,rj->kr", C, Pk, C) + R[None, :]
+        for r, col in enumerate(self.model.output_names):
+            out[col] = mean[:, r]
+            out[f"{col}_std"] = np.sqrt(var[:, r])
+        return out
+
+    def smooth(self, data=None, *, time_column=None, time_unit="s") -> pd.DataFrame:
+        """RTS-smoothed states: mean [C] and standard deviation [K] (columns ``s``, ``s_std``)."""
+        prep = self._prep(data, time_column, time_unit)
+        xs, Ps = rts_smoother(self._filter(prep))
+        out = pd.DataFrame(index=prep.index)
+        for i, s in enumerate(self.model.state_names):
+            out[s] = xs[:, i]
+            out[f"{s}_std"] = np.sqrt(np.maximum(Ps[:, i, i], 0.0))
+        return out
+
+    # ------------------------------------------------------------------ reporting
+    def parameter_table(self) -> pd.DataFrame:
+        """Estimates, standard errors, bounds, units and fixed flags, one row per parameter."""
+        rows = []
+        for name, p in self.model.parameters.items():
+            rows.append(
+                {
+                    "parameter": name,
+                    "value": float(self.params[name]),
+                    "std_error": float(self.bse[name]),
+                    "unit": p.unit,
+                    "lower": p.lower,
+                    "upper": p.upper,
+                    "fixed": p.fixed,
+                }
+            )
+        return pd.DataFrame(rows).set_index("parameter")
+
+    def summary(self) -> str:
+        """Plain-text summary: fit statistics, parameter table, flags."""
+        lines = [
+            f"Model: {self.model.name}   states: {', '.join(self.model.state_names)}",
+            f"Log-likelihood: {self.loglike:.4f}   AIC: {self.aic:.2f}   BIC: {self.bic:.2f}",
+            f"Observations: {self.nobs}   free parameters: {self.n_free}   hold: {self.hold}",
+            f"Converged: {self.converged} ({self.message})   iterations: {self.n_iterations}   "
+            f"time: {self.fit_seconds:.3f} s",
+            "",
+            f"{'parameter':<16}{'value':>14}{'std error':>12}  {'unit':<11}{'lower':>11}"
+            f"{'upper':>11}  fixed",
+        ]
+        for name, row in self.parameter_table().iterrows():
+            lines.append(
+                f"{name:<16}{row['value']:>14.6g}{row['std_error']:>12.4g}  {row['unit']:<11}"
+                f"{row['lower']:>11.4g}{row['upper']:>11.4g}  {'yes' if row['fixed'] else ''}"
+            )
+        if self.flags:
+            lines += ["", "Flags:"] + [f"  - {f}" for f in self.flags]
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return f"<FitResults {self.model.name}: loglike={self.loglike:.3f}, k={self.n_free}>"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The content of ``fit.json``."""
+
+        def num(x: float) -> float | None:
+            return float(x) if math.isfinite(x) else None
+
+        params = {}
+        for name, row in self.parameter_table().iterrows():
+            params[name] = {
+                "value": float(row["value"]),
+                "std_error": num(row["std_error"]),
+                "lower": num(row["lower"]),
+                "upper": num(row["upper"]),
+                "fixed": bool(row["fixed"]),
+                "unit": row["unit"],
+            }
+        corr = self.correlation
+        return {
+            "model": self.model.name,
+            "loglike": self.loglike,
+            "aic": self.aic,
+            "bic": self.bic,
+            "nobs": self.nobs,
+            "n_free_parameters": self.n_free,
+            "converged": self.converged,
+            "optimizer_message": self.message,
+            "fit_seconds": self.fit_seconds,
+            "hold": self.hold,
+            "params": params,
+            "correlation": {
+                "names": list(corr.index),
+                "matrix": [[num(v) for v in row] for row in corr.to_numpy()],
+            },
+            "flags": list(self.flags),
+        }

@@ -1,0 +1,201 @@
+"""Kalman filter and discretisation against brute-force references."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy import stats
+from scipy.linalg import expm, solve_continuous_lyapunov
+
+from thermocal.statespace import RCModel, kernels
+from thermocal.statespace.data import prepare_data
+from thermocal.statespace.discretise import discretise
+
+
+def three_state_model() -> RCModel:
+    """Ti (air), Tm (internal mass), Te (envelope), boundary Ta, heat Ph and solar Ps."""
+    m = RCModel("three")
+    m.add_state("Ti", capacity="Ci", noise="si", initial_mean="Ti0", initial_std=0.4)
+    m.add_state("Tm", capacity="Cm", noise=0.0, initial_mean=19.0, initial_std=1.0)
+    m.add_state("Te", capacity="Ce", noise="se", initial_mean="Te0", initial_std=2.0)
+    m.add_conductance("Ti", "Tm", conductance="Him")
+    m.add_conductance("Ti", "Te", resistance=["Rie1", "Rie2"])
+    m.add_conductance("Te", "Ta", conductance=["Hea", 400.0])
+    m.add_heat_input("Ph", into={"Ti": "f_i", "Tm": "rest"}, unit="kW")
+    m.add_heat_input("Ps", into="Te", scale="Ae", unit="W/m2")
+    m.add_output("yTi", state="Ti", noise="e_i")
+    m.add_output("yTm", states={"Tm": 0.5, "Ti": 0.5}, noise=0.3)
+    m.add_parameter("Ci", 2.0, unit="MJ/K", lower=0.01, upper=100)
+    m.add_parameter("Cm", 20.0, unit="MJ/K")
+    m.add_parameter("Ce", 15.0, unit="MJ/K")
+    m.add_parameter("Him", 300.0, unit="W/K")
+    m.add_parameter("Rie1", 2.0, unit="K/kW")
+    m.add_parameter("Rie2", 3.0, unit="K/kW")
+    m.add_parameter("Hea", 150.0, unit="W/K")
+    m.add_parameter("f_i", 0.7, unit="-", lower=0, upper=1)
+    m.add_parameter("Ae", 3.0, unit="m2")
+    m.add_parameter("si", 0.2, unit="K/sqrt(h)")
+    m.add_parameter("se", 0.1, unit="K/sqrt(h)")
+    m.add_parameter("e_i", 0.1, unit="K")
+    m.add_parameter("Ti0", 20.0, unit="C", lower=0, upper=40)
+    m.add_parameter("Te0", 8.0, unit="C", fixed=True)
+    return m
+
+
+def random_data(n: int, *, seed: int = 0, irregular: bool = False) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    if irregular:
+        seconds = np.cumsum(rng.uniform(300, 2400, n)) - 300
+    else:
+        seconds = np.arange(n) * 900.0
+    t = pd.to_datetime("2024-01-01", utc=True) + pd.to_timedelta(seconds, unit="s")
+    df = pd.DataFrame(
+        {
+            "Ta": 5 + 3 * np.sin(seconds / 86400 * 2 * np.pi) + rng.normal(0, 0.3, n),
+            "Ph": rng.uniform(0, 3, n),
+            "Ps": np.clip(rng.normal(100, 150, n), 0, None),
+            "yTi": 20 + rng.normal(0, 1, n),
+            "yTm": 19.5 + rng.normal(0, 1, n),
+        },
+        index=t,
+    )
+    df.loc[df.index[3:8], "yTm"] = np.nan
+    df.loc[df.index[10], ["yTi", "yTm"]] = np.nan
+    df.loc[df.index[20], "yTi"] = np.nan
+    return df
+
+
+def dense_loglike(model: RCModel, df: pd.DataFrame, hold: str) -> float:
+    """Exact Gaussian log-likelihood from the full covariance matrix of all observations."""
+    prep = prepare_data(model, df)
+    A, B, C, _ = model.continuous_matrices()
+    Sigma = model.diffusion_matrix()
+    values = model.values_si()
+    st = model.structure()
+    x0 = values[st.arrays[16]]
+    P0 = np.diag(values[st.arrays[17]] ** 2)
+    R = np.diag(values[st.arrays[15]] ** 2)
+    N, n = len(df), A.shape[0]
+    mean = np.zeros((N, n))
+    cov = np.zeros((N * n, N * n))
+    mean[0] = x0
+    cov[:n, :n] = P0
+    for k in range(N - 1):
+        Ad, G0, G1, Q = discretise(A, B, Sigma, prep.dts[k], hold)
+        mean[k + 1] = Ad @ mean[k] + G0 @ prep.U[k] + G1 @ prep.U[k + 1]
+        sl = slice(k * n, (k + 1) * n)
+        nx = slice((k + 1) * n, (k + 2) * n)
+        cov[nx, : (k + 1) * n] = Ad @ cov[sl, : (k + 1) * n]
+        cov[: (k + 1) * n, nx] = cov[nx, : (k + 1) * n].T
+        cov[nx, nx] = Ad @ cov[sl, sl] @ Ad.T + Q
+    Cbig = np.kron(np.eye(N), C)
+    ycov = Cbig @ cov @ Cbig.T + np.kron(np.eye(N), R)
+    ymean = (mean @ C.T).ravel()
+    y = prep.Y.ravel()
+    obs = np.isfinite(y)
+    return stats.multivariate_normal(ymean[obs], ycov[np.ix_(obs, obs)]).logpdf(y[obs])
+
+
+@pytest.mark.parametrize("hold", ["zoh", "foh"])
+@pytest.mark.parametrize("irregular", [False, True])
+def test_kalman_loglike_equals_dense_gaussian(hold, irregular):
+    model = three_state_model()
+    df = random_data(50, seed=3, irregular=irregular)
+    ll_kalman = model.loglike(df, hold=hold)
+    ll_dense = dense_loglike(model, df, hold)
+    assert ll_kalman == pytest.approx(ll_dense, rel=1e-8)
+
+
+@pytest.mark.parametrize("dt", [1.0, 300.0, 3600.0, 86400.0])
+def test_closed_form_discretisation_matches_expm(dt):
+    model = three_state_model()
+    A, B, _, _ = model.continuous_matrices()
+    Sigma = model.diffusion_matrix()
+    lam, T, Tinv, TB, M, *_ = model.system()
+    n, m = B.shape
+    out = [np.empty((n, n)), np.empty((n, m)), np.empty((n, m)), np.empty((n, n))]
+    for hold in ("zoh", "foh"):
+        kernels.discretise_from_eigen(lam, T, Tinv, TB, M, dt, hold == "foh", *out)
+        ref = list(discretise(A, B, Sigma, dt, hold))
+        # Van Loan's augmented expm loses digits when exp(-A dt) is huge; for a stable A the
+        # exact Q is also P_inf - Ad P_inf Ad^T with the stationary covariance P_inf
+        P_inf = solve_continuous_lyapunov(A, -Sigma @ Sigma.T)
+        ref[3] = P_inf - ref[0] @ P_inf @ ref[0].T
+        for got, want in zip(out, ref, strict=True):
+            np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-12 * np.abs(want).max())
+    np.testing.assert_allclose(out[0], expm(A * dt), rtol=1e-10, atol=1e-14)
+
+
+def test_long_interval_noise_tends_to_stationary_covariance():
+    """Over a very long interval (where Van Loan's augmented expm overflows) the discrete noise
+    covariance is the stationary solution of A P + P A^T + Sigma Sigma^T = 0."""
+    model = three_state_model()
+    A, B, _, _ = model.continuous_matrices()
+    Sigma = model.diffusion_matrix()
+    lam, T, Tinv, TB, M, *_ = model.system()
+    n, m = B.shape
+    out = [np.empty((n, n)), np.empty((n, m)), np.empty((n, m)), np.empty((n, n))]
+    kernels.discretise_from_eigen(lam, T, Tinv, TB, M, 86400.0 * 365, False, *out)
+    P_inf = solve_continuous_lyapunov(A, -Sigma @ Sigma.T)
+    np.testing.assert_allclose(out[3], P_inf, rtol=1e-8)
+    np.testing.assert_allclose(out[1], -np.linalg.solve(A, B), rtol=1e-8)  # static gain
+    assert np.abs(out[0]).max() < 1e-12
+
+
+def test_foh_equals_zoh_for_constant_inputs():
+    model = three_state_model()
+    df = random_data(40, seed=1)
+    for col in ("Ta", "Ph", "Ps"):
+        df[col] = df[col].iloc[0]
+    assert model.loglike(df, hold="foh") == pytest.approx(model.loglike(df, hold="zoh"), rel=1e-12)
+
+
+def test_irregular_path_equals_uniform_path_on_uniform_grid():
+    """Uniform data with one sample split in two (second half unobserved) gives the same likelihood
+    under first-order hold with the inputs interpolated at the extra instant."""
+    model = three_state_model()
+    df = random_data(30, seed=2)
+    mid = df.index[10] + (df.index[11] - df.index[10]) / 2
+    extra = df.iloc[[10, 11]].mean().to_frame().T
+    extra.index = [mid]
+    extra[["yTi", "yTm"]] = np.nan
+    df_irr = pd.concat([df, extra]).sort_index()
+    assert model.loglike(df_irr, hold="foh") == pytest.approx(
+        model.loglike(df, hold="foh"), rel=1e-10
+    )
+
+
+def test_foh_simulation_matches_ode_solution_with_linear_inputs():
+    from scipy.integrate import solve_ivp
+
+    model = three_state_model()
+    df = random_data(25, seed=5, irregular=True)
+    prep = prepare_data(model, df)
+    A, B, C, _ = model.continuous_matrices()
+    sim = model.simulate(df, hold="foh")
+    x0 = sim.iloc[0][model.state_names].to_numpy()
+
+    def rhs(t, x):
+        u = np.array([np.interp(t, prep.seconds, prep.U[:, j]) for j in range(prep.U.shape[1])])
+        return A @ x + B @ u
+
+    sol = solve_ivp(rhs, (0, prep.seconds[-1]), x0, t_eval=prep.seconds, rtol=1e-11, atol=1e-11,
+                    max_step=float(np.min(np.diff(prep.seconds))) / 4)  # fmt: skip
+    np.testing.assert_allclose(sim[model.state_names].to_numpy(), sol.y.T, atol=1e-6)
+    np.testing.assert_allclose(sim["yTm"], 0.5 * (sim["Tm"] + sim["Ti"]), atol=1e-12)
+
+
+def test_steady_state_of_simulation_is_the_network_solution():
+    """Constant inputs for a long time: the states reach -A^-1 B u (the resistive network)."""
+    model = three_state_model()
+    n = 3000
+    t = pd.date_range("2024-01-01", periods=n, freq="h", tz="UTC")
+    df = pd.DataFrame({"Ta": 0.0, "Ph": 2.0, "Ps": 0.0}, index=t)
+    sim = model.simulate(df)
+    A, B, _, _ = model.continuous_matrices()
+    x_ss = -np.linalg.solve(A, B @ np.array([0.0, 2.0, 0.0]))
+    np.testing.assert_allclose(sim[model.state_names].iloc[-1].to_numpy(), x_ss, rtol=1e-6)
+    # heat balance: all 2 kW leave through Te-Ta: (Te - Ta) * 1/(1/150 + 1/400) W/K = 2000 W
+    h_ea = 1.0 / (1.0 / 150.0 + 1.0 / 400.0)
+    assert sim["Te"].iloc[-1] * h_ea == pytest.approx(2000.0, rel=1e-6)

@@ -1,0 +1,313 @@
+"""The retrofit analysis of paper 000, end to end.
+
+:func:`run_retrofit` reads the building file, the measurements and a typical-year weather file,
+calibrates the fifth-order model on the training period, validates it on training and test
+periods, simulates the annual heating demand and the 16 retrofit strategies with parameter
+uncertainty, and returns everything as a :class:`RetrofitAnalysis`, which
+:mod:`thermocal.retrofit.outputs` writes as results.json, CSV tables, figures and report.html.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+from thermocal.retrofit.calibration import (
+    BOUNDARY_COLUMNS,
+    HEAT_COLUMNS,
+    OUTPUT_COLUMN,
+    Calibration,
+    calibrate,
+    check_training_data,
+    draw_parameters,
+)
+from thermocal.retrofit.config import RetrofitConfig
+from thermocal.retrofit.data import prepare_measurements, read_raw_measurements
+from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
+from thermocal.retrofit.inputs import (
+    ground_temperature,
+    ground_temperature_parameters,
+    solar_inputs,
+)
+from thermocal.retrofit.metrics import daily_profile, validation_metrics
+from thermocal.retrofit.model import (
+    ESTIMATED_PARAMETERS,
+    STATE_NAMES,
+    FifthOrderModel,
+    build_fifth_order_model,
+    calculated_hlc,
+    discretize_zoh,
+    system_matrices,
+)
+from thermocal.retrofit.simulation import simulate_batch
+from thermocal.retrofit.strategies import Strategy, all_strategies
+
+
+@dataclass
+class RetrofitAnalysis:
+    """Everything the retrofit workflow computed (inputs to the output writers)."""
+
+    config: RetrofitConfig
+    building: Any
+    model: FifthOrderModel
+    calibration: Calibration
+    data: pd.DataFrame  # measurement grid with model inputs and Ti_measured
+    training: tuple[pd.Timestamp, pd.Timestamp]
+    test: tuple[pd.Timestamp, pd.Timestamp] | None
+    simulated_ti: pd.Series
+    validation: dict[str, dict[str, float]]
+    indoor_profile: np.ndarray
+    strategies: list[Strategy]
+    demand: DemandResult
+    weather_meta: dict
+    timings: dict[str, float] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+
+def load_building(source):
+    """A :class:`thermocal.io.building.Building` from a path or an inline mapping."""
+    from thermocal.io.building import Building, read_building
+
+    if isinstance(source, dict):
+        from pydantic import ValidationError
+
+        try:
+            return Building.model_validate(source)
+        except ValidationError as exc:
+            raise ThermocalInputError(f"inline building in the configuration: {exc}") from None
+    path = Path(source)
+    if not path.is_file():
+        raise ThermocalInputError(f"building file {path} not found")
+    return read_building(path)
+
+
+def load_weather_year(cfg: RetrofitConfig, step: pd.Timedelta) -> tuple[pd.DataFrame, dict]:
+    """The typical-year weather on the model step, with interval-mean air temperature."""
+    from thermocal.io.weather import read_weather, resample_weather
+
+    path = Path(cfg.weather.file)
+    if not path.is_file():
+        raise ThermocalInputError(f"weather file {path} not found (weather.file)")
+    weather, meta = read_weather(path, format=cfg.weather.format, columns=cfg.weather.columns)
+    for col in ("temp_air", "dni", "dhi"):
+        if col not in weather:
+            raise ThermocalInputError(
+                f"weather file {path} has no {col!r}; the annual demand needs air temperature, "
+                "DNI and DHI"
+            )
+    w_step = weather.index[1] - weather.index[0]
+    if w_step != step:
+        weather = resample_weather(weather, step)
+    # instant temperatures -> interval means (thermocal weather convention)
+    temp = weather["temp_air"].to_numpy(float)
+    weather = weather.copy()
+    weather["temp_air_mean"] = 0.5 * (temp + np.roll(temp, -1))
+    weather.iloc[-1, weather.columns.get_loc("temp_air_mean")] = temp[-1]
+    return weather, meta
+
+
+def _periods(grid: pd.DataFrame, cfg: RetrofitConfig, source: str):
+    start = grid.index[0]
+    if cfg.periods.training_start is not None:
+        start = pd.Timestamp(cfg.periods.training_start)
+        if start.tz is None:
+            start = start.tz_localize(grid.index.tz)
+    step = grid.index[1] - grid.index[0]
+    end_data = grid.index[-1] + step
+    train_end = start + pd.Timedelta(days=cfg.periods.training_days)
+    if train_end > end_data:
+        have = (end_data - start) / pd.Timedelta(days=1)
+        raise ThermocalInputError(
+            f"{source}: the measurements from {start} cover {have:.1f} days, shorter than the "
+            f"requested training period of {cfg.periods.training_days:g} days "
+            "(periods.training_days); shorten it or supply more data"
+        )
+    test = None
+    notes = []
+    if cfg.periods.test_days > 0:
+        test_end = min(train_end + pd.Timedelta(days=cfg.periods.test_days), end_data)
+        if test_end - train_end < pd.Timedelta(days=1):
+            notes.append("no test period: the measurements end with the training period")
+        else:
+            if test_end < train_end + pd.Timedelta(days=cfg.periods.test_days):
+                notes.append(
+                    f"test period shortened to {(test_end - train_end) / pd.Timedelta(days=1):.1f}"
+                    " days (end of the measurements)"
+                )
+            test = (train_end, test_end)
+    return (start, train_end), test, notes
+
+
+def model_inputs(
+    frame: pd.DataFrame, building, ground_params: dict, *, temp_col: str, solar: bool, depth: float
+) -> pd.DataFrame:
+    """Te, Tgr and the solar inputs of the model on the frame's index."""
+    out = pd.DataFrame(index=frame.index)
+    out["Te"] = frame[temp_col].to_numpy(float)
+    out["Tgr"] = ground_temperature(frame.index, ground_params, depth=depth).to_numpy()
+    if solar:
+        sol = solar_inputs(frame, building)
+        for c in sol:
+            out[c] = sol[c].to_numpy()
+    else:
+        for c in ("phi_sol", "phi_abs_roof", "phi_abs_walls"):
+            out[c] = 0.0
+    return out
+
+
+def simulate_indoor(
+    model: FifthOrderModel, params_si: dict, x0: np.ndarray, inputs: pd.DataFrame
+) -> pd.DataFrame:
+    """Deterministic multi-step simulation of all states (C) over ``inputs``.
+
+    States are reported at the interval starts (the first row is ``x0``), like measured
+    interval means labelled by their start.
+    """
+    dt = (inputs.index[1] - inputs.index[0]).total_seconds()
+    a, b = system_matrices(model.conductances(), {k: np.array([v]) for k, v in params_si.items()})
+    ad, bd = discretize_zoh(a, b, dt)
+    u = inputs[list(BOUNDARY_COLUMNS + HEAT_COLUMNS)].to_numpy(float)
+    x = simulate_batch(ad, bd, np.asarray(x0, float)[None, :], u)[0]
+    return pd.DataFrame(x[:-1], index=inputs.index, columns=list(STATE_NAMES))
+
+
+def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
+    """Run the whole retrofit analysis.
+
+    Parameters
+    ----------
+    cfg : RetrofitConfig
+    progress : callable(str), optional
+        Called with a short message at the start of each stage.
+
+    Returns
+    -------
+    RetrofitAnalysis
+    """
+    say = progress or (lambda msg: None)
+    timings: dict[str, float] = {}
+    t0 = time.perf_counter()
+    say("reading building, measurements and weather")
+    building = load_building(cfg.building)
+    source = str(cfg.measurements.file)
+    if cfg.model.solar_gains and not building.windows:
+        raise ThermocalInputError(
+            f"building {building.name!r} has no window components but solar gains are requested "
+            "(model.solar_gains: true); add the windows to the building file or set "
+            "model.solar_gains: false"
+        )
+    raw = read_raw_measurements(cfg.measurements, default_tz=_location_tz(building))
+    grid = prepare_measurements(raw, cfg.measurements.step)
+    step = grid.index[1] - grid.index[0]
+    weather, weather_meta = load_weather_year(cfg, step)
+    ground_params = ground_temperature_parameters(weather)
+    training, test, notes = _periods(grid, cfg, source)
+    end = test[1] if test else training[1]
+    grid = grid.loc[(grid.index >= training[0]) & (grid.index < end)]
+    model = build_fifth_order_model(
+        building, solar_to_internal_mass=cfg.model.solar_to_internal_mass
+    )
+    inputs = model_inputs(
+        grid,
+        building,
+        ground_params,
+        temp_col="temp_out",
+        solar=cfg.model.solar_gains,
+        depth=cfg.model.ground_depth,
+    )
+    inputs["phi_h"] = grid["phi_h"].to_numpy(float)
+    inputs[OUTPUT_COLUMN] = grid["temp_in"].to_numpy(float)
+    timings["inputs"] = time.perf_counter() - t0
+
+    say("calibrating the fifth-order model")
+    t1 = time.perf_counter()
+    train = inputs.loc[inputs.index < training[1]]
+    check_training_data(train, source)
+    cal = calibrate(
+        model,
+        train,
+        n_starts=cfg.model.n_starts,
+        seed=cfg.model.seed,
+        max_correlation=cfg.model.max_correlation,
+    )
+    timings["calibration"] = time.perf_counter() - t1
+
+    say("validating")
+    t2 = time.perf_counter()
+    filled = inputs.copy()
+    filled[list(BOUNDARY_COLUMNS + HEAT_COLUMNS)] = filled[
+        list(BOUNDARY_COLUMNS + HEAT_COLUMNS)
+    ].interpolate(limit_direction="both")
+    states = simulate_indoor(model, cal.estimates_si, cal.x0, filled)
+    sim_ti = states["Ti"].rename("Ti_simulated")
+    validation = {}
+    for name, period in (("train", training), ("test", test)):
+        if period is None:
+            continue
+        sel = (inputs.index >= period[0]) & (inputs.index < period[1])
+        validation[name] = validation_metrics(sim_ti[sel], inputs[OUTPUT_COLUMN][sel])
+        validation[name]["start"] = str(period[0])
+        validation[name]["end"] = str(period[1])
+    timings["validation"] = time.perf_counter() - t2
+
+    say("simulating annual demand and retrofit strategies")
+    t3 = time.perf_counter()
+    if cfg.demand.indoor_profile == "measured":
+        ti = inputs[OUTPUT_COLUMN]
+        if cfg.demand.profile_period == "training":
+            ti = ti[ti.index < training[1]]
+        profile = daily_profile(ti)
+    else:
+        profile = np.full(24, float(cfg.demand.indoor_profile))
+    year = model_inputs(
+        weather,
+        building,
+        ground_params,
+        temp_col="temp_air_mean",
+        solar=cfg.model.solar_gains,
+        depth=cfg.model.ground_depth,
+    )
+    strategies = all_strategies()
+    envelopes = [
+        model.envelope.with_measures({m: cfg.measures[m] for m in s.measures}) for s in strategies
+    ]
+    draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
+    demand = simulate_demand(model, draws, envelopes, year[list(DEMAND_INPUTS)], profile)
+    timings["demand"] = time.perf_counter() - t3
+    timings["total"] = time.perf_counter() - t0
+    return RetrofitAnalysis(
+        config=cfg, building=building, model=model, calibration=cal, data=inputs,
+        training=training, test=test, simulated_ti=sim_ti, validation=validation,
+        indoor_profile=profile, strategies=strategies, demand=demand,
+        weather_meta=weather_meta, timings=timings, notes=notes,
+    )  # fmt: skip
+
+
+def _location_tz(building):
+    """Fixed-offset local STANDARD time of the building (naive measurement timestamps)."""
+    import datetime as _dt
+    from zoneinfo import ZoneInfo
+
+    tz = building.location.timezone
+    if isinstance(tz, int | float):
+        return float(tz)
+    try:
+        zone = ZoneInfo(str(tz))
+    except Exception:  # noqa: BLE001 - leave it to pandas
+        return tz
+    offset = _dt.datetime(2001, 1, 15, tzinfo=zone).utcoffset()
+    return offset.total_seconds() / 3600.0
+
+
+def heat_loss_coefficient_draws(analysis: RetrofitAnalysis, h_est: np.ndarray) -> np.ndarray:
+    """HLC [W/K] for given ``H_est`` values (the calculated part is fixed)."""
+    return calculated_hlc(analysis.model.conductances()) + np.asarray(h_est, float)
+
+
+__all__ = ["ESTIMATED_PARAMETERS", "RetrofitAnalysis", "run_retrofit"]

@@ -39,9 +39,10 @@ Group -- Internal Gains, Group -- Airflow (ZoneInfiltration:DesignFlowRate), Gro
 from __future__ import annotations
 
 import math
+import warnings
 from collections import Counter
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -65,7 +66,7 @@ __all__ = [
 
 
 class IdfImportWarning(UserWarning):
-    """Objects of an IDF file that the importer does not represent (listed, not silently dropped)."""
+    """IDF objects the importer does not represent (listed, never silently dropped)."""
 
 
 # ------------------------------------------------------------------------------------------------
@@ -922,3 +923,1605 @@ def polyhedron_is_closed(polygons: Sequence[np.ndarray], *, decimals: int = 4) -
         if edges.get((b, a), 0) != count:
             return False
     return True
+
+
+# ------------------------------------------------------------------------------------------------
+# 4. Schedules
+# ------------------------------------------------------------------------------------------------
+
+#: Day types of EnergyPlus week schedules, in Schedule:Week:Daily field order.
+DAY_TYPES = (
+    "SUNDAY",
+    "MONDAY",
+    "TUESDAY",
+    "WEDNESDAY",
+    "THURSDAY",
+    "FRIDAY",
+    "SATURDAY",
+    "HOLIDAY",
+    "SUMMERDESIGNDAY",
+    "WINTERDESIGNDAY",
+    "CUSTOMDAY1",
+    "CUSTOMDAY2",
+)
+_SCHEDULE_CLASSES = (
+    "SCHEDULE:CONSTANT",
+    "SCHEDULE:COMPACT",
+    "SCHEDULE:YEAR",
+    "SCHEDULE:WEEK:DAILY",
+    "SCHEDULE:DAY:INTERVAL",
+    "SCHEDULE:DAY:HOURLY",
+)
+_MINUTES_PER_DAY = 1440
+
+
+class UnsupportedScheduleError(ThermocalInputError):
+    """A referenced schedule cannot be evaluated (missing or of an unsupported class)."""
+
+
+def _parse_time(text: str, where: str) -> int:
+    """'hh:mm' -> minutes after midnight (1..1440)."""
+    try:
+        hours, _, minutes = text.strip().partition(":")
+        value = int(hours) * 60 + int(minutes or 0)
+    except ValueError:
+        raise ThermocalInputError(f"{where}: time '{text}' is not hh:mm.") from None
+    if not 0 < value <= _MINUTES_PER_DAY:
+        raise ThermocalInputError(f"{where}: time '{text}' is outside 00:01..24:00.")
+    return value
+
+
+def _day_profile(untils: Sequence[int], values: Sequence[float], where: str) -> np.ndarray:
+    """Step profile at one-minute resolution from 'until' times and values."""
+    profile = np.empty(_MINUTES_PER_DAY)
+    start = 0
+    for until, value in zip(untils, values, strict=True):
+        if until <= start:
+            raise ThermocalInputError(f"{where}: 'Until' times must increase.")
+        profile[start:until] = value
+        start = until
+    if start != _MINUTES_PER_DAY:
+        raise ThermocalInputError(f"{where}: the day schedule must end with 'Until: 24:00'.")
+    return profile
+
+
+class ScheduleEvaluator:
+    """Evaluates the schedules of an IDF file over a calendar year.
+
+    Supported: ``Schedule:Constant``, ``Schedule:Compact`` (Through/For/Until; ``Interpolate`` is
+    ignored), ``Schedule:Year`` with ``Schedule:Week:Daily`` and ``Schedule:Day:Interval`` /
+    ``Schedule:Day:Hourly``. Holidays are not defined (no special days), so holiday and design-day
+    rules do not apply to regular days.
+
+    Parameters
+    ----------
+    objects : iterable of IdfObject
+        All objects of the file (the schedule classes are picked out).
+    year : int
+        Calendar year for day-of-week and leap-year handling.
+    """
+
+    def __init__(self, objects: Iterable[IdfObject], year: int = 2006, version=(9, 3)):
+        import datetime as _dt
+
+        self.year = year
+        self._records: dict[str, dict] = {}
+        for obj in objects:
+            if obj.key in _SCHEDULE_CLASSES:
+                self._records[obj.name.upper()] = record(obj, version=version)
+        first = _dt.date(year, 1, 1)
+        n_days = (_dt.date(year + 1, 1, 1) - first).days
+        self.n_days = n_days
+        self._day_type = np.array(
+            [((first + _dt.timedelta(days=d)).weekday() + 1) % 7 for d in range(n_days)]
+        )
+        self._month_day = [
+            ((first + _dt.timedelta(days=d)).month, (first + _dt.timedelta(days=d)).day)
+            for d in range(n_days)
+        ]
+        self._cache: dict[str, np.ndarray] = {}
+
+    def __contains__(self, name: str) -> bool:
+        return name.upper() in self._records
+
+    def _doy(self, month: int, day: int, where: str) -> int:
+        import datetime as _dt
+
+        try:
+            return (_dt.date(self.year, month, day) - _dt.date(self.year, 1, 1)).days
+        except ValueError:
+            if month == 2 and day == 29:  # Feb 29 in a non-leap year: end of February
+                return (_dt.date(self.year, 2, 28) - _dt.date(self.year, 1, 1)).days
+            raise ThermocalInputError(f"{where}: invalid date {month}/{day}.") from None
+
+    def minutes(self, name: str) -> np.ndarray:
+        """Values at one-minute resolution over the year, shape (n_days, 1440)."""
+        key = name.upper()
+        if key in self._cache:
+            return self._cache[key]
+        rec = self._records.get(key)
+        if rec is None:
+            raise UnsupportedScheduleError(
+                f"schedule '{name}' is not defined by a supported schedule object "
+                f"({', '.join(c.title() for c in _SCHEDULE_CLASSES)})."
+            )
+        obj: IdfObject = rec["_object"]
+        if obj.key == "SCHEDULE:CONSTANT":
+            value = _number(rec, "hourly_value", default=0.0)
+            out = np.full((self.n_days, _MINUTES_PER_DAY), value)
+        elif obj.key == "SCHEDULE:COMPACT":
+            out = self._compact(rec)
+        elif obj.key == "SCHEDULE:YEAR":
+            out = self._year(rec)
+        else:
+            raise UnsupportedScheduleError(
+                f"{obj.where()} is a day/week schedule and cannot be used as a full schedule."
+            )
+        self._cache[key] = out
+        return out
+
+    def hourly(self, name: str) -> np.ndarray:
+        """Hourly mean values over the year, shape (n_days * 24,)."""
+        return self.minutes(name).reshape(self.n_days * 24, 60).mean(axis=1)
+
+    def annual_mean(self, name: str) -> float:
+        """Time-weighted mean over the year."""
+        return float(self.minutes(name).mean())
+
+    def mode(self, name: str) -> float:
+        """The value in effect for the largest share of the year."""
+        values, counts = np.unique(self.minutes(name), return_counts=True)
+        return float(values[np.argmax(counts)])
+
+    def value_range(self, name: str) -> tuple[float, float]:
+        """Minimum and maximum value over the year."""
+        m = self.minutes(name)
+        return float(m.min()), float(m.max())
+
+    # -- compact ---------------------------------------------------------------------------------
+    def _compact(self, rec: dict) -> np.ndarray:
+        obj: IdfObject = rec["_object"]
+        where = obj.where()
+        tokens = [t[0] for t in rec["compact_fields"]]
+        out = np.full((self.n_days, _MINUTES_PER_DAY), np.nan)
+        block_start = 0
+        assigned: dict[int, np.ndarray] = {}
+        targets: list[int] = []
+        untils: list[int] = []
+        values: list[float] = []
+        pending_until: int | None = None
+        block_end: int | None = None
+
+        def finish_day():
+            nonlocal untils, values, targets
+            if targets:
+                profile = _day_profile(untils, values, where)
+                for t in targets:
+                    assigned.setdefault(t, profile)
+            targets, untils, values = [], [], []
+
+        def finish_block():
+            nonlocal assigned, block_start
+            finish_day()
+            if block_end is None:
+                return
+            for d in range(block_start, block_end + 1):
+                profile = assigned.get(int(self._day_type[d]))
+                if profile is None:
+                    raise ThermocalInputError(
+                        f"{where}: no 'For:' rule covers {DAY_TYPES[self._day_type[d]].title()}s "
+                        f"(day {d + 1} of the year); add 'For: AllOtherDays'."
+                    )
+                out[d] = profile
+            block_start = block_end + 1
+            assigned = {}
+
+        for token in tokens:
+            head, colon, rest = token.partition(":")
+            keyword = head.strip().upper() if colon else ""
+            if keyword == "THROUGH":
+                finish_block()
+                month, _, day = rest.strip().partition("/")
+                try:
+                    block_end = self._doy(int(month), int(day), where)
+                except ValueError:
+                    raise ThermocalInputError(f"{where}: bad date in '{token}'.") from None
+            elif keyword == "FOR":
+                finish_day()
+                targets = self._day_types(rest, assigned, where)
+            elif keyword == "INTERPOLATE":
+                continue
+            elif keyword == "UNTIL":
+                time_text = rest.strip()
+                # "Until: 24:00" -> rest is "24:00" (partition splits at the first colon only)
+                pending_until = _parse_time(time_text, where)
+            else:
+                try:
+                    value = float(token)
+                except ValueError:
+                    raise ThermocalInputError(
+                        f"{where}: unexpected field '{token}' (expected Through:/For:/Until: or a "
+                        "number)."
+                    ) from None
+                if pending_until is None:
+                    raise ThermocalInputError(f"{where}: value {token} without a preceding Until.")
+                untils.append(pending_until)
+                values.append(value)
+                pending_until = None
+        finish_block()
+        if block_start < self.n_days:
+            raise ThermocalInputError(f"{where}: the last 'Through:' must be 12/31.")
+        return out
+
+    @staticmethod
+    def _day_types(text: str, assigned: dict, where: str) -> list[int]:
+        result: list[int] = []
+        for word in text.split():
+            w = word.upper()
+            if w == "ALLDAYS":
+                result += list(range(12))
+            elif w == "WEEKDAYS":
+                result += [1, 2, 3, 4, 5]
+            elif w in ("WEEKENDS", "WEEKEND"):
+                result += [0, 6]
+            elif w in ("HOLIDAY", "HOLIDAYS"):
+                result.append(7)
+            elif w == "ALLOTHERDAYS":
+                result += [i for i in range(12) if i not in assigned and i not in result]
+            elif w in DAY_TYPES:
+                result.append(DAY_TYPES.index(w))
+            else:
+                raise ThermocalInputError(f"{where}: unknown day type '{word}' in 'For:'.")
+        return result
+
+    # -- year/week/day ---------------------------------------------------------------------------
+    def _day_object(self, name: str, where: str) -> np.ndarray:
+        rec = self._records.get(name.upper())
+        if rec is None:
+            raise UnsupportedScheduleError(f"{where}: day schedule '{name}' is not defined.")
+        obj: IdfObject = rec["_object"]
+        if obj.key == "SCHEDULE:DAY:INTERVAL":
+            pairs = rec["time_value_pairs"]
+            untils = [_parse_time(t, obj.where()) for t, *_ in pairs]
+            values = [float(v[0]) if v else 0.0 for _, *v in pairs]
+            return _day_profile(untils, values, obj.where())
+        if obj.key == "SCHEDULE:DAY:HOURLY":
+            values = [float(v[0]) for v in rec["hourly_values"]]
+            if len(values) != 24:
+                raise ThermocalInputError(f"{obj.where()}: needs 24 hourly values.")
+            return np.repeat(values, 60)
+        raise UnsupportedScheduleError(f"{where}: '{name}' is not a day schedule.")
+
+    def _year(self, rec: dict) -> np.ndarray:
+        obj: IdfObject = rec["_object"]
+        where = obj.where()
+        out = np.full((self.n_days, _MINUTES_PER_DAY), np.nan)
+        for group in rec["week_periods"]:
+            if len(group) < 5:
+                raise ThermocalInputError(f"{where}: incomplete week period {group}.")
+            week_name, m1, d1, m2, d2 = group[:5]
+            start = self._doy(int(float(m1)), int(float(d1)), where)
+            end = self._doy(int(float(m2)), int(float(d2)), where)
+            week = self._records.get(week_name.upper())
+            if week is None or week["_object"].key != "SCHEDULE:WEEK:DAILY":
+                raise UnsupportedScheduleError(
+                    f"{where}: week schedule '{week_name}' is not a Schedule:Week:Daily."
+                )
+            names = SCHEMA["SCHEDULE:WEEK:DAILY"][0][1:]
+            profiles = [self._day_object(week[n], week["_object"].where()) for n in names[:7]]
+            for d in range(start, end + 1):
+                out[d] = profiles[int(self._day_type[d])]
+        if np.isnan(out).any():
+            raise ThermocalInputError(f"{where}: the week periods do not cover the whole year.")
+        return out
+
+
+# ------------------------------------------------------------------------------------------------
+# 5. Mapping to the multi-zone Building
+# ------------------------------------------------------------------------------------------------
+
+#: Reference wind speed [m/s] at which the wind terms of ZoneInfiltration:DesignFlowRate are
+#: evaluated when converting to a constant air-change rate: 4.47 m/s (10 mph), the speed at which
+#: the DOE-2 coefficient set (A, B, C, D) = (0, 0, 0.224, 0) gives the design flow.
+INFILTRATION_REFERENCE_WIND_SPEED = 4.47
+
+#: Angles [deg] of the angular optics tables handed to the WindowType.
+WINDOW_TABLE_ANGLES = tuple(float(a) for a in range(0, 91, 5))
+
+#: Sensible heat per person [-] of People objects with an autocalculated sensible fraction.
+DEFAULT_PEOPLE_SENSIBLE_FRACTION = 0.6
+
+#: EnergyPlus default ground temperature [C] when Site:GroundTemperature:BuildingSurface is absent.
+ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE = 18.0
+
+
+@dataclass
+class InternalGainInfo:
+    """One internal-gain object of the file, resolved for one zone.
+
+    Attributes
+    ----------
+    object_class, name, zone : str
+    design_level : float [W]
+        Sensible design level (latent and lost fractions removed).
+    radiant_fraction : float [-]
+        Radiant (long-wave + visible) share of the sensible gain.
+    schedule : str or None
+        Fraction schedule (People: number-of-people schedule).
+    annual_mean : float [W]
+        ``design_level`` x time-weighted annual mean of the schedule.
+    """
+
+    object_class: str
+    name: str
+    zone: str
+    design_level: float
+    radiant_fraction: float
+    schedule: str | None
+    annual_mean: float
+
+
+@dataclass
+class IdfImportInfo:
+    """What the importer read, derived or approximated; attached to the Building as ``idf_info``.
+
+    Attributes
+    ----------
+    source : str
+        File path.
+    version : tuple of int
+    unsupported : dict
+        ``{class name: count}`` of the objects not represented (also in the warning).
+    notes : list of str
+        Approximations made (time-varying schedules reduced to constants, ...).
+    surface_vertices : dict
+        ``{surface or window name: (n, 3) array}`` world coordinates [m] (x east, y north, z up).
+    surface_types : dict
+        ``{surface name: EnergyPlus surface type}`` (Wall, Floor, Roof, Ceiling, Door, Window, ...).
+    glazing : dict
+        ``{window construction name: LayeredGlazing or SimpleGlazing}``.
+    internal_gains : list of InternalGainInfo
+    setpoint_schedules : dict
+        ``{zone: (heating schedule or None, cooling schedule or None)}``.
+    infiltration_schedules : dict
+        ``{zone: [schedule names]}``.
+    zone_multipliers : dict
+        ``{zone: multiplier}`` (EnergyPlus zone multiplier; not applied by the model).
+    schedules : ScheduleEvaluator
+    """
+
+    source: str
+    version: tuple[int, int]
+    unsupported: dict[str, int] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    surface_vertices: dict[str, np.ndarray] = field(default_factory=dict)
+    surface_types: dict[str, str] = field(default_factory=dict)
+    glazing: dict = field(default_factory=dict)
+    internal_gains: list[InternalGainInfo] = field(default_factory=list)
+    setpoint_schedules: dict[str, tuple[str | None, str | None]] = field(default_factory=dict)
+    infiltration_schedules: dict[str, list[str]] = field(default_factory=dict)
+    zone_multipliers: dict[str, float] = field(default_factory=dict)
+    schedules: ScheduleEvaluator | None = None
+
+    def internal_gains_profile(self, times) -> pd.DataFrame:  # noqa: F821 (pandas lazily)
+        """Hourly internal sensible gains per zone [W] from the file's schedules.
+
+        Parameters
+        ----------
+        times : pandas.DatetimeIndex
+            Evaluation times; each takes the value of the hour of the year it falls in (the
+            schedule calendar year is reused for every year).
+
+        Returns
+        -------
+        pandas.DataFrame [W], one column per zone with gains.
+        """
+        import pandas as pd
+
+        hour_of_year = _hour_of_year(times, self.schedules.n_days)
+        out = {}
+        for gain in self.internal_gains:
+            values = (
+                np.ones(self.schedules.n_days * 24)
+                if gain.schedule is None
+                else self.schedules.hourly(gain.schedule)
+            )
+            series = gain.design_level * values[hour_of_year]
+            out[gain.zone] = out.get(gain.zone, 0.0) + series
+        return pd.DataFrame(out, index=times)
+
+    def setpoint_profile(self, times) -> pd.DataFrame:  # noqa: F821
+        """Hourly heating and cooling set points [C], columns ``(zone, "heating"|"cooling")``."""
+        import pandas as pd
+
+        hour_of_year = _hour_of_year(times, self.schedules.n_days)
+        out = {}
+        for zone, (heating, cooling) in self.setpoint_schedules.items():
+            for kind, name in (("heating", heating), ("cooling", cooling)):
+                if name is not None:
+                    out[(zone, kind)] = self.schedules.hourly(name)[hour_of_year]
+        return pd.DataFrame(out, index=times)
+
+
+def _hour_of_year(times, n_days: int) -> np.ndarray:
+    import pandas as pd
+
+    times = pd.DatetimeIndex(times)
+    hours = (times.dayofyear.to_numpy() - 1) * 24 + times.hour.to_numpy()
+    return np.minimum(hours, n_days * 24 - 1)
+
+
+class _Names:
+    """Case-insensitive name registry of one kind of object (EnergyPlus names ignore case)."""
+
+    def __init__(self, kind: str):
+        self.kind = kind
+        self.items: dict[str, tuple[str, IdfObject, dict]] = {}
+
+    def add(self, rec: dict) -> None:
+        obj: IdfObject = rec["_object"]
+        name = rec.get("name", obj.name)
+        if not name:
+            raise ThermocalInputError(f"{obj.where()}: the Name field is blank.")
+        key = name.upper()
+        if key in self.items:
+            first = self.items[key][1]
+            raise ThermocalInputError(
+                f"{obj.where()}: the name '{name}' is already used by {first.where()}; "
+                f"{self.kind} names must be unique (EnergyPlus ignores case)."
+            )
+        self.items[key] = (name, obj, rec)
+
+    def get(self, name: str):
+        return self.items.get(name.upper())
+
+    def __contains__(self, name: str) -> bool:
+        return name.upper() in self.items
+
+    def values(self):
+        return self.items.values()
+
+
+def _vertices(rec: dict) -> np.ndarray:
+    obj: IdfObject = rec["_object"]
+    groups = rec["vertices"]
+    points = []
+    for i, group in enumerate(groups, start=1):
+        if len(group) != 3:
+            raise ThermocalInputError(
+                f"{obj.where()}: vertex {i} has {len(group)} coordinates; give X, Y, Z."
+            )
+        try:
+            points.append([float(c) for c in group])
+        except ValueError:
+            raise ThermocalInputError(
+                f"{obj.where()}: vertex {i} {group} is not numeric."
+            ) from None
+    if len(points) < 3:
+        raise ThermocalInputError(
+            f"{obj.where()}: a surface needs at least 3 vertices, got {len(points)}."
+        )
+    declared = rec.get("number_of_vertices", "")
+    if declared and declared.upper() != "AUTOCALCULATE":
+        try:
+            n_declared = int(float(declared))
+        except ValueError:
+            n_declared = len(points)
+        if n_declared != len(points):
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Number Of Vertices' = {declared} but {len(points)} "
+                "vertices are given."
+            )
+    return np.asarray(points)
+
+
+def _boundary(raw: str, obj: IdfObject) -> str:
+    key = raw.upper()
+    if key == "OUTDOORS":
+        return "outdoors"
+    if key.startswith("GROUND"):
+        return "ground"
+    if key in ("SURFACE", "ZONE"):
+        return key.lower()
+    if key == "ADIABATIC":
+        return "adiabatic"
+    if key in _BOUNDARY_CONDITIONS:
+        return "unsupported"
+    raise ThermocalInputError(
+        f"{obj.where()}: field 'Outside Boundary Condition' = '{raw}' is not an EnergyPlus "
+        "boundary condition (Outdoors, Ground, Surface, Zone, Adiabatic, ...)."
+    )
+
+
+def _wrap(obj: IdfObject, factory, *args, **kwargs):
+    """Build a model object; prefix its validation error with the IDF object's identity."""
+    try:
+        return factory(*args, **kwargs)
+    except ThermocalInputError as exc:
+        raise ThermocalInputError(f"{obj.where()}: {exc}") from None
+
+
+def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
+    """:class:`~thermocal.multizone.model.WindowType` from layered or simple glazing.
+
+    Parameters
+    ----------
+    name : str
+        Window type (construction) name.
+    glazing : LayeredGlazing or SimpleGlazing
+    angles : sequence of float [deg]
+        Incidence angles of the angular tables.
+
+    Notes
+    -----
+    ``u_value`` is the NFRC winter centre-of-glass U-factor incl. films (EnergyPlus reports the
+    same quantity; its film resistances, about 0.034 + 0.136 m2 K/W, are close to the ISO 6946
+    0.04 + 0.13 the model removes to get the glass-to-glass resistance). ``shgc`` is the NFRC
+    summer SHGC at normal incidence. Transmittance and per-pane absorptances are tabulated
+    against the angle of incidence; their hemispherical averages give the diffuse values.
+    For simple glazing the equivalent layer is treated as one uncoated pane (Fresnel angular
+    dependence of its own optical constants).
+    """
+    from thermocal.multizone import glazing as gz
+    from thermocal.multizone.model import WindowType
+
+    if isinstance(glazing, gz.SimpleGlazing):
+        system = gz.LayeredGlazing([glazing.as_pane(name)], [], name=name)
+        u_value, shgc = glazing.u_factor, glazing.shgc
+    else:
+        system = glazing
+        u_value, shgc = system.u_value(), system.shgc(0.0)
+    angles = np.asarray(angles, dtype=float)
+    tau, _, absorbed = system.optics(angles)
+    tau0 = float(tau[0])
+    relative = tau / tau0 if tau0 > 0 else np.zeros_like(tau)
+    return WindowType(
+        name=name,
+        u_value=float(u_value),
+        shgc=float(shgc),
+        solar_transmittance=tau0,
+        pane_absorptances=tuple(float(a) for a in absorbed[0]),
+        incidence_angles=tuple(angles),
+        relative_transmittance=tuple(float(r) for r in relative),
+        pane_absorptances_angular=absorbed,
+        diffuse_transmittance=float(system.diffuse_transmittance),
+        diffuse_pane_absorptances=tuple(float(a) for a in system.diffuse_absorptance),
+        n_panes=len(system.panes),
+        emissivity_outside=system.panes[0].front_emissivity,
+        emissivity_inside=system.panes[-1].back_emissivity,
+    )
+
+
+def read_idf(path: str | Path, *, year: int | None = None):
+    """Read the envelope of an EnergyPlus IDF file into a multi-zone Building.
+
+    Parameters
+    ----------
+    path : str or Path
+        IDF file.
+    year : int or None
+        Calendar year used to evaluate schedules (day of week); default: the RunPeriod's begin
+        year, else 2006 (starts on a Sunday, the EnergyPlus default start day).
+
+    Returns
+    -------
+    thermocal.multizone.model.Building
+        With an extra attribute ``idf_info`` (:class:`IdfImportInfo`) holding geometry, schedules
+        and the approximations made. Objects not represented are listed in one
+        :class:`IdfImportWarning`.
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the object (class, name, file line) and the field at fault.
+
+    Notes
+    -----
+    Mapping decisions:
+
+    * Surface areas and orientations come from the vertices (see :func:`to_world_coordinates`);
+      ``Surface.area`` is the gross area (windows included), opaque doors become surfaces of
+      their own (their area is removed from the host).
+    * Zone floor area (if not given) is the sum of the zone's Floor surfaces; volume (if not given)
+      comes from the closed surface polyhedron, else floor area x ceiling height.
+    * Infiltration: design flow rate (Flow/Zone, Flow/Area, Flow/ExteriorArea,
+      Flow/ExteriorWallArea, AirChanges/Hour) x (A + C v + D v^2) at
+      :data:`INFILTRATION_REFERENCE_WIND_SPEED` -> air changes per hour; the schedule and
+      temperature term are not represented (noted).
+    * Internal gains: sensible design level x the schedule's annual mean -> constant
+      ``Zone.internal_gains``; the hourly profile is available from
+      ``building.idf_info.internal_gains_profile(times)`` (pass it as heat input).
+    * Thermostats: constant set-point schedules map exactly; time-varying ones are represented
+      by the value in effect for most of the year (noted; hourly values from
+      ``idf_info.setpoint_profile``). HVAC systems are not modelled: thermostatted zones get ideal
+      heating/cooling at these set points.
+    """
+    from thermocal.multizone import glazing as gz
+    from thermocal.multizone import model as mz
+
+    path = Path(path)
+    objects = read_idf_objects(path)
+    version = _version_tuple(objects)
+    info = IdfImportInfo(source=str(path), version=version)
+    by_key: dict[str, list[IdfObject]] = {}
+    for obj in objects:
+        by_key.setdefault(obj.key, []).append(obj)
+
+    def records(*keys):
+        for key in keys:
+            for obj in by_key.get(key, []):
+                yield record(obj, version=version)
+
+    def single(key):
+        found = by_key.get(key, [])
+        if len(found) > 1:
+            raise ThermocalInputError(
+                f"{found[1].where()}: only one {found[1].class_name} object is allowed."
+            )
+        return record(found[0], version=version) if found else None
+
+    # -- unsupported classes --------------------------------------------------------------------
+    unsupported = Counter(obj.class_name for obj in objects if obj.key not in SCHEMA)
+    canonical: dict[str, str] = {}
+    for obj in objects:
+        canonical.setdefault(obj.key, obj.class_name)
+    grouped: Counter = Counter()
+    for obj in objects:
+        if obj.key not in SCHEMA:
+            grouped[canonical[obj.key]] += 1
+    info.unsupported = dict(sorted(grouped.items()))
+    del unsupported
+
+    # -- site, rules, building ------------------------------------------------------------------
+    building_rec = single("BUILDING")
+    building_name = path.stem
+    north_axis = 0.0
+    if building_rec is not None:
+        building_name = building_rec["name"] or building_name
+        north_axis = _number(building_rec, "north_axis", default=0.0)
+    rules_rec = single("GLOBALGEOMETRYRULES")
+    rules = GeometryRules()
+    if rules_rec is not None:
+        rules = GeometryRules(
+            rules_rec["starting_vertex_position"] or "UpperLeftCorner",
+            rules_rec["vertex_entry_direction"] or "Counterclockwise",
+            rules_rec["coordinate_system"] or "Relative",
+        )
+        if rules.vertex_entry_direction.upper() not in ("COUNTERCLOCKWISE", "CLOCKWISE"):
+            raise ThermocalInputError(
+                f"{rules_rec['_object'].where()}: field 'Vertex Entry Direction' = "
+                f"'{rules.vertex_entry_direction}' must be Counterclockwise or Clockwise."
+            )
+        if rules.coordinate_system.upper() not in ("RELATIVE", "WORLD", "ABSOLUTE"):
+            raise ThermocalInputError(
+                f"{rules_rec['_object'].where()}: field 'Coordinate System' = "
+                f"'{rules.coordinate_system}' must be Relative, World or Absolute."
+            )
+    location = mz.Location()
+    loc_rec = single("SITE:LOCATION")
+    if loc_rec is not None:
+        location = _wrap(
+            loc_rec["_object"],
+            mz.Location,
+            latitude=_number(loc_rec, "latitude", default=0.0),
+            longitude=_number(loc_rec, "longitude", default=0.0),
+            altitude=_number(loc_rec, "elevation", default=0.0),
+            timezone=_number(loc_rec, "time_zone", default=0.0),
+        )
+    else:
+        info.notes.append("no Site:Location: the model's default location is used")
+    if year is None:
+        year = 2006
+        for rp in by_key.get("RUNPERIOD", []):
+            # 9.x layout: Name, Begin Month, Begin Day, Begin Year, ...
+            if len(rp.fields) > 3 and rp.fields[3].strip():
+                try:
+                    year = int(float(rp.fields[3]))
+                except ValueError:
+                    pass
+                break
+    schedules = ScheduleEvaluator(objects, year=year, version=version)
+    info.schedules = schedules
+
+    # -- materials ------------------------------------------------------------------------------
+    materials = _Names("material")
+    for rec in records(
+        "MATERIAL",
+        "MATERIAL:NOMASS",
+        "MATERIAL:AIRGAP",
+        "WINDOWMATERIAL:GLAZING",
+        "WINDOWMATERIAL:GAS",
+        "WINDOWMATERIAL:SIMPLEGLAZINGSYSTEM",
+    ):
+        materials.add(rec)
+    model_materials = []
+    glass_layers: dict[str, object] = {}
+    for name, obj, rec in materials.values():
+        key = obj.key
+        if key == "MATERIAL":
+            model_materials.append(
+                _wrap(
+                    obj,
+                    mz.Material,
+                    name=name,
+                    conductivity=_number(rec, "conductivity"),
+                    density=_number(rec, "density"),
+                    specific_heat=_number(rec, "specific_heat"),
+                    thickness=_number(rec, "thickness"),
+                    thermal_absorptance=_number(rec, "thermal_absorptance", default=0.9),
+                    solar_absorptance=_number(rec, "solar_absorptance", default=0.7),
+                )
+            )
+        elif key == "MATERIAL:NOMASS":
+            model_materials.append(
+                _wrap(
+                    obj,
+                    mz.NoMassMaterial,
+                    name=name,
+                    resistance=_number(rec, "thermal_resistance"),
+                    thermal_absorptance=_number(rec, "thermal_absorptance", default=0.9),
+                    solar_absorptance=_number(rec, "solar_absorptance", default=0.7),
+                )
+            )
+        elif key == "MATERIAL:AIRGAP":
+            model_materials.append(
+                _wrap(
+                    obj, mz.NoMassMaterial, name=name, resistance=_number(rec, "thermal_resistance")
+                )
+            )
+        elif key == "WINDOWMATERIAL:GLAZING":
+            optical = (rec["optical_data_type"] or "SpectralAverage").upper()
+            if optical != "SPECTRALAVERAGE":
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Optical Data Type' = '{rec['optical_data_type']}' is "
+                    "not supported; give SpectralAverage data."
+                )
+            dirt = _number(rec, "dirt_correction_factor", default=1.0) or 1.0
+            glass_layers[name.upper()] = _wrap(
+                obj,
+                gz.GlassPane,
+                thickness=_number(rec, "thickness"),
+                solar_transmittance=_number(rec, "solar_transmittance") * dirt,
+                front_solar_reflectance=_number(rec, "front_solar_reflectance"),
+                back_solar_reflectance=_number(rec, "back_solar_reflectance"),
+                front_emissivity=_number(rec, "front_infrared_emissivity", default=0.84),
+                back_emissivity=_number(rec, "back_infrared_emissivity", default=0.84),
+                conductivity=_number(rec, "conductivity", default=0.9),
+                infrared_transmittance=_number(rec, "infrared_transmittance", default=0.0),
+                name=name,
+            )
+        elif key == "WINDOWMATERIAL:GAS":
+            gas_type = rec["gas_type"] or "Air"
+            if gas_type.upper() == "CUSTOM":
+                fill = gz.Gas(
+                    name,
+                    tuple(
+                        _number(rec, f"conductivity_coefficient_{c}", default=0.0) for c in "abc"
+                    ),
+                    tuple(_number(rec, f"viscosity_coefficient_{c}", default=0.0) for c in "abc"),
+                    tuple(
+                        _number(rec, f"specific_heat_coefficient_{c}", default=0.0) for c in "abc"
+                    ),
+                    _number(rec, "molecular_weight"),
+                )
+            else:
+                fill = _wrap(obj, gz.gas, gas_type)
+            glass_layers[name.upper()] = _wrap(
+                obj, gz.GasGap, thickness=_number(rec, "thickness"), fill=fill, name=name
+            )
+        else:  # simple glazing
+            glass_layers[name.upper()] = _wrap(
+                obj,
+                gz.simple_glazing_system,
+                _number(rec, "u_factor"),
+                _number(rec, "solar_heat_gain_coefficient"),
+                _number(rec, "visible_transmittance", required=False),
+                name=name,
+            )
+
+    # -- constructions --------------------------------------------------------------------------
+    constructions = _Names("construction")
+    for rec in records("CONSTRUCTION"):
+        constructions.add(rec)
+    model_constructions = []
+    window_types: dict[str, object] = {}
+    opaque_constructions: set[str] = set()
+    for name, obj, rec in constructions.values():
+        layer_names = [g[0] for g in rec["layers"] if g and g[0]]
+        if not layer_names:
+            raise ThermocalInputError(f"{obj.where()}: the construction has no layers.")
+        resolved = []
+        for index, layer in enumerate(layer_names, start=1):
+            entry = materials.get(layer)
+            if entry is None:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Layer {index}' = '{layer}' is not defined (no "
+                    "Material, Material:NoMass, Material:AirGap or WindowMaterial of that name)."
+                )
+            resolved.append(entry)
+        kinds = {entry[1].key.startswith("WINDOWMATERIAL") for entry in resolved}
+        if kinds == {False}:
+            model_constructions.append(
+                _wrap(obj, mz.Construction, name=name, layers=tuple(e[0] for e in resolved))
+            )
+            opaque_constructions.add(name.upper())
+            continue
+        if kinds != {True}:
+            raise ThermocalInputError(
+                f"{obj.where()}: mixes opaque materials and window materials; a window "
+                "construction must contain only WindowMaterial layers."
+            )
+        layers = [glass_layers[e[0].upper()] for e in resolved]
+        if len(layers) == 1 and isinstance(layers[0], gz.SimpleGlazing):
+            glazing = layers[0]
+        else:
+            panes = layers[0::2]
+            gaps = layers[1::2]
+            if not all(isinstance(p, gz.GlassPane) for p in panes) or not all(
+                isinstance(g, gz.GasGap) for g in gaps
+            ):
+                raise ThermocalInputError(
+                    f"{obj.where()}: window layers must alternate WindowMaterial:Glazing and "
+                    "WindowMaterial:Gas, starting and ending with glazing (shades, blinds and "
+                    "simple glazing inside layered constructions are not supported)."
+                )
+            glazing = _wrap(obj, gz.LayeredGlazing, panes, gaps, name=name)
+        info.glazing[name] = glazing
+        window_types[name.upper()] = (name, obj, glazing)
+
+    # -- zones ----------------------------------------------------------------------------------
+    zones = _Names("zone")
+    for rec in records("ZONE"):
+        zones.add(rec)
+    if not zones.items:
+        raise ThermocalInputError(f"{path.name}: the file defines no Zone object.")
+    zone_lists: dict[str, list[str]] = {}
+    for rec in records("ZONELIST"):
+        members = []
+        for (member,) in rec["zone_names"]:
+            entry = zones.get(member)
+            if entry is None:
+                raise ThermocalInputError(
+                    f"{rec['_object'].where()}: zone '{member}' is not defined."
+                )
+            members.append(entry[0])
+        zone_lists[rec["name"].upper()] = members
+
+    def zone_targets(rec: dict) -> list[str]:
+        obj = rec["_object"]
+        target = rec["zone_name"]
+        entry = zones.get(target)
+        if entry is not None:
+            return [entry[0]]
+        if target.upper() in zone_lists:
+            return zone_lists[target.upper()]
+        raise ThermocalInputError(
+            f"{obj.where()}: field 'Zone or ZoneList Name' = '{target}' is neither a Zone nor a "
+            "ZoneList of the file."
+        )
+
+    zone_geometry = {}
+    for name, _obj, rec in zones.values():
+        multiplier = _number(rec, "multiplier", default=1.0)
+        info.zone_multipliers[name] = multiplier
+        zone_geometry[name.upper()] = {
+            "origin": (
+                _number(rec, "x_origin", default=0.0),
+                _number(rec, "y_origin", default=0.0),
+                _number(rec, "z_origin", default=0.0),
+            ),
+            "north": _number(rec, "direction_of_relative_north", default=0.0),
+        }
+        if multiplier != 1.0:
+            info.notes.append(
+                f"zone '{name}' has multiplier {multiplier:g}; the model simulates it once"
+            )
+
+    # -- surfaces -------------------------------------------------------------------------------
+    surfaces = _Names("surface")
+    for rec in records("BUILDINGSURFACE:DETAILED", *_SURFACE_CLASS_TYPE):
+        surfaces.add(rec)
+    fenestration = _Names("fenestration surface")
+    for rec in records("FENESTRATIONSURFACE:DETAILED"):
+        if rec["name"].upper() in surfaces:
+            raise ThermocalInputError(
+                f"{rec['_object'].where()}: the name is already used by a building surface."
+            )
+        fenestration.add(rec)
+
+    surface_data: dict[str, dict] = {}
+    for name, obj, rec in surfaces.values():
+        surface_type = rec.get("surface_type") or _SURFACE_CLASS_TYPE[obj.key]
+        zone_entry = zones.get(rec["zone_name"])
+        if zone_entry is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Zone Name' = '{rec['zone_name']}' is not a Zone of "
+                "the file."
+            )
+        zone_name = zone_entry[0]
+        cons = rec["construction_name"]
+        if cons.upper() in window_types:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Construction Name' = '{cons}' is a window construction; "
+                "opaque surfaces need an opaque construction."
+            )
+        cons_entry = constructions.get(cons)
+        if cons_entry is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Construction Name' = '{cons}' is not a Construction of the "
+                "file."
+            )
+        geometry = zone_geometry[zone_name.upper()]
+        world = to_world_coordinates(
+            _vertices(rec),
+            rules=rules,
+            zone_origin=geometry["origin"],
+            zone_north_axis=geometry["north"],
+            building_north_axis=north_axis,
+        )
+        normal = outward_normal(world, rules)
+        area = 0.5 * float(np.linalg.norm(normal))
+        if area <= 1e-9:
+            raise ThermocalInputError(
+                f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
+            )
+        tilt, azimuth = tilt_azimuth(normal)
+        surface_data[name.upper()] = {
+            "name": name,
+            "obj": obj,
+            "rec": rec,
+            "type": surface_type,
+            "zone": zone_name,
+            "construction": cons_entry[0],
+            "world": world,
+            "normal": normal,
+            "area": area,
+            "tilt": tilt,
+            "azimuth": azimuth,
+            "boundary": _boundary(rec["outside_boundary_condition"], obj),
+        }
+        info.surface_vertices[name] = world
+        info.surface_types[name] = surface_type.title()
+
+    # -- sub-surfaces ---------------------------------------------------------------------------
+    model_windows = []
+    door_surfaces = []
+    subtract: dict[str, float] = {}
+    for name, obj, rec in fenestration.values():
+        base = surface_data.get(rec["building_surface_name"].upper())
+        if base is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Building Surface Name' = "
+                f"'{rec['building_surface_name']}' is not a building surface of the file."
+            )
+        kind = (rec["surface_type"] or "Window").upper()
+        geometry = zone_geometry[base["zone"].upper()]
+        world = to_world_coordinates(
+            _vertices(rec),
+            rules=rules,
+            zone_origin=geometry["origin"],
+            zone_north_axis=geometry["north"],
+            building_north_axis=north_axis,
+        )
+        normal = outward_normal(world, rules)
+        area = 0.5 * float(np.linalg.norm(normal))
+        if area <= 1e-9:
+            raise ThermocalInputError(
+                f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
+            )
+        cos_angle = float(np.dot(normal, base["normal"])) / (
+            np.linalg.norm(normal) * np.linalg.norm(base["normal"])
+        )
+        if cos_angle < 0.999:
+            raise ThermocalInputError(
+                f"{obj.where()}: its outward normal differs from that of its base surface "
+                f"'{base['name']}' by {math.degrees(math.acos(max(-1, min(1, cos_angle)))):.1f} "
+                "deg; check the vertex order and coplanarity."
+            )
+        multiplier = _number(rec, "multiplier", default=1.0)
+        total_area = area * multiplier
+        info.surface_vertices[name] = world
+        info.surface_types[name] = kind.title()
+        cons = rec["construction_name"]
+        if kind in ("WINDOW", "GLASSDOOR"):
+            wt = window_types.get(cons.upper())
+            if wt is None:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Construction Name' = '{cons}' is not a window "
+                    "construction (Construction of WindowMaterial layers) of the file."
+                )
+            if base["boundary"] != "outdoors":
+                info.notes.append(
+                    f"interior window '{name}' (host '{base['name']}', boundary "
+                    f"{base['boundary']}) is not modelled; its area stays opaque"
+                )
+                continue
+            if rec.get("frame_and_divider_name"):
+                info.notes.append(
+                    f"window '{name}': WindowProperty:FrameAndDivider "
+                    f"'{rec['frame_and_divider_name']}' is ignored (frame_fraction 0)"
+                )
+            model_windows.append(
+                _wrap(
+                    obj,
+                    mz.Window,
+                    name=name,
+                    surface=base["name"],
+                    window_type=wt[0],
+                    area=total_area,
+                    frame_fraction=0.0,
+                )
+            )
+        elif kind == "DOOR":
+            cons_entry = constructions.get(cons)
+            if cons_entry is None or cons.upper() not in opaque_constructions:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Construction Name' = '{cons}' is not an opaque "
+                    "Construction of the file (doors need one)."
+                )
+            subtract[base["name"]] = subtract.get(base["name"], 0.0) + total_area
+            door_surfaces.append((name, obj, base, cons_entry[0], total_area))
+        else:
+            info.notes.append(f"sub-surface '{name}' of type {kind.title()} is not modelled")
+
+    # -- model surfaces -------------------------------------------------------------------------
+    model_surfaces = []
+    for key, data in surface_data.items():
+        obj, rec = data["obj"], data["rec"]
+        boundary = data["boundary"]
+        other_surface = None
+        other_zone = None
+        if boundary == "surface":
+            target = rec["outside_boundary_condition_object"]
+            partner = surface_data.get(target.upper())
+            if partner is None:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Outside Boundary Condition Object' = '{target}' is "
+                    "not a building surface of the file (inter-zone surfaces need their partner)."
+                )
+            if partner["name"].upper() == key:
+                boundary = "adiabatic"  # a surface facing itself: internal mass (EnergyPlus idiom)
+            else:
+                boundary = "zone"
+                other_surface = partner["name"]
+                other_zone = partner["zone"]
+        elif boundary == "zone":
+            target = rec["outside_boundary_condition_object"]
+            other = zones.get(target)
+            if other is None:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Outside Boundary Condition Object' = '{target}' is "
+                    "not a Zone of the file."
+                )
+            # EnergyPlus creates the reversed partner surface automatically; so do we
+            boundary = "zone"
+            other_zone = other[0]
+            other_surface = f"{data['name']} (partner)"
+        elif boundary == "unsupported":
+            info.notes.append(
+                f"surface '{data['name']}': boundary {rec['outside_boundary_condition']} is not "
+                "modelled; treated as adiabatic"
+            )
+            boundary = "adiabatic"
+        area = data["area"] - subtract.get(data["name"], 0.0)
+        sun = (rec.get("sun_exposure") or "SunExposed").upper() != "NOSUN"
+        wind = (rec.get("wind_exposure") or "WindExposed").upper() != "NOWIND"
+        vf_raw = rec.get("view_factor_to_ground", "")
+        view_factor = None if _is_auto(rec, "view_factor_to_ground") else float(vf_raw)
+        common = {
+            "construction": data["construction"],
+            "tilt": data["tilt"],
+            "azimuth": data["azimuth"],
+            "view_factor_ground": view_factor,
+            "sun_exposed": sun,
+            "wind_exposed": wind,
+        }
+        model_surfaces.append(
+            _wrap(
+                obj,
+                mz.Surface,
+                name=data["name"],
+                zone=data["zone"],
+                area=area,
+                boundary=boundary,
+                other_zone=other_zone,
+                other_surface=other_surface,
+                **common,
+            )
+        )
+        if other_surface is not None and other_surface.endswith(" (partner)"):
+            reversed_name = _reversed_construction(
+                data["construction"], constructions, model_constructions, mz
+            )
+            flipped = -data["normal"]
+            tilt, azimuth = tilt_azimuth(flipped)
+            model_surfaces.append(
+                _wrap(
+                    obj,
+                    mz.Surface,
+                    name=other_surface,
+                    zone=other_zone,
+                    construction=reversed_name,
+                    area=area,
+                    tilt=tilt,
+                    azimuth=azimuth,
+                    boundary="zone",
+                    other_zone=data["zone"],
+                    other_surface=data["name"],
+                    sun_exposed=False,
+                    wind_exposed=False,
+                )
+            )
+    for name, obj, base, cons_name, area in door_surfaces:
+        base_surface = next(s for s in model_surfaces if s.name == base["name"])
+        if base_surface.boundary == "zone":
+            info.notes.append(
+                f"door '{name}' in inter-zone surface '{base['name']}' is merged into its host"
+            )
+            base_surface.area += area
+            continue
+        model_surfaces.append(
+            _wrap(
+                obj,
+                mz.Surface,
+                name=name,
+                zone=base_surface.zone,
+                construction=cons_name,
+                area=area,
+                tilt=base_surface.tilt,
+                azimuth=base_surface.azimuth,
+                boundary=base_surface.boundary,
+                view_factor_ground=base_surface.view_factor_ground,
+                sun_exposed=base_surface.sun_exposed,
+                wind_exposed=base_surface.wind_exposed,
+            )
+        )
+
+    # -- zone areas and volumes -----------------------------------------------------------------
+    zone_floor_area: dict[str, float] = {}
+    zone_polygons: dict[str, list] = {}
+    for data in surface_data.values():
+        zone_polygons.setdefault(data["zone"], []).append(data)
+        if data["type"].upper() == "FLOOR":
+            zone_floor_area[data["zone"]] = zone_floor_area.get(data["zone"], 0.0) + data["area"]
+    zone_volume: dict[str, float] = {}
+    zone_area: dict[str, float] = {}
+    for name, obj, rec in zones.values():
+        floor_area = (
+            zone_floor_area.get(name, 0.0)
+            if _is_auto(rec, "floor_area")
+            else _number(rec, "floor_area")
+        )
+        zone_area[name] = floor_area
+        if not _is_auto(rec, "volume") and _number(rec, "volume") > 0:
+            zone_volume[name] = _number(rec, "volume")
+            continue
+        polys = zone_polygons.get(name, [])
+        volume = 0.0
+        if polys and polyhedron_is_closed(
+            [d["world"] if not rules.clockwise else d["world"][::-1] for d in polys]
+        ):
+            volume = zone_volume_from_surfaces(
+                [d["world"] for d in polys], [d["normal"] for d in polys]
+            )
+        if volume <= 0.0:
+            if not _is_auto(rec, "ceiling_height") and _number(rec, "ceiling_height") > 0:
+                height = _number(rec, "ceiling_height")
+            elif polys:
+                z = np.concatenate([d["world"][:, 2] for d in polys])
+                height = float(z.max() - z.min())
+            else:
+                height = 0.0
+            volume = floor_area * height
+        if volume <= 0.0:
+            raise ThermocalInputError(
+                f"{obj.where()}: the volume is not given and cannot be derived from the surfaces "
+                "(no closed geometry, floor area or ceiling height); set field 'Volume'."
+            )
+        zone_volume[name] = volume
+
+    # -- infiltration ---------------------------------------------------------------------------
+    zone_ach: dict[str, float] = {}
+    zone_infiltration_group: dict[str, str] = {}
+    exterior_area: dict[str, float] = {}
+    exterior_wall_area: dict[str, float] = {}
+    for data in surface_data.values():
+        if data["boundary"] == "outdoors":
+            exterior_area[data["zone"]] = exterior_area.get(data["zone"], 0.0) + data["area"]
+            if data["type"].upper() == "WALL":
+                exterior_wall_area[data["zone"]] = (
+                    exterior_wall_area.get(data["zone"], 0.0) + data["area"]
+                )
+    for rec in records("ZONEINFILTRATION:DESIGNFLOWRATE"):
+        obj = rec["_object"]
+        method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
+        coefficients = [
+            _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
+            _number(rec, "temperature_term_coefficient", default=0.0),
+            _number(rec, "velocity_term_coefficient", default=0.0),
+            _number(rec, "velocity_squared_term_coefficient", default=0.0),
+        ]
+        v = INFILTRATION_REFERENCE_WIND_SPEED
+        factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
+        targets = zone_targets(rec)
+        for zone_name in targets:
+            volume = zone_volume[zone_name]
+            if method in ("FLOW/ZONE",):
+                flow = _number(rec, "design_flow_rate")
+            elif method == "FLOW/AREA":
+                flow = _number(rec, "flow_per_zone_floor_area") * zone_area[zone_name]
+            elif method == "FLOW/EXTERIORAREA":
+                flow = _number(rec, "flow_per_exterior_surface_area") * exterior_area.get(
+                    zone_name, 0.0
+                )
+            elif method == "FLOW/EXTERIORWALLAREA":
+                flow = _number(rec, "flow_per_exterior_surface_area") * exterior_wall_area.get(
+                    zone_name, 0.0
+                )
+            elif method in ("AIRCHANGES/HOUR", "AIRCHANGESPERHOUR"):
+                flow = _number(rec, "air_changes_per_hour") * volume / 3600.0
+            else:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Design Flow Rate Calculation Method' = "
+                    f"'{rec['design_flow_rate_calculation_method']}' is not one of Flow/Zone, "
+                    "Flow/Area, Flow/ExteriorArea, Flow/ExteriorWallArea, AirChanges/Hour."
+                )
+            if flow < 0:
+                raise ThermocalInputError(f"{obj.where()}: the design flow rate is negative.")
+            zone_ach[zone_name] = zone_ach.get(zone_name, 0.0) + flow * 3600.0 / volume * factor
+            if len(targets) > 1:
+                zone_infiltration_group[zone_name] = rec["name"]
+            schedule = rec["schedule_name"]
+            if schedule:
+                info.infiltration_schedules.setdefault(zone_name, []).append(schedule)
+                try:
+                    low, high = schedules.value_range(schedule)
+                except UnsupportedScheduleError:
+                    low, high = (math.nan, math.nan)
+                if not (low == high == 1.0):
+                    info.notes.append(
+                        f"infiltration '{rec['name']}' (zone {zone_name}): schedule '{schedule}' "
+                        f"(range {low:g}..{high:g}) is not applied; the design rate is used"
+                    )
+        if coefficients != [1.0, 0.0, 0.0, 0.0]:
+            info.notes.append(
+                f"infiltration '{rec['name']}': coefficients (A, B, C, D) = "
+                f"{tuple(coefficients)} evaluated at wind {v} m/s and dT = 0 (factor "
+                f"{factor:.3f}); the weather dependence is not represented"
+            )
+
+    # -- internal gains -------------------------------------------------------------------------
+    people_count: dict[str, float] = {}
+    for rec in records("PEOPLE"):
+        for zone_name in zone_targets(rec):
+            people_count[zone_name] = people_count.get(zone_name, 0.0) + _people_number(
+                rec, zone_area[zone_name]
+            )
+    for key in ("OTHEREQUIPMENT", "ELECTRICEQUIPMENT", "LIGHTS", "PEOPLE"):
+        for rec in records(key):
+            obj = rec["_object"]
+            for zone_name in zone_targets(rec):
+                gain = _internal_gain(
+                    rec,
+                    zone_name,
+                    zone_area[zone_name],
+                    people_count.get(zone_name, 0.0),
+                    schedules,
+                )
+                info.internal_gains.append(gain)
+    zone_gains: dict[str, float] = {}
+    zone_radiant: dict[str, float] = {}
+    for gain in info.internal_gains:
+        zone_gains[gain.zone] = zone_gains.get(gain.zone, 0.0) + gain.annual_mean
+        zone_radiant[gain.zone] = (
+            zone_radiant.get(gain.zone, 0.0) + gain.annual_mean * gain.radiant_fraction
+        )
+        if gain.schedule is not None:
+            try:
+                low, high = schedules.value_range(gain.schedule)
+            except UnsupportedScheduleError:
+                low, high = math.nan, math.nan
+            if low != high:
+                info.notes.append(
+                    f"{gain.object_class} '{gain.name}' (zone {gain.zone}): schedule "
+                    f"'{gain.schedule}' varies ({low:g}..{high:g}); its annual mean gives the "
+                    "constant internal gain (hourly values: idf_info.internal_gains_profile)"
+                )
+
+    # -- thermostats ----------------------------------------------------------------------------
+    setpoints = _thermostats(records, zones, zone_lists, schedules, info)
+
+    # -- zones ----------------------------------------------------------------------------------
+    model_zones = []
+    for name, obj, _rec in zones.values():
+        heating, cooling = setpoints.get(name, (None, None))
+        gains = zone_gains.get(name, 0.0)
+        model_zones.append(
+            _wrap(
+                obj,
+                mz.Zone,
+                name=name,
+                volume=zone_volume[name],
+                floor_area=zone_area[name],
+                infiltration_ach=zone_ach.get(name, 0.0),
+                internal_gains=gains,
+                internal_gains_radiative_fraction=(zone_radiant.get(name, 0.0) / gains)
+                if gains > 0
+                else 0.5,
+                heating_setpoint=heating,
+                cooling_setpoint=cooling,
+                infiltration_group=zone_infiltration_group.get(name),
+            )
+        )
+
+    # -- ground ---------------------------------------------------------------------------------
+    ground_rec = single("SITE:GROUNDTEMPERATURE:BUILDINGSURFACE")
+    ground = None
+    if ground_rec is not None:
+        ground = tuple(
+            _number(ground_rec, n, default=ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE)
+            for n in SCHEMA["SITE:GROUNDTEMPERATURE:BUILDINGSURFACE"][0]
+        )
+    elif any(s.boundary == "ground" for s in model_surfaces):
+        ground = (ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE,) * 12
+        info.notes.append(
+            "no Site:GroundTemperature:BuildingSurface: ground surfaces see the EnergyPlus "
+            f"default {ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE:g} C"
+        )
+
+    # -- window types ---------------------------------------------------------------------------
+    used_types = {w.window_type.upper() for w in model_windows}
+    model_window_types = [
+        _wrap(obj, window_type_from_glazing, name, glazing)
+        for key, (name, obj, glazing) in window_types.items()
+        if key in used_types
+    ]
+    try:
+        building = mz.Building(
+            name=building_name,
+            location=location,
+            materials=model_materials,
+            constructions=model_constructions,
+            window_types=model_window_types,
+            zones=model_zones,
+            surfaces=model_surfaces,
+            windows=model_windows,
+            ground_temperatures=ground,
+        )
+    except ThermocalInputError as exc:
+        raise ThermocalInputError(f"{path.name}: {exc}") from None
+    building.idf_info = info
+    _warn_unsupported(path.name, info)
+    return building
+
+
+def _all_blank(rec: dict) -> bool:
+    return all(
+        rec.get(n, "") == ""
+        for n in (
+            "constant_term_coefficient",
+            "temperature_term_coefficient",
+            "velocity_term_coefficient",
+            "velocity_squared_term_coefficient",
+        )
+    )
+
+
+def _reversed_construction(name, constructions, model_constructions, mz) -> str:
+    """Name of the construction with reversed layers (created when needed)."""
+    cons = next(c for c in model_constructions if c.name == name)
+    if tuple(reversed(cons.layers)) == cons.layers:
+        return name
+    reversed_name = f"{name} (reversed)"
+    if not any(c.name == reversed_name for c in model_constructions):
+        model_constructions.append(mz.Construction(reversed_name, tuple(reversed(cons.layers))))
+    return reversed_name
+
+
+def _people_number(rec: dict, floor_area: float) -> float:
+    obj = rec["_object"]
+    method = (rec["number_of_people_calculation_method"] or "People").upper()
+    if method == "PEOPLE":
+        return _number(rec, "number_of_people")
+    if method == "PEOPLE/AREA":
+        return _number(rec, "people_per_zone_floor_area") * floor_area
+    if method == "AREA/PERSON":
+        per = _number(rec, "zone_floor_area_per_person")
+        return floor_area / per if per > 0 else 0.0
+    raise ThermocalInputError(
+        f"{obj.where()}: field 'Number of People Calculation Method' = "
+        f"'{rec['number_of_people_calculation_method']}' is not People, People/Area or Area/Person."
+    )
+
+
+def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGainInfo:
+    obj: IdfObject = rec["_object"]
+    if obj.key == "PEOPLE":
+        count = _people_number(rec, floor_area)
+        activity_schedule = rec["activity_level_schedule_name"]
+        try:
+            activity = schedules.annual_mean(activity_schedule) if activity_schedule else 120.0
+        except UnsupportedScheduleError:
+            activity = 120.0
+        if _is_auto(rec, "sensible_heat_fraction"):
+            sensible = DEFAULT_PEOPLE_SENSIBLE_FRACTION
+        else:
+            sensible = _number(rec, "sensible_heat_fraction")
+        design = count * activity * sensible
+        radiant = _number(rec, "fraction_radiant", default=0.3)
+        schedule = rec["number_of_people_schedule_name"] or None
+    else:
+        method = (rec["design_level_calculation_method"] or "").upper()
+        if method in ("EQUIPMENTLEVEL", "LIGHTINGLEVEL"):
+            level = _number(rec, "design_level")
+        elif method in ("WATTS/AREA", "POWER/AREA"):
+            level = _number(rec, "power_per_zone_floor_area") * floor_area
+        elif method in ("WATTS/PERSON", "POWER/PERSON"):
+            level = _number(rec, "power_per_person") * people
+        else:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Design Level Calculation Method' = "
+                f"'{rec['design_level_calculation_method']}' is not supported."
+            )
+        if obj.key == "LIGHTS":
+            lost = 0.0
+            radiant_total = _number(rec, "fraction_radiant", default=0.0) + _number(
+                rec, "fraction_visible", default=0.0
+            )
+        else:
+            lost = _number(rec, "fraction_latent", default=0.0) + _number(
+                rec, "fraction_lost", default=0.0
+            )
+            radiant_total = _number(rec, "fraction_radiant", default=0.0)
+        sensible_share = max(1.0 - lost, 0.0)
+        design = level * sensible_share
+        radiant = min(radiant_total / sensible_share, 1.0) if sensible_share > 0 else 0.0
+        schedule = rec["schedule_name"] or None
+    mean_factor = 1.0
+    if schedule is not None:
+        try:
+            mean_factor = schedules.annual_mean(schedule)
+        except UnsupportedScheduleError as exc:
+            raise ThermocalInputError(f"{obj.where()}: {exc}") from None
+    return InternalGainInfo(
+        object_class=obj.class_name,
+        name=rec["name"],
+        zone=zone_name,
+        design_level=design,
+        radiant_fraction=radiant,
+        schedule=schedule,
+        annual_mean=design * mean_factor,
+    )
+
+
+def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
+    """Zone -> (heating set point, cooling set point) from the thermostat objects."""
+    setpoint_objects: dict[str, dict] = {}
+    for rec in records(
+        "THERMOSTATSETPOINT:DUALSETPOINT",
+        "THERMOSTATSETPOINT:SINGLEHEATING",
+        "THERMOSTATSETPOINT:SINGLECOOLING",
+        "THERMOSTATSETPOINT:SINGLEHEATINGORCOOLING",
+    ):
+        setpoint_objects[rec["name"].upper()] = rec
+    result: dict[str, tuple[float | None, float | None]] = {}
+
+    def constant(schedule: str | None, obj: IdfObject, what: str) -> float | None:
+        if not schedule:
+            return None
+        try:
+            low, high = schedules.value_range(schedule)
+            value = schedules.mode(schedule)
+        except UnsupportedScheduleError as exc:
+            raise ThermocalInputError(f"{obj.where()}: {exc}") from None
+        if low != high:
+            info.notes.append(
+                f"{obj.where()}: {what} schedule '{schedule}' varies ({low:g}..{high:g} C); the "
+                f"value in effect most of the year ({value:g} C) is used (hourly values: "
+                "idf_info.setpoint_profile)"
+            )
+        return value
+
+    for rec in records("ZONECONTROL:THERMOSTAT"):
+        obj = rec["_object"]
+        target = rec["zone_name"]
+        entry = zones.get(target)
+        targets = [entry[0]] if entry is not None else zone_lists.get(target.upper())
+        if not targets:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Zone or ZoneList Name' = '{target}' is not a zone."
+            )
+        control_types = {}
+        for group in rec["controls"]:
+            if len(group) == 2 and group[1]:
+                control_types[group[0].upper()] = group[1]
+        control_schedule = rec["control_type_schedule_name"]
+        try:
+            mode = int(round(schedules.mode(control_schedule))) if control_schedule else 4
+        except UnsupportedScheduleError as exc:
+            raise ThermocalInputError(f"{obj.where()}: {exc}") from None
+        wanted = {
+            1: "THERMOSTATSETPOINT:SINGLEHEATING",
+            2: "THERMOSTATSETPOINT:SINGLECOOLING",
+            3: "THERMOSTATSETPOINT:SINGLEHEATINGORCOOLING",
+            4: "THERMOSTATSETPOINT:DUALSETPOINT",
+        }.get(mode)
+        if control_schedule:
+            low, high = schedules.value_range(control_schedule)
+            if low != high:
+                info.notes.append(
+                    f"{obj.where()}: control type schedule varies; control type {mode} "
+                    "(most of the year) is used"
+                )
+        name = control_types.get(wanted or "")
+        if name is None:
+            info.notes.append(f"{obj.where()}: no set-point object for control type {mode}")
+            continue
+        sp = setpoint_objects.get(name.upper())
+        if sp is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: the set-point object '{name}' ({wanted.title()}) is not defined."
+            )
+        sp_obj = sp["_object"]
+        heating_schedule = cooling_schedule = None
+        if wanted == "THERMOSTATSETPOINT:DUALSETPOINT":
+            heating_schedule = sp["heating_setpoint_temperature_schedule_name"]
+            cooling_schedule = sp["cooling_setpoint_temperature_schedule_name"]
+        elif wanted == "THERMOSTATSETPOINT:SINGLEHEATING":
+            heating_schedule = sp["setpoint_temperature_schedule_name"]
+        elif wanted == "THERMOSTATSETPOINT:SINGLECOOLING":
+            cooling_schedule = sp["setpoint_temperature_schedule_name"]
+        else:
+            heating_schedule = cooling_schedule = sp["setpoint_temperature_schedule_name"]
+        heating = constant(heating_schedule, sp_obj, "heating set-point")
+        cooling = constant(cooling_schedule, sp_obj, "cooling set-point")
+        for zone_name in targets:
+            result[zone_name] = (heating, cooling)
+            info.setpoint_schedules[zone_name] = (
+                heating_schedule or None,
+                cooling_schedule or None,
+            )
+
+    templates = {rec["name"].upper(): rec for rec in records("HVACTEMPLATE:THERMOSTAT")}
+    for rec in records("HVACTEMPLATE:ZONE:IDEALLOADSAIRSYSTEM"):
+        obj = rec["_object"]
+        entry = zones.get(rec["zone_name"])
+        if entry is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Zone Name' = '{rec['zone_name']}' is not a zone."
+            )
+        template = templates.get(rec["template_thermostat_name"].upper())
+        if template is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Template Thermostat Name' = "
+                f"'{rec['template_thermostat_name']}' is not an HVACTemplate:Thermostat."
+            )
+        t_obj = template["_object"]
+        if template["heating_setpoint_schedule_name"]:
+            heating = constant(template["heating_setpoint_schedule_name"], t_obj, "heating")
+        else:
+            heating = _number(template, "constant_heating_setpoint", required=False)
+        if template["cooling_setpoint_schedule_name"]:
+            cooling = constant(template["cooling_setpoint_schedule_name"], t_obj, "cooling")
+        else:
+            cooling = _number(template, "constant_cooling_setpoint", required=False)
+        result[entry[0]] = (heating, cooling)
+        info.setpoint_schedules[entry[0]] = (
+            template["heating_setpoint_schedule_name"] or None,
+            template["cooling_setpoint_schedule_name"] or None,
+        )
+    return result
+
+
+def _warn_unsupported(source: str, info: IdfImportInfo) -> None:
+    parts = []
+    if info.unsupported:
+        listing = ", ".join(f"{cls} ({count})" for cls, count in info.unsupported.items())
+        parts.append(
+            f"{source}: {sum(info.unsupported.values())} objects of {len(info.unsupported)} "
+            f"classes are not represented by the multi-zone model and were skipped: {listing}."
+        )
+    if info.notes:
+        parts.append("Approximations: " + "; ".join(info.notes) + ".")
+    if parts:
+        warnings.warn(" ".join(parts), IdfImportWarning, stacklevel=3)

@@ -180,7 +180,11 @@ def calibrate(
     # optimum, so the standard errors of the physical parameters are defined
     stuck = _nuisance_at_bounds(rc, res.params)
     if stuck:
-        free_values = {n: float(res.params[n]) for n in rc.free_parameter_names if n not in stuck}
+        free_values = {
+            n: _inside(rc.parameters[n], float(res.params[n]))
+            for n in rc.free_parameter_names
+            if n not in stuck
+        }
         rc = rc.with_parameters(free_values).with_parameters(
             {n: float(res.params[n]) for n in stuck}, fix=True
         )
@@ -244,6 +248,19 @@ def calibrate(
     )
 
 
+def _inside(p, x: float, margin: float = 1e-6) -> float:
+    """``x`` moved strictly inside the parameter's bounds."""
+    lo, hi = p.lower, p.upper
+    if np.isfinite(lo) and np.isfinite(hi):
+        pad = margin * (hi - lo)
+        return float(min(max(x, lo + pad), hi - pad))
+    if np.isfinite(lo):
+        return float(max(x, lo + margin * max(abs(lo), 1.0)))
+    if np.isfinite(hi):
+        return float(min(x, hi - margin * max(abs(hi), 1.0)))
+    return x
+
+
 def _nuisance_at_bounds(rc, params: pd.Series, tol: float = 1e-3) -> list[str]:
     stuck = []
     for name in rc.free_parameter_names:
@@ -291,7 +308,9 @@ def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed
     for _ in range(50):
         if filled >= n_draws:
             break
-        cand = rng.multivariate_normal(mean, cov, size=2 * (n_draws - filled) + 10, method="eigh")
+        cand = rng.multivariate_normal(
+            mean, cov, size=2 * (n_draws - filled) + 10, method="eigh", check_valid="ignore"
+        )
         ok = np.all((cand > lo) & (cand < hi), axis=1)
         take = cand[ok][: n_draws - filled]
         out[filled : filled + len(take)] = take

@@ -103,36 +103,6 @@ def ground_temperature(
     return pd.Series(values, index=times, name="Tgr")
 
 
-def _surface_irradiance(
-    frame: pd.DataFrame,
-    latitude: float,
-    longitude: float,
-    altitude: float,
-    tilt: float,
-    azimuth: float,
-    solpos: pd.DataFrame,
-) -> np.ndarray:
-    """Global irradiance on a tilted plane [W/m2] (Perez), via pvlib."""
-    import pvlib
-
-    dni_extra = pvlib.irradiance.get_extra_radiation(solpos.index)
-    airmass = pvlib.atmosphere.get_relative_airmass(solpos["apparent_zenith"])
-    poa = pvlib.irradiance.get_total_irradiance(
-        surface_tilt=tilt,
-        surface_azimuth=azimuth,
-        solar_zenith=solpos["apparent_zenith"],
-        solar_azimuth=solpos["azimuth"],
-        dni=frame["dni"].to_numpy(float),
-        ghi=frame["ghi"].to_numpy(float),
-        dhi=frame["dhi"].to_numpy(float),
-        dni_extra=dni_extra,
-        airmass=airmass,
-        albedo=0.2,
-        model="perez",
-    )
-    return np.nan_to_num(np.asarray(poa["poa_global"], float), nan=0.0).clip(min=0.0)
-
-
 def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
     """Window gains and absorbed outer-surface radiation of roof and walls [W].
 
@@ -147,48 +117,38 @@ def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
     -------
     pd.DataFrame with columns ``phi_sol``, ``phi_abs_roof``, ``phi_abs_walls`` [W].
     """
-    import pvlib
+    from thermocal.physics.solar import irradiance_on_surfaces
 
     loc = building.location
-    step = frame.index[1] - frame.index[0]
-    mid = frame.index + step / 2
-    solpos = pvlib.solarposition.get_solarposition(
-        mid, loc.latitude, loc.longitude, altitude=loc.altitude
+    data = frame[["dni", "dhi"] + (["ghi"] if "ghi" in frame else [])]
+    orientations = {}
+    for c in building.components:
+        if c.type in ("window", "roof", "external_wall"):
+            tilt = float(c.tilt if c.tilt is not None else 90.0)
+            azimuth = float(c.azimuth if c.azimuth is not None else 180.0)
+            orientations[c.name] = (tilt, azimuth)
+    poa_frames = irradiance_on_surfaces(
+        data, loc.latitude, loc.longitude, orientations, altitude=loc.altitude
     )
-    data = frame[["dni", "dhi"]].copy()
-    if "ghi" in frame:
-        data["ghi"] = frame["ghi"]
-    else:
-        cosz = np.cos(np.radians(solpos["zenith"].to_numpy(float))).clip(min=0.0)
-        data["ghi"] = frame["dhi"].to_numpy(float) + frame["dni"].to_numpy(float) * cosz
-    solpos.index = frame.index
-    data.index = frame.index
-    cache: dict[tuple[float, float], np.ndarray] = {}
 
-    def poa(tilt, azimuth):
-        key = (round(float(tilt), 3), round(float(azimuth), 3))
-        if key not in cache:
-            cache[key] = _surface_irradiance(
-                data, loc.latitude, loc.longitude, loc.altitude, key[0], key[1], solpos
-            )
-        return cache[key]
+    def poa(name):
+        return np.nan_to_num(poa_frames[name]["poa_global"].to_numpy(float), nan=0.0).clip(0.0)
 
     n = len(frame)
     phi_sol = np.zeros(n)
     absorbed = {"roof": np.zeros(n), "external_wall": np.zeros(n)}
     for c in building.components:
         tilt = float(c.tilt if c.tilt is not None else 90.0)
-        azimuth = float(c.azimuth if c.azimuth is not None else 180.0)
         if c.type == "window":
             g = float(c.g_value if c.g_value is not None else 0.6)
             ff = float(c.frame_fraction if c.frame_fraction is not None else 0.3)
             fsh = float(c.shading_factor if c.shading_factor is not None else 1.0)
-            phi_sol += c.area * (1 - ff) * g * fsh * WINDOW_INCIDENCE_FACTOR * poa(tilt, azimuth)
+            phi_sol += c.area * (1 - ff) * g * fsh * WINDOW_INCIDENCE_FACTOR * poa(c.name)
         elif c.type in absorbed:
             alpha = float(c.absorptance if c.absorptance is not None else 0.6)
             sky_view = 0.5 * (1.0 + np.cos(np.radians(tilt)))
             absorbed[c.type] += c.area * (
-                alpha * poa(tilt, azimuth) - sky_view * H_RE_SKY * DELTA_THETA_ER
+                alpha * poa(c.name) - sky_view * H_RE_SKY * DELTA_THETA_ER
             )
     return pd.DataFrame(
         {

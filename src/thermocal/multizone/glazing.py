@@ -1,4 +1,4 @@
-"""Optical and thermal properties of glazing: layered glass/gas systems and the EnergyPlus simple model.
+"""Glazing optics and heat transfer: layered glass/gas systems and the EnergyPlus simple model.
 
 Layered glazing (EnergyPlus ``WindowMaterial:Glazing`` + ``WindowMaterial:Gas``):
 
@@ -689,8 +689,9 @@ def en673_u_value(panes: Sequence[GlassPane], gaps: Sequence[GasGap]) -> float:
 
     ``1/U = 1/h_e + sum d_j/k_j + sum 1/h_s + 1/h_i`` with ``h_e = 23``,
     ``h_i = 3.6 + 4.4 eps/0.837`` W/(m2 K), gap conductance ``h_s = h_r + h_g``,
-    ``h_r = 4 sigma T_m^3 / (1/e1 + 1/e2 - 1)``, ``h_g = Nu k / s``, ``Nu = max(1, 0.035 (Gr Pr)^0.38)``
-    for vertical glazing, properties at ``T_m = 283 K`` with 15 K shared equally by the gaps.
+    ``h_r = 4 sigma T_m^3 / (1/e1 + 1/e2 - 1)``, ``h_g = Nu k / s``,
+    ``Nu = max(1, 0.035 (Gr Pr)^0.38)`` for vertical glazing,
+    properties at ``T_m = 283 K`` with 15 K shared equally by the gaps.
 
     Parameters
     ----------

@@ -250,6 +250,8 @@ class WindowType:
     diffuse_pane_absorptances : sequence of float or None [-]
     n_panes : int [-]
         Number of panes for the default angular curve (default 2).
+    emissivity_outside, emissivity_inside : float [-]
+        Long-wave emissivity of the outer and inner glass faces (uncoated glass 0.84).
     """
 
     name: str
@@ -264,9 +266,13 @@ class WindowType:
     diffuse_transmittance: float | None = None
     diffuse_pane_absorptances: tuple[float, ...] | None = None
     n_panes: int = 2
+    emissivity_outside: float = 0.84
+    emissivity_inside: float = 0.84
 
     def __post_init__(self) -> None:
         what = f"window type '{self.name}'"
+        self.emissivity_outside = _fraction(self.emissivity_outside, f"{what}: emissivity_outside")
+        self.emissivity_inside = _fraction(self.emissivity_inside, f"{what}: emissivity_inside")
         self.u_value = _positive(self.u_value, f"{what}: u_value [W/(m2 K)]")
         if self.u_value > 10:
             raise ThermocalInputError(

@@ -1,0 +1,258 @@
+"""Compiled time loop of the multi-zone simulation (numba).
+
+One backward-Euler step of the network assembled in :mod:`thermocal.multizone.network`:
+
+1. ``rhs = C/dt x_old + B u_k`` (``B`` in CSR form, ``u_k`` one row of the input matrix);
+2. explicit corrections evaluated with ``x_old``: wind-dependent exterior convection minus its
+   matrix part, exact ``sigma T^4`` exterior long-wave exchange minus its linearisation, TARP
+   interior convection minus its matrix part, air-density variation of the infiltration;
+3. ``x_free = A^{-1} rhs`` by forward/backward substitution with the sparse LU factors of
+   ``A = C/dt + K`` (computed once by SuperLU);
+4. ideal loads by superposition: ``T_air = T_free + G q`` with ``G`` the air-temperature response to
+   unit heat in each controlled zone (precomputed); the active set (zones at their heating or
+   cooling set point) is found by a small active-set iteration, ``q`` from the dense system on the
+   active set, and ``x = A^{-1}(rhs + E q)`` by a second substitution (set points are met
+   exactly, no iteration on the network).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+SIGMA = 5.670374419e-8
+KELVIN = 273.15
+
+
+@njit(cache=True)
+def lu_solve(lp, li, lx, up, ui, ux, perm_r, perm_c, b, work, out):
+    """Solve ``A x = b`` with SuperLU factors ``Pr A Pc = L U`` (CSC ``L``, ``U``)."""
+    n = b.shape[0]
+    for i in range(n):
+        work[perm_r[i]] = b[i]
+    # forward substitution, unit lower triangular L (diagonal stored first or anywhere)
+    for j in range(n):
+        zj = work[j]
+        if zj != 0.0:
+            for p in range(lp[j], lp[j + 1]):
+                i = li[p]
+                if i > j:
+                    work[i] -= lx[p] * zj
+    # backward substitution, upper triangular U
+    for j in range(n - 1, -1, -1):
+        diag = 0.0
+        for p in range(up[j], up[j + 1]):
+            if ui[p] == j:
+                diag = ux[p]
+                break
+        yj = work[j] / diag
+        work[j] = yj
+        if yj != 0.0:
+            for p in range(up[j], up[j + 1]):
+                i = ui[p]
+                if i < j:
+                    work[i] -= ux[p] * yj
+    for i in range(n):
+        out[i] = work[perm_c[i]]
+
+
+@njit(cache=True)
+def tarp(delta_t, cos_up):
+    """TARP natural convection (scalar version of network.tarp_natural_convection)."""
+    root = np.cbrt(abs(delta_t))
+    abs_cos = abs(cos_up)
+    if abs_cos < 1e-3:
+        h = 1.31 * root
+    elif delta_t * cos_up > 0.0:
+        h = 9.482 * root / (7.238 - abs_cos)
+    else:
+        h = 1.810 * root / (1.382 + abs_cos)
+    return max(h, 0.1)
+
+
+@njit(cache=True)
+def run_steps(
+    k0,
+    n_steps,
+    x,
+    c_dt,
+    b_ptr,
+    b_idx,
+    b_val,
+    u,
+    heat_extra,
+    lp,
+    li,
+    lx,
+    up,
+    ui,
+    ux,
+    perm_r,
+    perm_c,
+    ext_node,
+    ext_area_eps,
+    ext_view_air,
+    ext_view_sky,
+    ext_hr0,
+    ext_dh,
+    exact_sky,
+    face_node,
+    face_air,
+    face_area,
+    face_cos,
+    face_h0,
+    face_hmax,
+    tarp_on,
+    air_node,
+    inf_dh,
+    ctrl_zone,
+    ctrl_heat_sp,
+    ctrl_cool_sp,
+    g_ctrl,
+    ideal_on,
+    face_zone,
+    zone_face_area,
+    out_air,
+    out_mrt,
+    out_heat,
+    out_cool,
+    out_face,
+    store_faces,
+):
+    """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place."""
+    n = x.shape[0]
+    nz = air_node.shape[0]
+    nc = ctrl_zone.shape[0]
+    rhs = np.empty(n)
+    work = np.empty(n)
+    x_new = np.empty(n)
+    active = np.zeros(nc, dtype=np.int64)
+    q = np.zeros(nc)
+    t_free = np.empty(nc)
+    for s in range(n_steps):
+        k = k0 + s
+        # 1. rhs = C/dt x + B u_k
+        for i in range(n):
+            acc = c_dt[i] * x[i]
+            for p in range(b_ptr[i], b_ptr[i + 1]):
+                acc += b_val[p] * u[k, b_idx[p]]
+            rhs[i] = acc
+        for z in range(nz):
+            rhs[air_node[z]] += heat_extra[s, z]
+        t_out = u[k, 0]
+        t_sky = u[k, 1]
+        # 2. explicit corrections
+        for e in range(ext_node.shape[0]):
+            node = ext_node[e]
+            ts = x[node]
+            corr = ext_dh[k, e] * ext_area_eps[e, 0] * (t_out - ts)
+            if exact_sky:
+                ts4 = (ts + KELVIN) ** 4
+                to4 = (t_out + KELVIN) ** 4
+                tk4 = (t_sky + KELVIN) ** 4
+                exact = SIGMA * (ext_view_air[e] * (to4 - ts4) + ext_view_sky[e] * (tk4 - ts4))
+                linear = ext_hr0 * (ext_view_air[e] * (t_out - ts) + ext_view_sky[e] * (t_sky - ts))
+                corr += ext_area_eps[e, 1] * (exact - linear)
+            rhs[node] += corr
+        if tarp_on:
+            for f in range(face_node.shape[0]):
+                node = face_node[f]
+                an = face_air[f]
+                dt_s = x[node] - x[an]
+                h = tarp(dt_s, face_cos[f])
+                if h > face_hmax[f]:
+                    h = face_hmax[f]
+                corr = (h - face_h0[f]) * face_area[f] * (x[an] - x[node])
+                rhs[node] += corr
+                rhs[an] -= corr
+        for z in range(nz):
+            an = air_node[z]
+            rhs[an] += inf_dh[k, z] * (t_out - x[an])
+        # 3. free response
+        lu_solve(lp, li, lx, up, ui, ux, perm_r, perm_c, rhs, work, x_new)
+        # 4. ideal loads
+        for c in range(nc):
+            q[c] = 0.0
+        if ideal_on and nc > 0:
+            for c in range(nc):
+                t_free[c] = x_new[air_node[ctrl_zone[c]]]
+                active[c] = 0
+            for _ in range(4 * nc + 4):
+                # temperatures with the current q
+                changed = False
+                for c in range(nc):
+                    if active[c] == 0:
+                        t = t_free[c]
+                        for d in range(nc):
+                            if active[d] != 0:
+                                t += g_ctrl[c, d] * q[d]
+                        if t < ctrl_heat_sp[c] - 1e-9:
+                            active[c] = 1
+                            changed = True
+                        elif t > ctrl_cool_sp[c] + 1e-9:
+                            active[c] = -1
+                            changed = True
+                # solve on the active set
+                m = 0
+                for c in range(nc):
+                    if active[c] != 0:
+                        m += 1
+                if m > 0:
+                    idx = np.empty(m, dtype=np.int64)
+                    j = 0
+                    for c in range(nc):
+                        if active[c] != 0:
+                            idx[j] = c
+                            j += 1
+                    gm = np.empty((m, m))
+                    rv = np.empty(m)
+                    for a in range(m):
+                        ca = idx[a]
+                        target = ctrl_heat_sp[ca] if active[ca] == 1 else ctrl_cool_sp[ca]
+                        rv[a] = target - t_free[ca]
+                        for bb in range(m):
+                            gm[a, bb] = g_ctrl[ca, idx[bb]]
+                    sol = np.linalg.solve(gm, rv)
+                    for c in range(nc):
+                        q[c] = 0.0
+                    for a in range(m):
+                        q[idx[a]] = sol[a]
+                    for a in range(m):
+                        ca = idx[a]
+                        if (active[ca] == 1 and q[ca] < 0.0) or (active[ca] == -1 and q[ca] > 0.0):
+                            active[ca] = 0
+                            q[ca] = 0.0
+                            changed = True
+                if not changed:
+                    break
+            any_q = False
+            for c in range(nc):
+                if q[c] != 0.0:
+                    any_q = True
+            if any_q:
+                for c in range(nc):
+                    rhs[air_node[ctrl_zone[c]]] += q[c]
+                lu_solve(lp, li, lx, up, ui, ux, perm_r, perm_c, rhs, work, x_new)
+        for i in range(n):
+            x[i] = x_new[i]
+        # 5. outputs
+        for z in range(nz):
+            out_air[s, z] = x[air_node[z]]
+            out_mrt[s, z] = 0.0
+        for f in range(face_node.shape[0]):
+            out_mrt[s, face_zone[f]] += face_area[f] * x[face_node[f]]
+            if store_faces:
+                out_face[s, f] = x[face_node[f]]
+        for z in range(nz):
+            if zone_face_area[z] > 0:
+                out_mrt[s, z] /= zone_face_area[z]
+            else:
+                out_mrt[s, z] = x[air_node[z]]
+        for c in range(nc):
+            z = ctrl_zone[c]
+            if q[c] > 0:
+                out_heat[s, z] = q[c]
+                out_cool[s, z] = 0.0
+            else:
+                out_heat[s, z] = 0.0
+                out_cool[s, z] = -q[c]

@@ -1,0 +1,830 @@
+"""Assembly of a :class:`~thermocal.multizone.model.Building` into one sparse linear network.
+
+Nodes
+-----
+* one air node per zone (capacity ``rho c_p V`` times ``air_capacity_factor``);
+* one massless mean-radiant ("MRT star") node per zone with at least two interior faces;
+* conduction nodes of every opaque construction: each massive layer is split into ``n`` equal
+  cells (:func:`cells_per_layer`), nodes sit on the cell faces (so the outermost and innermost nodes
+  ARE the surface temperatures), each node carries half of the capacity of its adjacent cells; a
+  no-mass layer is one cell without capacity.  An inter-zone partition gets ONE set of nodes (from
+  the first of its two :class:`~thermocal.multizone.model.Surface` descriptions);
+* two massless nodes per window (outer and inner glass face).
+
+Links
+-----
+* conduction between adjacent construction nodes (``k / dx`` or ``1 / R``);
+* interior convection face -> zone air (``h_c0``; TARP by tilt, see
+  :func:`tarp_natural_convection`);
+* interior long-wave exchange face -> MRT node (linearised, Carroll's MRT network with a
+  radiosity correction for grey faces, :func:`mrt_network_conductances`);
+* exterior faces -> outdoor air (convection ``h_c0`` plus the part of the long-wave exchange that
+  sees ground and air) and -> sky temperature (linearised long-wave);
+* ground faces -> ground temperature (a large contact conductance, i.e. a Dirichlet condition on
+  the outer face);
+* infiltration: zone air -> outdoor air (``rho c_p ACH V / 3600``).
+
+Every boundary temperature and every heat source is an *input* (a column of the sparse input
+matrix ``B``), so one step of the backward-Euler scheme is
+``(C / dt + K) x_new = C / dt x_old + B u`` with a matrix that depends only on the building
+parameters and the step: it is factorised once and reused for every step.  The time-varying and
+state-dependent parts of the coefficients (wind-driven exterior convection, TARP convection,
+exact sigma T^4 sky exchange, air density) are applied as explicit corrections on the right-hand
+side (see :mod:`thermocal.multizone.simulation`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.model import Building, Material
+
+#: Stefan-Boltzmann constant [W/(m2 K4)].
+STEFAN_BOLTZMANN = 5.670374419e-8
+#: Specific heat of air at constant pressure [J/(kg K)].
+AIR_SPECIFIC_HEAT = 1006.0
+#: Standard surface resistances of ISO 6946 used to split a window U-value [m2 K/W].
+WINDOW_FILM_RESISTANCE = 0.13 + 0.04
+
+# fixed input columns
+IN_TEMP_OUT, IN_TEMP_SKY, IN_TEMP_GROUND, IN_ONE = 0, 1, 2, 3
+N_FIXED_INPUTS = 4
+
+
+@dataclass(frozen=True)
+class NetworkOptions:
+    """Numerical and physical options of the network.
+
+    Parameters
+    ----------
+    fourier_min : float [-]
+        Space-discretisation criterion: a cell is at most ``sqrt(alpha * tau / fourier_min)`` thick.
+    time_scale_min : float [s]
+        ``tau = max(step, time_scale_min)``: the shortest time scale the conduction model resolves.
+    max_cells_per_layer : int [-]
+    cells_per_layer : int or None [-]
+        Fixed number of cells for every massive layer (convergence studies); overrides the
+        criterion.
+    interior_convection : {"tarp", "fixed"}
+        TARP natural convection by tilt and heat-flow direction (state-dependent, applied as a
+        correction on top of ``h_c0``), or fixed ISO 6946 values.
+    exterior_convection : {"doe2", "fixed"}
+        DOE-2 wind-dependent exterior convection (EnergyPlus' default), or ``h_exterior_fixed``.
+    h_exterior_fixed : float [W/(m2 K)]
+        Exterior convective coefficient of the "fixed" option.
+    h_interior_fixed : float or None [W/(m2 K)]
+        Interior convective coefficient of the "fixed" option; None = ISO 6946 by direction (walls
+        2.5, ceilings 5.0, floors 0.7, for heat flowing from the air to colder surfaces).
+    interior_longwave : bool
+        Long-wave exchange between the faces of a zone.
+    exact_sky_longwave : bool
+        Correct the linearised exterior long-wave exchange to the exact ``sigma T^4`` law.
+    roughness_factor : float [-]
+        DOE-2 surface roughness multiplier (1.67 "rough", 1.52 "medium rough", 1.0 "very smooth").
+    wind_speed_factor : float [-]
+        Local (surface-height) wind speed over the weather-station wind speed (EnergyPlus,
+        terrain "country", ~3 m high: ``(3/10)^0.14 = 0.845``).
+    ground_contact_conductance : float [W/(m2 K)]
+        Contact conductance between a ground face and the ground temperature.
+    radiant_temperature : float [C]
+        Mean temperature at which the interior long-wave exchange is linearised.
+    """
+
+    fourier_min: float = 1.0 / 3.0
+    time_scale_min: float = 900.0
+    max_cells_per_layer: int = 12
+    cells_per_layer: int | None = None
+    interior_convection: str = "tarp"
+    exterior_convection: str = "doe2"
+    h_exterior_fixed: float = 20.0
+    h_interior_fixed: float | None = None
+    interior_longwave: bool = True
+    exact_sky_longwave: bool = True
+    roughness_factor: float = 1.67
+    wind_speed_factor: float = 0.845
+    ground_contact_conductance: float = 1000.0
+    radiant_temperature: float = 20.0
+
+    def __post_init__(self) -> None:
+        if self.interior_convection not in ("tarp", "fixed"):
+            raise ThermocalInputError(
+                f"interior_convection must be 'tarp' or 'fixed', got {self.interior_convection!r}"
+            )
+        if self.exterior_convection not in ("doe2", "fixed"):
+            raise ThermocalInputError(
+                f"exterior_convection must be 'doe2' or 'fixed', got {self.exterior_convection!r}"
+            )
+
+
+# ----------------------------------------------------------------------------------------------
+# physics: pure functions
+# ----------------------------------------------------------------------------------------------
+
+
+def cells_per_layer(
+    thickness: float,
+    diffusivity: float,
+    step: float,
+    *,
+    fourier_min: float = 1.0 / 3.0,
+    time_scale_min: float = 900.0,
+    max_cells: int = 12,
+) -> int:
+    """Number of equal cells for a massive layer (the space-discretisation criterion).
+
+    A cell may be at most ``dx_max = sqrt(alpha * tau / Fo_min)`` thick, with
+    ``tau = max(step, time_scale_min)``: the cell Fourier number ``alpha tau / dx^2`` is then at
+    least ``Fo_min``, i.e. a cell equilibrates internally within the shortest resolved time scale
+    (EnergyPlus' CondFD uses the same rule with its "space discretisation constant" 3 =
+    ``1 / Fo_min``).  Bounded to ``[1, max_cells]``.
+
+    Parameters
+    ----------
+    thickness : float [m]
+    diffusivity : float [m2/s]
+    step : float [s]
+        Time step of the simulation.
+    fourier_min : float [-]
+    time_scale_min : float [s]
+    max_cells : int [-]
+
+    Returns
+    -------
+    int [-]
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference, "Conduction Finite Difference Solution Algorithm",
+       space discretisation.
+    """
+    tau = max(float(step), float(time_scale_min))
+    dx_max = math.sqrt(diffusivity * tau / fourier_min)
+    return int(min(max(math.ceil(thickness / dx_max - 1e-9), 1), max_cells))
+
+
+def tarp_natural_convection(delta_t, cos_up):
+    """Interior natural convection coefficient, TARP / Walton (EnergyPlus "TARP") [W/(m2 K)].
+
+    Parameters
+    ----------
+    delta_t : array-like [K]
+        Surface minus air temperature.
+    cos_up : array-like [-]
+        Cosine of the angle between the face's normal (pointing into the air) and the upward
+        vertical: +1 a floor, -1 a ceiling, 0 a wall.
+
+    Returns
+    -------
+    numpy.ndarray [W/(m2 K)]
+        ``1.31 |dT|^(1/3)`` for vertical faces; ``9.482 |dT|^(1/3) / (7.238 - |cos|)`` when the
+        configuration is unstable (warm face facing up, cold face facing down),
+        ``1.810 |dT|^(1/3) / (1.382 + |cos|)`` when stable; at least 0.1.
+
+    References
+    ----------
+    .. [1] Walton, G.N. (1983), "Thermal Analysis Research Program Reference Manual", NBSIR
+       83-2655; EnergyPlus Engineering Reference, "TARP algorithm".
+    """
+    delta_t = np.asarray(delta_t, dtype=float)
+    cos_up = np.asarray(cos_up, dtype=float)
+    root = np.cbrt(np.abs(delta_t))
+    abs_cos = np.abs(cos_up)
+    unstable = delta_t * cos_up > 0
+    horizontal = np.where(
+        unstable, 9.482 * root / (7.238 - abs_cos), 1.810 * root / (1.382 + abs_cos)
+    )
+    h = np.where(abs_cos < 1e-3, 1.31 * root, horizontal)
+    return np.maximum(h, 0.1)
+
+
+def doe2_exterior_convection(wind_speed, windward, *, h_natural, roughness_factor=1.67):
+    """Exterior convection coefficient of the DOE-2 model [W/(m2 K)].
+
+    ``h = h_n + R_f (sqrt(h_n^2 + (a V^b)^2) - h_n)`` with ``a, b = 2.38, 0.89`` (windward) or
+    ``2.86, 0.617`` (leeward).
+
+    Parameters
+    ----------
+    wind_speed : array-like [m/s]
+        Local wind speed at the surface.
+    windward : array-like of bool
+    h_natural : array-like [W/(m2 K)]
+        Natural convection part (TARP).
+    roughness_factor : float [-]
+
+    Returns
+    -------
+    numpy.ndarray [W/(m2 K)]
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference, "Outside Surface Heat Balance: DOE-2 model";
+       Yazdanian, M. and Klems, J.H. (1994), ASHRAE Transactions 100(1).
+    """
+    wind_speed = np.maximum(np.asarray(wind_speed, dtype=float), 0.0)
+    a = np.where(windward, 2.38, 2.86)
+    b = np.where(windward, 0.89, 0.617)
+    h_glass = np.sqrt(h_natural**2 + (a * wind_speed**b) ** 2)
+    return h_natural + roughness_factor * (h_glass - h_natural)
+
+
+def mrt_network_conductances(area, emissivity, h_black):
+    """Conductances of each face to the zone's mean-radiant-temperature star node [W/K].
+
+    Carroll's MRT network: face ``i`` sees the rest of the enclosure through the factor
+    ``F_i = 1 / (1 - A_i F_i / sum_j A_j F_j)`` (solved by fixed-point iteration), which removes the
+    self-viewing of large faces; a grey face adds the radiosity resistance
+    ``(1 - eps_i) / (eps_i A_i h_b)``.
+
+    Parameters
+    ----------
+    area : array-like [m2]
+    emissivity : array-like [-]
+    h_black : float [W/(m2 K)]
+        Linearised black-body coefficient ``4 sigma T^3``.
+
+    Returns
+    -------
+    numpy.ndarray [W/K]
+
+    References
+    ----------
+    .. [1] Carroll, J.A. (1980), "An MRT method of computing radiant energy exchange in rooms",
+       Proc. 2nd Systems Simulation and Economic Analysis Conference, San Diego.
+    .. [2] Walton, G.N. (1980), "A new algorithm for radiant interchange in room loads
+       calculations", ASHRAE Transactions 86(2).
+    """
+    area = np.asarray(area, dtype=float)
+    emissivity = np.clip(np.asarray(emissivity, dtype=float), 0.05, 1.0)
+    factor = np.ones_like(area)
+    for _ in range(50):
+        total = np.sum(area * factor)
+        new = 1.0 / np.maximum(1.0 - area * factor / total, 1e-6)
+        if np.max(np.abs(new - factor)) < 1e-10:
+            factor = new
+            break
+        factor = new
+    resistance = 1.0 / (area * factor * h_black) + (1.0 - emissivity) / (
+        emissivity * area * h_black
+    )
+    return 1.0 / resistance
+
+
+def air_density(pressure=101325.0, temperature=20.0):
+    """Dry-air density from the ideal-gas law [kg/m3].
+
+    Parameters
+    ----------
+    pressure : array-like [Pa]
+    temperature : array-like [C]
+    """
+    return np.asarray(pressure, dtype=float) / (287.05 * (np.asarray(temperature) + 273.15))
+
+
+def pressure_at_altitude(altitude):
+    """Standard-atmosphere pressure at an altitude [Pa] (ISO 2533).
+
+    Parameters
+    ----------
+    altitude : float [m]
+    """
+    return 101325.0 * (1.0 - 2.25577e-5 * float(altitude)) ** 5.25588
+
+
+# ----------------------------------------------------------------------------------------------
+# construction templates
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass
+class ConstructionTemplate:
+    """Per-m2 conductances between successive nodes and node capacities of a construction."""
+
+    conductance: np.ndarray  # (n_cells,) [W/(m2 K)]
+    capacity: np.ndarray  # (n_cells + 1,) [J/(m2 K)]
+    resistance: float  # [m2 K/W], surface to surface
+
+
+def construction_template(layers, step: float, options: NetworkOptions) -> ConstructionTemplate:
+    """Discretise a construction (layers outside -> inside) into cells.
+
+    Parameters
+    ----------
+    layers : sequence of Material or NoMassMaterial
+    step : float [s]
+    options : NetworkOptions
+    """
+    conductance: list[float] = []
+    capacity = [0.0]
+    for layer in layers:
+        if isinstance(layer, Material):
+            if options.cells_per_layer is not None:
+                n = int(options.cells_per_layer)
+            else:
+                n = cells_per_layer(
+                    layer.thickness,
+                    layer.diffusivity,
+                    step,
+                    fourier_min=options.fourier_min,
+                    time_scale_min=options.time_scale_min,
+                    max_cells=options.max_cells_per_layer,
+                )
+            dx = layer.thickness / n
+            half = 0.5 * layer.density * layer.specific_heat * dx
+            for _ in range(n):
+                conductance.append(layer.conductivity / dx)
+                capacity[-1] += half
+                capacity.append(half)
+        else:
+            conductance.append(1.0 / layer.resistance)
+            capacity.append(0.0)
+    conductance_arr = np.asarray(conductance)
+    return ConstructionTemplate(
+        conductance=conductance_arr,
+        capacity=np.asarray(capacity),
+        resistance=float(np.sum(1.0 / conductance_arr)),
+    )
+
+
+# ----------------------------------------------------------------------------------------------
+# the network
+# ----------------------------------------------------------------------------------------------
+
+
+@dataclass
+class Network:
+    """The assembled network (see the module docstring). Node temperatures in C.
+
+    Attributes ending in ``_node`` are node indices; face arrays describe every face seen from a
+    zone (``face_*``) and every face exposed to the outdoors (``ext_*``).
+    """
+
+    n_nodes: int
+    capacity: np.ndarray  # (n,) [J/K]
+    conductance: sp.csc_matrix  # K (n, n) [W/K], symmetric, Laplacian + boundary diagonal
+    inputs: sp.csr_matrix  # B (n, n_inputs)
+    input_names: list[str]
+    zone_names: list[str]
+    air_node: np.ndarray  # (nz,)
+    mrt_node: np.ndarray  # (nz,), -1 when none
+    zone_heat_input: np.ndarray  # (nz,) input column of each zone's heat [W]
+    # interior faces
+    face_names: list[str]
+    face_node: np.ndarray
+    face_zone: np.ndarray
+    face_area: np.ndarray
+    face_cos_up: np.ndarray
+    face_h0: np.ndarray
+    face_hmax: np.ndarray
+    face_is_window: np.ndarray
+    # exterior faces
+    ext_names: list[str]
+    ext_node: np.ndarray
+    ext_area: np.ndarray
+    ext_tilt: np.ndarray
+    ext_azimuth: np.ndarray
+    ext_emissivity: np.ndarray
+    ext_view_sky: np.ndarray  # F_sky * beta (sees the sky temperature)
+    ext_view_air: np.ndarray  # F_ground + F_sky (1 - beta) (sees outdoor-air temperature)
+    ext_h_natural: np.ndarray
+    ext_hc0: np.ndarray
+    ext_hr0: float
+    ext_capacity: np.ndarray  # node capacity per m2 [J/(m2 K)]
+    # zones
+    zone_infiltration: np.ndarray  # [W/K] at reference density
+    zone_volume: np.ndarray
+    reference_density: float
+    # solar inputs
+    orientation_inputs: dict = field(default_factory=dict)  # (tilt, az) -> input col (opaque)
+    window_inputs: dict = field(default_factory=dict)  # (wt, tilt, az) -> 4 input cols
+    zone_transmitted: sp.csr_matrix | None = None  # (nz, n_inputs): transmitted solar per zone
+
+    def system_matrix(self, step: float) -> sp.csc_matrix:
+        """``C / dt + K`` [W/K]."""
+        return (self.conductance + sp.diags(self.capacity / step)).tocsc()
+
+
+def assemble(
+    building: Building,
+    step: float,
+    *,
+    options: NetworkOptions | None = None,
+    mean_wind_speed: float = 3.0,
+    mean_outdoor_temperature: float = 10.0,
+    pressure: float | None = None,
+) -> Network:
+    """Assemble the sparse network of a building for a time step.
+
+    Parameters
+    ----------
+    building : Building
+    step : float [s]
+        Simulation time step (sets the discretisation, :func:`cells_per_layer`).
+    options : NetworkOptions, optional
+    mean_wind_speed : float [m/s]
+        Station wind speed at which the matrix part of the exterior convection is evaluated.
+    mean_outdoor_temperature : float [C]
+        Temperature at which the exterior long-wave exchange and the infiltration air density are
+        linearised.
+    pressure : float or None [Pa]
+        Mean atmospheric pressure; None = standard atmosphere at the site altitude.
+    """
+    options = options or NetworkOptions()
+    zones = list(building.zones.values())
+    zone_index = {z.name: i for i, z in enumerate(zones)}
+    nz = len(zones)
+
+    cap: list[float] = [0.0] * nz  # air nodes first
+    rows: list[int] = []
+    cols: list[int] = []
+    vals: list[float] = []
+    b_rows: list[int] = []
+    b_cols: list[int] = []
+    b_vals: list[float] = []
+    input_names = ["temp_out", "temp_sky", "temp_ground", "one"]
+
+    def new_nodes(capacities) -> int:
+        first = len(cap)
+        cap.extend(capacities)
+        return first
+
+    def link(i: int, j: int, g: float) -> None:
+        rows.extend((i, j, i, j))
+        cols.extend((i, j, j, i))
+        vals.extend((g, g, -g, -g))
+
+    def boundary(i: int, column: int, g: float) -> None:
+        rows.append(i)
+        cols.append(i)
+        vals.append(g)
+        b_rows.append(i)
+        b_cols.append(column)
+        b_vals.append(g)
+
+    def source(i: int, column: int, coefficient: float) -> None:
+        b_rows.append(i)
+        b_cols.append(column)
+        b_vals.append(coefficient)
+
+    def new_input(name: str) -> int:
+        input_names.append(name)
+        return len(input_names) - 1
+
+    # zone air capacity and infiltration
+    if pressure is None:
+        pressure = pressure_at_altitude(building.location.altitude)
+    rho_ref = float(air_density(pressure, mean_outdoor_temperature))
+    rho_in = float(air_density(pressure, 20.0))
+    zone_volume = np.array([z.volume for z in zones])
+    zone_infiltration = np.array(
+        [rho_ref * AIR_SPECIFIC_HEAT * z.infiltration_ach * z.volume / 3600.0 for z in zones]
+    )
+    for i, z in enumerate(zones):
+        cap[i] = rho_in * AIR_SPECIFIC_HEAT * z.volume * z.air_capacity_factor
+        if zone_infiltration[i] > 0:
+            boundary(i, IN_TEMP_OUT, zone_infiltration[i])
+    zone_heat_input = np.array([new_input(f"heat/{z.name}") for z in zones])
+    for i in range(nz):
+        source(i, zone_heat_input[i], 1.0)
+
+    # ---- opaque constructions --------------------------------------------------------------
+    templates: dict[str, ConstructionTemplate] = {}
+
+    def template(name: str) -> ConstructionTemplate:
+        if name not in templates:
+            templates[name] = construction_template(
+                building.construction_layers(name), step, options
+            )
+        return templates[name]
+
+    # interior faces (seen from a zone)
+    f_name, f_node, f_zone, f_area, f_cos, f_eps, f_alpha, f_cap, f_win = ([] for _ in range(9))
+    f_window_tau: list[float] = []
+    # exterior faces
+    e_name, e_node, e_area, e_tilt, e_az, e_eps, e_fg, e_alpha, e_cap, e_sun = (
+        [] for _ in range(10)
+    )
+    surface_nodes: dict[str, tuple[int, int]] = {}  # name -> (outside node, inside node)
+
+    def face_props(surface, layers, inside: bool):
+        mat = layers[-1] if inside else layers[0]
+        alpha = surface.solar_absorptance_inside if inside else surface.solar_absorptance_outside
+        eps = surface.emissivity_inside if inside else surface.emissivity_outside
+        return (
+            mat.solar_absorptance if alpha is None else alpha,
+            mat.thermal_absorptance if eps is None else eps,
+        )
+
+    for surface in building.surfaces.values():
+        if surface.name in surface_nodes:
+            continue  # partner of an already built partition
+        layers = building.construction_layers(surface.construction)
+        tpl = template(surface.construction)
+        area = building.net_area(surface.name)
+        first = new_nodes(tpl.capacity * area)
+        n_cells = len(tpl.conductance)
+        for c in range(n_cells):
+            link(first + c, first + c + 1, tpl.conductance[c] * area)
+        outside, inside = first, first + n_cells
+        surface_nodes[surface.name] = (outside, inside)
+        alpha_in, eps_in = face_props(surface, layers, inside=True)
+        f_name.append(surface.name)
+        f_node.append(inside)
+        f_zone.append(zone_index[surface.zone])
+        f_area.append(area)
+        f_cos.append(-math.cos(math.radians(surface.tilt)))
+        f_eps.append(eps_in)
+        f_alpha.append(alpha_in)
+        f_cap.append(tpl.capacity[-1])
+        f_win.append(False)
+        f_window_tau.append(0.0)
+        alpha_out, eps_out = face_props(surface, layers, inside=False)
+        if surface.boundary == "zone":
+            partner = building.surfaces[surface.other_surface]
+            surface_nodes[partner.name] = (inside, outside)
+            # the partner's inside face is our outside face
+            p_alpha = (
+                alpha_out
+                if partner.solar_absorptance_inside is None
+                else partner.solar_absorptance_inside
+            )
+            p_eps = eps_out if partner.emissivity_inside is None else partner.emissivity_inside
+            f_name.append(partner.name)
+            f_node.append(outside)
+            f_zone.append(zone_index[partner.zone])
+            f_area.append(area)
+            f_cos.append(-math.cos(math.radians(partner.tilt)))
+            f_eps.append(p_eps)
+            f_alpha.append(p_alpha)
+            f_cap.append(tpl.capacity[0])
+            f_win.append(False)
+            f_window_tau.append(0.0)
+        elif surface.boundary == "ground":
+            boundary(outside, IN_TEMP_GROUND, options.ground_contact_conductance * area)
+        elif surface.boundary == "outdoors":
+            e_name.append(surface.name)
+            e_node.append(outside)
+            e_area.append(area)
+            e_tilt.append(surface.tilt)
+            e_az.append(surface.azimuth)
+            e_eps.append(eps_out)
+            e_fg.append(surface.ground_view_factor)
+            e_alpha.append(alpha_out if surface.sun_exposed else 0.0)
+            e_cap.append(tpl.capacity[0])
+            e_sun.append(surface.sun_exposed)
+        # adiabatic: nothing on the outside
+
+    # ---- windows -----------------------------------------------------------------------------
+    window_nodes: dict[str, tuple[int, int]] = {}
+    for window in building.windows.values():
+        wt = building.window_types[window.window_type]
+        host = building.surfaces[window.surface]
+        first = new_nodes([0.0, 0.0])
+        r_glass = max(1.0 / wt.u_value - WINDOW_FILM_RESISTANCE, 0.005)
+        link(first, first + 1, window.area / r_glass)
+        window_nodes[window.name] = (first, first + 1)
+        f_name.append(window.name)
+        f_node.append(first + 1)
+        f_zone.append(zone_index[host.zone])
+        f_area.append(window.area)
+        f_cos.append(-math.cos(math.radians(host.tilt)))
+        f_eps.append(wt.emissivity_inside)
+        f_alpha.append(0.0)
+        f_cap.append(0.0)
+        f_win.append(True)
+        f_window_tau.append(wt.diffuse_transmittance_value)
+        e_name.append(window.name)
+        e_node.append(first)
+        e_area.append(window.area)
+        e_tilt.append(host.tilt)
+        e_az.append(host.azimuth)
+        e_eps.append(wt.emissivity_outside)
+        e_fg.append(host.ground_view_factor)
+        e_alpha.append(0.0)
+        e_cap.append(0.0)
+        e_sun.append(False)
+
+    face_node = np.asarray(f_node, dtype=np.int64)
+    face_zone = np.asarray(f_zone, dtype=np.int64)
+    face_area = np.asarray(f_area, dtype=float)
+    face_cos = np.asarray(f_cos, dtype=float)
+    face_cos = np.where(np.abs(face_cos) < 0.02, 0.0, face_cos)
+    face_eps = np.asarray(f_eps, dtype=float)
+    face_alpha = np.asarray(f_alpha, dtype=float)
+    face_cap = np.asarray(f_cap, dtype=float)
+    face_is_window = np.asarray(f_win, dtype=bool)
+    face_tau = np.asarray(f_window_tau, dtype=float)
+
+    # ---- interior convection -----------------------------------------------------------------
+    if options.interior_convection == "tarp":
+        nominal = 2.0  # [K] representative surface-air difference for the matrix part
+        h0 = np.where(
+            face_cos == 0.0,
+            tarp_natural_convection(nominal, 0.0),
+            0.5
+            * (
+                tarp_natural_convection(nominal, face_cos)
+                + tarp_natural_convection(-nominal, face_cos)
+            ),
+        )
+        # explicit-correction stability bound (see simulation module)
+        hmax = 2.0 * h0 + face_cap / step
+    else:
+        if options.h_interior_fixed is not None:
+            h0 = np.full(len(face_node), float(options.h_interior_fixed))
+        else:
+            h0 = np.where(face_cos > 0.7, 0.7, np.where(face_cos < -0.7, 5.0, 2.5))
+        hmax = h0.copy()
+    for node, zone, area, h in zip(face_node, face_zone, face_area, h0, strict=True):
+        link(int(node), int(zone), float(h * area))
+
+    # ---- interior long-wave: MRT star per zone ------------------------------------------------
+    mrt_node = -np.ones(nz, dtype=np.int64)
+    h_black = 4.0 * STEFAN_BOLTZMANN * (options.radiant_temperature + 273.15) ** 3
+    if options.interior_longwave:
+        for z in range(nz):
+            members = np.flatnonzero(face_zone == z)
+            if len(members) < 2:
+                continue
+            node = new_nodes([0.0])
+            mrt_node[z] = node
+            g = mrt_network_conductances(face_area[members], face_eps[members], h_black)
+            for m, gm in zip(members, g, strict=True):
+                link(int(face_node[m]), node, float(gm))
+
+    # ---- internal gains ----------------------------------------------------------------------
+    for z, zone in enumerate(zones):
+        if zone.internal_gains == 0:
+            continue
+        radiative = zone.internal_gains * zone.internal_gains_radiative_fraction
+        source(z, IN_ONE, zone.internal_gains - radiative)
+        members = np.flatnonzero(face_zone == z)
+        if len(members) == 0:
+            source(z, IN_ONE, radiative)
+            continue
+        shares = face_area[members] / face_area[members].sum()
+        for m, s in zip(members, shares, strict=True):
+            source(int(face_node[m]), IN_ONE, radiative * s)
+
+    # ---- exterior faces -------------------------------------------------------------------------
+    ext_node = np.asarray(e_node, dtype=np.int64)
+    ext_area = np.asarray(e_area, dtype=float)
+    ext_tilt = np.asarray(e_tilt, dtype=float)
+    ext_eps = np.asarray(e_eps, dtype=float)
+    f_ground = np.asarray(e_fg, dtype=float)
+    f_sky = 1.0 - f_ground
+    beta = np.sqrt(0.5 * (1.0 + np.cos(np.radians(ext_tilt))))
+    view_sky = f_sky * beta
+    view_air = f_ground + f_sky * (1.0 - beta)
+    cos_tilt = np.cos(np.radians(ext_tilt))
+    # natural part of the exterior convection at a nominal 3 K difference
+    h_natural = np.where(
+        np.abs(cos_tilt) < 0.02,
+        tarp_natural_convection(3.0, 0.0),
+        0.5 * (tarp_natural_convection(3.0, cos_tilt) + tarp_natural_convection(-3.0, cos_tilt)),
+    )
+    if options.exterior_convection == "doe2":
+        local_wind = mean_wind_speed * options.wind_speed_factor
+        # average of windward and leeward at the mean wind speed
+        hc0 = 0.5 * (
+            doe2_exterior_convection(
+                local_wind, True, h_natural=h_natural, roughness_factor=options.roughness_factor
+            )
+            + doe2_exterior_convection(
+                local_wind, False, h_natural=h_natural, roughness_factor=options.roughness_factor
+            )
+        )
+    else:
+        hc0 = np.full(len(ext_node), float(options.h_exterior_fixed))
+    t_mean = mean_outdoor_temperature + 273.15
+    hr0 = 4.0 * STEFAN_BOLTZMANN * t_mean**3
+    for k in range(len(ext_node)):
+        node = int(ext_node[k])
+        boundary(node, IN_TEMP_OUT, float((hc0[k] + hr0 * ext_eps[k] * view_air[k]) * ext_area[k]))
+        if view_sky[k] > 0:
+            boundary(node, IN_TEMP_SKY, float(hr0 * ext_eps[k] * view_sky[k] * ext_area[k]))
+
+    # ---- solar: opaque exterior faces ------------------------------------------------------------
+    orientation_inputs: dict[tuple[float, float], int] = {}
+    for k in range(len(ext_node)):
+        if not e_sun[k] or e_alpha[k] == 0:
+            continue
+        key = (round(float(ext_tilt[k]), 3), round(float(e_az[k]) % 360.0, 3))
+        if key not in orientation_inputs:
+            orientation_inputs[key] = new_input(f"poa_global/{key[0]}/{key[1]}")
+        source(int(ext_node[k]), orientation_inputs[key], e_alpha[k] * ext_area[k])
+
+    # ---- solar: windows ----------------------------------------------------------------------
+    # per zone: beam distribution (floor first) and diffuse distribution (area x absorptance)
+    beam_share: dict[int, list[tuple[int, float]]] = {}
+    diffuse_share: dict[int, list[tuple[int, float]]] = {}
+    for z in range(nz):
+        members = np.flatnonzero(face_zone == z)
+        if len(members) == 0:
+            continue
+        weight = np.where(
+            face_is_window[members],
+            face_area[members] * face_tau[members],
+            face_area[members] * face_alpha[members],
+        )
+        total = weight.sum()
+        diffuse = [
+            (int(face_node[m]), float(w / total))
+            for m, w in zip(members, weight, strict=True)
+            if total > 0 and not face_is_window[m] and w > 0
+        ]
+        diffuse_share[z] = diffuse
+        floors = members[(face_cos[members] > 0.7) & ~face_is_window[members]]
+        if len(floors) == 0:
+            beam_share[z] = diffuse
+            continue
+        floor_area = face_area[floors].sum()
+        beam: dict[int, float] = {}
+        reflected = 0.0
+        for m in floors:
+            share = face_area[m] / floor_area
+            beam[int(face_node[m])] = beam.get(int(face_node[m]), 0.0) + share * face_alpha[m]
+            reflected += share * (1.0 - face_alpha[m])
+        for node, s in diffuse:
+            beam[node] = beam.get(node, 0.0) + reflected * s
+        beam_share[z] = list(beam.items())
+
+    window_inputs: dict[tuple[str, float, float], tuple[int, int, int, int]] = {}
+    zt_rows: list[int] = []
+    zt_cols: list[int] = []
+    zt_vals: list[float] = []
+    for window in building.windows.values():
+        host = building.surfaces[window.surface]
+        wt = building.window_types[window.window_type]
+        if not host.sun_exposed:
+            continue
+        key = (wt.name, round(host.tilt, 3), round(host.azimuth % 360.0, 3))
+        if key not in window_inputs:
+            tag = f"{key[0]}/{key[1]}/{key[2]}"
+            window_inputs[key] = (
+                new_input(f"window_beam/{tag}"),
+                new_input(f"window_diffuse/{tag}"),
+                new_input(f"window_abs_outer/{tag}"),
+                new_input(f"window_abs_inner/{tag}"),
+            )
+        c_beam, c_diff, c_out, c_in = window_inputs[key]
+        area = window.glazed_area * window.shading_factor
+        z = zone_index[host.zone]
+        for node, s in beam_share.get(z, []):
+            source(node, c_beam, area * s)
+        for node, s in diffuse_share.get(z, []):
+            source(node, c_diff, area * s)
+        outer, inner = window_nodes[window.name]
+        source(outer, c_out, area)
+        source(inner, c_in, area)
+        zt_rows.extend((z, z))
+        zt_cols.extend((c_beam, c_diff))
+        zt_vals.extend((area, area))
+
+    n = len(cap)
+    n_inputs = len(input_names)
+    conductance = sp.coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsc()
+    inputs = sp.coo_matrix((b_vals, (b_rows, b_cols)), shape=(n, n_inputs)).tocsr()
+    zone_transmitted = sp.coo_matrix((zt_vals, (zt_rows, zt_cols)), shape=(nz, n_inputs)).tocsr()
+    return Network(
+        n_nodes=n,
+        capacity=np.asarray(cap, dtype=float),
+        conductance=conductance,
+        inputs=inputs,
+        input_names=input_names,
+        zone_names=[z.name for z in zones],
+        air_node=np.arange(nz),
+        mrt_node=mrt_node,
+        zone_heat_input=zone_heat_input,
+        face_names=f_name,
+        face_node=face_node,
+        face_zone=face_zone,
+        face_area=face_area,
+        face_cos_up=face_cos,
+        face_h0=np.asarray(h0, dtype=float),
+        face_hmax=np.asarray(hmax, dtype=float),
+        face_is_window=face_is_window,
+        ext_names=e_name,
+        ext_node=ext_node,
+        ext_area=ext_area,
+        ext_tilt=ext_tilt,
+        ext_azimuth=np.asarray(e_az, dtype=float),
+        ext_emissivity=ext_eps,
+        ext_view_sky=view_sky,
+        ext_view_air=view_air,
+        ext_h_natural=h_natural,
+        ext_hc0=np.asarray(hc0, dtype=float),
+        ext_hr0=float(hr0),
+        ext_capacity=np.asarray(e_cap, dtype=float),
+        zone_infiltration=zone_infiltration,
+        zone_volume=zone_volume,
+        reference_density=rho_ref,
+        orientation_inputs=orientation_inputs,
+        window_inputs=window_inputs,
+        zone_transmitted=zone_transmitted,
+    )

@@ -1,0 +1,832 @@
+"""Time simulation of a multi-zone building and its steady-state heat loss coefficient.
+
+Time convention: the run is a sequence of steps ``[t_k, t_k + dt)`` labelled by their start ``t_k``
+(as the weather frames of :mod:`thermocal.io.weather`).  Within a step the forcing is the interval
+mean (irradiance means; temperatures the mean of the interval's end values); backward Euler gives
+the node temperatures at ``t_k + dt``, which are reported under the label ``t_k``.  Heating,
+cooling and given heat are constant powers over the step.
+
+See :mod:`thermocal.multizone.network` for the network and :mod:`thermocal.multizone._kernel` for
+the compiled loop.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.sparse.linalg import splu
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone import _kernel
+from thermocal.multizone.model import Building
+from thermocal.multizone.network import (
+    IN_ONE,
+    IN_TEMP_GROUND,
+    IN_TEMP_OUT,
+    IN_TEMP_SKY,
+    NetworkOptions,
+    air_density,
+    assemble,
+    doe2_exterior_convection,
+    pressure_at_altitude,
+)
+
+_CHUNK = 2048
+
+
+@dataclass
+class SimulationResult:
+    """Output of :meth:`Simulation.run` (frames indexed by step start, one column per zone).
+
+    Attributes
+    ----------
+    air_temperature : DataFrame [C]
+    operative_temperature : DataFrame [C]
+        Mean of air and mean radiant (area-weighted interior surface) temperature.
+    mean_radiant_temperature : DataFrame [C]
+    heating, cooling : DataFrame [W]
+        Ideal heating and cooling powers (>= 0), constant over each step.
+    heat_input : DataFrame [W]
+        Given heat delivered to the zone air.
+    transmitted_solar : DataFrame [W]
+        Solar radiation transmitted by the windows into each zone.
+    infiltration : DataFrame [W]
+        Heat brought by infiltration (negative when it cools the zone).
+    surface_temperature : DataFrame or None [C]
+        Interior surface temperatures (one column per face seen from a zone), if stored.
+    step : pandas.Timedelta
+    """
+
+    air_temperature: pd.DataFrame
+    operative_temperature: pd.DataFrame
+    mean_radiant_temperature: pd.DataFrame
+    heating: pd.DataFrame
+    cooling: pd.DataFrame
+    heat_input: pd.DataFrame
+    transmitted_solar: pd.DataFrame
+    infiltration: pd.DataFrame
+    surface_temperature: pd.DataFrame | None
+    step: pd.Timedelta
+
+    def summary(self) -> dict:
+        """Per zone: min/max/mean air temperature [C], heating/cooling energy [kWh], peaks [kW].
+
+        Peaks are the largest hourly-integrated loads (as ASHRAE Standard 140 reports them) when
+        the step divides an hour, otherwise the largest step values.
+        """
+        hours = self.step.total_seconds() / 3600.0
+        heating_h = _hourly_mean(self.heating, self.step)
+        cooling_h = _hourly_mean(self.cooling, self.step)
+        zones = {}
+        for zone in self.air_temperature.columns:
+            temp = self.air_temperature[zone]
+            zones[zone] = {
+                "air_temperature_min_C": float(temp.min()),
+                "air_temperature_max_C": float(temp.max()),
+                "air_temperature_mean_C": float(temp.mean()),
+                "heating_kWh": float(self.heating[zone].sum() * hours / 1000.0),
+                "cooling_kWh": float(self.cooling[zone].sum() * hours / 1000.0),
+                "heating_peak_kW": float(heating_h[zone].max() / 1000.0),
+                "cooling_peak_kW": float(cooling_h[zone].max() / 1000.0),
+                "heat_input_kWh": float(self.heat_input[zone].sum() * hours / 1000.0),
+            }
+        total_heat = self.heating.sum(axis=1)
+        total_cool = self.cooling.sum(axis=1)
+        return {
+            "start": str(self.air_temperature.index[0]),
+            "end": str(self.air_temperature.index[-1] + self.step),
+            "step_seconds": self.step.total_seconds(),
+            "zones": zones,
+            "building": {
+                "heating_kWh": float(total_heat.sum() * hours / 1000.0),
+                "cooling_kWh": float(total_cool.sum() * hours / 1000.0),
+                "heating_peak_kW": float(_hourly_mean(total_heat, self.step).max() / 1000.0),
+                "cooling_peak_kW": float(_hourly_mean(total_cool, self.step).max() / 1000.0),
+            },
+        }
+
+    def to_files(self, directory: str | Path, *, format: str = "csv") -> list[Path]:
+        """Write zone temperatures, heat flows and ``summary.json`` into ``directory``.
+
+        Parameters
+        ----------
+        directory : str or Path
+        format : {"csv", "parquet"}
+
+        Returns
+        -------
+        list of Path
+            The files written.
+        """
+        if format not in ("csv", "parquet"):
+            raise ThermocalInputError(f"format must be 'csv' or 'parquet', got {format!r}")
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        temps = pd.concat(
+            {
+                "air_temperature_C": self.air_temperature,
+                "operative_temperature_C": self.operative_temperature,
+            },
+            axis=1,
+        )
+        flows = pd.concat(
+            {
+                "heating_W": self.heating,
+                "cooling_W": self.cooling,
+                "heat_input_W": self.heat_input,
+                "transmitted_solar_W": self.transmitted_solar,
+                "infiltration_W": self.infiltration,
+            },
+            axis=1,
+        )
+        written = []
+        for name, frame in (("zone_temperatures", temps), ("zone_heat_flows", flows)):
+            flat = frame.copy()
+            flat.columns = [f"{zone}|{quantity}" for quantity, zone in flat.columns]
+            flat.index.name = "time"
+            path = directory / f"{name}.{format}"
+            if format == "csv":
+                flat.to_csv(path, float_format="%.4f")
+            else:
+                flat.to_parquet(path)
+            written.append(path)
+        path = directory / "summary.json"
+        path.write_text(json.dumps(self.summary(), indent=2))
+        written.append(path)
+        return written
+
+
+def _hourly_mean(frame, step: pd.Timedelta):
+    per_hour = pd.Timedelta("1h") / step
+    if per_hour >= 1 and float(per_hour).is_integer() and per_hour > 1:
+        return frame.resample("1h").mean()
+    return frame
+
+
+class Simulation:
+    """Simulate a :class:`~thermocal.multizone.model.Building` over a weather period.
+
+    Parameters
+    ----------
+    building : Building
+    weather : pandas.DataFrame
+        Standard weather frame (:func:`thermocal.io.weather.read_weather`): ``temp_air`` [C],
+        ``dni``, ``dhi`` [W/m2] required; ``ghi``, ``ghi_infrared``, ``temp_dew``, ``wind_speed``,
+        ``wind_direction``, ``pressure``, ``albedo`` used when present.
+    metadata : dict
+        Weather metadata (``latitude``, ``longitude``, ``altitude``; optional
+        ``ground_temperatures``).
+        Missing site data fall back to ``building.location``.
+    step : str or Timedelta
+        Time step, e.g. ``"5min"`` or ``"1h"`` (must divide the simulated period).
+    start, end : timestamp-like, optional
+        Period ``[start, end)``; default: the whole weather frame.
+    options : NetworkOptions, optional
+    warmup_days : int
+        Days of the period's first day repeated before the run to reach a periodic initial state
+        (as EnergyPlus' warm-up), 0 = start from ``initial_temperature``.
+    initial_temperature : float [C]
+    store_surfaces : bool
+        Keep interior surface temperatures in the result.
+    sky_model : {"perez", "isotropic"}
+        Sky diffuse model of the transposition.
+
+    Notes
+    -----
+    Stepping API for closed loops: :meth:`reset`, then :meth:`step` once per step with the heat
+    delivered to each zone's air; :meth:`set_parameters` changes envelope parameters (network values
+    re-assembled and refactorised, the state is kept).
+    """
+
+    def __init__(
+        self,
+        building: Building,
+        weather: pd.DataFrame,
+        metadata: Mapping | None = None,
+        *,
+        step: str | pd.Timedelta = "5min",
+        start=None,
+        end=None,
+        options: NetworkOptions | None = None,
+        warmup_days: int = 7,
+        initial_temperature: float = 20.0,
+        store_surfaces: bool = True,
+        sky_model: str = "perez",
+    ) -> None:
+        if not isinstance(building, Building):
+            raise ThermocalInputError("Simulation: building must be a thermocal Building")
+        self.building = building
+        self.metadata = dict(metadata or {})
+        self.options = options or NetworkOptions()
+        try:
+            self.step_size = pd.Timedelta(step)
+        except ValueError as exc:
+            raise ThermocalInputError(f"step {step!r} is not a duration (e.g. '5min')") from exc
+        if self.step_size <= pd.Timedelta(0) or self.step_size > pd.Timedelta("1h"):
+            raise ThermocalInputError(f"step must lie in (0, 1h], got {step!r}")
+        self.dt = self.step_size.total_seconds()
+        self.warmup_days = int(warmup_days)
+        self.initial_temperature = float(initial_temperature)
+        self.store_surfaces = bool(store_surfaces)
+        self.sky_model = sky_model
+        self._grid = _weather_grid(weather, self.step_size, start, end)
+        self.times = self._grid.index
+        self._site = self._site_from(self.metadata, building)
+        self._build()
+        self.reset()
+
+    # ------------------------------------------------------------------------------------------
+    @staticmethod
+    def _site_from(metadata, building):
+        loc = building.location
+        return {
+            "latitude": float(metadata.get("latitude", loc.latitude)),
+            "longitude": float(metadata.get("longitude", loc.longitude)),
+            "altitude": float(metadata.get("altitude", loc.altitude) or 0.0),
+        }
+
+    def _build(self) -> None:
+        grid = self._grid
+        pressure = (
+            float(np.nanmean(grid["pressure"]))
+            if "pressure" in grid and grid["pressure"].notna().any()
+            else pressure_at_altitude(self._site["altitude"])
+        )
+        self._pressure = pressure
+        self._mean_wind = float(np.nanmean(grid["wind_speed"])) if "wind_speed" in grid else 0.0
+        self._mean_tout = float(np.nanmean(grid["temp_air"]))
+        self.network = assemble(
+            self.building,
+            self.dt,
+            options=self.options,
+            mean_wind_speed=self._mean_wind,
+            mean_outdoor_temperature=self._mean_tout,
+            pressure=pressure,
+        )
+        self._inputs = self._input_matrix()
+        self._factorise()
+
+    def _factorise(self) -> None:
+        net = self.network
+        matrix = net.system_matrix(self.dt)
+        lu = splu(matrix, permc_spec="COLAMD")
+        lower = lu.L.tocsc()
+        upper = lu.U.tocsc()
+        lower.sort_indices()
+        upper.sort_indices()
+        self._lu = lu
+        self._factors = (
+            lower.indptr.astype(np.int64),
+            lower.indices.astype(np.int64),
+            lower.data,
+            upper.indptr.astype(np.int64),
+            upper.indices.astype(np.int64),
+            upper.data,
+            lu.perm_r.astype(np.int64),
+            lu.perm_c.astype(np.int64),
+        )
+        b = net.inputs.tocsr()
+        b.sort_indices()
+        self._b = (b.indptr.astype(np.int64), b.indices.astype(np.int64), b.data)
+        self._c_dt = net.capacity / self.dt
+        zones = list(self.building.zones.values())
+        ctrl = [i for i, z in enumerate(zones) if z.conditioned]
+        self._ctrl = np.asarray(ctrl, dtype=np.int64)
+        self._heat_sp = np.array(
+            [
+                -np.inf if zones[i].heating_setpoint is None else zones[i].heating_setpoint
+                for i in ctrl
+            ]
+        )
+        self._cool_sp = np.array(
+            [
+                np.inf if zones[i].cooling_setpoint is None else zones[i].cooling_setpoint
+                for i in ctrl
+            ]
+        )
+        if ctrl:
+            unit = np.zeros((net.n_nodes, len(ctrl)))
+            unit[net.air_node[self._ctrl], np.arange(len(ctrl))] = 1.0
+            response = lu.solve(unit)
+            self._g_ctrl = np.ascontiguousarray(response[net.air_node[self._ctrl], :])
+        else:
+            self._g_ctrl = np.zeros((0, 0))
+        counts = np.bincount(net.face_zone, weights=net.face_area, minlength=len(zones))
+        self._zone_face_area = counts.astype(float)
+
+    # ------------------------------------------------------------------------------------------
+    def _ground_temperature(self) -> np.ndarray:
+        months = self.times.month.to_numpy() - 1
+        if self.building.ground_temperatures is not None:
+            monthly = np.asarray(self.building.ground_temperatures)
+        else:
+            table = self.metadata.get("ground_temperatures") or {}
+            if table:
+                depth = min(table, key=lambda d: abs(float(d) - 2.0))
+                monthly = np.asarray(table[depth], dtype=float)
+            else:
+                monthly = np.full(12, self._mean_tout)
+        return monthly[months]
+
+    def _input_matrix(self) -> np.ndarray:
+        """Inputs ``u`` (n_steps x n_inputs) and the explicit-correction coefficient series."""
+        net = self.network
+        grid = self._grid
+        n_steps = len(grid)
+        u = np.zeros((n_steps, len(net.input_names)))
+        t_out = grid["temp_air_mean"].to_numpy()
+        u[:, IN_TEMP_OUT] = t_out
+        u[:, IN_TEMP_SKY] = grid["temp_sky"].to_numpy()
+        u[:, IN_TEMP_GROUND] = self._ground_temperature()
+        u[:, IN_ONE] = 1.0
+        # solar
+        orientations = set(net.orientation_inputs)
+        orientations.update((k[1], k[2]) for k in net.window_inputs)
+        if orientations:
+            irr = _irradiance(grid, self._site, sorted(orientations), self.sky_model)
+            for key, col in net.orientation_inputs.items():
+                u[:, col] = irr[key]["poa_global"]
+            for (wt_name, tilt, az), cols in net.window_inputs.items():
+                wt = self.building.window_types[wt_name]
+                frame = irr[(tilt, az)]
+                direct = frame["poa_direct"]
+                diffuse = frame["poa_sky_diffuse"] + frame["poa_ground_diffuse"]
+                aoi = frame["aoi"]
+                u[:, cols[0]] = direct * wt.transmittance(aoi)
+                u[:, cols[1]] = diffuse * wt.diffuse_transmittance_value
+                if wt.layered:
+                    absorbed = wt.pane_absorptance(aoi) * direct[:, None]
+                    absorbed = (
+                        absorbed + wt.diffuse_pane_absorptance_values[None, :] * diffuse[:, None]
+                    )
+                    n_panes = absorbed.shape[1]
+                    outer = absorbed[:, 0].copy()
+                    inner = absorbed[:, -1].copy() if n_panes > 1 else np.zeros(n_steps)
+                    if n_panes > 2:
+                        middle = absorbed[:, 1:-1].sum(axis=1)
+                        outer += 0.5 * middle
+                        inner += 0.5 * middle
+                    u[:, cols[2]] = outer
+                    u[:, cols[3]] = inner
+        # explicit corrections: exterior convection (wind) and infiltration air density
+        hr0 = net.ext_hr0
+        hc0 = net.ext_hc0
+        if self.options.exterior_convection == "doe2" and len(net.ext_node):
+            wind = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
+            wind = np.nan_to_num(wind) * self.options.wind_speed_factor
+            if "wind_direction" in grid:
+                direction = np.nan_to_num(grid["wind_direction"].to_numpy())
+            else:
+                direction = np.zeros(n_steps)
+            diff = np.abs((direction[:, None] - net.ext_azimuth[None, :] + 180.0) % 360.0 - 180.0)
+            horizontal = (net.ext_tilt < 10.0) | (net.ext_tilt > 170.0)
+            windward = (diff <= 100.0) | horizontal[None, :]
+            hc = doe2_exterior_convection(
+                wind[:, None],
+                windward,
+                h_natural=net.ext_h_natural[None, :],
+                roughness_factor=self.options.roughness_factor,
+            )
+            upper = hc0 + hr0 * net.ext_emissivity + net.ext_capacity / self.dt
+            self._ext_dh = np.clip(hc - hc0[None, :], 0.1 - hc0[None, :], upper[None, :])
+        else:
+            self._ext_dh = np.zeros((n_steps, len(net.ext_node)))
+        pressure = grid["pressure"].to_numpy() if "pressure" in grid else None
+        if pressure is None or not np.isfinite(pressure).all():
+            pressure = np.full(n_steps, self._pressure)
+        rho = air_density(pressure, t_out)
+        ratio = rho / net.reference_density - 1.0
+        self._inf_dh = np.ascontiguousarray(ratio[:, None] * net.zone_infiltration[None, :])
+        self._ext_area_eps = np.ascontiguousarray(
+            np.stack([net.ext_area, net.ext_area * net.ext_emissivity], axis=1)
+        )
+        return u
+
+    # ------------------------------------------------------------------------------------------
+    def reset(self, *, free_float: bool = True, initial_temperature: float | None = None) -> None:
+        """Restart the stepping API at the first step.
+
+        Parameters
+        ----------
+        free_float : bool
+            True: :meth:`step` applies only the given heat; False: also the ideal heating and
+            cooling of zones with set points.
+        initial_temperature : float or None [C]
+            Uniform initial temperature; None = the constructor's value (with warm-up).
+        """
+        temp = self.initial_temperature if initial_temperature is None else initial_temperature
+        self._x = np.full(self.network.n_nodes, float(temp))
+        self._k = 0
+        self._step_free_float = bool(free_float)
+        if self.warmup_days > 0 and initial_temperature is None:
+            self._warm_up(ideal=not free_float)
+
+    def _warm_up(self, *, ideal: bool) -> None:
+        per_day = int(round(86400.0 / self.dt))
+        n_day = min(per_day, len(self.times))
+        zeros = np.zeros((n_day, len(self.building.zones)))
+        for _ in range(self.warmup_days):
+            self._advance(0, n_day, zeros, ideal=ideal, store=False)
+
+    def _advance(self, k0: int, n: int, heat: np.ndarray, *, ideal: bool, store: bool):
+        net = self.network
+        nz = len(net.zone_names)
+        out_air = np.empty((n, nz))
+        out_mrt = np.empty((n, nz))
+        out_heat = np.zeros((n, nz))
+        out_cool = np.zeros((n, nz))
+        n_faces = len(net.face_node)
+        out_face = np.empty((n, n_faces if store else 0), dtype=np.float64)
+        tarp_on = self.options.interior_convection == "tarp"
+        _kernel.run_steps(
+            k0,
+            n,
+            self._x,
+            self._c_dt,
+            *self._b,
+            self._inputs,
+            np.ascontiguousarray(heat, dtype=float),
+            *self._factors,
+            net.ext_node,
+            self._ext_area_eps,
+            net.ext_view_air,
+            net.ext_view_sky,
+            net.ext_hr0,
+            self._ext_dh,
+            self.options.exact_sky_longwave,
+            net.face_node,
+            net.air_node[net.face_zone],
+            net.face_area,
+            net.face_cos_up,
+            net.face_h0,
+            net.face_hmax,
+            tarp_on,
+            net.air_node,
+            self._inf_dh,
+            self._ctrl,
+            self._heat_sp,
+            self._cool_sp,
+            self._g_ctrl,
+            bool(ideal),
+            net.face_zone,
+            self._zone_face_area,
+            out_air,
+            out_mrt,
+            out_heat,
+            out_cool,
+            out_face,
+            bool(store),
+        )
+        return out_air, out_mrt, out_heat, out_cool, out_face
+
+    def step(self, zone_heat_W=None) -> np.ndarray:
+        """Advance one step with ``zone_heat_W`` [W] delivered to each zone's air.
+
+        Parameters
+        ----------
+        zone_heat_W : array-like (n_zones,) [W] or None
+            Heat per zone in the order of ``building.zones``; None = no heat.
+
+        Returns
+        -------
+        numpy.ndarray [C]
+            Zone air temperatures at the end of the step.
+        """
+        nz = len(self.building.zones)
+        if self._k >= len(self.times):
+            raise ThermocalInputError(
+                f"Simulation.step: the period has {len(self.times)} steps and all were run; "
+                "call reset() to start again"
+            )
+        heat = np.zeros((1, nz)) if zone_heat_W is None else np.asarray(zone_heat_W, dtype=float)
+        heat = heat.reshape(1, nz) if heat.size == nz else None
+        if heat is None:
+            raise ThermocalInputError(f"Simulation.step: zone_heat_W must have {nz} values")
+        out = self._advance(self._k, 1, heat, ideal=not self._step_free_float, store=False)
+        self._k += 1
+        self.last_heating = out[2][0]
+        self.last_cooling = out[3][0]
+        return out[0][0].copy()
+
+    @property
+    def current_time(self) -> pd.Timestamp:
+        """Start label of the next step."""
+        return self.times[min(self._k, len(self.times) - 1)]
+
+    @property
+    def zone_names(self) -> list[str]:
+        """Zone order of all per-zone arrays."""
+        return list(self.building.zones)
+
+    def set_parameters(self, mapping: Mapping[str, float]) -> None:
+        """Change envelope parameters (names of :meth:`Building.parameters`).
+
+        The network is re-assembled (vectorised) and refactorised; the weather-driven inputs are
+        reused where the network layout allows, and the current state is kept when the number of
+        nodes is unchanged (otherwise it restarts from the initial temperature).
+        """
+        x_old = self._x
+        k_old = self._k
+        self.building = self.building.with_parameters(mapping)
+        self._build()
+        if len(x_old) == self.network.n_nodes:
+            self._x = x_old
+            self._k = k_old
+        else:
+            self._x = np.full(self.network.n_nodes, self.initial_temperature)
+
+    # ------------------------------------------------------------------------------------------
+    def run(
+        self,
+        *,
+        free_float: bool = False,
+        heat_input: pd.DataFrame | np.ndarray | None = None,
+        progress: bool = False,
+    ) -> SimulationResult:
+        """Simulate the whole period.
+
+        Parameters
+        ----------
+        free_float : bool
+            Ignore the zones' heating/cooling set points.
+        heat_input : DataFrame or ndarray or None [W]
+            Given heat per zone and step (rows = steps; DataFrame columns = zone names, missing
+            zones get 0), delivered to the zone air.
+        progress : bool
+            Show a rich progress bar.
+
+        Returns
+        -------
+        SimulationResult
+        """
+        net = self.network
+        nz = len(net.zone_names)
+        n_steps = len(self.times)
+        heat = self._heat_array(heat_input, n_steps, nz)
+        self._x = np.full(net.n_nodes, self.initial_temperature)
+        self._k = 0
+        if self.warmup_days > 0:
+            self._warm_up(ideal=not free_float)
+        store = self.store_surfaces
+        n_faces = len(net.face_node)
+        air = np.empty((n_steps, nz))
+        mrt = np.empty((n_steps, nz))
+        heating = np.zeros((n_steps, nz))
+        cooling = np.zeros((n_steps, nz))
+        faces = np.empty((n_steps, n_faces), dtype=np.float32) if store else None
+        bar = _progress(progress, n_steps)
+        try:
+            for k0 in range(0, n_steps, _CHUNK):
+                n = min(_CHUNK, n_steps - k0)
+                out = self._advance(k0, n, heat[k0 : k0 + n], ideal=not free_float, store=store)
+                air[k0 : k0 + n] = out[0]
+                mrt[k0 : k0 + n] = out[1]
+                heating[k0 : k0 + n] = out[2]
+                cooling[k0 : k0 + n] = out[3]
+                if store:
+                    faces[k0 : k0 + n] = out[4]
+                if bar is not None:
+                    bar[0].update(bar[1], advance=n)
+        finally:
+            if bar is not None:
+                bar[0].stop()
+        self._k = n_steps
+        return self._result(air, mrt, heating, cooling, heat, faces)
+
+    def _heat_array(self, heat_input, n_steps: int, nz: int) -> np.ndarray:
+        if heat_input is None:
+            return np.zeros((n_steps, nz))
+        if isinstance(heat_input, pd.DataFrame):
+            unknown = [c for c in heat_input.columns if c not in self.building.zones]
+            if unknown:
+                raise ThermocalInputError(
+                    f"heat_input: columns {unknown} are not zones of building "
+                    f"'{self.building.name}'"
+                )
+            frame = heat_input.reindex(columns=list(self.building.zones), fill_value=0.0)
+            if len(frame) != n_steps:
+                raise ThermocalInputError(
+                    f"heat_input has {len(frame)} rows but the period has {n_steps} steps"
+                )
+            values = frame.to_numpy(dtype=float)
+        else:
+            values = np.asarray(heat_input, dtype=float)
+            if values.shape != (n_steps, nz):
+                raise ThermocalInputError(
+                    f"heat_input must have shape (n_steps, n_zones) = ({n_steps}, {nz}), got "
+                    f"{values.shape}"
+                )
+        if not np.isfinite(values).all():
+            raise ThermocalInputError("heat_input contains NaN or infinite values")
+        return values
+
+    def _result(self, air, mrt, heating, cooling, heat, faces) -> SimulationResult:
+        net = self.network
+        index = self.times
+        zones = net.zone_names
+
+        def frame(values):
+            return pd.DataFrame(values, index=index, columns=zones)
+
+        transmitted = np.asarray(net.zone_transmitted @ self._inputs.T).T
+        t_out = self._inputs[:, IN_TEMP_OUT]
+        infiltration = (net.zone_infiltration[None, :] + self._inf_dh) * (t_out[:, None] - air)
+        return SimulationResult(
+            air_temperature=frame(air),
+            operative_temperature=frame(0.5 * (air + mrt)),
+            mean_radiant_temperature=frame(mrt),
+            heating=frame(heating),
+            cooling=frame(cooling),
+            heat_input=frame(heat),
+            transmitted_solar=frame(transmitted),
+            infiltration=frame(infiltration),
+            surface_temperature=None
+            if faces is None
+            else pd.DataFrame(faces, index=index, columns=net.face_names),
+            step=self.step_size,
+        )
+
+
+def _progress(enabled: bool, total: int):
+    if not enabled:
+        return None
+    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+    bar = Progress(
+        TextColumn("simulating"),
+        BarColumn(),
+        TextColumn("{task.percentage:>3.0f}%"),
+        TimeRemainingColumn(),
+    )
+    bar.start()
+    task = bar.add_task("simulate", total=total)
+    return bar, task
+
+
+# ----------------------------------------------------------------------------------------------
+# weather on the simulation grid
+# ----------------------------------------------------------------------------------------------
+
+
+def _weather_grid(weather: pd.DataFrame, step: pd.Timedelta, start, end) -> pd.DataFrame:
+    """Weather resampled to the simulation step, restricted to ``[start, end)``."""
+    from thermocal.io.weather import resample_weather, weather_step
+    from thermocal.physics.solar import sky_temperature
+
+    if not isinstance(weather, pd.DataFrame) or not isinstance(weather.index, pd.DatetimeIndex):
+        raise ThermocalInputError(
+            "Simulation: weather must be the DataFrame of thermocal.io.weather.read_weather"
+        )
+    missing = [c for c in ("temp_air", "dni", "dhi") if c not in weather]
+    if missing:
+        raise ThermocalInputError(
+            f"Simulation: the weather lacks the columns {missing} (needed: temp_air [C], dni and "
+            "dhi [W/m2])"
+        )
+    if weather_step(weather) != step:
+        grid = resample_weather(weather, step)
+    else:
+        grid = weather.copy()
+    index = grid.index
+
+    def stamp(value, what):
+        try:
+            ts = pd.Timestamp(value)
+        except ValueError as exc:
+            raise ThermocalInputError(f"Simulation: cannot read {what} {value!r}") from exc
+        if ts.tzinfo is None and index.tz is not None:
+            ts = ts.tz_localize(index.tz)
+        return ts
+
+    t0 = index[0] if start is None else stamp(start, "start")
+    t1 = index[-1] + step if end is None else stamp(end, "end")
+    if t0 < index[0] or t1 > index[-1] + step or t1 <= t0:
+        raise ThermocalInputError(
+            f"Simulation: period [{t0}, {t1}) is empty or outside the weather data "
+            f"[{index[0]}, {index[-1] + step})"
+        )
+    # interval-mean temperatures from the instant values at both ends of each step
+    temp = grid["temp_air"].to_numpy(dtype=float)
+    following = np.append(temp[1:], temp[-1])
+    grid["temp_air_mean"] = 0.5 * (temp + following)
+    if "ghi_infrared" in grid and grid["ghi_infrared"].notna().all():
+        sky = sky_temperature(grid["temp_air_mean"], ghi_infrared=grid["ghi_infrared"])
+    elif "temp_dew" in grid and grid["temp_dew"].notna().all():
+        sky = sky_temperature(grid["temp_air_mean"], temp_dew=grid["temp_dew"])
+    else:
+        warnings.warn(
+            "weather has neither ghi_infrared nor temp_dew: sky temperature = air - 11 K "
+            "(ISO 52016-1 default)",
+            stacklevel=3,
+        )
+        sky = grid["temp_air_mean"].to_numpy() - 11.0
+    grid["temp_sky"] = sky
+    selected = grid.loc[(index >= t0) & (index < t1)]
+    if len(selected) == 0:
+        raise ThermocalInputError(f"Simulation: no weather rows in [{t0}, {t1})")
+    for column in ("temp_air_mean", "dni", "dhi"):
+        if selected[column].isna().any():
+            bad = selected.index[selected[column].isna()][0]
+            raise ThermocalInputError(
+                f"Simulation: weather column {column} has missing values (first at {bad}); fill "
+                "the gap or choose another period"
+            )
+    return selected
+
+
+def _irradiance(grid: pd.DataFrame, site: dict, orientations, model: str) -> dict:
+    from thermocal.physics.solar import interval_solar_position, irradiance_on_surfaces
+
+    position = interval_solar_position(
+        grid.index, site["latitude"], site["longitude"], site["altitude"]
+    )
+    surfaces = {key: key for key in orientations}
+    frames = irradiance_on_surfaces(
+        grid,
+        site["latitude"],
+        site["longitude"],
+        surfaces,
+        altitude=site["altitude"],
+        model=model,
+        albedo="weather" if "albedo" in grid else 0.2,
+        solar_position=position,
+    )
+    out = {}
+    for key, frame in frames.items():
+        out[key] = {
+            c: np.nan_to_num(frame[c].to_numpy(dtype=float))
+            for c in ("poa_global", "poa_direct", "poa_sky_diffuse", "poa_ground_diffuse", "aoi")
+        }
+        out[key]["aoi"] = np.where(np.isfinite(frame["aoi"].to_numpy()), out[key]["aoi"], 90.0)
+    return out
+
+
+# ----------------------------------------------------------------------------------------------
+# steady state
+# ----------------------------------------------------------------------------------------------
+
+
+def steady_state_heat_loss_coefficient(
+    building: Building,
+    *,
+    ground_at_outdoor: bool = True,
+    wind_speed: float = 4.0,
+    options: NetworkOptions | None = None,
+) -> float:
+    """Heat needed to hold every conditioned zone 1 K above outdoors, per kelvin [W/K].
+
+    Steady state of the network with no sun and no internal gains, sky and ground at the outdoor
+    temperature (``ground_at_outdoor=True``) or ground at the indoor temperature (``False``: ground
+    losses excluded), unconditioned zones floating. Interior coefficients as in the simulation
+    (matrix part), exterior convection at ``wind_speed``.
+
+    Parameters
+    ----------
+    building : Building
+    ground_at_outdoor : bool
+    wind_speed : float [m/s]
+    options : NetworkOptions, optional
+
+    Returns
+    -------
+    float [W/K]
+    """
+    options = options or NetworkOptions()
+    options = dataclasses.replace(options, interior_convection=options.interior_convection)
+    net = assemble(
+        building, 3600.0, options=options, mean_wind_speed=wind_speed, mean_outdoor_temperature=0.0
+    )
+    zones = list(building.zones.values())
+    ctrl = np.array([i for i, z in enumerate(zones) if z.conditioned], dtype=int)
+    if len(ctrl) == 0:
+        raise ThermocalInputError(
+            f"building '{building.name}' has no conditioned zone (no heating or cooling set "
+            "point); the heat loss coefficient refers to conditioned zones"
+        )
+    k = net.conductance.tocsr()
+    b = net.inputs.tocsr()
+    u = np.zeros(len(net.input_names))
+    if not ground_at_outdoor:
+        u[IN_TEMP_GROUND] = 1.0
+    rhs = b @ u
+    air = net.air_node[ctrl]
+    n = net.n_nodes
+    fixed = np.zeros(n, dtype=bool)
+    fixed[air] = True
+    free = ~fixed
+    x_fixed = np.ones(len(air))
+    k_ff = k[free][:, free].tocsc()
+    k_fc = k[free][:, fixed]
+    x_free = splu(k_ff).solve(rhs[free] - k_fc @ x_fixed)
+    x = np.empty(n)
+    x[free] = x_free
+    x[fixed] = x_fixed
+    heat = k[fixed] @ x - rhs[fixed]
+    return float(heat.sum())

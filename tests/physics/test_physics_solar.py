@@ -255,3 +255,37 @@ def test_sky_temperature_difference_from_weather(zurich):
     # mid-latitude climate: annual mean air-sky difference of the order of ISO's 11 K
     assert 5.0 < np.mean(difference) < 25.0
     assert solar.sky_temperature_difference(weather[["temp_air", "ghi"]]) == 11.0
+
+
+def test_building_solar_gains_sums_components(zurich):
+    weather, meta = zurich
+    week = weather.iloc[24 * 40 : 24 * 47]
+    windows = [
+        {"name": "south", "area": 6.0, "tilt": 90, "azimuth": 180, "g_value": 0.6},
+        {
+            "name": "east",
+            "area": 3.0,
+            "tilt": 90,
+            "azimuth": 90,
+            "g_value": 0.5,
+            "frame_fraction": 0.2,
+        },
+    ]
+    opaque = [{"name": "roof", "area": 80.0, "tilt": 35, "azimuth": 180, "u_value": 0.4}]
+    gains = solar.building_solar_gains(
+        week, meta["latitude"], meta["longitude"], windows=windows, opaque=opaque
+    )
+    south = solar.irradiance_on_surface(week, meta["latitude"], meta["longitude"], 90, 180)
+    expected = solar.window_solar_gains(south, 6.0, 0.6)
+    np.testing.assert_allclose(gains["phi_sol/south"], expected, rtol=1e-12)
+    np.testing.assert_allclose(gains["phi_sol"], gains["phi_sol/south"] + gains["phi_sol/east"])
+    np.testing.assert_allclose(gains["phi_re"], gains["phi_re/roof"])
+    # the long-wave term uses the weather's infrared sky: the roof loses heat on clear nights
+    assert gains["phi_re"].min() < 0
+    with pytest.raises(ThermocalInputError, match="g_value"):
+        solar.building_solar_gains(
+            week,
+            meta["latitude"],
+            meta["longitude"],
+            windows=[{"area": 1, "tilt": 90, "azimuth": 0}],
+        )

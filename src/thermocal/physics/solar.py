@@ -37,6 +37,7 @@ __all__ = [
     "opaque_solar_gains",
     "sky_temperature",
     "sky_temperature_difference",
+    "building_solar_gains",
 ]
 
 #: Stefan-Boltzmann constant [W/(m2 K4)].
@@ -559,6 +560,116 @@ def opaque_solar_gains(
         - f_sky * h_r * np.asarray(sky_temperature_difference, dtype=float)
     )
     return pd.Series(phi, index=i_sol.index, name="phi_re")
+
+
+def _field(component, name: str, default=None):
+    if isinstance(component, Mapping):
+        value = component.get(name, default)
+    else:
+        value = getattr(component, name, default)
+    return default if value is None else value
+
+
+def building_solar_gains(
+    weather: pd.DataFrame,
+    latitude: float,
+    longitude: float,
+    *,
+    windows: Sequence = (),
+    opaque: Sequence = (),
+    altitude: float = 0.0,
+    model: str = "perez",
+    albedo: float | str = 0.2,
+    angular_dependence: bool = False,
+    sky_temperature_difference: float | np.ndarray | None = None,
+) -> pd.DataFrame:
+    """Solar gains of a whole envelope: ``phi_sol`` (windows) and ``phi_re`` (opaque) [W].
+
+    One sun-position calculation, one transposition per distinct orientation.
+
+    Parameters
+    ----------
+    weather : pandas.DataFrame
+        Standard weather frame (``dni``, ``dhi``, optionally ``ghi``, ``temp_air``,
+        ``ghi_infrared``, ``temp_dew``).
+    latitude : float
+        Site latitude [deg N].
+    longitude : float
+        Site longitude [deg E].
+    windows : sequence of mappings or objects
+        Each with ``area`` [m2], ``tilt`` [deg], ``azimuth`` [deg], ``g_value`` [-] and
+        optionally ``frame_fraction`` [-] (0.3), ``shading_factor`` [-] (1.0), ``name``.
+    opaque : sequence of mappings or objects
+        Each with ``area`` [m2], ``u_value`` [W/(m2 K)], ``tilt`` [deg], ``azimuth`` [deg] and
+        optionally ``absorptance`` [-] (0.6), ``name``.
+    altitude : float
+        Site altitude [m].
+    model : str
+        Sky diffuse model (see :func:`irradiance_on_surface`).
+    albedo : float or "weather"
+        Ground reflectance [-].
+    angular_dependence : bool
+        Angular dependence of the glazing transmittance (see :func:`window_solar_gains`).
+    sky_temperature_difference : float or array-like, optional
+        ``dT_sky`` [K]; by default from the weather (infrared or dew point) else 11 K.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``phi_sol`` and ``phi_re`` [W] (totals), then one column per component named
+        ``phi_sol/<name>`` or ``phi_re/<name>`` [W].
+
+    References
+    ----------
+    .. [1] ISO 52016-1:2017, 6.5.13; ISO 13790:2008, 11.3.
+    """
+    components = [("window", c) for c in windows] + [("opaque", c) for c in opaque]
+    orientations = {}
+    for i, (kind, component) in enumerate(components):
+        for field in ("area", "tilt", "azimuth") + (
+            ("g_value",) if kind == "window" else ("u_value",)
+        ):
+            if _field(component, field) is None:
+                raise ThermocalInputError(
+                    f"building_solar_gains: {kind} #{i} ({_field(component, 'name', 'unnamed')}) "
+                    f"lacks {field}"
+                )
+        orientations[
+            (float(_field(component, "tilt")), float(_field(component, "azimuth")) % 360)
+        ] = 1
+    prepared = _prepare(weather, latitude, longitude, altitude, model, albedo, None)
+    irradiance = {key: _transpose(prepared, *key) for key in orientations}
+    if sky_temperature_difference is None:
+        sky_temperature_difference = globals()["sky_temperature_difference"](weather)
+    columns: dict[str, np.ndarray] = {}
+    phi_sol = np.zeros(len(weather))
+    phi_re = np.zeros(len(weather))
+    for i, (kind, component) in enumerate(components):
+        key = (float(_field(component, "tilt")), float(_field(component, "azimuth")) % 360)
+        name = str(_field(component, "name", f"{kind}{i}"))
+        if kind == "window":
+            gains = window_solar_gains(
+                irradiance[key],
+                float(_field(component, "area")),
+                float(_field(component, "g_value")),
+                frame_fraction=float(_field(component, "frame_fraction", 0.3)),
+                shading_factor=_field(component, "shading_factor", 1.0),
+                angular_dependence=angular_dependence,
+            ).to_numpy()
+            phi_sol += gains
+            columns[f"phi_sol/{name}"] = gains
+        else:
+            gains = opaque_solar_gains(
+                irradiance[key],
+                float(_field(component, "area")),
+                float(_field(component, "u_value")),
+                tilt=key[0],
+                absorptance=float(_field(component, "absorptance", 0.6)),
+                sky_temperature_difference=sky_temperature_difference,
+            ).to_numpy()
+            phi_re += gains
+            columns[f"phi_re/{name}"] = gains
+    return pd.DataFrame({"phi_sol": phi_sol, "phi_re": phi_re, **columns}, index=weather.index)
 
 
 # --------------------------------------------------------------------------------------------

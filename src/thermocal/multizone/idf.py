@@ -1347,7 +1347,7 @@ def _hour_of_year(times, n_days: int) -> np.ndarray:
     import pandas as pd
 
     times = pd.DatetimeIndex(times)
-    hours = (times.dayofyear.to_numpy() - 1) * 24 + times.hour.to_numpy()
+    hours = (times.day_of_year.to_numpy() - 1) * 24 + times.hour.to_numpy()
     return np.minimum(hours, n_days * 24 - 1)
 
 

@@ -2230,6 +2230,16 @@ def read_idf(path: str | Path, *, year: int | None = None):
 
     # -- thermostats ----------------------------------------------------------------------------
     setpoints = _thermostats(records, zones, zone_lists, schedules, info)
+    hvac = sorted(
+        cls
+        for cls in info.unsupported
+        if cls.upper().startswith(("ZONEHVAC:", "AIRLOOPHVAC", "AIRTERMINAL:", "PLANTLOOP"))
+    )
+    if setpoints and hvac:
+        info.notes.append(
+            f"HVAC equipment ({', '.join(hvac[:3])}{', ...' if len(hvac) > 3 else ''}) is not "
+            "modelled: thermostatted zones get ideal heating/cooling at their set points"
+        )
 
     # -- zones ----------------------------------------------------------------------------------
     model_zones = []

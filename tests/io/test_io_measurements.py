@@ -441,3 +441,11 @@ def test_ctsm_prbs_file_numeric_hours(shared_data):
         expected = float(np.dot(weights, hour[column].to_numpy()))
         assert data[column].iloc[0] == pytest.approx(expected, rel=1e-9, abs=1e-12)
     assert report.gaps.empty
+
+
+def test_time_format_for_non_iso_timestamps(tmp_path):
+    path = write(tmp_path, "time;T_a\n02.02.2019 00:00;20\n02.02.2019 00:05;21\n")
+    raw, _ = read_measurements(path, time_format="%d.%m.%Y %H:%M", tz="Europe/Zurich")
+    assert raw.index[1] == pd.Timestamp("2019-02-01 23:05", tz="UTC")
+    with pytest.raises(ThermocalInputError, match="line 2: cannot read '02.02.2019 00:00'"):
+        read_measurements(path, tz="Europe/Zurich")

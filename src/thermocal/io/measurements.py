@@ -309,6 +309,7 @@ def _parse_times(
     tz: Any,
     time_unit: str | None,
     start: Any,
+    time_format: str | None = None,
 ) -> tuple[pd.DatetimeIndex, str]:
     """Tz-aware times of a column; returns (times, description of what was assumed)."""
     note = ""
@@ -345,8 +346,16 @@ def _parse_times(
         return times, f"numeric times in {time_unit} from {origin.isoformat()}"
     text = series.astype("string").str.strip()
     sample = text.dropna()
-    has_offset = bool(len(sample) and re.search(r"(Z|[+-]\d\d(:?\d\d)?)$", str(sample.iloc[0])))
-    if has_offset:
+    offset_match = (
+        re.search(r"(Z|[+-]\d\d(:?\d\d)?)$", str(sample.iloc[0])) if len(sample) else None
+    )
+    has_offset = offset_match is not None
+    fast = None if time_format else _parse_times_arrow(text, offset_match)
+    if fast is not None:
+        parsed = fast
+    elif time_format:
+        parsed = pd.to_datetime(text, format=time_format, errors="coerce")
+    elif has_offset:
         try:
             parsed = pd.to_datetime(text, format="ISO8601", errors="coerce")
         except (ValueError, TypeError):  # mixed offsets (e.g. +01:00 and +02:00 across DST)
@@ -386,6 +395,35 @@ def _parse_times(
     elif tz is not None:
         times = times.tz_convert(tz)
     return times.as_unit("ns"), note
+
+
+def _parse_times_arrow(text: pd.Series, offset_match: re.Match | None) -> pd.Series | None:
+    """ISO 8601 strings -> times with pyarrow (fast path); None when pyarrow cannot parse all.
+
+    With offsets the result is in UTC, or in the fixed offset of the first timestamp when every
+    timestamp carries the same offset text.
+    """
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
+    try:
+        array = pa.array(text, type=pa.string(), from_pandas=True)
+        if offset_match is None:
+            parsed = pc.cast(array, pa.timestamp("ns"))
+        else:
+            parsed = pc.cast(array, pa.timestamp("ns", tz="UTC"))
+    except (pa.ArrowInvalid, pa.ArrowNotImplementedError, pa.ArrowTypeError, ValueError):
+        return None
+    if parsed.null_count != array.null_count:
+        return None
+    values = pd.Series(parsed.to_numpy(zero_copy_only=False), index=text.index)
+    if offset_match is None:
+        return values
+    values = values.dt.tz_localize("UTC")
+    suffix = offset_match.group(0)
+    if suffix != "Z" and pc.all(pc.ends_with(array, suffix)).as_py():
+        values = values.dt.tz_convert(pd.Timestamp(str(text.dropna().iloc[0])).tzinfo)
+    return values
 
 
 def _check_order(
@@ -519,6 +557,7 @@ def read_measurements(
     units: Mapping[str, str] | None = None,
     quantities: Mapping[str, str] | None = None,
     tz: Any = None,
+    time_format: str | None = None,
     time_unit: str | None = None,
     start: Any = None,
     sep: str | None = None,
@@ -557,6 +596,8 @@ def read_measurements(
         Time zone of timestamps written without UTC offset (required for those), and of the
         result; timestamps with offsets are converted to it. None keeps the file's offset (UTC
         when the offsets vary).
+    time_format : str, optional
+        strftime format of the time column when it is not ISO 8601, e.g. "%d.%m.%Y %H:%M".
     time_unit : {"s", "ms", "min", "h", "d"}, optional
         For numeric time columns: the unit of the numbers; ``start`` is the time of 0.
     start : str or Timestamp, optional
@@ -642,6 +683,7 @@ def read_measurements(
         tz=tz,
         time_unit=time_unit,
         start=start,
+        time_format=time_format,
     )
     if time_note:
         notes.append(time_note)
@@ -757,15 +799,18 @@ def _read_long(
     notes,
     time_col,
 ) -> tuple[pd.DataFrame, dict]:
-    sensor_text = frame[sensor_col].astype("string").str.strip()
-    missing_sensor = sensor_text.isna().to_numpy() | (sensor_text == "").fillna(False).to_numpy()
+    codes, raw_names = pd.factorize(frame[sensor_col], sort=False)
+    stripped = [str(n).strip() for n in raw_names]
+    names = list(dict.fromkeys(stripped))  # names equal after stripping blanks are merged
+    remap = np.asarray([names.index(n) for n in stripped] + [-1], dtype=np.int64)
+    codes = remap[codes]  # code -1 (missing) stays -1
+    empty = [names.index("")] if "" in names else []
+    missing_sensor = (codes < 0) | np.isin(codes, empty)
     if missing_sensor.any():
         first = int(np.flatnonzero(missing_sensor)[0])
         raise ThermocalInputError(
             f"{source}, column '{sensor_col}', line {lines[first]}: missing sensor name"
         )
-    codes, names = pd.factorize(sensor_text, sort=False)
-    names = [str(n) for n in names]
     first_rows = np.full(len(names), -1, dtype=np.int64)
     order_first = np.unique(codes, return_index=True)
     first_rows[order_first[0]] = order_first[1]
@@ -1251,10 +1296,18 @@ def _split_raw(raw: pd.DataFrame) -> tuple[dict[str, tuple[np.ndarray, np.ndarra
         raise ThermocalInputError("resample_measurements: column 'time' has no time zone")
     times = time.as_unit("ns").asi8
     values = raw["value"].to_numpy(dtype=np.float64, na_value=np.nan)
-    codes, names = pd.factorize(raw["sensor"], sort=False)
     if isinstance(raw["sensor"].dtype, pd.CategoricalDtype):
-        names = [str(n) for n in names]
-    order = np.lexsort((times, codes))
+        codes = raw["sensor"].cat.codes.to_numpy()
+        names = [str(n) for n in raw["sensor"].cat.categories]
+    else:
+        codes, names = pd.factorize(raw["sensor"], sort=False)
+    if np.any(codes < 0):
+        raise ThermocalInputError("resample_measurements: missing sensor names in column 'sensor'")
+    code_step = np.diff(codes)
+    if np.all(code_step >= 0) and np.all(np.diff(times)[code_step == 0] > 0):
+        order = np.arange(codes.size)  # already sorted by sensor, then time (read_measurements)
+    else:
+        order = np.lexsort((times, codes))
     codes_sorted = codes[order]
     bounds = np.flatnonzero(np.diff(codes_sorted)) + 1
     out = {}

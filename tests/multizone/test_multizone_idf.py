@@ -503,3 +503,31 @@ def test_window_construction_on_opaque_surface_and_one_sided_partner(tmp_path):
     partner = building.surfaces["North (partner)"]
     assert partner.zone == "Z2" and partner.other_surface == "North"
     assert partner.azimuth == pytest.approx(180)
+
+
+def test_world_coordinates_ignore_zone_origin_and_north(tmp_path):
+    path = _box(tmp_path, north=30, zone_north=45, ox=100, oy=50, volume=30)
+    text = path.read_text().replace("Counterclockwise,Relative;", "Counterclockwise,World;")
+    path.write_text(text)
+    building, _ = _read(path)
+    assert building.surfaces["South"].azimuth == pytest.approx(180)
+    vertices = building.idf_info.surface_vertices["South"]
+    assert vertices[:, 0].min() == pytest.approx(0.0)  # not shifted by the zone origin
+
+
+def test_door_becomes_a_surface_and_is_removed_from_its_host(tmp_path):
+    extra = """
+    Construction,DoorC,M1;
+    FenestrationSurface:Detailed,D1,Door,DoorC,South,,0.5,,1,4,1,0,2,1,0,0,2,0,0,2,0,2;
+    """
+    building, _ = _read(_box(tmp_path, extra=extra))
+    door = building.surfaces["D1"]
+    assert door.area == pytest.approx(2.0)
+    assert door.azimuth == pytest.approx(180) and door.boundary == "outdoors"
+    assert building.surfaces["South"].area == pytest.approx(4 * 2.5 - 2.0)
+
+
+def test_gain_with_unsupported_schedule_names_the_object(tmp_path):
+    extra = "OtherEquipment,Eq,None,Z1,FromFile,EquipmentLevel,100,,,0,0.5,0;"
+    with pytest.raises(ThermocalInputError, match=r"OtherEquipment 'Eq' .*'FromFile'"):
+        read_idf(_box(tmp_path, extra=extra))

@@ -24,7 +24,9 @@ Layered glazing (EnergyPlus ``WindowMaterial:Glazing`` + ``WindowMaterial:Gas``)
 Simple glazing (EnergyPlus ``WindowMaterial:SimpleGlazingSystem``): :func:`simple_glazing_system`
 converts a U-factor and SHGC into an equivalent single layer (thickness, conductivity, normal solar
 transmittance, reflectance, absorptance) following the EnergyPlus Engineering Reference, "Simple
-Window Model" (Arasteh, Kohler, Griffith, LBNL-2804E, 2009).
+Window Model" (Arasteh, Kohler, Griffith, LBNL-2804E, 2009). Its angular dependence is not the
+EnergyPlus one (ten reference curves A-J chosen by U and SHGC): :meth:`SimpleGlazing.as_pane` gives
+the equivalent layer, whose Fresnel/Bouguer angular behaviour is used instead.
 
 References
 ----------
@@ -320,10 +322,10 @@ def pane_angular_properties(pane: GlassPane, incidence_angle):
 
     Notes
     -----
-    Uncoated glass (front and back reflectances equal within 0.1 % relative, the EnergyPlus
-    criterion) uses the Fresnel/Bouguer model with the constants of
-    :func:`pane_optical_constants`, which reproduces the normal-incidence data exactly. For coated
-    glass the same model is built from the mean reflectance and used as a shape function:
+    Uncoated glass (equal front and back reflectances) uses the Fresnel/Bouguer model with the
+    constants of :func:`pane_optical_constants`, which reproduces the normal-incidence data
+    exactly. For coated glass the same model is built from the mean reflectance and used as a
+    shape function:
     ``tau(theta) = tau0 * t(theta)/t(0)`` and ``rho(theta) = rho0 + (1 - rho0)(r(theta) - r(0)) /
     (1 - r(0))`` for each side -- an approximation (EnergyPlus uses fixed reference curves).
     """
@@ -332,21 +334,14 @@ def pane_angular_properties(pane: GlassPane, incidence_angle):
     cos_i = np.where(angle >= 90.0, 0.0, cos_i)
     tau0 = pane.solar_transmittance
     rf0, rb0 = pane.front_solar_reflectance, pane.back_solar_reflectance
-    uncoated = abs(rf0 - rb0) <= 1e-3 * max(rf0 + rb0, 1e-12)
-    rho_mean = 0.5 * (rf0 + rb0)
-    _, n, internal0 = pane_optical_constants(tau0, rho_mean)
-    if tau0 <= 0.0:
-        zeros = np.zeros_like(cos_i)
-        return zeros, np.full_like(cos_i, rf0), np.full_like(cos_i, rb0)
+    if tau0 <= 0.0:  # opaque layer: reflectances kept, nothing transmitted
+        return np.zeros_like(cos_i), np.full_like(cos_i, rf0), np.full_like(cos_i, rb0)
+    # optical constants from the mean reflectance (equal to both sides for uncoated glass)
+    _, n, internal0 = pane_optical_constants(tau0, 0.5 * (rf0 + rb0))
     t, r = _uncoated_slab(cos_i, n, internal0)
-    if uncoated:
-        # exact at normal incidence by construction; rescale round-off
-        t0, r0 = _uncoated_slab(np.array([1.0]), n, internal0)
-        tau = t * (tau0 / t0[0])
-        rho_f = rf0 + (1.0 - rf0) * (r - r0[0]) / (1.0 - r0[0])
-        rho_b = rb0 + (1.0 - rb0) * (r - r0[0]) / (1.0 - r0[0])
-        return tau, rho_f, rho_b
     t0, r0 = _uncoated_slab(np.array([1.0]), n, internal0)
+    # for uncoated glass t0 = tau0 and r0 = rho0 (to round-off), so the scaling is the identity;
+    # for coated glass it imposes the measured normal-incidence values on the Fresnel shape
     tau = tau0 * t / t0[0]
     rho_f = rf0 + (1.0 - rf0) * (r - r0[0]) / (1.0 - r0[0])
     rho_b = rb0 + (1.0 - rb0) * (r - r0[0]) / (1.0 - r0[0])

@@ -531,3 +531,15 @@ def test_gain_with_unsupported_schedule_names_the_object(tmp_path):
     extra = "OtherEquipment,Eq,None,Z1,FromFile,EquipmentLevel,100,,,0,0.5,0;"
     with pytest.raises(ThermocalInputError, match=r"OtherEquipment 'Eq' .*'FromFile'"):
         read_idf(_box(tmp_path, extra=extra))
+
+
+def test_internal_mass_becomes_an_adiabatic_surface(tmp_path):
+    extra = "InternalMass,Furniture,C1,Z1,25;"
+    building, _ = _read(_box(tmp_path, extra=extra))
+    mass = building.surfaces["Furniture"]
+    assert (mass.zone, mass.construction, mass.area, mass.boundary) == (
+        "Z1",
+        "C1",
+        25.0,
+        "adiabatic",
+    )

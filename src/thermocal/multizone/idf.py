@@ -6,7 +6,8 @@ The importer covers the envelope subset of EnergyPlus input that the multi-zone 
 ``Construction``, ``WindowMaterial:SimpleGlazingSystem``, ``WindowMaterial:Glazing`` +
 ``WindowMaterial:Gas`` (layered glazing, optics by :mod:`thermocal.multizone.glazing`),
 ``ZoneInfiltration:DesignFlowRate``, ``Site:Location``, ``Site:GroundTemperature:BuildingSurface``,
-``GlobalGeometryRules``, ``Building`` (north axis), ``ZoneList``, the internal gains
+``GlobalGeometryRules``, ``Building`` (north axis), ``ZoneList``, ``InternalMass`` (adiabatic
+surfaces), the internal gains
 ``OtherEquipment``/``ElectricEquipment``/``Lights``/``People`` and the thermostat objects
 (``ZoneControl:Thermostat`` with ``ThermostatSetpoint:*``, ``HVACTemplate:Thermostat``) with the
 schedules they use (``Schedule:Constant``, ``Schedule:Compact``, ``Schedule:Year`` /
@@ -283,6 +284,7 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, int]] = {
         0,
     ),
     "ZONELIST": (("name",), "zone_names", 1),
+    "INTERNALMASS": (("name", "construction_name", "zone_name", "surface_area"), None, 0),
     "BUILDINGSURFACE:DETAILED": (
         (
             "name",
@@ -671,6 +673,8 @@ def record(obj: IdfObject, *, version: tuple[int, int] = (9, 3)) -> dict:
             names.insert(bc_index, "space_name")
     elif key == "FENESTRATIONSURFACE:DETAILED" and version < (9, 0):
         names.insert(names.index("view_factor_to_ground") + 1, "shading_control_name")
+    elif key == "INTERNALMASS" and len(fields) > 4:
+        names.insert(3, "space_name")  # newer versions: Zone or ZoneList, Space or SpaceList
     elif key == "OTHEREQUIPMENT" and len(fields) > 1 and fields[1].upper() not in _FUEL_TYPES:
         names.remove("fuel_type")
     out: dict = {"_object": obj}
@@ -2077,6 +2081,33 @@ def read_idf(path: str | Path, *, year: int | None = None):
                 wind_exposed=base_surface.wind_exposed,
             )
         )
+
+    for rec in records("INTERNALMASS"):
+        obj = rec["_object"]
+        cons = rec["construction_name"]
+        if cons.upper() not in opaque_constructions:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Construction Name' = '{cons}' is not an opaque "
+                "Construction of the file."
+            )
+        for zone_name in zone_targets(rec):
+            mass_name = rec["name"] if zones.get(rec["zone_name"]) else f"{rec['name']} {zone_name}"
+            model_surfaces.append(
+                _wrap(
+                    obj,
+                    mz.Surface,
+                    name=mass_name,
+                    zone=zone_name,
+                    construction=constructions.get(cons)[0],
+                    area=_number(rec, "surface_area"),
+                    tilt=90.0,
+                    azimuth=0.0,
+                    boundary="adiabatic",
+                    sun_exposed=False,
+                    wind_exposed=False,
+                )
+            )
+            info.surface_types[mass_name] = "InternalMass"
 
     # -- zone areas and volumes -----------------------------------------------------------------
     zone_floor_area: dict[str, float] = {}

@@ -1,0 +1,182 @@
+"""Data model of the multi-zone building: validation messages and parameter names."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.model import (
+    Building,
+    Construction,
+    Material,
+    NoMassMaterial,
+    Surface,
+    Window,
+    WindowType,
+    Zone,
+    construction_u_value,
+)
+
+
+def _parts():
+    materials = [
+        Material("brick", 0.8, 1800, 900, 0.25),
+        NoMassMaterial("air gap", 0.18),
+        Material("plaster", 0.7, 1400, 1000, 0.015),
+    ]
+    constructions = [Construction("wall", ("brick", "air gap", "plaster"))]
+    window_types = [WindowType("double", 2.7, 0.6)]
+    zones = [Zone("living", 60.0, 24.0, infiltration_ach=0.5), Zone("kitchen", 30.0, 12.0)]
+    surfaces = [
+        Surface("living south", "living", "wall", 20.0, 90, 180),
+        Surface("partition a", "living", "wall", 10.0, 90, 90, "zone", "kitchen", "partition b"),
+        Surface("partition b", "kitchen", "wall", 10.0, 90, 270, "zone", "living", "partition a"),
+    ]
+    windows = [Window("w1", "living south", "double", 4.0, frame_fraction=0.2)]
+    return materials, constructions, window_types, zones, surfaces, windows
+
+
+def _building(**changes):
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    kwargs = dict(
+        name="test",
+        materials=materials,
+        constructions=constructions,
+        window_types=window_types,
+        zones=zones,
+        surfaces=surfaces,
+        windows=windows,
+    )
+    kwargs.update(changes)
+    return Building(**kwargs)
+
+
+def test_valid_building_and_net_area():
+    building = _building()
+    assert building.net_area("living south") == pytest.approx(16.0)
+    assert building.windows["w1"].glazed_area == pytest.approx(3.2)
+
+
+def test_unknown_material_names_construction():
+    constructions = [Construction("wall", ("brick", "concrete", "plaster"))]
+    with pytest.raises(ThermocalInputError, match=r"construction 'wall'.*material 'concrete'"):
+        _building(constructions=constructions)
+
+
+def test_unknown_construction_names_surface():
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    surfaces[0] = Surface("living south", "living", "wal", 20.0, 90, 180)
+    with pytest.raises(ThermocalInputError, match=r"surface 'living south'.*construction 'wal'"):
+        _building(surfaces=surfaces)
+
+
+def test_zero_thickness_names_material():
+    with pytest.raises(ThermocalInputError, match=r"material 'brick': thickness"):
+        Material("brick", 0.8, 1800, 900, 0.0)
+
+
+def test_missing_zone_names_surface():
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    surfaces[0] = Surface("living south", "lounge", "wall", 20.0, 90, 180)
+    with pytest.raises(ThermocalInputError, match=r"surface 'living south'.*zone 'lounge'"):
+        _building(surfaces=surfaces)
+
+
+def test_interzone_surface_without_partner():
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    surfaces = surfaces[:2]  # partition b missing
+    with pytest.raises(ThermocalInputError, match=r"surface 'partition a'.*'partition b'"):
+        _building(surfaces=surfaces)
+    lonely = Surface("partition a", "living", "wall", 10.0, 90, 90, "zone", "kitchen", None)
+    with pytest.raises(ThermocalInputError, match=r"surface 'partition a'.*no partner"):
+        _building(surfaces=[surfaces[0], lonely])
+
+
+def test_negative_area_names_surface_and_window():
+    with pytest.raises(ThermocalInputError, match=r"surface 'x' \(zone 'living'\): area"):
+        Surface("x", "living", "wall", -3.0)
+    with pytest.raises(ThermocalInputError, match=r"window 'w': area"):
+        Window("w", "living south", "double", -1.0)
+
+
+def test_windows_larger_than_host():
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    windows = [Window("w1", "living south", "double", 25.0)]
+    with pytest.raises(ThermocalInputError, match=r"surface 'living south'.*gross area"):
+        _building(windows=windows)
+
+
+def test_duplicate_names():
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    with pytest.raises(ThermocalInputError, match=r"zone 'living' is defined twice"):
+        _building(zones=zones + [Zone("living", 10.0, 4.0)])
+
+
+def test_parameters_roundtrip_and_unknown_name():
+    building = _building()
+    params = building.parameters()
+    assert params["material/brick/conductivity"] == 0.8
+    assert params["material/air gap/resistance"] == 0.18
+    assert params["window/double/shgc"] == 0.6
+    assert params["zone/living/infiltration_ach"] == 0.5
+    changed = building.with_parameters(
+        {"material/brick/thickness": 0.3, "window/double/u_value": 1.1}
+    )
+    assert changed.materials["brick"].thickness == 0.3
+    assert building.materials["brick"].thickness == 0.25  # original untouched
+    assert changed.window_types["double"].u_value == 1.1
+    with pytest.raises(ThermocalInputError, match="did you mean 'material/brick/conductivity'"):
+        building.with_parameters({"material/brick/conductivty": 1.0})
+    with pytest.raises(ThermocalInputError, match=r"material 'brick': thickness"):
+        building.with_parameters({"material/brick/thickness": 0.0})
+
+
+def test_infiltration_groups():
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    zones = [
+        Zone("living", 60.0, 24.0, infiltration_ach=0.5, infiltration_group="east"),
+        Zone("kitchen", 30.0, 12.0, infiltration_ach=0.3, infiltration_group="east"),
+    ]
+    building = _building(zones=zones)
+    params = building.parameters()
+    assert "infiltration/east/ach" in params and "zone/living/infiltration_ach" not in params
+    changed = building.with_parameters({"infiltration/east/ach": 0.8})
+    assert [z.infiltration_ach for z in changed.zones.values()] == [0.8, 0.8]
+
+
+def test_u_value_hand_computed():
+    layers = [Material("brick", 0.8, 1800, 900, 0.24), NoMassMaterial("gap", 0.18)]
+    expected = 1.0 / (0.13 + 0.04 + 0.24 / 0.8 + 0.18)
+    assert construction_u_value(layers) == pytest.approx(expected, rel=1e-12)
+
+
+def test_window_type_layered_optics_and_shgc_scaling():
+    wt = WindowType(
+        "layered",
+        2.7,
+        0.79,
+        solar_transmittance=0.75,
+        pane_absorptances=(0.064, 0.052),
+        incidence_angles=(0.0, 30.0, 60.0, 90.0),
+        relative_transmittance=(1.0, 0.98, 0.83, 0.0),
+    )
+    assert wt.transmittance(60.0) == pytest.approx(0.75 * 0.83)
+    assert wt.transmittance(90.0) == 0.0
+    # hemispherical transmittance: 2 * integral of tau(theta) cos sin, below the normal value
+    assert 0.5 < wt.diffuse_transmittance_value < 0.75
+    scaled = wt.with_shgc(0.395)
+    assert scaled.solar_transmittance == pytest.approx(0.375)
+    assert np.allclose(scaled.pane_absorptances, (0.032, 0.026))
+    with pytest.raises(ThermocalInputError, match="exceed 1"):
+        WindowType("bad", 2.7, 0.8, solar_transmittance=0.9, pane_absorptances=(0.1, 0.1))
+
+
+def test_default_angular_transmittance_is_fresnel():
+    wt = WindowType("simple", 2.8, 0.7)
+    rel = wt.relative_transmittance_at(np.array([0.0, 40.0, 60.0, 80.0, 90.0]))
+    assert rel[0] == pytest.approx(1.0)
+    assert np.all(np.diff(rel) < 0)
+    # clear double glazing keeps ~0.95 at 40 deg and ~0.8 at 60 deg (Duffie & Beckman fig. 5.3.1)
+    assert 0.93 < rel[1] < 0.99
+    assert 0.75 < rel[2] < 0.9

@@ -1,0 +1,223 @@
+"""Conduction, network assembly and time stepping against analytical solutions."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy.linalg import expm
+
+from thermocal.multizone.model import (
+    Building,
+    Construction,
+    Location,
+    Material,
+    NoMassMaterial,
+    Surface,
+    Zone,
+)
+from thermocal.multizone.network import (
+    STEFAN_BOLTZMANN,
+    NetworkOptions,
+    cells_per_layer,
+    construction_template,
+    mrt_network_conductances,
+    tarp_natural_convection,
+)
+from thermocal.multizone.simulation import Simulation, steady_state_heat_loss_coefficient
+
+
+def constant_weather(days=20, temp=0.0, step="1h", wind=0.0):
+    """Dark, calm weather at constant temperature with the sky at air temperature."""
+    index = pd.date_range("2021-01-01", periods=int(days * 24), freq="1h", tz="UTC+01:00")
+    frame = pd.DataFrame(
+        {
+            "temp_air": temp,
+            "ghi": 0.0,
+            "dni": 0.0,
+            "dhi": 0.0,
+            "ghi_infrared": STEFAN_BOLTZMANN * (temp + 273.15) ** 4,
+            "wind_speed": wind,
+            "wind_direction": 180.0,
+            "pressure": 101325.0,
+        },
+        index=index,
+    )
+    return frame, {"latitude": 47.4, "longitude": 8.5, "altitude": 0.0}
+
+
+def box_building(layers, heating=20.0):
+    """A 30 m2-per-face cube-like zone whose six faces have the same construction, outdoors."""
+    surfaces = [
+        Surface("roof", "room", "wall", 30.0, 0, 0),
+        Surface("floor", "room", "wall", 30.0, 180, 0),
+    ] + [Surface(f"wall {az}", "room", "wall", 30.0, 90, az) for az in (0, 90, 180, 270)]
+    return Building(
+        name="box",
+        location=Location(47.4, 8.5, 0.0),
+        materials=layers,
+        constructions=[Construction("wall", tuple(m.name for m in layers))],
+        zones=[Zone("room", 150.0, 30.0, heating_setpoint=heating)],
+        surfaces=surfaces,
+    )
+
+
+def test_steady_state_heat_flow_equals_u_a_dt():
+    layers = [
+        Material("brick", 0.8, 1800.0, 900.0, 0.25),
+        NoMassMaterial("gap", 0.17),
+        Material("insulation", 0.04, 30.0, 1400.0, 0.08),
+        Material("plaster", 0.7, 1400.0, 1000.0, 0.015),
+    ]
+    building = box_building(layers)
+    h_in, h_out = 3.0, 20.0
+    options = NetworkOptions(
+        interior_convection="fixed",
+        h_interior_fixed=h_in,
+        exterior_convection="fixed",
+        h_exterior_fixed=h_out,
+        exact_sky_longwave=False,
+    )
+    weather, meta = constant_weather(days=20)
+    result = Simulation(building, weather, meta, step="1h", options=options).run()
+    # hand computation: interior radiation nets to zero by symmetry (all faces equal), exterior
+    # long-wave linearised at the mean outdoor temperature (sky and ground at air temperature)
+    h_r = 4.0 * STEFAN_BOLTZMANN * 273.15**3 * 0.9
+    r_total = 1 / h_in + 0.25 / 0.8 + 0.17 + 0.08 / 0.04 + 0.015 / 0.7 + 1 / (h_out + h_r)
+    expected = 6 * 30.0 * 20.0 / r_total
+    heating = result.heating["room"].iloc[-1]
+    assert heating == pytest.approx(expected, rel=1e-3)
+    assert result.air_temperature["room"].iloc[-1] == pytest.approx(20.0, abs=1e-9)
+
+
+def _slab_insulated_face(fourier, n_terms=200):
+    """Analytical temperature of the insulated face of a slab after a unit step at the other."""
+    n = np.arange(n_terms)
+    lam = (2 * n + 1) * np.pi / 2
+    return float(np.sum(4 / ((2 * n + 1) * np.pi) * (-1.0) ** n * np.exp(-(lam**2) * fourier)))
+
+
+def _slab_numerical(cells, fourier):
+    layer = Material("slab", 1.4, 2000.0, 1000.0, 0.2)
+    options = NetworkOptions(cells_per_layer=cells)
+    tpl = construction_template([layer], 3600.0, options)
+    g, c = tpl.conductance, tpl.capacity
+    n = len(c) - 1  # node 0 is held at 0 (Dirichlet), nodes 1..n are free
+    k = np.zeros((n, n))
+    for j in range(len(g)):
+        a, b = j - 1, j  # free-node indices of nodes j and j+1
+        k[b, b] += g[j]
+        if a >= 0:
+            k[a, a] += g[j]
+            k[a, b] -= g[j]
+            k[b, a] -= g[j]
+    time = fourier * layer.thickness**2 / layer.diffusivity
+    x = expm(-np.diag(1 / c[1:]) @ k * time) @ np.ones(n)
+    return x[-1]
+
+
+def test_slab_step_response_converges_to_series_solution():
+    errors = {}
+    for cells in (1, 2, 4, 8, 16):
+        err = [abs(_slab_numerical(cells, fo) - _slab_insulated_face(fo)) for fo in (0.1, 0.3, 1.0)]
+        errors[cells] = max(err)
+    values = [errors[c] for c in (1, 2, 4, 8, 16)]
+    assert all(b < a for a, b in zip(values, values[1:], strict=False)), errors
+    assert errors[4] / errors[16] > 8  # second order in space
+    assert errors[16] < 1e-3
+
+
+def test_default_criterion_is_accurate_at_the_resolved_time_scale():
+    concrete = Material("concrete", 1.4, 2000.0, 1000.0, 0.2)
+    step = 900.0
+    cells = cells_per_layer(concrete.thickness, concrete.diffusivity, step)
+    assert 2 <= cells <= 12
+    # error of the insulated-face response at a time scale of six steps .. one day
+    worst = 0.0
+    for hours in (1.5, 6.0, 24.0):
+        fo = concrete.diffusivity * hours * 3600 / concrete.thickness**2
+        worst = max(worst, abs(_slab_numerical(cells, fo) - _slab_insulated_face(fo)))
+    assert worst < 0.02
+    # the criterion refines with thicker layers and shorter time scales, within its bounds
+    assert cells_per_layer(0.4, concrete.diffusivity, step) > cells
+    assert cells_per_layer(0.2, concrete.diffusivity, 3 * 3600.0) < cells
+    assert cells_per_layer(5.0, concrete.diffusivity, step) == 12
+
+
+def test_air_node_matches_backward_euler_closed_form():
+    """A zone without surfaces, coupled by infiltration only: the exact discrete solution."""
+    building = Building(
+        name="air",
+        zones=[Zone("room", 100.0, 40.0, infiltration_ach=2.0)],
+    )
+    weather, meta = constant_weather(days=2, temp=0.0)
+    sim = Simulation(building, weather, meta, step="10min", warmup_days=0, initial_temperature=20.0)
+    result = sim.run(free_float=True)
+    net = sim.network
+    conductance = net.zone_infiltration[0]
+    capacity = net.capacity[0]
+    dt = 600.0
+    k = np.arange(1, 11)
+    expected = 20.0 * (1.0 / (1.0 + dt * conductance / capacity)) ** k
+    assert np.allclose(result.air_temperature["room"].to_numpy()[:10], expected, rtol=1e-10)
+
+
+def test_ideal_loads_hold_set_points_exactly_and_step_api_matches_run():
+    layers = [Material("timber", 0.14, 650.0, 1200.0, 0.05), Material("wool", 0.04, 20, 840, 0.1)]
+    building = box_building(layers, heating=21.0)
+    weather, meta = constant_weather(days=3, temp=-5.0, wind=3.0)
+    sim = Simulation(building, weather, meta, step="15min", warmup_days=1)
+    result = sim.run()
+    assert np.allclose(result.air_temperature["room"], 21.0, atol=1e-9)
+    assert (result.heating["room"] > 0).all()
+    # given heat: the stepping API reproduces run(heat_input=...) step by step
+    heat = result.heating[["room"]] * 0.8
+    given = sim.run(free_float=True, heat_input=heat)
+    sim.reset(free_float=True)
+    temps = [sim.step([q]) for q in heat["room"].to_numpy()[:50]]
+    assert np.allclose(np.ravel(temps), given.air_temperature["room"].to_numpy()[:50], atol=1e-10)
+    assert given.air_temperature["room"].iloc[-1] < 20.0
+
+
+def test_set_parameters_changes_the_heat_loss():
+    layers = [Material("timber", 0.14, 650.0, 1200.0, 0.05), Material("wool", 0.04, 20, 840, 0.1)]
+    building = box_building(layers)
+    base = steady_state_heat_loss_coefficient(building)
+    thicker = steady_state_heat_loss_coefficient(
+        building.with_parameters({"material/wool/thickness": 0.2})
+    )
+    assert thicker < 0.6 * base
+    weather, meta = constant_weather(days=2, temp=0.0)
+    sim = Simulation(building, weather, meta, step="1h", warmup_days=0)
+    q_before = sim.run().heating["room"].iloc[-1]
+    sim.set_parameters({"material/wool/thickness": 0.2})
+    q_after = sim.run().heating["room"].iloc[-1]
+    assert q_after < 0.65 * q_before
+
+
+def test_heat_loss_coefficient_of_box_by_hand():
+    layers = [Material("wool", 0.04, 20.0, 840.0, 0.1)]
+    building = box_building(layers)
+    options = NetworkOptions(
+        interior_convection="fixed",
+        h_interior_fixed=2.5,
+        exterior_convection="fixed",
+        h_exterior_fixed=20.0,
+    )
+    h_r = 4.0 * STEFAN_BOLTZMANN * 273.15**3 * 0.9
+    expected = 6 * 30.0 / (1 / 2.5 + 0.1 / 0.04 + 1 / (20.0 + h_r))
+    assert steady_state_heat_loss_coefficient(building, options=options) == pytest.approx(
+        expected, rel=1e-9
+    )
+
+
+def test_tarp_and_mrt_coefficients():
+    # vertical 1.31 dT^(1/3); warm floor (unstable) > cold floor (stable)
+    assert tarp_natural_convection(8.0, 0.0) == pytest.approx(2.62)
+    assert tarp_natural_convection(8.0, 1.0) == pytest.approx(9.482 * 2 / 6.238)
+    assert tarp_natural_convection(-8.0, 1.0) == pytest.approx(1.81 * 2 / 2.382)
+    # two black faces that see only each other (parallel plates): exchange h_b A
+    g = mrt_network_conductances(np.array([10.0, 10.0]), np.array([1.0, 1.0]), 5.0)
+    assert 1 / (1 / g[0] + 1 / g[1]) == pytest.approx(5.0 * 10.0, rel=1e-6)
+    # Carroll factors: equal faces get F = 2, so each face conductance is 2 A h_b
+    assert g[0] == pytest.approx(2 * 10.0 * 5.0, rel=1e-6)

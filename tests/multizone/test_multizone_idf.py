@@ -543,3 +543,25 @@ def test_internal_mass_becomes_an_adiabatic_surface(tmp_path):
         25.0,
         "adiabatic",
     )
+
+
+def test_other_equipment_layouts_with_and_without_fuel_type(tmp_path):
+    with_fuel = parse_idf("OtherEquipment,Eq,,Z1,Sch,EquipmentLevel,100,,,0,0.5,0;")[0]
+    without = parse_idf("OtherEquipment,Eq,Z1,Sch,EquipmentLevel,100,,,0,0.5,0;")[0]
+    for obj in (with_fuel, without):
+        rec = record(obj)
+        assert (rec["zone_name"], rec["design_level"], rec["fraction_radiant"]) == (
+            "Z1",
+            "100",
+            "0.5",
+        )
+
+
+def test_unsupported_construction_class_is_named(tmp_path):
+    path = _box(tmp_path, extra="Construction:FfactorGroundFloor,Slab,0.5,100,40;")
+    text = path.read_text().replace("Floor,Floor,C1,Z1,Ground", "Floor,Floor,Slab,Z1,Ground")
+    path.write_text(text)
+    with pytest.raises(
+        ThermocalInputError, match="Construction:FfactorGroundFloor is not supported"
+    ):
+        read_idf(path)

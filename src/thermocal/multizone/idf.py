@@ -594,28 +594,8 @@ _BOUNDARY_CONDITIONS = {
     "GROUNDBASEMENTPREPROCESSORLOWERWALL",
 }
 
-_FUEL_TYPES = {
-    "NONE",
-    "ELECTRICITY",
-    "NATURALGAS",
-    "GAS",
-    "PROPANE",
-    "PROPANEGAS",
-    "FUELOILNO1",
-    "FUELOILNO2",
-    "FUELOIL#1",
-    "FUELOIL#2",
-    "DIESEL",
-    "GASOLINE",
-    "COAL",
-    "STEAM",
-    "DISTRICTHEATING",
-    "DISTRICTHEATINGWATER",
-    "DISTRICTHEATINGSTEAM",
-    "DISTRICTCOOLING",
-    "OTHERFUEL1",
-    "OTHERFUEL2",
-}
+#: Design-level methods of OtherEquipment, used to tell the layouts with and without Fuel Type.
+_EQUIPMENT_METHODS = {"EQUIPMENTLEVEL", "POWER/AREA", "POWER/PERSON", "WATTS/AREA", "WATTS/PERSON"}
 
 
 def _version_tuple(objects: Iterable[IdfObject]) -> tuple[int, int]:
@@ -675,8 +655,13 @@ def record(obj: IdfObject, *, version: tuple[int, int] = (9, 3)) -> dict:
         names.insert(names.index("view_factor_to_ground") + 1, "shading_control_name")
     elif key == "INTERNALMASS" and len(fields) > 4:
         names.insert(3, "space_name")  # newer versions: Zone or ZoneList, Space or SpaceList
-    elif key == "OTHEREQUIPMENT" and len(fields) > 1 and fields[1].upper() not in _FUEL_TYPES:
-        names.remove("fuel_type")
+    elif (
+        key == "OTHEREQUIPMENT"
+        and len(fields) > 3
+        and fields[3].upper() in _EQUIPMENT_METHODS
+        and not (len(fields) > 4 and fields[4].upper() in _EQUIPMENT_METHODS)
+    ):
+        names.remove("fuel_type")  # written before the Fuel Type field existed
     out: dict = {"_object": obj}
     n_fixed = len(names)
     for index, name in enumerate(names):
@@ -863,8 +848,9 @@ def to_world_coordinates(
     -----
     With relative coordinates EnergyPlus rotates the vertices by the zone's relative north, adds
     the zone origin (building coordinates), then rotates by the building north axis. With world
-    coordinates the vertices are used as given and both rotations are ignored (EnergyPlus
-    Input Output Reference, GlobalGeometryRules and Building/North Axis).
+    coordinates the vertices are used as given and both rotations are ignored (EnergyPlus IDD,
+    BuildingSurface:Detailed note: "If world, then building and zone origins are used for some
+    internal calculations, but all coordinates are given in an 'absolute' system").
     """
     v = np.asarray(vertices, dtype=float).reshape(-1, 3)
     if not rules.relative:
@@ -1319,6 +1305,12 @@ class IdfImportInfo:
         Returns
         -------
         pandas.DataFrame [W], one column per zone with gains.
+
+        Notes
+        -----
+        The imported zones already carry the annual mean of these gains as the constant
+        ``Zone.internal_gains``; to simulate the hourly profile instead, set those to 0 and pass
+        the profile as heat input (otherwise the gains are counted twice).
         """
         import pandas as pd
 
@@ -1852,9 +1844,20 @@ def read_idf(path: str | Path, *, year: int | None = None):
             )
         cons_entry = constructions.get(cons)
         if cons_entry is None:
+            other = next(
+                (
+                    o.class_name
+                    for o in objects
+                    if o.key.startswith("CONSTRUCTION:") and o.name.upper() == cons.upper()
+                ),
+                None,
+            )
+            hint = (
+                f" ({other} is not supported; give a layered Construction instead)" if other else ""
+            )
             raise ThermocalInputError(
                 f"{obj.where()}: field 'Construction Name' = '{cons}' is not a Construction of the "
-                "file."
+                f"file{hint}."
             )
         geometry = zone_geometry[zone_name.upper()]
         world = to_world_coordinates(

@@ -619,8 +619,7 @@ def resample_weather(weather: pd.DataFrame, step: str | pd.Timedelta) -> pd.Data
     start = weather.index[0]
     end = weather.index[-1] + old_step
     n_new = int((end - start) // new_step)
-    new_index = start + new_step * np.arange(n_new)
-    new_index = pd.DatetimeIndex(new_index)
+    new_index = pd.date_range(start, periods=n_new, freq=new_step).as_unit(weather.index.unit)
     t_old = (_ns(weather.index) - start.value).astype(float)
     t_new = (_ns(new_index) - start.value).astype(float)
     out = pd.DataFrame(index=new_index)

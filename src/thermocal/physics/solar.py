@@ -148,22 +148,36 @@ def interval_solar_position(
     if len(index) == 0:
         raise ThermocalInputError("interval_solar_position: the time index is empty")
     step = _step_of(index) if step is None else pd.Timedelta(step)
-    edges = index.append(pd.DatetimeIndex([index[-1] + step]))
-    at_edges = solar_position(edges, latitude, longitude, altitude)
-    elevation = at_edges["apparent_elevation"].to_numpy()
-    e0, e1 = elevation[:-1], elevation[1:]
-    rising = (e0 <= 0.0) & (e1 > 0.0)
-    setting = (e0 > 0.0) & (e1 <= 0.0)
-    fraction = np.full(len(index), 0.5)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        crossing = e0 / (e0 - e1)  # fraction of the step at which the elevation is zero
-    fraction[rising] = 0.5 * (crossing[rising] + 1.0)
-    fraction[setting] = 0.5 * crossing[setting]
-    step_ns = step.value
-    instants = pd.DatetimeIndex(
-        index.as_unit("ns") + pd.to_timedelta(np.round(fraction * step_ns).astype(np.int64))
-    )
+    index_ns = index.as_unit("ns")
+    instants = pd.DatetimeIndex(index_ns + step / 2)
     position = solar_position(instants, latitude, longitude, altitude)
+    # Only intervals whose midpoint is close to the horizon can contain sunrise or sunset: the
+    # sun's elevation changes by at most 15 deg/h (at the equator), so half a step away the
+    # elevation differs by at most 7.5 deg/h * step.
+    margin = 7.5 * step / pd.Timedelta(hours=1) + 1.0
+    candidate = np.abs(position["apparent_elevation"].to_numpy()) < margin
+    if candidate.any():
+        starts = index_ns[candidate]
+        ends = starts + step
+        at_edges = solar_position(starts.append(ends), latitude, longitude, altitude)
+        elevation = at_edges["apparent_elevation"].to_numpy()
+        e0, e1 = elevation[: len(starts)], elevation[len(starts) :]
+        rising = (e0 <= 0.0) & (e1 > 0.0)
+        setting = (e0 > 0.0) & (e1 <= 0.0)
+        crossing = np.where(rising | setting, e0 / np.where(e0 == e1, 1.0, e0 - e1), 0.5)
+        fraction = np.where(rising, 0.5 * (crossing + 1.0), np.where(setting, 0.5 * crossing, 0.5))
+        special = rising | setting
+        if special.any():
+            moved = pd.DatetimeIndex(
+                starts[special]
+                + pd.to_timedelta(np.round(fraction[special] * step.value).astype(np.int64))
+            )
+            rows = np.flatnonzero(candidate)[special]
+            refined = solar_position(moved, latitude, longitude, altitude)
+            position.iloc[rows] = refined.to_numpy()
+            instants_ns = instants.asi8.copy()
+            instants_ns[rows] = moved.as_unit("ns").asi8
+            instants = pd.DatetimeIndex(instants_ns).tz_localize("UTC").tz_convert(index.tz)
     position.insert(0, "time", instants)
     position.index = index
     return position

@@ -248,6 +248,32 @@ def calibrate(
     )
 
 
+def correlated_pairs(corr: pd.DataFrame, limit: float = 0.98) -> list[tuple[str, str, float]]:
+    """Pairs of parameters whose |correlation| reaches ``limit`` (paper 000: 0.98).
+
+    Returns
+    -------
+    list of (name_a, name_b, r), strongest first.
+    """
+    names = list(corr.columns)
+    pairs = []
+    values = corr.to_numpy(float)
+    for i, a in enumerate(names):
+        for j in range(i + 1, len(names)):
+            r = values[i, j]
+            if np.isfinite(r) and abs(r) >= limit:
+                pairs.append((a, names[j], float(r)))
+    return sorted(pairs, key=lambda t: -abs(t[2]))
+
+
+def correlation_flag(a: str, b: str, r: float, limit: float) -> str:
+    """The message reporting a correlated pair."""
+    return (
+        f"parameters {a} and {b} are correlated (r = {r:+.3f}, |r| >= {limit}): the data cannot "
+        "separate them; fix one of them to a physical value or lengthen the training period"
+    )
+
+
 def _inside(p, x: float, margin: float = 1e-6) -> float:
     """``x`` moved strictly inside the parameter's bounds."""
     lo, hi = p.lower, p.upper

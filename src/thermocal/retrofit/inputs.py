@@ -66,7 +66,7 @@ def ground_temperature_parameters(weather: pd.DataFrame) -> dict[str, float]:
     Fits ``T(d) = mean - amplitude cos(2 pi (d - phase_day) / 365.25)`` to daily means.
     """
     daily = weather["temp_air"].resample("1D").mean().dropna()
-    doy = daily.index.dayofyear.to_numpy(float)
+    doy = daily.index.day_of_year.to_numpy(float)
     w = 2 * np.pi / 365.25
     design = np.column_stack([np.ones_like(doy), np.cos(w * doy), np.sin(w * doy)])
     coef, *_ = np.linalg.lstsq(design, daily.to_numpy(float), rcond=None)
@@ -97,7 +97,7 @@ def ground_temperature(
     """
     period = 365.25 * 86400.0
     damping = depth * np.sqrt(np.pi / (diffusivity * period))
-    doy = (times.dayofyear.to_numpy(float) - 1.0) + times.hour.to_numpy(float) / 24.0
+    doy = (times.day_of_year.to_numpy(float) - 1.0) + times.hour.to_numpy(float) / 24.0
     arg = 2 * np.pi * (doy - params["phase_day"]) / 365.25 - damping
     values = params["annual_mean"] - params["amplitude"] * np.exp(-damping) * np.cos(arg)
     return pd.Series(values, index=times, name="Tgr")

@@ -449,3 +449,19 @@ def test_time_format_for_non_iso_timestamps(tmp_path):
     assert raw.index[1] == pd.Timestamp("2019-02-01 23:05", tz="UTC")
     with pytest.raises(ThermocalInputError, match="line 2: cannot read '02.02.2019 00:00'"):
         read_measurements(path, tz="Europe/Zurich")
+
+
+def test_flags_name_the_line_of_long_logs(tmp_path):
+    path = write(
+        tmp_path,
+        "time,sensor,value\n"
+        "2019-02-02T00:00:00Z,flow [l/h],100\n"
+        "2019-02-02T00:00:00Z,T_room,20\n"
+        "2019-02-02T00:05:00Z,flow [l/h],-50\n"
+        "2019-02-02T00:10:00Z,flow [l/h],100\n",
+    )
+    raw, meta = read_measurements(path, units={"flow [l/h]": "l/h"})
+    _, report = resample_measurements(raw, "5min")
+    flag = report.flags.iloc[0]
+    assert flag["sensor"] == "flow [l/h]" and flag["line"] == 4 and flag["flag"] == "impossible"
+    assert flag["value"] == pytest.approx(-50 / 3.6e6)

@@ -16,7 +16,7 @@ Example
 >>> from thermocal.io.building import read_building
 >>> building = read_building("examples/buildings/single_family_house_1953.yaml")  # doctest: +SKIP
 >>> building.transmission_heat_transfer_coefficient  # doctest: +SKIP
-447.3
+457.25
 
 References
 ----------

@@ -1167,7 +1167,8 @@ class QualityReport:
         One row per silence longer than ``max_gap``: sensor, start (last report before), end
         (first report after, or the end of the data), duration [h], n_missing (NaN intervals).
     flags : DataFrame
-        One row per flagged report: sensor, time, value, flag ("impossible" or "outlier"),
+        One row per flagged report: sensor, time, value, line (1-based line in the file, long
+        logs from :func:`read_measurements`; else None), flag ("impossible" or "outlier"),
         action ("removed" or "kept"), reason.
     coverage : DataFrame
         Covered fraction of every interval [-] (grid x sensors).
@@ -1265,8 +1266,8 @@ def _per_sensor(option: Any, sensors: Sequence[str], name: str, default: Any) ->
     return dict.fromkeys(sensors, option)
 
 
-def _split_raw(raw: pd.DataFrame) -> tuple[dict[str, tuple[np.ndarray, np.ndarray]], Any]:
-    """Per-sensor (times in ns, values) from a long or wide raw frame."""
+def _split_raw(raw: pd.DataFrame) -> tuple[dict[str, tuple], Any]:
+    """Per-sensor (times in ns, values, file line numbers or None) from a long or wide frame."""
     if isinstance(raw.index, pd.DatetimeIndex):
         if raw.index.tz is None:
             raise ThermocalInputError(
@@ -1283,7 +1284,7 @@ def _split_raw(raw: pd.DataFrame) -> tuple[dict[str, tuple[np.ndarray, np.ndarra
                 dtype=np.float64, na_value=np.nan
             )
             ok = np.isfinite(values)
-            out[str(column)] = (times[ok], values[ok])
+            out[str(column)] = (times[ok], values[ok], None)
         return out, raw.index.tz
     needed = {"time", "sensor", "value"}
     if not needed <= set(raw.columns):
@@ -1296,6 +1297,7 @@ def _split_raw(raw: pd.DataFrame) -> tuple[dict[str, tuple[np.ndarray, np.ndarra
         raise ThermocalInputError("resample_measurements: column 'time' has no time zone")
     times = time.as_unit("ns").asi8
     values = raw["value"].to_numpy(dtype=np.float64, na_value=np.nan)
+    file_lines = raw.index.to_numpy() if raw.index.name == "line" else None
     if isinstance(raw["sensor"].dtype, pd.CategoricalDtype):
         codes = raw["sensor"].cat.codes.to_numpy()
         names = [str(n) for n in raw["sensor"].cat.categories]
@@ -1321,7 +1323,7 @@ def _split_raw(raw: pd.DataFrame) -> tuple[dict[str, tuple[np.ndarray, np.ndarra
                 f"resample_measurements: sensor '{name}' has repeated timestamps"
             )
         ok = np.isfinite(v)
-        out[name] = (t[ok], v[ok])
+        out[name] = (t[ok], v[ok], file_lines[chunk][ok] if file_lines is not None else None)
     return out, time.tz
 
 
@@ -1344,7 +1346,7 @@ def _grid(
     if last <= first:
         last = first + step
     n = int(math.ceil((last - first) / step))
-    return pd.DatetimeIndex(first + step * np.arange(n), name="time")
+    return pd.date_range(first, periods=n, freq=step, name="time")
 
 
 def resample_measurements(
@@ -1484,7 +1486,7 @@ def resample_measurements(
         actions.append(f"{name}: converted {note}")
 
     for name in sensors:
-        times_ns, values = series[name]
+        times_ns, values, lines_of = series[name]
         quantity = quantity_of[name]
         operation = operations[name]
         unit = unit_of[name]
@@ -1505,6 +1507,7 @@ def resample_measurements(
                         "sensor": name,
                         "time": pd.Timestamp(int(times_ns[index]), tz="UTC").tz_convert(tz),
                         "value": float(values[index]),
+                        "line": None if lines_of is None else int(lines_of[index]),
                         "flag": "impossible",
                         "action": "removed",
                         "reason": f"{reason} {low:g} to {high:g} {unit}".strip(),
@@ -1516,6 +1519,7 @@ def resample_measurements(
                 f"{low:g} to {high:g} {unit} (first at {first_time.tz_convert(tz).isoformat()})"
             )
             times_ns, values = times_ns[~impossible], values[~impossible]
+            lines_of = None if lines_of is None else lines_of[~impossible]
         # isolated spikes
         n_outliers = n_removed = 0
         if outliers != "ignore" and quantity in OUTLIER_FLOORS and values.size:
@@ -1529,6 +1533,7 @@ def resample_measurements(
                             "sensor": name,
                             "time": pd.Timestamp(int(times_ns[index]), tz="UTC").tz_convert(tz),
                             "value": float(values[index]),
+                            "line": None if lines_of is None else int(lines_of[index]),
                             "flag": "outlier",
                             "action": action,
                             "reason": (
@@ -1671,7 +1676,9 @@ def resample_measurements(
 
     data = pd.DataFrame(columns, index=grid)
     data.attrs["units"] = dict(unit_of)
-    flags = pd.DataFrame(flag_rows, columns=["sensor", "time", "value", "flag", "action", "reason"])
+    flags = pd.DataFrame(
+        flag_rows, columns=["sensor", "time", "value", "line", "flag", "action", "reason"]
+    )
     gaps = pd.DataFrame(gap_rows, columns=["sensor", "start", "end", "duration_hours", "n_missing"])
     report = QualityReport(
         step=step_td,

@@ -150,6 +150,42 @@ def _start_points(model, n_starts: int, seed: int | None) -> list[np.ndarray]:
     return starts
 
 
+def _minimize(problem: LikelihoodProblem, theta_start, method: str, maxiter: int):
+    options = {"maxiter": maxiter}
+    if method == "L-BFGS-B":
+        options |= {"ftol": 1e-13, "gtol": 1e-6}
+    return optimize.minimize(
+        problem.objective, theta_start, jac=True, method=method, options=options
+    )
+
+
+def _escape_vanishing_noise(model, problem: LikelihoodProblem, best, method: str, maxiter: int):
+    """Restart from the optimum with collapsed noise standard deviations reset.
+
+    The likelihood of a stochastic state-space model often has a local maximum where a noise
+    standard deviation (measurement or diffusion) runs to zero; a gradient method started on the
+    wrong side stays there. When a noise parameter ends below 1e-3 of its start value, it is
+    reset to the start value (the other parameters kept at the optimum) and the fit restarted;
+    the better of the two optima is kept.
+    """
+    roles = model.structure().roles
+    names = model.free_parameter_names
+    theta0 = model.theta0()
+    theta = np.array(best.x, dtype=float)
+    collapsed = []
+    for i, name in enumerate(names):
+        p = model.parameters[name]
+        if roles.get(name, set()) & {"noise", "measurement noise"}:
+            value = p.from_unconstrained(theta[i])
+            if value - p.lower < 1e-3 * (p.value - p.lower):
+                collapsed.append(i)
+    if not collapsed:
+        return best
+    theta[collapsed] = theta0[collapsed]
+    res = _minimize(problem, theta, method, maxiter)
+    return res if res.fun < best.fun else best
+
+
 def fit(
     model,
     data,
@@ -159,7 +195,7 @@ def fit(
     seed: int | None = None,
     time_column: str | None = None,
     time_unit: str = "s",
-    method: str = "L-BFGS-B",
+    method: str = "BFGS",
     maxiter: int = 2000,
     source: str = "data",
     compute_hessian: bool = True,
@@ -183,7 +219,7 @@ def fit(
     time_column, time_unit : str
         See :func:`thermocal.statespace.data.time_axis`.
     method : str
-        ``scipy.optimize.minimize`` method using the gradient (``L-BFGS-B`` or ``BFGS``).
+        ``scipy.optimize.minimize`` method using the gradient (``BFGS``, ``L-BFGS-B``, ...).
     maxiter : int
         Iteration limit per start.
     source : str
@@ -212,15 +248,13 @@ def fit(
         if f0 >= 1e20:
             start_loglikes.append(float("nan"))
             continue
-        res = optimize.minimize(
-            problem.objective,
-            theta_start,
-            jac=True,
-            method=method,
-            options={"maxiter": maxiter}
-            if method != "L-BFGS-B"
-            else {"maxiter": maxiter, "ftol": 1e-13, "gtol": 1e-6},
-        )
+        res = _minimize(problem, theta_start, method, maxiter)
+        if not res.success:
+            # BFGS stops on "precision loss" when the line search fails on the finite-difference
+            # gradient, often before the optimum: restart once from there with a fresh metric
+            again = _minimize(problem, res.x, method, maxiter)
+            if again.fun <= res.fun:
+                res = again
         start_loglikes.append(-float(res.fun))
         if best is None or res.fun < best.fun:
             best = res
@@ -228,6 +262,7 @@ def fit(
         raise ThermocalInputError(
             f"model '{model.name}': the likelihood is not finite at any start; check initial values"
         )
+    best = _escape_vanishing_noise(model, problem, best, method, maxiter)
     theta = np.asarray(best.x, dtype=float)
     ll = problem.loglike(theta)
     _, grad = problem.objective(theta)
@@ -311,3 +346,54 @@ def rts_smoother(filtered: dict) -> tuple[np.ndarray, np.ndarray]:
         Ps[k] = Pf[k] + J @ (Ps[k + 1] - Pp[k + 1]) @ J.T
         Ps[k] = 0.5 * (Ps[k] + Ps[k].T)
     return xs, Ps
+
+
+def simulate_stochastic(
+    model,
+    data,
+    params: Mapping[str, float] | None = None,
+    *,
+    seed: int | None = None,
+    hold: str = "zoh",
+    time_column: str | None = None,
+    time_unit: str = "s",
+) -> pd.DataFrame:
+    """One random realisation of the stochastic model (states with process noise, outputs with
+    measurement noise), exactly discretised; for synthetic data and parameter-recovery studies.
+
+    The initial state is drawn from its declared mean and standard deviation. Returns a DataFrame
+    with the state columns [C] and the output columns [C] on the data's index.
+    """
+    foh = _hold_flag(hold)
+    prep = (
+        data
+        if isinstance(data, PreparedData)
+        else prepare_data(
+            model, data, time_column=time_column, time_unit=time_unit, require_outputs=False
+        )
+    )
+    rng = np.random.default_rng(seed)
+    lam, T, Tinv, TB, M, meas_var, x0, P0 = model.system(params)
+    C = model.structure().C
+    n, m = T.shape[0], TB.shape[1]
+    Ad, G0, G1, Q = np.empty((n, n)), np.empty((n, m)), np.empty((n, m)), np.empty((n, n))
+    N = prep.U.shape[0]
+    X = np.empty((N, n))
+    x = rng.multivariate_normal(x0, P0)
+    last_dt = -1.0
+    for k in range(N):
+        X[k] = x
+        if k == N - 1:
+            break
+        if prep.dts[k] != last_dt:
+            kernels.discretise_from_eigen(lam, T, Tinv, TB, M, prep.dts[k], foh, Ad, G0, G1, Q)
+            last_dt = prep.dts[k]
+            w, v = np.linalg.eigh(Q)
+            Lq = v * np.sqrt(np.clip(w, 0.0, None))
+        x = Ad @ x + G0 @ prep.U[k] + (G1 @ prep.U[k + 1] if foh else 0.0)
+        x = x + Lq @ rng.standard_normal(n)
+    Y = X @ C.T + rng.standard_normal((N, C.shape[0])) * np.sqrt(meas_var)[None, :]
+    out = pd.DataFrame(X, index=prep.index, columns=model.state_names)
+    for r, col in enumerate(model.output_names):
+        out[col] = Y[:, r]
+    return out

@@ -366,3 +366,41 @@ def test_resample_bad_step():
     weather = pd.DataFrame({"ghi": [1.0, 2.0, 3.0]}, index=index)
     with pytest.raises(ThermocalInputError, match="step"):
         resample_weather(weather, "fortnightly-ish")
+
+
+def test_subhourly_epw(shared_data, tmp_path):
+    """4 records per hour (DATA PERIODS field 2): minute 15 ends the interval 00:00-00:15."""
+    source = shared_data("weather_switzerland", "Zuerich-SMA_2015.epw")
+    lines = source.read_text().splitlines()
+    header = lines[:8]
+    header[7] = header[7].replace("DATA PERIODS,1,1,", "DATA PERIODS,1,4,")
+    data = []
+    for line in lines[8 : 8 + 48]:
+        fields = line.split(",")
+        for k, minute in enumerate((15, 30, 45, 60)):
+            fields[4] = str(minute)
+            fields[13] = str(100 * k)  # ghi: 0, 100, 200, 300 within each hour
+            data.append(",".join(fields))
+    path = tmp_path / "subhourly.epw"
+    path.write_text("\n".join(header + data) + "\n")
+    weather, meta = read_weather(path)
+    assert meta["step"] == pd.Timedelta(minutes=15)
+    assert len(weather) == 48 * 4
+    assert weather.index[1] - weather.index[0] == pd.Timedelta(minutes=15)
+    assert weather.index[0] == pd.Timestamp("2015-01-01 00:00", tz="Etc/GMT-1")
+    assert weather["ghi"].iloc[:4].tolist() == [0, 100, 200, 300]
+    hourly = resample_weather(weather, "1h")
+    assert hourly["ghi"].iloc[0] == pytest.approx(150.0)
+
+
+def test_csv_with_offsets_across_dst_change(tmp_path):
+    text = (
+        "time,T_out\n"
+        "2019-03-31T01:00+01:00,1.0\n"
+        "2019-03-31T03:00+02:00,2.0\n"
+        "2019-03-31T04:00+02:00,3.0\n"
+    )
+    path = _write_csv(tmp_path, text)
+    weather, meta = read_weather(path, columns={"temp_air": "T_out"}, tz=1.0)
+    assert weather.index[1] == pd.Timestamp("2019-03-31 02:00", tz="Etc/GMT-1")
+    assert meta["step"] == pd.Timedelta(hours=1)

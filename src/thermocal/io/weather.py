@@ -500,7 +500,10 @@ def read_weather_csv(
             f"{list(raw.columns)} (fix the column mapping or time_column=)"
         )
     first_line = 2  # header is line 1
-    times = pd.to_datetime(raw[time_column], errors="coerce", format="mixed")
+    try:
+        times = pd.to_datetime(raw[time_column], errors="coerce", format="mixed")
+    except ValueError:  # several UTC offsets (e.g. across a DST change): convert via UTC
+        times = pd.to_datetime(raw[time_column], errors="coerce", format="mixed", utc=True)
     bad = times.isna()
     if bad.any():
         row = int(np.flatnonzero(bad.to_numpy())[0])

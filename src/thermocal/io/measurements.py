@@ -189,7 +189,7 @@ _NA_TOKENS = ["", "NA", "N/A", "NaN", "nan", "NAN", "null", "NULL", "None", "-",
 _TIME_CANDIDATES = ("time", "timestamp", "datetime", "date_time", "date", "zeit", "t")
 _HEADER_UNIT = re.compile(r"^(?P<name>.*?)\s*[\[(](?P<unit>[^\[\]()]*)[\])]\s*$")
 _TEMPERATURE_NAME = re.compile(
-    r"(?i)temp|^t($|_|-|\d)|^t[a-z]{1,2}$|^T[A-Z0-9_]|(^|_)t(_|$)|^theta"
+    r"(?i:temp|theta)|^[tT]($|[_\-\s\d])|^[tT][a-z]{1,2}$|^T[A-Z][a-z]|(^|_)[tT](_|$)"
 )
 _FLOW_NAME = re.compile(r"(?i)flow|durchfluss|^v_?dot|volume_?rate")
 _TIME_UNITS = {"s": "s", "min": "min", "h": "h", "d": "D", "ms": "ms"}
@@ -509,10 +509,10 @@ def _convert_units(
         quantity = _guess_quantity(name)
     if quantity == "temperature" and finite.size:
         celsius_like = finite < 100.0
-        kelvin_like = finite > 200.0
+        kelvin_like = (finite > 200.0) & (finite < 400.0)
         if kelvin_like.any() and celsius_like.any():
             index_c = int(np.flatnonzero(np.isfinite(values) & (values < 100.0))[0])
-            index_k = int(np.flatnonzero(np.isfinite(values) & (values > 200.0))[0])
+            index_k = int(np.flatnonzero((values > 200.0) & (values < 400.0))[0])
             line_c = f" (line {lines[index_c]})" if lines is not None else ""
             line_k = f" (line {lines[index_k]})" if lines is not None else ""
             raise ThermocalInputError(

@@ -167,8 +167,8 @@ def test_cli_prints_input_error_without_traceback(synthetic, tmp_path):
     proc = subprocess.run(
         [
             sys.executable,
-            "-m",
-            "thermocal.cli",
+            "-c",
+            "from thermocal.cli import main; main()",
             "retrofit",
             str(config),
             "--out",

@@ -324,7 +324,7 @@ def glazing_angular_factor(
     return np.nan_to_num(factor, nan=0.0)
 
 
-def _hemispherical_angular_factor(refractive_index: float, panes: int, tilt: float) -> float:
+def _hemispherical_angular_factor(refractive_index: float, panes: int) -> float:
     """Mean angular factor for isotropic diffuse light on a surface [-] (numerical integral)."""
     theta = np.linspace(0.0, 90.0, 181)
     factor = glazing_angular_factor(theta, refractive_index=refractive_index, panes=panes)
@@ -403,7 +403,7 @@ def window_solar_gains(
         )
         diffuse = (
             irradiance["poa_sky_diffuse"].to_numpy() + irradiance["poa_ground_diffuse"].to_numpy()
-        ) * _hemispherical_angular_factor(1.526, panes, 90.0)
+        ) * _hemispherical_angular_factor(1.526, panes)
         transmitted = beam + diffuse
     else:
         transmitted = irradiance["poa_global"].to_numpy()

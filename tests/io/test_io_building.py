@@ -13,6 +13,7 @@ from thermocal.io.building import (
     Building,
     building_from_dict,
     read_building,
+    write_building,
 )
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -342,3 +343,11 @@ def test_building_is_immutable():
     assert changed.floors == 2 and building.floors == 1
     data = copy.deepcopy(minimal())
     assert Building.model_validate(data) == building
+
+
+def test_write_building_round_trips(tmp_path):
+    building = read_building(EXAMPLE)
+    path = write_building(building, tmp_path / "copy.yaml")
+    assert read_building(path) == building
+    with pytest.raises(ThermocalInputError, match="writes YAML"):
+        write_building(building, tmp_path / "copy.toml")

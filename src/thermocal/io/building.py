@@ -62,6 +62,7 @@ __all__ = [
     "Location",
     "building_from_dict",
     "read_building",
+    "write_building",
 ]
 
 ComponentType = Literal["roof", "external_wall", "window", "cellar_ceiling", "ground_floor", "door"]
@@ -855,3 +856,29 @@ def read_building(path: str | Path) -> Building:
     if data is None:
         raise ThermocalInputError(f"{path}: the building file is empty")
     return _validate(data, source=str(path), lines=lines)
+
+
+def write_building(building: Building, path: str | Path) -> Path:
+    """Write a building as a YAML file that :func:`read_building` reads back unchanged.
+
+    Parameters
+    ----------
+    building : Building
+    path : str or Path
+        Target file (``.yaml`` or ``.yml``); parent folders must exist.
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    path = Path(path)
+    if path.suffix.lower() not in (".yaml", ".yml"):
+        raise ThermocalInputError(f"{path}: write_building writes YAML; use a .yaml file name")
+    data = building.model_dump(mode="json", exclude_none=True)
+    header = (
+        f"# thermocal building file: {building.name}\n"
+        "# Units: m, m2, m3, W/(m2 K), deg (azimuth clockwise from north, tilt 0 = facing up).\n"
+    )
+    path.write_text(header + yaml.safe_dump(data, sort_keys=False, allow_unicode=True))
+    return path

@@ -38,7 +38,9 @@ Resampling (:func:`resample_measurements`)
     identifier on the sequence of reports) are flagged, and removed on request.
 
 Grid convention: each interval is labelled by its START, ``[t, t + step)``, as for the weather
-(``thermocal.io.weather``).
+(``thermocal.io.weather``). A report describes the time from its timestamp on; a log of interval
+averages stamped at the END of their interval should be shifted back by one interval before
+resampling (``raw.index - pd.Timedelta("5min")``).
 
 References
 ----------

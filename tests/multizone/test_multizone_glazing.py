@@ -267,3 +267,51 @@ def test_bad_glazing_input_is_reported():
         gas("helium")
     with pytest.raises(ThermocalInputError, match="U-factor"):
         simple_glazing_system(8.0, 0.5)
+
+
+def test_simple_glazing_angular_curves_follow_energyplus():
+    from thermocal.multizone.glazing import simple_glazing_angular_factors
+
+    c = np.array([0.0, 0.5, 1.0])
+    # U > 4.5424, SHGC > 0.65: curve A, T(c) = 3.36 c - 3.85 c^2 + 1.49 c^3 + 0.01 c^4
+    t, r = simple_glazing_angular_factors(5.8, 0.85, c)
+    assert t.tolist() == pytest.approx(
+        [0.0, 3.36 * 0.5 - 3.85 * 0.25 + 1.49 * 0.125 + 0.01 / 16, 1]
+    )
+    assert r[0] == pytest.approx(1.0) and r[2] == 0.0
+    # U < 1.4195, SHGC in [0.35, 0.45]: linear between curves J (0.35) and E (0.45)
+    tj, _ = simple_glazing_angular_factors(1.0, 0.35, c)
+    te, _ = simple_glazing_angular_factors(1.0, 0.45, c)
+    tm, _ = simple_glazing_angular_factors(1.0, 0.40, c)
+    assert tm[1] == pytest.approx(0.5 * (tj[1] + te[1]))
+    # the 28 cells join continuously (cos = 0.5 on a fine U-SHGC grid)
+    grid_u = np.linspace(1.0, 6.5, 111)
+    grid_g = np.linspace(0.15, 0.9, 76)
+    table = np.array(
+        [[simple_glazing_angular_factors(u, g, 0.5)[0] for g in grid_g] for u in grid_u]
+    )
+    assert np.abs(np.diff(table, axis=0)).max() < 0.02
+    assert np.abs(np.diff(table, axis=1)).max() < 0.02
+
+
+def test_simple_glazing_layer_uses_its_angular_curves():
+    simple = simple_glazing_system(5.8, 0.85)
+    layer = LayeredGlazing([simple.as_pane()], [])
+    tau = layer.transmittance(np.array([0.0, 60.0, 90.0]))
+    assert tau[0] == pytest.approx(simple.solar_transmittance)
+    assert tau[1] == pytest.approx(simple.solar_transmittance * 0.904375)
+    assert tau[2] == 0.0
+
+
+def test_coated_glass_uses_energyplus_reference_curve():
+    from thermocal.multizone.glazing import is_uncoated
+
+    coated = GlassPane(0.006, 0.70, 0.20, 0.05, 0.84, 0.10, 1.0)
+    assert not is_uncoated(coated) and is_uncoated(CASE600_GLASS)
+    tau, rho_f, rho_b = pane_angular_properties(coated, 60.0)
+    c = 0.5
+    t_clear = -0.0015 + 3.355 * c - 3.840 * c**2 + 1.460 * c**3 + 0.0288 * c**4
+    r_clear = 0.999 - 0.563 * c + 2.043 * c**2 - 2.532 * c**3 + 1.054 * c**4 - t_clear
+    assert tau[0] == pytest.approx(0.70 * t_clear)
+    assert rho_f[0] == pytest.approx(0.20 * (1 - r_clear) + r_clear)
+    assert rho_b[0] == pytest.approx(0.05 * (1 - r_clear) + r_clear)

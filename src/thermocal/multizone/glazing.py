@@ -5,7 +5,8 @@ Layered glazing (EnergyPlus ``WindowMaterial:Glazing`` + ``WindowMaterial:Gas``)
 * Each pane's normal-incidence solar transmittance and reflectance are inverted into the air/glass
   interface reflectance, the refractive index and the internal (absorption) transmittance of the
   glass -- the procedure EnergyPlus and WINDOW use for uncoated glass -- so that Fresnel's equations
-  (both polarisations) and Bouguer's law give the pane's properties at any angle of incidence.
+  (both polarisations) and Bouguer's law give the pane's properties at any angle of incidence
+  (coated glass: the EnergyPlus clear/bronze reference curves).
 * The panes are combined by the net-radiation (multiple reflection) method into the system
   transmittance, reflectance and the absorptance of every pane.
 * The centre-of-glass U-value comes from the ISO 15099 steady-state heat balance: gas properties
@@ -24,9 +25,8 @@ Layered glazing (EnergyPlus ``WindowMaterial:Glazing`` + ``WindowMaterial:Gas``)
 Simple glazing (EnergyPlus ``WindowMaterial:SimpleGlazingSystem``): :func:`simple_glazing_system`
 converts a U-factor and SHGC into an equivalent single layer (thickness, conductivity, normal solar
 transmittance, reflectance, absorptance) following the EnergyPlus Engineering Reference, "Simple
-Window Model" (Arasteh, Kohler, Griffith, LBNL-2804E, 2009). Its angular dependence is not the
-EnergyPlus one (ten reference curves A-J chosen by U and SHGC): :meth:`SimpleGlazing.as_pane` gives
-the equivalent layer, whose Fresnel/Bouguer angular behaviour is used instead.
+Window Model" (Arasteh, Kohler, Griffith, LBNL-2804E, 2009), with the EnergyPlus angular
+dependence (ten curves A-J selected by U-factor and SHGC, :func:`simple_glazing_angular_factors`).
 
 References
 ----------
@@ -64,6 +64,8 @@ __all__ = [
     "NFRC_SUMMER",
     "pane_optical_constants",
     "pane_angular_properties",
+    "is_uncoated",
+    "simple_glazing_angular_factors",
     "multilayer_optics",
     "gap_nusselt_vertical",
     "indoor_convection_coefficient",
@@ -176,6 +178,10 @@ class GlassPane:
     infrared_transmittance : float [-]
         Must be 0 (opaque to long-wave radiation, true for glass).
     name : str
+    simple_glazing : tuple (U-factor, SHGC) or None
+        Set for the equivalent layer of an EnergyPlus simple glazing system: its angular
+        dependence then follows the EnergyPlus simple-glazing curves
+        (:func:`simple_glazing_angular_factors`) instead of Fresnel's equations.
     """
 
     thickness: float
@@ -187,6 +193,7 @@ class GlassPane:
     conductivity: float = 1.0
     infrared_transmittance: float = 0.0
     name: str = "glass"
+    simple_glazing: tuple[float, float] | None = None
 
     def __post_init__(self):
         label = f"glazing layer '{self.name}'"
@@ -307,6 +314,44 @@ def _uncoated_slab(cos_incidence: np.ndarray, n: float, internal0: float):
     return tau, rho
 
 
+def _interface_reflectance(tau: float, rho: float) -> float:
+    """Air/glass interface reflectance of a slab from its normal-incidence tau and rho."""
+    beta = tau * tau - rho * rho + 2.0 * rho + 1.0
+    disc = max(beta * beta - 4.0 * (2.0 - rho) * rho, 0.0)
+    return (beta - math.sqrt(disc)) / (2.0 * (2.0 - rho))
+
+
+def is_uncoated(pane: GlassPane) -> bool:
+    """EnergyPlus test for uncoated glass: front/back interface reflectances within 0.1 %.
+
+    ``|r_f - r_b| / (r_f + r_b) < 0.001`` with the interface reflectances obtained from the front
+    and back normal-incidence data (EnergyPlus WindowManager, TransAndReflAtPhi).
+    """
+    tau = pane.solar_transmittance
+    r_f = _interface_reflectance(tau, pane.front_solar_reflectance)
+    r_b = _interface_reflectance(tau, pane.back_solar_reflectance)
+    if r_f + r_b <= 0.0:
+        return True
+    return abs(r_f - r_b) / (r_f + r_b) < 0.001
+
+
+def _reference_glass_curves(cos_incidence: np.ndarray, clear: bool):
+    """Normalised transmittance and reflectance of the EnergyPlus clear or bronze reference glass.
+
+    Used for coated glass: ``tau = tau0 t(cos)``, ``rho = rho0 (1 - r(cos)) + r(cos)``.
+    """
+    c = cos_incidence
+    if clear:
+        t = -0.0015 + (3.355 + (-3.840 + (1.460 + 0.0288 * c) * c) * c) * c
+        r = 0.999 + (-0.563 + (2.043 + (-2.532 + 1.054 * c) * c) * c) * c - t
+    else:
+        t = -0.002 + (2.813 + (-2.341 + (-0.05725 + 0.599 * c) * c) * c) * c
+        r = 0.997 + (-1.868 + (6.513 + (-7.862 + 3.225 * c) * c) * c) * c - t
+    t = np.where(c > 0.999, 1.0, np.where(c < 0.001, 0.0, t))
+    r = np.where(c > 0.999, 0.0, np.where(c < 0.001, 1.0, r))
+    return t, r
+
+
 def pane_angular_properties(pane: GlassPane, incidence_angle):
     """Solar transmittance and front/back reflectance of one pane at an angle of incidence.
 
@@ -322,30 +367,204 @@ def pane_angular_properties(pane: GlassPane, incidence_angle):
 
     Notes
     -----
-    Uncoated glass (equal front and back reflectances) uses the Fresnel/Bouguer model with the
-    constants of :func:`pane_optical_constants`, which reproduces the normal-incidence data
-    exactly. For coated glass the same model is built from the mean reflectance and used as a
-    shape function:
-    ``tau(theta) = tau0 * t(theta)/t(0)`` and ``rho(theta) = rho0 + (1 - rho0)(r(theta) - r(0)) /
-    (1 - r(0))`` for each side -- an approximation (EnergyPlus uses fixed reference curves).
+    The three cases of EnergyPlus (Engineering Reference, "Glass optical properties at
+    non-normal incidence"; WindowManager ``TransAndReflAtPhi``):
+
+    * uncoated glass (:func:`is_uncoated`): Fresnel's equations for both polarisations with the
+      refractive index and absorption of :func:`pane_optical_constants` (exact at normal
+      incidence);
+    * coated glass: the normalised curves of a clear (``tau0 > 0.645``) or bronze reference glass,
+      ``tau = tau0 t(cos)``, ``rho = rho0 (1 - r(cos)) + r(cos)``;
+    * the equivalent layer of a simple glazing system: :func:`simple_glazing_angular_factors`.
     """
     angle = np.atleast_1d(np.asarray(incidence_angle, dtype=float))
     cos_i = np.cos(np.radians(np.clip(angle, 0.0, 90.0)))
     cos_i = np.where(angle >= 90.0, 0.0, cos_i)
     tau0 = pane.solar_transmittance
     rf0, rb0 = pane.front_solar_reflectance, pane.back_solar_reflectance
+    if pane.simple_glazing is not None:
+        t, r = simple_glazing_angular_factors(*pane.simple_glazing, cos_i)
+        tau = np.clip(tau0 * t, 0.0, 1.0)
+        rho = np.clip(rf0 * (1.0 - r) + r, 0.0, np.maximum(0.9999 - tau, 0.0))
+        return tau, rho, rho.copy()
     if tau0 <= 0.0:  # opaque layer: reflectances kept, nothing transmitted
         return np.zeros_like(cos_i), np.full_like(cos_i, rf0), np.full_like(cos_i, rb0)
-    # optical constants from the mean reflectance (equal to both sides for uncoated glass)
+    if not is_uncoated(pane):
+        t, r = _reference_glass_curves(cos_i, clear=tau0 > 0.645)
+        return tau0 * t, rf0 * (1.0 - r) + r, rb0 * (1.0 - r) + r
     _, n, internal0 = pane_optical_constants(tau0, 0.5 * (rf0 + rb0))
     t, r = _uncoated_slab(cos_i, n, internal0)
     t0, r0 = _uncoated_slab(np.array([1.0]), n, internal0)
-    # for uncoated glass t0 = tau0 and r0 = rho0 (to round-off), so the scaling is the identity;
-    # for coated glass it imposes the measured normal-incidence values on the Fresnel shape
+    # t0 = tau0 and r0 = rho0 to round-off: rescale so normal incidence is reproduced exactly
     tau = tau0 * t / t0[0]
     rho_f = rf0 + (1.0 - rf0) * (r - r0[0]) / (1.0 - r0[0])
     rho_b = rb0 + (1.0 - rb0) * (r - r0[0]) / (1.0 - r0[0])
     return tau, rho_f, rho_b
+
+
+# EnergyPlus simple glazing angular curves A..J: transmittance ratio T(c) = sum a_k c^k (k = 1..4)
+# and reflectance factor R(c) = b0 + b1 c + ... + b4 c^4 - T(c), c = cos(incidence)
+# (EnergyPlus WindowManager TransAndReflAtPhi; Arasteh, Kohler, Griffith, LBNL-2804E, 2009).
+_SIMPLE_T = {
+    "A": (3.36, -3.85, 1.49, 0.01),
+    "B": (2.83, -2.42, 0.04, 0.55),
+    "C": (2.45, -1.58, -0.64, 0.77),
+    "D": (2.85, -2.58, 0.40, 0.35),
+    "E": (1.51, 2.49, -5.87, 2.88),
+    "F": (1.21, 3.14, -6.37, 3.03),
+    "G": (1.09, 3.54, -6.84, 3.23),
+    "H": (0.98, 3.83, -7.13, 3.33),
+    "I": (0.79, 3.93, -6.86, 3.15),
+    "J": (0.08, 6.02, -8.84, 3.74),
+}
+_SIMPLE_R = {
+    "A": (1.00, -0.70, 2.57, -3.20, 1.33),
+    "B": (1.00, -1.87, 6.50, -7.86, 3.23),
+    "C": (1.00, -2.52, 8.40, -9.86, 3.99),
+    "D": (1.00, -1.85, 6.40, -7.64, 3.11),
+    "E": (1.00, -1.57, 5.60, -6.82, 2.80),
+    "F": (1.00, -3.15, 10.98, -13.14, 5.32),
+    "G": (1.00, -3.25, 11.32, -13.54, 5.49),
+    "H": (1.00, -3.39, 11.70, -13.94, 5.64),
+    "I": (1.00, -4.06, 13.55, -15.74, 6.27),
+    "J": (1.00, -4.35, 14.27, -16.32, 6.39),
+}
+
+
+def _simple_curve(name: str, c: np.ndarray):
+    """(T, R) of a named curve or of the averaged curves FGHI, FH and BDCD."""
+    if len(name) > 1:  # averaged curves; "BDCD" counts D twice, as EnergyPlus does
+        parts = list(name)
+        values = [_simple_curve(p, c) for p in parts]
+        return (
+            sum(v[0] for v in values) / len(parts),
+            sum(v[1] for v in values) / len(parts),
+        )
+    a = _SIMPLE_T[name]
+    t = a[0] * c + a[1] * c**2 + a[2] * c**3 + a[3] * c**4
+    b = _SIMPLE_R[name]
+    r = b[0] + b[1] * c + b[2] * c**2 + b[3] * c**3 + b[4] * c**4 - t
+    return t, r
+
+
+def _lerp(x, x0, x1, f0, f1):
+    return f0 + (x - x0) / (x1 - x0) * (f1 - f0)
+
+
+def _bilerp(x, y, x1, x2, y1, y2, f11, f12, f21, f22):
+    """EnergyPlus InterpolateBetweenFourValues: f_ij at (x_i, y_j)."""
+    area = (x2 - x1) * (y2 - y1)
+    return (
+        f11 * (x2 - x) * (y2 - y)
+        + f21 * (x - x1) * (y2 - y)
+        + f12 * (x2 - x) * (y - y1)
+        + f22 * (x - x1) * (y - y1)
+    ) / area
+
+
+def simple_glazing_angular_factors(u_factor: float, shgc: float, cos_incidence):
+    """Angular transmittance ratio and reflectance factor of the EnergyPlus simple glazing model.
+
+    The (U, SHGC) plane is divided into 28 cells; each uses one of ten curves (A-J), an average of
+    curves, or a linear/bilinear interpolation between them. The layer properties at incidence
+    angle theta are ``tau = tau0 T(cos theta)`` and ``rho = rho0 (1 - R) + R``.
+
+    Parameters
+    ----------
+    u_factor : float [W/(m2 K)]
+    shgc : float [-]
+    cos_incidence : array-like [-]
+
+    Returns
+    -------
+    T, R : numpy.ndarray [-]
+        ``T = 1``, ``R = 0`` at normal incidence.
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, "Simple Window Model" (angular properties);
+    EnergyPlus source, WindowManager.cc ``TransAndReflAtPhi`` (curve coefficients, cells).
+    """
+    c = np.asarray(cos_incidence, dtype=float)
+    u, g = float(u_factor), float(shgc)
+
+    def curve(name):
+        return _simple_curve(name, c)
+
+    def two(x, x0, x1, a, b):
+        (ta, ra), (tb, rb) = curve(a), curve(b)
+        return _lerp(x, x0, x1, ta, tb), _lerp(x, x0, x1, ra, rb)
+
+    def four(y1, y2, u1, u2, f11, f12, f21, f22):
+        fs = [curve(n) for n in (f11, f12, f21, f22)]
+        return tuple(_bilerp(u, g, u1, u2, y1, y2, *(f[k] for f in fs)) for k in (0, 1))
+
+    if u < 1.4195:
+        if g > 0.45:
+            t, r = curve("E")
+        elif g >= 0.35:
+            t, r = two(g, 0.35, 0.45, "J", "E")
+        else:
+            t, r = curve("J")
+    elif u <= 1.7034:
+        u1, u2 = 1.4195, 1.7034
+        if g > 0.55:
+            t, r = curve("E")
+        elif g > 0.5:
+            t, r = four(0.50, 0.55, u1, u2, "E", "E", "FGHI", "E")
+        elif g > 0.45:
+            t, r = two(u, u1, u2, "E", "FGHI")
+        elif g > 0.35:
+            t, r = four(0.35, 0.45, u1, u2, "J", "E", "FGHI", "FGHI")
+        elif g > 0.3:
+            t, r = two(u, u1, u2, "J", "FGHI")
+        elif g > 0.25:
+            t, r = four(0.25, 0.30, u1, u2, "J", "J", "FH", "FGHI")
+        else:
+            t, r = two(u, u1, u2, "J", "FH")
+    elif u < 3.4068:
+        if g > 0.55:
+            t, r = curve("E")
+        elif g >= 0.5:
+            t, r = two(g, 0.5, 0.55, "FGHI", "E")
+        elif g > 0.3:
+            t, r = curve("FGHI")
+        elif g >= 0.25:
+            t, r = two(g, 0.25, 0.30, "FH", "FGHI")
+        else:
+            t, r = curve("FH")
+    elif u <= 4.5424:
+        u1, u2 = 3.4068, 4.5424
+        if g > 0.65:
+            t, r = two(u, u1, u2, "E", "A")
+        elif g > 0.6:
+            t, r = four(0.60, 0.65, u1, u2, "E", "E", "BDCD", "A")
+        elif g > 0.55:
+            t, r = two(u, u1, u2, "E", "BDCD")
+        elif g > 0.5:
+            t, r = four(0.50, 0.55, u1, u2, "FGHI", "E", "BDCD", "BDCD")
+        elif g > 0.45:
+            t, r = two(u, u1, u2, "FGHI", "BDCD")
+        elif g > 0.3:
+            t, r = four(0.30, 0.45, u1, u2, "FGHI", "FGHI", "D", "BDCD")
+        elif g > 0.25:
+            t, r = four(0.25, 0.30, u1, u2, "FH", "FGHI", "D", "D")
+        else:
+            t, r = two(u, u1, u2, "FH", "D")
+    else:
+        if g > 0.65:
+            t, r = curve("A")
+        elif g >= 0.6:
+            t, r = two(g, 0.6, 0.65, "BDCD", "A")
+        elif g > 0.45:
+            t, r = curve("BDCD")
+        elif g >= 0.3:
+            t, r = two(g, 0.3, 0.45, "D", "BDCD")
+        else:
+            t, r = curve("D")
+    t = np.where(c >= 1.0, 1.0, t)
+    r = np.where(c >= 1.0, 0.0, r)
+    return t, r
 
 
 def multilayer_optics(tau, rho_front, rho_back):
@@ -915,6 +1134,7 @@ class SimpleGlazing:
             self.conductivity,
             0.0,
             name,
+            simple_glazing=(self.u_factor, self.shgc),
         )
 
 

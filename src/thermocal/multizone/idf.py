@@ -1455,9 +1455,8 @@ def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
     0.04 + 0.13 the model removes to get the glass-to-glass resistance). ``shgc`` is the NFRC
     summer SHGC at normal incidence. Transmittance and per-pane absorptances are tabulated
     against the angle of incidence; their hemispherical averages give the diffuse values.
-    For simple glazing the equivalent layer is treated as one uncoated pane (Fresnel angular
-    dependence of its own optical constants); EnergyPlus instead picks one of ten reference
-    curves (A-J) by U-factor and SHGC, which is not reproduced here.
+    For simple glazing the equivalent layer follows the EnergyPlus angular curves (A-J, chosen
+    by U-factor and SHGC).
     """
     from thermocal.multizone import glazing as gz
     from thermocal.multizone.model import WindowType

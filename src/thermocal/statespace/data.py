@@ -187,6 +187,8 @@ def prepare_data(
                 f"{values.median():.1f}, which looks "
                 "like kelvin; temperatures must be in degrees C (subtract 273.15)"
             )
-    dts = np.diff(seconds)
+    # intervals rounded to the microsecond: times given as decimal hours (0.0833333...) would
+    # otherwise differ in the last bits and defeat the uniform-sampling fast path
+    dts = np.round(np.diff(seconds), 6)
     dts = np.append(dts, dts[-1])
     return PreparedData(index=index, seconds=seconds, dts=dts, U=U, Y=Y)

@@ -82,26 +82,11 @@ class FitResults:
         self.flags: list[str] = []
         if not self.converged:
             self.flags.append(f"optimiser did not converge: {message}")
-        self._cov_theta = None
+        at_bound = self._bound_flags(model, free)
         jac = np.array([model.parameters[n].derivative(theta[i]) for i, n in enumerate(free)])
         cov = np.full((len(free), len(free)), np.nan)
         if hessian is not None:
-            if not np.all(np.isfinite(hessian)):
-                self.flags.append("Hessian of the log-likelihood is not finite: no standard errors")
-            else:
-                info = -0.5 * (hessian + hessian.T)
-                eig = np.linalg.eigvalsh(info)
-                if eig.min() <= 0:
-                    weakest = free[int(np.argmin(np.abs(np.diag(info))))]
-                    self.flags.append(
-                        "Hessian is not negative definite (parameters not identifiable, e.g. "
-                        f"'{weakest}'): standard errors unreliable"
-                    )
-                try:
-                    self._cov_theta = np.linalg.inv(info)
-                    cov = jac[:, None] * self._cov_theta * jac[None, :]
-                except np.linalg.LinAlgError:
-                    self.flags.append("Hessian is singular: no standard errors")
+            cov = self._covariance(hessian, jac, free, at_bound)
         self._cov = pd.DataFrame(cov, index=free, columns=free)
         bse = pd.Series(np.nan, index=self.params.index, name="std_error")
         diag = np.diag(cov)
@@ -118,13 +103,23 @@ class FitResults:
                         f"|correlation({free[i]}, {free[j]})| = {abs(corr[i, j]):.3f} > "
                         f"{CORRELATION_LIMIT}: over-parameterised, fix one of them"
                     )
-        for name in free:
+
+    def _bound_flags(self, model, free: list[str]) -> list[int]:
+        """Flag estimates at a bound; return their positions in ``free``."""
+        at = []
+        for i, name in enumerate(free):
             p = model.parameters[name]
             x = self.params[name]
             if p.transform == kernels.TRANSFORM_LOGIT:
-                rel = min(x - p.lower, p.upper - x) / (p.upper - p.lower)
-                near = p.lower if x - p.lower < p.upper - x else p.upper
-                at_bound = rel < BOUND_TOLERANCE
+                if p.lower > 0 and p.upper / p.lower > 100:
+                    # a positive range over orders of magnitude: distance on a log scale
+                    span = math.log(p.upper / p.lower)
+                    d_lo, d_hi = math.log(x / p.lower) / span, math.log(p.upper / x) / span
+                else:
+                    span = p.upper - p.lower
+                    d_lo, d_hi = (x - p.lower) / span, (p.upper - x) / span
+                near = p.lower if d_lo < d_hi else p.upper
+                at_bound = min(d_lo, d_hi) < BOUND_TOLERANCE
             elif p.transform == kernels.TRANSFORM_LOG:
                 near = p.lower
                 at_bound = (x - p.lower) < BOUND_TOLERANCE * (p.value - p.lower)
@@ -134,10 +129,49 @@ class FitResults:
             else:
                 at_bound = False
             if at_bound:
+                at.append(i)
                 self.flags.append(
                     f"parameter '{name}' = {x:.6g} {p.unit} is at its bound {near:g}: widen the "
                     "bound, fix the parameter, or simplify the model"
                 )
+        return at
+
+    def _covariance(self, hessian, jac, free, at_bound) -> np.ndarray:
+        """Delta-method covariance [declared units] from the Hessian in theta.
+
+        Parameters at a bound have a flat likelihood in theta; when the full information matrix
+        is not positive definite, they are held fixed (their standard error is NaN) and the
+        covariance of the others is computed from the reduced matrix.
+        """
+        k = len(free)
+        cov = np.full((k, k), np.nan)
+        if not np.all(np.isfinite(hessian)):
+            self.flags.append("Hessian of the log-likelihood is not finite: no standard errors")
+            return cov
+        info = -0.5 * (hessian + hessian.T)
+        keep = np.arange(k)
+        try:
+            np.linalg.cholesky(info)
+        except np.linalg.LinAlgError:
+            keep = np.array([i for i in range(k) if i not in at_bound], dtype=int)
+            sub = info[np.ix_(keep, keep)]
+            try:
+                np.linalg.cholesky(sub)
+                if len(keep) < k:
+                    self.flags.append(
+                        "standard errors computed with the parameters at a bound held fixed"
+                    )
+            except np.linalg.LinAlgError:
+                w, v = np.linalg.eigh(sub)
+                worst = [free[keep[j]] for j in np.argsort(-np.abs(v[:, 0]))[:2]]
+                self.flags.append(
+                    "Hessian is not negative definite (not identifiable, mostly along "
+                    f"{' and '.join(worst)}): no standard errors; fix or remove parameters"
+                )
+                return cov
+        cov_theta = np.linalg.inv(info[np.ix_(keep, keep)])
+        cov[np.ix_(keep, keep)] = jac[keep, None] * cov_theta * jac[None, keep]
+        return cov
 
     # ------------------------------------------------------------------ statistics
     @property

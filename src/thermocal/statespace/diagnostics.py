@@ -1,0 +1,319 @@
+"""Model validation and selection: residual autocorrelation, cumulated periodogram, likelihood-ratio
+tests and forward model selection (Bacher & Madsen 2011).
+
+References
+----------
+.. [1] H. Madsen, "Time Series Analysis", Chapman & Hall/CRC, 2008: sec. 6.2.3 (sample
+   autocorrelation and its approximate 95 % bounds +-2/sqrt(N)), sec. 6.3.4 (cumulated periodogram
+   with Kolmogorov-Smirnov bands).
+.. [2] P. Bacher, H. Madsen, "Identifying suitable models for the heat dynamics of buildings",
+   Energy and Buildings 43(7), 1511-1522, 2011, sec. 4 (forward selection with likelihood-ratio
+   tests).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+from scipy import stats
+
+from thermocal.errors import ThermocalInputError
+
+#: Kolmogorov-Smirnov coefficients K_alpha for the cumulated-periodogram band.
+KS_COEFFICIENTS = {0.01: 1.63, 0.05: 1.36, 0.10: 1.22, 0.25: 1.02}
+
+
+def _clean(residuals) -> np.ndarray:
+    e = np.asarray(residuals, dtype=float).ravel()
+    e = e[np.isfinite(e)]
+    if e.size < 4:
+        raise ValueError("at least 4 finite residuals are needed")
+    return e
+
+
+def autocorrelation(residuals, nlags: int = 40, alpha: float = 0.05) -> pd.DataFrame:
+    """Sample autocorrelation of residuals with the white-noise confidence bound.
+
+    Parameters
+    ----------
+    residuals : array-like [K]
+        One-step residuals (NaN values are dropped).
+    nlags : int
+        Largest lag [samples].
+    alpha : float
+        Level of the bound ``z_(1-alpha/2) / sqrt(N)``.
+
+    Returns
+    -------
+    DataFrame indexed by lag (0..nlags) with columns ``acf`` and ``bound``.
+    """
+    e = _clean(residuals)
+    e = e - e.mean()
+    n = e.size
+    nlags = min(nlags, n - 1)
+    denom = float(e @ e)
+    acf = np.array([float(e[: n - k] @ e[k:]) / denom for k in range(nlags + 1)])
+    bound = stats.norm.ppf(1 - alpha / 2) / math.sqrt(n)
+    return pd.DataFrame({"acf": acf, "bound": bound}, index=pd.RangeIndex(nlags + 1, name="lag"))
+
+
+def cumulated_periodogram(residuals, alpha: float = 0.05) -> pd.DataFrame:
+    """Cumulated periodogram of residuals with its Kolmogorov-Smirnov band.
+
+    For white noise the cumulated periodogram follows the straight line from (0, 0) to
+    (0.5, 1); the band is ``line +- K_alpha / sqrt(q)`` with ``q = floor((N - 1) / 2)``.
+
+    Parameters
+    ----------
+    residuals : array-like [K]
+        One-step residuals (NaN values are dropped).
+    alpha : float
+        0.01, 0.05, 0.10 or 0.25.
+
+    Returns
+    -------
+    DataFrame with columns ``frequency`` [cycles per sample], ``cumulated``, ``white_noise``,
+    ``lower``, ``upper``.
+    """
+    if alpha not in KS_COEFFICIENTS:
+        raise ValueError(f"alpha must be one of {sorted(KS_COEFFICIENTS)}")
+    e = _clean(residuals)
+    e = e - e.mean()
+    n = e.size
+    spec = np.abs(np.fft.rfft(e)) ** 2 / n
+    q = (n - 1) // 2
+    periodogram = spec[1 : q + 1]
+    freq = np.arange(1, q + 1) / n
+    cumulated = np.cumsum(periodogram) / periodogram.sum()
+    line = freq / 0.5
+    half_width = KS_COEFFICIENTS[alpha] / math.sqrt(q)
+    return pd.DataFrame(
+        {
+            "frequency": freq,
+            "cumulated": cumulated,
+            "white_noise": line,
+            "lower": line - half_width,
+            "upper": line + half_width,
+        }
+    )
+
+
+def fraction_outside_band(cpgram: pd.DataFrame) -> float:
+    """Fraction of frequencies where the cumulated periodogram leaves its band."""
+    out = (cpgram["cumulated"] < cpgram["lower"]) | (cpgram["cumulated"] > cpgram["upper"])
+    return float(out.mean())
+
+
+@dataclass
+class LikelihoodRatioTest:
+    """Result of a likelihood-ratio test of a restricted model against a more general one.
+
+    Attributes
+    ----------
+    statistic : float
+        ``2 (loglike_general - loglike_restricted)``.
+    df : int
+        Difference in the number of free parameters.
+    pvalue : float
+        ``P(chi2(df) > statistic)``.
+    """
+
+    restricted: str
+    general: str
+    loglike_restricted: float
+    loglike_general: float
+    statistic: float
+    df: int
+    pvalue: float
+
+    def reject(self, alpha: float = 0.05) -> bool:
+        """True when the general model is significantly better at level ``alpha``."""
+        return self.pvalue < alpha
+
+
+def likelihood_ratio_test(restricted, general) -> LikelihoodRatioTest:
+    """Likelihood-ratio test of two nested fitted models (``FitResults``).
+
+    Under the null hypothesis that the restricted model is adequate, the statistic is
+    asymptotically chi-squared with ``df = k_general - k_restricted`` degrees of freedom
+    (Wilks). When the restriction puts a parameter on the boundary of the general model's space
+    (e.g. a heat capacity going to zero) the chi-squared p-value is conservative.
+    """
+    df = general.n_free - restricted.n_free
+    if df <= 0:
+        raise ThermocalInputError(
+            f"likelihood-ratio test: model '{general.model.name}' ({general.n_free} free "
+            f"parameters) is not more general than '{restricted.model.name}' "
+            f"({restricted.n_free}); pass (restricted, general)"
+        )
+    if restricted.nobs != general.nobs:
+        raise ThermocalInputError(
+            "likelihood-ratio test: the two fits used different observations "
+            f"({restricted.nobs} vs {general.nobs})"
+        )
+    statistic = 2.0 * (general.loglike - restricted.loglike)
+    pvalue = float(stats.chi2.sf(max(statistic, 0.0), df))
+    return LikelihoodRatioTest(
+        restricted=restricted.model.name,
+        general=general.model.name,
+        loglike_restricted=restricted.loglike,
+        loglike_general=general.loglike,
+        statistic=statistic,
+        df=df,
+        pvalue=pvalue,
+    )
+
+
+@dataclass
+class SelectionResult:
+    """Outcome of :func:`forward_selection`.
+
+    Attributes
+    ----------
+    path : list of str
+        Models accepted, from the start model to the selected one.
+    table : DataFrame
+        One row per fitted candidate: iteration, model, parent, loglike, n_free, statistic, df,
+        pvalue, selected (best candidate of its iteration), accepted.
+    fits : dict
+        ``FitResults`` by model name.
+    """
+
+    path: list[str]
+    table: pd.DataFrame
+    fits: dict = field(default_factory=dict)
+
+    @property
+    def selected(self) -> str:
+        """Name of the finally selected model."""
+        return self.path[-1]
+
+
+def _warm_started(child, parent_fit):
+    """Copy of ``child`` with the parameters it shares with the parent at the parent's estimates."""
+    values = {}
+    for name, value in parent_fit.params.items():
+        p = child.parameters.get(name)
+        if p is None or p.fixed:
+            continue
+        if p.lower < value < p.upper:
+            values[name] = value
+    return child.with_parameters(values)
+
+
+def forward_selection(
+    models: Mapping[str, object],
+    extensions: Mapping[str, Sequence[str]],
+    data,
+    *,
+    start: str,
+    alpha: float = 0.05,
+    n_starts: int = 1,
+    seed: int | None = None,
+    hold: str = "zoh",
+    time_column: str | None = None,
+    time_unit: str = "s",
+    callback: Callable[[str, object], None] | None = None,
+) -> SelectionResult:
+    """Forward model selection with likelihood-ratio tests (Bacher & Madsen 2011).
+
+    Start with the simplest model; in each iteration fit every extension of the current model,
+    take the one with the highest likelihood and test it against the current model; accept it
+    while the test rejects the simpler model at level ``alpha``.
+
+    Parameters
+    ----------
+    models : mapping
+        ``RCModel`` by name.
+    extensions : mapping
+        For each model name, the names of the models that extend it by one element.
+    data : DataFrame
+        Inputs and outputs of all models.
+    start : str
+        Name of the start model.
+    alpha : float
+        Significance level of the likelihood-ratio tests.
+    n_starts, seed, hold, time_column, time_unit :
+        Passed to :meth:`RCModel.fit`. Each extension is also fitted from the current model's
+        estimates (warm start); the better optimum is kept, so a nested extension never ends
+        below its parent because of a poor local optimum.
+    callback : callable, optional
+        Called as ``callback(name, fit_results)`` after each fit (progress reporting).
+
+    Returns
+    -------
+    SelectionResult
+    """
+    for name in [start, *[c for cs in extensions.values() for c in cs]]:
+        if name not in models:
+            raise ThermocalInputError(
+                f"forward selection: model '{name}' is not among {list(models)}"
+            )
+    fit_kw = {"hold": hold, "time_column": time_column, "time_unit": time_unit}
+    fits: dict = {}
+
+    def fit_model(name, parent_fit=None):
+        model = models[name]
+        res = model.fit(data, n_starts=n_starts, seed=seed, **fit_kw)
+        if parent_fit is not None:
+            warm = _warm_started(model, parent_fit).fit(data, **fit_kw)
+            if warm.loglike > res.loglike:
+                warm.model = model  # report against the declared model
+                res = warm
+        fits[name] = res
+        if callback is not None:
+            callback(name, res)
+        return res
+
+    rows = [
+        {
+            "iteration": 0,
+            "model": start,
+            "parent": "",
+            "loglike": fit_model(start).loglike,
+            "n_free": fits[start].n_free,
+            "statistic": np.nan,
+            "df": np.nan,
+            "pvalue": np.nan,
+            "selected": True,
+            "accepted": True,
+        }
+    ]
+    path = [start]
+    current = start
+    iteration = 0
+    while extensions.get(current):
+        iteration += 1
+        candidates = [c for c in extensions[current]]
+        results = {}
+        for cand in candidates:
+            res = fits[cand] if cand in fits else fit_model(cand, fits[current])
+            results[cand] = res
+        best = max(results, key=lambda c: results[c].loglike)
+        test_best = likelihood_ratio_test(fits[current], results[best])
+        accepted = test_best.reject(alpha)
+        for cand, res in results.items():
+            test = likelihood_ratio_test(fits[current], res)
+            rows.append(
+                {
+                    "iteration": iteration,
+                    "model": cand,
+                    "parent": current,
+                    "loglike": res.loglike,
+                    "n_free": res.n_free,
+                    "statistic": test.statistic,
+                    "df": test.df,
+                    "pvalue": test.pvalue,
+                    "selected": cand == best,
+                    "accepted": cand == best and accepted,
+                }
+            )
+        if not accepted:
+            break
+        path.append(best)
+        current = best
+    return SelectionResult(path=path, table=pd.DataFrame(rows), fits=fits)

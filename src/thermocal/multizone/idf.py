@@ -1532,811 +1532,893 @@ def read_idf(path: str | Path, *, year: int | None = None):
       ``idf_info.setpoint_profile``). HVAC systems are not modelled: thermostatted zones get ideal
       heating/cooling at these set points.
     """
-    from thermocal.multizone import glazing as gz
-    from thermocal.multizone import model as mz
+    return _IdfReader(Path(path), year).build()
 
-    path = Path(path)
-    objects = read_idf_objects(path)
-    version = _version_tuple(objects)
-    info = IdfImportInfo(source=str(path), version=version)
-    by_key: dict[str, list[IdfObject]] = {}
-    for obj in objects:
-        by_key.setdefault(obj.key, []).append(obj)
 
-    def records(*keys):
+class _IdfReader:
+    """One import by :func:`read_idf`: the file's objects, lookups and the stages of the mapping.
+
+    Each ``_stage`` method reads one group of classes and stores what later stages need as
+    attributes (materials, constructions, zones, surfaces, ...); :meth:`build` runs them in order.
+    """
+
+    def __init__(self, path: Path, year: int | None):
+        from thermocal.multizone import glazing as gz
+        from thermocal.multizone import model as mz
+
+        self.gz, self.mz = gz, mz
+        self.path = Path(path)
+        self.year = year
+        self.objects = read_idf_objects(self.path)
+        self.version = _version_tuple(self.objects)
+        self.info = IdfImportInfo(source=str(self.path), version=self.version)
+        self.by_key: dict[str, list[IdfObject]] = {}
+        for obj in self.objects:
+            self.by_key.setdefault(obj.key, []).append(obj)
+
+    def records(self, *keys):
+        """Named-field records of all objects of the given (upper-case) classes."""
         for key in keys:
-            for obj in by_key.get(key, []):
-                yield record(obj, version=version)
+            for obj in self.by_key.get(key, []):
+                yield record(obj, version=self.version)
 
-    def single(key):
-        found = by_key.get(key, [])
+    def single(self, key):
+        """Record of the only object of a class (None when absent; error when repeated)."""
+        found = self.by_key.get(key, [])
         if len(found) > 1:
             raise ThermocalInputError(
                 f"{found[1].where()}: only one {found[1].class_name} object is allowed."
             )
-        return record(found[0], version=version) if found else None
+        return record(found[0], version=self.version) if found else None
 
-    # -- unsupported classes --------------------------------------------------------------------
-    unsupported = Counter(obj.class_name for obj in objects if obj.key not in SCHEMA)
-    canonical: dict[str, str] = {}
-    for obj in objects:
-        canonical.setdefault(obj.key, obj.class_name)
-    grouped: Counter = Counter()
-    for obj in objects:
-        if obj.key not in SCHEMA:
-            grouped[canonical[obj.key]] += 1
-    info.unsupported = dict(sorted(grouped.items()))
-    del unsupported
-
-    # -- site, rules, building ------------------------------------------------------------------
-    building_rec = single("BUILDING")
-    building_name = path.stem
-    north_axis = 0.0
-    if building_rec is not None:
-        building_name = building_rec["name"] or building_name
-        north_axis = _number(building_rec, "north_axis", default=0.0)
-    rules_rec = single("GLOBALGEOMETRYRULES")
-    rules = GeometryRules()
-    if rules_rec is not None:
-        rules = GeometryRules(
-            rules_rec["starting_vertex_position"] or "UpperLeftCorner",
-            rules_rec["vertex_entry_direction"] or "Counterclockwise",
-            rules_rec["coordinate_system"] or "Relative",
-        )
-        if rules.vertex_entry_direction.upper() not in ("COUNTERCLOCKWISE", "CLOCKWISE"):
-            raise ThermocalInputError(
-                f"{rules_rec['_object'].where()}: field 'Vertex Entry Direction' = "
-                f"'{rules.vertex_entry_direction}' must be Counterclockwise or Clockwise."
-            )
-        if rules.coordinate_system.upper() not in ("RELATIVE", "WORLD", "ABSOLUTE"):
-            raise ThermocalInputError(
-                f"{rules_rec['_object'].where()}: field 'Coordinate System' = "
-                f"'{rules.coordinate_system}' must be Relative, World or Absolute."
-            )
-    location = mz.Location()
-    loc_rec = single("SITE:LOCATION")
-    if loc_rec is not None:
-        location = _wrap(
-            loc_rec["_object"],
-            mz.Location,
-            latitude=_number(loc_rec, "latitude", default=0.0),
-            longitude=_number(loc_rec, "longitude", default=0.0),
-            altitude=_number(loc_rec, "elevation", default=0.0),
-            timezone=_number(loc_rec, "time_zone", default=0.0),
-        )
-    else:
-        info.notes.append("no Site:Location: the model's default location is used")
-    if year is None:
-        year = 2006
-        for rp in by_key.get("RUNPERIOD", []):
-            # 9.x layout: Name, Begin Month, Begin Day, Begin Year, ...
-            if len(rp.fields) > 3 and rp.fields[3].strip():
-                try:
-                    year = int(float(rp.fields[3]))
-                except ValueError:
-                    pass
-                break
-    schedules = ScheduleEvaluator(objects, year=year, version=version)
-    info.schedules = schedules
-
-    # -- materials ------------------------------------------------------------------------------
-    materials = _Names("material")
-    for rec in records(
-        "MATERIAL",
-        "MATERIAL:NOMASS",
-        "MATERIAL:AIRGAP",
-        "WINDOWMATERIAL:GLAZING",
-        "WINDOWMATERIAL:GAS",
-        "WINDOWMATERIAL:SIMPLEGLAZINGSYSTEM",
-    ):
-        materials.add(rec)
-    model_materials = []
-    glass_layers: dict[str, object] = {}
-    for name, obj, rec in materials.values():
-        key = obj.key
-        if key == "MATERIAL":
-            model_materials.append(
-                _wrap(
-                    obj,
-                    mz.Material,
-                    name=name,
-                    conductivity=_number(rec, "conductivity"),
-                    density=_number(rec, "density"),
-                    specific_heat=_number(rec, "specific_heat"),
-                    thickness=_number(rec, "thickness"),
-                    thermal_absorptance=_number(rec, "thermal_absorptance", default=0.9),
-                    solar_absorptance=_number(rec, "solar_absorptance", default=0.7),
-                )
-            )
-        elif key == "MATERIAL:NOMASS":
-            model_materials.append(
-                _wrap(
-                    obj,
-                    mz.NoMassMaterial,
-                    name=name,
-                    resistance=_number(rec, "thermal_resistance"),
-                    thermal_absorptance=_number(rec, "thermal_absorptance", default=0.9),
-                    solar_absorptance=_number(rec, "solar_absorptance", default=0.7),
-                )
-            )
-        elif key == "MATERIAL:AIRGAP":
-            model_materials.append(
-                _wrap(
-                    obj, mz.NoMassMaterial, name=name, resistance=_number(rec, "thermal_resistance")
-                )
-            )
-        elif key == "WINDOWMATERIAL:GLAZING":
-            optical = (rec["optical_data_type"] or "SpectralAverage").upper()
-            if optical != "SPECTRALAVERAGE":
-                raise ThermocalInputError(
-                    f"{obj.where()}: field 'Optical Data Type' = '{rec['optical_data_type']}' is "
-                    "not supported; give SpectralAverage data."
-                )
-            dirt = _number(rec, "dirt_correction_factor", default=1.0) or 1.0
-            glass_layers[name.upper()] = _wrap(
-                obj,
-                gz.GlassPane,
-                thickness=_number(rec, "thickness"),
-                solar_transmittance=_number(rec, "solar_transmittance") * dirt,
-                front_solar_reflectance=_number(rec, "front_solar_reflectance"),
-                back_solar_reflectance=_number(rec, "back_solar_reflectance"),
-                front_emissivity=_number(rec, "front_infrared_emissivity", default=0.84),
-                back_emissivity=_number(rec, "back_infrared_emissivity", default=0.84),
-                conductivity=_number(rec, "conductivity", default=0.9),
-                infrared_transmittance=_number(rec, "infrared_transmittance", default=0.0),
-                name=name,
-            )
-        elif key == "WINDOWMATERIAL:GAS":
-            gas_type = rec["gas_type"] or "Air"
-            if gas_type.upper() == "CUSTOM":
-                fill = gz.Gas(
-                    name,
-                    tuple(
-                        _number(rec, f"conductivity_coefficient_{c}", default=0.0) for c in "abc"
-                    ),
-                    tuple(_number(rec, f"viscosity_coefficient_{c}", default=0.0) for c in "abc"),
-                    tuple(
-                        _number(rec, f"specific_heat_coefficient_{c}", default=0.0) for c in "abc"
-                    ),
-                    _number(rec, "molecular_weight"),
-                )
-            else:
-                fill = _wrap(obj, gz.gas, gas_type)
-            glass_layers[name.upper()] = _wrap(
-                obj, gz.GasGap, thickness=_number(rec, "thickness"), fill=fill, name=name
-            )
-        else:  # simple glazing
-            glass_layers[name.upper()] = _wrap(
-                obj,
-                gz.simple_glazing_system,
-                _number(rec, "u_factor"),
-                _number(rec, "solar_heat_gain_coefficient"),
-                _number(rec, "visible_transmittance", required=False),
-                name=name,
-            )
-
-    # -- constructions --------------------------------------------------------------------------
-    constructions = _Names("construction")
-    for rec in records("CONSTRUCTION"):
-        constructions.add(rec)
-    model_constructions = []
-    window_types: dict[str, object] = {}
-    opaque_constructions: set[str] = set()
-    for name, obj, rec in constructions.values():
-        layer_names = [g[0] for g in rec["layers"] if g and g[0]]
-        if not layer_names:
-            raise ThermocalInputError(f"{obj.where()}: the construction has no layers.")
-        resolved = []
-        for index, layer in enumerate(layer_names, start=1):
-            entry = materials.get(layer)
-            if entry is None:
-                raise ThermocalInputError(
-                    f"{obj.where()}: field 'Layer {index}' = '{layer}' is not defined (no "
-                    "Material, Material:NoMass, Material:AirGap or WindowMaterial of that name)."
-                )
-            resolved.append(entry)
-        kinds = {entry[1].key.startswith("WINDOWMATERIAL") for entry in resolved}
-        if kinds == {False}:
-            model_constructions.append(
-                _wrap(obj, mz.Construction, name=name, layers=tuple(e[0] for e in resolved))
-            )
-            opaque_constructions.add(name.upper())
-            continue
-        if kinds != {True}:
-            raise ThermocalInputError(
-                f"{obj.where()}: mixes opaque materials and window materials; a window "
-                "construction must contain only WindowMaterial layers."
-            )
-        layers = [glass_layers[e[0].upper()] for e in resolved]
-        if len(layers) == 1 and isinstance(layers[0], gz.SimpleGlazing):
-            glazing = layers[0]
-        else:
-            panes = layers[0::2]
-            gaps = layers[1::2]
-            if not all(isinstance(p, gz.GlassPane) for p in panes) or not all(
-                isinstance(g, gz.GasGap) for g in gaps
-            ):
-                raise ThermocalInputError(
-                    f"{obj.where()}: window layers must alternate WindowMaterial:Glazing and "
-                    "WindowMaterial:Gas, starting and ending with glazing (shades, blinds and "
-                    "simple glazing inside layered constructions are not supported)."
-                )
-            glazing = _wrap(obj, gz.LayeredGlazing, panes, gaps, name=name)
-        info.glazing[name] = glazing
-        window_types[name.upper()] = (name, obj, glazing)
-
-    # -- zones ----------------------------------------------------------------------------------
-    zones = _Names("zone")
-    for rec in records("ZONE"):
-        zones.add(rec)
-    if not zones.items:
-        raise ThermocalInputError(f"{path.name}: the file defines no Zone object.")
-    zone_lists: dict[str, list[str]] = {}
-    for rec in records("ZONELIST"):
-        members = []
-        for (member,) in rec["zone_names"]:
-            entry = zones.get(member)
-            if entry is None:
-                raise ThermocalInputError(
-                    f"{rec['_object'].where()}: zone '{member}' is not defined."
-                )
-            members.append(entry[0])
-        zone_lists[rec["name"].upper()] = members
-
-    def zone_targets(rec: dict) -> list[str]:
+    def zone_targets(self, rec: dict) -> list[str]:
+        """Zones named by a 'Zone or ZoneList Name' field."""
         obj = rec["_object"]
         target = rec["zone_name"]
-        entry = zones.get(target)
+        entry = self.zones.get(target)
         if entry is not None:
             return [entry[0]]
-        if target.upper() in zone_lists:
-            return zone_lists[target.upper()]
+        if target.upper() in self.zone_lists:
+            return self.zone_lists[target.upper()]
         raise ThermocalInputError(
             f"{obj.where()}: field 'Zone or ZoneList Name' = '{target}' is neither a Zone nor a "
             "ZoneList of the file."
         )
 
-    zone_geometry = {}
-    for name, _obj, rec in zones.values():
-        multiplier = _number(rec, "multiplier", default=1.0)
-        info.zone_multipliers[name] = multiplier
-        zone_geometry[name.upper()] = {
-            "origin": (
-                _number(rec, "x_origin", default=0.0),
-                _number(rec, "y_origin", default=0.0),
-                _number(rec, "z_origin", default=0.0),
-            ),
-            "north": _number(rec, "direction_of_relative_north", default=0.0),
-        }
-        if multiplier != 1.0:
-            info.notes.append(
-                f"zone '{name}' has multiplier {multiplier:g}; the model simulates it once"
-            )
+    def build(self):
+        """Run the stages and return the Building (with ``idf_info``)."""
+        self._unsupported_classes()
+        self._site()
+        self._materials()
+        self._constructions()
+        self._zones()
+        self._surfaces()
+        self._subsurfaces()
+        self._model_surfaces()
+        self._zone_volumes()
+        self._infiltration()
+        self._internal_gains()
+        self._setpoints()
+        self._model_zones()
+        self._ground()
+        return self._building()
 
-    # -- surfaces -------------------------------------------------------------------------------
-    surfaces = _Names("surface")
-    for rec in records("BUILDINGSURFACE:DETAILED", *_SURFACE_CLASS_TYPE):
-        surfaces.add(rec)
-    fenestration = _Names("fenestration surface")
-    for rec in records("FENESTRATIONSURFACE:DETAILED"):
-        if rec["name"].upper() in surfaces:
-            raise ThermocalInputError(
-                f"{rec['_object'].where()}: the name is already used by a building surface."
-            )
-        fenestration.add(rec)
+    def _unsupported_classes(self) -> None:
+        """Stage: unsupported classes."""
+        unsupported = Counter(obj.class_name for obj in self.objects if obj.key not in SCHEMA)
+        canonical: dict[str, str] = {}
+        for obj in self.objects:
+            canonical.setdefault(obj.key, obj.class_name)
+        grouped: Counter = Counter()
+        for obj in self.objects:
+            if obj.key not in SCHEMA:
+                grouped[canonical[obj.key]] += 1
+        self.info.unsupported = dict(sorted(grouped.items()))
+        del unsupported
 
-    surface_data: dict[str, dict] = {}
-    for name, obj, rec in surfaces.values():
-        surface_type = rec.get("surface_type") or _SURFACE_CLASS_TYPE[obj.key]
-        zone_entry = zones.get(rec["zone_name"])
-        if zone_entry is None:
-            raise ThermocalInputError(
-                f"{obj.where()}: field 'Zone Name' = '{rec['zone_name']}' is not a Zone of "
-                "the file."
+    def _site(self) -> None:
+        """Stage: site, rules, building."""
+        building_rec = self.single("BUILDING")
+        self.building_name = self.path.stem
+        self.north_axis = 0.0
+        if building_rec is not None:
+            self.building_name = building_rec["name"] or self.building_name
+            self.north_axis = _number(building_rec, "north_axis", default=0.0)
+        rules_rec = self.single("GLOBALGEOMETRYRULES")
+        self.rules = GeometryRules()
+        if rules_rec is not None:
+            self.rules = GeometryRules(
+                rules_rec["starting_vertex_position"] or "UpperLeftCorner",
+                rules_rec["vertex_entry_direction"] or "Counterclockwise",
+                rules_rec["coordinate_system"] or "Relative",
             )
-        zone_name = zone_entry[0]
-        cons = rec["construction_name"]
-        if cons.upper() in window_types:
-            raise ThermocalInputError(
-                f"{obj.where()}: field 'Construction Name' = '{cons}' is a window construction; "
-                "opaque surfaces need an opaque construction."
-            )
-        cons_entry = constructions.get(cons)
-        if cons_entry is None:
-            other = next(
-                (
-                    o.class_name
-                    for o in objects
-                    if o.key.startswith("CONSTRUCTION:") and o.name.upper() == cons.upper()
-                ),
-                None,
-            )
-            hint = (
-                f" ({other} is not supported; give a layered Construction instead)" if other else ""
-            )
-            raise ThermocalInputError(
-                f"{obj.where()}: field 'Construction Name' = '{cons}' is not a Construction of the "
-                f"file{hint}."
-            )
-        geometry = zone_geometry[zone_name.upper()]
-        world = to_world_coordinates(
-            _vertices(rec),
-            rules=rules,
-            zone_origin=geometry["origin"],
-            zone_north_axis=geometry["north"],
-            building_north_axis=north_axis,
-        )
-        normal = outward_normal(world, rules)
-        area = 0.5 * float(np.linalg.norm(normal))
-        if area <= 1e-9:
-            raise ThermocalInputError(
-                f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
-            )
-        tilt, azimuth = tilt_azimuth(normal)
-        surface_data[name.upper()] = {
-            "name": name,
-            "obj": obj,
-            "rec": rec,
-            "type": surface_type,
-            "zone": zone_name,
-            "construction": cons_entry[0],
-            "world": world,
-            "normal": normal,
-            "area": area,
-            "tilt": tilt,
-            "azimuth": azimuth,
-            "boundary": _boundary(rec["outside_boundary_condition"], obj),
-        }
-        info.surface_vertices[name] = world
-        info.surface_types[name] = surface_type.title()
-
-    # -- sub-surfaces ---------------------------------------------------------------------------
-    model_windows = []
-    door_surfaces = []
-    subtract: dict[str, float] = {}
-    for name, obj, rec in fenestration.values():
-        base = surface_data.get(rec["building_surface_name"].upper())
-        if base is None:
-            raise ThermocalInputError(
-                f"{obj.where()}: field 'Building Surface Name' = "
-                f"'{rec['building_surface_name']}' is not a building surface of the file."
-            )
-        kind = (rec["surface_type"] or "Window").upper()
-        geometry = zone_geometry[base["zone"].upper()]
-        world = to_world_coordinates(
-            _vertices(rec),
-            rules=rules,
-            zone_origin=geometry["origin"],
-            zone_north_axis=geometry["north"],
-            building_north_axis=north_axis,
-        )
-        normal = outward_normal(world, rules)
-        area = 0.5 * float(np.linalg.norm(normal))
-        if area <= 1e-9:
-            raise ThermocalInputError(
-                f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
-            )
-        cos_angle = float(np.dot(normal, base["normal"])) / (
-            np.linalg.norm(normal) * np.linalg.norm(base["normal"])
-        )
-        if cos_angle < 0.999:
-            raise ThermocalInputError(
-                f"{obj.where()}: its outward normal differs from that of its base surface "
-                f"'{base['name']}' by {math.degrees(math.acos(max(-1, min(1, cos_angle)))):.1f} "
-                "deg; check the vertex order and coplanarity."
-            )
-        multiplier = _number(rec, "multiplier", default=1.0)
-        total_area = area * multiplier
-        info.surface_vertices[name] = world
-        info.surface_types[name] = kind.title()
-        cons = rec["construction_name"]
-        if kind in ("WINDOW", "GLASSDOOR"):
-            wt = window_types.get(cons.upper())
-            if wt is None:
+            if self.rules.vertex_entry_direction.upper() not in ("COUNTERCLOCKWISE", "CLOCKWISE"):
                 raise ThermocalInputError(
-                    f"{obj.where()}: field 'Construction Name' = '{cons}' is not a window "
-                    "construction (Construction of WindowMaterial layers) of the file."
+                    f"{rules_rec['_object'].where()}: field 'Vertex Entry Direction' = "
+                    f"'{self.rules.vertex_entry_direction}' must be Counterclockwise or Clockwise."
                 )
-            if base["boundary"] != "outdoors":
-                info.notes.append(
-                    f"interior window '{name}' (host '{base['name']}', boundary "
-                    f"{base['boundary']}) is not modelled; its area stays opaque"
+            if self.rules.coordinate_system.upper() not in ("RELATIVE", "WORLD", "ABSOLUTE"):
+                raise ThermocalInputError(
+                    f"{rules_rec['_object'].where()}: field 'Coordinate System' = "
+                    f"'{self.rules.coordinate_system}' must be Relative, World or Absolute."
                 )
+        self.location = self.mz.Location()
+        loc_rec = self.single("SITE:LOCATION")
+        if loc_rec is not None:
+            self.location = _wrap(
+                loc_rec["_object"],
+                self.mz.Location,
+                latitude=_number(loc_rec, "latitude", default=0.0),
+                longitude=_number(loc_rec, "longitude", default=0.0),
+                altitude=_number(loc_rec, "elevation", default=0.0),
+                timezone=_number(loc_rec, "time_zone", default=0.0),
+            )
+        else:
+            self.info.notes.append("no Site:Location: the model's default location is used")
+        if self.year is None:
+            self.year = 2006
+            for rp in self.by_key.get("RUNPERIOD", []):
+                # 9.x layout: Name, Begin Month, Begin Day, Begin Year, ...
+                if len(rp.fields) > 3 and rp.fields[3].strip():
+                    try:
+                        self.year = int(float(rp.fields[3]))
+                    except ValueError:
+                        pass
+                    break
+        self.schedules = ScheduleEvaluator(self.objects, year=self.year, version=self.version)
+        self.info.schedules = self.schedules
+
+    def _materials(self) -> None:
+        """Stage: materials."""
+        self.materials = _Names("material")
+        for rec in self.records(
+            "MATERIAL",
+            "MATERIAL:NOMASS",
+            "MATERIAL:AIRGAP",
+            "WINDOWMATERIAL:GLAZING",
+            "WINDOWMATERIAL:GAS",
+            "WINDOWMATERIAL:SIMPLEGLAZINGSYSTEM",
+        ):
+            self.materials.add(rec)
+        self.model_materials = []
+        self.glass_layers: dict[str, object] = {}
+        for name, obj, rec in self.materials.values():
+            key = obj.key
+            if key == "MATERIAL":
+                self.model_materials.append(
+                    _wrap(
+                        obj,
+                        self.mz.Material,
+                        name=name,
+                        conductivity=_number(rec, "conductivity"),
+                        density=_number(rec, "density"),
+                        specific_heat=_number(rec, "specific_heat"),
+                        thickness=_number(rec, "thickness"),
+                        thermal_absorptance=_number(rec, "thermal_absorptance", default=0.9),
+                        solar_absorptance=_number(rec, "solar_absorptance", default=0.7),
+                    )
+                )
+            elif key == "MATERIAL:NOMASS":
+                self.model_materials.append(
+                    _wrap(
+                        obj,
+                        self.mz.NoMassMaterial,
+                        name=name,
+                        resistance=_number(rec, "thermal_resistance"),
+                        thermal_absorptance=_number(rec, "thermal_absorptance", default=0.9),
+                        solar_absorptance=_number(rec, "solar_absorptance", default=0.7),
+                    )
+                )
+            elif key == "MATERIAL:AIRGAP":
+                self.model_materials.append(
+                    _wrap(
+                        obj,
+                        self.mz.NoMassMaterial,
+                        name=name,
+                        resistance=_number(rec, "thermal_resistance"),
+                    )
+                )
+            elif key == "WINDOWMATERIAL:GLAZING":
+                optical = (rec["optical_data_type"] or "SpectralAverage").upper()
+                if optical != "SPECTRALAVERAGE":
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Optical Data "
+                        f"Type' = '{rec['optical_data_type']}' is "
+                        "not supported; give SpectralAverage data."
+                    )
+                dirt = _number(rec, "dirt_correction_factor", default=1.0) or 1.0
+                self.glass_layers[name.upper()] = _wrap(
+                    obj,
+                    self.gz.GlassPane,
+                    thickness=_number(rec, "thickness"),
+                    solar_transmittance=_number(rec, "solar_transmittance") * dirt,
+                    front_solar_reflectance=_number(rec, "front_solar_reflectance"),
+                    back_solar_reflectance=_number(rec, "back_solar_reflectance"),
+                    front_emissivity=_number(rec, "front_infrared_emissivity", default=0.84),
+                    back_emissivity=_number(rec, "back_infrared_emissivity", default=0.84),
+                    conductivity=_number(rec, "conductivity", default=0.9),
+                    infrared_transmittance=_number(rec, "infrared_transmittance", default=0.0),
+                    name=name,
+                )
+            elif key == "WINDOWMATERIAL:GAS":
+                gas_type = rec["gas_type"] or "Air"
+                if gas_type.upper() == "CUSTOM":
+                    fill = self.gz.Gas(
+                        name,
+                        tuple(
+                            _number(rec, f"conductivity_coefficient_{c}", default=0.0)
+                            for c in "abc"
+                        ),
+                        tuple(
+                            _number(rec, f"viscosity_coefficient_{c}", default=0.0) for c in "abc"
+                        ),
+                        tuple(
+                            _number(rec, f"specific_heat_coefficient_{c}", default=0.0)
+                            for c in "abc"
+                        ),
+                        _number(rec, "molecular_weight"),
+                    )
+                else:
+                    fill = _wrap(obj, self.gz.gas, gas_type)
+                self.glass_layers[name.upper()] = _wrap(
+                    obj, self.gz.GasGap, thickness=_number(rec, "thickness"), fill=fill, name=name
+                )
+            else:  # simple glazing
+                self.glass_layers[name.upper()] = _wrap(
+                    obj,
+                    self.gz.simple_glazing_system,
+                    _number(rec, "u_factor"),
+                    _number(rec, "solar_heat_gain_coefficient"),
+                    _number(rec, "visible_transmittance", required=False),
+                    name=name,
+                )
+
+    def _constructions(self) -> None:
+        """Stage: constructions."""
+        self.constructions = _Names("construction")
+        for rec in self.records("CONSTRUCTION"):
+            self.constructions.add(rec)
+        self.model_constructions = []
+        self.window_types: dict[str, object] = {}
+        self.opaque_constructions: set[str] = set()
+        for name, obj, rec in self.constructions.values():
+            layer_names = [g[0] for g in rec["layers"] if g and g[0]]
+            if not layer_names:
+                raise ThermocalInputError(f"{obj.where()}: the construction has no layers.")
+            resolved = []
+            for index, layer in enumerate(layer_names, start=1):
+                entry = self.materials.get(layer)
+                if entry is None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Layer {index}' = '{layer}' is not defined (no "
+                        "Material, Material:NoMass, Material:AirGap "
+                        "or WindowMaterial of that name)."
+                    )
+                resolved.append(entry)
+            kinds = {entry[1].key.startswith("WINDOWMATERIAL") for entry in resolved}
+            if kinds == {False}:
+                self.model_constructions.append(
+                    _wrap(
+                        obj, self.mz.Construction, name=name, layers=tuple(e[0] for e in resolved)
+                    )
+                )
+                self.opaque_constructions.add(name.upper())
                 continue
-            if rec.get("frame_and_divider_name"):
-                info.notes.append(
-                    f"window '{name}': WindowProperty:FrameAndDivider "
-                    f"'{rec['frame_and_divider_name']}' is ignored (frame_fraction 0)"
+            if kinds != {True}:
+                raise ThermocalInputError(
+                    f"{obj.where()}: mixes opaque materials and window materials; a window "
+                    "construction must contain only WindowMaterial layers."
                 )
-            model_windows.append(
+            layers = [self.glass_layers[e[0].upper()] for e in resolved]
+            if len(layers) == 1 and isinstance(layers[0], self.gz.SimpleGlazing):
+                glazing = layers[0]
+            else:
+                panes = layers[0::2]
+                gaps = layers[1::2]
+                if not all(isinstance(p, self.gz.GlassPane) for p in panes) or not all(
+                    isinstance(g, self.gz.GasGap) for g in gaps
+                ):
+                    raise ThermocalInputError(
+                        f"{obj.where()}: window layers must alternate WindowMaterial:Glazing and "
+                        "WindowMaterial:Gas, starting and ending with glazing (shades, blinds and "
+                        "simple glazing inside layered constructions are not supported)."
+                    )
+                glazing = _wrap(obj, self.gz.LayeredGlazing, panes, gaps, name=name)
+            self.info.glazing[name] = glazing
+            self.window_types[name.upper()] = (name, obj, glazing)
+
+    def _zones(self) -> None:
+        """Stage: zones."""
+        self.zones = _Names("zone")
+        for rec in self.records("ZONE"):
+            self.zones.add(rec)
+        if not self.zones.items:
+            raise ThermocalInputError(f"{self.path.name}: the file defines no Zone object.")
+        self.zone_lists: dict[str, list[str]] = {}
+        for rec in self.records("ZONELIST"):
+            members = []
+            for (member,) in rec["zone_names"]:
+                entry = self.zones.get(member)
+                if entry is None:
+                    raise ThermocalInputError(
+                        f"{rec['_object'].where()}: zone '{member}' is not defined."
+                    )
+                members.append(entry[0])
+            self.zone_lists[rec["name"].upper()] = members
+
+        self.zone_geometry = {}
+        for name, _obj, rec in self.zones.values():
+            multiplier = _number(rec, "multiplier", default=1.0)
+            self.info.zone_multipliers[name] = multiplier
+            self.zone_geometry[name.upper()] = {
+                "origin": (
+                    _number(rec, "x_origin", default=0.0),
+                    _number(rec, "y_origin", default=0.0),
+                    _number(rec, "z_origin", default=0.0),
+                ),
+                "north": _number(rec, "direction_of_relative_north", default=0.0),
+            }
+            if multiplier != 1.0:
+                self.info.notes.append(
+                    f"zone '{name}' has multiplier {multiplier:g}; the model simulates it once"
+                )
+
+    def _surfaces(self) -> None:
+        """Stage: surfaces."""
+        self.surfaces = _Names("surface")
+        for rec in self.records("BUILDINGSURFACE:DETAILED", *_SURFACE_CLASS_TYPE):
+            self.surfaces.add(rec)
+        self.fenestration = _Names("fenestration surface")
+        for rec in self.records("FENESTRATIONSURFACE:DETAILED"):
+            if rec["name"].upper() in self.surfaces:
+                raise ThermocalInputError(
+                    f"{rec['_object'].where()}: the name is already used by a building surface."
+                )
+            self.fenestration.add(rec)
+
+        self.surface_data: dict[str, dict] = {}
+        for name, obj, rec in self.surfaces.values():
+            surface_type = rec.get("surface_type") or _SURFACE_CLASS_TYPE[obj.key]
+            zone_entry = self.zones.get(rec["zone_name"])
+            if zone_entry is None:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Zone Name' = '{rec['zone_name']}' is not a Zone of "
+                    "the file."
+                )
+            zone_name = zone_entry[0]
+            cons = rec["construction_name"]
+            if cons.upper() in self.window_types:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Construction Name' "
+                    f"= '{cons}' is a window construction; "
+                    "opaque surfaces need an opaque construction."
+                )
+            cons_entry = self.constructions.get(cons)
+            if cons_entry is None:
+                other = next(
+                    (
+                        o.class_name
+                        for o in self.objects
+                        if o.key.startswith("CONSTRUCTION:") and o.name.upper() == cons.upper()
+                    ),
+                    None,
+                )
+                hint = (
+                    f" ({other} is not supported; give a layered Construction instead)"
+                    if other
+                    else ""
+                )
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Construction Name' "
+                    f"= '{cons}' is not a Construction of the "
+                    f"file{hint}."
+                )
+            geometry = self.zone_geometry[zone_name.upper()]
+            world = to_world_coordinates(
+                _vertices(rec),
+                rules=self.rules,
+                zone_origin=geometry["origin"],
+                zone_north_axis=geometry["north"],
+                building_north_axis=self.north_axis,
+            )
+            normal = outward_normal(world, self.rules)
+            area = 0.5 * float(np.linalg.norm(normal))
+            if area <= 1e-9:
+                raise ThermocalInputError(
+                    f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
+                )
+            tilt, azimuth = tilt_azimuth(normal)
+            self.surface_data[name.upper()] = {
+                "name": name,
+                "obj": obj,
+                "rec": rec,
+                "type": surface_type,
+                "zone": zone_name,
+                "construction": cons_entry[0],
+                "world": world,
+                "normal": normal,
+                "area": area,
+                "tilt": tilt,
+                "azimuth": azimuth,
+                "boundary": _boundary(rec["outside_boundary_condition"], obj),
+            }
+            self.info.surface_vertices[name] = world
+            self.info.surface_types[name] = surface_type.title()
+
+    def _subsurfaces(self) -> None:
+        """Stage: sub-surfaces."""
+        self.model_windows = []
+        self.door_surfaces = []
+        self.subtract: dict[str, float] = {}
+        for name, obj, rec in self.fenestration.values():
+            base = self.surface_data.get(rec["building_surface_name"].upper())
+            if base is None:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Building Surface Name' = "
+                    f"'{rec['building_surface_name']}' is not a building surface of the file."
+                )
+            kind = (rec["surface_type"] or "Window").upper()
+            geometry = self.zone_geometry[base["zone"].upper()]
+            world = to_world_coordinates(
+                _vertices(rec),
+                rules=self.rules,
+                zone_origin=geometry["origin"],
+                zone_north_axis=geometry["north"],
+                building_north_axis=self.north_axis,
+            )
+            normal = outward_normal(world, self.rules)
+            area = 0.5 * float(np.linalg.norm(normal))
+            if area <= 1e-9:
+                raise ThermocalInputError(
+                    f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
+                )
+            cos_angle = float(np.dot(normal, base["normal"])) / (
+                np.linalg.norm(normal) * np.linalg.norm(base["normal"])
+            )
+            if cos_angle < 0.999:
+                raise ThermocalInputError(
+                    f"{obj.where()}: its outward normal differs from that of its base surface "
+                    f"'{base['name']}' by "
+                    f"{math.degrees(math.acos(max(-1, min(1, cos_angle)))):.1f} "
+                    "deg; check the vertex order and coplanarity."
+                )
+            multiplier = _number(rec, "multiplier", default=1.0)
+            total_area = area * multiplier
+            self.info.surface_vertices[name] = world
+            self.info.surface_types[name] = kind.title()
+            cons = rec["construction_name"]
+            if kind in ("WINDOW", "GLASSDOOR"):
+                wt = self.window_types.get(cons.upper())
+                if wt is None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Construction Name' = '{cons}' is not a window "
+                        "construction (Construction of WindowMaterial layers) of the file."
+                    )
+                if base["boundary"] != "outdoors":
+                    self.info.notes.append(
+                        f"interior window '{name}' (host '{base['name']}', boundary "
+                        f"{base['boundary']}) is not modelled; its area stays opaque"
+                    )
+                    continue
+                if rec.get("frame_and_divider_name"):
+                    self.info.notes.append(
+                        f"window '{name}': WindowProperty:FrameAndDivider "
+                        f"'{rec['frame_and_divider_name']}' is ignored (frame_fraction 0)"
+                    )
+                self.model_windows.append(
+                    _wrap(
+                        obj,
+                        self.mz.Window,
+                        name=name,
+                        surface=base["name"],
+                        window_type=wt[0],
+                        area=total_area,
+                        frame_fraction=0.0,
+                    )
+                )
+            elif kind == "DOOR":
+                cons_entry = self.constructions.get(cons)
+                if cons_entry is None or cons.upper() not in self.opaque_constructions:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Construction Name' = '{cons}' is not an opaque "
+                        "Construction of the file (doors need one)."
+                    )
+                self.subtract[base["name"]] = self.subtract.get(base["name"], 0.0) + total_area
+                self.door_surfaces.append((name, obj, base, cons_entry[0], total_area))
+            else:
+                self.info.notes.append(
+                    f"sub-surface '{name}' of type {kind.title()} is not modelled"
+                )
+
+    def _model_surfaces(self) -> None:
+        """Stage: model surfaces."""
+        self.model_surfaces = []
+        for key, data in self.surface_data.items():
+            obj, rec = data["obj"], data["rec"]
+            boundary = data["boundary"]
+            other_surface = None
+            other_zone = None
+            if boundary == "surface":
+                target = rec["outside_boundary_condition_object"]
+                partner = self.surface_data.get(target.upper())
+                if partner is None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Outside Boundary Condition Object' = '{target}' is "
+                        "not a building surface of the file "
+                        "(inter-zone surfaces need their partner)."
+                    )
+                if partner["name"].upper() == key:
+                    boundary = (
+                        "adiabatic"  # a surface facing itself: internal mass (EnergyPlus idiom)
+                    )
+                else:
+                    boundary = "zone"
+                    other_surface = partner["name"]
+                    other_zone = partner["zone"]
+            elif boundary == "zone":
+                target = rec["outside_boundary_condition_object"]
+                other = self.zones.get(target)
+                if other is None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Outside Boundary Condition Object' = '{target}' is "
+                        "not a Zone of the file."
+                    )
+                # EnergyPlus creates the reversed partner surface automatically; so do we
+                boundary = "zone"
+                other_zone = other[0]
+                other_surface = f"{data['name']} (partner)"
+            elif boundary == "unsupported":
+                self.info.notes.append(
+                    f"surface '{data['name']}': boundary "
+                    f"{rec['outside_boundary_condition']} is not "
+                    "modelled; treated as adiabatic"
+                )
+                boundary = "adiabatic"
+            area = data["area"] - self.subtract.get(data["name"], 0.0)
+            sun = (rec.get("sun_exposure") or "SunExposed").upper() != "NOSUN"
+            wind = (rec.get("wind_exposure") or "WindExposed").upper() != "NOWIND"
+            vf_raw = rec.get("view_factor_to_ground", "")
+            view_factor = None if _is_auto(rec, "view_factor_to_ground") else float(vf_raw)
+            common = {
+                "construction": data["construction"],
+                "tilt": data["tilt"],
+                "azimuth": data["azimuth"],
+                "view_factor_ground": view_factor,
+                "sun_exposed": sun,
+                "wind_exposed": wind,
+            }
+            self.model_surfaces.append(
                 _wrap(
                     obj,
-                    mz.Window,
-                    name=name,
-                    surface=base["name"],
-                    window_type=wt[0],
-                    area=total_area,
-                    frame_fraction=0.0,
+                    self.mz.Surface,
+                    name=data["name"],
+                    zone=data["zone"],
+                    area=area,
+                    boundary=boundary,
+                    other_zone=other_zone,
+                    other_surface=other_surface,
+                    **common,
                 )
             )
-        elif kind == "DOOR":
-            cons_entry = constructions.get(cons)
-            if cons_entry is None or cons.upper() not in opaque_constructions:
+            if other_surface is not None and other_surface.endswith(" (partner)"):
+                reversed_name = _reversed_construction(
+                    data["construction"], self.constructions, self.model_constructions, self.mz
+                )
+                flipped = -data["normal"]
+                tilt, azimuth = tilt_azimuth(flipped)
+                self.model_surfaces.append(
+                    _wrap(
+                        obj,
+                        self.mz.Surface,
+                        name=other_surface,
+                        zone=other_zone,
+                        construction=reversed_name,
+                        area=area,
+                        tilt=tilt,
+                        azimuth=azimuth,
+                        boundary="zone",
+                        other_zone=data["zone"],
+                        other_surface=data["name"],
+                        sun_exposed=False,
+                        wind_exposed=False,
+                    )
+                )
+        for name, obj, base, cons_name, area in self.door_surfaces:
+            base_surface = next(s for s in self.model_surfaces if s.name == base["name"])
+            if base_surface.boundary == "zone":
+                self.info.notes.append(
+                    f"door '{name}' in inter-zone surface '{base['name']}' is merged into its host"
+                )
+                base_surface.area += area
+                continue
+            self.model_surfaces.append(
+                _wrap(
+                    obj,
+                    self.mz.Surface,
+                    name=name,
+                    zone=base_surface.zone,
+                    construction=cons_name,
+                    area=area,
+                    tilt=base_surface.tilt,
+                    azimuth=base_surface.azimuth,
+                    boundary=base_surface.boundary,
+                    view_factor_ground=base_surface.view_factor_ground,
+                    sun_exposed=base_surface.sun_exposed,
+                    wind_exposed=base_surface.wind_exposed,
+                )
+            )
+
+        for rec in self.records("INTERNALMASS"):
+            obj = rec["_object"]
+            cons = rec["construction_name"]
+            if cons.upper() not in self.opaque_constructions:
                 raise ThermocalInputError(
                     f"{obj.where()}: field 'Construction Name' = '{cons}' is not an opaque "
-                    "Construction of the file (doors need one)."
+                    "Construction of the file."
                 )
-            subtract[base["name"]] = subtract.get(base["name"], 0.0) + total_area
-            door_surfaces.append((name, obj, base, cons_entry[0], total_area))
-        else:
-            info.notes.append(f"sub-surface '{name}' of type {kind.title()} is not modelled")
-
-    # -- model surfaces -------------------------------------------------------------------------
-    model_surfaces = []
-    for key, data in surface_data.items():
-        obj, rec = data["obj"], data["rec"]
-        boundary = data["boundary"]
-        other_surface = None
-        other_zone = None
-        if boundary == "surface":
-            target = rec["outside_boundary_condition_object"]
-            partner = surface_data.get(target.upper())
-            if partner is None:
-                raise ThermocalInputError(
-                    f"{obj.where()}: field 'Outside Boundary Condition Object' = '{target}' is "
-                    "not a building surface of the file (inter-zone surfaces need their partner)."
+            for zone_name in self.zone_targets(rec):
+                mass_name = (
+                    rec["name"]
+                    if self.zones.get(rec["zone_name"])
+                    else f"{rec['name']} {zone_name}"
                 )
-            if partner["name"].upper() == key:
-                boundary = "adiabatic"  # a surface facing itself: internal mass (EnergyPlus idiom)
-            else:
-                boundary = "zone"
-                other_surface = partner["name"]
-                other_zone = partner["zone"]
-        elif boundary == "zone":
-            target = rec["outside_boundary_condition_object"]
-            other = zones.get(target)
-            if other is None:
-                raise ThermocalInputError(
-                    f"{obj.where()}: field 'Outside Boundary Condition Object' = '{target}' is "
-                    "not a Zone of the file."
-                )
-            # EnergyPlus creates the reversed partner surface automatically; so do we
-            boundary = "zone"
-            other_zone = other[0]
-            other_surface = f"{data['name']} (partner)"
-        elif boundary == "unsupported":
-            info.notes.append(
-                f"surface '{data['name']}': boundary {rec['outside_boundary_condition']} is not "
-                "modelled; treated as adiabatic"
-            )
-            boundary = "adiabatic"
-        area = data["area"] - subtract.get(data["name"], 0.0)
-        sun = (rec.get("sun_exposure") or "SunExposed").upper() != "NOSUN"
-        wind = (rec.get("wind_exposure") or "WindExposed").upper() != "NOWIND"
-        vf_raw = rec.get("view_factor_to_ground", "")
-        view_factor = None if _is_auto(rec, "view_factor_to_ground") else float(vf_raw)
-        common = {
-            "construction": data["construction"],
-            "tilt": data["tilt"],
-            "azimuth": data["azimuth"],
-            "view_factor_ground": view_factor,
-            "sun_exposed": sun,
-            "wind_exposed": wind,
-        }
-        model_surfaces.append(
-            _wrap(
-                obj,
-                mz.Surface,
-                name=data["name"],
-                zone=data["zone"],
-                area=area,
-                boundary=boundary,
-                other_zone=other_zone,
-                other_surface=other_surface,
-                **common,
-            )
-        )
-        if other_surface is not None and other_surface.endswith(" (partner)"):
-            reversed_name = _reversed_construction(
-                data["construction"], constructions, model_constructions, mz
-            )
-            flipped = -data["normal"]
-            tilt, azimuth = tilt_azimuth(flipped)
-            model_surfaces.append(
-                _wrap(
-                    obj,
-                    mz.Surface,
-                    name=other_surface,
-                    zone=other_zone,
-                    construction=reversed_name,
-                    area=area,
-                    tilt=tilt,
-                    azimuth=azimuth,
-                    boundary="zone",
-                    other_zone=data["zone"],
-                    other_surface=data["name"],
-                    sun_exposed=False,
-                    wind_exposed=False,
-                )
-            )
-    for name, obj, base, cons_name, area in door_surfaces:
-        base_surface = next(s for s in model_surfaces if s.name == base["name"])
-        if base_surface.boundary == "zone":
-            info.notes.append(
-                f"door '{name}' in inter-zone surface '{base['name']}' is merged into its host"
-            )
-            base_surface.area += area
-            continue
-        model_surfaces.append(
-            _wrap(
-                obj,
-                mz.Surface,
-                name=name,
-                zone=base_surface.zone,
-                construction=cons_name,
-                area=area,
-                tilt=base_surface.tilt,
-                azimuth=base_surface.azimuth,
-                boundary=base_surface.boundary,
-                view_factor_ground=base_surface.view_factor_ground,
-                sun_exposed=base_surface.sun_exposed,
-                wind_exposed=base_surface.wind_exposed,
-            )
-        )
-
-    for rec in records("INTERNALMASS"):
-        obj = rec["_object"]
-        cons = rec["construction_name"]
-        if cons.upper() not in opaque_constructions:
-            raise ThermocalInputError(
-                f"{obj.where()}: field 'Construction Name' = '{cons}' is not an opaque "
-                "Construction of the file."
-            )
-        for zone_name in zone_targets(rec):
-            mass_name = rec["name"] if zones.get(rec["zone_name"]) else f"{rec['name']} {zone_name}"
-            model_surfaces.append(
-                _wrap(
-                    obj,
-                    mz.Surface,
-                    name=mass_name,
-                    zone=zone_name,
-                    construction=constructions.get(cons)[0],
-                    area=_number(rec, "surface_area"),
-                    tilt=90.0,
-                    azimuth=0.0,
-                    boundary="adiabatic",
-                    sun_exposed=False,
-                    wind_exposed=False,
-                )
-            )
-            info.surface_types[mass_name] = "InternalMass"
-
-    # -- zone areas and volumes -----------------------------------------------------------------
-    zone_floor_area: dict[str, float] = {}
-    zone_polygons: dict[str, list] = {}
-    for data in surface_data.values():
-        zone_polygons.setdefault(data["zone"], []).append(data)
-        if data["type"].upper() == "FLOOR":
-            zone_floor_area[data["zone"]] = zone_floor_area.get(data["zone"], 0.0) + data["area"]
-    zone_volume: dict[str, float] = {}
-    zone_area: dict[str, float] = {}
-    for name, obj, rec in zones.values():
-        floor_area = (
-            zone_floor_area.get(name, 0.0)
-            if _is_auto(rec, "floor_area")
-            else _number(rec, "floor_area")
-        )
-        zone_area[name] = floor_area
-        if not _is_auto(rec, "volume") and _number(rec, "volume") > 0:
-            zone_volume[name] = _number(rec, "volume")
-            continue
-        polys = zone_polygons.get(name, [])
-        volume = 0.0
-        if polys and polyhedron_is_closed(
-            [d["world"] if not rules.clockwise else d["world"][::-1] for d in polys]
-        ):
-            volume = zone_volume_from_surfaces(
-                [d["world"] for d in polys], [d["normal"] for d in polys]
-            )
-        if volume <= 0.0:
-            if not _is_auto(rec, "ceiling_height") and _number(rec, "ceiling_height") > 0:
-                height = _number(rec, "ceiling_height")
-            elif polys:
-                z = np.concatenate([d["world"][:, 2] for d in polys])
-                height = float(z.max() - z.min())
-            else:
-                height = 0.0
-            volume = floor_area * height
-        if volume <= 0.0:
-            raise ThermocalInputError(
-                f"{obj.where()}: the volume is not given and cannot be derived from the surfaces "
-                "(no closed geometry, floor area or ceiling height); set field 'Volume'."
-            )
-        zone_volume[name] = volume
-
-    # -- infiltration ---------------------------------------------------------------------------
-    zone_ach: dict[str, float] = {}
-    zone_infiltration_group: dict[str, str] = {}
-    exterior_area: dict[str, float] = {}
-    exterior_wall_area: dict[str, float] = {}
-    for data in surface_data.values():
-        if data["boundary"] == "outdoors":
-            exterior_area[data["zone"]] = exterior_area.get(data["zone"], 0.0) + data["area"]
-            if data["type"].upper() == "WALL":
-                exterior_wall_area[data["zone"]] = (
-                    exterior_wall_area.get(data["zone"], 0.0) + data["area"]
-                )
-    for rec in records("ZONEINFILTRATION:DESIGNFLOWRATE"):
-        obj = rec["_object"]
-        method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
-        coefficients = [
-            _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
-            _number(rec, "temperature_term_coefficient", default=0.0),
-            _number(rec, "velocity_term_coefficient", default=0.0),
-            _number(rec, "velocity_squared_term_coefficient", default=0.0),
-        ]
-        v = INFILTRATION_REFERENCE_WIND_SPEED
-        factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
-        targets = zone_targets(rec)
-        for zone_name in targets:
-            volume = zone_volume[zone_name]
-            if method in ("FLOW/ZONE",):
-                flow = _number(rec, "design_flow_rate")
-            elif method == "FLOW/AREA":
-                flow = _number(rec, "flow_per_zone_floor_area") * zone_area[zone_name]
-            elif method == "FLOW/EXTERIORAREA":
-                flow = _number(rec, "flow_per_exterior_surface_area") * exterior_area.get(
-                    zone_name, 0.0
-                )
-            elif method == "FLOW/EXTERIORWALLAREA":
-                flow = _number(rec, "flow_per_exterior_surface_area") * exterior_wall_area.get(
-                    zone_name, 0.0
-                )
-            elif method in ("AIRCHANGES/HOUR", "AIRCHANGESPERHOUR"):
-                flow = _number(rec, "air_changes_per_hour") * volume / 3600.0
-            else:
-                raise ThermocalInputError(
-                    f"{obj.where()}: field 'Design Flow Rate Calculation Method' = "
-                    f"'{rec['design_flow_rate_calculation_method']}' is not one of Flow/Zone, "
-                    "Flow/Area, Flow/ExteriorArea, Flow/ExteriorWallArea, AirChanges/Hour."
-                )
-            if flow < 0:
-                raise ThermocalInputError(f"{obj.where()}: the design flow rate is negative.")
-            zone_ach[zone_name] = zone_ach.get(zone_name, 0.0) + flow * 3600.0 / volume * factor
-            if len(targets) > 1:
-                zone_infiltration_group[zone_name] = rec["name"]
-            schedule = rec["schedule_name"]
-            if schedule:
-                info.infiltration_schedules.setdefault(zone_name, []).append(schedule)
-                try:
-                    low, high = schedules.value_range(schedule)
-                except UnsupportedScheduleError:
-                    low, high = (math.nan, math.nan)
-                if not (low == high == 1.0):
-                    info.notes.append(
-                        f"infiltration '{rec['name']}' (zone {zone_name}): schedule '{schedule}' "
-                        f"(range {low:g}..{high:g}) is not applied; the design rate is used"
+                self.model_surfaces.append(
+                    _wrap(
+                        obj,
+                        self.mz.Surface,
+                        name=mass_name,
+                        zone=zone_name,
+                        construction=self.constructions.get(cons)[0],
+                        area=_number(rec, "surface_area"),
+                        tilt=90.0,
+                        azimuth=0.0,
+                        boundary="adiabatic",
+                        sun_exposed=False,
+                        wind_exposed=False,
                     )
-        if coefficients != [1.0, 0.0, 0.0, 0.0]:
-            info.notes.append(
-                f"infiltration '{rec['name']}': coefficients (A, B, C, D) = "
-                f"{tuple(coefficients)} evaluated at wind {v} m/s and dT = 0 (factor "
-                f"{factor:.3f}); the weather dependence is not represented"
-            )
+                )
+                self.info.surface_types[mass_name] = "InternalMass"
 
-    # -- internal gains -------------------------------------------------------------------------
-    people_count: dict[str, float] = {}
-    for rec in records("PEOPLE"):
-        for zone_name in zone_targets(rec):
-            people_count[zone_name] = people_count.get(zone_name, 0.0) + _people_number(
-                rec, zone_area[zone_name]
+    def _zone_volumes(self) -> None:
+        """Stage: zone areas and volumes."""
+        self.zone_floor_area: dict[str, float] = {}
+        self.zone_polygons: dict[str, list] = {}
+        for data in self.surface_data.values():
+            self.zone_polygons.setdefault(data["zone"], []).append(data)
+            if data["type"].upper() == "FLOOR":
+                self.zone_floor_area[data["zone"]] = (
+                    self.zone_floor_area.get(data["zone"], 0.0) + data["area"]
+                )
+        self.zone_volume: dict[str, float] = {}
+        self.zone_area: dict[str, float] = {}
+        for name, obj, rec in self.zones.values():
+            floor_area = (
+                self.zone_floor_area.get(name, 0.0)
+                if _is_auto(rec, "floor_area")
+                else _number(rec, "floor_area")
             )
-    for key in ("OTHEREQUIPMENT", "ELECTRICEQUIPMENT", "LIGHTS", "PEOPLE"):
-        for rec in records(key):
+            self.zone_area[name] = floor_area
+            if not _is_auto(rec, "volume") and _number(rec, "volume") > 0:
+                self.zone_volume[name] = _number(rec, "volume")
+                continue
+            polys = self.zone_polygons.get(name, [])
+            volume = 0.0
+            if polys and polyhedron_is_closed(
+                [d["world"] if not self.rules.clockwise else d["world"][::-1] for d in polys]
+            ):
+                volume = zone_volume_from_surfaces(
+                    [d["world"] for d in polys], [d["normal"] for d in polys]
+                )
+            if volume <= 0.0:
+                if not _is_auto(rec, "ceiling_height") and _number(rec, "ceiling_height") > 0:
+                    height = _number(rec, "ceiling_height")
+                elif polys:
+                    z = np.concatenate([d["world"][:, 2] for d in polys])
+                    height = float(z.max() - z.min())
+                else:
+                    height = 0.0
+                volume = floor_area * height
+            if volume <= 0.0:
+                raise ThermocalInputError(
+                    f"{obj.where()}: the volume is not given "
+                    "and cannot be derived from the surfaces "
+                    "(no closed geometry, floor area or ceiling height); set field 'Volume'."
+                )
+            self.zone_volume[name] = volume
+
+    def _infiltration(self) -> None:
+        """Stage: infiltration."""
+        self.zone_ach: dict[str, float] = {}
+        self.zone_infiltration_group: dict[str, str] = {}
+        exterior_area: dict[str, float] = {}
+        exterior_wall_area: dict[str, float] = {}
+        for data in self.surface_data.values():
+            if data["boundary"] == "outdoors":
+                exterior_area[data["zone"]] = exterior_area.get(data["zone"], 0.0) + data["area"]
+                if data["type"].upper() == "WALL":
+                    exterior_wall_area[data["zone"]] = (
+                        exterior_wall_area.get(data["zone"], 0.0) + data["area"]
+                    )
+        for rec in self.records("ZONEINFILTRATION:DESIGNFLOWRATE"):
             obj = rec["_object"]
-            for zone_name in zone_targets(rec):
-                gain = _internal_gain(
-                    rec,
-                    zone_name,
-                    zone_area[zone_name],
-                    people_count.get(zone_name, 0.0),
-                    schedules,
+            method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
+            coefficients = [
+                _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
+                _number(rec, "temperature_term_coefficient", default=0.0),
+                _number(rec, "velocity_term_coefficient", default=0.0),
+                _number(rec, "velocity_squared_term_coefficient", default=0.0),
+            ]
+            v = INFILTRATION_REFERENCE_WIND_SPEED
+            factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
+            targets = self.zone_targets(rec)
+            for zone_name in targets:
+                volume = self.zone_volume[zone_name]
+                if method in ("FLOW/ZONE",):
+                    flow = _number(rec, "design_flow_rate")
+                elif method == "FLOW/AREA":
+                    flow = _number(rec, "flow_per_zone_floor_area") * self.zone_area[zone_name]
+                elif method == "FLOW/EXTERIORAREA":
+                    flow = _number(rec, "flow_per_exterior_surface_area") * exterior_area.get(
+                        zone_name, 0.0
+                    )
+                elif method == "FLOW/EXTERIORWALLAREA":
+                    flow = _number(rec, "flow_per_exterior_surface_area") * exterior_wall_area.get(
+                        zone_name, 0.0
+                    )
+                elif method in ("AIRCHANGES/HOUR", "AIRCHANGESPERHOUR"):
+                    flow = _number(rec, "air_changes_per_hour") * volume / 3600.0
+                else:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Design Flow Rate Calculation Method' = "
+                        f"'{rec['design_flow_rate_calculation_method']}' is not one of Flow/Zone, "
+                        "Flow/Area, Flow/ExteriorArea, Flow/ExteriorWallArea, AirChanges/Hour."
+                    )
+                if flow < 0:
+                    raise ThermocalInputError(f"{obj.where()}: the design flow rate is negative.")
+                self.zone_ach[zone_name] = (
+                    self.zone_ach.get(zone_name, 0.0) + flow * 3600.0 / volume * factor
                 )
-                info.internal_gains.append(gain)
-    zone_gains: dict[str, float] = {}
-    zone_radiant: dict[str, float] = {}
-    for gain in info.internal_gains:
-        zone_gains[gain.zone] = zone_gains.get(gain.zone, 0.0) + gain.annual_mean
-        zone_radiant[gain.zone] = (
-            zone_radiant.get(gain.zone, 0.0) + gain.annual_mean * gain.radiant_fraction
-        )
-        if gain.schedule is not None:
-            try:
-                low, high = schedules.value_range(gain.schedule)
-            except UnsupportedScheduleError:
-                low, high = math.nan, math.nan
-            if low != high:
-                info.notes.append(
-                    f"{gain.object_class} '{gain.name}' (zone {gain.zone}): schedule "
-                    f"'{gain.schedule}' varies ({low:g}..{high:g}); its annual mean gives the "
-                    "constant internal gain (hourly values: idf_info.internal_gains_profile)"
+                if len(targets) > 1:
+                    self.zone_infiltration_group[zone_name] = rec["name"]
+                schedule = rec["schedule_name"]
+                if schedule:
+                    self.info.infiltration_schedules.setdefault(zone_name, []).append(schedule)
+                    try:
+                        low, high = self.schedules.value_range(schedule)
+                    except UnsupportedScheduleError:
+                        low, high = (math.nan, math.nan)
+                    if not (low == high == 1.0):
+                        self.info.notes.append(
+                            f"infiltration '{rec['name']}' (zone "
+                            f"{zone_name}): schedule '{schedule}' "
+                            f"(range {low:g}..{high:g}) is not applied; the design rate is used"
+                        )
+            if coefficients != [1.0, 0.0, 0.0, 0.0]:
+                self.info.notes.append(
+                    f"infiltration '{rec['name']}': coefficients (A, B, C, D) = "
+                    f"{tuple(coefficients)} evaluated at wind {v} m/s and dT = 0 (factor "
+                    f"{factor:.3f}); the weather dependence is not represented"
                 )
 
-    # -- thermostats ----------------------------------------------------------------------------
-    setpoints = _thermostats(records, zones, zone_lists, schedules, info)
-    hvac = sorted(
-        cls
-        for cls in info.unsupported
-        if cls.upper().startswith(("ZONEHVAC:", "AIRLOOPHVAC", "AIRTERMINAL:", "PLANTLOOP"))
-    )
-    if setpoints and hvac:
-        info.notes.append(
-            f"HVAC equipment ({', '.join(hvac[:3])}{', ...' if len(hvac) > 3 else ''}) is not "
-            "modelled: thermostatted zones get ideal heating/cooling at their set points"
-        )
-
-    # -- zones ----------------------------------------------------------------------------------
-    model_zones = []
-    for name, obj, _rec in zones.values():
-        heating, cooling = setpoints.get(name, (None, None))
-        gains = zone_gains.get(name, 0.0)
-        model_zones.append(
-            _wrap(
-                obj,
-                mz.Zone,
-                name=name,
-                volume=zone_volume[name],
-                floor_area=zone_area[name],
-                infiltration_ach=zone_ach.get(name, 0.0),
-                internal_gains=gains,
-                internal_gains_radiative_fraction=(zone_radiant.get(name, 0.0) / gains)
-                if gains > 0
-                else 0.5,
-                heating_setpoint=heating,
-                cooling_setpoint=cooling,
-                infiltration_group=zone_infiltration_group.get(name),
+    def _internal_gains(self) -> None:
+        """Stage: internal gains."""
+        people_count: dict[str, float] = {}
+        for rec in self.records("PEOPLE"):
+            for zone_name in self.zone_targets(rec):
+                people_count[zone_name] = people_count.get(zone_name, 0.0) + _people_number(
+                    rec, self.zone_area[zone_name]
+                )
+        for key in ("OTHEREQUIPMENT", "ELECTRICEQUIPMENT", "LIGHTS", "PEOPLE"):
+            for rec in self.records(key):
+                for zone_name in self.zone_targets(rec):
+                    gain = _internal_gain(
+                        rec,
+                        zone_name,
+                        self.zone_area[zone_name],
+                        people_count.get(zone_name, 0.0),
+                        self.schedules,
+                    )
+                    self.info.internal_gains.append(gain)
+        self.zone_gains: dict[str, float] = {}
+        self.zone_radiant: dict[str, float] = {}
+        for gain in self.info.internal_gains:
+            self.zone_gains[gain.zone] = self.zone_gains.get(gain.zone, 0.0) + gain.annual_mean
+            self.zone_radiant[gain.zone] = (
+                self.zone_radiant.get(gain.zone, 0.0) + gain.annual_mean * gain.radiant_fraction
             )
-        )
+            if gain.schedule is not None:
+                try:
+                    low, high = self.schedules.value_range(gain.schedule)
+                except UnsupportedScheduleError:
+                    low, high = math.nan, math.nan
+                if low != high:
+                    self.info.notes.append(
+                        f"{gain.object_class} '{gain.name}' (zone {gain.zone}): schedule "
+                        f"'{gain.schedule}' varies ({low:g}..{high:g}); its annual mean gives the "
+                        "constant internal gain (hourly values: idf_info.internal_gains_profile)"
+                    )
 
-    # -- ground ---------------------------------------------------------------------------------
-    ground_rec = single("SITE:GROUNDTEMPERATURE:BUILDINGSURFACE")
-    ground = None
-    if ground_rec is not None:
-        ground = tuple(
-            _number(ground_rec, n, default=ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE)
-            for n in SCHEMA["SITE:GROUNDTEMPERATURE:BUILDINGSURFACE"][0]
+    def _setpoints(self) -> None:
+        """Stage: thermostats."""
+        self.setpoints = _thermostats(
+            self.records, self.zones, self.zone_lists, self.schedules, self.info
         )
-    elif any(s.boundary == "ground" for s in model_surfaces):
-        ground = (ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE,) * 12
-        info.notes.append(
-            "no Site:GroundTemperature:BuildingSurface: ground surfaces see the EnergyPlus "
-            f"default {ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE:g} C"
+        hvac = sorted(
+            cls
+            for cls in self.info.unsupported
+            if cls.upper().startswith(("ZONEHVAC:", "AIRLOOPHVAC", "AIRTERMINAL:", "PLANTLOOP"))
         )
+        if self.setpoints and hvac:
+            self.info.notes.append(
+                f"HVAC equipment ({', '.join(hvac[:3])}{', ...' if len(hvac) > 3 else ''}) is not "
+                "modelled: thermostatted zones get ideal heating/cooling at their set points"
+            )
 
-    # -- window types ---------------------------------------------------------------------------
-    used_types = {w.window_type.upper() for w in model_windows}
-    model_window_types = [
-        _wrap(obj, window_type_from_glazing, name, glazing)
-        for key, (name, obj, glazing) in window_types.items()
-        if key in used_types
-    ]
-    try:
-        building = mz.Building(
-            name=building_name,
-            location=location,
-            materials=model_materials,
-            constructions=model_constructions,
-            window_types=model_window_types,
-            zones=model_zones,
-            surfaces=model_surfaces,
-            windows=model_windows,
-            ground_temperatures=ground,
-        )
-    except ThermocalInputError as exc:
-        raise ThermocalInputError(f"{path.name}: {exc}") from None
-    building.idf_info = info
-    _warn_unsupported(path.name, info)
-    return building
+    def _model_zones(self) -> None:
+        """Stage: zones."""
+        self.model_zones = []
+        for name, obj, _rec in self.zones.values():
+            heating, cooling = self.setpoints.get(name, (None, None))
+            gains = self.zone_gains.get(name, 0.0)
+            self.model_zones.append(
+                _wrap(
+                    obj,
+                    self.mz.Zone,
+                    name=name,
+                    volume=self.zone_volume[name],
+                    floor_area=self.zone_area[name],
+                    infiltration_ach=self.zone_ach.get(name, 0.0),
+                    internal_gains=gains,
+                    internal_gains_radiative_fraction=(self.zone_radiant.get(name, 0.0) / gains)
+                    if gains > 0
+                    else 0.5,
+                    heating_setpoint=heating,
+                    cooling_setpoint=cooling,
+                    infiltration_group=self.zone_infiltration_group.get(name),
+                )
+            )
+
+    def _ground(self) -> None:
+        """Stage: ground."""
+        ground_rec = self.single("SITE:GROUNDTEMPERATURE:BUILDINGSURFACE")
+        self.ground = None
+        if ground_rec is not None:
+            self.ground = tuple(
+                _number(ground_rec, n, default=ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE)
+                for n in SCHEMA["SITE:GROUNDTEMPERATURE:BUILDINGSURFACE"][0]
+            )
+        elif any(s.boundary == "ground" for s in self.model_surfaces):
+            self.ground = (ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE,) * 12
+            self.info.notes.append(
+                "no Site:GroundTemperature:BuildingSurface: ground surfaces see the EnergyPlus "
+                f"default {ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE:g} C"
+            )
+
+    def _building(self):
+        """Stage: window types; assemble and validate the Building."""
+        used_types = {w.window_type.upper() for w in self.model_windows}
+        self.model_window_types = [
+            _wrap(obj, window_type_from_glazing, name, glazing)
+            for key, (name, obj, glazing) in self.window_types.items()
+            if key in used_types
+        ]
+        try:
+            building = self.mz.Building(
+                name=self.building_name,
+                location=self.location,
+                materials=self.model_materials,
+                constructions=self.model_constructions,
+                window_types=self.model_window_types,
+                zones=self.model_zones,
+                surfaces=self.model_surfaces,
+                windows=self.model_windows,
+                ground_temperatures=self.ground,
+            )
+        except ThermocalInputError as exc:
+            raise ThermocalInputError(f"{self.path.name}: {exc}") from None
+        building.idf_info = self.info
+        _warn_unsupported(self.path.name, self.info)
+        return building
 
 
 def _all_blank(rec: dict) -> bool:

@@ -2650,4 +2650,4 @@ def _warn_unsupported(source: str, info: IdfImportInfo) -> None:
     if info.notes:
         parts.append("Approximations: " + "; ".join(info.notes) + ".")
     if parts:
-        warnings.warn(" ".join(parts), IdfImportWarning, stacklevel=3)
+        warnings.warn(" ".join(parts), IdfImportWarning, stacklevel=5)

@@ -5,10 +5,11 @@ Target (issue 3): reading and resampling a month of 5-minute logs from 100 senso
 The log is synthetic and irregular like paper 001's wireless sensors: each sensor reports every
 5 minutes or as soon as its value has changed by 0.28 C since the last report, whichever comes
 first (simulated on a 10-second grid). The room temperatures follow a daily heating cycle, a
-random walk, window airing (fast drops of 1-3 K, recovering in about an hour) and measurement
-noise; a few sensors have a lost-radio gap. The file is written once
-(not timed); the timed part is ``read_measurements`` + ``resample_measurements`` (with the
-spike screening and gap report), repeated, best and median reported.
+random walk, window airing (drops of 1-3 K in minutes, recovering over about an hour) and
+measurement noise; a few sensors have a lost-radio gap and every sensor has 3 single-report
+glitches (+8 K). The file is written once (not timed); the timed part is ``read_measurements``
++ ``resample_measurements`` (with the spike screening and gap report), repeated; best and
+median reported.
 
 Run: ``/work/venv/bin/python benchmarks/bench_io.py [--repeats 5] [--keep]``
 """
@@ -35,6 +36,7 @@ FINE_STEP = 10  # [s] simulation grid of the "true" temperature
 HEARTBEAT = 300  # [s] report at least every 5 min
 THRESHOLD = 0.28  # [K] report on a change of 0.28 C
 TARGET_SECONDS = 2.0
+GLITCHES = 3  # injected single-report spikes per sensor
 START = pd.Timestamp("2019-02-01", tz="UTC")
 END = START + pd.Timedelta(days=DAYS)
 
@@ -58,34 +60,58 @@ def event_reports(signal, step, heartbeat, threshold):
     return out[:n]
 
 
-def synthetic_log(path: Path, seed: int = 0) -> tuple[int, int]:
-    """Write the long-format log; returns (rows, n_sensors)."""
+@numba.njit(cache=True)
+def airing_deficit(opening, step, depth, tau_open, tau_closed):
+    """Temperature drop [K] of a room while a window is open and its recovery afterwards."""
+    out = np.empty(opening.size)
+    deficit = 0.0
+    for i in range(opening.size):
+        if opening[i]:
+            deficit += (depth - deficit) * step / tau_open
+        else:
+            deficit -= deficit * step / tau_closed
+        out[i] = deficit
+    return out
+
+
+def synthetic_log(path: Path, seed: int = 0) -> tuple[int, int, set]:
+    """Write the long-format log; returns (rows, n_sensors, injected spikes (sensor, time))."""
     rng = np.random.default_rng(seed)
     n_fine = DAYS * 86400 // FINE_STEP
     seconds = np.arange(n_fine) * FINE_STEP
     start = np.datetime64("2019-02-01T00:00:00", "s")
     day_phase = 2 * np.pi * seconds / 86400.0
     times, sensors, values = [], [], []
+    injected: set[tuple[str, pd.Timestamp]] = set()
     for k in range(N_SENSORS):
         comfort = 20.5 + rng.normal(0, 1.0)
         heating = 1.5 * np.clip(np.sin(day_phase - 1.3 + rng.normal(0, 0.3)), -0.4, 1.0)
         drift = np.cumsum(rng.normal(0, 0.004, n_fine))
-        # window airing: a few times a day the room cools by 1-3 K and recovers in about 1 h
-        airing = np.zeros(n_fine)
-        for opening in rng.integers(0, n_fine - 1, DAYS * 2):
-            length = min(int(rng.integers(30, 120)), n_fine - opening)  # 5-20 min
-            depth = rng.uniform(1.0, 3.0)
-            airing[opening : opening + length] -= np.linspace(0, depth, length)
-        kernel = np.exp(-np.arange(0, 2 * 3600, FINE_STEP) / 1200.0)
-        airing = np.convolve(np.diff(airing, prepend=0.0), kernel)[:n_fine]
-        signal = comfort + heating + drift + airing + rng.normal(0, 0.03, n_fine)
+        # window airing: twice a day on average a window opens for 5-20 min; the room cools
+        # towards 4 K below (time constant 10 min) and recovers afterwards (time constant 30 min)
+        opening = np.zeros(n_fine, dtype=np.bool_)
+        for first in rng.integers(0, n_fine - 1, DAYS * 2):
+            opening[first : first + int(rng.integers(30, 120))] = True
+        airing = airing_deficit(opening, FINE_STEP, 4.0, 600.0, 1800.0)
+        signal = comfort + heating + drift - airing + rng.normal(0, 0.03, n_fine)
         index = event_reports(signal, FINE_STEP, HEARTBEAT, THRESHOLD)
         if k % 17 == 3:  # a lost radio for 6 hours
             lost = (index * FINE_STEP > 10 * 86400) & (index * FINE_STEP < 10 * 86400 + 6 * 3600)
             index = index[~lost]
         times.append(start + seconds[index].astype("timedelta64[s]"))
         sensors.append(np.full(index.size, k, dtype=np.int16))
-        values.append(np.round(signal[index], 2))
+        reported = np.round(signal[index], 2)
+        # radio glitches: GLITCHES single reports 8 K off (never the first or last report)
+        glitch = rng.choice(np.arange(50, index.size - 50), GLITCHES, replace=False)
+        reported[glitch] += 8.0
+        injected.update(
+            (
+                f"room_{k:03d}_temp",
+                pd.Timestamp(start + np.timedelta64(int(seconds[i]), "s"), tz="UTC"),
+            )
+            for i in index[glitch]
+        )
+        values.append(reported)
     time_all = np.concatenate(times)
     order = np.argsort(time_all, kind="stable")
     names = np.array([f"room_{k:03d}_temp" for k in range(N_SENSORS)])
@@ -97,7 +123,7 @@ def synthetic_log(path: Path, seed: int = 0) -> tuple[int, int]:
         }
     )
     frame.to_csv(path, index=False)
-    return len(frame), N_SENSORS
+    return len(frame), N_SENSORS, injected
 
 
 def regular_wide_log(path: Path, seed: int = 1) -> tuple[int, int]:
@@ -134,7 +160,7 @@ def main() -> None:
     long_path = folder / "event_log_long.csv"
     wide_path = folder / "regular_log_wide.csv"
     t0 = time.perf_counter()
-    rows, sensors = synthetic_log(long_path)
+    rows, sensors, injected = synthetic_log(long_path)
     wide_rows, _ = regular_wide_log(wide_path)
     generation = time.perf_counter() - t0
 
@@ -159,6 +185,10 @@ def main() -> None:
     assert data.shape == (DAYS * 288, N_SENSORS), data.shape
     n_gap_sensors = int((report.sensors["n_gaps"] > 0).sum())
     assert n_gap_sensors == len([k for k in range(N_SENSORS) if k % 17 == 3]), n_gap_sensors
+    spikes = report.flags[report.flags["flag"] == "outlier"]
+    n_spikes = len(spikes)
+    found = set(zip(spikes["sensor"], spikes["time"], strict=True))
+    n_true = len(found & injected)
 
     for label, function, n_rows in (
         ("event log, long, 100 sensors -> 5 min grid", long_5min, rows),
@@ -179,7 +209,9 @@ def main() -> None:
     )
     print(
         f"event log: {rows} reports from {sensors} sensors over {DAYS} days ({size_mb:.1f} MB), "
-        f"{n_gap_sensors} sensors with a 6 h gap; generation {generation:.1f} s (not timed)"
+        f"{n_gap_sensors} sensors with a 6 h gap (all found); {len(injected)} injected "
+        f"spikes, {n_spikes} flagged, {n_true} of them injected; generation {generation:.1f} s "
+        "(not timed)"
     )
     print(f"repeats: {args.repeats}; target <= {TARGET_SECONDS} s (read + resample)\n")
     print(f"load average before timing: {os.getloadavg()[0]:.1f}")

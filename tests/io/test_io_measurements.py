@@ -465,3 +465,25 @@ def test_flags_name_the_line_of_long_logs(tmp_path):
     flag = report.flags.iloc[0]
     assert flag["sensor"] == "flow [l/h]" and flag["line"] == 4 and flag["flag"] == "impossible"
     assert flag["value"] == pytest.approx(-50 / 3.6e6)
+
+
+def test_real_events_are_not_flagged_as_spikes():
+    # an airing dip reported on change: 3 K down in 10 min, back over 40 min (event-based)
+    times = list(pd.date_range(START, periods=24, freq="5min"))
+    values = [21.0] * 24
+    dip_times = START + pd.to_timedelta(np.arange(121, 171, 5), unit="min")
+    dip_values = np.r_[np.linspace(20.7, 18.0, 4), np.linspace(18.3, 20.7, 6)]
+    after = pd.date_range(START + pd.Timedelta("175min"), periods=24, freq="5min")
+    times = pd.DatetimeIndex(times).append(dip_times).append(after)
+    values = np.r_[values, dip_values, np.full(24, 21.0)]
+    raw = long_frame(times, values)
+    _, report = resample_measurements(raw, "1h")
+    assert report.flags.empty, report.flags
+    # two adjacent glitches are still spikes; three with outlier_max_run=2 are an event
+    glitch = np.full(40, 21.0)
+    glitch[20:22] = 30.0
+    raw = long_frame(pd.date_range(START, periods=40, freq="5min"), glitch)
+    assert len(resample_measurements(raw, "1h")[1].flags) == 2
+    glitch[22] = 30.0
+    raw = long_frame(pd.date_range(START, periods=40, freq="5min"), glitch)
+    assert resample_measurements(raw, "1h")[1].flags.empty

@@ -34,8 +34,8 @@ Resampling (:func:`resample_measurements`)
     sensor's typical reporting interval, the rest is unknown, intervals covered less than
     ``min_coverage`` are NaN, and the gap is listed in the report. Nothing is interpolated across
     a gap. Physically impossible values (a negative flow, a relative humidity of 130 %, an air
-    temperature of 300 C) are removed before resampling and listed; isolated spikes (Hampel
-    identifier on the sequence of reports) are flagged, and removed on request.
+    temperature of 300 C) are removed before resampling and listed; spikes (one or two reports
+    that jump away and come back, the QARTOD spike test) are flagged, and removed on request.
 
 Grid convention: each interval is labelled by its START, ``[t, t + step)``, as for the weather
 (``thermocal.io.weather``). A report describes the time from its timestamp on; a log of interval
@@ -44,8 +44,8 @@ resampling (``raw.index - pd.Timedelta("5min")``).
 
 References
 ----------
-.. [1] Pearson, R. K. (2002). Outliers in process modeling and identification. IEEE Trans.
-   Control Systems Technology 10(1), 55-63 (Hampel identifier).
+.. [1] U.S. IOOS (2020). Manual for Real-Time Quality Control of In-situ Temperature and
+   Salinity Data, version 2.1 (QARTOD gap, range and spike tests).
 .. [2] ISO 8601-1:2019, Date and time representations (timestamps with UTC offsets).
 """
 
@@ -803,10 +803,11 @@ def _read_long(
 ) -> tuple[pd.DataFrame, dict]:
     codes, raw_names = pd.factorize(frame[sensor_col], sort=False)
     stripped = [str(n).strip() for n in raw_names]
-    names = list(dict.fromkeys(stripped))  # names equal after stripping blanks are merged
-    remap = np.asarray([names.index(n) for n in stripped] + [-1], dtype=np.int64)
+    position = {name: i for i, name in enumerate(dict.fromkeys(stripped))}
+    names = list(position)  # names equal after stripping blanks are merged
+    remap = np.asarray([position[n] for n in stripped] + [-1], dtype=np.int64)
     codes = remap[codes]  # code -1 (missing) stays -1
-    empty = [names.index("")] if "" in names else []
+    empty = [position[""]] if "" in position else []
     missing_sensor = (codes < 0) | np.isin(codes, empty)
     if missing_sensor.any():
         first = int(np.flatnonzero(missing_sensor)[0])
@@ -898,8 +899,9 @@ def _read_long(
         )
     order = order[keep_sorted]
     categories = list(dict.fromkeys(rename[n] for n in names))
+    category_of = {name: i for i, name in enumerate(categories)}
     sensor_names = pd.Categorical.from_codes(
-        np.asarray([categories.index(rename[n]) for n in names])[codes[order]],
+        np.asarray([category_of[rename[n]] for n in names])[codes[order]],
         categories=categories,
     )
     raw = pd.DataFrame(
@@ -1134,18 +1136,41 @@ def time_weighted_mean(
     return mean, covered / np.diff(edges)
 
 
-def _hampel(values: np.ndarray, half_window: int, n_sigma: float, floor: float) -> np.ndarray:
-    """Boolean mask of isolated spikes in a sequence (Hampel identifier, moving median/MAD)."""
-    from scipy.ndimage import median_filter
+def _spikes(values: np.ndarray, n_sigma: float, floor: float, max_run: int = 2) -> np.ndarray:
+    """Boolean mask of spikes: runs of at most ``max_run`` reports that jump away and back.
 
-    size = 2 * half_window + 1
-    if values.size < size:
-        return np.zeros(values.size, dtype=bool)
-    median = median_filter(values, size=size, mode="nearest")
-    deviation = np.abs(values - median)
-    mad = median_filter(deviation, size=size, mode="nearest")
-    threshold = np.maximum(n_sigma * 1.4826 * mad, floor)
-    return deviation > threshold
+    A run ``values[i:i + r]`` (1 <= r <= max_run) is a spike when every value in it lies more
+    than the threshold above (or below) both neighbours ``values[i - 1]`` and ``values[i + r]``,
+    and the neighbours agree within the threshold (the signal comes back). The threshold is
+    ``max(floor, n_sigma * 1.4826 * MAD(first differences))``. A step (no return) and a real
+    event reported by several change-triggered reports (small successive differences) are not
+    spikes.
+
+    References
+    ----------
+    .. [1] U.S. IOOS (2020). Manual for Real-Time Quality Control of In-situ Temperature and
+       Salinity Data, version 2.1, QARTOD test 9 (spike test).
+    """
+    n = values.size
+    spikes = np.zeros(n, dtype=bool)
+    if n < 3:
+        return spikes
+    steps = np.diff(values)
+    mad = float(np.median(np.abs(steps - np.median(steps))))
+    threshold = max(floor, n_sigma * 1.4826 * mad)
+    for run in range(1, max_run + 1):
+        if n < run + 2:
+            break
+        before = values[: n - run - 1]
+        after = values[run + 1 :]
+        window = np.lib.stride_tricks.sliding_window_view(values[1 : n - 1], run)
+        low_run, high_run = window.min(axis=1), window.max(axis=1)
+        returns = np.abs(before - after) <= threshold
+        up = low_run - np.maximum(before, after) > threshold
+        down = np.minimum(before, after) - high_run > threshold
+        for first in np.flatnonzero(returns & (up | down)):
+            spikes[first + 1 : first + 1 + run] = True
+    return spikes
 
 
 # ----------------------------------------------------------------------------------------------
@@ -1363,8 +1388,8 @@ def resample_measurements(
     quantities: Mapping[str, str] | None = None,
     limits: Mapping[str, tuple[float, float]] | None = None,
     outliers: Literal["flag", "remove", "ignore"] = "flag",
-    outlier_window: int = 7,
     outlier_sigma: float = 5.0,
+    outlier_max_run: int = 2,
 ) -> tuple[pd.DataFrame, QualityReport]:
     """Resample irregular sensor reports to a regular grid, with a quality report.
 
@@ -1395,13 +1420,15 @@ def resample_measurements(
         Physically possible (low, high) per sensor in its unit, overriding
         :data:`PHYSICAL_LIMITS` of its quantity.
     outliers : {"flag", "remove", "ignore"}
-        Isolated spikes (Hampel identifier over ``2 outlier_window + 1`` consecutive reports,
-        ``outlier_sigma`` robust standard deviations and at least the quantity's floor in
-        :data:`OUTLIER_FLOORS`): list them, list and remove them, or skip the screening.
-    outlier_window : int
-        Half-width of the Hampel window [reports].
+        Spikes (up to ``outlier_max_run`` consecutive reports that jump away from both
+        neighbours by more than ``outlier_sigma`` robust standard deviations of the successive
+        differences, and at least the quantity's floor in :data:`OUTLIER_FLOORS`, and come
+        back): list them, list and remove them, or skip the screening.
     outlier_sigma : float [-]
-        Threshold in robust standard deviations (1.4826 MAD).
+        Threshold in robust standard deviations of the successive differences (1.4826 MAD).
+    outlier_max_run : int
+        Longest run of consecutive reports still called a spike [reports]; a longer excursion
+        is an event (a window opened, the heating started) and is not flagged.
 
     Returns
     -------
@@ -1525,7 +1552,7 @@ def resample_measurements(
         # isolated spikes
         n_outliers = n_removed = 0
         if outliers != "ignore" and quantity in OUTLIER_FLOORS and values.size:
-            spikes = _hampel(values, outlier_window, outlier_sigma, OUTLIER_FLOORS[quantity])
+            spikes = _spikes(values, outlier_sigma, OUTLIER_FLOORS[quantity], outlier_max_run)
             n_outliers = int(spikes.sum())
             if n_outliers:
                 action = "removed" if outliers == "remove" else "kept"
@@ -1539,9 +1566,10 @@ def resample_measurements(
                             "flag": "outlier",
                             "action": action,
                             "reason": (
-                                f"isolated spike: more than {outlier_sigma:g} robust standard "
-                                f"deviations and {OUTLIER_FLOORS[quantity]:g} {unit} from the "
-                                f"median of {2 * outlier_window + 1} consecutive reports"
+                                f"spike: jumps more than max({OUTLIER_FLOORS[quantity]:g} {unit}, "
+                                f"{outlier_sigma:g} robust standard deviations of the successive "
+                                f"differences) away from both neighbours and back within "
+                                f"{outlier_max_run} report(s)"
                             ),
                         }
                     )
@@ -1549,6 +1577,7 @@ def resample_measurements(
                 if outliers == "remove":
                     n_removed = n_outliers
                     times_ns, values = times_ns[~spikes], values[~spikes]
+                    lines_of = None if lines_of is None else lines_of[~spikes]
 
         n = len(grid)
         max_gap_s = math.inf if gaps_of[name] is None else gaps_of[name].total_seconds()

@@ -487,3 +487,30 @@ def test_real_events_are_not_flagged_as_spikes():
     glitch[22] = 30.0
     raw = long_frame(pd.date_range(START, periods=40, freq="5min"), glitch)
     assert resample_measurements(raw, "1h")[1].flags.empty
+
+
+def test_wide_event_log_with_empty_cells_and_per_sensor_max_gap(tmp_path):
+    # T_a reports every 10 min; the valve reports only on change (no heartbeat)
+    path = write(
+        tmp_path,
+        "time,T_a [C],valve [-]\n"
+        "2019-02-02T00:00:00Z,20.0,0\n"
+        "2019-02-02T00:10:00Z,20.0,\n"
+        "2019-02-02T00:20:00Z,22.0,\n"
+        "2019-02-02T00:30:00Z,22.0,1\n"
+        "2019-02-02T00:40:00Z,22.0,\n"
+        "2019-02-02T00:50:00Z,22.0,\n"
+        "2019-02-02T01:00:00Z,22.0,\n"
+        "2019-02-02T03:00:00Z,21.0,\n",
+    )
+    raw, meta = read_measurements(path)
+    assert meta["n_reports"] == {"T_a": 8, "valve": 2}
+    assert meta["units"] == {"T_a": "C", "valve": "-"}
+    data, report = resample_measurements(
+        raw, "1h", max_gap={"T_a": "30min", "valve": None}, how={"valve": "last"}
+    )
+    assert data["T_a"].iloc[0] == pytest.approx((20 * 20 + 22 * 40) / 60)
+    assert data["T_a"].iloc[1:3].isna().all()  # 01:00 -> 03:00 silence: a gap
+    assert data["valve"].tolist() == [1.0, 1.0, 1.0]  # held across the silence
+    assert list(report.gaps["sensor"]) == ["T_a"]
+    assert report.sensors.loc["valve", "n_gaps"] == 0

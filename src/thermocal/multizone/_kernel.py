@@ -24,42 +24,88 @@ SIGMA = 5.670374419e-8
 KELVIN = 273.15
 
 
-@njit(cache=True)
-def lu_solve(lp, li, lx, up, ui, ux, perm_r, perm_c, b, work, out):
-    """Solve ``A x = b`` with SuperLU factors ``Pr A Pc = L U`` (CSC ``L``, ``U``)."""
+def prepare_factors(lower, upper, perm_r, perm_c):
+    """Strictly triangular CSC parts, inverse diagonal of ``U`` and permutations as flat arrays.
+
+    ``Pr A Pc = L U`` (SuperLU, unit lower ``L``); the returned tuple feeds :func:`lu_solve`.
+    """
+    lower = lower.tocsc()
+    upper = upper.tocsc()
+    lower.sort_indices()
+    upper.sort_indices()
+    n = lower.shape[0]
+    diag = upper.diagonal()
+    strict_l = (lower - _sparse_diag(lower.diagonal())).tocsc()
+    strict_u = (upper - _sparse_diag(diag)).tocsc()
+    strict_l.eliminate_zeros()
+    strict_u.eliminate_zeros()
+    strict_l.sort_indices()
+    strict_u.sort_indices()
+    inverse_r = np.empty(n, dtype=np.int64)
+    inverse_r[np.asarray(perm_r)] = np.arange(n)
+    return (
+        strict_l.indptr.astype(np.int64),
+        strict_l.indices.astype(np.int32),
+        strict_l.data.copy(),
+        strict_u.indptr.astype(np.int64),
+        strict_u.indices.astype(np.int32),
+        strict_u.data.copy(),
+        1.0 / diag,
+        inverse_r,
+        np.asarray(perm_c, dtype=np.int64),
+    )
+
+
+def _sparse_diag(values):
+    import scipy.sparse as sp
+
+    return sp.diags(values, format="csc")
+
+
+@njit(cache=True, fastmath=True)
+def lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, out):
+    """Solve ``A x = b`` with the factors of :func:`prepare_factors`."""
     n = b.shape[0]
-    for i in range(n):
-        work[perm_r[i]] = b[i]
-    # forward substitution, unit lower triangular L (diagonal stored first or anywhere)
+    for j in range(n):
+        work[j] = b[inverse_r[j]]
     for j in range(n):
         zj = work[j]
         if zj != 0.0:
             for p in range(lp[j], lp[j + 1]):
-                i = li[p]
-                if i > j:
-                    work[i] -= lx[p] * zj
-    # backward substitution, upper triangular U
+                work[li[p]] -= lx[p] * zj
     for j in range(n - 1, -1, -1):
-        diag = 0.0
-        for p in range(up[j], up[j + 1]):
-            if ui[p] == j:
-                diag = ux[p]
-                break
-        yj = work[j] / diag
+        yj = work[j] * inv_diag[j]
         work[j] = yj
         if yj != 0.0:
             for p in range(up[j], up[j + 1]):
-                i = ui[p]
-                if i < j:
-                    work[i] -= ux[p] * yj
+                work[ui[p]] -= ux[p] * yj
     for i in range(n):
         out[i] = work[perm_c[i]]
+
+
+@njit(cache=True, inline="always")
+def cube_root_update(x, guess):
+    """Cube root of ``x >= 0`` by three Newton steps from ``guess`` (the previous step's root).
+
+    Surface-air temperature differences change little from one step to the next, so the root of
+    the previous step is an excellent start; this is much cheaper than ``cbrt`` in the hot loop.
+    """
+    x = max(x, 1e-6)
+    y = max(guess, 1e-2)
+    for _ in range(3):
+        y = (2.0 * y + x / (y * y)) / 3.0
+    return y
 
 
 @njit(cache=True)
 def tarp(delta_t, cos_up):
     """TARP natural convection (scalar version of network.tarp_natural_convection)."""
-    root = np.cbrt(abs(delta_t))
+    return tarp_from_root(delta_t, np.cbrt(abs(delta_t)), cos_up)
+
+
+@njit(cache=True, inline="always")
+def tarp_from_root(delta_t, root, cos_up):
+    """TARP coefficient given ``root = |delta_t|^(1/3)``."""
     abs_cos = abs(cos_up)
     if abs_cos < 1e-3:
         h = 1.31 * root
@@ -70,7 +116,7 @@ def tarp(delta_t, cos_up):
     return max(h, 0.1)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=True)
 def run_steps(
     k0,
     n_steps,
@@ -87,7 +133,8 @@ def run_steps(
     up,
     ui,
     ux,
-    perm_r,
+    inv_diag,
+    inverse_r,
     perm_c,
     ext_node,
     ext_area_eps,
@@ -103,6 +150,7 @@ def run_steps(
     face_h0,
     face_hmax,
     tarp_on,
+    face_root,
     air_node,
     inf_dh,
     ctrl_zone,
@@ -147,9 +195,12 @@ def run_steps(
             ts = x[node]
             corr = ext_dh[k, e] * ext_area_eps[e, 0] * (t_out - ts)
             if exact_sky:
-                ts4 = (ts + KELVIN) ** 4
-                to4 = (t_out + KELVIN) ** 4
-                tk4 = (t_sky + KELVIN) ** 4
+                ts2 = (ts + KELVIN) * (ts + KELVIN)
+                to2 = (t_out + KELVIN) * (t_out + KELVIN)
+                tk2 = (t_sky + KELVIN) * (t_sky + KELVIN)
+                ts4 = ts2 * ts2
+                to4 = to2 * to2
+                tk4 = tk2 * tk2
                 exact = SIGMA * (ext_view_air[e] * (to4 - ts4) + ext_view_sky[e] * (tk4 - ts4))
                 linear = ext_hr0 * (ext_view_air[e] * (t_out - ts) + ext_view_sky[e] * (t_sky - ts))
                 corr += ext_area_eps[e, 1] * (exact - linear)
@@ -159,7 +210,9 @@ def run_steps(
                 node = face_node[f]
                 an = face_air[f]
                 dt_s = x[node] - x[an]
-                h = tarp(dt_s, face_cos[f])
+                root = cube_root_update(abs(dt_s), face_root[f])
+                face_root[f] = root
+                h = tarp_from_root(dt_s, root, face_cos[f])
                 if h > face_hmax[f]:
                     h = face_hmax[f]
                 corr = (h - face_h0[f]) * face_area[f] * (x[an] - x[node])
@@ -169,7 +222,7 @@ def run_steps(
             an = air_node[z]
             rhs[an] += inf_dh[k, z] * (t_out - x[an])
         # 3. free response
-        lu_solve(lp, li, lx, up, ui, ux, perm_r, perm_c, rhs, work, x_new)
+        lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
         # 4. ideal loads
         for c in range(nc):
             q[c] = 0.0
@@ -232,7 +285,7 @@ def run_steps(
             if any_q:
                 for c in range(nc):
                     rhs[air_node[ctrl_zone[c]]] += q[c]
-                lu_solve(lp, li, lx, up, ui, ux, perm_r, perm_c, rhs, work, x_new)
+                lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
         for i in range(n):
             x[i] = x_new[i]
         # 5. outputs

@@ -372,7 +372,6 @@ class Network:
     zone_names: list[str]
     air_node: np.ndarray  # (nz,)
     mrt_node: np.ndarray  # (nz,), -1 when none
-    zone_heat_input: np.ndarray  # (nz,) input column of each zone's heat [W]
     # interior faces
     face_names: list[str]
     face_node: np.ndarray
@@ -381,6 +380,7 @@ class Network:
     face_cos_up: np.ndarray
     face_h0: np.ndarray
     face_hmax: np.ndarray
+    face_capacity: np.ndarray  # capacity of the face node per m2 [J/(m2 K)]
     face_is_window: np.ndarray
     # exterior faces
     ext_names: list[str]
@@ -488,9 +488,8 @@ def assemble(
         cap[i] = rho_in * AIR_SPECIFIC_HEAT * z.volume * z.air_capacity_factor
         if zone_infiltration[i] > 0:
             boundary(i, IN_TEMP_OUT, zone_infiltration[i])
-    zone_heat_input = np.array([new_input(f"heat/{z.name}") for z in zones])
-    for i in range(nz):
-        source(i, zone_heat_input[i], 1.0)
+    # heat delivered to the zone air (ideal loads, given heat) enters the air node directly in the
+    # time loop, so it needs no input column
 
     # ---- opaque constructions --------------------------------------------------------------
     templates: dict[str, ConstructionTemplate] = {}
@@ -800,7 +799,6 @@ def assemble(
         zone_names=[z.name for z in zones],
         air_node=np.arange(nz),
         mrt_node=mrt_node,
-        zone_heat_input=zone_heat_input,
         face_names=f_name,
         face_node=face_node,
         face_zone=face_zone,
@@ -808,6 +806,7 @@ def assemble(
         face_cos_up=face_cos,
         face_h0=np.asarray(h0, dtype=float),
         face_hmax=np.asarray(hmax, dtype=float),
+        face_capacity=face_cap,
         face_is_window=face_is_window,
         ext_names=e_name,
         ext_node=ext_node,

@@ -42,6 +42,21 @@ _CHUNK = 2048
 
 
 @dataclass
+class _Context:
+    """Everything of the time loop that depends on the step size."""
+
+    dt: float
+    lu: object
+    factors: tuple
+    c_dt: np.ndarray
+    g_ctrl: np.ndarray
+    inputs: np.ndarray
+    ext_dh: np.ndarray
+    inf_dh: np.ndarray
+    face_hmax: np.ndarray
+
+
+@dataclass
 class SimulationResult:
     """Output of :meth:`Simulation.run` (frames indexed by step start, one column per zone).
 
@@ -275,51 +290,73 @@ class Simulation:
 
     def _factorise(self) -> None:
         net = self.network
-        matrix = net.system_matrix(self.dt)
-        lu = splu(matrix, permc_spec="COLAMD")
-        lower = lu.L.tocsc()
-        upper = lu.U.tocsc()
-        lower.sort_indices()
-        upper.sort_indices()
-        self._lu = lu
-        self._factors = (
-            lower.indptr.astype(np.int64),
-            lower.indices.astype(np.int64),
-            lower.data,
-            upper.indptr.astype(np.int64),
-            upper.indices.astype(np.int64),
-            upper.data,
-            lu.perm_r.astype(np.int64),
-            lu.perm_c.astype(np.int64),
-        )
-        b = net.inputs.tocsr()
-        b.sort_indices()
-        self._b = (b.indptr.astype(np.int64), b.indices.astype(np.int64), b.data)
-        self._c_dt = net.capacity / self.dt
         zones = list(self.building.zones.values())
         ctrl = [i for i, z in enumerate(zones) if z.conditioned]
         self._ctrl = np.asarray(ctrl, dtype=np.int64)
-        self._heat_sp = np.array(
-            [
-                -np.inf if zones[i].heating_setpoint is None else zones[i].heating_setpoint
-                for i in ctrl
-            ]
-        )
-        self._cool_sp = np.array(
-            [
-                np.inf if zones[i].cooling_setpoint is None else zones[i].cooling_setpoint
-                for i in ctrl
-            ]
-        )
-        if ctrl:
-            unit = np.zeros((net.n_nodes, len(ctrl)))
-            unit[net.air_node[self._ctrl], np.arange(len(ctrl))] = 1.0
-            response = lu.solve(unit)
-            self._g_ctrl = np.ascontiguousarray(response[net.air_node[self._ctrl], :])
-        else:
-            self._g_ctrl = np.zeros((0, 0))
+        heat_sp = [zones[i].heating_setpoint for i in ctrl]
+        cool_sp = [zones[i].cooling_setpoint for i in ctrl]
+        self._heat_sp = np.array([-np.inf if t is None else t for t in heat_sp], dtype=float)
+        self._cool_sp = np.array([np.inf if t is None else t for t in cool_sp], dtype=float)
+        b = net.inputs.tocsr()
+        b.sort_indices()
+        self._b = (b.indptr.astype(np.int64), b.indices.astype(np.int64), b.data)
         counts = np.bincount(net.face_zone, weights=net.face_area, minlength=len(zones))
         self._zone_face_area = counts.astype(float)
+        self._ext_area_eps = np.ascontiguousarray(
+            np.stack([net.ext_area, net.ext_area * net.ext_emissivity], axis=1)
+        )
+        self._fine = self._context(self.dt, self._inputs, self._ext_dh_raw, self._inf_dh)
+        self._lu = self._fine.lu
+        self._coarse = None
+
+    def _context(self, dt: float, inputs, ext_dh_raw, inf_dh) -> _Context:
+        """Factorisation and step-size dependent arrays for steps of ``dt`` seconds."""
+        net = self.network
+        lu = splu(
+            net.system_matrix(dt),
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+        if len(self._ctrl):
+            unit = np.zeros((net.n_nodes, len(self._ctrl)))
+            unit[net.air_node[self._ctrl], np.arange(len(self._ctrl))] = 1.0
+            g_ctrl = np.ascontiguousarray(lu.solve(unit)[net.air_node[self._ctrl], :])
+        else:
+            g_ctrl = np.zeros((0, 0))
+        # explicit-correction bounds (stability of the lagged terms, see network module)
+        face_hmax = 2.0 * net.face_h0 + net.face_capacity / dt
+        upper = net.ext_hc0 + net.ext_hr0 * net.ext_emissivity + net.ext_capacity / dt
+        ext_dh = np.clip(ext_dh_raw, 0.1 - net.ext_hc0[None, :], upper[None, :])
+        return _Context(
+            dt=dt,
+            lu=lu,
+            factors=_kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c),
+            c_dt=net.capacity / dt,
+            g_ctrl=g_ctrl,
+            inputs=np.ascontiguousarray(inputs),
+            ext_dh=np.ascontiguousarray(ext_dh),
+            inf_dh=np.ascontiguousarray(inf_dh),
+            face_hmax=face_hmax,
+        )
+
+    def _coarse_context(self) -> _Context | None:
+        """Hourly context over the first day of the period, for the warm-up (or None)."""
+        per_hour = 3600.0 / self.dt
+        per_day = int(round(86400.0 / self.dt))
+        if per_hour <= 1 or not float(per_hour).is_integer() or len(self.times) < per_day:
+            return None
+        if self._coarse is None:
+            m = int(per_hour)
+
+            def hourly(values):
+                first = values[:per_day]
+                return first.reshape(24, m, *first.shape[1:]).mean(axis=1)
+
+            self._coarse = self._context(
+                3600.0, hourly(self._inputs), hourly(self._ext_dh_raw), hourly(self._inf_dh)
+            )
+        return self._coarse
 
     # ------------------------------------------------------------------------------------------
     def _ground_temperature(self) -> np.ndarray:
@@ -350,7 +387,11 @@ class Simulation:
         orientations = set(net.orientation_inputs)
         orientations.update((k[1], k[2]) for k in net.window_inputs)
         if orientations:
-            irr = _irradiance(grid, self._site, sorted(orientations), self.sky_model)
+            cache = self.__dict__.setdefault("_irradiance_cache", {})
+            missing = sorted(o for o in orientations if o not in cache)
+            if missing:
+                cache.update(_irradiance(grid, self._site, missing, self.sky_model))
+            irr = cache
             for key, col in net.orientation_inputs.items():
                 u[:, col] = irr[key]["poa_global"]
             for (wt_name, tilt, az), cols in net.window_inputs.items():
@@ -376,7 +417,6 @@ class Simulation:
                     u[:, cols[2]] = outer
                     u[:, cols[3]] = inner
         # explicit corrections: exterior convection (wind) and infiltration air density
-        hr0 = net.ext_hr0
         hc0 = net.ext_hc0
         if self.options.exterior_convection == "doe2" and len(net.ext_node):
             wind = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
@@ -394,19 +434,15 @@ class Simulation:
                 h_natural=net.ext_h_natural[None, :],
                 roughness_factor=self.options.roughness_factor,
             )
-            upper = hc0 + hr0 * net.ext_emissivity + net.ext_capacity / self.dt
-            self._ext_dh = np.clip(hc - hc0[None, :], 0.1 - hc0[None, :], upper[None, :])
+            self._ext_dh_raw = hc - hc0[None, :]
         else:
-            self._ext_dh = np.zeros((n_steps, len(net.ext_node)))
+            self._ext_dh_raw = np.zeros((n_steps, len(net.ext_node)))
         pressure = grid["pressure"].to_numpy() if "pressure" in grid else None
         if pressure is None or not np.isfinite(pressure).all():
             pressure = np.full(n_steps, self._pressure)
         rho = air_density(pressure, t_out)
         ratio = rho / net.reference_density - 1.0
         self._inf_dh = np.ascontiguousarray(ratio[:, None] * net.zone_infiltration[None, :])
-        self._ext_area_eps = np.ascontiguousarray(
-            np.stack([net.ext_area, net.ext_area * net.ext_emissivity], axis=1)
-        )
         return u
 
     # ------------------------------------------------------------------------------------------
@@ -423,19 +459,31 @@ class Simulation:
         """
         temp = self.initial_temperature if initial_temperature is None else initial_temperature
         self._x = np.full(self.network.n_nodes, float(temp))
+        self._face_root = np.ones(len(self.network.face_node))
         self._k = 0
         self._step_free_float = bool(free_float)
         if self.warmup_days > 0 and initial_temperature is None:
             self._warm_up(ideal=not free_float)
 
     def _warm_up(self, *, ideal: bool) -> None:
-        per_day = int(round(86400.0 / self.dt))
-        n_day = min(per_day, len(self.times))
+        """Repeat the period's first day ``warmup_days`` times (hourly steps when possible)."""
+        context = self._coarse_context() or self._fine
+        n_day = min(int(round(86400.0 / context.dt)), len(context.inputs))
         zeros = np.zeros((n_day, len(self.building.zones)))
         for _ in range(self.warmup_days):
-            self._advance(0, n_day, zeros, ideal=ideal, store=False)
+            self._advance(0, n_day, zeros, ideal=ideal, store=False, context=context)
 
-    def _advance(self, k0: int, n: int, heat: np.ndarray, *, ideal: bool, store: bool):
+    def _advance(
+        self,
+        k0: int,
+        n: int,
+        heat: np.ndarray,
+        *,
+        ideal: bool,
+        store: bool,
+        context: _Context | None = None,
+    ):
+        context = context or self._fine
         net = self.network
         nz = len(net.zone_names)
         out_air = np.empty((n, nz))
@@ -449,31 +497,32 @@ class Simulation:
             k0,
             n,
             self._x,
-            self._c_dt,
+            context.c_dt,
             *self._b,
-            self._inputs,
+            context.inputs,
             np.ascontiguousarray(heat, dtype=float),
-            *self._factors,
+            *context.factors,
             net.ext_node,
             self._ext_area_eps,
             net.ext_view_air,
             net.ext_view_sky,
             net.ext_hr0,
-            self._ext_dh,
+            context.ext_dh,
             self.options.exact_sky_longwave,
             net.face_node,
             net.air_node[net.face_zone],
             net.face_area,
             net.face_cos_up,
             net.face_h0,
-            net.face_hmax,
+            context.face_hmax,
             tarp_on,
+            self._face_root,
             net.air_node,
-            self._inf_dh,
+            context.inf_dh,
             self._ctrl,
             self._heat_sp,
             self._cool_sp,
-            self._g_ctrl,
+            context.g_ctrl,
             bool(ideal),
             net.face_zone,
             self._zone_face_area,
@@ -541,6 +590,7 @@ class Simulation:
             self._k = k_old
         else:
             self._x = np.full(self.network.n_nodes, self.initial_temperature)
+            self._face_root = np.ones(len(self.network.face_node))
 
     # ------------------------------------------------------------------------------------------
     def run(
@@ -571,6 +621,7 @@ class Simulation:
         n_steps = len(self.times)
         heat = self._heat_array(heat_input, n_steps, nz)
         self._x = np.full(net.n_nodes, self.initial_temperature)
+        self._face_root = np.ones(len(net.face_node))
         self._k = 0
         if self.warmup_days > 0:
             self._warm_up(ideal=not free_float)

@@ -279,7 +279,11 @@ def test_location_and_ground_ranges():
     data = minimal()
     data["components"][6]["type"] = "cellar_ceiling"
     data["ground"] = {"perimeter": 40, "wall_thickness": 0.3}
-    assert "cellar_ceiling component implies a basement" in error_text(data)
+    assert "floor over an unheated cellar, but ground.basement = 'none'" in error_text(data)
+    data["ground"]["basement"] = "heated"
+    assert "ground.basement = 'heated'" in error_text(data)
+    data["ground"]["basement"] = "unheated"
+    Building.model_validate(data)
 
 
 def test_all_problems_listed_at_once():

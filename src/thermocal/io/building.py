@@ -584,11 +584,13 @@ class Building(_Strict):
                 )
             seen[component.name] = index
         has_cellar_ceiling = any(c.type == "cellar_ceiling" for c in self.components)
-        if has_cellar_ceiling and self.ground is not None and self.ground.basement == "none":
+        if has_cellar_ceiling and self.ground is not None and self.ground.basement != "unheated":
             raise PydanticCustomError(
                 "inconsistent",
-                "a cellar_ceiling component implies a basement below, but ground.basement = "
-                "'none' (slab on ground); set ground.basement to 'unheated' or 'heated'",
+                "a cellar_ceiling component is the floor over an unheated cellar, but "
+                "ground.basement = '{basement}'; set ground.basement to 'unheated', or describe "
+                "the floor as a ground_floor component (slab on ground, heated basement)",
+                {"basement": self.ground.basement},
             )
         return self
 

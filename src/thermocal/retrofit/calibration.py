@@ -51,7 +51,24 @@ def initial_params_si(model: FifthOrderModel) -> dict[str, float]:
     return out
 
 
-def rc_spec(model: FifthOrderModel, x0: np.ndarray) -> dict:
+def initial_state_bounds(x0: np.ndarray, temp_out: float, temp_ground: float) -> dict:
+    """Physically plausible ranges [C] of the initial state temperatures.
+
+    The envelope and floor nodes lie between the outdoor (or ground) and the indoor
+    temperature, the internal mass close to the indoor air, the radiators above it.
+    """
+    ti = float(x0[0])
+    cold = min(temp_out, temp_ground)
+    return {
+        "Ti": (ti - 2.0, ti + 2.0),
+        "Tenv": (min(cold, ti) - 3.0, ti + 2.0),
+        "Tgf": (min(temp_ground, ti) - 3.0, ti + 2.0),
+        "Tim": (ti - 5.0, ti + 3.0),
+        "Th": (ti - 2.0, 90.0),
+    }
+
+
+def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) -> dict:
     """The fifth-order model as a :class:`thermocal.statespace.RCModel` specification.
 
     Parameters
@@ -78,9 +95,10 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray) -> dict:
             "upper": 20.0,
             "unit": "K/sqrt(h)",
         }
-        lo, hi = (x0[i] - 15.0, x0[i] + 15.0) if s != "Ti" else (x0[i] - 3.0, x0[i] + 3.0)
+        lo, hi = (bounds or {}).get(s, (x0[i] - 15.0, x0[i] + 15.0))
+        value = float(np.clip(x0[i], lo + 1e-3 * (hi - lo), hi - 1e-3 * (hi - lo)))
         params[f"{s}0"] = {
-            "value": float(x0[i]),
+            "value": value,
             "lower": float(lo),
             "upper": float(hi),
             "unit": "C",
@@ -173,24 +191,23 @@ def calibrate(
     p0 = initial_params_si(model)
     ti0 = float(data[OUTPUT_COLUMN].dropna().iloc[0])
     x0_guess = steady_initial_state(model, p0, u_mean, ti0)
-    rc = RCModel.from_dict(rc_spec(model, x0_guess), source="fifth-order retrofit model")
-    res = rc.fit(data, n_starts=n_starts, seed=seed)
-    # nuisance parameters (diffusions, initial states) ending on a bound make the Hessian
-    # singular in the unconstrained space: fix them there and re-estimate the rest from the
-    # optimum, so the standard errors of the physical parameters are defined
-    stuck = _nuisance_at_bounds(rc, res.params)
-    if stuck:
-        free_values = {
-            n: _inside(rc.parameters[n], float(res.params[n]))
-            for n in rc.free_parameter_names
-            if n not in stuck
-        }
-        rc = rc.with_parameters(free_values).with_parameters(
-            {n: float(res.params[n]) for n in stuck}, fix=True
-        )
-        first_seconds = res.fit_seconds
-        res = rc.fit(data, n_starts=1, seed=seed)
-        res.fit_seconds += first_seconds
+    bounds = initial_state_bounds(x0_guess, float(u_mean[0]), float(u_mean[1]))
+    rc = RCModel.from_dict(rc_spec(model, x0_guess, bounds), source="fifth-order retrofit model")
+    full = rc.fit(data, n_starts=n_starts, seed=seed)
+    # Standard errors and correlations of the six physical parameters (paper 000) are taken
+    # conditional on the nuisance parameters (diffusions, measurement noise, initial states):
+    # those are fixed at their estimates and the physical ones re-estimated from the optimum.
+    # Nuisance parameters often end on a bound (a diffusion -> 0), which makes the full
+    # Hessian singular in the unconstrained space and would leave no standard errors at all.
+    nuisance = {
+        n: float(full.params[n]) for n in rc.free_parameter_names if n not in ESTIMATED_PARAMETERS
+    }
+    physical = {n: _inside(rc.parameters[n], float(full.params[n])) for n in ESTIMATED_PARAMETERS}
+    rc_cond = rc.with_parameters(physical).with_parameters(nuisance, fix=True)
+    res = rc_cond.fit(data, n_starts=1, seed=seed)
+    res.fit_seconds += full.fit_seconds
+    if res.loglike < full.loglike - 1e-6:  # keep the better optimum's point estimates
+        res.params.update(full.params[list(ESTIMATED_PARAMETERS)])
     params = res.params
     bse = res.bse
     cov = res.cov_params()
@@ -207,7 +224,8 @@ def calibrate(
             r = float(corr.loc[a, b])
             if np.isfinite(r) and abs(r) >= max_correlation:
                 pairs.append((a, b, r))
-    flags = list(res.flags)
+    flags = [f"full fit: {f}" for f in full.flags if "Hessian" not in f]
+    flags += list(res.flags)
     for a, b, r in pairs:
         if not any(a in f and b in f for f in flags):
             flags.append(
@@ -242,10 +260,25 @@ def calibrate(
         x0=x0,
         fit_seconds=float(res.fit_seconds),
         heat_loss_coefficient=float(hlc),
-        heat_loss_coefficient_std=float(bse["H_est"]),
+        heat_loss_coefficient_std=float(bse["H_est"])
+        if np.isfinite(bse["H_est"])
+        else _profile_std(rc_cond, res.params, data, "H_est"),
         correlated_pairs=pairs,
         at_bounds=at_bounds,
     )
+
+
+def _profile_std(rc, params: pd.Series, data: pd.DataFrame, name: str) -> float:
+    """Standard error of one parameter from the curvature of the log-likelihood along it
+    (others held at their estimates): the fallback when the Hessian is singular."""
+    x = float(params[name])
+    h = 1e-3 * max(abs(x), 1e-6)
+    base = {n: float(params[n]) for n in rc.parameter_names}
+    ll = []
+    for d in (-h, 0.0, h):
+        ll.append(rc.loglike(data, {**base, name: x + d}))
+    curv = (ll[0] - 2 * ll[1] + ll[2]) / h**2
+    return float(np.sqrt(-1.0 / curv)) if curv < 0 else float("nan")
 
 
 def correlated_pairs(corr: pd.DataFrame, limit: float = 0.98) -> list[tuple[str, str, float]]:
@@ -285,26 +318,6 @@ def _inside(p, x: float, margin: float = 1e-6) -> float:
     if np.isfinite(hi):
         return float(min(x, hi - margin * max(abs(hi), 1.0)))
     return x
-
-
-def _nuisance_at_bounds(rc, params: pd.Series, tol: float = 1e-3) -> list[str]:
-    stuck = []
-    for name in rc.free_parameter_names:
-        if name in ESTIMATED_PARAMETERS:
-            continue
-        p = rc.parameters[name]
-        x = float(params[name])
-        if not (np.isfinite(p.lower) and np.isfinite(p.upper)):
-            continue
-        if name.startswith("sigma_"):  # scale parameters: relative position in log space
-            lo, hi, v = np.log(p.lower), np.log(p.upper), np.log(max(x, p.lower))
-            rel_tol = 0.05
-        else:
-            lo, hi, v = p.lower, p.upper, x
-            rel_tol = tol
-        if min(v - lo, hi - v) < rel_tol * (hi - lo):
-            stuck.append(name)
-    return stuck
 
 
 def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed: int = 0):

@@ -417,6 +417,7 @@ def assemble(
     mean_wind_speed: float = 3.0,
     mean_outdoor_temperature: float = 10.0,
     pressure: float | None = None,
+    cache: dict | None = None,
 ) -> Network:
     """Assemble the sparse network of a building for a time step.
 
@@ -433,8 +434,15 @@ def assemble(
         linearised.
     pressure : float or None [Pa]
         Mean atmospheric pressure; None = standard atmosphere at the site altitude.
+    cache : dict, optional
+        Reused between assemblies of the same geometry (parameter changes): radiation network
+        conductances and window diffuse transmittances.
     """
     options = options or NetworkOptions()
+    cache = {} if cache is None else cache
+    window_area_of: dict[str, float] = {}
+    for window in building.windows.values():
+        window_area_of[window.surface] = window_area_of.get(window.surface, 0.0) + window.area
     zones = list(building.zones.values())
     zone_index = {z.name: i for i, z in enumerate(zones)}
     nz = len(zones)
@@ -524,7 +532,7 @@ def assemble(
             continue  # partner of an already built partition
         layers = building.construction_layers(surface.construction)
         tpl = template(surface.construction)
-        area = building.net_area(surface.name)
+        area = surface.area - window_area_of.get(surface.name, 0.0)
         first = new_nodes(tpl.capacity * area)
         n_cells = len(tpl.conductance)
         for c in range(n_cells):
@@ -596,7 +604,10 @@ def assemble(
         f_alpha.append(0.0)
         f_cap.append(0.0)
         f_win.append(True)
-        f_window_tau.append(wt.diffuse_transmittance_value)
+        tau_key = ("tau_diffuse", wt.name, wt.shgc, wt.solar_transmittance)
+        if tau_key not in cache:
+            cache[tau_key] = wt.diffuse_transmittance_value
+        f_window_tau.append(cache[tau_key])
         e_name.append(window.name)
         e_node.append(first)
         e_area.append(window.area)
@@ -652,7 +663,12 @@ def assemble(
                 continue
             node = new_nodes([0.0])
             mrt_node[z] = node
-            g = mrt_network_conductances(face_area[members], face_eps[members], h_black)
+            mrt_key = ("mrt", face_area[members].tobytes(), face_eps[members].tobytes(), h_black)
+            if mrt_key not in cache:
+                cache[mrt_key] = mrt_network_conductances(
+                    face_area[members], face_eps[members], h_black
+                )
+            g = cache[mrt_key]
             for m, gm in zip(members, g, strict=True):
                 link(int(face_node[m]), node, float(gm))
 

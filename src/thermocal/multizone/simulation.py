@@ -254,6 +254,8 @@ class Simulation:
         self._grid = _weather_grid(weather, self.step_size, start, end)
         self.times = self._grid.index
         self._site = self._site_from(self.metadata, building)
+        self._assembly_cache: dict = {}
+        self._input_cache: dict = {}
         self._build()
         self.reset()
 
@@ -284,6 +286,7 @@ class Simulation:
             mean_wind_speed=self._mean_wind,
             mean_outdoor_temperature=self._mean_tout,
             pressure=pressure,
+            cache=self._assembly_cache,
         )
         self._inputs = self._input_matrix()
         self._factorise()
@@ -396,47 +399,16 @@ class Simulation:
                 u[:, col] = irr[key]["poa_global"]
             for (wt_name, tilt, az), cols in net.window_inputs.items():
                 wt = self.building.window_types[wt_name]
-                frame = irr[(tilt, az)]
-                direct = frame["poa_direct"]
-                diffuse = frame["poa_sky_diffuse"] + frame["poa_ground_diffuse"]
-                aoi = frame["aoi"]
-                u[:, cols[0]] = direct * wt.transmittance(aoi)
-                u[:, cols[1]] = diffuse * wt.diffuse_transmittance_value
-                if wt.layered:
-                    absorbed = wt.pane_absorptance(aoi) * direct[:, None]
-                    absorbed = (
-                        absorbed + wt.diffuse_pane_absorptance_values[None, :] * diffuse[:, None]
-                    )
-                    n_panes = absorbed.shape[1]
-                    outer = absorbed[:, 0].copy()
-                    inner = absorbed[:, -1].copy() if n_panes > 1 else np.zeros(n_steps)
-                    if n_panes > 2:
-                        middle = absorbed[:, 1:-1].sum(axis=1)
-                        outer += 0.5 * middle
-                        inner += 0.5 * middle
-                    u[:, cols[2]] = outer
-                    u[:, cols[3]] = inner
+                key = ("window", wt_name, wt.shgc, wt.solar_transmittance, tilt, az)
+                if key not in self._input_cache:
+                    self._input_cache[key] = _window_inputs(wt, irr[(tilt, az)], n_steps)
+                for col, values in zip(cols, self._input_cache[key], strict=True):
+                    u[:, col] = values
         # explicit corrections: exterior convection (wind) and infiltration air density
-        hc0 = net.ext_hc0
-        if self.options.exterior_convection == "doe2" and len(net.ext_node):
-            wind = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
-            wind = np.nan_to_num(wind) * self.options.wind_speed_factor
-            if "wind_direction" in grid:
-                direction = np.nan_to_num(grid["wind_direction"].to_numpy())
-            else:
-                direction = np.zeros(n_steps)
-            diff = np.abs((direction[:, None] - net.ext_azimuth[None, :] + 180.0) % 360.0 - 180.0)
-            horizontal = (net.ext_tilt < 10.0) | (net.ext_tilt > 170.0)
-            windward = (diff <= 100.0) | horizontal[None, :]
-            hc = doe2_exterior_convection(
-                wind[:, None],
-                windward,
-                h_natural=net.ext_h_natural[None, :],
-                roughness_factor=self.options.roughness_factor,
-            )
-            self._ext_dh_raw = hc - hc0[None, :]
-        else:
-            self._ext_dh_raw = np.zeros((n_steps, len(net.ext_node)))
+        key = ("doe2", tuple(net.ext_names))
+        if key not in self._input_cache:
+            self._input_cache[key] = self._exterior_convection_excess()
+        self._ext_dh_raw = self._input_cache[key]
         pressure = grid["pressure"].to_numpy() if "pressure" in grid else None
         if pressure is None or not np.isfinite(pressure).all():
             pressure = np.full(n_steps, self._pressure)
@@ -444,6 +416,34 @@ class Simulation:
         ratio = rho / net.reference_density - 1.0
         self._inf_dh = np.ascontiguousarray(ratio[:, None] * net.zone_infiltration[None, :])
         return u
+
+    def _exterior_convection_excess(self) -> np.ndarray:
+        """DOE-2 exterior convection minus its matrix part, per step and face [W/(m2 K)]."""
+        net = self.network
+        grid = self._grid
+        n_steps = len(grid)
+        if self.options.exterior_convection != "doe2" or not len(net.ext_node):
+            return np.zeros((n_steps, len(net.ext_node)))
+        wind = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
+        wind = np.nan_to_num(wind) * self.options.wind_speed_factor
+        if "wind_direction" in grid:
+            direction = np.nan_to_num(grid["wind_direction"].to_numpy())
+        else:
+            direction = np.zeros(n_steps)
+        # faces of equal orientation share the series: compute per orientation, then broadcast
+        keys = np.stack([net.ext_tilt, net.ext_azimuth, net.ext_hc0, net.ext_h_natural], axis=1)
+        unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
+        tilt, azimuth, hc0, h_natural = unique.T
+        diff = np.abs((direction[:, None] - azimuth[None, :] + 180.0) % 360.0 - 180.0)
+        horizontal = (tilt < 10.0) | (tilt > 170.0)
+        windward = (diff <= 100.0) | horizontal[None, :]
+        hc = doe2_exterior_convection(
+            wind[:, None],
+            windward,
+            h_natural=h_natural[None, :],
+            roughness_factor=self.options.roughness_factor,
+        )
+        return np.ascontiguousarray((hc - hc0[None, :])[:, np.ravel(inverse)])
 
     # ------------------------------------------------------------------------------------------
     def reset(self, *, free_float: bool = True, initial_temperature: float | None = None) -> None:
@@ -703,6 +703,29 @@ class Simulation:
             else pd.DataFrame(faces, index=index, columns=net.face_names),
             step=self.step_size,
         )
+
+
+def _window_inputs(wt, irradiance: dict, n_steps: int):
+    """Transmitted beam, transmitted diffuse, outer- and inner-pane absorbed [W/m2 glazing]."""
+    direct = irradiance["poa_direct"]
+    diffuse = irradiance["poa_sky_diffuse"] + irradiance["poa_ground_diffuse"]
+    aoi = irradiance["aoi"]
+    beam = direct * wt.transmittance(aoi)
+    diffuse_in = diffuse * wt.diffuse_transmittance_value
+    outer = np.zeros(n_steps)
+    inner = np.zeros(n_steps)
+    if wt.layered:
+        absorbed = wt.pane_absorptance(aoi) * direct[:, None]
+        absorbed = absorbed + wt.diffuse_pane_absorptance_values[None, :] * diffuse[:, None]
+        n_panes = absorbed.shape[1]
+        outer = absorbed[:, 0].copy()
+        if n_panes > 1:
+            inner = absorbed[:, -1].copy()
+        if n_panes > 2:
+            middle = absorbed[:, 1:-1].sum(axis=1)
+            outer += 0.5 * middle
+            inner += 0.5 * middle
+    return beam, diffuse_in, outer, inner
 
 
 def _progress(enabled: bool, total: int):

@@ -158,6 +158,7 @@ class Calibration:
     heat_loss_coefficient_std: float = 0.0
     correlated_pairs: list[tuple[str, str, float]] = field(default_factory=list)
     at_bounds: list[str] = field(default_factory=list)
+    nuisance_flags: list[str] = field(default_factory=list)  # of the full fit (noise, x0)
 
 
 def calibrate(
@@ -224,8 +225,8 @@ def calibrate(
             r = float(corr.loc[a, b])
             if np.isfinite(r) and abs(r) >= max_correlation:
                 pairs.append((a, b, r))
-    flags = [f"full fit: {f}" for f in full.flags if "Hessian" not in f]
-    flags += list(res.flags)
+    nuisance_flags = [f for f in full.flags if f not in res.flags]
+    flags = list(res.flags)
     for a, b, r in pairs:
         if not any(a in f and b in f for f in flags):
             flags.append(
@@ -238,7 +239,8 @@ def calibrate(
         v = float(params[n])
         if v <= lo + 1e-3 * (hi - lo) or v >= hi - 1e-3 * (hi - lo):
             at_bounds.append(n)
-            flags.append(f"parameter {n} = {v:.4g} is at its bound [{lo:.4g}, {hi:.4g}]")
+            if not any(f"'{n}'" in f for f in flags):
+                flags.append(f"parameter {n} = {v:.4g} is at its bound [{lo:.4g}, {hi:.4g}]")
     # initial state for the deterministic simulation: smoothed state at the first sample
     try:
         smoothed = res.smooth(data)
@@ -265,6 +267,7 @@ def calibrate(
         else _profile_std(rc_cond, res.params, data, "H_est"),
         correlated_pairs=pairs,
         at_bounds=at_bounds,
+        nuisance_flags=nuisance_flags,
     )
 
 
@@ -350,12 +353,14 @@ def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed
         cand = rng.multivariate_normal(
             mean, cov, size=2 * (n_draws - filled) + 10, method="eigh", check_valid="ignore"
         )
-        ok = np.all((cand > lo) & (cand < hi), axis=1)
+        ok = np.all((cand >= lo) & (cand <= hi), axis=1)
         take = cand[ok][: n_draws - filled]
         out[filled : filled + len(take)] = take
         filled += len(take)
     if filled < n_draws:
-        out[filled:] = np.clip(rng.multivariate_normal(mean, cov, size=n_draws - filled), lo, hi)
+        out[filled:] = np.clip(
+            rng.multivariate_normal(mean, cov, size=n_draws - filled, check_valid="ignore"), lo, hi
+        )
     allp = np.vstack([mean[None, :], out])
     return {n: allp[:, i] for i, n in enumerate(names)}
 

@@ -454,3 +454,56 @@ def demo_config(data_dir: Path, weather_path: Path, *, draws: int = 200) -> dict
             "true_heat_loss_coefficient_W_per_K": truth["heat_loss_coefficient_W_per_K"],
         },
     }  # fmt: skip
+
+
+#: Package folder of the shipped demo data (made by ``python -m thermocal.retrofit.demo_data``).
+SHIPPED_DATA = Path(__file__).resolve().parents[1] / "data" / "retrofit_demo"
+
+
+def prepare_demo(
+    out: Path | str,
+    *,
+    weather: Path | str | None = None,
+    regenerate: bool = False,
+    draws: int = 200,
+) -> tuple[Path, float]:
+    """Put the demo data and its configuration into ``out/data``.
+
+    The shipped data (default weather) are copied; with another weather file, or
+    ``regenerate=True``, the multi-zone model generates them afresh.
+
+    Returns
+    -------
+    config_path, true_hlc [W/K]
+    """
+    import shutil
+
+    data_dir = Path(out) / "data"
+    data_dir.mkdir(parents=True, exist_ok=True)
+    weather_path = Path(weather) if weather else DEFAULT_WEATHER
+    if weather is not None and not weather_path.is_file():
+        raise ThermocalInputError(f"weather file {weather_path} not found (--weather)")
+    shipped = SHIPPED_DATA / "measurements.csv"
+    if weather is None and not regenerate and shipped.is_file():
+        for name in ("measurements.csv", "building.yaml", "truth.json"):
+            shutil.copyfile(SHIPPED_DATA / name, data_dir / name)
+    else:
+        write_demo_data(generate_demo_data(weather_path), data_dir)
+    cfg = demo_config(data_dir, weather_path.resolve(), draws=draws)
+    config_path = data_dir / "config.yaml"
+    config_path.write_text(
+        "# thermocal demo: retrofit analysis of a house simulated by the multi-zone model\n"
+        + yaml.safe_dump(cfg, sort_keys=False)
+    )
+    truth = json.loads((data_dir / "truth.json").read_text())
+    return config_path, float(truth["heat_loss_coefficient_W_per_K"])
+
+
+def main() -> None:  # pragma: no cover - the script that made the shipped data
+    """Regenerate the shipped demo data: ``python -m thermocal.retrofit.demo_data``."""
+    write_demo_data(generate_demo_data(), SHIPPED_DATA)
+    print(f"demo data written to {SHIPPED_DATA}")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -173,6 +173,8 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "bic": cal.bic,
             "converged": cal.converged,
             "flags": cal.flags,
+            "full_fit_flags": cal.nuisance_flags,
+            "parameters_at_bounds": cal.at_bounds,
             "fit_seconds": cal.fit_seconds,
         },
         "heat_loss_coefficient_W_per_K": hlc,

@@ -1,0 +1,176 @@
+"""YAML building files, the generators and the ``thermocal simulate`` command."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from thermocal.cli import app
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone import generators
+from thermocal.multizone.files import building_from_dict, load_building, save_building
+from thermocal.multizone.simulation import Simulation, steady_state_heat_loss_coefficient
+
+DOC = Path(__file__).resolve().parents[2] / "docs" / "multizone-file.md"
+
+
+def _doc_example(tmp_path) -> Path:
+    text = DOC.read_text()
+    block = re.search(r"## Example\s+```yaml\n(.*?)```", text, re.S).group(1)
+    path = tmp_path / "two_rooms.yaml"
+    path.write_text(block)
+    return path
+
+
+def test_documented_example_loads(tmp_path):
+    building = load_building(_doc_example(tmp_path))
+    assert list(building.zones) == ["living", "kitchen"]
+    assert building.net_area("living south") == pytest.approx(11.0)
+    assert building.surfaces["kitchen|living"].other_surface == "living|kitchen"
+
+
+def test_yaml_roundtrip_keeps_physics():
+    house = generators.single_family_house()
+    assert steady_state_heat_loss_coefficient(house) == pytest.approx(
+        steady_state_heat_loss_coefficient(building_from_dict(_roundtrip(house))), rel=1e-12
+    )
+
+
+def _roundtrip(building):
+    import yaml
+
+    from thermocal.multizone.files import building_to_dict
+
+    return yaml.safe_load(yaml.safe_dump(building_to_dict(building)))
+
+
+def test_yaml_errors_name_the_object(tmp_path):
+    data = {
+        "name": "x",
+        "materials": [
+            {
+                "name": "brick",
+                "conductivity": 0.8,
+                "density": 1800,
+                "specific_heat": 900,
+                "thicknes": 0.2,
+            }
+        ],
+        "zones": [{"name": "z", "volume": 10, "floor_area": 4}],
+    }
+    with pytest.raises(ThermocalInputError, match=r"material 'brick'.*'thicknes'.*'thickness'"):
+        building_from_dict(data)
+    path = tmp_path / "b.json"
+    path.write_text("{}")
+    with pytest.raises(ThermocalInputError, match="unknown extension"):
+        load_building(path)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(
+        "name: x\nzones:\n  - {name: z, volume: 10, floor_area: 4}\nsurfaces:\n"
+        "  - {name: s, zone: q, construction: c, area: 3}\n"
+    )
+    with pytest.raises(ThermocalInputError, match=r"bad.yaml.*surface 's'"):
+        load_building(bad)
+
+
+def test_house_matches_the_1950s_brief():
+    house = generators.single_family_house()
+    assert house.conditioned_floor_area == pytest.approx(220.0)
+    hlc = steady_state_heat_loss_coefficient(house)
+    assert 450.0 <= hlc <= 550.0
+    # ventilation share: 0.45 ach of the heated volume
+    heated = [z for z in house.zones.values() if z.conditioned]
+    ventilation = sum(z.volume * z.infiltration_ach for z in heated) / 3600 * 1.2 * 1006
+    assert 0.1 < ventilation / hlc < 0.25
+    # without heating set points nothing is conditioned
+    with pytest.raises(ThermocalInputError, match="no conditioned zone"):
+        steady_state_heat_loss_coefficient(generators.single_family_house(heating_setpoint=None))
+
+
+def test_clinic_size_and_parameters():
+    clinic = generators.clinic()
+    rooms = [z for z in clinic.zones if z.startswith("Room")]
+    assert len(rooms) == 180 and len(clinic.zones) == 186
+    assert 60 <= len(clinic.parameters()) <= 75
+    assert "material/R16 insulation/resistance" in clinic.parameters()
+    small = generators.clinic(12, n_corridors=1, corridor_sections=1)
+    assert len(small.zones) == 13
+    with pytest.raises(ThermocalInputError, match="multiple of 2"):
+        generators.clinic(13, n_corridors=1)
+
+
+def test_clinic_south_rooms_warmer_than_north_rooms(shared_data):
+    """Free-floating small clinic in a sunny Denver January: south rooms gain more sun."""
+    from thermocal.io.weather import read_weather
+
+    weather, meta = read_weather(shared_data("ashrae140_bestest", "725650TYCST.epw"))
+    clinic = generators.clinic(12, n_corridors=1, corridor_sections=1)
+    sim = Simulation(clinic, weather, meta, step="1h", start="2023-01-15", end="2023-01-22")
+    result = sim.run(free_float=True)
+    south = [f"Room {i}" for i in range(2, 6)]  # row 1 faces south (ends excluded)
+    north = [f"Room {i}" for i in range(8, 12)]
+    assert (
+        result.air_temperature[south].mean().mean()
+        > result.air_temperature[north].mean().mean() + 1
+    )
+    solar = result.transmitted_solar
+    assert solar[south].sum().sum() > 2 * solar[north].sum().sum()
+    assert np.isfinite(result.air_temperature.to_numpy()).all()
+
+
+def test_cli_simulate_writes_outputs(tmp_path, shared_data):
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    building = save_building(generators.single_family_house(), tmp_path / "house.yaml")
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        app,
+        [
+            "simulate",
+            str(building),
+            str(weather),
+            "--start",
+            "2023-01-10",
+            "--end",
+            "2023-01-13",
+            "--step",
+            "15min",
+            "--out",
+            str(out),
+            "--format",
+            "parquet",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["zones"]["ground living"]["air_temperature_min_C"] == pytest.approx(20, abs=1e-6)
+    assert summary["zones"]["cellar"]["heating_kWh"] == 0.0
+    assert summary["building"]["heating_kWh"] > 0
+    temps = pd.read_parquet(out / "zone_temperatures.parquet")
+    assert len(temps) == 3 * 96
+    free = CliRunner().invoke(
+        app,
+        [
+            "simulate",
+            str(building),
+            str(weather),
+            "--start",
+            "2023-01-10",
+            "--end",
+            "2023-01-11",
+            "--step",
+            "1h",
+            "--out",
+            str(tmp_path / "ff"),
+            "--free-float",
+        ],
+    )
+    assert free.exit_code == 0, free.output
+    ff = json.loads((tmp_path / "ff" / "summary.json").read_text())
+    assert ff["building"]["heating_kWh"] == 0.0
+    assert ff["zones"]["ground living"]["air_temperature_min_C"] < 20.0

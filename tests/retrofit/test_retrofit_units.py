@@ -192,3 +192,17 @@ def test_config_errors_name_the_key():
     cfg = parse_config(_cfg(), base_dir="/data")
     assert str(cfg.measurements.file) == "/data/m.csv"
     assert cfg.measures["windows"] == 0.76
+
+
+def test_example_config_is_valid_and_complete():
+    from pathlib import Path
+
+    from thermocal.retrofit.config import load_config
+    from thermocal.retrofit.workflow import resolve_weather_path
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "retrofit" / "config.yaml"
+    cfg = load_config(path)
+    assert Path(cfg.building).is_file()
+    assert cfg.measurements.file.is_file()
+    assert resolve_weather_path(cfg.weather.file).is_file()
+    assert cfg.measures == {"roof": 0.18, "walls": 0.19, "windows": 0.76, "cellar_ceiling": 0.19}

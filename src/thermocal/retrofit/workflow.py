@@ -87,11 +87,21 @@ def load_building(source):
     return read_building(path)
 
 
+def resolve_weather_path(path) -> Path:
+    """A weather path; ``pvlib:NAME`` (e.g. ``pvlib:723170TYA.CSV``) names a file shipped
+    with pvlib."""
+    text = str(path)
+    if "pvlib:" in text:
+        name = text.split("pvlib:", 1)[1]
+        return Path(__import__("pvlib").__file__).parent / "data" / name
+    return Path(path)
+
+
 def load_weather_year(cfg: RetrofitConfig, step: pd.Timedelta) -> tuple[pd.DataFrame, dict]:
     """The typical-year weather on the model step, with interval-mean air temperature."""
     from thermocal.io.weather import read_weather, resample_weather
 
-    path = Path(cfg.weather.file)
+    path = resolve_weather_path(cfg.weather.file)
     if not path.is_file():
         raise ThermocalInputError(f"weather file {path} not found (weather.file)")
     weather, meta = read_weather(path, format=cfg.weather.format, columns=cfg.weather.columns)

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from scipy import stats
 from scipy.linalg import expm, solve_continuous_lyapunov
+from statespace_reference import dense_loglike
 
 from thermocal.statespace import RCModel, kernels
 from thermocal.statespace.data import prepare_data
@@ -64,37 +64,6 @@ def random_data(n: int, *, seed: int = 0, irregular: bool = False) -> pd.DataFra
     df.loc[df.index[10], ["yTi", "yTm"]] = np.nan
     df.loc[df.index[20], "yTi"] = np.nan
     return df
-
-
-def dense_loglike(model: RCModel, df: pd.DataFrame, hold: str) -> float:
-    """Exact Gaussian log-likelihood from the full covariance matrix of all observations."""
-    prep = prepare_data(model, df)
-    A, B, C, _ = model.continuous_matrices()
-    Sigma = model.diffusion_matrix()
-    values = model.values_si()
-    st = model.structure()
-    x0 = values[st.arrays[16]]
-    P0 = np.diag(values[st.arrays[17]] ** 2)
-    R = np.diag(values[st.arrays[15]] ** 2)
-    N, n = len(df), A.shape[0]
-    mean = np.zeros((N, n))
-    cov = np.zeros((N * n, N * n))
-    mean[0] = x0
-    cov[:n, :n] = P0
-    for k in range(N - 1):
-        Ad, G0, G1, Q = discretise(A, B, Sigma, prep.dts[k], hold)
-        mean[k + 1] = Ad @ mean[k] + G0 @ prep.U[k] + G1 @ prep.U[k + 1]
-        sl = slice(k * n, (k + 1) * n)
-        nx = slice((k + 1) * n, (k + 2) * n)
-        cov[nx, : (k + 1) * n] = Ad @ cov[sl, : (k + 1) * n]
-        cov[: (k + 1) * n, nx] = cov[nx, : (k + 1) * n].T
-        cov[nx, nx] = Ad @ cov[sl, sl] @ Ad.T + Q
-    Cbig = np.kron(np.eye(N), C)
-    ycov = Cbig @ cov @ Cbig.T + np.kron(np.eye(N), R)
-    ymean = (mean @ C.T).ravel()
-    y = prep.Y.ravel()
-    obs = np.isfinite(y)
-    return stats.multivariate_normal(ymean[obs], ycov[np.ix_(obs, obs)]).logpdf(y[obs])
 
 
 @pytest.mark.parametrize("hold", ["zoh", "foh"])

@@ -79,6 +79,7 @@ class LikelihoodProblem:
         self.tr = model.transform_arrays()
         self.st = st.arrays
         self.C = st.C
+        self.scale = float(max(prep.nobs, 1))
 
     def loglike(self, theta: np.ndarray) -> float:
         """Log-likelihood at ``theta``."""
@@ -90,7 +91,12 @@ class LikelihoodProblem:
         )
 
     def objective(self, theta: np.ndarray) -> tuple[float, np.ndarray]:
-        """Negative log-likelihood and its gradient (non-finite values replaced by a penalty)."""
+        """Negative log-likelihood per observation and its gradient.
+
+        Scaling by the number of observations keeps the gradient of order one, so the first
+        quasi-Newton step (taken with an identity metric) stays reasonable. Non-finite values are
+        replaced by a large penalty.
+        """
         p = self.prep
         f, g = kernels.negloglike_and_gradient(
             np.asarray(theta, dtype=float),
@@ -99,7 +105,7 @@ class LikelihoodProblem:
         if not math.isfinite(f):
             return 1e20, np.zeros_like(theta)
         g = np.where(np.isfinite(g), g, 0.0)
-        return float(f), g
+        return float(f) / self.scale, g / self.scale
 
     def hessian(self, theta: np.ndarray) -> np.ndarray:
         """Central-difference Hessian of the log-likelihood in ``theta``."""
@@ -150,10 +156,33 @@ def _start_points(model, n_starts: int, seed: int | None) -> list[np.ndarray]:
     return starts
 
 
+def _diagonal_metric(problem: LikelihoodProblem, theta: np.ndarray, h: float = 1e-2) -> np.ndarray:
+    """Initial inverse-Hessian guess: inverse of the diagonal curvature of the objective.
+
+    With the identity as initial metric, the first BFGS step is the raw gradient, which for
+    capacities and conductances in log space can jump by factors of e^100 into degenerate regions.
+    """
+    f0 = problem.objective(theta)[0]
+    k = theta.size
+    curv = np.empty(k)
+    for i in range(k):
+        e = np.zeros(k)
+        e[i] = h
+        curv[i] = (
+            problem.objective(theta + e)[0] - 2.0 * f0 + problem.objective(theta - e)[0]
+        ) / h**2
+    curv = np.abs(curv)
+    floor = max(1e-2 * curv.max(), 1e-8) if np.all(np.isfinite(curv)) else 1.0
+    curv = np.where(np.isfinite(curv), np.maximum(curv, floor), 1.0 / floor)
+    return np.diag(1.0 / curv)
+
+
 def _minimize(problem: LikelihoodProblem, theta_start, method: str, maxiter: int):
     options = {"maxiter": maxiter}
     if method == "L-BFGS-B":
-        options |= {"ftol": 1e-13, "gtol": 1e-6}
+        options |= {"ftol": 1e-15, "gtol": 1e-9}
+    elif method == "BFGS":
+        options |= {"gtol": 1e-7, "hess_inv0": _diagonal_metric(problem, np.asarray(theta_start))}
     return optimize.minimize(
         problem.objective, theta_start, jac=True, method=method, options=options
     )
@@ -245,7 +274,7 @@ def fit(
     start_loglikes = []
     for theta_start in _start_points(model, n_starts, seed):
         f0, _ = problem.objective(theta_start)
-        if f0 >= 1e20:
+        if f0 >= 1e19:
             start_loglikes.append(float("nan"))
             continue
         res = _minimize(problem, theta_start, method, maxiter)
@@ -255,7 +284,7 @@ def fit(
             again = _minimize(problem, res.x, method, maxiter)
             if again.fun <= res.fun:
                 res = again
-        start_loglikes.append(-float(res.fun))
+        start_loglikes.append(-float(res.fun) * problem.scale)
         if best is None or res.fun < best.fun:
             best = res
     if best is None:
@@ -266,7 +295,7 @@ def fit(
     theta = np.asarray(best.x, dtype=float)
     ll = problem.loglike(theta)
     _, grad = problem.objective(theta)
-    grad_norm = float(np.max(np.abs(grad))) if grad.size else 0.0
+    grad_norm = float(np.max(np.abs(grad))) * problem.scale if grad.size else 0.0
     converged = bool(best.success) or grad_norm < 1e-3
     hessian = problem.hessian(theta) if compute_hessian else None
     return FitResults(
@@ -397,3 +426,42 @@ def simulate_stochastic(
     for r, col in enumerate(model.output_names):
         out[col] = Y[:, r]
     return out
+
+
+def evaluate(
+    model,
+    data,
+    params: Mapping[str, float] | None = None,
+    *,
+    hold: str = "zoh",
+    time_column: str | None = None,
+    time_unit: str = "s",
+    source: str = "data",
+):
+    """A :class:`FitResults` at given parameter values, without optimisation.
+
+    Useful to filter, smooth, predict or simulate with known or previously estimated parameters
+    (e.g. on a validation period). Standard errors are not computed (NaN).
+    """
+    from thermocal.statespace.results import FitResults
+
+    t_start = time.perf_counter()
+    prep = _prepared(model, data, time_column, time_unit, source)
+    model = model.with_parameters(params or {})
+    theta = model.theta0()
+    ll = _loglike_values(model, model.values_si(), prep, _hold_flag(hold))
+    return FitResults(
+        model=model,
+        theta=theta,
+        loglike=ll,
+        hessian=None,
+        nobs=prep.nobs,
+        converged=True,
+        message="evaluated at given parameters (no optimisation)",
+        n_iterations=0,
+        gradient_norm=float("nan"),
+        start_loglikes=[ll],
+        hold=hold,
+        data=prep,
+        fit_seconds=time.perf_counter() - t_start,
+    )

@@ -47,7 +47,7 @@ TRANSFORM_NEGLOG = 3  # x = upper - exp(theta)
 TRANSFORM_LOGIT = 4  # x = lower + (upper - lower) / (1 + exp(-theta))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def phi1(z):
     """(exp(z) - 1) / z, continuous at 0."""
     if abs(z) < 1e-5:
@@ -55,7 +55,7 @@ def phi1(z):
     return math.expm1(z) / z
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def phi2(z):
     """Integral of exp(z s) s over s in [0, 1] = (exp(z)(z - 1) + 1) / z^2, continuous at 0."""
     if abs(z) < 1e-2:
@@ -68,7 +68,7 @@ def phi2(z):
     return (math.exp(z) * (z - 1.0) + 1.0) / (z * z)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def to_natural(theta_i, kind, lower, upper):
     """Map one unconstrained value to the parameter's declared-unit value."""
     if kind == TRANSFORM_LOG:
@@ -84,7 +84,7 @@ def to_natural(theta_i, kind, lower, upper):
     return theta_i
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def fill_values(theta, free_idx, kind, lower, upper, si_factor, base_values):
     """SI value vector with the free parameters set from ``theta``."""
     values = base_values.copy()
@@ -94,7 +94,7 @@ def fill_values(theta, free_idx, kind, lower, upper, si_factor, base_values):
     return values
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def build_network(
     values,
     cap_idx,
@@ -158,7 +158,7 @@ def build_network(
     return cap, G, B_raw, sigma
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def eigen_network(cap, G, B_raw, sigma):
     """Eigen-decomposition of the RC system used by :func:`discretise_from_eigen`.
 
@@ -175,6 +175,18 @@ def eigen_network(cap, G, B_raw, sigma):
     for i in range(n):
         for j in range(n):
             S[i, j] = dh[i] * G[i, j] * dh[j]
+    finite = True
+    for i in range(n):
+        if not (cap[i] > 0.0) or not math.isfinite(cap[i]) or not math.isfinite(sigma[i]):
+            finite = False
+        for j in range(n):
+            if not math.isfinite(S[i, j]):
+                finite = False
+    if not finite:
+        # invalid parameters (e.g. overflow of a transform): a NaN system makes the likelihood -inf
+        nan_n = np.full(n, np.nan)
+        nan_nn = np.full((n, n), np.nan)
+        return nan_n, nan_nn, nan_nn.copy(), np.full((n, B_raw.shape[1]), np.nan), nan_nn.copy()
     lam, V = np.linalg.eigh(S)
     T = np.empty((n, n))
     Tinv = np.empty((n, n))
@@ -200,7 +212,7 @@ def eigen_network(cap, G, B_raw, sigma):
     return lam, T, Tinv, TB, M
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q):
     """Exact discretisation over ``dt`` [s], written into ``Ad, Gam0, Gam1, Q``.
 
@@ -250,7 +262,7 @@ def discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q):
             Q[j, i] = acc
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def kalman_filter(
     lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, xp, Pp, xf, Pf, Ads
 ):
@@ -279,6 +291,9 @@ def kalman_filter(
     AP = np.empty((n, n))
     last_dt = -1.0
     loglike = 0.0
+    for i in range(n):
+        if not math.isfinite(lam[i]):
+            return -np.inf
     for k in range(N):
         if store:
             for i in range(n):
@@ -363,7 +378,7 @@ def kalman_filter(
     return loglike
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def simulate_states(lam, T, Tinv, TB, M, x0, dts, U, foh):
     """Deterministic (noise-free) state trajectory [C] from ``x0`` through all samples."""
     n = lam.size
@@ -399,7 +414,7 @@ def simulate_states(lam, T, Tinv, TB, M, x0, dts, U, foh):
     return X
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def predict_ahead(lam, T, Tinv, TB, M, xf, Pf, dts, U, foh, steps):
     """k-step predictions: mean and covariance of x[t] given observations up to t - steps.
 
@@ -436,7 +451,7 @@ def predict_ahead(lam, T, Tinv, TB, M, xf, Pf, dts, U, foh, steps):
     return Xk, Pk
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def system_from_values(
     values,
     cap_idx,
@@ -493,7 +508,7 @@ def system_from_values(
     return lam, T, Tinv, TB, M, meas_var, x0, P0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def loglike_theta(theta, tr, st, C, dts, U, Y, foh):
     """Log-likelihood at unconstrained parameters ``theta``.
 
@@ -533,7 +548,7 @@ def loglike_theta(theta, tr, st, C, dts, U, Y, foh):
     return ll
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def negloglike_and_gradient(theta, tr, st, C, dts, U, Y, foh, rel_step):
     """Negative log-likelihood and its central-difference gradient in ``theta``."""
     f0 = -loglike_theta(theta, tr, st, C, dts, U, Y, foh)

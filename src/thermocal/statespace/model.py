@@ -510,6 +510,7 @@ class RCModel:
 
     def with_parameters(self, values: Mapping[str, float], *, fix: bool = False) -> RCModel:
         """Copy with new parameter values [declared units] (and optionally fixed)."""
+        self.structure()  # validate (and resolve role-dependent default bounds) first
         model = self.copy()
         for name, val in values.items():
             if name not in model.parameters:
@@ -604,6 +605,7 @@ class RCModel:
 
     def theta0(self) -> np.ndarray:
         """Unconstrained start vector from the declared values of the free parameters."""
+        self.structure()  # resolves default bounds that depend on a parameter's role
         return np.array(
             [
                 self.parameters[n].to_unconstrained(self.parameters[n].value)
@@ -695,6 +697,20 @@ class RCModel:
         from thermocal.statespace.estimation import simulate
 
         return simulate(self, data, params, hold=hold, time_column=time_column, time_unit=time_unit)
+
+    def evaluate(
+        self,
+        data,
+        params: Mapping[str, float] | None = None,
+        *,
+        hold: str = "zoh",
+        time_column: str | None = None,
+        time_unit: str = "s",
+    ):
+        """:class:`FitResults` at given parameters [declared units] without optimisation."""
+        from thermocal.statespace.estimation import evaluate
+
+        return evaluate(self, data, params, hold=hold, time_column=time_column, time_unit=time_unit)
 
     def loglike(
         self,

@@ -1,0 +1,176 @@
+"""Bad input gives one clear ThermocalInputError naming the culprit and the remedy."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from thermocal.errors import ThermocalInputError
+from thermocal.statespace import RCModel
+
+SPEC = {
+    "name": "TiTe",
+    "states": {
+        "Ti": {"capacity": "Ci", "noise": "sigma_i", "initial_mean": "Ti0", "initial_std": 0.5},
+        "Te": {"capacity": "Ce", "initial_mean": 10.0},
+    },
+    "conductances": [
+        {"between": ["Ti", "Te"], "conductance": "Hie"},
+        {"between": ["Te", "Ta"], "resistance": "Rea"},
+    ],
+    "heat_inputs": [{"column": "Ph", "into": "Ti", "unit": "kW"}],
+    "outputs": [{"column": "yTi", "state": "Ti", "noise": "e"}],
+    "parameters": {
+        "Ci": {"value": 2.0, "lower": 0.1, "upper": 10, "unit": "MJ/K"},
+        "Ce": {"value": 20.0, "unit": "MJ/K"},
+        "Hie": {"value": 300.0, "unit": "W/K"},
+        "Rea": {"value": 5.0, "unit": "K/kW"},
+        "sigma_i": {"value": 0.1, "unit": "K/sqrt(h)"},
+        "e": {"value": 0.1, "unit": "K"},
+        "Ti0": {"value": 20.0, "unit": "C"},
+    },
+}
+
+
+def data(n: int = 50) -> pd.DataFrame:
+    rng = np.random.default_rng(0)
+    t = pd.date_range("2024-01-01", periods=n, freq="h", tz="UTC")
+    return pd.DataFrame(
+        {
+            "Ta": 5.0 + rng.normal(0, 1, n),
+            "Ph": rng.uniform(0, 3, n),
+            "yTi": 20 + rng.normal(0, 1, n),
+        },
+        index=t,
+    )
+
+
+def spec(**changes):
+    s = copy.deepcopy(SPEC)
+    for path, value in changes.items():
+        target = s
+        keys = path.split("__")
+        for k in keys[:-1]:
+            target = target[int(k)] if isinstance(target, list) else target[k]
+        last = int(keys[-1]) if isinstance(target, list) else keys[-1]
+        target[last] = value
+    return s
+
+
+def test_valid_spec_builds_and_matches_yaml_file(tmp_path):
+    path = tmp_path / "m.yaml"
+    path.write_text(yaml.safe_dump(SPEC, sort_keys=False))
+    a, b = RCModel.from_dict(SPEC), RCModel.from_yaml(path)
+    assert a.input_names == b.input_names == ["Ta", "Ph"]
+    for x, y in zip(a.continuous_matrices(), b.continuous_matrices(), strict=True):
+        np.testing.assert_array_equal(x, y)
+    # round trip through to_dict
+    c = RCModel.from_dict(a.to_dict())
+    np.testing.assert_array_equal(c.continuous_matrices()[0], a.continuous_matrices()[0])
+
+
+def test_model_naming_unknown_column(tmp_path):
+    model = RCModel.from_dict(spec(outputs=[{"column": "T_room", "state": "Ti", "noise": "e"}]))
+    with pytest.raises(ThermocalInputError, match=r"'T_room' \(output.*not in the data.*yTi"):
+        model.fit(data())
+
+
+def test_state_without_capacity(tmp_path):
+    s = spec()
+    del s["states"]["Te"]["capacity"]
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(s))
+    with pytest.raises(
+        ThermocalInputError, match=r"bad.yaml.*state 'Te' has no capacity.*capacity:"
+    ):
+        RCModel.from_yaml(path)
+
+
+def test_parameter_outside_its_bounds():
+    with pytest.raises(
+        ThermocalInputError, match=r"parameter 'Ci'.*30.*outside its bounds.*\[0.1, 10"
+    ):
+        RCModel.from_dict(spec(parameters__Ci__value=30.0))
+
+
+@pytest.mark.parametrize("kind", ["duplicated", "decreasing"])
+def test_bad_time_stamps(kind):
+    df = data()
+    idx = df.index.to_list()
+    if kind == "duplicated":
+        idx[7] = idx[6]
+        expected = r"duplicated time stamp .* row 7"
+    else:
+        idx[7], idx[8] = idx[8], idx[7]
+        expected = r"not increasing at row 8.*sort"
+    df.index = pd.DatetimeIndex(idx)
+    with pytest.raises(ThermocalInputError, match=expected):
+        RCModel.from_dict(SPEC).fit(df)
+
+
+def test_all_nan_output():
+    df = data()
+    df["yTi"] = np.nan
+    with pytest.raises(ThermocalInputError, match=r"output column 'yTi' has no valid value"):
+        RCModel.from_dict(SPEC).fit(df)
+
+
+def test_missing_input_values_name_column_and_row():
+    df = data()
+    df.iloc[12, df.columns.get_loc("Ta")] = np.nan
+    with pytest.raises(ThermocalInputError, match=r"input column 'Ta'.*row 12.*fill the gaps"):
+        RCModel.from_dict(SPEC).fit(df)
+
+
+def test_kelvin_temperatures_are_refused():
+    df = data()
+    df["Ta"] += 273.15
+    with pytest.raises(ThermocalInputError, match=r"'Ta'.*looks like kelvin"):
+        RCModel.from_dict(SPEC).fit(df)
+
+
+def test_undeclared_parameter_reference():
+    with pytest.raises(
+        ThermocalInputError, match=r"'Rie'.*neither a declared parameter.*parameters:"
+    ):
+        RCModel.from_dict(spec(conductances__0={"between": ["Ti", "Te"], "resistance": "Rie"}))
+
+
+def test_parameter_unit_must_fit_its_role():
+    with pytest.raises(
+        ThermocalInputError, match=r"'Hie' is used as conductance but has unit 'K/W'"
+    ):
+        RCModel.from_dict(spec(parameters__Hie={"value": 0.003, "unit": "K/W"}))
+
+
+def test_unknown_unit_and_unknown_key():
+    with pytest.raises(ThermocalInputError, match=r"'Ce': unknown unit 'MJ/C'"):
+        RCModel.from_dict(spec(parameters__Ce={"value": 20.0, "unit": "MJ/C"}))
+    with pytest.raises(ThermocalInputError, match=r"state 'Ti': unknown key\(s\) \['capcity'\]"):
+        RCModel.from_dict(spec(states__Ti={"capcity": "Ci", "initial_mean": 20.0}))
+
+
+def test_heat_into_unknown_state_and_isolated_state():
+    with pytest.raises(ThermocalInputError, match=r"goes into 'Tx', which is not a state"):
+        RCModel.from_dict(spec(heat_inputs=[{"column": "Ph", "into": "Tx"}]))
+    s = spec()
+    s["states"]["Tm"] = {"capacity": "Ce", "initial_mean": 20.0}
+    with pytest.raises(ThermocalInputError, match=r"state 'Tm' has no conductance"):
+        RCModel.from_dict(s)
+
+
+def test_time_column_numeric_units_and_errors():
+    df = data().reset_index(drop=True)
+    df["t"] = np.arange(len(df)) * 60.0  # minutes
+    model = RCModel.from_dict(SPEC)
+    ll_min = model.loglike(df, time_column="t", time_unit="min")
+    ll_idx = model.loglike(data())
+    assert ll_min == pytest.approx(ll_idx, rel=1e-12)
+    with pytest.raises(ThermocalInputError, match=r"unknown time unit 'hours'"):
+        model.loglike(df, time_column="t", time_unit="hours")
+    with pytest.raises(ThermocalInputError, match=r"no time column 'time'"):
+        model.loglike(df, time_column="time")

@@ -116,6 +116,143 @@ def tarp_from_root(delta_t, root, cos_up):
     return max(h, 0.1)
 
 
+@njit(cache=True)
+def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
+    """Make ``cache_inv`` the inverse of ``g`` on the active set (embedded by zone index).
+
+    The cached set is moved to the active one by symmetric rank-one down- and updates
+    (bordering formulas, O(m^2) each); a fresh inversion when many zones change, when the cache
+    is invalid (``cache_m[0] < 0``) or after 64 updates (round-off control).
+    """
+    nc = active.shape[0]
+    n_diff = 0
+    for c in range(nc):
+        if cache_member[c] != (active[c] != 0):
+            n_diff += 1
+    if n_diff == 0 and cache_m[0] >= 0:
+        return
+    m_new = 0
+    for c in range(nc):
+        if active[c] != 0:
+            m_new += 1
+    if cache_m[0] < 0 or cache_m[1] + n_diff > 64 or n_diff > 8:
+        idx = np.empty(m_new, dtype=np.int64)
+        j = 0
+        for c in range(nc):
+            cache_member[c] = active[c] != 0
+            if active[c] != 0:
+                idx[j] = c
+                j += 1
+        if m_new > 0:
+            block = np.empty((m_new, m_new))
+            for a in range(m_new):
+                for b in range(m_new):
+                    block[a, b] = g[idx[a], idx[b]]
+            inverse = np.linalg.inv(block)
+            for a in range(m_new):
+                for b in range(m_new):
+                    cache_inv[idx[a], idx[b]] = inverse[a, b]
+        cache_m[0] = m_new
+        cache_m[1] = 0
+        cache_m[2] += 1
+        return
+    # removals
+    for r in range(nc):
+        if cache_member[r] and active[r] == 0:
+            pivot = cache_inv[r, r]
+            for c in range(nc):
+                if cache_member[c] and c != r:
+                    f = cache_inv[c, r] / pivot
+                    for d in range(nc):
+                        if cache_member[d] and d != r:
+                            cache_inv[c, d] -= f * cache_inv[r, d]
+            cache_member[r] = False
+            cache_m[1] += 1
+            cache_m[3] += 1
+    # additions
+    u = np.zeros(nc)
+    for r in range(nc):
+        if active[r] != 0 and not cache_member[r]:
+            schur = g[r, r]
+            for c in range(nc):
+                if cache_member[c]:
+                    acc = 0.0
+                    for d in range(nc):
+                        if cache_member[d]:
+                            acc += cache_inv[c, d] * g[d, r]
+                    u[c] = acc
+                    schur -= g[r, c] * acc
+            for c in range(nc):
+                if cache_member[c]:
+                    for d in range(nc):
+                        if cache_member[d]:
+                            cache_inv[c, d] += u[c] * u[d] / schur
+                    cache_inv[c, r] = -u[c] / schur
+                    cache_inv[r, c] = -u[c] / schur
+            cache_inv[r, r] = 1.0 / schur
+            cache_member[r] = True
+            cache_m[1] += 1
+            cache_m[3] += 1
+    cache_m[0] = m_new
+
+
+@njit(cache=True)
+def ideal_loads(t_free, heat_sp, cool_sp, g, active, q, cache_member, cache_inv, cache_m):
+    """Heating (+) / cooling (-) powers that bring every controlled zone inside its set points.
+
+    Active-set method on ``T = t_free + G q``: zones at a set point ("active") get the power that
+    holds them exactly there (the inverse of the active block of ``G``), the others none. The
+    iteration starts from the previous step's active set; the inverse is cached and updated by
+    rank-one steps when zones join or leave, so a step costs O(m^2) instead of O(m^3).
+    ``q`` is written in place; ``active`` updated.
+    """
+    nc = t_free.shape[0]
+    idx = np.empty(nc, dtype=np.int64)
+    rv = np.empty(nc)
+    for _ in range(4 * nc + 4):
+        cache_m[4] += 1
+        _sync_inverse(g, active, cache_member, cache_inv, cache_m)
+        m = 0
+        for c in range(nc):
+            q[c] = 0.0
+            if active[c] != 0:
+                idx[m] = c
+                m += 1
+        for b in range(m):
+            cb = idx[b]
+            target = heat_sp[cb] if active[cb] == 1 else cool_sp[cb]
+            rv[b] = target - t_free[cb]
+        for a in range(m):
+            row = cache_inv[idx[a]]
+            acc = 0.0
+            for b in range(m):
+                acc += row[idx[b]] * rv[b]
+            q[idx[a]] = acc
+        changed = False
+        # release zones whose power has the wrong sign
+        for a in range(m):
+            c = idx[a]
+            if (active[c] == 1 and q[c] < 0.0) or (active[c] == -1 and q[c] > 0.0):
+                active[c] = 0
+                changed = True
+        if changed:
+            continue
+        # add free zones outside their band
+        for c in range(nc):
+            if active[c] == 0:
+                t = t_free[c]
+                for a in range(m):
+                    t += g[c, idx[a]] * q[idx[a]]
+                if t < heat_sp[c] - 1e-9:
+                    active[c] = 1
+                    changed = True
+                elif t > cool_sp[c] + 1e-9:
+                    active[c] = -1
+                    changed = True
+        if not changed:
+            return
+
+
 @njit(cache=True, fastmath=True)
 def run_steps(
     k0,
@@ -166,15 +303,22 @@ def run_steps(
     out_cool,
     out_face,
     store_faces,
+    active,
+    cache_member,
+    cache_inv,
+    cache_m,
 ):
-    """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place."""
+    """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
+
+    ``active`` (ideal-load state of each controlled zone: 1 heating, -1 cooling, 0 free) and the
+    cached inverse of the active block of ``g_ctrl`` persist between calls (warm start).
+    """
     n = x.shape[0]
     nz = air_node.shape[0]
     nc = ctrl_zone.shape[0]
     rhs = np.empty(n)
     work = np.empty(n)
     x_new = np.empty(n)
-    active = np.zeros(nc, dtype=np.int64)
     q = np.zeros(nc)
     t_free = np.empty(nc)
     for s in range(n_steps):
@@ -229,55 +373,17 @@ def run_steps(
         if ideal_on and nc > 0:
             for c in range(nc):
                 t_free[c] = x_new[air_node[ctrl_zone[c]]]
-                active[c] = 0
-            for _ in range(4 * nc + 4):
-                # temperatures with the current q
-                changed = False
-                for c in range(nc):
-                    if active[c] == 0:
-                        t = t_free[c]
-                        for d in range(nc):
-                            if active[d] != 0:
-                                t += g_ctrl[c, d] * q[d]
-                        if t < ctrl_heat_sp[c] - 1e-9:
-                            active[c] = 1
-                            changed = True
-                        elif t > ctrl_cool_sp[c] + 1e-9:
-                            active[c] = -1
-                            changed = True
-                # solve on the active set
-                m = 0
-                for c in range(nc):
-                    if active[c] != 0:
-                        m += 1
-                if m > 0:
-                    idx = np.empty(m, dtype=np.int64)
-                    j = 0
-                    for c in range(nc):
-                        if active[c] != 0:
-                            idx[j] = c
-                            j += 1
-                    gm = np.empty((m, m))
-                    rv = np.empty(m)
-                    for a in range(m):
-                        ca = idx[a]
-                        target = ctrl_heat_sp[ca] if active[ca] == 1 else ctrl_cool_sp[ca]
-                        rv[a] = target - t_free[ca]
-                        for bb in range(m):
-                            gm[a, bb] = g_ctrl[ca, idx[bb]]
-                    sol = np.linalg.solve(gm, rv)
-                    for c in range(nc):
-                        q[c] = 0.0
-                    for a in range(m):
-                        q[idx[a]] = sol[a]
-                    for a in range(m):
-                        ca = idx[a]
-                        if (active[ca] == 1 and q[ca] < 0.0) or (active[ca] == -1 and q[ca] > 0.0):
-                            active[ca] = 0
-                            q[ca] = 0.0
-                            changed = True
-                if not changed:
-                    break
+            ideal_loads(
+                t_free,
+                ctrl_heat_sp,
+                ctrl_cool_sp,
+                g_ctrl,
+                active,
+                q,
+                cache_member,
+                cache_inv,
+                cache_m,
+            )
             any_q = False
             for c in range(nc):
                 if q[c] != 0.0:

@@ -311,6 +311,15 @@ class Simulation:
         self._fine = self._context(self.dt, self._inputs, self._ext_dh_raw, self._inf_dh)
         self._lu = self._fine.lu
         self._coarse = None
+        self._reset_ideal_state()
+
+    def _reset_ideal_state(self) -> None:
+        nc = len(self._ctrl)
+        self._active = np.zeros(nc, dtype=np.int64)
+        self._cache_member = np.zeros(nc, dtype=np.bool_)
+        self._cache_inv = np.zeros((nc, nc))
+        # members (-1: invalid), updates since inversion, inversions, rank-one updates, iterations
+        self._cache_m = np.array([-1, 0, 0, 0, 0], dtype=np.int64)
 
     def _context(self, dt: float, inputs, ext_dh_raw, inf_dh) -> _Context:
         """Factorisation and step-size dependent arrays for steps of ``dt`` seconds."""
@@ -460,6 +469,7 @@ class Simulation:
         temp = self.initial_temperature if initial_temperature is None else initial_temperature
         self._x = np.full(self.network.n_nodes, float(temp))
         self._face_root = np.ones(len(self.network.face_node))
+        self._reset_ideal_state()
         self._k = 0
         self._step_free_float = bool(free_float)
         if self.warmup_days > 0 and initial_temperature is None:
@@ -484,6 +494,9 @@ class Simulation:
         context: _Context | None = None,
     ):
         context = context or self._fine
+        if getattr(self, "_last_context", None) is not context:
+            self._cache_m[0] = -1  # the cached active-block inverse belongs to another step size
+            self._last_context = context
         net = self.network
         nz = len(net.zone_names)
         out_air = np.empty((n, nz))
@@ -532,6 +545,10 @@ class Simulation:
             out_cool,
             out_face,
             bool(store),
+            self._active,
+            self._cache_member,
+            self._cache_inv,
+            self._cache_m,
         )
         return out_air, out_mrt, out_heat, out_cool, out_face
 
@@ -622,6 +639,7 @@ class Simulation:
         heat = self._heat_array(heat_input, n_steps, nz)
         self._x = np.full(net.n_nodes, self.initial_temperature)
         self._face_root = np.ones(len(net.face_node))
+        self._reset_ideal_state()
         self._k = 0
         if self.warmup_days > 0:
             self._warm_up(ideal=not free_float)

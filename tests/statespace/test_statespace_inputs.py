@@ -174,3 +174,17 @@ def test_time_column_numeric_units_and_errors():
         model.loglike(df, time_column="t", time_unit="hours")
     with pytest.raises(ThermocalInputError, match=r"no time column 'time'"):
         model.loglike(df, time_column="time")
+
+
+def test_series_conductance_with_factor_syntax():
+    """[He, "2*H"] is the series connection 1/(1/He + 1/(2 H)) (half of a wall layer)."""
+    s = spec(conductances__1={"between": ["Te", "Ta"], "conductance": ["Hie", "2*Hea"]})
+    s["parameters"]["Hea"] = {"value": 100.0, "unit": "W/K"}
+    del s["parameters"]["Rea"]
+    A, B, _, _ = RCModel.from_dict(s).continuous_matrices()
+    g = 1.0 / (1.0 / 300.0 + 1.0 / 200.0)
+    assert B[1, 0] == pytest.approx(g / 20e6, rel=1e-12)
+    assert A[1, 1] == pytest.approx(-(300.0 + g) / 20e6, rel=1e-12)
+    with pytest.raises(ThermocalInputError, match="factor in '-2\\*Hea' must be positive"):
+        s["conductances"][1]["conductance"] = ["Hie", "-2*Hea"]
+        RCModel.from_dict(s)

@@ -177,12 +177,26 @@ def _diagonal_metric(problem: LikelihoodProblem, theta: np.ndarray, h: float = 1
     return np.diag(1.0 / curv)
 
 
-def _minimize(problem: LikelihoodProblem, theta_start, method: str, maxiter: int):
+def _usable_metric(metric) -> np.ndarray | None:
+    """A symmetric, well-conditioned positive definite copy of ``metric``, or None."""
+    if not isinstance(metric, np.ndarray) or not np.all(np.isfinite(metric)):
+        return None
+    metric = 0.5 * (metric + metric.T)
+    eig = np.linalg.eigvalsh(metric)
+    if eig[0] <= 1e-12 * eig[-1]:
+        return None
+    return metric
+
+
+def _minimize(problem: LikelihoodProblem, theta_start, method: str, maxiter: int, metric=None):
     options = {"maxiter": maxiter}
+    metric = _usable_metric(metric)
     if method == "L-BFGS-B":
         options |= {"ftol": 1e-15, "gtol": 1e-9}
     elif method == "BFGS":
-        options |= {"gtol": 1e-7, "hess_inv0": _diagonal_metric(problem, np.asarray(theta_start))}
+        if metric is None:
+            metric = _diagonal_metric(problem, np.asarray(theta_start))
+        options |= {"gtol": 1e-7, "hess_inv0": metric}
     return optimize.minimize(
         problem.objective, theta_start, jac=True, method=method, options=options
     )
@@ -211,7 +225,16 @@ def _escape_vanishing_noise(model, problem: LikelihoodProblem, best, method: str
     if not collapsed:
         return best
     theta[collapsed] = theta0[collapsed]
-    res = _minimize(problem, theta, method, maxiter)
+    metric = None
+    hess_inv = getattr(best, "hess_inv", None)
+    if method == "BFGS" and isinstance(hess_inv, np.ndarray):
+        # keep the metric learnt by the first run, re-initialised along the collapsed directions
+        diag = np.diag(_diagonal_metric(problem, theta))
+        metric = hess_inv.copy()
+        metric[collapsed, :] = 0.0
+        metric[:, collapsed] = 0.0
+        metric[collapsed, collapsed] = diag[collapsed]
+    res = _minimize(problem, theta, method, maxiter, metric)
     return res if res.fun < best.fun else best
 
 
@@ -281,7 +304,10 @@ def fit(
         if not res.success:
             # BFGS stops on "precision loss" when the line search fails on the finite-difference
             # gradient, often before the optimum: restart once from there with a fresh metric
-            again = _minimize(problem, res.x, method, maxiter)
+            metric = (
+                res.hess_inv if isinstance(getattr(res, "hess_inv", None), np.ndarray) else None
+            )
+            again = _minimize(problem, res.x, method, maxiter, metric)
             if again.fun <= res.fun:
                 res = again
         start_loglikes.append(-float(res.fun) * problem.scale)

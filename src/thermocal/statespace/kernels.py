@@ -112,6 +112,7 @@ def build_network(
     frac_idx,
     frac_sign,
     noise_idx,
+    link_factor,
     n_inputs,
 ):
     """Assemble capacities, conductance matrix G, raw input matrix and diffusion stds.
@@ -128,7 +129,7 @@ def build_network(
     for e in range(edge_a.size):
         resistance = 0.0
         for q in range(link_ptr[e], link_ptr[e + 1]):
-            val = values[link_idx[q]]
+            val = values[link_idx[q]] * link_factor[q]
             if link_is_resistance[q]:
                 resistance += val
             else:
@@ -262,6 +263,10 @@ def discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q):
             Q[j, i] = acc
 
 
+#: Relative change of the predicted covariance below which the filter is taken as stationary.
+STEADY_STATE_TOLERANCE = 1e-13
+
+
 @njit(cache=True, error_model="numpy")
 def kalman_filter(
     lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, xp, Pp, xf, Pf, Ads
@@ -272,6 +277,13 @@ def kalman_filter(
     diagonal); NaN entries are skipped, so partially observed vectors are handled. The
     covariance update is in Joseph form. ``dts[k]`` [s] is the interval from sample k to k+1;
     the discretisation is recomputed only when it changes (uniform sampling: once).
+
+    Steady state: once the predicted covariance stops changing (relative change below
+    :data:`STEADY_STATE_TOLERANCE` over a step with the same interval and all outputs observed),
+    the gains and innovation variances are frozen and only the means are propagated, until an
+    interval changes or an observation is missing. The effect on the log-likelihood is at the
+    level of the tolerance. Not used when ``store`` is set.
+
     With ``store`` the predicted (``xp``, ``Pp``) and filtered (``xf``, ``Pf``) moments and the
     transition matrices ``Ads[k]`` (k -> k+1) are written into the given arrays.
     """
@@ -289,52 +301,78 @@ def kalman_filter(
     K = np.empty(n)
     xn = np.empty(n)
     AP = np.empty((n, n))
+    Pprior = np.empty((n, n))
+    Kfix = np.empty((ny, n))
+    sfix = np.empty(ny)
+    log_sfix = np.empty(ny)
+    steady = False
     last_dt = -1.0
     loglike = 0.0
     for i in range(n):
         if not math.isfinite(lam[i]):
             return -np.inf
     for k in range(N):
+        complete = True
+        for r in range(ny):
+            if math.isnan(Y[k, r]):
+                complete = False
+        if steady and not complete:
+            steady = False
         if store:
             for i in range(n):
                 xp[k, i] = x[i]
                 for j in range(n):
                     Pp[k, i, j] = P[i, j]
-        # measurement update, one scalar observation at a time
-        for r in range(ny):
-            y = Y[k, r]
-            if math.isnan(y):
-                continue
-            v = y
-            for i in range(n):
-                v -= C[r, i] * x[i]
-            s = meas_var[r]
-            for i in range(n):
-                acc = 0.0
-                for j in range(n):
-                    acc += P[i, j] * C[r, j]
-                PC[i] = acc
-                s += C[r, i] * acc
-            if not (s > 0.0) or not math.isfinite(s):
-                return -np.inf
-            for i in range(n):
-                K[i] = PC[i] / s
-                x[i] += K[i] * v
-            # Joseph form: P = L P L^T + r K K^T with L = I - K c
+        if steady:
+            for r in range(ny):
+                v = Y[k, r]
+                for i in range(n):
+                    v -= C[r, i] * x[i]
+                for i in range(n):
+                    x[i] += Kfix[r, i] * v
+                loglike -= 0.5 * (LOG_2PI + log_sfix[r] + v * v / sfix[r])
+        else:
             for i in range(n):
                 for j in range(n):
-                    acc = P[i, j]
-                    for q in range(n):
-                        acc -= K[i] * C[r, q] * P[q, j]
-                    AP[i, j] = acc  # L P
-            for i in range(n):
-                for j in range(i, n):
-                    acc = meas_var[r] * K[i] * K[j]
-                    for q in range(n):
-                        acc += AP[i, q] * ((1.0 if q == j else 0.0) - K[j] * C[r, q])
-                    P[i, j] = acc
-                    P[j, i] = acc
-            loglike -= 0.5 * (LOG_2PI + math.log(s) + v * v / s)
+                    Pprior[i, j] = P[i, j]
+            # measurement update, one scalar observation at a time
+            for r in range(ny):
+                y = Y[k, r]
+                if math.isnan(y):
+                    continue
+                v = y
+                for i in range(n):
+                    v -= C[r, i] * x[i]
+                s = meas_var[r]
+                for i in range(n):
+                    acc = 0.0
+                    for j in range(n):
+                        acc += P[i, j] * C[r, j]
+                    PC[i] = acc
+                    s += C[r, i] * acc
+                if not (s > 0.0) or not math.isfinite(s):
+                    return -np.inf
+                for i in range(n):
+                    K[i] = PC[i] / s
+                    Kfix[r, i] = K[i]
+                    x[i] += K[i] * v
+                sfix[r] = s
+                log_sfix[r] = math.log(s)
+                # Joseph form: P = L P L^T + r K K^T with L = I - K c
+                for i in range(n):
+                    for j in range(n):
+                        acc = P[i, j]
+                        for q in range(n):
+                            acc -= K[i] * C[r, q] * P[q, j]
+                        AP[i, j] = acc  # L P
+                for i in range(n):
+                    for j in range(i, n):
+                        acc = meas_var[r] * K[i] * K[j]
+                        for q in range(n):
+                            acc += AP[i, q] * ((1.0 if q == j else 0.0) - K[j] * C[r, q])
+                        P[i, j] = acc
+                        P[j, i] = acc
+                loglike -= 0.5 * (LOG_2PI + log_sfix[r] + v * v / s)
         if store:
             for i in range(n):
                 xf[k, i] = x[i]
@@ -347,6 +385,7 @@ def kalman_filter(
         if dt != last_dt:
             discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q)
             last_dt = dt
+            steady = False
         if store:
             for i in range(n):
                 for j in range(n):
@@ -363,11 +402,16 @@ def kalman_filter(
             xn[i] = acc
         for i in range(n):
             x[i] = xn[i]
+        if steady:
+            continue
+        for i in range(n):
             for j in range(n):
                 acc = 0.0
                 for q in range(n):
                     acc += Ad[i, q] * P[q, j]
                 AP[i, j] = acc
+        change = 0.0
+        scale = 0.0
         for i in range(n):
             for j in range(i, n):
                 acc = Q[i, j]
@@ -375,6 +419,11 @@ def kalman_filter(
                     acc += AP[i, q] * Ad[j, q]
                 P[i, j] = acc
                 P[j, i] = acc
+                change = max(change, abs(acc - Pprior[i, j]))
+                scale = max(scale, abs(acc))
+        if complete and not store and change <= STEADY_STATE_TOLERANCE * scale and k + 1 < N:
+            if dts[k + 1] == dt:
+                steady = True
     return loglike
 
 
@@ -472,6 +521,7 @@ def system_from_values(
     meas_idx,
     x0_idx,
     p0_idx,
+    link_factor,
     n_inputs,
 ):
     """Eigen-form system, measurement variances [K2], initial mean [C] and covariance [K2]."""
@@ -492,6 +542,7 @@ def system_from_values(
         frac_idx,
         frac_sign,
         noise_idx,
+        link_factor,
         n_inputs,
     )
     lam, T, Tinv, TB, M = eigen_network(cap, G, B_raw, sigma)
@@ -536,6 +587,7 @@ def loglike_theta(theta, tr, st, C, dts, U, Y, foh):
         st[15],
         st[16],
         st[17],
+        st[18],
         U.shape[1],
     )
     e2 = np.empty((0, 0))

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import copy
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -71,6 +72,9 @@ _ROLE_KINDS = {
 }
 _POSITIVE_ROLES = {"capacity", "conductance", "resistance"}
 _NONNEGATIVE_ROLES = {"noise", "measurement noise", "initial std"}
+
+#: ``"2*H_env"``: a positive number times a parameter, allowed in conductance/resistance lists.
+_FACTOR_PATTERN = re.compile(r"^\s*([0-9.eE+-]+)\s*\*\s*([A-Za-z_][\w./-]*)\s*$")
 
 #: Default initial-state standard deviation [K] when a state declares none.
 DEFAULT_INITIAL_STD = 1.0
@@ -262,9 +266,11 @@ class RCModel:
         a, b : str
             State names; a name that is not a state is a boundary-temperature data column [C].
         conductance : str, float or list [W/K]
-            Heat transfer coefficient; a list is a series connection ``1 / sum(1/H)``.
+            Heat transfer coefficient; a list is a series connection ``1 / sum(1/H)``. An item
+            may be ``"2*H"`` (a positive number times a parameter), e.g. half a wall
+            ``[He, "2*H_wall"]``.
         resistance : str, float or list [K/W]
-            Thermal resistance; a list is a series connection ``sum(R)``.
+            Thermal resistance; a list is a series connection ``sum(R)`` (items as above).
         """
         self._conductances.append(
             {"between": [a, b], "conductance": conductance, "resistance": resistance}
@@ -638,7 +644,7 @@ class RCModel:
         """
         st = self.structure()
         cap, G, B_raw, _ = kernels.build_network(
-            self.values_si(params), *st.arrays[:15], st.n_inputs
+            self.values_si(params), *st.arrays[:15], st.arrays[18], st.n_inputs
         )
         A = G / cap[:, None]
         B = B_raw / cap[:, None]
@@ -648,7 +654,9 @@ class RCModel:
     def diffusion_matrix(self, params: Mapping[str, float] | None = None) -> np.ndarray:
         """Diagonal diffusion matrix ``Sigma`` [K/sqrt(s)] of ``dx = f dt + Sigma dw``."""
         st = self.structure()
-        _, _, _, sigma = kernels.build_network(self.values_si(params), *st.arrays[:15], st.n_inputs)
+        _, _, _, sigma = kernels.build_network(
+            self.values_si(params), *st.arrays[:15], st.arrays[18], st.n_inputs
+        )
         return np.diag(sigma)
 
     # ------------------------------------------------------------------ estimation & simulation
@@ -817,7 +825,7 @@ def _compile(model: RCModel) -> Structure:
             )
         )
 
-    edge_a, edge_b, link_ptr, link_idx, link_res = [], [], [0], [], []
+    edge_a, edge_b, link_ptr, link_idx, link_res, link_factor = [], [], [0], [], [], []
     for i, c in enumerate(model._conductances):
         a, b = c["between"]
         what = f"conductances[{i}] ({a}-{b})"
@@ -845,8 +853,17 @@ def _compile(model: RCModel) -> Structure:
         if not links:
             raise ThermocalInputError(f"{where}: {what}: empty {role} list")
         for link in links:
+            factor = 1.0
+            if isinstance(link, str):
+                match = _FACTOR_PATTERN.match(link)
+                if match:
+                    factor = _as_float(match.group(1), f"{where}: factor in '{link}' of {what}")
+                    if not factor > 0:
+                        raise ThermocalInputError(f"{where}: factor in '{link}' must be positive")
+                    link = match.group(2)
             link_idx.append(cp.ref(link, role, f"{role} of {what}"))
             link_res.append(1 if role == "resistance" else 0)
+            link_factor.append(factor)
         link_ptr.append(len(link_idx))
 
     heat_state, heat_input, heat_factor, heat_scale = [], [], [], []
@@ -961,6 +978,7 @@ def _compile(model: RCModel) -> Structure:
         i64(meas_idx),
         i64(x0_idx),
         i64(p0_idx),
+        f64(link_factor),
     )
     return Structure(
         arrays=arrays,

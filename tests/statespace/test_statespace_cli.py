@@ -89,8 +89,8 @@ def test_fit_command_reports_unknown_column_without_traceback(tmp_path):
     import sys
 
     proc = subprocess.run(
-        [sys.executable, "-c", "from thermocal.cli import main; main()", "fit", str(model), str(data), "--out",
-         str(tmp_path / "o")],
+        [sys.executable, "-c", "from thermocal.cli import main; main()", "fit", str(model),
+         str(data), "--out", str(tmp_path / "o")],
         capture_output=True,
         text=True,
     )  # fmt: skip

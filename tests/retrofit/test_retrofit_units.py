@@ -136,9 +136,13 @@ def test_demand_mode_reproduces_steady_state_hand_calculation():
             expected = steady_state_demand(m, h_est, 20.0, -2.0, env)
             hand = (calculated_hlc(m.conductances(env)) + h_est) * 22.0
             assert expected == pytest.approx(hand)
-            assert res.heat[s, d, -1] == pytest.approx(hand, rel=1e-6)
-    # annual energy of a constant load
-    assert res.annual_kwh()[0, 0] == pytest.approx(res.heat[0, 0].sum() / 1000.0)
+            # every draw: January energy of the constant load (31 days)
+            assert res.monthly[s, d, 0] == pytest.approx(hand * 31 * 24 / 1000.0, rel=1e-6)
+        assert res.hourly[s, -1] == pytest.approx(
+            (calculated_hlc(m.conductances(env)) + p["H_est"][0]) * 22.0, rel=1e-6
+        )
+    # annual energy = sum of the hourly powers of the estimate
+    assert res.annual_kwh()[0, 0] == pytest.approx(res.hourly[0].sum() / 1000.0)
 
 
 def test_demand_heating_only_never_negative_and_floats_with_sun():
@@ -157,8 +161,8 @@ def test_demand_heating_only_never_negative_and_floats_with_sun():
         "C_h": np.array([4e5]),
     }
     res = simulate_demand(m, p, [m.envelope], inputs, 20.0)
-    assert np.all(res.heat >= 0.0)
-    assert res.heat[0, 0, -24:].max() == 0.0
+    assert np.all(res.hourly >= 0.0) and np.all(res.monthly >= 0.0)
+    assert res.hourly[0, -24:].max() == 0.0
 
 
 def test_retrofit_lowers_conductances_only():

@@ -5,7 +5,7 @@ Public API
 HtmlReport
     Builder of a single-file HTML report: headings, paragraphs, key-value summaries, tables
     (from DataFrames) and figures embedded as base64 PNG.
-figure_to_base64, save_figure
+figure_to_png, figure_to_base64, save_figure
     Render a matplotlib figure.
 plot_measured_vs_simulated, plot_monthly_bars, plot_bars_with_intervals
     The standard figures of the workflows.
@@ -13,6 +13,7 @@ plot_measured_vs_simulated, plot_monthly_bars, plot_bars_with_intervals
 
 from thermocal.report.figures import (
     figure_to_base64,
+    figure_to_png,
     plot_bars_with_intervals,
     plot_measured_vs_simulated,
     plot_monthly_bars,
@@ -23,6 +24,7 @@ from thermocal.report.html import HtmlReport
 __all__ = [
     "HtmlReport",
     "figure_to_base64",
+    "figure_to_png",
     "plot_bars_with_intervals",
     "plot_measured_vs_simulated",
     "plot_monthly_bars",

@@ -26,11 +26,16 @@ COLORS = {
 }
 
 
-def figure_to_base64(fig, *, dpi: int = 110) -> str:
-    """PNG of a figure, base64-encoded (for ``<img src="data:image/png;base64,...">``)."""
+def figure_to_png(fig, *, dpi: int = 110) -> bytes:
+    """PNG bytes of a figure (render once, then write and embed the same bytes)."""
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
-    return base64.b64encode(buf.getvalue()).decode("ascii")
+    return buf.getvalue()
+
+
+def figure_to_base64(fig, *, dpi: int = 110) -> str:
+    """PNG of a figure, base64-encoded (for ``<img src="data:image/png;base64,...">``)."""
+    return base64.b64encode(figure_to_png(fig, dpi=dpi)).decode("ascii")
 
 
 def save_figure(fig, path: Path | str, *, dpi: int = 110) -> Path:

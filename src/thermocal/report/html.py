@@ -12,6 +12,7 @@ Example::
 
 from __future__ import annotations
 
+import base64
 import datetime as _dt
 import html
 from collections.abc import Callable, Mapping
@@ -153,10 +154,13 @@ class HtmlReport:
         return self
 
     def figure(self, fig, *, caption: str = "", close_figure: bool = True) -> HtmlReport:
-        """Embed a matplotlib figure as base64 PNG."""
-        data = figure_to_base64(fig)
-        if close_figure:
-            close(fig)
+        """Embed a matplotlib figure (or PNG bytes already rendered) as base64 PNG."""
+        if isinstance(fig, bytes | bytearray):
+            data = base64.b64encode(bytes(fig)).decode("ascii")
+        else:
+            data = figure_to_base64(fig)
+            if close_figure:
+                close(fig)
         cap = f"<figcaption>{html.escape(caption)}</figcaption>" if caption else ""
         self._current.append(
             f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{data}"/>'

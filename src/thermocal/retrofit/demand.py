@@ -22,7 +22,7 @@ from thermocal.retrofit.model import (
     discretize_zoh,
     system_matrices,
 )
-from thermocal.retrofit.simulation import ideal_heating_batch
+from thermocal.retrofit.simulation import ideal_heating_batch, ideal_heating_binned
 
 #: Inputs of the demand model, in order (the heating power is appended by the simulation).
 DEMAND_INPUTS: tuple[str, ...] = ("Te", "Tgr", "phi_sol", "phi_abs_roof", "phi_abs_walls")
@@ -30,15 +30,18 @@ DEMAND_INPUTS: tuple[str, ...] = ("Te", "Tgr", "phi_sol", "phi_abs_roof", "phi_a
 
 @dataclass
 class DemandResult:
-    """Hourly heating power of every scenario and draw.
+    """Heating demand of every scenario and draw.
 
     Attributes
     ----------
-    heat : ndarray (n_scenarios, n_draws, n_steps) [W]
+    monthly : ndarray (n_scenarios, n_draws, 12) [kWh]
+    hourly : ndarray (n_scenarios, n_steps) [W]
+        Step-mean heating power of the FIRST draw (the estimate) of each scenario.
     index : pd.DatetimeIndex of the steps (interval starts)
     """
 
-    heat: np.ndarray
+    monthly: np.ndarray
+    hourly: np.ndarray
     index: pd.DatetimeIndex
 
     @property
@@ -47,16 +50,11 @@ class DemandResult:
 
     def annual_kwh(self) -> np.ndarray:
         """Annual demand [kWh], shape (n_scenarios, n_draws)."""
-        return self.heat.sum(axis=-1) * self.step_hours / 1000.0
+        return self.monthly.sum(axis=-1)
 
     def monthly_kwh(self) -> np.ndarray:
         """Monthly demand [kWh], shape (n_scenarios, n_draws, 12)."""
-        months = self.index.month.to_numpy()
-        out = np.zeros(self.heat.shape[:2] + (12,))
-        for m in range(1, 13):
-            sel = months == m
-            out[..., m - 1] = self.heat[..., sel].sum(axis=-1) * self.step_hours / 1000.0
-        return out
+        return self.monthly
 
 
 def setpoint_series(index: pd.DatetimeIndex, profile) -> np.ndarray:
@@ -133,8 +131,12 @@ def simulate_demand(
     x0 = _steady_state_with_setpoint(a, b, u0, float(sp[-1]))
     if n_warm:
         _, _, x0 = ideal_heating_batch(ad, bd, x0, u[-n_warm:], sp[-n_warm:])
-    heat, _, _ = ideal_heating_batch(ad, bd, x0, u, sp)
-    return DemandResult(heat.reshape(n_scen, n_draws, -1), index)
+    # monthly energy of all draws (memory O(n x 12)); hourly series of the estimate only
+    bins = index.month.to_numpy() - 1
+    monthly = ideal_heating_binned(ad, bd, x0, u, sp, bins, 12) * (dt / 3.6e6)
+    first = np.arange(n_scen) * n_draws
+    hourly, _, _ = ideal_heating_batch(ad[first], bd[first], x0[first], u, sp)
+    return DemandResult(monthly.reshape(n_scen, n_draws, 12), hourly, index)
 
 
 def _steady_state_with_setpoint(a, b, u, ti):

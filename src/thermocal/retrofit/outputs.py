@@ -216,12 +216,15 @@ def write_outputs(
     results = results_dict(analysis, true_hlc=true_hlc)
     (out / "results.json").write_text(json.dumps(results, indent=2))
     tables = write_tables(analysis, out, results)
-    figures = make_figures(analysis, results)
-    fig_dir = out / "figures"
-    from thermocal.report.figures import save_figure
+    from thermocal.report.figures import close, figure_to_png
 
-    for name, fig in figures.items():
-        save_figure(fig, fig_dir / f"{name}.png")
+    fig_dir = out / "figures"
+    fig_dir.mkdir(exist_ok=True)
+    figures = {}
+    for name, fig in make_figures(analysis, results).items():
+        figures[name] = figure_to_png(fig)  # rendered once: file and report share the bytes
+        close(fig)
+        (fig_dir / f"{name}.png").write_bytes(figures[name])
     write_report(analysis, results, tables, figures, out / "report.html", title=title)
     return results
 
@@ -245,7 +248,13 @@ def write_tables(analysis: RetrofitAnalysis, out: Path, results: dict) -> dict[s
     monthly = analysis.demand.monthly_kwh()[:, 0, :]
     monthly_df = pd.DataFrame(monthly, columns=list(MONTHS))
     monthly_df.insert(0, "code", [s.code for s in analysis.strategies])
-    hourly = pd.DataFrame({"heating_W": analysis.demand.heat[0, 0]}, index=analysis.demand.index)
+    hourly = pd.DataFrame(
+        {
+            f"heating_W_{s.code}": analysis.demand.hourly[i]
+            for i, s in enumerate(analysis.strategies)
+        },
+        index=analysis.demand.index,
+    )
     hourly.index.name = "time"
     scen = scenario_table(analysis)
     corr = cal.correlation
@@ -482,8 +491,4 @@ def write_report(
         "covariance (truncated to the bounds); savings are paired (same draw for strategy and "
         "reference). Retrofits change only the U-value-based conductances."
     )
-    from thermocal.report.figures import close
-
-    for fig in figures.values():
-        close(fig)
     return rep.write(path)

@@ -117,3 +117,51 @@ def ideal_heating_batch(ad, bd, x0, u, setpoint):
         np.ascontiguousarray(u, dtype=float),
         np.ascontiguousarray(setpoint, dtype=float),
     )
+
+
+@numba.njit(cache=True, parallel=True)
+def _ideal_heating_binned(ad, bd, x0, u, setpoint, bins, n_bins):  # pragma: no cover
+    n, ns, _ = ad.shape
+    nk, ni = u.shape
+    energy = np.zeros((n, n_bins))
+    for b in numba.prange(n):
+        x = x0[b].copy()
+        xn = np.empty(ns)
+        g = bd[b, 0, ni]
+        for k in range(nk):
+            for i in range(ns):
+                acc = 0.0
+                for j in range(ns):
+                    acc += ad[b, i, j] * x[j]
+                for j in range(ni):
+                    acc += bd[b, i, j] * u[k, j]
+                xn[i] = acc
+            q = (setpoint[k] - xn[0]) / g
+            if q < 0.0:
+                q = 0.0
+            for i in range(ns):
+                x[i] = xn[i] + bd[b, i, ni] * q
+            if bins[k] >= 0:
+                energy[b, bins[k]] += q
+    return energy
+
+
+def ideal_heating_binned(ad, bd, x0, u, setpoint, bins, n_bins: int):
+    """:func:`ideal_heating_batch` that only accumulates the heat per bin (e.g. month).
+
+    Memory stays O(n x n_bins) however many draws and steps; steps with ``bins < 0`` (a
+    warm-up) are simulated but not counted.
+
+    Returns
+    -------
+    ndarray (n, n_bins) [W x steps]: sum of the step-mean heating powers per bin.
+    """
+    return _ideal_heating_binned(
+        np.ascontiguousarray(ad, dtype=float),
+        np.ascontiguousarray(bd, dtype=float),
+        np.ascontiguousarray(x0, dtype=float),
+        np.ascontiguousarray(u, dtype=float),
+        np.ascontiguousarray(setpoint, dtype=float),
+        np.ascontiguousarray(bins, dtype=np.int64),
+        int(n_bins),
+    )

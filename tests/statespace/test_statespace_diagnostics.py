@@ -182,4 +182,6 @@ def test_forward_selection_finds_the_second_state():
     assert table.loc["TiTe", "pvalue"] < 1e-6
     assert table.loc["TiTe_split", "pvalue"] > 0.001
     assert not table.loc["TiTe_split", "accepted"]
-    assert table.loc["TiTe_split", "loglike"] >= table.loc["TiTe", "loglike"] - 1e-3
+    # the split model nests TiTe (f = 1, on its bound): its optimum is not lower, up to the
+    # optimiser's stall tolerance for a parameter creeping towards a bound
+    assert table.loc["TiTe_split", "loglike"] >= table.loc["TiTe", "loglike"] - 0.01

@@ -30,6 +30,15 @@ from thermocal.statespace.data import PreparedData, prepare_data
 
 #: Relative step of the central-difference gradient in theta.
 GRADIENT_STEP = 1e-6
+#: The optimiser stops when the log-likelihood gained less than STALL_TOLERANCE over the last
+#: STALL_WINDOW iterations (far below what matters for likelihood-ratio tests or standard errors).
+STALL_TOLERANCE = 1e-4
+STALL_WINDOW = 10
+#: A noise standard deviation that ends below this fraction of its start value is taken as
+#: collapsed (see :func:`_escape_vanishing_noise`).
+COLLAPSE_FRACTION = 0.02
+#: Half-width of the search box in theta (see :class:`LikelihoodProblem`).
+THETA_SPAN = 25.0
 #: |correlation| above which a pair of estimates is flagged (Madsen et al. 2016; paper 000).
 CORRELATION_LIMIT = 0.98
 #: Relative distance to a bound below which an estimate is flagged.
@@ -80,6 +89,19 @@ class LikelihoodProblem:
         self.st = st.arrays
         self.C = st.C
         self.scale = float(max(prep.nobs, 1))
+        # box in theta: a factor e^THETA_SPAN either way of the start for log transforms,
+        # +-THETA_SPAN for logits (1e-13 of the range from a bound); a parameter running away
+        # towards a bound (e.g. a noise std to 0) stops there instead of wandering to -1e3
+        theta0 = model.theta0()
+        kinds = self.tr[1]
+        log_kind = (kinds == kernels.TRANSFORM_LOG) | (kinds == kernels.TRANSFORM_NEGLOG)
+        logit = kinds == kernels.TRANSFORM_LOGIT
+        self.lo = np.where(log_kind, theta0 - THETA_SPAN, np.where(logit, -THETA_SPAN, -np.inf))
+        self.hi = np.where(log_kind, theta0 + THETA_SPAN, np.where(logit, THETA_SPAN, np.inf))
+
+    def clip(self, theta: np.ndarray) -> np.ndarray:
+        """``theta`` limited to the search box."""
+        return np.clip(np.asarray(theta, dtype=float), self.lo, self.hi)
 
     def loglike(self, theta: np.ndarray) -> float:
         """Log-likelihood at ``theta``."""
@@ -98,13 +120,14 @@ class LikelihoodProblem:
         replaced by a large penalty.
         """
         p = self.prep
+        theta = np.asarray(theta, dtype=float)
+        clipped = self.clip(theta)
         f, g = kernels.negloglike_and_gradient(
-            np.asarray(theta, dtype=float),
-            self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh, GRADIENT_STEP,
+            clipped, self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh, GRADIENT_STEP,
         )  # fmt: skip
         if not math.isfinite(f):
             return 1e20, np.zeros_like(theta)
-        g = np.where(np.isfinite(g), g, 0.0)
+        g = np.where(np.isfinite(g) & (clipped == theta), g, 0.0)  # flat outside the box
         return float(f) / self.scale, g / self.scale
 
     def hessian(self, theta: np.ndarray) -> np.ndarray:
@@ -197,9 +220,26 @@ def _minimize(problem: LikelihoodProblem, theta_start, method: str, maxiter: int
         if metric is None:
             metric = _diagonal_metric(problem, np.asarray(theta_start))
         options |= {"gtol": 1e-7, "hess_inv0": metric}
-    return optimize.minimize(
-        problem.objective, theta_start, jac=True, method=method, options=options
+    history: list[float] = []
+
+    def stall(intermediate_result):
+        # stop when the log-likelihood gained less than STALL_TOLERANCE over STALL_WINDOW
+        # iterations: typically a noise std creeping towards zero with negligible gain
+        history.append(-float(intermediate_result.fun) * problem.scale)
+        if len(history) > STALL_WINDOW and (
+            history[-1] - history[-1 - STALL_WINDOW] < STALL_TOLERANCE
+        ):
+            raise StopIteration
+
+    res = optimize.minimize(
+        problem.objective, theta_start, jac=True, method=method, options=options, callback=stall
     )
+    if not res.success and len(history) > STALL_WINDOW and "StopIteration" in str(res.message):
+        res.success = True
+        res.message = (
+            f"converged: log-likelihood gain below {STALL_TOLERANCE} over {STALL_WINDOW} iterations"
+        )
+    return res
 
 
 def _escape_vanishing_noise(model, problem: LikelihoodProblem, best, method: str, maxiter: int):
@@ -207,20 +247,20 @@ def _escape_vanishing_noise(model, problem: LikelihoodProblem, best, method: str
 
     The likelihood of a stochastic state-space model often has a local maximum where a noise
     standard deviation (measurement or diffusion) runs to zero; a gradient method started on the
-    wrong side stays there. When a noise parameter ends below 1e-3 of its start value, it is
-    reset to the start value (the other parameters kept at the optimum) and the fit restarted;
-    the better of the two optima is kept.
+    wrong side stays there. When a noise parameter ends below COLLAPSE_FRACTION of its start
+    value, it is reset to the start value (the other parameters kept at the optimum) and the fit
+    restarted; the better of the two optima is kept.
     """
     roles = model.structure().roles
     names = model.free_parameter_names
     theta0 = model.theta0()
-    theta = np.array(best.x, dtype=float)
+    theta = problem.clip(best.x)
     collapsed = []
     for i, name in enumerate(names):
         p = model.parameters[name]
         if roles.get(name, set()) & {"noise", "measurement noise"}:
             value = p.from_unconstrained(theta[i])
-            if value - p.lower < 1e-3 * (p.value - p.lower):
+            if value - p.lower < COLLAPSE_FRACTION * (p.value - p.lower):
                 collapsed.append(i)
     if not collapsed:
         return best
@@ -318,7 +358,7 @@ def fit(
             f"model '{model.name}': the likelihood is not finite at any start; check initial values"
         )
     best = _escape_vanishing_noise(model, problem, best, method, maxiter)
-    theta = np.asarray(best.x, dtype=float)
+    theta = problem.clip(best.x)
     ll = problem.loglike(theta)
     _, grad = problem.objective(theta)
     grad_norm = float(np.max(np.abs(grad))) * problem.scale if grad.size else 0.0

@@ -1,0 +1,169 @@
+"""Benchmarks of the grey-box engine (thermocal.statespace); writes benchmarks/statespace.md.
+
+Run:  /work/venv/bin/python benchmarks/bench_statespace.py
+
+Targets (issue 2):
+- one log-likelihood evaluation, 2 states, 2 inputs, 230 samples: <= 100 microseconds;
+- a full fit of that model (7 free parameters incl. noise and initial state): <= 0.15 s warm;
+- the fifth-order model of paper 000 (14 free parameters) on 504 hourly samples: <= 2 s warm.
+"Warm" = numba kernels compiled and cached (the first call in a fresh process loads them).
+Synthetic data are simulated from the model itself (exact discretisation, fixed seeds); the fits
+start from perturbed values.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import statistics
+import time
+from datetime import UTC, datetime
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.linalg import expm
+
+from thermocal.statespace import RCModel
+from thermocal.statespace.data import prepare_data
+from thermocal.statespace.estimation import LikelihoodProblem, simulate_stochastic
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def two_state_model() -> RCModel:
+    m = RCModel("two_state")
+    m.add_state("Ti", capacity="Ci", noise="si", initial_mean="Ti0", initial_std=0.5)
+    m.add_state("Te", capacity="Ce", noise=0.0, initial_mean=10.0, initial_std=2.0)
+    m.add_conductance("Ti", "Te", conductance="Hie")
+    m.add_conductance("Te", "Ta", conductance="Hea")
+    m.add_heat_input("Ph", into="Ti")
+    m.add_output("y", state="Ti", noise="e")
+    for name, value, unit in [("Ci", 2.0, "MJ/K"), ("Ce", 20.0, "MJ/K"), ("Hie", 300.0, "W/K"),
+                              ("Hea", 200.0, "W/K"), ("si", 0.1, "K/sqrt(h)"), ("e", 0.1, "K"),
+                              ("Ti0", 20.0, "C")]:  # fmt: skip
+        m.add_parameter(name, value, unit=unit)
+    return m
+
+
+def two_state_data(model: RCModel, n: int = 230) -> pd.DataFrame:
+    rng = np.random.default_rng(0)
+    t = pd.date_range("2024-01-01", periods=n, freq="h", tz="UTC")
+    hours = np.arange(n)
+    df = pd.DataFrame(
+        {
+            "Ta": 5 + 3 * np.sin(hours / 24 * 2 * np.pi) + rng.normal(0, 0.5, n),
+            "Ph": 3000.0 * (rng.uniform(size=n) > 0.5),
+        },
+        index=t,
+    )
+    df["y"] = simulate_stochastic(model, df, seed=1)["y"]
+    return df
+
+
+def fifth_order_data(model: RCModel, n: int = 504) -> pd.DataFrame:
+    rng = np.random.default_rng(0)
+    t = pd.date_range("2019-02-02", periods=n, freq="h", tz="Europe/Zurich")
+    h = np.arange(n)
+    day = np.clip(np.sin(2 * np.pi * (h % 24 - 6) / 24), 0, None)
+    df = pd.DataFrame(
+        {
+            "Te": 2 + 4 * np.sin(2 * np.pi * h / 24) + rng.normal(0, 1, n),
+            "Tgr": 8.0,
+            "phi_h": np.clip(8000 + 3000 * rng.normal(size=n), 0, None),
+            "phi_sol": 800 * day,
+            "phi_re": 1500 * day,
+        },
+        index=t,
+    )
+    df["Ti"] = simulate_stochastic(model, df, seed=1)["Ti"]
+    return df
+
+
+def timeit(fn, *, repeats: int, number: int = 1) -> tuple[float, float]:
+    """Best and median time per call [s] over ``repeats`` batches of ``number`` calls."""
+    fn()  # warm up (compilation / cache load)
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(number):
+            fn()
+        times.append((time.perf_counter() - t0) / number)
+    return min(times), statistics.median(times)
+
+
+def main() -> None:
+    rows = []
+    model = two_state_model()
+    data = two_state_data(model)
+    prep = prepare_data(model, data)
+    problem = LikelihoodProblem(model, prep, False)
+    theta = model.theta0()
+    best, med = timeit(lambda: problem.loglike(theta), repeats=15, number=2000)
+    rows.append(("log-likelihood, 2 states, 2 inputs, 230 samples", best * 1e6, med * 1e6, "us",
+                 100.0))  # fmt: skip
+    A = model.continuous_matrices()[0] * 3600.0
+    best_e, med_e = timeit(lambda: expm(A), repeats=7, number=2000)
+    rows.append(("(context) scipy.linalg.expm of one 2x2 matrix", best_e * 1e6, med_e * 1e6, "us",
+                 None))  # fmt: skip
+
+    start = model.with_parameters({"Ci": 1, "Ce": 10, "Hie": 200, "Hea": 100, "si": 0.3,
+                                   "e": 0.3, "Ti0": 18})  # fmt: skip
+    res = start.fit(data)
+    assert res.converged, res.message
+    best, med = timeit(lambda: start.fit(data), repeats=15)
+    rows.append((f"full fit incl. Hessian, same model, {start.n_free} free parameters", best, med,
+                 "s", 0.15))  # fmt: skip
+
+    five = RCModel.from_yaml(REPO / "examples" / "models" / "paper000_fifth_order.yaml")
+    data5 = fifth_order_data(five)
+    start5 = five.with_parameters({"H_est": 150, "Ci": 5, "Cenv": 20, "Cgf": 40, "Ch": 2,
+                                   "Cim": 10})  # fmt: skip
+    res5 = start5.fit(data5)
+    best, med = timeit(lambda: start5.fit(data5), repeats=5)
+    rows.append((f"fifth-order model of paper 000, {start5.n_free} free parameters, 504 hourly "
+                 "samples", best, med, "s", 2.0))  # fmt: skip
+    prep5 = prepare_data(five, data5)
+    p5 = LikelihoodProblem(five, prep5, False)
+    th5 = five.theta0()
+    best_l, med_l = timeit(lambda: p5.loglike(th5), repeats=7, number=200)
+    rows.append(("(context) log-likelihood of the fifth-order model, 504 samples", best_l * 1e6,
+                 med_l * 1e6, "us", None))  # fmt: skip
+
+    bm = REPO.parent / "shared" / "data" / "bacher_madsen_2011_prbs" / "inputPRBS1.csv"
+    if bm.exists():
+        df_bm = pd.read_csv(bm, sep=";")
+        tite = RCModel.from_yaml(REPO / "examples" / "models" / "TiTe.yaml")
+        tite.fit(df_bm, time_column="t", time_unit="h")
+        best, med = timeit(lambda: tite.fit(df_bm, time_column="t", time_unit="h"), repeats=5)
+        rows.append(("(context) TiTe on the Bacher & Madsen data, 10 free, 1691 samples", best,
+                     med, "s", None))  # fmt: skip
+
+    lines = [
+        "# Benchmarks: thermocal.statespace",
+        "",
+        f"Date: {datetime.now(UTC):%Y-%m-%d %H:%M} UTC. Machine: {platform.machine()}, "
+        f"{os.cpu_count()} cores, 24 GiB, no GPU; Python {platform.python_version()}; other "
+        "engineers' jobs were running, so the best of the repeats is the fairer figure.",
+        "Script: `benchmarks/bench_statespace.py` (best and median over repeats, warm kernels).",
+        "",
+        "| case | best | median | unit | target | pass |",
+        "|---|---:|---:|---|---:|---|",
+    ]
+    for name, best, med, unit, target in rows:
+        verdict = "" if target is None else ("pass" if best <= target else "FAIL")
+        tgt = "" if target is None else f"<= {target:g}"
+        lines.append(f"| {name} | {best:.3g} | {med:.3g} | {unit} | {tgt} | {verdict} |")
+    lines += [
+        "",
+        f"Fit results: two-state loglike {res.loglike:.3f} ({res.n_free} free); fifth-order "
+        f"loglike {res5.loglike:.3f} ({res5.n_free} free), flags: {len(res5.flags)}.",
+        "",
+    ]
+    text = "\n".join(lines)
+    (REPO / "benchmarks" / "statespace.md").write_text(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

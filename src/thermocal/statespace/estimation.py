@@ -89,6 +89,7 @@ class LikelihoodProblem:
         self.st = st.arrays
         self.C = st.C
         self.scale = float(max(prep.nobs, 1))
+        self.iterations = 0  # optimiser iterations over all runs
         # box in theta: a factor e^THETA_SPAN either way of the start for log transforms,
         # +-THETA_SPAN for logits (1e-13 of the range from a bound); a parameter running away
         # towards a bound (e.g. a noise std to 0) stops there instead of wandering to -1e3
@@ -234,6 +235,7 @@ def _minimize(problem: LikelihoodProblem, theta_start, method: str, maxiter: int
     res = optimize.minimize(
         problem.objective, theta_start, jac=True, method=method, options=options, callback=stall
     )
+    problem.iterations += int(getattr(res, "nit", 0))
     if not res.success and len(history) > STALL_WINDOW and "StopIteration" in str(res.message):
         res.success = True
         res.message = (
@@ -372,7 +374,7 @@ def fit(
         nobs=prep.nobs,
         converged=converged,
         message=str(best.message),
-        n_iterations=int(getattr(best, "nit", -1)),
+        n_iterations=problem.iterations,
         gradient_norm=grad_norm,
         start_loglikes=start_loglikes,
         hold=hold,

@@ -188,3 +188,26 @@ def test_series_conductance_with_factor_syntax():
     with pytest.raises(ThermocalInputError, match="factor in '-2\\*Hea' must be positive"):
         s["conductances"][1]["conductance"] = ["Hie", "-2*Hea"]
         RCModel.from_dict(s)
+
+
+def test_data_without_time_axis_and_garbled_output():
+    df = data().reset_index(drop=True)
+    with pytest.raises(ThermocalInputError, match=r"no time axis.*time_column"):
+        RCModel.from_dict(SPEC).fit(df)
+    df = data()
+    df["yTi"] = df["yTi"].astype(object)
+    df.iloc[5, df.columns.get_loc("yTi")] = "n/a"
+    with pytest.raises(ThermocalInputError, match=r"'yTi' has a non-numeric value 'n/a' in row 5"):
+        RCModel.from_dict(SPEC).fit(df)
+
+
+def test_local_times_with_dst_offsets_are_read():
+    df = data(30)
+    local = df.index.tz_convert("Europe/Zurich")
+    df2 = df.reset_index(drop=True)
+    df2["time"] = [t.isoformat() for t in local]
+    df2.loc[10:, "time"] = [
+        (t + pd.Timedelta(hours=1)).isoformat().replace("+01:00", "+02:00") for t in local[10:]
+    ]  # a fake DST switch: same instants, different offsets
+    model = RCModel.from_dict(SPEC)
+    assert model.loglike(df2, time_column="time") == pytest.approx(model.loglike(df), rel=1e-12)

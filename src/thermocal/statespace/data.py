@@ -84,6 +84,11 @@ def time_axis(
             )
         raw = data[time_column]
     else:
+        if isinstance(data.index, pd.RangeIndex):
+            raise ThermocalInputError(
+                f"{source}: the data has no time axis (a plain row-number index); give it a "
+                "DatetimeIndex or name the time column (time_column=..., --time-column)"
+            )
         raw = data.index.to_series()
     if isinstance(raw.dtype, pd.DatetimeTZDtype) or pd.api.types.is_datetime64_any_dtype(raw):
         index = pd.DatetimeIndex(raw)
@@ -100,7 +105,10 @@ def time_axis(
         seconds = (values - values[0]) * time_unit_seconds(time_unit)
     else:
         try:
-            index = pd.DatetimeIndex(pd.to_datetime(raw))
+            try:
+                index = pd.DatetimeIndex(pd.to_datetime(raw))
+            except ValueError:  # e.g. local times with changing UTC offsets (DST)
+                index = pd.DatetimeIndex(pd.to_datetime(raw, utc=True))
         except (ValueError, TypeError) as exc:
             raise ThermocalInputError(
                 f"{source}: time column '{time_column}' is neither numeric nor date-time ({exc}); "
@@ -173,6 +181,13 @@ def prepare_data(
     if require_outputs:
         for r, col in enumerate(model.output_names):
             Y[:, r] = pd.to_numeric(data[col], errors="coerce").to_numpy(dtype=float)
+            garbled = np.isnan(Y[:, r]) & data[col].notna().to_numpy()
+            if garbled.any():
+                row = int(np.flatnonzero(garbled)[0])
+                raise ThermocalInputError(
+                    f"{source}: output column '{col}' has a non-numeric value "
+                    f"{data[col].iloc[row]!r} in row {row}; leave missing values empty (NaN)"
+                )
             if not np.isfinite(Y[:, r]).any():
                 raise ThermocalInputError(
                     f"{source}: output column '{col}' has no valid value (all NaN); "

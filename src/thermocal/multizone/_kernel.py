@@ -307,6 +307,19 @@ def run_steps(
     cache_member,
     cache_inv,
     cache_m,
+    use_dirichlet,
+    dlp,
+    dli,
+    dlx,
+    dup,
+    dui,
+    dux,
+    d_inv_diag,
+    d_inverse_r,
+    d_perm_c,
+    a_ptr,
+    a_idx,
+    a_val,
 ):
     """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
 
@@ -321,6 +334,7 @@ def run_steps(
     x_new = np.empty(n)
     q = np.zeros(nc)
     t_free = np.empty(nc)
+    rhs_d = np.empty(n)
     for s in range(n_steps):
         k = k0 + s
         # 1. rhs = C/dt x + B u_k
@@ -365,14 +379,57 @@ def run_steps(
         for z in range(nz):
             an = air_node[z]
             rhs[an] += inf_dh[k, z] * (t_out - x[an])
-        # 3. free response
-        lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+        # 3. every controlled zone at a set point in the previous step: try the Dirichlet system
+        #    (controlled air temperatures prescribed) -- one substitution; accept when the implied
+        #    powers have the right signs, else fall back to the general superposition below
+        done = False
+        if ideal_on and nc > 0 and use_dirichlet:
+            all_active = True
+            for c in range(nc):
+                if active[c] == 0:
+                    all_active = False
+                    break
+            if all_active:
+                for i in range(n):
+                    rhs_d[i] = rhs[i]
+                for c in range(nc):
+                    an = air_node[ctrl_zone[c]]
+                    rhs_d[an] = ctrl_heat_sp[c] if active[c] == 1 else ctrl_cool_sp[c]
+                lu_solve(
+                    dlp,
+                    dli,
+                    dlx,
+                    dup,
+                    dui,
+                    dux,
+                    d_inv_diag,
+                    d_inverse_r,
+                    d_perm_c,
+                    rhs_d,
+                    work,
+                    x_new,
+                )
+                done = True
+                for c in range(nc):
+                    an = air_node[ctrl_zone[c]]
+                    acc = -rhs[an]
+                    for p in range(a_ptr[c], a_ptr[c + 1]):
+                        acc += a_val[p] * x_new[a_idx[p]]
+                    q[c] = acc
+                    if (active[c] == 1 and acc < 0.0) or (active[c] == -1 and acc > 0.0):
+                        done = False
+                if not done:
+                    cache_m[5] += 1
+        if not done:
+            # free response
+            lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+            for c in range(nc):
+                q[c] = 0.0
         # 4. ideal loads
-        for c in range(nc):
-            q[c] = 0.0
-        if ideal_on and nc > 0:
+        if ideal_on and nc > 0 and not done:
             for c in range(nc):
                 t_free[c] = x_new[air_node[ctrl_zone[c]]]
+            cache_m[6] += 1
             ideal_loads(
                 t_free,
                 ctrl_heat_sp,

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from thermocal.errors import ThermocalInputError
@@ -48,6 +49,8 @@ class _Context:
     dt: float
     lu: object
     factors: tuple
+    dirichlet: tuple
+    air_rows: tuple
     c_dt: np.ndarray
     g_ctrl: np.ndarray
     inputs: np.ndarray
@@ -254,6 +257,8 @@ class Simulation:
         self._grid = _weather_grid(weather, self.step_size, start, end)
         self.times = self._grid.index
         self._site = self._site_from(self.metadata, building)
+        #: solve with prescribed air temperatures when every controlled zone sits at a set point
+        self.use_dirichlet = True
         self._assembly_cache: dict = {}
         self._input_cache: dict = {}
         self._build()
@@ -318,18 +323,34 @@ class Simulation:
         self._active = np.zeros(nc, dtype=np.int64)
         self._cache_member = np.zeros(nc, dtype=np.bool_)
         self._cache_inv = np.zeros((nc, nc))
-        # members (-1: invalid), updates since inversion, inversions, rank-one updates, iterations
-        self._cache_m = np.array([-1, 0, 0, 0, 0], dtype=np.int64)
+        # diagnostics: members (-1: invalid), updates since inversion, inversions, rank-one
+        # updates, active-set iterations, Dirichlet rejections, superposition calls
+        self._cache_m = np.zeros(8, dtype=np.int64)
+        self._cache_m[0] = -1
 
     def _context(self, dt: float, inputs, ext_dh_raw, inf_dh) -> _Context:
         """Factorisation and step-size dependent arrays for steps of ``dt`` seconds."""
         net = self.network
-        lu = splu(
-            net.system_matrix(dt),
-            permc_spec="MMD_AT_PLUS_A",
-            diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
+        matrix = net.system_matrix(dt)
+        lu = _factorise(matrix)
+        factors = _kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c)
+        dirichlet = factors
+        rows = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
+        if len(self._ctrl):
+            # the same system with the controlled air temperatures prescribed (identity rows)
+            air = net.air_node[self._ctrl]
+            keep = np.ones(net.n_nodes)
+            keep[air] = 0.0
+            prescribed = sp.diags(keep) @ matrix + sp.diags(1.0 - keep)
+            d_lu = _factorise(prescribed.tocsc())
+            dirichlet = _kernel.prepare_factors(d_lu.L, d_lu.U, d_lu.perm_r, d_lu.perm_c)
+            air_rows = matrix.tocsr()[air]
+            air_rows.sort_indices()
+            rows = (
+                air_rows.indptr.astype(np.int64),
+                air_rows.indices.astype(np.int64),
+                air_rows.data.copy(),
+            )
         if len(self._ctrl):
             unit = np.zeros((net.n_nodes, len(self._ctrl)))
             unit[net.air_node[self._ctrl], np.arange(len(self._ctrl))] = 1.0
@@ -343,7 +364,9 @@ class Simulation:
         return _Context(
             dt=dt,
             lu=lu,
-            factors=_kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c),
+            factors=factors,
+            dirichlet=dirichlet,
+            air_rows=rows,
             c_dt=net.capacity / dt,
             g_ctrl=g_ctrl,
             inputs=np.ascontiguousarray(inputs),
@@ -549,6 +572,9 @@ class Simulation:
             self._cache_member,
             self._cache_inv,
             self._cache_m,
+            len(self._ctrl) > 0 and self.use_dirichlet,
+            *context.dirichlet,
+            *context.air_rows,
         )
         return out_air, out_mrt, out_heat, out_cool, out_face
 
@@ -721,6 +747,17 @@ class Simulation:
             else pd.DataFrame(faces, index=index, columns=net.face_names),
             step=self.step_size,
         )
+
+
+def _factorise(matrix):
+    """Sparse LU with a symmetric minimum-degree ordering (the matrices are symmetric M-matrices,
+    so diagonal pivots are safe and the fill stays minimal)."""
+    return splu(
+        matrix,
+        permc_spec="MMD_AT_PLUS_A",
+        diag_pivot_thresh=0.0,
+        options={"SymmetricMode": True},
+    )
 
 
 def _window_inputs(wt, irradiance: dict, n_steps: int):

@@ -31,7 +31,17 @@ def read_table(path: Path, *, sep: str | None = None):
         raise ThermocalInputError(f"data file {path} could not be read as CSV: {exc}") from None
 
 
-@app.command()
+FIT_HELP = (
+    "Fit a grey-box RC model by maximum likelihood (Kalman filter).\n\n"
+    "Writes OUT/fit.json (log-likelihood, AIC, BIC, estimates with standard errors, correlation "
+    "matrix, flags, residual diagnostics) and PNG figures (measured vs one-step prediction, "
+    "residual autocorrelation, cumulated periodogram), and prints a summary. "
+    "Example: thermocal fit examples/models/TiTe.yaml inputPRBS1.csv --time-column t "
+    "--time-unit h --out fit_TiTe"
+)
+
+
+@app.command(help=FIT_HELP)
 def fit(
     model_file: Annotated[Path, typer.Argument(help="YAML model file (see docs/model-file.md).")],
     data_file: Annotated[Path, typer.Argument(help="CSV or Parquet file, inputs and outputs.")],
@@ -63,12 +73,7 @@ def fit(
         bool, typer.Option("--figures/--no-figures", help="Write PNG figures.")
     ] = True,
 ) -> None:
-    """Fit a grey-box RC model by maximum likelihood (Kalman filter).
-
-    Writes OUT/fit.json (log-likelihood, AIC, BIC, estimates with standard errors, correlation
-    matrix, flags, residual diagnostics) and PNG figures (measured vs one-step prediction,
-    residual autocorrelation, cumulated periodogram), and prints a summary.
-    """
+    """Fit a grey-box RC model (see :data:`FIT_HELP`)."""
     import json
 
     from rich.console import Console

@@ -174,3 +174,37 @@ def test_cli_simulate_writes_outputs(tmp_path, shared_data):
     ff = json.loads((tmp_path / "ff" / "summary.json").read_text())
     assert ff["building"]["heating_kWh"] == 0.0
     assert ff["zones"]["ground living"]["air_temperature_min_C"] < 20.0
+
+
+def test_multizone_ideal_loads_active_set_and_dirichlet_path_agree(shared_data):
+    """Heating and cooling set points in many coupled zones: both solution paths, exact bands."""
+    from thermocal.io.weather import read_weather
+
+    weather, meta = read_weather(shared_data("ashrae140_bestest", "725650TYCST.epw"))
+    clinic = generators.clinic(
+        12,
+        n_corridors=1,
+        corridor_sections=2,
+        heating_setpoint=20.0,
+        cooling_setpoint=22.0,
+        internal_gains_per_area=8.0,
+    )
+    results = []
+    for use_dirichlet in (True, False):
+        sim = Simulation(clinic, weather, meta, step="30min", start="2023-03-01", end="2023-03-08")
+        sim.use_dirichlet = use_dirichlet
+        results.append(sim.run())
+    fast, reference = results
+    air = fast.air_temperature.to_numpy()
+    assert air.min() >= 20.0 - 1e-7 and air.max() <= 22.0 + 1e-7
+    # some zones heat while others cool in the same step (sunny March days)
+    both = ((fast.heating > 0).any(axis=1) & (fast.cooling > 0).any(axis=1)).sum()
+    assert both > 0
+    assert np.allclose(fast.heating, reference.heating, atol=1e-6)
+    assert np.allclose(fast.cooling, reference.cooling, atol=1e-6)
+    # never heat and cool a zone at once, and free-floating zones need no power
+    assert not ((fast.heating > 0) & (fast.cooling > 0)).to_numpy().any()
+    inside = (air > 20.0 + 1e-6) & (air < 22.0 - 1e-6)
+    assert (fast.heating.to_numpy()[inside] == 0).all() and (
+        fast.cooling.to_numpy()[inside] == 0
+    ).all()

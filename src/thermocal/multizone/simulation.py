@@ -254,6 +254,7 @@ class Simulation:
         self.initial_temperature = float(initial_temperature)
         self.store_surfaces = bool(store_surfaces)
         self.sky_model = sky_model
+        self._weather = weather
         self._grid = _weather_grid(weather, self.step_size, start, end)
         self.times = self._grid.index
         self._site = self._site_from(self.metadata, building)
@@ -404,8 +405,18 @@ class Simulation:
                 depth = min(table, key=lambda d: abs(float(d) - 2.0))
                 monthly = np.asarray(table[depth], dtype=float)
             else:
-                monthly = np.full(12, self._mean_tout)
+                return self._kusuda_ground_temperature()
         return monthly[months]
+
+    def _kusuda_ground_temperature(self) -> np.ndarray:
+        """Undisturbed ground at 2 m from the weather's annual wave, else the mean outdoor air."""
+        from thermocal.physics.ground import ground_temperature, ground_temperature_parameters
+
+        try:
+            params = ground_temperature_parameters(self._weather)
+        except (ThermocalInputError, ValueError):
+            return np.full(len(self.times), self._mean_tout)
+        return ground_temperature(self.times, 2.0, **params).to_numpy(dtype=float)
 
     def _input_matrix(self) -> np.ndarray:
         """Inputs ``u`` (n_steps x n_inputs) and the explicit-correction coefficient series."""

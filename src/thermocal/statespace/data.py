@@ -37,6 +37,7 @@ class PreparedData:
     dts: np.ndarray
     U: np.ndarray
     Y: np.ndarray
+    time_unit: str = "s"
 
     @property
     def nobs(self) -> int:
@@ -206,4 +207,4 @@ def prepare_data(
     # otherwise differ in the last bits and defeat the uniform-sampling fast path
     dts = np.round(np.diff(seconds), 6)
     dts = np.append(dts, dts[-1])
-    return PreparedData(index=index, seconds=seconds, dts=dts, U=U, Y=Y)
+    return PreparedData(index=index, seconds=seconds, dts=dts, U=U, Y=Y, time_unit=time_unit)

@@ -26,11 +26,11 @@ def run_retrofit(config, *, progress=None):
     return _run(config, progress=progress)
 
 
-def write_outputs(analysis, out_dir, *, true_hlc=None, title=None):
+def write_outputs(analysis, out_dir, **options):
     """Write results.json, CSV, figures, report.html (see :mod:`thermocal.retrofit.outputs`)."""
     from thermocal.retrofit.outputs import write_outputs as _write
 
-    return _write(analysis, out_dir, true_hlc=true_hlc, title=title)
+    return _write(analysis, out_dir, **options)
 
 
 __all__ = [

@@ -255,6 +255,74 @@ def heating_curve(
 
 
 # ------------------------------------------------------------------------------------------
+# retrofits of the multi-zone house (the generator's answer to the 16 strategies)
+# ------------------------------------------------------------------------------------------
+#: Construction and the layer whose conductivity a measure changes (capacity unchanged, as
+#: paper 000 assumes), with the surface resistances of the audit U-value.
+MEASURE_LAYERS = {
+    "roof": ("roof", "wood-wool board", 0.10, 0.04),
+    "walls": ("external wall", "hollow clay brick", 0.13, 0.04),
+    "cellar_ceiling": ("cellar ceiling", "cork board", 0.17, 0.17),
+}
+
+
+def retrofit_parameters(mz, measures: dict[str, float]) -> dict[str, float]:
+    """Multi-zone parameter changes that give the measures' U-values (ISO 6946 definition).
+
+    Walls, roof and cellar ceiling: the conductivity of their insulating (or main) layer is
+    set so that the construction's U-value is the target; windows: the window U-value.
+    """
+    changes: dict[str, float] = {}
+    for measure, u_target in measures.items():
+        if measure == "windows":
+            for name in mz.window_types:
+                changes[f"window/{name}/u_value"] = float(u_target)
+            continue
+        construction, layer, r_si, r_se = MEASURE_LAYERS[measure]
+        layers = mz.construction_layers(construction)
+        r_other = sum(m.resistance for m in layers if m.name != layer)
+        material = mz.materials[layer]
+        r_needed = 1.0 / u_target - r_si - r_se - r_other
+        if r_needed <= 0:
+            raise ValueError(f"U-value {u_target} of measure {measure} is not reachable")
+        changes[f"material/{layer}/conductivity"] = material.thickness / r_needed
+    return changes
+
+
+def generator_annual_demand(
+    mz, weather, meta, measures: dict[str, float], strategies=None
+) -> dict[str, float]:
+    """Annual heating demand [kWh] of the multi-zone house for each strategy.
+
+    Ideal heating of every heated zone at its set point (20 C), one-hour step, the whole
+    weather year after a 7-day warm-up: the reference the fifth-order model's scenario
+    predictions (run with a constant 20 C profile) are checked against.
+    """
+    from thermocal.multizone.simulation import Simulation
+    from thermocal.retrofit.strategies import all_strategies
+
+    out = {}
+    for strategy in strategies or all_strategies():
+        building = (
+            mz.with_parameters(retrofit_parameters(mz, {m: measures[m] for m in strategy.measures}))
+            if strategy.measures
+            else mz
+        )
+        sim = Simulation(
+            building,
+            weather,
+            meta,
+            step="1h",
+            warmup_days=7,
+            store_surfaces=False,
+            options=network_options(),
+        )
+        res = sim.run()
+        out[strategy.code] = float(res.heating.to_numpy().sum() / 1000.0)
+    return out
+
+
+# ------------------------------------------------------------------------------------------
 # generation
 # ------------------------------------------------------------------------------------------
 def _monthly_ground(weather: pd.DataFrame, depth: float = 2.0) -> tuple[float, ...]:
@@ -394,8 +462,14 @@ def generate_demo_data(
                          1.0),
         "Ti": _quantise(hourly["ti"] + rng.normal(0, 0.1, nh), 0.1),
     })  # fmt: skip
+    from thermocal.retrofit.strategies import PAPER_MEASURE_U_VALUES
+
+    annual = generator_annual_demand(mz, weather, meta, PAPER_MEASURE_U_VALUES)
     truth = {
         "heat_loss_coefficient_W_per_K": true_hlc,
+        "annual_heating_demand_20C_kWh": annual,
+        "annual_heating_demand_note": "multi-zone model, ideal heating of every heated zone "
+        "at 20 C, whole weather year, 1-h step; retrofits = paper 000 Table 1 U-values",
         "heat_loss_coefficient_without_ground_W_per_K": hlc_without_ground,
         "heat_delivered_kWh": float(frame["heat"].sum() * dt / 3.6e6),
         "mean_indoor_temperature_C": float(frame["ti"].mean()),

@@ -203,8 +203,16 @@ def write_outputs(
     *,
     true_hlc: float | None = None,
     title: str | None = None,
+    reference_demands: dict[str, float] | None = None,
+    reference_label: str = "reference",
 ) -> dict:
     """Write results.json, the CSV tables, the figures and report.html into ``out_dir``.
+
+    Parameters
+    ----------
+    reference_demands : dict code -> kWh, optional
+        Annual demands at a constant 20 C of some or all strategies from another model (the
+        demo: the multi-zone generator); compared with the model's at 20 C.
 
     Returns
     -------
@@ -214,6 +222,12 @@ def write_outputs(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     results = results_dict(analysis, true_hlc=true_hlc)
+    if reference_demands:
+        from thermocal.retrofit.workflow import compare_with_reference_demands
+
+        check = compare_with_reference_demands(analysis, reference_demands)
+        check["reference"] = reference_label
+        results["reference_check"] = _clean(check)
     (out / "results.json").write_text(json.dumps(results, indent=2))
     tables = write_tables(analysis, out, results)
     from thermocal.report.figures import close, figure_to_png
@@ -321,6 +335,8 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
     measured = None
     if ref.measured_fuel_kWh is not None:
         measured = ref.measured_fuel_kWh * (ref.boiler_efficiency or 1.0)
+    if "reference_check" in results:
+        figs["reference_check"] = _reference_figure(results["reference_check"])
     figs["scenario_demand"] = plot_bars_with_intervals(
         list(scen["code"]),
         scen["annual_kWh"],
@@ -333,6 +349,38 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
         title="Annual heating demand per strategy",
     )
     return figs
+
+
+def _reference_figure(check: dict):
+    import matplotlib.pyplot as plt
+
+    rows = check["strategies"]
+    codes = [r["code"] for r in rows]
+    x = np.arange(len(codes))
+    model = np.array([r["model_saving_pct"] for r in rows])
+    lo = np.array([r["model_saving_pct_p05"] for r in rows])
+    hi = np.array([r["model_saving_pct_p95"] for r in rows])
+    ref = np.array(
+        [np.nan if r["reference_saving_pct"] is None else r["reference_saving_pct"] for r in rows]
+    )
+    fig, ax = plt.subplots(figsize=(10, 3.8))
+    ax.bar(
+        x - 0.2,
+        model,
+        0.4,
+        color="#1b6ca8",
+        label="fifth-order model (calibrated)",
+        yerr=np.clip(np.vstack([model - lo, hi - model]), 0, None),
+        capsize=2,
+    )
+    ax.bar(x + 0.2, ref, 0.4, color="#d95f02", label=check.get("reference", "reference"))
+    ax.set_xticks(x, codes)
+    ax.set_ylabel(f"Saving at {check['setpoint_C']:.0f} C [%]")
+    ax.set_title("Retrofit savings: calibrated model vs reference", loc="left", fontsize=11)
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(frameon=False, fontsize=9)
+    fig.tight_layout()
+    return fig
 
 
 def write_report(
@@ -486,6 +534,20 @@ def write_report(
         },
         highlight_rows=[i for i, c in enumerate(scen["code"]) if c in ("3c", "4")],
     )
+    if "reference_check" in results:
+        check = results["reference_check"]
+        rep.heading(f"Check against {check['reference']}")
+        rep.paragraph(
+            f"Annual demand of every strategy with a constant indoor temperature of "
+            f"{check['setpoint_C']:.0f} C, from the calibrated fifth-order model and from "
+            f"{check['reference']}."
+        )
+        rep.figure(figures["reference_check"], caption="Savings: model vs reference")
+        rep.table(
+            pd.DataFrame(check["strategies"]),
+            caption="Model vs reference at constant set point",
+            number_format="{:,.1f}",
+        )
     rep.paragraph(
         f"Intervals: {cfg.uncertainty.draws} draws of (H_est, capacities) from the estimated "
         "covariance (truncated to the bounds); savings are paired (same draw for strategy and "

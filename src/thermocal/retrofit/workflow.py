@@ -66,6 +66,8 @@ class RetrofitAnalysis:
     strategies: list[Strategy]
     demand: DemandResult
     weather_meta: dict
+    year_inputs: pd.DataFrame | None = None  # demand-model inputs of the weather year
+    draws: dict[str, np.ndarray] | None = None  # parameter sets (SI), first = estimate
     timings: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
 
@@ -295,7 +297,8 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         config=cfg, building=building, model=model, calibration=cal, data=inputs,
         training=training, test=test, simulated_ti=sim_ti, validation=validation,
         indoor_profile=profile, strategies=strategies, demand=demand,
-        weather_meta=weather_meta, timings=timings, notes=notes,
+        weather_meta=weather_meta, year_inputs=year[list(DEMAND_INPUTS)], draws=draws,
+        timings=timings, notes=notes,
     )  # fmt: skip
 
 
@@ -313,6 +316,56 @@ def _location_tz(building):
         return tz
     offset = _dt.datetime(2001, 1, 15, tzinfo=zone).utcoffset()
     return offset.total_seconds() / 3600.0
+
+
+def compare_with_reference_demands(
+    analysis: RetrofitAnalysis, reference_kwh: dict[str, float], setpoint: float = 20.0
+) -> dict:
+    """The model's annual demand and savings at a constant set point next to reference values.
+
+    Parameters
+    ----------
+    analysis : RetrofitAnalysis
+    reference_kwh : dict code -> annual demand [kWh]
+        e.g. the demo generator's multi-zone answer for the 16 strategies.
+    setpoint : float [C]
+        Constant indoor set point used for both.
+
+    Returns
+    -------
+    dict with ``setpoint_C`` and ``strategies``: per code the model's annual kWh (estimate,
+    p05, p95), saving [%] (estimate, p05, p95), the reference kWh and saving [%].
+    """
+    cfg = analysis.config
+    envelopes = [
+        analysis.model.envelope.with_measures({m: cfg.measures[m] for m in s.measures})
+        for s in analysis.strategies
+    ]
+    res = simulate_demand(
+        analysis.model, analysis.draws, envelopes, analysis.year_inputs, float(setpoint)
+    )
+    annual = res.annual_kwh()
+    lo_q = 0.5 * (1.0 - cfg.uncertainty.interval)
+    base_ref = reference_kwh.get("0")
+    rows = []
+    for i, s in enumerate(analysis.strategies):
+        d = annual[i, 1:] if annual.shape[1] > 1 else annual[i, :1]
+        sv_all = 100.0 * (1.0 - annual[i] / annual[0])
+        sv = sv_all[1:] if annual.shape[1] > 1 else sv_all[:1]
+        ref = reference_kwh.get(s.code)
+        rows.append({
+            "code": s.code,
+            "model_kWh": float(annual[i, 0]),
+            "model_kWh_p05": float(np.quantile(d, lo_q)),
+            "model_kWh_p95": float(np.quantile(d, 1 - lo_q)),
+            "model_saving_pct": float(sv_all[0]),
+            "model_saving_pct_p05": float(np.quantile(sv, lo_q)),
+            "model_saving_pct_p95": float(np.quantile(sv, 1 - lo_q)),
+            "reference_kWh": None if ref is None else float(ref),
+            "reference_saving_pct": None if ref is None or not base_ref
+            else float(100.0 * (1.0 - ref / base_ref)),
+        })  # fmt: skip
+    return {"setpoint_C": float(setpoint), "strategies": rows}
 
 
 def heat_loss_coefficient_draws(analysis: RetrofitAnalysis, h_est: np.ndarray) -> np.ndarray:

@@ -612,6 +612,11 @@ class Simulation:
         heat = heat.reshape(1, nz) if heat.size == nz else None
         if heat is None:
             raise ThermocalInputError(f"Simulation.step: zone_heat_W must have {nz} values")
+        if not np.isfinite(heat).all():
+            raise ThermocalInputError(
+                "Simulation.step: zone_heat_W contains NaN or infinite values (an unstable "
+                "controller?)"
+            )
         out = self._advance(self._k, 1, heat, ideal=not self._step_free_float, store=False)
         self._k += 1
         self.last_heating = out[2][0]

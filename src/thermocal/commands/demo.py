@@ -56,6 +56,7 @@ def demo(
             true_hlc=true_hlc,
             title="thermocal demo: retrofit analysis of a 1950s house",
             reference_demands=truth.get("annual_heating_demand_20C_kWh"),
+            reference_monthly=truth.get("monthly_heating_demand_20C_kWh"),
             reference_label="the generator (multi-zone model, ideal heating at 20 C)",
         )
     print_summary(results, out)

@@ -297,6 +297,11 @@ def generator_annual_demand(
     Ideal heating of every heated zone at its set point (20 C), one-hour step, the whole
     weather year after a 7-day warm-up: the reference the fifth-order model's scenario
     predictions (run with a constant 20 C profile) are checked against.
+
+    Returns
+    -------
+    annual : dict code -> kWh
+    monthly : list of 12 kWh of the house as it is (strategy 0)
     """
     from thermocal.multizone.simulation import Simulation
     from thermocal.retrofit.strategies import all_strategies
@@ -318,8 +323,12 @@ def generator_annual_demand(
             options=network_options(),
         )
         res = sim.run()
-        out[strategy.code] = float(res.heating.to_numpy().sum() / 1000.0)
-    return out
+        total = res.heating.sum(axis=1)
+        out[strategy.code] = float(total.sum() / 1000.0)
+        if strategy.code == "0":
+            monthly = total.groupby(total.index.month).sum().reindex(range(1, 13), fill_value=0)
+            out_monthly = [float(v / 1000.0) for v in monthly.to_numpy()]
+    return out, out_monthly
 
 
 # ------------------------------------------------------------------------------------------
@@ -464,10 +473,11 @@ def generate_demo_data(
     })  # fmt: skip
     from thermocal.retrofit.strategies import PAPER_MEASURE_U_VALUES
 
-    annual = generator_annual_demand(mz, weather, meta, PAPER_MEASURE_U_VALUES)
+    annual, monthly = generator_annual_demand(mz, weather, meta, PAPER_MEASURE_U_VALUES)
     truth = {
         "heat_loss_coefficient_W_per_K": true_hlc,
         "annual_heating_demand_20C_kWh": annual,
+        "monthly_heating_demand_20C_kWh": monthly,
         "annual_heating_demand_note": "multi-zone model, ideal heating of every heated zone "
         "at 20 C, whole weather year, 1-h step; retrofits = paper 000 Table 1 U-values",
         "heat_loss_coefficient_without_ground_W_per_K": hlc_without_ground,

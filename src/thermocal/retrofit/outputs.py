@@ -204,6 +204,7 @@ def write_outputs(
     true_hlc: float | None = None,
     title: str | None = None,
     reference_demands: dict[str, float] | None = None,
+    reference_monthly: list[float] | None = None,
     reference_label: str = "reference",
 ) -> dict:
     """Write results.json, the CSV tables, the figures and report.html into ``out_dir``.
@@ -227,6 +228,8 @@ def write_outputs(
 
         check = compare_with_reference_demands(analysis, reference_demands)
         check["reference"] = reference_label
+        if reference_monthly is not None:
+            check["monthly_reference_kWh"] = list(reference_monthly)
         results["reference_check"] = _clean(check)
     (out / "results.json").write_text(json.dumps(results, indent=2))
     tables = write_tables(analysis, out, results)
@@ -336,7 +339,16 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
     if ref.measured_fuel_kWh is not None:
         measured = ref.measured_fuel_kWh * (ref.boiler_efficiency or 1.0)
     if "reference_check" in results:
-        figs["reference_check"] = _reference_figure(results["reference_check"])
+        check = results["reference_check"]
+        figs["reference_check"] = _reference_figure(check)
+        if "monthly_reference_kWh" in check:
+            figs["monthly_reference_check"] = plot_monthly_bars(
+                check["monthly_model_kWh"], low=check["monthly_model_kWh_p05"],
+                high=check["monthly_model_kWh_p95"], reference=check["monthly_reference_kWh"],
+                reference_label="reference", label="calibrated model",
+                title=f"Monthly heating demand at {check['setpoint_C']:.0f} C: model vs "
+                "reference",
+            )  # fmt: skip
     figs["scenario_demand"] = plot_bars_with_intervals(
         list(scen["code"]),
         scen["annual_kWh"],
@@ -543,6 +555,12 @@ def write_report(
             f"{check['reference']}."
         )
         rep.figure(figures["reference_check"], caption="Savings: model vs reference")
+        if "monthly_reference_check" in figures:
+            rep.figure(
+                figures["monthly_reference_check"],
+                caption=f"Monthly demand at {check['setpoint_C']:.0f} C: model vs "
+                f"{check['reference']}",
+            )
         rep.table(
             pd.DataFrame(check["strategies"]),
             caption="Model vs reference at constant set point",

@@ -365,7 +365,18 @@ def compare_with_reference_demands(
             "reference_saving_pct": None if ref is None or not base_ref
             else float(100.0 * (1.0 - ref / base_ref)),
         })  # fmt: skip
-    return {"setpoint_C": float(setpoint), "strategies": rows}
+    monthly = res.monthly_kwh()[0]
+    return {
+        "setpoint_C": float(setpoint),
+        "strategies": rows,
+        "monthly_model_kWh": [float(v) for v in monthly[0]],
+        "monthly_model_kWh_p05": [float(v) for v in np.quantile(monthly[1:], lo_q, axis=0)]
+        if monthly.shape[0] > 1
+        else [float(v) for v in monthly[0]],
+        "monthly_model_kWh_p95": [float(v) for v in np.quantile(monthly[1:], 1 - lo_q, axis=0)]
+        if monthly.shape[0] > 1
+        else [float(v) for v in monthly[0]],
+    }
 
 
 def heat_loss_coefficient_draws(analysis: RetrofitAnalysis, h_est: np.ndarray) -> np.ndarray:

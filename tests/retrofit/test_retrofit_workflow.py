@@ -179,3 +179,26 @@ def test_cli_prints_input_error_without_traceback(synthetic, tmp_path):
     )
     assert proc.returncode == 2
     assert "DNI" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_gaps_in_indoor_temperature_and_finer_logging(synthetic, tmp_path):
+    """10-minute logging (resampled to hourly means), an inline building, and a day of
+    missing indoor temperature: the fit skips the missing outputs and still recovers HLC."""
+    folder, config, analysis, results = synthetic
+
+    def csv_edit(m):
+        m["time"] = pd.to_datetime(m["time"])
+        fine = m.set_index("time").resample("10min").ffill()
+        fine.loc[fine.index[-1] + pd.Timedelta("10min")] = fine.iloc[-1]
+        fine = fine.iloc[:-1].reset_index()
+        fine.loc[(fine["time"] >= "2001-02-06") & (fine["time"] < "2001-02-07"), "Ti"] = np.nan
+        return fine
+
+    def cfg_edit(cfg, building, folder_):
+        cfg["building"] = building
+
+    config2 = _variant(synthetic, tmp_path, cfg_edit=cfg_edit, csv_edit=csv_edit)
+    result = run_retrofit(load_config(config2))
+    ref = results["heat_loss_coefficient_W_per_K"]["value"]
+    assert result.calibration.heat_loss_coefficient == pytest.approx(ref, rel=0.03)
+    assert result.validation["train"]["n"] == 14 * 24 - 24

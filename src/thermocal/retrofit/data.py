@@ -72,7 +72,14 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
             raise ThermocalInputError(
                 f"measurement file {path}: timestamps have no time zone; set measurements.timezone"
             )
-        index = index.tz_localize(tz)
+        try:
+            index = index.tz_localize(tz, ambiguous="infer", nonexistent="shift_forward")
+        except Exception as exc:  # noqa: BLE001 - pandas raises several types here
+            raise ThermocalInputError(
+                f"measurement file {path}: naive timestamps cannot be placed in time zone {tz!r}"
+                f" ({exc}); give measurements.timezone as a fixed offset in hours (local "
+                "standard time) or write the offset into the timestamps"
+            ) from None
     if index.has_duplicates:
         dup = index[index.duplicated()][0]
         raise ThermocalInputError(f"measurement file {path}: duplicated timestamp {dup}")

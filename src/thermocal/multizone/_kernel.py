@@ -122,7 +122,7 @@ def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
 
     The cached set is moved to the active one by symmetric rank-one down- and updates
     (bordering formulas, O(m^2) each); a fresh inversion when many zones change, when the cache
-    is invalid (``cache_m[0] < 0``) or after 64 updates (round-off control).
+    is invalid (``cache_m[0] < 0``) or after 512 updates (round-off control).
     """
     nc = active.shape[0]
     n_diff = 0
@@ -135,7 +135,7 @@ def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
     for c in range(nc):
         if active[c] != 0:
             m_new += 1
-    if cache_m[0] < 0 or cache_m[1] + n_diff > 64 or n_diff > 8:
+    if cache_m[0] < 0 or cache_m[1] + n_diff > 512 or n_diff > max(8, m_new // 3):
         idx = np.empty(m_new, dtype=np.int64)
         j = 0
         for c in range(nc):

@@ -208,3 +208,32 @@ def test_multizone_ideal_loads_active_set_and_dirichlet_path_agree(shared_data):
     assert (fast.heating.to_numpy()[inside] == 0).all() and (
         fast.cooling.to_numpy()[inside] == 0
     ).all()
+
+
+def test_set_parameters_equals_a_fresh_simulation(shared_data):
+    """The caches reused by set_parameters must not leak the old parameter values."""
+    from thermocal.io.weather import read_weather
+
+    weather, meta = read_weather(shared_data("ashrae140_bestest", "725650TYCST.epw"))
+    clinic = generators.clinic(12, n_corridors=1, corridor_sections=2, heating_setpoint=20.0)
+    change = {
+        "material/Concrete block/conductivity": 1.2,
+        "material/Gypsum board/thickness": 0.03,
+        "material/R16 insulation/resistance": 1.5,
+        "material/Roof insulation/density": 400.0,
+        "material/Carpet/specific_heat": 1500.0,
+        "window/Exterior window/u_value": 2.0,
+        "window/Exterior window/shgc": 0.3,
+        "window/Skylight/shgc": 0.4,
+        "infiltration/row 1 west/ach": 0.8,
+        "infiltration/corridor 1/ach": 0.05,
+    }
+    kwargs = dict(step="1h", start="2023-02-01", end="2023-02-05")
+    sim = Simulation(clinic, weather, meta, **kwargs)
+    before = sim.run()
+    sim.set_parameters(change)
+    after = sim.run()
+    fresh = Simulation(clinic.with_parameters(change), weather, meta, **kwargs).run()
+    assert np.allclose(after.heating, fresh.heating, rtol=1e-9, atol=1e-6)
+    assert np.allclose(after.transmitted_solar, fresh.transmitted_solar, rtol=1e-12)
+    assert not np.allclose(after.heating, before.heating, rtol=1e-3)

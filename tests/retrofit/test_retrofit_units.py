@@ -87,9 +87,10 @@ def test_element_conductances_series_equals_u_times_area():
 
 
 def test_iso13370_slab_known_value():
-    # ISO 13370 Eq. (5): B' = 10 m, dt = 0.3 + 2 (0.17 + 0 + 0.04) = 0.72 m
-    u = iso13370_slab_u_value(100.0, 20.0, 0.0, wall_thickness=0.3, soil_conductivity=2.0)
-    b, dt = 10.0, 0.3 + 2.0 * 0.21
+    # ISO 13370 Eq. (5): 10 m x 10 m, B' = 100 / (0.5 x 40) = 5 m,
+    # dt = 0.3 + 2 (0.17 + 0 + 0.04) = 0.72 m
+    u = iso13370_slab_u_value(100.0, 40.0, 0.0, wall_thickness=0.3, soil_conductivity=2.0)
+    b, dt = 5.0, 0.3 + 2.0 * 0.21
     assert u == pytest.approx(2 * 2.0 / (np.pi * b + dt) * np.log(np.pi * b / dt + 1))
 
 

@@ -54,7 +54,6 @@ RADIATOR_EXPONENT = 1.3
 DESIGN_SUPPLY = 65.0  # [C]
 DESIGN_SPREAD = 15.0  # [K] supply - return at design
 CP_WATER = 4186.0  # [J/(kg K)]
-RHO_WATER = 985.0  # [kg/m3] at about 50 C
 DAY_SETPOINT, NIGHT_SETPOINT = 21.5, 18.5  # [C]
 MEASUREMENT_COLUMNS = ("time", "Te", "V_dot", "T_supply", "T_return", "DNI", "DHI", "Ti")
 
@@ -458,7 +457,11 @@ def generate_demo_data(
     wh = weather.loc[(weather.index >= start) & (weather.index < end)]
     rng = np.random.default_rng(seed)
     nh = len(hourly)
-    flow_lh = hourly["flow"].to_numpy() / RHO_WATER * 3.6e6  # kg/s -> l/h
+    from thermocal.physics.hydronics import water_density
+
+    # volume flow at the meter in the return pipe (EN 1434), kg/s -> l/h
+    rho = np.asarray(water_density(hourly["ret"].to_numpy(float)), float)
+    flow_lh = hourly["flow"].to_numpy() / rho * 3.6e6
     meas = pd.DataFrame({
         "time": hourly.index.tz_localize(None),
         "Te": _quantise(hourly["te"] + rng.normal(0, 0.2, nh), 0.1),

@@ -61,46 +61,34 @@ def heating_power(flow, temp_supply, temp_return):
 
 
 def ground_temperature_parameters(weather: pd.DataFrame) -> dict[str, float]:
-    """Annual mean, amplitude [K] and day of the minimum of the air temperature of a year.
+    """Annual mean [C], amplitude [K] and day of the minimum of the air temperature of a year.
 
-    Fits ``T(d) = mean - amplitude cos(2 pi (d - phase_day) / 365.25)`` to daily means.
+    See :func:`thermocal.physics.ground.ground_temperature_parameters`.
     """
-    daily = weather["temp_air"].resample("1D").mean().dropna()
-    doy = daily.index.day_of_year.to_numpy(float)
-    w = 2 * np.pi / 365.25
-    design = np.column_stack([np.ones_like(doy), np.cos(w * doy), np.sin(w * doy)])
-    coef, *_ = np.linalg.lstsq(design, daily.to_numpy(float), rcond=None)
-    amplitude = float(np.hypot(coef[1], coef[2]))
-    phase = float(np.arctan2(-coef[2], -coef[1]) / w) % 365.25  # day of the minimum
-    return {"annual_mean": float(coef[0]), "amplitude": amplitude, "phase_day": phase}
+    from thermocal.physics.ground import ground_temperature_parameters as _params
+
+    return _params(weather)
 
 
 def ground_temperature(
-    times: pd.DatetimeIndex,
-    params: dict[str, float],
-    depth: float = 2.0,
-    diffusivity: float = 0.5e-6,
+    times: pd.DatetimeIndex, params: dict[str, float], depth: float = 2.0
 ) -> pd.Series:
-    """Undisturbed ground temperature at ``depth`` [C] (damped, delayed annual wave).
+    """Undisturbed ground temperature at ``depth`` [m] in [C] (damped, delayed annual wave).
 
     Parameters
     ----------
     times : pd.DatetimeIndex
     params : dict from :func:`ground_temperature_parameters`
     depth : float [m]
-    diffusivity : float [m2/s] of the soil (0.5e-6 moist soil).
 
     References
     ----------
-    Kusuda, T. and Achenbach, P. R. (1965); ISO 13370:2017 Annex F (periodic ground
-    temperatures); the approach of Zuercher & Frank (2018) cited by paper 000.
+    Kusuda and Achenbach (1965); Zuercher and Frank (2018), as in paper 000; implemented by
+    :func:`thermocal.physics.ground.ground_temperature`.
     """
-    period = 365.25 * 86400.0
-    damping = depth * np.sqrt(np.pi / (diffusivity * period))
-    doy = (times.day_of_year.to_numpy(float) - 1.0) + times.hour.to_numpy(float) / 24.0
-    arg = 2 * np.pi * (doy - params["phase_day"]) / 365.25 - damping
-    values = params["annual_mean"] - params["amplitude"] * np.exp(-damping) * np.cos(arg)
-    return pd.Series(values, index=times, name="Tgr")
+    from thermocal.physics.ground import ground_temperature as _ground
+
+    return _ground(times, depth, **params).rename("Tgr")
 
 
 def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:

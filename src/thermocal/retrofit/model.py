@@ -44,7 +44,6 @@ ISO 13790:2008, 12.2.2 (internal heat capacity classes, effective mass area).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -128,9 +127,9 @@ def element_conductances(area, u_value, r_si, r_se):
 
 
 def iso13370_slab_u_value(
-    area, perimeter, floor_resistance, *, wall_thickness=0.3, soil_conductivity=2.0, depth=0.0
+    area, perimeter, floor_resistance, *, wall_thickness=0.3, soil_conductivity=2.0
 ):
-    """Steady-state U-value of a slab on ground or heated-basement floor (ISO 13370).
+    """Steady-state U-value of a slab on ground [W/(m2 K)] (ISO 13370:2017 Eqs. 2-5).
 
     Parameters
     ----------
@@ -139,51 +138,17 @@ def iso13370_slab_u_value(
     floor_resistance : float [m2 K/W] thermal resistance of the floor construction (Rf).
     wall_thickness : float [m]
     soil_conductivity : float [W/(m K)]
-    depth : float [m] depth of the floor below ground (0 for slab on ground).
 
-    Returns
-    -------
-    float [W/(m2 K)]
-
-    References
-    ----------
-    ISO 13370:2017, Eq. (5)-(7) (slab) and Eq. (12)-(13) (basement floor).
+    See :func:`thermocal.physics.ground.iso13370_slab_on_ground`.
     """
-    b_prime = area / (0.5 * perimeter)
-    d_t = wall_thickness + soil_conductivity * (R_SI["downward"] + floor_resistance + R_SE)
-    d_eff = d_t + 0.5 * depth
-    if d_eff < b_prime:
-        return (
-            2.0
-            * soil_conductivity
-            / (math.pi * b_prime + d_eff)
-            * math.log(math.pi * b_prime / d_eff + 1.0)
-        )
-    return soil_conductivity / (0.457 * b_prime + d_eff)
+    from thermocal.physics.ground import iso13370_slab_on_ground
 
-
-def iso13370_basement_wall_u_value(
-    depth, wall_resistance, floor_equivalent_thickness, soil_conductivity=2.0
-):
-    """U-value of basement walls below grade, ISO 13370:2017 Eq. (14).
-
-    Parameters
-    ----------
-    depth : float [m] depth of the basement floor below ground.
-    wall_resistance : float [m2 K/W]
-    floor_equivalent_thickness : float [m] ``d_t`` of the basement floor.
-    soil_conductivity : float [W/(m K)]
-
-    Returns
-    -------
-    float [W/(m2 K)]
-    """
-    d_w = soil_conductivity * (R_SI["horizontal"] + wall_resistance + R_SE)
-    d_t = floor_equivalent_thickness
-    return (
-        (2.0 * soil_conductivity / (math.pi * depth))
-        * (1.0 + 0.5 * d_t / (d_t + depth))
-        * (math.log(depth / d_w + 1.0))
+    return iso13370_slab_on_ground(
+        area,
+        perimeter,
+        wall_thickness=wall_thickness,
+        floor_resistance=floor_resistance,
+        soil_conductivity=soil_conductivity,
     )
 
 
@@ -284,13 +249,18 @@ def ground_path(building, envelope: EnvelopeComponents) -> GroundPath:
         h_above = float(g.basement_wall_height_above_ground)
         ach = float(g.basement_air_change_rate)
         volume = float(g.basement_volume or area * (depth + h_above))
-        u_bf = iso13370_slab_u_value(
-            area, perimeter, r_floor, wall_thickness=w, soil_conductivity=lam, depth=depth
-        )
-        d_t = w + lam * (R_SI["downward"] + r_floor + R_SE)
-        u_bw = iso13370_basement_wall_u_value(depth, r_wall, d_t, lam)
-        to_ground = area * u_bf + depth * perimeter * u_bw
-        to_air = h_above * perimeter * u_wall + 0.33 * ach * volume
+        from thermocal.physics.ground import iso13370_unheated_basement
+
+        parts = iso13370_unheated_basement(
+            area, perimeter, depth, u_ceiling=envelope.floor_u, wall_thickness=w,
+            u_wall_above_ground=u_wall, height_above_ground=h_above, basement_volume=volume,
+            air_changes=ach, floor_resistance=r_floor, wall_resistance=r_wall,
+            soil_conductivity=lam,
+        )  # fmt: skip
+        # split the basement's losses: floor and walls below grade -> ground; walls above
+        # grade and ventilation -> outdoor air
+        to_ground = area * parts["u_floor"] + depth * perimeter * parts["u_wall"]
+        to_air = parts["basement_loss_coefficient"] - to_ground
         return GroundPath(to_ground, to_air, "unheated_basement")
     r_floor = max(1.0 / envelope.floor_u - R_SI["downward"] - R_SE, 0.0)
     u_slab = iso13370_slab_u_value(

@@ -862,9 +862,15 @@ class Building:
                 raise ThermocalInputError(
                     f"unknown building parameter '{key}'{hint} (see Building.parameters())"
                 )
-        return dataclasses.replace(
+        changed = dataclasses.replace(
             self, materials=materials, window_types=window_types, zones=zones
         )
+        # keep extra attributes such as the IDF importer's ``idf_info``
+        fields = {f.name for f in dataclasses.fields(self)}
+        for key, value in self.__dict__.items():
+            if key not in fields:
+                setattr(changed, key, value)
+        return changed
 
 
 def construction_u_value(

@@ -202,3 +202,32 @@ def test_gaps_in_indoor_temperature_and_finer_logging(synthetic, tmp_path):
     ref = results["heat_loss_coefficient_W_per_K"]["value"]
     assert result.calibration.heat_loss_coefficient == pytest.approx(ref, rel=0.03)
     assert result.validation["train"]["n"] == 14 * 24 - 24
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda m: pd.concat([m.iloc[:5], m.iloc[3:4], m.iloc[5:]]), "duplicated timestamp"),
+        (lambda m: m.iloc[[1, 0] + list(range(2, len(m)))], "not increasing at row 3"),
+        (
+            lambda m: m.assign(Ti=m["Ti"].astype(object).where(m.index != 7, "21,5")),
+            "'Ti' row 9 is not a number",
+        ),
+        (lambda m: m.drop(columns=["time"]), "time column 'time' not found"),
+    ],
+)
+def test_bad_timestamps_and_cells(synthetic, tmp_path, edit, message):
+    config = _variant(synthetic, tmp_path, csv_edit=edit)
+    with pytest.raises(ThermocalInputError, match=message):
+        run_retrofit(load_config(config))
+
+
+def test_missing_files_are_named(synthetic, tmp_path):
+    def edit(cfg, building, folder):
+        cfg["weather"] = {"file": "nowhere.epw"}
+
+    config = _variant(synthetic, tmp_path, cfg_edit=edit)
+    with pytest.raises(ThermocalInputError, match="nowhere.epw"):
+        run_retrofit(load_config(config))
+    with pytest.raises(ThermocalInputError, match="not found"):
+        load_config(tmp_path / "missing.yaml")

@@ -121,7 +121,10 @@ def main() -> None:
     for _, row in result.table.iterrows():
         stat = "" if pd.isna(row["statistic"]) else f"{row['statistic']:.1f}"
         df = "" if pd.isna(row["df"]) else f"{int(row['df'])}"
-        pval = "" if pd.isna(row["pvalue"]) else f"{row['pvalue']:.2g}"
+        if pd.isna(row["pvalue"]):
+            pval = ""
+        else:
+            pval = "< 1e-16" if row["pvalue"] < 1e-16 else f"{row['pvalue']:.2g}"
         lines.append(
             f"| {row['iteration']} | {row['model']} | {row['parent']} | {row['loglike']:.1f} | "
             f"{row['n_free']} | {stat} | {df} | {pval} | {'yes' if row['selected'] else ''} | "

@@ -32,7 +32,7 @@ from thermocal.statespace.data import PreparedData, prepare_data
 GRADIENT_STEP = 1e-6
 #: The optimiser stops when the log-likelihood gained less than STALL_TOLERANCE over the last
 #: STALL_WINDOW iterations (far below what matters for likelihood-ratio tests or standard errors).
-STALL_TOLERANCE = 1e-4
+STALL_TOLERANCE = 1e-3
 STALL_WINDOW = 10
 #: A noise standard deviation that ends below this fraction of its start value is taken as
 #: collapsed (see :func:`_escape_vanishing_noise`).
@@ -186,15 +186,16 @@ def _diagonal_metric(problem: LikelihoodProblem, theta: np.ndarray, h: float = 1
     With the identity as initial metric, the first BFGS step is the raw gradient, which for
     capacities and conductances in log space can jump by factors of e^100 into degenerate regions.
     """
-    f0 = problem.objective(theta)[0]
+    theta = problem.clip(theta)
+    f0 = -problem.loglike(theta) / problem.scale
     k = theta.size
     curv = np.empty(k)
     for i in range(k):
         e = np.zeros(k)
         e[i] = h
-        curv[i] = (
-            problem.objective(theta + e)[0] - 2.0 * f0 + problem.objective(theta - e)[0]
-        ) / h**2
+        fp = -problem.loglike(theta + e) / problem.scale
+        fm = -problem.loglike(theta - e) / problem.scale
+        curv[i] = (fp - 2.0 * f0 + fm) / h**2
     curv = np.abs(curv)
     floor = max(1e-2 * curv.max(), 1e-8) if np.all(np.isfinite(curv)) else 1.0
     curv = np.where(np.isfinite(curv), np.maximum(curv, floor), 1.0 / floor)

@@ -263,6 +263,53 @@ def discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q):
             Q[j, i] = acc
 
 
+@njit(cache=True, error_model="numpy")
+def modal_discretise(lam, TB, M, dt, foh, e, G0, G1, W):
+    """Exact discretisation over ``dt`` [s] in modal coordinates ``z = T^-1 x``.
+
+    The transition matrix is ``diag(e)``; ``G0``, ``G1`` multiply ``u[k]`` and ``u[k+1]``;
+    ``W`` is the process-noise covariance (see :func:`discretise_from_eigen`).
+    """
+    n = lam.size
+    m = TB.shape[1]
+    for i in range(n):
+        z = lam[i] * dt
+        e[i] = math.exp(z)
+        g = dt * phi1(z)
+        g1 = dt * phi2(z)
+        for c in range(m):
+            if foh:
+                G0[i, c] = g1 * TB[i, c]
+                G1[i, c] = (g - g1) * TB[i, c]
+            else:
+                G0[i, c] = g * TB[i, c]
+                G1[i, c] = 0.0
+    for a in range(n):
+        for b in range(a, n):
+            w = M[a, b] * dt * phi1((lam[a] + lam[b]) * dt)
+            W[a, b] = w
+            W[b, a] = w
+
+
+@njit(cache=True, error_model="numpy")
+def _to_physical(T, z, Pz, x, P):
+    """``x = T z`` and ``P = T Pz T^T``."""
+    n = z.size
+    for i in range(n):
+        acc = 0.0
+        for j in range(n):
+            acc += T[i, j] * z[j]
+        x[i] = acc
+    for i in range(n):
+        for j in range(n):
+            acc = 0.0
+            for a in range(n):
+                ta = T[i, a]
+                for b in range(n):
+                    acc += ta * Pz[a, b] * T[j, b]
+            P[i, j] = acc
+
+
 #: Relative change of the predicted covariance below which the filter is taken as stationary.
 STEADY_STATE_TOLERANCE = 1e-13
 
@@ -273,10 +320,12 @@ def kalman_filter(
 ):
     """Kalman filter over the samples; returns the log-likelihood of ``Y``.
 
-    Observations are processed one scalar at a time (exact because the measurement noise is
-    diagonal); NaN entries are skipped, so partially observed vectors are handled. The
-    covariance update is in Joseph form. ``dts[k]`` [s] is the interval from sample k to k+1;
-    the discretisation is recomputed only when it changes (uniform sampling: once).
+    The filter runs in the modal coordinates ``z = T^-1 x`` of the RC network, where the
+    transition matrix is diagonal, so the time update costs O(n^2). Observations are processed
+    one scalar at a time (exact because the measurement noise is diagonal); NaN entries are
+    skipped, so partially observed vectors are handled. The covariance update is in Joseph form.
+    ``dts[k]`` [s] is the interval from sample k to k+1; the discretisation is recomputed only
+    when it changes (uniform sampling: once).
 
     Steady state: once the predicted covariance stops changing (relative change below
     :data:`STEADY_STATE_TOLERANCE` over a step with the same interval and all outputs observed),
@@ -285,32 +334,54 @@ def kalman_filter(
     level of the tolerance. Not used when ``store`` is set.
 
     With ``store`` the predicted (``xp``, ``Pp``) and filtered (``xf``, ``Pf``) moments and the
-    transition matrices ``Ads[k]`` (k -> k+1) are written into the given arrays.
+    transition matrices ``Ads[k]`` (k -> k+1), in physical coordinates, are written into the
+    given arrays.
     """
     n = lam.size
     m = TB.shape[1]
     ny = C.shape[0]
     N = Y.shape[0]
-    x = x0.copy()
-    P = P0.copy()
-    Ad = np.empty((n, n))
-    Gam0 = np.empty((n, m))
-    Gam1 = np.empty((n, m))
-    Q = np.empty((n, n))
+    for i in range(n):
+        if not math.isfinite(lam[i]):
+            return -np.inf
+    # modal coordinates
+    Cz = np.zeros((ny, n))
+    for r in range(ny):
+        for j in range(n):
+            acc = 0.0
+            for i in range(n):
+                acc += C[r, i] * T[i, j]
+            Cz[r, j] = acc
+    z = np.zeros(n)
+    for i in range(n):
+        acc = 0.0
+        for j in range(n):
+            acc += Tinv[i, j] * x0[j]
+        z[i] = acc
+    P = np.zeros((n, n))
+    for i in range(n):
+        for j in range(n):
+            acc = 0.0
+            for a in range(n):
+                for b in range(n):
+                    acc += Tinv[i, a] * P0[a, b] * Tinv[j, b]
+            P[i, j] = acc
+    e = np.empty(n)
+    G0 = np.empty((n, m))
+    G1 = np.empty((n, m))
+    W = np.empty((n, n))
     PC = np.empty(n)
     K = np.empty(n)
-    xn = np.empty(n)
-    AP = np.empty((n, n))
+    LP = np.empty((n, n))
     Pprior = np.empty((n, n))
     Kfix = np.empty((ny, n))
     sfix = np.empty(ny)
     log_sfix = np.empty(ny)
+    xs = np.empty(n)
+    Ps = np.empty((n, n))
     steady = False
     last_dt = -1.0
     loglike = 0.0
-    for i in range(n):
-        if not math.isfinite(lam[i]):
-            return -np.inf
     for k in range(N):
         complete = True
         for r in range(ny):
@@ -319,17 +390,18 @@ def kalman_filter(
         if steady and not complete:
             steady = False
         if store:
+            _to_physical(T, z, P, xs, Ps)
             for i in range(n):
-                xp[k, i] = x[i]
+                xp[k, i] = xs[i]
                 for j in range(n):
-                    Pp[k, i, j] = P[i, j]
+                    Pp[k, i, j] = Ps[i, j]
         if steady:
             for r in range(ny):
                 v = Y[k, r]
                 for i in range(n):
-                    v -= C[r, i] * x[i]
+                    v -= Cz[r, i] * z[i]
                 for i in range(n):
-                    x[i] += Kfix[r, i] * v
+                    z[i] += Kfix[r, i] * v
                 loglike -= 0.5 * (LOG_2PI + log_sfix[r] + v * v / sfix[r])
         else:
             for i in range(n):
@@ -342,85 +414,74 @@ def kalman_filter(
                     continue
                 v = y
                 for i in range(n):
-                    v -= C[r, i] * x[i]
+                    v -= Cz[r, i] * z[i]
                 s = meas_var[r]
                 for i in range(n):
                     acc = 0.0
                     for j in range(n):
-                        acc += P[i, j] * C[r, j]
+                        acc += P[i, j] * Cz[r, j]
                     PC[i] = acc
-                    s += C[r, i] * acc
+                    s += Cz[r, i] * acc
                 if not (s > 0.0) or not math.isfinite(s):
                     return -np.inf
                 for i in range(n):
                     K[i] = PC[i] / s
                     Kfix[r, i] = K[i]
-                    x[i] += K[i] * v
+                    z[i] += K[i] * v
                 sfix[r] = s
                 log_sfix[r] = math.log(s)
                 # Joseph form: P = L P L^T + r K K^T with L = I - K c
                 for i in range(n):
                     for j in range(n):
-                        acc = P[i, j]
-                        for q in range(n):
-                            acc -= K[i] * C[r, q] * P[q, j]
-                        AP[i, j] = acc  # L P
+                        LP[i, j] = P[i, j] - K[i] * PC[j]  # (L P)_ij, since c P = PC^T
                 for i in range(n):
                     for j in range(i, n):
                         acc = meas_var[r] * K[i] * K[j]
                         for q in range(n):
-                            acc += AP[i, q] * ((1.0 if q == j else 0.0) - K[j] * C[r, q])
+                            acc += LP[i, q] * ((1.0 if q == j else 0.0) - K[j] * Cz[r, q])
                         P[i, j] = acc
                         P[j, i] = acc
                 loglike -= 0.5 * (LOG_2PI + log_sfix[r] + v * v / s)
         if store:
+            _to_physical(T, z, P, xs, Ps)
             for i in range(n):
-                xf[k, i] = x[i]
+                xf[k, i] = xs[i]
                 for j in range(n):
-                    Pf[k, i, j] = P[i, j]
+                    Pf[k, i, j] = Ps[i, j]
         if k == N - 1:
             break
         # time update to sample k+1
         dt = dts[k]
         if dt != last_dt:
-            discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q)
+            modal_discretise(lam, TB, M, dt, foh, e, G0, G1, W)
             last_dt = dt
             steady = False
         if store:
             for i in range(n):
                 for j in range(n):
-                    Ads[k, i, j] = Ad[i, j]
+                    acc = 0.0
+                    for a in range(n):
+                        acc += T[i, a] * e[a] * Tinv[a, j]
+                    Ads[k, i, j] = acc
         for i in range(n):
-            acc = 0.0
-            for j in range(n):
-                acc += Ad[i, j] * x[j]
+            acc = e[i] * z[i]
             for c in range(m):
-                acc += Gam0[i, c] * U[k, c]
+                acc += G0[i, c] * U[k, c]
             if foh:
                 for c in range(m):
-                    acc += Gam1[i, c] * U[k + 1, c]
-            xn[i] = acc
-        for i in range(n):
-            x[i] = xn[i]
+                    acc += G1[i, c] * U[k + 1, c]
+            z[i] = acc
         if steady:
             continue
-        for i in range(n):
-            for j in range(n):
-                acc = 0.0
-                for q in range(n):
-                    acc += Ad[i, q] * P[q, j]
-                AP[i, j] = acc
         change = 0.0
         scale = 0.0
         for i in range(n):
             for j in range(i, n):
-                acc = Q[i, j]
-                for q in range(n):
-                    acc += AP[i, q] * Ad[j, q]
-                P[i, j] = acc
-                P[j, i] = acc
-                change = max(change, abs(acc - Pprior[i, j]))
-                scale = max(scale, abs(acc))
+                val = e[i] * e[j] * P[i, j] + W[i, j]
+                P[i, j] = val
+                P[j, i] = val
+                change = max(change, abs(val - Pprior[i, j]))
+                scale = max(scale, abs(val))
         if complete and not store and change <= STEADY_STATE_TOLERANCE * scale and k + 1 < N:
             if dts[k + 1] == dt:
                 steady = True

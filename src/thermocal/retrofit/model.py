@@ -70,8 +70,25 @@ EMITTERS: dict[str, tuple[float, float]] = {
     "floor_heating": (0.8, H_CI["upward"] + H_RI),
 }
 
-#: Effective internal mass area per m2 of heated floor area (ISO 13790 Table 12, medium class).
-INTERNAL_MASS_AREA_PER_FLOOR_AREA = 2.5
+#: Internal partitions (both faces) and furniture per m2 of heated floor area [m2/m2].
+PARTITION_AND_FURNITURE_AREA_PER_FLOOR_AREA = 1.5
+
+
+def internal_mass_area(floor_area: float, floors: int) -> float:
+    """Surface area of the internal mass [m2] from the floor area and the number of floors.
+
+    Partitions and furniture ``1.5 A_f`` plus both faces of the ``floors - 1`` intermediate
+    floors, ``2 A_f (n - 1) / n``: 2.83 A_f for three storeys, close to the effective mass
+    area 2.5 A_f of ISO 13790 Table 12 (medium class).
+
+    Parameters
+    ----------
+    floor_area : float [m2] heated floor area.
+    floors : int [-] number of heated storeys.
+    """
+    n = max(int(floors), 1)
+    return floor_area * (PARTITION_AND_FURNITURE_AREA_PER_FLOOR_AREA + 2.0 * (n - 1) / n)
+
 
 #: Bounds of areal heat capacities [kJ/(m2 K)]: opaque elements from ISO 52016-1 Table B.14
 #: (very light 50 .. very heavy 250, widened by a factor 2 either side); per m2 of floor area
@@ -375,7 +392,7 @@ def build_fifth_order_model(building, *, solar_to_internal_mass: float = 0.5) ->
         )
     a_frac, h_em = EMITTERS[emitter]
     h_h = a_frac * floor_area * h_em
-    h_im = INTERNAL_MASS_AREA_PER_FLOOR_AREA * floor_area * (H_CI["horizontal"] + H_RI)
+    h_im = internal_mass_area(floor_area, building.floors) * (H_CI["horizontal"] + H_RI)
 
     # prior of Hest: ventilation/infiltration 0.5 1/h, thermal bridges, doors
     volume = float(building.volume)

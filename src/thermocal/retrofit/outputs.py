@@ -492,7 +492,15 @@ def write_report(
             ]
         ],
         caption="Multi-step simulation of Ti (paper 000 Table 2)",
-        number_format="{:,.3f}",
+        number_format={
+            "mae": "{:.3f}",
+            "mape": "{:.2f}",
+            "mse": "{:.3f}",
+            "mean_simulated": "{:.2f}",
+            "mean_measured": "{:.2f}",
+            "mean_deviation_pct": "{:+.2f}",
+            "n": "{:.0f}",
+        },
     )
     for key in ("ti_training", "ti_test"):
         if key in figures:

@@ -70,6 +70,7 @@ def test_outputs_complete(synthetic):
         "figures/ti_test.png",
         "figures/scenario_savings.png",
         "figures/monthly_demand.png",
+        "figures/annual_comparison.png",
     ):
         assert (out / name).is_file(), name
     html = (out / "report.html").read_text()

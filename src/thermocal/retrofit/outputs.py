@@ -338,6 +338,9 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
     measured = None
     if ref.measured_fuel_kWh is not None:
         measured = ref.measured_fuel_kWh * (ref.boiler_efficiency or 1.0)
+    annual_refs = {k: v for k, v in dem["references"].items() if not isinstance(v, list)}
+    if annual_refs:
+        figs["annual_comparison"] = _annual_comparison_figure(dem, annual_refs)
     if "reference_check" in results:
         check = results["reference_check"]
         figs["reference_check"] = _reference_figure(check)
@@ -361,6 +364,40 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
         title="Annual heating demand per strategy",
     )
     return figs
+
+
+def _annual_comparison_figure(dem: dict, references: dict):
+    """Simulated annual demand next to reference values (paper 000 Fig. 7)."""
+    import matplotlib.pyplot as plt
+
+    labels = ["calibrated model"] + list(references)
+    values = [dem["value"]] + [float(v) for v in references.values()]
+    fig, ax = plt.subplots(figsize=(7, 3.4))
+    colors = ["#1b6ca8"] + ["#9ecae1"] * len(references)
+    bars = ax.bar(range(len(values)), values, 0.6, color=colors)
+    ax.errorbar(
+        [0],
+        [dem["value"]],
+        yerr=[[dem["value"] - dem["p05"]], [dem["p95"] - dem["value"]]],
+        color="black",
+        capsize=4,
+        lw=1,
+    )
+    for bar, value in zip(bars, values, strict=True):
+        ax.text(
+            bar.get_x() + bar.get_width() / 2,
+            value,
+            f"{value:,.0f}",
+            ha="center",
+            va="bottom",
+            fontsize=9,
+        )
+    ax.set_xticks(range(len(values)), labels, fontsize=9)
+    ax.set_ylabel("Annual heating demand [kWh]")
+    ax.set_title("Annual heating demand vs references", loc="left", fontsize=11)
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    return fig
 
 
 def _reference_figure(check: dict):
@@ -524,6 +561,8 @@ def write_report(
         }
     )
     rep.figure(figures["monthly_demand"], caption="Monthly heating demand", close_figure=False)
+    if "annual_comparison" in figures:
+        rep.figure(figures["annual_comparison"], caption="Annual demand vs references")
     rep.table(mon, caption="Monthly demand [kWh]", number_format="{:,.0f}")
 
     rep.section("Retrofit strategies")

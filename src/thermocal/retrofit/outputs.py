@@ -368,11 +368,13 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
 
 def _annual_comparison_figure(dem: dict, references: dict):
     """Simulated annual demand next to reference values (paper 000 Fig. 7)."""
+    import textwrap
+
     import matplotlib.pyplot as plt
 
-    labels = ["calibrated model"] + list(references)
+    labels = [textwrap.fill(lab, 16) for lab in ["calibrated model", *references]]
     values = [dem["value"]] + [float(v) for v in references.values()]
-    fig, ax = plt.subplots(figsize=(7, 3.4))
+    fig, ax = plt.subplots(figsize=(1.8 * len(values) + 2.0, 3.6))
     colors = ["#1b6ca8"] + ["#9ecae1"] * len(references)
     bars = ax.bar(range(len(values)), values, 0.6, color=colors)
     ax.errorbar(

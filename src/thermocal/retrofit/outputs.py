@@ -516,6 +516,34 @@ def write_report(
         f"(ventilation 0.5 1/h, thermal bridges, doors): {hlc['audit_prior']:.1f} W/K."
     )
 
+    phys = [n for n in ESTIMATED_PARAMETERS if n in analysis.calibration.correlation.columns]
+    if phys:
+        corr = analysis.calibration.correlation.loc[phys, phys].reset_index(names="parameter")
+        rep.table(
+            corr,
+            caption="Correlation of the estimated parameters (|r| < "
+            f"{cfg.model.max_correlation} required)",
+            number_format="{:+.3f}",
+        )
+    d = analysis.data
+    periods = [("training", analysis.training)] + (
+        [("test", analysis.test)] if analysis.test else []
+    )
+    rows = []
+    for name, (t0, t1) in periods:
+        sel = (d.index >= t0) & (d.index < t1)
+        rows.append(
+            {
+                "period": name,
+                "Te mean [C]": d["Te"][sel].mean(),
+                "Tgr mean [C]": d["Tgr"][sel].mean(),
+                "Ti measured mean [C]": d["Ti_measured"][sel].mean(),
+                "heating mean [W]": d["phi_h"][sel].mean(),
+                "window solar mean [W]": d["phi_sol"][sel].mean(),
+            }
+        )
+    rep.table(pd.DataFrame(rows), caption="Model inputs over the periods", number_format="{:,.1f}")
+
     rep.section("Validation")
     rep.table(
         tables["validation"][

@@ -211,3 +211,56 @@ def test_example_config_is_valid_and_complete():
     assert cfg.measurements.file.is_file()
     assert resolve_weather_path(cfg.weather.file).is_file()
     assert cfg.measures == {"roof": 0.18, "walls": 0.19, "windows": 0.76, "cellar_ceiling": 0.19}
+
+
+@pytest.mark.parametrize("kind", ["slab", "heated"])
+def test_ground_variants_steady_state(kind):
+    """Slab on ground and heated basement: the gf path carries the ISO 13370 H_g and the
+    demand mode still reproduces HLC x dT."""
+    from thermocal.physics.ground import iso13370_heated_basement, iso13370_slab_on_ground
+
+    data = building_dict()
+    for c in data["components"]:
+        if c["type"] == "cellar_ceiling":
+            c["type"] = "ground_floor"
+    data["ground"] = {
+        "perimeter": 38.0,
+        "wall_thickness": 0.3,
+        "basement": "none" if kind == "slab" else "heated",
+    }
+    if kind == "heated":
+        data["ground"].update({"basement_depth": 2.2, "basement_wall_u_value": 1.2})
+    building = Building.model_validate(data)
+    m = build_fifth_order_model(building)
+    h = m.conductances()
+    area = m.envelope.floor_area
+    r_f = 1 / m.envelope.floor_u - 0.17 - 0.04
+    if kind == "slab":
+        expected = area * iso13370_slab_on_ground(
+            area, 38.0, wall_thickness=0.3, floor_resistance=r_f
+        )
+    else:
+        expected = iso13370_heated_basement(
+            area,
+            38.0,
+            2.2,
+            wall_thickness=0.3,
+            floor_resistance=r_f,
+            wall_resistance=1 / 1.2 - 0.13 - 0.04,
+        )["heat_transfer_coefficient"]
+    assert 1 / (1 / h["H_gf_in"] + 1 / h["H_gf_gr"]) == pytest.approx(expected)
+    idx = pd.date_range("2001-01-01", periods=24 * 35, freq="h", tz="UTC")
+    inputs = pd.DataFrame(
+        {"Te": 0.0, "Tgr": 0.0, "phi_sol": 0.0, "phi_abs_roof": 0.0, "phi_abs_walls": 0.0},
+        index=idx,
+    )
+    p = {
+        "H_est": np.array([100.0]),
+        "C_env": np.array([4e7]),
+        "C_gf": np.array([1e7]),
+        "C_im": np.array([2e7]),
+        "C_i": np.array([2e6]),
+        "C_h": np.array([4e5]),
+    }
+    res = simulate_demand(m, p, [m.envelope], inputs, 20.0)
+    assert res.hourly[0, -1] == pytest.approx((calculated_hlc(h) + 100.0) * 20.0, rel=1e-6)

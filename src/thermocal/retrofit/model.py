@@ -280,6 +280,16 @@ def ground_path(building, envelope: EnvelopeComponents) -> GroundPath:
         to_air = parts["basement_loss_coefficient"] - to_ground
         return GroundPath(to_ground, to_air, "unheated_basement")
     r_floor = max(1.0 / envelope.floor_u - R_SI["downward"] - R_SE, 0.0)
+    if basement == "heated" and float(g.basement_depth) > 0:
+        from thermocal.physics.ground import iso13370_heated_basement
+
+        u_wall = float(g.basement_wall_u_value or 1.8)
+        r_wall = max(1.0 / u_wall - R_SI["horizontal"] - R_SE, 0.0)
+        parts = iso13370_heated_basement(
+            area, perimeter, float(g.basement_depth), wall_thickness=w,
+            floor_resistance=r_floor, wall_resistance=r_wall, soil_conductivity=lam,
+        )  # fmt: skip
+        return GroundPath(float(parts["heat_transfer_coefficient"]), 0.0, "heated_basement")
     u_slab = iso13370_slab_u_value(
         area, perimeter, r_floor, wall_thickness=w, soil_conductivity=lam
     )
@@ -346,6 +356,9 @@ class FifthOrderModel:
                 total = u13370 * env.floor_area
             else:
                 total = self.ground.to_ground
+            # a heated basement's walls can conduct more than the floor's inner half: then
+            # the node moves towards the inside so the series still equals the ground U A
+            g_in = max(g_in, 2.0 * total)
             out["H_gf_in"] = float(g_in)
             out["H_gf_gr"] = float(1.0 / (1.0 / total - 1.0 / g_in))
             out["H_gf_e"] = 0.0

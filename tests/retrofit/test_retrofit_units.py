@@ -264,3 +264,30 @@ def test_ground_variants_steady_state(kind):
     }
     res = simulate_demand(m, p, [m.envelope], inputs, 20.0)
     assert res.hourly[0, -1] == pytest.approx((calculated_hlc(h) + 100.0) * 20.0, rel=1e-6)
+
+
+def test_uncertain_u_values_keep_the_calibrated_hlc():
+    from thermocal.retrofit.strategies import PAPER_MEASURE_U_VALUES
+    from thermocal.retrofit.workflow import scenario_envelopes
+
+    m = _model()
+    n = 50
+    draws = {
+        "H_est": np.full(n, 200.0),
+        "C_env": np.full(n, 4e7),
+        "C_gf": np.full(n, 1e7),
+        "C_im": np.full(n, 2e7),
+        "C_i": np.full(n, 2e6),
+        "C_h": np.full(n, 4e5),
+    }
+    envs = scenario_envelopes(m, all_strategies(), PAPER_MEASURE_U_VALUES, draws, 0.15)
+    hlc0 = calculated_hlc(m.conductances()) + 200.0
+    base = envs[0]
+    assert len(envs) == 16 and len(base) == n
+    assert base[0] == m.envelope  # the first draw is the estimate
+    hlc = [calculated_hlc(m.conductances(e)) + h for e, h in zip(base, draws["H_est"], strict=True)]
+    assert np.allclose(hlc, hlc0)
+    walls = np.array([e.walls_u for e in base])
+    assert 0.08 < np.std(walls / m.envelope.walls_u) < 0.25
+    # retrofitted components take the measure's U-value in every draw
+    assert all(e.walls_u == PAPER_MEASURE_U_VALUES["walls"] for e in envs[-1])

@@ -112,6 +112,13 @@ class UncertaintyConfig(_Strict):
 
     draws: int = Field(200, ge=0)
     interval: float = Field(0.90, gt=0, lt=1)
+    u_value_rel_std: float = Field(
+        0.0,
+        ge=0,
+        le=0.5,
+        description="relative standard deviation of the audit U-values of roof, walls, windows "
+        "and floor (0: only the estimation uncertainty, as in paper 000)",
+    )
     seed: int = 0
 
 

@@ -93,8 +93,9 @@ def simulate_demand(
     params_si : dict
         Estimated parameters in SI (``H_est`` [W/K], capacities [J/K]), each an array of shape
         (n_draws,) (the first draw is usually the estimate itself).
-    envelopes : list of EnvelopeComponents
-        One per scenario (U-values after the retrofit).
+    envelopes : list of EnvelopeComponents, or of lists of EnvelopeComponents
+        One per scenario (U-values after the retrofit); or, per scenario, one per draw (when
+        the U-values themselves are uncertain).
     inputs : pd.DataFrame
         Regular time index; columns ``DEMAND_INPUTS`` (Te, Tgr [C]; gains [W]).
     profile : float or array (24,) [C]
@@ -115,9 +116,16 @@ def simulate_demand(
     n_scen = len(envelopes)
     h_all: dict[str, list] = {}
     for env in envelopes:
-        for k, v in model.conductances(env).items():
-            h_all.setdefault(k, []).append(v)
-    h = {k: np.repeat(np.asarray(v, dtype=float), n_draws) for k, v in h_all.items()}
+        per_draw = env if isinstance(env, list | tuple) else [env] * n_draws
+        if len(per_draw) != n_draws:
+            raise ValueError(f"{len(per_draw)} envelopes for {n_draws} parameter draws")
+        cache: dict[int, dict] = {}
+        for e in per_draw:
+            if id(e) not in cache:
+                cache[id(e)] = model.conductances(e)
+            for k, v in cache[id(e)].items():
+                h_all.setdefault(k, []).append(v)
+    h = {k: np.asarray(v, dtype=float) for k, v in h_all.items()}
     p = {
         k: np.tile(np.atleast_1d(np.asarray(params_si[k], dtype=float)), n_scen)
         for k in ESTIMATED_PARAMETERS

@@ -67,6 +67,7 @@ class RetrofitAnalysis:
     demand: DemandResult
     weather_meta: dict
     year_inputs: pd.DataFrame | None = None  # demand-model inputs of the weather year
+    envelopes: list | None = None  # per strategy (and per draw with uncertain U-values)
     draws: dict[str, np.ndarray] | None = None  # parameter sets (SI), first = estimate
     timings: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
@@ -286,10 +287,15 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         depth=cfg.model.ground_depth,
     )
     strategies = all_strategies()
-    envelopes = [
-        model.envelope.with_measures({m: cfg.measures[m] for m in s.measures}) for s in strategies
-    ]
     draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
+    envelopes = scenario_envelopes(
+        model,
+        strategies,
+        cfg.measures,
+        draws,
+        cfg.uncertainty.u_value_rel_std,
+        seed=cfg.uncertainty.seed,
+    )
     demand = simulate_demand(model, draws, envelopes, year[list(DEMAND_INPUTS)], profile)
     timings["demand"] = time.perf_counter() - t3
     timings["total"] = time.perf_counter() - t0
@@ -298,6 +304,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         training=training, test=test, simulated_ti=sim_ti, validation=validation,
         indoor_profile=profile, strategies=strategies, demand=demand,
         weather_meta=weather_meta, year_inputs=year[list(DEMAND_INPUTS)], draws=draws,
+        envelopes=envelopes,
         timings=timings, notes=notes,
     )  # fmt: skip
 
@@ -316,6 +323,57 @@ def _location_tz(building):
         return tz
     offset = _dt.datetime(2001, 1, 15, tzinfo=zone).utcoffset()
     return offset.total_seconds() / 3600.0
+
+
+def scenario_envelopes(
+    model: FifthOrderModel,
+    strategies,
+    measures: dict[str, float],
+    draws: dict[str, np.ndarray],
+    u_value_rel_std: float = 0.0,
+    seed: int = 0,
+):
+    """Envelopes (U-values) of every strategy, optionally per draw with uncertain audit U.
+
+    With ``u_value_rel_std > 0`` each draw (except the first, the estimate) multiplies the
+    audit U-values of roof, walls, windows and floor by independent log-normal factors of
+    that relative spread. The data identify the total heat loss coefficient, not its split,
+    so the draw's ``H_est`` is shifted to keep the calibrated HLC (``draws`` is updated in
+    place, clipped at 1 W/K). The retrofitted components take the measure's U-value.
+
+    Returns
+    -------
+    list (one per strategy) of EnvelopeComponents, or of lists of them (one per draw).
+    """
+    if u_value_rel_std <= 0:
+        return [
+            model.envelope.with_measures({m: measures[m] for m in s.measures}) for s in strategies
+        ]
+    n = len(draws["H_est"])
+    rng = np.random.default_rng(seed + 7919)
+    sigma = np.sqrt(np.log1p(u_value_rel_std**2))
+    factors = np.exp(rng.normal(-0.5 * sigma**2, sigma, size=(n, 4)))
+    factors[0] = 1.0
+    base = model.envelope
+    hlc0 = calculated_hlc(model.conductances(base))
+    per_draw = []
+    for d in range(n):
+        f = factors[d]
+        env = base.with_measures(
+            {
+                "roof": base.roof_u * f[0],
+                "walls": base.walls_u * f[1],
+                "windows": base.windows_u * f[2],
+                "cellar_ceiling": base.floor_u * f[3],
+            }
+        )
+        shift = hlc0 - calculated_hlc(model.conductances(env))
+        draws["H_est"][d] = max(draws["H_est"][d] + shift, 1.0)
+        per_draw.append(env)
+    return [
+        [env.with_measures({m: measures[m] for m in s.measures}) for env in per_draw]
+        for s in strategies
+    ]
 
 
 def compare_with_reference_demands(
@@ -337,10 +395,7 @@ def compare_with_reference_demands(
     p05, p95), saving [%] (estimate, p05, p95), the reference kWh and saving [%].
     """
     cfg = analysis.config
-    envelopes = [
-        analysis.model.envelope.with_measures({m: cfg.measures[m] for m in s.measures})
-        for s in analysis.strategies
-    ]
+    envelopes = analysis.envelopes
     res = simulate_demand(
         analysis.model, analysis.draws, envelopes, analysis.year_inputs, float(setpoint)
     )

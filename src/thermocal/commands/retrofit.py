@@ -18,7 +18,8 @@ def print_summary(results: dict, out: Path) -> None:
     console = Console()
     hlc = results["heat_loss_coefficient_W_per_K"]
     dem = results["annual_heating_demand_kWh"]
-    line = f"HLC {hlc['value']:.0f} ± {hlc['std']:.0f} W/K"
+    std = hlc["std"]
+    line = f"HLC {hlc['value']:.0f} ± {'n/a' if std is None else format(std, '.0f')} W/K"
     if "true" in hlc:
         line += f" (true {hlc['true']:.0f} W/K, {hlc['relative_error_pct']:+.1f} %)"
     console.print(f"[bold]{line}[/bold]")

@@ -218,21 +218,12 @@ def calibrate(
     cov_si = cov_sub * np.outer(factors, factors)
     estimates = {n: float(params[n]) * f for n, f in zip(names, factors, strict=True)}
     corr = res.correlation
-    pairs = []
-    free = list(corr.columns)
-    for i, a in enumerate(free):
-        for b in free[i + 1 :]:
-            r = float(corr.loc[a, b])
-            if np.isfinite(r) and abs(r) >= max_correlation:
-                pairs.append((a, b, r))
+    pairs = correlated_pairs(corr, max_correlation)
     nuisance_flags = [f for f in full.flags if f not in res.flags]
     flags = list(res.flags)
     for a, b, r in pairs:
         if not any(a in f and b in f for f in flags):
-            flags.append(
-                f"parameters {a} and {b} are correlated (r = {r:+.3f}, |r| >= "
-                f"{max_correlation}): fix one of them or lengthen the training period"
-            )
+            flags.append(correlation_flag(a, b, r, max_correlation))
     at_bounds = []
     for n in names:
         lo, _, hi, _ = model.estimated[n]
@@ -248,6 +239,19 @@ def calibrate(
     except Exception:  # noqa: BLE001 - fall back to the estimated initial means
         x0 = np.array([float(params[f"{s}0"]) for s in STATE_NAMES])
     hlc = calculated_hlc(model.conductances()) + estimates["H_est"]
+    hlc_std = (
+        float(bse["H_est"])
+        if np.isfinite(bse["H_est"])
+        else _profile_std(rc_cond, res.params, data, "H_est")
+    )
+    if "H_est" in at_bounds:
+        # a curvature-based standard error means nothing at a bound of the parameter
+        hlc_std = float("nan")
+        flags.append(
+            "H_est is at its bound: the data want a heat loss coefficient outside the range the "
+            "calculated conductances allow (check the U-values and areas of the building file); "
+            "no standard error of the HLC"
+        )
     return Calibration(
         estimates_si=estimates,
         cov_si=cov_si,
@@ -262,9 +266,7 @@ def calibrate(
         x0=x0,
         fit_seconds=float(res.fit_seconds),
         heat_loss_coefficient=float(hlc),
-        heat_loss_coefficient_std=float(bse["H_est"])
-        if np.isfinite(bse["H_est"])
-        else _profile_std(rc_cond, res.params, data, "H_est"),
+        heat_loss_coefficient_std=hlc_std,
         correlated_pairs=pairs,
         at_bounds=at_bounds,
         nuisance_flags=nuisance_flags,

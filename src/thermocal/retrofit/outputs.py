@@ -189,6 +189,13 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
     })  # fmt: skip
 
 
+def _fmt(value, spec: str) -> str:
+    """Format a number that may be missing (None/NaN) as ``n/a``."""
+    if value is None or not np.isfinite(value):
+        return "n/a"
+    return format(value, spec)
+
+
 def _unit_guess(name: str) -> str:
     if name.startswith("sigma_"):
         return "K/sqrt(h)"
@@ -457,7 +464,7 @@ def write_report(
     )
     rep.section("Summary")
     tiles = {
-        "Heat loss coefficient": f"{hlc['value']:.0f} ± {hlc['std']:.0f} W/K",
+        "Heat loss coefficient": f"{hlc['value']:.0f} ± {_fmt(hlc['std'], '.0f')} W/K",
         "Annual heating demand": f"{dem['value']:,.0f} kWh",
         f"{int(100 * cfg.uncertainty.interval)} % interval": f"{dem['p05']:,.0f} – "
         f"{dem['p95']:,.0f} kWh",
@@ -512,8 +519,9 @@ def write_report(
     )
     rep.paragraph(
         f"HLC = calculated part {hlc['calculated_part']:.1f} W/K + H_est {hlc['H_est']:.1f} W/K "
-        f"= {hlc['value']:.1f} W/K (std {hlc['std']:.1f} W/K). Prior from the building file "
-        f"(ventilation 0.5 1/h, thermal bridges, doors): {hlc['audit_prior']:.1f} W/K."
+        f"= {hlc['value']:.1f} W/K (std {_fmt(hlc['std'], '.1f')} W/K). Prior from the "
+        f"building file (ventilation 0.5 1/h, thermal bridges, doors): "
+        f"{hlc['audit_prior']:.1f} W/K."
     )
 
     phys = [n for n in ESTIMATED_PARAMETERS if n in analysis.calibration.correlation.columns]

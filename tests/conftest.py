@@ -1,8 +1,9 @@
 """Shared test fixtures.
 
-External reference data lives in ``../shared/data`` next to the repository (see its INDEX.md). It is never
-copied into the repository: tests that need it are skipped, with the reason, when it is absent (a user's fresh
-clone has no shared/ folder). ``THERMOCAL_SHARED_DATA`` overrides the location.
+External reference data lives in ``../shared/data`` next to the repository (see its INDEX.md).
+It is never copied into the repository: tests that need it are skipped, with the reason, when it
+is absent (a user's fresh clone has no shared/ folder). ``THERMOCAL_SHARED_DATA`` overrides the
+location.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ Targets (issue 5):
   3. ASHRAE 140 Case 600 for a year at hourly steps: <= 1 s.
 
 Run: /work/venv/bin/python benchmarks/bench_multizone.py [--repeats 5]
-     [--write benchmarks/multizone.md]
+     [--write results.md]
 Times are the best of the repeats (the machine is shared); numba compilation is excluded (one
 untimed warm-up run first).
 """

@@ -1,4 +1,4 @@
-"""Benchmarks of the grey-box engine (thermocal.statespace); writes benchmarks/statespace.md.
+"""Benchmarks of the grey-box engine (thermocal.statespace); prints the results table.
 
 Run:  /work/venv/bin/python benchmarks/bench_statespace.py
 
@@ -161,7 +161,6 @@ def main() -> None:
         "",
     ]
     text = "\n".join(lines)
-    (REPO / "benchmarks" / "statespace.md").write_text(text)
     print(text)
 
 

@@ -7,7 +7,7 @@ The model is imported with thermocal.multizone.idf.read_idf and run at the file'
 
 Heating, peak heating and the free-float minimum/maximum/mean temperatures must lie inside the
 range of the six programs. Annual cooling and peak cooling come out a few per cent above the
-highest program (see benchmarks/multizone.md for the discussion); the test holds them within 10 %
+highest program (see benchmarks/README.md for the discussion); the test holds them within 10 %
 of the range's upper end so that a regression is caught.
 """
 

@@ -291,3 +291,51 @@ def test_uncertain_u_values_keep_the_calibrated_hlc():
     assert 0.08 < np.std(walls / m.envelope.walls_u) < 0.25
     # retrofitted components take the measure's U-value in every draw
     assert all(e.walls_u == PAPER_MEASURE_U_VALUES["walls"] for e in envs[-1])
+
+
+def _ground_variant(kind):
+    data = building_dict()
+    if kind != "unheated_basement":
+        for c in data["components"]:
+            if c["type"] == "cellar_ceiling":
+                c["type"] = "ground_floor"
+        data["ground"] = {
+            "perimeter": 38.0,
+            "wall_thickness": 0.3,
+            "basement": "none" if kind == "slab" else "heated",
+        }
+        if kind == "heated":
+            data["ground"].update({"basement_depth": 2.2, "basement_wall_u_value": 1.2})
+    return build_fifth_order_model(Building.model_validate(data))
+
+
+@pytest.mark.parametrize("kind", ["unheated_basement", "slab", "heated"])
+def test_batched_matrices_equal_the_declared_rc_network(kind):
+    """``system_matrices`` (fast path) and ``rc_spec`` (the network the calibration fits)
+    describe the same fifth-order model: identical A and B for random plausible parameters,
+    with the states and inputs of the RC model permuted into STATE_NAMES / INPUT_NAMES."""
+    from thermocal.retrofit.calibration import rc_spec
+    from thermocal.retrofit.model import ESTIMATED_PARAMETERS, INPUT_NAMES, STATE_NAMES
+    from thermocal.statespace import RCModel
+
+    m = _ground_variant(kind)
+    h = m.conductances()
+    assert h["H_gf_e"] > 0 if kind == "unheated_basement" else h["H_gf_e"] == 0
+    rc = RCModel.from_dict(rc_spec(m, np.full(5, 20.0)))
+    state_order = [rc.state_names.index(s) for s in STATE_NAMES]
+    input_order = [rc.input_names.index(c) for c in INPUT_NAMES]
+    rng = np.random.default_rng(42)
+    for _ in range(5):
+        declared = {}  # declared units (W/K, MJ/K), drawn log-uniformly within the bounds
+        for name in ESTIMATED_PARAMETERS:
+            lo, _, hi, _ = m.estimated[name]
+            declared[name] = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+        si = {k: v * (1e6 if m.estimated[k][3] == "MJ/K" else 1.0) for k, v in declared.items()}
+        a, b = system_matrices(h, si)
+        a_rc, b_rc, _, _ = rc.continuous_matrices(declared)
+        a_rc = a_rc[np.ix_(state_order, state_order)]
+        b_rc = b_rc[np.ix_(state_order, input_order)]
+        scale_a = np.abs(a[0]).max()
+        scale_b = np.abs(b[0]).max()
+        assert np.allclose(a[0], a_rc, rtol=1e-12, atol=1e-12 * scale_a)
+        assert np.allclose(b[0], b_rc, rtol=1e-12, atol=1e-12 * scale_b)

@@ -30,8 +30,8 @@ def make_dataset(
     """Write building.yaml, measurements.csv and config.yaml into ``folder``; return config."""
     from thermocal.io.building import Building
     from thermocal.io.weather import read_weather
+    from thermocal.physics.ground import ground_temperature_parameters
     from thermocal.retrofit.calibration import initial_params_si, steady_initial_state
-    from thermocal.retrofit.inputs import ground_temperature_parameters
     from thermocal.retrofit.model import build_fifth_order_model, discretize_zoh, system_matrices
     from thermocal.retrofit.workflow import model_inputs
 

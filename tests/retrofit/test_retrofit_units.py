@@ -9,6 +9,7 @@ from retrofit_synthetic import building_dict
 
 from thermocal.errors import ThermocalInputError
 from thermocal.io.building import Building
+from thermocal.physics.ground import iso13370_slab_on_ground
 from thermocal.retrofit.config import parse_config
 from thermocal.retrofit.demand import simulate_demand, steady_state_demand
 from thermocal.retrofit.metrics import daily_profile, monthly_energy_kwh, validation_metrics
@@ -16,7 +17,6 @@ from thermocal.retrofit.model import (
     build_fifth_order_model,
     calculated_hlc,
     element_conductances,
-    iso13370_slab_u_value,
     system_matrices,
 )
 from thermocal.retrofit.strategies import MEASURE_ORDER, all_strategies
@@ -89,7 +89,9 @@ def test_element_conductances_series_equals_u_times_area():
 def test_iso13370_slab_known_value():
     # ISO 13370 Eq. (5): 10 m x 10 m, B' = 100 / (0.5 x 40) = 5 m,
     # dt = 0.3 + 2 (0.17 + 0 + 0.04) = 0.72 m
-    u = iso13370_slab_u_value(100.0, 40.0, 0.0, wall_thickness=0.3, soil_conductivity=2.0)
+    u = iso13370_slab_on_ground(
+        100.0, 40.0, wall_thickness=0.3, floor_resistance=0.0, soil_conductivity=2.0
+    )
     b, dt = 5.0, 0.3 + 2.0 * 0.21
     assert u == pytest.approx(2 * 2.0 / (np.pi * b + dt) * np.log(np.pi * b / dt + 1))
 

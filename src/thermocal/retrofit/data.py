@@ -14,8 +14,8 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.physics.hydronics import heating_power
 from thermocal.retrofit.config import FLOW_UNITS, MEASUREMENT_COLUMNS, MeasurementsConfig
-from thermocal.retrofit.inputs import heating_power
 
 TEMPERATURE_COLUMNS = ("temp_out", "temp_supply", "temp_return", "temp_in")
 

@@ -334,10 +334,10 @@ def generator_annual_demand(
 # generation
 # ------------------------------------------------------------------------------------------
 def _monthly_ground(weather: pd.DataFrame, depth: float = 2.0) -> tuple[float, ...]:
-    from thermocal.retrofit.inputs import ground_temperature, ground_temperature_parameters
+    from thermocal.physics.ground import ground_temperature, ground_temperature_parameters
 
     params = ground_temperature_parameters(weather)
-    series = ground_temperature(weather.index, params, depth=depth)
+    series = ground_temperature(weather.index, depth, **params)
     return tuple(
         float(v) for v in series.groupby(series.index.month).mean().reindex(range(1, 13)).to_numpy()
     )

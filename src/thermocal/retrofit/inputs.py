@@ -1,13 +1,23 @@
-"""Model inputs of the fifth-order model from measurements, weather and the building file.
+"""Model inputs of the fifth-order model from weather and the building file.
 
-- heating power ``phi_h`` [W] from water flow and supply / return temperatures;
-- ground temperature at 2 m ``Tgr`` [C] from the annual cycle of the site's typical year;
-- solar gains through the windows ``phi_sol`` [W] (ISO 52016-1 6.5.13: aperture x g-value x
-  shading x non-normal-incidence factor 0.9 x irradiance on the window plane);
+- solar gains through the windows ``phi_sol`` [W]:
+  :func:`thermocal.physics.solar.window_solar_gains` (ISO 52016-1 6.5.13.2: aperture x g-value
+  x shading x ``F_w = 0.9`` for non-normal incidence x irradiance on the window plane);
 - solar radiation absorbed on the outer surfaces of roof and walls minus their long-wave loss
   to the sky, ``phi_abs_roof``, ``phi_abs_walls`` [W] (ISO 52016-1 6.5.13.3; ISO 13790 11.3.5:
   ``F_r h_r Delta theta_er`` with the sky view factor ``F_r = (1 + cos tilt) / 2``,
-  ``h_r = 4.14 W/(m2 K)`` and ``Delta theta_er = 11 K``).
+  ``h_r = 4.14 W/(m2 K)`` and ``Delta theta_er = 11 K``). This is deliberately NOT
+  :func:`thermocal.physics.solar.opaque_solar_gains`: ISO 13790 multiplies the absorbed
+  radiation by ``R_se U`` because its heat-balance model has no envelope node, so only the
+  share that reaches the inside counts. The RC model instead puts the absorbed radiation on
+  the outer surface of its ``Tenv`` node and lets the network decide how much flows inward
+  (:func:`thermocal.retrofit.model.element_conductances` gives the share
+  ``2 Hc / (A/Rse + 2 Hc)`` entering the node); applying ``R_se U`` here as well would count
+  the outer surface resistance twice.
+
+The heating power ``phi_h`` comes from :func:`thermocal.physics.hydronics.heating_power` and the
+ground temperature ``Tgr`` from :func:`thermocal.physics.ground.ground_temperature` (called
+directly by :mod:`thermocal.retrofit.data` and :mod:`thermocal.retrofit.workflow`).
 
 Irradiance columns are interval means labelled by the interval start (thermocal convention),
 so sun positions are taken at the interval midpoints.
@@ -26,73 +36,15 @@ H_RE_SKY = 4.14
 DELTA_THETA_ER = 11.0
 
 
-def heating_power(flow, temp_supply, temp_return):
-    """Heat delivered by the heating water [W].
-
-    Parameters
-    ----------
-    flow : array-like [m3/s]
-    temp_supply, temp_return : array-like [C]
-
-    Returns
-    -------
-    array [W]
-
-    Notes
-    -----
-    Uses :func:`thermocal.physics.hydronics.heating_power` (temperature-dependent density and
-    specific heat) when available, otherwise water at the mean temperature with
-    ``rho = 1000 - 0.0062 (T - 4)^2`` [kg/m3] (less than 0.1 % off 10-90 C) and
-    ``cp = 4186 J/(kg K)``.
-    """
-    try:
-        from thermocal.physics.hydronics import heating_power as _hp
-
-        return _hp(flow, temp_supply, temp_return)
-    except ImportError:  # physics module not available: private fallback
-        t_mean = 0.5 * (np.asarray(temp_supply, float) + np.asarray(temp_return, float))
-        rho = 1000.0 - 0.0062 * (t_mean - 4.0) ** 2
-        return (
-            np.asarray(flow, float)
-            * rho
-            * 4186.0
-            * (np.asarray(temp_supply, float) - np.asarray(temp_return, float))
-        )
-
-
-def ground_temperature_parameters(weather: pd.DataFrame) -> dict[str, float]:
-    """Annual mean [C], amplitude [K] and day of the minimum of the air temperature of a year.
-
-    See :func:`thermocal.physics.ground.ground_temperature_parameters`.
-    """
-    from thermocal.physics.ground import ground_temperature_parameters as _params
-
-    return _params(weather)
-
-
-def ground_temperature(
-    times: pd.DatetimeIndex, params: dict[str, float], depth: float = 2.0
-) -> pd.Series:
-    """Undisturbed ground temperature at ``depth`` [m] in [C] (damped, delayed annual wave).
-
-    Parameters
-    ----------
-    times : pd.DatetimeIndex
-    params : dict from :func:`ground_temperature_parameters`
-    depth : float [m]
-
-    References
-    ----------
-    Kusuda and Achenbach (1965); Zuercher and Frank (2018), as in paper 000; implemented by
-    :func:`thermocal.physics.ground.ground_temperature`.
-    """
-    from thermocal.physics.ground import ground_temperature as _ground
-
-    return _ground(times, depth, **params).rename("Tgr")
-
-
 def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
     """Window gains and absorbed outer-surface radiation of roof and walls [W].
+
+    The window gains are :func:`thermocal.physics.solar.window_solar_gains` with
+    ``g_correction = 0.9``. The absorbed radiation ``A (alpha I_sol - F_r h_r dT_er)`` is the
+    full net radiation on the outer surface, without the ``R_se U`` factor of ISO 13790
+    11.3.4 (:func:`thermocal.physics.solar.opaque_solar_gains`): the RC model places it on the
+    envelope node through the outer half of the element (module docstring), which already
+    accounts for the fraction re-emitted at the outer surface.
 
     Parameters
     ----------
@@ -105,7 +57,7 @@ def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
     -------
     pd.DataFrame with columns ``phi_sol``, ``phi_abs_roof``, ``phi_abs_walls`` [W].
     """
-    from thermocal.physics.solar import irradiance_on_surfaces
+    from thermocal.physics.solar import irradiance_on_surfaces, window_solar_gains
 
     loc = building.location
     data = frame[["dni", "dhi"] + (["ghi"] if "ghi" in frame else [])]
@@ -131,8 +83,18 @@ def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
             g = float(c.g_value if c.g_value is not None else 0.6)
             ff = float(c.frame_fraction if c.frame_fraction is not None else 0.3)
             fsh = float(c.shading_factor if c.shading_factor is not None else 1.0)
-            phi_sol += c.area * (1 - ff) * g * fsh * WINDOW_INCIDENCE_FACTOR * poa(c.name)
+            irradiance = pd.DataFrame({"poa_global": poa(c.name)}, index=frame.index)
+            phi_sol += window_solar_gains(
+                irradiance,
+                float(c.area),
+                g,
+                frame_fraction=ff,
+                shading_factor=fsh,
+                g_correction=WINDOW_INCIDENCE_FACTOR,
+            ).to_numpy()
         elif c.type in absorbed:
+            # net radiation on the outer surface, NOT times R_se U as in ISO 13790 11.3.4
+            # (opaque_solar_gains): the RC model's outer half-element takes that role
             alpha = float(c.absorptance if c.absorptance is not None else 0.6)
             sky_view = 0.5 * (1.0 + np.cos(np.radians(tilt)))
             absorbed[c.type] += c.area * (

@@ -143,32 +143,6 @@ def element_conductances(area, u_value, r_si, r_se):
     return h_in, h_out, share
 
 
-def iso13370_slab_u_value(
-    area, perimeter, floor_resistance, *, wall_thickness=0.3, soil_conductivity=2.0
-):
-    """Steady-state U-value of a slab on ground [W/(m2 K)] (ISO 13370:2017 Eqs. 2-5).
-
-    Parameters
-    ----------
-    area : float [m2]
-    perimeter : float [m] exposed perimeter.
-    floor_resistance : float [m2 K/W] thermal resistance of the floor construction (Rf).
-    wall_thickness : float [m]
-    soil_conductivity : float [W/(m K)]
-
-    See :func:`thermocal.physics.ground.iso13370_slab_on_ground`.
-    """
-    from thermocal.physics.ground import iso13370_slab_on_ground
-
-    return iso13370_slab_on_ground(
-        area,
-        perimeter,
-        wall_thickness=wall_thickness,
-        floor_resistance=floor_resistance,
-        soil_conductivity=soil_conductivity,
-    )
-
-
 @dataclass(frozen=True)
 class GroundPath:
     """Boundary side of the ground element: conductances from the cellar (or slab) outward."""
@@ -290,8 +264,10 @@ def ground_path(building, envelope: EnvelopeComponents) -> GroundPath:
             floor_resistance=r_floor, wall_resistance=r_wall, soil_conductivity=lam,
         )  # fmt: skip
         return GroundPath(float(parts["heat_transfer_coefficient"]), 0.0, "heated_basement")
-    u_slab = iso13370_slab_u_value(
-        area, perimeter, r_floor, wall_thickness=w, soil_conductivity=lam
+    from thermocal.physics.ground import iso13370_slab_on_ground
+
+    u_slab = iso13370_slab_on_ground(
+        area, perimeter, wall_thickness=w, floor_resistance=r_floor, soil_conductivity=lam
     )
     return GroundPath(u_slab * area, 0.0, "slab")
 

@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.physics.ground import ground_temperature, ground_temperature_parameters
 from thermocal.retrofit.calibration import (
     BOUNDARY_COLUMNS,
     HEAT_COLUMNS,
@@ -30,11 +31,7 @@ from thermocal.retrofit.calibration import (
 from thermocal.retrofit.config import RetrofitConfig
 from thermocal.retrofit.data import prepare_measurements, read_raw_measurements
 from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
-from thermocal.retrofit.inputs import (
-    ground_temperature,
-    ground_temperature_parameters,
-    solar_inputs,
-)
+from thermocal.retrofit.inputs import solar_inputs
 from thermocal.retrofit.metrics import daily_profile, validation_metrics
 from thermocal.retrofit.model import (
     ESTIMATED_PARAMETERS,
@@ -163,7 +160,7 @@ def model_inputs(
     """Te, Tgr and the solar inputs of the model on the frame's index."""
     out = pd.DataFrame(index=frame.index)
     out["Te"] = frame[temp_col].to_numpy(float)
-    out["Tgr"] = ground_temperature(frame.index, ground_params, depth=depth).to_numpy()
+    out["Tgr"] = ground_temperature(frame.index, depth, **ground_params).to_numpy()
     if solar:
         sol = solar_inputs(frame, building)
         for c in sol:

@@ -52,6 +52,9 @@ def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
         Regular DatetimeIndex (interval starts) with ``dni`` and ``dhi`` [W/m2] (``ghi`` is
         computed as ``dhi + dni cos(zenith)`` when absent).
     building : thermocal.io.building.Building
+        Validated building: tilt and azimuth are set for every component, g_value,
+        frame_fraction and shading_factor for windows, absorptance for opaque components
+        (defaults applied by :mod:`thermocal.io.building`).
 
     Returns
     -------
@@ -64,9 +67,7 @@ def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
     orientations = {}
     for c in building.components:
         if c.type in ("window", "roof", "external_wall"):
-            tilt = float(c.tilt if c.tilt is not None else 90.0)
-            azimuth = float(c.azimuth if c.azimuth is not None else 180.0)
-            orientations[c.name] = (tilt, azimuth)
+            orientations[c.name] = (float(c.tilt), float(c.azimuth))
     poa_frames = irradiance_on_surfaces(
         data, loc.latitude, loc.longitude, orientations, altitude=loc.altitude
     )
@@ -78,25 +79,21 @@ def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
     phi_sol = np.zeros(n)
     absorbed = {"roof": np.zeros(n), "external_wall": np.zeros(n)}
     for c in building.components:
-        tilt = float(c.tilt if c.tilt is not None else 90.0)
         if c.type == "window":
-            g = float(c.g_value if c.g_value is not None else 0.6)
-            ff = float(c.frame_fraction if c.frame_fraction is not None else 0.3)
-            fsh = float(c.shading_factor if c.shading_factor is not None else 1.0)
             irradiance = pd.DataFrame({"poa_global": poa(c.name)}, index=frame.index)
             phi_sol += window_solar_gains(
                 irradiance,
                 float(c.area),
-                g,
-                frame_fraction=ff,
-                shading_factor=fsh,
+                float(c.g_value),
+                frame_fraction=float(c.frame_fraction),
+                shading_factor=float(c.shading_factor),
                 g_correction=WINDOW_INCIDENCE_FACTOR,
             ).to_numpy()
         elif c.type in absorbed:
             # net radiation on the outer surface, NOT times R_se U as in ISO 13790 11.3.4
             # (opaque_solar_gains): the RC model's outer half-element takes that role
-            alpha = float(c.absorptance if c.absorptance is not None else 0.6)
-            sky_view = 0.5 * (1.0 + np.cos(np.radians(tilt)))
+            alpha = float(c.absorptance)
+            sky_view = 0.5 * (1.0 + np.cos(np.radians(float(c.tilt))))
             absorbed[c.type] += c.area * (
                 alpha * poa(c.name) - sky_view * H_RE_SKY * DELTA_THETA_ER
             )

@@ -374,7 +374,7 @@ def build_fifth_order_model(building, *, solar_to_internal_mass: float = 0.5) ->
     floor_area = float(building.heated_floor_area)
     if floor_area <= 0:
         raise ThermocalInputError("building file: heated_floor_area must be > 0 m2")
-    emitter = getattr(building, "emitter", "radiators") or "radiators"
+    emitter = building.emitter  # validated by thermocal.io.building (EmitterType)
     if emitter not in EMITTERS:
         raise ThermocalInputError(
             f"building file: emitter {emitter!r} unknown; use one of {sorted(EMITTERS)}"
@@ -386,7 +386,7 @@ def build_fifth_order_model(building, *, solar_to_internal_mass: float = 0.5) ->
     # prior of Hest: ventilation/infiltration 0.5 1/h, thermal bridges, doors
     volume = float(building.volume)
     opaque = envelope.roof_area + envelope.walls_area + envelope.floor_area
-    bridges = float(getattr(building, "thermal_bridge_allowance", 0.05) or 0.0) * opaque
+    bridges = float(building.thermal_bridge_allowance) * opaque
     doors = sum(float(c.area) * float(c.u_value) for c in building.components if c.type == "door")
     air = 1200.0 / 3600.0  # rho c of air [Wh/(m3 K)] -> [W h/(m3 K)]
     h_est0 = air * 0.5 * volume + bridges + doors

@@ -232,3 +232,32 @@ def test_missing_files_are_named(synthetic, tmp_path):
         run_retrofit(load_config(config))
     with pytest.raises(ThermocalInputError, match="not found"):
         load_config(tmp_path / "missing.yaml")
+
+
+def test_building_errors_come_from_io_building(synthetic, tmp_path):
+    """Inline and file buildings are validated by thermocal.io.building: field, component,
+    range with unit, typo hint and (files) the YAML line."""
+
+    def inline(cfg, building, folder):
+        building["components"][0]["u_value"] = 35.0
+        cfg["building"] = building
+
+    (tmp_path / "inline").mkdir()
+    config = _variant(synthetic, tmp_path / "inline", cfg_edit=inline)
+    with pytest.raises(ThermocalInputError) as info:
+        run_retrofit(load_config(config))
+    msg = str(info.value)
+    assert "building (inline in the retrofit configuration" in msg
+    assert "components[0] ('roof south')" in msg and "u_value = 35" in msg
+    assert "0.08 to 4 W/(m2 K)" in msg and "did you mean 0.35" in msg
+
+    def in_file(cfg, building, folder):
+        building["components"][0]["u_value"] = 35.0
+        (folder / "building.yaml").write_text(yaml.safe_dump(building, sort_keys=False))
+
+    (tmp_path / "file").mkdir()
+    config = _variant(synthetic, tmp_path / "file", cfg_edit=in_file)
+    with pytest.raises(ThermocalInputError) as info:
+        run_retrofit(load_config(config))
+    msg = str(info.value)
+    assert "building.yaml" in msg and "(line " in msg and "did you mean 0.35" in msg

@@ -70,21 +70,25 @@ class RetrofitAnalysis:
     notes: list[str] = field(default_factory=list)
 
 
-def load_building(source):
-    """A :class:`thermocal.io.building.Building` from a path or an inline mapping."""
-    from thermocal.io.building import Building, read_building
+def load_building(source, *, config_source: str = "the retrofit configuration"):
+    """A :class:`thermocal.io.building.Building` from a path or an inline mapping.
+
+    Both go through :mod:`thermocal.io.building` (``read_building`` / ``building_from_dict``),
+    so invalid input raises :class:`ThermocalInputError` naming the field, the component, the
+    YAML line (files), the plausible range with unit and likely typos.
+
+    Parameters
+    ----------
+    source : path or dict
+        Building file, or the building description given inline under ``building:``.
+    config_source : str
+        Where an inline description comes from, for error messages.
+    """
+    from thermocal.io.building import building_from_dict, read_building
 
     if isinstance(source, dict):
-        from pydantic import ValidationError
-
-        try:
-            return Building.model_validate(source)
-        except ValidationError as exc:
-            raise ThermocalInputError(f"inline building in the configuration: {exc}") from None
-    path = Path(source)
-    if not path.is_file():
-        raise ThermocalInputError(f"building file {path} not found")
-    return read_building(path)
+        return building_from_dict(source, source=f"building (inline in {config_source})")
+    return read_building(Path(source))
 
 
 def resolve_weather_path(path) -> Path:
@@ -204,7 +208,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
     say("reading building, measurements and weather")
-    building = load_building(cfg.building)
+    building = load_building(
+        cfg.building, config_source=f"the retrofit configuration in {cfg.base_dir}"
+    )
     source = str(cfg.measurements.file)
     if cfg.model.solar_gains and not building.windows:
         raise ThermocalInputError(

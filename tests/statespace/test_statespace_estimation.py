@@ -160,6 +160,53 @@ def test_flags_correlated_pair_and_bound():
     assert any("correlation(H1, H2)" in f or "not negative definite" in f for f in res.flags)
 
 
+def test_unidentifiable_parameter_is_named_and_the_others_keep_standard_errors():
+    """Two parallel conductances between the same nodes: only their sum is identifiable, so the
+    information matrix is singular. The fit names one of them and still gives the capacity and the
+    noise standard errors (conditional on the named one), equal to those of the model in which it
+    is fixed at its estimate."""
+    m = RCModel("parallel")
+    m.add_state("Ti", capacity="Ci", noise="si", initial_mean="Ti0")
+    m.add_conductance("Ti", "Ta", conductance="H1")
+    m.add_conductance("Ti", "Ta", conductance="H2")
+    m.add_heat_input("Ph", into="Ti")
+    m.add_output("y", state="Ti", noise="e")
+    m.add_parameter("Ci", 2.0, unit="MJ/K")
+    m.add_parameter("H1", 300.0, unit="W/K", lower=1, upper=1e4)
+    m.add_parameter("H2", 400.0, unit="W/K", lower=1, upper=1e4)
+    m.add_parameter("si", 0.1, unit="K/sqrt(h)")
+    m.add_parameter("e", 0.1, unit="K", lower=0.01, upper=1)
+    m.add_parameter("Ti0", 20.0, unit="C")
+    data = inputs(200, seed=4)
+    data["y"] = simulate_stochastic(m, data, seed=4)["y"]
+    res = m.fit(data, compute_hessian=True)
+    singular = [f for f in res.flags if "not negative definite" in f]
+    assert singular, res.flags
+    named = "H1" if "along H1" in singular[0] else "H2"
+    assert f"along {named}" in singular[0] and "conditional on it being fixed" in singular[0]
+    assert np.isnan(res.bse[named])
+    identified = ["Ci", "si", "e", "Ti0"]
+    assert np.all(np.isfinite(res.bse[identified].to_numpy()))
+    # brute force: numerical Hessian of the log-likelihood over the others, the named one fixed
+    names = [n for n in m.free_parameter_names if n != named]
+    x = res.params[names].to_numpy()
+    h = 1e-4 * np.abs(x)
+
+    def ll(v):
+        return m.loglike(data, {**res.params.to_dict(), **dict(zip(names, v, strict=True))})
+
+    k = len(x)
+    H = np.zeros((k, k))
+    for i in range(k):
+        for j in range(k):
+            ei, ej = np.eye(k)[i] * h[i], np.eye(k)[j] * h[j]
+            H[i, j] = (ll(x + ei + ej) - ll(x + ei - ej) - ll(x - ei + ej) + ll(x - ei - ej)) / (
+                4 * h[i] * h[j]
+            )
+    bse = pd.Series(np.sqrt(np.diag(np.linalg.inv(-H))), index=names)
+    np.testing.assert_allclose(res.bse[identified], bse[identified], rtol=0.05)
+
+
 def test_fixed_parameters_are_not_estimated():
     model = two_state_model(initial_std=0.5)
     data = inputs()

@@ -141,7 +141,10 @@ class FitResults:
 
         Parameters at a bound have a flat likelihood in theta; when the full information matrix
         is not positive definite, they are held fixed (their standard error is NaN) and the
-        covariance of the others is computed from the reduced matrix.
+        covariance of the others is computed from the reduced matrix. If that is still not
+        positive definite, the parameters that dominate the flattest direction are held fixed
+        one by one (flagged by name), so the identifiable parameters keep standard errors
+        conditional on them.
         """
         k = len(free)
         cov = np.full((k, k), np.nan)
@@ -150,24 +153,30 @@ class FitResults:
             return cov
         info = -0.5 * (hessian + hessian.T)
         keep = np.arange(k)
-        try:
-            np.linalg.cholesky(info)
-        except np.linalg.LinAlgError:
+        if not _positive_definite(info):
             keep = np.array([i for i in range(k) if i not in at_bound], dtype=int)
-            sub = info[np.ix_(keep, keep)]
-            try:
-                np.linalg.cholesky(sub)
-                if len(keep) < k:
-                    self.flags.append(
-                        "standard errors computed with the parameters at a bound held fixed"
-                    )
-            except np.linalg.LinAlgError:
-                w, v = np.linalg.eigh(sub)
-                worst = [free[keep[j]] for j in np.argsort(-np.abs(v[:, 0]))[:2]]
+            if len(keep) < k and _positive_definite(info[np.ix_(keep, keep)]):
+                self.flags.append(
+                    "standard errors computed with the parameters at a bound held fixed"
+                )
+            unidentified = []
+            while len(keep) and not _positive_definite(info[np.ix_(keep, keep)]):
+                _, v = np.linalg.eigh(info[np.ix_(keep, keep)])
+                worst = int(np.argmax(np.abs(v[:, 0])))
+                unidentified.append(free[keep[worst]])
+                keep = np.delete(keep, worst)
+            if unidentified:
+                pronoun = "them" if len(unidentified) > 1 else "it"
+                others = (
+                    f"standard errors of the others are conditional on {pronoun} being fixed"
+                    if len(keep)
+                    else "no standard errors"
+                )
                 self.flags.append(
                     "Hessian is not negative definite (not identifiable, mostly along "
-                    f"{' and '.join(worst)}): no standard errors; fix or remove parameters"
+                    f"{' and '.join(unidentified)}): {others}; fix or remove parameters"
                 )
+            if not len(keep):
                 return cov
         cov_theta = np.linalg.inv(info[np.ix_(keep, keep)])
         cov[np.ix_(keep, keep)] = jac[keep, None] * cov_theta * jac[None, keep]
@@ -370,3 +379,12 @@ class FitResults:
             },
             "flags": list(self.flags),
         }
+
+
+def _positive_definite(matrix: np.ndarray) -> bool:
+    """True when the symmetric ``matrix`` has a Cholesky factor."""
+    try:
+        np.linalg.cholesky(matrix)
+    except np.linalg.LinAlgError:
+        return False
+    return True

@@ -341,3 +341,51 @@ def test_batched_matrices_equal_the_declared_rc_network(kind):
         scale_b = np.abs(b[0]).max()
         assert np.allclose(a[0], a_rc, rtol=1e-12, atol=1e-12 * scale_a)
         assert np.allclose(b[0], b_rc, rtol=1e-12, atol=1e-12 * scale_b)
+
+
+def _raw_log(freq: str, periods: int, seed: int = 1) -> pd.DataFrame:
+    rng = np.random.default_rng(seed)
+    idx = pd.date_range("2001-02-01", periods=periods, freq=freq, tz="UTC", name="time")
+    return pd.DataFrame(
+        {
+            "temp_out": rng.normal(0.0, 3.0, periods),
+            "flow": rng.uniform(0.0, 3e-4, periods),
+            "temp_supply": rng.uniform(40.0, 55.0, periods),
+            "temp_return": rng.uniform(30.0, 40.0, periods),
+            "dni": rng.uniform(0.0, 600.0, periods),
+            "dhi": rng.uniform(0.0, 200.0, periods),
+            "temp_in": rng.normal(20.0, 1.0, periods),
+        },
+        index=idx,
+    )
+
+
+def test_measurement_grid_equals_plain_interval_means():
+    """A regular 10-minute log: every hourly value is the plain mean of its six rows (brute
+    force), phi_h from the rows before averaging; the last hour is complete."""
+    from thermocal.physics.hydronics import heating_power
+    from thermocal.retrofit.data import prepare_measurements
+
+    raw = _raw_log("10min", 6 * 48)
+    grid, report = prepare_measurements(raw, "1h")
+    assert len(grid) == 48 and report.ok
+    phi = heating_power(raw["flow"], raw["temp_supply"], raw["temp_return"])
+    for k in (0, 17, 47):
+        rows = slice(6 * k, 6 * k + 6)
+        assert grid["temp_in"].iloc[k] == pytest.approx(raw["temp_in"].iloc[rows].mean())
+        assert grid["phi_h"].iloc[k] == pytest.approx(np.mean(phi[rows]), rel=1e-12)
+    assert (report.sensors["n_reports"] == len(raw)).all()
+
+
+def test_measurement_gaps_are_reported_and_left_missing():
+    """Three missing hours of an hourly log: NaN on the grid, one gap per sensor in the
+    QualityReport, nothing interpolated."""
+    from thermocal.retrofit.data import prepare_measurements
+
+    raw = _raw_log("1h", 48)
+    raw = raw.drop(raw.index[10:13])
+    grid, report = prepare_measurements(raw, "1h")
+    assert len(grid) == 48
+    assert grid.iloc[10:13].isna().all().all() and grid.drop(grid.index[10:13]).notna().all().all()
+    assert set(report.gaps["sensor"]) == set(grid.columns)
+    assert (report.gaps["duration_hours"] == 4.0).all() and (report.gaps["n_missing"] == 3).all()

@@ -57,6 +57,13 @@ def test_outputs_complete(synthetic):
         saved["annual_heating_demand_kWh"]["value"], rel=1e-9
     )
     assert len(saved["scenarios"]) == 16
+    quality = saved["measurements_quality"]
+    assert "Measurement quality: 8 sensor(s)" in quality["summary"]
+    rows = {r["sensor"]: r for r in quality["sensors"]}
+    n_rows = len(pd.read_csv(folder / "measurements.csv"))
+    assert set(rows) >= {"temp_in", "flow", "phi_h"}
+    assert all(r["n_reports"] == n_rows for r in rows.values())
+    assert quality["gaps"] == [] and quality["flags"] == []
     for key in ("code", "measures", "annual_kWh", "saving_pct", "saving_pct_p05", "saving_pct_p95"):
         assert key in saved["scenarios"][5]
     for m in ("mae", "mape", "mse", "mean_simulated", "mean_measured"):

@@ -3,7 +3,11 @@
 The measurement file is a CSV (or parquet) table with a time column and one column per
 quantity (names mapped by the configuration). Timestamps label the START of the averaging
 interval (thermocal convention); naive timestamps are local standard time of the configured
-time zone (default: the building's). Everything is averaged onto the configured step.
+time zone (default: the building's). Everything is averaged onto the configured step by
+:func:`thermocal.io.measurements.resample_measurements`, which also reports the data quality.
+The file is read here rather than by :func:`thermocal.io.measurements.read_measurements`
+because the workflow also accepts parquet and checks the retrofit-specific columns (flow
+sign, Kelvin temperatures, irradiance sign) with messages naming the configured column.
 """
 
 from __future__ import annotations
@@ -14,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io.measurements import QualityReport
 from thermocal.physics.hydronics import heating_power
 from thermocal.retrofit.config import FLOW_UNITS, MEASUREMENT_COLUMNS, MeasurementsConfig
 
@@ -126,20 +131,82 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
     return out
 
 
-def prepare_measurements(raw: pd.DataFrame, step: str) -> pd.DataFrame:
-    """Average onto a regular grid and add the heating power ``phi_h`` [W].
+#: Quantity of every standard column (for the physical limits and the spike screening of
+#: :func:`thermocal.io.measurements.resample_measurements`).
+QUANTITIES: dict[str, str] = {
+    "temp_out": "temperature",
+    "temp_supply": "temperature",
+    "temp_return": "temperature",
+    "temp_in": "temperature",
+    "flow": "flow",
+    "dni": "irradiance",
+    "dhi": "irradiance",
+    "phi_h": "power",
+}
+#: The heating power may be slightly negative (supply below return within the sensor
+#: uncertainty at a small flow); removing those values would bias the interval means.
+PHI_H_LIMITS = (-1e8, 1e8)
+
+
+def prepare_measurements(raw: pd.DataFrame, step: str) -> tuple[pd.DataFrame, QualityReport]:
+    """Average onto a regular grid, add the heating power ``phi_h`` [W], report the quality.
 
     The heating power is computed at the raw resolution (flow x temperature difference does
-    not commute with averaging) and then averaged.
+    not commute with averaging) with :func:`thermocal.physics.hydronics.heating_power`; then
+    every column is averaged by :func:`thermocal.io.measurements.resample_measurements`
+    (time-weighted mean, physically impossible values removed, spikes flagged, gaps left NaN
+    and reported, intervals covered less than half NaN).
+
+    Each row of the log is the mean over its logging interval, labelled by its start, so a
+    value is held for one logging interval (the median spacing of the timestamps, also the
+    longest silence bridged) and the last row is closed at its interval end. For a regular
+    log on the grid (or finer) the result equals the plain mean of the rows in each interval.
+
+    Parameters
+    ----------
+    raw : pd.DataFrame
+        From :func:`read_raw_measurements` (standard column names, tz-aware index).
+    step : str
+        Grid step, e.g. "1h" (``measurements.step``).
+
+    Returns
+    -------
+    grid : pd.DataFrame
+        Regular grid labelled by interval start with the raw columns and ``phi_h`` [W].
+    report : thermocal.io.measurements.QualityReport
     """
-    frame = raw.copy()
-    frame["phi_h"] = heating_power(frame["flow"], frame["temp_supply"], frame["temp_return"])
-    frame["dni"] = frame["dni"].clip(lower=0.0)
-    frame["dhi"] = frame["dhi"].clip(lower=0.0)
+    from thermocal.io.measurements import resample_measurements
+
     try:
-        grid = frame.resample(step).mean()
+        step_td = pd.Timedelta(step)
     except ValueError as exc:
         raise ThermocalInputError(
             f"measurements.step {step!r} is not a valid step: {exc}"
         ) from None
-    return grid
+    if step_td <= pd.Timedelta(0):
+        raise ThermocalInputError(f"measurements.step {step!r} must be a positive duration")
+    if len(raw) < 2:
+        raise ThermocalInputError("measurement file: fewer than two rows of measurements")
+    frame = raw.copy()
+    frame["phi_h"] = heating_power(frame["flow"], frame["temp_supply"], frame["temp_return"])
+    frame["dni"] = frame["dni"].clip(lower=0.0)
+    frame["dhi"] = frame["dhi"].clip(lower=0.0)
+    logging_interval = pd.Series(frame.index).diff().median()
+    closing = frame.iloc[[-1]].copy()
+    closing.index = closing.index + logging_interval
+    frame = pd.concat([frame, closing])
+    grid, report = resample_measurements(
+        frame,
+        step_td,
+        max_gap=logging_interval,
+        quantities={c: QUANTITIES[c] for c in frame.columns if c in QUANTITIES},
+        limits={"phi_h": PHI_H_LIMITS},
+    )
+    # the closing row is not a report of the file: count only the file's rows
+    closed = [c for c in closing.columns if np.isfinite(closing[c].iloc[0])]
+    report.sensors.loc[closed, "n_reports"] -= 1
+    report.actions.append(
+        f"each row held for one logging interval ({logging_interval}), the last row until "
+        f"{closing.index[0].isoformat()} (rows are interval means labelled by their start)"
+    )
+    return grid[list(raw.columns) + ["phi_h"]], report

@@ -184,9 +184,17 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "measures_u_values": cfg.measures,
         "uncertainty": {"draws": cfg.uncertainty.draws, "interval": cfg.uncertainty.interval,
                         "seed": cfg.uncertainty.seed},
+        "measurements_quality": _quality_dict(analysis.measurements_quality),
         "notes": analysis.notes,
         "timings_s": analysis.timings,
     })  # fmt: skip
+
+
+def _quality_dict(report) -> dict | None:
+    """The measurement QualityReport as JSON content, with its plain-text summary."""
+    if report is None:
+        return None
+    return {"summary": report.summary(), **report.to_dict()}
 
 
 def _fmt(value, spec: str) -> str:

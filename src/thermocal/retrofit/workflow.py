@@ -68,6 +68,7 @@ class RetrofitAnalysis:
     draws: dict[str, np.ndarray] | None = None  # parameter sets (SI), first = estimate
     timings: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    measurements_quality: Any = None  # thermocal.io.measurements.QualityReport of the grid
 
 
 def load_building(source, *, config_source: str = "the retrofit configuration"):
@@ -219,7 +220,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "model.solar_gains: false"
         )
     raw = read_raw_measurements(cfg.measurements, default_tz=_location_tz(building))
-    grid = prepare_measurements(raw, cfg.measurements.step)
+    grid, quality = prepare_measurements(raw, cfg.measurements.step)
     step = grid.index[1] - grid.index[0]
     weather, weather_meta = load_weather_year(cfg, step)
     ground_params = ground_temperature_parameters(weather)
@@ -308,7 +309,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         indoor_profile=profile, strategies=strategies, demand=demand,
         weather_meta=weather_meta, year_inputs=year[list(DEMAND_INPUTS)], draws=draws,
         envelopes=envelopes,
-        timings=timings, notes=notes,
+        timings=timings, notes=notes, measurements_quality=quality,
     )  # fmt: skip
 
 

@@ -63,6 +63,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io._time import parse_time_column
 
 __all__ = [
     "OPERATIONS",
@@ -194,7 +195,6 @@ _TEMPERATURE_NAME = re.compile(
     r"(?i:temp|theta)|^[tT]($|[_\-\s\d])|^[tT][a-z]{1,2}$|^T[A-Z][a-z]|(^|_)[tT](_|$)"
 )
 _FLOW_NAME = re.compile(r"(?i)flow|durchfluss|^v_?dot|volume_?rate")
-_TIME_UNITS = {"s": "s", "min": "min", "h": "h", "d": "D", "ms": "ms"}
 
 
 # ----------------------------------------------------------------------------------------------
@@ -300,132 +300,6 @@ def _parse_numbers(
             f"leave the cell empty for a missing value"
         )
     return numbers.to_numpy(dtype=np.float64, na_value=np.nan)
-
-
-def _parse_times(
-    series: pd.Series,
-    *,
-    source: str,
-    column: str,
-    lines: np.ndarray,
-    tz: Any,
-    time_unit: str | None,
-    start: Any,
-    time_format: str | None = None,
-) -> tuple[pd.DatetimeIndex, str]:
-    """Tz-aware times of a column; returns (times, description of what was assumed)."""
-    note = ""
-    if pd.api.types.is_numeric_dtype(series.dtype):
-        if time_unit is None:
-            raise ThermocalInputError(
-                f"{source}, column '{column}': the times are numbers; pass time_unit= "
-                f"({', '.join(_TIME_UNITS)}) and start= (the time of 0, e.g. "
-                f"'2009-02-05 14:26:00+01:00'; default 1970-01-01 UTC)"
-            )
-        if time_unit not in _TIME_UNITS:
-            raise ThermocalInputError(
-                f"time_unit = {time_unit!r} is not one of {', '.join(_TIME_UNITS)}"
-            )
-        values = series.to_numpy(dtype=np.float64, na_value=np.nan)
-        bad = ~np.isfinite(values)
-        if bad.any():
-            first = int(np.flatnonzero(bad)[0])
-            raise ThermocalInputError(
-                f"{source}, column '{column}', line {lines[first]}: missing or invalid time"
-            )
-        origin = pd.Timestamp(start if start is not None else "1970-01-01T00:00:00Z")
-        if origin.tzinfo is None:
-            if tz is None:
-                raise ThermocalInputError(
-                    f"{source}: start={start!r} has no UTC offset; give one "
-                    f"('2009-02-05 14:26:00+01:00') or pass tz="
-                )
-            origin = origin.tz_localize(tz)
-        elif tz is not None:
-            origin = origin.tz_convert(tz)
-        offsets = pd.to_timedelta(values, unit=_TIME_UNITS[time_unit])
-        times = pd.DatetimeIndex(origin + offsets).as_unit("ns")
-        return times, f"numeric times in {time_unit} from {origin.isoformat()}"
-    text = series.astype("string").str.strip()
-    sample = text.dropna()
-    offset_match = (
-        re.search(r"(Z|[+-]\d\d(:?\d\d)?)$", str(sample.iloc[0])) if len(sample) else None
-    )
-    has_offset = offset_match is not None
-    fast = None if time_format else _parse_times_arrow(text, offset_match)
-    if fast is not None:
-        parsed = fast
-    elif time_format:
-        parsed = pd.to_datetime(text, format=time_format, errors="coerce")
-    elif has_offset:
-        try:
-            parsed = pd.to_datetime(text, format="ISO8601", errors="coerce")
-        except (ValueError, TypeError):  # mixed offsets (e.g. +01:00 and +02:00 across DST)
-            parsed = pd.to_datetime(text, format="ISO8601", errors="coerce", utc=True)
-        if not isinstance(parsed.dtype, pd.DatetimeTZDtype):
-            parsed = pd.to_datetime(text, format="ISO8601", errors="coerce", utc=True)
-    else:
-        try:
-            parsed = pd.to_datetime(text, format="ISO8601", errors="coerce")
-        except (ValueError, TypeError):
-            parsed = pd.to_datetime(text, errors="coerce")
-    bad = parsed.isna().to_numpy()
-    if bad.any():
-        first = int(np.flatnonzero(bad)[0])
-        raise ThermocalInputError(
-            f"{source}, column '{column}', line {lines[first]}: cannot read "
-            f"{series.iloc[first]!r} as a time; use ISO 8601, e.g. 2019-02-02T13:05:00+01:00 "
-            f"({int(bad.sum())} unreadable time(s) in this column)"
-        )
-    times = pd.DatetimeIndex(parsed)
-    if times.tz is None:
-        if tz is None:
-            raise ThermocalInputError(
-                f"{source}, column '{column}': the timestamps have no UTC offset; pass tz= (e.g. "
-                f"tz='Europe/Zurich' or tz='UTC') or write them with an offset "
-                f"(2019-02-02T13:05:00+01:00)"
-            )
-        try:
-            times = times.tz_localize(tz, ambiguous="raise", nonexistent="raise")
-        except (ValueError, TypeError) as exc:
-            raise ThermocalInputError(
-                f"{source}, column '{column}': local times cannot be placed in time zone "
-                f"{tz!r} ({exc}); clock changes make some local times ambiguous or non-existent. "
-                f"Write the timestamps with UTC offsets or in UTC"
-            ) from None
-        note = f"timestamps without offset interpreted in {tz}"
-    elif tz is not None:
-        times = times.tz_convert(tz)
-    return times.as_unit("ns"), note
-
-
-def _parse_times_arrow(text: pd.Series, offset_match: re.Match | None) -> pd.Series | None:
-    """ISO 8601 strings -> times with pyarrow (fast path); None when pyarrow cannot parse all.
-
-    With offsets the result is in UTC, or in the fixed offset of the first timestamp when every
-    timestamp carries the same offset text.
-    """
-    import pyarrow as pa
-    import pyarrow.compute as pc
-
-    try:
-        array = pa.array(text, type=pa.string(), from_pandas=True)
-        if offset_match is None:
-            parsed = pc.cast(array, pa.timestamp("ns"))
-        else:
-            parsed = pc.cast(array, pa.timestamp("ns", tz="UTC"))
-    except (pa.ArrowInvalid, pa.ArrowNotImplementedError, pa.ArrowTypeError, ValueError):
-        return None
-    if parsed.null_count != array.null_count:
-        return None
-    values = pd.Series(parsed.to_numpy(zero_copy_only=False), index=text.index)
-    if offset_match is None:
-        return values
-    values = values.dt.tz_localize("UTC")
-    suffix = offset_match.group(0)
-    if suffix != "Z" and pc.all(pc.ends_with(array, suffix)).as_py():
-        values = values.dt.tz_convert(pd.Timestamp(str(text.dropna().iloc[0])).tzinfo)
-    return values
 
 
 def _check_order(
@@ -677,7 +551,7 @@ def read_measurements(
             f"value_column="
         )
     long_layout = layout == "long" or (layout == "auto" and is_long)
-    times, time_note = _parse_times(
+    times, time_note = parse_time_column(
         frame[time_col],
         source=source,
         column=time_col,

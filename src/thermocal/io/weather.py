@@ -65,7 +65,6 @@ from __future__ import annotations
 
 import calendar
 import io
-import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -74,6 +73,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io._time import as_timezone, parse_time_column
 
 __all__ = [
     "STANDARD_COLUMNS",
@@ -159,6 +159,7 @@ def read_weather(
     tz: str | float | None = None,
     time_column: str = "time",
     time_label: str = "start",
+    time_format: str | None = None,
     coerce_year: int | None = None,
     metadata: Mapping[str, Any] | None = None,
 ) -> tuple[pd.DataFrame, dict]:
@@ -181,6 +182,8 @@ def read_weather(
     time_label : {"start", "end"}
         CSV only: whether each time stamp labels the start (default) or the end of the interval
         over which the irradiance columns are averaged.
+    time_format : str, optional
+        CSV only: strftime format of non-ISO-8601 time stamps, e.g. ``"%d.%m.%Y %H:%M"``.
     coerce_year : int, optional
         EPW/TMY3: put every row in this year (typical-year files). See the module docstring.
     metadata : mapping, optional
@@ -220,6 +223,7 @@ def read_weather(
             tz=tz,
             time_column=time_column,
             time_label=time_label,
+            time_format=time_format,
             metadata=metadata,
         )
     raise ThermocalInputError(
@@ -312,7 +316,7 @@ def read_epw(
         if n_missing:
             missing[column] = n_missing
     if tz is not None:
-        frame.index = frame.index.tz_convert(_as_tz(tz, path))
+        frame.index = frame.index.tz_convert(as_timezone(tz, f"weather file {path}"))
     metadata = {
         "latitude": float(meta["latitude"]),
         "longitude": float(meta["longitude"]),
@@ -418,7 +422,7 @@ def read_tmy3(
     frame = _instant_values_to_true_time(frame, wrap=_covers_whole_year(index, step))
     missing = {c: int(frame[c].isna().sum()) for c in frame.columns if frame[c].isna().any()}
     if tz is not None:
-        frame.index = frame.index.tz_convert(_as_tz(tz, path))
+        frame.index = frame.index.tz_convert(as_timezone(tz, f"weather file {path}"))
     metadata = {
         "latitude": float(meta["latitude"]),
         "longitude": float(meta["longitude"]),
@@ -443,6 +447,7 @@ def read_weather_csv(
     tz: str | float | None = None,
     time_column: str = "time",
     time_label: str = "start",
+    time_format: str | None = None,
     metadata: Mapping[str, Any] | None = None,
 ) -> tuple[pd.DataFrame, dict]:
     """Read a plain CSV weather file with a column mapping into the standard frame.
@@ -462,6 +467,9 @@ def read_weather_csv(
         Whether a time stamp labels the start or the end of its averaging interval. With "end"
         the rows are re-labelled by interval start and instant quantities are kept at their true
         time, exactly as for EPW files.
+    time_format : str, optional
+        strftime format of time stamps that are not ISO 8601, e.g. ``"%d.%m.%Y %H:%M"``
+        (ISO 8601 with or without UTC offsets is read without it).
     metadata : mapping, optional
         ``latitude`` [deg N], ``longitude`` [deg E], ``altitude`` [m], ``name``.
 
@@ -500,34 +508,14 @@ def read_weather_csv(
             f"{list(raw.columns)} (fix the column mapping or time_column=)"
         )
     first_line = 2  # header is line 1
-    try:
-        times = pd.to_datetime(raw[time_column], errors="coerce", format="mixed")
-    except ValueError:  # several UTC offsets (e.g. across a DST change): convert via UTC
-        times = pd.to_datetime(raw[time_column], errors="coerce", format="mixed", utc=True)
-    bad = times.isna()
-    if bad.any():
-        row = int(np.flatnonzero(bad.to_numpy())[0])
-        raise ThermocalInputError(
-            f"weather file {path}, column {time_column!r}, line {row + first_line}: cannot read "
-            f"the time stamp {raw[time_column].iloc[row]!r} (use ISO 8601, e.g. 2015-01-01 00:00)"
-        )
-    index = pd.DatetimeIndex(times)
-    if index.tz is None:
-        if tz is None:
-            raise ThermocalInputError(
-                f"weather file {path}, column {time_column!r}: time stamps have no time zone; "
-                "pass tz= (a name such as 'Etc/GMT-1' or hours east of UTC such as 1.0)"
-            )
-        try:
-            index = index.tz_localize(_as_tz(tz, path), ambiguous="raise", nonexistent="raise")
-        except Exception as exc:
-            raise ThermocalInputError(
-                f"weather file {path}, column {time_column!r}: the naive time stamps cannot be "
-                f"placed in time zone {tz!r} ({exc}); weather data are usually in standard time: "
-                "pass a fixed offset, e.g. tz=1.0"
-            ) from exc
-    elif tz is not None:
-        index = index.tz_convert(_as_tz(tz, path))
+    index, _ = parse_time_column(
+        raw[time_column],
+        source=f"weather file {path}",
+        column=time_column,
+        lines=np.arange(first_line, first_line + len(raw)),
+        tz=tz,
+        time_format=time_format,
+    )
     _check_time_index(index, path, time_column, first_line)
     step = pd.Timedelta(index[1] - index[0]) if len(index) > 1 else pd.Timedelta(hours=1)
     frame = pd.DataFrame(index=index)
@@ -1002,22 +990,6 @@ def _fixed_offset(hours: float):
     import datetime as _dt
 
     return _dt.timezone(_dt.timedelta(hours=hours))
-
-
-def _as_tz(tz: str | float, path: Path | str):
-    if isinstance(tz, (int, float)) and not isinstance(tz, bool):
-        if not -14 <= float(tz) <= 14 or math.isnan(float(tz)):
-            raise ThermocalInputError(
-                f"weather file {path}: tz={tz!r} hours is not a valid UTC offset (-14..14)"
-            )
-        return _fixed_offset(float(tz))
-    try:
-        return pd.Timestamp("2000-01-01").tz_localize(tz).tz
-    except Exception as exc:
-        raise ThermocalInputError(
-            f"weather file {path}: unknown time zone {tz!r} (use an IANA name such as "
-            "'Europe/Zurich' or 'Etc/GMT-1', or hours east of UTC such as 1.0)"
-        ) from exc
 
 
 def _is_fixed(tzinfo) -> bool:

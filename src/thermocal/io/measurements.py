@@ -441,13 +441,17 @@ def read_measurements(
     comment: str | None = None,
     duplicates: Literal["error", "first", "last"] = "error",
     sort: bool = False,
+    rows: Literal["reports", "interval_start", "interval_end"] = "reports",
+    interval: Any = None,
 ) -> tuple[pd.DataFrame, dict]:
-    """Read a sensor log (CSV, long or wide) into reports in thermocal units.
+    """Read a sensor log (CSV or parquet, long or wide) into reports in thermocal units.
 
     Parameters
     ----------
     path : str or Path
-        CSV file. The separator is sniffed from the header (``,``, ``;``, tab, ``|``).
+        CSV file (the separator is sniffed from the header: ``,``, ``;``, tab, ``|``), or a
+        parquet table (``.parquet``, ``.pq``; its time column may be text, numbers or
+        datetimes). Messages about a parquet table count its rows as lines (1 = first row).
     layout : {"auto", "long", "wide"}
         "long": one report per row with ``time_column``, ``sensor_column``, ``value_column``
         (and optionally ``unit_column``); "wide": ``time_column`` plus one column per sensor,
@@ -488,6 +492,18 @@ def read_measurements(
         Repeated timestamps (per sensor): an error, or keep the first/last report.
     sort : bool
         Sort out-of-order rows by time instead of raising an error (reported in ``meta``).
+    rows : {"reports", "interval_start", "interval_end"}
+        What a row is. "reports" (default): an event or sample at its time stamp, held until
+        the next report by :func:`resample_measurements`. "interval_start": the mean over the
+        logging interval ``[t, t + interval)`` labelled by its start (typical of data loggers
+        and of exported hourly/10-minute tables); "interval_end": the same labelled by its end
+        (the times are shifted back by ``interval``). For both, ``meta["interval"]`` tells
+        :func:`resample_measurements` to hold each row until the next one but for at most
+        ``interval``, and the last row until its interval end.
+    interval : str or Timedelta, optional
+        The logging interval of ``rows="interval_start"``/``"interval_end"`` [duration];
+        default the median spacing of the time stamps (per sensor in the long layout, the
+        median over the sensors).
 
     Returns
     -------
@@ -500,7 +516,8 @@ def read_measurements(
     meta : dict
         ``source``, ``layout``, ``sensors``, ``units`` (canonical, per sensor),
         ``units_in_file``, ``quantities``, ``conversions`` (per sensor, e.g. "K -> C (detected
-        ...)"), ``notes`` (everything assumed or changed), ``n_reports`` (per sensor), ``tz``.
+        ...)"), ``notes`` (everything assumed or changed), ``n_reports`` (per sensor), ``tz``,
+        ``rows`` and ``interval`` (Timedelta, or None for reports).
 
     Raises
     ------
@@ -517,25 +534,23 @@ def read_measurements(
         raise ThermocalInputError(f"layout = {layout!r}; use 'auto', 'long' or 'wide'")
     if duplicates not in ("error", "first", "last"):
         raise ThermocalInputError(f"duplicates = {duplicates!r}; use 'error', 'first' or 'last'")
-    separator = sep or _sniff_separator(path, comment)
-    try:
-        frame = pd.read_csv(
-            path,
-            sep=separator,
-            decimal=decimal,
-            comment=comment,
-            na_values=_NA_TOKENS,
-            keep_default_na=False,
-            skipinitialspace=True,
-            encoding="utf-8-sig",
-            low_memory=False,
+    if rows not in ("reports", "interval_start", "interval_end"):
+        raise ThermocalInputError(
+            f"rows = {rows!r}; use 'reports', 'interval_start' or 'interval_end'"
         )
-    except (pd.errors.ParserError, UnicodeDecodeError, pd.errors.EmptyDataError) as exc:
-        raise ThermocalInputError(f"{source}: cannot read as CSV ({exc})") from None
-    frame.columns = [str(c).strip() for c in frame.columns]
-    if frame.empty:
-        raise ThermocalInputError(f"{source}: no data rows below the header")
-    lines = _line_numbers(path, len(frame), comment)
+    interval_td = _as_timedelta(interval, "interval")
+    if interval_td is not None and rows == "reports":
+        raise ThermocalInputError(
+            "interval= describes logs of interval means: pass rows='interval_start' or "
+            "'interval_end' with it"
+        )
+    if path.suffix.lower() in (".parquet", ".pq"):
+        frame = _read_parquet_table(path)
+        lines = np.arange(1, len(frame) + 1, dtype=np.int64)
+        source = f"{path} (parquet; line = table row)"
+    else:
+        frame = _read_csv_table(path, sep=sep, decimal=decimal, comment=comment)
+        lines = _line_numbers(path, len(frame), comment)
     notes: list[str] = []
 
     time_col = _find_time_column(frame.columns, time_column, source, notes)
@@ -586,9 +601,79 @@ def read_measurements(
         )
     else:
         raw, meta = _read_wide(frame.drop(columns=[time_col]), times, **context)
-    meta.update(source=source, tz=str(raw_tz(raw)), notes=notes)
+    if rows != "reports":
+        raw, interval_td = _as_interval_means(raw, rows, interval_td, source, notes)
+    meta.update(
+        source=str(path),
+        tz=str(raw_tz(raw)),
+        notes=notes,
+        rows="reports" if rows == "reports" else "interval means",
+        interval=interval_td,
+    )
     raw.attrs["measurements"] = meta
     return raw, meta
+
+
+def _read_csv_table(path: Path, *, sep: str | None, decimal: str, comment: str | None):
+    separator = sep or _sniff_separator(path, comment)
+    try:
+        frame = pd.read_csv(
+            path,
+            sep=separator,
+            decimal=decimal,
+            comment=comment,
+            na_values=_NA_TOKENS,
+            keep_default_na=False,
+            skipinitialspace=True,
+            encoding="utf-8-sig",
+            low_memory=False,
+        )
+    except (pd.errors.ParserError, UnicodeDecodeError, pd.errors.EmptyDataError) as exc:
+        raise ThermocalInputError(f"{path}: cannot read as CSV ({exc})") from None
+    frame.columns = [str(c).strip() for c in frame.columns]
+    if frame.empty:
+        raise ThermocalInputError(f"{path}: no data rows below the header")
+    return frame
+
+
+def _read_parquet_table(path: Path) -> pd.DataFrame:
+    try:
+        frame = pd.read_parquet(path)
+    except Exception as exc:  # noqa: BLE001 - pyarrow raises many types for a bad file
+        raise ThermocalInputError(f"{path}: cannot read as parquet ({exc})") from None
+    if not isinstance(frame.index, pd.RangeIndex):  # e.g. a DatetimeIndex written by pandas
+        frame = frame.reset_index()
+    frame.columns = [str(c).strip() for c in frame.columns]
+    if frame.empty:
+        raise ThermocalInputError(f"{path}: the parquet table has no rows")
+    return frame.reset_index(drop=True)
+
+
+def _as_interval_means(
+    raw: pd.DataFrame, rows: str, interval: pd.Timedelta | None, source: str, notes: list[str]
+) -> tuple[pd.DataFrame, pd.Timedelta]:
+    """Logging interval of a log of interval means; rows labelled by their end are moved back."""
+    if interval is None:
+        if isinstance(raw.index, pd.DatetimeIndex):
+            spacings = [np.diff(raw.index.asi8)]
+        else:
+            spacings = [np.diff(g.asi8) for _, g in raw.groupby("sensor", observed=True)["time"]]
+        medians = [float(np.median(d)) for d in spacings if d.size]
+        if not medians:
+            raise ThermocalInputError(
+                f"{source}: one row per sensor: the logging interval cannot be inferred; "
+                "pass interval="
+            )
+        interval = pd.Timedelta(int(round(float(np.median(medians)))), unit="ns")
+        notes.append(f"logging interval {interval} (median spacing of the time stamps)")
+    if rows == "interval_end":
+        if isinstance(raw.index, pd.DatetimeIndex):
+            raw.index = pd.DatetimeIndex(raw.index - interval, name=raw.index.name)
+        else:
+            raw["time"] = raw["time"] - interval
+        notes.append(f"rows labelled by their interval end moved back by {interval}")
+    notes.append(f"rows are means over [t, t + {interval}) labelled by their start (rows='{rows}')")
+    return raw, interval
 
 
 def raw_tz(raw: pd.DataFrame):
@@ -1264,6 +1349,7 @@ def resample_measurements(
     outliers: Literal["flag", "remove", "ignore"] = "flag",
     outlier_sigma: float = 5.0,
     outlier_max_run: int = 2,
+    interval: Any = None,
 ) -> tuple[pd.DataFrame, QualityReport]:
     """Resample irregular sensor reports to a regular grid, with a quality report.
 
@@ -1303,6 +1389,14 @@ def resample_measurements(
     outlier_max_run : int
         Longest run of consecutive reports still called a spike [reports]; a longer excursion
         is an event (a window opened, the heating started) and is not flagged.
+    interval : str or Timedelta, optional
+        The rows are means over ``[t, t + interval)`` labelled by their start (a logger's
+        interval means) [duration]: each row is held until the next one but for at most
+        ``interval``, and the last row until ``t_last + interval`` (the grid extends to it).
+        Silences longer than ``max_gap`` are still listed as gaps (pass ``max_gap=interval``
+        to list every missing row). Default: ``raw.attrs["measurements"]["interval"]``, set by
+        :func:`read_measurements` with ``rows="interval_start"`` or ``"interval_end"``; None
+        there: the rows are reports (held until the next report, see ``max_gap``).
 
     Returns
     -------
@@ -1327,6 +1421,7 @@ def resample_measurements(
     if not series:
         raise ThermocalInputError("resample_measurements: no sensors in the data")
     meta = raw.attrs.get("measurements", {}) if isinstance(raw.attrs, dict) else {}
+    interval_td = _as_timedelta(meta.get("interval") if interval is None else interval, "interval")
     sensors = list(series)
     quantity_of = dict(meta.get("quantities", {}))
     for name in sensors:
@@ -1369,6 +1464,8 @@ def resample_measurements(
         raise ThermocalInputError("resample_measurements: no finite values in the data")
     first_ns = min(int(t[0]) for t in nonempty)
     last_ns = max(int(t[-1]) for t in nonempty)
+    if interval_td is not None:
+        last_ns += interval_td.value  # the last row describes [t_last, t_last + interval)
     grid = _grid(first_ns, last_ns, step_td, tz, start, end)
     origin_ns = grid[0].value
     step_s = step_td.total_seconds()
@@ -1387,6 +1484,11 @@ def resample_measurements(
         actions.append(f"reading: {note}")
     for name, note in meta.get("conversions", {}).items():
         actions.append(f"{name}: converted {note}")
+    if interval_td is not None:
+        actions.append(
+            f"rows are interval means: each held until the next row or for at most "
+            f"{interval_td}, the last until {pd.Timestamp(last_ns, tz='UTC').tz_convert(tz)}"
+        )
 
     for name in sensors:
         times_ns, values, lines_of = series[name]
@@ -1486,6 +1588,8 @@ def resample_measurements(
         if not math.isfinite(hold):
             hold = step_s
         ends, gap = _validity_ends(t, data_end, max_gap_s, hold)
+        if interval_td is not None:
+            ends = np.minimum(ends, t + interval_td.total_seconds())
         reference = float(values[0])
         integral, cover = _held_integral(t, values - reference, ends, edges)
         covered = np.diff(cover)

@@ -157,6 +157,7 @@ class Calibration:
     heat_loss_coefficient: float = 0.0
     heat_loss_coefficient_std: float = 0.0
     correlated_pairs: list[tuple[str, str, float]] = field(default_factory=list)
+    pairwise_correlation: pd.DataFrame | None = None  # see :func:`pairwise_correlation`
     at_bounds: list[str] = field(default_factory=list)
     nuisance_flags: list[str] = field(default_factory=list)  # of the full fit (noise, x0)
 
@@ -218,7 +219,12 @@ def calibrate(
     cov_si = cov_sub * np.outer(factors, factors)
     estimates = {n: float(params[n]) * f for n, f in zip(names, factors, strict=True)}
     corr = res.correlation
-    pairs = correlated_pairs(corr, max_correlation)
+    # pairs the data cannot separate: the engine's correlation, or the pairwise curvature in
+    # declared units, which still sees a ridge when one of the pair sits on its bound
+    pairwise = pairwise_correlation(rc_cond, params, data, names)
+    pairs = {(a, b): r for a, b, r in correlated_pairs(pairwise, max_correlation)}
+    pairs.update({(a, b): r for a, b, r in correlated_pairs(corr, max_correlation)})
+    pairs = sorted(((a, b, r) for (a, b), r in pairs.items()), key=lambda t: -abs(t[2]))
     nuisance_flags = [f for f in full.flags if f not in res.flags]
     flags = list(res.flags)
     for a, b, r in pairs:
@@ -268,6 +274,7 @@ def calibrate(
         heat_loss_coefficient=float(hlc),
         heat_loss_coefficient_std=hlc_std,
         correlated_pairs=pairs,
+        pairwise_correlation=pairwise,
         at_bounds=at_bounds,
         nuisance_flags=nuisance_flags,
     )
@@ -284,6 +291,71 @@ def _profile_std(rc, params: pd.Series, data: pd.DataFrame, name: str) -> float:
         ll.append(rc.loglike(data, {**base, name: x + d}))
     curv = (ll[0] - 2 * ll[1] + ll[2]) / h**2
     return float(np.sqrt(-1.0 / curv)) if curv < 0 else float("nan")
+
+
+def pairwise_correlation(rc, params: pd.Series, data, names) -> pd.DataFrame:
+    """Correlation of every pair of ``names`` from the log-likelihood curvature, declared units.
+
+    For each pair the 2 x 2 block of the negative Hessian (the other parameters held at their
+    estimates) is inverted: ``r_ij = -H_ij / sqrt(H_ii H_jj)``. A pair whose effect on the
+    likelihood is only through a combination (a ridge) gives ``|r_ij| -> 1``.
+
+    Why this and not only the optimiser's correlation: that one is the inverse Hessian in the
+    unconstrained (logit) space mapped by the delta method; for a parameter on a bound the
+    transform's derivative vanishes and so does every correlation with it, which hides a pair
+    the data cannot separate (e.g. ``C_i`` driven to its bound while only ``C_i + C_im`` is
+    identified). The log-likelihood itself is defined beyond the bounds, so its central-
+    difference Hessian in declared units still shows the ridge; and the 2 x 2 blocks stay
+    meaningful when the full Hessian is numerically singular.
+
+    Parameters
+    ----------
+    rc : thermocal.statespace.RCModel
+    params : pd.Series
+        Estimates of every parameter of ``rc`` [declared units].
+    data : pd.DataFrame
+        The calibration data.
+    names : list of str
+        The parameters whose pairs are checked.
+
+    Returns
+    -------
+    pd.DataFrame
+        Symmetric matrix of pairwise correlations [-]; NaN where the curvature along a
+        parameter is not negative.
+
+    References
+    ----------
+    H. Madsen et al., "Thermal performance characterization using time series data -- IEA EBC
+    Annex 58 guidelines", 2016, sec. on parameter correlation (|r| < 0.98).
+    """
+    from thermocal.statespace import prepare_data
+
+    prep = prepare_data(rc, data)
+    base = {n: float(params[n]) for n in rc.parameter_names}
+    x = np.array([base[n] for n in names])
+    h = 1e-3 * np.maximum(np.abs(x), 1e-9)
+    k = len(names)
+
+    def ll(*steps):
+        vals = dict(base)
+        for i, d in steps:
+            vals[names[i]] = x[i] + d * h[i]
+        return rc.loglike(prep, vals)
+
+    l0 = ll()
+    neg_hess = np.empty((k, k))
+    for i in range(k):
+        neg_hess[i, i] = -(ll((i, 1)) - 2.0 * l0 + ll((i, -1))) / h[i] ** 2
+        for j in range(i):
+            cross = ll((i, 1), (j, 1)) - ll((i, 1), (j, -1)) - ll((i, -1), (j, 1))
+            cross += ll((i, -1), (j, -1))
+            neg_hess[i, j] = neg_hess[j, i] = -cross / (4.0 * h[i] * h[j])
+    diag = np.diag(neg_hess)
+    scale = np.where(diag > 0, np.sqrt(np.abs(diag)), np.nan)
+    corr = np.clip(-neg_hess / np.outer(scale, scale), -1.0, 1.0)
+    np.fill_diagonal(corr, np.where(diag > 0, 1.0, np.nan))
+    return pd.DataFrame(corr, index=list(names), columns=list(names))
 
 
 def correlated_pairs(corr: pd.DataFrame, limit: float = 0.98) -> list[tuple[str, str, float]]:

@@ -165,6 +165,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "max_abs_correlation": _num(np.nanmax(np.abs(off))) if off.size else None,
             "max_abs_correlation_physical": _num(np.nanmax(np.abs(off_phys)))
             if off_phys.size else None,
+            "max_abs_pairwise_correlation_physical": _max_off_diagonal(cal.pairwise_correlation),
             "correlated_pairs": [
                 {"a": a, "b": b, "r": r} for a, b, r in cal.correlated_pairs
             ],
@@ -202,6 +203,14 @@ def _fmt(value, spec: str) -> str:
     if value is None or not np.isfinite(value):
         return "n/a"
     return format(value, spec)
+
+
+def _max_off_diagonal(corr: pd.DataFrame | None) -> float | None:
+    """Largest finite |off-diagonal| entry of a correlation matrix, None when there is none."""
+    if corr is None or corr.shape[0] < 2:
+        return None
+    c = np.abs(corr.to_numpy(float))[~np.eye(corr.shape[0], dtype=bool)]
+    return _num(np.nanmax(c)) if np.isfinite(c).any() else None
 
 
 def _unit_guess(name: str) -> str:
@@ -508,6 +517,12 @@ def write_report(
         f"between the physical parameters: {cal['max_abs_correlation_physical']:.3f} "
         f"(limit {cfg.model.max_correlation}); over all free parameters "
         f"{cal['max_abs_correlation']:.3f}."
+        + (
+            " Largest pairwise |correlation| from the log-likelihood curvature in declared "
+            f"units (still valid at a bound): {cal['max_abs_pairwise_correlation_physical']:.3f}."
+            if cal.get("max_abs_pairwise_correlation_physical") is not None
+            else ""
+        )
     )
     if cal["flags"]:
         rep.flags(cal["flags"])

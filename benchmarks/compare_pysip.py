@@ -17,7 +17,7 @@ written here from the equations in numpy/scipy/numba, with the continuous matric
 from the physical parameters (not from thermocal). It reports:
 
 1. the maximised log-likelihood each implementation reaches (thermocal ``fit``; the reference with
-   scipy BFGS in log-transformed parameters, pySIP's default optimiser and transform);
+   plain scipy BFGS, numerical gradients, log-transformed positive parameters, no bounds);
 2. each implementation's log-likelihood at the other's optimum (filter agreement);
 3. the wall time of each fit (best of 3, warm: numba compiled, first call discarded).
 
@@ -204,7 +204,7 @@ class Reference:
             _neg_loglike_sqrt(ad, bd, qc, self.c, p["e_std"], x0, self.p0_chol, self.u, self.y)
         )
 
-    # pySIP's default: scipy BFGS on log-transformed positive parameters, identity for means
+    # plain scipy BFGS on log-transformed positive parameters, identity for the initial means
     def to_theta(self, p: dict) -> np.ndarray:
         return np.array([p[k] if k.endswith("0") else math.log(p[k]) for k in self.free])
 

@@ -140,3 +140,28 @@ def test_parquet_long_layout_and_errors_name_the_row(tmp_path):
     bad.write_text("not parquet")
     with pytest.raises(ThermocalInputError, match="cannot read as parquet"):
         read_measurements(bad)
+
+
+@pytest.mark.parametrize("layout", ["wide", "long"])
+def test_unknown_sensors_can_be_skipped(tmp_path, layout):
+    if layout == "wide":
+        text = "time,T_in,flow,comment\n2021-01-04T00:00+01:00,20.0,ok\n"
+    else:
+        text = (
+            "time,sensor,value\n2021-01-04T00:00+01:00,T_in,20.0\n"
+            "2021-01-04T00:00+01:00,door,1\n2021-01-04T00:05+01:00,T_in,21.0\n"
+        )
+    path = tmp_path / f"{layout}.csv"
+    path.write_text(text)
+    with pytest.raises(ThermocalInputError, match="unknown sensor"):
+        read_measurements(path, sensors={"T_in": "temp_in"})
+    raw, meta = read_measurements(path, sensors={"T_in": "temp_in"}, unknown_sensors="ignore")
+    assert meta["sensors"] == ["temp_in"]
+    assert any(
+        "skipped" in note and ("comment" in note or "door" in note) for note in meta["notes"]
+    )
+    if layout == "long":
+        assert raw["value"].tolist() == [20.0, 21.0]
+        assert raw.index.tolist() == [2, 4]  # file lines kept
+    else:
+        assert list(raw.columns) == ["temp_in"]

@@ -443,6 +443,7 @@ def read_measurements(
     sort: bool = False,
     rows: Literal["reports", "interval_start", "interval_end"] = "reports",
     interval: Any = None,
+    unknown_sensors: Literal["error", "ignore"] = "error",
 ) -> tuple[pd.DataFrame, dict]:
     """Read a sensor log (CSV or parquet, long or wide) into reports in thermocal units.
 
@@ -464,7 +465,8 @@ def read_measurements(
     sensors : sequence of str or mapping, optional
         The expected sensors. A mapping renames file names to thermocal names
         (``{"Sensor 12": "temp_living"}``). Sensors in the file but not here are errors (with the
-        line of their first report), as are expected sensors absent from the file.
+        line of their first report) unless ``unknown_sensors="ignore"``; expected sensors absent
+        from the file are errors.
     units : mapping, optional
         Unit per sensor (file or renamed name), e.g. ``{"flow": "l/h", "T_cellar": "K"}``;
         overrides nothing: a unit also declared in the file must agree.
@@ -504,6 +506,9 @@ def read_measurements(
         The logging interval of ``rows="interval_start"``/``"interval_end"`` [duration];
         default the median spacing of the time stamps (per sensor in the long layout, the
         median over the sensors).
+    unknown_sensors : {"error", "ignore"}
+        With ``sensors`` given: columns (wide) or rows (long) of other sensors are an error, or
+        are skipped (listed in ``meta["notes"]``), e.g. to read a few columns of a big table.
 
     Returns
     -------
@@ -566,6 +571,22 @@ def read_measurements(
             f"value_column="
         )
     long_layout = layout == "long" or (layout == "auto" and is_long)
+    if unknown_sensors not in ("error", "ignore"):
+        raise ThermocalInputError(f"unknown_sensors = {unknown_sensors!r}; use 'error' or 'ignore'")
+    if unknown_sensors == "ignore" and sensors is not None:
+        wanted = {sensors} if isinstance(sensors, str) else set(sensors)
+        if long_layout:
+            names = frame[columns_folded[sensor_column.casefold()]].astype("string").str.strip()
+            keep = names.isin(wanted).to_numpy()
+            skipped = sorted(set(names[~keep].dropna()))
+            frame, lines = frame[keep].reset_index(drop=True), lines[keep]
+        else:
+            skipped = [
+                c for c in frame.columns if c != time_col and _split_header_unit(c)[0] not in wanted
+            ]
+            frame = frame.drop(columns=skipped)
+        if skipped:
+            notes.append(f"sensors not in sensors= skipped: {skipped}")
     times, time_note = parse_time_column(
         frame[time_col],
         source=source,

@@ -6,8 +6,9 @@ This module reads such logs and puts them on a regular grid with the operation e
 needs, and says what it did.
 
 Reading (:func:`read_measurements`)
-    CSV logs in *long* form (one report per row: time, sensor, value[, unit]) or *wide* form (a
-    time column and one column per sensor; an empty cell means "no report at this time"). Units
+    CSV or parquet logs in *long* form (one report per row: time, sensor, value[, unit]) or
+    *wide* form (a time column and one column per sensor; an empty cell means "no report at
+    this time"). Units
     may be declared in the header (``T_living [C]``, ``flow (l/h)``), in a ``unit`` column (long
     form) or with ``units=``; values are converted to thermocal's units (temperatures C, flows
     m3/s, power W, irradiance W/m2, energy J, pressure Pa). Temperature columns without a
@@ -38,9 +39,13 @@ Resampling (:func:`resample_measurements`)
     that jump away and come back, the QARTOD spike test) are flagged, and removed on request.
 
 Grid convention: each interval is labelled by its START, ``[t, t + step)``, as for the weather
-(``thermocal.io.weather``). A report describes the time from its timestamp on; a log of interval
-averages stamped at the END of their interval should be shifted back by one interval before
-resampling (``raw.index - pd.Timedelta("5min")``).
+(``thermocal.io.weather``). A report describes the time from its timestamp on. Logs whose rows
+are *interval means* (a data logger's 10-minute averages, an hourly export) are read with
+``rows="interval_start"`` (or ``"interval_end"`` when stamped at the end: they are moved back by
+one interval); each row then holds until the next row but for at most its logging interval, and
+the last row until its interval end (``resample_measurements(interval=...)``).
+
+Files: CSV, or parquet (``.parquet``, ``.pq``) with the same long or wide layout.
 
 References
 ----------

@@ -289,3 +289,19 @@ def test_building_solar_gains_sums_components(zurich):
             meta["longitude"],
             windows=[{"area": 1, "tilt": 90, "azimuth": 0}],
         )
+
+
+def test_sky_temperature_difference_is_an_interval_mean_like_the_infrared():
+    """Row t describes [t, t + 1 h): air temperature (instants) averaged, infrared as given."""
+    index = pd.date_range("2015-01-01", periods=3, freq="1h", tz="Etc/GMT-1")
+    sigma = 5.670374419e-8
+    infrared = np.full(3, sigma * 273.15**4)  # a sky at exactly 0 C
+    weather = pd.DataFrame({"temp_air": [0.0, 2.0, 6.0], "ghi_infrared": infrared}, index=index)
+    difference = solar.sky_temperature_difference(weather)
+    np.testing.assert_allclose(difference, [1.0, 4.0, 6.0], atol=1e-9)
+    dew = pd.DataFrame({"temp_air": [0.0, 2.0, 6.0], "temp_dew": [0.0, 0.0, 0.0]}, index=index)
+    instant = np.array([0.0, 2.0, 6.0]) - solar.sky_temperature(
+        np.array([0.0, 2.0, 6.0]), temp_dew=np.zeros(3)
+    )
+    expected = [(instant[0] + instant[1]) / 2, (instant[1] + instant[2]) / 2, instant[2]]
+    np.testing.assert_allclose(solar.sky_temperature_difference(dew), expected, atol=1e-9)

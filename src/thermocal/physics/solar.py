@@ -468,7 +468,9 @@ def sky_temperature_difference(
     """Difference between air and apparent sky temperature ``dT_sky`` [K].
 
     From the weather's ``ghi_infrared`` (or ``temp_dew``) when present, else the ISO 52016-1 /
-    ISO 13790 default of 11 K (intermediate climatic zones).
+    ISO 13790 default of 11 K (intermediate climatic zones). Like the irradiance, the result
+    of row ``t`` is the mean over ``[t, t + step)``: the instantaneous temperatures of the
+    standard weather frame are averaged over each interval first.
 
     Parameters
     ----------
@@ -491,13 +493,30 @@ def sky_temperature_difference(
         return float(default)
     temp_air = weather["temp_air"].to_numpy(dtype=float)
     if "ghi_infrared" in weather and weather["ghi_infrared"].notna().any():
-        sky = sky_temperature(temp_air, ghi_infrared=weather["ghi_infrared"].to_numpy())
+        # the infrared is a mean over [t, t + step): compare it with the interval-mean air
+        # temperature, not with the instantaneous value at t
+        temp_mean = _interval_mean_of_instants(temp_air)
+        sky = sky_temperature(temp_mean, ghi_infrared=weather["ghi_infrared"].to_numpy())
+        difference = temp_mean - sky
     elif "temp_dew" in weather and weather["temp_dew"].notna().any():
         sky = sky_temperature(temp_air, temp_dew=weather["temp_dew"].to_numpy())
+        difference = _interval_mean_of_instants(temp_air - sky)
     else:
         return float(default)
-    difference = temp_air - sky
     return np.where(np.isfinite(difference), difference, default)
+
+
+def _interval_mean_of_instants(values: np.ndarray) -> np.ndarray:
+    """Mean over ``[t_k, t_k+1)`` of an instantaneous quantity, ``(x_k + x_k+1) / 2``.
+
+    Standard weather frames label rows by interval start and keep temperatures at their true
+    time (:mod:`thermocal.io.weather`); the last row has no successor and keeps its value.
+    """
+    values = np.asarray(values, dtype=float)
+    if values.size < 2:
+        return values.copy()
+    following = np.append(values[1:], values[-1])
+    return 0.5 * (values + following)
 
 
 def opaque_solar_gains(

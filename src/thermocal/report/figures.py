@@ -79,6 +79,8 @@ def plot_measured_vs_simulated(
     ax.set_ylabel(ylabel)
     ax.set_title(title, loc="left", fontsize=11)
     ax.grid(alpha=0.3)
+    if len(index):
+        ax.set_xlim(index[0], index[-1])  # the period itself, no empty days on either side
     ax.xaxis.set_major_formatter(mdates.DateFormatter("%d %b"))
     ax.legend(loc="upper right", ncol=3, fontsize=9, frameon=False)
     if metrics_text:
@@ -152,6 +154,9 @@ def plot_bars_with_intervals(
     ylabel: str = "",
     title: str = "",
     highlight: Sequence[str] = (),
+    highlight_label: str = "",
+    sublabels: Sequence[str] | None = None,
+    interval_label: str = "",
     hline: float | None = None,
     hline_label: str = "",
 ):
@@ -164,6 +169,12 @@ def plot_bars_with_intervals(
         Central values and the interval bounds.
     highlight : sequence of str
         Labels drawn in the accent colour.
+    highlight_label : str
+        Legend entry explaining the accent colour (shown when something is highlighted).
+    sublabels : sequence of str, optional
+        Smaller text under each label (e.g. the measures of a strategy code).
+    interval_label : str
+        Legend entry of the whiskers (e.g. ``"90 % interval"``).
     hline : float, optional
         A horizontal reference line (e.g. a measured value).
     """
@@ -171,17 +182,38 @@ def plot_bars_with_intervals(
     yerr = np.clip(
         np.vstack([vals - np.asarray(low, float), np.asarray(high, float) - vals]), 0, None
     )
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     colors = [COLORS["simulated"] if lab in highlight else COLORS["primary"] for lab in labels]
-    fig, ax = plt.subplots(figsize=(10, 3.8))
+    fig, ax = plt.subplots(figsize=(10, 4.4 if sublabels is not None else 3.8))
     x = np.arange(len(labels))
     ax.bar(x, vals, 0.7, color=colors, yerr=yerr, capsize=3, error_kw={"elinewidth": 0.9})
     ax.set_xticks(x, labels)
+    if sublabels is not None:
+        for xi, sub in zip(x, sublabels, strict=True):
+            ax.annotate(
+                sub, (xi, 0), xycoords=("data", "axes fraction"), xytext=(0, -18),
+                textcoords="offset points", ha="center", va="top", fontsize=7, color="#444444",
+            )  # fmt: skip
     ax.set_ylabel(ylabel)
     ax.set_title(title, loc="left", fontsize=11)
     ax.grid(axis="y", alpha=0.3)
+    handles = []
+    if highlight and highlight_label and any(lab in highlight for lab in labels):
+        handles.append(Patch(color=COLORS["simulated"], label=highlight_label))
+    if interval_label:
+        handles.append(
+            Line2D([], [], color="black", lw=0.9, marker="_", ms=8, label=interval_label)
+        )
     if hline is not None:
-        ax.axhline(hline, color=COLORS["reference"], lw=1.5, label=hline_label)
-        ax.legend(frameon=False, fontsize=9)
+        ax.axhline(hline, color=COLORS["reference"], lw=1.5)
+        handles.append(Line2D([], [], color=COLORS["reference"], lw=1.5, label=hline_label))
+    if handles:
+        top = np.nanmax(np.concatenate([vals, np.asarray(high, float)]))
+        if np.isfinite(top) and top > 0:
+            ax.set_ylim(top=1.12 * top + 0.06 * top * len(handles))  # room for the legend
+        ax.legend(handles=handles, frameon=False, fontsize=9, loc="best")
     fig.tight_layout()
     return fig
 

@@ -305,3 +305,43 @@ def test_sky_temperature_difference_is_an_interval_mean_like_the_infrared():
     )
     expected = [(instant[0] + instant[1]) / 2, (instant[1] + instant[2]) / 2, instant[2]]
     np.testing.assert_allclose(solar.sky_temperature_difference(dew), expected, atol=1e-9)
+
+
+def test_perez_hand_calculation_checks_dni_extra_and_airmass():
+    """One hour by hand with Perez et al. (1990), 'allsitescomposite1990' coefficients.
+
+    Independent of pvlib: extraterrestrial irradiance 1367 (1 + 0.033 cos(2 pi doy / 365))
+    W/m2 and the Kasten-Young relative airmass. A vertical south facade, sun due south at
+    zenith 60 deg (angle of incidence 30 deg), 21 June.
+    """
+    index = pd.DatetimeIndex([pd.Timestamp("2015-06-21 12:00", tz="UTC")])
+    weather = pd.DataFrame({"ghi": [350.0], "dni": [400.0], "dhi": [150.0]}, index=index)
+    position = pd.DataFrame(
+        {"time": index, "apparent_zenith": [60.0], "zenith": [60.0], "azimuth": [180.0]},
+        index=index,
+    )
+    result = solar.irradiance_on_surface(
+        weather, 47.0, 8.0, 90.0, 180.0, solar_position=position, albedo=0.2
+    )
+    zenith = np.deg2rad(60.0)
+    dni_extra = 1367.0 * (1.0 + 0.033 * np.cos(2.0 * np.pi * 172 / 365.0))
+    airmass = 1.0 / (np.cos(zenith) + 0.50572 * (96.07995 - 60.0) ** -1.6364)
+    a_over_b = np.cos(np.deg2rad(30.0)) / np.cos(zenith)
+
+    def perez_sky(delta):
+        kappa = 1.041
+        epsilon = ((150.0 + 400.0) / 150.0 + kappa * zenith**3) / (1.0 + kappa * zenith**3)
+        assert 1.95 <= epsilon < 2.8  # bin 5 of the Perez model
+        f1 = max(0.0, 0.8730280 - 0.3920403 * delta - 0.3616149 * zenith)
+        f2 = 0.2255647 - 0.4620442 * delta + 0.0012448 * zenith
+        return 150.0 * ((1.0 - f1) * 0.5 + f1 * a_over_b + f2 * 1.0)  # sin(tilt) = 1
+
+    sky = perez_sky(150.0 * airmass / dni_extra)
+    assert result["poa_sky_diffuse"].iloc[0] == pytest.approx(sky, rel=1e-3)
+    assert result["poa_direct"].iloc[0] == pytest.approx(400.0 * np.cos(np.deg2rad(30.0)))
+    assert result["poa_ground_diffuse"].iloc[0] == pytest.approx(350.0 * 0.2 * 0.5)
+    assert result["aoi"].iloc[0] == pytest.approx(30.0)
+    # the tolerance is tight enough to see a pressure-corrected airmass (Zurich, 556 m: x 0.935)
+    # or the solar constant in place of the day's extraterrestrial irradiance
+    assert abs(perez_sky(150.0 * 0.935 * airmass / dni_extra) / sky - 1.0) > 2e-3
+    assert abs(perez_sky(150.0 * airmass / 1367.0) / sky - 1.0) > 2e-3

@@ -14,13 +14,17 @@ from thermocal.multizone.model import (
     Material,
     NoMassMaterial,
     Surface,
+    Window,
+    WindowType,
     Zone,
 )
 from thermocal.multizone.network import (
     STEFAN_BOLTZMANN,
     NetworkOptions,
+    assemble,
     cells_per_layer,
     construction_template,
+    doe2_exterior_convection,
     mrt_network_conductances,
     tarp_natural_convection,
 )
@@ -221,3 +225,37 @@ def test_tarp_and_mrt_coefficients():
     assert 1 / (1 / g[0] + 1 / g[1]) == pytest.approx(5.0 * 10.0, rel=1e-6)
     # Carroll factors: equal faces get F = 2, so each face conductance is 2 A h_b
     assert g[0] == pytest.approx(2 * 10.0 * 5.0, rel=1e-6)
+
+
+def test_doe2_exterior_convection_uses_energyplus_mowitt_terms_and_smooth_glass():
+    # EnergyPlus DOE-2 model: h = h_n + R_f (sqrt(h_n^2 + (a V^b)^2) - h_n) with the MoWiTT
+    # smooth-surface forced terms a V^b = 3.26 V^0.89 (windward), 3.55 V^0.617 (leeward)
+    h_n, wind = 1.5, 4.0
+    windward = h_n + 1.67 * (np.hypot(h_n, 3.26 * wind**0.89) - h_n)
+    leeward = h_n + 1.67 * (np.hypot(h_n, 3.55 * wind**0.617) - h_n)
+    assert doe2_exterior_convection(wind, True, h_natural=h_n) == pytest.approx(windward)
+    assert doe2_exterior_convection(wind, False, h_natural=h_n) == pytest.approx(leeward)
+    # in a network, glass is "very smooth" (R_f = 1) whatever the opaque roughness option
+    layers = [Material("insulation", 0.04, 30.0, 1400.0, 0.1)]
+    building = box_building(layers)
+    building = Building(
+        name="box with window",
+        location=building.location,
+        materials=layers,
+        constructions=building.constructions,
+        window_types=[WindowType("double", 2.8, 0.6)],
+        zones=building.zones,
+        surfaces=building.surfaces,
+        windows=[Window("south window", "wall 180", "double", 4.0)],
+    )
+    net = assemble(building, 900.0, mean_wind_speed=wind)
+    local = wind * NetworkOptions().wind_speed_factor
+    window = net.ext_names.index("south window")
+    wall = net.ext_names.index("wall 180")
+    assert net.ext_roughness[window] == 1.0 and net.ext_roughness[wall] == 1.67
+    for k, r_f in ((window, 1.0), (wall, 1.67)):
+        hn = net.ext_h_natural[k]
+        expected = hn + r_f * (
+            0.5 * (np.hypot(hn, 3.26 * local**0.89) + np.hypot(hn, 3.55 * local**0.617)) - hn
+        )
+        assert net.ext_hc0[k] == pytest.approx(expected)

@@ -51,6 +51,13 @@ AIR_SPECIFIC_HEAT = 1006.0
 #: Standard surface resistances of ISO 6946 used to split a window U-value [m2 K/W].
 WINDOW_FILM_RESISTANCE = 0.13 + 0.04
 
+#: MoWiTT smooth-surface forced convection ``a V^b`` (a [W/(m2 K (m/s)^b)], b [-]) as EnergyPlus
+#: uses it in its DOE-2 exterior model (Engineering Reference, table "MoWiTT coefficients").
+MOWITT_WINDWARD = (3.26, 0.89)
+MOWITT_LEEWARD = (3.55, 0.617)
+#: DOE-2 roughness multiplier of glass ("very smooth"; EnergyPlus sets it for every glazing layer).
+GLASS_ROUGHNESS_FACTOR = 1.0
+
 # fixed input columns
 IN_TEMP_OUT, IN_TEMP_SKY, IN_TEMP_GROUND, IN_ONE = 0, 1, 2, 3
 N_FIXED_INPUTS = 4
@@ -85,7 +92,8 @@ class NetworkOptions:
     exact_sky_longwave : bool
         Correct the linearised exterior long-wave exchange to the exact ``sigma T^4`` law.
     roughness_factor : float [-]
-        DOE-2 surface roughness multiplier (1.67 "rough", 1.52 "medium rough", 1.0 "very smooth").
+        DOE-2 roughness multiplier of the opaque exterior faces (1.67 "rough", 1.52 "medium
+        rough", 1.0 "very smooth"); windows always use glass, 1.0.
     wind_speed_factor : float [-]
         Local (surface-height) wind speed over the weather-station wind speed (EnergyPlus,
         terrain "country", ~3 m high: ``(3/10)^0.14 = 0.845``).
@@ -205,8 +213,9 @@ def tarp_natural_convection(delta_t, cos_up):
 def doe2_exterior_convection(wind_speed, windward, *, h_natural, roughness_factor=1.67):
     """Exterior convection coefficient of the DOE-2 model [W/(m2 K)].
 
-    ``h = h_n + R_f (sqrt(h_n^2 + (a V^b)^2) - h_n)`` with ``a, b = 2.38, 0.89`` (windward) or
-    ``2.86, 0.617`` (leeward).
+    ``h = h_n + R_f (sqrt(h_n^2 + (a V^b)^2) - h_n)``: the smooth-glass forced term of the MoWiTT
+    correlation, ``a, b = 3.26, 0.89`` (windward) or ``3.55, 0.617`` (leeward), scaled by the
+    roughness multiplier ``R_f``.
 
     Parameters
     ----------
@@ -215,7 +224,9 @@ def doe2_exterior_convection(wind_speed, windward, *, h_natural, roughness_facto
     windward : array-like of bool
     h_natural : array-like [W/(m2 K)]
         Natural convection part (TARP).
-    roughness_factor : float [-]
+    roughness_factor : array-like [-]
+        1.67 "rough", 1.52 "medium rough", 1.13 "medium smooth", 1.11 "smooth", 1.0 "very
+        smooth" (glass).
 
     Returns
     -------
@@ -223,12 +234,14 @@ def doe2_exterior_convection(wind_speed, windward, *, h_natural, roughness_facto
 
     References
     ----------
-    .. [1] EnergyPlus Engineering Reference, "Outside Surface Heat Balance: DOE-2 model";
+    .. [1] EnergyPlus Engineering Reference, "Outside Surface Heat Balance: DOE-2 model" and
+       table "MoWiTT coefficients" (the values EnergyPlus uses in ``CalcDOE2Windward`` /
+       ``CalcDOE2Leeward`` through ``CalcMoWITTForcedWindward`` / ``...Leeward``);
        Yazdanian, M. and Klems, J.H. (1994), ASHRAE Transactions 100(1).
     """
     wind_speed = np.maximum(np.asarray(wind_speed, dtype=float), 0.0)
-    a = np.where(windward, 2.38, 2.86)
-    b = np.where(windward, 0.89, 0.617)
+    a = np.where(windward, MOWITT_WINDWARD[0], MOWITT_LEEWARD[0])
+    b = np.where(windward, MOWITT_WINDWARD[1], MOWITT_LEEWARD[1])
     h_glass = np.sqrt(h_natural**2 + (a * wind_speed**b) ** 2)
     return h_natural + roughness_factor * (h_glass - h_natural)
 
@@ -392,6 +405,7 @@ class Network:
     ext_view_sky: np.ndarray  # F_sky * beta (sees the sky temperature)
     ext_view_air: np.ndarray  # F_ground + F_sky (1 - beta) (sees outdoor-air temperature)
     ext_h_natural: np.ndarray
+    ext_roughness: np.ndarray  # DOE-2 roughness multiplier [-]
     ext_hc0: np.ndarray
     ext_hr0: float
     ext_capacity: np.ndarray  # node capacity per m2 [J/(m2 K)]
@@ -513,8 +527,8 @@ def assemble(
     f_name, f_node, f_zone, f_area, f_cos, f_eps, f_alpha, f_cap, f_win = ([] for _ in range(9))
     f_window_tau: list[float] = []
     # exterior faces
-    e_name, e_node, e_area, e_tilt, e_az, e_eps, e_fg, e_alpha, e_cap, e_sun = (
-        [] for _ in range(10)
+    e_name, e_node, e_area, e_tilt, e_az, e_eps, e_fg, e_alpha, e_cap, e_sun, e_rough = (
+        [] for _ in range(11)
     )
     surface_nodes: dict[str, tuple[int, int]] = {}  # name -> (outside node, inside node)
 
@@ -584,6 +598,7 @@ def assemble(
             e_alpha.append(alpha_out if surface.sun_exposed else 0.0)
             e_cap.append(tpl.capacity[0])
             e_sun.append(surface.sun_exposed)
+            e_rough.append(options.roughness_factor)
         # adiabatic: nothing on the outside
 
     # ---- windows -----------------------------------------------------------------------------
@@ -618,6 +633,7 @@ def assemble(
         e_alpha.append(0.0)
         e_cap.append(0.0)
         e_sun.append(False)
+        e_rough.append(GLASS_ROUGHNESS_FACTOR)
 
     face_node = np.asarray(f_node, dtype=np.int64)
     face_zone = np.asarray(f_zone, dtype=np.int64)
@@ -703,15 +719,16 @@ def assemble(
         tarp_natural_convection(3.0, 0.0),
         0.5 * (tarp_natural_convection(3.0, cos_tilt) + tarp_natural_convection(-3.0, cos_tilt)),
     )
+    ext_rough = np.asarray(e_rough, dtype=float)
     if options.exterior_convection == "doe2":
         local_wind = mean_wind_speed * options.wind_speed_factor
         # average of windward and leeward at the mean wind speed
         hc0 = 0.5 * (
             doe2_exterior_convection(
-                local_wind, True, h_natural=h_natural, roughness_factor=options.roughness_factor
+                local_wind, True, h_natural=h_natural, roughness_factor=ext_rough
             )
             + doe2_exterior_convection(
-                local_wind, False, h_natural=h_natural, roughness_factor=options.roughness_factor
+                local_wind, False, h_natural=h_natural, roughness_factor=ext_rough
             )
         )
     else:
@@ -833,6 +850,7 @@ def assemble(
         ext_view_sky=view_sky,
         ext_view_air=view_air,
         ext_h_natural=h_natural,
+        ext_roughness=ext_rough,
         ext_hc0=np.asarray(hc0, dtype=float),
         ext_hr0=float(hr0),
         ext_capacity=np.asarray(e_cap, dtype=float),

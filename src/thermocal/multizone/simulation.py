@@ -473,9 +473,12 @@ class Simulation:
         else:
             direction = np.zeros(n_steps)
         # faces of equal orientation share the series: compute per orientation, then broadcast
-        keys = np.stack([net.ext_tilt, net.ext_azimuth, net.ext_hc0, net.ext_h_natural], axis=1)
+        keys = np.stack(
+            [net.ext_tilt, net.ext_azimuth, net.ext_hc0, net.ext_h_natural, net.ext_roughness],
+            axis=1,
+        )
         unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
-        tilt, azimuth, hc0, h_natural = unique.T
+        tilt, azimuth, hc0, h_natural, roughness = unique.T
         diff = np.abs((direction[:, None] - azimuth[None, :] + 180.0) % 360.0 - 180.0)
         horizontal = (tilt < 10.0) | (tilt > 170.0)
         windward = (diff <= 100.0) | horizontal[None, :]
@@ -483,7 +486,7 @@ class Simulation:
             wind[:, None],
             windward,
             h_natural=h_natural[None, :],
-            roughness_factor=self.options.roughness_factor,
+            roughness_factor=roughness[None, :],
         )
         return np.ascontiguousarray((hc - hc0[None, :])[:, np.ravel(inverse)])
 

@@ -168,3 +168,16 @@ def test_steady_state_of_simulation_is_the_network_solution():
     # heat balance: all 2 kW leave through Te-Ta: (Te - Ta) * 1/(1/150 + 1/400) W/K = 2000 W
     h_ea = 1.0 / (1.0 / 150.0 + 1.0 / 400.0)
     assert sim["Te"].iloc[-1] * h_ea == pytest.approx(2000.0, rel=1e-6)
+
+
+def test_filter_is_compiled_once_for_likelihood_and_stored_moments():
+    """The likelihood kernel (inside the optimiser) and the filter storing the moments (residuals,
+    smoothing) share one compiled specialisation: a second one cost seconds on the first fit."""
+    from thermocal.statespace.estimation import LikelihoodProblem, filter_arrays
+
+    model = three_state_model()
+    prep = prepare_data(model, random_data(30, seed=7))
+    LikelihoodProblem(model, prep, False).loglike(model.theta0())
+    filtered = filter_arrays(model, prep, None, False)
+    assert np.isfinite(filtered["loglike"])
+    assert len(kernels.kalman_filter.signatures) == 1

@@ -525,6 +525,35 @@ def simulate_states(lam, T, Tinv, TB, M, x0, dts, U, foh):
 
 
 @njit(cache=True, error_model="numpy")
+def _propagate(Ad, Gam0, Gam1, Q, u0, u1, foh, x, P, work_x, work_P):
+    """One prediction step in place: ``x = Ad x + Gam0 u0 + Gam1 u1``, ``P = Ad P Ad^T + Q``."""
+    n = x.size
+    m = u0.size
+    for i in range(n):
+        acc = 0.0
+        for j in range(n):
+            acc += Ad[i, j] * x[j]
+        for c in range(m):
+            acc += Gam0[i, c] * u0[c]
+            if foh:
+                acc += Gam1[i, c] * u1[c]
+        work_x[i] = acc
+    for i in range(n):
+        x[i] = work_x[i]
+        for j in range(n):
+            acc = 0.0
+            for a in range(n):
+                acc += Ad[i, a] * P[a, j]
+            work_P[i, j] = acc
+    for i in range(n):
+        for j in range(n):
+            acc = Q[i, j]
+            for a in range(n):
+                acc += work_P[i, a] * Ad[j, a]
+            P[i, j] = acc
+
+
+@njit(cache=True, error_model="numpy")
 def predict_ahead(lam, T, Tinv, TB, M, xf, Pf, dts, U, foh, steps):
     """k-step predictions: mean and covariance of x[t] given observations up to t - steps.
 
@@ -539,25 +568,26 @@ def predict_ahead(lam, T, Tinv, TB, M, xf, Pf, dts, U, foh, steps):
     Gam0 = np.empty((n, m))
     Gam1 = np.empty((n, m))
     Q = np.empty((n, n))
+    x = np.empty(n)
+    P = np.empty((n, n))
+    work_x = np.empty(n)
+    work_P = np.empty((n, n))
     last_dt = -1.0
     for t in range(steps, N):
-        x = xf[t - steps].copy()
-        P = Pf[t - steps].copy()
+        for i in range(n):
+            x[i] = xf[t - steps, i]
+            for j in range(n):
+                P[i, j] = Pf[t - steps, i, j]
         for k in range(t - steps, t):
             dt = dts[k]
             if dt != last_dt:
                 discretise_from_eigen(lam, T, Tinv, TB, M, dt, foh, Ad, Gam0, Gam1, Q)
                 last_dt = dt
-            xn = Ad @ x
-            for i in range(n):
-                for c in range(m):
-                    xn[i] += Gam0[i, c] * U[k, c]
-                    if foh:
-                        xn[i] += Gam1[i, c] * U[k + 1, c]
-            x = xn
-            P = Ad @ P @ Ad.T + Q
-        Xk[t] = x
-        Pk[t] = P
+            _propagate(Ad, Gam0, Gam1, Q, U[k], U[k + 1], foh, x, P, work_x, work_P)
+        for i in range(n):
+            Xk[t, i] = x[i]
+            for j in range(n):
+                Pk[t, i, j] = P[i, j]
     return Xk, Pk
 
 
@@ -653,8 +683,11 @@ def loglike_theta(theta, tr, st, C, dts, U, Y, foh):
     )
     e2 = np.empty((0, 0))
     e3 = np.empty((0, 0, 0))
+    # a literal False would make numba compile a second specialisation of the filter (typed
+    # Literal[bool]) besides the one called with store=True from Python: a runtime False shares it
+    store = U.shape[0] < 0
     ll = kalman_filter(
-        lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, False, e2, e3, e2, e3, e3
+        lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, e2, e3, e2, e3, e3
     )
     if not math.isfinite(ll):
         return -np.inf

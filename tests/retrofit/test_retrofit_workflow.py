@@ -66,6 +66,17 @@ def test_outputs_complete(synthetic):
     assert quality["gaps"] == [] and quality["flags"] == []
     for key in ("code", "measures", "annual_kWh", "saving_pct", "saving_pct_p05", "saving_pct_p95"):
         assert key in saved["scenarios"][5]
+    # the issue's list of keys, exactly
+    cal = saved["calibration"]
+    for key in ("params", "max_abs_correlation", "loglike", "flags"):
+        assert key in cal, key
+    for name in ("H_est", "C_env", "C_gf", "C_im", "C_i", "C_h"):
+        assert {"value", "std_error", "unit"} <= set(cal["params"][name]), name
+    assert cal["params"]["H_est"]["std_error"] > 0
+    assert 0.0 <= cal["max_abs_correlation"] <= 1.0
+    hlc = saved["heat_loss_coefficient_W_per_K"]
+    assert hlc["value"] > 0 and hlc["std"] > 0
+    assert isinstance(saved["annual_heating_demand_kWh"]["value"], float)
     for m in ("mae", "mape", "mse", "mean_simulated", "mean_measured"):
         assert m in saved["validation"]["train"] and m in saved["validation"]["test"]
     for name in (
@@ -83,6 +94,7 @@ def test_outputs_complete(synthetic):
     html = (out / "report.html").read_text()
     assert html.count("data:image/png;base64,") >= 4
     assert "<script" not in html and 'src="http' not in html  # self-contained
+    assert "http://" not in html and "https://" not in html and "@import" not in html
 
 
 def test_savings_monotone_and_intervals_ordered(synthetic):

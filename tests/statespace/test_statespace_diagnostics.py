@@ -99,6 +99,34 @@ def test_acf_and_cumulated_periodogram_against_definitions():
     np.testing.assert_allclose(cp["cumulated"], np.cumsum(ords) / np.sum(ords), rtol=1e-10)
 
 
+def test_acf_with_missing_residuals_keeps_the_lags_on_the_grid():
+    """Missing residuals (unobserved outputs) must not shift the lags: an AR(1) series with
+    30 % of its values missing still shows acf(1) = 0.7 (dropping the gaps would mix lags)."""
+    rng = np.random.default_rng(5)
+    n = 6000
+    ar = np.zeros(n)
+    for k in range(1, n):
+        ar[k] = 0.7 * ar[k - 1] + rng.normal()
+    e = ar.copy()
+    e[rng.uniform(size=n) < 0.3] = np.nan
+    acf = autocorrelation(e, nlags=3)
+    assert acf["acf"].iloc[1] == pytest.approx(0.7, abs=0.05)
+    assert acf["acf"].iloc[2] == pytest.approx(0.49, abs=0.05)
+    finite = np.isfinite(e)
+    # brute force: mean product over the pairs where both residuals exist
+    d = e - np.nanmean(e)
+    pairs = [d[t] * d[t + 2] for t in range(n - 2) if finite[t] and finite[t + 2]]
+    brute = (1 - 2 / n) * np.mean(pairs) / np.nanmean(d * d)
+    assert acf["acf"].iloc[2] == pytest.approx(brute, rel=1e-12)
+    assert acf["bound"].iloc[2] == pytest.approx(1.96 / np.sqrt(len(pairs) * n / (n - 2)), rel=1e-3)
+    # white noise with the same gaps: about 5 % of the lags outside their bounds
+    white = rng.normal(size=n)
+    white[~finite] = np.nan
+    acf_w = autocorrelation(white, nlags=200)
+    outside = (acf_w["acf"].abs() > acf_w["bound"]).iloc[1:].mean()
+    assert 0.01 < outside < 0.10
+
+
 def one_state(fix_h: bool) -> RCModel:
     m = RCModel("one_state_fixed_H" if fix_h else "one_state")
     m.add_state("Ti", capacity="Ci", noise="si", initial_mean="Ti0", initial_std=0.2)

@@ -114,7 +114,7 @@ def fit(
     for col in model.output_names:
         acf = autocorrelation(residuals[col].to_numpy(), nlags=40)
         cp = cumulated_periodogram(residuals[col].to_numpy())
-        outside = acf.iloc[1:]["acf"].abs() > acf["bound"].iloc[0]
+        outside = (acf["acf"].abs() > acf["bound"]).iloc[1:]
         diagnostics[col] = {
             "residual_std": float(residuals[col].std()),
             "acf_lags_outside_95_bound": int(outside.sum()),

@@ -38,26 +38,43 @@ def _clean(residuals) -> np.ndarray:
 def autocorrelation(residuals, nlags: int = 40, alpha: float = 0.05) -> pd.DataFrame:
     """Sample autocorrelation of residuals with the white-noise confidence bound.
 
+    For a complete series this is the textbook estimator
+    ``r_k = sum_t e_t e_(t+k) / sum_t e_t^2`` (``e`` demeaned) with the bound
+    ``z_(1-alpha/2) / sqrt(N)``. Missing residuals (NaN, unobserved outputs) keep their place
+    on the sampling grid, so lags stay lags: the lag-k mean product is taken over the ``m_k``
+    pairs where both residuals exist and scaled like the complete-series estimator,
+    ``r_k = (1 - k/N) (sum_pairs e_t e_(t+k) / m_k) / (sum e_t^2 / n)``, ``n`` the number of
+    finite residuals; its bound is ``z_(1-alpha/2) / sqrt(m_k N / (N - k))`` (the white-noise
+    standard deviation of ``r_k``; ``z / sqrt(N)`` for a complete series).
+
     Parameters
     ----------
     residuals : array-like [K]
-        One-step residuals (NaN values are dropped).
+        One-step residuals on the sampling grid, NaN where missing.
     nlags : int
         Largest lag [samples].
     alpha : float
-        Level of the bound ``z_(1-alpha/2) / sqrt(N)``.
+        Level of the bound.
 
     Returns
     -------
-    DataFrame indexed by lag (0..nlags) with columns ``acf`` and ``bound``.
+    DataFrame indexed by lag (0..nlags) with columns ``acf`` and ``bound`` (per lag).
     """
-    e = _clean(residuals)
-    e = e - e.mean()
-    n = e.size
-    nlags = min(nlags, n - 1)
-    denom = float(e @ e)
-    acf = np.array([float(e[: n - k] @ e[k:]) / denom for k in range(nlags + 1)])
-    bound = stats.norm.ppf(1 - alpha / 2) / math.sqrt(n)
+    _clean(residuals)  # enough finite values
+    e = np.asarray(residuals, dtype=float).ravel()
+    finite = np.isfinite(e)
+    big_n = e.size
+    d = np.where(finite, e - e[finite].mean(), 0.0)  # a missing value contributes no product
+    ones = finite.astype(float)
+    c0 = float(d @ d) / finite.sum()
+    nlags = min(nlags, big_n - 1)
+    lags = np.arange(nlags + 1)
+    pairs = np.array([float(ones[: big_n - k] @ ones[k:]) for k in lags])
+    sums = np.array([float(d[: big_n - k] @ d[k:]) for k in lags])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        acf = (1.0 - lags / big_n) * (sums / pairs) / c0
+        bound = stats.norm.ppf(1 - alpha / 2) / np.sqrt(pairs * big_n / (big_n - lags))
+    acf[0] = 1.0
     return pd.DataFrame({"acf": acf, "bound": bound}, index=pd.RangeIndex(nlags + 1, name="lag"))
 
 
@@ -70,7 +87,8 @@ def cumulated_periodogram(residuals, alpha: float = 0.05) -> pd.DataFrame:
     Parameters
     ----------
     residuals : array-like [K]
-        One-step residuals (NaN values are dropped).
+        One-step residuals (NaN values are dropped, so the frequencies of a series with gaps
+        are approximate).
     alpha : float
         0.01, 0.05, 0.10 or 0.25.
 

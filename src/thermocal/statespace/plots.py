@@ -63,8 +63,16 @@ def plot_residual_diagnostics(results, output: str, path: str | Path, *, nlags: 
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")
     a1.vlines(acf.index[1:], 0, acf["acf"].iloc[1:], color="k")
     a1.axhline(0, color="0.5", lw=0.5)
-    bound = float(acf["bound"].iloc[0])
-    a1.axhspan(-bound, bound, color="tab:blue", alpha=0.15, label="95 % white-noise bound")
+    a1.fill_between(
+        acf.index,
+        -acf["bound"],
+        acf["bound"],
+        step="mid",
+        color="tab:blue",
+        alpha=0.15,
+        lw=0,
+        label="95 % white-noise bound",
+    )
     a1.set_xlabel("lag [samples]")
     a1.set_ylabel("autocorrelation [-]")
     a1.set_title(f"ACF of one-step residuals ({output})")

@@ -401,7 +401,11 @@ def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed
     """Parameter draws from the estimated covariance (first draw = the estimate).
 
     Draws outside the estimation bounds are redrawn (truncated multivariate normal); a
-    covariance that is not positive semi-definite is projected onto the nearest one.
+    covariance that is not positive semi-definite is projected onto the nearest one. The draws
+    are made in declared (SI) units from the delta-method covariance rather than in the
+    optimiser's logit space: near a bound the logit derivative vanishes and the logit-space
+    variance explodes, so logit draws would scatter such a parameter over its whole range.
+    Parameters without a finite variance are held at their estimates.
 
     Returns
     -------

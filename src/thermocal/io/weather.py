@@ -293,7 +293,7 @@ def read_epw(
         first_weekday=header["start_weekday"],
     )
     utc_offset = float(meta["TZ"])
-    index = pd.DatetimeIndex(start).tz_localize(_fixed_offset(utc_offset))
+    index = pd.DatetimeIndex(start).tz_localize(as_timezone(utc_offset, f"weather file {path}"))
     frame = pd.DataFrame(index=index)
     missing: dict[str, int] = {}
     for column in STANDARD_COLUMNS:
@@ -404,7 +404,7 @@ def read_tmy3(
         first_weekday=None,
     )
     utc_offset = float(meta["TZ"])
-    index = pd.DatetimeIndex(start).tz_localize(_fixed_offset(utc_offset))
+    index = pd.DatetimeIndex(start).tz_localize(as_timezone(utc_offset, f"weather file {path}"))
     frame = pd.DataFrame(index=index)
     for column in STANDARD_COLUMNS:
         if column not in raw.columns:
@@ -984,12 +984,6 @@ def _interp_nan(t_new: np.ndarray, t_old: np.ndarray, values: np.ndarray) -> np.
 def _ns(index: pd.DatetimeIndex) -> np.ndarray:
     """Integer nanoseconds of a DatetimeIndex whatever its resolution (pandas 3 uses us)."""
     return index.as_unit("ns").asi8
-
-
-def _fixed_offset(hours: float):
-    import datetime as _dt
-
-    return _dt.timezone(_dt.timedelta(hours=hours))
 
 
 def _is_fixed(tzinfo) -> bool:

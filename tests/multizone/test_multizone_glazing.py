@@ -315,3 +315,29 @@ def test_coated_glass_uses_energyplus_reference_curve():
     assert tau[0] == pytest.approx(0.70 * t_clear)
     assert rho_f[0] == pytest.approx(0.20 * (1 - r_clear) + r_clear)
     assert rho_b[0] == pytest.approx(0.05 * (1 - r_clear) + r_clear)
+
+
+def test_glass_conductance_ratio_follows_gap_radiation_and_gas_conduction():
+    # Case 600 double glazing: 13 mm air, Ra < 1e3 so Nu = 1 and the gap conducts
+    # k_air(T) / s + 4 sigma T^3 / (1/e1 + 1/e2 - 1) (grey parallel plates); panes 2 d / k
+    sigma = 5.670374419e-8
+
+    def resistance(t_mean):
+        t = t_mean + 273.15
+        k_air = GASES["air"].properties(t)[0]
+        h_gap = k_air / 0.013 + 4 * sigma * t**3 / (2 / 0.84 - 1)
+        return 2 * 0.003175 / 1.06 + 1 / h_gap
+
+    ratio = CASE600.glass_conductance_ratio([-20.0, 20.0, 60.0])
+    np.testing.assert_allclose(
+        ratio[1:] / ratio[0], [resistance(-20.0) / resistance(t) for t in (20.0, 60.0)], rtol=0.01
+    )
+    assert ratio[0] < 1.0 < ratio[1] < ratio[2]
+    # relative to the NFRC winter state: at its mean pane temperature slightly below 1, because
+    # the 39 K across the glazing there adds gap convection (Nu ~ 1.05) that 10 K does not
+    reference = CASE600.heat_balance(NFRC_WINTER)
+    at_reference = CASE600.glass_conductance_ratio(reference.temperatures[:, 1].mean())[0]
+    assert 0.93 < at_reference < 0.97
+    # a single pane has no gap: constant
+    single = LayeredGlazing([CASE600_GLASS], [])
+    np.testing.assert_array_equal(single.glass_conductance_ratio([0.0, 50.0]), [1.0, 1.0])

@@ -259,3 +259,41 @@ def test_doe2_exterior_convection_uses_energyplus_mowitt_terms_and_smooth_glass(
             0.5 * (np.hypot(hn, 3.26 * local**0.89) + np.hypot(hn, 3.55 * local**0.617)) - hn
         )
         assert net.ext_hc0[k] == pytest.approx(expected)
+
+
+def test_window_glass_conductance_ratio_acts_as_a_conductance_in_steady_state():
+    # a window whose glass-to-glass conductance is doubled at every temperature loses exactly
+    # what a window with half the glass resistance loses (the kernel's lagged correction)
+    layers = [Material("insulation", 0.04, 30.0, 1400.0, 0.1)]
+    base = box_building(layers)
+    r_glass = 1 / 2.0 - 0.17
+
+    def with_window(window_type):
+        return Building(
+            name="box with window",
+            location=base.location,
+            materials=layers,
+            constructions=base.constructions,
+            window_types=[window_type],
+            zones=base.zones,
+            surfaces=base.surfaces,
+            windows=[Window("window", "wall 180", window_type.name, 6.0)],
+        )
+
+    doubled = with_window(
+        WindowType(
+            "w", 2.0, 0.6, glass_conductance_temperatures=(-50, 150), glass_conductance_ratio=(2, 2)
+        )
+    )
+    equivalent = with_window(WindowType("w", 1 / (0.17 + r_glass / 2), 0.6))
+    plain = with_window(WindowType("w", 2.0, 0.6))
+    options = NetworkOptions(
+        interior_convection="fixed", exterior_convection="fixed", exact_sky_longwave=False
+    )
+    weather, meta = constant_weather(days=10)
+    heating = {
+        key: Simulation(b, weather, meta, step="1h", options=options).run().heating["room"].iloc[-1]
+        for key, b in (("doubled", doubled), ("equivalent", equivalent), ("plain", plain))
+    }
+    assert heating["doubled"] == pytest.approx(heating["equivalent"], rel=1e-6)
+    assert heating["doubled"] > 1.05 * heating["plain"]

@@ -320,6 +320,12 @@ def run_steps(
     a_ptr,
     a_idx,
     a_val,
+    win_outer,
+    win_inner,
+    win_g0,
+    win_ratio,
+    win_grid0,
+    win_grid_step,
 ):
     """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
 
@@ -376,6 +382,24 @@ def run_steps(
                 corr = (h - face_h0[f]) * face_area[f] * (x[an] - x[node])
                 rhs[node] += corr
                 rhs[an] -= corr
+        # temperature-dependent glass-to-glass conductance of windows (gas gaps): the excess over
+        # the matrix value, interpolated at the mean of the two glass faces
+        n_grid = win_ratio.shape[1]
+        for j in range(win_outer.shape[0]):
+            o = win_outer[j]
+            i_node = win_inner[j]
+            pos = (0.5 * (x[o] + x[i_node]) - win_grid0) / win_grid_step
+            if pos <= 0.0:
+                ratio = win_ratio[j, 0]
+            elif pos >= n_grid - 1:
+                ratio = win_ratio[j, n_grid - 1]
+            else:
+                g = int(pos)
+                frac = pos - g
+                ratio = win_ratio[j, g] * (1.0 - frac) + win_ratio[j, g + 1] * frac
+            corr = (ratio - 1.0) * win_g0[j] * (x[i_node] - x[o])
+            rhs[i_node] -= corr
+            rhs[o] += corr
         for z in range(nz):
             an = air_node[z]
             rhs[an] += inf_dh[k, z] * (t_out - x[an])

@@ -1038,6 +1038,47 @@ class LayeredGlazing:
         result = self.heat_balance(conditions)
         return result.heat_flux_in / (conditions.temp_out - conditions.temp_in)
 
+    def glass_conductance_ratio(self, temperatures, *, reference=NFRC_WINTER) -> np.ndarray:
+        """Glass-to-glass conductance at mean glazing temperatures over its value at ``reference``.
+
+        The conductance between the outer face of the outermost pane and the inner face of the
+        innermost pane (panes and gaps in series) rises with temperature: grey-body radiation
+        across each gap goes with ``T^3`` and the gas conductivity with ``T``. It is evaluated
+        with :func:`solve_glazing_heat_balance` at 10 K across the glazing (outdoor air 5 K
+        below, indoor air 5 K above each mean temperature) and divided into its value in the
+        ``reference`` state (the nominal U-value's), whose larger temperature difference also
+        drives some gap convection (Case 600 glazing, NFRC winter: Nu = 1.05 instead of 1).
+
+        Parameters
+        ----------
+        temperatures : array-like [C]
+            Mean glazing temperatures.
+        reference : BoundaryConditions
+            Conditions of the nominal U-value (NFRC winter).
+
+        Returns
+        -------
+        numpy.ndarray [-]
+            1 for a single pane (no gap).
+
+        References
+        ----------
+        .. [1] ISO 15099:2003, 5.3 (gap convection) and 8 (heat balance); EnergyPlus Engineering
+           Reference, "Window Heat Balance Calculation" (solved at every time step).
+        """
+        temperatures = np.atleast_1d(np.asarray(temperatures, dtype=float))
+        if not self.gaps:
+            return np.ones_like(temperatures)
+
+        def glass_resistance(t_mean):
+            conditions = BoundaryConditions(
+                t_mean - 5.0, t_mean + 5.0, reference.h_conv_out, reference.h_conv_in
+            )
+            return float(self.heat_balance(conditions).resistances[1:-1].sum())
+
+        r_ref = float(self.heat_balance(reference).resistances[1:-1].sum())
+        return np.asarray([r_ref / glass_resistance(t) for t in temperatures])
+
     @cached_property
     def inward_flowing_fractions(self) -> np.ndarray:
         """Share of the solar heat absorbed in each pane that reaches the room [-] (NFRC summer).

@@ -1437,6 +1437,11 @@ def _wrap(obj: IdfObject, factory, *args, **kwargs):
         raise ThermocalInputError(f"{obj.where()}: {exc}") from None
 
 
+#: Mean glazing temperatures [C] at which the glass-to-glass conductance of layered glazing is
+#: tabulated (the simulation interpolates, and holds the end values outside).
+GLASS_CONDUCTANCE_TEMPERATURES = tuple(float(t) for t in range(-40, 101, 10))
+
+
 def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
     """:class:`~thermocal.multizone.model.WindowType` from layered or simple glazing.
 
@@ -1452,7 +1457,11 @@ def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
     -----
     ``u_value`` is the NFRC winter centre-of-glass U-factor incl. films (EnergyPlus reports the
     same quantity; its film resistances, about 0.034 + 0.136 m2 K/W, are close to the ISO 6946
-    0.04 + 0.13 the model removes to get the glass-to-glass resistance). ``shgc`` is the NFRC
+    0.04 + 0.13 the model removes to get the glass-to-glass resistance). With gas gaps, the
+    glass-to-glass conductance relative to its NFRC winter value is tabulated against the mean
+    glazing temperature (:meth:`LayeredGlazing.glass_conductance_ratio`), so the simulation
+    follows the temperature dependence of the gap as EnergyPlus' window heat balance does.
+    ``shgc`` is the NFRC
     summer SHGC at normal incidence. Transmittance and per-pane absorptances are tabulated
     against the angle of incidence; their hemispherical averages give the diffuse values.
     For simple glazing the equivalent layer follows the EnergyPlus angular curves (A-J, chosen
@@ -1485,6 +1494,12 @@ def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
         n_panes=len(system.panes),
         emissivity_outside=system.panes[0].front_emissivity,
         emissivity_inside=system.panes[-1].back_emissivity,
+        glass_conductance_temperatures=GLASS_CONDUCTANCE_TEMPERATURES if system.gaps else None,
+        glass_conductance_ratio=tuple(
+            float(r) for r in system.glass_conductance_ratio(GLASS_CONDUCTANCE_TEMPERATURES)
+        )
+        if system.gaps
+        else None,
     )
 
 

@@ -252,6 +252,10 @@ class WindowType:
         Number of panes for the default angular curve (default 2).
     emissivity_outside, emissivity_inside : float [-]
         Long-wave emissivity of the outer and inner glass faces (uncoated glass 0.84).
+    glass_conductance_temperatures, glass_conductance_ratio : sequence of float or None [C], [-]
+        Temperature dependence of the glass-to-glass conductance (gas gaps): the conductance at a
+        mean glazing temperature over the one implied by ``u_value`` (interpolated, end values
+        held outside the table). None = constant conductance.
     """
 
     name: str
@@ -268,9 +272,31 @@ class WindowType:
     n_panes: int = 2
     emissivity_outside: float = 0.84
     emissivity_inside: float = 0.84
+    glass_conductance_temperatures: tuple[float, ...] | None = None
+    glass_conductance_ratio: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         what = f"window type '{self.name}'"
+        if (self.glass_conductance_temperatures is None) != (self.glass_conductance_ratio is None):
+            raise ThermocalInputError(
+                f"{what}: give both glass_conductance_temperatures and glass_conductance_ratio, "
+                "or neither"
+            )
+        if self.glass_conductance_temperatures is not None:
+            temps = np.asarray(self.glass_conductance_temperatures, dtype=float)
+            ratio = np.asarray(self.glass_conductance_ratio, dtype=float)
+            if temps.ndim != 1 or temps.shape != ratio.shape or temps.size < 2:
+                raise ThermocalInputError(
+                    f"{what}: glass_conductance_temperatures and glass_conductance_ratio must be "
+                    "1-D tables of equal length (>= 2)"
+                )
+            if np.any(np.diff(temps) <= 0) or not np.all(ratio > 0):
+                raise ThermocalInputError(
+                    f"{what}: glass_conductance_temperatures must increase strictly and "
+                    "glass_conductance_ratio must be > 0"
+                )
+            self.glass_conductance_temperatures = tuple(float(t) for t in temps)
+            self.glass_conductance_ratio = tuple(float(r) for r in ratio)
         self.emissivity_outside = _fraction(self.emissivity_outside, f"{what}: emissivity_outside")
         self.emissivity_inside = _fraction(self.emissivity_inside, f"{what}: emissivity_inside")
         self.u_value = _positive(self.u_value, f"{what}: u_value [W/(m2 K)]")

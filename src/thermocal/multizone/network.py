@@ -58,6 +58,10 @@ MOWITT_LEEWARD = (3.55, 0.617)
 #: DOE-2 roughness multiplier of glass ("very smooth"; EnergyPlus sets it for every glazing layer).
 GLASS_ROUGHNESS_FACTOR = 1.0
 
+#: Uniform grid of mean glazing temperatures [C] on which the windows' glass-to-glass
+#: conductance ratios are handed to the time-stepping kernel.
+WINDOW_TEMPERATURE_GRID = np.arange(-40.0, 100.1, 5.0)
+
 # fixed input columns
 IN_TEMP_OUT, IN_TEMP_SKY, IN_TEMP_GROUND, IN_ONE = 0, 1, 2, 3
 N_FIXED_INPUTS = 4
@@ -417,6 +421,13 @@ class Network:
     orientation_inputs: dict = field(default_factory=dict)  # (tilt, az) -> input col (opaque)
     window_inputs: dict = field(default_factory=dict)  # (wt, tilt, az) -> 4 input cols
     zone_transmitted: sp.csr_matrix | None = None  # (nz, n_inputs): transmitted solar per zone
+    # windows: glass-face nodes, matrix conductance [W/K] and its ratio on WINDOW_TEMPERATURE_GRID
+    window_outer: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    window_inner: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    window_conductance: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    window_conductance_ratio: np.ndarray = field(
+        default_factory=lambda: np.ones((0, len(WINDOW_TEMPERATURE_GRID)))
+    )
 
     def system_matrix(self, step: float) -> sp.csc_matrix:
         """``C / dt + K`` [W/K]."""
@@ -603,6 +614,8 @@ def assemble(
 
     # ---- windows -----------------------------------------------------------------------------
     window_nodes: dict[str, tuple[int, int]] = {}
+    w_g0: list[float] = []
+    w_ratio: list[np.ndarray] = []
     for window in building.windows.values():
         wt = building.window_types[window.window_type]
         host = building.surfaces[window.surface]
@@ -610,6 +623,17 @@ def assemble(
         r_glass = max(1.0 / wt.u_value - WINDOW_FILM_RESISTANCE, 0.005)
         link(first, first + 1, window.area / r_glass)
         window_nodes[window.name] = (first, first + 1)
+        w_g0.append(window.area / r_glass)
+        if wt.glass_conductance_ratio is None:
+            w_ratio.append(np.ones(len(WINDOW_TEMPERATURE_GRID)))
+        else:
+            w_ratio.append(
+                np.interp(
+                    WINDOW_TEMPERATURE_GRID,
+                    wt.glass_conductance_temperatures,
+                    wt.glass_conductance_ratio,
+                )
+            )
         f_name.append(window.name)
         f_node.append(first + 1)
         f_zone.append(zone_index[host.zone])
@@ -860,4 +884,10 @@ def assemble(
         orientation_inputs=orientation_inputs,
         window_inputs=window_inputs,
         zone_transmitted=zone_transmitted,
+        window_outer=np.array([n[0] for n in window_nodes.values()], dtype=np.int64),
+        window_inner=np.array([n[1] for n in window_nodes.values()], dtype=np.int64),
+        window_conductance=np.asarray(w_g0, dtype=float),
+        window_conductance_ratio=np.ascontiguousarray(
+            np.reshape(w_ratio, (len(w_g0), len(WINDOW_TEMPERATURE_GRID)))
+        ),
     )

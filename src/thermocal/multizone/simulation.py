@@ -31,6 +31,7 @@ from thermocal.multizone.network import (
     IN_TEMP_GROUND,
     IN_TEMP_OUT,
     IN_TEMP_SKY,
+    WINDOW_TEMPERATURE_GRID,
     NetworkOptions,
     air_density,
     assemble,
@@ -588,6 +589,12 @@ class Simulation:
             len(self._ctrl) > 0 and self.use_dirichlet,
             *context.dirichlet,
             *context.air_rows,
+            net.window_outer,
+            net.window_inner,
+            net.window_conductance,
+            net.window_conductance_ratio,
+            WINDOW_TEMPERATURE_GRID[0],
+            WINDOW_TEMPERATURE_GRID[1] - WINDOW_TEMPERATURE_GRID[0],
         )
         return out_air, out_mrt, out_heat, out_cool, out_face
 

@@ -219,6 +219,14 @@ def test_window_gains_hand_calculation():
         solar.window_solar_gains(irradiance, area=4.0, g_value=60)
     with pytest.raises(ThermocalInputError, match="shading_factor"):
         solar.window_solar_gains(irradiance, area=4.0, g_value=0.6, shading_factor=1.5)
+    # a movable-shading series is applied by time, not by position
+    blinds = pd.Series([1.0, 0.5, 0.25], index=index)
+    shaded = solar.window_solar_gains(irradiance, area=4.0, g_value=0.6, shading_factor=blinds)
+    np.testing.assert_allclose(shaded.to_numpy(), [0.0, 0.5 * 672.0, 0.25 * 1344.0])
+    with pytest.raises(ThermocalInputError, match="not indexed like the irradiance"):
+        solar.window_solar_gains(
+            irradiance, area=4.0, g_value=0.6, shading_factor=blinds.shift(1, freq="1h")
+        )
 
 
 def test_opaque_gains_hand_calculation():

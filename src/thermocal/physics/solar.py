@@ -386,6 +386,13 @@ def window_solar_gains(
     _check_range("g_value", g_value, 0.0, 1.0, "-")
     _check_range("frame_fraction", frame_fraction, 0.0, 1.0, "-")
     _check_range("g_correction", g_correction, 0.0, 1.0, "-")
+    if isinstance(shading_factor, pd.Series) and not shading_factor.index.equals(irradiance.index):
+        raise ThermocalInputError(
+            "window_solar_gains: the shading_factor series is not indexed like the irradiance "
+            f"({len(shading_factor)} rows from {shading_factor.index[:1].tolist()} vs "
+            f"{len(irradiance)} from {irradiance.index[:1].tolist()}); reindex it to the "
+            "weather's time index"
+        )
     shading = np.asarray(shading_factor, dtype=float)
     if np.any((shading < 0.0) | (shading > 1.0)):
         raise ThermocalInputError(

@@ -479,10 +479,12 @@ def read_measurements(
         Quantity per sensor (``"temperature"``, ``"flow"``, ``"power"``, ...) when no unit is
         declared; otherwise guessed from the name (``T_...``, ``temp...`` -> temperature,
         ``...flow...`` -> flow).
-    tz : str, datetime.tzinfo or None
+    tz : str, datetime.tzinfo, float or None
         Time zone of timestamps written without UTC offset (required for those), and of the
-        result; timestamps with offsets are converted to it. None keeps the file's offset (UTC
-        when the offsets vary).
+        result; timestamps with offsets are converted to it. A number is a fixed offset [h east
+        of UTC] (local standard time, e.g. 1.0). None keeps the file's offset (UTC when the
+        offsets vary). Local times that do not exist or are ambiguous at a clock change are
+        errors naming the line.
     time_format : str, optional
         strftime format of the time column when it is not ISO 8601, e.g. "%d.%m.%Y %H:%M".
     time_unit : {"s", "ms", "min", "h", "d"}, optional

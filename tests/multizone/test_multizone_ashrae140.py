@@ -6,9 +6,9 @@ The model is imported with thermocal.multizone.idf.read_idf and run at the file'
 (Timestep 4 = 15 minutes), with the Standard's weather file.
 
 Heating, peak heating and the free-float minimum/maximum/mean temperatures must lie inside the
-range of the six programs. Annual cooling and peak cooling come out a few per cent above the
-highest program (see benchmarks/README.md for the discussion); the test holds them within 10 %
-of the range's upper end so that a regression is caught.
+range of the six programs. Annual cooling (6.20 MWh, +0.6 %) and peak cooling (6.72 kW, +3.7 %)
+come out slightly above the highest program (see benchmarks/README.md for the discussion); the
+test holds them within 2 % and 5 % of the range's upper end so that a regression is caught.
 """
 
 from __future__ import annotations
@@ -61,9 +61,9 @@ def test_case600_ideal_loads_within_six_programs(case600):
     low, high = ranges.loc["peak_hourly_integrated_heating_load", ["min", "max"]]
     assert low <= summary["heating_peak_kW"] <= high, summary["heating_peak_kW"]
     low, high = ranges.loc["annual_sensible_cooling_load", ["min", "max"]]
-    assert low <= cooling_mwh <= 1.10 * high, cooling_mwh
+    assert low <= cooling_mwh <= 1.02 * high, cooling_mwh
     low, high = ranges.loc["peak_hourly_integrated_sensible_cooling_load", ["min", "max"]]
-    assert low <= summary["cooling_peak_kW"] <= 1.10 * high, summary["cooling_peak_kW"]
+    assert low <= summary["cooling_peak_kW"] <= 1.05 * high, summary["cooling_peak_kW"]
     # set points are held exactly
     air = result.air_temperature["ZONE ONE"]
     assert air.min() >= 20.0 - 1e-6 and air.max() <= 27.0 + 1e-6

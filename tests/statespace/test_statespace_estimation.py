@@ -217,3 +217,25 @@ def test_fixed_parameters_are_not_estimated():
     assert np.isnan(res.bse["Ce"])
     assert "Ce" not in res.cov_params().index
     assert res.n_free == model.n_free - 2
+
+
+def test_random_starts_of_wide_positive_ranges_stay_near_the_declared_value():
+    """A capacity declared 0.5 in [1e-4, 50]: uniform starts over the range would nearly all lie
+    above 0.5 * 50 (two orders of magnitude off); the starts are log-normal around the declared
+    value instead (median factor ~e^0.67), and narrow ranges stay uniform."""
+    from thermocal.statespace.estimation import _start_points
+
+    m = RCModel("one_state")
+    m.add_state("Ti", capacity="Ci", noise="si", initial_mean=20.0)
+    m.add_conductance("Ti", "Ta", conductance="Hie")
+    m.add_output("y", state="Ti", noise=0.1)
+    m.add_parameter("Ci", 0.5, unit="MJ/K", lower=1e-4, upper=50.0)
+    m.add_parameter("Hie", 300.0, unit="W/K", lower=250.0, upper=350.0)
+    m.add_parameter("si", 0.1, unit="K/sqrt(h)")
+    starts = _start_points(m, 401, seed=1)[1:]
+    free = m.free_parameter_names
+    ci = np.array([m.parameters["Ci"].from_unconstrained(t[free.index("Ci")]) for t in starts])
+    hie = np.array([m.parameters["Hie"].from_unconstrained(t[free.index("Hie")]) for t in starts])
+    assert np.all((ci > 1e-4) & (ci < 50.0))
+    assert np.median(np.abs(np.log(ci / 0.5))) == pytest.approx(0.674, abs=0.1)
+    assert stats.kstest((hie - 251.0) / 98.0, "uniform").pvalue > 0.01

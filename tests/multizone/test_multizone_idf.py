@@ -565,3 +565,20 @@ def test_unsupported_construction_class_is_named(tmp_path):
         ThermocalInputError, match="Construction:FfactorGroundFloor is not supported"
     ):
         read_idf(path)
+
+
+def test_five_zone_exterior_roughness_from_the_outer_material(five_zone):
+    # DOE-2 roughness multipliers by the outermost layer's Roughness, as EnergyPlus:
+    # WALL-1 starts with WD01 (MediumSmooth, 1.13), ROOF-1 with RG01 (Rough, 1.67), glass 1.0
+    from thermocal.multizone.model import Material
+    from thermocal.multizone.network import assemble
+
+    building, _ = five_zone
+    assert building.materials["WD01"].roughness == "MediumSmooth"
+    net = assemble(building, 900.0)
+    factor = dict(zip(net.ext_names, net.ext_roughness, strict=True))
+    assert factor["FRONT-1"] == 1.13
+    assert factor["TOP-1"] == 1.67
+    assert factor["WF-1"] == 1.0
+    with pytest.raises(ThermocalInputError, match="material 'stucco': roughness 'Bumpy'"):
+        Material("stucco", 0.7, 1800.0, 900.0, 0.02, roughness="Bumpy")

@@ -1711,6 +1711,7 @@ class _IdfReader:
                         thickness=_number(rec, "thickness"),
                         thermal_absorptance=_number(rec, "thermal_absorptance", default=0.9),
                         solar_absorptance=_number(rec, "solar_absorptance", default=0.7),
+                        roughness=rec["roughness"] or None,
                     )
                 )
             elif key == "MATERIAL:NOMASS":
@@ -1722,6 +1723,7 @@ class _IdfReader:
                         resistance=_number(rec, "thermal_resistance"),
                         thermal_absorptance=_number(rec, "thermal_absorptance", default=0.9),
                         solar_absorptance=_number(rec, "solar_absorptance", default=0.7),
+                        roughness=rec["roughness"] or None,
                     )
                 )
             elif key == "MATERIAL:AIRGAP":

@@ -62,6 +62,28 @@ def _fraction(value: float, what: str) -> float:
 # ----------------------------------------------------------------------------------------------
 
 
+#: DOE-2 / EnergyPlus surface roughness classes and their forced-convection multipliers [-].
+ROUGHNESS_FACTORS = {
+    "VeryRough": 2.17,
+    "Rough": 1.67,
+    "MediumRough": 1.52,
+    "MediumSmooth": 1.13,
+    "Smooth": 1.11,
+    "VerySmooth": 1.0,
+}
+
+
+def _roughness(value, what: str) -> str | None:
+    if value is None or (isinstance(value, str) and not value.strip()):
+        return None
+    key = {k.lower(): k for k in ROUGHNESS_FACTORS}.get(str(value).replace(" ", "").lower())
+    if key is None:
+        raise ThermocalInputError(
+            f"{what}: roughness {value!r} is not one of {sorted(ROUGHNESS_FACTORS)}"
+        )
+    return key
+
+
 @dataclass
 class Material:
     """A homogeneous layer with thermal mass.
@@ -80,6 +102,10 @@ class Material:
         layer of a construction (EnergyPlus "Thermal Absorptance", default 0.9).
     solar_absorptance : float [-]
         Short-wave absorptance of the layer's face (EnergyPlus "Solar Absorptance", default 0.6).
+    roughness : str or None
+        Surface roughness class of the layer's face (:data:`ROUGHNESS_FACTORS`, EnergyPlus
+        "Roughness"), used for the exterior convection when the layer is the outermost one;
+        None = the simulation's ``NetworkOptions.roughness_factor``.
     """
 
     name: str
@@ -89,9 +115,11 @@ class Material:
     thickness: float
     thermal_absorptance: float = 0.9
     solar_absorptance: float = 0.6
+    roughness: str | None = None
 
     def __post_init__(self) -> None:
         what = f"material '{self.name}'"
+        self.roughness = _roughness(self.roughness, what)
         self.conductivity = _positive(self.conductivity, f"{what}: conductivity [W/(m K)]")
         self.density = _positive(self.density, f"{what}: density [kg/m3]")
         self.specific_heat = _positive(self.specific_heat, f"{what}: specific_heat [J/(kg K)]")
@@ -127,6 +155,7 @@ class NoMassMaterial:
     resistance : float [m2 K/W]
         Must be > 0.
     thermal_absorptance, solar_absorptance : float [-]
+    roughness : str or None
         Face properties, as for :class:`Material`.
     """
 
@@ -134,9 +163,11 @@ class NoMassMaterial:
     resistance: float
     thermal_absorptance: float = 0.9
     solar_absorptance: float = 0.6
+    roughness: str | None = None
 
     def __post_init__(self) -> None:
         what = f"no-mass material '{self.name}'"
+        self.roughness = _roughness(self.roughness, what)
         self.resistance = _positive(self.resistance, f"{what}: resistance [m2 K/W]")
         self.thermal_absorptance = _fraction(
             self.thermal_absorptance, f"{what}: thermal_absorptance"

@@ -42,7 +42,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone.model import Building, Material
+from thermocal.multizone.model import ROUGHNESS_FACTORS, Building, Material
 
 #: Stefan-Boltzmann constant [W/(m2 K4)].
 STEFAN_BOLTZMANN = 5.670374419e-8
@@ -96,8 +96,9 @@ class NetworkOptions:
     exact_sky_longwave : bool
         Correct the linearised exterior long-wave exchange to the exact ``sigma T^4`` law.
     roughness_factor : float [-]
-        DOE-2 roughness multiplier of the opaque exterior faces (1.67 "rough", 1.52 "medium
-        rough", 1.0 "very smooth"); windows always use glass, 1.0.
+        DOE-2 roughness multiplier of opaque exterior faces whose outermost material gives no
+        ``roughness`` (1.67 "rough", 1.52 "medium rough", 1.0 "very smooth"); windows always use
+        glass, 1.0.
     wind_speed_factor : float [-]
         Local (surface-height) wind speed over the weather-station wind speed (EnergyPlus,
         terrain "country", ~3 m high: ``(3/10)^0.14 = 0.845``).
@@ -609,7 +610,12 @@ def assemble(
             e_alpha.append(alpha_out if surface.sun_exposed else 0.0)
             e_cap.append(tpl.capacity[0])
             e_sun.append(surface.sun_exposed)
-            e_rough.append(options.roughness_factor)
+            outer_roughness = layers[0].roughness
+            e_rough.append(
+                options.roughness_factor
+                if outer_roughness is None
+                else ROUGHNESS_FACTORS[outer_roughness]
+            )
         # adiabatic: nothing on the outside
 
     # ---- windows -----------------------------------------------------------------------------

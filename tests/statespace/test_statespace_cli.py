@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+import pytest
 from typer.testing import CliRunner
 
 from thermocal.cli import app
@@ -62,6 +63,20 @@ def test_fit_command_writes_json_and_figures(tmp_path):
         res.loglike == np.float64(content["loglike"])
         or abs(res.loglike - content["loglike"]) < 1e-6
     )
+    # every parameter with its estimate and bounds; the correlation of the free ones
+    assert set(content["params"]) == set(res.params.index)
+    for name, entry in content["params"].items():
+        p = res.model.parameters[name]
+        assert entry["value"] == pytest.approx(res.params[name], rel=1e-6)
+        assert entry["fixed"] is p.fixed
+        assert entry["lower"] == p.lower
+        assert entry["upper"] == (None if p.upper == np.inf else p.upper)
+    assert names == res.model.free_parameter_names
+    corr = np.array(content["correlation"]["matrix"], dtype=float)
+    np.testing.assert_allclose(corr, corr.T, atol=1e-12)
+    np.testing.assert_allclose(np.diag(corr)[np.isfinite(np.diag(corr))], 1.0, atol=1e-12)
+    assert content["aic"] == pytest.approx(-2 * content["loglike"] + 2 * len(names))
+    assert content["bic"] == pytest.approx(-2 * content["loglike"] + len(names) * np.log(240))
 
 
 def test_fit_command_numeric_time_and_separator(tmp_path):
@@ -96,3 +111,53 @@ def test_fit_command_reports_unknown_column_without_traceback(tmp_path):
     )  # fmt: skip
     assert proc.returncode == 2
     assert "'phi_h' (heat input)" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def _bad_case(tmp_path: Path, case: str) -> tuple[Path, Path, list[str]]:
+    """A model file and a data file with one defect of the issue's bad-input list."""
+    data = tmp_path / "data.csv"
+    df = write_data(data, n=40)
+    df.index.name = "time"
+    model_text = MODEL.read_text()
+    expected = []
+    if case == "empty file":
+        data.write_text("")
+        expected = [str(data), "could not be read"]
+    elif case == "unknown column":
+        model_text = model_text.replace("column: phi_h", "column: phi_heating")
+        expected = [str(data), "'phi_heating'", "not in the data"]
+    elif case == "state without capacity":
+        model_text = model_text.replace("Tenv: {capacity: Cenv, ", "Tenv: {")
+        expected = ["model.yaml", "state 'Tenv' has no capacity"]
+    elif case == "parameter outside bounds":
+        model_text = model_text.replace("H_v: {value: 80", "H_v: {value: 8000")
+        expected = ["model.yaml", "'H_v'", "outside its bounds"]
+    elif case == "duplicated time stamp":
+        pd.concat([df.iloc[:10], df.iloc[9:]]).to_csv(data)
+        expected = [str(data), "duplicated time stamp", "row 10"]
+    elif case == "non-increasing time stamps":
+        pd.concat([df.iloc[:10], df.iloc[[11, 10]], df.iloc[12:]]).to_csv(data)
+        expected = [str(data), "not increasing", "row 11", "sort the data"]
+    elif case == "all-NaN output":
+        df.assign(Ti=np.nan).to_csv(data)
+        expected = [str(data), "'Ti'", "all NaN"]
+    model = tmp_path / "model.yaml"
+    model.write_text(model_text)
+    return model, data, expected
+
+
+@pytest.mark.parametrize(
+    "case",
+    ["empty file", "unknown column", "state without capacity", "parameter outside bounds",
+     "duplicated time stamp", "non-increasing time stamps", "all-NaN output"],
+)  # fmt: skip
+def test_fit_command_bad_input_gives_one_clear_message(tmp_path, case):
+    from thermocal.errors import ThermocalInputError
+
+    model, data, expected = _bad_case(tmp_path, case)
+    result = CliRunner().invoke(app, ["fit", str(model), str(data), "--out", str(tmp_path / "o")])
+    assert isinstance(result.exception, ThermocalInputError), result.output
+    message = str(result.exception)
+    for text in expected:
+        assert text in message, message
+    assert not (tmp_path / "o" / "fit.json").exists()

@@ -27,7 +27,7 @@ def read_table(path: Path, *, sep: str | None = None):
         sep = max(counts, key=counts.get) if max(counts.values()) > 0 else ","
     try:
         return pd.read_csv(path, sep=sep)
-    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise ThermocalInputError(f"data file {path} could not be read as CSV: {exc}") from None
 
 

@@ -7,6 +7,7 @@ import pandas as pd
 import pytest
 from scipy.linalg import expm
 
+from thermocal.errors import ThermocalInputError
 from thermocal.multizone.model import (
     Building,
     Construction,
@@ -297,3 +298,23 @@ def test_window_glass_conductance_ratio_acts_as_a_conductance_in_steady_state():
     }
     assert heating["doubled"] == pytest.approx(heating["equivalent"], rel=1e-6)
     assert heating["doubled"] > 1.05 * heating["plain"]
+
+
+def test_period_must_be_whole_steps_and_warmup_non_negative():
+    # [00:00, 00:30) at 1 h steps, or two days at 7 min, used to simulate a longer period silently
+    layers = [Material("insulation", 0.04, 30.0, 1400.0, 0.1)]
+    building = box_building(layers)
+    weather, meta = constant_weather(days=3)
+    for start, end, step in (
+        ("2021-01-01 00:00", "2021-01-01 00:30", "1h"),
+        ("2021-01-01 00:00", "2021-01-03 00:00", "7min"),
+        ("2021-01-01 00:03", "2021-01-02 00:03", "5min"),
+    ):
+        with pytest.raises(ThermocalInputError, match="not a whole number of"):
+            Simulation(building, weather, meta, step=step, start=start, end=end)
+    sim = Simulation(
+        building, weather, meta, step="5min", start="2021-01-01 00:05", end="2021-01-02"
+    )
+    assert len(sim.times) == 24 * 12 - 1 and sim.times[0].minute == 5
+    with pytest.raises(ThermocalInputError, match="warmup_days"):
+        Simulation(building, weather, meta, step="1h", warmup_days=-1)

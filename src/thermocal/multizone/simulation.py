@@ -251,6 +251,10 @@ class Simulation:
             raise ThermocalInputError(f"step must lie in (0, 1h], got {step!r}")
         self.dt = self.step_size.total_seconds()
         self.warmup_days = int(warmup_days)
+        if self.warmup_days < 0:
+            raise ThermocalInputError(
+                f"Simulation: warmup_days (--warmup-days) must be >= 0, got {warmup_days!r}"
+            )
         self.initial_temperature = float(initial_temperature)
         self.store_surfaces = bool(store_surfaces)
         self.sky_model = sky_model
@@ -865,6 +869,15 @@ def _weather_grid(weather: pd.DataFrame, step: pd.Timedelta, start, end) -> pd.D
         raise ThermocalInputError(
             f"Simulation: period [{t0}, {t1}) is empty or outside the weather data "
             f"[{index[0]}, {index[-1] + step})"
+        )
+    # the steps must tile the period exactly: a start between two steps or a length that is not
+    # a whole number of steps would silently simulate another period
+    if (t0 - index[0]) % step != pd.Timedelta(0) or (t1 - t0) % step != pd.Timedelta(0):
+        raise ThermocalInputError(
+            f"Simulation: the period [{t0}, {t1}) is not a whole number of "
+            f"{step.total_seconds() / 60:g}-min steps on the "
+            f"weather's grid (which starts at {index[0]}); choose start, end and step so that "
+            "the step divides both the offset from the grid start and the period length"
         )
     # interval-mean temperatures from the instant values at both ends of each step
     temp = grid["temp_air"].to_numpy(dtype=float)

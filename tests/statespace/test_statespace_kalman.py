@@ -181,3 +181,36 @@ def test_filter_is_compiled_once_for_likelihood_and_stored_moments():
     filtered = filter_arrays(model, prep, None, False)
     assert np.isfinite(filtered["loglike"])
     assert len(kernels.kalman_filter.signatures) == 1
+
+
+@pytest.mark.parametrize("hold", ["zoh", "foh"])
+def test_steady_state_shortcut_survives_a_change_of_interval(hold):
+    """Once the filter is stationary it freezes the gain; when the sampling interval then changes
+    (a gap, a logger switching from 5 to 10 minutes) the covariance must restart from the
+    filtered, not the predicted, covariance. Reference: the filter storing all moments, which
+    never takes the shortcut (and equals the dense Gaussian likelihood, tested above)."""
+    from thermocal.statespace.estimation import filter_arrays
+
+    m = RCModel("one")
+    m.add_state("Ti", capacity="Ci", noise="si", initial_mean=20.0, initial_std=1.0)
+    m.add_conductance("Ti", "Ta", conductance="H")
+    m.add_heat_input("Ph", into="Ti")
+    m.add_output("y", state="Ti", noise="e")
+    m.add_parameter("Ci", 2.0, unit="MJ/K")
+    m.add_parameter("H", 200.0, unit="W/K")
+    m.add_parameter("si", 0.5, unit="K/sqrt(h)")
+    m.add_parameter("e", 0.2, unit="K")
+    rng = np.random.default_rng(3)
+    n = 400
+    seconds = np.arange(n) * 600.0
+    seconds[250:] += 1500.0  # one 35-minute interval after 250 samples of 10 minutes
+    seconds[330:] += np.cumsum(rng.uniform(0, 300, n - 330))  # then irregular
+    t = pd.to_datetime("2024-01-01", utc=True) + pd.to_timedelta(seconds, unit="s")
+    df = pd.DataFrame(
+        {"Ta": rng.normal(5, 1, n), "Ph": rng.uniform(0, 3000, n), "y": rng.normal(20, 1, n)},
+        index=t,
+    )
+    df.loc[df.index[300], "y"] = np.nan
+    prep = prepare_data(m, df)
+    reference = filter_arrays(m, prep, None, hold == "foh")["loglike"]
+    assert m.loglike(df, hold=hold) == pytest.approx(reference, rel=1e-12)

@@ -374,6 +374,7 @@ def kalman_filter(
     K = np.empty(n)
     LP = np.empty((n, n))
     Pprior = np.empty((n, n))
+    Ppost = np.empty((n, n))
     Kfix = np.empty((ny, n))
     sfix = np.empty(ny)
     log_sfix = np.empty(ny)
@@ -442,6 +443,9 @@ def kalman_filter(
                         P[i, j] = acc
                         P[j, i] = acc
                 loglike -= 0.5 * (LOG_2PI + log_sfix[r] + v * v / s)
+            for i in range(n):
+                for j in range(n):
+                    Ppost[i, j] = P[i, j]
         if store:
             _to_physical(T, z, P, xs, Ps)
             for i in range(n):
@@ -455,6 +459,12 @@ def kalman_filter(
         if dt != last_dt:
             modal_discretise(lam, TB, M, dt, foh, e, G0, G1, W)
             last_dt = dt
+            if steady:
+                # the steady stretch left P at the stationary *predicted* covariance; the time
+                # update starts from the filtered one (stationary as well)
+                for i in range(n):
+                    for j in range(n):
+                        P[i, j] = Ppost[i, j]
             steady = False
         if store:
             for i in range(n):

@@ -95,6 +95,8 @@ def test_fit_results_interface_and_json(tmp_path):
     assert list(res.params.index) == model.parameter_names
     assert len(res.start_loglikes) == 3
     assert res.loglike == pytest.approx(max(res.start_loglikes), abs=1e-4)
+    assert res.to_dict()["start_loglikes"] == pytest.approx(res.start_loglikes)
+    assert "Optimiser starts (3)" in res.summary()
     cov = res.cov_params()
     assert list(cov.index) == model.free_parameter_names
     np.testing.assert_allclose(np.sqrt(np.diag(cov)), res.bse[model.free_parameter_names])

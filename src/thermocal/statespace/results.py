@@ -328,6 +328,11 @@ class FitResults:
             f"Observations: {self.nobs}   free parameters: {self.n_free}   hold: {self.hold}",
             f"Converged: {self.converged} ({self.message})   iterations: {self.n_iterations}   "
             f"time: {self.fit_seconds:.3f} s",
+        ]
+        if len(self.start_loglikes) > 1:
+            ends = ", ".join(f"{v:.2f}" for v in self.start_loglikes)
+            lines.append(f"Optimiser starts ({len(self.start_loglikes)}), log-likelihoods: {ends}")
+        lines += [
             "",
             f"{'parameter':<16}{'value':>14}{'std error':>12}  {'unit':<11}{'lower':>11}"
             f"{'upper':>11}  fixed",
@@ -370,6 +375,7 @@ class FitResults:
             "n_free_parameters": self.n_free,
             "converged": self.converged,
             "optimizer_message": self.message,
+            "start_loglikes": [num(v) for v in self.start_loglikes],
             "fit_seconds": self.fit_seconds,
             "hold": self.hold,
             "params": params,

@@ -318,3 +318,39 @@ def test_period_must_be_whole_steps_and_warmup_non_negative():
     assert len(sim.times) == 24 * 12 - 1 and sim.times[0].minute == 5
     with pytest.raises(ThermocalInputError, match="warmup_days"):
         Simulation(building, weather, meta, step="1h", warmup_days=-1)
+
+
+def test_exact_interior_longwave_removes_the_linearisation_temperature():
+    # hot steady state (outdoors 60 C, zone cooled to 35 C): faces at different temperatures
+    # (ISO 6946 coefficients differ by direction) exchange long-wave radiation; with the exact
+    # sigma T^4 correction the result no longer depends on where the matrix part is linearised
+    import dataclasses
+
+    layers = [Material("board", 0.2, 800.0, 1000.0, 0.05)]
+    building = box_building(layers)
+    building = dataclasses.replace(
+        building,
+        zones={
+            "room": dataclasses.replace(
+                building.zones["room"], heating_setpoint=None, cooling_setpoint=35.0
+            )
+        },
+    )
+    weather, meta = constant_weather(days=10, temp=60.0)
+
+    def cooling(radiant_temperature, exact):
+        options = NetworkOptions(
+            interior_convection="fixed",
+            exterior_convection="fixed",
+            exact_sky_longwave=False,
+            radiant_temperature=radiant_temperature,
+            exact_interior_longwave=exact,
+        )
+        sim = Simulation(building, weather, meta, step="1h", options=options)
+        return sim.run().cooling["room"].iloc[-1]
+
+    exact_low, exact_high = cooling(20.0, True), cooling(50.0, True)
+    linear_low, linear_high = cooling(20.0, False), cooling(50.0, False)
+    assert exact_low == pytest.approx(exact_high, rel=1e-6)
+    assert abs(linear_low - linear_high) > 20 * abs(exact_low - exact_high)
+    assert exact_low == pytest.approx(linear_high, rel=1e-3)  # 50 C is close to the face temps

@@ -326,6 +326,10 @@ def run_steps(
     win_ratio,
     win_grid0,
     win_grid_step,
+    exact_interior,
+    face_mrt,
+    face_mrt_g,
+    h_black,
 ):
     """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
 
@@ -382,6 +386,20 @@ def run_steps(
                 corr = (h - face_h0[f]) * face_area[f] * (x[an] - x[node])
                 rhs[node] += corr
                 rhs[an] -= corr
+        # exact interior long-wave exchange: face <-> radiant star node with the coefficient
+        # sigma (Tf^2 + Tr^2)(Tf + Tr) instead of 4 sigma T0^3
+        if exact_interior:
+            for f in range(face_node.shape[0]):
+                r_node = face_mrt[f]
+                if r_node < 0:
+                    continue
+                node = face_node[f]
+                tf = x[node] + KELVIN
+                tr = x[r_node] + KELVIN
+                h_exact = SIGMA * (tf * tf + tr * tr) * (tf + tr)
+                corr = face_mrt_g[f] * (h_exact / h_black - 1.0) * (x[r_node] - x[node])
+                rhs[node] += corr
+                rhs[r_node] -= corr
         # temperature-dependent glass-to-glass conductance of windows (gas gaps): the excess over
         # the matrix value, interpolated at the mean of the two glass faces
         n_grid = win_ratio.shape[1]

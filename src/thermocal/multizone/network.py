@@ -93,6 +93,10 @@ class NetworkOptions:
         2.5, ceilings 5.0, floors 0.7, for heat flowing from the air to colder surfaces).
     interior_longwave : bool
         Long-wave exchange between the faces of a zone.
+    exact_interior_longwave : bool
+        Correct the interior long-wave exchange, linearised at ``radiant_temperature``, to the
+        exact ``sigma (T_f^2 + T_r^2)(T_f + T_r)`` coefficient between each face and the zone's
+        radiant star node (EnergyPlus exchanges ``sigma T^4`` exactly).
     exact_sky_longwave : bool
         Correct the linearised exterior long-wave exchange to the exact ``sigma T^4`` law.
     roughness_factor : float [-]
@@ -117,6 +121,7 @@ class NetworkOptions:
     h_exterior_fixed: float = 20.0
     h_interior_fixed: float | None = None
     interior_longwave: bool = True
+    exact_interior_longwave: bool = True
     exact_sky_longwave: bool = True
     roughness_factor: float = 1.67
     wind_speed_factor: float = 0.845
@@ -400,6 +405,9 @@ class Network:
     face_hmax: np.ndarray
     face_capacity: np.ndarray  # capacity of the face node per m2 [J/(m2 K)]
     face_is_window: np.ndarray
+    face_mrt_conductance: np.ndarray  # [W/K] face -> radiant star node at radiant_temperature
+    face_mrt_node: np.ndarray  # radiant star node of the face's zone (-1: none)
+    h_black: float  # 4 sigma T^3 at radiant_temperature [W/(m2 K)]
     # exterior faces
     ext_names: list[str]
     ext_node: np.ndarray
@@ -701,6 +709,7 @@ def assemble(
 
     # ---- interior long-wave: MRT star per zone ------------------------------------------------
     mrt_node = -np.ones(nz, dtype=np.int64)
+    face_mrt_g = np.zeros(len(face_node))
     h_black = 4.0 * STEFAN_BOLTZMANN * (options.radiant_temperature + 273.15) ** 3
     if options.interior_longwave:
         for z in range(nz):
@@ -715,6 +724,7 @@ def assemble(
                     face_area[members], face_eps[members], h_black
                 )
             g = cache[mrt_key]
+            face_mrt_g[members] = g
             for m, gm in zip(members, g, strict=True):
                 link(int(face_node[m]), node, float(gm))
 
@@ -871,6 +881,9 @@ def assemble(
         face_hmax=np.asarray(hmax, dtype=float),
         face_capacity=face_cap,
         face_is_window=face_is_window,
+        face_mrt_conductance=face_mrt_g,
+        face_mrt_node=mrt_node[face_zone],
+        h_black=float(h_black),
         ext_names=e_name,
         ext_node=ext_node,
         ext_area=ext_area,

@@ -599,6 +599,10 @@ class Simulation:
             net.window_conductance_ratio,
             WINDOW_TEMPERATURE_GRID[0],
             WINDOW_TEMPERATURE_GRID[1] - WINDOW_TEMPERATURE_GRID[0],
+            self.options.exact_interior_longwave and self.options.interior_longwave,
+            net.face_mrt_node,
+            net.face_mrt_conductance,
+            net.h_black,
         )
         return out_air, out_mrt, out_heat, out_cool, out_face
 

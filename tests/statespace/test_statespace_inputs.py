@@ -211,3 +211,37 @@ def test_local_times_with_dst_offsets_are_read():
     ]  # a fake DST switch: same instants, different offsets
     model = RCModel.from_dict(SPEC)
     assert model.loglike(df2, time_column="time") == pytest.approx(model.loglike(df), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("into", "extra", "message"),
+    [
+        ({"Ti": 1.5, "Te": "rest"}, {}, r"heat_inputs\[0\].*add up to 1.5 > 1"),
+        ({"Ti": 0.7, "Te": 0.6}, {}, r"heat_inputs\[0\].*add up to 1.3 > 1"),
+        ({"Ti": -0.2, "Te": "rest"}, {}, r"fraction into 'Ti' is -0.2.*\[0, 1\]"),
+        ({"Ti": "f", "Te": "rest"}, {"f": {"value": 0.5, "unit": "-"}},
+         r"parameter 'f' is a fraction with bounds \[-inf, inf\].*lower: 0"),
+        ({"Ti": "f", "Te": "rest"}, {"f": {"value": 1.2, "unit": "-", "fixed": True}},
+         r"parameter 'f' is a fraction and must lie in \[0, 1\]"),
+    ],
+)  # fmt: skip
+def test_heat_fractions_must_split_at_most_the_whole_column(into, extra, message):
+    """Fractions outside [0, 1] or adding up to more than 1 create heat out of nothing."""
+    s = spec(heat_inputs=[{"column": "Ph", "into": into, "unit": "kW"}])
+    s["parameters"].update(extra)
+    with pytest.raises(ThermocalInputError, match=message):
+        RCModel.from_dict(s)
+    # the same split within [0, 1] is accepted and conserves the heat
+    s = spec(heat_inputs=[{"column": "Ph", "into": {"Ti": 0.3, "Te": "rest"}, "unit": "kW"}])
+    _, B, _, _ = RCModel.from_dict(s).continuous_matrices()
+    caps = np.array([2.0e6, 20.0e6])
+    assert (B[:, 1] * caps).sum() == pytest.approx(1000.0)  # 1 kW in total [W]
+
+
+def test_fixed_must_be_a_boolean_and_listed_states_need_names():
+    with pytest.raises(ThermocalInputError, match=r"parameter 'Ci': 'fixed' must be true or false"):
+        RCModel.from_dict(spec(parameters__Ci__fixed="no"))
+    s = spec()
+    s["states"] = [{"capacity": "Ci", "noise": "sigma_i", "initial_mean": "Ti0"}]
+    with pytest.raises(ThermocalInputError, match=r"states\[0\] needs a 'name'"):
+        RCModel.from_dict(s)

@@ -417,6 +417,11 @@ class RCModel:
             for key in ("value", "unit"):
                 if key not in pspec:
                     raise ThermocalInputError(f"{where}: parameter '{pname}' has no '{key}'")
+            if not isinstance(pspec.get("fixed", False), bool):
+                raise ThermocalInputError(
+                    f"{where}: parameter '{pname}': 'fixed' must be true or false, got "
+                    f"{pspec['fixed']!r}"
+                )
             model.add_parameter(
                 str(pname),
                 pspec["value"],
@@ -429,7 +434,13 @@ class RCModel:
 
         states = spec.get("states") or {}
         if isinstance(states, Sequence) and not isinstance(states, str):
-            states = {s.get("name"): {k: v for k, v in s.items() if k != "name"} for s in states}
+            for i, s in enumerate(states):
+                if not isinstance(s, Mapping) or not s.get("name"):
+                    raise ThermocalInputError(
+                        f"{where}: states[{i}] needs a 'name' (or declare the states as a "
+                        "mapping name -> settings)"
+                    )
+            states = {s["name"]: {k: v for k, v in s.items() if k != "name"} for s in states}
         if not isinstance(states, Mapping) or not states:
             raise ThermocalInputError(f"{where}: 'states' must declare at least one state")
         for sname, sspec in states.items():
@@ -893,6 +904,16 @@ def _compile(model: RCModel) -> Structure:
         rest_states = [s for s, f in into.items() if f == "rest"]
         if len(rest_states) > 1:
             raise ThermocalInputError(f"{where}: {what}: only one fraction may be 'rest'")
+        constant_total = sum(
+            _as_float(f, f"{where}: fraction of {what} into '{s}'")
+            for s, f in into.items()
+            if not (isinstance(f, str) and (f == "rest" or f in cp.param_index))
+        )
+        if constant_total > 1.0 + 1e-9:
+            raise ThermocalInputError(
+                f"{where}: {what}: the fractions add up to {constant_total:g} > 1 (more heat "
+                "than the column holds); make them sum to at most 1"
+            )
         for s, f in into.items():
             if s not in sidx:
                 raise ThermocalInputError(
@@ -919,7 +940,13 @@ def _compile(model: RCModel) -> Structure:
                 frac_sign.append(1.0)
                 frac_const.append(0.0)
             else:
-                frac_const.append(_as_float(f, f"{where}: fraction of {what} into '{s}'"))
+                fraction = _as_float(f, f"{where}: fraction of {what} into '{s}'")
+                if not 0.0 <= fraction <= 1.0:
+                    raise ThermocalInputError(
+                        f"{where}: {what}: fraction into '{s}' is {fraction:g}; a fraction "
+                        "must lie in [0, 1]"
+                    )
+                frac_const.append(fraction)
             frac_ptr.append(len(frac_idx))
 
     if not model._outputs:
@@ -1038,6 +1065,13 @@ def _check_parameters(model: RCModel, roles: dict[str, set[str]], where: str) ->
                     raise ThermocalInputError(
                         f"{pwhere} ({role}) has a negative lower bound {p.lower}; use lower >= 0"
                     )
+            if role == "fraction" and not (0.0 <= p.lower and p.upper <= 1.0 or p.fixed):
+                raise ThermocalInputError(
+                    f"{pwhere} is a fraction with bounds [{p.lower}, {p.upper}]; give it "
+                    "'lower: 0' and 'upper: 1' (or narrower)"
+                )
+            if role == "fraction" and not 0.0 <= p.value <= 1.0:
+                raise ThermocalInputError(f"{pwhere} is a fraction and must lie in [0, 1]")
             if role == "measurement noise" and not p.value > 0:
                 raise ThermocalInputError(
                     f"{pwhere}: a measurement standard deviation must be positive"

@@ -245,3 +245,10 @@ def test_fixed_must_be_a_boolean_and_listed_states_need_names():
     s["states"] = [{"capacity": "Ci", "noise": "sigma_i", "initial_mean": "Ti0"}]
     with pytest.raises(ThermocalInputError, match=r"states\[0\] needs a 'name'"):
         RCModel.from_dict(s)
+
+
+def test_non_numeric_parameter_value_names_file_and_parameter(tmp_path):
+    path = tmp_path / "m.yaml"
+    path.write_text(yaml.safe_dump(spec(parameters__Ci__value="2,5")))
+    with pytest.raises(ThermocalInputError, match=r"m.yaml \(model 'TiTe'\).*'Ci' value: '2,5'"):
+        RCModel.from_yaml(path)

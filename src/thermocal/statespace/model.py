@@ -422,15 +422,18 @@ class RCModel:
                     f"{where}: parameter '{pname}': 'fixed' must be true or false, got "
                     f"{pspec['fixed']!r}"
                 )
-            model.add_parameter(
-                str(pname),
-                pspec["value"],
-                unit=str(pspec["unit"]),
-                lower=pspec.get("lower"),
-                upper=pspec.get("upper"),
-                fixed=bool(pspec.get("fixed", False)),
-                description=str(pspec.get("description", "")),
-            )
+            try:
+                model.add_parameter(
+                    str(pname),
+                    pspec["value"],
+                    unit=str(pspec["unit"]),
+                    lower=pspec.get("lower"),
+                    upper=pspec.get("upper"),
+                    fixed=bool(pspec.get("fixed", False)),
+                    description=str(pspec.get("description", "")),
+                )
+            except ThermocalInputError as exc:  # name the file as well
+                raise ThermocalInputError(f"{where}: {exc}") from None
 
         states = spec.get("states") or {}
         if isinstance(states, Sequence) and not isinstance(states, str):

@@ -8,6 +8,7 @@ import pytest
 from scipy.linalg import expm, solve_continuous_lyapunov
 from statespace_reference import dense_loglike
 
+from thermocal.errors import ThermocalInputError
 from thermocal.statespace import RCModel, kernels
 from thermocal.statespace.data import prepare_data
 from thermocal.statespace.discretise import discretise
@@ -214,3 +215,18 @@ def test_steady_state_shortcut_survives_a_change_of_interval(hold):
     prep = prepare_data(m, df)
     reference = filter_arrays(m, prep, None, hold == "foh")["loglike"]
     assert m.loglike(df, hold=hold) == pytest.approx(reference, rel=1e-12)
+
+
+def test_simulation_of_a_later_period_from_a_given_initial_state():
+    """Simulating the second half from the full run's states at its first sample reproduces the
+    second half of the full run (validation periods start elsewhere than the fit)."""
+    model = three_state_model()
+    df = random_data(40, seed=6, irregular=True)
+    full = model.simulate(df, hold="foh")
+    start = full.iloc[20][model.state_names].to_dict()
+    late = model.simulate(df.iloc[20:], hold="foh", initial_state=start)
+    np.testing.assert_allclose(late.to_numpy(), full.iloc[20:].to_numpy(), rtol=1e-12)
+    plain = model.simulate(df.iloc[20:], hold="foh")
+    assert plain["Ti"].iloc[0] == 20.0  # the declared initial mean Ti0
+    with pytest.raises(ThermocalInputError, match="'Tx' is not a state.*Ti, Tm, Te"):
+        model.simulate(df, initial_state={"Tx": 20.0})

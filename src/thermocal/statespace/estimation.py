@@ -422,8 +422,13 @@ def fit(
     )
 
 
-def simulate(model, data, params=None, *, hold="zoh", time_column=None, time_unit="s"):
+def simulate(
+    model, data, params=None, *, hold="zoh", time_column=None, time_unit="s", initial_state=None
+):
     """Deterministic state and output trajectories from the initial-state mean.
+
+    ``initial_state`` ({state: temperature [C]}) replaces the initial means of the states it
+    names (a validation period starting later than the fit period starts elsewhere).
 
     Returns a DataFrame (index = the data's time labels) with one column per state [C] and one per
     output (named after its data column) [C].
@@ -436,6 +441,13 @@ def simulate(model, data, params=None, *, hold="zoh", time_column=None, time_uni
         )
     )
     lam, T, Tinv, TB, M, _, x0, _ = model.system(params)
+    for state, value in (initial_state or {}).items():
+        if state not in model.state_names:
+            raise ThermocalInputError(
+                f"initial_state: '{state}' is not a state of model '{model.name}' "
+                f"(states: {', '.join(model.state_names)})"
+            )
+        x0[model.state_names.index(state)] = float(value)
     X = kernels.simulate_states(lam, T, Tinv, TB, M, x0, prep.dts, prep.U, _hold_flag(hold))
     out = pd.DataFrame(X, index=prep.index, columns=model.state_names)
     Yhat = X @ model.structure().C.T

@@ -710,15 +710,26 @@ class RCModel:
         hold: str = "zoh",
         time_column: str | None = None,
         time_unit: str = "s",
+        initial_state: Mapping[str, float] | None = None,
     ):
         """Deterministic (noise-free) state and output trajectories from the initial-state mean.
 
+        ``initial_state`` ({state: temperature [C]}) replaces the declared initial means of the
+        states it names, e.g. to simulate a validation period that starts later than the fit.
         Returns a DataFrame on the data's index with one column per state and per output
         (outputs named after their data column).
         """
         from thermocal.statespace.estimation import simulate
 
-        return simulate(self, data, params, hold=hold, time_column=time_column, time_unit=time_unit)
+        return simulate(
+            self,
+            data,
+            params,
+            hold=hold,
+            time_column=time_column,
+            time_unit=time_unit,
+            initial_state=initial_state,
+        )
 
     def evaluate(
         self,

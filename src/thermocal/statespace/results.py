@@ -230,10 +230,19 @@ class FitResults:
             require_outputs=require_outputs,
         )
 
-    def simulate(self, data=None, *, time_column=None, time_unit="s") -> pd.DataFrame:
-        """Deterministic simulation at the estimates (default: over the fit data)."""
+    def simulate(
+        self, data=None, *, time_column=None, time_unit="s", initial_state=None
+    ) -> pd.DataFrame:
+        """Deterministic simulation at the estimates (default: over the fit data).
+
+        It starts from the estimated initial means, which belong to the start of the fit data;
+        for another period give ``initial_state`` ({state: temperature [C]}), e.g. the measured
+        output or the smoothed states at its first sample.
+        """
         prep = self._prep(data, time_column, time_unit, require_outputs=False)
-        return simulate(self.model, prep, self.params.to_dict(), hold=self.hold)
+        return simulate(
+            self.model, prep, self.params.to_dict(), hold=self.hold, initial_state=initial_state
+        )
 
     def _filter(self, prep):
         return filter_arrays(self.model, prep, self.params.to_dict(), _hold_flag(self.hold))

@@ -123,6 +123,10 @@ def _bad_case(tmp_path: Path, case: str) -> tuple[Path, Path, list[str]]:
     if case == "empty file":
         data.write_text("")
         expected = [str(data), "could not be read"]
+    elif case == "corrupt parquet":
+        data = tmp_path / "data.parquet"
+        data.write_text("not a parquet file")
+        expected = [str(data), "could not be read as Parquet"]
     elif case == "unknown column":
         model_text = model_text.replace("column: phi_h", "column: phi_heating")
         expected = [str(data), "'phi_heating'", "not in the data"]
@@ -148,8 +152,9 @@ def _bad_case(tmp_path: Path, case: str) -> tuple[Path, Path, list[str]]:
 
 @pytest.mark.parametrize(
     "case",
-    ["empty file", "unknown column", "state without capacity", "parameter outside bounds",
-     "duplicated time stamp", "non-increasing time stamps", "all-NaN output"],
+    ["empty file", "corrupt parquet", "unknown column", "state without capacity",
+     "parameter outside bounds", "duplicated time stamp", "non-increasing time stamps",
+     "all-NaN output"],
 )  # fmt: skip
 def test_fit_command_bad_input_gives_one_clear_message(tmp_path, case):
     from thermocal.errors import ThermocalInputError

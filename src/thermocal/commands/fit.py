@@ -19,7 +19,12 @@ def read_table(path: Path, *, sep: str | None = None):
     if not path.exists():
         raise ThermocalInputError(f"data file {path} does not exist")
     if path.suffix.lower() in (".parquet", ".pq"):
-        return pd.read_parquet(path)
+        try:
+            return pd.read_parquet(path)
+        except (OSError, ValueError) as exc:  # pyarrow's ArrowInvalid is a ValueError
+            raise ThermocalInputError(
+                f"data file {path} could not be read as Parquet: {exc}"
+            ) from None
     if sep is None:
         with path.open(encoding="utf-8", errors="replace") as fh:
             header = fh.readline()

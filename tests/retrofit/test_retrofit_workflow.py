@@ -151,6 +151,41 @@ def test_negative_flow_row_named(synthetic, tmp_path):
         run_retrofit(load_config(config))
 
 
+def test_swapped_supply_and_return_detected(synthetic, tmp_path):
+    def csv_edit(m):
+        m["T_supply"], m["T_return"] = m["T_return"].copy(), m["T_supply"].copy()
+        return m
+
+    config = _variant(synthetic, tmp_path, csv_edit=csv_edit)
+    with pytest.raises(ThermocalInputError, match=r"heating power .* -\d+ W .* swapped"):
+        run_retrofit(load_config(config))
+
+
+def test_no_heating_in_training_period_detected(synthetic, tmp_path):
+    config = _variant(synthetic, tmp_path, csv_edit=lambda m: m.assign(V_dot=0.0))
+    with pytest.raises(ThermocalInputError, match=r"heating power .* 0 W on average"):
+        run_retrofit(load_config(config))
+
+
+def test_flow_unit_error_names_column_and_unit(synthetic, tmp_path):
+    def edit(cfg, building, folder):
+        cfg["measurements"]["flow_unit"] = "m3/h"  # the file is in l/h
+
+    config = _variant(synthetic, tmp_path, cfg_edit=edit)
+    with pytest.raises(ThermocalInputError, match=r"'V_dot' read in m3/h .*flow_unit"):
+        run_retrofit(load_config(config))
+
+
+def test_no_indoor_temperature_in_test_period(synthetic, tmp_path):
+    def csv_edit(m):
+        m.loc[14 * 24 :, "Ti"] = np.nan
+        return m
+
+    config = _variant(synthetic, tmp_path, csv_edit=csv_edit)
+    with pytest.raises(ThermocalInputError, match=r"no measured indoor temperature .* test"):
+        run_retrofit(load_config(config))
+
+
 def test_no_windows_but_solar_requested(synthetic, tmp_path):
     def edit(cfg, building, folder):
         building["components"] = [c for c in building["components"] if c["type"] != "window"]

@@ -454,3 +454,26 @@ def check_training_data(data: pd.DataFrame, source: str = "measurements") -> Non
                 f"{source}: input {col!r} has {int(data[col].isna().sum())} missing values in the "
                 "training period; inputs must be complete (fill or shorten the period)"
             )
+    n_ti = int(data[OUTPUT_COLUMN].notna().sum())
+    if n_ti < 24:
+        raise ThermocalInputError(
+            f"{source}: only {n_ti} measured indoor temperatures (temp_in) in the training period "
+            f"{data.index[0]} - {data.index[-1]}; the calibration needs at least a day of them"
+        )
+    phi = data["phi_h"].to_numpy(float)
+    if not np.mean(phi) > 0:
+        raise ThermocalInputError(
+            f"{source}: the heating power (flow x (supply - return)) is {np.mean(phi):.0f} W on "
+            "average over the training period; a heated building needs a positive one: check "
+            "that the supply and return temperature columns are not swapped and that the flow "
+            "column and measurements.flow_unit are right"
+        )
+    scale = max(float(np.quantile(phi, 0.95)), 1.0)
+    negative = phi < -0.05 * scale
+    if negative.mean() > 0.05:
+        first = data.index[int(np.argmax(negative))]
+        raise ThermocalInputError(
+            f"{source}: the heating power is clearly negative (supply below return) in "
+            f"{int(negative.sum())} of {len(phi)} training intervals, the first at {first}: "
+            "check the supply and return temperature sensors and their columns"
+        )

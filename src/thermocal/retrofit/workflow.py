@@ -220,7 +220,15 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "model.solar_gains: false"
         )
     raw = read_raw_measurements(cfg.measurements, default_tz=_location_tz(building))
-    grid, quality = prepare_measurements(raw, cfg.measurements.step)
+    try:
+        grid, quality = prepare_measurements(raw, cfg.measurements.step)
+    except ThermocalInputError as exc:
+        if "flow" not in str(exc):
+            raise
+        raise ThermocalInputError(  # name the configured column and unit
+            f"{source}: heating flow column {cfg.measurements.columns['flow']!r} read in "
+            f"{cfg.measurements.flow_unit} (measurements.flow_unit): {exc}"
+        ) from None
     step = grid.index[1] - grid.index[0]
     weather, weather_meta = load_weather_year(cfg, step)
     ground_params = ground_temperature_parameters(weather)
@@ -268,6 +276,11 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         if period is None:
             continue
         sel = (inputs.index >= period[0]) & (inputs.index < period[1])
+        if not inputs[OUTPUT_COLUMN][sel].notna().any():
+            raise ThermocalInputError(
+                f"{source}: no measured indoor temperature (temp_in) in the {name} period "
+                f"{period[0]} - {period[1]}; supply it or set periods.test_days: 0"
+            )
         validation[name] = validation_metrics(sim_ti[sel], inputs[OUTPUT_COLUMN][sel])
         validation[name]["start"] = str(period[0])
         validation[name]["end"] = str(period[1])

@@ -186,6 +186,15 @@ def test_no_indoor_temperature_in_test_period(synthetic, tmp_path):
         run_retrofit(load_config(config))
 
 
+def test_irradiance_in_kwh_detected(synthetic, tmp_path):
+    def csv_edit(m):
+        return m.assign(DNI=m["DNI"] / 1000.0, DHI=m["DHI"] / 1000.0)
+
+    config = _variant(synthetic, tmp_path, csv_edit=csv_edit)
+    with pytest.raises(ThermocalInputError, match=r"'DNI' and 'DHI' never exceed .* W/m2"):
+        run_retrofit(load_config(config))
+
+
 def test_no_windows_but_solar_requested(synthetic, tmp_path):
     def edit(cfg, building, folder):
         building["components"] = [c for c in building["components"] if c["type"] != "window"]

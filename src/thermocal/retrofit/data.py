@@ -128,6 +128,16 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
                 f"measurement file {path}: irradiance column {cfg.columns[std]!r} has "
                 f"{low:.1f} W/m2 < 0"
             )
+    span = (index[-1] - index[0]) if len(index) else pd.Timedelta(0)
+    high = (
+        np.nanmax(out[["dni", "dhi"]].to_numpy()) if out[["dni", "dhi"]].notna().any().any() else 0
+    )
+    if span >= pd.Timedelta(days=2) and high < 5.0:
+        raise ThermocalInputError(
+            f"measurement file {path}: irradiance columns {cfg.columns['dni']!r} and "
+            f"{cfg.columns['dhi']!r} never exceed {high:.2f} over {span}; they must be in W/m2 "
+            "(hourly Wh/m2 are the same numbers; kWh/m2: multiply by 1000)"
+        )
     return out
 
 

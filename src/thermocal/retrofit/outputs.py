@@ -394,7 +394,7 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
         figs["annual_comparison"] = _annual_comparison_figure(dem, annual_refs)
     if "reference_check" in results:
         check = results["reference_check"]
-        figs["reference_check"] = _reference_figure(check)
+        figs["reference_check"] = _reference_figure(check, sublabels, interval)
         if "monthly_reference_kWh" in check:
             figs["monthly_reference_check"] = plot_monthly_bars(
                 check["monthly_model_kWh"], low=check["monthly_model_kWh_p05"],
@@ -456,7 +456,7 @@ def _annual_comparison_figure(dem: dict, references: dict):
     return fig
 
 
-def _reference_figure(check: dict):
+def _reference_figure(check: dict, sublabels=None, interval: str = "90 % interval"):
     import matplotlib.pyplot as plt
 
     rows = check["strategies"]
@@ -468,18 +468,23 @@ def _reference_figure(check: dict):
     ref = np.array(
         [np.nan if r["reference_saving_pct"] is None else r["reference_saving_pct"] for r in rows]
     )
-    fig, ax = plt.subplots(figsize=(10, 3.8))
+    fig, ax = plt.subplots(figsize=(10, 4.4 if sublabels else 3.8))
     ax.bar(
         x - 0.2,
         model,
         0.4,
         color="#1b6ca8",
-        label="fifth-order model (calibrated)",
+        label=f"fifth-order model (calibrated), whiskers: {interval}",
         yerr=np.clip(np.vstack([model - lo, hi - model]), 0, None),
         capsize=2,
     )
     ax.bar(x + 0.2, ref, 0.4, color="#d95f02", label=check.get("reference", "reference"))
     ax.set_xticks(x, codes)
+    for xi, sub in zip(x, sublabels or [], strict=False):
+        ax.annotate(
+            sub, (xi, 0), xycoords=("data", "axes fraction"), xytext=(0, -18),
+            textcoords="offset points", ha="center", va="top", fontsize=7, color="#444444",
+        )  # fmt: skip
     ax.set_ylabel(f"Saving at {check['setpoint_C']:.0f} C [%]")
     ax.set_title("Retrofit savings: calibrated model vs reference", loc="left", fontsize=11)
     ax.grid(axis="y", alpha=0.3)

@@ -10,6 +10,7 @@ from retrofit_synthetic import building_dict
 from thermocal.errors import ThermocalInputError
 from thermocal.io.building import Building
 from thermocal.physics.ground import iso13370_slab_on_ground
+from thermocal.retrofit.calibration import initial_params_si
 from thermocal.retrofit.config import parse_config
 from thermocal.retrofit.demand import simulate_demand, steady_state_demand
 from thermocal.retrofit.metrics import daily_profile, monthly_energy_kwh, validation_metrics
@@ -389,3 +390,18 @@ def test_measurement_gaps_are_reported_and_left_missing():
     assert grid.iloc[10:13].isna().all().all() and grid.drop(grid.index[10:13]).notna().all().all()
     assert set(report.gaps["sensor"]) == set(grid.columns)
     assert (report.gaps["duration_hours"] == 4.0).all() and (report.gaps["n_missing"] == 3).all()
+
+
+def test_steady_states_with_indoor_balance_every_node_but_the_air():
+    from thermocal.retrofit.model import steady_states_with_indoor
+
+    m = _model()
+    p = {k: np.array([v, 1.5 * v]) for k, v in initial_params_si(m).items()}
+    a, b = system_matrices(m.conductances(), p)
+    u = np.array([-3.0, 8.0, 2500.0, 800.0, 300.0, 400.0])  # Te, Tgr, phi_h, gains
+    x = steady_states_with_indoor(a, b, u, 21.0)
+    assert np.allclose(x[:, 0], 21.0)
+    rates = np.einsum("nij,nj->ni", a, x) + np.einsum("nij,j->ni", b, u)
+    assert np.allclose(rates[:, 1:], 0.0, atol=1e-12)
+    # a heated building: the air node needs heat, i.e. loses it at this state
+    assert np.all(rates[:, 0] < 0)

@@ -19,6 +19,7 @@ from thermocal.retrofit.model import (
     STATE_NAMES,
     FifthOrderModel,
     calculated_hlc,
+    steady_states_with_indoor,
     system_matrices,
 )
 
@@ -32,15 +33,8 @@ def steady_initial_state(
     model: FifthOrderModel, params_si: dict, inputs: np.ndarray, temp_in: float
 ) -> np.ndarray:
     """Initial states: ``Ti`` as measured, the others in equilibrium with mean inputs."""
-    h = model.conductances()
-    a, b = system_matrices(h, params_si)
-    a, b = a[0], b[0]
-    x = np.empty(5)
-    x[0] = temp_in
-    rest = slice(1, 5)
-    rhs = -(a[rest, 0] * temp_in + b[rest] @ inputs)
-    x[rest] = np.linalg.solve(a[rest, rest], rhs)
-    return x
+    a, b = system_matrices(model.conductances(), params_si)
+    return steady_states_with_indoor(a, b, inputs, temp_in)[0]
 
 
 def initial_params_si(model: FifthOrderModel) -> dict[str, float]:

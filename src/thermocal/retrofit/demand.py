@@ -20,6 +20,7 @@ from thermocal.retrofit.model import (
     EnvelopeComponents,
     FifthOrderModel,
     discretize_zoh,
+    steady_states_with_indoor,
     system_matrices,
 )
 from thermocal.retrofit.simulation import ideal_heating_batch, ideal_heating_binned
@@ -136,7 +137,7 @@ def simulate_demand(
     # initial state: steady state with the mean warm-up inputs and zero heating from the
     # set point, then the warm-up period
     u0 = u[-n_warm:].mean(axis=0) if n_warm else u[0]
-    x0 = _steady_state_with_setpoint(a, b, u0, float(sp[-1]))
+    x0 = steady_states_with_indoor(a, b, u0, float(sp[-1]))
     if n_warm:
         _, _, x0 = ideal_heating_batch(ad, bd, x0, u[-n_warm:], sp[-n_warm:])
     # monthly energy of all draws (memory O(n x 12)); hourly series of the estimate only
@@ -145,17 +146,6 @@ def simulate_demand(
     first = np.arange(n_scen) * n_draws
     hourly, _, _ = ideal_heating_batch(ad[first], bd[first], x0[first], u, sp)
     return DemandResult(monthly.reshape(n_scen, n_draws, 12), hourly, index)
-
-
-def _steady_state_with_setpoint(a, b, u, ti):
-    """States with ``Ti`` fixed at ``ti`` and the others in equilibrium with inputs ``u``."""
-    n, ns, _ = a.shape
-    x = np.empty((n, ns))
-    x[:, 0] = ti
-    rest = slice(1, ns)
-    rhs = -(a[:, rest, 0] * ti + np.einsum("nij,j->ni", b[:, rest, : u.shape[0]], u))
-    x[:, rest] = np.linalg.solve(a[:, rest, rest], rhs[..., None])[..., 0]
-    return x
 
 
 def steady_state_demand(

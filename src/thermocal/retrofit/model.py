@@ -545,3 +545,30 @@ def discretize_zoh(a, b, dt: float):
     m[:, :ns, ns:] = b * dt
     e = expm(m)
     return np.ascontiguousarray(e[:, :ns, :ns]), np.ascontiguousarray(e[:, :ns, ns:])
+
+
+def steady_states_with_indoor(a, b, inputs, temp_in: float) -> np.ndarray:
+    """States of a batch of systems with ``Ti`` (state 0) held at ``temp_in`` and the other
+    states in equilibrium with constant ``inputs``.
+
+    Parameters
+    ----------
+    a : ndarray (n, ns, ns) [1/s]
+    b : ndarray (n, ns, ni) [K/(s unit)]
+    inputs : array-like (k,) with k <= ni
+        Values of the first k inputs (the remaining ones, e.g. the heating power of the
+        demand model, are taken as zero).
+    temp_in : float [C]
+
+    Returns
+    -------
+    ndarray (n, ns) [C]
+    """
+    u = np.asarray(inputs, dtype=float)
+    n, ns, _ = a.shape
+    x = np.empty((n, ns))
+    x[:, 0] = temp_in
+    rest = slice(1, ns)
+    rhs = -(a[:, rest, 0] * temp_in + np.einsum("nij,j->ni", b[:, rest, : u.shape[0]], u))
+    x[:, rest] = np.linalg.solve(a[:, rest, rest], rhs[..., None])[..., 0]
+    return x

@@ -56,33 +56,40 @@ def simulate_batch(ad, bd, x0, u):
     )
 
 
+@numba.njit(cache=True, inline="always")
+def _ideal_heating_step(ad, bd, b, x, xn, u_k, setpoint_k):  # pragma: no cover - compiled
+    """One step of system ``b`` from ``x`` into ``xn``; returns the heating power [W]."""
+    ns = x.shape[0]
+    ni = u_k.shape[0]  # the heating column is bd[b, :, ni]
+    for i in range(ns):
+        acc = 0.0
+        for j in range(ns):
+            acc += ad[b, i, j] * x[j]
+        for j in range(ni):
+            acc += bd[b, i, j] * u_k[j]
+        xn[i] = acc
+    q = (setpoint_k - xn[0]) / bd[b, 0, ni]
+    if q < 0.0:
+        q = 0.0
+    for i in range(ns):
+        xn[i] += bd[b, i, ni] * q
+    return q
+
+
 @numba.njit(cache=True)
 def _ideal_heating(ad, bd, x0, u, setpoint):  # pragma: no cover - compiled
     n, ns, _ = ad.shape
-    nk, ni = u.shape  # u excludes the heating column, which is bd[:, :, ni]
+    nk = u.shape[0]
     heat = np.empty((n, nk))
     temp = np.empty((n, nk))
     final = np.empty((n, ns))
     for b in range(n):
         x = x0[b].copy()
-        g = bd[b, 0, ni]
+        xn = np.empty(ns)
         for k in range(nk):
-            xn = np.zeros(ns)
-            for i in range(ns):
-                acc = 0.0
-                for j in range(ns):
-                    acc += ad[b, i, j] * x[j]
-                for j in range(ni):
-                    acc += bd[b, i, j] * u[k, j]
-                xn[i] = acc
-            q = (setpoint[k] - xn[0]) / g
-            if q < 0.0:
-                q = 0.0
-            for i in range(ns):
-                xn[i] += bd[b, i, ni] * q
-            heat[b, k] = q
+            heat[b, k] = _ideal_heating_step(ad, bd, b, x, xn, u[k], setpoint[k])
             temp[b, k] = xn[0]
-            x = xn
+            x, xn = xn, x
         final[b] = x
     return heat, temp, final
 
@@ -122,25 +129,14 @@ def ideal_heating_batch(ad, bd, x0, u, setpoint):
 @numba.njit(cache=True, parallel=True)
 def _ideal_heating_binned(ad, bd, x0, u, setpoint, bins, n_bins):  # pragma: no cover
     n, ns, _ = ad.shape
-    nk, ni = u.shape
+    nk = u.shape[0]
     energy = np.zeros((n, n_bins))
     for b in numba.prange(n):
         x = x0[b].copy()
         xn = np.empty(ns)
-        g = bd[b, 0, ni]
         for k in range(nk):
-            for i in range(ns):
-                acc = 0.0
-                for j in range(ns):
-                    acc += ad[b, i, j] * x[j]
-                for j in range(ni):
-                    acc += bd[b, i, j] * u[k, j]
-                xn[i] = acc
-            q = (setpoint[k] - xn[0]) / g
-            if q < 0.0:
-                q = 0.0
-            for i in range(ns):
-                x[i] = xn[i] + bd[b, i, ni] * q
+            q = _ideal_heating_step(ad, bd, b, x, xn, u[k], setpoint[k])
+            x, xn = xn, x
             if bins[k] >= 0:
                 energy[b, bins[k]] += q
     return energy

@@ -71,3 +71,9 @@ def test_retrofit_summary_tables(capsys):
         assert f"│ {code:>4} │" in text
     assert "│   3c │ roof + windows + cellar" in text  # paper 000 Table 3 (rows may wrap)
     assert "flag:" in text and "C_i at its bound" in text
+
+
+def test_demo_rejects_negative_draws_before_running():
+    result = CliRunner().invoke(app, ["demo", "--draws", "-5", "--out", "unused"])
+    assert result.exit_code != 0
+    assert "--draws" in result.output

@@ -26,7 +26,9 @@ def demo(
     regenerate: Annotated[
         bool, typer.Option("--regenerate", help="simulate the demo data afresh")
     ] = False,
-    draws: Annotated[int, typer.Option("--draws", help="uncertainty draws")] = 200,
+    draws: Annotated[
+        int, typer.Option("--draws", min=0, help="parameter draws for the uncertainty intervals")
+    ] = 200,
 ) -> None:
     """Run the retrofit analysis of paper 000 on built-in demo data.
 

@@ -433,3 +433,25 @@ def test_binned_monthly_demand_equals_the_hourly_series():
         assert np.allclose(res.monthly[s, 0], brute, rtol=1e-10, atol=1e-9)
         assert brute[0] > 0 and brute[1] > 0  # both months counted
     assert np.all(res.monthly[1, :, :2] < res.monthly[0, :, :2])  # the retrofit saves
+
+
+def test_demand_holds_the_24h_profile_at_the_end_of_each_hour():
+    """Ti is the model input in demand mode: with heat needed every hour, the indoor
+    temperature at the end of the step [t, t+1h) is the profile value of hour t+1."""
+    from thermocal.retrofit.demand import setpoint_series
+    from thermocal.retrofit.model import discretize_zoh
+    from thermocal.retrofit.simulation import ideal_heating_batch
+
+    m = _model()
+    idx = pd.date_range("2001-01-10", periods=24 * 5, freq="h", tz="UTC")
+    profile = 18.0 + np.arange(24) / 8.0  # every hour a different value
+    sp = setpoint_series(idx, profile)
+    assert sp[0] == profile[1] and sp[23] == profile[0]
+    p = {k: np.array([v]) for k, v in initial_params_si(m).items()}
+    a, b = system_matrices(m.conductances(), p, indoor_input=True)
+    ad, bd = discretize_zoh(a, b, 3600.0)
+    u = np.tile([-8.0, 6.0, 0.0, 0.0, 0.0], (len(idx), 1))
+    x0 = np.full((1, ad.shape[1]), 10.0)
+    heat, temp_in, _ = ideal_heating_batch(ad, bd, x0, u, sp)
+    assert np.all(heat > 0)
+    np.testing.assert_allclose(temp_in[0], sp, atol=1e-9)

@@ -126,3 +126,11 @@ def test_interval_level_follows_the_configuration():
     table = scenario_table(_analysis(annual, interval=0.5))
     assert table["saving_pct_p05"][4] == pytest.approx(np.quantile(sv, 0.25))
     assert table["saving_pct_p95"][4] == pytest.approx(np.quantile(sv, 0.75))
+
+
+def test_interval_labels_of_the_report():
+    from thermocal.retrofit.outputs import _interval_labels
+
+    assert _interval_labels(0.9) == ("p05", "p95")
+    assert _interval_labels(0.8) == ("p10", "p90")
+    assert _interval_labels(0.95) == ("p2.5", "p97.5")

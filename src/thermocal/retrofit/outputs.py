@@ -207,8 +207,12 @@ def _fmt(value, spec: str) -> str:
 
 def _interval_labels(interval: float) -> tuple[str, str]:
     """Names of the lower and upper interval quantiles, e.g. ("p05", "p95") for 90 %."""
-    lo = 50.0 * (1.0 - interval)
-    return f"p{lo:02.0f}", f"p{100 - lo:02.0f}"
+    lo = round(50.0 * (1.0 - interval), 6)
+
+    def name(q: float) -> str:
+        return f"p{q:02.0f}" if q == int(q) else f"p{q:g}"
+
+    return name(lo), name(100.0 - lo)
 
 
 _SHORT_MEASURE = {

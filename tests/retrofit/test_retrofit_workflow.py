@@ -278,6 +278,10 @@ def test_gaps_in_indoor_temperature_and_finer_logging(synthetic, tmp_path):
             "'Ti' row 9 is not a number",
         ),
         (lambda m: m.drop(columns=["time"]), "time column 'time' not found"),
+        (
+            lambda m: m.assign(time=pd.to_datetime(m["time"]).dt.strftime("%d.%m.%Y %H:%M")),
+            r"'time' is not an ISO 8601 date/time \(first value '\d\d\.\d\d\.2001",
+        ),
     ],
 )
 def test_bad_timestamps_and_cells(synthetic, tmp_path, edit, message):

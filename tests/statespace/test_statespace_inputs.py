@@ -201,6 +201,14 @@ def test_data_without_time_axis_and_garbled_output():
         RCModel.from_dict(SPEC).fit(df)
 
 
+def test_non_iso_dates_are_refused_not_guessed():
+    """'01.02.2019' must not silently become 2 January (a guessed month-first format)."""
+    df = data(30).reset_index(drop=True)
+    df["time"] = [f"{1 + k // 24:02d}.02.2019 {k % 24:02d}:00" for k in range(len(df))]
+    with pytest.raises(ThermocalInputError, match=r"'time'.*ISO 8601.*'01.02.2019 00:00'"):
+        RCModel.from_dict(SPEC).loglike(df, time_column="time")
+
+
 def test_local_times_with_dst_offsets_are_read():
     df = data(30)
     local = df.index.tz_convert("Europe/Zurich")

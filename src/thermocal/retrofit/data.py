@@ -64,11 +64,13 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
             f"measurement file {path}: missing column(s) {what}; the file has {list(table.columns)}"
             " (map your names in measurements.columns of the configuration)"
         )
-    try:
-        times = pd.to_datetime(table[cfg.time_column])
-    except Exception as exc:  # noqa: BLE001
+    try:  # ISO 8601 only: a guessed format reads European dates (01.02.2019) month-first
+        times = pd.to_datetime(table[cfg.time_column], format="ISO8601")
+    except Exception:  # noqa: BLE001
         raise ThermocalInputError(
-            f"measurement file {path}: column {cfg.time_column!r} is not a date/time: {exc}"
+            f"measurement file {path}: column {cfg.time_column!r} is not an ISO 8601 date/time "
+            f"(first value {table[cfg.time_column].iloc[0]!r}); write the times as "
+            "2019-02-02 13:00 or 2019-02-02T13:00+01:00"
         ) from None
     index = pd.DatetimeIndex(times)
     tz = _timezone(cfg.timezone) or _timezone(default_tz)

@@ -105,15 +105,18 @@ def time_axis(
         index = pd.Index(values, name=time_column or raw.name)
         seconds = (values - values[0]) * time_unit_seconds(time_unit)
     else:
+        # ISO 8601 only: a guessed format reads European dates (01.02.2019) month-first
         try:
             try:
-                index = pd.DatetimeIndex(pd.to_datetime(raw))
+                index = pd.DatetimeIndex(pd.to_datetime(raw, format="ISO8601"))
             except ValueError:  # e.g. local times with changing UTC offsets (DST)
-                index = pd.DatetimeIndex(pd.to_datetime(raw, utc=True))
-        except (ValueError, TypeError) as exc:
+                index = pd.DatetimeIndex(pd.to_datetime(raw, format="ISO8601", utc=True))
+        except (ValueError, TypeError):
             raise ThermocalInputError(
-                f"{source}: time column '{time_column}' is neither numeric nor date-time ({exc}); "
-                "give numeric times with --time-unit or ISO 8601 time stamps"
+                f"{source}: time column '{time_column or raw.name}' is neither numeric nor "
+                f"ISO 8601 date-time (first value {raw.iloc[0]!r}); write the times as ISO 8601 "
+                "(2019-02-01 13:00 or 2019-02-01T13:00+01:00) or give numeric times with "
+                "--time-unit"
             ) from None
         seconds = (index - index[0]).total_seconds().to_numpy(dtype=float)
     if seconds.size < 2:

@@ -1,0 +1,455 @@
+"""Parameter spaces of an envelope-calibration campaign.
+
+A :class:`ParameterSpace` holds the named model parameters that a campaign varies, their nominal
+values, the sampling range (a relative half-width around the nominal value) and the physical
+limits that every sampled value is clipped to.
+
+Clipping policy (as in the paper, section "Parameter Sampling"): the sampler draws values
+uniformly in the *unclipped* range ``nominal * (1 -+ relative_range)``; every value outside the
+physical limits is then set to the limit and counted (:meth:`ParameterSpace.clip`).  A range of
++-10000 % on a solar heat gain coefficient therefore puts most samples on its limits 0.01 x nominal
+and 1; the counts say how many.  The physical limits are:
+
+* every property is strictly positive: lower limit ``floor_fraction * nominal`` (default 1 % of the
+  nominal value; the paper's Table 1 has a thickness of 0.0001 m from a nominal 0.0100 m, i.e. 1 %);
+* fractions (``*/shgc``) are at most 1;
+* no upper limit otherwise.
+
+Parameter names are those of :meth:`thermocal.multizone.Building.parameters`:
+``material/<name>/{conductivity,density,specific_heat,thickness}``, ``material/<name>/resistance``,
+``window/<name>/{u_value,shgc}``, ``zone/<name>/infiltration_ach`` and ``infiltration/<group>/ach``.
+
+References
+----------
+.. [1] O'Neill, Z., Eisenhower, B., et al. (paper 001 in ``shared/seeds``): envelope calibration
+   with cheap temperature sensors, PID heat identification, SVR meta-model and optimisation.
+"""
+
+from __future__ import annotations
+
+import difflib
+import fnmatch
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+
+__all__ = [
+    "DEFAULT_RELATIVE_RANGE",
+    "FLOOR_FRACTION",
+    "UNITS",
+    "ParameterSpace",
+    "parameter_kind",
+    "parameter_unit",
+]
+
+#: Default relative half-width of the sampling range (+-75 %, the paper's default) [-].
+DEFAULT_RELATIVE_RANGE = 0.75
+#: Lower physical limit of every property as a fraction of its nominal value [-].
+FLOOR_FRACTION = 0.01
+
+#: Unit of each parameter kind (the last part of the name), for tables.
+UNITS: dict[str, str] = {
+    "conductivity": "W/(m K)",
+    "density": "kg/m3",
+    "specific_heat": "J/(kg K)",
+    "thickness": "m",
+    "resistance": "m2 K/W",
+    "u_value": "W/(m2 K)",
+    "shgc": "-",
+    "infiltration_ach": "1/h",
+    "ach": "1/h",
+}
+
+#: Kinds that are fractions, limited to (0, 1].
+FRACTION_KINDS = frozenset({"shgc"})
+
+
+def parameter_kind(name: str) -> str:
+    """Kind of a parameter: the last ``/``-separated part of its name (``"shgc"``, ``"density"``).
+
+    Parameters
+    ----------
+    name : str
+        Parameter name such as ``"window/double/shgc"`` [-].
+
+    Returns
+    -------
+    str
+        The kind [-].
+    """
+    return str(name).rsplit("/", 1)[-1]
+
+
+def parameter_unit(name: str) -> str:
+    """Unit of a parameter for tables (``"W/(m K)"`` for a conductivity, ``"?"`` if unknown).
+
+    Parameters
+    ----------
+    name : str
+        Parameter name [-].
+
+    Returns
+    -------
+    str
+        The unit [-].
+    """
+    return UNITS.get(parameter_kind(name), "?")
+
+
+def _pattern_candidates(names: Sequence[str]) -> list[str]:
+    """Names and typical patterns a mistyped pattern may have meant."""
+    cands = set(names)
+    for n in names:
+        parts = n.split("/")
+        cands.add(f"*/{parts[-1]}")
+        cands.add(f"{parts[0]}/*")
+        if len(parts) == 3:
+            cands.add(f"{parts[0]}/*/{parts[2]}")
+            cands.add(f"{parts[0]}/{parts[1]}/*")
+    return sorted(cands)
+
+
+def _no_match_error(pattern: str, what: str, names: Sequence[str]) -> ThermocalInputError:
+    close = difflib.get_close_matches(pattern, _pattern_candidates(names), n=3, cutoff=0.5)
+    hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+    example = ", ".join(repr(n) for n in list(names)[:3])
+    return ThermocalInputError(
+        f"parameters.{what}: pattern {pattern!r} matches no model parameter{hint} "
+        f"(names look like {example}; correct or remove the pattern)"
+    )
+
+
+def _matches(name: str, pattern: str) -> bool:
+    return fnmatch.fnmatchcase(name, pattern)
+
+
+@dataclass(frozen=True)
+class ParameterSpace:
+    """The parameters a campaign varies, with sampling ranges and physical limits.
+
+    Build it with :meth:`from_parameters`; all arrays follow the order of :attr:`names`.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Parameter names [-].
+    nominal : ndarray
+        Nominal values [unit of each parameter, see :attr:`units`].
+    relative_range : ndarray
+        Relative half-width of the sampling range [-] (0.75 = +-75 %).
+    range_lower, range_upper : ndarray
+        Unclipped sampling range ``nominal * (1 -+ relative_range)`` [unit of each parameter].
+    limit_lower, limit_upper : ndarray
+        Physical limits [unit of each parameter]: ``floor_fraction * nominal`` and 1 for fractions,
+        ``inf`` otherwise.
+    skipped : dict
+        Selected parameters left out, with the reason (a zero nominal value has no relative range).
+    """
+
+    names: tuple[str, ...]
+    nominal: np.ndarray
+    relative_range: np.ndarray
+    range_lower: np.ndarray
+    range_upper: np.ndarray
+    limit_lower: np.ndarray
+    limit_upper: np.ndarray
+    floor_fraction: float = FLOOR_FRACTION
+    skipped: dict[str, str] = field(default_factory=dict)
+
+    # ------------------------------------------------------------------------------------------
+    @classmethod
+    def from_parameters(
+        cls,
+        parameters: Mapping[str, float],
+        *,
+        include: Iterable[str] | None = None,
+        exclude: Iterable[str] = (),
+        default_range: float = DEFAULT_RELATIVE_RANGE,
+        ranges: Mapping[str, float] | None = None,
+        floor_fraction: float = FLOOR_FRACTION,
+    ) -> ParameterSpace:
+        """Select parameters by glob patterns and give them ranges.
+
+        Parameters
+        ----------
+        parameters : mapping of str to float
+            Nominal values by name, as returned by ``Building.parameters()`` [unit of each
+            parameter].
+        include : iterable of str, optional
+            ``fnmatch`` patterns of the names to vary (default: all), e.g. ``"material/*"`` [-].
+        exclude : iterable of str
+            Patterns of names to leave at their nominal value, applied after ``include`` [-].
+        default_range : float
+            Relative half-width of the uniform sampling range [-] (0.75 = +-75 %).
+        ranges : mapping of str to float, optional
+            Per-pattern relative half-widths overriding ``default_range`` [-], e.g.
+            ``{"*/shgc": 100.0, "*/thickness": 10.0}`` (+-10000 % and +-1000 %, the paper's).
+            When several patterns match a name, the last one listed wins.
+        floor_fraction : float
+            Lower physical limit of every property as a fraction of its nominal value [-].
+
+        Returns
+        -------
+        ParameterSpace
+
+        Raises
+        ------
+        ThermocalInputError
+            A pattern matching no parameter (with a "did you mean"), a negative or non-finite
+            range, a negative or non-finite nominal value, or an empty selection.
+        """
+        if not isinstance(parameters, Mapping) or not parameters:
+            raise ThermocalInputError(
+                "parameters: the model has no named parameters to calibrate "
+                "(expected a mapping name -> nominal value from Building.parameters())"
+            )
+        all_names = [str(n) for n in parameters]
+        include = ["*"] if include is None else [str(p) for p in include]
+        exclude = [str(p) for p in exclude]
+        ranges = {} if ranges is None else {str(k): v for k, v in ranges.items()}
+        _check_range("parameters.default_range", default_range)
+        for pattern, value in ranges.items():
+            _check_range(f"parameters.ranges[{pattern!r}]", value)
+        if not 0.0 < float(floor_fraction) < 1.0:
+            raise ThermocalInputError(
+                f"floor_fraction must be in (0, 1), got {floor_fraction!r}"
+            )
+
+        for pattern in include:
+            if not any(_matches(n, pattern) for n in all_names):
+                raise _no_match_error(pattern, "include", all_names)
+        selected = [n for n in all_names if any(_matches(n, p) for p in include)]
+        for pattern in exclude:
+            if not any(_matches(n, pattern) for n in all_names):
+                raise _no_match_error(pattern, "exclude", all_names)
+        selected = [n for n in selected if not any(_matches(n, p) for p in exclude)]
+        for pattern in ranges:
+            if not any(_matches(n, pattern) for n in selected):
+                raise _no_match_error(pattern, "ranges", selected or all_names)
+
+        names: list[str] = []
+        skipped: dict[str, str] = {}
+        for n in selected:
+            value = float(parameters[n])
+            if not np.isfinite(value) or value < 0.0:
+                raise ThermocalInputError(
+                    f"parameter {n!r} has nominal value {value!r}; envelope parameters must be "
+                    "finite and positive (fix the building file or exclude the parameter)"
+                )
+            if value == 0.0:
+                skipped[n] = "nominal value is 0: a relative range is empty"
+                continue
+            names.append(n)
+        if not names:
+            raise ThermocalInputError(
+                "parameters: the include/exclude patterns select no parameter with a non-zero "
+                f"nominal value (include={include}, exclude={exclude})"
+            )
+
+        nominal = np.array([float(parameters[n]) for n in names])
+        rel = np.full(len(names), float(default_range))
+        for pattern, value in ranges.items():
+            for i, n in enumerate(names):
+                if _matches(n, pattern):
+                    rel[i] = float(value)
+        limit_lower = floor_fraction * nominal
+        limit_upper = np.array(
+            [1.0 if parameter_kind(n) in FRACTION_KINDS else np.inf for n in names]
+        )
+        for n, nom, hi in zip(names, nominal, limit_upper, strict=True):
+            if nom > hi:
+                raise ThermocalInputError(
+                    f"parameter {n!r} is a fraction but its nominal value {nom} exceeds 1; "
+                    "fix the building file"
+                )
+        return cls(
+            names=tuple(names),
+            nominal=nominal,
+            relative_range=rel,
+            range_lower=nominal * (1.0 - rel),
+            range_upper=nominal * (1.0 + rel),
+            limit_lower=limit_lower,
+            limit_upper=limit_upper,
+            floor_fraction=float(floor_fraction),
+            skipped=skipped,
+        )
+
+    # ------------------------------------------------------------------------------------------
+    def __len__(self) -> int:
+        return len(self.names)
+
+    @property
+    def dimension(self) -> int:
+        """Number of parameters [-]."""
+        return len(self.names)
+
+    @property
+    def units(self) -> tuple[str, ...]:
+        """Unit of each parameter, for tables."""
+        return tuple(parameter_unit(n) for n in self.names)
+
+    @property
+    def lower(self) -> np.ndarray:
+        """Lower bound of the values a sample can take (range clipped to the limits) [unit]."""
+        return np.clip(self.range_lower, self.limit_lower, self.limit_upper)
+
+    @property
+    def upper(self) -> np.ndarray:
+        """Upper bound of the values a sample can take (range clipped to the limits) [unit]."""
+        return np.clip(self.range_upper, self.limit_lower, self.limit_upper)
+
+    @property
+    def clipped_lower(self) -> tuple[str, ...]:
+        """Names whose sampling range extends below the physical lower limit."""
+        return tuple(n for n, r, l in zip(self.names, self.range_lower, self.limit_lower,
+                                          strict=True) if r < l)
+
+    @property
+    def clipped_upper(self) -> tuple[str, ...]:
+        """Names whose sampling range extends above the physical upper limit."""
+        return tuple(n for n, r, l in zip(self.names, self.range_upper, self.limit_upper,
+                                          strict=True) if r > l)
+
+    @property
+    def clipped(self) -> tuple[str, ...]:
+        """Names whose sampling range is clipped on either side."""
+        both = set(self.clipped_lower) | set(self.clipped_upper)
+        return tuple(n for n in self.names if n in both)
+
+    def nominal_dict(self) -> dict[str, float]:
+        """Nominal values by name [unit of each parameter]."""
+        return {n: float(v) for n, v in zip(self.names, self.nominal, strict=True)}
+
+    def index(self, name: str) -> int:
+        """Position of a parameter; unknown names raise with a "did you mean"."""
+        try:
+            return self.names.index(name)
+        except ValueError:
+            close = difflib.get_close_matches(name, self.names, n=3, cutoff=0.5)
+            hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+            raise ThermocalInputError(
+                f"parameter {name!r} is not in the parameter space{hint}"
+            ) from None
+
+    def subset(self, names: Sequence[str]) -> ParameterSpace:
+        """The same space restricted to ``names`` (in that order)."""
+        idx = [self.index(n) for n in names]
+        return ParameterSpace(
+            names=tuple(self.names[i] for i in idx),
+            nominal=self.nominal[idx],
+            relative_range=self.relative_range[idx],
+            range_lower=self.range_lower[idx],
+            range_upper=self.range_upper[idx],
+            limit_lower=self.limit_lower[idx],
+            limit_upper=self.limit_upper[idx],
+            floor_fraction=self.floor_fraction,
+        )
+
+    # ------------------------------------------------------------------------------------------
+    def scale(self, unit_points: np.ndarray) -> np.ndarray:
+        """Map points of the unit hypercube onto the unclipped sampling range.
+
+        Parameters
+        ----------
+        unit_points : ndarray, shape (n, d)
+            Points in [0, 1)^d [-].
+
+        Returns
+        -------
+        ndarray, shape (n, d)
+            ``range_lower + u * (range_upper - range_lower)`` [unit of each parameter]
+            (not yet clipped).
+        """
+        u = np.asarray(unit_points, dtype=float)
+        if u.ndim != 2 or u.shape[1] != self.dimension:
+            raise ThermocalInputError(
+                f"unit_points must have shape (n, {self.dimension}), got {u.shape}"
+            )
+        return self.range_lower + u * (self.range_upper - self.range_lower)
+
+    def clip(self, values: np.ndarray) -> tuple[np.ndarray, pd.DataFrame]:
+        """Clip values to the physical limits and count the clipped ones per parameter.
+
+        Parameters
+        ----------
+        values : ndarray, shape (n, d)
+            Parameter values [unit of each parameter].
+
+        Returns
+        -------
+        clipped : ndarray, shape (n, d)
+            Values inside ``[limit_lower, limit_upper]`` [unit of each parameter].
+        counts : DataFrame
+            Index: parameter names; columns ``lower``, ``upper``, ``total`` (number of values
+            set to the lower/upper limit) and ``fraction`` (total / n) [-].
+        """
+        x = np.asarray(values, dtype=float)
+        if x.ndim != 2 or x.shape[1] != self.dimension:
+            raise ThermocalInputError(
+                f"values must have shape (n, {self.dimension}), got {x.shape}"
+            )
+        below = x < self.limit_lower
+        above = x > self.limit_upper
+        out = np.clip(x, self.limit_lower, self.limit_upper)
+        n = max(x.shape[0], 1)
+        counts = pd.DataFrame(
+            {
+                "lower": below.sum(axis=0).astype(int),
+                "upper": above.sum(axis=0).astype(int),
+            },
+            index=pd.Index(self.names, name="parameter"),
+        )
+        counts["total"] = counts["lower"] + counts["upper"]
+        counts["fraction"] = counts["total"] / n
+        return out, counts
+
+    # ------------------------------------------------------------------------------------------
+    def to_frame(self) -> pd.DataFrame:
+        """Table of the space: unit, nominal, relative range, range, limits, effective bounds."""
+        return pd.DataFrame(
+            {
+                "unit": self.units,
+                "nominal": self.nominal,
+                "relative_range": self.relative_range,
+                "range_lower": self.range_lower,
+                "range_upper": self.range_upper,
+                "limit_lower": self.limit_lower,
+                "limit_upper": self.limit_upper,
+                "lower": self.lower,
+                "upper": self.upper,
+                "clipped": [n in set(self.clipped) for n in self.names],
+            },
+            index=pd.Index(self.names, name="parameter"),
+        )
+
+    def to_dict(self) -> dict:
+        """JSON-ready definition (for fingerprints and reports); ``inf`` written as ``None``."""
+
+        def fl(a: np.ndarray) -> list:
+            return [None if not np.isfinite(v) else float(v) for v in a]
+
+        return {
+            "names": list(self.names),
+            "nominal": fl(self.nominal),
+            "relative_range": fl(self.relative_range),
+            "limit_lower": fl(self.limit_lower),
+            "limit_upper": fl(self.limit_upper),
+            "floor_fraction": self.floor_fraction,
+        }
+
+
+def _check_range(what: str, value: object) -> None:
+    try:
+        v = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ThermocalInputError(
+            f"{what} must be a number (relative half-width, 0.75 = +-75 %), got {value!r}"
+        ) from None
+    if not np.isfinite(v) or v < 0.0:
+        raise ThermocalInputError(
+            f"{what} must be a non-negative relative half-width (0.75 = +-75 %), got {value!r}"
+        )

@@ -1,0 +1,468 @@
+"""Durable result store of a calibration campaign (SQLite).
+
+One row per finished sample, committed as the sample finishes, so a campaign killed at any point
+(SIGKILL included) keeps every committed result and a restart evaluates only what is missing.
+The ``campaign`` table holds a fingerprint of the campaign definition; a store opened for another
+definition refuses with a message saying what differs.
+
+Tables
+------
+``campaign(key TEXT PRIMARY KEY, value TEXT)``
+    ``fingerprint``, ``definition`` (JSON), ``campaign_text`` (the campaign file), ``created_at``,
+    ``schema_version``.
+``results(sample INTEGER PRIMARY KEY, parameters TEXT, outputs TEXT, runtime_s REAL, error TEXT,
+worker TEXT, finished_at TEXT)``
+    ``parameters`` and ``outputs`` are JSON objects (name -> value); ``error`` is NULL for a
+    successful sample; ``runtime_s`` is the evaluation wall time [s].
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import json
+import math
+import os
+import sqlite3
+import tempfile
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+
+__all__ = [
+    "CampaignStore",
+    "SampleResult",
+    "atomic_write",
+    "campaign_definition",
+    "campaign_fingerprint",
+]
+
+SCHEMA_VERSION = "1"
+_SQLITE_MAGIC = b"SQLite format 3\x00"
+
+
+def _canonical(obj: Any) -> str:
+    return json.dumps(obj, sort_keys=True, separators=(",", ":"), default=_json_default)
+
+
+def _json_default(obj: Any) -> Any:
+    if hasattr(obj, "item"):
+        return obj.item()
+    if hasattr(obj, "tolist"):
+        return obj.tolist()
+    if isinstance(obj, Path | _dt.date):
+        return str(obj)
+    raise TypeError(f"not JSON serialisable: {type(obj)}")
+
+
+def campaign_definition(
+    space: Any,
+    *,
+    method: str,
+    seed: int,
+    samples: int,
+    problem: str,
+) -> dict[str, Any]:
+    """The campaign definition that the store's fingerprint covers.
+
+    Parameters
+    ----------
+    space : ParameterSpace or mapping
+        The parameter space (its :meth:`to_dict` is used) [-].
+    method : str
+        Sampler name [-].
+    seed : int
+        Sampler seed [-].
+    samples : int
+        Number of samples [-].
+    problem : str
+        Opaque fingerprint of everything else that determines the metric (building, weather,
+        measurements, identification options), supplied by the caller [-].
+
+    Returns
+    -------
+    dict
+        JSON-ready definition.
+    """
+    space_dict = space.to_dict() if hasattr(space, "to_dict") else dict(space)
+    return {
+        "space": space_dict,
+        "sampler": {"method": str(method), "seed": int(seed), "samples": int(samples)},
+        "problem": str(problem),
+    }
+
+
+def campaign_fingerprint(definition: Mapping[str, Any]) -> str:
+    """SHA-256 hex digest of a campaign definition (canonical JSON, sorted keys).
+
+    Parameters
+    ----------
+    definition : mapping
+        As returned by :func:`campaign_definition` (or any JSON-ready mapping) [-].
+
+    Returns
+    -------
+    str
+        64 hexadecimal characters.
+    """
+    return hashlib.sha256(_canonical(definition).encode()).hexdigest()
+
+
+@dataclass(frozen=True)
+class SampleResult:
+    """The outcome of one sample.
+
+    Attributes
+    ----------
+    sample : int
+        Sample index [-].
+    parameters : dict
+        Parameter values [unit of each parameter].
+    outputs : dict
+        Named outputs, e.g. ``{"unoccupied_variance": ...}`` [unit of each output]; empty when
+        the sample failed.
+    runtime_s : float
+        Evaluation wall time [s].
+    error : str or None
+        Error text of a failed sample, None when it succeeded.
+    worker : str
+        Host and process that evaluated it.
+    """
+
+    sample: int
+    parameters: dict[str, float]
+    outputs: dict[str, float]
+    runtime_s: float
+    error: str | None = None
+    worker: str = ""
+
+
+def atomic_write(path: Path | str, write: Any) -> Path:
+    """Write a file atomically: ``write(tmp_path)`` into the same folder, then ``os.replace``.
+
+    Parameters
+    ----------
+    path : path-like
+        Destination file.
+    write : callable
+        Called with the temporary path; must create the file there.
+
+    Returns
+    -------
+    Path
+        The destination.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        write(Path(tmp))
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def _definition_differences(old: Mapping[str, Any], new: Mapping[str, Any]) -> list[str]:
+    diffs: list[str] = []
+
+    def walk(a: Any, b: Any, where: str) -> None:
+        if isinstance(a, Mapping) and isinstance(b, Mapping):
+            for k in sorted(set(a) | set(b), key=str):
+                walk(a.get(k), b.get(k), f"{where}.{k}" if where else str(k))
+        elif a != b:
+            if isinstance(a, list) and isinstance(b, list) and len(a) > 6:
+                diffs.append(f"{where} (list of {len(a)} vs {len(b)} entries)")
+            else:
+                diffs.append(f"{where}: {a!r} in the store, {b!r} now")
+
+    walk(dict(old), dict(new), "")
+    return diffs
+
+
+class CampaignStore:
+    """SQLite store of a campaign's finished samples.
+
+    Open it with :meth:`open`; use it as a context manager or call :meth:`close`.
+    Only one process writes (the campaign runner's parent); WAL mode lets readers look in
+    while it runs.
+    """
+
+    def __init__(self, path: Path, connection: sqlite3.Connection, fingerprint: str) -> None:
+        self.path = path
+        self.fingerprint = fingerprint
+        self._con = connection
+
+    # ------------------------------------------------------------------------------------------
+    @classmethod
+    def open(
+        cls,
+        path: Path | str,
+        fingerprint: str | None = None,
+        *,
+        definition: Mapping[str, Any] | None = None,
+        campaign_text: str = "",
+        resume: bool = True,
+    ) -> CampaignStore:
+        """Open (or create) the store of a campaign.
+
+        Parameters
+        ----------
+        path : path-like
+            SQLite file, created with its folder if absent.
+        fingerprint : str, optional
+            Campaign fingerprint; default :func:`campaign_fingerprint` of ``definition``.
+        definition : mapping, optional
+            Campaign definition (JSON-ready), stored to explain a later mismatch.
+        campaign_text : str
+            Text of the campaign file, stored for the record.
+        resume : bool
+            When False, an existing store that already holds results of this campaign is an
+            error (the caller asked for a fresh run); when True it is continued.
+
+        Returns
+        -------
+        CampaignStore
+
+        Raises
+        ------
+        ThermocalInputError
+            The file is not SQLite, belongs to another campaign, or holds results while
+            ``resume`` is False.
+        """
+        path = Path(path)
+        if fingerprint is None:
+            if definition is None:
+                raise ThermocalInputError("CampaignStore.open needs a fingerprint or a definition")
+            fingerprint = campaign_fingerprint(definition)
+        remedy = "use another --store/--out, or delete the file to start afresh"
+        if path.exists():
+            if path.is_dir():
+                raise ThermocalInputError(f"store {path} is a folder; give a file name ({remedy})")
+            with open(path, "rb") as fh:
+                head = fh.read(16)
+            if head and head != _SQLITE_MAGIC:
+                raise ThermocalInputError(
+                    f"store {path} is not an SQLite database (a campaign store is written by "
+                    f"thermocal calibrate); {remedy}"
+                )
+        else:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            con = sqlite3.connect(str(path), timeout=30.0, isolation_level=None)
+            con.execute("PRAGMA journal_mode=WAL")
+            con.execute("PRAGMA synchronous=NORMAL")
+            con.execute("CREATE TABLE IF NOT EXISTS campaign (key TEXT PRIMARY KEY, value TEXT)")
+            con.execute(
+                "CREATE TABLE IF NOT EXISTS results (sample INTEGER PRIMARY KEY, "
+                "parameters TEXT NOT NULL, outputs TEXT NOT NULL, runtime_s REAL, error TEXT, "
+                "worker TEXT, finished_at TEXT)"
+            )
+            rows = dict(con.execute("SELECT key, value FROM campaign").fetchall())
+        except sqlite3.DatabaseError as exc:
+            raise ThermocalInputError(
+                f"store {path} is not a usable SQLite campaign store ({exc}); {remedy}"
+            ) from None
+        if not rows:
+            now = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
+            with con:
+                con.executemany(
+                    "INSERT INTO campaign (key, value) VALUES (?, ?)",
+                    [
+                        ("fingerprint", fingerprint),
+                        ("definition", _canonical(definition or {})),
+                        ("campaign_text", campaign_text),
+                        ("created_at", now),
+                        ("schema_version", SCHEMA_VERSION),
+                    ],
+                )
+        elif rows.get("fingerprint") != fingerprint:
+            con.close()
+            what = ""
+            if definition is not None and rows.get("definition"):
+                try:
+                    diffs = _definition_differences(json.loads(rows["definition"]), definition)
+                except json.JSONDecodeError:
+                    diffs = []
+                if diffs:
+                    what = " Differences: " + "; ".join(diffs[:8]) + "."
+            raise ThermocalInputError(
+                f"store {path} belongs to another campaign (fingerprint "
+                f"{rows.get('fingerprint', '?')[:12]}..., this campaign {fingerprint[:12]}...) "
+                f"and cannot be resumed with this campaign file.{what} {remedy[0].upper()}"
+                f"{remedy[1:]}."
+            )
+        store = cls(path, con, fingerprint)
+        if not resume and rows and store.count() > 0:
+            n = store.count()
+            store.close()
+            raise ThermocalInputError(
+                f"store {path} already holds {n} finished sample(s) of this campaign; pass "
+                f"--resume to continue it, or {remedy}"
+            )
+        return store
+
+    def close(self) -> None:
+        """Close the database connection."""
+        self._con.close()
+
+    def __enter__(self) -> CampaignStore:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------------------------------
+    def meta(self, key: str) -> str | None:
+        """A value of the ``campaign`` table (``"campaign_text"``, ``"definition"``...)."""
+        row = self._con.execute("SELECT value FROM campaign WHERE key = ?", (key,)).fetchone()
+        return None if row is None else row[0]
+
+    def count(self, *, failed: bool | None = None) -> int:
+        """Number of finished samples (``failed=True``/``False`` to count only those) [-]."""
+        sql = "SELECT COUNT(*) FROM results"
+        if failed is True:
+            sql += " WHERE error IS NOT NULL"
+        elif failed is False:
+            sql += " WHERE error IS NULL"
+        return int(self._con.execute(sql).fetchone()[0])
+
+    def done(self, *, include_failed: bool = True) -> set[int]:
+        """Indices of finished samples (failed ones too unless ``include_failed`` is False)."""
+        sql = "SELECT sample FROM results"
+        if not include_failed:
+            sql += " WHERE error IS NULL"
+        return {int(r[0]) for r in self._con.execute(sql)}
+
+    def pending(self, indices: Iterable[int], *, retry_failed: bool = False) -> list[int]:
+        """Sample indices (among ``indices``) that still have to be evaluated, in order.
+
+        Parameters
+        ----------
+        indices : iterable of int
+            All sample indices of the campaign [-].
+        retry_failed : bool
+            Also return the samples that finished with an error.
+        """
+        done = self.done(include_failed=not retry_failed)
+        return sorted({int(i) for i in indices} - done)
+
+    def record(self, result: SampleResult) -> bool:
+        """Store one finished sample and commit at once.
+
+        A successful result is never overwritten; a failed one may be replaced by a retry.
+
+        Returns
+        -------
+        bool
+            True when the row was written, False when the sample already had a success.
+        """
+        finished = _dt.datetime.now(_dt.UTC).isoformat(timespec="milliseconds")
+        cur = self._con.execute(
+            "INSERT INTO results (sample, parameters, outputs, runtime_s, error, worker, "
+            "finished_at) VALUES (?, ?, ?, ?, ?, ?, ?) "
+            "ON CONFLICT(sample) DO UPDATE SET parameters=excluded.parameters, "
+            "outputs=excluded.outputs, runtime_s=excluded.runtime_s, error=excluded.error, "
+            "worker=excluded.worker, finished_at=excluded.finished_at "
+            "WHERE results.error IS NOT NULL",
+            (
+                int(result.sample),
+                json.dumps({k: _num(v) for k, v in result.parameters.items()}),
+                json.dumps({k: _num(v) for k, v in result.outputs.items()}),
+                float(result.runtime_s),
+                result.error,
+                result.worker,
+                finished,
+            ),
+        )
+        return cur.rowcount > 0
+
+    # ------------------------------------------------------------------------------------------
+    def to_frame(self) -> pd.DataFrame:
+        """All finished samples, one row each, ordered by sample index.
+
+        Returns
+        -------
+        DataFrame
+            Index ``sample``; the parameter columns (names as in the space) [unit of each],
+            the output columns (prefixed ``out:``, e.g. ``out:unoccupied_variance``), then
+            ``runtime_s`` [s], ``error``, ``worker``, ``finished_at``.
+        """
+        rows = self._con.execute(
+            "SELECT sample, parameters, outputs, runtime_s, error, worker, finished_at "
+            "FROM results ORDER BY sample"
+        ).fetchall()
+        records = []
+        for sample, params, outputs, runtime, error, worker, finished in rows:
+            rec: dict[str, Any] = {"sample": sample}
+            rec.update({k: _float(v) for k, v in json.loads(params).items()})
+            rec.update({f"out:{k}": _float(v) for k, v in json.loads(outputs).items()})
+            rec.update(runtime_s=runtime, error=error, worker=worker, finished_at=finished)
+            records.append(rec)
+        if not records:
+            return pd.DataFrame(
+                columns=["runtime_s", "error", "worker", "finished_at"],
+                index=pd.Index([], name="sample", dtype=int),
+            )
+        frame = pd.DataFrame.from_records(records).set_index("sample")
+        tail = ["runtime_s", "error", "worker", "finished_at"]
+        params = [c for c in frame.columns if c not in tail and not c.startswith("out:")]
+        outs = [c for c in frame.columns if c.startswith("out:")]
+        return frame[params + outs + tail]
+
+    def parameters(self, *, successful: bool = True) -> pd.DataFrame:
+        """Parameter values of the finished samples (only successful ones by default)."""
+        frame = self.to_frame()
+        if successful:
+            frame = frame[frame["error"].isna()]
+        cols = [c for c in frame.columns
+                if not c.startswith("out:") and c not in ("runtime_s", "error", "worker",
+                                                           "finished_at")]
+        return frame[cols]
+
+    def outputs(self, *, successful: bool = True) -> pd.DataFrame:
+        """Named outputs of the finished samples (column names without the ``out:`` prefix)."""
+        frame = self.to_frame()
+        if successful:
+            frame = frame[frame["error"].isna()]
+        outs = frame[[c for c in frame.columns if c.startswith("out:")]]
+        return outs.rename(columns=lambda c: c[4:])
+
+    def export(self, path: Path | str) -> Path:
+        """Write :meth:`to_frame` to ``.parquet`` or ``.csv``, atomically.
+
+        Parameters
+        ----------
+        path : path-like
+            Destination; the suffix chooses the format.
+
+        Returns
+        -------
+        Path
+        """
+        path = Path(path)
+        frame = self.to_frame()
+        suffix = path.suffix.lower()
+        if suffix == ".parquet":
+            return atomic_write(path, lambda p: frame.to_parquet(p))
+        if suffix == ".csv":
+            return atomic_write(path, lambda p: frame.to_csv(p))
+        raise ThermocalInputError(
+            f"export file {path} must end in .parquet or .csv"
+        )
+
+
+def _num(value: Any) -> float | None:
+    v = float(value)
+    return v if math.isfinite(v) else None
+
+
+def _float(value: Any) -> float:
+    return math.nan if value is None else float(value)

@@ -13,6 +13,18 @@ One backward-Euler step of the network assembled in :mod:`thermocal.multizone.ne
    cooling set point) is found by a small active-set iteration, ``q`` from the dense system on the
    active set, and ``x = A^{-1}(rhs + E q)`` by a second substitution (set points are met
    exactly, no iteration on the network).
+
+Tracking modes (heat-balance identification, :mod:`thermocal.identification`): instead of the
+ideal loads, every tracked zone (``ctrl_zone``) receives the heat that makes the model follow a
+reference temperature ``track_ref``:
+
+- ``track_mode == 1`` (exact inverse): the heat of the step that puts the zone air (Dirichlet
+  system, one substitution) or operative temperature (superposition with the inverse of the
+  operative-temperature response ``g_track_inv``) exactly on the reference at the end of the step;
+- ``track_mode == 2`` (discrete PID per zone in controller canonical form): the heat of the step
+  from the error between the reference and the model's air or operative temperature at the end of
+  the previous step (``track_fb``), as a co-simulated controller sees it; optional output limits
+  with conditional integration.
 """
 
 from __future__ import annotations
@@ -330,11 +342,26 @@ def run_steps(
     face_mrt,
     face_mrt_g,
     h_black,
+    track_mode,
+    track_ref,
+    track_operative,
+    pid_d,
+    pid_c1,
+    pid_c2,
+    pid_state,
+    track_fb,
+    q_lo,
+    q_hi,
+    g_track_inv,
+    out_q,
 ):
     """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
 
     ``active`` (ideal-load state of each controlled zone: 1 heating, -1 cooling, 0 free) and the
     cached inverse of the active block of ``g_ctrl`` persist between calls (warm start).
+    With ``track_mode`` 1 or 2 the controlled zones are the tracked ones (see the module
+    docstring); ``pid_state`` (nc, 2) and ``track_fb`` (nc,) persist between calls; the heat of
+    each tracked zone is written to ``out_q`` (n_steps, nc) [W].
     """
     n = x.shape[0]
     nz = air_node.shape[0]
@@ -345,6 +372,7 @@ def run_steps(
     q = np.zeros(nc)
     t_free = np.empty(nc)
     rhs_d = np.empty(n)
+    mrt_tmp = np.zeros(nz)
     for s in range(n_steps):
         k = k0 + s
         # 1. rhs = C/dt x + B u_k
@@ -421,11 +449,66 @@ def run_steps(
         for z in range(nz):
             an = air_node[z]
             rhs[an] += inf_dh[k, z] * (t_out - x[an])
+        # 3'. tracking: PID heat from the error at the start of the step, or the exact inverse
+        done = False
+        if track_mode == 2:
+            for c in range(nc):
+                e = track_ref[s, c] - track_fb[c]
+                u_c = pid_c1[c] * pid_state[c, 0] + pid_c2[c] * pid_state[c, 1] + pid_d[c] * e
+                integrate = 1.0
+                if u_c > q_hi[c]:
+                    u_c = q_hi[c]
+                    if e > 0.0:
+                        integrate = 0.0
+                elif u_c < q_lo[c]:
+                    u_c = q_lo[c]
+                    if e < 0.0:
+                        integrate = 0.0
+                # canonical form x1' = x1 + e, x2' = x1; with the integration frozen the
+                # derivative memory x1 - x2 still equals the last error
+                pid_state[c, 0] += integrate * e
+                pid_state[c, 1] = pid_state[c, 0] - e
+                q[c] = u_c
+                rhs[air_node[ctrl_zone[c]]] += u_c
+            lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+            done = True
+        elif track_mode == 1 and not track_operative:
+            for i in range(n):
+                rhs_d[i] = rhs[i]
+            for c in range(nc):
+                rhs_d[air_node[ctrl_zone[c]]] = track_ref[s, c]
+            lu_solve(dlp, dli, dlx, dup, dui, dux, d_inv_diag, d_inverse_r, d_perm_c, rhs_d, work,
+                     x_new)
+            for c in range(nc):
+                acc = -rhs[air_node[ctrl_zone[c]]]
+                for p in range(a_ptr[c], a_ptr[c + 1]):
+                    acc += a_val[p] * x_new[a_idx[p]]
+                q[c] = acc
+            done = True
+        elif track_mode == 1:
+            lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+            for z in range(nz):
+                mrt_tmp[z] = 0.0
+            for f in range(face_node.shape[0]):
+                mrt_tmp[face_zone[f]] += face_area[f] * x_new[face_node[f]]
+            for c in range(nc):
+                z = ctrl_zone[c]
+                mrt = x_new[air_node[z]]
+                if zone_face_area[z] > 0:
+                    mrt = mrt_tmp[z] / zone_face_area[z]
+                t_free[c] = track_ref[s, c] - 0.5 * (x_new[air_node[z]] + mrt)
+            for c in range(nc):
+                acc = 0.0
+                for d in range(nc):
+                    acc += g_track_inv[c, d] * t_free[d]
+                q[c] = acc
+                rhs[air_node[ctrl_zone[c]]] += acc
+            lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+            done = True
         # 3. every controlled zone at a set point in the previous step: try the Dirichlet system
         #    (controlled air temperatures prescribed) -- one substitution; accept when the implied
         #    powers have the right signs, else fall back to the general superposition below
-        done = False
-        if ideal_on and nc > 0 and use_dirichlet:
+        if ideal_on and nc > 0 and use_dirichlet and not done:
             all_active = True
             for c in range(nc):
                 if active[c] == 0:
@@ -462,7 +545,7 @@ def run_steps(
                         done = False
                 if not done:
                     cache_m[5] += 1
-        if not done:
+        if not done and track_mode == 0:
             # free response
             lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
             for c in range(nc):
@@ -506,6 +589,29 @@ def run_steps(
                 out_mrt[s, z] /= zone_face_area[z]
             else:
                 out_mrt[s, z] = x[air_node[z]]
+        if track_mode != 0:
+            diverged = False
+            for c in range(nc):
+                z = ctrl_zone[c]
+                out_q[s, c] = q[c]
+                if track_operative:
+                    track_fb[c] = 0.5 * (out_air[s, z] + out_mrt[s, z])
+                else:
+                    track_fb[c] = out_air[s, z]
+                if not abs(track_fb[c]) < 1.0e4:
+                    diverged = True
+                    track_fb[c] = np.nan
+            if diverged:
+                # an unstable loop: mark the rest of the chunk as NaN and stop (the caller
+                # raises a clear error) instead of overflowing inside the network
+                for r in range(s, n_steps):
+                    for z in range(nz):
+                        out_air[r, z] = np.nan
+                        out_mrt[r, z] = np.nan
+                    for c in range(nc):
+                        out_q[r, c] = np.nan
+                return
+            continue
         for c in range(nc):
             z = ctrl_zone[c]
             if q[c] > 0:

@@ -15,7 +15,7 @@ from __future__ import annotations
 import json
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -181,6 +181,40 @@ class SimulationResult:
         return written
 
 
+@dataclass
+class TrackingResult:
+    """Output of :meth:`Simulation.track` (frames indexed by step start).
+
+    Attributes
+    ----------
+    air_temperature, operative_temperature : DataFrame [C]
+        Model temperatures of every zone at the end of each step.
+    heat : DataFrame [W]
+        Heat delivered to each tracked zone's air over each step (constant over the step).
+    reference : DataFrame [C]
+        The tracked reference temperatures.
+    feedback : {"air", "operative"}
+    method : {"inverse", "pid"}
+    step : pandas.Timedelta
+    diverged : list of str
+        Zones whose loop diverged (the run stopped there; the rest of every frame is NaN).
+    """
+
+    air_temperature: pd.DataFrame
+    operative_temperature: pd.DataFrame
+    heat: pd.DataFrame
+    reference: pd.DataFrame
+    feedback: str
+    method: str
+    step: pd.Timedelta
+    diverged: list = field(default_factory=list)
+
+    def tracked_temperature(self) -> pd.DataFrame:
+        """The model temperature that was tracked (air or operative) of the tracked zones [C]."""
+        frame = self.air_temperature if self.feedback == "air" else self.operative_temperature
+        return frame[self.heat.columns]
+
+
 def _hourly_mean(frame, step: pd.Timedelta):
     per_hour = pd.Timedelta("1h") / step
     if per_hour >= 1 and float(per_hour).is_integer() and per_hour > 1:
@@ -264,6 +298,10 @@ class Simulation:
         self._site = self._site_from(self.metadata, building)
         #: solve with prescribed air temperatures when every controlled zone sits at a set point
         self.use_dirichlet = True
+        #: False: only the linear network (no lagged state-dependent corrections: TARP, exact
+        #: long-wave, wind and air-density excess, window gap conductance), the plant of the
+        #: exact loop analysis of :mod:`thermocal.identification.tuning`
+        self.explicit_corrections = True
         self._assembly_cache: dict = {}
         self._input_cache: dict = {}
         self._build()
@@ -318,10 +356,50 @@ class Simulation:
         self._ext_area_eps = np.ascontiguousarray(
             np.stack([net.ext_area, net.ext_area * net.ext_emissivity], axis=1)
         )
+        self._tracking_cache = {}
         self._fine = self._context(self.dt, self._inputs, self._ext_dh_raw, self._inf_dh)
         self._lu = self._fine.lu
         self._coarse = None
         self._reset_ideal_state()
+
+    def _tracking_context(self, zones: np.ndarray, operative: bool, coarse: bool):
+        """Fine (or hourly first-day) context whose Dirichlet system prescribes ``zones``.
+
+        Adds ``g_track_inv``: the inverse of the operative-temperature response of the tracked
+        zones to unit heat in their air (only when ``operative``). Cached until the network
+        changes (:meth:`set_parameters`).
+        """
+        key = (tuple(int(z) for z in zones), bool(operative), bool(coarse))
+        cache = self.__dict__.setdefault("_tracking_cache", {})
+        if key in cache:
+            return cache[key]
+        if coarse:
+            context = self._coarse_context(controlled=zones, ideal=False)
+            if context is None:
+                cache[key] = None
+                return None
+        else:
+            context = self._context(
+                self.dt, self._inputs, self._ext_dh_raw, self._inf_dh, controlled=zones,
+                ideal=False,
+            )
+        g_inverse = np.zeros((0, 0))
+        if operative:
+            net = self.network
+            unit = np.zeros((net.n_nodes, len(zones)))
+            unit[net.air_node[zones], np.arange(len(zones))] = 1.0
+            response = context.lu.solve(unit)
+            weights = sp.csr_matrix(
+                (net.face_area, (net.face_zone, net.face_node)),
+                shape=(len(net.zone_names), net.n_nodes),
+            )
+            area = self._zone_face_area[zones]
+            mrt = np.asarray(weights[zones] @ response)
+            air = response[net.air_node[zones], :]
+            mrt = np.where(area[:, None] > 0, mrt / np.where(area > 0, area, 1.0)[:, None], air)
+            g_inverse = np.ascontiguousarray(np.linalg.inv(0.5 * (air + mrt)))
+        cache[key] = (context, g_inverse)
+        return cache[key]
 
     def _reset_ideal_state(self) -> None:
         nc = len(self._ctrl)
@@ -333,17 +411,24 @@ class Simulation:
         self._cache_m = np.zeros(8, dtype=np.int64)
         self._cache_m[0] = -1
 
-    def _context(self, dt: float, inputs, ext_dh_raw, inf_dh) -> _Context:
-        """Factorisation and step-size dependent arrays for steps of ``dt`` seconds."""
+    def _context(
+        self, dt: float, inputs, ext_dh_raw, inf_dh, *, controlled=None, ideal: bool = True
+    ) -> _Context:
+        """Factorisation and step-size dependent arrays for steps of ``dt`` seconds.
+
+        ``controlled``: zone indices whose air temperatures the Dirichlet system prescribes
+        (default: the conditioned zones); ``ideal=False`` skips the ideal-load response matrix.
+        """
         net = self.network
+        controlled = self._ctrl if controlled is None else np.asarray(controlled, dtype=np.int64)
         matrix = net.system_matrix(dt)
         lu = _factorise(matrix)
         factors = _kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c)
         dirichlet = factors
         rows = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
-        if len(self._ctrl):
+        if len(controlled):
             # the same system with the controlled air temperatures prescribed (identity rows)
-            air = net.air_node[self._ctrl]
+            air = net.air_node[controlled]
             keep = np.ones(net.n_nodes)
             keep[air] = 0.0
             prescribed = sp.diags(keep) @ matrix + sp.diags(1.0 - keep)
@@ -356,10 +441,10 @@ class Simulation:
                 air_rows.indices.astype(np.int64),
                 air_rows.data.copy(),
             )
-        if len(self._ctrl):
-            unit = np.zeros((net.n_nodes, len(self._ctrl)))
-            unit[net.air_node[self._ctrl], np.arange(len(self._ctrl))] = 1.0
-            g_ctrl = np.ascontiguousarray(lu.solve(unit)[net.air_node[self._ctrl], :])
+        if len(controlled) and ideal:
+            unit = np.zeros((net.n_nodes, len(controlled)))
+            unit[net.air_node[controlled], np.arange(len(controlled))] = 1.0
+            g_ctrl = np.ascontiguousarray(lu.solve(unit)[net.air_node[controlled], :])
         else:
             g_ctrl = np.zeros((0, 0))
         # explicit-correction bounds (stability of the lagged terms, see network module)
@@ -380,22 +465,27 @@ class Simulation:
             face_hmax=face_hmax,
         )
 
-    def _coarse_context(self) -> _Context | None:
-        """Hourly context over the first day of the period, for the warm-up (or None)."""
+    def _coarse_context(self, **kwargs) -> _Context | None:
+        """Hourly context over the first day of the period, for the warm-up (or None).
+
+        Keyword arguments go to :meth:`_context` (a tracking context is not cached).
+        """
         per_hour = 3600.0 / self.dt
         per_day = int(round(86400.0 / self.dt))
         if per_hour <= 1 or not float(per_hour).is_integer() or len(self.times) < per_day:
             return None
-        if self._coarse is None:
+        if self._coarse is None or kwargs:
             m = int(per_hour)
-
-            def hourly(values):
-                first = values[:per_day]
-                return first.reshape(24, m, *first.shape[1:]).mean(axis=1)
-
-            self._coarse = self._context(
-                3600.0, hourly(self._inputs), hourly(self._ext_dh_raw), hourly(self._inf_dh)
+            context = self._context(
+                3600.0,
+                _hourly_first_day(self._inputs, per_day, m),
+                _hourly_first_day(self._ext_dh_raw, per_day, m),
+                _hourly_first_day(self._inf_dh, per_day, m),
+                **kwargs,
             )
+            if kwargs:
+                return context
+            self._coarse = context
         return self._coarse
 
     # ------------------------------------------------------------------------------------------
@@ -533,6 +623,7 @@ class Simulation:
         ideal: bool,
         store: bool,
         context: _Context | None = None,
+        tracking: dict | None = None,
     ):
         context = context or self._fine
         if getattr(self, "_last_context", None) is not context:
@@ -546,7 +637,15 @@ class Simulation:
         out_cool = np.zeros((n, nz))
         n_faces = len(net.face_node)
         out_face = np.empty((n, n_faces if store else 0), dtype=np.float64)
-        tarp_on = self.options.interior_convection == "tarp"
+        linear = not self.explicit_corrections
+        tarp_on = self.options.interior_convection == "tarp" and not linear
+        ext_dh = np.zeros_like(context.ext_dh) if linear else context.ext_dh
+        inf_dh = np.zeros_like(context.inf_dh) if linear else context.inf_dh
+        window_ratio = (
+            np.ones_like(net.window_conductance_ratio) if linear else net.window_conductance_ratio
+        )
+        track = tracking if tracking is not None else _no_tracking(n)
+        controlled = track.get("zones", self._ctrl)
         _kernel.run_steps(
             k0,
             n,
@@ -561,8 +660,8 @@ class Simulation:
             net.ext_view_air,
             net.ext_view_sky,
             net.ext_hr0,
-            context.ext_dh,
-            self.options.exact_sky_longwave,
+            ext_dh,
+            self.options.exact_sky_longwave and not linear,
             net.face_node,
             net.air_node[net.face_zone],
             net.face_area,
@@ -572,10 +671,10 @@ class Simulation:
             tarp_on,
             self._face_root,
             net.air_node,
-            context.inf_dh,
-            self._ctrl,
-            self._heat_sp,
-            self._cool_sp,
+            inf_dh,
+            controlled,
+            self._heat_sp if tracking is None else track["dummy_sp"],
+            self._cool_sp if tracking is None else track["dummy_sp"],
             context.g_ctrl,
             bool(ideal),
             net.face_zone,
@@ -596,15 +695,228 @@ class Simulation:
             net.window_outer,
             net.window_inner,
             net.window_conductance,
-            net.window_conductance_ratio,
+            window_ratio,
             WINDOW_TEMPERATURE_GRID[0],
             WINDOW_TEMPERATURE_GRID[1] - WINDOW_TEMPERATURE_GRID[0],
-            self.options.exact_interior_longwave and self.options.interior_longwave,
+            self.options.exact_interior_longwave and self.options.interior_longwave and not linear,
             net.face_mrt_node,
             net.face_mrt_conductance,
             net.h_black,
+            track["mode"],
+            track["reference"],
+            track["operative"],
+            *track["pid"],
+            track["pid_state"],
+            track["feedback"],
+            track["q_low"],
+            track["q_high"],
+            track["g_inverse"],
+            track["out_q"],
         )
         return out_air, out_mrt, out_heat, out_cool, out_face
+
+    def track(
+        self,
+        reference: np.ndarray,
+        *,
+        zones=None,
+        method: str = "inverse",
+        feedback: str = "air",
+        pid: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+        limits: tuple[np.ndarray, np.ndarray] | None = None,
+        heat_input: pd.DataFrame | np.ndarray | None = None,
+        progress: bool = False,
+    ) -> TrackingResult:
+        """Closed loop over the whole period: the heat each zone needs to follow ``reference``.
+
+        The loop runs inside the compiled kernel (one call per chunk of 2,048 steps), all zones at
+        once. Before the period, the first day of the reference is tracked ``warmup_days`` times
+        with the exact inverse at hourly steps (hourly means of the reference), so that walls and
+        floors start in a state consistent with the measurements; the PID integrators then start
+        bumplessly at the last warm-up heat (``x1 = x2 = q0 / KI``).
+
+        Parameters
+        ----------
+        reference : ndarray (n_steps, n_zones) [C]
+            Temperature to reach at the end of each step (rows = steps labelled by their start,
+            columns = ``zones``). Must be finite.
+        zones : sequence of str or int, optional
+            Tracked zones (names or indices into ``building.zones``); default all zones.
+        method : {"inverse", "pid"}
+            "inverse": the heat of each step that puts the zone temperature exactly on the
+            reference at the end of the step (one linear solve per step; exact up to the
+            network's lagged explicit corrections, which are evaluated at the start of the step).
+            "pid": a discrete PID per zone on the error between the reference of the step and
+            the model temperature at the end of the previous step, as in a co-simulation.
+        feedback : {"air", "operative"}
+            Tracked model temperature: zone air, or operative (mean of air and area-weighted
+            interior surface temperature).
+        pid : tuple of three ndarray (n_zones,), optional
+            Controller-canonical coefficients per zone ``(D, C1, C2) = (KP + KI + KD, KI - KD,
+            KD)`` with discrete gains [W/K] (see :mod:`thermocal.identification.pid`); required
+            for ``method="pid"``.
+        limits : tuple of two ndarray (n_zones,), optional [W]
+            Lower and upper limit of the PID output (conditional integration while limited);
+            None = unlimited. Ignored by the inverse.
+        heat_input : DataFrame or ndarray, optional [W]
+            Known heat per zone and step (as in :meth:`run`), added before the identified heat.
+        progress : bool
+            Show a progress bar.
+
+        Returns
+        -------
+        TrackingResult
+        """
+        net = self.network
+        nz = len(net.zone_names)
+        n_steps = len(self.times)
+        tracked = self._zone_indices(zones)
+        nt = len(tracked)
+        reference = np.ascontiguousarray(reference, dtype=float)
+        if reference.shape != (n_steps, nt):
+            raise ThermocalInputError(
+                f"track: reference must have shape (n_steps, n_zones) = ({n_steps}, {nt}), got "
+                f"{reference.shape}"
+            )
+        if not np.isfinite(reference).all():
+            raise ThermocalInputError("track: the reference contains NaN or infinite values")
+        if method not in ("inverse", "pid"):
+            raise ThermocalInputError(f"track: method must be 'inverse' or 'pid', got {method!r}")
+        if feedback not in ("air", "operative"):
+            raise ThermocalInputError(
+                f"track: feedback must be 'air' or 'operative', got {feedback!r}"
+            )
+        operative = feedback == "operative"
+        if method == "pid":
+            if pid is None:
+                raise ThermocalInputError("track: method='pid' needs the controller coefficients")
+            pid = tuple(np.ascontiguousarray(np.broadcast_to(c, nt), dtype=float) for c in pid)
+        else:
+            pid = (np.zeros(nt), np.zeros(nt), np.zeros(nt))
+        if limits is None:
+            q_low, q_high = np.full(nt, -np.inf), np.full(nt, np.inf)
+        else:
+            q_low = np.ascontiguousarray(np.broadcast_to(limits[0], nt), dtype=float)
+            q_high = np.ascontiguousarray(np.broadcast_to(limits[1], nt), dtype=float)
+            if np.any(q_low > q_high):
+                raise ThermocalInputError("track: a lower heat limit exceeds its upper limit")
+        heat = self._heat_array(heat_input, n_steps, nz)
+        self._x = np.full(net.n_nodes, self.initial_temperature)
+        self._face_root = np.ones(len(net.face_node))
+        self._reset_ideal_state()
+        self._k = 0
+        fine, g_fine = self._tracking_context(tracked, operative, coarse=False)
+        state = {
+            "zones": tracked,
+            "dummy_sp": np.zeros(nt),
+            "operative": operative,
+            "pid": pid,
+            "pid_state": np.zeros((nt, 2)),
+            "feedback": reference[0].copy(),
+            "q_low": q_low,
+            "q_high": q_high,
+        }
+        q0 = np.zeros(nt)
+        if self.warmup_days > 0:
+            q0 = self._warm_up_tracking(tracked, operative, reference, state)
+        if method == "pid":
+            ki = pid[1] + pid[2]  # C1 + C2 = KI
+            start = np.divide(np.clip(q0, q_low, q_high), ki, out=np.zeros(nt), where=ki > 0)
+            state["pid_state"][:, 0] = start
+            state["pid_state"][:, 1] = start
+        air = np.empty((n_steps, nz))
+        mrt = np.empty((n_steps, nz))
+        q = np.empty((n_steps, nt))
+        bar = _progress(progress, n_steps)
+        try:
+            for k0 in range(0, n_steps, _CHUNK):
+                n = min(_CHUNK, n_steps - k0)
+                state.update(
+                    mode=1 if method == "inverse" else 2,
+                    reference=reference[k0 : k0 + n],
+                    g_inverse=g_fine,
+                    out_q=np.empty((n, nt)),
+                )
+                out = self._advance(
+                    k0, n, heat[k0 : k0 + n], ideal=False, store=False, context=fine,
+                    tracking=state,
+                )
+                air[k0 : k0 + n] = out[0]
+                mrt[k0 : k0 + n] = out[1]
+                q[k0 : k0 + n] = state["out_q"]
+                if bar is not None:
+                    bar[0].update(bar[1], advance=n)
+                if not np.isfinite(state["feedback"]).all():
+                    air[k0 + n :] = np.nan
+                    mrt[k0 + n :] = np.nan
+                    q[k0 + n :] = np.nan
+                    break
+        finally:
+            if bar is not None:
+                bar[0].stop()
+        self._k = n_steps
+        diverged = ~np.isfinite(state["feedback"])
+        names = [net.zone_names[i] for i in tracked]
+        index = self.times
+        return TrackingResult(
+            air_temperature=pd.DataFrame(air, index=index, columns=net.zone_names),
+            operative_temperature=pd.DataFrame(
+                0.5 * (air + mrt), index=index, columns=net.zone_names
+            ),
+            heat=pd.DataFrame(q, index=index, columns=names),
+            reference=pd.DataFrame(reference, index=index, columns=names),
+            feedback=feedback,
+            method=method,
+            step=self.step_size,
+            diverged=[name for name, bad in zip(names, diverged, strict=True) if bad],
+        )
+
+    def _zone_indices(self, zones) -> np.ndarray:
+        names = list(self.building.zones)
+        if zones is None:
+            return np.arange(len(names), dtype=np.int64)
+        out = []
+        for zone in zones:
+            if isinstance(zone, int | np.integer):
+                if not 0 <= int(zone) < len(names):
+                    raise ThermocalInputError(f"zone index {zone} outside [0, {len(names)})")
+                out.append(int(zone))
+            elif zone in self.building.zones:
+                out.append(names.index(zone))
+            else:
+                import difflib
+
+                close = difflib.get_close_matches(str(zone), names, n=3)
+                hint = f"; did you mean {', '.join(map(repr, close))}?" if close else ""
+                raise ThermocalInputError(
+                    f"zone {zone!r} is not a zone of building '{self.building.name}'{hint}"
+                )
+        if len(set(out)) != len(out):
+            raise ThermocalInputError("track: a zone is listed twice")
+        return np.asarray(out, dtype=np.int64)
+
+    def _warm_up_tracking(self, tracked, operative, reference, state) -> np.ndarray:
+        """Track the first day's reference ``warmup_days`` times; the last heat [W]."""
+        coarse = self._tracking_context(tracked, operative, coarse=True)
+        if coarse is None:  # no hourly context: the first day at the fine step
+            context, g_inverse = self._tracking_context(tracked, operative, coarse=False)
+            n_day = min(int(round(86400.0 / self.dt)), len(reference))
+            day = reference[:n_day]
+        else:
+            context, g_inverse = coarse
+            per_hour = int(round(3600.0 / self.dt))
+            day = _hourly_first_day(reference, 24 * per_hour, per_hour)
+            n_day = 24
+        nz = len(self.building.zones)
+        state.update(mode=1, reference=np.ascontiguousarray(day), g_inverse=g_inverse)
+        for _ in range(self.warmup_days):
+            state["out_q"] = np.empty((n_day, len(tracked)))
+            self._advance(
+                0, n_day, np.zeros((n_day, nz)), ideal=False, store=False, context=context,
+                tracking=state,
+            )
+        state["feedback"] = state["feedback"].copy()
+        return state["out_q"][-1].copy()
 
     def step(self, zone_heat_W=None) -> np.ndarray:
         """Advance one step with ``zone_heat_W`` [W] delivered to each zone's air.
@@ -780,6 +1092,29 @@ class Simulation:
             else pd.DataFrame(faces, index=index, columns=net.face_names),
             step=self.step_size,
         )
+
+
+def _no_tracking(n: int) -> dict:
+    """Kernel arguments of the tracking modes when no zone is tracked."""
+    empty = np.zeros(0)
+    return {
+        "mode": 0,
+        "reference": np.zeros((n, 0)),
+        "operative": False,
+        "pid": (empty, empty, empty),
+        "pid_state": np.zeros((0, 2)),
+        "feedback": empty,
+        "q_low": empty,
+        "q_high": empty,
+        "g_inverse": np.zeros((0, 0)),
+        "out_q": np.zeros((n, 0)),
+    }
+
+
+def _hourly_first_day(values: np.ndarray, per_day: int, per_hour: int) -> np.ndarray:
+    """Hourly means of the first day of a per-step array (rows = steps)."""
+    first = values[:per_day]
+    return first.reshape(24, per_hour, *first.shape[1:]).mean(axis=1)
 
 
 def _factorise(matrix):

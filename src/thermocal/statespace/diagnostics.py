@@ -14,6 +14,7 @@ References
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -22,6 +23,10 @@ import pandas as pd
 from scipy import stats
 
 from thermocal.errors import ThermocalInputError
+
+#: A likelihood-ratio statistic below minus this is reported (a general model below its
+#: restricted one); smaller negative values are optimiser tolerance (see ``stall_tolerance``).
+NEGATIVE_LR_TOLERANCE = 0.05
 
 #: Kolmogorov-Smirnov coefficients K_alpha for the cumulated-periodogram band.
 KS_COEFFICIENTS = {0.01: 1.63, 0.05: 1.36, 0.10: 1.22, 0.25: 1.02}
@@ -120,6 +125,38 @@ def cumulated_periodogram(residuals, alpha: float = 0.05) -> pd.DataFrame:
     )
 
 
+def ljung_box(residuals, nlags: int = 20) -> tuple[float, float]:
+    """Ljung-Box portmanteau test of residual whiteness.
+
+    ``Q = N (N + 2) sum_(k=1..h) r_k^2 / (N - k)`` with the sample autocorrelation ``r_k`` of
+    :func:`autocorrelation` (missing residuals keep their place on the grid) and ``N`` the
+    number of finite residuals; under white noise ``Q ~ chi2(h)``.
+
+    Parameters
+    ----------
+    residuals : array-like [K]
+        One-step residuals, NaN where missing.
+    nlags : int
+        Number of lags ``h`` [samples] (reduced to a fifth of the series when shorter).
+
+    Returns
+    -------
+    statistic, pvalue : float
+
+    References
+    ----------
+    .. [1] G. M. Ljung, G. E. P. Box, "On a measure of lack of fit in time series models",
+       Biometrika 65(2), 297-303, 1978.
+    """
+    e = _clean(residuals)
+    n = e.size
+    h = int(max(1, min(nlags, n // 5)))
+    r = autocorrelation(residuals, nlags=h)["acf"].to_numpy()[1:]
+    k = np.arange(1, r.size + 1)
+    q = float(n * (n + 2) * np.sum(r**2 / (n - k)))
+    return q, float(stats.chi2.sf(q, r.size))
+
+
 def fraction_outside_band(cpgram: pd.DataFrame) -> float:
     """Fraction of frequencies where the cumulated periodogram leaves its band."""
     out = (cpgram["cumulated"] < cpgram["lower"]) | (cpgram["cumulated"] > cpgram["upper"])
@@ -147,6 +184,7 @@ class LikelihoodRatioTest:
     statistic: float
     df: int
     pvalue: float
+    warning: str = ""
 
     def reject(self, alpha: float = 0.05) -> bool:
         """True when the general model is significantly better at level ``alpha``."""
@@ -175,6 +213,18 @@ def likelihood_ratio_test(restricted, general) -> LikelihoodRatioTest:
         )
     statistic = 2.0 * (general.loglike - restricted.loglike)
     pvalue = float(stats.chi2.sf(max(statistic, 0.0), df))
+    warning = ""
+    if statistic < -NEGATIVE_LR_TOLERANCE:
+        warning = (
+            f"likelihood-ratio test: the general model '{general.model.name}' ended "
+            f"{-statistic / 2:.3g} log-units below the restricted model "
+            f"'{restricted.model.name}' (statistic {statistic:.3g} < 0): if the models are "
+            "nested, the general fit is a poor local optimum; refit it warm-started from the "
+            "restricted optimum (fit(..., warm_start=restricted_results)) or with more starts"
+        )
+        warnings.warn(warning, stacklevel=2)
+        if warning not in general.flags:
+            general.flags.append(warning)
     return LikelihoodRatioTest(
         restricted=restricted.model.name,
         general=general.model.name,
@@ -183,6 +233,7 @@ def likelihood_ratio_test(restricted, general) -> LikelihoodRatioTest:
         statistic=statistic,
         df=df,
         pvalue=pvalue,
+        warning=warning,
     )
 
 
@@ -211,18 +262,6 @@ class SelectionResult:
         return self.path[-1]
 
 
-def _warm_started(child, parent_fit):
-    """Copy of ``child`` with the parameters it shares with the parent at the parent's estimates."""
-    values = {}
-    for name, value in parent_fit.params.items():
-        p = child.parameters.get(name)
-        if p is None or p.fixed:
-            continue
-        if p.lower < value < p.upper:
-            values[name] = value
-    return child.with_parameters(values)
-
-
 def forward_selection(
     models: Mapping[str, object],
     extensions: Mapping[str, Sequence[str]],
@@ -230,7 +269,7 @@ def forward_selection(
     *,
     start: str,
     alpha: float = 0.05,
-    n_starts: int = 1,
+    n_starts: int | None = None,
     seed: int | None = None,
     hold: str = "zoh",
     time_column: str | None = None,
@@ -256,9 +295,10 @@ def forward_selection(
     alpha : float
         Significance level of the likelihood-ratio tests.
     n_starts, seed, hold, time_column, time_unit :
-        Passed to :meth:`RCModel.fit`. Each extension is also fitted from the current model's
-        estimates (warm start); the better optimum is kept, so a nested extension never ends
-        below its parent because of a poor local optimum.
+        Passed to :meth:`RCModel.fit`. Each extension gets one more start at the current
+        model's estimates (``warm_start``: shared parameters at the parent's values, values on a
+        bound moved just inside); the best polished start wins, so an extension that contains
+        its parent never ends below it because of a poor local optimum.
     callback : callable, optional
         Called as ``callback(name, fit_results)`` after each fit (progress reporting).
 
@@ -275,13 +315,7 @@ def forward_selection(
     fits: dict = {}
 
     def fit_model(name, parent_fit=None):
-        model = models[name]
-        res = model.fit(data, n_starts=n_starts, seed=seed, **fit_kw)
-        if parent_fit is not None:
-            warm = _warm_started(model, parent_fit).fit(data, **fit_kw)
-            if warm.loglike > res.loglike:
-                warm.model = model  # report against the declared model
-                res = warm
+        res = models[name].fit(data, n_starts=n_starts, seed=seed, warm_start=parent_fit, **fit_kw)
         fits[name] = res
         if callback is not None:
             callback(name, res)

@@ -679,7 +679,7 @@ class RCModel:
         data,
         *,
         hold: str = "zoh",
-        n_starts: int = 1,
+        n_starts: int | None = None,
         seed: int | None = None,
         time_column: str | None = None,
         time_unit: str = "s",

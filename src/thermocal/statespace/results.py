@@ -12,12 +12,32 @@ from thermocal.statespace import kernels
 from thermocal.statespace.data import PreparedData, prepare_data
 from thermocal.statespace.estimation import (
     BOUND_TOLERANCE,
+    CONVERGENCE_GAIN,
     CORRELATION_LIMIT,
     _hold_flag,
     filter_arrays,
     rts_smoother,
     simulate,
 )
+
+#: Standard error above this fraction of the estimate flags a positive parameter.
+RELATIVE_SE_LIMIT = 0.5
+#: A state whose diffusion-only stationary standard deviation exceeds this multiple of the
+#: spread of its deterministic simulation is diffusion-dominated.
+DIFFUSION_RATIO_LIMIT = 1.0
+#: Ljung-Box lags and level of the residual-whiteness flag.
+LJUNG_BOX_LAGS = 20
+LJUNG_BOX_ALPHA = 0.01
+#: Standardised one-step residuals beyond this many standard deviations are flagged.
+OUTLIER_SIGMA = 5.0
+OUTLIERS_LISTED = 10
+#: An input value beyond its 1-99 % quantile range by more than this many widths is flagged.
+INPUT_RANGE_FACTOR = 5.0
+#: Negative heat-input values smaller in size than this fraction of the 99 % quantile of |u|
+#: are sensor offsets (a pyranometer at night), not flagged.
+NEGATIVE_OFFSET_FRACTION = 0.02
+#: A fit more than this below its nested model's log-likelihood is flagged.
+NESTED_TOLERANCE = 1e-2
 
 
 class FitResults:
@@ -60,6 +80,8 @@ class FitResults:
         hold: str,
         data: PreparedData,
         fit_seconds: float,
+        gradient: np.ndarray | None = None,
+        nested=None,
     ) -> None:
         self.model = model
         self.theta = theta
@@ -80,13 +102,41 @@ class FitResults:
             values[name] = model.parameters[name].from_unconstrained(theta[i])
         self.params = pd.Series(values, name="estimate", dtype=float)
         self.flags: list[str] = []
-        if not self.converged:
-            self.flags.append(f"optimiser did not converge: {message}")
         at_bound = self._bound_flags(model, free)
+        self.at_bound = [free[i] for i in at_bound]
         jac = np.array([model.parameters[n].derivative(theta[i]) for i, n in enumerate(free)])
         cov = np.full((len(free), len(free)), np.nan)
+        self._cov_theta = np.full((len(free), len(free)), np.nan)
+        #: Log-likelihood a Newton step from the end point would still gain (NaN without
+        #: Hessian); the convergence criterion.
+        self.expected_gain = float("nan")
         if hessian is not None:
             cov = self._covariance(hessian, jac, free, at_bound)
+            if gradient is not None and gradient.size == len(free):
+                keep = np.flatnonzero(np.isfinite(np.diag(self._cov_theta)))
+                g = np.asarray(gradient, dtype=float)[keep]
+                if keep.size and np.all(np.isfinite(g)):
+                    ct = self._cov_theta[np.ix_(keep, keep)]
+                    self.expected_gain = float(0.5 * g @ ct @ g)
+                    # judged at the end point, not by the optimiser's message
+                    self.converged = self.expected_gain < CONVERGENCE_GAIN
+                    if self.converged and not converged:
+                        self.message = (
+                            f"{message}; at the end point a Newton step would gain "
+                            f"{self.expected_gain:.2g} log-units (< {CONVERGENCE_GAIN:g})"
+                        )
+        if not self.converged:
+            extra = (
+                f"; a Newton step from the end point would still gain "
+                f"{self.expected_gain:.3g} log-units"
+                if math.isfinite(self.expected_gain)
+                else ""
+            )
+            self.flags.insert(
+                0,
+                f"optimiser did not converge: {message}{extra}; remedy: more starts "
+                "(--n-starts), a smaller stall_tolerance, or fix poorly determined parameters",
+            )
         self._cov = pd.DataFrame(cov, index=free, columns=free)
         bse = pd.Series(np.nan, index=self.params.index, name="std_error")
         diag = np.diag(cov)
@@ -103,6 +153,141 @@ class FitResults:
                         f"|correlation({free[i]}, {free[j]})| = {abs(corr[i, j]):.3f} > "
                         f"{CORRELATION_LIMIT}: over-parameterised, fix one of them"
                     )
+        #: Checks of the estimates, the residuals and the data (see :meth:`_diagnose`).
+        self.checks: dict[str, Any] = {}
+        self._diagnose(nested)
+
+    def _diagnose(self, nested) -> None:
+        """Flags beyond the optimiser's: each names the problem and a remedy.
+
+        - an optimum below a nested (restricted) model's log-likelihood;
+        - relative standard errors above :data:`RELATIVE_SE_LIMIT` (capacities, conductances,
+          resistances, scales, fractions);
+        - a diffusion-dominated state: the stationary standard deviation its diffusion alone
+          gives the state (continuous Lyapunov equation) exceeds the spread of its
+          deterministic simulation over the data;
+        - time constants (``-1/Re(eig A)``) shorter than the sampling interval or longer than the
+          data span;
+        - non-white one-step residuals (Ljung-Box p below :data:`LJUNG_BOX_ALPHA`);
+        - standardised one-step residuals beyond :data:`OUTLIER_SIGMA` (time stamps listed);
+        - heat inputs with negative values, inputs far outside their robust range.
+        """
+        from scipy import linalg
+
+        from thermocal.statespace.diagnostics import ljung_box
+
+        model, prep, checks = self.model, self.data, self.checks
+        if nested is not None and self.loglike < nested.loglike - NESTED_TOLERANCE:
+            self.flags.append(
+                f"log-likelihood {self.loglike:.3f} is below that of the nested model "
+                f"'{nested.model.name}' ({nested.loglike:.3f}) although this model contains it: "
+                "a poor local optimum; remedy: more starts (--n-starts), or check that the "
+                "models are nested (shared parameter names)"
+            )
+        # relative standard errors of physical quantities (noise standard deviations often
+        # have large relative errors without harm)
+        roles = model.structure().roles
+        positive = {"capacity", "conductance", "resistance", "scale", "fraction"}
+        for name in model.free_parameter_names:
+            est, se = float(self.params[name]), float(self.bse[name])
+            if not (roles.get(name, set()) & positive) or name in self.at_bound:
+                continue
+            if math.isfinite(se) and est != 0 and se / abs(est) > RELATIVE_SE_LIMIT:
+                self.flags.append(
+                    f"parameter '{name}' = {est:.4g} {model.parameters[name].unit} has a "
+                    f"standard error of {se / abs(est):.0%} of its value (> "
+                    f"{RELATIVE_SE_LIMIT:.0%}): the data hardly determine it; remedy: fix it at "
+                    "a physical value, give it a prior, or simplify the model"
+                )
+        params = self.params.to_dict()
+        try:
+            A, _, _, _ = model.continuous_matrices(params)
+            sigma = np.diag(model.diffusion_matrix(params))
+        except Exception:  # noqa: BLE001 - a degenerate system at the estimates
+            return
+        eig = np.linalg.eigvals(A) if np.all(np.isfinite(A)) else np.array([])
+        taus = np.sort(-1.0 / eig.real[eig.real < 0])
+        dt = float(np.median(prep.dts)) if prep.dts.size else float("nan")
+        span = float(prep.seconds[-1] - prep.seconds[0])
+        checks["time_constants_h"] = [float(t / 3600.0) for t in taus]
+        for tau in taus:
+            if tau < dt:
+                self.flags.append(
+                    f"time constant {_duration(tau)} is shorter than the sampling interval "
+                    f"({_duration(dt)}): the data cannot resolve that mode; remedy: remove the "
+                    "fast node (merge it with its neighbour) or fix its capacity"
+                )
+            elif tau > span:
+                self.flags.append(
+                    f"time constant {_duration(tau)} is longer than the data span "
+                    f"({_duration(span)}): the slow dynamics are extrapolated, not measured; "
+                    "remedy: longer data, or fix the capacity or conductances from physics"
+                )
+        # diffusion-dominated states
+        stable = eig.size and np.all(eig.real < 0)
+        if stable and np.any(sigma > 0):
+            sim = self.simulate()
+            ratios = {}
+            for i, state in enumerate(model.state_names):
+                if sigma[i] <= 0:
+                    continue
+                Q = np.zeros_like(A)
+                Q[i, i] = sigma[i] ** 2
+                try:
+                    P = linalg.solve_continuous_lyapunov(A, -Q)
+                except (linalg.LinAlgError, ValueError):
+                    continue
+                noise_sd = math.sqrt(max(P[i, i], 0.0))
+                drift_sd = float(np.std(sim[state].to_numpy()))
+                ratio = noise_sd / drift_sd if drift_sd > 0 else math.inf
+                ratios[state] = ratio
+                if ratio > DIFFUSION_RATIO_LIMIT:
+                    noise = model._states[state].get("noise")
+                    self.flags.append(
+                        f"state '{state}' is diffusion-dominated: its diffusion alone gives it a "
+                        f"stationary standard deviation of {noise_sd:.3g} K, more than the "
+                        f"spread of its deterministic simulation ({drift_sd:.3g} K); the state "
+                        "absorbs model error and the physical parameters around it are not "
+                        f"trustworthy; remedy: fix its diffusion ('{noise}') at a small value "
+                        "(a deterministic state), add the missing input or state, or compare "
+                        "with a simpler model"
+                    )
+            checks["diffusion_ratio"] = ratios
+        # residuals
+        try:
+            res = self.one_step_residuals()
+        except Exception:  # noqa: BLE001 - a filter failure is reported elsewhere
+            return
+        checks["ljung_box"] = {}
+        checks["outliers"] = {}
+        for col in model.output_names:
+            z = res[f"{col}_standardized"].to_numpy()
+            if np.isfinite(z).sum() >= 20:
+                q, p = ljung_box(z, nlags=LJUNG_BOX_LAGS)
+                checks["ljung_box"][col] = {"statistic": q, "pvalue": p}
+                if p < LJUNG_BOX_ALPHA:
+                    self.flags.append(
+                        f"one-step residuals of '{col}' are not white (Ljung-Box "
+                        f"Q({min(LJUNG_BOX_LAGS, np.isfinite(z).sum() // 5)}) = {q:.1f}, "
+                        f"p = {p:.2g}): the model misses dynamics or an input; see the ACF and "
+                        "cumulated periodogram; remedy: add a state or an input, or a finer "
+                        "model of the heating"
+                    )
+            big = np.flatnonzero(np.abs(np.nan_to_num(z)) > OUTLIER_SIGMA)
+            if big.size:
+                checks["outliers"][col] = [
+                    {"time": _stamp(prep, k), "standardized": float(z[k])} for k in big
+                ]
+                shown = ", ".join(f"{_stamp(prep, k)} ({z[k]:+.1f})" for k in big[:OUTLIERS_LISTED])
+                extra = big.size - OUTLIERS_LISTED
+                more = f" and {extra} more" if extra > 0 else ""
+                self.flags.append(
+                    f"{big.size} standardised one-step residual(s) of '{col}' beyond "
+                    f"{OUTLIER_SIGMA:g} sigma at {shown}{more}: a jump or spike in the data, "
+                    "or an event the model lacks; remedy: check the data there, remove the "
+                    "values (NaN) or cut the period"
+                )
+        self.flags.extend(input_flags(model, prep))
 
     def _bound_flags(self, model, free: list[str]) -> list[int]:
         """Flag estimates at a bound; return their positions in ``free``."""
@@ -179,6 +364,7 @@ class FitResults:
             if not len(keep):
                 return cov
         cov_theta = np.linalg.inv(info[np.ix_(keep, keep)])
+        self._cov_theta[np.ix_(keep, keep)] = cov_theta
         cov[np.ix_(keep, keep)] = jac[keep, None] * cov_theta * jac[None, keep]
         return cov
 
@@ -394,6 +580,69 @@ class FitResults:
             },
             "flags": list(self.flags),
         }
+
+
+def _duration(seconds: float) -> str:
+    """A duration in the most readable unit."""
+    if seconds < 120:
+        return f"{seconds:.3g} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.3g} min"
+    if seconds < 2 * 86400:
+        return f"{seconds / 3600:.3g} h"
+    return f"{seconds / 86400:.3g} d"
+
+
+def _stamp(prep: PreparedData, k: int) -> str:
+    """The time label of sample ``k``, readable."""
+    t = prep.index[k]
+    if isinstance(t, (float, np.floating, int, np.integer)):
+        return f"t = {float(t):.6g} {prep.time_unit}"
+    return str(t)
+
+
+def input_flags(model, prep: PreparedData) -> list[str]:
+    """Flags on the input columns: negative heat inputs and values far outside the robust range.
+
+    The robust range is the 1 % to 99 % quantile interval; a value more than
+    :data:`INPUT_RANGE_FACTOR` times its width beyond it is flagged (a 245 kW spike in a 5 kW
+    heating series).
+    """
+    flags = []
+    heat = set(model.heat_input_names)
+    for j, col in enumerate(model.input_names):
+        u = prep.U[:, j]
+        u = u[np.isfinite(u)]
+        if not u.size:
+            continue
+        if col in heat:
+            # small negative values are sensor offsets (a pyranometer at night): ignored
+            offset = NEGATIVE_OFFSET_FRACTION * float(np.quantile(np.abs(u), 0.99))
+            neg = np.flatnonzero(prep.U[:, j] < -offset)
+            if neg.size:
+                flags.append(
+                    f"heat input '{col}' has {neg.size} negative value(s) (first at "
+                    f"{_stamp(prep, neg[0])}, minimum {u.min():.4g}): a heat input is >= 0 "
+                    "unless it includes cooling; remedy: check the meter sign and the "
+                    "supply/return temperatures, or set the values to 0 or NaN"
+                )
+        lo, hi = np.quantile(u, [0.01, 0.99])
+        width = hi - lo
+        if width <= 0:
+            continue
+        far = np.flatnonzero(
+            (prep.U[:, j] > hi + INPUT_RANGE_FACTOR * width)
+            | (prep.U[:, j] < lo - INPUT_RANGE_FACTOR * width)
+        )
+        if far.size:
+            worst = far[np.argmax(np.abs(prep.U[far, j] - 0.5 * (lo + hi)))]
+            flags.append(
+                f"input '{col}' has {far.size} value(s) far outside its robust range "
+                f"[{lo:.4g}, {hi:.4g}] (1-99 % quantiles), e.g. {prep.U[worst, j]:.4g} at "
+                f"{_stamp(prep, worst)}: a spike or unit error; remedy: check the data there "
+                "and remove the values (thermocal.io quality checks) or cut the period"
+            )
+    return flags
 
 
 def _positive_definite(matrix: np.ndarray) -> bool:

@@ -1,0 +1,392 @@
+"""Meta-models of the campaign metric: support vector regression and Gaussian process.
+
+Both share one small scikit-learn-style API: ``fit(X, y)`` returns self, fitted attributes end in
+``_``, ``predict(X, return_std=False)``.  After ``fit`` they carry the cross-validated quality:
+``cv_r2_``, ``cv_rmse_`` (in the unit of the metric) and ``oof_prediction_`` (out-of-fold
+predictions from :func:`sklearn.model_selection.cross_val_predict`, for a parity plot).
+
+:class:`SVRSurrogate` is the paper's meta-model: an RBF support vector regression on standardised
+inputs, with the target standardised too; ``C``, ``epsilon`` and ``gamma`` are chosen by a grid
+search with seeded shuffled K-fold cross-validation.  The out-of-fold predictions reuse the chosen
+hyper-parameters, so the reported R2 is slightly optimistic (no nested cross-validation).
+
+:class:`GPSurrogate` is a Gaussian process with an anisotropic Matern-5/2 kernel plus a white-noise
+kernel on standardised inputs (``normalize_y=True``); it also gives a predictive standard
+deviation.
+
+``log_target=True`` fits the logarithm of the metric (useful when the metric is a variance that
+spans decades; the paper fits the variance itself).  Predictions are then ``exp`` of the fitted
+mean (the median of a log-normal), and the GP standard deviation is propagated to first order
+(``exp(mu) * sigma``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any, Literal
+
+import numpy as np
+import pandas as pd
+from sklearn.base import clone
+from sklearn.compose import TransformedTargetRegressor
+from sklearn.gaussian_process import GaussianProcessRegressor
+from sklearn.gaussian_process.kernels import ConstantKernel, Matern, WhiteKernel
+from sklearn.model_selection import GridSearchCV, KFold, cross_val_predict
+from sklearn.pipeline import Pipeline
+from sklearn.preprocessing import StandardScaler
+from sklearn.svm import SVR
+
+from thermocal.errors import ThermocalInputError
+
+__all__ = ["GPSurrogate", "SVRSurrogate", "make_surrogate", "regression_scores"]
+
+
+def regression_scores(y_true: np.ndarray, y_pred: np.ndarray) -> dict[str, float]:
+    """Coefficient of determination and root-mean-square error.
+
+    Parameters
+    ----------
+    y_true, y_pred : ndarray
+        Observed and predicted metric [unit of the metric].
+
+    Returns
+    -------
+    dict
+        ``r2`` [-] and ``rmse`` [unit of the metric].
+    """
+    y_true = np.asarray(y_true, dtype=float)
+    y_pred = np.asarray(y_pred, dtype=float)
+    ss_res = float(np.sum((y_true - y_pred) ** 2))
+    ss_tot = float(np.sum((y_true - y_true.mean()) ** 2))
+    return {
+        "r2": 1.0 - ss_res / ss_tot if ss_tot > 0 else float("nan"),
+        "rmse": float(np.sqrt(ss_res / max(y_true.size, 1))),
+    }
+
+
+def _check_xy(X: Any, y: Any, what: str = "metamodel") -> tuple[np.ndarray, np.ndarray, list[str]]:
+    if isinstance(X, pd.DataFrame):
+        names = [str(c) for c in X.columns]
+        Xa = X.to_numpy(dtype=float)
+    else:
+        Xa = np.asarray(X, dtype=float)
+        if Xa.ndim == 1:
+            Xa = Xa[:, None]
+        names = [f"x{i}" for i in range(Xa.shape[1])]
+    ya = np.asarray(y, dtype=float).ravel()
+    if Xa.ndim != 2 or Xa.shape[0] != ya.size:
+        raise ThermocalInputError(
+            f"{what}: X has {Xa.shape[0]} rows but the metric has {ya.size} values"
+        )
+    if Xa.shape[0] < 5:
+        raise ThermocalInputError(
+            f"{what}: only {Xa.shape[0]} successful samples; a meta-model needs many more "
+            "(the paper used 500)"
+        )
+    bad = ~np.isfinite(ya)
+    if bad.any():
+        raise ThermocalInputError(
+            f"{what}: {int(bad.sum())} metric value(s) are NaN or infinite (failed samples?); "
+            "drop them before fitting"
+        )
+    if not np.isfinite(Xa).all():
+        raise ThermocalInputError(f"{what}: the parameter values contain NaN or infinite entries")
+    return Xa, ya, names
+
+
+class _Surrogate:
+    """Shared fit/predict/cross-validation logic; subclasses define ``_estimator``."""
+
+    log_target: bool
+    cv_folds: int
+    seed: int
+
+    def _estimator(self, n_features: int) -> Any:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _target(self, y: np.ndarray) -> np.ndarray:
+        if self.log_target:
+            if np.any(y <= 0):
+                raise ThermocalInputError(
+                    "metamodel.log_target: the metric has zero or negative values; its "
+                    "logarithm is undefined (set log_target: false)"
+                )
+            return np.log(y)
+        return y
+
+    def _fit_estimator(self, Xa: np.ndarray, t: np.ndarray) -> Any:  # default: plain fit
+        est = self._estimator(Xa.shape[1])
+        est.fit(Xa, t)
+        return est
+
+    def fit(self, X: Any, y: Any) -> _Surrogate:
+        """Fit the meta-model and cross-validate it.
+
+        Parameters
+        ----------
+        X : DataFrame or ndarray, shape (n, d)
+            Parameter values of the successful samples [unit of each parameter].
+        y : array-like, shape (n,)
+            Metric of each sample [unit of the metric].
+
+        Returns
+        -------
+        self
+        """
+        Xa, ya, names = _check_xy(X, y)
+        self.feature_names_in_ = np.array(names, dtype=object)
+        self.n_features_in_ = Xa.shape[1]
+        t = self._target(ya)
+        self.estimator_ = self._fit_estimator(Xa, t)
+        if self.cv_folds and self.cv_folds >= 2:
+            folds = KFold(n_splits=min(int(self.cv_folds), Xa.shape[0]), shuffle=True,
+                          random_state=int(self.seed))
+            oof = cross_val_predict(clone(self.estimator_), Xa, t, cv=folds)
+            self.oof_prediction_ = np.exp(oof) if self.log_target else oof
+            scores = regression_scores(ya, self.oof_prediction_)
+            self.cv_r2_ = scores["r2"]
+            self.cv_rmse_ = scores["rmse"]
+        else:
+            self.oof_prediction_ = None
+            self.cv_r2_ = float("nan")
+            self.cv_rmse_ = float("nan")
+        return self
+
+    def _as_array(self, X: Any) -> np.ndarray:
+        if not hasattr(self, "estimator_"):
+            raise ThermocalInputError("the meta-model is not fitted yet; call fit(X, y) first")
+        if isinstance(X, pd.DataFrame):
+            missing = [n for n in self.feature_names_in_ if n not in X.columns]
+            if missing:
+                raise ThermocalInputError(
+                    f"predict: columns {missing[:5]} missing (the meta-model was fitted on "
+                    f"{len(self.feature_names_in_)} parameters)"
+                )
+            return X[list(self.feature_names_in_)].to_numpy(dtype=float)
+        Xa = np.asarray(X, dtype=float)
+        if Xa.ndim == 1:
+            Xa = Xa[None, :]
+        if Xa.shape[1] != self.n_features_in_:
+            raise ThermocalInputError(
+                f"predict: X has {Xa.shape[1]} columns, the meta-model {self.n_features_in_}"
+            )
+        return Xa
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready description: kind, hyper-parameters, cross-validated R2 and RMSE."""
+        return {
+            "kind": self.kind,
+            "log_target": bool(self.log_target),
+            "cv_folds": int(self.cv_folds),
+            "cv_r2": float(self.cv_r2_),
+            "cv_rmse": float(self.cv_rmse_),
+            "hyperparameters": self.hyperparameters_(),
+        }
+
+    kind = "base"
+
+    def hyperparameters_(self) -> dict[str, Any]:  # pragma: no cover - overridden
+        return {}
+
+
+class SVRSurrogate(_Surrogate):
+    """Support vector regression meta-model (the paper's), hyper-parameters by grid search.
+
+    Parameters
+    ----------
+    C : sequence of float, optional
+        Candidate regularisation constants [-] (on the standardised target); default
+        ``(1, 10, 100)``.
+    epsilon : sequence of float, optional
+        Candidate widths of the insensitive tube [-] (standardised target); default
+        ``(0.02, 0.1)``.
+    gamma : sequence of float, optional
+        Candidate RBF inverse squared length scales [-] on standardised inputs; default
+        ``(0.1, 0.3, 1, 3) / d`` for ``d`` parameters (24 candidates in all, each fitted
+        ``cv_folds`` times; a smaller epsilon and a larger C fit closer but cost more).
+    cv_folds : int
+        Folds of the shuffled K-fold cross-validation [-] (hyper-parameter search and the
+        reported R2/RMSE).
+    log_target : bool
+        Fit ``log(metric)`` instead of the metric.
+    seed : int
+        Seed of the fold shuffling [-].
+    n_jobs : int, optional
+        Parallel jobs of the grid search (default 1).
+
+    Attributes
+    ----------
+    estimator_ : sklearn estimator
+        The refitted best pipeline.
+    best_params_ : dict
+        Chosen ``C``, ``epsilon``, ``gamma``.
+    cv_r2_, cv_rmse_ : float
+        Cross-validated R2 [-] and RMSE [unit of the metric].
+    oof_prediction_ : ndarray
+        Out-of-fold predictions [unit of the metric].
+    """
+
+    kind = "svr"
+
+    def __init__(
+        self,
+        *,
+        C: Sequence[float] | None = None,
+        epsilon: Sequence[float] | None = None,
+        gamma: Sequence[float] | None = None,
+        cv_folds: int = 5,
+        log_target: bool = False,
+        seed: int = 0,
+        n_jobs: int | None = None,
+    ) -> None:
+        self.C = C
+        self.epsilon = epsilon
+        self.gamma = gamma
+        self.cv_folds = cv_folds
+        self.log_target = log_target
+        self.seed = seed
+        self.n_jobs = n_jobs
+
+    def _estimator(self, n_features: int) -> Any:
+        return TransformedTargetRegressor(
+            regressor=Pipeline([("scale", StandardScaler()), ("svr", SVR(kernel="rbf"))]),
+            transformer=StandardScaler(),
+        )
+
+    def _fit_estimator(self, Xa: np.ndarray, t: np.ndarray) -> Any:
+        d = Xa.shape[1]
+        grid = {
+            "regressor__svr__C": list(self.C or (1.0, 10.0, 100.0)),
+            "regressor__svr__epsilon": list(self.epsilon or (0.02, 0.1)),
+            "regressor__svr__gamma": list(self.gamma or [g / d for g in (0.1, 0.3, 1.0, 3.0)]),
+        }
+        folds = KFold(n_splits=max(2, min(int(self.cv_folds or 5), Xa.shape[0])), shuffle=True,
+                      random_state=int(self.seed))
+        search = GridSearchCV(self._estimator(d), grid, cv=folds, scoring="r2",
+                              n_jobs=self.n_jobs, refit=True)
+        search.fit(Xa, t)
+        self.search_ = search
+        self.best_params_ = {k.rsplit("__", 1)[-1]: float(v)
+                             for k, v in search.best_params_.items()}
+        return search.best_estimator_
+
+    def hyperparameters_(self) -> dict[str, Any]:
+        return dict(self.best_params_)
+
+    def predict(self, X: Any, return_std: bool = False) -> np.ndarray:
+        """Predicted metric.
+
+        Parameters
+        ----------
+        X : DataFrame or ndarray, shape (n, d)
+            Parameter values [unit of each parameter].
+        return_std : bool
+            Not available for SVR (raises); use :class:`GPSurrogate`.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Predicted metric [unit of the metric].
+        """
+        if return_std:
+            raise ThermocalInputError(
+                "the SVR meta-model has no predictive standard deviation; use the Gaussian "
+                "process (metamodel.kind: gp)"
+            )
+        pred = self.estimator_.predict(self._as_array(X))
+        return np.exp(pred) if self.log_target else pred
+
+
+class GPSurrogate(_Surrogate):
+    """Gaussian-process meta-model with an anisotropic Matern-5/2 + white-noise kernel.
+
+    Parameters
+    ----------
+    cv_folds : int
+        Folds of the cross-validation reported in ``cv_r2_``/``cv_rmse_`` [-]; 0 skips it
+        (each fold refits all length scales, which costs time with many parameters).
+    log_target : bool
+        Fit ``log(metric)``.
+    seed : int
+        Seed of the optimiser restarts and fold shuffling [-].
+    n_restarts : int
+        Extra restarts of the kernel hyper-parameter optimiser [-].
+
+    Attributes
+    ----------
+    estimator_ : Pipeline
+        Scaler + fitted ``GaussianProcessRegressor``.
+    kernel_ : kernel
+        Fitted kernel (length scale per parameter in standardised units).
+    """
+
+    kind = "gp"
+
+    def __init__(
+        self, *, cv_folds: int = 5, log_target: bool = False, seed: int = 0, n_restarts: int = 1
+    ) -> None:
+        self.cv_folds = cv_folds
+        self.log_target = log_target
+        self.seed = seed
+        self.n_restarts = n_restarts
+
+    def _estimator(self, n_features: int) -> Any:
+        kernel = ConstantKernel(1.0, (1e-3, 1e3)) * Matern(
+            length_scale=np.ones(n_features), length_scale_bounds=(1e-2, 1e3), nu=2.5
+        ) + WhiteKernel(1e-3, (1e-8, 1.0))
+        gp = GaussianProcessRegressor(kernel=kernel, normalize_y=True,
+                                      n_restarts_optimizer=int(self.n_restarts),
+                                      random_state=int(self.seed))
+        return Pipeline([("scale", StandardScaler()), ("gp", gp)])
+
+    def _fit_estimator(self, Xa: np.ndarray, t: np.ndarray) -> Any:
+        est = super()._fit_estimator(Xa, t)
+        self.kernel_ = est.named_steps["gp"].kernel_
+        return est
+
+    def hyperparameters_(self) -> dict[str, Any]:
+        return {"kernel": str(self.kernel_)}
+
+    def predict(self, X: Any, return_std: bool = False) -> Any:
+        """Predicted metric and, optionally, its predictive standard deviation.
+
+        Parameters
+        ----------
+        X : DataFrame or ndarray, shape (n, d)
+            Parameter values [unit of each parameter].
+        return_std : bool
+            Also return the predictive standard deviation.
+
+        Returns
+        -------
+        mean : ndarray, shape (n,)
+            Predicted metric [unit of the metric].
+        std : ndarray, shape (n,)
+            Predictive standard deviation [unit of the metric] (only with ``return_std``).
+        """
+        Xa = self._as_array(X)
+        if not return_std:
+            mu = self.estimator_.predict(Xa)
+            return np.exp(mu) if self.log_target else mu
+        mu, sd = self.estimator_.predict(Xa, return_std=True)
+        if self.log_target:
+            mean = np.exp(mu)
+            return mean, mean * sd
+        return mu, sd
+
+
+def make_surrogate(kind: Literal["svr", "gp"] = "svr", **options: Any) -> _Surrogate:
+    """An unfitted meta-model by name.
+
+    Parameters
+    ----------
+    kind : {"svr", "gp"}
+        Support vector regression or Gaussian process.
+    **options
+        Keyword arguments of :class:`SVRSurrogate` or :class:`GPSurrogate`.
+    """
+    if kind == "svr":
+        return SVRSurrogate(**options)
+    if kind == "gp":
+        return GPSurrogate(**options)
+    raise ThermocalInputError(f"metamodel.kind {kind!r} is unknown; use 'svr' or 'gp'")

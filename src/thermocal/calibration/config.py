@@ -1,0 +1,405 @@
+"""The campaign file of ``thermocal calibrate`` (YAML, validated with pydantic).
+
+Example (every path is relative to the campaign file)::
+
+    building: clinic.yaml            # thermocal building YAML or EnergyPlus IDF (or "demo:clinic")
+    weather: weather.epw             # EPW/TMY3 file
+    sensors: sensors.csv             # sensor log (read by thermocal.io.read_measurements)
+    mapping: mapping.yaml            # sensor -> zone mapping
+    period: {start: 2001-01-01, end: 2001-02-01}
+    step: 5min
+    identification: {method: inverse, feedback: air}
+    occupancy: null
+    parameters:
+      include: ["material/*", "window/*", "infiltration/*", "zone/*"]
+      exclude: []
+      default_range: 0.75            # relative half-width (+-75 %)
+      ranges: {"*/shgc": 100.0, "*/thickness": 10.0}
+    sampling: {method: sobol, samples: 500, seed: 1}
+    metamodel: {kind: svr, top_k: 10, cv_folds: 5, log_target: false}
+    optimisation: {starts: 8, seed: 1}
+    validation: null                 # optional {start:, end:} second period
+    store: campaign.sqlite           # default: <out>/campaign.sqlite
+
+``weather`` and ``sensors`` are required unless ``building`` is a built-in demo (``demo:...``).
+Duplicate keys are rejected, as are unknown keys.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import difflib
+import hashlib
+import json
+from pathlib import Path
+from typing import Any, Literal
+
+import pandas as pd
+import yaml
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    PrivateAttr,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+
+from thermocal.calibration.store import campaign_fingerprint
+from thermocal.errors import ThermocalInputError
+
+__all__ = [
+    "CampaignFile",
+    "MetamodelSection",
+    "OptimisationSection",
+    "ParametersSection",
+    "Period",
+    "SamplingSection",
+    "load_campaign",
+    "parse_campaign",
+]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Period(_Strict):
+    """A time period ``[start, end)`` (dates or date-times, local time of the data)."""
+
+    start: _dt.datetime
+    end: _dt.datetime
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Period:
+        if self.end <= self.start:
+            raise ValueError(f"end {self.end} must be after start {self.start}")
+        return self
+
+
+class ParametersSection(_Strict):
+    """Which model parameters vary and by how much (relative half-widths, 0.75 = +-75 %)."""
+
+    include: list[str] = Field(default_factory=lambda: ["*"])
+    exclude: list[str] = Field(default_factory=list)
+    default_range: float = Field(0.75, ge=0.0, allow_inf_nan=False)
+    ranges: dict[str, float] = Field(default_factory=dict)
+
+    @field_validator("ranges")
+    @classmethod
+    def _non_negative(cls, value: dict[str, float]) -> dict[str, float]:
+        for pattern, v in value.items():
+            if not v >= 0.0 or v == float("inf"):
+                raise ValueError(
+                    f"range of {pattern!r} is {v}; give a non-negative relative half-width "
+                    "(0.75 = +-75 %; values are clipped to physical limits anyway)"
+                )
+        return value
+
+    @field_validator("include")
+    @classmethod
+    def _some(cls, value: list[str]) -> list[str]:
+        if not value:
+            raise ValueError("include lists no pattern; use ['*'] for every parameter")
+        return value
+
+
+class SamplingSection(_Strict):
+    """Sampler, number of samples and seed."""
+
+    method: Literal["sobol", "lhs", "halton"] = "sobol"
+    samples: int = Field(500, ge=1)
+    seed: int = 1
+
+
+class MetamodelSection(_Strict):
+    """Meta-model kind and critical-parameter count."""
+
+    kind: Literal["svr", "gp"] = "svr"
+    top_k: int = Field(10, ge=1)
+    cv_folds: int = Field(5, ge=2)
+    log_target: bool = False
+
+
+class OptimisationSection(_Strict):
+    """Starts and seed of the reduced-model optimisation."""
+
+    starts: int = Field(8, ge=1)
+    seed: int = 1
+
+
+class CampaignFile(_Strict):
+    """A validated campaign file; paths are resolved against the file's folder.
+
+    Use :func:`load_campaign`.  ``path`` and ``text`` are the file and its content.
+    """
+
+    building: str
+    weather: Path | None = None
+    sensors: Path | None = None
+    mapping: Path | None = None
+    period: Period | None = None
+    step: str = "5min"
+    identification: dict[str, Any] = Field(default_factory=dict)
+    occupancy: dict[str, Any] | None = None
+    parameters: ParametersSection = Field(default_factory=ParametersSection)
+    sampling: SamplingSection = Field(default_factory=SamplingSection)
+    metamodel: MetamodelSection = Field(default_factory=MetamodelSection)
+    optimisation: OptimisationSection = Field(default_factory=OptimisationSection)
+    validation: Period | None = None
+    store: Path | None = None
+
+    _path: Path | None = PrivateAttr(default=None)
+    _text: str = PrivateAttr(default="")
+
+    @field_validator("step")
+    @classmethod
+    def _step(cls, value: str) -> str:
+        try:
+            td = pd.Timedelta(value)
+        except (ValueError, TypeError):
+            raise ValueError(f"step {value!r} is not a duration such as '5min' or '1h'") from None
+        if td <= pd.Timedelta(0):
+            raise ValueError(f"step {value!r} must be positive")
+        return value
+
+    @model_validator(mode="after")
+    def _inputs(self) -> CampaignFile:
+        if not self.is_demo:
+            missing = [k for k in ("weather", "sensors") if getattr(self, k) is None]
+            if missing:
+                raise ValueError(
+                    f"{' and '.join(missing)} missing: a campaign on your own building needs a "
+                    "weather file and the sensor log (or use building: demo:clinic)"
+                )
+        return self
+
+    # ------------------------------------------------------------------------------------------
+    @property
+    def is_demo(self) -> bool:
+        """True for a built-in demo building (``demo:<name>``)."""
+        return self.building.startswith("demo:")
+
+    @property
+    def path(self) -> Path | None:
+        """The campaign file."""
+        return self._path
+
+    @property
+    def text(self) -> str:
+        """The campaign file's text."""
+        return self._text
+
+    @property
+    def building_path(self) -> Path | None:
+        """Resolved building file, None for a demo."""
+        return None if self.is_demo else Path(self.building)
+
+    def step_timedelta(self) -> pd.Timedelta:
+        """The time step as a Timedelta [s resolution]."""
+        return pd.Timedelta(self.step)
+
+    def problem_fingerprint(self) -> str:
+        """SHA-256 of what determines the metric: input files' contents, period, step, options.
+
+        Changes to the building, weather, sensor or mapping files, the period, the step, the
+        identification or occupancy options change it; the parameter, sampling, meta-model,
+        optimisation and store sections do not.
+        """
+        files = {}
+        for key in ("building", "weather", "sensors", "mapping"):
+            value = getattr(self, key)
+            if value is None:
+                files[key] = None
+            elif key == "building" and self.is_demo:
+                files[key] = value
+            else:
+                files[key] = _file_digest(Path(value))
+        problem = {
+            "files": files,
+            "period": None if self.period is None else self.period.model_dump(mode="json"),
+            "step": str(pd.Timedelta(self.step)),
+            "identification": self.identification,
+            "occupancy": self.occupancy,
+        }
+        return hashlib.sha256(
+            json.dumps(problem, sort_keys=True, default=str).encode()
+        ).hexdigest()
+
+    def fingerprint(self, *, samples: int | None = None) -> str:
+        """SHA-256 of the campaign definition (problem, parameters and sampling sections).
+
+        Parameters
+        ----------
+        samples : int, optional
+            Sample count overriding ``sampling.samples`` (the ``--samples`` option) [-].
+
+        Notes
+        -----
+        The store written by the runner should use
+        :func:`~thermocal.calibration.store.campaign_definition` with the actual parameter
+        space (nominal values, ranges, limits) and ``problem=self.problem_fingerprint()``; this
+        method is a cheaper summary from the file alone.
+        """
+        sampling = self.sampling.model_dump()
+        if samples is not None:
+            sampling["samples"] = int(samples)
+        return campaign_fingerprint(
+            {
+                "problem": self.problem_fingerprint(),
+                "parameters": self.parameters.model_dump(),
+                "sampling": sampling,
+            }
+        )
+
+
+def _file_digest(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+# ----------------------------------------------------------------------------------------------
+# reading
+# ----------------------------------------------------------------------------------------------
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """Safe loader that rejects duplicate mapping keys."""
+
+
+def _construct_mapping(loader: _UniqueKeyLoader, node: yaml.MappingNode, deep: bool = False
+                       ) -> dict:
+    loader.flatten_mapping(node)
+    out: dict = {}
+    for key_node, value_node in node.value:
+        key = loader.construct_object(key_node, deep=deep)
+        if key in out:
+            raise yaml.constructor.ConstructorError(
+                None, None, f"duplicate key {key!r} (line {key_node.start_mark.line + 1})",
+                key_node.start_mark,
+            )
+        out[key] = loader.construct_object(value_node, deep=deep)
+    return out
+
+
+_UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG,
+                                 _construct_mapping)
+
+
+def _known_keys(loc: tuple) -> list[str]:
+    model: Any = CampaignFile
+    for part in loc[:-1]:
+        field = model.model_fields.get(str(part)) if hasattr(model, "model_fields") else None
+        if field is None:
+            return []
+        ann = field.annotation
+        model = next((a for a in getattr(ann, "__args__", (ann,)) if hasattr(a, "model_fields")),
+                     None)
+        if model is None:
+            return []
+    return list(model.model_fields)
+
+
+def _format_errors(exc: ValidationError, source: str) -> str:
+    lines = []
+    for err in exc.errors():
+        loc = ".".join(str(p) for p in err["loc"]) or "(top level)"
+        msg = err["msg"]
+        if err["type"] == "extra_forbidden":
+            close = difflib.get_close_matches(str(err["loc"][-1]), _known_keys(err["loc"]), n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            msg = f"unknown key; {hint}remove it or check its spelling"
+        elif err["type"] == "missing":
+            msg = "required key missing"
+        elif "input" in err and not isinstance(err["input"], dict | list):
+            msg = f"{msg} (got {err['input']!r})"
+        lines.append(f"  {loc}: {msg}")
+    return f"campaign file {source} is invalid:\n" + "\n".join(lines)
+
+
+def parse_campaign(data: Any, *, base_dir: Path | str = ".", source: str = "<campaign>"
+                   ) -> CampaignFile:
+    """Validate a parsed campaign mapping; relative paths are resolved against ``base_dir``.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed YAML.
+    base_dir : path-like
+        Folder of the campaign file.
+    source : str
+        Name of the file for messages.
+
+    Returns
+    -------
+    CampaignFile
+
+    Raises
+    ------
+    ThermocalInputError
+        Listing every invalid key, or naming a missing input file.
+    """
+    if not isinstance(data, dict):
+        raise ThermocalInputError(
+            f"campaign file {source} must be a YAML mapping of keys (building:, weather:, ...), "
+            f"got {type(data).__name__}"
+        )
+    base = Path(base_dir)
+    try:
+        campaign = CampaignFile.model_validate(data)
+    except ValidationError as exc:
+        raise ThermocalInputError(_format_errors(exc, source)) from None
+    updates: dict[str, Any] = {}
+    for key in ("weather", "sensors", "mapping", "store"):
+        value = getattr(campaign, key)
+        if value is not None and not Path(value).is_absolute():
+            updates[key] = base / value
+    if not campaign.is_demo and not Path(campaign.building).is_absolute():
+        updates["building"] = str(base / campaign.building)
+    if updates:
+        campaign = campaign.model_copy(update=updates)
+    for key in ("building", "weather", "sensors", "mapping"):
+        value = getattr(campaign, key)
+        if value is None or (key == "building" and campaign.is_demo):
+            continue
+        if not Path(value).is_file():
+            raise ThermocalInputError(
+                f"campaign file {source}, key '{key}': file {value} not found (paths are "
+                "relative to the campaign file)"
+            )
+    return campaign
+
+
+def load_campaign(path: Path | str) -> CampaignFile:
+    """Read and validate a campaign file.
+
+    Parameters
+    ----------
+    path : path-like
+        The YAML campaign file.
+
+    Returns
+    -------
+    CampaignFile
+        With ``path`` and ``text`` set and every path resolved.
+
+    Raises
+    ------
+    ThermocalInputError
+        Missing file, invalid YAML, duplicate or unknown keys, bad values (the message names the
+        file and the key).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ThermocalInputError(f"campaign file {path} not found")
+    text = path.read_text()
+    try:
+        data = yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader subclass
+    except yaml.YAMLError as exc:
+        raise ThermocalInputError(f"campaign file {path} is not valid YAML: {exc}") from None
+    campaign = parse_campaign(data, base_dir=path.parent, source=str(path))
+    campaign._path = path
+    campaign._text = text
+    return campaign

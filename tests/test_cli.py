@@ -58,7 +58,7 @@ def _results(interval: float) -> dict:
     }
 
 
-def test_retrofit_summary_tables(capsys):
+def test_retrofit_summary_tables(capsys, caplog):
     from thermocal.commands.retrofit import print_summary
 
     print_summary(_results(0.8), Path("out"))
@@ -69,11 +69,81 @@ def test_retrofit_summary_tables(capsys):
     assert "SIA 380/1: 39,170 kWh" in text and "30,660 kWh" in text  # references side by side
     for code in ("1a", "2f", "3c", "4"):
         assert f"│ {code:>4} │" in text
-    assert "│   3c │ roof + windows + cellar" in text  # paper 000 Table 3 (rows may wrap)
-    assert "flag:" in text and "C_i at its bound" in text
+    assert "│   3c │ roof + windows + cellar" in text  # the method's Table 3 (rows may wrap)
+    assert "C_i at its bound" not in text  # warnings are log records (stderr), not results
+    assert any(
+        r.levelname == "WARNING" and "C_i at its bound" in r.getMessage() for r in caplog.records
+    )
+    assert "paper 000" not in text
 
 
 def test_demo_rejects_negative_draws_before_running():
     result = CliRunner().invoke(app, ["demo", "--draws", "-5", "--out", "unused"])
     assert result.exit_code != 0
     assert "--draws" in result.output
+
+
+def test_version_options_and_short_help():
+    runner = CliRunner()
+    for args in (["--version"], ["-V"]):
+        result = runner.invoke(app, args)
+        assert result.exit_code == 0
+        assert result.output.strip() == f"thermocal {__version__}"
+    short = runner.invoke(app, ["-h"])
+    assert short.exit_code == 0 and "Usage" in short.output and "--install-completion" in (
+        short.output
+    )
+    sub = runner.invoke(app, ["retrofit", "-h"])
+    assert sub.exit_code == 0 and "CONFIG" in sub.output.upper()
+    assert "paper 000" not in short.output + sub.output
+
+
+def _stderr_logging_script(flags: str) -> str:
+    return (
+        "import logging, sys\n"
+        "from thermocal.cli import app\n"
+        "import typer\n"
+        "@app.command('emit-test')\n"
+        "def emit():\n"
+        "    logging.getLogger('thermocal.retrofit').info('an info line')\n"
+        "    logging.getLogger('thermocal.retrofit').warning('a warning line')\n"
+        "    print('result on stdout')\n"
+        f"sys.argv = ['thermocal', *{flags.split()!r}, 'emit-test']\n"
+        "app()\n"
+    )
+
+
+def test_log_levels_go_to_stderr():
+    import subprocess
+    import sys
+
+    def run(flags):
+        proc = subprocess.run(
+            [sys.executable, "-c", _stderr_logging_script(flags)],
+            capture_output=True, text=True, timeout=120,
+        )  # fmt: skip
+        assert proc.returncode == 0, proc.stderr
+        return proc.stdout, proc.stderr
+
+    out, err = run("")
+    assert out.strip() == "result on stdout"
+    assert "WARNING: a warning line" in err and "an info line" not in err
+    out, err = run("-v")
+    assert "INFO: an info line" in err and "a warning line" in err
+    assert "info" not in out.lower()
+    out, err = run("-q")
+    assert err == "" and out.strip() == "result on stdout"
+
+
+def test_configure_logging_levels():
+    import logging
+
+    from thermocal.cli import configure_logging
+
+    logger = logging.getLogger("thermocal")
+    for verbosity, level in ((-1, logging.ERROR), (0, logging.WARNING), (1, logging.INFO),
+                             (2, logging.DEBUG), (5, logging.DEBUG)):  # fmt: skip
+        configure_logging(verbosity)
+        assert logger.level == level
+        assert sum(getattr(h, "_thermocal_cli", False) for h in logger.handlers) == 1
+    configure_logging(0)

@@ -191,15 +191,21 @@ def _cfg(**over):
 def test_config_errors_name_the_key():
     with pytest.raises(ThermocalInputError, match="measurements.columns"):
         parse_config(_cfg(measurements={"file": "m.csv", "columns": {"Te": "x"}}))
-    with pytest.raises(ThermocalInputError, match="measures"):
-        parse_config(_cfg(measures={"roof": 0.18, "walls": 0.19, "windows": 0.76}))
+    with pytest.raises(ThermocalInputError, match="measures.*component"):
+        parse_config(_cfg(measures={"roof": 0.18, "attic": 0.19}))
+    with pytest.raises(ThermocalInputError, match="model.bounds.C_env"):
+        parse_config(_cfg(model={"bounds": {"C_env": [200, 100]}}))
+    with pytest.raises(ThermocalInputError, match="unknown parameters"):
+        parse_config(_cfg(model={"fixed": {"C_x": 1.0}}))
+    three = parse_config(_cfg(measures={"roof": 0.18, "walls": 0.19, "windows": 0.76}))
+    assert len(three.strategy_list()) == 8  # a subset of the measures is fine
     with pytest.raises(ThermocalInputError, match="typo_key"):
         parse_config(_cfg(typo_key=1))
     with pytest.raises(ThermocalInputError, match="training_days"):
         parse_config(_cfg(periods={"training_days": -1}))
     cfg = parse_config(_cfg(), base_dir="/data")
     assert str(cfg.measurements.file) == "/data/m.csv"
-    assert cfg.measures["windows"] == 0.76
+    assert cfg.measures["windows"].u_value == 0.76
 
 
 def test_example_config_is_valid_and_complete():
@@ -213,7 +219,9 @@ def test_example_config_is_valid_and_complete():
     assert Path(cfg.building).is_file()
     assert cfg.measurements.file.is_file()
     assert resolve_weather_path(cfg.weather.file).is_file()
-    assert cfg.measures == {"roof": 0.18, "walls": 0.19, "windows": 0.76, "cellar_ceiling": 0.19}
+    assert {k: m.u_value for k, m in cfg.measures.items()} == {
+        "roof": 0.18, "walls": 0.19, "windows": 0.76, "cellar_ceiling": 0.19
+    }  # fmt: skip
 
 
 @pytest.mark.parametrize("kind", ["slab", "heated"])

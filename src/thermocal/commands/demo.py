@@ -1,4 +1,4 @@
-"""``thermocal demo``: the retrofit workflow of paper 000 on built-in data."""
+"""``thermocal demo``: the retrofit workflow (fifth-order RC method) on built-in data."""
 
 from __future__ import annotations
 
@@ -30,7 +30,7 @@ def demo(
         int, typer.Option("--draws", min=0, help="parameter draws for the uncertainty intervals")
     ] = 200,
 ) -> None:
-    """Run the retrofit analysis of paper 000 on built-in demo data.
+    """Run the retrofit analysis (fifth-order RC method) on built-in demo data.
 
     The data: a 1950s three-storey house simulated by the detailed multi-zone model
     (radiators under thermostat control, Feb 2 - Mar 15, Greensboro NC typical-year weather).

@@ -1,4 +1,5 @@
-"""``thermocal retrofit CONFIG.yaml --out DIR``: the retrofit analysis of paper 000."""
+"""``thermocal retrofit CONFIG.yaml --out DIR``: retrofit analysis with the fifth-order RC
+method (calibration, validation, annual demand, retrofit strategies, report)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,13 @@ from thermocal.cli import app
 
 
 def print_summary(results: dict, out: Path) -> None:
-    """Rich tables of the key results: HLC, validation, annual demand, the 16 strategies."""
+    """Rich tables of the key results (stdout): HLC, validation, annual demand, strategies.
+
+    The calibration's flags go to the ``thermocal`` logger as warnings (stderr on the command
+    line; ``-q`` silences them).
+    """
+    import logging
+
     from rich.console import Console
     from rich.table import Table
 
@@ -25,7 +32,7 @@ def print_summary(results: dict, out: Path) -> None:
         line += f" (true {hlc['true']:.0f} W/K, {hlc['relative_error_pct']:+.1f} %)"
     console.print(f"[bold]{line}[/bold]")
 
-    val = Table(title="Validation: multi-step simulation of Ti (paper 000, Table 2)")
+    val = Table(title="Validation: multi-step simulation of the indoor temperature Ti")
     for col in ("period", "MAE [K]", "MAPE [%]", "MSE [K²]", "mean sim. [C]", "mean meas. [C]",
                 "dev. [%]"):  # fmt: skip
         val.add_column(col, justify="left" if col == "period" else "right")
@@ -49,20 +56,35 @@ def print_summary(results: dict, out: Path) -> None:
         if not isinstance(value, list):
             console.print(f"  reference, {name}: {value:,.0f} kWh")
 
-    table = Table(title="Retrofit strategies (paper 000, Table 3)")
-    for col in ("code", "measures", "annual kWh", "saving %", f"{pct} interval"):
+    table = Table(title="Retrofit strategies")
+    eco = results.get("economics", {})
+    cur = eco.get("currency", "")
+    cols = ["code", "measures", "annual kWh", "saving %", f"{pct} interval"]
+    if eco:
+        cols += [f"investment {cur}", f"saving {cur}/a", "payback a"]
+    for col in cols:
         table.add_column(col, justify="left" if col == "measures" else "right")
     for s in results["scenarios"]:
-        table.add_row(
+        row = [
             s["code"],
             " + ".join(m.replace("_", " ") for m in s["measures"]) or "none",
             f"{s['annual_kWh']:,.0f}",
             f"{s['saving_pct']:.1f}",
             f"{s['saving_pct_p05']:.1f} – {s['saving_pct_p95']:.1f}",
-        )
+        ]
+        if eco:
+            e = s.get("economics", {})
+            payback = e.get("payback_years")
+            row += [
+                f"{e.get('investment', 0):,.0f}",
+                f"{e.get('cost_saving_per_year', 0):,.0f}",
+                "" if payback is None else f"{payback:.0f}",
+            ]
+        table.add_row(*row)
     console.print(table)
+    log = logging.getLogger("thermocal.retrofit")
     for flag in results["calibration"]["flags"]:
-        console.print(f"[yellow]flag:[/yellow] {flag}")
+        log.warning("calibration: %s", flag)
     console.print(f"results in [bold]{out}[/bold] (results.json, report.html, CSV, figures/)")
 
 
@@ -73,12 +95,13 @@ def retrofit(
         "retrofit-results"
     ),
 ) -> None:
-    """Retrofit analysis of paper 000: calibrate, validate, annual demand, 16 strategies.
+    """Retrofit analysis: calibrate, validate, annual demand, retrofit strategies, report.
 
     Calibrates the fifth-order RC model on the training period, validates it on training and
-    test periods, simulates the annual heating demand and the 16 envelope-retrofit strategies
-    with uncertainty intervals (default 90 %), and writes results.json, CSV tables, figures
-    and report.html.
+    test periods, simulates the annual heating demand and the retrofit strategies (default:
+    the 16 combinations of roof, walls, windows and cellar ceiling) with uncertainty intervals
+    (default 90 %), computes final energy, cost, CO2 and payback, and writes results.json,
+    CSV tables, figures and report.html.
     """
     from rich.console import Console
 

@@ -56,7 +56,7 @@ def plot_measured_vs_simulated(
     band=None,
     metrics_text: str | None = None,
 ):
-    """Measured and simulated time series on one axis (paper 000, Figs. 4-5).
+    """Measured and simulated time series on one axis (Figs. 4-5 of the retrofit method).
 
     Parameters
     ----------

@@ -53,6 +53,34 @@ figcaption{font-size:13px;color:#52606d;margin-top:4px}
 .flag{background:#fdecea;border-left:4px solid #c0392b;padding:6px 12px;border-radius:6px;
  font-size:14px;margin:4px 0}
 footer{color:#7b8794;font-size:12px;text-align:center;padding:16px}
+p.lead{font-size:17px;line-height:1.5;color:#12355b}
+p.small{font-size:12px;color:#52606d}
+header img.logo{float:right;max-height:56px;max-width:220px;margin-left:16px}
+ol.refs li,ul.bullets li{margin:3px 0;font-size:14px}
+"""
+
+#: Print stylesheet: A4 pages, no shadows or backgrounds that waste toner, tables and figures
+#: kept on one page, repeated table headers, headings kept with what follows them.
+PRINT_CSS = """
+@page{size:A4;margin:14mm 12mm 16mm 12mm}
+@media print{
+ body{background:#fff;font-size:11pt;color:#000}
+ header{background:#12355b !important;-webkit-print-color-adjust:exact;print-color-adjust:exact;
+  padding:14px 18px}
+ main{max-width:none;padding:0}
+ section{box-shadow:none;border-radius:0;padding:6px 0;margin:10px 0;border-top:1px solid #ccc}
+ section:first-of-type{border-top:none}
+ h2,h3,caption{break-after:avoid;page-break-after:avoid}
+ table,figure,.kv,.flag,.note{break-inside:avoid;page-break-inside:avoid}
+ thead{display:table-header-group}
+ tr,td,th{break-inside:avoid;page-break-inside:avoid}
+ th{-webkit-print-color-adjust:exact;print-color-adjust:exact}
+ tr:hover td{background:inherit}
+ table{font-size:9pt}
+ figure img{max-width:100%;border:none}
+ footer{position:running(footer)}
+ a{color:inherit;text-decoration:none}
+}
 """
 
 
@@ -63,11 +91,28 @@ class HtmlReport:
     ----------
     title : str
     subtitle : str, optional
+    lang : str
+        Language of the document (``<html lang>``).
+    logo : bytes or path, optional
+        PNG, JPEG or SVG shown in the header, embedded as a data URI (the file stays offline).
+    css : str, optional
+        Extra CSS appended to the built-in screen and print stylesheets.
     """
 
-    def __init__(self, title: str, *, subtitle: str = "") -> None:
+    def __init__(
+        self,
+        title: str,
+        *,
+        subtitle: str = "",
+        lang: str = "en",
+        logo: bytes | Path | str | None = None,
+        css: str = "",
+    ) -> None:
         self.title = title
         self.subtitle = subtitle
+        self.lang = lang
+        self.logo = logo
+        self.css = css
         self._sections: list[list[str]] = [[]]
 
     # ------------------------------------------------------------------ blocks
@@ -168,6 +213,20 @@ class HtmlReport:
         )
         return self
 
+    def bullets(self, items, *, intro: str = "") -> HtmlReport:
+        """A bulleted list of plain-text items, optionally after an introductory sentence."""
+        if intro:
+            self.paragraph(intro)
+        lis = "".join(f"<li>{html.escape(str(i))}</li>" for i in items)
+        self._current.append(f'<ul class="bullets">{lis}</ul>')
+        return self
+
+    def references(self, entries) -> HtmlReport:
+        """A numbered list of references (plain text, no links: the report stays offline)."""
+        lis = "".join(f"<li>{html.escape(str(e))}</li>" for e in entries)
+        self._current.append(f'<ol class="refs">{lis}</ol>')
+        return self
+
     def raw_html(self, fragment: str) -> HtmlReport:
         """Insert trusted HTML as is."""
         self._current.append(fragment)
@@ -187,13 +246,33 @@ class HtmlReport:
         from thermocal import __version__
 
         return (
-            '<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
+            f'<!DOCTYPE html><html lang="{html.escape(self.lang)}"><head><meta charset="utf-8">'
             f'<meta name="viewport" content="width=device-width,initial-scale=1">'
-            f"<title>{html.escape(self.title)}</title><style>{_CSS}</style></head><body>"
-            f"<header><h1>{html.escape(self.title)}</h1><p>{html.escape(self.subtitle)}</p>"
+            f"<title>{html.escape(self.title)}</title>"
+            f"<style>{_CSS}{PRINT_CSS}{self.css}</style></head><body>"
+            f"<header>{self._logo_html()}<h1>{html.escape(self.title)}</h1>"
+            f"<p>{html.escape(self.subtitle)}</p>"
             f"</header><main>{body}</main><footer>thermocal {html.escape(__version__)} - "
             f"generated {stamp}</footer></body></html>"
         )
+
+    def _logo_html(self) -> str:
+        if self.logo is None:
+            return ""
+        data = self.logo
+        mime = "image/png"
+        if isinstance(data, str | Path):
+            suffix = Path(data).suffix.lower()
+            mime = {".svg": "image/svg+xml", ".jpg": "image/jpeg", ".jpeg": "image/jpeg"}.get(
+                suffix, "image/png"
+            )
+            data = Path(data).read_bytes()
+        elif data.lstrip()[:5] in (b"<?xml", b"<svg "):
+            mime = "image/svg+xml"
+        elif data[:3] == b"\xff\xd8\xff":
+            mime = "image/jpeg"
+        b64 = base64.b64encode(bytes(data)).decode("ascii")
+        return f'<img class="logo" alt="logo" src="data:{mime};base64,{b64}"/>'
 
     def write(self, path: Path | str) -> Path:
         """Write the report to ``path`` (UTF-8) and return it."""

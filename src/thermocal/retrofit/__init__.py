@@ -1,5 +1,5 @@
-"""Retrofit analysis of paper 000: the fifth-order RC model, calibration, validation, annual
-heating demand and the 16 envelope-retrofit strategies with uncertainty.
+"""Retrofit analysis with the fifth-order RC method: the model, calibration, validation, annual
+heating demand, retrofit strategies (default: the method's 16) with uncertainty, economics.
 
 Public API
 ----------

@@ -22,7 +22,16 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from thermocal.errors import ThermocalInputError
-from thermocal.retrofit.strategies import MEASURE_ORDER, PAPER_MEASURE_U_VALUES
+from thermocal.retrofit.strategies import (
+    DEFAULT_COST_PER_M2,
+    MEASURE_COMPONENTS,
+    MEASURE_ORDER,
+    PAPER_MEASURE_DESCRIPTIONS,
+    PAPER_MEASURE_U_VALUES,
+    Measure,
+    all_strategies,
+    listed_strategies,
+)
 
 #: Standard measurement names used by the workflow, with their meaning and unit.
 MEASUREMENT_COLUMNS: dict[str, str] = {
@@ -105,6 +114,40 @@ class ModelConfig(_Strict):
     max_correlation: float = Field(0.98, gt=0, le=1)
     ground_depth: float = Field(2.0, gt=0, description="depth of the ground temperature [m]")
     seed: int = 0
+    bounds: dict[str, tuple[float, float]] = Field(
+        default_factory=dict,
+        description="estimation bounds [lower, upper] of H_est [W/K] and the capacities "
+        "C_env, C_gf, C_im, C_i, C_h [MJ/K], replacing the defaults from the building file",
+    )
+    fixed: dict[str, float] = Field(
+        default_factory=dict,
+        description="parameters held at a value instead of estimated: H_est [W/K] or a "
+        "capacity [MJ/K]",
+    )
+
+    @model_validator(mode="after")
+    def _bounds_and_fixed(self) -> ModelConfig:
+        from thermocal.retrofit.model import ESTIMATED_PARAMETERS
+
+        for key, names in (("bounds", self.bounds), ("fixed", self.fixed)):
+            unknown = sorted(set(names) - set(ESTIMATED_PARAMETERS))
+            if unknown:
+                raise ValueError(
+                    f"model.{key}: unknown parameters {unknown}; allowed: "
+                    f"{list(ESTIMATED_PARAMETERS)}"
+                )
+        for name, (lo, hi) in self.bounds.items():
+            if not 0 <= lo < hi:
+                raise ValueError(
+                    f"model.bounds.{name}: needs 0 <= lower < upper, got [{lo}, {hi}] "
+                    f"({'W/K' if name == 'H_est' else 'MJ/K'})"
+                )
+        for name, value in self.fixed.items():
+            if not value > 0:
+                raise ValueError(f"model.fixed.{name}: needs a positive value, got {value}")
+        if len(self.fixed) == len(ESTIMATED_PARAMETERS):
+            raise ValueError("model.fixed: at least one parameter must stay estimated")
+        return self
 
 
 class UncertaintyConfig(_Strict):
@@ -117,7 +160,7 @@ class UncertaintyConfig(_Strict):
         ge=0,
         le=0.5,
         description="relative standard deviation of the audit U-values of roof, walls, windows "
-        "and floor (0: only the estimation uncertainty, as in paper 000)",
+        "and floor (0: only the estimation uncertainty, as in the fifth-order RC method)",
     )
     seed: int = 0
 
@@ -143,6 +186,56 @@ class ReferenceConfig(_Strict):
         return value
 
 
+class MeasureConfig(_Strict):
+    """One retrofit measure (see :class:`thermocal.retrofit.strategies.Measure`)."""
+
+    component: (
+        Literal["roof", "walls", "windows", "cellar_ceiling", "airtightness", "heat_recovery"]
+        | None
+    ) = Field(None, description="what it acts on (default: the measure's name)")
+    u_value: float | None = Field(None, ge=0.05, le=6.0, description="U after retrofit [W/(m2 K)]")
+    g_value: float | None = Field(None, gt=0.0, lt=1.0, description="window g-value after [-]")
+    air_change_rate_change: float = Field(
+        0.0, ge=-3.0, le=3.0, description="change of the infiltration rate [1/h] (airtightness)"
+    )
+    air_change_rate: float = Field(
+        0.0, ge=0.0, le=3.0, description="mechanical ventilation rate [1/h] (heat_recovery)"
+    )
+    efficiency: float = Field(
+        0.0, ge=0.0, le=0.95, description="heat-recovery temperature efficiency [-]"
+    )
+    cost_per_m2: float | None = Field(
+        None,
+        ge=0,
+        description="cost per m2 of the component (heated floor area for "
+        "airtightness / heat_recovery) [currency/m2]",
+    )
+    cost: float = Field(0.0, ge=0, description="fixed cost [currency]")
+    description: str = ""
+
+
+class EconomicsConfig(_Strict):
+    """Final energy, running cost, CO2 and payback of the strategies.
+
+    The defaults are documented in docs/retrofit.md with their sources; they are placeholders
+    of the right order of magnitude for an oil-heated Swiss house, not advice: set your own.
+    """
+
+    currency: str = "CHF"
+    energy_carrier: str = "heating oil"
+    system_efficiency: float = Field(
+        0.85,
+        gt=0.1,
+        le=5.0,
+        description="useful heat / final energy over the year [-] "
+        "(boiler + distribution; a heat pump's seasonal COP > 1)",
+    )
+    energy_price: float = Field(0.12, ge=0, description="price of final energy [currency/kWh]")
+    emission_factor: float = Field(
+        0.310, ge=0, description="greenhouse-gas emissions of final energy [kg CO2-eq/kWh]"
+    )
+
+
 class DemandConfig(_Strict):
     """Annual demand simulation."""
 
@@ -160,7 +253,13 @@ class RetrofitConfig(_Strict):
     weather: WeatherConfig
     periods: PeriodsConfig = Field(default_factory=PeriodsConfig)
     model: ModelConfig = Field(default_factory=ModelConfig)
-    measures: dict[str, float] = Field(default_factory=lambda: dict(PAPER_MEASURE_U_VALUES))
+    measures: dict[str, float | MeasureConfig] = Field(
+        default_factory=lambda: dict(PAPER_MEASURE_U_VALUES), validate_default=True
+    )
+    strategies: dict[str, list[str]] | None = Field(
+        None, description="code -> measures; default: every combination of the measures"
+    )
+    economics: EconomicsConfig = Field(default_factory=EconomicsConfig)
     uncertainty: UncertaintyConfig = Field(default_factory=UncertaintyConfig)
     reference: ReferenceConfig = Field(default_factory=ReferenceConfig)
     demand: DemandConfig = Field(default_factory=DemandConfig)
@@ -168,17 +267,83 @@ class RetrofitConfig(_Strict):
 
     @field_validator("measures")
     @classmethod
-    def _measures(cls, value: dict[str, float]) -> dict[str, float]:
-        unknown = sorted(set(value) - set(MEASURE_ORDER))
-        if unknown:
-            raise ValueError(f"unknown measures {unknown}; allowed: {list(MEASURE_ORDER)}")
-        for name, u in value.items():
-            if not 0.05 <= u <= 6.0:
-                raise ValueError(f"U-value of measure {name!r} is {u} W/(m2 K); expected 0.05 .. 6")
-        missing = [m for m in MEASURE_ORDER if m not in value]
-        if missing:
-            raise ValueError(f"measures {missing} missing: give all four U-values [W/(m2 K)]")
-        return {m: value[m] for m in MEASURE_ORDER}
+    def _measures(cls, value: dict) -> dict[str, MeasureConfig]:
+        if not value:
+            raise ValueError("give at least one measure")
+        out: dict[str, MeasureConfig] = {}
+        for name, spec in value.items():
+            if not isinstance(spec, MeasureConfig):  # short form: the U-value of a component
+                spec = MeasureConfig(u_value=spec)
+            component = spec.component or name
+            if component not in MEASURE_COMPONENTS:
+                raise ValueError(
+                    f"measure {name!r}: say what it acts on with 'component:' (one of "
+                    f"{list(MEASURE_COMPONENTS)}); a bare number is the U-value of one of "
+                    f"{list(MEASURE_ORDER)}"
+                )
+            if component in MEASURE_ORDER:
+                if spec.u_value is None and spec.g_value is None:
+                    raise ValueError(
+                        f"measure {name!r} on {component}: give u_value (and/or "
+                        "g_value for windows)"
+                    )
+                if spec.g_value is not None and component != "windows":
+                    raise ValueError(f"measure {name!r}: g_value applies to windows only")
+            elif spec.u_value is not None or spec.g_value is not None:
+                raise ValueError(f"measure {name!r} on {component}: u_value / g_value do not apply")
+            if component == "airtightness" and spec.air_change_rate_change == 0:
+                raise ValueError(
+                    f"measure {name!r}: give air_change_rate_change [1/h] "
+                    "(negative: tighter envelope)"
+                )
+            if component == "heat_recovery" and not (
+                spec.air_change_rate > 0 and spec.efficiency > 0
+            ):
+                raise ValueError(
+                    f"measure {name!r}: give air_change_rate [1/h] and "
+                    "efficiency [-] of the ventilation with heat recovery"
+                )
+            if spec.cost_per_m2 is None:
+                spec = spec.model_copy(
+                    update={
+                        "cost_per_m2": DEFAULT_COST_PER_M2.get(name, 0.0)
+                        if component == name
+                        else 0.0
+                    }
+                )
+            out[name] = spec.model_copy(update={"component": component})
+        return out
+
+    def measure_objects(self) -> dict[str, Measure]:
+        """The configured measures as :class:`~thermocal.retrofit.strategies.Measure`."""
+        return {
+            name: Measure(
+                name=name, component=m.component, u_value=m.u_value, g_value=m.g_value,
+                air_change_rate_change=m.air_change_rate_change,
+                heat_recovery_air_change_rate=m.air_change_rate,
+                heat_recovery_efficiency=m.efficiency, cost_per_m2=float(m.cost_per_m2 or 0.0),
+                cost=m.cost,
+                description=m.description or (
+                    PAPER_MEASURE_DESCRIPTIONS.get(name, "") if m.component == name else ""
+                ),
+            )
+            for name, m in self.measures.items()
+        }  # fmt: skip
+
+    def strategy_list(self):
+        """The strategies to analyse: listed ones, or every combination of the measures."""
+        measures = self.measure_objects()
+        if self.strategies is not None:
+            return listed_strategies(self.strategies, measures)
+        return all_strategies(tuple(measures), {n: m.component for n, m in measures.items()})
+
+    @model_validator(mode="after")
+    def _strategies(self) -> RetrofitConfig:
+        try:
+            self.strategy_list()
+        except ValueError as exc:
+            raise ValueError(f"strategies: {exc}") from None
+        return self
 
     @model_validator(mode="after")
     def _resolve_paths(self) -> RetrofitConfig:

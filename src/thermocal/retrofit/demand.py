@@ -1,4 +1,4 @@
-"""Annual heating demand of the fifth-order model (paper 000, "Heating demand simulation").
+"""Annual heating demand of the fifth-order model (retrofit method: "Heating demand simulation").
 
 The indoor temperature becomes an input: a 24-hour profile from the measured ``Ti``, repeated
 every day, is the set point of an ideal heating-only controller, and a year of hourly weather

@@ -2,8 +2,9 @@
 
 The fifth-order model must not generate its own test data, so the measurements of
 ``thermocal demo`` come from :mod:`thermocal.multizone`: the 1950s three-storey single-family
-house of :func:`thermocal.multizone.generators.single_family_house` (similar to paper 000's
-case study), heated by radiators under thermostatic control, simulated at a 10-minute step
+house of :func:`thermocal.multizone.generators.single_family_house` (similar to the case
+study of the retrofit method), heated by radiators under thermostatic control, simulated at a
+10-minute step
 with realistic solar gains (Perez transposition, angular glazing transmission) from a real
 typical-year weather file, and "measured" like the paper's wireless sensor network: hourly
 means of outdoor and indoor air temperature, heating water flow, supply and return
@@ -482,7 +483,8 @@ def generate_demo_data(
         "annual_heating_demand_20C_kWh": annual,
         "monthly_heating_demand_20C_kWh": monthly,
         "annual_heating_demand_note": "multi-zone model, ideal heating of every heated zone "
-        "at 20 C, whole weather year, 1-h step; retrofits = paper 000 Table 1 U-values",
+        "at 20 C, whole weather year, 1-h step; retrofits = Table 1 U-values of the "
+        "fifth-order RC method",
         "heat_loss_coefficient_without_ground_W_per_K": hlc_without_ground,
         "heat_delivered_kWh": float(frame["heat"].sum() * dt / 3.6e6),
         "mean_indoor_temperature_C": float(frame["ti"].mean()),
@@ -521,6 +523,36 @@ def write_demo_data(data: dict, folder: Path | str) -> Path:
     return folder
 
 
+#: Estimation options of the demo (written into its configuration, so the remedy printed for
+#: a parameter on its bound can be followed in the same file). With the building file's
+#: default bounds C_env, C_gf and C_i end on their upper bounds:
+#: - C_gf (cellar ceiling, 80 m2) would run to any bound given (200 MJ/K tried): the data do
+#:   not determine it, so it is fixed at its physical value, an 18 cm concrete slab,
+#:   2.0 MJ/(m3 K) x 0.18 m x 80 m2 = 29 MJ/K ~ 30 MJ/K;
+#: - C_env settles inside a range widened to 300 MJ/K (about 170 MJ/K, heavy masonry walls);
+#: - C_i settles inside a range widened to 30 MJ/K (about 13 MJ/K): in five lumped nodes the
+#:   indoor node also carries the fast part of partitions and floors, so the 10 kJ/(m2 K) of
+#:   air and furniture (ISO 52016-1) is a lower figure, not an upper one.
+DEMO_MODEL_OPTIONS = {
+    "bounds": {"C_env": [6.0, 300.0], "C_i": [0.75, 30.0]},
+    "fixed": {"C_gf": 30.0},
+}
+
+
+def portable_weather(weather_path: Path, data_dir: Path) -> str:
+    """How a configuration in ``data_dir`` names a weather file without an absolute path:
+    ``pvlib:NAME`` for files shipped with pvlib, else the path relative to ``data_dir``."""
+    import os
+
+    import pvlib
+
+    weather_path = Path(weather_path).resolve()
+    pvlib_data = Path(pvlib.__file__).resolve().parent / "data"
+    if weather_path.parent == pvlib_data:
+        return f"pvlib:{weather_path.name}"
+    return Path(os.path.relpath(weather_path, Path(data_dir).resolve())).as_posix()
+
+
 def demo_config(data_dir: Path, weather_path: Path, *, draws: int = 200) -> dict:
     """The retrofit configuration of the demo (paths relative to ``data_dir``)."""
     truth = json.loads((data_dir / "truth.json").read_text())
@@ -533,8 +565,9 @@ def demo_config(data_dir: Path, weather_path: Path, *, draws: int = 200) -> dict
                         "temp_return": "T_return", "dni": "DNI", "dhi": "DHI", "temp_in": "Ti"},
             "flow_unit": "l/h",
         },
-        "weather": {"file": str(weather_path)},
+        "weather": {"file": weather_path},
         "periods": {"training_days": 21, "test_days": 21},
+        "model": DEMO_MODEL_OPTIONS,
         # audit U-values of old constructions are uncertain (in-situ measurements differ from
         # tabulated values by 10-30 %): 15 % relative spread, see docs/retrofit.md
         "uncertainty": {"draws": draws, "interval": 0.9, "seed": 0, "u_value_rel_std": 0.15},
@@ -578,10 +611,13 @@ def prepare_demo(
             shutil.copyfile(SHIPPED_DATA / name, data_dir / name)
     else:
         write_demo_data(generate_demo_data(weather_path), data_dir)
-    cfg = demo_config(data_dir, weather_path.resolve(), draws=draws)
+    cfg = demo_config(data_dir, portable_weather(weather_path, data_dir), draws=draws)
     config_path = data_dir / "config.yaml"
     config_path.write_text(
-        "# thermocal demo: retrofit analysis of a house simulated by the multi-zone model\n"
+        "# thermocal demo: retrofit analysis of a house simulated by the multi-zone model.\n"
+        "# Paths are relative to this file. model.bounds / model.fixed: C_gf (cellar ceiling)\n"
+        "# is not determined by the data and is fixed at an 18 cm concrete slab (30 MJ/K);\n"
+        "# C_env and C_i get wider ranges than the building-file defaults (docs/retrofit.md).\n"
         + yaml.safe_dump(cfg, sort_keys=False)
     )
     truth = json.loads((data_dir / "truth.json").read_text())

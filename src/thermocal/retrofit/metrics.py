@@ -1,4 +1,4 @@
-"""Validation metrics and aggregation used by the retrofit workflow (paper 000, Table 2)."""
+"""Validation metrics and aggregation used by the retrofit workflow (the method's Table 2)."""
 
 from __future__ import annotations
 
@@ -26,7 +26,8 @@ def validation_metrics(simulated, measured) -> dict[str, float]:
 
     References
     ----------
-    Paper 000, Table 2 and the "Model validation" section.
+    The retrofit method (see thermocal.retrofit.references), Table 2 and the "Model
+    validation" section.
     """
     sim = np.asarray(simulated, dtype=float)
     meas = np.asarray(measured, dtype=float)

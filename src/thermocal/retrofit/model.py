@@ -1,4 +1,4 @@
-"""The fifth-order RC model of paper 000 (Fig. 3), built from a building description.
+"""The fifth-order RC model of the retrofit method (its Fig. 3), built from a building description.
 
 States (in this order): indoor air ``Ti``, lumped roof + external walls ``Tenv``, ground floor /
 cellar ceiling ``Tgf``, internal mass ``Tim``, heating system ``Th``.
@@ -34,7 +34,8 @@ with bounds from ISO 52016-1 / ISO 13790 typical areal capacities.
 
 References
 ----------
-Paper 000, "Fifth-order RC model for retrofit analysis" and Fig. 3.
+The retrofit method (:data:`thermocal.retrofit.references.RETROFIT_METHOD`), "Fifth-order RC
+model for retrofit analysis" and Fig. 3.
 ISO 52016-1:2017, Table 25 (surface heat transfer coefficients), Table B.14 (areal heat
 capacities of construction classes).
 ISO 6946:2017, Table 7 (surface resistances).
@@ -165,6 +166,8 @@ class EnvelopeComponents:
     floor_area: float  # cellar ceiling or ground floor
     floor_u: float
     floor_kind: str  # "cellar_ceiling" or "ground_floor"
+    windows_g_factor: float = 1.0  # [-] g-value after / before retrofit (window solar gains)
+    h_est_change: float = 0.0  # [W/K] change of the ventilation part of H_est (measures)
 
     def with_measures(self, u_values: dict[str, float]) -> EnvelopeComponents:
         """Copy with the U-values of the given measures replaced (capacities unchanged)."""
@@ -175,6 +178,33 @@ class EnvelopeComponents:
             "cellar_ceiling": "floor_u",
         }
         return replace(self, **{key[m]: float(u) for m, u in u_values.items()})
+
+    def apply(self, measures, *, volume: float, windows_g: float | None = None):
+        """Copy with retrofit measures applied.
+
+        Parameters
+        ----------
+        measures : iterable of :class:`thermocal.retrofit.strategies.Measure`
+        volume : float [m3]
+            Heated air volume (ventilation measures).
+        windows_g : float [-], optional
+            Area-weighted g-value of the windows before the retrofit (g-value measures).
+        """
+        env = self
+        for m in measures:
+            if m.u_value is not None:
+                env = env.with_measures({m.component: m.u_value})
+            if m.g_value is not None:
+                if not windows_g:
+                    raise ThermocalInputError(
+                        f"measure {m.name!r} sets a window g-value but the building has no "
+                        "window g-value to start from"
+                    )
+                env = replace(env, windows_g_factor=env.windows_g_factor * m.g_value / windows_g)
+            change = m.heat_loss_change(volume)
+            if change:
+                env = replace(env, h_est_change=env.h_est_change + change)
+        return env
 
 
 def _area_weighted_u(components) -> tuple[float, float]:
@@ -292,6 +322,16 @@ class FifthOrderModel:
     estimated: dict[str, tuple[float, float, float, str]] = field(default_factory=dict)
     # name -> (lower, initial, upper, unit)
     audit_h_est: float = 0.0  # [W/K] calculated prior of Hest (ventilation, bridges, doors)
+    fixed: frozenset = frozenset()  # estimated parameters held at their initial value
+    volume: float = 0.0  # [m3] heated air volume (ventilation measures)
+    windows_g: float | None = None  # [-] area-weighted g-value of the windows
+    bounds_source: dict = field(default_factory=dict)  # name -> "building file" / "configuration"
+
+    def apply_measures(self, measures, envelope: EnvelopeComponents | None = None):
+        """The envelope after the given :class:`~thermocal.retrofit.strategies.Measure` s."""
+        return (envelope or self.envelope).apply(
+            measures, volume=self.volume, windows_g=self.windows_g
+        )
 
     def conductances(self, envelope: EnvelopeComponents | None = None) -> dict[str, float]:
         """Calculated conductances [W/K] (and solar shares [-]) for the given U-values."""
@@ -341,6 +381,8 @@ class FifthOrderModel:
         out["H_h"] = float(self.heating_conductance)
         out["H_im"] = float(self.internal_mass_conductance)
         out["f_im"] = float(self.solar_to_internal_mass)
+        out["g_factor"] = float(env.windows_g_factor)
+        out["H_est_change"] = float(env.h_est_change)
         return out
 
     def calculated_heat_loss_coefficient(self, envelope: EnvelopeComponents | None = None) -> float:
@@ -356,7 +398,13 @@ def calculated_hlc(h: dict[str, float]) -> float:
     return float(env + h["H_win"] + gf)
 
 
-def build_fifth_order_model(building, *, solar_to_internal_mass: float = 0.5) -> FifthOrderModel:
+def build_fifth_order_model(
+    building,
+    *,
+    solar_to_internal_mass: float = 0.5,
+    bounds: dict[str, tuple[float, float]] | None = None,
+    fixed: dict[str, float] | None = None,
+) -> FifthOrderModel:
     """Calculated conductances and estimation bounds of the fifth-order model for a building.
 
     Parameters
@@ -364,6 +412,10 @@ def build_fifth_order_model(building, *, solar_to_internal_mass: float = 0.5) ->
     building : thermocal.io.building.Building
     solar_to_internal_mass : float [-]
         Fraction of the window solar gains absorbed by the internal mass.
+    bounds : dict name -> (lower, upper), optional
+        Estimation bounds replacing the defaults: ``H_est`` [W/K], capacities [MJ/K].
+    fixed : dict name -> value, optional
+        Parameters held at a value instead of estimated (same units).
 
     Returns
     -------
@@ -414,6 +466,22 @@ def build_fifth_order_model(building, *, solar_to_internal_mass: float = 0.5) ->
     # the air itself is the least capacity of C_i
     lo_i, ini_i, hi_i, unit = estimated["C_i"]
     estimated["C_i"] = (max(lo_i, 1.2e-3 * volume), max(ini_i, 2.4e-3 * volume), hi_i, unit)
+    source = {name: "building file" for name in estimated}
+    for name, (lo, hi) in (bounds or {}).items():
+        _, ini, _, unit = estimated[name]
+        pad = 0.01 * (hi - lo)
+        estimated[name] = (float(lo), float(min(max(ini, lo + pad), hi - pad)), float(hi), unit)
+        source[name] = "configuration (model.bounds)"
+    for name, value in (fixed or {}).items():
+        lo, _, hi, unit = estimated[name]
+        estimated[name] = (min(lo, 0.5 * value), float(value), max(hi, 2.0 * value), unit)
+        source[name] = "fixed (model.fixed)"
+    windows = [c for c in building.components if c.type == "window"]
+    win_area = sum(float(c.area) for c in windows)
+    windows_g = (
+        sum(float(c.area) * float(c.g_value or 0.0) for c in windows) / win_area
+        if win_area > 0 else None
+    )  # fmt: skip
     return FifthOrderModel(
         envelope=envelope,
         ground=ground,
@@ -422,6 +490,10 @@ def build_fifth_order_model(building, *, solar_to_internal_mass: float = 0.5) ->
         solar_to_internal_mass=float(solar_to_internal_mass),
         estimated=estimated,
         audit_h_est=float(h_est0),
+        fixed=frozenset(fixed or ()),
+        volume=volume,
+        windows_g=windows_g,
+        bounds_source=source,
     )
 
 
@@ -463,6 +535,9 @@ def system_matrices(h: dict, p: dict, *, indoor_input: bool = False):
     )
     arrays = [np.atleast_1d(np.asarray(h[k], dtype=float)) for k in keys]
     arrays += [np.atleast_1d(np.asarray(p[k], dtype=float)) for k in ESTIMATED_PARAMETERS]
+    # retrofit measures on the ventilation (H_est) and on the window g-value
+    arrays += [np.atleast_1d(np.asarray(h.get(k, d), dtype=float))
+               for k, d in (("H_est_change", 0.0), ("g_factor", 1.0))]  # fmt: skip
     n = max(a.shape[0] for a in arrays)
     (
         h_ei,
@@ -482,7 +557,10 @@ def system_matrices(h: dict, p: dict, *, indoor_input: bool = False):
         c_im,
         c_i,
         c_h,
+        h_est_change,
+        g_factor,
     ) = [np.broadcast_to(a, (n,)) for a in arrays]
+    h_est = np.maximum(h_est + h_est_change, 0.0)
     ns = 4 if indoor_input else 5
     ni = 6
     a = np.zeros((n, ns, ns))
@@ -511,8 +589,8 @@ def system_matrices(h: dict, p: dict, *, indoor_input: bool = False):
     b[:, ENV, te] = h_eo
     b[:, GF, te] = h_ge
     b[:, GF, tgr] = h_gg
-    b[:, TI, sol] = 1.0 - f_im
-    b[:, IM, sol] = f_im
+    b[:, TI, sol] = (1.0 - f_im) * g_factor
+    b[:, IM, sol] = f_im * g_factor
     b[:, ENV, roof] = s_r
     b[:, ENV, walls] = s_w
     caps = [c_i, c_env, c_gf, c_im, c_h][:ns]

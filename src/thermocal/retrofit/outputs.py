@@ -9,9 +9,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from thermocal.retrofit.economics import measure_areas, measure_investment, strategy_economics
 from thermocal.retrofit.model import ESTIMATED_PARAMETERS
-from thermocal.retrofit.strategies import PAPER_MEASURE_DESCRIPTIONS
-from thermocal.retrofit.workflow import RetrofitAnalysis, heat_loss_coefficient_draws
+from thermocal.retrofit.workflow import (
+    RetrofitAnalysis,
+    heat_loss_coefficient_draws,
+    resolve_weather_path,
+)
 
 MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
 
@@ -75,15 +79,25 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         unit = ""
         if name in model.estimated:
             unit = model.estimated[name][3]
+        status = "estimated"
+        if name in model.fixed:
+            status = "fixed"
+        elif name in cal.at_bounds:
+            status = "at bound"
         params[name] = {
             "value": _num(cal.params[name]),
-            "std_error": _num(cal.bse.get(name, np.nan)),
+            # a curvature-based standard error means nothing at a bound: none is reported
+            "std_error": None if status != "estimated" else _num(cal.bse.get(name, np.nan)),
             "unit": unit or _unit_guess(name),
-            "estimated": bool(name in cal.correlation.columns),
+            "estimated": bool(name in cal.correlation.columns or name in model.estimated),
+            "status": status,
         }
         if name in model.estimated:
             lo, ini, hi, _ = model.estimated[name]
-            params[name].update({"lower": lo, "initial": ini, "upper": hi})
+            params[name].update({
+                "lower": lo, "initial": ini, "upper": hi,
+                "bounds_from": model.bounds_source.get(name, "building file"),
+            })  # fmt: skip
     corr = cal.correlation.to_numpy(float)
     off = corr[~np.eye(len(corr), dtype=bool)] if corr.size else np.array([])
     phys = [n for n in ESTIMATED_PARAMETERS if n in cal.correlation.columns]
@@ -142,18 +156,26 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         references[f"{ref.rating_label} monthly"] = ref.rating_monthly_kWh
     demand["references"] = references
     scen = scenario_table(analysis)
+    econ = economics_table(analysis)
     scenarios = []
-    for row, s in zip(scen.to_dict("records"), analysis.strategies, strict=True):
+    for row, erow, s in zip(
+        scen.to_dict("records"), econ.to_dict("records"), analysis.strategies, strict=True
+    ):
         scenarios.append(
             {
                 **row,
                 "measures": list(s.measures),
-                "u_values": {m: cfg.measures[m] for m in s.measures},
+                "u_values": {
+                    m: cfg.measures[m].u_value
+                    for m in s.measures
+                    if cfg.measures[m].u_value is not None
+                },
+                "economics": {k: v for k, v in erow.items() if k != "code"},
             }
         )
     h = model.conductances()
     return _clean({
-        "thermocal_workflow": "retrofit (paper 000)",
+        "thermocal_workflow": "retrofit (the fifth-order RC method)",
         "building": analysis.building.name,
         "periods": {
             "training": [str(analysis.training[0]), str(analysis.training[1])],
@@ -176,19 +198,103 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "flags": cal.flags,
             "full_fit_flags": cal.nuisance_flags,
             "parameters_at_bounds": cal.at_bounds,
+            "parameters_fixed": sorted(model.fixed),
+            "residual_diagnostics": residual_summary(cal.residuals),
             "fit_seconds": cal.fit_seconds,
         },
         "heat_loss_coefficient_W_per_K": hlc,
         "validation": analysis.validation,
         "annual_heating_demand_kWh": demand,
         "scenarios": scenarios,
-        "measures_u_values": cfg.measures,
+        "measures_u_values": {
+            k: m.u_value for k, m in cfg.measures.items() if m.u_value is not None
+        },
+        "measures": {k: m.model_dump() for k, m in cfg.measures.items()},
+        "economics": {
+            **cfg.economics.model_dump(),
+            "measure_investment": {
+                name: measure_investment(m, _areas(analysis))
+                for name, m in cfg.measure_objects().items()
+            },
+        },
+        "provenance": provenance(analysis),
         "uncertainty": {"draws": cfg.uncertainty.draws, "interval": cfg.uncertainty.interval,
                         "seed": cfg.uncertainty.seed},
         "measurements_quality": _quality_dict(analysis.measurements_quality),
         "notes": analysis.notes,
         "timings_s": analysis.timings,
     })  # fmt: skip
+
+
+def _areas(analysis: RetrofitAnalysis) -> dict[str, float]:
+    return measure_areas(analysis.model.envelope, float(analysis.building.heated_floor_area))
+
+
+def economics_table(analysis: RetrofitAnalysis) -> pd.DataFrame:
+    """Final energy, cost, CO2, investment and payback per strategy (see
+    :func:`thermocal.retrofit.economics.strategy_economics`)."""
+    cfg = analysis.config
+    eco = cfg.economics
+    return strategy_economics(
+        analysis.demand.annual_kwh(),
+        analysis.strategies,
+        cfg.measure_objects(),
+        _areas(analysis),
+        system_efficiency=eco.system_efficiency,
+        energy_price=eco.energy_price,
+        emission_factor=eco.emission_factor,
+        interval=cfg.uncertainty.interval,
+    )
+
+
+def _sha256(path: Path) -> str | None:
+    import hashlib
+
+    try:
+        h = hashlib.sha256()
+        with open(path, "rb") as fh:
+            for chunk in iter(lambda: fh.read(1 << 20), b""):
+                h.update(chunk)
+        return h.hexdigest()
+    except OSError:
+        return None
+
+
+def _portable(path: Path, base: Path) -> str:
+    """``path`` relative to ``base`` when it lies below it, else its file name only."""
+    try:
+        return Path(path).resolve().relative_to(Path(base).resolve()).as_posix()
+    except ValueError:
+        return Path(path).name
+
+
+def provenance(analysis: RetrofitAnalysis) -> dict:
+    """Version, command line, seeds, input files (relative names and SHA-256) and time."""
+    import datetime as _dt
+    import sys
+
+    from thermocal import __version__
+
+    cfg = analysis.config
+    files = {}
+    if not isinstance(cfg.building, dict):
+        files["building"] = Path(cfg.building)
+    files["measurements"] = Path(cfg.measurements.file)
+    weather = str(cfg.weather.file)
+    files["weather"] = resolve_weather_path(cfg.weather.file)
+    inputs = {}
+    for key, path in files.items():
+        pvlib_file = key == "weather" and "pvlib:" in weather
+        name = weather if pvlib_file else _portable(path, cfg.base_dir)
+        inputs[key] = {"file": name, "sha256": _sha256(path)}
+    argv = [Path(sys.argv[0]).name, *sys.argv[1:]] if sys.argv else []
+    return {
+        "thermocal_version": __version__,
+        "command_line": " ".join(argv),
+        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        "seeds": {"model": cfg.model.seed, "uncertainty": cfg.uncertainty.seed},
+        "inputs": inputs,
+    }
 
 
 def _quality_dict(report) -> dict | None:
@@ -223,12 +329,12 @@ _SHORT_MEASURE = {
 }
 
 
-def _measures_short(measures) -> str:
+def _measures_short(measures, n_total: int = 4) -> str:
     """Measures of a strategy, one per line, for a bar label ("none", "all four")."""
     if not measures:
         return "none"
-    if len(measures) == 4:
-        return "all\nfour"
+    if len(measures) == n_total and n_total > 2:
+        return "all\nfour" if n_total == 4 else f"all\n{n_total}"
     return "\n".join(_SHORT_MEASURE.get(m, m) for m in measures)
 
 
@@ -293,6 +399,8 @@ def write_outputs(
         figures[name] = figure_to_png(fig)  # rendered once: file and report share the bytes
         close(fig)
         (fig_dir / f"{name}.png").write_bytes(figures[name])
+    from thermocal.retrofit.report import write_report
+
     write_report(analysis, results, tables, figures, out / "report.html", title=title)
     return results
 
@@ -325,6 +433,9 @@ def write_tables(analysis: RetrofitAnalysis, out: Path, results: dict) -> dict[s
     )
     hourly.index.name = "time"
     scen = scenario_table(analysis)
+    econ = economics_table(analysis)
+    econ.to_csv(out / "economics.csv", index=False)
+    params.insert(3, "status", [v["status"] for v in results["calibration"]["params"].values()])
     corr = cal.correlation
     params.to_csv(out / "calibration_parameters.csv", index=False)
     corr.to_csv(out / "calibration_correlation.csv")
@@ -333,7 +444,10 @@ def write_tables(analysis: RetrofitAnalysis, out: Path, results: dict) -> dict[s
     hourly.to_csv(out / "demand_hourly.csv")
     monthly_df.to_csv(out / "demand_monthly.csv", index=False)
     scen.to_csv(out / "scenarios.csv", index=False)
-    return {"parameters": params, "validation": val, "monthly": monthly_df, "scenarios": scen}
+    return {
+        "parameters": params, "validation": val, "monthly": monthly_df, "scenarios": scen,
+        "economics": econ,
+    }  # fmt: skip
 
 
 def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
@@ -377,19 +491,27 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
         title=f"Monthly heating demand (whiskers: {interval} of the parameter uncertainty)",
     )
     scen = scenario_table(analysis)
-    sublabels = [_measures_short(s.measures) for s in analysis.strategies]
+    n_measures = len(analysis.config.measures)
+    sublabels = [_measures_short(s.measures, n_measures) for s in analysis.strategies]
+    highlight = _recommended_code(analysis)
     figs["scenario_savings"] = plot_bars_with_intervals(
         list(scen["code"]),
         scen["saving_pct"],
         scen["saving_pct_p05"],
         scen["saving_pct_p95"],
-        ylabel="Saving vs. no retrofit [%]",
-        highlight=("4", "3c"),
-        highlight_label="strategies quoted in paper 000 (3c: -31 %, 4: -48 %)",
+        ylabel="Saving of heat vs. no retrofit [%]",
+        highlight=(highlight,) if highlight else (),
+        highlight_label=f"recommended strategy ({highlight}: "
+        f"{float(scen.loc[scen['code'] == highlight, 'saving_pct'].iloc[0]):.0f} % saving)"
+        if highlight
+        else "",
         sublabels=sublabels,
         interval_label=f"{interval} (parameter uncertainty)",
-        title="Saving of the 16 retrofit strategies",
+        title=f"Saving of the {len(scen)} retrofit strategies",
     )
+    figs["inputs"] = _inputs_figure(analysis)
+    if analysis.calibration.residuals is not None:
+        figs["residuals"] = _residuals_figure(analysis.calibration.residuals)
     measured = None
     if ref.measured_fuel_kWh is not None:
         measured = ref.measured_fuel_kWh * (ref.boiler_efficiency or 1.0)
@@ -424,8 +546,108 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
     return figs
 
 
+def _recommended_code(analysis: RetrofitAnalysis) -> str | None:
+    from thermocal.retrofit.economics import recommend
+
+    scen = scenario_table(analysis)
+    rec = recommend(economics_table(analysis), scen["saving_pct"])
+    return None if rec is None else rec["code"]
+
+
+def _inputs_figure(analysis: RetrofitAnalysis):
+    """The measured inputs: temperatures, heating power, solar gains, periods shaded."""
+    import matplotlib.dates as mdates
+    import matplotlib.pyplot as plt
+
+    d = analysis.data
+    fig, axes = plt.subplots(3, 1, figsize=(10, 6.6), sharex=True)
+    ax = axes[0]
+    ax.plot(d.index, d["Ti_measured"], color="#1f1f1f", lw=0.9, label="indoor Ti (measured)")
+    ax.plot(d.index, d["Te"], color="#1b6ca8", lw=0.9, label="outdoor Te")
+    ax.plot(d.index, d["Tgr"], color="#7b8794", lw=0.9, ls="--", label="ground Tgr (model)")
+    ax.set_ylabel("Temperature [C]")
+    ax.legend(loc="upper left", ncol=3, fontsize=8, frameon=False)
+    axes[1].plot(d.index, d["phi_h"] / 1000.0, color="#d95f02", lw=0.8)
+    axes[1].set_ylabel("Heating power [kW]")
+    axes[2].plot(d.index, d["phi_sol"] / 1000.0, color="#f0b400", lw=0.8)
+    axes[2].set_ylabel("Window solar\ngains [kW]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.axvspan(*analysis.training, color="#1b6ca8", alpha=0.06, lw=0)
+        if analysis.test:
+            ax.axvspan(*analysis.test, color="#d95f02", alpha=0.05, lw=0)
+    axes[0].set_title(
+        "Measured inputs (blue background: training period, orange: test period)",
+        loc="left", fontsize=11,
+    )  # fmt: skip
+    axes[-1].xaxis.set_major_formatter(mdates.DateFormatter("%d %b"))
+    axes[-1].set_xlim(d.index[0], d.index[-1])
+    fig.tight_layout()
+    return fig
+
+
+def _residuals_figure(res: pd.DataFrame):
+    """One-step residuals of Ti: series, autocorrelation, cumulated periodogram."""
+    import matplotlib.pyplot as plt
+
+    from thermocal.statespace.diagnostics import autocorrelation, cumulated_periodogram
+
+    col = [c for c in res.columns if c.endswith("_residual")][0]
+    e = res[col]
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.2), gridspec_kw={"width_ratios": [2, 1, 1]})
+    axes[0].plot(e.index, e.to_numpy(float), color="#1b6ca8", lw=0.7)
+    axes[0].axhline(0, color="black", lw=0.6)
+    axes[0].set_ylabel("Residual [K]")
+    axes[0].set_title("One-step-ahead residuals of Ti", loc="left", fontsize=10)
+    import matplotlib.dates as mdates
+
+    axes[0].xaxis.set_major_formatter(mdates.DateFormatter("%d %b"))
+    acf = autocorrelation(e.to_numpy(float), nlags=min(48, len(e) - 2))
+    axes[1].bar(acf.index[1:], acf["acf"].iloc[1:], color="#1b6ca8", width=0.8)
+    axes[1].plot(acf.index[1:], acf["bound"].iloc[1:], color="#c0392b", lw=0.8)
+    axes[1].plot(acf.index[1:], -acf["bound"].iloc[1:], color="#c0392b", lw=0.8)
+    axes[1].set_xlabel("Lag [steps]")
+    axes[1].set_title("Autocorrelation (95 % band)", loc="left", fontsize=10)
+    cp = cumulated_periodogram(e.to_numpy(float))
+    axes[2].plot(cp["frequency"], cp["cumulated"], color="#1b6ca8", lw=1.0)
+    axes[2].plot(cp["frequency"], cp["white_noise"], color="black", lw=0.6)
+    axes[2].plot(cp["frequency"], cp["lower"], color="#c0392b", lw=0.8, ls="--")
+    axes[2].plot(cp["frequency"], cp["upper"], color="#c0392b", lw=0.8, ls="--")
+    axes[2].set_xlabel("Frequency [1/step]")
+    axes[2].set_title("Cumulated periodogram", loc="left", fontsize=10)
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def residual_summary(res: pd.DataFrame | None) -> dict | None:
+    """Numbers behind the residual figure: mean, std, lag-1 and lag-24 autocorrelation, the
+    share of lags 1..48 outside the white-noise band and of the periodogram outside its band."""
+    if res is None:
+        return None
+    from thermocal.statespace.diagnostics import (
+        autocorrelation,
+        cumulated_periodogram,
+        fraction_outside_band,
+    )
+
+    col = [c for c in res.columns if c.endswith("_residual")][0]
+    e = res[col].to_numpy(float)
+    acf = autocorrelation(e, nlags=min(48, len(e) - 2))
+    out = np.abs(acf["acf"].iloc[1:]) > acf["bound"].iloc[1:]
+    return {
+        "mean_K": _num(np.nanmean(e)),
+        "std_K": _num(np.nanstd(e)),
+        "acf_lag1": _num(acf["acf"].iloc[1]),
+        "acf_lag24": _num(acf["acf"].iloc[24]) if len(acf) > 24 else None,
+        "share_of_lags_outside_band": _num(out.mean()),
+        "periodogram_share_outside_band": _num(fraction_outside_band(cumulated_periodogram(e))),
+    }
+
+
 def _annual_comparison_figure(dem: dict, references: dict):
-    """Simulated annual demand next to reference values (paper 000 Fig. 7)."""
+    """Simulated annual demand next to reference values (Fig. 7 of the retrofit method)."""
     import textwrap
 
     import matplotlib.pyplot as plt
@@ -495,253 +717,3 @@ def _reference_figure(check: dict, sublabels=None, interval: str = "90 % interva
     ax.legend(frameon=False, fontsize=9)
     fig.tight_layout()
     return fig
-
-
-def write_report(
-    analysis: RetrofitAnalysis,
-    results: dict,
-    tables: dict,
-    figures: dict,
-    path: Path,
-    *,
-    title: str | None = None,
-) -> Path:
-    """The self-contained report.html."""
-    from thermocal.report import HtmlReport
-
-    cfg = analysis.config
-    hlc = results["heat_loss_coefficient_W_per_K"]
-    dem = results["annual_heating_demand_kWh"]
-    b = analysis.building
-    rep = HtmlReport(
-        title or f"Retrofit analysis: {b.name}",
-        subtitle="Calibrated fifth-order RC model (paper 000), annual heating "
-        "demand and 16 envelope-retrofit strategies",
-    )
-    rep.section("Summary")
-    tiles = {
-        "Heat loss coefficient": f"{hlc['value']:.0f} ± {_fmt(hlc['std'], '.0f')} W/K",
-        "Annual heating demand": f"{dem['value']:,.0f} kWh",
-        f"{int(100 * cfg.uncertainty.interval)} % interval": f"{dem['p05']:,.0f} – "
-        f"{dem['p95']:,.0f} kWh",
-        "Test-period MAE": f"{analysis.validation['test']['mae']:.2f} K"
-        if "test" in analysis.validation
-        else "n/a",
-    }
-    if "true" in hlc:
-        tiles["True HLC (generator)"] = (
-            f"{hlc['true']:.0f} W/K ({hlc['relative_error_pct']:+.1f} %)"
-        )
-    if "audit" in hlc:
-        tiles["Audit HLC"] = f"{hlc['audit']:.0f} W/K"
-    all4 = next(s for s in results["scenarios"] if s["code"] == "4")
-    tiles["Saving, all four measures"] = (
-        f"{all4['saving_pct']:.0f} % ({all4['saving_pct_p05']:.0f}–{all4['saving_pct_p95']:.0f} %)"
-    )
-    rep.key_values(tiles)
-    for note in analysis.notes:
-        rep.note(note)
-    rep.paragraph(
-        f"Building: {b.name}, {b.floors} floors, {b.heated_floor_area:.0f} m² heated floor "
-        f"area, {b.volume:.0f} m³, emitter: {b.emitter}. Training period "
-        f"{analysis.training[0]:%Y-%m-%d %H:%M} to {analysis.training[1]:%Y-%m-%d %H:%M}"
-        + (f", test period to {analysis.test[1]:%Y-%m-%d %H:%M}." if analysis.test else ".")
-    )
-
-    rep.section("Calibration")
-    cal = results["calibration"]
-    rep.paragraph(
-        f"Maximum-likelihood fit: log-likelihood {cal['loglike']:.1f}, AIC {cal['aic']:.1f}, "
-        f"converged: {cal['converged']}, {cal['fit_seconds']:.1f} s. Largest |correlation| "
-        f"between the physical parameters: {cal['max_abs_correlation_physical']:.3f} "
-        f"(limit {cfg.model.max_correlation}); over all free parameters "
-        f"{cal['max_abs_correlation']:.3f}."
-        + (
-            " Largest pairwise |correlation| from the log-likelihood curvature in declared "
-            f"units (still valid at a bound): {cal['max_abs_pairwise_correlation_physical']:.3f}."
-            if cal.get("max_abs_pairwise_correlation_physical") is not None
-            else ""
-        )
-    )
-    if cal["flags"]:
-        rep.flags(cal["flags"])
-    p = tables["parameters"]
-    rep.table(
-        p[p["estimated"]].drop(columns=["estimated"]),
-        caption="Estimated parameters",
-        number_format="{:,.4g}",
-    )
-    hc = pd.DataFrame(
-        [{"conductance": k, "value": v} for k, v in cal["calculated_conductances_W_per_K"].items()]
-    )
-    rep.table(
-        hc,
-        caption="Calculated conductances [W/K] and shares [-] (ISO 52016-1, ISO 13370)",
-        number_format="{:,.4g}",
-    )
-    rep.paragraph(
-        f"HLC = calculated part {hlc['calculated_part']:.1f} W/K + H_est {hlc['H_est']:.1f} W/K "
-        f"= {hlc['value']:.1f} W/K (std {_fmt(hlc['std'], '.1f')} W/K). Prior from the "
-        f"building file (ventilation 0.5 1/h, thermal bridges, doors): "
-        f"{hlc['audit_prior']:.1f} W/K."
-    )
-
-    phys = [n for n in ESTIMATED_PARAMETERS if n in analysis.calibration.correlation.columns]
-    if phys:
-        corr = analysis.calibration.correlation.loc[phys, phys].reset_index(names="parameter")
-        rep.table(
-            corr,
-            caption="Correlation of the estimated parameters (|r| < "
-            f"{cfg.model.max_correlation} required)",
-            number_format="{:+.3f}",
-        )
-    d = analysis.data
-    periods = [("training", analysis.training)] + (
-        [("test", analysis.test)] if analysis.test else []
-    )
-    rows = []
-    for name, (t0, t1) in periods:
-        sel = (d.index >= t0) & (d.index < t1)
-        rows.append(
-            {
-                "period": name,
-                "Te mean [C]": d["Te"][sel].mean(),
-                "Tgr mean [C]": d["Tgr"][sel].mean(),
-                "Ti measured mean [C]": d["Ti_measured"][sel].mean(),
-                "heating mean [W]": d["phi_h"][sel].mean(),
-                "window solar mean [W]": d["phi_sol"][sel].mean(),
-            }
-        )
-    rep.table(pd.DataFrame(rows), caption="Model inputs over the periods", number_format="{:,.1f}")
-
-    rep.section("Validation")
-    shown = {
-        "period": ("period", None),
-        "mae": ("MAE [K]", "{:.3f}"),
-        "mape": ("MAPE [%]", "{:.2f}"),
-        "mse": ("MSE [K²]", "{:.3f}"),
-        "mean_simulated": ("mean simulated [C]", "{:.2f}"),
-        "mean_measured": ("mean measured [C]", "{:.2f}"),
-        "mean_deviation_pct": ("deviation of the mean [%]", "{:+.2f}"),
-        "n": ("hours", "{:.0f}"),
-    }
-    val = tables["validation"][list(shown)].rename(columns={k: v[0] for k, v in shown.items()})
-    rep.table(
-        val,
-        caption="Multi-step simulation of Ti (paper 000 Table 2)",
-        number_format={v[0]: v[1] for v in shown.values() if v[1]},
-    )
-    for key, label in (("ti_training", "training"), ("ti_test", "test")):
-        if key in figures:
-            rep.figure(
-                figures[key],
-                caption=f"Indoor air temperature over the {label} period: measured and "
-                "simulated from the inputs alone (no feedback of the measurements)",
-                close_figure=False,
-            )
-
-    rep.section("Annual heating demand")
-    refs = dem["references"]
-    ref_text = "; ".join(f"{k}: {v:,.0f} kWh" for k, v in refs.items() if not isinstance(v, list))
-    rep.paragraph(
-        f"Simulated with the {dem['weather'].get('name') or 'typical-year'} weather and the "
-        f"24-hour indoor profile from the measured Ti (ideal heating-only control): "
-        f"{dem['value']:,.0f} kWh/a ({dem['per_m2_kWh']:.0f} kWh/m²a)."
-        + (f" References: {ref_text}." if ref_text else "")
-    )
-    low, high = _interval_labels(cfg.uncertainty.interval)
-    mon = pd.DataFrame(
-        {
-            "month": list(MONTHS),
-            "demand [kWh]": dem["monthly"],
-            f"{low} [kWh]": dem["monthly_p05"],
-            f"{high} [kWh]": dem["monthly_p95"],
-        }
-    )
-    rep.figure(figures["monthly_demand"], caption="Monthly heating demand", close_figure=False)
-    if "annual_comparison" in figures:
-        rep.figure(figures["annual_comparison"], caption="Annual demand vs references")
-    rep.table(mon, caption="Monthly demand [kWh]", number_format="{:,.0f}")
-
-    rep.section("Retrofit strategies")
-    meas = pd.DataFrame(
-        [
-            {
-                "measure": m,
-                "U after retrofit [W/(m2 K)]": u,
-                "description": PAPER_MEASURE_DESCRIPTIONS.get(m, ""),
-            }
-            for m, u in cfg.measures.items()
-        ]
-    )
-    rep.table(meas, caption="Measures", number_format="{:.2f}")
-    rep.figure(figures["scenario_savings"], caption="Savings with intervals", close_figure=False)
-    rep.figure(figures["scenario_demand"], caption="Annual demand per strategy", close_figure=False)
-    scen = tables["scenarios"]
-    shown = {
-        "annual_kWh": ("annual demand [kWh]", "{:,.0f}"),
-        "annual_kWh_p05": (f"{low} [kWh]", "{:,.0f}"),
-        "annual_kWh_p95": (f"{high} [kWh]", "{:,.0f}"),
-        "saving_pct": ("saving [%]", "{:.1f}"),
-        "saving_pct_p05": (f"saving {low} [%]", "{:.1f}"),
-        "saving_pct_p95": (f"saving {high} [%]", "{:.1f}"),
-    }
-    rep.table(
-        scen.rename(columns={k: v[0] for k, v in shown.items()}),
-        caption="Strategies (codes as paper 000 Table 3; highlighted: the two the paper quotes, "
-        "3c -31 % and 4 -48 %)",
-        number_format={v[0]: v[1] for v in shown.values()},
-        highlight_rows=[i for i, c in enumerate(scen["code"]) if c in ("3c", "4")],
-    )
-    if "reference_check" in results:
-        check = results["reference_check"]
-        rep.heading(f"Check against {check['reference']}")
-        rep.paragraph(
-            f"Annual demand of every strategy with a constant indoor temperature of "
-            f"{check['setpoint_C']:.0f} C, from the calibrated fifth-order model and from "
-            f"{check['reference']}."
-        )
-        rep.figure(figures["reference_check"], caption="Savings: model vs reference")
-        if "monthly_reference_check" in figures:
-            rep.figure(
-                figures["monthly_reference_check"],
-                caption=f"Monthly demand at {check['setpoint_C']:.0f} C: model vs "
-                f"{check['reference']}",
-            )
-        names = {
-            "model_kWh": "model [kWh]",
-            "model_kWh_p05": f"model {low} [kWh]",
-            "model_kWh_p95": f"model {high} [kWh]",
-            "model_saving_pct": "model saving [%]",
-            "model_saving_pct_p05": f"model saving {low} [%]",
-            "model_saving_pct_p95": f"model saving {high} [%]",
-            "reference_kWh": "reference [kWh]",
-            "reference_saving_pct": "reference saving [%]",
-        }
-        rep.table(
-            pd.DataFrame(check["strategies"]).rename(columns=names),
-            caption="Model vs reference at constant set point",
-            number_format={v: "{:,.0f}" if "kWh" in v else "{:.1f}" for v in names.values()},
-        )
-    fixed = [
-        n for n in ESTIMATED_PARAMETERS
-        if not np.isfinite(results["calibration"]["params"].get(n, {}).get("std_error") or np.nan)
-    ]  # fmt: skip
-    rep.paragraph(
-        f"Intervals ({low} to {high}): {cfg.uncertainty.draws} draws of (H_est, capacities) "
-        "from the estimated covariance (truncated to the bounds)"
-        + (
-            f"; without a standard error, {', '.join(fixed)} stay at their estimates"
-            if fixed
-            else ""
-        )
-        + (
-            f"; audit U-values varied by {100 * cfg.uncertainty.u_value_rel_std:.0f} % "
-            "(log-normal) with the calibrated HLC kept"
-            if cfg.uncertainty.u_value_rel_std > 0
-            else ""
-        )
-        + ". Savings are paired (the same draw for the strategy and for no retrofit). "
-        "Retrofits change only the U-value-based conductances."
-    )
-    return rep.write(path)

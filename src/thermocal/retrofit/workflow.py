@@ -1,4 +1,4 @@
-"""The retrofit analysis of paper 000, end to end.
+"""The retrofit analysis (fifth-order RC method), end to end.
 
 :func:`run_retrofit` reads the building file, the measurements and a typical-year weather file,
 calibrates the fifth-order model on the training period, validates it on training and test
@@ -43,7 +43,7 @@ from thermocal.retrofit.model import (
     system_matrices,
 )
 from thermocal.retrofit.simulation import simulate_batch
-from thermocal.retrofit.strategies import Strategy, all_strategies
+from thermocal.retrofit.strategies import Measure, Strategy
 
 
 @dataclass
@@ -236,7 +236,10 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     end = test[1] if test else training[1]
     grid = grid.loc[(grid.index >= training[0]) & (grid.index < end)]
     model = build_fifth_order_model(
-        building, solar_to_internal_mass=cfg.model.solar_to_internal_mass
+        building,
+        solar_to_internal_mass=cfg.model.solar_to_internal_mass,
+        bounds=cfg.model.bounds,
+        fixed=cfg.model.fixed,
     )
     inputs = model_inputs(
         grid,
@@ -303,12 +306,12 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         solar=cfg.model.solar_gains,
         depth=cfg.model.ground_depth,
     )
-    strategies = all_strategies()
+    strategies = cfg.strategy_list()
     draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
     envelopes = scenario_envelopes(
         model,
         strategies,
-        cfg.measures,
+        cfg.measure_objects(),
         draws,
         cfg.uncertainty.u_value_rel_std,
         seed=cfg.uncertainty.seed,
@@ -345,12 +348,15 @@ def _location_tz(building):
 def scenario_envelopes(
     model: FifthOrderModel,
     strategies,
-    measures: dict[str, float],
+    measures: dict,
     draws: dict[str, np.ndarray],
     u_value_rel_std: float = 0.0,
     seed: int = 0,
 ):
     """Envelopes (U-values) of every strategy, optionally per draw with uncertain audit U.
+
+    ``measures`` maps a name to a :class:`~thermocal.retrofit.strategies.Measure`, or (the
+    method's short form) a component name to its U-value after the retrofit [W/(m2 K)].
 
     With ``u_value_rel_std > 0`` each draw (except the first, the estimate) multiplies the
     audit U-values of roof, walls, windows and floor by independent log-normal factors of
@@ -362,10 +368,12 @@ def scenario_envelopes(
     -------
     list (one per strategy) of EnvelopeComponents, or of lists of them (one per draw).
     """
+    measures = {
+        name: m if isinstance(m, Measure) else Measure(name, name, u_value=float(m))
+        for name, m in measures.items()
+    }
     if u_value_rel_std <= 0:
-        return [
-            model.envelope.with_measures({m: measures[m] for m in s.measures}) for s in strategies
-        ]
+        return [model.apply_measures([measures[m] for m in s.measures]) for s in strategies]
     n = len(draws["H_est"])
     rng = np.random.default_rng(seed + 7919)
     sigma = np.sqrt(np.log1p(u_value_rel_std**2))
@@ -388,7 +396,7 @@ def scenario_envelopes(
         draws["H_est"][d] = max(draws["H_est"][d] + shift, 1.0)
         per_draw.append(env)
     return [
-        [env.with_measures({m: measures[m] for m in s.measures}) for env in per_draw]
+        [model.apply_measures([measures[m] for m in s.measures], env) for env in per_draw]
         for s in strategies
     ]
 

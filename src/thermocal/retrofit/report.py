@@ -1,0 +1,639 @@
+"""report.html of the retrofit workflow: a deliverable a consultant can hand to a client.
+
+Order: executive summary (recommendation in two sentences), strategies with final energy, cost,
+CO2, investment and payback, what the intervals cover, annual demand, assumptions, calibration,
+validation with residual diagnostics, data and data quality, (demo) the check against the
+generator, references, provenance. The method is cited once, in the references section.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from thermocal.retrofit import references as refs
+from thermocal.retrofit.economics import measure_areas, measure_investment, recommend
+from thermocal.retrofit.model import ESTIMATED_PARAMETERS
+from thermocal.retrofit.workflow import RetrofitAnalysis
+
+MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
+
+#: Sources of the economic defaults, shown next to the values the report used.
+ECONOMICS_SOURCES = {
+    "system_efficiency": "assumption: annual efficiency of an older oil or gas boiler with "
+    "its distribution losses (no measurement of the system); set economics.system_efficiency",
+    "energy_price": "placeholder of the order of Swiss heating-oil prices of recent years "
+    "(about 100-130 CHF per 100 litres at about 10 kWh per litre); set economics.energy_price",
+    "emission_factor": f"{refs.GEG_2020.key}: heating oil 310 g CO2-eq/kWh; set "
+    "economics.emission_factor for another energy carrier (natural gas 240, grid electricity "
+    "560, wood 20)",
+    "measure_costs": "indicative full costs per m2 (placeholders, not quotes); set "
+    "measures.<name>.cost_per_m2 and measures.<name>.cost",
+}
+
+
+def _fmt(value, spec: str, missing: str = "n/a") -> str:
+    if value is None:
+        return missing
+    try:
+        if not np.isfinite(value):
+            return missing
+    except TypeError:
+        return missing
+    return format(value, spec)
+
+
+def _money(value, currency: str) -> str:
+    return f"{_fmt(value, ',.0f')} {currency}"
+
+
+def interval_labels(interval: float) -> tuple[str, str]:
+    """Names of the lower and upper interval quantiles, e.g. ("p05", "p95") for 90 %."""
+    lo = round(50.0 * (1.0 - interval), 6)
+
+    def name(q: float) -> str:
+        return f"p{q:02.0f}" if q == int(q) else f"p{q:g}"
+
+    return name(lo), name(100.0 - lo)
+
+
+def heating_degree_days(temp_air: pd.Series, base: float = 20.0, limit: float = 12.0) -> float:
+    """Heating degree days [K d]: sum over days with a mean below ``limit`` of ``base - mean``.
+
+    Parameters
+    ----------
+    temp_air : pd.Series [C] with a DatetimeIndex (any step; daily means are taken).
+    base, limit : float [C]
+        Indoor base temperature and heating limit (20/12 as in SIA 381/3 and VDI 3807).
+    """
+    daily = temp_air.resample("1D").mean().dropna()
+    return float((base - daily[daily < limit]).sum())
+
+
+def _measures_label(measures) -> str:
+    return " + ".join(m.replace("_", " ") for m in measures) if measures else "no retrofit"
+
+
+def write_report(
+    analysis: RetrofitAnalysis,
+    results: dict,
+    tables: dict,
+    figures: dict,
+    path: Path,
+    *,
+    title: str | None = None,
+    logo: bytes | Path | str | None = None,
+    client: str | None = None,
+) -> Path:
+    """Write the self-contained report.html and return its path.
+
+    Parameters
+    ----------
+    analysis, results, tables, figures
+        From :func:`thermocal.retrofit.outputs.write_outputs`.
+    logo : PNG/SVG/JPEG bytes or a path, optional
+        Shown in the header (embedded, the file stays offline).
+    client : str, optional
+        Line under the title (e.g. the client's name and address).
+    """
+    from thermocal.report import HtmlReport
+
+    cfg = analysis.config
+    eco = cfg.economics
+    cur = eco.currency
+    hlc = results["heat_loss_coefficient_W_per_K"]
+    dem = results["annual_heating_demand_kWh"]
+    b = analysis.building
+    scen = tables["scenarios"]
+    econ = tables["economics"]
+    pct = f"{100 * cfg.uncertainty.interval:.0f} %"
+    low, high = interval_labels(cfg.uncertainty.interval)
+    measures = cfg.measure_objects()
+    rec = recommend(econ, scen["saving_pct"])
+    subtitle = (
+        "Heating demand and envelope-retrofit strategies from a calibrated fifth-order RC model"
+        + (f" - {client}" if client else "")
+    )
+    rep = HtmlReport(title or f"Retrofit analysis: {b.name}", subtitle=subtitle, logo=logo)
+
+    # ------------------------------------------------------------------ executive summary
+    rep.section("Executive summary")
+    base = econ.iloc[0]
+    today = (
+        f"Today the house needs about {dem['value']:,.0f} kWh of heat a year ({pct} interval "
+        f"{dem['p05']:,.0f} to {dem['p95']:,.0f} kWh), that is {base['final_energy_kWh']:,.0f} "
+        f"kWh of {eco.energy_carrier}, about {_money(base['cost_per_year'], cur)} and "
+        f"{base['co2_kg_per_year'] / 1000:,.1f} t CO2 a year."
+    )
+    if rec is not None:
+        r = rec["row"]
+        srow = scen[scen["code"] == rec["code"]].iloc[0]
+        names = next(s.measures for s in analysis.strategies if s.code == rec["code"])
+        advice = (
+            f"We recommend strategy {rec['code']} ({_measures_label(names)}): it saves about "
+            f"{srow['saving_pct']:.0f} % of the heat ({pct} interval {srow['saving_pct_p05']:.0f}"
+            f" to {srow['saving_pct_p95']:.0f} %), about {_money(r['cost_saving_per_year'], cur)}"
+            f" and {r['co2_saving_kg_per_year'] / 1000:,.1f} t CO2 a year, costs about "
+            f"{_money(r['investment'], cur)} and pays for itself in about "
+            f"{_fmt(r['payback_years'], '.0f')} years ({_fmt(r['payback_years_lo'], '.0f')} to "
+            f"{_fmt(r['payback_years_hi'], '.0f')} years) at today's energy price."
+        )
+    else:
+        advice = "None of the strategies saves running cost at the configured prices."
+    rep.paragraph(f"{today} {advice}", css_class="lead")
+    tiles = {
+        "Heat demand today": f"{dem['value']:,.0f} kWh/a",
+        f"{pct} interval": f"{dem['p05']:,.0f} – {dem['p95']:,.0f} kWh/a",
+        "Heat loss coefficient": f"{hlc['value']:.0f} ± {_fmt(hlc['std'], '.0f')} W/K",
+        "Running cost today": f"{_money(base['cost_per_year'], cur)}/a",
+    }
+    if rec is not None:
+        r = rec["row"]
+        tiles[f"Recommended: {rec['code']}"] = (
+            f"-{scen.loc[scen['code'] == rec['code'], 'saving_pct'].iloc[0]:.0f} % heat"
+        )
+        tiles["Investment"] = _money(r["investment"], cur)
+        tiles["Simple payback"] = f"{_fmt(r['payback_years'], '.0f')} years"
+    if "true" in hlc:
+        tiles["True HLC (demo generator)"] = (
+            f"{hlc['true']:.0f} W/K ({hlc['relative_error_pct']:+.1f} %)"
+        )
+    rep.key_values(tiles)
+    if rec is not None:
+        rep.paragraph(
+            f"How the recommendation is chosen: {rec['rule']}. Payback is simple (investment "
+            "divided by the yearly saving of running cost, no interest, no price changes, no "
+            "subsidies); the costs are those of the configuration (see Assumptions). A "
+            "consultant should check them against quotes before advising."
+        )
+    flags = results["calibration"]["flags"]
+    if flags:
+        rep.note(
+            f"The calibration raised {len(flags)} point(s) to check (section Calibration). "
+            "They concern how well single parameters are determined; the heat loss coefficient "
+            "and the demand above are checked on the test period (section Validation)."
+        )
+    for note in analysis.notes:
+        rep.note(note)
+    rep.paragraph(
+        f"Building: {b.name}, {b.floors} floors, {b.heated_floor_area:.0f} m² heated floor "
+        f"area, {b.volume:.0f} m³, emitters: {b.emitter}. Measurements: training "
+        f"{analysis.training[0]:%Y-%m-%d} to {analysis.training[1]:%Y-%m-%d}"
+        + (f", test to {analysis.test[1]:%Y-%m-%d}." if analysis.test else ".")
+    )
+
+    # ------------------------------------------------------------------ strategies
+    rep.section("Retrofit strategies: energy, cost, CO2 and payback")
+    areas = measure_areas(analysis.model.envelope, float(b.heated_floor_area))
+    mrows = []
+    for name, m in measures.items():
+        what = []
+        if m.u_value is not None:
+            what.append(f"U = {m.u_value:g} W/(m² K)")
+        if m.g_value is not None:
+            what.append(f"g = {m.g_value:g}")
+        if m.air_change_rate_change:
+            what.append(f"air change {m.air_change_rate_change:+g} 1/h")
+        if m.heat_recovery_air_change_rate:
+            what.append(
+                f"ventilation {m.heat_recovery_air_change_rate:g} 1/h with "
+                f"{100 * m.heat_recovery_efficiency:.0f} % heat recovery"
+            )
+        mrows.append({
+            "measure": name.replace("_", " "),
+            "acts on": m.component.replace("_", " "),
+            "after retrofit": ", ".join(what),
+            "area [m²]": areas[m.component],
+            f"cost per m² [{cur}]": m.cost_per_m2,
+            f"fixed cost [{cur}]": m.cost,
+            f"investment [{cur}]": measure_investment(m, areas),
+            "description": m.description,
+        })  # fmt: skip
+    rep.table(
+        pd.DataFrame(mrows),
+        caption="Measures (area of the component; heated floor area for ventilation measures)",
+        number_format="{:,.0f}",
+    )
+    codes = list(scen["code"])
+    e = econ.copy()
+    e.insert(1, "measures", [_measures_label(s.measures) for s in analysis.strategies])
+    e["saving [%]"] = scen["saving_pct"].to_numpy()
+    e["saving interval [%]"] = [
+        f"{a:.0f} – {c:.0f}" for a, c in zip(scen["saving_pct_p05"], scen["saving_pct_p95"],
+                                             strict=True)
+    ]  # fmt: skip
+    e["payback interval [a]"] = [
+        "" if not np.isfinite(p) else f"{_fmt(a, '.0f')} – {_fmt(c, '.0f', '∞')}"
+        for p, a, c in zip(e["payback_years"], e["payback_years_lo"], e["payback_years_hi"],
+                           strict=True)
+    ]  # fmt: skip
+    shown = {
+        "code": "code",
+        "measures": "measures",
+        "useful_heat_kWh": "useful heat [kWh/a]",
+        "saving [%]": "saving [%]",
+        "saving interval [%]": f"{pct} interval",
+        "final_energy_kWh": f"final energy [kWh/a] ({eco.energy_carrier})",
+        "cost_per_year": f"running cost [{cur}/a]",
+        "co2_kg_per_year": "CO2 [kg/a]",
+        "investment": f"investment [{cur}]",
+        "cost_saving_per_year": f"saving [{cur}/a]",
+        "payback_years": "simple payback [a]",
+        "payback interval [a]": f"payback {pct} interval [a]",
+    }
+    table = e[list(shown)].rename(columns=shown)
+    table.loc[0, shown["payback_years"]] = np.nan
+    rep.table(
+        table,
+        caption=(
+            f"Strategies: useful heat (what the radiators deliver), final energy = useful heat / "
+            f"{eco.system_efficiency:g} system efficiency, at {eco.energy_price:g} {cur}/kWh "
+            f"and {eco.emission_factor:g} kg CO2/kWh"
+            + (f"; highlighted: the recommended strategy {rec['code']}" if rec else "")
+        ),
+        number_format={
+            shown["saving [%]"]: "{:.1f}",
+            shown["payback_years"]: "{:.0f}",
+            **{v: "{:,.0f}" for k, v in shown.items() if k not in ("saving [%]", "payback_years")},
+        },
+        highlight_rows=[codes.index(rec["code"])] if rec else (),
+    )
+    rep.figure(
+        figures["scenario_savings"],
+        caption=f"Saving of heat per strategy; whiskers: {pct} interval (parameter uncertainty)",
+        close_figure=False,
+    )
+    rep.figure(
+        figures["scenario_demand"], caption="Annual heat demand per strategy", close_figure=False
+    )
+
+    # ------------------------------------------------------------------ intervals
+    rep.section("What the intervals cover, and what they do not")
+    at_bound = results["calibration"]["parameters_at_bounds"]
+    fixed = results["calibration"].get("parameters_fixed", [])
+    covered = [
+        f"the estimation uncertainty of the calibrated parameters (heat loss coefficient part "
+        f"H_est and the heat capacities), {cfg.uncertainty.draws} draws from their estimated "
+        "covariance",
+    ]
+    if cfg.uncertainty.u_value_rel_std > 0:
+        covered.append(
+            f"the uncertainty of the audit U-values ({100 * cfg.uncertainty.u_value_rel_std:.0f}"
+            " % relative spread, keeping the measured heat loss coefficient), which decides "
+            "how much each single measure saves"
+        )
+    rep.bullets(covered, intro=f"The {pct} intervals ({low} to {high}) cover:")
+    not_covered = [
+        "the weather: one typical year is used; a cold winter needs more, a mild one less "
+        "(roughly in proportion to the heating degree days, see Assumptions)",
+        "the occupants: set-point temperatures, window airing, internal gains as during the "
+        "measurements; other habits change the demand",
+        "the model structure: five lumped temperatures stand for the whole house; effects it "
+        "cannot represent (thermal bridges changed by a retrofit, moisture, zones held at other "
+        "temperatures) are not in the intervals",
+        "prices, system efficiency and costs: the economic figures are computed at the "
+        "configured values and scale directly with them",
+    ]
+    if at_bound or fixed:
+        not_covered.append(
+            "parameters on an estimation bound or fixed ("
+            + ", ".join(at_bound + list(fixed))
+            + "): they are held at their value in every draw"
+        )
+    rep.bullets(not_covered, intro="They do not cover:")
+    rep.paragraph(
+        "Savings are computed in pairs (the same parameter draw with and without the "
+        "retrofit), so a strategy's saving interval is narrower than the difference of the two "
+        "demand intervals."
+    )
+
+    # ------------------------------------------------------------------ annual demand
+    rep.section("Annual heating demand")
+    ref_items = {k: v for k, v in dem["references"].items() if not isinstance(v, list)}
+    ref_text = "; ".join(f"{k}: {v:,.0f} kWh" for k, v in ref_items.items())
+    rep.paragraph(
+        f"Simulated over the typical year of {dem['weather'].get('name') or 'the weather file'} "
+        f"with the 24-hour indoor temperature profile (see Assumptions) and ideal heating: "
+        f"{dem['value']:,.0f} kWh/a ({dem['per_m2_kWh']:.0f} kWh per m² heated floor area)."
+        + (f" References: {ref_text}." if ref_text else "")
+    )
+    rep.figure(figures["monthly_demand"], caption="Monthly heating demand", close_figure=False)
+    if "annual_comparison" in figures:
+        rep.figure(figures["annual_comparison"], caption="Annual demand vs references")
+    mon = pd.DataFrame({
+        "month": list(MONTHS), "demand [kWh]": dem["monthly"],
+        f"{low} [kWh]": dem["monthly_p05"], f"{high} [kWh]": dem["monthly_p95"],
+    })  # fmt: skip
+    rep.table(mon, caption="Monthly demand [kWh]", number_format="{:,.0f}")
+
+    # ------------------------------------------------------------------ assumptions
+    rep.section("Assumptions")
+    _assumptions(rep, analysis, results)
+
+    # ------------------------------------------------------------------ calibration
+    rep.section("Calibration")
+    _calibration(rep, analysis, results, tables)
+
+    # ------------------------------------------------------------------ validation
+    rep.section("Validation")
+    _validation(rep, analysis, results, tables, figures)
+
+    # ------------------------------------------------------------------ data
+    rep.section("Measured data and data quality")
+    _data_quality(rep, analysis, results, figures)
+
+    if "reference_check" in results:
+        rep.section("Check against a known answer (demo)")
+        _reference_check(rep, results, figures, pct, low, high)
+
+    # ------------------------------------------------------------------ references
+    rep.section("References")
+    rep.paragraph(
+        "Method: the fifth-order RC model, its calibration, validation, demand simulation and "
+        "strategy coding follow the first reference; parameter correlation limit |r| < 0.98 "
+        "and residual checks follow Madsen et al. (2016)."
+    )
+    rep.references([r.entry() for r in refs.ALL])
+    prov = results.get("provenance", {})
+    if prov:
+        inputs = "; ".join(
+            f"{k}: {v['file']} (sha256 {str(v['sha256'])[:12]}…)" for k, v in prov["inputs"].items()
+        )
+        rep.paragraph(
+            f"Produced by thermocal {prov['thermocal_version']} on {prov['created']} "
+            f"({prov['command_line'] or 'Python API'}); seeds {prov['seeds']}; inputs: {inputs}.",
+            css_class="small",
+        )
+    return rep.write(path)
+
+
+def _assumptions(rep, analysis: RetrofitAnalysis, results: dict) -> None:
+    cfg = analysis.config
+    eco = cfg.economics
+    dem = results["annual_heating_demand_kWh"]
+    prof = np.asarray(analysis.indoor_profile, float)
+    w = dem["weather"]
+    year = analysis.year_inputs
+    hdd_year = heating_degree_days(year["Te"]) if year is not None else float("nan")
+    d = analysis.data
+    hdd_meas = heating_degree_days(d["Te"])
+    days_meas = (d.index[-1] - d.index[0]) / pd.Timedelta(days=1)
+    profile_text = (
+        "24-hour profile of the measured indoor temperature, repeated every day"
+        if cfg.demand.indoor_profile == "measured"
+        else f"constant {float(cfg.demand.indoor_profile):.1f} C"
+    )
+    rows = [
+        ("Indoor temperature", f"{profile_text}: mean {prof.mean():.1f} C, "
+         f"{prof.min():.1f} to {prof.max():.1f} C"),
+        ("Heating control", "ideal heating only: exactly the heat needed to hold the profile, "
+         "never cooling; the house floats above it when sun or stored heat warm it"),
+        ("Internal gains", "not a separate input: the gains of occupants and appliances during "
+         "the measurements are contained in the calibrated heat balance (mostly in H_est), so "
+         "the demand assumes the same use of the house"),
+        ("Ventilation and infiltration", "part of the estimated conductance H_est with thermal "
+         "bridges and doors (calibrated H_est "
+         f"{results['heat_loss_coefficient_W_per_K']['H_est']:.0f} W/K; the building file "
+         f"suggests {analysis.model.audit_h_est:.0f} W/K at 0.5 air changes per hour); "
+         "envelope measures leave it unchanged, ventilation measures change it"),
+        ("Weather", f"{w.get('name') or 'typical year'} ({_fmt(w.get('latitude'), '.2f')} N, "
+         f"{_fmt(w.get('longitude'), '.2f')} E), {w.get('source') or 'weather file'}"),
+        ("Heating degree days (20/12)", f"typical year {hdd_year:,.0f} K d; measurement period "
+         f"{hdd_meas:,.0f} K d over {days_meas:.0f} days"),
+        ("Retrofits", "change U-values (and for windows optionally the g-value) of the "
+         "components; heat capacities and the estimated H_est stay as calibrated"),
+        ("Heating system", f"{eco.energy_carrier}, annual efficiency {eco.system_efficiency:g} "
+         f"(useful heat / final energy). Source: {ECONOMICS_SOURCES['system_efficiency']}"),
+        ("Energy price", f"{eco.energy_price:g} {eco.currency}/kWh of final energy. Source: "
+         f"{ECONOMICS_SOURCES['energy_price']}"),
+        ("Emission factor", f"{eco.emission_factor:g} kg CO2-eq/kWh of final energy. Source: "
+         f"{ECONOMICS_SOURCES['emission_factor']}"),
+        ("Measure costs", ECONOMICS_SOURCES["measure_costs"]),
+    ]  # fmt: skip
+    rep.table(pd.DataFrame(rows, columns=["assumption", "value"]), caption="Assumptions")
+    rep.table(
+        pd.DataFrame({"hour": np.arange(24), "indoor set point [C]": prof})
+        .T.reset_index(drop=True)
+        .set_axis([f"{h:02d}" for h in range(24)], axis=1)
+        .iloc[1:],
+        caption="Indoor temperature profile [C] by hour of the day (end of the hour)",
+        number_format="{:.1f}",
+    )
+
+
+def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -> None:
+    cfg = analysis.config
+    cal = results["calibration"]
+    hlc = results["heat_loss_coefficient_W_per_K"]
+    rep.paragraph(
+        f"Maximum-likelihood fit of the fifth-order model on the training period: log-"
+        f"likelihood {cal['loglike']:.1f}, AIC {cal['aic']:.1f}, converged: "
+        f"{cal['converged']}, {cal['fit_seconds']:.1f} s. Largest |correlation| between the "
+        f"estimated physical parameters: {_fmt(cal['max_abs_correlation_physical'], '.3f')} "
+        f"(limit {cfg.model.max_correlation}, Madsen et al. 2016)."
+    )
+    if cal["flags"]:
+        rep.flags(cal["flags"])
+    if cal["parameters_at_bounds"]:
+        rep.note(
+            "What a parameter on its bound means here: the capacities decide how fast the house "
+            "cools and warms, not how much heat a year it needs. A capacity pushed to the edge "
+            "of its plausible range (from ISO 52016-1 classes) means the data could not pin it "
+            "down within that range; the annual demand depends on the heat loss coefficient, "
+            "which stays well determined (its standard error is shown). Savings are computed "
+            "with the capacities unchanged, so a capacity at a bound changes them only through "
+            "the timing of solar and stored heat."
+        )
+    p = tables["parameters"]
+    p = p[p["estimated"]].copy()
+    se = []
+    for _, row in p.iterrows():
+        status = row["status"]
+        if status == "at bound":
+            se.append("n/a (at bound)")
+        elif status == "fixed":
+            se.append("n/a (fixed)")
+        else:
+            se.append(_fmt(row["std_error"], ",.4g"))
+    p["std_error"] = se
+    p["bounds from"] = [
+        results["calibration"]["params"][n].get("bounds_from", "") for n in p["parameter"]
+    ]
+    rep.table(
+        p.drop(columns=["estimated"]).rename(columns={"std_error": "standard error"}),
+        caption="Estimated parameters (bounds from the building file unless configured)",
+        number_format="{:,.4g}",
+    )
+    hc = pd.DataFrame([
+        {"conductance": k, "value": v}
+        for k, v in cal["calculated_conductances_W_per_K"].items()
+        if k not in ("g_factor", "H_est_change")
+    ])  # fmt: skip
+    rep.table(
+        hc,
+        caption="Calculated conductances [W/K] and shares [-] (ISO 52016-1, ISO 13370)",
+        number_format="{:,.4g}",
+    )
+    rep.paragraph(
+        f"HLC = calculated part {hlc['calculated_part']:.1f} W/K + H_est {hlc['H_est']:.1f} W/K "
+        f"= {hlc['value']:.1f} W/K (standard error {_fmt(hlc['std'], '.1f')} W/K). The building "
+        f"file alone suggests {hlc['audit_prior']:.1f} W/K."
+    )
+    phys = [n for n in ESTIMATED_PARAMETERS if n in analysis.calibration.correlation.columns]
+    if phys:
+        corr = analysis.calibration.correlation.loc[phys, phys].reset_index(names="parameter")
+        rep.table(
+            corr,
+            caption=f"Correlation of the estimated parameters (|r| < {cfg.model.max_correlation}"
+            " required; n/a for parameters at a bound)",
+            number_format="{:+.3f}",
+        )
+
+
+def _validation(rep, analysis, results, tables, figures) -> None:
+    shown = {
+        "period": ("period", None), "mae": ("MAE [K]", "{:.3f}"),
+        "mape": ("MAPE [%]", "{:.2f}"), "mse": ("MSE [K²]", "{:.3f}"),
+        "mean_simulated": ("mean simulated [C]", "{:.2f}"),
+        "mean_measured": ("mean measured [C]", "{:.2f}"),
+        "mean_deviation_pct": ("deviation of the mean [%]", "{:+.2f}"), "n": ("hours", "{:.0f}"),
+    }  # fmt: skip
+    val = tables["validation"][list(shown)].rename(columns={k: v[0] for k, v in shown.items()})
+    rep.table(
+        val,
+        caption="Multi-step simulation of the indoor temperature from the inputs alone",
+        number_format={v[0]: v[1] for v in shown.values() if v[1]},
+    )
+    for key, label in (("ti_training", "training"), ("ti_test", "test")):
+        if key in figures:
+            rep.figure(
+                figures[key],
+                caption=f"Indoor air temperature over the {label} period: measured and "
+                "simulated from the inputs alone (no feedback of the measurements)",
+                close_figure=False,
+            )
+    diag = results["calibration"].get("residual_diagnostics")
+    if "residuals" in figures and diag:
+        rep.heading("Residual diagnostics")
+        white = diag["share_of_lags_outside_band"] <= 0.1 and (
+            diag["periodogram_share_outside_band"] <= 0.05
+        )
+        rep.paragraph(
+            "One-step-ahead prediction errors of the indoor temperature over the training "
+            f"period: mean {diag['mean_K']:+.3f} K, standard deviation {diag['std_K']:.3f} K, "
+            f"autocorrelation at lag 1 {diag['acf_lag1']:+.2f}"
+            + (f" and at 24 h {diag['acf_lag24']:+.2f}" if diag.get("acf_lag24") is not None
+               else "")
+            + f"; {100 * diag['share_of_lags_outside_band']:.0f} % of the lags 1-48 and "
+            f"{100 * diag['periodogram_share_outside_band']:.0f} % of the cumulated periodogram "
+            "lie outside their white-noise bands. "
+            + ("The residuals are close to white noise: the model uses the information in the "
+               "data." if white else
+               "The residuals are not white noise: some dynamics (e.g. daily solar or occupant "
+               "patterns the inputs do not describe) are left in them. The heat loss "
+               "coefficient can still be right, but its standard error is then optimistic.")
+        )  # fmt: skip
+        rep.figure(
+            figures["residuals"],
+            caption="Residuals of the fifth-order model (Madsen et al. 2016: for a model that "
+            "uses all information the autocorrelation stays inside the band and the cumulated "
+            "periodogram follows the diagonal)",
+            close_figure=False,
+        )
+
+
+def _data_quality(rep, analysis, results, figures) -> None:
+    if "inputs" in figures:
+        rep.figure(
+            figures["inputs"],
+            caption="Measured temperatures, heating power (flow x water temperature difference) "
+            "and the solar gains computed from the irradiance (ISO 52010-1)",
+            close_figure=False,
+        )
+    q = results.get("measurements_quality")
+    if not q:
+        rep.paragraph("No data-quality report (the measurements came on a regular grid).")
+        return
+    sensors = pd.DataFrame(q["sensors"])
+    cols = {
+        "sensor": "sensor", "quantity": "quantity", "unit": "unit", "n_reports": "readings",
+        "coverage": "coverage [%]", "n_gaps": "gaps", "gap_hours": "gap hours",
+        "n_impossible": "impossible values", "n_outliers": "outliers",
+        "n_outliers_removed": "outliers removed", "n_missing": "missing intervals",
+    }  # fmt: skip
+    sensors = sensors[[c for c in cols if c in sensors]].rename(columns=cols)
+    if "coverage [%]" in sensors:
+        sensors["coverage [%]"] = 100.0 * sensors["coverage [%]"].astype(float)
+    rep.table(
+        sensors,
+        caption=f"Data quality per sensor, {q['start'][:16]} to {q['end'][:16]}, step "
+        f"{q['step_seconds'] / 3600:g} h",
+        number_format="{:,.4g}",
+    )
+    if q.get("gaps"):
+        rep.table(pd.DataFrame(q["gaps"]), caption="Gaps longer than allowed")
+    if q.get("flags"):
+        flags = pd.DataFrame(q["flags"])
+        rep.table(flags.head(50), caption=f"Flagged readings ({len(flags)}; first 50 shown)")
+    if q.get("actions"):
+        rep.bullets(q["actions"], intro="What was done to the data:")
+
+
+def _reference_check(rep, results, figures, pct, low, high) -> None:
+    check = results["reference_check"]
+    rows = check["strategies"]
+    base = rows[0]
+    bias = 100.0 * (base["model_kWh"] / base["reference_kWh"] - 1.0) if base[
+        "reference_kWh"] else float("nan")  # fmt: skip
+    inside_base = base["model_kWh_p05"] <= (base["reference_kWh"] or -1) <= base["model_kWh_p95"]
+    diffs = [
+        (r["code"], r["model_saving_pct"] - r["reference_saving_pct"])
+        for r in rows[1:]
+        if r["reference_saving_pct"] is not None
+    ]
+    covered = sum(
+        1 for r in rows[1:] if r["reference_saving_pct"] is not None
+        and r["model_saving_pct_p05"] <= r["reference_saving_pct"] <= r["model_saving_pct_p95"]
+    )  # fmt: skip
+    worst = max(diffs, key=lambda t: abs(t[1])) if diffs else None
+    rep.paragraph(
+        f"The demo data were generated by {check['reference']}, so the right answers are known. "
+        f"At a constant {check['setpoint_C']:.0f} C the calibrated model's demand without "
+        f"retrofit is {bias:+.0f} % off the generator's "
+        f"({'inside' if inside_base else 'outside'} its {pct} interval). "
+        + (f"Its savings differ from the generator's by {min(d for _, d in diffs):+.0f} to "
+           f"{max(d for _, d in diffs):+.0f} percentage points (largest: strategy {worst[0]}); "
+           f"the {pct} interval contains the generator's saving for {covered} of {len(diffs)} "
+           "strategies." if diffs else "")
+    )  # fmt: skip
+    rep.paragraph(
+        "What this means: a bias of the baseline is a bias of the heat loss coefficient or of "
+        "the heat the model attributes to the sun and the stored heat; it scales every "
+        "strategy's demand alike and leaves the ranking unchanged. Savings that are too high "
+        "for the wall measures mean the model gives the walls a larger share of the losses "
+        "than the generator does: the data identify the total heat loss, not its split between "
+        "components, which comes from the audit U-values. The intervals cover the estimation "
+        "uncertainty (and the audit U-value spread when configured), not this structural "
+        "difference between a five-node model and a multi-zone one; where the generator's "
+        "value lies outside them, that difference dominates."
+    )
+    rep.figure(figures["reference_check"], caption="Savings: model vs reference")
+    if "monthly_reference_check" in figures:
+        rep.figure(
+            figures["monthly_reference_check"],
+            caption=f"Monthly demand at {check['setpoint_C']:.0f} C: model vs {check['reference']}",
+        )
+    names = {
+        "model_kWh": "model [kWh]", "model_kWh_p05": f"model {low} [kWh]",
+        "model_kWh_p95": f"model {high} [kWh]", "model_saving_pct": "model saving [%]",
+        "model_saving_pct_p05": f"model saving {low} [%]",
+        "model_saving_pct_p95": f"model saving {high} [%]", "reference_kWh": "reference [kWh]",
+        "reference_saving_pct": "reference saving [%]",
+    }  # fmt: skip
+    rep.table(
+        pd.DataFrame(rows).rename(columns=names),
+        caption="Model vs reference at constant set point",
+        number_format={v: "{:,.0f}" if "kWh" in v else "{:.1f}" for v in names.values()},
+    )

@@ -1,0 +1,191 @@
+"""Economics of the strategies (checked against hand calculations) and user-defined measures
+(checked conductance by conductance against the system matrices)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from retrofit_synthetic import building_dict
+
+from thermocal.errors import ThermocalInputError
+from thermocal.retrofit.config import parse_config
+from thermocal.retrofit.economics import measure_areas, recommend, strategy_economics
+from thermocal.retrofit.model import build_fifth_order_model, system_matrices
+from thermocal.retrofit.strategies import Measure, Strategy, all_strategies
+
+
+def _cfg(**over):
+    base = {"building": "b.yaml", "measurements": {"file": "m.csv"}, "weather": {"file": "w.epw"}}
+    base.update(over)
+    return base
+
+
+def test_strategy_economics_by_hand():
+    measures = {
+        "roof": Measure("roof", "roof", u_value=0.18, cost_per_m2=100.0),
+        "tight": Measure("tight", "airtightness", air_change_rate_change=-0.2, cost=3000.0,
+                         cost_per_m2=5.0),
+    }  # fmt: skip
+    areas = {"roof": 120.0, "airtightness": 200.0}
+    strategies = [Strategy("0", ()), Strategy("1a", ("roof",)), Strategy("2", ("roof", "tight"))]
+    rng = np.random.default_rng(1)
+    annual = np.array([20000.0, 15000.0, 11000.0])[:, None] * rng.uniform(0.9, 1.1, (1, 401))
+    annual[:, 0] = [20000.0, 15000.0, 11000.0]
+    eff, price, ef = 0.8, 0.1, 0.3
+    t = strategy_economics(annual, strategies, measures, areas, system_efficiency=eff,
+                           energy_price=price, emission_factor=ef, interval=0.8)  # fmt: skip
+    # brute force, one strategy at a time
+    for i, code in enumerate(["0", "1a", "2"]):
+        row = t.iloc[i]
+        assert row["code"] == code
+        assert row["final_energy_kWh"] == pytest.approx(annual[i, 0] / eff)
+        assert row["cost_per_year"] == pytest.approx(annual[i, 0] / eff * price)
+        assert row["co2_kg_per_year"] == pytest.approx(annual[i, 0] / eff * ef)
+    invest = {"0": 0.0, "1a": 100.0 * 120.0, "2": 100.0 * 120.0 + 3000.0 + 5.0 * 200.0}
+    for i, code in enumerate(["0", "1a", "2"]):
+        row = t.iloc[i]
+        assert row["investment"] == pytest.approx(invest[code])
+        saving = (annual[0, 0] - annual[i, 0]) / eff * price
+        assert row["cost_saving_per_year"] == pytest.approx(saving)
+        if i:
+            assert row["payback_years"] == pytest.approx(invest[code] / saving)
+            paired = (annual[0, 1:] - annual[i, 1:]) / eff * price
+            lo, hi = np.quantile(paired, [0.1, 0.9])
+            assert row["cost_saving_per_year_lo"] == pytest.approx(lo)
+            assert row["payback_years_lo"] == pytest.approx(invest[code] / hi)
+            assert row["payback_years_hi"] == pytest.approx(invest[code] / lo)
+            assert row["co2_saving_kg_per_year"] == pytest.approx(
+                (annual[0, 0] - annual[i, 0]) / eff * ef
+            )
+        else:
+            assert np.isnan(row["payback_years"])
+    # paybacks: 1a 12000/625 = 19.2 a, 2 16000/1125 = 14.2 a -> largest saving within 30 a
+    rec = recommend(t, [0.0, 25.0, 45.0])
+    assert rec["code"] == "2"
+
+
+def test_recommend_when_nothing_pays_back_within_30_years():
+    measures = {"w": Measure("w", "windows", u_value=0.7, cost=1e6)}
+    strategies = [Strategy("0", ()), Strategy("1", ("w",))]
+    t = strategy_economics(np.array([[1000.0], [900.0]]), strategies, measures,
+                           {"windows": 10.0}, system_efficiency=1.0, energy_price=0.1,
+                           emission_factor=0.2)  # fmt: skip
+    rec = recommend(t, [0.0, 10.0])
+    assert rec["code"] == "1" and "none pays back within 30 years" in rec["rule"]
+    t.loc[1, "payback_years"] = np.nan
+    assert recommend(t, [0.0, 10.0]) is None
+
+
+@pytest.fixture(scope="module")
+def model():
+    from thermocal.io.building import Building
+
+    return build_fifth_order_model(Building.model_validate(building_dict()))
+
+
+def _matrices(model, env, h_est=150.0):
+    p = {"H_est": h_est, "C_env": 5e7, "C_gf": 2e7, "C_im": 3e7, "C_i": 5e6, "C_h": 5e5}
+    return system_matrices(model.conductances(env), {k: np.array([v]) for k, v in p.items()})
+
+
+def test_user_defined_measures_change_the_right_conductances(model):
+    a0, b0 = _matrices(model, model.envelope)
+    c_i = 5e6
+    # airtightness: H_est changes by rho c V dn, nothing else
+    tight = Measure("tight", "airtightness", air_change_rate_change=-0.3)
+    a1, b1 = _matrices(model, model.apply_measures([tight]))
+    dh = 1200.0 / 3600.0 * model.volume * -0.3
+    assert a1[0, 0, 0] - a0[0, 0, 0] == pytest.approx(-dh / c_i, rel=1e-12)
+    assert b1[0, 0, 0] - b0[0, 0, 0] == pytest.approx(dh / c_i, rel=1e-12)  # Te -> Ti
+    diff = np.abs(a1 - a0) > 1e-15
+    diff[0, 0, 0] = False
+    assert not diff.any()
+    # heat recovery: 0.4 1/h at 80 %: H_est - rho c V 0.4 0.8
+    hr = Measure("mvhr", "heat_recovery", heat_recovery_air_change_rate=0.4,
+                 heat_recovery_efficiency=0.8)  # fmt: skip
+    a2, _ = _matrices(model, model.apply_measures([hr]))
+    dh2 = -1200.0 / 3600.0 * model.volume * 0.4 * 0.8
+    assert a2[0, 0, 0] - a0[0, 0, 0] == pytest.approx(-dh2 / c_i, rel=1e-12)
+    # H_est never negative
+    huge = Measure("huge", "airtightness", air_change_rate_change=-3.0)
+    a3, _ = _matrices(model, model.apply_measures([huge]), h_est=10.0)
+    a_no_est, _ = _matrices(model, model.envelope, h_est=0.0)
+    assert a3[0, 0, 0] == pytest.approx(a_no_est[0, 0, 0], rel=1e-12)
+    # g-value: only the two solar-gain entries scale by g_new / g_old
+    glaze = Measure("solar_glass", "windows", g_value=0.3)
+    a4, b4 = _matrices(model, model.apply_measures([glaze]))
+    sol = 3  # phi_sol column of the calibration model
+    factor = 0.3 / model.windows_g
+    np.testing.assert_allclose(b4[0, :, sol], b0[0, :, sol] * factor, rtol=1e-12)
+    np.testing.assert_array_equal(a4, a0)
+    # window U-value: H_win = U A
+    win = Measure("triple", "windows", u_value=0.7)
+    h = model.conductances(model.apply_measures([win]))
+    assert h["H_win"] == pytest.approx(0.7 * model.envelope.windows_area)
+    assert model.conductances()["H_win"] == pytest.approx(
+        model.envelope.windows_u * model.envelope.windows_area
+    )
+
+
+def test_config_user_measures_and_strategies():
+    cfg = parse_config(_cfg(
+        measures={
+            "roof": {"u_value": 0.15, "cost_per_m2": 120},
+            "walls": 0.2,
+            "triple": {"component": "windows", "u_value": 0.7, "g_value": 0.5, "cost": 9000},
+            "double": {"component": "windows", "u_value": 1.1},
+            "mvhr": {"component": "heat_recovery", "air_change_rate": 0.4, "efficiency": 0.8},
+        },
+        economics={"energy_price": 0.2, "currency": "EUR"},
+    ))  # fmt: skip
+    objs = cfg.measure_objects()
+    assert objs["roof"].cost_per_m2 == 120 and objs["walls"].cost_per_m2 == 250  # default
+    assert objs["triple"].cost_per_m2 == 0 and objs["triple"].cost == 9000
+    codes = {s.code: s.measures for s in cfg.strategy_list()}
+    # two window options never together: 2**5 = 32 minus the 8 with both windows
+    assert len(codes) == 32 - 8
+    assert not any({"triple", "double"} <= set(m) for m in codes.values())
+    listed = parse_config(_cfg(measures={"roof": 0.15, "walls": 0.2},
+                               strategies={"A": ["roof"], "B": ["roof", "walls"]}))  # fmt: skip
+    assert [s.code for s in listed.strategy_list()] == ["0", "A", "B"]
+    with pytest.raises(ThermocalInputError, match="strategies.*unknown measures"):
+        parse_config(_cfg(measures={"roof": 0.15}, strategies={"A": ["attic"]}))
+    with pytest.raises(ThermocalInputError, match="same part"):
+        parse_config(_cfg(
+            measures={"a": {"component": "windows", "u_value": 1.0}, "b": {"component": "windows",
+                      "u_value": 0.8}}, strategies={"X": ["a", "b"]},
+        ))  # fmt: skip
+    with pytest.raises(ThermocalInputError, match="g_value applies to windows"):
+        parse_config(_cfg(measures={"roof": {"u_value": 0.2, "g_value": 0.5}}))
+    with pytest.raises(ThermocalInputError, match="efficiency"):
+        parse_config(_cfg(measures={"m": {"component": "heat_recovery"}}))
+
+
+def test_strategy_codes_of_the_method_unchanged():
+    codes = [s.code for s in all_strategies()]
+    assert codes == ["0", "1a", "1b", "1c", "1d", "2a", "2b", "2c", "2d", "2e", "2f",
+                     "3a", "3b", "3c", "3d", "4"]  # fmt: skip
+    many = all_strategies(tuple(f"m{i}" for i in range(7)))
+    assert len(many) == 128 and len({s.code for s in many}) == 128  # beyond 26 per group
+
+
+def test_measure_areas(model):
+    areas = measure_areas(model.envelope, 220.0)
+    assert areas["walls"] == model.envelope.walls_area
+    assert areas["cellar_ceiling"] == model.envelope.floor_area
+    assert areas["heat_recovery"] == 220.0
+
+
+def test_bounds_and_fixed_reach_the_model():
+    from thermocal.io.building import Building
+
+    b = Building.model_validate(building_dict())
+    m = build_fifth_order_model(b, bounds={"C_env": (5.0, 300.0)}, fixed={"C_gf": 30.0})
+    assert m.estimated["C_env"][0] == 5.0 and m.estimated["C_env"][2] == 300.0
+    assert m.estimated["C_gf"][1] == 30.0 and "C_gf" in m.fixed
+    assert m.bounds_source["C_env"].startswith("configuration")
+    from thermocal.retrofit.calibration import rc_spec
+
+    spec = rc_spec(m, np.full(5, 20.0))
+    assert spec["parameters"]["C_gf"]["fixed"] is True
+    assert spec["parameters"]["C_env"]["upper"] == 300.0

@@ -1,0 +1,134 @@
+"""Parameter space and sampling: bounds, clipping counts, reproducibility, name errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from thermocal.calibration.sampling import sample, unit_sample
+from thermocal.calibration.space import ParameterSpace, parameter_unit
+from thermocal.errors import ThermocalInputError
+
+PARAMS = {
+    "material/brick/conductivity": 0.8,
+    "material/brick/density": 1800.0,
+    "material/brick/thickness": 0.2,
+    "material/airgap/resistance": 0.18,
+    "window/double/u_value": 2.8,
+    "window/double/shgc": 0.6,
+    "zone/office/infiltration_ach": 0.5,
+    "infiltration/north/ach": 0.3,
+}
+PAPER_RANGES = {"*/shgc": 100.0, "*/thickness": 10.0}
+
+
+def test_default_range_and_overrides():
+    space = ParameterSpace.from_parameters(PARAMS, ranges=PAPER_RANGES)
+    frame = space.to_frame()
+    assert frame.loc["material/brick/conductivity", "range_lower"] == pytest.approx(0.2)
+    assert frame.loc["material/brick/conductivity", "range_upper"] == pytest.approx(1.4)
+    assert frame.loc["window/double/shgc", "range_lower"] == pytest.approx(0.6 * -99)
+    assert frame.loc["material/brick/thickness", "range_upper"] == pytest.approx(2.2)
+    # effective bounds clipped to the physical limits: 1 % of nominal, 1 for a fraction
+    assert frame.loc["window/double/shgc", "lower"] == pytest.approx(0.006)
+    assert frame.loc["window/double/shgc", "upper"] == 1.0
+    assert frame.loc["material/brick/thickness", "lower"] == pytest.approx(0.002)
+    assert set(space.clipped) == {"window/double/shgc", "material/brick/thickness"}
+    assert parameter_unit("material/brick/conductivity") == "W/(m K)"
+    assert frame.loc["infiltration/north/ach", "unit"] == "1/h"
+
+
+def test_samples_respect_limits_and_clip_counts_are_exact():
+    space = ParameterSpace.from_parameters(PARAMS, ranges=PAPER_RANGES)
+    for method in ("sobol", "lhs", "halton"):
+        s = sample(space, 200, method, seed=3)
+        v = s.values.to_numpy()
+        assert v.shape == (200, len(space))
+        assert np.all(v >= space.limit_lower) and np.all(v <= space.limit_upper)
+        assert np.all(v >= space.lower - 1e-15) and np.all(v <= space.upper + 1e-15)
+        # recount the clips from the unclipped points
+        raw = space.scale(unit_sample(len(space), 200, method=method, seed=3))
+        lower = (raw < space.limit_lower).sum(axis=0)
+        upper = (raw > space.limit_upper).sum(axis=0)
+        assert np.array_equal(s.clip_counts["lower"].to_numpy(), lower)
+        assert np.array_equal(s.clip_counts["upper"].to_numpy(), upper)
+        # values on the limits are exactly the clipped ones
+        assert np.array_equal((v == space.limit_lower).sum(axis=0), lower)
+        # unclipped parameters (+-75 %) never clip; shgc +-10000 % clips ~99 % of samples
+        assert s.clip_counts.loc["material/brick/conductivity", "total"] == 0
+        assert s.clip_counts.loc["window/double/shgc", "fraction"] > 0.95
+        # thickness +-1000 %: the part below 1 % of nominal is (0.2 * 9.01)/(0.2 * 20) = 45 %
+        assert s.clip_counts.loc["material/brick/thickness", "fraction"] == pytest.approx(
+            0.4505, abs=0.03)
+
+
+def test_sampling_is_reproducible_with_the_seed():
+    space = ParameterSpace.from_parameters(PARAMS)
+    a = sample(space, 50, "sobol", seed=7).values
+    b = sample(space, 50, "sobol", seed=7).values
+    c = sample(space, 50, "sobol", seed=8).values
+    assert a.equals(b)
+    assert not a.equals(c)
+    # the first points of a longer Sobol' design are the shorter design
+    assert np.array_equal(sample(space, 64, seed=7).values.to_numpy()[:50], a.to_numpy())
+    assert list(a.columns) == list(space.names)
+
+
+def test_include_exclude_selection():
+    space = ParameterSpace.from_parameters(PARAMS, include=["material/*", "window/*"],
+                                           exclude=["*/density"])
+    assert "material/brick/density" not in space.names
+    assert "zone/office/infiltration_ach" not in space.names
+    assert "window/double/shgc" in space.names
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "expected"),
+    [
+        ({"include": ["materail/*"]}, "did you mean 'material/*'"),
+        ({"exclude": ["window/dubble/*"]}, "did you mean 'window/double/*'"),
+        ({"ranges": {"*/shgcc": 1.0}}, "did you mean '*/shgc'"),
+        ({"ranges": {"*/thikness": 1.0}}, "did you mean '*/thickness'"),
+    ],
+)
+def test_unknown_patterns_say_did_you_mean(kwargs, expected):
+    with pytest.raises(ThermocalInputError, match="matches no model parameter") as info:
+        ParameterSpace.from_parameters(PARAMS, **kwargs)
+    assert expected in str(info.value)
+
+
+def test_bad_ranges_and_counts():
+    with pytest.raises(ThermocalInputError, match="non-negative"):
+        ParameterSpace.from_parameters(PARAMS, default_range=-0.1)
+    with pytest.raises(ThermocalInputError, match=r"ranges\['\*/shgc'\]"):
+        ParameterSpace.from_parameters(PARAMS, ranges={"*/shgc": -1})
+    space = ParameterSpace.from_parameters(PARAMS)
+    for n in (0, -5, 2.5):
+        with pytest.raises(ThermocalInputError, match="samples"):
+            sample(space, n)
+    with pytest.raises(ThermocalInputError, match="unknown"):
+        sample(space, 10, "random")
+
+
+def test_zero_nominal_is_skipped_and_negative_rejected():
+    space = ParameterSpace.from_parameters({**PARAMS, "zone/attic/infiltration_ach": 0.0})
+    assert "zone/attic/infiltration_ach" in space.skipped
+    assert "zone/attic/infiltration_ach" not in space.names
+    with pytest.raises(ThermocalInputError, match="'material/x/density'"):
+        ParameterSpace.from_parameters({"material/x/density": -1.0})
+
+
+def test_real_building_parameters():
+    from thermocal.multizone import generators
+
+    building = generators.single_family_house() if hasattr(
+        generators, "single_family_house") else None
+    if building is None:
+        pytest.skip("no generator")
+    params = building.parameters()
+    space = ParameterSpace.from_parameters(params, ranges=PAPER_RANGES)
+    assert len(space) + len(space.skipped) == len(params)
+    s = sample(space, 32, seed=1)
+    assert np.isfinite(s.values.to_numpy()).all()
+    # the sampled values are accepted by the model
+    building.with_parameters(s.values.iloc[0].to_dict())

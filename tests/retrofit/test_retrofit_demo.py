@@ -121,3 +121,58 @@ def test_demo_retrofit_predictions_against_the_generator(demo_results):
     assert covered >= 12
     base = check["strategies"][0]
     assert abs(base["model_kWh"] - base["reference_kWh"]) / base["reference_kWh"] < 0.2
+
+
+def test_demo_report_is_a_deliverable(demo_results):
+    out, results = demo_results
+    html = (out / "report.html").read_text()
+    for heading in (
+        "Executive summary", "Retrofit strategies: energy, cost, CO2 and payback",
+        "What the intervals cover, and what they do not", "Annual heating demand",
+        "Assumptions", "Calibration", "Validation", "Residual diagnostics",
+        "Measured data and data quality", "Check against a known answer (demo)", "References",
+    ):  # fmt: skip
+        assert f">{heading}</h" in html, heading
+    assert "We recommend strategy" in html and "pays for itself" in html
+    assert "@media print" in html and "break-inside:avoid" in html
+    assert "http://" not in html and "https://" not in html  # offline, no external resource
+    assert "paper 000" not in html.lower()
+    assert "Heating degree days" in html and "Data quality per sensor" in html
+    # the demo configuration fixes C_gf and widens C_env and C_i: nothing on a bound
+    params = results["calibration"]["params"]
+    assert results["calibration"]["parameters_at_bounds"] == []
+    assert params["C_gf"]["status"] == "fixed" and params["C_gf"]["std_error"] is None
+    assert "n/a (fixed)" in html
+    assert not any("bound" in f for f in results["calibration"]["flags"])
+    # provenance, portable configuration
+    prov = results["provenance"]
+    assert prov["inputs"]["weather"]["file"] == "pvlib:723170TYA.CSV"
+    assert prov["inputs"]["measurements"]["file"] == "measurements.csv"
+    assert len(prov["inputs"]["measurements"]["sha256"]) == 64
+    config = (out / "data" / "config.yaml").read_text()
+    assert "pvlib:723170TYA.CSV" in config and "site-packages" not in config
+    assert str(out) not in config
+
+
+def test_demo_economics_from_the_configuration(demo_results):
+    out, results = demo_results
+    eco = results["economics"]
+    econ = pd.read_csv(out / "economics.csv")
+    for s, row in zip(results["scenarios"], econ.to_dict("records"), strict=True):
+        final = s["annual_kWh"] / eco["system_efficiency"]
+        assert row["final_energy_kWh"] == pytest.approx(final, rel=1e-12)
+        assert row["cost_per_year"] == pytest.approx(final * eco["energy_price"], rel=1e-12)
+        assert row["co2_kg_per_year"] == pytest.approx(final * eco["emission_factor"], rel=1e-12)
+        invest = sum(eco["measure_investment"][m] for m in s["measures"])
+        assert row["investment"] == pytest.approx(invest, rel=1e-12)
+    # default costs: the walls measure costs 250 per m2 of wall
+    assert eco["measure_investment"]["walls"] == pytest.approx(
+        250.0 * _walls_area(out), rel=1e-9
+    )
+
+
+def _walls_area(out):
+    from thermocal.io.building import read_building
+
+    b = read_building(out / "data" / "building.yaml")
+    return sum(float(c.area) for c in b.components if c.type == "external_wall")

@@ -285,7 +285,11 @@ def provenance(analysis: RetrofitAnalysis) -> dict:
     inputs = {}
     for key, path in files.items():
         pvlib_file = key == "weather" and "pvlib:" in weather
-        name = weather if pvlib_file else _portable(path, cfg.base_dir)
+        name = (
+            "pvlib:" + weather.split("pvlib:", 1)[1]
+            if pvlib_file
+            else _portable(path, cfg.base_dir)
+        )
         inputs[key] = {"file": name, "sha256": _sha256(path)}
     argv = [Path(sys.argv[0]).name, *sys.argv[1:]] if sys.argv else []
     return {

@@ -205,7 +205,15 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     -------
     RetrofitAnalysis
     """
-    say = progress or (lambda msg: None)
+    import logging
+
+    log = logging.getLogger("thermocal.retrofit")
+
+    def say(msg: str) -> None:
+        log.info(msg)
+        if progress is not None:
+            progress(msg)
+
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
     say("reading building, measurements and weather")
@@ -319,6 +327,10 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     demand = simulate_demand(model, draws, envelopes, year[list(DEMAND_INPUTS)], profile)
     timings["demand"] = time.perf_counter() - t3
     timings["total"] = time.perf_counter() - t0
+    log.info(
+        "retrofit analysis done in %.1f s (calibration %.1f s, demand %.1f s)",
+        timings["total"], timings["calibration"], timings["demand"],
+    )  # fmt: skip
     return RetrofitAnalysis(
         config=cfg, building=building, model=model, calibration=cal, data=inputs,
         training=training, test=test, simulated_ti=sim_ti, validation=validation,

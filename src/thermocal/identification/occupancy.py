@@ -129,7 +129,7 @@ def unoccupied_mask(times: pd.DatetimeIndex, schedule: OccupancySchedule | None 
     schedule = schedule or OccupancySchedule()
     times = pd.DatetimeIndex(times)
     hour = times.hour.to_numpy() + times.minute.to_numpy() / 60.0 + times.second.to_numpy() / 3600
-    weekday = times.weekday.to_numpy()
+    weekday = times.day_of_week.to_numpy()
     previous = (weekday - 1) % 7
     mask = np.zeros(len(times), dtype=bool)
     for w in schedule.windows:

@@ -958,6 +958,11 @@ class Simulation:
         return self.times[min(self._k, len(self.times) - 1)]
 
     @property
+    def weather_on_grid(self) -> pd.DataFrame:
+        """The weather resampled to the simulation steps (``temp_air`` [C], irradiance [W/m2])."""
+        return self._grid
+
+    @property
     def zone_names(self) -> list[str]:
         """Zone order of all per-zone arrays."""
         return list(self.building.zones)

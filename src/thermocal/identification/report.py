@@ -1,0 +1,116 @@
+"""The identification section of the self-contained HTML report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from thermocal.identification import REFERENCE
+from thermocal.report.html import HtmlReport
+
+
+def add_section(
+    report: HtmlReport,
+    result,
+    *,
+    title: str = "Heat-balance identification",
+    pngs: dict | None = None,
+):
+    """Append the identification's tables and figures to ``report``.
+
+    ``pngs``: figures already rendered (PNG bytes by the stems of
+    :func:`~thermocal.identification.figures.identification_figures`), to avoid drawing twice.
+    """
+    from thermocal.identification import figures
+
+    pngs = pngs or {}
+
+    def figure(stem, make):
+        return pngs[stem] if stem in pngs else make()
+
+    report.section(title)
+    report.paragraph(
+        "For every zone and step, the heat Q_ID that the detailed model needs to follow the "
+        "measured room temperature: internal loads + HVAC + envelope error. The calibration "
+        "metric is the variance of the building-wide Q_ID over the unoccupied steps."
+    )
+    std = np.sqrt(result.unoccupied_variance())
+    mask = result.unoccupied_mask()
+    items = {
+        "Metric source": "exact inverse" if result.metric_source == "inverse" else "PID",
+        "Tracked temperature": result.feedback,
+        "Unoccupied std of Q_ID": f"{std / 1000:.3f} kW",
+        "Unoccupied mean of Q_ID": f"{result.building_heat.to_numpy()[mask].mean() / 1000:.2f} kW",
+        "Zones": f"{result.q_id.shape[1]}",
+        "Steps": f"{result.q_id.shape[0]}",
+    }
+    for key, value in result.timings.items():
+        items[f"time: {key}"] = f"{value:.2f} s"
+    report.key_values(items)
+    for note in result.notes:
+        report.note(note)
+    report.figure(
+        figure("building_q_id", lambda: figures.building_heat(result)),
+        caption="Building-wide identified heat.",
+    )
+    difference = result.method_difference()
+    if difference is not None:
+        report.table(
+            pd.DataFrame([difference]).T.rename(columns={0: "value"}),
+            caption="PID minus exact inverse",
+            number_format="{:,.4g}",
+        )
+    if result.tuning is not None:
+        t = result.tuning
+        report.table(
+            pd.DataFrame(
+                {
+                    "exact (closed-loop poles)": [t.ultimate_gain, t.ultimate_period],
+                    "experiment (bisection)": [t.experiment_gain, t.experiment_period],
+                },
+                index=["ultimate gain Ku [W/K]", "ultimate period Pu [s]"],
+            ),
+            caption=f"Ziegler-Nichols tuning on {t.zone} ({t.volume:.0f} m3)",
+            number_format="{:,.4g}",
+        )
+        report.figure(
+            figure("tuning_oscillation", lambda: figures.tuning_oscillation(t)),
+            caption="Tuning experiment at the ultimate gain.",
+        )
+    report.figure(
+        figure("typical_zone", lambda: figures.typical_zone(result)),
+        caption="A typical zone (median tracking RMSE).",
+    )
+    report.table(
+        result.worst_tracked(10).reset_index(),
+        caption="Worst-tracked zones",
+        number_format="{:,.3f}",
+    )
+    counts = result.sources["source"].value_counts().to_dict()
+    report.paragraph(
+        "Zone references: "
+        + ", ".join(f"{n} {kind}" for kind, n in counts.items())
+        + " (own sensor, named substitute, adjacent zone)."
+    )
+    report.table(result.sources, caption="Every zone and the source of its reference")
+    if result.substituted is not None and not result.substituted.empty:
+        report.table(result.substituted, caption="Long gaps filled from an adjacent zone")
+    if result.interpolated is not None and not result.interpolated.empty:
+        report.table(result.interpolated, caption="Short gaps interpolated")
+    report.references([REFERENCE])
+    return report
+
+
+def write_report(result, path: str | Path, *, pngs: dict | None = None) -> Path:
+    """A self-contained report of one identification run (written atomically)."""
+    import os
+
+    report = HtmlReport("Heat-balance identification", subtitle=REFERENCE)
+    add_section(report, result, pngs=pngs)
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    report.write(tmp)
+    os.replace(tmp, path)
+    return path

@@ -1,0 +1,439 @@
+"""Sensors -> zones: the mapping file, substitutes for zones without a sensor, the references.
+
+Mapping file (YAML)::
+
+    sensors:            # every sensor -> the zone it hangs in (several in one zone: averaged)
+      S01: Room 2
+      S02: Room 4
+      S03: Room 4
+    zones:              # optional: zones without a sensor that use another zone's data
+      Room 29: {use: Room 27}
+    ignore: [S77]       # optional: sensors of the log left out
+
+A zone with neither a sensor nor a named substitute takes an adjacent zone's data: among the
+zones that share an inter-zone surface with it and have a sensor, the one with the same main
+orientation (azimuth of its largest exterior wall, "interior" when it has none) and, among
+those, the largest shared area; the choice and the reason are reported. A zone with no sensor,
+no named substitute and no sensored neighbour is an error naming it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+
+
+@dataclass(frozen=True)
+class SensorMapping:
+    """Sensor -> zone assignments, named substitutes and ignored sensors."""
+
+    sensors: dict[str, str]
+    substitutes: dict[str, str] = field(default_factory=dict)
+    ignore: tuple[str, ...] = ()
+    source: str = "mapping"
+
+
+@dataclass(frozen=True)
+class ZoneSource:
+    """Where a zone's reference temperature comes from.
+
+    Attributes
+    ----------
+    kind : {"sensor", "named", "neighbour"}
+    sensors : tuple of str
+        The sensors averaged (the source zone's for "named" and "neighbour").
+    zone : str
+        The zone whose sensors are used (the zone itself for "sensor").
+    reason : str
+    """
+
+    kind: str
+    sensors: tuple[str, ...]
+    zone: str
+    reason: str = ""
+
+
+def load_mapping(path: str | Path) -> SensorMapping:
+    """Read and check the form of a mapping file (module docstring)."""
+    from thermocal.io.yamlfile import read_yaml
+
+    path = Path(path)
+    data = read_yaml(path, what="mapping file")
+    return mapping_from_dict(data, source=str(path))
+
+
+def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
+    """:class:`SensorMapping` from the parsed file form."""
+    if not isinstance(data, Mapping) or "sensors" not in data:
+        raise ThermocalInputError(
+            f"{source}: expected a mapping with a 'sensors' section (sensor name -> zone name)"
+        )
+    unknown = set(data) - {"sensors", "zones", "ignore"}
+    if unknown:
+        raise ThermocalInputError(
+            f"{source}: unknown sections {sorted(unknown)} (allowed: sensors, zones, ignore)"
+        )
+    sensors = data["sensors"]
+    if not isinstance(sensors, Mapping) or not sensors:
+        raise ThermocalInputError(f"{source}: 'sensors' must map sensor names to zone names")
+    out: dict[str, str] = {}
+    for sensor, zone in sensors.items():
+        if not isinstance(zone, str) or not zone.strip():
+            raise ThermocalInputError(
+                f"{source}: sensor {sensor!r} is mapped to {zone!r}; give one zone name"
+            )
+        out[str(sensor)] = zone
+    substitutes: dict[str, str] = {}
+    for zone, spec in (data.get("zones") or {}).items():
+        if not isinstance(spec, Mapping) or set(spec) != {"use"} or not isinstance(
+            spec["use"], str
+        ):
+            raise ThermocalInputError(
+                f"{source}: zones.{zone} must be {{use: <zone name>}}, got {spec!r}"
+            )
+        substitutes[str(zone)] = spec["use"]
+    ignore = data.get("ignore") or []
+    if not isinstance(ignore, list):
+        raise ThermocalInputError(f"{source}: 'ignore' must be a list of sensor names")
+    return SensorMapping(out, substitutes, tuple(str(s) for s in ignore), source)
+
+
+def _suggest(name: str, options) -> str:
+    import difflib
+
+    close = difflib.get_close_matches(str(name), list(options), n=3)
+    return f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+
+
+def main_orientation(building, zone: str) -> str:
+    """Azimuth of the zone's largest exterior wall, rounded to 45 degrees, or "interior"."""
+    walls: dict[float, float] = {}
+    for surface in building.surfaces.values():
+        if surface.zone == zone and surface.boundary == "outdoors" and 45 < surface.tilt < 135:
+            key = float(round(surface.azimuth / 45.0) * 45 % 360)
+            walls[key] = walls.get(key, 0.0) + surface.area
+    if not walls:
+        return "interior"
+    return f"{max(walls, key=walls.get):g} deg"
+
+
+def shared_areas(building, zone: str) -> dict[str, float]:
+    """Area of the inter-zone surfaces between ``zone`` and each neighbour [m2]."""
+    areas: dict[str, float] = {}
+    for surface in building.surfaces.values():
+        if surface.boundary != "zone":
+            continue
+        if surface.zone == zone and surface.other_zone and surface.other_zone != zone:
+            areas[surface.other_zone] = areas.get(surface.other_zone, 0.0) + surface.area
+    return areas
+
+
+def zone_sources(building, mapping: SensorMapping) -> dict[str, ZoneSource]:
+    """The source of every zone's reference (own sensors, named substitute or neighbour)."""
+    zones = list(building.zones)
+    for sensor, zone in mapping.sensors.items():
+        if zone not in building.zones:
+            raise ThermocalInputError(
+                f"{mapping.source}: sensor {sensor!r} is mapped to {zone!r}, which is not a zone "
+                f"of building '{building.name}'{_suggest(zone, zones)}"
+            )
+    own: dict[str, list[str]] = {}
+    for sensor, zone in mapping.sensors.items():
+        if sensor not in mapping.ignore:
+            own.setdefault(zone, []).append(sensor)
+    sources: dict[str, ZoneSource] = {
+        zone: ZoneSource("sensor", tuple(sensors), zone, f"{len(sensors)} own sensor(s)")
+        for zone, sensors in own.items()
+    }
+    for zone, use in mapping.substitutes.items():
+        for name in (zone, use):
+            if name not in building.zones:
+                raise ThermocalInputError(
+                    f"{mapping.source}: zones.{zone}: {name!r} is not a zone of building "
+                    f"'{building.name}'{_suggest(name, zones)}"
+                )
+        if zone in own:
+            raise ThermocalInputError(
+                f"{mapping.source}: zone {zone!r} has its own sensor(s) {own[zone]} and a named "
+                f"substitute {use!r}; remove one of the two"
+            )
+        if use not in own:
+            raise ThermocalInputError(
+                f"{mapping.source}: zones.{zone} uses {use!r}, which has no sensor; name a zone "
+                "with a sensor"
+            )
+        sources[zone] = ZoneSource("named", tuple(own[use]), use, "named in the mapping")
+    for zone in zones:
+        if zone in sources:
+            continue
+        neighbours = {z: a for z, a in shared_areas(building, zone).items() if z in own}
+        if not neighbours:
+            raise ThermocalInputError(
+                f"zone {zone!r} has no sensor and no adjacent zone with a sensor; add "
+                f"'zones: {{{zone}: {{use: <zone with a sensor>}}}}' to {mapping.source}"
+            )
+        orientation = main_orientation(building, zone)
+        same = {z: a for z, a in neighbours.items() if main_orientation(building, z) == orientation}
+        pool = same or neighbours
+        chosen = max(sorted(pool), key=pool.get)
+        reason = (
+            f"adjacent, {'same' if same else 'different'} orientation ({orientation}), "
+            f"shared area {pool[chosen]:.1f} m2 (largest of {len(pool)} candidate(s))"
+        )
+        sources[zone] = ZoneSource("neighbour", tuple(own[chosen]), chosen, reason)
+    return {zone: sources[zone] for zone in zones}
+
+
+@dataclass
+class ReferenceReport:
+    """How the zone references were built.
+
+    Attributes
+    ----------
+    sources : dict of zone -> ZoneSource
+    interpolated : DataFrame
+        Gaps filled by linear interpolation (zone, start, end, hours).
+    substituted : DataFrame
+        Longer gaps filled with another zone's reference (zone, from_zone, start, end, hours).
+    quality : thermocal.io.measurements.QualityReport
+    """
+
+    sources: dict
+    interpolated: pd.DataFrame
+    substituted: pd.DataFrame
+    quality: object
+
+    def zone_table(self) -> pd.DataFrame:
+        rows = []
+        for zone, src in self.sources.items():
+            rows.append(
+                {
+                    "zone": zone,
+                    "source": src.kind,
+                    "from_zone": src.zone,
+                    "sensors": ", ".join(src.sensors),
+                    "reason": src.reason,
+                }
+            )
+        return pd.DataFrame(rows)
+
+
+def zone_references(
+    raw: pd.DataFrame,
+    building,
+    mapping: SensorMapping,
+    times: pd.DatetimeIndex,
+    step: pd.Timedelta,
+    *,
+    max_gap: str | pd.Timedelta = "1h",
+    silence: str | pd.Timedelta = "15min",
+    source: str = "sensor log",
+) -> tuple[pd.DataFrame, ReferenceReport]:
+    """Reference temperature of every zone on the simulation grid [C].
+
+    The reference of step ``[t, t + dt)`` is the temperature the model must reach at its end:
+    the time-weighted mean of the linearly interpolated sensor signal over
+    ``[t + dt/2, t + 3 dt/2)``, centred on ``t + dt`` (exactly the temperature at ``t + dt``
+    for a signal linear over the window; :func:`thermocal.io.measurements.resample_measurements`
+    with ``how="mean_linear"``; a silence longer than ``silence`` is a gap). Several sensors in
+    a zone are averaged; a zone without own data at a step takes its source zone's (named
+    substitute or neighbour).
+
+    Parameters
+    ----------
+    raw : DataFrame
+        Sensor log from :func:`thermocal.io.measurements.read_measurements` [C].
+    building : Building
+    mapping : SensorMapping
+    times : DatetimeIndex
+        Step starts of the simulation (tz-aware).
+    step : Timedelta
+    max_gap : str or Timedelta
+        Gaps of a zone's data up to this long are linearly interpolated (and reported); longer
+        gaps take the reference of an adjacent sensored zone (reported), or are an error when
+        the zone has none.
+    silence : str or Timedelta
+        Longest silence across which a sensor's last report is held (a sensor reporting every
+        5 minutes that stays silent longer has dropped out).
+    source : str
+        Name of the log, for messages.
+
+    Returns
+    -------
+    reference : DataFrame (steps x zones) [C]
+    report : ReferenceReport
+    """
+    from thermocal.io.measurements import resample_measurements
+
+    max_gap = pd.Timedelta(max_gap)
+    sources = zone_sources(building, mapping)
+    logged = _sensor_names(raw)
+    unmapped = sorted(set(logged) - set(mapping.sensors) - set(mapping.ignore))
+    if unmapped:
+        raise ThermocalInputError(
+            f"{source}: sensor(s) {unmapped[:10]} are mapped to no zone in {mapping.source}; "
+            "add them under 'sensors:' (sensor: zone) or list them under 'ignore:'"
+        )
+    absent = sorted(set(mapping.sensors) - set(logged) - set(mapping.ignore))
+    if absent:
+        raise ThermocalInputError(
+            f"{mapping.source}: sensor(s) {absent[:10]} do not occur in {source}"
+            f"{_suggest(absent[0], logged)}"
+        )
+    tz = times.tz
+    half = step / 2
+    start, end = times[0] + half, times[-1] + step + half
+    first, last = _log_span(raw)
+    if tz is not None and first.tzinfo is not None:
+        first, last = first.tz_convert(tz), last.tz_convert(tz)
+    if last <= times[0] or first >= times[-1] + step:
+        raise ThermocalInputError(
+            f"{source} covers [{first}, {last}], which does not overlap the simulated period "
+            f"[{times[0]}, {times[-1] + step}); check the period, and the time zones of the log "
+            "and of the weather file"
+        )
+    grid, quality = resample_measurements(
+        raw,
+        step,
+        how="mean_linear",
+        max_gap=pd.Timedelta(silence),
+        start=start,
+        end=end,
+        outliers="flag",
+    )
+    if grid.index.tz is not None and tz is not None:
+        grid.index = grid.index.tz_convert(tz)
+    grid = grid.reindex(times + half)
+    grid.index = times
+    _check_celsius(grid, source)
+    own = {}
+    for zone, src in sources.items():
+        if src.kind == "sensor":
+            own[zone] = grid[list(src.sensors)].mean(axis=1, skipna=True)
+    reference = pd.DataFrame(index=times, columns=list(sources), dtype=float)
+    interpolated, substituted = [], []
+    for zone, src in sources.items():
+        series = own.get(zone, own.get(src.zone)).copy()
+        series, filled = _interpolate_short_gaps(series, max_gap)
+        interpolated += [{"zone": zone, **gap} for gap in filled]
+        reference[zone] = series
+    for zone, src in sources.items():
+        missing = reference[zone].isna()
+        if not missing.any():
+            continue
+        fallback = _fallback_zone(building, zone, src, sources, reference)
+        if fallback is None:
+            first_missing = reference.index[missing.argmax()]
+            raise ThermocalInputError(
+                f"zone {zone!r} (sensors {', '.join(src.sensors)}) has no data for "
+                f"{missing.sum() * step / pd.Timedelta('1h'):.1f} h (first at {first_missing}), "
+                f"longer than max_gap = {max_gap}, and no adjacent zone with data to take over; "
+                "raise max_gap, name a substitute under 'zones:' in the mapping, or shorten the "
+                "period"
+            )
+        for gap in _runs(missing.to_numpy(), reference.index, step):
+            substituted.append({"zone": zone, "from_zone": fallback, **gap})
+        reference.loc[missing, zone] = reference.loc[missing, fallback]
+    report = ReferenceReport(
+        sources=sources,
+        interpolated=pd.DataFrame(interpolated, columns=["zone", "start", "end", "hours"]),
+        substituted=pd.DataFrame(
+            substituted, columns=["zone", "from_zone", "start", "end", "hours"]
+        ),
+        quality=quality,
+    )
+    return reference, report
+
+
+def _sensor_names(raw: pd.DataFrame) -> list[str]:
+    if {"sensor", "value"} <= set(raw.columns):
+        return sorted(map(str, raw["sensor"].unique()))
+    return [str(c) for c in raw.columns if c not in ("time",)]
+
+
+def _log_span(raw: pd.DataFrame) -> tuple[pd.Timestamp, pd.Timestamp]:
+    times = raw["time"] if "time" in raw.columns else raw.index
+    times = pd.DatetimeIndex(times)
+    return times.min(), times.max()
+
+
+def _check_celsius(grid: pd.DataFrame, source: str) -> None:
+    means = grid.mean(axis=0, skipna=True)
+    hot = means[means > 60.0]
+    if len(hot):
+        name = hot.index[0]
+        raise ThermocalInputError(
+            f"{source}: sensor {name!r} reads {hot.iloc[0]:.1f} C on average; indoor "
+            "temperatures above 60 C suggest Kelvin: declare its unit as K (unit column or "
+            "units=) so that it is converted"
+        )
+    cold = means[means < -30.0]
+    if len(cold):
+        raise ThermocalInputError(
+            f"{source}: sensor {cold.index[0]!r} reads {cold.iloc[0]:.1f} C on average, not an "
+            "indoor temperature; check its unit"
+        )
+
+
+def _runs(mask: np.ndarray, index: pd.DatetimeIndex, step: pd.Timedelta) -> list[dict]:
+    runs = []
+    n = len(mask)
+    i = 0
+    while i < n:
+        if mask[i]:
+            j = i
+            while j < n and mask[j]:
+                j += 1
+            runs.append(
+                {
+                    "start": index[i],
+                    "end": index[j - 1] + step,
+                    "hours": (j - i) * step / pd.Timedelta("1h"),
+                }
+            )
+            i = j
+        else:
+            i += 1
+    return runs
+
+
+def _interpolate_short_gaps(series: pd.Series, max_gap: pd.Timedelta):
+    """Linear interpolation of interior NaN runs up to ``max_gap``; the runs filled."""
+    step = series.index[1] - series.index[0] if len(series) > 1 else pd.Timedelta("1h")
+    mask = series.isna().to_numpy()
+    filled = []
+    if not mask.any():
+        return series, filled
+    values = series.to_numpy(dtype=float).copy()
+    positions = np.arange(len(values))
+    good = ~mask
+    if good.sum() < 2:
+        return series, filled
+    for run in _runs(mask, series.index, step):
+        i0 = series.index.get_loc(run["start"])
+        i1 = i0 + int(round(run["hours"] * pd.Timedelta("1h") / step))
+        interior = i0 > 0 and i1 < len(values)
+        if interior and run["hours"] * pd.Timedelta("1h") <= max_gap:
+            values[i0:i1] = np.interp(positions[i0:i1], positions[good], values[good])
+            filled.append(run)
+    return pd.Series(values, index=series.index), filled
+
+
+def _fallback_zone(building, zone, src, sources, reference) -> str | None:
+    """Adjacent zone with complete data, for a zone whose own data have a long gap."""
+    missing = reference[zone].isna()
+    candidates = shared_areas(building, zone)
+    best = None
+    for other, _area in sorted(candidates.items(), key=lambda kv: -kv[1]):
+        if other == zone or sources[other].zone == src.zone:
+            continue
+        if reference.loc[missing, other].notna().all():
+            best = other
+            break
+    return best

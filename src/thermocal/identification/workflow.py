@@ -1,0 +1,489 @@
+"""The heat-balance identification workflow: sensors -> references -> tuning -> closed loop.
+
+:func:`identify` is the orchestrator; :class:`IdentificationResult` carries what came out and
+writes it (``identification.json``, ``q_id.parquet``, figures, an HTML report section).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+from thermocal.identification.metrics import (
+    tracking_metrics,
+    unoccupied_steps,
+    unoccupied_variance,
+)
+from thermocal.identification.occupancy import OccupancySchedule
+from thermocal.identification.pid import PIDGains, kernel_coefficients
+from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
+from thermocal.identification.tuning import TuningResult, tune_zone, volume_scaled_gains
+
+METHODS = ("inverse", "pid", "both")
+
+
+@dataclass
+class IdentificationResult:
+    """What the identification found.
+
+    Attributes
+    ----------
+    q_id : DataFrame (steps x zones) [W]
+        Identified heat of the metric source (``metric_source``), per zone and step.
+    q_inverse, q_pid : DataFrame or None [W]
+        Identified heat of each method that ran.
+    reference : DataFrame [C]
+        Zone reference temperatures (sensors mapped to zones).
+    model_temperature : dict of method -> DataFrame [C]
+        The tracked model temperature (air or operative) per method.
+    tracking : dict of method -> DataFrame
+        Per-zone tracking metrics (:func:`~thermocal.identification.metrics.tracking_metrics`).
+    sources : DataFrame
+        Every zone with the source of its reference (own sensor, named, neighbour).
+    gains : dict of zone -> PIDGains or None
+    tuning : TuningResult or None
+    weather : DataFrame
+        ``temp_air`` [C] and ``ghi`` [W/m2] on the grid.
+    schedule : OccupancySchedule
+    settle : str or None
+    metric_source : {"inverse", "pid"}
+    feedback : {"air", "operative"}
+    timings : dict [s]
+    notes : list of str
+    """
+
+    q_id: pd.DataFrame
+    q_inverse: pd.DataFrame | None
+    q_pid: pd.DataFrame | None
+    reference: pd.DataFrame
+    model_temperature: dict
+    tracking: dict
+    sources: pd.DataFrame
+    gains: dict | None
+    tuning: TuningResult | None
+    weather: pd.DataFrame
+    schedule: OccupancySchedule
+    settle: str | None
+    metric_source: str
+    feedback: str
+    timings: dict = field(default_factory=dict)
+    notes: list = field(default_factory=list)
+    interpolated: pd.DataFrame | None = None
+    substituted: pd.DataFrame | None = None
+
+    @property
+    def building_heat(self) -> pd.Series:
+        """Building-wide identified heat per step (sum over the zones) [W]."""
+        return self.q_id.sum(axis=1)
+
+    def unoccupied_variance(self) -> float:
+        """The calibration metric: variance of the building total over unoccupied steps [W^2]."""
+        return unoccupied_variance(self.q_id, self.schedule, settle=self.settle)
+
+    def unoccupied_mask(self) -> np.ndarray:
+        return unoccupied_steps(self.q_id.index, self.schedule, settle=self.settle)
+
+    def method_difference(self) -> dict | None:
+        """PID minus inverse: RMS and max of the building total, worst zone RMS [W]."""
+        if self.q_pid is None or self.q_inverse is None:
+            return None
+        diff = self.q_pid - self.q_inverse
+        total = diff.sum(axis=1)
+        per_zone = np.sqrt((diff**2).mean(axis=0))
+        return {
+            "building_rms_W": float(np.sqrt((total**2).mean())),
+            "building_max_abs_W": float(total.abs().max()),
+            "building_inverse_std_W": float(self.q_inverse.sum(axis=1).std()),
+            "worst_zone": str(per_zone.idxmax()),
+            "worst_zone_rms_W": float(per_zone.max()),
+            "unoccupied_variance_pid_W2": unoccupied_variance(
+                self.q_pid, self.schedule, settle=self.settle
+            ),
+            "unoccupied_variance_inverse_W2": unoccupied_variance(
+                self.q_inverse, self.schedule, settle=self.settle
+            ),
+        }
+
+    def worst_tracked(self, n: int = 10) -> pd.DataFrame:
+        """The ``n`` zones with the largest tracking RMSE of the PID (or the metric source)."""
+        table = self.tracking.get("pid", self.tracking.get(self.metric_source))
+        return table.sort_values("rmse_K", ascending=False).head(n)
+
+    def as_dict(self) -> dict:
+        """The content of ``identification.json``."""
+        mask = self.unoccupied_mask()
+        total = self.building_heat
+        out = {
+            "metric_source": self.metric_source,
+            "feedback": self.feedback,
+            "period": {
+                "start": str(self.q_id.index[0]),
+                "end": str(self.q_id.index[-1] + (self.q_id.index[1] - self.q_id.index[0])),
+                "steps": len(self.q_id),
+                "step_seconds": (self.q_id.index[1] - self.q_id.index[0]).total_seconds(),
+            },
+            "unoccupied_variance_W2": self.unoccupied_variance(),
+            "unoccupied_std_W": float(np.sqrt(self.unoccupied_variance())),
+            "unoccupied_mean_W": float(total.to_numpy()[mask].mean()),
+            "occupied_mean_W": float(total.to_numpy()[~self.unoccupied_mask_all()].mean())
+            if (~self.unoccupied_mask_all()).any()
+            else None,
+            "unoccupied_steps": int(mask.sum()),
+            "schedule": self.schedule.as_dict(),
+            "settle": self.settle,
+            "tuning": None if self.tuning is None else self.tuning.as_dict(),
+            "gains": None
+            if self.gains is None
+            else {zone: g.as_dict() for zone, g in self.gains.items()},
+            "pid_vs_inverse": self.method_difference(),
+            "tracking": {
+                method: table.round(6).reset_index().to_dict(orient="records")
+                for method, table in self.tracking.items()
+            },
+            "zones": self.sources.to_dict(orient="records"),
+            "interpolated_gaps": _records(self.interpolated),
+            "substituted_gaps": _records(self.substituted),
+            "timings_s": self.timings,
+            "notes": self.notes,
+        }
+        return _jsonable(out)
+
+    def unoccupied_mask_all(self) -> np.ndarray:
+        return unoccupied_steps(self.q_id.index, self.schedule, settle=None)
+
+    def q_frame(self) -> pd.DataFrame:
+        """Per-zone and total Q_ID of every method that ran, columns ``method|zone`` [W]."""
+        parts = {}
+        for method, frame in (("inverse", self.q_inverse), ("pid", self.q_pid)):
+            if frame is not None:
+                parts[method] = frame.assign(total=frame.sum(axis=1))
+        flat = pd.concat(parts, axis=1)
+        flat.columns = [f"{method}|{zone}" for method, zone in flat.columns]
+        flat.index.name = "time"
+        return flat
+
+    def to_files(self, directory: str | Path, *, report: bool = True) -> list[Path]:
+        """Write identification.json, q_id.parquet, figures and report.html into ``directory``.
+
+        Every file is written to a temporary name and renamed when complete, so that an
+        interrupted run never leaves a half-written file.
+        """
+        from thermocal.identification import figures
+
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        written = [
+            _atomic_text(directory / "identification.json", json.dumps(self.as_dict(), indent=2)),
+            _atomic_parquet(directory / "q_id.parquet", self.q_frame()),
+        ]
+        pngs = {}
+        for name, fig in figures.identification_figures(self).items():
+            pngs[name] = _png(fig)
+            written.append(_atomic_bytes(directory / f"{name}.png", pngs[name]))
+        if report:
+            from thermocal.identification.report import write_report
+
+            written.append(write_report(self, directory / "report.html", pngs=pngs))
+        return written
+
+
+def _records(frame):
+    if frame is None or frame.empty:
+        return []
+    return frame.astype({c: str for c in ("start", "end") if c in frame}).to_dict(orient="records")
+
+
+def _jsonable(value):
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    if isinstance(value, pd.Timestamp):
+        return str(value)
+    return value
+
+
+def _atomic_text(path: Path, text: str) -> Path:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+    return path
+
+
+def _atomic_parquet(path: Path, frame: pd.DataFrame) -> Path:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    frame.to_parquet(tmp)
+    os.replace(tmp, path)
+    return path
+
+
+def _png(fig) -> bytes:
+    from thermocal.report.figures import close, figure_to_png
+
+    data = figure_to_png(fig)
+    close(fig)
+    return data
+
+
+def _atomic_bytes(path: Path, data: bytes) -> Path:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_bytes(data)
+    os.replace(tmp, path)
+    return path
+
+
+def pid_gains_for(
+    building,
+    *,
+    gains: PIDGains | Mapping | None,
+    step,
+    feedback: str,
+    options=None,
+    metadata=None,
+    outdoor_temperature: float = 0.0,
+    wind_speed: float = 0.0,
+    tuning_zone: str | None = None,
+) -> tuple[dict[str, PIDGains], TuningResult | None]:
+    """Gains of every zone: given (one set scaled by volume, or per zone) or Ziegler-Nichols."""
+    if gains is None:
+        tuning = tune_zone(
+            building,
+            zone=tuning_zone,
+            step=step,
+            outdoor_temperature=outdoor_temperature,
+            wind_speed=wind_speed,
+            feedback=feedback,
+            options=options,
+            metadata=metadata,
+        )
+        return volume_scaled_gains(building, tuning), tuning
+    if isinstance(gains, PIDGains):
+        reference_zone = tuning_zone or list(building.zones)[0]
+        volume = building.zones[reference_zone].volume
+        return {
+            name: gains.scaled(zone.volume / volume) for name, zone in building.zones.items()
+        }, None
+    missing = [z for z in building.zones if z not in gains]
+    if missing:
+        raise ThermocalInputError(f"PID gains: zones {missing[:5]} have no gains")
+    return {z: gains[z] for z in building.zones}, None
+
+
+def identify(
+    building,
+    weather: pd.DataFrame,
+    metadata: Mapping | None,
+    sensor_log: pd.DataFrame,
+    mapping: SensorMapping | Mapping,
+    *,
+    start=None,
+    end=None,
+    step: str = "5min",
+    method: str = "both",
+    feedback: str = "air",
+    gains: PIDGains | Mapping | None = None,
+    tuning_zone: str | None = None,
+    limits: tuple[float, float] | None = None,
+    schedule: OccupancySchedule | None = None,
+    settle: str | None = "1D",
+    max_gap: str = "1h",
+    silence: str = "15min",
+    options=None,
+    warmup_days: int = 7,
+    known_heat: pd.DataFrame | None = None,
+    metric_source: str | None = None,
+    progress: bool = False,
+    log_name: str = "sensor log",
+) -> IdentificationResult:
+    """Identify the heat every zone needs to track the measured temperatures.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+        The detailed model (no HVAC and no internal loads in it: set points are ignored).
+    weather : DataFrame
+        From :func:`thermocal.io.weather.read_weather`.
+    metadata : dict
+        Weather metadata (site).
+    sensor_log : DataFrame
+        From :func:`thermocal.io.measurements.read_measurements` [C].
+    mapping : SensorMapping or dict
+        Sensors -> zones (:mod:`thermocal.identification.sensors`).
+    start, end : timestamp-like, optional
+        Period ``[start, end)`` (default: the weather's).
+    step : str
+        Model and controller step, e.g. "5min".
+    method : {"both", "inverse", "pid"}
+        "inverse": the exact heat that puts the model on the references at every step; "pid":
+        the paper's per-zone PID loop; "both": both, compared.
+    feedback : {"air", "operative"}
+        The model temperature that tracks the sensors.
+    gains : PIDGains or dict of zone -> PIDGains, optional
+        Discrete PID gains [W/K]: one set (scaled by zone volume relative to ``tuning_zone``,
+        default the first zone) or one per zone; None = Ziegler-Nichols on ``tuning_zone``
+        (default the median-volume zone), scaled by volume.
+    tuning_zone : str, optional
+    limits : (float, float), optional [W]
+        Lower and upper limit of every zone's PID output (conditional integration while
+        limited); None = unlimited, as in the paper.
+    schedule : OccupancySchedule, optional
+        Unoccupied steps for the metric (default: the paper's).
+    settle : str or None
+        First part of the period left out of the metric (default one day).
+    max_gap, silence : str
+        See :func:`thermocal.identification.sensors.zone_references`.
+    options : NetworkOptions, optional
+    warmup_days : int
+        Repetitions of the first day tracked before the period (exact inverse, hourly).
+    known_heat : DataFrame, optional [W]
+        Heat known to enter zones (e.g. metered), added to the model so that Q_ID excludes it.
+    metric_source : {"inverse", "pid"}, optional
+        Which Q_ID feeds the metric; default the inverse when it ran (exact and as fast, see the
+        docs), else the PID.
+    progress : bool
+    log_name : str
+        Name of the sensor log for messages.
+
+    Returns
+    -------
+    IdentificationResult
+    """
+    from thermocal.multizone.simulation import Simulation
+
+    if method not in METHODS:
+        raise ThermocalInputError(f"method must be one of {METHODS}, got {method!r}")
+    if feedback not in ("air", "operative"):
+        raise ThermocalInputError(f"feedback must be 'air' or 'operative', got {feedback!r}")
+    if not isinstance(mapping, SensorMapping):
+        mapping = mapping_from_dict(mapping)
+    schedule = schedule or OccupancySchedule()
+    timings: dict[str, float] = {}
+    notes: list[str] = []
+    t0 = time.perf_counter()
+    sim = Simulation(
+        building,
+        weather,
+        metadata,
+        step=step,
+        start=start,
+        end=end,
+        options=options,
+        warmup_days=warmup_days,
+        store_surfaces=False,
+    )
+    timings["model_setup"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    reference, ref_report = zone_references(
+        sensor_log,
+        building,
+        mapping,
+        sim.times,
+        sim.step_size,
+        max_gap=max_gap,
+        silence=silence,
+        source=log_name,
+    )
+    timings["references"] = time.perf_counter() - t0
+    zones = list(building.zones)
+    ref = reference[zones].to_numpy()
+    q_inverse = q_pid = None
+    model_temperature, tracking = {}, {}
+    if method in ("inverse", "both"):
+        t0 = time.perf_counter()
+        result = sim.track(
+            ref, method="inverse", feedback=feedback, heat_input=known_heat, progress=progress
+        )
+        timings["inverse"] = time.perf_counter() - t0
+        q_inverse = result.heat
+        model_temperature["inverse"] = result.tracked_temperature()
+        tracking["inverse"] = tracking_metrics(model_temperature["inverse"], reference[zones])
+    zone_gains, tuning = None, None
+    if method in ("pid", "both"):
+        grid = sim.weather_on_grid
+        t0 = time.perf_counter()
+        zone_gains, tuning = pid_gains_for(
+            building,
+            gains=gains,
+            step=step,
+            feedback=feedback,
+            options=options,
+            metadata=metadata,
+            outdoor_temperature=float(grid["temp_air"].mean()),
+            wind_speed=float(grid["wind_speed"].mean()) if "wind_speed" in grid else 0.0,
+            tuning_zone=tuning_zone,
+        )
+        timings["tuning"] = time.perf_counter() - t0
+        if tuning is not None and tuning.paper_gain_margin < tuning.gain_margin:
+            notes.append(
+                f"The Ziegler-Nichols gains of the paper's rule give the tuned zone's loop a gain "
+                f"margin of {tuning.paper_gain_margin:.2f} (below 1: it diverges at the Nyquist "
+                f"frequency, the ultimate period being two steps); all gains were scaled by "
+                f"{tuning.gains.kp / tuning.paper_gains.kp:.3f} to a margin of "
+                f"{tuning.gain_margin:.2f}."
+            )
+        coefficients = kernel_coefficients([zone_gains[z] for z in zones])
+        pid_limits = None if limits is None else (np.full(len(zones), limits[0]),
+                                                  np.full(len(zones), limits[1]))
+        t0 = time.perf_counter()
+        result = sim.track(
+            ref,
+            method="pid",
+            feedback=feedback,
+            pid=coefficients,
+            limits=pid_limits,
+            heat_input=known_heat,
+            progress=progress,
+        )
+        timings["pid"] = time.perf_counter() - t0
+        if result.diverged:
+            bad = result.diverged
+            raise ThermocalInputError(
+                f"the PID loop diverges in {len(bad)} zone(s) ({', '.join(bad[:5])}"
+                f"{', ...' if len(bad) > 5 else ''}): the gains are too high for the model's "
+                "step; leave the gains out to use the stabilised Ziegler-Nichols gains, lower "
+                "them, or use method 'inverse'"
+            )
+        q_pid = result.heat
+        model_temperature["pid"] = result.tracked_temperature()
+        tracking["pid"] = tracking_metrics(model_temperature["pid"], reference[zones])
+    source = metric_source or ("inverse" if q_inverse is not None else "pid")
+    q_id = q_inverse if source == "inverse" else q_pid
+    if q_id is None:
+        raise ThermocalInputError(f"metric_source {source!r} did not run (method {method!r})")
+    grid = sim.weather_on_grid
+    weather_cols = {"temp_air": grid["temp_air"].to_numpy()}
+    weather_cols["ghi"] = (
+        grid["ghi"].to_numpy() if "ghi" in grid else (grid["dni"] + grid["dhi"]).to_numpy()
+    )
+    return IdentificationResult(
+        q_id=q_id,
+        q_inverse=q_inverse,
+        q_pid=q_pid,
+        reference=reference[zones],
+        model_temperature=model_temperature,
+        tracking=tracking,
+        sources=ref_report.zone_table(),
+        gains=zone_gains,
+        tuning=tuning,
+        weather=pd.DataFrame(weather_cols, index=sim.times),
+        schedule=schedule,
+        settle=settle,
+        metric_source=source,
+        feedback=feedback,
+        timings=timings,
+        notes=notes,
+        interpolated=ref_report.interpolated,
+        substituted=ref_report.substituted,
+    )

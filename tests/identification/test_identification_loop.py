@@ -1,0 +1,216 @@
+"""The closed loop inside the multi-zone kernel: exact inverse, PID, the metric, bad input."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermocal.errors import ThermocalInputError
+from thermocal.identification.metrics import unoccupied_variance
+from thermocal.identification.occupancy import OccupancySchedule, unoccupied_mask
+from thermocal.identification.pid import PIDGains
+from thermocal.identification.tuning import tune_zone
+from thermocal.identification.workflow import identify
+from thermocal.multizone import Simulation, generators
+
+START, END = "2001-01-08", "2001-01-13"
+
+
+@functools.cache
+def _weather():
+    from thermocal.io.weather import read_weather
+    from thermocal.retrofit.demo_data import pvlib_weather_path
+
+    return read_weather(pvlib_weather_path())
+
+
+def _building():
+    return generators.clinic(12, n_corridors=1, corridor_sections=2)
+
+
+def _simulation(building, **kwargs):
+    weather, meta = _weather()
+    kwargs.setdefault("store_surfaces", False)
+    return Simulation(building, weather, meta, step="5min", start=START, end=END, **kwargs)
+
+
+def _square_wave(sim, zone_index, amplitude=500.0):
+    n, nz = len(sim.times), len(sim.building.zones)
+    heat = np.zeros((n, nz))
+    heat[(np.arange(n) // 36) % 2 == 0, zone_index] = amplitude
+    return heat
+
+
+@pytest.mark.parametrize("feedback", ["air", "operative"])
+def test_inverse_recovers_an_injected_heat_to_numerical_precision(feedback):
+    building = _building()
+    sim = _simulation(building, warmup_days=0, initial_temperature=5.0)
+    heat = _square_wave(sim, 3)
+    forward = sim.run(free_float=True, heat_input=heat)
+    reference = (
+        forward.air_temperature if feedback == "air" else forward.operative_temperature
+    ).to_numpy()
+    tracked = sim.track(reference, method="inverse", feedback=feedback)
+    q = tracked.heat.to_numpy()
+    np.testing.assert_allclose(q, heat, atol=1e-6 * 500)
+    np.testing.assert_allclose(tracked.tracked_temperature().to_numpy(), reference, atol=1e-8)
+
+
+def test_pid_recovers_the_injected_heat_within_its_tracking_error():
+    building = _building()
+    sim = _simulation(building, warmup_days=0, initial_temperature=5.0)
+    heat = _square_wave(sim, 3)
+    reference = sim.run(free_float=True, heat_input=heat).air_temperature.to_numpy()
+    tuning = tune_zone(building, experiment=False, outdoor_temperature=5.0)
+    gains = [tuning.gains.scaled(z.volume / tuning.volume) for z in building.zones.values()]
+    from thermocal.identification.pid import kernel_coefficients
+
+    tracked = sim.track(reference, method="pid", pid=kernel_coefficients(gains))
+    q = tracked.heat.to_numpy()
+    error = tracked.tracked_temperature().to_numpy() - reference
+    rmse = np.sqrt((error**2).mean(axis=0))
+    assert rmse.max() < 0.15  # K
+    # over each 3-hour half period the mean heat of the loaded zone is recovered
+    halves = q[:, 3].reshape(-1, 36).mean(axis=1)
+    truth = heat[:, 3].reshape(-1, 36).mean(axis=1)
+    assert np.abs(halves - truth)[1:].max() < 60.0
+    others = np.delete(q, 3, axis=1)
+    assert np.abs(others[288:]).mean() < 25.0  # W: near zero elsewhere
+    assert np.abs(q[288:, 3] - heat[288:, 3]).mean() < 0.2 * 500
+
+
+def test_ziegler_nichols_eigenvalue_and_experiment_agree_on_a_clinic_zone():
+    tuning = tune_zone(generators.clinic(), outdoor_temperature=0.0)
+    assert tuning.zone.startswith("Room")
+    assert tuning.experiment_gain == pytest.approx(tuning.ultimate_gain, rel=5e-3)
+    assert tuning.experiment_period == pytest.approx(tuning.ultimate_period, rel=1e-2)
+    below, at, above = tuning.critical_pole_modulus
+    assert below < 1.0 < above and at == pytest.approx(1.0, abs=1e-6)
+    # the paper's rule diverges at a two-step period; the used gains have margin 1.7
+    assert tuning.paper_gain_margin < 1.0
+    assert tuning.gain_margin == pytest.approx(1.7, rel=1e-6)
+
+
+def _sensor_log(building, air: pd.DataFrame, every=1):
+    """A wide log of some zones' air temperatures, stamped at the end of each step."""
+    log = air.iloc[:, ::every].copy()
+    log.index = log.index + pd.Timedelta("5min")
+    names = {zone: f"S{i:02d}" for i, zone in enumerate(log.columns)}
+    mapping = {"sensors": {sensor: zone for zone, sensor in names.items()}}
+    return log.rename(columns=names), mapping
+
+
+def test_unoccupied_variance_near_zero_with_the_true_envelope_and_grows_when_perturbed():
+    nominal = _building()
+    truth = nominal.with_parameters(
+        {
+            "material/R16 insulation/resistance": 2.818 * 0.5,
+            "window/Exterior window/u_value": 4.0 * 1.4,
+            "infiltration/row 1 west/ach": 0.25 * 2.0,
+        }
+    )
+    sim = _simulation(truth)
+    air = sim.run(free_float=True).air_temperature
+    log, mapping = _sensor_log(truth, air)
+    weather, meta = _weather()
+    common = dict(start=START, end=END, method="inverse", settle="1D")
+    true_model = identify(truth, weather, meta, log, mapping, **common)
+    nominal_model = identify(nominal, weather, meta, log, mapping, **common)
+    v_true = true_model.unoccupied_variance()
+    v_nominal = nominal_model.unoccupied_variance()
+    assert np.sqrt(v_true) < 5.0  # W, for a building losing kilowatts
+    assert v_nominal > 100 * v_true
+    assert np.sqrt(v_nominal) > 50.0
+
+
+def test_identify_both_methods_report_and_files(tmp_path):
+    building = _building()
+    sim = _simulation(building)
+    heat = _square_wave(sim, 2, 300.0)
+    air = sim.run(free_float=True, heat_input=heat).air_temperature
+    log, mapping = _sensor_log(building, air, every=2)
+    weather, meta = _weather()
+    result = identify(building, weather, meta, log, mapping, start=START, end=END)
+    assert result.metric_source == "inverse"
+    kinds = result.sources.set_index("zone")["source"]
+    assert set(kinds) == {"sensor", "neighbour"}
+    assert (kinds == "sensor").sum() == len(log.columns)
+    difference = result.method_difference()
+    assert difference["building_rms_W"] < difference["building_inverse_std_W"]
+    written = result.to_files(tmp_path)
+    names = {p.name for p in written}
+    assert {"identification.json", "q_id.parquet", "report.html", "building_q_id.png"} <= names
+    stored = pd.read_parquet(tmp_path / "q_id.parquet")
+    assert "inverse|total" in stored and "pid|total" in stored
+    assert not list(tmp_path.glob(".*.tmp"))
+
+
+def test_occupancy_schedule_of_the_paper():
+    times = pd.date_range("2001-01-05 00:00", "2001-01-08 00:00", freq="1h", inclusive="left")
+    mask = pd.Series(unoccupied_mask(times), index=times)
+    assert mask["2001-01-05 03:00"] and not mask["2001-01-05 04:00"]  # Friday
+    assert not mask["2001-01-05 19:00"] and mask["2001-01-05 20:00"]
+    assert not mask["2001-01-06 10:00"] and mask["2001-01-06 11:00"]  # Saturday
+    assert mask["2001-01-07"].all()  # Sunday
+    schedule = OccupancySchedule.from_dict(
+        {
+            "unoccupied": [{"days": "all", "from": "22:00", "to": "06:00"}],
+            "holidays": ["2001-01-05"],
+        }
+    )
+    mask = pd.Series(unoccupied_mask(times, schedule), index=times)
+    assert mask["2001-01-05"].all() and not mask["2001-01-07 12:00"]
+    with pytest.raises(ThermocalInputError, match="day 'Funday'"):
+        OccupancySchedule.from_dict({"unoccupied": [{"days": ["Funday"], "from": 1, "to": 2}]})
+
+
+def test_unoccupied_variance_is_the_brute_force_variance():
+    index = pd.date_range("2001-01-01", periods=3 * 288, freq="5min", tz="UTC")
+    rng = np.random.default_rng(0)
+    q = pd.DataFrame(rng.normal(size=(len(index), 3)), index=index)
+    mask = unoccupied_mask(index) & (index >= index[0] + pd.Timedelta("1D"))
+    total = q.sum(axis=1).to_numpy()[mask]
+    expected = ((total - total.mean()) ** 2).sum() / len(total)
+    assert unoccupied_variance(q) == pytest.approx(expected, rel=1e-12)
+
+
+def test_bad_input_gets_clear_messages(tmp_path):
+    building = _building()
+    sim = _simulation(building)
+    air = sim.run(free_float=True).air_temperature
+    weather, meta = _weather()
+    log, mapping = _sensor_log(building, air)
+    run = functools.partial(identify, building, weather, meta, start=START, end=END)
+    # a sensor mapped to no zone
+    extra = log.assign(S99=log.iloc[:, 0])
+    with pytest.raises(ThermocalInputError, match="S99.*mapped to no zone"):
+        run(extra, mapping)
+    # a sensor mapped to a zone that does not exist
+    bad = {"sensors": {**mapping["sensors"], "S00": "Room 100"}}
+    with pytest.raises(ThermocalInputError, match="Room 100.*not a zone"):
+        run(log, bad)
+    # a zone with no sensor and no sensored neighbour
+    only_one = {"sensors": {"S00": mapping["sensors"]["S00"]}}
+    with pytest.raises(ThermocalInputError, match="no sensor and no adjacent zone"):
+        run(log[["S00"]], only_one)
+    # a gap longer than max_gap and no neighbour with data to take over
+    gappy = log.copy()
+    gappy.iloc[300:500, :] = np.nan
+    with pytest.raises(ThermocalInputError, match="longer than max_gap"):
+        run(gappy, mapping)
+    # a log that does not overlap the period (another year)
+    shifted = log.copy()
+    shifted.index = shifted.index - pd.Timedelta(days=400)
+    with pytest.raises(ThermocalInputError, match="does not overlap"):
+        run(shifted, mapping)
+    # a sensor in Kelvin
+    kelvin = log.copy()
+    kelvin["S01"] = kelvin["S01"] + 273.15
+    with pytest.raises(ThermocalInputError, match="Kelvin"):
+        run(kelvin, mapping)
+    # unstable gains
+    with pytest.raises(ThermocalInputError, match="diverges"):
+        run(log, mapping, method="pid", gains=PIDGains(5000.0, 0.0, 0.0))

@@ -166,3 +166,66 @@ def test_fit_command_bad_input_gives_one_clear_message(tmp_path, case):
     for text in expected:
         assert text in message, message
     assert not (tmp_path / "o" / "fit.json").exists()
+
+
+def test_fit_reads_data_as_users_have_it(tmp_path):
+    """Day-first time stamps, a unit row, decimal commas with ';', a renamed column, short
+    input gaps: the same optimum as the clean file, with notes; provenance and CSV outputs."""
+    clean = tmp_path / "clean.csv"
+    df = write_data(clean)
+    ref = tmp_path / "ref"
+    result = CliRunner().invoke(
+        app, ["fit", str(MODEL), str(clean), "--out", str(ref), "--no-figures"]
+    )
+    assert result.exit_code == 0, result.output
+    messy = df.rename(columns={"ghi": "Gv"})
+    messy.index = messy.index.tz_localize(None).strftime("%d.%m.%Y %H:%M")
+    messy.index.name = "Zeit"
+    messy.iloc[[50, 51], messy.columns.get_loc("Te")] = np.nan  # 2-sample gap
+    text = messy.to_csv(sep=";", decimal=",")
+    lines = text.splitlines()
+    lines.insert(1, "[dd.mm.yyyy];[C];[W];[W/m2];[C]")
+    path = tmp_path / "messy.csv"
+    path.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "out"
+    args = ["fit", str(MODEL), str(path), "--out", str(out), "--no-figures", "--decimal", ","]
+    args += ["--time-format", "%d.%m.%Y %H:%M", "--map", "ghi=Gv", "--time-column", "Zeit"]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    content = json.loads((out / "fit.json").read_text())
+    notes = " | ".join(content["data_notes"])
+    assert "unit row under the header dropped" in notes
+    assert "Gv -> ghi" in notes
+    assert "input 'Te': 2 missing value(s) in 1 gap(s) of at most 2 sample(s)" in notes
+    reference = json.loads((ref / "fit.json").read_text())
+    # the interpolated outdoor temperature differs in two samples only: nearly the same optimum
+    assert content["loglike"] == pytest.approx(reference["loglike"], abs=1.0)
+    assert content["nobs"] == reference["nobs"] == 240
+    prov = content["provenance"]
+    assert prov["files"][str(path)]["sha256"] and prov["thermocal_version"]
+    params = pd.read_csv(out / "parameters.csv", index_col=0)
+    assert params.loc["H_v", "value"] == pytest.approx(content["params"]["H_v"]["value"])
+    pred = pd.read_csv(out / "predictions.csv")
+    assert {"Ti", "Ti_pred", "Ti_std", "Ti_residual", "Ti_simulated"} <= set(pred.columns)
+    assert len(pred) == 240
+    # a long gap stops with the period to cut
+    messy.iloc[100:110, messy.columns.get_loc("Te")] = np.nan
+    text = messy.to_csv(sep=";", decimal=",")
+    path.write_text(text)
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code != 0
+    assert "missing for 10 consecutive samples" in str(result.exception)
+    assert "rows 100 to 109" in str(result.exception)
+
+
+def test_strict_exits_non_zero_when_a_flag_is_raised(tmp_path):
+    data = tmp_path / "data.csv"
+    df = write_data(data)
+    df.iloc[-1, df.columns.get_loc("Ti")] += 5.0  # a jump in the last sample
+    df.index.name = "time"
+    df.to_csv(data)
+    out = tmp_path / "out"
+    args = ["fit", str(MODEL), str(data), "--out", str(out), "--no-figures", "--strict"]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 3, result.output
+    assert "beyond 5 sigma" in result.output and "--strict" in result.output

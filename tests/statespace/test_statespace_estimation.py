@@ -64,21 +64,25 @@ def test_coverage_of_95_percent_intervals():
     )
     base = inputs()
     n_rep = 100
-    hits = np.zeros((n_rep, len(TRUTH)), dtype=bool)
+    hits = {s: np.zeros((n_rep, len(TRUTH)), dtype=bool) for s in ("natural", "transformed")}
     estimates = np.zeros((n_rep, len(TRUTH)))
     for rep in range(n_rep):
         data = base.copy()
         data["y"] = simulate_stochastic(truth_model, base, seed=1000 + rep)["y"]
         res = start.fit(data)
         assert res.converged
-        ci = res.conf_int()
         names = start.free_parameter_names
-        hits[rep] = [ci.loc[n, "lower"] <= TRUTH[n] <= ci.loc[n, "upper"] for n in names]
+        for scale, h in hits.items():
+            ci = res.conf_int(scale=scale)
+            h[rep] = [ci.loc[n, "lower"] <= TRUTH[n] <= ci.loc[n, "upper"] for n in names]
+            if scale == "transformed":  # positive parameters keep positive bounds
+                assert (ci["lower"][[n for n in names if n != "Ti0"]] >= 0).all()
         estimates[rep] = res.params[names]
     lo = stats.binom.ppf(0.0005, n_rep, 0.95)
-    counts = hits.sum(axis=0)
-    assert np.all(counts >= lo), dict(zip(start.free_parameter_names, counts, strict=True))
-    assert 0.91 <= hits.mean() <= 0.99
+    for scale, h in hits.items():
+        counts = h.sum(axis=0)
+        assert np.all(counts >= lo), (scale, dict(zip(names, counts, strict=True)))
+        assert 0.91 <= h.mean() <= 0.99, scale
     # estimates are centred on the truth (bias small against the spread)
     truth = np.array([TRUTH[n] for n in start.free_parameter_names])
     z = (estimates.mean(0) - truth) / (estimates.std(0) / np.sqrt(n_rep))

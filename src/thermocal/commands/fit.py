@@ -10,37 +10,114 @@ import typer
 from thermocal.cli import app
 
 
-def read_table(path: Path, *, sep: str | None = None):
-    """Read a CSV (separator detected among ``, ; tab`` unless given) or Parquet table."""
+def read_table(path: Path, *, sep: str | None = None, decimal: str = ".", sheet: str | None = None):
+    """Read a CSV (separator detected among ``, ; tab`` unless given), Excel or Parquet table.
+
+    A row right under the header without a single number while the next row has numbers is a
+    unit row (``[C]; [kW]; ...``) and is dropped (noted in ``table.attrs["notes"]``).
+    ``decimal=","`` reads decimal commas (the separator is then detected among ``; tab``).
+    """
     import pandas as pd
 
     from thermocal.errors import ThermocalInputError
 
     if not path.exists():
         raise ThermocalInputError(f"data file {path} does not exist")
-    if path.suffix.lower() in (".parquet", ".pq"):
+    suffix = path.suffix.lower()
+    notes: list[str] = []
+    if suffix in (".parquet", ".pq"):
         try:
             return pd.read_parquet(path)
         except (OSError, ValueError) as exc:  # pyarrow's ArrowInvalid is a ValueError
             raise ThermocalInputError(
                 f"data file {path} could not be read as Parquet: {exc}"
             ) from None
-    if sep is None:
-        with path.open(encoding="utf-8", errors="replace") as fh:
-            header = fh.readline()
-        counts = {s: header.count(s) for s in (";", ",", "\t")}
-        sep = max(counts, key=counts.get) if max(counts.values()) > 0 else ","
-    try:
-        return pd.read_csv(path, sep=sep)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise ThermocalInputError(f"data file {path} could not be read as CSV: {exc}") from None
+    if suffix in (".xlsx", ".xlsm", ".xls", ".ods"):
+        try:
+            table = pd.read_excel(path, sheet_name=sheet or 0)
+        except ImportError as exc:
+            raise ThermocalInputError(
+                f"data file {path}: reading Excel needs an extra package ({exc}); install "
+                "openpyxl, or save the sheet as CSV"
+            ) from None
+        except (OSError, ValueError) as exc:
+            raise ThermocalInputError(f"data file {path} could not be read: {exc}") from None
+    else:
+        if sep is None:
+            with path.open(encoding="utf-8", errors="replace") as fh:
+                header = fh.readline()
+            candidates = (";", "\t") if decimal == "," else (";", ",", "\t")
+            counts = {s: header.count(s) for s in candidates}
+            sep = max(counts, key=counts.get) if max(counts.values()) > 0 else ","
+        try:
+            table = pd.read_csv(path, sep=sep, decimal=decimal)
+        except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+            raise ThermocalInputError(f"data file {path} could not be read as CSV: {exc}") from None
+    table = _drop_unit_row(table, notes, decimal)
+    table.attrs["notes"] = notes
+    return table
+
+
+def _drop_unit_row(table, notes: list[str], decimal: str = "."):
+    """The table without a unit row under the header (then re-read as numbers)."""
+    import pandas as pd
+
+    if len(table) < 2 or table.shape[1] < 2:
+        return table
+    others = table.columns[1:]  # the first column is usually the time
+
+    def as_numbers(values):
+        if decimal != "." and not pd.api.types.is_numeric_dtype(values):
+            values = values.astype(str).str.replace(decimal, ".", regex=False)
+        return pd.to_numeric(values, errors="coerce")
+
+    def numbers(row) -> int:
+        return int(as_numbers(row[others].astype(object)).notna().sum())
+
+    if numbers(table.iloc[0]) == 0 and numbers(table.iloc[1]) > 0:
+        units = ", ".join(f"{c}: {table.iloc[0][c]}" for c in table.columns)
+        notes.append(f"unit row under the header dropped: {units}")
+        table = table.iloc[1:].reset_index(drop=True)
+        for c in others:
+            converted = as_numbers(table[c])
+            if converted.notna().sum() >= table[c].notna().sum():
+                table[c] = converted
+    return table
+
+
+def parse_mapping(items: list[str] | None) -> dict[str, str]:
+    """``["Ps=Gv", ...]`` (model column = data column) as a dict data column -> model column."""
+    from thermocal.errors import ThermocalInputError
+
+    out: dict[str, str] = {}
+    for item in items or []:
+        model_name, sep_, data_name = item.partition("=")
+        if not sep_ or not model_name.strip() or not data_name.strip():
+            raise ThermocalInputError(
+                f"--map {item!r}: write MODEL_COLUMN=DATA_COLUMN, e.g. --map Ph=heating_kW"
+            )
+        out[data_name.strip()] = model_name.strip()
+    return out
+
+
+def file_sha256(path: Path) -> str:
+    """SHA-256 of a file's bytes."""
+    import hashlib
+
+    h = hashlib.sha256()
+    with path.open("rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
 
 
 FIT_HELP = (
     "Fit a grey-box RC model by maximum likelihood (Kalman filter).\n\n"
     "Writes OUT/fit.json (log-likelihood, AIC, BIC, estimates with standard errors, correlation "
-    "matrix, flags, residual diagnostics) and PNG figures (measured vs one-step prediction, "
-    "residual autocorrelation, cumulated periodogram), and prints a summary. "
+    "matrix, flags with remedies, residual diagnostics, provenance), parameters.csv, "
+    "predictions.csv and PNG figures (measured vs one-step prediction, residual "
+    "autocorrelation, cumulated periodogram), and prints a summary. With --strict the exit "
+    "code is 3 when any flag is raised (2: input error). "
     "Example: thermocal fit examples/models/TiTe.yaml inputPRBS1.csv --time-column t "
     "--time-unit h --out fit_TiTe"
 )
@@ -71,19 +148,65 @@ def fit(
         str, typer.Option("--hold", help="Input hold between samples: zoh or foh.")
     ] = "zoh",
     n_starts: Annotated[
-        int, typer.Option("--n-starts", help="Optimiser starts (1 = the declared values only).")
-    ] = 1,
+        int | None,
+        typer.Option(
+            "--n-starts",
+            help="Optimiser starts (1 = the declared values only). Default: 1, or 4 when the "
+            "model has more than 8 free parameters.",
+        ),
+    ] = None,
     seed: Annotated[int | None, typer.Option("--seed", help="Seed of the random starts.")] = None,
+    jobs: Annotated[
+        int | None,
+        typer.Option("--jobs", help="Processes for the starts (default: one per CPU)."),
+    ] = None,
     figures: Annotated[
         bool, typer.Option("--figures/--no-figures", help="Write PNG figures.")
     ] = True,
+    mapping: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--map",
+            help="Model column = data column, e.g. --map Ps=Gv (repeat for several).",
+        ),
+    ] = None,
+    time_format: Annotated[
+        str | None,
+        typer.Option(
+            "--time-format",
+            help="strftime format of non-ISO time stamps, e.g. '%d.%m.%Y %H:%M' (day first).",
+        ),
+    ] = None,
+    decimal: Annotated[
+        str, typer.Option("--decimal", help="Decimal mark of the CSV: '.' or ','.")
+    ] = ".",
+    sheet: Annotated[
+        str | None, typer.Option("--sheet", help="Excel sheet name (default: the first).")
+    ] = None,
+    max_gap: Annotated[
+        int,
+        typer.Option(
+            "--max-gap",
+            help="Missing input values: gaps of at most this many samples are interpolated "
+            "linearly (noted in fit.json); longer gaps stop with the period to cut. 0: inputs "
+            "must be complete.",
+        ),
+    ] = 3,
+    strict: Annotated[
+        bool,
+        typer.Option("--strict", help="Exit with code 3 when any flag is raised."),
+    ] = False,
 ) -> None:
     """Fit a grey-box RC model (see :data:`FIT_HELP`)."""
+    import datetime
     import json
+    import sys
 
+    import pandas as pd
     from rich.console import Console
     from rich.table import Table
 
+    from thermocal import __version__
     from thermocal.errors import ThermocalInputError
     from thermocal.statespace import RCModel
     from thermocal.statespace.diagnostics import (
@@ -94,7 +217,18 @@ def fit(
 
     console = Console()
     model = RCModel.from_yaml(model_file)
-    data = read_table(data_file, sep=sep)
+    data = read_table(data_file, sep=sep, decimal=decimal, sheet=sheet)
+    notes = list(data.attrs.get("notes", []))
+    renames = parse_mapping(mapping)
+    if renames:
+        absent = [c for c in renames if c not in data.columns]
+        if absent:
+            raise ThermocalInputError(
+                f"{data_file}: --map names data column(s) {', '.join(map(repr, absent))}, not "
+                f"in the data; columns present: {', '.join(map(str, data.columns))}"
+            )
+        data = data.rename(columns=renames)
+        notes.append("columns mapped: " + ", ".join(f"{d} -> {m}" for d, m in renames.items()))
     if time_column is None:
         time_column = "time" if "time" in data.columns else str(data.columns[0])
     if time_column not in data.columns:
@@ -102,18 +236,43 @@ def fit(
             f"{data_file}: no time column '{time_column}'; columns: "
             f"{', '.join(map(str, data.columns))}; use --time-column"
         )
-    with console.status(f"fitting {model.name} ({model.n_free} free parameters)..."):
-        results = model.fit(
-            data,
-            hold=hold,
-            n_starts=n_starts,
-            seed=seed,
-            time_column=time_column,
-            time_unit=time_unit,
-            source=str(data_file),
-        )
+    if time_format is not None:
+        try:
+            data[time_column] = pd.to_datetime(data[time_column], format=time_format)
+        except (ValueError, TypeError) as exc:
+            raise ThermocalInputError(
+                f"{data_file}: time column '{time_column}' does not follow --time-format "
+                f"{time_format!r} ({exc})"
+            ) from None
+    started = datetime.datetime.now(datetime.UTC)
+    console.print(f"fitting {model.name} ({model.n_free} free parameters)...")
+    results = model.fit(
+        data,
+        hold=hold,
+        n_starts=n_starts,
+        seed=seed,
+        time_column=time_column,
+        time_unit=time_unit,
+        source=str(data_file),
+        n_jobs=jobs,
+        progress=True,
+        input_gaps="interpolate" if max_gap > 0 else "error",
+        max_gap=max(max_gap, 1),
+    )
     out.mkdir(parents=True, exist_ok=True)
     content = results.to_dict()
+    content["data_notes"] = notes + content.get("data_notes", [])
+    content["provenance"] = {
+        "thermocal_version": __version__,
+        "command": " ".join(["thermocal", *sys.argv[1:]]) if sys.argv else "thermocal fit",
+        "seed": seed,
+        "n_starts": len(results.start_loglikes),
+        "started_utc": started.isoformat(timespec="seconds"),
+        "files": {
+            str(model_file): {"sha256": file_sha256(model_file)},
+            str(data_file): {"sha256": file_sha256(data_file)},
+        },
+    }
     diagnostics = {}
     residuals = results.residuals
     for col in model.output_names:
@@ -130,7 +289,14 @@ def fit(
     content["model_file"] = str(model_file)
     content["data_file"] = str(data_file)
     (out / "fit.json").write_text(json.dumps(content, indent=2))
-    written = [out / "fit.json"]
+    results.parameter_table().to_csv(out / "parameters.csv")
+    predictions = results.one_step_residuals()
+    simulated = results.simulate()
+    for col in model.output_names:
+        predictions[f"{col}_simulated"] = simulated[col]
+    predictions.index.name = "time"
+    predictions.to_csv(out / "predictions.csv")
+    written = [out / "fit.json", out / "parameters.csv", out / "predictions.csv"]
     if figures:
         from thermocal.statespace.plots import plot_fit
 
@@ -160,6 +326,8 @@ def fit(
             "yes" if row["fixed"] else "",
         )
     console.print(table)
+    for note in content["data_notes"]:
+        console.print(f"note: {note}")
     for flag in results.flags:
         console.print(f"[yellow]flag:[/yellow] {flag}")
     for col, d in diagnostics.items():
@@ -170,3 +338,6 @@ def fit(
             f"{100 * d['cumulated_periodogram_fraction_outside_95_band']:.0f} % outside its band"
         )
     console.print("wrote " + ", ".join(str(p) for p in written))
+    if strict and results.flags:
+        console.print(f"--strict: {len(results.flags)} flag(s) raised")
+        raise typer.Exit(code=3)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
@@ -38,6 +38,8 @@ class PreparedData:
     U: np.ndarray
     Y: np.ndarray
     time_unit: str = "s"
+    #: What was done to the data (e.g. interpolated input gaps), for the report.
+    notes: list[str] = field(default_factory=list)
 
     @property
     def nobs(self) -> int:
@@ -145,12 +147,25 @@ def prepare_data(
     time_unit: str = "s",
     source: str = "data",
     require_outputs: bool = True,
+    input_gaps: str = "error",
+    max_gap: int = 3,
 ) -> PreparedData:
     """Validate ``data`` against ``model`` and build the kernel arrays.
 
-    Inputs must be complete (no NaN: fill or drop gaps first); outputs may contain NaN (those
-    values are skipped by the filter) but must not be all NaN.
+    Outputs may contain NaN (those values are skipped by the filter) but must not be all NaN.
+    Missing input values (NaN, e.g. values removed by the quality checks of
+    :mod:`thermocal.io`) follow ``input_gaps``:
+
+    - ``"error"`` (default): inputs must be complete; the message names the column and row;
+    - ``"interpolate"``: gaps of at most ``max_gap`` consecutive samples are interpolated
+      linearly in time and listed in ``PreparedData.notes``; longer gaps, and gaps at the start
+      or end, are errors naming the period (cut the data there).
     """
+    if input_gaps not in ("error", "interpolate"):
+        raise ThermocalInputError(
+            f"input_gaps must be 'error' or 'interpolate', got {input_gaps!r}"
+        )
+    notes: list[str] = []
     if not isinstance(data, pd.DataFrame):
         raise ThermocalInputError(
             f"{source}: expected a pandas DataFrame, got {type(data).__name__}"
@@ -171,6 +186,10 @@ def prepare_data(
     for j, col in enumerate(model.input_names):
         values = pd.to_numeric(data[col], errors="coerce").to_numpy(dtype=float)
         bad = ~np.isfinite(values)
+        garbled = bad & data[col].notna().to_numpy() & ~np.isinf(values)
+        if bad.any() and input_gaps == "interpolate" and not garbled.any():
+            values = _interpolate_gaps(values, seconds, index, col, max_gap, source, notes)
+            bad = ~np.isfinite(values)
         if bad.any():
             row = int(np.flatnonzero(bad)[0])
             raise ThermocalInputError(
@@ -210,4 +229,36 @@ def prepare_data(
     # otherwise differ in the last bits and defeat the uniform-sampling fast path
     dts = np.round(np.diff(seconds), 6)
     dts = np.append(dts, dts[-1])
-    return PreparedData(index=index, seconds=seconds, dts=dts, U=U, Y=Y, time_unit=time_unit)
+    return PreparedData(
+        index=index, seconds=seconds, dts=dts, U=U, Y=Y, time_unit=time_unit, notes=notes
+    )
+
+
+def _interpolate_gaps(values, seconds, index, col, max_gap, source, notes) -> np.ndarray:
+    """``values`` with interior NaN runs of at most ``max_gap`` samples interpolated linearly
+    in time; a longer run or one at either end is an error naming its period."""
+    bad = ~np.isfinite(values)
+    edges = np.diff(np.concatenate([[0], bad.astype(int), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)  # [start, end)
+    for a, b in zip(starts, ends, strict=True):
+        where = f"rows {a} to {b - 1} ({index[a]} to {index[b - 1]})"
+        if a == 0 or b == values.size:
+            raise ThermocalInputError(
+                f"{source}: input column '{col}' is missing at the "
+                f"{'start' if a == 0 else 'end'} of the data, {where}: nothing to interpolate "
+                "from; cut the period"
+            )
+        if b - a > max_gap:
+            raise ThermocalInputError(
+                f"{source}: input column '{col}' is missing for {b - a} consecutive samples, "
+                f"{where}, longer than the {max_gap} interpolated (max_gap, --max-gap); cut the "
+                "data there and fit the periods separately, or raise max_gap"
+            )
+    ok = ~bad
+    out = values.copy()
+    out[bad] = np.interp(seconds[bad], seconds[ok], values[ok])
+    notes.append(
+        f"input '{col}': {int(bad.sum())} missing value(s) in {starts.size} gap(s) of at most "
+        f"{int((ends - starts).max())} sample(s) interpolated linearly"
+    )
+    return out

@@ -56,10 +56,20 @@ def _hold_flag(hold: str) -> bool:
     return hold == "foh"
 
 
-def _prepared(model, data, time_column, time_unit, source="data") -> PreparedData:
+def _prepared(
+    model, data, time_column, time_unit, source="data", input_gaps="error", max_gap=3
+) -> PreparedData:
     if isinstance(data, PreparedData):
         return data
-    return prepare_data(model, data, time_column=time_column, time_unit=time_unit, source=source)
+    return prepare_data(
+        model,
+        data,
+        time_column=time_column,
+        time_unit=time_unit,
+        source=source,
+        input_gaps=input_gaps,
+        max_gap=max_gap,
+    )
 
 
 def loglike(model, data, params=None, *, hold="zoh", time_column=None, time_unit="s") -> float:
@@ -473,6 +483,8 @@ def fit(
     warm_start=None,
     n_jobs: int | None = None,
     progress: bool | None = None,
+    input_gaps: str = "error",
+    max_gap: int = 3,
 ):
     """Estimate the free parameters of ``model`` by maximum likelihood.
 
@@ -519,6 +531,9 @@ def fit(
     progress : bool, optional
         Show a progress bar over the starts (default: when more than one start and standard
         error is a terminal).
+    input_gaps, max_gap :
+        Missing input values: ``"error"`` or ``"interpolate"`` gaps of at most ``max_gap``
+        samples (see :func:`thermocal.statespace.data.prepare_data`; noted in the results).
 
     Returns
     -------
@@ -528,7 +543,7 @@ def fit(
 
     t_start = time.perf_counter()
     foh = _hold_flag(hold)
-    prep = _prepared(model, data, time_column, time_unit, source)
+    prep = _prepared(model, data, time_column, time_unit, source, input_gaps, max_gap)
     if model.n_free == 0:
         raise ThermocalInputError(
             f"model '{model.name}' has no free parameter to estimate; set 'fixed: false' on some"

@@ -388,14 +388,42 @@ class FitResults:
         """Covariance matrix of the free-parameter estimates [declared units]."""
         return self._cov.copy()
 
-    def conf_int(self, alpha: float = 0.05) -> pd.DataFrame:
-        """Wald confidence intervals [declared units] of the free parameters."""
+    def conf_int(self, alpha: float = 0.05, *, scale: str = "transformed") -> pd.DataFrame:
+        """Confidence intervals [declared units] of the free parameters.
+
+        Parameters
+        ----------
+        alpha : float
+            1 - confidence level.
+        scale : {"transformed", "natural"}
+            ``"transformed"`` (default): the Wald interval on the optimiser's unconstrained
+            scale (log for one-sided bounds, logit between two bounds), mapped back, so a
+            positive parameter never gets a negative bound and a bounded one stays inside its
+            bounds; the interval is asymmetric where the likelihood is. ``"natural"``: the
+            symmetric Wald interval ``estimate +- z se`` in declared units.
+        """
         from scipy import stats
 
+        if scale not in ("transformed", "natural"):
+            raise ValueError("scale must be 'transformed' or 'natural'")
         z = stats.norm.ppf(1 - alpha / 2)
         free = self.model.free_parameter_names
         est, se = self.params[free], self.bse[free]
-        return pd.DataFrame({"lower": est - z * se, "upper": est + z * se})
+        if scale == "natural":
+            return pd.DataFrame({"lower": est - z * se, "upper": est + z * se})
+        se_theta = np.sqrt(np.diag(self._cov_theta))
+        lower, upper = [], []
+        for i, name in enumerate(free):
+            p = self.model.parameters[name]
+            if not math.isfinite(se_theta[i]):
+                lower.append(math.nan)
+                upper.append(math.nan)
+                continue
+            a = p.from_unconstrained(self.theta[i] - z * se_theta[i])
+            b = p.from_unconstrained(self.theta[i] + z * se_theta[i])
+            lower.append(min(a, b))
+            upper.append(max(a, b))
+        return pd.DataFrame({"lower": lower, "upper": upper}, index=pd.Index(free))
 
     @property
     def fitted_model(self):
@@ -579,7 +607,23 @@ class FitResults:
                 "matrix": [[num(v) for v in row] for row in corr.to_numpy()],
             },
             "flags": list(self.flags),
+            "data_notes": list(self.data.notes),
+            "checks": _jsonable(self.checks),
+            "expected_gain": num(self.expected_gain),
         }
+
+
+def _jsonable(x):
+    """``x`` with numpy scalars as floats and non-finite numbers as None."""
+    if isinstance(x, dict):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(x) else None
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    return x
 
 
 def _duration(seconds: float) -> str:

@@ -276,3 +276,36 @@ def test_lyapunov_reference_for_two_states(clean):
     expected = math.sqrt(P[1, 1]) / sd_det
     assert res.checks["diffusion_ratio"]["Te"] == pytest.approx(expected, rel=1e-6)
     assert any("state 'Te' is diffusion-dominated" in f and "'se'" in f for f in res.flags)
+
+
+def test_derived_quantities_with_delta_method_standard_errors(clean):
+    spec = envelope_model().to_dict()
+    spec["derived"] = {
+        "heat_loss_coefficient": {"expression": "1 / (1/Hie + 1/Hea)", "unit": "W/K"},
+        "sum_H": "Hie + Hea",
+        "tau_i": {"expression": "Ci * 1e6 / Hie / 3600", "unit": "h"},
+    }
+    model = RCModel.from_dict(spec)
+    res = model.fit(clean)
+    d = res.derived()
+    cov = res.cov_params()
+    hie, hea = res.params["Hie"], res.params["Hea"]
+    assert d.loc["sum_H", "value"] == pytest.approx(hie + hea)
+    var_sum = cov.loc["Hie", "Hie"] + cov.loc["Hea", "Hea"] + 2 * cov.loc["Hie", "Hea"]
+    assert d.loc["sum_H", "std_error"] == pytest.approx(math.sqrt(var_sum), rel=1e-6)
+    # series conductance: analytic gradient
+    g = np.array([(hea / (hie + hea)) ** 2, (hie / (hie + hea)) ** 2])
+    c = cov.loc[["Hie", "Hea"], ["Hie", "Hea"]].to_numpy()
+    assert d.loc["heat_loss_coefficient", "value"] == pytest.approx(hie * hea / (hie + hea))
+    assert d.loc["heat_loss_coefficient", "std_error"] == pytest.approx(
+        math.sqrt(g @ c @ g), rel=1e-5
+    )
+    # the truth (107.6 W/K) inside the interval
+    hlc = d.loc["heat_loss_coefficient"]
+    assert abs(hlc["value"] - 400 * 150 / 550) < 4 * hlc["std_error"]
+    assert res.to_dict()["derived"]["tau_i"]["unit"] == "h"
+    assert "heat_loss_coefficient" in res.summary()
+    with pytest.raises(Exception, match="'Rx', not a parameter"):
+        model.add_derived("bad", "1/Rx")
+    with pytest.raises(Exception, match="functions allowed"):
+        model.add_derived("bad", "__import__('os')")

@@ -51,6 +51,7 @@ _TOP_LEVEL_KEYS = {
     "heat_inputs",
     "outputs",
     "parameters",
+    "derived",
 }
 _STATE_KEYS = {"capacity", "noise", "initial_mean", "initial_std", "description"}
 _CONDUCTANCE_KEYS = {"between", "conductance", "resistance", "description"}
@@ -212,6 +213,8 @@ class RCModel:
         self._heat_inputs: list[dict[str, Any]] = []
         self._outputs: list[dict[str, Any]] = []
         self.parameters: dict[str, Parameter] = {}
+        #: Derived quantities: name -> (expression in parameter names, unit).
+        self.derived: dict[str, tuple[str, str]] = {}
         self._structure: Structure | None = None
         self.source = "<in memory>"
 
@@ -377,6 +380,38 @@ class RCModel:
         self._structure = None
         return self
 
+    def add_derived(self, name: str, expression: str, *, unit: str = "") -> RCModel:
+        """Declare a derived quantity, estimated with a delta-method standard error.
+
+        Parameters
+        ----------
+        name : str
+            Name, e.g. ``heat_loss_coefficient``.
+        expression : str
+            Arithmetic of parameter names in their declared units and numbers: ``+ - * / **``,
+            parentheses, ``sqrt``, ``exp``, ``log``, ``abs``, e.g. ``1/Ria + 1/(Rie + Rea)``.
+        unit : str
+            The unit of the result (free text, for the report), e.g. ``kW/K``.
+        """
+        if name in self.derived:
+            raise ThermocalInputError(f"model '{self.name}': derived '{name}' is declared twice")
+        unknown = sorted(_expression_names(str(expression), f"derived '{name}'"))
+        unknown = [n for n in unknown if n not in self.parameters]
+        if unknown:
+            raise ThermocalInputError(
+                f"model '{self.name}': derived '{name}' = {expression!r} uses "
+                f"{', '.join(map(repr, unknown))}, not a parameter (parameters: "
+                f"{', '.join(self.parameters)})"
+            )
+        self.derived[str(name)] = (str(expression), str(unit))
+        return self
+
+    def derived_values(self, params: Mapping[str, float] | None = None) -> dict[str, float]:
+        """Derived quantities at ``params`` [declared units] (default: the declared values)."""
+        values = {n: p.value for n, p in self.parameters.items()}
+        values.update({k: float(v) for k, v in (params or {}).items()})
+        return {n: evaluate_expression(e, values) for n, (e, _) in self.derived.items()}
+
     # ------------------------------------------------------------------ constructors
     @classmethod
     def from_dict(cls, spec: Mapping[str, Any], *, source: str = "<dict>") -> RCModel:
@@ -491,6 +526,24 @@ class RCModel:
                 states=ospec.get("states"),
                 noise=ospec["noise"],
             )
+        derived = spec.get("derived") or {}
+        if not isinstance(derived, Mapping):
+            raise ThermocalInputError(
+                f"{where}: 'derived' must map names to expressions, e.g. "
+                "heat_loss_coefficient: '1/Ria + 1/(Rie + Rea)'"
+            )
+        for dname, dspec in derived.items():
+            if isinstance(dspec, Mapping):
+                _check_keys(dspec, {"expression", "unit", "description"}, f"{where}: derived")
+                expr, unit = dspec.get("expression"), str(dspec.get("unit", ""))
+            else:
+                expr, unit = dspec, ""
+            if not isinstance(expr, (str, int, float)):
+                raise ThermocalInputError(f"{where}: derived '{dname}' needs an expression")
+            try:
+                model.add_derived(str(dname), str(expr), unit=unit)
+            except ThermocalInputError as exc:
+                raise ThermocalInputError(f"{where}: {exc}") from None
         model.structure()  # validate now, with the file name in the messages
         return model
 
@@ -522,6 +575,11 @@ class RCModel:
             "heat_inputs": [clean(h) for h in self._heat_inputs],
             "outputs": [clean(o) for o in self._outputs],
             "parameters": {k: p.to_dict() for k, p in self.parameters.items()},
+            **(
+                {"derived": {k: {"expression": e, "unit": u} for k, (e, u) in self.derived.items()}}
+                if self.derived
+                else {}
+            ),
         }
 
     def copy(self) -> RCModel:
@@ -764,6 +822,75 @@ class RCModel:
             f"RCModel(name={self.name!r}, states={self.state_names}, inputs={self.input_names}, "
             f"outputs={self.output_names}, free={self.free_parameter_names})"
         )
+
+
+_FUNCTIONS = {"sqrt": math.sqrt, "exp": math.exp, "log": math.log, "abs": abs}
+
+
+def _expression_tree(expression: str, what: str):
+    import ast
+
+    try:
+        tree = ast.parse(expression, mode="eval")
+    except SyntaxError:
+        raise ThermocalInputError(
+            f"{what}: {expression!r} is not an arithmetic expression"
+        ) from None
+    allowed = (
+        ast.Expression, ast.BinOp, ast.UnaryOp, ast.Constant, ast.Name, ast.Call, ast.Load,
+        ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd,
+    )  # fmt: skip
+    for node in ast.walk(tree):
+        if not isinstance(node, allowed):
+            raise ThermocalInputError(
+                f"{what}: {expression!r}: only numbers, parameter names, + - * / **, "
+                f"parentheses and {', '.join(_FUNCTIONS)} are allowed"
+            )
+        if isinstance(node, ast.Call) and (
+            not isinstance(node.func, ast.Name) or node.func.id not in _FUNCTIONS or node.keywords
+        ):
+            raise ThermocalInputError(
+                f"{what}: {expression!r}: functions allowed: {', '.join(_FUNCTIONS)}"
+            )
+    return tree
+
+
+def _expression_names(expression: str, what: str) -> set[str]:
+    import ast
+
+    tree = _expression_tree(expression, what)
+    calls = {id(n.func) for n in ast.walk(tree) if isinstance(n, ast.Call)}
+    return {n.id for n in ast.walk(tree) if isinstance(n, ast.Name) and id(n) not in calls}
+
+
+def evaluate_expression(expression: str, values: Mapping[str, float]) -> float:
+    """Value of a derived-quantity expression (see :meth:`RCModel.add_derived`)."""
+    import ast
+
+    tree = _expression_tree(expression, "derived quantity")
+    ops = {
+        ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b, ast.Mult: lambda a, b: a * b,
+        ast.Div: lambda a, b: a / b if b != 0 else math.inf, ast.Pow: lambda a, b: a**b,
+    }  # fmt: skip
+
+    def ev(node) -> float:
+        if isinstance(node, ast.Expression):
+            return ev(node.body)
+        if isinstance(node, ast.Constant):
+            return float(node.value)
+        if isinstance(node, ast.Name):
+            return float(values[node.id])
+        if isinstance(node, ast.UnaryOp):
+            v = ev(node.operand)
+            return -v if isinstance(node.op, ast.USub) else v
+        if isinstance(node, ast.BinOp):
+            return float(ops[type(node.op)](ev(node.left), ev(node.right)))
+        try:
+            return float(_FUNCTIONS[node.func.id](*[ev(a) for a in node.args]))
+        except (ValueError, OverflowError):
+            return math.nan
+
+    return ev(tree)
 
 
 def _check_keys(spec: Any, allowed: set[str], where: str) -> None:

@@ -425,6 +425,45 @@ class FitResults:
             upper.append(max(a, b))
         return pd.DataFrame({"lower": lower, "upper": upper}, index=pd.Index(free))
 
+    def derived(self) -> pd.DataFrame:
+        """Derived quantities declared in the model (``derived:``) with delta-method standard
+        errors: value, std_error, unit, one row per quantity.
+
+        The gradient with respect to the free parameters [declared units] is a central
+        difference (relative step 1e-6); ``std_error = sqrt(g' cov g)``.
+        """
+        rows = []
+        free = self.model.free_parameter_names
+        cov = self._cov.to_numpy()
+        base = self.params.to_dict()
+        for name, (expr, unit) in self.model.derived.items():
+            value = self.model.derived_values(base)[name]
+            grad = np.zeros(len(free))
+            for i, p in enumerate(free):
+                h = 1e-6 * max(abs(base[p]), 1e-8)
+                up = self.model.derived_values({**base, p: base[p] + h})[name]
+                down = self.model.derived_values({**base, p: base[p] - h})[name]
+                grad[i] = (up - down) / (2 * h)
+            known = np.isfinite(np.diag(cov)) | (grad == 0)
+            if np.all(known):
+                c = np.where(np.isfinite(cov), cov, 0.0)
+                se = float(np.sqrt(max(grad @ c @ grad, 0.0)))
+            else:
+                se = math.nan
+            rows.append(
+                {
+                    "quantity": name,
+                    "value": value,
+                    "std_error": se,
+                    "unit": unit,
+                    "expression": expr,
+                }
+            )
+        columns = ["value", "std_error", "unit", "expression"]
+        if not rows:
+            return pd.DataFrame(columns=columns, index=pd.Index([], name="quantity"))
+        return pd.DataFrame(rows).set_index("quantity")[columns]
+
     @property
     def fitted_model(self):
         """Copy of the model with the estimates as declared values."""
@@ -565,6 +604,18 @@ class FitResults:
                 f"{name:<16}{row['value']:>14.6g}{row['std_error']:>12.4g}  {row['unit']:<11}"
                 f"{row['lower']:>11.4g}{row['upper']:>11.4g}  {'yes' if row['fixed'] else ''}"
             )
+        derived = self.derived()
+        if len(derived):
+            lines += ["", f"{'derived quantity':<28}{'value':>14}{'std error':>12}  unit"]
+            for name, row in derived.iterrows():
+                lines.append(
+                    f"{name:<28}{row['value']:>14.6g}{row['std_error']:>12.4g}  {row['unit']}"
+                )
+        taus = self.checks.get("time_constants_h")
+        if taus:
+            lines.append("Time constants [h]: " + ", ".join(f"{t:.4g}" for t in taus))
+        if self.data.notes:
+            lines += ["", "Data notes:"] + [f"  - {n}" for n in self.data.notes]
         if self.flags:
             lines += ["", "Flags:"] + [f"  - {f}" for f in self.flags]
         return "\n".join(lines)
@@ -605,6 +656,15 @@ class FitResults:
             "correlation": {
                 "names": list(corr.index),
                 "matrix": [[num(v) for v in row] for row in corr.to_numpy()],
+            },
+            "derived": {
+                name: {
+                    "value": num(row["value"]),
+                    "std_error": num(row["std_error"]),
+                    "unit": row["unit"],
+                    "expression": row["expression"],
+                }
+                for name, row in self.derived().iterrows()
             },
             "flags": list(self.flags),
             "data_notes": list(self.data.notes),

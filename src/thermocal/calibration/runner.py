@@ -229,7 +229,7 @@ def _iter_dask(
     }
     futures = list(by_future)
     try:
-        for fut in as_completed(futures):
+        for fut in as_completed(futures, loop=client.loop):
             try:
                 yield fut.result()
             except Exception as exc:  # noqa: BLE001 - worker died: record, go on

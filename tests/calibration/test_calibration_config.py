@@ -1,0 +1,106 @@
+"""Campaign file: valid example, and every bad input named with its key."""
+
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+
+from thermocal.calibration.config import load_campaign
+from thermocal.errors import ThermocalInputError
+
+GOOD = """
+building: clinic.yaml
+weather: weather.epw
+sensors: sensors.csv
+mapping: mapping.yaml
+period: {start: 2001-01-01, end: 2001-02-01}
+step: 5min
+identification: {method: inverse, feedback: air}
+occupancy: null
+parameters:
+  include: ["material/*", "window/*", "infiltration/*", "zone/*"]
+  exclude: []
+  default_range: 0.75
+  ranges: {"*/shgc": 100.0, "*/thickness": 10.0}
+sampling: {method: sobol, samples: 500, seed: 1}
+metamodel: {kind: svr, top_k: 10, cv_folds: 5, log_target: false}
+optimisation: {starts: 8, seed: 1}
+validation: {start: 2001-02-01, end: 2001-02-15}
+store: campaign.sqlite
+"""
+
+
+@pytest.fixture
+def folder(tmp_path):
+    for name in ("clinic.yaml", "weather.epw", "sensors.csv", "mapping.yaml"):
+        (tmp_path / name).write_text("x\n")
+    return tmp_path
+
+
+def _write(folder, text):
+    path = folder / "campaign.yaml"
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def test_valid_campaign_file(folder):
+    path = _write(folder, GOOD)
+    c = load_campaign(path)
+    assert c.weather == folder / "weather.epw" and c.store == folder / "campaign.sqlite"
+    assert c.building == str(folder / "clinic.yaml")
+    assert c.parameters.ranges == {"*/shgc": 100.0, "*/thickness": 10.0}
+    assert c.sampling.samples == 500 and c.metamodel.top_k == 10
+    assert c.identification == {"method": "inverse", "feedback": "air"}
+    assert c.text == path.read_text() and c.path == path
+    fp = c.fingerprint()
+    assert fp == load_campaign(path).fingerprint()
+    assert c.fingerprint(samples=64) != fp
+    # the problem fingerprint follows the content of the input files
+    problem = c.problem_fingerprint()
+    (folder / "weather.epw").write_text("other\n")
+    assert load_campaign(path).problem_fingerprint() != problem
+
+
+def test_demo_needs_no_inputs(folder):
+    c = load_campaign(_write(folder, "building: demo:clinic\nsampling: {samples: 64}\n"))
+    assert c.is_demo and c.weather is None and c.sampling.method == "sobol"
+
+
+@pytest.mark.parametrize(
+    ("replace", "by", "expected"),
+    [
+        ("samples: 500", "samples: 0",
+         r"sampling\.samples: .*greater than or equal to 1 \(got 0\)"),
+        ("samples: 500", "samples: -4", r"sampling\.samples"),
+        ("top_k: 10", "top_k: 0", r"metamodel\.top_k"),
+        ("method: sobol", "method: random", r"sampling\.method: .*'sobol', 'lhs' or 'halton'"),
+        ('"*/shgc": 100.0', '"*/shgc": -1.0', r"parameters\.ranges: .*non-negative"),
+        ("default_range: 0.75", "default_range: -0.5", r"parameters\.default_range"),
+        ("seed: 1}\nmetamodel", "sead: 1}\nmetamodel", r"sampling\.sead: unknown key; did you "
+                                                        r"mean 'seed'"),
+        ("store: campaign", "stor: campaign", r"stor: unknown key; did you mean 'store'"),
+        ("step: 5min", "step: fivemin", r"step: .*not a duration"),
+        ("end: 2001-02-01}", "end: 2000-02-01}", r"period: .*must be after start"),
+        ("weather: weather.epw", "weather: missing.epw", r"key 'weather': file .*missing.epw "
+                                                         r"not found"),
+        ("sensors: sensors.csv\n", "", r"sensors missing"),
+        ("store: campaign.sqlite", "store: campaign.sqlite\nsampling: {samples: 3}",
+         r"duplicate key 'sampling'"),
+    ],
+)
+def test_bad_campaign_files(folder, replace, by, expected):
+    assert replace in GOOD
+    path = _write(folder, GOOD.replace(replace, by, 1))
+    with pytest.raises(ThermocalInputError, match=expected) as info:
+        load_campaign(path)
+    assert str(path) in str(info.value)
+
+
+def test_not_a_mapping_and_missing_file(folder):
+    with pytest.raises(ThermocalInputError, match="must be a YAML mapping"):
+        load_campaign(_write(folder, "- a\n- b\n"))
+    with pytest.raises(ThermocalInputError, match="not found"):
+        load_campaign(folder / "nope.yaml")
+    with pytest.raises(ThermocalInputError, match="not valid YAML"):
+        load_campaign(_write(folder, "building: [unclosed\n"))

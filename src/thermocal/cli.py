@@ -18,8 +18,9 @@ app = typer.Typer(
     help=(
         "Calibrated thermal models of buildings from cheap measurements.\n\n"
         "Grey-box RC estimation (fit), detailed multi-zone simulation (simulate), "
-        "retrofit analysis with the fifth-order RC method (retrofit) and a built-in "
-        "demonstration (demo)."
+        "retrofit analysis with the fifth-order RC method (retrofit), a built-in "
+        "demonstration (demo), heat-balance identification by per-zone control (identify) "
+        "and envelope calibration campaigns (calibrate)."
     ),
     no_args_is_help=True,
     add_completion=True,
@@ -62,7 +63,7 @@ def _print_version(value: bool) -> None:
 
 
 #: Subcommand modules, in the order they appear in ``--help``.
-COMMAND_MODULES = ("demo", "fit", "simulate", "retrofit")
+COMMAND_MODULES = ("demo", "fit", "simulate", "retrofit", "identify", "calibrate")
 
 
 def _register_commands() -> None:

@@ -1,0 +1,188 @@
+"""``thermocal identify``: the heat each zone of a detailed model needs to follow the sensors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from thermocal.cli import app
+
+
+@app.command()
+def identify(
+    building: Annotated[
+        Path | None, typer.Argument(help="Building file: thermocal YAML or EnergyPlus IDF.")
+    ] = None,
+    weather: Annotated[Path | None, typer.Argument(help="Weather file (EPW, TMY3).")] = None,
+    sensors: Annotated[
+        Path | None,
+        typer.Argument(help="Sensor log (CSV or parquet, long or wide layout) [C]."),
+    ] = None,
+    mapping: Annotated[
+        Path | None, typer.Option(help="Mapping file: sensors -> zones (YAML).")
+    ] = None,
+    out: Annotated[Path, typer.Option(help="Output directory.")] = Path("identification"),
+    method: Annotated[
+        str, typer.Option(help="inverse (exact), pid (the paper's loop) or both.")
+    ] = "both",
+    feedback: Annotated[str, typer.Option(help="Tracked model temperature: air or operative.")] = (
+        "air"
+    ),
+    start: Annotated[str | None, typer.Option(help="First instant, e.g. 2001-01-01.")] = None,
+    end: Annotated[str | None, typer.Option(help="End instant (exclusive).")] = None,
+    step: Annotated[str, typer.Option(help="Model and controller step.")] = "5min",
+    tuning_zone: Annotated[
+        str | None,
+        typer.Option(help="Zone of the Ziegler-Nichols tuning (default: median volume)."),
+    ] = None,
+    max_gap: Annotated[
+        str, typer.Option(help="Zone data gaps up to this long are interpolated.")
+    ] = "1h",
+    silence: Annotated[
+        str, typer.Option(help="A sensor silent longer than this has a gap.")
+    ] = "15min",
+    occupancy: Annotated[
+        Path | None,
+        typer.Option(help="YAML file with an 'occupancy' section (default: the paper's schedule)."),
+    ] = None,
+    tz: Annotated[
+        str | None, typer.Option(help="Time zone of sensor time stamps without UTC offset.")
+    ] = None,
+    demo: Annotated[
+        bool, typer.Option("--demo", help="Run on the built-in clinic demo data.")
+    ] = False,
+) -> None:
+    """Identify, for every zone and step, the heat the model needs to follow the sensors.
+
+    Writes identification.json (gains, Ku/Pu, tracking per zone, zone sources, the
+    unoccupied-variance metric, PID vs inverse), q_id.parquet (per zone and total, per step),
+    figures and report.html into OUT.
+    """
+    import warnings
+
+    from rich.console import Console
+
+    from thermocal.errors import ThermocalInputError
+    from thermocal.identification.occupancy import OccupancySchedule
+    from thermocal.identification.workflow import identify as run_identification
+
+    console = Console(stderr=True)
+    truth = None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if demo:
+            from thermocal.identification.demo_data import load_demo
+
+            model, frame, metadata, raw, mapping_data, truth = load_demo()
+            start = start or str(metadata["period"][0])
+            end = end or str(metadata["period"][1])
+            site = metadata["weather"]
+            log_name = str(metadata["files"]["sensors.parquet"])
+            max_gap_used = max_gap
+            silence = metadata.get("max_gap", silence)
+        else:
+            missing = [
+                name
+                for name, value in (
+                    ("BUILDING", building),
+                    ("WEATHER", weather),
+                    ("SENSORS", sensors),
+                    ("--mapping", mapping),
+                )
+                if value is None
+            ]
+            if missing:
+                raise ThermocalInputError(
+                    f"identify needs {', '.join(missing)} (or --demo for the built-in data)"
+                )
+            from thermocal.identification.sensors import load_mapping
+            from thermocal.io.measurements import read_measurements
+            from thermocal.io.weather import read_weather
+            from thermocal.multizone.files import load_building
+
+            model = load_building(building)
+            frame, site = read_weather(weather)
+            raw, _ = read_measurements(sensors, tz=tz)
+            mapping_data = load_mapping(mapping)
+            log_name = str(sensors)
+            max_gap_used = max_gap
+        schedule = None
+        if occupancy is not None:
+            from thermocal.io.yamlfile import read_yaml
+
+            data = read_yaml(occupancy, what="occupancy file")
+            schedule = OccupancySchedule.from_dict(
+                data.get("occupancy", data) if isinstance(data, dict) else data,
+                source=str(occupancy),
+            )
+        console.print(
+            f"{model.name}: {len(model.zones)} zones; method {method}, feedback {feedback}"
+        )
+        result = run_identification(
+            model,
+            frame,
+            site,
+            raw,
+            mapping_data,
+            start=start,
+            end=end,
+            step=step,
+            method=method,
+            feedback=feedback,
+            tuning_zone=tuning_zone,
+            schedule=schedule,
+            max_gap=max_gap_used,
+            silence=silence,
+            progress=True,
+            log_name=log_name,
+        )
+    for warning in caught:
+        console.print(f"[yellow]warning:[/yellow] {warning.message}")
+    written = result.to_files(out)
+    _print_summary(result, truth)
+    for path in written:
+        console.print(f"wrote {path}")
+
+
+def _print_summary(result, truth) -> None:
+    import numpy as np
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console()
+    summary = Table(title="heat-balance identification", show_header=False)
+    summary.add_column("quantity")
+    summary.add_column("value", justify="right")
+    std = np.sqrt(result.unoccupied_variance())
+    summary.add_row("metric source", result.metric_source)
+    summary.add_row("unoccupied std of building Q_ID", f"{std / 1000:.3f} kW")
+    if result.tuning is not None:
+        t = result.tuning
+        summary.add_row("tuned zone", t.zone)
+        summary.add_row("Ku exact / experiment", f"{t.ultimate_gain:.0f} / "
+                        f"{(t.experiment_gain or float('nan')):.0f} W/K")
+        summary.add_row("Pu", f"{t.ultimate_period / 60:.1f} min")
+    difference = result.method_difference()
+    if difference is not None:
+        summary.add_row("PID - inverse, building RMS", f"{difference['building_rms_W']:.0f} W")
+    for key, value in result.timings.items():
+        summary.add_row(f"time: {key}", f"{value:.2f} s")
+    counts = result.sources["source"].value_counts().to_dict()
+    summary.add_row("zone references", ", ".join(f"{n} {k}" for k, n in counts.items()))
+    console.print(summary)
+    for note in result.notes:
+        console.print(f"[yellow]note:[/yellow] {note}")
+    worst = result.worst_tracked(5)
+    table = Table(title="worst-tracked zones")
+    for column in ("zone", "RMSE K", "max |e| K", "bias K"):
+        table.add_column(column, justify="left" if column == "zone" else "right")
+    for zone, row in worst.iterrows():
+        table.add_row(
+            str(zone),
+            f"{row['rmse_K']:.3f}",
+            f"{row['max_abs_error_K']:.2f}",
+            f"{row['bias_K']:+.3f}",
+        )
+    console.print(table)

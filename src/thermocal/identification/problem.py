@@ -1,0 +1,273 @@
+"""The identification as a function of envelope parameters, for calibration campaigns.
+
+:class:`IdentificationProblem` holds what does not change between the samples of a campaign
+(the model, the weather, the zone references built once from the sensors, the method and the
+schedule) and evaluates the unoccupied-variance metric for a set of envelope parameters. It is
+picklable; the simulation is built lazily, once per worker process, and every sample only
+changes parameters (:meth:`thermocal.multizone.Simulation.set_parameters`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+from thermocal.identification.metrics import unoccupied_steps
+from thermocal.identification.occupancy import OccupancySchedule
+from thermocal.identification.pid import PIDGains, kernel_coefficients
+
+#: names of the outputs of :meth:`IdentificationProblem.evaluate`
+METRIC = "unoccupied_variance"
+
+
+@dataclass
+class IdentificationProblem:
+    """Envelope parameters -> identified heat -> unoccupied-variance metric.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+        The nominal model.
+    weather : DataFrame
+    metadata : dict
+    reference : DataFrame (steps x zones) [C]
+        Zone references on the simulation grid (:func:`~thermocal.identification.sensors.
+        zone_references`).
+    step : str
+    start, end : timestamp-like
+    method : {"inverse", "pid"}
+    feedback : {"air", "operative"}
+    gains : dict of zone -> PIDGains, optional
+        Required for the PID.
+    schedule : OccupancySchedule
+    settle : str or None
+    warmup_days : int
+    options : NetworkOptions, optional
+    zone_outputs : bool
+        Also return each zone's unoccupied variance (``zone_variance/<zone>`` [W^2]).
+    """
+
+    building: object
+    weather: pd.DataFrame
+    metadata: dict
+    reference: pd.DataFrame
+    step: str = "5min"
+    start: object = None
+    end: object = None
+    method: str = "inverse"
+    feedback: str = "air"
+    gains: dict | None = None
+    schedule: OccupancySchedule = field(default_factory=OccupancySchedule)
+    settle: str | None = "1D"
+    warmup_days: int = 7
+    options: object = None
+    zone_outputs: bool = False
+    _sim: object = field(default=None, repr=False, compare=False)
+    _touched: set = field(default_factory=set, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if self.method not in ("inverse", "pid"):
+            raise ThermocalInputError(f"method must be 'inverse' or 'pid', got {self.method!r}")
+        if self.method == "pid" and not self.gains:
+            raise ThermocalInputError("the PID method needs gains for every zone")
+        self.nominal = dict(self.building.parameters())
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state["_sim"] = None
+        state["_touched"] = set()
+        state["_reference"] = None
+        return state
+
+    # ------------------------------------------------------------------------------------------
+    def simulation(self):
+        """The simulation of this process (built on first use)."""
+        if self._sim is None:
+            from thermocal.multizone.simulation import Simulation
+
+            self._sim = Simulation(
+                self.building,
+                self.weather,
+                self.metadata,
+                step=self.step,
+                start=self.start,
+                end=self.end,
+                options=self.options,
+                warmup_days=self.warmup_days,
+                store_surfaces=False,
+            )
+        if getattr(self, "_reference", None) is None:
+            zones = list(self.building.zones)
+            missing = [z for z in zones if z not in self.reference.columns]
+            if missing or len(self.reference) != len(self._sim.times):
+                raise ThermocalInputError(
+                    "IdentificationProblem: the reference must have one column per zone and one "
+                    f"row per step ({len(self._sim.times)}); missing zones {missing[:5]}"
+                )
+            self._reference = np.ascontiguousarray(self.reference[zones].to_numpy(dtype=float))
+            if self.method == "pid":
+                self._pid = kernel_coefficients([self.gains[z] for z in zones])
+        return self._sim
+
+    def run(self, parameters: Mapping[str, float] | None = None):
+        """Track the references with the given parameters (others nominal).
+
+        Returns
+        -------
+        thermocal.multizone.simulation.TrackingResult
+        """
+        sim = self.simulation()
+        parameters = dict(parameters or {})
+        unknown = [name for name in parameters if name not in self.nominal]
+        if unknown:
+            import difflib
+
+            close = difflib.get_close_matches(unknown[0], list(self.nominal), n=3)
+            hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+            raise ThermocalInputError(f"unknown envelope parameter {unknown[0]!r}{hint}")
+        change = {name: self.nominal[name] for name in self._touched - set(parameters)}
+        change.update(parameters)
+        if change:
+            sim.set_parameters(change)
+        self._touched = set(parameters)
+        kwargs = {"pid": self._pid} if self.method == "pid" else {}
+        result = sim.track(
+            self._reference, method=self.method, feedback=self.feedback, **kwargs
+        )
+        if result.diverged:
+            raise ThermocalInputError(
+                f"the PID loop diverges with these parameters in zones {result.diverged[:5]}"
+            )
+        return result
+
+    def evaluate(self, parameters: Mapping[str, float]) -> dict[str, float]:
+        """The metric for one parameter set.
+
+        Returns
+        -------
+        dict
+            ``unoccupied_variance`` [W^2], ``unoccupied_std`` [W], ``unoccupied_mean`` [W] of
+            the building-wide Q_ID, and ``zone_variance/<zone>`` [W^2] when ``zone_outputs``.
+        """
+        result = self.run(parameters)
+        return self.metrics(result.heat)
+
+    def metrics(self, heat: pd.DataFrame) -> dict[str, float]:
+        """The outputs of :meth:`evaluate` from identified heat per zone [W]."""
+        mask = unoccupied_steps(heat.index, self.schedule, settle=self.settle)
+        values = heat.to_numpy()[mask]
+        total = values.sum(axis=1)
+        out = {
+            METRIC: float(np.var(total)),
+            "unoccupied_std": float(np.std(total)),
+            "unoccupied_mean": float(np.mean(total)),
+        }
+        if self.zone_outputs:
+            for zone, variance in zip(heat.columns, np.var(values, axis=0), strict=True):
+                out[f"zone_variance/{zone}"] = float(variance)
+        return out
+
+    def fingerprint(self) -> str:
+        """A digest of everything that determines the outputs besides the parameters."""
+        import hashlib
+
+        digest = hashlib.sha256()
+        digest.update(np.ascontiguousarray(self.reference.to_numpy(dtype=float)).tobytes())
+        digest.update(repr(sorted(self.nominal.items())).encode())
+        digest.update(
+            repr(
+                (
+                    self.step,
+                    str(self.start),
+                    str(self.end),
+                    self.method,
+                    self.feedback,
+                    self.settle,
+                    self.warmup_days,
+                    self.schedule.as_dict(),
+                    None
+                    if self.gains is None
+                    else sorted((z, g.as_dict()) for z, g in self.gains.items()),
+                    self.zone_outputs,
+                )
+            ).encode()
+        )
+        digest.update(
+            np.ascontiguousarray(
+                self.weather.select_dtypes("number").to_numpy(dtype=float)
+            ).tobytes()
+        )
+        return digest.hexdigest()[:16]
+
+
+def problem_from_measurements(
+    building,
+    weather: pd.DataFrame,
+    metadata: Mapping | None,
+    sensor_log: pd.DataFrame,
+    mapping,
+    *,
+    start=None,
+    end=None,
+    step: str = "5min",
+    method: str = "inverse",
+    feedback: str = "air",
+    gains: PIDGains | Mapping | None = None,
+    tuning_zone: str | None = None,
+    schedule: OccupancySchedule | None = None,
+    settle: str | None = "1D",
+    max_gap: str = "1h",
+    silence: str = "15min",
+    warmup_days: int = 7,
+    options=None,
+    zone_outputs: bool = False,
+    log_name: str = "sensor log",
+) -> tuple[IdentificationProblem, object]:
+    """Build the problem from a sensor log and a mapping (references built once).
+
+    Returns
+    -------
+    problem : IdentificationProblem
+    report : thermocal.identification.sensors.ReferenceReport
+    """
+    from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
+    from thermocal.identification.workflow import pid_gains_for
+    from thermocal.multizone.simulation import Simulation
+
+    if not isinstance(mapping, SensorMapping):
+        mapping = mapping_from_dict(mapping)
+    sim = Simulation(
+        building, weather, metadata, step=step, start=start, end=end, options=options,
+        warmup_days=warmup_days, store_surfaces=False,
+    )
+    reference, report = zone_references(
+        sensor_log, building, mapping, sim.times, sim.step_size, max_gap=max_gap,
+        silence=silence, source=log_name,
+    )
+    zone_gains = None
+    if method == "pid":
+        grid = sim.weather_on_grid
+        zone_gains, _ = pid_gains_for(
+            building, gains=gains, step=step, feedback=feedback, options=options,
+            metadata=metadata, outdoor_temperature=float(grid["temp_air"].mean()),
+            wind_speed=float(grid["wind_speed"].mean()) if "wind_speed" in grid else 0.0,
+            tuning_zone=tuning_zone,
+        )
+    problem = IdentificationProblem(
+        building=building, weather=weather, metadata=dict(metadata or {}), reference=reference,
+        step=step, start=start, end=end, method=method, feedback=feedback, gains=zone_gains,
+        schedule=schedule or OccupancySchedule(), settle=settle, warmup_days=warmup_days,
+        options=options, zone_outputs=zone_outputs,
+    )
+    problem._sim = sim
+    problem._touched = set()
+    return problem, report
+
+
+def split_outputs(outputs: Mapping[str, float], zones: Sequence[str]) -> pd.Series:
+    """Per-zone variances of an :meth:`IdentificationProblem.evaluate` output [W^2]."""
+    return pd.Series({z: outputs.get(f"zone_variance/{z}", np.nan) for z in zones})

@@ -1,0 +1,37 @@
+"""``thermocal identify`` on the built-in demo and with bad arguments."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+
+def _run(*args, cwd=None):
+    return subprocess.run(
+        [sys.executable, "-m", "thermocal", *args], capture_output=True, text=True, cwd=cwd
+    )
+
+
+def test_identify_demo_writes_results(tmp_path):
+    out = tmp_path / "ident"
+    done = _run("identify", "--demo", "--out", str(out))
+    assert done.returncode == 0, done.stderr
+    result = json.loads((out / "identification.json").read_text())
+    assert result["metric_source"] == "inverse"
+    assert result["tuning"]["experiment_vs_exact_gain_ratio"] == __import__("pytest").approx(
+        1.0, abs=0.01
+    )
+    kinds = {zone["source"] for zone in result["zones"]}
+    assert kinds == {"sensor", "neighbour", "named"}
+    assert len(result["zones"]) == 186
+    for name in ("q_id.parquet", "report.html", "building_q_id.png", "tuning_oscillation.png"):
+        assert (out / name).is_file()
+    assert "Traceback" not in done.stderr
+
+
+def test_identify_without_inputs_is_a_clear_error(tmp_path):
+    done = _run("identify", "--out", str(tmp_path / "x"))
+    assert done.returncode == 2
+    assert "identify needs BUILDING, WEATHER, SENSORS, --mapping" in done.stderr
+    assert "Traceback" not in done.stderr

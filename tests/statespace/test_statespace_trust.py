@@ -309,3 +309,54 @@ def test_derived_quantities_with_delta_method_standard_errors(clean):
         model.add_derived("bad", "1/Rx")
     with pytest.raises(Exception, match="functions allowed"):
         model.add_derived("bad", "__import__('os')")
+
+
+def _one_state(prior_h=None, prior_c=None) -> RCModel:
+    m = RCModel("one")
+    m.add_state("Ti", capacity="C", noise=0.05 / 60, initial_mean=20.0, initial_std=0.2)
+    m.add_conductance("Ti", "Ta", conductance="H")
+    m.add_heat_input("Ph", into="Ti")
+    m.add_output("y", state="Ti", noise="e")
+    m.add_parameter("C", 5.0, unit="MJ/K", lower=0.1, upper=100.0, prior=prior_c)
+    m.add_parameter("H", 300.0, unit="W/K", lower=1.0, upper=5000.0, prior=prior_h)
+    m.add_parameter("e", 0.1, unit="K", prior=None)
+    return m
+
+
+def test_map_equals_ml_with_flat_priors_and_the_brute_force_mode_otherwise():
+    from scipy import optimize
+
+    data = inputs(n=120)
+    data["y"] = simulate_stochastic(_one_state(), data, seed=4)["y"]
+    ml = _one_state().fit(data)
+    flat = _one_state("uniform", "uniform").fit(data)
+    assert ml.logposterior is None and flat.logprior == pytest.approx(
+        -math.log(4999.0) - math.log(99.9)
+    )
+    for name in ("C", "H", "e"):
+        assert flat.params[name] == pytest.approx(ml.params[name], rel=1e-4)
+    assert flat.loglike == pytest.approx(ml.loglike, abs=1e-6)
+    # informative priors pull the estimates away from the ML optimum
+    model = _one_state({"normal": [200.0, 10.0]}, {"lognormal": [2.0, 0.2]})
+    res = model.fit(data)
+    assert res.loglike < ml.loglike - 0.1  # the likelihood alone, reported separately
+    assert abs(res.params["C"] - 2.0) < abs(ml.params["C"] - 2.0)
+    assert res.logposterior == pytest.approx(res.loglike + res.logprior)
+
+    def neg_posterior(x):
+        c, h, e = x
+        if not (0.1 < c < 100 and 1 < h < 5000 and e > 0):
+            return np.inf
+        ll = model.loglike(data, {"C": c, "H": h, "e": e})
+        lp = stats.norm.logpdf(h, 200.0, 10.0) + stats.lognorm.logpdf(c, 0.2, scale=2.0)
+        return -(ll + lp)
+
+    start = res.params[["C", "H", "e"]].to_numpy() * np.array([1.05, 0.97, 1.1])
+    brute = optimize.minimize(
+        neg_posterior, start, method="Nelder-Mead",
+        options={"xatol": 1e-7, "fatol": 1e-10, "maxiter": 20000, "maxfev": 20000},
+    )  # fmt: skip
+    assert -brute.fun == pytest.approx(res.logposterior, abs=1e-4)
+    np.testing.assert_allclose(res.params[["C", "H", "e"]], brute.x, rtol=2e-3)
+    with pytest.raises(Exception, match="needs both bounds"):
+        _one_state().add_parameter("x", 1.0, unit="-", prior="uniform")

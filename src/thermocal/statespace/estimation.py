@@ -105,6 +105,10 @@ class LikelihoodProblem:
         self.C = st.C
         self.scale = float(max(prep.nobs, 1))
         self.iterations = 0  # optimiser iterations over all runs
+        free = model.free_parameter_names
+        self.priors = [
+            (i, model.parameters[n]) for i, n in enumerate(free) if model.parameters[n].prior
+        ]
         # box in theta: a factor e^THETA_SPAN either way of the start for log transforms,
         # +-THETA_SPAN for logits (1e-13 of the range from a bound); a parameter running away
         # towards a bound (e.g. a noise std to 0) stops there instead of wandering to -1e3
@@ -128,8 +132,23 @@ class LikelihoodProblem:
             )
         )
 
+    def logprior(self, theta: np.ndarray) -> tuple[float, np.ndarray]:
+        """Log prior density (declared units, no Jacobian) and its gradient in ``theta``."""
+        total, grad = 0.0, np.zeros(len(theta))
+        for i, p in self.priors:
+            x = p.from_unconstrained(theta[i])
+            value, slope = p.log_prior(x)
+            total += value
+            grad[i] = slope * p.derivative(theta[i])
+        return total, grad
+
+    def target(self, theta: np.ndarray) -> float:
+        """The maximised function: log-likelihood, plus the log prior density with priors."""
+        ll = self.loglike(theta)
+        return ll + self.logprior(np.asarray(theta, dtype=float))[0] if self.priors else ll
+
     def objective(self, theta: np.ndarray) -> tuple[float, np.ndarray]:
-        """Negative log-likelihood per observation and its gradient.
+        """Negative log-likelihood (log posterior with priors) per observation and gradient.
 
         Scaling by the number of observations keeps the gradient of order one, so the first
         quasi-Newton step (taken with an identity metric) stays reasonable. Non-finite values are
@@ -141,25 +160,29 @@ class LikelihoodProblem:
         f, g = kernels.negloglike_and_gradient(
             clipped, self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh, GRADIENT_STEP,
         )  # fmt: skip
+        if self.priors:
+            lp, lg = self.logprior(clipped)
+            f, g = f - lp, g - lg
         if not math.isfinite(f):
             return 1e20, np.zeros_like(theta)
         g = np.where(np.isfinite(g) & (clipped == theta), g, 0.0)  # flat outside the box
         return float(f) / self.scale, g / self.scale
 
     def hessian(self, theta: np.ndarray) -> np.ndarray:
-        """Central-difference Hessian of the log-likelihood in ``theta``."""
+        """Central-difference Hessian of :meth:`target` (the log-likelihood, plus the log prior
+        density when priors are declared) in ``theta``."""
         theta = np.asarray(theta, dtype=float)
         k = theta.size
         h = np.finfo(float).eps ** 0.25 * np.maximum(np.abs(theta), 1.0)
-        f0 = self.loglike(theta)
+        f0 = self.target(theta)
         H = np.empty((k, k))
         fp = np.empty(k)
         fm = np.empty(k)
         for i in range(k):
             e = np.zeros(k)
             e[i] = h[i]
-            fp[i] = self.loglike(theta + e)
-            fm[i] = self.loglike(theta - e)
+            fp[i] = self.target(theta + e)
+            fm[i] = self.target(theta - e)
             H[i, i] = (fp[i] - 2.0 * f0 + fm[i]) / h[i] ** 2
         for i in range(k):
             for j in range(i + 1, k):
@@ -167,10 +190,10 @@ class LikelihoodProblem:
                 ej = np.zeros(k)
                 ei[i] = h[i]
                 ej[j] = h[j]
-                fpp = self.loglike(theta + ei + ej)
-                fpm = self.loglike(theta + ei - ej)
-                fmp = self.loglike(theta - ei + ej)
-                fmm = self.loglike(theta - ei - ej)
+                fpp = self.target(theta + ei + ej)
+                fpm = self.target(theta + ei - ej)
+                fmp = self.target(theta - ei + ej)
+                fmm = self.target(theta - ei - ej)
                 H[i, j] = H[j, i] = (fpp - fpm - fmp + fmm) / (4.0 * h[i] * h[j])
         return H
 
@@ -222,14 +245,14 @@ def _diagonal_metric(problem: LikelihoodProblem, theta: np.ndarray, h: float = 1
     capacities and conductances in log space can jump by factors of e^100 into degenerate regions.
     """
     theta = problem.clip(theta)
-    f0 = -problem.loglike(theta) / problem.scale
+    f0 = -problem.target(theta) / problem.scale
     k = theta.size
     curv = np.empty(k)
     for i in range(k):
         e = np.zeros(k)
         e[i] = h
-        fp = -problem.loglike(theta + e) / problem.scale
-        fm = -problem.loglike(theta - e) / problem.scale
+        fp = -problem.target(theta + e) / problem.scale
+        fm = -problem.target(theta - e) / problem.scale
         curv[i] = (fp - 2.0 * f0 + fm) / h**2
     curv = np.abs(curv)
     floor = max(1e-2 * curv.max(), 1e-8) if np.all(np.isfinite(curv)) else 1.0
@@ -588,6 +611,7 @@ def fit(
         fit_seconds=time.perf_counter() - t_start,
         gradient=grad,
         nested=nested,
+        logprior=problem.logprior(theta)[0] if problem.priors else None,
     )
 
 

@@ -57,7 +57,7 @@ _STATE_KEYS = {"capacity", "noise", "initial_mean", "initial_std", "description"
 _CONDUCTANCE_KEYS = {"between", "conductance", "resistance", "description"}
 _HEAT_KEYS = {"column", "into", "scale", "unit", "description"}
 _OUTPUT_KEYS = {"column", "state", "states", "noise", "description"}
-_PARAMETER_KEYS = {"value", "lower", "upper", "fixed", "unit", "description"}
+_PARAMETER_KEYS = {"value", "lower", "upper", "fixed", "unit", "description", "prior"}
 
 #: Unit kinds allowed for each role a parameter can play.
 _ROLE_KINDS = {
@@ -108,6 +108,29 @@ class Parameter:
     description: str = ""
     #: True when ``lower`` was not given; it is then set to 0 for positive quantities.
     auto_lower: bool = field(default=False, repr=False)
+    #: Prior: ``("normal", mean, std)``, ``("lognormal", median, std_log)`` or
+    #: ``("uniform", lower, upper)`` in the declared unit; None for none (see :meth:`log_prior`).
+    prior: tuple | None = None
+
+    def log_prior(self, x: float) -> tuple[float, float]:
+        """Log prior density at ``x`` [declared unit] and its derivative d/dx.
+
+        normal(mean, std); lognormal(median, std_log): ``ln x ~ N(ln median, std_log^2)``;
+        uniform: ``1 / (upper - lower)`` within the bounds.
+        """
+        kind, a, b = self.prior
+        if kind == "normal":
+            z = (x - a) / b
+            return -0.5 * z * z - math.log(b * math.sqrt(2 * math.pi)), -z / b
+        if kind == "lognormal":
+            if x <= 0:
+                return -math.inf, 0.0
+            z = (math.log(x) - math.log(a)) / b
+            return (
+                -0.5 * z * z - math.log(x * b * math.sqrt(2 * math.pi)),
+                -z / (b * x) - 1.0 / x,
+            )
+        return -math.log(b - a), 0.0
 
     @property
     def si_factor(self) -> float:
@@ -159,6 +182,9 @@ class Parameter:
     def to_dict(self) -> dict[str, Any]:
         """Model-file representation."""
         out: dict[str, Any] = {"value": self.value, "unit": self.unit}
+        if self.prior is not None:
+            kind, a, b = self.prior
+            out["prior"] = "uniform" if kind == "uniform" else {kind: [a, b]}
         if math.isfinite(self.lower):
             out["lower"] = self.lower
         if math.isfinite(self.upper):
@@ -342,6 +368,7 @@ class RCModel:
         upper: float | None = None,
         fixed: bool = False,
         description: str = "",
+        prior: Mapping[str, Any] | str | None = None,
     ) -> RCModel:
         """Declare a parameter with its initial value, unit, bounds and whether it is fixed.
 
@@ -358,6 +385,10 @@ class RCModel:
             deviations; unbounded otherwise).
         fixed : bool
             Keep the value fixed during estimation.
+        prior : mapping or "uniform", optional
+            Prior density for maximum a posteriori estimation, in the declared unit:
+            ``{"normal": [mean, std]}``, ``{"lognormal": [median, std_log]}`` (``ln x`` normal)
+            or ``"uniform"`` (flat within both bounds).
         """
         if name in self.parameters:
             raise ThermocalInputError(f"model '{self.name}': parameter '{name}' is declared twice")
@@ -377,6 +408,8 @@ class RCModel:
             description=description,
             auto_lower=lower is None,
         )
+        if prior is not None:
+            self.parameters[name].prior = _parse_prior(self.parameters[name], prior, self.name)
         self._structure = None
         return self
 
@@ -466,6 +499,7 @@ class RCModel:
                     upper=pspec.get("upper"),
                     fixed=bool(pspec.get("fixed", False)),
                     description=str(pspec.get("description", "")),
+                    prior=pspec.get("prior"),
                 )
             except ThermocalInputError as exc:  # name the file as well
                 raise ThermocalInputError(f"{where}: {exc}") from None
@@ -822,6 +856,28 @@ class RCModel:
             f"RCModel(name={self.name!r}, states={self.state_names}, inputs={self.input_names}, "
             f"outputs={self.output_names}, free={self.free_parameter_names})"
         )
+
+
+def _parse_prior(p: Parameter, prior: Any, model_name: str) -> tuple:
+    where = f"model '{model_name}': parameter '{p.name}': prior"
+    if prior == "uniform" or (isinstance(prior, Mapping) and "uniform" in prior):
+        if not (math.isfinite(p.lower) and math.isfinite(p.upper)):
+            raise ThermocalInputError(f"{where} 'uniform' needs both bounds (lower and upper)")
+        return ("uniform", p.lower, p.upper)
+    if isinstance(prior, Mapping) and len(prior) == 1:
+        kind, args = next(iter(prior.items()))
+        if kind in ("normal", "lognormal") and isinstance(args, Sequence) and len(args) == 2:
+            a, b = (_as_float(v, where) for v in args)
+            if b <= 0 or (kind == "lognormal" and a <= 0):
+                raise ThermocalInputError(
+                    f"{where}: {kind} needs a positive "
+                    f"{'median and ' if kind == 'lognormal' else ''}standard deviation"
+                )
+            return (kind, a, b)
+    raise ThermocalInputError(
+        f"{where} {prior!r}: write {{normal: [mean, std]}}, {{lognormal: [median, std_log]}} or "
+        "uniform (values in the parameter's unit)"
+    )
 
 
 _FUNCTIONS = {"sqrt": math.sqrt, "exp": math.exp, "log": math.log, "abs": abs}

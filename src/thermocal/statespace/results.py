@@ -82,10 +82,15 @@ class FitResults:
         fit_seconds: float,
         gradient: np.ndarray | None = None,
         nested=None,
+        logprior: float | None = None,
     ) -> None:
         self.model = model
         self.theta = theta
         self.loglike = float(loglike)
+        #: Log prior density at the estimates (None without priors: maximum likelihood).
+        self.logprior = logprior
+        #: Maximised log posterior (log-likelihood + log prior), None without priors.
+        self.logposterior = None if logprior is None else self.loglike + float(logprior)
         self.hessian = hessian
         self.nobs = int(nobs)
         self.converged = bool(converged)
@@ -586,7 +591,12 @@ class FitResults:
         """Plain-text summary: fit statistics, parameter table, flags."""
         lines = [
             f"Model: {self.model.name}   states: {', '.join(self.model.state_names)}",
-            f"Log-likelihood: {self.loglike:.4f}   AIC: {self.aic:.2f}   BIC: {self.bic:.2f}",
+            f"Log-likelihood: {self.loglike:.4f}   AIC: {self.aic:.2f}   BIC: {self.bic:.2f}"
+            + (
+                ""
+                if self.logposterior is None
+                else f"   log posterior (MAP): {self.logposterior:.4f}"
+            ),
             f"Observations: {self.nobs}   free parameters: {self.n_free}   hold: {self.hold}",
             f"Converged: {self.converged} ({self.message})   iterations: {self.n_iterations}   "
             f"time: {self.fit_seconds:.3f} s",
@@ -643,6 +653,8 @@ class FitResults:
         return {
             "model": self.model.name,
             "loglike": self.loglike,
+            "logposterior": self.logposterior,
+            "logprior": self.logprior,
             "aic": self.aic,
             "bic": self.bic,
             "nobs": self.nobs,

@@ -9,6 +9,10 @@ from __future__ import annotations
 
 import importlib
 import logging
+import os
+import signal
+import sys
+from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -108,19 +112,113 @@ def version() -> None:
 _register_commands()
 
 
+class Terminated(KeyboardInterrupt):
+    """Raised in the main process on SIGTERM (a subclass of KeyboardInterrupt, so that every
+    clean-up written for Ctrl-C runs)."""
+
+
+#: Exit status after Ctrl-C (SIGINT) and SIGTERM: 128 + the signal number.
+EXIT_INTERRUPTED, EXIT_TERMINATED = 130, 143
+#: Exit status of an unexpected internal error (input errors exit with 2).
+EXIT_INTERNAL = 70
+
+_state: dict = {"pid": None, "signal": None}
+
+
+def _on_signal(signum, frame) -> None:  # noqa: ARG001 - the signal-handler signature
+    if os.getpid() != _state["pid"]:  # a forked worker: the parent reports, quietly
+        os._exit(128 + signum)
+    _state["signal"] = signum
+    if signum == signal.SIGTERM:
+        raise Terminated
+    raise KeyboardInterrupt
+
+
+def _install_signal_handlers() -> None:
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return
+    _state["pid"] = os.getpid()
+    _state["signal"] = None
+    signal.signal(signal.SIGINT, _on_signal)
+    signal.signal(signal.SIGTERM, _on_signal)
+
+
+def _exit_interrupted() -> None:
+    """One line on stderr (what happened to the output folder), exit 130 or 143."""
+    from thermocal.io import output
+
+    terminated = _state["signal"] == signal.SIGTERM
+    what = "terminated (SIGTERM)" if terminated else "interrupted (Ctrl-C)"
+    kept = output.last_interrupted
+    typer.secho(f"{what}; {kept}" if kept else what, err=True, fg=typer.colors.YELLOW)
+    raise SystemExit(EXIT_TERMINATED if terminated else EXIT_INTERRUPTED) from None
+
+
+def _write_error_log(exc: BaseException) -> Path | None:
+    """The traceback of an unexpected error in a log file (its path, or None)."""
+    import datetime
+    import tempfile
+    import traceback
+
+    from thermocal import __version__
+
+    stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
+    try:
+        fd, name = tempfile.mkstemp(prefix=f"thermocal-error-{stamp}-", suffix=".log")
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(f"thermocal {__version__}\ncommand: {' '.join(sys.argv)}\n")
+            fh.write(f"python {sys.version}\n\n")
+            fh.write("".join(traceback.format_exception(type(exc), exc, exc.__traceback__)))
+        return Path(name)
+    except OSError:
+        return None
+
+
+def _error(message: str) -> None:
+    typer.secho(f"error: {message}", err=True, fg=typer.colors.RED)
+
+
 def main() -> None:
     """Entry point of the ``thermocal`` console script.
 
     Input errors (:class:`thermocal.errors.ThermocalInputError`) are printed as one clear
-    message, without a traceback, and exit with status 2.
+    message, without a traceback, and exit with status 2. Ctrl-C and SIGTERM print one line
+    (what happened to the output folder) and exit with 130 and 143. A file-system error
+    (disk full, permission denied) is one line naming the file, exit 2. Any other error is
+    an internal error: one line with the path of a log file holding the traceback, exit 70.
     """
     from thermocal.errors import ThermocalInputError
 
+    _install_signal_handlers()
     try:
         app()
+    except SystemExit:
+        if _state["signal"] is not None:  # typer turns KeyboardInterrupt into exit 130, quietly
+            _exit_interrupted()
+        raise
     except ThermocalInputError as exc:
-        typer.secho(f"error: {exc}", err=True, fg=typer.colors.RED)
+        _error(str(exc))
         raise SystemExit(2) from None
+    except KeyboardInterrupt:
+        _exit_interrupted()
+    except OSError as exc:
+        if _state["signal"] is not None:  # a signal that arrived inside a worker or kernel
+            _exit_interrupted()
+        where = f"{exc.filename}: " if exc.filename else ""
+        _error(f"{where}{exc.strerror or exc}; check the path and that it is readable/writable")
+        raise SystemExit(2) from None
+    except Exception as exc:  # noqa: BLE001 - the boundary: no traceback on the terminal
+        if _state["signal"] is not None:  # e.g. numba's SystemError around a KeyboardInterrupt
+            _exit_interrupted()
+        log = _write_error_log(exc)
+        where = f"; the details are in {log}" if log else ""
+        _error(
+            f"internal error ({type(exc).__name__}: {exc}); please report it with the "
+            f"command line{' and the log file' if log else ''}{where}"
+        )
+        raise SystemExit(EXIT_INTERNAL) from None
 
 
 if __name__ == "__main__":

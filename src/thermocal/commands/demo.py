@@ -40,16 +40,26 @@ def demo(
 
     from rich.console import Console
 
-    from thermocal.commands.retrofit import print_summary
+    from thermocal.commands.retrofit import RETROFIT_SIGNATURE, print_summary
+    from thermocal.errors import ThermocalInputError
+    from thermocal.io.output import output_folder
     from thermocal.retrofit import load_config, run_retrofit, write_outputs
     from thermocal.retrofit.demo_data import prepare_demo
 
+    if weather is not None and not Path(weather).is_file():
+        raise ThermocalInputError(
+            f"--weather {weather}: "
+            + ("is a folder, not a file" if Path(weather).is_dir() else "file not found")
+        )
     console = Console(stderr=True)
-    with console.status("preparing demo data") as status:
+    with (
+        output_folder(out, command="demo", signature=RETROFIT_SIGNATURE) as tmp,
+        console.status("preparing demo data") as status,
+    ):
         if weather is not None or regenerate:
             status.update("simulating the demo house with the multi-zone model")
         config_path, true_hlc = prepare_demo(
-            out, weather=weather, regenerate=regenerate, draws=draws
+            tmp, weather=weather, regenerate=regenerate, draws=draws
         )
         cfg = load_config(config_path)
         analysis = run_retrofit(cfg, progress=lambda msg: status.update(msg))
@@ -57,7 +67,7 @@ def demo(
         truth = json.loads((config_path.parent / "truth.json").read_text())
         results = write_outputs(
             analysis,
-            out,
+            tmp,
             true_hlc=true_hlc,
             title="thermocal demo: retrofit analysis of a 1950s house",
             reference_demands=truth.get("annual_heating_demand_20C_kWh"),
@@ -65,4 +75,4 @@ def demo(
             reference_label="the generator (multi-zone model, ideal heating at 20 C)",
         )
     print_summary(results, out)
-    console.print(f"demo data and configuration: {config_path.parent}")
+    console.print(f"demo data and configuration: {out / config_path.parent.name}")

@@ -208,6 +208,8 @@ def fit(
 
     from thermocal import __version__
     from thermocal.errors import ThermocalInputError
+    from thermocal.io.output import output_folder
+    from thermocal.io.yamlfile import read_yaml
     from thermocal.statespace import RCModel
     from thermocal.statespace.diagnostics import (
         autocorrelation,
@@ -216,7 +218,7 @@ def fit(
     )
 
     console = Console()
-    model = RCModel.from_yaml(model_file)
+    model = RCModel.from_dict(read_yaml(model_file, what="model file"), source=str(model_file))
     data = read_table(data_file, sep=sep, decimal=decimal, sheet=sheet)
     notes = list(data.attrs.get("notes", []))
     renames = parse_mapping(mapping)
@@ -244,63 +246,63 @@ def fit(
                 f"{data_file}: time column '{time_column}' does not follow --time-format "
                 f"{time_format!r} ({exc})"
             ) from None
-    started = datetime.datetime.now(datetime.UTC)
-    console.print(f"fitting {model.name} ({model.n_free} free parameters)...")
-    results = model.fit(
-        data,
-        hold=hold,
-        n_starts=n_starts,
-        seed=seed,
-        time_column=time_column,
-        time_unit=time_unit,
-        source=str(data_file),
-        n_jobs=jobs,
-        progress=True,
-        input_gaps="interpolate" if max_gap > 0 else "error",
-        max_gap=max(max_gap, 1),
-    )
-    out.mkdir(parents=True, exist_ok=True)
-    content = results.to_dict()
-    content["data_notes"] = notes + content.get("data_notes", [])
-    content["provenance"] = {
-        "thermocal_version": __version__,
-        "command": " ".join(["thermocal", *sys.argv[1:]]) if sys.argv else "thermocal fit",
-        "seed": seed,
-        "n_starts": len(results.start_loglikes),
-        "started_utc": started.isoformat(timespec="seconds"),
-        "files": {
-            str(model_file): {"sha256": file_sha256(model_file)},
-            str(data_file): {"sha256": file_sha256(data_file)},
-        },
-    }
-    diagnostics = {}
-    residuals = results.residuals
-    for col in model.output_names:
-        acf = autocorrelation(residuals[col].to_numpy(), nlags=40)
-        cp = cumulated_periodogram(residuals[col].to_numpy())
-        outside = (acf["acf"].abs() > acf["bound"]).iloc[1:]
-        diagnostics[col] = {
-            "residual_std": float(residuals[col].std()),
-            "acf_lags_outside_95_bound": int(outside.sum()),
-            "acf_lags_tested": int(len(outside)),
-            "cumulated_periodogram_fraction_outside_95_band": fraction_outside_band(cp),
+    with output_folder(out, command="fit", signature=("fit.json",)) as tmp:
+        started = datetime.datetime.now(datetime.UTC)
+        console.print(f"fitting {model.name} ({model.n_free} free parameters)...")
+        results = model.fit(
+            data,
+            hold=hold,
+            n_starts=n_starts,
+            seed=seed,
+            time_column=time_column,
+            time_unit=time_unit,
+            source=str(data_file),
+            n_jobs=jobs,
+            progress=True,
+            input_gaps="interpolate" if max_gap > 0 else "error",
+            max_gap=max(max_gap, 1),
+        )
+        content = results.to_dict()
+        content["data_notes"] = notes + content.get("data_notes", [])
+        content["provenance"] = {
+            "thermocal_version": __version__,
+            "command": " ".join(["thermocal", *sys.argv[1:]]) if sys.argv else "thermocal fit",
+            "seed": seed,
+            "n_starts": len(results.start_loglikes),
+            "started_utc": started.isoformat(timespec="seconds"),
+            "files": {
+                str(model_file): {"sha256": file_sha256(model_file)},
+                str(data_file): {"sha256": file_sha256(data_file)},
+            },
         }
-    content["diagnostics"] = diagnostics
-    content["model_file"] = str(model_file)
-    content["data_file"] = str(data_file)
-    (out / "fit.json").write_text(json.dumps(content, indent=2))
-    results.parameter_table().to_csv(out / "parameters.csv")
-    predictions = results.one_step_residuals()
-    simulated = results.simulate()
-    for col in model.output_names:
-        predictions[f"{col}_simulated"] = simulated[col]
-    predictions.index.name = "time"
-    predictions.to_csv(out / "predictions.csv")
-    written = [out / "fit.json", out / "parameters.csv", out / "predictions.csv"]
-    if figures:
-        from thermocal.statespace.plots import plot_fit
+        diagnostics = {}
+        residuals = results.residuals
+        for col in model.output_names:
+            acf = autocorrelation(residuals[col].to_numpy(), nlags=40)
+            cp = cumulated_periodogram(residuals[col].to_numpy())
+            outside = (acf["acf"].abs() > acf["bound"]).iloc[1:]
+            diagnostics[col] = {
+                "residual_std": float(residuals[col].std()),
+                "acf_lags_outside_95_bound": int(outside.sum()),
+                "acf_lags_tested": int(len(outside)),
+                "cumulated_periodogram_fraction_outside_95_band": fraction_outside_band(cp),
+            }
+        content["diagnostics"] = diagnostics
+        content["model_file"] = str(model_file)
+        content["data_file"] = str(data_file)
+        (tmp / "fit.json").write_text(json.dumps(content, indent=2))
+        results.parameter_table().to_csv(tmp / "parameters.csv")
+        predictions = results.one_step_residuals()
+        simulated = results.simulate()
+        for col in model.output_names:
+            predictions[f"{col}_simulated"] = simulated[col]
+        predictions.index.name = "time"
+        predictions.to_csv(tmp / "predictions.csv")
+        written = [Path("fit.json"), Path("parameters.csv"), Path("predictions.csv")]
+        if figures:
+            from thermocal.statespace.plots import plot_fit
 
-        written += plot_fit(results, out)
+            written += [Path(p.name) for p in plot_fit(results, tmp)]
 
     head = Table(title=f"{model.name}: maximum-likelihood fit", show_header=False)
     head.add_row("log-likelihood", f"{results.loglike:.4f}")
@@ -337,7 +339,7 @@ def fit(
             f"bound, cumulated periodogram "
             f"{100 * d['cumulated_periodogram_fraction_outside_95_band']:.0f} % outside its band"
         )
-    console.print("wrote " + ", ".join(str(p) for p in written))
+    console.print("wrote " + ", ".join(str(out / p) for p in written))
     if strict and results.flags:
         console.print(f"--strict: {len(results.flags)} flag(s) raised")
         raise typer.Exit(code=3)

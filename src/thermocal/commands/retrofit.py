@@ -88,6 +88,10 @@ def print_summary(results: dict, out: Path) -> None:
     console.print(f"results in [bold]{out}[/bold] (results.json, report.html, CSV, figures/)")
 
 
+#: Files of a retrofit output folder: an existing folder holding one of them is replaced.
+RETROFIT_SIGNATURE = ("results.json", "report.html")
+
+
 @app.command()
 def retrofit(
     config: Annotated[Path, typer.Argument(help="retrofit configuration (YAML)")],
@@ -105,12 +109,17 @@ def retrofit(
     """
     from rich.console import Console
 
+    from thermocal.io.output import check_output_folder, output_folder
     from thermocal.retrofit import load_config, run_retrofit, write_outputs
 
     console = Console(stderr=True)
+    check_output_folder(out, signature=RETROFIT_SIGNATURE)
     cfg = load_config(config)
-    with console.status("retrofit analysis") as status:
+    with (
+        output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,
+        console.status("retrofit analysis") as status,
+    ):
         analysis = run_retrofit(cfg, progress=lambda msg: status.update(msg))
         status.update("writing results, figures and report")
-        results = write_outputs(analysis, out)
+        results = write_outputs(analysis, tmp)
     print_summary(results, out)

@@ -48,12 +48,15 @@ def simulate(
     from rich.table import Table
 
     from thermocal.errors import ThermocalInputError
+    from thermocal.io.output import check_output_folder, output_folder
     from thermocal.io.weather import read_weather
     from thermocal.multizone.files import load_building
     from thermocal.multizone.simulation import Simulation
 
     if output_format not in ("csv", "parquet"):
         raise ThermocalInputError(f"--format must be csv or parquet, got {output_format!r}")
+    signature = ("summary.json", f"zone_temperatures.{output_format}")
+    check_output_folder(out, signature=signature)
     console = Console(stderr=True)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -75,8 +78,9 @@ def simulate(
         f"{model.name}: {len(model.zones)} zones, {sim.network.n_nodes} nodes, "
         f"{len(sim.times)} steps of {step} from {sim.times[0]}"
     )
-    result = sim.run(free_float=free_float, progress=True)
-    written = result.to_files(out, format=output_format)
+    with output_folder(out, command="simulate", signature=signature) as tmp:
+        result = sim.run(free_float=free_float, progress=True)
+        written = [out / Path(p).name for p in result.to_files(tmp, format=output_format)]
     summary = result.summary()
     table = Table(title="summary (first 20 zones)")
     for column in ("zone", "T min", "T mean", "T max", "heat kWh", "cool kWh", "peak heat kW"):

@@ -1,0 +1,261 @@
+"""Output folders written safely: complete or absent, never mixed.
+
+Every command writes its results through :func:`output_folder`:
+
+* ``--out`` is checked before any computation: a file, an unwritable parent or a folder
+  holding someone else's files is refused with a message saying what to do;
+* a lock (``.NAME.lock`` beside the folder, an OS file lock released even when the process
+  dies) refuses a second run into the same folder while the first is writing;
+* the results go into a temporary sibling folder (``.NAME.tmp-*``) that replaces ``--out`` in
+  one rename at the end, so an interrupted or failed run leaves the previous results
+  untouched and never a newer run's files beside an older one's.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+import shutil
+import signal
+import tempfile
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+
+from thermocal.errors import ThermocalInputError
+
+#: Name of the marker file identifying a folder written by thermocal.
+MARKER = ".thermocal-output"
+
+#: What happened to the output folder of the last run interrupted in this process (for the
+#: one-line message of the command line); None when no output folder was being written.
+last_interrupted: str | None = None
+
+try:  # POSIX file locks; on other systems the lock file's exclusive creation is used
+    import fcntl
+except ImportError:  # pragma: no cover - Windows
+    fcntl = None  # type: ignore[assignment]
+
+
+def _describe_os_error(exc: OSError) -> str:
+    if exc.errno == errno.ENOSPC:
+        return "the disk is full; free some space or choose another --out"
+    if exc.errno in (errno.EACCES, errno.EPERM):
+        return "permission denied; choose a folder you can write to with --out"
+    if exc.errno == errno.EROFS:
+        return "the file system is read-only; choose another --out"
+    return f"{exc.strerror or exc}; choose another --out"
+
+
+def check_output_folder(out: Path, *, signature: Iterable[str] = ()) -> None:
+    """Refuse an ``--out`` that cannot hold this command's results.
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+    signature : iterable of str
+        File names this command writes; an existing folder is replaced only when it is empty,
+        carries the thermocal marker or holds one of these files (a previous run's results).
+
+    Raises
+    ------
+    ThermocalInputError
+        ``out`` is a file, lies below a file, is the current folder or one of its parents,
+        or holds files thermocal did not write.
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ThermocalInputError(
+            f"--out {out} is a file, not a folder; give a folder name (it is created)"
+        )
+    for parent in out.parents:
+        if parent.exists() and not parent.is_dir():
+            raise ThermocalInputError(
+                f"--out {out}: {parent} is a file, not a folder; choose another --out"
+            )
+        if parent.exists():
+            break
+    resolved = out.resolve()
+    cwd = Path.cwd().resolve()
+    if resolved == cwd or resolved in cwd.parents:
+        raise ThermocalInputError(
+            f"--out {out} is the current folder (or contains it); thermocal replaces its "
+            "output folder as a whole, so give a new folder name, e.g. --out results"
+        )
+    if out.is_dir():
+        try:
+            entries = {p.name for p in out.iterdir()}
+        except OSError as exc:
+            raise ThermocalInputError(f"--out {out}: {_describe_os_error(exc)}") from None
+        if entries and MARKER not in entries and not entries & set(signature):
+            shown = ", ".join(sorted(entries)[:5]) + (", ..." if len(entries) > 5 else "")
+            raise ThermocalInputError(
+                f"--out {out} already holds files thermocal did not write ({shown}); "
+                "thermocal replaces its output folder as a whole, so choose a new or empty "
+                "folder"
+            )
+
+
+class _Lock:
+    """An exclusive lock on ``.NAME.lock`` beside the output folder."""
+
+    def __init__(self, out: Path) -> None:
+        self.path = out.parent / f".{out.name}.lock"
+        self.fd: int | None = None
+
+    def acquire(self, out: Path) -> None:
+        busy = ThermocalInputError(
+            f"--out {out}: another thermocal run is writing this folder (lock "
+            f"{self.path}); wait for it to finish or choose another --out"
+        )
+        for _ in range(20):
+            try:
+                flags = os.O_RDWR | os.O_CREAT | (0 if fcntl else os.O_EXCL)
+                fd = os.open(self.path, flags, 0o644)
+            except FileExistsError:  # pragma: no cover - without fcntl
+                raise busy from None
+            except OSError as exc:
+                raise ThermocalInputError(f"--out {out}: {_describe_os_error(exc)}") from None
+            if fcntl is None:  # pragma: no cover
+                self.fd = fd
+                return
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                os.close(fd)
+                raise busy from None
+            # the holder before us may have removed the file after we opened it: retry then
+            try:
+                same = os.path.samestat(os.fstat(fd), os.stat(self.path))
+            except FileNotFoundError:
+                same = False
+            if same:
+                self.fd = fd
+                os.write(fd, f"{os.getpid()}\n".encode())
+                return
+            os.close(fd)
+        raise busy  # pragma: no cover - twenty races in a row
+
+    def release(self) -> None:
+        if self.fd is None:
+            return
+        with contextlib.suppress(OSError):
+            os.unlink(self.path)
+        os.close(self.fd)
+        self.fd = None
+
+
+@contextlib.contextmanager
+def _signals_blocked() -> Iterator[None]:
+    """Hold SIGINT/SIGTERM back during the final renames (delivered right after)."""
+    mask = getattr(signal, "pthread_sigmask", None)
+    if mask is None:  # pragma: no cover - Windows
+        yield
+        return
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():  # pragma: no cover
+        yield
+        return
+    old = mask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        yield
+    finally:
+        mask(signal.SIG_SETMASK, old)
+
+
+def _replace(tmp: Path, out: Path) -> None:
+    """Move the completed ``tmp`` into place of ``out`` (the old folder removed after)."""
+    old: Path | None = None
+    with _signals_blocked():
+        if out.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+            old.rmdir()
+            os.replace(out, old)
+        try:
+            os.replace(tmp, out)
+        except OSError:
+            if old is not None:
+                os.replace(old, out)
+            raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def output_folder(
+    out: Path | str, *, command: str, signature: Iterable[str] = ()
+) -> Iterator[Path]:
+    """Write a command's results into ``out`` atomically.
+
+    Yields a temporary folder beside ``out``; write everything there. When the block ends
+    normally, the temporary folder replaces ``out`` (an older run's results are removed in the
+    same step); when it raises (an error, Ctrl-C, SIGTERM), the temporary folder is removed
+    and ``out`` is left as it was.
+
+    Parameters
+    ----------
+    out : Path or str
+        The output folder (``--out``).
+    command : str
+        The command's name, written into the marker file.
+    signature : iterable of str
+        File names the command writes (see :func:`check_output_folder`).
+
+    Raises
+    ------
+    ThermocalInputError
+        ``out`` is unusable (see :func:`check_output_folder`), its parent is not writable or
+        another run is writing it.
+    """
+    global last_interrupted
+    out = Path(out)
+    check_output_folder(out, signature=signature)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ThermocalInputError(
+            f"--out {out}: cannot create {out.parent}: {_describe_os_error(exc)}"
+        ) from None
+    lock = _Lock(out)
+    lock.acquire(out)
+    tmp: Path | None = None
+    last_interrupted = None
+    try:
+        try:
+            tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o777 & ~umask)  # mkdtemp's 0700 would survive the rename
+            (tmp / MARKER).write_text(f"written by thermocal {command}\n", encoding="utf-8")
+        except OSError as exc:
+            raise ThermocalInputError(f"--out {out}: {_describe_os_error(exc)}") from None
+        try:
+            yield tmp
+        except OSError as exc:
+            if exc.errno in (errno.ENOSPC, errno.EACCES, errno.EPERM, errno.EROFS, errno.EDQUOT):
+                kept = " (its previous contents are kept)" if out.exists() else ""
+                raise ThermocalInputError(
+                    f"writing the results into {out} failed: {_describe_os_error(exc)}; "
+                    f"nothing was written{kept}"
+                ) from None
+            raise
+        except BaseException:
+            last_interrupted = (
+                f"nothing written; {out} keeps its previous results"
+                if out.exists()
+                else "nothing written"
+            )
+            raise
+        try:
+            _replace(tmp, out)
+        except OSError as exc:
+            raise ThermocalInputError(
+                f"moving the results into {out} failed: {_describe_os_error(exc)}"
+            ) from None
+        tmp = None
+    finally:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+        lock.release()

@@ -1,0 +1,225 @@
+"""Output folders: complete or absent, never mixed (issue 13).
+
+Unit tests of :func:`thermocal.io.output.output_folder` (refusals, lock, failures and
+interruptions while writing) and fault tests of the command line in a subprocess (SIGINT and
+SIGTERM during the computation, two concurrent runs).
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermocal.errors import ThermocalInputError
+from thermocal.io import output
+from thermocal.io.output import MARKER, check_output_folder, output_folder
+
+REPO = Path(__file__).resolve().parents[2]
+MODEL = REPO / "examples" / "models" / "two_state_envelope.yaml"
+
+
+def leftovers(parent: Path) -> list[str]:
+    """Temporary folders, old folders and locks left beside the outputs."""
+    return sorted(p.name for p in parent.iterdir() if p.name.startswith("."))
+
+
+def test_complete_folder_replaces_the_previous_one(tmp_path):
+    out = tmp_path / "res"
+    with output_folder(out, command="test", signature=("a.json",)) as tmp:
+        assert tmp.parent == tmp_path and tmp != out
+        (tmp / "a.json").write_text("1")
+        (tmp / "old_only.csv").write_text("x")
+        assert not out.exists()  # nothing visible before the end
+    assert (out / "a.json").read_text() == "1" and (out / MARKER).is_file()
+    with output_folder(out, command="test", signature=("a.json",)) as tmp:
+        (tmp / "a.json").write_text("2")
+    assert (out / "a.json").read_text() == "2"
+    assert not (out / "old_only.csv").exists()  # never an older run's file beside a newer one
+    assert leftovers(tmp_path) == []
+    umask = os.umask(0)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o777 & ~umask  # not mkdtemp's 0700
+
+
+@pytest.mark.parametrize("exc", [KeyboardInterrupt, RuntimeError, SystemExit])
+def test_failure_or_interruption_while_writing_keeps_the_previous_results(tmp_path, exc):
+    out = tmp_path / "res"
+    with output_folder(out, command="test") as tmp:
+        (tmp / "a.json").write_text("old")
+    with pytest.raises(exc), output_folder(out, command="test") as tmp:
+        (tmp / "a.json").write_text("new, half")
+        raise exc()
+    assert (out / "a.json").read_text() == "old"
+    assert leftovers(tmp_path) == []
+    assert "keeps its previous results" in output.last_interrupted
+
+
+def test_interruption_of_a_first_run_leaves_no_folder(tmp_path):
+    out = tmp_path / "res"
+    with pytest.raises(KeyboardInterrupt), output_folder(out, command="test") as tmp:
+        (tmp / "a.csv").write_text("1,2")
+        raise KeyboardInterrupt
+    assert not out.exists() and leftovers(tmp_path) == []
+    assert output.last_interrupted == "nothing written"
+
+
+def test_out_that_is_a_file_is_refused_before_anything(tmp_path):
+    target = tmp_path / "results.txt"
+    target.write_text("keep me")
+    with pytest.raises(ThermocalInputError, match=r"results.txt is a file, not a folder"):
+        check_output_folder(target)
+    with pytest.raises(ThermocalInputError, match=r"is a file, not a folder"):
+        check_output_folder(target / "sub")
+    assert target.read_text() == "keep me"
+
+
+def test_folder_with_foreign_files_is_refused(tmp_path):
+    out = tmp_path / "mydata"
+    out.mkdir()
+    (out / "thesis.docx").write_text("precious")
+    with pytest.raises(ThermocalInputError, match=r"thermocal did not write \(thesis.docx\)"):
+        with output_folder(out, command="fit", signature=("fit.json",)):
+            pass  # pragma: no cover
+    assert (out / "thesis.docx").read_text() == "precious"
+    # a previous run's folder (its signature file, without the marker) is replaced
+    legacy = tmp_path / "legacy"
+    legacy.mkdir()
+    (legacy / "fit.json").write_text("{}")
+    with output_folder(legacy, command="fit", signature=("fit.json",)) as tmp:
+        (tmp / "fit.json").write_text('{"new": 1}')
+    assert (legacy / "fit.json").read_text() == '{"new": 1}'
+
+
+def test_current_folder_is_refused(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ThermocalInputError, match="current folder"):
+        check_output_folder(Path("."))
+    with pytest.raises(ThermocalInputError, match="current folder"):
+        check_output_folder(tmp_path.parent)
+
+
+def test_second_writer_is_refused_while_the_first_writes(tmp_path):
+    out = tmp_path / "res"
+    with output_folder(out, command="test") as tmp:
+        (tmp / "first.csv").write_text("1")
+        with pytest.raises(ThermocalInputError, match="another thermocal run is writing"):
+            with output_folder(out, command="test"):
+                pass  # pragma: no cover
+    assert (out / "first.csv").is_file()
+    with output_folder(out, command="test") as tmp:  # the lock is released afterwards
+        (tmp / "second.csv").write_text("2")
+    assert sorted(p.name for p in out.iterdir()) == [MARKER, "second.csv"]
+    assert leftovers(tmp_path) == []
+
+
+@pytest.mark.parametrize(
+    ("code", "expected"),
+    [(errno.ENOSPC, "disk is full"), (errno.EACCES, "permission denied"),
+     (errno.EROFS, "read-only")],
+)  # fmt: skip
+def test_disk_full_or_read_only_while_writing_is_one_message(tmp_path, code, expected):
+    out = tmp_path / "res"
+    with pytest.raises(ThermocalInputError, match=expected) as info:
+        with output_folder(out, command="test") as tmp:
+            (tmp / "a.csv").write_text("1")
+            raise OSError(code, os.strerror(code), str(tmp / "b.csv"))
+    assert "nothing was written" in str(info.value)
+    assert not out.exists() and leftovers(tmp_path) == []
+
+
+def test_unwritable_parent_is_refused_before_computing(tmp_path, monkeypatch):
+    def refuse(*args, **kwargs):
+        raise PermissionError(errno.EACCES, "Permission denied", str(tmp_path))
+
+    monkeypatch.setattr(output.tempfile, "mkdtemp", refuse)
+    with pytest.raises(ThermocalInputError, match=r"--out .*permission denied"):
+        with output_folder(tmp_path / "res", command="test"):
+            pass  # pragma: no cover
+    assert leftovers(tmp_path) == []
+
+
+# ------------------------------------------------------------------------------------------
+# the command line in a subprocess
+# ------------------------------------------------------------------------------------------
+def _slow_fit_data(path: Path, n: int = 20000) -> None:
+    rng = np.random.default_rng(1)
+    hours = np.arange(n)
+    pd.DataFrame(
+        {
+            "time": pd.date_range("2024-01-01", periods=n, freq="h", tz="UTC").astype(str),
+            "Te": 5 + 4 * np.sin(2 * np.pi * hours / 24),
+            "phi_h": 3000.0 * (rng.uniform(size=n) > 0.5),
+            "ghi": np.clip(500 * np.sin(2 * np.pi * (hours % 24 - 6) / 24), 0, None),
+            "Ti": 20 + rng.normal(0, 0.3, n).cumsum() * 0.05,
+        }
+    ).to_csv(path, index=False)
+
+
+def _start_fit(data: Path, out: Path, cwd: Path) -> subprocess.Popen:
+    env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "200"}
+    return subprocess.Popen(
+        [sys.executable, "-c", "from thermocal.cli import main; main()", "fit", str(MODEL),
+         str(data), "--out", str(out), "--no-figures", "--n-starts", "4", "--jobs", "1"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=cwd, env=env,
+    )  # fmt: skip
+
+
+def _wait_for(proc: subprocess.Popen, text: str) -> None:
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        line = proc.stdout.readline()
+        if text in line:
+            return
+        if not line and proc.poll() is not None:
+            break
+    raise AssertionError(f"never saw {text!r}: {proc.stderr.read()}")
+
+
+@pytest.mark.parametrize(
+    ("sig", "code", "word"),
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+)
+def test_signal_during_the_fit_keeps_the_previous_results(tmp_path, sig, code, word):
+    data = tmp_path / "data.csv"
+    _slow_fit_data(data)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "fit.json").write_text('{"previous": true}')
+    proc = _start_fit(data, out, tmp_path)
+    _wait_for(proc, "fitting")
+    time.sleep(0.2)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == code, err
+    assert "Traceback" not in err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith(word), err
+    assert "keeps its previous results" in lines[0]
+    assert sorted(p.name for p in out.iterdir()) == ["fit.json"]
+    assert (out / "fit.json").read_text() == '{"previous": true}'
+    assert leftovers(tmp_path) == []
+
+
+def test_second_run_into_a_folder_being_written_is_refused(tmp_path):
+    """A run in another process holds the lock: the command refuses at once, exit 2."""
+    data = tmp_path / "data.csv"
+    _slow_fit_data(data, n=50)
+    out = tmp_path / "out"
+    with output_folder(out, command="fit", signature=("fit.json",)) as tmp:
+        (tmp / "fit.json").write_text('{"first": true}')
+        second = _start_fit(data, out, tmp_path)
+        _, err = second.communicate(timeout=120)
+    assert second.returncode == 2, err
+    assert "another thermocal run is writing" in err and str(out) in err
+    assert "Traceback" not in err
+    assert (out / "fit.json").read_text() == '{"first": true}'
+    assert leftovers(tmp_path) == []

@@ -66,6 +66,9 @@ UNITS: dict[str, str] = {
 
 #: Kinds that are fractions, limited to (0, 1].
 FRACTION_KINDS = frozenset({"shgc"})
+#: upper limits the building model accepts, by kind (a window U-value above 10 W/(m2 K) is
+#: rejected by :class:`thermocal.multizone.WindowType`)
+UPPER_LIMITS = {"u_value": 10.0}
 
 
 def parameter_kind(name: str) -> str:
@@ -258,7 +261,12 @@ class ParameterSpace:
                     rel[i] = float(value)
         limit_lower = floor_fraction * nominal
         limit_upper = np.array(
-            [1.0 if parameter_kind(n) in FRACTION_KINDS else np.inf for n in names]
+            [
+                1.0
+                if parameter_kind(n) in FRACTION_KINDS
+                else UPPER_LIMITS.get(parameter_kind(n), np.inf)
+                for n in names
+            ]
         )
         for n, nom, hi in zip(names, nominal, limit_upper, strict=True):
             if nom > hi:

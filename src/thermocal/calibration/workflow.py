@@ -1,0 +1,581 @@
+"""The envelope-calibration workflow: campaign file -> campaign -> meta-model -> optimum.
+
+:func:`calibrate` is the orchestrator: it builds the identification problem once (the zone
+references from the sensors), evaluates the nominal model, samples the parameter space, runs the
+campaign (local process pool or Dask) into the durable store, fits the meta-model, ranks the
+parameters, optimises the reduced meta-model for the minimum and the maximum of the metric,
+confirms both optima with the full model, optionally validates them on a second period, and
+writes everything (:meth:`CalibrationResult.to_files`).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+from thermocal.identification.metrics import guideline14
+from thermocal.identification.occupancy import OccupancySchedule
+from thermocal.identification.problem import METRIC, IdentificationProblem
+
+#: identification options a campaign file may set (its ``identification`` section)
+IDENTIFICATION_KEYS = {
+    "method": "inverse",
+    "feedback": "air",
+    "settle": "1D",
+    "max_gap": "1h",
+    "silence": "15min",
+    "warmup_days": 7,
+    "tuning_zone": None,
+}
+
+
+@dataclass
+class CampaignInputs:
+    """Everything a campaign needs, loaded once."""
+
+    building: Any
+    weather: pd.DataFrame
+    metadata: dict
+    sensor_log: pd.DataFrame
+    mapping: Any
+    start: Any
+    end: Any
+    truth: dict | None = None
+    true_loads: pd.DataFrame | None = None
+    log_name: str = "sensor log"
+
+
+def load_inputs(campaign) -> CampaignInputs:
+    """Building, weather, sensor log and mapping of a campaign file (or the built-in demo)."""
+    if campaign.is_demo:
+        name = campaign.building.split(":", 1)[1]
+        if name != "clinic":
+            raise ThermocalInputError(
+                f"{campaign.path}: unknown demo building {campaign.building!r}; use demo:clinic"
+            )
+        from thermocal.identification.demo_data import load_demo
+
+        building, weather, meta, raw, mapping, truth = load_demo()
+        start, end = meta["period"]
+        if campaign.period is not None:
+            start, end = _localise(campaign.period.start, start), _localise(
+                campaign.period.end, start
+            )
+        loads = None
+        path = meta["files"].get("true_loads.parquet")
+        if path is not None and Path(path).is_file():
+            loads = pd.read_parquet(path)
+        return CampaignInputs(
+            building, weather, meta["weather"], raw, mapping, start, end, truth, loads,
+            str(meta["files"]["sensors.parquet"]),
+        )
+    from thermocal.identification.sensors import load_mapping
+    from thermocal.io.measurements import read_measurements
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone.files import load_building
+
+    if campaign.mapping is None:
+        raise ThermocalInputError(
+            f"{campaign.path}: 'mapping' is missing: the file assigning sensors to zones"
+        )
+    building = load_building(campaign.building_path)
+    weather, site = read_weather(campaign.weather)
+    tz = campaign.identification.get("tz")
+    raw, _ = read_measurements(campaign.sensors, tz=tz)
+    mapping = load_mapping(campaign.mapping)
+    start = end = None
+    if campaign.period is not None:
+        start = _localise(campaign.period.start, weather.index[0])
+        end = _localise(campaign.period.end, weather.index[0])
+    return CampaignInputs(
+        building, weather, site, raw, mapping, start, end, log_name=str(campaign.sensors)
+    )
+
+
+def _localise(value, like) -> pd.Timestamp:
+    stamp = pd.Timestamp(value)
+    if stamp.tzinfo is None and getattr(like, "tzinfo", None) is not None:
+        stamp = stamp.tz_localize(like.tzinfo)
+    return stamp
+
+
+def identification_options(campaign) -> dict:
+    """The campaign's identification options with their defaults (unknown keys rejected)."""
+    options = dict(IDENTIFICATION_KEYS)
+    allowed = set(IDENTIFICATION_KEYS) | {"tz"}
+    unknown = set(campaign.identification) - allowed
+    if unknown:
+        raise ThermocalInputError(
+            f"{campaign.path}: identification: unknown keys {sorted(unknown)} (allowed: "
+            f"{', '.join(sorted(allowed))})"
+        )
+    options.update({k: v for k, v in campaign.identification.items() if k != "tz"})
+    return options
+
+
+def build_problem(campaign, inputs: CampaignInputs, *, start=None, end=None):
+    """The :class:`IdentificationProblem` of the campaign (references built once)."""
+    from thermocal.identification.problem import problem_from_measurements
+
+    options = identification_options(campaign)
+    schedule = OccupancySchedule.from_dict(campaign.occupancy, source=f"{campaign.path}: occupancy")
+    problem, report = problem_from_measurements(
+        inputs.building,
+        inputs.weather,
+        inputs.metadata,
+        inputs.sensor_log,
+        inputs.mapping,
+        start=inputs.start if start is None else start,
+        end=inputs.end if end is None else end,
+        step=campaign.step,
+        method=options["method"],
+        feedback=options["feedback"],
+        tuning_zone=options["tuning_zone"],
+        schedule=schedule,
+        settle=options["settle"],
+        max_gap=options["max_gap"],
+        silence=options["silence"],
+        warmup_days=int(options["warmup_days"]),
+        log_name=inputs.log_name,
+    )
+    return problem, report
+
+
+@dataclass
+class CalibrationResult:
+    """What the calibration found (see :func:`calibrate`)."""
+
+    space: Any
+    samples: Any
+    store_frame: pd.DataFrame
+    summary: Any
+    surrogate: Any
+    ranking: pd.Series
+    sobol: pd.DataFrame | None
+    critical: list
+    optimisation: Any
+    nominal_metric: float
+    confirmed: dict
+    heat: dict
+    weather: pd.DataFrame
+    validation: dict | None
+    truth_comparison: pd.DataFrame | None
+    calibrated_building: Any
+    timings: dict = field(default_factory=dict)
+    notes: list = field(default_factory=list)
+    campaign_path: str = ""
+
+    def table1(self) -> pd.DataFrame:
+        """The paper's Table 1: nominal, min-variance and max-variance critical values."""
+        return self.optimisation.table()
+
+    def as_dict(self) -> dict:
+        scores = {
+            "cv_r2": float(self.surrogate.cv_r2_),
+            "cv_rmse": float(self.surrogate.cv_rmse_),
+            "kind": type(self.surrogate).__name__,
+            "best_params": getattr(self.surrogate, "best_params_", None),
+        }
+        out = {
+            "campaign": self.campaign_path,
+            "metric": METRIC,
+            "metric_unit": "W^2",
+            "samples": {
+                "total": int(self.summary.total),
+                "successful": int(self.store_frame["error"].isna().sum()),
+                "failed": int(self.store_frame["error"].notna().sum()),
+                "backend": self.summary.backend,
+                "wall_time_s": self.summary.wall_time_s,
+            },
+            "parameters": self.space.to_frame().reset_index().to_dict(orient="records"),
+            "clipped_samples": self.samples.clip_counts.reset_index().to_dict(orient="records"),
+            "metamodel": scores,
+            "ranking": self.ranking.to_dict(),
+            "sobol": None if self.sobol is None else self.sobol.reset_index().to_dict("records"),
+            "critical": self.critical,
+            "table1": self.table1().reset_index().to_dict(orient="records"),
+            "nominal_metric": self.nominal_metric,
+            "confirmation": self.confirmed,
+            "validation": self.validation,
+            "truth_comparison": None
+            if self.truth_comparison is None
+            else self.truth_comparison.reset_index().to_dict(orient="records"),
+            "timings_s": self.timings,
+            "notes": self.notes,
+        }
+        return _jsonable(out)
+
+    def calibrated_building_text(self) -> str:
+        """The calibrated building as a thermocal YAML file, ready for ``thermocal simulate``."""
+        import yaml
+
+        from thermocal.multizone.files import building_to_dict
+
+        table = self.table1()
+        lines = [
+            "# thermocal building file: the nominal model with the critical envelope parameters",
+            "# at the minimum of the unoccupied variance of the identified heat (calibrated).",
+            f"# campaign: {self.campaign_path}",
+        ]
+        for name, row in table.iterrows():
+            lines.append(
+                f"#   {name}: {row['nominal']:.6g} -> {row['min_metric']:.6g} {row['unit']}"
+            )
+        body = yaml.safe_dump(
+            building_to_dict(self.calibrated_building), sort_keys=False, allow_unicode=True
+        )
+        return "\n".join(lines) + "\n" + body
+
+    def to_files(self, directory) -> list[Path]:
+        """calibration.json, table1.csv, campaign export, calibrated building, figures, report."""
+        from thermocal.calibration import figures
+        from thermocal.calibration.report import write_report
+        from thermocal.calibration.store import atomic_write
+
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        written = [
+            atomic_write(
+                directory / "calibration.json",
+                lambda p: p.write_text(json.dumps(self.as_dict(), indent=2)),
+            ),
+            atomic_write(directory / "table1.csv", lambda p: self.table1().to_csv(p)),
+            atomic_write(directory / "samples.parquet", lambda p: self.store_frame.to_parquet(p)),
+            atomic_write(directory / "samples.csv", lambda p: self.store_frame.to_csv(p)),
+            atomic_write(
+                directory / "calibrated_building.yaml",
+                lambda p: p.write_text(self.calibrated_building_text()),
+            ),
+        ]
+        pngs = {}
+        from thermocal.report.figures import close, figure_to_png
+
+        for name, fig in figures.calibration_figures(self).items():
+            pngs[name] = figure_to_png(fig)
+            close(fig)
+            written.append(
+                atomic_write(directory / f"{name}.png", lambda p, d=pngs[name]: p.write_bytes(d))
+            )
+        written.append(write_report(self, directory / "report.html", pngs=pngs))
+        return written
+
+
+def _jsonable(value):
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    if isinstance(value, pd.Timestamp | pd.Timedelta):
+        return str(value)
+    return value
+
+
+def truth_comparison(
+    names: list[str], space, truth: dict, calibrated: dict, critical=()
+) -> pd.DataFrame:
+    """Critical parameters vs the generator's truth: moved towards it, share recovered.
+
+    ``recovered = (calibrated - nominal) / (true - nominal)``: 1 = the whole perturbation
+    found, 0 = nothing, negative = moved away; NaN for parameters the truth did not perturb.
+
+    Parameters
+    ----------
+    names : list of str
+        Parameters to compare (the critical ones and those the truth perturbed).
+    space : ParameterSpace
+        Nominal values and units.
+    truth : dict
+        ``truth.json`` of the demo (``parameters``: name -> {"true": value, ...}).
+    calibrated : dict
+        Calibrated value per parameter [unit of each parameter].
+    critical : sequence of str
+        The critical parameters (flagged in the table).
+    """
+    true = {name: row["true"] for name, row in truth.get("parameters", {}).items()}
+    from thermocal.calibration.space import parameter_unit
+
+    nominal_values = space.nominal_dict()
+    rows = []
+    for name in names:
+        nominal = nominal_values[name]
+        calibrated_value = calibrated[name]
+        target = true.get(name, nominal)
+        perturbed = not np.isclose(target, nominal, rtol=1e-9)
+        towards = abs(calibrated_value - target) < abs(nominal - target) if perturbed else None
+        recovered = (calibrated_value - nominal) / (target - nominal) if perturbed else np.nan
+        rows.append(
+            {
+                "parameter": name,
+                "critical": name in critical,
+                "unit": parameter_unit(name),
+                "nominal": nominal,
+                "calibrated": calibrated_value,
+                "true": target,
+                "perturbed_in_truth": perturbed,
+                "moved_towards_truth": towards,
+                "recovered_fraction": recovered,
+            }
+        )
+    return pd.DataFrame(rows).set_index("parameter")
+
+
+def calibrate(
+    campaign,
+    *,
+    samples: int | None = None,
+    workers: int | None = None,
+    scheduler=None,
+    resume: bool = False,
+    store_path: str | Path | None = None,
+    progress: bool = True,
+    log=print,
+) -> CalibrationResult:
+    """Run a calibration campaign (see the module docstring).
+
+    Parameters
+    ----------
+    campaign : CampaignFile
+        From :func:`thermocal.calibration.config.load_campaign`.
+    samples : int, optional
+        Overrides ``sampling.samples`` [-].
+    workers : int, optional
+        Local processes (default: all cores); ignored with ``scheduler``.
+    scheduler : str or distributed.Client, optional
+        ``tcp://HOST:PORT`` of a Dask scheduler (or a client/cluster object).
+    resume : bool
+        Continue the campaign in an existing store (a store of another campaign is refused).
+    store_path : path, optional
+        The SQLite store (default: the campaign file's ``store``).
+    progress : bool
+    log : callable
+        Receives one line per stage.
+
+    Returns
+    -------
+    CalibrationResult
+    """
+    from thermocal.calibration.optimise import optimise_reduced
+    from thermocal.calibration.runner import run_campaign
+    from thermocal.calibration.sampling import sample
+    from thermocal.calibration.sensitivity import influence_ranking, sobol_indices, top_k
+    from thermocal.calibration.space import ParameterSpace
+    from thermocal.calibration.store import CampaignStore, campaign_definition
+    from thermocal.calibration.surrogate import make_surrogate
+
+    timings: dict[str, float] = {}
+    notes: list[str] = []
+    t0 = time.perf_counter()
+    inputs = load_inputs(campaign)
+    problem, _ = build_problem(campaign, inputs)
+    timings["setup"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    nominal_run = problem.run({})
+    nominal = problem.metrics(nominal_run.heat)
+    timings["nominal_run"] = time.perf_counter() - t0
+    log(
+        f"nominal model: unoccupied std of building Q_ID {nominal['unoccupied_std'] / 1000:.3f} "
+        f"kW ({timings['nominal_run']:.1f} s per identification)"
+    )
+    p = campaign.parameters
+    space = ParameterSpace.from_parameters(
+        inputs.building.parameters(),
+        include=p.include,
+        exclude=p.exclude,
+        default_range=p.default_range,
+        ranges=p.ranges,
+    )
+    n = int(samples if samples is not None else campaign.sampling.samples)
+    if n < 1:
+        raise ThermocalInputError(f"--samples must be >= 1, got {n}")
+    sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
+    clipped = sample_set.clip_counts[sample_set.clip_counts["total"] > 0]
+    if len(clipped):
+        notes.append(
+            f"{len(clipped)} parameter(s) had samples clipped to their physical limits: "
+            + ", ".join(f"{name} ({int(row['total'])})" for name, row in clipped.iterrows())
+        )
+    definition = campaign_definition(
+        space,
+        method=campaign.sampling.method,
+        seed=campaign.sampling.seed,
+        samples=n,
+        problem=f"{campaign.problem_fingerprint()}:{problem.fingerprint()}",
+    )
+    path = Path(store_path or campaign.store or "campaign.sqlite")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    log(f"campaign: {n} samples of {space.dimension} parameters -> {path}")
+    t0 = time.perf_counter()
+    with CampaignStore.open(
+        path, definition=definition, campaign_text=campaign.text, resume=resume
+    ) as store:
+        summary = run_campaign(
+            problem, sample_set.values, store, workers=workers, scheduler=scheduler,
+            progress=progress,
+        )
+        frame = store.to_frame()
+        X = store.parameters()[list(space.names)]
+        y = store.outputs()[METRIC].to_numpy(dtype=float)
+    timings["campaign"] = time.perf_counter() - t0
+    failed = int(frame["error"].notna().sum())
+    if failed:
+        notes.append(f"{failed} sample(s) failed (errors in the store); they are left out")
+    if len(y) < max(10, campaign.metamodel.cv_folds + 2):
+        raise ThermocalInputError(
+            f"only {len(y)} successful samples: too few for a meta-model; use more --samples"
+        )
+    log(f"campaign done: {summary.evaluated} evaluated, {failed} failed, {summary.backend}")
+    t0 = time.perf_counter()
+    m = campaign.metamodel
+    surrogate = make_surrogate(
+        m.kind, cv_folds=m.cv_folds, log_target=m.log_target, seed=campaign.sampling.seed
+    ).fit(X, y)
+    lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
+    ranking = influence_ranking(surrogate.predict, X, lower, upper, names=space.names)
+    sobol = sobol_indices(
+        surrogate.predict, space.names, lower, upper, n=512, seed=campaign.sampling.seed
+    )
+    critical = top_k(ranking, m.top_k)
+    optimisation = optimise_reduced(
+        X,
+        y,
+        space,
+        critical,
+        surrogate=m.kind,
+        starts=campaign.optimisation.starts,
+        seed=campaign.optimisation.seed,
+        surrogate_options={"cv_folds": m.cv_folds, "log_target": m.log_target},
+    )
+    timings["metamodel_sensitivity_optimisation"] = time.perf_counter() - t0
+    log(
+        f"meta-model cross-validated R2 {surrogate.cv_r2_:.3f}; critical: {', '.join(critical)}"
+    )
+    t0 = time.perf_counter()
+    confirmed, heat = {}, {"nominal": nominal_run.heat.sum(axis=1)}
+    for sense, optimum in (("min", optimisation.minimum), ("max", optimisation.maximum)):
+        run = problem.run(optimisation.parameters(sense))
+        log(f"confirmation of the {sense}imum with the full model: done")
+        metrics = problem.metrics(run.heat)
+        heat[sense] = run.heat.sum(axis=1)
+        confirmed[sense] = {
+            "predicted": float(optimum.value),
+            "confirmed": metrics[METRIC],
+            "confirmed_std_W": metrics["unoccupied_std"],
+            "ratio_to_nominal": metrics[METRIC] / nominal[METRIC],
+        }
+    confirmed["nominal"] = {
+        "confirmed": nominal[METRIC],
+        "confirmed_std_W": nominal["unoccupied_std"],
+    }
+    timings["confirmation"] = time.perf_counter() - t0
+    validation = None
+    if campaign.validation is not None:
+        t0 = time.perf_counter()
+        validation = _validate(campaign, inputs, optimisation)
+        timings["validation"] = time.perf_counter() - t0
+    # the calibrated model: the confirmed minimum of the reduced meta-model, unless a simulated
+    # sample of the campaign was better (a meta-model fitted on few samples can miss)
+    best = int(np.argmin(y))
+    calibrated_values = optimisation.parameters("min")
+    calibrated_source = "meta-model minimum"
+    if y[best] < confirmed["min"]["confirmed"]:
+        calibrated_values = {**space.nominal_dict(), **X.iloc[best].to_dict()}
+        calibrated_source = f"campaign sample {int(X.index[best])}"
+        notes.append(
+            f"The reduced meta-model's minimum was confirmed at an unoccupied std of "
+            f"{confirmed['min']['confirmed_std_W'] / 1000:.2f} kW, worse than the best simulated "
+            f"sample ({np.sqrt(y[best]) / 1000:.2f} kW, sample {int(X.index[best])}): the "
+            "calibrated building takes that sample's parameters. More samples give a better "
+            "meta-model."
+        )
+    confirmed["calibrated"] = {
+        "source": calibrated_source,
+        "confirmed": float(min(y[best], confirmed["min"]["confirmed"])),
+        "confirmed_std_W": float(np.sqrt(min(y[best], confirmed["min"]["confirmed"]))),
+    }
+    comparison = None
+    if inputs.truth is not None:
+        perturbed = [
+            n for n in inputs.truth.get("parameters", {}) if n in space.names and n not in critical
+        ]
+        comparison = truth_comparison(
+            list(critical) + perturbed, space, inputs.truth, calibrated_values, critical
+        )
+        if inputs.true_loads is not None:
+            confirmed["guideline14_vs_true_loads"] = _guideline14(heat, inputs.true_loads, problem)
+    calibrated = inputs.building.with_parameters(
+        {name: calibrated_values[name] for name in space.names}
+    )
+    grid = problem.simulation().weather_on_grid
+    weather = pd.DataFrame(
+        {
+            "temp_air": grid["temp_air"].to_numpy(),
+            "ghi": (grid["ghi"] if "ghi" in grid else grid["dni"] + grid["dhi"]).to_numpy(),
+        },
+        index=grid.index,
+    )
+    return CalibrationResult(
+        space=space,
+        samples=sample_set,
+        store_frame=frame,
+        summary=summary,
+        surrogate=surrogate,
+        ranking=ranking,
+        sobol=sobol,
+        critical=critical,
+        optimisation=optimisation,
+        nominal_metric=nominal[METRIC],
+        confirmed=confirmed,
+        heat=heat,
+        weather=weather,
+        validation=validation,
+        truth_comparison=comparison,
+        calibrated_building=calibrated,
+        timings=timings,
+        notes=notes,
+        campaign_path=str(campaign.path),
+    )
+
+
+def _validate(campaign, inputs: CampaignInputs, optimisation) -> dict:
+    """Nominal vs calibrated metric on the validation period (not seen by the calibration)."""
+    start = _localise(campaign.validation.start, inputs.weather.index[0])
+    end = _localise(campaign.validation.end, inputs.weather.index[0])
+    problem, _ = build_problem(campaign, inputs, start=start, end=end)
+    nominal = problem.evaluate({})[METRIC]
+    calibrated = problem.evaluate(optimisation.parameters("min"))[METRIC]
+    return {
+        "start": str(start),
+        "end": str(end),
+        "nominal": nominal,
+        "calibrated": calibrated,
+        "ratio": calibrated / nominal if nominal > 0 else None,
+        "keeps_lower_variance": bool(calibrated < nominal),
+    }
+
+
+def _guideline14(heat: dict, true_loads: pd.DataFrame, problem: IdentificationProblem) -> dict:
+    """ASHRAE Guideline 14 statistics of the building Q_ID against the demo's true loads."""
+    if "time" in true_loads.columns:
+        true_loads = true_loads.set_index("time")
+    column = "total" if "total" in true_loads else true_loads.columns[-1]
+    truth = true_loads[column].reindex(heat["nominal"].index)
+    out = {}
+    for case, series in heat.items():
+        out[case] = guideline14(series.to_numpy(), truth.to_numpy())
+    return out
+
+
+def evaluator_for(problem: IdentificationProblem) -> IdentificationProblem:
+    """The runner's evaluator: the problem itself (picklable, built once per worker)."""
+    return problem

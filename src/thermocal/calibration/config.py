@@ -116,7 +116,7 @@ class SamplingSection(_Strict):
 class MetamodelSection(_Strict):
     """Meta-model kind and critical-parameter count."""
 
-    kind: Literal["svr", "gp"] = "svr"
+    kind: Literal["svr", "gp", "auto"] = "auto"
     top_k: int = Field(10, ge=1)
     cv_folds: int = Field(5, ge=2)
     log_target: bool = False

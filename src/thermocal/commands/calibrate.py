@@ -22,7 +22,7 @@ parameters:
   include: ["material/*", "window/*", "infiltration/*"]
   default_range: 0.5
 sampling: {method: sobol, samples: 500, seed: 1}
-metamodel: {kind: svr, top_k: 10, log_target: true}
+metamodel: {kind: auto, top_k: 10}
 optimisation: {starts: 8, seed: 1}
 """
 

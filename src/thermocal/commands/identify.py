@@ -67,7 +67,10 @@ def identify(
     from thermocal.errors import ThermocalInputError
     from thermocal.identification.occupancy import OccupancySchedule
     from thermocal.identification.workflow import identify as run_identification
+    from thermocal.io.output import check_output_folder, output_folder
 
+    signature = ("identification.json", "q_id.parquet", "report.html")
+    check_output_folder(out, signature=signature)
     console = Console(stderr=True)
     truth = None
     with warnings.catch_warnings(record=True) as caught:
@@ -140,7 +143,8 @@ def identify(
         )
     for warning in caught:
         console.print(f"[yellow]warning:[/yellow] {warning.message}")
-    written = result.to_files(out)
+    with output_folder(out, command="identify", signature=signature) as tmp:
+        written = [out / Path(p).name for p in result.to_files(tmp)]
     _print_summary(result, truth)
     for path in written:
         console.print(f"wrote {path}")

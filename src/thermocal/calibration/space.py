@@ -36,6 +36,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.multizone.parameters import PARAMETER_UNITS, parameter_kind, parameter_unit
 
 __all__ = [
     "DEFAULT_RELATIVE_RANGE",
@@ -52,55 +53,13 @@ DEFAULT_RELATIVE_RANGE = 0.75
 FLOOR_FRACTION = 0.01
 
 #: Unit of each parameter kind (the last part of the name), for tables.
-UNITS: dict[str, str] = {
-    "conductivity": "W/(m K)",
-    "density": "kg/m3",
-    "specific_heat": "J/(kg K)",
-    "thickness": "m",
-    "resistance": "m2 K/W",
-    "u_value": "W/(m2 K)",
-    "shgc": "-",
-    "infiltration_ach": "1/h",
-    "ach": "1/h",
-}
+UNITS: dict[str, str] = PARAMETER_UNITS
 
 #: Kinds that are fractions, limited to (0, 1].
 FRACTION_KINDS = frozenset({"shgc"})
 #: upper limits the building model accepts, by kind (a window U-value above 10 W/(m2 K) is
 #: rejected by :class:`thermocal.multizone.WindowType`)
 UPPER_LIMITS = {"u_value": 10.0}
-
-
-def parameter_kind(name: str) -> str:
-    """Kind of a parameter: the last ``/``-separated part of its name (``"shgc"``, ``"density"``).
-
-    Parameters
-    ----------
-    name : str
-        Parameter name such as ``"window/double/shgc"`` [-].
-
-    Returns
-    -------
-    str
-        The kind [-].
-    """
-    return str(name).rsplit("/", 1)[-1]
-
-
-def parameter_unit(name: str) -> str:
-    """Unit of a parameter for tables (``"W/(m K)"`` for a conductivity, ``"?"`` if unknown).
-
-    Parameters
-    ----------
-    name : str
-        Parameter name [-].
-
-    Returns
-    -------
-    str
-        The unit [-].
-    """
-    return UNITS.get(parameter_kind(name), "?")
 
 
 def _pattern_candidates(names: Sequence[str]) -> list[str]:

@@ -22,9 +22,7 @@ import datetime as _dt
 import hashlib
 import json
 import math
-import os
 import sqlite3
-import tempfile
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,6 +31,7 @@ from typing import Any
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io.atomic import atomic_write
 
 __all__ = [
     "CampaignStore",
@@ -140,34 +139,6 @@ class SampleResult:
     runtime_s: float
     error: str | None = None
     worker: str = ""
-
-
-def atomic_write(path: Path | str, write: Any) -> Path:
-    """Write a file atomically: ``write(tmp_path)`` into the same folder, then ``os.replace``.
-
-    Parameters
-    ----------
-    path : path-like
-        Destination file.
-    write : callable
-        Called with the temporary path; must create the file there.
-
-    Returns
-    -------
-    Path
-        The destination.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        write(Path(tmp))
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
 
 
 def _definition_differences(old: Mapping[str, Any], new: Mapping[str, Any]) -> list[str]:

@@ -23,6 +23,7 @@ from thermocal.errors import ThermocalInputError
 from thermocal.identification.metrics import guideline14
 from thermocal.identification.occupancy import OccupancySchedule
 from thermocal.identification.problem import METRIC, IdentificationProblem
+from thermocal.identification.workflow import jsonable
 
 #: identification options a campaign file may set (its ``identification`` section)
 IDENTIFICATION_KEYS = {
@@ -210,7 +211,7 @@ class CalibrationResult:
             "timings_s": self.timings,
             "notes": self.notes,
         }
-        return _jsonable(out)
+        return jsonable(out)
 
     def calibrated_building_text(self) -> str:
         """The calibrated building as a thermocal YAML file, ready for ``thermocal simulate``."""
@@ -237,7 +238,7 @@ class CalibrationResult:
         """calibration.json, table1.csv, campaign export, calibrated building, figures, report."""
         from thermocal.calibration import figures
         from thermocal.calibration.report import write_report
-        from thermocal.calibration.store import atomic_write
+        from thermocal.io.atomic import atomic_write
 
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
@@ -265,20 +266,6 @@ class CalibrationResult:
             )
         written.append(write_report(self, directory / "report.html", pngs=pngs))
         return written
-
-
-def _jsonable(value):
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not np.isfinite(value):
-        return None
-    if isinstance(value, pd.Timestamp | pd.Timedelta):
-        return str(value)
-    return value
 
 
 def truth_comparison(

@@ -163,28 +163,21 @@ TRUE_FACTORS: dict[str, float] = {
     "material/Metal decking/thickness": 3.0,
 }
 
-_UNITS = {
-    "conductivity": "W/(m K)",
-    "density": "kg/m3",
-    "specific_heat": "J/(kg K)",
-    "thickness": "m",
-    "resistance": "m2 K/W",
-    "u_value": "W/(m2 K)",
-    "shgc": "-",
-    "ach": "1/h",
-    "infiltration_ach": "1/h",
-}
 
 _RHO_CP_AIR = 1.2 * 1005.0  # [J/(m3 K)]
 
 
 def _default_weather_path() -> Path:
-    return Path(__import__("pvlib").__file__).parent / "data" / "723170TYA.CSV"
+    from thermocal.retrofit.demo_data import pvlib_weather_path
+
+    return pvlib_weather_path("723170TYA.CSV")
 
 
 def parameter_unit(name: str) -> str:
     """Unit of a :meth:`Building.parameters` name (from its last part)."""
-    return _UNITS.get(name.rsplit("/", 1)[-1], "-")
+    from thermocal.multizone.parameters import parameter_unit as unit
+
+    return unit(name, "-")
 
 
 def true_parameters(building) -> dict[str, float]:

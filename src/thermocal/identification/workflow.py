@@ -7,7 +7,6 @@ writes it (``identification.json``, ``q_id.parquet``, figures, an HTML report se
 from __future__ import annotations
 
 import json
-import os
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -26,6 +25,7 @@ from thermocal.identification.occupancy import OccupancySchedule
 from thermocal.identification.pid import PIDGains, kernel_coefficients
 from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
 from thermocal.identification.tuning import TuningResult, tune_zone, volume_scaled_gains
+from thermocal.io.atomic import atomic_write
 
 METHODS = ("inverse", "pid", "both")
 
@@ -201,6 +201,11 @@ def _records(frame):
     return frame.astype({c: str for c in ("start", "end") if c in frame}).to_dict(orient="records")
 
 
+def jsonable(value):
+    """``value`` with numpy scalars, timestamps and non-finite floats made JSON-ready."""
+    return _jsonable(value)
+
+
 def _jsonable(value):
     if isinstance(value, dict):
         return {str(k): _jsonable(v) for k, v in value.items()}
@@ -216,17 +221,11 @@ def _jsonable(value):
 
 
 def _atomic_text(path: Path, text: str) -> Path:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
-    return path
+    return atomic_write(path, lambda tmp: tmp.write_text(text))
 
 
 def _atomic_parquet(path: Path, frame: pd.DataFrame) -> Path:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    frame.to_parquet(tmp)
-    os.replace(tmp, path)
-    return path
+    return atomic_write(path, frame.to_parquet)
 
 
 def _png(fig) -> bytes:
@@ -238,10 +237,7 @@ def _png(fig) -> bytes:
 
 
 def _atomic_bytes(path: Path, data: bytes) -> Path:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
-    return path
+    return atomic_write(path, lambda tmp: tmp.write_bytes(data))
 
 
 def pid_gains_for(

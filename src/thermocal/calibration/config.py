@@ -122,6 +122,14 @@ class MetamodelSection(_Strict):
     log_target: bool = False
 
 
+class MorrisSection(_Strict):
+    """Morris screening directly on the model (elementary effects), besides the campaign."""
+
+    trajectories: int = Field(10, ge=2)
+    levels: int = Field(4, ge=2)
+    seed: int = 1
+
+
 class OptimisationSection(_Strict):
     """Starts and seed of the reduced-model optimisation."""
 
@@ -147,6 +155,7 @@ class CampaignFile(_Strict):
     sampling: SamplingSection = Field(default_factory=SamplingSection)
     metamodel: MetamodelSection = Field(default_factory=MetamodelSection)
     optimisation: OptimisationSection = Field(default_factory=OptimisationSection)
+    morris: MorrisSection | None = None
     validation: Period | None = None
     store: Path | None = None
 

@@ -75,6 +75,12 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
                   caption="Building-wide identified heat for the three parameter sets.")
     report.figure(figure("metamodel_parity", lambda: figures.parity(result)),
                   caption="Meta-model parity (out-of-fold predictions).")
+    if result.morris is not None:
+        report.table(
+            result.morris.head(15).reset_index(),
+            caption="Morris screening on the model itself (elementary effects over the full "
+            "ranges, W2)",
+        )
     if result.sobol is not None:
         top = result.sobol.sort_values("ST", ascending=False).head(15).reset_index()
         report.table(top, caption="Sobol indices on the meta-model (95 % confidence)")

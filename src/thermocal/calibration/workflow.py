@@ -167,6 +167,7 @@ class CalibrationResult:
     heat: dict
     weather: pd.DataFrame
     validation: dict | None
+    morris: pd.DataFrame | None
     truth_comparison: pd.DataFrame | None
     calibrated_building: Any
     timings: dict = field(default_factory=dict)
@@ -205,6 +206,9 @@ class CalibrationResult:
             "nominal_metric": self.nominal_metric,
             "confirmation": self.confirmed,
             "validation": self.validation,
+            "morris": None
+            if self.morris is None
+            else self.morris.reset_index().to_dict(orient="records"),
             "truth_comparison": None
             if self.truth_comparison is None
             else self.truth_comparison.reset_index().to_dict(orient="records"),
@@ -449,6 +453,11 @@ def calibrate(
         surrogate_options={"cv_folds": m.cv_folds, "log_target": m.log_target},
     )
     timings["metamodel_sensitivity_optimisation"] = time.perf_counter() - t0
+    morris = None
+    if campaign.morris is not None:
+        t0 = time.perf_counter()
+        morris = _morris(campaign, problem, space, path, workers, scheduler, progress, log)
+        timings["morris"] = time.perf_counter() - t0
     log(
         f"meta-model cross-validated R2 {surrogate.cv_r2_:.3f}; critical: {', '.join(critical)}"
     )
@@ -531,12 +540,41 @@ def calibrate(
         heat=heat,
         weather=weather,
         validation=validation,
+        morris=morris,
         truth_comparison=comparison,
         calibrated_building=calibrated,
         timings=timings,
         notes=notes,
         campaign_path=str(campaign.path),
     )
+
+
+def _morris(campaign, problem, space, store_path, workers, scheduler, progress, log):
+    """Morris screening on the model itself, run like the campaign into its own store."""
+    from thermocal.calibration.runner import run_campaign
+    from thermocal.calibration.sensitivity import morris_analyze, morris_design
+    from thermocal.calibration.store import CampaignStore
+
+    m = campaign.morris
+    lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
+    design = morris_design(
+        list(space.names), lower, upper, trajectories=m.trajectories, levels=m.levels,
+        seed=m.seed,
+    )
+    log(f"Morris screening: {len(design)} runs of the model")
+    path = Path(store_path).with_name(Path(store_path).stem + "_morris.sqlite")
+    definition = {
+        "morris": m.model_dump(),
+        "problem": problem.fingerprint(),
+        "space": space.to_dict(),
+    }
+    with CampaignStore.open(path, definition=definition, resume=True) as store:
+        run_campaign(
+            problem, design, store, workers=workers, scheduler=scheduler, progress=progress,
+            description="Morris screening",
+        )
+        outputs = store.outputs(successful=False)[METRIC].reindex(design.index)
+    return morris_analyze(design, outputs.to_numpy(), lower, upper, levels=m.levels, seed=m.seed)
 
 
 #: above this many samples, ``kind="auto"`` does not try the Gaussian process (its fit grows

@@ -46,6 +46,13 @@ def demo(
     from thermocal.retrofit import load_config, run_retrofit, write_outputs
     from thermocal.retrofit.demo_data import prepare_demo
 
+    from thermocal.retrofit.config import MAX_DRAWS
+
+    if draws > MAX_DRAWS:
+        raise ThermocalInputError(
+            f"--draws {draws}: at most {MAX_DRAWS:,} draws (a 90 % interval settles within a "
+            "few thousand; the default is 200)"
+        )
     if weather is not None and not Path(weather).is_file():
         raise ThermocalInputError(
             f"--weather {weather}: "

@@ -23,6 +23,15 @@ def read_table(path: Path, *, sep: str | None = None, decimal: str = ".", sheet:
 
     if not path.exists():
         raise ThermocalInputError(f"data file {path} does not exist")
+    if path.is_dir():
+        raise ThermocalInputError(f"data file {path} is a folder, not a file")
+    if decimal not in (".", ","):
+        raise ThermocalInputError(f"--decimal {decimal!r}: use '.' or ','")
+    if sep is not None and len(sep) != 1:
+        raise ThermocalInputError(
+            f"--sep {sep!r}: give one character, e.g. --sep ';' or --sep ',' (or leave it out: "
+            "the separator is detected)"
+        )
     suffix = path.suffix.lower()
     notes: list[str] = []
     if suffix in (".parquet", ".pq"):
@@ -43,19 +52,189 @@ def read_table(path: Path, *, sep: str | None = None, decimal: str = ".", sheet:
         except (OSError, ValueError) as exc:
             raise ThermocalInputError(f"data file {path} could not be read: {exc}") from None
     else:
+        with path.open("rb") as fh:
+            head = fh.read(65536)
+        if not head.strip():
+            raise ThermocalInputError(
+                f"data file {path} could not be read: it is empty; give a CSV with a header row"
+            )
+        if b"\x00" in head:
+            raise ThermocalInputError(
+                f"data file {path}: a binary file, not a CSV text file; export the data as CSV "
+                "(UTF-8), Excel or Parquet"
+            )
+        try:
+            head.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            if exc.start < len(head) - 4:  # not merely a character cut at the block end
+                raise ThermocalInputError(
+                    f"data file {path}: not UTF-8 text (byte {exc.start}); save the CSV as "
+                    "UTF-8"
+                ) from None
         if sep is None:
             with path.open(encoding="utf-8", errors="replace") as fh:
                 header = fh.readline()
             candidates = (";", "\t") if decimal == "," else (";", ",", "\t")
             counts = {s: header.count(s) for s in candidates}
             sep = max(counts, key=counts.get) if max(counts.values()) > 0 else ","
-        try:
-            table = pd.read_csv(path, sep=sep, decimal=decimal)
-        except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-            raise ThermocalInputError(f"data file {path} could not be read as CSV: {exc}") from None
+        table = _read_csv(path, sep, decimal)
+        _check_header(path, sep)
+    if table.empty:
+        raise ThermocalInputError(
+            f"data file {path} has a header but no data rows; give at least two rows of data"
+        )
     table = _drop_unit_row(table, notes, decimal)
     table.attrs["notes"] = notes
     return table
+
+
+def _read_csv(path: Path, sep: str, decimal: str):
+    import pandas as pd
+
+    from thermocal.errors import ThermocalInputError
+
+    try:
+        return pd.read_csv(path, sep=sep, decimal=decimal)
+    except UnicodeDecodeError as exc:
+        raise ThermocalInputError(
+            f"data file {path}: not UTF-8 text (byte {exc.start}); save the CSV as UTF-8"
+        ) from None
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, ValueError) as exc:
+        raise ThermocalInputError(
+            f"data file {path} could not be read as CSV with separator {sep!r}: {exc}; check "
+            "--sep and --decimal"
+        ) from None
+
+
+def _check_header(path: Path, sep: str) -> None:
+    """Refuse a header naming one column twice (pandas would rename the second silently)."""
+    import csv
+
+    from thermocal.errors import ThermocalInputError
+
+    with path.open(encoding="utf-8", errors="replace", newline="") as fh:
+        header = next(csv.reader(fh, delimiter=sep), [])
+    seen: dict[str, int] = {}
+    for position, name in enumerate(header, start=1):
+        name = name.strip()
+        if name in seen:
+            raise ThermocalInputError(
+                f"data file {path}: column {name!r} appears twice in the header (columns "
+                f"{seen[name]} and {position}); rename or remove one"
+            )
+        seen[name] = position
+
+
+def check_numbers(data, columns, path: Path, decimal: str) -> None:
+    """Refuse text in the model's numeric columns, naming column, row and value."""
+    import re
+
+    import pandas as pd
+
+    from thermocal.errors import ThermocalInputError
+
+    for column in columns:
+        if column not in data.columns or pd.api.types.is_numeric_dtype(data[column]):
+            continue
+        values = data[column]
+        text = values.astype(str).str.strip()
+        if decimal == "." and text[values.notna()].str.fullmatch(r"[-+]?\d+,\d+").mean() > 0.5:
+            raise ThermocalInputError(
+                f"data file {path}: column '{column}' holds decimal commas (row 0: "
+                f"{text.iloc[0]!r}); add --decimal , (and --sep ';' if needed)"
+            )
+        numbers = pd.to_numeric(
+            text.str.replace(",", ".", regex=False) if decimal == "," else text, errors="coerce"
+        )
+        bad = values.notna() & numbers.isna() & (text != "")
+        if bad.any():
+            row = int(bad.to_numpy().nonzero()[0][0])
+            sep_like = re.search(r"[;,\t]", text.iloc[row])
+            hint = "; is the separator right (--sep)?" if sep_like else ""
+            raise ThermocalInputError(
+                f"data file {path}: column '{column}', row {row} (file line {row + 2}): "
+                f"{values.iloc[row]!r} is not a number; write a number or leave the cell empty "
+                f"(missing){hint}"
+            )
+
+
+def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
+    """Refuse time axes that are certainly wrong before any computation.
+
+    Mixed naive and offset time stamps (row named), an unreadable stamp (row and value),
+    the autumn clock change of naive local times, and a sampling interval implausible for
+    building data (under a second or over a day: the wrong --time-unit).
+    """
+    import numpy as np
+    import pandas as pd
+
+    from thermocal.errors import ThermocalInputError
+    from thermocal.statespace.data import time_axis
+    from thermocal.statespace.units import TIME_UNITS
+
+    if time_unit not in TIME_UNITS:
+        raise ThermocalInputError(
+            f"--time-unit {time_unit!r}: use one of {', '.join(TIME_UNITS)}"
+        )
+    raw = data[time_column]
+    naive = False
+    if not (pd.api.types.is_numeric_dtype(raw) or pd.api.types.is_datetime64_any_dtype(raw)):
+        text = raw.astype(str).str.strip()
+        parsed = pd.to_datetime(text, format="ISO8601", utc=True, errors="coerce")
+        if parsed.isna().any() and parsed.notna().any():
+            row = int(parsed.isna().to_numpy().nonzero()[0][0])
+            raise ThermocalInputError(
+                f"data file {path}: time column '{time_column}', row {row} (file line "
+                f"{row + 2}): {raw.iloc[row]!r} is not an ISO 8601 date-time; write it like "
+                f"{text.iloc[0 if row else 1]!r}"
+            )
+        aware = text.str.contains(r"(?:Z|[+-]\d\d:?\d\d)$", regex=True)
+        if aware.any() and not aware.all():
+            first_naive = int((~aware).to_numpy().nonzero()[0][0])
+            first_aware = int(aware.to_numpy().nonzero()[0][0])
+            raise ThermocalInputError(
+                f"data file {path}: time column '{time_column}' mixes stamps without a UTC "
+                f"offset (row {first_naive}: {text.iloc[first_naive]!r}) and with one (row "
+                f"{first_aware}: {text.iloc[first_aware]!r}); give every time stamp its offset "
+                "(e.g. +01:00) or none"
+            )
+        naive = not aware.any()
+    try:
+        index, seconds = time_axis(
+            data, time_column=time_column, time_unit=time_unit, source=str(path)
+        )
+    except ThermocalInputError as exc:
+        if naive and isinstance(exc, ThermocalInputError) and (
+            "not increasing" in str(exc) or "duplicated" in str(exc)
+        ):
+            stamps = pd.to_datetime(raw.astype(str), format="ISO8601", errors="coerce")
+            steps = np.diff(stamps.to_numpy().astype("datetime64[s]").astype(np.int64))
+            row = int(np.flatnonzero(steps <= 0)[0]) + 1
+            stamp = stamps.iloc[row]
+            if stamp.month in (10, 11) and stamp.dayofweek == 6 and 0 <= stamp.hour <= 3:
+                raise ThermocalInputError(
+                    f"data file {path}: time column '{time_column}' goes back at row {row} "
+                    f"({stamps.iloc[row - 1]} then {stamp}): naive local times repeat an hour "
+                    "at the autumn clock change, and sorting would interleave the two hours; "
+                    "give the times in UTC or with their UTC offset (e.g. +01:00 / +02:00)"
+                ) from None
+        raise
+    step = float(np.median(np.diff(seconds))) if seconds.size > 1 else 0.0
+    if 0 < step < 1 or step > 86400:
+        unit_hint = {"s": "h", "min": "h", "h": "s", "d": "h"}[time_unit]
+        shown = f"{step:.3g} s" if step < 60 else f"{step / 3600:.3g} h"
+        raise ThermocalInputError(
+            f"data file {path}: the median sampling interval of '{time_column}' is {shown} "
+            f"when read with --time-unit {time_unit}, implausible for building data (under "
+            f"a second or over a day); give the unit of the numbers, e.g. --time-unit "
+            f"{unit_hint}"
+        )
+    if step == 1 and time_unit == "s" and pd.api.types.is_numeric_dtype(raw):
+        raise ThermocalInputError(
+            f"data file {path}: time column '{time_column}' counts 0, 1, 2, ... read as 1 s "
+            "steps (the default --time-unit s); building data sampled every second is "
+            "unlikely: give the unit of the numbers, e.g. --time-unit h or --time-unit min"
+        )
 
 
 def _drop_unit_row(table, notes: list[str], decimal: str = "."):
@@ -151,6 +330,7 @@ def fit(
         int | None,
         typer.Option(
             "--n-starts",
+            min=1,
             help="Optimiser starts (1 = the declared values only). Default: 1, or 4 when the "
             "model has more than 8 free parameters.",
         ),
@@ -158,7 +338,7 @@ def fit(
     seed: Annotated[int | None, typer.Option("--seed", help="Seed of the random starts.")] = None,
     jobs: Annotated[
         int | None,
-        typer.Option("--jobs", help="Processes for the starts (default: one per CPU)."),
+        typer.Option("--jobs", min=1, help="Processes for the starts (default: one per CPU)."),
     ] = None,
     figures: Annotated[
         bool, typer.Option("--figures/--no-figures", help="Write PNG figures.")
@@ -187,6 +367,7 @@ def fit(
         int,
         typer.Option(
             "--max-gap",
+            min=0,
             help="Missing input values: gaps of at most this many samples are interpolated "
             "linearly (noted in fit.json); longer gaps stop with the period to cut. 0: inputs "
             "must be complete.",
@@ -217,6 +398,8 @@ def fit(
         fraction_outside_band,
     )
 
+    if hold not in ("zoh", "foh"):
+        raise ThermocalInputError(f"--hold {hold!r}: use zoh or foh")
     console = Console()
     model = RCModel.from_dict(read_yaml(model_file, what="model file"), source=str(model_file))
     data = read_table(data_file, sep=sep, decimal=decimal, sheet=sheet)
@@ -246,6 +429,8 @@ def fit(
                 f"{data_file}: time column '{time_column}' does not follow --time-format "
                 f"{time_format!r} ({exc})"
             ) from None
+    check_time_axis(data, time_column, time_unit, data_file)
+    check_numbers(data, [*model.input_names, *model.output_names], data_file, decimal)
     with output_folder(out, command="fit", signature=("fit.json",)) as tmp:
         started = datetime.datetime.now(datetime.UTC)
         console.print(f"fitting {model.name} ({model.n_free} free parameters)...")

@@ -9,6 +9,9 @@ import typer
 
 from thermocal.cli import app
 
+#: Most repetitions of the first day before a run.
+MAX_WARMUP_DAYS = 366
+
 
 @app.command()
 def simulate(
@@ -53,6 +56,11 @@ def simulate(
     from thermocal.multizone.files import load_building
     from thermocal.multizone.simulation import Simulation
 
+    if not 0 <= warmup_days <= MAX_WARMUP_DAYS:
+        raise ThermocalInputError(
+            f"--warmup-days {warmup_days}: give 0 to {MAX_WARMUP_DAYS} days (a week or two "
+            "brings the walls to their periodic state)"
+        )
     if output_format not in ("csv", "parquet"):
         raise ThermocalInputError(f"--format must be csv or parquet, got {output_format!r}")
     signature = ("summary.json", f"zone_temperatures.{output_format}")

@@ -832,23 +832,25 @@ def read_building(path: str | Path) -> Building:
         the value, the plausible range with unit and, for likely typos, the value probably meant.
     """
     path = Path(path)
+    if path.is_dir():
+        raise ThermocalInputError(f"building file {path} is a folder, not a file")
     if not path.is_file():
         raise ThermocalInputError(f"building file {path} does not exist")
     suffix = path.suffix.lower()
-    text = path.read_text(encoding="utf-8")
     lines: dict[tuple, int] | None = None
     if suffix in (".yaml", ".yml"):
-        try:
-            data = yaml.safe_load(text)
-        except yaml.YAMLError as exc:
-            mark = getattr(exc, "problem_mark", None)
-            where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-            problem = getattr(exc, "problem", None) or str(exc)
-            raise ThermocalInputError(f"{path}: not valid YAML{where}: {problem}") from None
+        from thermocal.io.yamlfile import read_yaml_text
+
+        data, text = read_yaml_text(path, what="building file")
         lines = _yaml_line_index(text)
     elif suffix == ".toml":
         try:
-            data = tomllib.loads(text)
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except UnicodeDecodeError as exc:
+            raise ThermocalInputError(
+                f"{path}: not a UTF-8 text file (byte {exc.start}); save the building file "
+                "as UTF-8"
+            ) from None
         except tomllib.TOMLDecodeError as exc:
             raise ThermocalInputError(f"{path}: not valid TOML: {exc}") from None
     else:

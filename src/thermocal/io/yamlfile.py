@@ -1,7 +1,11 @@
-"""Safe YAML reading for every thermocal file (mapping, identification, campaign files).
+"""Safe YAML reading for every thermocal file (building, model, retrofit configuration,
+mapping, campaign files).
 
 Safe loading only (no Python objects), UTF-8 with a clear message otherwise, duplicate keys
-rejected with their line (PyYAML lets the last one win silently), an empty file rejected.
+rejected with both lines (PyYAML lets the last one win silently), an empty file rejected, and
+limits checked on the node tree before anything walks it: file size, nesting depth and the
+size of the document once aliases are expanded (a "billion laughs" file is refused instead of
+filling the memory).
 """
 
 from __future__ import annotations
@@ -45,6 +49,56 @@ _UniqueKeyLoader.add_constructor(
 )
 
 
+#: Largest YAML file read [bytes].
+MAX_BYTES = 20_000_000
+#: Deepest nesting of mappings and sequences.
+MAX_DEPTH = 100
+#: Most nodes of the document with every alias expanded.
+MAX_NODES = 1_000_000
+
+
+def _check_tree(root: yaml.Node, path: Path, what: str) -> None:
+    """Refuse a node tree that is too deep, recursive or too large once aliases expand."""
+    sizes: dict[int, int] = {}
+    active: set[int] = set()
+
+    def size(node: yaml.Node, depth: int) -> int:
+        key = id(node)
+        if depth > MAX_DEPTH:
+            raise ThermocalInputError(
+                f"{path}: the {what} is nested more than {MAX_DEPTH} levels deep (line "
+                f"{node.start_mark.line + 1}); flatten it"
+            )
+        if key in sizes:
+            return sizes[key]
+        if key in active:
+            raise ThermocalInputError(
+                f"{path}: the {what} has an alias that contains itself (line "
+                f"{node.start_mark.line + 1}); remove the anchor/alias"
+            )
+        total = 1
+        if isinstance(node, (yaml.MappingNode, yaml.SequenceNode)):
+            active.add(key)
+            children = (
+                [n for pair in node.value for n in pair]
+                if isinstance(node, yaml.MappingNode)
+                else node.value
+            )
+            for child in children:
+                total += size(child, depth + 1)
+                if total > MAX_NODES:
+                    raise ThermocalInputError(
+                        f"{path}: the {what} expands to more than {MAX_NODES:,} values through "
+                        f"its aliases (&anchor / *alias, line {node.start_mark.line + 1}); "
+                        "write the values out or use fewer aliases"
+                    )
+            active.discard(key)
+        sizes[key] = total
+        return total
+
+    size(root, 0)
+
+
 def read_yaml(path: str | Path, *, what: str = "file") -> Any:
     """Parse a YAML file safely.
 
@@ -62,24 +116,55 @@ def read_yaml(path: str | Path, *, what: str = "file") -> Any:
     Raises
     ------
     ThermocalInputError
-        Missing file, a folder, not UTF-8, not valid YAML (with line and column), duplicate
-        keys, or empty.
+        Missing file, a folder, too large, not UTF-8, not valid YAML (with line and column),
+        duplicate keys, nested too deeply, too large once aliases expand, or empty.
     """
+    return read_yaml_text(path, what=what)[0]
+
+
+def read_yaml_text(path: str | Path, *, what: str = "file") -> tuple[Any, str]:
+    """:func:`read_yaml` that also returns the file's text (for line numbers in messages)."""
     path = Path(path)
     if not path.exists():
         raise ThermocalInputError(f"{what} {path} does not exist")
     if not path.is_file():
         raise ThermocalInputError(f"{what} {path} is a folder, not a file")
     try:
-        text = path.read_text(encoding="utf-8")
+        n_bytes = path.stat().st_size
+        if n_bytes > MAX_BYTES:
+            raise ThermocalInputError(
+                f"{path}: the {what} has {n_bytes / 1e6:.0f} MB, more than the "
+                f"{MAX_BYTES / 1e6:.0f} MB a YAML {what} may have; is it the right file?"
+            )
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise ThermocalInputError(f"{what} {path} cannot be read: {exc.strerror}") from None
+    if b"\x00" in raw[:8192]:
+        raise ThermocalInputError(
+            f"{path}: a binary file, not YAML text; give the {what} (a UTF-8 text file)"
+        )
+    try:
+        text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise ThermocalInputError(
             f"{path}: not a UTF-8 text file (byte {exc.start}); save the {what} as UTF-8 YAML"
         ) from None
     try:
-        data = yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader subclass
+        loader = _UniqueKeyLoader(text)
+        try:
+            root = loader.get_single_node()
+            if root is None:
+                data = None
+            else:
+                _check_tree(root, path, what)
+                data = loader.construct_document(root)
+        finally:
+            loader.dispose()
     except RecursionError:
-        raise ThermocalInputError(f"{path}: the YAML is nested too deeply") from None
+        raise ThermocalInputError(
+            f"{path}: the YAML of the {what} is nested too deeply (more than a few hundred "
+            "levels); flatten it"
+        ) from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
@@ -87,4 +172,4 @@ def read_yaml(path: str | Path, *, what: str = "file") -> Any:
         raise ThermocalInputError(f"{path}: not valid YAML{where}: {problem}") from None
     if data is None:
         raise ThermocalInputError(f"{path}: the {what} is empty")
-    return data
+    return data, text

@@ -56,6 +56,8 @@ def load_building(path: str | Path) -> Building:
         message names the file and the object.
     """
     path = Path(path)
+    if path.is_dir():
+        raise ThermocalInputError(f"building file {path} is a folder, not a file")
     if not path.is_file():
         raise ThermocalInputError(f"building file {path} does not exist (check the path)")
     suffix = path.suffix.lower()
@@ -68,12 +70,9 @@ def load_building(path: str | Path) -> Building:
             f"building file {path}: unknown extension {path.suffix!r}; use .yaml/.yml "
             "(thermocal format, docs/multizone-file.md) or .idf (EnergyPlus)"
         )
-    import yaml
+    from thermocal.io.yamlfile import read_yaml
 
-    try:
-        data = yaml.safe_load(path.read_text())
-    except yaml.YAMLError as exc:
-        raise ThermocalInputError(f"building file {path}: not valid YAML ({exc})") from None
+    data = read_yaml(path, what="building file")
     try:
         return building_from_dict(data)
     except ThermocalInputError as exc:

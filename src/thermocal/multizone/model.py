@@ -50,6 +50,52 @@ def _positive(value: float, what: str, *, allow_zero: bool = False) -> float:
     return number
 
 
+#: Physically plausible ranges of layer properties: (lower, upper, unit, likely unit slips as
+#: (factor, wrong unit)): a value outside is refused, with the value probably meant.
+PLAUSIBLE = {
+    "conductivity": (1e-3, 1000.0, "W/(m K)", ((1e-3, "mW/(m K)"),)),
+    "density": (5.0, 25000.0, "kg/m3", ((1000.0, "g/cm3 or t/m3"),)),
+    "specific_heat": (100.0, 10000.0, "J/(kg K)", ((1000.0, "kJ/(kg K)"),)),
+    "thickness": (1e-5, 5.0, "m", ((1e-3, "mm"), (1e-2, "cm"))),
+}
+
+
+def _plausible(value: float, quantity: str, what: str) -> float:
+    """``value`` when inside :data:`PLAUSIBLE` for ``quantity``; otherwise a clear error."""
+    lower, upper, unit, slips = PLAUSIBLE[quantity]
+    if lower <= value <= upper:
+        return value
+    hint = ""
+    for factor, wrong in slips:
+        if lower <= value * factor <= upper:
+            hint = f"; given in {wrong}? then write {value * factor:g}"
+            break
+    raise ThermocalInputError(
+        f"{what}: {quantity} {value:g} {unit} is outside the physically plausible range "
+        f"{lower:g} to {upper:g} {unit}{hint}"
+    )
+
+
+def _setpoint(value, what: str) -> float | None:
+    """A set point in C; Kelvin values (200-400) and absurd ones refused."""
+    if value is None:
+        return None
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ThermocalInputError(f"{what} must be a number in C, got {value!r}") from None
+    if not math.isfinite(number):
+        raise ThermocalInputError(f"{what} must be finite, got {value!r}")
+    if 200 <= number <= 400:
+        raise ThermocalInputError(
+            f"{what} {number:g} looks like Kelvin; set points are in C: did you mean "
+            f"{number - 273.15:.2f}?"
+        )
+    if not -100 <= number <= 200:
+        raise ThermocalInputError(f"{what} {number:g} C is not a plausible temperature")
+    return number
+
+
 def _fraction(value: float, what: str) -> float:
     number = _positive(value, what, allow_zero=True)
     if number > 1:
@@ -120,10 +166,20 @@ class Material:
     def __post_init__(self) -> None:
         what = f"material '{self.name}'"
         self.roughness = _roughness(self.roughness, what)
-        self.conductivity = _positive(self.conductivity, f"{what}: conductivity [W/(m K)]")
-        self.density = _positive(self.density, f"{what}: density [kg/m3]")
-        self.specific_heat = _positive(self.specific_heat, f"{what}: specific_heat [J/(kg K)]")
-        self.thickness = _positive(self.thickness, f"{what}: thickness [m]")
+        self.conductivity = _plausible(
+            _positive(self.conductivity, f"{what}: conductivity [W/(m K)]"), "conductivity", what
+        )
+        self.density = _plausible(
+            _positive(self.density, f"{what}: density [kg/m3]"), "density", what
+        )
+        self.specific_heat = _plausible(
+            _positive(self.specific_heat, f"{what}: specific_heat [J/(kg K)]"),
+            "specific_heat",
+            what,
+        )
+        self.thickness = _plausible(
+            _positive(self.thickness, f"{what}: thickness [m]"), "thickness", what
+        )
         self.thermal_absorptance = _fraction(
             self.thermal_absorptance, f"{what}: thermal_absorptance"
         )
@@ -528,6 +584,8 @@ class Zone:
         self.air_capacity_factor = _positive(
             self.air_capacity_factor, f"{what}: air_capacity_factor"
         )
+        self.heating_setpoint = _setpoint(self.heating_setpoint, f"{what}: heating_setpoint")
+        self.cooling_setpoint = _setpoint(self.cooling_setpoint, f"{what}: cooling_setpoint")
         if (
             self.heating_setpoint is not None
             and self.cooling_setpoint is not None

@@ -18,7 +18,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Literal
 
-import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from thermocal.errors import ThermocalInputError
@@ -52,6 +51,10 @@ FLOW_UNITS: dict[str, float] = {
     "l/min": 1e-3 / 60.0,
     "l/h": 1e-3 / 3600.0,
 }
+
+
+#: Most parameter draws for the intervals (a 90 % interval settles within a few thousand).
+MAX_DRAWS = 100_000
 
 
 class _Strict(BaseModel):
@@ -99,8 +102,9 @@ class PeriodsConfig(_Strict):
     """Training and test periods: explicit dates, or lengths from the first measurement."""
 
     training_start: str | None = None
-    training_days: float = Field(21.0, gt=0)
-    test_days: float = Field(21.0, ge=0)
+    # at most ten years: beyond, the period is certainly a unit slip (hours or seconds)
+    training_days: float = Field(21.0, gt=0, le=3660)
+    test_days: float = Field(21.0, ge=0, le=3660)
 
 
 class ModelConfig(_Strict):
@@ -153,7 +157,7 @@ class ModelConfig(_Strict):
 class UncertaintyConfig(_Strict):
     """Propagation of the parameter uncertainty into demands and savings."""
 
-    draws: int = Field(200, ge=0)
+    draws: int = Field(200, ge=0, le=MAX_DRAWS)
     interval: float = Field(0.90, gt=0, lt=1)
     u_value_rel_std: float = Field(
         0.0,
@@ -402,11 +406,10 @@ def load_config(path: Path | str) -> RetrofitConfig:
     ThermocalInputError
         When the file is missing, not YAML, or fails validation (the message lists the keys).
     """
+    from thermocal.io.yamlfile import read_yaml
+
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise ThermocalInputError(f"configuration file {path} not found")
-    try:
-        data = yaml.safe_load(path.read_text())
-    except yaml.YAMLError as exc:
-        raise ThermocalInputError(f"configuration file {path} is not valid YAML: {exc}") from None
+    data = read_yaml(path, what="configuration file")
     return parse_config(data, base_dir=path.parent, source=str(path))

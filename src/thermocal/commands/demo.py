@@ -44,9 +44,8 @@ def demo(
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import output_folder
     from thermocal.retrofit import load_config, run_retrofit, write_outputs
-    from thermocal.retrofit.demo_data import prepare_demo
-
     from thermocal.retrofit.config import MAX_DRAWS
+    from thermocal.retrofit.demo_data import prepare_demo
 
     if draws > MAX_DRAWS:
         raise ThermocalInputError(

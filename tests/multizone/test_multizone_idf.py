@@ -582,3 +582,59 @@ def test_five_zone_exterior_roughness_from_the_outer_material(five_zone):
     assert factor["WF-1"] == 1.0
     with pytest.raises(ThermocalInputError, match="material 'stucco': roughness 'Bumpy'"):
         Material("stucco", 0.7, 1800.0, 900.0, 0.02, roughness="Bumpy")
+
+
+# ------------------------------------------------------------------------------------------------
+# geometry and property checks (issue 13): each of these was accepted silently before
+# ------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("replace", "match"),
+    [
+        (  # the south wall's vertices reversed: it would face north, silently
+            ("0.5,4,0,0,2.5,0,0,0,4,0,0,4,0,2.5;", "0.5,4,4,0,2.5,4,0,0,0,0,0,0,0,2.5;"),
+            r"BuildingSurface:Detailed 'South' \(box.idf line \d+\): its vertices run the wrong "
+            r"way.*points into zone 'Z1'.*reverse the vertex order",
+        ),
+        (  # one vertex of the north wall 3 m out of its plane: area and tilt changed silently
+            ("0.5,4,4,3,2.5,4,3,0,0,3,0,0,3,2.5;", "0.5,4,4,3,2.5,4,6,0,0,3,0,0,3,2.5;"),
+            r"BuildingSurface:Detailed 'North' .*vertex 2 lies 3\.00 m off the plane",
+        ),
+        (
+            ("Material,M1,Rough,0.2,1.0,", "Material,M1,Rough,0.2,1e30,"),
+            r"material 'M1'.*conductivity 1e\+30 W/\(m K\) is outside the physically plausible",
+        ),
+        (
+            ("Material,M1,Rough,0.2,", "Material,M1,Rough,1e-9,"),
+            r"material 'M1'.*thickness 1e-09 m is outside",
+        ),
+        (
+            ("Material,M1,Rough,0.2,", "Material,M1,Rough,200,"),
+            r"material 'M1'.*thickness 200 m .*given in mm\? then write 0\.2",
+        ),
+        (
+            ("Material,M1,Rough,0.2,1.0,2000,1000,", "Material,M1,Rough,0.2,1.0,2,1000,"),
+            r"material 'M1'.*density 2 kg/m3 .*g/cm3 or t/m3\? then write 2000",
+        ),
+        (
+            ("Material,M1,Rough,0.2,1.0,2000,1000,", "Material,M1,Rough,0.2,1.0,2000,1,"),
+            r"material 'M1'.*specific_heat 1 J/\(kg K\) .*kJ/\(kg K\)\? then write 1000",
+        ),
+    ],
+)
+def test_geometry_and_properties_are_checked(tmp_path, replace, match):
+    path = _box(tmp_path)
+    text = path.read_text()
+    assert replace[0] in text
+    path.write_text(text.replace(replace[0], replace[1], 1))
+    with pytest.raises(ThermocalInputError, match=match):
+        read_idf(path)
+
+
+def test_open_zone_is_not_mistaken_for_a_reversed_surface(tmp_path):
+    """A zone with a surface missing does not close: no surface is blamed for it."""
+    path = _box(tmp_path)
+    lines = path.read_text().splitlines()
+    text = "\n".join(line for line in lines if not line.startswith("BuildingSurface:Detailed,Roof"))
+    path.write_text(text)
+    building, _ = _read(path)
+    assert "Roof" not in building.surfaces

@@ -859,6 +859,36 @@ def to_world_coordinates(
     return _rotate_z(building, building_north_axis)
 
 
+def _check_planar(world: np.ndarray, normal: np.ndarray, obj) -> None:
+    """Refuse a polygon with a vertex off its plane by more than 5 cm + 1 % of its size.
+
+    The culprit named is the vertex whose removal leaves the others flattest; its distance is
+    measured from the plane of the others.
+    """
+    unit = normal / np.linalg.norm(normal)
+    distance = (world - world.mean(axis=0)) @ unit
+    size = float(np.ptp(world, axis=0).max())
+    tolerance = 0.05 + 0.01 * size
+    if np.abs(distance).max() <= tolerance or len(world) < 4:
+        return
+    best, best_spread, best_distance = 0, np.inf, 0.0
+    for i in range(len(world)):
+        others = np.delete(world, i, axis=0)
+        n = newell_normal(others)
+        if np.linalg.norm(n) == 0:
+            continue
+        n = n / np.linalg.norm(n)
+        centre = others.mean(axis=0)
+        spread = float(np.abs((others - centre) @ n).max())
+        if spread < best_spread:
+            best, best_spread, best_distance = i, spread, float(abs((world[i] - centre) @ n))
+    raise ThermocalInputError(
+        f"{obj.where()}: vertex {best + 1} lies {best_distance:.2f} m off the plane of the "
+        "other vertices; a surface must be flat (check that vertex's coordinates, or split "
+        "the surface)"
+    )
+
+
 def outward_normal(vertices_world: np.ndarray, rules: GeometryRules) -> np.ndarray:
     """Outward (away from the zone) normal with length 2 x area, honouring the vertex order."""
     n = newell_normal(vertices_world)
@@ -1944,6 +1974,7 @@ class _IdfReader:
                 raise ThermocalInputError(
                     f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
                 )
+            _check_planar(world, normal, obj)
             tilt, azimuth = tilt_azimuth(normal)
             self.surface_data[name.upper()] = {
                 "name": name,
@@ -1961,6 +1992,38 @@ class _IdfReader:
             }
             self.info.surface_vertices[name] = world
             self.info.surface_types[name] = surface_type.title()
+        self._check_closed_zones()
+
+    def _check_closed_zones(self) -> None:
+        """A surface whose vertices run the wrong way in an otherwise closed zone is refused.
+
+        The area vectors (outward normal x area) of a closed zone sum to zero; when one surface
+        is reversed they sum to twice its area vector instead. Zones that are not closed
+        (surfaces missing) are left alone: no surface explains their sum.
+        """
+        by_zone: dict[str, list[dict]] = {}
+        for data in self.surface_data.values():
+            by_zone.setdefault(data["zone"], []).append(data)
+        for zone, surfaces in by_zone.items():
+            if len(surfaces) < 4:
+                continue
+            vectors = np.array([d["normal"] for d in surfaces])  # |Newell normal| = 2 area
+            total = vectors.sum(axis=0)
+            scale = float(np.linalg.norm(vectors, axis=1).sum())
+            if np.linalg.norm(total) <= 1e-3 * scale:
+                continue
+            misfit = np.linalg.norm(vectors - total / 2.0, axis=1)
+            best = int(np.argmin(misfit))
+            if misfit[best] <= 0.01 * np.linalg.norm(vectors[best]):
+                data = surfaces[best]
+                raise ThermocalInputError(
+                    f"{data['obj'].where()}: its vertices run the wrong way: the outward "
+                    f"normal (tilt {data['tilt']:.0f} deg, azimuth {data['azimuth']:.0f} deg) "
+                    f"points into zone '{zone}' (the zone's other surfaces close around it "
+                    "only when it is reversed); reverse the vertex order (the file's "
+                    f"GlobalGeometryRules: {self.rules.vertex_entry_direction.lower()} seen "
+                    "from outside)."
+                )
 
     def _subsurfaces(self) -> None:
         """Stage: sub-surfaces."""

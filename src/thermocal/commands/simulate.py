@@ -52,7 +52,7 @@ def simulate(
 
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import check_output_folder, output_folder
-    from thermocal.io.weather import read_weather
+    from thermocal.io.weather import fill_short_gaps, read_weather
     from thermocal.multizone.files import load_building
     from thermocal.multizone.simulation import Simulation
 
@@ -70,6 +70,22 @@ def simulate(
         warnings.simplefilter("always")
         model = load_building(building)
         frame, metadata = read_weather(weather)
+        frame, filled = fill_short_gaps(frame)
+        for note in filled:
+            warnings.warn(f"weather file {weather}: {note}", stacklevel=1)
+        for column, what in (
+            ("ghi_infrared", "the sky temperature falls back to the dew-point model"),
+            ("temp_dew", "the sky temperature falls back to air - 11 K"),
+        ):
+            if column in frame and frame[column].isna().any():
+                n = int(frame[column].isna().sum())
+                first = frame.index[int(frame[column].isna().to_numpy().argmax())]
+                warnings.warn(
+                    f"weather file {weather}: {column!r} is missing in {n} row(s) in gaps "
+                    f"longer than 3 rows (first at {first}); where the simulated period "
+                    f"includes them, {what} for the whole run",
+                    stacklevel=1,
+                )
         sim = Simulation(
             model,
             frame,

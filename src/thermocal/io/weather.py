@@ -302,6 +302,13 @@ def read_epw(
             continue
         _require_numeric(raw, source, path, first_line=n_header + 1, what="EPW field")
         values = raw[source].to_numpy(dtype=float)
+        if column in ("temp_air", "temp_dew") and 200 < np.median(values) < 400:
+            row = int(np.argmax(values > 200))
+            raise ThermocalInputError(
+                f"weather file {path}, EPW field {column!r}: values around "
+                f"{np.median(values):.1f} (line {row + n_header + 1}: {values[row]:g}) look like "
+                "Kelvin; EPW temperatures are in C: subtract 273.15"
+            )
         values = np.where(values >= _EPW_MISSING[column], np.nan, values)
         if np.all(np.isnan(values)):
             continue  # absent from the file: absent from the frame
@@ -699,6 +706,58 @@ def _read_epw_header(path: Path) -> dict:
     }
 
 
+#: Continuous weather fields whose isolated missing values :func:`fill_short_gaps` fills.
+INTERPOLATED_COLUMNS = ("temp_air", "temp_dew", "relative_humidity", "pressure",
+                        "ghi_infrared", "wind_speed")  # fmt: skip
+
+
+def fill_short_gaps(
+    weather: pd.DataFrame, *, max_gap: int = 3, columns=INTERPOLATED_COLUMNS
+) -> tuple[pd.DataFrame, list[str]]:
+    """Interpolate runs of at most ``max_gap`` missing values of continuous fields.
+
+    One missing infrared value must not switch a whole simulation to another sky model, nor
+    one missing temperature stop it; longer gaps stay missing for the consumer to decide.
+
+    Parameters
+    ----------
+    weather : DataFrame
+        Standard weather frame (see :func:`read_weather`).
+    max_gap : int
+        Longest run of missing values filled [rows].
+    columns : iterable of str
+        Columns considered (default :data:`INTERPOLATED_COLUMNS`).
+
+    Returns
+    -------
+    weather : DataFrame
+        A copy with the short gaps filled linearly.
+    notes : list of str
+        One line per column filled (count and first time stamp), to be said aloud.
+    """
+    out = weather.copy()
+    notes: list[str] = []
+    for column in columns:
+        if column not in out:
+            continue
+        missing = out[column].isna().to_numpy()
+        if not missing.any() or missing.all():
+            continue
+        runs = np.cumsum(np.r_[True, missing[1:] != missing[:-1]])
+        run_length = pd.Series(missing).groupby(runs).transform("sum").to_numpy()
+        short = missing & (run_length <= max_gap)
+        if not short.any():
+            continue
+        filled = out[column].interpolate(limit_direction="both").to_numpy()
+        out[column] = np.where(short, filled, out[column].to_numpy())
+        first = out.index[int(np.flatnonzero(short)[0])]
+        notes.append(
+            f"{int(short.sum())} missing value(s) of {column!r} in gaps of at most {max_gap} "
+            f"rows interpolated (first at {first})"
+        )
+    return out, notes
+
+
 def _epw_buffer(path: Path) -> io.StringIO:
     """The EPW text, data lines padded to the 35 fields pvlib expects.
 
@@ -711,8 +770,16 @@ def _epw_buffer(path: Path) -> io.StringIO:
         raise ThermocalInputError(f"weather file {path} cannot be opened: {exc}") from exc
     lines = text.splitlines()
     n_fields = _EPW_FIELDS
+    counts = [line.count(",") + 1 for line in lines[8:] if line.strip()]
+    usual = max(set(counts), key=counts.count) if counts else n_fields
     for i in range(8, len(lines)):
         count = lines[i].count(",") + 1
+        if count < usual and lines[i].strip():
+            raise ThermocalInputError(
+                f"weather file {path}, line {i + 1}: only {count} comma-separated fields where "
+                f"the other data lines have {usual} (a line cut short: a truncated or corrupt "
+                "file); restore the line or download the file again"
+            )
         if count < n_fields and lines[i].strip():
             lines[i] = lines[i] + "," * (n_fields - count)
     return io.StringIO("\n".join(lines) + "\n")

@@ -471,6 +471,63 @@ def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed
     return {n: allp[:, i] for i, n in enumerate(names)}
 
 
+#: Heating power over H_T x (Ti - Te) outside this range is a unit slip, not a building.
+HEAT_BALANCE_RANGE = (1 / 20, 20.0)
+
+
+def check_heating_power_magnitude(
+    data: pd.DataFrame,
+    transmission_coefficient: float,
+    source: str = "measurements",
+    *,
+    flow_unit: str = "m3/s",
+    flow_column: str = "flow",
+) -> float:
+    """Compare the mean heating power with the building file's losses; refuse a unit slip.
+
+    In steady state the heating power, solar and internal gains balance the losses, so the
+    mean heating power lies near ``H x mean(Ti - Te)``: between a fraction of it (sunny
+    periods, ventilation not in H_T) and a few times it. A flow logged in m3/h while the
+    configuration says l/h (factor 1000) or in l/min for l/h (60) falls far outside.
+
+    Parameters
+    ----------
+    data : DataFrame
+        Training data with ``phi_h`` [W], ``Te`` [C] and the measured indoor temperature.
+    transmission_coefficient : float [W/K]
+        H_T of the building file.
+
+    Returns
+    -------
+    float
+        The ratio mean(phi_h) / (H_T x mean(Ti - Te)) (NaN when the difference is under 3 K).
+
+    Raises
+    ------
+    ThermocalInputError
+        When the ratio lies outside :data:`HEAT_BALANCE_RANGE`.
+    """
+    delta = float((data[OUTPUT_COLUMN] - data["Te"]).mean())
+    if not np.isfinite(delta) or delta < 3.0 or transmission_coefficient <= 0:
+        return float("nan")
+    expected = transmission_coefficient * delta
+    mean_power = float(data["phi_h"].mean())
+    ratio = mean_power / expected
+    low, high = HEAT_BALANCE_RANGE
+    if not low <= ratio <= high:
+        direction = "small" if ratio < low else "large"
+        raise ThermocalInputError(
+            f"{source}: the measured heating power averages {mean_power:,.0f} W over the "
+            f"training period, {ratio:.3g} times the building file's transmission losses "
+            f"H_T x (Ti - Te) = {transmission_coefficient:.0f} W/K x {delta:.1f} K = "
+            f"{expected:,.0f} W: far too {direction} for a heated building. Check "
+            f"measurements.flow_unit (now {flow_unit}; m3/h and l/h differ by 1000, l/min and "
+            f"l/h by 60) and the flow column {flow_column!r}, then the building's areas and "
+            "U-values"
+        )
+    return ratio
+
+
 def check_training_data(data: pd.DataFrame, source: str = "measurements") -> None:
     """Raise a clear error when the training data cannot be used."""
     for col in BOUNDARY_COLUMNS + HEAT_COLUMNS + (OUTPUT_COLUMN,):

@@ -25,6 +25,7 @@ from thermocal.retrofit.calibration import (
     OUTPUT_COLUMN,
     Calibration,
     calibrate,
+    check_heating_power_magnitude,
     check_training_data,
     draw_parameters,
 )
@@ -265,6 +266,13 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     t1 = time.perf_counter()
     train = inputs.loc[inputs.index < training[1]]
     check_training_data(train, source)
+    check_heating_power_magnitude(
+        train,
+        building.transmission_heat_transfer_coefficient,
+        source,
+        flow_unit=cfg.measurements.flow_unit,
+        flow_column=cfg.measurements.columns.get("flow", "flow"),
+    )
     cal = calibrate(
         model,
         train,

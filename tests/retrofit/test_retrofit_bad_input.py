@@ -63,3 +63,17 @@ def test_retrofit_with_flow_in_m3_per_hour_declared_as_l_per_hour(tmp_path):
     config.write_text(yaml.safe_dump(cfg))
     with pytest.raises(ThermocalInputError, match=r"far too small.*flow_unit \(now l/h"):
         run_retrofit(load_config(config))
+
+
+def test_missing_irradiance_is_not_zero_sun(tmp_path):
+    """Two days of missing DNI in the training period: refused, not read as two dark days."""
+    config = make_dataset(tmp_path, days=22.0)
+    cfg = yaml.safe_load(config.read_text())
+    measurements = tmp_path / cfg["measurements"]["file"]
+    frame = pd.read_csv(measurements)
+    column = cfg["measurements"]["columns"]["dni"]
+    frame.loc[100:147, column] = np.nan
+    frame.to_csv(measurements, index=False)
+    with pytest.raises(ThermocalInputError, match=r"'phi_sol' has \d+ missing values in the "
+                       r"training period \(from missing irradiance dni/dhi"):  # fmt: skip
+        run_retrofit(load_config(config))

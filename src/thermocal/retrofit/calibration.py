@@ -535,9 +535,16 @@ def check_training_data(data: pd.DataFrame, source: str = "measurements") -> Non
             raise ThermocalInputError(f"{source}: training data lacks column {col!r}")
         frac = float(data[col].isna().mean())
         if col != OUTPUT_COLUMN and frac > 0:
+            origin = (
+                " (from missing irradiance dni/dhi: missing sun is not zero sun)"
+                if col.startswith("phi_") and col != "phi_h"
+                else ""
+            )
+            first = data.index[int(np.argmax(data[col].isna().to_numpy()))]
             raise ThermocalInputError(
                 f"{source}: input {col!r} has {int(data[col].isna().sum())} missing values in the "
-                "training period; inputs must be complete (fill or shorten the period)"
+                f"training period{origin}, the first at {first}; inputs must be complete (fill "
+                "or shorten the period)"
             )
     n_ti = int(data[OUTPUT_COLUMN].notna().sum())
     if n_ti < 24:

@@ -169,8 +169,10 @@ def model_inputs(
     out["Tgr"] = ground_temperature(frame.index, depth, **ground_params).to_numpy()
     if solar:
         sol = solar_inputs(frame, building)
+        # missing irradiance is missing sun, never zero sun: the checks downstream name it
+        dark = frame[["dni", "dhi"]].isna().any(axis=1).to_numpy()
         for c in sol:
-            out[c] = sol[c].to_numpy()
+            out[c] = np.where(dark, np.nan, sol[c].to_numpy())
     else:
         for c in ("phi_sol", "phi_abs_roof", "phi_abs_walls"):
             out[c] = 0.0
@@ -322,6 +324,16 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         solar=cfg.model.solar_gains,
         depth=cfg.model.ground_depth,
     )
+    weather_columns = [c for c in BOUNDARY_COLUMNS + HEAT_COLUMNS if c in year]
+    gaps = year[weather_columns].isna().any(axis=1)
+    if gaps.any():
+        columns = [c for c in weather_columns if year[c].isna().any()]
+        raise ThermocalInputError(
+            f"weather file {cfg.weather.file}: {int(gaps.sum())} of {len(year)} steps of the "
+            f"demand year lack {', '.join(columns)} (from missing temperature or irradiance, "
+            f"first at {year.index[int(np.argmax(gaps.to_numpy()))]}); the annual demand needs "
+            "a complete weather year: use a complete file (e.g. a TMY) or fill the gaps"
+        )
     strategies = cfg.strategy_list()
     draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
     envelopes = scenario_envelopes(

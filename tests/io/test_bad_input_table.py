@@ -154,6 +154,15 @@ def files(tmp_path_factory) -> dict[str, Path]:
     kelvin.to_csv(f["kelvin"], index=False)
     f["bad_parquet"] = d / "bad.parquet"
     f["bad_parquet"].write_bytes(b"PAR1 not really")
+    local = pd.DataFrame(_data(n=72).drop(columns="time"))
+    spring = pd.date_range("2024-03-30 12:00", periods=72, freq="h", tz="Europe/Zurich")
+    local["time"] = spring.tz_localize(None).astype(str)  # naive local: 02:00 is skipped
+    f["spring"] = d / "spring.csv"
+    local.to_csv(f["spring"], index=False)
+    autumn = pd.date_range("2024-10-26 12:00", periods=72, freq="h", tz="Europe/Zurich")
+    local["time"] = autumn.tz_localize(None).astype(str)  # naive local: 02:00 twice
+    f["autumn"] = d / "autumn.csv"
+    local.to_csv(f["autumn"], index=False)
     f["bad_time"] = d / "bad_time.csv"
     bad_time = data.copy()
     bad_time.loc[40, "time"] = "2024-01-02 16:00 next"
@@ -250,6 +259,8 @@ CASES = [
     ("fit-unsorted-times", ["fit", F("model"), F("unsorted")], 2, [r"unsorted\.csv", r"row"]),
     ("fit-duplicate-times", ["fit", F("model"), F("duptime")], 2, [r"duptime\.csv", r"row"]),
     ("fit-mixed-naive-aware", ["fit", F("model"), F("mixed_tz")], 2, [r"mixed_tz\.csv", r"row \d+", r"time zone|offset"]),
+    ("fit-spring-clock-change", ["fit", F("model"), F("spring")], 2, [r"spring\.csv", r"row 14", r"spring clock change", r"UTC offset"]),
+    ("fit-autumn-clock-change", ["fit", F("model"), F("autumn")], 2, [r"autumn\.csv", r"row 15", r"autumn clock change", r"UTC offset"]),
     ("fit-bad-time-value-row", ["fit", F("model"), F("bad_time")], 2, [r"bad_time\.csv", r"next"]),
     ("fit-text-in-numbers", ["fit", F("model"), F("text_value")], 2, [r"text_value\.csv", r"Te", r"n\.a\."]),
     ("fit-missing-model-column", ["fit", F("model"), F("no_Te")], 2, [r"Te"]),

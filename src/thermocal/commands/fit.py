@@ -220,6 +220,17 @@ def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
                 ) from None
         raise
     step = float(np.median(np.diff(seconds))) if seconds.size > 1 else 0.0
+    if naive and step > 0:
+        jumps = np.flatnonzero(np.isclose(np.diff(seconds), step + 3600.0))
+        for row in jumps + 1:
+            stamp = index[row]
+            if stamp.month in (3, 4) and stamp.dayofweek == 6 and 1 <= stamp.hour <= 4:
+                raise ThermocalInputError(
+                    f"data file {path}: time column '{time_column}' jumps by one hour more "
+                    f"than its step at row {row} ({index[row - 1]} then {stamp}): naive local "
+                    "times skip an hour at the spring clock change, which would read as a gap; "
+                    "give the times in UTC or with their UTC offset (e.g. +01:00 / +02:00)"
+                )
     if 0 < step < 1 or step > 86400:
         unit_hint = {"s": "h", "min": "h", "h": "s", "d": "h"}[time_unit]
         shown = f"{step:.3g} s" if step < 60 else f"{step / 3600:.3g} h"

@@ -116,7 +116,7 @@ class SamplingSection(_Strict):
 class MetamodelSection(_Strict):
     """Meta-model kind and critical-parameter count."""
 
-    kind: Literal["svr", "gp", "auto"] = "auto"
+    kind: Literal["svr", "gp", "series", "auto"] = "auto"
     top_k: int = Field(10, ge=1)
     cv_folds: int = Field(5, ge=2)
     log_target: bool = False
@@ -131,10 +131,11 @@ class MorrisSection(_Strict):
 
 
 class OptimisationSection(_Strict):
-    """Starts and seed of the reduced-model optimisation."""
+    """Starts and seed of the reduced-model optimisation; trust-region refinement steps."""
 
     starts: int = Field(8, ge=1)
     seed: int = 1
+    refine: int = Field(8, ge=0)
 
 
 class CampaignFile(_Strict):

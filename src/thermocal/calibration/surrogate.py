@@ -375,6 +375,101 @@ class GPSurrogate(_Surrogate):
         return mu, sd
 
 
+class SeriesSurrogate(_Surrogate):
+    """Linear model of the unoccupied heat series; the metric is the variance of its prediction.
+
+    The identified heat of each unoccupied hour, ``q(t)``, is close to affine in the
+    logarithms of the envelope parameters (conductances, capacities and air change rates enter
+    the heat balance as products), so one ridge regression per hour,
+    ``q(t) = q0(t) + J(t) log(p / p_nominal)``, fitted jointly on all samples (every sample
+    gives a whole series, not one number), predicts the whole series of a new parameter set;
+    the metric follows as its variance plus the mean within-hour part of the campaign's
+    metrics. This uses the structure of the metric (the variance of a nearly linear function:
+    a quadratic valley) that a generic regression of the scalar metric has to discover, and
+    predicts far better from few samples (cross-validated R2 0.59 against about -0.1 for the
+    SVR and the GP with 64 samples of 70 parameters on the clinic demo). Beyond the paper.
+
+    Parameters
+    ----------
+    series : ndarray (n_samples, n_hours) [W]
+        Hourly means of the building-wide heat over the unoccupied steps of each sample, in
+        the order of the rows given to :meth:`fit`.
+    nominal : mapping of parameter -> value [unit of each parameter]
+        Nominal values (the reference of the logarithms).
+    alphas : sequence of float, optional
+        Ridge penalties tried (efficient leave-one-out; default 1e-4 ... 1e3).
+    cv_folds : int
+    seed : int
+    """
+
+    kind = "series"
+    log_target = False
+
+    def __init__(self, *, series: Any, nominal: Any, alphas: Any = None, cv_folds: int = 5,
+                 seed: int = 0) -> None:
+        self.series = np.asarray(series, dtype=float)
+        self.nominal = dict(nominal)
+        self.alphas = alphas
+        self.cv_folds = cv_folds
+        self.seed = seed
+
+    def _log_parameters(self, Xa: np.ndarray) -> np.ndarray:
+        reference = np.array([self.nominal[n] for n in self.feature_names_in_], dtype=float)
+        if np.any(Xa <= 0) or np.any(reference <= 0):
+            raise ThermocalInputError(
+                "series meta-model: parameters must be positive (their logarithms are used)"
+            )
+        return np.log(Xa / reference)
+
+    def _ridge(self) -> Any:
+        from sklearn.linear_model import RidgeCV
+
+        alphas = self.alphas if self.alphas is not None else np.logspace(-4, 3, 30)
+        return RidgeCV(alphas=alphas)
+
+    def fit(self, X: Any, y: Any) -> SeriesSurrogate:
+        """Fit the hourly regressions on the samples' parameters ``X`` and metric ``y``."""
+        Xa, ya, names = _check_xy(X, y)
+        if self.series.shape[0] != Xa.shape[0]:
+            raise ThermocalInputError(
+                f"series meta-model: {self.series.shape[0]} series for {Xa.shape[0]} samples"
+            )
+        missing = [n for n in names if n not in self.nominal]
+        if missing:
+            raise ThermocalInputError(f"series meta-model: no nominal value for {missing[:3]}")
+        self.feature_names_in_ = np.array(names, dtype=object)
+        self.n_features_in_ = Xa.shape[1]
+        Z = self._log_parameters(Xa)
+        within = ya - self.series.var(axis=1)
+        self.estimator_ = self._ridge().fit(Z, self.series)
+        self.within_hour_ = float(within.mean())
+        if self.cv_folds and self.cv_folds >= 2:
+            folds = KFold(n_splits=min(int(self.cv_folds), Xa.shape[0]), shuffle=True,
+                          random_state=int(self.seed))
+            oof = np.empty_like(ya)
+            for train, test in folds.split(Z):
+                model = self._ridge().fit(Z[train], self.series[train])
+                oof[test] = model.predict(Z[test]).var(axis=1) + within[train].mean()
+            self.oof_prediction_ = oof
+            scores = regression_scores(ya, oof)
+            self.cv_r2_, self.cv_rmse_ = scores["r2"], scores["rmse"]
+        else:
+            self.oof_prediction_ = None
+            self.cv_r2_ = self.cv_rmse_ = float("nan")
+        return self
+
+    def predict(self, X: Any, return_std: bool = False) -> np.ndarray:
+        """Predicted metric [unit of the metric] (no predictive std: ``return_std`` raises)."""
+        if return_std:
+            raise ThermocalInputError("the series meta-model gives no predictive std")
+        Z = self._log_parameters(self._as_array(X))
+        return self.estimator_.predict(Z).var(axis=1) + self.within_hour_
+
+    def hyperparameters_(self) -> dict[str, Any]:
+        return {"alpha": float(self.estimator_.alpha_), "within_hour_W2": self.within_hour_,
+                "hours": int(self.series.shape[1])}
+
+
 def make_surrogate(kind: Literal["svr", "gp"] = "svr", **options: Any) -> _Surrogate:
     """An unfitted meta-model by name.
 

@@ -49,6 +49,10 @@ class IdentificationProblem:
     options : NetworkOptions, optional
     zone_outputs : bool
         Also return each zone's unoccupied variance (``zone_variance/<zone>`` [W^2]).
+    series_outputs : bool
+        Also return the hourly means of the building-wide Q_ID over the unoccupied steps
+        (``series/<hour>`` [W], hours numbered in time order), for the series meta-model of
+        :mod:`thermocal.calibration.surrogate`.
     """
 
     building: object
@@ -66,6 +70,7 @@ class IdentificationProblem:
     warmup_days: int = 7
     options: object = None
     zone_outputs: bool = False
+    series_outputs: bool = False
     _sim: object = field(default=None, repr=False, compare=False)
     _touched: set = field(default_factory=set, repr=False, compare=False)
 
@@ -169,6 +174,12 @@ class IdentificationProblem:
         if self.zone_outputs:
             for zone, variance in zip(heat.columns, np.var(values, axis=0), strict=True):
                 out[f"zone_variance/{zone}"] = float(variance)
+        if self.series_outputs:
+            hours = pd.Series(total, index=heat.index[mask]).groupby(
+                heat.index[mask].floor("1h")
+            ).mean()
+            for i, value in enumerate(hours.to_numpy()):
+                out[f"series/{i:05d}"] = float(value)
         return out
 
     def fingerprint(self) -> str:
@@ -193,6 +204,7 @@ class IdentificationProblem:
                     if self.gains is None
                     else sorted((z, g.as_dict()) for z, g in self.gains.items()),
                     self.zone_outputs,
+                    self.series_outputs,
                 )
             ).encode()
         )

@@ -35,7 +35,6 @@ from pathlib import Path
 from typing import Any, Literal
 
 import pandas as pd
-import yaml
 from pydantic import (
     BaseModel,
     ConfigDict,
@@ -275,29 +274,6 @@ def _file_digest(path: Path) -> str:
 # ----------------------------------------------------------------------------------------------
 # reading
 # ----------------------------------------------------------------------------------------------
-class _UniqueKeyLoader(yaml.SafeLoader):
-    """Safe loader that rejects duplicate mapping keys."""
-
-
-def _construct_mapping(loader: _UniqueKeyLoader, node: yaml.MappingNode, deep: bool = False
-                       ) -> dict:
-    loader.flatten_mapping(node)
-    out: dict = {}
-    for key_node, value_node in node.value:
-        key = loader.construct_object(key_node, deep=deep)
-        if key in out:
-            raise yaml.constructor.ConstructorError(
-                None, None, f"duplicate key {key!r} (line {key_node.start_mark.line + 1})",
-                key_node.start_mark,
-            )
-        out[key] = loader.construct_object(value_node, deep=deep)
-    return out
-
-
-_UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG,
-                                 _construct_mapping)
-
-
 def _known_keys(loc: tuple) -> list[str]:
     model: Any = CampaignFile
     for part in loc[:-1]:
@@ -401,14 +377,11 @@ def load_campaign(path: Path | str) -> CampaignFile:
         Missing file, invalid YAML, duplicate or unknown keys, bad values (the message names the
         file and the key).
     """
+    from thermocal.io.yamlfile import read_yaml
+
     path = Path(path)
-    if not path.is_file():
-        raise ThermocalInputError(f"campaign file {path} not found")
-    text = path.read_text()
-    try:
-        data = yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader subclass
-    except yaml.YAMLError as exc:
-        raise ThermocalInputError(f"campaign file {path} is not valid YAML: {exc}") from None
+    data = read_yaml(path, what="campaign file")
+    text = path.read_text(encoding="utf-8")
     campaign = parse_campaign(data, base_dir=path.parent, source=str(path))
     campaign._path = path
     campaign._text = text

@@ -962,12 +962,13 @@ def load_demo(folder=DEMO_FOLDER, *, weather_path=None):
     raw_sensor_log : DataFrame
         :func:`thermocal.io.measurements.read_measurements` of ``sensors.parquet`` (long).
     mapping : dict
-        ``mapping.yaml`` as loaded by ``yaml.safe_load``.
+        ``mapping.yaml`` as read by :func:`thermocal.io.yamlfile.read_yaml`.
     truth : dict
         ``truth.json`` (for the demo report and tests only).
     """
     from thermocal.io.measurements import read_measurements
     from thermocal.io.weather import read_weather
+    from thermocal.io.yamlfile import read_yaml
     from thermocal.multizone import generators
 
     folder = Path(folder)
@@ -991,7 +992,7 @@ def load_demo(folder=DEMO_FOLDER, *, weather_path=None):
             )
     weather, wmeta = read_weather(weather_path)
     raw, mmeta = read_measurements(folder / SENSORS_FILE, layout="long")
-    mapping = yaml.safe_load((folder / MAPPING_FILE).read_text(encoding="utf-8"))
+    mapping = read_yaml(folder / MAPPING_FILE, what="mapping file")
     start, end = (pd.Timestamp(t) for t in truth["generator"]["period"])
     metadata = {
         "period": (start, end),

@@ -29,14 +29,14 @@ def _weather_path():
     return pvlib_weather_path()
 
 
-def _campaign(tmp_path, *, samples=48, extra=""):
+def _campaign(tmp_path, *, samples=48, extra="", end=END):
     """Nominal building file, the true building's sensor log, mapping and campaign file."""
     from thermocal.io.weather import read_weather
 
     nominal = generators.clinic(12, n_corridors=1, corridor_sections=2)
     truth = nominal.with_parameters(TRUE)
     weather, meta = read_weather(_weather_path())
-    sim = Simulation(truth, weather, meta, step="15min", start=START, end=END,
+    sim = Simulation(truth, weather, meta, step="15min", start=START, end=end,
                      store_surfaces=False)
     air = sim.run(free_float=True).air_temperature
     log = air.copy()
@@ -171,3 +171,25 @@ def test_calibrate_cli_unreachable_scheduler_is_a_clear_error(tmp_path):
     )
     assert done.returncode == 2, done.stderr
     assert "scheduler" in done.stderr.lower() and "Traceback" not in done.stderr
+
+
+def test_validation_period_keeps_the_lower_variance(tmp_path):
+    path = _campaign(
+        tmp_path,
+        samples=24,
+        end="2001-01-22",
+        extra="validation: {start: 2001-01-15, end: 2001-01-22}",
+    )
+    text = path.read_text().replace("top_k: 3}", "top_k: 2}").replace(
+        "{starts: 4, seed: 1}", "{starts: 2, seed: 1, refine: 2}"
+    )
+    path.write_text(text)
+    result = calibrate(
+        load_campaign(path), workers=1, store_path=tmp_path / "v.sqlite", progress=False,
+        log=lambda line: None,
+    )
+    validation = result.validation
+    assert validation["start"].startswith("2001-01-15")
+    assert validation["calibrated"] < 0.5 * validation["nominal"]
+    assert validation["keeps_lower_variance"] is True
+    assert len(result.confirmed["refinement"]) == 2

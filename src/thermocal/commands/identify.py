@@ -47,6 +47,10 @@ def identify(
         Path | None,
         typer.Option(help="YAML file with an 'occupancy' section (default: the paper's schedule)."),
     ] = None,
+    limits: Annotated[
+        str | None,
+        typer.Option(help="PID output limits per zone in W, 'LOW,HIGH' (default: unlimited)."),
+    ] = None,
     tz: Annotated[
         str | None, typer.Option(help="Time zone of sensor time stamps without UTC offset.")
     ] = None,
@@ -120,6 +124,7 @@ def identify(
                 data.get("occupancy", data) if isinstance(data, dict) else data,
                 source=str(occupancy),
             )
+        pid_limits = _parse_limits(limits)
         console.print(
             f"{model.name}: {len(model.zones)} zones; method {method}, feedback {feedback}"
         )
@@ -135,6 +140,7 @@ def identify(
             method=method,
             feedback=feedback,
             tuning_zone=tuning_zone,
+            limits=pid_limits,
             schedule=schedule,
             max_gap=max_gap_used,
             silence=silence,
@@ -148,6 +154,23 @@ def identify(
     _print_summary(result, truth)
     for path in written:
         console.print(f"wrote {path}")
+
+
+def _parse_limits(text: str | None) -> tuple[float, float] | None:
+    """``"LOW,HIGH"`` [W] -> (low, high); None stays None."""
+    from thermocal.errors import ThermocalInputError
+
+    if text is None:
+        return None
+    try:
+        low, high = (float(part) for part in text.split(","))
+    except ValueError:
+        raise ThermocalInputError(
+            f"--limits {text!r}: give two numbers in W, 'LOW,HIGH', e.g. '-5000,20000'"
+        ) from None
+    if not low < high:
+        raise ThermocalInputError(f"--limits {text!r}: LOW must be below HIGH")
+    return low, high
 
 
 def _print_summary(result, truth) -> None:

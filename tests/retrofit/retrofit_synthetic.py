@@ -32,7 +32,7 @@ def make_dataset(
     from thermocal.io.weather import read_weather
     from thermocal.physics.ground import ground_temperature_parameters
     from thermocal.retrofit.calibration import initial_params_si, steady_initial_state
-    from thermocal.retrofit.model import build_fifth_order_model, discretize_zoh, system_matrices
+    from thermocal.retrofit.model import build_fifth_order_model, discrete_system_matrices
     from thermocal.retrofit.workflow import model_inputs
 
     folder.mkdir(parents=True, exist_ok=True)
@@ -51,9 +51,7 @@ def make_dataset(
     inp = model_inputs(w, building, gp, temp_col="temp_mean", solar=True, depth=2.0)
     p = initial_params_si(model)
     p["H_est"] = TRUE_H_EST
-    a, b = system_matrices(model.conductances(), {k: np.array([v]) for k, v in p.items()})
-    ad, bd = discretize_zoh(a, b, 3600.0)
-    ad, bd = ad[0], bd[0]
+    ad, bd = (m[0] for m in discrete_system_matrices(model.conductances(), p, 3600.0))
     rng = np.random.default_rng(seed)
     u_cols = ["Te", "Tgr", "phi_h", "phi_sol", "phi_abs_roof", "phi_abs_walls"]
     inp["phi_h"] = 0.0

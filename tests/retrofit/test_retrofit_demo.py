@@ -166,9 +166,7 @@ def test_demo_economics_from_the_configuration(demo_results):
         invest = sum(eco["measure_investment"][m] for m in s["measures"])
         assert row["investment"] == pytest.approx(invest, rel=1e-12)
     # default costs: the walls measure costs 250 per m2 of wall
-    assert eco["measure_investment"]["walls"] == pytest.approx(
-        250.0 * _walls_area(out), rel=1e-9
-    )
+    assert eco["measure_investment"]["walls"] == pytest.approx(250.0 * _walls_area(out), rel=1e-9)
 
 
 def _walls_area(out):

@@ -20,7 +20,7 @@ from thermocal.retrofit.calibration import (
     initial_params_si,
     steady_initial_state,
 )
-from thermocal.retrofit.model import build_fifth_order_model, discretize_zoh, system_matrices
+from thermocal.retrofit.model import build_fifth_order_model, discrete_system_matrices
 
 COLUMNS = ["Te", "Tgr", "phi_h", "phi_sol", "phi_abs_roof", "phi_abs_walls"]
 
@@ -40,8 +40,7 @@ def _training_data(model, days: float = 21.0, seed: int = 1) -> pd.DataFrame:
     inp = model_inputs(weather.loc[sel], building, gp, temp_col="temp_air", solar=True, depth=2.0)
     p = initial_params_si(model)
     p["H_est"] = 180.0
-    a, b = system_matrices(model.conductances(), {k: np.array([v]) for k, v in p.items()})
-    ad, bd = (m[0] for m in discretize_zoh(a, b, 3600.0))
+    ad, bd = (m[0] for m in discrete_system_matrices(model.conductances(), p, 3600.0))
     rng = np.random.default_rng(seed)
     inp["phi_h"] = 0.0
     u_all = inp[COLUMNS].to_numpy(float)

@@ -320,36 +320,80 @@ def _ground_variant(kind):
     return build_fifth_order_model(Building.model_validate(data))
 
 
+def _hand_written_matrices(h, p, demand):
+    """The node equations of the fifth-order network (its Fig. 3), written out by hand."""
+    ti, env, gf, im, th = range(5)
+    ns = 4 if demand else 5
+    a, b = np.zeros((ns, ns)), np.zeros((ns, 6))
+    h_est = max(p["H_est"] + h.get("H_est_change", 0.0), 0.0)
+    g = h.get("g_factor", 1.0)
+    for i, j, c in ((ti, env, h["H_env_in"]), (ti, gf, h["H_gf_in"]), (ti, im, h["H_im"])):
+        a[i, j] += c
+        a[j, i] += c
+        a[i, i] -= c
+        a[j, j] -= c
+    a[ti, ti] -= h["H_win"] + h_est
+    a[env, env] -= h["H_env_out"]
+    a[gf, gf] -= h["H_gf_gr"] + h["H_gf_e"]
+    if demand:
+        te, tgr, sol, roof, walls, q = range(6)
+        b[ti, q] = 1.0
+    else:
+        te, tgr, phih, sol, roof, walls = range(6)
+        a[ti, th] = a[th, ti] = h["H_h"]
+        a[ti, ti] -= h["H_h"]
+        a[th, th] = -h["H_h"]
+        b[th, phih] = 1.0
+    b[ti, te], b[env, te], b[gf, te], b[gf, tgr] = (
+        h["H_win"] + h_est, h["H_env_out"], h["H_gf_e"], h["H_gf_gr"]
+    )  # fmt: skip
+    b[ti, sol], b[im, sol] = (1.0 - h["f_im"]) * g, h["f_im"] * g
+    b[env, roof], b[env, walls] = h["share_roof"], h["share_walls"]
+    caps = np.array([p["C_i"], p["C_env"], p["C_gf"], p["C_im"], p["C_h"]][:ns])
+    return a / caps[:, None], b / caps[:, None]
+
+
 @pytest.mark.parametrize("kind", ["unheated_basement", "slab", "heated"])
-def test_batched_matrices_equal_the_declared_rc_network(kind):
-    """``system_matrices`` (fast path) and ``rc_spec`` (the network the calibration fits)
-    describe the same fifth-order model: identical A and B for random plausible parameters,
-    with the states and inputs of the RC model permuted into STATE_NAMES / INPUT_NAMES."""
+def test_network_matrices_equal_the_hand_written_node_equations(kind):
+    """The matrices the engine builds from the network (calibration and demand mode, with
+    ventilation and g-value measures) equal the node equations written out by hand, and
+    the calibration's network (calculated conductances as numbers) gives the same ones."""
     from thermocal.retrofit.calibration import rc_spec
-    from thermocal.retrofit.model import ESTIMATED_PARAMETERS, INPUT_NAMES, STATE_NAMES
-    from thermocal.statespace import RCModel
+    from thermocal.retrofit.model import (
+        ESTIMATED_PARAMETERS,
+        INPUT_NAMES,
+        STATE_NAMES,
+        discrete_system_matrices,
+    )
+    from thermocal.statespace import RCModel, discretise
 
     m = _ground_variant(kind)
     h = m.conductances()
     assert h["H_gf_e"] > 0 if kind == "unheated_basement" else h["H_gf_e"] == 0
     rc = RCModel.from_dict(rc_spec(m, np.full(5, 20.0)))
-    state_order = [rc.state_names.index(s) for s in STATE_NAMES]
-    input_order = [rc.input_names.index(c) for c in INPUT_NAMES]
+    assert rc.state_names == list(STATE_NAMES) and rc.input_names == list(INPUT_NAMES)
     rng = np.random.default_rng(42)
-    for _ in range(5):
+    for _ in range(3):
         declared = {}  # declared units (W/K, MJ/K), drawn log-uniformly within the bounds
         for name in ESTIMATED_PARAMETERS:
             lo, _, hi, _ = m.estimated[name]
             declared[name] = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
         si = {k: v * (1e6 if m.estimated[k][3] == "MJ/K" else 1.0) for k, v in declared.items()}
-        a, b = system_matrices(h, si)
         a_rc, b_rc, _, _ = rc.continuous_matrices(declared)
-        a_rc = a_rc[np.ix_(state_order, state_order)]
-        b_rc = b_rc[np.ix_(state_order, input_order)]
-        scale_a = np.abs(a[0]).max()
-        scale_b = np.abs(b[0]).max()
-        assert np.allclose(a[0], a_rc, rtol=1e-12, atol=1e-12 * scale_a)
-        assert np.allclose(b[0], b_rc, rtol=1e-12, atol=1e-12 * scale_b)
+        measures = {**h, "H_est_change": -0.3 * si["H_est"], "g_factor": 0.6}
+        for demand, hh, fitted in ((False, h, (a_rc, b_rc)), (True, measures, None)):
+            a, b = system_matrices(hh, si, indoor_input=demand)
+            a_ref, b_ref = _hand_written_matrices(hh, si, demand)
+            np.testing.assert_allclose(a[0], a_ref, rtol=1e-12, atol=1e-12 * np.abs(a_ref).max())
+            np.testing.assert_allclose(b[0], b_ref, rtol=1e-12, atol=1e-12 * np.abs(b_ref).max())
+            # the engine's eigen-form discretisation = the augmented matrix exponential
+            ad, bd = discrete_system_matrices(hh, si, 3600.0, indoor_input=demand)
+            ad_ref, bd_ref, _, _ = discretise(a_ref, b_ref, np.zeros_like(a_ref), 3600.0)
+            np.testing.assert_allclose(ad[0], ad_ref, rtol=1e-9, atol=1e-12)
+            np.testing.assert_allclose(bd[0], bd_ref, rtol=1e-9, atol=1e-12 * np.abs(bd_ref).max())
+            if fitted is not None:
+                np.testing.assert_allclose(fitted[0], a_ref, rtol=1e-12, atol=1e-20)
+                np.testing.assert_allclose(fitted[1], b_ref, rtol=1e-12, atol=1e-20)
 
 
 def _raw_log(freq: str, periods: int, seed: int = 1) -> pd.DataFrame:
@@ -447,7 +491,7 @@ def test_demand_holds_the_24h_profile_at_the_end_of_each_hour():
     """Ti is the model input in demand mode: with heat needed every hour, the indoor
     temperature at the end of the step [t, t+1h) is the profile value of hour t+1."""
     from thermocal.retrofit.demand import setpoint_series
-    from thermocal.retrofit.model import discretize_zoh
+    from thermocal.retrofit.model import discrete_system_matrices
     from thermocal.retrofit.simulation import ideal_heating_batch
 
     m = _model()
@@ -456,8 +500,7 @@ def test_demand_holds_the_24h_profile_at_the_end_of_each_hour():
     sp = setpoint_series(idx, profile)
     assert sp[0] == profile[1] and sp[23] == profile[0]
     p = {k: np.array([v]) for k, v in initial_params_si(m).items()}
-    a, b = system_matrices(m.conductances(), p, indoor_input=True)
-    ad, bd = discretize_zoh(a, b, 3600.0)
+    ad, bd = discrete_system_matrices(m.conductances(), p, 3600.0, indoor_input=True)
     u = np.tile([-8.0, 6.0, 0.0, 0.0, 0.0], (len(idx), 1))
     x0 = np.full((1, ad.shape[1]), 10.0)
     heat, temp_in, _ = ideal_heating_batch(ad, bd, x0, u, sp)

@@ -19,6 +19,7 @@ from thermocal.retrofit.model import (
     STATE_NAMES,
     FifthOrderModel,
     calculated_hlc,
+    network_spec,
     steady_states_with_indoor,
     system_matrices,
 )
@@ -71,18 +72,10 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
     x0 : ndarray (5,) [C]
         Initial guesses of the state temperatures (Ti, Tenv, Tgf, Tim, Th).
     """
-    h = model.conductances()
-    states = {}
+    spec = network_spec(model.conductances())
     params: dict[str, dict] = {}
     noise_init = {"Ti": 0.1, "Tenv": 0.05, "Tgf": 0.05, "Tim": 0.05, "Th": 1.0}
-    capacity = {"Ti": "C_i", "Tenv": "C_env", "Tgf": "C_gf", "Tim": "C_im", "Th": "C_h"}
     for i, s in enumerate(STATE_NAMES):
-        states[s] = {
-            "capacity": capacity[s],
-            "noise": f"sigma_{s}",
-            "initial_mean": f"{s}0",
-            "initial_std": 0.5 if s == "Ti" else 2.0,
-        }
         params[f"sigma_{s}"] = {
             "value": noise_init[s],
             "lower": 1e-5,
@@ -103,33 +96,10 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
         if name in model.fixed:
             params[name]["fixed"] = True
     params["e_std"] = {"value": 0.1, "lower": 1e-4, "upper": 3.0, "unit": "C"}
-    conductances = [
-        {"between": ["Ti", "Tenv"], "conductance": h["H_env_in"]},
-        {"between": ["Tenv", "Te"], "conductance": h["H_env_out"]},
-        {"between": ["Ti", "Tgf"], "conductance": h["H_gf_in"]},
-        {"between": ["Tgf", "Tgr"], "conductance": h["H_gf_gr"]},
-        {"between": ["Ti", "Tim"], "conductance": h["H_im"]},
-        {"between": ["Ti", "Th"], "conductance": h["H_h"]},
-        {"between": ["Ti", "Te"], "conductance": "H_est"},
-    ]
-    if h["H_win"] > 0:
-        conductances.append({"between": ["Ti", "Te"], "conductance": h["H_win"]})
-    if h["H_gf_e"] > 0:
-        conductances.append({"between": ["Tgf", "Te"], "conductance": h["H_gf_e"]})
-    f_im = h["f_im"]
-    heat_inputs = [
-        {"column": "phi_h", "unit": "W", "into": "Th"},
-        {"column": "phi_sol", "unit": "W", "into": {"Ti": 1.0 - f_im, "Tim": f_im}},
-        {"column": "phi_abs_roof", "unit": "W", "into": "Tenv", "scale": h["share_roof"]},
-        {"column": "phi_abs_walls", "unit": "W", "into": "Tenv", "scale": h["share_walls"]},
-    ]
     return {
         "name": "fifth_order_retrofit",
         "description": "Fifth-order RC model of the retrofit method (its Fig. 3)",
-        "states": states,
-        "conductances": conductances,
-        "heat_inputs": heat_inputs,
-        "outputs": [{"column": OUTPUT_COLUMN, "state": "Ti", "noise": "e_std"}],
+        **spec,
         "parameters": params,
     }
 

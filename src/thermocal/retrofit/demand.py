@@ -4,8 +4,10 @@ The indoor temperature becomes an input: a 24-hour profile from the measured ``T
 every day, is the set point of an ideal heating-only controller, and a year of hourly weather
 drives the model. The heat delivered each hour to hold the profile (never negative; when sun
 or stored heat lift ``Ti`` above the profile the building floats) gives hourly, monthly and
-annual demand. All uncertainty draws and retrofit scenarios run as one batch: the system is
-discretised once per draw and scenario and the simulation loop is compiled (numba).
+annual demand. All uncertainty draws and retrofit scenarios run as one batch: the matrices come
+from the model's RC network (:func:`thermocal.retrofit.model.network_spec` through
+:mod:`thermocal.statespace`), are discretised once per draw and scenario by the
+engine's exact discretisation, and the controller loop is compiled (numba).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from thermocal.retrofit.model import (
     ESTIMATED_PARAMETERS,
     EnvelopeComponents,
     FifthOrderModel,
-    discretize_zoh,
+    discrete_system_matrices,
     steady_states_with_indoor,
     system_matrices,
 )
@@ -132,7 +134,7 @@ def simulate_demand(
         for k in ESTIMATED_PARAMETERS
     }
     a, b = system_matrices(h, p, indoor_input=True)
-    ad, bd = discretize_zoh(a, b, dt)
+    ad, bd = discrete_system_matrices(h, p, dt, indoor_input=True)
     n_warm = min(int(round(warmup_days * 86400 / dt)), len(index) - 1)
     # initial state: steady state with the mean warm-up inputs and zero heating from the
     # set point, then the warm-up period

@@ -497,116 +497,210 @@ def build_fifth_order_model(
     )
 
 
+#: The calculated conductances [W/K] and dimensionless factors of the network, as they are
+#: named in :meth:`FifthOrderModel.conductances` and in the RC network of :func:`network_spec`.
+CALCULATED_CONDUCTANCES: tuple[str, ...] = (
+    "H_env_in", "H_env_out", "H_win", "H_gf_in", "H_gf_gr", "H_gf_e", "H_h", "H_im",
+)  # fmt: skip
+CALCULATED_FACTORS: tuple[str, ...] = ("share_roof", "share_walls", "f_im", "g_factor")
+
+
+def network_spec(h: dict, *, demand: bool = False, calculated_as_parameters: bool = False) -> dict:
+    """The fifth-order RC network as a :class:`thermocal.statespace.RCModel` specification.
+
+    The one definition of the model's network: the calibration fits it, the validation
+    simulates it and the demand simulation takes its matrices from it.
+
+    Parameters
+    ----------
+    h : dict
+        Calculated conductances [W/K] and factors [-] (:meth:`FifthOrderModel.conductances`);
+        only their sign decides the structure (a window or cellar-to-air path exists when its
+        conductance is positive).
+    demand : bool
+        False: the calibration model, states ``STATE_NAMES``, inputs ``INPUT_NAMES``.
+        True: the demand model, states (Ti, Tenv, Tgf, Tim), inputs (Te, Tgr, phi_sol,
+        phi_abs_roof, phi_abs_walls, Q) with the heating power ``Q`` [W] delivered directly
+        into ``Ti`` (the heating-system node is dropped: its small capacity only shifts heat
+        by minutes).
+    calculated_as_parameters : bool
+        False: the calculated conductances and factors enter as numbers (``h``'s values);
+        True: as parameters named after them, so that one compiled network serves every
+        retrofit scenario and draw (values given at evaluation).
+
+    Returns
+    -------
+    dict with ``states``, ``conductances``, ``heat_inputs`` and ``outputs``; the states refer to
+    the capacities ``C_i, C_env, C_gf, C_im, C_h``, the diffusions ``sigma_<state>`` and the
+    initial means ``<state>0``, the ``Ti``-``Te`` path to ``H_est`` (parameters the caller
+    declares).
+    """
+
+    def value(name):
+        return name if calculated_as_parameters else float(h[name])
+
+    names = STATE_NAMES[:4] if demand else STATE_NAMES
+    capacity = {"Ti": "C_i", "Tenv": "C_env", "Tgf": "C_gf", "Tim": "C_im", "Th": "C_h"}
+    states = {
+        s: {
+            "capacity": capacity[s],
+            "noise": f"sigma_{s}",
+            "initial_mean": f"{s}0",
+            "initial_std": 0.5 if s == "Ti" else 2.0,
+        }
+        for s in names
+    }
+    conductances = [
+        {"between": ["Ti", "Tenv"], "conductance": value("H_env_in")},
+        {"between": ["Tenv", "Te"], "conductance": value("H_env_out")},
+        {"between": ["Ti", "Tgf"], "conductance": value("H_gf_in")},
+        {"between": ["Tgf", "Tgr"], "conductance": value("H_gf_gr")},
+        {"between": ["Ti", "Tim"], "conductance": value("H_im")},
+        {"between": ["Ti", "Te"], "conductance": "H_est"},
+    ]
+    if not demand:
+        conductances.insert(5, {"between": ["Ti", "Th"], "conductance": value("H_h")})
+    if float(np.max(h["H_win"])) > 0:
+        conductances.append({"between": ["Ti", "Te"], "conductance": value("H_win")})
+    if float(np.max(h["H_gf_e"])) > 0:
+        conductances.append({"between": ["Tgf", "Te"], "conductance": value("H_gf_e")})
+    solar = {"column": "phi_sol", "unit": "W"}
+    if calculated_as_parameters:
+        solar.update({"into": {"Ti": "rest", "Tim": "f_im"}, "scale": "g_factor"})
+    else:
+        f_im, g = float(h["f_im"]), float(h.get("g_factor", 1.0))
+        solar["into"] = {"Ti": 1.0 - f_im, "Tim": f_im}
+        if g != 1.0:
+            solar["scale"] = g
+    heat_inputs = [] if demand else [{"column": "phi_h", "unit": "W", "into": "Th"}]
+    heat_inputs += [
+        solar,
+        {"column": "phi_abs_roof", "unit": "W", "into": "Tenv", "scale": value("share_roof")},
+        {"column": "phi_abs_walls", "unit": "W", "into": "Tenv", "scale": value("share_walls")},
+    ]
+    if demand:
+        heat_inputs.append({"column": "Q", "unit": "W", "into": "Ti"})
+    return {
+        "states": states,
+        "conductances": conductances,
+        "heat_inputs": heat_inputs,
+        "outputs": [{"column": "Ti_measured", "state": "Ti", "noise": "e_std"}],
+    }
+
+
+_NETWORKS: dict = {}
+
+
+def simulation_network(h: dict, *, demand: bool = False):
+    """The compiled :class:`thermocal.statespace.RCModel` of :func:`network_spec` with every
+    value a parameter in SI units (W/K, J/K, -), cached per structure."""
+    from thermocal.statespace import RCModel
+
+    key = (demand, float(np.max(h["H_win"])) > 0, float(np.max(h["H_gf_e"])) > 0)
+    rc = _NETWORKS.get(key)
+    if rc is None:
+        spec = network_spec(h, demand=demand, calculated_as_parameters=True)
+        params: dict[str, dict] = {}
+        for s in spec["states"]:
+            params[f"sigma_{s}"] = {"value": 0.0, "fixed": True, "unit": "K/sqrt(s)"}
+            params[f"{s}0"] = {"value": 20.0, "fixed": True, "unit": "C"}
+        params["e_std"] = {"value": 0.1, "fixed": True, "unit": "C"}
+        for name in ESTIMATED_PARAMETERS:
+            if demand and name == "C_h":
+                continue
+            unit = "W/K" if name == "H_est" else "J/K"
+            params[name] = {"value": 1.0, "lower": 0.0, "upper": 1e15, "unit": unit}
+        for name in CALCULATED_CONDUCTANCES:
+            params[name] = {"value": 1.0, "fixed": True, "unit": "W/K"}
+        for name in CALCULATED_FACTORS:
+            params[name] = {"value": 0.5, "fixed": True, "unit": "-", "lower": 0.0,
+                            "upper": 1e6 if name == "g_factor" else 1.0}  # fmt: skip
+        used = _referenced(spec)
+        spec["parameters"] = {n: p for n, p in params.items() if n in used}
+        spec.update(name="fifth_order_demand" if demand else "fifth_order_retrofit")
+        rc = RCModel.from_dict(spec, source="fifth-order retrofit model")
+        rc.structure()
+        _NETWORKS[key] = rc
+    return rc
+
+
+def _referenced(spec: dict) -> set[str]:
+    """Every text value of a network specification (the parameter names among them)."""
+    out: set[str] = set()
+
+    def walk(x):
+        if isinstance(x, str):
+            out.add(x)
+        elif isinstance(x, dict):
+            for v in x.values():
+                walk(v)
+        elif isinstance(x, list | tuple):
+            for v in x:
+                walk(v)
+
+    walk(spec)
+    return out
+
+
+def _parameter_sets(h: dict, p: dict, indoor_input: bool):
+    """The compiled network and the SI values of every parameter set of a batch."""
+    values = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in h.items()}
+    values.setdefault("H_est_change", np.zeros(1))
+    values.setdefault("g_factor", np.ones(1))
+    values.update({k: np.atleast_1d(np.asarray(p[k], dtype=float)) for k in ESTIMATED_PARAMETERS})
+    n = max(v.shape[0] for v in values.values())
+    values = {k: np.broadcast_to(v, (n,)) for k, v in values.items()}
+    # retrofit measures on the ventilation part of H_est
+    values["H_est"] = np.maximum(values["H_est"] + values["H_est_change"], 0.0)
+    rc = simulation_network(values, demand=indoor_input)
+    names = [name for name in rc.parameter_names if name in values]
+    return rc, [{k: values[k][i] for k in names} for i in range(n)]
+
+
 def system_matrices(h: dict, p: dict, *, indoor_input: bool = False):
-    """Continuous-time matrices of the fifth-order model, batched over parameter draws.
+    """Continuous-time matrices of the fifth-order model, batched over parameter sets.
+
+    Each set is evaluated by :meth:`thermocal.statespace.RCModel.continuous_matrices` of the
+    network :func:`network_spec` (the same network the calibration fits).
 
     Parameters
     ----------
     h : dict
         Calculated conductances [W/K] and shares from :meth:`FifthOrderModel.conductances`;
-        values may be floats or arrays of shape (n,).
+        values may be floats or arrays of shape (n,); optional ``H_est_change`` [W/K] and
+        ``g_factor`` [-] (retrofit measures on ventilation and window g-value).
     p : dict
         Estimated parameters in SI: ``H_est`` [W/K], ``C_env``, ``C_gf``, ``C_im``, ``C_i``,
         ``C_h`` [J/K]; floats or arrays of shape (n,).
     indoor_input : bool
         False: the calibration model, states ``STATE_NAMES``, inputs ``INPUT_NAMES``.
-        True: the demand model: states (Ti, Tenv, Tgf, Tim) with the heating power delivered
-        directly into ``Ti`` as the LAST input column, inputs (Te, Tgr, phi_sol, phi_abs_roof,
-        phi_abs_walls, Q); the heating-system node is dropped (its small capacity only shifts
-        heat by minutes).
+        True: the demand model (see :func:`network_spec`), the heating power ``Q`` the LAST
+        input column.
 
     Returns
     -------
     A : ndarray (n, ns, ns) [1/s]
     B : ndarray (n, ns, ni) [K/s per unit input]
     """
-    keys = (
-        "H_env_in",
-        "H_env_out",
-        "H_win",
-        "H_gf_in",
-        "H_gf_gr",
-        "H_gf_e",
-        "H_h",
-        "H_im",
-        "share_roof",
-        "share_walls",
-        "f_im",
-    )
-    arrays = [np.atleast_1d(np.asarray(h[k], dtype=float)) for k in keys]
-    arrays += [np.atleast_1d(np.asarray(p[k], dtype=float)) for k in ESTIMATED_PARAMETERS]
-    # retrofit measures on the ventilation (H_est) and on the window g-value
-    arrays += [np.atleast_1d(np.asarray(h.get(k, d), dtype=float))
-               for k, d in (("H_est_change", 0.0), ("g_factor", 1.0))]  # fmt: skip
-    n = max(a.shape[0] for a in arrays)
-    (
-        h_ei,
-        h_eo,
-        h_w,
-        h_gi,
-        h_gg,
-        h_ge,
-        h_h,
-        h_im,
-        s_r,
-        s_w,
-        f_im,
-        h_est,
-        c_env,
-        c_gf,
-        c_im,
-        c_i,
-        c_h,
-        h_est_change,
-        g_factor,
-    ) = [np.broadcast_to(a, (n,)) for a in arrays]
-    h_est = np.maximum(h_est + h_est_change, 0.0)
-    ns = 4 if indoor_input else 5
-    ni = 6
-    a = np.zeros((n, ns, ns))
-    b = np.zeros((n, ns, ni))
-    TI, ENV, GF, IM, TH = 0, 1, 2, 3, 4
-    a[:, TI, TI] = -(h_ei + h_gi + h_im + h_w + h_est + (0.0 if indoor_input else h_h))
-    a[:, TI, ENV] = h_ei
-    a[:, TI, GF] = h_gi
-    a[:, TI, IM] = h_im
-    a[:, ENV, TI] = h_ei
-    a[:, ENV, ENV] = -(h_ei + h_eo)
-    a[:, GF, TI] = h_gi
-    a[:, GF, GF] = -(h_gi + h_gg + h_ge)
-    a[:, IM, TI] = h_im
-    a[:, IM, IM] = -h_im
-    if indoor_input:
-        te, tgr, sol, roof, walls, q = range(6)
-        b[:, TI, q] = 1.0
-    else:
-        te, tgr, phih, sol, roof, walls = range(6)
-        a[:, TI, TH] = h_h
-        a[:, TH, TI] = h_h
-        a[:, TH, TH] = -h_h
-        b[:, TH, phih] = 1.0
-    b[:, TI, te] = h_w + h_est
-    b[:, ENV, te] = h_eo
-    b[:, GF, te] = h_ge
-    b[:, GF, tgr] = h_gg
-    b[:, TI, sol] = (1.0 - f_im) * g_factor
-    b[:, IM, sol] = f_im * g_factor
-    b[:, ENV, roof] = s_r
-    b[:, ENV, walls] = s_w
-    caps = [c_i, c_env, c_gf, c_im, c_h][:ns]
-    for i, c in enumerate(caps):
-        a[:, i, :] /= c[:, None]
-        b[:, i, :] /= c[:, None]
+    rc, sets = _parameter_sets(h, p, indoor_input)
+    ns, ni = len(rc.state_names), len(rc.input_names)
+    a = np.empty((len(sets), ns, ns))
+    b = np.empty((len(sets), ns, ni))
+    for i, values in enumerate(sets):
+        a[i], b[i], _, _ = rc.continuous_matrices(values)
     return a, b
 
 
-def discretize_zoh(a, b, dt: float):
-    """Zero-order-hold discretisation of a batch of continuous systems.
+def discrete_system_matrices(h: dict, p: dict, dt: float, *, indoor_input: bool = False):
+    """Zero-order-hold discrete matrices of the fifth-order model, batched over parameter sets.
+
+    The exact discretisation of the grey-box engine (the one its Kalman filter and
+    simulation use: eigen-decomposition of the RC network, ``e^(lambda dt)`` and
+    ``(e^(lambda dt) - 1) / lambda`` per mode) applied to :func:`network_spec`.
 
     Parameters
     ----------
-    a : ndarray (n, ns, ns) [1/s]
-    b : ndarray (n, ns, ni)
+    h, p, indoor_input : as :func:`system_matrices`
     dt : float [s]
 
     Returns
@@ -614,15 +708,18 @@ def discretize_zoh(a, b, dt: float):
     ad : ndarray (n, ns, ns), bd : ndarray (n, ns, ni)
         ``x[k+1] = ad x[k] + bd u[k]`` with ``u`` held constant over ``[t_k, t_k + dt)``.
     """
-    from scipy.linalg import expm
+    from thermocal.statespace import kernels
 
-    n, ns, _ = a.shape
-    ni = b.shape[2]
-    m = np.zeros((n, ns + ni, ns + ni))
-    m[:, :ns, :ns] = a * dt
-    m[:, :ns, ns:] = b * dt
-    e = expm(m)
-    return np.ascontiguousarray(e[:, :ns, :ns]), np.ascontiguousarray(e[:, :ns, ns:])
+    rc, sets = _parameter_sets(h, p, indoor_input)
+    ns, ni = len(rc.state_names), len(rc.input_names)
+    ad = np.empty((len(sets), ns, ns))
+    bd = np.empty((len(sets), ns, ni))
+    gam1 = np.empty((ns, ni))
+    q = np.empty((ns, ns))
+    for i, values in enumerate(sets):
+        lam, t, tinv, tb, m, *_ = rc.system(values)
+        kernels.discretise_from_eigen(lam, t, tinv, tb, m, float(dt), False, ad[i], bd[i], gam1, q)
+    return ad, bd
 
 
 def steady_states_with_indoor(a, b, inputs, temp_in: float) -> np.ndarray:

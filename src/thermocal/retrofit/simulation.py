@@ -1,59 +1,17 @@
-"""Fast batched simulation kernels of the fifth-order model (numba).
+"""The ideal heating controller of the demand simulation, compiled (numba).
 
-The same discrete-time recursion ``x[k+1] = Ad x[k] + Bd u[k]`` runs for a batch of parameter
-sets (uncertainty draws x retrofit scenarios) that share one input sequence, so the annual
-demand of 16 scenarios x 200 draws is one call.
+The discrete matrices come from the grey-box engine
+(:func:`thermocal.retrofit.model.discrete_system_matrices`); what is specific to the demand
+is the control law: each step the least heat that brings the indoor air to its set point. It
+runs for a batch of parameter sets (uncertainty draws x retrofit scenarios) that share one
+input sequence, so the annual demand of 16 scenarios x 200 draws is one call. (The plain
+simulation of the validation period is :meth:`thermocal.statespace.RCModel.simulate`.)
 """
 
 from __future__ import annotations
 
 import numba
 import numpy as np
-
-
-@numba.njit(cache=True)
-def _simulate(ad, bd, x0, u):  # pragma: no cover - compiled
-    n, ns, _ = ad.shape
-    nk, ni = u.shape
-    out = np.empty((n, nk + 1, ns))
-    for b in range(n):
-        x = x0[b].copy()
-        out[b, 0] = x
-        for k in range(nk):
-            xn = np.zeros(ns)
-            for i in range(ns):
-                acc = 0.0
-                for j in range(ns):
-                    acc += ad[b, i, j] * x[j]
-                for j in range(ni):
-                    acc += bd[b, i, j] * u[k, j]
-                xn[i] = acc
-            x = xn
-            out[b, k + 1] = x
-    return out
-
-
-def simulate_batch(ad, bd, x0, u):
-    """Deterministic simulation of a batch of discrete systems with common inputs.
-
-    Parameters
-    ----------
-    ad : ndarray (n, ns, ns)
-    bd : ndarray (n, ns, ni)
-    x0 : ndarray (n, ns) [C] initial states
-    u : ndarray (nk, ni) inputs held over each step
-
-    Returns
-    -------
-    ndarray (n, nk + 1, ns)
-        States at the step boundaries ``t_0 .. t_nk``.
-    """
-    return _simulate(
-        np.ascontiguousarray(ad, dtype=float),
-        np.ascontiguousarray(bd, dtype=float),
-        np.ascontiguousarray(x0, dtype=float),
-        np.ascontiguousarray(u, dtype=float),
-    )
 
 
 @numba.njit(cache=True, inline="always")

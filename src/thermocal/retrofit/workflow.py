@@ -40,10 +40,8 @@ from thermocal.retrofit.model import (
     FifthOrderModel,
     build_fifth_order_model,
     calculated_hlc,
-    discretize_zoh,
-    system_matrices,
+    simulation_network,
 )
-from thermocal.retrofit.simulation import simulate_batch
 from thermocal.retrofit.strategies import Measure, Strategy
 
 
@@ -184,15 +182,17 @@ def simulate_indoor(
 ) -> pd.DataFrame:
     """Deterministic multi-step simulation of all states (C) over ``inputs``.
 
+    The network of :func:`thermocal.retrofit.model.network_spec` simulated by
+    :meth:`thermocal.statespace.RCModel.simulate` (exact zero-order-hold discretisation).
     States are reported at the interval starts (the first row is ``x0``), like measured
     interval means labelled by their start.
     """
-    dt = (inputs.index[1] - inputs.index[0]).total_seconds()
-    a, b = system_matrices(model.conductances(), {k: np.array([v]) for k, v in params_si.items()})
-    ad, bd = discretize_zoh(a, b, dt)
-    u = inputs[list(BOUNDARY_COLUMNS + HEAT_COLUMNS)].to_numpy(float)
-    x = simulate_batch(ad, bd, np.asarray(x0, float)[None, :], u)[0]
-    return pd.DataFrame(x[:-1], index=inputs.index, columns=list(STATE_NAMES))
+    h = model.conductances()
+    rc = simulation_network(h, demand=False)
+    values = {**h, **{k: float(v) for k, v in params_si.items()}}
+    x = np.asarray(x0, float)
+    states = rc.simulate(inputs, values, initial_state={s: x[i] for i, s in enumerate(STATE_NAMES)})
+    return states[list(STATE_NAMES)]
 
 
 def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:

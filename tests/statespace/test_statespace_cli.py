@@ -229,3 +229,45 @@ def test_strict_exits_non_zero_when_a_flag_is_raised(tmp_path):
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 3, result.output
     assert "beyond 5 sigma" in result.output and "--strict" in result.output
+
+
+def test_fit_reads_excel_with_columns_from_the_model_file_and_splits_long_gaps(tmp_path):
+    """An .xlsx sheet (openpyxl), the model file's ``columns:`` mapping, and --gaps split: the
+    same optimum as the CSV when nothing is missing; with a 12-hour heating gap the likelihood
+    is split into two periods with their own initial states."""
+    import yaml
+
+    clean = tmp_path / "clean.csv"
+    df = write_data(clean, n=120)
+    ref = tmp_path / "ref"
+    args = ["--no-figures", "--n-starts", "1"]
+    result = CliRunner().invoke(app, ["fit", str(MODEL), str(clean), "--out", str(ref), *args])
+    assert result.exit_code == 0, result.output
+    spec = yaml.safe_load(MODEL.read_text())
+    spec["columns"] = {"phi_h": "Heizung", "Ti": "T_innen"}
+    model_file = tmp_path / "model.yaml"
+    model_file.write_text(yaml.safe_dump(spec))
+    sheet = df.rename(columns={"phi_h": "Heizung", "Ti": "T_innen"})
+    sheet.index = sheet.index.tz_localize(None)
+    sheet.index.name = "time"
+    xlsx = tmp_path / "data.xlsx"
+    sheet.to_excel(xlsx, sheet_name="Messung")
+    out = tmp_path / "out"
+    cmd = ["fit", str(model_file), str(xlsx), "--out", str(out), "--sheet", "Messung", *args]
+    result = CliRunner().invoke(app, cmd)
+    assert result.exit_code == 0, result.output
+    content = json.loads((out / "fit.json").read_text())
+    reference = json.loads((ref / "fit.json").read_text())
+    assert content["loglike"] == pytest.approx(reference["loglike"], abs=1e-6)
+    assert "Heizung -> phi_h" in " ".join(content["data_notes"])
+    # a 12-hour gap of the heating data: stop by default, split on request
+    sheet.iloc[50:62, sheet.columns.get_loc("Heizung")] = np.nan
+    sheet.to_excel(xlsx, sheet_name="Messung")
+    result = CliRunner().invoke(app, [*cmd[:4], str(tmp_path / "o2"), *cmd[5:]])
+    assert result.exit_code != 0 and "--gaps split" in str(result.exception)
+    result = CliRunner().invoke(app, [*cmd[:4], str(tmp_path / "o3"), *cmd[5:], "--gaps", "split"])
+    assert result.exit_code == 0, result.output
+    split = json.loads((tmp_path / "o3" / "fit.json").read_text())
+    assert "split into 2 period(s)" in " ".join(split["data_notes"])
+    assert {"Ti0_p2", "Tenv0_p2"} <= set(split["params"])
+    assert split["nobs"] == 108

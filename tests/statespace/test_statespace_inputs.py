@@ -260,3 +260,42 @@ def test_non_numeric_parameter_value_names_file_and_parameter(tmp_path):
     path.write_text(yaml.safe_dump(spec(parameters__Ci__value="2,5")))
     with pytest.raises(ThermocalInputError, match=r"m.yaml \(model 'TiTe'\).*'Ci' value: '2,5'"):
         RCModel.from_yaml(path)
+
+
+def test_columns_section_maps_model_names_to_data_columns(tmp_path):
+    """A model file's ``columns:`` renames data columns (model name: data name); the same fit
+    as renaming the data; absent, clashing or unknown names are refused with both names."""
+    df = data(80)
+    reference = RCModel.from_dict(SPEC).loglike(df)
+    mapped = RCModel.from_dict(spec(columns={"Ph": "heating_kW", "yTi": "T_living"}))
+    renamed = df.rename(columns={"Ph": "heating_kW", "yTi": "T_living"})
+    assert mapped.loglike(renamed) == pytest.approx(reference, rel=1e-12)
+    assert mapped.to_dict()["columns"] == {"Ph": "heating_kW", "yTi": "T_living"}
+    with pytest.raises(ThermocalInputError, match="maps 'Ph' to data column 'heating_kW'"):
+        mapped.loglike(df.rename(columns={"yTi": "T_living"}).drop(columns="Ph"))
+    with pytest.raises(ThermocalInputError, match="has a column 'Ph' as well"):
+        mapped.loglike(renamed.assign(Ph=1.0))
+    with pytest.raises(ThermocalInputError, match="'Qh' is not a column of the model"):
+        RCModel.from_dict(spec(columns={"Qh": "heat"})).loglike(df)
+    with pytest.raises(ThermocalInputError, match="both map to data column 'x'"):
+        RCModel.from_dict(spec(columns={"Ph": "x", "Ta": "x"}))
+    with pytest.raises(ThermocalInputError, match="'columns' must map"):
+        RCModel.from_dict(spec(columns=["Ph"]))
+
+
+def test_model_file_read_safely_and_initial_means_in_kelvin(tmp_path):
+    path = tmp_path / "m.yaml"
+    path.write_text("name: a\nname: b\n")
+    with pytest.raises(ThermocalInputError, match="name"):  # duplicate key, both lines
+        RCModel.from_yaml(path)
+    path.write_bytes(b"name: \xff\xfe\n")
+    with pytest.raises(ThermocalInputError, match="UTF-8"):
+        RCModel.from_yaml(path)
+    kelvin = spec(parameters__Ti0={"value": 293.15, "unit": "K", "lower": 250, "upper": 320})
+    with pytest.raises(ThermocalInputError, match=r"'Ti0' is an initial mean .* write unit: C "
+                       r"and value 20 \(= 293.15 K - 273.15\)"):  # fmt: skip
+        RCModel.from_dict(kelvin)
+    with pytest.raises(ThermocalInputError, match="looks like kelvin"):
+        RCModel.from_dict(spec(parameters__Ti0={"value": 293.0, "unit": "C"}))
+    with pytest.raises(ThermocalInputError, match="initial_mean of 'Te' = 283.15 looks like"):
+        RCModel.from_dict(spec(states__Te={"capacity": "Ce", "initial_mean": 283.15}))

@@ -290,6 +290,19 @@ def parse_mapping(items: list[str] | None) -> dict[str, str]:
     return out
 
 
+def merge_mappings(model, cli_renames: dict[str, str], data_file: Path) -> dict[str, str]:
+    """Renames data column -> model column from the model file's ``columns:`` and ``--map``
+    (``--map`` wins for a model name given in both); the model's own mapping is then cleared
+    (the data carries the model's names)."""
+    if not model.columns:
+        return cli_renames
+    model.check_columns()
+    by_model = {m: d for m, d in model.columns.items() if m != d}
+    by_model |= {m: d for d, m in cli_renames.items()}
+    model.set_columns({})
+    return {d: m for m, d in by_model.items()}
+
+
 def file_sha256(path: Path) -> str:
     """SHA-256 of a file's bytes."""
     import hashlib
@@ -384,6 +397,15 @@ def fit(
             "must be complete.",
         ),
     ] = 3,
+    gaps: Annotated[
+        str,
+        typer.Option(
+            "--gaps",
+            help="Input gaps longer than --max-gap: 'stop' (name the rows to cut) or 'split' "
+            "(leave them out and split the likelihood into periods with their own initial "
+            "states; also at jumps of the time axis).",
+        ),
+    ] = "stop",
     strict: Annotated[
         bool,
         typer.Option("--strict", help="Exit with code 3 when any flag is raised."),
@@ -411,17 +433,27 @@ def fit(
 
     if hold not in ("zoh", "foh"):
         raise ThermocalInputError(f"--hold {hold!r}: use zoh or foh")
+    if gaps not in ("stop", "split"):
+        raise ThermocalInputError(f"--gaps {gaps!r}: use stop or split")
     console = Console()
     model = RCModel.from_dict(read_yaml(model_file, what="model file"), source=str(model_file))
     data = read_table(data_file, sep=sep, decimal=decimal, sheet=sheet)
     notes = list(data.attrs.get("notes", []))
-    renames = parse_mapping(mapping)
+    renames = merge_mappings(model, parse_mapping(mapping), data_file)
     if renames:
         absent = [c for c in renames if c not in data.columns]
         if absent:
             raise ThermocalInputError(
-                f"{data_file}: --map names data column(s) {', '.join(map(repr, absent))}, not "
-                f"in the data; columns present: {', '.join(map(str, data.columns))}"
+                f"{data_file}: --map or the model file's columns: name data column(s) "
+                f"{', '.join(map(repr, absent))}, not in the data; columns present: "
+                f"{', '.join(map(str, data.columns))}"
+            )
+        clash = [m for d, m in renames.items() if m in data.columns and m not in renames]
+        if clash:
+            raise ThermocalInputError(
+                f"{data_file}: column(s) {', '.join(map(repr, clash))} are mapped from another "
+                "data column (--map or the model file's columns:) but exist in the data as "
+                "well; remove the mapping or rename one of the columns"
             )
         data = data.rename(columns=renames)
         notes.append("columns mapped: " + ", ".join(f"{d} -> {m}" for d, m in renames.items()))
@@ -455,8 +487,8 @@ def fit(
             source=str(data_file),
             n_jobs=jobs,
             progress=True,
-            input_gaps="interpolate" if max_gap > 0 else "error",
-            max_gap=max(max_gap, 1),
+            input_gaps="split" if gaps == "split" else "interpolate" if max_gap > 0 else "error",
+            max_gap=max_gap if gaps == "split" else max(max_gap, 1),
         )
         content = results.to_dict()
         content["data_notes"] = notes + content.get("data_notes", [])

@@ -40,6 +40,14 @@ class PreparedData:
     time_unit: str = "s"
     #: What was done to the data (e.g. interpolated input gaps), for the report.
     notes: list[str] = field(default_factory=list)
+    #: First sample of each period after the first when the likelihood is split at long gaps
+    #: (``input_gaps="split"``); empty for one contiguous period.
+    segments: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+
+    @property
+    def n_periods(self) -> int:
+        """Number of contiguous periods with their own initial states."""
+        return int(self.segments.size) + 1
 
     @property
     def nobs(self) -> int:
@@ -159,12 +167,23 @@ def prepare_data(
     - ``"error"`` (default): inputs must be complete; the message names the column and row;
     - ``"interpolate"``: gaps of at most ``max_gap`` consecutive samples are interpolated
       linearly in time and listed in ``PreparedData.notes``; longer gaps, and gaps at the start
-      or end, are errors naming the period (cut the data there).
+      or end, are errors naming the period (cut the data there);
+    - ``"split"``: short gaps interpolated as above; the rows of a longer gap are left out and
+      the likelihood is split there into contiguous periods, each with its own initial states
+      (:meth:`RCModel.with_periods`, done by ``fit``); gaps at the start or end are trimmed; a
+      jump of the time axis longer than ``max_gap + 1`` median intervals (rows missing
+      altogether) splits as well. Everything is listed in ``PreparedData.notes``. Missing
+      outputs never split: the filter skips them exactly.
+
+    Column names: the model's ``columns`` mapping (``{model name: data name}``, the model
+    file's ``columns:`` section) renames the data's columns first.
     """
-    if input_gaps not in ("error", "interpolate"):
+    if input_gaps not in ("error", "interpolate", "split"):
         raise ThermocalInputError(
-            f"input_gaps must be 'error' or 'interpolate', got {input_gaps!r}"
+            f"input_gaps must be 'error', 'interpolate' or 'split', got {input_gaps!r}"
         )
+    if isinstance(data, pd.DataFrame) and model.columns:
+        data = _apply_column_mapping(model, data, source)
     notes: list[str] = []
     if not isinstance(data, pd.DataFrame):
         raise ThermocalInputError(
@@ -183,13 +202,17 @@ def prepare_data(
             f"present: {', '.join(map(str, data.columns))}. Rename the column or fix the model file"
         )
     U = np.empty((len(data), len(model.input_names)))
+    drop = np.zeros(len(data), dtype=bool)  # rows of long input gaps (input_gaps="split")
     for j, col in enumerate(model.input_names):
         values = pd.to_numeric(data[col], errors="coerce").to_numpy(dtype=float)
         bad = ~np.isfinite(values)
         garbled = bad & data[col].notna().to_numpy() & ~np.isinf(values)
-        if bad.any() and input_gaps == "interpolate" and not garbled.any():
-            values = _interpolate_gaps(values, seconds, index, col, max_gap, source, notes)
-            bad = ~np.isfinite(values)
+        if bad.any() and input_gaps != "error" and not garbled.any():
+            values, long_rows = _interpolate_gaps(
+                values, seconds, index, col, max_gap, source, notes, split=input_gaps == "split"
+            )
+            drop |= long_rows
+            bad = ~np.isfinite(values) & ~long_rows
         if bad.any():
             row = int(np.flatnonzero(bad)[0])
             raise ThermocalInputError(
@@ -227,38 +250,138 @@ def prepare_data(
             )
     # intervals rounded to the microsecond: times given as decimal hours (0.0833333...) would
     # otherwise differ in the last bits and defeat the uniform-sampling fast path
+    segments = np.zeros(0, dtype=np.int64)
+    if input_gaps == "split":
+        index, seconds, U, Y, segments = _split_periods(
+            index, seconds, U, Y, drop, max_gap, source, notes
+        )
     dts = np.round(np.diff(seconds), 6)
     dts = np.append(dts, dts[-1])
+    if segments.size:
+        # the step into a new period is never propagated (the state restarts): give it the
+        # common interval so uniform sampling keeps its single discretisation
+        regular = float(np.median(dts))
+        dts[segments - 1] = regular
     return PreparedData(
-        index=index, seconds=seconds, dts=dts, U=U, Y=Y, time_unit=time_unit, notes=notes
-    )
+        index=index, seconds=seconds, dts=dts, U=U, Y=Y, time_unit=time_unit, notes=notes,
+        segments=segments,
+    )  # fmt: skip
 
 
-def _interpolate_gaps(values, seconds, index, col, max_gap, source, notes) -> np.ndarray:
+def _apply_column_mapping(model, data: pd.DataFrame, source: str) -> pd.DataFrame:
+    """``data`` with its columns renamed by the model's ``columns`` mapping (model <- data)."""
+    model.check_columns()
+    renames = {}
+    for name, data_name in model.columns.items():
+        if data_name == name:
+            continue
+        if data_name not in data.columns:
+            if name in data.columns:
+                continue  # already renamed (e.g. by --map)
+            raise ThermocalInputError(
+                f"{source}: the model file maps '{name}' to data column '{data_name}' "
+                f"(columns:), which is not in the data; columns present: "
+                f"{', '.join(map(str, data.columns))}"
+            )
+        if name in data.columns:
+            raise ThermocalInputError(
+                f"{source}: the model file maps '{name}' to data column '{data_name}' "
+                f"(columns:), but the data has a column '{name}' as well; remove the mapping "
+                "or rename one of the columns"
+            )
+        renames[data_name] = name
+    return data.rename(columns=renames) if renames else data
+
+
+#: A period shorter than this many samples is left out of a split likelihood.
+MIN_PERIOD_SAMPLES = 2
+
+
+def _split_periods(index, seconds, U, Y, drop, max_gap, source, notes):
+    """Leave out the rows of long input gaps and split the rest into contiguous periods.
+
+    Returns the kept ``index, seconds, U, Y`` and the first sample of each later period.
+    A jump of the time axis longer than ``max_gap + 1`` median intervals splits too.
+    """
+    n = len(seconds)
+    step = float(np.median(np.diff(seconds)))
+    keep = ~drop
+    # period labels: a new period after every dropped run and every long time jump
+    boundary = np.zeros(n, dtype=bool)
+    jumps = np.flatnonzero(np.diff(seconds) > (max_gap + 1) * step + 1e-9) + 1
+    boundary[jumps] = True
+    boundary[1:] |= drop[:-1] & keep[1:]
+    period = np.cumsum(boundary & keep)
+    kept_rows = np.flatnonzero(keep)
+    if kept_rows.size == 0:
+        raise ThermocalInputError(f"{source}: no row has all inputs; nothing to fit")
+    labels = period[kept_rows]
+    starts_in_kept = np.flatnonzero(np.diff(labels) != 0) + 1
+    bounds = np.concatenate([[0], starts_in_kept, [kept_rows.size]])
+    pieces, described, left_out = [], [], []
+    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+        rows = kept_rows[a:b]
+        if rows.size < MIN_PERIOD_SAMPLES or not np.isfinite(Y[rows]).any():
+            left_out.append(f"{index[rows[0]]} ({rows.size} sample(s), no use)")
+            continue
+        pieces.append(rows)
+        described.append(f"{index[rows[0]]} to {index[rows[-1]]} ({rows.size} samples)")
+    if not pieces:
+        raise ThermocalInputError(
+            f"{source}: after leaving out the long input gaps no period of at least "
+            f"{MIN_PERIOD_SAMPLES} samples with observations is left"
+        )
+    rows = np.concatenate(pieces)
+    segments = np.cumsum([p.size for p in pieces])[:-1].astype(np.int64)
+    n_dropped = int(drop.sum())
+    if n_dropped or segments.size or left_out:
+        notes.append(
+            f"likelihood split into {len(pieces)} period(s) with their own initial states "
+            f"({n_dropped} row(s) with long input gaps left out"
+            + (f", {jumps.size} jump(s) of the time axis" if jumps.size else "")
+            + "): "
+            + "; ".join(described)
+            + (f"; left out: {'; '.join(left_out)}" if left_out else "")
+        )
+    seconds = seconds[rows] - seconds[rows[0]]
+    return index[rows], seconds, U[rows], Y[rows], segments
+
+
+def _interpolate_gaps(values, seconds, index, col, max_gap, source, notes, split=False):
     """``values`` with interior NaN runs of at most ``max_gap`` samples interpolated linearly
-    in time; a longer run or one at either end is an error naming its period."""
+    in time, and the mask of rows left for a split (longer runs and runs at either end, with
+    ``split``; without, such a run is an error naming its period)."""
     bad = ~np.isfinite(values)
     edges = np.diff(np.concatenate([[0], bad.astype(int), [0]]))
     starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)  # [start, end)
+    long_rows = np.zeros(values.size, dtype=bool)
+    short = np.zeros(values.size, dtype=bool)
     for a, b in zip(starts, ends, strict=True):
         where = f"rows {a} to {b - 1} ({index[a]} to {index[b - 1]})"
+        if split and (a == 0 or b == values.size or b - a > max_gap):
+            long_rows[a:b] = True
+            continue
+        short[a:b] = True
         if a == 0 or b == values.size:
             raise ThermocalInputError(
                 f"{source}: input column '{col}' is missing at the "
                 f"{'start' if a == 0 else 'end'} of the data, {where}: nothing to interpolate "
-                "from; cut the period"
+                "from; cut the period (input_gaps='split', --gaps split, trims it)"
             )
         if b - a > max_gap:
             raise ThermocalInputError(
                 f"{source}: input column '{col}' is missing for {b - a} consecutive samples, "
-                f"{where}, longer than the {max_gap} interpolated (max_gap, --max-gap); cut the "
-                "data there and fit the periods separately, or raise max_gap"
+                f"{where}, longer than the {max_gap} interpolated (max_gap, --max-gap); split the "
+                "likelihood there (input_gaps='split', --gaps split: each period gets its own "
+                "initial states), cut the data, or raise max_gap"
             )
     ok = ~bad
     out = values.copy()
-    out[bad] = np.interp(seconds[bad], seconds[ok], values[ok])
-    notes.append(
-        f"input '{col}': {int(bad.sum())} missing value(s) in {starts.size} gap(s) of at most "
-        f"{int((ends - starts).max())} sample(s) interpolated linearly"
-    )
-    return out
+    if short.any():
+        out[short] = np.interp(seconds[short], seconds[ok], values[ok])
+        lengths = [b - a for a, b in zip(starts, ends, strict=True) if short[a]]
+        notes.append(
+            f"input '{col}': {int(short.sum())} missing value(s) in {len(lengths)} gap(s) of "
+            f"at most {max(lengths)} sample(s) interpolated linearly"
+        )
+    return out, long_rows

@@ -81,15 +81,56 @@ def loglike(model, data, params=None, *, hold="zoh", time_column=None, time_unit
 def _loglike_values(model, values, prep: PreparedData, foh: bool) -> float:
     st = model.structure()
     lam, T, Tinv, TB, M, meas_var, x0, P0 = kernels.system_from_values(
-        values, *st.arrays, st.n_inputs
+        values, *st.arrays[:19], st.n_inputs
     )
+    seg_start, seg_x0 = _periods(model, prep, values)
     e2, e3 = np.empty((0, 0)), np.empty((0, 0, 0))
     return float(
         kernels.kalman_filter(
             lam, T, Tinv, TB, M, st.C, meas_var, x0, P0, prep.dts, prep.U, prep.Y, foh,
-            False, e2, e3, e2, e3, e3,
+            False, e2, e3, e2, e3, e3, seg_start, seg_x0,
         )
     )  # fmt: skip
+
+
+def _periods(model, prep: PreparedData, values=None) -> tuple[np.ndarray, np.ndarray]:
+    """(first sample of each later period, their initial means [C]) for the kernels.
+
+    ``values``: SI value vector (default: the declared values). The model must declare an
+    initial state per period (:meth:`RCModel.with_periods`, done by :func:`fit`).
+    """
+    st = model.structure()
+    if values is None:
+        values = model.values_si()
+    seg_x0 = kernels.period_initial_means(values, st.arrays[19], st.n_states)
+    segments = prep.segments
+    if seg_x0.shape[0] < segments.size:
+        raise ThermocalInputError(
+            f"model '{model.name}': the data is split into {segments.size + 1} periods (long "
+            f"input gaps) but the model has initial states for {seg_x0.shape[0] + 1}; use the "
+            "fitted model of that data (res.model) or model.with_periods(...)"
+        )
+    return segments, seg_x0[: segments.size]
+
+
+def period_start_guesses(model, prep: PreparedData) -> list[dict[str, float]]:
+    """For each period after the first: {state: first measured value of an output observing
+    that state alone [C]}, start values of the period's initial means."""
+    C = model.structure().C
+    guesses = []
+    for start in prep.segments:
+        end = prep.Y.shape[0]
+        guess: dict[str, float] = {}
+        for r in range(C.shape[0]):
+            nz = np.flatnonzero(C[r])
+            if nz.size != 1 or C[r, nz[0]] != 1.0:
+                continue
+            col = prep.Y[start:end, r]
+            finite = np.flatnonzero(np.isfinite(col))
+            if finite.size:
+                guess[model.state_names[nz[0]]] = float(col[finite[0]])
+        guesses.append(guess)
+    return guesses
 
 
 class LikelihoodProblem:
@@ -104,6 +145,8 @@ class LikelihoodProblem:
         self.st = st.arrays
         self.C = st.C
         self.scale = float(max(prep.nobs, 1))
+        self.seg = np.asarray(prep.segments, dtype=np.int64)
+        _periods(model, prep)  # the model has an initial state per period
         self.iterations = 0  # optimiser iterations over all runs
         free = model.free_parameter_names
         self.priors = [
@@ -128,8 +171,9 @@ class LikelihoodProblem:
         p = self.prep
         return float(
             kernels.loglike_theta(
-                np.asarray(theta, dtype=float), self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh
-            )
+                np.asarray(theta, dtype=float), self.tr, self.st, self.C, p.dts, p.U, p.Y,
+                self.foh, self.seg,
+            )  # fmt: skip
         )
 
     def logprior(self, theta: np.ndarray) -> tuple[float, np.ndarray]:
@@ -158,7 +202,8 @@ class LikelihoodProblem:
         theta = np.asarray(theta, dtype=float)
         clipped = self.clip(theta)
         f, g = kernels.negloglike_and_gradient(
-            clipped, self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh, GRADIENT_STEP,
+            clipped, self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh, self.seg,
+            GRADIENT_STEP,
         )  # fmt: skip
         if self.priors:
             lp, lg = self.logprior(clipped)
@@ -555,8 +600,11 @@ def fit(
         Show a progress bar over the starts (default: when more than one start and standard
         error is a terminal).
     input_gaps, max_gap :
-        Missing input values: ``"error"`` or ``"interpolate"`` gaps of at most ``max_gap``
-        samples (see :func:`thermocal.statespace.data.prepare_data`; noted in the results).
+        Missing input values: ``"error"``, ``"interpolate"`` gaps of at most ``max_gap``
+        samples, or ``"split"``: interpolate short gaps and split the likelihood at longer ones
+        (and at jumps of the time axis) into periods with their own initial states; the
+        results then belong to ``model.with_periods(...)`` (parameters ``Ti0_p2``, ...). See
+        :func:`thermocal.statespace.data.prepare_data`; noted in the results.
 
     Returns
     -------
@@ -567,6 +615,8 @@ def fit(
     t_start = time.perf_counter()
     foh = _hold_flag(hold)
     prep = _prepared(model, data, time_column, time_unit, source, input_gaps, max_gap)
+    if prep.segments.size and len(model.period_initial_means) != prep.segments.size:
+        model = model.with_periods(period_start_guesses(model, prep))
     if model.n_free == 0:
         raise ThermocalInputError(
             f"model '{model.name}' has no free parameter to estimate; set 'fixed: false' on some"
@@ -634,6 +684,8 @@ def simulate(
         )
     )
     lam, T, Tinv, TB, M, _, x0, _ = model.system(params)
+    values = model.values_si(params)
+    seg_start, seg_x0 = _periods(model, prep, values)
     for state, value in (initial_state or {}).items():
         if state not in model.state_names:
             raise ThermocalInputError(
@@ -641,7 +693,9 @@ def simulate(
                 f"(states: {', '.join(model.state_names)})"
             )
         x0[model.state_names.index(state)] = float(value)
-    X = kernels.simulate_states(lam, T, Tinv, TB, M, x0, prep.dts, prep.U, _hold_flag(hold))
+    X = kernels.simulate_states(
+        lam, T, Tinv, TB, M, x0, prep.dts, prep.U, _hold_flag(hold), seg_start, seg_x0
+    )
     out = pd.DataFrame(X, index=prep.index, columns=model.state_names)
     Yhat = X @ model.structure().C.T
     for r, col in enumerate(model.output_names):
@@ -657,12 +711,13 @@ def filter_arrays(model, prep: PreparedData, params: Mapping[str, float] | None,
     """
     st = model.structure()
     lam, T, Tinv, TB, M, meas_var, x0, P0 = model.system(params)
+    seg_start, seg_x0 = _periods(model, prep, model.values_si(params))
     N, n = prep.Y.shape[0], st.n_states
     xp, xf = np.empty((N, n)), np.empty((N, n))
     Pp, Pf, Ads = np.empty((N, n, n)), np.empty((N, n, n)), np.zeros((N, n, n))
     ll = kernels.kalman_filter(
         lam, T, Tinv, TB, M, st.C, meas_var, x0, P0, prep.dts, prep.U, prep.Y, foh,
-        True, xp, Pp, xf, Pf, Ads,
+        True, xp, Pp, xf, Pf, Ads, seg_start, seg_x0,
     )  # fmt: skip
     return {
         "xp": xp, "Pp": Pp, "xf": xf, "Pf": Pf, "Ads": Ads, "loglike": float(ll),

@@ -316,7 +316,8 @@ STEADY_STATE_TOLERANCE = 1e-13
 
 @njit(cache=True, error_model="numpy")
 def kalman_filter(
-    lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, xp, Pp, xf, Pf, Ads
+    lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, xp, Pp, xf, Pf, Ads,
+    seg_start, seg_x0,
 ):
     """Kalman filter over the samples; returns the log-likelihood of ``Y``.
 
@@ -336,6 +337,11 @@ def kalman_filter(
     With ``store`` the predicted (``xp``, ``Pp``) and filtered (``xf``, ``Pf``) moments and the
     transition matrices ``Ads[k]`` (k -> k+1), in physical coordinates, are written into the
     given arrays.
+
+    Separate periods (the likelihood split at long gaps): at sample ``seg_start[s]`` the state
+    restarts from its own initial mean ``seg_x0[s]`` [C] with covariance ``P0`` (nothing is
+    carried over the gap; ``Ads`` of the step into it is zero, so the RTS smoother treats the
+    periods independently). Empty arrays: one period.
     """
     n = lam.size
     m = TB.shape[1]
@@ -383,7 +389,27 @@ def kalman_filter(
     steady = False
     last_dt = -1.0
     loglike = 0.0
+    next_seg = 0
     for k in range(N):
+        if next_seg < seg_start.size and k == seg_start[next_seg]:
+            for i in range(n):
+                acc = 0.0
+                for j in range(n):
+                    acc += Tinv[i, j] * seg_x0[next_seg, j]
+                z[i] = acc
+            for i in range(n):
+                for j in range(n):
+                    acc = 0.0
+                    for a in range(n):
+                        for b in range(n):
+                            acc += Tinv[i, a] * P0[a, b] * Tinv[j, b]
+                    P[i, j] = acc
+            if store and k > 0:
+                for i in range(n):
+                    for j in range(n):
+                        Ads[k - 1, i, j] = 0.0
+            steady = False
+            next_seg += 1
         complete = True
         for r in range(ny):
             if math.isnan(Y[k, r]):
@@ -499,8 +525,9 @@ def kalman_filter(
 
 
 @njit(cache=True, error_model="numpy")
-def simulate_states(lam, T, Tinv, TB, M, x0, dts, U, foh):
-    """Deterministic (noise-free) state trajectory [C] from ``x0`` through all samples."""
+def simulate_states(lam, T, Tinv, TB, M, x0, dts, U, foh, seg_start, seg_x0):
+    """Deterministic (noise-free) state trajectory [C] from ``x0`` through all samples; at
+    ``seg_start[s]`` it restarts from ``seg_x0[s]`` (see :func:`kalman_filter`)."""
     n = lam.size
     m = TB.shape[1]
     N = U.shape[0]
@@ -511,7 +538,12 @@ def simulate_states(lam, T, Tinv, TB, M, x0, dts, U, foh):
     Q = np.empty((n, n))
     x = x0.copy()
     last_dt = -1.0
+    next_seg = 0
     for k in range(N):
+        if next_seg < seg_start.size and k == seg_start[next_seg]:
+            for i in range(n):
+                x[i] = seg_x0[next_seg, i]
+            next_seg += 1
         for i in range(n):
             X[k, i] = x[i]
         if k == N - 1:
@@ -661,11 +693,25 @@ def system_from_values(
 
 
 @njit(cache=True, error_model="numpy")
-def loglike_theta(theta, tr, st, C, dts, U, Y, foh):
+def period_initial_means(values, seg_x0_idx, n):
+    """Initial means [C] of the periods after the first, shape (periods - 1, n):
+    ``values[seg_x0_idx]`` row by row."""
+    k = seg_x0_idx.size // n if n > 0 else 0
+    out = np.empty((k, n))
+    for s in range(k):
+        for i in range(n):
+            out[s, i] = values[seg_x0_idx[s * n + i]]
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start):
     """Log-likelihood at unconstrained parameters ``theta``.
 
     ``tr`` = (free_idx, kind, lower, upper, si_factor, base_values) and ``st`` = the structure
-    tuple of :meth:`RCModel.structure` (see :func:`system_from_values`).
+    tuple of :meth:`RCModel.structure` (see :func:`system_from_values`; ``st[19]`` indexes the
+    initial means of the periods after the first, see :func:`period_initial_means`);
+    ``seg_start``: first sample of each later period (empty: one period).
     """
     values = fill_values(theta, tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
     lam, T, Tinv, TB, M, meas_var, x0, P0 = system_from_values(
@@ -696,8 +742,10 @@ def loglike_theta(theta, tr, st, C, dts, U, Y, foh):
     # a literal False would make numba compile a second specialisation of the filter (typed
     # Literal[bool]) besides the one called with store=True from Python: a runtime False shares it
     store = U.shape[0] < 0
+    seg_x0 = period_initial_means(values, st[19], x0.size)
     ll = kalman_filter(
-        lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, e2, e3, e2, e3, e3
+        lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, e2, e3, e2, e3, e3,
+        seg_start, seg_x0,
     )
     if not math.isfinite(ll):
         return -np.inf
@@ -705,18 +753,18 @@ def loglike_theta(theta, tr, st, C, dts, U, Y, foh):
 
 
 @njit(cache=True, error_model="numpy")
-def negloglike_and_gradient(theta, tr, st, C, dts, U, Y, foh, rel_step):
+def negloglike_and_gradient(theta, tr, st, C, dts, U, Y, foh, seg_start, rel_step):
     """Negative log-likelihood and its central-difference gradient in ``theta``."""
-    f0 = -loglike_theta(theta, tr, st, C, dts, U, Y, foh)
+    f0 = -loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start)
     p = theta.size
     grad = np.empty(p)
     th = theta.copy()
     for i in range(p):
         h = rel_step * max(1.0, abs(theta[i]))
         th[i] = theta[i] + h
-        fp = -loglike_theta(th, tr, st, C, dts, U, Y, foh)
+        fp = -loglike_theta(th, tr, st, C, dts, U, Y, foh, seg_start)
         th[i] = theta[i] - h
-        fm = -loglike_theta(th, tr, st, C, dts, U, Y, foh)
+        fm = -loglike_theta(th, tr, st, C, dts, U, Y, foh, seg_start)
         th[i] = theta[i]
         grad[i] = (fp - fm) / (2.0 * h)
     return f0, grad

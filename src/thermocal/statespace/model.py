@@ -52,6 +52,7 @@ _TOP_LEVEL_KEYS = {
     "outputs",
     "parameters",
     "derived",
+    "columns",
 }
 _STATE_KEYS = {"capacity", "noise", "initial_mean", "initial_std", "description"}
 _CONDUCTANCE_KEYS = {"between", "conductance", "resistance", "description"}
@@ -76,6 +77,9 @@ _NONNEGATIVE_ROLES = {"noise", "measurement noise", "initial std"}
 
 #: ``"2*H_env"``: a positive number times a parameter, allowed in conductance/resistance lists.
 _FACTOR_PATTERN = re.compile(r"^\s*([0-9.eE+-]+)\s*\*\s*([A-Za-z_][\w./-]*)\s*$")
+
+#: An initial mean above this [C] is taken for kelvin by mistake.
+KELVIN_INITIAL_MEAN = 150.0
 
 #: Default initial-state standard deviation [K] when a state declares none.
 DEFAULT_INITIAL_STD = 1.0
@@ -243,6 +247,11 @@ class RCModel:
         self.derived: dict[str, tuple[str, str]] = {}
         self._structure: Structure | None = None
         self.source = "<in memory>"
+        #: Model column name -> data column name (the model file's ``columns:`` section).
+        self.columns: dict[str, str] = {}
+        #: Initial means of the periods after the first ({state: parameter or number [C]}),
+        #: when the likelihood is split at long gaps (see :meth:`with_periods`).
+        self.period_initial_means: list[dict[str, str | float]] = []
 
     # ------------------------------------------------------------------ declaration
     def add_state(
@@ -560,6 +569,15 @@ class RCModel:
                 states=ospec.get("states"),
                 noise=ospec["noise"],
             )
+        columns = spec.get("columns") or {}
+        if not isinstance(columns, Mapping) or not all(
+            isinstance(v, str) and v.strip() for v in columns.values()
+        ):
+            raise ThermocalInputError(
+                f"{where}: 'columns' must map the model's column names to data column names, "
+                "e.g. columns: {Ph: heating_kW, yTi: T_living}"
+            )
+        model.set_columns({str(k): str(v) for k, v in columns.items()}, where=where)
         derived = spec.get("derived") or {}
         if not isinstance(derived, Mapping):
             raise ThermocalInputError(
@@ -583,17 +601,83 @@ class RCModel:
 
     @classmethod
     def from_yaml(cls, path: str | Path) -> RCModel:
-        """Read a YAML model file (see ``docs/model-file.md``)."""
-        import yaml
+        """Read a YAML model file (see ``docs/model-file.md``) with the safe reader
+        :func:`thermocal.io.yamlfile.read_yaml` (duplicate keys, alias bombs, depth, size and
+        encoding refused with the file and line)."""
+        from thermocal.io.yamlfile import read_yaml
 
-        path = Path(path)
-        if not path.exists():
-            raise ThermocalInputError(f"model file {path} does not exist")
-        try:
-            spec = yaml.safe_load(path.read_text())
-        except yaml.YAMLError as exc:
-            raise ThermocalInputError(f"model file {path} is not valid YAML: {exc}") from None
-        return cls.from_dict(spec, source=str(path))
+        return cls.from_dict(read_yaml(Path(path), what="model file"), source=str(path))
+
+    def set_columns(self, columns: Mapping[str, str], *, where: str | None = None) -> RCModel:
+        """Map the model's column names to data column names (``{model: data}``).
+
+        The data is read with these renames (see :func:`thermocal.statespace.prepare_data`),
+        so a model file written with ``Ph`` fits a table whose column is ``heating_kW``.
+        """
+        where = where or f"model '{self.name}'"
+        seen: dict[str, str] = {}
+        for name, data_name in columns.items():
+            if data_name in seen:
+                raise ThermocalInputError(
+                    f"{where}: columns: '{seen[data_name]}' and '{name}' both map to data "
+                    f"column '{data_name}'; map each model column to its own data column"
+                )
+            seen[data_name] = name
+        self.columns = dict(columns)
+        return self
+
+    def check_columns(self, where: str | None = None) -> None:
+        """Refuse ``columns:`` entries that name no column of the model."""
+        where = where or f"{self.source} (model '{self.name}')"
+        known = set(self.input_names) | set(self.output_names)
+        unknown = [c for c in self.columns if c not in known]
+        if unknown:
+            raise ThermocalInputError(
+                f"{where}: columns: {', '.join(map(repr, unknown))} is not a column of the "
+                f"model (its columns: {', '.join(sorted(known))}); the keys are the model's "
+                "names, the values the data's"
+            )
+
+    def with_periods(self, starts: Sequence[Mapping[str, float]]) -> RCModel:
+        """Copy with one more set of initial states per period after the first.
+
+        The likelihood split at long gaps (``input_gaps="split"``) restarts the state at each
+        period; every state whose initial mean is an estimated parameter (``Ti0``) gets a new
+        parameter per period (``Ti0_p2``, ``Ti0_p3``, ...) with the same unit and bounds, its
+        start value taken from ``starts[p][state]`` when given (e.g. the first measured
+        temperature of the period), else the declared one; fixed or constant initial means
+        are reused.
+        """
+        self.structure()
+        model = self.copy()
+        model.period_initial_means = []
+        for p, start in enumerate(starts, start=2):
+            means: dict[str, str | float] = {}
+            for state, spec in self._states.items():
+                ref = spec.get("initial_mean")
+                par = self.parameters.get(ref) if isinstance(ref, str) else None
+                if par is None or par.fixed:
+                    means[state] = ref
+                    continue
+                name = f"{ref}_p{p}"
+                while name in model.parameters:
+                    name += "_"
+                value = par.value
+                guess = start.get(state)
+                if guess is not None and math.isfinite(guess):
+                    span = par.upper - par.lower
+                    margin = 1e-3 * span if math.isfinite(span) else 1e-3
+                    value = min(max(float(guess), par.lower + margin), par.upper - margin)
+                model.add_parameter(
+                    name, value, unit=par.unit,
+                    lower=par.lower if math.isfinite(par.lower) else None,
+                    upper=par.upper if math.isfinite(par.upper) else None,
+                    description=f"initial mean of {state} in period {p}",
+                )  # fmt: skip
+                means[state] = name
+            model.period_initial_means.append(means)
+        model._structure = None
+        return model
 
     def to_dict(self) -> dict[str, Any]:
         """The model as a dictionary with the structure of the model file."""
@@ -614,6 +698,7 @@ class RCModel:
                 if self.derived
                 else {}
             ),
+            **({"columns": dict(self.columns)} if self.columns else {}),
         }
 
     def copy(self) -> RCModel:
@@ -728,7 +813,12 @@ class RCModel:
     def system(self, params: Mapping[str, float] | None = None):
         """Eigen-form system used by the kernels (see :func:`kernels.system_from_values`)."""
         st = self.structure()
-        return kernels.system_from_values(self.values_si(params), *st.arrays, st.n_inputs)
+        return kernels.system_from_values(self.values_si(params), *st.arrays[:19], st.n_inputs)
+
+    def period_initial_means_si(self, params: Mapping[str, float] | None = None) -> np.ndarray:
+        """Initial means [C] of the periods after the first, shape (periods - 1, states)."""
+        st = self.structure()
+        return kernels.period_initial_means(self.values_si(params), st.arrays[19], st.n_states)
 
     def continuous_matrices(
         self, params: Mapping[str, float] | None = None
@@ -989,6 +1079,11 @@ class _Compiler:
         number = _as_float(value, f"{self.where}: {what}")
         if role in _POSITIVE_ROLES and not number > 0:
             raise ThermocalInputError(f"{self.where}: {what} = {number} must be positive")
+        if role == "initial mean" and number > KELVIN_INITIAL_MEAN:
+            raise ThermocalInputError(
+                f"{self.where}: {what} = {number:g} looks like kelvin; states are in degrees C: "
+                f"write {number - 273.15:.6g}"
+            )
         if role in _NONNEGATIVE_ROLES and not number >= 0:
             raise ThermocalInputError(f"{self.where}: {what} = {number} must not be negative")
         self.constants.append(number)
@@ -1032,6 +1127,13 @@ def _compile(model: RCModel) -> Structure:
                 DEFAULT_INITIAL_STD if std is None else std, "initial std", f"initial_std of '{s}'"
             )
         )
+
+    seg_x0_idx = []
+    for p, means in enumerate(model.period_initial_means, start=2):
+        for s in states:
+            seg_x0_idx.append(
+                cp.ref(means.get(s), "initial mean", f"initial mean of '{s}' in period {p}")
+            )
 
     edge_a, edge_b, link_ptr, link_idx, link_res, link_factor = [], [], [0], [], [], []
     for i, c in enumerate(model._conductances):
@@ -1203,6 +1305,7 @@ def _compile(model: RCModel) -> Structure:
         i64(x0_idx),
         i64(p0_idx),
         f64(link_factor),
+        i64(seg_x0_idx),
     )
     return Structure(
         arrays=arrays,
@@ -1266,6 +1369,21 @@ def _check_parameters(model: RCModel, roles: dict[str, set[str]], where: str) ->
                 raise ThermocalInputError(
                     f"{pwhere} is a fraction with bounds [{p.lower}, {p.upper}]; give it "
                     "'lower: 0' and 'upper: 1' (or narrower)"
+                )
+            if role == "initial mean" and p.unit == "K":
+                raise ThermocalInputError(
+                    f"{pwhere} is an initial mean (a temperature) in unit 'K'; states are in "
+                    f"degrees C: write unit: C and value {p.value - 273.15:.6g} "
+                    f"(= {p.value:g} K - 273.15)"
+                    + (", and convert the bounds" if math.isfinite(p.lower + p.upper) else "")
+                    if p.value > KELVIN_INITIAL_MEAN
+                    else f"{pwhere} is an initial mean (a temperature) in unit 'K'; states are "
+                    "in degrees C: write unit: C (K is for standard deviations)"
+                )
+            if role == "initial mean" and p.value > KELVIN_INITIAL_MEAN:
+                raise ThermocalInputError(
+                    f"{pwhere}: initial mean {p.value:g} {p.unit} looks like kelvin; states are "
+                    f"in degrees C: write {p.value - 273.15:.6g}"
                 )
             if role == "fraction" and not 0.0 <= p.value <= 1.0:
                 raise ThermocalInputError(f"{pwhere} is a fraction and must lie in [0, 1]")

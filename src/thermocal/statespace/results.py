@@ -550,6 +550,9 @@ class FitResults:
         Xk, Pk = kernels.predict_ahead(
             lam, T, Tinv, TB, M, f["xf"], f["Pf"], prep.dts, prep.U, _hold_flag(self.hold), steps
         )
+        for start in prep.segments:  # no prediction across the gap before a new period
+            Xk[start : start + steps] = np.nan
+            Pk[start : start + steps] = np.nan
         C, R = f["C"], f["meas_var"]
         out = pd.DataFrame(index=prep.index)
         mean = Xk @ C.T

@@ -27,7 +27,7 @@ returns them converted to discrete gains for the given ``t_s``.
 References
 ----------
 Calibration of envelope parameters using control-based heat balance identification and
-uncertainty analysis (2013), IBPSA conference paper (:data:`thermocal.identification.REFERENCE`).
+uncertainty analysis, conference paper (:data:`thermocal.identification.REFERENCE`).
 Franklin, G. F., Powell, J. D., Emami-Naeini, A. (2006). Feedback Control of Dynamic Systems,
 5th ed., Pearson (Ziegler-Nichols ultimate-sensitivity method).
 """

@@ -35,7 +35,9 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
     confirm = result.confirmed
     items = {
         "Samples": f"{samples['successful']} ok, {samples['failed']} failed",
-        "Campaign time": f"{samples['wall_time_s']:.0f} s ({samples['backend']})",
+        "Campaign time": f"{samples['wall_time_s']:.0f} s ({samples['backend']})"
+        if result.summary.evaluated
+        else f"all {samples['successful']} samples from the store",
         "Meta-model R2 (cross-validated)": f"{result.surrogate.cv_r2_:.3f}",
         "Nominal unoccupied std": f"{np.sqrt(result.nominal_metric) / 1000:.3f} kW",
         "Calibrated unoccupied std": f"{confirm['calibrated']['confirmed_std_W'] / 1000:.3f} kW",
@@ -45,12 +47,22 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
     report.key_values(items)
     for note in result.notes:
         report.note(note)
-    table = result.table1().reset_index()
+    table = result.table1().reset_index().rename(
+        columns={"min_metric": "minimum variance", "max_metric": "maximum variance"}
+    )
     report.table(table, caption="Critical parameters: nominal, minimum and maximum variance")
     if result.truth_comparison is not None:
+        truth = result.truth_comparison.reset_index().rename(
+            columns={
+                "perturbed_in_truth": "perturbed",
+                "moved_towards_truth": "towards truth",
+                "recovered_fraction": "share recovered",
+            }
+        )
         report.table(
-            result.truth_comparison.reset_index(),
-            caption="Demo: calibrated values against the generator's truth",
+            truth,
+            caption="Demo: calibrated values against the generator's truth (share recovered = "
+            "(calibrated - nominal) / (true - nominal))",
         )
     report.table(
         pd.DataFrame(

@@ -254,9 +254,12 @@ def test_fit_reads_excel_with_columns_from_the_model_file_and_splits_long_gaps(t
     sheet.to_excel(xlsx, sheet_name="Messung")
     out = tmp_path / "out"
     cmd = ["fit", str(model_file), str(xlsx), "--out", str(out), "--sheet", "Messung", *args]
-    result = CliRunner().invoke(app, cmd)
+    result = CliRunner().invoke(app, [*cmd, "--profile", "H_v"])
     assert result.exit_code == 0, result.output
     content = json.loads((out / "fit.json").read_text())
+    interval = content["profile_intervals"]["H_v"]
+    assert interval["lower"] < content["params"]["H_v"]["value"] < interval["upper"]
+    assert "profile 95 % interval H_v" in result.output
     reference = json.loads((ref / "fit.json").read_text())
     assert content["loglike"] == pytest.approx(reference["loglike"], abs=1e-6)
     assert "Heizung -> phi_h" in " ".join(content["data_notes"])

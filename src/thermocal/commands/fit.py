@@ -406,6 +406,14 @@ def fit(
             "states; also at jumps of the time axis).",
         ),
     ] = "stop",
+    profile: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--profile",
+            help="Profile-likelihood 95 % interval of a free parameter or derived quantity "
+            "(repeat for several; each costs a few refits).",
+        ),
+    ] = None,
     strict: Annotated[
         bool,
         typer.Option("--strict", help="Exit with code 3 when any flag is raised."),
@@ -472,6 +480,13 @@ def fit(
                 f"{data_file}: time column '{time_column}' does not follow --time-format "
                 f"{time_format!r} ({exc})"
             ) from None
+    for name in profile or []:
+        if name not in model.free_parameter_names and name not in model.derived:
+            raise ThermocalInputError(
+                f"--profile {name!r}: not a free parameter or derived quantity of "
+                f"{model_file} (free: {', '.join(model.free_parameter_names)}; derived: "
+                f"{', '.join(model.derived) or 'none'})"
+            )
     check_time_axis(data, time_column, time_unit, data_file)
     check_numbers(data, [*model.input_names, *model.output_names], data_file, decimal)
     with output_folder(out, command="fit", signature=("fit.json",)) as tmp:
@@ -491,6 +506,13 @@ def fit(
             max_gap=max_gap if gaps == "split" else max(max_gap, 1),
         )
         content = results.to_dict()
+        if profile:
+            content["profile_intervals"] = {}
+            for name in profile:
+                console.print(f"profile likelihood of {name}...")
+                interval = results.profile_interval(name)
+                interval.pop("points")
+                content["profile_intervals"][name] = interval
         content["data_notes"] = notes + content.get("data_notes", [])
         content["provenance"] = {
             "thermocal_version": __version__,
@@ -556,6 +578,12 @@ def fit(
             "yes" if row["fixed"] else "",
         )
     console.print(table)
+    for name, iv in content.get("profile_intervals", {}).items():
+        console.print(
+            f"profile 95 % interval {name}: {iv['estimate']:.6g} in [{iv['lower']:.6g}"
+            f"{' (bound)' if iv['open_lower'] else ''}, {iv['upper']:.6g}"
+            f"{' (bound)' if iv['open_upper'] else ''}]"
+        )
     for note in content["data_notes"]:
         console.print(f"note: {note}")
     for flag in results.flags:

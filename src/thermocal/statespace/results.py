@@ -430,6 +430,22 @@ class FitResults:
             upper.append(max(a, b))
         return pd.DataFrame({"lower": lower, "upper": upper}, index=pd.Index(free))
 
+    def profile_interval(self, name: str, *, alpha: float = 0.05) -> dict:
+        """Profile-likelihood confidence interval of a free parameter or a derived quantity
+        [declared unit]; see :func:`thermocal.statespace.profile.profile_interval`."""
+        from thermocal.statespace.profile import profile_interval
+
+        return profile_interval(self, name, alpha=alpha)
+
+    def profile_intervals(self, names, *, alpha: float = 0.05) -> pd.DataFrame:
+        """:meth:`profile_interval` of several names: estimate, lower, upper, open ends."""
+        rows = {}
+        for name in names:
+            r = self.profile_interval(name, alpha=alpha)
+            rows[name] = {k: r[k] for k in ("estimate", "lower", "upper", "open_lower",
+                                            "open_upper", "evaluations")}  # fmt: skip
+        return pd.DataFrame.from_dict(rows, orient="index")
+
     def derived(self) -> pd.DataFrame:
         """Derived quantities declared in the model (``derived:``) with delta-method standard
         errors: value, std_error, unit, one row per quantity.

@@ -334,9 +334,10 @@ def test_five_zone_loads(five_zone):
     assert setpoints[("SPACE1-1", "heating")].iloc[10] == pytest.approx(22.2)
     assert setpoints[("SPACE1-1", "heating")].iloc[3] == pytest.approx(16.7)
     # internal gains on a Monday 10:00-11:00 in SPACE1-1: lights 1584 W x 1.0, equipment
-    # 1056 W x 0.9, 11 people x 117.24 W x 0.6 (sensible) x 1.0
+    # 1056 W x 0.9, 11 people x 78.05 W sensible x 1.0 (EnergyPlus' autocalculated sensible heat
+    # at 117.24 W activity and 22 C, by hand from the Engineering Reference polynomial)
     gains = info.internal_gains_profile(times)["SPACE1-1"]
-    assert gains.iloc[10] == pytest.approx(1584 + 1056 * 0.9 + 11 * 117.239997864 * 0.6)
+    assert gains.iloc[10] == pytest.approx(1584 + 1056 * 0.9 + 11 * 78.0475, rel=1e-5)
     assert gains.iloc[3] == pytest.approx(1584 * 0.05 + 1056 * 0.02)
     assert space1.internal_gains == pytest.approx(
         info.internal_gains_profile(pd.date_range("2006-01-01", periods=8760, freq="h"))[
@@ -345,6 +346,39 @@ def test_five_zone_loads(five_zone):
         rel=1e-9,
     )
     assert building.ground_temperatures[0] == 20.03
+
+
+def test_five_zone_schedules_on_the_simulation_grid(five_zone):
+    """Schedules as EnergyPlus applies them, hand-checked against the file's Schedule:Compact."""
+    building, _ = five_zone
+    info = building.idf_info
+    # 15-min steps of Monday 2006-01-02 (the calendar of the file: 2006 starts on a Sunday)
+    times = pd.date_range("2006-01-02", periods=96, freq="15min")
+    step = pd.Timedelta("15min")
+    heating = info.schedules.on_grid("Htg-SetP-Sch", times, step)
+    # Htg-SetP-Sch weekdays: 16.7 until 06:00, 22.2 until 20:00, then 16.7
+    assert heating[23] == pytest.approx(16.7) and heating[24] == pytest.approx(22.2)
+    assert heating[79] == pytest.approx(22.2) and heating[80] == pytest.approx(16.7)
+    # a step straddling a change takes the mean of the minutes
+    half = info.schedules.on_grid("Htg-SetP-Sch", pd.DatetimeIndex(["2006-01-02 05:30"]), "1h")
+    assert half[0] == pytest.approx(0.5 * (16.7 + 22.2))
+    # Sunday: the set-back all day
+    sunday = info.schedules.on_grid("Htg-SetP-Sch", pd.date_range("2006-01-01", periods=96,
+                                                                  freq="15min"), step)
+    assert np.all(sunday == pytest.approx(16.7))
+    grid = pd.DataFrame({"wind_speed": np.full(96, 4.0)}, index=times)
+    inputs = info.scheduled_inputs(list(building.zones), times, step, grid)
+    space1 = list(building.zones).index("SPACE1-1")
+    # infiltration in January: 0.032 m3/s x INFIL-SCH 1.0 x 0.2237 x (4 m/s at the zone height:
+    # City terrain, centroid 1.22 m above ground -> factor (270/10)^0.14 (z/460)^0.33)
+    height = 1.2192
+    factor = (270 / 10) ** 0.14 * (height / 460) ** 0.33
+    expected = 0.032 * 3600 / 239.247360229 * 0.2237 * 4.0 * factor
+    assert inputs.infiltration_ach[40, space1] == pytest.approx(expected, rel=0.02)
+    # lights: 59 % radiant + 20 % visible = radiant, the rest (return air included: no return
+    # path without HVAC, EnergyPlus adds it to the zone) convective
+    total = inputs.gains_convective[40, space1] + inputs.gains_radiant[40, space1]
+    assert total == pytest.approx(1584 + 1056 * 0.9 + 11 * 78.0475, rel=1e-4)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -302,6 +302,7 @@ def run_steps(
     face_root,
     air_node,
     inf_dh,
+    inf_dt,
     ctrl_zone,
     ctrl_heat_sp,
     ctrl_cool_sp,
@@ -373,8 +374,14 @@ def run_steps(
     t_free = np.empty(nc)
     rhs_d = np.empty(n)
     mrt_tmp = np.zeros(nz)
+    sp_rows = ctrl_heat_sp.shape[0]
+    dt_rows = inf_dt.shape[0]
     for s in range(n_steps):
         k = k0 + s
+        # set points: one row per step, or a single row for the whole run
+        sp_k = k if sp_rows > 1 else 0
+        heat_sp_k = ctrl_heat_sp[sp_k]
+        cool_sp_k = ctrl_cool_sp[sp_k]
         # 1. rhs = C/dt x + B u_k
         for i in range(n):
             acc = c_dt[i] * x[i]
@@ -449,6 +456,13 @@ def run_steps(
         for z in range(nz):
             an = air_node[z]
             rhs[an] += inf_dh[k, z] * (t_out - x[an])
+        # infiltration temperature term (conductance per kelvin of |T_zone - T_out|), lagged
+        if dt_rows > 0:
+            dt_k = k if dt_rows > 1 else 0
+            for z in range(nz):
+                an = air_node[z]
+                diff = t_out - x[an]
+                rhs[an] += inf_dt[dt_k, z] * abs(diff) * diff
         # 3'. tracking: PID heat from the error at the start of the step, or the exact inverse
         done = False
         if track_mode == 2:
@@ -519,7 +533,7 @@ def run_steps(
                     rhs_d[i] = rhs[i]
                 for c in range(nc):
                     an = air_node[ctrl_zone[c]]
-                    rhs_d[an] = ctrl_heat_sp[c] if active[c] == 1 else ctrl_cool_sp[c]
+                    rhs_d[an] = heat_sp_k[c] if active[c] == 1 else cool_sp_k[c]
                 lu_solve(
                     dlp,
                     dli,
@@ -557,8 +571,8 @@ def run_steps(
             cache_m[6] += 1
             ideal_loads(
                 t_free,
-                ctrl_heat_sp,
-                ctrl_cool_sp,
+                heat_sp_k,
+                cool_sp_k,
                 g_ctrl,
                 active,
                 q,

@@ -1080,6 +1080,63 @@ class ScheduleEvaluator:
         self._cache[key] = out
         return out
 
+    def on_grid(self, name: str, times, step) -> np.ndarray:
+        """Mean value over each simulation step ``[t, t + step)`` [schedule unit].
+
+        Parameters
+        ----------
+        name : str
+            Schedule name.
+        times : pandas.DatetimeIndex
+            Step starts (local standard time, as the weather file). Each is placed in the
+            schedule calendar by its month, day and time of day (the day of week and holidays
+            come from the calendar year of the import, as EnergyPlus takes them from the
+            RunPeriod); February 29 of a leap grid year takes February 28's values in a common
+            calendar year.
+        step : pandas.Timedelta
+
+        Returns
+        -------
+        numpy.ndarray, shape (len(times),)
+
+        Notes
+        -----
+        EnergyPlus gives a timestep the schedule value at its end, or with ``Interpolate:
+        Average`` the mean over the timestep; for steps that tile the ``Until`` times (every
+        step of a whole number of minutes dividing the hour) both equal the interval mean.
+        """
+        import pandas as pd
+
+        key = ("grid", name.upper(), len(times), times[0], pd.Timedelta(step))
+        if key in self._cache:
+            return self._cache[key]
+        flat = self.minutes(name).ravel()
+        width = max(int(round(pd.Timedelta(step).total_seconds() / 60.0)), 1)
+        cumulative = np.concatenate(([0.0], np.cumsum(np.concatenate((flat, flat[:1440])))))
+        index = self.minute_index(times)
+        out = (cumulative[index + width] - cumulative[index]) / width
+        self._cache[key] = out
+        return out
+
+    def minute_index(self, times) -> np.ndarray:
+        """Minute of the schedule year of each time (by month, day, hour, minute)."""
+        import datetime as _dt
+
+        import pandas as pd
+
+        times = pd.DatetimeIndex(times)
+        first = _dt.date(self.year, 1, 1).toordinal()
+        month = times.month.to_numpy()
+        day = times.day.to_numpy()
+        leap = (self.year % 4 == 0 and self.year % 100 != 0) or self.year % 400 == 0
+        day = np.where((month == 2) & (day == 29) & (not leap), 28, day)
+        month_start = np.array(
+            [_dt.date(self.year, m, 1).toordinal() - first for m in range(1, 13)]
+        )
+        doy = month_start[month - 1] + day - 1
+        minute = times.hour.to_numpy() * 60 + times.minute.to_numpy()
+        return doy * _MINUTES_PER_DAY + minute
+
     def hourly(self, name: str) -> np.ndarray:
         """Hourly mean values over the year, shape (n_days * 24,)."""
         return self.minutes(name).reshape(self.n_days * 24, 60).mean(axis=1)
@@ -1251,6 +1308,9 @@ WINDOW_TABLE_ANGLES = tuple(float(a) for a in range(0, 91, 5))
 #: Sensible heat per person [-] of People objects with an autocalculated sensible fraction.
 DEFAULT_PEOPLE_SENSIBLE_FRACTION = 0.6
 
+#: Zone temperature [C] at which the autocalculated People sensible heat is evaluated.
+PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE = 22.0
+
 #: EnergyPlus default ground temperature [C] when Site:GroundTemperature:BuildingSurface is absent.
 ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE = 18.0
 
@@ -1279,6 +1339,118 @@ class InternalGainInfo:
     radiant_fraction: float
     schedule: str | None
     annual_mean: float
+    people_count: float = 0.0
+    activity_schedule: str | None = None
+    sensible_fraction: float | None = None
+    latent_level: float = 0.0
+
+
+def people_sensible_heat(activity, temperature=PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE):
+    """Sensible heat per person [W] of EnergyPlus' autocalculated People sensible fraction.
+
+    Parameters
+    ----------
+    activity : float or ndarray [W/person]
+        Total metabolic heat (the Activity Level schedule).
+    temperature : float or ndarray [C]
+        Zone air temperature.
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, "People" (sensible heat gain from occupants, polynomial
+    fit of the ASHRAE Handbook table).
+    """
+    m = np.asarray(activity, dtype=float)
+    t = np.asarray(temperature, dtype=float)
+    value = (
+        6.461927
+        + 0.946892 * m
+        + 0.0000255737 * m**2
+        + 7.139322 * t
+        - 0.0627909 * t * m
+        + 0.0000589172 * t * m**2
+        - 0.198550 * t**2
+        + 0.000940018 * t**2 * m
+        - 0.00000149532 * t**2 * m**2
+    )
+    return np.clip(value, 0.0, m)
+
+
+@dataclass
+class InfiltrationInfo:
+    """One ``ZoneInfiltration:DesignFlowRate`` object resolved for one zone.
+
+    The flow is ``design_flow x schedule x (A + B |T_zone - T_out| + C v + D v^2)`` with ``v``
+    the wind speed at the zone's centroid height (EnergyPlus' zone local wind speed).
+
+    Attributes
+    ----------
+    name, zone : str
+    design_flow : float [m3/s]
+    schedule : str or None
+    coefficients : tuple of float
+        ``(A, B, C, D)``: constant [-], temperature [1/K], wind [s/m], wind squared [s2/m2].
+    """
+
+    name: str
+    zone: str
+    design_flow: float
+    schedule: str | None
+    coefficients: tuple[float, float, float, float]
+
+
+#: Wind boundary-layer exponent and thickness [m] per terrain (EnergyPlus ``Building`` field
+#: Terrain; ASHRAE Handbook of Fundamentals 2005, ch. 16, Table 1).
+TERRAIN_WIND_PROFILE = {
+    "COUNTRY": (0.14, 270.0),
+    "SUBURBS": (0.22, 370.0),
+    "CITY": (0.33, 460.0),
+    "OCEAN": (0.10, 210.0),
+    "URBAN": (0.22, 370.0),
+}
+#: Weather station: exponent, boundary-layer thickness [m], anemometer height [m].
+WEATHER_STATION_WIND_PROFILE = (0.14, 270.0, 10.0)
+
+
+def local_wind_factor(height: float, terrain: str = "Suburbs") -> float:
+    """Ratio of the wind speed at ``height`` [m] to the weather station's [-] (EnergyPlus).
+
+    ``(delta_met / z_met)^a_met x (z / delta)^a`` with the terrain's exponent ``a`` and
+    boundary-layer thickness ``delta``; 0 at or below the ground.
+    """
+    a, delta = TERRAIN_WIND_PROFILE.get(terrain.upper(), TERRAIN_WIND_PROFILE["SUBURBS"])
+    a_met, delta_met, z_met = WEATHER_STATION_WIND_PROFILE
+    if height <= 0.0:
+        return 0.0
+    return (delta_met / z_met) ** a_met * (height / delta) ** a
+
+
+@dataclass
+class ScheduledInputs:
+    """The file's schedules evaluated on a simulation grid (rows = steps, columns = zones).
+
+    Attributes
+    ----------
+    heating_setpoint, cooling_setpoint : ndarray [C]
+        NaN where a zone has no such set point.
+    gains_convective, gains_radiant : ndarray [W]
+        Sensible internal gains entering the zone air / the zone's surfaces.
+    gains_latent : ndarray [W]
+        Latent gains (reported, not part of the sensible balance).
+    infiltration_ach : ndarray [1/h]
+        Air changes from the schedule and the constant and wind terms.
+    infiltration_ach_per_kelvin : ndarray [1/(h K)]
+        Temperature term: air changes per kelvin of ``|T_zone - T_out|`` (applied in the time
+        loop with the zone temperature of the previous step, as EnergyPlus does).
+    """
+
+    heating_setpoint: np.ndarray
+    cooling_setpoint: np.ndarray
+    gains_convective: np.ndarray
+    gains_radiant: np.ndarray
+    gains_latent: np.ndarray
+    infiltration_ach: np.ndarray
+    infiltration_ach_per_kelvin: np.ndarray
 
 
 @dataclass
@@ -1322,6 +1494,84 @@ class IdfImportInfo:
     infiltration_schedules: dict[str, list[str]] = field(default_factory=dict)
     zone_multipliers: dict[str, float] = field(default_factory=dict)
     schedules: ScheduleEvaluator | None = None
+    infiltration: list[InfiltrationInfo] = field(default_factory=list)
+    zone_wind_factor: dict[str, float] = field(default_factory=dict)
+    zone_nominal_ach: dict[str, float] = field(default_factory=dict)
+    zone_volume: dict[str, float] = field(default_factory=dict)
+
+    def scheduled_inputs(self, zones, times, step, weather) -> ScheduledInputs:
+        """Set points, internal gains and infiltration of every zone on a simulation grid.
+
+        Parameters
+        ----------
+        zones : sequence of str
+            Column order.
+        times : pandas.DatetimeIndex
+            Step starts.
+        step : pandas.Timedelta
+        weather : pandas.DataFrame
+            The weather on the grid (``wind_speed`` [m/s] used when present).
+
+        Returns
+        -------
+        ScheduledInputs
+        """
+        n, nz = len(times), len(zones)
+        column = {z: i for i, z in enumerate(zones)}
+        sched = self.schedules
+
+        def values(name):
+            return np.ones(n) if name is None else sched.on_grid(name, times, step)
+
+        heating = np.full((n, nz), np.nan)
+        cooling = np.full((n, nz), np.nan)
+        for zone, (heat_name, cool_name) in self.setpoint_schedules.items():
+            if zone not in column:
+                continue
+            if heat_name:
+                heating[:, column[zone]] = values(heat_name)
+            if cool_name:
+                cooling[:, column[zone]] = values(cool_name)
+        convective = np.zeros((n, nz))
+        radiant = np.zeros((n, nz))
+        latent = np.zeros((n, nz))
+        for gain in self.internal_gains:
+            if gain.zone not in column:
+                continue
+            fraction = values(gain.schedule)
+            if gain.people_count > 0 and gain.activity_schedule is not None:
+                # People: number x (sensible heat per person at the step's activity)
+                activity = sched.on_grid(gain.activity_schedule, times, step)
+                if gain.sensible_fraction is None:
+                    sensible = people_sensible_heat(activity)
+                else:
+                    sensible = activity * gain.sensible_fraction
+                level = gain.people_count * fraction * sensible
+                lat = gain.people_count * fraction * (activity - sensible)
+            else:
+                level = gain.design_level * fraction
+                lat = gain.latent_level * fraction
+            c = column[gain.zone]
+            radiant[:, c] += level * gain.radiant_fraction
+            convective[:, c] += level * (1.0 - gain.radiant_fraction)
+            latent[:, c] += lat
+        wind = (
+            np.nan_to_num(weather["wind_speed"].to_numpy(dtype=float))
+            if "wind_speed" in weather
+            else np.zeros(n)
+        )
+        ach = np.zeros((n, nz))
+        ach_dt = np.zeros((n, nz))
+        for inf in self.infiltration:
+            if inf.zone not in column:
+                continue
+            c = column[inf.zone]
+            a, b, c_wind, d = inf.coefficients
+            v = wind * self.zone_wind_factor.get(inf.zone, 1.0)
+            base = inf.design_flow * 3600.0 / self.zone_volume[inf.zone] * values(inf.schedule)
+            ach[:, c] += base * (a + c_wind * v + d * v * v)
+            ach_dt[:, c] += base * b
+        return ScheduledInputs(heating, cooling, convective, radiant, latent, ach, ach_dt)
 
     def internal_gains_profile(self, times) -> pd.DataFrame:  # noqa: F821 (pandas lazily)
         """Hourly internal sensible gains per zone [W] from the file's schedules.
@@ -2308,6 +2558,22 @@ class _IdfReader:
 
     def _infiltration(self) -> None:
         """Stage: infiltration."""
+        building_rec = self.single("BUILDING")
+        terrain = (building_rec["terrain"] if building_rec is not None else "") or "Suburbs"
+        if terrain.upper() not in TERRAIN_WIND_PROFILE:
+            raise ThermocalInputError(
+                f"{building_rec['_object'].where()}: field 'Terrain' = '{terrain}' is not one of "
+                "Country, Suburbs, City, Ocean, Urban."
+            )
+        moments: dict[str, list[float]] = {}
+        for data in self.surface_data.values():
+            m = moments.setdefault(data["zone"], [0.0, 0.0])
+            m[0] += data["area"] * float(np.mean(data["world"][:, 2]))
+            m[1] += data["area"]
+        for zone_name, (za, area) in moments.items():
+            height = za / area if area > 0 else 0.0
+            self.info.zone_wind_factor[zone_name] = local_wind_factor(height, terrain)
+        self.info.zone_volume = dict(self.zone_volume)
         self.zone_ach: dict[str, float] = {}
         self.zone_infiltration_group: dict[str, str] = {}
         exterior_area: dict[str, float] = {}
@@ -2358,6 +2624,12 @@ class _IdfReader:
                 self.zone_ach[zone_name] = (
                     self.zone_ach.get(zone_name, 0.0) + flow * 3600.0 / volume * factor
                 )
+                self.info.infiltration.append(
+                    InfiltrationInfo(
+                        rec["name"], zone_name, flow, rec["schedule_name"] or None,
+                        tuple(coefficients),
+                    )
+                )
                 if len(targets) > 1:
                     self.zone_infiltration_group[zone_name] = rec["name"]
                 schedule = rec["schedule_name"]
@@ -2371,13 +2643,24 @@ class _IdfReader:
                         self.info.notes.append(
                             f"infiltration '{rec['name']}' (zone "
                             f"{zone_name}): schedule '{schedule}' "
-                            f"(range {low:g}..{high:g}) is not applied; the design rate is used"
+                            f"(range {low:g}..{high:g}): the constant zone rate "
+                            "(schedules='constant') ignores it"
                         )
+        self.info.zone_nominal_ach = dict(self.zone_ach)
+        for rec in self.records("ZONEINFILTRATION:DESIGNFLOWRATE"):
+            coefficients = [
+                _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
+                _number(rec, "temperature_term_coefficient", default=0.0),
+                _number(rec, "velocity_term_coefficient", default=0.0),
+                _number(rec, "velocity_squared_term_coefficient", default=0.0),
+            ]
+            v = INFILTRATION_REFERENCE_WIND_SPEED
+            factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
             if coefficients != [1.0, 0.0, 0.0, 0.0]:
                 self.info.notes.append(
                     f"infiltration '{rec['name']}': coefficients (A, B, C, D) = "
                     f"{tuple(coefficients)} evaluated at wind {v} m/s and dT = 0 (factor "
-                    f"{factor:.3f}); the weather dependence is not represented"
+                    f"{factor:.3f}) for the constant zone rate (schedules='constant')"
                 )
 
     def _internal_gains(self) -> None:
@@ -2415,7 +2698,7 @@ class _IdfReader:
                     self.info.notes.append(
                         f"{gain.object_class} '{gain.name}' (zone {gain.zone}): schedule "
                         f"'{gain.schedule}' varies ({low:g}..{high:g}); its annual mean gives the "
-                        "constant internal gain (hourly values: idf_info.internal_gains_profile)"
+                        "constant internal gain of schedules='constant'"
                     )
 
     def _setpoints(self) -> None:
@@ -2544,16 +2827,20 @@ def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGai
     obj: IdfObject = rec["_object"]
     if obj.key == "PEOPLE":
         count = _people_number(rec, floor_area)
-        activity_schedule = rec["activity_level_schedule_name"]
+        activity_schedule = rec["activity_level_schedule_name"] or None
         try:
             activity = schedules.annual_mean(activity_schedule) if activity_schedule else 120.0
-        except UnsupportedScheduleError:
-            activity = 120.0
+        except UnsupportedScheduleError as exc:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Activity Level Schedule Name': {exc}"
+            ) from None
         if _is_auto(rec, "sensible_heat_fraction"):
-            sensible = DEFAULT_PEOPLE_SENSIBLE_FRACTION
+            sensible_fraction = None
+            sensible = float(people_sensible_heat(activity)) / activity if activity > 0 else 0.0
         else:
-            sensible = _number(rec, "sensible_heat_fraction")
+            sensible_fraction = sensible = _number(rec, "sensible_heat_fraction")
         design = count * activity * sensible
+        latent_level = count * activity * (1.0 - sensible)
         radiant = _number(rec, "fraction_radiant", default=0.3)
         schedule = rec["number_of_people_schedule_name"] or None
     else:
@@ -2583,6 +2870,11 @@ def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGai
         design = level * sensible_share
         radiant = min(radiant_total / sensible_share, 1.0) if sensible_share > 0 else 0.0
         schedule = rec["schedule_name"] or None
+        count = 0.0
+        activity_schedule = sensible_fraction = None
+        latent_level = level * (
+            _number(rec, "fraction_latent", default=0.0) if obj.key != "LIGHTS" else 0.0
+        )
     mean_factor = 1.0
     if schedule is not None:
         try:
@@ -2597,6 +2889,10 @@ def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGai
         radiant_fraction=radiant,
         schedule=schedule,
         annual_mean=design * mean_factor,
+        people_count=count,
+        activity_schedule=activity_schedule,
+        sensible_fraction=sensible_fraction,
+        latent_level=latent_level,
     )
 
 
@@ -2623,8 +2919,8 @@ def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
         if low != high:
             info.notes.append(
                 f"{obj.where()}: {what} schedule '{schedule}' varies ({low:g}..{high:g} C); the "
-                f"value in effect most of the year ({value:g} C) is used (hourly values: "
-                "idf_info.setpoint_profile)"
+                f"value in effect most of the year ({value:g} C) is the constant set point of "
+                "schedules='constant'"
             )
         return value
 

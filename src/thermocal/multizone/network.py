@@ -452,6 +452,7 @@ def assemble(
     mean_outdoor_temperature: float = 10.0,
     pressure: float | None = None,
     cache: dict | None = None,
+    gain_input_zones=(),
 ) -> Network:
     """Assemble the sparse network of a building for a time step.
 
@@ -471,6 +472,10 @@ def assemble(
     cache : dict, optional
         Reused between assemblies of the same geometry (parameter changes): radiation network
         conductances and window diffuse transmittances.
+    gain_input_zones : sequence of str
+        Zones with time-varying internal gains: each gets two input columns,
+        ``gains_convective/<zone>`` (into the air) and ``gains_radiant/<zone>`` (shared by the
+        zone's surfaces by area) [W]; give such zones ``internal_gains = 0``.
     """
     options = options or NetworkOptions()
     cache = {} if cache is None else cache
@@ -741,6 +746,18 @@ def assemble(
         shares = face_area[members] / face_area[members].sum()
         for m, s in zip(members, shares, strict=True):
             source(int(face_node[m]), IN_ONE, radiative * s)
+
+    for name in gain_input_zones:
+        z = zone_index[name]
+        source(z, new_input(f"gains_convective/{name}"), 1.0)
+        column = new_input(f"gains_radiant/{name}")
+        members = np.flatnonzero(face_zone == z)
+        if len(members) == 0:
+            source(z, column, 1.0)
+            continue
+        shares = face_area[members] / face_area[members].sum()
+        for m, s in zip(members, shares, strict=True):
+            source(int(face_node[m]), column, float(s))
 
     # ---- exterior faces -------------------------------------------------------------------------
     ext_node = np.asarray(e_node, dtype=np.int64)

@@ -27,6 +27,7 @@ from thermocal.errors import ThermocalInputError
 from thermocal.multizone import _kernel
 from thermocal.multizone.model import Building
 from thermocal.multizone.network import (
+    AIR_SPECIFIC_HEAT,
     IN_ONE,
     IN_TEMP_GROUND,
     IN_TEMP_OUT,
@@ -57,6 +58,9 @@ class _Context:
     ext_dh: np.ndarray
     inf_dh: np.ndarray
     face_hmax: np.ndarray
+    heat_sp: np.ndarray = None  # (1 or n_steps, n_controlled) [C]
+    cool_sp: np.ndarray = None
+    inf_dt: np.ndarray = None  # (0, 1 or n_steps, n_zones) [W/K^2]
 
 
 @dataclass
@@ -249,6 +253,13 @@ class Simulation:
         Keep interior surface temperatures in the result.
     sky_model : {"perez", "isotropic"}
         Sky diffuse model of the transposition.
+    schedules : {"file", "constant"}
+        For buildings imported from an IDF file (``building.idf_info``): ``"file"`` applies the
+        file's schedules step by step (set points, internal gains split into convective, radiant
+        and latent parts, infiltration with its schedule and its wind and temperature terms at
+        the zone's height); ``"constant"`` simulates the constant approximation stored on the
+        zones (annual-mean gains, most frequent set point, infiltration at 4.47 m/s).
+        Ignored for other buildings.
 
     Notes
     -----
@@ -271,6 +282,7 @@ class Simulation:
         initial_temperature: float = 20.0,
         store_surfaces: bool = True,
         sky_model: str = "perez",
+        schedules: str = "file",
     ) -> None:
         if not isinstance(building, Building):
             raise ThermocalInputError("Simulation: building must be a thermocal Building")
@@ -295,6 +307,12 @@ class Simulation:
         self._weather = weather
         self._grid = _weather_grid(weather, self.step_size, start, end)
         self.times = self._grid.index
+        if schedules not in ("file", "constant"):
+            raise ThermocalInputError(
+                f"Simulation: schedules must be 'file' or 'constant', got {schedules!r}"
+            )
+        self.schedules = schedules
+        self._scheduled = self._evaluate_schedules()
         self._site = self._site_from(self.metadata, building)
         #: solve with prescribed air temperatures when every controlled zone sits at a set point
         self.use_dirichlet = True
@@ -327,17 +345,81 @@ class Simulation:
         self._pressure = pressure
         self._mean_wind = float(np.nanmean(grid["wind_speed"])) if "wind_speed" in grid else 0.0
         self._mean_tout = float(np.nanmean(grid["temp_air"]))
+        network_building, gain_zones = self._network_building()
         self.network = assemble(
-            self.building,
+            network_building,
             self.dt,
             options=self.options,
             mean_wind_speed=self._mean_wind,
             mean_outdoor_temperature=self._mean_tout,
             pressure=pressure,
             cache=self._assembly_cache,
+            gain_input_zones=gain_zones,
         )
         self._inputs = self._input_matrix()
         self._factorise()
+
+    def _evaluate_schedules(self):
+        """The IDF file's schedules on the grid (None: no file schedules or 'constant')."""
+        info = self._idf_info = getattr(self.building, "idf_info", None)
+        if self.schedules != "file" or info is None or getattr(info, "schedules", None) is None:
+            return None
+        scheduled = info.scheduled_inputs(
+            list(self.building.zones), self.times, self.step_size, self._grid
+        )
+        zones = list(self.building.zones.values())
+        # zones whose gains / infiltration vary (the others keep the exact constant path)
+        gains = scheduled.gains_convective + scheduled.gains_radiant
+        self._gain_zones = [
+            z.name for i, z in enumerate(zones) if np.ptp(gains[:, i]) > 1e-9 * (1 + gains[0, i])
+        ]
+        ach = scheduled.infiltration_ach
+        self._inf_zones = [
+            i
+            for i, z in enumerate(zones)
+            if np.ptp(ach[:, i]) > 1e-12 or np.any(scheduled.infiltration_ach_per_kelvin[:, i])
+        ]
+        return scheduled
+
+    def _network_building(self):
+        """Building handed to the network: scheduled gains as inputs, infiltration at its mean."""
+        import dataclasses
+
+        if self._scheduled is None:
+            return self.building, ()
+        info = self._idf_info
+        zones = dict(self.building.zones)
+        self._inf_scale = np.ones(len(zones))
+        names = list(zones)
+        for i in self._inf_zones:
+            zone = zones[names[i]]
+            nominal = info.zone_nominal_ach.get(zone.name, 0.0)
+            # a calibrated infiltration parameter scales the file's rate
+            scale = zone.infiltration_ach / nominal if nominal > 0 else 0.0
+            self._inf_scale[i] = scale
+            mean = float(np.mean(self._scheduled.infiltration_ach[:, i])) * scale
+            zones[zone.name] = dataclasses.replace(zone, infiltration_ach=mean)
+        for name in self._gain_zones:
+            zones[name] = dataclasses.replace(zones[name], internal_gains=0.0)
+        return dataclasses.replace(self.building, zones=zones), tuple(self._gain_zones)
+
+    def _setpoint_arrays(self, heat_sp, cool_sp):
+        """Per-step set points of the controlled zones, or one row when they are constant."""
+        heat = heat_sp[None, :]
+        cool = cool_sp[None, :]
+        if self._scheduled is not None and len(self._ctrl):
+            h = self._scheduled.heating_setpoint[:, self._ctrl]
+            c = self._scheduled.cooling_setpoint[:, self._ctrl]
+            h = np.where(np.isnan(h), -np.inf, h)
+            c = np.where(np.isnan(c), np.inf, c)
+            # a zone without the schedule keeps its constant value
+            h = np.where(np.isfinite(heat) & ~np.isfinite(h), heat, h)
+            c = np.where(np.isfinite(cool) & ~np.isfinite(c), cool, c)
+            if np.ptp(np.where(np.isfinite(h), h, 0.0), axis=0).any() or np.ptp(
+                np.where(np.isfinite(c), c, 0.0), axis=0
+            ).any():
+                heat, cool = h, c
+        return np.ascontiguousarray(heat, dtype=float), np.ascontiguousarray(cool, dtype=float)
 
     def _factorise(self) -> None:
         net = self.network
@@ -348,6 +430,9 @@ class Simulation:
         cool_sp = [zones[i].cooling_setpoint for i in ctrl]
         self._heat_sp = np.array([-np.inf if t is None else t for t in heat_sp], dtype=float)
         self._cool_sp = np.array([np.inf if t is None else t for t in cool_sp], dtype=float)
+        self._heat_sp_steps, self._cool_sp_steps = self._setpoint_arrays(
+            self._heat_sp, self._cool_sp
+        )
         b = net.inputs.tocsr()
         b.sort_indices()
         self._b = (b.indptr.astype(np.int64), b.indices.astype(np.int64), b.data)
@@ -451,7 +536,19 @@ class Simulation:
         face_hmax = 2.0 * net.face_h0 + net.face_capacity / dt
         upper = net.ext_hc0 + net.ext_hr0 * net.ext_emissivity + net.ext_capacity / dt
         ext_dh = np.clip(ext_dh_raw, 0.1 - net.ext_hc0[None, :], upper[None, :])
+        if dt == self.dt:
+            heat_sp, cool_sp, inf_dt = self._heat_sp_steps, self._cool_sp_steps, self._inf_dt
+        else:  # hourly warm-up context of the first day
+            per_day = int(round(86400.0 / self.dt))
+            m = int(round(3600.0 / self.dt))
+            heat_sp, cool_sp, inf_dt = (
+                a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m)
+                for a in (self._heat_sp_steps, self._cool_sp_steps, self._inf_dt)
+            )
         return _Context(
+            heat_sp=np.ascontiguousarray(heat_sp),
+            cool_sp=np.ascontiguousarray(cool_sp),
+            inf_dt=np.ascontiguousarray(inf_dt),
             dt=dt,
             lu=lu,
             factors=factors,
@@ -551,7 +648,29 @@ class Simulation:
             pressure = np.full(n_steps, self._pressure)
         rho = air_density(pressure, t_out)
         ratio = rho / net.reference_density - 1.0
-        self._inf_dh = np.ascontiguousarray(ratio[:, None] * net.zone_infiltration[None, :])
+        inf_dh = ratio[:, None] * net.zone_infiltration[None, :]
+        self._inf_dt = np.zeros((0, len(net.zone_names)))
+        scheduled = self._scheduled
+        if scheduled is not None:
+            names = list(net.zone_names)
+            for name in self._gain_zones:
+                z = names.index(name)
+                u[:, net.input_names.index(f"gains_convective/{name}")] = (
+                    scheduled.gains_convective[:, z]
+                )
+                u[:, net.input_names.index(f"gains_radiant/{name}")] = scheduled.gains_radiant[:, z]
+            volume = np.array([z.volume for z in self.building.zones.values()])
+            per_ach = AIR_SPECIFIC_HEAT * volume / 3600.0  # [J/(m3 K)] x [m3] / [s/h]
+            zones = np.asarray(self._inf_zones, dtype=np.int64)
+            if len(zones):
+                ach = scheduled.infiltration_ach[:, zones] * self._inf_scale[zones]
+                inf_dh[:, zones] = (
+                    rho[:, None] * per_ach[zones] * ach - net.zone_infiltration[zones][None, :]
+                )
+                ach_dt = scheduled.infiltration_ach_per_kelvin * self._inf_scale[None, :]
+                if np.any(ach_dt):
+                    self._inf_dt = np.ascontiguousarray(rho[:, None] * per_ach[None, :] * ach_dt)
+        self._inf_dh = np.ascontiguousarray(inf_dh)
         return u
 
     def _exterior_convection_excess(self) -> np.ndarray:
@@ -672,9 +791,10 @@ class Simulation:
             self._face_root,
             net.air_node,
             inf_dh,
+            np.zeros((0, nz)) if linear else context.inf_dt,
             controlled,
-            self._heat_sp if tracking is None else track["dummy_sp"],
-            self._cool_sp if tracking is None else track["dummy_sp"],
+            context.heat_sp if tracking is None else track["dummy_sp"],
+            context.cool_sp if tracking is None else track["dummy_sp"],
             context.g_ctrl,
             bool(ideal),
             net.face_zone,
@@ -808,7 +928,7 @@ class Simulation:
         fine, g_fine = self._tracking_context(tracked, operative, coarse=False)
         state = {
             "zones": tracked,
-            "dummy_sp": np.zeros(nt),
+            "dummy_sp": np.zeros((1, nt)),
             "operative": operative,
             "pid": pid,
             "pid_state": np.zeros((nt, 2)),
@@ -1082,7 +1202,10 @@ class Simulation:
 
         transmitted = np.asarray(net.zone_transmitted @ self._inputs.T).T
         t_out = self._inputs[:, IN_TEMP_OUT]
-        infiltration = (net.zone_infiltration[None, :] + self._inf_dh) * (t_out[:, None] - air)
+        conductance = net.zone_infiltration[None, :] + self._inf_dh
+        if len(self._inf_dt):
+            conductance = conductance + self._inf_dt * np.abs(t_out[:, None] - air)
+        infiltration = conductance * (t_out[:, None] - air)
         return SimulationResult(
             air_temperature=frame(air),
             operative_temperature=frame(0.5 * (air + mrt)),

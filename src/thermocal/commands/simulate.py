@@ -47,6 +47,7 @@ def simulate(
     """
     import warnings
 
+    import pandas as pd
     from rich.console import Console
     from rich.table import Table
 
@@ -69,7 +70,27 @@ def simulate(
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = load_building(building)
-        frame, metadata = read_weather(weather)
+        run_period = getattr(getattr(model, "idf_info", None), "run_period", None)
+        period_note = None
+        if run_period is not None and start is None and end is None:
+            # the IDF's RunPeriod, in its begin year when it gives one (EnergyPlus' calendar)
+            name, m1, d1, m2, d2, year = run_period
+            frame, metadata = read_weather(weather, coerce_year=year)
+            first = frame.index[0]
+            start = f"{first.year:04d}-{m1:02d}-{d1:02d}"
+            end_day = pd.Timestamp(f"{first.year:04d}-{m2:02d}-{d2:02d}") + pd.Timedelta(days=1)
+            end = str(end_day.date())
+            if pd.Timestamp(end_day).tz_localize(first.tz) > frame.index[-1] + (
+                frame.index[1] - frame.index[0]
+            ):
+                end = None
+            period_note = (
+                f"period from the IDF RunPeriod '{name}' ({m1}/{d1} to {m2}/{d2}); weather "
+                f"labelled {first.year}"
+                + ("" if year else " (the file gives no begin year: the weather's own calendar)")
+            )
+        else:
+            frame, metadata = read_weather(weather)
         frame, filled = fill_short_gaps(frame)
         for note in filled:
             warnings.warn(f"weather file {weather}: {note}", stacklevel=1)
@@ -104,6 +125,8 @@ def simulate(
     )
     with output_folder(out, command="simulate", signature=signature) as tmp:
         result = sim.run(free_float=free_float, progress=True)
+        if period_note:
+            result.approximations.insert(0, period_note)
         written = [out / Path(p).name for p in result.to_files(tmp, format=output_format)]
     summary = result.summary()
     table = Table(title="summary (first 20 zones)")

@@ -1498,6 +1498,7 @@ class IdfImportInfo:
     zone_wind_factor: dict[str, float] = field(default_factory=dict)
     zone_nominal_ach: dict[str, float] = field(default_factory=dict)
     zone_volume: dict[str, float] = field(default_factory=dict)
+    run_period: tuple | None = None  # (name, begin month, day, end month, day, begin year|None)
 
     def scheduled_inputs(self, zones, times, step, weather) -> ScheduledInputs:
         """Set points, internal gains and infiltration of every zone on a simulation grid.
@@ -1950,6 +1951,19 @@ class _IdfReader:
             )
         else:
             self.info.notes.append("no Site:Location: the model's default location is used")
+        for rp in self.by_key.get("RUNPERIOD", [])[:1]:
+            # Name, Begin Month, Begin Day, Begin Year, End Month, End Day (9.x and later)
+            f = [x.strip() for x in rp.fields] + [""] * 6
+            try:
+                begin_year = int(float(f[3])) if f[3] else None
+                self.info.run_period = (
+                    f[0], int(float(f[1])), int(float(f[2])), int(float(f[4])),
+                    int(float(f[5])), begin_year,
+                )
+            except ValueError:
+                raise ThermocalInputError(
+                    f"{rp.where()}: the begin/end month and day fields must be numbers."
+                ) from None
         if self.year is None:
             self.year = 2006
             for rp in self.by_key.get("RUNPERIOD", []):

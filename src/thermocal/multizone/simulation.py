@@ -96,6 +96,7 @@ class SimulationResult:
     infiltration: pd.DataFrame
     surface_temperature: pd.DataFrame | None
     step: pd.Timedelta
+    approximations: list = field(default_factory=list)
 
     def summary(self) -> dict:
         """Per zone: min/max/mean air temperature [C], heating/cooling energy [kWh], peaks [kW].
@@ -106,6 +107,7 @@ class SimulationResult:
         hours = self.step.total_seconds() / 3600.0
         heating_h = _hourly_mean(self.heating, self.step)
         cooling_h = _hourly_mean(self.cooling, self.step)
+        air_h = _hourly_mean(self.air_temperature, self.step)
         zones = {}
         for zone in self.air_temperature.columns:
             temp = self.air_temperature[zone]
@@ -113,6 +115,10 @@ class SimulationResult:
                 "air_temperature_min_C": float(temp.min()),
                 "air_temperature_max_C": float(temp.max()),
                 "air_temperature_mean_C": float(temp.mean()),
+                # hourly-integrated values, as ASHRAE Standard 140 defines them
+                "air_temperature_hourly_min_C": float(air_h[zone].min()),
+                "air_temperature_hourly_max_C": float(air_h[zone].max()),
+                "air_temperature_hourly_mean_C": float(air_h[zone].mean()),
                 "heating_kWh": float(self.heating[zone].sum() * hours / 1000.0),
                 "cooling_kWh": float(self.cooling[zone].sum() * hours / 1000.0),
                 "heating_peak_kW": float(heating_h[zone].max() / 1000.0),
@@ -132,6 +138,7 @@ class SimulationResult:
                 "heating_peak_kW": float(_hourly_mean(total_heat, self.step).max() / 1000.0),
                 "cooling_peak_kW": float(_hourly_mean(total_cool, self.step).max() / 1000.0),
             },
+            "approximations": list(self.approximations),
         }
 
     def to_files(self, directory: str | Path, *, format: str = "csv") -> list[Path]:
@@ -175,7 +182,7 @@ class SimulationResult:
             flat.index.name = "time"
             path = directory / f"{name}.{format}"
             if format == "csv":
-                flat.to_csv(path, float_format="%.4f")
+                _write_csv(flat, path)
             else:
                 flat.to_parquet(path)
             written.append(path)
@@ -217,6 +224,30 @@ class TrackingResult:
         """The model temperature that was tracked (air or operative) of the tracked zones [C]."""
         frame = self.air_temperature if self.feedback == "air" else self.operative_temperature
         return frame[self.heat.columns]
+
+
+def _write_csv(frame: pd.DataFrame, path: Path, decimals: int = 4) -> None:
+    """``frame.to_csv(path, float_format="%.4f")``, about 8x faster (Arrow's CSV writer)."""
+    import csv
+    import io
+
+    import pyarrow as pa
+    import pyarrow.csv as pa_csv
+
+    header = io.StringIO()
+    csv.writer(header, lineterminator="\n").writerow([frame.index.name or "", *frame.columns])
+    values = np.round(frame.to_numpy(dtype=float), decimals)
+    columns = {"0": pa.array(frame.index.astype(str).to_numpy(dtype=object), type=pa.string())}
+    for j in range(values.shape[1]):
+        columns[str(j + 1)] = pa.array(values[:, j])
+    table = pa.table(columns)
+    with open(path, "wb") as handle:
+        handle.write(header.getvalue().encode())
+        pa_csv.write_csv(
+            table,
+            handle,
+            write_options=pa_csv.WriteOptions(include_header=False, quoting_style="none"),
+        )
 
 
 def _hourly_mean(frame, step: pd.Timedelta):
@@ -1219,7 +1250,33 @@ class Simulation:
             if faces is None
             else pd.DataFrame(faces, index=index, columns=net.face_names),
             step=self.step_size,
+            approximations=self.approximations(),
         )
+
+    def approximations(self) -> list[str]:
+        """What the IDF import (and this run) flattened, skipped or replaced, one line each."""
+        info = self._idf_info
+        if info is None:
+            return []
+        out = []
+        if info.unsupported:
+            out.append(
+                "objects not represented (skipped): "
+                + ", ".join(f"{cls} ({n})" for cls, n in info.unsupported.items())
+            )
+        if self._scheduled is not None:
+            out.append(
+                "schedules applied step by step (set points, internal gains, infiltration); "
+                "People sensible heat at a zone temperature of 22 C"
+            )
+            out.extend(
+                note
+                for note in info.notes
+                if "schedules='constant'" not in note and "varies" not in note
+            )
+        else:
+            out.extend(info.notes)
+        return out
 
 
 def _no_tracking(n: int) -> dict:

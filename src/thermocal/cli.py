@@ -67,7 +67,7 @@ def _print_version(value: bool) -> None:
 
 
 #: Subcommand modules, in the order they appear in ``--help``.
-COMMAND_MODULES = ("demo", "fit", "simulate", "retrofit", "identify", "calibrate")
+COMMAND_MODULES = ("demo", "fit", "select", "simulate", "retrofit", "identify", "calibrate")
 
 
 def _register_commands() -> None:

@@ -1,0 +1,155 @@
+"""Candidate model families for forward selection.
+
+:func:`bacher_madsen_family` generates the RC models of Bacher & Madsen (2011) for a single-zone
+building with an ambient temperature, a heating power, optionally a solar irradiance, and one
+indoor temperature: ``Ti`` extended by an envelope state ``Te`` (``Rie``, ``Rea``, ``Ce``), a
+heater state ``Th`` (``Rih``, ``Ch``; the heating then goes into the heater), an internal medium
+``Tm`` (``Rim``, ``Cm``) and a direct interior-ambient resistance ``Ria``. The parameters,
+bounds and start values are those of ``examples/models/<name>.yaml`` (capacities in kWh/K,
+resistances in K/kW, diffusion in K/sqrt(h)); the column units are given.
+
+References
+----------
+.. [1] P. Bacher, H. Madsen, "Identifying suitable models for the heat dynamics of buildings",
+   Energy and Buildings 43(7), 1511-1522, 2011, sec. 4 and fig. 6 (the model tree).
+"""
+
+from __future__ import annotations
+
+from thermocal.errors import ThermocalInputError
+from thermocal.statespace.model import RCModel
+from thermocal.statespace.units import HEAT_COLUMN_UNITS
+
+#: Family members: (has Tm, has Te, has Th, has Ria with Te), in selection order.
+_MEMBERS = {
+    "Ti": (False, False, False),
+    "TiTe": (False, True, False),
+    "TiTh": (False, False, True),
+    "TiTeTh": (False, True, True),
+    "TiTeThRia": (False, True, True, "Ria"),
+    "TiTmTeTh": (True, True, True),
+    "TiTmTeThRia": (True, True, True, "Ria"),
+}
+#: Extensions of each member by one element (the part of the tree fitted by the reference).
+BACHER_MADSEN_EXTENSIONS = {
+    "Ti": ["TiTe", "TiTh"],
+    "TiTe": ["TiTeTh"],
+    "TiTh": ["TiTeTh"],
+    "TiTeTh": ["TiTeThRia", "TiTmTeTh"],
+    "TiTeThRia": ["TiTmTeThRia"],
+    "TiTmTeTh": ["TiTmTeThRia"],
+}
+_DESCRIPTIONS = {
+    "Ti": "One state, the interior (air and everything in contact with it).",
+    "TiTe": "Interior and building envelope.",
+    "TiTh": "Interior and heater.",
+    "TiTeTh": "Interior, envelope and heater.",
+    "TiTeThRia": "TiTeTh plus a direct interior-ambient resistance (ventilation, windows).",
+    "TiTmTeTh": "TiTeTh plus an internal thermal medium (furniture, inner walls).",
+    "TiTmTeThRia": "TiTmTeTh plus a direct interior-ambient resistance.",
+}
+_PARAMETERS = {
+    "Ci": {"value": 0.5, "lower": 1.0e-4, "upper": 50, "unit": "kWh/K"},
+    "Cm": {"value": 2.0, "lower": 1.0e-4, "upper": 100, "unit": "kWh/K"},
+    "Ce": {"value": 3.0, "lower": 1.0e-4, "upper": 100, "unit": "kWh/K"},
+    "Ch": {"value": 0.2, "lower": 1.0e-4, "upper": 50, "unit": "kWh/K"},
+    "Rih": {"value": 0.5, "lower": 0.001, "upper": 100, "unit": "K/kW"},
+    "Rim": {"value": 1.0, "lower": 0.001, "upper": 100, "unit": "K/kW"},
+    "Rie": {"value": 1.0, "lower": 0.001, "upper": 100, "unit": "K/kW"},
+    "Rea": {"value": 5.0, "lower": 0.001, "upper": 100, "unit": "K/kW"},
+    "Ria": {"value": 20, "lower": 0.01, "upper": 1000, "unit": "K/kW"},
+    "Aw": {"value": 5.0, "lower": 0.01, "upper": 200, "unit": "m2"},
+    "sigma_i": {"value": 0.1, "lower": 0, "unit": "K/sqrt(h)"},
+    "sigma_m": {"value": 0.1, "lower": 0, "unit": "K/sqrt(h)"},
+    "sigma_e": {"value": 0.1, "lower": 0, "unit": "K/sqrt(h)"},
+    "sigma_h": {"value": 0.1, "lower": 0, "unit": "K/sqrt(h)"},
+    "e_std": {"value": 0.05, "lower": 0, "unit": "K"},
+    "Ti0": {"value": 21, "lower": 0, "upper": 40, "unit": "C"},
+    "Tm0": {"value": 20, "lower": 0, "upper": 40, "unit": "C"},
+    "Te0": {"value": 15, "lower": -20, "upper": 40, "unit": "C"},
+    "Th0": {"value": 25, "lower": 0, "upper": 80, "unit": "C"},
+}
+
+
+def bacher_madsen_spec(
+    name: str, *, heat_unit: str = "kW", solar_unit: str | None = "kW/m2"
+) -> dict:
+    """Model-file dictionary of one member (see :func:`bacher_madsen_family`)."""
+    if name not in _MEMBERS:
+        raise ThermocalInputError(
+            f"Bacher & Madsen family: no model '{name}'; members: {', '.join(_MEMBERS)}"
+        )
+    for unit, what in ((heat_unit, "heating"), (solar_unit, "solar")):
+        if unit is not None and unit not in HEAT_COLUMN_UNITS:
+            raise ThermocalInputError(
+                f"{what} column unit {unit!r}: use one of {', '.join(HEAT_COLUMN_UNITS)}"
+            )
+    tm, te, th, *rest = _MEMBERS[name]
+    ria = not te or bool(rest)
+    states = {"Ti": {"capacity": "Ci", "noise": "sigma_i", "initial_mean": "Ti0",
+                     "initial_std": 0.1}}  # fmt: skip
+    conductances = []
+    for flag, s, cap in ((tm, "Tm", "Cm"), (te, "Te", "Ce"), (th, "Th", "Ch")):
+        if flag:
+            states[s] = {"capacity": cap, "noise": f"sigma_{s[1]}", "initial_mean": f"{s}0",
+                         "initial_std": 1.0}  # fmt: skip
+    if th:
+        conductances.append({"between": ["Ti", "Th"], "resistance": "Rih"})
+    if tm:
+        conductances.append({"between": ["Ti", "Tm"], "resistance": "Rim"})
+    if te:
+        conductances.append({"between": ["Ti", "Te"], "resistance": "Rie"})
+        conductances.append({"between": ["Te", "Ta"], "resistance": "Rea"})
+    if ria:
+        conductances.append({"between": ["Ti", "Ta"], "resistance": "Ria"})
+    heat_inputs = [{"column": "Ph", "unit": heat_unit, "into": "Th" if th else "Ti"}]
+    if solar_unit is not None:
+        heat_inputs.append({"column": "Ps", "unit": solar_unit, "into": "Ti", "scale": "Aw"})
+    used = {"Ci", "sigma_i", "e_std", "Ti0"} | ({"Aw"} if solar_unit is not None else set())
+    for c in conductances:
+        used.add(c["resistance"])
+    for spec in states.values():
+        used |= {spec["capacity"], spec["noise"], spec["initial_mean"]}
+    return {
+        "name": name,
+        "description": _DESCRIPTIONS[name],
+        "states": states,
+        "conductances": conductances,
+        "heat_inputs": heat_inputs,
+        "outputs": [{"column": "yTi", "state": "Ti", "noise": "e_std"}],
+        "parameters": {k: dict(v) for k, v in _PARAMETERS.items() if k in used},
+    }
+
+
+def bacher_madsen_family(
+    *, heat_unit: str = "kW", solar_unit: str | None = "kW/m2"
+) -> tuple[dict[str, RCModel], dict[str, list[str]], str]:
+    """The Bacher & Madsen (2011) candidate models, their extensions and the start model.
+
+    Parameters
+    ----------
+    heat_unit : str
+        Unit of the heating column ``Ph``: ``W``, ``kW``, ``MW``.
+    solar_unit : str or None
+        Unit of the irradiance column ``Ps`` (``W/m2``, ``kW/m2``); None: no solar input.
+
+    Returns
+    -------
+    models : dict
+        ``RCModel`` by name (data columns ``Ta`` [C], ``Ph``, ``Ps``, ``yTi`` [C]).
+    extensions : dict
+        For :func:`thermocal.statespace.forward_selection`.
+    start : str
+        ``"Ti"``.
+    """
+    models = {
+        name: RCModel.from_dict(
+            bacher_madsen_spec(name, heat_unit=heat_unit, solar_unit=solar_unit),
+            source=f"Bacher & Madsen family ({name})",
+        )
+        for name in _MEMBERS
+    }
+    return models, {k: list(v) for k, v in BACHER_MADSEN_EXTENSIONS.items()}, "Ti"
+
+
+FAMILIES = {"bacher-madsen": bacher_madsen_family}

@@ -271,16 +271,23 @@ def test_gaps_in_indoor_temperature_and_finer_logging(synthetic, tmp_path):
 @pytest.mark.parametrize(
     ("edit", "message"),
     [
-        (lambda m: pd.concat([m.iloc[:5], m.iloc[3:4], m.iloc[5:]]), "duplicated timestamp"),
-        (lambda m: m.iloc[[1, 0] + list(range(2, len(m)))], "not increasing at row 3"),
+        (
+            lambda m: pd.concat([m.iloc[:5], m.iloc[3:4], m.iloc[5:]]),
+            r"'time', line 7: .* earlier than the previous one on line 6.*sort the file by time",
+        ),
+        (lambda m: m.iloc[[1, 0] + list(range(2, len(m)))], "'time', line 3: .* earlier"),
+        (lambda m: pd.concat([m.iloc[:5], m.iloc[4:]]), r"'time'.*line 7.*(duplicat|repeat)"),
         (
             lambda m: m.assign(Ti=m["Ti"].astype(object).where(m.index != 7, "21,5")),
-            "'Ti' row 9 is not a number",
+            r"'Ti', line 9: cannot read '21,5' as a number \(a decimal comma: write decimal",
         ),
-        (lambda m: m.drop(columns=["time"]), "time column 'time' not found"),
+        (
+            lambda m: m.drop(columns=["time"]),
+            r"no time column 'time' .*set measurements\.time_column",
+        ),
         (
             lambda m: m.assign(time=pd.to_datetime(m["time"]).dt.strftime("%d.%m.%Y %H:%M")),
-            r"'time' is not an ISO 8601 date/time \(first value '\d\d\.\d\d\.2001",
+            r"'time', line 2: cannot read '02\.02\.2001 00:00' as a time; use ISO 8601",
         ),
     ],
 )

@@ -3,11 +3,12 @@
 The measurement file is a CSV (or parquet) table with a time column and one column per
 quantity (names mapped by the configuration). Timestamps label the START of the averaging
 interval (thermocal convention); naive timestamps are local standard time of the configured
-time zone (default: the building's). Everything is averaged onto the configured step by
-:func:`thermocal.io.measurements.resample_measurements`, which also reports the data quality.
-The file is read here rather than by :func:`thermocal.io.measurements.read_measurements`
-because the workflow also accepts parquet and checks the retrofit-specific columns (flow
-sign, Kelvin temperatures, irradiance sign) with messages naming the configured column.
+time zone (default: the building's). The file is read by
+:func:`thermocal.io.measurements.read_measurements` (wide layout, rows = interval means, units
+declared from the configuration); the retrofit-specific checks (flow sign, Kelvin, irradiance
+sign and magnitude) follow, with messages naming the configured column. Everything is then
+averaged onto the configured step by :func:`thermocal.io.measurements.resample_measurements`,
+which also reports the data quality.
 """
 
 from __future__ import annotations
@@ -20,101 +21,95 @@ import pandas as pd
 from thermocal.errors import ThermocalInputError
 from thermocal.io.measurements import QualityReport
 from thermocal.physics.hydronics import heating_power
-from thermocal.retrofit.config import FLOW_UNITS, MEASUREMENT_COLUMNS, MeasurementsConfig
+from thermocal.retrofit.config import MEASUREMENT_COLUMNS, MeasurementsConfig
 
 TEMPERATURE_COLUMNS = ("temp_out", "temp_supply", "temp_return", "temp_in")
 
 
 def _timezone(tz):
-    import datetime as _dt
-
+    """A time zone for :func:`read_measurements`: a name, or a fixed offset [h] as float."""
     if tz is None:
         return None
     if isinstance(tz, int | float):
-        return _dt.timezone(_dt.timedelta(hours=float(tz)))
+        return float(tz)
     return tz
 
 
+#: The reader's remedies name its Python options; the retrofit user has the configuration.
+_READER_REMEDIES = (
+    ("; pass time_column=", "; set measurements.time_column in the retrofit configuration"),
+    (": sort it, or pass sort=True", ": sort the file by time"),
+    ("(a decimal comma: pass decimal=',')", "(a decimal comma: write decimal points)"),
+    (", or pass time_format= (e.g. '%d.%m.%Y %H:%M')", " (the retrofit workflow reads ISO 8601)"),
+    ("pass tz=", "set measurements.timezone"),
+)
+
+
+def _units(cfg: MeasurementsConfig) -> dict[str, str]:
+    """The unit of every mapped file column, from the configuration."""
+    unit = {"flow": cfg.flow_unit, "dni": "W/m2", "dhi": "W/m2"}
+    return {col: unit.get(std, "C") for std, col in cfg.columns.items()}
+
+
 def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.DataFrame:
-    """Measurement table with standard column names, on a tz-aware DatetimeIndex.
+    """Measurement table with standard column names [C, m3/s, W/m2], tz-aware DatetimeIndex.
+
+    Read by :func:`thermocal.io.measurements.read_measurements` (CSV or parquet, ISO 8601
+    times, rows = interval means labelled by their start); ``raw.attrs["measurements"]`` keeps
+    its metadata (logging interval, units, notes).
 
     Raises
     ------
     ThermocalInputError
         File missing or unreadable, time column missing or unparsable, duplicated or
         unsorted timestamps, a mapped column missing, non-numeric values, negative flows,
-        temperatures that look like Kelvin.
+        temperatures that look like Kelvin, irradiance negative or not in W/m2.
     """
+    from thermocal.io.measurements import read_measurements
+
     path = Path(cfg.file)
     if not path.is_file():
-        raise ThermocalInputError(f"measurement file {path} not found")
-    try:
-        table = pd.read_parquet(path) if path.suffix == ".parquet" else pd.read_csv(path)
-    except Exception as exc:  # noqa: BLE001 - any parser failure is an input error
-        raise ThermocalInputError(f"measurement file {path} cannot be read: {exc}") from None
-    if cfg.time_column not in table.columns:
-        raise ThermocalInputError(
-            f"measurement file {path}: time column {cfg.time_column!r} not found; columns are "
-            f"{list(table.columns)} (set measurements.time_column in the configuration)"
-        )
-    missing = {std: col for std, col in cfg.columns.items() if col not in table.columns}
-    if missing:
-        what = ", ".join(f"{col!r} ({MEASUREMENT_COLUMNS[std]})" for std, col in missing.items())
-        raise ThermocalInputError(
-            f"measurement file {path}: missing column(s) {what}; the file has {list(table.columns)}"
-            " (map your names in measurements.columns of the configuration)"
-        )
-    try:  # ISO 8601 only: a guessed format reads European dates (01.02.2019) month-first
-        times = pd.to_datetime(table[cfg.time_column], format="ISO8601")
-    except Exception:  # noqa: BLE001
-        raise ThermocalInputError(
-            f"measurement file {path}: column {cfg.time_column!r} is not an ISO 8601 date/time "
-            f"(first value {table[cfg.time_column].iloc[0]!r}); write the times as "
-            "2019-02-02 13:00 or 2019-02-02T13:00+01:00"
-        ) from None
-    index = pd.DatetimeIndex(times)
+        raise ThermocalInputError(f"measurement file {path} not found (measurements.file)")
     tz = _timezone(cfg.timezone) or _timezone(default_tz)
-    if index.tz is None:
-        if tz is None:
-            raise ThermocalInputError(
-                f"measurement file {path}: timestamps have no time zone; set measurements.timezone"
-            )
-        try:
-            index = index.tz_localize(tz, ambiguous="infer", nonexistent="shift_forward")
-        except Exception as exc:  # noqa: BLE001 - pandas raises several types here
-            raise ThermocalInputError(
-                f"measurement file {path}: naive timestamps cannot be placed in time zone {tz!r}"
-                f" ({exc}); give measurements.timezone as a fixed offset in hours (local "
-                "standard time) or write the offset into the timestamps"
-            ) from None
-    if index.has_duplicates:
-        dup = index[index.duplicated()][0]
-        raise ThermocalInputError(f"measurement file {path}: duplicated timestamp {dup}")
-    if not index.is_monotonic_increasing:
-        pos = int(np.argmax(np.diff(index.asi8) < 0)) + 1
-        raise ThermocalInputError(
-            f"measurement file {path}: timestamps not increasing at row {pos + 2} "
-            f"({index[pos]}); sort the file by time"
+    names = {col: std for std, col in cfg.columns.items()}
+    try:
+        raw, _ = read_measurements(
+            path,
+            layout="wide",
+            time_column=cfg.time_column,
+            sensors=names,
+            units=_units(cfg),
+            tz=tz,
+            rows="interval_start",
+            unknown_sensors="ignore",
         )
-    out = pd.DataFrame(index=index)
-    for std, col in cfg.columns.items():
-        values = pd.to_numeric(table[col], errors="coerce").to_numpy(float)
-        bad = np.isnan(values) & table[col].notna().to_numpy()
-        if bad.any():
-            row = int(np.argmax(bad))
-            raise ThermocalInputError(
-                f"measurement file {path}: column {col!r} row {row + 2} is not a number "
-                f"({table[col].iloc[row]!r})"
-            )
-        out[std] = values
-    out["flow"] = out["flow"] * FLOW_UNITS[cfg.flow_unit]
+    except ThermocalInputError as exc:
+        text = str(exc)
+        for option, remedy in _READER_REMEDIES:
+            text = text.replace(option, remedy)
+        hint = ""
+        if "not found" in text:
+            named = [
+                f"{col!r} is the {MEASUREMENT_COLUMNS[std]} (measurements.columns.{std})"
+                for std, col in cfg.columns.items()
+                if repr(col) in text
+            ]
+            if named:
+                hint = "; " + "; ".join(named) + ": map your column names there"
+        raise ThermocalInputError(text + hint) from None
+    if raw.index.tz is None:  # pragma: no cover - read_measurements localises naive times
+        raise ThermocalInputError(
+            f"measurement file {path}: timestamps have no time zone; set measurements.timezone"
+        )
+    out = raw[[std for std in cfg.columns]].copy()
+    index = out.index
     neg = out["flow"].to_numpy() < 0
     if neg.any():
         row = int(np.argmax(neg))
         raise ThermocalInputError(
             f"measurement file {path}: heating flow column {cfg.columns['flow']!r} is negative "
-            f"({table[cfg.columns['flow']].iloc[row]}) at row {row + 2} ({index[row]}); flows "
-            "must be >= 0 (check the sensor direction or sign convention)"
+            f"({out['flow'].iloc[row] / _flow_factor(cfg):g} {cfg.flow_unit}) at row {row + 2} "
+            f"({index[row]}); flows must be >= 0 (check the sensor direction or sign convention)"
         )
     for std in TEMPERATURE_COLUMNS:
         high = np.nanmax(out[std].to_numpy()) if out[std].notna().any() else np.nan
@@ -140,7 +135,14 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
             f"{cfg.columns['dhi']!r} never exceed {high:.2f} over {span}; they must be in W/m2 "
             "(hourly Wh/m2 are the same numbers; kWh/m2: multiply by 1000)"
         )
+    out.attrs["measurements"] = raw.attrs["measurements"]
     return out
+
+
+def _flow_factor(cfg: MeasurementsConfig) -> float:
+    from thermocal.retrofit.config import FLOW_UNITS
+
+    return FLOW_UNITS[cfg.flow_unit]
 
 
 #: Quantity of every standard column (for the physical limits and the spike screening of
@@ -203,22 +205,14 @@ def prepare_measurements(raw: pd.DataFrame, step: str) -> tuple[pd.DataFrame, Qu
     frame["phi_h"] = heating_power(frame["flow"], frame["temp_supply"], frame["temp_return"])
     frame["dni"] = frame["dni"].clip(lower=0.0)
     frame["dhi"] = frame["dhi"].clip(lower=0.0)
-    logging_interval = pd.Series(frame.index).diff().median()
-    closing = frame.iloc[[-1]].copy()
-    closing.index = closing.index + logging_interval
-    frame = pd.concat([frame, closing])
+    meta = raw.attrs.get("measurements", {}) if isinstance(raw.attrs, dict) else {}
+    logging_interval = meta.get("interval") or pd.Series(frame.index).diff().median()
     grid, report = resample_measurements(
         frame,
         step_td,
         max_gap=logging_interval,
+        interval=logging_interval,
         quantities={c: QUANTITIES[c] for c in frame.columns if c in QUANTITIES},
         limits={"phi_h": PHI_H_LIMITS},
-    )
-    # the closing row is not a report of the file: count only the file's rows
-    closed = [c for c in closing.columns if np.isfinite(closing[c].iloc[0])]
-    report.sensors.loc[closed, "n_reports"] -= 1
-    report.actions.append(
-        f"each row held for one logging interval ({logging_interval}), the last row until "
-        f"{closing.index[0].isoformat()} (rows are interval means labelled by their start)"
     )
     return grid[list(raw.columns) + ["phi_h"]], report

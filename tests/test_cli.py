@@ -147,3 +147,37 @@ def test_configure_logging_levels():
         assert logger.level == level
         assert sum(getattr(h, "_thermocal_cli", False) for h in logger.handlers) == 1
     configure_logging(0)
+
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def _thermocal(*args, cwd=REPO):
+    import subprocess
+    import sys
+
+    return subprocess.run(
+        [sys.executable, "-m", "thermocal", *map(str, args)],
+        capture_output=True, text=True, cwd=cwd, timeout=300,
+    )  # fmt: skip
+
+
+def test_simulate_runs_the_multizone_example_and_refuses_the_retrofit_building_file(tmp_path):
+    import json
+
+    import pvlib
+
+    weather = Path(pvlib.__file__).parent / "data" / "723170TYA.CSV"
+    wrong = _thermocal("simulate", "examples/buildings/single_family_house_1953.yaml", weather,
+                       "--out", tmp_path / "wrong")  # fmt: skip
+    assert wrong.returncode == 2 and "Traceback" not in wrong.stderr
+    lines = wrong.stderr.strip().splitlines()
+    assert len(lines) == 1 and "is a retrofit building file" in lines[0]
+    assert "examples/buildings/multizone_single_family_house.yaml" in lines[0]
+    assert not (tmp_path / "wrong").exists()
+    run = _thermocal("simulate", "examples/buildings/multizone_single_family_house.yaml",
+                     weather, "--start", "2001-01-10", "--end", "2001-01-12", "--step", "1h",
+                     "--warmup-days", "1", "--out", tmp_path / "sim")  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    summary = json.loads((tmp_path / "sim" / "summary.json").read_text())
+    assert "attic south" in json.dumps(summary)

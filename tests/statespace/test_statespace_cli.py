@@ -274,3 +274,23 @@ def test_fit_reads_excel_with_columns_from_the_model_file_and_splits_long_gaps(t
     assert "split into 2 period(s)" in " ".join(split["data_notes"])
     assert {"Ti0_p2", "Tenv0_p2"} <= set(split["params"])
     assert split["nobs"] == 108
+
+
+def test_fit_refuses_work_beyond_its_limits(tmp_path, monkeypatch):
+    """Large data gets a measured work estimate; beyond --max-hours, or beyond the memory of
+    the stored filter moments, the fit is refused before computing, naming the remedy."""
+    from thermocal.commands import fit as fit_command
+
+    data = tmp_path / "data.csv"
+    write_data(data, n=150)
+    monkeypatch.setattr(fit_command, "ESTIMATE_ROWS", 100)
+    args = ["fit", str(MODEL), str(data), "--out", str(tmp_path / "o"), "--no-figures"]
+    result = CliRunner().invoke(app, [*args, "--max-hours", "1e-9"])
+    assert result.exit_code != 0
+    assert "the fit would take about" in str(result.exception)
+    assert "more than --max-hours" in str(result.exception)
+    assert "work estimate: 150 rows x 2 states" in result.output
+    monkeypatch.setattr(fit_command, "MAX_STORE_BYTES", 1e4)
+    result = CliRunner().invoke(app, args)
+    assert "150 rows x 2 states need about" in str(result.exception)
+    assert not (tmp_path / "o").exists()

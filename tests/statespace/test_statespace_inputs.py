@@ -299,3 +299,27 @@ def test_model_file_read_safely_and_initial_means_in_kelvin(tmp_path):
         RCModel.from_dict(spec(parameters__Ti0={"value": 293.0, "unit": "C"}))
     with pytest.raises(ThermocalInputError, match="initial_mean of 'Te' = 283.15 looks like"):
         RCModel.from_dict(spec(states__Te={"capacity": "Ce", "initial_mean": 283.15}))
+
+
+def test_heat_input_in_watts_declared_in_kilowatts_is_flagged():
+    """Steady-state energy balance at the declared values: 1.5 kW through H = 120 W/K holds
+    Ti near 17.5 C (20 C measured): no flag; the same column written in W but declared kW
+    would hold it at ~12,500 C: flagged, naming the column and the unit to use."""
+    model = RCModel.from_dict(SPEC)
+    clean = model.evaluate(data(80))
+    assert not [f for f in clean.flags if "declared in" in f]
+    in_watts = data(80).assign(Ph=lambda d: d["Ph"] * 1000.0)
+    flags = [f for f in model.evaluate(in_watts).flags if "declared in" in f]
+    assert len(flags) == 1
+    assert "heat input 'Ph' is declared in kW" in flags[0] and "set 'unit: W'" in flags[0]
+
+
+def test_likelihood_not_finite_names_the_row_and_column():
+    df = data(60)
+    df.iloc[30, df.columns.get_loc("Ph")] = 1e306  # finite, but the state overflows
+    with pytest.raises(ThermocalInputError, match=r"non-finite at row 3[01] .*'Ph' = 1e\+306"):
+        RCModel.from_dict(SPEC).fit(df)
+    df = data(60)
+    df.iloc[12, df.columns.get_loc("yTi")] = np.inf
+    with pytest.raises(ThermocalInputError, match="output column 'yTi' is infinite in row 12"):
+        RCModel.from_dict(SPEC).fit(df)

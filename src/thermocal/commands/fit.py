@@ -303,6 +303,60 @@ def merge_mappings(model, cli_renames: dict[str, str], data_file: Path) -> dict[
     return {d: m for m, d in by_model.items()}
 
 
+#: Data with more rows than this get a measured work estimate before the fit.
+ESTIMATE_ROWS = 100_000
+#: Memory the stored filter moments (one-step predictions, smoothing) may take [bytes].
+MAX_STORE_BYTES = 4e9
+#: Likelihood evaluations per optimiser iteration are 2 k + 1 (central-difference gradient,
+#: k free parameters); a typical fit takes about this many iterations per start.
+TYPICAL_ITERATIONS = 200
+
+
+def work_estimate(model, data, *, time_column, time_unit, n_starts, jobs) -> dict:
+    """Rows x states, memory of the stored filter moments and, for large data, the fit time
+    extrapolated from a timed likelihood evaluation on the first rows.
+
+    Returns a dict with ``rows``, ``states``, ``store_bytes``, ``seconds_per_evaluation``,
+    ``fit_seconds`` (NaN when not measured).
+    """
+    import math
+    import os
+    import time
+
+    from thermocal.statespace.estimation import default_n_starts
+
+    rows, n = len(data), len(model.state_names)
+    store_bytes = 8.0 * rows * (3 * n * n + 3 * n + 4 * len(model.output_names))
+    out = {"rows": rows, "states": n, "store_bytes": store_bytes,
+           "seconds_per_evaluation": math.nan, "fit_seconds": math.nan}  # fmt: skip
+    if rows > ESTIMATE_ROWS:
+        sample = data.iloc[: min(rows, 20_000)]
+        kwargs = {"time_column": time_column, "time_unit": time_unit}
+        try:
+            model.loglike(sample.iloc[:50], **kwargs)  # compile / load the kernels
+            t0 = time.perf_counter()
+            model.loglike(sample, **kwargs)
+            per_row = (time.perf_counter() - t0) / len(sample)
+        except Exception:  # noqa: BLE001 - the fit itself reports bad data with its message
+            return out
+        starts = n_starts or default_n_starts(model)
+        parallel = max(1, min(starts, jobs or os.cpu_count() or 1))
+        per_eval = per_row * rows
+        out["seconds_per_evaluation"] = per_eval
+        out["fit_seconds"] = (
+            per_eval * (2 * model.n_free + 1) * TYPICAL_ITERATIONS * math.ceil(starts / parallel)
+        )
+    return out
+
+
+def _readable(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
 def file_sha256(path: Path) -> str:
     """SHA-256 of a file's bytes."""
     import hashlib
@@ -414,6 +468,14 @@ def fit(
             "(repeat for several; each costs a few refits).",
         ),
     ] = None,
+    max_hours: Annotated[
+        float,
+        typer.Option(
+            "--max-hours",
+            min=0,
+            help="Refuse when the estimated fit time (measured on large data) exceeds this.",
+        ),
+    ] = 24.0,
     strict: Annotated[
         bool,
         typer.Option("--strict", help="Exit with code 3 when any flag is raised."),
@@ -489,6 +551,29 @@ def fit(
             )
     check_time_axis(data, time_column, time_unit, data_file)
     check_numbers(data, [*model.input_names, *model.output_names], data_file, decimal)
+    work = work_estimate(
+        model, data, time_column=time_column, time_unit=time_unit, n_starts=n_starts, jobs=jobs
+    )
+    if work["store_bytes"] > MAX_STORE_BYTES:
+        raise ThermocalInputError(
+            f"{data_file}: {work['rows']:,} rows x {work['states']} states need about "
+            f"{work['store_bytes'] / 1e9:.1f} GB for the one-step predictions and residuals "
+            f"(limit {MAX_STORE_BYTES / 1e9:.0f} GB); resample to a coarser step (e.g. "
+            "15-minute or hourly means) or fit a shorter period"
+        )
+    if work["fit_seconds"] == work["fit_seconds"]:  # measured
+        console.print(
+            f"work estimate: {work['rows']:,} rows x {work['states']} states, "
+            f"{work['seconds_per_evaluation']:.2g} s per likelihood evaluation, fit about "
+            f"{_readable(work['fit_seconds'])}"
+        )
+        if work["fit_seconds"] > max_hours * 3600:
+            raise ThermocalInputError(
+                f"{data_file}: the fit would take about {_readable(work['fit_seconds'])} "
+                f"({work['rows']:,} rows x {work['states']} states, {model.n_free} free "
+                f"parameters), more than --max-hours {max_hours:g}; resample to a coarser step, "
+                "fit a shorter period, or raise --max-hours"
+            )
     with output_folder(out, command="fit", signature=("fit.json",)) as tmp:
         started = datetime.datetime.now(datetime.UTC)
         console.print(f"fitting {model.name} ({model.n_free} free parameters)...")

@@ -234,6 +234,13 @@ def prepare_data(
                     f"{source}: output column '{col}' has a non-numeric value "
                     f"{data[col].iloc[row]!r} in row {row}; leave missing values empty (NaN)"
                 )
+            infinite = np.isinf(Y[:, r])
+            if infinite.any():
+                row = int(np.flatnonzero(infinite)[0])
+                raise ThermocalInputError(
+                    f"{source}: output column '{col}' is infinite in row {row} ({index[row]}); "
+                    "leave missing values empty (NaN)"
+                )
             if not np.isfinite(Y[:, r]).any():
                 raise ThermocalInputError(
                     f"{source}: output column '{col}' has no valid value (all NaN); "

@@ -632,7 +632,8 @@ def fit(
     finished = [r for r in results if r is not None]
     if not finished:
         raise ThermocalInputError(
-            f"model '{model.name}': the likelihood is not finite at any start; check initial values"
+            f"model '{model.name}': the likelihood is not finite at any start: "
+            f"{nonfinite_culprit(model, prep, foh)}"
         )
     best = min(finished, key=lambda r: r.fun)
     theta = problem.clip(best.x)
@@ -662,6 +663,46 @@ def fit(
         gradient=grad,
         nested=nested,
         logprior=problem.logprior(theta)[0] if problem.priors else None,
+    )
+
+
+def nonfinite_culprit(model, prep: PreparedData, foh: bool) -> str:
+    """Where a non-finite likelihood comes from, at the declared values: a parameter giving a
+    degenerate system, or the first row where the filtered state leaves the finite numbers
+    (with the inputs of that row, largest first)."""
+    try:
+        lam = model.system()[0]
+    except (ValueError, ZeroDivisionError, np.linalg.LinAlgError):
+        lam = np.array([np.nan])
+    if not np.all(np.isfinite(lam)):
+        return (
+            "the system matrices are not finite at the declared parameter values "
+            f"({', '.join(f'{n}={p.value:g} {p.unit}' for n, p in model.parameters.items())}); "
+            "check capacities and conductances for zeros or absurd values"
+        )
+    f = filter_arrays(model, prep, None, foh)
+    bad = ~(np.all(np.isfinite(f["xf"]), axis=1) & np.all(np.isfinite(f["Pp"]), axis=(1, 2)))
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        # the input of row k-1 acts over the step into row k (zero-order hold)
+        values = sorted(
+            (
+                (abs(prep.U[r, j]), c, prep.U[r, j], r)
+                for r in range(max(k - 1, 0), k + 1)
+                for j, c in enumerate(model.input_names)
+            ),
+            key=lambda item: item[0],
+            reverse=True,
+        )
+        shown = ", ".join(f"'{c}' = {v:.4g} (row {r})" for _, c, v, r in values[:3])
+        return (
+            f"the filtered state becomes non-finite at row {k} ({prep.index[k]}); largest "
+            f"inputs of rows {max(k - 1, 0)}-{k}: {shown}; check those columns for absurd "
+            "values or units, and the declared parameter values"
+        )
+    return (
+        "the filter stays finite at the declared values, but every optimiser start ran into "
+        "non-finite values; narrow the parameter bounds or check the initial values"
     )
 
 

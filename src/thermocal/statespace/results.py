@@ -777,6 +777,66 @@ def input_flags(model, prep: PreparedData) -> list[str]:
                 f"{_stamp(prep, worst)}: a spike or unit error; remedy: check the data there "
                 "and remove the values (thermocal.io quality checks) or cut the period"
             )
+    return flags + heat_unit_flags(model, prep)
+
+
+#: Declared heat-column unit -> (the unit a factor 1000 off, the factor to it).
+_UNIT_SLIPS = {
+    "W": [("kW", 1e3)], "kW": [("W", 1e-3), ("MW", 1e3)], "MW": [("kW", 1e-3)],
+    "W/m2": [("kW/m2", 1e3)], "kW/m2": [("W/m2", 1e-3)],
+}  # fmt: skip
+#: The energy-balance check speaks when the declared unit misses the mean measured output by
+#: more than this [K] and the alternative unit comes this many times closer.
+UNIT_SLIP_MISS_K = 5.0
+UNIT_SLIP_IMPROVEMENT = 5.0
+
+
+def heat_unit_flags(model, prep: PreparedData) -> list[str]:
+    """Heat inputs whose magnitude does not fit the model's conductances (W vs kW).
+
+    A steady-state energy balance at the *declared* parameter values (the user's physics, not
+    the estimates, which absorb a unit slip): the outputs the model would settle at under the
+    mean inputs, ``C (-A^-1 B u_mean)``, against the mean measured outputs. When reading one
+    heat column in the unit a factor 1000 away brings them within reach while the declared unit
+    misses by more than :data:`UNIT_SLIP_MISS_K`, the column's unit is probably wrong.
+    """
+    try:
+        A, B, C, _ = model.continuous_matrices()
+        A_inv = np.linalg.inv(A)
+    except (np.linalg.LinAlgError, ValueError):
+        return []  # no path to a boundary: no steady state
+    u_mean = np.nanmean(prep.U, axis=0)
+    y_mean = np.array([np.nanmean(prep.Y[:, r]) for r in range(prep.Y.shape[1])])
+    if not (np.all(np.isfinite(u_mean)) and np.all(np.isfinite(A_inv))):
+        return []
+
+    def miss(u) -> tuple[float, np.ndarray]:
+        y = C @ (-A_inv @ (B @ u))
+        return float(np.nanmax(np.abs(y - y_mean))), y
+
+    base_miss, base_y = miss(u_mean)
+    if not base_miss > UNIT_SLIP_MISS_K:
+        return []
+    units = {h["column"]: h.get("unit") or "W" for h in model._heat_inputs}
+    flags = []
+    for j, col in enumerate(model.input_names):
+        if col not in units or u_mean[j] == 0:
+            continue
+        for alt, factor in _UNIT_SLIPS.get(units[col], []):
+            u = u_mean.copy()
+            u[j] *= factor
+            alt_miss, alt_y = miss(u)
+            if alt_miss * UNIT_SLIP_IMPROVEMENT < base_miss and alt_miss < UNIT_SLIP_MISS_K:
+                out = model.output_names[0]
+                flags.append(
+                    f"heat input '{col}' is declared in {units[col]}, but at the declared "
+                    f"parameter values its mean ({u_mean[j]:.4g} {units[col]}) would hold "
+                    f"'{out}' at {base_y[0]:.4g} C in steady state against {y_mean[0]:.4g} C "
+                    f"measured; read as {alt} it would be {alt_y[0]:.4g} C: is the column in "
+                    f"{alt}? remedy: set 'unit: {alt}' for '{col}' in heat_inputs (or convert "
+                    "the column); estimates fitted with the wrong unit end at their bounds"
+                )
+                break
     return flags
 
 

@@ -77,3 +77,37 @@ def test_missing_irradiance_is_not_zero_sun(tmp_path):
     with pytest.raises(ThermocalInputError, match=r"'phi_sol' has \d+ missing values in the "
                        r"training period \(from missing irradiance dni/dhi"):  # fmt: skip
         run_retrofit(load_config(config))
+
+
+def test_irradiance_a_thousand_times_too_large_is_refused(tmp_path):
+    """DNI/DHI written x1000: refused naming the column, not 40 % of the hours dropped."""
+    config = make_dataset(tmp_path, days=4.0)
+    cfg = yaml.safe_load(config.read_text())
+    measurements = tmp_path / cfg["measurements"]["file"]
+    frame = pd.read_csv(measurements)
+    column = cfg["measurements"]["columns"]["dni"]
+    frame[column] = frame[column] * 1000.0
+    frame.to_csv(measurements, index=False)
+    with pytest.raises(ThermocalInputError, match=rf"'{column}' exceeds 1600 W/m2 in \d+ of \d+ "
+                       r"sunny rows .* not in W/m2"):  # fmt: skip
+        run_retrofit(load_config(config))
+
+
+def test_an_impossible_irradiance_glitch_is_removed_aloud(caplog):
+    """Two glitches of 5000 W/m2: removed, and said in a note (report, stderr), not only in
+    the quality table of results.json."""
+    from thermocal.retrofit.data import prepare_measurements, removed_values_notes
+
+    index = pd.date_range("2001-02-01", periods=48, freq="h", tz="UTC")
+    raw = pd.DataFrame(
+        {"temp_out": 0.0, "flow": 1e-4, "temp_supply": 50.0, "temp_return": 40.0,
+         "dni": 300.0, "dhi": 100.0, "temp_in": 20.0},
+        index=index,
+    )  # fmt: skip
+    raw.iloc[[10, 30], raw.columns.get_loc("dni")] = 5000.0
+    grid, report = prepare_measurements(raw, "1h")
+    assert np.isnan(grid["dni"].iloc[10]) and grid["dni"].iloc[11] == 300.0
+    notes = removed_values_notes(report, {"dni": "DNI", "flow": "V_dot"})
+    assert len(notes) == 1
+    assert "2 physically impossible value(s) of column 'DNI' removed" in notes[0]
+    assert "5000" in notes[0]

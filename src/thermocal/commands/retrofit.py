@@ -85,6 +85,9 @@ def print_summary(results: dict, out: Path) -> None:
     log = logging.getLogger("thermocal.retrofit")
     for flag in results["calibration"]["flags"]:
         log.warning("calibration: %s", flag)
+    for note in results.get("notes", []):
+        if not note.startswith("measurements:"):  # those were logged while computing
+            log.warning("%s", note)
     console.print(f"results in [bold]{out}[/bold] (results.json, report.html, CSV, figures/)")
 
 

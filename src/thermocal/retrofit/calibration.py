@@ -164,7 +164,7 @@ def calibrate(
     bounds = initial_state_bounds(x0_guess, float(u_mean[0]), float(u_mean[1]))
     rc = RCModel.from_dict(rc_spec(model, x0_guess, bounds), source="fifth-order retrofit model")
     full = rc.fit(data, n_starts=n_starts, seed=seed)
-    # Standard errors and correlations of the six physical parameters (paper 000) are taken
+    # Standard errors and correlations of the six physical parameters of the method are taken
     # conditional on the nuisance parameters (diffusions, measurement noise, initial states):
     # those are fixed at their estimates and the physical ones re-estimated from the optimum.
     # Nuisance parameters often end on a bound (a diffusion -> 0), which makes the full

@@ -24,6 +24,9 @@ from thermocal.physics.hydronics import heating_power
 from thermocal.retrofit.config import MEASUREMENT_COLUMNS, MeasurementsConfig
 
 TEMPERATURE_COLUMNS = ("temp_out", "temp_supply", "temp_return", "temp_in")
+#: Irradiance above this [W/m2] is impossible at the ground (the solar constant is 1361 W/m2);
+#: the upper physical limit of :func:`thermocal.io.measurements.resample_measurements`.
+IRRADIANCE_LIMIT = 1600.0
 
 
 def _timezone(tz):
@@ -125,6 +128,19 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
                 f"measurement file {path}: irradiance column {cfg.columns[std]!r} has "
                 f"{low:.1f} W/m2 < 0"
             )
+    for std in ("dni", "dhi"):
+        values = out[std].to_numpy()
+        above = values > IRRADIANCE_LIMIT
+        sunny = np.isfinite(values) & (values > 5.0)
+        if above.sum() > max(3, 0.01 * sunny.sum()):
+            first = int(np.argmax(above))
+            raise ThermocalInputError(
+                f"measurement file {path}: irradiance column {cfg.columns[std]!r} exceeds "
+                f"{IRRADIANCE_LIMIT:g} W/m2 in {int(above.sum())} of {int(sunny.sum())} sunny rows "
+                f"(up to {np.nanmax(values):,.0f} W/m2, first at row {first + 2}, {index[first]}); "
+                "sunlight never exceeds about 1,400 W/m2, so the column is not in W/m2 (a factor "
+                "1000 points to kW vs W or W/m2 written as mW/m2): convert the column to W/m2"
+            )
     span = (index[-1] - index[0]) if len(index) else pd.Timedelta(0)
     high = (
         np.nanmax(out[["dni", "dhi"]].to_numpy()) if out[["dni", "dhi"]].notna().any().any() else 0
@@ -216,3 +232,31 @@ def prepare_measurements(raw: pd.DataFrame, step: str) -> tuple[pd.DataFrame, Qu
         limits={"phi_h": PHI_H_LIMITS},
     )
     return grid[list(raw.columns) + ["phi_h"]], report
+
+
+def removed_values_notes(report: QualityReport, columns: dict[str, str]) -> list[str]:
+    """One plain sentence per sensor whose physically impossible values were removed.
+
+    Parameters
+    ----------
+    report : QualityReport
+        From :func:`prepare_measurements`.
+    columns : dict
+        Standard name -> column in the file (``measurements.columns``).
+    """
+    notes = []
+    flags = report.flags
+    if flags.empty:
+        return notes
+    for sensor, rows in flags[flags["flag"] == "impossible"].groupby("sensor", sort=False):
+        n = int(report.sensors.loc[sensor, "n_reports"]) if sensor in report.sensors.index else 0
+        col = columns.get(sensor, sensor)
+        name = f"column {col!r}" if sensor in columns else f"the derived {sensor!r}"
+        notes.append(
+            f"measurements: {len(rows)} physically impossible value(s) of {name} removed "
+            f"({rows['reason'].iloc[0]}; first {rows['value'].iloc[0]:g} at "
+            f"{rows['time'].iloc[0]}), of {n} rows; an interval's mean uses its remaining "
+            "values, an interval left without any is missing. Check the sensor if this is more "
+            "than a glitch"
+        )
+    return notes

@@ -47,7 +47,7 @@ from thermocal.errors import ThermocalInputError
 
 #: pvlib's shipped TMY3 file (Greensboro, NC).
 DEFAULT_WEATHER = Path(__import__("pvlib").__file__).parent / "data" / "723170TYA.CSV"
-#: Measurement period of paper 000 (day-month), simulated in the weather file's year.
+#: Measurement period of the method's case study (day-month), simulated in the weather file's year.
 PERIOD = ("02-02", "03-16")  # [Feb 2 00:00, Mar 16 00:00) = Feb 2 .. Mar 15
 WARMUP_DAYS = 14
 STEP = "10min"
@@ -258,7 +258,7 @@ def heating_curve(
 # retrofits of the multi-zone house (the generator's answer to the 16 strategies)
 # ------------------------------------------------------------------------------------------
 #: Construction and the layer whose conductivity a measure changes (capacity unchanged, as
-#: paper 000 assumes), with the surface resistances of the audit U-value.
+#: the method assumes), with the surface resistances of the audit U-value.
 MEASURE_LAYERS = {
     "roof": ("roof", "wood-wool board", 0.10, 0.04),
     "walls": ("external wall", "hollow clay brick", 0.13, 0.04),

@@ -30,7 +30,11 @@ from thermocal.retrofit.calibration import (
     draw_parameters,
 )
 from thermocal.retrofit.config import RetrofitConfig
-from thermocal.retrofit.data import prepare_measurements, read_raw_measurements
+from thermocal.retrofit.data import (
+    prepare_measurements,
+    read_raw_measurements,
+    removed_values_notes,
+)
 from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
 from thermocal.retrofit.inputs import solar_inputs
 from thermocal.retrofit.metrics import daily_profile, validation_metrics
@@ -244,6 +248,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     weather, weather_meta = load_weather_year(cfg, step)
     ground_params = ground_temperature_parameters(weather)
     training, test, notes = _periods(grid, cfg, source)
+    for note in removed_values_notes(quality, cfg.measurements.columns):
+        log.warning(note)
+        notes.append(note)
     end = test[1] if test else training[1]
     grid = grid.loc[(grid.index >= training[0]) & (grid.index < end)]
     model = build_fifth_order_model(

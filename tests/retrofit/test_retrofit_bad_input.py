@@ -111,3 +111,19 @@ def test_an_impossible_irradiance_glitch_is_removed_aloud(caplog):
     assert len(notes) == 1
     assert "2 physically impossible value(s) of column 'DNI' removed" in notes[0]
     assert "5000" in notes[0]
+
+
+def test_configuration_messages_echo_the_bad_value():
+    from thermocal.retrofit.config import parse_config
+
+    data = {
+        "building": "b.yaml",
+        "measurements": {"file": "m.csv", "flow_unit": "gal"},
+        "weather": {"file": "w.epw"},
+        "periods": {"training_days": "three weeks"},
+    }
+    with pytest.raises(ThermocalInputError) as info:
+        parse_config(data, source="cfg.yaml")
+    message = str(info.value)
+    assert "measurements.flow_unit = 'gal': " in message and "'l/h'" in message
+    assert "periods.training_days = 'three weeks': " in message

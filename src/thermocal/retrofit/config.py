@@ -365,6 +365,11 @@ def _format_validation_error(exc: ValidationError, source: str) -> str:
     lines = [f"invalid retrofit configuration {source}:"]
     for err in exc.errors():
         where = ".".join(str(p) for p in err["loc"]) or "(top level)"
+        value = err.get("input")
+        if err["type"] != "missing" and not isinstance(value, dict | list):
+            shown = repr(value)
+            shown = shown if len(shown) <= 60 else shown[:57] + "..."
+            where = f"{where} = {shown}"  # echo the bad value: which one is wrong
         lines.append(f"  - {where}: {err['msg']}")
     return "\n".join(lines)
 

@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from thermocal import __version__
@@ -181,3 +182,47 @@ def test_simulate_runs_the_multizone_example_and_refuses_the_retrofit_building_f
     assert run.returncode == 0, run.stderr
     summary = json.loads((tmp_path / "sim" / "summary.json").read_text())
     assert "attic south" in json.dumps(summary)
+
+
+def _wait_for_path(pattern: str, parent: Path, proc, timeout: float = 120.0) -> None:
+    import time
+
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if list(parent.glob(pattern)):
+            return
+        if proc.poll() is not None:
+            break
+        time.sleep(0.05)
+    raise AssertionError(f"never saw {pattern}: {proc.communicate()[1]}")
+
+
+@pytest.mark.parametrize(("sig", "code", "word"), [("SIGINT", 130, "interrupted"),
+                                                   ("SIGTERM", 143, "terminated")])  # fmt: skip
+def test_interrupted_demo_leaves_the_previous_results_untouched(tmp_path, sig, code, word):
+    """Ctrl-C / SIGTERM while the demo computes: exit 130 / 143, one line, the output folder
+    exactly as the previous run left it, no temporary folder or lock beside it."""
+    import signal
+    import subprocess
+    import sys
+
+    from thermocal.commands.retrofit import RETROFIT_SIGNATURE
+    from thermocal.io.output import output_folder
+
+    out = tmp_path / "demo"
+    with output_folder(out, command="demo", signature=RETROFIT_SIGNATURE) as tmp:
+        (tmp / "results.json").write_text('{"previous": true}')
+        (tmp / "report.html").write_text("<html>previous</html>")
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "thermocal", "demo", "--out", str(out), "--draws", "20"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path,
+    )  # fmt: skip
+    _wait_for_path(".demo.tmp-*/data/config.yaml", tmp_path, proc)  # computing now
+    proc.send_signal(getattr(signal, sig))
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == code, err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith(word) and "Traceback" not in err, err
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]

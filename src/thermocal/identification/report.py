@@ -57,10 +57,22 @@ def add_section(
     )
     difference = result.method_difference()
     if difference is not None:
+        labels = {
+            "building_rms_W": "building total: RMS of the difference [W]",
+            "building_max_abs_W": "building total: largest difference [W]",
+            "building_inverse_std_W": "building total: std of the inverse's Q_ID [W]",
+            "worst_zone": "zone with the largest RMS difference",
+            "worst_zone_rms_W": "its RMS difference [W]",
+            "unoccupied_variance_pid_W2": "unoccupied variance, PID [W2]",
+            "unoccupied_variance_inverse_W2": "unoccupied variance, inverse [W2]",
+        }
         report.table(
-            pd.DataFrame([difference]).T.rename(columns={0: "value"}),
+            pd.DataFrame(
+                {"quantity": [labels.get(k, k) for k in difference],
+                 "value": [str(v) if isinstance(v, str) else f"{v:,.4g}"
+                           for v in difference.values()]}
+            ),
             caption="PID minus exact inverse",
-            number_format="{:,.4g}",
         )
     if result.tuning is not None:
         t = result.tuning

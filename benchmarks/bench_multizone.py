@@ -138,7 +138,7 @@ def main() -> None:
     building = clinic()
     rows = []
 
-    # 1. clinic month, 5 min, free floating with given heat (the closed-loop use of paper 001)
+    # 1. clinic month, 5 min, free floating with given heat (as the identification uses it)
     def setup():
         return Simulation(
             building,

@@ -5,7 +5,7 @@ Run:  /work/venv/bin/python benchmarks/bench_statespace.py
 Targets (issue 2):
 - one log-likelihood evaluation, 2 states, 2 inputs, 230 samples: <= 100 microseconds;
 - a full fit of that model (7 free parameters incl. noise and initial state): <= 0.15 s warm;
-- the fifth-order model of paper 000 (14 free parameters) on 504 hourly samples: <= 2 s warm.
+- the fifth-order retrofit model (14 free parameters) on 504 hourly samples: <= 2 s warm.
 "Warm" = numba kernels compiled and cached (the first call in a fresh process loads them).
 Synthetic data are simulated from the model itself (exact discretisation, fixed seeds); the fits
 start from perturbed values.
@@ -115,13 +115,13 @@ def main() -> None:
     rows.append((f"full fit incl. Hessian, same model, {start.n_free} free parameters", best, med,
                  "s", 0.15))  # fmt: skip
 
-    five = RCModel.from_yaml(REPO / "examples" / "models" / "paper000_fifth_order.yaml")
+    five = RCModel.from_yaml(REPO / "examples" / "models" / "fifth_order_retrofit.yaml")
     data5 = fifth_order_data(five)
     start5 = five.with_parameters({"H_est": 150, "Ci": 5, "Cenv": 20, "Cgf": 40, "Ch": 2,
                                    "Cim": 10})  # fmt: skip
     res5 = start5.fit(data5, n_starts=1)
     best, med = timeit(lambda: start5.fit(data5, n_starts=1), repeats=5)
-    rows.append((f"fifth-order model of paper 000, {start5.n_free} free parameters, 504 hourly "
+    rows.append((f"fifth-order retrofit model, {start5.n_free} free parameters, 504 hourly "
                  "samples", best, med, "s", 2.0))  # fmt: skip
     prep5 = prepare_data(five, data5)
     p5 = LikelihoodProblem(five, prep5, False)

@@ -21,8 +21,9 @@ Parameter names are those of :meth:`thermocal.multizone.Building.parameters`:
 
 References
 ----------
-.. [1] O'Neill, Z., Eisenhower, B., et al. (paper 001 in ``shared/seeds``): envelope calibration
-   with cheap temperature sensors, PID heat identification, SVR meta-model and optimisation.
+.. [1] "Calibration of envelope parameters using control-based heat balance identification and
+   uncertainty analysis" (:data:`thermocal.identification.REFERENCE`): envelope calibration with
+   cheap temperature sensors, PID heat identification, SVR meta-model and optimisation.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Demo data of the identification workflow (paper 001): a "real" clinic and its sensor network.
+"""Demo data of the identification workflow: a "real" clinic and its sensor network.
 
 The building is :func:`thermocal.multizone.generators.clinic` (180 rooms in six rows along three
 corridors, each corridor cut into two zones: 186 zones, 70 envelope parameters). It is NOT
@@ -32,7 +32,7 @@ building differs from it in two ways that the model does not know about:
    ``generate()`` returns every zone's loads (``loads``, ``components``) and the per-zone table
    (``zones``); the building totals per step are shipped in ``true_loads.parquet``.
 
-Occupancy (paper 001): occupied = NOT (20:00-04:00 every night, 11:00-20:00 on Saturdays, all
+Occupancy (the case study's): occupied = NOT (20:00-04:00 every night, 11:00-20:00 on Saturdays, all
 Sunday) in local standard time; :func:`occupancy_mask`.
 
 Simulation: 5-minute steps, January of the weather file's year (default pvlib's TMY3
@@ -44,7 +44,7 @@ starts with the simulation's own 7-day warm-up on the first pre-run day. Zone ai
 (``SimulationResult.air_temperature`` row k = the state at the END of step k, i.e. at
 ``times[k] + 5 min``) is what the sensors see.
 
-Sensor network (paper 001: 82 Inovonics EN 1723 transmitters): 82 sensors ``S01`` ... ``S82``
+Sensor network (the case study: 82 Inovonics EN 1723 transmitters): 82 sensors ``S01`` ... ``S82``
 in 79 rooms (three rooms carry two sensors, meant to be averaged); corridors and the 12
 equipment rooms have none. Each sensor:
 
@@ -218,7 +218,7 @@ def _occupancy_mask(times) -> np.ndarray:
 
 
 def occupancy_mask(times) -> np.ndarray:
-    """Occupied steps of paper 001's clinic (local time of ``times``).
+    """Occupied steps of the case study's clinic (local time of ``times``).
 
     Unoccupied: 20:00-04:00 every night, 11:00-20:00 on Saturdays, all Sunday; occupied
     otherwise. A step labelled ``t`` is judged by ``t`` (its start).

@@ -3,8 +3,8 @@
 ISO 13370 functions return steady-state thermal transmittances [W/(m2 K)] or the steady-state
 ground heat-transfer coefficient ``H_g`` [W/K] between the internal and the external (air)
 temperature; the ground temperature functions give the undisturbed soil temperature for models
-that couple a floor to the soil at some depth (paper 000 uses the temperature at 2 m, after
-Zuercher & Frank).
+that couple a floor to the soil at some depth (the fifth-order retrofit method uses the
+temperature at 2 m, after Zuercher & Frank).
 """
 
 from __future__ import annotations
@@ -459,7 +459,7 @@ def ground_temperature(
     .. [1] Kusuda, T. and Achenbach, P. R. (1965), "Earth temperature and thermal diffusivity at
        selected stations in the United States", ASHRAE Transactions 71(1).
     .. [2] Zuercher, C. and Frank, T. (2018), Bauphysik, 5th ed., vdf Zurich (ground temperature
-       at depth, as used in paper 000).
+       at depth, as used by the fifth-order retrofit method).
     """
     depth = _positive("depth", depth, "m", allow_zero=True)
     diffusivity = _positive("diffusivity", diffusivity, "m2/s")

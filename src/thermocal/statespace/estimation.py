@@ -39,7 +39,7 @@ STALL_WINDOW = 10
 COLLAPSE_FRACTION = 0.02
 #: Half-width of the search box in theta (see :class:`LikelihoodProblem`).
 THETA_SPAN = 25.0
-#: |correlation| above which a pair of estimates is flagged (Madsen et al. 2016; paper 000).
+#: |correlation| above which a pair of estimates is flagged (Madsen et al. 2016).
 CORRELATION_LIMIT = 0.98
 #: Relative distance to a bound below which an estimate is flagged.
 BOUND_TOLERANCE = 1e-3

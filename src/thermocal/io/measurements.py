@@ -1,7 +1,8 @@
 """Sensor logs: irregular, event-based measurements -> a regular grid, with a quality report.
 
 Wireless sensor networks report irregularly: the envelope-calibration case study's sensors
-send a value every 5 minutes or as soon as it changes by 0.28 C, whichever comes first; a heat meter may report only on change.
+send a value every 5 minutes or as soon as it changes by 0.28 C, whichever comes first; a
+heat meter may report only on change.
 This module reads such logs and puts them on a regular grid with the operation each quantity
 needs, and says what it did.
 

@@ -2,14 +2,14 @@
 
 Target (issue 3): reading and resampling a month of 5-minute logs from 100 sensors <= 2 s.
 
-The log is synthetic and irregular like the envelope-calibration case study's wireless
-sensors: each sensor reports every 5 minutes or as soon as its value has changed by 0.28 C
-since the last report, whichever comes first (simulated on a 10-second grid). The room
-temperatures follow a daily heating cycle, a random walk, window airing (drops of 1-3 K in minutes, recovering over about an hour) and
-measurement noise; a few sensors have a lost-radio gap and every sensor has 3 single-report
-glitches (+8 K). The file is written once (not timed); the timed part is ``read_measurements``
-+ ``resample_measurements`` (with the spike screening and gap report), repeated; best and
-median reported.
+The log is synthetic and irregular like the envelope-calibration case study's wireless sensors:
+each sensor reports every 5 minutes or as soon as its value has changed by 0.28 C since the last
+report, whichever comes first (simulated on a 10-second grid). The room temperatures follow a daily
+heating cycle, a random walk, window airing (drops of 1-3 K in minutes, recovering over about an
+hour) and measurement noise; a few sensors have a lost-radio gap and every sensor has 3 single-
+report glitches (+8 K). The file is written once (not timed); the timed part is
+``read_measurements`` + ``resample_measurements`` (with the spike screening and gap report),
+repeated; best and median reported.
 
 Run: ``/work/venv/bin/python benchmarks/bench_io.py [--repeats 5] [--keep]``
 """

@@ -453,6 +453,7 @@ def assemble(
     pressure: float | None = None,
     cache: dict | None = None,
     gain_input_zones=(),
+    own_solar_inputs=frozenset(),
 ) -> Network:
     """Assemble the sparse network of a building for a time step.
 
@@ -476,6 +477,9 @@ def assemble(
         Zones with time-varying internal gains: each gets two input columns,
         ``gains_convective/<zone>`` (into the air) and ``gains_radiant/<zone>`` (shared by the
         zone's surfaces by area) [W]; give such zones ``internal_gains = 0``.
+    own_solar_inputs : set of str
+        Surfaces and windows (names) whose solar inputs get their own columns (keys with the
+        name appended) instead of one per orientation: receivers of shadows.
     """
     options = options or NetworkOptions()
     cache = {} if cache is None else cache
@@ -804,8 +808,10 @@ def assemble(
         if not e_sun[k] or e_alpha[k] == 0:
             continue
         key = (round(float(ext_tilt[k]), 3), round(float(e_az[k]) % 360.0, 3))
+        if e_name[k] in own_solar_inputs:
+            key = (*key, e_name[k])
         if key not in orientation_inputs:
-            orientation_inputs[key] = new_input(f"poa_global/{key[0]}/{key[1]}")
+            orientation_inputs[key] = new_input("poa_global/" + "/".join(map(str, key)))
         source(int(ext_node[k]), orientation_inputs[key], e_alpha[k] * ext_area[k])
 
     # ---- solar: windows ----------------------------------------------------------------------
@@ -853,8 +859,10 @@ def assemble(
         if not host.sun_exposed:
             continue
         key = (wt.name, round(host.tilt, 3), round(host.azimuth % 360.0, 3))
+        if window.name in own_solar_inputs:
+            key = (*key, window.name)
         if key not in window_inputs:
-            tag = f"{key[0]}/{key[1]}/{key[2]}"
+            tag = "/".join(map(str, key))
             window_inputs[key] = (
                 new_input(f"window_beam/{tag}"),
                 new_input(f"window_diffuse/{tag}"),

@@ -291,6 +291,11 @@ class Simulation:
         the zone's height); ``"constant"`` simulates the constant approximation stored on the
         zones (annual-mean gains, most frequent set point, infiltration at 4.47 m/s).
         Ignored for other buildings.
+    shading : bool
+        For buildings imported from an IDF file: shadows of the file's shading surfaces
+        (``Shading:Zone/Building/Site:Detailed``, overhangs, fins) on windows and outdoor
+        surfaces, beam by the sunlit fraction of each step and isotropic sky diffuse by the
+        unshaded sky view (:mod:`thermocal.multizone.shading`); False ignores them.
 
     Notes
     -----
@@ -314,6 +319,7 @@ class Simulation:
         store_surfaces: bool = True,
         sky_model: str = "perez",
         schedules: str = "file",
+        shading: bool = True,
     ) -> None:
         if not isinstance(building, Building):
             raise ThermocalInputError("Simulation: building must be a thermocal Building")
@@ -345,6 +351,8 @@ class Simulation:
         self.schedules = schedules
         self._scheduled = self._evaluate_schedules()
         self._site = self._site_from(self.metadata, building)
+        self.shading = bool(shading)
+        self._shadows = self._shadow_setup()
         #: solve with prescribed air temperatures when every controlled zone sits at a set point
         self.use_dirichlet = True
         #: False: only the linear network (no lagged state-dependent corrections: TARP, exact
@@ -386,6 +394,7 @@ class Simulation:
             pressure=pressure,
             cache=self._assembly_cache,
             gain_input_zones=gain_zones,
+            own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
         )
         self._inputs = self._input_matrix()
         self._factorise()
@@ -411,6 +420,66 @@ class Simulation:
             if np.ptp(ach[:, i]) > 1e-12 or np.any(scheduled.infiltration_ach_per_kelvin[:, i])
         ]
         return scheduled
+
+    def _shadow_setup(self) -> dict | None:
+        """Sunlit fractions (per step) and sky-diffuse ratios of the shaded receivers."""
+        info = getattr(self.building, "idf_info", None)
+        shaders = getattr(info, "shading_surfaces", None) if info is not None else None
+        if not self.shading or not shaders:
+            return None
+        from thermocal.multizone.shading import ShadowCaster, sun_vectors
+        from thermocal.physics.solar import interval_solar_position
+
+        vertices = info.surface_vertices
+        receivers = {}
+        for surface in self.building.surfaces.values():
+            if surface.boundary == "outdoors" and surface.sun_exposed and surface.name in vertices:
+                holes = [
+                    vertices[h] for h in info.subsurfaces_of.get(surface.name, []) if h in vertices
+                ]
+                receivers[surface.name] = (vertices[surface.name], holes)
+        for window in self.building.windows.values():
+            if self.building.surfaces[window.surface].sun_exposed and window.name in vertices:
+                receivers[window.name] = (vertices[window.name], ())
+        caster = ShadowCaster(shaders, receivers)
+        if not caster.shaded:
+            return None
+        site = self._site
+        position = interval_solar_position(
+            self._grid.index, site["latitude"], site["longitude"], site["altitude"]
+        )
+        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
+        # EnergyPlus' "Periodic" shadow calculation: the sunlit fractions of the first day of
+        # each period of N days (sun positions of that day, step by step) serve the whole period
+        days = int(getattr(info, "shadow_update_days", 0))
+        per_day = int(round(86400.0 / self.dt))
+        step_index = np.arange(len(self.times))
+        if days > 0 and abs(per_day * self.dt - 86400.0) < 1e-6:
+            elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
+            first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
+            step_index = np.minimum(first, len(self.times) - 1)
+        evaluated, inverse = np.unique(step_index, return_inverse=True)
+        tau = None
+        if any(s.transmittance_schedule for s in shaders):
+            tau = np.zeros((len(self.times), len(shaders)))
+            for k, s in enumerate(shaders):
+                if s.transmittance_schedule:
+                    tau[:, k] = np.clip(
+                        info.schedules.on_grid(
+                            s.transmittance_schedule, self.times, self.step_size
+                        ),
+                        0.0,
+                        1.0,
+                    )
+        mean_tau = None if tau is None else tau.mean(axis=0)
+        tau_eval = None if tau is None else tau[evaluated]
+        return {
+            "beam": {
+                name: caster.sunlit_fraction(name, sun[evaluated], tau_eval)[inverse]
+                for name in caster.shaded
+            },
+            "sky": {name: caster.sky_diffuse_ratio(name, mean_tau) for name in caster.shaded},
+        }
 
     def _network_building(self):
         """Building handed to the network: scheduled gains as inputs, infiltration at its mean."""
@@ -446,9 +515,10 @@ class Simulation:
             # a zone without the schedule keeps its constant value
             h = np.where(np.isfinite(heat) & ~np.isfinite(h), heat, h)
             c = np.where(np.isfinite(cool) & ~np.isfinite(c), cool, c)
-            if np.ptp(np.where(np.isfinite(h), h, 0.0), axis=0).any() or np.ptp(
-                np.where(np.isfinite(c), c, 0.0), axis=0
-            ).any():
+            if (
+                np.ptp(np.where(np.isfinite(h), h, 0.0), axis=0).any()
+                or np.ptp(np.where(np.isfinite(c), c, 0.0), axis=0).any()
+            ):
                 heat, cool = h, c
         return np.ascontiguousarray(heat, dtype=float), np.ascontiguousarray(cool, dtype=float)
 
@@ -496,7 +566,11 @@ class Simulation:
                 return None
         else:
             context = self._context(
-                self.dt, self._inputs, self._ext_dh_raw, self._inf_dh, controlled=zones,
+                self.dt,
+                self._inputs,
+                self._ext_dh_raw,
+                self._inf_dh,
+                controlled=zones,
                 ideal=False,
             )
         g_inverse = np.zeros((0, 0))
@@ -652,7 +726,7 @@ class Simulation:
         u[:, IN_TEMP_GROUND] = self._ground_temperature()
         u[:, IN_ONE] = 1.0
         # solar
-        orientations = set(net.orientation_inputs)
+        orientations = {k[:2] for k in net.orientation_inputs}
         orientations.update((k[1], k[2]) for k in net.window_inputs)
         if orientations:
             cache = self.__dict__.setdefault("_irradiance_cache", {})
@@ -661,12 +735,19 @@ class Simulation:
                 cache.update(_irradiance(grid, self._site, missing, self.sky_model))
             irr = cache
             for key, col in net.orientation_inputs.items():
-                u[:, col] = irr[key]["poa_global"]
-            for (wt_name, tilt, az), cols in net.window_inputs.items():
+                if len(key) == 3:  # a shaded receiver
+                    u[:, col] = self._shaded(irr[key[:2]], key[2])["poa_global"]
+                else:
+                    u[:, col] = irr[key]["poa_global"]
+            for wkey, cols in net.window_inputs.items():
+                wt_name, tilt, az = wkey[:3]
                 wt = self.building.window_types[wt_name]
-                key = ("window", wt_name, wt.shgc, wt.solar_transmittance, tilt, az)
+                key = ("window", wt_name, wt.shgc, wt.solar_transmittance, *wkey[1:])
                 if key not in self._input_cache:
-                    self._input_cache[key] = _window_inputs(wt, irr[(tilt, az)], n_steps)
+                    source = irr[(tilt, az)]
+                    if len(wkey) == 4:
+                        source = self._shaded(source, wkey[3])
+                    self._input_cache[key] = _window_inputs(wt, source, n_steps)
                 for col, values in zip(cols, self._input_cache[key], strict=True):
                     u[:, col] = values
         # explicit corrections: exterior convection (wind) and infiltration air density
@@ -703,6 +784,14 @@ class Simulation:
                     self._inf_dt = np.ascontiguousarray(rho[:, None] * per_ach[None, :] * ach_dt)
         self._inf_dh = np.ascontiguousarray(inf_dh)
         return u
+
+    def _shaded(self, irradiance: dict, name: str) -> dict:
+        """Irradiance on a shaded receiver: beam x sunlit fraction, sky diffuse x sky view."""
+        out = dict(irradiance)
+        out["poa_direct"] = irradiance["poa_direct"] * self._shadows["beam"][name]
+        out["poa_sky_diffuse"] = irradiance["poa_sky_diffuse"] * self._shadows["sky"][name]
+        out["poa_global"] = out["poa_direct"] + out["poa_sky_diffuse"] + out["poa_ground_diffuse"]
+        return out
 
     def _exterior_convection_excess(self) -> np.ndarray:
         """DOE-2 exterior convection minus its matrix part, per step and face [W/(m2 K)]."""
@@ -989,7 +1078,12 @@ class Simulation:
                     out_q=np.empty((n, nt)),
                 )
                 out = self._advance(
-                    k0, n, heat[k0 : k0 + n], ideal=False, store=False, context=fine,
+                    k0,
+                    n,
+                    heat[k0 : k0 + n],
+                    ideal=False,
+                    store=False,
+                    context=fine,
                     tracking=state,
                 )
                 air[k0 : k0 + n] = out[0]
@@ -1063,7 +1157,12 @@ class Simulation:
         for _ in range(self.warmup_days):
             state["out_q"] = np.empty((n_day, len(tracked)))
             self._advance(
-                0, n_day, np.zeros((n_day, nz)), ideal=False, store=False, context=context,
+                0,
+                n_day,
+                np.zeros((n_day, nz)),
+                ideal=False,
+                store=False,
+                context=context,
                 tracking=state,
             )
         state["feedback"] = state["feedback"].copy()
@@ -1276,6 +1375,17 @@ class Simulation:
             )
         else:
             out.extend(info.notes)
+        shaders = getattr(info, "shading_surfaces", None)
+        if shaders:
+            if self._shadows is not None:
+                out.append(
+                    f"{len(shaders)} shading surfaces cast shadows on {len(self._shadows['beam'])} "
+                    "windows and surfaces (beam by sampled sunlit fraction every step, isotropic "
+                    "sky diffuse by the unshaded sky view; ground-reflected not shaded); the "
+                    "building's own surfaces cast no shadows"
+                )
+            elif not self.shading:
+                out.append(f"{len(shaders)} shading surfaces ignored (shading=False)")
         return out
 
 

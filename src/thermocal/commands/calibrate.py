@@ -51,9 +51,9 @@ def calibrate(
 ) -> None:
     """Find which envelope parameters are wrong and by how much, from zone temperature sensors.
 
-    Writes calibration.json, table1.csv (critical parameters), samples.parquet/.csv (the
-    campaign), campaign.sqlite (the durable store; --resume continues it), a calibrated
-    building file, figures and report.html into OUT.
+    Writes into OUT: calibration.json, table1.csv (the critical parameters),
+    samples.parquet and samples.csv (the campaign), campaign.sqlite (the durable store,
+    continued by --resume), calibrated_building.yaml, figures and report.html.
     """
     from rich.console import Console
 

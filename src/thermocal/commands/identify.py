@@ -60,9 +60,9 @@ def identify(
 ) -> None:
     """Identify, for every zone and step, the heat the model needs to follow the sensors.
 
-    Writes identification.json (gains, Ku/Pu, tracking per zone, zone sources, the
-    unoccupied-variance metric, PID vs inverse), q_id.parquet (per zone and total, per step),
-    figures and report.html into OUT.
+    Writes into OUT: identification.json (gains with Ku and Pu, tracking per zone,
+    every zone's reference source, the unoccupied-variance metric, PID vs inverse),
+    q_id.parquet (per zone and total, per step), figures and report.html.
     """
     import warnings
 

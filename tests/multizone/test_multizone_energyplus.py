@@ -22,6 +22,7 @@ Shading surfaces (issue 11, measured 2026-11-23, without -> with shadows):
 |---|---|---|---|---|
 | 5ZoneAirCooled FF | hourly RMSE, mean of the 5 office zones [K] | 1.14 | 0.89 | 1.05 |
 | 5Zone FF | SPACE1-1 (overhangs) RMSE / bias [K] | 1.88 / +0.89 | 0.87 / +0.17 | 1.1 / 0.4 |
+| 5Zone | + file's convection: office RMSE, max abs bias [K] | 0.89, 0.47 | 0.88, 0.24 | -, 0.35 |
 | 610 | heating / cooling vs E+ (4.271 / 4.500 MWh) | +2.3 / +37.3 % | +4.5 / -0.8 % | 7 / 4 % |
 """
 
@@ -138,6 +139,8 @@ def test_5zone_free_float_hourly_temperatures_against_energyplus(tmp_path_factor
     assert max(rmse.values()) < 1.2, rmse
     # the south zone under the Shading:Zone:Detailed overhangs
     assert rmse["SPACE1-1"] < 1.1 and abs(found["SPACE1-1"][1]) < 0.4, found["SPACE1-1"]
+    # Simple / SimpleCombined convection as the file asks: office biases within +-0.35 K
+    assert max(abs(value[1]) for value in found.values()) < 0.35, found
 
 
 def test_case610_overhang_annual_loads_against_energyplus(tmp_path_factory, denver):

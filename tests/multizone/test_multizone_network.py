@@ -354,3 +354,26 @@ def test_exact_interior_longwave_removes_the_linearisation_temperature():
     assert exact_low == pytest.approx(exact_high, rel=1e-6)
     assert abs(linear_low - linear_high) > 20 * abs(exact_low - exact_high)
     assert exact_low == pytest.approx(linear_high, rel=1e-3)  # 50 C is close to the face temps
+
+
+def test_energyplus_convection_algorithms_from_the_idf():
+    from thermocal.multizone.idf import IdfImportInfo
+    from thermocal.multizone.network import simple_combined_exterior_coefficient
+
+    # EnergyPlus Engineering Reference, Simple Combined: rough 12.49 + 4.065 V + 0.028 V^2
+    np.testing.assert_allclose(
+        simple_combined_exterior_coefficient([0.0, 4.0], 1.67), [12.49, 12.49 + 16.26 + 0.448]
+    )
+    np.testing.assert_allclose(simple_combined_exterior_coefficient(2.0, 1.0), 8.23 + 6.66 - 0.144)
+    info = IdfImportInfo(source="x.idf", version=(25, 2))
+    info.convection = {"inside": "Simple", "outside": "SimpleCombined"}
+    options, notes = info.network_options()
+    assert (options.interior_convection, options.exterior_convection, notes) == (
+        "simple",
+        "simple_combined",
+        [],
+    )
+    info.convection = {"inside": "AdaptiveConvectionAlgorithm", "outside": "MoWiTT"}
+    options, notes = info.network_options()
+    assert (options.interior_convection, options.exterior_convection) == ("tarp", "doe2")
+    assert len(notes) == 2 and "MoWiTT is not available: DOE-2 used" in notes[1]

@@ -316,6 +316,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, int]] = {
         "vertices",
         3,
     ),
+    "SURFACECONVECTIONALGORITHM:INSIDE": (("algorithm",), None, 0),
+    "SURFACECONVECTIONALGORITHM:OUTSIDE": (("algorithm",), None, 0),
     "SHADOWCALCULATION": ((), "fields", 1),  # layouts differ by version: read by content
     "SHADING:ZONE:DETAILED": (
         ("name", "base_surface_name", "transmittance_schedule_name", "number_of_vertices"),
@@ -1582,6 +1584,27 @@ class IdfImportInfo:
     #: ShadowCalculation: sunlit fractions of the first day reused for this many days (EnergyPlus'
     #: "Periodic" default 20); 0 = every time step ("Timestep")
     shadow_update_days: int = 20
+    #: SurfaceConvectionAlgorithm:Inside / :Outside as written ({"inside": "TARP", ...})
+    convection: dict[str, str] = field(default_factory=dict)
+
+    def network_options(self):
+        """NetworkOptions honouring the file's convection algorithms, and notes on fallbacks."""
+        from thermocal.multizone.network import NetworkOptions
+
+        notes = []
+        inside = self.convection.get("inside", "TARP")
+        outside = self.convection.get("outside", "DOE-2")
+        interior = {"TARP": "tarp", "SIMPLE": "simple"}.get(inside.upper())
+        if interior is None:
+            interior = "tarp"
+            notes.append(f"SurfaceConvectionAlgorithm:Inside {inside} is not available: TARP used")
+        exterior = {"DOE-2": "doe2", "SIMPLECOMBINED": "simple_combined"}.get(outside.upper())
+        if exterior is None:
+            exterior = "doe2"
+            notes.append(
+                f"SurfaceConvectionAlgorithm:Outside {outside} is not available: DOE-2 used"
+            )
+        return NetworkOptions(interior_convection=interior, exterior_convection=exterior), notes
 
     def scheduled_inputs(self, zones, times, step, weather) -> ScheduledInputs:
         """Set points, internal gains and infiltration of every zone on a simulation grid.
@@ -2519,6 +2542,10 @@ class _IdfReader:
             for rec in self.records(key):
                 found.extend(self._fins(rec, projection=key.endswith("PROJECTION")))
         self.info.shading_surfaces = found
+        for side in ("inside", "outside"):
+            rec = self.single(f"SURFACECONVECTIONALGORITHM:{side.upper()}")
+            if rec is not None and rec["algorithm"]:
+                self.info.convection[side] = rec["algorithm"]
         rec = self.single("SHADOWCALCULATION")
         if rec is not None:
             values = [f.upper() for (f,) in rec["fields"]]

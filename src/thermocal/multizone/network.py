@@ -81,11 +81,16 @@ class NetworkOptions:
     cells_per_layer : int or None [-]
         Fixed number of cells for every massive layer (convergence studies); overrides the
         criterion.
-    interior_convection : {"tarp", "fixed"}
+    interior_convection : {"tarp", "fixed", "simple"}
         TARP natural convection by tilt and heat-flow direction (state-dependent, applied as a
-        correction on top of ``h_c0``), or fixed ISO 6946 values.
-    exterior_convection : {"doe2", "fixed"}
-        DOE-2 wind-dependent exterior convection (EnergyPlus' default), or ``h_exterior_fixed``.
+        correction on top of ``h_c0``), fixed ISO 6946 values, or EnergyPlus' "Simple" constants
+        (walls 3.076, ceilings 4.040, floors 0.948 W/(m2 K): heat flowing from the air to colder
+        surfaces, as the ISO option).
+    exterior_convection : {"doe2", "fixed", "simple_combined"}
+        DOE-2 wind-dependent exterior convection (EnergyPlus' default), ``h_exterior_fixed``, or
+        EnergyPlus' "SimpleCombined": a combined convective + radiative coefficient
+        ``D + E V + F V^2`` by roughness, all of it to the outdoor air temperature (no sky
+        long-wave exchange), :func:`simple_combined_exterior_coefficient`.
     h_exterior_fixed : float [W/(m2 K)]
         Exterior convective coefficient of the "fixed" option.
     h_interior_fixed : float or None [W/(m2 K)]
@@ -129,13 +134,15 @@ class NetworkOptions:
     radiant_temperature: float = 20.0
 
     def __post_init__(self) -> None:
-        if self.interior_convection not in ("tarp", "fixed"):
+        if self.interior_convection not in ("tarp", "fixed", "simple"):
             raise ThermocalInputError(
-                f"interior_convection must be 'tarp' or 'fixed', got {self.interior_convection!r}"
+                "interior_convection must be 'tarp', 'fixed' or 'simple', got "
+                f"{self.interior_convection!r}"
             )
-        if self.exterior_convection not in ("doe2", "fixed"):
+        if self.exterior_convection not in ("doe2", "fixed", "simple_combined"):
             raise ThermocalInputError(
-                f"exterior_convection must be 'doe2' or 'fixed', got {self.exterior_convection!r}"
+                "exterior_convection must be 'doe2', 'fixed' or 'simple_combined', got "
+                f"{self.exterior_convection!r}"
             )
 
 
@@ -218,6 +225,44 @@ def tarp_natural_convection(delta_t, cos_up):
     )
     h = np.where(abs_cos < 1e-3, 1.31 * root, horizontal)
     return np.maximum(h, 0.1)
+
+
+#: EnergyPlus "SimpleCombined" exterior coefficients D, E, F by roughness (DOE-2 roughness
+#: multiplier -> coefficients): EnergyPlus Engineering Reference, "Simple Combined" table (ASHRAE
+#: Handbook of Fundamentals 1989)
+SIMPLE_COMBINED_COEFFICIENTS = {
+    2.17: (11.58, 5.894, 0.0),  # VeryRough
+    1.67: (12.49, 4.065, 0.028),  # Rough
+    1.52: (10.79, 4.192, 0.0),  # MediumRough
+    1.13: (8.23, 4.0, -0.057),  # MediumSmooth
+    1.11: (10.22, 3.1, 0.0),  # Smooth
+    1.0: (8.23, 3.33, -0.036),  # VerySmooth
+}
+
+
+def simple_combined_exterior_coefficient(wind_speed, roughness_factor):
+    """EnergyPlus' "SimpleCombined" exterior coefficient ``D + E V + F V^2`` [W/(m2 K)].
+
+    Parameters
+    ----------
+    wind_speed : array-like [m/s]
+        Local wind speed at the surface.
+    roughness_factor : array-like [-]
+        DOE-2 roughness multiplier naming the roughness class (2.17 very rough ... 1.0 very
+        smooth); other values take the nearest class.
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference, "Outside Surface Heat Balance: Simple Combined".
+    """
+    classes = np.array(sorted(SIMPLE_COMBINED_COEFFICIENTS))
+    rough = np.asarray(roughness_factor, dtype=float)
+    nearest = classes[np.argmin(np.abs(rough[..., None] - classes), axis=-1)]
+    table = np.array([SIMPLE_COMBINED_COEFFICIENTS[c] for c in classes])
+    index = np.searchsorted(classes, nearest)
+    d, e, f = table[index, 0], table[index, 1], table[index, 2]
+    v = np.maximum(np.asarray(wind_speed, dtype=float), 0.0)
+    return d + e * v + f * v**2
 
 
 def doe2_exterior_convection(wind_speed, windward, *, h_natural, roughness_factor=1.67):
@@ -710,6 +755,8 @@ def assemble(
     else:
         if options.h_interior_fixed is not None:
             h0 = np.full(len(face_node), float(options.h_interior_fixed))
+        elif options.interior_convection == "simple":
+            h0 = np.where(face_cos > 0.7, 0.948, np.where(face_cos < -0.7, 4.040, 3.076))
         else:
             h0 = np.where(face_cos > 0.7, 0.7, np.where(face_cos < -0.7, 5.0, 2.5))
         hmax = h0.copy()
@@ -773,6 +820,10 @@ def assemble(
     beta = np.sqrt(0.5 * (1.0 + np.cos(np.radians(ext_tilt))))
     view_sky = f_sky * beta
     view_air = f_ground + f_sky * (1.0 - beta)
+    if options.exterior_convection == "simple_combined":
+        # the combined coefficient holds the long-wave exchange, all of it with the outdoor air
+        view_sky = np.zeros_like(view_sky)
+        view_air = np.ones_like(view_air)
     cos_tilt = np.cos(np.radians(ext_tilt))
     # natural part of the exterior convection at a nominal 3 K difference
     h_natural = np.where(
@@ -796,6 +847,11 @@ def assemble(
         hc0 = np.full(len(ext_node), float(options.h_exterior_fixed))
     t_mean = mean_outdoor_temperature + 273.15
     hr0 = 4.0 * STEFAN_BOLTZMANN * t_mean**3
+    if options.exterior_convection == "simple_combined":
+        combined = simple_combined_exterior_coefficient(
+            mean_wind_speed * options.wind_speed_factor, ext_rough
+        )
+        hc0 = np.maximum(combined - hr0 * ext_eps, 0.0)
     for k in range(len(ext_node)):
         node = int(ext_node[k])
         boundary(node, IN_TEMP_OUT, float((hc0[k] + hr0 * ext_eps[k] * view_air[k]) * ext_area[k]))

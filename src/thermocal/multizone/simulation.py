@@ -325,6 +325,11 @@ class Simulation:
             raise ThermocalInputError("Simulation: building must be a thermocal Building")
         self.building = building
         self.metadata = dict(metadata or {})
+        info = getattr(building, "idf_info", None)
+        self._convection_notes: list[str] = []
+        if options is None and info is not None and hasattr(info, "network_options"):
+            # the file's SurfaceConvectionAlgorithm:Inside/Outside
+            options, self._convection_notes = info.network_options()
         self.options = options or NetworkOptions()
         try:
             self.step_size = pd.Timedelta(step)
@@ -798,10 +803,17 @@ class Simulation:
         net = self.network
         grid = self._grid
         n_steps = len(grid)
-        if self.options.exterior_convection != "doe2" or not len(net.ext_node):
+        if self.options.exterior_convection == "fixed" or not len(net.ext_node):
             return np.zeros((n_steps, len(net.ext_node)))
         wind = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
         wind = np.nan_to_num(wind) * self.options.wind_speed_factor
+        if self.options.exterior_convection == "simple_combined":
+            from thermocal.multizone.network import simple_combined_exterior_coefficient
+
+            rough, inverse = np.unique(np.round(net.ext_roughness, 6), return_inverse=True)
+            hc = simple_combined_exterior_coefficient(wind[:, None], rough[None, :])
+            hc = np.maximum(hc[:, np.ravel(inverse)] - net.ext_hr0 * net.ext_emissivity, 0.0)
+            return np.ascontiguousarray(hc - net.ext_hc0[None, :])
         if "wind_direction" in grid:
             direction = np.nan_to_num(grid["wind_direction"].to_numpy())
         else:
@@ -1375,6 +1387,7 @@ class Simulation:
             )
         else:
             out.extend(info.notes)
+        out.extend(self._convection_notes)
         shaders = getattr(info, "shading_surfaces", None)
         if shaders:
             if self._shadows is not None:

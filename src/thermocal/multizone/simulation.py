@@ -1393,9 +1393,15 @@ class Simulation:
             if self._shadows is not None:
                 out.append(
                     f"{len(shaders)} shading surfaces cast shadows on {len(self._shadows['beam'])} "
-                    "windows and surfaces (beam by sampled sunlit fraction every step, isotropic "
-                    "sky diffuse by the unshaded sky view; ground-reflected not shaded); the "
-                    "building's own surfaces cast no shadows"
+                    "windows and surfaces (beam by the sampled sunlit fraction, "
+                    + (
+                        f"updated every {info.shadow_update_days} days as EnergyPlus' "
+                        "ShadowCalculation; "
+                        if info.shadow_update_days
+                        else "every step; "
+                    )
+                    + "isotropic sky diffuse by the unshaded sky view; ground-reflected not "
+                    "shaded); the building's own surfaces cast no shadows"
                 )
             elif not self.shading:
                 out.append(f"{len(shaders)} shading surfaces ignored (shading=False)")

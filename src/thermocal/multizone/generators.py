@@ -474,14 +474,14 @@ def clinic(
 ) -> Building:
     """Single-storey 1970s outpatient clinic: rows of rooms along double-loaded corridors.
 
-    The size and envelope of paper 001's building: ``n_rooms`` rooms in ``2 n_corridors`` rows,
-    each corridor cut into ``corridor_sections`` zones (so 180 rooms + 6 corridor zones = 186
-    zones by default); outer rows have windows, inner rows are back to back; corridor ends have
-    glazed exterior doors, corridors have skylights. Constructions from the US DOE commercial
-    reference building "outpatient health care, pre-1980" with an added R16 insulation layer
-    (13 materials); no internal gains and no HVAC by default (free-floating), as in paper 001.
-    Infiltration groups (one calibration parameter each): every room row split into a west and
-    an east wing, and one per corridor. About 70 envelope parameters
+    The size and envelope of the envelope-calibration case study's building: ``n_rooms`` rooms in
+    ``2 n_corridors`` rows, each corridor cut into ``corridor_sections`` zones (so 180 rooms + 6
+    corridor zones = 186 zones by default); outer rows have windows, inner rows are back to back;
+    corridor ends have glazed exterior doors, corridors have skylights. Constructions from the US
+    DOE commercial reference building "outpatient health care, pre-1980" with an added R16
+    insulation layer (13 materials); no internal gains and no HVAC by default (free-floating), as
+    in that study. Infiltration groups (one calibration parameter each): every room row split into
+    a west and an east wing, and one per corridor. About 70 envelope parameters
     (:meth:`Building.parameters`).
 
     Parameters

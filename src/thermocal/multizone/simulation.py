@@ -1177,7 +1177,6 @@ class Simulation:
                 context=context,
                 tracking=state,
             )
-        state["feedback"] = state["feedback"].copy()
         return state["out_q"][-1].copy()
 
     def step(self, zone_heat_W=None) -> np.ndarray:

@@ -211,7 +211,7 @@ def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
             steps = np.diff(stamps.to_numpy().astype("datetime64[s]").astype(np.int64))
             row = int(np.flatnonzero(steps <= 0)[0]) + 1
             stamp = stamps.iloc[row]
-            if stamp.month in (10, 11) and stamp.dayofweek == 6 and 0 <= stamp.hour <= 3:
+            if stamp.month in (10, 11) and stamp.day_of_week == 6 and 0 <= stamp.hour <= 3:
                 raise ThermocalInputError(
                     f"data file {path}: time column '{time_column}' goes back at row {row} "
                     f"({stamps.iloc[row - 1]} then {stamp}): naive local times repeat an hour "
@@ -224,7 +224,7 @@ def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
         jumps = np.flatnonzero(np.isclose(np.diff(seconds), step + 3600.0))
         for row in jumps + 1:
             stamp = index[row]
-            if stamp.month in (3, 4) and stamp.dayofweek == 6 and 1 <= stamp.hour <= 4:
+            if stamp.month in (3, 4) and stamp.day_of_week == 6 and 1 <= stamp.hour <= 4:
                 raise ThermocalInputError(
                     f"data file {path}: time column '{time_column}' jumps by one hour more "
                     f"than its step at row {row} ({index[row - 1]} then {stamp}): naive local "

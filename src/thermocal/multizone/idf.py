@@ -644,6 +644,34 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, int]] = {
         2,
     ),
     "SCHEDULE:DAY:HOURLY": (("name", "schedule_type_limits_name"), "hourly_values", 1),
+    "SCHEDULE:WEEK:COMPACT": (("name",), "day_rules", 2),
+    "SCHEDULE:DAY:LIST": (
+        ("name", "schedule_type_limits_name", "interpolate_to_timestep", "minutes_per_item"),
+        "values",
+        1,
+    ),
+    "SCHEDULE:FILE": (
+        (
+            "name",
+            "schedule_type_limits_name",
+            "file_name",
+            "column_number",
+            "rows_to_skip_at_top",
+            "number_of_hours_of_data",
+            "column_separator",
+            "interpolate_to_timestep",
+            "minutes_per_item",
+            "adjust_schedule_for_daylight_savings",
+            "translate_file_with_relative_path",
+        ),
+        None,
+        0,
+    ),
+    "RUNPERIODCONTROL:SPECIALDAYS": (
+        ("name", "start_date", "duration", "special_day_type"),
+        None,
+        0,
+    ),
 }
 
 #: Surface classes with the shape of BuildingSurface:Detailed but an implied surface type.
@@ -784,6 +812,14 @@ def _is_auto(rec: dict, name: str) -> bool:
 
 def _label(name: str) -> str:
     return name.replace("_", " ").title()
+
+
+def _field_float(raw: str, obj: IdfObject, label: str) -> float:
+    """Float of a raw field of an extensible group, with an error naming the object."""
+    try:
+        return float(raw)
+    except ValueError:
+        raise ThermocalInputError(f"{obj.where()}: {label} '{raw}' is not a number.") from None
 
 
 # ------------------------------------------------------------------------------------------------
@@ -1051,6 +1087,9 @@ _SCHEDULE_CLASSES = (
     "SCHEDULE:WEEK:DAILY",
     "SCHEDULE:DAY:INTERVAL",
     "SCHEDULE:DAY:HOURLY",
+    "SCHEDULE:WEEK:COMPACT",
+    "SCHEDULE:DAY:LIST",
+    "SCHEDULE:FILE",
 )
 _MINUTES_PER_DAY = 1440
 
@@ -1071,50 +1110,73 @@ def _parse_time(text: str, where: str) -> int:
     return value
 
 
-def _day_profile(untils: Sequence[int], values: Sequence[float], where: str) -> np.ndarray:
-    """Step profile at one-minute resolution from 'until' times and values."""
-    profile = np.empty(_MINUTES_PER_DAY)
-    start = 0
-    for until, value in zip(untils, values, strict=True):
-        if until <= start:
-            raise ThermocalInputError(f"{where}: 'Until' times must increase.")
-        profile[start:until] = value
-        start = until
-    if start != _MINUTES_PER_DAY:
-        raise ThermocalInputError(f"{where}: the day schedule must end with 'Until: 24:00'.")
-    return profile
-
-
 class ScheduleEvaluator:
     """Evaluates the schedules of an IDF file over a calendar year.
 
-    Supported: ``Schedule:Constant``, ``Schedule:Compact`` (Through/For/Until; ``Interpolate`` is
-    ignored), ``Schedule:Year`` with ``Schedule:Week:Daily`` and ``Schedule:Day:Interval`` /
-    ``Schedule:Day:Hourly``. Holidays are not defined (no special days), so holiday and design-day
-    rules do not apply to regular days.
+    Supported: ``Schedule:Constant``, ``Schedule:Compact`` (Through/For/Interpolate/Until),
+    ``Schedule:Year`` with ``Schedule:Week:Daily`` / ``Schedule:Week:Compact`` and
+    ``Schedule:Day:Interval`` / ``Schedule:Day:Hourly`` / ``Schedule:Day:List``, and
+    ``Schedule:File``. ``Interpolate`` ``Average`` (``Yes``) and ``No`` hold each value over its
+    interval (the step mean of :meth:`on_grid` is EnergyPlus' average); ``Linear`` ramps over each
+    interval from the previous value (:func:`~thermocal.multizone.idf_schedules.interval_profile`).
+    Special days of ``RunPeriodControl:SpecialDays`` (Holiday, SummerDesignDay, WinterDesignDay,
+    CustomDay1/2) replace the weekday of their dates; holidays of the weather file are not read.
 
     Parameters
     ----------
     objects : iterable of IdfObject
-        All objects of the file (the schedule classes are picked out).
+        All objects of the file (the schedule and special-day classes are picked out).
     year : int
         Calendar year for day-of-week and leap-year handling.
+    base_dir : Path or None
+        Folder against which relative ``Schedule:File`` names are resolved (the IDF's folder).
     """
 
-    def __init__(self, objects: Iterable[IdfObject], year: int = 2006, version=(9, 3)):
+    def __init__(
+        self,
+        objects: Iterable[IdfObject],
+        year: int = 2006,
+        version=(9, 3),
+        base_dir: Path | None = None,
+    ):
         import datetime as _dt
 
+        from thermocal.multizone import idf_schedules as _sched
+
         self.year = year
+        self.base_dir = Path(base_dir) if base_dir is not None else Path.cwd()
         self._records: dict[str, dict] = {}
+        special: list[dict] = []
         for obj in objects:
             if obj.key in _SCHEDULE_CLASSES:
                 self._records[obj.name.upper()] = record(obj, version=version)
+            elif obj.key == "RUNPERIODCONTROL:SPECIALDAYS":
+                special.append(record(obj, version=version))
         first = _dt.date(year, 1, 1)
         n_days = (_dt.date(year + 1, 1, 1) - first).days
         self.n_days = n_days
         self._day_type = np.array(
             [((first + _dt.timedelta(days=d)).weekday() + 1) % 7 for d in range(n_days)]
         )
+        #: Day of year -> special day type name, from RunPeriodControl:SpecialDays.
+        self.special_days: dict[int, str] = {}
+        for rec in special:
+            where = rec["_object"].where()
+            kind = (rec["special_day_type"] or "Holiday").replace(" ", "").upper()
+            if kind not in DAY_TYPES[7:]:
+                raise ThermocalInputError(
+                    f"{where}: field 'Special Day Type' = '{rec['special_day_type']}' must be "
+                    "Holiday, SummerDesignDay, WinterDesignDay, CustomDay1 or CustomDay2."
+                )
+            start = (_sched.special_day(rec["start_date"], year, where) - first).days
+            duration = int(_number(rec, "duration", default=1.0))
+            if duration < 1:
+                raise ThermocalInputError(
+                    f"{where}: field 'Duration' = {duration} must be 1 or more."
+                )
+            for d in range(start, min(start + duration, n_days)):
+                self._day_type[d] = DAY_TYPES.index(kind)
+                self.special_days[d] = kind
         self._month_day = [
             ((first + _dt.timedelta(days=d)).month, (first + _dt.timedelta(days=d)).day)
             for d in range(n_days)
@@ -1153,6 +1215,8 @@ class ScheduleEvaluator:
             out = self._compact(rec)
         elif obj.key == "SCHEDULE:YEAR":
             out = self._year(rec)
+        elif obj.key == "SCHEDULE:FILE":
+            out = self._file(rec)
         else:
             raise UnsupportedScheduleError(
                 f"{obj.where()} is a day/week schedule and cannot be used as a full schedule."
@@ -1237,6 +1301,8 @@ class ScheduleEvaluator:
 
     # -- compact ---------------------------------------------------------------------------------
     def _compact(self, rec: dict) -> np.ndarray:
+        from thermocal.multizone import idf_schedules as _sched
+
         obj: IdfObject = rec["_object"]
         where = obj.where()
         tokens = [t[0] for t in rec["compact_fields"]]
@@ -1249,13 +1315,15 @@ class ScheduleEvaluator:
         pending_until: int | None = None
         block_end: int | None = None
 
+        kind = "no"
+
         def finish_day():
-            nonlocal untils, values, targets
+            nonlocal untils, values, targets, kind
             if targets:
-                profile = _day_profile(untils, values, where)
+                profile = _sched.interval_profile(untils, values, where, kind)
                 for t in targets:
                     assigned.setdefault(t, profile)
-            targets, untils, values = [], [], []
+            targets, untils, values, kind = [], [], [], "no"
 
         def finish_block():
             nonlocal assigned, block_start
@@ -1287,7 +1355,7 @@ class ScheduleEvaluator:
                 finish_day()
                 targets = self._day_types(rest, assigned, where)
             elif keyword == "INTERPOLATE":
-                continue
+                kind = _sched.interpolation_kind(rest, f"{where}, field '{token}'")
             elif keyword == "UNTIL":
                 time_text = rest.strip()
                 # "Until: 24:00" -> rest is "24:00" (partition splits at the first colon only)
@@ -1336,12 +1404,20 @@ class ScheduleEvaluator:
         rec = self._records.get(name.upper())
         if rec is None:
             raise UnsupportedScheduleError(f"{where}: day schedule '{name}' is not defined.")
+        from thermocal.multizone import idf_schedules as _sched
+
         obj: IdfObject = rec["_object"]
         if obj.key == "SCHEDULE:DAY:INTERVAL":
             pairs = rec["time_value_pairs"]
             untils = [_parse_time(t, obj.where()) for t, *_ in pairs]
-            values = [float(v[0]) if v else 0.0 for _, *v in pairs]
-            return _day_profile(untils, values, obj.where())
+            values = [_field_float(v[0] if v else "0", obj, "value") for _, *v in pairs]
+            kind = _sched.interpolation_kind(rec["interpolate_to_timestep"], obj.where())
+            return _sched.interval_profile(untils, values, obj.where(), kind)
+        if obj.key == "SCHEDULE:DAY:LIST":
+            values = [_field_float(v[0], obj, "value") for v in rec["values"]]
+            kind = _sched.interpolation_kind(rec["interpolate_to_timestep"], obj.where())
+            minutes = int(_number(rec, "minutes_per_item", default=60.0))
+            return _sched.list_profile(values, minutes, obj.where(), kind)
         if obj.key == "SCHEDULE:DAY:HOURLY":
             values = [float(v[0]) for v in rec["hourly_values"]]
             if len(values) != 24:
@@ -1359,18 +1435,82 @@ class ScheduleEvaluator:
             week_name, m1, d1, m2, d2 = group[:5]
             start = self._doy(int(float(m1)), int(float(d1)), where)
             end = self._doy(int(float(m2)), int(float(d2)), where)
-            week = self._records.get(week_name.upper())
-            if week is None or week["_object"].key != "SCHEDULE:WEEK:DAILY":
-                raise UnsupportedScheduleError(
-                    f"{where}: week schedule '{week_name}' is not a Schedule:Week:Daily."
-                )
-            names = SCHEMA["SCHEDULE:WEEK:DAILY"][0][1:]
-            profiles = [self._day_object(week[n], week["_object"].where()) for n in names[:7]]
+            profiles = self._week(week_name, where)
             for d in range(start, end + 1):
                 out[d] = profiles[int(self._day_type[d])]
         if np.isnan(out).any():
             raise ThermocalInputError(f"{where}: the week periods do not cover the whole year.")
         return out
+
+    def _week(self, week_name: str, where: str) -> list[np.ndarray]:
+        """Day profiles of a week schedule, one per day type (:data:`DAY_TYPES` order)."""
+        week = self._records.get(week_name.upper())
+        kind = week["_object"].key if week is not None else ""
+        if kind == "SCHEDULE:WEEK:DAILY":
+            wwhere = week["_object"].where()
+            names = SCHEMA["SCHEDULE:WEEK:DAILY"][0][1:]
+            cache: dict[str, np.ndarray] = {}
+            profiles = []
+            for n in names:
+                day_name = week[n]
+                if not day_name:
+                    raise ThermocalInputError(
+                        f"{wwhere}: field '{_label(n)} Schedule:Day Name' is blank."
+                    )
+                if day_name.upper() not in cache:
+                    cache[day_name.upper()] = self._day_object(day_name, wwhere)
+                profiles.append(cache[day_name.upper()])
+            return profiles
+        if kind == "SCHEDULE:WEEK:COMPACT":
+            wwhere = week["_object"].where()
+            assigned: dict[int, np.ndarray] = {}
+            for group in week["day_rules"]:
+                if len(group) < 2 or not group[1]:
+                    raise ThermocalInputError(
+                        f"{wwhere}: day type list '{group[0]}' has no Schedule:Day name."
+                    )
+                text = group[0]
+                head, colon, rest = text.partition(":")
+                if colon and head.strip().upper() == "FOR":
+                    text = rest
+                profile = self._day_object(group[1], wwhere)
+                for t in self._day_types(text, assigned, wwhere):
+                    assigned.setdefault(t, profile)
+            missing = [DAY_TYPES[i].title() for i in range(len(DAY_TYPES)) if i not in assigned]
+            if missing:
+                raise ThermocalInputError(
+                    f"{wwhere}: no day type list covers {', '.join(missing)}; add AllOtherDays."
+                )
+            return [assigned[i] for i in range(len(DAY_TYPES))]
+        raise UnsupportedScheduleError(
+            f"{where}: week schedule '{week_name}' is not a Schedule:Week:Daily or "
+            "Schedule:Week:Compact."
+        )
+
+    def _file(self, rec: dict) -> np.ndarray:
+        import calendar
+
+        from thermocal.multizone import idf_schedules as _sched
+
+        obj: IdfObject = rec["_object"]
+        where = obj.where()
+        name = rec["file_name"]
+        if not name:
+            raise ThermocalInputError(f"{where}: field 'File Name' is blank.")
+        path = Path(name)
+        if not path.is_absolute():
+            path = self.base_dir / path
+        return _sched.file_profile(
+            path,
+            column=int(_number(rec, "column_number")),
+            rows_to_skip=int(_number(rec, "rows_to_skip_at_top", default=0.0)),
+            separator=rec["column_separator"],
+            minutes_per_item=int(_number(rec, "minutes_per_item", default=60.0)),
+            n_days=self.n_days,
+            leap=calendar.isleap(self.year),
+            kind=_sched.interpolation_kind(rec["interpolate_to_timestep"], where),
+            where=where,
+        )
 
 
 # ------------------------------------------------------------------------------------------------
@@ -2077,15 +2217,40 @@ class _IdfReader:
                 ) from None
         if self.year is None:
             self.year = 2006
-            for rp in self.by_key.get("RUNPERIOD", []):
-                # 9.x layout: Name, Begin Month, Begin Day, Begin Year, ...
-                if len(rp.fields) > 3 and rp.fields[3].strip():
+            for rp in self.by_key.get("RUNPERIOD", [])[:1]:
+                # 9.x layout: Name, Begin Month, Begin Day, Begin Year, End Month, End Day,
+                # End Year, Day of Week for Start Day, ...
+                f = [x.strip() for x in rp.fields] + [""] * 8
+                if f[3]:
                     try:
-                        self.year = int(float(rp.fields[3]))
+                        self.year = int(float(f[3]))
                     except ValueError:
                         pass
-                    break
-        self.schedules = ScheduleEvaluator(self.objects, year=self.year, version=self.version)
+                elif self.version >= (9, 0) and f[7].upper() != "USEWEATHERFILE":
+                    # no year: EnergyPlus starts on the given day of week (Sunday when blank)
+                    from thermocal.multizone.idf_schedules import year_for_start_day
+
+                    self.year = year_for_start_day(
+                        int(float(f[1] or 1)), int(float(f[2] or 1)), f[7] or "Sunday", rp.where()
+                    )
+                elif self.version >= (9, 0) and f[7]:
+                    self.info.notes.append(
+                        f"{rp.where()}: 'Day of Week for Start Day' = {f[7]}: weekdays of 2006 used"
+                    )
+        for rp in self.by_key.get("RUNPERIOD", [])[:1] if self.version >= (9, 0) else []:
+            f = [x.strip().upper() for x in rp.fields] + [""] * 11
+            if f[8] in ("", "YES"):
+                self.info.notes.append(
+                    f"{rp.where()}: 'Use Weather File Holidays and Special Days' = Yes: the "
+                    "weather file's holidays are not read (RunPeriodControl:SpecialDays are)"
+                )
+            if f[10] == "YES":
+                self.info.notes.append(
+                    f"{rp.where()}: 'Apply Weekend Holiday Rule' = Yes is not applied"
+                )
+        self.schedules = ScheduleEvaluator(
+            self.objects, year=self.year, version=self.version, base_dir=self.path.parent
+        )
         self.info.schedules = self.schedules
 
     def _materials(self) -> None:

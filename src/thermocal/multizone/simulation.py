@@ -2,7 +2,8 @@
 
 Time convention: the run is a sequence of steps ``[t_k, t_k + dt)`` labelled by their start ``t_k``
 (as the weather frames of :mod:`thermocal.io.weather`).  Within a step the forcing is the interval
-mean (irradiance means; temperatures the mean of the interval's end values); backward Euler gives
+mean (irradiance means; temperatures the mean of the interval's end values; with
+``weather_interpolation="energyplus"`` the values at the step's end); backward Euler gives
 the node temperatures at ``t_k + dt``, which are reported under the label ``t_k``.  Heating,
 cooling and given heat are constant powers over the step.
 
@@ -296,6 +297,16 @@ class Simulation:
         (``Shading:Zone/Building/Site:Detailed``, overhangs, fins) on windows and outdoor
         surfaces, beam by the sunlit fraction of each step and isotropic sky diffuse by the
         unshaded sky view (:mod:`thermocal.multizone.shading`); False ignores them.
+    weather_interpolation : {None, "hold", "energyplus"}
+        How hourly weather becomes sub-hourly steps. ``"hold"``: irradiance means held over each
+        hour, each step's air temperature the mean of its end values (linear in time between the
+        hourly instants), the sun representative of the step's interval. ``"energyplus"``: as
+        EnergyPlus, each step takes the values at its end: irradiance (``ghi``, ``dni``,
+        ``dhi``, ``ghi_infrared``) interpolated linearly between the hourly values placed at the
+        half hours, temperatures, humidity, pressure and wind linearly between the hourly
+        instants, the sun position at the step's end (hourly weather and a step dividing the
+        hour required). ``None`` (default): ``"energyplus"`` for buildings imported from an IDF
+        file with hourly weather, else ``"hold"``.
 
     Notes
     -----
@@ -320,6 +331,7 @@ class Simulation:
         sky_model: str = "perez",
         schedules: str = "file",
         shading: bool = True,
+        weather_interpolation: str | None = None,
     ) -> None:
         if not isinstance(building, Building):
             raise ThermocalInputError("Simulation: building must be a thermocal Building")
@@ -347,7 +359,28 @@ class Simulation:
         self.store_surfaces = bool(store_surfaces)
         self.sky_model = sky_model
         self._weather = weather
-        self._grid = _weather_grid(weather, self.step_size, start, end)
+        if weather_interpolation is None:
+            from thermocal.io.weather import weather_step
+
+            hourly = (
+                isinstance(weather, pd.DataFrame)
+                and isinstance(weather.index, pd.DatetimeIndex)
+                and len(weather) > 1
+                and weather_step(weather) == pd.Timedelta("1h")
+            )
+            imported = getattr(building, "idf_info", None) is not None
+            weather_interpolation = "energyplus" if imported and hourly else "hold"
+        if weather_interpolation not in ("hold", "energyplus"):
+            raise ThermocalInputError(
+                "Simulation: weather_interpolation must be 'hold' or 'energyplus', got "
+                f"{weather_interpolation!r}"
+            )
+        self.weather_interpolation = weather_interpolation
+        #: EnergyPlus interpolation: the sun at each step's end, as the weather values
+        self._sun_at_end = self.step_size if weather_interpolation == "energyplus" else None
+        self._grid = _weather_grid(
+            weather, self.step_size, start, end, interpolation=weather_interpolation
+        )
         self.times = self._grid.index
         if schedules not in ("file", "constant"):
             raise ThermocalInputError(
@@ -433,7 +466,6 @@ class Simulation:
         if not self.shading or not shaders:
             return None
         from thermocal.multizone.shading import ShadowCaster, sun_vectors
-        from thermocal.physics.solar import interval_solar_position
 
         vertices = info.surface_vertices
         receivers = {}
@@ -450,9 +482,7 @@ class Simulation:
         if not caster.shaded:
             return None
         site = self._site
-        position = interval_solar_position(
-            self._grid.index, site["latitude"], site["longitude"], site["altitude"]
-        )
+        position = _sun_position(self._grid.index, site, self._sun_at_end)
         sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
         # EnergyPlus' "Periodic" shadow calculation: the sunlit fractions of the first day of
         # each period of N days (sun positions of that day, step by step) serve the whole period
@@ -737,7 +767,9 @@ class Simulation:
             cache = self.__dict__.setdefault("_irradiance_cache", {})
             missing = sorted(o for o in orientations if o not in cache)
             if missing:
-                cache.update(_irradiance(grid, self._site, missing, self.sky_model))
+                cache.update(
+                    _irradiance(grid, self._site, missing, self.sky_model, self._sun_at_end)
+                )
             irr = cache
             for key, col in net.orientation_inputs.items():
                 if len(key) == 3:  # a shaded receiver
@@ -1387,6 +1419,13 @@ class Simulation:
         else:
             out.extend(info.notes)
         out.extend(self._convection_notes)
+        if self.weather_interpolation == "energyplus":
+            out.append(
+                "hourly weather interpolated as EnergyPlus: each step takes the values at its end "
+                "(irradiance between hourly values placed at the half hours)"
+            )
+        else:
+            out.append("weather held over each hour (weather_interpolation='hold')")
         shaders = getattr(info, "shading_surfaces", None)
         if shaders:
             if self._shadows is not None:
@@ -1485,8 +1524,13 @@ def _progress(enabled: bool, total: int):
 # ----------------------------------------------------------------------------------------------
 
 
-def _weather_grid(weather: pd.DataFrame, step: pd.Timedelta, start, end) -> pd.DataFrame:
-    """Weather resampled to the simulation step, restricted to ``[start, end)``."""
+def _weather_grid(
+    weather: pd.DataFrame, step: pd.Timedelta, start, end, interpolation: str = "hold"
+) -> pd.DataFrame:
+    """Weather resampled to the simulation step, restricted to ``[start, end)``.
+
+    ``interpolation="energyplus"``: :func:`_energyplus_weather` (hourly weather only).
+    """
     from thermocal.io.weather import resample_weather, weather_step
     from thermocal.physics.solar import sky_temperature
 
@@ -1500,7 +1544,9 @@ def _weather_grid(weather: pd.DataFrame, step: pd.Timedelta, start, end) -> pd.D
             f"Simulation: the weather lacks the columns {missing} (needed: temp_air [C], dni and "
             "dhi [W/m2])"
         )
-    if weather_step(weather) != step:
+    if interpolation == "energyplus":
+        grid = _energyplus_weather(weather, step)
+    elif weather_step(weather) != step:
         grid = resample_weather(weather, step)
     else:
         grid = weather.copy()
@@ -1534,7 +1580,10 @@ def _weather_grid(weather: pd.DataFrame, step: pd.Timedelta, start, end) -> pd.D
     # interval-mean temperatures from the instant values at both ends of each step
     temp = grid["temp_air"].to_numpy(dtype=float)
     following = np.append(temp[1:], temp[-1])
-    grid["temp_air_mean"] = 0.5 * (temp + following)
+    if interpolation == "energyplus":
+        grid["temp_air_mean"] = following  # the value at the step's end
+    else:
+        grid["temp_air_mean"] = 0.5 * (temp + following)
     if "ghi_infrared" in grid and grid["ghi_infrared"].notna().all():
         sky = sky_temperature(grid["temp_air_mean"], ghi_infrared=grid["ghi_infrared"])
     elif "temp_dew" in grid and grid["temp_dew"].notna().all():
@@ -1560,12 +1609,67 @@ def _weather_grid(weather: pd.DataFrame, step: pd.Timedelta, start, end) -> pd.D
     return selected
 
 
-def _irradiance(grid: pd.DataFrame, site: dict, orientations, model: str) -> dict:
-    from thermocal.physics.solar import interval_solar_position, irradiance_on_surfaces
+#: Instant columns that EnergyPlus interpolates to the end of each step (air temperature is kept at
+#: the step start in ``temp_air``; the step value is ``temp_air_mean``).
+_STEP_END_COLUMNS = ("temp_dew", "relative_humidity", "pressure", "wind_speed", "wind_direction")
+#: Irradiance columns interpolated between the hourly values placed at the half hours.
+_HALF_HOUR_COLUMNS = ("ghi", "dni", "dhi", "ghi_infrared")
 
-    position = interval_solar_position(
-        grid.index, site["latitude"], site["longitude"], site["altitude"]
-    )
+
+def _energyplus_weather(weather: pd.DataFrame, step: pd.Timedelta) -> pd.DataFrame:
+    """Hourly weather on sub-hourly steps as EnergyPlus' weather manager does.
+
+    Each step ``[t, t + step)`` takes values at ``t + step``: irradiance linearly interpolated
+    between the hourly means placed at the middle of their hours (held before the first and after
+    the last middle), instant quantities linearly interpolated between the hourly instants
+    (:func:`thermocal.io.weather.resample_weather`, then shifted one step; the last step holds).
+    ``temp_air`` stays the instant at ``t`` (the caller takes the step value from its end).
+    """
+    from thermocal.io.weather import resample_weather, weather_step
+
+    hour = pd.Timedelta("1h")
+    if weather_step(weather) != hour:
+        raise ThermocalInputError(
+            "Simulation: weather_interpolation='energyplus' needs hourly weather, the weather step "
+            f"is {weather_step(weather)}; use weather_interpolation='hold'"
+        )
+    if hour % step != pd.Timedelta(0):
+        raise ThermocalInputError(
+            f"Simulation: weather_interpolation='energyplus' needs a step dividing the hour, got "
+            f"{step}"
+        )
+    grid = resample_weather(weather, step) if step != hour else weather.copy()
+    ends = (grid.index + step).asi8.astype(float)
+    middles = (weather.index + hour / 2).asi8.astype(float)
+    for column in _HALF_HOUR_COLUMNS:
+        if column in grid:
+            grid[column] = np.interp(ends, middles, weather[column].to_numpy(dtype=float))
+    for column in _STEP_END_COLUMNS:
+        if column in grid:
+            values = grid[column].to_numpy(dtype=float)
+            grid[column] = np.append(values[1:], values[-1])
+    return grid
+
+
+def _sun_position(index: pd.DatetimeIndex, site: dict, at_end: pd.Timedelta | None):
+    """Sun position of each step: representative of the interval (``at_end`` None, see
+    :func:`~thermocal.physics.solar.interval_solar_position`) or, as EnergyPlus, at the step's end
+    ``t + at_end``."""
+    from thermocal.physics.solar import interval_solar_position, solar_position
+
+    if at_end is None:
+        return interval_solar_position(index, site["latitude"], site["longitude"], site["altitude"])
+    position = solar_position(index + at_end, site["latitude"], site["longitude"], site["altitude"])
+    position.index = index
+    return position
+
+
+def _irradiance(
+    grid: pd.DataFrame, site: dict, orientations, model: str, at_end: pd.Timedelta | None = None
+) -> dict:
+    from thermocal.physics.solar import irradiance_on_surfaces
+
+    position = _sun_position(grid.index, site, at_end)
     surfaces = {key: key for key in orientations}
     frames = irradiance_on_surfaces(
         grid,

@@ -44,6 +44,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from thermocal.io.weather import read_weather
@@ -221,3 +222,53 @@ def test_case610_overhang_annual_loads_against_energyplus(tmp_path_factory, denv
     heating, cooling = totals["heating_kWh"] / 1000, totals["cooling_kWh"] / 1000
     assert abs(heating / heating_ep - 1) < 0.07, (heating, heating_ep)
     assert abs(cooling / cooling_ep - 1) < 0.04, (cooling, cooling_ep)
+
+
+#: Schedules EnergyPlus evaluates beside Case 600FF (Schedule Value reported per timestep).
+SCHEDULES = """
+RunPeriodControl:SpecialDays,Indep,July 4,1,Holiday;
+RunPeriodControl:SpecialDays,Labor,1st Monday in September,1,Holiday;
+RunPeriodControl:SpecialDays,Memorial,Last Monday in May,2,CustomDay1;
+Schedule:Compact,S_LIN,Any Number,Through: 12/31,For: AllDays,Interpolate: Linear,
+  Until: 06:00,0,Until: 08:00,10,Until: 12:20,4,Until: 24:00,1;
+Schedule:Compact,S_AVG,Any Number,Through: 12/31,For: AllDays,Interpolate: Average,
+  Until: 06:10,0,Until: 08:00,10,Until: 24:00,1;
+Schedule:Compact,S_DAYS,Any Number,Through: 12/31,For: Weekdays,Until: 24:00,1,
+  For: Holidays,Until: 24:00,2,For: CustomDay1,Until: 24:00,3,For: AllOtherDays,Until: 24:00,0;
+Schedule:Day:List,DL,Any Number,No,30,{day_list};
+Schedule:Day:Interval,DI,Any Number,Linear,06:00,0,09:00,6,24:00,6;
+Schedule:Week:Compact,WC,For: Weekdays,DL,For: Holiday,DI,For: AllOtherDays,DI;
+Schedule:Year,S_YEAR,Any Number,WC,1,1,12,31;
+Schedule:File,S_FILE,Any Number,{csv},2,1,8760,Comma,No,60;
+"""
+
+
+def test_schedules_step_by_step_against_energyplus(tmp_path_factory, denver):
+    """Compact (Linear, Average, day types with special days), Week:Compact, Day:List,
+    Day:Interval Linear and Schedule:File: every 15-min value of the year as EnergyPlus has it
+    (Begin Year 2009, a Thursday)."""
+    from thermocal.multizone.idf import ScheduleEvaluator, read_idf_objects
+
+    folder = tmp_path_factory.mktemp("schedules")
+    csv = folder / "values.csv"
+    csv.write_text(
+        "hour,value\n"
+        + "\n".join(f"{i},{(i % 24) * 1.5 + (i // 24) % 7}" for i in range(8760))
+        + "\n"
+    )
+    names = ("S_LIN", "S_AVG", "S_DAYS", "S_YEAR", "S_FILE")
+    idf = folder / "schedules.idf"
+    idf.write_text(
+        (_folder("energyplus_reference") / "case_600FF_v25.idf").read_text()
+        + SCHEDULES.format(day_list=",".join(str(i) for i in range(48)), csv=csv)
+        + "".join(f"Output:Variable,{n},Schedule Value,Timestep;\n" for n in names)
+    )
+    reference = read_eso(
+        run_energyplus(idf, denver, folder / "out"), year=2009, frequency="timestep"
+    )
+    evaluator = ScheduleEvaluator(read_idf_objects(idf), year=2009, version=(25, 2))
+    for name in names:
+        ours = evaluator.on_grid(name, reference.index, pd.Timedelta("15min"))
+        theirs = reference[f"{name}:Schedule Value []"].to_numpy()
+        assert len(theirs) == 35040
+        np.testing.assert_allclose(ours, theirs, atol=1e-9, err_msg=name)

@@ -66,9 +66,9 @@ def test_linear_interpolation_in_day_interval_and_compact():
     assert hourly[7] == pytest.approx(10 * 90.5 / 120)
     assert hourly[8:24].tolist() == [10.0] * 16
     times = pd.date_range("2006-01-02 06:00", periods=2, freq="15min")
-    assert ev.on_grid("Y", times, pd.Timedelta("15min")) == pytest.approx(
-        [10 * 8 / 120, 10 * 23 / 120]
-    )
+    # EnergyPlus gives a step of a Linear day the value at the step's end
+    assert ev.on_grid("Y", times, pd.Timedelta("15min")) == pytest.approx([1.25, 2.5])
+    assert ev.on_grid("YA", times, pd.Timedelta("15min")) == pytest.approx([10.0, 10.0])
     # Average holds each value over its interval (the step mean)
     assert ev.hourly("YA")[:24].tolist() == [0.0] * 6 + [10.0] * 18
     compact = ev.hourly("C")

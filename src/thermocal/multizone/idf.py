@@ -1182,6 +1182,8 @@ class ScheduleEvaluator:
             for d in range(n_days)
         ]
         self._cache: dict[str, np.ndarray] = {}
+        #: schedule name -> days (bool, n_days) with Linear interpolation
+        self._linear_days: dict[str, np.ndarray] = {}
 
     def __contains__(self, name: str) -> bool:
         return name.upper() in self._records
@@ -1225,7 +1227,7 @@ class ScheduleEvaluator:
         return out
 
     def on_grid(self, name: str, times, step) -> np.ndarray:
-        """Mean value over each simulation step ``[t, t + step)`` [schedule unit].
+        """Value of each simulation step ``[t, t + step)`` as EnergyPlus gives it [schedule unit].
 
         Parameters
         ----------
@@ -1245,9 +1247,10 @@ class ScheduleEvaluator:
 
         Notes
         -----
-        EnergyPlus gives a timestep the schedule value at its end, or with ``Interpolate:
-        Average`` the mean over the timestep; for steps that tile the ``Until`` times (every
-        step of a whole number of minutes dividing the hour) both equal the interval mean.
+        The mean over the step; on days interpolated ``Linear`` the value at the step's end
+        (the ramp's last minute), as EnergyPlus. For steps that tile the ``Until`` times (every
+        step of a whole number of minutes dividing the hour) the mean equals EnergyPlus' value
+        with ``Interpolate`` ``No`` as well as ``Average``.
         """
         import pandas as pd
 
@@ -1259,6 +1262,11 @@ class ScheduleEvaluator:
         cumulative = np.concatenate(([0.0], np.cumsum(np.concatenate((flat, flat[:1440])))))
         index = self.minute_index(times)
         out = (cumulative[index + width] - cumulative[index]) / width
+        linear = self._linear_days.get(name.upper())
+        if linear is not None and linear.any():
+            extended = np.concatenate((flat, flat[:1440]))
+            day = np.minimum(index // _MINUTES_PER_DAY, self.n_days - 1)
+            out = np.where(linear[day], extended[index + width - 1], out)
         self._cache[key] = out
         return out
 
@@ -1307,6 +1315,7 @@ class ScheduleEvaluator:
         where = obj.where()
         tokens = [t[0] for t in rec["compact_fields"]]
         out = np.full((self.n_days, _MINUTES_PER_DAY), np.nan)
+        linear = self._linear_days[obj.name.upper()] = np.zeros(self.n_days, dtype=bool)
         block_start = 0
         assigned: dict[int, np.ndarray] = {}
         targets: list[int] = []
@@ -1338,6 +1347,7 @@ class ScheduleEvaluator:
                         f"(day {d + 1} of the year); add 'For: AllOtherDays'."
                     )
                 out[d] = profile
+                linear[d] = getattr(profile, "linear", False)
             block_start = block_end + 1
             assigned = {}
 
@@ -1429,6 +1439,7 @@ class ScheduleEvaluator:
         obj: IdfObject = rec["_object"]
         where = obj.where()
         out = np.full((self.n_days, _MINUTES_PER_DAY), np.nan)
+        linear = self._linear_days[obj.name.upper()] = np.zeros(self.n_days, dtype=bool)
         for group in rec["week_periods"]:
             if len(group) < 5:
                 raise ThermocalInputError(f"{where}: incomplete week period {group}.")
@@ -1438,6 +1449,7 @@ class ScheduleEvaluator:
             profiles = self._week(week_name, where)
             for d in range(start, end + 1):
                 out[d] = profiles[int(self._day_type[d])]
+                linear[d] = getattr(profiles[int(self._day_type[d])], "linear", False)
         if np.isnan(out).any():
             raise ThermocalInputError(f"{where}: the week periods do not cover the whole year.")
         return out
@@ -1500,6 +1512,8 @@ class ScheduleEvaluator:
         path = Path(name)
         if not path.is_absolute():
             path = self.base_dir / path
+        kind = _sched.interpolation_kind(rec["interpolate_to_timestep"], where)
+        self._linear_days[obj.name.upper()] = np.full(self.n_days, kind == "linear")
         return _sched.file_profile(
             path,
             column=int(_number(rec, "column_number")),
@@ -1508,7 +1522,7 @@ class ScheduleEvaluator:
             minutes_per_item=int(_number(rec, "minutes_per_item", default=60.0)),
             n_days=self.n_days,
             leap=calendar.isleap(self.year),
-            kind=_sched.interpolation_kind(rec["interpolate_to_timestep"], where),
+            kind=kind,
             where=where,
         )
 

@@ -32,6 +32,19 @@ _MONTHS = {name.upper(): i for i, name in enumerate(calendar.month_name) if name
 _NTH = {"1ST": 1, "2ND": 2, "3RD": 3, "4TH": 4, "5TH": 5, "LAST": -1}
 
 
+class DayProfile(np.ndarray):
+    """A day profile (1440 minute values) that knows whether it is ``Linear`` (EnergyPlus gives a
+    timestep of a linear day the value at the step's end, of the others the step mean)."""
+
+    linear: bool = False
+
+
+def _profile(values: np.ndarray, kind: str) -> DayProfile:
+    out = values.view(DayProfile)
+    out.linear = kind == "linear"
+    return out
+
+
 def interpolation_kind(text: str, where: str) -> str:
     """``"no"``, ``"average"`` or ``"linear"`` from an ``Interpolate`` field ("" -> ``"no"``)."""
     key = text.strip().upper() or "NO"
@@ -69,7 +82,7 @@ def interval_profile(
         start = until
     if start != MINUTES_PER_DAY:
         raise ThermocalInputError(f"{where}: the day schedule must end with 'Until: 24:00'.")
-    return profile
+    return _profile(profile, kind)
 
 
 def list_profile(

@@ -233,6 +233,8 @@ Schedule:Compact,S_LIN,Any Number,Through: 12/31,For: AllDays,Interpolate: Linea
   Until: 06:00,0,Until: 08:00,10,Until: 12:20,4,Until: 24:00,1;
 Schedule:Compact,S_AVG,Any Number,Through: 12/31,For: AllDays,Interpolate: Average,
   Until: 06:10,0,Until: 08:00,10,Until: 24:00,1;
+Schedule:Compact,S_NO,Any Number,Through: 12/31,For: AllDays,
+  Until: 06:10,0,Until: 09:50,10,Until: 24:00,3;
 Schedule:Compact,S_DAYS,Any Number,Through: 12/31,For: Weekdays,Until: 24:00,1,
   For: Holidays,Until: 24:00,2,For: CustomDay1,Until: 24:00,3,For: AllOtherDays,Until: 24:00,0;
 Schedule:Day:List,DL,Any Number,No,30,{day_list};
@@ -244,7 +246,8 @@ Schedule:File,S_FILE,Any Number,{csv},2,1,8760,Comma,No,60;
 
 
 def test_schedules_step_by_step_against_energyplus(tmp_path_factory, denver):
-    """Compact (Linear, Average, day types with special days), Week:Compact, Day:List,
+    """Compact (Linear, Average, No with Until times inside a step, day types with special
+    days), Week:Compact, Day:List,
     Day:Interval Linear and Schedule:File: every 15-min value of the year as EnergyPlus has it
     (Begin Year 2009, a Thursday)."""
     from thermocal.multizone.idf import ScheduleEvaluator, read_idf_objects
@@ -256,7 +259,7 @@ def test_schedules_step_by_step_against_energyplus(tmp_path_factory, denver):
         + "\n".join(f"{i},{(i % 24) * 1.5 + (i // 24) % 7}" for i in range(8760))
         + "\n"
     )
-    names = ("S_LIN", "S_AVG", "S_DAYS", "S_YEAR", "S_FILE")
+    names = ("S_LIN", "S_AVG", "S_NO", "S_DAYS", "S_YEAR", "S_FILE")
     idf = folder / "schedules.idf"
     idf.write_text(
         (_folder("energyplus_reference") / "case_600FF_v25.idf").read_text()

@@ -359,9 +359,9 @@ def test_five_zone_schedules_on_the_simulation_grid(five_zone):
     # Htg-SetP-Sch weekdays: 16.7 until 06:00, 22.2 until 20:00, then 16.7
     assert heating[23] == pytest.approx(16.7) and heating[24] == pytest.approx(22.2)
     assert heating[79] == pytest.approx(22.2) and heating[80] == pytest.approx(16.7)
-    # a step straddling a change takes the mean of the minutes
+    # a step straddling a change takes the value at its end (Interpolate: No, as EnergyPlus)
     half = info.schedules.on_grid("Htg-SetP-Sch", pd.DatetimeIndex(["2006-01-02 05:30"]), "1h")
-    assert half[0] == pytest.approx(0.5 * (16.7 + 22.2))
+    assert half[0] == pytest.approx(22.2)
     # Sunday: the set-back all day
     sunday = info.schedules.on_grid("Htg-SetP-Sch", pd.date_range("2006-01-01", periods=96,
                                                                   freq="15min"), step)

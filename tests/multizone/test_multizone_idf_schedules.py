@@ -75,6 +75,16 @@ def test_linear_interpolation_in_day_interval_and_compact():
     assert compact[:12].tolist() == [0.0] * 12  # the first interval holds its value
     assert compact[12] == pytest.approx(24 * 30.5 / 720)
     assert compact[23] == pytest.approx(24 * (11 * 60 + 30.5) / 720)
+    # Until times inside a step: No -> the value at the step's end, Average -> the step mean
+    inside = """
+    Schedule:Compact,N,Any,Through: 12/31,For: AllDays,Until: 06:10,0,Until: 24:00,12;
+    Schedule:Compact,A,Any,Through: 12/31,For: AllDays,Interpolate: Average,
+      Until: 06:10,0,Until: 24:00,12;
+    """
+    ev = _evaluator(inside)
+    step = pd.date_range("2006-01-02 06:00", periods=1, freq="15min")
+    assert ev.on_grid("N", step, pd.Timedelta("15min")) == pytest.approx([12.0])
+    assert ev.on_grid("A", step, pd.Timedelta("15min")) == pytest.approx([12.0 * 5 / 15])
     bad = "Schedule:Compact,C,Any,Through: 12/31,For: AllDays,Interpolate: Maybe,Until: 24:00,1;"
     with pytest.raises(ThermocalInputError, match=r"Schedule:Compact 'C'.*'Interpolate: Maybe'"):
         _evaluator(bad).minutes("C")

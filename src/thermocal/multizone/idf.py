@@ -1182,8 +1182,8 @@ class ScheduleEvaluator:
             for d in range(n_days)
         ]
         self._cache: dict[str, np.ndarray] = {}
-        #: schedule name -> days (bool, n_days) with Linear interpolation
-        self._linear_days: dict[str, np.ndarray] = {}
+        #: schedule name -> days (bool, n_days) interpolated 'Average' (step mean)
+        self._average_days: dict[str, np.ndarray] = {}
 
     def __contains__(self, name: str) -> bool:
         return name.upper() in self._records
@@ -1247,10 +1247,9 @@ class ScheduleEvaluator:
 
         Notes
         -----
-        The mean over the step; on days interpolated ``Linear`` the value at the step's end
-        (the ramp's last minute), as EnergyPlus. For steps that tile the ``Until`` times (every
-        step of a whole number of minutes dividing the hour) the mean equals EnergyPlus' value
-        with ``Interpolate`` ``No`` as well as ``Average``.
+        As EnergyPlus: the value at the step's end (its last minute) for ``Interpolate`` ``No``
+        (the default) and ``Linear``, the mean over the step for ``Average``. For a step
+        function and steps that tile the ``Until`` times both are the interval value.
         """
         import pandas as pd
 
@@ -1261,12 +1260,12 @@ class ScheduleEvaluator:
         width = max(int(round(pd.Timedelta(step).total_seconds() / 60.0)), 1)
         cumulative = np.concatenate(([0.0], np.cumsum(np.concatenate((flat, flat[:1440])))))
         index = self.minute_index(times)
-        out = (cumulative[index + width] - cumulative[index]) / width
-        linear = self._linear_days.get(name.upper())
-        if linear is not None and linear.any():
-            extended = np.concatenate((flat, flat[:1440]))
+        out = np.concatenate((flat, flat[:1440]))[index + width - 1]
+        average = self._average_days.get(name.upper())
+        if average is not None and average.any():
+            mean = (cumulative[index + width] - cumulative[index]) / width
             day = np.minimum(index // _MINUTES_PER_DAY, self.n_days - 1)
-            out = np.where(linear[day], extended[index + width - 1], out)
+            out = np.where(average[day], mean, out)
         self._cache[key] = out
         return out
 
@@ -1315,7 +1314,7 @@ class ScheduleEvaluator:
         where = obj.where()
         tokens = [t[0] for t in rec["compact_fields"]]
         out = np.full((self.n_days, _MINUTES_PER_DAY), np.nan)
-        linear = self._linear_days[obj.name.upper()] = np.zeros(self.n_days, dtype=bool)
+        average = self._average_days[obj.name.upper()] = np.zeros(self.n_days, dtype=bool)
         block_start = 0
         assigned: dict[int, np.ndarray] = {}
         targets: list[int] = []
@@ -1347,7 +1346,7 @@ class ScheduleEvaluator:
                         f"(day {d + 1} of the year); add 'For: AllOtherDays'."
                     )
                 out[d] = profile
-                linear[d] = getattr(profile, "linear", False)
+                average[d] = getattr(profile, "average", False)
             block_start = block_end + 1
             assigned = {}
 
@@ -1439,7 +1438,7 @@ class ScheduleEvaluator:
         obj: IdfObject = rec["_object"]
         where = obj.where()
         out = np.full((self.n_days, _MINUTES_PER_DAY), np.nan)
-        linear = self._linear_days[obj.name.upper()] = np.zeros(self.n_days, dtype=bool)
+        average = self._average_days[obj.name.upper()] = np.zeros(self.n_days, dtype=bool)
         for group in rec["week_periods"]:
             if len(group) < 5:
                 raise ThermocalInputError(f"{where}: incomplete week period {group}.")
@@ -1449,7 +1448,7 @@ class ScheduleEvaluator:
             profiles = self._week(week_name, where)
             for d in range(start, end + 1):
                 out[d] = profiles[int(self._day_type[d])]
-                linear[d] = getattr(profiles[int(self._day_type[d])], "linear", False)
+                average[d] = getattr(profiles[int(self._day_type[d])], "average", False)
         if np.isnan(out).any():
             raise ThermocalInputError(f"{where}: the week periods do not cover the whole year.")
         return out
@@ -1513,7 +1512,7 @@ class ScheduleEvaluator:
         if not path.is_absolute():
             path = self.base_dir / path
         kind = _sched.interpolation_kind(rec["interpolate_to_timestep"], where)
-        self._linear_days[obj.name.upper()] = np.full(self.n_days, kind == "linear")
+        self._average_days[obj.name.upper()] = np.full(self.n_days, kind == "average")
         return _sched.file_profile(
             path,
             column=int(_number(rec, "column_number")),

@@ -33,15 +33,16 @@ _NTH = {"1ST": 1, "2ND": 2, "3RD": 3, "4TH": 4, "5TH": 5, "LAST": -1}
 
 
 class DayProfile(np.ndarray):
-    """A day profile (1440 minute values) that knows whether it is ``Linear`` (EnergyPlus gives a
-    timestep of a linear day the value at the step's end, of the others the step mean)."""
+    """A day profile (1440 minute values) that knows whether it is interpolated ``Average``
+    (EnergyPlus gives a timestep of such a day the step mean, of the others, ``No`` and
+    ``Linear``, the value at the step's end)."""
 
-    linear: bool = False
+    average: bool = False
 
 
 def _profile(values: np.ndarray, kind: str) -> DayProfile:
     out = values.view(DayProfile)
-    out.linear = kind == "linear"
+    out.average = kind == "average"
     return out
 
 

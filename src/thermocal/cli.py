@@ -153,7 +153,17 @@ def _exit_interrupted() -> None:
     what = "terminated (SIGTERM)" if terminated else "interrupted (Ctrl-C)"
     kept = output.last_interrupted
     typer.secho(f"{what}; {kept}" if kept else what, err=True, fg=typer.colors.YELLOW)
-    raise SystemExit(EXIT_TERMINATED if terminated else EXIT_INTERRUPTED) from None
+    code = EXIT_TERMINATED if terminated else EXIT_INTERRUPTED
+    if _state.get("signal") is not None:
+        # the output folder is already cleaned up (its context manager ran while the exception
+        # propagated); exit now, so that a signal still pending or a worker pool's shutdown
+        # cannot turn the exit into death by the signal (exit status -2 instead of 130)
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    raise SystemExit(code) from None
 
 
 def _write_error_log(exc: BaseException) -> Path | None:

@@ -158,6 +158,46 @@ def check_numbers(data, columns, path: Path, decimal: str) -> None:
             )
 
 
+def resolve_time_column(data, time_column: str | None, time_format: str | None, path: Path) -> str:
+    """The time column of a data table (default "time", else the first column), parsed with
+    ``--time-format`` when given (in place).
+
+    Parameters
+    ----------
+    data : DataFrame
+    time_column : str or None
+    time_format : str or None
+        strftime format of the time stamps.
+    path : Path
+        The data file, for messages.
+
+    Returns
+    -------
+    str
+        The time column's name.
+    """
+    import pandas as pd
+
+    from thermocal.errors import ThermocalInputError
+
+    if time_column is None:
+        time_column = "time" if "time" in data.columns else str(data.columns[0])
+    if time_column not in data.columns:
+        raise ThermocalInputError(
+            f"{path}: no time column '{time_column}'; columns: "
+            f"{', '.join(map(str, data.columns))}; use --time-column"
+        )
+    if time_format is not None:
+        try:
+            data[time_column] = pd.to_datetime(data[time_column], format=time_format)
+        except (ValueError, TypeError) as exc:
+            raise ThermocalInputError(
+                f"{path}: time column '{time_column}' does not follow --time-format "
+                f"{time_format!r} ({exc})"
+            ) from None
+    return time_column
+
+
 def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
     """Refuse time axes that are certainly wrong before any computation.
 
@@ -486,7 +526,6 @@ def fit(
     import json
     import sys
 
-    import pandas as pd
     from rich.console import Console
     from rich.table import Table
 
@@ -527,21 +566,7 @@ def fit(
             )
         data = data.rename(columns=renames)
         notes.append("columns mapped: " + ", ".join(f"{d} -> {m}" for d, m in renames.items()))
-    if time_column is None:
-        time_column = "time" if "time" in data.columns else str(data.columns[0])
-    if time_column not in data.columns:
-        raise ThermocalInputError(
-            f"{data_file}: no time column '{time_column}'; columns: "
-            f"{', '.join(map(str, data.columns))}; use --time-column"
-        )
-    if time_format is not None:
-        try:
-            data[time_column] = pd.to_datetime(data[time_column], format=time_format)
-        except (ValueError, TypeError) as exc:
-            raise ThermocalInputError(
-                f"{data_file}: time column '{time_column}' does not follow --time-format "
-                f"{time_format!r} ({exc})"
-            ) from None
+    time_column = resolve_time_column(data, time_column, time_format, data_file)
     for name in profile or []:
         if name not in model.free_parameter_names and name not in model.derived:
             raise ThermocalInputError(

@@ -103,6 +103,7 @@ def select(
         file_sha256,
         parse_mapping,
         read_table,
+        resolve_time_column,
     )
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import output_folder
@@ -143,20 +144,7 @@ def select(
     models, extensions, start = FAMILIES[family](
         heat_unit=heat_unit, solar_unit=solar_unit if solar else None
     )
-    if time_column is None:
-        time_column = "time" if "time" in data.columns else str(data.columns[0])
-    if time_column not in data.columns:
-        raise ThermocalInputError(
-            f"{data_file}: no time column '{time_column}'; use --time-column"
-        )
-    if time_format is not None:
-        try:
-            data[time_column] = pd.to_datetime(data[time_column], format=time_format)
-        except (ValueError, TypeError) as exc:
-            raise ThermocalInputError(
-                f"{data_file}: time column '{time_column}' does not follow --time-format "
-                f"{time_format!r} ({exc})"
-            ) from None
+    time_column = resolve_time_column(data, time_column, time_format, data_file)
     check_time_axis(data, time_column, time_unit, data_file)
     check_numbers(data, ["Ta", "Ph", "yTi", *(["Ps"] if solar else [])], data_file, decimal)
 

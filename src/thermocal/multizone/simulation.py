@@ -595,7 +595,7 @@ class Simulation:
         if key in cache:
             return cache[key]
         if coarse:
-            context = self._coarse_context(controlled=zones, ideal=False)
+            context = self._coarse_context(controlled=zones, ideal=False, base=self._coarse)
             if context is None:
                 cache[key] = None
                 return None
@@ -607,6 +607,7 @@ class Simulation:
                 self._inf_dh,
                 controlled=zones,
                 ideal=False,
+                base=self._fine,
             )
         g_inverse = np.zeros((0, 0))
         if operative:
@@ -637,18 +638,30 @@ class Simulation:
         self._cache_m[0] = -1
 
     def _context(
-        self, dt: float, inputs, ext_dh_raw, inf_dh, *, controlled=None, ideal: bool = True
+        self,
+        dt: float,
+        inputs,
+        ext_dh_raw,
+        inf_dh,
+        *,
+        controlled=None,
+        ideal: bool = True,
+        base: _Context | None = None,
     ) -> _Context:
         """Factorisation and step-size dependent arrays for steps of ``dt`` seconds.
 
         ``controlled``: zone indices whose air temperatures the Dirichlet system prescribes
-        (default: the conditioned zones); ``ideal=False`` skips the ideal-load response matrix.
+        (default: the conditioned zones); ``ideal=False`` skips the ideal-load response matrix;
+        ``base``: a context of the same network and step whose factorisation is reused.
         """
         net = self.network
         controlled = self._ctrl if controlled is None else np.asarray(controlled, dtype=np.int64)
         matrix = net.system_matrix(dt)
-        lu = _factorise(matrix)
-        factors = _kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c)
+        if base is not None and base.dt == dt:
+            lu, factors = base.lu, base.factors
+        else:
+            lu = _factorise(matrix)
+            factors = _kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c)
         dirichlet = factors
         rows = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
         if len(controlled):

@@ -154,7 +154,7 @@ class IdentificationResult:
             "timings_s": self.timings,
             "notes": self.notes,
         }
-        return _jsonable(out)
+        return jsonable(out)
 
     def unoccupied_mask_all(self) -> np.ndarray:
         return unoccupied_steps(self.q_id.index, self.schedule, settle=None)
@@ -203,14 +203,10 @@ def _records(frame):
 
 def jsonable(value):
     """``value`` with numpy scalars, timestamps and non-finite floats made JSON-ready."""
-    return _jsonable(value)
-
-
-def _jsonable(value):
     if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
+        return [jsonable(v) for v in value]
     if isinstance(value, np.generic):
         value = value.item()
     if isinstance(value, float) and not np.isfinite(value):

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from thermocal.identification import REFERENCE
+from thermocal.io.atomic import atomic_write
 from thermocal.report.html import HtmlReport
 
 
@@ -104,8 +104,4 @@ def write_report(result, path, *, pngs: dict | None = None) -> Path:
     """A self-contained calibration report (written atomically)."""
     report = HtmlReport("Envelope calibration", subtitle=REFERENCE)
     add_section(report, result, pngs=pngs)
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    report.write(tmp)
-    os.replace(tmp, path)
-    return path
+    return atomic_write(path, report.write)

@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.identification import REFERENCE
+from thermocal.io.atomic import atomic_write
 from thermocal.report.html import HtmlReport
 
 
@@ -117,12 +118,6 @@ def add_section(
 
 def write_report(result, path: str | Path, *, pngs: dict | None = None) -> Path:
     """A self-contained report of one identification run (written atomically)."""
-    import os
-
     report = HtmlReport("Heat-balance identification", subtitle=REFERENCE)
     add_section(report, result, pngs=pngs)
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    report.write(tmp)
-    os.replace(tmp, path)
-    return path
+    return atomic_write(path, report.write)

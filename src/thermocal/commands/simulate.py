@@ -52,7 +52,12 @@ def simulate(
         str | None,
         typer.Option(help="End instant, exclusive, e.g. 2023-02-01 (default: end of weather)."),
     ] = None,
-    step: Annotated[str, typer.Option(help="Time step, e.g. 5min, 15min, 1h.")] = "5min",
+    step: Annotated[
+        str | None,
+        typer.Option(
+            help="Time step, e.g. 5min, 15min, 1h (default: the IDF's Timestep, otherwise 5min)."
+        ),
+    ] = None,
     out: Annotated[Path, typer.Option(help="Output directory.")] = Path("simulation"),
     free_float: Annotated[
         bool, typer.Option("--free-float", help="Ignore the zones' heating/cooling set points.")
@@ -117,6 +122,9 @@ def simulate(
             )
         else:
             frame, metadata = read_weather(weather)
+        per_hour = getattr(getattr(model, "idf_info", None), "timesteps_per_hour", None)
+        if step is None:
+            step = f"{60 // per_hour}min" if per_hour else "5min"
         frame, filled = fill_short_gaps(frame)
         for note in filled:
             warnings.warn(f"weather file {weather}: {note}", stacklevel=1)

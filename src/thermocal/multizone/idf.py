@@ -319,6 +319,8 @@ SCHEMA: dict[str, tuple[tuple[str, ...], str | None, int]] = {
     "SURFACECONVECTIONALGORITHM:INSIDE": (("algorithm",), None, 0),
     "SURFACECONVECTIONALGORITHM:OUTSIDE": (("algorithm",), None, 0),
     "SHADOWCALCULATION": ((), "fields", 1),  # layouts differ by version: read by content
+    "TIMESTEP": (("number_of_timesteps_per_hour",), None, 0),
+    "RUNPERIOD": ((), "fields", 1),  # layouts differ by version: read by position
     "SHADING:ZONE:DETAILED": (
         ("name", "base_surface_name", "transmittance_schedule_name", "number_of_vertices"),
         "vertices",
@@ -1732,6 +1734,8 @@ class IdfImportInfo:
     zone_nominal_ach: dict[str, float] = field(default_factory=dict)
     zone_volume: dict[str, float] = field(default_factory=dict)
     run_period: tuple | None = None  # (name, begin month, day, end month, day, begin year|None)
+    #: ``Timestep``: steps per hour of the file (EnergyPlus' default 6 when absent)
+    timesteps_per_hour: int | None = None
     shading_surfaces: list = field(default_factory=list)  # shading.ShadingSurface
     subsurfaces_of: dict[str, list[str]] = field(default_factory=dict)  # host -> windows, doors
     #: ShadowCalculation: sunlit fractions of the first day reused for this many days (EnergyPlus'
@@ -2211,6 +2215,16 @@ class _IdfReader:
             )
         else:
             self.info.notes.append("no Site:Location: the model's default location is used")
+        timestep = self.single("TIMESTEP")
+        if timestep is not None:
+            per_hour = _number(timestep, "number_of_timesteps_per_hour", default=6.0)
+            if per_hour not in (1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30, 60):
+                raise ThermocalInputError(
+                    f"{timestep['_object'].where()}: field 'Number of Timesteps per Hour' = "
+                    f"{per_hour:g}: give a divisor of 60 (1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30 "
+                    "or 60), as EnergyPlus requires"
+                )
+            self.info.timesteps_per_hour = int(per_hour)
         for rp in self.by_key.get("RUNPERIOD", [])[:1]:
             # Name, Begin Month, Begin Day, Begin Year, End Month, End Day (9.x and later)
             f = [x.strip() for x in rp.fields] + [""] * 6

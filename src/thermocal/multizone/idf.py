@@ -2218,12 +2218,20 @@ class _IdfReader:
         timestep = self.single("TIMESTEP")
         if timestep is not None:
             per_hour = _number(timestep, "number_of_timesteps_per_hour", default=6.0)
-            if per_hour not in (1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30, 60):
+            divisors = (1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30, 60)
+            if not 1 <= per_hour <= 60:
                 raise ThermocalInputError(
                     f"{timestep['_object'].where()}: field 'Number of Timesteps per Hour' = "
-                    f"{per_hour:g}: give a divisor of 60 (1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30 "
-                    "or 60), as EnergyPlus requires"
+                    f"{per_hour:g}: give 1 to 60 (a divisor of 60: 1, 2, 3, 4, 5, 6, 10, 12, "
+                    "15, 20, 30 or 60)"
                 )
+            if per_hour not in divisors:
+                chosen = min(d for d in divisors if d >= per_hour)
+                self.info.notes.append(
+                    f"{timestep['_object'].where()}: {per_hour:g} timesteps per hour do not "
+                    f"divide an hour; {chosen} per hour used"
+                )
+                per_hour = chosen
             self.info.timesteps_per_hour = int(per_hour)
         for rp in self.by_key.get("RUNPERIOD", [])[:1]:
             # Name, Begin Month, Begin Day, Begin Year, End Month, End Day (9.x and later)

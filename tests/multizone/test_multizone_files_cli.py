@@ -237,3 +237,29 @@ def test_set_parameters_equals_a_fresh_simulation(shared_data):
     assert np.allclose(after.heating, fresh.heating, rtol=1e-9, atol=1e-6)
     assert np.allclose(after.transmitted_solar, fresh.transmitted_solar, rtol=1e-12)
     assert not np.allclose(after.heating, before.heating, rtol=1e-3)
+
+
+def test_cli_simulate_writes_only_the_quantities_asked_for(tmp_path, shared_data):
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    building = save_building(generators.single_family_house(), tmp_path / "house.yaml")
+    common = [str(building), str(weather), "--start", "2023-01-10", "--end", "2023-01-11"]
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        app, ["simulate", *common, "--step", "1h", "--out", str(out), "--outputs", "heating"]
+    )
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == [
+        "summary.json",
+        "zone_heat_flows.csv",
+    ]
+    flows = pd.read_csv(out / "zone_heat_flows.csv", index_col=0)
+    assert len(flows) == 24 and all(c.endswith("|heating_W") for c in flows.columns)
+    summary = json.loads((out / "summary.json").read_text())
+    total = flows.sum().sum() / 1000.0  # 1-h steps: W -> kWh
+    assert total == pytest.approx(summary["building"]["heating_kWh"], rel=1e-6)
+    bad = CliRunner().invoke(
+        app, ["simulate", *common, "--out", str(tmp_path / "bad"), "--outputs", "heat,air"]
+    )
+    assert isinstance(bad.exception, ThermocalInputError)
+    message = str(bad.exception)
+    assert "--outputs" in message and "'heat'" in message and "heating" in message

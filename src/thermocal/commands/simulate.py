@@ -63,6 +63,14 @@ def simulate(
         bool, typer.Option("--free-float", help="Ignore the zones' heating/cooling set points.")
     ] = False,
     output_format: Annotated[str, typer.Option("--format", help="csv or parquet.")] = "csv",
+    outputs: Annotated[
+        str | None,
+        typer.Option(
+            help="Quantities to write, comma-separated (default: all): air_temperature, "
+            "operative_temperature, heating, cooling, heat_input, transmitted_solar, "
+            "infiltration."
+        ),
+    ] = None,
     warmup_days: Annotated[
         int, typer.Option(help="Repetitions of the first day before the run.")
     ] = 7,
@@ -71,9 +79,10 @@ def simulate(
 
     Outputs in OUT: zone_temperatures.csv or .parquet (air and operative temperature in C per
     zone), zone_heat_flows.csv or .parquet (heating, cooling, given heat, transmitted solar,
-    infiltration in W per zone, mean over each step, rows labelled by step start) and
-    summary.json (per zone min/max/mean air temperature, heating and cooling energy in kWh, peak
-    hourly loads in kW).
+    infiltration in W per zone, mean over each step, rows labelled by step start; --outputs
+    keeps only the quantities named) and summary.json (per zone min/max/mean air temperature
+    per step and hourly-integrated, heating and cooling energy in kWh, peak hourly loads in kW,
+    and every approximation made).
     """
     import warnings
 
@@ -94,6 +103,12 @@ def simulate(
         )
     if output_format not in ("csv", "parquet"):
         raise ThermocalInputError(f"--format must be csv or parquet, got {output_format!r}")
+    from thermocal.multizone.simulation import output_quantities
+
+    try:
+        quantities = output_quantities(outputs)
+    except ThermocalInputError as error:
+        raise ThermocalInputError(f"--outputs: {error}") from None
     signature = ("summary.json", f"zone_temperatures.{output_format}")
     check_output_folder(out, signature=signature)
     console = Console(stderr=True)
@@ -123,8 +138,11 @@ def simulate(
         else:
             frame, metadata = read_weather(weather)
         per_hour = getattr(getattr(model, "idf_info", None), "timesteps_per_hour", None)
+        step_note = None
         if step is None:
             step = f"{60 // per_hour}min" if per_hour else "5min"
+            if per_hour:
+                step_note = f"time step {step} from the IDF's Timestep ({per_hour} per hour)"
         frame, filled = fill_short_gaps(frame)
         for note in filled:
             warnings.warn(f"weather file {weather}: {note}", stacklevel=1)
@@ -159,9 +177,13 @@ def simulate(
     )
     with output_folder(out, command="simulate", signature=signature) as tmp:
         result = sim.run(free_float=free_float, progress=True)
-        if period_note:
-            result.approximations.insert(0, period_note)
-        written = [out / Path(p).name for p in result.to_files(tmp, format=output_format)]
+        for note in (step_note, period_note):
+            if note:
+                result.approximations.insert(0, note)
+        written = [
+            out / Path(p).name
+            for p in result.to_files(tmp, format=output_format, quantities=quantities)
+        ]
     summary = result.summary()
     table = Table(title="summary (first 20 zones)")
     for column in ("zone", "T min", "T mean", "T max", "heat kWh", "cool kWh", "peak heat kW"):

@@ -106,26 +106,28 @@ class SimulationResult:
         the step divides an hour, otherwise the largest step values.
         """
         hours = self.step.total_seconds() / 3600.0
-        heating_h = _hourly_mean(self.heating, self.step)
-        cooling_h = _hourly_mean(self.cooling, self.step)
-        air_h = _hourly_mean(self.air_temperature, self.step)
-        zones = {}
-        for zone in self.air_temperature.columns:
-            temp = self.air_temperature[zone]
-            zones[zone] = {
-                "air_temperature_min_C": float(temp.min()),
-                "air_temperature_max_C": float(temp.max()),
-                "air_temperature_mean_C": float(temp.mean()),
-                # hourly-integrated values, as ASHRAE Standard 140 defines them
-                "air_temperature_hourly_min_C": float(air_h[zone].min()),
-                "air_temperature_hourly_max_C": float(air_h[zone].max()),
-                "air_temperature_hourly_mean_C": float(air_h[zone].mean()),
-                "heating_kWh": float(self.heating[zone].sum() * hours / 1000.0),
-                "cooling_kWh": float(self.cooling[zone].sum() * hours / 1000.0),
-                "heating_peak_kW": float(heating_h[zone].max() / 1000.0),
-                "cooling_peak_kW": float(cooling_h[zone].max() / 1000.0),
-                "heat_input_kWh": float(self.heat_input[zone].sum() * hours / 1000.0),
-            }
+        to_kwh = hours / 1000.0
+        temp = self.air_temperature
+        air_h = _hourly_mean(temp, self.step)
+        columns = {
+            "air_temperature_min_C": temp.min(),
+            "air_temperature_max_C": temp.max(),
+            "air_temperature_mean_C": temp.mean(),
+            # hourly-integrated values, as ASHRAE Standard 140 defines them
+            "air_temperature_hourly_min_C": air_h.min(),
+            "air_temperature_hourly_max_C": air_h.max(),
+            "air_temperature_hourly_mean_C": air_h.mean(),
+            "heating_kWh": self.heating.sum() * to_kwh,
+            "cooling_kWh": self.cooling.sum() * to_kwh,
+            "heating_peak_kW": _hourly_mean(self.heating, self.step).max() / 1000.0,
+            "cooling_peak_kW": _hourly_mean(self.cooling, self.step).max() / 1000.0,
+            "heat_input_kWh": self.heat_input.sum() * to_kwh,
+        }
+        table = pd.DataFrame(columns).reindex(temp.columns)
+        zones = {
+            zone: {key: float(value) for key, value in row.items()}
+            for zone, row in zip(table.index, table.to_dict("records"), strict=True)
+        }
         total_heat = self.heating.sum(axis=1)
         total_cool = self.cooling.sum(axis=1)
         return {
@@ -142,13 +144,18 @@ class SimulationResult:
             "approximations": list(self.approximations),
         }
 
-    def to_files(self, directory: str | Path, *, format: str = "csv") -> list[Path]:
+    def to_files(
+        self, directory: str | Path, *, format: str = "csv", quantities=None
+    ) -> list[Path]:
         """Write zone temperatures, heat flows and ``summary.json`` into ``directory``.
 
         Parameters
         ----------
         directory : str or Path
         format : {"csv", "parquet"}
+        quantities : sequence of str, optional
+            Which of :data:`OUTPUT_QUANTITIES` to write (default: all); a file whose
+            quantities are all left out is not written.
 
         Returns
         -------
@@ -157,36 +164,36 @@ class SimulationResult:
         """
         if format not in ("csv", "parquet"):
             raise ThermocalInputError(f"format must be 'csv' or 'parquet', got {format!r}")
+        chosen = output_quantities(quantities)
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
-        temps = pd.concat(
-            {
-                "air_temperature_C": self.air_temperature,
-                "operative_temperature_C": self.operative_temperature,
-            },
-            axis=1,
-        )
-        flows = pd.concat(
-            {
-                "heating_W": self.heating,
-                "cooling_W": self.cooling,
-                "heat_input_W": self.heat_input,
-                "transmitted_solar_W": self.transmitted_solar,
-                "infiltration_W": self.infiltration,
-            },
-            axis=1,
-        )
-        written = []
-        for name, frame in (("zone_temperatures", temps), ("zone_heat_flows", flows)):
-            flat = frame.copy()
-            flat.columns = [f"{zone}|{quantity}" for quantity, zone in flat.columns]
-            flat.index.name = "time"
-            path = directory / f"{name}.{format}"
-            if format == "csv":
-                _write_csv(flat, path)
-            else:
-                flat.to_parquet(path)
-            written.append(path)
+        jobs = []
+        for name in ("zone_temperatures", "zone_heat_flows"):
+            parts = [q for q in chosen if OUTPUT_QUANTITIES[q][0] == name]
+            if not parts:
+                continue
+            frames = [getattr(self, q) for q in parts]
+            flat = pd.DataFrame(
+                np.hstack([f.to_numpy(dtype=float) for f in frames]),
+                index=frames[0].index.rename("time"),
+                columns=[
+                    f"{zone}|{OUTPUT_QUANTITIES[q][1]}"
+                    for q, f in zip(parts, frames, strict=True)
+                    for zone in f.columns
+                ],
+            )
+            jobs.append((flat, directory / f"{name}.{format}"))
+        writer = _write_csv if format == "csv" else _write_parquet
+        if len(jobs) > 1:
+            # Arrow's writers release the GIL: the two files are written side by side
+            from concurrent.futures import ThreadPoolExecutor
+
+            with ThreadPoolExecutor(max_workers=len(jobs)) as pool:
+                list(pool.map(lambda job: writer(*job), jobs))
+        else:
+            for job in jobs:
+                writer(*job)
+        written = [path for _, path in jobs]
         path = directory / "summary.json"
         path.write_text(json.dumps(self.summary(), indent=2))
         written.append(path)
@@ -227,28 +234,48 @@ class TrackingResult:
         return frame[self.heat.columns]
 
 
-def _write_csv(frame: pd.DataFrame, path: Path, decimals: int = 4) -> None:
-    """``frame.to_csv(path, float_format="%.4f")``, about 8x faster (Arrow's CSV writer)."""
-    import csv
-    import io
+#: Quantities ``SimulationResult.to_files`` can write: name -> (file stem, column suffix).
+OUTPUT_QUANTITIES = {
+    "air_temperature": ("zone_temperatures", "air_temperature_C"),
+    "operative_temperature": ("zone_temperatures", "operative_temperature_C"),
+    "heating": ("zone_heat_flows", "heating_W"),
+    "cooling": ("zone_heat_flows", "cooling_W"),
+    "heat_input": ("zone_heat_flows", "heat_input_W"),
+    "transmitted_solar": ("zone_heat_flows", "transmitted_solar_W"),
+    "infiltration": ("zone_heat_flows", "infiltration_W"),
+}
 
-    import pyarrow as pa
-    import pyarrow.csv as pa_csv
 
-    header = io.StringIO()
-    csv.writer(header, lineterminator="\n").writerow([frame.index.name or "", *frame.columns])
-    values = np.round(frame.to_numpy(dtype=float), decimals)
-    columns = {"0": pa.array(frame.index.astype(str).to_numpy(dtype=object), type=pa.string())}
-    for j in range(values.shape[1]):
-        columns[str(j + 1)] = pa.array(values[:, j])
-    table = pa.table(columns)
-    with open(path, "wb") as handle:
-        handle.write(header.getvalue().encode())
-        pa_csv.write_csv(
-            table,
-            handle,
-            write_options=pa_csv.WriteOptions(include_header=False, quoting_style="none"),
+def output_quantities(quantities=None) -> list[str]:
+    """The quantities to write, checked against :data:`OUTPUT_QUANTITIES` (None: all).
+
+    Parameters
+    ----------
+    quantities : str or sequence of str, optional
+        Names, or one comma-separated string (``"air_temperature,heating"``).
+    """
+    if quantities is None:
+        return list(OUTPUT_QUANTITIES)
+    if isinstance(quantities, str):
+        quantities = [q.strip() for q in quantities.split(",") if q.strip()]
+    unknown = [q for q in quantities if q not in OUTPUT_QUANTITIES]
+    if unknown or not quantities:
+        raise ThermocalInputError(
+            f"output quantities {', '.join(map(repr, unknown)) or '(none given)'}: choose from "
+            f"{', '.join(OUTPUT_QUANTITIES)} (comma-separated)"
         )
+    return [q for q in OUTPUT_QUANTITIES if q in quantities]
+
+
+def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
+    frame.to_parquet(path)
+
+
+def _write_csv(frame: pd.DataFrame, path: Path) -> None:
+    """Values rounded to 4 decimals (0.1 mK, 0.1 mW), time labels as pandas prints them."""
+    from thermocal.io.csv_writer import write_frame_csv
+
+    write_frame_csv(frame, path, decimals=4)
 
 
 def _hourly_mean(frame, step: pd.Timedelta):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -260,6 +262,53 @@ def test_doe2_exterior_convection_uses_energyplus_mowitt_terms_and_smooth_glass(
             0.5 * (np.hypot(hn, 3.26 * local**0.89) + np.hypot(hn, 3.55 * local**0.617)) - hn
         )
         assert net.ext_hc0[k] == pytest.approx(expected)
+
+
+def test_tarp_and_mowitt_exterior_convection_by_hand():
+    from thermocal.multizone.network import (
+        mowitt_exterior_convection,
+        tarp_exterior_convection,
+    )
+
+    # EnergyPlus TARP outside: h_n + 2.537 W_f R_f sqrt(P V / A), W_f 1 windward / 0.5 leeward
+    h_n, wind, p_over_a = 1.5, 4.0, 0.75
+    forced = 2.537 * 1.67 * np.sqrt(0.75 * 4.0)
+    windward = tarp_exterior_convection(wind, True, h_natural=h_n, perimeter_over_area=p_over_a)
+    leeward = tarp_exterior_convection(wind, False, h_natural=h_n, perimeter_over_area=p_over_a)
+    assert windward == pytest.approx(h_n + forced)
+    assert leeward == pytest.approx(h_n + 0.5 * forced)
+    # MoWiTT: sqrt((0.84 dT^(1/3))^2 + (a V^b)^2); still air leaves the natural part
+    assert mowitt_exterior_convection(0.0, True, delta_t=8.0) == pytest.approx(0.84 * 2.0)
+    assert mowitt_exterior_convection(wind, False, delta_t=8.0) == pytest.approx(
+        np.hypot(1.68, 3.55 * wind**0.617)
+    )
+
+
+@pytest.mark.parametrize("algorithm", ["doe2", "tarp", "mowitt", "simple_combined"])
+def test_exterior_convection_follows_each_surface_wind_factor(algorithm):
+    """A sheltered wall (local wind 0) keeps only natural convection; the step series of the
+    wind-driven part is the algorithm's coefficient at the surface's own wind speed."""
+    layers = [Material("insulation", 0.04, 30.0, 1400.0, 0.1)]
+    base = box_building(layers)
+    building = Building(
+        name="box with sheltered north wall",
+        location=base.location,
+        materials=layers,
+        constructions=[Construction("wall", ("insulation",))],
+        zones=[Zone("room", 150.0, 30.0, heating_setpoint=20.0)],
+        surfaces=[
+            dataclasses.replace(s, wind_speed_factor=0.0 if s.name == "wall 0" else 0.5)
+            for s in base.surfaces.values()
+        ],
+    )
+    options = NetworkOptions(exterior_convection=algorithm)
+    net = assemble(building, 900.0, mean_wind_speed=5.0, options=options)
+    sheltered = net.ext_names.index("wall 0")
+    exposed = net.ext_names.index("wall 180")
+    assert net.ext_wind_factor[sheltered] == 0.0 and net.ext_wind_factor[exposed] == 0.5
+    calm = assemble(building, 900.0, mean_wind_speed=0.0, options=options)
+    assert net.ext_hc0[sheltered] == pytest.approx(calm.ext_hc0[sheltered])
+    assert net.ext_hc0[exposed] > calm.ext_hc0[exposed] + 0.5
 
 
 def test_window_glass_conductance_ratio_acts_as_a_conductance_in_steady_state():

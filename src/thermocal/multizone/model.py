@@ -630,6 +630,13 @@ class Surface:
     view_factor_ground : float or None [-]
         Outside view factor to the ground; default ``(1 - cos(tilt)) / 2``.
     sun_exposed, wind_exposed : bool
+    perimeter : float or None [m]
+        Perimeter of the gross surface (TARP exterior convection); default: a square of the
+        same area.
+    wind_speed_factor : float or None [-]
+        Local wind speed at the surface (its centroid height and the site's terrain) over the
+        weather station's wind speed, for the exterior convection; default
+        ``NetworkOptions.wind_speed_factor``.
     """
 
     name: str
@@ -648,10 +655,21 @@ class Surface:
     view_factor_ground: float | None = None
     sun_exposed: bool = True
     wind_exposed: bool = True
+    perimeter: float | None = None
+    wind_speed_factor: float | None = None
 
     def __post_init__(self) -> None:
         what = f"surface '{self.name}' (zone '{self.zone}')"
         self.area = _positive(self.area, f"{what}: area [m2]")
+        if self.perimeter is not None:
+            self.perimeter = _positive(self.perimeter, f"{what}: perimeter [m]")
+        if self.wind_speed_factor is not None:
+            self.wind_speed_factor = float(self.wind_speed_factor)
+            if not 0.0 <= self.wind_speed_factor <= 5.0:
+                raise ThermocalInputError(
+                    f"{what}: wind_speed_factor must lie in [0, 5] (local over station wind "
+                    f"speed), got {self.wind_speed_factor}"
+                )
         self.tilt = float(self.tilt)
         if not 0.0 <= self.tilt <= 180.0:
             raise ThermocalInputError(f"{what}: tilt must lie in [0, 180] degrees, got {self.tilt}")
@@ -671,6 +689,12 @@ class Surface:
             value = getattr(self, attr)
             if value is not None:
                 setattr(self, attr, _fraction(value, f"{what}: {attr}"))
+
+    @property
+    def perimeter_over_area(self) -> float:
+        """Perimeter over area [1/m] (a square of the same area when no perimeter is given)."""
+        perimeter = self.perimeter if self.perimeter is not None else 4.0 * math.sqrt(self.area)
+        return perimeter / self.area
 
     @property
     def ground_view_factor(self) -> float:

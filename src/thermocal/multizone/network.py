@@ -86,11 +86,13 @@ class NetworkOptions:
         correction on top of ``h_c0``), fixed ISO 6946 values, or EnergyPlus' "Simple" constants
         (walls 3.076, ceilings 4.040, floors 0.948 W/(m2 K): heat flowing from the air to colder
         surfaces, as the ISO option).
-    exterior_convection : {"doe2", "fixed", "simple_combined"}
-        DOE-2 wind-dependent exterior convection (EnergyPlus' default), ``h_exterior_fixed``, or
-        EnergyPlus' "SimpleCombined": a combined convective + radiative coefficient
-        ``D + E V + F V^2`` by roughness, all of it to the outdoor air temperature (no sky
-        long-wave exchange), :func:`simple_combined_exterior_coefficient`.
+    exterior_convection : {"doe2", "tarp", "mowitt", "fixed", "simple_combined"}
+        Wind-dependent exterior convection as EnergyPlus names it: "doe2" (its default,
+        :func:`doe2_exterior_convection`), "tarp" (:func:`tarp_exterior_convection`), "mowitt"
+        (:func:`mowitt_exterior_convection`); ``h_exterior_fixed``; or EnergyPlus'
+        "SimpleCombined": a combined convective + radiative coefficient ``D + E V + F V^2`` by
+        roughness, all of it to the outdoor air temperature (no sky long-wave exchange),
+        :func:`simple_combined_exterior_coefficient`.
     h_exterior_fixed : float [W/(m2 K)]
         Exterior convective coefficient of the "fixed" option.
     h_interior_fixed : float or None [W/(m2 K)]
@@ -110,7 +112,9 @@ class NetworkOptions:
         glass, 1.0.
     wind_speed_factor : float [-]
         Local (surface-height) wind speed over the weather-station wind speed (EnergyPlus,
-        terrain "country", ~3 m high: ``(3/10)^0.14 = 0.845``).
+        terrain "country", ~3 m high: ``(3/10)^0.14 = 0.845``), for surfaces that give no
+        ``wind_speed_factor`` of their own (the IDF importer gives each surface the factor of
+        its centroid height and the site's terrain).
     ground_contact_conductance : float [W/(m2 K)]
         Contact conductance between a ground face and the ground temperature.
     radiant_temperature : float [C]
@@ -139,10 +143,10 @@ class NetworkOptions:
                 "interior_convection must be 'tarp', 'fixed' or 'simple', got "
                 f"{self.interior_convection!r}"
             )
-        if self.exterior_convection not in ("doe2", "fixed", "simple_combined"):
+        if self.exterior_convection not in (*WIND_DRIVEN_EXTERIOR, "fixed", "simple_combined"):
             raise ThermocalInputError(
-                "exterior_convection must be 'doe2', 'fixed' or 'simple_combined', got "
-                f"{self.exterior_convection!r}"
+                "exterior_convection must be 'doe2', 'tarp', 'mowitt', 'fixed' or "
+                f"'simple_combined', got {self.exterior_convection!r}"
             )
 
 
@@ -299,6 +303,117 @@ def doe2_exterior_convection(wind_speed, windward, *, h_natural, roughness_facto
     b = np.where(windward, MOWITT_WINDWARD[1], MOWITT_LEEWARD[1])
     h_glass = np.sqrt(h_natural**2 + (a * wind_speed**b) ** 2)
     return h_natural + roughness_factor * (h_glass - h_natural)
+
+
+#: TARP forced-convection constant of ``2.537 W_f R_f sqrt(P V / A)`` (Sparrow, Ramsey and
+#: Mass 1979, as EnergyPlus' "TARP" outside algorithm uses it).
+TARP_FORCED = 2.537
+#: MoWiTT natural-convection constant ``C_t`` [W/(m2 K^(4/3))] (Yazdanian and Klems 1994).
+MOWITT_NATURAL = 0.84
+#: Exterior algorithms whose coefficient follows the wind each step.
+WIND_DRIVEN_EXTERIOR = ("doe2", "tarp", "mowitt")
+#: Surface-air temperature difference at which the natural parts are evaluated [K].
+NOMINAL_EXTERIOR_DELTA_T = 3.0
+
+
+def tarp_exterior_convection(
+    wind_speed, windward, *, h_natural, perimeter_over_area, roughness_factor=1.67
+):
+    """Exterior convection coefficient of EnergyPlus' "TARP" outside algorithm [W/(m2 K)].
+
+    ``h = h_n + 2.537 W_f R_f sqrt(P V / A)``, ``W_f`` 1 windward and 0.5 leeward.
+
+    Parameters
+    ----------
+    wind_speed : array-like [m/s]
+        Local wind speed at the surface.
+    windward : array-like of bool
+    h_natural : array-like [W/(m2 K)]
+        Natural convection part (TARP / Walton).
+    perimeter_over_area : array-like [1/m]
+        Perimeter over area of the surface.
+    roughness_factor : array-like [-]
+        Roughness multiplier (2.17 very rough ... 1.0 very smooth).
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference, "Outside Surface Heat Balance: TARP algorithm";
+       Sparrow, E.M., Ramsey, J.W. and Mass, E.A. (1979), "Effect of finite width on heat
+       transfer and fluid flow about an inclined rectangular plate", J. Heat Transfer 101.
+    """
+    wind_speed = np.maximum(np.asarray(wind_speed, dtype=float), 0.0)
+    w_f = np.where(windward, 1.0, 0.5)
+    forced = TARP_FORCED * w_f * roughness_factor * np.sqrt(perimeter_over_area * wind_speed)
+    return h_natural + forced
+
+
+def mowitt_exterior_convection(wind_speed, windward, *, delta_t=NOMINAL_EXTERIOR_DELTA_T):
+    """Exterior convection coefficient of EnergyPlus' "MoWiTT" outside algorithm [W/(m2 K)].
+
+    ``h = sqrt((C_t dT^(1/3))^2 + (a V^b)^2)`` with ``C_t = 0.84`` and the smooth-surface
+    ``a, b`` of :data:`MOWITT_WINDWARD` / :data:`MOWITT_LEEWARD` (no roughness: MoWiTT was
+    measured on smooth glazing).
+
+    Parameters
+    ----------
+    wind_speed : array-like [m/s]
+        Local wind speed at the surface.
+    windward : array-like of bool
+    delta_t : float [K]
+        Surface-air temperature difference of the natural part.
+
+    References
+    ----------
+    .. [1] Yazdanian, M. and Klems, J.H. (1994), "Measurement of the exterior convective film
+       coefficient for windows in low-rise buildings", ASHRAE Transactions 100(1);
+       EnergyPlus Engineering Reference, "Outside Surface Heat Balance: MoWiTT model".
+    """
+    wind_speed = np.maximum(np.asarray(wind_speed, dtype=float), 0.0)
+    a = np.where(windward, MOWITT_WINDWARD[0], MOWITT_LEEWARD[0])
+    b = np.where(windward, MOWITT_WINDWARD[1], MOWITT_LEEWARD[1])
+    natural = MOWITT_NATURAL * abs(delta_t) ** (1.0 / 3.0)
+    return np.sqrt(natural**2 + (a * wind_speed**b) ** 2)
+
+
+def exterior_convection(
+    algorithm, wind_speed, windward, *, h_natural, roughness_factor, perimeter_over_area
+):
+    """Exterior convection coefficient of a wind-driven algorithm [W/(m2 K)].
+
+    Parameters
+    ----------
+    algorithm : {"doe2", "tarp", "mowitt"}
+    wind_speed : array-like [m/s]
+        Local wind speed at the surface.
+    windward : array-like of bool
+    h_natural : array-like [W/(m2 K)]
+        Natural part (TARP) of "doe2" and "tarp".
+    roughness_factor : array-like [-]
+    perimeter_over_area : array-like [1/m]
+        Used by "tarp".
+    """
+    if algorithm == "doe2":
+        return doe2_exterior_convection(
+            wind_speed, windward, h_natural=h_natural, roughness_factor=roughness_factor
+        )
+    if algorithm == "tarp":
+        return tarp_exterior_convection(
+            wind_speed,
+            windward,
+            h_natural=h_natural,
+            perimeter_over_area=perimeter_over_area,
+            roughness_factor=roughness_factor,
+        )
+    if algorithm == "mowitt":
+        return mowitt_exterior_convection(wind_speed, windward)
+    raise ValueError(f"not a wind-driven exterior algorithm: {algorithm!r}")
+
+
+def _wind_factor(surface, options) -> float:
+    """Local over station wind speed of a surface (its own, or the options' default) [-]."""
+    if surface.wind_speed_factor is not None:
+        return float(surface.wind_speed_factor)
+    return float(options.wind_speed_factor)
 
 
 def mrt_network_conductances(area, emissivity, h_black):
@@ -464,6 +579,8 @@ class Network:
     ext_view_air: np.ndarray  # F_ground + F_sky (1 - beta) (sees outdoor-air temperature)
     ext_h_natural: np.ndarray
     ext_roughness: np.ndarray  # DOE-2 roughness multiplier [-]
+    ext_wind_factor: np.ndarray  # local over station wind speed [-]
+    ext_perimeter_over_area: np.ndarray  # [1/m]
     ext_hc0: np.ndarray
     ext_hr0: float
     ext_capacity: np.ndarray  # node capacity per m2 [J/(m2 K)]
@@ -604,6 +721,8 @@ def assemble(
     e_name, e_node, e_area, e_tilt, e_az, e_eps, e_fg, e_alpha, e_cap, e_sun, e_rough = (
         [] for _ in range(11)
     )
+    e_wind: list[float] = []  # local over station wind speed [-]
+    e_pa: list[float] = []  # perimeter over area [1/m]
     surface_nodes: dict[str, tuple[int, int]] = {}  # name -> (outside node, inside node)
 
     def face_props(surface, layers, inside: bool):
@@ -678,6 +797,8 @@ def assemble(
                 if outer_roughness is None
                 else ROUGHNESS_FACTORS[outer_roughness]
             )
+            e_wind.append(_wind_factor(surface, options))
+            e_pa.append(surface.perimeter_over_area)
         # adiabatic: nothing on the outside
 
     # ---- windows -----------------------------------------------------------------------------
@@ -726,6 +847,8 @@ def assemble(
         e_cap.append(0.0)
         e_sun.append(False)
         e_rough.append(GLASS_ROUGHNESS_FACTOR)
+        e_wind.append(_wind_factor(host, options))
+        e_pa.append(4.0 / math.sqrt(window.area))  # a square window
 
     face_node = np.asarray(f_node, dtype=np.int64)
     face_zone = np.asarray(f_zone, dtype=np.int64)
@@ -826,31 +949,39 @@ def assemble(
         view_air = np.ones_like(view_air)
     cos_tilt = np.cos(np.radians(ext_tilt))
     # natural part of the exterior convection at a nominal 3 K difference
+    dt_nominal = NOMINAL_EXTERIOR_DELTA_T
     h_natural = np.where(
         np.abs(cos_tilt) < 0.02,
-        tarp_natural_convection(3.0, 0.0),
-        0.5 * (tarp_natural_convection(3.0, cos_tilt) + tarp_natural_convection(-3.0, cos_tilt)),
+        tarp_natural_convection(dt_nominal, 0.0),
+        0.5
+        * (
+            tarp_natural_convection(dt_nominal, cos_tilt)
+            + tarp_natural_convection(-dt_nominal, cos_tilt)
+        ),
     )
     ext_rough = np.asarray(e_rough, dtype=float)
-    if options.exterior_convection == "doe2":
-        local_wind = mean_wind_speed * options.wind_speed_factor
+    ext_wind = np.asarray(e_wind, dtype=float)
+    ext_pa = np.asarray(e_pa, dtype=float)
+    if options.exterior_convection in WIND_DRIVEN_EXTERIOR:
+        local_wind = mean_wind_speed * ext_wind
         # average of windward and leeward at the mean wind speed
-        hc0 = 0.5 * (
-            doe2_exterior_convection(
-                local_wind, True, h_natural=h_natural, roughness_factor=ext_rough
+        hc0 = 0.5 * sum(
+            exterior_convection(
+                options.exterior_convection,
+                local_wind,
+                windward,
+                h_natural=h_natural,
+                roughness_factor=ext_rough,
+                perimeter_over_area=ext_pa,
             )
-            + doe2_exterior_convection(
-                local_wind, False, h_natural=h_natural, roughness_factor=ext_rough
-            )
+            for windward in (True, False)
         )
     else:
         hc0 = np.full(len(ext_node), float(options.h_exterior_fixed))
     t_mean = mean_outdoor_temperature + 273.15
     hr0 = 4.0 * STEFAN_BOLTZMANN * t_mean**3
     if options.exterior_convection == "simple_combined":
-        combined = simple_combined_exterior_coefficient(
-            mean_wind_speed * options.wind_speed_factor, ext_rough
-        )
+        combined = simple_combined_exterior_coefficient(mean_wind_speed * ext_wind, ext_rough)
         hc0 = np.maximum(combined - hr0 * ext_eps, 0.0)
     for k in range(len(ext_node)):
         node = int(ext_node[k])
@@ -975,6 +1106,8 @@ def assemble(
         ext_view_air=view_air,
         ext_h_natural=h_natural,
         ext_roughness=ext_rough,
+        ext_wind_factor=ext_wind,
+        ext_perimeter_over_area=ext_pa,
         ext_hc0=np.asarray(hc0, dtype=float),
         ext_hr0=float(hr0),
         ext_capacity=np.asarray(e_cap, dtype=float),

@@ -37,7 +37,7 @@ from thermocal.multizone.network import (
     NetworkOptions,
     air_density,
     assemble,
-    doe2_exterior_convection,
+    exterior_convection,
     pressure_at_altitude,
 )
 
@@ -871,40 +871,52 @@ class Simulation:
         return out
 
     def _exterior_convection_excess(self) -> np.ndarray:
-        """DOE-2 exterior convection minus its matrix part, per step and face [W/(m2 K)]."""
+        """Wind-driven exterior convection minus its matrix part, per step and face [W/(m2 K)]."""
         net = self.network
         grid = self._grid
         n_steps = len(grid)
         if self.options.exterior_convection == "fixed" or not len(net.ext_node):
             return np.zeros((n_steps, len(net.ext_node)))
-        wind = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
-        wind = np.nan_to_num(wind) * self.options.wind_speed_factor
+        station = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
+        station = np.nan_to_num(station)
         if self.options.exterior_convection == "simple_combined":
             from thermocal.multizone.network import simple_combined_exterior_coefficient
 
-            rough, inverse = np.unique(np.round(net.ext_roughness, 6), return_inverse=True)
-            hc = simple_combined_exterior_coefficient(wind[:, None], rough[None, :])
-            hc = np.maximum(hc[:, np.ravel(inverse)] - net.ext_hr0 * net.ext_emissivity, 0.0)
-            return np.ascontiguousarray(hc - net.ext_hc0[None, :])
+            keys = np.stack([net.ext_roughness, net.ext_wind_factor], axis=1)
+            unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
+            rough, factor = unique.T
+            hc = simple_combined_exterior_coefficient(station[:, None] * factor, rough[None, :])
+            hc = hc[:, np.ravel(inverse)] - net.ext_hr0 * net.ext_emissivity
+            return np.ascontiguousarray(np.maximum(hc, 0.0) - net.ext_hc0[None, :])
         if "wind_direction" in grid:
             direction = np.nan_to_num(grid["wind_direction"].to_numpy())
         else:
             direction = np.zeros(n_steps)
-        # faces of equal orientation share the series: compute per orientation, then broadcast
+        # faces of equal orientation and exposure share the series: compute per class, broadcast
         keys = np.stack(
-            [net.ext_tilt, net.ext_azimuth, net.ext_hc0, net.ext_h_natural, net.ext_roughness],
+            [
+                net.ext_tilt,
+                net.ext_azimuth,
+                net.ext_hc0,
+                net.ext_h_natural,
+                net.ext_roughness,
+                net.ext_wind_factor,
+                net.ext_perimeter_over_area,
+            ],
             axis=1,
         )
         unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
-        tilt, azimuth, hc0, h_natural, roughness = unique.T
+        tilt, azimuth, hc0, h_natural, roughness, factor, p_over_a = unique.T
         diff = np.abs((direction[:, None] - azimuth[None, :] + 180.0) % 360.0 - 180.0)
         horizontal = (tilt < 10.0) | (tilt > 170.0)
         windward = (diff <= 100.0) | horizontal[None, :]
-        hc = doe2_exterior_convection(
-            wind[:, None],
+        hc = exterior_convection(
+            self.options.exterior_convection,
+            station[:, None] * factor[None, :],
             windward,
             h_natural=h_natural[None, :],
             roughness_factor=roughness[None, :],
+            perimeter_over_area=p_over_a[None, :],
         )
         return np.ascontiguousarray((hc - hc0[None, :])[:, np.ravel(inverse)])
 
@@ -1653,7 +1665,10 @@ def _weather_grid(
 #: the step start in ``temp_air``; the step value is ``temp_air_mean``).
 _STEP_END_COLUMNS = ("temp_dew", "relative_humidity", "pressure", "wind_speed", "wind_direction")
 #: Irradiance columns interpolated between the hourly values placed at the half hours.
-_HALF_HOUR_COLUMNS = ("ghi", "dni", "dhi", "ghi_infrared")
+_HALF_HOUR_COLUMNS = ("ghi", "dni", "dhi")
+#: Interval columns of the weather frame that EnergyPlus interpolates as instants at the hour's
+#: end (the EPW horizontal infrared of hour h as the value at h:00, like the temperatures).
+_HOUR_END_COLUMNS = ("ghi_infrared",)
 
 
 def _energyplus_weather(weather: pd.DataFrame, step: pd.Timedelta) -> pd.DataFrame:
@@ -1684,6 +1699,10 @@ def _energyplus_weather(weather: pd.DataFrame, step: pd.Timedelta) -> pd.DataFra
     for column in _HALF_HOUR_COLUMNS:
         if column in grid:
             grid[column] = np.interp(ends, middles, weather[column].to_numpy(dtype=float))
+    hour_ends = (weather.index + hour).asi8.astype(float)
+    for column in _HOUR_END_COLUMNS:
+        if column in grid:
+            grid[column] = np.interp(ends, hour_ends, weather[column].to_numpy(dtype=float))
     for column in _STEP_END_COLUMNS:
         if column in grid:
             values = grid[column].to_numpy(dtype=float)

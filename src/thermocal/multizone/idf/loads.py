@@ -1,0 +1,535 @@
+"""Internal gains, infiltration and thermostats of an IDF file.
+
+Stages of the import (:class:`LoadStages`, mixed into the builder of
+:func:`thermocal.multizone.idf.read_idf`): ``ZoneInfiltration:DesignFlowRate`` (constant
+air-change rate at :data:`INFILTRATION_REFERENCE_WIND_SPEED`, plus the per-step terms in
+:class:`InfiltrationInfo`), ``People`` / ``Lights`` / ``ElectricEquipment`` / ``OtherEquipment``
+(:class:`InternalGainInfo`) and the set points of ``ZoneControl:Thermostat`` with
+``ThermostatSetpoint:*`` and of ``HVACTemplate:Thermostat``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.idf.parse import IdfObject, _is_auto, _number
+from thermocal.multizone.idf.schedules import UnsupportedScheduleError
+
+#: Reference wind speed [m/s] at which the wind terms of ZoneInfiltration:DesignFlowRate are
+#: evaluated when converting to a constant air-change rate: 4.47 m/s (10 mph), the speed at which
+#: the DOE-2 coefficient set (A, B, C, D) = (0, 0, 0.224, 0) gives the design flow.
+INFILTRATION_REFERENCE_WIND_SPEED = 4.47
+
+
+#: Sensible heat per person [-] of People objects with an autocalculated sensible fraction.
+DEFAULT_PEOPLE_SENSIBLE_FRACTION = 0.6
+
+#: Zone temperature [C] at which the autocalculated People sensible heat is evaluated.
+PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE = 22.0
+
+
+@dataclass
+class InternalGainInfo:
+    """One internal-gain object of the file, resolved for one zone.
+
+    Attributes
+    ----------
+    object_class, name, zone : str
+    design_level : float [W]
+        Sensible design level (latent and lost fractions removed).
+    radiant_fraction : float [-]
+        Radiant (long-wave + visible) share of the sensible gain.
+    schedule : str or None
+        Fraction schedule (People: number-of-people schedule).
+    annual_mean : float [W]
+        ``design_level`` x time-weighted annual mean of the schedule.
+    """
+
+    object_class: str
+    name: str
+    zone: str
+    design_level: float
+    radiant_fraction: float
+    schedule: str | None
+    annual_mean: float
+    people_count: float = 0.0
+    activity_schedule: str | None = None
+    sensible_fraction: float | None = None
+    latent_level: float = 0.0
+
+
+def people_sensible_heat(activity, temperature=PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE):
+    """Sensible heat per person [W] of EnergyPlus' autocalculated People sensible fraction.
+
+    Parameters
+    ----------
+    activity : float or ndarray [W/person]
+        Total metabolic heat (the Activity Level schedule).
+    temperature : float or ndarray [C]
+        Zone air temperature.
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, "People" (sensible heat gain from occupants, polynomial
+    fit of the ASHRAE Handbook table).
+    """
+    m = np.asarray(activity, dtype=float)
+    t = np.asarray(temperature, dtype=float)
+    value = (
+        6.461927
+        + 0.946892 * m
+        + 0.0000255737 * m**2
+        + 7.139322 * t
+        - 0.0627909 * t * m
+        + 0.0000589172 * t * m**2
+        - 0.198550 * t**2
+        + 0.000940018 * t**2 * m
+        - 0.00000149532 * t**2 * m**2
+    )
+    return np.clip(value, 0.0, m)
+
+
+@dataclass
+class InfiltrationInfo:
+    """One ``ZoneInfiltration:DesignFlowRate`` object resolved for one zone.
+
+    The flow is ``design_flow x schedule x (A + B |T_zone - T_out| + C v + D v^2)`` with ``v``
+    the wind speed at the zone's centroid height (EnergyPlus' zone local wind speed).
+
+    Attributes
+    ----------
+    name, zone : str
+    design_flow : float [m3/s]
+    schedule : str or None
+    coefficients : tuple of float
+        ``(A, B, C, D)``: constant [-], temperature [1/K], wind [s/m], wind squared [s2/m2].
+    """
+
+    name: str
+    zone: str
+    design_flow: float
+    schedule: str | None
+    coefficients: tuple[float, float, float, float]
+
+
+#: Wind boundary-layer exponent and thickness [m] per terrain (EnergyPlus ``Building`` field
+#: Terrain; ASHRAE Handbook of Fundamentals 2005, ch. 16, Table 1).
+TERRAIN_WIND_PROFILE = {
+    "COUNTRY": (0.14, 270.0),
+    "SUBURBS": (0.22, 370.0),
+    "CITY": (0.33, 460.0),
+    "OCEAN": (0.10, 210.0),
+    "URBAN": (0.22, 370.0),
+}
+#: Weather station: exponent, boundary-layer thickness [m], anemometer height [m].
+WEATHER_STATION_WIND_PROFILE = (0.14, 270.0, 10.0)
+
+
+def local_wind_factor(height: float, terrain: str = "Suburbs") -> float:
+    """Ratio of the wind speed at ``height`` [m] to the weather station's [-] (EnergyPlus).
+
+    ``(delta_met / z_met)^a_met x (z / delta)^a`` with the terrain's exponent ``a`` and
+    boundary-layer thickness ``delta``; 0 at or below the ground.
+    """
+    a, delta = TERRAIN_WIND_PROFILE.get(terrain.upper(), TERRAIN_WIND_PROFILE["SUBURBS"])
+    a_met, delta_met, z_met = WEATHER_STATION_WIND_PROFILE
+    if height <= 0.0:
+        return 0.0
+    return (delta_met / z_met) ** a_met * (height / delta) ** a
+
+
+class LoadStages:
+    """Stages ``_infiltration``, ``_internal_gains`` and ``_setpoints`` of the builder.
+
+    They set ``zone_ach``, ``zone_infiltration_group``, ``zone_gains``, ``zone_radiant`` and
+    ``setpoints``; they fill ``info.infiltration``, ``info.internal_gains``,
+    ``info.setpoint_schedules`` and the wind and volume tables of ``info``.
+    """
+
+    def _infiltration(self) -> None:
+        """Stage: infiltration."""
+        building_rec = self.single("BUILDING")
+        terrain = (building_rec["terrain"] if building_rec is not None else "") or "Suburbs"
+        if terrain.upper() not in TERRAIN_WIND_PROFILE:
+            raise ThermocalInputError(
+                f"{building_rec['_object'].where()}: field 'Terrain' = '{terrain}' is not one of "
+                "Country, Suburbs, City, Ocean, Urban."
+            )
+        moments: dict[str, list[float]] = {}
+        for data in self.surface_data.values():
+            m = moments.setdefault(data["zone"], [0.0, 0.0])
+            m[0] += data["area"] * float(np.mean(data["world"][:, 2]))
+            m[1] += data["area"]
+        for zone_name, (za, area) in moments.items():
+            height = za / area if area > 0 else 0.0
+            self.info.zone_wind_factor[zone_name] = local_wind_factor(height, terrain)
+        self.info.zone_volume = dict(self.zone_volume)
+        self.zone_ach: dict[str, float] = {}
+        self.zone_infiltration_group: dict[str, str] = {}
+        exterior_area: dict[str, float] = {}
+        exterior_wall_area: dict[str, float] = {}
+        for data in self.surface_data.values():
+            if data["boundary"] == "outdoors":
+                exterior_area[data["zone"]] = exterior_area.get(data["zone"], 0.0) + data["area"]
+                if data["type"].upper() == "WALL":
+                    exterior_wall_area[data["zone"]] = (
+                        exterior_wall_area.get(data["zone"], 0.0) + data["area"]
+                    )
+        for rec in self.records("ZONEINFILTRATION:DESIGNFLOWRATE"):
+            obj = rec["_object"]
+            method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
+            coefficients = [
+                _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
+                _number(rec, "temperature_term_coefficient", default=0.0),
+                _number(rec, "velocity_term_coefficient", default=0.0),
+                _number(rec, "velocity_squared_term_coefficient", default=0.0),
+            ]
+            v = INFILTRATION_REFERENCE_WIND_SPEED
+            factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
+            targets = self.zone_targets(rec)
+            for zone_name in targets:
+                volume = self.zone_volume[zone_name]
+                if method in ("FLOW/ZONE",):
+                    flow = _number(rec, "design_flow_rate")
+                elif method == "FLOW/AREA":
+                    flow = _number(rec, "flow_per_zone_floor_area") * self.zone_area[zone_name]
+                elif method == "FLOW/EXTERIORAREA":
+                    flow = _number(rec, "flow_per_exterior_surface_area") * exterior_area.get(
+                        zone_name, 0.0
+                    )
+                elif method == "FLOW/EXTERIORWALLAREA":
+                    flow = _number(rec, "flow_per_exterior_surface_area") * exterior_wall_area.get(
+                        zone_name, 0.0
+                    )
+                elif method in ("AIRCHANGES/HOUR", "AIRCHANGESPERHOUR"):
+                    flow = _number(rec, "air_changes_per_hour") * volume / 3600.0
+                else:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Design Flow Rate Calculation Method' = "
+                        f"'{rec['design_flow_rate_calculation_method']}' is not one of Flow/Zone, "
+                        "Flow/Area, Flow/ExteriorArea, Flow/ExteriorWallArea, AirChanges/Hour."
+                    )
+                if flow < 0:
+                    raise ThermocalInputError(f"{obj.where()}: the design flow rate is negative.")
+                self.zone_ach[zone_name] = (
+                    self.zone_ach.get(zone_name, 0.0) + flow * 3600.0 / volume * factor
+                )
+                self.info.infiltration.append(
+                    InfiltrationInfo(
+                        rec["name"],
+                        zone_name,
+                        flow,
+                        rec["schedule_name"] or None,
+                        tuple(coefficients),
+                    )
+                )
+                if len(targets) > 1:
+                    self.zone_infiltration_group[zone_name] = rec["name"]
+                schedule = rec["schedule_name"]
+                if schedule:
+                    self.info.infiltration_schedules.setdefault(zone_name, []).append(schedule)
+                    try:
+                        low, high = self.schedules.value_range(schedule)
+                    except UnsupportedScheduleError:
+                        low, high = (math.nan, math.nan)
+                    if not (low == high == 1.0):
+                        self.info.notes.append(
+                            f"infiltration '{rec['name']}' (zone "
+                            f"{zone_name}): schedule '{schedule}' "
+                            f"(range {low:g}..{high:g}): the constant zone rate "
+                            "(schedules='constant') ignores it"
+                        )
+        self.info.zone_nominal_ach = dict(self.zone_ach)
+        for rec in self.records("ZONEINFILTRATION:DESIGNFLOWRATE"):
+            coefficients = [
+                _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
+                _number(rec, "temperature_term_coefficient", default=0.0),
+                _number(rec, "velocity_term_coefficient", default=0.0),
+                _number(rec, "velocity_squared_term_coefficient", default=0.0),
+            ]
+            v = INFILTRATION_REFERENCE_WIND_SPEED
+            factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
+            if coefficients != [1.0, 0.0, 0.0, 0.0]:
+                self.info.notes.append(
+                    f"infiltration '{rec['name']}': coefficients (A, B, C, D) = "
+                    f"{tuple(coefficients)} evaluated at wind {v} m/s and dT = 0 (factor "
+                    f"{factor:.3f}) for the constant zone rate (schedules='constant')"
+                )
+
+    def _internal_gains(self) -> None:
+        """Stage: internal gains."""
+        people_count: dict[str, float] = {}
+        for rec in self.records("PEOPLE"):
+            for zone_name in self.zone_targets(rec):
+                people_count[zone_name] = people_count.get(zone_name, 0.0) + _people_number(
+                    rec, self.zone_area[zone_name]
+                )
+        for key in ("OTHEREQUIPMENT", "ELECTRICEQUIPMENT", "LIGHTS", "PEOPLE"):
+            for rec in self.records(key):
+                for zone_name in self.zone_targets(rec):
+                    gain = _internal_gain(
+                        rec,
+                        zone_name,
+                        self.zone_area[zone_name],
+                        people_count.get(zone_name, 0.0),
+                        self.schedules,
+                    )
+                    self.info.internal_gains.append(gain)
+        self.zone_gains: dict[str, float] = {}
+        self.zone_radiant: dict[str, float] = {}
+        for gain in self.info.internal_gains:
+            self.zone_gains[gain.zone] = self.zone_gains.get(gain.zone, 0.0) + gain.annual_mean
+            self.zone_radiant[gain.zone] = (
+                self.zone_radiant.get(gain.zone, 0.0) + gain.annual_mean * gain.radiant_fraction
+            )
+            if gain.schedule is not None:
+                try:
+                    low, high = self.schedules.value_range(gain.schedule)
+                except UnsupportedScheduleError:
+                    low, high = math.nan, math.nan
+                if low != high:
+                    self.info.notes.append(
+                        f"{gain.object_class} '{gain.name}' (zone {gain.zone}): schedule "
+                        f"'{gain.schedule}' varies ({low:g}..{high:g}); its annual mean gives the "
+                        "constant internal gain of schedules='constant'"
+                    )
+
+    def _setpoints(self) -> None:
+        """Stage: thermostats."""
+        self.setpoints = _thermostats(
+            self.records, self.zones, self.zone_lists, self.schedules, self.info
+        )
+        hvac = sorted(
+            cls
+            for cls in self.info.unsupported
+            if cls.upper().startswith(("ZONEHVAC:", "AIRLOOPHVAC", "AIRTERMINAL:", "PLANTLOOP"))
+        )
+        if self.setpoints and hvac:
+            self.info.notes.append(
+                f"HVAC equipment ({', '.join(hvac[:3])}{', ...' if len(hvac) > 3 else ''}) is not "
+                "modelled: thermostatted zones get ideal heating/cooling at their set points"
+            )
+
+
+def _all_blank(rec: dict) -> bool:
+    return all(
+        rec.get(n, "") == ""
+        for n in (
+            "constant_term_coefficient",
+            "temperature_term_coefficient",
+            "velocity_term_coefficient",
+            "velocity_squared_term_coefficient",
+        )
+    )
+
+
+def _people_number(rec: dict, floor_area: float) -> float:
+    obj = rec["_object"]
+    method = (rec["number_of_people_calculation_method"] or "People").upper()
+    if method == "PEOPLE":
+        return _number(rec, "number_of_people")
+    if method == "PEOPLE/AREA":
+        return _number(rec, "people_per_zone_floor_area") * floor_area
+    if method == "AREA/PERSON":
+        per = _number(rec, "zone_floor_area_per_person")
+        return floor_area / per if per > 0 else 0.0
+    raise ThermocalInputError(
+        f"{obj.where()}: field 'Number of People Calculation Method' = "
+        f"'{rec['number_of_people_calculation_method']}' is not People, People/Area or Area/Person."
+    )
+
+
+def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGainInfo:
+    obj: IdfObject = rec["_object"]
+    if obj.key == "PEOPLE":
+        count = _people_number(rec, floor_area)
+        activity_schedule = rec["activity_level_schedule_name"] or None
+        try:
+            activity = schedules.annual_mean(activity_schedule) if activity_schedule else 120.0
+        except UnsupportedScheduleError as exc:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Activity Level Schedule Name': {exc}"
+            ) from None
+        if _is_auto(rec, "sensible_heat_fraction"):
+            sensible_fraction = None
+            sensible = float(people_sensible_heat(activity)) / activity if activity > 0 else 0.0
+        else:
+            sensible_fraction = sensible = _number(rec, "sensible_heat_fraction")
+        design = count * activity * sensible
+        latent_level = count * activity * (1.0 - sensible)
+        radiant = _number(rec, "fraction_radiant", default=0.3)
+        schedule = rec["number_of_people_schedule_name"] or None
+    else:
+        method = (rec["design_level_calculation_method"] or "").upper()
+        if method in ("EQUIPMENTLEVEL", "LIGHTINGLEVEL"):
+            level = _number(rec, "design_level")
+        elif method in ("WATTS/AREA", "POWER/AREA"):
+            level = _number(rec, "power_per_zone_floor_area") * floor_area
+        elif method in ("WATTS/PERSON", "POWER/PERSON"):
+            level = _number(rec, "power_per_person") * people
+        else:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Design Level Calculation Method' = "
+                f"'{rec['design_level_calculation_method']}' is not supported."
+            )
+        if obj.key == "LIGHTS":
+            lost = 0.0
+            radiant_total = _number(rec, "fraction_radiant", default=0.0) + _number(
+                rec, "fraction_visible", default=0.0
+            )
+        else:
+            lost = _number(rec, "fraction_latent", default=0.0) + _number(
+                rec, "fraction_lost", default=0.0
+            )
+            radiant_total = _number(rec, "fraction_radiant", default=0.0)
+        sensible_share = max(1.0 - lost, 0.0)
+        design = level * sensible_share
+        radiant = min(radiant_total / sensible_share, 1.0) if sensible_share > 0 else 0.0
+        schedule = rec["schedule_name"] or None
+        count = 0.0
+        activity_schedule = sensible_fraction = None
+        latent_level = level * (
+            _number(rec, "fraction_latent", default=0.0) if obj.key != "LIGHTS" else 0.0
+        )
+    mean_factor = 1.0
+    if schedule is not None:
+        try:
+            mean_factor = schedules.annual_mean(schedule)
+        except UnsupportedScheduleError as exc:
+            raise ThermocalInputError(f"{obj.where()}: {exc}") from None
+    return InternalGainInfo(
+        object_class=obj.class_name,
+        name=rec["name"],
+        zone=zone_name,
+        design_level=design,
+        radiant_fraction=radiant,
+        schedule=schedule,
+        annual_mean=design * mean_factor,
+        people_count=count,
+        activity_schedule=activity_schedule,
+        sensible_fraction=sensible_fraction,
+        latent_level=latent_level,
+    )
+
+
+def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
+    """Zone -> (heating set point, cooling set point) from the thermostat objects."""
+    setpoint_objects: dict[str, dict] = {}
+    for rec in records(
+        "THERMOSTATSETPOINT:DUALSETPOINT",
+        "THERMOSTATSETPOINT:SINGLEHEATING",
+        "THERMOSTATSETPOINT:SINGLECOOLING",
+        "THERMOSTATSETPOINT:SINGLEHEATINGORCOOLING",
+    ):
+        setpoint_objects[rec["name"].upper()] = rec
+    result: dict[str, tuple[float | None, float | None]] = {}
+
+    def constant(schedule: str | None, obj: IdfObject, what: str) -> float | None:
+        if not schedule:
+            return None
+        try:
+            low, high = schedules.value_range(schedule)
+            value = schedules.mode(schedule)
+        except UnsupportedScheduleError as exc:
+            raise ThermocalInputError(f"{obj.where()}: {exc}") from None
+        if low != high:
+            info.notes.append(
+                f"{obj.where()}: {what} schedule '{schedule}' varies ({low:g}..{high:g} C); the "
+                f"value in effect most of the year ({value:g} C) is the constant set point of "
+                "schedules='constant'"
+            )
+        return value
+
+    for rec in records("ZONECONTROL:THERMOSTAT"):
+        obj = rec["_object"]
+        target = rec["zone_name"]
+        entry = zones.get(target)
+        targets = [entry[0]] if entry is not None else zone_lists.get(target.upper())
+        if not targets:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Zone or ZoneList Name' = '{target}' is not a zone."
+            )
+        control_types = {}
+        for group in rec["controls"]:
+            if len(group) == 2 and group[1]:
+                control_types[group[0].upper()] = group[1]
+        control_schedule = rec["control_type_schedule_name"]
+        try:
+            mode = int(round(schedules.mode(control_schedule))) if control_schedule else 4
+        except UnsupportedScheduleError as exc:
+            raise ThermocalInputError(f"{obj.where()}: {exc}") from None
+        wanted = {
+            1: "THERMOSTATSETPOINT:SINGLEHEATING",
+            2: "THERMOSTATSETPOINT:SINGLECOOLING",
+            3: "THERMOSTATSETPOINT:SINGLEHEATINGORCOOLING",
+            4: "THERMOSTATSETPOINT:DUALSETPOINT",
+        }.get(mode)
+        if control_schedule:
+            low, high = schedules.value_range(control_schedule)
+            if low != high:
+                info.notes.append(
+                    f"{obj.where()}: control type schedule varies; control type {mode} "
+                    "(most of the year) is used"
+                )
+        name = control_types.get(wanted or "")
+        if name is None:
+            info.notes.append(f"{obj.where()}: no set-point object for control type {mode}")
+            continue
+        sp = setpoint_objects.get(name.upper())
+        if sp is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: the set-point object '{name}' ({wanted.title()}) is not defined."
+            )
+        sp_obj = sp["_object"]
+        heating_schedule = cooling_schedule = None
+        if wanted == "THERMOSTATSETPOINT:DUALSETPOINT":
+            heating_schedule = sp["heating_setpoint_temperature_schedule_name"]
+            cooling_schedule = sp["cooling_setpoint_temperature_schedule_name"]
+        elif wanted == "THERMOSTATSETPOINT:SINGLEHEATING":
+            heating_schedule = sp["setpoint_temperature_schedule_name"]
+        elif wanted == "THERMOSTATSETPOINT:SINGLECOOLING":
+            cooling_schedule = sp["setpoint_temperature_schedule_name"]
+        else:
+            heating_schedule = cooling_schedule = sp["setpoint_temperature_schedule_name"]
+        heating = constant(heating_schedule, sp_obj, "heating set-point")
+        cooling = constant(cooling_schedule, sp_obj, "cooling set-point")
+        for zone_name in targets:
+            result[zone_name] = (heating, cooling)
+            info.setpoint_schedules[zone_name] = (
+                heating_schedule or None,
+                cooling_schedule or None,
+            )
+
+    templates = {rec["name"].upper(): rec for rec in records("HVACTEMPLATE:THERMOSTAT")}
+    for rec in records("HVACTEMPLATE:ZONE:IDEALLOADSAIRSYSTEM"):
+        obj = rec["_object"]
+        entry = zones.get(rec["zone_name"])
+        if entry is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Zone Name' = '{rec['zone_name']}' is not a zone."
+            )
+        template = templates.get(rec["template_thermostat_name"].upper())
+        if template is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Template Thermostat Name' = "
+                f"'{rec['template_thermostat_name']}' is not an HVACTemplate:Thermostat."
+            )
+        t_obj = template["_object"]
+        if template["heating_setpoint_schedule_name"]:
+            heating = constant(template["heating_setpoint_schedule_name"], t_obj, "heating")
+        else:
+            heating = _number(template, "constant_heating_setpoint", required=False)
+        if template["cooling_setpoint_schedule_name"]:
+            cooling = constant(template["cooling_setpoint_schedule_name"], t_obj, "cooling")
+        else:
+            cooling = _number(template, "constant_cooling_setpoint", required=False)
+        result[entry[0]] = (heating, cooling)
+        info.setpoint_schedules[entry[0]] = (
+            template["heating_setpoint_schedule_name"] or None,
+            template["cooling_setpoint_schedule_name"] or None,
+        )
+    return result

@@ -1,0 +1,175 @@
+"""Shading objects of an IDF file as :class:`thermocal.multizone.shading.ShadingSurface`.
+
+Stage of the import (:class:`ShadingStages`, mixed into the builder of
+:func:`thermocal.multizone.idf.read_idf`): ``Shading:Zone:Detailed``,
+``Shading:Building:Detailed``, ``Shading:Site:Detailed`` polygons, the overhangs and fins of
+windows (``Shading:Overhang``, ``Shading:Overhang:Projection``, ``Shading:Fin``,
+``Shading:Fin:Projection``), and the solar and convection settings read with them
+(``ShadowCalculation``, ``SurfaceConvectionAlgorithm:Inside`` / ``:Outside``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.idf.geometry import _vertices, newell_normal, to_world_coordinates
+from thermocal.multizone.idf.parse import _number
+
+
+class ShadingStages:
+    """Stage ``_shading`` of the builder: fills ``info.shading_surfaces``,
+    ``info.subsurfaces_of``, ``info.convection`` and ``info.shadow_update_days``."""
+
+    def _shading(self) -> None:
+        """Stage: shading surfaces (detailed polygons, overhangs and fins of windows)."""
+        from thermocal.multizone.shading import ShadingSurface
+
+        for name, _obj, rec in self.fenestration.values():
+            host = self.surface_data.get(rec["building_surface_name"].upper())
+            if host is not None:
+                self.info.subsurfaces_of.setdefault(host["name"], []).append(name)
+        found: list[ShadingSurface] = []
+
+        def schedule(rec):
+            sched = rec.get("transmittance_schedule_name", "")
+            if not sched:
+                return None
+            if sched not in self.schedules:
+                raise ThermocalInputError(
+                    f"{rec['_object'].where()}: field 'Transmittance Schedule Name' = "
+                    f"'{sched}' is not a schedule of the file."
+                )
+            return sched
+
+        def polygon(rec, **frame):
+            obj = rec["_object"]
+            world = to_world_coordinates(_vertices(rec), rules=self.rules, **frame)
+            if 0.5 * float(np.linalg.norm(newell_normal(world))) <= 1e-9:
+                raise ThermocalInputError(
+                    f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
+                )
+            return ShadingSurface(rec["name"], world, schedule(rec), obj.where())
+
+        for rec in self.records("SHADING:ZONE:DETAILED"):
+            base = self.surface_data.get(rec["base_surface_name"].upper())
+            if base is None:
+                raise ThermocalInputError(
+                    f"{rec['_object'].where()}: field 'Base Surface Name' = "
+                    f"'{rec['base_surface_name']}' is not a building surface of the file."
+                )
+            geometry = self.zone_geometry[base["zone"].upper()]
+            found.append(
+                polygon(
+                    rec,
+                    zone_origin=geometry["origin"],
+                    zone_north_axis=geometry["north"],
+                    building_north_axis=self.north_axis,
+                )
+            )
+        for rec in self.records("SHADING:BUILDING:DETAILED"):
+            found.append(polygon(rec, building_north_axis=self.north_axis))
+        for rec in self.records("SHADING:SITE:DETAILED"):
+            found.append(polygon(rec))  # site coordinates: not rotated with the building
+        for key in ("SHADING:OVERHANG", "SHADING:OVERHANG:PROJECTION"):
+            for rec in self.records(key):
+                found.append(self._overhang(rec, projection=key.endswith("PROJECTION")))
+        for key in ("SHADING:FIN", "SHADING:FIN:PROJECTION"):
+            for rec in self.records(key):
+                found.extend(self._fins(rec, projection=key.endswith("PROJECTION")))
+        self.info.shading_surfaces = found
+        for side in ("inside", "outside"):
+            rec = self.single(f"SURFACECONVECTIONALGORITHM:{side.upper()}")
+            if rec is not None and rec["algorithm"]:
+                self.info.convection[side] = rec["algorithm"]
+        rec = self.single("SHADOWCALCULATION")
+        if rec is not None:
+            # read by content, not by name: the layout changed in EnergyPlus 9.x (Calculation
+            # Method, Frequency before; Calculation Method, Update Frequency Method, Frequency
+            # since)
+            values = [f.upper() for f in rec["_object"].fields]
+            numbers = [v for v in values[:4] if v.replace(".", "", 1).isdigit()]
+            if any(v in ("TIMESTEP", "TIMESTEPFREQUENCY") for v in values[:3]):
+                self.info.shadow_update_days = 0
+            elif numbers:
+                self.info.shadow_update_days = max(1, int(float(numbers[0])))
+
+    def _window_frame(self, rec):
+        """Corner, right and up axes, outward normal, width and height of a window or door."""
+        obj = rec["_object"]
+        target = rec["window_or_door_name"]
+        entry = self.fenestration.get(target)
+        if entry is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Window or Door Name' = '{target}' is not a "
+                "FenestrationSurface:Detailed of the file."
+            )
+        world = self.info.surface_vertices[entry[0]]
+        normal = newell_normal(world)
+        normal = normal / np.linalg.norm(normal)
+        up = np.array([0.0, 0.0, 1.0]) - normal[2] * normal
+        if np.linalg.norm(up) < 1e-6:
+            raise ThermocalInputError(
+                f"{obj.where()}: window '{entry[0]}' is horizontal; overhangs and fins are "
+                "defined for tilted or vertical windows only (use Shading:Zone:Detailed)."
+            )
+        up = up / np.linalg.norm(up)
+        right = np.cross(up, normal)  # to the right seen from outside
+        x = world @ right
+        y = world @ up
+        corner = world[0] + (x.min() - x[0]) * right + (y.min() - y[0]) * up
+        return corner, right, up, normal, float(np.ptp(x)), float(np.ptp(y))
+
+    def _overhang(self, rec, *, projection: bool):
+        from thermocal.multizone.shading import ShadingSurface
+
+        corner, right, up, normal, width, height = self._window_frame(rec)
+        above = _number(rec, "height_above_window_or_door", default=0.0)
+        tilt = math.radians(_number(rec, "tilt_angle_from_window_door", default=90.0))
+        left = _number(rec, "left_extension_from_window_door_width", default=0.0)
+        right_ext = _number(rec, "right_extension_from_window_door_width", default=0.0)
+        if projection:
+            depth = height * _number(rec, "depth_as_fraction_of_window_door_height")
+        else:
+            depth = _number(rec, "depth")
+        if depth <= 0:
+            raise ThermocalInputError(
+                f"{rec['_object'].where()}: field "
+                f"'{'Depth as Fraction of Window/Door Height' if projection else 'Depth'}' "
+                "must be > 0."
+            )
+        outward = math.cos(tilt) * up + math.sin(tilt) * normal
+        a = corner + (-left) * right + (height + above) * up
+        b = corner + (width + right_ext) * right + (height + above) * up
+        vertices = np.array([a, b, b + depth * outward, a + depth * outward])
+        return ShadingSurface(rec["name"], vertices, None, rec["_object"].where())
+
+    def _fins(self, rec, *, projection: bool):
+        from thermocal.multizone.shading import ShadingSurface
+
+        corner, right, up, normal, width, height = self._window_frame(rec)
+        fins = []
+        for side, sign, x0 in (("left", -1.0, 0.0), ("right", 1.0, width)):
+            if projection:
+                fraction = _number(
+                    rec, f"{side}_depth_as_fraction_of_window_door_width", default=0.0
+                )
+                depth = fraction * width
+            else:
+                depth = _number(rec, f"{side}_depth", default=0.0)
+            if depth <= 0:
+                continue
+            ext = _number(rec, f"{side}_extension_from_window_door", default=0.0)
+            top = _number(rec, f"{side}_distance_above_top_of_window", default=0.0)
+            bottom = _number(rec, f"{side}_distance_below_bottom_of_window", default=0.0)
+            tilt = math.radians(_number(rec, f"{side}_tilt_angle_from_window_door", default=90.0))
+            outward = math.sin(tilt) * normal + sign * math.cos(tilt) * right
+            base = corner + (x0 + sign * ext) * right
+            low, high = base - bottom * up, base + (height + top) * up
+            vertices = np.array([low, high, high + depth * outward, low + depth * outward])
+            fins.append(
+                ShadingSurface(f"{rec['name']} {side}", vertices, None, rec["_object"].where())
+            )
+        return fins

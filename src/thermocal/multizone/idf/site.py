@@ -1,0 +1,154 @@
+"""Site, geometry rules, building, time step, run period and ground of an IDF file.
+
+Stages of the import (:class:`SiteStages`, mixed into the builder of
+:func:`thermocal.multizone.idf.read_idf`): ``Building`` (name, north axis), ``GlobalGeometryRules``,
+``Site:Location``, ``Timestep``, ``RunPeriod`` (period, calendar year of the schedules and the
+notes on what of it is not applied), the :class:`ScheduleEvaluator` of the file, and
+``Site:GroundTemperature:BuildingSurface``.
+"""
+
+from __future__ import annotations
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.idf.fields import SCHEMA
+from thermocal.multizone.idf.geometry import GeometryRules
+from thermocal.multizone.idf.parse import _number, _wrap
+from thermocal.multizone.idf.schedules import ScheduleEvaluator, year_for_start_day
+
+#: EnergyPlus default ground temperature [C] when Site:GroundTemperature:BuildingSurface is absent.
+ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE = 18.0
+
+
+class SiteStages:
+    """Stages ``_site`` and ``_ground`` of the builder.
+
+    ``_site`` sets ``building_name``, ``north_axis``, ``rules``, ``location``, ``year`` and
+    ``schedules`` (and ``info.timesteps_per_hour``, ``info.run_period``, ``info.schedules``);
+    ``_ground`` sets ``ground``.
+    """
+
+    def _site(self) -> None:
+        """Stage: site, rules, building."""
+        building_rec = self.single("BUILDING")
+        self.building_name = self.path.stem
+        self.north_axis = 0.0
+        if building_rec is not None:
+            self.building_name = building_rec["name"] or self.building_name
+            self.north_axis = _number(building_rec, "north_axis", default=0.0)
+        rules_rec = self.single("GLOBALGEOMETRYRULES")
+        self.rules = GeometryRules()
+        if rules_rec is not None:
+            self.rules = GeometryRules(
+                rules_rec["starting_vertex_position"] or "UpperLeftCorner",
+                rules_rec["vertex_entry_direction"] or "Counterclockwise",
+                rules_rec["coordinate_system"] or "Relative",
+            )
+            if self.rules.vertex_entry_direction.upper() not in ("COUNTERCLOCKWISE", "CLOCKWISE"):
+                raise ThermocalInputError(
+                    f"{rules_rec['_object'].where()}: field 'Vertex Entry Direction' = "
+                    f"'{self.rules.vertex_entry_direction}' must be Counterclockwise or Clockwise."
+                )
+            if self.rules.coordinate_system.upper() not in ("RELATIVE", "WORLD", "ABSOLUTE"):
+                raise ThermocalInputError(
+                    f"{rules_rec['_object'].where()}: field 'Coordinate System' = "
+                    f"'{self.rules.coordinate_system}' must be Relative, World or Absolute."
+                )
+        self.location = self.mz.Location()
+        loc_rec = self.single("SITE:LOCATION")
+        if loc_rec is not None:
+            self.location = _wrap(
+                loc_rec["_object"],
+                self.mz.Location,
+                latitude=_number(loc_rec, "latitude", default=0.0),
+                longitude=_number(loc_rec, "longitude", default=0.0),
+                altitude=_number(loc_rec, "elevation", default=0.0),
+                timezone=_number(loc_rec, "time_zone", default=0.0),
+            )
+        else:
+            self.info.notes.append("no Site:Location: the model's default location is used")
+        timestep = self.single("TIMESTEP")
+        if timestep is not None:
+            per_hour = _number(timestep, "number_of_timesteps_per_hour", default=6.0)
+            divisors = (1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30, 60)
+            if not 1 <= per_hour <= 60:
+                raise ThermocalInputError(
+                    f"{timestep['_object'].where()}: field 'Number of Timesteps per Hour' = "
+                    f"{per_hour:g}: give 1 to 60 (a divisor of 60: 1, 2, 3, 4, 5, 6, 10, 12, "
+                    "15, 20, 30 or 60)"
+                )
+            if per_hour not in divisors:
+                chosen = min(d for d in divisors if d >= per_hour)
+                self.info.notes.append(
+                    f"{timestep['_object'].where()}: {per_hour:g} timesteps per hour do not "
+                    f"divide an hour; {chosen} per hour used"
+                )
+                per_hour = chosen
+            self.info.timesteps_per_hour = int(per_hour)
+        for rp in self.by_key.get("RUNPERIOD", [])[:1]:
+            # Name, Begin Month, Begin Day, Begin Year, End Month, End Day (9.x and later)
+            f = [x.strip() for x in rp.fields] + [""] * 6
+            try:
+                begin_year = int(float(f[3])) if f[3] else None
+                self.info.run_period = (
+                    f[0],
+                    int(float(f[1])),
+                    int(float(f[2])),
+                    int(float(f[4])),
+                    int(float(f[5])),
+                    begin_year,
+                )
+            except ValueError:
+                raise ThermocalInputError(
+                    f"{rp.where()}: the begin/end month and day fields must be numbers."
+                ) from None
+        if self.year is None:
+            self.year = 2006
+            for rp in self.by_key.get("RUNPERIOD", [])[:1]:
+                # 9.x layout: Name, Begin Month, Begin Day, Begin Year, End Month, End Day,
+                # End Year, Day of Week for Start Day, ...
+                f = [x.strip() for x in rp.fields] + [""] * 8
+                if f[3]:
+                    try:
+                        self.year = int(float(f[3]))
+                    except ValueError:
+                        pass
+                elif self.version >= (9, 0) and f[7].upper() != "USEWEATHERFILE":
+                    # no year: EnergyPlus starts on the given day of week (Sunday when blank)
+                    self.year = year_for_start_day(
+                        int(float(f[1] or 1)), int(float(f[2] or 1)), f[7] or "Sunday", rp.where()
+                    )
+                elif self.version >= (9, 0) and f[7]:
+                    self.info.notes.append(
+                        f"{rp.where()}: 'Day of Week for Start Day' = {f[7]}: weekdays of 2006 used"
+                    )
+        for rp in self.by_key.get("RUNPERIOD", [])[:1] if self.version >= (9, 0) else []:
+            f = [x.strip().upper() for x in rp.fields] + [""] * 11
+            if f[8] in ("", "YES"):
+                self.info.notes.append(
+                    f"{rp.where()}: 'Use Weather File Holidays and Special Days' = Yes: the "
+                    "weather file's holidays are not read (RunPeriodControl:SpecialDays are)"
+                )
+            if f[10] == "YES":
+                self.info.notes.append(
+                    f"{rp.where()}: 'Apply Weekend Holiday Rule' = Yes is not applied"
+                )
+        self.schedules = ScheduleEvaluator(
+            self.objects, year=self.year, version=self.version, base_dir=self.path.parent
+        )
+        self.info.schedules = self.schedules
+
+    def _ground(self) -> None:
+        """Stage: ground."""
+        ground_rec = self.single("SITE:GROUNDTEMPERATURE:BUILDINGSURFACE")
+        self.ground = None
+        if ground_rec is not None:
+            self.ground = tuple(
+                _number(ground_rec, n, default=ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE)
+                for n in SCHEMA["SITE:GROUNDTEMPERATURE:BUILDINGSURFACE"][0]
+            )
+        elif any(s.boundary == "ground" for s in self.model_surfaces):
+            self.ground = (ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE,) * 12
+            self.info.notes.append(
+                "no Site:GroundTemperature:BuildingSurface: ground surfaces see the EnergyPlus "
+                f"default {ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE:g} C"
+            )

@@ -1,0 +1,472 @@
+"""Zones, surfaces, sub-surfaces and internal mass of an IDF file.
+
+Stages of the import (:class:`SurfaceStages`, mixed into the builder of
+:func:`thermocal.multizone.idf.read_idf`): ``Zone``, ``ZoneList``, ``BuildingSurface:Detailed``
+and its ``Wall/RoofCeiling/Floor:Detailed`` siblings, ``FenestrationSurface:Detailed`` (windows,
+glass doors, doors), the model surfaces (inter-zone partners, doors, ``InternalMass`` as adiabatic
+surfaces) and the zone floor areas and volumes. The geometry is :mod:`.geometry`'s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.idf.constructions import _reversed_construction
+from thermocal.multizone.idf.fields import _SURFACE_CLASS_TYPE
+from thermocal.multizone.idf.geometry import (
+    _boundary,
+    _check_planar,
+    _vertices,
+    outward_normal,
+    polyhedron_is_closed,
+    tilt_azimuth,
+    to_world_coordinates,
+    zone_volume_from_surfaces,
+)
+from thermocal.multizone.idf.parse import _is_auto, _Names, _number, _wrap
+
+
+class SurfaceStages:
+    """Stages ``_zones``, ``_surfaces``, ``_subsurfaces``, ``_model_surfaces`` and
+    ``_zone_volumes`` of the builder.
+
+    They set ``zones``, ``zone_lists``, ``zone_geometry``, ``surfaces``, ``fenestration``,
+    ``surface_data``, ``model_windows``, ``door_surfaces``, ``subtract``, ``model_surfaces``,
+    ``zone_floor_area``, ``zone_polygons``, ``zone_volume`` and ``zone_area``; they fill
+    ``info.surface_vertices``, ``info.surface_types`` and ``info.zone_multipliers``.
+    """
+
+    def _zones(self) -> None:
+        """Stage: zones."""
+        self.zones = _Names("zone")
+        for rec in self.records("ZONE"):
+            self.zones.add(rec)
+        if not self.zones.items:
+            raise ThermocalInputError(f"{self.path.name}: the file defines no Zone object.")
+        self.zone_lists: dict[str, list[str]] = {}
+        for rec in self.records("ZONELIST"):
+            members = []
+            for (member,) in rec["zone_names"]:
+                entry = self.zones.get(member)
+                if entry is None:
+                    raise ThermocalInputError(
+                        f"{rec['_object'].where()}: zone '{member}' is not defined."
+                    )
+                members.append(entry[0])
+            self.zone_lists[rec["name"].upper()] = members
+
+        self.zone_geometry = {}
+        for name, _obj, rec in self.zones.values():
+            multiplier = _number(rec, "multiplier", default=1.0)
+            self.info.zone_multipliers[name] = multiplier
+            self.zone_geometry[name.upper()] = {
+                "origin": (
+                    _number(rec, "x_origin", default=0.0),
+                    _number(rec, "y_origin", default=0.0),
+                    _number(rec, "z_origin", default=0.0),
+                ),
+                "north": _number(rec, "direction_of_relative_north", default=0.0),
+            }
+            if multiplier != 1.0:
+                self.info.notes.append(
+                    f"zone '{name}' has multiplier {multiplier:g}; the model simulates it once"
+                )
+
+    def _surfaces(self) -> None:
+        """Stage: surfaces."""
+        self.surfaces = _Names("surface")
+        for rec in self.records("BUILDINGSURFACE:DETAILED", *_SURFACE_CLASS_TYPE):
+            self.surfaces.add(rec)
+        self.fenestration = _Names("fenestration surface")
+        for rec in self.records("FENESTRATIONSURFACE:DETAILED"):
+            if rec["name"].upper() in self.surfaces:
+                raise ThermocalInputError(
+                    f"{rec['_object'].where()}: the name is already used by a building surface."
+                )
+            self.fenestration.add(rec)
+
+        self.surface_data: dict[str, dict] = {}
+        for name, obj, rec in self.surfaces.values():
+            surface_type = rec.get("surface_type") or _SURFACE_CLASS_TYPE[obj.key]
+            zone_entry = self.zones.get(rec["zone_name"])
+            if zone_entry is None:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Zone Name' = '{rec['zone_name']}' is not a Zone of "
+                    "the file."
+                )
+            zone_name = zone_entry[0]
+            cons = rec["construction_name"]
+            if cons.upper() in self.window_types:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Construction Name' "
+                    f"= '{cons}' is a window construction; "
+                    "opaque surfaces need an opaque construction."
+                )
+            cons_entry = self.constructions.get(cons)
+            if cons_entry is None:
+                other = next(
+                    (
+                        o.class_name
+                        for o in self.objects
+                        if o.key.startswith("CONSTRUCTION:") and o.name.upper() == cons.upper()
+                    ),
+                    None,
+                )
+                hint = (
+                    f" ({other} is not supported; give a layered Construction instead)"
+                    if other
+                    else ""
+                )
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Construction Name' "
+                    f"= '{cons}' is not a Construction of the "
+                    f"file{hint}."
+                )
+            geometry = self.zone_geometry[zone_name.upper()]
+            world = to_world_coordinates(
+                _vertices(rec),
+                rules=self.rules,
+                zone_origin=geometry["origin"],
+                zone_north_axis=geometry["north"],
+                building_north_axis=self.north_axis,
+            )
+            normal = outward_normal(world, self.rules)
+            area = 0.5 * float(np.linalg.norm(normal))
+            if area <= 1e-9:
+                raise ThermocalInputError(
+                    f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
+                )
+            _check_planar(world, normal, obj)
+            tilt, azimuth = tilt_azimuth(normal)
+            self.surface_data[name.upper()] = {
+                "name": name,
+                "obj": obj,
+                "rec": rec,
+                "type": surface_type,
+                "zone": zone_name,
+                "construction": cons_entry[0],
+                "world": world,
+                "normal": normal,
+                "area": area,
+                "tilt": tilt,
+                "azimuth": azimuth,
+                "boundary": _boundary(rec["outside_boundary_condition"], obj),
+            }
+            self.info.surface_vertices[name] = world
+            self.info.surface_types[name] = surface_type.title()
+        self._check_closed_zones()
+
+    def _check_closed_zones(self) -> None:
+        """A surface whose vertices run the wrong way in an otherwise closed zone is refused.
+
+        The area vectors (outward normal x area) of a closed zone sum to zero; when one surface
+        is reversed they sum to twice its area vector instead. Zones that are not closed
+        (surfaces missing) are left alone: no surface explains their sum.
+        """
+        by_zone: dict[str, list[dict]] = {}
+        for data in self.surface_data.values():
+            by_zone.setdefault(data["zone"], []).append(data)
+        for zone, surfaces in by_zone.items():
+            if len(surfaces) < 4:
+                continue
+            vectors = np.array([d["normal"] for d in surfaces])  # |Newell normal| = 2 area
+            total = vectors.sum(axis=0)
+            scale = float(np.linalg.norm(vectors, axis=1).sum())
+            if np.linalg.norm(total) <= 1e-3 * scale:
+                continue
+            misfit = np.linalg.norm(vectors - total / 2.0, axis=1)
+            best = int(np.argmin(misfit))
+            if misfit[best] <= 0.01 * np.linalg.norm(vectors[best]):
+                data = surfaces[best]
+                raise ThermocalInputError(
+                    f"{data['obj'].where()}: its vertices run the wrong way: the outward "
+                    f"normal (tilt {data['tilt']:.0f} deg, azimuth {data['azimuth']:.0f} deg) "
+                    f"points into zone '{zone}' (the zone's other surfaces close around it "
+                    "only when it is reversed); reverse the vertex order (the file's "
+                    f"GlobalGeometryRules: {self.rules.vertex_entry_direction.lower()} seen "
+                    "from outside)."
+                )
+
+    def _subsurfaces(self) -> None:
+        """Stage: sub-surfaces."""
+        self.model_windows = []
+        self.door_surfaces = []
+        self.subtract: dict[str, float] = {}
+        for name, obj, rec in self.fenestration.values():
+            base = self.surface_data.get(rec["building_surface_name"].upper())
+            if base is None:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Building Surface Name' = "
+                    f"'{rec['building_surface_name']}' is not a building surface of the file."
+                )
+            kind = (rec["surface_type"] or "Window").upper()
+            geometry = self.zone_geometry[base["zone"].upper()]
+            world = to_world_coordinates(
+                _vertices(rec),
+                rules=self.rules,
+                zone_origin=geometry["origin"],
+                zone_north_axis=geometry["north"],
+                building_north_axis=self.north_axis,
+            )
+            normal = outward_normal(world, self.rules)
+            area = 0.5 * float(np.linalg.norm(normal))
+            if area <= 1e-9:
+                raise ThermocalInputError(
+                    f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
+                )
+            cos_angle = float(np.dot(normal, base["normal"])) / (
+                np.linalg.norm(normal) * np.linalg.norm(base["normal"])
+            )
+            if cos_angle < 0.999:
+                raise ThermocalInputError(
+                    f"{obj.where()}: its outward normal differs from that of its base surface "
+                    f"'{base['name']}' by "
+                    f"{math.degrees(math.acos(max(-1, min(1, cos_angle)))):.1f} "
+                    "deg; check the vertex order and coplanarity."
+                )
+            multiplier = _number(rec, "multiplier", default=1.0)
+            total_area = area * multiplier
+            self.info.surface_vertices[name] = world
+            self.info.surface_types[name] = kind.title()
+            cons = rec["construction_name"]
+            if kind in ("WINDOW", "GLASSDOOR"):
+                wt = self.window_types.get(cons.upper())
+                if wt is None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Construction Name' = '{cons}' is not a window "
+                        "construction (Construction of WindowMaterial layers) of the file."
+                    )
+                if base["boundary"] != "outdoors":
+                    self.info.notes.append(
+                        f"interior window '{name}' (host '{base['name']}', boundary "
+                        f"{base['boundary']}) is not modelled; its area stays opaque"
+                    )
+                    continue
+                if rec.get("frame_and_divider_name"):
+                    self.info.notes.append(
+                        f"window '{name}': WindowProperty:FrameAndDivider "
+                        f"'{rec['frame_and_divider_name']}' is ignored (frame_fraction 0)"
+                    )
+                self.model_windows.append(
+                    _wrap(
+                        obj,
+                        self.mz.Window,
+                        name=name,
+                        surface=base["name"],
+                        window_type=wt[0],
+                        area=total_area,
+                        frame_fraction=0.0,
+                    )
+                )
+            elif kind == "DOOR":
+                cons_entry = self.constructions.get(cons)
+                if cons_entry is None or cons.upper() not in self.opaque_constructions:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Construction Name' = '{cons}' is not an opaque "
+                        "Construction of the file (doors need one)."
+                    )
+                self.subtract[base["name"]] = self.subtract.get(base["name"], 0.0) + total_area
+                self.door_surfaces.append((name, obj, base, cons_entry[0], total_area))
+            else:
+                self.info.notes.append(
+                    f"sub-surface '{name}' of type {kind.title()} is not modelled"
+                )
+
+    def _model_surfaces(self) -> None:
+        """Stage: model surfaces."""
+        self.model_surfaces = []
+        for key, data in self.surface_data.items():
+            obj, rec = data["obj"], data["rec"]
+            boundary = data["boundary"]
+            other_surface = None
+            other_zone = None
+            if boundary == "surface":
+                target = rec["outside_boundary_condition_object"]
+                partner = self.surface_data.get(target.upper())
+                if partner is None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Outside Boundary Condition Object' = '{target}' is "
+                        "not a building surface of the file "
+                        "(inter-zone surfaces need their partner)."
+                    )
+                if partner["name"].upper() == key:
+                    boundary = (
+                        "adiabatic"  # a surface facing itself: internal mass (EnergyPlus idiom)
+                    )
+                else:
+                    boundary = "zone"
+                    other_surface = partner["name"]
+                    other_zone = partner["zone"]
+            elif boundary == "zone":
+                target = rec["outside_boundary_condition_object"]
+                other = self.zones.get(target)
+                if other is None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Outside Boundary Condition Object' = '{target}' is "
+                        "not a Zone of the file."
+                    )
+                # EnergyPlus creates the reversed partner surface automatically; so do we
+                boundary = "zone"
+                other_zone = other[0]
+                other_surface = f"{data['name']} (partner)"
+            elif boundary == "unsupported":
+                self.info.notes.append(
+                    f"surface '{data['name']}': boundary "
+                    f"{rec['outside_boundary_condition']} is not "
+                    "modelled; treated as adiabatic"
+                )
+                boundary = "adiabatic"
+            area = data["area"] - self.subtract.get(data["name"], 0.0)
+            sun = (rec.get("sun_exposure") or "SunExposed").upper() != "NOSUN"
+            wind = (rec.get("wind_exposure") or "WindExposed").upper() != "NOWIND"
+            vf_raw = rec.get("view_factor_to_ground", "")
+            view_factor = None if _is_auto(rec, "view_factor_to_ground") else float(vf_raw)
+            common = {
+                "construction": data["construction"],
+                "tilt": data["tilt"],
+                "azimuth": data["azimuth"],
+                "view_factor_ground": view_factor,
+                "sun_exposed": sun,
+                "wind_exposed": wind,
+            }
+            self.model_surfaces.append(
+                _wrap(
+                    obj,
+                    self.mz.Surface,
+                    name=data["name"],
+                    zone=data["zone"],
+                    area=area,
+                    boundary=boundary,
+                    other_zone=other_zone,
+                    other_surface=other_surface,
+                    **common,
+                )
+            )
+            if other_surface is not None and other_surface.endswith(" (partner)"):
+                reversed_name = _reversed_construction(
+                    data["construction"], self.constructions, self.model_constructions, self.mz
+                )
+                flipped = -data["normal"]
+                tilt, azimuth = tilt_azimuth(flipped)
+                self.model_surfaces.append(
+                    _wrap(
+                        obj,
+                        self.mz.Surface,
+                        name=other_surface,
+                        zone=other_zone,
+                        construction=reversed_name,
+                        area=area,
+                        tilt=tilt,
+                        azimuth=azimuth,
+                        boundary="zone",
+                        other_zone=data["zone"],
+                        other_surface=data["name"],
+                        sun_exposed=False,
+                        wind_exposed=False,
+                    )
+                )
+        for name, obj, base, cons_name, area in self.door_surfaces:
+            base_surface = next(s for s in self.model_surfaces if s.name == base["name"])
+            if base_surface.boundary == "zone":
+                self.info.notes.append(
+                    f"door '{name}' in inter-zone surface '{base['name']}' is merged into its host"
+                )
+                base_surface.area += area
+                continue
+            self.model_surfaces.append(
+                _wrap(
+                    obj,
+                    self.mz.Surface,
+                    name=name,
+                    zone=base_surface.zone,
+                    construction=cons_name,
+                    area=area,
+                    tilt=base_surface.tilt,
+                    azimuth=base_surface.azimuth,
+                    boundary=base_surface.boundary,
+                    view_factor_ground=base_surface.view_factor_ground,
+                    sun_exposed=base_surface.sun_exposed,
+                    wind_exposed=base_surface.wind_exposed,
+                )
+            )
+
+        for rec in self.records("INTERNALMASS"):
+            obj = rec["_object"]
+            cons = rec["construction_name"]
+            if cons.upper() not in self.opaque_constructions:
+                raise ThermocalInputError(
+                    f"{obj.where()}: field 'Construction Name' = '{cons}' is not an opaque "
+                    "Construction of the file."
+                )
+            for zone_name in self.zone_targets(rec):
+                mass_name = (
+                    rec["name"]
+                    if self.zones.get(rec["zone_name"])
+                    else f"{rec['name']} {zone_name}"
+                )
+                self.model_surfaces.append(
+                    _wrap(
+                        obj,
+                        self.mz.Surface,
+                        name=mass_name,
+                        zone=zone_name,
+                        construction=self.constructions.get(cons)[0],
+                        area=_number(rec, "surface_area"),
+                        tilt=90.0,
+                        azimuth=0.0,
+                        boundary="adiabatic",
+                        sun_exposed=False,
+                        wind_exposed=False,
+                    )
+                )
+                self.info.surface_types[mass_name] = "InternalMass"
+
+    def _zone_volumes(self) -> None:
+        """Stage: zone areas and volumes."""
+        self.zone_floor_area: dict[str, float] = {}
+        self.zone_polygons: dict[str, list] = {}
+        for data in self.surface_data.values():
+            self.zone_polygons.setdefault(data["zone"], []).append(data)
+            if data["type"].upper() == "FLOOR":
+                self.zone_floor_area[data["zone"]] = (
+                    self.zone_floor_area.get(data["zone"], 0.0) + data["area"]
+                )
+        self.zone_volume: dict[str, float] = {}
+        self.zone_area: dict[str, float] = {}
+        for name, obj, rec in self.zones.values():
+            floor_area = (
+                self.zone_floor_area.get(name, 0.0)
+                if _is_auto(rec, "floor_area")
+                else _number(rec, "floor_area")
+            )
+            self.zone_area[name] = floor_area
+            if not _is_auto(rec, "volume") and _number(rec, "volume") > 0:
+                self.zone_volume[name] = _number(rec, "volume")
+                continue
+            polys = self.zone_polygons.get(name, [])
+            volume = 0.0
+            if polys and polyhedron_is_closed(
+                [d["world"] if not self.rules.clockwise else d["world"][::-1] for d in polys]
+            ):
+                volume = zone_volume_from_surfaces(
+                    [d["world"] for d in polys], [d["normal"] for d in polys]
+                )
+            if volume <= 0.0:
+                if not _is_auto(rec, "ceiling_height") and _number(rec, "ceiling_height") > 0:
+                    height = _number(rec, "ceiling_height")
+                elif polys:
+                    z = np.concatenate([d["world"][:, 2] for d in polys])
+                    height = float(z.max() - z.min())
+                else:
+                    height = 0.0
+                volume = floor_area * height
+            if volume <= 0.0:
+                raise ThermocalInputError(
+                    f"{obj.where()}: the volume is not given "
+                    "and cannot be derived from the surfaces "
+                    "(no closed geometry, floor area or ceiling height); set field 'Volume'."
+                )
+            self.zone_volume[name] = volume

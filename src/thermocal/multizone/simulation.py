@@ -3,7 +3,8 @@
 Time convention: the run is a sequence of steps ``[t_k, t_k + dt)`` labelled by their start ``t_k``
 (as the weather frames of :mod:`thermocal.io.weather`).  Within a step the forcing is the interval
 mean (irradiance means; temperatures the mean of the interval's end values; with
-``weather_interpolation="energyplus"`` the values at the step's end); backward Euler gives
+``weather_interpolation="energyplus"`` the mean of the EnergyPlus-interpolated weather at the
+step's start and end); backward Euler gives
 the node temperatures at ``t_k + dt``, which are reported under the label ``t_k``.  Heating,
 cooling and given heat are constant powers over the step.
 
@@ -327,13 +328,16 @@ class Simulation:
     weather_interpolation : {None, "hold", "energyplus"}
         How hourly weather becomes sub-hourly steps. ``"hold"``: irradiance means held over each
         hour, each step's air temperature the mean of its end values (linear in time between the
-        hourly instants), the sun representative of the step's interval. ``"energyplus"``: as
-        EnergyPlus, each step takes the values at its end: irradiance (``ghi``, ``dni``,
-        ``dhi``, ``ghi_infrared``) interpolated linearly between the hourly values placed at the
-        half hours, temperatures, humidity, pressure and wind linearly between the hourly
-        instants, the sun position at the step's end (hourly weather and a step dividing the
-        hour required). ``None`` (default): ``"energyplus"`` for buildings imported from an IDF
-        file with hourly weather, else ``"hold"``.
+        hourly instants), the sun representative of the step's interval. ``"energyplus"``: the
+        weather curve of EnergyPlus: irradiance (``ghi``, ``dni``, ``dhi``) interpolated
+        linearly between the hourly values placed at the half hours, the horizontal infrared,
+        temperatures, humidity, pressure and wind linearly between the hourly instants, the sun
+        position at each instant (hourly weather and a step dividing the hour required); each
+        step is forced by the mean of the outdoor and sky temperatures and the solar inputs at
+        its start and end (the interval mean of that piecewise-linear curve; EnergyPlus itself
+        takes the end values, which delays its answer by about half a step: see
+        docs/energyplus.md). ``None`` (default): ``"energyplus"`` for buildings imported from
+        an IDF file with hourly weather, else ``"hold"``.
 
     Notes
     -----
@@ -827,6 +831,13 @@ class Simulation:
                     self._input_cache[key] = _window_inputs(wt, source, n_steps)
                 for col, values in zip(cols, self._input_cache[key], strict=True):
                     u[:, col] = values
+        if self.weather_interpolation == "energyplus":
+            # rows hold the curve at each step's end: the step is forced by the mean of its start
+            # and end values (the first step keeps its end value)
+            weather_driven = [IN_TEMP_OUT, IN_TEMP_SKY, *net.orientation_inputs.values()]
+            weather_driven += [col for cols in net.window_inputs.values() for col in cols]
+            u[1:, weather_driven] = 0.5 * (u[1:, weather_driven] + u[:-1, weather_driven])
+            t_out = u[:, IN_TEMP_OUT]
         # explicit corrections: exterior convection (wind) and infiltration air density
         key = ("doe2", tuple(net.ext_names))
         if key not in self._input_cache:
@@ -1473,8 +1484,9 @@ class Simulation:
         out.extend(self._convection_notes)
         if self.weather_interpolation == "energyplus":
             out.append(
-                "hourly weather interpolated as EnergyPlus: each step takes the values at its end "
-                "(irradiance between hourly values placed at the half hours)"
+                "hourly weather interpolated as EnergyPlus (irradiance between hourly values "
+                "placed at the half hours); each step forced by the mean of its start and end "
+                "values (EnergyPlus takes the end values)"
             )
         else:
             out.append("weather held over each hour (weather_interpolation='hold')")

@@ -426,3 +426,20 @@ def test_energyplus_convection_algorithms_from_the_idf():
     options, notes = info.network_options()
     assert (options.interior_convection, options.exterior_convection) == ("tarp", "doe2")
     assert len(notes) == 2 and "MoWiTT is not available: DOE-2 used" in notes[1]
+
+
+def test_approximate_solar_view_factors_match_energyplus_case600():
+    """EnergyPlus 25.2 on Case 600FF (FullInteriorAndExterior): the transmitted diffuse of a south
+    window first absorbed (alpha 0.6) on E/W 25.0, N 34.5, floor/roof 100.3 W of 285.1 W, the
+    south wall and the coplanar windows none ("Surface Inside Face Initial Transmitted Diffuse
+    Absorbed Solar Radiation Rate", annual means)."""
+    from thermocal.multizone.network import approximate_view_factors
+
+    area = [48.0, 48.0, 21.6, 9.6, 16.2, 16.2, 6.0, 6.0]
+    tilt = [180.0, 0.0, 90.0, 90.0, 90.0, 90.0, 90.0, 90.0]
+    azimuth = [0.0, 0.0, 0.0, 180.0, 90.0, 270.0, 180.0, 180.0]
+    f = approximate_view_factors(area, tilt, azimuth)
+    np.testing.assert_allclose(f.sum(axis=1), 1.0, atol=1e-9)
+    np.testing.assert_allclose(np.array(area)[:, None] * f, (np.array(area)[:, None] * f).T)
+    expected = np.array([100.3, 100.3, 34.5, 0.0, 25.0, 25.0, 0.0, 0.0]) / 285.1
+    np.testing.assert_allclose(f[6], expected, atol=0.001)

@@ -717,6 +717,12 @@ def assemble(
     # interior faces (seen from a zone)
     f_name, f_node, f_zone, f_area, f_cos, f_eps, f_alpha, f_cap, f_win = ([] for _ in range(9))
     f_window_tau: list[float] = []
+    # face plane (tilt, azimuth of the outward normal of the surface [deg]) and internal mass flag
+    # (approximate solar view factors), windows' back-side diffuse absorptance (outer, inner pane)
+    f_tilt: list[float] = []
+    f_az: list[float] = []
+    f_mass: list[bool] = []
+    f_back: list[tuple[float, float]] = []
     # exterior faces
     e_name, e_node, e_area, e_tilt, e_az, e_eps, e_fg, e_alpha, e_cap, e_sun, e_rough = (
         [] for _ in range(11)
@@ -757,6 +763,10 @@ def assemble(
         f_cap.append(tpl.capacity[-1])
         f_win.append(False)
         f_window_tau.append(0.0)
+        f_tilt.append(surface.tilt)
+        f_az.append(surface.azimuth)
+        f_mass.append(surface.boundary == "adiabatic")
+        f_back.append((0.0, 0.0))
         alpha_out, eps_out = face_props(surface, layers, inside=False)
         if surface.boundary == "zone":
             partner = building.surfaces[surface.other_surface]
@@ -778,6 +788,10 @@ def assemble(
             f_cap.append(tpl.capacity[0])
             f_win.append(False)
             f_window_tau.append(0.0)
+            f_tilt.append(partner.tilt)
+            f_az.append(partner.azimuth)
+            f_mass.append(False)
+            f_back.append((0.0, 0.0))
         elif surface.boundary == "ground":
             boundary(outside, IN_TEMP_GROUND, options.ground_contact_conductance * area)
         elif surface.boundary == "outdoors":
@@ -836,6 +850,10 @@ def assemble(
         if tau_key not in cache:
             cache[tau_key] = wt.diffuse_transmittance_value
         f_window_tau.append(cache[tau_key])
+        f_tilt.append(host.tilt)
+        f_az.append(host.azimuth)
+        f_mass.append(False)
+        f_back.append(_window_back_absorptance(wt))
         e_name.append(window.name)
         e_node.append(first)
         e_area.append(window.area)
@@ -860,6 +878,7 @@ def assemble(
     face_cap = np.asarray(f_cap, dtype=float)
     face_is_window = np.asarray(f_win, dtype=bool)
     face_tau = np.asarray(f_window_tau, dtype=float)
+    face_back = np.reshape(np.asarray(f_back, dtype=float), (len(f_back), 2))
 
     # ---- interior convection -----------------------------------------------------------------
     if options.interior_convection == "tarp":
@@ -1002,39 +1021,105 @@ def assemble(
         source(int(ext_node[k]), orientation_inputs[key], e_alpha[k] * ext_area[k])
 
     # ---- solar: windows ----------------------------------------------------------------------
-    # per zone: beam distribution (floor first) and diffuse distribution (area x absorptance)
-    beam_share: dict[int, list[tuple[int, float]]] = {}
-    diffuse_share: dict[int, list[tuple[int, float]]] = {}
+    # EnergyPlus' interior solar distribution (Engineering Reference, "Solar Distribution" of the
+    # Building object and "Interior Solar Radiation Absorption"; SolarShading.cc,
+    # CalcWinTransDifSolInitialDistribution; HeatBalanceSurfaceManager.cc,
+    # ComputeIntSWAbsorpFactors):
+    # * beam: all on the floor(s) by area (FullExterior; the interior projection of
+    #   FullInteriorAndExterior needs the vertices, which the model does not keep), absorbed there
+    #   with the floor's absorptance;
+    # * transmitted diffuse of a window: first onto the zone's faces by approximate view factors
+    #   (a face sees every face not in its own plane, by area; reciprocity and completeness
+    #   enforced as in FixViewFactors), absorbed with each face's absorptance; reaching another
+    #   window it leaves through it (tau) or is absorbed in its glass (back absorptance);
+    # * everything reflected (beam off the floor, diffuse after its first incidence) is absorbed
+    #   by the ISABSF weights A alpha (opaque) and A (tau + back absorptance) (windows), the tau
+    #   part leaving the zone.
+    window_face_of = {name: k for k, name in enumerate(f_name) if face_is_window[k]}
+    face_glazed = face_area.copy()
+    for window in building.windows.values():
+        face_glazed[window_face_of[window.name]] = window.glazed_area
+    zone_members: dict[int, np.ndarray] = {}
+    isabsf: dict[int, list[tuple[int, float]]] = {}  # (node, weight) of the reflected pool
+    view: dict[int, np.ndarray] = {}
     for z in range(nz):
         members = np.flatnonzero(face_zone == z)
         if len(members) == 0:
             continue
-        weight = np.where(
-            face_is_window[members],
-            face_area[members] * face_tau[members],
-            face_area[members] * face_alpha[members],
+        zone_members[z] = members
+        pool = []
+        for m in members:
+            if face_is_window[m]:
+                outer, inner = window_nodes[f_name[m]]
+                pool.append((outer, face_glazed[m] * face_back[m, 0]))
+                pool.append((inner, face_glazed[m] * face_back[m, 1]))
+            else:
+                pool.append((int(face_node[m]), face_area[m] * face_alpha[m]))
+        total = face_area[members] @ np.where(face_is_window[members], 0.0, face_alpha[members])
+        total += face_glazed[members] @ np.where(
+            face_is_window[members], face_tau[members] + face_back[members].sum(axis=1), 0.0
         )
-        total = weight.sum()
-        diffuse = [
-            (int(face_node[m]), float(w / total))
-            for m, w in zip(members, weight, strict=True)
-            if total > 0 and not face_is_window[m] and w > 0
-        ]
-        diffuse_share[z] = diffuse
-        floors = members[(face_cos[members] > 0.7) & ~face_is_window[members]]
-        if len(floors) == 0:
-            beam_share[z] = diffuse
-            continue
-        floor_area = face_area[floors].sum()
-        beam: dict[int, float] = {}
+        isabsf[z] = [(node, w / total) for node, w in pool if total > 0 and w > 0]
+        vf_key = (
+            "solar_view",
+            face_area[members].tobytes(),
+            np.asarray(f_tilt)[members].tobytes(),
+            np.asarray(f_az)[members].tobytes(),
+            np.asarray(f_mass)[members].tobytes(),
+        )
+        if vf_key not in cache:
+            cache[vf_key] = approximate_view_factors(
+                face_area[members],
+                np.asarray(f_tilt)[members],
+                np.asarray(f_az)[members],
+                np.asarray(f_mass)[members],
+            )
+        view[z] = cache[vf_key]
+
+    def first_incidence(z: int, fractions) -> tuple[dict[int, float], float]:
+        """Absorbed share per node and reflected share of radiation first hitting the faces of
+        zone ``z`` with the fractions ``fractions`` (per member)."""
+        absorbed: dict[int, float] = {}
         reflected = 0.0
-        for m in floors:
-            share = face_area[m] / floor_area
-            beam[int(face_node[m])] = beam.get(int(face_node[m]), 0.0) + share * face_alpha[m]
-            reflected += share * (1.0 - face_alpha[m])
-        for node, s in diffuse:
-            beam[node] = beam.get(node, 0.0) + reflected * s
-        beam_share[z] = list(beam.items())
+        for m, f in zip(zone_members[z], fractions, strict=True):
+            if f <= 0:
+                continue
+            if face_is_window[m]:
+                glazed = face_glazed[m] / face_area[m]
+                outer, inner = window_nodes[f_name[m]]
+                absorbed[outer] = absorbed.get(outer, 0.0) + f * glazed * face_back[m, 0]
+                absorbed[inner] = absorbed.get(inner, 0.0) + f * glazed * face_back[m, 1]
+                reflected += f * (1.0 - glazed * (face_tau[m] + face_back[m].sum()))
+            else:
+                node = int(face_node[m])
+                absorbed[node] = absorbed.get(node, 0.0) + f * face_alpha[m]
+                reflected += f * (1.0 - face_alpha[m])
+        return absorbed, reflected
+
+    def with_reflection(z: int, absorbed: dict[int, float], reflected: float):
+        shares = dict(absorbed)
+        for node, s in isabsf[z]:
+            shares[node] = shares.get(node, 0.0) + reflected * s
+        return [(node, s) for node, s in shares.items() if s > 0]
+
+    beam_share: dict[int, list[tuple[int, float]]] = {}
+    for z, members in zone_members.items():
+        floors = (face_cos[members] > 0.7) & ~face_is_window[members]
+        if not floors.any():
+            beam_share[z] = isabsf[z]
+            continue
+        beam_share[z] = with_reflection(
+            z,
+            *first_incidence(
+                z, np.where(floors, face_area[members], 0.0) / face_area[members][floors].sum()
+            ),
+        )
+    diffuse_share: dict[str, list[tuple[int, float]]] = {}
+    for window in building.windows.values():
+        k = window_face_of[window.name]
+        z = int(face_zone[k])
+        row = view[z][int(np.flatnonzero(zone_members[z] == k)[0])]
+        diffuse_share[window.name] = with_reflection(z, *first_incidence(z, row))
 
     window_inputs: dict[tuple[str, float, float], tuple[int, int, int, int]] = {}
     zt_rows: list[int] = []
@@ -1061,7 +1146,7 @@ def assemble(
         z = zone_index[host.zone]
         for node, s in beam_share.get(z, []):
             source(node, c_beam, area * s)
-        for node, s in diffuse_share.get(z, []):
+        for node, s in diffuse_share.get(window.name, []):
             source(node, c_diff, area * s)
         outer, inner = window_nodes[window.name]
         source(outer, c_out, area)
@@ -1124,3 +1209,55 @@ def assemble(
             np.reshape(w_ratio, (len(w_g0), len(WINDOW_TEMPERATURE_GRID)))
         ),
     )
+
+
+#: Faces whose tilts and azimuths differ by at most this much lie in one plane and do not see each
+#: other (EnergyPlus, CalcApproximateViewFactors: SameAngleLimit) [deg].
+SAME_PLANE_ANGLE = 10.0
+
+
+def approximate_view_factors(area, tilt, azimuth, internal_mass=None, iterations=200):
+    """EnergyPlus' approximate view factors of the faces of one zone [-], ``F[i, j]``.
+
+    A face sees every face not in its own plane (tilt and azimuth within
+    :data:`SAME_PLANE_ANGLE`; internal mass is seen by all and sees all) in proportion to area
+    (``F_ij = A_j / sum of the areas it sees``); reciprocity ``A_i F_ij = A_j F_ji`` and
+    completeness ``sum_j F_ij = 1`` are then enforced by alternating symmetrisation and row
+    scaling (EnergyPlus' FixViewFactors).  A face that sees nothing keeps a zero row.
+    """
+    area = np.asarray(area, dtype=float)
+    tilt = np.asarray(tilt, dtype=float)
+    azimuth = np.asarray(azimuth, dtype=float)
+    n = len(area)
+    mass = np.zeros(n, dtype=bool) if internal_mass is None else np.asarray(internal_mass, bool)
+    d_az = np.abs((azimuth[:, None] - azimuth[None, :] + 180.0) % 360.0 - 180.0)
+    horizontal = (tilt < SAME_PLANE_ANGLE) | (tilt > 180.0 - SAME_PLANE_ANGLE)
+    same = (np.abs(tilt[:, None] - tilt[None, :]) <= SAME_PLANE_ANGLE) & (
+        (d_az <= SAME_PLANE_ANGLE) | (horizontal[:, None] & horizontal[None, :])
+    )
+    sees = (~same | mass[:, None] | mass[None, :]) & ~np.eye(n, dtype=bool)
+    seen_area = sees @ area
+    f = np.where(sees, area[None, :], 0.0) / np.where(seen_area > 0, seen_area, 1.0)[:, None]
+    af = area[:, None] * f
+    af = 0.5 * (af + af.T)
+    for _ in range(iterations):
+        rows = af.sum(axis=1)
+        af = af * np.where(rows > 0, area / np.where(rows > 0, rows, 1.0), 0.0)[:, None]
+        af = 0.5 * (af + af.T)
+    return af / area[:, None]
+
+
+def _window_back_absorptance(wt) -> tuple[float, float]:
+    """Diffuse solar absorptance of a window for radiation from the room [-]: (outer, inner pane).
+
+    The panes' front-side hemispherical absorptances mirrored (a symmetric glazing seen from the
+    other side); middle panes shared half and half; 0 for a window without layered optics.
+    """
+    front = np.asarray(wt.diffuse_pane_absorptance_values, dtype=float)
+    if len(front) == 0:
+        return 0.0, 0.0
+    back = front[::-1]
+    if len(back) == 1:
+        return 0.0, float(back[0])
+    middle = float(back[1:-1].sum())
+    return float(back[0]) + 0.5 * middle, float(back[-1]) + 0.5 * middle

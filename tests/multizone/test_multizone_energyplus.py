@@ -40,15 +40,18 @@ With the weather as EnergyPlus has it, the 600FF residual looks like a one-step 
 time-step error of both engines, measured 2026-11-23 against runs at 3 min (EnergyPlus on a copy
 of the file with ``Timestep`` 20, thermocal ``step="3min"``), hourly air temperature of 600FF:
 
-| comparison | step-end forcing | step-mean forcing | + interior solar (now) | bound |
-|---|---|---|---|---|
-| thermocal 15 min vs EnergyPlus 15 min | 0.90 / -0.41 | 0.67 / -0.41 | 0.63 / -0.24 | 0.8 |
-| thermocal 15 min vs EnergyPlus 3 min | 0.85 / -0.36 | 0.57 / -0.36 | 0.44 / -0.19 | 0.55 |
-| thermocal 15 min, weather held, vs EnergyPlus 3 min | 0.57 / -0.35 | same | 0.45 / -0.18 | 0.55 |
-| thermocal 3 min vs EnergyPlus 3 min | 0.47 / -0.34 | 0.45 / -0.34 | 0.32 / -0.17 | 0.4 |
-| EnergyPlus 15 vs 3 min (night +0.39 K, 14 h -0.77 K) | 0.52 / +0.05 | same | same | 0.4-0.65 |
-| thermocal 15 min vs 3 min | 0.59 / -0.02 | 0.28 / -0.02 | 0.28 / -0.02 | 0.35 |
-| thermocal 15 min vs 3 min, weather held | 0.28 / -0.01 | same | same | 0.35 |
+Columns: step-end forcing; step-mean forcing; + interior solar as EnergyPlus; + each surface's
+wind at its height (now). RMSE / bias [K]; tc = thermocal, E+ = EnergyPlus:
+
+| comparison | end | mean | + solar | + wind (now) | bound |
+|---|---|---|---|---|---|
+| tc 15 min vs E+ 15 min | 0.90 / -0.41 | 0.67 / -0.41 | 0.63 / -0.24 | 0.63 / -0.13 | 0.8 |
+| tc 15 min vs E+ 3 min | 0.85 / -0.36 | 0.57 / -0.36 | 0.44 / -0.19 | 0.39 / -0.09 | 0.5 |
+| tc 15 min held vs E+ 3 min | 0.57 / -0.35 | same | 0.45 / -0.18 | 0.41 / -0.07 | 0.53 |
+| tc 3 min vs E+ 3 min | 0.47 / -0.34 | 0.45 / -0.34 | 0.32 / -0.17 | 0.29 / -0.07 | 0.37 |
+| E+ 15 vs 3 min | 0.52 / +0.05 | same | same | same | 0.4-0.65 |
+| tc 15 vs 3 min | 0.59 / -0.02 | 0.28 / -0.02 | 0.28 / -0.02 | 0.28 / -0.02 | 0.35 |
+| tc 15 vs 3 min, weather held | 0.28 / -0.01 | same | same | same | 0.35 |
 
 EnergyPlus 15 min lags its own fine solution. thermocal forced each step by EnergyPlus'
 step-end weather led its own by about as much: the two errors added up to the apparent lag.
@@ -57,8 +60,10 @@ at its start and end (the interval mean of that curve): thermocal's own 15-min e
 same as with the weather held, and the RMSE against EnergyPlus at 15 min fell from 0.90 to
 0.67 K. Of the -0.34 K left at 3 min, half was the interior distribution of transmitted solar
 (diffuse on first incidence by EnergyPlus' approximate view factors, windows in the reflected
-pool by A (tau + back absorptance)): -0.17 K remain, partly the beam, which thermocal puts on the
-floor (EnergyPlus' FullExterior) where this file asks FullInteriorAndExterior. EnergyPlus at
+pool by A (tau + back absorptance)); the exterior convection at each surface's own wind speed
+(centroid height, the file's terrain, as EnergyPlus) took most of the rest: -0.07 K remain,
+partly the beam, which thermocal puts on the floor (EnergyPlus' FullExterior) where this file
+asks FullInteriorAndExterior. EnergyPlus at
 3 min is within 0.10 K of EnergyPlus at 1 min (0.62 K at 15 min) and takes about 6 s (20 s at
 1 min).
 The fine-step test adds about 12 s (EnergyPlus at 3 min beside the 15-min run, shared by
@@ -217,14 +222,14 @@ def test_case600ff_time_step_against_fine_step_energyplus(case600ff_energyplus, 
         "hold tc15 vs ep_fine": _rmse_bias(ep_fine, tc["hold", "15min"], zone),
     }
     rmse = {key: value[0] for key, value in found.items()}
-    # thermocal at 15 min against the fine-step reference: measured 0.44 K (0.63 K against
-    # EnergyPlus at 15 min); weather held 0.45 K
-    assert rmse["tc15 vs ep_fine"] < 0.55, found
+    # thermocal at 15 min against the fine-step reference: measured 0.39 K (0.63 K against
+    # EnergyPlus at 15 min); weather held 0.41 K
+    assert rmse["tc15 vs ep_fine"] < 0.5, found
     assert rmse["tc15 vs ep_fine"] < 0.8 * rmse["tc15 vs ep15"], found
-    assert rmse["hold tc15 vs ep_fine"] < 0.55, found
-    # both at the fine step: measured 0.32 K, bias -0.17 K
-    assert rmse["tc_fine vs ep_fine"] < 0.4, found
-    assert -0.25 < found["tc_fine vs ep_fine"][1] < -0.1, found
+    assert rmse["hold tc15 vs ep_fine"] < 0.53, found
+    # both at the fine step: measured 0.29 K, bias -0.07 K
+    assert rmse["tc_fine vs ep_fine"] < 0.37, found
+    assert -0.15 < found["tc_fine vs ep_fine"][1] < 0.05, found
     assert rmse["tc_fine vs ep_fine"] < 0.6 * rmse["tc15 vs ep15"], found
     # each engine's own 15-min error: EnergyPlus 0.52 K; thermocal 0.28 K (EnergyPlus-style
     # weather, the default for IDF files, and held weather alike)
@@ -310,8 +315,11 @@ def test_5zone_free_float_hourly_temperatures_against_energyplus(tmp_path_factor
     assert max(rmse.values()) < 1.2, rmse
     # the south zone under the Shading:Zone:Detailed overhangs
     assert rmse["SPACE1-1"] < 1.1 and abs(found["SPACE1-1"][1]) < 0.4, found["SPACE1-1"]
-    # Simple / SimpleCombined convection as the file asks: office biases within +-0.35 K
-    assert max(abs(value[1]) for value in found.values()) < 0.35, found
+    # Simple / SimpleCombined convection as the file asks, at each surface's own wind speed
+    # (centroid height, City terrain: 0.24 of the station's wind on the walls, as EnergyPlus;
+    # 0.845 before): office biases +0.35..+0.42 K (within +-0.24 K with the fixed factor, which
+    # compensated a warm bias not located yet, while it made 600FF and the house too cold)
+    assert max(abs(value[1]) for value in found.values()) < 0.5, found
 
 
 def test_case610_overhang_annual_loads_against_energyplus(tmp_path_factory, denver):

@@ -10,38 +10,44 @@ once per module on the thermostatted (ideal loads) and the free-float variants, 
 thermocal simulates both at 15 min (the file's schedules step by step, EnergyPlus-style weather
 interpolation, the file's TARP / DOE-2 convection); the tests skip when EnergyPlus is absent.
 
-Measured 2026-11-23 (EnergyPlus 25.2.0, thermocal at 263a816), thermocal vs EnergyPlus:
+Measured 2026-11-23 (EnergyPlus 25.2.0), thermocal vs EnergyPlus, first (thermocal at 263a816)
+and now (interior solar distributed as EnergyPlus does; the exterior convection at each surface's
+own wind speed from its centroid height and the file's Terrain, as EnergyPlus, instead of a fixed
+0.845 of the station's wind):
 
-| zone | heating tc / E+ [kWh] | diff | cooling tc / E+ [kWh] | diff |
+| zone | heating tc / E+ [kWh] | first | now | cooling tc / E+ [kWh] | first | now |
+|---|---|---|---|---|---|---|
+| LIVING | 1356 / 1202 | +17.4 % | +12.8 % | 1061 / 1213 | -18.2 % | -12.5 % |
+| KITCHEN | 1245 / 1159 | +10.7 % | +7.5 % | 672 / 744 | -15.5 % | -9.7 % |
+| BED1 | 812 / 712 | +17.8 % | +14.0 % | 717 / 796 | -16.7 % | -10.0 % |
+| BED2 | 875 / 785 | +14.6 % | +11.4 % | 642 / 727 | -18.6 % | -11.6 % |
+| building | 4288 / 3858 | +14.9 % | +11.2 % | 3091 / 3480 | -17.4 % | -11.2 % |
+
+| free float, hourly air temperature | RMSE first | RMSE now | bias first | bias now [K] |
 |---|---|---|---|---|
-| LIVING | 1410 / 1202 | +17.4 % | 992 / 1213 | -18.2 % |
-| KITCHEN | 1283 / 1159 | +10.7 % | 629 / 744 | -15.5 % |
-| BED1 | 839 / 712 | +17.8 % | 664 / 796 | -16.7 % |
-| BED2 | 900 / 785 | +14.6 % | 592 / 727 | -18.6 % |
-| building | 4432 / 3858 | +14.9 % | 2876 / 3480 | -17.4 % |
+| LIVING | 1.04 | 0.80 | -0.94 | -0.61 |
+| KITCHEN | 0.92 | 0.66 | -0.85 | -0.53 |
+| BED1 | 1.04 | 0.81 | -0.90 | -0.57 |
+| BED2 | 0.98 | 0.72 | -0.91 | -0.58 |
+| ATTIC | 1.05 | 0.33 | -0.45 | 0.00 |
 
-| free float, hourly air temperature | LIVING | KITCHEN | BED1 | BED2 | ATTIC |
-|---|---|---|---|---|---|
-| RMSE [K] | 1.04 | 0.92 | 1.04 | 0.98 | 1.05 |
-| bias tc - E+ [K] | -0.94 | -0.85 | -0.90 | -0.91 | -0.45 |
-
-thermocal runs colder with the same transmitted solar (annual and monthly within 1 % per zone)
-and slightly larger internal sensible gains: part of the gap is the exterior convection wind
-(thermocal's fixed ``NetworkOptions.wind_speed_factor`` 0.845 ignores the file's ``Terrain``
-Suburbs and the surface heights, where EnergyPlus has 0.46 to 0.64: with 0.55, the free-float
-bias becomes -0.6 K and the attic RMSE 0.62 K, loads +8..14 % / -10..-14 %); the rest is not
-explained yet. The bounds encode this agreement (about 1.2 x the measured differences) so that a
-regression fails; tighten them when the discrepancy is fixed.
+thermocal still runs colder in the conditioned zones with the same transmitted solar (annual and
+monthly within 1 % per zone) and the same solar absorbed by their opaque faces (within 0.6 W):
+with gains and infiltration removed the gap between SHGC 0.05 and 0.55 windows is about -0.9 K,
+so the solar-dependent part lies in how absorbed solar reaches the air (slab-on-ground floors,
+the simple-glazing windows' absorbed solar), not located yet. The bounds encode this agreement
+(about 1.25 x the measured differences) so that a regression fails; tighten them as the
+discrepancy is found.
 
 | quantity | measured | bound |
 |---|---|---|
-| per-zone annual heating, abs diff | <= 17.8 % | 22 % |
-| per-zone annual cooling, abs diff | <= 18.6 % | 23 % |
-| building annual heating / cooling, abs diff | 14.9 % / 17.4 % | 18 % / 21 % |
-| free float RMSE, conditioned zones: worst / mean [K] | 1.04 / 1.00 | 1.25 / 1.2 |
-| free float RMSE attic [K] | 1.05 | 1.3 |
-| free float abs bias, worst zone [K] | 0.94 | 1.15 |
-| thermostatted hourly air temperature RMSE, worst zone [K] | 0.44 | 0.55 |
+| per-zone annual heating, abs diff | <= 14.0 % | 17.5 % |
+| per-zone annual cooling, abs diff | <= 12.5 % | 16 % |
+| building annual heating / cooling, abs diff | 11.2 % / 11.2 % | 14 % / 14 % |
+| free float RMSE, conditioned zones: worst / mean [K] | 0.81 / 0.75 | 1.0 / 0.95 |
+| free float RMSE attic [K] | 0.33 | 0.42 |
+| free float abs bias, worst zone [K] | 0.61 | 0.77 |
+| thermostatted hourly air temperature RMSE, worst zone [K] | 0.44 (first) | 0.55 |
 | set-back: weekday night / day heating, LIVING and KITCHEN, Jan-Feb | 0.18-0.19 | < 0.25 |
 | set-back: weekday / weekend heating 07-08 h, LIVING and KITCHEN | 3.9-5.6 | > 3 |
 
@@ -151,11 +157,11 @@ def test_house_annual_loads_against_energyplus(house):
             cooling_ep,
         )
     for zone, (heating, heating_ep, cooling, cooling_ep) in found.items():
-        assert abs(heating / heating_ep - 1) < 0.22, (zone, found[zone])
-        assert abs(cooling / cooling_ep - 1) < 0.23, (zone, found[zone])
+        assert abs(heating / heating_ep - 1) < 0.175, (zone, found[zone])
+        assert abs(cooling / cooling_ep - 1) < 0.16, (zone, found[zone])
     total = np.sum(list(found.values()), axis=0)
-    assert abs(total[0] / total[1] - 1) < 0.18, total
-    assert abs(total[2] / total[3] - 1) < 0.21, total
+    assert abs(total[0] / total[1] - 1) < 0.14, total
+    assert abs(total[2] / total[3] - 1) < 0.14, total
     # the thermostatted zones follow the same set points: hourly air temperatures agree closely
     for zone in CONDITIONED:
         theirs = reference[f"{zone}:Zone Mean Air Temperature [C]"].to_numpy()
@@ -171,10 +177,10 @@ def test_house_free_float_hourly_temperatures_against_energyplus(house):
         diff = _hourly(result.air_temperature[zone], reference.index) - theirs
         found[zone] = (float(np.sqrt(np.mean(diff**2))), float(diff.mean()))
     rmse = [found[zone][0] for zone in CONDITIONED]
-    assert max(rmse) < 1.25, found
-    assert np.mean(rmse) < 1.2, found
-    assert found[ATTIC][0] < 1.3, found
-    assert max(abs(bias) for _, bias in found.values()) < 1.15, found
+    assert max(rmse) < 1.0, found
+    assert np.mean(rmse) < 0.95, found
+    assert found[ATTIC][0] < 0.42, found
+    assert max(abs(bias) for _, bias in found.values()) < 0.77, found
 
 
 def test_house_schedules_act_in_both_engines(house):

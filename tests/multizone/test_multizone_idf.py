@@ -194,6 +194,13 @@ def test_case600_geometry(case600):
     polys = [info.surface_vertices[n] for n in names]
     normals = [newell_normal(p) for p in polys]
     assert zone_volume_from_surfaces(polys, normals) == pytest.approx(129.6)
+    # exterior convection as EnergyPlus: each surface's wind at its centroid height in the
+    # file's terrain (Country: (270/10)^0.14 (z/270)^0.14 = (z/10)^0.14) and its perimeter
+    assert s["ZONE SURFACE SOUTH"].wind_speed_factor == pytest.approx((1.35 / 10) ** 0.14)
+    assert s["ZONE SURFACE ROOF"].wind_speed_factor == pytest.approx((2.7 / 10) ** 0.14)
+    assert s["ZONE SURFACE SOUTH"].perimeter == pytest.approx(2 * (8.0 + 2.7))
+    assert s["ZONE SURFACE ROOF"].perimeter == pytest.approx(2 * (8.0 + 6.0))
+    assert s["ZONE SURFACE FLOOR"].wind_speed_factor is None  # ground: no wind
 
 
 def test_case600_constructions_and_materials(case600):

@@ -422,10 +422,22 @@ def test_energyplus_convection_algorithms_from_the_idf():
         "simple_combined",
         [],
     )
-    info.convection = {"inside": "AdaptiveConvectionAlgorithm", "outside": "MoWiTT"}
+    info.convection = {"inside": "TARP", "outside": "MoWiTT"}
     options, notes = info.network_options()
-    assert (options.interior_convection, options.exterior_convection) == ("tarp", "doe2")
-    assert len(notes) == 2 and "MoWiTT is not available: DOE-2 used" in notes[1]
+    assert (options.interior_convection, options.exterior_convection, notes) == (
+        "tarp",
+        "mowitt",
+        [],
+    )
+    info.convection = {"inside": "AdaptiveConvectionAlgorithm", "outside": "TARP"}
+    options, notes = info.network_options()
+    assert (options.interior_convection, options.exterior_convection) == ("tarp", "tarp")
+    assert len(notes) == 1 and "Inside AdaptiveConvectionAlgorithm approximated" in notes[0]
+    info.convection = {"inside": "CeilingDiffuser", "outside": "AdaptiveConvectionAlgorithm"}
+    options, notes = info.network_options()
+    assert (options.interior_convection, options.exterior_convection) == ("tarp", "tarp")
+    assert "CeilingDiffuser is not available: TARP used" in notes[0]
+    assert "Outside AdaptiveConvectionAlgorithm approximated by TARP" in notes[1]
 
 
 def test_approximate_solar_view_factors_match_energyplus_case600():

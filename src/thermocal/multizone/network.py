@@ -410,7 +410,10 @@ def exterior_convection(
 
 
 def _wind_factor(surface, options) -> float:
-    """Local over station wind speed of a surface (its own, or the options' default) [-]."""
+    """Local over station wind speed of a surface (its own, or the options' default; 0 for a
+    surface not exposed to the wind, as EnergyPlus' NoWind) [-]."""
+    if not surface.wind_exposed:
+        return 0.0
     if surface.wind_speed_factor is not None:
         return float(surface.wind_speed_factor)
     return float(options.wind_speed_factor)
@@ -866,7 +869,7 @@ def assemble(
         e_sun.append(False)
         e_rough.append(GLASS_ROUGHNESS_FACTOR)
         e_wind.append(_wind_factor(host, options))
-        e_pa.append(4.0 / math.sqrt(window.area))  # a square window
+        e_pa.append(host.perimeter_over_area)  # EnergyPlus: the base surface's (TARP)
 
     face_node = np.asarray(f_node, dtype=np.int64)
     face_zone = np.asarray(f_zone, dtype=np.int64)

@@ -918,9 +918,10 @@ class Simulation:
         )
         unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
         tilt, azimuth, hc0, h_natural, roughness, factor, p_over_a = unique.T
+        # EnergyPlus' Windward(): within 90 degrees of the outward normal, or |cos tilt| >= 0.98
         diff = np.abs((direction[:, None] - azimuth[None, :] + 180.0) % 360.0 - 180.0)
-        horizontal = (tilt < 10.0) | (tilt > 170.0)
-        windward = (diff <= 100.0) | horizontal[None, :]
+        horizontal = np.abs(np.cos(np.radians(tilt))) >= 0.98
+        windward = (diff <= 90.0 + 1e-3) | horizontal[None, :]
         hc = exterior_convection(
             self.options.exterior_convection,
             station[:, None] * factor[None, :],

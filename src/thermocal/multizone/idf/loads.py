@@ -150,8 +150,8 @@ class LoadStages:
     ``info.setpoint_schedules`` and the wind and volume tables of ``info``.
     """
 
-    def _infiltration(self) -> None:
-        """Stage: infiltration."""
+    def terrain(self) -> str:
+        """The ``Building`` object's Terrain (EnergyPlus' default Suburbs when absent)."""
         building_rec = self.single("BUILDING")
         terrain = (building_rec["terrain"] if building_rec is not None else "") or "Suburbs"
         if terrain.upper() not in TERRAIN_WIND_PROFILE:
@@ -159,6 +159,11 @@ class LoadStages:
                 f"{building_rec['_object'].where()}: field 'Terrain' = '{terrain}' is not one of "
                 "Country, Suburbs, City, Ocean, Urban."
             )
+        return terrain
+
+    def _infiltration(self) -> None:
+        """Stage: infiltration."""
+        terrain = self.terrain()
         moments: dict[str, list[float]] = {}
         for data in self.surface_data.values():
             m = moments.setdefault(data["zone"], [0.0, 0.0])

@@ -114,11 +114,30 @@ class IdfImportInfo:
         inside = self.convection.get("inside", "TARP")
         outside = self.convection.get("outside", "DOE-2")
         interior = {"TARP": "tarp", "SIMPLE": "simple"}.get(inside.upper())
-        if interior is None:
+        if inside.upper() == "ADAPTIVECONVECTIONALGORITHM":
+            interior = "tarp"
+            notes.append(
+                "SurfaceConvectionAlgorithm:Inside AdaptiveConvectionAlgorithm approximated by "
+                "TARP (its selections for a zone without HVAC are other natural-convection "
+                "correlations: Fohanno-Polidori walls, Alamdari-Hammond horizontal faces)"
+            )
+        elif interior is None:
             interior = "tarp"
             notes.append(f"SurfaceConvectionAlgorithm:Inside {inside} is not available: TARP used")
-        exterior = {"DOE-2": "doe2", "SIMPLECOMBINED": "simple_combined"}.get(outside.upper())
-        if exterior is None:
+        exterior = {
+            "DOE-2": "doe2",
+            "TARP": "tarp",
+            "MOWITT": "mowitt",
+            "SIMPLECOMBINED": "simple_combined",
+        }.get(outside.upper())
+        if outside.upper() == "ADAPTIVECONVECTIONALGORITHM":
+            exterior = "tarp"
+            notes.append(
+                "SurfaceConvectionAlgorithm:Outside AdaptiveConvectionAlgorithm approximated by "
+                "TARP (its default selections: TARP windward/leeward walls; roofs by the "
+                "ClearRoof correlation)"
+            )
+        elif exterior is None:
             exterior = "doe2"
             notes.append(
                 f"SurfaceConvectionAlgorithm:Outside {outside} is not available: DOE-2 used"

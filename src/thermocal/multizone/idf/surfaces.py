@@ -26,6 +26,7 @@ from thermocal.multizone.idf.geometry import (
     to_world_coordinates,
     zone_volume_from_surfaces,
 )
+from thermocal.multizone.idf.loads import local_wind_factor
 from thermocal.multizone.idf.parse import _is_auto, _Names, _number, _wrap
 
 
@@ -332,6 +333,16 @@ class SurfaceStages:
                 "sun_exposed": sun,
                 "wind_exposed": wind,
             }
+            if boundary == "outdoors":
+                # EnergyPlus: the wind at the surface's centroid height in the file's terrain,
+                # and the perimeter of the gross polygon (TARP)
+                world = data["world"]
+                common["wind_speed_factor"] = local_wind_factor(
+                    float(np.mean(world[:, 2])), self.terrain()
+                )
+                common["perimeter"] = float(
+                    np.linalg.norm(np.roll(world, -1, axis=0) - world, axis=1).sum()
+                )
             self.model_surfaces.append(
                 _wrap(
                     obj,

@@ -455,3 +455,46 @@ def test_approximate_solar_view_factors_match_energyplus_case600():
     np.testing.assert_allclose(np.array(area)[:, None] * f, (np.array(area)[:, None] * f).T)
     expected = np.array([100.3, 100.3, 34.5, 0.0, 25.0, 25.0, 0.0, 0.0]) / 285.1
     np.testing.assert_allclose(f[6], expected, atol=0.001)
+
+
+def test_solar_absorbed_by_a_single_layer_window_sits_at_the_middle_of_the_layer():
+    """One layer between the window's two nodes (EnergyPlus' simple-glazing equivalent layer):
+    its absorbed solar goes half to each face, so that the inward-flowing fraction is
+    (R_out + R_layer / 2) / R_total as EnergyPlus has it; panes of a double glazing keep their
+    own faces."""
+    from thermocal.multizone.network import _window_back_absorptance
+    from thermocal.multizone.simulation import _window_inputs
+
+    angles = (0.0, 30.0, 60.0, 90.0)
+    single = WindowType(
+        "simple-glazing layer",
+        1.4,
+        0.55,
+        solar_transmittance=0.45,
+        pane_absorptances=(0.2,),
+        incidence_angles=angles,
+        relative_transmittance=(1.0, 0.98, 0.83, 0.0),
+    )
+    double = WindowType(
+        "double",
+        2.7,
+        0.79,
+        solar_transmittance=0.75,
+        pane_absorptances=(0.064, 0.052),
+        incidence_angles=angles,
+        relative_transmittance=(1.0, 0.98, 0.83, 0.0),
+    )
+    irradiance = {
+        "poa_direct": np.array([500.0, 0.0]),
+        "poa_sky_diffuse": np.array([100.0, 50.0]),
+        "poa_ground_diffuse": np.array([0.0, 0.0]),
+        "aoi": np.array([0.0, 45.0]),
+    }
+    _, _, outer, inner = _window_inputs(single, irradiance, 2)
+    absorbed = 0.2 * 500.0 + single.diffuse_pane_absorptance_values[0] * 100.0
+    np.testing.assert_allclose([outer[0], inner[0]], [0.5 * absorbed, 0.5 * absorbed])
+    _, _, outer, inner = _window_inputs(double, irradiance, 2)
+    assert outer[0] == pytest.approx(0.064 * 500 + double.diffuse_pane_absorptance_values[0] * 100)
+    assert inner[0] == pytest.approx(0.052 * 500 + double.diffuse_pane_absorptance_values[1] * 100)
+    back = single.diffuse_pane_absorptance_values[0]
+    assert _window_back_absorptance(single) == pytest.approx((0.5 * back, 0.5 * back))

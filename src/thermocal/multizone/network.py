@@ -1260,7 +1260,7 @@ def _window_back_absorptance(wt) -> tuple[float, float]:
     if len(front) == 0:
         return 0.0, 0.0
     back = front[::-1]
-    if len(back) == 1:
-        return 0.0, float(back[0])
+    if len(back) == 1:  # one layer between the two nodes: absorbed at its middle
+        return 0.5 * float(back[0]), 0.5 * float(back[0])
     middle = float(back[1:-1].sum())
     return float(back[0]) + 0.5 * middle, float(back[-1]) + 0.5 * middle

@@ -1559,6 +1559,13 @@ def _window_inputs(wt, irradiance: dict, n_steps: int):
         absorbed = absorbed + wt.diffuse_pane_absorptance_values[None, :] * diffuse[:, None]
         n_panes = absorbed.shape[1]
         outer = absorbed[:, 0].copy()
+        if n_panes == 1:
+            # one layer between the two nodes (a single pane, or EnergyPlus' simple-glazing
+            # equivalent layer, whose resistance is most of the window's): absorbed at its
+            # middle, half on each face, so that the inward-flowing fraction is EnergyPlus'
+            # (R_out + R_layer / 2) / R_total
+            outer *= 0.5
+            inner = outer.copy()
         if n_panes > 1:
             inner = absorbed[:, -1].copy()
         if n_panes > 2:

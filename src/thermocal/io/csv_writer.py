@@ -3,9 +3,11 @@
 ``write_frame_csv(frame, path, decimals)`` writes the same text as
 ``frame.round(decimals).to_csv(path)`` for a frame of floats indexed by time (values in fixed
 notation without trailing zeros, NaN as an empty field, time labels as pandas prints them),
-about 30x faster: the time labels are formatted by Arrow and the numbers by a compiled
-fixed-point formatter, row block by row block, so memory stays bounded. Values too large for
-fixed-point formatting (or infinities) fall back to Arrow's CSV writer.
+about 15x faster than pandas and 3x faster than Arrow's CSV writer (8928 rows x 900 values:
+0.39 s against 1.23 s with Arrow, measured 2026-11-23). The time labels are formatted by Arrow,
+the numbers by a compiled fixed-point formatter, row block by row block, so memory stays
+bounded. Values too large for fixed-point formatting (or infinities) fall back to Arrow's CSV
+writer.
 """
 
 from __future__ import annotations

@@ -298,11 +298,16 @@ def doe2_exterior_convection(wind_speed, windward, *, h_natural, roughness_facto
        ``CalcDOE2Leeward`` through ``CalcMoWITTForcedWindward`` / ``...Leeward``);
        Yazdanian, M. and Klems, J.H. (1994), ASHRAE Transactions 100(1).
     """
+    h_glass = np.sqrt(h_natural**2 + mowitt_forced(wind_speed, windward) ** 2)
+    return h_natural + roughness_factor * (h_glass - h_natural)
+
+
+def mowitt_forced(wind_speed, windward):
+    """MoWiTT smooth-surface forced term ``a V^b`` [W/(m2 K)], windward or leeward."""
     wind_speed = np.maximum(np.asarray(wind_speed, dtype=float), 0.0)
     a = np.where(windward, MOWITT_WINDWARD[0], MOWITT_LEEWARD[0])
     b = np.where(windward, MOWITT_WINDWARD[1], MOWITT_LEEWARD[1])
-    h_glass = np.sqrt(h_natural**2 + (a * wind_speed**b) ** 2)
-    return h_natural + roughness_factor * (h_glass - h_natural)
+    return a * wind_speed**b
 
 
 #: TARP forced-convection constant of ``2.537 W_f R_f sqrt(P V / A)`` (Sparrow, Ramsey and
@@ -368,11 +373,8 @@ def mowitt_exterior_convection(wind_speed, windward, *, delta_t=NOMINAL_EXTERIOR
        coefficient for windows in low-rise buildings", ASHRAE Transactions 100(1);
        EnergyPlus Engineering Reference, "Outside Surface Heat Balance: MoWiTT model".
     """
-    wind_speed = np.maximum(np.asarray(wind_speed, dtype=float), 0.0)
-    a = np.where(windward, MOWITT_WINDWARD[0], MOWITT_LEEWARD[0])
-    b = np.where(windward, MOWITT_WINDWARD[1], MOWITT_LEEWARD[1])
     natural = MOWITT_NATURAL * abs(delta_t) ** (1.0 / 3.0)
-    return np.sqrt(natural**2 + (a * wind_speed**b) ** 2)
+    return np.sqrt(natural**2 + mowitt_forced(wind_speed, windward) ** 2)
 
 
 def exterior_convection(

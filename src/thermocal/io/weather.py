@@ -199,7 +199,10 @@ def read_weather(
         name], ``name``, ``source`` (path), ``format``, ``step`` (pandas Timedelta),
         ``time_label`` ("interval start"), ``coerced_year`` (int or None), ``missing``
         ({column: number of missing values}) and, for EPW, ``ground_temperatures``
-        ({depth [m]: 12 monthly means [C]}).
+        ({depth [m]: 12 monthly means [C]}), ``holidays`` ([(name, date text)] of the
+        ``HOLIDAYS/DAYLIGHT SAVINGS`` line, dates as written: ``1/1``, ``Jan 1``,
+        ``Last Monday in May``, ...) and ``daylight_saving`` ((start, end) date texts, None when
+        the file gives none).
 
     Raises
     ------
@@ -338,6 +341,8 @@ def read_epw(
         "missing": missing,
         "ground_temperatures": header["ground_temperatures"],
         "wmo": str(meta.get("WMO_code", "")).strip(),
+        "holidays": header["holidays"],
+        "daylight_saving": header["daylight_saving"],
     }
     return frame, metadata
 
@@ -674,6 +679,8 @@ def _read_epw_header(path: Path) -> dict:
     records_per_hour = 1
     start_weekday = None
     ground: dict[float, list[float]] = {}
+    holidays: list[tuple[str, str]] = []
+    daylight_saving = None
     for number, line in enumerate(lines, start=1):
         fields = [f.strip() for f in line.rstrip("\n").split(",")]
         key = fields[0].upper()
@@ -699,10 +706,28 @@ def _read_epw_header(path: Path) -> dict:
                     ground[float(block[0])] = [float(v) for v in block[4:16]]
             except (ValueError, IndexError):
                 ground = {}  # informative header only: ignore a malformed one
+        elif key.startswith("HOLIDAYS/DAYLIGHT SAVING") and len(fields) >= 5:
+            # LeapYear Observed, DST start, DST end, number of holidays, (name, date) pairs;
+            # dates as EnergyPlus writes them ('1/1', 'Jan 1', 'Last Monday in May', ...),
+            # "0" for no DST; kept as text (read by the IDF schedules' calendar)
+            if fields[2] not in ("", "0") and fields[3] not in ("", "0"):
+                daylight_saving = (fields[2], fields[3])
+            try:
+                n_holidays = int(float(fields[4] or 0))
+            except ValueError:
+                n_holidays = 0  # informative header only: ignore a malformed count
+            pairs = fields[5 : 5 + 2 * n_holidays]
+            holidays = [
+                (pairs[i], pairs[i + 1])
+                for i in range(0, len(pairs) - 1, 2)
+                if pairs[i + 1] not in ("", "0")
+            ]
     return {
         "records_per_hour": records_per_hour,
         "start_weekday": start_weekday,
         "ground_temperatures": ground,
+        "holidays": holidays,
+        "daylight_saving": daylight_saving,
     }
 
 

@@ -418,6 +418,13 @@ class Simulation:
                 f"Simulation: schedules must be 'file' or 'constant', got {schedules!r}"
             )
         self.schedules = schedules
+        calendar = getattr(info, "schedules", None)
+        if calendar is not None and "holidays" in self.metadata:  # EPW holidays and DST period
+            calendar.set_weather_calendar(
+                self.metadata["holidays"],
+                self.metadata.get("daylight_saving"),
+                self.metadata.get("source", ""),
+            )
         self._scheduled = self._evaluate_schedules()
         self._site = self._site_from(self.metadata, building)
         self.shading = bool(shading)

@@ -2,12 +2,14 @@
 
 :class:`ScheduleEvaluator` reads ``Schedule:Constant``, ``Schedule:Compact``, ``Schedule:Year``
 with ``Schedule:Week:Daily`` / ``Schedule:Week:Compact`` and ``Schedule:Day:Interval`` /
-``Schedule:Day:Hourly`` / ``Schedule:Day:List``, ``Schedule:File`` and the special days of
-``RunPeriodControl:SpecialDays``. The calendar and profile helpers below it are pure functions on
-plain values (no IDF objects): day profiles at one-minute resolution from ``Until`` times with
-EnergyPlus' interpolation kinds, ``Schedule:Day:List`` items, ``Schedule:File`` columns, the
-dates of ``RunPeriodControl:SpecialDays`` and the calendar year that puts a ``RunPeriod`` start on
-its ``Day of Week for Start Day``.
+``Schedule:Day:Hourly`` / ``Schedule:Day:List``, ``Schedule:File`` and EnergyPlus' calendar:
+the special days of ``RunPeriodControl:SpecialDays`` and of the weather file, the weekend holiday
+rule, the weather file's daylight saving period.
+The calendar and profile helpers below it are pure functions on plain values (no IDF objects):
+day profiles at one-minute resolution from ``Until`` times with EnergyPlus' interpolation kinds,
+``Schedule:Day:List`` items, ``Schedule:File`` columns, EnergyPlus' date fields
+(:func:`parse_date`, :func:`resolve_date`) and the calendar year that puts a ``RunPeriod`` start
+on its ``Day of Week for Start Day``.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import calendar
 import datetime as _dt
 from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -77,7 +80,15 @@ class ScheduleEvaluator:
     interval (the step mean of :meth:`on_grid` is EnergyPlus' average); ``Linear`` ramps over each
     interval from the previous value (:func:`interval_profile`).
     Special days of ``RunPeriodControl:SpecialDays`` (Holiday, SummerDesignDay, WinterDesignDay,
-    CustomDay1/2) replace the weekday of their dates; holidays of the weather file are not read.
+    CustomDay1/2) and the weather file's holidays (:meth:`set_weather_calendar`, when
+    ``weather_holidays``) replace the weekday of their dates; with ``weekend_rule`` a one-day
+    special day given by month and day that falls on a Saturday or Sunday moves to the following
+    Monday (EnergyPlus' ``SetSpecialDayDates``). On the days of the weather file's daylight saving
+    period (when ``weather_daylight_saving``) :meth:`on_grid` evaluates the schedules one hour
+    later (their clock is local daylight time; ``Schedule:File`` with 'Adjust Schedule for
+    Daylight Savings' = No excepted); :meth:`minutes` and the statistics stay on the schedule
+    clock. ``RunPeriodControl:DaylightSavingTime`` is not read (not among the importer's classes,
+    it is listed as skipped).
 
     Parameters
     ----------
@@ -87,6 +98,12 @@ class ScheduleEvaluator:
         Calendar year for day-of-week and leap-year handling.
     base_dir : Path or None
         Folder against which relative ``Schedule:File`` names are resolved (the IDF's folder).
+    weather_holidays, weather_daylight_saving, weekend_rule : bool
+        The RunPeriod's 'Use Weather File Holidays and Special Days', 'Use Weather File Daylight
+        Saving Period' and 'Apply Weekend Holiday Rule' (EnergyPlus' defaults: Yes, Yes, No).
+    notes : list of str or None
+        Receives (and keeps up to date) one note on the calendar applied: holidays of the weather
+        file, DST period, special days moved by the weekend rule (the importer's notes).
     """
 
     def __init__(
@@ -95,49 +112,181 @@ class ScheduleEvaluator:
         year: int = 2006,
         version=(9, 3),
         base_dir: Path | None = None,
+        *,
+        weather_holidays: bool = True,
+        weather_daylight_saving: bool = True,
+        weekend_rule: bool = False,
+        notes: list[str] | None = None,
     ):
         self.year = year
         self.base_dir = Path(base_dir) if base_dir is not None else Path.cwd()
+        #: RunPeriod 'Use Weather File Holidays and Special Days', 'Use Weather File Daylight
+        #: Saving Period' and 'Apply Weekend Holiday Rule' (EnergyPlus' defaults: Yes, Yes, No)
+        self.weather_holidays = bool(weather_holidays)
+        self.weather_daylight_saving = bool(weather_daylight_saving)
+        self.weekend_rule = bool(weekend_rule)
+        #: list receiving the note on the calendar applied (the importer's notes)
+        self.notes = notes
         self._records: dict[str, dict] = {}
-        special: list[dict] = []
+        #: IDF special days: (spec, duration, day type, where)
+        self._idf_special: list[tuple[DateSpec, int, str, str]] = []
+        #: the weather file's holidays [(name, date text)], DST period (start, end) and path
+        self._weather: tuple[tuple, tuple | None, str] | None = None
+        self._note: str | None = None
+        #: schedules not shifted by daylight saving time (Schedule:File 'Adjust Schedule for
+        #: Daylight Savings' = No)
+        self._standard_time: set[str] = set()
         for obj in objects:
             if obj.key in _SCHEDULE_CLASSES:
-                self._records[obj.name.upper()] = record(obj, version=version)
+                rec = self._records[obj.name.upper()] = record(obj, version=version)
+                adjust = rec.get("adjust_schedule_for_daylight_savings", "") or "Yes"
+                if obj.key == "SCHEDULE:FILE" and adjust.strip().upper() == "NO":
+                    self._standard_time.add(obj.name.upper())
             elif obj.key == "RUNPERIODCONTROL:SPECIALDAYS":
-                special.append(record(obj, version=version))
+                self._idf_special.append(self._special_day(record(obj, version=version)))
         first = _dt.date(year, 1, 1)
-        n_days = (_dt.date(year + 1, 1, 1) - first).days
-        self.n_days = n_days
-        self._day_type = np.array(
-            [((first + _dt.timedelta(days=d)).weekday() + 1) % 7 for d in range(n_days)]
-        )
-        #: Day of year -> special day type name, from RunPeriodControl:SpecialDays.
-        self.special_days: dict[int, str] = {}
-        for rec in special:
-            where = rec["_object"].where()
-            kind = (rec["special_day_type"] or "Holiday").replace(" ", "").upper()
-            if kind not in DAY_TYPES[7:]:
-                raise ThermocalInputError(
-                    f"{where}: field 'Special Day Type' = '{rec['special_day_type']}' must be "
-                    "Holiday, SummerDesignDay, WinterDesignDay, CustomDay1 or CustomDay2."
-                )
-            start = (special_day(rec["start_date"], year, where) - first).days
-            duration = int(_number(rec, "duration", default=1.0))
-            if duration < 1:
-                raise ThermocalInputError(
-                    f"{where}: field 'Duration' = {duration} must be 1 or more."
-                )
-            for d in range(start, min(start + duration, n_days)):
-                self._day_type[d] = DAY_TYPES.index(kind)
-                self.special_days[d] = kind
+        self.n_days = (_dt.date(year + 1, 1, 1) - first).days
         self._month_day = [
             ((first + _dt.timedelta(days=d)).month, (first + _dt.timedelta(days=d)).day)
-            for d in range(n_days)
+            for d in range(self.n_days)
         ]
+        self._build_calendar()
+
+    @staticmethod
+    def _special_day(rec: dict) -> tuple[DateSpec, int, str, str]:
+        where = rec["_object"].where()
+        kind = (rec["special_day_type"] or "Holiday").replace(" ", "").upper()
+        if kind not in DAY_TYPES[7:]:
+            raise ThermocalInputError(
+                f"{where}: field 'Special Day Type' = '{rec['special_day_type']}' must be "
+                "Holiday, SummerDesignDay, WinterDesignDay, CustomDay1 or CustomDay2."
+            )
+        duration = int(_number(rec, "duration", default=1.0))
+        if duration < 1:
+            raise ThermocalInputError(f"{where}: field 'Duration' = {duration} must be 1 or more.")
+        return parse_date(rec["start_date"], where), duration, kind, where
+
+    def set_weather_calendar(
+        self,
+        holidays: Iterable[tuple[str, str]] = (),
+        daylight_saving: tuple[str, str] | None = None,
+        source: str = "",
+    ) -> None:
+        """Holidays and daylight saving period of the weather file (EPW ``HOLIDAYS/DAYLIGHT
+        SAVINGS`` line, as :func:`thermocal.io.weather.read_epw` gives them in its metadata).
+
+        Used as EnergyPlus does per the RunPeriod: the holidays (Holiday day type, one day each)
+        when 'Use Weather File Holidays and Special Days' is Yes, the DST period when 'Use Weather
+        File Daylight Saving Period' is Yes. Values already computed are recomputed; the calendar
+        note in :attr:`notes` is replaced.
+
+        Parameters
+        ----------
+        holidays : iterable of (name, date text)
+        daylight_saving : (start date text, end date text) or None
+        source : str
+            The weather file, for messages.
+        """
+        weather = (
+            tuple((str(n), str(d)) for n, d in holidays),
+            None if daylight_saving is None else tuple(daylight_saving),
+            str(source),
+        )
+        if weather != self._weather:
+            self._weather = weather
+            self._build_calendar()
+
+    def _build_calendar(self) -> None:
+        """Day types, special days and DST days of the year; clears the computed values."""
+        year, n_days = self.year, self.n_days
+        first = _dt.date(year, 1, 1)
+        weekdays = np.array(
+            [((first + _dt.timedelta(days=d)).weekday() + 1) % 7 for d in range(n_days)]
+        )
+        self._day_type = weekdays.copy()
+        #: Day of year -> special day type name (weather file holidays, then
+        #: RunPeriodControl:SpecialDays, which win where both fall on a day).
+        self.special_days: dict[int, str] = {}
+        entries = []
+        holidays, dst_weather, source = self._weather or ((), None, "")
+        where_weather = f"weather file {source}, HOLIDAYS/DAYLIGHT SAVINGS"
+        if self.weather_holidays:
+            for name, text in holidays:
+                where = f"{where_weather}, holiday '{name}'"
+                entries.append((parse_date(text, where, "date"), 1, "HOLIDAY", where))
+        entries += self._idf_special
+        moved = 0
+        for spec, duration, kind, where in entries:
+            start = (resolve_date(spec, year, where) - first).days
+            if spec.kind == "monthday" and duration == 1 and self.weekend_rule:
+                # EnergyPlus (SetSpecialDayDates): Sunday -> Monday, Saturday -> Monday
+                shift = {0: 1, 6: 2}.get(int(weekdays[start]), 0)
+                moved += shift > 0
+                start = (start + shift) % n_days
+            for d in range(start, start + duration):
+                self._day_type[d % n_days] = DAY_TYPES.index(kind)
+                self.special_days[d % n_days] = kind
+        #: Days (bool, n_days) on daylight saving time: schedules evaluated one hour later
+        self.daylight_saving = np.zeros(n_days, dtype=bool)
+        #: (first day, last day, source) of the DST period applied, or None
+        self.daylight_saving_period: tuple[_dt.date, _dt.date, str] | None = None
+        period = None
+        if self.weather_daylight_saving and dst_weather is not None:
+            period = (
+                parse_date(dst_weather[0], where_weather, "daylight saving start"),
+                parse_date(dst_weather[1], where_weather, "daylight saving end"),
+                f"weather file {Path(source).name}" if source else "weather file",
+            )
+        if period is not None:
+            start_spec, end_spec, where = period
+            start = resolve_date(start_spec, year, where, "Start Date")
+            end = resolve_date(end_spec, year, where, "End Date")
+            a, b = (start - first).days, (end - first).days
+            if b >= a:
+                self.daylight_saving[a : b + 1] = True
+            else:  # southern hemisphere: over the new year
+                self.daylight_saving[a:] = True
+                self.daylight_saving[: b + 1] = True
+            self.daylight_saving_period = (start, end, where)
         #: minutes by upper-case name; grid values, means, modes and ranges by (kind, name, ...)
         self._cache: dict = {}
         #: schedule name -> days (bool, n_days) interpolated 'Average' (step mean)
         self._average_days: dict[str, np.ndarray] = {}
+        self._set_note(len(holidays), dst_weather, moved)
+
+    def _set_note(self, n_weather: int, dst_weather, moved: int) -> None:
+        parts = []
+        if self._weather is not None:
+            if self.weather_holidays:
+                parts.append(f"{n_weather} holiday(s) from the weather file")
+            elif n_weather:
+                parts.append(
+                    f"the weather file's {n_weather} holiday(s) not used ('Use Weather File "
+                    "Holidays and Special Days' = No)"
+                )
+        if self.daylight_saving_period is not None:
+            start, end, where = self.daylight_saving_period
+            parts.append(
+                f"daylight saving time {start.month}/{start.day} to {end.month}/{end.day} "
+                f"({where}): schedules evaluated one hour later"
+            )
+        elif dst_weather is not None and not self.weather_daylight_saving:
+            parts.append(
+                "the weather file's daylight saving period not used ('Use Weather File "
+                "Daylight Saving Period' = No)"
+            )
+        if self.weekend_rule:
+            parts.append(
+                f"'Apply Weekend Holiday Rule' = Yes: {moved} special day(s) on a Saturday or "
+                "Sunday observed on the following Monday"
+            )
+        note = "schedule calendar: " + "; ".join(parts) if parts else None
+        if self.notes is not None:
+            if self._note in self.notes:
+                self.notes.remove(self._note)
+            if note:
+                self.notes.append(note)
+        self._note = note
 
     def __contains__(self, name: str) -> bool:
         return name.upper() in self._records
@@ -212,6 +361,10 @@ class ScheduleEvaluator:
         width = max(int(round(pd.Timedelta(step).total_seconds() / 60.0)), 1)
         cumulative = np.concatenate(([0.0], np.cumsum(np.concatenate((flat, flat[:1440])))))
         index = self.minute_index(times)
+        if name.upper() not in self._standard_time and self.daylight_saving.any():
+            # the schedules' clock is local daylight time: one hour later on DST days (EnergyPlus
+            # adds the DST indicator to the hour of day; past midnight: the next day's values)
+            index = index + 60 * self.daylight_saving[index // _MINUTES_PER_DAY]
         out = np.concatenate((flat, flat[:1440]))[index + width - 1]
         average = self._average_days.get(name.upper())
         if average is not None and average.any():
@@ -494,7 +647,6 @@ _WEEKDAYS = ("MONDAY", "TUESDAY", "WEDNESDAY", "THURSDAY", "FRIDAY", "SATURDAY",
 _MONTHS = {name.upper(): i for i, name in enumerate(calendar.month_name) if name} | {
     name.upper(): i for i, name in enumerate(calendar.month_abbr) if name
 }
-_NTH = {"1ST": 1, "2ND": 2, "3RD": 3, "4TH": 4, "5TH": 5, "LAST": -1}
 
 
 class DayProfile(np.ndarray):
@@ -645,39 +797,126 @@ def file_profile(
     return flat.reshape(n_days, MINUTES_PER_DAY)
 
 
-def special_day(text: str, year: int, where: str) -> _dt.date:
-    """Date of a ``RunPeriodControl:SpecialDays`` ``Start Date`` in ``year``.
+class DateSpec(NamedTuple):
+    """A date of EnergyPlus' date fields, before it is placed in a year.
 
-    Forms accepted, as EnergyPlus: ``7/4``, ``July 4``, ``4 July``, ``Jul 4``,
-    ``1st Monday in September``, ``4th Thursday in November``, ``Last Monday in May``.
+    ``kind``: ``"monthday"`` (``month``/``day``), ``"nth"`` (the ``day``-th ``weekday`` of
+    ``month``) or ``"last"`` (the last ``weekday`` of ``month``); ``weekday`` 0 = Monday .. 6 =
+    Sunday (-1 for ``"monthday"``).
     """
-    words = text.replace(",", " ").split()
-    upper = [w.upper() for w in words]
-    try:
-        if len(words) == 1 and "/" in text:
-            month, _, day = text.strip().partition("/")
-            return _dt.date(year, int(month), int(day))
-        if len(upper) == 2:
-            if upper[0] in _MONTHS:
-                return _dt.date(year, _MONTHS[upper[0]], int(words[1]))
-            if upper[1] in _MONTHS:
-                return _dt.date(year, _MONTHS[upper[1]], int(words[0]))
-        if len(upper) == 4 and upper[0] in _NTH and upper[1] in _WEEKDAYS and upper[2] == "IN":
-            month = _MONTHS[upper[3]]
-            weekday = _WEEKDAYS.index(upper[1])
-            days = [
-                d
-                for d in range(1, calendar.monthrange(year, month)[1] + 1)
-                if _dt.date(year, month, d).weekday() == weekday
-            ]
-            nth = _NTH[upper[0]]
-            return _dt.date(year, month, days[nth - 1 if nth > 0 else -1])
-    except (ValueError, KeyError, IndexError):
-        pass
-    raise ThermocalInputError(
-        f"{where}: field 'Start Date' = '{text}' is not a date EnergyPlus accepts "
-        "('7/4', 'July 4', '1st Monday in September', 'Last Monday in May')."
-    )
+
+    kind: str
+    month: int
+    day: int
+    weekday: int = -1
+
+
+_DATE_FORMS = (
+    "'7/4', 'July 4', '4 Jul', '1st Monday in September', '4 Thursday in November', "
+    "'Last Monday in May'"
+)
+_END_OF_MONTH = (31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31)
+
+
+def parse_date(text: str, where: str, field: str = "Start Date") -> DateSpec:
+    """A date field as EnergyPlus reads it (``RunPeriodControl:SpecialDays``, the EPW
+    ``HOLIDAYS/DAYLIGHT SAVINGS`` line).
+
+    Forms accepted, as EnergyPlus' ``ProcessDateString``: month/day with ``/``, ``-`` or ``:``
+    (``7/4``, ``7-4``, a trailing or leading year ignored: ``7/4/2006``, ``2006/7/4``), a month
+    name or its first three letters before or after the day (``July 4``, ``4 Jul``), the n-th
+    (1-5, with or without ``st``/``nd``/``rd``/``th``) or ``Last`` weekday ``in`` / ``of`` a month
+    (``3rd Monday in January``, ``4 Thursday in November``, ``Last Monday in May``, the weekday
+    and month in either order), and a day of the year (``185``, in a common year).
+    """
+    words = text.upper().replace("/", " ").replace("-", " ").replace(":", " ").split()
+    in_month = False
+    tokens: list[str] = []
+    for word in words:
+        if word in ("IN", "OF"):
+            in_month = True
+        elif word == "LAST":
+            tokens.append(word)
+            in_month = True
+        elif len(word) > 2 and word[:-2].isdigit() and word[-2:] in ("ST", "ND", "RD", "TH"):
+            tokens.append(word[:-2])
+            in_month = True
+        else:
+            tokens.append(word)
+
+    def month_of(word: str) -> int:
+        return _MONTHS.get(word[:3], 0) if len(word) >= 3 else 0
+
+    def weekday_of(word: str) -> int:
+        return next(
+            (i for i, w in enumerate(_WEEKDAYS) if len(word) >= 3 and w[:3] == word[:3]), -1
+        )
+
+    def month_day(month: int, day: int) -> DateSpec | None:
+        if 1 <= month <= 12 and 1 <= day <= _END_OF_MONTH[month - 1]:
+            return DateSpec("monthday", month, day)
+        return None
+
+    spec: DateSpec | None = None
+    if len(tokens) == 1 and tokens[0].isdigit() and not in_month:
+        n = int(tokens[0])
+        if 1 <= n <= 365:
+            d = _dt.date(2006, 1, 1) + _dt.timedelta(days=n - 1)
+            spec = DateSpec("monthday", d.month, d.day)
+    elif len(tokens) == 2:
+        a, b = tokens
+        if a.isdigit() and b.isdigit():
+            spec = month_day(int(a), int(b))
+        elif b.isdigit():
+            spec = month_day(month_of(a), int(b))
+        elif a.isdigit():
+            spec = month_day(month_of(b), int(a))
+    elif len(tokens) == 3 and in_month:
+        first, second, third = tokens
+        weekday, month = weekday_of(second), month_of(third)
+        if weekday < 0:
+            weekday, month = weekday_of(third), month_of(second)
+        if weekday >= 0 and month:
+            if first.isdigit() and 1 <= int(first) <= 5:
+                spec = DateSpec("nth", month, int(first), weekday)
+            elif first == "LAST":
+                spec = DateSpec("last", month, 0, weekday)
+    elif len(tokens) == 3 and all(t.isdigit() for t in tokens):
+        a, b, c = (int(t) for t in tokens)
+        spec = month_day(b, c) if a > 100 else month_day(a, b) if c > 100 else None
+    if spec is None:
+        raise ThermocalInputError(
+            f"{where}: field '{field}' = '{text}' is not a date EnergyPlus accepts ({_DATE_FORMS})."
+        )
+    return spec
+
+
+def resolve_date(spec: DateSpec, year: int, where: str, field: str = "Start Date") -> _dt.date:
+    """The date of ``spec`` in ``year`` (February 29 of a common year: March 1, as EnergyPlus'
+    ordinal day)."""
+    if spec.kind == "monthday":
+        if spec.month == 2 and spec.day == 29 and not calendar.isleap(year):
+            return _dt.date(year, 3, 1)
+        return _dt.date(year, spec.month, spec.day)
+    days = [
+        d
+        for d in range(1, calendar.monthrange(year, spec.month)[1] + 1)
+        if _dt.date(year, spec.month, d).weekday() == spec.weekday
+    ]
+    if spec.kind == "last":
+        return _dt.date(year, spec.month, days[-1])
+    if spec.day > len(days):
+        raise ThermocalInputError(
+            f"{where}: field '{field}': {calendar.month_name[spec.month]} {year} has no "
+            f"{spec.day}th {calendar.day_name[spec.weekday]} (not enough Nths)."
+        )
+    return _dt.date(year, spec.month, days[spec.day - 1])
+
+
+def special_day(text: str, year: int, where: str) -> _dt.date:
+    """Date of a ``RunPeriodControl:SpecialDays`` ``Start Date`` in ``year`` (see
+    :func:`parse_date` for the forms accepted)."""
+    return resolve_date(parse_date(text, where), year, where)
 
 
 def year_for_start_day(month: int, day: int, weekday: str, where: str) -> int:

@@ -2,9 +2,9 @@
 
 Stages of the import (:class:`SiteStages`, mixed into the builder of
 :func:`thermocal.multizone.idf.read_idf`): ``Building`` (name, north axis), ``GlobalGeometryRules``,
-``Site:Location``, ``Timestep``, ``RunPeriod`` (period, calendar year of the schedules and the
-notes on what of it is not applied), the :class:`ScheduleEvaluator` of the file, and
-``Site:GroundTemperature:BuildingSurface``.
+``Site:Location``, ``Timestep``, ``RunPeriod`` (period, calendar year of the schedules, the use
+of the weather file's holidays and daylight saving period and the weekend holiday rule), the
+:class:`ScheduleEvaluator` of the file, and ``Site:GroundTemperature:BuildingSurface``.
 """
 
 from __future__ import annotations
@@ -121,19 +121,24 @@ class SiteStages:
                     self.info.notes.append(
                         f"{rp.where()}: 'Day of Week for Start Day' = {f[7]}: weekdays of 2006 used"
                     )
+        # RunPeriod: Use Weather File Holidays and Special Days, Use Weather File Daylight Saving
+        # Period (both Yes when blank), Apply Weekend Holiday Rule (No when blank); applied by
+        # the evaluator, the weather file's calendar once the simulation reads it
+        calendar_flags = {}
         for rp in self.by_key.get("RUNPERIOD", [])[:1] if self.version >= (9, 0) else []:
             f = [x.strip().upper() for x in rp.fields] + [""] * 11
-            if f[8] in ("", "YES"):
-                self.info.notes.append(
-                    f"{rp.where()}: 'Use Weather File Holidays and Special Days' = Yes: the "
-                    "weather file's holidays are not read (RunPeriodControl:SpecialDays are)"
-                )
-            if f[10] == "YES":
-                self.info.notes.append(
-                    f"{rp.where()}: 'Apply Weekend Holiday Rule' = Yes is not applied"
-                )
+            calendar_flags = {
+                "weather_holidays": f[8] != "NO",
+                "weather_daylight_saving": f[9] != "NO",
+                "weekend_rule": f[10] == "YES",
+            }
         self.schedules = ScheduleEvaluator(
-            self.objects, year=self.year, version=self.version, base_dir=self.path.parent
+            self.objects,
+            year=self.year,
+            version=self.version,
+            base_dir=self.path.parent,
+            notes=self.info.notes,
+            **calendar_flags,
         )
         self.info.schedules = self.schedules
 

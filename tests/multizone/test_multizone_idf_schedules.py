@@ -337,6 +337,29 @@ def test_daylight_saving_shifts_schedules_by_one_hour():
     assert not dst[_doy("2006-03-27")] and not dst[_doy("2006-09-30")]
 
 
+def test_daylight_saving_object_of_the_file_wins_over_the_weather_file():
+    """RunPeriodControl:DaylightSavingTime applies whatever the RunPeriod says about the weather
+    file's period, and replaces it (EnergyPlus' WeatherManager)."""
+    step = pd.Timedelta("15min")
+    text = DST_SCHEDULE + "RunPeriodControl:DaylightSavingTime,2nd Sunday in March,11/5;"
+    times = ("06:45", "07:00", "07:45", "08:00")
+    for weather_dst in (True, False):
+        notes: list[str] = []
+        ev = _evaluator(text, notes=notes, weather_daylight_saving=weather_dst)
+        ev.set_weather_calendar([], ("4/2", "Last Sunday in October"), "x.epw")
+        # March 12 2006 is the 2nd Sunday of March; the weather file's period starts Apr 2
+        for day in ("2006-03-12", "2006-11-05"):
+            assert ev.on_grid("U", _steps(day, *times), step).tolist() == [0, 1, 1, 1], day
+        for day in ("2006-03-11", "2006-11-06"):
+            assert ev.on_grid("U", _steps(day, *times), step).tolist() == [0, 0, 0, 1], day
+        assert "daylight saving time 3/12 to 11/5" in notes[-1], notes
+        assert "DaylightSavingTime" in notes[-1], notes
+    with pytest.raises(ThermocalInputError, match="only one RunPeriodControl:DaylightSavingTime"):
+        _evaluator(text + "RunPeriodControl:DaylightSavingTime,4/1,10/1;")
+    with pytest.raises(ThermocalInputError, match="Someday"):
+        _evaluator(DST_SCHEDULE + "RunPeriodControl:DaylightSavingTime,Someday,11/5;")
+
+
 def test_daylight_saving_not_applied_to_schedule_file_when_asked(tmp_path):
     (tmp_path / "v.csv").write_text("".join(f"{i % 24}\n" for i in range(8760)))
     text = """

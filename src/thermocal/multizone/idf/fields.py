@@ -47,6 +47,7 @@ IMPORTED_CLASSES = (
     "Timestep",
     "RunPeriod",
     "RunPeriodControl:SpecialDays",
+    "RunPeriodControl:DaylightSavingTime",
     "ShadowCalculation",
     "SurfaceConvectionAlgorithm:Inside",
     "SurfaceConvectionAlgorithm:Outside",

@@ -136,6 +136,9 @@ class ScheduleEvaluator:
         #: schedules not shifted by daylight saving time (Schedule:File 'Adjust Schedule for
         #: Daylight Savings' = No)
         self._standard_time: set[str] = set()
+        #: RunPeriodControl:DaylightSavingTime (start, end, where): applied whatever the
+        #: RunPeriod says about the weather file's period, as EnergyPlus does
+        self._idf_daylight_saving: tuple | None = None
         for obj in objects:
             if obj.key in _SCHEDULE_CLASSES:
                 rec = self._records[obj.name.upper()] = record(obj, version=version)
@@ -144,6 +147,19 @@ class ScheduleEvaluator:
                     self._standard_time.add(obj.name.upper())
             elif obj.key == "RUNPERIODCONTROL:SPECIALDAYS":
                 self._idf_special.append(self._special_day(record(obj, version=version)))
+            elif obj.key == "RUNPERIODCONTROL:DAYLIGHTSAVINGTIME":
+                if self._idf_daylight_saving is not None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: only one RunPeriodControl:DaylightSavingTime object is "
+                        "allowed."
+                    )
+                rec = record(obj, version=version)
+                where = obj.where()
+                self._idf_daylight_saving = (
+                    parse_date(rec["start_date"], where, "Start Date"),
+                    parse_date(rec["end_date"], where, "End Date"),
+                    where,
+                )
         first = _dt.date(year, 1, 1)
         self.n_days = (_dt.date(year + 1, 1, 1) - first).days
         self._month_day = [
@@ -230,8 +246,8 @@ class ScheduleEvaluator:
         self.daylight_saving = np.zeros(n_days, dtype=bool)
         #: (first day, last day, source) of the DST period applied, or None
         self.daylight_saving_period: tuple[_dt.date, _dt.date, str] | None = None
-        period = None
-        if self.weather_daylight_saving and dst_weather is not None:
+        period = self._idf_daylight_saving
+        if period is None and self.weather_daylight_saving and dst_weather is not None:
             period = (
                 parse_date(dst_weather[0], where_weather, "daylight saving start"),
                 parse_date(dst_weather[1], where_weather, "daylight saving end"),

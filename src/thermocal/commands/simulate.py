@@ -185,15 +185,25 @@ def simulate(
             for p in result.to_files(tmp, format=output_format, quantities=quantities)
         ]
     summary = result.summary()
-    table = Table(title="summary (first 20 zones)")
-    for column in ("zone", "T min", "T mean", "T max", "heat kWh", "cool kWh", "peak heat kW"):
+    table = Table(
+        title="summary (first 20 zones; air temperature hourly-integrated, as ASHRAE 140)"
+    )
+    for column in (
+        "zone",
+        "T min C",
+        "T mean C",
+        "T max C",
+        "heat kWh",
+        "cool kWh",
+        "peak heat kW",
+    ):
         table.add_column(column, justify="right" if column != "zone" else "left")
     for zone, values in list(summary["zones"].items())[:20]:
         table.add_row(
             zone,
-            f"{values['air_temperature_min_C']:.1f}",
-            f"{values['air_temperature_mean_C']:.1f}",
-            f"{values['air_temperature_max_C']:.1f}",
+            f"{values['air_temperature_hourly_min_C']:.1f}",
+            f"{values['air_temperature_hourly_mean_C']:.1f}",
+            f"{values['air_temperature_hourly_max_C']:.1f}",
             f"{values['heating_kWh']:.0f}",
             f"{values['cooling_kWh']:.0f}",
             f"{values['heating_peak_kW']:.2f}",

@@ -4,6 +4,7 @@ Day of Week for Start Day."""
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -524,3 +525,23 @@ def test_simulation_passes_the_weather_calendar(tmp_path):
         line.startswith("schedule calendar: 2 holiday(s) from the weather file")
         for line in sim.approximations()
     )
+
+
+def test_run_period_of_an_8x_file_has_no_begin_year(tmp_path):
+    """Before 9.0 the RunPeriod reads Name, Begin Month, Begin Day, End Month, End Day, Day of
+    Week for Start Day: the end month is not a year."""
+    path = tmp_path / "box8.idf"
+    text = BOX.format(
+        extra="RunPeriod,R,3,1,5,31,Tuesday,Yes,Yes,No,Yes,Yes;",
+        north=0,
+        zone_north=0,
+        ox=0,
+        oy=0,
+        volume="autocalculate",
+    )
+    path.write_text(re.sub(r"Version,\s*[\d.]+\s*;", "Version,8.9;", text, count=1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdfImportWarning)
+        info = read_idf(path).idf_info
+    assert info.run_period == ("R", 3, 1, 5, 31, None)
+    assert info.schedules.year == 2006

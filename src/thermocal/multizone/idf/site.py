@@ -85,8 +85,11 @@ class SiteStages:
                 per_hour = chosen
             self.info.timesteps_per_hour = int(per_hour)
         for rp in self.by_key.get("RUNPERIOD", [])[:1]:
-            # Name, Begin Month, Begin Day, Begin Year, End Month, End Day (9.x and later)
+            # Name, Begin Month, Begin Day, Begin Year, End Month, End Day (9.x and later);
+            # before 9.0: Name, Begin Month, Begin Day, End Month, End Day (no begin year)
             f = [x.strip() for x in rp.fields] + [""] * 6
+            if self.version < (9, 0):
+                f = [*f[:3], "", *f[3:]]
             try:
                 begin_year = int(float(f[3])) if f[3] else None
                 self.info.run_period = (
@@ -107,7 +110,7 @@ class SiteStages:
                 # 9.x layout: Name, Begin Month, Begin Day, Begin Year, End Month, End Day,
                 # End Year, Day of Week for Start Day, ...
                 f = [x.strip() for x in rp.fields] + [""] * 8
-                if f[3]:
+                if f[3] and self.version >= (9, 0):
                     try:
                         self.year = int(float(f[3]))
                     except ValueError:

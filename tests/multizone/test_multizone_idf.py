@@ -340,12 +340,13 @@ def test_five_zone_loads(five_zone):
     setpoints = info.setpoint_profile(times)
     assert setpoints[("SPACE1-1", "heating")].iloc[10] == pytest.approx(22.2)
     assert setpoints[("SPACE1-1", "heating")].iloc[3] == pytest.approx(16.7)
-    # internal gains on a Monday 10:00-11:00 in SPACE1-1: lights 1584 W x 1.0, equipment
+    # internal gains on a Monday 10:00-11:00 in SPACE1-1: lights 1584 W x 1.0 less the 20 %
+    # return-air fraction (EnergyPlus sends it to the return air, in this file none), equipment
     # 1056 W x 0.9, 11 people x 78.05 W sensible x 1.0 (EnergyPlus' autocalculated sensible heat
     # at 117.24 W activity and 22 C, by hand from the Engineering Reference polynomial)
     gains = info.internal_gains_profile(times)["SPACE1-1"]
-    assert gains.iloc[10] == pytest.approx(1584 + 1056 * 0.9 + 11 * 78.0475, rel=1e-5)
-    assert gains.iloc[3] == pytest.approx(1584 * 0.05 + 1056 * 0.02)
+    assert gains.iloc[10] == pytest.approx(1584 * 0.8 + 1056 * 0.9 + 11 * 78.0475, rel=1e-5)
+    assert gains.iloc[3] == pytest.approx(1584 * 0.8 * 0.05 + 1056 * 0.02)
     assert space1.internal_gains == pytest.approx(
         info.internal_gains_profile(pd.date_range("2006-01-01", periods=8760, freq="h"))[
             "SPACE1-1"
@@ -382,10 +383,11 @@ def test_five_zone_schedules_on_the_simulation_grid(five_zone):
     factor = (270 / 10) ** 0.14 * (height / 460) ** 0.33
     expected = 0.032 * 3600 / 239.247360229 * 0.2237 * 4.0 * factor
     assert inputs.infiltration_ach[40, space1] == pytest.approx(expected, rel=0.02)
-    # lights: 59 % radiant + 20 % visible = radiant, the rest (return air included: no return
-    # path without HVAC, EnergyPlus adds it to the zone) convective
+    # lights: 59 % radiant + 20 % visible = radiant, 1 % convective; the 20 % return-air fraction
+    # reaches no zone (EnergyPlus 25.2 on this file: Lights Return Air Heating Rate 108 W mean,
+    # not in the zone air heat balance)
     total = inputs.gains_convective[40, space1] + inputs.gains_radiant[40, space1]
-    assert total == pytest.approx(1584 + 1056 * 0.9 + 11 * 78.0475, rel=1e-4)
+    assert total == pytest.approx(1584 * 0.8 + 1056 * 0.9 + 11 * 78.0475, rel=1e-4)
 
 
 # ------------------------------------------------------------------------------------------------

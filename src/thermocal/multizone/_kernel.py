@@ -129,6 +129,20 @@ def tarp_from_root(delta_t, root, cos_up):
 
 
 @njit(cache=True)
+def simple_interior(delta_t, cos_up):
+    """EnergyPlus' "Simple" interior coefficient (ASHRAE): 3.076 on vertical faces; on horizontal
+    (tilted) faces 4.040 (3.870) when the heat flow is unstable (a face warmer than the air facing
+    up, colder facing down), else 0.948 (2.281)."""
+    abs_cos = abs(cos_up)
+    product = delta_t * cos_up
+    if abs_cos < 0.3827 or product == 0.0:
+        return 3.076
+    if abs_cos >= 0.9239:
+        return 4.040 if product > 0.0 else 0.948
+    return 3.870 if product > 0.0 else 2.281
+
+
+@njit(cache=True)
 def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
     """Make ``cache_inv`` the inverse of ``g`` on the active set (embedded by zone index).
 
@@ -415,7 +429,10 @@ def run_steps(
                 dt_s = x[node] - x[an]
                 root = cube_root_update(abs(dt_s), face_root[f])
                 face_root[f] = root
-                h = tarp_from_root(dt_s, root, face_cos[f])
+                if tarp_on == 2:
+                    h = simple_interior(dt_s, face_cos[f])
+                else:
+                    h = tarp_from_root(dt_s, root, face_cos[f])
                 if h > face_hmax[f]:
                     h = face_hmax[f]
                 corr = (h - face_h0[f]) * face_area[f] * (x[an] - x[node])

@@ -598,6 +598,7 @@ class Network:
     window_inputs: dict = field(default_factory=dict)  # (wt, tilt, az) -> 4 input cols
     zone_transmitted: sp.csr_matrix | None = None  # (nz, n_inputs): transmitted solar per zone
     # windows: glass-face nodes, matrix conductance [W/K] and its ratio on WINDOW_TEMPERATURE_GRID
+    ext_is_window: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     window_outer: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     window_inner: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     window_conductance: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -733,6 +734,7 @@ def assemble(
         [] for _ in range(11)
     )
     e_wind: list[float] = []  # local over station wind speed [-]
+    e_win: list[bool] = []  # a window's outer glass face
     e_pa: list[float] = []  # perimeter over area [1/m]
     surface_nodes: dict[str, tuple[int, int]] = {}  # name -> (outside node, inside node)
 
@@ -818,6 +820,7 @@ def assemble(
             )
             e_wind.append(_wind_factor(surface, options))
             e_pa.append(surface.perimeter_over_area)
+            e_win.append(False)
         # adiabatic: nothing on the outside
 
     # ---- windows -----------------------------------------------------------------------------
@@ -872,6 +875,7 @@ def assemble(
         e_rough.append(GLASS_ROUGHNESS_FACTOR)
         e_wind.append(_wind_factor(host, options))
         e_pa.append(host.perimeter_over_area)  # EnergyPlus: the base surface's (TARP)
+        e_win.append(True)
 
     face_node = np.asarray(f_node, dtype=np.int64)
     face_zone = np.asarray(f_zone, dtype=np.int64)
@@ -903,7 +907,14 @@ def assemble(
         if options.h_interior_fixed is not None:
             h0 = np.full(len(face_node), float(options.h_interior_fixed))
         elif options.interior_convection == "simple":
-            h0 = np.where(face_cos > 0.7, 0.948, np.where(face_cos < -0.7, 4.040, 3.076))
+            # matrix part: the mean of EnergyPlus' stable and unstable values on horizontal
+            # (tilted) faces, the simulation corrects it by the heat-flow direction each step
+            abs_cos = np.abs(face_cos)
+            h0 = np.where(
+                abs_cos >= 0.9239,
+                0.5 * (4.040 + 0.948),
+                np.where(abs_cos >= 0.3827, 0.5 * (3.870 + 2.281), 3.076),
+            )
         else:
             h0 = np.where(face_cos > 0.7, 0.7, np.where(face_cos < -0.7, 5.0, 2.5))
         hmax = h0.copy()
@@ -967,10 +978,14 @@ def assemble(
     beta = np.sqrt(0.5 * (1.0 + np.cos(np.radians(ext_tilt))))
     view_sky = f_sky * beta
     view_air = f_ground + f_sky * (1.0 - beta)
+    ext_is_window = np.asarray(e_win, dtype=bool)
     if options.exterior_convection == "simple_combined":
-        # the combined coefficient holds the long-wave exchange, all of it with the outdoor air
-        view_sky = np.zeros_like(view_sky)
-        view_air = np.ones_like(view_air)
+        # the combined coefficient holds the long-wave exchange, all of it with the outdoor air,
+        # on opaque faces; EnergyPlus' window heat balance (WindowManager) takes the combined
+        # coefficient as the convective film of the outer glass and adds the long-wave exchange
+        # with sky, air and ground explicitly, as for the other algorithms
+        view_sky = np.where(ext_is_window, view_sky, 0.0)
+        view_air = np.where(ext_is_window, view_air, 1.0)
     cos_tilt = np.cos(np.radians(ext_tilt))
     # natural part of the exterior convection at a nominal 3 K difference
     dt_nominal = NOMINAL_EXTERIOR_DELTA_T
@@ -1006,7 +1021,7 @@ def assemble(
     hr0 = 4.0 * STEFAN_BOLTZMANN * t_mean**3
     if options.exterior_convection == "simple_combined":
         combined = simple_combined_exterior_coefficient(mean_wind_speed * ext_wind, ext_rough)
-        hc0 = np.maximum(combined - hr0 * ext_eps, 0.0)
+        hc0 = np.where(ext_is_window, combined, np.maximum(combined - hr0 * ext_eps, 0.0))
     for k in range(len(ext_node)):
         node = int(ext_node[k])
         boundary(node, IN_TEMP_OUT, float((hc0[k] + hr0 * ext_eps[k] * view_air[k]) * ext_area[k]))
@@ -1199,6 +1214,7 @@ def assemble(
         ext_wind_factor=ext_wind,
         ext_perimeter_over_area=ext_pa,
         ext_hc0=np.asarray(hc0, dtype=float),
+        ext_is_window=ext_is_window,
         ext_hr0=float(hr0),
         ext_capacity=np.asarray(e_cap, dtype=float),
         zone_infiltration=zone_infiltration,

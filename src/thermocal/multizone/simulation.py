@@ -904,7 +904,10 @@ class Simulation:
             unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
             rough, factor = unique.T
             hc = simple_combined_exterior_coefficient(station[:, None] * factor, rough[None, :])
-            hc = hc[:, np.ravel(inverse)] - net.ext_hr0 * net.ext_emissivity
+            # opaque faces: the long-wave part is the network's (all with the outdoor air);
+            # windows: all of it convective, their long-wave exchange apart (EnergyPlus)
+            radiative = np.where(net.ext_is_window, 0.0, net.ext_hr0 * net.ext_emissivity)
+            hc = hc[:, np.ravel(inverse)] - radiative
             return np.ascontiguousarray(np.maximum(hc, 0.0) - net.ext_hc0[None, :])
         if "wind_direction" in grid:
             direction = np.nan_to_num(grid["wind_direction"].to_numpy())
@@ -992,7 +995,16 @@ class Simulation:
         n_faces = len(net.face_node)
         out_face = np.empty((n, n_faces if store else 0), dtype=np.float64)
         linear = not self.explicit_corrections
-        tarp_on = self.options.interior_convection == "tarp" and not linear
+        # state-dependent interior convection: 1 TARP, 2 EnergyPlus' Simple (by heat-flow direction)
+        tarp_on = 0
+        if not linear and self.options.interior_convection == "tarp":
+            tarp_on = 1
+        elif (
+            not linear
+            and self.options.interior_convection == "simple"
+            and self.options.h_interior_fixed is None
+        ):
+            tarp_on = 2
         ext_dh = np.zeros_like(context.ext_dh) if linear else context.ext_dh
         inf_dh = np.zeros_like(context.inf_dh) if linear else context.inf_dh
         window_ratio = (

@@ -382,7 +382,10 @@ def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGai
                 f"'{rec['design_level_calculation_method']}' is not supported."
             )
         if obj.key == "LIGHTS":
-            lost = 0.0
+            # the return-air fraction goes to the zone's return air path (an air loop or a
+            # return plenum, which thermocal does not model, so it leaves the zones); in a
+            # zone without HVAC connections EnergyPlus adds it to no zone either
+            lost = min(_number(rec, "return_air_fraction", default=0.0), 1.0)
             radiant_total = _number(rec, "fraction_radiant", default=0.0) + _number(
                 rec, "fraction_visible", default=0.0
             )

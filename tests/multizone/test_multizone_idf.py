@@ -681,3 +681,23 @@ def test_open_zone_is_not_mistaken_for_a_reversed_surface(tmp_path):
     path.write_text(text)
     building, _ = _read(path)
     assert "Roof" not in building.surfaces
+
+
+def test_people_sensible_heat_follows_the_zone_temperature():
+    """EnergyPlus' polynomial of the People sensible heat as coefficients of T and T^2 (the
+    time loop adds b (T - 22) + c (T^2 - 22^2) to the gains held at 22 C)."""
+    from thermocal.multizone import _kernel
+    from thermocal.multizone.idf.loads import (
+        PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE,
+        people_sensible_coefficients,
+        people_sensible_heat,
+    )
+
+    assert _kernel.PEOPLE_T0 == PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE
+    activity = np.array([100.0, 120.0, 200.0])
+    a, b, c = people_sensible_coefficients(activity)
+    for t in (18.0, 22.0, 28.0):
+        np.testing.assert_allclose(a + b * t + c * t * t, people_sensible_heat(activity, t))
+    # ASHRAE table values EnergyPlus fits: about 70 W of 120 W sensible at 24 C, less when warmer
+    assert 65 < float(people_sensible_heat(120.0, 24.0)) < 80
+    assert people_sensible_heat(120.0, 28.0) < people_sensible_heat(120.0, 22.0)

@@ -34,6 +34,9 @@ from numba import njit
 
 SIGMA = 5.670374419e-8
 KELVIN = 273.15
+#: Zone temperature at which the scheduled People gains hold their sensible heat [C]
+#: (``thermocal.multizone.idf.loads.PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE``; tested equal)
+PEOPLE_T0 = 22.0
 
 
 def prepare_factors(lower, upper, perm_r, perm_c):
@@ -317,6 +320,8 @@ def run_steps(
     air_node,
     inf_dh,
     inf_dt,
+    people_b,
+    people_c,
     ctrl_zone,
     ctrl_heat_sp,
     ctrl_cool_sp,
@@ -390,6 +395,7 @@ def run_steps(
     mrt_tmp = np.zeros(nz)
     sp_rows = ctrl_heat_sp.shape[0]
     dt_rows = inf_dt.shape[0]
+    people_rows = people_b.shape[0]
     for s in range(n_steps):
         k = k0 + s
         # set points: one row per step, or a single row for the whole run
@@ -480,6 +486,15 @@ def run_steps(
                 an = air_node[z]
                 diff = t_out - x[an]
                 rhs[an] += inf_dt[dt_k, z] * abs(diff) * diff
+        # People's sensible heat at the zone air temperature (lagged) beyond its value at the
+        # reference temperature the gains hold: b (T - T0) + c (T^2 - T0^2)
+        if people_rows > 0:
+            for z in range(nz):
+                an = air_node[z]
+                t_air = x[an]
+                rhs[an] += people_b[k, z] * (t_air - PEOPLE_T0) + people_c[k, z] * (
+                    t_air * t_air - PEOPLE_T0 * PEOPLE_T0
+                )
         # 3'. tracking: PID heat from the error at the start of the step, or the exact inverse
         done = False
         if track_mode == 2:

@@ -63,6 +63,8 @@ class _Context:
     heat_sp: np.ndarray = None  # (1 or n_steps, n_controlled) [C]
     cool_sp: np.ndarray = None
     inf_dt: np.ndarray = None  # (0, 1 or n_steps, n_zones) [W/K^2]
+    people_b: np.ndarray = None  # (0 or n_steps, n_zones) [W/K]
+    people_c: np.ndarray = None  # (0 or n_steps, n_zones) [W/K^2]
 
 
 @dataclass
@@ -727,19 +729,27 @@ class Simulation:
         face_hmax = 2.0 * net.face_h0 + net.face_capacity / dt
         upper = net.ext_hc0 + net.ext_hr0 * net.ext_emissivity + net.ext_capacity / dt
         ext_dh = np.clip(ext_dh_raw, 0.1 - net.ext_hc0[None, :], upper[None, :])
+        per_step = (
+            self._heat_sp_steps,
+            self._cool_sp_steps,
+            self._inf_dt,
+            self._people_b,
+            self._people_c,
+        )
         if dt == self.dt:
-            heat_sp, cool_sp, inf_dt = self._heat_sp_steps, self._cool_sp_steps, self._inf_dt
+            heat_sp, cool_sp, inf_dt, people_b, people_c = per_step
         else:  # hourly warm-up context of the first day
             per_day = int(round(86400.0 / self.dt))
             m = int(round(3600.0 / self.dt))
-            heat_sp, cool_sp, inf_dt = (
-                a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m)
-                for a in (self._heat_sp_steps, self._cool_sp_steps, self._inf_dt)
+            heat_sp, cool_sp, inf_dt, people_b, people_c = (
+                a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m) for a in per_step
             )
         return _Context(
             heat_sp=np.ascontiguousarray(heat_sp),
             cool_sp=np.ascontiguousarray(cool_sp),
             inf_dt=np.ascontiguousarray(inf_dt),
+            people_b=np.ascontiguousarray(people_b),
+            people_c=np.ascontiguousarray(people_c),
             dt=dt,
             lu=lu,
             factors=factors,
@@ -857,8 +867,14 @@ class Simulation:
         ratio = rho / net.reference_density - 1.0
         inf_dh = ratio[:, None] * net.zone_infiltration[None, :]
         self._inf_dt = np.zeros((0, len(net.zone_names)))
+        self._people_b = np.zeros((0, len(net.zone_names)))
+        self._people_c = np.zeros((0, len(net.zone_names)))
         scheduled = self._scheduled
         if scheduled is not None:
+            if scheduled.people_per_kelvin is not None and np.any(scheduled.people_per_kelvin):
+                # People's sensible heat at the zone temperature (lagged), beyond its 22 C value
+                self._people_b = np.ascontiguousarray(scheduled.people_per_kelvin)
+                self._people_c = np.ascontiguousarray(scheduled.people_per_kelvin2)
             names = list(net.zone_names)
             for name in self._gain_zones:
                 z = names.index(name)
@@ -1039,6 +1055,8 @@ class Simulation:
             net.air_node,
             inf_dh,
             np.zeros((0, nz)) if linear else context.inf_dt,
+            np.zeros((0, nz)) if linear else context.people_b,
+            np.zeros((0, nz)) if linear else context.people_c,
             controlled,
             context.heat_sp if tracking is None else track["dummy_sp"],
             context.cool_sp if tracking is None else track["dummy_sp"],

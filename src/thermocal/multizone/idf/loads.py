@@ -62,6 +62,27 @@ class InternalGainInfo:
     latent_level: float = 0.0
 
 
+def people_sensible_coefficients(activity):
+    """Coefficients ``(a, b, c)`` of the sensible heat per person ``a + b T + c T^2`` [W] at
+    the zone air temperature ``T`` [C] (EnergyPlus' autocalculated People sensible fraction).
+
+    Parameters
+    ----------
+    activity : float or ndarray [W/person]
+        Total metabolic heat (the Activity Level schedule).
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, "People" (sensible heat gain from occupants, polynomial
+    fit of the ASHRAE Handbook table).
+    """
+    m = np.asarray(activity, dtype=float)
+    a = 6.461927 + 0.946892 * m + 0.0000255737 * m**2
+    b = 7.139322 - 0.0627909 * m + 0.0000589172 * m**2
+    c = -0.198550 + 0.000940018 * m - 0.00000149532 * m**2
+    return a, b, c
+
+
 def people_sensible_heat(activity, temperature=PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE):
     """Sensible heat per person [W] of EnergyPlus' autocalculated People sensible fraction.
 
@@ -72,25 +93,11 @@ def people_sensible_heat(activity, temperature=PEOPLE_SENSIBLE_REFERENCE_TEMPERA
     temperature : float or ndarray [C]
         Zone air temperature.
 
-    References
-    ----------
-    EnergyPlus Engineering Reference, "People" (sensible heat gain from occupants, polynomial
-    fit of the ASHRAE Handbook table).
+    See :func:`people_sensible_coefficients` (clipped to ``[0, activity]``).
     """
-    m = np.asarray(activity, dtype=float)
+    a, b, c = people_sensible_coefficients(activity)
     t = np.asarray(temperature, dtype=float)
-    value = (
-        6.461927
-        + 0.946892 * m
-        + 0.0000255737 * m**2
-        + 7.139322 * t
-        - 0.0627909 * t * m
-        + 0.0000589172 * t * m**2
-        - 0.198550 * t**2
-        + 0.000940018 * t**2 * m
-        - 0.00000149532 * t**2 * m**2
-    )
-    return np.clip(value, 0.0, m)
+    return np.clip(a + b * t + c * t**2, 0.0, np.asarray(activity, dtype=float))
 
 
 @dataclass

@@ -14,7 +14,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from thermocal.multizone.idf.loads import InfiltrationInfo, InternalGainInfo, people_sensible_heat
+from thermocal.multizone.idf.loads import (
+    InfiltrationInfo,
+    InternalGainInfo,
+    people_sensible_coefficients,
+    people_sensible_heat,
+)
 from thermocal.multizone.idf.schedules import ScheduleEvaluator
 
 
@@ -39,6 +44,11 @@ class ScheduledInputs:
     infiltration_ach_per_kelvin : ndarray [1/(h K)]
         Temperature term: air changes per kelvin of ``|T_zone - T_out|`` (applied in the time
         loop with the zone temperature of the previous step, as EnergyPlus does).
+    people_per_kelvin, people_per_kelvin2 : ndarray [W/K], [W/K^2]
+        Zone-temperature dependence of the sensible heat of People with an autocalculated
+        sensible fraction: the gains above hold it at 22 C; the time loop adds
+        ``b (T - 22) + c (T^2 - 22^2)`` with the zone air temperature of the previous step
+        (EnergyPlus evaluates it at the zone's temperature), convective.
     """
 
     heating_setpoint: np.ndarray
@@ -48,6 +58,8 @@ class ScheduledInputs:
     gains_latent: np.ndarray
     infiltration_ach: np.ndarray
     infiltration_ach_per_kelvin: np.ndarray
+    people_per_kelvin: np.ndarray | None = None
+    people_per_kelvin2: np.ndarray | None = None
 
 
 @dataclass
@@ -180,6 +192,8 @@ class IdfImportInfo:
         convective = np.zeros((n, nz))
         radiant = np.zeros((n, nz))
         latent = np.zeros((n, nz))
+        people_b = np.zeros((n, nz))
+        people_c = np.zeros((n, nz))
         for gain in self.internal_gains:
             if gain.zone not in column:
                 continue
@@ -189,6 +203,9 @@ class IdfImportInfo:
                 activity = sched.on_grid(gain.activity_schedule, times, step)
                 if gain.sensible_fraction is None:
                     sensible = people_sensible_heat(activity)
+                    _, b, c = people_sensible_coefficients(activity)
+                    people_b[:, column[gain.zone]] += gain.people_count * fraction * b
+                    people_c[:, column[gain.zone]] += gain.people_count * fraction * c
                 else:
                     sensible = activity * gain.sensible_fraction
                 level = gain.people_count * fraction * sensible
@@ -216,7 +233,9 @@ class IdfImportInfo:
             base = inf.design_flow * 3600.0 / self.zone_volume[inf.zone] * values(inf.schedule)
             ach[:, c] += base * (a + c_wind * v + d * v * v)
             ach_dt[:, c] += base * b
-        return ScheduledInputs(heating, cooling, convective, radiant, latent, ach, ach_dt)
+        return ScheduledInputs(
+            heating, cooling, convective, radiant, latent, ach, ach_dt, people_b, people_c
+        )
 
     def internal_gains_profile(self, times) -> pd.DataFrame:  # noqa: F821 (pandas lazily)
         """Hourly internal sensible gains per zone [W] from the file's schedules.

@@ -83,16 +83,19 @@ class NetworkOptions:
         criterion.
     interior_convection : {"tarp", "fixed", "simple"}
         TARP natural convection by tilt and heat-flow direction (state-dependent, applied as a
-        correction on top of ``h_c0``), fixed ISO 6946 values, or EnergyPlus' "Simple" constants
-        (walls 3.076, ceilings 4.040, floors 0.948 W/(m2 K): heat flowing from the air to colder
-        surfaces, as the ISO option).
+        correction on top of ``h_c0``), fixed ISO 6946 values, or EnergyPlus' "Simple" values
+        by heat-flow direction each step (walls 3.076; horizontal faces 4.040 when the flow is
+        unstable, a face warmer than the air facing up or colder facing down, else 0.948;
+        tilted faces 3.870 / 2.281 W/(m2 K)).
     exterior_convection : {"doe2", "tarp", "mowitt", "fixed", "simple_combined"}
         Wind-dependent exterior convection as EnergyPlus names it: "doe2" (its default,
         :func:`doe2_exterior_convection`), "tarp" (:func:`tarp_exterior_convection`), "mowitt"
         (:func:`mowitt_exterior_convection`); ``h_exterior_fixed``; or EnergyPlus'
         "SimpleCombined": a combined convective + radiative coefficient ``D + E V + F V^2`` by
-        roughness, all of it to the outdoor air temperature (no sky long-wave exchange),
-        :func:`simple_combined_exterior_coefficient`.
+        roughness, all of it to the outdoor air temperature (no sky long-wave exchange) on
+        opaque faces, :func:`simple_combined_exterior_coefficient`; windows take it as their
+        convective film and exchange long-wave radiation besides, as EnergyPlus' window heat
+        balance does.
     h_exterior_fixed : float [W/(m2 K)]
         Exterior convective coefficient of the "fixed" option.
     h_interior_fixed : float or None [W/(m2 K)]

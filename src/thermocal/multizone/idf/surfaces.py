@@ -126,20 +126,7 @@ class SurfaceStages:
                     f"= '{cons}' is not a Construction of the "
                     f"file{hint}."
                 )
-            geometry = self.zone_geometry[zone_name.upper()]
-            world = to_world_coordinates(
-                _vertices(rec),
-                rules=self.rules,
-                zone_origin=geometry["origin"],
-                zone_north_axis=geometry["north"],
-                building_north_axis=self.north_axis,
-            )
-            normal = outward_normal(world, self.rules)
-            area = 0.5 * float(np.linalg.norm(normal))
-            if area <= 1e-9:
-                raise ThermocalInputError(
-                    f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
-                )
+            world, normal, area = self._world_polygon(rec, zone_name)
             _check_planar(world, normal, obj)
             tilt, azimuth = tilt_azimuth(normal)
             self.surface_data[name.upper()] = {
@@ -204,20 +191,7 @@ class SurfaceStages:
                     f"'{rec['building_surface_name']}' is not a building surface of the file."
                 )
             kind = (rec["surface_type"] or "Window").upper()
-            geometry = self.zone_geometry[base["zone"].upper()]
-            world = to_world_coordinates(
-                _vertices(rec),
-                rules=self.rules,
-                zone_origin=geometry["origin"],
-                zone_north_axis=geometry["north"],
-                building_north_axis=self.north_axis,
-            )
-            normal = outward_normal(world, self.rules)
-            area = 0.5 * float(np.linalg.norm(normal))
-            if area <= 1e-9:
-                raise ThermocalInputError(
-                    f"{obj.where()}: the vertices enclose zero area (degenerate polygon)."
-                )
+            world, normal, area = self._world_polygon(rec, base["zone"])
             cos_angle = float(np.dot(normal, base["normal"])) / (
                 np.linalg.norm(normal) * np.linalg.norm(base["normal"])
             )
@@ -275,6 +249,25 @@ class SurfaceStages:
                 self.info.notes.append(
                     f"sub-surface '{name}' of type {kind.title()} is not modelled"
                 )
+
+    def _world_polygon(self, rec: dict, zone_name: str):
+        """World vertices, outward (Newell) normal and area [m2] of a surface's polygon in the
+        coordinates of ``zone_name``; a degenerate polygon is an error naming the object."""
+        geometry = self.zone_geometry[zone_name.upper()]
+        world = to_world_coordinates(
+            _vertices(rec),
+            rules=self.rules,
+            zone_origin=geometry["origin"],
+            zone_north_axis=geometry["north"],
+            building_north_axis=self.north_axis,
+        )
+        normal = outward_normal(world, self.rules)
+        area = 0.5 * float(np.linalg.norm(normal))
+        if area <= 1e-9:
+            raise ThermocalInputError(
+                f"{rec['_object'].where()}: the vertices enclose zero area (degenerate polygon)."
+            )
+        return world, normal, area
 
     def _model_surfaces(self) -> None:
         """Stage: model surfaces."""

@@ -122,16 +122,61 @@ EXIT_INTERRUPTED, EXIT_TERMINATED = 130, 143
 #: Exit status of an unexpected internal error (input errors exit with 2).
 EXIT_INTERNAL = 70
 
-_state: dict = {"pid": None, "signal": None}
+_state: dict = {"pid": None, "signal": None, "pending": None}
 
 
-def _on_signal(signum, frame) -> None:  # noqa: ARG001 - the signal-handler signature
-    if os.getpid() != _state["pid"]:  # a forked worker: the parent reports, quietly
-        os._exit(128 + signum)
+#: Packages whose Python code runs as a callback of compiled code (numba's compiler calls back
+#: into Python through ctypes): an exception raised there is printed as "Exception ignored on
+#: calling ctypes callback function" with a traceback and lost, and the run goes on.
+_DEFER_INSIDE = (f"{os.sep}numba{os.sep}", f"{os.sep}llvmlite{os.sep}")
+#: Seconds between two checks whether a deferred signal can be raised.
+_DEFER_POLL_S = 0.05
+
+
+def _inside_compiler(frame) -> bool:
+    """Whether the interrupted Python code runs inside numba or llvmlite (a compilation)."""
+    while frame is not None:
+        if any(part in frame.f_code.co_filename for part in _DEFER_INSIDE):
+            return True
+        frame = frame.f_back
+    return False
+
+
+def _raise_for(signum: int) -> None:
     _state["signal"] = signum
     if signum == signal.SIGTERM:
         raise Terminated
     raise KeyboardInterrupt
+
+
+def _on_signal(signum, frame) -> None:
+    """SIGINT/SIGTERM: raise in the main process, or defer while numba compiles.
+
+    A signal that arrives during a numba compilation (the first run of a kernel, up to half a
+    minute) is remembered and raised as soon as the compiler has returned to thermocal's code,
+    polled with a short interval timer: raised inside the compiler it would be swallowed by a
+    ctypes callback, printed with a traceback, and the run would go on.
+    """
+    if os.getpid() != _state["pid"]:  # a forked worker: the parent reports, quietly
+        os._exit(128 + signum)
+    if _inside_compiler(frame):
+        if _state.get("pending") != signal.SIGTERM:  # SIGTERM wins over a later Ctrl-C
+            _state["pending"] = signum
+        signal.setitimer(signal.ITIMER_REAL, _DEFER_POLL_S)
+        return
+    _raise_for(signum)
+
+
+def _on_deferred_check(signum, frame) -> None:  # noqa: ARG001 - the signal-handler signature
+    """SIGALRM of the poll timer: raise the deferred signal once out of the compiler."""
+    pending = _state.get("pending")
+    if pending is None or os.getpid() != _state["pid"]:
+        return
+    if _inside_compiler(frame):
+        signal.setitimer(signal.ITIMER_REAL, _DEFER_POLL_S)
+        return
+    _state["pending"] = None
+    _raise_for(pending)
 
 
 def _install_signal_handlers() -> None:
@@ -141,8 +186,10 @@ def _install_signal_handlers() -> None:
         return
     _state["pid"] = os.getpid()
     _state["signal"] = None
+    _state["pending"] = None
     signal.signal(signal.SIGINT, _on_signal)
     signal.signal(signal.SIGTERM, _on_signal)
+    signal.signal(signal.SIGALRM, _on_deferred_check)
 
 
 def _exit_interrupted() -> None:
@@ -160,6 +207,7 @@ def _exit_interrupted() -> None:
         # cannot turn the exit into death by the signal (exit status -2 instead of 130)
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        signal.setitimer(signal.ITIMER_REAL, 0)
         sys.stdout.flush()
         sys.stderr.flush()
         os._exit(code)

@@ -164,8 +164,8 @@ def _slow_fit_data(path: Path, n: int = 20000) -> None:
     ).to_csv(path, index=False)
 
 
-def _start_fit(data: Path, out: Path, cwd: Path) -> subprocess.Popen:
-    env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "200"}
+def _start_fit(data: Path, out: Path, cwd: Path, extra_env: dict | None = None) -> subprocess.Popen:
+    env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "200", **(extra_env or {})}
     return subprocess.Popen(
         [sys.executable, "-c", "from thermocal.cli import main; main()", "fit", str(MODEL),
          str(data), "--out", str(out), "--no-figures", "--n-starts", "4", "--jobs", "1"],
@@ -207,6 +207,51 @@ def test_signal_during_the_fit_keeps_the_previous_results(tmp_path, sig, code, w
     assert sorted(p.name for p in out.iterdir()) == ["fit.json"]
     assert (out / "fit.json").read_text() == '{"previous": true}'
     assert leftovers(tmp_path) == []
+
+
+_SIGNAL_INSIDE_THE_COMPILER = """
+import os, signal, sys, time
+from numba import njit
+from numba.core import codegen
+from thermocal import cli
+
+cli._install_signal_handlers()
+original = codegen.CPUCodeLibrary._object_compiled_hook.__func__
+
+def hook(cls, ll_module, buf):  # llvmlite calls it through a ctypes callback while compiling
+    os.kill(os.getpid(), signal.{sig})
+    for _ in range(100_000):  # bytecode boundaries: the Python handler runs here, in the callback
+        pass
+    return original(cls, ll_module, buf)
+
+codegen.CPUCodeLibrary._object_compiled_hook = classmethod(hook)
+
+@njit(cache=False)
+def twice(x):
+    return 2.0 * x
+
+try:
+    value = twice(1.5)
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline:
+        time.sleep(0.01)
+    print("signal lost", flush=True)
+except KeyboardInterrupt as exc:
+    print(f"raised {{type(exc).__name__}} after compiling: {{value}}", flush=True)
+"""
+
+
+@pytest.mark.parametrize(("sig", "name"), [("SIGINT", "KeyboardInterrupt"), ("SIGTERM", "Terminated")])
+def test_signal_inside_a_numba_compiler_callback_is_raised_after_it(sig, name):
+    """A signal that arrives while llvmlite runs numba's Python hook through a ctypes callback
+    (the first, uncached compilation of a kernel) would be swallowed there with a printed
+    traceback and the run would go on; it is deferred and raised once the compiler returns."""
+    script = _SIGNAL_INSIDE_THE_COMPILER.format(sig=sig)
+    proc = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert proc.stdout.strip() == f"raised {name} after compiling: 3.0", proc.stdout + proc.stderr
+    assert "Exception ignored" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
 
 
 def test_second_run_into_a_folder_being_written_is_refused(tmp_path):

@@ -241,7 +241,9 @@ except KeyboardInterrupt as exc:
 """
 
 
-@pytest.mark.parametrize(("sig", "name"), [("SIGINT", "KeyboardInterrupt"), ("SIGTERM", "Terminated")])
+@pytest.mark.parametrize(
+    ("sig", "name"), [("SIGINT", "KeyboardInterrupt"), ("SIGTERM", "Terminated")]
+)
 def test_signal_inside_a_numba_compiler_callback_is_raised_after_it(sig, name):
     """A signal that arrives while llvmlite runs numba's Python hook through a ctypes callback
     (the first, uncached compilation of a kernel) would be swallowed there with a printed

@@ -131,3 +131,47 @@ def test_reduced_optimisation_on_a_sampled_quadratic():
     assert full[space.names[3]] == 1.0  # not optimised: nominal
     table = res.table()
     assert list(table.columns) == ["unit", "nominal", "min_metric", "max_metric"]
+
+
+@pytest.mark.parametrize("sense", ["min", "max"])
+def test_optimise_box_never_evaluates_outside_the_bounds(sense):
+    """A meta-model of log-parameters is undefined below zero: the interior-point optimiser
+    stepped a hair outside the box and the command stopped after the whole campaign."""
+    lo, hi = np.array([1e-3, 0.5, 2.0]), np.array([1.0, 3.0, 9.0])
+    outside = []
+
+    def f(X):
+        X = np.atleast_2d(X)
+        bad = (X < lo) | (X > hi)
+        if bad.any():
+            outside.append(X[bad.any(axis=1)])
+        # optimum on the lower bound of the first parameter (log singular at 0)
+        return np.log(np.clip(X[:, 0], 1e-300, None)) + (X[:, 1] - 1.0) ** 2 - 0.1 * X[:, 2]
+
+    opt = optimise_box(f, lo, hi, sense=sense, starts=6, seed=2)
+    assert outside == []
+    assert np.all(opt.x >= lo) and np.all(opt.x <= hi)
+    if sense == "min":
+        assert opt.x[0] == pytest.approx(lo[0], rel=1e-3)
+
+
+def test_a_constant_metamodel_is_a_result_not_a_crash():
+    """A meta-model that found no influence (a GP whose length scales went to their bound)
+    stopped the command after the campaign; now its indices are zero and a note says why."""
+    from types import SimpleNamespace
+
+    from thermocal.calibration.space import ParameterSpace
+    from thermocal.calibration.workflow import _sobol_or_note
+
+    space = ParameterSpace.from_parameters(
+        {"window/w/u_value": 2.0, "zone/z/infiltration_ach": 0.5}
+    )
+    flat = SimpleNamespace(predict=lambda X: np.full(len(np.atleast_2d(X)), 3.0), cv_r2_=-0.1)
+    notes: list[str] = []
+    sobol = _sobol_or_note(flat, space, space.lower, space.upper, 0, "gp", notes)
+    assert list(sobol.index) == list(space.names)
+    assert (sobol["ST"] == 0).all() and (sobol["S1"] == 0).all()
+    assert len(notes) == 1 and "no influence of any parameter" in notes[0]
+    slope = SimpleNamespace(predict=lambda X: np.atleast_2d(X)[:, 0], cv_r2_=0.9)
+    sobol = _sobol_or_note(slope, space, space.lower, space.upper, 0, "svr", notes := [])
+    assert notes == [] and sobol["ST"].iloc[0] > 0.9

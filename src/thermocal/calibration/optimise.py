@@ -106,12 +106,15 @@ def optimise_box(
     sign = 1.0 if sense == "min" else -1.0
 
     def objective(u: np.ndarray) -> float:
+        # trust-constr may step a hair outside the box: never evaluate outside the bounds
+        u = np.clip(u, 0.0, 1.0)
         return sign * float(np.asarray(function((lo + u * width)[None, :])).ravel()[0])
 
     step = 1e-5
 
     def objective_and_gradient(u: np.ndarray) -> tuple[float, np.ndarray]:
         # one batched call: the point and central differences (one-sided at the bounds)
+        u = np.clip(u, 0.0, 1.0)
         up = np.minimum(u + step, 1.0)
         down = np.maximum(u - step, 0.0)
         pts = np.vstack([u[None, :], np.tile(u, (d, 1)), np.tile(u, (d, 1))])

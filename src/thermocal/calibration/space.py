@@ -12,7 +12,10 @@ and 1; the counts say how many.  The physical limits are:
 
 * every property is strictly positive: lower limit ``floor_fraction * nominal`` (default 1 % of the
   nominal value; the paper's Table 1 has a thickness of 0.0001 m from a nominal 0.0100 m, i.e. 1 %);
-* fractions (``*/shgc``) are at most 1;
+* fractions (``*/shgc``) are at most 1, a window U-value at most 10 W/(m2 K);
+* layer properties stay inside the building model's plausible ranges
+  (:data:`thermocal.multizone.model.PLAUSIBLE`: e.g. density 5 to 25,000 kg/m3), so that the
+  model never refuses a sample (:func:`physical_limits` is the one source of these limits);
 * no upper limit otherwise.
 
 Parameter names are those of :meth:`thermocal.multizone.Building.parameters`:
@@ -46,6 +49,7 @@ __all__ = [
     "ParameterSpace",
     "parameter_kind",
     "parameter_unit",
+    "physical_limits",
 ]
 
 #: Default relative half-width of the sampling range (+-75 %, the paper's default) [-].
@@ -61,6 +65,43 @@ FRACTION_KINDS = frozenset({"shgc"})
 #: upper limits the building model accepts, by kind (a window U-value above 10 W/(m2 K) is
 #: rejected by :class:`thermocal.multizone.WindowType`)
 UPPER_LIMITS = {"u_value": 10.0}
+
+
+def physical_limits(name: str, nominal: float, floor_fraction: float = FLOOR_FRACTION
+                    ) -> tuple[float, float]:
+    """Physical limits of a parameter: the values the building model accepts.
+
+    One source of limits for sampling, meta-models and optimisation: the building model's own
+    plausible ranges of layer properties (:data:`thermocal.multizone.model.PLAUSIBLE`, e.g. a
+    density of at least 5 kg/m3), its upper limits (window U-value <= 10 W/(m2 K), fractions
+    <= 1), and everywhere at least ``floor_fraction * nominal`` (strictly positive), so that
+    no sample the campaign draws is refused by the model it is meant for.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name, e.g. ``"material/Insulation/density"`` [-].
+    nominal : float
+        Nominal value [unit of the parameter].
+    floor_fraction : float
+        Lower limit as a fraction of the nominal value [-].
+
+    Returns
+    -------
+    (float, float)
+        Lower and upper limit [unit of the parameter]; the upper limit may be ``inf``.
+    """
+    from thermocal.multizone.model import PLAUSIBLE
+
+    kind = parameter_kind(name)
+    lower, upper = floor_fraction * float(nominal), np.inf
+    if kind in FRACTION_KINDS:
+        upper = 1.0
+    upper = min(upper, UPPER_LIMITS.get(kind, np.inf))
+    if name.startswith("material/") and kind in PLAUSIBLE:
+        model_lower, model_upper = PLAUSIBLE[kind][:2]
+        lower, upper = max(lower, model_lower), min(upper, model_upper)
+    return float(lower), float(upper)
 
 
 def _pattern_candidates(names: Sequence[str]) -> list[str]:
@@ -219,15 +260,10 @@ class ParameterSpace:
             for i, n in enumerate(names):
                 if _matches(n, pattern):
                     rel[i] = float(value)
-        limit_lower = floor_fraction * nominal
-        limit_upper = np.array(
-            [
-                1.0
-                if parameter_kind(n) in FRACTION_KINDS
-                else UPPER_LIMITS.get(parameter_kind(n), np.inf)
-                for n in names
-            ]
-        )
+        limits = [physical_limits(n, v, floor_fraction) for n, v in zip(names, nominal,
+                                                                          strict=True)]
+        limit_lower = np.array([lo for lo, _ in limits])
+        limit_upper = np.array([hi for _, hi in limits])
         for n, nom, hi in zip(names, nominal, limit_upper, strict=True):
             if nom > hi:
                 raise ThermocalInputError(

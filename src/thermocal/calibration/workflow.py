@@ -359,7 +359,7 @@ def calibrate(
     from thermocal.calibration.optimise import optimise_reduced
     from thermocal.calibration.runner import run_campaign
     from thermocal.calibration.sampling import sample
-    from thermocal.calibration.sensitivity import influence_ranking, sobol_indices, top_k
+    from thermocal.calibration.sensitivity import influence_ranking, top_k
     from thermocal.calibration.space import ParameterSpace
     from thermocal.calibration.store import CampaignStore, campaign_definition
 
@@ -445,9 +445,7 @@ def calibrate(
         )
     lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
     ranking = influence_ranking(surrogate.predict, X, lower, upper, names=space.names)
-    sobol = sobol_indices(
-        surrogate.predict, space.names, lower, upper, n=512, seed=campaign.sampling.seed
-    )
+    sobol = _sobol_or_note(surrogate, space, lower, upper, campaign.sampling.seed, kind, notes)
     critical = top_k(ranking, m.top_k)
     optimisation = optimise_reduced(
         X,
@@ -498,6 +496,9 @@ def calibrate(
     # trust-region refinement from the better of the two
     candidates = {"meta-model minimum": (confirmed["min"]["confirmed"],
                                          optimisation.parameters("min"))}
+    if nominal[METRIC] < candidates["meta-model minimum"][0]:
+        # never return a building worse than the one the user gave
+        candidates["nominal building (no change)"] = (nominal[METRIC], space.nominal_dict())
     best = int(np.argmin(y))
     if y[best] < min(c[0] for c in candidates.values()):
         candidates[f"campaign sample {int(X.index[best])}"] = (
@@ -517,6 +518,13 @@ def calibrate(
     confirmed["refinement"] = refinement
     calibrated_source = min(candidates, key=lambda k: candidates[k][0])
     calibrated_metric, calibrated_values = candidates[calibrated_source]
+    if calibrated_source.startswith("nominal"):
+        notes.append(
+            "No candidate was confirmed better than the nominal building "
+            f"({np.sqrt(calibrated_metric) / 1000:.2f} kW): the calibrated building is the "
+            "nominal one. The metric cannot tell the parameters apart on these data; more "
+            "samples, a narrower parameter selection or another period may."
+        )
     if calibrated_source.startswith("campaign sample"):
         notes.append(
             f"The meta-model's minima were confirmed worse than the best simulated sample "
@@ -570,6 +578,32 @@ def calibrate(
         timings=timings,
         notes=notes,
         campaign_path=str(campaign.path),
+    )
+
+
+def _sobol_or_note(surrogate, space, lower, upper, seed: int, kind: str, notes: list[str]):
+    """Sobol indices of the meta-model; zeros and a note when it predicts a constant metric.
+
+    A meta-model that found no influence of any parameter (e.g. a Gaussian process whose
+    length scales all went to their upper bound on a few noisy samples) is a result, not an
+    error: the campaign is kept and the report says so.
+    """
+    from thermocal.calibration.sensitivity import sobol_indices
+
+    try:
+        return sobol_indices(surrogate.predict, space.names, lower, upper, n=512, seed=seed)
+    except ThermocalInputError as exc:
+        if "constant over the bounds" not in str(exc):
+            raise
+    notes.append(
+        f"The {kind.upper()} meta-model predicts the same metric everywhere in the parameter "
+        f"space (cross-validated R2 {surrogate.cv_r2_:.2f}): it found no influence of any "
+        "parameter, so its Sobol indices are zero and its optimum is the best sample. More "
+        "samples or another meta-model kind may resolve the influences."
+    )
+    return pd.DataFrame(
+        {"S1": 0.0, "S1_conf": np.nan, "ST": 0.0, "ST_conf": np.nan},
+        index=pd.Index(list(space.names), name="parameter"),
     )
 
 

@@ -80,6 +80,7 @@ class Period(_Strict):
 class ParametersSection(_Strict):
     """Which model parameters vary and by how much (relative half-widths, 0.75 = +-75 %)."""
 
+    level: Literal["material", "element"] = "material"
     include: list[str] = Field(default_factory=lambda: ["*"])
     exclude: list[str] = Field(default_factory=list)
     default_range: float = Field(0.75, ge=0.0, allow_inf_nan=False)

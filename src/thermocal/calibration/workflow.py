@@ -381,7 +381,7 @@ def calibrate(
     )
     p = campaign.parameters
     space = ParameterSpace.from_parameters(
-        inputs.building.parameters(),
+        candidate_parameters(inputs.building, p.level),
         include=p.include,
         exclude=p.exclude,
         default_range=p.default_range,
@@ -579,6 +579,38 @@ def calibrate(
         notes=notes,
         campaign_path=str(campaign.path),
     )
+
+
+def candidate_parameters(building, level: str = "material") -> dict[str, float]:
+    """The parameters a campaign may vary, by name, at the chosen level.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+    level : {"material", "element"}
+        ``"material"``: the material fields of :meth:`Building.parameters` (conductivity,
+        density, specific heat, thickness of each material; the published method's choice).
+        ``"element"``: what a building physicist names, per construction its thermal
+        resistance [m2 K/W] and heat capacity [J/(m2 K)] with the layers scaled consistently
+        (:mod:`thermocal.multizone.elements`); window U-value and SHGC and infiltration at both
+        levels.
+
+    Returns
+    -------
+    dict of str to float
+        Nominal values [unit of each parameter].
+    """
+    from thermocal.multizone.elements import element_parameters
+
+    params = building.parameters()
+    if level == "material":
+        return params
+    if level != "element":
+        raise ThermocalInputError(
+            f"parameters.level must be 'material' or 'element', got {level!r}"
+        )
+    others = {k: v for k, v in params.items() if not k.startswith("material/")}
+    return {**element_parameters(building), **others}
 
 
 def _sobol_or_note(surrogate, space, lower, upper, seed: int, kind: str, notes: list[str]):

@@ -80,6 +80,11 @@ class IdentificationProblem:
         if self.method == "pid" and not self.gains:
             raise ThermocalInputError("the PID method needs gains for every zone")
         self.nominal = dict(self.building.parameters())
+        from thermocal.multizone.elements import element_parameters
+
+        # construction-level names (resistance, heat capacity) are accepted beside the
+        # material-level ones; they are not part of the fingerprint (the same building)
+        self.element_nominal = element_parameters(self.building)
 
     def __getstate__(self):
         state = dict(self.__dict__)
@@ -127,14 +132,15 @@ class IdentificationProblem:
         """
         sim = self.simulation()
         parameters = dict(parameters or {})
-        unknown = [name for name in parameters if name not in self.nominal]
+        nominal = {**self.nominal, **self.element_nominal}
+        unknown = [name for name in parameters if name not in nominal]
         if unknown:
             import difflib
 
-            close = difflib.get_close_matches(unknown[0], list(self.nominal), n=3)
+            close = difflib.get_close_matches(unknown[0], list(nominal), n=3)
             hint = f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
             raise ThermocalInputError(f"unknown envelope parameter {unknown[0]!r}{hint}")
-        change = {name: self.nominal[name] for name in self._touched - set(parameters)}
+        change = {name: nominal[name] for name in self._touched - set(parameters)}
         change.update(parameters)
         if change:
             sim.set_parameters(change)

@@ -956,9 +956,17 @@ class Building:
         """Copy of the building with some parameters changed (names as in :meth:`parameters`).
 
         Besides the names listed by :meth:`parameters`, ``zone/<name>/infiltration_ach`` is
-        accepted for every zone (also grouped ones).  Unknown names raise
-        :class:`ThermocalInputError` with close matches.
+        accepted for every zone (also grouped ones), and the construction-level
+        ``construction/<name>/{resistance,heat_capacity}`` of
+        :mod:`thermocal.multizone.elements` (applied after the material-level names).  Unknown
+        names raise :class:`ThermocalInputError` with close matches.
         """
+        from thermocal.multizone.elements import apply_element_parameters, is_element_parameter
+
+        elements = {k: v for k, v in mapping.items() if is_element_parameter(k)}
+        if elements:
+            rest = {k: v for k, v in mapping.items() if not is_element_parameter(k)}
+            return apply_element_parameters(self.with_parameters(rest), elements)
         materials = dict(self.materials)
         window_types = dict(self.window_types)
         zones = dict(self.zones)

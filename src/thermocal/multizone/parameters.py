@@ -2,7 +2,9 @@
 
 Names are ``material/<name>/{conductivity,density,specific_heat,thickness}``,
 ``material/<name>/resistance``, ``window/<name>/{u_value,shgc}``,
-``zone/<name>/infiltration_ach`` and ``infiltration/<group>/ach``; the kind is the last part.
+``zone/<name>/infiltration_ach`` and ``infiltration/<group>/ach``, and the construction-level
+``construction/<name>/{resistance,heat_capacity}`` of :mod:`thermocal.multizone.elements`; the
+kind is the last part.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ PARAMETER_UNITS: dict[str, str] = {
     "specific_heat": "J/(kg K)",
     "thickness": "m",
     "resistance": "m2 K/W",
+    "heat_capacity": "J/(m2 K)",
     "u_value": "W/(m2 K)",
     "shgc": "-",
     "infiltration_ach": "1/h",

@@ -1,0 +1,223 @@
+"""Element-level envelope parameters: what a building physicist names and checks.
+
+A calibration that moves ``material/<name>/conductivity`` and ``material/<name>/density`` answers
+in the terms of a material database; a facility manager asks "is it the roof or the walls?".
+This module names each opaque construction by its *role* in the envelope and gives it two
+parameters, with the layers scaled consistently:
+
+``construction/<name>/resistance`` [m2 K/W]
+    Thermal resistance of the layers (surface films excluded, ISO 6946). A new value scales the
+    resistance of every layer by the same factor: conductivities of massive layers are divided
+    by it, no-mass resistances multiplied, thicknesses and heat capacities unchanged.
+``construction/<name>/heat_capacity`` [J/(m2 K)]
+    Areal heat capacity ``sum(rho c d)`` of the massive layers. A new value scales every massive
+    layer's density by the same factor (resistances unchanged).
+
+A construction whose layers share a material with another construction gets its own copies of
+those materials (named ``"<material> (<construction>)"``), so that changing the roof does not
+change the wall. Window types (``window/<name>/{u_value,shgc}``) and infiltration
+(``zone/<name>/infiltration_ach``, ``infiltration/<group>/ach``) are already element-level.
+
+Roles follow each construction's surfaces (the role of the largest area when several):
+``exterior_wall``, ``roof``, ``exposed_floor`` (outdoors), ``ground_floor``, ``ground_wall``
+(ground), ``partition``, ``interzone_floor`` (between zones), ``internal_mass`` (adiabatic).
+
+References
+----------
+.. [1] ISO 6946:2017, Building components and building elements -- Thermal resistance and
+   thermal transmittance -- Calculation methods.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+
+if TYPE_CHECKING:  # pragma: no cover - typing only
+    from thermocal.multizone.model import Building, Surface
+
+__all__ = [
+    "ELEMENT_KINDS",
+    "apply_element_parameters",
+    "construction_roles",
+    "element_parameters",
+    "is_element_parameter",
+    "surface_role",
+]
+
+#: Kinds of the construction-level parameters and their units.
+ELEMENT_KINDS: dict[str, str] = {"resistance": "m2 K/W", "heat_capacity": "J/(m2 K)"}
+
+
+def is_element_parameter(name: str) -> bool:
+    """Whether ``name`` is a construction-level parameter (``construction/<name>/<kind>``)."""
+    parts = str(name).split("/")
+    return len(parts) >= 3 and parts[0] == "construction" and parts[-1] in ELEMENT_KINDS
+
+
+def surface_role(surface: Surface) -> str:
+    """Role of an opaque surface in the envelope, from its boundary and tilt.
+
+    Parameters
+    ----------
+    surface : thermocal.multizone.model.Surface
+        The surface (tilt [deg] of the outward normal: 0 facing up, 90 vertical, 180 down).
+
+    Returns
+    -------
+    str
+        One of ``exterior_wall``, ``roof``, ``exposed_floor``, ``ground_floor``,
+        ``ground_wall``, ``partition``, ``interzone_floor``, ``internal_mass``.
+    """
+    tilt = float(surface.tilt)
+    if surface.boundary == "adiabatic":
+        return "internal_mass"
+    if surface.boundary == "ground":
+        return "ground_wall" if 45.0 <= tilt <= 135.0 else "ground_floor"
+    if surface.boundary == "zone":
+        return "partition" if 45.0 <= tilt <= 135.0 else "interzone_floor"
+    if tilt < 45.0:
+        return "roof"
+    if tilt > 135.0:
+        return "exposed_floor"
+    return "exterior_wall"
+
+
+def construction_roles(building: Building) -> dict[str, str]:
+    """Role of each construction used by a surface (the role of its largest total area).
+
+    Parameters
+    ----------
+    building : thermocal.multizone.model.Building
+
+    Returns
+    -------
+    dict of str to str
+        Construction name -> role (see :func:`surface_role`), in the building's order.
+    """
+    areas: dict[str, dict[str, float]] = {}
+    for surface in building.surfaces.values():
+        by_role = areas.setdefault(surface.construction, {})
+        role = surface_role(surface)
+        by_role[role] = by_role.get(role, 0.0) + float(surface.area)
+    return {
+        name: max(areas[name].items(), key=lambda item: item[1])[0]
+        for name in building.constructions
+        if name in areas
+    }
+
+
+def _layer_totals(building: Building, construction: str) -> tuple[float, float]:
+    """Resistance [m2 K/W] and areal heat capacity [J/(m2 K)] of a construction's layers."""
+    layers = building.construction_layers(construction)
+    resistance = float(sum(layer.resistance for layer in layers))
+    capacity = float(sum(getattr(layer, "heat_capacity", 0.0) for layer in layers))
+    return resistance, capacity
+
+
+def element_parameters(building: Building) -> dict[str, float]:
+    """Construction-level parameters of every construction used by a surface.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.model.Building
+
+    Returns
+    -------
+    dict of str to float
+        ``construction/<name>/resistance`` [m2 K/W] and, for constructions with massive layers,
+        ``construction/<name>/heat_capacity`` [J/(m2 K)].
+    """
+    params: dict[str, float] = {}
+    for name in construction_roles(building):
+        resistance, capacity = _layer_totals(building, name)
+        params[f"construction/{name}/resistance"] = resistance
+        if capacity > 0.0:
+            params[f"construction/{name}/heat_capacity"] = capacity
+    return params
+
+
+def _scaled_layer(layer, resistance_factor: float, capacity_factor: float):
+    """A layer with its resistance and heat capacity scaled [-]."""
+    if hasattr(layer, "conductivity"):
+        return dataclasses.replace(
+            layer,
+            conductivity=layer.conductivity / resistance_factor,
+            density=layer.density * capacity_factor,
+        )
+    return dataclasses.replace(layer, resistance=layer.resistance * resistance_factor)
+
+
+def apply_element_parameters(building: Building, mapping: Mapping[str, float]) -> Building:
+    """Copy of the building with construction-level parameters set.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.model.Building
+    mapping : mapping of str to float
+        ``construction/<name>/resistance`` [m2 K/W] and/or
+        ``construction/<name>/heat_capacity`` [J/(m2 K)]; relative to the building's current
+        layers (apply material-level changes first).
+
+    Returns
+    -------
+    thermocal.multizone.model.Building
+        The layers of each named construction scaled (its own copies of shared materials).
+
+    Raises
+    ------
+    ThermocalInputError
+        An unknown construction, a non-positive value, or a heat capacity for a construction
+        without massive layers.
+    """
+    wanted: dict[str, dict[str, float]] = {}
+    for key, value in mapping.items():
+        if not is_element_parameter(key):
+            raise ThermocalInputError(f"'{key}' is not a construction-level parameter")
+        parts = str(key).split("/")
+        name, kind = "/".join(parts[1:-1]), parts[-1]
+        if name not in building.constructions:
+            raise ThermocalInputError(
+                f"unknown building parameter '{key}': no construction '{name}' (see "
+                "thermocal.multizone.elements.element_parameters)"
+            )
+        number = float(value)
+        if not np.isfinite(number) or number <= 0.0:
+            raise ThermocalInputError(f"building parameter '{key}' must be > 0, got {value!r}")
+        wanted.setdefault(name, {})[kind] = number
+    if not wanted:
+        return building
+    usage: dict[str, set[str]] = {}
+    for cname, construction in building.constructions.items():
+        for layer in construction.layers:
+            usage.setdefault(layer, set()).add(cname)
+    materials = dict(building.materials)
+    constructions = dict(building.constructions)
+    for cname, values in wanted.items():
+        resistance, capacity = _layer_totals(building, cname)
+        r_factor = values.get("resistance", resistance) / resistance
+        if "heat_capacity" in values and capacity <= 0.0:
+            raise ThermocalInputError(
+                f"building parameter 'construction/{cname}/heat_capacity': the construction "
+                "has no massive layer to scale"
+            )
+        c_factor = values["heat_capacity"] / capacity if "heat_capacity" in values else 1.0
+        layers = []
+        for layer_name in constructions[cname].layers:
+            own = layer_name if usage[layer_name] == {cname} else f"{layer_name} ({cname})"
+            if own not in materials or own == layer_name:
+                scaled = _scaled_layer(building.materials[layer_name], r_factor, c_factor)
+                materials[own] = dataclasses.replace(scaled, name=own)
+            layers.append(own)
+        constructions[cname] = dataclasses.replace(constructions[cname], layers=tuple(layers))
+    changed = dataclasses.replace(building, materials=materials, constructions=constructions)
+    fields = {f.name for f in dataclasses.fields(building)}
+    for key, value in building.__dict__.items():  # e.g. the IDF importer's ``idf_info``
+        if key not in fields:
+            setattr(changed, key, value)
+    return changed

@@ -51,6 +51,18 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
         columns={"min_metric": "minimum variance", "max_metric": "maximum variance"}
     )
     report.table(table, caption="Critical parameters: nominal, minimum and maximum variance")
+    if result.posterior is not None:
+        post = result.posterior
+        for sentence in post.sentences():
+            report.paragraph(sentence)
+        report.table(
+            post.summary[["unit", "nominal", "median", "q05", "q95", "determined"]]
+            .reset_index()
+            .rename(columns={"q05": "5 %", "q95": "95 %"}),
+            caption="Posterior of the critical parameters (series meta-model, uniform prior on "
+            "the sampled range, noise level from the residual identified heat; emcee, "
+            "Foreman-Mackey et al. 2013): median and 90 % credible interval",
+        )
     if result.truth_comparison is not None:
         truth = result.truth_comparison.reset_index().rename(
             columns={

@@ -173,6 +173,7 @@ class CalibrationResult:
     timings: dict = field(default_factory=dict)
     notes: list = field(default_factory=list)
     campaign_path: str = ""
+    posterior: Any = None
 
     def table1(self) -> pd.DataFrame:
         """The paper's Table 1: nominal, min-variance and max-variance critical values."""
@@ -212,6 +213,7 @@ class CalibrationResult:
             "truth_comparison": None
             if self.truth_comparison is None
             else self.truth_comparison.reset_index().to_dict(orient="records"),
+            "posterior": None if self.posterior is None else self.posterior.to_dict(),
             "timings_s": self.timings,
             "notes": self.notes,
         }
@@ -221,18 +223,27 @@ class CalibrationResult:
         """The calibrated building as a thermocal YAML file, ready for ``thermocal simulate``."""
         import yaml
 
+        from thermocal.calibration.space import parameter_unit
+        from thermocal.multizone.elements import element_parameters
         from thermocal.multizone.files import building_to_dict
 
-        table = self.table1()
+        source = self.confirmed.get("calibrated", {}).get("source", "meta-model minimum")
         lines = [
-            "# thermocal building file: the nominal model with the critical envelope parameters",
-            "# at the minimum of the unoccupied variance of the identified heat (calibrated).",
+            "# thermocal building file: the nominal model with the envelope parameters of the",
+            "# lowest confirmed unoccupied variance of the identified heat (calibrated),",
+            f"# from the {source}.",
             f"# campaign: {self.campaign_path}",
         ]
-        for name, row in table.iterrows():
-            lines.append(
-                f"#   {name}: {row['nominal']:.6g} -> {row['min_metric']:.6g} {row['unit']}"
-            )
+        # the values of the body itself (the header and the body always agree)
+        building = self.calibrated_building
+        values = {**building.parameters(), **element_parameters(building)}
+        nominal = self.space.nominal_dict()
+        for name in self.space.names:
+            if name in values and not np.isclose(values[name], nominal[name], rtol=1e-9):
+                lines.append(
+                    f"#   {name}: {nominal[name]:.6g} -> {values[name]:.6g} "
+                    f"{parameter_unit(name)}"
+                )
         body = yaml.safe_dump(
             building_to_dict(self.calibrated_building), sort_keys=False, allow_unicode=True
         )
@@ -549,6 +560,15 @@ def calibrate(
     calibrated = inputs.building.with_parameters(
         {name: calibrated_values[name] for name in space.names}
     )
+    posterior = None
+    if series is not None:
+        t0 = time.perf_counter()
+        posterior = _posterior_or_note(surrogate, kind, X, y, series, space, critical,
+                                       campaign, notes)
+        timings["posterior"] = time.perf_counter() - t0
+        if posterior is not None:
+            for line in posterior.sentences():
+                log(line)
     grid = problem.simulation().weather_on_grid
     weather = pd.DataFrame(
         {
@@ -578,6 +598,7 @@ def calibrate(
         timings=timings,
         notes=notes,
         campaign_path=str(campaign.path),
+        posterior=posterior,
     )
 
 
@@ -611,6 +632,39 @@ def candidate_parameters(building, level: str = "material") -> dict[str, float]:
         )
     others = {k: v for k, v in params.items() if not k.startswith("material/")}
     return {**element_parameters(building), **others}
+
+
+#: Largest campaign space whose joint posterior is sampled (else: the critical parameters).
+POSTERIOR_MAX_PARAMETERS = 30
+
+
+def _posterior_or_note(surrogate, kind, X, y, series, space, critical, campaign, notes):
+    """Posterior of the critical parameters from the series meta-model, or a note why not."""
+    from thermocal.calibration.posterior import calibration_posterior, emulator_variance
+
+    model = surrogate
+    if kind != "series":
+        model = surrogate_for("series", campaign.metamodel, series, space,
+                              campaign.sampling.seed).fit(X, y)
+    # the joint posterior of every varied parameter (a parameter held at its nominal value
+    # would make the others compensate for it); the critical ones only in large spaces
+    names = list(space.names) if space.dimension <= POSTERIOR_MAX_PARAMETERS else list(critical)
+    if len(names) < space.dimension:
+        notes.append(
+            f"The posterior covers the {len(names)} critical parameters (the others at their "
+            f"nominal values): the space has more than {POSTERIOR_MAX_PARAMETERS} parameters."
+        )
+    idx = [space.index(n) for n in names]
+    try:
+        return calibration_posterior(
+            model, names, space.lower[idx], space.upper[idx],
+            all_lower=space.lower, all_upper=space.upper,
+            units=[space.units[i] for i in idx], seed=campaign.sampling.seed,
+            emulator_error=emulator_variance(model, X, seed=campaign.sampling.seed),
+        )
+    except (ThermocalInputError, np.linalg.LinAlgError, ValueError) as exc:
+        notes.append(f"No posterior of the calibrated parameters: {exc}")
+        return None
 
 
 def _sobol_or_note(surrogate, space, lower, upper, seed: int, kind: str, notes: list[str]):

@@ -1,0 +1,391 @@
+"""Posterior of the calibrated parameters and what the data determine (beyond the paper).
+
+The calibration's metric is the variance of the building's identified heat over the unoccupied
+hours: with the right envelope that heat is the constant internal gain plus noise. The series
+meta-model (:class:`~thermocal.calibration.surrogate.SeriesSurrogate`) predicts the whole hourly
+series as affine in the logarithms of the parameters, ``q(t) = q0(t) + J(t) z`` with
+``z = log(p / p_nominal)``. Removing the hourly mean (the constant gain, unknown), the residual
+series ``r(z) = (q0 - mean q0) + (J - mean J) z`` is the envelope's error signal; modelled as
+Gaussian noise of variance ``sigma^2`` it gives the likelihood
+
+``log L(z) = -(n_eff / n) * |r(z)|^2 / (2 sigma^2)``,
+
+with ``sigma^2`` the residual variance at the best bounded fit (the noise level of the residual
+identified heat, model error included: the honest floor) plus the meta-model's own out-of-fold
+error (:func:`emulator_variance`), and ``n_eff = n (1 - rho) / (1 + rho)``
+the number of independent hours given the residual's lag-1 autocorrelation ``rho``. The prior is
+the campaign's: uniform in each parameter between its bounds. The posterior is sampled with
+emcee's affine-invariant ensemble sampler (Foreman-Mackey et al. 2013), which is insensitive to
+the strong correlations of compensating parameters.
+
+Identifiability: the Fisher information ``F = (n_eff / n) J_c^T J_c / sigma^2`` of all campaign
+parameters (``J_c`` the hour-centred Jacobian) says which directions the data fix; a parameter is
+*determined* when its 90 % credible interval is narrower than half its prior range, and two
+parameters *compensate* each other when their posterior correlation exceeds 0.7 in magnitude (the
+data fix a combination of them, not each one).
+
+References
+----------
+.. [1] Foreman-Mackey D., Hogg D.W., Lang D., Goodman J. (2013), emcee: the MCMC hammer,
+   Publications of the Astronomical Society of the Pacific 125, 306-312.
+.. [2] Kennedy M.C., O'Hagan A. (2001), Bayesian calibration of computer models, Journal of
+   the Royal Statistical Society B 63, 425-464.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+
+__all__ = ["Posterior", "calibration_posterior", "emulator_variance", "linear_heat_model"]
+
+#: A parameter is determined when its 90 % credible interval is narrower than this fraction of
+#: its prior range [-].
+DETERMINED_FRACTION = 0.5
+#: Posterior correlation above which two parameters are said to compensate each other [-].
+COMPENSATION_CORRELATION = 0.7
+
+
+@dataclass(frozen=True)
+class LinearHeatModel:
+    """Hour-centred affine model of the unoccupied heat in log-parameters.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Parameters (columns of ``jacobian``).
+    offset : ndarray (n_hours,)
+        Hour-centred series at the nominal parameters [W].
+    jacobian : ndarray (n_hours, n_parameters)
+        Hour-centred derivative of the series by ``log(p / p_nominal)`` [W].
+    nominal, lower, upper : ndarray (n_parameters,)
+        Nominal values and prior bounds [unit of each parameter].
+    """
+
+    names: tuple[str, ...]
+    offset: np.ndarray
+    jacobian: np.ndarray
+    nominal: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+    def residual(self, z: np.ndarray) -> np.ndarray:
+        """Residual series for log-parameters ``z`` (shape (d,) or (m, d)) [W]."""
+        return self.offset + np.asarray(z) @ self.jacobian.T
+
+    @property
+    def z_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Bounds of ``z = log(p / p_nominal)`` [-]."""
+        return np.log(self.lower / self.nominal), np.log(self.upper / self.nominal)
+
+
+def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHeatModel:
+    """The hour-centred linear model of a fitted series meta-model, for some parameters.
+
+    Parameters
+    ----------
+    surrogate : SeriesSurrogate
+        Fitted on the campaign's samples.
+    names : sequence of str
+        Parameters to keep (the others stay at their nominal values, ``z = 0``).
+    lower, upper : array-like
+        Prior bounds of ``names`` [unit of each parameter].
+
+    Returns
+    -------
+    LinearHeatModel
+    """
+    features = [str(n) for n in surrogate.feature_names_in_]
+    missing = [n for n in names if n not in features]
+    if missing:
+        raise ThermocalInputError(f"posterior: parameters {missing[:3]} not in the meta-model")
+    idx = [features.index(n) for n in names]
+    coef = np.atleast_2d(np.asarray(surrogate.estimator_.coef_, dtype=float))
+    intercept = np.asarray(surrogate.estimator_.intercept_, dtype=float).ravel()
+    jac = coef[:, idx]
+    return LinearHeatModel(
+        names=tuple(str(n) for n in names),
+        offset=intercept - intercept.mean(),
+        jacobian=jac - jac.mean(axis=0),
+        nominal=np.array([surrogate.nominal[n] for n in names], dtype=float),
+        lower=np.asarray(lower, dtype=float),
+        upper=np.asarray(upper, dtype=float),
+    )
+
+
+@dataclass(frozen=True)
+class Posterior:
+    """Posterior of the calibrated parameters and the identifiability verdicts.
+
+    Attributes
+    ----------
+    summary : DataFrame
+        Index: parameter; columns ``unit``, ``nominal``, ``map`` (best bounded fit), ``median``,
+        ``q05``, ``q95`` [unit of each parameter], ``prior_lower``, ``prior_upper``,
+        ``width_fraction`` (90 % interval over prior range) [-] and ``determined`` (bool).
+    correlation : DataFrame
+        Posterior correlation of the parameters [-].
+    compensating : list of (str, str, float)
+        Pairs whose posterior correlation exceeds 0.7 in magnitude, with the correlation.
+    noise_std : float
+        Standard deviation of the hourly unoccupied heat's error: the residual at the best fit
+        and the meta-model's own error together [W].
+    emulator_std : float
+        The meta-model's part of it [W].
+    effective_hours : float
+        Independent hours given the residual's autocorrelation [-].
+    fisher_singular_values : ndarray
+        Singular values of the square root of the Fisher information of all campaign
+        parameters in log-parameters [-], largest first.
+    acceptance : float
+        Mean acceptance fraction of the sampler [-].
+    samples : DataFrame
+        Posterior draws [unit of each parameter].
+    """
+
+    summary: pd.DataFrame
+    correlation: pd.DataFrame
+    compensating: list = field(default_factory=list)
+    noise_std: float = float("nan")
+    emulator_std: float = 0.0
+    effective_hours: float = float("nan")
+    fisher_singular_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    acceptance: float = float("nan")
+    samples: pd.DataFrame = field(default_factory=pd.DataFrame)
+
+    @property
+    def determined(self) -> list[str]:
+        """Parameters the data determine."""
+        return [n for n, d in self.summary["determined"].items() if d]
+
+    def sentences(self) -> list[str]:
+        """The verdicts in plain words, for the report and the terminal."""
+        s = self.summary
+        out = []
+        det = self.determined
+        if det:
+            out.append(
+                "Determined by the data (90 % credible interval): "
+                + "; ".join(
+                    f"{n} {s.at[n, 'median']:.4g} ({s.at[n, 'q05']:.4g} to {s.at[n, 'q95']:.4g}"
+                    f" {s.at[n, 'unit']}, nominal {s.at[n, 'nominal']:.4g})"
+                    for n in det
+                )
+                + "."
+            )
+        loose = [n for n in s.index if n not in det]
+        if loose:
+            out.append(
+                "Not determined (the interval spans more than half the prior range): "
+                + ", ".join(loose)
+                + "."
+            )
+        for a, b, r in self.compensating:
+            out.append(
+                f"{a} and {b} compensate each other (posterior correlation {r:+.2f}): the data "
+                "fix a combination of the two, not each one."
+            )
+        out.append(
+            f"Error level of the unoccupied heat {self.noise_std / 1000:.2f} kW per hour (of "
+            f"which the meta-model's own {self.emulator_std / 1000:.2f} kW) over "
+            f"{self.effective_hours:.0f} effectively independent hours."
+        )
+        return out
+
+    def to_dict(self) -> dict:
+        """JSON-ready form (summary, compensating pairs, noise, sampler diagnostics)."""
+        return {
+            "parameters": {
+                n: {k: (bool(v) if k == "determined" else v if k == "unit" else float(v))
+                    for k, v in row.items()}
+                for n, row in self.summary.iterrows()
+            },
+            "compensating": [[a, b, float(r)] for a, b, r in self.compensating],
+            "noise_std_W": float(self.noise_std),
+            "emulator_std_W": float(self.emulator_std),
+            "effective_hours": float(self.effective_hours),
+            "fisher_singular_values": [float(v) for v in self.fisher_singular_values],
+            "acceptance_fraction": float(self.acceptance),
+            "sentences": self.sentences(),
+        }
+
+
+def emulator_variance(surrogate, X, *, folds: int = 5, seed: int = 0) -> float:
+    """Out-of-fold error variance of a series meta-model's hourly predictions [W^2].
+
+    The meta-model is an approximation of the detailed model: its own error on samples it
+    did not see (each predicted series minus the simulated one, both centred over the hours,
+    since a constant offset is the unknown internal gain) is added to the residual noise, so
+    that the posterior does not claim more than the meta-model knows (Kennedy and O'Hagan
+    2001).
+
+    Parameters
+    ----------
+    surrogate : SeriesSurrogate
+        Fitted; its ``series`` and chosen ridge penalty are used.
+    X : DataFrame
+        The samples' parameters it was fitted on [unit of each parameter].
+    folds : int
+        Cross-validation folds [-].
+    seed : int
+        Seed of the fold split [-].
+
+    Returns
+    -------
+    float
+        Mean squared hour-centred out-of-fold error [W^2].
+    """
+    from sklearn.linear_model import Ridge
+    from sklearn.model_selection import KFold
+
+    Z = surrogate._log_parameters(np.asarray(X[list(surrogate.feature_names_in_)], dtype=float))
+    S = np.asarray(surrogate.series, dtype=float)
+    k = min(int(folds), Z.shape[0])
+    if k < 2:
+        return 0.0
+    errors = []
+    for train, test in KFold(k, shuffle=True, random_state=int(seed)).split(Z):
+        fit = Ridge(alpha=float(surrogate.estimator_.alpha_)).fit(Z[train], S[train])
+        e = fit.predict(Z[test]) - S[test]
+        errors.append(e - e.mean(axis=1, keepdims=True))
+    return float(np.mean(np.concatenate(errors) ** 2))
+
+
+def _noise(model: LinearHeatModel) -> tuple[np.ndarray, float, float, float]:
+    """Best bounded fit ``z``, residual variance [W^2], effective and total hours [-]."""
+    from scipy.optimize import lsq_linear
+
+    zl, zu = model.z_bounds
+    n, d = model.jacobian.shape
+    fit = lsq_linear(model.jacobian, -model.offset, bounds=(zl, zu), method="bvls")
+    r = model.residual(fit.x)
+    dof = max(n - 1 - d, 1)  # the hourly mean (the unknown constant gain) and d parameters
+    variance = float(r @ r) / dof
+    rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 3 and np.std(r) > 0 else 0.0
+    rho = min(max(rho if np.isfinite(rho) else 0.0, 0.0), 0.99)
+    return fit.x, max(variance, 1e-12), n * (1.0 - rho) / (1.0 + rho), float(n)
+
+
+def calibration_posterior(
+    surrogate,
+    names: Sequence[str],
+    lower,
+    upper,
+    *,
+    all_lower=None,
+    all_upper=None,
+    units: Sequence[str] | None = None,
+    emulator_error: float = 0.0,
+    walkers: int | None = None,
+    steps: int = 2000,
+    seed: int = 0,
+) -> Posterior:
+    """Sample the posterior of some parameters from a fitted series meta-model.
+
+    Parameters
+    ----------
+    surrogate : SeriesSurrogate
+        Fitted on the campaign's samples (its hourly regressions give the linear model).
+    names : sequence of str
+        The calibrated parameters (e.g. the critical ones); the others stay nominal.
+    lower, upper : array-like
+        Prior bounds of ``names`` (the campaign's) [unit of each parameter].
+    all_lower, all_upper : array-like, optional
+        Bounds of every meta-model parameter, for the Fisher information of the whole space
+        [unit of each parameter]; default: only ``names``.
+    units : sequence of str, optional
+        Units of ``names`` for the tables.
+    emulator_error : float
+        Variance of the meta-model's own hourly error (:func:`emulator_variance`), added to the
+        residual noise [W^2].
+    walkers : int, optional
+        Ensemble size [-]; default ``max(32, 4 d)``.
+    steps : int
+        Steps per walker [-]; the first half is discarded as burn-in.
+    seed : int
+        Seed of the sampler [-].
+
+    Returns
+    -------
+    Posterior
+    """
+    import emcee
+
+    names = [str(n) for n in names]
+    model = linear_heat_model(surrogate, names, lower, upper)
+    d = len(names)
+    if d == 0:
+        raise ThermocalInputError("posterior: no parameter to calibrate")
+    z_hat, residual_variance, n_eff, n = _noise(model)
+    variance = residual_variance + max(float(emulator_error), 0.0)
+    scale = (n_eff / n) / (2.0 * variance)
+    zl, zu = model.z_bounds
+
+    def log_probability(z: np.ndarray) -> np.ndarray:
+        z = np.atleast_2d(z)
+        inside = np.all((z >= zl) & (z <= zu), axis=1)
+        r = model.residual(z)
+        # uniform prior in the parameter p = p_nominal exp(z): density exp(sum z) in z
+        lp = -scale * np.einsum("ij,ij->i", r, r) + z.sum(axis=1)
+        return np.where(inside, lp, -np.inf)
+
+    rng = np.random.default_rng(int(seed))
+    n_walkers = int(walkers or max(32, 4 * d))
+    n_walkers += n_walkers % 2
+    # start in a small ball around the best fit, inside the bounds
+    width = np.maximum(zu - zl, 1e-9)
+    start = np.clip(z_hat + 1e-3 * width * rng.standard_normal((n_walkers, d)),
+                    zl + 1e-6 * width, zu - 1e-6 * width)
+    sampler = emcee.EnsembleSampler(n_walkers, d, log_probability, vectorize=True)
+    sampler.random_state = np.random.RandomState(int(seed)).get_state()
+    sampler.run_mcmc(start, int(steps), progress=False)
+    chain = sampler.get_chain(discard=int(steps) // 2, flat=True)
+    values = model.nominal * np.exp(chain)
+    draws = pd.DataFrame(values, columns=names)
+    q05, q50, q95 = np.quantile(values, [0.05, 0.5, 0.95], axis=0)
+    prior_width = model.upper - model.lower
+    fraction = (q95 - q05) / np.where(prior_width > 0, prior_width, np.nan)
+    summary = pd.DataFrame(
+        {
+            "unit": list(units) if units is not None else ["?"] * d,
+            "nominal": model.nominal,
+            "map": model.nominal * np.exp(z_hat),
+            "median": q50,
+            "q05": q05,
+            "q95": q95,
+            "prior_lower": model.lower,
+            "prior_upper": model.upper,
+            "width_fraction": fraction,
+            "determined": fraction < DETERMINED_FRACTION,
+        },
+        index=pd.Index(names, name="parameter"),
+    )
+    corr = np.corrcoef(chain, rowvar=False) if d > 1 else np.ones((1, 1))
+    correlation = pd.DataFrame(np.atleast_2d(corr), index=names, columns=names)
+    pairs = [
+        (names[i], names[j], float(corr[i, j]))
+        for i in range(d) for j in range(i + 1, d)
+        if abs(corr[i, j]) > COMPENSATION_CORRELATION
+    ]
+    full_names = [str(f) for f in surrogate.feature_names_in_]
+    if all_lower is not None and all_upper is not None:
+        full = linear_heat_model(surrogate, full_names, all_lower, all_upper)
+    else:
+        full = model
+    singular = np.linalg.svd(full.jacobian * np.sqrt(2.0 * scale), compute_uv=False)
+    return Posterior(
+        summary=summary,
+        correlation=correlation,
+        compensating=sorted(pairs, key=lambda p: -abs(p[2])),
+        noise_std=float(np.sqrt(variance)),
+        emulator_std=float(np.sqrt(max(float(emulator_error), 0.0))),
+        effective_hours=float(n_eff),
+        fisher_singular_values=singular,
+        acceptance=float(np.mean(sampler.acceptance_fraction)),
+        samples=draws,
+    )

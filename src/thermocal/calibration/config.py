@@ -151,7 +151,7 @@ class CampaignFile(_Strict):
     period: Period | None = None
     step: str = "5min"
     identification: dict[str, Any] = Field(default_factory=dict)
-    occupancy: dict[str, Any] | None = None
+    occupancy: dict[str, Any] | Literal["auto", "paper", "data"] | None = None
     parameters: ParametersSection = Field(default_factory=ParametersSection)
     sampling: SamplingSection = Field(default_factory=SamplingSection)
     metamodel: MetamodelSection = Field(default_factory=MetamodelSection)

@@ -121,12 +121,66 @@ def identification_options(campaign) -> dict:
     return options
 
 
-def build_problem(campaign, inputs: CampaignInputs, *, start=None, end=None):
+def campaign_schedule(campaign) -> OccupancySchedule:
+    """The occupancy schedule the campaign file declares (the published one by default)."""
+    if isinstance(campaign.occupancy, str) or campaign.occupancy is None:
+        return OccupancySchedule.paper()
+    return OccupancySchedule.from_dict(campaign.occupancy, source=f"{campaign.path}: occupancy")
+
+
+def choose_quiet_hours(campaign, heat: pd.Series, log=print) -> tuple[OccupancySchedule, dict]:
+    """The schedule of the metric: declared, or the quiet hours of the nominal identified heat.
+
+    ``occupancy`` in the campaign file: a schedule (used as given), ``"paper"`` (the published
+    method's schedule, used as given), ``"data"`` (the quiet hours found in the identified
+    heat, :func:`thermocal.identification.quiet.quiet_hours`) or absent (``"auto"``: the
+    published schedule, unless the data show that its hours are demonstrably not quiet; then
+    the quiet hours).
+
+    Parameters
+    ----------
+    campaign : Campaign
+    heat : Series
+        Building-wide identified heat of the nominal model per step [W].
+    log : callable
+
+    Returns
+    -------
+    (OccupancySchedule, dict)
+        The schedule and what was found (for calibration.json and the report).
+    """
+    from thermocal.identification.quiet import check_schedule, quiet_hours
+
+    declared = campaign.occupancy
+    schedule = campaign_schedule(campaign)
+    if isinstance(declared, dict) or declared == "paper":
+        return schedule, {"source": "declared" if isinstance(declared, dict) else "paper"}
+    try:
+        quiet = quiet_hours(heat)
+    except ThermocalInputError as exc:
+        if declared == "data":
+            raise ThermocalInputError(f"{campaign.path}: occupancy: data: {exc}") from None
+        return schedule, {"source": "paper", "check": f"not checked: {exc}"}
+    check = check_schedule(quiet, schedule)
+    info = {
+        "quiet_hours": quiet.describe(),
+        "quiet_hours_per_week": quiet.hours_per_week,
+        "paper_schedule_check": check.describe(),
+        "paper_schedule_quiet": check.quiet,
+    }
+    if declared == "data" or not check.quiet:
+        log(f"occupancy: the published schedule is not quiet here ({check.describe()}); the "
+            f"metric uses the quiet hours found in the identified heat: {quiet.describe()}")
+        return quiet.schedule, {"source": "data", **info}
+    return schedule, {"source": "paper", **info}
+
+
+def build_problem(campaign, inputs: CampaignInputs, *, start=None, end=None, schedule=None):
     """The :class:`IdentificationProblem` of the campaign (references built once)."""
     from thermocal.identification.problem import problem_from_measurements
 
     options = identification_options(campaign)
-    schedule = OccupancySchedule.from_dict(campaign.occupancy, source=f"{campaign.path}: occupancy")
+    schedule = schedule or campaign_schedule(campaign)
     problem, report = problem_from_measurements(
         inputs.building,
         inputs.weather,
@@ -174,6 +228,7 @@ class CalibrationResult:
     notes: list = field(default_factory=list)
     campaign_path: str = ""
     posterior: Any = None
+    occupancy: dict = field(default_factory=dict)
 
     def table1(self) -> pd.DataFrame:
         """The paper's Table 1: nominal, min-variance and max-variance critical values."""
@@ -214,6 +269,7 @@ class CalibrationResult:
             if self.truth_comparison is None
             else self.truth_comparison.reset_index().to_dict(orient="records"),
             "posterior": None if self.posterior is None else self.posterior.to_dict(),
+            "occupancy": self.occupancy,
             "timings_s": self.timings,
             "notes": self.notes,
         }
@@ -384,6 +440,13 @@ def calibrate(
     timings["setup"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     nominal_run = problem.run({})
+    problem.schedule, occupancy = choose_quiet_hours(campaign, nominal_run.heat.sum(axis=1), log)
+    if occupancy["source"] == "data":
+        notes.append(
+            "Unoccupied hours from the data: " + occupancy.get("paper_schedule_check", "")
+            + "; the metric uses the quiet hours of the nominal identified heat ("
+            + occupancy["quiet_hours"] + ")."
+        )
     nominal = problem.metrics(nominal_run.heat)
     timings["nominal_run"] = time.perf_counter() - t0
     log(
@@ -500,7 +563,7 @@ def calibrate(
     validation = None
     if campaign.validation is not None:
         t0 = time.perf_counter()
-        validation = _validate(campaign, inputs, optimisation)
+        validation = _validate(campaign, inputs, optimisation, problem.schedule)
         timings["validation"] = time.perf_counter() - t0
     # the calibrated model: the best confirmed candidate among the reduced meta-model's minimum,
     # the campaign's best sample (a meta-model fitted on few samples can miss) and the
@@ -599,6 +662,7 @@ def calibrate(
         notes=notes,
         campaign_path=str(campaign.path),
         posterior=posterior,
+        occupancy={**occupancy, "schedule": problem.schedule.as_dict()},
     )
 
 
@@ -859,11 +923,11 @@ def choose_surrogate(
     return fitted[best], best, scores
 
 
-def _validate(campaign, inputs: CampaignInputs, optimisation) -> dict:
+def _validate(campaign, inputs: CampaignInputs, optimisation, schedule=None) -> dict:
     """Nominal vs calibrated metric on the validation period (not seen by the calibration)."""
     start = _localise(campaign.validation.start, inputs.weather.index[0])
     end = _localise(campaign.validation.end, inputs.weather.index[0])
-    problem, _ = build_problem(campaign, inputs, start=start, end=end)
+    problem, _ = build_problem(campaign, inputs, start=start, end=end, schedule=schedule)
     nominal = problem.evaluate({})[METRIC]
     calibrated = problem.evaluate(optimisation.parameters("min"))[METRIC]
     return {

@@ -253,6 +253,7 @@ class _IdfReader(SiteStages, ConstructionStages, SurfaceStages, ShadingStages, L
         self._model_surfaces()
         self._zone_volumes()
         self._infiltration()
+        self._ventilation()
         self._internal_gains()
         self._setpoints()
         self._model_zones()

@@ -40,7 +40,8 @@ class ScheduledInputs:
     gains_latent : ndarray [W]
         Latent gains (reported, not part of the sensible balance).
     infiltration_ach : ndarray [1/h]
-        Air changes from the schedule and the constant and wind terms.
+        Air changes from the schedule and the constant and wind terms (infiltration and
+        ``ZoneVentilation:DesignFlowRate``, the latter zero where its outdoor limits close it).
     infiltration_ach_per_kelvin : ndarray [1/(h K)]
         Temperature term: air changes per kelvin of ``|T_zone - T_out|`` (applied in the time
         loop with the zone temperature of the previous step, as EnergyPlus does).
@@ -224,6 +225,9 @@ class IdfImportInfo:
         )
         ach = np.zeros((n, nz))
         ach_dt = np.zeros((n, nz))
+        temp_air = (
+            weather["temp_air"].to_numpy(dtype=float) if "temp_air" in weather else np.zeros(n)
+        )
         for inf in self.infiltration:
             if inf.zone not in column:
                 continue
@@ -231,6 +235,9 @@ class IdfImportInfo:
             a, b, c_wind, d = inf.coefficients
             v = wind * self.zone_wind_factor.get(inf.zone, 1.0)
             base = inf.design_flow * 3600.0 / self.zone_volume[inf.zone] * values(inf.schedule)
+            gate = inf.outdoor_gate(sched, times, step, temp_air, v)
+            if gate is not None:
+                base = base * gate
             ach[:, c] += base * (a + c_wind * v + d * v * v)
             ach_dt[:, c] += base * b
         return ScheduledInputs(

@@ -371,8 +371,9 @@ def test_five_zone_schedules_on_the_simulation_grid(five_zone):
     half = info.schedules.on_grid("Htg-SetP-Sch", pd.DatetimeIndex(["2006-01-02 05:30"]), "1h")
     assert half[0] == pytest.approx(22.2)
     # Sunday: the set-back all day
-    sunday = info.schedules.on_grid("Htg-SetP-Sch", pd.date_range("2006-01-01", periods=96,
-                                                                  freq="15min"), step)
+    sunday = info.schedules.on_grid(
+        "Htg-SetP-Sch", pd.date_range("2006-01-01", periods=96, freq="15min"), step
+    )
     assert np.all(sunday == pytest.approx(16.7))
     grid = pd.DataFrame({"wind_speed": np.full(96, 4.0)}, index=times)
     inputs = info.scheduled_inputs(list(building.zones), times, step, grid)
@@ -601,12 +602,10 @@ def test_other_equipment_layouts_with_and_without_fuel_type(tmp_path):
 
 
 def test_unsupported_construction_class_is_named(tmp_path):
-    path = _box(tmp_path, extra="Construction:FfactorGroundFloor,Slab,0.5,100,40;")
+    path = _box(tmp_path, extra="Construction:AirBoundary,Slab,None;")
     text = path.read_text().replace("Floor,Floor,C1,Z1,Ground", "Floor,Floor,Slab,Z1,Ground")
     path.write_text(text)
-    with pytest.raises(
-        ThermocalInputError, match="Construction:FfactorGroundFloor is not supported"
-    ):
+    with pytest.raises(ThermocalInputError, match="Construction:AirBoundary is not supported"):
         read_idf(path)
 
 

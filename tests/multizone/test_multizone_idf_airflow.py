@@ -74,7 +74,7 @@ def _compare(tmp_path, idf, step, days=10):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", IdfImportWarning)
         building = read_idf(idf)
-    weather, meta = read_weather(weather_path)
+    weather, meta = read_weather(weather_path, coerce_year=2009)
     start = weather.index[0].normalize()
     result = Simulation(
         building,

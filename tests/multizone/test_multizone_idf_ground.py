@@ -135,7 +135,7 @@ def test_fc_factor_box_against_energyplus(tmp_path):
         for c in ("Slab", "UGWall1", "UGWall2")
     ]
     assert sorted(theirs_r) == pytest.approx(sorted(ours_r), abs=6e-4)
-    weather, meta = read_weather(weather_path)
+    weather, meta = read_weather(weather_path, coerce_year=2009)
     start = weather.index[0].normalize()
     result = Simulation(
         building,

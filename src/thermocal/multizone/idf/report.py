@@ -118,6 +118,8 @@ class IdfImportInfo:
     shadow_update_days: int = 20
     #: SurfaceConvectionAlgorithm:Inside / :Outside as written ({"inside": "TARP", ...})
     convection: dict[str, str] = field(default_factory=dict)
+    #: the Building object's Solar Distribution as written (EnergyPlus' default FullExterior)
+    solar_distribution: str = "FullExterior"
 
     def network_options(self):
         """NetworkOptions honouring the file's convection algorithms, and notes on fallbacks."""

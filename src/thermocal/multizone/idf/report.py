@@ -2,8 +2,10 @@
 
 :class:`IdfImportInfo` is attached to the imported Building as ``idf_info``: geometry, schedules,
 gains, infiltration, set points and the list of approximations (``notes``) and of the classes not
-represented (``unsupported``), which :func:`_warn_unsupported` reports in ONE
-:class:`IdfImportWarning`. :meth:`IdfImportInfo.scheduled_inputs` evaluates the file's schedules
+represented (``unsupported``), which :func:`_warn_unsupported` summarises in ONE short
+:class:`IdfImportWarning` (counts per kind; the classes that change the heat balance by name);
+:func:`import_report` groups the full lists by kind (:func:`unsupported_kind`,
+:func:`note_kind`). :meth:`IdfImportInfo.scheduled_inputs` evaluates the file's schedules
 on a simulation grid (:class:`ScheduledInputs`).
 """
 
@@ -120,6 +122,11 @@ class IdfImportInfo:
     convection: dict[str, str] = field(default_factory=dict)
     #: the Building object's Solar Distribution as written (EnergyPlus' default FullExterior)
     solar_distribution: str = "FullExterior"
+
+    def report(self) -> dict:
+        """What was not simulated and what was approximated, by kind (see
+        :func:`import_report`)."""
+        return import_report(self)
 
     def network_options(self):
         """NetworkOptions honouring the file's convection algorithms, and notes on fallbacks."""
@@ -300,15 +307,205 @@ def _hour_of_year(times, n_days: int) -> np.ndarray:
     return np.minimum(hours, n_days * 24 - 1)
 
 
-def _warn_unsupported(source: str, info: IdfImportInfo) -> None:
-    parts = []
-    if info.unsupported:
-        listing = ", ".join(f"{cls} ({count})" for cls, count in info.unsupported.items())
-        parts.append(
-            f"{source}: {sum(info.unsupported.values())} objects of {len(info.unsupported)} "
-            f"classes are not represented by the multi-zone model and were skipped: {listing}."
+#: Classes the importer does not read because they do not change the heat balance of the zones:
+#: outputs, reporting, sizing, costs, simulation control (upper-case prefixes).
+HARMLESS_CLASS_PREFIXES = (
+    "OUTPUT",
+    "METER:",
+    "SIZING:",
+    "SIZINGPERIOD:",
+    "LIFECYCLECOST:",
+    "UTILITYCOST:",
+    "COMPONENTCOST:",
+    "CURRENCYTYPE",
+    "SIMULATIONCONTROL",
+    "SCHEDULETYPELIMITS",
+    "CONVERGENCELIMITS",
+    "HEATBALANCEALGORITHM",
+    "ZONEAIRHEATBALANCEALGORITHM",
+    "ZONEAIRCONTAMINANTBALANCE",
+    "PERFORMANCEPRECISIONTRADEOFFS",
+    "ENVIRONMENTALIMPACTFACTORS",
+    "FUELFACTORS",
+    "PARAMETRIC:",
+    "SITE:PRECIPITATION",
+    "SITE:WATERMAINSTEMPERATURE",
+    "SITE:GROUNDTEMPERATURE:SHALLOW",
+    "SITE:GROUNDTEMPERATURE:DEEP",
+    "SITE:GROUNDTEMPERATURE:UNDISTURBED",
+    "EXTERIOR:LIGHTS",
+    "EXTERIOR:FUELEQUIPMENT",
+    "EXTERIOR:WATEREQUIPMENT",
+)
+
+#: HVAC and plant classes: the model replaces the file's systems by ideal heating and cooling at
+#: the thermostat set points (free float without them), so these are not simulated by design.
+HVAC_CLASS_PREFIXES = (
+    "ZONEHVAC:",
+    "AIRLOOPHVAC",
+    "AIRTERMINAL:",
+    "PLANTLOOP",
+    "CONDENSERLOOP",
+    "PLANTEQUIPMENT",
+    "CONDENSEREQUIPMENT",
+    "PLANTCOMPONENT:",
+    "COIL:",
+    "COILSYSTEM:",
+    "FAN:",
+    "PUMP:",
+    "HEADEREDPUMPS:",
+    "BOILER:",
+    "CHILLER:",
+    "CHILLERHEATER:",
+    "COOLINGTOWER:",
+    "EVAPORATIVEFLUIDCOOLER:",
+    "FLUIDCOOLER:",
+    "EVAPORATIVECOOLER:",
+    "HEATPUMP:",
+    "HEATEXCHANGER:",
+    "HUMIDIFIER:",
+    "DEHUMIDIFIER:",
+    "WATERHEATER:",
+    "THERMALSTORAGE:",
+    "DISTRICTHEATING",
+    "DISTRICTCOOLING",
+    "BRANCH",
+    "CONNECTOR",
+    "PIPE:",
+    "DUCT",
+    "NODELIST",
+    "OUTDOORAIR:",
+    "CONTROLLER:",
+    "SETPOINTMANAGER:",
+    "AVAILABILITYMANAGER",
+    "HVACTEMPLATE:",
+    "DESIGNSPECIFICATION:",
+    "UNITARYSYSTEMPERFORMANCE:",
+    "ZONETERMINALUNITLIST",
+    "SPACEHVAC:",
+    "ZONECONTROL:HUMIDISTAT",
+    "CURVE:",
+    "TABLE:",
+    "FLUIDPROPERTIES:",
+    "DEMANDMANAGER",
+    "LOADPROFILE:PLANT",
+    "TEMPERINGVALVE",
+    "ELECTRICLOADCENTER:",
+    "GENERATOR:",
+)
+
+#: Kinds of unsupported classes, in report order, with what the kind means for the result.
+UNSUPPORTED_KINDS = {
+    "physics": "not simulated although they change the heat balance: the result differs from "
+    "EnergyPlus' by their effect",
+    "hvac": "HVAC and plant: replaced by ideal heating/cooling at the set points (free float "
+    "without them)",
+    "harmless": "outputs, sizing, costs and simulation control: no effect on the heat balance",
+}
+
+
+def unsupported_kind(class_name: str) -> str:
+    """``"harmless"``, ``"hvac"`` or ``"physics"`` for a class the importer does not read.
+
+    Every class that is neither an output/sizing/control class (:data:`HARMLESS_CLASS_PREFIXES`)
+    nor HVAC equipment (:data:`HVAC_CLASS_PREFIXES`) counts as changing the physics.
+    """
+    key = class_name.upper()
+    if key.startswith(HARMLESS_CLASS_PREFIXES):
+        return "harmless"
+    if key.startswith(HVAC_CLASS_PREFIXES):
+        return "hvac"
+    return "physics"
+
+
+#: Kinds of import notes, in report order: (kind, label, test on the note's text).
+NOTE_KINDS = (
+    (
+        "constant_schedules",
+        "for schedules='constant' only (identify/calibrate's constant mode)",
+        lambda n: "schedules='constant'" in n or " varies (" in n,
+    ),
+    ("hvac", "HVAC replaced", lambda n: n.startswith("HVAC equipment")),
+    ("calendar", "schedule calendar", lambda n: n.startswith("schedule calendar")),
+    ("ventilation", "ventilation", lambda n: "ZoneVentilation" in n),
+    ("solar", "solar distribution", lambda n: n.startswith("Solar Distribution")),
+    ("convection", "convection algorithms", lambda n: "ConvectionAlgorithm" in n),
+    ("ground", "ground", lambda n: "ground" in n.lower()),
+    ("other", "other", lambda n: True),
+)
+
+
+def note_kind(note: str) -> str:
+    """The kind (first of :data:`NOTE_KINDS` that matches) of an import note."""
+    return next(kind for kind, _, test in NOTE_KINDS if test(note))
+
+
+def import_report(info: IdfImportInfo) -> dict:
+    """What the import did not simulate and approximated, grouped for reports (JSON-ready).
+
+    Returns
+    -------
+    dict
+        ``unsupported``: ``{kind: {class: count}}`` for the kinds of :data:`UNSUPPORTED_KINDS`;
+        ``unsupported_meaning``: the meaning of each kind; ``notes``: ``{kind: [note, ...]}``
+        for the kinds of :data:`NOTE_KINDS`; ``solar_distribution``.
+    """
+    unsupported: dict[str, dict[str, int]] = {kind: {} for kind in UNSUPPORTED_KINDS}
+    for cls, count in info.unsupported.items():
+        unsupported[unsupported_kind(cls)][cls] = count
+    notes: dict[str, list[str]] = {kind: [] for kind, _, _ in NOTE_KINDS}
+    for note in info.notes:
+        notes[note_kind(note)].append(note)
+    return {
+        "source": info.source,
+        "unsupported": unsupported,
+        "unsupported_meaning": dict(UNSUPPORTED_KINDS),
+        "notes": {k: v for k, v in notes.items() if v},
+        "solar_distribution": info.solar_distribution,
+    }
+
+
+def import_summary(source: str, info: IdfImportInfo) -> str:
+    """A few lines for the terminal: counts per kind of note and of class not represented, the
+    classes that change the physics by name (the full lists: :func:`import_report`)."""
+    report = import_report(info)
+    lines = []
+    labels = {kind: label for kind, label, _ in NOTE_KINDS}
+    notes = report["notes"]
+    constant = len(notes.get("constant_schedules", []))
+    if len(info.notes) > constant:
+        counts = ", ".join(
+            f"{len(v)} {labels[k]}" for k, v in notes.items() if k != "constant_schedules"
         )
-    if info.notes:
-        parts.append("Approximations: " + "; ".join(info.notes) + ".")
-    if parts:
-        warnings.warn(" ".join(parts), IdfImportWarning, stacklevel=5)
+        lines.append(f"{source}: {len(info.notes) - constant} import notes ({counts}).")
+    if constant:
+        lines.append(
+            f"{source}: {constant} more notes apply only where the file's schedules are "
+            "replaced by constants (schedules='constant')."
+        )
+    physics = report["unsupported"]["physics"]
+    if physics:
+        listing = ", ".join(f"{cls} ({n})" for cls, n in physics.items())
+        lines.append(
+            f"NOT SIMULATED although they change the heat balance ({sum(physics.values())} "
+            f"objects): {listing}."
+        )
+    for kind in ("hvac", "harmless"):
+        group = report["unsupported"][kind]
+        if group:
+            lines.append(
+                f"{sum(group.values())} objects of {len(group)} classes not represented, "
+                f"{UNSUPPORTED_KINDS[kind]}."
+            )
+    if lines:
+        lines.append(
+            "Full lists: summary.json 'idf_import' (thermocal simulate) or "
+            "building.idf_info.report()."
+        )
+    return "\n".join(lines)
+
+
+def _warn_unsupported(source: str, info: IdfImportInfo) -> None:
+    message = import_summary(source, info)
+    if message:
+        warnings.warn(message, IdfImportWarning, stacklevel=5)

@@ -753,3 +753,23 @@ def test_import_summary_on_the_terminal_and_full_report_in_summary_json(tmp_path
     assert report["unsupported"]["physics"] == {"ZoneMixing": 1}
     assert report["unsupported"]["harmless"] == {"Output:Variable": 1}
     assert any("E1" in n for n in report["notes"]["constant_schedules"])
+
+
+@pytest.mark.parametrize(
+    "cls, kind",
+    [
+        ("Output:Variable", "harmless"),
+        ("Sizing:Zone", "harmless"),
+        ("LifeCycleCost:Parameters", "harmless"),
+        ("ZoneHVAC:IdealLoadsAirSystem", "hvac"),
+        ("Coil:Heating:Water", "hvac"),
+        ("ZoneMixing", "physics"),
+        ("WindowShadingControl", "physics"),
+        ("Daylighting:Controls", "physics"),
+        ("EnergyManagementSystem:Program", "physics"),
+    ],
+)
+def test_unsupported_class_kinds(cls, kind):
+    from thermocal.multizone.idf import unsupported_kind
+
+    assert unsupported_kind(cls) == kind

@@ -151,3 +151,16 @@ def test_fc_factor_box_against_energyplus(tmp_path):
     diff = ours - theirs
     rmse, bias = float(np.sqrt(np.mean(diff**2))), float(diff.mean())
     assert rmse < 0.3 and abs(bias) < 0.25, (rmse, bias)
+
+
+def test_preprocessor_ground_boundary_is_noted(tmp_path):
+    path = _box(tmp_path)
+    path.write_text(
+        path.read_text().replace(
+            "Floor,Slab,Z,,GroundFCfactorMethod", "Floor,R13WALL,Z,,GroundSlabPreprocessorAverage"
+        )
+    )
+    building = _read(path)
+    notes = building.idf_info.report()["notes"]["ground"]
+    assert any("1 surface(s) with the boundary GroundSlabPreprocessorAverage" in n for n in notes)
+    assert building.surfaces["F"].boundary == "ground"

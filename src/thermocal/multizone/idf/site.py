@@ -157,12 +157,23 @@ class SiteStages:
         different temperatures, the BuildingSurface values serve both (noted).
         """
         kinds = {"GROUND": 0, "GROUNDFCFACTORMETHOD": 0}
+        preprocessor: dict[str, int] = {}
         for rec in self.records(
             "BUILDINGSURFACE:DETAILED", "WALL:DETAILED", "ROOFCEILING:DETAILED", "FLOOR:DETAILED"
         ):
             key = (rec.get("outside_boundary_condition") or "").upper()
             if key in kinds:
                 kinds[key] += 1
+            elif key.startswith("GROUND"):
+                preprocessor[rec["outside_boundary_condition"]] = (
+                    preprocessor.get(rec["outside_boundary_condition"], 0) + 1
+                )
+        for condition, count in preprocessor.items():
+            self.info.notes.append(
+                f"{count} surface(s) with the boundary {condition}: they see the building's one "
+                "ground temperature (Site:GroundTemperature:BuildingSurface) instead of the "
+                "slab/basement preprocessor's temperatures"
+            )
         ground_rec = self.single("SITE:GROUNDTEMPERATURE:BUILDINGSURFACE")
         fc_rec = self.single("SITE:GROUNDTEMPERATURE:FCFACTORMETHOD")
         fc = None

@@ -124,6 +124,9 @@ class InfiltrationInfo:
         ``((minimum [C], schedule or None), (maximum [C], schedule or None))`` of the outdoor
         temperature; a schedule overrides the value.
     max_wind_speed : float [m/s]
+    fan_heat_per_flow : float [J/m3]
+        Heat of the fan per volume of air, ``pressure rise / total efficiency``, added to the
+        zone with the air (EnergyPlus: ``Intake`` and ``Balanced`` ventilation fans).
     """
 
     name: str
@@ -134,6 +137,7 @@ class InfiltrationInfo:
     object_class: str = "ZoneInfiltration:DesignFlowRate"
     outdoor_limits: tuple = ((-100.0, None), (100.0, None))
     max_wind_speed: float = 40.0
+    fan_heat_per_flow: float = 0.0
 
     def outdoor_gate(self, schedules, times, step, temp_air, wind_speed) -> np.ndarray | None:
         """1 where the outdoor limits let the air flow, 0 elsewhere (None: no limits bind).
@@ -305,7 +309,9 @@ class LoadStages:
         schedule, coefficients and outdoor-temperature and wind limits per step); refuses the
         indoor-temperature limits (they need the zone temperature inside the time loop) and
         ``ZoneVentilation:WindandStackOpenArea`` (its stack flow grows with the square root of
-        the indoor-outdoor difference)."""
+        the indoor-outdoor difference). The fan heat of ``Intake`` and ``Balanced`` fans
+        (``flow x pressure rise / efficiency``) enters the zone air with the flow, as
+        EnergyPlus adds it to the incoming air."""
         for rec in self.records("ZONEVENTILATION:WINDANDSTACKOPENAREA"):
             raise ThermocalInputError(
                 f"{rec['_object'].where()}: ZoneVentilation:WindandStackOpenArea is not "
@@ -314,6 +320,8 @@ class LoadStages:
                 "by a ZoneVentilation:DesignFlowRate with the flow you expect, or remove it."
             )
         people: dict[str, float] | None = None
+        #: zone -> annual mean fan heat of Intake/Balanced ventilation [W] (constant gains)
+        self.fan_heat_mean: dict[str, float] = {}
         for rec in self.records("ZONEVENTILATION:DESIGNFLOWRATE"):
             obj = rec["_object"]
             where = obj.where()
@@ -383,6 +391,7 @@ class LoadStages:
                     )
                 if flow < 0:
                     raise ThermocalInputError(f"{where}: the design flow rate is negative.")
+                fan_heat = pressure / efficiency if kind in ("INTAKE", "BALANCED") else 0.0
                 info = InfiltrationInfo(
                     rec["name"],
                     zone_name,
@@ -392,6 +401,7 @@ class LoadStages:
                     object_class=obj.class_name,
                     outdoor_limits=limits,
                     max_wind_speed=max_wind,
+                    fan_heat_per_flow=fan_heat,
                 )
                 self.info.infiltration.append(info)
                 # the constant rate (schedules='constant'): the design flow at the reference
@@ -403,14 +413,12 @@ class LoadStages:
                 self.info.zone_nominal_ach[zone_name] = (
                     self.info.zone_nominal_ach.get(zone_name, 0.0) + ach
                 )
+                if fan_heat > 0:
+                    self.fan_heat_mean[zone_name] = (
+                        self.fan_heat_mean.get(zone_name, 0.0) + flow * factor * mean * fan_heat
+                    )
                 if schedule:
                     self.info.infiltration_schedules.setdefault(zone_name, []).append(schedule)
-                if kind in ("INTAKE", "BALANCED") and pressure > 0:
-                    self.info.notes.append(
-                        f"ZoneVentilation:DesignFlowRate '{rec['name']}' (zone {zone_name}): the "
-                        f"fan heat of the {kind.title()} fan ({flow * pressure / efficiency:.0f} W "
-                        "at the design flow) is not added to the incoming air"
-                    )
                 self.info.notes.append(
                     f"ZoneVentilation:DesignFlowRate '{rec['name']}' (zone {zone_name}): "
                     f"{flow:.4g} m3/s ({flow * 3600.0 / volume:.2f} 1/h) of outdoor air"
@@ -439,6 +447,10 @@ class LoadStages:
                     self.info.internal_gains.append(gain)
         self.zone_gains: dict[str, float] = {}
         self.zone_radiant: dict[str, float] = {}
+        for zone, heat in getattr(self, "fan_heat_mean", {}).items():
+            # ventilation fan heat with the air: convective (its per-step value in
+            # IdfImportInfo.scheduled_inputs)
+            self.zone_gains[zone] = self.zone_gains.get(zone, 0.0) + heat
         for gain in self.info.internal_gains:
             self.zone_gains[gain.zone] = self.zone_gains.get(gain.zone, 0.0) + gain.annual_mean
             self.zone_radiant[gain.zone] = (

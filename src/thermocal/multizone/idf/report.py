@@ -38,7 +38,8 @@ class ScheduledInputs:
     heating_setpoint, cooling_setpoint : ndarray [C]
         NaN where a zone has no such set point.
     gains_convective, gains_radiant : ndarray [W]
-        Sensible internal gains entering the zone air / the zone's surfaces.
+        Sensible internal gains entering the zone air / the zone's surfaces (the convective
+        part includes the fan heat of Intake/Balanced ventilation).
     gains_latent : ndarray [W]
         Latent gains (reported, not part of the sensible balance).
     infiltration_ach : ndarray [1/h]
@@ -249,6 +250,11 @@ class IdfImportInfo:
                 base = base * gate
             ach[:, c] += base * (a + c_wind * v + d * v * v)
             ach_dt[:, c] += base * b
+            if inf.fan_heat_per_flow > 0:
+                # fan heat with the air [W]: flow [m3/s] x pressure rise / efficiency (the
+                # temperature term of the flow left out: it needs the zone temperature)
+                flow = base * (a + c_wind * v + d * v * v) * self.zone_volume[inf.zone] / 3600.0
+                convective[:, c] += flow * inf.fan_heat_per_flow
         return ScheduledInputs(
             heating, cooling, convective, radiant, latent, ach, ach_dt, people_b, people_c
         )

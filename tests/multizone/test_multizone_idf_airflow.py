@@ -150,3 +150,58 @@ def test_ventilation_flow_methods_and_wind_and_stack_refused(tmp_path):
     stack = "ZoneVentilation:WindandStackOpenArea,W,Z1,1,,autocalculate,,1,autocalculate;"
     with pytest.raises(ThermocalInputError, match=r"WindandStackOpenArea 'W'.*square root"):
         read_idf(_box(tmp_path, extra=stack, name="stack.idf"))
+
+
+@requires_energyplus
+def test_door_infiltration_into_a_small_heated_zone(tmp_path):
+    """A 20 m3 heated zone of the generated house (the kitchen, its volume field set to 20 m3)
+    with 0.78 m3/s through a door on weekdays 07:00-22:00 and Saturdays 08:00-18:00: the run
+    completes and the zone's heating follows EnergyPlus. Measured 2026-11-25, January 1-14 at
+    15 min: kitchen 4268 vs 4263 kWh (+0.1 %), living room 171.8 vs 174.0 kWh (-1.3 %); over
+    January the kitchen's infiltration loss 8769 vs 8757 kWh. About 10 s."""
+    from energyplus_house import house_idf
+
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone.energyplus import (
+        energyplus_weather_folder,
+        read_eso,
+        run_energyplus,
+    )
+    from thermocal.multizone.simulation import Simulation
+
+    if energyplus_weather_folder() is None:
+        pytest.skip("the EnergyPlus installation has no WeatherData folder")
+    weather_path = energyplus_weather_folder() / "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
+    text = house_idf(run_period=((1, 1), (1, 14)))
+    kitchen = "  KITCHEN,\n  0,\n  0,\n  0,\n  0,\n  ,\n  1,\n  ,\n  86.4;"
+    assert kitchen in text
+    text = text.replace(kitchen, kitchen.replace("86.4;", "20;"))
+    text += (
+        "ZoneInfiltration:DesignFlowRate,Door,KITCHEN,Door Sched,Flow/Zone,0.78,,,,1,0,0,0;\n"
+        "Schedule:Compact,Door Sched,Fraction,Through: 12/31,For: Weekdays,Until: 07:00,0,"
+        "Until: 22:00,1,Until: 24:00,0,For: Saturdays,Until: 08:00,0,Until: 18:00,1,"
+        "Until: 24:00,0,For: AllOtherDays,Until: 24:00,0;\n"
+    )
+    idf = tmp_path / "house_door.idf"
+    idf.write_text(text)
+    reference = read_eso(run_energyplus(idf, weather_path, tmp_path / "out"), year=2006)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdfImportWarning)
+        building = read_idf(idf)
+    assert building.zones["KITCHEN"].volume == 20.0
+    weather, meta = read_weather(weather_path, coerce_year=2006)
+    start = weather.index[0].normalize()
+    result = Simulation(
+        building,
+        weather,
+        meta,
+        step="15min",
+        start=start,
+        end=start + pd.Timedelta(days=14),
+        store_surfaces=False,
+    ).run()
+    for zone, bound in (("KITCHEN", 0.02), ("LIVING", 0.04)):
+        column = f"{zone} IDEAL LOADS:Zone Ideal Loads Zone Sensible Heating Energy [J]"
+        theirs = reference[column].sum() / 3.6e6
+        ours = result.heating[zone].sum() * 0.25 / 1000.0
+        assert ours == pytest.approx(theirs, rel=bound), (zone, ours, theirs)

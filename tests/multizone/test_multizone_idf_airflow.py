@@ -134,7 +134,7 @@ def test_ventilation_flow_methods_and_wind_and_stack_refused(tmp_path):
     People,P,Z1,,People,4,,,0.3,,Act;
     Schedule:Constant,Act,,120;
     ZoneVentilation:DesignFlowRate,V1,Z1,,Flow/Person,,,0.01,,Exhaust;
-    ZoneVentilation:DesignFlowRate,V2,Z1,,Flow/Area,,0.001,,,Natural;
+    ZoneVentilation:DesignFlowRate,V2,Z1,,Flow/Area,,0.001,,,Natural,,,,,,,,,,,,,,,,,,Standard;
     ZoneVentilation:DesignFlowRate,V3,Z1,Half,AirChanges/Hour,,,,2,Balanced,100,0.5;
     Schedule:Constant,Half,,0.5;
     """
@@ -145,6 +145,8 @@ def test_ventilation_flow_methods_and_wind_and_stack_refused(tmp_path):
     assert flows == pytest.approx({"V1": 0.04, "V2": 0.012, "V3": 2 * 30 / 3600})
     # the constant rate: design flows x annual mean of the schedules [1/h]
     assert building.zones["Z1"].infiltration_ach == pytest.approx((0.04 + 0.012) * 120 + 1.0)
+    notes = building.idf_info.notes
+    assert any("'V2': 'Density Basis' = Standard approximated" in n for n in notes)
     fan_heat = {i.name: i.fan_heat_per_flow for i in building.idf_info.infiltration}
     assert fan_heat == {"V1": 0.0, "V2": 0.0, "V3": pytest.approx(100 / 0.5)}  # Exhaust: none
     stack = "ZoneVentilation:WindandStackOpenArea,W,Z1,1,,autocalculate,,1,autocalculate;"

@@ -233,6 +233,9 @@ class LoadStages:
         coefficient_notes = []
         for rec in self.records("ZONEINFILTRATION:DESIGNFLOWRATE"):
             obj = rec["_object"]
+            note = _density_basis_note(rec)
+            if note:
+                self.info.notes.append(note)
             method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
             coefficients = [
                 _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
@@ -326,6 +329,9 @@ class LoadStages:
             obj = rec["_object"]
             where = obj.where()
             _refuse_indoor_limits(rec)
+            note = _density_basis_note(rec)
+            if note:
+                self.info.notes.append(note)
             method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
             coefficients = (
                 _number(rec, "constant_term_coefficient", default=1.0),
@@ -507,6 +513,18 @@ def _refuse_indoor_limits(rec: dict) -> None:
                 "temperature is known); leave the field blank (no limit) to ventilate on the "
                 "schedule and outdoor limits alone, or remove the object."
             )
+
+
+def _density_basis_note(rec: dict) -> str | None:
+    """A note when 'Density Basis' is not Outdoor (the model's mass flow is the volume flow at
+    the outdoor air density, EnergyPlus' default)."""
+    basis = rec.get("density_basis", "") or "Outdoor"
+    if basis.upper() == "OUTDOOR":
+        return None
+    return (
+        f"{rec['_object'].class_name} '{rec['name']}': 'Density Basis' = {basis} approximated by "
+        "Outdoor (the volume flow at the outdoor air density)"
+    )
 
 
 def _all_blank(rec: dict) -> bool:

@@ -41,8 +41,11 @@ def _read(path):
     ],
 )
 def test_solar_distribution_options(tmp_path, option, shaders, note):
-    building = _read(_box(tmp_path, extra=SHADE, north=f"0,Suburbs,,,{option}"))
+    extra = SHADE + "SurfaceConvectionAlgorithm:Inside,Simple;ShadowCalculation,Timestep;"
+    building = _read(_box(tmp_path, extra=extra, north=f"0,Suburbs,,,{option}"))
     info = building.idf_info
+    # the rest of the shading stage still runs (convection, shadow calculation)
+    assert info.convection == {"inside": "Simple"} and info.shadow_update_days == 0
     assert info.solar_distribution == option
     assert len(info.shading_surfaces) == shaders
     notes = [n for n in info.notes if n.startswith("Solar Distribution")]

@@ -81,6 +81,22 @@ class ShadingStages:
                 found.extend(self._fins(rec, projection=key.endswith("PROJECTION")))
         self.info.shading_surfaces = self._solar_distribution(found)
 
+        for side in ("inside", "outside"):
+            rec = self.single(f"SURFACECONVECTIONALGORITHM:{side.upper()}")
+            if rec is not None and rec["algorithm"]:
+                self.info.convection[side] = rec["algorithm"]
+        rec = self.single("SHADOWCALCULATION")
+        if rec is not None:
+            # read by content, not by name: the layout changed in EnergyPlus 9.x (Calculation
+            # Method, Frequency before; Calculation Method, Update Frequency Method, Frequency
+            # since)
+            values = [f.upper() for f in rec["_object"].fields]
+            numbers = [v for v in values[:4] if v.replace(".", "", 1).isdigit()]
+            if any(v in ("TIMESTEP", "TIMESTEPFREQUENCY") for v in values[:3]):
+                self.info.shadow_update_days = 0
+            elif numbers:
+                self.info.shadow_update_days = max(1, int(float(numbers[0])))
+
     def _solar_distribution(self, found: list) -> list:
         """The ``Building`` object's Solar Distribution: ``MinimalShadowing`` drops the shading
         surfaces (EnergyPlus casts no shadow from them); the model puts the beam entering a zone
@@ -124,21 +140,6 @@ class ShadingStages:
                 "building is not modelled"
             )
         return found
-        for side in ("inside", "outside"):
-            rec = self.single(f"SURFACECONVECTIONALGORITHM:{side.upper()}")
-            if rec is not None and rec["algorithm"]:
-                self.info.convection[side] = rec["algorithm"]
-        rec = self.single("SHADOWCALCULATION")
-        if rec is not None:
-            # read by content, not by name: the layout changed in EnergyPlus 9.x (Calculation
-            # Method, Frequency before; Calculation Method, Update Frequency Method, Frequency
-            # since)
-            values = [f.upper() for f in rec["_object"].fields]
-            numbers = [v for v in values[:4] if v.replace(".", "", 1).isdigit()]
-            if any(v in ("TIMESTEP", "TIMESTEPFREQUENCY") for v in values[:3]):
-                self.info.shadow_update_days = 0
-            elif numbers:
-                self.info.shadow_update_days = max(1, int(float(numbers[0])))
 
     def _window_frame(self, rec):
         """Corner, right and up axes, outward normal, width and height of a window or door."""

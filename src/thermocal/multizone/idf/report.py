@@ -472,8 +472,9 @@ def import_report(info: IdfImportInfo) -> dict:
 
 
 def import_summary(source: str, info: IdfImportInfo) -> str:
-    """A few lines for the terminal: counts per kind of note and of class not represented, the
-    classes that change the physics by name (the full lists: :func:`import_report`)."""
+    """A few lines for the terminal: counts per kind of note, the classes that change the physics
+    by name, the HVAC classes by count; the harmless ones (outputs, sizing, ...) are left out
+    (the full lists: :func:`import_report`)."""
     report = import_report(info)
     lines = []
     labels = {kind: label for kind, label, _ in NOTE_KINDS}
@@ -496,13 +497,13 @@ def import_summary(source: str, info: IdfImportInfo) -> str:
             f"NOT SIMULATED although they change the heat balance ({sum(physics.values())} "
             f"objects): {listing}."
         )
-    for kind in ("hvac", "harmless"):
-        group = report["unsupported"][kind]
-        if group:
-            lines.append(
-                f"{sum(group.values())} objects of {len(group)} classes not represented, "
-                f"{UNSUPPORTED_KINDS[kind]}."
-            )
+    group = report["unsupported"]["hvac"]
+    if group:
+        lines.append(
+            f"{sum(group.values())} objects of {len(group)} classes not represented, "
+            f"{UNSUPPORTED_KINDS['hvac']}."
+        )
+    # the harmless classes (outputs, sizing, ...) stay quiet: listed in the report only
     if lines:
         lines.append(
             "Full lists: summary.json 'idf_import' (thermocal simulate) or "

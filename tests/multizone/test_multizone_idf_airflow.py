@@ -149,6 +149,9 @@ def test_ventilation_flow_methods_and_wind_and_stack_refused(tmp_path):
     assert any("'V2': 'Density Basis' = Standard approximated" in n for n in notes)
     fan_heat = {i.name: i.fan_heat_per_flow for i in building.idf_info.infiltration}
     assert fan_heat == {"V1": 0.0, "V2": 0.0, "V3": pytest.approx(100 / 0.5)}  # Exhaust: none
+    missing = "ZoneVentilation:DesignFlowRate,V,Z1,,Flow/Zone,0.1,,,,,,,,,,,,,,,,,,Cold;"
+    with pytest.raises(ThermocalInputError, match=r"'Minimum Outdoor Temperature Schedule Name'"):
+        read_idf(_box(tmp_path, extra=missing, name="missing.idf"))
     stack = "ZoneVentilation:WindandStackOpenArea,W,Z1,1,,autocalculate,,1,autocalculate;"
     with pytest.raises(ThermocalInputError, match=r"WindandStackOpenArea 'W'.*square root"):
         read_idf(_box(tmp_path, extra=stack, name="stack.idf"))

@@ -349,10 +349,11 @@ class LoadStages:
                     rec["maximum_outdoor_temperature_schedule_name"] or None,
                 ),
             )
-            for _, name in limits:
+            for label, (_, name) in zip(("Minimum", "Maximum"), limits, strict=True):
                 if name is not None and name not in self.schedules:
                     raise ThermocalInputError(
-                        f"{where}: outdoor temperature schedule '{name}' is not defined."
+                        f"{where}: field '{label} Outdoor Temperature Schedule Name' = '{name}' "
+                        "is not a schedule of the file."
                     )
             max_wind = _number(rec, "maximum_wind_speed", default=40.0)
             kind = (rec["ventilation_type"] or "Natural").upper()

@@ -91,8 +91,10 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
         out[str(sensor)] = zone
     substitutes: dict[str, str] = {}
     for zone, spec in (data.get("zones") or {}).items():
-        if not isinstance(spec, Mapping) or set(spec) != {"use"} or not isinstance(
-            spec["use"], str
+        if (
+            not isinstance(spec, Mapping)
+            or set(spec) != {"use"}
+            or not isinstance(spec["use"], str)
         ):
             raise ThermocalInputError(
                 f"{source}: zones.{zone} must be {{use: <zone name>}}, got {spec!r}"
@@ -311,7 +313,8 @@ def zone_references(
         grid.index = grid.index.tz_convert(tz)
     grid = grid.reindex(times + half)
     grid.index = times
-    _check_celsius(grid, source)
+    checked = [c for c in grid.columns if c in mapping.sensors and c not in mapping.ignore]
+    check_sensor_plausibility(grid[checked], mapping, step, source)
     own = {}
     for zone, src in sources.items():
         if src.kind == "sensor":
@@ -321,7 +324,8 @@ def zone_references(
     for zone, src in sources.items():
         series = own.get(zone, own.get(src.zone)).copy()
         series, filled = _interpolate_short_gaps(series, max_gap)
-        interpolated += [{"zone": zone, **gap} for gap in filled]
+        series, held = _hold_final_step(series, last, step)
+        interpolated += [{"zone": zone, **gap} for gap in filled + held]
         reference[zone] = series
     for zone, src in sources.items():
         missing = reference[zone].isna()
@@ -330,6 +334,16 @@ def zone_references(
         fallback = _fallback_zone(building, zone, src, sources, reference)
         if fallback is None:
             first_missing = reference.index[missing.argmax()]
+            if (
+                not missing.iloc[: missing.argmax()].any()
+                and missing.iloc[missing.argmax() :].all()
+            ):
+                raise ThermocalInputError(
+                    f"zone {zone!r} (sensors {', '.join(src.sensors)}) has no data for the last "
+                    f"{missing.sum() * step / pd.Timedelta('1h'):.2f} h of the period (from "
+                    f"{first_missing}): {source} ends at {last}; end the period there (--end) or "
+                    "extend the log"
+                )
             raise ThermocalInputError(
                 f"zone {zone!r} (sensors {', '.join(src.sensors)}) has no data for "
                 f"{missing.sum() * step / pd.Timedelta('1h'):.1f} h (first at {first_missing}), "
@@ -363,22 +377,154 @@ def _log_span(raw: pd.DataFrame) -> tuple[pd.Timestamp, pd.Timestamp]:
     return times.min(), times.max()
 
 
-def _check_celsius(grid: pd.DataFrame, source: str) -> None:
-    means = grid.mean(axis=0, skipna=True)
-    hot = means[means > 60.0]
-    if len(hot):
-        name = hot.index[0]
-        raise ThermocalInputError(
-            f"{source}: sensor {name!r} reads {hot.iloc[0]:.1f} C on average; indoor "
-            "temperatures above 60 C suggest Kelvin: declare its unit as K (unit column or "
-            "units=) so that it is converted"
+#: Mean indoor temperature a zone can have over a measured period [C]; outside, a unit slip.
+INDOOR_MEAN_RANGE = (-30.0, 35.0)
+#: A sensor whose mean differs from its neighbours' median by more than this is checked for a
+#: unit slip [K] (an unheated cellar or attic may legitimately differ by 10-15 K).
+NEIGHBOUR_TOLERANCE = 15.0
+#: A converted mean this close to the neighbours' median identifies the unit slip [K].
+UNIT_MATCH = 5.0
+#: A sensor reading exactly the same value for at least this long is stuck.
+STUCK_AFTER = pd.Timedelta("1D")
+
+#: Unit slips of a temperature logged where degrees C are expected: (name, the unit to
+#: declare, conversion of a mean to C).
+_UNIT_SLIPS = (
+    (
+        "Kelvin?",
+        "declare its unit as K (in the header, e.g. 'NAME [K]', a unit column, or units=)",
+        lambda v: v - 273.15,
+    ),
+    (
+        "Fahrenheit?",
+        "declare its unit as F (in the header, e.g. 'NAME [F]', a unit column, or units=)",
+        lambda v: (v - 32.0) * 5.0 / 9.0,
+    ),
+    (
+        "tenths of a degree? (202 for 20.2 C)",
+        "divide its values by 10 in the file",
+        lambda v: v / 10.0,
+    ),
+    (
+        "hundredths of a degree? (2020 for 20.20 C)",
+        "divide its values by 100 in the file",
+        lambda v: v / 100.0,
+    ),
+)
+
+
+def _unit_slip(mean: float, reference: float | None):
+    """The unit slip that explains ``mean`` [C] best, or None when it is plausible as it is.
+
+    ``reference`` is the neighbours' median [C] (None without neighbours: 20 C is used to
+    rank the candidates). A mean outside :data:`INDOOR_MEAN_RANGE` is always a slip (the best
+    candidate, or "unknown" when none fits); one inside it is a slip only when it is more than
+    :data:`NEIGHBOUR_TOLERANCE` from the neighbours and a conversion brings it within
+    :data:`UNIT_MATCH` of them.
+    """
+    low, high = INDOOR_MEAN_RANGE
+    target = 20.0 if reference is None else reference
+    plausible = low <= mean <= high
+    if plausible and (reference is None or abs(mean - reference) <= NEIGHBOUR_TOLERANCE):
+        return None
+    fits = []
+    for label, remedy, convert in _UNIT_SLIPS:  # in order of how common the slip is
+        value = convert(mean)
+        if low <= value <= high and (plausible is False or abs(value - target) <= UNIT_MATCH):
+            fits.append((abs(value - target), label, remedy, value))
+    close = [fit for fit in fits if fit[0] <= UNIT_MATCH]
+    if close:
+        return close[0][1:]
+    if fits:
+        return min(fits)[1:]
+    return None if plausible else ("not an indoor temperature", "check its unit", float("nan"))
+
+
+def check_sensor_plausibility(
+    grid: pd.DataFrame,
+    mapping: SensorMapping,
+    step: pd.Timedelta,
+    source: str,
+) -> None:
+    """Refuse sensors in the wrong unit or stuck, naming file, sensor, zone and what to do.
+
+    * a sensor whose mean is not an indoor temperature, or disagrees with the other sensors by
+      a unit-like factor (Kelvin, Fahrenheit, tenths or hundredths of a degree; the conversion
+      that brings it next to the others is named);
+    * a sensor that disagrees with its own history: a day whose mean is such a factor away
+      from the sensor's median day (the logger's unit changed);
+    * a sensor reading exactly the same value for :data:`STUCK_AFTER` or longer (a frozen
+      logger repeats its last value; identifying against it gives a plausible but wrong heat).
+
+    Parameters
+    ----------
+    grid : DataFrame
+        Sensor temperatures on the simulation grid [C], one column per sensor, NaN where
+        missing.
+    mapping : SensorMapping
+        For the zone of each sensor.
+    step : Timedelta
+        Grid step.
+    source : str
+        The sensor log, for messages.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+    """
+    means = grid.mean(axis=0, skipna=True).dropna()
+
+    def where(sensor) -> str:
+        zone = mapping.sensors.get(str(sensor))
+        return f"{source}: sensor {str(sensor)!r}" + (f" (zone {zone!r})" if zone else "")
+
+    for sensor, mean in means.items():
+        others = means.drop(sensor)
+        reference = float(others.median()) if len(others) else None
+        slip = _unit_slip(float(mean), reference)
+        if slip is None:
+            continue
+        label, remedy, converted = slip
+        company = (
+            f", while the other {len(others)} sensor(s) average {reference:.1f} C"
+            if reference is not None
+            else ""
         )
-    cold = means[means < -30.0]
-    if len(cold):
+        as_converted = "" if np.isnan(converted) else f" (as {converted:.1f} C if so)"
         raise ThermocalInputError(
-            f"{source}: sensor {cold.index[0]!r} reads {cold.iloc[0]:.1f} C on average, not an "
-            "indoor temperature; check its unit"
+            f"{where(sensor)} reads {mean:.1f} on average{company}: {label}{as_converted}; "
+            f"{remedy.replace('NAME', str(sensor))} and run again"
         )
+    for sensor in means.index:
+        daily = grid[sensor].resample("1D").mean().dropna()
+        if len(daily) < 3:
+            continue
+        typical = float(daily.median())
+        for day, value in daily.items():
+            slip = _unit_slip(float(value), typical)
+            if slip is not None and not np.isnan(slip[2]):
+                raise ThermocalInputError(
+                    f"{where(sensor)} averages {value:.1f} on {day:%Y-%m-%d} but "
+                    f"{typical:.1f} C on a typical day: {slip[0]} The logger's unit seems to "
+                    f"change within the log; write all its values in one unit ({slip[1]} for "
+                    "that part)"
+                )
+    steps_per_day = int(round(STUCK_AFTER / step))
+    for sensor in grid.columns:
+        values = grid[sensor].to_numpy(dtype=float)
+        same = np.abs(np.diff(values)) <= 1e-9 * np.maximum(1.0, np.abs(values[1:]))
+        runs = _runs(np.append(same, False), grid.index, step)
+        long = [r for r in runs if r["hours"] * pd.Timedelta("1h") >= STUCK_AFTER]
+        if steps_per_day and long:
+            first = long[0]
+            stuck_value = grid[sensor].loc[first["start"]]
+            raise ThermocalInputError(
+                f"{where(sensor)} reads exactly {stuck_value:g} C from {first['start']} for "
+                f"{first['hours'] / 24:.1f} days ({len(long)} such period(s)): a stuck or frozen "
+                "sensor repeats its last value, and identifying against it gives a wrong heat; "
+                "remove those values from the log (a gap), or list the sensor under 'ignore:' "
+                f"in {mapping.source}"
+            )
 
 
 def _runs(mask: np.ndarray, index: pd.DatetimeIndex, step: pd.Timedelta) -> list[dict]:
@@ -423,6 +569,23 @@ def _interpolate_short_gaps(series: pd.Series, max_gap: pd.Timedelta):
             values[i0:i1] = np.interp(positions[i0:i1], positions[good], values[good])
             filled.append(run)
     return pd.Series(values, index=series.index), filled
+
+
+def _hold_final_step(series: pd.Series, last_report: pd.Timestamp, step: pd.Timedelta):
+    """Fill a missing final step when the log reaches its start (a log ending at ``--end``).
+
+    The reference of the final step is centred on the period's end, so its averaging window
+    reaches half a step beyond the log; the last value is held there instead of calling the
+    end of the log a gap. Returns the series and the filled run (for the report).
+    """
+    if len(series) < 2 or not np.isnan(series.iloc[-1]) or np.isnan(series.iloc[-2]):
+        return series, []
+    if last_report < series.index[-1]:
+        return series, []
+    series = series.copy()
+    series.iloc[-1] = series.iloc[-2]
+    hours = step / pd.Timedelta("1h")
+    return series, [{"start": series.index[-1], "end": series.index[-1] + step, "hours": hours}]
 
 
 def _fallback_zone(building, zone, src, sources, reference) -> str | None:

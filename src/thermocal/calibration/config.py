@@ -243,12 +243,11 @@ class CampaignFile(_Strict):
         """The time step as a Timedelta [s resolution]."""
         return pd.Timedelta(self.step)
 
-    def problem_fingerprint(self) -> str:
-        """SHA-256 of what determines the metric: input files' contents, period, step, options.
+    def problem_settings(self) -> dict[str, Any]:
+        """What determines the metric, by name: input files' contents, period, step, options.
 
-        Changes to the building, weather, sensor or mapping files, the period, the step, the
-        identification or occupancy options change it; the parameter, sampling, meta-model,
-        optimisation and store sections do not.
+        JSON-ready; the files are given by the SHA-256 of their content. A store compares it
+        with the settings it was written with and names what changed.
         """
         files = {}
         for key in ("building", "weather", "sensors", "mapping"):
@@ -259,14 +258,30 @@ class CampaignFile(_Strict):
                 files[key] = value
             else:
                 files[key] = _file_digest(Path(value))
-        problem = {
-            "files": files,
-            "period": None if self.period is None else self.period.model_dump(mode="json"),
-            "step": str(pd.Timedelta(self.step)),
-            "identification": self.identification,
-            "occupancy": self.occupancy,
-        }
-        return hashlib.sha256(json.dumps(problem, sort_keys=True, default=str).encode()).hexdigest()
+        return json.loads(
+            json.dumps(
+                {
+                    "files": files,
+                    "period": None if self.period is None else self.period.model_dump(mode="json"),
+                    "step": str(pd.Timedelta(self.step)),
+                    "identification": self.identification,
+                    "occupancy": self.occupancy,
+                },
+                sort_keys=True,
+                default=str,
+            )
+        )
+
+    def problem_fingerprint(self) -> str:
+        """SHA-256 of :meth:`problem_settings`.
+
+        Changes to the building, weather, sensor or mapping files, the period, the step, the
+        identification or occupancy options change it; the parameter, sampling, meta-model,
+        optimisation and store sections do not.
+        """
+        return hashlib.sha256(
+            json.dumps(self.problem_settings(), sort_keys=True, default=str).encode()
+        ).hexdigest()
 
     def fingerprint(self, *, samples: int | None = None) -> str:
         """SHA-256 of the campaign definition (problem, parameters and sampling sections).

@@ -106,11 +106,14 @@ def identify(
                 )
             from thermocal.identification.sensors import load_mapping
             from thermocal.io.measurements import read_measurements
-            from thermocal.io.weather import read_weather
+            from thermocal.io.weather import check_building_site, read_weather
             from thermocal.multizone.files import load_building
 
             model = load_building(building)
             frame, site = read_weather(weather)
+            check_building_site(
+                model, site, building_source=str(building), weather_source=str(weather)
+            )
             raw, _ = read_measurements(sensors, tz=tz)
             mapping_data = load_mapping(mapping)
             log_name = str(sensors)
@@ -188,8 +191,10 @@ def _print_summary(result, truth) -> None:
     if result.tuning is not None:
         t = result.tuning
         summary.add_row("tuned zone", t.zone)
-        summary.add_row("Ku exact / experiment", f"{t.ultimate_gain:.0f} / "
-                        f"{(t.experiment_gain or float('nan')):.0f} W/K")
+        summary.add_row(
+            "Ku exact / experiment",
+            f"{t.ultimate_gain:.0f} / {(t.experiment_gain or float('nan')):.0f} W/K",
+        )
         summary.add_row("Pu", f"{t.ultimate_period / 60:.1f} min")
     difference = result.method_difference()
     if difference is not None:

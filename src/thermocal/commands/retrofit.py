@@ -91,6 +91,26 @@ def print_summary(results: dict, out: Path) -> None:
     console.print(f"results in [bold]{out}[/bold] (results.json, report.html, CSV, figures/)")
 
 
+def _check_weather_site(cfg) -> None:
+    """Refuse a typical-year weather file far from the building's location (before computing)."""
+    from thermocal.io.weather import check_site_matches_weather, read_weather
+    from thermocal.retrofit.workflow import load_building, resolve_weather_path
+
+    building = load_building(
+        cfg.building, config_source=f"the retrofit configuration in {cfg.base_dir}"
+    )
+    weather = resolve_weather_path(cfg.weather.file)
+    _, meta = read_weather(weather, format=cfg.weather.format, columns=cfg.weather.columns)
+    source = cfg.building if isinstance(cfg.building, Path) else "the inline building"
+    check_site_matches_weather(
+        building.location.latitude,
+        building.location.longitude,
+        meta,
+        building_source=str(source),
+        weather_source=str(cfg.weather.file),
+    )
+
+
 #: Files of a retrofit output folder: an existing folder holding one of them is replaced.
 RETROFIT_SIGNATURE = ("results.json", "report.html")
 
@@ -118,6 +138,7 @@ def retrofit(
     console = Console(stderr=True)
     check_output_folder(out, signature=RETROFIT_SIGNATURE)
     cfg = load_config(config)
+    _check_weather_site(cfg)
     with (
         output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,
         console.status("retrofit analysis") as status,

@@ -649,3 +649,22 @@ def test_calibrate_swaps_the_results_in_with_the_store(tmp_path, monkeypatch, ca
     with sqlite3.connect(out / "campaign.sqlite") as con:
         assert con.execute("SELECT COUNT(*) FROM results").fetchone()[0] == 16
     con.close()
+
+
+def test_identify_without_period_takes_the_logs_span():
+    """A 12-hour log without --start/--end: its span on the model grid, not the weather year."""
+    from rich.console import Console
+
+    from thermocal.commands.identify import _log_period
+
+    weather = pd.date_range("2001-01-01", "2001-12-31 23:00", freq="h", tz="Etc/GMT-1")
+    log = pd.DataFrame(
+        {"S0": 20.0}, index=pd.date_range("2001-02-03 10:02", periods=145, freq="5min", tz="UTC")
+    )
+    start, end = _log_period(log, weather, "5min", Console(quiet=True), "log.csv")
+    assert (start, end) == (
+        pd.Timestamp("2001-02-03 11:05+01:00"),
+        pd.Timestamp("2001-02-03 23:00+01:00"),
+    )
+    log.index = log.index - pd.Timedelta(days=800)  # outside the weather: the overlap check speaks
+    assert _log_period(log, weather, "5min", Console(quiet=True), "log.csv") == (None, None)

@@ -118,6 +118,8 @@ def identify(
             mapping_data = load_mapping(mapping)
             log_name = str(sensors)
             max_gap_used = max_gap
+            if start is None and end is None:
+                start, end = _log_period(raw, frame.index, step, console, log_name)
         schedule = None
         if occupancy is not None:
             from thermocal.io.yamlfile import read_yaml
@@ -157,6 +159,39 @@ def identify(
     _print_summary(result, truth)
     for path in written:
         console.print(f"wrote {path}")
+
+
+def _log_period(raw, weather_index, step: str, console, log_name: str):
+    """Default period: the sensor log's span on the model grid (not the whole weather year).
+
+    Returns ``(start, end)`` tz-aware, or ``(None, None)`` when the log does not lie inside
+    the weather data (the overlap check then names both ranges).
+    """
+    import pandas as pd
+
+    from thermocal.errors import ThermocalInputError
+    from thermocal.identification.sensors import _log_span
+
+    try:
+        delta = pd.Timedelta(step)
+    except ValueError:
+        raise ThermocalInputError(f"--step {step!r}: give a duration such as 5min") from None
+    if delta <= pd.Timedelta(0):
+        raise ThermocalInputError(f"--step {step!r} must be positive")
+    first, last = _log_span(raw)
+    origin = weather_index[0]
+    if first.tzinfo is None or origin.tzinfo is None:
+        return None, None
+    first, last = first.tz_convert(origin.tz), last.tz_convert(origin.tz)
+    t0 = origin + -((origin - first) // delta) * delta  # first grid instant at or after
+    t1 = origin + ((last - origin) // delta) * delta
+    end_of_weather = weather_index[-1] + (weather_index[1] - weather_index[0])
+    if t1 <= t0 or t0 < origin or t1 > end_of_weather:
+        return None, None
+    console.print(
+        f"period: the span of {log_name}, [{t0}, {t1}) (pass --start/--end to choose another)"
+    )
+    return t0, t1
 
 
 def _parse_limits(text: str | None) -> tuple[float, float] | None:

@@ -365,6 +365,11 @@ RETROFIT_CASES = [
         [r"measurements\.columns", r"'T_return' is given for temp_return and temp_supply"],
     ),
     (
+        "fuel-in-Wh",
+        lambda c: c.setdefault("reference", {}).update(measured_fuel_kWh=30_660_000),
+        [r"measured_fuel_kWh = 30660000", r"in Wh\? then write 30,660"],
+    ),
+    (
         "training-one-day",
         lambda c: c["periods"].update(training_days=1, test_days=1),
         [r"periods\.training_days = 1", r"at least 7 days", r"time constants"],
@@ -668,3 +673,18 @@ def test_identify_without_period_takes_the_logs_span():
     )
     log.index = log.index - pd.Timedelta(days=800)  # outside the weather: the overlap check speaks
     assert _log_period(log, weather, "5min", Console(quiet=True), "log.csv") == (None, None)
+
+
+def test_validation_period_outside_the_weather_is_found_before_the_campaign():
+    from thermocal.calibration.config import parse_campaign
+    from thermocal.calibration.workflow import load_inputs, validation_problem
+
+    campaign = parse_campaign(
+        {"building": "demo:clinic", "validation": {"start": "2005-03-01", "end": "2005-03-08"}},
+        source="c.yaml",
+    )
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"validation period .*outside the weather data.*checked before the campaign",
+    ):
+        validation_problem(campaign, load_inputs(campaign))

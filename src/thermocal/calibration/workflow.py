@@ -390,6 +390,7 @@ def calibrate(
     t0 = time.perf_counter()
     inputs = load_inputs(campaign)
     problem, _ = build_problem(campaign, inputs)
+    later = validation_problem(campaign, inputs)
     # the series meta-model needs each sample's unoccupied heat series
     problem.series_outputs = campaign.metamodel.kind in ("auto", "series")
     timings["setup"] = time.perf_counter() - t0
@@ -540,7 +541,7 @@ def calibrate(
     validation = None
     if campaign.validation is not None:
         t0 = time.perf_counter()
-        validation = _validate(campaign, inputs, optimisation)
+        validation = _validate(campaign, inputs, optimisation, later)
         timings["validation"] = time.perf_counter() - t0
     # the calibrated model: the best confirmed candidate among the reduced meta-model's minimum,
     # the campaign's best sample (a meta-model fitted on few samples can miss) and the
@@ -941,11 +942,29 @@ def choose_surrogate(
     return fitted[best], best, scores
 
 
-def _validate(campaign, inputs: CampaignInputs, optimisation) -> dict:
+def validation_problem(campaign, inputs: CampaignInputs):
+    """The identification problem of the validation period, built (and so checked: weather,
+    sensor coverage) before the campaign rather than after it; None without a validation."""
+    if campaign.validation is None:
+        return None
+    start = _localise(campaign.validation.start, inputs.weather.index[0])
+    end = _localise(campaign.validation.end, inputs.weather.index[0])
+    try:
+        problem, _ = build_problem(campaign, inputs, start=start, end=end)
+    except ThermocalInputError as exc:
+        raise ThermocalInputError(
+            f"{campaign.path}: validation period [{start}, {end}): {exc} (checked before the "
+            "campaign; correct 'validation:' or remove it)"
+        ) from None
+    return problem
+
+
+def _validate(campaign, inputs: CampaignInputs, optimisation, problem=None) -> dict:
     """Nominal vs calibrated metric on the validation period (not seen by the calibration)."""
     start = _localise(campaign.validation.start, inputs.weather.index[0])
     end = _localise(campaign.validation.end, inputs.weather.index[0])
-    problem, _ = build_problem(campaign, inputs, start=start, end=end)
+    if problem is None:
+        problem = validation_problem(campaign, inputs)
     nominal = problem.evaluate({})[METRIC]
     calibrated = problem.evaluate(optimisation.parameters("min"))[METRIC]
     return {

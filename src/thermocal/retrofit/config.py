@@ -63,6 +63,9 @@ INDOOR_PROFILE_RANGE = (5.0, 35.0)
 #: internal mass) are days long, and a weekly cycle of use should be inside.
 MIN_TRAINING_DAYS = 7.0
 
+#: Largest plausible annual energy of the house (fuel, rating) [kWh].
+MAX_ANNUAL_KWH = 2.0e6
+
 #: Smallest plausible heat loss coefficient of a building [W/K] (a tiny house has ~50).
 MIN_HEAT_LOSS_COEFFICIENT = 5.0
 
@@ -122,6 +125,9 @@ class PeriodsConfig(_Strict):
     """Training and test periods: explicit dates, or lengths from the first measurement."""
 
     training_start: str | None = None
+    # at most ten years: beyond, the period is certainly a unit slip (hours or seconds)
+    training_days: float = Field(21.0, gt=0, le=3660)
+    test_days: float = Field(21.0, ge=0, le=3660)
 
     @field_validator("training_start", mode="before")
     @classmethod
@@ -132,9 +138,6 @@ class PeriodsConfig(_Strict):
         if isinstance(value, _dt.date):
             return value.isoformat()
         return value
-    # at most ten years: beyond, the period is certainly a unit slip (hours or seconds)
-    training_days: float = Field(21.0, gt=0, le=3660)
-    test_days: float = Field(21.0, ge=0, le=3660)
 
     @field_validator("training_days")
     @classmethod
@@ -222,6 +225,20 @@ class ReferenceConfig(_Strict):
     measured_fuel_kWh: float | None = Field(None, ge=0)
     boiler_efficiency: float | None = Field(None, gt=0, le=1.2)
     audit_heat_loss_coefficient_W_per_K: float | None = Field(None, gt=0)
+    true_heat_loss_coefficient_W_per_K: float | None = Field(
+        None, gt=0, description="known HLC (synthetic data only)"
+    )
+
+    @field_validator("measured_fuel_kWh", "rating_kWh")
+    @classmethod
+    def _kilowatt_hours(cls, value: float | None) -> float | None:
+        """An annual energy above 2 GWh is no house's: Wh written where kWh belong."""
+        if value is not None and value > MAX_ANNUAL_KWH:
+            raise ValueError(
+                f"{value:,.0f} kWh a year is the heating of a hundred houses (at most "
+                f"{MAX_ANNUAL_KWH:,.0f} kWh accepted); is it in Wh? then write {value / 1000:,.0f}"
+            )
+        return value
 
     @field_validator("audit_heat_loss_coefficient_W_per_K")
     @classmethod
@@ -233,9 +250,6 @@ class ReferenceConfig(_Strict):
                 f"{MIN_HEAT_LOSS_COEFFICIENT:g} W/K); is it in kW/K? then write {value * 1000:g}"
             )
         return value
-    true_heat_loss_coefficient_W_per_K: float | None = Field(
-        None, gt=0, description="known HLC (synthetic data only)"
-    )
 
     @field_validator("rating_monthly_kWh")
     @classmethod
@@ -317,8 +331,7 @@ class DemandConfig(_Strict):
             elif 40.0 <= value <= 95.0:
                 hint = f"; Fahrenheit? write {(value - 32.0) * 5.0 / 9.0:.1f}"
             raise ValueError(
-                f"{value:g} C is not an indoor temperature (expected {low:g}-{high:g} C)"
-                f"{hint}"
+                f"{value:g} C is not an indoor temperature (expected {low:g}-{high:g} C){hint}"
             )
         return value
 

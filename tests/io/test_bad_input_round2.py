@@ -688,3 +688,17 @@ def test_validation_period_outside_the_weather_is_found_before_the_campaign():
         match=r"validation period .*outside the weather data.*checked before the campaign",
     ):
         validation_problem(campaign, load_inputs(campaign))
+
+
+def test_epoch_seconds_name_the_command_line_option(tmp_path):
+    stamps = 1_546_300_800 + 3600 * np.arange(30)
+    path = tmp_path / "epoch.csv"
+    pd.DataFrame({"time": stamps, "S0": 20.0}).to_csv(path, index=False)
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"epoch\.csv, column 'time': the times are numbers \(1546300800 in the first row\).*--time-unit.*Unix time stamps such as 1546300800 are --time-unit s",
+    ):
+        read_measurements(path)
+    raw, _ = read_measurements(path, time_unit="s")
+    times = pd.DatetimeIndex(raw["time"] if "time" in raw.columns else raw.index)
+    assert times[0] == pd.Timestamp("2019-01-01", tz="UTC")

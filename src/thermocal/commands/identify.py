@@ -54,6 +54,14 @@ def identify(
     tz: Annotated[
         str | None, typer.Option(help="Time zone of sensor time stamps without UTC offset.")
     ] = None,
+    time_unit: Annotated[
+        str | None,
+        typer.Option(help="Unit of numeric sensor time stamps: s, ms, min, h or d (Unix: s)."),
+    ] = None,
+    time_origin: Annotated[
+        str | None,
+        typer.Option(help="Time of 0 of numeric time stamps (default 1970-01-01 UTC)."),
+    ] = None,
     demo: Annotated[
         bool, typer.Option("--demo", help="Run on the built-in clinic demo data.")
     ] = False,
@@ -114,7 +122,7 @@ def identify(
             check_building_site(
                 model, site, building_source=str(building), weather_source=str(weather)
             )
-            raw, _ = read_measurements(sensors, tz=tz)
+            raw, _ = read_measurements(sensors, tz=tz, time_unit=time_unit, start=time_origin)
             mapping_data = load_mapping(mapping)
             log_name = str(sensors)
             max_gap_used = max_gap

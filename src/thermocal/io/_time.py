@@ -262,9 +262,11 @@ def check_clock_offsets(
 def _numeric_times(values, source, column, lines, zone, time_unit, start):
     if time_unit is None:
         raise ThermocalInputError(
-            f"{source}, column '{column}': the times are numbers; pass time_unit= "
-            f"({', '.join(TIME_UNITS)}) and start= (the time of 0, e.g. "
-            f"'2009-02-05 14:26:00+01:00'; default 1970-01-01 UTC)"
+            f"{source}, column '{column}': the times are numbers ({values.iloc[0]} in the "
+            f"first row); give their unit, one of {', '.join(TIME_UNITS)} (--time-unit on the "
+            "command line, time_unit= in Python), and the time of 0 if it is not 1970-01-01 UTC "
+            "(--time-origin, start=; e.g. '2009-02-05 14:26:00+01:00'); Unix time stamps such "
+            "as 1546300800 are --time-unit s"
         )
     if time_unit not in TIME_UNITS:
         raise ThermocalInputError(

@@ -702,3 +702,18 @@ def test_epoch_seconds_name_the_command_line_option(tmp_path):
     raw, _ = read_measurements(path, time_unit="s")
     times = pd.DatetimeIndex(raw["time"] if "time" in raw.columns else raw.index)
     assert times[0] == pd.Timestamp("2019-01-01", tz="UTC")
+
+
+def test_identify_period_too_short_states_the_minimum():
+    from thermocal.commands.identify import _check_period_length
+
+    weather = pd.date_range("2001-01-01", "2001-12-31 23:00", freq="h", tz="Etc/GMT-1")
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"is 12\.0 h; identification needs at least 2 days: the first day .* settle",
+    ):
+        _check_period_length(
+            pd.Timestamp("2001-02-03 11:00+01:00"), pd.Timestamp("2001-02-03 23:00+01:00"), weather
+        )
+    _check_period_length("2001-02-03", "2001-02-06", weather)  # three days: fine
+    _check_period_length(None, None, weather)  # the weather year: fine

@@ -717,3 +717,35 @@ def test_identify_period_too_short_states_the_minimum():
         )
     _check_period_length("2001-02-03", "2001-02-06", weather)  # three days: fine
     _check_period_length(None, None, weather)  # the weather year: fine
+
+
+@pytest.mark.parametrize(("header", "values", "patterns"), [
+    ("T_room [C]", 202.0, [r"'T_room \[C\]'", r"declared as C", r"look like tenths of a degree", r"divide its values by 10"]),
+    ("T_room [C]", 294.0, [r"look like Kelvin", r"'T_room \[K\]'"]),
+], ids=["tenths-declared-C", "kelvin-declared-C"])  # fmt: skip
+def test_declared_celsius_that_is_not(tmp_path, header, values, patterns):
+    path = tmp_path / "log.csv"
+    stamps = pd.date_range("2024-01-01", periods=30, freq="h", tz="UTC").astype(str)
+    pd.DataFrame({"time": stamps, header: values + 0.1 * np.arange(30)}).to_csv(path, index=False)
+    with pytest.raises(ThermocalInputError) as info:
+        read_measurements(path)
+    for pattern in patterns:
+        assert re.search(pattern, str(info.value)), str(info.value)
+
+
+def test_tenths_without_unit_are_not_taken_for_kelvin(tmp_path):
+    """202 is 20.2 C in tenths, not 202 K = -71 C: left for the plausibility check to name."""
+    path = tmp_path / "log.csv"
+    stamps = pd.date_range("2024-01-01", periods=30, freq="h", tz="UTC").astype(str)
+    pd.DataFrame({"time": stamps, "T_room": 202.0 + 0.1 * np.arange(30)}).to_csv(path, index=False)
+    raw, meta = read_measurements(path, quantities={"T_room": "temperature"})
+    assert not meta["conversions"]
+    grid = pd.DataFrame(
+        {"T_room": 202.0 + 0.1 * np.arange(30)},
+        index=pd.date_range("2024-01-01", periods=30, freq="h", tz="UTC"),
+    )
+    mapping = SensorMapping({"T_room": "living"}, source="mapping.yaml")
+    with pytest.raises(
+        ThermocalInputError, match=r"'T_room' \(zone 'living'\).*tenths of a degree\?"
+    ):
+        check_sensor_plausibility(grid, mapping, STEP, "log.csv")

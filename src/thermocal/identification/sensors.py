@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io.measurements import temperature_unit_slip
 
 
 @dataclass(frozen=True)
@@ -377,67 +378,8 @@ def _log_span(raw: pd.DataFrame) -> tuple[pd.Timestamp, pd.Timestamp]:
     return times.min(), times.max()
 
 
-#: Mean indoor temperature a zone can have over a measured period [C]; outside, a unit slip.
-INDOOR_MEAN_RANGE = (-30.0, 35.0)
-#: A sensor whose mean differs from its neighbours' median by more than this is checked for a
-#: unit slip [K] (an unheated cellar or attic may legitimately differ by 10-15 K).
-NEIGHBOUR_TOLERANCE = 15.0
-#: A converted mean this close to the neighbours' median identifies the unit slip [K].
-UNIT_MATCH = 5.0
 #: A sensor reading exactly the same value for at least this long is stuck.
 STUCK_AFTER = pd.Timedelta("1D")
-
-#: Unit slips of a temperature logged where degrees C are expected: (name, the unit to
-#: declare, conversion of a mean to C).
-_UNIT_SLIPS = (
-    (
-        "Kelvin?",
-        "declare its unit as K (in the header, e.g. 'NAME [K]', a unit column, or units=)",
-        lambda v: v - 273.15,
-    ),
-    (
-        "Fahrenheit?",
-        "declare its unit as F (in the header, e.g. 'NAME [F]', a unit column, or units=)",
-        lambda v: (v - 32.0) * 5.0 / 9.0,
-    ),
-    (
-        "tenths of a degree? (202 for 20.2 C)",
-        "divide its values by 10 in the file",
-        lambda v: v / 10.0,
-    ),
-    (
-        "hundredths of a degree? (2020 for 20.20 C)",
-        "divide its values by 100 in the file",
-        lambda v: v / 100.0,
-    ),
-)
-
-
-def _unit_slip(mean: float, reference: float | None):
-    """The unit slip that explains ``mean`` [C] best, or None when it is plausible as it is.
-
-    ``reference`` is the neighbours' median [C] (None without neighbours: 20 C is used to
-    rank the candidates). A mean outside :data:`INDOOR_MEAN_RANGE` is always a slip (the best
-    candidate, or "unknown" when none fits); one inside it is a slip only when it is more than
-    :data:`NEIGHBOUR_TOLERANCE` from the neighbours and a conversion brings it within
-    :data:`UNIT_MATCH` of them.
-    """
-    low, high = INDOOR_MEAN_RANGE
-    target = 20.0 if reference is None else reference
-    plausible = low <= mean <= high
-    if plausible and (reference is None or abs(mean - reference) <= NEIGHBOUR_TOLERANCE):
-        return None
-    fits = []
-    for label, remedy, convert in _UNIT_SLIPS:  # in order of how common the slip is
-        value = convert(mean)
-        if low <= value <= high and (plausible is False or abs(value - target) <= UNIT_MATCH):
-            fits.append((abs(value - target), label, remedy, value))
-    close = [fit for fit in fits if fit[0] <= UNIT_MATCH]
-    if close:
-        return close[0][1:]
-    if fits:
-        return min(fits)[1:]
-    return None if plausible else ("not an indoor temperature", "check its unit", float("nan"))
 
 
 def check_sensor_plausibility(
@@ -481,7 +423,7 @@ def check_sensor_plausibility(
     for sensor, mean in means.items():
         others = means.drop(sensor)
         reference = float(others.median()) if len(others) else None
-        slip = _unit_slip(float(mean), reference)
+        slip = temperature_unit_slip(float(mean), reference)
         if slip is None:
             continue
         label, remedy, converted = slip
@@ -501,7 +443,7 @@ def check_sensor_plausibility(
             continue
         typical = float(daily.median())
         for day, value in daily.items():
-            slip = _unit_slip(float(value), typical)
+            slip = temperature_unit_slip(float(value), typical)
             if slip is not None and not np.isnan(slip[2]):
                 raise ThermocalInputError(
                     f"{where(sensor)} averages {value:.1f} on {day:%Y-%m-%d} but "

@@ -246,7 +246,7 @@ def check_clock_offsets(
     gaps = np.flatnonzero(np.abs(steps - (regular + hour)) <= 0.1 * regular)
     for i in gaps:
         before = pd.Timestamp(int(utc[i]), tz="UTC").tz_convert(times.tz)
-        if before.dayofweek == 6 and 0 <= before.hour <= 3 and before.month in (3, 4, 9, 10, 11):
+        if before.day_of_week == 6 and 0 <= before.hour <= 3 and before.month in (3, 4, 9, 10, 11):
             after = pd.Timestamp(int(utc[i + 1]), tz="UTC").tz_convert(times.tz)
             raise ThermocalInputError(
                 f"{source}, column '{column}', {_where(lines, i + 1)}: the clock jumps from "

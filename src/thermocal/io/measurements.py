@@ -347,6 +347,87 @@ def _check_order(
     return keep
 
 
+#: Temperatures a building's measurements can have (outdoor air included) [C].
+PLAUSIBLE_TEMPERATURE = (-50.0, 60.0)
+#: Mean indoor temperature a zone can have over a measured period [C]; outside, a unit slip.
+INDOOR_MEAN_RANGE = (-30.0, 35.0)
+#: A sensor whose mean differs from its neighbours' median by more than this is checked for a
+#: unit slip [K] (an unheated cellar or attic may legitimately differ by 10-15 K).
+NEIGHBOUR_TOLERANCE = 15.0
+#: A converted mean this close to the neighbours' median identifies the unit slip [K].
+UNIT_MATCH = 5.0
+
+#: Unit slips of a temperature logged where degrees C are expected: (name, the unit to
+#: declare, conversion of a mean to C).
+TEMPERATURE_UNIT_SLIPS = (
+    (
+        "Kelvin?",
+        "declare its unit as K (in the header, e.g. 'NAME [K]', a unit column, or units=)",
+        lambda v: v - 273.15,
+    ),
+    (
+        "Fahrenheit?",
+        "declare its unit as F (in the header, e.g. 'NAME [F]', a unit column, or units=)",
+        lambda v: (v - 32.0) * 5.0 / 9.0,
+    ),
+    (
+        "tenths of a degree? (202 for 20.2 C)",
+        "divide its values by 10 in the file",
+        lambda v: v / 10.0,
+    ),
+    (
+        "hundredths of a degree? (2020 for 20.20 C)",
+        "divide its values by 100 in the file",
+        lambda v: v / 100.0,
+    ),
+)
+
+
+def temperature_unit_slip(
+    mean: float,
+    reference: float | None = None,
+    *,
+    plausible: tuple[float, float] = INDOOR_MEAN_RANGE,
+):
+    """The unit slip that explains a temperature read as C best, or None when it is plausible.
+
+    Parameters
+    ----------
+    mean : float
+        The (mean) value as read [C].
+    reference : float, optional
+        What it should be near: the neighbouring sensors' median or the sensor's typical day
+        [C] (None: 20 C is used to rank the candidates).
+    plausible : (float, float)
+        Range of a plausible value [C]. A value outside it is always a slip (the best
+        candidate, or "not an indoor temperature" when none fits); one inside it is a slip
+        only when it is more than :data:`NEIGHBOUR_TOLERANCE` from ``reference`` and a
+        conversion brings it within :data:`UNIT_MATCH` of it.
+
+    Returns
+    -------
+    tuple or None
+        ``(label, remedy, value in C)``: e.g. ``("Fahrenheit?", "declare its unit as F (...)",
+        10.0)``; ``NAME`` in the remedy stands for the column.
+    """
+    low, high = plausible
+    target = 20.0 if reference is None else reference
+    plausible = low <= mean <= high
+    if plausible and (reference is None or abs(mean - reference) <= NEIGHBOUR_TOLERANCE):
+        return None
+    fits = []
+    for label, remedy, convert in TEMPERATURE_UNIT_SLIPS:  # in order of how common the slip is
+        value = convert(mean)
+        if low <= value <= high and (plausible is False or abs(value - target) <= UNIT_MATCH):
+            fits.append((abs(value - target), label, remedy, value))
+    close = [fit for fit in fits if fit[0] <= UNIT_MATCH]
+    if close:
+        return close[0][1:]
+    if fits:
+        return min(fits)[1:]
+    return None if plausible else ("not an indoor temperature", "check its unit", float("nan"))
+
+
 def _convert_units(
     name: str,
     values: np.ndarray,
@@ -372,10 +453,17 @@ def _convert_units(
         if quantity == "temperature" and canonical == unit and finite.size:
             low_share = np.mean(finite < 100.0)
             if low_share < 0.5 and np.median(finite) > 150.0:
+                median = float(np.median(finite))
+                slip = temperature_unit_slip(median, plausible=PLAUSIBLE_TEMPERATURE)
+                label, remedy = (
+                    ("Kelvin?", "declare [K] if they are")
+                    if slip is None or slip[0] == "not an indoor temperature"
+                    else slip[:2]
+                )
                 raise ThermocalInputError(
                     f"{where}: the unit is declared as {unit} but the values (median "
-                    f"{np.median(finite):.1f}) look like Kelvin; declare [K] if they are, "
-                    f"or fix the values"
+                    f"{median:.1f}) look like {label.replace('?', '')}; "
+                    f"{remedy.replace('NAME', name)}, or fix the values"
                 )
         note = None
         if factor != 1.0 or offset != 0.0:
@@ -404,7 +492,9 @@ def _convert_units(
                 f"200); declare the unit ('{name} [K]' in the header or units={{'{name}': 'K'}}) "
                 f"and fix the values that are in the other unit"
             )
-        if kelvin_like.all():
+        median_c = float(np.median(finite)) - 273.15
+        plausible_kelvin = PLAUSIBLE_TEMPERATURE[0] <= median_c <= PLAUSIBLE_TEMPERATURE[1]
+        if kelvin_like.all() and plausible_kelvin:  # 202 is 20.2 C in tenths, not -71 C
             return (
                 values - 273.15,
                 quantity,

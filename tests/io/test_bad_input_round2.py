@@ -749,3 +749,20 @@ def test_tenths_without_unit_are_not_taken_for_kelvin(tmp_path):
         ThermocalInputError, match=r"'T_room' \(zone 'living'\).*tenths of a degree\?"
     ):
         check_sensor_plausibility(grid, mapping, STEP, "log.csv")
+
+
+def test_weather_whose_clock_does_not_fit_its_sun():
+    """A weather table read with the wrong time zone (Zurich's for Greensboro data)."""
+    from thermocal.io.weather import check_weather_clock, read_weather
+
+    weather, meta = read_weather(
+        Path(__import__("pvlib").__file__).parent / "data" / "723170TYA.CSV"
+    )
+    assert check_weather_clock(weather, meta, source="723170TYA.CSV") == 0.0
+    shifted = weather.copy()
+    shifted.index = weather.index.tz_localize(None).tz_localize("Etc/GMT-1")
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"weather file w\.csv: the irradiance \(ghi\) .*6 h early.*time zone of the weather file",
+    ):
+        check_weather_clock(shifted, meta, source="w.csv")

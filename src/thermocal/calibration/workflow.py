@@ -92,7 +92,7 @@ def load_inputs(campaign) -> CampaignInputs:
         )
     from thermocal.identification.sensors import load_mapping
     from thermocal.io.measurements import read_measurements
-    from thermocal.io.weather import check_building_site, read_weather
+    from thermocal.io.weather import check_building_site, check_weather_clock, read_weather
     from thermocal.multizone.files import load_building
 
     if campaign.mapping is None:
@@ -104,6 +104,7 @@ def load_inputs(campaign) -> CampaignInputs:
     check_building_site(
         building, site, building_source=str(campaign.building), weather_source=str(campaign.weather)
     )
+    check_weather_clock(weather, site, source=str(campaign.weather))
     tz = campaign.identification.get("tz")
     raw, _ = read_measurements(campaign.sensors, tz=tz)
     mapping = load_mapping(campaign.mapping)

@@ -114,7 +114,7 @@ def identify(
                 )
             from thermocal.identification.sensors import load_mapping
             from thermocal.io.measurements import read_measurements
-            from thermocal.io.weather import check_building_site, read_weather
+            from thermocal.io.weather import check_building_site, check_weather_clock, read_weather
             from thermocal.multizone.files import load_building
 
             model = load_building(building)
@@ -122,6 +122,7 @@ def identify(
             check_building_site(
                 model, site, building_source=str(building), weather_source=str(weather)
             )
+            check_weather_clock(frame, site, source=str(weather))
             raw, _ = read_measurements(sensors, tz=tz, time_unit=time_unit, start=time_origin)
             mapping_data = load_mapping(mapping)
             log_name = str(sensors)

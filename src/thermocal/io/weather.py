@@ -658,6 +658,50 @@ def check_building_site(
     )
 
 
+def check_weather_clock(
+    weather: pd.DataFrame, metadata: Mapping[str, Any], *, source: str
+) -> float:
+    """Refuse weather whose irradiance does not follow the sun at its own site and clock.
+
+    :func:`thermocal.io.measurements.check_clock_against_sun` on ``ghi`` (or ``dni + dhi``):
+    a CSV read with the wrong ``tz``, or a header whose time zone is not the data's, moves the
+    sun by hours.
+
+    Parameters
+    ----------
+    weather : DataFrame
+        From :func:`read_weather` (tz-aware index, irradiance [W/m2]).
+    metadata : mapping
+        Its metadata (``latitude``, ``longitude``).
+    source : str
+        The weather file, for the message.
+
+    Returns
+    -------
+    float
+        The clock's offset from the sun [h] (0 without irradiance or site).
+    """
+    from thermocal.io.measurements import check_clock_against_sun
+
+    lat, lon = metadata.get("latitude"), metadata.get("longitude")
+    if lat is None or lon is None:
+        return 0.0
+    if "ghi" in weather.columns:
+        irradiance, column = weather["ghi"], "ghi"
+    elif {"dni", "dhi"} <= set(weather.columns):
+        irradiance, column = weather["dni"] + weather["dhi"], "dni + dhi"
+    else:
+        return 0.0
+    return check_clock_against_sun(
+        irradiance,
+        float(lat),
+        float(lon),
+        source=f"weather file {source}",
+        column=column,
+        timezone_setting="the time zone of the weather file (its header, or tz= for a CSV)",
+    )
+
+
 def weather_step(weather: pd.DataFrame) -> pd.Timedelta:
     """The regular time step of a weather frame.
 

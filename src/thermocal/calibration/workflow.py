@@ -518,7 +518,8 @@ def calibrate(
     morris = None
     if campaign.morris is not None:
         t0 = time.perf_counter()
-        morris = _morris(campaign, problem, space, path, workers, scheduler, progress, log)
+        bar = progress and sys.stderr.isatty()  # a bar only where it is seen
+        morris = _morris(campaign, problem, space, path, workers, scheduler, bar, log)
         timings["morris"] = time.perf_counter() - t0
     log(f"meta-model cross-validated R2 {surrogate.cv_r2_:.3f}; critical: {', '.join(critical)}")
     t0 = time.perf_counter()

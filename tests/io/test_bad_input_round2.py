@@ -21,6 +21,7 @@ import pytest
 import yaml
 from test_bad_input_table import run
 
+from conftest import shared_data_path
 from thermocal.errors import ThermocalInputError
 from thermocal.identification.sensors import (
     SensorMapping,
@@ -766,3 +767,86 @@ def test_weather_whose_clock_does_not_fit_its_sun():
         match=r"weather file w\.csv: the irradiance \(ghi\) .*6 h early.*time zone of the weather file",
     ):
         check_weather_clock(shifted, meta, source="w.csv")
+
+
+# ------------------------------------------------------------------------------------------
+# identify through the command line: stops before the identification
+# ------------------------------------------------------------------------------------------
+TMY3 = Path(__import__("pvlib").__file__).parent / "data" / "723170TYA.CSV"
+
+
+@pytest.fixture(scope="module")
+def identify_files(tmp_path_factory) -> dict[str, Path]:
+    from test_bad_input_table import _building_yaml
+
+    d = tmp_path_factory.mktemp("identify")
+    f = {"building": d / "two_rooms.yaml", "mapping": d / "mapping.yaml"}
+    f["building"].write_text(_building_yaml())
+    f["mapping"].write_text("sensors: {S1: living, S2: kitchen}\n")
+
+    def log(name, hours, edit=None, naive=False):
+        times = pd.date_range("2015-02-02", periods=12 * hours, freq="5min", tz="Etc/GMT-1")
+        rng = np.random.default_rng(3)
+        frame = pd.DataFrame(
+            {"S1": 21 + rng.normal(0, 0.1, len(times)), "S2": 20 + rng.normal(0, 0.1, len(times))}
+        )
+        if edit is not None:
+            frame = edit(frame)
+        frame.insert(0, "time", times.tz_localize(None).astype(str) if naive else times.astype(str))
+        f[name] = d / f"{name}.csv"
+        frame.to_csv(f[name], index=False)
+
+    log("log", 72)
+    log("short", 12, naive=True)
+    log("fahrenheit", 72, edit=lambda x: x.assign(S2=x["S2"] * 1.8 + 32))
+    epoch = pd.read_csv(f["log"])
+    epoch["time"] = pd.to_datetime(epoch["time"]).astype("int64") // 10**9
+    f["epoch"] = d / "epoch.csv"
+    epoch.to_csv(f["epoch"], index=False)
+    return f
+
+
+IDENTIFY_CASES = [
+    # id, weather, log, extra options, exit code, patterns
+    ("zurich-building-greensboro-weather", "tmy3", "log", [], 2, [r"two_rooms\.yaml", r"latitude 47\.38, longitude 8\.54", r"latitude 36\.10, longitude -79\.95", r"km apart"]),
+    ("12-hour-log-with-tz-1", "zurich", "short", ["--tz", "1"], 2, [r"period: the span of .*short\.csv", r"is 11\.\d h; identification needs at least 2 days"]),
+    ("epoch-seconds-without-unit", "zurich", "epoch", [], 2, [r"epoch\.csv, column 'time': the times are numbers", r"--time-unit"]),
+    ("kitchen-sensor-in-fahrenheit", "zurich", "fahrenheit", [], 2, [r"fahrenheit\.csv: sensor 'S2' \(zone 'kitchen'\)", r"Fahrenheit\?", r"declare its unit as F"]),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("weather", "log", "extra", "code", "patterns"),
+    [c[1:] for c in IDENTIFY_CASES],
+    ids=[c[0] for c in IDENTIFY_CASES],
+)
+def test_identify_refuses(
+    identify_files, tmp_path, monkeypatch, capsys, weather, log, extra, code, patterns
+):
+    monkeypatch.chdir(tmp_path)
+    f = identify_files
+    path = (
+        TMY3
+        if weather == "tmy3"
+        else shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
+    )
+    args = [
+        "identify",
+        f["building"],
+        path,
+        f[log],
+        "--mapping",
+        f["mapping"],
+        "--out",
+        "results",
+        "--method",
+        "inverse",
+        *extra,
+    ]
+    status, message = run(args, capsys)
+    message = " ".join(message.split())
+    assert "Traceback" not in message
+    assert status == code, message
+    for pattern in patterns:
+        assert re.search(pattern, message), f"{pattern!r} not in: {message}"
+    assert list(tmp_path.iterdir()) == []

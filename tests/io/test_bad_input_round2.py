@@ -850,3 +850,68 @@ def test_identify_refuses(
     for pattern in patterns:
         assert re.search(pattern, message), f"{pattern!r} not in: {message}"
     assert list(tmp_path.iterdir()) == []
+
+
+# ------------------------------------------------------------------------------------------
+# retrofit through the command line: refused before the calibration
+# ------------------------------------------------------------------------------------------
+RETROFIT_CLI_CASES = [
+    ("north-carolina-house-zurich-weather", {"weather": {"file": "ZURICH"}}, [r"latitude 36\.10, longitude -79\.95", r"Zuerich-SMA_2015\.epw", r"latitude 47\.38, longitude 8\.57", r"km apart"]),
+    ("north-carolina-data-read-in-zurich-time", {"measurements": {"timezone": "Europe/Zurich"}}, [r"measurement file .*measurements\.csv", r"DNI \+ DHI", r"h early", r"measurements\.timezone \(now 'Europe/Zurich'\)"]),
+    ("two-days-of-training", {"periods": {"training_days": 2}}, [r"periods\.training_days = 2", r"at least 7 days"]),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("edit", "patterns"),
+    [c[1:] for c in RETROFIT_CLI_CASES],
+    ids=[c[0] for c in RETROFIT_CLI_CASES],
+)
+def test_retrofit_refuses(tmp_path, monkeypatch, capsys, edit, patterns):
+    from test_bad_input_table import DEMO, _retrofit_config
+
+    cfg = _retrofit_config()
+    for section, values in edit.items():
+        values = {
+            k: (
+                str(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw"))
+                if v == "ZURICH"
+                else v
+            )
+            for k, v in values.items()
+        }
+        cfg[section].update(values)
+    assert cfg["building"] == str(DEMO / "building.yaml")
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(cfg, sort_keys=False))
+    monkeypatch.chdir(tmp_path)
+    status, message = run(["retrofit", path, "--out", "results"], capsys)
+    message = " ".join(message.split())
+    assert "Traceback" not in message
+    assert status == 2, message
+    for pattern in patterns:
+        assert re.search(pattern, message), f"{pattern!r} not in: {message}"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["config.yaml"]
+
+
+@pytest.mark.parametrize("timezone", ["-5", "-5.0", "UTC-5"])
+def test_retrofit_timezone_as_signed_hours_text(tmp_path, timezone):
+    """measurements.timezone '-5' (text) reads the demo like -5.0 and passes the site checks."""
+    from test_bad_input_table import _retrofit_config
+
+    from thermocal.commands.retrofit import _check_site_and_clock
+    from thermocal.retrofit import load_config
+    from thermocal.retrofit.data import read_raw_measurements
+
+    configs = []
+    for value in (timezone, -5.0):
+        cfg = _retrofit_config()
+        cfg["measurements"]["timezone"] = value
+        path = tmp_path / f"config{len(configs)}.yaml"
+        path.write_text(yaml.safe_dump(cfg, sort_keys=False))
+        configs.append(load_config(path))
+    _check_site_and_clock(configs[0])
+    pd.testing.assert_frame_equal(
+        read_raw_measurements(configs[0].measurements),
+        read_raw_measurements(configs[1].measurements),
+    )

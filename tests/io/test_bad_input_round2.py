@@ -676,9 +676,18 @@ def test_identify_without_period_takes_the_logs_span():
     assert _log_period(log, weather, "5min", Console(quiet=True), "log.csv") == (None, None)
 
 
-def test_validation_period_outside_the_weather_is_found_before_the_campaign():
+@pytest.fixture(scope="module")
+def demo_inputs():
+    """The demo clinic's inputs, loaded once for the campaign cases."""
     from thermocal.calibration.config import parse_campaign
-    from thermocal.calibration.workflow import load_inputs, validation_problem
+    from thermocal.calibration.workflow import load_inputs
+
+    return load_inputs(parse_campaign({"building": "demo:clinic"}, source="c.yaml"))
+
+
+def test_validation_period_outside_the_weather_is_found_before_the_campaign(demo_inputs):
+    from thermocal.calibration.config import parse_campaign
+    from thermocal.calibration.workflow import validation_problem
 
     campaign = parse_campaign(
         {"building": "demo:clinic", "validation": {"start": "2005-03-01", "end": "2005-03-08"}},
@@ -688,7 +697,7 @@ def test_validation_period_outside_the_weather_is_found_before_the_campaign():
         ThermocalInputError,
         match=r"validation period .*outside the weather data.*checked before the campaign",
     ):
-        validation_problem(campaign, load_inputs(campaign))
+        validation_problem(campaign, demo_inputs)
 
 
 def test_epoch_seconds_name_the_command_line_option(tmp_path):
@@ -706,18 +715,18 @@ def test_epoch_seconds_name_the_command_line_option(tmp_path):
 
 
 def test_identify_period_too_short_states_the_minimum():
-    from thermocal.commands.identify import _check_period_length
+    from thermocal.identification.sensors import check_period_length
 
     weather = pd.date_range("2001-01-01", "2001-12-31 23:00", freq="h", tz="Etc/GMT-1")
     with pytest.raises(
         ThermocalInputError,
         match=r"is 12\.0 h; identification needs at least 2 days: the first day .* settle",
     ):
-        _check_period_length(
+        check_period_length(
             pd.Timestamp("2001-02-03 11:00+01:00"), pd.Timestamp("2001-02-03 23:00+01:00"), weather
         )
-    _check_period_length("2001-02-03", "2001-02-06", weather)  # three days: fine
-    _check_period_length(None, None, weather)  # the weather year: fine
+    check_period_length("2001-02-03", "2001-02-06", weather)  # three days: fine
+    check_period_length(None, None, weather)  # the weather year: fine
 
 
 @pytest.mark.parametrize(("header", "values", "patterns"), [
@@ -915,3 +924,25 @@ def test_retrofit_timezone_as_signed_hours_text(tmp_path, timezone):
         read_raw_measurements(configs[0].measurements),
         read_raw_measurements(configs[1].measurements),
     )
+
+
+def test_calibrate_period_too_short_is_refused_before_the_nominal_run(demo_inputs, monkeypatch):
+    import dataclasses
+
+    import thermocal.calibration.workflow as workflow
+    from thermocal.calibration.config import parse_campaign
+
+    campaign = parse_campaign(
+        {"building": "demo:clinic", "period": {"start": "2001-01-08", "end": "2001-01-09"}},
+        source="c.yaml",
+    )
+    tz = demo_inputs.weather.index.tz
+    short = dataclasses.replace(
+        demo_inputs, start=pd.Timestamp("2001-01-08", tz=tz), end=pd.Timestamp("2001-01-09", tz=tz)
+    )
+    monkeypatch.setattr(workflow, "load_inputs", lambda c: short)
+    monkeypatch.setattr(workflow, "build_problem", lambda *a, **k: pytest.fail("computed"))
+    with pytest.raises(
+        ThermocalInputError, match=r"is 24\.0 h; identification needs at least 2 days"
+    ):
+        workflow.calibrate(campaign, workers=1, progress=False, log=lambda line: None)

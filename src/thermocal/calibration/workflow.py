@@ -27,6 +27,7 @@ from thermocal.errors import ThermocalInputError
 from thermocal.identification.metrics import guideline14
 from thermocal.identification.occupancy import OccupancySchedule
 from thermocal.identification.problem import METRIC, IdentificationProblem
+from thermocal.identification.sensors import check_period_length
 from thermocal.identification.workflow import jsonable
 
 #: identification options a campaign file may set (its ``identification`` section)
@@ -390,6 +391,7 @@ def calibrate(
     notes: list[str] = []
     t0 = time.perf_counter()
     inputs = load_inputs(campaign)
+    check_period_length(inputs.start, inputs.end, inputs.weather.index)
     problem, _ = build_problem(campaign, inputs)
     later = validation_problem(campaign, inputs)
     # the series meta-model needs each sample's unoccupied heat series

@@ -78,6 +78,7 @@ def identify(
 
     from thermocal.errors import ThermocalInputError
     from thermocal.identification.occupancy import OccupancySchedule
+    from thermocal.identification.sensors import check_period_length
     from thermocal.identification.workflow import identify as run_identification
     from thermocal.io.output import check_output_folder, output_folder
 
@@ -139,7 +140,7 @@ def identify(
                 source=str(occupancy),
             )
         pid_limits = _parse_limits(limits)
-        _check_period_length(start, end, frame.index)
+        check_period_length(start, end, frame.index)
         console.print(
             f"{model.name}: {len(model.zones)} zones; method {method}, feedback {feedback}"
         )
@@ -202,40 +203,6 @@ def _log_period(raw, weather_index, step: str, console, log_name: str):
         f"period: the span of {log_name}, [{t0}, {t1}) (pass --start/--end to choose another)"
     )
     return t0, t1
-
-
-#: Shortest identification period [d]: the first day lets the controllers and the walls
-#: settle and is not counted (``settle``), and the metric needs unoccupied hours after it.
-MIN_PERIOD_DAYS = 2.0
-
-
-def _check_period_length(start, end, weather_index) -> None:
-    """Refuse a period too short for the metric (see :data:`MIN_PERIOD_DAYS`)."""
-    import pandas as pd
-
-    from thermocal.errors import ThermocalInputError
-
-    def instant(value, default):
-        if value is None:
-            return default
-        try:
-            ts = pd.Timestamp(value)
-        except ValueError:
-            return None  # the simulation names an unreadable time
-        return ts.tz_localize(default.tz) if ts.tzinfo is None and default.tzinfo else ts
-
-    t0 = instant(start, weather_index[0])
-    t1 = instant(end, weather_index[-1])
-    if t0 is None or t1 is None or t1 <= t0:
-        return
-    days = (t1 - t0) / pd.Timedelta("1D")
-    if days < MIN_PERIOD_DAYS:
-        raise ThermocalInputError(
-            f"the period [{t0}, {t1}) is {days * 24:.1f} h; identification needs at least "
-            f"{MIN_PERIOD_DAYS:g} days: the first day lets the controllers and the building's "
-            "walls settle and is not counted, and the unoccupied-variance metric needs the "
-            "unoccupied hours after it; give a longer log or period (--start/--end)"
-        )
 
 
 def _parse_limits(text: str | None) -> tuple[float, float] | None:

@@ -469,6 +469,50 @@ def check_sensor_plausibility(
             )
 
 
+#: Shortest identification period [d]: the first day lets the controllers and the walls
+#: settle and is not counted (``settle``), and the metric needs unoccupied hours after it.
+MIN_PERIOD_DAYS = 2.0
+
+
+def check_period_length(start, end, weather_index: pd.DatetimeIndex) -> None:
+    """Refuse an identification period too short for the metric (:data:`MIN_PERIOD_DAYS`).
+
+    Parameters
+    ----------
+    start, end : timestamp-like or None
+        The period ``[start, end)``; None: the weather's first / last instant.
+    weather_index : DatetimeIndex
+        The weather's index (its time zone places naive times).
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Stating the period's length, the minimum and why.
+    """
+
+    def instant(value, default):
+        if value is None:
+            return default
+        try:
+            ts = pd.Timestamp(value)
+        except ValueError:
+            return None  # the simulation names an unreadable time
+        return ts.tz_localize(default.tz) if ts.tzinfo is None and default.tzinfo else ts
+
+    t0 = instant(start, weather_index[0])
+    t1 = instant(end, weather_index[-1])
+    if t0 is None or t1 is None or t1 <= t0:
+        return
+    days = (t1 - t0) / pd.Timedelta("1D")
+    if days < MIN_PERIOD_DAYS:
+        raise ThermocalInputError(
+            f"the period [{t0}, {t1}) is {days * 24:.1f} h; identification needs at least "
+            f"{MIN_PERIOD_DAYS:g} days: the first day lets the controllers and the building's "
+            "walls settle and is not counted, and the unoccupied-variance metric needs the "
+            "unoccupied hours after it; give a longer log or period (--start/--end)"
+        )
+
+
 def _runs(mask: np.ndarray, index: pd.DatetimeIndex, step: pd.Timedelta) -> list[dict]:
     runs = []
     n = len(mask)

@@ -56,6 +56,19 @@ FLOW_UNITS: dict[str, float] = {
 #: Most parameter draws for the intervals (a 90 % interval settles within a few thousand).
 MAX_DRAWS = 100_000
 
+#: A constant indoor temperature of the demand simulation must lie in this range [C].
+INDOOR_PROFILE_RANGE = (5.0, 35.0)
+
+#: Shortest training period of the fifth-order model [d]: its slowest time constants (envelope,
+#: internal mass) are days long, and a weekly cycle of use should be inside.
+MIN_TRAINING_DAYS = 7.0
+
+#: Largest plausible annual energy of the house (fuel, rating) [kWh].
+MAX_ANNUAL_KWH = 2.0e6
+
+#: Smallest plausible heat loss coefficient of a building [W/K] (a tiny house has ~50).
+MIN_HEAT_LOSS_COEFFICIENT = 5.0
+
 
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
@@ -87,6 +100,16 @@ class MeasurementsConfig(_Strict):
         missing = sorted(set(MEASUREMENT_COLUMNS) - set(value))
         full = {name: name for name in missing}
         full.update(value)
+        roles: dict[str, list[str]] = {}
+        for role, column in full.items():
+            roles.setdefault(column, []).append(role)
+        shared = {column: names for column, names in roles.items() if len(names) > 1}
+        if shared:
+            column, names = next(iter(shared.items()))
+            raise ValueError(
+                f"column {column!r} is given for {' and '.join(sorted(names))}; every role "
+                "needs its own column of the measurements file"
+            )
         return full
 
 
@@ -105,6 +128,30 @@ class PeriodsConfig(_Strict):
     # at most ten years: beyond, the period is certainly a unit slip (hours or seconds)
     training_days: float = Field(21.0, gt=0, le=3660)
     test_days: float = Field(21.0, ge=0, le=3660)
+
+    @field_validator("training_start", mode="before")
+    @classmethod
+    def _yaml_date(cls, value: Any) -> Any:
+        """A YAML date (``training_start: 2005-01-01``) is read as that date."""
+        import datetime as _dt
+
+        if isinstance(value, _dt.date):
+            return value.isoformat()
+        return value
+
+    @field_validator("training_days")
+    @classmethod
+    def _long_enough(cls, value: float) -> float:
+        """Refuse a training period too short to separate the heat loss from the capacities."""
+        if value < MIN_TRAINING_DAYS:
+            raise ValueError(
+                f"{value:g} days are too few to calibrate the fifth-order model: at least "
+                f"{MIN_TRAINING_DAYS:g} days are needed, because the envelope's and the internal "
+                "mass's time constants are days long, so a shorter record cannot tell the heat "
+                "loss coefficient from the capacities (and its interval would be far too "
+                "narrow); the method's case study uses 21 days"
+            )
+        return value
 
 
 class ModelConfig(_Strict):
@@ -182,6 +229,28 @@ class ReferenceConfig(_Strict):
         None, gt=0, description="known HLC (synthetic data only)"
     )
 
+    @field_validator("measured_fuel_kWh", "rating_kWh")
+    @classmethod
+    def _kilowatt_hours(cls, value: float | None) -> float | None:
+        """An annual energy above 2 GWh is no house's: Wh written where kWh belong."""
+        if value is not None and value > MAX_ANNUAL_KWH:
+            raise ValueError(
+                f"{value:,.0f} kWh a year is the heating of a hundred houses (at most "
+                f"{MAX_ANNUAL_KWH:,.0f} kWh accepted); is it in Wh? then write {value / 1000:,.0f}"
+            )
+        return value
+
+    @field_validator("audit_heat_loss_coefficient_W_per_K")
+    @classmethod
+    def _watts_per_kelvin(cls, value: float | None) -> float | None:
+        """A heat loss coefficient below 5 W/K is no building's: kW/K written as W/K."""
+        if value is not None and value < MIN_HEAT_LOSS_COEFFICIENT:
+            raise ValueError(
+                f"{value:g} W/K is far below any building's heat loss coefficient (at least "
+                f"{MIN_HEAT_LOSS_COEFFICIENT:g} W/K); is it in kW/K? then write {value * 1000:g}"
+            )
+        return value
+
     @field_validator("rating_monthly_kWh")
     @classmethod
     def _twelve(cls, value: list[float] | None) -> list[float] | None:
@@ -247,6 +316,24 @@ class DemandConfig(_Strict):
         "measured", description="'measured' (24-h profile of the measured Ti) or a constant [C]"
     )
     profile_period: Literal["all", "training"] = "all"
+
+    @field_validator("indoor_profile")
+    @classmethod
+    def _celsius(cls, value: str | float) -> str | float:
+        """A constant indoor temperature is in C: 293.15 (Kelvin) or 68 (F) is refused."""
+        if isinstance(value, str):
+            return value
+        low, high = INDOOR_PROFILE_RANGE
+        if not low <= value <= high:
+            hint = ""
+            if 200.0 <= value <= 400.0:
+                hint = f"; Kelvin? write {value - 273.15:.2f}"
+            elif 40.0 <= value <= 95.0:
+                hint = f"; Fahrenheit? write {(value - 32.0) * 5.0 / 9.0:.1f}"
+            raise ValueError(
+                f"{value:g} C is not an indoor temperature (expected {low:g}-{high:g} C){hint}"
+            )
+        return value
 
 
 class RetrofitConfig(_Strict):

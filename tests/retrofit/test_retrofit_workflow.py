@@ -3,6 +3,7 @@ parameters), and its bad-input messages."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import subprocess
 import sys
@@ -335,3 +336,61 @@ def test_building_errors_come_from_io_building(synthetic, tmp_path):
         run_retrofit(load_config(config))
     msg = str(info.value)
     assert "building.yaml" in msg and "(line " in msg and "did you mean 0.35" in msg
+
+
+def test_validation_gate_passes_on_the_models_own_data(synthetic):
+    folder, _, analysis, results = synthetic
+    gate = results["validation_gate"]
+    assert gate["passed"], gate["summary"]
+    assert [c["name"] for c in gate["checks"]][:2] == [
+        "indoor temperature bias",
+        "indoor temperature MAE",
+    ]
+    # the heat the model needs to follow the measured Ti matches the metered heat
+    heat = results["heat_validation"]
+    assert heat["n"] >= 10
+    assert abs(heat["nmbe_pct"]) < 5.0 and heat["cv_rmse_pct"] < 20.0
+    assert results["recommendation"] is not None
+    saved = json.loads((folder / "out" / "results.json").read_text())
+    assert saved["validation_gate"]["passed"] is True
+
+
+def test_failed_validation_recommends_nothing(synthetic, tmp_path, capsys):
+    from thermocal.commands.retrofit import print_summary
+    from thermocal.retrofit.gate import DEFAULT_CRITERIA, validation_gate
+
+    _, _, analysis, _ = synthetic
+    strict = {**DEFAULT_CRITERIA, "max_mae_K": 0.01}
+    failed = dataclasses.replace(
+        analysis, gate=validation_gate(analysis.validation, analysis.heat_validation, strict)
+    )
+    results = write_outputs(failed, tmp_path / "out")
+    assert results["validation_gate"]["passed"] is False
+    assert results["recommendation"] is None
+    html = (tmp_path / "out" / "report.html").read_text()
+    summary = html[html.index("Executive summary") : html.index("Retrofit strategies:")]
+    assert "FAILED its validation" in summary
+    assert "no strategy is recommended" in summary
+    assert "We recommend" not in html
+    assert "Recommended:" not in html
+    print_summary(results, tmp_path / "out")
+    printed = " ".join(capsys.readouterr().out.split())
+    assert "FAILED its validation" in printed
+    assert "no strategy recommended" in printed
+
+
+def test_gate_statistics_and_missing_test_period():
+    from thermocal.retrofit.gate import DEFAULT_CRITERIA, ashrae14_statistics, validation_gate
+
+    stats = ashrae14_statistics([90.0, 110.0, 100.0], [100.0, 100.0, 100.0])
+    assert stats["nmbe_pct"] == pytest.approx(0.0)
+    assert stats["cv_rmse_pct"] == pytest.approx(100 * np.sqrt(200.0 / 2) / 100.0)
+    stats = ashrae14_statistics([80.0, 80.0], [100.0, 100.0])  # model 20 % low
+    assert stats["nmbe_pct"] == pytest.approx(40.0)  # n - p = 1
+    gate = validation_gate({"train": {}}, None, DEFAULT_CRITERIA)
+    assert not gate["passed"] and "not checked on a test period" in gate["summary"]
+    test = {"mean_simulated": 15.2, "mean_measured": 20.6, "mae": 5.3}  # issue 25's house
+    gate = validation_gate({"test": test}, None, DEFAULT_CRITERIA)
+    assert not gate["passed"]
+    assert [c["passed"] for c in gate["checks"]] == [False, False]
+    assert "-5.40 K" in gate["summary"]

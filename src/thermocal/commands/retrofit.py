@@ -47,6 +47,10 @@ def print_summary(results: dict, out: Path) -> None:
             f"{m['mean_deviation_pct']:+.2f}" if "mean_deviation_pct" in m else "",
         )
     console.print(val)
+    gate = results.get("validation_gate")
+    if gate:
+        style = "green" if gate["passed"] else "bold red"
+        console.print(f"[{style}]{gate['summary']}[/{style}]")
 
     console.print(
         f"[bold]annual heating demand {dem['value']:,.0f} kWh[/bold] "
@@ -82,6 +86,10 @@ def print_summary(results: dict, out: Path) -> None:
             ]
         table.add_row(*row)
     console.print(table)
+    if gate and not gate["passed"]:
+        console.print("[bold red]no strategy recommended: the model failed its validation[/]")
+    elif results.get("recommendation"):
+        console.print(f"recommended strategy: [bold]{results['recommendation']}[/bold]")
     log = logging.getLogger("thermocal.retrofit")
     for flag in results["calibration"]["flags"]:
         log.warning("calibration: %s", flag)

@@ -169,6 +169,22 @@ class UncertaintyConfig(_Strict):
     seed: int = 0
 
 
+class ValidationConfig(_Strict):
+    """Test-period criteria of the validation gate (:mod:`thermocal.retrofit.gate`); when one
+    fails, the report recommends nothing."""
+
+    max_abs_bias_K: float = Field(
+        1.0, gt=0, description="|mean simulated - mean measured| indoor temperature [K]"
+    )
+    max_mae_K: float = Field(1.5, gt=0, description="mean absolute error of Ti [K]")
+    max_abs_nmbe_pct: float = Field(
+        10.0, gt=0, description="|NMBE| of the daily heat, ASHRAE Guideline 14 [%]"
+    )
+    max_cv_rmse_pct: float = Field(
+        30.0, gt=0, description="CV(RMSE) of the daily heat, ASHRAE Guideline 14 [%]"
+    )
+
+
 class ReferenceConfig(_Strict):
     """Optional reference values shown next to the simulated demand."""
 
@@ -267,6 +283,7 @@ class RetrofitConfig(_Strict):
     uncertainty: UncertaintyConfig = Field(default_factory=UncertaintyConfig)
     reference: ReferenceConfig = Field(default_factory=ReferenceConfig)
     demand: DemandConfig = Field(default_factory=DemandConfig)
+    validation: ValidationConfig = Field(default_factory=ValidationConfig)
     base_dir: Path = Field(Path("."), description="folder relative paths refer to")
 
     @field_validator("measures")

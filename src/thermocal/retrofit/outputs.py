@@ -204,6 +204,9 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         },
         "heat_loss_coefficient_W_per_K": hlc,
         "validation": analysis.validation,
+        "heat_validation": analysis.heat_validation,
+        "validation_gate": analysis.gate,
+        "recommendation": _recommended_code(analysis),
         "annual_heating_demand_kWh": demand,
         "scenarios": scenarios,
         "measures_u_values": {
@@ -553,6 +556,8 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
 def _recommended_code(analysis: RetrofitAnalysis) -> str | None:
     from thermocal.retrofit.economics import recommend
 
+    if analysis.gate is not None and not analysis.gate["passed"]:
+        return None  # a model that failed its validation recommends nothing
     scen = scenario_table(analysis)
     rec = recommend(economics_table(analysis), scen["saving_pct"])
     return None if rec is None else rec["code"]

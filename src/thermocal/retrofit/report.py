@@ -118,7 +118,9 @@ def write_report(
     pct = f"{100 * cfg.uncertainty.interval:.0f} %"
     low, high = interval_labels(cfg.uncertainty.interval)
     measures = cfg.measure_objects()
-    rec = recommend(econ, scen["saving_pct"])
+    gate = analysis.gate or {"passed": True, "summary": ""}
+    # a model that failed its validation on the test period recommends nothing
+    rec = recommend(econ, scen["saving_pct"]) if gate["passed"] else None
     subtitle = (
         "Heating demand and envelope-retrofit strategies from a calibrated fifth-order RC model"
         + (f" - {client}" if client else "")
@@ -127,6 +129,8 @@ def write_report(
 
     # ------------------------------------------------------------------ executive summary
     rep.section("Executive summary")
+    if not gate["passed"]:
+        rep.paragraph(gate["summary"], css_class="lead")
     base = econ.iloc[0]
     today = (
         f"Today the house needs about {dem['value']:,.0f} kWh of heat a year ({pct} interval "
@@ -147,9 +151,16 @@ def write_report(
             f"{_fmt(r['payback_years'], '.0f')} years ({_fmt(r['payback_years_lo'], '.0f')} to "
             f"{_fmt(r['payback_years_hi'], '.0f')} years) at today's energy price."
         )
+    elif not gate["passed"]:
+        advice = (
+            "These figures come from a model that failed its validation (above): read them as "
+            "a rough indication only; the strategy table below is not a recommendation."
+        )
     else:
         advice = "None of the strategies saves running cost at the configured prices."
     rep.paragraph(f"{today} {advice}", css_class="lead")
+    if gate["passed"] and gate.get("summary"):
+        rep.paragraph(gate["summary"])
     tiles = {
         "Heat demand today": f"{dem['value']:,.0f} kWh/a",
         f"{pct} interval": f"{dem['p05']:,.0f} – {dem['p95']:,.0f} kWh/a",
@@ -179,8 +190,13 @@ def write_report(
     if flags:
         rep.note(
             f"The calibration raised {len(flags)} point(s) to check (section Calibration). "
-            "They concern how well single parameters are determined; the heat loss coefficient "
-            "and the demand above are checked on the test period (section Validation)."
+            "They concern how well single parameters are determined"
+            + (
+                "; the heat loss coefficient and the demand above are checked on the test "
+                "period (section Validation)."
+                if gate["passed"]
+                else "."
+            )
         )
     for note in analysis.notes:
         rep.note(note)
@@ -513,6 +529,28 @@ def _validation(rep, analysis, results, tables, figures) -> None:
         caption="Multi-step simulation of the indoor temperature from the inputs alone",
         number_format={v[0]: v[1] for v in shown.values() if v[1]},
     )
+    gate = analysis.gate
+    if gate is not None:
+        rep.heading("Validation gate (test period)")
+        rep.paragraph(gate["summary"])
+        if gate["checks"]:
+            rep.table(
+                pd.DataFrame(
+                    [
+                        {
+                            "criterion": c["name"],
+                            "value": f"{c['value']:+.2f} {c['unit']}",
+                            "limit": f"{'± ' if c['absolute'] else '<= '}{c['limit']:g} {c['unit']}",
+                            "verdict": "passed" if c["passed"] else "FAILED",
+                        }
+                        for c in gate["checks"]
+                    ]
+                ),  # fmt: skip
+                caption="Criteria of the validation gate (configuration key validation:). "
+                "Heat: the daily heat the calibrated model needs to follow the measured indoor "
+                "temperature against the measured heat (ASHRAE Guideline 14-2014 NMBE and "
+                "CV(RMSE); positive NMBE: the model needs less heat than measured)",
+            )
     for key, label in (("ti_training", "training"), ("ti_test", "test")):
         if key in figures:
             rep.figure(

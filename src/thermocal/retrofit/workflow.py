@@ -36,6 +36,7 @@ from thermocal.retrofit.data import (
     removed_values_notes,
 )
 from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
+from thermocal.retrofit.gate import heat_to_follow_measured, heat_validation, validation_gate
 from thermocal.retrofit.inputs import solar_inputs
 from thermocal.retrofit.metrics import daily_profile, validation_metrics
 from thermocal.retrofit.model import (
@@ -72,6 +73,8 @@ class RetrofitAnalysis:
     timings: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     measurements_quality: Any = None  # thermocal.io.measurements.QualityReport of the grid
+    heat_validation: dict | None = None  # daily heat of model vs meter, test period
+    gate: dict | None = None  # verdict of thermocal.retrofit.gate.validation_gate
 
 
 def load_building(source, *, config_source: str = "the retrofit configuration"):
@@ -312,6 +315,19 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         validation[name] = validation_metrics(sim_ti[sel], inputs[OUTPUT_COLUMN][sel])
         validation[name]["start"] = str(period[0])
         validation[name]["end"] = str(period[1])
+    heat_check = None
+    if test is not None:
+        sel = (inputs.index >= test[0]) & (inputs.index < test[1])
+        model_heat = heat_to_follow_measured(
+            model,
+            cal.estimates_si,
+            states.loc[sel].iloc[0].to_numpy(float),
+            filled.loc[sel, list(DEMAND_INPUTS)],
+            inputs.loc[sel, OUTPUT_COLUMN],
+        )
+        heat_check = heat_validation(model_heat, inputs.loc[sel, "phi_h"])
+    gate = validation_gate(validation, heat_check, cfg.validation.model_dump())
+    (log.info if gate["passed"] else log.warning)("%s", gate["summary"])
     timings["validation"] = time.perf_counter() - t2
 
     say("simulating annual demand and retrofit strategies")
@@ -365,6 +381,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         weather_meta=weather_meta, year_inputs=year[list(DEMAND_INPUTS)], draws=draws,
         envelopes=envelopes,
         timings=timings, notes=notes, measurements_quality=quality,
+        heat_validation=heat_check, gate=gate,
     )  # fmt: skip
 
 

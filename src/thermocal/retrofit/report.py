@@ -515,6 +515,9 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
         )
 
 
+_LIMIT_SIGN = {True: "± ", False: "<= "}
+
+
 def _validation(rep, analysis, results, tables, figures) -> None:
     shown = {
         "period": ("period", None), "mae": ("MAE [K]", "{:.3f}"),
@@ -540,7 +543,7 @@ def _validation(rep, analysis, results, tables, figures) -> None:
                         {
                             "criterion": c["name"],
                             "value": f"{c['value']:+.2f} {c['unit']}",
-                            "limit": f"{'± ' if c['absolute'] else '<= '}{c['limit']:g} {c['unit']}",
+                            "limit": f"{_LIMIT_SIGN[c['absolute']]}{c['limit']:g} {c['unit']}",
                             "verdict": "passed" if c["passed"] else "FAILED",
                         }
                         for c in gate["checks"]

@@ -29,9 +29,7 @@ optimisation: {starts: 8, seed: 1}
 
 @app.command()
 def calibrate(
-    campaign: Annotated[
-        Path | None, typer.Argument(help="Campaign file (YAML).")
-    ] = None,
+    campaign: Annotated[Path | None, typer.Argument(help="Campaign file (YAML).")] = None,
     out: Annotated[Path, typer.Option(help="Output directory.")] = Path("calibration"),
     samples: Annotated[
         int | None, typer.Option(help="Number of samples (overrides the campaign file).")
@@ -102,7 +100,10 @@ def _print_summary(result) -> None:
         table.add_column(column, justify="left" if column == "parameter" else "right")
     for name, row in result.table1().iterrows():
         table.add_row(
-            name, row["unit"], f"{row['nominal']:.4g}", f"{row['min_metric']:.4g}",
+            name,
+            row["unit"],
+            f"{row['nominal']:.4g}",
+            f"{row['min_metric']:.4g}",
             f"{row['max_metric']:.4g}",
         )
     console.print(table)
@@ -135,7 +136,8 @@ def _print_summary(result) -> None:
                 f"{row['calibrated']:.4g}",
                 f"{row['true']:.4g}",
                 "-" if towards is None else ("yes" if towards else "no"),
-                "-" if not np.isfinite(row["recovered_fraction"])
+                "-"
+                if not np.isfinite(row["recovered_fraction"])
                 else f"{100 * row['recovered_fraction']:.0f} %",
             )
         console.print(truth)

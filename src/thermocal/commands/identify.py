@@ -188,8 +188,10 @@ def _print_summary(result, truth) -> None:
     if result.tuning is not None:
         t = result.tuning
         summary.add_row("tuned zone", t.zone)
-        summary.add_row("Ku exact / experiment", f"{t.ultimate_gain:.0f} / "
-                        f"{(t.experiment_gain or float('nan')):.0f} W/K")
+        summary.add_row(
+            "Ku exact / experiment",
+            f"{t.ultimate_gain:.0f} / {(t.experiment_gain or float('nan')):.0f} W/K",
+        )
         summary.add_row("Pu", f"{t.ultimate_period / 60:.1f} min")
     difference = result.method_difference()
     if difference is not None:

@@ -28,9 +28,14 @@ def print_summary(results: dict, out: Path) -> None:
     pct = f"{100 * results.get('uncertainty', {}).get('interval', 0.9):.0f} %"
     std = hlc["std"]
     line = f"HLC {hlc['value']:.0f} ± {'n/a' if std is None else format(std, '.0f')} W/K"
+    if hlc.get("p05") is not None:
+        line += f", {pct} interval {hlc['p05']:.0f} – {hlc['p95']:.0f} W/K"
     if "true" in hlc:
         line += f" (true {hlc['true']:.0f} W/K, {hlc['relative_error_pct']:+.1f} %)"
     console.print(f"[bold]{line}[/bold]")
+    corr = results.get("calibration", {}).get("correction")
+    if corr:
+        console.print(corr["summary"])
 
     val = Table(title="Validation: multi-step simulation of the indoor temperature Ti")
     for col in ("period", "MAE [K]", "MAPE [%]", "MSE [K²]", "mean sim. [C]", "mean meas. [C]",

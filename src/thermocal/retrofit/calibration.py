@@ -9,15 +9,19 @@ guesses come from the building description and the first measured day.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 from thermocal.retrofit.model import (
+    CALCULATED_CONDUCTANCES,
+    CALCULATED_FACTORS,
     ESTIMATED_PARAMETERS,
     STATE_NAMES,
     FifthOrderModel,
+    _referenced,
     calculated_hlc,
     network_spec,
     steady_states_with_indoor,
@@ -72,8 +76,16 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
     x0 : ndarray (5,) [C]
         Initial guesses of the state temperatures (Ti, Tenv, Tgf, Tim, Th).
     """
-    spec = network_spec(model.conductances())
+    h = model.conductances()
+    # the calculated conductances and factors as fixed parameters: the group corrections
+    # (thermocal.retrofit.correction) evaluate the same network at corrected values
+    spec = network_spec(h, calculated_as_parameters=True)
     params: dict[str, dict] = {}
+    for name in CALCULATED_CONDUCTANCES:
+        params[name] = {"value": float(h[name]), "fixed": True, "unit": "W/K"}
+    for name in CALCULATED_FACTORS:
+        params[name] = {"value": float(h[name]), "fixed": True, "unit": "-", "lower": 0.0,
+                        "upper": 1e6 if name == "g_factor" else 1.0}  # fmt: skip
     noise_init = {"Ti": 0.1, "Tenv": 0.05, "Tgf": 0.05, "Tim": 0.05, "Th": 1.0}
     for i, s in enumerate(STATE_NAMES):
         params[f"sigma_{s}"] = {
@@ -96,6 +108,8 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
         if name in model.fixed:
             params[name]["fixed"] = True
     params["e_std"] = {"value": 0.1, "lower": 1e-4, "upper": 3.0, "unit": "C"}
+    used = _referenced(spec)
+    params = {n: p for n, p in params.items() if n in used or n in model.estimated}
     return {
         "name": "fifth_order_retrofit",
         "description": "Fifth-order RC model of the retrofit method (its Fig. 3)",
@@ -127,6 +141,21 @@ class Calibration:
     at_bounds: list[str] = field(default_factory=list)
     nuisance_flags: list[str] = field(default_factory=list)  # of the full fit (noise, x0)
     residuals: pd.DataFrame | None = None  # one-step-ahead prediction of Ti over the training
+    correction: Any = None  # thermocal.retrofit.correction.Correction (group factors)
+    envelope: Any = None  # the envelope with corrected U-values (None: the building file's)
+    heat_loss_coefficient_draws: np.ndarray | None = None  # [W/K] posterior draws
+
+
+def hlc_of_draws(model: FifthOrderModel, factors: dict, h_est) -> np.ndarray:
+    """Heat loss coefficient [W/K] of draws of the group factors and ``H_est`` [W/K]."""
+    from thermocal.retrofit.correction import scaled_envelope
+
+    h_est = np.atleast_1d(np.asarray(h_est, float))
+    out = np.empty(len(h_est))
+    for d in range(len(h_est)):
+        env = scaled_envelope(model.envelope, {g: v[d] for g, v in factors.items()})
+        out[d] = calculated_hlc(model.conductances(env)) + h_est[d]
+    return out
 
 
 def calibrate(
@@ -136,6 +165,8 @@ def calibrate(
     n_starts: int = 1,
     seed: int = 0,
     max_correlation: float = 0.98,
+    correction: bool = False,
+    u_value_rel_std: float = 0.25,
 ) -> Calibration:
     """Maximum-likelihood calibration of the fifth-order model.
 
@@ -149,6 +180,12 @@ def calibrate(
     max_correlation : float
         Pairs of estimated parameters correlated beyond this are reported (Madsen et al.
         2016: 0.98).
+    correction : bool
+        Also estimate one factor per envelope group on the calculated U-values (maximum a
+        posteriori, :mod:`thermocal.retrofit.correction`); False: the published topology
+        (only ``H_est`` added to the calculated conductances).
+    u_value_rel_std : float [-]
+        Relative standard deviation of the audit U-values: the prior of the factors.
 
     Returns
     -------
@@ -189,13 +226,47 @@ def calibrate(
     factors = np.array([1e6 if model.estimated[n][3] == "MJ/K" else 1.0 for n in names])
     cov_sub = cov.reindex(index=names, columns=names).to_numpy(float)
     cov_si = cov_sub * np.outer(factors, factors)
+    corrected = None
+    if correction:
+        from thermocal.retrofit.correction import estimate_correction
+
+        corrected = estimate_correction(
+            rc_cond, res.params, data, model, rel_std=u_value_rel_std,
+            h_est_prior=model.audit_h_est, seed=seed,
+        )  # fmt: skip
+        res_ml = res
+        res = rc_cond.evaluate(data, corrected.map_values)
+        res.fit_seconds += res_ml.fit_seconds
+        params = res.params.copy()
+        bse = res_ml.bse.copy()
+        # posterior standard errors (delta method from ln x) in declared units
+        sd_z = np.sqrt(np.diag(corrected.cov_z))
+        for i, n in enumerate(corrected.names):
+            if n in bse.index:
+                bse[n] = float(params[n]) * sd_z[i]
+        cov_si = np.zeros((len(names), len(names)))
+        z_names = [n for n in corrected.names if n in names]
+        idx = [corrected.names.index(n) for n in z_names]
+        xs = np.array([float(params[n]) * factors[names.index(n)] for n in z_names])
+        sub = corrected.cov_z[np.ix_(idx, idx)] * np.outer(xs, xs)
+        pos = [names.index(n) for n in z_names]
+        cov_si[np.ix_(pos, pos)] = sub
     estimates = {n: float(params[n]) * f for n, f in zip(names, factors, strict=True)}
     corr = res.correlation
+    if corrected is not None:  # the posterior's correlation (ln space) of what it estimates
+        sd = np.sqrt(np.diag(corrected.cov_z))
+        corr = pd.DataFrame(
+            corrected.cov_z / np.outer(sd, sd), index=corrected.names, columns=corrected.names
+        )
     # pairs the data cannot separate: the engine's correlation, or the pairwise curvature in
     # declared units, which still sees a ridge when one of the pair sits on its bound
     pairwise = pairwise_correlation(rc_cond, params, data, names)
     pairs = {(a, b): r for a, b, r in correlated_pairs(pairwise, max_correlation)}
-    pairs.update({(a, b): r for a, b, r in correlated_pairs(corr, max_correlation)})
+    # (the group factors' correlations are the identifiability table of the corrections)
+    pairs.update({
+        (a, b): r for a, b, r in correlated_pairs(corr, max_correlation)
+        if not (a.startswith("k_") or b.startswith("k_"))
+    })  # fmt: skip
     pairs = sorted(((a, b, r) for (a, b), r in pairs.items()), key=lambda t: -abs(t[2]))
     nuisance_flags = [f for f in full.flags if f not in res.flags]
     # the absorbed solar radiation on roof and walls minus the long-wave loss to the sky is
@@ -215,7 +286,7 @@ def calibrate(
             at_bounds.append(n)
             # the engine's generic remedy names no configuration key: replace it
             flags = [f for f in flags if not (f"'{n}'" in f and "bound" in f)]
-            flags.append(bound_flag(n, v, lo, hi, unit))
+            flags.append(bound_flag(n, v, lo, hi, unit, drawn=corrected is not None))
     if at_bounds:
         flags = [f for f in flags if "standard errors computed with the parameters at a" not in f]
     # initial state for the deterministic simulation: smoothed state at the first sample
@@ -228,6 +299,27 @@ def calibrate(
         residuals = res.one_step_residuals(data)
     except Exception:  # noqa: BLE001 - diagnostics only; the report says they are missing
         residuals = None
+    if corrected is not None:
+        from thermocal.retrofit.correction import (
+            draw_corrected,
+            scaled_envelope,
+        )
+
+        envelope = scaled_envelope(model.envelope, corrected.factors)
+        hlc = calculated_hlc(model.conductances(envelope)) + estimates["H_est"]
+        z = draw_corrected(corrected, 1000, seed=seed + 1)[1:]
+        hd = hlc_of_draws(model, corrected.group_factors(z), corrected.physical_si(z)["H_est"])
+        flags = [f for f in flags if not f.startswith("H_est is at its bound")]
+        return Calibration(
+            estimates_si=estimates, cov_si=cov_si, params=params, bse=bse, correlation=corr,
+            loglike=float(res.loglike), aic=float(res_ml.aic), bic=float(res_ml.bic),
+            converged=bool(res_ml.converged), flags=flags, x0=x0,
+            fit_seconds=float(res.fit_seconds), heat_loss_coefficient=float(hlc),
+            heat_loss_coefficient_std=float(np.std(hd)), correlated_pairs=pairs,
+            pairwise_correlation=pairwise, at_bounds=at_bounds, nuisance_flags=nuisance_flags,
+            residuals=residuals, correction=corrected, envelope=envelope,
+            heat_loss_coefficient_draws=hd,
+        )  # fmt: skip
     hlc = calculated_hlc(model.conductances()) + estimates["H_est"]
     hlc_std = (
         float(bse["H_est"])
@@ -265,14 +357,23 @@ def calibrate(
     )
 
 
-def bound_flag(name: str, value: float, lower: float, upper: float, unit: str) -> str:
-    """The message for an estimate on its bound, with the configuration keys that fix it."""
+def bound_flag(
+    name: str, value: float, lower: float, upper: float, unit: str, *, drawn: bool = False
+) -> str:
+    """The message for an estimate on its bound, with the configuration keys that fix it.
+
+    ``drawn``: its uncertainty is in the intervals anyway (posterior draws of the group
+    corrections, truncated to the bounds)."""
     side = "upper" if value >= 0.5 * (lower + upper) else "lower"
     want = "larger" if side == "upper" else "smaller"
+    what = (
+        "Its uncertainty is in the intervals (posterior draws truncated to the range)."
+        if drawn
+        else "Its standard error is not reported (n/a) and its uncertainty is not in the intervals."
+    )
     return (
         f"{name} = {value:.4g} {unit} is at its {side} bound ({lower:.4g} .. {upper:.4g} {unit}): "
-        f"the data want a {want} value. Its standard error is not reported (n/a) and its "
-        f"uncertainty is not in the intervals. If a {want} value is physically possible, widen "
+        f"the data want a {want} value. {what} If a {want} value is physically possible, widen "
         f"the range in the retrofit configuration (model.bounds.{name}: [lower, upper] in "
         f"{unit}); if the bound is physically right, fix it (model.fixed.{name}: value)."
     )

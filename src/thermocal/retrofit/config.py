@@ -128,6 +128,12 @@ class ModelConfig(_Strict):
         description="parameters held at a value instead of estimated: H_est [W/K] or a "
         "capacity [MJ/K]",
     )
+    correction: Literal["groups", "none"] = Field(
+        "groups",
+        description="groups: estimate a factor on the calculated U-values of roof + walls, "
+        "windows and floor with a prior from uncertainty.u_value_rel_std (the data can lower "
+        "or raise the calculated losses); none: the published topology (only H_est added)",
+    )
 
     @model_validator(mode="after")
     def _bounds_and_fixed(self) -> ModelConfig:
@@ -160,11 +166,13 @@ class UncertaintyConfig(_Strict):
     draws: int = Field(200, ge=0, le=MAX_DRAWS)
     interval: float = Field(0.90, gt=0, lt=1)
     u_value_rel_std: float = Field(
-        0.0,
+        0.25,
         ge=0,
         le=0.5,
         description="relative standard deviation of the audit U-values of roof, walls, windows "
-        "and floor (0: only the estimation uncertainty, as in the fifth-order RC method)",
+        "and floor: the prior of the group corrections (model.correction: groups), or a spread "
+        "around the fit with model.correction: none (0: only the estimation uncertainty, as "
+        "in the fifth-order RC method)",
     )
     seed: int = 0
 

@@ -70,7 +70,12 @@ def ashrae14_statistics(simulated, measured, p: int = 1) -> dict[str, float]:
 
 
 def heat_to_follow_measured(
-    model, params_si: dict, x_start: np.ndarray, inputs: pd.DataFrame, measured_ti: pd.Series
+    model,
+    params_si: dict,
+    envelope,
+    x_start: np.ndarray,
+    inputs: pd.DataFrame,
+    measured_ti: pd.Series,
 ) -> pd.Series:
     """Heat [W] the model needs to follow the measured indoor temperature (ideal controller).
 
@@ -83,6 +88,8 @@ def heat_to_follow_measured(
     model : FifthOrderModel
     params_si : dict
         Estimated parameters in SI (W/K, J/K).
+    envelope : EnvelopeComponents or None
+        The calibrated U-values (None: the building file's).
     x_start : ndarray [C]
         States (Ti, Tenv, Tgf, Tim, ...) at the first interval start.
     inputs : pd.DataFrame
@@ -104,7 +111,7 @@ def heat_to_follow_measured(
     # the controller's set point applies at the END of each interval: the next interval's Ti
     sp = np.append(ti[1:], ti[-1])
     p = {k: np.atleast_1d(float(v)) for k, v in params_si.items()}
-    ad, bd = discrete_system_matrices(model.conductances(), p, dt, indoor_input=True)
+    ad, bd = discrete_system_matrices(model.conductances(envelope), p, dt, indoor_input=True)
     x0 = np.asarray(x_start, float)[: ad.shape[1]].copy()
     x0[0] = ti[0]
     q, _, _ = ideal_heating_batch(ad, bd, x0[None, :], u, sp)

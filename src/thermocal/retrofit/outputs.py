@@ -103,12 +103,15 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
     phys = [n for n in ESTIMATED_PARAMETERS if n in cal.correlation.columns]
     cphys = cal.correlation.loc[phys, phys].to_numpy(float)
     off_phys = cphys[~np.eye(len(cphys), dtype=bool)]
-    hlc_draws = heat_loss_coefficient_draws(
-        analysis,
-        np.random.default_rng(0).normal(
-            cal.estimates_si["H_est"], max(cal.heat_loss_coefficient_std, 0), 2000
-        ),
-    )
+    if cal.heat_loss_coefficient_draws is not None:  # posterior of the group corrections
+        hlc_draws = cal.heat_loss_coefficient_draws
+    else:
+        hlc_draws = heat_loss_coefficient_draws(
+            analysis,
+            np.random.default_rng(0).normal(
+                cal.estimates_si["H_est"], max(cal.heat_loss_coefficient_std, 0), 2000
+            ),
+        )
     hlc = {
         "value": _num(cal.heat_loss_coefficient),
         "std": _num(cal.heat_loss_coefficient_std),
@@ -201,6 +204,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "parameters_fixed": sorted(model.fixed),
             "residual_diagnostics": residual_summary(cal.residuals),
             "fit_seconds": cal.fit_seconds,
+            "correction": _correction_dict(cal.correction),
         },
         "heat_loss_coefficient_W_per_K": hlc,
         "validation": analysis.validation,
@@ -227,6 +231,25 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "notes": analysis.notes,
         "timings_s": analysis.timings,
     })  # fmt: skip
+
+
+def _correction_dict(corr) -> dict | None:
+    """The group corrections of the calibrated U-values (None: the published topology)."""
+    if corr is None:
+        return None
+    from thermocal.retrofit.correction import GROUP_LABELS, GROUPS
+
+    return {
+        "method": "maximum a posteriori, prior ln k ~ N(0, s^2) per envelope group",
+        "factors": corr.factors,
+        "groups": {g: {"label": GROUP_LABELS[g], "components": list(GROUPS[g])}
+                   for g in corr.factors},
+        "prior_std_log": corr.prior_std,
+        "posterior_std_log": corr.posterior_std,
+        "separated_by_data": corr.separated,
+        "strong_correlations": corr.correlation,
+        "summary": corr.summary(),
+    }  # fmt: skip
 
 
 def _areas(analysis: RetrofitAnalysis) -> dict[str, float]:

@@ -164,7 +164,8 @@ def write_report(
     tiles = {
         "Heat demand today": f"{dem['value']:,.0f} kWh/a",
         f"{pct} interval": f"{dem['p05']:,.0f} – {dem['p95']:,.0f} kWh/a",
-        "Heat loss coefficient": f"{hlc['value']:.0f} ± {_fmt(hlc['std'], '.0f')} W/K",
+        "Heat loss coefficient": f"{hlc['value']:.0f} W/K ({pct}: {_fmt(hlc['p05'], '.0f')}"
+        f" – {_fmt(hlc['p95'], '.0f')})",
         "Running cost today": f"{_money(base['cost_per_year'], cur)}/a",
     }
     if rec is not None:
@@ -296,12 +297,20 @@ def write_report(
     rep.section("What the intervals cover, and what they do not")
     at_bound = results["calibration"]["parameters_at_bounds"]
     fixed = results["calibration"].get("parameters_fixed", [])
+    corrected = analysis.calibration.correction is not None
     covered = [
         f"the estimation uncertainty of the calibrated parameters (heat loss coefficient part "
         f"H_est and the heat capacities), {cfg.uncertainty.draws} draws from their estimated "
         "covariance",
     ]
-    if cfg.uncertainty.u_value_rel_std > 0:
+    if corrected:
+        covered = [
+            f"the posterior uncertainty of the corrections of the audit U-values (prior "
+            f"{100 * cfg.uncertainty.u_value_rel_std:.0f} % relative spread per envelope group, "
+            "narrowed where the measurements separate the group), of H_est and of the heat "
+            f"capacities, including those on a bound: {cfg.uncertainty.draws} draws"
+        ]
+    elif cfg.uncertainty.u_value_rel_std > 0:
         covered.append(
             f"the uncertainty of the audit U-values ({100 * cfg.uncertainty.u_value_rel_std:.0f}"
             " % relative spread, keeping the measured heat loss coefficient), which decides "
@@ -319,10 +328,11 @@ def write_report(
         "prices, system efficiency and costs: the economic figures are computed at the "
         "configured values and scale directly with them",
     ]
-    if at_bound or fixed:
+    held = list(fixed) if corrected else at_bound + list(fixed)
+    if held:
         not_covered.append(
             "parameters on an estimation bound or fixed ("
-            + ", ".join(at_bound + list(fixed))
+            + ", ".join(held)
             + "): they are held at their value in every draw"
         )
     rep.bullets(not_covered, intro="They do not cover:")
@@ -457,6 +467,34 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
         f"estimated physical parameters: {_fmt(cal['max_abs_correlation_physical'], '.3f')} "
         f"(limit {cfg.model.max_correlation}, Madsen et al. 2016)."
     )
+    corr = cal.get("correction")
+    if corr:
+        rep.paragraph(
+            "The data correct the building description in both directions: one factor per "
+            "envelope group multiplies the calculated U-values (maximum a posteriori with a "
+            f"log-normal prior of {100 * cfg.uncertainty.u_value_rel_std:.0f} % relative spread "
+            "per group, uncertainty.u_value_rel_std; model.correction: none restores the "
+            "published topology where only H_est is added). Prebound effect: calculated losses "
+            "of existing houses are more often too high than too low (Sunikka-Blank and Galvin "
+            "2012). A group is separated by the data when they narrow its prior standard "
+            "deviation by at least 30 %; otherwise its share follows the prior and only the "
+            "total heat loss coefficient is measured."
+        )
+        rep.table(
+            pd.DataFrame(
+                [
+                    {
+                        "group": corr["groups"][g]["label"],
+                        "factor on U": f"{k:.2f}",
+                        "prior sd of ln k": f"{corr['prior_std_log'][g]:.2f}",
+                        "posterior sd of ln k": f"{corr['posterior_std_log'][g]:.2f}",
+                        "data separate it": "yes" if corr["separated_by_data"][g] else "no (prior)",
+                    }
+                    for g, k in corr["factors"].items()
+                ]
+            ),  # fmt: skip
+            caption="Corrections of the calculated U-values per envelope group",
+        )
     if cal["flags"]:
         rep.flags(cal["flags"])
     if cal["parameters_at_bounds"]:

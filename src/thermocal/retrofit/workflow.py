@@ -185,16 +185,21 @@ def model_inputs(
 
 
 def simulate_indoor(
-    model: FifthOrderModel, params_si: dict, x0: np.ndarray, inputs: pd.DataFrame
+    model: FifthOrderModel,
+    params_si: dict,
+    x0: np.ndarray,
+    inputs: pd.DataFrame,
+    envelope=None,
 ) -> pd.DataFrame:
     """Deterministic multi-step simulation of all states (C) over ``inputs``.
 
     The network of :func:`thermocal.retrofit.model.network_spec` simulated by
     :meth:`thermocal.statespace.RCModel.simulate` (exact zero-order-hold discretisation).
     States are reported at the interval starts (the first row is ``x0``), like measured
-    interval means labelled by their start.
+    interval means labelled by their start. ``envelope``: the calibrated (corrected) U-values
+    (default: the building file's).
     """
-    h = model.conductances()
+    h = model.conductances(envelope)
     rc = simulation_network(h, demand=False)
     values = {**h, **{k: float(v) for k, v in params_si.items()}}
     x = np.asarray(x0, float)
@@ -291,7 +296,11 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         n_starts=cfg.model.n_starts,
         seed=cfg.model.seed,
         max_correlation=cfg.model.max_correlation,
+        correction=cfg.model.correction == "groups",
+        u_value_rel_std=cfg.uncertainty.u_value_rel_std,
     )
+    if cal.correction is not None:
+        say(cal.correction.summary())
     timings["calibration"] = time.perf_counter() - t1
 
     say("validating")
@@ -300,7 +309,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     filled[list(BOUNDARY_COLUMNS + HEAT_COLUMNS)] = filled[
         list(BOUNDARY_COLUMNS + HEAT_COLUMNS)
     ].interpolate(limit_direction="both")
-    states = simulate_indoor(model, cal.estimates_si, cal.x0, filled)
+    states = simulate_indoor(model, cal.estimates_si, cal.x0, filled, cal.envelope)
     sim_ti = states["Ti"].rename("Ti_simulated")
     validation = {}
     for name, period in (("train", training), ("test", test)):
@@ -321,6 +330,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         model_heat = heat_to_follow_measured(
             model,
             cal.estimates_si,
+            cal.envelope,
             states.loc[sel].iloc[0].to_numpy(float),
             filled.loc[sel, list(DEMAND_INPUTS)],
             inputs.loc[sel, OUTPUT_COLUMN],
@@ -358,15 +368,21 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "a complete weather year: use a complete file (e.g. a TMY) or fill the gaps"
         )
     strategies = cfg.strategy_list()
-    draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
-    envelopes = scenario_envelopes(
-        model,
-        strategies,
-        cfg.measure_objects(),
-        draws,
-        cfg.uncertainty.u_value_rel_std,
-        seed=cfg.uncertainty.seed,
-    )
+    if cal.correction is not None:
+        draws, envelopes = corrected_scenarios(
+            model, cal, strategies, cfg.measure_objects(), cfg.uncertainty.draws,
+            seed=cfg.uncertainty.seed,
+        )  # fmt: skip
+    else:
+        draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
+        envelopes = scenario_envelopes(
+            model,
+            strategies,
+            cfg.measure_objects(),
+            draws,
+            cfg.uncertainty.u_value_rel_std,
+            seed=cfg.uncertainty.seed,
+        )
     demand = simulate_demand(model, draws, envelopes, year[list(DEMAND_INPUTS)], profile)
     timings["demand"] = time.perf_counter() - t3
     timings["total"] = time.perf_counter() - t0
@@ -455,6 +471,43 @@ def scenario_envelopes(
         [model.apply_measures([measures[m] for m in s.measures], env) for env in per_draw]
         for s in strategies
     ]
+
+
+def corrected_scenarios(model, cal, strategies, measures: dict, n_draws: int, seed: int = 0):
+    """Parameter draws and per-draw envelopes of every strategy from the posterior of the
+    group corrections (:mod:`thermocal.retrofit.correction`).
+
+    Each draw scales the building file's U-values by its group factors; a measure then sets
+    the U-value of the component it retrofits (the new construction is known), the other
+    components keep the draw's corrected U-value.
+
+    Returns
+    -------
+    draws : dict name -> ndarray (n_draws + 1,) in SI (first = the estimate), with the group
+        factors ``k_env``, ``k_win``, ``k_floor`` [-]
+    envelopes : list (per strategy) of lists (per draw) of EnvelopeComponents
+    """
+    from thermocal.retrofit.correction import draw_corrected, scaled_envelope
+
+    corr = cal.correction
+    z = draw_corrected(corr, n_draws, seed=seed)
+    draws = {n: np.full(len(z), v) for n, v in cal.estimates_si.items()}
+    draws.update(corr.physical_si(z))
+    factors = corr.group_factors(z)
+    draws.update(factors)
+    measures = {
+        name: m if isinstance(m, Measure) else Measure(name, name, u_value=float(m))
+        for name, m in measures.items()
+    }
+    base = [
+        scaled_envelope(model.envelope, {g: v[d] for g, v in factors.items()})
+        for d in range(len(z))
+    ]
+    envelopes = [
+        [model.apply_measures([measures[m] for m in s.measures], env) for env in base]
+        for s in strategies
+    ]
+    return draws, envelopes
 
 
 def compare_with_reference_demands(

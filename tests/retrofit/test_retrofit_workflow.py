@@ -7,6 +7,7 @@ import dataclasses
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -394,3 +395,20 @@ def test_gate_statistics_and_missing_test_period():
     assert not gate["passed"]
     assert [c["passed"] for c in gate["checks"]] == [False, False]
     assert "-5.40 K" in gate["summary"]
+
+
+def test_strategy_table_fits_80_columns(synthetic, capsys, monkeypatch):
+    from thermocal.commands.retrofit import measure_abbreviations, print_summary
+
+    monkeypatch.setenv("COLUMNS", "80")
+    _, _, _, results = synthetic
+    print_summary(results, Path("out"))
+    lines = capsys.readouterr().out.splitlines()
+    start = next(i for i, line in enumerate(lines) if "Retrofit strategies" in line)
+    table = lines[start : start + 24]
+    assert max(map(len, table)) <= 80
+    assert not any("…" in line for line in table)
+    assert any("R+Wa+Wi+C" in line for line in table)  # strategy 4, unabridged
+    assert measure_abbreviations(["roof", "walls", "windows", "cellar_ceiling"]) == {
+        "roof": "R", "walls": "Wa", "windows": "Wi", "cellar_ceiling": "C",
+    }  # fmt: skip

@@ -11,6 +11,19 @@ import typer
 from thermocal.cli import app
 
 
+def measure_abbreviations(names) -> dict[str, str]:
+    """Shortest unique prefix of each measure name, capitalised (roof -> R, walls -> Wa,
+    windows -> Wi), for a strategy table that fits an 80-column terminal."""
+    out = {}
+    for name in names:
+        for n in range(1, len(name) + 1):
+            prefix = name[:n]
+            if not any(o != name and o.startswith(prefix) for o in names):
+                break
+        out[name] = prefix.capitalize()
+    return out
+
+
 def print_summary(results: dict, out: Path) -> None:
     """Rich tables of the key results (stdout): HLC, validation, annual demand, strategies.
 
@@ -19,6 +32,7 @@ def print_summary(results: dict, out: Path) -> None:
     """
     import logging
 
+    from rich import box
     from rich.console import Console
     from rich.table import Table
 
@@ -65,21 +79,31 @@ def print_summary(results: dict, out: Path) -> None:
         if not isinstance(value, list):
             console.print(f"  reference, {name}: {value:,.0f} kWh")
 
-    table = Table(title="Retrofit strategies")
+    names = list(results.get("measures", {})) or sorted(
+        {m for s in results["scenarios"] for m in s["measures"]}
+    )
+    short = measure_abbreviations(names)
+    table = Table(title="Retrofit strategies", box=box.SIMPLE_HEAD, padding=(0, 1))
     eco = results.get("economics", {})
     cur = eco.get("currency", "")
-    cols = ["code", "measures", "annual kWh", "saving %", f"{pct} interval"]
+    cols = ["code", "measures", "kWh/a", "saving %", pct]
     if eco:
-        cols += [f"investment {cur}", f"saving {cur}/a", "payback a"]
+        cols += [f"invest {cur}", f"{cur}/a", "payback a"]
+    labels = ["+".join(short[m] for m in s["measures"]) or "none" for s in results["scenarios"]]
     for col in cols:
-        table.add_column(col, justify="left" if col == "measures" else "right")
-    for s in results["scenarios"]:
+        table.add_column(
+            col,
+            justify="left" if col == "measures" else "right",
+            no_wrap=col == "measures",
+            min_width=max(map(len, labels)) if col == "measures" else None,
+        )
+    for s, label in zip(results["scenarios"], labels, strict=True):
         row = [
             s["code"],
-            " + ".join(m.replace("_", " ") for m in s["measures"]) or "none",
+            label,
             f"{s['annual_kWh']:,.0f}",
             f"{s['saving_pct']:.1f}",
-            f"{s['saving_pct_p05']:.1f} – {s['saving_pct_p95']:.1f}",
+            f"{s['saving_pct_p05']:.0f}–{s['saving_pct_p95']:.0f}",
         ]
         if eco:
             e = s.get("economics", {})
@@ -91,6 +115,7 @@ def print_summary(results: dict, out: Path) -> None:
             ]
         table.add_row(*row)
     console.print(table)
+    console.print("measures: " + ", ".join(f"{a} {m.replace('_', ' ')}" for m, a in short.items()))
     if gate and not gate["passed"]:
         console.print("[bold red]no strategy recommended: the model failed its validation[/]")
     elif results.get("recommendation"):

@@ -166,7 +166,7 @@ def calibrate(
     seed: int = 0,
     max_correlation: float = 0.98,
     correction: bool = False,
-    u_value_rel_std: float = 0.25,
+    u_value_rel_std: float = 0.2,
 ) -> Calibration:
     """Maximum-likelihood calibration of the fifth-order model.
 

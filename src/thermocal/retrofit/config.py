@@ -166,7 +166,7 @@ class UncertaintyConfig(_Strict):
     draws: int = Field(200, ge=0, le=MAX_DRAWS)
     interval: float = Field(0.90, gt=0, lt=1)
     u_value_rel_std: float = Field(
-        0.25,
+        0.2,
         ge=0,
         le=0.5,
         description="relative standard deviation of the audit U-values of roof, walls, windows "

@@ -189,3 +189,26 @@ def test_bounds_and_fixed_reach_the_model():
     spec = rc_spec(m, np.full(5, 20.0))
     assert spec["parameters"]["C_gf"]["fixed"] is True
     assert spec["parameters"]["C_env"]["upper"] == 300.0
+
+
+def test_measures_apply_to_the_component_they_name_and_must_improve_it():
+    """A cellar-ceiling measure on a slab, a measure on a missing component and a target
+    U-value worse than the existing one are refused naming the key (issue 25)."""
+    from thermocal.errors import ThermocalInputError
+    from thermocal.retrofit.model import EnvelopeComponents, check_measures
+    from thermocal.retrofit.strategies import Measure
+
+    slab = EnvelopeComponents(100, 0.3, 200, 1.1, 30, 2.7, 120, 1.2, "ground_floor")
+    check_measures(slab, {"floor": Measure("floor", "ground_floor", u_value=0.25)}, "h")
+    with pytest.raises(
+        ThermocalInputError, match=r"measures\.cellar_ceiling: .*slab.*ground_floor"
+    ):
+        check_measures(slab, {"cellar_ceiling": Measure("cellar_ceiling", "cellar_ceiling", 0.19)})
+    with pytest.raises(ThermocalInputError, match=r"measures\.roof: target U-value 0\.4 .* 0\.3"):
+        check_measures(slab, {"roof": Measure("roof", "roof", u_value=0.4)})
+    no_roof = EnvelopeComponents(0, 1.0, 200, 1.1, 30, 2.7, 120, 1.2, "cellar_ceiling")
+    with pytest.raises(ThermocalInputError, match=r"measures\.roof: .*no roof component"):
+        check_measures(no_roof, {"roof": Measure("roof", "roof", u_value=0.18)})
+    # the slab measure changes the floor, with its area for the cost
+    after = slab.apply([Measure("floor", "ground_floor", u_value=0.25)], volume=300.0)
+    assert after.floor_u == 0.25 and after.walls_u == 1.1

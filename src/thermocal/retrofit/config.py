@@ -27,6 +27,7 @@ from thermocal.retrofit.strategies import (
     MEASURE_ORDER,
     PAPER_MEASURE_DESCRIPTIONS,
     PAPER_MEASURE_U_VALUES,
+    U_VALUE_COMPONENTS,
     Measure,
     all_strategies,
     listed_strategies,
@@ -218,7 +219,15 @@ class MeasureConfig(_Strict):
     """One retrofit measure (see :class:`thermocal.retrofit.strategies.Measure`)."""
 
     component: (
-        Literal["roof", "walls", "windows", "cellar_ceiling", "airtightness", "heat_recovery"]
+        Literal[
+            "roof",
+            "walls",
+            "windows",
+            "cellar_ceiling",
+            "ground_floor",
+            "airtightness",
+            "heat_recovery",
+        ]
         | None
     ) = Field(None, description="what it acts on (default: the measure's name)")
     u_value: float | None = Field(None, ge=0.05, le=6.0, description="U after retrofit [W/(m2 K)]")
@@ -310,7 +319,7 @@ class RetrofitConfig(_Strict):
                     f"{list(MEASURE_COMPONENTS)}); a bare number is the U-value of one of "
                     f"{list(MEASURE_ORDER)}"
                 )
-            if component in MEASURE_ORDER:
+            if component in U_VALUE_COMPONENTS:
                 if spec.u_value is None and spec.g_value is None:
                     raise ValueError(
                         f"measure {name!r} on {component}: give u_value (and/or "

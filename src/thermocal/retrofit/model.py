@@ -176,6 +176,7 @@ class EnvelopeComponents:
             "walls": "walls_u",
             "windows": "windows_u",
             "cellar_ceiling": "floor_u",
+            "ground_floor": "floor_u",
         }
         return replace(self, **{key[m]: float(u) for m, u in u_values.items()})
 
@@ -205,6 +206,70 @@ class EnvelopeComponents:
             if change:
                 env = replace(env, h_est_change=env.h_est_change + change)
         return env
+
+
+#: Envelope attribute (U-value) and floor kind of every U-value measure component.
+MEASURE_TARGETS: dict[str, tuple[str, str | None]] = {
+    "roof": ("roof_u", None),
+    "walls": ("walls_u", None),
+    "windows": ("windows_u", None),
+    "cellar_ceiling": ("floor_u", "cellar_ceiling"),
+    "ground_floor": ("floor_u", "ground_floor"),
+}
+_BUILDING_TYPE = {"roof": "roof", "walls": "external_wall", "windows": "window"}
+
+
+def check_measures(envelope: EnvelopeComponents, measures, building_name: str = "") -> None:
+    """Refuse a measure on a component the building lacks, or one that does not improve it.
+
+    Parameters
+    ----------
+    envelope : EnvelopeComponents
+        The building file's envelope.
+    measures : dict name -> :class:`~thermocal.retrofit.strategies.Measure`
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the configuration key ``measures.<name>`` and what to do.
+    """
+    for name, m in measures.items():
+        if m.u_value is None or m.component not in MEASURE_TARGETS:
+            continue
+        attr, kind = MEASURE_TARGETS[m.component]
+        area = getattr(envelope, attr.replace("_u", "_area"))
+        if kind is not None and envelope.floor_kind != kind:
+            other = "ground_floor" if kind == "cellar_ceiling" else "cellar_ceiling"
+            what = {
+                "cellar_ceiling": "a ceiling over an unheated cellar",
+                "ground_floor": "a floor on the ground (slab)",
+            }
+            raise ThermocalInputError(
+                f"measures.{name}: the measure insulates {what[kind]} (component {kind}), but "
+                f"building {building_name!r} has {what[envelope.floor_kind]}; give the "
+                f"measure as component {other} (e.g. measures: {{{other}: {{u_value: "
+                f"{m.u_value:g}}}}}) or remove it"
+                + (
+                    " (the default measures are the method's, with a cellar ceiling)"
+                    if name == "cellar_ceiling"
+                    else ""
+                )  # fmt: skip
+            )
+        if area <= 0:
+            raise ThermocalInputError(
+                f"measures.{name}: building {building_name!r} has no "
+                f"{_BUILDING_TYPE.get(m.component, m.component)} component to retrofit; "
+                "remove the measure or add the component to the building file"
+            )
+        current = float(getattr(envelope, attr))
+        if not m.u_value < current:
+            raise ThermocalInputError(
+                f"measures.{name}: target U-value {m.u_value:g} W/(m2 K) is not better than the "
+                f"existing {m.component.replace('_', ' ')} ({current:.3g} W/(m2 K), area-"
+                "weighted from the building file): the measure would worsen or keep the "
+                "envelope and cost money; lower measures."
+                f"{name}.u_value below {current:.3g} or remove the measure"
+            )
 
 
 def _area_weighted_u(components) -> tuple[float, float]:

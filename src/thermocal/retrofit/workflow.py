@@ -45,6 +45,7 @@ from thermocal.retrofit.model import (
     FifthOrderModel,
     build_fifth_order_model,
     calculated_hlc,
+    check_measures,
     simulation_network,
 )
 from thermocal.retrofit.strategies import Measure, Strategy
@@ -267,6 +268,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         bounds=cfg.model.bounds,
         fixed=cfg.model.fixed,
     )
+    check_measures(model.envelope, cfg.measure_objects(), building.name)
     inputs = model_inputs(
         grid,
         building,

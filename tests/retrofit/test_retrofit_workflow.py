@@ -412,3 +412,44 @@ def test_strategy_table_fits_80_columns(synthetic, capsys, monkeypatch):
     assert measure_abbreviations(["roof", "walls", "windows", "cellar_ceiling"]) == {
         "roof": "R", "walls": "Wa", "windows": "Wi", "cellar_ceiling": "C",
     }  # fmt: skip
+
+
+def test_heat_meter_and_fuel_meter_inputs(synthetic, tmp_path):
+    """A cumulative heat-meter reading in kWh, or a fuel meter's energy per hour with the
+    boiler's efficiency, gives the same heating power as flow x (supply - return)."""
+    from thermocal.physics.hydronics import heating_power
+    from thermocal.retrofit.data import prepare_measurements, read_raw_measurements
+
+    folder, config, _, _ = synthetic
+    meas = pd.read_csv(folder / "measurements.csv")
+    phi = heating_power(meas["V_dot"] / 3.6e6, meas["T_supply"], meas["T_return"]).to_numpy()
+    meas["E_meter"] = np.concatenate([[1000.0], 1000.0 + np.cumsum(phi[:-1]) / 1000.0])  # kWh
+    meas["fuel_kWh"] = phi / 1000.0 / 0.85
+    meas.drop(columns=["V_dot", "T_supply", "T_return"]).to_csv(tmp_path / "m.csv", index=False)
+    cfg = yaml.safe_load(config.read_text())
+    base = load_config(config).measurements
+    cfg["measurements"]["file"] = str(tmp_path / "m.csv")
+    cfg["measurements"]["columns"] = {
+        k: v for k, v in cfg["measurements"]["columns"].items() if k not in ("flow",
+        "temp_supply", "temp_return")
+    }  # fmt: skip
+    for source, column, extra in (
+        ("heat_meter", "E_meter", {"heat_unit": "kWh", "heat_cumulative": True}),
+        ("fuel_meter", "fuel_kWh", {"heat_unit": "kWh", "boiler_efficiency": 0.85}),
+    ):
+        m = dict(cfg["measurements"], heat_source=source, **extra)
+        m["columns"] = {**m["columns"], "heat": column}
+        (tmp_path / "c.yaml").write_text(yaml.safe_dump({**cfg, "measurements": m}))
+        mc = load_config(tmp_path / "c.yaml").measurements
+        grid, _ = prepare_measurements(
+            read_raw_measurements(mc, default_tz=-5.0), mc.step, heat_source=source,
+            heat_energy=True,
+            heat_cumulative=mc.heat_cumulative, boiler_efficiency=mc.boiler_efficiency,
+        )  # fmt: skip
+        ref, _ = prepare_measurements(read_raw_measurements(base, default_tz=-5.0), base.step)
+        n = len(grid) - 1  # a cumulative reading has no next reading for the last row
+        np.testing.assert_allclose(grid["phi_h"][:n], ref["phi_h"][:n], rtol=1e-9, atol=1e-6)
+    m = dict(cfg["measurements"], heat_source="fuel_meter", heat_unit="kWh")
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump({**cfg, "measurements": m}))
+    with pytest.raises(ThermocalInputError, match="boiler_efficiency"):
+        load_config(tmp_path / "c.yaml")

@@ -553,6 +553,7 @@ def check_heating_power_magnitude(
     *,
     flow_unit: str = "m3/s",
     flow_column: str = "flow",
+    unit_hint: str | None = None,
 ) -> float:
     """Compare the mean heating power with the building file's losses; refuse a unit slip.
 
@@ -592,9 +593,13 @@ def check_heating_power_magnitude(
             f"training period, {ratio:.3g} times the building file's transmission losses "
             f"H_T x (Ti - Te) = {transmission_coefficient:.0f} W/K x {delta:.1f} K = "
             f"{expected:,.0f} W: far too {direction} for a heated building. Check "
-            f"measurements.flow_unit (now {flow_unit}; m3/h and l/h differ by 1000, l/min and "
-            f"l/h by 60) and the flow column {flow_column!r}, then the building's areas and "
-            "U-values"
+            + (
+                unit_hint
+                if unit_hint
+                else f"measurements.flow_unit (now {flow_unit}; m3/h and l/h differ by 1000, "
+                f"l/min and l/h by 60) and the flow column {flow_column!r}"
+            )
+            + ", then the building's areas and U-values"
         )
     return ratio
 

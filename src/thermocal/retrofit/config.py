@@ -42,7 +42,18 @@ MEASUREMENT_COLUMNS: dict[str, str] = {
     "dni": "direct normal irradiance [W/m2] (hourly Wh/m2 is the same number)",
     "dhi": "diffuse horizontal irradiance [W/m2]",
     "temp_in": "internal air temperature Ti [C]",
+    "heat": "heat (or fuel) meter: power or energy, unit measurements.heat_unit",
+    "electricity": "electricity meter: power or energy, unit internal_gains.electricity_unit",
 }
+#: Standard names needed by each heat source (measurements.heat_source).
+HEAT_SOURCE_COLUMNS: dict[str, tuple[str, ...]] = {
+    "hydronic": ("flow", "temp_supply", "temp_return"),
+    "heat_meter": ("heat",),
+    "fuel_meter": ("heat",),
+}
+#: Units of a meter column: power (row = mean power) or energy (row = energy of its interval,
+#: or a cumulative reading with ``*_cumulative: true``).
+METER_UNITS = ("W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ")
 
 #: Conversion factors of supported flow units to m3/s.
 FLOW_UNITS: dict[str, float] = {
@@ -76,6 +87,43 @@ class MeasurementsConfig(_Strict):
         None, description="time zone of naive timestamps (name or hours from UTC)"
     )
     step: str = Field("1h", description="resampling step of the calibration data")
+    heat_source: Literal["hydronic", "heat_meter", "fuel_meter"] = Field(
+        "hydronic",
+        description="hydronic: flow x (supply - return); heat_meter: the 'heat' column is the "
+        "useful heat; fuel_meter: the 'heat' column is fuel energy, times boiler_efficiency",
+    )
+    heat_unit: Literal["W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ"] = Field(
+        "kW", description="unit of the heat column: power (mean over the row) or energy"
+    )
+    heat_cumulative: bool = Field(
+        False, description="the heat column is a meter reading (counter), not per-row energy"
+    )
+    boiler_efficiency: float | None = Field(
+        None, gt=0.3, le=1.1, description="useful heat / fuel energy (fuel_meter) [-]"
+    )
+
+    def required_columns(self, electricity: bool = False) -> list[str]:
+        """Standard names read from the file for this heat source (and electricity meter)."""
+        names = ["temp_out", *HEAT_SOURCE_COLUMNS[self.heat_source], "dni", "dhi", "temp_in"]
+        return names + (["electricity"] if electricity else [])
+
+    @model_validator(mode="after")
+    def _fuel_needs_efficiency(self) -> MeasurementsConfig:
+        if self.heat_source == "fuel_meter" and self.boiler_efficiency is None:
+            raise ValueError(
+                "heat_source 'fuel_meter' needs measurements.boiler_efficiency (useful heat / "
+                "fuel energy, e.g. 0.85 for an older oil boiler, 0.95 for a condensing one)"
+            )
+        if self.heat_source != "fuel_meter" and self.boiler_efficiency is not None:
+            raise ValueError(
+                "measurements.boiler_efficiency applies to heat_source: fuel_meter only"
+            )
+        if self.heat_cumulative and self.heat_unit in ("W", "kW"):
+            raise ValueError(
+                f"measurements.heat_cumulative: a meter reading is an energy, not a power "
+                f"({self.heat_unit}); set heat_unit to kWh, MWh, MJ, ..."
+            )
+        return self
 
     @field_validator("columns")
     @classmethod

@@ -243,9 +243,17 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "(model.solar_gains: true); add the windows to the building file or set "
             "model.solar_gains: false"
         )
-    raw = read_raw_measurements(cfg.measurements, default_tz=_location_tz(building))
+    mc = cfg.measurements
+    raw = read_raw_measurements(mc, default_tz=_location_tz(building))
     try:
-        grid, quality = prepare_measurements(raw, cfg.measurements.step)
+        grid, quality = prepare_measurements(
+            raw,
+            mc.step,
+            heat_source=mc.heat_source,
+            heat_energy=mc.heat_unit not in ("W", "kW"),
+            heat_cumulative=mc.heat_cumulative,
+            boiler_efficiency=mc.boiler_efficiency,
+        )
     except ThermocalInputError as exc:
         if "flow" not in str(exc):
             raise
@@ -291,6 +299,12 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         source,
         flow_unit=cfg.measurements.flow_unit,
         flow_column=cfg.measurements.columns.get("flow", "flow"),
+        unit_hint=None
+        if mc.heat_source == "hydronic"
+        else f"measurements.heat_unit (now {mc.heat_unit}; kW and W differ by 1000, a "
+        f"cumulative meter reading needs heat_cumulative: true) and the heat column "
+        f"{mc.columns['heat']!r}"
+        + (f" and boiler_efficiency {mc.boiler_efficiency:g}" if mc.boiler_efficiency else ""),
     )
     cal = calibrate(
         model,

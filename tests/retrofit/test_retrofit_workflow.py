@@ -453,3 +453,38 @@ def test_heat_meter_and_fuel_meter_inputs(synthetic, tmp_path):
     (tmp_path / "c.yaml").write_text(yaml.safe_dump({**cfg, "measurements": m}))
     with pytest.raises(ThermocalInputError, match="boiler_efficiency"):
         load_config(tmp_path / "c.yaml")
+
+
+def test_internal_gains_from_an_electricity_meter(synthetic, tmp_path):
+    """Part of the heat the synthetic house received comes from appliances (an electricity
+    meter); the heat meter shows the rest. With the gains as an input the calibration finds
+    the same house as from the whole heat, and the gains lower the annual demand."""
+    from thermocal.physics.hydronics import heating_power
+
+    folder, config, analysis, results = synthetic
+    meas = pd.read_csv(folder / "measurements.csv")
+    phi = heating_power(meas["V_dot"] / 3.6e6, meas["T_supply"], meas["T_return"]).to_numpy()
+    appliances = np.minimum(phi, 400.0 + 200.0 * np.sin(np.arange(len(phi)) / 24.0 * 2 * np.pi))
+    meas["Q_kW"] = (phi - appliances) / 1000.0
+    meas["P_el_kW"] = appliances / 1000.0
+    meas.drop(columns=["V_dot", "T_supply", "T_return"]).to_csv(tmp_path / "m.csv", index=False)
+    cfg = yaml.safe_load(config.read_text())
+    cols = {k: v for k, v in cfg["measurements"]["columns"].items()
+            if k not in ("flow", "temp_supply", "temp_return")}  # fmt: skip
+    cfg["measurements"].update(
+        file=str(tmp_path / "m.csv"), heat_source="heat_meter", heat_unit="kW",
+        columns={**cols, "heat": "Q_kW", "electricity": "P_el_kW"},
+    )  # fmt: skip
+    cfg["internal_gains"] = {"source": "electricity", "electricity_unit": "kW", "rel_std": 0.3}
+    cfg["building"] = str(folder / "building.yaml")
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump(cfg))
+    gains = run_retrofit(load_config(tmp_path / "c.yaml"))
+    hlc = gains.calibration.heat_loss_coefficient
+    assert hlc == pytest.approx(analysis.calibration.heat_loss_coefficient, rel=0.02)
+    assert gains.gate["passed"], gains.gate["summary"]
+    annual = gains.demand.annual_kwh()
+    base = analysis.demand.annual_kwh()[0, 0]
+    # about 400 W of gains over a heating season lower the demand by 1,000-3,500 kWh
+    assert 1000.0 < base - annual[0, 0] < 3500.0, (base, annual[0, 0])
+    # their uncertainty widens the demand interval
+    assert np.ptp(annual[0, 1:]) > 0

@@ -242,6 +242,48 @@ class ValidationConfig(_Strict):
     )
 
 
+class InternalGainsConfig(_Strict):
+    """Internal gains (occupants, appliances, lighting) into the heated air [W].
+
+    ``none``: no input (the calibration then attributes the gains' effect to the losses, as
+    the fifth-order method does); ``constant``: ``constant_W``; ``schedule``: 24 hourly values
+    ``schedule_W`` (hour 0..23 local standard time, repeated every day); ``electricity``: the
+    measurements' ``electricity`` column times ``fraction_inside`` during the measurements,
+    its mean 24-hour profile in the demand year.
+    """
+
+    source: Literal["none", "constant", "schedule", "electricity"] = "none"
+    constant_W: float | None = Field(None, ge=0, le=50_000, description="[W]")
+    schedule_W: list[float] | None = Field(None, description="24 hourly values [W]")
+    electricity_unit: Literal["W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ"] = Field(
+        "kW", description="unit of the electricity column: power or energy per row"
+    )
+    electricity_cumulative: bool = Field(False, description="the column is a meter reading")
+    fraction_inside: float = Field(
+        1.0, gt=0, le=1.0, description="share of the metered electricity released as heat "
+        "inside the heated envelope (not: outdoor lights, a heat-pump compressor outside)",
+    )  # fmt: skip
+    rel_std: float = Field(
+        0.3, ge=0, le=1.0, description="relative standard deviation of the gains in the demand"
+    )
+
+    @model_validator(mode="after")
+    def _complete(self) -> InternalGainsConfig:
+        if self.source == "constant" and self.constant_W is None:
+            raise ValueError("source 'constant' needs constant_W [W]")
+        if self.source == "schedule":
+            if self.schedule_W is None or len(self.schedule_W) != 24:
+                raise ValueError("source 'schedule' needs schedule_W: 24 hourly values [W]")
+            if min(self.schedule_W) < 0:
+                raise ValueError("schedule_W: gains must not be negative")
+        if self.electricity_cumulative and self.electricity_unit in ("W", "kW"):
+            raise ValueError(
+                "electricity_cumulative: a meter reading is an energy; set electricity_unit "
+                "to kWh, MWh, MJ, ..."
+            )
+        return self
+
+
 class ReferenceConfig(_Strict):
     """Optional reference values shown next to the simulated demand."""
 
@@ -349,6 +391,7 @@ class RetrofitConfig(_Strict):
     reference: ReferenceConfig = Field(default_factory=ReferenceConfig)
     demand: DemandConfig = Field(default_factory=DemandConfig)
     validation: ValidationConfig = Field(default_factory=ValidationConfig)
+    internal_gains: InternalGainsConfig = Field(default_factory=InternalGainsConfig)
     base_dir: Path = Field(Path("."), description="folder relative paths refer to")
 
     @field_validator("measures")

@@ -76,6 +76,7 @@ def heat_to_follow_measured(
     x_start: np.ndarray,
     inputs: pd.DataFrame,
     measured_ti: pd.Series,
+    gains: pd.Series | None = None,
 ) -> pd.Series:
     """Heat [W] the model needs to follow the measured indoor temperature (ideal controller).
 
@@ -96,6 +97,8 @@ def heat_to_follow_measured(
         Regular index; columns of :data:`thermocal.retrofit.demand.DEMAND_INPUTS`.
     measured_ti : pd.Series [C]
         Measured indoor temperature (interval means labelled by their start) on the same index.
+    gains : pd.Series [W], optional
+        Internal gains into the air node (not part of the returned heat).
 
     Returns
     -------
@@ -111,7 +114,15 @@ def heat_to_follow_measured(
     # the controller's set point applies at the END of each interval: the next interval's Ti
     sp = np.append(ti[1:], ti[-1])
     p = {k: np.atleast_1d(float(v)) for k, v in params_si.items()}
-    ad, bd = discrete_system_matrices(model.conductances(envelope), p, dt, indoor_input=True)
+    h = model.conductances(envelope)
+    ad, bd = discrete_system_matrices(h, p, dt, indoor_input=True)
+    if gains is not None:
+        from thermocal.retrofit.demand import with_gains
+        from thermocal.retrofit.model import system_matrices
+
+        a, b = system_matrices(h, p, indoor_input=True)
+        g = gains.interpolate(limit_direction="both").to_numpy(float)
+        _, _, ad, bd, u = with_gains(a, b, ad, bd, u, g, None)
     x0 = np.asarray(x_start, float)[: ad.shape[1]].copy()
     x0[0] = ti[0]
     q, _, _ = ideal_heating_batch(ad, bd, x0[None, :], u, sp)

@@ -445,7 +445,8 @@ def write_tables(analysis: RetrofitAnalysis, out: Path, results: dict) -> dict[s
     ])  # fmt: skip
     ts = pd.DataFrame({
         "Te_C": analysis.data["Te"], "Tgr_C": analysis.data["Tgr"],
-        "phi_h_W": analysis.data["phi_h"], "phi_sol_W": analysis.data["phi_sol"],
+        "phi_h_W": analysis.data["phi_h_measured"], "phi_int_W": analysis.data["phi_int"],
+        "phi_sol_W": analysis.data["phi_sol"],
         "Ti_measured_C": analysis.data["Ti_measured"], "Ti_simulated_C": analysis.simulated_ti,
     })  # fmt: skip
     ts["period"] = np.where(ts.index < analysis.training[1], "train", "test")
@@ -599,7 +600,7 @@ def _inputs_figure(analysis: RetrofitAnalysis):
     ax.plot(d.index, d["Tgr"], color="#7b8794", lw=0.9, ls="--", label="ground Tgr (model)")
     ax.set_ylabel("Temperature [C]")
     ax.legend(loc="upper left", ncol=3, fontsize=8, frameon=False)
-    axes[1].plot(d.index, d["phi_h"] / 1000.0, color="#d95f02", lw=0.8)
+    axes[1].plot(d.index, d["phi_h_measured"] / 1000.0, color="#d95f02", lw=0.8)
     axes[1].set_ylabel("Heating power [kW]")
     axes[2].plot(d.index, d["phi_sol"] / 1000.0, color="#f0b400", lw=0.8)
     axes[2].set_ylabel("Window solar\ngains [kW]")

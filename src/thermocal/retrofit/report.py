@@ -320,8 +320,14 @@ def write_report(
     not_covered = [
         "the weather: one typical year is used; a cold winter needs more, a mild one less "
         "(roughly in proportion to the heating degree days, see Assumptions)",
-        "the occupants: set-point temperatures, window airing, internal gains as during the "
-        "measurements; other habits change the demand",
+        "the occupants: set-point temperatures and window airing as during the measurements"
+        + (
+            "; internal gains as during the measurements (not an input: internal_gains: in "
+            "the configuration); other habits change the demand"
+            if cfg.internal_gains.source == "none"
+            else f"; other habits change the demand (the internal gains' "
+            f"{100 * cfg.internal_gains.rel_std:.0f} % uncertainty is covered)"
+        ),
         "the model structure: five lumped temperatures stand for the whole house; effects it "
         "cannot represent (thermal bridges changed by a retrofit, moisture, zones held at other "
         "temperatures) are not in the intervals",
@@ -423,9 +429,7 @@ def _assumptions(rep, analysis: RetrofitAnalysis, results: dict) -> None:
          f"{prof.min():.1f} to {prof.max():.1f} C"),
         ("Heating control", "ideal heating only: exactly the heat needed to hold the profile, "
          "never cooling; the house floats above it when sun or stored heat warm it"),
-        ("Internal gains", "not a separate input: the gains of occupants and appliances during "
-         "the measurements are contained in the calibrated heat balance (mostly in H_est), so "
-         "the demand assumes the same use of the house"),
+        ("Internal gains", _gains_text(analysis)),
         ("Ventilation and infiltration", "part of the estimated conductance H_est with thermal "
          "bridges and doors (calibrated H_est "
          f"{results['heat_loss_coefficient_W_per_K']['H_est']:.0f} W/K; the building file "
@@ -554,6 +558,30 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
 
 
 _LIMIT_SIGN = {True: "± ", False: "<= "}
+
+
+def _gains_text(analysis) -> str:
+    """The assumptions row on internal gains."""
+    ig = analysis.config.internal_gains
+    if ig.source == "none":
+        return (
+            "not a separate input (internal_gains.source: none): the gains of occupants and "
+            "appliances during the measurements are contained in the calibrated heat balance "
+            "(mostly in H_est), so the demand assumes the same use of the house"
+        )
+    year = analysis.year_gains
+    kwh = float(np.sum(year)) * analysis.demand.step_hours / 1000.0 if year is not None else 0.0
+    what = {
+        "electricity": f"the electricity meter x {ig.fraction_inside:g} during the measurements"
+        ", its mean daily profile in the demand year",
+        "schedule": "a 24-hour schedule (internal_gains.schedule_W)",
+        "constant": f"a constant {ig.constant_W:g} W (internal_gains.constant_W)",
+    }[ig.source]
+    return (
+        f"an input into the indoor air: {what}; {kwh:,.0f} kWh a year, "
+        f"{100 * ig.rel_std:.0f} % relative uncertainty in the intervals. In the calibration "
+        "they are added to the measured heating power"
+    )
 
 
 def _validation(rep, analysis, results, tables, figures) -> None:

@@ -76,6 +76,7 @@ class RetrofitAnalysis:
     measurements_quality: Any = None  # thermocal.io.measurements.QualityReport of the grid
     heat_validation: dict | None = None  # daily heat of model vs meter, test period
     gate: dict | None = None  # verdict of thermocal.retrofit.gate.validation_gate
+    year_gains: np.ndarray | None = None  # [W] internal gains of the demand year
 
 
 def load_building(source, *, config_source: str = "the retrofit configuration"):
@@ -244,7 +245,12 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "model.solar_gains: false"
         )
     mc = cfg.measurements
-    raw = read_raw_measurements(mc, default_tz=_location_tz(building))
+    ig = cfg.internal_gains
+    metered = ig.source == "electricity"
+    raw = read_raw_measurements(
+        mc, default_tz=_location_tz(building), electricity_unit=ig.electricity_unit if metered
+        else None,
+    )  # fmt: skip
     try:
         grid, quality = prepare_measurements(
             raw,
@@ -253,6 +259,8 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             heat_energy=mc.heat_unit not in ("W", "kW"),
             heat_cumulative=mc.heat_cumulative,
             boiler_efficiency=mc.boiler_efficiency,
+            electricity_energy=ig.electricity_unit not in ("W", "kW"),
+            electricity_cumulative=ig.electricity_cumulative,
         )
     except ThermocalInputError as exc:
         if "flow" not in str(exc):
@@ -285,7 +293,12 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         solar=cfg.model.solar_gains,
         depth=cfg.model.ground_depth,
     )
-    inputs["phi_h"] = grid["phi_h"].to_numpy(float)
+    # internal gains: in the calibration added to the heating power (the heating-system node
+    # passes heat to the air within minutes), in the demand an input into the air node
+    gains = internal_gains(grid, ig)
+    inputs["phi_h_measured"] = grid["phi_h"].to_numpy(float)
+    inputs["phi_int"] = 0.0 if gains is None else gains.to_numpy(float)
+    inputs["phi_h"] = inputs["phi_h_measured"] + inputs["phi_int"]
     inputs[OUTPUT_COLUMN] = grid["temp_in"].to_numpy(float)
     timings["inputs"] = time.perf_counter() - t0
 
@@ -350,8 +363,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             states.loc[sel].iloc[0].to_numpy(float),
             filled.loc[sel, list(DEMAND_INPUTS)],
             inputs.loc[sel, OUTPUT_COLUMN],
+            None if gains is None else inputs.loc[sel, "phi_int"],
         )
-        heat_check = heat_validation(model_heat, inputs.loc[sel, "phi_h"])
+        heat_check = heat_validation(model_heat, inputs.loc[sel, "phi_h_measured"])
     gate = validation_gate(validation, heat_check, cfg.validation.model_dump())
     (log.info if gate["passed"] else log.warning)("%s", gate["summary"])
     timings["validation"] = time.perf_counter() - t2
@@ -384,6 +398,14 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "a complete weather year: use a complete file (e.g. a TMY) or fill the gaps"
         )
     strategies = cfg.strategy_list()
+    year_gains = None
+    if gains is not None:
+        day = (
+            daily_profile(inputs["phi_int"]) if metered
+            else np.asarray(ig.schedule_W, float) if ig.source == "schedule"
+            else np.full(24, float(ig.constant_W))
+        )  # fmt: skip
+        year_gains = day[np.asarray(year.index.hour)]
     if cal.correction is not None:
         draws, envelopes = corrected_scenarios(
             model, cal, strategies, cfg.measure_objects(), cfg.uncertainty.draws,
@@ -399,7 +421,15 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             cfg.uncertainty.u_value_rel_std,
             seed=cfg.uncertainty.seed,
         )
-    demand = simulate_demand(model, draws, envelopes, year[list(DEMAND_INPUTS)], profile)
+    if gains is not None:  # their uncertainty: one log-normal factor per draw (first: 1)
+        sigma = np.sqrt(np.log1p(ig.rel_std**2))
+        rng = np.random.default_rng(cfg.uncertainty.seed + 104729)
+        factor = np.exp(rng.normal(-0.5 * sigma**2, sigma, len(draws["H_est"])))
+        factor[0] = 1.0
+        draws["gain_factor"] = factor
+    demand = simulate_demand(
+        model, draws, envelopes, year[list(DEMAND_INPUTS)], profile, gains=year_gains
+    )
     timings["demand"] = time.perf_counter() - t3
     timings["total"] = time.perf_counter() - t0
     log.info(
@@ -411,10 +441,30 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         training=training, test=test, simulated_ti=sim_ti, validation=validation,
         indoor_profile=profile, strategies=strategies, demand=demand,
         weather_meta=weather_meta, year_inputs=year[list(DEMAND_INPUTS)], draws=draws,
+        year_gains=year_gains,
         envelopes=envelopes,
         timings=timings, notes=notes, measurements_quality=quality,
         heat_validation=heat_check, gate=gate,
     )  # fmt: skip
+
+
+def internal_gains(grid: pd.DataFrame, cfg) -> pd.Series | None:
+    """Internal gains [W] on the measurement grid (None: ``internal_gains.source: none``).
+
+    Parameters
+    ----------
+    grid : pd.DataFrame
+        The measurement grid (``phi_el`` [W] from the electricity meter when metered).
+    cfg : thermocal.retrofit.config.InternalGainsConfig
+    """
+    if cfg.source == "none":
+        return None
+    if cfg.source == "electricity":
+        return grid["phi_el"].astype(float) * cfg.fraction_inside
+    if cfg.source == "schedule":
+        values = np.asarray(cfg.schedule_W, float)[np.asarray(grid.index.hour)]
+        return pd.Series(values, index=grid.index)
+    return pd.Series(float(cfg.constant_W), index=grid.index)
 
 
 def _location_tz(building):
@@ -547,8 +597,9 @@ def compare_with_reference_demands(
     cfg = analysis.config
     envelopes = analysis.envelopes
     res = simulate_demand(
-        analysis.model, analysis.draws, envelopes, analysis.year_inputs, float(setpoint)
-    )
+        analysis.model, analysis.draws, envelopes, analysis.year_inputs, float(setpoint),
+        gains=analysis.year_gains,
+    )  # fmt: skip
     annual = res.annual_kwh()
     lo_q = 0.5 * (1.0 - cfg.uncertainty.interval)
     base_ref = reference_kwh.get("0")

@@ -34,6 +34,19 @@ def test_demo_heat_loss_coefficient_within_10_percent(demo_results):
     assert np.isfinite(hlc["std"]) and hlc["std"] > 0
 
 
+def test_demo_flags_name_retrofit_configuration_keys(demo_results):
+    """The engine's flags (fast modes, a diffusion-dominated state, non-white residuals) come
+    with remedies the retrofit configuration can follow (issue 25)."""
+    _, results = demo_results
+    flags = results["calibration"]["flags"] + results["calibration"]["full_fit_flags"]
+    assert any("remedy" in f for f in flags)
+    engine_only = ("--n-starts", "in heat_inputs", "merge it with its neighbour",
+                   "simpler model", "give it a prior", "thermocal.io quality checks")  # fmt: skip
+    for flag in flags:
+        assert not any(e in flag for e in engine_only), flag
+    assert any("model.fixed_noise" in f or "model.fixed" in f for f in flags), flags
+
+
 def test_demo_validation(demo_results):
     _, results = demo_results
     assert results["validation"]["test"]["mae"] < 1.0

@@ -67,7 +67,12 @@ def initial_state_bounds(x0: np.ndarray, temp_out: float, temp_ground: float) ->
     }
 
 
-def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) -> dict:
+def rc_spec(
+    model: FifthOrderModel,
+    x0: np.ndarray,
+    bounds: dict | None = None,
+    fixed_noise: dict[str, float] | None = None,
+) -> dict:
     """The fifth-order model as a :class:`thermocal.statespace.RCModel` specification.
 
     Parameters
@@ -75,6 +80,8 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
     model : FifthOrderModel
     x0 : ndarray (5,) [C]
         Initial guesses of the state temperatures (Ti, Tenv, Tgf, Tim, Th).
+    fixed_noise : dict, optional
+        Diffusions held at a value, ``sigma_<state>`` [K/sqrt(h)] (``model.fixed_noise``).
     """
     h = model.conductances()
     # the calculated conductances and factors as fixed parameters: the group corrections
@@ -94,6 +101,8 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
             "upper": 20.0,
             "unit": "K/sqrt(h)",
         }
+        if f"sigma_{s}" in (fixed_noise or {}):
+            params[f"sigma_{s}"].update(value=float(fixed_noise[f"sigma_{s}"]), fixed=True)
         lo, hi = (bounds or {}).get(s, (x0[i] - 15.0, x0[i] + 15.0))
         value = float(np.clip(x0[i], lo + 1e-3 * (hi - lo), hi - 1e-3 * (hi - lo)))
         params[f"{s}0"] = {
@@ -167,6 +176,7 @@ def calibrate(
     max_correlation: float = 0.98,
     correction: bool = False,
     u_value_rel_std: float = 0.2,
+    fixed_noise: dict[str, float] | None = None,
 ) -> Calibration:
     """Maximum-likelihood calibration of the fifth-order model.
 
@@ -186,6 +196,8 @@ def calibrate(
         (only ``H_est`` added to the calculated conductances).
     u_value_rel_std : float [-]
         Relative standard deviation of the audit U-values: the prior of the factors.
+    fixed_noise : dict, optional
+        Diffusions held at a value, ``sigma_<state>`` [K/sqrt(h)].
 
     Returns
     -------
@@ -199,7 +211,9 @@ def calibrate(
     ti0 = float(data[OUTPUT_COLUMN].dropna().iloc[0])
     x0_guess = steady_initial_state(model, p0, u_mean, ti0)
     bounds = initial_state_bounds(x0_guess, float(u_mean[0]), float(u_mean[1]))
-    rc = RCModel.from_dict(rc_spec(model, x0_guess, bounds), source="fifth-order retrofit model")
+    rc = RCModel.from_dict(
+        rc_spec(model, x0_guess, bounds, fixed_noise), source="fifth-order retrofit model"
+    )
     full = rc.fit(data, n_starts=n_starts, seed=seed)
     # Standard errors and correlations of the six physical parameters of the method are taken
     # conditional on the nuisance parameters (diffusions, measurement noise, initial states):
@@ -309,7 +323,8 @@ def calibrate(
         hlc = calculated_hlc(model.conductances(envelope)) + estimates["H_est"]
         z = draw_corrected(corrected, 1000, seed=seed + 1)[1:]
         hd = hlc_of_draws(model, corrected.group_factors(z), corrected.physical_si(z)["H_est"])
-        flags = [f for f in flags if not f.startswith("H_est is at its bound")]
+        flags = [retrofit_remedy(f) for f in flags if not f.startswith("H_est is at its bound")]
+        nuisance_flags = [retrofit_remedy(f) for f in nuisance_flags]
         return Calibration(
             estimates_si=estimates, cov_si=cov_si, params=params, bse=bse, correlation=corr,
             loglike=float(res.loglike), aic=float(res_ml.aic), bic=float(res_ml.bic),
@@ -334,6 +349,8 @@ def calibrate(
             "calculated conductances allow (check the U-values and areas of the building file); "
             "no standard error of the HLC"
         )
+    flags = [retrofit_remedy(f) for f in flags]
+    nuisance_flags = [retrofit_remedy(f) for f in nuisance_flags]
     return Calibration(
         estimates_si=estimates,
         cov_si=cov_si,
@@ -354,6 +371,50 @@ def calibrate(
         at_bounds=at_bounds,
         nuisance_flags=nuisance_flags,
         residuals=residuals,
+    )
+
+
+#: The grey-box engine's remedies name its own options (model files, command-line flags);
+#: the retrofit user has the retrofit configuration: each is replaced by the key that does it.
+ENGINE_REMEDIES: tuple[tuple[str, str], ...] = (
+    ("more starts (--n-starts), a smaller stall_tolerance, or fix poorly determined parameters",
+     "more starts (model.n_starts in the retrofit configuration) or fix poorly determined "
+     "parameters (model.fixed)"),
+    ("more starts (--n-starts)", "more starts (model.n_starts in the retrofit configuration)"),
+    ("fix it at a physical value, give it a prior, or simplify the model",
+     "fix it at a physical value (model.fixed in the retrofit configuration) or lengthen the "
+     "training period (periods.training_days)"),
+    ("remove the fast node (merge it with its neighbour) or fix its capacity",
+     "fix the capacity of the fast node (model.fixed: C_h for the heating system, C_i for the "
+     "air); the fifth-order network itself is the method's"),
+    ("longer data, or fix the capacity or conductances from physics",
+     "longer data (periods.training_days), or fix the capacity (model.fixed)"),
+    ("at a small value (a deterministic state), add the missing input or state, or compare "
+     "with a simpler model",
+     "at a small value (model.fixed_noise in the retrofit configuration, K/sqrt(h)), give a "
+     "missing input (internal_gains:) or compare with model.correction: none"),
+    ("add a state or an input, or a finer model of the heating",
+     "give the inputs the model lacks (internal_gains: in the retrofit configuration), check "
+     "the heating data or use a finer step (measurements.step)"),
+    ("remove the values (NaN) or cut the period",
+     "remove the values (empty cells) or cut the period (periods.training_start, "
+     "periods.training_days)"),
+    (" (thermocal.io quality checks)", ""),
+)  # fmt: skip
+
+
+def retrofit_remedy(flag: str) -> str:
+    """The flag with the engine's remedy replaced by the retrofit configuration key."""
+    import re
+
+    for engine, retrofit in ENGINE_REMEDIES:
+        flag = flag.replace(engine, retrofit)
+    # a heat input read in the wrong unit: the unit comes from the measurement keys
+    return re.sub(
+        r"set 'unit: [^']+' for '[^']+' in heat_inputs \(or convert the column\)",
+        "check measurements.flow_unit (hydronic) or measurements.heat_unit (heat / fuel meter) "
+        "and internal_gains.electricity_unit in the retrofit configuration",
+        flag,
     )
 
 

@@ -18,7 +18,15 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    PositiveFloat,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from thermocal.errors import ThermocalInputError
 from thermocal.retrofit.strategies import (
@@ -177,6 +185,12 @@ class ModelConfig(_Strict):
         description="parameters held at a value instead of estimated: H_est [W/K] or a "
         "capacity [MJ/K]",
     )
+    fixed_noise: dict[Literal["sigma_Ti", "sigma_Tenv", "sigma_Tgf", "sigma_Tim", "sigma_Th"],
+                      PositiveFloat] = Field(
+        default_factory=dict,
+        description="diffusions held at a value [K/sqrt(h)] instead of estimated (the remedy "
+        "for a diffusion-dominated state)",
+    )  # fmt: skip
     correction: Literal["groups", "none"] = Field(
         "groups",
         description="groups: estimate a factor on the calculated U-values of roof + walls, "

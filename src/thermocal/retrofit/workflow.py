@@ -326,6 +326,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         seed=cfg.model.seed,
         max_correlation=cfg.model.max_correlation,
         correction=cfg.model.correction == "groups",
+        fixed_noise=cfg.model.fixed_noise,
         u_value_rel_std=cfg.uncertainty.u_value_rel_std,
     )
     if cal.correction is not None:

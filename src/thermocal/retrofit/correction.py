@@ -50,7 +50,7 @@ import numpy as np
 
 #: Correction groups and the envelope components they scale.
 GROUPS: dict[str, tuple[str, ...]] = {
-    "k_env": ("roof", "walls"),
+    "k_env": ("roof", "walls", "attic_ceiling", "wall_to_unheated"),
     "k_win": ("windows",),
     "k_floor": ("cellar_ceiling",),
 }
@@ -78,6 +78,8 @@ def scaled_envelope(envelope, factors: dict[str, float]):
         envelope,
         roof_u=envelope.roof_u * k_env,
         walls_u=envelope.walls_u * k_env,
+        attic_u=envelope.attic_u * k_env,
+        adjacent_u=envelope.adjacent_u * k_env,
         windows_u=envelope.windows_u * float(factors.get("k_win", 1.0)),
         floor_u=envelope.floor_u * float(factors.get("k_floor", 1.0)),
     )
@@ -241,7 +243,9 @@ def estimate_correction(
 
 def _group_present(envelope, group: str) -> bool:
     if group == "k_env":
-        return envelope.roof_area + envelope.walls_area > 0
+        return envelope.roof_area + envelope.walls_area + envelope.attic_area > 0 or (
+            envelope.adjacent_area > 0
+        )
     if group == "k_win":
         return envelope.windows_area > 0
     return envelope.floor_area > 0

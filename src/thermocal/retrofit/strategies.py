@@ -33,7 +33,9 @@ MEASURE_ORDER: tuple[str, ...] = ("roof", "walls", "windows", "cellar_ceiling")
 #: Components a U-value measure can act on: the method's four and the slab on ground (floor
 #: insulation of a house without cellar; ``cellar_ceiling`` insulates the ceiling of an
 #: unheated cellar).
-U_VALUE_COMPONENTS: tuple[str, ...] = (*MEASURE_ORDER, "ground_floor")
+U_VALUE_COMPONENTS: tuple[str, ...] = (
+    *MEASURE_ORDER, "ground_floor", "attic_ceiling", "wall_to_unheated",
+)  # fmt: skip
 
 #: Parts a measure can act on: the U-value components and the two ventilation measures.
 MEASURE_COMPONENTS: tuple[str, ...] = (*U_VALUE_COMPONENTS, "airtightness", "heat_recovery")
@@ -64,6 +66,8 @@ DEFAULT_COST_PER_M2: dict[str, float] = {
     "windows": 800.0,
     "cellar_ceiling": 70.0,
     "ground_floor": 120.0,  # insulation and new screed on the slab, from inside
+    "attic_ceiling": 60.0,  # insulation laid on the ceiling from the attic
+    "wall_to_unheated": 90.0,  # insulation boards on the garage / staircase side
 }
 
 #: Volumetric heat capacity of air / 3600 [W h/(m3 K)] -> conductance of 1 1/h per m3 [W/K].

@@ -325,7 +325,8 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         n_starts=cfg.model.n_starts,
         seed=cfg.model.seed,
         max_correlation=cfg.model.max_correlation,
-        correction=cfg.model.correction == "groups",
+        # U-values declared exact (u_value_rel_std 0): nothing to correct, the published model
+        correction=cfg.model.correction == "groups" and cfg.uncertainty.u_value_rel_std > 0,
         fixed_noise=cfg.model.fixed_noise,
         u_value_rel_std=cfg.uncertainty.u_value_rel_std,
     )

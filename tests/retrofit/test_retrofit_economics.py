@@ -234,10 +234,7 @@ def test_unheated_attic_and_garage_with_iso13789_b_factors():
     assert env.attic_b == pytest.approx(0.8) and env.adjacent_b == pytest.approx(0.6)
     # the model's calculated HLC changes by the b U A of the new components and loses the roof
     expected = (
-        calculated_hlc(with_roof.conductances())
-        - roof_ua
-        + 0.8 * 0.9 * 90.0
-        + 0.6 * 1.2 * 20.0
+        calculated_hlc(with_roof.conductances()) - roof_ua + 0.8 * 0.9 * 90.0 + 0.6 * 1.2 * 20.0
     )
     assert calculated_hlc(model.conductances()) == pytest.approx(expected, rel=0.02)
     insulated = model.apply_measures([Measure("attic_ceiling", "attic_ceiling", u_value=0.15)])

@@ -24,8 +24,10 @@ capacities and ``H_est``:
 The nuisance parameters (diffusions, measurement noise, initial states) stay at their
 maximum-likelihood values; the posterior is maximised over ``z = ln`` (factors, ``H_est``,
 capacities) with the engine's Kalman-filter log-likelihood
-(:meth:`thermocal.statespace.RCModel.loglike`), and its curvature at the optimum gives a
-Gaussian posterior in ``z``. Draws from it (truncated to the bounds) carry the uncertainty of
+(:meth:`thermocal.statespace.RCModel.loglike`). Laplace approximation at the optimum: the
+log-likelihood's curvature (projected onto positive semi-definite) plus the prior precisions
+(capacities: a standard deviation of ln 2) give a Gaussian posterior in ``z``. Draws from it
+(truncated to the bounds) carry the uncertainty of
 the factors, of ``H_est`` and of capacities at a bound (whose log-likelihood stays defined
 beyond it) into every demand and saving.
 
@@ -205,13 +207,25 @@ def estimate_correction(
         options={"eps": 1e-5, "maxiter": 200},
     )
     z = res.x
-    hess = _hessian(neg_log_post, z, 1e-3)
+
+    # Laplace approximation: the curvature of the log-likelihood (projected onto positive
+    # semi-definite: at a bound or in a flat direction it can bend the wrong way) plus the
+    # prior precisions; a capacity the data ignore (no prior) gets a standard deviation of
+    # ln 2 (a factor of two), the draws are truncated to its bounds
+    def neg_ll(zz):
+        ll = rc.loglike(prep, values(zz))
+        return -ll if np.isfinite(ll) else 1e12
+
+    hess = _hessian(neg_ll, z, 1e-3)
     w, v = np.linalg.eigh(0.5 * (hess + hess.T))
-    # directions the posterior does not curve along (a capacity the data ignore at its bound)
-    # get a wide spread: the draws are truncated to the bounds
-    # get a standard deviation of ln 2 (a factor of two); the draws are truncated to the bounds
-    w = np.maximum(w, 1.0 / np.log(2.0) ** 2)
-    cov = (v / w) @ v.T
+    precision = (v * np.clip(w, 0.0, None)) @ v.T
+    prior_precision = np.full(len(names), 1.0 / np.log(2.0) ** 2)
+    if s_k > 0:
+        prior_precision[: len(groups)] = 1.0 / s_k**2
+    if i_h is not None:
+        prior_precision[i_h] = 1.0 / H_EST_PRIOR_STD_LOG**2
+    precision += np.diag(prior_precision)
+    cov = np.linalg.inv(precision)
     sd = np.sqrt(np.diag(cov))
     prior = {g: s_k for g in groups}
     post = {g: float(sd[i]) for i, g in enumerate(groups)}

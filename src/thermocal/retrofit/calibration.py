@@ -665,8 +665,14 @@ def check_heating_power_magnitude(
     return ratio
 
 
-def check_training_data(data: pd.DataFrame, source: str = "measurements") -> None:
-    """Raise a clear error when the training data cannot be used."""
+def check_training_data(
+    data: pd.DataFrame, source: str = "measurements", heat_source: str = "hydronic"
+) -> None:
+    """Raise a clear error when the training data cannot be used.
+
+    ``heat_source``: ``measurements.heat_source`` (the remedies name its columns and keys).
+    """
+    hydronic = heat_source == "hydronic"
     for col in BOUNDARY_COLUMNS + HEAT_COLUMNS + (OUTPUT_COLUMN,):
         if col not in data:
             raise ThermocalInputError(f"{source}: training data lacks column {col!r}")
@@ -692,17 +698,30 @@ def check_training_data(data: pd.DataFrame, source: str = "measurements") -> Non
     phi = data["phi_h"].to_numpy(float)
     if not np.mean(phi) > 0:
         raise ThermocalInputError(
-            f"{source}: the heating power (flow x (supply - return)) is {np.mean(phi):.0f} W on "
-            "average over the training period; a heated building needs a positive one: check "
-            "that the supply and return temperature columns are not swapped and that the flow "
-            "column and measurements.flow_unit are right"
+            f"{source}: the heating power "
+            + ("(flow x (supply - return)) " if hydronic else "(heat meter) ")
+            + f"is {np.mean(phi):.0f} W on average over the training period; a heated building "
+            "needs a positive one: check "
+            + (
+                "that the supply and return temperature columns are not swapped and that the "
+                "flow column and measurements.flow_unit are right"
+                if hydronic
+                else "the heat column (measurements.columns.heat), measurements.heat_unit and "
+                "heat_cumulative (a meter reading must be declared cumulative)"
+            )
         )
     scale = max(float(np.quantile(phi, 0.95)), 1.0)
     negative = phi < -0.05 * scale
     if negative.mean() > 0.05:
         first = data.index[int(np.argmax(negative))]
         raise ThermocalInputError(
-            f"{source}: the heating power is clearly negative (supply below return) in "
-            f"{int(negative.sum())} of {len(phi)} training intervals, the first at {first}: "
-            "check the supply and return temperature sensors and their columns"
+            f"{source}: the heating power is clearly negative "
+            + ("(supply below return) " if hydronic else "")
+            + f"in {int(negative.sum())} of {len(phi)} training intervals, the first at {first}: "
+            + (
+                "check the supply and return temperature sensors and their columns"
+                if hydronic
+                else "check the heat column (measurements.columns.heat): a meter reading that "
+                "is reset or a sign convention"
+            )
         )

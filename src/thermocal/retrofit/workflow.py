@@ -305,7 +305,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     say("calibrating the fifth-order model")
     t1 = time.perf_counter()
     train = inputs.loc[inputs.index < training[1]]
-    check_training_data(train, source)
+    check_training_data(train, source, heat_source=mc.heat_source)
     check_heating_power_magnitude(
         train,
         building.transmission_heat_transfer_coefficient,

@@ -87,7 +87,10 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         params[name] = {
             "value": _num(cal.params[name]),
             # a curvature-based standard error means nothing at a bound: none is reported
-            "std_error": None if status != "estimated" else _num(cal.bse.get(name, np.nan)),
+            # (the posterior of the group corrections does include parameters at a bound)
+            "std_error": _num(cal.bse.get(name, np.nan))
+            if status == "estimated" or (status == "at bound" and cal.correction is not None)
+            else None,
             "unit": unit or _unit_guess(name),
             "estimated": bool(name in cal.correlation.columns or name in model.estimated),
             "status": status,
@@ -377,6 +380,12 @@ def _max_off_diagonal(corr: pd.DataFrame | None) -> float | None:
 
 
 def _unit_guess(name: str) -> str:
+    from thermocal.retrofit.model import CALCULATED_CONDUCTANCES, CALCULATED_FACTORS
+
+    if name in CALCULATED_CONDUCTANCES:
+        return "W/K"
+    if name in CALCULATED_FACTORS:
+        return "-"
     if name.startswith("sigma_"):
         return "K/sqrt(h)"
     if name.endswith("0") or name == "e_std":

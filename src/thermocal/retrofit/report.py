@@ -516,7 +516,9 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
     se = []
     for _, row in p.iterrows():
         status = row["status"]
-        if status == "at bound":
+        if status == "at bound" and analysis.calibration.correction is not None:
+            se.append(f"{_fmt(row['std_error'], ',.4g')} (at bound, posterior)")
+        elif status == "at bound":
             se.append("n/a (at bound)")
         elif status == "fixed":
             se.append("n/a (fixed)")

@@ -115,3 +115,22 @@ def test_group_corrections_move_the_description_both_ways(base_model, k_true, h_
     if k_true["k_env"] < 1:
         published = calibrate(base_model, data)
         assert published.heat_loss_coefficient / true_hlc - 1.0 > 0.1
+
+
+def test_heat_meter_uncertainty_scales_the_heat_loss_coefficient(base_model):
+    """A systematic error of the measured heat (10 %) scales the conductances the data imply:
+    the HLC draws widen to about that spread, the identifiability verdict is the data's."""
+    from thermocal.retrofit.calibration import hlc_of_draws
+    from thermocal.retrofit.correction import draw_corrected
+
+    data = _training_data(base_model, days=14.0)
+    cal = calibrate(base_model, data, correction=True, u_value_rel_std=0.2, heat_rel_std=0.1)
+    corr = cal.correction
+    exact = dataclasses.replace(corr, cov_z=corr.cov_data)  # without the meter's error
+    z = draw_corrected(exact, 1000, seed=1)[1:]
+    hlc_exact = hlc_of_draws(base_model, exact.group_factors(z), exact.physical_si(z)["H_est"])
+    rel_exact = np.std(np.log(hlc_exact))
+    rel_meter = np.std(np.log(cal.heat_loss_coefficient_draws))
+    assert rel_meter == pytest.approx(np.hypot(rel_exact, 0.1), rel=0.15)
+    sd_data = np.sqrt(corr.cov_data[0, 0])
+    assert corr.posterior_std["k_env"] == pytest.approx(sd_data)

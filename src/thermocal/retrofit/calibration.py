@@ -177,6 +177,7 @@ def calibrate(
     correction: bool = False,
     u_value_rel_std: float = 0.2,
     fixed_noise: dict[str, float] | None = None,
+    heat_rel_std: float = 0.0,
 ) -> Calibration:
     """Maximum-likelihood calibration of the fifth-order model.
 
@@ -198,6 +199,8 @@ def calibrate(
         Relative standard deviation of the audit U-values: the prior of the factors.
     fixed_noise : dict, optional
         Diffusions held at a value, ``sigma_<state>`` [K/sqrt(h)].
+    heat_rel_std : float [-]
+        Relative uncertainty of the measured heat as a whole (group corrections only).
 
     Returns
     -------
@@ -246,7 +249,7 @@ def calibrate(
 
         corrected = estimate_correction(
             rc_cond, res.params, data, model, rel_std=u_value_rel_std,
-            h_est_prior=model.audit_h_est, seed=seed,
+            h_est_prior=model.audit_h_est, seed=seed, heat_rel_std=heat_rel_std,
         )  # fmt: skip
         res_ml = res
         res = rc_cond.evaluate(data, corrected.map_values)
@@ -268,9 +271,9 @@ def calibrate(
     estimates = {n: float(params[n]) * f for n, f in zip(names, factors, strict=True)}
     corr = res.correlation
     if corrected is not None:  # the posterior's correlation (ln space) of what it estimates
-        sd = np.sqrt(np.diag(corrected.cov_z))
+        sd = np.sqrt(np.diag(corrected.cov_data))
         corr = pd.DataFrame(
-            corrected.cov_z / np.outer(sd, sd), index=corrected.names, columns=corrected.names
+            corrected.cov_data / np.outer(sd, sd), index=corrected.names, columns=corrected.names
         )
     # pairs the data cannot separate: the engine's correlation, or the pairwise curvature in
     # declared units, which still sees a ridge when one of the pair sits on its bound

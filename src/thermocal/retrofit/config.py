@@ -238,6 +238,14 @@ class UncertaintyConfig(_Strict):
         "in the fifth-order RC method)",
     )
     seed: int = 0
+    heat_rel_std: float = Field(
+        0.03,
+        ge=0,
+        le=0.3,
+        description="relative standard uncertainty of the measured heat as a whole (meter "
+        "calibration, flow and temperature-difference errors); with model.correction: groups "
+        "it scales every estimated conductance and capacity in the draws",
+    )
 
 
 class ValidationConfig(_Strict):

@@ -94,7 +94,8 @@ class Correction:
     factors: dict[str, float]  # MAP [-]
     names: list[str]  # order of z: factors, H_est, free capacities
     z_map: np.ndarray  # ln of the MAP values (H_est [W/K], capacities [J/K])
-    cov_z: np.ndarray  # posterior covariance of z
+    cov_z: np.ndarray  # posterior covariance of z (with the heat meter's common factor)
+    cov_data: np.ndarray  # the posterior from the data and priors alone (identifiability)
     z_lower: np.ndarray
     z_upper: np.ndarray
     prior_std: dict[str, float]  # ln k and ln H_est
@@ -131,7 +132,15 @@ GROUP_LABELS = {"k_env": "roof + walls", "k_win": "windows", "k_floor": "floor"}
 
 
 def estimate_correction(
-    rc, params, data, model, *, rel_std: float, h_est_prior: float, seed: int = 0
+    rc,
+    params,
+    data,
+    model,
+    *,
+    rel_std: float,
+    h_est_prior: float,
+    seed: int = 0,
+    heat_rel_std: float = 0.0,
 ) -> Correction:
     """Maximum a posteriori group factors, ``H_est`` and capacities (see module docstring).
 
@@ -150,6 +159,12 @@ def estimate_correction(
         Relative standard deviation of the audit U-values (the prior of the factors).
     h_est_prior : float [W/K]
         Median of the ``H_est`` prior.
+    heat_rel_std : float [-]
+        Relative standard uncertainty of the measured heat as a whole (a meter's systematic
+        error): scaling the heat by ``f`` scales every conductance and capacity the data
+        imply by about ``f`` (exactly without solar gains), so ``(ln f)^2`` is added to the
+        covariance of every pair of ``z`` (fully correlated). The identifiability check uses
+        the posterior before it.
 
     Returns
     -------
@@ -239,11 +254,15 @@ def estimate_correction(
         for j in range(i)
         if abs(corr[i, j]) > 0.9
     }
+    cov_data = cov
+    if heat_rel_std > 0:
+        cov = cov + np.log1p(heat_rel_std**2) * np.ones_like(cov)
     return Correction(
         factors={g: float(np.exp(z[i])) for i, g in enumerate(groups)},
         names=names,
         z_map=z,
         cov_z=cov,
+        cov_data=cov_data,
         z_lower=lo,
         z_upper=hi,
         prior_std=prior,

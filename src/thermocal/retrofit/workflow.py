@@ -328,6 +328,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         # U-values declared exact (u_value_rel_std 0): nothing to correct, the published model
         correction=cfg.model.correction == "groups" and cfg.uncertainty.u_value_rel_std > 0,
         fixed_noise=cfg.model.fixed_noise,
+        heat_rel_std=cfg.uncertainty.heat_rel_std,
         u_value_rel_std=cfg.uncertainty.u_value_rel_std,
     )
     if cal.correction is not None:

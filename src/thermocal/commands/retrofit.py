@@ -79,8 +79,8 @@ def print_summary(results: dict, out: Path) -> None:
         if not isinstance(value, list):
             console.print(f"  reference, {name}: {value:,.0f} kWh")
 
-    names = list(results.get("measures", {})) or sorted(
-        {m for s in results["scenarios"] for m in s["measures"]}
+    names = list(results.get("measures", {})) or list(
+        dict.fromkeys(m for s in results["scenarios"] for m in s["measures"])
     )
     short = measure_abbreviations(names)
     table = Table(title="Retrofit strategies", box=box.SIMPLE_HEAD, padding=(0, 1))

@@ -354,6 +354,12 @@ def test_validation_gate_passes_on_the_models_own_data(synthetic):
     assert results["recommendation"] is not None
     saved = json.loads((folder / "out" / "results.json").read_text())
     assert saved["validation_gate"]["passed"] is True
+    html = (folder / "out" / "report.html").read_text()
+    summary = html[html.index("Executive summary") : html.index("Retrofit strategies:")]
+    assert "passed its validation" in summary and "We recommend" in summary
+    # the data's correction of the description, in plain words, with the HLC interval
+    assert "The measurements correct the heat losses calculated" in summary
+    assert "roof + walls" in summary and "90 % interval" in summary
 
 
 def test_failed_validation_recommends_nothing(synthetic, tmp_path, capsys):

@@ -161,6 +161,20 @@ def write_report(
     rep.paragraph(f"{today} {advice}", css_class="lead")
     if gate["passed"] and gate.get("summary"):
         rep.paragraph(gate["summary"])
+    corr = results["calibration"].get("correction")
+    if corr:
+        parts = [
+            f"{corr['groups'][g]['label']} {100 * (k - 1):+.0f} %"
+            + (" (measured)" if corr["separated_by_data"][g] else " (not separable: prior)")
+            for g, k in corr["factors"].items()
+        ]
+        rep.paragraph(
+            "The measurements correct the heat losses calculated from the building file: "
+            + ", ".join(parts)
+            + f"; heat loss coefficient {hlc['value']:.0f} W/K ({pct} interval "
+            f"{_fmt(hlc['p05'], '.0f')} to {_fmt(hlc['p95'], '.0f')} W/K) against "
+            f"{hlc['audit_prior']:.0f} W/K from the building file alone (section Calibration)."
+        )
     tiles = {
         "Heat demand today": f"{dem['value']:,.0f} kWh/a",
         f"{pct} interval": f"{dem['p05']:,.0f} – {dem['p95']:,.0f} kWh/a",

@@ -11,6 +11,19 @@ import typer
 from thermocal.cli import app
 
 
+def measure_abbreviations(names) -> dict[str, str]:
+    """Shortest unique prefix of each measure name, capitalised (roof -> R, walls -> Wa,
+    windows -> Wi), for a strategy table that fits an 80-column terminal."""
+    out = {}
+    for name in names:
+        for n in range(1, len(name) + 1):
+            prefix = name[:n]
+            if not any(o != name and o.startswith(prefix) for o in names):
+                break
+        out[name] = prefix.capitalize()
+    return out
+
+
 def print_summary(results: dict, out: Path) -> None:
     """Rich tables of the key results (stdout): HLC, validation, annual demand, strategies.
 
@@ -19,6 +32,7 @@ def print_summary(results: dict, out: Path) -> None:
     """
     import logging
 
+    from rich import box
     from rich.console import Console
     from rich.table import Table
 
@@ -28,9 +42,14 @@ def print_summary(results: dict, out: Path) -> None:
     pct = f"{100 * results.get('uncertainty', {}).get('interval', 0.9):.0f} %"
     std = hlc["std"]
     line = f"HLC {hlc['value']:.0f} ± {'n/a' if std is None else format(std, '.0f')} W/K"
+    if hlc.get("p05") is not None:
+        line += f", {pct} interval {hlc['p05']:.0f} – {hlc['p95']:.0f} W/K"
     if "true" in hlc:
         line += f" (true {hlc['true']:.0f} W/K, {hlc['relative_error_pct']:+.1f} %)"
     console.print(f"[bold]{line}[/bold]")
+    corr = results.get("calibration", {}).get("correction")
+    if corr:
+        console.print(corr["summary"])
 
     val = Table(title="Validation: multi-step simulation of the indoor temperature Ti")
     for col in ("period", "MAE [K]", "MAPE [%]", "MSE [K²]", "mean sim. [C]", "mean meas. [C]",
@@ -47,6 +66,10 @@ def print_summary(results: dict, out: Path) -> None:
             f"{m['mean_deviation_pct']:+.2f}" if "mean_deviation_pct" in m else "",
         )
     console.print(val)
+    gate = results.get("validation_gate")
+    if gate:
+        style = "green" if gate["passed"] else "bold red"
+        console.print(f"[{style}]{gate['summary']}[/{style}]")
 
     console.print(
         f"[bold]annual heating demand {dem['value']:,.0f} kWh[/bold] "
@@ -56,21 +79,31 @@ def print_summary(results: dict, out: Path) -> None:
         if not isinstance(value, list):
             console.print(f"  reference, {name}: {value:,.0f} kWh")
 
-    table = Table(title="Retrofit strategies")
+    names = list(results.get("measures", {})) or list(
+        dict.fromkeys(m for s in results["scenarios"] for m in s["measures"])
+    )
+    short = measure_abbreviations(names)
+    table = Table(title="Retrofit strategies", box=box.SIMPLE_HEAD, padding=(0, 1))
     eco = results.get("economics", {})
     cur = eco.get("currency", "")
-    cols = ["code", "measures", "annual kWh", "saving %", f"{pct} interval"]
+    cols = ["code", "measures", "kWh/a", "saving %", pct]
     if eco:
-        cols += [f"investment {cur}", f"saving {cur}/a", "payback a"]
+        cols += [f"invest {cur}", f"{cur}/a", "payback a"]
+    labels = ["+".join(short[m] for m in s["measures"]) or "none" for s in results["scenarios"]]
     for col in cols:
-        table.add_column(col, justify="left" if col == "measures" else "right")
-    for s in results["scenarios"]:
+        table.add_column(
+            col,
+            justify="left" if col == "measures" else "right",
+            no_wrap=col == "measures",
+            min_width=max(map(len, labels)) if col == "measures" else None,
+        )
+    for s, label in zip(results["scenarios"], labels, strict=True):
         row = [
             s["code"],
-            " + ".join(m.replace("_", " ") for m in s["measures"]) or "none",
+            label,
             f"{s['annual_kWh']:,.0f}",
             f"{s['saving_pct']:.1f}",
-            f"{s['saving_pct_p05']:.1f} – {s['saving_pct_p95']:.1f}",
+            f"{s['saving_pct_p05']:.0f}–{s['saving_pct_p95']:.0f}",
         ]
         if eco:
             e = s.get("economics", {})
@@ -82,6 +115,11 @@ def print_summary(results: dict, out: Path) -> None:
             ]
         table.add_row(*row)
     console.print(table)
+    console.print("measures: " + ", ".join(f"{a} {m.replace('_', ' ')}" for m, a in short.items()))
+    if gate and not gate["passed"]:
+        console.print("[bold red]no strategy recommended: the model failed its validation[/]")
+    elif results.get("recommendation"):
+        console.print(f"recommended strategy: [bold]{results['recommendation']}[/bold]")
     log = logging.getLogger("thermocal.retrofit")
     for flag in results["calibration"]["flags"]:
         log.warning("calibration: %s", flag)

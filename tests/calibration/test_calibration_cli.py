@@ -40,10 +40,12 @@ def test_calibrate_demo_quick(tmp_path):
     second = json.loads((out / "calibration.json").read_text())
     assert second["samples"]["successful"] == 12
     assert second["table1"] == result["table1"]
-    # a different sample count is another campaign: refused without a new store
+    # more samples of the same sequence without --resume: refused, saying --resume extends it
     other = subprocess.run(
         [sys.executable, "-m", "thermocal", "calibrate", "--demo", "--samples", "13",
-         "--workers", "1", "--out", str(out), "--resume"],
+         "--workers", "1", "--out", str(out)],
         capture_output=True, text=True, timeout=900,
     )
     assert other.returncode == 2 and "Traceback" not in other.stderr
+    assert "pass --resume to extend it to 13" in other.stderr, other.stderr
+    assert json.loads((out / "calibration.json").read_text()) == second  # untouched

@@ -32,10 +32,13 @@ def _weather_path():
 def _campaign(tmp_path, *, samples=48, extra="", end=END):
     """Nominal building file, the true building's sensor log, mapping and campaign file."""
     from thermocal.io.weather import read_weather
+    from thermocal.multizone.model import Location
 
-    nominal = generators.clinic(12, n_corridors=1, corridor_sections=2)
-    truth = nominal.with_parameters(TRUE)
     weather, meta = read_weather(_weather_path())
+    # the clinic stands where its weather was measured (a site 300 km off is refused)
+    site = Location(meta["latitude"], meta["longitude"], meta.get("altitude") or 0.0)
+    nominal = generators.clinic(12, n_corridors=1, corridor_sections=2, location=site)
+    truth = nominal.with_parameters(TRUE)
     sim = Simulation(truth, weather, meta, step="15min", start=START, end=end,
                      store_surfaces=False)
     air = sim.run(free_float=True).air_temperature

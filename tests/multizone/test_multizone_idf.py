@@ -249,13 +249,17 @@ def test_case600_window_loads_and_site(case600):
     assert building.ground_temperatures == (10.0,) * 12
     loc = building.location
     assert (loc.latitude, loc.longitude, loc.altitude, loc.timezone) == (39.76, -104.86, 1611, -7)
-    # exactly one warning, grouped by class with counts
+    # exactly one short warning: counts per kind; the classes by kind in the report
     assert len(warned) == 1
     message = str(warned[0].message)
-    assert "Output:Variable (16)" in message
-    assert "ZoneHVAC:IdealLoadsAirSystem (1)" in message
-    assert "LifeCycleCost:UsePriceEscalation (5)" in message
+    assert "classes not represented, HVAC and plant" in message
+    assert "Output:Variable" not in message and "NOT SIMULATED" not in message
+    assert len(message.splitlines()) <= 5
     assert building.idf_info.unsupported["Output:Variable"] == 16
+    report = building.idf_info.report()["unsupported"]
+    assert report["hvac"]["ZoneHVAC:IdealLoadsAirSystem"] == 1
+    assert report["harmless"]["LifeCycleCost:UsePriceEscalation"] == 5
+    assert report["physics"] == {}
 
 
 def test_case600_parameters_are_addressable(case600):
@@ -371,8 +375,9 @@ def test_five_zone_schedules_on_the_simulation_grid(five_zone):
     half = info.schedules.on_grid("Htg-SetP-Sch", pd.DatetimeIndex(["2006-01-02 05:30"]), "1h")
     assert half[0] == pytest.approx(22.2)
     # Sunday: the set-back all day
-    sunday = info.schedules.on_grid("Htg-SetP-Sch", pd.date_range("2006-01-01", periods=96,
-                                                                  freq="15min"), step)
+    sunday = info.schedules.on_grid(
+        "Htg-SetP-Sch", pd.date_range("2006-01-01", periods=96, freq="15min"), step
+    )
     assert np.all(sunday == pytest.approx(16.7))
     grid = pd.DataFrame({"wind_speed": np.full(96, 4.0)}, index=times)
     inputs = info.scheduled_inputs(list(building.zones), times, step, grid)
@@ -455,7 +460,8 @@ def test_box_with_zonelist_gains_and_compact_schedule(tmp_path):
     assert zone.internal_gains == pytest.approx(mean)
     assert zone.internal_gains_radiative_fraction == pytest.approx(0.3 / 0.8)
     assert (zone.heating_setpoint, zone.cooling_setpoint) == (19.0, 26.0)
-    assert "varies" in str(warned[0].message)
+    assert "1 more notes apply only where the file's schedules" in str(warned[0].message)
+    assert any("varies" in n for n in building.idf_info.report()["notes"]["constant_schedules"])
 
 
 def test_schedule_year_week_day_objects():
@@ -601,12 +607,10 @@ def test_other_equipment_layouts_with_and_without_fuel_type(tmp_path):
 
 
 def test_unsupported_construction_class_is_named(tmp_path):
-    path = _box(tmp_path, extra="Construction:FfactorGroundFloor,Slab,0.5,100,40;")
+    path = _box(tmp_path, extra="Construction:AirBoundary,Slab,None;")
     text = path.read_text().replace("Floor,Floor,C1,Z1,Ground", "Floor,Floor,Slab,Z1,Ground")
     path.write_text(text)
-    with pytest.raises(
-        ThermocalInputError, match="Construction:FfactorGroundFloor is not supported"
-    ):
+    with pytest.raises(ThermocalInputError, match="Construction:AirBoundary is not supported"):
         read_idf(path)
 
 
@@ -701,3 +705,73 @@ def test_people_sensible_heat_follows_the_zone_temperature():
     # ASHRAE table values EnergyPlus fits: about 70 W of 120 W sensible at 24 C, less when warmer
     assert 65 < float(people_sensible_heat(120.0, 24.0)) < 80
     assert people_sensible_heat(120.0, 28.0) < people_sensible_heat(120.0, 22.0)
+
+
+def test_import_summary_on_the_terminal_and_full_report_in_summary_json(tmp_path, shared_data):
+    """A class that changes the heat balance is named on the terminal; HVAC classes and the notes
+    are counted in a few lines, the harmless classes stay quiet; summary.json holds every class
+    and note by kind."""
+    import json
+
+    from typer.testing import CliRunner
+
+    from thermocal.cli import app
+
+    extra = """
+    ZoneMixing,Mix,Z1,Always,Flow/Zone,0.1,,,,Z1;
+    Schedule:Constant,Always,,1;
+    Output:Variable,*,Zone Mean Air Temperature,Hourly;
+    ZoneHVAC:IdealLoadsAirSystem,Ideal,,,,,,,;
+    Schedule:Compact,Occ,Fraction,Through: 12/31,For: Weekdays,Until: 08:00,0,Until: 18:00,1,
+      Until: 24:00,0,For: AllOtherDays,Until: 24:00,0.5;
+    ElectricEquipment,E1,Z1,Occ,EquipmentLevel,100;
+    """
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        app,
+        [
+            "simulate",
+            str(_box(tmp_path, extra=extra)),
+            str(weather),
+            "--start",
+            "2023-01-10",
+            "--end",
+            "2023-01-11",
+            "--step",
+            "1h",
+            "--out",
+            str(out),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    text = " ".join(result.output.split())
+    assert "NOT SIMULATED although they change the heat balance (1 objects): ZoneMixing (1)" in text
+    assert "1 objects of 1 classes not represented, HVAC and plant" in text
+    assert "more notes apply only where the file's schedules are replaced" in text
+    assert "varies" not in text  # the constant-mode notes are counted, not printed
+    assert "Output:Variable" not in text and "outputs, sizing" not in text
+    report = json.loads((out / "summary.json").read_text())["idf_import"]
+    assert report["unsupported"]["physics"] == {"ZoneMixing": 1}
+    assert report["unsupported"]["harmless"] == {"Output:Variable": 1}
+    assert any("E1" in n for n in report["notes"]["constant_schedules"])
+
+
+@pytest.mark.parametrize(
+    "cls, kind",
+    [
+        ("Output:Variable", "harmless"),
+        ("Sizing:Zone", "harmless"),
+        ("LifeCycleCost:Parameters", "harmless"),
+        ("ZoneHVAC:IdealLoadsAirSystem", "hvac"),
+        ("Coil:Heating:Water", "hvac"),
+        ("ZoneMixing", "physics"),
+        ("WindowShadingControl", "physics"),
+        ("Daylighting:Controls", "physics"),
+        ("EnergyManagementSystem:Program", "physics"),
+    ],
+)
+def test_unsupported_class_kinds(cls, kind):
+    from thermocal.multizone.idf import unsupported_kind
+
+    assert unsupported_kind(cls) == kind

@@ -546,3 +546,69 @@ def test_run_period_of_an_8x_file_has_no_begin_year(tmp_path):
         info = read_idf(path).idf_info
     assert info.run_period == ("R", 3, 1, 5, 31, None)
     assert info.schedules.year == 2006
+
+
+#: Every day-type key of a ``For:`` field, singular and plural, in several cases (issue 28)
+DAY_TYPE_SCHEDULES = """
+RunPeriodControl:SpecialDays,Hol,1/5,1,Holiday;
+RunPeriodControl:SpecialDays,Cust1,1/6,1,CustomDay1;
+RunPeriodControl:SpecialDays,Cust2,1/7,1,CustomDay2;
+RunPeriodControl:SpecialDays,Summer,1/8,1,SummerDesignDay;
+RunPeriodControl:SpecialDays,Winter,1/9,1,WinterDesignDay;
+Schedule:Compact,D_PLURAL,Any Number,Through: 12/31,For: Saturdays,Until: 24:00,6,
+  For: sundays,Until: 24:00,7,For: Weekdays,Until: 24:00,1,For: Holidays,Until: 24:00,8,
+  For: SummerDesignDay,Until: 24:00,9,For: WinterDesignDay,Until: 24:00,10,
+  For: CustomDay1,Until: 24:00,11,For: CustomDay2,Until: 24:00,12;
+Schedule:Compact,D_SINGULAR,Any Number,Through: 12/31,For: Monday Tuesday,Until: 24:00,1,
+  For: WEDNESDAY,Until: 24:00,3,For: Thursday Friday,Until: 24:00,4,
+  For: Weekend Holiday,Until: 24:00,5,For: AllOtherDay,Until: 24:00,2;
+Schedule:Compact,D_ALL,Any Number,Through: 1/9,For: alldays,Until: 07:00,0,Until: 24:00,1,
+  Through: 12/31,For: AllDay,Until: 24:00,3;
+Schedule:Compact,D_OTHER,Any Number,Through: 12/31,For: Weekends,Until: 24:00,1,
+  For: AllOtherDays,Until: 12:00,2,Until: 24:00,3;
+"""
+
+
+def test_every_for_day_type_key_parses():
+    ev = _evaluator(DAY_TYPE_SCHEDULES)  # 2006: Jan 1 a Sunday
+    daily = {name: ev.minutes(name)[:14, 0] for name in ("D_PLURAL", "D_SINGULAR", "D_OTHER")}
+    # Jan 1 Sun .. Jan 4 Wed; 5 Holiday, 6 Custom1, 7 Custom2, 8 Summer, 9 Winter, 10 Tue ..
+    assert daily["D_PLURAL"].tolist() == [7, 1, 1, 1, 8, 11, 12, 9, 10, 1, 1, 1, 1, 6]
+    assert daily["D_SINGULAR"].tolist() == [5, 1, 1, 3, 5, 2, 2, 2, 2, 1, 3, 4, 4, 5]
+    assert daily["D_OTHER"].tolist() == [1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 1]
+    with pytest.raises(ThermocalInputError, match=r"Schedule:Compact 'X'.*'For: Satrudays'"):
+        _evaluator("Schedule:Compact,X,Any,Through: 12/31,For: Satrudays,Until: 24:00,1;").minutes(
+            "X"
+        )
+
+
+@requires_energyplus
+def test_day_types_against_energyplus(tmp_path):
+    """Every 'For:' key (plural, singular, any case) and the special day types give EnergyPlus'
+    'Schedule Value' at every 15-min step of a 3-week run."""
+    from conftest import shared_data_path
+    from thermocal.multizone.energyplus import read_eso, run_energyplus
+
+    case = shared_data_path("energyplus_reference", "case_600FF_v25.idf")
+    text = case.read_text()
+    end = "  12,                                   !- End Month\n  31,"
+    assert end in text
+    names = ("D_PLURAL", "D_SINGULAR", "D_ALL", "D_OTHER")
+    idf = tmp_path / "day_types.idf"
+    idf.write_text(
+        text.replace(end, "  1,\n  21,")
+        + DAY_TYPE_SCHEDULES
+        + "".join(f"Output:Variable,{n},Schedule Value,Timestep;\n" for n in names)
+    )
+    weather = shared_data_path("ashrae140_bestest", "725650TYCST.epw")
+    reference = read_eso(
+        run_energyplus(idf, weather, tmp_path / "out"), year=2009, frequency="timestep"
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdfImportWarning)
+        schedules = read_idf(idf).idf_info.schedules
+    assert len(reference) == 21 * 96
+    for name in names:
+        ours = schedules.on_grid(name, reference.index, pd.Timedelta("15min"))
+        theirs = reference[f"{name}:Schedule Value []"].to_numpy()
+        np.testing.assert_allclose(ours, theirs, atol=1e-9, err_msg=name)

@@ -81,7 +81,7 @@ def test_missing_irradiance_is_not_zero_sun(tmp_path):
 
 def test_irradiance_a_thousand_times_too_large_is_refused(tmp_path):
     """DNI/DHI written x1000: refused naming the column, not 40 % of the hours dropped."""
-    config = make_dataset(tmp_path, days=4.0)
+    config = make_dataset(tmp_path, days=16.0)  # training at least 7 days (issue 27)
     cfg = yaml.safe_load(config.read_text())
     measurements = tmp_path / cfg["measurements"]["file"]
     frame = pd.read_csv(measurements)

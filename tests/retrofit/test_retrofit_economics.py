@@ -189,3 +189,63 @@ def test_bounds_and_fixed_reach_the_model():
     spec = rc_spec(m, np.full(5, 20.0))
     assert spec["parameters"]["C_gf"]["fixed"] is True
     assert spec["parameters"]["C_env"]["upper"] == 300.0
+
+
+def test_measures_apply_to_the_component_they_name_and_must_improve_it():
+    """A cellar-ceiling measure on a slab, a measure on a missing component and a target
+    U-value worse than the existing one are refused naming the key (issue 25)."""
+    from thermocal.errors import ThermocalInputError
+    from thermocal.retrofit.model import EnvelopeComponents, check_measures
+    from thermocal.retrofit.strategies import Measure
+
+    slab = EnvelopeComponents(100, 0.3, 200, 1.1, 30, 2.7, 120, 1.2, "ground_floor")
+    check_measures(slab, {"floor": Measure("floor", "ground_floor", u_value=0.25)}, "h")
+    with pytest.raises(
+        ThermocalInputError, match=r"measures\.cellar_ceiling: .*slab.*ground_floor"
+    ):
+        check_measures(slab, {"cellar_ceiling": Measure("cellar_ceiling", "cellar_ceiling", 0.19)})
+    with pytest.raises(ThermocalInputError, match=r"measures\.roof: target U-value 0\.4 .* 0\.3"):
+        check_measures(slab, {"roof": Measure("roof", "roof", u_value=0.4)})
+    no_roof = EnvelopeComponents(0, 1.0, 200, 1.1, 30, 2.7, 120, 1.2, "cellar_ceiling")
+    with pytest.raises(ThermocalInputError, match=r"measures\.roof: .*no roof component"):
+        check_measures(no_roof, {"roof": Measure("roof", "roof", u_value=0.18)})
+    # the slab measure changes the floor, with its area for the cost
+    after = slab.apply([Measure("floor", "ground_floor", u_value=0.25)], volume=300.0)
+    assert after.floor_u == 0.25 and after.walls_u == 1.1
+
+
+def test_unheated_attic_and_garage_with_iso13789_b_factors():
+    """A ceiling under an unheated attic (b 0.8 by default) and a wall to a garage (b 0.5)
+    lose b U A; the attic-ceiling measure acts on the ceiling, a roof measure is refused."""
+    from thermocal.io.building import Building
+    from thermocal.retrofit.model import calculated_hlc, check_measures, envelope_from_building
+
+    data = building_dict()
+    roof_ua = sum(c["area"] * c["u_value"] for c in data["components"] if c["type"] == "roof")
+    others = [c for c in data["components"] if c["type"] != "roof"]
+    attic = {"name": "attic ceiling", "type": "attic_ceiling", "area": 90.0, "u_value": 0.9}
+    garage = {"name": "garage wall", "type": "wall_to_unheated", "area": 20.0, "u_value": 1.2,
+              "b_factor": 0.6}  # fmt: skip
+    with_roof = build_fifth_order_model(Building.model_validate(data))
+    data["components"] = [*others, attic, garage]
+    building = Building.model_validate(data)
+    model = build_fifth_order_model(building)
+    env = envelope_from_building(building)
+    assert env.attic_b == pytest.approx(0.8) and env.adjacent_b == pytest.approx(0.6)
+    # the model's calculated HLC changes by the b U A of the new components and loses the roof
+    expected = (
+        calculated_hlc(with_roof.conductances()) - roof_ua + 0.8 * 0.9 * 90.0 + 0.6 * 1.2 * 20.0
+    )
+    assert calculated_hlc(model.conductances()) == pytest.approx(expected, rel=0.02)
+    insulated = model.apply_measures([Measure("attic_ceiling", "attic_ceiling", u_value=0.15)])
+    saved = calculated_hlc(model.conductances()) - calculated_hlc(model.conductances(insulated))
+    assert saved == pytest.approx(0.8 * (0.9 - 0.15) * 90.0, rel=0.05)
+    check_measures(env, {"attic_ceiling": Measure("attic_ceiling", "attic_ceiling", 0.15)})
+    with pytest.raises(ThermocalInputError, match=r"measures\.roof: .*no roof component"):
+        check_measures(env, {"roof": Measure("roof", "roof", u_value=0.18)})
+    bad = {**garage, "b_factor": 1.4}
+    data["components"] = [*others, attic, bad]
+    with pytest.raises(ThermocalInputError, match="b_factor"):
+        from thermocal.io.building import building_from_dict
+
+        building_from_dict(data, source="test")

@@ -25,8 +25,11 @@ from thermocal.retrofit.model import build_fifth_order_model, discrete_system_ma
 COLUMNS = ["Te", "Tgr", "phi_h", "phi_sol", "phi_abs_roof", "phi_abs_walls"]
 
 
-def _training_data(model, days: float = 21.0, seed: int = 1) -> pd.DataFrame:
-    """Hourly data simulated by ``model`` at its initial parameters (thermostat on phi_h)."""
+def _training_data(
+    model, days: float = 21.0, seed: int = 1, envelope=None, h_est: float = 180.0
+) -> pd.DataFrame:
+    """Hourly data simulated by ``model`` at its initial parameters (thermostat on phi_h);
+    ``envelope``: the house's true U-values (default: the building file's)."""
     from thermocal.io.building import Building
     from thermocal.io.weather import read_weather
     from thermocal.physics.ground import ground_temperature_parameters
@@ -39,12 +42,13 @@ def _training_data(model, days: float = 21.0, seed: int = 1) -> pd.DataFrame:
     gp = ground_temperature_parameters(weather)
     inp = model_inputs(weather.loc[sel], building, gp, temp_col="temp_air", solar=True, depth=2.0)
     p = initial_params_si(model)
-    p["H_est"] = 180.0
-    ad, bd = (m[0] for m in discrete_system_matrices(model.conductances(), p, 3600.0))
+    p["H_est"] = h_est
+    h = model.conductances(envelope)
+    ad, bd = (m[0] for m in discrete_system_matrices(h, p, 3600.0))
     rng = np.random.default_rng(seed)
     inp["phi_h"] = 0.0
     u_all = inp[COLUMNS].to_numpy(float)
-    x = steady_initial_state(model, p, u_all[:24].mean(axis=0), 21.0)
+    x = steady_initial_state(model, p, u_all[:24].mean(axis=0), 21.0)  # start transient only
     setpoint = np.where((inp.index.hour >= 6) & (inp.index.hour < 22), 21.5, 19.0)
     ti = np.empty(len(inp))
     for k in range(len(inp)):
@@ -83,3 +87,50 @@ def test_identifiable_model_reports_no_pair(base_model):
     assert not any("correlated" in f for f in cal.flags)
     pw = cal.pairwise_correlation.to_numpy(float)
     assert np.nanmax(np.abs(pw[~np.eye(len(pw), dtype=bool)])) < 0.98
+
+
+@pytest.mark.parametrize(
+    ("k_true", "h_est"), [({"k_env": 0.7, "k_win": 0.8}, 60.0), ({"k_env": 1.3}, 150.0)]
+)
+def test_group_corrections_move_the_description_both_ways(base_model, k_true, h_est):
+    """A house better (prebound) or worse than its description: with the group corrections
+    the heat loss coefficient is found within 5 % either way; the published topology (only
+    H_est added) cannot go below the calculated conductances."""
+    from thermocal.retrofit.calibration import hlc_of_draws
+    from thermocal.retrofit.correction import scaled_envelope
+
+    true_env = scaled_envelope(base_model.envelope, k_true)
+    data = _training_data(base_model, envelope=true_env, h_est=h_est)
+    true_hlc = float(hlc_of_draws(base_model, {g: [k] for g, k in k_true.items()}, h_est)[0])
+    cal = calibrate(base_model, data, correction=True, u_value_rel_std=0.25)
+    err = cal.heat_loss_coefficient / true_hlc - 1.0
+    assert abs(err) < 0.05, (cal.heat_loss_coefficient, true_hlc)
+    k_env = cal.correction.factors["k_env"]
+    assert (k_env < 0.95) if k_true["k_env"] < 1 else (k_env > 1.05), cal.correction.summary()
+    # roof + walls carry most of the conductance and the data separate them
+    assert cal.correction.separated["k_env"], cal.correction.summary()
+    # an interval of the HLC that contains the truth
+    lo, hi = np.quantile(cal.heat_loss_coefficient_draws, [0.05, 0.95])
+    assert lo <= true_hlc <= hi, (lo, hi, true_hlc)
+    if k_true["k_env"] < 1:
+        published = calibrate(base_model, data)
+        assert published.heat_loss_coefficient / true_hlc - 1.0 > 0.1
+
+
+def test_heat_meter_uncertainty_scales_the_heat_loss_coefficient(base_model):
+    """A systematic error of the measured heat (10 %) scales the conductances the data imply:
+    the HLC draws widen to about that spread, the identifiability verdict is the data's."""
+    from thermocal.retrofit.calibration import hlc_of_draws
+    from thermocal.retrofit.correction import draw_corrected
+
+    data = _training_data(base_model, days=14.0)
+    cal = calibrate(base_model, data, correction=True, u_value_rel_std=0.2, heat_rel_std=0.1)
+    corr = cal.correction
+    exact = dataclasses.replace(corr, cov_z=corr.cov_data)  # without the meter's error
+    z = draw_corrected(exact, 1000, seed=1)[1:]
+    hlc_exact = hlc_of_draws(base_model, exact.group_factors(z), exact.physical_si(z)["H_est"])
+    rel_exact = np.std(np.log(hlc_exact))
+    rel_meter = np.std(np.log(cal.heat_loss_coefficient_draws))
+    assert rel_meter == pytest.approx(np.hypot(rel_exact, 0.1), rel=0.15)
+    sd_data = np.sqrt(corr.cov_data[0, 0])
+    assert corr.posterior_std["k_env"] == pytest.approx(sd_data)

@@ -3,9 +3,11 @@ parameters), and its bad-input messages."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -335,3 +337,160 @@ def test_building_errors_come_from_io_building(synthetic, tmp_path):
         run_retrofit(load_config(config))
     msg = str(info.value)
     assert "building.yaml" in msg and "(line " in msg and "did you mean 0.35" in msg
+
+
+def test_validation_gate_passes_on_the_models_own_data(synthetic):
+    folder, _, analysis, results = synthetic
+    gate = results["validation_gate"]
+    assert gate["passed"], gate["summary"]
+    assert [c["name"] for c in gate["checks"]][:2] == [
+        "indoor temperature bias",
+        "indoor temperature MAE",
+    ]
+    # the heat the model needs to follow the measured Ti matches the metered heat
+    heat = results["heat_validation"]
+    assert heat["n"] >= 10
+    assert abs(heat["nmbe_pct"]) < 5.0 and heat["cv_rmse_pct"] < 20.0
+    assert results["recommendation"] is not None
+    saved = json.loads((folder / "out" / "results.json").read_text())
+    assert saved["validation_gate"]["passed"] is True
+    html = (folder / "out" / "report.html").read_text()
+    summary = html[html.index("Executive summary") : html.index("Retrofit strategies:")]
+    assert "passed its validation" in summary and "We recommend" in summary
+    # the data's correction of the description, in plain words, with the HLC interval
+    assert "The measurements correct the heat losses calculated" in summary
+    assert "roof + walls" in summary and "90 % interval" in summary
+
+
+def test_failed_validation_recommends_nothing(synthetic, tmp_path, capsys):
+    from thermocal.commands.retrofit import print_summary
+    from thermocal.retrofit.gate import DEFAULT_CRITERIA, validation_gate
+
+    _, _, analysis, _ = synthetic
+    strict = {**DEFAULT_CRITERIA, "max_mae_K": 0.01}
+    failed = dataclasses.replace(
+        analysis, gate=validation_gate(analysis.validation, analysis.heat_validation, strict)
+    )
+    results = write_outputs(failed, tmp_path / "out")
+    assert results["validation_gate"]["passed"] is False
+    assert results["recommendation"] is None
+    html = (tmp_path / "out" / "report.html").read_text()
+    summary = html[html.index("Executive summary") : html.index("Retrofit strategies:")]
+    assert "FAILED its validation" in summary
+    assert "no strategy is recommended" in summary
+    assert "We recommend" not in html
+    assert "Recommended:" not in html
+    print_summary(results, tmp_path / "out")
+    printed = " ".join(capsys.readouterr().out.split())
+    assert "FAILED its validation" in printed
+    assert "no strategy recommended" in printed
+
+
+def test_gate_statistics_and_missing_test_period():
+    from thermocal.retrofit.gate import DEFAULT_CRITERIA, ashrae14_statistics, validation_gate
+
+    stats = ashrae14_statistics([90.0, 110.0, 100.0], [100.0, 100.0, 100.0])
+    assert stats["nmbe_pct"] == pytest.approx(0.0)
+    assert stats["cv_rmse_pct"] == pytest.approx(100 * np.sqrt(200.0 / 2) / 100.0)
+    stats = ashrae14_statistics([80.0, 80.0], [100.0, 100.0])  # model 20 % low
+    assert stats["nmbe_pct"] == pytest.approx(40.0)  # n - p = 1
+    gate = validation_gate({"train": {}}, None, DEFAULT_CRITERIA)
+    assert not gate["passed"] and "not checked on a test period" in gate["summary"]
+    test = {"mean_simulated": 15.2, "mean_measured": 20.6, "mae": 5.3}  # issue 25's house
+    gate = validation_gate({"test": test}, None, DEFAULT_CRITERIA)
+    assert not gate["passed"]
+    assert [c["passed"] for c in gate["checks"]] == [False, False]
+    assert "-5.40 K" in gate["summary"]
+
+
+def test_strategy_table_fits_80_columns(synthetic, capsys, monkeypatch):
+    from thermocal.commands.retrofit import measure_abbreviations, print_summary
+
+    monkeypatch.setenv("COLUMNS", "80")
+    _, _, _, results = synthetic
+    print_summary(results, Path("out"))
+    lines = capsys.readouterr().out.splitlines()
+    start = next(i for i, line in enumerate(lines) if "Retrofit strategies" in line)
+    table = lines[start : start + 24]
+    assert max(map(len, table)) <= 80
+    assert not any("…" in line for line in table)
+    assert any("R+Wa+Wi+C" in line for line in table)  # strategy 4, unabridged
+    assert measure_abbreviations(["roof", "walls", "windows", "cellar_ceiling"]) == {
+        "roof": "R", "walls": "Wa", "windows": "Wi", "cellar_ceiling": "C",
+    }  # fmt: skip
+
+
+def test_heat_meter_and_fuel_meter_inputs(synthetic, tmp_path):
+    """A cumulative heat-meter reading in kWh, or a fuel meter's energy per hour with the
+    boiler's efficiency, gives the same heating power as flow x (supply - return)."""
+    from thermocal.physics.hydronics import heating_power
+    from thermocal.retrofit.data import prepare_measurements, read_raw_measurements
+
+    folder, config, _, _ = synthetic
+    meas = pd.read_csv(folder / "measurements.csv")
+    phi = heating_power(meas["V_dot"] / 3.6e6, meas["T_supply"], meas["T_return"]).to_numpy()
+    meas["E_meter"] = np.concatenate([[1000.0], 1000.0 + np.cumsum(phi[:-1]) / 1000.0])  # kWh
+    meas["fuel_kWh"] = phi / 1000.0 / 0.85
+    meas.drop(columns=["V_dot", "T_supply", "T_return"]).to_csv(tmp_path / "m.csv", index=False)
+    cfg = yaml.safe_load(config.read_text())
+    base = load_config(config).measurements
+    cfg["measurements"]["file"] = str(tmp_path / "m.csv")
+    cfg["measurements"]["columns"] = {
+        k: v for k, v in cfg["measurements"]["columns"].items() if k not in ("flow",
+        "temp_supply", "temp_return")
+    }  # fmt: skip
+    for source, column, extra in (
+        ("heat_meter", "E_meter", {"heat_unit": "kWh", "heat_cumulative": True}),
+        ("fuel_meter", "fuel_kWh", {"heat_unit": "kWh", "boiler_efficiency": 0.85}),
+    ):
+        m = dict(cfg["measurements"], heat_source=source, **extra)
+        m["columns"] = {**m["columns"], "heat": column}
+        (tmp_path / "c.yaml").write_text(yaml.safe_dump({**cfg, "measurements": m}))
+        mc = load_config(tmp_path / "c.yaml").measurements
+        grid, _ = prepare_measurements(
+            read_raw_measurements(mc, default_tz=-5.0), mc.step, heat_source=source,
+            heat_energy=True,
+            heat_cumulative=mc.heat_cumulative, boiler_efficiency=mc.boiler_efficiency,
+        )  # fmt: skip
+        ref, _ = prepare_measurements(read_raw_measurements(base, default_tz=-5.0), base.step)
+        n = len(grid) - 1  # a cumulative reading has no next reading for the last row
+        np.testing.assert_allclose(grid["phi_h"][:n], ref["phi_h"][:n], rtol=1e-9, atol=1e-6)
+    m = dict(cfg["measurements"], heat_source="fuel_meter", heat_unit="kWh")
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump({**cfg, "measurements": m}))
+    with pytest.raises(ThermocalInputError, match="boiler_efficiency"):
+        load_config(tmp_path / "c.yaml")
+
+
+def test_internal_gains_from_an_electricity_meter(synthetic, tmp_path):
+    """Part of the heat the synthetic house received comes from appliances (an electricity
+    meter); the heat meter shows the rest. With the gains as an input the calibration finds
+    the same house as from the whole heat, and the gains lower the annual demand."""
+    from thermocal.physics.hydronics import heating_power
+
+    folder, config, analysis, results = synthetic
+    meas = pd.read_csv(folder / "measurements.csv")
+    phi = heating_power(meas["V_dot"] / 3.6e6, meas["T_supply"], meas["T_return"]).to_numpy()
+    appliances = np.minimum(phi, 400.0 + 200.0 * np.sin(np.arange(len(phi)) / 24.0 * 2 * np.pi))
+    meas["Q_kW"] = (phi - appliances) / 1000.0
+    meas["P_el_kW"] = appliances / 1000.0
+    meas.drop(columns=["V_dot", "T_supply", "T_return"]).to_csv(tmp_path / "m.csv", index=False)
+    cfg = yaml.safe_load(config.read_text())
+    cols = {k: v for k, v in cfg["measurements"]["columns"].items()
+            if k not in ("flow", "temp_supply", "temp_return")}  # fmt: skip
+    cfg["measurements"].update(
+        file=str(tmp_path / "m.csv"), heat_source="heat_meter", heat_unit="kW",
+        columns={**cols, "heat": "Q_kW", "electricity": "P_el_kW"},
+    )  # fmt: skip
+    cfg["internal_gains"] = {"source": "electricity", "electricity_unit": "kW", "rel_std": 0.3}
+    cfg["building"] = str(folder / "building.yaml")
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump(cfg))
+    gains = run_retrofit(load_config(tmp_path / "c.yaml"))
+    hlc = gains.calibration.heat_loss_coefficient
+    assert hlc == pytest.approx(analysis.calibration.heat_loss_coefficient, rel=0.02)
+    assert gains.gate["passed"], gains.gate["summary"]
+    annual = gains.demand.annual_kwh()
+    base = analysis.demand.annual_kwh()[0, 0]
+    # about 400 W of gains over a heating season lower the demand by 1,000-3,500 kWh
+    assert 1000.0 < base - annual[0, 0] < 3500.0, (base, annual[0, 0])
+    # their uncertainty widens the demand interval
+    assert np.ptp(annual[0, 1:]) > 0

@@ -86,6 +86,18 @@ class ParametersSection(_Strict):
     default_range: float = Field(0.75, ge=0.0, allow_inf_nan=False)
     ranges: dict[str, float] = Field(default_factory=dict)
 
+    @field_validator("default_range", mode="before")
+    @classmethod
+    def _half_width(cls, value: Any) -> Any:
+        return _relative_half_width(value, "default_range")
+
+    @field_validator("ranges", mode="before")
+    @classmethod
+    def _half_widths(cls, value: Any) -> Any:
+        if isinstance(value, dict):
+            return {k: _relative_half_width(v, f"ranges.{k}") for k, v in value.items()}
+        return value
+
     @field_validator("ranges")
     @classmethod
     def _non_negative(cls, value: dict[str, float]) -> dict[str, float]:
@@ -103,6 +115,28 @@ class ParametersSection(_Strict):
         if not value:
             raise ValueError("include lists no pattern; use ['*'] for every parameter")
         return value
+
+
+def _relative_half_width(value: Any, key: str) -> Any:
+    """Refuse ``[min, max]`` where a relative half-width belongs, saying what it means."""
+    if isinstance(value, list | tuple):
+        example = ""
+        numbers = [v for v in value if isinstance(v, int | float) and not isinstance(v, bool)]
+        if len(value) == 2 and len(numbers) == 2 and numbers[0] < numbers[1]:
+            low, high = numbers
+            if -1.0 < low < 0.0 < high and abs(low + high) < 1e-9:
+                example = f"; for [{low:g}, {high:g}] write {high:g}"
+            else:
+                example = (
+                    "; a range [min, max] in the parameter's unit cannot be given here: choose "
+                    "the half-width that covers it around the nominal value"
+                )
+        raise ValueError(
+            f"{key} = {value!r} is a list; ranges are relative half-widths: 0.5 means +-50 % "
+            "around the "
+            f"nominal value (one number){example}"
+        )
+    return value
 
 
 class SamplingSection(_Strict):
@@ -210,12 +244,11 @@ class CampaignFile(_Strict):
         """The time step as a Timedelta [s resolution]."""
         return pd.Timedelta(self.step)
 
-    def problem_fingerprint(self) -> str:
-        """SHA-256 of what determines the metric: input files' contents, period, step, options.
+    def problem_settings(self) -> dict[str, Any]:
+        """What determines the metric, by name: input files' contents, period, step, options.
 
-        Changes to the building, weather, sensor or mapping files, the period, the step, the
-        identification or occupancy options change it; the parameter, sampling, meta-model,
-        optimisation and store sections do not.
+        JSON-ready; the files are given by the SHA-256 of their content. A store compares it
+        with the settings it was written with and names what changed.
         """
         files = {}
         for key in ("building", "weather", "sensors", "mapping"):
@@ -226,15 +259,29 @@ class CampaignFile(_Strict):
                 files[key] = value
             else:
                 files[key] = _file_digest(Path(value))
-        problem = {
-            "files": files,
-            "period": None if self.period is None else self.period.model_dump(mode="json"),
-            "step": str(pd.Timedelta(self.step)),
-            "identification": self.identification,
-            "occupancy": self.occupancy,
-        }
+        return json.loads(
+            json.dumps(
+                {
+                    "files": files,
+                    "period": None if self.period is None else self.period.model_dump(mode="json"),
+                    "step": str(pd.Timedelta(self.step)),
+                    "identification": self.identification,
+                    "occupancy": self.occupancy,
+                },
+                sort_keys=True,
+                default=str,
+            )
+        )
+
+    def problem_fingerprint(self) -> str:
+        """SHA-256 of :meth:`problem_settings`.
+
+        Changes to the building, weather, sensor or mapping files, the period, the step, the
+        identification or occupancy options change it; the parameter, sampling, meta-model,
+        optimisation and store sections do not.
+        """
         return hashlib.sha256(
-            json.dumps(problem, sort_keys=True, default=str).encode()
+            json.dumps(self.problem_settings(), sort_keys=True, default=str).encode()
         ).hexdigest()
 
     def fingerprint(self, *, samples: int | None = None) -> str:
@@ -282,8 +329,9 @@ def _known_keys(loc: tuple) -> list[str]:
         if field is None:
             return []
         ann = field.annotation
-        model = next((a for a in getattr(ann, "__args__", (ann,)) if hasattr(a, "model_fields")),
-                     None)
+        model = next(
+            (a for a in getattr(ann, "__args__", (ann,)) if hasattr(a, "model_fields")), None
+        )
         if model is None:
             return []
     return list(model.model_fields)
@@ -306,8 +354,9 @@ def _format_errors(exc: ValidationError, source: str) -> str:
     return f"campaign file {source} is invalid:\n" + "\n".join(lines)
 
 
-def parse_campaign(data: Any, *, base_dir: Path | str = ".", source: str = "<campaign>"
-                   ) -> CampaignFile:
+def parse_campaign(
+    data: Any, *, base_dir: Path | str = ".", source: str = "<campaign>"
+) -> CampaignFile:
     """Validate a parsed campaign mapping; relative paths are resolved against ``base_dir``.
 
     Parameters

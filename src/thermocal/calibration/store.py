@@ -28,10 +28,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 from thermocal.io.atomic import atomic_write
+from thermocal.io.output import FileLock, _describe_os_error
 
 __all__ = [
     "CampaignStore",
@@ -65,7 +67,7 @@ def campaign_definition(
     method: str,
     seed: int,
     samples: int,
-    problem: str,
+    problem: str | Mapping[str, Any],
 ) -> dict[str, Any]:
     """The campaign definition that the store's fingerprint covers.
 
@@ -79,9 +81,10 @@ def campaign_definition(
         Sampler seed [-].
     samples : int
         Number of samples [-].
-    problem : str
-        Opaque fingerprint of everything else that determines the metric (building, weather,
-        measurements, identification options), supplied by the caller [-].
+    problem : str or mapping
+        Everything else that determines the metric (building, weather, measurements,
+        identification options), supplied by the caller: best a mapping of named settings
+        (file digests, period, options), so that a mismatch names the setting in words [-].
 
     Returns
     -------
@@ -92,7 +95,9 @@ def campaign_definition(
     return {
         "space": space_dict,
         "sampler": {"method": str(method), "seed": int(seed), "samples": int(samples)},
-        "problem": str(problem),
+        "problem": json.loads(_canonical(problem))
+        if isinstance(problem, Mapping)
+        else str(problem),
     }
 
 
@@ -141,6 +146,17 @@ class SampleResult:
     worker: str = ""
 
 
+def _is_digest(value: Any) -> bool:
+    return (
+        isinstance(value, str) and len(value) >= 32 and all(c in "0123456789abcdef:" for c in value)
+    )
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
 def _definition_differences(old: Mapping[str, Any], new: Mapping[str, Any]) -> list[str]:
     diffs: list[str] = []
 
@@ -151,8 +167,10 @@ def _definition_differences(old: Mapping[str, Any], new: Mapping[str, Any]) -> l
         elif a != b:
             if isinstance(a, list) and isinstance(b, list) and len(a) > 6:
                 diffs.append(f"{where} (list of {len(a)} vs {len(b)} entries)")
+            elif _is_digest(a) and _is_digest(b):
+                diffs.append(f"{where}: changed since the store was written (its content differs)")
             else:
-                diffs.append(f"{where}: {a!r} in the store, {b!r} now")
+                diffs.append(f"{where}: {_short(a)} in the store, {_short(b)} now")
 
     walk(dict(old), dict(new), "")
     return diffs
@@ -170,6 +188,7 @@ class CampaignStore:
         self.path = path
         self.fingerprint = fingerprint
         self._con = connection
+        self._lock: FileLock | None = None
 
     # ------------------------------------------------------------------------------------------
     @classmethod
@@ -181,6 +200,7 @@ class CampaignStore:
         definition: Mapping[str, Any] | None = None,
         campaign_text: str = "",
         resume: bool = True,
+        expected: pd.DataFrame | None = None,
     ) -> CampaignStore:
         """Open (or create) the store of a campaign.
 
@@ -196,7 +216,12 @@ class CampaignStore:
             Text of the campaign file, stored for the record.
         resume : bool
             When False, an existing store that already holds results of this campaign is an
-            error (the caller asked for a fresh run); when True it is continued.
+            error (the caller asked for a fresh run); when True it is continued. A resumed
+            store whose definition differs only in the number of samples is extended (or
+            read in part) when its samples are the first ones of ``expected``.
+        expected : DataFrame, optional
+            The campaign's parameter values (index: sample) [unit of each]; on resume the
+            stored samples must equal these rows (the same sequence).
 
         Returns
         -------
@@ -205,8 +230,9 @@ class CampaignStore:
         Raises
         ------
         ThermocalInputError
-            The file is not SQLite, belongs to another campaign, or holds results while
-            ``resume`` is False.
+            The file is not SQLite, is an SQLite file of another program, belongs to another
+            campaign, is being written by another run (lock ``.NAME.lock`` beside it), or
+            holds results while ``resume`` is False.
         """
         path = Path(path)
         if fingerprint is None:
@@ -225,9 +251,41 @@ class CampaignStore:
                     f"thermocal calibrate); {remedy}"
                 )
         else:
-            path.parent.mkdir(parents=True, exist_ok=True)
+            try:
+                path.parent.mkdir(parents=True, exist_ok=True)
+            except OSError as exc:
+                raise ThermocalInputError(f"store {path}: {_describe_os_error(exc)}") from None
+        lock = FileLock(
+            path.parent / f".{path.name}.lock",
+            busy=f"store {path} is in use by another thermocal calibrate run (lock "
+            f".{path.name}.lock beside it); wait for it to finish, or give this run another "
+            "--out or store",
+            what=f"store {path}",
+        ).acquire()
+        try:
+            return cls._open_locked(
+                path, fingerprint, definition, campaign_text, resume, expected, remedy, lock
+            )
+        except BaseException:
+            lock.release()
+            raise
+
+    @classmethod
+    def _open_locked(
+        cls, path, fingerprint, definition, campaign_text, resume, expected, remedy, lock
+    ) -> CampaignStore:
         try:
             con = sqlite3.connect(str(path), timeout=30.0, isolation_level=None)
+            tables = {
+                row[0] for row in con.execute("SELECT name FROM sqlite_master WHERE type = 'table'")
+            }
+            if tables and not {"campaign", "results"} <= tables:
+                con.close()
+                shown = ", ".join(sorted(tables)[:6])
+                raise ThermocalInputError(
+                    f"store {path} is an SQLite database of another program (tables {shown}), "
+                    f"not a thermocal campaign store; it was left unchanged; {remedy}"
+                )
             con.execute("PRAGMA journal_mode=WAL")
             con.execute("PRAGMA synchronous=NORMAL")
             con.execute("CREATE TABLE IF NOT EXISTS campaign (key TEXT PRIMARY KEY, value TEXT)")
@@ -255,22 +313,46 @@ class CampaignStore:
                     ],
                 )
         elif rows.get("fingerprint") != fingerprint:
-            con.close()
-            what = ""
+            old: dict = {}
+            diffs: list[str] = []
             if definition is not None and rows.get("definition"):
                 try:
-                    diffs = _definition_differences(json.loads(rows["definition"]), definition)
+                    old = json.loads(rows["definition"])
+                    diffs = _definition_differences(old, definition)
                 except json.JSONDecodeError:
                     diffs = []
-                if diffs:
-                    what = " Differences: " + "; ".join(diffs[:8]) + "."
-            raise ThermocalInputError(
-                f"store {path} belongs to another campaign (fingerprint "
-                f"{rows.get('fingerprint', '?')[:12]}..., this campaign {fingerprint[:12]}...) "
-                f"and cannot be resumed with this campaign file.{what} {remedy[0].upper()}"
-                f"{remedy[1:]}."
-            )
+            only_count = bool(diffs) and all(d.startswith("sampler.samples:") for d in diffs)
+            if only_count and resume:
+                # the same sequence with another count: extended when the stored samples are
+                # its first ones (checked below), otherwise refused there
+                with con:
+                    con.execute(
+                        "UPDATE campaign SET value = ? WHERE key = 'fingerprint'", (fingerprint,)
+                    )
+                    con.execute(
+                        "UPDATE campaign SET value = ? WHERE key = 'definition'",
+                        (_canonical(definition or {}),),
+                    )
+            else:
+                con.close()
+                if only_count:
+                    what = (
+                        f" It holds a campaign of {old['sampler']['samples']} samples of the same "
+                        f"sequence; pass --resume to extend it to "
+                        f"{definition['sampler']['samples']}."
+                    )
+                elif diffs:
+                    what = " What differs: " + "; ".join(diffs[:8]) + "."
+                else:
+                    what = ""
+                raise ThermocalInputError(
+                    f"store {path} belongs to another campaign and cannot be continued with "
+                    f"this campaign file.{what} {remedy[0].upper()}{remedy[1:]}."
+                )
         store = cls(path, con, fingerprint)
+        store._lock = lock
+        if expected is not None and resume:
+            store._check_same_sequence(expected, remedy)
         if not resume and rows and store.count() > 0:
             n = store.count()
             store.close()
@@ -281,8 +363,37 @@ class CampaignStore:
         return store
 
     def close(self) -> None:
-        """Close the database connection."""
+        """Close the database connection and release the store's lock."""
         self._con.close()
+        if self._lock is not None:
+            self._lock.release()
+            self._lock = None
+
+    def _check_same_sequence(self, expected: pd.DataFrame, remedy: str) -> None:
+        """Refuse stored samples that are not the rows of ``expected`` with their index."""
+        stored = self.parameters(successful=False)
+        if stored.empty:
+            return
+        extra = sorted(set(stored.index) - set(expected.index))
+        common = stored.index.intersection(expected.index)
+        columns = [c for c in expected.columns if c in stored.columns]
+        same = len(columns) == len(expected.columns) and np.allclose(
+            stored.loc[common, columns].to_numpy(float),
+            expected.loc[common, columns].to_numpy(float),
+            rtol=1e-9,
+            atol=0.0,
+            equal_nan=True,
+        )
+        if extra and same:
+            return  # a shorter campaign reads the first samples of a longer one
+        if not same:
+            self.close()
+            raise ThermocalInputError(
+                f"store {self.path}: its {len(stored)} sample(s) are not the first samples of "
+                "this campaign's sequence (a Latin hypercube design changes with the count; "
+                "Sobol' and Halton sequences only grow), so they cannot be reused; resume with "
+                f"the count of the store, or {remedy}"
+            )
 
     def __enter__(self) -> CampaignStore:
         return self
@@ -393,9 +504,11 @@ class CampaignStore:
         frame = self.to_frame()
         if successful:
             frame = frame[frame["error"].isna()]
-        cols = [c for c in frame.columns
-                if not c.startswith("out:") and c not in ("runtime_s", "error", "worker",
-                                                           "finished_at")]
+        cols = [
+            c
+            for c in frame.columns
+            if not c.startswith("out:") and c not in ("runtime_s", "error", "worker", "finished_at")
+        ]
         return frame[cols]
 
     def outputs(self, *, successful: bool = True) -> pd.DataFrame:
@@ -425,9 +538,7 @@ class CampaignStore:
             return atomic_write(path, lambda p: frame.to_parquet(p))
         if suffix == ".csv":
             return atomic_write(path, lambda p: frame.to_csv(p))
-        raise ThermocalInputError(
-            f"export file {path} must end in .parquet or .csv"
-        )
+        raise ThermocalInputError(f"export file {path} must end in .parquet or .csv")
 
 
 def _num(value: Any) -> float | None:

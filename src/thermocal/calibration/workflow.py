@@ -10,7 +10,11 @@ writes everything (:meth:`CalibrationResult.to_files`).
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
+import sqlite3
+import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,6 +27,7 @@ from thermocal.errors import ThermocalInputError
 from thermocal.identification.metrics import guideline14
 from thermocal.identification.occupancy import OccupancySchedule
 from thermocal.identification.problem import METRIC, IdentificationProblem
+from thermocal.identification.sensors import check_period_length
 from thermocal.identification.workflow import jsonable
 
 #: identification options a campaign file may set (its ``identification`` section)
@@ -66,20 +71,29 @@ def load_inputs(campaign) -> CampaignInputs:
         building, weather, meta, raw, mapping, truth = load_demo()
         start, end = meta["period"]
         if campaign.period is not None:
-            start, end = _localise(campaign.period.start, start), _localise(
-                campaign.period.end, start
+            start, end = (
+                _localise(campaign.period.start, start),
+                _localise(campaign.period.end, start),
             )
         loads = None
         path = meta["files"].get("true_loads.parquet")
         if path is not None and Path(path).is_file():
             loads = pd.read_parquet(path)
         return CampaignInputs(
-            building, weather, meta["weather"], raw, mapping, start, end, truth, loads,
+            building,
+            weather,
+            meta["weather"],
+            raw,
+            mapping,
+            start,
+            end,
+            truth,
+            loads,
             str(meta["files"]["sensors.parquet"]),
         )
     from thermocal.identification.sensors import load_mapping
     from thermocal.io.measurements import read_measurements
-    from thermocal.io.weather import read_weather
+    from thermocal.io.weather import check_building_site, check_weather_clock, read_weather
     from thermocal.multizone.files import load_building
 
     if campaign.mapping is None:
@@ -88,6 +102,10 @@ def load_inputs(campaign) -> CampaignInputs:
         )
     building = load_building(campaign.building_path)
     weather, site = read_weather(campaign.weather)
+    check_building_site(
+        building, site, building_source=str(campaign.building), weather_source=str(campaign.weather)
+    )
+    check_weather_clock(weather, site, source=str(campaign.weather))
     tz = campaign.identification.get("tz")
     raw, _ = read_measurements(campaign.sensors, tz=tz)
     mapping = load_mapping(campaign.mapping)
@@ -398,6 +416,7 @@ def calibrate(
     store_path: str | Path | None = None,
     progress: bool = True,
     log=print,
+    max_hours: float | None = 24.0,
 ) -> CalibrationResult:
     """Run a calibration campaign (see the module docstring).
 
@@ -416,8 +435,13 @@ def calibrate(
     store_path : path, optional
         The SQLite store (default: the campaign file's ``store``).
     progress : bool
+        Show the campaign's progress: a bar on a terminal, otherwise a line through ``log``
+        about every 5 % or minute (so that logs and CI show it).
     log : callable
         Receives one line per stage.
+    max_hours : float or None
+        Refuse a campaign estimated (pending samples x time of the nominal run / workers) to
+        take longer [h]; None: no limit. Not applied with a Dask scheduler.
 
     Returns
     -------
@@ -434,13 +458,17 @@ def calibrate(
     notes: list[str] = []
     t0 = time.perf_counter()
     inputs = load_inputs(campaign)
+    check_period_length(inputs.start, inputs.end, inputs.weather.index)
     problem, _ = build_problem(campaign, inputs)
+    later = validation_problem(campaign, inputs)
     # the series meta-model needs each sample's unoccupied heat series
     problem.series_outputs = campaign.metamodel.kind in ("auto", "series")
     timings["setup"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     nominal_run = problem.run({})
     problem.schedule, occupancy = choose_quiet_hours(campaign, nominal_run.heat.sum(axis=1), log)
+    if later is not None:  # the validation period's metric uses the same hours
+        later.schedule = problem.schedule
     if occupancy["source"] == "data":
         notes.append(
             "Unoccupied hours from the data: " + occupancy.get("paper_schedule_check", "")
@@ -476,18 +504,41 @@ def calibrate(
         method=campaign.sampling.method,
         seed=campaign.sampling.seed,
         samples=n,
-        problem=f"{campaign.problem_fingerprint()}:{problem.fingerprint()}",
+        problem=problem_settings(campaign, problem),
     )
     path = Path(store_path or campaign.store or "campaign.sqlite")
-    path.parent.mkdir(parents=True, exist_ok=True)
     log(f"campaign: {n} samples of {space.dimension} parameters -> {path}")
     t0 = time.perf_counter()
-    with CampaignStore.open(
-        path, definition=definition, campaign_text=campaign.text, resume=resume
-    ) as store:
+    with (
+        _store_errors(path),
+        CampaignStore.open(
+            path,
+            definition=definition,
+            campaign_text=campaign.text,
+            resume=resume,
+            expected=sample_set.values,
+        ) as store,
+    ):
+        pending = len(store.pending(sample_set.values.index))
+        check_campaign_time(
+            pending,
+            timings["nominal_run"],
+            workers=workers,
+            scheduler=scheduler,
+            max_hours=max_hours,
+            log=log,
+        )
+        interactive = progress and sys.stderr.isatty()
         summary = run_campaign(
-            problem, sample_set.values, store, workers=workers, scheduler=scheduler,
-            progress=progress,
+            problem,
+            sample_set.values,
+            store,
+            workers=workers,
+            scheduler=scheduler,
+            progress=interactive,
+            on_result=None
+            if interactive or not progress
+            else ProgressLines(pending, n - pending, log),
         )
         frame = store.to_frame()
         X = store.parameters()[list(space.names)]
@@ -508,8 +559,14 @@ def calibrate(
     t0 = time.perf_counter()
     m = campaign.metamodel
     surrogate, kind, scores = choose_surrogate(
-        X, y, m.kind, cv_folds=m.cv_folds, log_target=m.log_target, seed=campaign.sampling.seed,
-        series=series, nominal=space.nominal_dict(),
+        X,
+        y,
+        m.kind,
+        cv_folds=m.cv_folds,
+        log_target=m.log_target,
+        seed=campaign.sampling.seed,
+        series=series,
+        nominal=space.nominal_dict(),
     )
     if m.kind == "auto":
         notes.append(
@@ -537,11 +594,10 @@ def calibrate(
     morris = None
     if campaign.morris is not None:
         t0 = time.perf_counter()
-        morris = _morris(campaign, problem, space, path, workers, scheduler, progress, log)
+        bar = progress and sys.stderr.isatty()  # a bar only where it is seen
+        morris = _morris(campaign, problem, space, path, workers, scheduler, bar, log)
         timings["morris"] = time.perf_counter() - t0
-    log(
-        f"meta-model cross-validated R2 {surrogate.cv_r2_:.3f}; critical: {', '.join(critical)}"
-    )
+    log(f"meta-model cross-validated R2 {surrogate.cv_r2_:.3f}; critical: {', '.join(critical)}")
     t0 = time.perf_counter()
     confirmed, heat = {}, {"nominal": nominal_run.heat.sum(axis=1)}
     for sense, optimum in (("min", optimisation.minimum), ("max", optimisation.maximum)):
@@ -563,28 +619,38 @@ def calibrate(
     validation = None
     if campaign.validation is not None:
         t0 = time.perf_counter()
-        validation = _validate(campaign, inputs, optimisation, problem.schedule)
+        validation = _validate(campaign, inputs, optimisation, later)
         timings["validation"] = time.perf_counter() - t0
     # the calibrated model: the best confirmed candidate among the reduced meta-model's minimum,
     # the campaign's best sample (a meta-model fitted on few samples can miss) and the
     # trust-region refinement from the better of the two
-    candidates = {"meta-model minimum": (confirmed["min"]["confirmed"],
-                                         optimisation.parameters("min"))}
+    candidates = {
+        "meta-model minimum": (confirmed["min"]["confirmed"], optimisation.parameters("min"))
+    }
     if nominal[METRIC] < candidates["meta-model minimum"][0]:
         # never return a building worse than the one the user gave
         candidates["nominal building (no change)"] = (nominal[METRIC], space.nominal_dict())
     best = int(np.argmin(y))
     if y[best] < min(c[0] for c in candidates.values()):
         candidates[f"campaign sample {int(X.index[best])}"] = (
-            float(y[best]), {**space.nominal_dict(), **X.iloc[best].to_dict()}
+            float(y[best]),
+            {**space.nominal_dict(), **X.iloc[best].to_dict()},
         )
     refinement = []
     if campaign.optimisation.refine > 0:
         t1 = time.perf_counter()
         start_name = min(candidates, key=lambda k: candidates[k][0])
         refined, refinement = refine_minimum(
-            problem, space, X, y, series, kind, candidates[start_name],
-            steps=campaign.optimisation.refine, seed=campaign.optimisation.seed, log=log,
+            problem,
+            space,
+            X,
+            y,
+            series,
+            kind,
+            candidates[start_name],
+            steps=campaign.optimisation.refine,
+            seed=campaign.optimisation.seed,
+            log=log,
         )
         if refined[0] < candidates[start_name][0]:
             candidates[f"trust-region refinement ({len(refinement)} runs)"] = refined
@@ -757,9 +823,142 @@ def _sobol_or_note(surrogate, space, lower, upper, seed: int, kind: str, notes: 
     )
 
 
-def refine_minimum(
-    problem, space, X, y, series, kind, start, *, steps: int, seed: int, log=print
-):
+def problem_settings(campaign, problem: IdentificationProblem) -> dict:
+    """What determines a sample's outputs besides its parameters, by name (for the store).
+
+    The campaign file's settings (input files by content, period, step, options), whether each
+    sample's unoccupied-heat series is stored (the series meta-model needs it) and a digest of
+    the identification problem built from them.
+    """
+    series = problem.series_outputs
+    try:  # the digest without the series switch, which is named on its own line
+        problem.series_outputs = False
+        digest = problem.fingerprint()
+    finally:
+        problem.series_outputs = series
+    return {
+        **campaign.problem_settings(),
+        "heat series stored per sample (metamodel kind auto or series)": bool(series),
+        "identification problem": digest,
+    }
+
+
+def _format_duration(seconds: float) -> str:
+    seconds = max(0.0, float(seconds))
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def check_campaign_time(
+    pending: int,
+    seconds_per_sample: float,
+    *,
+    workers: int | None,
+    scheduler=None,
+    max_hours: float | None = 24.0,
+    log=print,
+) -> float:
+    """Log the campaign's estimated duration; refuse one longer than ``max_hours``.
+
+    Parameters
+    ----------
+    pending : int
+        Samples still to evaluate [-].
+    seconds_per_sample : float
+        Measured time of one identification (the nominal run) [s].
+    workers : int or None
+        Local processes (None: all cores) [-].
+    scheduler : optional
+        A Dask scheduler: its workers are unknown, so the estimate is per worker and no limit
+        applies.
+    max_hours : float or None
+        Limit [h]; None: none.
+    log : callable
+
+    Returns
+    -------
+    float
+        The estimate [s].
+    """
+    if scheduler is not None:
+        estimate = pending * seconds_per_sample
+        log(
+            f"estimate: {pending} samples x {seconds_per_sample:.1f} s = "
+            f"{_format_duration(estimate)} of work, divided among the Dask workers"
+        )
+        return estimate
+    n_workers = max(1, min(int(workers or os.cpu_count() or 1), max(pending, 1)))
+    estimate = pending * seconds_per_sample / n_workers
+    log(
+        f"estimate: {pending} samples x {seconds_per_sample:.1f} s / {n_workers} worker(s) = "
+        f"about {_format_duration(estimate)}"
+    )
+    if max_hours is not None and estimate > max_hours * 3600.0:
+        raise ThermocalInputError(
+            f"the campaign would take about {_format_duration(estimate)} ({pending} samples x "
+            f"{seconds_per_sample:.1f} s per identification / {n_workers} worker(s)), more than "
+            f"--max-hours {max_hours:g}; use fewer --samples, more --workers or a Dask "
+            "--scheduler, or raise --max-hours (the campaign is resumable: --resume continues "
+            "an interrupted one)"
+        )
+    return estimate
+
+
+class ProgressLines:
+    """``on_result`` callback that logs a progress line about every 5 % or every minute.
+
+    For logs and CI, where a progress bar is invisible (it is drawn only on a terminal).
+    """
+
+    def __init__(self, pending: int, done: int, log, *, every_s: float = 60.0) -> None:
+        self.pending, self.done, self.log = int(pending), int(done), log
+        self.every = max(1, self.pending // 20)
+        self.every_s = float(every_s)
+        self.evaluated = self.failed = 0
+        self.start = self.last = time.perf_counter()
+
+    def __call__(self, result) -> None:
+        self.evaluated += 1
+        self.failed += result.error is not None
+        now = time.perf_counter()
+        if (
+            self.evaluated % self.every
+            and now - self.last < self.every_s
+            and self.evaluated != self.pending
+        ):
+            return
+        self.last = now
+        elapsed = now - self.start
+        left = elapsed / self.evaluated * (self.pending - self.evaluated)
+        total = self.pending + self.done
+        self.log(
+            f"campaign: {self.done + self.evaluated}/{total} samples ({self.failed} failed), "
+            f"{_format_duration(elapsed)} elapsed, about {_format_duration(left)} left"
+        )
+
+
+@contextlib.contextmanager
+def _store_errors(path: Path):
+    """SQLite's 'disk is full' / read-only errors of the store as one clear input error."""
+    try:
+        yield
+    except sqlite3.OperationalError as exc:
+        text = str(exc)
+        if "full" in text:
+            what = "the disk is full; free some space or choose another --out (or store)"
+        elif "readonly" in text or "read-only" in text or "unable to open" in text:
+            what = "it cannot be written (read-only folder or file); choose another --out"
+        else:
+            raise
+        raise ThermocalInputError(
+            f"store {path}: {what}; the samples recorded so far are kept, and --resume continues"
+        ) from None
+
+
+def refine_minimum(problem, space, X, y, series, kind, start, *, steps: int, seed: int, log=print):
     """Trust-region refinement of the minimum with the full model in the loop (beyond the paper).
 
     From the best confirmed point, each step fits the meta-model (the chosen kind, without
@@ -804,8 +1003,9 @@ def refine_minimum(
         def predict(Z, model=model):
             return model.predict(np.exp(np.atleast_2d(Z)))
 
-        optimum = optimise_box(predict, lo, hi, sense="min", starts=2, initial=[best_z],
-                               seed=seed + step, maxiter=100)
+        optimum = optimise_box(
+            predict, lo, hi, sense="min", starts=2, initial=[best_z], seed=seed + step, maxiter=100
+        )
         values = {**space.nominal_dict(), **dict(zip(names, np.exp(optimum.x), strict=True))}
         metrics = problem.metrics(problem.run(values).heat)
         metric = metrics[METRIC]
@@ -846,7 +1046,11 @@ def _morris(campaign, problem, space, store_path, workers, scheduler, progress, 
     m = campaign.morris
     lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
     design = morris_design(
-        list(space.names), lower, upper, trajectories=m.trajectories, levels=m.levels,
+        list(space.names),
+        lower,
+        upper,
+        trajectories=m.trajectories,
+        levels=m.levels,
         seed=m.seed,
     )
     log(f"Morris screening: {len(design)} runs of the model")
@@ -858,7 +1062,12 @@ def _morris(campaign, problem, space, store_path, workers, scheduler, progress, 
     }
     with CampaignStore.open(path, definition=definition, resume=True) as store:
         run_campaign(
-            problem, design, store, workers=workers, scheduler=scheduler, progress=progress,
+            problem,
+            design,
+            store,
+            workers=workers,
+            scheduler=scheduler,
+            progress=progress,
             description="Morris screening",
         )
         outputs = store.outputs(successful=False)[METRIC].reindex(design.index)
@@ -923,11 +1132,29 @@ def choose_surrogate(
     return fitted[best], best, scores
 
 
-def _validate(campaign, inputs: CampaignInputs, optimisation, schedule=None) -> dict:
+def validation_problem(campaign, inputs: CampaignInputs):
+    """The identification problem of the validation period, built (and so checked: weather,
+    sensor coverage) before the campaign rather than after it; None without a validation."""
+    if campaign.validation is None:
+        return None
+    start = _localise(campaign.validation.start, inputs.weather.index[0])
+    end = _localise(campaign.validation.end, inputs.weather.index[0])
+    try:
+        problem, _ = build_problem(campaign, inputs, start=start, end=end)
+    except ThermocalInputError as exc:
+        raise ThermocalInputError(
+            f"{campaign.path}: validation period [{start}, {end}): {exc} (checked before the "
+            "campaign; correct 'validation:' or remove it)"
+        ) from None
+    return problem
+
+
+def _validate(campaign, inputs: CampaignInputs, optimisation, problem=None) -> dict:
     """Nominal vs calibrated metric on the validation period (not seen by the calibration)."""
     start = _localise(campaign.validation.start, inputs.weather.index[0])
     end = _localise(campaign.validation.end, inputs.weather.index[0])
-    problem, _ = build_problem(campaign, inputs, start=start, end=end, schedule=schedule)
+    if problem is None:
+        problem = validation_problem(campaign, inputs)
     nominal = problem.evaluate({})[METRIC]
     calibrated = problem.evaluate(optimisation.parameters("min"))[METRIC]
     return {

@@ -29,9 +29,7 @@ optimisation: {starts: 8, seed: 1}
 
 @app.command()
 def calibrate(
-    campaign: Annotated[
-        Path | None, typer.Argument(help="Campaign file (YAML).")
-    ] = None,
+    campaign: Annotated[Path | None, typer.Argument(help="Campaign file (YAML).")] = None,
     out: Annotated[Path, typer.Option(help="Output directory.")] = Path("calibration"),
     samples: Annotated[
         int | None, typer.Option(help="Number of samples (overrides the campaign file).")
@@ -48,18 +46,28 @@ def calibrate(
     demo: Annotated[
         bool, typer.Option("--demo", help="Run on the built-in clinic with known truth.")
     ] = False,
+    max_hours: Annotated[
+        float,
+        typer.Option(
+            help="Refuse a campaign estimated to take longer (hours; samples x time per "
+            "identification / workers)."
+        ),
+    ] = 24.0,
 ) -> None:
     """Find which envelope parameters are wrong and by how much, from zone temperature sensors.
 
     Writes into OUT: calibration.json, table1.csv (the critical parameters),
     samples.parquet and samples.csv (the campaign), campaign.sqlite (the durable store,
-    continued by --resume), calibrated_building.yaml, figures and report.html.
+    continued by --resume), calibrated_building.yaml, figures and report.html. The results
+    replace OUT in one step when all are written; the store is updated sample by sample.
     """
     from rich.console import Console
 
     from thermocal.calibration.config import load_campaign
     from thermocal.calibration.workflow import calibrate as run_calibration
     from thermocal.errors import ThermocalInputError
+    from thermocal.io import output
+    from thermocal.io.output import check_output_folder, output_folder
 
     console = Console(stderr=True)
     if demo == (campaign is not None):
@@ -68,27 +76,102 @@ def calibrate(
         raise ThermocalInputError(f"--workers must be >= 1, got {workers}")
     if samples is not None and samples < 1:
         raise ThermocalInputError(f"--samples must be >= 1, got {samples}")
-    out.mkdir(parents=True, exist_ok=True)
+    if not max_hours > 0:
+        raise ThermocalInputError(f"--max-hours must be positive, got {max_hours}")
+    check_output_folder(out, signature=SIGNATURE)
     if demo:
         # the demo's campaign file, written so that it can be edited and run again
         campaign = out / "demo_campaign.yaml"
         if not campaign.exists():
+            out.mkdir(parents=True, exist_ok=True)
             campaign.write_text(DEMO_CAMPAIGN)
     spec = load_campaign(campaign)
     store = Path(spec.store) if spec.store is not None else out / "campaign.sqlite"
-    result = run_calibration(
-        spec,
-        samples=samples,
-        workers=workers,
-        scheduler=scheduler,
-        resume=resume,
-        store_path=store,
-        log=lambda line: console.print(line),
-    )
-    written = result.to_files(out)
+    total = samples if samples is not None else spec.sampling.samples
+    try:
+        result = run_calibration(
+            spec,
+            samples=samples,
+            workers=workers,
+            scheduler=scheduler,
+            resume=resume,
+            store_path=store,
+            log=lambda line: console.print(line),
+            max_hours=max_hours,
+        )
+        with output_folder(out, command="calibrate", signature=SIGNATURE) as tmp:
+            written = [out / Path(p).name for p in result.to_files(tmp)]
+            written += [out / p.name for p in _carry_over(out, tmp, store)]
+    except KeyboardInterrupt:
+        output.last_interrupted = _interrupted_message(out, store, total)
+        raise
     _print_summary(result)
-    for path in [store, *written]:
+    for path in dict.fromkeys([store, *written]):
         console.print(f"wrote {path}")
+
+
+#: Files that mark an output folder as a calibrate result (see io/output.py).
+SIGNATURE = (
+    "calibration.json",
+    "table1.csv",
+    "campaign.sqlite",
+    "demo_campaign.yaml",
+    "report.html",
+)
+
+
+def _carry_over(out: Path, tmp: Path, store: Path) -> list[Path]:
+    """Copy the campaign's durable files from ``out`` into the new results ``tmp``.
+
+    The store (when it lives in ``out``), the Morris store and the demo's campaign file are
+    the campaign's state, not results of this run: they move with the folder. SQLite files are
+    copied with SQLite's backup (a consistent copy, WAL included).
+    """
+    import shutil
+    import sqlite3
+
+    copied = []
+    names = [store.name, store.stem + "_morris.sqlite", "demo_campaign.yaml"]
+    for name in dict.fromkeys(names):
+        source = out / name
+        if (name != "demo_campaign.yaml" and store.parent.resolve() != out.resolve()) or (
+            not source.is_file() or (tmp / name).exists()
+        ):
+            continue
+        if name.endswith(".sqlite"):
+            with sqlite3.connect(str(source)) as src, sqlite3.connect(str(tmp / name)) as dst:
+                src.backup(dst)
+            src.close()
+            dst.close()
+        else:
+            shutil.copy2(source, tmp / name)
+        copied.append(tmp / name)
+    return copied
+
+
+def _interrupted_message(out: Path, store: Path, total: int) -> str:
+    """What an interrupted campaign keeps: samples in the store, the previous results."""
+    import sqlite3
+
+    from thermocal.io import output
+
+    kept = output.last_interrupted or (
+        f"nothing written; {out} keeps its previous results"
+        if (out / "calibration.json").exists()
+        else "no results written"
+    )
+    try:
+        con = sqlite3.connect(f"file:{store}?mode=ro", uri=True)
+        try:
+            done = con.execute("SELECT COUNT(*) FROM results WHERE error IS NULL").fetchone()[0]
+        finally:
+            con.close()
+    except sqlite3.Error:
+        return kept
+    return (
+        f"{kept}; {done} of {total} samples are kept in {store}: run the same command with "
+        "--resume to continue the campaign"
+    )
 
 
 def _print_summary(result) -> None:
@@ -102,7 +185,10 @@ def _print_summary(result) -> None:
         table.add_column(column, justify="left" if column == "parameter" else "right")
     for name, row in result.table1().iterrows():
         table.add_row(
-            name, row["unit"], f"{row['nominal']:.4g}", f"{row['min_metric']:.4g}",
+            name,
+            row["unit"],
+            f"{row['nominal']:.4g}",
+            f"{row['min_metric']:.4g}",
             f"{row['max_metric']:.4g}",
         )
     console.print(table)
@@ -135,7 +221,8 @@ def _print_summary(result) -> None:
                 f"{row['calibrated']:.4g}",
                 f"{row['true']:.4g}",
                 "-" if towards is None else ("yes" if towards else "no"),
-                "-" if not np.isfinite(row["recovered_fraction"])
+                "-"
+                if not np.isfinite(row["recovered_fraction"])
                 else f"{100 * row['recovered_fraction']:.0f} %",
             )
         console.print(truth)

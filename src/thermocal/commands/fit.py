@@ -68,8 +68,7 @@ def read_table(path: Path, *, sep: str | None = None, decimal: str = ".", sheet:
         except UnicodeDecodeError as exc:
             if exc.start < len(head) - 4:  # not merely a character cut at the block end
                 raise ThermocalInputError(
-                    f"data file {path}: not UTF-8 text (byte {exc.start}); save the CSV as "
-                    "UTF-8"
+                    f"data file {path}: not UTF-8 text (byte {exc.start}); save the CSV as UTF-8"
                 ) from None
         if sep is None:
             with path.open(encoding="utf-8", errors="replace") as fh:
@@ -213,9 +212,7 @@ def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
     from thermocal.statespace.units import TIME_UNITS
 
     if time_unit not in TIME_UNITS:
-        raise ThermocalInputError(
-            f"--time-unit {time_unit!r}: use one of {', '.join(TIME_UNITS)}"
-        )
+        raise ThermocalInputError(f"--time-unit {time_unit!r}: use one of {', '.join(TIME_UNITS)}")
     raw = data[time_column]
     naive = False
     if not (pd.api.types.is_numeric_dtype(raw) or pd.api.types.is_datetime64_any_dtype(raw)):
@@ -244,8 +241,10 @@ def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
             data, time_column=time_column, time_unit=time_unit, source=str(path)
         )
     except ThermocalInputError as exc:
-        if naive and isinstance(exc, ThermocalInputError) and (
-            "not increasing" in str(exc) or "duplicated" in str(exc)
+        if (
+            naive
+            and isinstance(exc, ThermocalInputError)
+            and ("not increasing" in str(exc) or "duplicated" in str(exc))
         ):
             stamps = pd.to_datetime(raw.astype(str), format="ISO8601", errors="coerce")
             steps = np.diff(stamps.to_numpy().astype("datetime64[s]").astype(np.int64))

@@ -54,6 +54,14 @@ def identify(
     tz: Annotated[
         str | None, typer.Option(help="Time zone of sensor time stamps without UTC offset.")
     ] = None,
+    time_unit: Annotated[
+        str | None,
+        typer.Option(help="Unit of numeric sensor time stamps: s, ms, min, h or d (Unix: s)."),
+    ] = None,
+    time_origin: Annotated[
+        str | None,
+        typer.Option(help="Time of 0 of numeric time stamps (default 1970-01-01 UTC)."),
+    ] = None,
     demo: Annotated[
         bool, typer.Option("--demo", help="Run on the built-in clinic demo data.")
     ] = False,
@@ -70,6 +78,7 @@ def identify(
 
     from thermocal.errors import ThermocalInputError
     from thermocal.identification.occupancy import OccupancySchedule
+    from thermocal.identification.sensors import check_period_length
     from thermocal.identification.workflow import identify as run_identification
     from thermocal.io.output import check_output_folder, output_folder
 
@@ -106,15 +115,21 @@ def identify(
                 )
             from thermocal.identification.sensors import load_mapping
             from thermocal.io.measurements import read_measurements
-            from thermocal.io.weather import read_weather
+            from thermocal.io.weather import check_building_site, check_weather_clock, read_weather
             from thermocal.multizone.files import load_building
 
             model = load_building(building)
             frame, site = read_weather(weather)
-            raw, _ = read_measurements(sensors, tz=tz)
+            check_building_site(
+                model, site, building_source=str(building), weather_source=str(weather)
+            )
+            check_weather_clock(frame, site, source=str(weather))
+            raw, _ = read_measurements(sensors, tz=tz, time_unit=time_unit, start=time_origin)
             mapping_data = load_mapping(mapping)
             log_name = str(sensors)
             max_gap_used = max_gap
+            if start is None and end is None:
+                start, end = _log_period(raw, frame.index, step, console, log_name)
         schedule = None
         if occupancy is not None:
             from thermocal.io.yamlfile import read_yaml
@@ -125,6 +140,7 @@ def identify(
                 source=str(occupancy),
             )
         pid_limits = _parse_limits(limits)
+        check_period_length(start, end, frame.index)
         console.print(
             f"{model.name}: {len(model.zones)} zones; method {method}, feedback {feedback}"
         )
@@ -154,6 +170,39 @@ def identify(
     _print_summary(result, truth)
     for path in written:
         console.print(f"wrote {path}")
+
+
+def _log_period(raw, weather_index, step: str, console, log_name: str):
+    """Default period: the sensor log's span on the model grid (not the whole weather year).
+
+    Returns ``(start, end)`` tz-aware, or ``(None, None)`` when the log does not lie inside
+    the weather data (the overlap check then names both ranges).
+    """
+    import pandas as pd
+
+    from thermocal.errors import ThermocalInputError
+    from thermocal.identification.sensors import _log_span
+
+    try:
+        delta = pd.Timedelta(step)
+    except ValueError:
+        raise ThermocalInputError(f"--step {step!r}: give a duration such as 5min") from None
+    if delta <= pd.Timedelta(0):
+        raise ThermocalInputError(f"--step {step!r} must be positive")
+    first, last = _log_span(raw)
+    origin = weather_index[0]
+    if first.tzinfo is None or origin.tzinfo is None:
+        return None, None
+    first, last = first.tz_convert(origin.tz), last.tz_convert(origin.tz)
+    t0 = origin + -((origin - first) // delta) * delta  # first grid instant at or after
+    t1 = origin + ((last - origin) // delta) * delta
+    end_of_weather = weather_index[-1] + (weather_index[1] - weather_index[0])
+    if t1 <= t0 or t0 < origin or t1 > end_of_weather:
+        return None, None
+    console.print(
+        f"period: the span of {log_name}, [{t0}, {t1}) (pass --start/--end to choose another)"
+    )
+    return t0, t1
 
 
 def _parse_limits(text: str | None) -> tuple[float, float] | None:
@@ -188,8 +237,10 @@ def _print_summary(result, truth) -> None:
     if result.tuning is not None:
         t = result.tuning
         summary.add_row("tuned zone", t.zone)
-        summary.add_row("Ku exact / experiment", f"{t.ultimate_gain:.0f} / "
-                        f"{(t.experiment_gain or float('nan')):.0f} W/K")
+        summary.add_row(
+            "Ku exact / experiment",
+            f"{t.ultimate_gain:.0f} / {(t.experiment_gain or float('nan')):.0f} W/K",
+        )
         summary.add_row("Pu", f"{t.ultimate_period / 60:.1f} min")
     difference = result.method_difference()
     if difference is not None:

@@ -11,6 +11,19 @@ import typer
 from thermocal.cli import app
 
 
+def measure_abbreviations(names) -> dict[str, str]:
+    """Shortest unique prefix of each measure name, capitalised (roof -> R, walls -> Wa,
+    windows -> Wi), for a strategy table that fits an 80-column terminal."""
+    out = {}
+    for name in names:
+        for n in range(1, len(name) + 1):
+            prefix = name[:n]
+            if not any(o != name and o.startswith(prefix) for o in names):
+                break
+        out[name] = prefix.capitalize()
+    return out
+
+
 def print_summary(results: dict, out: Path) -> None:
     """Rich tables of the key results (stdout): HLC, validation, annual demand, strategies.
 
@@ -19,6 +32,7 @@ def print_summary(results: dict, out: Path) -> None:
     """
     import logging
 
+    from rich import box
     from rich.console import Console
     from rich.table import Table
 
@@ -28,9 +42,14 @@ def print_summary(results: dict, out: Path) -> None:
     pct = f"{100 * results.get('uncertainty', {}).get('interval', 0.9):.0f} %"
     std = hlc["std"]
     line = f"HLC {hlc['value']:.0f} ± {'n/a' if std is None else format(std, '.0f')} W/K"
+    if hlc.get("p05") is not None:
+        line += f", {pct} interval {hlc['p05']:.0f} – {hlc['p95']:.0f} W/K"
     if "true" in hlc:
         line += f" (true {hlc['true']:.0f} W/K, {hlc['relative_error_pct']:+.1f} %)"
     console.print(f"[bold]{line}[/bold]")
+    corr = results.get("calibration", {}).get("correction")
+    if corr:
+        console.print(corr["summary"])
 
     val = Table(title="Validation: multi-step simulation of the indoor temperature Ti")
     for col in ("period", "MAE [K]", "MAPE [%]", "MSE [K²]", "mean sim. [C]", "mean meas. [C]",
@@ -47,6 +66,10 @@ def print_summary(results: dict, out: Path) -> None:
             f"{m['mean_deviation_pct']:+.2f}" if "mean_deviation_pct" in m else "",
         )
     console.print(val)
+    gate = results.get("validation_gate")
+    if gate:
+        style = "green" if gate["passed"] else "bold red"
+        console.print(f"[{style}]{gate['summary']}[/{style}]")
 
     console.print(
         f"[bold]annual heating demand {dem['value']:,.0f} kWh[/bold] "
@@ -56,21 +79,31 @@ def print_summary(results: dict, out: Path) -> None:
         if not isinstance(value, list):
             console.print(f"  reference, {name}: {value:,.0f} kWh")
 
-    table = Table(title="Retrofit strategies")
+    names = list(results.get("measures", {})) or list(
+        dict.fromkeys(m for s in results["scenarios"] for m in s["measures"])
+    )
+    short = measure_abbreviations(names)
+    table = Table(title="Retrofit strategies", box=box.SIMPLE_HEAD, padding=(0, 1))
     eco = results.get("economics", {})
     cur = eco.get("currency", "")
-    cols = ["code", "measures", "annual kWh", "saving %", f"{pct} interval"]
+    cols = ["code", "measures", "kWh/a", "saving %", pct]
     if eco:
-        cols += [f"investment {cur}", f"saving {cur}/a", "payback a"]
+        cols += [f"invest {cur}", f"{cur}/a", "payback a"]
+    labels = ["+".join(short[m] for m in s["measures"]) or "none" for s in results["scenarios"]]
     for col in cols:
-        table.add_column(col, justify="left" if col == "measures" else "right")
-    for s in results["scenarios"]:
+        table.add_column(
+            col,
+            justify="left" if col == "measures" else "right",
+            no_wrap=col == "measures",
+            min_width=max(map(len, labels)) if col == "measures" else None,
+        )
+    for s, label in zip(results["scenarios"], labels, strict=True):
         row = [
             s["code"],
-            " + ".join(m.replace("_", " ") for m in s["measures"]) or "none",
+            label,
             f"{s['annual_kWh']:,.0f}",
             f"{s['saving_pct']:.1f}",
-            f"{s['saving_pct_p05']:.1f} – {s['saving_pct_p95']:.1f}",
+            f"{s['saving_pct_p05']:.0f}–{s['saving_pct_p95']:.0f}",
         ]
         if eco:
             e = s.get("economics", {})
@@ -82,6 +115,11 @@ def print_summary(results: dict, out: Path) -> None:
             ]
         table.add_row(*row)
     console.print(table)
+    console.print("measures: " + ", ".join(f"{a} {m.replace('_', ' ')}" for m, a in short.items()))
+    if gate and not gate["passed"]:
+        console.print("[bold red]no strategy recommended: the model failed its validation[/]")
+    elif results.get("recommendation"):
+        console.print(f"recommended strategy: [bold]{results['recommendation']}[/bold]")
     log = logging.getLogger("thermocal.retrofit")
     for flag in results["calibration"]["flags"]:
         log.warning("calibration: %s", flag)
@@ -89,6 +127,50 @@ def print_summary(results: dict, out: Path) -> None:
         if not note.startswith("measurements:"):  # those were logged while computing
             log.warning("%s", note)
     console.print(f"results in [bold]{out}[/bold] (results.json, report.html, CSV, figures/)")
+
+
+def _check_site_and_clock(cfg) -> None:
+    """Refuse weather far from the building, and measurements whose clock does not fit the sun.
+
+    Both before computing: the typical-year weather file's site against the building's
+    location, and the measured irradiance's daily profile against the sun's at the building.
+    """
+    from thermocal.io.measurements import check_clock_against_sun
+    from thermocal.io.weather import check_site_matches_weather, read_weather
+    from thermocal.retrofit.data import read_raw_measurements
+    from thermocal.retrofit.workflow import _location_tz, load_building, resolve_weather_path
+
+    building = load_building(
+        cfg.building, config_source=f"the retrofit configuration in {cfg.base_dir}"
+    )
+    weather = resolve_weather_path(cfg.weather.file)
+    _, meta = read_weather(weather, format=cfg.weather.format, columns=cfg.weather.columns)
+    source = cfg.building if isinstance(cfg.building, Path) else "the inline building"
+    check_site_matches_weather(
+        building.location.latitude,
+        building.location.longitude,
+        meta,
+        building_source=str(source),
+        weather_source=str(cfg.weather.file),
+    )
+    # the measurements' clock against the sun at the building (when they carry irradiance)
+    raw = read_raw_measurements(cfg.measurements, default_tz=_location_tz(building))
+    solar = [c for c in ("dni", "dhi") if c in raw.columns]
+    if solar:
+        tz = cfg.measurements.timezone
+        setting = (
+            f"measurements.timezone (now {tz!r})"
+            if tz is not None
+            else f"the building's location.timezone (now {building.location.timezone!r})"
+        )
+        check_clock_against_sun(
+            raw[solar].sum(axis=1, min_count=len(solar)),
+            building.location.latitude,
+            building.location.longitude,
+            source=f"measurement file {cfg.measurements.file}",
+            column=" + ".join(cfg.measurements.columns[c] for c in solar),
+            timezone_setting=setting,
+        )
 
 
 #: Files of a retrofit output folder: an existing folder holding one of them is replaced.
@@ -118,6 +200,7 @@ def retrofit(
     console = Console(stderr=True)
     check_output_folder(out, signature=RETROFIT_SIGNATURE)
     cfg = load_config(config)
+    _check_site_and_clock(cfg)
     with (
         output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,
         console.status("retrofit analysis") as status,

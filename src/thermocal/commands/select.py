@@ -59,9 +59,7 @@ def select(
         list[str] | None,
         typer.Option("--map", help="Model column = data column, e.g. --map Ph=heat_kW."),
     ] = None,
-    heat_unit: Annotated[
-        str, typer.Option("--heat-unit", help="Unit of Ph: W, kW, MW.")
-    ] = "kW",
+    heat_unit: Annotated[str, typer.Option("--heat-unit", help="Unit of Ph: W, kW, MW.")] = "kW",
     solar_unit: Annotated[
         str, typer.Option("--solar-unit", help="Unit of Ps: W/m2, kW/m2.")
     ] = "kW/m2",
@@ -166,9 +164,7 @@ def select(
             folder.mkdir()
             (folder / "fit.json").write_text(json.dumps(res.to_dict(), indent=2))
             res.parameter_table().to_csv(folder / "parameters.csv")
-            (folder / "model.yaml").write_text(
-                yaml.safe_dump(res.model.to_dict(), sort_keys=False)
-            )
+            (folder / "model.yaml").write_text(yaml.safe_dump(res.model.to_dict(), sort_keys=False))
         records = [
             {k: (None if isinstance(v, float) and v != v else v) for k, v in row.items()}
             for row in json.loads(table.to_json(orient="records"))

@@ -38,6 +38,16 @@ def _refuse_retrofit_building_file(path: Path) -> None:
         )
 
 
+def _add_import_report(path: Path, info) -> None:
+    """Add the IDF import's full report (classes not represented and notes, by kind) to
+    summary.json as ``idf_import``."""
+    import json
+
+    summary = json.loads(path.read_text())
+    summary["idf_import"] = info.report()
+    path.write_text(json.dumps(summary, indent=2))
+
+
 @app.command()
 def simulate(
     building: Annotated[
@@ -184,6 +194,9 @@ def simulate(
             out / Path(p).name
             for p in result.to_files(tmp, format=output_format, quantities=quantities)
         ]
+        info = getattr(model, "idf_info", None)
+        if info is not None:
+            _add_import_report(Path(tmp) / "summary.json", info)
     summary = result.summary()
     table = Table(
         title="summary (first 20 zones; air temperature hourly-integrated, as ASHRAE 140)"

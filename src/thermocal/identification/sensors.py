@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io.measurements import temperature_unit_slip
 
 
 @dataclass(frozen=True)
@@ -91,8 +92,10 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
         out[str(sensor)] = zone
     substitutes: dict[str, str] = {}
     for zone, spec in (data.get("zones") or {}).items():
-        if not isinstance(spec, Mapping) or set(spec) != {"use"} or not isinstance(
-            spec["use"], str
+        if (
+            not isinstance(spec, Mapping)
+            or set(spec) != {"use"}
+            or not isinstance(spec["use"], str)
         ):
             raise ThermocalInputError(
                 f"{source}: zones.{zone} must be {{use: <zone name>}}, got {spec!r}"
@@ -311,7 +314,8 @@ def zone_references(
         grid.index = grid.index.tz_convert(tz)
     grid = grid.reindex(times + half)
     grid.index = times
-    _check_celsius(grid, source)
+    checked = [c for c in grid.columns if c in mapping.sensors and c not in mapping.ignore]
+    check_sensor_plausibility(grid[checked], mapping, step, source)
     own = {}
     for zone, src in sources.items():
         if src.kind == "sensor":
@@ -321,7 +325,8 @@ def zone_references(
     for zone, src in sources.items():
         series = own.get(zone, own.get(src.zone)).copy()
         series, filled = _interpolate_short_gaps(series, max_gap)
-        interpolated += [{"zone": zone, **gap} for gap in filled]
+        series, held = _hold_final_step(series, last, step)
+        interpolated += [{"zone": zone, **gap} for gap in filled + held]
         reference[zone] = series
     for zone, src in sources.items():
         missing = reference[zone].isna()
@@ -330,6 +335,16 @@ def zone_references(
         fallback = _fallback_zone(building, zone, src, sources, reference)
         if fallback is None:
             first_missing = reference.index[missing.argmax()]
+            if (
+                not missing.iloc[: missing.argmax()].any()
+                and missing.iloc[missing.argmax() :].all()
+            ):
+                raise ThermocalInputError(
+                    f"zone {zone!r} (sensors {', '.join(src.sensors)}) has no data for the last "
+                    f"{missing.sum() * step / pd.Timedelta('1h'):.2f} h of the period (from "
+                    f"{first_missing}): {source} ends at {last}; end the period there (--end) or "
+                    "extend the log"
+                )
             raise ThermocalInputError(
                 f"zone {zone!r} (sensors {', '.join(src.sensors)}) has no data for "
                 f"{missing.sum() * step / pd.Timedelta('1h'):.1f} h (first at {first_missing}), "
@@ -363,21 +378,138 @@ def _log_span(raw: pd.DataFrame) -> tuple[pd.Timestamp, pd.Timestamp]:
     return times.min(), times.max()
 
 
-def _check_celsius(grid: pd.DataFrame, source: str) -> None:
-    means = grid.mean(axis=0, skipna=True)
-    hot = means[means > 60.0]
-    if len(hot):
-        name = hot.index[0]
-        raise ThermocalInputError(
-            f"{source}: sensor {name!r} reads {hot.iloc[0]:.1f} C on average; indoor "
-            "temperatures above 60 C suggest Kelvin: declare its unit as K (unit column or "
-            "units=) so that it is converted"
+#: A sensor reading exactly the same value for at least this long is stuck.
+STUCK_AFTER = pd.Timedelta("1D")
+
+
+def check_sensor_plausibility(
+    grid: pd.DataFrame,
+    mapping: SensorMapping,
+    step: pd.Timedelta,
+    source: str,
+) -> None:
+    """Refuse sensors in the wrong unit or stuck, naming file, sensor, zone and what to do.
+
+    * a sensor whose mean is not an indoor temperature, or disagrees with the other sensors by
+      a unit-like factor (Kelvin, Fahrenheit, tenths or hundredths of a degree; the conversion
+      that brings it next to the others is named);
+    * a sensor that disagrees with its own history: a day whose mean is such a factor away
+      from the sensor's median day (the logger's unit changed);
+    * a sensor reading exactly the same value for :data:`STUCK_AFTER` or longer (a frozen
+      logger repeats its last value; identifying against it gives a plausible but wrong heat).
+
+    Parameters
+    ----------
+    grid : DataFrame
+        Sensor temperatures on the simulation grid [C], one column per sensor, NaN where
+        missing.
+    mapping : SensorMapping
+        For the zone of each sensor.
+    step : Timedelta
+        Grid step.
+    source : str
+        The sensor log, for messages.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+    """
+    means = grid.mean(axis=0, skipna=True).dropna()
+
+    def where(sensor) -> str:
+        zone = mapping.sensors.get(str(sensor))
+        return f"{source}: sensor {str(sensor)!r}" + (f" (zone {zone!r})" if zone else "")
+
+    for sensor, mean in means.items():
+        others = means.drop(sensor)
+        reference = float(others.median()) if len(others) else None
+        slip = temperature_unit_slip(float(mean), reference)
+        if slip is None:
+            continue
+        label, remedy, converted = slip
+        company = (
+            f", while the other {len(others)} sensor(s) average {reference:.1f} C"
+            if reference is not None
+            else ""
         )
-    cold = means[means < -30.0]
-    if len(cold):
+        as_converted = "" if np.isnan(converted) else f" (as {converted:.1f} C if so)"
         raise ThermocalInputError(
-            f"{source}: sensor {cold.index[0]!r} reads {cold.iloc[0]:.1f} C on average, not an "
-            "indoor temperature; check its unit"
+            f"{where(sensor)} reads {mean:.1f} on average{company}: {label}{as_converted}; "
+            f"{remedy.replace('NAME', str(sensor))} and run again"
+        )
+    for sensor in means.index:
+        daily = grid[sensor].resample("1D").mean().dropna()
+        if len(daily) < 3:
+            continue
+        typical = float(daily.median())
+        for day, value in daily.items():
+            slip = temperature_unit_slip(float(value), typical)
+            if slip is not None and not np.isnan(slip[2]):
+                raise ThermocalInputError(
+                    f"{where(sensor)} averages {value:.1f} on {day:%Y-%m-%d} but "
+                    f"{typical:.1f} C on a typical day: {slip[0]} The logger's unit seems to "
+                    f"change within the log; write all its values in one unit ({slip[1]} for "
+                    "that part)"
+                )
+    steps_per_day = int(round(STUCK_AFTER / step))
+    for sensor in grid.columns:
+        values = grid[sensor].to_numpy(dtype=float)
+        same = np.abs(np.diff(values)) <= 1e-9 * np.maximum(1.0, np.abs(values[1:]))
+        runs = _runs(np.append(same, False), grid.index, step)
+        long = [r for r in runs if r["hours"] * pd.Timedelta("1h") >= STUCK_AFTER]
+        if steps_per_day and long:
+            first = long[0]
+            stuck_value = grid[sensor].loc[first["start"]]
+            raise ThermocalInputError(
+                f"{where(sensor)} reads exactly {stuck_value:g} C from {first['start']} for "
+                f"{first['hours'] / 24:.1f} days ({len(long)} such period(s)): a stuck or frozen "
+                "sensor repeats its last value, and identifying against it gives a wrong heat; "
+                "remove those values from the log (a gap), or list the sensor under 'ignore:' "
+                f"in {mapping.source}"
+            )
+
+
+#: Shortest identification period [d]: the first day lets the controllers and the walls
+#: settle and is not counted (``settle``), and the metric needs unoccupied hours after it.
+MIN_PERIOD_DAYS = 2.0
+
+
+def check_period_length(start, end, weather_index: pd.DatetimeIndex) -> None:
+    """Refuse an identification period too short for the metric (:data:`MIN_PERIOD_DAYS`).
+
+    Parameters
+    ----------
+    start, end : timestamp-like or None
+        The period ``[start, end)``; None: the weather's first / last instant.
+    weather_index : DatetimeIndex
+        The weather's index (its time zone places naive times).
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Stating the period's length, the minimum and why.
+    """
+
+    def instant(value, default):
+        if value is None:
+            return default
+        try:
+            ts = pd.Timestamp(value)
+        except ValueError:
+            return None  # the simulation names an unreadable time
+        return ts.tz_localize(default.tz) if ts.tzinfo is None and default.tzinfo else ts
+
+    t0 = instant(start, weather_index[0])
+    t1 = instant(end, weather_index[-1])
+    if t0 is None or t1 is None or t1 <= t0:
+        return
+    days = (t1 - t0) / pd.Timedelta("1D")
+    if days < MIN_PERIOD_DAYS:
+        raise ThermocalInputError(
+            f"the period [{t0}, {t1}) is {days * 24:.1f} h; identification needs at least "
+            f"{MIN_PERIOD_DAYS:g} days: the first day lets the controllers and the building's "
+            "walls settle and is not counted, and the unoccupied-variance metric needs the "
+            "unoccupied hours after it; give a longer log or period (--start/--end)"
         )
 
 
@@ -423,6 +555,23 @@ def _interpolate_short_gaps(series: pd.Series, max_gap: pd.Timedelta):
             values[i0:i1] = np.interp(positions[i0:i1], positions[good], values[good])
             filled.append(run)
     return pd.Series(values, index=series.index), filled
+
+
+def _hold_final_step(series: pd.Series, last_report: pd.Timestamp, step: pd.Timedelta):
+    """Fill a missing final step when the log reaches its start (a log ending at ``--end``).
+
+    The reference of the final step is centred on the period's end, so its averaging window
+    reaches half a step beyond the log; the last value is held there instead of calling the
+    end of the log a gap. Returns the series and the filled run (for the report).
+    """
+    if len(series) < 2 or not np.isnan(series.iloc[-1]) or np.isnan(series.iloc[-2]):
+        return series, []
+    if last_report < series.index[-1]:
+        return series, []
+    series = series.copy()
+    series.iloc[-1] = series.iloc[-2]
+    hours = step / pd.Timedelta("1h")
+    return series, [{"start": series.index[-1], "end": series.index[-1] + step, "hours": hours}]
 
 
 def _fallback_zone(building, zone, src, sources, reference) -> str | None:

@@ -25,6 +25,10 @@ from thermocal.errors import ThermocalInputError
 #: Units of numeric time columns -> pandas unit.
 TIME_UNITS = {"s": "s", "min": "min", "h": "h", "d": "D", "ms": "ms"}
 _OFFSET = re.compile(r"(Z|[+-]\d\d(:?\d\d)?)$")
+#: A time zone written as hours east of UTC: ``1``, ``+1``, ``-7``, ``-7.0``, ``5.5``.
+_HOURS = re.compile(r"^\s*(?:UTC|GMT)?\s*[+-]?\d{1,2}(\.\d+)?\s*$", re.IGNORECASE)
+#: ... or as an ISO 8601 offset: ``+01:00``, ``-0700``, ``UTC+05:30``.
+_HHMM = re.compile(r"^\s*(?:UTC|GMT)?\s*([+-])(\d\d):?(\d\d)\s*$", re.IGNORECASE)
 
 
 def as_timezone(tz: Any, source: str):
@@ -33,7 +37,8 @@ def as_timezone(tz: Any, source: str):
     Parameters
     ----------
     tz : str, datetime.tzinfo, int or float
-        Time zone; numbers are fixed offsets [h east of UTC].
+        Time zone: an IANA name, or a fixed offset [h east of UTC] as a number or as text
+        (``"1"``, ``"+1"``, ``"-7"``, ``"-7.0"``, ``"+05:30"``, ``"UTC-7"``).
     source : str
         What is being read (for the error message), e.g. ``"weather file w.csv"``.
 
@@ -41,6 +46,11 @@ def as_timezone(tz: Any, source: str):
     -------
     datetime.tzinfo
     """
+    if isinstance(tz, str) and _HOURS.match(tz):
+        tz = float(re.sub(r"(?i)utc|gmt|\s", "", tz))
+    elif isinstance(tz, str) and _HHMM.match(tz):
+        sign, hh, mm = _HHMM.match(tz).groups()
+        tz = (1.0 if sign == "+" else -1.0) * (int(hh) + int(mm) / 60.0)
     if isinstance(tz, (int, float)) and not isinstance(tz, bool):
         hours = float(tz)
         if math.isnan(hours) or not -14.0 <= hours <= 14.0:
@@ -53,7 +63,7 @@ def as_timezone(tz: Any, source: str):
     except Exception as exc:
         raise ThermocalInputError(
             f"{source}: unknown time zone {tz!r} (use an IANA name such as 'Europe/Zurich' or "
-            "'Etc/GMT-1', or hours east of UTC such as 1.0)"
+            "'America/Denver', or signed hours east of UTC such as 1, +1, -7 or +05:30)"
         ) from exc
 
 
@@ -135,15 +145,128 @@ def parse_time_column(
             f"{values.iloc[first]!r} as a time; use {hint} ({int(bad.sum())} unreadable "
             "time(s) in this column)"
         )
-    return _finish(pd.DatetimeIndex(parsed), values, source, column, lines, tz, zone)
+    result = _finish(pd.DatetimeIndex(parsed), values, source, column, lines, tz, zone)
+    if offset_match is not None:
+        check_clock_offsets(text, result[0], source=source, column=column, lines=lines)
+    return result
+
+
+def _offset_minutes(text: pd.Series) -> np.ndarray:
+    """The UTC offset written at the end of every ISO 8601 stamp [min east of UTC]."""
+    parts = text.astype(object).str.extract(r"(?:(Z)|([+-])(\d\d):?(\d\d)?)$")
+    hours = parts[2].astype(float).to_numpy()
+    minutes = hours * 60 + parts[3].astype(float).fillna(0.0).to_numpy()
+    minutes = np.where((parts[1] == "-").to_numpy(dtype=bool), -minutes, minutes)
+    return np.where((parts[0] == "Z").to_numpy(dtype=bool), 0.0, minutes)
+
+
+def _format_offset(minutes: float) -> str:
+    sign = "-" if minutes < 0 else "+"
+    minutes = abs(int(round(minutes)))
+    return f"{sign}{minutes // 60:02d}:{minutes % 60:02d}"
+
+
+def check_clock_offsets(
+    text: pd.Series,
+    times: pd.DatetimeIndex,
+    *,
+    source: str,
+    column: str,
+    lines: np.ndarray | None = None,
+) -> None:
+    """Refuse a log whose UTC offsets disagree with its clock (a wrong offset or DST jump).
+
+    Two slips that would otherwise leave a 1-hour gap (interpolated) or shift all later data:
+
+    * the offset changes between two stamps while the *wall clock* goes on at the log's
+      regular interval, so that the times in UTC jump: one of the offsets is wrong (e.g. a
+      summer ``+01:00`` in a log otherwise ``+02:00``); at a real clock change the wall clock
+      jumps and UTC goes on;
+    * the offset stays the same while the clock jumps forward by exactly one hour beyond the
+      interval in the small hours of a Sunday: the logger's wall clock switched to summer time
+      but its offset was not updated.
+
+    Parameters
+    ----------
+    text : pandas.Series
+        The stamps as written (ISO 8601 with offsets).
+    times : pandas.DatetimeIndex
+        The parsed, tz-aware times (one per row).
+    source, column : str
+        For the message.
+    lines : numpy.ndarray, optional
+        1-based file line of every row.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Naming the line, the local hour and both offsets.
+    """
+    utc = times.as_unit("ns").asi8
+    if utc.size < 3:
+        return
+    steps = np.diff(utc)
+    positive = steps[steps > 0]
+    if positive.size < 2:
+        return
+    regular = float(np.median(positive))
+    hour = 3600e9
+    if regular > hour:  # coarser than hourly: a one-hour slip is not visible in the spacing
+        return
+    near = np.abs(steps - regular) <= 0.1 * regular
+    stamp = str(text.iloc[0])
+    suffix = _OFFSET.search(stamp).group(0) if _OFFSET.search(stamp) else ""
+    same_suffix = bool(text.str.endswith(suffix).all()) if suffix else False
+    if not same_suffix:
+        offsets = _offset_minutes(text) * 60e9
+        wall = utc + offsets.astype(np.int64)
+        wall_steps = np.diff(wall)
+        changed = np.flatnonzero(
+            (np.diff(offsets) != 0)
+            & (np.abs(wall_steps - regular) <= 0.1 * regular)
+            & ~near
+            & (np.abs(steps) < 3 * hour + regular)
+        )
+        if changed.size:
+            i = int(changed[0])
+            local = pd.Timestamp(int(wall[i + 1])).strftime("%Y-%m-%d %H:%M")
+            jump = abs(steps[i] - regular) / hour
+            raise ThermocalInputError(
+                f"{source}, column '{column}', {_where(lines, i + 1)}: the UTC offset changes "
+                f"from {_format_offset(offsets[i] / 60e9)} to "
+                f"{_format_offset(offsets[i + 1] / 60e9)} at {local} (local clock), but the "
+                f"clock readings go on at the log's interval of {regular / 60e9:g} min; in UTC "
+                f"the time would jump by {jump:g} h (a gap interpolated or an hour repeated). "
+                "At a real clock change the local clock jumps, not UTC: one of the offsets is "
+                "wrong (summer time written with the winter offset?). Fix the offsets in the "
+                "file, or write the times without offsets and pass the time zone (--tz "
+                "Europe/Zurich)"
+            )
+        return
+    gaps = np.flatnonzero(np.abs(steps - (regular + hour)) <= 0.1 * regular)
+    for i in gaps:
+        before = pd.Timestamp(int(utc[i]), tz="UTC").tz_convert(times.tz)
+        if before.day_of_week == 6 and 0 <= before.hour <= 3 and before.month in (3, 4, 9, 10, 11):
+            after = pd.Timestamp(int(utc[i + 1]), tz="UTC").tz_convert(times.tz)
+            raise ThermocalInputError(
+                f"{source}, column '{column}', {_where(lines, i + 1)}: the clock jumps from "
+                f"{before:%H:%M} to {after:%H:%M} on Sunday {before:%Y-%m-%d}, one hour more "
+                f"than the log's interval of {regular / 60e9:g} min, while the offset stays "
+                f"{suffix}: this looks like the spring clock change written with the winter "
+                "offset, which would shift every later time by an hour. Fix the offsets (summer "
+                "time has its own, e.g. +02:00), or write the times without offsets and pass the "
+                "time zone (--tz Europe/Zurich)"
+            )
 
 
 def _numeric_times(values, source, column, lines, zone, time_unit, start):
     if time_unit is None:
         raise ThermocalInputError(
-            f"{source}, column '{column}': the times are numbers; pass time_unit= "
-            f"({', '.join(TIME_UNITS)}) and start= (the time of 0, e.g. "
-            f"'2009-02-05 14:26:00+01:00'; default 1970-01-01 UTC)"
+            f"{source}, column '{column}': the times are numbers ({values.iloc[0]} in the "
+            f"first row); give their unit, one of {', '.join(TIME_UNITS)} (--time-unit on the "
+            "command line, time_unit= in Python), and the time of 0 if it is not 1970-01-01 UTC "
+            "(--time-origin, start=; e.g. '2009-02-05 14:26:00+01:00'); Unix time stamps such "
+            "as 1546300800 are --time-unit s"
         )
     if time_unit not in TIME_UNITS:
         raise ThermocalInputError(

@@ -65,7 +65,10 @@ __all__ = [
     "write_building",
 ]
 
-ComponentType = Literal["roof", "external_wall", "window", "cellar_ceiling", "ground_floor", "door"]
+ComponentType = Literal[
+    "roof", "external_wall", "window", "cellar_ceiling", "ground_floor", "door",
+    "attic_ceiling", "wall_to_unheated",
+]  # fmt: skip
 EmitterType = Literal["radiators", "floor_heating", "convectors"]
 BasementType = Literal["unheated", "heated", "none"]
 
@@ -77,11 +80,21 @@ COMPONENT_TYPES: tuple[str, ...] = (
     "door",
     "cellar_ceiling",
     "ground_floor",
+    "attic_ceiling",
+    "wall_to_unheated",
 )
 #: Component types that are opaque (absorptance applies; g-value and frame fraction do not).
 OPAQUE_TYPES: frozenset[str] = frozenset(COMPONENT_TYPES) - {"window"}
 #: Component types in contact with the ground or an unheated basement (no solar exposure).
 GROUND_TYPES: frozenset[str] = frozenset({"cellar_ceiling", "ground_floor"})
+#: Component types towards an unheated adjacent space (no solar exposure; their heat flow is
+#: reduced by the temperature adjustment factor b of ISO 13789).
+UNHEATED_SPACE_TYPES: frozenset[str] = frozenset({"attic_ceiling", "wall_to_unheated"})
+#: Default temperature adjustment factors b [-] (ISO 13789:2017, 6.4.3: b = H_ue / (H_iu +
+#: H_ue); tabulated defaults of DIN V 4108-6:2003 Table 3: ceiling under an unheated attic
+#: 0.8, walls and ceilings to unheated spaces such as a garage or staircase 0.5). Give
+#: ``b_factor`` on the component when the space is known better.
+DEFAULT_B_FACTOR: dict[str, float] = {"attic_ceiling": 0.8, "wall_to_unheated": 0.5}
 
 #: Default tilt per component type [deg] (0 facing up, 90 vertical, 180 facing down).
 DEFAULT_TILT: dict[str, float] = {
@@ -91,6 +104,8 @@ DEFAULT_TILT: dict[str, float] = {
     "door": 90.0,
     "cellar_ceiling": 180.0,
     "ground_floor": 180.0,
+    "attic_ceiling": 0.0,
+    "wall_to_unheated": 90.0,
 }
 
 #: Plausible U-value ranges per component type [W/(m2 K)]. The lower limits are passive-house
@@ -103,6 +118,8 @@ U_VALUE_RANGES: dict[str, tuple[float, float]] = {
     "ground_floor": (0.08, 4.0),
     "window": (0.5, 6.0),
     "door": (0.3, 6.0),
+    "attic_ceiling": (0.08, 4.0),
+    "wall_to_unheated": (0.08, 4.0),
 }
 
 #: Plausibility ranges of scalar fields: (lower, upper, unit, lower inclusive, upper inclusive).
@@ -150,6 +167,8 @@ _HUMAN_TYPE = {
     "door": "door",
     "cellar_ceiling": "cellar ceiling",
     "ground_floor": "ground floor",
+    "attic_ceiling": "ceiling under an unheated attic",
+    "wall_to_unheated": "wall to an unheated space",
 }
 
 
@@ -334,6 +353,10 @@ class Component(_Strict):
         Frame area over window area (windows only), default 0.3, plausible 0-0.6.
     shading_factor : float [-]
         Reduction factor for external shading, 1 = unshaded (windows only), default 1.0.
+    b_factor : float [-]
+        Temperature adjustment factor of ISO 13789 for a component towards an unheated space
+        (``attic_ceiling``, ``wall_to_unheated`` only): its heat flow is ``b U A (Ti - Te)``.
+        Default :data:`DEFAULT_B_FACTOR` (0.8 attic, 0.5 garage or staircase).
 
     References
     ----------
@@ -351,6 +374,7 @@ class Component(_Strict):
     g_value: float | None = None
     frame_fraction: float | None = None
     shading_factor: float | None = None
+    b_factor: float | None = None
 
     @field_validator("azimuth", mode="before")
     @classmethod
@@ -393,7 +417,7 @@ class Component(_Strict):
         _check_named_range("azimuth", self.azimuth)
         azimuth = self.azimuth
         if azimuth is None:
-            if tilt in (0.0, 180.0):
+            if tilt in (0.0, 180.0) or kind in UNHEATED_SPACE_TYPES:  # no sun reaches them
                 azimuth = 180.0
             else:
                 hint = " or tilt: 0 for a flat roof" if kind == "roof" else ""
@@ -406,6 +430,24 @@ class Component(_Strict):
                 )
         object.__setattr__(self, "tilt", float(tilt))
         object.__setattr__(self, "azimuth", float(azimuth))
+        if kind in UNHEATED_SPACE_TYPES:
+            b = DEFAULT_B_FACTOR[kind] if self.b_factor is None else self.b_factor
+            if not 0.0 < b <= 1.0:
+                raise PydanticCustomError(
+                    "b_factor",
+                    "b_factor = {value} is outside 0 < b <= 1: the temperature adjustment "
+                    "factor of ISO 13789, b = H_ue / (H_iu + H_ue), 1 = outdoor air, near 0 = a "
+                    "space almost at indoor temperature (typical: attic 0.8, garage 0.5)",
+                    {"value": _format_number(b)},
+                )
+            object.__setattr__(self, "b_factor", float(b))
+        elif self.b_factor is not None:
+            raise PydanticCustomError(
+                "not_applicable",
+                "b_factor applies to components towards an unheated space (attic_ceiling, "
+                "wall_to_unheated), not to {what}",
+                {"what": what},
+            )
 
         if kind == "window":
             if self.absorptance is not None:
@@ -452,8 +494,9 @@ class Component(_Strict):
 
     @property
     def heat_transfer_coefficient(self) -> float:
-        """U A of the component [W/K] (without thermal bridges)."""
-        return self.u_value * self.area
+        """U A of the component [W/K] (without thermal bridges); ``b U A`` towards an
+        unheated space (ISO 13789:2017, 6.4.3)."""
+        return self.u_value * self.area * (self.b_factor if self.b_factor is not None else 1.0)
 
 
 class Ground(_Strict):
@@ -674,8 +717,9 @@ class Building(_Strict):
     def heat_transfer_coefficients(self) -> dict[str, float]:
         """U A summed per component type, plus ``"thermal_bridges"`` [W/K].
 
-        Every component counts with its full U A (temperature adjustment factor b = 1); the
-        reduced heat flow towards an unheated basement or the ground is ISO 13370's business
+        Every component counts with its U A, towards an unheated attic or garage times its
+        temperature adjustment factor b (ISO 13789); the reduced heat flow towards an unheated
+        basement or the ground is ISO 13370's business
         (:mod:`thermocal.physics.ground`).
         """
         result = {
@@ -848,8 +892,7 @@ def read_building(path: str | Path) -> Building:
             data = tomllib.loads(path.read_text(encoding="utf-8"))
         except UnicodeDecodeError as exc:
             raise ThermocalInputError(
-                f"{path}: not a UTF-8 text file (byte {exc.start}); save the building file "
-                "as UTF-8"
+                f"{path}: not a UTF-8 text file (byte {exc.start}); save the building file as UTF-8"
             ) from None
         except tomllib.TOMLDecodeError as exc:
             raise ThermocalInputError(f"{path}: not valid TOML: {exc}") from None

@@ -347,6 +347,87 @@ def _check_order(
     return keep
 
 
+#: Temperatures a building's measurements can have (outdoor air included) [C].
+PLAUSIBLE_TEMPERATURE = (-50.0, 60.0)
+#: Mean indoor temperature a zone can have over a measured period [C]; outside, a unit slip.
+INDOOR_MEAN_RANGE = (-30.0, 35.0)
+#: A sensor whose mean differs from its neighbours' median by more than this is checked for a
+#: unit slip [K] (an unheated cellar or attic may legitimately differ by 10-15 K).
+NEIGHBOUR_TOLERANCE = 15.0
+#: A converted mean this close to the neighbours' median identifies the unit slip [K].
+UNIT_MATCH = 5.0
+
+#: Unit slips of a temperature logged where degrees C are expected: (name, the unit to
+#: declare, conversion of a mean to C).
+TEMPERATURE_UNIT_SLIPS = (
+    (
+        "Kelvin?",
+        "declare its unit as K (in the header, e.g. 'NAME [K]', a unit column, or units=)",
+        lambda v: v - 273.15,
+    ),
+    (
+        "Fahrenheit?",
+        "declare its unit as F (in the header, e.g. 'NAME [F]', a unit column, or units=)",
+        lambda v: (v - 32.0) * 5.0 / 9.0,
+    ),
+    (
+        "tenths of a degree? (202 for 20.2 C)",
+        "divide its values by 10 in the file",
+        lambda v: v / 10.0,
+    ),
+    (
+        "hundredths of a degree? (2020 for 20.20 C)",
+        "divide its values by 100 in the file",
+        lambda v: v / 100.0,
+    ),
+)
+
+
+def temperature_unit_slip(
+    mean: float,
+    reference: float | None = None,
+    *,
+    plausible: tuple[float, float] = INDOOR_MEAN_RANGE,
+):
+    """The unit slip that explains a temperature read as C best, or None when it is plausible.
+
+    Parameters
+    ----------
+    mean : float
+        The (mean) value as read [C].
+    reference : float, optional
+        What it should be near: the neighbouring sensors' median or the sensor's typical day
+        [C] (None: 20 C is used to rank the candidates).
+    plausible : (float, float)
+        Range of a plausible value [C]. A value outside it is always a slip (the best
+        candidate, or "not an indoor temperature" when none fits); one inside it is a slip
+        only when it is more than :data:`NEIGHBOUR_TOLERANCE` from ``reference`` and a
+        conversion brings it within :data:`UNIT_MATCH` of it.
+
+    Returns
+    -------
+    tuple or None
+        ``(label, remedy, value in C)``: e.g. ``("Fahrenheit?", "declare its unit as F (...)",
+        10.0)``; ``NAME`` in the remedy stands for the column.
+    """
+    low, high = plausible
+    target = 20.0 if reference is None else reference
+    plausible = low <= mean <= high
+    if plausible and (reference is None or abs(mean - reference) <= NEIGHBOUR_TOLERANCE):
+        return None
+    fits = []
+    for label, remedy, convert in TEMPERATURE_UNIT_SLIPS:  # in order of how common the slip is
+        value = convert(mean)
+        if low <= value <= high and (plausible is False or abs(value - target) <= UNIT_MATCH):
+            fits.append((abs(value - target), label, remedy, value))
+    close = [fit for fit in fits if fit[0] <= UNIT_MATCH]
+    if close:
+        return close[0][1:]
+    if fits:
+        return min(fits)[1:]
+    return None if plausible else ("not an indoor temperature", "check its unit", float("nan"))
+
+
 def _convert_units(
     name: str,
     values: np.ndarray,
@@ -372,10 +453,17 @@ def _convert_units(
         if quantity == "temperature" and canonical == unit and finite.size:
             low_share = np.mean(finite < 100.0)
             if low_share < 0.5 and np.median(finite) > 150.0:
+                median = float(np.median(finite))
+                slip = temperature_unit_slip(median, plausible=PLAUSIBLE_TEMPERATURE)
+                label, remedy = (
+                    ("Kelvin?", "declare [K] if they are")
+                    if slip is None or slip[0] == "not an indoor temperature"
+                    else slip[:2]
+                )
                 raise ThermocalInputError(
                     f"{where}: the unit is declared as {unit} but the values (median "
-                    f"{np.median(finite):.1f}) look like Kelvin; declare [K] if they are, "
-                    f"or fix the values"
+                    f"{median:.1f}) look like {label.replace('?', '')}; "
+                    f"{remedy.replace('NAME', name)}, or fix the values"
                 )
         note = None
         if factor != 1.0 or offset != 0.0:
@@ -404,7 +492,9 @@ def _convert_units(
                 f"200); declare the unit ('{name} [K]' in the header or units={{'{name}': 'K'}}) "
                 f"and fix the values that are in the other unit"
             )
-        if kelvin_like.all():
+        median_c = float(np.median(finite)) - 273.15
+        plausible_kelvin = PLAUSIBLE_TEMPERATURE[0] <= median_c <= PLAUSIBLE_TEMPERATURE[1]
+        if kelvin_like.all() and plausible_kelvin:  # 202 is 20.2 C in tenths, not -71 C
             return (
                 values - 273.15,
                 quantity,
@@ -1763,3 +1853,111 @@ def _sensor_row(
         "coverage": coverage,
         "n_missing": int(n_missing),
     }
+
+
+# ----------------------------------------------------------------------------------------------
+# the clock against the sun
+# ----------------------------------------------------------------------------------------------
+#: A clock this far off the sun is refused [h]; one hour is left alone (interval means labelled
+#: by their start or end, or a daylight-saving hour, shift the profile by up to an hour).
+MAX_SUN_SHIFT_H = 2.0
+
+
+def check_clock_against_sun(
+    irradiance: pd.Series,
+    latitude: float,
+    longitude: float,
+    *,
+    source: str,
+    column: str,
+    timezone_setting: str = "the time zone",
+) -> float:
+    """Refuse time stamps whose measured irradiance does not follow the sun.
+
+    The mean daily profile of the measured irradiance is compared with that of the sine of the
+    sun's elevation at the site (both by time of day in UTC); the circular shift that makes
+    them agree best is the error of the clock. A wrong time zone (Europe/Zurich for North
+    Carolina data: 6 h) moves the sun and every solar gain by hours without any other sign.
+
+    Parameters
+    ----------
+    irradiance : pandas.Series
+        Irradiance [W/m2] (e.g. DNI + DHI) on a regular, tz-aware index of at most one hour,
+        interval means labelled by their start.
+    latitude, longitude : float
+        The site [deg N, deg E].
+    source, column : str
+        For the message.
+    timezone_setting : str
+        The setting that fixes the clock (e.g. ``"measurements.timezone (now -5)"``).
+
+    Returns
+    -------
+    float
+        The clock's offset from the sun [h] (positive: the stamps are late); 0 when the data
+        have too little sun to tell.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        The offset is :data:`MAX_SUN_SHIFT_H` or more, naming the two times of the daily
+        maximum and the offset.
+    """
+    from thermocal.physics.solar import solar_position
+
+    values = irradiance.astype(float)
+    values = values[np.isfinite(values.to_numpy())]
+    if len(values) < 48 or values.index.tz is None:
+        return 0.0
+    values.index = pd.DatetimeIndex(values.index).as_unit("ns")
+    step = pd.Timedelta(np.median(np.diff(values.index.asi8)), unit="ns")
+    if not pd.Timedelta("1min") <= step <= pd.Timedelta("1h"):
+        return 0.0
+    mid = values.index + step / 2
+    elevation = solar_position(mid, latitude, longitude)["elevation"].to_numpy()
+    sun = np.clip(np.sin(np.radians(elevation)), 0.0, None)
+    bins = int(round(pd.Timedelta("1D") / step))
+    utc_seconds = (mid.asi8 // 10**9) % 86400
+    which = (utc_seconds // int(step.total_seconds())).astype(int) % bins
+    counts = np.bincount(which, minlength=bins)
+    seen = counts > 0
+    measured = np.bincount(which, weights=values.to_numpy(), minlength=bins)
+    expected = np.bincount(which, weights=sun, minlength=bins)
+    if seen.sum() < 0.9 * bins or measured.max() <= 0:
+        return 0.0
+    measured = np.where(seen, measured / np.maximum(counts, 1), 0.0)
+    expected = np.where(seen, expected / np.maximum(counts, 1), 0.0)
+    if measured.max() < 20.0:  # too little sun in the data to tell
+        return 0.0
+
+    def score(shift: int) -> float:
+        a, b = measured, np.roll(expected, shift)
+        a, b = a - a.mean(), b - b.mean()
+        return float(a @ b / np.sqrt((a @ a) * (b @ b) + 1e-300))
+
+    scores = np.array([score(k) for k in range(bins)])
+    best = int(np.argmax(scores))
+    if best > bins // 2:
+        best -= bins
+    hours = best * step / pd.Timedelta("1h")
+    if abs(hours) >= MAX_SUN_SHIFT_H and scores[best % bins] - scores[0] > 0.05:
+        tz = values.index.tz
+        day = values.index[0].normalize()
+
+        def clock(position: int) -> str:
+            return (
+                pd.Timestamp(day.tz_convert("UTC").normalize() + position * step + step / 2)
+                .tz_convert(tz)
+                .strftime("%H:%M")
+            )
+
+        peak = clock(int(np.argmax(measured)))
+        raise ThermocalInputError(
+            f"{source}: the irradiance ({column}) is highest around {peak} by the file's "
+            f"clock, but at latitude {latitude:.2f}, longitude {longitude:.2f} the "
+            f"sun is highest around {clock(int(np.argmax(expected)))}: the time stamps are "
+            f"{abs(hours):.0f} h {'late' if hours > 0 else 'early'} (in UTC), which would move "
+            f"every solar gain. Check {timezone_setting} and the UTC offsets of the time "
+            "stamps (and the building's location)"
+        )
+    return hours

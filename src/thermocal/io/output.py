@@ -97,18 +97,28 @@ def check_output_folder(out: Path, *, signature: Iterable[str] = ()) -> None:
             )
 
 
-class _Lock:
-    """An exclusive lock on ``.NAME.lock`` beside the output folder."""
+class FileLock:
+    """An exclusive OS lock on a lock file (released when the process dies, even by SIGKILL).
 
-    def __init__(self, out: Path) -> None:
-        self.path = out.parent / f".{out.name}.lock"
+    Parameters
+    ----------
+    path : Path
+        The lock file; created, and removed on :meth:`release`.
+    busy : str
+        Message of the error raised when another process holds the lock.
+    what : str
+        Prefix of the message when the lock file cannot be created (e.g. ``"--out X"``).
+    """
+
+    def __init__(self, path: Path, *, busy: str, what: str) -> None:
+        self.path = Path(path)
+        self.busy = busy
+        self.what = what
         self.fd: int | None = None
 
-    def acquire(self, out: Path) -> None:
-        busy = ThermocalInputError(
-            f"--out {out}: another thermocal run is writing this folder (lock "
-            f"{self.path}); wait for it to finish or choose another --out"
-        )
+    def acquire(self) -> FileLock:
+        """Take the lock or raise :class:`ThermocalInputError` (``busy``)."""
+        busy = ThermocalInputError(self.busy)
         for _ in range(20):
             try:
                 flags = os.O_RDWR | os.O_CREAT | (0 if fcntl else os.O_EXCL)
@@ -116,10 +126,10 @@ class _Lock:
             except FileExistsError:  # pragma: no cover - without fcntl
                 raise busy from None
             except OSError as exc:
-                raise ThermocalInputError(f"--out {out}: {_describe_os_error(exc)}") from None
+                raise ThermocalInputError(f"{self.what}: {_describe_os_error(exc)}") from None
             if fcntl is None:  # pragma: no cover
                 self.fd = fd
-                return
+                return self
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError:
@@ -133,17 +143,29 @@ class _Lock:
             if same:
                 self.fd = fd
                 os.write(fd, f"{os.getpid()}\n".encode())
-                return
+                return self
             os.close(fd)
         raise busy  # pragma: no cover - twenty races in a row
 
     def release(self) -> None:
+        """Remove the lock file and release the lock (idempotent)."""
         if self.fd is None:
             return
         with contextlib.suppress(OSError):
             os.unlink(self.path)
         os.close(self.fd)
         self.fd = None
+
+
+def _output_lock(out: Path) -> FileLock:
+    """The lock ``.NAME.lock`` beside an output folder."""
+    path = out.parent / f".{out.name}.lock"
+    return FileLock(
+        path,
+        busy=f"--out {out}: another thermocal run is writing this folder (lock {path}); wait "
+        "for it to finish or choose another --out",
+        what=f"--out {out}",
+    )
 
 
 @contextlib.contextmanager
@@ -218,8 +240,7 @@ def output_folder(
         raise ThermocalInputError(
             f"--out {out}: cannot create {out.parent}: {_describe_os_error(exc)}"
         ) from None
-    lock = _Lock(out)
-    lock.acquire(out)
+    lock = _output_lock(out).acquire()
     tmp: Path | None = None
     last_interrupted = None
     try:

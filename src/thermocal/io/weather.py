@@ -563,6 +563,145 @@ def read_weather_csv(
     return frame, out
 
 
+#: Largest distance between a building and the site of its weather data [km]: a station a
+#: few hundred km away may still be the nearest; beyond, sun and climate are another place's.
+MAX_SITE_DISTANCE_KM = 300.0
+
+
+def site_distance_km(lat1: float, lon1: float, lat2: float, lon2: float) -> float:
+    """Great-circle distance between two sites (haversine, mean Earth radius 6371 km) [km].
+
+    Parameters
+    ----------
+    lat1, lon1, lat2, lon2 : float
+        Latitudes [deg N] and longitudes [deg E].
+    """
+    phi1, phi2 = np.radians(lat1), np.radians(lat2)
+    dphi, dlam = phi2 - phi1, np.radians(lon2 - lon1)
+    a = np.sin(dphi / 2) ** 2 + np.cos(phi1) * np.cos(phi2) * np.sin(dlam / 2) ** 2
+    return float(2 * 6371.0 * np.arcsin(np.sqrt(min(1.0, a))))
+
+
+def check_site_matches_weather(
+    latitude: float | None,
+    longitude: float | None,
+    weather_meta: Mapping[str, Any],
+    *,
+    building_source: str,
+    weather_source: str,
+    max_km: float = MAX_SITE_DISTANCE_KM,
+) -> float | None:
+    """Refuse weather data from a site far from the building.
+
+    The sun's position, the climate and (for a typical year) the demand are the weather site's:
+    Zurich weather for a North Carolina house gives a plausible but wrong result.
+
+    Parameters
+    ----------
+    latitude, longitude : float or None
+        The building's site [deg N, deg E]; None: not given (nothing is checked).
+    weather_meta : mapping
+        The weather reader's metadata (``latitude``, ``longitude``, optional ``name``).
+    building_source, weather_source : str
+        The files, for the message.
+    max_km : float
+        Largest accepted distance [km].
+
+    Returns
+    -------
+    float or None
+        The distance [km]; None when a location is unknown.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Naming both files, both latitude/longitude pairs and the distance.
+    """
+    w_lat, w_lon = weather_meta.get("latitude"), weather_meta.get("longitude")
+    if None in (latitude, longitude, w_lat, w_lon):
+        return None
+    if not all(np.isfinite([latitude, longitude, w_lat, w_lon])):
+        return None
+    lon_b = ((float(longitude) + 180.0) % 360.0) - 180.0
+    distance = site_distance_km(float(latitude), lon_b, float(w_lat), float(w_lon))
+    if distance > max_km:
+        name = weather_meta.get("name") or weather_meta.get("city")
+        where = f" ({name})" if name else ""
+        raise ThermocalInputError(
+            f"the building ({building_source}) is at latitude {float(latitude):.2f}, longitude "
+            f"{lon_b:.2f}, but the weather {weather_source}{where} is for latitude "
+            f"{float(w_lat):.2f}, longitude {float(w_lon):.2f}: {distance:,.0f} km apart "
+            f"(at most {max_km:g} km accepted); sun and climate would be another place's. "
+            "Use weather of the building's site, or correct the building's location (or the "
+            "weather file's header if its data are the site's)"
+        )
+    return distance
+
+
+def check_building_site(
+    building, weather_meta: Mapping[str, Any], *, building_source: str, weather_source: str
+) -> float | None:
+    """:func:`check_site_matches_weather` for a multi-zone building (``building.location``).
+
+    A building without a location of its own (the model's default site, as when a YAML file
+    has no ``location:`` or an IDF no ``Site:Location``) takes the weather's and is not checked.
+    """
+    location = getattr(building, "location", None)
+    if location is None or location == type(location)():
+        return None
+    return check_site_matches_weather(
+        location.latitude,
+        location.longitude,
+        weather_meta,
+        building_source=building_source,
+        weather_source=weather_source,
+    )
+
+
+def check_weather_clock(
+    weather: pd.DataFrame, metadata: Mapping[str, Any], *, source: str
+) -> float:
+    """Refuse weather whose irradiance does not follow the sun at its own site and clock.
+
+    :func:`thermocal.io.measurements.check_clock_against_sun` on ``ghi`` (or ``dni + dhi``):
+    a CSV read with the wrong ``tz``, or a header whose time zone is not the data's, moves the
+    sun by hours.
+
+    Parameters
+    ----------
+    weather : DataFrame
+        From :func:`read_weather` (tz-aware index, irradiance [W/m2]).
+    metadata : mapping
+        Its metadata (``latitude``, ``longitude``).
+    source : str
+        The weather file, for the message.
+
+    Returns
+    -------
+    float
+        The clock's offset from the sun [h] (0 without irradiance or site).
+    """
+    from thermocal.io.measurements import check_clock_against_sun
+
+    lat, lon = metadata.get("latitude"), metadata.get("longitude")
+    if lat is None or lon is None:
+        return 0.0
+    if "ghi" in weather.columns:
+        irradiance, column = weather["ghi"], "ghi"
+    elif {"dni", "dhi"} <= set(weather.columns):
+        irradiance, column = weather["dni"] + weather["dhi"], "dni + dhi"
+    else:
+        return 0.0
+    return check_clock_against_sun(
+        irradiance,
+        float(lat),
+        float(lon),
+        source=f"weather file {source}",
+        column=column,
+        timezone_setting="the time zone of the weather file (its header, or tz= for a CSV)",
+    )
+
+
 def weather_step(weather: pd.DataFrame) -> pd.Timedelta:
     """The regular time step of a weather frame.
 

@@ -9,15 +9,19 @@ guesses come from the building description and the first measured day.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 from thermocal.retrofit.model import (
+    CALCULATED_CONDUCTANCES,
+    CALCULATED_FACTORS,
     ESTIMATED_PARAMETERS,
     STATE_NAMES,
     FifthOrderModel,
+    _referenced,
     calculated_hlc,
     network_spec,
     steady_states_with_indoor,
@@ -63,7 +67,12 @@ def initial_state_bounds(x0: np.ndarray, temp_out: float, temp_ground: float) ->
     }
 
 
-def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) -> dict:
+def rc_spec(
+    model: FifthOrderModel,
+    x0: np.ndarray,
+    bounds: dict | None = None,
+    fixed_noise: dict[str, float] | None = None,
+) -> dict:
     """The fifth-order model as a :class:`thermocal.statespace.RCModel` specification.
 
     Parameters
@@ -71,9 +80,19 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
     model : FifthOrderModel
     x0 : ndarray (5,) [C]
         Initial guesses of the state temperatures (Ti, Tenv, Tgf, Tim, Th).
+    fixed_noise : dict, optional
+        Diffusions held at a value, ``sigma_<state>`` [K/sqrt(h)] (``model.fixed_noise``).
     """
-    spec = network_spec(model.conductances())
+    h = model.conductances()
+    # the calculated conductances and factors as fixed parameters: the group corrections
+    # (thermocal.retrofit.correction) evaluate the same network at corrected values
+    spec = network_spec(h, calculated_as_parameters=True)
     params: dict[str, dict] = {}
+    for name in CALCULATED_CONDUCTANCES:
+        params[name] = {"value": float(h[name]), "fixed": True, "unit": "W/K"}
+    for name in CALCULATED_FACTORS:
+        params[name] = {"value": float(h[name]), "fixed": True, "unit": "-", "lower": 0.0,
+                        "upper": 1e6 if name == "g_factor" else 1.0}  # fmt: skip
     noise_init = {"Ti": 0.1, "Tenv": 0.05, "Tgf": 0.05, "Tim": 0.05, "Th": 1.0}
     for i, s in enumerate(STATE_NAMES):
         params[f"sigma_{s}"] = {
@@ -82,6 +101,8 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
             "upper": 20.0,
             "unit": "K/sqrt(h)",
         }
+        if f"sigma_{s}" in (fixed_noise or {}):
+            params[f"sigma_{s}"].update(value=float(fixed_noise[f"sigma_{s}"]), fixed=True)
         lo, hi = (bounds or {}).get(s, (x0[i] - 15.0, x0[i] + 15.0))
         value = float(np.clip(x0[i], lo + 1e-3 * (hi - lo), hi - 1e-3 * (hi - lo)))
         params[f"{s}0"] = {
@@ -96,6 +117,8 @@ def rc_spec(model: FifthOrderModel, x0: np.ndarray, bounds: dict | None = None) 
         if name in model.fixed:
             params[name]["fixed"] = True
     params["e_std"] = {"value": 0.1, "lower": 1e-4, "upper": 3.0, "unit": "C"}
+    used = _referenced(spec)
+    params = {n: p for n, p in params.items() if n in used or n in model.estimated}
     return {
         "name": "fifth_order_retrofit",
         "description": "Fifth-order RC model of the retrofit method (its Fig. 3)",
@@ -127,6 +150,21 @@ class Calibration:
     at_bounds: list[str] = field(default_factory=list)
     nuisance_flags: list[str] = field(default_factory=list)  # of the full fit (noise, x0)
     residuals: pd.DataFrame | None = None  # one-step-ahead prediction of Ti over the training
+    correction: Any = None  # thermocal.retrofit.correction.Correction (group factors)
+    envelope: Any = None  # the envelope with corrected U-values (None: the building file's)
+    heat_loss_coefficient_draws: np.ndarray | None = None  # [W/K] posterior draws
+
+
+def hlc_of_draws(model: FifthOrderModel, factors: dict, h_est) -> np.ndarray:
+    """Heat loss coefficient [W/K] of draws of the group factors and ``H_est`` [W/K]."""
+    from thermocal.retrofit.correction import scaled_envelope
+
+    h_est = np.atleast_1d(np.asarray(h_est, float))
+    out = np.empty(len(h_est))
+    for d in range(len(h_est)):
+        env = scaled_envelope(model.envelope, {g: v[d] for g, v in factors.items()})
+        out[d] = calculated_hlc(model.conductances(env)) + h_est[d]
+    return out
 
 
 def calibrate(
@@ -136,6 +174,10 @@ def calibrate(
     n_starts: int = 1,
     seed: int = 0,
     max_correlation: float = 0.98,
+    correction: bool = False,
+    u_value_rel_std: float = 0.2,
+    fixed_noise: dict[str, float] | None = None,
+    heat_rel_std: float = 0.0,
 ) -> Calibration:
     """Maximum-likelihood calibration of the fifth-order model.
 
@@ -149,6 +191,16 @@ def calibrate(
     max_correlation : float
         Pairs of estimated parameters correlated beyond this are reported (Madsen et al.
         2016: 0.98).
+    correction : bool
+        Also estimate one factor per envelope group on the calculated U-values (maximum a
+        posteriori, :mod:`thermocal.retrofit.correction`); False: the published topology
+        (only ``H_est`` added to the calculated conductances).
+    u_value_rel_std : float [-]
+        Relative standard deviation of the audit U-values: the prior of the factors.
+    fixed_noise : dict, optional
+        Diffusions held at a value, ``sigma_<state>`` [K/sqrt(h)].
+    heat_rel_std : float [-]
+        Relative uncertainty of the measured heat as a whole (group corrections only).
 
     Returns
     -------
@@ -162,7 +214,9 @@ def calibrate(
     ti0 = float(data[OUTPUT_COLUMN].dropna().iloc[0])
     x0_guess = steady_initial_state(model, p0, u_mean, ti0)
     bounds = initial_state_bounds(x0_guess, float(u_mean[0]), float(u_mean[1]))
-    rc = RCModel.from_dict(rc_spec(model, x0_guess, bounds), source="fifth-order retrofit model")
+    rc = RCModel.from_dict(
+        rc_spec(model, x0_guess, bounds, fixed_noise), source="fifth-order retrofit model"
+    )
     full = rc.fit(data, n_starts=n_starts, seed=seed)
     # Standard errors and correlations of the six physical parameters of the method are taken
     # conditional on the nuisance parameters (diffusions, measurement noise, initial states):
@@ -189,13 +243,47 @@ def calibrate(
     factors = np.array([1e6 if model.estimated[n][3] == "MJ/K" else 1.0 for n in names])
     cov_sub = cov.reindex(index=names, columns=names).to_numpy(float)
     cov_si = cov_sub * np.outer(factors, factors)
+    corrected = None
+    if correction:
+        from thermocal.retrofit.correction import estimate_correction
+
+        corrected = estimate_correction(
+            rc_cond, res.params, data, model, rel_std=u_value_rel_std,
+            h_est_prior=model.audit_h_est, seed=seed, heat_rel_std=heat_rel_std,
+        )  # fmt: skip
+        res_ml = res
+        res = rc_cond.evaluate(data, corrected.map_values)
+        res.fit_seconds += res_ml.fit_seconds
+        params = res.params.copy()
+        bse = res_ml.bse.copy()
+        # posterior standard errors (delta method from ln x) in declared units
+        sd_z = np.sqrt(np.diag(corrected.cov_z))
+        for i, n in enumerate(corrected.names):
+            if n in bse.index:
+                bse[n] = float(params[n]) * sd_z[i]
+        cov_si = np.zeros((len(names), len(names)))
+        z_names = [n for n in corrected.names if n in names]
+        idx = [corrected.names.index(n) for n in z_names]
+        xs = np.array([float(params[n]) * factors[names.index(n)] for n in z_names])
+        sub = corrected.cov_z[np.ix_(idx, idx)] * np.outer(xs, xs)
+        pos = [names.index(n) for n in z_names]
+        cov_si[np.ix_(pos, pos)] = sub
     estimates = {n: float(params[n]) * f for n, f in zip(names, factors, strict=True)}
     corr = res.correlation
+    if corrected is not None:  # the posterior's correlation (ln space) of what it estimates
+        sd = np.sqrt(np.diag(corrected.cov_data))
+        corr = pd.DataFrame(
+            corrected.cov_data / np.outer(sd, sd), index=corrected.names, columns=corrected.names
+        )
     # pairs the data cannot separate: the engine's correlation, or the pairwise curvature in
     # declared units, which still sees a ridge when one of the pair sits on its bound
     pairwise = pairwise_correlation(rc_cond, params, data, names)
     pairs = {(a, b): r for a, b, r in correlated_pairs(pairwise, max_correlation)}
-    pairs.update({(a, b): r for a, b, r in correlated_pairs(corr, max_correlation)})
+    # (the group factors' correlations are the identifiability table of the corrections)
+    pairs.update({
+        (a, b): r for a, b, r in correlated_pairs(corr, max_correlation)
+        if not (a.startswith("k_") or b.startswith("k_"))
+    })  # fmt: skip
     pairs = sorted(((a, b, r) for (a, b), r in pairs.items()), key=lambda t: -abs(t[2]))
     nuisance_flags = [f for f in full.flags if f not in res.flags]
     # the absorbed solar radiation on roof and walls minus the long-wave loss to the sky is
@@ -215,7 +303,7 @@ def calibrate(
             at_bounds.append(n)
             # the engine's generic remedy names no configuration key: replace it
             flags = [f for f in flags if not (f"'{n}'" in f and "bound" in f)]
-            flags.append(bound_flag(n, v, lo, hi, unit))
+            flags.append(bound_flag(n, v, lo, hi, unit, drawn=corrected is not None))
     if at_bounds:
         flags = [f for f in flags if "standard errors computed with the parameters at a" not in f]
     # initial state for the deterministic simulation: smoothed state at the first sample
@@ -228,6 +316,28 @@ def calibrate(
         residuals = res.one_step_residuals(data)
     except Exception:  # noqa: BLE001 - diagnostics only; the report says they are missing
         residuals = None
+    if corrected is not None:
+        from thermocal.retrofit.correction import (
+            draw_corrected,
+            scaled_envelope,
+        )
+
+        envelope = scaled_envelope(model.envelope, corrected.factors)
+        hlc = calculated_hlc(model.conductances(envelope)) + estimates["H_est"]
+        z = draw_corrected(corrected, 1000, seed=seed + 1)[1:]
+        hd = hlc_of_draws(model, corrected.group_factors(z), corrected.physical_si(z)["H_est"])
+        flags = [retrofit_remedy(f) for f in flags if not f.startswith("H_est is at its bound")]
+        nuisance_flags = [retrofit_remedy(f) for f in nuisance_flags]
+        return Calibration(
+            estimates_si=estimates, cov_si=cov_si, params=params, bse=bse, correlation=corr,
+            loglike=float(res.loglike), aic=float(res_ml.aic), bic=float(res_ml.bic),
+            converged=bool(res_ml.converged), flags=flags, x0=x0,
+            fit_seconds=float(res.fit_seconds), heat_loss_coefficient=float(hlc),
+            heat_loss_coefficient_std=float(np.std(hd)), correlated_pairs=pairs,
+            pairwise_correlation=pairwise, at_bounds=at_bounds, nuisance_flags=nuisance_flags,
+            residuals=residuals, correction=corrected, envelope=envelope,
+            heat_loss_coefficient_draws=hd,
+        )  # fmt: skip
     hlc = calculated_hlc(model.conductances()) + estimates["H_est"]
     hlc_std = (
         float(bse["H_est"])
@@ -242,6 +352,8 @@ def calibrate(
             "calculated conductances allow (check the U-values and areas of the building file); "
             "no standard error of the HLC"
         )
+    flags = [retrofit_remedy(f) for f in flags]
+    nuisance_flags = [retrofit_remedy(f) for f in nuisance_flags]
     return Calibration(
         estimates_si=estimates,
         cov_si=cov_si,
@@ -265,14 +377,67 @@ def calibrate(
     )
 
 
-def bound_flag(name: str, value: float, lower: float, upper: float, unit: str) -> str:
-    """The message for an estimate on its bound, with the configuration keys that fix it."""
+#: The grey-box engine's remedies name its own options (model files, command-line flags);
+#: the retrofit user has the retrofit configuration: each is replaced by the key that does it.
+ENGINE_REMEDIES: tuple[tuple[str, str], ...] = (
+    ("more starts (--n-starts), a smaller stall_tolerance, or fix poorly determined parameters",
+     "more starts (model.n_starts in the retrofit configuration) or fix poorly determined "
+     "parameters (model.fixed)"),
+    ("more starts (--n-starts)", "more starts (model.n_starts in the retrofit configuration)"),
+    ("fix it at a physical value, give it a prior, or simplify the model",
+     "fix it at a physical value (model.fixed in the retrofit configuration) or lengthen the "
+     "training period (periods.training_days)"),
+    ("remove the fast node (merge it with its neighbour) or fix its capacity",
+     "fix the capacity of the fast node (model.fixed: C_h for the heating system, C_i for the "
+     "air); the fifth-order network itself is the method's"),
+    ("longer data, or fix the capacity or conductances from physics",
+     "longer data (periods.training_days), or fix the capacity (model.fixed)"),
+    ("at a small value (a deterministic state), add the missing input or state, or compare "
+     "with a simpler model",
+     "at a small value (model.fixed_noise in the retrofit configuration, K/sqrt(h)), give a "
+     "missing input (internal_gains:) or compare with model.correction: none"),
+    ("add a state or an input, or a finer model of the heating",
+     "give the inputs the model lacks (internal_gains: in the retrofit configuration), check "
+     "the heating data or use a finer step (measurements.step)"),
+    ("remove the values (NaN) or cut the period",
+     "remove the values (empty cells) or cut the period (periods.training_start, "
+     "periods.training_days)"),
+    (" (thermocal.io quality checks)", ""),
+)  # fmt: skip
+
+
+def retrofit_remedy(flag: str) -> str:
+    """The flag with the engine's remedy replaced by the retrofit configuration key."""
+    import re
+
+    for engine, retrofit in ENGINE_REMEDIES:
+        flag = flag.replace(engine, retrofit)
+    # a heat input read in the wrong unit: the unit comes from the measurement keys
+    return re.sub(
+        r"set 'unit: [^']+' for '[^']+' in heat_inputs \(or convert the column\)",
+        "check measurements.flow_unit (hydronic) or measurements.heat_unit (heat / fuel meter) "
+        "and internal_gains.electricity_unit in the retrofit configuration",
+        flag,
+    )
+
+
+def bound_flag(
+    name: str, value: float, lower: float, upper: float, unit: str, *, drawn: bool = False
+) -> str:
+    """The message for an estimate on its bound, with the configuration keys that fix it.
+
+    ``drawn``: its uncertainty is in the intervals anyway (posterior draws of the group
+    corrections, truncated to the bounds)."""
     side = "upper" if value >= 0.5 * (lower + upper) else "lower"
     want = "larger" if side == "upper" else "smaller"
+    what = (
+        "Its uncertainty is in the intervals (posterior draws truncated to the range)."
+        if drawn
+        else "Its standard error is not reported (n/a) and its uncertainty is not in the intervals."
+    )
     return (
         f"{name} = {value:.4g} {unit} is at its {side} bound ({lower:.4g} .. {upper:.4g} {unit}): "
-        f"the data want a {want} value. Its standard error is not reported (n/a) and its "
-        f"uncertainty is not in the intervals. If a {want} value is physically possible, widen "
+        f"the data want a {want} value. {what} If a {want} value is physically possible, widen "
         f"the range in the retrofit configuration (model.bounds.{name}: [lower, upper] in "
         f"{unit}); if the bound is physically right, fix it (model.fixed.{name}: value)."
     )
@@ -452,6 +617,7 @@ def check_heating_power_magnitude(
     *,
     flow_unit: str = "m3/s",
     flow_column: str = "flow",
+    unit_hint: str | None = None,
 ) -> float:
     """Compare the mean heating power with the building file's losses; refuse a unit slip.
 
@@ -491,15 +657,25 @@ def check_heating_power_magnitude(
             f"training period, {ratio:.3g} times the building file's transmission losses "
             f"H_T x (Ti - Te) = {transmission_coefficient:.0f} W/K x {delta:.1f} K = "
             f"{expected:,.0f} W: far too {direction} for a heated building. Check "
-            f"measurements.flow_unit (now {flow_unit}; m3/h and l/h differ by 1000, l/min and "
-            f"l/h by 60) and the flow column {flow_column!r}, then the building's areas and "
-            "U-values"
+            + (
+                unit_hint
+                if unit_hint
+                else f"measurements.flow_unit (now {flow_unit}; m3/h and l/h differ by 1000, "
+                f"l/min and l/h by 60) and the flow column {flow_column!r}"
+            )
+            + ", then the building's areas and U-values"
         )
     return ratio
 
 
-def check_training_data(data: pd.DataFrame, source: str = "measurements") -> None:
-    """Raise a clear error when the training data cannot be used."""
+def check_training_data(
+    data: pd.DataFrame, source: str = "measurements", heat_source: str = "hydronic"
+) -> None:
+    """Raise a clear error when the training data cannot be used.
+
+    ``heat_source``: ``measurements.heat_source`` (the remedies name its columns and keys).
+    """
+    hydronic = heat_source == "hydronic"
     for col in BOUNDARY_COLUMNS + HEAT_COLUMNS + (OUTPUT_COLUMN,):
         if col not in data:
             raise ThermocalInputError(f"{source}: training data lacks column {col!r}")
@@ -525,17 +701,30 @@ def check_training_data(data: pd.DataFrame, source: str = "measurements") -> Non
     phi = data["phi_h"].to_numpy(float)
     if not np.mean(phi) > 0:
         raise ThermocalInputError(
-            f"{source}: the heating power (flow x (supply - return)) is {np.mean(phi):.0f} W on "
-            "average over the training period; a heated building needs a positive one: check "
-            "that the supply and return temperature columns are not swapped and that the flow "
-            "column and measurements.flow_unit are right"
+            f"{source}: the heating power "
+            + ("(flow x (supply - return)) " if hydronic else "(heat meter) ")
+            + f"is {np.mean(phi):.0f} W on average over the training period; a heated building "
+            "needs a positive one: check "
+            + (
+                "that the supply and return temperature columns are not swapped and that the "
+                "flow column and measurements.flow_unit are right"
+                if hydronic
+                else "the heat column (measurements.columns.heat), measurements.heat_unit and "
+                "heat_cumulative (a meter reading must be declared cumulative)"
+            )
         )
     scale = max(float(np.quantile(phi, 0.95)), 1.0)
     negative = phi < -0.05 * scale
     if negative.mean() > 0.05:
         first = data.index[int(np.argmax(negative))]
         raise ThermocalInputError(
-            f"{source}: the heating power is clearly negative (supply below return) in "
-            f"{int(negative.sum())} of {len(phi)} training intervals, the first at {first}: "
-            "check the supply and return temperature sensors and their columns"
+            f"{source}: the heating power is clearly negative "
+            + ("(supply below return) " if hydronic else "")
+            + f"in {int(negative.sum())} of {len(phi)} training intervals, the first at {first}: "
+            + (
+                "check the supply and return temperature sensors and their columns"
+                if hydronic
+                else "check the heat column (measurements.columns.heat): a meter reading that "
+                "is reset or a sign convention"
+            )
         )

@@ -18,7 +18,15 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    PositiveFloat,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from thermocal.errors import ThermocalInputError
 from thermocal.retrofit.strategies import (
@@ -27,6 +35,7 @@ from thermocal.retrofit.strategies import (
     MEASURE_ORDER,
     PAPER_MEASURE_DESCRIPTIONS,
     PAPER_MEASURE_U_VALUES,
+    U_VALUE_COMPONENTS,
     Measure,
     all_strategies,
     listed_strategies,
@@ -41,7 +50,18 @@ MEASUREMENT_COLUMNS: dict[str, str] = {
     "dni": "direct normal irradiance [W/m2] (hourly Wh/m2 is the same number)",
     "dhi": "diffuse horizontal irradiance [W/m2]",
     "temp_in": "internal air temperature Ti [C]",
+    "heat": "heat (or fuel) meter: power or energy, unit measurements.heat_unit",
+    "electricity": "electricity meter: power or energy, unit internal_gains.electricity_unit",
 }
+#: Standard names needed by each heat source (measurements.heat_source).
+HEAT_SOURCE_COLUMNS: dict[str, tuple[str, ...]] = {
+    "hydronic": ("flow", "temp_supply", "temp_return"),
+    "heat_meter": ("heat",),
+    "fuel_meter": ("heat",),
+}
+#: Units of a meter column: power (row = mean power) or energy (row = energy of its interval,
+#: or a cumulative reading with ``*_cumulative: true``).
+METER_UNITS = ("W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ")
 
 #: Conversion factors of supported flow units to m3/s.
 FLOW_UNITS: dict[str, float] = {
@@ -55,6 +75,19 @@ FLOW_UNITS: dict[str, float] = {
 
 #: Most parameter draws for the intervals (a 90 % interval settles within a few thousand).
 MAX_DRAWS = 100_000
+
+#: A constant indoor temperature of the demand simulation must lie in this range [C].
+INDOOR_PROFILE_RANGE = (5.0, 35.0)
+
+#: Shortest training period of the fifth-order model [d]: its slowest time constants (envelope,
+#: internal mass) are days long, and a weekly cycle of use should be inside.
+MIN_TRAINING_DAYS = 7.0
+
+#: Largest plausible annual energy of the house (fuel, rating) [kWh].
+MAX_ANNUAL_KWH = 2.0e6
+
+#: Smallest plausible heat loss coefficient of a building [W/K] (a tiny house has ~50).
+MIN_HEAT_LOSS_COEFFICIENT = 5.0
 
 
 class _Strict(BaseModel):
@@ -75,6 +108,43 @@ class MeasurementsConfig(_Strict):
         None, description="time zone of naive timestamps (name or hours from UTC)"
     )
     step: str = Field("1h", description="resampling step of the calibration data")
+    heat_source: Literal["hydronic", "heat_meter", "fuel_meter"] = Field(
+        "hydronic",
+        description="hydronic: flow x (supply - return); heat_meter: the 'heat' column is the "
+        "useful heat; fuel_meter: the 'heat' column is fuel energy, times boiler_efficiency",
+    )
+    heat_unit: Literal["W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ"] = Field(
+        "kW", description="unit of the heat column: power (mean over the row) or energy"
+    )
+    heat_cumulative: bool = Field(
+        False, description="the heat column is a meter reading (counter), not per-row energy"
+    )
+    boiler_efficiency: float | None = Field(
+        None, gt=0.3, le=1.1, description="useful heat / fuel energy (fuel_meter) [-]"
+    )
+
+    def required_columns(self, electricity: bool = False) -> list[str]:
+        """Standard names read from the file for this heat source (and electricity meter)."""
+        names = ["temp_out", *HEAT_SOURCE_COLUMNS[self.heat_source], "dni", "dhi", "temp_in"]
+        return names + (["electricity"] if electricity else [])
+
+    @model_validator(mode="after")
+    def _fuel_needs_efficiency(self) -> MeasurementsConfig:
+        if self.heat_source == "fuel_meter" and self.boiler_efficiency is None:
+            raise ValueError(
+                "heat_source 'fuel_meter' needs measurements.boiler_efficiency (useful heat / "
+                "fuel energy, e.g. 0.85 for an older oil boiler, 0.95 for a condensing one)"
+            )
+        if self.heat_source != "fuel_meter" and self.boiler_efficiency is not None:
+            raise ValueError(
+                "measurements.boiler_efficiency applies to heat_source: fuel_meter only"
+            )
+        if self.heat_cumulative and self.heat_unit in ("W", "kW"):
+            raise ValueError(
+                f"measurements.heat_cumulative: a meter reading is an energy, not a power "
+                f"({self.heat_unit}); set heat_unit to kWh, MWh, MJ, ..."
+            )
+        return self
 
     @field_validator("columns")
     @classmethod
@@ -87,6 +157,16 @@ class MeasurementsConfig(_Strict):
         missing = sorted(set(MEASUREMENT_COLUMNS) - set(value))
         full = {name: name for name in missing}
         full.update(value)
+        roles: dict[str, list[str]] = {}
+        for role, column in full.items():
+            roles.setdefault(column, []).append(role)
+        shared = {column: names for column, names in roles.items() if len(names) > 1}
+        if shared:
+            column, names = next(iter(shared.items()))
+            raise ValueError(
+                f"column {column!r} is given for {' and '.join(sorted(names))}; every role "
+                "needs its own column of the measurements file"
+            )
         return full
 
 
@@ -105,6 +185,30 @@ class PeriodsConfig(_Strict):
     # at most ten years: beyond, the period is certainly a unit slip (hours or seconds)
     training_days: float = Field(21.0, gt=0, le=3660)
     test_days: float = Field(21.0, ge=0, le=3660)
+
+    @field_validator("training_start", mode="before")
+    @classmethod
+    def _yaml_date(cls, value: Any) -> Any:
+        """A YAML date (``training_start: 2005-01-01``) is read as that date."""
+        import datetime as _dt
+
+        if isinstance(value, _dt.date):
+            return value.isoformat()
+        return value
+
+    @field_validator("training_days")
+    @classmethod
+    def _long_enough(cls, value: float) -> float:
+        """Refuse a training period too short to separate the heat loss from the capacities."""
+        if value < MIN_TRAINING_DAYS:
+            raise ValueError(
+                f"{value:g} days are too few to calibrate the fifth-order model: at least "
+                f"{MIN_TRAINING_DAYS:g} days are needed, because the envelope's and the internal "
+                "mass's time constants are days long, so a shorter record cannot tell the heat "
+                "loss coefficient from the capacities (and its interval would be far too "
+                "narrow); the method's case study uses 21 days"
+            )
+        return value
 
 
 class ModelConfig(_Strict):
@@ -127,6 +231,18 @@ class ModelConfig(_Strict):
         default_factory=dict,
         description="parameters held at a value instead of estimated: H_est [W/K] or a "
         "capacity [MJ/K]",
+    )
+    fixed_noise: dict[Literal["sigma_Ti", "sigma_Tenv", "sigma_Tgf", "sigma_Tim", "sigma_Th"],
+                      PositiveFloat] = Field(
+        default_factory=dict,
+        description="diffusions held at a value [K/sqrt(h)] instead of estimated (the remedy "
+        "for a diffusion-dominated state)",
+    )  # fmt: skip
+    correction: Literal["groups", "none"] = Field(
+        "groups",
+        description="groups: estimate a factor on the calculated U-values of roof + walls, "
+        "windows and floor with a prior from uncertainty.u_value_rel_std (the data can lower "
+        "or raise the calculated losses); none: the published topology (only H_est added)",
     )
 
     @model_validator(mode="after")
@@ -160,13 +276,81 @@ class UncertaintyConfig(_Strict):
     draws: int = Field(200, ge=0, le=MAX_DRAWS)
     interval: float = Field(0.90, gt=0, lt=1)
     u_value_rel_std: float = Field(
-        0.0,
+        0.2,
         ge=0,
         le=0.5,
         description="relative standard deviation of the audit U-values of roof, walls, windows "
-        "and floor (0: only the estimation uncertainty, as in the fifth-order RC method)",
+        "and floor: the prior of the group corrections (model.correction: groups), or a spread "
+        "around the fit with model.correction: none (0: only the estimation uncertainty, as "
+        "in the fifth-order RC method)",
     )
     seed: int = 0
+    heat_rel_std: float = Field(
+        0.03,
+        ge=0,
+        le=0.3,
+        description="relative standard uncertainty of the measured heat as a whole (meter "
+        "calibration, flow and temperature-difference errors); with model.correction: groups "
+        "it scales every estimated conductance and capacity in the draws",
+    )
+
+
+class ValidationConfig(_Strict):
+    """Test-period criteria of the validation gate (:mod:`thermocal.retrofit.gate`); when one
+    fails, the report recommends nothing."""
+
+    max_abs_bias_K: float = Field(
+        1.0, gt=0, description="|mean simulated - mean measured| indoor temperature [K]"
+    )
+    max_mae_K: float = Field(1.5, gt=0, description="mean absolute error of Ti [K]")
+    max_abs_nmbe_pct: float = Field(
+        10.0, gt=0, description="|NMBE| of the daily heat, ASHRAE Guideline 14 [%]"
+    )
+    max_cv_rmse_pct: float = Field(
+        30.0, gt=0, description="CV(RMSE) of the daily heat, ASHRAE Guideline 14 [%]"
+    )
+
+
+class InternalGainsConfig(_Strict):
+    """Internal gains (occupants, appliances, lighting) into the heated air [W].
+
+    ``none``: no input (the calibration then attributes the gains' effect to the losses, as
+    the fifth-order method does); ``constant``: ``constant_W``; ``schedule``: 24 hourly values
+    ``schedule_W`` (hour 0..23 local standard time, repeated every day); ``electricity``: the
+    measurements' ``electricity`` column times ``fraction_inside`` during the measurements,
+    its mean 24-hour profile in the demand year.
+    """
+
+    source: Literal["none", "constant", "schedule", "electricity"] = "none"
+    constant_W: float | None = Field(None, ge=0, le=50_000, description="[W]")
+    schedule_W: list[float] | None = Field(None, description="24 hourly values [W]")
+    electricity_unit: Literal["W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ"] = Field(
+        "kW", description="unit of the electricity column: power or energy per row"
+    )
+    electricity_cumulative: bool = Field(False, description="the column is a meter reading")
+    fraction_inside: float = Field(
+        1.0, gt=0, le=1.0, description="share of the metered electricity released as heat "
+        "inside the heated envelope (not: outdoor lights, a heat-pump compressor outside)",
+    )  # fmt: skip
+    rel_std: float = Field(
+        0.3, ge=0, le=1.0, description="relative standard deviation of the gains in the demand"
+    )
+
+    @model_validator(mode="after")
+    def _complete(self) -> InternalGainsConfig:
+        if self.source == "constant" and self.constant_W is None:
+            raise ValueError("source 'constant' needs constant_W [W]")
+        if self.source == "schedule":
+            if self.schedule_W is None or len(self.schedule_W) != 24:
+                raise ValueError("source 'schedule' needs schedule_W: 24 hourly values [W]")
+            if min(self.schedule_W) < 0:
+                raise ValueError("schedule_W: gains must not be negative")
+        if self.electricity_cumulative and self.electricity_unit in ("W", "kW"):
+            raise ValueError(
+                "electricity_cumulative: a meter reading is an energy; set electricity_unit "
+                "to kWh, MWh, MJ, ..."
+            )
+        return self
 
 
 class ReferenceConfig(_Strict):
@@ -182,6 +366,28 @@ class ReferenceConfig(_Strict):
         None, gt=0, description="known HLC (synthetic data only)"
     )
 
+    @field_validator("measured_fuel_kWh", "rating_kWh")
+    @classmethod
+    def _kilowatt_hours(cls, value: float | None) -> float | None:
+        """An annual energy above 2 GWh is no house's: Wh written where kWh belong."""
+        if value is not None and value > MAX_ANNUAL_KWH:
+            raise ValueError(
+                f"{value:,.0f} kWh a year is the heating of a hundred houses (at most "
+                f"{MAX_ANNUAL_KWH:,.0f} kWh accepted); is it in Wh? then write {value / 1000:,.0f}"
+            )
+        return value
+
+    @field_validator("audit_heat_loss_coefficient_W_per_K")
+    @classmethod
+    def _watts_per_kelvin(cls, value: float | None) -> float | None:
+        """A heat loss coefficient below 5 W/K is no building's: kW/K written as W/K."""
+        if value is not None and value < MIN_HEAT_LOSS_COEFFICIENT:
+            raise ValueError(
+                f"{value:g} W/K is far below any building's heat loss coefficient (at least "
+                f"{MIN_HEAT_LOSS_COEFFICIENT:g} W/K); is it in kW/K? then write {value * 1000:g}"
+            )
+        return value
+
     @field_validator("rating_monthly_kWh")
     @classmethod
     def _twelve(cls, value: list[float] | None) -> list[float] | None:
@@ -194,7 +400,15 @@ class MeasureConfig(_Strict):
     """One retrofit measure (see :class:`thermocal.retrofit.strategies.Measure`)."""
 
     component: (
-        Literal["roof", "walls", "windows", "cellar_ceiling", "airtightness", "heat_recovery"]
+        Literal[
+            "roof",
+            "walls",
+            "windows",
+            "cellar_ceiling",
+            "ground_floor",
+            "airtightness",
+            "heat_recovery",
+        ]
         | None
     ) = Field(None, description="what it acts on (default: the measure's name)")
     u_value: float | None = Field(None, ge=0.05, le=6.0, description="U after retrofit [W/(m2 K)]")
@@ -248,6 +462,24 @@ class DemandConfig(_Strict):
     )
     profile_period: Literal["all", "training"] = "all"
 
+    @field_validator("indoor_profile")
+    @classmethod
+    def _celsius(cls, value: str | float) -> str | float:
+        """A constant indoor temperature is in C: 293.15 (Kelvin) or 68 (F) is refused."""
+        if isinstance(value, str):
+            return value
+        low, high = INDOOR_PROFILE_RANGE
+        if not low <= value <= high:
+            hint = ""
+            if 200.0 <= value <= 400.0:
+                hint = f"; Kelvin? write {value - 273.15:.2f}"
+            elif 40.0 <= value <= 95.0:
+                hint = f"; Fahrenheit? write {(value - 32.0) * 5.0 / 9.0:.1f}"
+            raise ValueError(
+                f"{value:g} C is not an indoor temperature (expected {low:g}-{high:g} C){hint}"
+            )
+        return value
+
 
 class RetrofitConfig(_Strict):
     """The whole ``thermocal retrofit`` configuration."""
@@ -267,6 +499,8 @@ class RetrofitConfig(_Strict):
     uncertainty: UncertaintyConfig = Field(default_factory=UncertaintyConfig)
     reference: ReferenceConfig = Field(default_factory=ReferenceConfig)
     demand: DemandConfig = Field(default_factory=DemandConfig)
+    validation: ValidationConfig = Field(default_factory=ValidationConfig)
+    internal_gains: InternalGainsConfig = Field(default_factory=InternalGainsConfig)
     base_dir: Path = Field(Path("."), description="folder relative paths refer to")
 
     @field_validator("measures")
@@ -285,7 +519,7 @@ class RetrofitConfig(_Strict):
                     f"{list(MEASURE_COMPONENTS)}); a bare number is the U-value of one of "
                     f"{list(MEASURE_ORDER)}"
                 )
-            if component in MEASURE_ORDER:
+            if component in U_VALUE_COMPONENTS:
                 if spec.u_value is None and spec.g_value is None:
                     raise ValueError(
                         f"measure {name!r} on {component}: give u_value (and/or "

@@ -48,18 +48,24 @@ _READER_REMEDIES = (
 )
 
 
-def _units(cfg: MeasurementsConfig) -> dict[str, str]:
+def _units(cfg: MeasurementsConfig, electricity_unit: str | None = None) -> dict[str, str]:
     """The unit of every mapped file column, from the configuration."""
-    unit = {"flow": cfg.flow_unit, "dni": "W/m2", "dhi": "W/m2"}
+    unit = {"flow": cfg.flow_unit, "dni": "W/m2", "dhi": "W/m2", "heat": cfg.heat_unit}
+    if electricity_unit:
+        unit["electricity"] = electricity_unit
     return {col: unit.get(std, "C") for std, col in cfg.columns.items()}
 
 
-def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.DataFrame:
+def read_raw_measurements(
+    cfg: MeasurementsConfig, *, default_tz=None, electricity_unit: str | None = None
+) -> pd.DataFrame:
     """Measurement table with standard column names [C, m3/s, W/m2], tz-aware DatetimeIndex.
 
     Read by :func:`thermocal.io.measurements.read_measurements` (CSV or parquet, ISO 8601
     times, rows = interval means labelled by their start); ``raw.attrs["measurements"]`` keeps
-    its metadata (logging interval, units, notes).
+    its metadata (logging interval, units, notes). Only the columns of the configured heat
+    source (``measurements.heat_source``) are read, plus the electricity meter when
+    ``electricity_unit`` is given; meter columns come in W (power) or J (energy).
 
     Raises
     ------
@@ -74,14 +80,15 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
     if not path.is_file():
         raise ThermocalInputError(f"measurement file {path} not found (measurements.file)")
     tz = _timezone(cfg.timezone) or _timezone(default_tz)
-    names = {col: std for std, col in cfg.columns.items()}
+    needed = cfg.required_columns(electricity=electricity_unit is not None)
+    names = {cfg.columns[std]: std for std in needed}
     try:
         raw, _ = read_measurements(
             path,
             layout="wide",
             time_column=cfg.time_column,
             sensors=names,
-            units=_units(cfg),
+            units=_units(cfg, electricity_unit),
             tz=tz,
             rows="interval_start",
             unknown_sensors="ignore",
@@ -95,7 +102,7 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
             named = [
                 f"{col!r} is the {MEASUREMENT_COLUMNS[std]} (measurements.columns.{std})"
                 for std, col in cfg.columns.items()
-                if repr(col) in text
+                if repr(col) in text and std in needed
             ]
             if named:
                 hint = "; " + "; ".join(named) + ": map your column names there"
@@ -104,9 +111,9 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
         raise ThermocalInputError(
             f"measurement file {path}: timestamps have no time zone; set measurements.timezone"
         )
-    out = raw[[std for std in cfg.columns]].copy()
+    out = raw[needed].copy()
     index = out.index
-    neg = out["flow"].to_numpy() < 0
+    neg = out["flow"].to_numpy() < 0 if "flow" in out else np.zeros(len(out), bool)
     if neg.any():
         row = int(np.argmax(neg))
         raise ThermocalInputError(
@@ -115,6 +122,8 @@ def read_raw_measurements(cfg: MeasurementsConfig, *, default_tz=None) -> pd.Dat
             f"({index[row]}); flows must be >= 0 (check the sensor direction or sign convention)"
         )
     for std in TEMPERATURE_COLUMNS:
+        if std not in out:
+            continue
         high = np.nanmax(out[std].to_numpy()) if out[std].notna().any() else np.nan
         if np.isfinite(high) and high > 150.0:
             raise ThermocalInputError(
@@ -172,13 +181,52 @@ QUANTITIES: dict[str, str] = {
     "dni": "irradiance",
     "dhi": "irradiance",
     "phi_h": "power",
+    "phi_el": "power",
 }
 #: The heating power may be slightly negative (supply below return within the sensor
 #: uncertainty at a small flow); removing those values would bias the interval means.
 PHI_H_LIMITS = (-1e8, 1e8)
 
 
-def prepare_measurements(raw: pd.DataFrame, step: str) -> tuple[pd.DataFrame, QualityReport]:
+def meter_power(values: pd.Series, *, energy: bool, cumulative: bool, interval) -> pd.Series:
+    """Mean power [W] over each row's interval from a meter column.
+
+    Parameters
+    ----------
+    values : pd.Series
+        Power [W] (``energy`` False), energy of the row's interval [J], or a cumulative
+        reading [J] (``cumulative``), rows labelled by the start of their interval.
+    interval : pd.Timedelta
+        Logging interval (length of the last row's interval).
+
+    Returns
+    -------
+    pd.Series [W]; a cumulative reading gives NaN for the last row (no next reading).
+    """
+    if not energy:
+        return values.astype(float)
+    t = values.index
+    seconds = np.diff(t.asi8) / 1e9 if len(t) > 1 else np.array([])
+    seconds = np.append(seconds, pd.Timedelta(interval).total_seconds())
+    v = values.to_numpy(float)
+    if cumulative:
+        e = np.append(np.diff(v), np.nan)
+    else:
+        e = v
+    return pd.Series(e / seconds, index=t)
+
+
+def prepare_measurements(
+    raw: pd.DataFrame,
+    step: str,
+    *,
+    heat_source: str = "hydronic",
+    heat_energy: bool = False,
+    heat_cumulative: bool = False,
+    boiler_efficiency: float | None = None,
+    electricity_energy: bool = False,
+    electricity_cumulative: bool = False,
+) -> tuple[pd.DataFrame, QualityReport]:
     """Average onto a regular grid, add the heating power ``phi_h`` [W], report the quality.
 
     The heating power is computed at the raw resolution (flow x temperature difference does
@@ -218,11 +266,23 @@ def prepare_measurements(raw: pd.DataFrame, step: str) -> tuple[pd.DataFrame, Qu
     if len(raw) < 2:
         raise ThermocalInputError("measurement file: fewer than two rows of measurements")
     frame = raw.copy()
-    frame["phi_h"] = heating_power(frame["flow"], frame["temp_supply"], frame["temp_return"])
-    frame["dni"] = frame["dni"].clip(lower=0.0)
-    frame["dhi"] = frame["dhi"].clip(lower=0.0)
     meta = raw.attrs.get("measurements", {}) if isinstance(raw.attrs, dict) else {}
     logging_interval = meta.get("interval") or pd.Series(frame.index).diff().median()
+    if heat_source == "hydronic":
+        frame["phi_h"] = heating_power(frame["flow"], frame["temp_supply"], frame["temp_return"])
+    else:  # a heat meter's useful heat, or fuel energy times the boiler's efficiency
+        power = meter_power(
+            frame.pop("heat"), energy=heat_energy, cumulative=heat_cumulative,
+            interval=logging_interval,
+        )  # fmt: skip
+        frame["phi_h"] = power * (boiler_efficiency if heat_source == "fuel_meter" else 1.0)
+    if "electricity" in frame:
+        frame["phi_el"] = meter_power(
+            frame.pop("electricity"), energy=electricity_energy,
+            cumulative=electricity_cumulative, interval=logging_interval,
+        )  # fmt: skip
+    frame["dni"] = frame["dni"].clip(lower=0.0)
+    frame["dhi"] = frame["dhi"].clip(lower=0.0)
     grid, report = resample_measurements(
         frame,
         step_td,
@@ -231,7 +291,7 @@ def prepare_measurements(raw: pd.DataFrame, step: str) -> tuple[pd.DataFrame, Qu
         quantities={c: QUANTITIES[c] for c in frame.columns if c in QUANTITIES},
         limits={"phi_h": PHI_H_LIMITS},
     )
-    return grid[list(raw.columns) + ["phi_h"]], report
+    return grid[list(frame.columns)], report
 
 
 def removed_values_notes(report: QualityReport, columns: dict[str, str]) -> list[str]:

@@ -87,6 +87,7 @@ def simulate_demand(
     profile,
     *,
     warmup_days: float = 14.0,
+    gains=None,
 ) -> DemandResult:
     """Heating demand of every (scenario, draw) pair over the weather in ``inputs``.
 
@@ -106,6 +107,9 @@ def simulate_demand(
     warmup_days : float
         The last days of the period run first to bring the capacities to a periodic state
         (a typical year wraps from December 31 to January 1).
+    gains : array-like (n_steps,) [W], optional
+        Internal gains into the air node, like the heating; ``params_si["gain_factor"]``
+        (per draw, default 1) scales them (their uncertainty).
 
     Returns
     -------
@@ -135,6 +139,8 @@ def simulate_demand(
     }
     a, b = system_matrices(h, p, indoor_input=True)
     ad, bd = discrete_system_matrices(h, p, dt, indoor_input=True)
+    if gains is not None:
+        a, b, ad, bd, u = with_gains(a, b, ad, bd, u, gains, params_si.get("gain_factor"), n_scen)
     n_warm = min(int(round(warmup_days * 86400 / dt)), len(index) - 1)
     # initial state: steady state with the mean warm-up inputs and zero heating from the
     # set point, then the warm-up period
@@ -148,6 +154,28 @@ def simulate_demand(
     first = np.arange(n_scen) * n_draws
     hourly, _, _ = ideal_heating_batch(ad[first], bd[first], x0[first], u, sp)
     return DemandResult(monthly.reshape(n_scen, n_draws, 12), hourly, index)
+
+
+def with_gains(a, b, ad, bd, u, gains, factor, n_repeat: int = 1):
+    """Systems and inputs with internal gains as one more input column into the air node.
+
+    The gains enter where the heating does (the last column of ``b`` / ``bd``), scaled per
+    system by ``factor`` (an array over the draws, repeated ``n_repeat`` times for the
+    scenarios; None: 1); the heating stays the last column, so the controller is unchanged.
+
+    Returns
+    -------
+    a, b, ad, bd, u with the gains column inserted before the heating column.
+    """
+    g = np.asarray(gains, dtype=float).reshape(-1, 1)
+    f = np.ones(ad.shape[0])
+    if factor is not None:
+        f = np.tile(np.atleast_1d(np.asarray(factor, dtype=float)), n_repeat)
+    col_b = b[:, :, -1:] * f[:, None, None]
+    col_bd = bd[:, :, -1:] * f[:, None, None]
+    b = np.concatenate([b[:, :, :-1], col_b, b[:, :, -1:]], axis=2)
+    bd = np.concatenate([bd[:, :, :-1], col_bd, bd[:, :, -1:]], axis=2)
+    return a, b, ad, bd, np.hstack([u, g])
 
 
 def steady_state_demand(

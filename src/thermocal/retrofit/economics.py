@@ -30,6 +30,9 @@ def measure_areas(envelope, heated_floor_area: float) -> dict[str, float]:
         "walls": float(envelope.walls_area),
         "windows": float(envelope.windows_area),
         "cellar_ceiling": float(envelope.floor_area),
+        "ground_floor": float(envelope.floor_area),
+        "attic_ceiling": float(envelope.attic_area),
+        "wall_to_unheated": float(envelope.adjacent_area),
         "airtightness": float(heated_floor_area),
         "heat_recovery": float(heated_floor_area),
     }

@@ -168,6 +168,13 @@ class EnvelopeComponents:
     floor_kind: str  # "cellar_ceiling" or "ground_floor"
     windows_g_factor: float = 1.0  # [-] g-value after / before retrofit (window solar gains)
     h_est_change: float = 0.0  # [W/K] change of the ventilation part of H_est (measures)
+    # towards unheated spaces (ISO 13789 temperature adjustment factor b): part of env
+    attic_area: float = 0.0  # ceiling under an unheated attic
+    attic_u: float = 1.0
+    attic_b: float = 1.0
+    adjacent_area: float = 0.0  # walls to an unheated garage, staircase, ...
+    adjacent_u: float = 1.0
+    adjacent_b: float = 1.0
 
     def with_measures(self, u_values: dict[str, float]) -> EnvelopeComponents:
         """Copy with the U-values of the given measures replaced (capacities unchanged)."""
@@ -176,6 +183,9 @@ class EnvelopeComponents:
             "walls": "walls_u",
             "windows": "windows_u",
             "cellar_ceiling": "floor_u",
+            "ground_floor": "floor_u",
+            "attic_ceiling": "attic_u",
+            "wall_to_unheated": "adjacent_u",
         }
         return replace(self, **{key[m]: float(u) for m, u in u_values.items()})
 
@@ -207,6 +217,72 @@ class EnvelopeComponents:
         return env
 
 
+#: Envelope attribute (U-value) and floor kind of every U-value measure component.
+MEASURE_TARGETS: dict[str, tuple[str, str | None]] = {
+    "roof": ("roof_u", None),
+    "walls": ("walls_u", None),
+    "windows": ("windows_u", None),
+    "cellar_ceiling": ("floor_u", "cellar_ceiling"),
+    "ground_floor": ("floor_u", "ground_floor"),
+    "attic_ceiling": ("attic_u", None),
+    "wall_to_unheated": ("adjacent_u", None),
+}
+_BUILDING_TYPE = {"roof": "roof", "walls": "external_wall", "windows": "window"}
+
+
+def check_measures(envelope: EnvelopeComponents, measures, building_name: str = "") -> None:
+    """Refuse a measure on a component the building lacks, or one that does not improve it.
+
+    Parameters
+    ----------
+    envelope : EnvelopeComponents
+        The building file's envelope.
+    measures : dict name -> :class:`~thermocal.retrofit.strategies.Measure`
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the configuration key ``measures.<name>`` and what to do.
+    """
+    for name, m in measures.items():
+        if m.u_value is None or m.component not in MEASURE_TARGETS:
+            continue
+        attr, kind = MEASURE_TARGETS[m.component]
+        area = getattr(envelope, attr.replace("_u", "_area"))
+        if kind is not None and envelope.floor_kind != kind:
+            other = "ground_floor" if kind == "cellar_ceiling" else "cellar_ceiling"
+            what = {
+                "cellar_ceiling": "a ceiling over an unheated cellar",
+                "ground_floor": "a floor on the ground (slab)",
+            }
+            raise ThermocalInputError(
+                f"measures.{name}: the measure insulates {what[kind]} (component {kind}), but "
+                f"building {building_name!r} has {what[envelope.floor_kind]}; give the "
+                f"measure as component {other} (e.g. measures: {{{other}: {{u_value: "
+                f"{m.u_value:g}}}}}) or remove it"
+                + (
+                    " (the default measures are the method's, with a cellar ceiling)"
+                    if name == "cellar_ceiling"
+                    else ""
+                )  # fmt: skip
+            )
+        if area <= 0:
+            raise ThermocalInputError(
+                f"measures.{name}: building {building_name!r} has no "
+                f"{_BUILDING_TYPE.get(m.component, m.component)} component to retrofit; "
+                "remove the measure or add the component to the building file"
+            )
+        current = float(getattr(envelope, attr))
+        if not m.u_value < current:
+            raise ThermocalInputError(
+                f"measures.{name}: target U-value {m.u_value:g} W/(m2 K) is not better than the "
+                f"existing {m.component.replace('_', ' ')} ({current:.3g} W/(m2 K), area-"
+                "weighted from the building file): the measure would worsen or keep the "
+                "envelope and cost money; lower measures."
+                f"{name}.u_value below {current:.3g} or remove the measure"
+            )
+
+
 def _area_weighted_u(components) -> tuple[float, float]:
     area = sum(float(c.area) for c in components)
     if area <= 0:
@@ -225,10 +301,12 @@ def envelope_from_building(building) -> EnvelopeComponents:
     win_a, win_u = _area_weighted_u(of("window"))
     cel_a, cel_u = _area_weighted_u(of("cellar_ceiling"))
     gfl_a, gfl_u = _area_weighted_u(of("ground_floor"))
-    if wall_a + roof_a <= 0:
+    attic = _adjacent(of("attic_ceiling"))
+    adjacent = _adjacent(of("wall_to_unheated"))
+    if wall_a + roof_a + attic[0] + adjacent[0] <= 0:
         raise ThermocalInputError(
-            f"building {building.name!r} has no roof or external_wall components: the env element "
-            "of the fifth-order model needs at least one"
+            f"building {building.name!r} has no roof, external_wall, attic_ceiling or "
+            "wall_to_unheated components: the env element of the fifth-order model needs one"
         )
     if cel_a > 0:
         floor = (cel_a, cel_u, "cellar_ceiling")
@@ -239,7 +317,23 @@ def envelope_from_building(building) -> EnvelopeComponents:
             f"building {building.name!r} has neither a cellar_ceiling nor a ground_floor "
             "component: the gf element of the fifth-order model needs one"
         )
-    return EnvelopeComponents(roof_a, roof_u, wall_a, wall_u, win_a, win_u, *floor)
+    return EnvelopeComponents(
+        roof_a, roof_u, wall_a, wall_u, win_a, win_u, *floor,
+        attic_area=attic[0], attic_u=attic[1], attic_b=attic[2],
+        adjacent_area=adjacent[0], adjacent_u=adjacent[1], adjacent_b=adjacent[2],
+    )  # fmt: skip
+
+
+def _adjacent(components) -> tuple[float, float, float]:
+    """Area [m2], area-weighted U [W/(m2 K)] and UA-weighted b [-] towards unheated spaces."""
+    area, u = _area_weighted_u(components)
+    ua = sum(float(c.area) * float(c.u_value) for c in components)
+    b = (
+        sum(float(c.area) * float(c.u_value) * float(c.b_factor) for c in components) / ua
+        if ua
+        else 1.0
+    )
+    return area, u, b
 
 
 def ground_path(building, envelope: EnvelopeComponents) -> GroundPath:
@@ -347,6 +441,15 @@ class FifthOrderModel:
             r_in = r_out = s_roof = 0.0
         if env.walls_area <= 0:
             w_in = w_out = s_walls = 0.0
+        # towards unheated spaces: the effective U-value b U (ISO 13789), surface resistance
+        # Rsi on both sides (ISO 6946 Table 7 note), no solar radiation
+        for area, u, b, r_s in (
+            (env.attic_area, env.attic_u, env.attic_b, R_SI["upward"]),
+            (env.adjacent_area, env.adjacent_u, env.adjacent_b, R_SI["horizontal"]),
+        ):
+            if area > 0:
+                a_in, a_out, _ = element_conductances(area, b * u, r_s, r_s)
+                r_in, r_out = r_in + a_in, r_out + a_out
         out["H_env_in"] = float(r_in + w_in)
         out["H_env_out"] = float(r_out + w_out)
         out["share_roof"] = float(s_roof)
@@ -437,7 +540,10 @@ def build_fifth_order_model(
 
     # prior of Hest: ventilation/infiltration 0.5 1/h, thermal bridges, doors
     volume = float(building.volume)
-    opaque = envelope.roof_area + envelope.walls_area + envelope.floor_area
+    opaque = (
+        envelope.roof_area + envelope.walls_area + envelope.floor_area + envelope.attic_area
+        + envelope.adjacent_area
+    )  # fmt: skip
     bridges = float(building.thermal_bridge_allowance) * opaque
     doors = sum(float(c.area) * float(c.u_value) for c in building.components if c.type == "door")
     air = 1200.0 / 3600.0  # rho c of air [Wh/(m3 K)] -> [W h/(m3 K)]
@@ -448,7 +554,10 @@ def build_fifth_order_model(
         "H_est": (h_est_lo, h_est0, h_est_hi, "W/K")
     }
     area_of = {
-        "C_env": envelope.roof_area + envelope.walls_area,
+        "C_env": envelope.roof_area
+        + envelope.walls_area
+        + envelope.attic_area
+        + envelope.adjacent_area,
         "C_gf": envelope.floor_area,
         "C_im": floor_area,
         "C_i": floor_area,

@@ -87,7 +87,10 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         params[name] = {
             "value": _num(cal.params[name]),
             # a curvature-based standard error means nothing at a bound: none is reported
-            "std_error": None if status != "estimated" else _num(cal.bse.get(name, np.nan)),
+            # (the posterior of the group corrections does include parameters at a bound)
+            "std_error": _num(cal.bse.get(name, np.nan))
+            if status == "estimated" or (status == "at bound" and cal.correction is not None)
+            else None,
             "unit": unit or _unit_guess(name),
             "estimated": bool(name in cal.correlation.columns or name in model.estimated),
             "status": status,
@@ -103,12 +106,15 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
     phys = [n for n in ESTIMATED_PARAMETERS if n in cal.correlation.columns]
     cphys = cal.correlation.loc[phys, phys].to_numpy(float)
     off_phys = cphys[~np.eye(len(cphys), dtype=bool)]
-    hlc_draws = heat_loss_coefficient_draws(
-        analysis,
-        np.random.default_rng(0).normal(
-            cal.estimates_si["H_est"], max(cal.heat_loss_coefficient_std, 0), 2000
-        ),
-    )
+    if cal.heat_loss_coefficient_draws is not None:  # posterior of the group corrections
+        hlc_draws = cal.heat_loss_coefficient_draws
+    else:
+        hlc_draws = heat_loss_coefficient_draws(
+            analysis,
+            np.random.default_rng(0).normal(
+                cal.estimates_si["H_est"], max(cal.heat_loss_coefficient_std, 0), 2000
+            ),
+        )
     hlc = {
         "value": _num(cal.heat_loss_coefficient),
         "std": _num(cal.heat_loss_coefficient_std),
@@ -201,9 +207,13 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "parameters_fixed": sorted(model.fixed),
             "residual_diagnostics": residual_summary(cal.residuals),
             "fit_seconds": cal.fit_seconds,
+            "correction": _correction_dict(cal.correction),
         },
         "heat_loss_coefficient_W_per_K": hlc,
         "validation": analysis.validation,
+        "heat_validation": analysis.heat_validation,
+        "validation_gate": analysis.gate,
+        "recommendation": _recommended_code(analysis),
         "annual_heating_demand_kWh": demand,
         "scenarios": scenarios,
         "measures_u_values": {
@@ -224,6 +234,25 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "notes": analysis.notes,
         "timings_s": analysis.timings,
     })  # fmt: skip
+
+
+def _correction_dict(corr) -> dict | None:
+    """The group corrections of the calibrated U-values (None: the published topology)."""
+    if corr is None:
+        return None
+    from thermocal.retrofit.correction import GROUP_LABELS, GROUPS
+
+    return {
+        "method": "maximum a posteriori, prior ln k ~ N(0, s^2) per envelope group",
+        "factors": corr.factors,
+        "groups": {g: {"label": GROUP_LABELS[g], "components": list(GROUPS[g])}
+                   for g in corr.factors},
+        "prior_std_log": corr.prior_std,
+        "posterior_std_log": corr.posterior_std,
+        "separated_by_data": corr.separated,
+        "strong_correlations": corr.correlation,
+        "summary": corr.summary(),
+    }  # fmt: skip
 
 
 def _areas(analysis: RetrofitAnalysis) -> dict[str, float]:
@@ -351,6 +380,12 @@ def _max_off_diagonal(corr: pd.DataFrame | None) -> float | None:
 
 
 def _unit_guess(name: str) -> str:
+    from thermocal.retrofit.model import CALCULATED_CONDUCTANCES, CALCULATED_FACTORS
+
+    if name in CALCULATED_CONDUCTANCES:
+        return "W/K"
+    if name in CALCULATED_FACTORS:
+        return "-"
     if name.startswith("sigma_"):
         return "K/sqrt(h)"
     if name.endswith("0") or name == "e_std":
@@ -419,7 +454,8 @@ def write_tables(analysis: RetrofitAnalysis, out: Path, results: dict) -> dict[s
     ])  # fmt: skip
     ts = pd.DataFrame({
         "Te_C": analysis.data["Te"], "Tgr_C": analysis.data["Tgr"],
-        "phi_h_W": analysis.data["phi_h"], "phi_sol_W": analysis.data["phi_sol"],
+        "phi_h_W": analysis.data["phi_h_measured"], "phi_int_W": analysis.data["phi_int"],
+        "phi_sol_W": analysis.data["phi_sol"],
         "Ti_measured_C": analysis.data["Ti_measured"], "Ti_simulated_C": analysis.simulated_ti,
     })  # fmt: skip
     ts["period"] = np.where(ts.index < analysis.training[1], "train", "test")
@@ -553,6 +589,8 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
 def _recommended_code(analysis: RetrofitAnalysis) -> str | None:
     from thermocal.retrofit.economics import recommend
 
+    if analysis.gate is not None and not analysis.gate["passed"]:
+        return None  # a model that failed its validation recommends nothing
     scen = scenario_table(analysis)
     rec = recommend(economics_table(analysis), scen["saving_pct"])
     return None if rec is None else rec["code"]
@@ -571,7 +609,7 @@ def _inputs_figure(analysis: RetrofitAnalysis):
     ax.plot(d.index, d["Tgr"], color="#7b8794", lw=0.9, ls="--", label="ground Tgr (model)")
     ax.set_ylabel("Temperature [C]")
     ax.legend(loc="upper left", ncol=3, fontsize=8, frameon=False)
-    axes[1].plot(d.index, d["phi_h"] / 1000.0, color="#d95f02", lw=0.8)
+    axes[1].plot(d.index, d["phi_h_measured"] / 1000.0, color="#d95f02", lw=0.8)
     axes[1].set_ylabel("Heating power [kW]")
     axes[2].plot(d.index, d["phi_sol"] / 1000.0, color="#f0b400", lw=0.8)
     axes[2].set_ylabel("Window solar\ngains [kW]")

@@ -118,7 +118,9 @@ def write_report(
     pct = f"{100 * cfg.uncertainty.interval:.0f} %"
     low, high = interval_labels(cfg.uncertainty.interval)
     measures = cfg.measure_objects()
-    rec = recommend(econ, scen["saving_pct"])
+    gate = analysis.gate or {"passed": True, "summary": ""}
+    # a model that failed its validation on the test period recommends nothing
+    rec = recommend(econ, scen["saving_pct"]) if gate["passed"] else None
     subtitle = (
         "Heating demand and envelope-retrofit strategies from a calibrated fifth-order RC model"
         + (f" - {client}" if client else "")
@@ -127,6 +129,8 @@ def write_report(
 
     # ------------------------------------------------------------------ executive summary
     rep.section("Executive summary")
+    if not gate["passed"]:
+        rep.paragraph(gate["summary"], css_class="lead")
     base = econ.iloc[0]
     today = (
         f"Today the house needs about {dem['value']:,.0f} kWh of heat a year ({pct} interval "
@@ -147,13 +151,35 @@ def write_report(
             f"{_fmt(r['payback_years'], '.0f')} years ({_fmt(r['payback_years_lo'], '.0f')} to "
             f"{_fmt(r['payback_years_hi'], '.0f')} years) at today's energy price."
         )
+    elif not gate["passed"]:
+        advice = (
+            "These figures come from a model that failed its validation (above): read them as "
+            "a rough indication only; the strategy table below is not a recommendation."
+        )
     else:
         advice = "None of the strategies saves running cost at the configured prices."
     rep.paragraph(f"{today} {advice}", css_class="lead")
+    if gate["passed"] and gate.get("summary"):
+        rep.paragraph(gate["summary"])
+    corr = results["calibration"].get("correction")
+    if corr:
+        parts = [
+            f"{corr['groups'][g]['label']} {100 * (k - 1):+.0f} %"
+            + (" (measured)" if corr["separated_by_data"][g] else " (not separable: prior)")
+            for g, k in corr["factors"].items()
+        ]
+        rep.paragraph(
+            "The measurements correct the heat losses calculated from the building file: "
+            + ", ".join(parts)
+            + f"; heat loss coefficient {hlc['value']:.0f} W/K ({pct} interval "
+            f"{_fmt(hlc['p05'], '.0f')} to {_fmt(hlc['p95'], '.0f')} W/K) against "
+            f"{hlc['audit_prior']:.0f} W/K from the building file alone (section Calibration)."
+        )
     tiles = {
         "Heat demand today": f"{dem['value']:,.0f} kWh/a",
         f"{pct} interval": f"{dem['p05']:,.0f} – {dem['p95']:,.0f} kWh/a",
-        "Heat loss coefficient": f"{hlc['value']:.0f} ± {_fmt(hlc['std'], '.0f')} W/K",
+        "Heat loss coefficient": f"{hlc['value']:.0f} W/K ({pct}: {_fmt(hlc['p05'], '.0f')}"
+        f" – {_fmt(hlc['p95'], '.0f')})",
         "Running cost today": f"{_money(base['cost_per_year'], cur)}/a",
     }
     if rec is not None:
@@ -179,8 +205,13 @@ def write_report(
     if flags:
         rep.note(
             f"The calibration raised {len(flags)} point(s) to check (section Calibration). "
-            "They concern how well single parameters are determined; the heat loss coefficient "
-            "and the demand above are checked on the test period (section Validation)."
+            "They concern how well single parameters are determined"
+            + (
+                "; the heat loss coefficient and the demand above are checked on the test "
+                "period (section Validation)."
+                if gate["passed"]
+                else "."
+            )
         )
     for note in analysis.notes:
         rep.note(note)
@@ -280,12 +311,20 @@ def write_report(
     rep.section("What the intervals cover, and what they do not")
     at_bound = results["calibration"]["parameters_at_bounds"]
     fixed = results["calibration"].get("parameters_fixed", [])
+    corrected = analysis.calibration.correction is not None
     covered = [
         f"the estimation uncertainty of the calibrated parameters (heat loss coefficient part "
         f"H_est and the heat capacities), {cfg.uncertainty.draws} draws from their estimated "
         "covariance",
     ]
-    if cfg.uncertainty.u_value_rel_std > 0:
+    if corrected:
+        covered = [
+            f"the posterior uncertainty of the corrections of the audit U-values (prior "
+            f"{100 * cfg.uncertainty.u_value_rel_std:.0f} % relative spread per envelope group, "
+            "narrowed where the measurements separate the group), of H_est and of the heat "
+            f"capacities, including those on a bound: {cfg.uncertainty.draws} draws"
+        ]
+    elif cfg.uncertainty.u_value_rel_std > 0:
         covered.append(
             f"the uncertainty of the audit U-values ({100 * cfg.uncertainty.u_value_rel_std:.0f}"
             " % relative spread, keeping the measured heat loss coefficient), which decides "
@@ -295,18 +334,25 @@ def write_report(
     not_covered = [
         "the weather: one typical year is used; a cold winter needs more, a mild one less "
         "(roughly in proportion to the heating degree days, see Assumptions)",
-        "the occupants: set-point temperatures, window airing, internal gains as during the "
-        "measurements; other habits change the demand",
+        "the occupants: set-point temperatures and window airing as during the measurements"
+        + (
+            "; internal gains as during the measurements (not an input: internal_gains: in "
+            "the configuration); other habits change the demand"
+            if cfg.internal_gains.source == "none"
+            else f"; other habits change the demand (the internal gains' "
+            f"{100 * cfg.internal_gains.rel_std:.0f} % uncertainty is covered)"
+        ),
         "the model structure: five lumped temperatures stand for the whole house; effects it "
         "cannot represent (thermal bridges changed by a retrofit, moisture, zones held at other "
         "temperatures) are not in the intervals",
         "prices, system efficiency and costs: the economic figures are computed at the "
         "configured values and scale directly with them",
     ]
-    if at_bound or fixed:
+    held = list(fixed) if corrected else at_bound + list(fixed)
+    if held:
         not_covered.append(
             "parameters on an estimation bound or fixed ("
-            + ", ".join(at_bound + list(fixed))
+            + ", ".join(held)
             + "): they are held at their value in every draw"
         )
     rep.bullets(not_covered, intro="They do not cover:")
@@ -397,9 +443,7 @@ def _assumptions(rep, analysis: RetrofitAnalysis, results: dict) -> None:
          f"{prof.min():.1f} to {prof.max():.1f} C"),
         ("Heating control", "ideal heating only: exactly the heat needed to hold the profile, "
          "never cooling; the house floats above it when sun or stored heat warm it"),
-        ("Internal gains", "not a separate input: the gains of occupants and appliances during "
-         "the measurements are contained in the calibrated heat balance (mostly in H_est), so "
-         "the demand assumes the same use of the house"),
+        ("Internal gains", _gains_text(analysis)),
         ("Ventilation and infiltration", "part of the estimated conductance H_est with thermal "
          "bridges and doors (calibrated H_est "
          f"{results['heat_loss_coefficient_W_per_K']['H_est']:.0f} W/K; the building file "
@@ -441,6 +485,34 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
         f"estimated physical parameters: {_fmt(cal['max_abs_correlation_physical'], '.3f')} "
         f"(limit {cfg.model.max_correlation}, Madsen et al. 2016)."
     )
+    corr = cal.get("correction")
+    if corr:
+        rep.paragraph(
+            "The data correct the building description in both directions: one factor per "
+            "envelope group multiplies the calculated U-values (maximum a posteriori with a "
+            f"log-normal prior of {100 * cfg.uncertainty.u_value_rel_std:.0f} % relative spread "
+            "per group, uncertainty.u_value_rel_std; model.correction: none restores the "
+            "published topology where only H_est is added). Prebound effect: calculated losses "
+            "of existing houses are more often too high than too low (Sunikka-Blank and Galvin "
+            "2012). A group is separated by the data when they narrow its prior standard "
+            "deviation by at least 30 %; otherwise its share follows the prior and only the "
+            "total heat loss coefficient is measured."
+        )
+        rep.table(
+            pd.DataFrame(
+                [
+                    {
+                        "group": corr["groups"][g]["label"],
+                        "factor on U": f"{k:.2f}",
+                        "prior sd of ln k": f"{corr['prior_std_log'][g]:.2f}",
+                        "posterior sd of ln k": f"{corr['posterior_std_log'][g]:.2f}",
+                        "data separate it": "yes" if corr["separated_by_data"][g] else "no (prior)",
+                    }
+                    for g, k in corr["factors"].items()
+                ]
+            ),  # fmt: skip
+            caption="Corrections of the calculated U-values per envelope group",
+        )
     if cal["flags"]:
         rep.flags(cal["flags"])
     if cal["parameters_at_bounds"]:
@@ -458,7 +530,9 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
     se = []
     for _, row in p.iterrows():
         status = row["status"]
-        if status == "at bound":
+        if status == "at bound" and analysis.calibration.correction is not None:
+            se.append(f"{_fmt(row['std_error'], ',.4g')} (at bound, posterior)")
+        elif status == "at bound":
             se.append("n/a (at bound)")
         elif status == "fixed":
             se.append("n/a (fixed)")
@@ -499,6 +573,33 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
         )
 
 
+_LIMIT_SIGN = {True: "± ", False: "<= "}
+
+
+def _gains_text(analysis) -> str:
+    """The assumptions row on internal gains."""
+    ig = analysis.config.internal_gains
+    if ig.source == "none":
+        return (
+            "not a separate input (internal_gains.source: none): the gains of occupants and "
+            "appliances during the measurements are contained in the calibrated heat balance "
+            "(mostly in H_est), so the demand assumes the same use of the house"
+        )
+    year = analysis.year_gains
+    kwh = float(np.sum(year)) * analysis.demand.step_hours / 1000.0 if year is not None else 0.0
+    what = {
+        "electricity": f"the electricity meter x {ig.fraction_inside:g} during the measurements"
+        ", its mean daily profile in the demand year",
+        "schedule": "a 24-hour schedule (internal_gains.schedule_W)",
+        "constant": f"a constant {ig.constant_W:g} W (internal_gains.constant_W)",
+    }[ig.source]
+    return (
+        f"an input into the indoor air: {what}; {kwh:,.0f} kWh a year, "
+        f"{100 * ig.rel_std:.0f} % relative uncertainty in the intervals. In the calibration "
+        "they are added to the measured heating power"
+    )
+
+
 def _validation(rep, analysis, results, tables, figures) -> None:
     shown = {
         "period": ("period", None), "mae": ("MAE [K]", "{:.3f}"),
@@ -513,6 +614,28 @@ def _validation(rep, analysis, results, tables, figures) -> None:
         caption="Multi-step simulation of the indoor temperature from the inputs alone",
         number_format={v[0]: v[1] for v in shown.values() if v[1]},
     )
+    gate = analysis.gate
+    if gate is not None:
+        rep.heading("Validation gate (test period)")
+        rep.paragraph(gate["summary"])
+        if gate["checks"]:
+            rep.table(
+                pd.DataFrame(
+                    [
+                        {
+                            "criterion": c["name"],
+                            "value": f"{c['value']:+.2f} {c['unit']}",
+                            "limit": f"{_LIMIT_SIGN[c['absolute']]}{c['limit']:g} {c['unit']}",
+                            "verdict": "passed" if c["passed"] else "FAILED",
+                        }
+                        for c in gate["checks"]
+                    ]
+                ),  # fmt: skip
+                caption="Criteria of the validation gate (configuration key validation:). "
+                "Heat: the daily heat the calibrated model needs to follow the measured indoor "
+                "temperature against the measured heat (ASHRAE Guideline 14-2014 NMBE and "
+                "CV(RMSE); positive NMBE: the model needs less heat than measured)",
+            )
     for key, label in (("ti_training", "training"), ("ti_test", "test")):
         if key in figures:
             rep.figure(

@@ -30,8 +30,15 @@ from itertools import combinations, product
 #: The envelope components a U-value measure can act on, in the method's column order.
 MEASURE_ORDER: tuple[str, ...] = ("roof", "walls", "windows", "cellar_ceiling")
 
-#: Parts a measure can act on: the four components and the two ventilation measures.
-MEASURE_COMPONENTS: tuple[str, ...] = (*MEASURE_ORDER, "airtightness", "heat_recovery")
+#: Components a U-value measure can act on: the method's four and the slab on ground (floor
+#: insulation of a house without cellar; ``cellar_ceiling`` insulates the ceiling of an
+#: unheated cellar).
+U_VALUE_COMPONENTS: tuple[str, ...] = (
+    *MEASURE_ORDER, "ground_floor", "attic_ceiling", "wall_to_unheated",
+)  # fmt: skip
+
+#: Parts a measure can act on: the U-value components and the two ventilation measures.
+MEASURE_COMPONENTS: tuple[str, ...] = (*U_VALUE_COMPONENTS, "airtightness", "heat_recovery")
 
 #: U-values after retrofit [W/(m2 K)], Table 1 of the fifth-order RC method.
 PAPER_MEASURE_U_VALUES: dict[str, float] = {
@@ -58,6 +65,9 @@ DEFAULT_COST_PER_M2: dict[str, float] = {
     "walls": 250.0,
     "windows": 800.0,
     "cellar_ceiling": 70.0,
+    "ground_floor": 120.0,  # insulation and new screed on the slab, from inside
+    "attic_ceiling": 60.0,  # insulation laid on the ceiling from the attic
+    "wall_to_unheated": 90.0,  # insulation boards on the garage / staircase side
 }
 
 #: Volumetric heat capacity of air / 3600 [W h/(m3 K)] -> conductance of 1 1/h per m3 [W/K].
@@ -73,8 +83,9 @@ class Measure:
     name : str
         Name used in strategy labels and tables.
     component : str
-        What it acts on: ``roof``, ``walls``, ``windows``, ``cellar_ceiling`` (the cellar
-        ceiling or ground floor), ``airtightness`` or ``heat_recovery``.
+        What it acts on: ``roof``, ``walls``, ``windows``, ``cellar_ceiling`` (ceiling of an
+        unheated cellar), ``ground_floor`` (slab on ground), ``airtightness`` or
+        ``heat_recovery``; a U-value measure on a floor of the other kind is refused.
     u_value : float or None [W/(m2 K)]
         U-value of the component after the retrofit (components only).
     g_value : float or None [-]

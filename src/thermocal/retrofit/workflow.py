@@ -36,6 +36,7 @@ from thermocal.retrofit.data import (
     removed_values_notes,
 )
 from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
+from thermocal.retrofit.gate import heat_to_follow_measured, heat_validation, validation_gate
 from thermocal.retrofit.inputs import solar_inputs
 from thermocal.retrofit.metrics import daily_profile, validation_metrics
 from thermocal.retrofit.model import (
@@ -44,6 +45,7 @@ from thermocal.retrofit.model import (
     FifthOrderModel,
     build_fifth_order_model,
     calculated_hlc,
+    check_measures,
     simulation_network,
 )
 from thermocal.retrofit.strategies import Measure, Strategy
@@ -72,6 +74,9 @@ class RetrofitAnalysis:
     timings: dict[str, float] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     measurements_quality: Any = None  # thermocal.io.measurements.QualityReport of the grid
+    heat_validation: dict | None = None  # daily heat of model vs meter, test period
+    gate: dict | None = None  # verdict of thermocal.retrofit.gate.validation_gate
+    year_gains: np.ndarray | None = None  # [W] internal gains of the demand year
 
 
 def load_building(source, *, config_source: str = "the retrofit configuration"):
@@ -182,16 +187,21 @@ def model_inputs(
 
 
 def simulate_indoor(
-    model: FifthOrderModel, params_si: dict, x0: np.ndarray, inputs: pd.DataFrame
+    model: FifthOrderModel,
+    params_si: dict,
+    x0: np.ndarray,
+    inputs: pd.DataFrame,
+    envelope=None,
 ) -> pd.DataFrame:
     """Deterministic multi-step simulation of all states (C) over ``inputs``.
 
     The network of :func:`thermocal.retrofit.model.network_spec` simulated by
     :meth:`thermocal.statespace.RCModel.simulate` (exact zero-order-hold discretisation).
     States are reported at the interval starts (the first row is ``x0``), like measured
-    interval means labelled by their start.
+    interval means labelled by their start. ``envelope``: the calibrated (corrected) U-values
+    (default: the building file's).
     """
-    h = model.conductances()
+    h = model.conductances(envelope)
     rc = simulation_network(h, demand=False)
     values = {**h, **{k: float(v) for k, v in params_si.items()}}
     x = np.asarray(x0, float)
@@ -234,9 +244,24 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "(model.solar_gains: true); add the windows to the building file or set "
             "model.solar_gains: false"
         )
-    raw = read_raw_measurements(cfg.measurements, default_tz=_location_tz(building))
+    mc = cfg.measurements
+    ig = cfg.internal_gains
+    metered = ig.source == "electricity"
+    raw = read_raw_measurements(
+        mc, default_tz=_location_tz(building), electricity_unit=ig.electricity_unit if metered
+        else None,
+    )  # fmt: skip
     try:
-        grid, quality = prepare_measurements(raw, cfg.measurements.step)
+        grid, quality = prepare_measurements(
+            raw,
+            mc.step,
+            heat_source=mc.heat_source,
+            heat_energy=mc.heat_unit not in ("W", "kW"),
+            heat_cumulative=mc.heat_cumulative,
+            boiler_efficiency=mc.boiler_efficiency,
+            electricity_energy=ig.electricity_unit not in ("W", "kW"),
+            electricity_cumulative=ig.electricity_cumulative,
+        )
     except ThermocalInputError as exc:
         if "flow" not in str(exc):
             raise
@@ -259,6 +284,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         bounds=cfg.model.bounds,
         fixed=cfg.model.fixed,
     )
+    check_measures(model.envelope, cfg.measure_objects(), building.name)
     inputs = model_inputs(
         grid,
         building,
@@ -267,20 +293,31 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         solar=cfg.model.solar_gains,
         depth=cfg.model.ground_depth,
     )
-    inputs["phi_h"] = grid["phi_h"].to_numpy(float)
+    # internal gains: in the calibration added to the heating power (the heating-system node
+    # passes heat to the air within minutes), in the demand an input into the air node
+    gains = internal_gains(grid, ig)
+    inputs["phi_h_measured"] = grid["phi_h"].to_numpy(float)
+    inputs["phi_int"] = 0.0 if gains is None else gains.to_numpy(float)
+    inputs["phi_h"] = inputs["phi_h_measured"] + inputs["phi_int"]
     inputs[OUTPUT_COLUMN] = grid["temp_in"].to_numpy(float)
     timings["inputs"] = time.perf_counter() - t0
 
     say("calibrating the fifth-order model")
     t1 = time.perf_counter()
     train = inputs.loc[inputs.index < training[1]]
-    check_training_data(train, source)
+    check_training_data(train, source, heat_source=mc.heat_source)
     check_heating_power_magnitude(
         train,
         building.transmission_heat_transfer_coefficient,
         source,
         flow_unit=cfg.measurements.flow_unit,
         flow_column=cfg.measurements.columns.get("flow", "flow"),
+        unit_hint=None
+        if mc.heat_source == "hydronic"
+        else f"measurements.heat_unit (now {mc.heat_unit}; kW and W differ by 1000, a "
+        f"cumulative meter reading needs heat_cumulative: true) and the heat column "
+        f"{mc.columns['heat']!r}"
+        + (f" and boiler_efficiency {mc.boiler_efficiency:g}" if mc.boiler_efficiency else ""),
     )
     cal = calibrate(
         model,
@@ -288,7 +325,14 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         n_starts=cfg.model.n_starts,
         seed=cfg.model.seed,
         max_correlation=cfg.model.max_correlation,
+        # U-values declared exact (u_value_rel_std 0): nothing to correct, the published model
+        correction=cfg.model.correction == "groups" and cfg.uncertainty.u_value_rel_std > 0,
+        fixed_noise=cfg.model.fixed_noise,
+        heat_rel_std=cfg.uncertainty.heat_rel_std,
+        u_value_rel_std=cfg.uncertainty.u_value_rel_std,
     )
+    if cal.correction is not None:
+        say(cal.correction.summary())
     timings["calibration"] = time.perf_counter() - t1
 
     say("validating")
@@ -297,7 +341,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     filled[list(BOUNDARY_COLUMNS + HEAT_COLUMNS)] = filled[
         list(BOUNDARY_COLUMNS + HEAT_COLUMNS)
     ].interpolate(limit_direction="both")
-    states = simulate_indoor(model, cal.estimates_si, cal.x0, filled)
+    states = simulate_indoor(model, cal.estimates_si, cal.x0, filled, cal.envelope)
     sim_ti = states["Ti"].rename("Ti_simulated")
     validation = {}
     for name, period in (("train", training), ("test", test)):
@@ -312,6 +356,21 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         validation[name] = validation_metrics(sim_ti[sel], inputs[OUTPUT_COLUMN][sel])
         validation[name]["start"] = str(period[0])
         validation[name]["end"] = str(period[1])
+    heat_check = None
+    if test is not None:
+        sel = (inputs.index >= test[0]) & (inputs.index < test[1])
+        model_heat = heat_to_follow_measured(
+            model,
+            cal.estimates_si,
+            cal.envelope,
+            states.loc[sel].iloc[0].to_numpy(float),
+            filled.loc[sel, list(DEMAND_INPUTS)],
+            inputs.loc[sel, OUTPUT_COLUMN],
+            None if gains is None else inputs.loc[sel, "phi_int"],
+        )
+        heat_check = heat_validation(model_heat, inputs.loc[sel, "phi_h_measured"])
+    gate = validation_gate(validation, heat_check, cfg.validation.model_dump())
+    (log.info if gate["passed"] else log.warning)("%s", gate["summary"])
     timings["validation"] = time.perf_counter() - t2
 
     say("simulating annual demand and retrofit strategies")
@@ -342,16 +401,38 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "a complete weather year: use a complete file (e.g. a TMY) or fill the gaps"
         )
     strategies = cfg.strategy_list()
-    draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
-    envelopes = scenario_envelopes(
-        model,
-        strategies,
-        cfg.measure_objects(),
-        draws,
-        cfg.uncertainty.u_value_rel_std,
-        seed=cfg.uncertainty.seed,
+    year_gains = None
+    if gains is not None:
+        day = (
+            daily_profile(inputs["phi_int"]) if metered
+            else np.asarray(ig.schedule_W, float) if ig.source == "schedule"
+            else np.full(24, float(ig.constant_W))
+        )  # fmt: skip
+        year_gains = day[np.asarray(year.index.hour)]
+    if cal.correction is not None:
+        draws, envelopes = corrected_scenarios(
+            model, cal, strategies, cfg.measure_objects(), cfg.uncertainty.draws,
+            seed=cfg.uncertainty.seed,
+        )  # fmt: skip
+    else:
+        draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
+        envelopes = scenario_envelopes(
+            model,
+            strategies,
+            cfg.measure_objects(),
+            draws,
+            cfg.uncertainty.u_value_rel_std,
+            seed=cfg.uncertainty.seed,
+        )
+    if gains is not None:  # their uncertainty: one log-normal factor per draw (first: 1)
+        sigma = np.sqrt(np.log1p(ig.rel_std**2))
+        rng = np.random.default_rng(cfg.uncertainty.seed + 104729)
+        factor = np.exp(rng.normal(-0.5 * sigma**2, sigma, len(draws["H_est"])))
+        factor[0] = 1.0
+        draws["gain_factor"] = factor
+    demand = simulate_demand(
+        model, draws, envelopes, year[list(DEMAND_INPUTS)], profile, gains=year_gains
     )
-    demand = simulate_demand(model, draws, envelopes, year[list(DEMAND_INPUTS)], profile)
     timings["demand"] = time.perf_counter() - t3
     timings["total"] = time.perf_counter() - t0
     log.info(
@@ -363,9 +444,30 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         training=training, test=test, simulated_ti=sim_ti, validation=validation,
         indoor_profile=profile, strategies=strategies, demand=demand,
         weather_meta=weather_meta, year_inputs=year[list(DEMAND_INPUTS)], draws=draws,
+        year_gains=year_gains,
         envelopes=envelopes,
         timings=timings, notes=notes, measurements_quality=quality,
+        heat_validation=heat_check, gate=gate,
     )  # fmt: skip
+
+
+def internal_gains(grid: pd.DataFrame, cfg) -> pd.Series | None:
+    """Internal gains [W] on the measurement grid (None: ``internal_gains.source: none``).
+
+    Parameters
+    ----------
+    grid : pd.DataFrame
+        The measurement grid (``phi_el`` [W] from the electricity meter when metered).
+    cfg : thermocal.retrofit.config.InternalGainsConfig
+    """
+    if cfg.source == "none":
+        return None
+    if cfg.source == "electricity":
+        return grid["phi_el"].astype(float) * cfg.fraction_inside
+    if cfg.source == "schedule":
+        values = np.asarray(cfg.schedule_W, float)[np.asarray(grid.index.hour)]
+        return pd.Series(values, index=grid.index)
+    return pd.Series(float(cfg.constant_W), index=grid.index)
 
 
 def _location_tz(building):
@@ -440,6 +542,43 @@ def scenario_envelopes(
     ]
 
 
+def corrected_scenarios(model, cal, strategies, measures: dict, n_draws: int, seed: int = 0):
+    """Parameter draws and per-draw envelopes of every strategy from the posterior of the
+    group corrections (:mod:`thermocal.retrofit.correction`).
+
+    Each draw scales the building file's U-values by its group factors; a measure then sets
+    the U-value of the component it retrofits (the new construction is known), the other
+    components keep the draw's corrected U-value.
+
+    Returns
+    -------
+    draws : dict name -> ndarray (n_draws + 1,) in SI (first = the estimate), with the group
+        factors ``k_env``, ``k_win``, ``k_floor`` [-]
+    envelopes : list (per strategy) of lists (per draw) of EnvelopeComponents
+    """
+    from thermocal.retrofit.correction import draw_corrected, scaled_envelope
+
+    corr = cal.correction
+    z = draw_corrected(corr, n_draws, seed=seed)
+    draws = {n: np.full(len(z), v) for n, v in cal.estimates_si.items()}
+    draws.update(corr.physical_si(z))
+    factors = corr.group_factors(z)
+    draws.update(factors)
+    measures = {
+        name: m if isinstance(m, Measure) else Measure(name, name, u_value=float(m))
+        for name, m in measures.items()
+    }
+    base = [
+        scaled_envelope(model.envelope, {g: v[d] for g, v in factors.items()})
+        for d in range(len(z))
+    ]
+    envelopes = [
+        [model.apply_measures([measures[m] for m in s.measures], env) for env in base]
+        for s in strategies
+    ]
+    return draws, envelopes
+
+
 def compare_with_reference_demands(
     analysis: RetrofitAnalysis, reference_kwh: dict[str, float], setpoint: float = 20.0
 ) -> dict:
@@ -461,8 +600,9 @@ def compare_with_reference_demands(
     cfg = analysis.config
     envelopes = analysis.envelopes
     res = simulate_demand(
-        analysis.model, analysis.draws, envelopes, analysis.year_inputs, float(setpoint)
-    )
+        analysis.model, analysis.draws, envelopes, analysis.year_inputs, float(setpoint),
+        gains=analysis.year_gains,
+    )  # fmt: skip
     annual = res.annual_kwh()
     lo_q = 0.5 * (1.0 - cfg.uncertainty.interval)
     base_ref = reference_kwh.get("0")

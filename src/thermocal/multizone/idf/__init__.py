@@ -15,7 +15,9 @@ schedules they use (``Schedule:Constant``, ``Schedule:Compact``, ``Schedule:Year
 ``Schedule:Week:Daily`` / ``Schedule:Day:Interval`` / ``Schedule:Day:Hourly``, ...), and the
 shading surfaces (``Shading:*``).
 
-Everything else is listed in ONE :class:`IdfImportWarning` grouped by class with counts.
+Everything else is summarised in ONE :class:`IdfImportWarning`: the classes that change the heat
+balance by name, HVAC (replaced by ideal loads) and harmless classes (outputs, sizing) by count;
+``building.idf_info.report()`` and ``thermocal simulate``'s summary.json give the full lists.
 
 Modules of this package, each usable on its own:
 
@@ -95,6 +97,9 @@ from thermocal.multizone.idf.report import (
     IdfImportWarning,
     ScheduledInputs,
     _warn_unsupported,
+    import_report,
+    import_summary,
+    unsupported_kind,
 )
 from thermocal.multizone.idf.schedules import (
     DAY_TYPES,
@@ -126,6 +131,9 @@ __all__ = [
     "ScheduleEvaluator",
     "UnsupportedScheduleError",
     "ScheduledInputs",
+    "import_report",
+    "import_summary",
+    "unsupported_kind",
     "InternalGainInfo",
     "InfiltrationInfo",
     "people_sensible_heat",
@@ -253,6 +261,7 @@ class _IdfReader(SiteStages, ConstructionStages, SurfaceStages, ShadingStages, L
         self._model_surfaces()
         self._zone_volumes()
         self._infiltration()
+        self._ventilation()
         self._internal_gains()
         self._setpoints()
         self._model_zones()

@@ -20,6 +20,82 @@ WINDOW_TABLE_ANGLES = tuple(float(a) for a in range(0, 91, 5))
 #: tabulated (the simulation interpolates, and holds the end values outside).
 GLASS_CONDUCTANCE_TEMPERATURES = tuple(float(t) for t in range(-40, 101, 10))
 
+#: The concrete layer of EnergyPlus' C- and F-factor constructions: thickness [m], conductivity
+#: [W/(m K)], density [kg/m3], specific heat [J/(kg K)] (Engineering Reference, "Ground Heat
+#: Transfer Calculations using C and F Factor Constructions").
+FC_FACTOR_CONCRETE = (0.15, 1.95, 2240.0, 900.0)
+
+#: Film resistances [m2 K/W] an F-factor includes (inside: mean of heat flow up and down; outside)
+F_FACTOR_FILMS = (0.135, 0.03)
+
+#: Effective resistance [m2 K/W] of an F-factor floor without exposed perimeter (EnergyPlus)
+F_FACTOR_NO_PERIMETER_RESISTANCE = 177.0
+
+
+def f_factor_resistance(f_factor, area, perimeter_exposed):
+    """Resistance [m2 K/W] of the fictitious insulation layer of an F-factor ground floor.
+
+    ``R_eff = A / (P_exp F) - R_film,in - R_film,out`` (the soil and the floor), less the
+    0.15 m concrete layer that carries the floor's heat capacity; EnergyPlus' equivalent
+    construction is the fictitious layer (outside, no mass) and the concrete (inside).
+
+    Parameters
+    ----------
+    f_factor : float [W/(m K)]
+        Heat flow per metre of exposed perimeter and kelvin between outdoor and indoor air.
+    area : float [m2]
+        The floor area the F-factor applies to.
+    perimeter_exposed : float [m]
+        Exposed perimeter; 0 for a floor below grade without one (``R_eff`` = 177 m2 K/W).
+
+    Returns
+    -------
+    float [m2 K/W]
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, "Ground Heat Transfer Calculations using C and F Factor
+    Constructions", slab-on-grade and underground floors defined with F-factors.
+    """
+    if perimeter_exposed > 0:
+        effective = area / (perimeter_exposed * f_factor) - sum(F_FACTOR_FILMS)
+    else:
+        effective = F_FACTOR_NO_PERIMETER_RESISTANCE
+    return effective - FC_FACTOR_CONCRETE[0] / FC_FACTOR_CONCRETE[1]
+
+
+def c_factor_resistance(c_factor, height):
+    """Resistance [m2 K/W] of the fictitious insulation layer of a C-factor underground wall.
+
+    ``R_eff = 1 / C + R_soil`` with the soil's effective resistance
+    ``R_soil = 0.0607 + 0.3479 depth`` (regression of ASHRAE 90.1-2010 Table C6.10.1), held
+    at the table's ends as EnergyPlus 25.2 does (0.12 m2 K/W up to 0.25 m, 0.92 m2 K/W from
+    2.5 m: the resistances it reports in its eio file), less the 0.15 m concrete layer.
+
+    Parameters
+    ----------
+    c_factor : float [W/(m2 K)]
+        Wall conductance without soil and films.
+    height : float [m]
+        Depth of the wall below grade.
+
+    Returns
+    -------
+    float [m2 K/W]
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, "Ground Heat Transfer Calculations using C and F Factor
+    Constructions", underground walls defined with C-factors.
+    """
+    if height <= 0.25:
+        soil = 0.12
+    elif height >= 2.5:
+        soil = 0.92
+    else:
+        soil = 0.0607 + 0.3479 * height
+    return 1.0 / c_factor + soil - FC_FACTOR_CONCRETE[0] / FC_FACTOR_CONCRETE[1]
+
 
 def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
     """:class:`~thermocal.multizone.model.WindowType` from layered or simple glazing.
@@ -216,7 +292,10 @@ class ConstructionStages:
         self.model_constructions = []
         self.window_types: dict[str, object] = {}
         self.opaque_constructions: set[str] = set()
+        self._fc_factor_constructions()
         for name, obj, rec in self.constructions.values():
+            if obj.key != "CONSTRUCTION":
+                continue
             layer_names = [g[0] for g in rec["layers"] if g and g[0]]
             if not layer_names:
                 raise ThermocalInputError(f"{obj.where()}: the construction has no layers.")
@@ -261,3 +340,72 @@ class ConstructionStages:
                 glazing = _wrap(obj, self.gz.LayeredGlazing, panes, gaps, name=name)
             self.info.glazing[name] = glazing
             self.window_types[name.upper()] = (name, obj, glazing)
+
+    def _fc_factor_constructions(self) -> None:
+        """``Construction:FfactorGroundFloor`` / ``Construction:CfactorUndergroundWall`` as
+        EnergyPlus builds them: a fictitious insulation layer without mass (outside) and
+        0.15 m of concrete (inside); their surfaces face ``Site:GroundTemperature:FCfactorMethod``
+        (see the ground stage)."""
+        #: names (upper case) of the F/C-factor constructions
+        self.fc_factor_constructions: set[str] = set()
+        concrete = None
+        for rec in self.records(
+            "CONSTRUCTION:FFACTORGROUNDFLOOR", "CONSTRUCTION:CFACTORUNDERGROUNDWALL"
+        ):
+            self.constructions.add(rec)
+            obj = rec["_object"]
+            name = rec["name"]
+            if obj.key == "CONSTRUCTION:FFACTORGROUNDFLOOR":
+                f_factor = _number(rec, "f_factor")
+                area = _number(rec, "area")
+                perimeter = _number(rec, "perimeterexposed")
+                for label, value in (("F-Factor", f_factor), ("Area", area)):
+                    if value <= 0:
+                        raise ThermocalInputError(
+                            f"{obj.where()}: field '{label}' = {value:g} must be positive."
+                        )
+                if perimeter < 0:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'PerimeterExposed' = {perimeter:g} must be 0 or "
+                        "more."
+                    )
+                resistance = f_factor_resistance(f_factor, area, perimeter)
+                what = f"F-factor {f_factor:g} W/(m K), area {area:g} m2, perimeter {perimeter:g} m"
+            else:
+                c_factor = _number(rec, "c_factor")
+                height = _number(rec, "height")
+                if c_factor <= 0 or height < 0:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: fields 'C-Factor' = {c_factor:g} and 'Height' = "
+                        f"{height:g} must be positive (height 0 or more)."
+                    )
+                resistance = c_factor_resistance(c_factor, height)
+                what = f"C-factor {c_factor:g} W/(m2 K), height {height:g} m"
+            if resistance <= 0:
+                raise ThermocalInputError(
+                    f"{obj.where()}: {what} give a fictitious insulation resistance of "
+                    f"{resistance:.3f} m2 K/W <= 0 (the floor or wall conducts more than 0.15 m "
+                    "of concrete alone); check the fields, as EnergyPlus refuses it too."
+                )
+            if concrete is None:
+                thickness, conductivity, density, specific_heat = FC_FACTOR_CONCRETE
+                concrete = self.mz.Material(
+                    name="C/F-factor concrete 0.15 m",
+                    conductivity=conductivity,
+                    density=density,
+                    specific_heat=specific_heat,
+                    thickness=thickness,
+                    thermal_absorptance=0.9,
+                    solar_absorptance=0.7,
+                    roughness="MediumRough",
+                )
+                self.model_materials.append(concrete)
+            insulation = self.mz.NoMassMaterial(
+                name=f"{name} fictitious insulation", resistance=resistance
+            )
+            self.model_materials.append(insulation)
+            self.model_constructions.append(
+                _wrap(obj, self.mz.Construction, name=name, layers=(insulation.name, concrete.name))
+            )
+            self.opaque_constructions.add(name.upper())
+            self.fc_factor_constructions.add(name.upper())

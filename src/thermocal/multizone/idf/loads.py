@@ -102,10 +102,14 @@ def people_sensible_heat(activity, temperature=PEOPLE_SENSIBLE_REFERENCE_TEMPERA
 
 @dataclass
 class InfiltrationInfo:
-    """One ``ZoneInfiltration:DesignFlowRate`` object resolved for one zone.
+    """One ``ZoneInfiltration:DesignFlowRate`` or ``ZoneVentilation:DesignFlowRate`` object
+    resolved for one zone: outdoor air entering the zone at the outdoor temperature.
 
     The flow is ``design_flow x schedule x (A + B |T_zone - T_out| + C v + D v^2)`` with ``v``
-    the wind speed at the zone's centroid height (EnergyPlus' zone local wind speed).
+    the wind speed at the zone's centroid height (EnergyPlus' zone local wind speed). A
+    ventilation object's flow is zero at the steps where the outdoor temperature is outside
+    ``outdoor_limits`` or the zone's local wind speed exceeds ``max_wind_speed``
+    (EnergyPlus' limits of ``ZoneVentilation:DesignFlowRate``).
 
     Attributes
     ----------
@@ -114,6 +118,15 @@ class InfiltrationInfo:
     schedule : str or None
     coefficients : tuple of float
         ``(A, B, C, D)``: constant [-], temperature [1/K], wind [s/m], wind squared [s2/m2].
+    object_class : str
+        The IDF class (``ZoneInfiltration:DesignFlowRate`` or ``ZoneVentilation:DesignFlowRate``).
+    outdoor_limits : tuple
+        ``((minimum [C], schedule or None), (maximum [C], schedule or None))`` of the outdoor
+        temperature; a schedule overrides the value.
+    max_wind_speed : float [m/s]
+    fan_heat_per_flow : float [J/m3]
+        Heat of the fan per volume of air, ``pressure rise / total efficiency``, added to the
+        zone with the air (EnergyPlus: ``Intake`` and ``Balanced`` ventilation fans).
     """
 
     name: str
@@ -121,6 +134,32 @@ class InfiltrationInfo:
     design_flow: float
     schedule: str | None
     coefficients: tuple[float, float, float, float]
+    object_class: str = "ZoneInfiltration:DesignFlowRate"
+    outdoor_limits: tuple = ((-100.0, None), (100.0, None))
+    max_wind_speed: float = 40.0
+    fan_heat_per_flow: float = 0.0
+
+    def outdoor_gate(self, schedules, times, step, temp_air, wind_speed) -> np.ndarray | None:
+        """1 where the outdoor limits let the air flow, 0 elsewhere (None: no limits bind).
+
+        Parameters
+        ----------
+        schedules : ScheduleEvaluator
+        times : pandas.DatetimeIndex
+            Step starts.
+        step : pandas.Timedelta
+        temp_air, wind_speed : ndarray [C], [m/s]
+            Outdoor temperature and the zone's local wind speed on the grid (EnergyPlus
+            compares the zone's wind speed with the limit).
+        """
+        (low, low_schedule), (high, high_schedule) = self.outdoor_limits
+        if low_schedule is None and high_schedule is None and low <= -100.0 and high >= 100.0:
+            if self.max_wind_speed >= 40.0:
+                return None
+        lower = schedules.on_grid(low_schedule, times, step) if low_schedule else low
+        upper = schedules.on_grid(high_schedule, times, step) if high_schedule else high
+        open_ = (temp_air >= lower) & (temp_air <= upper) & (wind_speed <= self.max_wind_speed)
+        return open_.astype(float)
 
 
 #: Wind boundary-layer exponent and thickness [m] per terrain (EnergyPlus ``Building`` field
@@ -194,6 +233,9 @@ class LoadStages:
         coefficient_notes = []
         for rec in self.records("ZONEINFILTRATION:DESIGNFLOWRATE"):
             obj = rec["_object"]
+            note = _density_basis_note(rec)
+            if note:
+                self.info.notes.append(note)
             method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
             coefficients = [
                 _number(rec, "constant_term_coefficient", default=1.0 if _all_blank(rec) else 0.0),
@@ -265,6 +307,132 @@ class LoadStages:
         self.info.zone_nominal_ach = dict(self.zone_ach)
         self.info.notes.extend(coefficient_notes)
 
+    def _ventilation(self) -> None:
+        """Stage: ``ZoneVentilation:DesignFlowRate`` as outdoor air like infiltration (its
+        schedule, coefficients and outdoor-temperature and wind limits per step); refuses the
+        indoor-temperature limits (they need the zone temperature inside the time loop) and
+        ``ZoneVentilation:WindandStackOpenArea`` (its stack flow grows with the square root of
+        the indoor-outdoor difference). The fan heat of ``Intake`` and ``Balanced`` fans
+        (``flow x pressure rise / efficiency``) enters the zone air with the flow, as
+        EnergyPlus adds it to the incoming air."""
+        for rec in self.records("ZONEVENTILATION:WINDANDSTACKOPENAREA"):
+            raise ThermocalInputError(
+                f"{rec['_object'].where()}: ZoneVentilation:WindandStackOpenArea is not "
+                "simulated (its stack flow, proportional to the square root of the indoor-outdoor "
+                "temperature difference, needs the zone temperature at every step); replace it "
+                "by a ZoneVentilation:DesignFlowRate with the flow you expect, or remove it."
+            )
+        people: dict[str, float] | None = None
+        #: zone -> annual mean fan heat of Intake/Balanced ventilation [W] (constant gains)
+        self.fan_heat_mean: dict[str, float] = {}
+        for rec in self.records("ZONEVENTILATION:DESIGNFLOWRATE"):
+            obj = rec["_object"]
+            where = obj.where()
+            _refuse_indoor_limits(rec)
+            note = _density_basis_note(rec)
+            if note:
+                self.info.notes.append(note)
+            method = (rec["design_flow_rate_calculation_method"] or "Flow/Zone").upper()
+            coefficients = (
+                _number(rec, "constant_term_coefficient", default=1.0),
+                _number(rec, "temperature_term_coefficient", default=0.0),
+                _number(rec, "velocity_term_coefficient", default=0.0),
+                _number(rec, "velocity_squared_term_coefficient", default=0.0),
+            )
+            limits = (
+                (
+                    _number(rec, "minimum_outdoor_temperature", default=-100.0),
+                    rec["minimum_outdoor_temperature_schedule_name"] or None,
+                ),
+                (
+                    _number(rec, "maximum_outdoor_temperature", default=100.0),
+                    rec["maximum_outdoor_temperature_schedule_name"] or None,
+                ),
+            )
+            for label, (_, name) in zip(("Minimum", "Maximum"), limits, strict=True):
+                if name is not None and name not in self.schedules:
+                    raise ThermocalInputError(
+                        f"{where}: field '{label} Outdoor Temperature Schedule Name' = '{name}' "
+                        "is not a schedule of the file."
+                    )
+            max_wind = _number(rec, "maximum_wind_speed", default=40.0)
+            kind = (rec["ventilation_type"] or "Natural").upper()
+            if kind not in ("NATURAL", "EXHAUST", "INTAKE", "BALANCED"):
+                raise ThermocalInputError(
+                    f"{where}: field 'Ventilation Type' = '{rec['ventilation_type']}' is not "
+                    "Natural, Exhaust, Intake or Balanced."
+                )
+            pressure = _number(rec, "fan_pressure_rise", default=0.0)
+            efficiency = _number(rec, "fan_total_efficiency", default=1.0)
+            if efficiency <= 0:
+                raise ThermocalInputError(
+                    f"{where}: field 'Fan Total Efficiency' = {efficiency:g} must be positive."
+                )
+            schedule = rec["schedule_name"] or None
+            try:
+                mean = self.schedules.annual_mean(schedule) if schedule else 1.0
+            except UnsupportedScheduleError as exc:
+                raise ThermocalInputError(f"{where}: field 'Schedule Name': {exc}") from None
+            for zone_name in self.zone_targets(rec):
+                volume = self.zone_volume[zone_name]
+                if method == "FLOW/ZONE":
+                    flow = _number(rec, "design_flow_rate")
+                elif method == "FLOW/AREA":
+                    flow = _number(rec, "flow_rate_per_floor_area") * self.zone_area[zone_name]
+                elif method == "FLOW/PERSON":
+                    if people is None:
+                        people = {}
+                        for prec in self.records("PEOPLE"):
+                            for z in self.zone_targets(prec):
+                                people[z] = people.get(z, 0.0) + _people_number(
+                                    prec, self.zone_area[z]
+                                )
+                    flow = _number(rec, "flow_rate_per_person") * people.get(zone_name, 0.0)
+                elif method in ("AIRCHANGES/HOUR", "AIRCHANGESPERHOUR"):
+                    flow = _number(rec, "air_changes_per_hour") * volume / 3600.0
+                else:
+                    raise ThermocalInputError(
+                        f"{where}: field 'Design Flow Rate Calculation Method' = "
+                        f"'{rec['design_flow_rate_calculation_method']}' is not one of "
+                        "Flow/Zone, Flow/Area, Flow/Person, AirChanges/Hour."
+                    )
+                if flow < 0:
+                    raise ThermocalInputError(f"{where}: the design flow rate is negative.")
+                fan_heat = pressure / efficiency if kind in ("INTAKE", "BALANCED") else 0.0
+                info = InfiltrationInfo(
+                    rec["name"],
+                    zone_name,
+                    flow,
+                    schedule,
+                    coefficients,
+                    object_class=obj.class_name,
+                    outdoor_limits=limits,
+                    max_wind_speed=max_wind,
+                    fan_heat_per_flow=fan_heat,
+                )
+                self.info.infiltration.append(info)
+                # the constant rate (schedules='constant'): the design flow at the reference
+                # wind, weighted by the schedule's annual mean (limits not applied)
+                v = INFILTRATION_REFERENCE_WIND_SPEED
+                factor = coefficients[0] + coefficients[2] * v + coefficients[3] * v * v
+                ach = flow * 3600.0 / volume * factor * mean
+                self.zone_ach[zone_name] = self.zone_ach.get(zone_name, 0.0) + ach
+                self.info.zone_nominal_ach[zone_name] = (
+                    self.info.zone_nominal_ach.get(zone_name, 0.0) + ach
+                )
+                if fan_heat > 0:
+                    self.fan_heat_mean[zone_name] = (
+                        self.fan_heat_mean.get(zone_name, 0.0) + flow * factor * mean * fan_heat
+                    )
+                if schedule:
+                    self.info.infiltration_schedules.setdefault(zone_name, []).append(schedule)
+                self.info.notes.append(
+                    f"ZoneVentilation:DesignFlowRate '{rec['name']}' (zone {zone_name}): "
+                    f"{flow:.4g} m3/s ({flow * 3600.0 / volume:.2f} 1/h) of outdoor air"
+                    + (f" on schedule '{schedule}'" if schedule else "")
+                    + "; a calibrated infiltration rate of the zone scales it too"
+                )
+
     def _internal_gains(self) -> None:
         """Stage: internal gains."""
         people_count: dict[str, float] = {}
@@ -286,6 +454,10 @@ class LoadStages:
                     self.info.internal_gains.append(gain)
         self.zone_gains: dict[str, float] = {}
         self.zone_radiant: dict[str, float] = {}
+        for zone, heat in getattr(self, "fan_heat_mean", {}).items():
+            # ventilation fan heat with the air: convective (its per-step value in
+            # IdfImportInfo.scheduled_inputs)
+            self.zone_gains[zone] = self.zone_gains.get(zone, 0.0) + heat
         for gain in self.info.internal_gains:
             self.zone_gains[gain.zone] = self.zone_gains.get(gain.zone, 0.0) + gain.annual_mean
             self.zone_radiant[gain.zone] = (
@@ -318,6 +490,42 @@ class LoadStages:
                 f"HVAC equipment ({', '.join(hvac[:3])}{', ...' if len(hvac) > 3 else ''}) is not "
                 "modelled: thermostatted zones get ideal heating/cooling at their set points"
             )
+
+
+#: Indoor-temperature limits of ZoneVentilation:DesignFlowRate and their "no limit" defaults
+_INDOOR_LIMITS = (
+    ("minimum_indoor_temperature", "Minimum Indoor Temperature", -100.0, lambda v: v <= -100.0),
+    ("maximum_indoor_temperature", "Maximum Indoor Temperature", 100.0, lambda v: v >= 100.0),
+    ("delta_temperature", "Delta Temperature", -100.0, lambda v: v <= -100.0),
+)
+
+
+def _refuse_indoor_limits(rec: dict) -> None:
+    """Refuse a ZoneVentilation:DesignFlowRate whose flow depends on the zone temperature."""
+    where = rec["_object"].where()
+    for name, label, default, free in _INDOOR_LIMITS:
+        value = _number(rec, name, default=default)
+        schedule = rec.get(f"{name}_schedule_name", "")
+        if schedule or not free(value):
+            shown = f"schedule '{schedule}'" if schedule else f"{value:g}"
+            raise ThermocalInputError(
+                f"{where}: field '{label}' = {shown}: ventilation that switches with the zone "
+                "temperature is not simulated (the flow is set per step before the zone "
+                "temperature is known); leave the field blank (no limit) to ventilate on the "
+                "schedule and outdoor limits alone, or remove the object."
+            )
+
+
+def _density_basis_note(rec: dict) -> str | None:
+    """A note when 'Density Basis' is not Outdoor (the model's mass flow is the volume flow at
+    the outdoor air density, EnergyPlus' default)."""
+    basis = rec.get("density_basis", "") or "Outdoor"
+    if basis.upper() == "OUTDOOR":
+        return None
+    return (
+        f"{rec['_object'].class_name} '{rec['name']}': 'Density Basis' = {basis} approximated by "
+        "Outdoor (the volume flow at the outdoor air density)"
+    )
 
 
 def _all_blank(rec: dict) -> bool:

@@ -2,8 +2,10 @@
 
 :class:`IdfImportInfo` is attached to the imported Building as ``idf_info``: geometry, schedules,
 gains, infiltration, set points and the list of approximations (``notes``) and of the classes not
-represented (``unsupported``), which :func:`_warn_unsupported` reports in ONE
-:class:`IdfImportWarning`. :meth:`IdfImportInfo.scheduled_inputs` evaluates the file's schedules
+represented (``unsupported``), which :func:`_warn_unsupported` summarises in ONE short
+:class:`IdfImportWarning` (counts per kind; the classes that change the heat balance by name);
+:func:`import_report` groups the full lists by kind (:func:`unsupported_kind`,
+:func:`note_kind`). :meth:`IdfImportInfo.scheduled_inputs` evaluates the file's schedules
 on a simulation grid (:class:`ScheduledInputs`).
 """
 
@@ -36,11 +38,13 @@ class ScheduledInputs:
     heating_setpoint, cooling_setpoint : ndarray [C]
         NaN where a zone has no such set point.
     gains_convective, gains_radiant : ndarray [W]
-        Sensible internal gains entering the zone air / the zone's surfaces.
+        Sensible internal gains entering the zone air / the zone's surfaces (the convective
+        part includes the fan heat of Intake/Balanced ventilation).
     gains_latent : ndarray [W]
         Latent gains (reported, not part of the sensible balance).
     infiltration_ach : ndarray [1/h]
-        Air changes from the schedule and the constant and wind terms.
+        Air changes from the schedule and the constant and wind terms (infiltration and
+        ``ZoneVentilation:DesignFlowRate``, the latter zero where its outdoor limits close it).
     infiltration_ach_per_kelvin : ndarray [1/(h K)]
         Temperature term: air changes per kelvin of ``|T_zone - T_out|`` (applied in the time
         loop with the zone temperature of the previous step, as EnergyPlus does).
@@ -117,6 +121,13 @@ class IdfImportInfo:
     shadow_update_days: int = 20
     #: SurfaceConvectionAlgorithm:Inside / :Outside as written ({"inside": "TARP", ...})
     convection: dict[str, str] = field(default_factory=dict)
+    #: the Building object's Solar Distribution as written (EnergyPlus' default FullExterior)
+    solar_distribution: str = "FullExterior"
+
+    def report(self) -> dict:
+        """What was not simulated and what was approximated, by kind (see
+        :func:`import_report`)."""
+        return import_report(self)
 
     def network_options(self):
         """NetworkOptions honouring the file's convection algorithms, and notes on fallbacks."""
@@ -224,6 +235,9 @@ class IdfImportInfo:
         )
         ach = np.zeros((n, nz))
         ach_dt = np.zeros((n, nz))
+        temp_air = (
+            weather["temp_air"].to_numpy(dtype=float) if "temp_air" in weather else np.zeros(n)
+        )
         for inf in self.infiltration:
             if inf.zone not in column:
                 continue
@@ -231,8 +245,16 @@ class IdfImportInfo:
             a, b, c_wind, d = inf.coefficients
             v = wind * self.zone_wind_factor.get(inf.zone, 1.0)
             base = inf.design_flow * 3600.0 / self.zone_volume[inf.zone] * values(inf.schedule)
+            gate = inf.outdoor_gate(sched, times, step, temp_air, v)
+            if gate is not None:
+                base = base * gate
             ach[:, c] += base * (a + c_wind * v + d * v * v)
             ach_dt[:, c] += base * b
+            if inf.fan_heat_per_flow > 0:
+                # fan heat with the air [W]: flow [m3/s] x pressure rise / efficiency (the
+                # temperature term of the flow left out: it needs the zone temperature)
+                flow = base * (a + c_wind * v + d * v * v) * self.zone_volume[inf.zone] / 3600.0
+                convective[:, c] += flow * inf.fan_heat_per_flow
         return ScheduledInputs(
             heating, cooling, convective, radiant, latent, ach, ach_dt, people_b, people_c
         )
@@ -291,15 +313,209 @@ def _hour_of_year(times, n_days: int) -> np.ndarray:
     return np.minimum(hours, n_days * 24 - 1)
 
 
-def _warn_unsupported(source: str, info: IdfImportInfo) -> None:
-    parts = []
-    if info.unsupported:
-        listing = ", ".join(f"{cls} ({count})" for cls, count in info.unsupported.items())
-        parts.append(
-            f"{source}: {sum(info.unsupported.values())} objects of {len(info.unsupported)} "
-            f"classes are not represented by the multi-zone model and were skipped: {listing}."
+#: Classes the importer does not read because they do not change the heat balance of the zones:
+#: outputs, reporting, sizing, costs, simulation control (prefixes of class names, any case).
+HARMLESS_CLASS_PREFIXES = (
+    "Output",
+    "Meter:",
+    "Sizing:",
+    "SizingPeriod:",
+    "LifeCycleCost:",
+    "UtilityCost:",
+    "ComponentCost:",
+    "CurrencyType",
+    "SimulationControl",
+    "ScheduleTypeLimits",
+    "ConvergenceLimits",
+    "HeatBalanceAlgorithm",
+    "ZoneAirHeatBalanceAlgorithm",
+    "ZoneAirContaminantBalance",
+    "PerformancePrecisionTradeoffs",
+    "EnvironmentalImpactFactors",
+    "FuelFactors",
+    "Parametric:",
+    "Site:Precipitation",
+    "Site:WaterMainsTemperature",
+    "Site:GroundTemperature:Shallow",
+    "Site:GroundTemperature:Deep",
+    "Site:GroundTemperature:Undisturbed",
+    "Exterior:Lights",
+    "Exterior:FuelEquipment",
+    "Exterior:WaterEquipment",
+)
+
+#: HVAC and plant classes: the model replaces the file's systems by ideal heating and cooling at
+#: the thermostat set points (free float without them), so these are not simulated by design.
+HVAC_CLASS_PREFIXES = (
+    "ZoneHVAC:",
+    "AirLoopHVAC",
+    "AirTerminal:",
+    "PlantLoop",
+    "CondenserLoop",
+    "PlantEquipment",
+    "CondenserEquipment",
+    "PlantComponent:",
+    "Coil:",
+    "CoilSystem:",
+    "Fan:",
+    "Pump:",
+    "HeaderedPumps:",
+    "Boiler:",
+    "Chiller:",
+    "ChillerHeater:",
+    "CoolingTower:",
+    "EvaporativeFluidCooler:",
+    "FluidCooler:",
+    "EvaporativeCooler:",
+    "HeatPump:",
+    "HeatExchanger:",
+    "Humidifier:",
+    "Dehumidifier:",
+    "WaterHeater:",
+    "ThermalStorage:",
+    "DistrictHeating",
+    "DistrictCooling",
+    "Branch",
+    "Connector",
+    "Pipe:",
+    "Duct",
+    "NodeList",
+    "OutdoorAir:",
+    "Controller:",
+    "SetpointManager:",
+    "AvailabilityManager",
+    "HVACTemplate:",
+    "DesignSpecification:",
+    "UnitarySystemPerformance:",
+    "ZoneTerminalUnitList",
+    "SpaceHVAC:",
+    "ZoneControl:Humidistat",
+    "Curve:",
+    "Table:",
+    "FluidProperties:",
+    "DemandManager",
+    "LoadProfile:Plant",
+    "TemperingValve",
+    "ElectricLoadCenter:",
+    "Generator:",
+)
+
+_HARMLESS_UPPER = tuple(p.upper() for p in HARMLESS_CLASS_PREFIXES)
+_HVAC_UPPER = tuple(p.upper() for p in HVAC_CLASS_PREFIXES)
+
+#: Kinds of unsupported classes, in report order, with what the kind means for the result.
+UNSUPPORTED_KINDS = {
+    "physics": "not simulated although they change the heat balance: the result differs from "
+    "EnergyPlus' by their effect",
+    "hvac": "HVAC and plant: replaced by ideal heating/cooling at the set points (free float "
+    "without them)",
+    "harmless": "outputs, sizing, costs and simulation control: no effect on the heat balance",
+}
+
+
+def unsupported_kind(class_name: str) -> str:
+    """``"harmless"``, ``"hvac"`` or ``"physics"`` for a class the importer does not read.
+
+    Every class that is neither an output/sizing/control class (:data:`HARMLESS_CLASS_PREFIXES`)
+    nor HVAC equipment (:data:`HVAC_CLASS_PREFIXES`) counts as changing the physics.
+    """
+    key = class_name.upper()
+    if key.startswith(_HARMLESS_UPPER):
+        return "harmless"
+    if key.startswith(_HVAC_UPPER):
+        return "hvac"
+    return "physics"
+
+
+#: Kinds of import notes, in report order: (kind, label, test on the note's text).
+NOTE_KINDS = (
+    (
+        "constant_schedules",
+        "for schedules='constant' only (identify/calibrate's constant mode)",
+        lambda n: "schedules='constant'" in n or " varies (" in n,
+    ),
+    ("hvac", "HVAC replaced", lambda n: n.startswith("HVAC equipment")),
+    ("calendar", "schedule calendar", lambda n: n.startswith("schedule calendar")),
+    ("ventilation", "ventilation", lambda n: "ZoneVentilation" in n),
+    ("solar", "solar distribution", lambda n: n.startswith("Solar Distribution")),
+    ("convection", "convection algorithms", lambda n: "ConvectionAlgorithm" in n),
+    ("ground", "ground", lambda n: "ground" in n.lower()),
+    ("other", "other", lambda n: True),
+)
+
+
+def note_kind(note: str) -> str:
+    """The kind (first of :data:`NOTE_KINDS` that matches) of an import note."""
+    return next(kind for kind, _, test in NOTE_KINDS if test(note))
+
+
+def import_report(info: IdfImportInfo) -> dict:
+    """What the import did not simulate and approximated, grouped for reports (JSON-ready).
+
+    Returns
+    -------
+    dict
+        ``unsupported``: ``{kind: {class: count}}`` for the kinds of :data:`UNSUPPORTED_KINDS`;
+        ``unsupported_meaning``: the meaning of each kind; ``notes``: ``{kind: [note, ...]}``
+        for the kinds of :data:`NOTE_KINDS`; ``solar_distribution``.
+    """
+    unsupported: dict[str, dict[str, int]] = {kind: {} for kind in UNSUPPORTED_KINDS}
+    for cls, count in info.unsupported.items():
+        unsupported[unsupported_kind(cls)][cls] = count
+    notes: dict[str, list[str]] = {kind: [] for kind, _, _ in NOTE_KINDS}
+    for note in info.notes:
+        notes[note_kind(note)].append(note)
+    return {
+        "source": info.source,
+        "unsupported": unsupported,
+        "unsupported_meaning": dict(UNSUPPORTED_KINDS),
+        "notes": {k: v for k, v in notes.items() if v},
+        "solar_distribution": info.solar_distribution,
+    }
+
+
+def import_summary(source: str, info: IdfImportInfo) -> str:
+    """A few lines for the terminal: counts per kind of note, the classes that change the physics
+    by name, the HVAC classes by count; the harmless ones (outputs, sizing, ...) are left out
+    (the full lists: :func:`import_report`)."""
+    report = import_report(info)
+    lines = []
+    labels = {kind: label for kind, label, _ in NOTE_KINDS}
+    notes = report["notes"]
+    constant = len(notes.get("constant_schedules", []))
+    if len(info.notes) > constant:
+        counts = ", ".join(
+            f"{len(v)} {labels[k]}" for k, v in notes.items() if k != "constant_schedules"
         )
-    if info.notes:
-        parts.append("Approximations: " + "; ".join(info.notes) + ".")
-    if parts:
-        warnings.warn(" ".join(parts), IdfImportWarning, stacklevel=5)
+        lines.append(f"{source}: {len(info.notes) - constant} import notes ({counts}).")
+    if constant:
+        lines.append(
+            f"{source}: {constant} more notes apply only where the file's schedules are "
+            "replaced by constants (schedules='constant')."
+        )
+    physics = report["unsupported"]["physics"]
+    if physics:
+        listing = ", ".join(f"{cls} ({n})" for cls, n in physics.items())
+        lines.append(
+            f"NOT SIMULATED although they change the heat balance ({sum(physics.values())} "
+            f"objects): {listing}."
+        )
+    group = report["unsupported"]["hvac"]
+    if group:
+        lines.append(
+            f"{sum(group.values())} objects of {len(group)} classes not represented, "
+            f"{UNSUPPORTED_KINDS['hvac']}."
+        )
+    # the harmless classes (outputs, sizing, ...) stay quiet: listed in the report only
+    if lines:
+        lines.append(
+            "Full lists: summary.json 'idf_import' (thermocal simulate) or "
+            "building.idf_info.report()."
+        )
+    return "\n".join(lines)
+
+
+def _warn_unsupported(source: str, info: IdfImportInfo) -> None:
+    message = import_summary(source, info)
+    if message:
+        warnings.warn(message, IdfImportWarning, stacklevel=5)

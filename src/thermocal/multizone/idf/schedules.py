@@ -40,6 +40,25 @@ DAY_TYPES = (
     "CUSTOMDAY1",
     "CUSTOMDAY2",
 )
+#: Keys of a ``For:`` field and the day types they select, as EnergyPlus' ProcessForDayTypes
+#: (a key found anywhere in the upper-case field; "ALLOTHERDAY" apart).
+_FOR_KEYS = (
+    ("WEEKDAY", (1, 2, 3, 4, 5)),
+    ("MONDAY", (1,)),
+    ("TUESDAY", (2,)),
+    ("WEDNESDAY", (3,)),
+    ("THURSDAY", (4,)),
+    ("FRIDAY", (5,)),
+    ("SATURDAY", (6,)),
+    ("SUNDAY", (0,)),
+    ("WEEKEND", (0, 6)),
+    ("ALLDAY", tuple(range(12))),
+    ("HOLIDAY", (7,)),
+    ("SUMMER", (8,)),
+    ("WINTER", (9,)),
+    ("CUSTOMDAY1", (10,)),
+    ("CUSTOMDAY2", (11,)),
+)
 _SCHEDULE_CLASSES = (
     "SCHEDULE:CONSTANT",
     "SCHEDULE:COMPACT",
@@ -515,23 +534,31 @@ class ScheduleEvaluator:
 
     @staticmethod
     def _day_types(text: str, assigned: dict, where: str) -> list[int]:
+        """Day types (indices into :data:`DAY_TYPES`) of a ``For:`` field, as EnergyPlus reads
+        it (``ProcessForDayTypes``): case-insensitive, each key found anywhere in the field, so
+        singular and plural forms are the same (``Saturday``/``Saturdays``, ``Weekday``/
+        ``Weekdays``, ``Holiday``/``Holidays``, ``AllDay``/``AllDays``,
+        ``AllOtherDay``/``AllOtherDays``); ``Summer...`` is SummerDesignDay, ``Winter...``
+        WinterDesignDay; several keys may share one field (``For: Weekends Holidays``).
+        ``AllOtherDays`` takes the day types no earlier key of the ``Through:`` block took.
+        """
+        field = text.upper()
         result: list[int] = []
-        for word in text.split():
-            w = word.upper()
-            if w == "ALLDAYS":
-                result += list(range(12))
-            elif w == "WEEKDAYS":
-                result += [1, 2, 3, 4, 5]
-            elif w in ("WEEKENDS", "WEEKEND"):
-                result += [0, 6]
-            elif w in ("HOLIDAY", "HOLIDAYS"):
-                result.append(7)
-            elif w == "ALLOTHERDAYS":
-                result += [i for i in range(12) if i not in assigned and i not in result]
-            elif w in DAY_TYPES:
-                result.append(DAY_TYPES.index(w))
-            else:
-                raise ThermocalInputError(f"{where}: unknown day type '{word}' in 'For:'.")
+
+        def take(indices):
+            result.extend(i for i in indices if i not in result)
+
+        for key, indices in _FOR_KEYS:
+            if key in field:
+                take(indices)
+        if "ALLOTHERDAY" in field:
+            take(i for i in range(len(DAY_TYPES)) if i not in assigned)
+        if not result:
+            raise ThermocalInputError(
+                f"{where}: 'For: {text.strip()}' names no day type; use Sunday..Saturday, "
+                "Weekdays, Weekends, Holidays, SummerDesignDay, WinterDesignDay, CustomDay1, "
+                "CustomDay2, AllDays or AllOtherDays (singular or plural, any case)."
+            )
         return result
 
     # -- year/week/day ---------------------------------------------------------------------------

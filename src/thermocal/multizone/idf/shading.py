@@ -79,7 +79,8 @@ class ShadingStages:
         for key in ("SHADING:FIN", "SHADING:FIN:PROJECTION"):
             for rec in self.records(key):
                 found.extend(self._fins(rec, projection=key.endswith("PROJECTION")))
-        self.info.shading_surfaces = found
+        self.info.shading_surfaces = self._solar_distribution(found)
+
         for side in ("inside", "outside"):
             rec = self.single(f"SURFACECONVECTIONALGORITHM:{side.upper()}")
             if rec is not None and rec["algorithm"]:
@@ -95,6 +96,50 @@ class ShadingStages:
                 self.info.shadow_update_days = 0
             elif numbers:
                 self.info.shadow_update_days = max(1, int(float(numbers[0])))
+
+    def _solar_distribution(self, found: list) -> list:
+        """The ``Building`` object's Solar Distribution: ``MinimalShadowing`` drops the shading
+        surfaces (EnergyPlus casts no shadow from them); the model puts the beam entering a zone
+        on its floor, EnergyPlus' ``FullExterior`` and ``MinimalShadowing``; the interior
+        distribution of ``FullInteriorAndExterior`` and the reflections of the
+        ``...WithReflections`` options are approximated (noted). Sets
+        ``info.solar_distribution``."""
+        rec = self.single("BUILDING")
+        text = (rec["solar_distribution"] if rec is not None else "") or "FullExterior"
+        key = text.replace(" ", "").upper()
+        options = {
+            "MINIMALSHADOWING",
+            "FULLEXTERIOR",
+            "FULLINTERIORANDEXTERIOR",
+            "FULLEXTERIORWITHREFLECTIONS",
+            "FULLINTERIORANDEXTERIORWITHREFLECTIONS",
+        }
+        if key not in options:
+            raise ThermocalInputError(
+                f"{rec['_object'].where()}: field 'Solar Distribution' = '{text}' is not one of "
+                "MinimalShadowing, FullExterior, FullInteriorAndExterior, "
+                "FullExteriorWithReflections, FullInteriorAndExteriorWithReflections."
+            )
+        self.info.solar_distribution = text
+        notes = self.info.notes
+        if key == "MINIMALSHADOWING" and found:
+            notes.append(
+                f"Solar Distribution MinimalShadowing: the {len(found)} shading surface(s) cast no "
+                "shadow, as in EnergyPlus"
+            )
+            found = []
+        if key.startswith("FULLINTERIORANDEXTERIOR"):
+            notes.append(
+                f"Solar Distribution {text} approximated: the direct sun entering a zone lands on "
+                "its floor (EnergyPlus: on the surfaces it reaches, walls and windows included); "
+                "zones glazed on several sides (sunspaces) get more of it back out"
+            )
+        if key.endswith("WITHREFLECTIONS"):
+            notes.append(
+                f"Solar Distribution {text}: the solar reflected by exterior surfaces onto the "
+                "building is not modelled"
+            )
+        return found
 
     def _window_frame(self, rec):
         """Corner, right and up axes, outward normal, width and height of a window or door."""

@@ -146,15 +146,72 @@ class SiteStages:
         self.info.schedules = self.schedules
 
     def _ground(self) -> None:
-        """Stage: ground."""
+        """Stage: ground.
+
+        Surfaces with the ``Ground`` boundary face ``Site:GroundTemperature:BuildingSurface``
+        (EnergyPlus' default 18 C when absent), those with ``GroundFCfactorMethod`` (the C- and
+        F-factor constructions) face ``Site:GroundTemperature:FCfactorMethod`` (when absent,
+        EnergyPlus takes the weather file's ground temperatures at 0.5 m; the model then takes
+        the weather file's ground temperatures at the depth nearest 2 m, noted). The model has
+        one ground temperature per building: when both kinds of surfaces are present with
+        different temperatures, the BuildingSurface values serve both (noted).
+        """
+        kinds = {"GROUND": 0, "GROUNDFCFACTORMETHOD": 0}
+        preprocessor: dict[str, int] = {}
+        for rec in self.records(
+            "BUILDINGSURFACE:DETAILED", "WALL:DETAILED", "ROOFCEILING:DETAILED", "FLOOR:DETAILED"
+        ):
+            key = (rec.get("outside_boundary_condition") or "").upper()
+            if key in kinds:
+                kinds[key] += 1
+            elif key.startswith("GROUND"):
+                preprocessor[rec["outside_boundary_condition"]] = (
+                    preprocessor.get(rec["outside_boundary_condition"], 0) + 1
+                )
+        for condition, count in preprocessor.items():
+            self.info.notes.append(
+                f"{count} surface(s) with the boundary {condition}: they see the building's one "
+                "ground temperature (Site:GroundTemperature:BuildingSurface) instead of the "
+                "slab/basement preprocessor's temperatures"
+            )
         ground_rec = self.single("SITE:GROUNDTEMPERATURE:BUILDINGSURFACE")
+        fc_rec = self.single("SITE:GROUNDTEMPERATURE:FCFACTORMETHOD")
+        fc = None
+        if fc_rec is not None:
+            fc = tuple(
+                _number(fc_rec, n, default=13.0)
+                for n in SCHEMA["SITE:GROUNDTEMPERATURE:FCFACTORMETHOD"][0]
+            )
         self.ground = None
         if ground_rec is not None:
             self.ground = tuple(
                 _number(ground_rec, n, default=ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE)
                 for n in SCHEMA["SITE:GROUNDTEMPERATURE:BUILDINGSURFACE"][0]
             )
-        elif any(s.boundary == "ground" for s in self.model_surfaces):
+        n_plain, n_fc = kinds["GROUND"], kinds["GROUNDFCFACTORMETHOD"]
+        if n_fc and not n_plain:
+            self.ground = fc
+            if fc is None:
+                self.info.notes.append(
+                    f"no Site:GroundTemperature:FCfactorMethod: the {n_fc} GroundFCfactorMethod "
+                    "surface(s) see the weather file's ground temperatures at the depth nearest "
+                    "2 m (EnergyPlus takes those at 0.5 m)"
+                )
+            return
+        if n_fc and n_plain:
+            plain = self.ground or (ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE,) * 12
+            if fc is None or fc != plain:
+                self.info.notes.append(
+                    f"{n_fc} GroundFCfactorMethod and {n_plain} Ground surface(s): the model has "
+                    "one ground temperature per building, the C/F-factor surfaces see "
+                    "Site:GroundTemperature:BuildingSurface instead of "
+                    + (
+                        "Site:GroundTemperature:FCfactorMethod"
+                        if fc is not None
+                        else "the weather file's 0.5 m ground temperatures"
+                    )
+                )
+        if self.ground is None and any(s.boundary == "ground" for s in self.model_surfaces):
             self.ground = (ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE,) * 12
             self.info.notes.append(
                 "no Site:GroundTemperature:BuildingSurface: ground surfaces see the EnergyPlus "

@@ -136,8 +136,18 @@ def test_identify_both_methods_report_and_files(tmp_path):
     result = identify(building, weather, meta, log, mapping, start=START, end=END)
     assert result.metric_source == "inverse"
     kinds = result.sources.set_index("zone")["source"]
-    assert set(kinds) == {"sensor", "neighbour"}
+    # zones without a sensor float by default: simulated with Q_ID = 0, temperature reported
+    assert set(kinds) == {"sensor", "float"}
     assert (kinds == "sensor").sum() == len(log.columns)
+    floating = list(kinds.index[kinds == "float"])
+    assert (result.q_id[floating] == 0.0).all().all()
+    assert (result.q_pid[floating] == 0.0).all().all()
+    assert list(result.floating_temperature.columns) == floating
+    assert result.floating_temperature.notna().all().all()
+    stored_zones = {z["zone"]: z for z in result.as_dict()["zones"]}
+    assert stored_zones[floating[0]]["treatment"] == "floating"
+    assert stored_zones[floating[0]]["source"] == "float"
+    assert stored_zones[kinds.index[0]]["treatment"] == "tracked"
     difference = result.method_difference()
     assert difference["building_rms_W"] < difference["building_inverse_std_W"]
     written = result.to_files(tmp_path)
@@ -192,10 +202,15 @@ def test_bad_input_gets_clear_messages(tmp_path):
     bad = {"sensors": {**mapping["sensors"], "S00": "Room 100"}}
     with pytest.raises(ThermocalInputError, match="Room 100.*not a zone"):
         run(log, bad)
-    # a zone with no sensor and no sensored neighbour
-    only_one = {"sensors": {"S00": mapping["sensors"]["S00"]}}
-    with pytest.raises(ThermocalInputError, match="no sensor and no adjacent zone"):
-        run(log[["S00"]], only_one)
+    # a zone with no sensor and no sensored neighbour floats under the neighbour rule (it
+    # stopped the run before)
+    from thermocal.identification.sensors import mapping_from_dict, zone_sources
+
+    only_one = {"sensors": {"S00": mapping["sensors"]["S00"]}, "unsensed": "neighbour"}
+    sources = zone_sources(building, mapping_from_dict(only_one))
+    far = [z for z, src in sources.items() if src.kind == "float"]
+    assert far and all("no adjacent zone with a sensor" in sources[z].reason for z in far)
+    assert {src.kind for src in sources.values()} == {"sensor", "neighbour", "float"}
     # a gap longer than max_gap and no neighbour with data to take over
     gappy = log.copy()
     gappy.iloc[300:500, :] = np.nan
@@ -214,3 +229,59 @@ def test_bad_input_gets_clear_messages(tmp_path):
     # unstable gains
     with pytest.raises(ThermocalInputError, match="diverges"):
         run(log, mapping, method="pid", gains=PIDGains(5000.0, 0.0, 0.0))
+
+
+def test_unsensed_zones_neighbour_rule_per_zone_and_globally():
+    building = _building()
+    sim = _simulation(building)
+    air = sim.run(free_float=True).air_temperature
+    log, mapping = _sensor_log(building, air, every=2)
+    weather, meta = _weather()
+    unsensed = [z for z in building.zones if z not in mapping["sensors"].values()]
+    common = dict(start=START, end=END, method="inverse", warmup_days=1)
+    # globally: every unsensed zone takes a sensored neighbour's data or floats without one
+    glob = identify(building, weather, meta, log, {**mapping, "unsensed": "neighbour"}, **common)
+    kinds = glob.sources.set_index("zone")["source"]
+    assert "neighbour" in set(kinds[unsensed])
+    assert set(kinds[unsensed]) <= {"neighbour", "float"}
+    isolated = kinds.index[kinds == "float"]
+    reasons = glob.sources.set_index("zone")["reason"]
+    assert all("no adjacent zone with a sensor" in reasons[z] for z in isolated)
+    # per zone: one zone follows its neighbour, the rest float
+    chosen = next(z for z in unsensed if kinds[z] == "neighbour")
+    per_zone = {**mapping, "zones": {chosen: {"unsensed": "neighbour"}}}
+    one = identify(building, weather, meta, log, per_zone, **common)
+    kinds = one.sources.set_index("zone")["source"]
+    assert kinds[chosen] == "neighbour"
+    assert set(kinds[[z for z in unsensed if z != chosen]]) == {"float"}
+    with pytest.raises(ThermocalInputError, match="'float' .* or 'neighbour'"):
+        identify(building, weather, meta, log, {**mapping, "unsensed": "nearest"}, **common)
+
+
+@pytest.mark.parametrize("feedback", ["air", 0.7])
+def test_inverse_recovers_a_radiant_heat_with_its_form(feedback):
+    """A zone's constant gains, 60 % radiant (on its surfaces through the network's gain
+    inputs), sensed as air or a mix: the inverse with the same form returns them exactly; put
+    into the air, the identified heat is wrong."""
+    import copy
+
+    building = _building()
+    zone = list(building.zones)[2]
+    loaded = copy.deepcopy(building)
+    loaded.zones[zone].internal_gains = 800.0
+    loaded.zones[zone].internal_gains_radiative_fraction = 0.6
+    forward = _simulation(loaded, warmup_days=0, initial_temperature=5.0).run(free_float=True)
+    weight = 1.0 if feedback == "air" else feedback
+    reference = (
+        weight * forward.air_temperature + (1 - weight) * forward.mean_radiant_temperature
+    ).to_numpy()
+    sim = _simulation(building, warmup_days=0, initial_temperature=5.0)
+    fraction = np.zeros(len(building.zones))
+    fraction[2] = 0.6
+    tracked = sim.track(reference, method="inverse", feedback=feedback, radiant_fraction=fraction)
+    expected = np.zeros(reference.shape)
+    expected[:, 2] = 800.0
+    np.testing.assert_allclose(tracked.heat.to_numpy(), expected, atol=1e-6 * 800.0)
+    np.testing.assert_allclose(tracked.tracked_temperature().to_numpy(), reference, atol=1e-8)
+    into_air = sim.track(reference, method="inverse", feedback=feedback).heat.to_numpy()
+    assert np.abs(into_air[:, 2] - 800.0).max() > 20.0

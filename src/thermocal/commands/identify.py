@@ -27,9 +27,27 @@ def identify(
     method: Annotated[
         str, typer.Option(help="inverse (exact), pid (the paper's loop) or both.")
     ] = "both",
-    feedback: Annotated[str, typer.Option(help="Tracked model temperature: air or operative.")] = (
-        "air"
-    ),
+    feedback: Annotated[
+        str | None,
+        typer.Option(
+            help="Sensor model, the tracked model temperature: air, operative or the air weight "
+            "0..1 of a mix (default: the mapping's identified_heat.sensor, else air)."
+        ),
+    ] = None,
+    radiant_fraction: Annotated[
+        float | None,
+        typer.Option(
+            help="Share 0..1 of the identified heat put on the zone's surfaces as radiant "
+            "internal gains (default: the mapping's, else 0.5; the paper's: 0)."
+        ),
+    ] = None,
+    unsensed: Annotated[
+        str | None,
+        typer.Option(
+            help="Zones without a sensor: float (simulated, Q_ID = 0) or neighbour (an "
+            "adjacent zone's data, the paper's rule); default: the mapping's, else float."
+        ),
+    ] = None,
     start: Annotated[str | None, typer.Option(help="First instant, e.g. 2001-01-01.")] = None,
     end: Annotated[str | None, typer.Option(help="End instant (exclusive).")] = None,
     step: Annotated[str, typer.Option(help="Model and controller step.")] = "5min",
@@ -125,8 +143,12 @@ def identify(
                 source=str(occupancy),
             )
         pid_limits = _parse_limits(limits)
+        mapping_data = _with_unsensed(mapping_data, unsensed)
+        feedback_value = _parse_feedback(feedback)
         console.print(
-            f"{model.name}: {len(model.zones)} zones; method {method}, feedback {feedback}"
+            f"{model.name}: {len(model.zones)} zones; method {method}"
+            + (f", feedback {feedback}" if feedback else "")
+            + (f", radiant fraction {radiant_fraction:g}" if radiant_fraction is not None else "")
         )
         result = run_identification(
             model,
@@ -138,7 +160,8 @@ def identify(
             end=end,
             step=step,
             method=method,
-            feedback=feedback,
+            feedback=feedback_value,
+            radiant_fraction=radiant_fraction,
             tuning_zone=tuning_zone,
             limits=pid_limits,
             schedule=schedule,
@@ -154,6 +177,35 @@ def identify(
     _print_summary(result, truth)
     for path in written:
         console.print(f"wrote {path}")
+
+
+def _parse_feedback(text: str | None):
+    """``--feedback``: None, "air", "operative" or an air weight as a number."""
+    if text is None or text in ("air", "operative"):
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        from thermocal.errors import ThermocalInputError
+
+        raise ThermocalInputError(
+            f"--feedback {text!r}: give air, operative or the air weight of the sensed "
+            "temperature, a number in [0, 1]"
+        ) from None
+
+
+def _with_unsensed(mapping, unsensed: str | None):
+    """The mapping (file content or SensorMapping) with ``--unsensed`` applied."""
+    if unsensed is None:
+        return mapping
+    from dataclasses import replace
+
+    from thermocal.identification.sensors import SensorMapping, _treatment, mapping_from_dict
+
+    _treatment(unsensed, "--unsensed")
+    if not isinstance(mapping, SensorMapping):
+        mapping = mapping_from_dict(mapping)
+    return replace(mapping, unsensed=unsensed)
 
 
 def _parse_limits(text: str | None) -> tuple[float, float] | None:
@@ -188,8 +240,10 @@ def _print_summary(result, truth) -> None:
     if result.tuning is not None:
         t = result.tuning
         summary.add_row("tuned zone", t.zone)
-        summary.add_row("Ku exact / experiment", f"{t.ultimate_gain:.0f} / "
-                        f"{(t.experiment_gain or float('nan')):.0f} W/K")
+        summary.add_row(
+            "Ku exact / experiment",
+            f"{t.ultimate_gain:.0f} / {(t.experiment_gain or float('nan')):.0f} W/K",
+        )
         summary.add_row("Pu", f"{t.ultimate_period / 60:.1f} min")
     difference = result.method_difference()
     if difference is not None:
@@ -198,6 +252,13 @@ def _print_summary(result, truth) -> None:
         summary.add_row(f"time: {key}", f"{value:.2f} s")
     counts = result.sources["source"].value_counts().to_dict()
     summary.add_row("zone references", ", ".join(f"{n} {k}" for k, n in counts.items()))
+    if result.form is not None:
+        tracked = result.form[result.form["treatment"] == "tracked"]
+        fractions = sorted(set(tracked["radiant_fraction"].round(3)))
+        summary.add_row(
+            "identified heat form",
+            f"radiant fraction {', '.join(f'{f:g}' for f in fractions)}; sensor {result.feedback}",
+        )
     console.print(summary)
     for note in result.notes:
         console.print(f"[yellow]note:[/yellow] {note}")

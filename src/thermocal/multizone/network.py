@@ -466,6 +466,38 @@ def mrt_network_conductances(area, emissivity, h_black):
     return 1.0 / resistance
 
 
+def radiant_gain_shares(face_zone, area, emissivity, n_zones):
+    """Share of its zone's radiant internal gains that each interior face absorbs [-].
+
+    EnergyPlus distributes the long-wave radiant part of internal gains over a zone's surfaces
+    in proportion to area times interior thermal absorptance (``QL * TMULT * ITABSF`` with
+    ``TMULT = 1 / sum(A ITABSF)``); the shares of a zone's faces sum to one.
+
+    Parameters
+    ----------
+    face_zone : ndarray of int (n_faces,)
+        Zone index of each interior face.
+    area : ndarray (n_faces,) [m2]
+    emissivity : ndarray (n_faces,) [-]
+        Interior thermal emissivity (= absorptance) of each face.
+    n_zones : int
+
+    Returns
+    -------
+    ndarray (n_faces,) [-]
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, "Internal Long-Wave Radiation Exchange" and
+    ``HeatBalanceIntRadExchange``/``InternalHeatGains`` (distribution of radiant gains).
+    """
+    face_zone = np.asarray(face_zone, dtype=np.int64)
+    weight = np.asarray(area, dtype=float) * np.asarray(emissivity, dtype=float)
+    total = np.bincount(face_zone, weights=weight, minlength=n_zones)
+    denominator = total[face_zone]
+    return np.divide(weight, denominator, out=np.zeros_like(weight), where=denominator > 0)
+
+
 def air_density(pressure=101325.0, temperature=20.0):
     """Dry-air density from the ideal-gas law [kg/m3].
 
@@ -575,6 +607,7 @@ class Network:
     face_is_window: np.ndarray
     face_mrt_conductance: np.ndarray  # [W/K] face -> radiant star node at radiant_temperature
     face_mrt_node: np.ndarray  # radiant star node of the face's zone (-1: none)
+    face_radiant_share: np.ndarray  # share of its zone's radiant internal gains [-]
     h_black: float  # 4 sigma T^3 at radiant_temperature [W/(m2 K)]
     # exterior faces
     ext_names: list[str]
@@ -946,6 +979,9 @@ def assemble(
                 link(int(face_node[m]), node, float(gm))
 
     # ---- internal gains ----------------------------------------------------------------------
+    # radiant internal gains (and the radiant part of identified heat) are shared by the zone's
+    # faces in proportion to area x thermal absorptance, as EnergyPlus does
+    face_radiant_share = radiant_gain_shares(face_zone, face_area, face_eps, nz)
     for z, zone in enumerate(zones):
         if zone.internal_gains == 0:
             continue
@@ -955,9 +991,8 @@ def assemble(
         if len(members) == 0:
             source(z, IN_ONE, radiative)
             continue
-        shares = face_area[members] / face_area[members].sum()
-        for m, s in zip(members, shares, strict=True):
-            source(int(face_node[m]), IN_ONE, radiative * s)
+        for m in members:
+            source(int(face_node[m]), IN_ONE, radiative * float(face_radiant_share[m]))
 
     for name in gain_input_zones:
         z = zone_index[name]
@@ -967,9 +1002,8 @@ def assemble(
         if len(members) == 0:
             source(z, column, 1.0)
             continue
-        shares = face_area[members] / face_area[members].sum()
-        for m, s in zip(members, shares, strict=True):
-            source(int(face_node[m]), column, float(s))
+        for m in members:
+            source(int(face_node[m]), column, float(face_radiant_share[m]))
 
     # ---- exterior faces -------------------------------------------------------------------------
     ext_node = np.asarray(e_node, dtype=np.int64)
@@ -1203,6 +1237,7 @@ def assemble(
         face_is_window=face_is_window,
         face_mrt_conductance=face_mrt_g,
         face_mrt_node=mrt_node[face_zone],
+        face_radiant_share=face_radiant_share,
         h_black=float(h_black),
         ext_names=e_name,
         ext_node=ext_node,

@@ -38,7 +38,7 @@ def identify(
         float | None,
         typer.Option(
             help="Share 0..1 of the identified heat put on the zone's surfaces as radiant "
-            "internal gains (default: the mapping's, else 0.5; the paper's: 0)."
+            "internal gains (default: the mapping's, else 0.6; the paper's: 0)."
         ),
     ] = None,
     unsensed: Annotated[

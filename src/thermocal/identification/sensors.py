@@ -9,7 +9,7 @@ Mapping file (YAML)::
     unsensed: float     # optional: zones without a sensor float (default) or take a
                         # neighbour's data ("neighbour")
     identified_heat:    # optional: the form of Q_ID for every zone
-      radiant_fraction: 0.5   # share of Q_ID on the zone's surfaces [-] (default 0.5)
+      radiant_fraction: 0.6   # share of Q_ID on the zone's surfaces [-] (default 0.6)
       sensor: air             # air | operative | the air weight of the sensed temperature [-]
     zones:              # optional, per zone
       Room 29: {use: Room 27}             # a zone without a sensor that uses another's data

@@ -32,7 +32,7 @@ METHODS = ("inverse", "pid", "both")
 #: Default radiant fraction of the identified heat [-]: the share of typical sensible internal
 #: gains that reaches a zone as radiation (long-wave and visible); argued in
 #: docs/identification.md ("The form of the identified heat").
-DEFAULT_RADIANT_FRACTION = 0.5
+DEFAULT_RADIANT_FRACTION = 0.6
 
 
 @dataclass

@@ -13,7 +13,7 @@ CV(RMSE), and the bounds (a little above, so that a regression fails):
 
 | case | all hours | bound | unoccupied hours | bound |
 |---|---|---|---|---|
-| 6 of 6 sensed, default form (radiant 0.6, air) | +1.1 % / 4.9 % | 5 % / 15 % | +17.7 % / 24.4 % | 25 % / 30 % |
+| 6 of 6 sensed, default form | +1.1 % / 4.9 % | 5 % / 15 % | +17.7 % / 24.4 % | 25 % / 30 % |
 | 5 of 6 sensed, plenum floats | +1.1 % / 4.1 % | 5 % / 15 % | +14.8 % / 20.6 % | 25 % / 30 % |
 | 6 of 6, the paper's form (all into the air) | -25.6 % / 45.5 % | NMBE < -15 % | - | - |
 

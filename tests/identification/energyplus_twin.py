@@ -86,15 +86,18 @@ class Twin:
     end: pd.Timestamp
 
 
-def make_twin(shared_folder: Path, directory: Path, days: int) -> Twin:
-    """Run EnergyPlus on the twin (in ``directory``) and read what thermocal needs."""
+def make_twin(shared_folder: Path, directory: Path, days: int, weather_path=None) -> Twin:
+    """Run EnergyPlus on the twin (in ``directory``) and read what thermocal needs.
+
+    ``weather_path``: an EPW file instead of Chicago O'Hare's TMY3 (the installation's).
+    """
     directory = Path(directory)
     source = (Path(shared_folder) / IDF_NAME).read_text()
     reference_idf = directory / "twin.idf"
     reference_idf.write_text(twin_idf(source, days))
     envelope_idf = directory / "envelope.idf"
     envelope_idf.write_text(without_loads(twin_idf(source, days)))
-    weather_path = energyplus_weather_folder() / WEATHER_NAME
+    weather_path = weather_path or energyplus_weather_folder() / WEATHER_NAME
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         building = read_idf(envelope_idf)

@@ -285,3 +285,23 @@ def test_inverse_recovers_a_radiant_heat_with_its_form(feedback):
     np.testing.assert_allclose(tracked.tracked_temperature().to_numpy(), reference, atol=1e-8)
     into_air = sim.track(reference, method="inverse", feedback=feedback).heat.to_numpy()
     assert np.abs(into_air[:, 2] - 800.0).max() > 20.0
+
+
+def test_long_gap_takes_the_nearest_zone_with_data_through_floating_zones():
+    from thermocal.identification.sensors import mapping_from_dict, shared_areas, zone_references
+
+    building = _building()
+    sim = _simulation(building)
+    air = sim.run(free_float=True).air_temperature
+    log, mapping = _sensor_log(building, air, every=2)
+    mapping = mapping_from_dict(mapping)
+    sensed = set(mapping.sensors.values())
+    # a sensed zone whose neighbours all float (no sensor): before, a long gap there stopped
+    zone = next(z for z in sorted(sensed) if not set(shared_areas(building, z)) & sensed)
+    sensor = next(s for s, z in mapping.sensors.items() if z == zone)
+    gappy = log.copy()
+    gappy.iloc[300:400, gappy.columns.get_loc(sensor)] = np.nan
+    reference, report = zone_references(gappy, building, mapping, sim.times, sim.step_size)
+    row = report.substituted.set_index("zone").loc[zone]
+    assert row["from_zone"] in sensed and row["from_zone"] not in shared_areas(building, zone)
+    assert reference[zone].notna().all()

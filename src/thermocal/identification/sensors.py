@@ -537,14 +537,25 @@ def _interpolate_short_gaps(series: pd.Series, max_gap: pd.Timedelta):
 
 
 def _fallback_zone(building, zone, src, sources, reference) -> str | None:
-    """Adjacent zone with complete data, for a zone whose own data have a long gap."""
+    """The nearest zone with complete data over a long gap of ``zone``'s own data.
+
+    Adjacent zones first (largest shared area first), then, through zones without a reference
+    (floating ones), the zones next to those, and so on.
+    """
     missing = reference[zone].isna()
-    candidates = shared_areas(building, zone)
-    best = None
-    for other, _area in sorted(candidates.items(), key=lambda kv: -kv[1]):
-        if other == zone or other not in reference or sources[other].zone == src.zone:
-            continue
-        if reference.loc[missing, other].notna().all():
-            best = other
-            break
-    return best
+    seen = {zone}
+    frontier = [zone]
+    while frontier:
+        ring: dict[str, float] = {}
+        for current in frontier:
+            for other, area in shared_areas(building, current).items():
+                if other not in seen:
+                    ring[other] = max(ring.get(other, 0.0), area)
+        seen.update(ring)
+        for other, _area in sorted(ring.items(), key=lambda kv: (-kv[1], kv[0])):
+            if other not in reference or sources[other].zone == src.zone:
+                continue
+            if reference.loc[missing, other].notna().all():
+                return other
+        frontier = [z for z in ring if z not in reference]
+    return None

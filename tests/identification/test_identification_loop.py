@@ -305,3 +305,43 @@ def test_long_gap_takes_the_nearest_zone_with_data_through_floating_zones():
     row = report.substituted.set_index("zone").loc[zone]
     assert row["from_zone"] in sensed and row["from_zone"] not in shared_areas(building, zone)
     assert reference[zone].notna().all()
+
+
+def test_diverging_pid_zone_is_retuned_or_left_out_under_both():
+    building = _building()
+    sim = _simulation(building)
+    air = sim.run(free_float=True).air_temperature
+    log, mapping = _sensor_log(building, air)
+    weather, meta = _weather()
+    tuning = tune_zone(building, experiment=False, outdoor_temperature=5.0)
+    gains = {
+        name: tuning.gains.scaled(zone.volume / tuning.volume)
+        for name, zone in building.zones.items()
+    }
+    wild = list(building.zones)[3]
+    # the tuned plant: heat into the air, air sensor
+    common = dict(start=START, end="2001-01-10", warmup_days=1, radiant_fraction=0.0)
+    # 3x the stable gains (margin 1.7 / 3 < 1): unstable; halved once (x1.5, margin 1.13) the
+    # loop is stable and the run goes on
+    retuned = identify(
+        building,
+        weather,
+        meta,
+        log,
+        mapping,
+        method="both",
+        gains={**gains, wild: gains[wild].scaled(3.0)},
+        **common,
+    )
+    assert any("retuned" in note and wild in note for note in retuned.notes)
+    assert retuned.q_pid is not None and np.isfinite(retuned.q_pid.to_numpy()).all()
+    assert retuned.gains[wild].kp == pytest.approx(1.5 * gains[wild].kp)
+    # gains no halving rescues (x1000): under "both" the PID is left out and reported
+    hopeless = {**gains, wild: gains[wild].scaled(1000.0)}
+    result = identify(
+        building, weather, meta, log, mapping, method="both", gains=hopeless, **common
+    )
+    assert result.q_pid is None and result.q_inverse is not None
+    assert any("left out" in note and wild in note for note in result.notes)
+    with pytest.raises(ThermocalInputError, match="diverges in 1 zone"):
+        identify(building, weather, meta, log, mapping, method="pid", gains=hopeless, **common)

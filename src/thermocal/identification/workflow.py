@@ -29,6 +29,9 @@ from thermocal.io.atomic import atomic_write
 
 METHODS = ("inverse", "pid", "both")
 
+#: Times the gains of a zone whose PID loop diverges are halved before giving up [-]
+RETUNE_ATTEMPTS = 4
+
 #: Default radiant fraction of the identified heat [-]: the share of typical sensible internal
 #: gains that reaches a zone as radiation (long-wave and visible); argued in
 #: docs/identification.md ("The form of the identified heat").
@@ -491,31 +494,61 @@ def identify(
                 f"{tuning.gains.kp / tuning.paper_gains.kp:.3f} to a margin of "
                 f"{tuning.gain_margin:.2f}."
             )
-        coefficients = kernel_coefficients([zone_gains[z] for z in zones])
         pid_limits = (
             None
             if limits is None
             else (np.full(len(zones), limits[0]), np.full(len(zones), limits[1]))
         )
         t0 = time.perf_counter()
-        result = sim.track(
-            ref,
-            method="pid",
-            pid=coefficients,
-            limits=pid_limits,
-            heat_input=known_heat,
-            progress=progress,
-            **track_form,
-        )
+        scale = np.ones(len(zones))
+        for attempt in range(RETUNE_ATTEMPTS + 1):
+            coefficients = kernel_coefficients(
+                [zone_gains[z].scaled(f) for z, f in zip(zones, scale, strict=True)]
+            )
+            result = sim.track(
+                ref,
+                method="pid",
+                pid=coefficients,
+                limits=pid_limits,
+                heat_input=known_heat,
+                progress=progress,
+                **track_form,
+            )
+            if not result.diverged or attempt == RETUNE_ATTEMPTS:
+                break
+            # retune: halve the gains of the zones whose loop diverged and run again
+            for zone in result.diverged:
+                scale[zones.index(zone)] *= 0.5
         timings["pid"] = time.perf_counter() - t0
-        if result.diverged:
+        retuned = {z: float(f) for z, f in zip(zones, scale, strict=True) if f < 1.0}
+        if retuned and not result.diverged:
+            notes.append(
+                f"The PID loop diverged in {len(retuned)} zone(s); their gains were retuned "
+                "(halved until stable): "
+                + ", ".join(f"{z} x{f:g}" for z, f in list(retuned.items())[:10])
+                + (", ..." if len(retuned) > 10 else "")
+                + "."
+            )
+            for zone, factor in retuned.items():
+                zone_gains[zone] = zone_gains[zone].scaled(factor)
+        if result.diverged and method == "both":
+            bad = result.diverged
+            notes.append(
+                f"The PID loop diverges in {len(bad)} zone(s) ({', '.join(bad[:5])}"
+                f"{', ...' if len(bad) > 5 else ''}) even with its gains divided by "
+                f"{2**RETUNE_ATTEMPTS}: the PID result is left out; the identified heat is the "
+                "exact inverse's."
+            )
+        elif result.diverged:
             bad = result.diverged
             raise ThermocalInputError(
                 f"the PID loop diverges in {len(bad)} zone(s) ({', '.join(bad[:5])}"
-                f"{', ...' if len(bad) > 5 else ''}): the gains are too high for the model's "
-                "step; leave the gains out to use the stabilised Ziegler-Nichols gains, lower "
-                "them, or use method 'inverse'"
+                f"{', ...' if len(bad) > 5 else ''}) even with its gains divided by "
+                f"{2**RETUNE_ATTEMPTS}: the gains are too high for the model's step; leave the "
+                "gains out to use the stabilised Ziegler-Nichols gains, lower them, or use "
+                "method 'inverse' or 'both'"
             )
+    if method in ("pid", "both") and not result.diverged:
         q_pid = _with_floating(result.heat, all_zones)
         if floating_temperature is None:
             floating_temperature = result.air_temperature[floating]

@@ -345,3 +345,15 @@ def test_diverging_pid_zone_is_retuned_or_left_out_under_both():
     assert any("left out" in note and wild in note for note in result.notes)
     with pytest.raises(ThermocalInputError, match="diverges in 1 zone"):
         identify(building, weather, meta, log, mapping, method="pid", gains=hopeless, **common)
+
+
+def test_import_notes_summarised_in_a_line_per_kind():
+    from thermocal.multizone.simulation import notes_summary
+
+    notes = [f"infiltration 'Zone {i} Infil': schedule 'INFIL-SCH' applied" for i in range(431)]
+    notes += ["objects not represented (skipped): Output:Variable (4)", "schedule calendar: 0"]
+    line = notes_summary(notes)
+    assert line == (
+        "433 notes: infiltration (431), objects not represented (1), schedule calendar (1)"
+    )
+    assert len(line) < 100 and notes_summary([]) == ""

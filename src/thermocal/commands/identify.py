@@ -170,8 +170,20 @@ def identify(
             progress=True,
             log_name=log_name,
         )
+    from thermocal.multizone.simulation import notes_summary
+
+    import_warnings = 0
     for warning in caught:
+        if warning.category.__name__ == "IdfImportWarning":
+            import_warnings += 1  # the full text is in the report and identification.json
+            continue
         console.print(f"[yellow]warning:[/yellow] {warning.message}")
+    summary = notes_summary(result.import_notes)
+    if summary or import_warnings:
+        console.print(
+            f"[yellow]import:[/yellow] {summary or 'see the notes'} "
+            "(full list in identification.json and report.html)"
+        )
     with output_folder(out, command="identify", signature=signature) as tmp:
         written = [out / Path(p).name for p in result.to_files(tmp)]
     _print_summary(result, truth)

@@ -132,6 +132,11 @@ def add_section(
         report.table(result.substituted, caption="Long gaps filled from an adjacent zone")
     if result.interpolated is not None and not result.interpolated.empty:
         report.table(result.interpolated, caption="Short gaps interpolated")
+    if result.import_notes:
+        report.bullets(
+            result.import_notes,
+            intro="What the building import and the simulation flattened, skipped or approximated:",
+        )
     report.references([REFERENCE])
     return report
 

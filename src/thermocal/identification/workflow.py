@@ -74,6 +74,9 @@ class IdentificationResult:
         ``sensor_air_weight`` [-] of the identified heat.
     floating_temperature : DataFrame or None [C]
         Air temperature of the floating zones (no reference, ``Q_ID = 0``).
+    import_notes : list of str
+        What the building import and the simulation flattened, skipped or approximated
+        (:meth:`~thermocal.multizone.Simulation.approximations`).
     """
 
     q_id: pd.DataFrame
@@ -96,6 +99,7 @@ class IdentificationResult:
     substituted: pd.DataFrame | None = None
     form: pd.DataFrame | None = None
     floating_temperature: pd.DataFrame | None = None
+    import_notes: list = field(default_factory=list)
 
     @property
     def building_heat(self) -> pd.Series:
@@ -171,6 +175,7 @@ class IdentificationResult:
             "substituted_gaps": _records(self.substituted),
             "timings_s": self.timings,
             "notes": self.notes,
+            "import_notes": self.import_notes,
         }
         return jsonable(out)
 
@@ -584,6 +589,7 @@ def identify(
         substituted=ref_report.substituted,
         form=form,
         floating_temperature=floating_temperature,
+        import_notes=list(sim.approximations()),
     )
 
 

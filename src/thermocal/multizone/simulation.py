@@ -1607,8 +1607,8 @@ class Simulation:
         if self._scheduled is not None:
             out.append(
                 "schedules applied step by step (set points, internal gains, infiltration); "
-                "People sensible heat at the previous step's zone air temperature, all of its "
-                "change with temperature to the zone air"
+                "People sensible heat at the previous step's zone air temperature, clipped to "
+                "[0, activity] as EnergyPlus, all of its change with temperature to the zone air"
             )
             out.extend(
                 note
@@ -1644,6 +1644,36 @@ class Simulation:
             elif not self.shading:
                 out.append(f"{len(shaders)} shading surfaces ignored (shading=False)")
         return out
+
+
+def notes_summary(notes) -> str:
+    """A few-line summary of the import and approximation notes: counts per kind.
+
+    The kind of a note is its first words (at most four) up to a name in quotes, a colon, a
+    comma or a parenthesis ("infiltration", "objects not represented", "schedule calendar").
+
+    Parameters
+    ----------
+    notes : sequence of str
+        E.g. :meth:`Simulation.approximations`.
+
+    Returns
+    -------
+    str
+        ``"N notes: k1 (n1), k2 (n2), ..."``, or "" without notes.
+    """
+    import re
+
+    counts: dict[str, int] = {}
+    for note in notes:
+        head = re.split(r"\s'|:|\(|;|,", str(note).strip(), maxsplit=1)[0]
+        kind = " ".join(head.split()[:4]) or "other"
+        counts[kind] = counts.get(kind, 0) + 1
+    if not counts:
+        return ""
+    total = sum(counts.values())
+    parts = ", ".join(f"{kind} ({n})" for kind, n in sorted(counts.items(), key=lambda kv: -kv[1]))
+    return f"{total} note{'s' if total != 1 else ''}: {parts}"
 
 
 def _tracking_form(feedback, radiant_fraction, n_tracked: int) -> tuple:

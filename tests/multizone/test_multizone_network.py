@@ -498,3 +498,24 @@ def test_solar_absorbed_by_a_single_layer_window_sits_at_the_middle_of_the_layer
     assert inner[0] == pytest.approx(0.052 * 500 + double.diffuse_pane_absorptance_values[1] * 100)
     back = single.diffuse_pane_absorptance_values[0]
     assert _window_back_absorptance(single) == pytest.approx((0.5 * back, 0.5 * back))
+
+
+def test_shading_hides_the_sky_in_the_long_wave_and_radiant_gains_follow_area_emissivity():
+    """A shaded receiver's sky view factor is multiplied by its isotropic sky shading ratio
+    (EnergyPlus' ViewFactorSkyIR x DifShdgRatioIsoSky), the rest exchanged at the air
+    temperature; radiant gains are shared by area x thermal absorptance."""
+    from thermocal.multizone import generators
+    from thermocal.multizone.network import assemble, radiant_gain_shares
+
+    building = generators.clinic(12, n_corridors=1, corridor_sections=2)
+    plain = assemble(building, 300.0)
+    name = next(n for n, win in zip(plain.ext_names, plain.ext_is_window, strict=True) if win)
+    shaded = assemble(building, 300.0, sky_view_ratio={name: 0.4})
+    i = plain.ext_names.index(name)
+    assert shaded.ext_view_sky[i] == pytest.approx(0.4 * plain.ext_view_sky[i])
+    assert shaded.ext_view_sky[i] + shaded.ext_view_air[i] == pytest.approx(1.0)
+    others = np.arange(len(plain.ext_names)) != i
+    np.testing.assert_array_equal(shaded.ext_view_sky[others], plain.ext_view_sky[others])
+    shares = radiant_gain_shares([0, 0, 1], [10.0, 30.0, 5.0], [0.9, 0.6, 0.9], 2)
+    np.testing.assert_allclose(shares, [9.0 / 27.0, 18.0 / 27.0, 1.0])
+    assert plain.face_radiant_share.sum() == pytest.approx(len(building.zones))

@@ -658,6 +658,7 @@ def assemble(
     cache: dict | None = None,
     gain_input_zones=(),
     own_solar_inputs=frozenset(),
+    sky_view_ratio=None,
 ) -> Network:
     """Assemble the sparse network of a building for a time step.
 
@@ -684,6 +685,11 @@ def assemble(
     own_solar_inputs : set of str
         Surfaces and windows (names) whose solar inputs get their own columns (keys with the
         name appended) instead of one per orientation: receivers of shadows.
+    sky_view_ratio : dict of str -> float, optional [-]
+        Exterior surfaces and windows (names) whose sky view is reduced by shading surfaces:
+        the ratio of shaded to unshaded isotropic sky diffuse, which multiplies the sky's share
+        of their long-wave exchange as in EnergyPlus (the rest is exchanged at the outdoor-air
+        temperature).
     """
     options = options or NetworkOptions()
     cache = {} if cache is None else cache
@@ -1010,8 +1016,13 @@ def assemble(
     ext_area = np.asarray(e_area, dtype=float)
     ext_tilt = np.asarray(e_tilt, dtype=float)
     ext_eps = np.asarray(e_eps, dtype=float)
-    f_ground = np.asarray(e_fg, dtype=float)
-    f_sky = 1.0 - f_ground
+    f_sky = 1.0 - np.asarray(e_fg, dtype=float)
+    if sky_view_ratio:
+        # shading surfaces hide part of the sky in the long-wave too (EnergyPlus multiplies the
+        # sky IR view factor by the isotropic sky-diffuse shading ratio; the hidden part sees
+        # the shading surfaces, taken at the outdoor-air temperature as the ground)
+        f_sky = f_sky * np.array([float(sky_view_ratio.get(name, 1.0)) for name in e_name])
+    f_ground = 1.0 - f_sky
     beta = np.sqrt(0.5 * (1.0 + np.cos(np.radians(ext_tilt))))
     view_sky = f_sky * beta
     view_air = f_ground + f_sky * (1.0 - beta)

@@ -482,6 +482,7 @@ class Simulation:
             cache=self._assembly_cache,
             gain_input_zones=gain_zones,
             own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
+            sky_view_ratio=self._shadows["sky"] if self._shadows else None,
         )
         self._inputs = self._input_matrix()
         self._factorise()

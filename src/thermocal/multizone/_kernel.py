@@ -388,6 +388,9 @@ def run_steps(
     exact_interior,
     face_mrt,
     face_mrt_g,
+    lw_pair_a,
+    lw_pair_b,
+    lw_pair_g,
     h_black,
     track_mode,
     track_ref,
@@ -489,6 +492,16 @@ def run_steps(
                 corr = face_mrt_g[f] * (h_exact / h_black - 1.0) * (x[r_node] - x[node])
                 rhs[node] += corr
                 rhs[r_node] -= corr
+            # pairwise exchange factors: the same correction between the two faces of a pair
+            for p in range(lw_pair_a.shape[0]):
+                a = lw_pair_a[p]
+                b = lw_pair_b[p]
+                ta = x[a] + KELVIN
+                tb = x[b] + KELVIN
+                h_exact = SIGMA * (ta * ta + tb * tb) * (ta + tb)
+                corr = lw_pair_g[p] * (h_exact / h_black - 1.0) * (x[b] - x[a])
+                rhs[a] += corr
+                rhs[b] -= corr
         # temperature-dependent glass-to-glass conductance of windows (gas gaps): the excess over
         # the matrix value, interpolated at the mean of the two glass faces
         n_grid = win_ratio.shape[1]

@@ -107,6 +107,11 @@ class NetworkOptions:
         Correct the interior long-wave exchange, linearised at ``radiant_temperature``, to the
         exact ``sigma (T_f^2 + T_r^2)(T_f + T_r)`` coefficient between each face and the zone's
         radiant star node (EnergyPlus exchanges ``sigma T^4`` exactly).
+    interior_longwave_exchange : {"star", "view_factors"}
+        "star": each face exchanges with one mean-radiant star node per zone (Carroll 1980), so a
+        wall also exchanges with its own co-planar windows; "view_factors": every pair of faces
+        exchanges directly with EnergyPlus' grey-body exchange factors (ScriptF, Hottel) on its
+        approximate view factors, which exclude co-planar faces (:func:`grey_exchange_factors`).
     exact_sky_longwave : bool
         Correct the linearised exterior long-wave exchange to the exact ``sigma T^4`` law.
     roughness_factor : float [-]
@@ -134,6 +139,7 @@ class NetworkOptions:
     h_interior_fixed: float | None = None
     interior_longwave: bool = True
     exact_interior_longwave: bool = True
+    interior_longwave_exchange: str = "star"
     exact_sky_longwave: bool = True
     roughness_factor: float = 1.67
     wind_speed_factor: float = 0.845
@@ -641,6 +647,11 @@ class Network:
     window_conductance_ratio: np.ndarray = field(
         default_factory=lambda: np.ones((0, len(WINDOW_TEMPERATURE_GRID)))
     )
+    # pairwise interior long-wave (interior_longwave_exchange "view_factors"): face nodes and
+    # conductance at radiant_temperature [W/K]
+    lw_pair_a: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    lw_pair_b: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    lw_pair_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def system_matrix(self, step: float) -> sp.csc_matrix:
         """``C / dt + K`` [W/K]."""
@@ -963,11 +974,51 @@ def assemble(
     for node, zone, area, h in zip(face_node, face_zone, face_area, h0, strict=True):
         link(int(node), int(zone), float(h * area))
 
-    # ---- interior long-wave: MRT star per zone ------------------------------------------------
+    # ---- interior long-wave: MRT star per zone, or pairwise exchange factors ------------------
     mrt_node = -np.ones(nz, dtype=np.int64)
     face_mrt_g = np.zeros(len(face_node))
     h_black = 4.0 * STEFAN_BOLTZMANN * (options.radiant_temperature + 273.15) ** 3
-    if options.interior_longwave:
+    pair_a: list[int] = []
+    pair_b: list[int] = []
+    pair_g: list[float] = []
+    if options.interior_longwave_exchange not in ("star", "view_factors"):
+        raise ThermocalInputError(
+            "interior_longwave_exchange must be 'star' or 'view_factors', got "
+            f"{options.interior_longwave_exchange!r}"
+        )
+    if options.interior_longwave and options.interior_longwave_exchange == "view_factors":
+        for z in range(nz):
+            members = np.flatnonzero(face_zone == z)
+            if len(members) < 2:
+                continue
+            key = (
+                "lw_view",
+                face_area[members].tobytes(),
+                face_eps[members].tobytes(),
+                np.asarray(f_tilt)[members].tobytes(),
+                np.asarray(f_az)[members].tobytes(),
+                np.asarray(f_mass)[members].tobytes(),
+            )
+            if key not in cache:
+                view = approximate_view_factors(
+                    face_area[members],
+                    np.asarray(f_tilt)[members],
+                    np.asarray(f_az)[members],
+                    np.asarray(f_mass)[members],
+                )
+                cache[key] = grey_exchange_factors(view, face_eps[members])
+            script_f = cache[key]
+            g = h_black * face_area[members][:, None] * script_f
+            g = 0.5 * (g + g.T)
+            for i in range(len(members)):
+                for j in range(i + 1, len(members)):
+                    if g[i, j] > 0.0:
+                        a, b = int(face_node[members[i]]), int(face_node[members[j]])
+                        link(a, b, float(g[i, j]))
+                        pair_a.append(a)
+                        pair_b.append(b)
+                        pair_g.append(float(g[i, j]))
+    elif options.interior_longwave:
         for z in range(nz):
             members = np.flatnonzero(face_zone == z)
             if len(members) < 2:
@@ -1248,6 +1299,9 @@ def assemble(
         face_is_window=face_is_window,
         face_mrt_conductance=face_mrt_g,
         face_mrt_node=mrt_node[face_zone],
+        lw_pair_a=np.asarray(pair_a, dtype=np.int64),
+        lw_pair_b=np.asarray(pair_b, dtype=np.int64),
+        lw_pair_g=np.asarray(pair_g, dtype=float),
         face_radiant_share=face_radiant_share,
         h_black=float(h_black),
         ext_names=e_name,
@@ -1315,6 +1369,33 @@ def approximate_view_factors(area, tilt, azimuth, internal_mass=None, iterations
         af = af * np.where(rows > 0, area / np.where(rows > 0, rows, 1.0), 0.0)[:, None]
         af = 0.5 * (af + af.T)
     return af / area[:, None]
+
+
+def grey_exchange_factors(view, emissivity):
+    """Grey-body exchange factors ``ScriptF[i, j]`` of the faces of one zone [-].
+
+    The net long-wave exchange from face ``j`` to face ``i`` per area of ``i`` is
+    ``ScriptF_ij sigma (T_j^4 - T_i^4)``, with ``ScriptF = diag(eps) (I - F diag(1 - eps))^-1 F
+    diag(eps)`` (Hottel's total exchange areas divided by ``A_i``; EnergyPlus' CalcScriptF); the
+    diagonal (self-exchange) is set to zero.
+
+    Parameters
+    ----------
+    view : ndarray (n, n) [-]
+        View factors (:func:`approximate_view_factors`).
+    emissivity : ndarray (n,) [-]
+
+    Returns
+    -------
+    ndarray (n, n) [-]
+    """
+    view = np.asarray(view, dtype=float)
+    eps = np.clip(np.asarray(emissivity, dtype=float), 0.05, 1.0)
+    n = len(eps)
+    inner = np.linalg.solve(np.eye(n) - view * (1.0 - eps)[None, :], view)
+    script_f = eps[:, None] * inner * eps[None, :]
+    np.fill_diagonal(script_f, 0.0)
+    return script_f
 
 
 def _window_back_absorptance(wt) -> tuple[float, float]:

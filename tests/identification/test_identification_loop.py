@@ -357,3 +357,19 @@ def test_import_notes_summarised_in_a_line_per_kind():
         "433 notes: infiltration (431), objects not represented (1), schedule calendar (1)"
     )
     assert len(line) < 100 and notes_summary([]) == ""
+
+
+def test_floating_zones_are_simulated_exactly_while_the_others_are_tracked():
+    """Every other zone tracked: the floating ones (Q_ID = 0) follow the forward run exactly and
+    the heat of the tracked loaded zone is recovered."""
+    building = _building()
+    sim = _simulation(building, warmup_days=0, initial_temperature=5.0)
+    heat = _square_wave(sim, 2)
+    forward = sim.run(free_float=True, heat_input=heat)
+    tracked = list(range(0, len(building.zones), 2))
+    reference = forward.air_temperature.to_numpy()[:, tracked]
+    result = sim.track(reference, zones=tracked, method="inverse")
+    np.testing.assert_allclose(result.heat.to_numpy(), heat[:, tracked], atol=1e-6 * 500)
+    np.testing.assert_allclose(
+        result.air_temperature.to_numpy(), forward.air_temperature.to_numpy(), atol=1e-8
+    )

@@ -114,7 +114,6 @@ class IdentificationProblem:
                 store_surfaces=False,
             )
         if getattr(self, "_reference", None) is None:
-            from thermocal.identification.sensors import mapping_from_dict
             from thermocal.identification.workflow import identified_heat_form
 
             zones = [z for z in self.building.zones if z in self.reference.columns]
@@ -127,10 +126,7 @@ class IdentificationProblem:
             self._zones = zones
             self._reference = np.ascontiguousarray(self.reference[zones].to_numpy(dtype=float))
             form = identified_heat_form(
-                self.building,
-                mapping_from_dict({"sensors": {"-": zones[0]}}),
-                self.feedback,
-                self.radiant_fraction,
+                self.building, None, self.feedback, self.radiant_fraction
             ).loc[zones]
             self._form = {
                 "feedback": form["sensor_air_weight"].to_numpy(),

@@ -593,11 +593,14 @@ def identify(
     )
 
 
-def identified_heat_form(building, mapping: SensorMapping, feedback=None, radiant_fraction=None):
+def identified_heat_form(
+    building, mapping: SensorMapping | None, feedback=None, radiant_fraction=None
+):
     """Radiant fraction [-] and sensor air weight [-] of every zone's identified heat.
 
     Precedence: the arguments (one value or a dict zone -> value), then the mapping's per-zone
-    and global entries, then the defaults (:data:`DEFAULT_RADIANT_FRACTION`, air sensors).
+    and global entries (``mapping`` may be None), then the defaults
+    (:data:`DEFAULT_RADIANT_FRACTION`, air sensors).
 
     Returns
     -------
@@ -606,6 +609,7 @@ def identified_heat_form(building, mapping: SensorMapping, feedback=None, radian
     from thermocal.identification.sensors import _fraction, sensor_weight
 
     zones = list(building.zones)
+    mapping = mapping if mapping is not None else SensorMapping({})
 
     def resolve(argument, per_zone, global_value, default, check, what):
         if isinstance(argument, Mapping):

@@ -498,3 +498,57 @@ def test_solar_absorbed_by_a_single_layer_window_sits_at_the_middle_of_the_layer
     assert inner[0] == pytest.approx(0.052 * 500 + double.diffuse_pane_absorptance_values[1] * 100)
     back = single.diffuse_pane_absorptance_values[0]
     assert _window_back_absorptance(single) == pytest.approx((0.5 * back, 0.5 * back))
+
+
+def test_shading_hides_the_sky_in_the_long_wave_and_radiant_gains_follow_area_emissivity():
+    """A shaded receiver's sky view factor is multiplied by its isotropic sky shading ratio
+    (EnergyPlus' ViewFactorSkyIR x DifShdgRatioIsoSky), the rest exchanged at the air
+    temperature; radiant gains are shared by area x thermal absorptance."""
+    from thermocal.multizone import generators
+    from thermocal.multizone.network import assemble, radiant_gain_shares
+
+    building = generators.clinic(12, n_corridors=1, corridor_sections=2)
+    plain = assemble(building, 300.0)
+    name = next(n for n, win in zip(plain.ext_names, plain.ext_is_window, strict=True) if win)
+    shaded = assemble(building, 300.0, sky_view_ratio={name: 0.4})
+    i = plain.ext_names.index(name)
+    assert shaded.ext_view_sky[i] == pytest.approx(0.4 * plain.ext_view_sky[i])
+    assert shaded.ext_view_sky[i] + shaded.ext_view_air[i] == pytest.approx(1.0)
+    others = np.arange(len(plain.ext_names)) != i
+    np.testing.assert_array_equal(shaded.ext_view_sky[others], plain.ext_view_sky[others])
+    shares = radiant_gain_shares([0, 0, 1], [10.0, 30.0, 5.0], [0.9, 0.6, 0.9], 2)
+    np.testing.assert_allclose(shares, [9.0 / 27.0, 18.0 / 27.0, 1.0])
+    assert plain.face_radiant_share.sum() == pytest.approx(len(building.zones))
+
+
+def test_grey_exchange_factors_and_the_pairwise_interior_long_wave_option():
+    """Two parallel grey plates exchange with 1 / (1/eps1 + 1/eps2 - 1); the "view_factors"
+    option links every pair of faces of a zone except co-planar ones (a wall and its window)."""
+    from thermocal.multizone import generators
+    from thermocal.multizone.network import (
+        NetworkOptions,
+        assemble,
+        grey_exchange_factors,
+    )
+
+    plates = grey_exchange_factors(np.array([[0.0, 1.0], [1.0, 0.0]]), np.array([0.9, 0.6]))
+    assert plates[0, 1] == pytest.approx(1.0 / (1.0 / 0.9 + 1.0 / 0.6 - 1.0))
+    assert plates[0, 0] == 0.0 and plates[1, 0] == pytest.approx(plates[0, 1])
+    building = generators.clinic(12, n_corridors=1, corridor_sections=2)
+    star = assemble(building, 300.0)
+    pairs = assemble(
+        building, 300.0, options=NetworkOptions(interior_longwave_exchange="view_factors")
+    )
+    assert len(star.lw_pair_g) == 0 and (star.face_mrt_node >= 0).any()
+    assert len(pairs.lw_pair_g) > 0 and (pairs.face_mrt_node < 0).all()
+    assert pairs.n_nodes == star.n_nodes - int((star.mrt_node >= 0).sum())
+    window = int(np.flatnonzero(pairs.face_is_window)[0])
+    host = pairs.face_names.index(pairs.face_names[window].rsplit(" window", 1)[0])
+    conductance = {}
+    for a, b, g in zip(pairs.lw_pair_a, pairs.lw_pair_b, pairs.lw_pair_g, strict=True):
+        if pairs.face_node[window] in (a, b):
+            conductance[int(b if a == pairs.face_node[window] else a)] = g
+    # the window does not see its own wall: only inter-reflections (emissivity 0.9) link them
+    assert conductance[int(pairs.face_node[host])] < 0.05 * max(conductance.values())
+    with pytest.raises(ThermocalInputError, match="interior_longwave_exchange"):
+        assemble(building, 300.0, options=NetworkOptions(interior_longwave_exchange="bogus"))

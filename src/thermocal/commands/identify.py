@@ -27,9 +27,27 @@ def identify(
     method: Annotated[
         str, typer.Option(help="inverse (exact), pid (the paper's loop) or both.")
     ] = "both",
-    feedback: Annotated[str, typer.Option(help="Tracked model temperature: air or operative.")] = (
-        "air"
-    ),
+    feedback: Annotated[
+        str | None,
+        typer.Option(
+            help="Sensor model, the tracked model temperature: air, operative or the air weight "
+            "0..1 of a mix (default: the mapping's identified_heat.sensor, else air)."
+        ),
+    ] = None,
+    radiant_fraction: Annotated[
+        float | None,
+        typer.Option(
+            help="Share 0..1 of the identified heat put on the zone's surfaces as radiant "
+            "internal gains (default: the mapping's, else 0.6; the paper's: 0)."
+        ),
+    ] = None,
+    unsensed: Annotated[
+        str | None,
+        typer.Option(
+            help="Zones without a sensor: float (simulated, Q_ID = 0) or neighbour (an "
+            "adjacent zone's data, the paper's rule); default: the mapping's, else float."
+        ),
+    ] = None,
     start: Annotated[str | None, typer.Option(help="First instant, e.g. 2001-01-01.")] = None,
     end: Annotated[str | None, typer.Option(help="End instant (exclusive).")] = None,
     step: Annotated[str, typer.Option(help="Model and controller step.")] = "5min",
@@ -141,8 +159,12 @@ def identify(
             )
         pid_limits = _parse_limits(limits)
         check_period_length(start, end, frame.index)
+        mapping_data = _with_unsensed(mapping_data, unsensed)
+        feedback_value = _parse_feedback(feedback)
         console.print(
-            f"{model.name}: {len(model.zones)} zones; method {method}, feedback {feedback}"
+            f"{model.name}: {len(model.zones)} zones; method {method}"
+            + (f", feedback {feedback}" if feedback else "")
+            + (f", radiant fraction {radiant_fraction:g}" if radiant_fraction is not None else "")
         )
         result = run_identification(
             model,
@@ -154,7 +176,8 @@ def identify(
             end=end,
             step=step,
             method=method,
-            feedback=feedback,
+            feedback=feedback_value,
+            radiant_fraction=radiant_fraction,
             tuning_zone=tuning_zone,
             limits=pid_limits,
             schedule=schedule,
@@ -163,8 +186,20 @@ def identify(
             progress=True,
             log_name=log_name,
         )
+    from thermocal.multizone.simulation import notes_summary
+
+    import_warnings = 0
     for warning in caught:
+        if warning.category.__name__ == "IdfImportWarning":
+            import_warnings += 1  # the full text is in the report and identification.json
+            continue
         console.print(f"[yellow]warning:[/yellow] {warning.message}")
+    summary = notes_summary(result.import_notes)
+    if summary or import_warnings:
+        console.print(
+            f"[yellow]import:[/yellow] {summary or 'see the notes'} "
+            "(full list in identification.json and report.html)"
+        )
     with output_folder(out, command="identify", signature=signature) as tmp:
         written = [out / Path(p).name for p in result.to_files(tmp)]
     _print_summary(result, truth)
@@ -203,6 +238,35 @@ def _log_period(raw, weather_index, step: str, console, log_name: str):
         f"period: the span of {log_name}, [{t0}, {t1}) (pass --start/--end to choose another)"
     )
     return t0, t1
+
+
+def _parse_feedback(text: str | None):
+    """``--feedback``: None, "air", "operative" or an air weight as a number."""
+    if text is None or text in ("air", "operative"):
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        from thermocal.errors import ThermocalInputError
+
+        raise ThermocalInputError(
+            f"--feedback {text!r}: give air, operative or the air weight of the sensed "
+            "temperature, a number in [0, 1]"
+        ) from None
+
+
+def _with_unsensed(mapping, unsensed: str | None):
+    """The mapping (file content or SensorMapping) with ``--unsensed`` applied."""
+    if unsensed is None:
+        return mapping
+    from dataclasses import replace
+
+    from thermocal.identification.sensors import SensorMapping, _treatment, mapping_from_dict
+
+    _treatment(unsensed, "--unsensed")
+    if not isinstance(mapping, SensorMapping):
+        mapping = mapping_from_dict(mapping)
+    return replace(mapping, unsensed=unsensed)
 
 
 def _parse_limits(text: str | None) -> tuple[float, float] | None:
@@ -249,6 +313,13 @@ def _print_summary(result, truth) -> None:
         summary.add_row(f"time: {key}", f"{value:.2f} s")
     counts = result.sources["source"].value_counts().to_dict()
     summary.add_row("zone references", ", ".join(f"{n} {k}" for k, n in counts.items()))
+    if result.form is not None:
+        tracked = result.form[result.form["treatment"] == "tracked"]
+        fractions = sorted(set(tracked["radiant_fraction"].round(3)))
+        summary.add_row(
+            "identified heat form",
+            f"radiant fraction {', '.join(f'{f:g}' for f in fractions)}; sensor {result.feedback}",
+        )
     console.print(summary)
     for note in result.notes:
         console.print(f"[yellow]note:[/yellow] {note}")

@@ -83,8 +83,11 @@ Shipped files (``src/thermocal/data/identification_demo/``, :data:`DEMO_FOLDER`)
 
     ``sensors`` is required, a mapping of sensor name -> zone name (strings). ``zones`` is
     optional, a mapping of zone name -> ``{use: <zone with data>}`` (the parser,
-    :func:`thermocal.identification.sensors.load_mapping`, also accepts ``ignore: [S77]``). Zones
-    in neither section take an automatically chosen adjacent zone with a sensor. In this demo
+    :func:`thermocal.identification.sensors.load_mapping`, also accepts ``ignore: [S77]``).
+    ``unsensed: neighbour``: zones in neither section take an automatically chosen adjacent zone
+    with a sensor (the method's rule; without it they would float), and ``identified_heat``
+    puts the identified heat into the air (``radiant_fraction: 0``), where the generator puts
+    its loads. In this demo
     the named substitutes (31) are the unsensored rooms without a sensored room beside them in
     the same row (the nearest sensored room of the row); the 6 corridor zones and the other 76
     unsensored rooms (equipment rooms included) are left to the automatic choice.
@@ -682,6 +685,10 @@ def generate(weather_path=None, seed: int = DEFAULT_SEED) -> dict:
     log["unit"] = "C"
 
     mapping = {
+        # the case study's choices: unsensed zones take a neighbour's data; the generator puts
+        # its loads into the zone air, so the identified heat goes there too
+        "unsensed": "neighbour",
+        "identified_heat": {"radiant_fraction": 0.0, "sensor": "air"},
         "sensors": {s: z for s, z in network["sensors"]},
         "zones": {
             z: {"use": u}
@@ -842,8 +849,11 @@ def _mapping_text(mapping: dict) -> str:
         "#          averaged.\n"
         "# zones:   zones without a sensor that take the data of a named zone ({use: <zone>});\n"
         "#          here the unsensored rooms with no sensored room beside them in the same row.\n"
-        "#          Zones in neither section (corridors, equipment rooms, other unsensored rooms)\n"
-        "#          take an automatically chosen adjacent zone.\n"
+        "# unsensed: neighbour -- zones in neither section (corridors, equipment rooms, other\n"
+        "#          unsensored rooms) take an automatically chosen adjacent zone, as in the\n"
+        "#          method's case study (the default, float, simulates them with Q_ID = 0).\n"
+        "# identified_heat: the generator's loads enter the zone air, so the identified heat\n"
+        "#          is put there (radiant_fraction 0) and compared with air temperatures.\n"
     )
     return head + yaml.safe_dump(mapping, sort_keys=False, allow_unicode=True, width=100)
 

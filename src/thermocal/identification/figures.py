@@ -13,10 +13,21 @@ def tuning_oscillation(tuning):
     fig, ax = plt.subplots(figsize=(9, 3.2))
     trace = tuning.oscillation
     shown = trace[trace.index <= max(6.0, trace.index[0])]
-    ax.plot(shown.index, shown["model_temperature_C"], color=COLORS["simulated"], lw=1,
-            label="model air temperature")
-    ax.plot(shown.index, shown["reference_C"], color=COLORS["measured"], lw=1, ls="--",
-            label="reference (step)")
+    ax.plot(
+        shown.index,
+        shown["model_temperature_C"],
+        color=COLORS["simulated"],
+        lw=1,
+        label="model air temperature",
+    )
+    ax.plot(
+        shown.index,
+        shown["reference_C"],
+        color=COLORS["measured"],
+        lw=1,
+        ls="--",
+        label="reference (step)",
+    )
     ax.set_xlabel("time [h]")
     ax.set_ylabel("temperature [C]")
     ku = tuning.experiment_gain or tuning.ultimate_gain

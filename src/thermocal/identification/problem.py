@@ -36,11 +36,16 @@ class IdentificationProblem:
     metadata : dict
     reference : DataFrame (steps x zones) [C]
         Zone references on the simulation grid (:func:`~thermocal.identification.sensors.
-        zone_references`).
+        zone_references`): one column per tracked zone; zones without a column float
+        (simulated, ``Q_ID = 0``).
     step : str
     start, end : timestamp-like
     method : {"inverse", "pid"}
-    feedback : {"air", "operative"}
+    feedback : {"air", "operative"}, float or dict
+        Sensor model (:meth:`~thermocal.multizone.Simulation.track`), one or per zone.
+    radiant_fraction : float or dict [-]
+        Share of the identified heat on the zone's surfaces, one or per zone (default
+        :data:`~thermocal.identification.workflow.DEFAULT_RADIANT_FRACTION`).
     gains : dict of zone -> PIDGains, optional
         Required for the PID.
     schedule : OccupancySchedule
@@ -63,7 +68,8 @@ class IdentificationProblem:
     start: object = None
     end: object = None
     method: str = "inverse"
-    feedback: str = "air"
+    feedback: object = "air"
+    radiant_fraction: object = None
     gains: dict | None = None
     schedule: OccupancySchedule = field(default_factory=OccupancySchedule)
     settle: str | None = "1D"
@@ -91,6 +97,8 @@ class IdentificationProblem:
         state["_sim"] = None
         state["_touched"] = set()
         state["_reference"] = None
+        state.pop("_form", None)
+        state.pop("_zones", None)
         return state
 
     # ------------------------------------------------------------------------------------------
@@ -111,14 +119,24 @@ class IdentificationProblem:
                 store_surfaces=False,
             )
         if getattr(self, "_reference", None) is None:
-            zones = list(self.building.zones)
-            missing = [z for z in zones if z not in self.reference.columns]
-            if missing or len(self.reference) != len(self._sim.times):
+            from thermocal.identification.workflow import identified_heat_form
+
+            zones = [z for z in self.building.zones if z in self.reference.columns]
+            unknown = [z for z in self.reference.columns if z not in self.building.zones]
+            if unknown or not zones or len(self.reference) != len(self._sim.times):
                 raise ThermocalInputError(
-                    "IdentificationProblem: the reference must have one column per zone and one "
-                    f"row per step ({len(self._sim.times)}); missing zones {missing[:5]}"
+                    "IdentificationProblem: the reference must have one column per tracked zone "
+                    f"and one row per step ({len(self._sim.times)}); not zones: {unknown[:5]}"
                 )
+            self._zones = zones
             self._reference = np.ascontiguousarray(self.reference[zones].to_numpy(dtype=float))
+            form = identified_heat_form(
+                self.building, None, self.feedback, self.radiant_fraction
+            ).loc[zones]
+            self._form = {
+                "feedback": form["sensor_air_weight"].to_numpy(),
+                "radiant_fraction": form["radiant_fraction"].to_numpy(),
+            }
             if self.method == "pid":
                 self._pid = kernel_coefficients([self.gains[z] for z in zones])
         return self._sim
@@ -147,7 +165,7 @@ class IdentificationProblem:
         self._touched = set(parameters)
         kwargs = {"pid": self._pid} if self.method == "pid" else {}
         result = sim.track(
-            self._reference, method=self.method, feedback=self.feedback, **kwargs
+            self._reference, zones=self._zones, method=self.method, **self._form, **kwargs
         )
         if result.diverged:
             raise ThermocalInputError(
@@ -181,9 +199,11 @@ class IdentificationProblem:
             for zone, variance in zip(heat.columns, np.var(values, axis=0), strict=True):
                 out[f"zone_variance/{zone}"] = float(variance)
         if self.series_outputs:
-            hours = pd.Series(total, index=heat.index[mask]).groupby(
-                heat.index[mask].floor("1h")
-            ).mean()
+            hours = (
+                pd.Series(total, index=heat.index[mask])
+                .groupby(heat.index[mask].floor("1h"))
+                .mean()
+            )
             for i, value in enumerate(hours.to_numpy()):
                 out[f"series/{i:05d}"] = float(value)
         return out
@@ -203,6 +223,7 @@ class IdentificationProblem:
                     str(self.end),
                     self.method,
                     self.feedback,
+                    self.radiant_fraction,
                     self.settle,
                     self.warmup_days,
                     self.schedule.as_dict(),
@@ -233,7 +254,8 @@ def problem_from_measurements(
     end=None,
     step: str = "5min",
     method: str = "inverse",
-    feedback: str = "air",
+    feedback=None,
+    radiant_fraction=None,
     gains: PIDGains | Mapping | None = None,
     tuning_zone: str | None = None,
     schedule: OccupancySchedule | None = None,
@@ -253,33 +275,68 @@ def problem_from_measurements(
     report : thermocal.identification.sensors.ReferenceReport
     """
     from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
-    from thermocal.identification.workflow import pid_gains_for
+    from thermocal.identification.workflow import identified_heat_form, pid_gains_for
     from thermocal.multizone.simulation import Simulation
 
     if not isinstance(mapping, SensorMapping):
         mapping = mapping_from_dict(mapping)
     sim = Simulation(
-        building, weather, metadata, step=step, start=start, end=end, options=options,
-        warmup_days=warmup_days, store_surfaces=False,
+        building,
+        weather,
+        metadata,
+        step=step,
+        start=start,
+        end=end,
+        options=options,
+        warmup_days=warmup_days,
+        store_surfaces=False,
     )
     reference, report = zone_references(
-        sensor_log, building, mapping, sim.times, sim.step_size, max_gap=max_gap,
-        silence=silence, source=log_name,
+        sensor_log,
+        building,
+        mapping,
+        sim.times,
+        sim.step_size,
+        max_gap=max_gap,
+        silence=silence,
+        source=log_name,
     )
+    form = identified_heat_form(building, mapping, feedback, radiant_fraction)
+    feedback = form["sensor_air_weight"].to_dict()
+    radiant_fraction = form["radiant_fraction"].to_dict()
     zone_gains = None
     if method == "pid":
         grid = sim.weather_on_grid
         zone_gains, _ = pid_gains_for(
-            building, gains=gains, step=step, feedback=feedback, options=options,
-            metadata=metadata, outdoor_temperature=float(grid["temp_air"].mean()),
+            building,
+            gains=gains,
+            step=step,
+            feedback=form["sensor_air_weight"],
+            radiant_fraction=form["radiant_fraction"],
+            options=options,
+            metadata=metadata,
+            outdoor_temperature=float(grid["temp_air"].mean()),
             wind_speed=float(grid["wind_speed"].mean()) if "wind_speed" in grid else 0.0,
             tuning_zone=tuning_zone,
+            tracked=list(reference.columns),
         )
     problem = IdentificationProblem(
-        building=building, weather=weather, metadata=dict(metadata or {}), reference=reference,
-        step=step, start=start, end=end, method=method, feedback=feedback, gains=zone_gains,
-        schedule=schedule or OccupancySchedule(), settle=settle, warmup_days=warmup_days,
-        options=options, zone_outputs=zone_outputs,
+        building=building,
+        weather=weather,
+        metadata=dict(metadata or {}),
+        reference=reference,
+        step=step,
+        start=start,
+        end=end,
+        method=method,
+        feedback=feedback,
+        radiant_fraction=radiant_fraction,
+        gains=zone_gains,
+        schedule=schedule or OccupancySchedule(),
+        settle=settle,
+        warmup_days=warmup_days,
+        options=options,
+        zone_outputs=zone_outputs,
     )
     problem._sim = sim
     problem._touched = set()

@@ -69,9 +69,12 @@ def add_section(
         }
         report.table(
             pd.DataFrame(
-                {"quantity": [labels.get(k, k) for k in difference],
-                 "value": [str(v) if isinstance(v, str) else f"{v:,.4g}"
-                           for v in difference.values()]}
+                {
+                    "quantity": [labels.get(k, k) for k in difference],
+                    "value": [
+                        str(v) if isinstance(v, str) else f"{v:,.4g}" for v in difference.values()
+                    ],
+                }
             ),
             caption="PID minus exact inverse",
         )
@@ -105,13 +108,35 @@ def add_section(
     report.paragraph(
         "Zone references: "
         + ", ".join(f"{n} {kind}" for kind, n in counts.items())
-        + " (own sensor, named substitute, adjacent zone)."
+        + " (sensor: own sensor; named: a substitute named in the mapping; neighbour: an "
+        "adjacent zone's data; float: no reference, the zone is simulated with Q_ID = 0 and its "
+        "temperature reported)."
     )
-    report.table(result.sources, caption="Every zone and the source of its reference")
+    if result.form is not None:
+        tracked = result.form[result.form["treatment"] == "tracked"]
+        fractions = ", ".join(f"{f:g}" for f in sorted(set(tracked["radiant_fraction"].round(3))))
+        report.paragraph(
+            f"Form of the identified heat: radiant fraction {fractions} (the share put on the "
+            "zone's surfaces as EnergyPlus distributes radiant internal gains, by area x thermal "
+            f"absorptance; the rest into the zone air); sensor model {result.feedback} (the "
+            "model temperature compared with the sensors: air weight 1 = air, 0.5 = operative). "
+            "The method's paper puts all of the heat into the air and tracks the air "
+            "temperature (radiant fraction 0, air)."
+        )
+    report.table(
+        result.zone_table(),
+        caption="Every zone: the source of its reference, its treatment and the form of its "
+        "identified heat",
+    )
     if result.substituted is not None and not result.substituted.empty:
         report.table(result.substituted, caption="Long gaps filled from an adjacent zone")
     if result.interpolated is not None and not result.interpolated.empty:
         report.table(result.interpolated, caption="Short gaps interpolated")
+    if result.import_notes:
+        report.bullets(
+            result.import_notes,
+            intro="What the building import and the simulation flattened, skipped or approximated:",
+        )
     report.references([REFERENCE])
     return report
 

@@ -6,15 +6,23 @@ Mapping file (YAML)::
       S01: Room 2
       S02: Room 4
       S03: Room 4
-    zones:              # optional: zones without a sensor that use another zone's data
-      Room 29: {use: Room 27}
+    unsensed: float     # optional: zones without a sensor float (default) or take a
+                        # neighbour's data ("neighbour")
+    identified_heat:    # optional: the form of Q_ID for every zone
+      radiant_fraction: 0.6   # share of Q_ID on the zone's surfaces [-] (default 0.6)
+      sensor: air             # air | operative | the air weight of the sensed temperature [-]
+    zones:              # optional, per zone
+      Room 29: {use: Room 27}             # a zone without a sensor that uses another's data
+      Plenum: {unsensed: neighbour}       # the treatment of one zone without a sensor
+      Room 3: {radiant_fraction: 0.2, sensor: operative}
     ignore: [S77]       # optional: sensors of the log left out
 
-A zone with neither a sensor nor a named substitute takes an adjacent zone's data: among the
-zones that share an inter-zone surface with it and have a sensor, the one with the same main
-orientation (azimuth of its largest exterior wall, "interior" when it has none) and, among
-those, the largest shared area; the choice and the reason are reported. A zone with no sensor,
-no named substitute and no sensored neighbour is an error naming it.
+A zone with neither a sensor nor a named substitute **floats** by default: it is simulated with
+``Q_ID = 0`` and its temperature is reported. With ``unsensed: neighbour`` (globally or per zone,
+the method's rule) it takes an adjacent zone's data: among the zones that share an inter-zone
+surface with it and have a sensor, the one with the same main orientation (azimuth of its
+largest exterior wall, "interior" when it has none) and, among those, the largest shared area;
+a zone with no sensored neighbour floats. Every choice and its reason are reported.
 """
 
 from __future__ import annotations
@@ -38,6 +46,16 @@ class SensorMapping:
     substitutes: dict[str, str] = field(default_factory=dict)
     ignore: tuple[str, ...] = ()
     source: str = "mapping"
+    #: treatment of zones without a sensor nor a named substitute: "float" or "neighbour"
+    unsensed: str = "float"
+    #: per-zone treatment overriding ``unsensed``
+    treatments: dict[str, str] = field(default_factory=dict)
+    #: form of Q_ID: radiant fraction [-] and sensor model ("air", "operative" or air weight
+    #: [-]) for every zone (None: the caller's default) and per zone
+    radiant_fraction: float | None = None
+    sensor: str | float | None = None
+    zone_radiant_fraction: dict[str, float] = field(default_factory=dict)
+    zone_sensor: dict[str, str | float] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -46,7 +64,8 @@ class ZoneSource:
 
     Attributes
     ----------
-    kind : {"sensor", "named", "neighbour"}
+    kind : {"sensor", "named", "neighbour", "float"}
+        "float": no reference, the zone is simulated with ``Q_ID = 0``.
     sensors : tuple of str
         The sensors averaged (the source zone's for "named" and "neighbour").
     zone : str
@@ -75,10 +94,11 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
         raise ThermocalInputError(
             f"{source}: expected a mapping with a 'sensors' section (sensor name -> zone name)"
         )
-    unknown = set(data) - {"sensors", "zones", "ignore"}
+    sections = {"sensors", "zones", "ignore", "unsensed", "identified_heat"}
+    unknown = set(data) - sections
     if unknown:
         raise ThermocalInputError(
-            f"{source}: unknown sections {sorted(unknown)} (allowed: sensors, zones, ignore)"
+            f"{source}: unknown sections {sorted(unknown)} (allowed: {', '.join(sorted(sections))})"
         )
     sensors = data["sensors"]
     if not isinstance(sensors, Mapping) or not sensors:
@@ -90,21 +110,92 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
                 f"{source}: sensor {sensor!r} is mapped to {zone!r}; give one zone name"
             )
         out[str(sensor)] = zone
+    unsensed = _treatment(data.get("unsensed", "float"), f"{source}: unsensed")
+    heat = data.get("identified_heat") or {}
+    if not isinstance(heat, Mapping) or set(heat) - {"radiant_fraction", "sensor"}:
+        raise ThermocalInputError(
+            f"{source}: identified_heat must be {{radiant_fraction: <0..1>, sensor: air | "
+            f"operative | <air weight 0..1>}}, got {heat!r}"
+        )
+    radiant = heat.get("radiant_fraction")
+    radiant = None if radiant is None else _fraction(radiant, f"{source}: identified_heat")
+    sensor = heat.get("sensor")
+    sensor = None if sensor is None else sensor_weight(sensor, f"{source}: identified_heat")
     substitutes: dict[str, str] = {}
+    treatments: dict[str, str] = {}
+    zone_radiant: dict[str, float] = {}
+    zone_sensor: dict[str, str | float] = {}
+    keys = {"use", "unsensed", "radiant_fraction", "sensor"}
     for zone, spec in (data.get("zones") or {}).items():
+        where = f"{source}: zones.{zone}"
         if (
             not isinstance(spec, Mapping)
-            or set(spec) != {"use"}
-            or not isinstance(spec["use"], str)
+            or not spec
+            or set(spec) - keys
+            or ("use" in spec and not isinstance(spec["use"], str))
+            or ("use" in spec and "unsensed" in spec)
         ):
             raise ThermocalInputError(
-                f"{source}: zones.{zone} must be {{use: <zone name>}}, got {spec!r}"
+                f"{where} must hold {{use: <zone name>}} or {{unsensed: float | neighbour}} "
+                f"and/or radiant_fraction / sensor, got {spec!r}"
             )
-        substitutes[str(zone)] = spec["use"]
+        zone = str(zone)
+        if "use" in spec:
+            substitutes[zone] = spec["use"]
+        if "unsensed" in spec:
+            treatments[zone] = _treatment(spec["unsensed"], where)
+        if "radiant_fraction" in spec:
+            zone_radiant[zone] = _fraction(spec["radiant_fraction"], where)
+        if "sensor" in spec:
+            zone_sensor[zone] = sensor_weight(spec["sensor"], where)
     ignore = data.get("ignore") or []
     if not isinstance(ignore, list):
         raise ThermocalInputError(f"{source}: 'ignore' must be a list of sensor names")
-    return SensorMapping(out, substitutes, tuple(str(s) for s in ignore), source)
+    return SensorMapping(
+        out,
+        substitutes,
+        tuple(str(s) for s in ignore),
+        source,
+        unsensed=unsensed,
+        treatments=treatments,
+        radiant_fraction=radiant,
+        sensor=sensor,
+        zone_radiant_fraction=zone_radiant,
+        zone_sensor=zone_sensor,
+    )
+
+
+def _treatment(value, where: str) -> str:
+    if value not in ("float", "neighbour"):
+        raise ThermocalInputError(
+            f"{where}: the treatment of a zone without a sensor is 'float' (simulated, Q_ID = 0) "
+            f"or 'neighbour' (an adjacent zone's data), got {value!r}"
+        )
+    return value
+
+
+def _fraction(value, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 1:
+        raise ThermocalInputError(
+            f"{where}: radiant_fraction must be a number in [0, 1], got {value!r}"
+        )
+    return float(value)
+
+
+def sensor_weight(value, where: str = "sensor") -> float:
+    """Air weight ``w`` [-] of a sensor model: "air" 1, "operative" 0.5, or a number in [0, 1].
+
+    The sensed temperature is ``w T_air + (1 - w) T_surf`` (``T_surf`` the zone's area-weighted
+    interior surface temperature).
+    """
+    if isinstance(value, str) and value in ("air", "operative"):
+        return 1.0 if value == "air" else 0.5
+    if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 1:
+        raise ThermocalInputError(
+            f"{where}: sensor must be 'air', 'operative' or the air weight of the sensed "
+            f"temperature in [0, 1], got {value!r}"
+        )
+    return float(value)
 
 
 def _suggest(name: str, options) -> str:
@@ -172,15 +263,31 @@ def zone_sources(building, mapping: SensorMapping) -> dict[str, ZoneSource]:
                 "with a sensor"
             )
         sources[zone] = ZoneSource("named", tuple(own[use]), use, "named in the mapping")
+    for zone in mapping.treatments:
+        if zone not in building.zones:
+            raise ThermocalInputError(
+                f"{mapping.source}: zones.{zone}: {zone!r} is not a zone of building "
+                f"'{building.name}'{_suggest(zone, zones)}"
+            )
     for zone in zones:
         if zone in sources:
             continue
+        treatment = mapping.treatments.get(zone, mapping.unsensed)
+        if treatment == "float":
+            where = "per zone" if zone in mapping.treatments else "the default"
+            sources[zone] = ZoneSource(
+                "float", (), zone, f"no sensor: floats freely (Q_ID = 0; {where})"
+            )
+            continue
         neighbours = {z: a for z, a in shared_areas(building, zone).items() if z in own}
         if not neighbours:
-            raise ThermocalInputError(
-                f"zone {zone!r} has no sensor and no adjacent zone with a sensor; add "
-                f"'zones: {{{zone}: {{use: <zone with a sensor>}}}}' to {mapping.source}"
+            sources[zone] = ZoneSource(
+                "float",
+                (),
+                zone,
+                "no sensor and no adjacent zone with a sensor: floats freely (Q_ID = 0)",
             )
+            continue
         orientation = main_orientation(building, zone)
         same = {z: a for z, a in neighbours.items() if main_orientation(building, z) == orientation}
         pool = same or neighbours
@@ -269,7 +376,8 @@ def zone_references(
 
     Returns
     -------
-    reference : DataFrame (steps x zones) [C]
+    reference : DataFrame (steps x tracked zones) [C]
+        One column per zone that is not floating.
     report : ReferenceReport
     """
     from thermocal.io.measurements import resample_measurements
@@ -320,15 +428,16 @@ def zone_references(
     for zone, src in sources.items():
         if src.kind == "sensor":
             own[zone] = grid[list(src.sensors)].mean(axis=1, skipna=True)
-    reference = pd.DataFrame(index=times, columns=list(sources), dtype=float)
+    tracked = {zone: src for zone, src in sources.items() if src.kind != "float"}
+    reference = pd.DataFrame(index=times, columns=list(tracked), dtype=float)
     interpolated, substituted = [], []
-    for zone, src in sources.items():
+    for zone, src in tracked.items():
         series = own.get(zone, own.get(src.zone)).copy()
         series, filled = _interpolate_short_gaps(series, max_gap)
         series, held = _hold_final_step(series, last, step)
         interpolated += [{"zone": zone, **gap} for gap in filled + held]
         reference[zone] = series
-    for zone, src in sources.items():
+    for zone, src in tracked.items():
         missing = reference[zone].isna()
         if not missing.any():
             continue
@@ -575,14 +684,25 @@ def _hold_final_step(series: pd.Series, last_report: pd.Timestamp, step: pd.Time
 
 
 def _fallback_zone(building, zone, src, sources, reference) -> str | None:
-    """Adjacent zone with complete data, for a zone whose own data have a long gap."""
+    """The nearest zone with complete data over a long gap of ``zone``'s own data.
+
+    Adjacent zones first (largest shared area first), then, through zones without a reference
+    (floating ones), the zones next to those, and so on.
+    """
     missing = reference[zone].isna()
-    candidates = shared_areas(building, zone)
-    best = None
-    for other, _area in sorted(candidates.items(), key=lambda kv: -kv[1]):
-        if other == zone or sources[other].zone == src.zone:
-            continue
-        if reference.loc[missing, other].notna().all():
-            best = other
-            break
-    return best
+    seen = {zone}
+    frontier = [zone]
+    while frontier:
+        ring: dict[str, float] = {}
+        for current in frontier:
+            for other, area in shared_areas(building, current).items():
+                if other not in seen:
+                    ring[other] = max(ring.get(other, 0.0), area)
+        seen.update(ring)
+        for other, _area in sorted(ring.items(), key=lambda kv: (-kv[1], kv[0])):
+            if other not in reference or sources[other].zone == src.zone:
+                continue
+            if reference.loc[missing, other].notna().all():
+                return other
+        frontier = [z for z in ring if z not in reference]
+    return None

@@ -36,7 +36,7 @@ from thermocal.identification.pid import PIDGains, ziegler_nichols
 
 @dataclass
 class LinearLoopPlant:
-    """Discrete linear plant of one zone: heat into its air -> its tracked temperature.
+    """Discrete linear plant of one zone: its heat -> its tracked temperature.
 
     Parameters
     ----------
@@ -51,6 +51,9 @@ class LinearLoopPlant:
         area-weighted interior surfaces) [-].
     ts : float [s]
         Step (sampling time).
+    input_weights : ndarray (n,), optional
+        Share of the heat entering each node [-] (a radiant part on the zone's surfaces);
+        default all into ``input_node``.
     """
 
     matrix: sp.spmatrix
@@ -58,12 +61,21 @@ class LinearLoopPlant:
     input_node: int
     output: np.ndarray
     ts: float
+    input_weights: np.ndarray | None = None
+
+    @property
+    def input_vector(self) -> np.ndarray:
+        """``e``: the heat's share per node [-]."""
+        if self.input_weights is not None:
+            return np.asarray(self.input_weights, dtype=float)
+        e = np.zeros(self.matrix.shape[0])
+        e[self.input_node] = 1.0
+        return e
 
     def frequency_response(self, z: complex) -> complex:
         """``G(z) = c (z A - C/dt)^-1 e`` [K/W]."""
         system = (z * self.matrix - sp.diags(self.capacity_dt)).tocsc().astype(complex)
-        rhs = np.zeros(self.matrix.shape[0], dtype=complex)
-        rhs[self.input_node] = 1.0
+        rhs = self.input_vector.astype(complex)
         return complex(self.output @ splu(system).solve(rhs))
 
 
@@ -102,11 +114,15 @@ def ultimate_gain_exact(
     for i in range(len(omegas) - 1):
         a, b = values[i].imag, values[i + 1].imag
         if a == 0.0 or a * b < 0.0:
-            w = omegas[i] if a == 0.0 else brentq(
-                lambda w: frequency_response(np.exp(1j * w)).imag,
-                omegas[i],
-                omegas[i + 1],
-                xtol=1e-12,
+            w = (
+                omegas[i]
+                if a == 0.0
+                else brentq(
+                    lambda w: frequency_response(np.exp(1j * w)).imag,
+                    omegas[i],
+                    omegas[i + 1],
+                    xtol=1e-12,
+                )
             )
             g = frequency_response(np.exp(1j * w))
             if g.real < 0:
@@ -166,8 +182,7 @@ def critical_pole(plant: LinearLoopPlant, gain: float, omega: float) -> complex:
     n = a.shape[0]
     a_lu = splu(a)
     s_lu = splu((sp.diags(plant.capacity_dt) - sigma * a).tocsc().astype(complex))
-    e = np.zeros(n, dtype=complex)
-    e[plant.input_node] = 1.0
+    e = plant.input_vector.astype(complex)
     s_inv_e = s_lu.solve(e)
     c = plant.output
     denominator = 1.0 - gain * (c @ s_inv_e)
@@ -191,7 +206,7 @@ def _apply_closed_loop(a_lu, plant, gain, c, v):
     """``(A^-1 C/dt - gain A^-1 e c) v`` for complex ``v``."""
     rhs = plant.capacity_dt * v
     rhs = rhs.astype(complex)
-    rhs[plant.input_node] -= gain * (c @ v)
+    rhs -= gain * (c @ v) * plant.input_vector
     return a_lu.solve(rhs.real) + 1j * a_lu.solve(rhs.imag)
 
 
@@ -368,8 +383,15 @@ def median_volume_zone(building) -> str:
     return zones[(len(zones) - 1) // 2].name
 
 
-def zone_plant(sim, zone: str, feedback: str = "air") -> LinearLoopPlant:
-    """The linear plant of ``zone`` in a :class:`~thermocal.multizone.Simulation`'s network."""
+def zone_plant(sim, zone: str, feedback="air", radiant_fraction: float = 0.0) -> LinearLoopPlant:
+    """The linear plant of ``zone`` in a :class:`~thermocal.multizone.Simulation`'s network.
+
+    ``feedback``: "air", "operative" or the air weight [-] of the sensed temperature;
+    ``radiant_fraction`` [-]: share of the heat on the zone's surfaces (as
+    :meth:`~thermocal.multizone.Simulation.track` distributes it).
+    """
+    from thermocal.identification.sensors import sensor_weight
+
     net = sim.network
     names = list(net.zone_names)
     if zone not in names:
@@ -378,22 +400,24 @@ def zone_plant(sim, zone: str, feedback: str = "air") -> LinearLoopPlant:
     n = net.n_nodes
     output = np.zeros(n)
     air = int(net.air_node[z])
-    if feedback == "operative":
-        faces = np.flatnonzero(net.face_zone == z)
-        area = net.face_area[faces].sum()
-        if area > 0:
-            np.add.at(output, net.face_node[faces], 0.5 * net.face_area[faces] / area)
-            output[air] += 0.5
-        else:
-            output[air] = 1.0
+    weight = sensor_weight(feedback, "tuning")
+    faces = np.flatnonzero(net.face_zone == z)
+    area = net.face_area[faces].sum()
+    if weight < 1.0 and area > 0:
+        np.add.at(output, net.face_node[faces], (1.0 - weight) * net.face_area[faces] / area)
+        output[air] += weight
     else:
         output[air] = 1.0
+    ptr, idx, val = sim._heat_distribution(np.array([z]), np.array([float(radiant_fraction)]))
+    weights = np.zeros(n)
+    np.add.at(weights, idx, val)
     return LinearLoopPlant(
         matrix=net.system_matrix(sim.dt).tocsc(),
         capacity_dt=np.asarray(net.capacity, dtype=float) / sim.dt,
         input_node=air,
         output=output,
         ts=sim.dt,
+        input_weights=weights,
     )
 
 
@@ -424,7 +448,8 @@ def tune_zone(
     step: str | pd.Timedelta = "5min",
     outdoor_temperature: float = 0.0,
     wind_speed: float = 0.0,
-    feedback: str = "air",
+    feedback="air",
+    radiant_fraction: float = 0.0,
     options=None,
     metadata=None,
     experiment: bool = True,
@@ -444,7 +469,10 @@ def tune_zone(
         Constant outdoor temperature of the experiment (the identification uses the period's
         mean).
     wind_speed : float [m/s]
-    feedback : {"air", "operative"}
+    feedback : {"air", "operative"} or float
+        Sensor model: "air", "operative" or the air weight [-] of the sensed temperature.
+    radiant_fraction : float [-]
+        Share of the zone's heat on its surfaces (the form of the identified heat).
     options : NetworkOptions, optional
     metadata : dict, optional
         Site (latitude, longitude, altitude) for the simulation.
@@ -487,8 +515,9 @@ def tune_zone(
         "longitude": building.location.longitude,
         "altitude": building.location.altitude,
     }
-    weather = constant_weather("2001-01-01", days + 1, outdoor_temperature, wind_speed=wind_speed,
-                               tz="UTC")
+    weather = constant_weather(
+        "2001-01-01", days + 1, outdoor_temperature, wind_speed=wind_speed, tz="UTC"
+    )
     sim = Simulation(
         building,
         weather,
@@ -503,7 +532,7 @@ def tune_zone(
     )
     sim.explicit_corrections = False  # the experiment on the same linear plant as the analysis
     ts = sim.dt
-    plant = zone_plant(sim, zone, feedback)
+    plant = zone_plant(sim, zone, feedback, radiant_fraction)
     omegas = np.pi * np.logspace(-3, 0, 32)
     response = np.array([plant.frequency_response(np.exp(1j * w)) for w in omegas])
     ku, pu, omega = ultimate_gain_exact(plant.frequency_response, ts, grid=(omegas, response))
@@ -523,6 +552,7 @@ def tune_zone(
             zones=[zone],
             method="pid",
             feedback=feedback,
+            radiant_fraction=radiant_fraction,
             pid=(np.array([kp]), np.zeros(1), np.zeros(1)),
         )
         return result.tracked_temperature().to_numpy()[:, 0]

@@ -29,6 +29,14 @@ from thermocal.io.atomic import atomic_write
 
 METHODS = ("inverse", "pid", "both")
 
+#: Times the gains of a zone whose PID loop diverges are halved before giving up [-]
+RETUNE_ATTEMPTS = 4
+
+#: Default radiant fraction of the identified heat [-]: the share of typical sensible internal
+#: gains that reaches a zone as radiation (long-wave and visible); argued in
+#: docs/identification.md ("The form of the identified heat").
+DEFAULT_RADIANT_FRACTION = 0.6
+
 
 @dataclass
 class IdentificationResult:
@@ -55,9 +63,20 @@ class IdentificationResult:
     schedule : OccupancySchedule
     settle : str or None
     metric_source : {"inverse", "pid"}
-    feedback : {"air", "operative"}
+    feedback : str
+        The sensor model: "air", "operative", "air weight 0.7" or "per zone".
     timings : dict [s]
     notes : list of str
+    interpolated, substituted : DataFrame or None
+        Gaps of the references filled by interpolation / another zone's data.
+    form : DataFrame or None
+        Per zone: ``treatment`` (tracked or floating), ``radiant_fraction`` [-] and
+        ``sensor_air_weight`` [-] of the identified heat.
+    floating_temperature : DataFrame or None [C]
+        Air temperature of the floating zones (no reference, ``Q_ID = 0``).
+    import_notes : list of str
+        What the building import and the simulation flattened, skipped or approximated
+        (:meth:`~thermocal.multizone.Simulation.approximations`).
     """
 
     q_id: pd.DataFrame
@@ -78,6 +97,9 @@ class IdentificationResult:
     notes: list = field(default_factory=list)
     interpolated: pd.DataFrame | None = None
     substituted: pd.DataFrame | None = None
+    form: pd.DataFrame | None = None
+    floating_temperature: pd.DataFrame | None = None
+    import_notes: list = field(default_factory=list)
 
     @property
     def building_heat(self) -> pd.Series:
@@ -148,13 +170,24 @@ class IdentificationResult:
                 method: table.round(6).reset_index().to_dict(orient="records")
                 for method, table in self.tracking.items()
             },
-            "zones": self.sources.to_dict(orient="records"),
+            "zones": self.zone_table().to_dict(orient="records"),
             "interpolated_gaps": _records(self.interpolated),
             "substituted_gaps": _records(self.substituted),
             "timings_s": self.timings,
             "notes": self.notes,
+            "import_notes": self.import_notes,
         }
         return jsonable(out)
+
+    def zone_table(self) -> pd.DataFrame:
+        """Every zone: source of its reference, treatment and the form of its identified heat."""
+        table = self.sources.copy()
+        if self.form is not None:
+            table = table.merge(self.form, left_on="zone", right_index=True, how="left")
+        if self.floating_temperature is not None and len(self.floating_temperature.columns):
+            mean = self.floating_temperature.mean()
+            table["mean_temperature_C"] = table["zone"].map(mean)
+        return table
 
     def unoccupied_mask_all(self) -> np.ndarray:
         return unoccupied_steps(self.q_id.index, self.schedule, settle=None)
@@ -241,22 +274,38 @@ def pid_gains_for(
     *,
     gains: PIDGains | Mapping | None,
     step,
-    feedback: str,
+    feedback="air",
+    radiant_fraction=0.0,
     options=None,
     metadata=None,
     outdoor_temperature: float = 0.0,
     wind_speed: float = 0.0,
     tuning_zone: str | None = None,
+    tracked=None,
 ) -> tuple[dict[str, PIDGains], TuningResult | None]:
-    """Gains of every zone: given (one set scaled by volume, or per zone) or Ziegler-Nichols."""
+    """Gains of every zone: given (one set scaled by volume, or per zone) or Ziegler-Nichols.
+
+    ``feedback`` and ``radiant_fraction``: one value or per zone (Series or dict), the form of
+    the identified heat the tuned loop uses; ``tracked``: the zones with a loop (default all;
+    given per-zone gains must cover them).
+    """
+    tracked = list(building.zones) if tracked is None else list(tracked)
     if gains is None:
+        from thermocal.identification.tuning import median_volume_zone
+
+        zone = tuning_zone or median_volume_zone(building)
+
+        def at(value):
+            return value[zone] if isinstance(value, Mapping | pd.Series) else value
+
         tuning = tune_zone(
             building,
-            zone=tuning_zone,
+            zone=zone,
             step=step,
             outdoor_temperature=outdoor_temperature,
             wind_speed=wind_speed,
-            feedback=feedback,
+            feedback=at(feedback),
+            radiant_fraction=float(at(radiant_fraction)),
             options=options,
             metadata=metadata,
         )
@@ -267,10 +316,10 @@ def pid_gains_for(
         return {
             name: gains.scaled(zone.volume / volume) for name, zone in building.zones.items()
         }, None
-    missing = [z for z in building.zones if z not in gains]
+    missing = [z for z in tracked if z not in gains]
     if missing:
         raise ThermocalInputError(f"PID gains: zones {missing[:5]} have no gains")
-    return {z: gains[z] for z in building.zones}, None
+    return {z: gains[z] for z in tracked if z in gains}, None
 
 
 def identify(
@@ -284,7 +333,8 @@ def identify(
     end=None,
     step: str = "5min",
     method: str = "both",
-    feedback: str = "air",
+    feedback="air",
+    radiant_fraction=None,
     gains: PIDGains | Mapping | None = None,
     tuning_zone: str | None = None,
     limits: tuple[float, float] | None = None,
@@ -320,8 +370,17 @@ def identify(
     method : {"both", "inverse", "pid"}
         "inverse": the exact heat that puts the model on the references at every step; "pid":
         the paper's per-zone PID loop; "both": both, compared.
-    feedback : {"air", "operative"}
-        The model temperature that tracks the sensors.
+    feedback : {"air", "operative"}, float or dict, optional
+        The sensor model, the model temperature that tracks the sensors: "air", "operative"
+        or the air weight [-] of ``w T_air + (1 - w) T_surf``; a dict zone -> one of these for
+        some zones. Default: the mapping's (``identified_heat.sensor``, per zone ``sensor``),
+        else "air".
+    radiant_fraction : float or dict, optional [-]
+        Where the identified heat goes: ``1 - f`` into the zone air, ``f`` over its surfaces as
+        EnergyPlus distributes radiant internal gains; one value or a dict zone -> value.
+        Default: the mapping's (``identified_heat.radiant_fraction``, per zone
+        ``radiant_fraction``), else :data:`DEFAULT_RADIANT_FRACTION`. The method's paper puts
+        all of it into the air (``radiant_fraction=0, feedback="air"``).
     gains : PIDGains or dict of zone -> PIDGains, optional
         Discrete PID gains [W/K]: one set (scaled by zone volume relative to ``tuning_zone``,
         default the first zone) or one per zone; None = Ziegler-Nichols on ``tuning_zone``
@@ -356,8 +415,6 @@ def identify(
 
     if method not in METHODS:
         raise ThermocalInputError(f"method must be one of {METHODS}, got {method!r}")
-    if feedback not in ("air", "operative"):
-        raise ThermocalInputError(f"feedback must be 'air' or 'operative', got {feedback!r}")
     if not isinstance(mapping, SensorMapping):
         mapping = mapping_from_dict(mapping)
     schedule = schedule or OccupancySchedule()
@@ -388,17 +445,32 @@ def identify(
         source=log_name,
     )
     timings["references"] = time.perf_counter() - t0
-    zones = list(building.zones)
+    all_zones = list(building.zones)
+    zones = [z for z in all_zones if z in reference.columns]
+    floating = [z for z in all_zones if z not in reference.columns]
+    if not zones:
+        raise ThermocalInputError(
+            f"{mapping.source}: no zone has a sensor or takes another zone's data; map at least "
+            "one sensor to a zone"
+        )
+    form = identified_heat_form(building, mapping, feedback, radiant_fraction)
+    weights = form.loc[zones, "sensor_air_weight"].to_numpy()
+    fractions = form.loc[zones, "radiant_fraction"].to_numpy()
+    form.insert(0, "treatment", ["floating" if z in floating else "tracked" for z in all_zones])
+    feedback_name = _sensor_name(weights)
+    track_form = dict(zones=zones, feedback=weights, radiant_fraction=fractions)
     ref = reference[zones].to_numpy()
     q_inverse = q_pid = None
+    floating_temperature = None
     model_temperature, tracking = {}, {}
     if method in ("inverse", "both"):
         t0 = time.perf_counter()
         result = sim.track(
-            ref, method="inverse", feedback=feedback, heat_input=known_heat, progress=progress
+            ref, method="inverse", heat_input=known_heat, progress=progress, **track_form
         )
         timings["inverse"] = time.perf_counter() - t0
-        q_inverse = result.heat
+        q_inverse = _with_floating(result.heat, all_zones)
+        floating_temperature = result.air_temperature[floating]
         model_temperature["inverse"] = result.tracked_temperature()
         tracking["inverse"] = tracking_metrics(model_temperature["inverse"], reference[zones])
     zone_gains, tuning = None, None
@@ -409,12 +481,14 @@ def identify(
             building,
             gains=gains,
             step=step,
-            feedback=feedback,
+            feedback=form["sensor_air_weight"],
+            radiant_fraction=form["radiant_fraction"],
             options=options,
             metadata=metadata,
             outdoor_temperature=float(grid["temp_air"].mean()),
             wind_speed=float(grid["wind_speed"].mean()) if "wind_speed" in grid else 0.0,
             tuning_zone=tuning_zone,
+            tracked=zones,
         )
         timings["tuning"] = time.perf_counter() - t0
         if tuning is not None and tuning.paper_gain_margin < tuning.gain_margin:
@@ -425,29 +499,64 @@ def identify(
                 f"{tuning.gains.kp / tuning.paper_gains.kp:.3f} to a margin of "
                 f"{tuning.gain_margin:.2f}."
             )
-        coefficients = kernel_coefficients([zone_gains[z] for z in zones])
-        pid_limits = None if limits is None else (np.full(len(zones), limits[0]),
-                                                  np.full(len(zones), limits[1]))
-        t0 = time.perf_counter()
-        result = sim.track(
-            ref,
-            method="pid",
-            feedback=feedback,
-            pid=coefficients,
-            limits=pid_limits,
-            heat_input=known_heat,
-            progress=progress,
+        pid_limits = (
+            None
+            if limits is None
+            else (np.full(len(zones), limits[0]), np.full(len(zones), limits[1]))
         )
+        t0 = time.perf_counter()
+        scale = np.ones(len(zones))
+        for attempt in range(RETUNE_ATTEMPTS + 1):
+            coefficients = kernel_coefficients(
+                [zone_gains[z].scaled(f) for z, f in zip(zones, scale, strict=True)]
+            )
+            result = sim.track(
+                ref,
+                method="pid",
+                pid=coefficients,
+                limits=pid_limits,
+                heat_input=known_heat,
+                progress=progress,
+                **track_form,
+            )
+            if not result.diverged or attempt == RETUNE_ATTEMPTS:
+                break
+            # retune: halve the gains of the zones whose loop diverged and run again
+            for zone in result.diverged:
+                scale[zones.index(zone)] *= 0.5
         timings["pid"] = time.perf_counter() - t0
-        if result.diverged:
+        retuned = {z: float(f) for z, f in zip(zones, scale, strict=True) if f < 1.0}
+        if retuned and not result.diverged:
+            notes.append(
+                f"The PID loop diverged in {len(retuned)} zone(s); their gains were retuned "
+                "(halved until stable): "
+                + ", ".join(f"{z} x{f:g}" for z, f in list(retuned.items())[:10])
+                + (", ..." if len(retuned) > 10 else "")
+                + "."
+            )
+            for zone, factor in retuned.items():
+                zone_gains[zone] = zone_gains[zone].scaled(factor)
+        if result.diverged and method == "both":
+            bad = result.diverged
+            notes.append(
+                f"The PID loop diverges in {len(bad)} zone(s) ({', '.join(bad[:5])}"
+                f"{', ...' if len(bad) > 5 else ''}) even with its gains divided by "
+                f"{2**RETUNE_ATTEMPTS}: the PID result is left out; the identified heat is the "
+                "exact inverse's."
+            )
+        elif result.diverged:
             bad = result.diverged
             raise ThermocalInputError(
                 f"the PID loop diverges in {len(bad)} zone(s) ({', '.join(bad[:5])}"
-                f"{', ...' if len(bad) > 5 else ''}): the gains are too high for the model's "
-                "step; leave the gains out to use the stabilised Ziegler-Nichols gains, lower "
-                "them, or use method 'inverse'"
+                f"{', ...' if len(bad) > 5 else ''}) even with its gains divided by "
+                f"{2**RETUNE_ATTEMPTS}: the gains are too high for the model's step; leave the "
+                "gains out to use the stabilised Ziegler-Nichols gains, lower them, or use "
+                "method 'inverse' or 'both'"
             )
-        q_pid = result.heat
+    if method in ("pid", "both") and not result.diverged:
+        q_pid = _with_floating(result.heat, all_zones)
+        if floating_temperature is None:
+            floating_temperature = result.air_temperature[floating]
         model_temperature["pid"] = result.tracked_temperature()
         tracking["pid"] = tracking_metrics(model_temperature["pid"], reference[zones])
     source = metric_source or ("inverse" if q_inverse is not None else "pid")
@@ -473,9 +582,78 @@ def identify(
         schedule=schedule,
         settle=settle,
         metric_source=source,
-        feedback=feedback,
+        feedback=feedback_name,
         timings=timings,
         notes=notes,
         interpolated=ref_report.interpolated,
         substituted=ref_report.substituted,
+        form=form,
+        floating_temperature=floating_temperature,
+        import_notes=list(sim.approximations()),
     )
+
+
+def identified_heat_form(
+    building, mapping: SensorMapping | None, feedback=None, radiant_fraction=None
+):
+    """Radiant fraction [-] and sensor air weight [-] of every zone's identified heat.
+
+    Precedence: the arguments (one value or a dict zone -> value), then the mapping's per-zone
+    and global entries (``mapping`` may be None), then the defaults
+    (:data:`DEFAULT_RADIANT_FRACTION`, air sensors).
+
+    Returns
+    -------
+    DataFrame indexed by zone with columns ``radiant_fraction`` and ``sensor_air_weight``.
+    """
+    from thermocal.identification.sensors import _fraction, sensor_weight
+
+    zones = list(building.zones)
+    mapping = mapping if mapping is not None else SensorMapping({})
+
+    def resolve(argument, per_zone, global_value, default, check, what):
+        if isinstance(argument, Mapping):
+            unknown = [z for z in argument if z not in building.zones]
+            if unknown:
+                raise ThermocalInputError(f"{what}: {unknown[0]!r} is not a zone of the building")
+        values = {}
+        for zone in zones:
+            if isinstance(argument, Mapping) and zone in argument:
+                value = argument[zone]
+            elif argument is not None and not isinstance(argument, Mapping):
+                value = argument
+            elif zone in per_zone:
+                value = per_zone[zone]
+            elif global_value is not None:
+                value = global_value
+            else:
+                value = default
+            values[zone] = check(value, what)
+        return values
+
+    fractions = resolve(
+        radiant_fraction,
+        mapping.zone_radiant_fraction,
+        mapping.radiant_fraction,
+        DEFAULT_RADIANT_FRACTION,
+        _fraction,
+        "radiant_fraction",
+    )
+    weights = resolve(
+        feedback, mapping.zone_sensor, mapping.sensor, "air", sensor_weight, "feedback"
+    )
+    return pd.DataFrame(
+        {"radiant_fraction": fractions, "sensor_air_weight": weights}, index=pd.Index(zones)
+    )
+
+
+def _sensor_name(weights: np.ndarray) -> str:
+    unique = np.unique(weights)
+    if len(unique) > 1:
+        return "per zone"
+    return {1.0: "air", 0.5: "operative"}.get(float(unique[0]), f"air weight {unique[0]:g}")
+
+
+def _with_floating(heat: pd.DataFrame, zones: list[str]) -> pd.DataFrame:
+    """Q_ID of every zone in building order, 0 for the floating ones [W]."""
+    return heat.reindex(columns=zones, fill_value=0.0)

@@ -18,13 +18,21 @@ Tracking modes (heat-balance identification, :mod:`thermocal.identification`): i
 ideal loads, every tracked zone (``ctrl_zone``) receives the heat that makes the model follow a
 reference temperature ``track_ref``:
 
-- ``track_mode == 1`` (exact inverse): the heat of the step that puts the zone air (Dirichlet
-  system, one substitution) or operative temperature (superposition with the inverse of the
-  operative-temperature response ``g_track_inv``) exactly on the reference at the end of the step;
+- ``track_mode == 1`` (exact inverse): the heat of the step that puts the zone's sensed
+  temperature exactly on the reference at the end of the step: air temperature with the heat in
+  the air (Dirichlet system, one substitution), or in general (``track_general``) by
+  superposition with the inverse ``g_track_inv`` of the sensed-temperature response to unit
+  heat distributed as the zone's heat is;
 - ``track_mode == 2`` (discrete PID per zone in controller canonical form): the heat of the step
-  from the error between the reference and the model's air or operative temperature at the end of
-  the previous step (``track_fb``), as a co-simulated controller sees it; optional output limits
+  from the error between the reference and the model's sensed temperature at the end of the
+  previous step (``track_fb``), as a co-simulated controller sees it; optional output limits
   with conditional integration.
+
+The sensed temperature of tracked zone ``c`` is ``w T_air + (1 - w) T_surf`` with
+``w = track_w_air[c]`` and ``T_surf`` the area-weighted interior surface temperature (``w = 1``
+air, ``0.5`` operative); its heat enters the nodes ``track_idx[track_ptr[c]:track_ptr[c+1]]``
+with weights ``track_val`` summing to one (the air node, and the zone's faces for a radiant
+part).
 """
 
 from __future__ import annotations
@@ -110,6 +118,23 @@ def cube_root_update(x, guess):
     for _ in range(3):
         y = (2.0 * y + x / (y * y)) / 3.0
     return y
+
+
+@njit(cache=True, inline="always")
+def people_excess(t_air, a, b, c, limit):
+    """People's sensible heat at ``t_air`` minus its value at ``PEOPLE_T0`` [W].
+
+    ``a + b T + c T^2`` (sums over a zone's People of number x the per-person coefficients of
+    EnergyPlus' autocalculated sensible fraction [W], [W/K], [W/K^2]), each value clipped to
+    ``[0, limit]`` with ``limit`` the zone's total metabolic heat [W] (number x activity level),
+    as EnergyPlus clips the sensible heat per person. The scheduled gains hold the value at
+    ``PEOPLE_T0``; this is the lagged correction the time loop adds to the zone air.
+    """
+    at_t = a + b * t_air + c * t_air * t_air
+    at_0 = a + b * PEOPLE_T0 + c * PEOPLE_T0 * PEOPLE_T0
+    at_t = min(max(at_t, 0.0), limit)
+    at_0 = min(max(at_0, 0.0), limit)
+    return at_t - at_0
 
 
 @njit(cache=True)
@@ -320,8 +345,10 @@ def run_steps(
     air_node,
     inf_dh,
     inf_dt,
+    people_a,
     people_b,
     people_c,
+    people_max,
     ctrl_zone,
     ctrl_heat_sp,
     ctrl_cool_sp,
@@ -361,10 +388,17 @@ def run_steps(
     exact_interior,
     face_mrt,
     face_mrt_g,
+    lw_pair_a,
+    lw_pair_b,
+    lw_pair_g,
     h_black,
     track_mode,
     track_ref,
-    track_operative,
+    track_general,
+    track_w_air,
+    track_ptr,
+    track_idx,
+    track_val,
     pid_d,
     pid_c1,
     pid_c2,
@@ -458,6 +492,16 @@ def run_steps(
                 corr = face_mrt_g[f] * (h_exact / h_black - 1.0) * (x[r_node] - x[node])
                 rhs[node] += corr
                 rhs[r_node] -= corr
+            # pairwise exchange factors: the same correction between the two faces of a pair
+            for p in range(lw_pair_a.shape[0]):
+                a = lw_pair_a[p]
+                b = lw_pair_b[p]
+                ta = x[a] + KELVIN
+                tb = x[b] + KELVIN
+                h_exact = SIGMA * (ta * ta + tb * tb) * (ta + tb)
+                corr = lw_pair_g[p] * (h_exact / h_black - 1.0) * (x[b] - x[a])
+                rhs[a] += corr
+                rhs[b] -= corr
         # temperature-dependent glass-to-glass conductance of windows (gas gaps): the excess over
         # the matrix value, interpolated at the mean of the two glass faces
         n_grid = win_ratio.shape[1]
@@ -487,13 +531,13 @@ def run_steps(
                 diff = t_out - x[an]
                 rhs[an] += inf_dt[dt_k, z] * abs(diff) * diff
         # People's sensible heat at the zone air temperature (lagged) beyond its value at the
-        # reference temperature the gains hold: b (T - T0) + c (T^2 - T0^2)
+        # reference temperature the gains hold: a + b T + c T^2 clipped to [0, activity] as
+        # EnergyPlus does (above ~35 C the polynomial turns negative: occupants are no sinks)
         if people_rows > 0:
             for z in range(nz):
                 an = air_node[z]
-                t_air = x[an]
-                rhs[an] += people_b[k, z] * (t_air - PEOPLE_T0) + people_c[k, z] * (
-                    t_air * t_air - PEOPLE_T0 * PEOPLE_T0
+                rhs[an] += people_excess(
+                    x[an], people_a[k, z], people_b[k, z], people_c[k, z], people_max[k, z]
                 )
         # 3'. tracking: PID heat from the error at the start of the step, or the exact inverse
         done = False
@@ -515,16 +559,18 @@ def run_steps(
                 pid_state[c, 0] += integrate * e
                 pid_state[c, 1] = pid_state[c, 0] - e
                 q[c] = u_c
-                rhs[air_node[ctrl_zone[c]]] += u_c
+                for p in range(track_ptr[c], track_ptr[c + 1]):
+                    rhs[track_idx[p]] += track_val[p] * u_c
             lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
             done = True
-        elif track_mode == 1 and not track_operative:
+        elif track_mode == 1 and not track_general:
             for i in range(n):
                 rhs_d[i] = rhs[i]
             for c in range(nc):
                 rhs_d[air_node[ctrl_zone[c]]] = track_ref[s, c]
-            lu_solve(dlp, dli, dlx, dup, dui, dux, d_inv_diag, d_inverse_r, d_perm_c, rhs_d, work,
-                     x_new)
+            lu_solve(
+                dlp, dli, dlx, dup, dui, dux, d_inv_diag, d_inverse_r, d_perm_c, rhs_d, work, x_new
+            )
             for c in range(nc):
                 acc = -rhs[air_node[ctrl_zone[c]]]
                 for p in range(a_ptr[c], a_ptr[c + 1]):
@@ -542,13 +588,15 @@ def run_steps(
                 mrt = x_new[air_node[z]]
                 if zone_face_area[z] > 0:
                     mrt = mrt_tmp[z] / zone_face_area[z]
-                t_free[c] = track_ref[s, c] - 0.5 * (x_new[air_node[z]] + mrt)
+                w = track_w_air[c]
+                t_free[c] = track_ref[s, c] - (w * x_new[air_node[z]] + (1.0 - w) * mrt)
             for c in range(nc):
                 acc = 0.0
                 for d in range(nc):
                     acc += g_track_inv[c, d] * t_free[d]
                 q[c] = acc
-                rhs[air_node[ctrl_zone[c]]] += acc
+                for p in range(track_ptr[c], track_ptr[c + 1]):
+                    rhs[track_idx[p]] += track_val[p] * acc
             lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
             done = True
         # 3. every controlled zone at a set point in the previous step: try the Dirichlet system
@@ -640,10 +688,8 @@ def run_steps(
             for c in range(nc):
                 z = ctrl_zone[c]
                 out_q[s, c] = q[c]
-                if track_operative:
-                    track_fb[c] = 0.5 * (out_air[s, z] + out_mrt[s, z])
-                else:
-                    track_fb[c] = out_air[s, z]
+                w = track_w_air[c]
+                track_fb[c] = w * out_air[s, z] + (1.0 - w) * out_mrt[s, z]
                 if not abs(track_fb[c]) < 1.0e4:
                     diverged = True
                     track_fb[c] = np.nan

@@ -107,6 +107,11 @@ class NetworkOptions:
         Correct the interior long-wave exchange, linearised at ``radiant_temperature``, to the
         exact ``sigma (T_f^2 + T_r^2)(T_f + T_r)`` coefficient between each face and the zone's
         radiant star node (EnergyPlus exchanges ``sigma T^4`` exactly).
+    interior_longwave_exchange : {"star", "view_factors"}
+        "star": each face exchanges with one mean-radiant star node per zone (Carroll 1980), so a
+        wall also exchanges with its own co-planar windows; "view_factors": every pair of faces
+        exchanges directly with EnergyPlus' grey-body exchange factors (ScriptF, Hottel) on its
+        approximate view factors, which exclude co-planar faces (:func:`grey_exchange_factors`).
     exact_sky_longwave : bool
         Correct the linearised exterior long-wave exchange to the exact ``sigma T^4`` law.
     roughness_factor : float [-]
@@ -134,6 +139,7 @@ class NetworkOptions:
     h_interior_fixed: float | None = None
     interior_longwave: bool = True
     exact_interior_longwave: bool = True
+    interior_longwave_exchange: str = "star"
     exact_sky_longwave: bool = True
     roughness_factor: float = 1.67
     wind_speed_factor: float = 0.845
@@ -466,6 +472,38 @@ def mrt_network_conductances(area, emissivity, h_black):
     return 1.0 / resistance
 
 
+def radiant_gain_shares(face_zone, area, emissivity, n_zones):
+    """Share of its zone's radiant internal gains that each interior face absorbs [-].
+
+    EnergyPlus distributes the long-wave radiant part of internal gains over a zone's surfaces
+    in proportion to area times interior thermal absorptance (``QL * TMULT * ITABSF`` with
+    ``TMULT = 1 / sum(A ITABSF)``); the shares of a zone's faces sum to one.
+
+    Parameters
+    ----------
+    face_zone : ndarray of int (n_faces,)
+        Zone index of each interior face.
+    area : ndarray (n_faces,) [m2]
+    emissivity : ndarray (n_faces,) [-]
+        Interior thermal emissivity (= absorptance) of each face.
+    n_zones : int
+
+    Returns
+    -------
+    ndarray (n_faces,) [-]
+
+    References
+    ----------
+    EnergyPlus Engineering Reference, "Internal Long-Wave Radiation Exchange" and
+    ``HeatBalanceIntRadExchange``/``InternalHeatGains`` (distribution of radiant gains).
+    """
+    face_zone = np.asarray(face_zone, dtype=np.int64)
+    weight = np.asarray(area, dtype=float) * np.asarray(emissivity, dtype=float)
+    total = np.bincount(face_zone, weights=weight, minlength=n_zones)
+    denominator = total[face_zone]
+    return np.divide(weight, denominator, out=np.zeros_like(weight), where=denominator > 0)
+
+
 def air_density(pressure=101325.0, temperature=20.0):
     """Dry-air density from the ideal-gas law [kg/m3].
 
@@ -575,6 +613,7 @@ class Network:
     face_is_window: np.ndarray
     face_mrt_conductance: np.ndarray  # [W/K] face -> radiant star node at radiant_temperature
     face_mrt_node: np.ndarray  # radiant star node of the face's zone (-1: none)
+    face_radiant_share: np.ndarray  # share of its zone's radiant internal gains [-]
     h_black: float  # 4 sigma T^3 at radiant_temperature [W/(m2 K)]
     # exterior faces
     ext_names: list[str]
@@ -608,6 +647,11 @@ class Network:
     window_conductance_ratio: np.ndarray = field(
         default_factory=lambda: np.ones((0, len(WINDOW_TEMPERATURE_GRID)))
     )
+    # pairwise interior long-wave (interior_longwave_exchange "view_factors"): face nodes and
+    # conductance at radiant_temperature [W/K]
+    lw_pair_a: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    lw_pair_b: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    lw_pair_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def system_matrix(self, step: float) -> sp.csc_matrix:
         """``C / dt + K`` [W/K]."""
@@ -625,6 +669,7 @@ def assemble(
     cache: dict | None = None,
     gain_input_zones=(),
     own_solar_inputs=frozenset(),
+    sky_view_ratio=None,
 ) -> Network:
     """Assemble the sparse network of a building for a time step.
 
@@ -651,6 +696,11 @@ def assemble(
     own_solar_inputs : set of str
         Surfaces and windows (names) whose solar inputs get their own columns (keys with the
         name appended) instead of one per orientation: receivers of shadows.
+    sky_view_ratio : dict of str -> float, optional [-]
+        Exterior surfaces and windows (names) whose sky view is reduced by shading surfaces:
+        the ratio of shaded to unshaded isotropic sky diffuse, which multiplies the sky's share
+        of their long-wave exchange as in EnergyPlus (the rest is exchanged at the outdoor-air
+        temperature).
     """
     options = options or NetworkOptions()
     cache = {} if cache is None else cache
@@ -924,11 +974,51 @@ def assemble(
     for node, zone, area, h in zip(face_node, face_zone, face_area, h0, strict=True):
         link(int(node), int(zone), float(h * area))
 
-    # ---- interior long-wave: MRT star per zone ------------------------------------------------
+    # ---- interior long-wave: MRT star per zone, or pairwise exchange factors ------------------
     mrt_node = -np.ones(nz, dtype=np.int64)
     face_mrt_g = np.zeros(len(face_node))
     h_black = 4.0 * STEFAN_BOLTZMANN * (options.radiant_temperature + 273.15) ** 3
-    if options.interior_longwave:
+    pair_a: list[int] = []
+    pair_b: list[int] = []
+    pair_g: list[float] = []
+    if options.interior_longwave_exchange not in ("star", "view_factors"):
+        raise ThermocalInputError(
+            "interior_longwave_exchange must be 'star' or 'view_factors', got "
+            f"{options.interior_longwave_exchange!r}"
+        )
+    if options.interior_longwave and options.interior_longwave_exchange == "view_factors":
+        for z in range(nz):
+            members = np.flatnonzero(face_zone == z)
+            if len(members) < 2:
+                continue
+            key = (
+                "lw_view",
+                face_area[members].tobytes(),
+                face_eps[members].tobytes(),
+                np.asarray(f_tilt)[members].tobytes(),
+                np.asarray(f_az)[members].tobytes(),
+                np.asarray(f_mass)[members].tobytes(),
+            )
+            if key not in cache:
+                view = approximate_view_factors(
+                    face_area[members],
+                    np.asarray(f_tilt)[members],
+                    np.asarray(f_az)[members],
+                    np.asarray(f_mass)[members],
+                )
+                cache[key] = grey_exchange_factors(view, face_eps[members])
+            script_f = cache[key]
+            g = h_black * face_area[members][:, None] * script_f
+            g = 0.5 * (g + g.T)
+            for i in range(len(members)):
+                for j in range(i + 1, len(members)):
+                    if g[i, j] > 0.0:
+                        a, b = int(face_node[members[i]]), int(face_node[members[j]])
+                        link(a, b, float(g[i, j]))
+                        pair_a.append(a)
+                        pair_b.append(b)
+                        pair_g.append(float(g[i, j]))
+    elif options.interior_longwave:
         for z in range(nz):
             members = np.flatnonzero(face_zone == z)
             if len(members) < 2:
@@ -946,6 +1036,9 @@ def assemble(
                 link(int(face_node[m]), node, float(gm))
 
     # ---- internal gains ----------------------------------------------------------------------
+    # radiant internal gains (and the radiant part of identified heat) are shared by the zone's
+    # faces in proportion to area x thermal absorptance, as EnergyPlus does
+    face_radiant_share = radiant_gain_shares(face_zone, face_area, face_eps, nz)
     for z, zone in enumerate(zones):
         if zone.internal_gains == 0:
             continue
@@ -955,9 +1048,8 @@ def assemble(
         if len(members) == 0:
             source(z, IN_ONE, radiative)
             continue
-        shares = face_area[members] / face_area[members].sum()
-        for m, s in zip(members, shares, strict=True):
-            source(int(face_node[m]), IN_ONE, radiative * s)
+        for m in members:
+            source(int(face_node[m]), IN_ONE, radiative * float(face_radiant_share[m]))
 
     for name in gain_input_zones:
         z = zone_index[name]
@@ -967,17 +1059,21 @@ def assemble(
         if len(members) == 0:
             source(z, column, 1.0)
             continue
-        shares = face_area[members] / face_area[members].sum()
-        for m, s in zip(members, shares, strict=True):
-            source(int(face_node[m]), column, float(s))
+        for m in members:
+            source(int(face_node[m]), column, float(face_radiant_share[m]))
 
     # ---- exterior faces -------------------------------------------------------------------------
     ext_node = np.asarray(e_node, dtype=np.int64)
     ext_area = np.asarray(e_area, dtype=float)
     ext_tilt = np.asarray(e_tilt, dtype=float)
     ext_eps = np.asarray(e_eps, dtype=float)
-    f_ground = np.asarray(e_fg, dtype=float)
-    f_sky = 1.0 - f_ground
+    f_sky = 1.0 - np.asarray(e_fg, dtype=float)
+    if sky_view_ratio:
+        # shading surfaces hide part of the sky in the long-wave too (EnergyPlus multiplies the
+        # sky IR view factor by the isotropic sky-diffuse shading ratio; the hidden part sees
+        # the shading surfaces, taken at the outdoor-air temperature as the ground)
+        f_sky = f_sky * np.array([float(sky_view_ratio.get(name, 1.0)) for name in e_name])
+    f_ground = 1.0 - f_sky
     beta = np.sqrt(0.5 * (1.0 + np.cos(np.radians(ext_tilt))))
     view_sky = f_sky * beta
     view_air = f_ground + f_sky * (1.0 - beta)
@@ -1203,6 +1299,10 @@ def assemble(
         face_is_window=face_is_window,
         face_mrt_conductance=face_mrt_g,
         face_mrt_node=mrt_node[face_zone],
+        lw_pair_a=np.asarray(pair_a, dtype=np.int64),
+        lw_pair_b=np.asarray(pair_b, dtype=np.int64),
+        lw_pair_g=np.asarray(pair_g, dtype=float),
+        face_radiant_share=face_radiant_share,
         h_black=float(h_black),
         ext_names=e_name,
         ext_node=ext_node,
@@ -1269,6 +1369,33 @@ def approximate_view_factors(area, tilt, azimuth, internal_mass=None, iterations
         af = af * np.where(rows > 0, area / np.where(rows > 0, rows, 1.0), 0.0)[:, None]
         af = 0.5 * (af + af.T)
     return af / area[:, None]
+
+
+def grey_exchange_factors(view, emissivity):
+    """Grey-body exchange factors ``ScriptF[i, j]`` of the faces of one zone [-].
+
+    The net long-wave exchange from face ``j`` to face ``i`` per area of ``i`` is
+    ``ScriptF_ij sigma (T_j^4 - T_i^4)``, with ``ScriptF = diag(eps) (I - F diag(1 - eps))^-1 F
+    diag(eps)`` (Hottel's total exchange areas divided by ``A_i``; EnergyPlus' CalcScriptF); the
+    diagonal (self-exchange) is set to zero.
+
+    Parameters
+    ----------
+    view : ndarray (n, n) [-]
+        View factors (:func:`approximate_view_factors`).
+    emissivity : ndarray (n,) [-]
+
+    Returns
+    -------
+    ndarray (n, n) [-]
+    """
+    view = np.asarray(view, dtype=float)
+    eps = np.clip(np.asarray(emissivity, dtype=float), 0.05, 1.0)
+    n = len(eps)
+    inner = np.linalg.solve(np.eye(n) - view * (1.0 - eps)[None, :], view)
+    script_f = eps[:, None] * inner * eps[None, :]
+    np.fill_diagonal(script_f, 0.0)
+    return script_f
 
 
 def _window_back_absorptance(wt) -> tuple[float, float]:

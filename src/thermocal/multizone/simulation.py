@@ -63,8 +63,10 @@ class _Context:
     heat_sp: np.ndarray = None  # (1 or n_steps, n_controlled) [C]
     cool_sp: np.ndarray = None
     inf_dt: np.ndarray = None  # (0, 1 or n_steps, n_zones) [W/K^2]
+    people_a: np.ndarray = None  # (0 or n_steps, n_zones) [W]
     people_b: np.ndarray = None  # (0 or n_steps, n_zones) [W/K]
     people_c: np.ndarray = None  # (0 or n_steps, n_zones) [W/K^2]
+    people_max: np.ndarray = None  # (0 or n_steps, n_zones) [W]
 
 
 @dataclass
@@ -212,14 +214,18 @@ class TrackingResult:
     air_temperature, operative_temperature : DataFrame [C]
         Model temperatures of every zone at the end of each step.
     heat : DataFrame [W]
-        Heat delivered to each tracked zone's air over each step (constant over the step).
+        Heat delivered to each tracked zone over each step (constant over the step), into its
+        air and, for a radiant fraction, its surfaces.
     reference : DataFrame [C]
         The tracked reference temperatures.
-    feedback : {"air", "operative"}
+    feedback : {"air", "operative"}, float or ndarray
+        The sensor model as given to :meth:`Simulation.track`.
     method : {"inverse", "pid"}
     step : pandas.Timedelta
     diverged : list of str
         Zones whose loop diverged (the run stopped there; the rest of every frame is NaN).
+    sensed_temperature : DataFrame [C]
+        The model temperature the sensor model reads, tracked zones only.
     """
 
     air_temperature: pd.DataFrame
@@ -230,9 +236,12 @@ class TrackingResult:
     method: str
     step: pd.Timedelta
     diverged: list = field(default_factory=list)
+    sensed_temperature: pd.DataFrame | None = None
 
     def tracked_temperature(self) -> pd.DataFrame:
-        """The model temperature that was tracked (air or operative) of the tracked zones [C]."""
+        """The model temperature that was tracked (the sensor model) of the tracked zones [C]."""
+        if self.sensed_temperature is not None:
+            return self.sensed_temperature
         frame = self.air_temperature if self.feedback == "air" else self.operative_temperature
         return frame[self.heat.columns]
 
@@ -473,6 +482,7 @@ class Simulation:
             cache=self._assembly_cache,
             gain_input_zones=gain_zones,
             own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
+            sky_view_ratio=self._shadows["sky"] if self._shadows else None,
         )
         self._inputs = self._input_matrix()
         self._factorise()
@@ -623,14 +633,17 @@ class Simulation:
         self._coarse = None
         self._reset_ideal_state()
 
-    def _tracking_context(self, zones: np.ndarray, operative: bool, coarse: bool):
+    def _tracking_context(self, zones: np.ndarray, form: tuple, coarse: bool):
         """Fine (or hourly first-day) context whose Dirichlet system prescribes ``zones``.
 
-        Adds ``g_track_inv``: the inverse of the operative-temperature response of the tracked
-        zones to unit heat in their air (only when ``operative``). Cached until the network
-        changes (:meth:`set_parameters`).
+        ``form = (air_weight, radiant_fraction)``, two tuples over ``zones`` (see
+        :meth:`track`). Returns ``(context, g_inverse, distribution)``: ``g_inverse`` is the
+        inverse of the sensed-temperature response of the tracked zones to their unit heat (empty
+        when the sensors read the air and the heat goes into the air: the Dirichlet system
+        solves that case), ``distribution`` the kernel's CSR of the nodes each zone's heat enters.
+        Cached until the network changes (:meth:`set_parameters`).
         """
-        key = (tuple(int(z) for z in zones), bool(operative), bool(coarse))
+        key = (tuple(int(z) for z in zones), form, bool(coarse))
         cache = self.__dict__.setdefault("_tracking_cache", {})
         if key in cache:
             return cache[key]
@@ -649,11 +662,14 @@ class Simulation:
                 ideal=False,
                 base=self._fine,
             )
+        air_weight = np.asarray(form[0], dtype=float)
+        distribution = self._heat_distribution(zones, np.asarray(form[1], dtype=float))
         g_inverse = np.zeros((0, 0))
-        if operative:
+        if np.any(air_weight != 1.0) or np.any(np.asarray(form[1]) != 0.0):
             net = self.network
-            unit = np.zeros((net.n_nodes, len(zones)))
-            unit[net.air_node[zones], np.arange(len(zones))] = 1.0
+            ptr, idx, val = distribution
+            rows = np.repeat(np.arange(len(zones)), np.diff(ptr))
+            unit = sp.csc_matrix((val, (idx, rows)), shape=(net.n_nodes, len(zones))).toarray()
             response = context.lu.solve(unit)
             weights = sp.csr_matrix(
                 (net.face_area, (net.face_zone, net.face_node)),
@@ -663,9 +679,33 @@ class Simulation:
             mrt = np.asarray(weights[zones] @ response)
             air = response[net.air_node[zones], :]
             mrt = np.where(area[:, None] > 0, mrt / np.where(area > 0, area, 1.0)[:, None], air)
-            g_inverse = np.ascontiguousarray(np.linalg.inv(0.5 * (air + mrt)))
-        cache[key] = (context, g_inverse)
+            sensed = air_weight[:, None] * air + (1.0 - air_weight[:, None]) * mrt
+            g_inverse = np.ascontiguousarray(np.linalg.inv(sensed))
+        cache[key] = (context, g_inverse, distribution)
         return cache[key]
+
+    def _heat_distribution(self, zones: np.ndarray, radiant_fraction: np.ndarray) -> tuple:
+        """Nodes and weights of each tracked zone's heat: ``1 - f`` into the air, ``f`` over
+        its faces as the radiant internal gains (:func:`~thermocal.multizone.network.
+        radiant_gain_shares`); CSR arrays ``(ptr, idx, val)`` for the kernel."""
+        net = self.network
+        ptr, idx, val = [0], [], []
+        for z, fraction in zip(zones, radiant_fraction, strict=True):
+            members = np.flatnonzero(net.face_zone == z)
+            if fraction == 0.0 or len(members) == 0:
+                idx.append(int(net.air_node[z]))
+                val.append(1.0)
+            else:
+                idx.append(int(net.air_node[z]))
+                val.append(1.0 - float(fraction))
+                idx.extend(int(n) for n in net.face_node[members])
+                val.extend(float(fraction) * net.face_radiant_share[members])
+            ptr.append(len(idx))
+        return (
+            np.asarray(ptr, dtype=np.int64),
+            np.asarray(idx, dtype=np.int64),
+            np.asarray(val, dtype=float),
+        )
 
     def _reset_ideal_state(self) -> None:
         nc = len(self._ctrl)
@@ -733,23 +773,24 @@ class Simulation:
             self._heat_sp_steps,
             self._cool_sp_steps,
             self._inf_dt,
-            self._people_b,
-            self._people_c,
+            *self._people,
         )
         if dt == self.dt:
-            heat_sp, cool_sp, inf_dt, people_b, people_c = per_step
+            heat_sp, cool_sp, inf_dt, people_a, people_b, people_c, people_max = per_step
         else:  # hourly warm-up context of the first day
             per_day = int(round(86400.0 / self.dt))
             m = int(round(3600.0 / self.dt))
-            heat_sp, cool_sp, inf_dt, people_b, people_c = (
+            heat_sp, cool_sp, inf_dt, people_a, people_b, people_c, people_max = (
                 a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m) for a in per_step
             )
         return _Context(
             heat_sp=np.ascontiguousarray(heat_sp),
             cool_sp=np.ascontiguousarray(cool_sp),
             inf_dt=np.ascontiguousarray(inf_dt),
+            people_a=np.ascontiguousarray(people_a),
             people_b=np.ascontiguousarray(people_b),
             people_c=np.ascontiguousarray(people_c),
+            people_max=np.ascontiguousarray(people_max),
             dt=dt,
             lu=lu,
             factors=factors,
@@ -867,14 +908,19 @@ class Simulation:
         ratio = rho / net.reference_density - 1.0
         inf_dh = ratio[:, None] * net.zone_infiltration[None, :]
         self._inf_dt = np.zeros((0, len(net.zone_names)))
-        self._people_b = np.zeros((0, len(net.zone_names)))
-        self._people_c = np.zeros((0, len(net.zone_names)))
+        self._people = (np.zeros((0, len(net.zone_names))),) * 4
         scheduled = self._scheduled
         if scheduled is not None:
             if scheduled.people_per_kelvin is not None and np.any(scheduled.people_per_kelvin):
-                # People's sensible heat at the zone temperature (lagged), beyond its 22 C value
-                self._people_b = np.ascontiguousarray(scheduled.people_per_kelvin)
-                self._people_c = np.ascontiguousarray(scheduled.people_per_kelvin2)
+                # People's sensible heat at the zone temperature (lagged), beyond its 22 C value,
+                # clipped to [0, activity] in the time loop
+                people_a, people_max = self._people_limits()
+                self._people = (
+                    people_a,
+                    np.ascontiguousarray(scheduled.people_per_kelvin),
+                    np.ascontiguousarray(scheduled.people_per_kelvin2),
+                    people_max,
+                )
             names = list(net.zone_names)
             for name in self._gain_zones:
                 z = names.index(name)
@@ -895,6 +941,43 @@ class Simulation:
                     self._inf_dt = np.ascontiguousarray(rho[:, None] * per_ach[None, :] * ach_dt)
         self._inf_dh = np.ascontiguousarray(inf_dh)
         return u
+
+    def _people_limits(self) -> tuple[np.ndarray, np.ndarray]:
+        """Constant term [W] and upper limit [W] of the People sensible heat per zone and step.
+
+        For People with an autocalculated sensible fraction: ``sum(number x a(activity))`` of
+        :func:`~thermocal.multizone.idf.loads.people_sensible_coefficients` and
+        ``sum(number x activity)`` (EnergyPlus clips each person's sensible heat to
+        ``[0, activity]``; clipping the zone's sum is the same when its People share one activity
+        schedule).
+        """
+        from thermocal.multizone.idf.loads import people_sensible_coefficients
+
+        info = self._idf_info
+        names = list(self.building.zones)
+        n, nz = len(self.times), len(names)
+        constant = np.zeros((n, nz))
+        limit = np.zeros((n, nz))
+        sched = info.schedules
+        for gain in info.internal_gains:
+            if (
+                gain.zone not in self.building.zones
+                or gain.people_count <= 0
+                or gain.activity_schedule is None
+                or gain.sensible_fraction is not None
+            ):
+                continue
+            z = names.index(gain.zone)
+            fraction = (
+                np.ones(n)
+                if gain.schedule is None
+                else sched.on_grid(gain.schedule, self.times, self.step_size)
+            )
+            activity = sched.on_grid(gain.activity_schedule, self.times, self.step_size)
+            a, _, _ = people_sensible_coefficients(activity)
+            constant[:, z] += gain.people_count * fraction * a
+            limit[:, z] += gain.people_count * fraction * activity
+        return np.ascontiguousarray(constant), np.ascontiguousarray(limit)
 
     def _shaded(self, irradiance: dict, name: str) -> dict:
         """Irradiance on a shaded receiver: beam x sunlit fraction, sky diffuse x sky view."""
@@ -1055,8 +1138,10 @@ class Simulation:
             net.air_node,
             inf_dh,
             np.zeros((0, nz)) if linear else context.inf_dt,
+            np.zeros((0, nz)) if linear else context.people_a,
             np.zeros((0, nz)) if linear else context.people_b,
             np.zeros((0, nz)) if linear else context.people_c,
+            np.zeros((0, nz)) if linear else context.people_max,
             controlled,
             context.heat_sp if tracking is None else track["dummy_sp"],
             context.cool_sp if tracking is None else track["dummy_sp"],
@@ -1086,10 +1171,15 @@ class Simulation:
             self.options.exact_interior_longwave and self.options.interior_longwave and not linear,
             net.face_mrt_node,
             net.face_mrt_conductance,
+            net.lw_pair_a,
+            net.lw_pair_b,
+            net.lw_pair_g,
             net.h_black,
             track["mode"],
             track["reference"],
-            track["operative"],
+            track["general"],
+            track["w_air"],
+            *track["distribution"],
             *track["pid"],
             track["pid_state"],
             track["feedback"],
@@ -1106,7 +1196,8 @@ class Simulation:
         *,
         zones=None,
         method: str = "inverse",
-        feedback: str = "air",
+        feedback="air",
+        radiant_fraction=0.0,
         pid: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
         limits: tuple[np.ndarray, np.ndarray] | None = None,
         heat_input: pd.DataFrame | np.ndarray | None = None,
@@ -1133,9 +1224,15 @@ class Simulation:
             network's lagged explicit corrections, which are evaluated at the start of the step).
             "pid": a discrete PID per zone on the error between the reference of the step and
             the model temperature at the end of the previous step, as in a co-simulation.
-        feedback : {"air", "operative"}
-            Tracked model temperature: zone air, or operative (mean of air and area-weighted
-            interior surface temperature).
+        feedback : {"air", "operative"}, float or ndarray (n_zones,)
+            The sensor model, the tracked model temperature ``w T_air + (1 - w) T_surf``
+            (``T_surf`` the area-weighted interior surface temperature): "air" (``w = 1``),
+            "operative" (``w = 0.5``) or the air weight ``w`` [-] in ``[0, 1]``, one or per zone.
+        radiant_fraction : float or ndarray (n_zones,) [-]
+            Where the identified heat goes: ``1 - f`` into the zone air, ``f`` over the zone's
+            surfaces as radiant internal gains are distributed (area x thermal absorptance,
+            :func:`~thermocal.multizone.network.radiant_gain_shares`); one or per zone, in
+            ``[0, 1]``. 0 (default): all into the air.
         pid : tuple of three ndarray (n_zones,), optional
             Controller-canonical coefficients per zone ``(D, C1, C2) = (KP + KI + KD, KI - KD,
             KD)`` with discrete gains [W/K] (see :mod:`thermocal.identification.pid`); required
@@ -1167,11 +1264,7 @@ class Simulation:
             raise ThermocalInputError("track: the reference contains NaN or infinite values")
         if method not in ("inverse", "pid"):
             raise ThermocalInputError(f"track: method must be 'inverse' or 'pid', got {method!r}")
-        if feedback not in ("air", "operative"):
-            raise ThermocalInputError(
-                f"track: feedback must be 'air' or 'operative', got {feedback!r}"
-            )
-        operative = feedback == "operative"
+        form = _tracking_form(feedback, radiant_fraction, nt)
         if method == "pid":
             if pid is None:
                 raise ThermocalInputError("track: method='pid' needs the controller coefficients")
@@ -1190,11 +1283,13 @@ class Simulation:
         self._face_root = np.ones(len(net.face_node))
         self._reset_ideal_state()
         self._k = 0
-        fine, g_fine = self._tracking_context(tracked, operative, coarse=False)
+        fine, g_fine, distribution = self._tracking_context(tracked, form, coarse=False)
         state = {
             "zones": tracked,
             "dummy_sp": np.zeros((1, nt)),
-            "operative": operative,
+            "general": g_fine.shape[0] > 0,
+            "w_air": np.asarray(form[0], dtype=float),
+            "distribution": distribution,
             "pid": pid,
             "pid_state": np.zeros((nt, 2)),
             "feedback": reference[0].copy(),
@@ -1203,7 +1298,7 @@ class Simulation:
         }
         q0 = np.zeros(nt)
         if self.warmup_days > 0:
-            q0 = self._warm_up_tracking(tracked, operative, reference, state)
+            q0 = self._warm_up_tracking(tracked, form, reference, state)
         if method == "pid":
             ki = pid[1] + pid[2]  # C1 + C2 = KI
             start = np.divide(np.clip(q0, q_low, q_high), ki, out=np.zeros(nt), where=ki > 0)
@@ -1245,6 +1340,7 @@ class Simulation:
             if bar is not None:
                 bar[0].stop()
         self._k = n_steps
+        weight = np.asarray(form[0], dtype=float)
         diverged = ~np.isfinite(state["feedback"])
         names = [net.zone_names[i] for i in tracked]
         index = self.times
@@ -1259,6 +1355,11 @@ class Simulation:
             method=method,
             step=self.step_size,
             diverged=[name for name, bad in zip(names, diverged, strict=True) if bad],
+            sensed_temperature=pd.DataFrame(
+                weight * air[:, tracked] + (1.0 - weight) * mrt[:, tracked],
+                index=index,
+                columns=names,
+            ),
         )
 
     def _zone_indices(self, zones) -> np.ndarray:
@@ -1285,15 +1386,15 @@ class Simulation:
             raise ThermocalInputError("track: a zone is listed twice")
         return np.asarray(out, dtype=np.int64)
 
-    def _warm_up_tracking(self, tracked, operative, reference, state) -> np.ndarray:
+    def _warm_up_tracking(self, tracked, form, reference, state) -> np.ndarray:
         """Track the first day's reference ``warmup_days`` times; the last heat [W]."""
-        coarse = self._tracking_context(tracked, operative, coarse=True)
+        coarse = self._tracking_context(tracked, form, coarse=True)
         if coarse is None:  # no hourly context: the first day at the fine step
-            context, g_inverse = self._tracking_context(tracked, operative, coarse=False)
+            context, g_inverse, _ = self._tracking_context(tracked, form, coarse=False)
             n_day = min(int(round(86400.0 / self.dt)), len(reference))
             day = reference[:n_day]
         else:
-            context, g_inverse = coarse
+            context, g_inverse, _ = coarse
             per_hour = int(round(3600.0 / self.dt))
             day = _hourly_first_day(reference, 24 * per_hour, per_hour)
             n_day = 24
@@ -1510,8 +1611,8 @@ class Simulation:
         if self._scheduled is not None:
             out.append(
                 "schedules applied step by step (set points, internal gains, infiltration); "
-                "People sensible heat at the previous step's zone air temperature, all of its "
-                "change with temperature to the zone air"
+                "People sensible heat at the previous step's zone air temperature, clipped to "
+                "[0, activity] as EnergyPlus, all of its change with temperature to the zone air"
             )
             out.extend(
                 note
@@ -1549,13 +1650,69 @@ class Simulation:
         return out
 
 
+def notes_summary(notes) -> str:
+    """A few-line summary of the import and approximation notes: counts per kind.
+
+    The kind of a note is its first words (at most four) up to a name in quotes, a colon, a
+    comma or a parenthesis ("infiltration", "objects not represented", "schedule calendar").
+
+    Parameters
+    ----------
+    notes : sequence of str
+        E.g. :meth:`Simulation.approximations`.
+
+    Returns
+    -------
+    str
+        ``"N notes: k1 (n1), k2 (n2), ..."``, or "" without notes.
+    """
+    import re
+
+    counts: dict[str, int] = {}
+    for note in notes:
+        head = re.split(r"\s'|:|\(|;|,", str(note).strip(), maxsplit=1)[0]
+        kind = " ".join(head.split()[:4]) or "other"
+        counts[kind] = counts.get(kind, 0) + 1
+    if not counts:
+        return ""
+    total = sum(counts.values())
+    parts = ", ".join(f"{kind} ({n})" for kind, n in sorted(counts.items(), key=lambda kv: -kv[1]))
+    return f"{total} note{'s' if total != 1 else ''}: {parts}"
+
+
+def _tracking_form(feedback, radiant_fraction, n_tracked: int) -> tuple:
+    """``(air_weight, radiant_fraction)`` tuples over the tracked zones, validated."""
+    if isinstance(feedback, str):
+        if feedback not in ("air", "operative"):
+            raise ThermocalInputError(
+                f"track: feedback must be 'air', 'operative' or an air weight in [0, 1], got "
+                f"{feedback!r}"
+            )
+        feedback = 1.0 if feedback == "air" else 0.5
+    out = []
+    for name, value in (("feedback air weight", feedback), ("radiant_fraction", radiant_fraction)):
+        try:
+            array = np.broadcast_to(np.asarray(value, dtype=float), n_tracked)
+        except (TypeError, ValueError):
+            raise ThermocalInputError(
+                f"track: {name} must be a number or one per tracked zone ({n_tracked}), got "
+                f"{value!r}"
+            ) from None
+        if not np.all((array >= 0.0) & (array <= 1.0)):
+            raise ThermocalInputError(f"track: {name} must lie in [0, 1], got {value!r}")
+        out.append(tuple(float(v) for v in array))
+    return tuple(out)
+
+
 def _no_tracking(n: int) -> dict:
     """Kernel arguments of the tracking modes when no zone is tracked."""
     empty = np.zeros(0)
     return {
         "mode": 0,
         "reference": np.zeros((n, 0)),
-        "operative": False,
+        "general": False,
+        "w_air": np.zeros(0),
+        "distribution": (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0)),
         "pid": (empty, empty, empty),
         "pid_state": np.zeros((0, 2)),
         "feedback": empty,

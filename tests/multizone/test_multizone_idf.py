@@ -775,3 +775,22 @@ def test_unsupported_class_kinds(cls, kind):
     from thermocal.multizone.idf import unsupported_kind
 
     assert unsupported_kind(cls) == kind
+
+
+@pytest.mark.parametrize(
+    ("version", "outcome"),
+    [("7.2", "older than the IDF versions thermocal reads"), ("99.1", "newer than the newest"),
+     ("9.3", None), ("25.2", None)],
+)
+def test_idf_version_outside_the_supported_range_is_named(tmp_path, version, outcome):
+    """An IDF of version 7.2 failed on a RunPeriod field without naming its version; 99.1 was
+    accepted silently."""
+    path = _box(tmp_path)
+    path.write_text(path.read_text().replace("Version,9.3;", f"Version,{version};"))
+    if outcome and outcome.startswith("older"):
+        with pytest.raises(ThermocalInputError, match=rf"version {version} is {outcome}.*8\.0"):
+            _read(path)
+        return
+    building, _ = _read(path)
+    notes = " ".join(building.idf_info.notes)
+    assert (outcome in notes) if outcome else ("newer than" not in notes)

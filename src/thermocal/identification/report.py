@@ -91,6 +91,8 @@ def add_section(
             caption=f"Ziegler-Nichols tuning on {t.zone} ({t.volume:.0f} m3)",
             number_format="{:,.4g}",
         )
+        if getattr(t, "experiment_note", None):
+            report.note(t.experiment_note)
         report.figure(
             figure("tuning_oscillation", lambda: figures.tuning_oscillation(t)),
             caption="Tuning experiment at the ultimate gain.",

@@ -150,6 +150,58 @@ __all__ = [
 ]
 
 
+#: Oldest EnergyPlus version whose field layouts the importer knows (older files differ in
+#: RunPeriod, surfaces and schedules beyond what is adapted) and the newest one it was built for.
+OLDEST_VERSION, NEWEST_VERSION = (8, 0), (25, 2)
+
+
+def _has_version(objects) -> bool:
+    return any(obj.key == "VERSION" and obj.fields for obj in objects)
+
+
+def check_version(version: tuple[int, int], path, *, declared: bool = True) -> list[str]:
+    """Refuse an IDF older than the importer knows; a note for a newer or undeclared one.
+
+    Parameters
+    ----------
+    version : (int, int)
+        The file's ``Version`` (major, minor).
+    path : str or Path
+        The file, for the message.
+    declared : bool
+        Whether the file has a ``Version`` object (else 9.3 is assumed).
+
+    Returns
+    -------
+    list of str
+        Notes for the import summary.
+
+    Raises
+    ------
+    ThermocalInputError
+        A version older than :data:`OLDEST_VERSION`, naming it and what to do.
+    """
+    from thermocal.errors import ThermocalInputError
+
+    text = f"{version[0]}.{version[1]}"
+    supported = (f"{OLDEST_VERSION[0]}.{OLDEST_VERSION[1]} to "
+                 f"{NEWEST_VERSION[0]}.{NEWEST_VERSION[1]}")
+    if not declared:
+        return [f"{path}: no Version object; the field layouts of EnergyPlus 9.3 are assumed "
+                f"(supported: {supported})"]
+    if version < OLDEST_VERSION:
+        raise ThermocalInputError(
+            f"{path}: EnergyPlus version {text} is older than the IDF versions thermocal reads "
+            f"({supported}); convert it with EnergyPlus' IDFVersionUpdater (or its "
+            "Transition-V*-to-V* programs) to a supported version first"
+        )
+    if version > NEWEST_VERSION:
+        return [f"{path}: EnergyPlus version {text} is newer than the newest layout thermocal "
+                f"knows ({NEWEST_VERSION[0]}.{NEWEST_VERSION[1]}); fields are read with that "
+                "layout: check the import summary and compare with EnergyPlus"]
+    return []
+
+
 def read_idf(path: str | Path, *, year: int | None = None):
     """Read the envelope of an EnergyPlus IDF file into a multi-zone Building.
 
@@ -215,6 +267,8 @@ class _IdfReader(SiteStages, ConstructionStages, SurfaceStages, ShadingStages, L
         self.objects = read_idf_objects(self.path)
         self.version = _version_tuple(self.objects)
         self.info = IdfImportInfo(source=str(self.path), version=self.version)
+        self.info.notes.extend(check_version(self.version, self.path,
+                                             declared=_has_version(self.objects)))
         self.by_key: dict[str, list[IdfObject]] = {}
         for obj in self.objects:
             self.by_key.setdefault(obj.key, []).append(obj)

@@ -462,7 +462,10 @@ def calibrate(
     problem, _ = build_problem(campaign, inputs)
     later = validation_problem(campaign, inputs)
     # the series meta-model needs each sample's unoccupied heat series
-    problem.series_outputs = campaign.metamodel.kind in ("auto", "series")
+    # every sample stores its unoccupied heat series, whatever the meta-model: the series
+    # model and the posterior need it, and a campaign re-analysed with another meta-model kind
+    # re-uses its simulations (the kind is an analysis setting, not part of the store)
+    problem.series_outputs = True
     timings["setup"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     nominal_run = problem.run({})
@@ -621,15 +624,30 @@ def calibrate(
         t0 = time.perf_counter()
         validation = _validate(campaign, inputs, optimisation, later)
         timings["validation"] = time.perf_counter() - t0
+    posterior = None
+    if series is not None:
+        t0 = time.perf_counter()
+        posterior = _posterior_or_note(surrogate, kind, X, y, series, space, critical,
+                                       campaign, notes)
+        timings["posterior"] = time.perf_counter() - t0
+        if posterior is not None:
+            for line in posterior.sentences():
+                log(line)
     # the calibrated model: the best confirmed candidate among the reduced meta-model's minimum,
-    # the campaign's best sample (a meta-model fitted on few samples can miss) and the
-    # trust-region refinement from the better of the two
+    # the joint posterior's median, the campaign's best sample (a meta-model fitted on few
+    # samples can miss) and the trust-region refinement from the best of them
     candidates = {
         "meta-model minimum": (confirmed["min"]["confirmed"], optimisation.parameters("min"))
     }
     if nominal[METRIC] < candidates["meta-model minimum"][0]:
         # never return a building worse than the one the user gave
         candidates["nominal building (no change)"] = (nominal[METRIC], space.nominal_dict())
+    if posterior is not None:
+        # the joint posterior's median (all varied parameters at once), confirmed with the model
+        median = {**space.nominal_dict(), **posterior.summary["median"].to_dict()}
+        candidates["posterior median"] = (problem.metrics(problem.run(median).heat)[METRIC],
+                                          median)
+        confirmed["posterior_median"] = {"confirmed": candidates["posterior median"][0]}
     best = int(np.argmin(y))
     if y[best] < min(c[0] for c in candidates.values()):
         candidates[f"campaign sample {int(X.index[best])}"] = (
@@ -689,15 +707,6 @@ def calibrate(
     calibrated = inputs.building.with_parameters(
         {name: calibrated_values[name] for name in space.names}
     )
-    posterior = None
-    if series is not None:
-        t0 = time.perf_counter()
-        posterior = _posterior_or_note(surrogate, kind, X, y, series, space, critical,
-                                       campaign, notes)
-        timings["posterior"] = time.perf_counter() - t0
-        if posterior is not None:
-            for line in posterior.sentences():
-                log(line)
     grid = problem.simulation().weather_on_grid
     weather = pd.DataFrame(
         {
@@ -838,7 +847,7 @@ def problem_settings(campaign, problem: IdentificationProblem) -> dict:
         problem.series_outputs = series
     return {
         **campaign.problem_settings(),
-        "heat series stored per sample (metamodel kind auto or series)": bool(series),
+        "heat series stored per sample": bool(series),
         "identification problem": digest,
     }
 

@@ -37,6 +37,7 @@ def print_summary(results: dict, out: Path) -> None:
         "avoided energy, post period",
         {"value": av["saving_pct"], "lo": av["saving_pct_lo"], "hi": av["saving_pct_hi"]},
     )
+    table.add_row("comfort take-back", f"{av['take_back_pp']:+.1f} pp", "")
     hl = ph["heat_loss_coefficient_W_per_K"]
     row("HLC before", hl["pre"], "W/K", ".0f")
     row("HLC after", hl["post"], "W/K", ".0f")
@@ -50,9 +51,12 @@ def print_summary(results: dict, out: Path) -> None:
     )
     if "truth_check" in results:
         t = results["truth_check"]["annual_saving_pct"]
+        pp = results["truth_check"]["post_period_saving_pct_same_controls"]
         console.print(
             f"demo truth: annual saving {t['true']:.1f} %, verified {t['verified']:.1f} % "
-            f"({t['error_pp']:+.1f} pp, {'covered' if t['covered'] else 'NOT covered'})"
+            f"({t['error_pp']:+.1f} pp, {'covered' if t['covered'] else 'NOT covered'}); "
+            f"post period with take-back {pp['true']:.1f} %, verified "
+            f"{pp['verified_with_take_back']:.1f} %"
         )
     style = {"delivered": "green", "inconclusive": "yellow"}.get(comp["verdict"], "bold red")
     console.print(f"[{style}]{comp['verdict'].upper()}[/{style}]: {comp['explanation']}")

@@ -653,11 +653,34 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     t2 = time.perf_counter()
     span = (inputs.index >= pre[0]) & (inputs.index < post[1])
     frame = inputs.loc[span]
+    step_h = (frame.index[1] - frame.index[0]) / pd.Timedelta(hours=1)
     q_base = heat_to_follow_measured(
         model, cal_pre.estimates_si, cal_pre.envelope, cal_pre.x0, frame[list(DEMAND_INPUTS)],
         frame[OUTPUT_COLUMN], frame["phi_int"] if has_gains else None,
     )  # fmt: skip
-    daily = daily_energy(pd.DataFrame({"measured": frame["phi_h_measured"], "baseline": q_base}))
+    # the pre-retrofit calibration with the measures applied (the method's prediction of the
+    # retrofitted house) over the same span: its post-period heat is what the prediction
+    # expected; the measured-to-expected ratio carries the measurement to the reference year
+    env_ret = model.apply_measures(list(measures.values()), cal_pre.envelope)
+    q_ret = heat_to_follow_measured(
+        model, cal_pre.estimates_si, env_ret, cal_pre.x0, frame[list(DEMAND_INPUTS)],
+        frame[OUTPUT_COLUMN], frame["phi_int"] if has_gains else None,
+    )  # fmt: skip
+    # comfort take-back: the baseline following the pre period's daily indoor profile instead
+    # of the measured post-period temperatures (what the house would have used at the old
+    # comfort); the difference is the heat the rooms' temperature change costs
+    ti_old = pd.Series(
+        daily_profile(inputs.loc[sel_pre, OUTPUT_COLUMN])[np.asarray(frame.index.hour)],
+        index=frame.index,
+    ).where(frame.index >= post[0], frame[OUTPUT_COLUMN])
+    q_base_old = heat_to_follow_measured(
+        model, cal_pre.estimates_si, cal_pre.envelope, cal_pre.x0, frame[list(DEMAND_INPUTS)],
+        ti_old, frame["phi_int"] if has_gains else None,
+    )  # fmt: skip
+    daily = daily_energy(
+        pd.DataFrame({"measured": frame["phi_h_measured"], "baseline": q_base, "expected": q_ret,
+                      "baseline_old_comfort": q_base_old})
+    )  # fmt: skip
     day_index = daily.index
     daily["period"] = np.where(
         (day_index >= pre[0].normalize()) & (day_index + pd.Timedelta(days=1) <= pre[1]),
@@ -672,6 +695,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     e_base = float(d_post["baseline"].sum())
     e_meas = float(d_post["measured"].sum())
     e_save = e_base - e_meas
+    e_base_old = float(d_post["baseline_old_comfort"].sum())
     frac = e_save / e_base if e_base > 0 else float("nan")
     fsu = fractional_savings_uncertainty(
         stats["cv_rmse_pct"], len(d_pre), len(d_post), rho, frac, interval
@@ -717,6 +741,31 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     else:
         a_post_use = a_post
     s_phys = 100.0 * (1.0 - a_post / a_pre[0])
+    # avoided energy normalised to the reference year: the measured post-period heat over the
+    # heat the calibrated prediction expected (ratio r) scales the predicted annual demand of
+    # the retrofitted house; r carries the baseline model's Guideline 14 uncertainty
+    e_exp = float(d_post["expected"].sum())
+    ratio = e_meas / e_exp if e_exp > 0 else float("nan")
+    # per draw: each parameter set's own expectation of the post period (a draw that predicts
+    # a larger saving expects less heat, so the measurement pulls it back)
+    from thermocal.retrofit.model import ESTIMATED_PARAMETERS
+
+    post_rows = frame.index >= post[0]
+    post_days = frame.index.normalize().isin(d_post.index) & post_rows
+    e_exp_d = np.empty(a_pre.shape[1])
+    for d in range(a_pre.shape[1]):
+        q = heat_to_follow_measured(
+            model, {k: float(draws_pre[k][d]) for k in ESTIMATED_PARAMETERS},
+            _envelope_of(env_pre[1], d), cal_pre.x0, frame[list(DEMAND_INPUTS)],
+            frame[OUTPUT_COLUMN], frame["phi_int"] if has_gains else None,
+        )  # fmt: skip
+        e_exp_d[d] = float(q[post_days].sum()) * step_h / 1000.0
+    e_exp_d[0] = e_exp
+    rng = np.random.default_rng(cfg.uncertainty.seed + 2161)
+    sigma_r = fsu["half_width"] / fsu["t"]  # relative standard uncertainty of a post sum
+    r_d = e_meas / e_exp_d * np.exp(rng.normal(0.0, sigma_r, a_pre.shape[1]))
+    r_d[0] = ratio
+    s_avoided_year = 100.0 * (1.0 - r_d * a_pre[1] / a_pre[0])
     s_norm = 100.0 * (1.0 - a_post_use / a_pre[0])
     s_model = 100.0 * (1.0 - a_pre[1] / a_pre[0])
     timings["avoided_and_normalised"] = time.perf_counter() - t2
@@ -730,9 +779,21 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
         "saving_pct": 100.0 * frac,
         "saving_pct_lo": 100.0 * (frac - fsu["half_width"]),
         "saving_pct_hi": 100.0 * (frac + fsu["half_width"]),
-        "normalised_avoided_kWh": frac * float(a_pre[0, 0]),
-        "normalised_note": "the post period's savings fraction applied to the baseline "
-        "model's annual demand in the reference year",
+        "baseline_at_pre_comfort_kWh": e_base_old,
+        "saving_with_take_back_pct": 100.0 * (1.0 - e_meas / e_base_old),
+        "take_back_pp": 100.0 * frac - 100.0 * (1.0 - e_meas / e_base_old),
+        "mean_indoor_C": {"pre": float(inputs.loc[sel_pre, OUTPUT_COLUMN].mean()),
+                          "post": float(inputs.loc[sel_post, OUTPUT_COLUMN].mean())},
+        "expected_kWh": e_exp,
+        "measured_to_expected_ratio": ratio,
+        "normalised_saving_pct": {
+            "value": float(s_avoided_year[0]),
+            **dict(zip(("lo", "hi"), _quantiles(s_avoided_year[1:], interval), strict=True)),
+        },
+        "normalised_avoided_kWh": float(a_pre[0, 0] * s_avoided_year[0] / 100.0),
+        "normalised_note": "reference year: the baseline's annual demand minus the predicted "
+        "annual demand of the retrofitted house times the measured-to-expected ratio of the "
+        "post period",
         "days_pre": len(d_pre),
         "days_post": len(d_post),
         "baseline_nmbe_pct": stats["nmbe_pct"],
@@ -804,8 +865,10 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
         prediction.saving_pct = float(s_model[0])
         prediction.p_lo, prediction.p_hi = _quantiles(s_model[1:], interval)
         prediction.draws = s_model
-    comparison = compare(s_norm, prediction, interval, sec.inconclusive_pp, baseline_ok,
-                         physical_pct=s_phys)  # fmt: skip
+    comparison = compare(
+        s_avoided_year, prediction, interval, sec.inconclusive_pp, baseline_ok,
+        take_back_pp=avoided["take_back_pp"], physical_pct=s_norm,
+    )  # fmt: skip
     comparison["model_prediction_from_pre_period"] = summary(s_model)
     timings["total"] = time.perf_counter() - t0
     ver = Verification(
@@ -824,6 +887,8 @@ def compare(
     inconclusive_pp: float,
     baseline_ok: bool,
     *,
+    take_back_pp: float = 0.0,
+    take_back_limit_pp: float = 5.0,
     physical_pct: np.ndarray | None = None,
 ) -> dict:
     """Measured minus predicted saving [pp] with its interval, and the verdict.
@@ -831,7 +896,8 @@ def compare(
     Parameters
     ----------
     measured : ndarray [%]
-        Normalised measured saving, first the estimate, then draws.
+        Measured saving normalised to the reference year at the prediction's indoor profile,
+        first the estimate, then draws.
     prediction : Prediction
         With its own draws (paired) or an interval (independent: half-widths combined in
         quadrature, each side separately).
@@ -840,8 +906,17 @@ def compare(
         Difference intervals wider than this either side make the verdict inconclusive.
     baseline_ok : bool
         The baseline model meets the Guideline 14 criteria.
+    take_back_pp : float [pp]
+        Saving of the post period lost to its changed indoor temperatures (positive: warmer
+        rooms after the retrofit).
+    take_back_limit_pp : float [pp]
+        A take-back beyond this makes a delivered retrofit a rebound.
     physical_pct : ndarray [%], optional
-        The saving at the pre period's indoor profile (envelope alone), for the explanation.
+        The second answer (models calibrated on each period), quoted in the explanation.
+
+    Returns
+    -------
+    dict: measured, predicted, difference (value, lo, hi), verdict, explanation.
     """
     m0 = float(measured[0])
     m_lo, m_hi = _quantiles(measured[1:] if len(measured) > 1 else measured, interval)
@@ -856,57 +931,69 @@ def compare(
         p_hi = p0 if prediction.p_hi is None else float(prediction.p_hi)
         d_lo = d0 - float(np.hypot(m0 - m_lo, p_hi - p0))
         d_hi = d0 + float(np.hypot(m_hi - m0, p0 - p_lo))
-    wide = max(d0 - d_lo, d_hi - d0) > inconclusive_pp
+    pct = f"{100 * interval:.0f} %"
+    diff = f"{d0:+.1f} pp, {pct} interval {d_lo:+.1f} to {d_hi:+.1f} pp"
+    take_back = (
+        f"; warmer rooms after the retrofit take back {take_back_pp:.1f} pp of the post "
+        "period's saving (comfort take-back)"
+        if take_back_pp > 1.0
+        else ""
+    )
     if not baseline_ok:
         verdict = "inconclusive"
         why = (
             "the baseline model does not meet the ASHRAE Guideline 14-2014 criteria on the "
             "pre-retrofit period, so the measured saving is not reliable"
         )
-    elif wide:
+    elif max(d0 - d_lo, d_hi - d0) > inconclusive_pp:
         verdict = "inconclusive"
         why = (
             f"the interval of the difference ({d_lo:+.1f} to {d_hi:+.1f} pp) is wider than "
             f"+/- {inconclusive_pp:g} pp: measure longer before and after the retrofit"
         )
-    elif d_lo <= 0.0 <= d_hi:
-        verdict = "delivered"
-        why = (
-            f"the measured saving {m0:.1f} % agrees with the predicted {p0:.1f} % within the "
-            f"uncertainty (difference {d0:+.1f} pp, {100 * interval:.0f} % interval "
-            f"{d_lo:+.1f} to {d_hi:+.1f} pp)"
-        )
     elif d_hi < 0.0:
         verdict = "rebound"
         why = (
-            f"the house saves less than predicted: {m0:.1f} % measured vs {p0:.1f} % predicted "
-            f"({d0:+.1f} pp, interval {d_lo:+.1f} to {d_hi:+.1f} pp)"
+            f"the house saves less than predicted: {m0:.1f} % measured vs {p0:.1f} % "
+            f"predicted at the same indoor temperatures ({diff})"
+            + (take_back or "; the measures perform worse than described (performance gap)")
         )
-    else:
+    elif d_lo > 0.0:
         verdict = "prebound"
         why = (
             f"the house saves more than predicted: {m0:.1f} % measured vs {p0:.1f} % predicted "
-            f"({d0:+.1f} pp, interval {d_lo:+.1f} to {d_hi:+.1f} pp); the prediction started "
-            "from a description with higher losses than the house really had"
+            f"({diff}); the prediction started from higher losses than the house really had"
+            + take_back
         )
-    out = {
+    elif take_back_pp > take_back_limit_pp:
+        verdict = "rebound"
+        why = (
+            f"the retrofit delivers its saving at equal indoor temperatures ({m0:.1f} % "
+            f"measured vs {p0:.1f} % predicted, {diff}), but the rooms are warmer after it: "
+            f"{take_back_pp:.1f} pp of the post period's saving are taken back as comfort"
+        )
+    else:
+        verdict = "delivered"
+        why = (
+            f"the measured saving {m0:.1f} % agrees with the predicted {p0:.1f} % within the "
+            f"uncertainty ({diff})" + take_back
+        )
+    if physical_pct is not None:
+        lo, hi = _quantiles(physical_pct[1:] if len(physical_pct) > 1 else physical_pct, interval)
+        why += (
+            f". Second answer, the models calibrated before and after: "
+            f"{float(physical_pct[0]):.1f} % ({lo:.1f} to {hi:.1f} %)"
+        )
+    return {
         "measured_saving_pct": {"value": m0, "lo": m_lo, "hi": m_hi},
         "predicted_saving_pct": {"value": p0, "lo": prediction.p_lo, "hi": prediction.p_hi,
                                  "source": prediction.source, "strategy": prediction.code},
         "difference_pp": {"value": d0, "lo": d_lo, "hi": d_hi},
+        "take_back_pp": take_back_pp,
         "interval": interval,
         "verdict": verdict,
         "explanation": why,
     }  # fmt: skip
-    if physical_pct is not None and verdict in ("rebound", "prebound"):
-        take_back = float(physical_pct[0] - m0)
-        if abs(take_back) >= 1.0:
-            out["explanation"] += (
-                f"; of the difference, {take_back:+.1f} pp come from the indoor temperatures "
-                "after the retrofit (the envelope alone saves "
-                f"{float(physical_pct[0]):.1f} %)"
-            )
-    return out
 
 
 # ------------------------------------------------------------------------------------------
@@ -1122,8 +1209,9 @@ def truth_check(ver: Verification) -> dict:
             "covered": bool(annual["lo"] <= t["annual_saving_pct"] <= annual["hi"]),
         },
         "post_period_saving_pct_same_controls": {
-            "true": t["post_period_saving_pct"], "avoided_energy": ver.avoided["saving_pct"],
-            "lo": ver.avoided["saving_pct_lo"], "hi": ver.avoided["saving_pct_hi"],
+            "true": t["post_period_saving_pct"],
+            "verified_with_take_back": ver.avoided["saving_with_take_back_pct"],
+            "error_pp": ver.avoided["saving_with_take_back_pct"] - t["post_period_saving_pct"],
         },
         "heat_loss_coefficient_W_per_K": {
             k: {"true": t["heat_loss_coefficient_W_per_K"][k], **hlc[k]} for k in ("pre", "post")
@@ -1241,8 +1329,14 @@ def write_report(ver: Verification, results: dict, figures: dict, path: Path) ->
         f"{100 * av['fsu_at_68pct']:.0f} % at 68 % (Guideline 14 asks below 50 % at 68 %)",
         "formula": av["fsu_formula"] + f"; lag-1 autocorrelation of the daily residuals "
         f"{av['residual_lag1_autocorrelation']:.2f}, n' = {av['n_eff']:.1f}",
-        "normalised to the reference year": f"{av['normalised_avoided_kWh']:,.0f} kWh/a "
-        "(the post period's savings fraction times the baseline's annual demand)",
+        "comfort take-back": f"mean indoor temperature {av['mean_indoor_C']['pre']:.1f} C "
+        f"before, {av['mean_indoor_C']['post']:.1f} C after; at the old indoor profile the "
+        f"baseline is {av['baseline_at_pre_comfort_kWh']:,.0f} kWh and the saving "
+        f"{av['saving_with_take_back_pct']:.1f} % ({av['take_back_pp']:+.1f} pp taken back)",
+        "normalised to the reference year": f"{_pct(av['normalised_saving_pct'])}, "
+        f"{av['normalised_avoided_kWh']:,.0f} kWh/a: the predicted annual demand of the "
+        "retrofitted house times the measured-to-expected ratio of the post period "
+        f"({av['measured_to_expected_ratio']:.3f}) against the baseline's",
     })  # fmt: skip
     rep.section("Physical change: the model calibrated on each period")
     hl = ph["heat_loss_coefficient_W_per_K"]
@@ -1285,9 +1379,11 @@ def write_report(ver: Verification, results: dict, figures: dict, path: Path) ->
             f"{tc['heat_loss_coefficient_W_per_K']['post']['true']:.0f} W/K after. "
             "In the post period, the same house without the retrofit under the same controls "
             f"would have used {ver.truth['post_period_heat_kWh']['without_retrofit']:,.0f} kWh "
-            f"({tc['post_period_saving_pct_same_controls']['true']:.1f} % saved); the avoided "
-            f"energy ({av['saving_pct']:.1f} %) counts the warmer rooms after the retrofit as "
-            "a condition of the post period."
+            f"({tc['post_period_saving_pct_same_controls']['true']:.1f} % saved, the warmer "
+            "rooms of the insulated house included); verified with the take-back: "
+            f"{av['saving_with_take_back_pct']:.1f} %. The avoided energy of IPMVP "
+            f"({av['saving_pct']:.1f} %) counts the warmer rooms as a condition of the post "
+            "period."
         )
     rep.section("Calibrations")
     for name, cal in (("before", ver.calibration_pre), ("after", ver.calibration_post)):

@@ -1075,20 +1075,19 @@ def write_verify_demo_data(data: dict, folder: Path | str) -> Path:
     return write_demo_data(data, folder)
 
 
-def verify_demo_config(draws: int = 200) -> dict:
+def verify_demo_config(data_dir: Path | str = SHIPPED_VERIFY_DATA, draws: int = 200) -> dict:
     """The verification configuration of the demo (paths relative to its data folder)."""
     from thermocal.retrofit.demo_data import DEMO_MODEL_OPTIONS, demo_config
 
-    cfg = demo_config(SHIPPED_VERIFY_DATA, "pvlib:723170TYA.CSV", draws=draws)
+    data_dir = Path(data_dir)
+    cfg = demo_config(data_dir, "pvlib:723170TYA.CSV", draws=draws)
     for key in ("periods", "reference"):
         cfg.pop(key, None)
     cfg["model"] = dict(DEMO_MODEL_OPTIONS)
     cfg["demand"] = {"indoor_profile": 20.0}  # the generator's truth: ideal heating at 20 C
     code, names = DEMO_STRATEGY
     cfg["verify"] = {
-        "retrofit_date": json.loads((SHIPPED_VERIFY_DATA / "truth.json").read_text())[
-            "retrofit_date"
-        ],
+        "retrofit_date": json.loads((data_dir / "truth.json").read_text())["retrofit_date"],
         "prediction": {"measures": list(names)},
     }
     return cfg
@@ -1113,7 +1112,7 @@ def prepare_verify_demo(out: Path | str, *, regenerate: bool = False, draws: int
         for name in ("measurements.csv", "building.yaml", "truth.json"):
             shutil.copyfile(SHIPPED_VERIFY_DATA / name, data_dir / name)
     truth = json.loads((data_dir / "truth.json").read_text())
-    cfg = verify_demo_config(draws)
+    cfg = verify_demo_config(data_dir, draws)
     cfg["verify"]["retrofit_date"] = truth["retrofit_date"]
     path = data_dir / "config.yaml"
     path.write_text(

@@ -197,3 +197,25 @@ def test_configuration_without_prediction_or_section(tmp_path):
             base_dir=tmp_path,
         )
     assert Path(tmp_path).is_dir()
+
+
+def test_shipped_verify_demo_data_are_what_the_generator_makes():
+    from thermocal.retrofit.verify import SHIPPED_VERIFY_DATA, generate_verify_demo_data
+
+    data = generate_verify_demo_data()
+    shipped = pd.read_csv(SHIPPED_VERIFY_DATA / "measurements.csv", parse_dates=["time"])
+    fresh = data["measurements"]
+    assert list(fresh.columns) == list(shipped.columns)
+    assert (fresh["time"].to_numpy() == shipped["time"].to_numpy()).all()
+    for col in fresh.columns[1:]:
+        np.testing.assert_allclose(fresh[col], shipped[col], atol=1e-9, err_msg=col)
+    truth = json.loads((SHIPPED_VERIFY_DATA / "truth.json").read_text())
+    assert data["truth"]["annual_saving_pct"] == pytest.approx(truth["annual_saving_pct"])
+    assert data["truth"]["post_period_saving_pct"] == pytest.approx(
+        truth["post_period_saving_pct"], abs=1e-9
+    )
+    # the retrofit happened: the post period's meter shows about half the heat of the house
+    # as it was, and the truth's heat loss coefficient fell by the measures' U A
+    assert 40.0 < truth["post_period_saving_pct"] < 60.0
+    hlc = truth["heat_loss_coefficient_W_per_K"]
+    assert hlc["post"] < 0.6 * hlc["pre"]

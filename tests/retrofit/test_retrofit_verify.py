@@ -176,6 +176,24 @@ def test_prediction_from_another_building_or_unknown_strategy_is_refused(demo_fo
             name=f"cfg-{code}.yaml",
         )  # fmt: skip
 
+    from thermocal.retrofit.verify import read_prediction
+
+    good = load_verify_config(
+        with_results(
+            {
+                **results,
+                "annual_heating_demand_kWh": {
+                    "indoor_profile_C": [19.0] * 24,
+                    "weather": {"name": "somewhere else"},
+                },
+            },
+            "2a",
+        )
+    )
+    pred = read_prediction(good, build_fifth_order_model(building))
+    assert (pred.saving_pct, pred.p_lo, pred.p_hi, pred.code) == (55.0, 50.0, 60.0, "2a")
+    assert {m: x.u_value for m, x in pred.measures.items()} == {"roof": 0.18, "walls": 0.19}
+    assert pred.profile is not None and pred.profile.mean() == 19.0
     msg = _message(with_results(results, "9z"))
     assert "'9z' is not a strategy" in msg and "2a" in msg
     other = {**results, "building": "another house"}

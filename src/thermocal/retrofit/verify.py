@@ -243,6 +243,8 @@ class Prediction:
     source: str
     code: str | None = None
     draws: np.ndarray | None = None  # [%] per draw when computed here (paired with ours)
+    profile: np.ndarray | None = None  # [C] 24-h indoor profile the prediction assumed
+    weather: str | None = None  # name of the prediction's reference-year weather
 
 
 def read_prediction(vcfg: VerifyConfig, model) -> Prediction:
@@ -329,9 +331,13 @@ def read_prediction(vcfg: VerifyConfig, model) -> Prediction:
                 f"verify.prediction.strategy {pred.strategy!r}: measure {name!r} of {path} "
                 "is not configured here (measures:)"
             )
+    demand = res.get("annual_heating_demand_kWh") or {}
+    profile = demand.get("indoor_profile_C")
     return Prediction(
         measures, float(s["saving_pct"]), s.get("saving_pct_p05"), s.get("saving_pct_p95"),
         source=f"thermocal retrofit, {path.name}, strategy {pred.strategy}", code=pred.strategy,
+        profile=np.asarray(profile, float) if profile and len(profile) == 24 else None,
+        weather=(demand.get("weather") or {}).get("name"),
     )  # fmt: skip
 
 
@@ -717,6 +723,14 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
         prof_post = daily_profile(inputs.loc[sel_post, OUTPUT_COLUMN])
     else:
         prof_pre = prof_post = np.full(24, float(profile_mode))
+    if prediction.profile is not None:  # measured and predicted at the same indoor profile
+        prof_pre = prediction.profile
+        profile_mode = "the prediction's"
+    if prediction.weather is not None and prediction.weather != meta.get("name"):
+        notes.append(
+            f"the prediction used the reference weather {prediction.weather!r}, this "
+            f"verification {meta.get('name')!r}: the savings are normalised to different years"
+        )
     codes = ("0", prediction.code or "measures")
     strategies = [Strategy(codes[0], ()), Strategy(codes[1], tuple(measures))]
     draws_pre, env_pre = scenario_draws(cfg, model, cal_pre, strategies, measures)
@@ -854,7 +868,8 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
                        "post_with_post_indoor_profile": summary(a_post_use)},
         "saving_pct": summary(s_phys),
         "normalised_saving_pct": summary(s_norm),
-        "indoor_profile": "measured" if profile_mode == "measured" else float(profile_mode),
+        "indoor_profile": profile_mode if isinstance(profile_mode, str) else float(profile_mode),
+        "indoor_profile_C": [float(v) for v in prof_pre],
         "mean_indoor_C": {"pre": float(inputs.loc[sel_pre, OUTPUT_COLUMN].mean()),
                           "post": float(inputs.loc[sel_post, OUTPUT_COLUMN].mean())},
         "weather": meta.get("name"),
@@ -1348,9 +1363,9 @@ def write_report(ver: Verification, results: dict, figures: dict, path: Path) ->
     rep.table(
         pd.DataFrame(rows, columns=["", "before", "after", "change"]),
         caption=f"Estimates with {pct} intervals (posterior draws); annual demand over the "
-        f"reference year ({ph['weather']}) at the indoor profile of the pre period "
-        f"({ph['indoor_profile'] if ph['indoor_profile'] != 'measured' else 'measured'}"
-        f"{' C' if ph['indoor_profile'] != 'measured' else ''}).",
+        f"reference year ({ph['weather']}) at the indoor profile "
+        f"{ph['indoor_profile'] if isinstance(ph['indoor_profile'], str) else 'constant'} "
+        f"(mean {np.mean(ph['indoor_profile_C']):.1f} C).",
     )
     mi = ph["mean_indoor_C"]
     rep.paragraph(

@@ -89,12 +89,16 @@ def test_verdicts_from_measured_and_predicted_savings():
     measured = np.r_[50.0, 50.0 + rng.normal(0, 2, 400)]
 
     def verdict(pred, lo, hi, **kw):
-        return compare(measured, Prediction({}, pred, lo, hi, "test"), 0.9, 15.0, True, **kw)
+        return compare(measured, Prediction({}, pred, lo, hi, "test"), 0.9, 10.0, True, **kw)
 
     assert verdict(51.0, 47.0, 55.0)["verdict"] == "delivered"
     assert verdict(62.0, 58.0, 66.0)["verdict"] == "rebound"
     assert verdict(40.0, 36.0, 44.0)["verdict"] == "prebound"
-    assert verdict(51.0, 20.0, 80.0)["verdict"] == "inconclusive"
+    # a vague prediction does not make it inconclusive, a vague measurement does
+    assert verdict(51.0, 20.0, 80.0)["verdict"] == "delivered"
+    vague = np.r_[50.0, 50.0 + rng.normal(0, 10, 400)]
+    out = compare(vague, Prediction({}, 51.0, 47.0, 55.0, "t"), 0.9, 10.0, True)
+    assert out["verdict"] == "inconclusive" and "measure longer" in out["explanation"]
     assert verdict(51.0, 47.0, 55.0, take_back_pp=8.0)["verdict"] == "rebound"
     failed = compare(measured, Prediction({}, 51.0, 47.0, 55.0, "t"), 0.9, 15.0, False)
     assert failed["verdict"] == "inconclusive" and "Guideline 14" in failed["explanation"]

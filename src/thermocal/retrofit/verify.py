@@ -64,8 +64,8 @@ MIN_HEATING_DAYS = 7
 HEATING_LIMIT_C = 12.0
 #: Empirical factor of the fractional savings uncertainty (Guideline 14-2014 Annex B).
 FSU_FACTOR = 1.26
-#: Verdict "inconclusive" when the interval of the saving difference is wider than this [pp].
-DEFAULT_INCONCLUSIVE_PP = 15.0
+#: Verdict "inconclusive" when the measured saving's interval is wider than this either side [pp].
+DEFAULT_INCONCLUSIVE_PP = 10.0
 #: Files that identify a verify output folder.
 VERIFY_SIGNATURE = ("verify.json", "report.html")
 
@@ -918,7 +918,8 @@ def compare(
         quadrature, each side separately).
     interval : float [-]
     inconclusive_pp : float [pp]
-        Difference intervals wider than this either side make the verdict inconclusive.
+        A measured-saving interval wider than this either side makes the verdict inconclusive
+        (a vague prediction alone does not: the measurement can still fall inside it).
     baseline_ok : bool
         The baseline model meets the Guideline 14 criteria.
     take_back_pp : float [pp]
@@ -960,10 +961,10 @@ def compare(
             "the baseline model does not meet the ASHRAE Guideline 14-2014 criteria on the "
             "pre-retrofit period, so the measured saving is not reliable"
         )
-    elif max(d0 - d_lo, d_hi - d0) > inconclusive_pp:
+    elif max(m0 - m_lo, m_hi - m0) > inconclusive_pp:
         verdict = "inconclusive"
         why = (
-            f"the interval of the difference ({d_lo:+.1f} to {d_hi:+.1f} pp) is wider than "
+            f"the interval of the measured saving ({m_lo:.1f} to {m_hi:.1f} %) is wider than "
             f"+/- {inconclusive_pp:g} pp: measure longer before and after the retrofit"
         )
     elif d_hi < 0.0:

@@ -19,8 +19,16 @@ thermocal's multi-zone model: 157 W/K; audit prior 182 W/K) and the baseline fai
 Guideline 14 (daily NMBE -160 %, CV(RMSE) 165 %), so the verdict is "inconclusive" and the
 normalised saving (88 %) is meaningless. Suspects: the 4 K night set-back of a lightweight
 house heated by ideal air loads (the fifth-order model's heating node and lumped masses),
-internal gains of the same order as the heating. Kept as the starting point of the
-EnergyPlus evidence of issue 21.
+internal gains of the same order as the heating. With ``--constant-20`` (both heating
+schedules at 20 C) the baseline meets Guideline 14 (NMBE -5.6 %, CV(RMSE) 16.7 %), the pre HLC
+is 175 W/K (159-189) and the prediction 33.3 % against a true 30.1 %, but the baseline
+over-predicts the post period (February-March) by about a third: verified 50.8 % (40-61), post
+period 51.9 % against a true 34.4 %, and the post calibration is unusable (HLC 458 W/K).
+Prime suspect: the ground. EnergyPlus holds 13.5-14 C under the slab
+(Site:GroundTemperature:BuildingSurface), the fifth-order model the Kusuda wave of the weather
+file at 2 m, several kelvin colder in winter; the slab's 24 W/K then adds heat the model
+attributes to the envelope, a share that grows as the heating falls towards spring. Kept as
+the starting point of the EnergyPlus evidence of issue 21.
 """
 
 from __future__ import annotations
@@ -52,7 +60,21 @@ def run(idf_text: str, folder: Path, weather: Path):
     return read_eso(eso, year=2006)
 
 
-def main(out: Path) -> dict:
+def constant_heating(idf_text: str, setpoint: float = 20.0) -> str:
+    """The IDF with both heating schedules replaced by a constant set point [C]."""
+    import re
+
+    for name in ("HEATING DAY ZONES", "HEATING BEDROOMS"):
+        idf_text = re.sub(
+            rf"Schedule:Compact, {name}, TEMPERATURE,[^;]*;",
+            f"Schedule:Compact, {name}, TEMPERATURE, Through: 12/31, For: AllDays, "
+            f"Until: 24:00, {setpoint:g};",
+            idf_text,
+        )
+    return idf_text
+
+
+def main(out: Path, *, setback: bool = True) -> dict:
     from energyplus_house import CONDITIONED, WEATHER_FILE, house_idf
 
     from thermocal.io.weather import read_weather
@@ -68,14 +90,17 @@ def main(out: Path) -> dict:
     t0 = time.perf_counter()
     weather = energyplus_weather_folder() / WEATHER_FILE
     out.mkdir(parents=True, exist_ok=True)
-    pre_text = house_idf(run_period=((1, 1), (3, 31)))
+    edit = (lambda t: t) if setback else constant_heating
+    pre_text = edit(house_idf(run_period=((1, 1), (3, 31))))
     assert WALL_OLD in pre_text
     post_text = pre_text.replace(WALL_OLD, WALL_NEW)
     runs = {
         "pre": run(pre_text, out / "ep-pre", weather),
         "post": run(post_text, out / "ep-post", weather),
-        "pre_year": run(house_idf(), out / "ep-pre-year", weather),
-        "post_year": run(house_idf().replace(WALL_OLD, WALL_NEW), out / "ep-post-year", weather),
+        "pre_year": run(edit(house_idf()), out / "ep-pre-year", weather),
+        "post_year": run(
+            edit(house_idf()).replace(WALL_OLD, WALL_NEW), out / "ep-post-year", weather
+        ),
     }
     (out / "pre.idf").write_text(pre_text)
     (out / "post.idf").write_text(post_text)
@@ -180,5 +205,6 @@ def main(out: Path) -> dict:
 
 
 if __name__ == "__main__":
-    folder = Path(sys.argv[1]) if len(sys.argv) > 1 else Path("verify-energyplus")
-    print(json.dumps(main(folder), indent=2))
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    folder = Path(args[0]) if args else Path("verify-energyplus")
+    print(json.dumps(main(folder, setback="--constant-20" not in sys.argv), indent=2))

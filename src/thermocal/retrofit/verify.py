@@ -1364,15 +1364,22 @@ def write_report(ver: Verification, results: dict, figures: dict, path: Path) ->
     rep.table(
         pd.DataFrame(rows, columns=["", "before", "after", "change"]),
         caption=f"Estimates with {pct} intervals (posterior draws); annual demand over the "
-        f"reference year ({ph['weather']}) at the indoor profile "
-        f"{ph['indoor_profile'] if isinstance(ph['indoor_profile'], str) else 'constant'} "
-        f"(mean {np.mean(ph['indoor_profile_C']):.1f} C).",
+        f"reference year ({ph['weather']}) at the "
+        + {"measured": "pre period's measured", "the prediction's": "prediction's"}.get(
+            ph["indoor_profile"], "constant"
+        )
+        + f" indoor profile (mean {np.mean(ph['indoor_profile_C']):.1f} C).",
     )
     mi = ph["mean_indoor_C"]
+    with_post = (
+        f"; with the post period's indoor profile for the retrofitted house: "
+        f"{_pct(ph['normalised_saving_pct'])}"
+        if ph["normalised_saving_pct"] != ph["saving_pct"]
+        else ""
+    )
     rep.paragraph(
-        f"Saving of the envelope alone (both models at the pre period's indoor profile): "
-        f"{_pct(ph['saving_pct'])}; with the post period's indoor profile for the retrofitted "
-        f"house: {_pct(ph['normalised_saving_pct'])}. Mean measured indoor temperature "
+        f"Saving of the envelope alone (both models at the same indoor profile): "
+        f"{_pct(ph['saving_pct'])}{with_post}. Mean measured indoor temperature "
         f"{mi['pre']:.1f} C before, {mi['post']:.1f} C after."
     )
     if "conductances" in figures:

@@ -67,7 +67,16 @@ def _print_version(value: bool) -> None:
 
 
 #: Subcommand modules, in the order they appear in ``--help``.
-COMMAND_MODULES = ("demo", "fit", "select", "simulate", "retrofit", "identify", "calibrate")
+COMMAND_MODULES = (
+    "demo",
+    "fit",
+    "select",
+    "simulate",
+    "retrofit",
+    "verify",
+    "identify",
+    "calibrate",
+)
 
 
 def _register_commands() -> None:

@@ -349,7 +349,13 @@ def _quantise(values, resolution: float) -> np.ndarray:
 
 
 def generate_demo_data(
-    weather_path: Path | str | None = None, *, seed: int = 2019, step: str = STEP
+    weather_path: Path | str | None = None,
+    *,
+    seed: int = 2019,
+    step: str = STEP,
+    period: tuple[str, str] = PERIOD,
+    measures: dict[str, float] | None = None,
+    annual: bool = True,
 ) -> dict:
     """Simulate the demo house and return its measurements, building file and truth.
 
@@ -361,6 +367,16 @@ def generate_demo_data(
         Seed of the sensor noise.
     step : str
         Simulation step of the multi-zone model and the heating loop.
+    period : (str, str)
+        Measured period as "MM-DD" of the weather file's year, [start, end); two weeks of
+        warm-up run before it.
+    measures : dict measure -> U-value [W/(m2 K)], optional
+        Retrofit measures applied to the multi-zone house for the whole simulation
+        (:func:`retrofit_parameters`); the building file stays the audit of the house as it
+        was and the radiators keep their size (post-retrofit verification,
+        :mod:`thermocal.retrofit.verify`).
+    annual : bool
+        Also simulate the annual demand of the 16 strategies (the truth of the scenario check).
 
     Returns
     -------
@@ -376,13 +392,13 @@ def generate_demo_data(
     weather, meta = read_weather(weather_path)
     year = weather.index[0].year
     tz = weather.index.tz
-    start = pd.Timestamp(f"{year}-{PERIOD[0]}", tz=tz)
-    end = pd.Timestamp(f"{year}-{PERIOD[1]}", tz=tz)
+    start = pd.Timestamp(f"{year}-{period[0]}", tz=tz)
+    end = pd.Timestamp(f"{year}-{period[1]}", tz=tz)
     sim_start = start - pd.Timedelta(days=WARMUP_DAYS)
     if sim_start < weather.index[0] or end > weather.index[-1]:
         raise ThermocalInputError(
             f"weather file {weather_path} must cover {sim_start:%d %b} to {end:%d %b} "
-            "(demo period Feb 2 - Mar 15 plus two weeks of warm-up)"
+            f"(demo period {start:%d %b} - {end:%d %b} plus two weeks of warm-up)"
         )
     mz = generators.single_family_house()
     location = dataclasses.replace(
@@ -391,8 +407,13 @@ def generate_demo_data(
         timezone=meta.get("tz") if meta.get("tz") is not None else mz.location.timezone,
     )  # fmt: skip
     mz = dataclasses.replace(mz, location=location, ground_temperatures=_monthly_ground(weather))
+    audit = audit_building(mz)  # the house as it was, before any measure
     options = network_options()
     true_hlc = steady_state_heat_loss_coefficient(mz, ground_at_outdoor=True, options=options)
+    design_hlc = true_hlc  # radiators sized for the house before any retrofit
+    if measures:
+        mz = mz.with_parameters(retrofit_parameters(mz, measures))
+        true_hlc = steady_state_heat_loss_coefficient(mz, ground_at_outdoor=True, options=options)
     hlc_without_ground = steady_state_heat_loss_coefficient(
         mz, ground_at_outdoor=False, options=options
     )
@@ -407,7 +428,7 @@ def generate_demo_data(
     w_ti = np.where(heated, volumes, 0.0) / volumes[heated].sum()
     design_out = float(np.quantile(weather["temp_air"], 0.01))
     zone_area = np.array([mz.zones[n].floor_area for n in names])
-    loads = 1.3 * true_hlc * (20.0 - design_out) * zone_area * heated / zone_area[heated].sum()
+    loads = 1.3 * design_hlc * (20.0 - design_out) * zone_area * heated / zone_area[heated].sum()
     rads = Radiators.sized(np.where(heated, loads, 1.0))
     dt = pd.Timedelta(step).total_seconds()
     times = sim.times
@@ -477,7 +498,11 @@ def generate_demo_data(
     })  # fmt: skip
     from thermocal.retrofit.strategies import PAPER_MEASURE_U_VALUES
 
-    annual, monthly = generator_annual_demand(mz, weather, meta, PAPER_MEASURE_U_VALUES)
+    annual, monthly = (
+        generator_annual_demand(mz, weather, meta, PAPER_MEASURE_U_VALUES)
+        if annual
+        else (None, None)
+    )
     truth = {
         "heat_loss_coefficient_W_per_K": true_hlc,
         "annual_heating_demand_20C_kWh": annual,
@@ -498,7 +523,7 @@ def generate_demo_data(
     }
     return {
         "measurements": meas,
-        "building": audit_building(mz),
+        "building": audit,
         "truth": truth,
         "weather_path": weather_path,
     }

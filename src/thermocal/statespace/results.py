@@ -83,6 +83,7 @@ class FitResults:
         gradient: np.ndarray | None = None,
         nested=None,
         logprior: float | None = None,
+        agreement: dict | None = None,
     ) -> None:
         self.model = model
         self.theta = theta
@@ -142,6 +143,20 @@ class FitResults:
                 f"optimiser did not converge: {message}{extra}; remedy: more starts "
                 "(--n-starts), a smaller stall_tolerance, or fix poorly determined parameters",
             )
+        #: Agreement of the optimiser starts (see
+        #: :func:`thermocal.statespace.estimation.start_agreement`): ``n_starts``, ``n_best``
+        #: (starts that reached the best log-likelihood), ``best``, ``runner_up``.
+        self.agreement = dict(agreement) if agreement else None
+        if self.agreement and self.agreement["n_starts"] >= 2 and self.agreement["n_best"] < 2:
+            self.converged = False
+            gap = self.agreement["best"] - self.agreement["runner_up"]
+            self.flags.insert(
+                0,
+                f"global optimum not confirmed: the best log-likelihood ({self.loglike:.2f}) was "
+                f"reached by 1 of {self.agreement['n_starts']} optimiser starts (the next best "
+                f"ends {gap:.3g} log-units lower); another start may find a better optimum; "
+                "remedy: more starts (--n-starts) or start values closer to physical ones",
+            )
         self._cov = pd.DataFrame(cov, index=free, columns=free)
         bse = pd.Series(np.nan, index=self.params.index, name="std_error")
         diag = np.diag(cov)
@@ -183,6 +198,7 @@ class FitResults:
 
         model, prep, checks = self.model, self.data, self.checks
         if nested is not None and self.loglike < nested.loglike - NESTED_TOLERANCE:
+            self.converged = False  # a better optimum (the nested one, embedded) was seen
             self.flags.append(
                 f"log-likelihood {self.loglike:.3f} is below that of the nested model "
                 f"'{nested.model.name}' ({nested.loglike:.3f}) although this model contains it: "
@@ -623,6 +639,11 @@ class FitResults:
         if len(self.start_loglikes) > 1:
             ends = ", ".join(f"{v:.2f}" for v in self.start_loglikes)
             lines.append(f"Optimiser starts ({len(self.start_loglikes)}), log-likelihoods: {ends}")
+        if self.agreement:
+            lines.append(
+                f"Best log-likelihood reached by {self.agreement['n_best']} of "
+                f"{self.agreement['n_starts']} starts (within 0.1 log-units)"
+            )
         lines += [
             "",
             f"{'parameter':<16}{'value':>14}{'std error':>12}  {'unit':<11}{'lower':>11}"
@@ -681,6 +702,7 @@ class FitResults:
             "converged": self.converged,
             "optimizer_message": self.message,
             "start_loglikes": [num(v) for v in self.start_loglikes],
+            "starts_at_best": None if not self.agreement else self.agreement["n_best"],
             "fit_seconds": self.fit_seconds,
             "hold": self.hold,
             "params": params,

@@ -11,6 +11,7 @@ import pandas as pd
 from thermocal.statespace import kernels
 from thermocal.statespace.data import PreparedData, prepare_data
 from thermocal.statespace.estimation import (
+    AGREEMENT_TOLERANCE,
     BOUND_TOLERANCE,
     CONVERGENCE_GAIN,
     CORRELATION_LIMIT,
@@ -445,6 +446,19 @@ class FitResults:
             lower.append(min(a, b))
             upper.append(max(a, b))
         return pd.DataFrame({"lower": lower, "upper": upper}, index=pd.Index(free))
+
+    def note_better_optimum(self, loglike: float, where: str) -> None:
+        """Record that a point with a log-likelihood clearly above this optimum was seen
+        (``where``: how it was found): the fit is then not converged, and flagged."""
+        if loglike <= self.loglike + AGREEMENT_TOLERANCE:
+            return
+        self.converged = False
+        self.flags.insert(
+            0,
+            f"a better optimum was seen: {where} reached log-likelihood {loglike:.2f}, "
+            f"{loglike - self.loglike:.3g} above this fit's {self.loglike:.2f}; the estimates "
+            "are a local optimum; remedy: refit with more starts (--n-starts) or from there",
+        )
 
     def profile_interval(self, name: str, *, alpha: float = 0.05) -> dict:
         """Profile-likelihood confidence interval of a free parameter or a derived quantity

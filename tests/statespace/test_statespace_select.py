@@ -38,8 +38,17 @@ def test_select_command_runs_forward_selection_with_mapped_columns(tmp_path):
     reports an extension below its parent (warm starts), writes every fit."""
     models, _, _ = bacher_madsen_family(heat_unit="W", solar_unit=None)
     truth = models["TiTh"].with_parameters(
-        {"Ci": 0.8, "Ch": 0.3, "Rih": 2.0, "Ria": 8.0, "sigma_i": 0.05, "sigma_h": 0.2,
-         "e_std": 0.02, "Ti0": 20.0, "Th0": 30.0}  # fmt: skip
+        {
+            "Ci": 0.8,
+            "Ch": 0.3,
+            "Rih": 2.0,
+            "Ria": 8.0,
+            "sigma_i": 0.05,
+            "sigma_h": 0.2,
+            "e_std": 0.02,
+            "Ti0": 20.0,
+            "Th0": 30.0,
+        }  # fmt: skip
     )
     rng = np.random.default_rng(1)
     n = 300

@@ -440,3 +440,66 @@ def test_map_equals_ml_with_flat_priors_and_the_brute_force_mode_otherwise():
     np.testing.assert_allclose(res.params[["C", "H", "e"]], brute.x, rtol=2e-3)
     with pytest.raises(Exception, match="needs both bounds"):
         _one_state().add_parameter("x", 1.0, unit="-", prior="uniform")
+
+
+def metered_model() -> RCModel:
+    """One zone heated by radiators ('P_radTot' [kW]) and cooled by a measured ventilation heat
+    flow ('Q_vent' [kW], negative by nature and declared so)."""
+    m = RCModel.from_dict(
+        {
+            "name": "metered",
+            "states": {"Ti": {"capacity": "Ci", "noise": "si", "initial_mean": "Ti0"}},
+            "conductances": [{"between": ["Ti", "Ta"], "conductance": "H"}],
+            "heat_inputs": [
+                {"column": "P_radTot", "unit": "kW", "into": "Ti"},
+                {"column": "Q_vent", "unit": "kW", "into": "Ti", "allow_negative": True},
+            ],
+            "outputs": [{"column": "y", "state": "Ti", "noise": "e"}],
+            "parameters": {
+                "Ci": {"value": 5.0, "unit": "MJ/K"},
+                "H": {"value": 250.0, "unit": "W/K"},
+                "si": {"value": 0.1, "unit": "K/sqrt(h)"},
+                "e": {"value": 0.05, "unit": "K"},
+                "Ti0": {"value": 20.0, "unit": "C"},
+            },
+        }
+    )
+    assert m.to_dict()["heat_inputs"][1]["allow_negative"] is True
+    return m
+
+
+def test_spikes_that_inflate_quantiles_and_negative_heat_are_named_by_column_time_value():
+    """BV3-like metering faults: 4 % spikes of 245.6 kW in a 5 kW radiator series stretch the
+    99 % quantile to 245.6 kW; before, the threshold for negatives (2 % of it, 4.9 kW) hid the
+    -2 kW values and the 1-99 % range [0, 245.6] hid the spikes. The thresholds from the median
+    and robust spreads flag both, naming the column, time stamps and values; the declared
+    ventilation flow is not flagged; an outdoor temperature in Kelvin is."""
+    rng = np.random.default_rng(2)
+    n = 500
+    t = pd.date_range("2024-01-01", periods=n, freq="h", tz="UTC")
+    data = pd.DataFrame(
+        {
+            "Ta": 5 + 3 * np.sin(np.arange(n) / 24 * 2 * np.pi),
+            "P_radTot": 5.0 * (rng.uniform(size=n) > 0.5),
+            "Q_vent": -1.5 - 0.5 * rng.uniform(size=n),
+        },
+        index=t,
+    )
+    spikes = rng.choice(np.r_[0:200, 230:n], 20, replace=False)
+    data.iloc[spikes, data.columns.get_loc("P_radTot")] = 245.6
+    data.iloc[200:230, data.columns.get_loc("P_radTot")] = -2.0
+    model = metered_model()
+    data["y"] = simulate_stochastic(model, data, seed=1)["y"]
+    assert np.quantile(np.abs(data["P_radTot"]), 0.99) == pytest.approx(245.6)
+    flags = evaluate(model, data).flags
+    neg = [f for f in flags if f.startswith("heat input 'P_radTot' has 30 negative value(s)")]
+    assert len(neg) == 1 and "-2 kW at 2024-01-09 08:00:00+00:00" in neg[0], flags
+    spike = [f for f in flags if f.startswith("input 'P_radTot' has 20 value(s) far outside")]
+    assert len(spike) == 1 and f"245.6 kW at {t[np.sort(spikes)[0]]}" in spike[0], flags
+    assert not any("Q_vent" in f for f in flags), flags
+    # Kelvin for Celsius: outside the physical range of a temperature
+    kelvin = data.copy()
+    kelvin.iloc[300:, kelvin.columns.get_loc("Ta")] += 273.15
+    flags = evaluate(model, kelvin).flags
+    assert any(f.startswith("input 'Ta' (temperature [C]) has 200 value(s) outside the physical")
+               for f in flags), flags  # fmt: skip

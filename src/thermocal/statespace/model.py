@@ -56,7 +56,7 @@ _TOP_LEVEL_KEYS = {
 }
 _STATE_KEYS = {"capacity", "noise", "initial_mean", "initial_std", "description"}
 _CONDUCTANCE_KEYS = {"between", "conductance", "resistance", "description"}
-_HEAT_KEYS = {"column", "into", "scale", "unit", "description"}
+_HEAT_KEYS = {"column", "into", "scale", "unit", "description", "allow_negative"}
 _OUTPUT_KEYS = {"column", "state", "states", "noise", "description"}
 _PARAMETER_KEYS = {"value", "lower", "upper", "fixed", "unit", "description", "prior"}
 
@@ -323,6 +323,7 @@ class RCModel:
         into: str | Mapping[str, str | float],
         scale: str | float | None = None,
         unit: str = "W",
+        allow_negative: bool = False,
     ) -> RCModel:
         """Inject a heat-flow data column into one or several states.
 
@@ -337,8 +338,14 @@ class RCModel:
             Parameter multiplying the column (e.g. an effective solar aperture ``Aw`` [m2]).
         unit : str
             Unit of the column: ``W``, ``kW``, ``MW``, ``W/m2``, ``kW/m2``.
+        allow_negative : bool
+            The column is a heat flow that is negative by nature (a ventilation or extraction
+            heat flow, cooling): its negative values are not flagged.
         """
-        self._heat_inputs.append({"column": column, "into": into, "scale": scale, "unit": unit})
+        spec = {"column": column, "into": into, "scale": scale, "unit": unit}
+        if allow_negative:
+            spec["allow_negative"] = True
+        self._heat_inputs.append(spec)
         self._structure = None
         return self
 
@@ -556,6 +563,7 @@ class RCModel:
                 into=hspec["into"],
                 scale=hspec.get("scale"),
                 unit=str(hspec.get("unit", "W")),
+                allow_negative=bool(hspec.get("allow_negative", False)),
             )
         for i, ospec in enumerate(spec.get("outputs") or []):
             _check_keys(ospec, _OUTPUT_KEYS, f"{where}: outputs[{i}]")

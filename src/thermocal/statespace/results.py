@@ -32,11 +32,15 @@ LJUNG_BOX_ALPHA = 0.01
 #: Standardised one-step residuals beyond this many standard deviations are flagged.
 OUTLIER_SIGMA = 5.0
 OUTLIERS_LISTED = 10
-#: An input value beyond its 1-99 % quantile range by more than this many widths is flagged.
-INPUT_RANGE_FACTOR = 5.0
-#: Negative heat-input values smaller in size than this fraction of the 99 % quantile of |u|
+#: An input value more than this many robust standard deviations from its median is a spike
+#: (:func:`robust_range`).
+SPIKE_SCALES = 10.0
+#: Negative heat-input values smaller in size than this fraction of the 90 % quantile of |u|
 #: are sensor offsets (a pyranometer at night), not flagged.
-NEGATIVE_OFFSET_FRACTION = 0.02
+NEGATIVE_OFFSET_FRACTION = 0.05
+#: Physical limits in SI of boundary temperatures [C] and irradiances [W/m2] (above the solar
+#: constant, 1361 W/m2, Kopp & Lean 2011, with margin for reflections).
+PHYSICAL_LIMITS = {"C": (-90.0, 150.0), "W/m2": (-50.0, 1500.0)}
 #: A fit more than this below its nested model's log-likelihood is flagged.
 NESTED_TOLERANCE = 1e-2
 
@@ -772,47 +776,95 @@ def _stamp(prep: PreparedData, k: int) -> str:
     return str(t)
 
 
-def input_flags(model, prep: PreparedData) -> list[str]:
-    """Flags on the input columns: negative heat inputs and values far outside the robust range.
+def _listed(prep: PreparedData, j: int, rows: np.ndarray, unit: str, n: int = 3) -> str:
+    """The ``n`` most extreme of ``rows`` of input ``j``: 'value unit at time', largest first."""
+    u = prep.U[rows, j]
+    order = rows[np.argsort(-np.abs(u - np.nanmedian(prep.U[:, j])), kind="stable")][:n]
+    return ", ".join(f"{prep.U[k, j]:.4g}{' ' + unit if unit else ''} at {_stamp(prep, k)}"
+                     for k in order)  # fmt: skip
 
-    The robust range is the 1 % to 99 % quantile interval; a value more than
-    :data:`INPUT_RANGE_FACTOR` times its width beyond it is flagged (a 245 kW spike in a 5 kW
-    heating series).
+
+def robust_range(u: np.ndarray) -> tuple[float, float, float]:
+    """(centre, scale, level) of a series from robust statistics.
+
+    ``centre`` is the median; ``scale`` the larger of 1.4826 MAD (the standard deviation of
+    normal data) and ``(q90 - q10) / 2.563`` (the same for normal data, and not zero for on/off
+    series whose median absolute deviation is); ``level`` the 90 % quantile of ``|u|``, the
+    typical magnitude of a heat input. None of them moves with fewer than 10 % outliers, unlike
+    the 1-99 % quantile range (a few 245 kW spikes stretch it to 85 kW).
     """
+    centre = float(np.median(u))
+    mad = 1.4826 * float(np.median(np.abs(u - centre)))
+    q10, q90 = np.quantile(u, [0.1, 0.9])
+    scale = max(mad, float(q90 - q10) / 2.563)
+    return centre, scale, float(np.quantile(np.abs(u), 0.9))
+
+
+def input_flags(model, prep: PreparedData) -> list[str]:
+    """Flags on the input columns, from robust statistics (:func:`robust_range`).
+
+    - negative values of a heat input beyond :data:`NEGATIVE_OFFSET_FRACTION` of its typical
+      level (smaller ones are sensor offsets, a pyranometer at night), unless the model file
+      declares the column ``allow_negative`` (ventilation, extraction);
+    - spikes: values more than :data:`SPIKE_SCALES` robust standard deviations from the median;
+    - values outside the physical limits of the declared unit (:data:`PHYSICAL_LIMITS`).
+
+    Each flag names the column, the number of values, and the most extreme ones with their time
+    stamps.
+    """
+    from thermocal.statespace.units import HEAT_COLUMN_UNITS
+
     flags = []
-    heat = set(model.heat_input_names)
+    heat = {h["column"]: h for h in model._heat_inputs}
     for j, col in enumerate(model.input_names):
         u = prep.U[:, j]
-        u = u[np.isfinite(u)]
-        if not u.size:
+        finite = u[np.isfinite(u)]
+        if not finite.size:
             continue
-        if col in heat:
-            # small negative values are sensor offsets (a pyranometer at night): ignored
-            offset = NEGATIVE_OFFSET_FRACTION * float(np.quantile(np.abs(u), 0.99))
-            neg = np.flatnonzero(prep.U[:, j] < -offset)
-            if neg.size:
-                flags.append(
-                    f"heat input '{col}' has {neg.size} negative value(s) (first at "
-                    f"{_stamp(prep, neg[0])}, minimum {u.min():.4g}): a heat input is >= 0 "
-                    "unless it includes cooling; remedy: check the meter sign and the "
-                    "supply/return temperatures, or set the values to 0 or NaN"
-                )
-        lo, hi = np.quantile(u, [0.01, 0.99])
-        width = hi - lo
-        if width <= 0:
-            continue
-        far = np.flatnonzero(
-            (prep.U[:, j] > hi + INPUT_RANGE_FACTOR * width)
-            | (prep.U[:, j] < lo - INPUT_RANGE_FACTOR * width)
-        )
-        if far.size:
-            worst = far[np.argmax(np.abs(prep.U[far, j] - 0.5 * (lo + hi)))]
-            flags.append(
-                f"input '{col}' has {far.size} value(s) far outside its robust range "
-                f"[{lo:.4g}, {hi:.4g}] (1-99 % quantiles), e.g. {prep.U[worst, j]:.4g} at "
-                f"{_stamp(prep, worst)}: a spike or unit error; remedy: check the data there "
-                "and remove the values (thermocal.io quality checks) or cut the period"
-            )
+        spec = heat.get(col)
+        unit = (spec.get("unit") or "W") if spec else "C"
+        centre, scale, level = robust_range(finite)
+        with np.errstate(invalid="ignore"):
+            if spec is not None and not spec.get("allow_negative"):
+                offset = NEGATIVE_OFFSET_FRACTION * level
+                neg = np.flatnonzero(u < -offset)
+                if neg.size:
+                    flags.append(
+                        f"heat input '{col}' has {neg.size} negative value(s) below -{offset:.3g} "
+                        f"{unit} (5 % of its 90 % level), most negative "
+                        f"{_listed(prep, j, neg, unit)}: a heat input is >= 0 unless it "
+                        "includes cooling; remedy: check the meter sign and the supply/return "
+                        "temperatures, set the values to NaN, or declare the column "
+                        "'allow_negative: true' in heat_inputs when it is a ventilation or "
+                        "extraction heat flow"
+                    )
+            if scale > 0:
+                far = np.flatnonzero(np.abs(u - centre) > SPIKE_SCALES * scale)
+                if far.size:
+                    lo, hi = centre - SPIKE_SCALES * scale, centre + SPIKE_SCALES * scale
+                    flags.append(
+                        f"input '{col}' has {far.size} value(s) far outside its robust range "
+                        f"[{lo:.4g}, {hi:.4g}] {unit} (median +- {SPIKE_SCALES:g} robust standard "
+                        f"deviations), e.g. {_listed(prep, j, far, unit)}: a spike or unit "
+                        "error; remedy: check the data there and remove the values (NaN) or cut "
+                        "the period"
+                    )
+            limits = None
+            if spec is None:
+                limits, si, what = PHYSICAL_LIMITS["C"], 1.0, "temperature [C]"
+            elif unit.endswith("/m2"):
+                limits, si = PHYSICAL_LIMITS["W/m2"], HEAT_COLUMN_UNITS.get(unit, 1.0)
+                what = f"irradiance [{unit}]"
+            if limits is not None:
+                lo, hi = limits
+                bad = np.flatnonzero((u * si < lo) | (u * si > hi))
+                if bad.size:
+                    flags.append(
+                        f"input '{col}' ({what}) has {bad.size} value(s) outside the physical "
+                        f"range [{lo / si:.4g}, {hi / si:.4g}] {unit}: "
+                        f"{_listed(prep, j, bad, unit)}; remedy: check the unit (Kelvin? "
+                        "W/m2 vs kW/m2?) and the sensor"
+                    )
     return flags + heat_unit_flags(model, prep)
 
 

@@ -195,3 +195,25 @@ def test_a_better_point_on_the_profile_marks_the_fit_as_not_converged(fitted):
     assert out["better_optimum"] is not None
     assert out["better_optimum"]["loglike"] > early.loglike + 0.1
     assert not early.converged and "a better optimum was seen" in early.flags[0]
+
+
+def test_heat_loss_coefficient_implied_by_the_network(fitted):
+    """The structural heat loss coefficient: H for one state (its profile interval is the one
+    of H, checked against brute force above); for Bacher & Madsen's TiTeThRia
+    1/Ria + 1/(Rie + Rea) (heater state and envelope float, no loss through them)."""
+    res = fitted
+    hlc = res.heat_loss_coefficient()
+    h = res.profile_interval("H")
+    assert hlc["value"] == pytest.approx(res.params["H"], rel=1e-12)
+    assert hlc["std_error"] == pytest.approx(res.bse["H"], rel=1e-4)
+    assert hlc["lower"] == pytest.approx(h["lower"], rel=1e-4)
+    assert hlc["upper"] == pytest.approx(h["upper"], rel=1e-4)
+    assert hlc["interval"] == "profile" and hlc["boundaries"] == ["Ta"]
+    from thermocal.statespace.families import bacher_madsen_family
+
+    models, _, _ = bacher_madsen_family(heat_unit="kW", solar_unit=None)
+    m = models["TiTeThRia"]
+    values = {"Ria": 8.0, "Rie": 2.0, "Rea": 3.0, "Rih": 0.5}  # K/kW
+    expected = 1000.0 * (1 / 8.0 + 1 / (2.0 + 3.0))  # W/K
+    assert m.heat_loss_coefficient(values) == pytest.approx(expected, rel=1e-12)
+    assert models["TiTmTeTh"].heat_loss_state() == "Ti"

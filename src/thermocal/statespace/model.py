@@ -855,6 +855,63 @@ class RCModel:
         D = np.zeros((st.C.shape[0], st.n_inputs))
         return A, B, st.C.copy(), D
 
+    def heat_loss_state(self) -> str | None:
+        """The state whose heat loss coefficient the model implies: the state observed alone
+        (coefficient 1) by the first such output, when the network connects it to a boundary
+        temperature; None otherwise."""
+        st = self.structure()
+        if not self.boundary_names:
+            return None
+        for r in range(st.C.shape[0]):
+            nz = np.flatnonzero(st.C[r])
+            if nz.size == 1 and st.C[r, nz[0]] == 1.0:
+                return self.state_names[nz[0]]
+        return None
+
+    def heat_loss_coefficient(
+        self, params: Mapping[str, float] | None = None, *, state: str | None = None
+    ) -> float:
+        """Steady-state heat loss coefficient [W/K] of a state to all boundary temperatures.
+
+        The heat flow out of ``state`` per kelvin when it is held 1 K above every boundary
+        temperature and the other states float to their steady state without heat input:
+        ``H = -(G_ss + G_sf x_f)`` with ``G_ff x_f = -G_fs`` (``G`` the conductance matrix of the
+        network, ``f`` the other states). For the Bacher & Madsen models this is
+        ``1/Ria + 1/(Rie + Rea)`` (Bacher & Madsen 2011); the heat that a heater state or the
+        thermal mass stores is not a loss.
+
+        Parameters
+        ----------
+        params : mapping, optional
+            Parameter values [declared units] (default: the declared values).
+        state : str, optional
+            Default: :meth:`heat_loss_state`.
+
+        Returns
+        -------
+        float
+            [W/K]; NaN when the network has no steady state.
+        """
+        state = state or self.heat_loss_state()
+        if state is None:
+            raise ThermocalInputError(
+                f"model '{self.name}': no heat loss coefficient: no output observes a single "
+                "state connected to a boundary temperature"
+            )
+        st = self.structure()
+        _, G, _, _ = kernels.build_network(
+            self.values_si(params), *st.arrays[:15], st.arrays[18], st.n_inputs
+        )
+        s = self.state_names.index(state)
+        f = [i for i in range(G.shape[0]) if i != s]
+        if not f:
+            return float(-G[s, s])
+        try:
+            x_f = np.linalg.solve(G[np.ix_(f, f)], -G[f, s])
+        except np.linalg.LinAlgError:
+            return float("nan")
+        return float(-(G[s, s] + G[s, f] @ x_f))
+
     def diffusion_matrix(self, params: Mapping[str, float] | None = None) -> np.ndarray:
         """Diagonal diffusion matrix ``Sigma`` [K/sqrt(s)] of ``dx = f dt + Sigma dw``."""
         st = self.structure()

@@ -101,17 +101,19 @@ class _ParameterProfile:
 class _DerivedProfile:
     """``l_p`` of a derived quantity, on its natural scale."""
 
-    def __init__(self, res, name: str) -> None:
+    def __init__(self, res, name: str, func=None, se: float = math.nan) -> None:
         from thermocal.statespace.estimation import LikelihoodProblem, _hold_flag
 
         self.res = res
         self.name = name
-        self.expr = res.model.derived[name][0]
+        #: {parameter: value [declared units]} -> the quantity
+        self.func = func or (lambda values: res.model.derived_values(values)[name])
         self.problem = LikelihoodProblem(res.model, res.data, _hold_flag(res.hold))
         self.free = [res.model.parameters[n] for n in res.model.free_parameter_names]
         self.center = float(self.g(res.theta))
-        derived = res.derived()
-        se = float(derived.loc[name, "std_error"]) if name in derived.index else math.nan
+        if func is None:
+            derived = res.derived()
+            se = float(derived.loc[name, "std_error"]) if name in derived.index else math.nan
         self.step = se if math.isfinite(se) and se > 0 else 0.1 * max(abs(self.center), 1e-6)
         self.cache: dict[float, tuple[float, np.ndarray]] = {
             self.center: (res.loglike, np.asarray(res.theta, dtype=float))
@@ -121,7 +123,7 @@ class _DerivedProfile:
         values = self.res.params.to_dict()
         for p, t in zip(self.free, theta, strict=True):
             values[p.name] = p.from_unconstrained(float(t))
-        return self.res.model.derived_values(values)[self.name]
+        return self.func(values)
 
     def value(self, c: float) -> float:
         return c
@@ -229,6 +231,11 @@ def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
         prof = _ParameterProfile(res, name)
     elif name in model.derived:
         prof = _DerivedProfile(res, name)
+    elif name == "heat_loss_coefficient":  # implied by the network [W/K]
+        hlc = res.heat_loss_coefficient(profile=False)
+        prof = _DerivedProfile(
+            res, name, lambda values: model.heat_loss_coefficient(values), hlc["std_error"]
+        )
     else:
         raise ThermocalInputError(
             f"profile: '{name}' is neither a free parameter nor a derived quantity of model "

@@ -451,6 +451,71 @@ class FitResults:
             upper.append(max(a, b))
         return pd.DataFrame({"lower": lower, "upper": upper}, index=pd.Index(free))
 
+    def heat_loss_coefficient(self, *, alpha: float = 0.05, profile: bool = True) -> dict | None:
+        """The heat loss coefficient the model's structure implies, at the estimates.
+
+        See :meth:`RCModel.heat_loss_coefficient` (steady-state heat flow from the observed
+        state to all boundary temperatures per kelvin). Returns None when the structure implies
+        none.
+
+        Returns
+        -------
+        dict
+            ``value`` and ``std_error`` (delta method) [W/K], ``wald_lower``/``wald_upper``
+            (``value +- z se``), with ``profile``: ``lower``/``upper`` and
+            ``open_lower``/``open_upper`` of the profile-likelihood interval (Pawitan 2001)
+            [W/K]; ``interval`` names the one to show first: ``"profile"`` (always computed
+            when asked) or ``"wald"``; ``disagree`` is True when an end of the Wald interval is
+            more than 10 % of the profile interval's width off; ``state`` and ``boundaries``
+            (the boundary columns the heat flows to; with more than one, the coefficient
+            depends on their temperatures, e.g. a cellar or attic that follows the test).
+        """
+        from scipy import stats
+
+        if self.model.heat_loss_state() is None:
+            return None
+        model = self.model
+        base = self.params.to_dict()
+        value = model.heat_loss_coefficient(base)
+        free = model.free_parameter_names
+        grad = np.zeros(len(free))
+        for i, p in enumerate(free):
+            h = 1e-6 * max(abs(base[p]), 1e-8)
+            up = model.heat_loss_coefficient({**base, p: base[p] + h})
+            down = model.heat_loss_coefficient({**base, p: base[p] - h})
+            grad[i] = (up - down) / (2 * h)
+        cov = self._cov.to_numpy()
+        known = np.isfinite(np.diag(cov)) | (grad == 0)
+        se = math.nan
+        if np.all(known) and cov.size:
+            se = float(np.sqrt(max(grad @ np.where(np.isfinite(cov), cov, 0.0) @ grad, 0.0)))
+        z = float(stats.norm.ppf(1 - alpha / 2))
+        out = {
+            "value": value, "std_error": se, "unit": "W/K",
+            "wald_lower": value - z * se, "wald_upper": value + z * se,
+            "state": model.heat_loss_state(), "boundaries": list(model.boundary_names),
+            "alpha": alpha, "interval": "wald", "disagree": False,
+        }  # fmt: skip
+        if profile:
+            from thermocal.errors import ThermocalInputError
+
+            try:
+                prof = self.profile_interval("heat_loss_coefficient", alpha=alpha)
+            except ThermocalInputError as exc:
+                out["profile_error"] = str(exc)
+                return out
+            width = prof["upper"] - prof["lower"]
+            off = max(
+                abs(out["wald_lower"] - prof["lower"]), abs(out["wald_upper"] - prof["upper"])
+            )
+            out |= {
+                "lower": prof["lower"], "upper": prof["upper"],
+                "open_lower": prof["open_lower"], "open_upper": prof["open_upper"],
+                "interval": "profile",
+                "disagree": bool(not math.isfinite(se) or off > 0.1 * width),
+            }  # fmt: skip
+        return out
+
     def note_better_optimum(self, loglike: float, where: str) -> None:
         """Record that a point with a log-likelihood clearly above this optimum was seen
         (``where``: how it was found): the fit is then not converged, and flagged."""

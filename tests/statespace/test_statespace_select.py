@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 from typer.testing import CliRunner
 
 from thermocal.cli import app
@@ -85,6 +86,36 @@ def test_select_command_runs_forward_selection_with_mapped_columns(tmp_path):
         assert fit["loglike"] == pytest.approx(loglike[name])
         assert (out / name / "model.yaml").exists()
     assert "no solar column Ps" in " ".join(content["data_notes"])
+    # convergence, status and the heat loss coefficient in the path table; the written model
+    # files hold the estimates
+    md = (out / "selection.md").read_text()
+    assert "| converged |" in md and "| status |" in md and "heat loss coefficient [W/K]" in md
+    hlc = content["heat_loss_coefficient"]
+    for name in content["path"]:  # profile intervals along the path
+        assert hlc[name]["interval"] == "profile"
+        assert hlc[name]["lower"] < hlc[name]["value"] < hlc[name]["upper"]
+    truth_hlc = 1.0 / 8.0 * 1000.0  # 1/Ria [W/K]
+    assert hlc["TiTh"]["lower"] < truth_hlc < hlc["TiTh"]["upper"]
+    spec = yaml.safe_load((out / "TiTh" / "model.yaml").read_text())
+    fit = json.loads((out / "TiTh" / "fit.json").read_text())
+    for name, entry in spec["parameters"].items():
+        assert entry["value"] == pytest.approx(fit["params"][name]["value"], rel=1e-6, abs=1e-8)
+    # errors name the data column and the file; gaps are handled as in fit
+    broken = table.copy()
+    broken["heat_W"] = broken["heat_W"].astype(object)
+    broken.iloc[5, broken.columns.get_loc("heat_W")] = "n/a kW"
+    broken.to_csv(tmp_path / "broken.csv")
+    bad = CliRunner().invoke(app, [*args[:1], str(tmp_path / "broken.csv"), *args[2:]])
+    assert bad.exit_code != 0
+    assert f"'Ph' (data column 'heat_W' of {tmp_path / 'broken.csv'})" in str(bad.exception)
+    gap = table.copy()
+    gap.iloc[100:102, gap.columns.get_loc("heat_W")] = np.nan
+    gap.to_csv(tmp_path / "gap.csv")
+    sel = [*args[:1], str(tmp_path / "gap.csv"), "--out", str(tmp_path / "g"), *args[4:]]
+    result = CliRunner().invoke(app, [*sel, "--no-hlc-profile"])
+    assert result.exit_code == 0, result.output
+    notes = json.loads((tmp_path / "g" / "selection.json").read_text())["table"]
+    assert notes  # the 2-sample gap was interpolated as fit does
     # a missing column is named with the --map remedy
     bad = CliRunner().invoke(app, ["select", str(path), "--out", str(tmp_path / "x")])
     assert bad.exit_code != 0 and "--map Ta=" in str(bad.exception)

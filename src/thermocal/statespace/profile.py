@@ -38,6 +38,9 @@ MAX_STEPS = 12
 #: Steps taken back and halved in a row (after a failed profile point) before the edge of the
 #: reachable range is taken as reached.
 MAX_HALVINGS = 8
+#: Iteration limit of a constrained profile fit (SLSQP): with unidentifiable directions it
+#: otherwise spends 500 iterations (20 s on 300 samples) for a gain of a few 1e-3 log-units.
+SLSQP_MAXITER = 150
 #: Distance on a parameter's unconstrained (log/logit) scale taken as its bound.
 BOUND_SPAN = 40.0
 #: Stall tolerance of the profile fits (tighter than the default fit's).
@@ -140,7 +143,7 @@ class _DerivedProfile:
             out = optimize.minimize(
                 self.problem.objective, start, jac=True, method="SLSQP",
                 constraints=[{"type": "eq", "fun": constraint}],
-                options={"maxiter": 500, "ftol": 1e-13},
+                options={"maxiter": SLSQP_MAXITER, "ftol": 1e-13},
             )  # fmt: skip
             return out, self.problem.clip(out.x)
 

@@ -205,3 +205,20 @@ def test_extension_with_a_physical_parameter_at_its_bound_is_not_accepted():
     assert table.loc["TiTe", "at_bound"] == "Ce"
     assert "at bound: Ce" in table.loc["TiTe", "status"]
     assert not table.loc["TiTe", "accepted"] and result.path == ["Ti"]
+
+
+def test_family_bounds_can_be_widened():
+    """The family's bounds (made for the FlexHouse data) widen by --bound-factor on both sides
+    for capacities, resistances and the aperture; noise and initial states keep theirs."""
+    from thermocal.errors import ThermocalInputError
+
+    base, _, _ = bacher_madsen_family()
+    wide, _, _ = bacher_madsen_family(bound_factor=10.0)
+    for name in ("Ci", "Ce", "Rie", "Rea", "Aw"):
+        p, q = base["TiTe"].parameters[name], wide["TiTe"].parameters[name]
+        assert q.lower == pytest.approx(p.lower / 10) and q.upper == pytest.approx(p.upper * 10)
+    for name in ("sigma_i", "Ti0", "Te0"):
+        p, q = base["TiTe"].parameters[name], wide["TiTe"].parameters[name]
+        assert (q.lower, q.upper) == (p.lower, p.upper)
+    with pytest.raises(ThermocalInputError, match="bound factor"):
+        bacher_madsen_family(bound_factor=0.5)

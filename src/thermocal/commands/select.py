@@ -148,6 +148,14 @@ def select(
             help="'start' (default) or 'end' of each interval (inputs shifted one sample).",
         ),
     ] = "start",
+    bound_factor: Annotated[
+        float,
+        typer.Option(
+            "--bound-factor",
+            help="Widen the family's bounds of capacities, resistances and the aperture by "
+            "this factor on both sides (default 1: bounds made for the FlexHouse data).",
+        ),
+    ] = 1.0,
     hlc_profile: Annotated[
         bool,
         typer.Option(
@@ -214,7 +222,7 @@ def select(
     if not solar:
         notes.append("no solar column Ps: the family is fitted without solar gains")
     models, extensions, start = FAMILIES[family](
-        heat_unit=heat_unit, solar_unit=solar_unit if solar else None
+        heat_unit=heat_unit, solar_unit=solar_unit if solar else None, bound_factor=bound_factor
     )
     time_column = resolve_time_column(data, time_column, time_format, data_file)
     check_time_axis(data, time_column, time_unit, data_file)

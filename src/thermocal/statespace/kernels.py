@@ -316,27 +316,8 @@ STEADY_STATE_TOLERANCE = 1e-13
 
 @njit(cache=True, error_model="numpy")
 def kalman_filter(
-    lam,
-    T,
-    Tinv,
-    TB,
-    M,
-    C,
-    meas_var,
-    x0,
-    P0,
-    dts,
-    U,
-    Y,
-    foh,
-    store,
-    xp,
-    Pp,
-    xf,
-    Pf,
-    Ads,
-    seg_start,
-    seg_x0,
+    lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, xp, Pp, xf, Pf, Ads,
+    seg_start, seg_x0,
 ):
     """Kalman filter over the samples; returns the log-likelihood of ``Y``.
 
@@ -763,27 +744,8 @@ def loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start):
     store = U.shape[0] < 0
     seg_x0 = period_initial_means(values, st[19], x0.size)
     ll = kalman_filter(
-        lam,
-        T,
-        Tinv,
-        TB,
-        M,
-        C,
-        meas_var,
-        x0,
-        P0,
-        dts,
-        U,
-        Y,
-        foh,
-        store,
-        e2,
-        e3,
-        e2,
-        e3,
-        e3,
-        seg_start,
-        seg_x0,
+        lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, e2, e3, e2, e3, e3,
+        seg_start, seg_x0,
     )
     if not math.isfinite(ll):
         return -np.inf

@@ -203,6 +203,7 @@ def test_forward_selection_finds_the_second_state():
         {"Ti": ["TiTe"], "TiTe": ["TiTe_split"]},
         data,
         start="Ti",
+        seed=0,
     )
     assert result.path == ["Ti", "TiTe"]
     assert result.selected == "TiTe"

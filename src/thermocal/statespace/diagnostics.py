@@ -380,9 +380,14 @@ def forward_selection(
         start_values = _shared_values(ext_fit, models[parent])
         if not start_values:
             return False
-        probe = models[parent].fit(
-            data, n_starts=1, warm_start=start_values, compute_hessian=False, **fit_kw
-        )  # the declared values and the extension's estimates
+        from thermocal.statespace.profile import _inside
+
+        # one start, at the extension's estimates (the declared values were run already)
+        probe = (
+            models[parent]
+            .with_parameters(_inside(models[parent], start_values))
+            .fit(data, n_starts=1, compute_hessian=False, **fit_kw)
+        )
         if probe.loglike > old.loglike + REPOLISH_GAIN:
             # a better parent optimum exists: the full multi-start again, with that start, so
             # that the agreement of the starts is judged as for any fit

@@ -446,6 +446,8 @@ def _worker_start(args):
     return _polished_start(problem, theta_start, method, maxiter, stall_tolerance)
 
 
+#: Seed of the random starts when none is given.
+DEFAULT_SEED = 2011
 #: Fewest optimiser starts used by default (the agreement criterion needs at least two).
 MIN_DEFAULT_STARTS = 3
 #: Default starts per free parameter (above :data:`MIN_DEFAULT_STARTS`).
@@ -673,7 +675,8 @@ def fit(
         at least two starts reach the best log-likelihood (within :data:`AGREEMENT_TOLERANCE`),
         besides the Newton-step criterion at the end point (``results.agreement``).
     seed : int, optional
-        Seed of the random starts.
+        Seed of the random starts (default :data:`DEFAULT_SEED`: the same model and data give
+        the same fit; the convergence verdict depends on the agreement of the starts).
     time_column, time_unit : str
         See :func:`thermocal.statespace.data.time_axis`.
     method : str
@@ -722,6 +725,8 @@ def fit(
         raise ThermocalInputError(
             f"model '{model.name}' has no free parameter to estimate; set 'fixed: false' on some"
         )
+    if seed is None:  # reproducible by default: the same data and model give the same fit
+        seed = DEFAULT_SEED
     adaptive = n_starts is None
     if n_starts is None:
         n_starts = default_n_starts(model)

@@ -59,6 +59,21 @@ def test_fit_command_writes_json_and_figures(tmp_path):
     # the same fit through the Python API
     df = pd.read_csv(data)
     res = RCModel.from_yaml(MODEL).fit(df, time_column="time")
+    # the heat loss coefficient the structure implies, profile interval first
+    hlc = content["heat_loss_coefficient"]
+    assert hlc["value"] == pytest.approx(
+        res.heat_loss_coefficient(profile=False)["value"], rel=1e-6
+    )
+    assert hlc["interval"] == "profile" and hlc["lower"] < hlc["value"] < hlc["upper"]
+    assert (
+        "heat loss coefficient" in result.output and "profile-likelihood interval" in result.output
+    )
+    # the written model file holds the estimates
+    import yaml
+
+    fitted = yaml.safe_load((out / "model_fitted.yaml").read_text())
+    for name, entry in fitted["parameters"].items():
+        assert entry["value"] == pytest.approx(res.params[name], rel=1e-6, abs=1e-8), name
     assert (
         res.loglike == np.float64(content["loglike"])
         or abs(res.loglike - content["loglike"]) < 1e-6
@@ -87,7 +102,7 @@ def test_fit_command_numeric_time_and_separator(tmp_path):
     semi = tmp_path / "semi.csv"
     df2.to_csv(semi, sep=";", index=False)
     out = tmp_path / "out"
-    args = ["fit", str(MODEL), str(semi), "--out", str(out), "--time-column", "t",
+    args = ["fit", "--no-hlc", str(MODEL), str(semi), "--out", str(out), "--time-column", "t",
             "--time-unit", "h", "--no-figures"]  # fmt: skip
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
@@ -104,7 +119,8 @@ def test_fit_command_reports_unknown_column_without_traceback(tmp_path):
     import sys
 
     proc = subprocess.run(
-        [sys.executable, "-c", "from thermocal.cli import main; main()", "fit", str(model),
+        [sys.executable, "-c", "from thermocal.cli import main; main()", "fit", "--no-hlc",
+         str(model),
          str(data), "--out", str(tmp_path / "o")],
         capture_output=True,
         text=True,
@@ -160,7 +176,9 @@ def test_fit_command_bad_input_gives_one_clear_message(tmp_path, case):
     from thermocal.errors import ThermocalInputError
 
     model, data, expected = _bad_case(tmp_path, case)
-    result = CliRunner().invoke(app, ["fit", str(model), str(data), "--out", str(tmp_path / "o")])
+    result = CliRunner().invoke(
+        app, ["fit", "--no-hlc", str(model), str(data), "--out", str(tmp_path / "o")]
+    )
     assert isinstance(result.exception, ThermocalInputError), result.output
     message = str(result.exception)
     for text in expected:
@@ -175,7 +193,7 @@ def test_fit_reads_data_as_users_have_it(tmp_path):
     df = write_data(clean)
     ref = tmp_path / "ref"
     result = CliRunner().invoke(
-        app, ["fit", str(MODEL), str(clean), "--out", str(ref), "--no-figures"]
+        app, ["fit", "--no-hlc", str(MODEL), str(clean), "--out", str(ref), "--no-figures"]
     )
     assert result.exit_code == 0, result.output
     messy = df.rename(columns={"ghi": "Gv"})
@@ -188,7 +206,17 @@ def test_fit_reads_data_as_users_have_it(tmp_path):
     path = tmp_path / "messy.csv"
     path.write_text("\n".join(lines) + "\n")
     out = tmp_path / "out"
-    args = ["fit", str(MODEL), str(path), "--out", str(out), "--no-figures", "--decimal", ","]
+    args = [
+        "fit",
+        "--no-hlc",
+        str(MODEL),
+        str(path),
+        "--out",
+        str(out),
+        "--no-figures",
+        "--decimal",
+        ",",
+    ]
     args += ["--time-format", "%d.%m.%Y %H:%M", "--map", "ghi=Gv", "--time-column", "Zeit"]
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
@@ -225,7 +253,7 @@ def test_strict_exits_non_zero_when_a_flag_is_raised(tmp_path):
     df.index.name = "time"
     df.to_csv(data)
     out = tmp_path / "out"
-    args = ["fit", str(MODEL), str(data), "--out", str(out), "--no-figures", "--strict"]
+    args = ["fit", "--no-hlc", str(MODEL), str(data), "--out", str(out), "--no-figures", "--strict"]
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 3, result.output
     assert "beyond 5 sigma" in result.output and "--strict" in result.output
@@ -241,7 +269,9 @@ def test_fit_reads_excel_with_columns_from_the_model_file_and_splits_long_gaps(t
     df = write_data(clean, n=120)
     ref = tmp_path / "ref"
     args = ["--no-figures", "--n-starts", "1"]
-    result = CliRunner().invoke(app, ["fit", str(MODEL), str(clean), "--out", str(ref), *args])
+    result = CliRunner().invoke(
+        app, ["fit", "--no-hlc", str(MODEL), str(clean), "--out", str(ref), *args]
+    )
     assert result.exit_code == 0, result.output
     spec = yaml.safe_load(MODEL.read_text())
     spec["columns"] = {"phi_h": "Heizung", "Ti": "T_innen"}
@@ -254,6 +284,7 @@ def test_fit_reads_excel_with_columns_from_the_model_file_and_splits_long_gaps(t
     sheet.to_excel(xlsx, sheet_name="Messung")
     out = tmp_path / "out"
     cmd = ["fit", str(model_file), str(xlsx), "--out", str(out), "--sheet", "Messung", *args]
+    cmd.append("--no-hlc")
     result = CliRunner().invoke(app, [*cmd, "--profile", "H_v"])
     assert result.exit_code == 0, result.output
     content = json.loads((out / "fit.json").read_text())
@@ -284,7 +315,7 @@ def test_fit_refuses_work_beyond_its_limits(tmp_path, monkeypatch):
     data = tmp_path / "data.csv"
     write_data(data, n=150)
     monkeypatch.setattr(fit_command, "ESTIMATE_ROWS", 100)
-    args = ["fit", str(MODEL), str(data), "--out", str(tmp_path / "o"), "--no-figures"]
+    args = ["fit", "--no-hlc", str(MODEL), str(data), "--out", str(tmp_path / "o"), "--no-figures"]
     result = CliRunner().invoke(app, [*args, "--max-hours", "1e-9"])
     assert result.exit_code != 0
     assert "the fit would take about" in str(result.exception)
@@ -294,3 +325,35 @@ def test_fit_refuses_work_beyond_its_limits(tmp_path, monkeypatch):
     result = CliRunner().invoke(app, args)
     assert "150 rows x 2 states need about" in str(result.exception)
     assert not (tmp_path / "o").exists()
+
+
+def test_interval_end_time_stamps_shift_the_inputs_onto_the_hold(tmp_path):
+    """Data stamped at the end of each interval (the input over [t_k-1, t_k] labelled t_k):
+    with --time-stamps end the fit equals that of the same data stamped at the start (without
+    its first and last rows); without it the inputs act one step late and the likelihood is
+    lower."""
+    start = tmp_path / "start.csv"
+    df = write_data(start, n=120)
+    end = df.copy()
+    end[["Te", "phi_h", "ghi"]] = end[["Te", "phi_h", "ghi"]].shift(1)
+    end = end.iloc[1:]
+    end.index.name = "time"
+    end.to_csv(tmp_path / "end.csv")
+    trimmed = df.iloc[1:-1]  # the rows that keep both an input and an output
+    trimmed.index.name = "time"
+    trimmed.to_csv(tmp_path / "trimmed.csv")
+    base = ["fit", "--no-hlc", str(MODEL), "--no-figures", "--n-starts", "1"]
+
+    def loglike(csv, *extra):
+        out = tmp_path / f"o_{csv}_{len(extra)}"
+        result = CliRunner().invoke(app, [*base, str(tmp_path / csv), "--out", str(out), *extra])
+        assert result.exit_code == 0, result.output
+        return json.loads((out / "fit.json").read_text())
+
+    shifted = loglike("end.csv", "--time-stamps", "end")
+    reference = loglike("trimmed.csv")
+    assert shifted["nobs"] == reference["nobs"] == 118
+    assert shifted["loglike"] == pytest.approx(reference["loglike"], abs=1e-6)
+    assert any("--time-stamps end" in n for n in shifted["data_notes"])
+    late = loglike("end.csv")
+    assert shifted["loglike"] > late["loglike"]

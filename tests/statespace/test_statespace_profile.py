@@ -98,3 +98,122 @@ def test_profile_interval_of_a_derived_quantity_matches_brute_force(fitted):
     table = res.profile_intervals(["H", "tau_h"])
     assert table.loc["tau_h", "lower"] == pytest.approx(tau["lower"], rel=1e-6)
     assert table.loc["H", "lower"] < res.params["H"] < table.loc["H", "upper"]
+
+
+def bounded_fit(upper: float):
+    """The one-state fit with H bounded above at ``upper`` [W/K] and the heat loss coefficient
+    ``hlc = H / 1000`` [kW/K] declared (H's estimate 153.4 W/K, profile interval to 157.1)."""
+    rng = np.random.default_rng(4)
+    n = 120
+    hours = np.arange(n)
+    df = pd.DataFrame(
+        {"Ta": 4 + 3 * np.sin(hours / 24 * 2 * np.pi), "Ph": 2500.0 * (rng.uniform(size=n) > 0.5)},
+        index=pd.date_range("2024-01-01", periods=n, freq="h", tz="UTC"),
+    )
+    df["y"] = simulate_stochastic(one_state(), df, seed=5)["y"]
+    model = one_state().add_derived("hlc", "H / 1000", unit="kW/K")
+    model.parameters["H"].upper = upper
+    model._structure = None
+    return model.fit(df, stall_tolerance=1e-6, n_starts=1)
+
+
+def grid_end(res, values, brute_at):
+    """Where a brute-force profile on the grid ``values`` crosses the threshold (linear
+    interpolation between the two grid points around the crossing)."""
+    threshold = res.loglike - 0.5 * 3.841458820694124
+    prof = np.array([brute_at(v) for v in values])
+    k = int(np.flatnonzero((prof[:-1] - threshold) * (prof[1:] - threshold) <= 0)[0])
+    frac = (prof[k] - threshold) / (prof[k] - prof[k + 1])
+    return values[k] + frac * (values[k + 1] - values[k])
+
+
+def h_brute(res):
+    h_param = res.model.parameters["H"]
+
+    def brute_at(hlc):  # H fixed at 1000 hlc, the others maximised
+        t = h_param.to_unconstrained(1000.0 * hlc)
+        return brute_profile_at(res, 1, t)
+
+    return brute_at
+
+
+def brute_profile_at(res, index, t) -> float:
+    problem = LikelihoodProblem(res.model, res.data, False)
+    x = np.delete(res.theta, index)
+    for _ in range(2):
+        out = optimize.minimize(
+            lambda r: -problem.loglike(np.insert(r, index, t)), x, method="Nelder-Mead",
+            options={"xatol": 1e-9, "fatol": 1e-11, "maxiter": 40000, "maxfev": 40000},
+        )  # fmt: skip
+        x = out.x
+    return -out.fun
+
+
+def test_end_close_to_the_reachable_range_is_bracketed_not_called_open():
+    """H <= 160 W/K: the heat loss coefficient reaches at most 0.160 kW/K. The doubled second
+    step (0.1640) cannot be met; before, the search stopped there and reported the upper end
+    0.1569 as "open". Now the step is taken back and halved: the end matches the brute-force
+    profile grid within 2 %."""
+    res = bounded_fit(160.0)
+    hlc = res.profile_interval("hlc")
+    assert not hlc["open_upper"] and not hlc["open_lower"]
+    brute_at = h_brute(res)
+    est = hlc["estimate"]
+    upper = grid_end(res, np.linspace(est + 0.002, 0.1599, 6), brute_at)
+    lower = grid_end(res, np.linspace(est - 0.006, est - 0.002, 5), brute_at)
+    assert hlc["upper"] == pytest.approx(upper, rel=0.02)
+    assert hlc["lower"] == pytest.approx(lower, rel=0.02)
+    # finer than the 2 % asked: within 2 % of the interval's width
+    width = upper - lower
+    assert abs(hlc["upper"] - upper) < 0.02 * width and abs(hlc["lower"] - lower) < 0.02 * width
+    assert hlc["better_optimum"] is None
+
+
+def test_open_only_when_the_profile_stays_above_the_threshold_up_to_the_bound():
+    """H <= 155 W/K, below the unbounded profile end (157.1): the profile stays above the
+    threshold up to the bound, so the upper end is open, at the bound for H and at the edge of
+    the reachable range for H / 1000; the lower end stays closed."""
+    res = bounded_fit(155.0)
+    threshold = res.loglike - 0.5 * 3.841458820694124
+    h = res.profile_interval("H")
+    assert h["open_upper"] and h["upper"] == 155.0 and not h["open_lower"]
+    assert brute_profile_at(res, 1, res.model.parameters["H"].to_unconstrained(154.999)) > (
+        threshold
+    )
+    hlc = res.profile_interval("hlc")
+    assert hlc["open_upper"] and hlc["upper"] == pytest.approx(0.155, rel=2e-3)
+    assert not hlc["open_lower"] and hlc["lower"] == pytest.approx(h["lower"] / 1000, rel=1e-4)
+
+
+def test_a_better_point_on_the_profile_marks_the_fit_as_not_converged(fitted):
+    """A fit stopped early (one iteration) lies below its own profile: the profile sees the
+    better optimum, flags it and sets converged to False."""
+    early = fitted.model.with_parameters({"H": 100.0}).fit(fitted.data, n_starts=1, maxiter=1)
+    assert early.loglike < fitted.loglike - 1.0
+    early.converged = True  # as a fit that stopped on a flat stretch would claim
+    out = early.profile_interval("Ci")
+    assert out["better_optimum"] is not None
+    assert out["better_optimum"]["loglike"] > early.loglike + 0.1
+    assert not early.converged and "a better optimum was seen" in early.flags[0]
+
+
+def test_heat_loss_coefficient_implied_by_the_network(fitted):
+    """The structural heat loss coefficient: H for one state (its profile interval is the one
+    of H, checked against brute force above); for Bacher & Madsen's TiTeThRia
+    1/Ria + 1/(Rie + Rea) (heater state and envelope float, no loss through them)."""
+    res = fitted
+    hlc = res.heat_loss_coefficient()
+    h = res.profile_interval("H")
+    assert hlc["value"] == pytest.approx(res.params["H"], rel=1e-12)
+    assert hlc["std_error"] == pytest.approx(res.bse["H"], rel=1e-4)
+    assert hlc["lower"] == pytest.approx(h["lower"], rel=1e-4)
+    assert hlc["upper"] == pytest.approx(h["upper"], rel=1e-4)
+    assert hlc["interval"] == "profile" and hlc["boundaries"] == ["Ta"]
+    from thermocal.statespace.families import bacher_madsen_family
+
+    models, _, _ = bacher_madsen_family(heat_unit="kW", solar_unit=None)
+    m = models["TiTeThRia"]
+    values = {"Ria": 8.0, "Rie": 2.0, "Rea": 3.0, "Rih": 0.5}  # K/kW
+    expected = 1000.0 * (1 / 8.0 + 1 / (2.0 + 3.0))  # W/K
+    assert m.heat_loss_coefficient(values) == pytest.approx(expected, rel=1e-12)
+    assert models["TiTmTeTh"].heat_loss_state() == "Ti"

@@ -124,6 +124,65 @@ def _check_header(path: Path, sep: str) -> None:
         seen[name] = position
 
 
+def shift_end_stamped(data, inputs, stamps: str, notes: list[str]):
+    """Inputs of data stamped at the END of each interval, moved onto the zero-order hold.
+
+    A logger's mean over ``[t_k-1, t_k]`` stamped ``t_k`` is the input over the step INTO
+    sample ``k``; the zero-order hold applies ``u[k]`` over ``[t_k, t_k+1)``. With
+    ``stamps="end"`` the input columns are shifted one row earlier (the last row, without an
+    input for its step, is dropped) and a note says so. ``"start"``: unchanged.
+    """
+    from thermocal.errors import ThermocalInputError
+
+    if stamps not in ("start", "end"):
+        raise ThermocalInputError(f"--time-stamps {stamps!r}: use start or end")
+    if stamps == "start":
+        return data
+    cols = [c for c in inputs if c in data.columns]
+    data = data.copy()
+    data[cols] = data[cols].shift(-1)
+    data = data.iloc[:-1]
+    notes.append(
+        "--time-stamps end: input columns " + ", ".join(cols) + " shifted one sample earlier "
+        "(each value is the mean over the interval ending at its stamp); last row dropped"
+    )
+    return data
+
+
+def fitted_model_yaml(results) -> str:
+    """The model file with the estimates as values (moved 1e-9 inside a bound they lie on, so
+    that the file can be fitted again), the model's name and description kept."""
+    import yaml
+
+    from thermocal.statespace.profile import _inside
+
+    model = results.model.with_parameters(_inside(results.model, results.params.to_dict()))
+    return yaml.safe_dump(model.to_dict(), sort_keys=False)
+
+
+def heat_loss_text(hlc: dict | None) -> str:
+    """One line on the heat loss coefficient: the profile interval first when computed."""
+    if hlc is None:
+        return "heat loss coefficient: not implied by the model structure"
+    pct = f"{100 * (1 - hlc['alpha']):g} %"
+    wald = f"Wald {hlc['wald_lower']:.4g} to {hlc['wald_upper']:.4g}"
+    text = f"heat loss coefficient {hlc['value']:.4g} W/K"
+    if hlc.get("interval") == "profile":
+        lo = f"{hlc['lower']:.4g}{' (open)' if hlc['open_lower'] else ''}"
+        hi = f"{hlc['upper']:.4g}{' (open)' if hlc['open_upper'] else ''}"
+        text += f", {pct} profile-likelihood interval [{lo}, {hi}] ({wald}"
+        text += "; they disagree: use the profile interval)" if hlc["disagree"] else ")"
+    else:
+        text += f", {pct} {wald}"
+    if len(hlc["boundaries"]) > 1:
+        text += (
+            f"; the heat flows to {len(hlc['boundaries'])} boundary temperatures "
+            f"({', '.join(hlc['boundaries'])}): it is a loss to all of them together, and an "
+            "adjacent space that follows the test regime makes it period-dependent"
+        )
+    return text
+
+
 def check_numbers(data, columns, path: Path, decimal: str) -> None:
     """Refuse text in the model's numeric columns, naming column, row and value."""
     import re
@@ -410,10 +469,11 @@ def file_sha256(path: Path) -> str:
 FIT_HELP = (
     "Fit a grey-box RC model by maximum likelihood (Kalman filter).\n\n"
     "Writes OUT/fit.json (log-likelihood, AIC, BIC, estimates with standard errors, correlation "
-    "matrix, flags with remedies, residual diagnostics, provenance), parameters.csv, "
-    "predictions.csv and PNG figures (measured vs one-step prediction, residual "
-    "autocorrelation, cumulated periodogram), and prints a summary. With --strict the exit "
-    "code is 3 when any flag is raised (2: input error). "
+    "matrix, flags with remedies, residual diagnostics, provenance, the heat loss coefficient "
+    "the model implies with its profile-likelihood interval), parameters.csv, model_fitted.yaml "
+    "(the model file holding the estimates), predictions.csv and PNG figures (measured vs "
+    "one-step prediction, residual autocorrelation, cumulated periodogram), and prints a "
+    "summary. With --strict the exit code is 3 when any flag is raised (2: input error). "
     "Example: thermocal fit examples/models/TiTe.yaml inputPRBS1.csv --time-column t "
     "--time-unit h --out fit_TiTe"
 )
@@ -448,8 +508,9 @@ def fit(
         typer.Option(
             "--n-starts",
             min=1,
-            help="Optimiser starts (1 = the declared values only). Default: 1, or 4 when the "
-            "model has more than 8 free parameters.",
+            help="Optimiser starts (1 = the declared values only). Default: max(3, half the "
+            "free parameters) plus a start from the data's energy balance, and as many more "
+            "when only one start reaches the best value (converged needs two that agree).",
         ),
     ] = None,
     seed: Annotated[int | None, typer.Option("--seed", help="Seed of the random starts.")] = None,
@@ -519,6 +580,22 @@ def fit(
         bool,
         typer.Option("--strict", help="Exit with code 3 when any flag is raised."),
     ] = False,
+    time_stamps: Annotated[
+        str,
+        typer.Option(
+            "--time-stamps",
+            help="'start': each row's inputs hold from its time stamp to the next (default); "
+            "'end': stamps at the end of each interval (common for loggers), inputs shifted "
+            "one sample.",
+        ),
+    ] = "start",
+    hlc: Annotated[
+        bool,
+        typer.Option(
+            "--hlc/--no-hlc",
+            help="Heat loss coefficient implied by the model (with its profile interval).",
+        ),
+    ] = True,
 ) -> None:
     """Fit a grey-box RC model (see :data:`FIT_HELP`)."""
     import datetime
@@ -575,6 +652,7 @@ def fit(
             )
     check_time_axis(data, time_column, time_unit, data_file)
     check_numbers(data, [*model.input_names, *model.output_names], data_file, decimal)
+    data = shift_end_stamped(data, model.input_names, time_stamps, notes)
     work = work_estimate(
         model, data, time_column=time_column, time_unit=time_unit, n_starts=n_starts, jobs=jobs
     )
@@ -622,6 +700,9 @@ def fit(
                 interval = results.profile_interval(name)
                 interval.pop("points")
                 content["profile_intervals"][name] = interval
+        if hlc and model.heat_loss_state() is not None:
+            console.print("heat loss coefficient and its profile likelihood...")
+            content["heat_loss_coefficient"] = results.heat_loss_coefficient()
         content["data_notes"] = notes + content.get("data_notes", [])
         content["provenance"] = {
             "thermocal_version": __version__,
@@ -651,13 +732,15 @@ def fit(
         content["data_file"] = str(data_file)
         (tmp / "fit.json").write_text(json.dumps(content, indent=2))
         results.parameter_table().to_csv(tmp / "parameters.csv")
+        (tmp / "model_fitted.yaml").write_text(fitted_model_yaml(results))
         predictions = results.one_step_residuals()
         simulated = results.simulate()
         for col in model.output_names:
             predictions[f"{col}_simulated"] = simulated[col]
         predictions.index.name = "time"
         predictions.to_csv(tmp / "predictions.csv")
-        written = [Path("fit.json"), Path("parameters.csv"), Path("predictions.csv")]
+        written = [Path("fit.json"), Path("parameters.csv"), Path("model_fitted.yaml"),
+                   Path("predictions.csv")]  # fmt: skip
         if figures:
             from thermocal.statespace.plots import plot_fit
 
@@ -693,6 +776,8 @@ def fit(
             f"{' (bound)' if iv['open_lower'] else ''}, {iv['upper']:.6g}"
             f"{' (bound)' if iv['open_upper'] else ''}]"
         )
+    if "heat_loss_coefficient" in content:
+        console.print(heat_loss_text(content["heat_loss_coefficient"]))
     for note in content["data_notes"]:
         console.print(f"note: {note}")
     for flag in results.flags:

@@ -21,14 +21,29 @@ SELECT_HELP = (
 )
 
 
-def selection_markdown(table, path: list[str]) -> str:
-    """The path table as Markdown (the README's format)."""
+def _hlc_cell(hlc) -> str:
+    """Heat loss coefficient [W/K] with its interval (profile first), for the path table."""
+    if not hlc:
+        return ""
+    if hlc.get("interval") == "profile":
+        lo = f"{hlc['lower']:.4g}{'(open)' if hlc['open_lower'] else ''}"
+        hi = f"{hlc['upper']:.4g}{'(open)' if hlc['open_upper'] else ''}"
+        return f"{hlc['value']:.4g} [{lo}, {hi}]"
+    return f"{hlc['value']:.4g} +- {hlc['std_error']:.2g} (Wald)"
+
+
+def selection_markdown(table, path: list[str], hlc: dict | None = None) -> str:
+    """The path table as Markdown (the README's format), with convergence, the starts that
+    reached the best value, why a candidate was not accepted, and the heat loss coefficient
+    [W/K] with its 95 % profile-likelihood interval."""
     import pandas as pd
 
+    hlc = hlc or {}
     lines = [
-        "| iteration | model | parent | log-likelihood | free parameters | LR statistic | df "
-        "| p-value | best of iteration | accepted |",
-        "|---|---|---|---:|---:|---:|---:|---:|---|---|",
+        "| iteration | model | parent | log-likelihood | free parameters | converged "
+        "| starts at best | LR statistic | df | p-value | best of iteration | accepted "
+        "| heat loss coefficient [W/K] | status |",
+        "|---|---|---|---:|---:|---|---:|---:|---:|---:|---|---|---|---|",
     ]
     for _, row in table.iterrows():
         stat = "" if pd.isna(row["statistic"]) else f"{row['statistic']:.1f}"
@@ -37,13 +52,40 @@ def selection_markdown(table, path: list[str]) -> str:
             pval = ""
         else:
             pval = "< 1e-16" if row["pvalue"] < 1e-16 else f"{row['pvalue']:.2g}"
+        starts = row.get("starts_at_best")
+        starts = "" if starts is None or pd.isna(starts) else f"{int(starts)}"
         lines.append(
             f"| {row['iteration']} | {row['model']} | {row['parent']} | {row['loglike']:.1f} | "
-            f"{row['n_free']} | {stat} | {df} | {pval} | {'yes' if row['selected'] else ''} | "
-            f"{'yes' if row['accepted'] else ''} |"
+            f"{row['n_free']} | {'yes' if row.get('converged', True) else '**no**'} | {starts} "
+            f"| {stat} | {df} | {pval} | {'yes' if row['selected'] else ''} | "
+            f"{'yes' if row['accepted'] else ''} | {_hlc_cell(hlc.get(row['model']))} | "
+            f"{row.get('status', '') or ''} |"
         )
     lines += ["", f"Selected: {' -> '.join(path)}."]
+    lines += [
+        "",
+        "Candidates are tested (likelihood-ratio test, Bacher & Madsen 2011) only when both "
+        "fits converged (Newton criterion and two optimiser starts agreeing on the best value); "
+        "a candidate with a capacity, resistance, conductance, aperture or fraction on a bound "
+        "is not accepted. Heat loss coefficient: steady-state heat flow from the indoor state "
+        "to the boundary temperatures per kelvin, with its 95 % profile-likelihood interval "
+        "(Pawitan 2001).",
+    ]
     return "\n".join(lines) + "\n"
+
+
+def _name_data_columns(message: str, renames: dict, data_file) -> str:
+    """A model-column name in an error message followed by the data column and file."""
+    import re
+
+    back = {m: d for d, m in renames.items()}
+    for model_col, data_col in back.items():
+        message = re.sub(
+            rf"'{re.escape(model_col)}'(?! \(data column)",
+            f"'{model_col}' (data column '{data_col}' of {data_file})",
+            message,
+        )
+    return message
 
 
 @app.command(help=SELECT_HELP)
@@ -85,12 +127,49 @@ def select(
     ] = None,
     seed: Annotated[int | None, typer.Option("--seed", help="Seed of the random starts.")] = None,
     hold: Annotated[str, typer.Option("--hold", help="Input hold: zoh or foh.")] = "zoh",
+    max_gap: Annotated[
+        int,
+        typer.Option(
+            "--max-gap",
+            min=0,
+            help="Input gaps of at most this many samples are interpolated (as thermocal fit).",
+        ),
+    ] = 3,
+    gaps: Annotated[
+        str,
+        typer.Option(
+            "--gaps", help="Longer input gaps: 'stop' or 'split' into periods (as thermocal fit)."
+        ),
+    ] = "stop",
+    time_stamps: Annotated[
+        str,
+        typer.Option(
+            "--time-stamps",
+            help="'start' (default) or 'end' of each interval (inputs shifted one sample).",
+        ),
+    ] = "start",
+    bound_factor: Annotated[
+        float,
+        typer.Option(
+            "--bound-factor",
+            help="Widen the family's bounds of capacities, resistances and the aperture by "
+            "this factor on both sides (default 1: bounds made for the FlexHouse data).",
+        ),
+    ] = 1.0,
+    hlc_profile: Annotated[
+        bool,
+        typer.Option(
+            "--hlc-profile/--no-hlc-profile",
+            help="Profile-likelihood interval of the heat loss coefficient of the models on "
+            "the selection path (a few constrained refits each; the others get the Wald "
+            "interval); --no-hlc-profile: Wald intervals only.",
+        ),
+    ] = True,
 ) -> None:
     """Forward model selection (see :data:`SELECT_HELP`)."""
     import json
 
     import pandas as pd
-    import yaml
     from rich.console import Console
     from rich.table import Table
 
@@ -99,9 +178,12 @@ def select(
         check_numbers,
         check_time_axis,
         file_sha256,
+        fitted_model_yaml,
+        heat_loss_text,
         parse_mapping,
         read_table,
         resolve_time_column,
+        shift_end_stamped,
     )
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import output_folder
@@ -140,11 +222,17 @@ def select(
     if not solar:
         notes.append("no solar column Ps: the family is fitted without solar gains")
     models, extensions, start = FAMILIES[family](
-        heat_unit=heat_unit, solar_unit=solar_unit if solar else None
+        heat_unit=heat_unit, solar_unit=solar_unit if solar else None, bound_factor=bound_factor
     )
     time_column = resolve_time_column(data, time_column, time_format, data_file)
     check_time_axis(data, time_column, time_unit, data_file)
-    check_numbers(data, ["Ta", "Ph", "yTi", *(["Ps"] if solar else [])], data_file, decimal)
+    if gaps not in ("stop", "split"):
+        raise ThermocalInputError(f"--gaps {gaps!r}: use stop or split")
+    try:
+        check_numbers(data, ["Ta", "Ph", "yTi", *(["Ps"] if solar else [])], data_file, decimal)
+    except ThermocalInputError as exc:
+        raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
+    data = shift_end_stamped(data, ["Ta", "Ph", *(["Ps"] if solar else [])], time_stamps, notes)
 
     with output_folder(out, command="select", signature=("selection.json",)) as tmp:
 
@@ -154,17 +242,31 @@ def select(
                 f"{res.fit_seconds:6.1f} s"
             )
 
-        result = forward_selection(
-            models, extensions, data, start=start, alpha=alpha, n_starts=n_starts, seed=seed,
-            hold=hold, time_column=time_column, time_unit=time_unit, callback=progress,
-        )  # fmt: skip
+        try:
+            result = forward_selection(
+                models, extensions, data, start=start, alpha=alpha, n_starts=n_starts,
+                seed=seed, hold=hold, time_column=time_column, time_unit=time_unit,
+                callback=progress,
+                input_gaps="split" if gaps == "split" else "interpolate" if max_gap else "error",
+                max_gap=max_gap if gaps == "split" else max(max_gap, 1),
+            )  # fmt: skip
+        except ThermocalInputError as exc:
+            raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
         table = result.table
+        hlcs = {}
         for name, res in result.fits.items():
             folder = tmp / name
             folder.mkdir()
-            (folder / "fit.json").write_text(json.dumps(res.to_dict(), indent=2))
+            content_fit = res.to_dict()
+            if res.model.heat_loss_state() is not None:
+                profile_it = hlc_profile and name in result.path
+                if profile_it:
+                    console.print(f"{name:<12} heat loss coefficient: profile likelihood...")
+                hlcs[name] = res.heat_loss_coefficient(profile=profile_it)
+                content_fit["heat_loss_coefficient"] = hlcs[name]
+            (folder / "fit.json").write_text(json.dumps(content_fit, indent=2))
             res.parameter_table().to_csv(folder / "parameters.csv")
-            (folder / "model.yaml").write_text(yaml.safe_dump(res.model.to_dict(), sort_keys=False))
+            (folder / "model.yaml").write_text(fitted_model_yaml(res))
         records = [
             {k: (None if isinstance(v, float) and v != v else v) for k, v in row.items()}
             for row in json.loads(table.to_json(orient="records"))
@@ -173,6 +275,7 @@ def select(
             "family": family,
             "path": result.path,
             "selected": result.selected,
+            "heat_loss_coefficient": hlcs,
             "alpha": alpha,
             "table": records,
             "data_notes": notes,
@@ -185,24 +288,32 @@ def select(
         }
         (tmp / "selection.json").write_text(json.dumps(content, indent=2))
         table.to_csv(tmp / "selection.csv", index=False)
-        (tmp / "selection.md").write_text(selection_markdown(table, result.path))
+        (tmp / "selection.md").write_text(selection_markdown(table, result.path, hlcs))
 
     view = Table(title=f"Forward selection ({family}, alpha {alpha:g})")
-    for col in ("iteration", "model", "parent", "log-likelihood", "free", "LR statistic", "df",
-                "p-value", "best", "accepted"):  # fmt: skip
+    for col in ("iteration", "model", "parent", "log-likelihood", "free", "converged",
+                "LR statistic", "df", "p-value", "best", "accepted", "HLC [W/K]",
+                "status"):  # fmt: skip
         view.add_column(col)
     for _, row in table.iterrows():
         view.add_row(
             str(row["iteration"]), row["model"], row["parent"], f"{row['loglike']:.1f}",
-            str(row["n_free"]), "" if pd.isna(row["statistic"]) else f"{row['statistic']:.1f}",
+            str(row["n_free"]), "yes" if row["converged"] else "NO",
+            "" if pd.isna(row["statistic"]) else f"{row['statistic']:.1f}",
             "" if pd.isna(row["df"]) else str(int(row["df"])),
             "" if pd.isna(row["pvalue"]) else f"{row['pvalue']:.2g}",
             "yes" if row["selected"] else "", "yes" if row["accepted"] else "",
+            _hlc_cell(hlcs.get(row["model"])), row["status"] or "",
         )  # fmt: skip
     console.print(view)
     for note in notes:
         console.print(f"note: {note}")
     console.print(f"selected: {' -> '.join(result.path)}")
+    if result.selected in hlcs:
+        console.print(f"{result.selected}: {heat_loss_text(hlcs[result.selected])}")
+    for name, res in result.fits.items():
+        if not res.converged:
+            console.print(f"[yellow]{name}: not converged[/yellow] ({res.flags[0]})")
     for flag in result.fits[result.selected].flags:
         console.print(f"[yellow]flag ({result.selected}):[/yellow] {flag}")
     console.print(

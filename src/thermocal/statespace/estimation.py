@@ -171,8 +171,15 @@ class LikelihoodProblem:
         p = self.prep
         return float(
             kernels.loglike_theta(
-                np.asarray(theta, dtype=float), self.tr, self.st, self.C, p.dts, p.U, p.Y,
-                self.foh, self.seg,
+                np.asarray(theta, dtype=float),
+                self.tr,
+                self.st,
+                self.C,
+                p.dts,
+                p.U,
+                p.Y,
+                self.foh,
+                self.seg,
             )  # fmt: skip
         )
 
@@ -439,15 +446,105 @@ def _worker_start(args):
     return _polished_start(problem, theta_start, method, maxiter, stall_tolerance)
 
 
-#: Models with more free parameters than this get several optimiser starts by default.
-MANY_PARAMETERS = 8
-#: Default number of starts for such models.
-DEFAULT_STARTS_MANY_PARAMETERS = 4
+#: Seed of the random starts when none is given.
+DEFAULT_SEED = 2011
+#: Fewest optimiser starts used by default (the agreement criterion needs at least two).
+MIN_DEFAULT_STARTS = 3
+#: Default starts per free parameter (above :data:`MIN_DEFAULT_STARTS`).
+STARTS_PER_PARAMETER = 0.5
+#: Starts that end within this of the best log-likelihood reached the same optimum
+#: [log-likelihood units]; 1/20 of the 5 % likelihood-ratio critical value for one degree of
+#: freedom (1.92), far above the optimiser's stall tolerance (1e-3 over 10 iterations).
+AGREEMENT_TOLERANCE = 0.1
 
 
 def default_n_starts(model) -> int:
-    """Starts used when ``n_starts`` is not given: 1, or 4 above 8 free parameters."""
-    return DEFAULT_STARTS_MANY_PARAMETERS if model.n_free > MANY_PARAMETERS else 1
+    """Starts used when ``n_starts`` is not given: ``max(3, ceil(n_free / 2))``.
+
+    The random starts add to the declared values and the energy-balance start (see
+    :func:`_energy_balance_start`), so a model with ``k`` free parameters gets about ``k / 2 + 1``
+    starts; the agreement of the best of them is part of the convergence criterion
+    (:data:`AGREEMENT_TOLERANCE`).
+    """
+    return max(MIN_DEFAULT_STARTS, math.ceil(STARTS_PER_PARAMETER * model.n_free))
+
+
+def start_agreement(start_loglikes, tolerance: float = AGREEMENT_TOLERANCE) -> dict:
+    """How many optimiser starts reached the best log-likelihood.
+
+    Returns
+    -------
+    dict
+        ``n_starts`` (starts with a finite end), ``n_best`` (ends within ``tolerance`` of the
+        best), ``best`` and ``runner_up`` (the best end outside the tolerance, NaN when all
+        agree) [log-likelihood units].
+    """
+    ends = np.asarray([v for v in start_loglikes if v is not None and math.isfinite(v)])
+    if not ends.size:
+        return {"n_starts": 0, "n_best": 0, "best": math.nan, "runner_up": math.nan}
+    best = float(ends.max())
+    near = ends >= best - tolerance
+    others = ends[~near]
+    return {
+        "n_starts": int(ends.size),
+        "n_best": int(near.sum()),
+        "best": best,
+        "runner_up": float(others.max()) if others.size else math.nan,
+    }
+
+
+def _energy_balance_start(model, prep: PreparedData) -> np.ndarray | None:
+    """A physically derived start: the declared values with every conductance, resistance and
+    capacity scaled by one factor so that the steady state under the mean inputs matches the
+    mean of the first output (time constants unchanged), and the initial means of observed
+    states at their first measured value.
+
+    The heat-driven part of a linear RC network's steady state scales as ``1/s`` when all
+    conductances are multiplied by ``s``; ``s`` follows from the declared-value steady state
+    ``y_ss = y_b + y_h`` (``y_b`` from the boundary temperatures, ``y_h`` from the heat inputs)
+    and the measured mean ``y_m``: ``s = y_h / (y_m - y_b)``. Returns None when the model has no
+    steady state, no heat input or when ``s`` is not a positive finite number.
+    """
+    try:
+        A, B, C, _ = model.continuous_matrices()
+        A_inv = np.linalg.inv(A)
+    except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
+        return None
+    n_b = len(model.boundary_names)
+    u = np.nanmean(prep.U, axis=0) if prep.U.size else np.zeros(B.shape[1])
+    y = prep.Y[:, 0]
+    if not (np.all(np.isfinite(u)) and np.isfinite(y).any() and np.all(np.isfinite(A_inv))):
+        return None
+    u_b = u.copy()
+    u_b[n_b:] = 0.0
+    y_b = float(C[0] @ (-A_inv @ (B @ u_b)))
+    y_h = float(C[0] @ (-A_inv @ (B @ u))) - y_b
+    y_m = float(np.nanmean(y))
+    if not (abs(y_m - y_b) > 1e-9 and abs(y_h) > 1e-12):
+        return None
+    s = y_h / (y_m - y_b)
+    if not (math.isfinite(s) and s > 0):
+        return None
+    roles = model.structure().roles
+    values = {}
+    for name in model.free_parameter_names:
+        p, role = model.parameters[name], roles.get(name, set())
+        if role == {"conductance"} or role == {"capacity"}:
+            values[name] = p.value * s
+        elif role == {"resistance"}:
+            values[name] = p.value / s
+    first = np.flatnonzero(np.isfinite(prep.Y).all(axis=1))
+    if first.size:
+        for r in range(C.shape[0]):
+            nz = np.flatnonzero(C[r])
+            if nz.size == 1 and C[r, nz[0]] == 1.0:
+                state = model._states[model.state_names[nz[0]]]
+                mean = state.get("initial_mean")
+                if isinstance(mean, str) and mean in model.parameters:
+                    values[mean] = float(prep.Y[first[0], r])
+    if not values:
+        return None
+    return _warm_start_theta(model, values)
 
 
 def _run_starts(problem, starts, method, maxiter, stall_tolerance, n_jobs, progress):
@@ -570,9 +667,16 @@ def fit(
         bounded ranges, a factor ``e`` either way of the declared value for one-sided bounds and
         positive ranges over more than two decades). Every start is polished the same way
         (restart after a failed line search, vanishing-noise escape) and the best polished end
-        point wins. Default: 1, or 4 when the model has more than 8 free parameters.
+        point wins. With two starts or more, an extra start is derived from the data (every
+        conductance and capacity scaled by one factor so that the steady state under the mean
+        inputs matches the mean output, see :func:`_energy_balance_start`). Default:
+        :func:`default_n_starts` (``max(3, ceil(n_free / 2))``) and, when the best end is reached
+        by one start only, as many more random starts. The fit counts as converged only when
+        at least two starts reach the best log-likelihood (within :data:`AGREEMENT_TOLERANCE`),
+        besides the Newton-step criterion at the end point (``results.agreement``).
     seed : int, optional
-        Seed of the random starts.
+        Seed of the random starts (default :data:`DEFAULT_SEED`: the same model and data give
+        the same fit; the convergence verdict depends on the agreement of the starts).
     time_column, time_unit : str
         See :func:`thermocal.statespace.data.time_axis`.
     method : str
@@ -621,14 +725,32 @@ def fit(
         raise ThermocalInputError(
             f"model '{model.name}' has no free parameter to estimate; set 'fixed: false' on some"
         )
+    if seed is None:  # reproducible by default: the same data and model give the same fit
+        seed = DEFAULT_SEED
+    adaptive = n_starts is None
     if n_starts is None:
         n_starts = default_n_starts(model)
     problem = LikelihoodProblem(model, prep, foh)
     starts = _start_points(model, n_starts, seed)
+    if n_starts > 1:
+        physical = _energy_balance_start(model, prep)
+        if physical is not None:
+            starts.insert(1, problem.clip(physical))
     if warm_start is not None:
         starts.insert(1, problem.clip(_warm_start_theta(model, warm_start)))
     results = _run_starts(problem, starts, method, maxiter, stall_tolerance, n_jobs, progress)
     start_loglikes = [float("nan") if r is None else -float(r.fun) * problem.scale for r in results]
+    if adaptive and n_starts > 1 and start_agreement(start_loglikes)["n_best"] < 2:
+        # the best optimum was reached once: one more batch of random starts (default starts
+        # only; an explicit n_starts is respected) before judging agreement
+        extra_seed = None if seed is None else int(seed) + 7919
+        extra = _start_points(model, n_starts + 1, extra_seed)[1:]
+        iterations = problem.iterations
+        more = _run_starts(problem, extra, method, maxiter, stall_tolerance, n_jobs, progress)
+        problem.iterations += iterations
+        results += more
+        start_loglikes += [float("nan") if r is None else -float(r.fun) * problem.scale
+                           for r in more]  # fmt: skip
     finished = [r for r in results if r is not None]
     if not finished:
         raise ThermocalInputError(
@@ -663,6 +785,7 @@ def fit(
         gradient=grad,
         nested=nested,
         logprior=problem.logprior(theta)[0] if problem.priors else None,
+        agreement=start_agreement(start_loglikes),
     )
 
 

@@ -16,6 +16,8 @@ References
 
 from __future__ import annotations
 
+import math
+
 from thermocal.errors import ThermocalInputError
 from thermocal.statespace.model import RCModel
 from thermocal.statespace.units import HEAT_COLUMN_UNITS
@@ -71,10 +73,23 @@ _PARAMETERS = {
 }
 
 
+#: Parameters whose bounds ``bound_factor`` widens (capacities, resistances, aperture).
+_WIDENED = ("Ci", "Cm", "Ce", "Ch", "Rih", "Rim", "Rie", "Rea", "Ria", "Aw")
+
+
 def bacher_madsen_spec(
-    name: str, *, heat_unit: str = "kW", solar_unit: str | None = "kW/m2"
+    name: str,
+    *,
+    heat_unit: str = "kW",
+    solar_unit: str | None = "kW/m2",
+    bound_factor: float = 1.0,
 ) -> dict:
     """Model-file dictionary of one member (see :func:`bacher_madsen_family`)."""
+    if not (bound_factor >= 1.0 and math.isfinite(bound_factor)):
+        raise ThermocalInputError(
+            f"bound factor {bound_factor!r}: give a finite number >= 1 (1: the family's bounds, "
+            "10: a decade wider on both sides)"
+        )
     if name not in _MEMBERS:
         raise ThermocalInputError(
             f"Bacher & Madsen family: no model '{name}'; members: {', '.join(_MEMBERS)}"
@@ -117,12 +132,22 @@ def bacher_madsen_spec(
         "conductances": conductances,
         "heat_inputs": heat_inputs,
         "outputs": [{"column": "yTi", "state": "Ti", "noise": "e_std"}],
-        "parameters": {k: dict(v) for k, v in _PARAMETERS.items() if k in used},
+        "parameters": {
+            k: _widened(k, v, bound_factor) for k, v in _PARAMETERS.items() if k in used
+        },  # fmt: skip
     }
 
 
+def _widened(name: str, spec: dict, factor: float) -> dict:
+    out = dict(spec)
+    if name in _WIDENED and factor != 1.0:
+        out["lower"] = spec["lower"] / factor
+        out["upper"] = spec["upper"] * factor
+    return out
+
+
 def bacher_madsen_family(
-    *, heat_unit: str = "kW", solar_unit: str | None = "kW/m2"
+    *, heat_unit: str = "kW", solar_unit: str | None = "kW/m2", bound_factor: float = 1.0
 ) -> tuple[dict[str, RCModel], dict[str, list[str]], str]:
     """The Bacher & Madsen (2011) candidate models, their extensions and the start model.
 
@@ -132,6 +157,11 @@ def bacher_madsen_family(
         Unit of the heating column ``Ph``: ``W``, ``kW``, ``MW``.
     solar_unit : str or None
         Unit of the irradiance column ``Ps`` (``W/m2``, ``kW/m2``); None: no solar input.
+    bound_factor : float
+        The bounds of the capacities [kWh/K], resistances [K/kW] and the aperture [m2] widened
+        by this factor on both sides (lower / factor, upper * factor); the defaults were made
+        for the FlexHouse data (a 120 m2 test building) and a large building's capacities or
+        small resistances can lie beyond them.
 
     Returns
     -------
@@ -144,7 +174,9 @@ def bacher_madsen_family(
     """
     models = {
         name: RCModel.from_dict(
-            bacher_madsen_spec(name, heat_unit=heat_unit, solar_unit=solar_unit),
+            bacher_madsen_spec(
+                name, heat_unit=heat_unit, solar_unit=solar_unit, bound_factor=bound_factor
+            ),
             source=f"Bacher & Madsen family ({name})",
         )
         for name in _MEMBERS

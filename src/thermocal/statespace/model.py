@@ -56,7 +56,7 @@ _TOP_LEVEL_KEYS = {
 }
 _STATE_KEYS = {"capacity", "noise", "initial_mean", "initial_std", "description"}
 _CONDUCTANCE_KEYS = {"between", "conductance", "resistance", "description"}
-_HEAT_KEYS = {"column", "into", "scale", "unit", "description"}
+_HEAT_KEYS = {"column", "into", "scale", "unit", "description", "allow_negative"}
 _OUTPUT_KEYS = {"column", "state", "states", "noise", "description"}
 _PARAMETER_KEYS = {"value", "lower", "upper", "fixed", "unit", "description", "prior"}
 
@@ -323,6 +323,7 @@ class RCModel:
         into: str | Mapping[str, str | float],
         scale: str | float | None = None,
         unit: str = "W",
+        allow_negative: bool = False,
     ) -> RCModel:
         """Inject a heat-flow data column into one or several states.
 
@@ -337,8 +338,14 @@ class RCModel:
             Parameter multiplying the column (e.g. an effective solar aperture ``Aw`` [m2]).
         unit : str
             Unit of the column: ``W``, ``kW``, ``MW``, ``W/m2``, ``kW/m2``.
+        allow_negative : bool
+            The column is a heat flow that is negative by nature (a ventilation or extraction
+            heat flow, cooling): its negative values are not flagged.
         """
-        self._heat_inputs.append({"column": column, "into": into, "scale": scale, "unit": unit})
+        spec = {"column": column, "into": into, "scale": scale, "unit": unit}
+        if allow_negative:
+            spec["allow_negative"] = True
+        self._heat_inputs.append(spec)
         self._structure = None
         return self
 
@@ -556,6 +563,7 @@ class RCModel:
                 into=hspec["into"],
                 scale=hspec.get("scale"),
                 unit=str(hspec.get("unit", "W")),
+                allow_negative=bool(hspec.get("allow_negative", False)),
             )
         for i, ospec in enumerate(spec.get("outputs") or []):
             _check_keys(ospec, _OUTPUT_KEYS, f"{where}: outputs[{i}]")
@@ -846,6 +854,63 @@ class RCModel:
         B = B_raw / cap[:, None]
         D = np.zeros((st.C.shape[0], st.n_inputs))
         return A, B, st.C.copy(), D
+
+    def heat_loss_state(self) -> str | None:
+        """The state whose heat loss coefficient the model implies: the state observed alone
+        (coefficient 1) by the first such output, when the network connects it to a boundary
+        temperature; None otherwise."""
+        st = self.structure()
+        if not self.boundary_names:
+            return None
+        for r in range(st.C.shape[0]):
+            nz = np.flatnonzero(st.C[r])
+            if nz.size == 1 and st.C[r, nz[0]] == 1.0:
+                return self.state_names[nz[0]]
+        return None
+
+    def heat_loss_coefficient(
+        self, params: Mapping[str, float] | None = None, *, state: str | None = None
+    ) -> float:
+        """Steady-state heat loss coefficient [W/K] of a state to all boundary temperatures.
+
+        The heat flow out of ``state`` per kelvin when it is held 1 K above every boundary
+        temperature and the other states float to their steady state without heat input:
+        ``H = -(G_ss + G_sf x_f)`` with ``G_ff x_f = -G_fs`` (``G`` the conductance matrix of the
+        network, ``f`` the other states). For the Bacher & Madsen models this is
+        ``1/Ria + 1/(Rie + Rea)`` (Bacher & Madsen 2011); the heat that a heater state or the
+        thermal mass stores is not a loss.
+
+        Parameters
+        ----------
+        params : mapping, optional
+            Parameter values [declared units] (default: the declared values).
+        state : str, optional
+            Default: :meth:`heat_loss_state`.
+
+        Returns
+        -------
+        float
+            [W/K]; NaN when the network has no steady state.
+        """
+        state = state or self.heat_loss_state()
+        if state is None:
+            raise ThermocalInputError(
+                f"model '{self.name}': no heat loss coefficient: no output observes a single "
+                "state connected to a boundary temperature"
+            )
+        st = self.structure()
+        _, G, _, _ = kernels.build_network(
+            self.values_si(params), *st.arrays[:15], st.arrays[18], st.n_inputs
+        )
+        s = self.state_names.index(state)
+        f = [i for i in range(G.shape[0]) if i != s]
+        if not f:
+            return float(-G[s, s])
+        try:
+            x_f = np.linalg.solve(G[np.ix_(f, f)], -G[f, s])
+        except np.linalg.LinAlgError:
+            return float("nan")
+        return float(-(G[s, s] + G[s, f] @ x_f))
 
     def diffusion_matrix(self, params: Mapping[str, float] | None = None) -> np.ndarray:
         """Diagonal diffusion matrix ``Sigma`` [K/sqrt(s)] of ``dx = f dt + Sigma dw``."""

@@ -9,7 +9,10 @@ where it is skewed or bounded, unlike the Wald interval from the curvature at th
 - a derived quantity (``derived:`` in the model file): each ``l_p(c)`` is a constrained
   maximisation (SLSQP on the unconstrained parameters, the equality ``g(theta) = c``).
 
-The end points are found by bracketing outwards from the Wald end points and Brent's method.
+The end points are found by bracketing outwards from the Wald end points (doubling steps; a
+failed or out-of-range step is taken back and halved) and Brent's method. An end is "open" only
+when the profile stays above the threshold up to the parameter's bound (or the edge of the range
+a derived quantity can reach within the bounds).
 
 References
 ----------
@@ -28,9 +31,18 @@ import pandas as pd
 from scipy import optimize, stats
 
 from thermocal.errors import ThermocalInputError
+from thermocal.statespace.estimation import AGREEMENT_TOLERANCE
 
 #: Largest number of outward steps per side before the interval is declared open.
 MAX_STEPS = 12
+#: Steps taken back and halved in a row (after a failed profile point) before the edge of the
+#: reachable range is taken as reached.
+MAX_HALVINGS = 8
+#: Iteration limit of a constrained profile fit (SLSQP): with unidentifiable directions it
+#: otherwise spends 500 iterations (20 s on 300 samples) for a gain of a few 1e-3 log-units.
+SLSQP_MAXITER = 150
+#: Distance on a parameter's unconstrained (log/logit) scale taken as its bound.
+BOUND_SPAN = 40.0
 #: Stall tolerance of the profile fits (tighter than the default fit's).
 PROFILE_STALL_TOLERANCE = 1e-5
 
@@ -92,17 +104,19 @@ class _ParameterProfile:
 class _DerivedProfile:
     """``l_p`` of a derived quantity, on its natural scale."""
 
-    def __init__(self, res, name: str) -> None:
+    def __init__(self, res, name: str, func=None, se: float = math.nan) -> None:
         from thermocal.statespace.estimation import LikelihoodProblem, _hold_flag
 
         self.res = res
         self.name = name
-        self.expr = res.model.derived[name][0]
+        #: {parameter: value [declared units]} -> the quantity
+        self.func = func or (lambda values: res.model.derived_values(values)[name])
         self.problem = LikelihoodProblem(res.model, res.data, _hold_flag(res.hold))
         self.free = [res.model.parameters[n] for n in res.model.free_parameter_names]
         self.center = float(self.g(res.theta))
-        derived = res.derived()
-        se = float(derived.loc[name, "std_error"]) if name in derived.index else math.nan
+        if func is None:
+            derived = res.derived()
+            se = float(derived.loc[name, "std_error"]) if name in derived.index else math.nan
         self.step = se if math.isfinite(se) and se > 0 else 0.1 * max(abs(self.center), 1e-6)
         self.cache: dict[float, tuple[float, np.ndarray]] = {
             self.center: (res.loglike, np.asarray(res.theta, dtype=float))
@@ -112,7 +126,7 @@ class _DerivedProfile:
         values = self.res.params.to_dict()
         for p, t in zip(self.free, theta, strict=True):
             values[p.name] = p.from_unconstrained(float(t))
-        return self.res.model.derived_values(values)[self.name]
+        return self.func(values)
 
     def value(self, c: float) -> float:
         return c
@@ -125,12 +139,18 @@ class _DerivedProfile:
         def constraint(theta):
             return (self.g(theta) - c) / scale
 
-        res = optimize.minimize(
-            self.problem.objective, theta0, jac=True, method="SLSQP",
-            constraints=[{"type": "eq", "fun": constraint}],
-            options={"maxiter": 500, "ftol": 1e-13},
-        )  # fmt: skip
-        theta = self.problem.clip(res.x)
+        def solve(start):
+            out = optimize.minimize(
+                self.problem.objective, start, jac=True, method="SLSQP",
+                constraints=[{"type": "eq", "fun": constraint}],
+                options={"maxiter": SLSQP_MAXITER, "ftol": 1e-13},
+            )  # fmt: skip
+            return out, self.problem.clip(out.x)
+
+        res, theta = solve(theta0)
+        if abs(constraint(theta)) > 1e-4 and nearest != self.center:
+            # from the ML estimates instead (a far profile point can be a poor start)
+            res, theta = solve(self.problem.clip(self.cache[self.center][1]))
         if abs(constraint(theta)) > 1e-4:
             raise ThermocalInputError(
                 f"profile of '{self.name}': the constraint {self.name} = {c:.6g} could not be "
@@ -139,6 +159,52 @@ class _DerivedProfile:
         ll = self.problem.loglike(theta)
         self.cache[c] = (ll, theta)
         return ll
+
+
+def _bracket(prof, side: float, step: float, threshold: float):
+    """Walk outwards from the estimate until the profile drops below ``threshold``.
+
+    Doubling steps; a step that fails (the constrained fit cannot meet the constraint, the
+    likelihood is not finite) or leaves the parameter's range is taken back and halved, up to
+    :data:`MAX_HALVINGS` times in a row, so an end close to a bound or to the edge of the range
+    a derived quantity can reach is still bracketed. A parameter's bound is tried itself (on
+    the unconstrained scale, :data:`BOUND_SPAN` from the estimate) before an end is called open.
+
+    Returns
+    -------
+    (inner, outer)
+        The last point above the threshold and the first below it; ``outer`` is None when the
+        profile stays above the threshold up to the bound or the edge of the reachable range.
+    """
+    inner = prof.center
+    halvings = 0
+    bound_tried = False
+    for _ in range(MAX_STEPS + MAX_HALVINGS):
+        t = inner + side * step
+        if isinstance(prof, _ParameterProfile) and abs(t - prof.center) > BOUND_SPAN:
+            if bound_tried:
+                return inner, None
+            bound_tried = True
+            t = prof.center + side * BOUND_SPAN  # at the bound, as far as the scale goes
+            step = abs(t - inner)
+        try:
+            ll = prof(t)
+            failed = not math.isfinite(ll)
+        except ThermocalInputError:
+            failed = True
+        if failed:
+            halvings += 1
+            if halvings > MAX_HALVINGS:
+                return inner, None
+            step *= 0.5
+            continue
+        if ll < threshold:
+            return inner, t
+        if bound_tried:
+            return t, None  # above the threshold at the bound itself: open
+        inner = t
+        step *= 2.0 if halvings == 0 else 1.0  # after a step back, no more doubling
+    return inner, None
 
 
 def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
@@ -159,13 +225,20 @@ def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
         ``estimate``, ``lower``, ``upper`` [declared unit], ``open_lower`` / ``open_upper``
         (the profile stays above the threshold up to the parameter's bound: the end is the
         bound), ``threshold`` (the profile log-likelihood at the end points), ``evaluations``
-        (profile points computed) and ``points`` (value -> profile log-likelihood).
+        (profile points computed), ``points`` (value -> profile log-likelihood) and
+        ``better_optimum`` (None, or the value and log-likelihood of a profile point more than
+        0.1 above the fit's optimum: the fit is then marked not converged and flagged).
     """
     model = res.model
     if name in model.free_parameter_names:
         prof = _ParameterProfile(res, name)
     elif name in model.derived:
         prof = _DerivedProfile(res, name)
+    elif name == "heat_loss_coefficient":  # implied by the network [W/K]
+        hlc = res.heat_loss_coefficient(profile=False)
+        prof = _DerivedProfile(
+            res, name, lambda values: model.heat_loss_coefficient(values), hlc["std_error"]
+        )
     else:
         raise ThermocalInputError(
             f"profile: '{name}' is neither a free parameter nor a derived quantity of model "
@@ -179,32 +252,25 @@ def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
     ends, open_end = {}, {}
     z = math.sqrt(2 * drop)
     for side in (-1.0, 1.0):
-        inner, outer = prof.center, None
-        step = z * prof.step
-        for _ in range(MAX_STEPS):
-            t = inner + side * step
-            if isinstance(prof, _ParameterProfile) and abs(t - prof.center) > 40:
-                break  # the logit/log scale has reached the bound
-            try:
-                ll = prof(t)
-            except ThermocalInputError:
-                break
-            if ll < threshold:
-                outer = t
-                break
-            inner = t
-            step *= 2.0
+        inner, outer = _bracket(prof, side, z * prof.step, threshold)
         if outer is None:
-            if name in model.parameters:  # the bound in this direction of the scale
+            if isinstance(prof, _ParameterProfile):  # the bound in this direction
                 p = model.parameters[name]
-                going_up = prof.value(inner + side) > prof.value(inner)
+                going_up = prof.value(prof.center + side * 1e-3) > prof.value(prof.center)
                 ends[side] = p.upper if going_up else p.lower
-            else:
+            else:  # the edge of the range the quantity reaches within the bounds
                 ends[side] = prof.value(inner)
             open_end[side] = True
             continue
+
+        def excess(t):
+            try:
+                return prof(t) - threshold
+            except ThermocalInputError:
+                return -drop  # infeasible inside a bracket: below the threshold
+
         root = optimize.brentq(
-            lambda t: prof(t) - threshold, min(inner, outer), max(inner, outer),
+            excess, min(inner, outer), max(inner, outer),
             xtol=1e-6 * max(1.0, abs(prof.center)), rtol=1e-8, maxiter=40,
         )  # fmt: skip
         ends[side] = prof.value(root)
@@ -213,6 +279,11 @@ def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
         [(ends[-1.0], open_end[-1.0]), (ends[1.0], open_end[1.0])]
     )
     points = {prof.value(t): ll for t, (ll, _) in sorted(prof.cache.items())}
+    better = max(points.items(), key=lambda item: item[1])
+    better_optimum = None
+    if better[1] > res.loglike + AGREEMENT_TOLERANCE:
+        better_optimum = {"value": better[0], "loglike": better[1]}
+        res.note_better_optimum(better[1], f"the profile of '{name}' at {name} = {better[0]:.6g}")
     return {
         "estimate": prof.value(prof.center),
         "lower": lower,
@@ -223,4 +294,5 @@ def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
         "alpha": alpha,
         "evaluations": len(prof.cache) - 1,
         "points": points,
+        "better_optimum": better_optimum,
     }

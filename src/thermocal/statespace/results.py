@@ -11,6 +11,7 @@ import pandas as pd
 from thermocal.statespace import kernels
 from thermocal.statespace.data import PreparedData, prepare_data
 from thermocal.statespace.estimation import (
+    AGREEMENT_TOLERANCE,
     BOUND_TOLERANCE,
     CONVERGENCE_GAIN,
     CORRELATION_LIMIT,
@@ -31,11 +32,15 @@ LJUNG_BOX_ALPHA = 0.01
 #: Standardised one-step residuals beyond this many standard deviations are flagged.
 OUTLIER_SIGMA = 5.0
 OUTLIERS_LISTED = 10
-#: An input value beyond its 1-99 % quantile range by more than this many widths is flagged.
-INPUT_RANGE_FACTOR = 5.0
-#: Negative heat-input values smaller in size than this fraction of the 99 % quantile of |u|
+#: An input value more than this many robust standard deviations from its median is a spike
+#: (:func:`robust_range`).
+SPIKE_SCALES = 10.0
+#: Negative heat-input values smaller in size than this fraction of the 90 % quantile of |u|
 #: are sensor offsets (a pyranometer at night), not flagged.
-NEGATIVE_OFFSET_FRACTION = 0.02
+NEGATIVE_OFFSET_FRACTION = 0.05
+#: Physical limits in SI of boundary temperatures [C] and irradiances [W/m2] (above the solar
+#: constant, 1361 W/m2, Kopp & Lean 2011, with margin for reflections).
+PHYSICAL_LIMITS = {"C": (-90.0, 150.0), "W/m2": (-50.0, 1500.0)}
 #: A fit more than this below its nested model's log-likelihood is flagged.
 NESTED_TOLERANCE = 1e-2
 
@@ -83,6 +88,7 @@ class FitResults:
         gradient: np.ndarray | None = None,
         nested=None,
         logprior: float | None = None,
+        agreement: dict | None = None,
     ) -> None:
         self.model = model
         self.theta = theta
@@ -142,6 +148,20 @@ class FitResults:
                 f"optimiser did not converge: {message}{extra}; remedy: more starts "
                 "(--n-starts), a smaller stall_tolerance, or fix poorly determined parameters",
             )
+        #: Agreement of the optimiser starts (see
+        #: :func:`thermocal.statespace.estimation.start_agreement`): ``n_starts``, ``n_best``
+        #: (starts that reached the best log-likelihood), ``best``, ``runner_up``.
+        self.agreement = dict(agreement) if agreement else None
+        if self.agreement and self.agreement["n_starts"] >= 2 and self.agreement["n_best"] < 2:
+            self.converged = False
+            gap = self.agreement["best"] - self.agreement["runner_up"]
+            self.flags.insert(
+                0,
+                f"global optimum not confirmed: the best log-likelihood ({self.loglike:.2f}) was "
+                f"reached by 1 of {self.agreement['n_starts']} optimiser starts (the next best "
+                f"ends {gap:.3g} log-units lower); another start may find a better optimum; "
+                "remedy: more starts (--n-starts) or start values closer to physical ones",
+            )
         self._cov = pd.DataFrame(cov, index=free, columns=free)
         bse = pd.Series(np.nan, index=self.params.index, name="std_error")
         diag = np.diag(cov)
@@ -183,6 +203,7 @@ class FitResults:
 
         model, prep, checks = self.model, self.data, self.checks
         if nested is not None and self.loglike < nested.loglike - NESTED_TOLERANCE:
+            self.converged = False  # a better optimum (the nested one, embedded) was seen
             self.flags.append(
                 f"log-likelihood {self.loglike:.3f} is below that of the nested model "
                 f"'{nested.model.name}' ({nested.loglike:.3f}) although this model contains it: "
@@ -430,6 +451,84 @@ class FitResults:
             upper.append(max(a, b))
         return pd.DataFrame({"lower": lower, "upper": upper}, index=pd.Index(free))
 
+    def heat_loss_coefficient(self, *, alpha: float = 0.05, profile: bool = True) -> dict | None:
+        """The heat loss coefficient the model's structure implies, at the estimates.
+
+        See :meth:`RCModel.heat_loss_coefficient` (steady-state heat flow from the observed
+        state to all boundary temperatures per kelvin). Returns None when the structure implies
+        none.
+
+        Returns
+        -------
+        dict
+            ``value`` and ``std_error`` (delta method) [W/K], ``wald_lower``/``wald_upper``
+            (``value +- z se``), with ``profile``: ``lower``/``upper`` and
+            ``open_lower``/``open_upper`` of the profile-likelihood interval (Pawitan 2001)
+            [W/K]; ``interval`` names the one to show first: ``"profile"`` (always computed
+            when asked) or ``"wald"``; ``disagree`` is True when an end of the Wald interval is
+            more than 10 % of the profile interval's width off; ``state`` and ``boundaries``
+            (the boundary columns the heat flows to; with more than one, the coefficient
+            depends on their temperatures, e.g. a cellar or attic that follows the test).
+        """
+        from scipy import stats
+
+        if self.model.heat_loss_state() is None:
+            return None
+        model = self.model
+        base = self.params.to_dict()
+        value = model.heat_loss_coefficient(base)
+        free = model.free_parameter_names
+        grad = np.zeros(len(free))
+        for i, p in enumerate(free):
+            h = 1e-6 * max(abs(base[p]), 1e-8)
+            up = model.heat_loss_coefficient({**base, p: base[p] + h})
+            down = model.heat_loss_coefficient({**base, p: base[p] - h})
+            grad[i] = (up - down) / (2 * h)
+        cov = self._cov.to_numpy()
+        known = np.isfinite(np.diag(cov)) | (grad == 0)
+        se = math.nan
+        if np.all(known) and cov.size:
+            se = float(np.sqrt(max(grad @ np.where(np.isfinite(cov), cov, 0.0) @ grad, 0.0)))
+        z = float(stats.norm.ppf(1 - alpha / 2))
+        out = {
+            "value": value, "std_error": se, "unit": "W/K",
+            "wald_lower": value - z * se, "wald_upper": value + z * se,
+            "state": model.heat_loss_state(), "boundaries": list(model.boundary_names),
+            "alpha": alpha, "interval": "wald", "disagree": False,
+        }  # fmt: skip
+        if profile:
+            from thermocal.errors import ThermocalInputError
+
+            try:
+                prof = self.profile_interval("heat_loss_coefficient", alpha=alpha)
+            except ThermocalInputError as exc:
+                out["profile_error"] = str(exc)
+                return out
+            width = prof["upper"] - prof["lower"]
+            off = max(
+                abs(out["wald_lower"] - prof["lower"]), abs(out["wald_upper"] - prof["upper"])
+            )
+            out |= {
+                "lower": prof["lower"], "upper": prof["upper"],
+                "open_lower": prof["open_lower"], "open_upper": prof["open_upper"],
+                "interval": "profile",
+                "disagree": bool(not math.isfinite(se) or off > 0.1 * width),
+            }  # fmt: skip
+        return out
+
+    def note_better_optimum(self, loglike: float, where: str) -> None:
+        """Record that a point with a log-likelihood clearly above this optimum was seen
+        (``where``: how it was found): the fit is then not converged, and flagged."""
+        if loglike <= self.loglike + AGREEMENT_TOLERANCE:
+            return
+        self.converged = False
+        self.flags.insert(
+            0,
+            f"a better optimum was seen: {where} reached log-likelihood {loglike:.2f}, "
+            f"{loglike - self.loglike:.3g} above this fit's {self.loglike:.2f}; the estimates "
+            "are a local optimum; remedy: refit with more starts (--n-starts) or from there",
+        )
+
     def profile_interval(self, name: str, *, alpha: float = 0.05) -> dict:
         """Profile-likelihood confidence interval of a free parameter or a derived quantity
         [declared unit]; see :func:`thermocal.statespace.profile.profile_interval`."""
@@ -623,6 +722,11 @@ class FitResults:
         if len(self.start_loglikes) > 1:
             ends = ", ".join(f"{v:.2f}" for v in self.start_loglikes)
             lines.append(f"Optimiser starts ({len(self.start_loglikes)}), log-likelihoods: {ends}")
+        if self.agreement:
+            lines.append(
+                f"Best log-likelihood reached by {self.agreement['n_best']} of "
+                f"{self.agreement['n_starts']} starts (within 0.1 log-units)"
+            )
         lines += [
             "",
             f"{'parameter':<16}{'value':>14}{'std error':>12}  {'unit':<11}{'lower':>11}"
@@ -681,6 +785,7 @@ class FitResults:
             "converged": self.converged,
             "optimizer_message": self.message,
             "start_loglikes": [num(v) for v in self.start_loglikes],
+            "starts_at_best": None if not self.agreement else self.agreement["n_best"],
             "fit_seconds": self.fit_seconds,
             "hold": self.hold,
             "params": params,
@@ -736,47 +841,95 @@ def _stamp(prep: PreparedData, k: int) -> str:
     return str(t)
 
 
-def input_flags(model, prep: PreparedData) -> list[str]:
-    """Flags on the input columns: negative heat inputs and values far outside the robust range.
+def _listed(prep: PreparedData, j: int, rows: np.ndarray, unit: str, n: int = 3) -> str:
+    """The ``n`` most extreme of ``rows`` of input ``j``: 'value unit at time', largest first."""
+    u = prep.U[rows, j]
+    order = rows[np.argsort(-np.abs(u - np.nanmedian(prep.U[:, j])), kind="stable")][:n]
+    return ", ".join(f"{prep.U[k, j]:.4g}{' ' + unit if unit else ''} at {_stamp(prep, k)}"
+                     for k in order)  # fmt: skip
 
-    The robust range is the 1 % to 99 % quantile interval; a value more than
-    :data:`INPUT_RANGE_FACTOR` times its width beyond it is flagged (a 245 kW spike in a 5 kW
-    heating series).
+
+def robust_range(u: np.ndarray) -> tuple[float, float, float]:
+    """(centre, scale, level) of a series from robust statistics.
+
+    ``centre`` is the median; ``scale`` the larger of 1.4826 MAD (the standard deviation of
+    normal data) and ``(q90 - q10) / 2.563`` (the same for normal data, and not zero for on/off
+    series whose median absolute deviation is); ``level`` the 90 % quantile of ``|u|``, the
+    typical magnitude of a heat input. None of them moves with fewer than 10 % outliers, unlike
+    the 1-99 % quantile range (a few 245 kW spikes stretch it to 85 kW).
     """
+    centre = float(np.median(u))
+    mad = 1.4826 * float(np.median(np.abs(u - centre)))
+    q10, q90 = np.quantile(u, [0.1, 0.9])
+    scale = max(mad, float(q90 - q10) / 2.563)
+    return centre, scale, float(np.quantile(np.abs(u), 0.9))
+
+
+def input_flags(model, prep: PreparedData) -> list[str]:
+    """Flags on the input columns, from robust statistics (:func:`robust_range`).
+
+    - negative values of a heat input beyond :data:`NEGATIVE_OFFSET_FRACTION` of its typical
+      level (smaller ones are sensor offsets, a pyranometer at night), unless the model file
+      declares the column ``allow_negative`` (ventilation, extraction);
+    - spikes: values more than :data:`SPIKE_SCALES` robust standard deviations from the median;
+    - values outside the physical limits of the declared unit (:data:`PHYSICAL_LIMITS`).
+
+    Each flag names the column, the number of values, and the most extreme ones with their time
+    stamps.
+    """
+    from thermocal.statespace.units import HEAT_COLUMN_UNITS
+
     flags = []
-    heat = set(model.heat_input_names)
+    heat = {h["column"]: h for h in model._heat_inputs}
     for j, col in enumerate(model.input_names):
         u = prep.U[:, j]
-        u = u[np.isfinite(u)]
-        if not u.size:
+        finite = u[np.isfinite(u)]
+        if not finite.size:
             continue
-        if col in heat:
-            # small negative values are sensor offsets (a pyranometer at night): ignored
-            offset = NEGATIVE_OFFSET_FRACTION * float(np.quantile(np.abs(u), 0.99))
-            neg = np.flatnonzero(prep.U[:, j] < -offset)
-            if neg.size:
-                flags.append(
-                    f"heat input '{col}' has {neg.size} negative value(s) (first at "
-                    f"{_stamp(prep, neg[0])}, minimum {u.min():.4g}): a heat input is >= 0 "
-                    "unless it includes cooling; remedy: check the meter sign and the "
-                    "supply/return temperatures, or set the values to 0 or NaN"
-                )
-        lo, hi = np.quantile(u, [0.01, 0.99])
-        width = hi - lo
-        if width <= 0:
-            continue
-        far = np.flatnonzero(
-            (prep.U[:, j] > hi + INPUT_RANGE_FACTOR * width)
-            | (prep.U[:, j] < lo - INPUT_RANGE_FACTOR * width)
-        )
-        if far.size:
-            worst = far[np.argmax(np.abs(prep.U[far, j] - 0.5 * (lo + hi)))]
-            flags.append(
-                f"input '{col}' has {far.size} value(s) far outside its robust range "
-                f"[{lo:.4g}, {hi:.4g}] (1-99 % quantiles), e.g. {prep.U[worst, j]:.4g} at "
-                f"{_stamp(prep, worst)}: a spike or unit error; remedy: check the data there "
-                "and remove the values (thermocal.io quality checks) or cut the period"
-            )
+        spec = heat.get(col)
+        unit = (spec.get("unit") or "W") if spec else "C"
+        centre, scale, level = robust_range(finite)
+        with np.errstate(invalid="ignore"):
+            if spec is not None and not spec.get("allow_negative"):
+                offset = NEGATIVE_OFFSET_FRACTION * level
+                neg = np.flatnonzero(u < -offset)
+                if neg.size:
+                    flags.append(
+                        f"heat input '{col}' has {neg.size} negative value(s) below -{offset:.3g} "
+                        f"{unit} (5 % of its 90 % level), most negative "
+                        f"{_listed(prep, j, neg, unit)}: a heat input is >= 0 unless it "
+                        "includes cooling; remedy: check the meter sign and the supply/return "
+                        "temperatures, set the values to NaN, or declare the column "
+                        "'allow_negative: true' in heat_inputs when it is a ventilation or "
+                        "extraction heat flow"
+                    )
+            if scale > 0:
+                far = np.flatnonzero(np.abs(u - centre) > SPIKE_SCALES * scale)
+                if far.size:
+                    lo, hi = centre - SPIKE_SCALES * scale, centre + SPIKE_SCALES * scale
+                    flags.append(
+                        f"input '{col}' has {far.size} value(s) far outside its robust range "
+                        f"[{lo:.4g}, {hi:.4g}] {unit} (median +- {SPIKE_SCALES:g} robust standard "
+                        f"deviations), e.g. {_listed(prep, j, far, unit)}: a spike or unit "
+                        "error; remedy: check the data there and remove the values (NaN) or cut "
+                        "the period"
+                    )
+            limits = None
+            if spec is None:
+                limits, si, what = PHYSICAL_LIMITS["C"], 1.0, "temperature [C]"
+            elif unit.endswith("/m2"):
+                limits, si = PHYSICAL_LIMITS["W/m2"], HEAT_COLUMN_UNITS.get(unit, 1.0)
+                what = f"irradiance [{unit}]"
+            if limits is not None:
+                lo, hi = limits
+                bad = np.flatnonzero((u * si < lo) | (u * si > hi))
+                if bad.size:
+                    flags.append(
+                        f"input '{col}' ({what}) has {bad.size} value(s) outside the physical "
+                        f"range [{lo / si:.4g}, {hi / si:.4g}] {unit}: "
+                        f"{_listed(prep, j, bad, unit)}; remedy: check the unit (Kelvin? "
+                        "W/m2 vs kW/m2?) and the sensor"
+                    )
     return flags + heat_unit_flags(model, prep)
 
 

@@ -67,6 +67,9 @@ class _Context:
     people_b: np.ndarray = None  # (0 or n_steps, n_zones) [W/K]
     people_c: np.ndarray = None  # (0 or n_steps, n_zones) [W/K^2]
     people_max: np.ndarray = None  # (0 or n_steps, n_zones) [W]
+    d_lu: object = None  # factorisation of the Dirichlet system (None: no controlled zones)
+    vent: tuple = None  # indoor-limited ventilation arrays of the kernel (see _ventilation_arrays)
+    implicit: dict = field(default_factory=dict)  # implicit outdoor-air sets -> kernel arrays
 
 
 @dataclass
@@ -502,10 +505,13 @@ class Simulation:
             z.name for i, z in enumerate(zones) if np.ptp(gains[:, i]) > 1e-9 * (1 + gains[0, i])
         ]
         ach = scheduled.infiltration_ach
+        gated = set() if scheduled.ventilation is None else set(scheduled.ventilation["zone"])
         self._inf_zones = [
             i
             for i, z in enumerate(zones)
-            if np.ptp(ach[:, i]) > 1e-12 or np.any(scheduled.infiltration_ach_per_kelvin[:, i])
+            if np.ptp(ach[:, i]) > 1e-12
+            or np.any(scheduled.infiltration_ach_per_kelvin[:, i])
+            or i in gated
         ]
         return scheduled
 
@@ -743,6 +749,7 @@ class Simulation:
             lu = _factorise(matrix)
             factors = _kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c)
         dirichlet = factors
+        d_lu = None
         rows = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
         if len(controlled):
             # the same system with the controlled air temperatures prescribed (identity rows)
@@ -775,6 +782,7 @@ class Simulation:
             self._inf_dt,
             *self._people,
         )
+        vent = self._vent
         if dt == self.dt:
             heat_sp, cool_sp, inf_dt, people_a, people_b, people_c, people_max = per_step
         else:  # hourly warm-up context of the first day
@@ -783,7 +791,16 @@ class Simulation:
             heat_sp, cool_sp, inf_dt, people_a, people_b, people_c, people_max = (
                 a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m) for a in per_step
             )
+            vent = (
+                (vent[0],)
+                + tuple(
+                    a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m) for a in vent[1:-1]
+                )
+                + (np.zeros((per_day // m, vent[0].shape[0])),)
+            )
         return _Context(
+            d_lu=d_lu,
+            vent=vent,
             heat_sp=np.ascontiguousarray(heat_sp),
             cool_sp=np.ascontiguousarray(cool_sp),
             inf_dt=np.ascontiguousarray(inf_dt),
@@ -940,7 +957,37 @@ class Simulation:
                 if np.any(ach_dt):
                     self._inf_dt = np.ascontiguousarray(rho[:, None] * per_ach[None, :] * ach_dt)
         self._inf_dh = np.ascontiguousarray(inf_dh)
+        self._vent = self._ventilation_arrays(rho, n_steps)
         return u
+
+    def _ventilation_arrays(self, rho: np.ndarray, n_steps: int) -> tuple:
+        """Kernel arrays of the ventilation objects with indoor-temperature limits.
+
+        ``(zone (j,), conductance [W/K], per kelvin [W/K^2] (0 rows when none), fan heat [W],
+        minimum [C], maximum [C], delta [K], open state (n_steps, j))``, per step and object,
+        the flow scaled with a calibrated infiltration rate of the zone as the file's other
+        outdoor air.
+        """
+        scheduled = self._scheduled
+        vent = None if scheduled is None else scheduled.ventilation
+        if vent is None:
+            empty = np.zeros((0, 0))
+            return (np.zeros(0, dtype=np.int64), empty, empty, empty, empty, empty, empty, empty)
+        zones = vent["zone"]
+        volume = np.array([z.volume for z in self.building.zones.values()])[zones]
+        per_ach = rho[:, None] * AIR_SPECIFIC_HEAT * volume[None, :] / 3600.0
+        scale = self._inf_scale[zones][None, :]
+        gdt = per_ach * vent["ach_per_kelvin"] * scale
+        return (
+            np.ascontiguousarray(zones, dtype=np.int64),
+            np.ascontiguousarray(per_ach * vent["ach"] * scale),
+            np.ascontiguousarray(gdt if np.any(gdt) else np.zeros((0, len(zones)))),
+            np.ascontiguousarray(vent["fan_heat"] * scale),
+            np.ascontiguousarray(vent["minimum"]),
+            np.ascontiguousarray(vent["maximum"]),
+            np.ascontiguousarray(vent["delta"]),
+            np.zeros((n_steps, len(zones))),
+        )
 
     def _people_limits(self) -> tuple[np.ndarray, np.ndarray]:
         """Constant term [W] and upper limit [W] of the People sensible heat per zone and step.
@@ -1111,6 +1158,14 @@ class Simulation:
         )
         track = tracking if tracking is not None else _no_tracking(n)
         controlled = track.get("zones", self._ctrl)
+        dirichlet_first = track["mode"] == 1 and not track["general"]
+        if linear:
+            imp = _NO_IMPLICIT
+            vent = _NO_VENT
+        else:
+            held = controlled if (ideal or tracking is not None) else ()
+            imp = self._implicit_arrays(context, held, dirichlet_first)
+            vent = context.vent
         _kernel.run_steps(
             k0,
             n,
@@ -1187,8 +1242,49 @@ class Simulation:
             track["q_high"],
             track["g_inverse"],
             track["out_q"],
+            *imp,
+            *vent,
         )
         return out_air, out_mrt, out_heat, out_cool, out_face
+
+    def _implicit_arrays(self, context: _Context, held, dirichlet: bool) -> tuple:
+        """Kernel arrays of the zones whose outdoor air is implicit in the step.
+
+        The zones with scheduled or indoor-limited outdoor air apart from ``held`` (zones the
+        ideal loads or the tracking hold at a temperature); ``imp_g`` is their air-temperature
+        response [K/W] to unit heat in their air in the system of the kernel's first solve (the
+        Dirichlet system when ``dirichlet``). Cached per context.
+        """
+        if not len(getattr(self, "_inf_zones", ())):
+            return _NO_IMPLICIT
+        held = {int(z) for z in held}
+        zones = tuple(int(z) for z in self._inf_zones if int(z) not in held)
+        key = (zones, bool(dirichlet), tuple(sorted(held)) if dirichlet else ())
+        if key in context.implicit:
+            return context.implicit[key]
+        if not zones:
+            context.implicit[key] = _NO_IMPLICIT
+            return _NO_IMPLICIT
+        net = self.network
+        air = net.air_node[np.asarray(zones, dtype=np.int64)]
+        unit = np.zeros((net.n_nodes, len(zones)))
+        unit[air, np.arange(len(zones))] = 1.0
+        if dirichlet:
+            if context.d_lu is None:
+                raise RuntimeError("tracking by the Dirichlet system without its factorisation")
+            lu = context.d_lu
+        else:
+            lu = context.lu
+        g = np.ascontiguousarray(lu.solve(unit)[air, :])
+        m = len(zones)
+        arrays = (
+            np.asarray(zones, dtype=np.int64),
+            g,
+            np.zeros(m + 1),
+            np.zeros((m, m)),
+        )
+        context.implicit[key] = arrays
+        return arrays
 
     def track(
         self,
@@ -1580,6 +1676,14 @@ class Simulation:
         conductance = net.zone_infiltration[None, :] + self._inf_dh
         if len(self._inf_dt):
             conductance = conductance + self._inf_dt * np.abs(t_out[:, None] - air)
+        zone, g, gdt, _, _, _, _, opened = self._vent
+        if len(zone):
+            # indoor-limited ventilation as the time loop switched it
+            extra = opened * g
+            if len(gdt):
+                extra = extra + opened * gdt * np.abs(t_out[:, None] - air[:, zone])
+            conductance = conductance.copy()
+            np.add.at(conductance.T, zone, extra.T)
         infiltration = conductance * (t_out[:, None] - air)
         return SimulationResult(
             air_temperature=frame(air),
@@ -1702,6 +1806,10 @@ def _tracking_form(feedback, radiant_fraction, n_tracked: int) -> tuple:
             raise ThermocalInputError(f"track: {name} must lie in [0, 1], got {value!r}")
         out.append(tuple(float(v) for v in array))
     return tuple(out)
+
+
+_NO_IMPLICIT = (np.zeros(0, dtype=np.int64), np.zeros((0, 0)), np.zeros(1), np.zeros((0, 0)))
+_NO_VENT = (np.zeros(0, dtype=np.int64),) + (np.zeros((0, 0)),) * 7
 
 
 def _no_tracking(n: int) -> dict:

@@ -415,6 +415,7 @@ def run_steps(
     imp_g,
     imp_d,
     imp_inv,
+    imp_free,
     vent_zone,
     vent_g,
     vent_gdt,
@@ -437,8 +438,9 @@ def run_steps(
     the step it belongs to through the air-temperature response ``imp_g`` (m, m) [K/W] of the
     first solve's system (Woodbury: ``(I + G diag(d)) y = y0 + G d T_out``); ``imp_d`` (m + 1,) and
     ``imp_inv`` (m, m) cache the last ``d`` and the inverse (``imp_d[m]`` 0: invalid). The
-    other zones take it with their previous temperature (ideal-load zones) or, for zones
-    tracked by the exact air inverse, at their reference (their end-of-step temperature).
+    other zones take it with their previous temperature, except the zones tracked by the exact
+    air inverse that a free run treats implicitly (``imp_free`` (nz,) true): at their reference,
+    their end-of-step temperature, so that tracking a free run's temperatures is exact.
 
     Indoor-limited ventilation objects ``vent_zone`` (j,): open at step ``k`` when the zone air
     temperature of the previous step ``T`` satisfies ``vent_tmin <= T <= vent_tmax`` and
@@ -571,7 +573,8 @@ def run_steps(
             vent_d[z] = 0.0
         if dirichlet_first:
             for c in range(nc):
-                inf_temp[ctrl_zone[c]] = track_ref[s, c]
+                if imp_free[ctrl_zone[c]]:
+                    inf_temp[ctrl_zone[c]] = track_ref[s, c]
         # indoor-limited ventilation: open or closed on the previous step's zone temperature
         for j in range(n_vent):
             z = vent_zone[j]

@@ -1160,7 +1160,7 @@ class Simulation:
         controlled = track.get("zones", self._ctrl)
         dirichlet_first = track["mode"] == 1 and not track["general"]
         if linear:
-            imp = _NO_IMPLICIT
+            imp = _NO_IMPLICIT[:4] + (np.zeros(nz, dtype=np.bool_),)
             vent = _NO_VENT
         else:
             held = controlled if (ideal or tracking is not None) else ()
@@ -1256,15 +1256,17 @@ class Simulation:
         Dirichlet system when ``dirichlet``). Cached per context.
         """
         if not len(getattr(self, "_inf_zones", ())):
-            return _NO_IMPLICIT
+            return _NO_IMPLICIT[:4] + (np.zeros(len(self.network.zone_names), dtype=np.bool_),)
         held = {int(z) for z in held}
         zones = tuple(int(z) for z in self._inf_zones if int(z) not in held)
         key = (zones, bool(dirichlet), tuple(sorted(held)) if dirichlet else ())
         if key in context.implicit:
             return context.implicit[key]
         if not zones:
-            context.implicit[key] = _NO_IMPLICIT
-            return _NO_IMPLICIT
+            free = np.zeros(len(self.network.zone_names), dtype=np.bool_)
+            free[np.asarray(self._inf_zones, dtype=np.int64)] = True
+            context.implicit[key] = _NO_IMPLICIT[:4] + (free,)
+            return context.implicit[key]
         net = self.network
         air = net.air_node[np.asarray(zones, dtype=np.int64)]
         unit = np.zeros((net.n_nodes, len(zones)))
@@ -1277,11 +1279,14 @@ class Simulation:
             lu = context.lu
         g = np.ascontiguousarray(lu.solve(unit)[air, :])
         m = len(zones)
+        free = np.zeros(len(net.zone_names), dtype=np.bool_)
+        free[np.asarray(self._inf_zones, dtype=np.int64)] = True
         arrays = (
             np.asarray(zones, dtype=np.int64),
             g,
             np.zeros(m + 1),
             np.zeros((m, m)),
+            free,
         )
         context.implicit[key] = arrays
         return arrays

@@ -122,3 +122,39 @@ def test_identify_follows_the_forward_run_of_a_file_with_scheduled_outdoor_air(
             constant, weather, meta, start, end, forward, feedback, radiant_fraction
         )
         assert q_constant.max() > 30.0 * q_bound and error_constant.max() > 1.0
+
+
+def test_identify_a_2013_log_with_a_typical_year_file(tmp_path):
+    """A sensor log of 2013 with a typical-year file (read on 2023): the weather follows 2013,
+    weekdays included (the file's weekday People/Lights schedules), and the identification of
+    the forward run on 2013 finds no heat; the alignment is stated in the result."""
+    from thermocal.io.weather import weather_for_period
+
+    text = shared_data_path("energyplus_reference", "5ZoneAirCooled_FF_v25.idf").read_text()
+    path = tmp_path / "five_zone_fan.idf"
+    path.write_text(text + NIGHT_FAN)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdfImportWarning)
+        building = read_idf(path)
+    weather, meta = read_weather(shared_data_path("ashrae140_bestest", "725650TYCST.epw"))
+    assert meta["coerced_year"] == 2023
+    tz = weather.index.tz
+    start, end = pd.Timestamp("2013-01-11", tz=tz), pd.Timestamp("2013-01-15", tz=tz)  # Fri-Mon
+    weather_2013, meta_2013 = weather_for_period(weather, meta, start, end)
+    forward = Simulation(
+        building,
+        weather_2013,
+        meta_2013,
+        step=STEP,
+        start=start,
+        end=end,
+        store_surfaces=False,
+        warmup_days=0,
+    ).run()
+    result, q, error = _identify(building, weather, meta, start, end, forward, "air", 0.0)
+    assert q.max() < 30.0 and error.max() < 0.04, (q, error)
+    assert result.q_id.index[0] == start and result.q_id.index[-1] == end - pd.Timedelta(STEP)
+    stated = result.as_dict()["weather_year"]
+    assert stated["kind"] == "typical" and stated["years"] == [2013]
+    assert "1 January 2013 a Tuesday" in stated["statement"]
+    assert stated["statement"] in result.notes

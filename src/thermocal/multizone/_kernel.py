@@ -424,6 +424,12 @@ def run_steps(
     vent_tmax,
     vent_delta,
     vent_open,
+    gt_zone,
+    gt_aq,
+    gt_k,
+    gt_m,
+    gt_d,
+    gt_inv,
 ):
     """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
 
@@ -448,6 +454,13 @@ def run_steps(
     open, they add ``vent_g`` [W/K] to the zone's outdoor-air conductance, ``vent_gdt |dT|``
     [W/K^2] lagged and the fan heat ``vent_fan`` [W]; ``vent_open[k, j]`` records the open
     fraction (an object crossing its lower limit within the step is open for a fraction of it).
+
+    General exact inverse (``track_general``): the tracked zones ``gt_zone`` (mt,) with
+    scheduled outdoor air take it in the step it belongs to, solved with the tracking heat:
+    with ``q0`` the heat without it and ``a1 = a0 + gt_aq q0`` their air temperatures,
+    ``(I + D gt_m) h = D (T_out - a1)``, ``q = q0 - gt_k h`` (``gt_aq`` (mt, nc) air response to
+    the tracked heat, ``gt_k`` (nc, mt) = inverse sensed response x sensed response to air heat,
+    ``gt_m = A_h - gt_aq gt_k`` (mt, mt)); ``gt_d``, ``gt_inv`` cache ``D`` and the inverse.
     """
     n = x.shape[0]
     nz = air_node.shape[0]
@@ -476,6 +489,14 @@ def run_steps(
     inf_temp = np.empty(nz)
     m_mat = np.empty((m_imp, m_imp))
     dirichlet_first = track_mode == 1 and not track_general
+    mt = gt_zone.shape[0]
+    gt_of = np.full(nz, -1, dtype=np.int64)
+    for i in range(mt):
+        gt_of[gt_zone[i]] = i
+    d_t = np.zeros(mt)
+    r_t = np.zeros(mt)
+    h_t = np.zeros(mt)
+    m_t = np.empty((mt, mt))
     for s in range(n_steps):
         k = k0 + s
         # set points: one row per step, or a single row for the whole run
@@ -594,7 +615,7 @@ def run_steps(
             else:
                 vent_open[k, j] = 0.0
         for z in range(nz):
-            if imp_of[z] >= 0:
+            if imp_of[z] >= 0 or gt_of[z] >= 0:
                 continue
             an = air_node[z]
             rhs[an] += (inf_dh[k, z] + vent_d[z]) * (t_out - inf_temp[z])
@@ -765,8 +786,43 @@ def run_steps(
                 for d in range(nc):
                     acc += g_track_inv[c, d] * t_free[d]
                 q[c] = acc
+            if mt > 0:
+                changed = gt_d[mt] == 0.0
+                for i in range(mt):
+                    z = gt_zone[i]
+                    d_t[i] = inf_dh[k, z] + vent_d[z]
+                    if d_t[i] != gt_d[i]:
+                        changed = True
+                if changed:
+                    for i in range(mt):
+                        for j in range(mt):
+                            m_t[i, j] = d_t[i] * gt_m[i, j]
+                        m_t[i, i] += 1.0
+                    inv_t = np.linalg.inv(m_t)
+                    gt_d[mt] = 1.0
+                    for i in range(mt):
+                        gt_d[i] = d_t[i]
+                        for j in range(mt):
+                            gt_inv[i, j] = inv_t[i, j]
+                for i in range(mt):
+                    acc = x_new[air_node[gt_zone[i]]]
+                    for c in range(nc):
+                        acc += gt_aq[i, c] * q[c]
+                    r_t[i] = d_t[i] * (t_out - acc)
+                for i in range(mt):
+                    acc = 0.0
+                    for j in range(mt):
+                        acc += gt_inv[i, j] * r_t[j]
+                    h_t[i] = acc
+                    rhs[air_node[gt_zone[i]]] += acc
+                for c in range(nc):
+                    acc = 0.0
+                    for i in range(mt):
+                        acc += gt_k[c, i] * h_t[i]
+                    q[c] -= acc
+            for c in range(nc):
                 for p in range(track_ptr[c], track_ptr[c + 1]):
-                    rhs[track_idx[p]] += track_val[p] * acc
+                    rhs[track_idx[p]] += track_val[p] * q[c]
             lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
             done = True
         # 3. every controlled zone at a set point in the previous step: try the Dirichlet system

@@ -687,6 +687,35 @@ class Simulation:
             mrt = np.where(area[:, None] > 0, mrt / np.where(area > 0, area, 1.0)[:, None], air)
             sensed = air_weight[:, None] * air + (1.0 - air_weight[:, None]) * mrt
             g_inverse = np.ascontiguousarray(np.linalg.inv(sensed))
+
+            def sensed_of(resp):
+                m_rt = np.asarray(weights[zones] @ resp)
+                a_ir = resp[net.air_node[zones], :]
+                m_rt = np.where(
+                    area[:, None] > 0, m_rt / np.where(area > 0, area, 1.0)[:, None], a_ir
+                )
+                return air_weight[:, None] * a_ir + (1.0 - air_weight[:, None]) * m_rt
+
+            # tracked zones with scheduled outdoor air: their air flow in the step it belongs
+            # to, solved with the tracking heat (see the kernel's general inverse)
+            inf = set(int(z) for z in getattr(self, "_inf_zones", ()))
+            held = np.asarray([int(z) for z in zones if int(z) in inf], dtype=np.int64)
+            if len(held):
+                air_t = net.air_node[held]
+                unit_t = np.zeros((net.n_nodes, len(held)))
+                unit_t[air_t, np.arange(len(held))] = 1.0
+                resp_t = context.lu.solve(unit_t)
+                a_q = response[air_t, :]
+                k_h = g_inverse @ sensed_of(resp_t)
+                m_h = resp_t[air_t, :] - a_q @ k_h
+                context.implicit["tracked"] = (
+                    held,
+                    np.ascontiguousarray(a_q),
+                    np.ascontiguousarray(k_h),
+                    np.ascontiguousarray(m_h),
+                    np.zeros(len(held) + 1),
+                    np.zeros((len(held), len(held))),
+                )
         cache[key] = (context, g_inverse, distribution)
         return cache[key]
 
@@ -1166,6 +1195,10 @@ class Simulation:
             held = controlled if (ideal or tracking is not None) else ()
             imp = self._implicit_arrays(context, held, dirichlet_first)
             vent = context.vent
+        general = tracking is not None and track["mode"] == 1 and track["general"]
+        tracked_air = context.implicit.get("tracked", _NO_TRACKED_AIR) if general else None
+        if tracked_air is None or linear:
+            tracked_air = _NO_TRACKED_AIR
         _kernel.run_steps(
             k0,
             n,
@@ -1244,6 +1277,7 @@ class Simulation:
             track["out_q"],
             *imp,
             *vent,
+            *tracked_air,
         )
         return out_air, out_mrt, out_heat, out_cool, out_face
 
@@ -1815,6 +1849,14 @@ def _tracking_form(feedback, radiant_fraction, n_tracked: int) -> tuple:
 
 _NO_IMPLICIT = (np.zeros(0, dtype=np.int64), np.zeros((0, 0)), np.zeros(1), np.zeros((0, 0)))
 _NO_VENT = (np.zeros(0, dtype=np.int64),) + (np.zeros((0, 0)),) * 7
+_NO_TRACKED_AIR = (
+    np.zeros(0, dtype=np.int64),
+    np.zeros((0, 0)),
+    np.zeros((0, 0)),
+    np.zeros((0, 0)),
+    np.zeros(1),
+    np.zeros((0, 0)),
+)
 
 
 def _no_tracking(n: int) -> dict:

@@ -19,7 +19,7 @@ import warnings
 import pandas as pd
 import pytest
 
-from conftest import shared_data_path
+from conftest import requires_energyplus, shared_data_path
 from thermocal.identification.workflow import identify
 from thermocal.io.weather import read_weather
 from thermocal.multizone.idf import IdfImportWarning, read_idf
@@ -191,3 +191,72 @@ def test_general_inverse_tracks_a_free_run_with_scheduled_outdoor_air(
     )
     assert result.heat.abs().to_numpy().max() < 0.5
     assert (result.air_temperature - forward.air_temperature).abs().to_numpy().max() < 0.01
+
+
+@requires_energyplus
+def test_identify_command_puts_a_typical_year_on_the_log_year(tmp_path):
+    """``thermocal identify`` with Chicago's TMY3 EPW (read on its own year) and a sensor log of
+    2013: the weather follows 2013, the terminal and identification.json say so."""
+    import json
+    import subprocess
+    import sys
+
+    from thermocal.io.weather import weather_for_period
+    from thermocal.multizone.energyplus import energyplus_weather_folder
+
+    if energyplus_weather_folder() is None:
+        pytest.skip("the EnergyPlus installation has no WeatherData folder")
+    epw = energyplus_weather_folder() / "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
+    idf = tmp_path / "five.idf"
+    idf.write_text(
+        shared_data_path("energyplus_reference", "5ZoneAirCooled_FF_v25.idf").read_text()
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdfImportWarning)
+        building = read_idf(idf)
+    weather, meta = read_weather(epw)
+    assert meta["coerced_year"] != 2013
+    tz = weather.index.tz
+    start, end = pd.Timestamp("2013-01-14", tz=tz), pd.Timestamp("2013-01-17", tz=tz)
+    weather_2013, meta_2013 = weather_for_period(weather, meta, start, end)
+    forward = Simulation(
+        building, weather_2013, meta_2013, step="15min", start=start, end=end, warmup_days=1
+    ).run()
+    log = forward.air_temperature[list(TRACKED)]
+    log.index = log.index + pd.Timedelta("15min")
+    log.index.name = "time"
+    log.columns = [f"T_{z}" for z in TRACKED]
+    log.to_csv(tmp_path / "log.csv")
+    (tmp_path / "mapping.yaml").write_text(
+        "sensors:\n" + "".join(f"  T_{z}: {z}\n" for z in TRACKED)
+    )
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "thermocal",
+            "identify",
+            str(idf),
+            str(epw),
+            str(tmp_path / "log.csv"),
+            "--mapping",
+            str(tmp_path / "mapping.yaml"),
+            "--method",
+            "inverse",
+            "--step",
+            "15min",
+            "--start",
+            "2013-01-14",
+            "--end",
+            "2013-01-17",
+            "--out",
+            str(tmp_path / "out"),
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "typical-year weather file" in done.stderr and "put on 2013" in done.stderr
+    stated = json.loads((tmp_path / "out" / "identification.json").read_text())["weather_year"]
+    assert stated["kind"] == "typical" and stated["years"] == [2013]
+    assert "1 January 2013 a Tuesday" in stated["statement"]

@@ -311,6 +311,69 @@ def ideal_loads(t_free, heat_sp, cool_sp, g, active, q, cache_member, cache_inv,
 
 
 @njit(cache=True, fastmath=True)
+def _refined_solve(inv, g, d, b, y, r, d_left):
+    """Solve ``(I + G diag(d)) y = b`` (``d_left``: ``(I + diag(d) G) y = b``) with ``inv`` the
+    inverse of the system at a nearby ``d`` (iterative refinement, at most 4 corrections).
+
+    Returns True when the residual is below 1e-10 of ``b``; False (``y`` not usable): invert
+    the system at this ``d``.
+    """
+    m = b.shape[0]
+    scale = 0.0
+    for i in range(m):
+        scale = max(scale, abs(b[i]))
+    tol = 1e-10 * (1.0 + scale)
+    for i in range(m):
+        acc = 0.0
+        for j in range(m):
+            acc += inv[i, j] * b[j]
+        y[i] = acc
+    last = np.inf
+    for _ in range(5):
+        worst = 0.0
+        for i in range(m):
+            acc = 0.0
+            if d_left:
+                for j in range(m):
+                    acc += g[i, j] * y[j]
+                acc *= d[i]
+            else:
+                for j in range(m):
+                    acc += g[i, j] * d[j] * y[j]
+            r[i] = b[i] - y[i] - acc
+            worst = max(worst, abs(r[i]))
+        if worst <= tol:
+            return True
+        if worst >= last:
+            return False
+        last = worst
+        for i in range(m):
+            acc = 0.0
+            for j in range(m):
+                acc += inv[i, j] * r[j]
+            y[i] += acc
+    return False
+
+
+@njit(cache=True, fastmath=True)
+def _invert_into(g, d, out, d_store, d_left):
+    """``out = inv(I + G diag(d))`` (``d_left``: ``inv(I + diag(d) G)``); ``d_store`` keeps ``d``
+    and its last entry marks the inverse valid."""
+    m = d.shape[0]
+    mat = np.empty((m, m))
+    for i in range(m):
+        for j in range(m):
+            mat[i, j] = (d[i] if d_left else d[j]) * g[i, j]
+        mat[i, i] += 1.0
+    inv = np.linalg.inv(mat)
+    for i in range(m):
+        d_store[i] = d[i]
+        for j in range(m):
+            out[i, j] = inv[i, j]
+    d_store[m] = 1.0
+
+
+@njit(cache=True, fastmath=True)
 def run_steps(
     k0,
     n_steps,
@@ -485,9 +548,10 @@ def run_steps(
     y_imp = np.zeros(m_imp)
     b_imp = np.zeros(m_imp)
     h_col = np.zeros(m_imp)
+    g_col = np.zeros(m_imp)
+    r_imp = np.zeros(m_imp)
     vent_d = np.zeros(nz)
     inf_temp = np.empty(nz)
-    m_mat = np.empty((m_imp, m_imp))
     dirichlet_first = track_mode == 1 and not track_general
     mt = gt_zone.shape[0]
     gt_of = np.full(nz, -1, dtype=np.int64)
@@ -496,7 +560,7 @@ def run_steps(
     d_t = np.zeros(mt)
     r_t = np.zeros(mt)
     h_t = np.zeros(mt)
-    m_t = np.empty((mt, mt))
+    res_t = np.zeros(mt)
     for s in range(n_steps):
         k = k0 + s
         # set points: one row per step, or a single row for the whole run
@@ -638,27 +702,15 @@ def run_steps(
         # 2'. outdoor air of the implicit zones in the step it belongs to (Woodbury on the first
         #     solve's system): y = air temperatures without it, then (I + G D) y = y0 + G D T_out
         if m_imp > 0:
-            changed = imp_d[m_imp] == 0.0
             any_d = n_vent > 0
             for i in range(m_imp):
                 z = imp_zone[i]
                 d_now[i] = inf_dh[k, z] + vent_d[z]
                 if d_now[i] != 0.0:
                     any_d = True
-                if d_now[i] != imp_d[i]:
-                    changed = True
             if any_d:
-                if changed:
-                    for i in range(m_imp):
-                        for j in range(m_imp):
-                            m_mat[i, j] = imp_g[i, j] * d_now[j]
-                        m_mat[i, i] += 1.0
-                    inv = np.linalg.inv(m_mat)
-                    imp_d[m_imp] = 1.0
-                    for i in range(m_imp):
-                        imp_d[i] = d_now[i]
-                        for j in range(m_imp):
-                            imp_inv[i, j] = inv[i, j]
+                if imp_d[m_imp] == 0.0:
+                    _invert_into(imp_g, d_now, imp_inv, imp_d, False)
                 if dirichlet_first:
                     for i in range(n):
                         rhs_d[i] = rhs[i]
@@ -685,11 +737,11 @@ def run_steps(
                     for j in range(m_imp):
                         acc += imp_g[i, j] * d_now[j] * t_out
                     b_imp[i] = acc
-                for i in range(m_imp):
-                    acc = 0.0
-                    for j in range(m_imp):
-                        acc += imp_inv[i, j] * b_imp[j]
-                    y_imp[i] = acc
+                # the inverse of a nearby step's D refined (the air density and the wind change
+                # D a little every step); inverted again when the refinement does not converge
+                if not _refined_solve(imp_inv, imp_g, d_now, b_imp, y_imp, r_imp, False):
+                    _invert_into(imp_g, d_now, imp_inv, imp_d, False)
+                    _refined_solve(imp_inv, imp_g, d_now, b_imp, y_imp, r_imp, False)
                 # an indoor-limited object that would cross its lower limit (minimum indoor
                 # temperature, or outdoor + delta) within the step is open for the fraction of
                 # its flow that ends the step at the limit, as EnergyPlus' shorter system steps
@@ -709,10 +761,10 @@ def run_steps(
                     elif x[air_node[z]] > vent_tmax[k, j] or y_imp[i] <= lower:
                         continue
                     for r in range(m_imp):
-                        acc = 0.0
-                        for q_ in range(m_imp):
-                            acc += imp_inv[r, q_] * imp_g[q_, i]
-                        h_col[r] = acc
+                        g_col[r] = imp_g[r, i]
+                    if not _refined_solve(imp_inv, imp_g, d_now, g_col, h_col, r_imp, False):
+                        _invert_into(imp_g, d_now, imp_inv, imp_d, False)
+                        _refined_solve(imp_inv, imp_g, d_now, g_col, h_col, r_imp, False)
                     fan_per_g = vent_fan[k, j] / g_open
                     denom = h_col[i] * (t_out - lower + fan_per_g)
                     if abs(denom) < 1e-300:
@@ -787,34 +839,21 @@ def run_steps(
                     acc += g_track_inv[c, d] * t_free[d]
                 q[c] = acc
             if mt > 0:
-                changed = gt_d[mt] == 0.0
                 for i in range(mt):
                     z = gt_zone[i]
                     d_t[i] = inf_dh[k, z] + vent_d[z]
-                    if d_t[i] != gt_d[i]:
-                        changed = True
-                if changed:
-                    for i in range(mt):
-                        for j in range(mt):
-                            m_t[i, j] = d_t[i] * gt_m[i, j]
-                        m_t[i, i] += 1.0
-                    inv_t = np.linalg.inv(m_t)
-                    gt_d[mt] = 1.0
-                    for i in range(mt):
-                        gt_d[i] = d_t[i]
-                        for j in range(mt):
-                            gt_inv[i, j] = inv_t[i, j]
+                if gt_d[mt] == 0.0:
+                    _invert_into(gt_m, d_t, gt_inv, gt_d, True)
                 for i in range(mt):
                     acc = x_new[air_node[gt_zone[i]]]
                     for c in range(nc):
                         acc += gt_aq[i, c] * q[c]
                     r_t[i] = d_t[i] * (t_out - acc)
+                if not _refined_solve(gt_inv, gt_m, d_t, r_t, h_t, res_t, True):
+                    _invert_into(gt_m, d_t, gt_inv, gt_d, True)
+                    _refined_solve(gt_inv, gt_m, d_t, r_t, h_t, res_t, True)
                 for i in range(mt):
-                    acc = 0.0
-                    for j in range(mt):
-                        acc += gt_inv[i, j] * r_t[j]
-                    h_t[i] = acc
-                    rhs[air_node[gt_zone[i]]] += acc
+                    rhs[air_node[gt_zone[i]]] += h_t[i]
                 for c in range(nc):
                     acc = 0.0
                     for i in range(mt):

@@ -143,6 +143,9 @@ def identify(
             )
             check_weather_clock(frame, site, source=str(weather))
             raw, _ = read_measurements(sensors, tz=tz, time_unit=time_unit, start=time_origin)
+            frame, site = _weather_for_measurements(frame, site, raw, start, end, str(weather))
+            if site.get("weather_year", {}).get("kind") == "typical":
+                console.print(f"weather: {site['weather_year']['statement']}")
             mapping_data = load_mapping(mapping)
             log_name = str(sensors)
             max_gap_used = max_gap
@@ -205,6 +208,24 @@ def identify(
     _print_summary(result, truth)
     for path in written:
         console.print(f"wrote {path}")
+
+
+def _weather_for_measurements(frame, site, raw, start, end, source: str):
+    """A typical-year weather file on the year(s) of the sensor log (or of --start/--end); an
+    actual-year file must cover --start/--end (:func:`thermocal.io.weather.weather_for_period`)."""
+    from thermocal.identification.sensors import _log_span
+    from thermocal.io.weather import weather_for_period
+
+    if site.get("coerced_year") is None and (start is None or end is None):
+        return frame, site  # an actual year: the log's span is checked against it later
+    first, last = _log_span(raw)
+    return weather_for_period(
+        frame,
+        site,
+        first if start is None else start,
+        last if end is None else end,
+        source=source,
+    )
 
 
 def _log_period(raw, weather_index, step: str, console, log_name: str):

@@ -269,17 +269,26 @@ def problem_from_measurements(
 ) -> tuple[IdentificationProblem, object]:
     """Build the problem from a sensor log and a mapping (references built once).
 
+    A typical-year weather file follows the year of the measurements
+    (:func:`thermocal.io.weather.weather_for_period`; ``problem.metadata["weather_year"]``).
+
     Returns
     -------
     problem : IdentificationProblem
     report : thermocal.identification.sensors.ReferenceReport
     """
     from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
-    from thermocal.identification.workflow import identified_heat_form, pid_gains_for
+    from thermocal.identification.workflow import (
+        _weather_for_log,
+        identified_heat_form,
+        pid_gains_for,
+    )
     from thermocal.multizone.simulation import Simulation
 
     if not isinstance(mapping, SensorMapping):
         mapping = mapping_from_dict(mapping)
+    # a typical-year file on the year of the measurements (as identify)
+    weather, metadata = _weather_for_log(weather, metadata, sensor_log, start, end)
     sim = Simulation(
         building,
         weather,

@@ -15,7 +15,13 @@ Mapping file (YAML)::
       Room 29: {use: Room 27}             # a zone without a sensor that uses another's data
       Plenum: {unsensed: neighbour}       # the treatment of one zone without a sensor
       Room 3: {radiant_fraction: 0.2, sensor: operative}
+      Boiler room: {plausible: [40, 80]}  # a zone whose sensors may average 40-80 C [C]
     ignore: [S77]       # optional: sensors of the log left out
+
+A sensor whose mean is not an indoor temperature (outside -30..35 C) or far from the others is
+refused as a unit slip (Kelvin, Fahrenheit, tenths...); ``plausible: [low, high]`` declares the
+mean range of a zone that is really that warm or cold (its sensors are then checked against that
+range only, not against the other zones').
 
 A zone with neither a sensor nor a named substitute **floats** by default: it is simulated with
 ``Q_ID = 0`` and its temperature is reported. With ``unsensed: neighbour`` (globally or per zone,
@@ -56,6 +62,8 @@ class SensorMapping:
     sensor: str | float | None = None
     zone_radiant_fraction: dict[str, float] = field(default_factory=dict)
     zone_sensor: dict[str, str | float] = field(default_factory=dict)
+    #: declared plausible mean temperature [C] per zone (low, high)
+    zone_plausible: dict[str, tuple[float, float]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -125,7 +133,8 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
     treatments: dict[str, str] = {}
     zone_radiant: dict[str, float] = {}
     zone_sensor: dict[str, str | float] = {}
-    keys = {"use", "unsensed", "radiant_fraction", "sensor"}
+    zone_plausible: dict[str, tuple[float, float]] = {}
+    keys = {"use", "unsensed", "radiant_fraction", "sensor", "plausible"}
     for zone, spec in (data.get("zones") or {}).items():
         where = f"{source}: zones.{zone}"
         if (
@@ -137,7 +146,7 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
         ):
             raise ThermocalInputError(
                 f"{where} must hold {{use: <zone name>}} or {{unsensed: float | neighbour}} "
-                f"and/or radiant_fraction / sensor, got {spec!r}"
+                f"and/or radiant_fraction / sensor / plausible, got {spec!r}"
             )
         zone = str(zone)
         if "use" in spec:
@@ -148,6 +157,8 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
             zone_radiant[zone] = _fraction(spec["radiant_fraction"], where)
         if "sensor" in spec:
             zone_sensor[zone] = sensor_weight(spec["sensor"], where)
+        if "plausible" in spec:
+            zone_plausible[zone] = _plausible_range(spec["plausible"], where)
     ignore = data.get("ignore") or []
     if not isinstance(ignore, list):
         raise ThermocalInputError(f"{source}: 'ignore' must be a list of sensor names")
@@ -162,7 +173,24 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
         sensor=sensor,
         zone_radiant_fraction=zone_radiant,
         zone_sensor=zone_sensor,
+        zone_plausible=zone_plausible,
     )
+
+
+def _plausible_range(value, where: str) -> tuple[float, float]:
+    """``[low, high]`` [C] of a zone's declared plausible mean temperature."""
+    ok = (
+        isinstance(value, list | tuple)
+        and len(value) == 2
+        and all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
+        and -60.0 <= value[0] < value[1] <= 150.0
+    )
+    if not ok:
+        raise ThermocalInputError(
+            f"{where}: plausible must be [low, high], the zone's plausible mean temperature in C "
+            f"with -60 <= low < high <= 150 (e.g. [40, 80] for a hot room), got {value!r}"
+        )
+    return float(value[0]), float(value[1])
 
 
 def _treatment(value, where: str) -> str:
@@ -529,8 +557,24 @@ def check_sensor_plausibility(
         zone = mapping.sensors.get(str(sensor))
         return f"{source}: sensor {str(sensor)!r}" + (f" (zone {zone!r})" if zone else "")
 
+    declared = {
+        sensor: mapping.zone_plausible[zone]
+        for sensor, zone in mapping.sensors.items()
+        if zone in mapping.zone_plausible
+    }
     for sensor, mean in means.items():
-        others = means.drop(sensor)
+        if str(sensor) in declared:
+            low, high = declared[str(sensor)]
+            if not low <= mean <= high:
+                slip = temperature_unit_slip(float(mean), None, plausible=(low, high))
+                hint = "" if slip is None or np.isnan(slip[2]) else f" ({slip[0]} {slip[2]:.1f} C)"
+                raise ThermocalInputError(
+                    f"{where(sensor)} reads {mean:.1f} on average, outside the range "
+                    f"[{low:g}, {high:g}] C declared plausible for its zone in {mapping.source}"
+                    f"{hint}; correct the unit of the values or the declared range"
+                )
+            continue
+        others = means.drop([s for s in means.index if s == sensor or str(s) in declared])
         reference = float(others.median()) if len(others) else None
         slip = temperature_unit_slip(float(mean), reference)
         if slip is None:
@@ -542,9 +586,12 @@ def check_sensor_plausibility(
             else ""
         )
         as_converted = "" if np.isnan(converted) else f" (as {converted:.1f} C if so)"
+        zone = mapping.sensors.get(str(sensor), "<zone>")
         raise ThermocalInputError(
             f"{where(sensor)} reads {mean:.1f} on average{company}: {label}{as_converted}; "
-            f"{remedy.replace('NAME', str(sensor))} and run again"
+            f"{remedy.replace('NAME', str(sensor))} and run again (if the zone really is that "
+            f"warm or cold, declare it in {mapping.source}: zones: {{{zone}: {{plausible: "
+            "[low, high]}} in C)"
         )
     for sensor in means.index:
         daily = grid[sensor].resample("1D").mean().dropna()
@@ -552,7 +599,11 @@ def check_sensor_plausibility(
             continue
         typical = float(daily.median())
         for day, value in daily.items():
-            slip = temperature_unit_slip(float(value), typical)
+            slip = temperature_unit_slip(
+                float(value),
+                typical,
+                **({"plausible": declared[str(sensor)]} if str(sensor) in declared else {}),
+            )
             if slip is not None and not np.isnan(slip[2]):
                 raise ThermocalInputError(
                     f"{where(sensor)} averages {value:.1f} on {day:%Y-%m-%d} but "

@@ -77,6 +77,9 @@ class IdentificationResult:
     import_notes : list of str
         What the building import and the simulation flattened, skipped or approximated
         (:meth:`~thermocal.multizone.Simulation.approximations`).
+    weather_year : dict or None
+        How the weather file's year met the measurements (``kind`` typical/actual, ``years``,
+        ``statement`` with the weekday alignment; :func:`thermocal.io.weather.weather_for_period`).
     """
 
     q_id: pd.DataFrame
@@ -100,6 +103,7 @@ class IdentificationResult:
     form: pd.DataFrame | None = None
     floating_temperature: pd.DataFrame | None = None
     import_notes: list = field(default_factory=list)
+    weather_year: dict | None = None
 
     @property
     def building_heat(self) -> pd.Series:
@@ -176,6 +180,7 @@ class IdentificationResult:
             "timings_s": self.timings,
             "notes": self.notes,
             "import_notes": self.import_notes,
+            "weather_year": self.weather_year,
         }
         return jsonable(out)
 
@@ -420,6 +425,10 @@ def identify(
     schedule = schedule or OccupancySchedule()
     timings: dict[str, float] = {}
     notes: list[str] = []
+    weather, metadata = _weather_for_log(weather, metadata, sensor_log, start, end)
+    weather_year = metadata.get("weather_year")
+    if weather_year:
+        notes.append(weather_year["statement"])
     t0 = time.perf_counter()
     sim = Simulation(
         building,
@@ -590,7 +599,28 @@ def identify(
         form=form,
         floating_temperature=floating_temperature,
         import_notes=list(sim.approximations()),
+        weather_year=weather_year,
     )
+
+
+def _weather_for_log(weather, metadata, sensor_log, start, end):
+    """The weather on the calendar of the measured period (:func:`~thermocal.io.weather.
+    weather_for_period`; the period's open ends from the sensor log's span)."""
+    from thermocal.identification.sensors import _log_span
+    from thermocal.io.weather import weather_for_period
+
+    if (metadata or {}).get("coerced_year") is None and (start is None or end is None):
+        return weather, dict(metadata or {})  # an actual year: the simulation checks the period
+    if start is None or end is None:
+        try:
+            first, last = _log_span(sensor_log)
+        except (TypeError, ValueError):
+            return weather, dict(metadata or {})
+        start = first if start is None else start
+        end = last if end is None else end
+    if pd.isna(pd.Timestamp(start)) or pd.isna(pd.Timestamp(end)):
+        return weather, dict(metadata or {})
+    return weather_for_period(weather, metadata, start, end)
 
 
 def identified_heat_form(

@@ -53,6 +53,11 @@ year in 2001-2023 (non-leap unless the file contains 29 February) whose calendar
 first day on the weekday declared in the EPW ``DATA PERIODS`` line (so weekday schedules match
 EnergyPlus), or 2001/2004 when no weekday is declared. ``metadata["coerced_year"]`` records it.
 
+Measured periods (``identify``, ``calibrate``): :func:`weather_for_period` puts a typical year on
+the year(s) of the measurements (every row keeps its month, day and hour; the weekdays become
+those of the measurement year; 29 February repeats 28 February in a leap year) and refuses an
+actual-year file that does not cover the period, naming the file, its years and the period.
+
 References
 ----------
 .. [1] EnergyPlus Auxiliary Programs, "Weather Converter Program", section "EnergyPlus Weather File
@@ -85,6 +90,7 @@ __all__ = [
     "read_weather_csv",
     "resample_weather",
     "weather_step",
+    "weather_for_period",
 ]
 
 #: Quantities that are means over the interval ``[t, t + step)`` [W/m2 or -].
@@ -700,6 +706,132 @@ def check_weather_clock(
         column=column,
         timezone_setting="the time zone of the weather file (its header, or tz= for a CSV)",
     )
+
+
+def weather_for_period(
+    weather: pd.DataFrame,
+    metadata: Mapping | None,
+    start,
+    end,
+    *,
+    source: str | None = None,
+) -> tuple[pd.DataFrame, dict]:
+    """The weather on the calendar of a measured period ``[start, end)``.
+
+    A *typical-year* file (``metadata["coerced_year"]`` set by :func:`read_weather`: TMY, IWEC,
+    EPW with months from several years) follows the year of the measurements: its rows are put
+    on every calendar year the period touches (month, day and hour kept; 29 February of a leap
+    year repeats 28 February, a file's 29 February is dropped in other years), so weekdays are
+    those of the measurement year, not the weekday the file declares. An *actual-year* file must
+    cover the period.
+
+    Parameters
+    ----------
+    weather : DataFrame
+        From :func:`read_weather` (tz-aware index).
+    metadata : dict
+        Its metadata (``coerced_year``, ``source``).
+    start, end : timestamp-like
+        The period; naive times are read in the weather's time zone.
+    source : str, optional
+        File name for messages (default ``metadata["source"]``).
+
+    Returns
+    -------
+    weather, metadata
+        The (possibly re-stamped) weather and a copy of the metadata with ``weather_year``: a
+        dict ``{"kind": "typical" | "actual", "years": [...], "statement": str}`` (the
+        statement names the file, the years and the weekday alignment, for reports).
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        An actual-year file that does not cover the period (file, its years, the period).
+    """
+    meta = dict(metadata or {})
+    source = source or str(meta.get("source", "the weather"))
+    index = pd.DatetimeIndex(weather.index)
+    tz = index.tz
+
+    def instant(value):
+        ts = pd.Timestamp(value)
+        if ts.tzinfo is None and tz is not None:
+            return ts.tz_localize(tz)
+        return ts.tz_convert(tz) if tz is not None else ts
+
+    t0, t1 = instant(start), instant(end)
+    step = index[1] - index[0] if len(index) > 1 else pd.Timedelta("1h")
+    file_end = index[-1] + step
+    typical = meta.get("coerced_year") is not None
+    if not typical:
+        years = sorted({int(index[0].year), int(index[-1].year)})
+        shown = "-".join(str(y) for y in dict.fromkeys(years))
+        if t0 < index[0] or t1 > file_end:
+            raise ThermocalInputError(
+                f"weather file {source}: an actual-year file of {shown} covering "
+                f"[{index[0]}, {file_end}) does not cover the period [{t0}, {t1}); give the "
+                "weather measured over that period (or a typical-year file, TMY/EPW with months "
+                "from several years, which follows the year of the measurements)."
+            )
+        meta["weather_year"] = {
+            "kind": "actual",
+            "years": years,
+            "statement": f"weather file {source}: actual year {shown}, covering the period",
+        }
+        return weather, meta
+    file_year = int(meta["coerced_year"])
+    years = list(range(int(t0.year), int(t1.year) + 1))
+    local = index.tz_localize(None) if tz is not None else index
+    month, day = local.month.to_numpy(), local.day.to_numpy()
+    time_of_day = (local - local.normalize()).to_numpy()
+    feb29 = (month == 2) & (day == 29)
+    feb28 = (month == 2) & (day == 28)
+    parts = []
+    for year in years:
+        leap = calendar.isleap(year)
+        keep = ~feb29 if not leap else np.ones(len(local), dtype=bool)
+        frame = weather[keep].copy()
+        dates = (
+            pd.to_datetime(
+                pd.DataFrame({"year": year, "month": month[keep], "day": day[keep]})
+            ).to_numpy()
+            + time_of_day[keep]
+        )
+        stamps = pd.DatetimeIndex(dates)
+        if leap and not feb29.any():
+            extra = weather[feb28].copy()
+            extra_dates = (
+                pd.to_datetime(
+                    pd.DataFrame({"year": year, "month": 2, "day": np.full(int(feb28.sum()), 29)})
+                ).to_numpy()
+                + time_of_day[feb28]
+            )
+            frame = pd.concat([frame, extra])
+            stamps = stamps.append(pd.DatetimeIndex(extra_dates))
+        frame.index = stamps.tz_localize(tz) if tz is not None else stamps
+        parts.append(frame)
+    out = pd.concat(parts).sort_index()
+    out = out[~out.index.duplicated(keep="first")]
+    names = ", ".join(
+        f"1 January {y} a {calendar.day_name[calendar.weekday(y, 1, 1)]}" for y in years
+    )
+    meta["coerced_year"] = years[0]
+    meta["weather_year"] = {
+        "kind": "typical",
+        "file_year": file_year,
+        "years": years,
+        "statement": (
+            f"typical-year weather file {source} put on {', '.join(map(str, years))}, the "
+            f"year(s) of the measurements: every row keeps its month, day and hour; weekdays "
+            f"(schedules, holidays) follow the measurement calendar ({names})"
+            + (
+                "; 29 February repeats 28 February"
+                if any(calendar.isleap(y) for y in years) and not feb29.any()
+                else ""
+            )
+        ),
+    }
+    return out, meta
 
 
 def weather_step(weather: pd.DataFrame) -> pd.Timedelta:

@@ -6,6 +6,9 @@ One backward-Euler step of the network assembled in :mod:`thermocal.multizone.ne
 2. explicit corrections evaluated with ``x_old``: wind-dependent exterior convection minus its
    matrix part, exact ``sigma T^4`` exterior long-wave exchange minus its linearisation, TARP
    interior convection minus its matrix part, air-density variation of the infiltration;
+2'. scheduled or temperature-switched outdoor air of the free zones implicit in its own step: the
+   step's conductance beyond the matrix value enters through the zones' air-temperature response
+   (a Woodbury correction costing one more substitution, see :func:`run_steps`);
 3. ``x_free = A^{-1} rhs`` by forward/backward substitution with the sparse LU factors of
    ``A = C/dt + K`` (computed once by SuperLU);
 4. ideal loads by superposition: ``T_air = T_free + G q`` with ``G`` the air-temperature response to
@@ -308,6 +311,69 @@ def ideal_loads(t_free, heat_sp, cool_sp, g, active, q, cache_member, cache_inv,
 
 
 @njit(cache=True, fastmath=True)
+def _refined_solve(inv, g, d, b, y, r, d_left):
+    """Solve ``(I + G diag(d)) y = b`` (``d_left``: ``(I + diag(d) G) y = b``) with ``inv`` the
+    inverse of the system at a nearby ``d`` (iterative refinement, at most 4 corrections).
+
+    Returns True when the residual is below 1e-10 of ``b``; False (``y`` not usable): invert
+    the system at this ``d``.
+    """
+    m = b.shape[0]
+    scale = 0.0
+    for i in range(m):
+        scale = max(scale, abs(b[i]))
+    tol = 1e-10 * (1.0 + scale)
+    for i in range(m):
+        acc = 0.0
+        for j in range(m):
+            acc += inv[i, j] * b[j]
+        y[i] = acc
+    last = np.inf
+    for _ in range(5):
+        worst = 0.0
+        for i in range(m):
+            acc = 0.0
+            if d_left:
+                for j in range(m):
+                    acc += g[i, j] * y[j]
+                acc *= d[i]
+            else:
+                for j in range(m):
+                    acc += g[i, j] * d[j] * y[j]
+            r[i] = b[i] - y[i] - acc
+            worst = max(worst, abs(r[i]))
+        if worst <= tol:
+            return True
+        if worst >= last:
+            return False
+        last = worst
+        for i in range(m):
+            acc = 0.0
+            for j in range(m):
+                acc += inv[i, j] * r[j]
+            y[i] += acc
+    return False
+
+
+@njit(cache=True, fastmath=True)
+def _invert_into(g, d, out, d_store, d_left):
+    """``out = inv(I + G diag(d))`` (``d_left``: ``inv(I + diag(d) G)``); ``d_store`` keeps ``d``
+    and its last entry marks the inverse valid."""
+    m = d.shape[0]
+    mat = np.empty((m, m))
+    for i in range(m):
+        for j in range(m):
+            mat[i, j] = (d[i] if d_left else d[j]) * g[i, j]
+        mat[i, i] += 1.0
+    inv = np.linalg.inv(mat)
+    for i in range(m):
+        d_store[i] = d[i]
+        for j in range(m):
+            out[i, j] = inv[i, j]
+    d_store[m] = 1.0
+
+
+@njit(cache=True, fastmath=True)
 def run_steps(
     k0,
     n_steps,
@@ -408,6 +474,25 @@ def run_steps(
     q_hi,
     g_track_inv,
     out_q,
+    imp_zone,
+    imp_g,
+    imp_d,
+    imp_inv,
+    imp_free,
+    vent_zone,
+    vent_g,
+    vent_gdt,
+    vent_fan,
+    vent_tmin,
+    vent_tmax,
+    vent_delta,
+    vent_open,
+    gt_zone,
+    gt_aq,
+    gt_k,
+    gt_m,
+    gt_d,
+    gt_inv,
 ):
     """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
 
@@ -416,6 +501,29 @@ def run_steps(
     With ``track_mode`` 1 or 2 the controlled zones are the tracked ones (see the module
     docstring); ``pid_state`` (nc, 2) and ``track_fb`` (nc,) persist between calls; the heat of
     each tracked zone is written to ``out_q`` (n_steps, nc) [W].
+
+    Outdoor air of the zones ``imp_zone`` (m,) is implicit: the step's conductance beyond the
+    matrix value, ``d = inf_dh[k, z]`` plus the open indoor-limited ventilation objects, enters
+    the step it belongs to through the air-temperature response ``imp_g`` (m, m) [K/W] of the
+    first solve's system (Woodbury: ``(I + G diag(d)) y = y0 + G d T_out``); ``imp_d`` (m + 1,) and
+    ``imp_inv`` (m, m) cache the last ``d`` and the inverse (``imp_d[m]`` 0: invalid). The
+    other zones take it with their previous temperature, except the zones tracked by the exact
+    air inverse that a free run treats implicitly (``imp_free`` (nz,) true): at their reference,
+    their end-of-step temperature, so that tracking a free run's temperatures is exact.
+
+    Indoor-limited ventilation objects ``vent_zone`` (j,): open at step ``k`` when the zone air
+    temperature of the previous step ``T`` satisfies ``vent_tmin <= T <= vent_tmax`` and
+    ``T - T_out >= vent_delta`` (EnergyPlus tests the zone temperature of the previous step);
+    open, they add ``vent_g`` [W/K] to the zone's outdoor-air conductance, ``vent_gdt |dT|``
+    [W/K^2] lagged and the fan heat ``vent_fan`` [W]; ``vent_open[k, j]`` records the open
+    fraction (an object crossing its lower limit within the step is open for a fraction of it).
+
+    General exact inverse (``track_general``): the tracked zones ``gt_zone`` (mt,) with
+    scheduled outdoor air take it in the step it belongs to, solved with the tracking heat:
+    with ``q0`` the heat without it and ``a1 = a0 + gt_aq q0`` their air temperatures,
+    ``(I + D gt_m) h = D (T_out - a1)``, ``q = q0 - gt_k h`` (``gt_aq`` (mt, nc) air response to
+    the tracked heat, ``gt_k`` (nc, mt) = inverse sensed response x sensed response to air heat,
+    ``gt_m = A_h - gt_aq gt_k`` (mt, mt)); ``gt_d``, ``gt_inv`` cache ``D`` and the inverse.
     """
     n = x.shape[0]
     nz = air_node.shape[0]
@@ -430,6 +538,29 @@ def run_steps(
     sp_rows = ctrl_heat_sp.shape[0]
     dt_rows = inf_dt.shape[0]
     people_rows = people_b.shape[0]
+    m_imp = imp_zone.shape[0]
+    n_vent = vent_zone.shape[0]
+    gdt_rows = vent_gdt.shape[0]
+    imp_of = np.full(nz, -1, dtype=np.int64)
+    for i in range(m_imp):
+        imp_of[imp_zone[i]] = i
+    d_now = np.zeros(m_imp)
+    y_imp = np.zeros(m_imp)
+    b_imp = np.zeros(m_imp)
+    h_col = np.zeros(m_imp)
+    g_col = np.zeros(m_imp)
+    r_imp = np.zeros(m_imp)
+    vent_d = np.zeros(nz)
+    inf_temp = np.empty(nz)
+    dirichlet_first = track_mode == 1 and not track_general
+    mt = gt_zone.shape[0]
+    gt_of = np.full(nz, -1, dtype=np.int64)
+    for i in range(mt):
+        gt_of[gt_zone[i]] = i
+    d_t = np.zeros(mt)
+    r_t = np.zeros(mt)
+    h_t = np.zeros(mt)
+    res_t = np.zeros(mt)
     for s in range(n_steps):
         k = k0 + s
         # set points: one row per step, or a single row for the whole run
@@ -520,15 +651,44 @@ def run_steps(
             corr = (ratio - 1.0) * win_g0[j] * (x[i_node] - x[o])
             rhs[i_node] -= corr
             rhs[o] += corr
+        # outdoor air: the temperature it meets (previous step; a zone tracked by the exact
+        # air inverse is at its reference at the end of the step)
         for z in range(nz):
+            inf_temp[z] = x[air_node[z]]
+            vent_d[z] = 0.0
+        if dirichlet_first:
+            for c in range(nc):
+                if imp_free[ctrl_zone[c]]:
+                    inf_temp[ctrl_zone[c]] = track_ref[s, c]
+        # indoor-limited ventilation: open or closed on the previous step's zone temperature
+        for j in range(n_vent):
+            z = vent_zone[j]
             an = air_node[z]
-            rhs[an] += inf_dh[k, z] * (t_out - x[an])
+            t_zone = x[an]
+            if (
+                t_zone >= vent_tmin[k, j]
+                and t_zone <= vent_tmax[k, j]
+                and t_zone - t_out >= vent_delta[k, j]
+            ):
+                vent_open[k, j] = 1.0
+                vent_d[z] += vent_g[k, j]
+                rhs[an] += vent_fan[k, j]
+                if gdt_rows > 0:
+                    diff = t_out - inf_temp[z]
+                    rhs[an] += vent_gdt[k, j] * abs(diff) * diff
+            else:
+                vent_open[k, j] = 0.0
+        for z in range(nz):
+            if imp_of[z] >= 0 or gt_of[z] >= 0:
+                continue
+            an = air_node[z]
+            rhs[an] += (inf_dh[k, z] + vent_d[z]) * (t_out - inf_temp[z])
         # infiltration temperature term (conductance per kelvin of |T_zone - T_out|), lagged
         if dt_rows > 0:
             dt_k = k if dt_rows > 1 else 0
             for z in range(nz):
                 an = air_node[z]
-                diff = t_out - x[an]
+                diff = t_out - inf_temp[z]
                 rhs[an] += inf_dt[dt_k, z] * abs(diff) * diff
         # People's sensible heat at the zone air temperature (lagged) beyond its value at the
         # reference temperature the gains hold: a + b T + c T^2 clipped to [0, activity] as
@@ -539,6 +699,89 @@ def run_steps(
                 rhs[an] += people_excess(
                     x[an], people_a[k, z], people_b[k, z], people_c[k, z], people_max[k, z]
                 )
+        # 2'. outdoor air of the implicit zones in the step it belongs to (Woodbury on the first
+        #     solve's system): y = air temperatures without it, then (I + G D) y = y0 + G D T_out
+        if m_imp > 0:
+            any_d = n_vent > 0
+            for i in range(m_imp):
+                z = imp_zone[i]
+                d_now[i] = inf_dh[k, z] + vent_d[z]
+                if d_now[i] != 0.0:
+                    any_d = True
+            if any_d:
+                if imp_d[m_imp] == 0.0:
+                    _invert_into(imp_g, d_now, imp_inv, imp_d, False)
+                if dirichlet_first:
+                    for i in range(n):
+                        rhs_d[i] = rhs[i]
+                    for c in range(nc):
+                        rhs_d[air_node[ctrl_zone[c]]] = track_ref[s, c]
+                    lu_solve(
+                        dlp,
+                        dli,
+                        dlx,
+                        dup,
+                        dui,
+                        dux,
+                        d_inv_diag,
+                        d_inverse_r,
+                        d_perm_c,
+                        rhs_d,
+                        work,
+                        x_new,
+                    )
+                else:
+                    lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+                for i in range(m_imp):
+                    acc = x_new[air_node[imp_zone[i]]]
+                    for j in range(m_imp):
+                        acc += imp_g[i, j] * d_now[j] * t_out
+                    b_imp[i] = acc
+                # the inverse of a nearby step's D refined (the air density and the wind change
+                # D a little every step); inverted again when the refinement does not converge
+                if not _refined_solve(imp_inv, imp_g, d_now, b_imp, y_imp, r_imp, False):
+                    _invert_into(imp_g, d_now, imp_inv, imp_d, False)
+                    _refined_solve(imp_inv, imp_g, d_now, b_imp, y_imp, r_imp, False)
+                # an indoor-limited object that would cross its lower limit (minimum indoor
+                # temperature, or outdoor + delta) within the step is open for the fraction of
+                # its flow that ends the step at the limit, as EnergyPlus' shorter system steps
+                # switch it inside a zone step (exact for one object: Sherman-Morrison on the
+                # implicit response H = (I + G D)^-1 G)
+                for j in range(n_vent):
+                    z = vent_zone[j]
+                    i = imp_of[z]
+                    g_open = vent_g[k, j]
+                    if i < 0 or g_open <= 0.0:
+                        continue
+                    lower = max(vent_tmin[k, j], t_out + vent_delta[k, j])
+                    f0 = vent_open[k, j]
+                    if f0 > 0.5:
+                        if y_imp[i] >= lower:
+                            continue
+                    elif x[air_node[z]] > vent_tmax[k, j] or y_imp[i] <= lower:
+                        continue
+                    for r in range(m_imp):
+                        g_col[r] = imp_g[r, i]
+                    if not _refined_solve(imp_inv, imp_g, d_now, g_col, h_col, r_imp, False):
+                        _invert_into(imp_g, d_now, imp_inv, imp_d, False)
+                        _refined_solve(imp_inv, imp_g, d_now, g_col, h_col, r_imp, False)
+                    fan_per_g = vent_fan[k, j] / g_open
+                    denom = h_col[i] * (t_out - lower + fan_per_g)
+                    if abs(denom) < 1e-300:
+                        continue
+                    delta = (lower - y_imp[i]) / denom
+                    delta = min(max(delta, -g_open * f0), g_open * (1.0 - f0))
+                    y_i = (y_imp[i] + h_col[i] * delta * (t_out + fan_per_g)) / (
+                        1.0 + h_col[i] * delta
+                    )
+                    dq = delta * (t_out - y_i + fan_per_g)
+                    for r in range(m_imp):
+                        y_imp[r] += h_col[r] * dq
+                    d_now[i] += delta
+                    rhs[air_node[z]] += delta * fan_per_g
+                    vent_open[k, j] = f0 + delta / g_open
+                for i in range(m_imp):
+                    rhs[air_node[imp_zone[i]]] += d_now[i] * (t_out - y_imp[i])
         # 3'. tracking: PID heat from the error at the start of the step, or the exact inverse
         done = False
         if track_mode == 2:
@@ -595,8 +838,30 @@ def run_steps(
                 for d in range(nc):
                     acc += g_track_inv[c, d] * t_free[d]
                 q[c] = acc
+            if mt > 0:
+                for i in range(mt):
+                    z = gt_zone[i]
+                    d_t[i] = inf_dh[k, z] + vent_d[z]
+                if gt_d[mt] == 0.0:
+                    _invert_into(gt_m, d_t, gt_inv, gt_d, True)
+                for i in range(mt):
+                    acc = x_new[air_node[gt_zone[i]]]
+                    for c in range(nc):
+                        acc += gt_aq[i, c] * q[c]
+                    r_t[i] = d_t[i] * (t_out - acc)
+                if not _refined_solve(gt_inv, gt_m, d_t, r_t, h_t, res_t, True):
+                    _invert_into(gt_m, d_t, gt_inv, gt_d, True)
+                    _refined_solve(gt_inv, gt_m, d_t, r_t, h_t, res_t, True)
+                for i in range(mt):
+                    rhs[air_node[gt_zone[i]]] += h_t[i]
+                for c in range(nc):
+                    acc = 0.0
+                    for i in range(mt):
+                        acc += gt_k[c, i] * h_t[i]
+                    q[c] -= acc
+            for c in range(nc):
                 for p in range(track_ptr[c], track_ptr[c + 1]):
-                    rhs[track_idx[p]] += track_val[p] * acc
+                    rhs[track_idx[p]] += track_val[p] * q[c]
             lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
             done = True
         # 3. every controlled zone at a set point in the previous step: try the Dirichlet system

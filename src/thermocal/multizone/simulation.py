@@ -67,6 +67,9 @@ class _Context:
     people_b: np.ndarray = None  # (0 or n_steps, n_zones) [W/K]
     people_c: np.ndarray = None  # (0 or n_steps, n_zones) [W/K^2]
     people_max: np.ndarray = None  # (0 or n_steps, n_zones) [W]
+    d_lu: object = None  # factorisation of the Dirichlet system (None: no controlled zones)
+    vent: tuple = None  # indoor-limited ventilation arrays of the kernel (see _ventilation_arrays)
+    implicit: dict = field(default_factory=dict)  # implicit outdoor-air sets -> kernel arrays
 
 
 @dataclass
@@ -502,10 +505,13 @@ class Simulation:
             z.name for i, z in enumerate(zones) if np.ptp(gains[:, i]) > 1e-9 * (1 + gains[0, i])
         ]
         ach = scheduled.infiltration_ach
+        gated = set() if scheduled.ventilation is None else set(scheduled.ventilation["zone"])
         self._inf_zones = [
             i
             for i, z in enumerate(zones)
-            if np.ptp(ach[:, i]) > 1e-12 or np.any(scheduled.infiltration_ach_per_kelvin[:, i])
+            if np.ptp(ach[:, i]) > 1e-12
+            or np.any(scheduled.infiltration_ach_per_kelvin[:, i])
+            or i in gated
         ]
         return scheduled
 
@@ -681,6 +687,35 @@ class Simulation:
             mrt = np.where(area[:, None] > 0, mrt / np.where(area > 0, area, 1.0)[:, None], air)
             sensed = air_weight[:, None] * air + (1.0 - air_weight[:, None]) * mrt
             g_inverse = np.ascontiguousarray(np.linalg.inv(sensed))
+
+            def sensed_of(resp):
+                m_rt = np.asarray(weights[zones] @ resp)
+                a_ir = resp[net.air_node[zones], :]
+                m_rt = np.where(
+                    area[:, None] > 0, m_rt / np.where(area > 0, area, 1.0)[:, None], a_ir
+                )
+                return air_weight[:, None] * a_ir + (1.0 - air_weight[:, None]) * m_rt
+
+            # tracked zones with scheduled outdoor air: their air flow in the step it belongs
+            # to, solved with the tracking heat (see the kernel's general inverse)
+            inf = set(int(z) for z in getattr(self, "_inf_zones", ()))
+            held = np.asarray([int(z) for z in zones if int(z) in inf], dtype=np.int64)
+            if len(held):
+                air_t = net.air_node[held]
+                unit_t = np.zeros((net.n_nodes, len(held)))
+                unit_t[air_t, np.arange(len(held))] = 1.0
+                resp_t = context.lu.solve(unit_t)
+                a_q = response[air_t, :]
+                k_h = g_inverse @ sensed_of(resp_t)
+                m_h = resp_t[air_t, :] - a_q @ k_h
+                context.implicit["tracked"] = (
+                    held,
+                    np.ascontiguousarray(a_q),
+                    np.ascontiguousarray(k_h),
+                    np.ascontiguousarray(m_h),
+                    np.zeros(len(held) + 1),
+                    np.zeros((len(held), len(held))),
+                )
         cache[key] = (context, g_inverse, distribution)
         return cache[key]
 
@@ -743,6 +778,7 @@ class Simulation:
             lu = _factorise(matrix)
             factors = _kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c)
         dirichlet = factors
+        d_lu = None
         rows = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
         if len(controlled):
             # the same system with the controlled air temperatures prescribed (identity rows)
@@ -775,6 +811,7 @@ class Simulation:
             self._inf_dt,
             *self._people,
         )
+        vent = self._vent
         if dt == self.dt:
             heat_sp, cool_sp, inf_dt, people_a, people_b, people_c, people_max = per_step
         else:  # hourly warm-up context of the first day
@@ -783,7 +820,16 @@ class Simulation:
             heat_sp, cool_sp, inf_dt, people_a, people_b, people_c, people_max = (
                 a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m) for a in per_step
             )
+            vent = (
+                (vent[0],)
+                + tuple(
+                    a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m) for a in vent[1:-1]
+                )
+                + (np.zeros((per_day // m, vent[0].shape[0])),)
+            )
         return _Context(
+            d_lu=d_lu,
+            vent=vent,
             heat_sp=np.ascontiguousarray(heat_sp),
             cool_sp=np.ascontiguousarray(cool_sp),
             inf_dt=np.ascontiguousarray(inf_dt),
@@ -940,7 +986,37 @@ class Simulation:
                 if np.any(ach_dt):
                     self._inf_dt = np.ascontiguousarray(rho[:, None] * per_ach[None, :] * ach_dt)
         self._inf_dh = np.ascontiguousarray(inf_dh)
+        self._vent = self._ventilation_arrays(rho, n_steps)
         return u
+
+    def _ventilation_arrays(self, rho: np.ndarray, n_steps: int) -> tuple:
+        """Kernel arrays of the ventilation objects with indoor-temperature limits.
+
+        ``(zone (j,), conductance [W/K], per kelvin [W/K^2] (0 rows when none), fan heat [W],
+        minimum [C], maximum [C], delta [K], open state (n_steps, j))``, per step and object,
+        the flow scaled with a calibrated infiltration rate of the zone as the file's other
+        outdoor air.
+        """
+        scheduled = self._scheduled
+        vent = None if scheduled is None else scheduled.ventilation
+        if vent is None:
+            empty = np.zeros((0, 0))
+            return (np.zeros(0, dtype=np.int64), empty, empty, empty, empty, empty, empty, empty)
+        zones = vent["zone"]
+        volume = np.array([z.volume for z in self.building.zones.values()])[zones]
+        per_ach = rho[:, None] * AIR_SPECIFIC_HEAT * volume[None, :] / 3600.0
+        scale = self._inf_scale[zones][None, :]
+        gdt = per_ach * vent["ach_per_kelvin"] * scale
+        return (
+            np.ascontiguousarray(zones, dtype=np.int64),
+            np.ascontiguousarray(per_ach * vent["ach"] * scale),
+            np.ascontiguousarray(gdt if np.any(gdt) else np.zeros((0, len(zones)))),
+            np.ascontiguousarray(vent["fan_heat"] * scale),
+            np.ascontiguousarray(vent["minimum"]),
+            np.ascontiguousarray(vent["maximum"]),
+            np.ascontiguousarray(vent["delta"]),
+            np.zeros((n_steps, len(zones))),
+        )
 
     def _people_limits(self) -> tuple[np.ndarray, np.ndarray]:
         """Constant term [W] and upper limit [W] of the People sensible heat per zone and step.
@@ -1111,6 +1187,18 @@ class Simulation:
         )
         track = tracking if tracking is not None else _no_tracking(n)
         controlled = track.get("zones", self._ctrl)
+        dirichlet_first = track["mode"] == 1 and not track["general"]
+        if linear:
+            imp = _NO_IMPLICIT[:4] + (np.zeros(nz, dtype=np.bool_),)
+            vent = _NO_VENT
+        else:
+            held = controlled if (ideal or tracking is not None) else ()
+            imp = self._implicit_arrays(context, held, dirichlet_first)
+            vent = context.vent
+        general = tracking is not None and track["mode"] == 1 and track["general"]
+        tracked_air = context.implicit.get("tracked", _NO_TRACKED_AIR) if general else None
+        if tracked_air is None or linear:
+            tracked_air = _NO_TRACKED_AIR
         _kernel.run_steps(
             k0,
             n,
@@ -1187,8 +1275,55 @@ class Simulation:
             track["q_high"],
             track["g_inverse"],
             track["out_q"],
+            *imp,
+            *vent,
+            *tracked_air,
         )
         return out_air, out_mrt, out_heat, out_cool, out_face
+
+    def _implicit_arrays(self, context: _Context, held, dirichlet: bool) -> tuple:
+        """Kernel arrays of the zones whose outdoor air is implicit in the step.
+
+        The zones with scheduled or indoor-limited outdoor air apart from ``held`` (zones the
+        ideal loads or the tracking hold at a temperature); ``imp_g`` is their air-temperature
+        response [K/W] to unit heat in their air in the system of the kernel's first solve (the
+        Dirichlet system when ``dirichlet``). Cached per context.
+        """
+        if not len(getattr(self, "_inf_zones", ())):
+            return _NO_IMPLICIT[:4] + (np.zeros(len(self.network.zone_names), dtype=np.bool_),)
+        held = {int(z) for z in held}
+        zones = tuple(int(z) for z in self._inf_zones if int(z) not in held)
+        key = (zones, bool(dirichlet), tuple(sorted(held)) if dirichlet else ())
+        if key in context.implicit:
+            return context.implicit[key]
+        if not zones:
+            free = np.zeros(len(self.network.zone_names), dtype=np.bool_)
+            free[np.asarray(self._inf_zones, dtype=np.int64)] = True
+            context.implicit[key] = _NO_IMPLICIT[:4] + (free,)
+            return context.implicit[key]
+        net = self.network
+        air = net.air_node[np.asarray(zones, dtype=np.int64)]
+        unit = np.zeros((net.n_nodes, len(zones)))
+        unit[air, np.arange(len(zones))] = 1.0
+        if dirichlet:
+            if context.d_lu is None:
+                raise RuntimeError("tracking by the Dirichlet system without its factorisation")
+            lu = context.d_lu
+        else:
+            lu = context.lu
+        g = np.ascontiguousarray(lu.solve(unit)[air, :])
+        m = len(zones)
+        free = np.zeros(len(net.zone_names), dtype=np.bool_)
+        free[np.asarray(self._inf_zones, dtype=np.int64)] = True
+        arrays = (
+            np.asarray(zones, dtype=np.int64),
+            g,
+            np.zeros(m + 1),
+            np.zeros((m, m)),
+            free,
+        )
+        context.implicit[key] = arrays
+        return arrays
 
     def track(
         self,
@@ -1580,6 +1715,14 @@ class Simulation:
         conductance = net.zone_infiltration[None, :] + self._inf_dh
         if len(self._inf_dt):
             conductance = conductance + self._inf_dt * np.abs(t_out[:, None] - air)
+        zone, g, gdt, _, _, _, _, opened = self._vent
+        if len(zone):
+            # indoor-limited ventilation as the time loop switched it
+            extra = opened * g
+            if len(gdt):
+                extra = extra + opened * gdt * np.abs(t_out[:, None] - air[:, zone])
+            conductance = conductance.copy()
+            np.add.at(conductance.T, zone, extra.T)
         infiltration = conductance * (t_out[:, None] - air)
         return SimulationResult(
             air_temperature=frame(air),
@@ -1702,6 +1845,18 @@ def _tracking_form(feedback, radiant_fraction, n_tracked: int) -> tuple:
             raise ThermocalInputError(f"track: {name} must lie in [0, 1], got {value!r}")
         out.append(tuple(float(v) for v in array))
     return tuple(out)
+
+
+_NO_IMPLICIT = (np.zeros(0, dtype=np.int64), np.zeros((0, 0)), np.zeros(1), np.zeros((0, 0)))
+_NO_VENT = (np.zeros(0, dtype=np.int64),) + (np.zeros((0, 0)),) * 7
+_NO_TRACKED_AIR = (
+    np.zeros(0, dtype=np.int64),
+    np.zeros((0, 0)),
+    np.zeros((0, 0)),
+    np.zeros((0, 0)),
+    np.zeros(1),
+    np.zeros((0, 0)),
+)
 
 
 def _no_tracking(n: int) -> dict:

@@ -127,6 +127,11 @@ class InfiltrationInfo:
     fan_heat_per_flow : float [J/m3]
         Heat of the fan per volume of air, ``pressure rise / total efficiency``, added to the
         zone with the air (EnergyPlus: ``Intake`` and ``Balanced`` ventilation fans).
+    indoor_limits : tuple or None
+        Ventilation switched by the zone temperature: ``((minimum indoor [C], schedule or None),
+        (maximum indoor [C], schedule or None), (delta [K], schedule or None))``; open when
+        ``minimum <= T_zone <= maximum`` and ``T_zone - T_out >= delta`` with the zone
+        temperature of the previous step (EnergyPlus); None: no indoor limit.
     """
 
     name: str
@@ -138,6 +143,7 @@ class InfiltrationInfo:
     outdoor_limits: tuple = ((-100.0, None), (100.0, None))
     max_wind_speed: float = 40.0
     fan_heat_per_flow: float = 0.0
+    indoor_limits: tuple | None = None
 
     def outdoor_gate(self, schedules, times, step, temp_air, wind_speed) -> np.ndarray | None:
         """1 where the outdoor limits let the air flow, 0 elsewhere (None: no limits bind).
@@ -309,8 +315,9 @@ class LoadStages:
 
     def _ventilation(self) -> None:
         """Stage: ``ZoneVentilation:DesignFlowRate`` as outdoor air like infiltration (its
-        schedule, coefficients and outdoor-temperature and wind limits per step); refuses the
-        indoor-temperature limits (they need the zone temperature inside the time loop) and
+        schedule, coefficients and outdoor-temperature and wind limits per step); the
+        indoor-temperature limits (minimum, maximum, delta and their schedules) switch it in the
+        time loop on the zone temperature of the previous step, as EnergyPlus does; refuses
         ``ZoneVentilation:WindandStackOpenArea`` (its stack flow grows with the square root of
         the indoor-outdoor difference). The fan heat of ``Intake`` and ``Balanced`` fans
         (``flow x pressure rise / efficiency``) enters the zone air with the flow, as
@@ -328,7 +335,7 @@ class LoadStages:
         for rec in self.records("ZONEVENTILATION:DESIGNFLOWRATE"):
             obj = rec["_object"]
             where = obj.where()
-            _refuse_indoor_limits(rec)
+            indoor = _indoor_limits(rec, self.schedules)
             note = _density_basis_note(rec)
             if note:
                 self.info.notes.append(note)
@@ -409,6 +416,7 @@ class LoadStages:
                     outdoor_limits=limits,
                     max_wind_speed=max_wind,
                     fan_heat_per_flow=fan_heat,
+                    indoor_limits=indoor,
                 )
                 self.info.infiltration.append(info)
                 # the constant rate (schedules='constant'): the design flow at the reference
@@ -500,20 +508,27 @@ _INDOOR_LIMITS = (
 )
 
 
-def _refuse_indoor_limits(rec: dict) -> None:
-    """Refuse a ZoneVentilation:DesignFlowRate whose flow depends on the zone temperature."""
+def _indoor_limits(rec: dict, schedules) -> tuple | None:
+    """The indoor-temperature limits of a ZoneVentilation:DesignFlowRate (None: none binds).
+
+    Returns ``((minimum [C], schedule), (maximum [C], schedule), (delta [K], schedule))``; a
+    schedule named in ``<field> Schedule Name`` overrides the number (EnergyPlus).
+    """
     where = rec["_object"].where()
+    out = []
+    bound = False
     for name, label, default, free in _INDOOR_LIMITS:
         value = _number(rec, name, default=default)
-        schedule = rec.get(f"{name}_schedule_name", "")
-        if schedule or not free(value):
-            shown = f"schedule '{schedule}'" if schedule else f"{value:g}"
+        schedule = rec.get(f"{name}_schedule_name", "") or None
+        if schedule is not None and schedule not in schedules:
             raise ThermocalInputError(
-                f"{where}: field '{label}' = {shown}: ventilation that switches with the zone "
-                "temperature is not simulated (the flow is set per step before the zone "
-                "temperature is known); leave the field blank (no limit) to ventilate on the "
-                "schedule and outdoor limits alone, or remove the object."
+                f"{where}: field '{label} Schedule Name' = '{schedule}' is not a schedule of the "
+                "file."
             )
+        if schedule is not None or not free(value):
+            bound = True
+        out.append((value, schedule))
+    return tuple(out) if bound else None
 
 
 def _density_basis_note(rec: dict) -> str | None:

@@ -53,6 +53,13 @@ class ScheduledInputs:
         sensible fraction: the gains above hold it at 22 C; the time loop adds
         ``b (T - 22) + c (T^2 - 22^2)`` with the zone air temperature of the previous step
         (EnergyPlus evaluates it at the zone's temperature), convective.
+    ventilation : dict or None
+        ``ZoneVentilation:DesignFlowRate`` objects with indoor-temperature limits, switched in the
+        time loop on the zone temperature of the previous step (not part of the arrays above):
+        ``zone`` (j,) column indices; per step and object ``ach`` [1/h] and ``ach_per_kelvin``
+        [1/(h K)] when open (schedule, wind terms and outdoor limits applied), ``fan_heat`` [W]
+        when open, ``minimum``, ``maximum`` [C] and ``delta`` [K] (open when
+        ``minimum <= T_zone <= maximum`` and ``T_zone - T_out >= delta``); ``names`` (j,).
     """
 
     heating_setpoint: np.ndarray
@@ -64,6 +71,7 @@ class ScheduledInputs:
     infiltration_ach_per_kelvin: np.ndarray
     people_per_kelvin: np.ndarray | None = None
     people_per_kelvin2: np.ndarray | None = None
+    ventilation: dict | None = None
 
 
 @dataclass
@@ -238,6 +246,7 @@ class IdfImportInfo:
         temp_air = (
             weather["temp_air"].to_numpy(dtype=float) if "temp_air" in weather else np.zeros(n)
         )
+        gated = []
         for inf in self.infiltration:
             if inf.zone not in column:
                 continue
@@ -248,15 +257,44 @@ class IdfImportInfo:
             gate = inf.outdoor_gate(sched, times, step, temp_air, v)
             if gate is not None:
                 base = base * gate
-            ach[:, c] += base * (a + c_wind * v + d * v * v)
+            # fan heat with the air [W]: flow [m3/s] x pressure rise / efficiency (the
+            # temperature term of the flow left out: it needs the zone temperature)
+            open_ach = base * (a + c_wind * v + d * v * v)
+            fan = open_ach * self.zone_volume[inf.zone] / 3600.0 * inf.fan_heat_per_flow
+            if inf.indoor_limits is not None:
+                limits = [
+                    values(name) * 0.0 + value if name is None else values(name)
+                    for value, name in inf.indoor_limits
+                ]
+                gated.append((c, open_ach, base * b, fan, *limits, inf.name))
+                continue
+            ach[:, c] += open_ach
             ach_dt[:, c] += base * b
             if inf.fan_heat_per_flow > 0:
-                # fan heat with the air [W]: flow [m3/s] x pressure rise / efficiency (the
-                # temperature term of the flow left out: it needs the zone temperature)
-                flow = base * (a + c_wind * v + d * v * v) * self.zone_volume[inf.zone] / 3600.0
-                convective[:, c] += flow * inf.fan_heat_per_flow
+                convective[:, c] += fan
+        ventilation = None
+        if gated:
+            ventilation = {
+                "zone": np.array([g[0] for g in gated], dtype=np.int64),
+                "names": [g[7] for g in gated],
+            }
+            for i, key in enumerate(
+                ("ach", "ach_per_kelvin", "fan_heat", "minimum", "maximum", "delta"), start=1
+            ):
+                ventilation[key] = np.ascontiguousarray(
+                    np.stack([np.broadcast_to(g[i], (n,)) for g in gated], axis=1), dtype=float
+                )
         return ScheduledInputs(
-            heating, cooling, convective, radiant, latent, ach, ach_dt, people_b, people_c
+            heating,
+            cooling,
+            convective,
+            radiant,
+            latent,
+            ach,
+            ach_dt,
+            people_b,
+            people_c,
+            ventilation,
         )
 
     def internal_gains_profile(self, times) -> pd.DataFrame:  # noqa: F821 (pandas lazily)

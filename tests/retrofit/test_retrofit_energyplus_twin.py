@@ -129,7 +129,7 @@ def test_twin_strategy_savings(twin):
     assert set(best["measures"]) == set(MEASURES)
 
 
-def test_twin_slab_insulation_iso13370_vs_kiva(twin):
+def test_twin_slab_saving_thermocal_vs_kiva(twin):
     """Item 5, measured: under-slab insulation to U 0.25 saves 0.7 % in EnergyPlus (Kiva) and
     18.8 % in thermocal (ISO 13370); docs/retrofit.md explains the difference. Pinned: the
     EnergyPlus value stays small, thermocal's stays the larger one."""
@@ -137,3 +137,40 @@ def test_twin_slab_insulation_iso13370_vs_kiva(twin):
     model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["ground_floor"])
     assert 0.0 < ref < 2.0
     assert model["saving_pct"] > ref + 10.0  # (18.8 vs 0.7: the open item 5)
+
+
+def test_slab_insulation_iso13370_vs_kiva():
+    """Item 5 (``ground_study.json``, make_reference.py --ground): thermocal's ISO 13370 slab
+    coefficient against Kiva's at steady state (0 C air and ground, soil 2.0 W/(m K)).
+    Uninsulated they agree (89.0 vs 94.1 W/K); with insulation under the slab alone Kiva keeps
+    21 W/K through the slab edge and the uninsulated foundation wall (52.9 vs 31.8 W/K), and
+    the annual saving in Kiva is small even at 20-21 C all year (1.6 %)."""
+    from thermocal.physics.ground import iso13370_slab_on_ground
+
+    sys.path.insert(0, str(REF))
+    try:
+        import make_reference as mk  # noqa: PLC0415
+    finally:
+        sys.path.remove(str(REF))
+    study = json.loads((REF / "ground_study.json").read_text())
+    kiva = study["floor_W_per_K_steady"]
+    area, perimeter = mk.LENGTH * mk.DEPTH, mk.EXPOSED_PERIMETER_LIVING
+
+    def iso(u_construction, soil):
+        r_f = 1.0 / u_construction - mk.RSI_DOWN - mk.RSE
+        return area * iso13370_slab_on_ground(
+            area, perimeter, wall_thickness=0.24, floor_resistance=r_f, soil_conductivity=soil
+        )
+
+    bare, insulated = iso(mk.U_SLAB, 2.0), iso(mk.MEASURES["ground_floor"]["u_value"], 2.0)
+    assert bare == pytest.approx(study["iso13370_W_per_K"]["soil2.0"])
+    assert abs(bare / kiva["steady_soil2"] - 1.0) < 0.10  # (-5.4 %)
+    # the slab edge ISO 13370 leaves out: Kiva keeps > 15 W/K more (21.1)
+    assert kiva["steady_soil2_slab"] - insulated > 15.0
+    # insulating the foundation wall too closes part of it
+    assert kiva["steady_soil2_slab_edge"] < kiva["steady_soil2_slab"]
+    year = study["year"]
+    for base, slab in (("year", "year_slab"), ("year_cooled", "year_cooled_slab")):
+        saving = 1.0 - year[slab]["heating_kWh"] / year[base]["heating_kWh"]
+        assert 0.0 < saving < 0.03, (base, saving)  # (0.7 %, 1.6 %)
+    assert year["year"]["heating_kWh"] == pytest.approx(_reference()["annual_heating_kWh"]["none"])

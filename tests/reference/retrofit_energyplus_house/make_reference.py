@@ -207,6 +207,16 @@ ZoneHVAC:IdealLoadsAirSystem, LIVING IDEAL LOADS, , Living Ideal Loads Supply No
   0.015, 0.009, NoLimit, , , NoLimit, , , , , None, , None, , , None, NoEconomizer, None;
 """
 
+HVAC_COOLING = (
+    HVAC.replace("HEATING CONTROL,\n  ThermostatSetpoint:SingleHeating", "COOLING CONTROL,\n  "
+                 "ThermostatSetpoint:DualSetpoint")
+    .replace("ThermostatSetpoint:SingleHeating, Living Heating Setpoint, HEATING SETPOINT;",
+             "ThermostatSetpoint:DualSetpoint, Living Heating Setpoint, HEATING SETPOINT, "
+             "COOLING SETPOINT;\nSchedule:Compact, COOLING CONTROL, Control Type, Through: 12/31, "
+             "For: AllDays, Until: 24:00, 4;\nSchedule:Compact, COOLING SETPOINT, Temperature, "
+             "Through: 12/31, For: AllDays, Until: 24:00, 21;")
+)  # fmt: skip
+
 OUTPUTS = """
 Output:Variable, LIVING ZONE, Zone Mean Air Temperature, Hourly;
 Output:Variable, ATTIC ZONE, Zone Mean Air Temperature, Hourly;
@@ -316,13 +326,25 @@ def _surfaces() -> str:
     return "\n".join(out) + "\n"
 
 
+FOUNDATION = "Foundation:Kiva, Slab Foundation, , , , , , , , , , , , , , EXTWALL:GARAGE;\n"
+
+
 def house_idf(
-    measures=frozenset(), *, setback: bool = False, gains: bool = True, end=(12, 31)
+    measures=frozenset(),
+    *,
+    setback: bool = False,
+    gains: bool = True,
+    end=(12, 31),
+    foundation: str = FOUNDATION,
+    kiva_settings: str = "",
+    cooling: bool = False,
 ) -> str:
     """The house as EnergyPlus 25.2 text, with the measures applied.
 
     ``setback``: the thermostat of the measurements (17 C from 22:00 to 06:00), else a constant
-    20 C; ``gains=False`` drops people, lights and equipment (steady-state run).
+    20 C; ``gains=False`` drops people, lights and equipment (steady-state run). The ground
+    study (:func:`ground_study`) varies the Kiva foundation and settings and can hold the
+    living zone at 20-21 C all year (``cooling``).
     """
     if setback:
         heating = (
@@ -351,7 +373,8 @@ def house_idf(
         MATERIALS,
         constructions(frozenset(measures)),
         # Kiva: default foundation (wall 0.2 m above grade), footing wall = the house wall
-        "Foundation:Kiva, Slab Foundation, , , , , , , , , , , , , , EXTWALL:GARAGE;\n",
+        foundation,
+        kiva_settings,
         "SurfaceProperty:ExposedFoundationPerimeter, Living:Floor, TotalExposedPerimeter, "
         f"{EXPOSED_PERIMETER_LIVING:.3f};\n",
         "SurfaceProperty:ExposedFoundationPerimeter, Garage:Floor, TotalExposedPerimeter, "
@@ -361,7 +384,7 @@ def house_idf(
         heating,
         GAINS if gains else "",
         INFILTRATION,
-        HVAC,
+        HVAC if not cooling else HVAC_COOLING,
         OUTPUTS,
     ]
     return "".join(text)
@@ -580,5 +603,93 @@ def main(weather: str, work: str = "/tmp/retrofit_energyplus_house") -> None:
     print(json.dumps({"hlc": hlc, "annual": annual}, indent=1))
 
 
+FLOOR_OUTPUT = (
+    "Output:Variable, Living:Floor, Surface Inside Face Conduction Heat Transfer Rate, Hourly;\n"
+)
+
+
+def ground_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_ground") -> dict:
+    """Item 5: why under-slab insulation saves little in Kiva and much in ISO 13370.
+
+    Heat loss coefficient of the slab alone (Living:Floor's inside-face conduction over 20 K)
+    at steady state (constant 0 C air and ground, as for the HLC) with Kiva's defaults (no
+    settings object), a settings object with the documented default soil (1.73 W/(m K)) and
+    with ISO 13370's default (2.0), without and with the slab measure, and with
+    the slab measure plus 12.2 cm of exterior insulation on the foundation wall down to 1 m
+    below its top (the slab edge); the annual heating at 20 C in Zurich 2015 without and with
+    the measure, once as the reference (no cooling: the house floats in summer) and once held
+    at 20-21 C all year (ideal cooling), with the floor's heat loss during the heating months.
+    Writes ``ground_study.json``.
+    """
+    weather, work = Path(weather), Path(work)
+    work.mkdir(parents=True, exist_ok=True)
+    steady = steady_weather(weather, work / "steady.epw")
+    soil2 = "Foundation:Kiva:Settings, 2.0;\n"
+    edge = (
+        "Material, EDGE INSULATION, MediumRough, "
+        f"{insulation_thickness(U_SLAB, MEASURES['ground_floor']['u_value']):.5f}, 0.035, 30, "
+        "1450, 0.9, 0.7, 0.7;\n"
+        # fields 11-12: exterior vertical insulation material and depth from the wall top
+        + "Foundation:Kiva, "
+        + ", ".join(["Slab Foundation"] + [""] * 9 + ["EDGE INSULATION", "1.0", "", ""])
+        + ", EXTWALL:GARAGE;\n"
+    )
+    slab = frozenset({"ground_floor"})
+    jobs = {
+        "steady_soil173": (house_idf(gains=False), steady),
+        "steady_soil173_slab": (house_idf(slab, gains=False), steady),
+        "steady_soil173_settings": (
+            house_idf(gains=False, kiva_settings="Foundation:Kiva:Settings, 1.73;\n"), steady
+        ),
+        "steady_soil2": (house_idf(gains=False, kiva_settings=soil2), steady),
+        "steady_soil2_slab": (house_idf(slab, gains=False, kiva_settings=soil2), steady),
+        "steady_soil2_slab_edge": (
+            house_idf(slab, gains=False, kiva_settings=soil2, foundation=edge), steady
+        ),
+        "year": (house_idf(), weather),
+        "year_slab": (house_idf(slab), weather),
+        "year_cooled": (house_idf(cooling=True), weather),
+        "year_cooled_slab": (house_idf(slab, cooling=True), weather),
+    }
+    with ThreadPoolExecutor(2) as pool:
+        futures = {
+            k: pool.submit(_run, idf + FLOOR_OUTPUT, w, work / k) for k, (idf, w) in jobs.items()
+        }
+        res = {k: f.result() for k, f in futures.items()}
+    out: dict = {"floor_W_per_K_steady": {}, "year": {}}
+    for k, df in res.items():
+        floor = -_col(df, "LIVING:FLOOR:Surface Inside Face Conduction")
+        if k.startswith("steady"):
+            ti = _col(df, "LIVING ZONE:Zone Mean Air").iloc[-168:].mean()
+            out["floor_W_per_K_steady"][k] = float(floor.iloc[-168:].mean() / ti)
+            continue
+        q = _col(df, "Zone Ideal Loads Zone Sensible Heating Rate")
+        heating_months = floor.index.month.isin([1, 2, 3, 4, 10, 11, 12])
+        out["year"][k] = {
+            "heating_kWh": float(q.sum() / 1000),
+            "floor_loss_kWh_year": float(floor.sum() / 1000),
+            "floor_loss_kWh_oct_apr": float(floor[heating_months].sum() / 1000),
+            "floor_loss_W_monthly": [float(v) for v in floor.resample("MS").mean()],
+        }
+    from thermocal.physics.ground import iso13370_slab_on_ground
+
+    area = LENGTH * DEPTH
+    r_now = 1 / U_SLAB - RSI_DOWN - RSE
+    r_ins = 1 / MEASURES["ground_floor"]["u_value"] - RSI_DOWN - RSE
+    out["iso13370_W_per_K"] = {
+        f"soil{lam}{tag}": area * iso13370_slab_on_ground(
+            area, EXPOSED_PERIMETER_LIVING, wall_thickness=0.24, floor_resistance=r,
+            soil_conductivity=lam,
+        )
+        for lam in (1.73, 2.0)
+        for tag, r in (("", r_now), ("_slab", r_ins))
+    }  # fmt: skip
+    (HERE / "ground_study.json").write_text(json.dumps(out, indent=1) + "\n")
+    return out
+
+
 if __name__ == "__main__":
-    main(*sys.argv[1:])
+    if "--ground" in sys.argv:
+        print(json.dumps(ground_study(sys.argv[1]), indent=1))
+    else:
+        main(*sys.argv[1:])

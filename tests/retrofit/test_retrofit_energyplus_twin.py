@@ -42,19 +42,24 @@ def _key(measures) -> str:
     return "+".join(m for m in MEASURES if m in measures) or "none"
 
 
-@pytest.fixture(scope="module")
-def twin(tmp_path_factory):
+def _run_twin(out: Path, **model) -> dict:
     weather = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
-    out = tmp_path_factory.mktemp("twin")
     cfg = yaml.safe_load((REF / "config.yaml").read_text())
+    if model:
+        cfg["model"] = model
     cfg["building"] = str(REF / "building.yaml")
     cfg["measurements"]["file"] = str(REF / "measurements.csv")
     cfg["weather"]["file"] = str(weather)
-    (out / "config.yaml").write_text(yaml.safe_dump(cfg))
+    (out / "config.yaml").write_text(yaml.safe_dump(cfg, sort_keys=False))
     args = ["retrofit", str(out / "config.yaml"), "--out", str(out / "r")]
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
     return json.loads((out / "r" / "results.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    return _run_twin(tmp_path_factory.mktemp("twin"))
 
 
 def test_reference_is_what_the_script_writes():
@@ -174,3 +179,21 @@ def test_slab_insulation_iso13370_vs_kiva():
         saving = 1.0 - year[slab]["heating_kWh"] / year[base]["heating_kWh"]
         assert 0.0 < saving < 0.03, (base, saving)  # (0.7 %, 1.6 %)
     assert year["year"]["heating_kWh"] == pytest.approx(_reference()["annual_heating_kWh"]["none"])
+
+
+def test_twin_with_small_fixed_diffusions(tmp_path):
+    """The cause of the failed calibration (docs/retrofit.md): the estimated diffusions let the
+    slow states hold up a wrong heat balance. With them fixed small the HLC is 296.1 W/K (90 %:
+    286-313) against EnergyPlus's 299.2 and the test bias -0.60 K; the daily heat check and the
+    savings still fail (mean |difference| 11.6 pp). Not the default (yet)."""
+    noise = {"sigma_Tenv": 0.01, "sigma_Tgf": 0.01, "sigma_Tim": 0.01, "sigma_Ti": 0.05}
+    results = _run_twin(tmp_path, fixed_noise=noise)
+    ref = _reference()
+    hlc = results["heat_loss_coefficient_W_per_K"]
+    truth = ref["heat_loss_coefficient_W_per_K"]
+    assert abs(hlc["value"] / truth - 1.0) < 0.05  # (-1.0 %; target 10 %)
+    assert hlc["p05"] <= truth <= hlc["p95"]
+    demand = results["annual_heating_demand_kWh"]["value"]
+    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.15  # (+10.1 %; target 10 %)
+    test = results["validation"]["test"]
+    assert abs(test["mean_simulated"] - test["mean_measured"]) < 1.0  # (-0.60 K)

@@ -494,3 +494,26 @@ def test_internal_gains_from_an_electricity_meter(synthetic, tmp_path):
     assert 1000.0 < base - annual[0, 0] < 3500.0, (base, annual[0, 0])
     # their uncertainty widens the demand interval
     assert np.ptp(annual[0, 1:]) > 0
+
+
+@pytest.mark.parametrize("source", ["electricity", "schedule", "constant"])
+def test_report_gains_text_for_every_source(source):
+    """The report's assumptions row formats only the chosen source's values (it crashed on
+    constant_W = None with gains from an electricity meter: found on the EnergyPlus twin)."""
+    from types import SimpleNamespace
+
+    from thermocal.retrofit.config import InternalGainsConfig
+    from thermocal.retrofit.report import _gains_text
+
+    extra = {"constant": {"constant_W": 400.0}, "schedule": {"schedule_W": [300.0] * 24}}
+    gains = InternalGainsConfig(source=source, **extra.get(source, {}))
+    analysis = SimpleNamespace(
+        config=SimpleNamespace(internal_gains=gains),
+        year_gains=np.full(8760, 500.0),
+        demand=SimpleNamespace(step_hours=1.0),
+    )
+    text = _gains_text(analysis)
+    assert "4,380 kWh a year" in text
+    assert {"electricity": "electricity meter", "schedule": "schedule", "constant": "400 W"}[
+        source
+    ] in text

@@ -255,6 +255,14 @@ def estimate_correction(
         if abs(corr[i, j]) > 0.9
     }
     cov_data = cov
+    # a MAP on a bound of a capacity comes back through exp(ln x) one rounding step outside
+    # it (C_env 147.30000000000004 vs 147.3 on the EnergyPlus twin house), and the engine
+    # evaluates only strictly inside its bounds: keep the physical values inside
+    map_values = values(z)
+    for n in phys:
+        lo_n, _, hi_n, _ = model.estimated[n]
+        pad = 1e-9 * (hi_n - lo_n)
+        map_values[n] = float(min(max(map_values[n], lo_n + pad), hi_n - pad))
     if heat_rel_std > 0:
         cov = cov + np.log1p(heat_rel_std**2) * np.ones_like(cov)
     return Correction(
@@ -269,7 +277,7 @@ def estimate_correction(
         posterior_std=post,
         separated={g: bool(post[g] < SEPARATED_RATIO * prior[g]) for g in groups},
         log_posterior=float(-res.fun),
-        map_values=values(z),
+        map_values=map_values,
         correlation=pairs,
     )
 

@@ -587,12 +587,16 @@ def _gains_text(analysis) -> str:
         )
     year = analysis.year_gains
     kwh = float(np.sum(year)) * analysis.demand.step_hours / 1000.0 if year is not None else 0.0
-    what = {
-        "electricity": f"the electricity meter x {ig.fraction_inside:g} during the measurements"
-        ", its mean daily profile in the demand year",
-        "schedule": "a 24-hour schedule (internal_gains.schedule_W)",
-        "constant": f"a constant {ig.constant_W:g} W (internal_gains.constant_W)",
-    }[ig.source]
+    # only the chosen source's text is formatted: the others' values are None
+    if ig.source == "electricity":
+        what = (
+            f"the electricity meter x {ig.fraction_inside:g} during the measurements, its mean "
+            "daily profile in the demand year"
+        )
+    elif ig.source == "schedule":
+        what = "a 24-hour schedule (internal_gains.schedule_W)"
+    else:
+        what = f"a constant {ig.constant_W:g} W (internal_gains.constant_W)"
     return (
         f"an input into the indoor air: {what}; {kwh:,.0f} kWh a year, "
         f"{100 * ig.rel_std:.0f} % relative uncertainty in the intervals. In the calibration "

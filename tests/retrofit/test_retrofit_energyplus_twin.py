@@ -1,0 +1,199 @@
+"""The retrofit analysis on a house thermocal did not write (issue 25, item 6).
+
+NREL's SingleFamilyHouse (one storey, 186 m2, uninsulated block walls, R-30 ceiling under a
+ventilated attic, unheated garage, double glazing, slab on ground with Kiva) converted to
+EnergyPlus 25.2 by ``tests/reference/retrofit_energyplus_house/make_reference.py``, which also
+ran the six weeks of measurements (Zurich 2015, thermostat 20/17 C, heat meter, electricity
+meter), the year and the 16 strategies at 20 C, and the steady-state heat loss coefficient.
+Here thermocal gets only what a user knows (``building.yaml``: areas, nominal ISO 6946
+U-values; ``measurements.csv``) and is compared with the committed EnergyPlus values.
+
+The issue's targets (HLC and demand within 10 %, every saving within 3 pp, 90 % intervals
+covering >= 80 % with a median half-width <= 6 pp) do NOT hold on this house (measured
+2026-11-25, docs/retrofit.md "EnergyPlus twin"): the validation gate fails, and these tests
+pin that state -- the gate must say so and recommend nothing -- and the bounds that hold now,
+each with its measured value, so that a regression shows and an improvement can tighten them.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from conftest import shared_data_path
+from thermocal.cli import app
+from thermocal.io.building import read_building
+
+REF = Path(__file__).resolve().parents[1] / "reference" / "retrofit_energyplus_house"
+MEASURES = ("attic_ceiling", "walls", "windows", "ground_floor")
+
+
+def _reference() -> dict:
+    return json.loads((REF / "reference.json").read_text())
+
+
+def _key(measures) -> str:
+    return "+".join(m for m in MEASURES if m in measures) or "none"
+
+
+def _run_twin(out: Path, **model) -> dict:
+    weather = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
+    cfg = yaml.safe_load((REF / "config.yaml").read_text())
+    if model:
+        cfg["model"] = model
+    cfg["building"] = str(REF / "building.yaml")
+    cfg["measurements"]["file"] = str(REF / "measurements.csv")
+    cfg["weather"]["file"] = str(weather)
+    (out / "config.yaml").write_text(yaml.safe_dump(cfg, sort_keys=False))
+    args = ["retrofit", str(out / "config.yaml"), "--out", str(out / "r")]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    return json.loads((out / "r" / "results.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    return _run_twin(tmp_path_factory.mktemp("twin"))
+
+
+def test_reference_is_what_the_script_writes():
+    """The committed building file, measures and nominal U-values are the script's (no EnergyPlus
+    needed); the EnergyPlus savings grow with every added measure."""
+    sys.path.insert(0, str(REF))
+    try:
+        import make_reference as mk  # noqa: PLC0415
+    finally:
+        sys.path.remove(str(REF))
+    assert (REF / "house_v25.idf").read_text() == mk.house_idf()
+    assert yaml.safe_load((REF / "building.yaml").read_text()) == mk.building_description()
+    building = read_building(REF / "building.yaml")
+    assert building.area("window") == pytest.approx(4 * 4.572 * 1.524, abs=0.05)
+    ref = _reference()
+    assert ref["nominal_u_values"]["wall"] == pytest.approx(mk.U_WALL)
+    saving = ref["saving_pct"]
+    for key, value in saving.items():
+        for m in MEASURES:
+            if key != "none" and m not in key.split("+"):
+                more = _key(set(key.split("+")) | {m})
+                assert saving[more] >= value - 0.5, (key, m)
+    # the measured data cover Feb 2 - Mar 15, hourly, interval-start labels
+    rows = (REF / "measurements.csv").read_text().splitlines()
+    assert rows[1].startswith("2015-02-02 00:00") and rows[-1].startswith("2015-03-15 23:00")
+    assert len(rows) == 1 + 42 * 24
+
+
+def test_twin_validation_gate_fails_and_recommends_nothing(twin):
+    """Measured: test-period bias -4.31 K, MAE 4.31 K, daily heat NMBE -119 %: the model does not
+    reproduce the house and says so (issue 25 item 3 holds; item 6's targets do not)."""
+    gate = twin["validation_gate"]
+    assert gate["passed"] is False
+    assert twin["recommendation"] is None
+    assert "FAILED" in gate["summary"]
+
+
+def test_twin_heat_loss_coefficient_and_demand(twin):
+    """EnergyPlus steady state 299.2 W/K; thermocal 383.5 W/K (90 %: 320-420), +28 %: the
+    10 % target fails. Demand 17,244 kWh vs 10,302 (+67 %). Pinned: the bounds that hold."""
+    ref = _reference()
+    hlc = twin["heat_loss_coefficient_W_per_K"]
+    err = hlc["value"] / ref["heat_loss_coefficient_W_per_K"] - 1.0
+    assert abs(err) < 0.35, err  # target 0.10 (not met: +0.28)
+    assert hlc["p05"] < hlc["value"] < hlc["p95"]
+    demand = twin["annual_heating_demand_kWh"]["value"]
+    err_d = demand / ref["annual_heating_kWh"]["none"] - 1.0
+    assert abs(err_d) < 0.75, err_d  # target 0.10 (not met: +0.67)
+
+
+def test_twin_strategy_savings(twin):
+    """Every strategy against EnergyPlus. Measured: mean difference -4.7 pp, mean absolute 11.4,
+    max 23.4 pp (3a); 1 of 15 within 3 pp; 6 of 15 intervals cover EnergyPlus; median
+    half-width 11.2 pp. Targets (every one within 3 pp, coverage >= 12/15, half-width <= 6 pp)
+    not met; pinned: the bounds that hold."""
+    saving = _reference()["saving_pct"]
+    rows = twin["scenarios"][1:]
+    assert len(rows) == 15
+    diff, covered, half = [], 0, []
+    for s in rows:
+        e = saving[_key(s["measures"])]
+        diff.append(s["saving_pct"] - e)
+        covered += s["saving_pct_p05"] <= e <= s["saving_pct_p95"]
+        half.append(0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]))
+    diff = np.abs(diff)
+    assert diff.max() < 26.0, diff  # target 3 (not met: 23.4)
+    assert diff.mean() < 13.0, diff  # (11.4)
+    assert covered >= 5, covered  # target 12 of 15 (not met: 6)
+    assert np.median(half) < 13.0  # target 6 (not met: 11.2)
+    # the ranking: the all-measures strategy saves most in both
+    best = max(rows, key=lambda s: s["saving_pct"])
+    assert set(best["measures"]) == set(MEASURES)
+
+
+def test_twin_slab_saving_thermocal_vs_kiva(twin):
+    """Item 5, measured: under-slab insulation to U 0.25 saves 0.7 % in EnergyPlus (Kiva) and
+    18.8 % in thermocal (ISO 13370); docs/retrofit.md explains the difference. Pinned: the
+    EnergyPlus value stays small, thermocal's stays the larger one."""
+    ref = _reference()["saving_pct"]["ground_floor"]
+    model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["ground_floor"])
+    assert 0.0 < ref < 2.0
+    assert model["saving_pct"] > ref + 10.0  # (18.8 vs 0.7: the open item 5)
+
+
+def test_slab_insulation_iso13370_vs_kiva():
+    """Item 5 (``ground_study.json``, make_reference.py --ground): thermocal's ISO 13370 slab
+    coefficient against Kiva's at steady state (0 C air and ground, soil 2.0 W/(m K)).
+    Uninsulated they agree (89.0 vs 94.1 W/K); with insulation under the slab alone Kiva keeps
+    21 W/K through the slab edge and the uninsulated foundation wall (52.9 vs 31.8 W/K), and
+    the annual saving in Kiva is small even at 20-21 C all year (1.6 %)."""
+    from thermocal.physics.ground import iso13370_slab_on_ground
+
+    sys.path.insert(0, str(REF))
+    try:
+        import make_reference as mk  # noqa: PLC0415
+    finally:
+        sys.path.remove(str(REF))
+    study = json.loads((REF / "ground_study.json").read_text())
+    kiva = study["floor_W_per_K_steady"]
+    area, perimeter = mk.LENGTH * mk.DEPTH, mk.EXPOSED_PERIMETER_LIVING
+
+    def iso(u_construction, soil):
+        r_f = 1.0 / u_construction - mk.RSI_DOWN - mk.RSE
+        return area * iso13370_slab_on_ground(
+            area, perimeter, wall_thickness=0.24, floor_resistance=r_f, soil_conductivity=soil
+        )
+
+    bare, insulated = iso(mk.U_SLAB, 2.0), iso(mk.MEASURES["ground_floor"]["u_value"], 2.0)
+    assert bare == pytest.approx(study["iso13370_W_per_K"]["soil2.0"])
+    assert abs(bare / kiva["steady_soil2"] - 1.0) < 0.10  # (-5.4 %)
+    # the slab edge ISO 13370 leaves out: Kiva keeps > 15 W/K more (21.1)
+    assert kiva["steady_soil2_slab"] - insulated > 15.0
+    # insulating the foundation wall too closes part of it
+    assert kiva["steady_soil2_slab_edge"] < kiva["steady_soil2_slab"]
+    year = study["year"]
+    for base, slab in (("year", "year_slab"), ("year_cooled", "year_cooled_slab")):
+        saving = 1.0 - year[slab]["heating_kWh"] / year[base]["heating_kWh"]
+        assert 0.0 < saving < 0.03, (base, saving)  # (0.7 %, 1.6 %)
+    assert year["year"]["heating_kWh"] == pytest.approx(_reference()["annual_heating_kWh"]["none"])
+
+
+def test_twin_with_small_fixed_diffusions(tmp_path):
+    """The cause of the failed calibration (docs/retrofit.md): the estimated diffusions let the
+    slow states hold up a wrong heat balance. With them fixed small the HLC is 296.1 W/K (90 %:
+    286-313) against EnergyPlus's 299.2 and the test bias -0.60 K; the daily heat check and the
+    savings still fail (mean |difference| 11.6 pp). Not the default (yet)."""
+    noise = {"sigma_Tenv": 0.01, "sigma_Tgf": 0.01, "sigma_Tim": 0.01, "sigma_Ti": 0.05}
+    results = _run_twin(tmp_path, fixed_noise=noise)
+    ref = _reference()
+    hlc = results["heat_loss_coefficient_W_per_K"]
+    truth = ref["heat_loss_coefficient_W_per_K"]
+    assert abs(hlc["value"] / truth - 1.0) < 0.05  # (-1.0 %; target 10 %)
+    assert hlc["p05"] <= truth <= hlc["p95"]
+    demand = results["annual_heating_demand_kWh"]["value"]
+    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.15  # (+10.1 %; target 10 %)
+    test = results["validation"]["test"]
+    assert abs(test["mean_simulated"] - test["mean_measured"]) < 1.0  # (-0.60 K)

@@ -215,9 +215,4 @@ def apply_element_parameters(building: Building, mapping: Mapping[str, float]) -
                 materials[own] = dataclasses.replace(scaled, name=own)
             layers.append(own)
         constructions[cname] = dataclasses.replace(constructions[cname], layers=tuple(layers))
-    changed = dataclasses.replace(building, materials=materials, constructions=constructions)
-    fields = {f.name for f in dataclasses.fields(building)}
-    for key, value in building.__dict__.items():  # e.g. the IDF importer's ``idf_info``
-        if key not in fields:
-            setattr(changed, key, value)
-    return changed
+    return building.replaced(materials=materials, constructions=constructions)

@@ -1009,10 +1009,12 @@ class Building:
                 raise ThermocalInputError(
                     f"unknown building parameter '{key}'{hint} (see Building.parameters())"
                 )
-        changed = dataclasses.replace(
-            self, materials=materials, window_types=window_types, zones=zones
-        )
-        # keep extra attributes such as the IDF importer's ``idf_info``
+        return self.replaced(materials=materials, window_types=window_types, zones=zones)
+
+    def replaced(self, **changes) -> Building:
+        """Copy with some fields replaced (``dataclasses.replace``), keeping the attributes
+        that are not fields, such as the IDF importer's ``idf_info``."""
+        changed = dataclasses.replace(self, **changes)
         fields = {f.name for f in dataclasses.fields(self)}
         for key, value in self.__dict__.items():
             if key not in fields:

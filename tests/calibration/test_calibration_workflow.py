@@ -29,18 +29,30 @@ def _weather_path():
     return pvlib_weather_path()
 
 
-def _campaign(tmp_path, *, samples=48, extra="", end=END):
-    """Nominal building file, the true building's sensor log, mapping and campaign file."""
+PARAMETERS = """parameters:
+  include: ["material/R16 insulation/resistance", "window/Exterior window/*",
+            "material/Concrete block/conductivity", "infiltration/corridor 1/ach"]
+  default_range: 0.6"""
+
+
+def _clinic():
+    """The small clinic, standing where its weather was measured (300 km off is refused)."""
     from thermocal.io.weather import read_weather
     from thermocal.multizone.model import Location
 
-    weather, meta = read_weather(_weather_path())
-    # the clinic stands where its weather was measured (a site 300 km off is refused)
+    _, meta = read_weather(_weather_path())
     site = Location(meta["latitude"], meta["longitude"], meta.get("altitude") or 0.0)
-    nominal = generators.clinic(12, n_corridors=1, corridor_sections=2, location=site)
-    truth = nominal.with_parameters(TRUE)
-    sim = Simulation(truth, weather, meta, step="15min", start=START, end=end,
-                     store_surfaces=False)
+    return generators.clinic(12, n_corridors=1, corridor_sections=2, location=site)
+
+
+def _campaign(tmp_path, *, samples=48, extra="", end=END, truth=TRUE, parameters=PARAMETERS):
+    """Nominal building file, the true building's sensor log, mapping and campaign file."""
+    from thermocal.io.weather import read_weather
+
+    weather, meta = read_weather(_weather_path())
+    nominal = _clinic()
+    sim = Simulation(nominal.with_parameters(truth), weather, meta, step="15min", start=START,
+                     end=end, store_surfaces=False)
     air = sim.run(free_float=True).air_temperature
     log = air.copy()
     log.index = log.index + pd.Timedelta("15min")  # sensors see the end-of-step state
@@ -61,10 +73,7 @@ mapping: mapping.yaml
 period: {{start: {START}, end: {END}}}
 step: 15min
 identification: {{method: inverse, settle: 1D, warmup_days: 3}}
-parameters:
-  include: ["material/R16 insulation/resistance", "window/Exterior window/*",
-            "material/Concrete block/conductivity", "infiltration/corridor 1/ach"]
-  default_range: 0.6
+{parameters}
 sampling: {{method: sobol, samples: {samples}, seed: 3}}
 metamodel: {{kind: auto, top_k: 3}}
 optimisation: {{starts: 4, seed: 1}}
@@ -202,51 +211,20 @@ def test_validation_period_keeps_the_lower_variance(tmp_path):
 def test_element_level_calibration_finds_wall_and_roof(tmp_path):
     """Hidden truth in a physicist's terms (exterior-wall resistance x0.6, roof x1.5); the
     campaign varies construction resistances and heat capacities: both move the right way."""
-    from thermocal.io.weather import read_weather
     from thermocal.multizone.elements import element_parameters
-    from thermocal.multizone.model import Location
 
-    weather, meta = read_weather(_weather_path())
-    site = Location(meta["latitude"], meta["longitude"], meta.get("altitude") or 0.0)
-    nominal = generators.clinic(12, n_corridors=1, corridor_sections=2, location=site)
+    nominal = _clinic()
     start = element_parameters(nominal)
     truth_values = {
         "construction/Exterior wall/resistance": 0.6
         * start["construction/Exterior wall/resistance"],
         "construction/Roof/resistance": 1.5 * start["construction/Roof/resistance"],
     }
-    truth = nominal.with_parameters(truth_values)
-    sim = Simulation(truth, weather, meta, step="15min", start=START, end=END,
-                     store_surfaces=False)
-    log = sim.run(free_float=True).air_temperature
-    log.index = log.index + pd.Timedelta("15min")
-    names = {zone: f"S{i:02d}" for i, zone in enumerate(log.columns)}
-    log = log.rename(columns=names)
-    log.index.name = "time"
-    log.to_csv(tmp_path / "sensors.csv", date_format="%Y-%m-%dT%H:%M:%S%z")
-    (tmp_path / "mapping.yaml").write_text(
-        "sensors:\n" + "".join(f"  {s}: {z}\n" for z, s in names.items())
-    )
-    save_building(nominal, tmp_path / "building.yaml")
-    (tmp_path / "campaign.yaml").write_text(
-        f"""
-building: building.yaml
-weather: {_weather_path()}
-sensors: sensors.csv
-mapping: mapping.yaml
-period: {{start: {START}, end: {END}}}
-step: 15min
-identification: {{method: inverse, settle: 1D, warmup_days: 3}}
-parameters:
+    _campaign(tmp_path, truth=truth_values, parameters="""parameters:
   level: element
   include: ["construction/Exterior wall/*", "construction/Roof/resistance",
             "window/Exterior window/u_value", "infiltration/corridor 1/ach"]
-  default_range: 0.6
-sampling: {{method: sobol, samples: 48, seed: 3}}
-metamodel: {{kind: auto, top_k: 3}}
-optimisation: {{starts: 4, seed: 1}}
-"""
-    )
+  default_range: 0.6""")
     result = calibrate(
         load_campaign(tmp_path / "campaign.yaml"), workers=1,
         store_path=tmp_path / "store.sqlite", progress=False, log=lambda line: None,

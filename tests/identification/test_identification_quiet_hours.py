@@ -67,3 +67,28 @@ def test_too_short_data_is_refused_with_the_reason():
     heat, _ = _building_heat(weeks=1)
     with pytest.raises(ThermocalInputError, match="at least 2 weeks"):
         quiet_hours(heat)
+
+
+def test_quiet_hours_of_an_energyplus_office_follow_its_schedules(shared_data):
+    """NREL's 5ZoneAirCooled, a file thermocal did not write: its People, Lights and
+    Equipment schedules (read as EnergyPlus applies them, checked in the IDF tests) over four
+    January weeks. The quiet hours found hold none of the occupied hours and nearly all hours
+    at the minimum gain; the published schedule fits this office."""
+    import warnings
+
+    from thermocal.multizone.idf import read_idf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = read_idf(shared_data("energyplus_reference", "5ZoneAirCooled_FF_v25.idf"))
+    times = pd.date_range("2006-01-02", periods=4 * 7 * 24, freq="h")
+    gains = building.idf_info.internal_gains_profile(times).sum(axis=1)
+    quiet = quiet_hours(gains)
+    mask = unoccupied_mask(times, quiet.schedule)
+    low, high = gains.min(), gains.max()
+    # measured 2026-11-25: quiet gains 0.4-1.3 kW of a 0.4-14.6 kW range; weekdays 21-08,
+    # weekends all day
+    assert gains[mask].max() <= low + 0.1 * (high - low)
+    at_minimum = gains.to_numpy() <= low + 1.0
+    assert (mask & at_minimum).sum() >= 0.8 * at_minimum.sum()
+    assert check_schedule(quiet, OccupancySchedule.paper()).quiet

@@ -42,7 +42,7 @@ import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import pandas as pd
@@ -130,6 +130,13 @@ class VerifySection(_Strict):
     post_end: str | None = None
     min_days: float = Field(DEFAULT_MIN_DAYS, ge=MIN_TRAINING_DAYS, le=3660)
     inconclusive_pp: float = Field(DEFAULT_INCONCLUSIVE_PP, gt=0, le=100)
+    calibration: Literal["auto", "heat", "temperature"] = Field(
+        "auto",
+        description="heat: the model fitted to the metered heat it needs to follow the "
+        "indoor temperature (calibrate_to_heat); temperature: the retrofit method's "
+        "maximum-likelihood fit of the indoor temperature; auto: heat when a thermostat "
+        "holds the indoor temperature (tight_control), else temperature",
+    )
     prediction: PredictionConfig
 
     @field_validator(
@@ -510,6 +517,128 @@ def _calibrate(cfg: RetrofitConfig, model, data: pd.DataFrame, source: str):
     )  # fmt: skip
 
 
+#: Hours at the start of a period left out of the heat fit while the initial state settles.
+HEAT_FIT_WARM_UP_H = 48.0
+
+
+def calibrate_to_heat(model, data: pd.DataFrame, setpoint: pd.Series, *, gains: bool):
+    """Calibrate the fifth-order model on the metered heat (output error, indoor temperature
+    as the set point).
+
+    The retrofit method's maximum-likelihood calibration
+    (:func:`thermocal.retrofit.calibration.calibrate`) predicts the indoor temperature from the
+    heat. Under a tight thermostat that is closed-loop identification: the heat is the
+    controller's answer to every disturbance the model does not describe, the indoor
+    temperature barely moves, and the likelihood is maximised by a model whose heat hardly
+    moves it (capacities on their upper bounds); the estimates are biased (Ljung 1999,
+    ch. 13; Forssell and Ljung 1999). The verification needs the opposite direction anyway:
+    the heat the model needs to follow the indoor temperature, which is what ASHRAE
+    Guideline 14 checks and IPMVP Option D calibrates. Here the model's ideal controller
+    (:func:`thermocal.retrofit.gate.heat_to_follow_measured`) follows ``setpoint`` and the
+    estimated parameters minimise the squared hourly difference to the metered heat
+    (``scipy.optimize.least_squares``, trust-region reflective, in log parameters within the
+    model's bounds); the first :data:`HEAT_FIT_WARM_UP_H` hours start from the steady state
+    and are left out. Covariance: Gauss-Newton, ``s^2 (J'J)^-1`` in log space, with ``s^2``
+    widened for the lag-1 autocorrelation of the residuals, to SI by the delta method.
+
+    Parameters
+    ----------
+    model : FifthOrderModel
+    data : pd.DataFrame
+        The period: :data:`thermocal.retrofit.demand.DEMAND_INPUTS` [C, W], ``phi_h_measured``
+        [W], ``phi_int`` [W], the measured indoor temperature.
+    setpoint : pd.Series [C]
+        What the heating held (:func:`heating_setpoint`), on ``data.index``.
+    gains : bool
+        Internal gains are an input.
+
+    Returns
+    -------
+    thermocal.retrofit.calibration.Calibration (``correction`` None, ``envelope`` None).
+    """
+    from scipy.optimize import least_squares
+
+    from thermocal.retrofit.calibration import (
+        BOUNDARY_COLUMNS,
+        HEAT_COLUMNS,
+        OUTPUT_COLUMN,
+        Calibration,
+        initial_params_si,
+        steady_initial_state,
+    )
+    from thermocal.retrofit.demand import DEMAND_INPUTS
+    from thermocal.retrofit.gate import heat_to_follow_measured
+    from thermocal.retrofit.model import ESTIMATED_PARAMETERS, calculated_hlc
+
+    t0 = time.perf_counter()
+    names = [n for n in ESTIMATED_PARAMETERS if n not in model.fixed]
+    unit = {n: 1e6 if model.estimated[n][3] == "MJ/K" else 1.0 for n in ESTIMATED_PARAMETERS}
+    lo = np.log([model.estimated[n][0] * unit[n] for n in names])
+    hi = np.log([model.estimated[n][2] * unit[n] for n in names])
+    p0 = initial_params_si(model)
+    z0 = np.clip(np.log([p0[n] for n in names]), lo + 1e-6, hi - 1e-6)
+    u_mean = data.iloc[:24][list(BOUNDARY_COLUMNS + HEAT_COLUMNS)].mean().to_numpy(float)
+    ti0 = float(data[OUTPUT_COLUMN].dropna().iloc[0])
+    u = data[list(DEMAND_INPUTS)]
+    g = data["phi_int"] if gains else None
+    step_h = (data.index[1] - data.index[0]) / pd.Timedelta(hours=1)
+    keep = np.arange(len(data)) >= int(round(HEAT_FIT_WARM_UP_H / step_h))
+    meas = data["phi_h_measured"].to_numpy(float)
+    keep &= np.isfinite(meas)
+
+    def params(z):
+        p = dict(p0)
+        p.update(dict(zip(names, np.exp(z), strict=True)))
+        return p
+
+    def start(p):
+        return steady_initial_state(model, p, u_mean, ti0)
+
+    def resid(z):
+        p = params(z)
+        q = heat_to_follow_measured(model, p, None, start(p), u, setpoint, g).to_numpy(float)
+        return (q[keep] - meas[keep]) / 1000.0  # [kW]
+
+    sol = least_squares(resid, z0, bounds=(lo, hi), diff_step=1e-3, x_scale=1.0)
+    p = params(sol.x)
+    e = sol.fun
+    n, k = len(e), len(names)
+    rho = float(np.corrcoef(e[:-1], e[1:])[0, 1]) if n > 2 else 0.0
+    rho = min(max(rho, 0.0), 0.95) if np.isfinite(rho) else 0.0
+    s2 = float(e @ e) / max(n - k, 1) * (1.0 + rho) / (1.0 - rho)
+    jtj = sol.jac.T @ sol.jac
+    cov_z = s2 * np.linalg.pinv(jtj)
+    at_bounds = [
+        nm for nm, z, a, b in zip(names, sol.x, lo, hi, strict=True)
+        if z - a < 1e-3 or b - z < 1e-3
+    ]  # fmt: skip
+    # a parameter on its bound is held there in the draws
+    free = np.array([nm not in at_bounds for nm in names])
+    cov_z = cov_z * np.outer(free, free)
+    xs = np.exp(sol.x)
+    full = list(ESTIMATED_PARAMETERS)
+    cov_si = np.zeros((len(full), len(full)))
+    pos = [full.index(nm) for nm in names]
+    cov_si[np.ix_(pos, pos)] = cov_z * np.outer(xs, xs)
+    sd = np.sqrt(np.clip(np.diag(cov_z), 0.0, None))
+    corr = cov_z / np.where(np.outer(sd, sd) > 0, np.outer(sd, sd), 1.0)
+    declared = pd.Series({nm: p[nm] / unit[nm] for nm in full})
+    bse = pd.Series({nm: float(np.sqrt(cov_si[full.index(nm), full.index(nm)])) / unit[nm]
+                     for nm in full})  # fmt: skip
+    loglike = -0.5 * n * (np.log(2.0 * np.pi * float(e @ e) / n) + 1.0)
+    h_calc = calculated_hlc(model.conductances())
+    flags = [f"{nm} on its bound (heat fit)" for nm in at_bounds]
+    return Calibration(
+        estimates_si={nm: float(p[nm]) for nm in full}, cov_si=cov_si, params=declared,
+        bse=bse, correlation=pd.DataFrame(corr, index=names, columns=names),
+        loglike=float(loglike), aic=float(-2 * loglike + 2 * k),
+        bic=float(-2 * loglike + k * np.log(n)), converged=bool(sol.status > 0), flags=flags,
+        x0=start(p), fit_seconds=time.perf_counter() - t0,
+        heat_loss_coefficient=float(h_calc + p["H_est"]),
+        heat_loss_coefficient_std=float(np.sqrt(cov_si[0, 0])), at_bounds=at_bounds,
+    )  # fmt: skip
+
+
 def scenario_draws(cfg: RetrofitConfig, model, cal, strategies, measures: dict):
     """Parameter draws and per-draw envelopes of strategies, as the retrofit workflow makes
     them (posterior of the group corrections, or the published topology's draws)."""
@@ -596,6 +725,145 @@ def fractional_savings_uncertainty(
     }
 
 
+#: Residual adjustment only when its slope is at least this many standard errors [-].
+MIN_SLOPE_T = 2.0
+#: Heated interval: measured heat above this share of the period's 95th percentile [-].
+HEATED_SHARE = 0.02
+
+
+def heating_setpoint(ti: pd.Series, heat: pd.Series, periods) -> pd.Series:
+    """Indoor temperature the heating held [C]: the set point the baseline model follows.
+
+    While the house was heated (measured heat above :data:`HEATED_SHARE` of the period's
+    95th percentile) the measured indoor temperature is the set point. While it floated (no
+    heat: sun, internal gains, a set-back cooling down) the measured temperature is only an
+    upper bound of it: a house that floats above its thermostat demands no heat, and the
+    un-retrofitted house would have floated lower, not been heated up to the retrofitted
+    house's temperature. There the set point is at most the median indoor temperature of
+    the period's heated intervals at the same hour of the day (the thermostat's profile).
+
+    Parameters
+    ----------
+    ti : pd.Series [C]
+        Measured indoor temperature.
+    heat : pd.Series [W]
+        Measured heating power on the same index.
+    periods : sequence of (start, end)
+        Periods each with its own profile (pre- and post-retrofit).
+
+    Returns
+    -------
+    pd.Series [C] on ``ti.index``.
+    """
+    out = ti.copy()
+    hours = np.asarray(ti.index.hour)
+    for a, b in periods:
+        sel = np.asarray((ti.index >= a) & (ti.index < b))
+        q = heat[sel]
+        heated = np.zeros(len(ti), bool)
+        heated[sel] = np.asarray(q > HEATED_SHARE * float(q.quantile(0.95)))
+        if not heated.any():
+            continue
+        prof = ti[heated].groupby(hours[heated]).median().reindex(range(24))
+        prof = prof.fillna(float(ti[heated].median())).to_numpy(float)
+        free = sel & ~heated
+        out[free] = np.minimum(ti[free].to_numpy(float), prof[hours[free]])
+    return out
+
+
+#: Tight control: half the heated hours within this of the thermostat's profile [K].
+TIGHT_CONTROL_K = 0.1
+
+
+def tight_control(ti: pd.Series, heat: pd.Series) -> dict:
+    """Does a thermostat hold the indoor temperature (closed loop, no information in it)?
+
+    The median absolute deviation of the measured indoor temperature from the thermostat's
+    hour-of-day profile (:func:`heating_setpoint`) over the heated hours. Below
+    :data:`TIGHT_CONTROL_K` (a sensor's resolution, a fraction of a room thermostat's
+    0.25-0.5 K switching differential) half the heated hours sit on the set point: the
+    indoor temperature is the controller's target, the heat its answer, and a fit of the
+    temperature identifies little (:func:`calibrate_to_heat`). A heating curve or a slow
+    emitter lets the temperature move with the weather and the gains (the demo: 0.3 K).
+
+    Parameters
+    ----------
+    ti : pd.Series [C]
+        Measured indoor temperature.
+    heat : pd.Series [W]
+        Measured heating power.
+
+    Returns
+    -------
+    dict: ``mad_K`` [K], ``tight`` (bool), ``limit_K``.
+    """
+    heated = np.asarray(heat > HEATED_SHARE * float(heat.quantile(0.95)))
+    hours = np.asarray(ti.index.hour)[heated]
+    t = ti[heated]
+    prof = t.groupby(hours).median()
+    dev = np.abs(t.to_numpy(float) - prof.reindex(hours).to_numpy(float))
+    mad = float(np.nanmedian(dev)) if len(dev) else float("nan")
+    return {"mad_K": mad, "tight": bool(mad < TIGHT_CONTROL_K), "limit_K": TIGHT_CONTROL_K}
+
+
+def residual_adjustment(
+    residual_pre: np.ndarray, dt_pre: np.ndarray, dt_post: np.ndarray, rho: float
+) -> dict:
+    """Linear adjustment of the baseline model's daily heat in the indoor-outdoor difference.
+
+    The fifth-order model is linear with one constant ``H_est`` (ventilation, infiltration);
+    a real house's air change grows with the indoor-outdoor temperature difference (stack
+    effect) and the wind, so the calibrated ``H_est`` is the linearisation at the baseline
+    period's conditions. The daily residuals of the baseline period (measured minus model)
+    regressed on the daily mean indoor-outdoor difference, ``r = c + b (dT - mean dT_pre)``
+    (the two-parameter form of ASHRAE Guideline 14's inverse baseline models), measure that
+    slope error; applied to the reporting period's days it corrects the extrapolation to
+    warmer or colder weather. Estimated from the baseline period only, and applied only when
+    that period resolves the slope (``|b| >= 2 se(b)``, the usual t-test of a regression
+    term, with the standard error widened for autocorrelated residuals); otherwise no
+    adjustment (``applied`` False).
+
+    Parameters
+    ----------
+    residual_pre : ndarray [kWh/day]
+        Measured minus model daily heat of the baseline period.
+    dt_pre, dt_post : ndarray [K]
+        Daily mean indoor minus outdoor temperature of the baseline and reporting days.
+    rho : float [-]
+        Lag-1 autocorrelation of the residuals (inflates the variances by ``n / n'``).
+
+    Returns
+    -------
+    dict: ``per_day`` [kWh/day] for the reporting days, ``intercept`` [kWh/day],
+    ``slope`` [kWh/(day K)], ``slope_se``, ``sum_se`` [kWh] (standard error of the summed
+    adjustment), ``residual`` [kWh/day] of the baseline days after the adjustment,
+    ``applied`` (bool).
+    """
+    r = np.asarray(residual_pre, float)
+    x = np.asarray(dt_pre, float) - float(np.mean(dt_pre))
+    xp = np.asarray(dt_post, float) - float(np.mean(dt_pre))
+    n = len(r)
+    sxx = float(np.sum(x**2))
+    if n < 4 or sxx <= 0:
+        return {"per_day": np.zeros(len(xp)), "intercept": 0.0, "slope": 0.0,
+                "slope_se": 0.0, "sum_se": 0.0, "residual": r, "applied": False}  # fmt: skip
+    b = float(np.sum(x * r) / sxx)
+    c = float(np.mean(r))
+    e = r - c - b * x
+    rho = max(float(rho), 0.0) if np.isfinite(rho) else 0.0
+    inflation = (1.0 + rho) / (1.0 - min(rho, 0.95))  # n / n' of autocorrelated residuals
+    s2 = float(np.sum(e**2) / (n - 2)) * inflation
+    se_b = float(np.sqrt(s2 / sxx))
+    applied = abs(b) >= MIN_SLOPE_T * se_b
+    if not applied:  # the baseline period does not resolve the slope: no adjustment
+        return {"per_day": np.zeros(len(xp)), "intercept": c, "slope": b, "slope_se": se_b,
+                "sum_se": 0.0, "residual": r, "applied": False}  # fmt: skip
+    m, sx = len(xp), float(np.sum(xp))
+    sum_var = s2 * (m**2 / n + sx**2 / sxx)
+    return {"per_day": c + b * xp, "intercept": c, "slope": b, "slope_se": se_b,
+            "sum_se": float(np.sqrt(sum_var)), "residual": e, "applied": True}  # fmt: skip
+
+
 def daily_energy(power: pd.DataFrame) -> pd.DataFrame:
     """Daily energy [kWh] of complete days of power columns [W]."""
     step_h = (power.index[1] - power.index[0]) / pd.Timedelta(hours=1)
@@ -646,25 +914,41 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     check_measures(model.envelope, measures, building.name)
     timings["inputs"] = time.perf_counter() - t0
 
-    say("calibrating the fifth-order model on the pre-retrofit period")
-    t1 = time.perf_counter()
-    cal_pre = _calibrate(cfg, model, inputs.loc[sel_pre], f"{source} (pre-retrofit period)")
-    timings["calibration_pre"] = time.perf_counter() - t1
-    say("calibrating the fifth-order model on the post-retrofit period")
-    t1 = time.perf_counter()
+    # what the heating held: the set point the models follow (not free-floating excursions)
+    setpoint_all = heating_setpoint(inputs[OUTPUT_COLUMN], inputs["phi_h_measured"], (pre, post))
     model_post = dataclasses.replace(model, envelope=model.apply_measures(list(measures.values())))
-    cal_post = _calibrate(cfg, model_post, inputs.loc[sel_post], f"{source} (post-retrofit period)")
-    timings["calibration_post"] = time.perf_counter() - t1
+    control = tight_control(
+        inputs.loc[sel_pre, OUTPUT_COLUMN], inputs.loc[sel_pre, "phi_h_measured"]
+    )
+    method = sec.calibration
+    if method == "auto":
+        method = "heat" if control["tight"] else "temperature"
+    for name, mdl, sel in (("pre", model, sel_pre), ("post", model_post, sel_post)):
+        say(f"calibrating the fifth-order model on the {name}-retrofit period")
+        t1 = time.perf_counter()
+        what = f"{source} ({name}-retrofit period)"
+        if method == "heat":
+            from thermocal.retrofit.calibration import check_training_data
+
+            check_training_data(inputs.loc[sel], what, heat_source=cfg.measurements.heat_source)
+            cal = calibrate_to_heat(mdl, inputs.loc[sel], setpoint_all[sel], gains=has_gains)
+        else:
+            cal = _calibrate(cfg, mdl, inputs.loc[sel], what)
+        if name == "pre":
+            cal_pre = cal
+        else:
+            cal_post = cal
+        timings[f"calibration_{name}"] = time.perf_counter() - t1
 
     # ---------------------------------------------------------------- avoided energy
     say("avoided energy: the baseline model over the post-retrofit period")
     t2 = time.perf_counter()
     span = (inputs.index >= pre[0]) & (inputs.index < post[1])
     frame = inputs.loc[span]
-    step_h = (frame.index[1] - frame.index[0]) / pd.Timedelta(hours=1)
+    setpoint = setpoint_all[span]
     q_base = heat_to_follow_measured(
         model, cal_pre.estimates_si, cal_pre.envelope, cal_pre.x0, frame[list(DEMAND_INPUTS)],
-        frame[OUTPUT_COLUMN], frame["phi_int"] if has_gains else None,
+        setpoint, frame["phi_int"] if has_gains else None,
     )  # fmt: skip
     # the pre-retrofit calibration with the measures applied (the method's prediction of the
     # retrofitted house) over the same span: its post-period heat is what the prediction
@@ -672,15 +956,15 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     env_ret = model.apply_measures(list(measures.values()), cal_pre.envelope)
     q_ret = heat_to_follow_measured(
         model, cal_pre.estimates_si, env_ret, cal_pre.x0, frame[list(DEMAND_INPUTS)],
-        frame[OUTPUT_COLUMN], frame["phi_int"] if has_gains else None,
+        setpoint, frame["phi_int"] if has_gains else None,
     )  # fmt: skip
     # comfort take-back: the baseline following the pre period's daily indoor profile instead
     # of the measured post-period temperatures (what the house would have used at the old
     # comfort); the difference is the heat the rooms' temperature change costs
     ti_old = pd.Series(
-        daily_profile(inputs.loc[sel_pre, OUTPUT_COLUMN])[np.asarray(frame.index.hour)],
+        daily_profile(setpoint[frame.index < pre[1]])[np.asarray(frame.index.hour)],
         index=frame.index,
-    ).where(frame.index >= post[0], frame[OUTPUT_COLUMN])
+    ).where(frame.index >= post[0], setpoint)
     q_base_old = heat_to_follow_measured(
         model, cal_pre.estimates_si, cal_pre.envelope, cal_pre.x0, frame[list(DEMAND_INPUTS)],
         ti_old, frame["phi_int"] if has_gains else None,
@@ -700,17 +984,49 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     stats = ashrae14_statistics(d_pre["baseline"], d_pre["measured"], p=1)
     resid = (d_pre["measured"] - d_pre["baseline"]).to_numpy(float)
     rho = float(np.corrcoef(resid[:-1], resid[1:])[0, 1]) if len(resid) > 2 else 0.0
+    # the model's linearisation of the air change at the baseline period's conditions,
+    # corrected for the reporting period's (residual_adjustment): the same absolute heat for
+    # the baseline and the expected (retrofitted) model, the air change is not retrofitted
+    dt_day = (setpoint - frame["Te"]).groupby(frame.index.normalize()).mean()
+    adj = residual_adjustment(
+        resid, dt_day.reindex(d_pre.index).to_numpy(float),
+        dt_day.reindex(d_post.index).to_numpy(float), rho,
+    )  # fmt: skip
+    adj_sum = float(np.sum(adj["per_day"]))
+    # the model's own ratio of retrofitted to baseline heat over the post period (unadjusted)
+    e_base_model = float(d_post["baseline"].sum())
+    e_ret_model = float(d_post["expected"].sum())
+    for col in ("baseline", "baseline_old_comfort"):
+        daily.loc[d_post.index, col] = d_post[col] + adj["per_day"]
+        daily.loc[d_pre.index, col] = d_pre[col] + (resid - adj["residual"])
+    # what the prediction expected the meter to show: the adjusted baseline times that ratio
+    scale = (e_base_model + adj_sum) / e_base_model if e_base_model > 0 else 1.0
+    daily.loc[d_post.index, "expected"] = d_post["expected"] * scale
+    d_pre = daily[daily["period"] == "pre"]
+    d_post = daily[daily["period"] == "post"]
+    n_par = 3 if adj["applied"] else 1
+    stats_adj = ashrae14_statistics(d_pre["baseline"], d_pre["measured"], p=n_par)
+    rho_adj = (
+        float(np.corrcoef(adj["residual"][:-1], adj["residual"][1:])[0, 1])
+        if len(resid) > 2 else 0.0
+    )  # fmt: skip
     e_base = float(d_post["baseline"].sum())
     e_meas = float(d_post["measured"].sum())
     e_save = e_base - e_meas
     e_base_old = float(d_post["baseline_old_comfort"].sum())
     frac = e_save / e_base if e_base > 0 else float("nan")
-    fsu = fractional_savings_uncertainty(
-        stats["cv_rmse_pct"], len(d_pre), len(d_post), rho, frac, interval
-    )
-    fsu68 = fractional_savings_uncertainty(
-        stats["cv_rmse_pct"], len(d_pre), len(d_post), rho, frac, 0.68
-    )
+
+    def _fsu(level):
+        f = fractional_savings_uncertainty(
+            stats_adj["cv_rmse_pct"], len(d_pre), len(d_post), rho_adj, frac, level, p=n_par
+        )
+        # plus the extrapolation of the adjustment's slope to the reporting period
+        slope_part = f["t"] * adj["sum_se"] / e_base if e_base > 0 else 0.0
+        f["half_width"] = float(np.hypot(f["half_width"], slope_part))
+        f["fsu"] = f["half_width"] / frac if frac else float("inf")
+        return f
+
+    fsu, fsu68 = _fsu(interval), _fsu(0.68)
     crit = cfg.validation
     baseline_ok = bool(
         abs(stats["nmbe_pct"]) <= crit.max_abs_nmbe_pct
@@ -720,9 +1036,9 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     # ---------------------------------------------------------------- reference year
     say("normalising to the reference year")
     profile_mode = cfg.demand.indoor_profile
-    if profile_mode == "measured":
-        prof_pre = daily_profile(inputs.loc[sel_pre, OUTPUT_COLUMN])
-        prof_post = daily_profile(inputs.loc[sel_post, OUTPUT_COLUMN])
+    if profile_mode == "measured":  # the thermostat's profile (heating_setpoint)
+        prof_pre = daily_profile(setpoint[(frame.index >= pre[0]) & (frame.index < pre[1])])
+        prof_post = daily_profile(setpoint[(frame.index >= post[0]) & (frame.index < post[1])])
     else:
         prof_pre = prof_post = np.full(24, float(profile_mode))
     if prediction.profile is not None:  # measured and predicted at the same indoor profile
@@ -757,36 +1073,43 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     else:
         a_post_use = a_post
     s_phys = 100.0 * (1.0 - a_post / a_pre[0])
-    # avoided energy normalised to the reference year: the measured post-period heat over the
-    # heat the calibrated prediction expected (ratio r) scales the predicted annual demand of
-    # the retrofitted house; r carries the baseline model's Guideline 14 uncertainty
+    # avoided energy normalised to the reference year: the measured fraction of the baseline
+    # (measured over adjusted baseline heat of the post period) carried to the reference year
+    # by the calibrated model's own weather dependence of that fraction, the ratio of its
+    # retrofitted to baseline demand over the year divided by the same ratio over the post
+    # period. The model's prediction of the retrofit's size cancels; the measurement carries
+    # the baseline's Guideline 14 uncertainty
     e_exp = float(d_post["expected"].sum())
     ratio = e_meas / e_exp if e_exp > 0 else float("nan")
-    # per draw: each parameter set's own expectation of the post period (a draw that predicts
-    # a larger saving expects less heat, so the measurement pulls it back)
+    # per draw: each parameter set's own ratio over the post period and over the year
     from thermocal.retrofit.model import ESTIMATED_PARAMETERS
 
     post_rows = frame.index >= post[0]
     post_days = frame.index.normalize().isin(d_post.index) & post_rows
-    e_exp_d = np.empty(a_pre.shape[1])
+    post_ratio_d = np.empty(a_pre.shape[1])
     for d in range(a_pre.shape[1]):
-        q = heat_to_follow_measured(
-            model, {k: float(draws_pre[k][d]) for k in ESTIMATED_PARAMETERS},
-            _envelope_of(env_pre[1], d), cal_pre.x0, frame[list(DEMAND_INPUTS)],
-            frame[OUTPUT_COLUMN], frame["phi_int"] if has_gains else None,
-        )  # fmt: skip
-        e_exp_d[d] = float(q[post_days].sum()) * step_h / 1000.0
-    e_exp_d[0] = e_exp
+        sums = []
+        for k in (0, 1):
+            q = heat_to_follow_measured(
+                model, {n: float(draws_pre[n][d]) for n in ESTIMATED_PARAMETERS},
+                _envelope_of(env_pre[k], d), cal_pre.x0, frame[list(DEMAND_INPUTS)],
+                setpoint, frame["phi_int"] if has_gains else None,
+            )  # fmt: skip
+            sums.append(float(q[post_days].sum()))
+        post_ratio_d[d] = sums[1] / sums[0] if sums[0] > 0 else float("nan")
+    post_ratio_d[0] = e_ret_model / e_base_model if e_base_model > 0 else float("nan")
     rng = np.random.default_rng(cfg.uncertainty.seed + 2161)
     sigma_r = fsu["half_width"] / fsu["t"]  # relative standard uncertainty of a post sum
-    r_d = e_meas / e_exp_d * np.exp(rng.normal(0.0, sigma_r, a_pre.shape[1]))
-    r_d[0] = ratio
-    s_avoided_year = 100.0 * (1.0 - r_d * a_pre[1] / a_pre[0])
+    r_d = e_meas / e_base * np.exp(rng.normal(0.0, sigma_r, a_pre.shape[1]))
+    r_d[0] = e_meas / e_base
+    s_avoided_year = 100.0 * (1.0 - r_d * (a_pre[1] / a_pre[0]) / post_ratio_d)
     s_norm = 100.0 * (1.0 - a_post_use / a_pre[0])
     s_model = 100.0 * (1.0 - a_pre[1] / a_pre[0])
     timings["avoided_and_normalised"] = time.perf_counter() - t2
 
     avoided = {
+        "calibration": method,
+        "indoor_control": control,
         "method": "IPMVP Option D: baseline model (calibrated on the pre period) follows the "
         "measured indoor temperature under the post period's weather",
         "baseline_kWh": e_base,
@@ -818,6 +1141,18 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
         "criteria": {"max_abs_nmbe_pct": crit.max_abs_nmbe_pct,
                      "max_cv_rmse_pct": crit.max_cv_rmse_pct, "resolution": "daily"},
         "residual_lag1_autocorrelation": rho,
+        "adjustment": {
+            "method": "daily residuals of the baseline period (measured minus model) regressed "
+            "on the daily mean indoor-outdoor difference, applied to the reporting days",
+            "applied": adj["applied"],
+            "intercept_kWh_per_day": adj["intercept"],
+            "slope_kWh_per_day_K": adj["slope"], "slope_se": adj["slope_se"],
+            "post_period_kWh": adj_sum, "post_period_se_kWh": adj["sum_se"],
+            "mean_dT_K": {"pre": float(dt_day.reindex(d_pre.index).mean()),
+                          "post": float(dt_day.reindex(d_post.index).mean())},
+            "adjusted_nmbe_pct": stats_adj["nmbe_pct"],
+            "adjusted_cv_rmse_pct": stats_adj["cv_rmse_pct"],
+        },
         "fsu": fsu["fsu"],
         "fsu_at_68pct": fsu68["fsu"],
         "fsu_below_50pct_at_68pct": bool(fsu68["fsu"] < 0.5),

@@ -47,8 +47,13 @@ def print_summary(results: dict, out: Path) -> None:
     console.print(
         f"baseline (pre period, daily heat): NMBE {av['baseline_nmbe_pct']:+.1f} %, "
         f"CV(RMSE) {av['baseline_cv_rmse_pct']:.1f} %, FSU {100 * av['fsu_at_68pct']:.0f} % "
-        "at 68 % (ASHRAE Guideline 14-2014)"
-    )
+        "at 68 % (ASHRAE Guideline 14-2014); model fitted to the "
+        + ("metered heat (indoor temperature held by a thermostat)"
+           if av.get("calibration") == "heat" else "indoor temperature")
+        + (f"; adjusted {av['adjustment']['post_period_kWh']:+,.0f} kWh for the post "
+           "period's indoor-outdoor difference" if av.get("adjustment", {}).get("applied")
+           else "")
+    )  # fmt: skip
     if "truth_check" in results:
         t = results["truth_check"]["annual_saving_pct"]
         pp = results["truth_check"]["post_period_saving_pct_same_controls"]

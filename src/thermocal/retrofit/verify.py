@@ -32,6 +32,10 @@ EVO (2012), International Performance Measurement and Verification Protocol (IPM
 Option D (calibrated simulation), avoided energy and normalised savings.
 Reddy, T. A., Claridge, D. E. (2000). Uncertainty of "measured" energy savings from
 statistical baseline models. HVAC&R Research 6(1), 3-20.
+Ljung, L. (1999). System Identification: Theory for the User, 2nd ed., Prentice Hall,
+section 13.4 (identification in closed loop).
+Forssell, U., Ljung, L. (1999). Closed-loop identification revisited. Automatica 35(7),
+1215-1241.
 """
 
 from __future__ import annotations
@@ -93,6 +97,14 @@ REDDY_CLARIDGE_2000 = Reference(
     text=(
         'Reddy, T. A., Claridge, D. E. (2000). Uncertainty of "measured" energy savings from '
         "statistical baseline models. HVAC&R Research 6(1), 3-20."
+    ),
+)
+FORSSELL_LJUNG_1999 = Reference(
+    key="Forssell and Ljung (1999)",
+    text=(
+        "Forssell, U., Ljung, L. (1999). Closed-loop identification revisited. Automatica "
+        "35(7), 1215-1241. Ljung, L. (1999). System Identification: Theory for the User, 2nd "
+        "ed., Prentice Hall, section 13.4."
     ),
 )
 SUNIKKA_BLANK_2012 = Reference(
@@ -533,7 +545,7 @@ def calibrate_to_heat(model, data: pd.DataFrame, setpoint: pd.Series, *, gains: 
     controller's answer to every disturbance the model does not describe, the indoor
     temperature barely moves, and the likelihood is maximised by a model whose heat hardly
     moves it (capacities on their upper bounds); the estimates are biased (Ljung 1999,
-    ch. 13; Forssell and Ljung 1999). The verification needs the opposite direction anyway:
+    section 13.4; Forssell and Ljung 1999). The verification needs the opposite direction anyway:
     the heat the model needs to follow the indoor temperature, which is what ASHRAE
     Guideline 14 checks and IPMVP Option D calibrates. Here the model's ideal controller
     (:func:`thermocal.retrofit.gate.heat_to_follow_measured`) follows ``setpoint`` and the
@@ -1546,7 +1558,7 @@ def results_dict(ver: Verification) -> dict:
         "notes": ver.notes,
         "timings_s": ver.timings,
         "references": [r.entry() for r in (IPMVP, ASHRAE_14, REDDY_CLARIDGE_2000,
-                                           SUNIKKA_BLANK_2012)],
+                                           SUNIKKA_BLANK_2012, FORSSELL_LJUNG_1999)],
         "provenance": provenance(SimpleNamespace(config=cfg)),
     }  # fmt: skip
     if ver.truth is not None:
@@ -1784,7 +1796,7 @@ def write_report(ver: Verification, results: dict, figures: dict, path: Path) ->
         rep.bullets(ver.notes, intro="Notes")
     rep.section("References")
     rep.references([r.entry() for r in (IPMVP, ASHRAE_14, REDDY_CLARIDGE_2000,
-                                         SUNIKKA_BLANK_2012)])  # fmt: skip
+                                         SUNIKKA_BLANK_2012, FORSSELL_LJUNG_1999)])  # fmt: skip
     return rep.write(path)
 
 

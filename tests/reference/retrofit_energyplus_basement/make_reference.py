@@ -481,6 +481,9 @@ def main(source: str, weather: str, work: str = "/tmp/retrofit_energyplus_baseme
 def ground_study(source: str, weather: str, work: str = "/tmp/retrofit_energyplus_basement_g"):
     """Item 5 for a cellar: the cellar-ceiling path in Kiva against ISO 13370 (clause 9.4).
 
+    Also each measure's steady change of the heat loss coefficient in EnergyPlus
+    (``measure_delta_hlc_W_per_K``), to set beside the description's ``U A`` change.
+
     Steady state (a year of constant 0 C air and ground, no sun, no gains, 22.2 C inside) with
     Kiva's defaults (as the reference runs) and with a ``Foundation:Kiva:Settings`` object of
     soil 2.0 W/(m K) (ISO 13370's default), without and with the cellar-ceiling measure: the
@@ -499,6 +502,10 @@ def ground_study(source: str, weather: str, work: str = "/tmp/retrofit_energyplu
         "soil2": house_idf(objs, gains=False, extra=soil2),
         "soil2_cellar_ceiling": house_idf(objs, cellar, gains=False, extra=soil2),
     }
+    # each measure's steady effect on the heat loss coefficient (Kiva defaults, as the
+    # reference runs), against the description's U A change
+    for m in ("attic_ceiling", "walls", "windows"):
+        jobs[f"kiva_defaults_{m}"] = house_idf(objs, frozenset({m}), gains=False)
     with ThreadPoolExecutor(2) as pool:
         futures = {k: pool.submit(house1._run, idf, steady, work / k) for k, idf in jobs.items()}
         res = {k: f.result() for k, f in futures.items()}
@@ -516,6 +523,11 @@ def ground_study(source: str, weather: str, work: str = "/tmp/retrofit_energyplu
             "cellar_path_W_per_K": float(floor / ti),
             "heating_W": float(col(last, "Zone Ideal Loads Zone Sensible Heating").mean()),
         }
+    hlc = {k: v["heating_W"] / v["indoor_C"] for k, v in out["steady_state"].items()}
+    out["measure_delta_hlc_W_per_K"] = {
+        m: hlc["kiva_defaults"] - hlc[f"kiva_defaults_{m}"]
+        for m in ("attic_ceiling", "walls", "windows", "cellar_ceiling")
+    }
     (HERE / "ground_study.json").write_text(json.dumps(out, indent=1) + "\n")
     return out
 

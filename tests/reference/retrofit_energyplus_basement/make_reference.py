@@ -28,6 +28,7 @@ where SOURCE.idf is ``git -C COBS show bd134e4:buildings/single_5A_gas_unheated.
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -41,10 +42,18 @@ import yaml
 from thermocal.multizone.idf.parse import parse_idf
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent / "retrofit_energyplus_house"))
-import make_reference as house1  # noqa: E402  (the first twin's EnergyPlus helpers)
 
-sys.path.pop(0)
+
+def _first_twin():
+    """The first twin's script (its EnergyPlus helpers), loaded from its file."""
+    path = HERE.parent / "retrofit_energyplus_house" / "make_reference.py"
+    spec = importlib.util.spec_from_file_location("retrofit_energyplus_house_reference", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+house1 = _first_twin()
 
 YEAR = 2015
 SETPOINT = 22.22  # the file's heating set point (IECC 2009), C

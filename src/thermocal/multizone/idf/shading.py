@@ -80,6 +80,8 @@ class ShadingStages:
             for rec in self.records(key):
                 found.extend(self._fins(rec, projection=key.endswith("PROJECTION")))
         self.info.shading_surfaces = self._solar_distribution(found)
+        if self.info.solar_distribution.replace(" ", "").upper() != "MINIMALSHADOWING":
+            self.info.shading_surfaces = self.info.shading_surfaces + self._own_shadows()
 
         for side in ("inside", "outside"):
             rec = self.single(f"SURFACECONVECTIONALGORITHM:{side.upper()}")
@@ -96,6 +98,30 @@ class ShadingStages:
                 self.info.shadow_update_days = 0
             elif numbers:
                 self.info.shadow_update_days = max(1, int(float(numbers[0])))
+
+    def _own_shadows(self) -> list:
+        """The building's own exterior surfaces as shading polygons (EnergyPlus' FullExterior:
+        the exterior surfaces of all zones cast shadows, e.g. one wing on another, or a row of
+        flats on the facade across a breezeway). A surface only shades what lies in front of
+        it, so a convex building casts no shadow on itself (and costs nothing)."""
+        from thermocal.multizone.shading import ShadingSurface
+
+        own = [
+            ShadingSurface(
+                f"{data['name']} (building surface)", data["world"], None, data["obj"].where()
+            )
+            for data in self.surface_data.values()
+            if data["boundary"] == "outdoors"
+        ]
+        if not own:
+            return []
+        mutual = _casts_on_others(own)
+        if mutual:
+            self.info.notes.append(
+                f"{len(mutual)} exterior surface(s) of the building cast shadows on others "
+                "(EnergyPlus' FullExterior): simulated as shading surfaces"
+            )
+        return mutual
 
     def _solar_distribution(self, found: list) -> list:
         """The ``Building`` object's Solar Distribution: ``MinimalShadowing`` drops the shading
@@ -218,3 +244,20 @@ class ShadingStages:
                 ShadingSurface(f"{rec['name']} {side}", vertices, None, rec["_object"].where())
             )
         return fins
+
+
+def _casts_on_others(surfaces: list) -> list:
+    """The polygons of ``surfaces`` with a part in front of another one's plane (by more than
+    1 mm): those that can shade another surface of the same building."""
+    planes = []
+    for surface in surfaces:
+        verts = np.asarray(surface.vertices, dtype=float)
+        normal = newell_normal(verts)
+        planes.append((verts, verts[0], normal / np.linalg.norm(normal)))
+    keep = []
+    for i, (verts, _, _) in enumerate(planes):
+        for j, (_, origin, normal) in enumerate(planes):
+            if i != j and float(np.max((verts - origin) @ normal)) > 1e-3:
+                keep.append(surfaces[i])
+                break
+    return keep

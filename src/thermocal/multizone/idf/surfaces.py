@@ -174,11 +174,12 @@ class SurfaceStages:
             if np.linalg.norm(total) <= 1e-3 * scale:
                 continue
             misfit = np.linalg.norm(vectors - total / 2.0, axis=1)
-            fits = misfit <= 0.01 * np.linalg.norm(vectors, axis=1)
-            best = int(np.argmin(misfit))
-            # exactly one surface explains the sum; several equal ones (an open zone such as a
-            # breezeway of stacked floors without walls) say nothing about which is reversed
-            if int(fits.sum()) == 1:
+            fits = np.flatnonzero(misfit <= 0.01 * np.linalg.norm(vectors, axis=1))
+            # the surface whose reversal closes the zone edge to edge (an open zone such as a
+            # breezeway of stacked floors without walls has none: left alone)
+            closing = [k for k in fits if self._closed_with_reversed(surfaces, k)]
+            if len(closing) == 1:
+                best = closing[0]
                 data = surfaces[best]
                 raise ThermocalInputError(
                     f"{data['obj'].where()}: its vertices run the wrong way: the outward "
@@ -260,6 +261,14 @@ class SurfaceStages:
                 self.info.notes.append(
                     f"sub-surface '{name}' of type {kind.title()} is not modelled"
                 )
+
+    def _closed_with_reversed(self, surfaces: list[dict], k: int) -> bool:
+        """True if the zone's polygons close edge to edge with polygon ``k`` reversed."""
+        polygons = []
+        for i, data in enumerate(surfaces):
+            world = data["world"][::-1] if i == k else data["world"]
+            polygons.append(world[::-1] if self.rules.clockwise else world)
+        return polyhedron_is_closed(polygons)
 
     def _rectangular_subsurface(self, rec: dict, kind: str) -> dict:
         """A ``Window``, ``Door`` or ``GlazedDoor`` object as the record of the equivalent

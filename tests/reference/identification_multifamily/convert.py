@@ -215,8 +215,8 @@ def convert(source: str) -> tuple[str, dict[str, int], list[str]]:
     out.append(["Site:GroundTemperature:BuildingSurface"] + [f"{GROUND_TEMPERATURE:g}"] * 12)
     out += [["Output:Variable", "*", name, "Hourly"] for name in OUTPUT_VARIABLES]
     header = (
-        "! PNNL/DOE multifamily prototype (IECC 2018, climate zone 5A, gas furnace, slab) from the\n"
-        f"! COBS repository (sustainable-computing/COBS, commit {COBS_COMMIT}, {COBS_PATH}),\n"
+        "! PNNL/DOE multifamily prototype (IECC 2018, climate zone 5A, gas furnace, slab) from\n"
+        f"! the COBS repository (sustainable-computing/COBS, commit {COBS_COMMIT}, {COBS_PATH}),\n"
         "! converted from EnergyPlus 8.6 to 25.2, free float (HVAC, plant, water, thermostats\n"
         "! removed), by tests/reference/identification_multifamily/convert.py; see README.md.\n\n"
     )

@@ -227,6 +227,8 @@ def fidelity(identified: pd.DataFrame, truth: pd.DataFrame, mask: np.ndarray | N
     RMS(id - true) / mean(true), over the hours (ASHRAE Guideline 14 without its degrees-of-
     freedom correction).
     """
+    if truth.isna().any().any() or identified.isna().any().any():
+        raise ValueError("fidelity: identified heat and truth must share their steps (NaN found)")
     pair = pd.DataFrame(
         {"identified": identified.sum(axis=1), "truth": truth.sum(axis=1)}, index=truth.index
     )

@@ -105,6 +105,7 @@ def identification(twin, zones) -> dict:
             # the sensors report each step's end: the first full step starts one step in
             start=twin.start + (twin.temperature.index[1] - twin.temperature.index[0]),
             end=twin.end,
+            step=f"{60 // STEPS_PER_HOUR}min",
             method="inverse",
         )
     q = result.q_id

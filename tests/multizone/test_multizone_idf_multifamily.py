@@ -148,3 +148,32 @@ def test_effective_leakage_area_flow_as_energyplus(reference):
         dt = np.abs(zone_t - outdoor)[skip:]
         heat = float(np.sum((linear - exact)[skip:] * dt) / np.sum(exact[skip:] * dt))
         assert heat < (0.20 if inf.zone == "attic" else 0.06), (inf.name, heat)
+
+
+def test_converted_file_is_what_convert_writes():
+    """The committed IDF is convert.py's output of the COBS source (skips without the mirror)."""
+    folder = IDF.parent
+    sys.path.insert(0, str(folder))
+    import convert
+
+    if not convert.COBS_MIRROR.is_dir():
+        pytest.skip(f"the COBS mirror {convert.COBS_MIRROR} is absent")
+    import subprocess
+
+    source = subprocess.run(
+        [
+            "git",
+            "-C",
+            str(convert.COBS_MIRROR),
+            "show",
+            f"{convert.COBS_COMMIT}:{convert.COBS_PATH}",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    if source.returncode != 0:
+        pytest.skip(f"the COBS source is not readable: {source.stderr.strip()[:200]}")
+    text, dropped, fixes = convert.convert(source.stdout)
+    assert text == IDF.read_text()
+    assert len(fixes) == 2
+    assert dropped["WaterUse:Equipment"] == 90 and dropped["AirLoopHVAC"] == 18

@@ -11,7 +11,9 @@ Without an argument the source is read with ``git show`` from the COBS mirror
 programs, so the file is converted by explicit field edits, each checked against the 25.2
 ``Energy+.idd`` (every kept class exists there and no object has more fields than the class
 allows); README.md beside this script lists them. No physical property is changed, apart from
-the slab's ground boundary (the Slab preprocessor is not shipped; see ``GROUND_TEMPERATURE``).
+the slab's ground boundary (the Slab preprocessor is not shipped; see ``GROUND_TEMPERATURE``)
+and two inter-zone partner names of the source that point at the wrong surface
+(:func:`fix_partners`).
 """
 
 from __future__ import annotations

@@ -1,16 +1,20 @@
-"""EnergyPlus twin of NREL's 5ZoneAirCooled for the heat-balance identification.
+"""EnergyPlus twins of buildings thermocal did not write, for the forward model and the
+heat-balance identification.
 
-EnergyPlus 25.2 runs ``5ZoneAirCooled_FF_v25.idf`` (../shared/data/energyplus_reference, its HVAC
-removed: free float with its People/Lights/ElectricEquipment schedules and scheduled, wind-driven
-infiltration) from January 1 for ``days`` days at 5-minute steps. Its zone air temperatures are
-perfect sensors; the heat entering each zone (convective + long-wave radiant + visible, the
-sensible internal gains EnergyPlus reports) is the truth the identified heat should equal.
-thermocal gets the same file without the People/Lights/ElectricEquipment objects: the true
+EnergyPlus 25.2 runs a free-floating IDF (HVAC removed: its People/Lights/equipment schedules
+and its infiltration and ventilation) from January 1 for ``days`` days at ``timesteps_per_hour``
+steps. Its zone air temperatures are perfect sensors; the heat entering each zone (convective +
+long-wave radiant + visible, the sensible internal gains EnergyPlus reports) is the truth the
+identified heat should equal. thermocal gets the same file without the load objects: the true
 envelope, no loads.
 
-Used by ``test_identification_energyplus.py`` (a lean period) and by
-``tests/reference/identification_5zone/measure.py`` (January, every option; its results next to
-it).
+Two buildings: NREL's 5ZoneAirCooled (``5ZoneAirCooled_FF_v25.idf`` in
+../shared/data/energyplus_reference; :func:`make_twin`) and the PNNL/DOE multifamily prototype
+(``tests/reference/identification_multifamily/multifamily_5A_FF_v25.idf``; :func:`make_twin_of`
+with any 25.2 IDF). Used by ``test_identification_energyplus.py``,
+``test_identification_multifamily.py`` (lean periods) and the measure scripts of
+``tests/reference/identification_5zone`` and ``identification_multifamily`` (January, every
+option; their results next to them).
 """
 
 from __future__ import annotations
@@ -28,7 +32,8 @@ from thermocal.multizone.idf import read_idf
 
 IDF_NAME = "5ZoneAirCooled_FF_v25.idf"
 WEATHER_NAME = "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
-LOAD_CLASSES = ("people", "lights", "electricequipment")
+#: the load objects thermocal does not get (the identified heat stands for them)
+LOAD_CLASSES = ("people", "lights", "electricequipment", "gasequipment", "otherequipment")
 GAIN_VARIABLES = (
     "Zone Total Internal Convective Heating Rate",
     "Zone Total Internal Radiant Heating Rate",
@@ -48,8 +53,14 @@ def _class(obj: str) -> str:
     return obj.split(",", 1)[0].strip().lower()
 
 
+def _join(objects: list[str]) -> str:
+    return ";\n\n".join(objects) + ";\n"
+
+
 def twin_idf(source: str, days: int, *, timesteps_per_hour: int = 12) -> str:
-    """The reference file: January 1 to ``days``, 5-minute steps, timestep gain outputs."""
+    """The reference file: January 1 to ``days``, ``timesteps_per_hour`` steps, timestep
+    outputs of the zone temperature and gains (the file's own Output:Variable objects
+    dropped)."""
     out = []
     for obj in _objects(source):
         kind = _class(obj)
@@ -64,13 +75,43 @@ def twin_idf(source: str, days: int, *, timesteps_per_hour: int = 12) -> str:
         out.append(obj)
     for variable in ("Zone Mean Air Temperature", *GAIN_VARIABLES):
         out.append(f"Output:Variable,\n  *,\n  {variable},\n  Timestep")
-    return ";\n\n".join(out) + ";\n"
+    return _join(out)
 
 
 def without_loads(source: str) -> str:
-    """The file without its People, Lights and ElectricEquipment objects (the envelope)."""
-    kept = [obj for obj in _objects(source) if _class(obj) not in LOAD_CLASSES]
-    return ";\n\n".join(kept) + ";\n"
+    """The file without its load objects (:data:`LOAD_CLASSES`): the envelope."""
+    return _join([obj for obj in _objects(source) if _class(obj) not in LOAD_CLASSES])
+
+
+#: Design-level fields of the load objects (index in the object, class name at 0) and whether
+#: the field scales with the load (True) or inversely (floor area per person)
+_LEVEL_FIELDS = {5: True, 6: True, 7: True}
+_LEVEL_FIELDS_PEOPLE = {5: True, 6: True, 7: False}
+
+
+def scaled_loads(source: str, factor: float) -> str:
+    """The file with every load object's design level (number of people, W, W/m2, W/person)
+    multiplied by ``factor`` (> 0); schedules, fractions and everything else unchanged."""
+    if not factor > 0:
+        raise ValueError(f"factor must be positive, got {factor}")
+    out = []
+    for obj in _objects(source):
+        kind = _class(obj)
+        if kind in LOAD_CLASSES:
+            fields = [f.strip() for f in obj.split(",")]
+            levels = _LEVEL_FIELDS_PEOPLE if kind == "people" else _LEVEL_FIELDS
+            for i, scales in levels.items():
+                if i < len(fields) and fields[i] and fields[i].lower() != "autocalculate":
+                    value = float(fields[i])
+                    fields[i] = repr(value * factor if scales else value / factor)
+            obj = ",\n  ".join(fields)
+        out.append(obj)
+    return _join(out)
+
+
+def zone_names(source: str) -> list[str]:
+    """The Zone names of an IDF, in file order."""
+    return [obj.split(",")[1].strip() for obj in _objects(source) if _class(obj) == "zone"]
 
 
 @dataclass
@@ -87,16 +128,51 @@ class Twin:
 
 
 def make_twin(shared_folder: Path, directory: Path, days: int, weather_path=None) -> Twin:
-    """Run EnergyPlus on the twin (in ``directory``) and read what thermocal needs.
+    """The 5ZoneAirCooled twin (5-minute steps), run in ``directory``.
 
     ``weather_path``: an EPW file instead of Chicago O'Hare's TMY3 (the installation's).
     """
-    directory = Path(directory)
     source = (Path(shared_folder) / IDF_NAME).read_text()
+    return make_twin_of(source, directory, days, weather_path=weather_path, zones=ZONES)
+
+
+def make_twin_of(
+    source: str,
+    directory: Path,
+    days: int,
+    *,
+    weather_path=None,
+    zones=None,
+    timesteps_per_hour: int = 12,
+    envelope: str | None = None,
+) -> Twin:
+    """Run EnergyPlus on the twin of an IDF text (in ``directory``) and read what thermocal
+    needs.
+
+    Parameters
+    ----------
+    source : str
+        EnergyPlus 25.2 IDF text, free float, with its loads (what EnergyPlus runs).
+    directory : Path
+        Work folder (twin.idf, envelope.idf, energyplus/).
+    days : int
+        Days from January 1.
+    weather_path : path, optional
+        EPW file; default Chicago O'Hare's TMY3 of the EnergyPlus installation.
+    zones : sequence of str, optional
+        Zones to read (EnergyPlus' upper-case names); default every Zone of the file.
+    timesteps_per_hour : int
+        EnergyPlus steps per hour (the twin's step).
+    envelope : str, optional
+        The IDF text thermocal reads; default ``source`` without its loads.
+    """
+    directory = Path(directory)
+    zones = [z.upper() for z in (zones or zone_names(source))]
     reference_idf = directory / "twin.idf"
-    reference_idf.write_text(twin_idf(source, days))
+    reference_idf.write_text(twin_idf(source, days, timesteps_per_hour=timesteps_per_hour))
     envelope_idf = directory / "envelope.idf"
-    envelope_idf.write_text(without_loads(twin_idf(source, days)))
+    envelope_text = without_loads(source) if envelope is None else envelope
+    envelope_idf.write_text(twin_idf(envelope_text, days, timesteps_per_hour=timesteps_per_hour))
     weather_path = weather_path or energyplus_weather_folder() / WEATHER_NAME
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -107,21 +183,32 @@ def make_twin(shared_folder: Path, directory: Path, days: int, weather_path=None
     frame = read_eso(eso, year=year, frequency="timestep")
     if frame.index.tz is None and weather.index.tz is not None:
         frame.index = frame.index.tz_localize(weather.index.tz)
+    # thermocal's zone names (the file's spelling) for EnergyPlus' upper-case ones
+    spelled = {name.upper(): name for name in building.zones}
     temperature = pd.DataFrame(
-        {zone: frame[f"{zone}:Zone Mean Air Temperature [C]"] for zone in ZONES}
+        {spelled.get(z, z): frame[f"{z}:Zone Mean Air Temperature [C]"] for z in zones}
     )
     gains = pd.DataFrame(
         {
-            zone: sum(
-                frame[f"{zone}:{name} [W]"] if f"{zone}:{name} [W]" in frame else 0.0
+            spelled.get(z, z): sum(
+                frame[f"{z}:{name} [W]"] if f"{z}:{name} [W]" in frame else 0.0
                 for name in GAIN_VARIABLES
             )
-            for zone in ZONES
+            for z in zones
         }
     )
     start = frame.index[0]
     end = frame.index[-1] + (frame.index[1] - frame.index[0])
     return Twin(building, weather, metadata, temperature, gains, start, end)
+
+
+def hourly_rmse_bias(simulated: pd.DataFrame, reference: pd.DataFrame, skip="1D") -> pd.DataFrame:
+    """Per zone hourly RMSE and bias [K] of ``simulated`` - ``reference`` (zone air
+    temperatures [C] per step on the same step-start index), after ``skip``."""
+    keep = reference.index >= reference.index[0] + pd.Timedelta(skip)
+    diff = (simulated.reindex(reference.index) - reference)[keep]
+    hourly = diff.groupby(diff.index.floor("1h")).mean()
+    return pd.DataFrame({"rmse": np.sqrt((hourly**2).mean()), "bias": hourly.mean()})
 
 
 def sensor_log(twin: Twin, zones) -> tuple[pd.DataFrame, dict]:
@@ -140,6 +227,8 @@ def fidelity(identified: pd.DataFrame, truth: pd.DataFrame, mask: np.ndarray | N
     RMS(id - true) / mean(true), over the hours (ASHRAE Guideline 14 without its degrees-of-
     freedom correction).
     """
+    if truth.isna().any().any() or identified.isna().any().any():
+        raise ValueError("fidelity: identified heat and truth must share their steps (NaN found)")
     pair = pd.DataFrame(
         {"identified": identified.sum(axis=1), "truth": truth.sum(axis=1)}, index=truth.index
     )

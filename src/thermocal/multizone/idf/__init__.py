@@ -3,17 +3,19 @@ mapping to a multi-zone Building.
 
 The importer covers the envelope subset of EnergyPlus input that the multi-zone model represents:
 ``Zone``, ``BuildingSurface:Detailed`` (and its ``Wall/RoofCeiling/Floor:Detailed`` siblings),
-``FenestrationSurface:Detailed``, ``Material``, ``Material:NoMass``, ``Material:AirGap``,
-``Construction``, ``WindowMaterial:SimpleGlazingSystem``, ``WindowMaterial:Glazing`` +
-``WindowMaterial:Gas`` (layered glazing, optics by :mod:`thermocal.multizone.glazing`),
-``ZoneInfiltration:DesignFlowRate``, ``Site:Location``, ``Site:GroundTemperature:BuildingSurface``,
-``GlobalGeometryRules``, ``Building`` (north axis), ``ZoneList``, ``InternalMass`` (adiabatic
-surfaces), the internal gains
-``OtherEquipment``/``ElectricEquipment``/``Lights``/``People`` and the thermostat objects
-(``ZoneControl:Thermostat`` with ``ThermostatSetpoint:*``, ``HVACTemplate:Thermostat``) with the
-schedules they use (``Schedule:Constant``, ``Schedule:Compact``, ``Schedule:Year`` /
-``Schedule:Week:Daily`` / ``Schedule:Day:Interval`` / ``Schedule:Day:Hourly``, ...), and the
-shading surfaces (``Shading:*``).
+``FenestrationSurface:Detailed`` and ``Window``/``Door``/``GlazedDoor``, ``Material``,
+``Material:NoMass``, ``Material:AirGap``, ``Construction``,
+``WindowMaterial:SimpleGlazingSystem``, ``WindowMaterial:Glazing`` + ``WindowMaterial:Gas``
+(layered glazing, optics by :mod:`thermocal.multizone.glazing`),
+``ZoneInfiltration:DesignFlowRate``/``EffectiveLeakageArea``, ``Site:Location``,
+``Site:GroundTemperature:BuildingSurface``, ``GlobalGeometryRules``, ``Building`` (north axis),
+``ZoneList``, ``InternalMass`` (adiabatic surfaces), the internal gains
+``OtherEquipment``/``ElectricEquipment``/``GasEquipment``/``Lights``/``People`` and the
+thermostat objects (``ZoneControl:Thermostat`` with ``ThermostatSetpoint:*``,
+``HVACTemplate:Thermostat``) with the schedules they use (``Schedule:Constant``,
+``Schedule:Compact``, ``Schedule:Year`` / ``Schedule:Week:Daily`` / ``Schedule:Day:Interval`` /
+``Schedule:Day:Hourly``, ...), and the shading surfaces (``Shading:*``; the building's own
+exterior surfaces cast shadows too).
 
 Everything else is summarised in ONE :class:`IdfImportWarning`: the classes that change the heat
 balance by name, HVAC (replaced by ideal loads) and harmless classes (outputs, sizing) by count;
@@ -184,11 +186,14 @@ def check_version(version: tuple[int, int], path, *, declared: bool = True) -> l
     from thermocal.errors import ThermocalInputError
 
     text = f"{version[0]}.{version[1]}"
-    supported = (f"{OLDEST_VERSION[0]}.{OLDEST_VERSION[1]} to "
-                 f"{NEWEST_VERSION[0]}.{NEWEST_VERSION[1]}")
+    supported = (
+        f"{OLDEST_VERSION[0]}.{OLDEST_VERSION[1]} to {NEWEST_VERSION[0]}.{NEWEST_VERSION[1]}"
+    )
     if not declared:
-        return [f"{path}: no Version object; the field layouts of EnergyPlus 9.3 are assumed "
-                f"(supported: {supported})"]
+        return [
+            f"{path}: no Version object; the field layouts of EnergyPlus 9.3 are assumed "
+            f"(supported: {supported})"
+        ]
     if version < OLDEST_VERSION:
         raise ThermocalInputError(
             f"{path}: EnergyPlus version {text} is older than the IDF versions thermocal reads "
@@ -196,9 +201,11 @@ def check_version(version: tuple[int, int], path, *, declared: bool = True) -> l
             "Transition-V*-to-V* programs) to a supported version first"
         )
     if version > NEWEST_VERSION:
-        return [f"{path}: EnergyPlus version {text} is newer than the newest layout thermocal "
-                f"knows ({NEWEST_VERSION[0]}.{NEWEST_VERSION[1]}); fields are read with that "
-                "layout: check the import summary and compare with EnergyPlus"]
+        return [
+            f"{path}: EnergyPlus version {text} is newer than the newest layout thermocal "
+            f"knows ({NEWEST_VERSION[0]}.{NEWEST_VERSION[1]}); fields are read with that "
+            "layout: check the import summary and compare with EnergyPlus"
+        ]
     return []
 
 
@@ -267,8 +274,9 @@ class _IdfReader(SiteStages, ConstructionStages, SurfaceStages, ShadingStages, L
         self.objects = read_idf_objects(self.path)
         self.version = _version_tuple(self.objects)
         self.info = IdfImportInfo(source=str(self.path), version=self.version)
-        self.info.notes.extend(check_version(self.version, self.path,
-                                             declared=_has_version(self.objects)))
+        self.info.notes.extend(
+            check_version(self.version, self.path, declared=_has_version(self.objects))
+        )
         self.by_key: dict[str, list[IdfObject]] = {}
         for obj in self.objects:
             self.by_key.setdefault(obj.key, []).append(obj)

@@ -58,6 +58,9 @@ IMPORTED_CLASSES = (
     "RoofCeiling:Detailed",
     "Floor:Detailed",
     "FenestrationSurface:Detailed",
+    "Window",
+    "Door",
+    "GlazedDoor",
     "InternalMass",
     "Shading:Zone:Detailed",
     "Shading:Building:Detailed",
@@ -77,10 +80,12 @@ IMPORTED_CLASSES = (
     "Construction:CfactorUndergroundWall",
     "Site:GroundTemperature:FCfactorMethod",
     "ZoneInfiltration:DesignFlowRate",
+    "ZoneInfiltration:EffectiveLeakageArea",
     "ZoneVentilation:DesignFlowRate",
     "ZoneVentilation:WindandStackOpenArea",
     "OtherEquipment",
     "ElectricEquipment",
+    "GasEquipment",
     "Lights",
     "People",
     "ZoneControl:Thermostat",
@@ -132,6 +137,7 @@ ALIASES: dict[str, dict[str, str]] = {
         "flow_rate_per_floor_area": "flow_per_zone_floor_area",
         "flow_rate_per_exterior_surface_area": "flow_per_exterior_surface_area",
     },
+    "ZoneInfiltration:EffectiveLeakageArea": {"zone_or_space_name": "zone_name"},
     "ZoneVentilation:DesignFlowRate": {_ZONE_OR_SPACE: "zone_name"},
     "ZoneVentilation:WindandStackOpenArea": {"zone_or_space_name": "zone_name"},
     "OtherEquipment": {
@@ -142,6 +148,10 @@ ALIASES: dict[str, dict[str, str]] = {
         _ZONE_OR_SPACE: "zone_name",
         "watts_per_floor_area": "power_per_zone_floor_area",
         "watts_per_person": "power_per_person",
+    },
+    "GasEquipment": {
+        _ZONE_OR_SPACE: "zone_name",
+        "power_per_floor_area": "power_per_zone_floor_area",
     },
     "Lights": {
         _ZONE_OR_SPACE: "zone_name",
@@ -278,6 +288,8 @@ def layout(
     * surfaces (``BuildingSurface:Detailed``, ``Wall/RoofCeiling/Floor:Detailed``): the
       ``Space Name`` field after ``Zone Name`` (EnergyPlus 9.6 and later) is dropped unless it is
       there, i.e. unless the field after it is an outside boundary condition while it is not;
+    * ``Window`` and ``GlazedDoor`` before version 9.0: the ``Shading Control Name`` field after
+      ``Building Surface Name`` (removed in 9.0) is inserted;
     * ``InternalMass``: ``Space or SpaceList Name`` (9.6 and later) is dropped for objects of 4
       fields or fewer;
     * ``FenestrationSurface:Detailed`` before version 9.0: the ``Shading Control Name`` field
@@ -296,6 +308,9 @@ def layout(
             names = _without(names, "space_name")
     elif key == "FENESTRATIONSURFACE:DETAILED" and version < (9, 0):
         i = names.index("view_factor_to_ground") + 1
+        names = (*names[:i], "shading_control_name", *names[i:])
+    elif key in ("WINDOW", "GLAZEDDOOR") and version < (9, 0):
+        i = names.index("building_surface_name") + 1
         names = (*names[:i], "shading_control_name", *names[i:])
     elif key == "INTERNALMASS" and len(fields) <= 4:
         names = _without(names, "space_name")

@@ -236,7 +236,8 @@ def zone_volume_from_surfaces(
 
 
 def polyhedron_is_closed(polygons: Sequence[np.ndarray], *, decimals: int = 4) -> bool:
-    """True if every polygon edge is shared, in opposite direction, by another polygon.
+    """True if every polygon edge is shared, in opposite direction, by other polygons (an
+    edge may be shared piecewise: it is split at the other polygons' vertices on it).
 
     Parameters
     ----------
@@ -245,15 +246,41 @@ def polyhedron_is_closed(polygons: Sequence[np.ndarray], *, decimals: int = 4) -
     decimals : int
         Vertex coordinates are rounded to this many decimals [m] before matching.
     """
+    rounded = [
+        [tuple(np.round(np.asarray(v, dtype=float), decimals) + 0.0) for v in poly]
+        for poly in polygons
+    ]
+    points = np.array(sorted({v for poly in rounded for v in poly}))
+    tolerance = 10.0 ** (-decimals) * 2.0
     edges: Counter = Counter()
-    for poly in polygons:
-        p = [tuple(np.round(np.asarray(v, dtype=float), decimals) + 0.0) for v in poly]
+    for p in rounded:
         for a, b in zip(p, p[1:] + p[:1], strict=True):
-            edges[(a, b)] += 1
+            # an edge split by the vertices of other polygons lying on it (a T-junction, e.g.
+            # a roof edge above three floors), as EnergyPlus' enclosure check does
+            starts, ends = _split_edge(np.array(a), np.array(b), points, tolerance)
+            for piece in zip(starts, ends, strict=True):
+                edges[piece] += 1
     for (a, b), count in edges.items():
         if edges.get((b, a), 0) != count:
             return False
     return True
+
+
+def _split_edge(a: np.ndarray, b: np.ndarray, points: np.ndarray, tolerance: float):
+    """The pieces (starts, ends) of the edge a -> b split at ``points`` lying on it [m]."""
+    d = b - a
+    length2 = float(d @ d)
+    if length2 == 0.0:
+        return [], []
+    t = (points - a) @ d / length2
+    foot = a + t[:, None] * d
+    on = (np.linalg.norm(points - foot, axis=1) <= tolerance) & (t > 0.0) & (t < 1.0)
+    inner = points[on][np.argsort(t[on])]
+    inner = [
+        tuple(p) for p in inner if min(np.linalg.norm(p - a), np.linalg.norm(p - b)) > tolerance
+    ]
+    chain = [tuple(a), *inner, tuple(b)]
+    return chain[:-1], chain[1:]
 
 
 def _vertices(rec: dict) -> np.ndarray:

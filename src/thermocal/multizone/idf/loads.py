@@ -132,6 +132,12 @@ class InfiltrationInfo:
         (maximum indoor [C], schedule or None), (delta [K], schedule or None))``; open when
         ``minimum <= T_zone <= maximum`` and ``T_zone - T_out >= delta`` with the zone
         temperature of the previous step (EnergyPlus); None: no indoor limit.
+    leakage : tuple or None
+        ``ZoneInfiltration:EffectiveLeakageArea`` (Sherman and Grimsrud, 1980):
+        ``(effective leakage area [cm2], stack coefficient [(L/s)2/(cm4 K)], wind coefficient
+        [(L/s)2/(cm4 (m/s)2)])``; the flow is ``schedule x area / 1000 x sqrt(Cs |T_zone - T_out|
+        + Cw v^2)`` [m3/s] with ``v`` the weather file's wind speed (EnergyPlus); ``design_flow``
+        and ``coefficients`` are then unused. See :func:`leakage_flow_linearised`.
     """
 
     name: str
@@ -144,6 +150,7 @@ class InfiltrationInfo:
     max_wind_speed: float = 40.0
     fan_heat_per_flow: float = 0.0
     indoor_limits: tuple | None = None
+    leakage: tuple | None = None
 
     def outdoor_gate(self, schedules, times, step, temp_air, wind_speed) -> np.ndarray | None:
         """1 where the outdoor limits let the air flow, 0 elsewhere (None: no limits bind).
@@ -166,6 +173,43 @@ class InfiltrationInfo:
         upper = schedules.on_grid(high_schedule, times, step) if high_schedule else high
         open_ = (temp_air >= lower) & (temp_air <= upper) & (wind_speed <= self.max_wind_speed)
         return open_.astype(float)
+
+
+#: Indoor temperature [C] about which the Sherman-Grimsrud flow of
+#: ``ZoneInfiltration:EffectiveLeakageArea`` is linearised in |T_zone - T_out| at each step.
+LEAKAGE_REFERENCE_INDOOR = 18.0
+
+
+def leakage_flow_linearised(leakage, temp_air, wind_speed, reference=LEAKAGE_REFERENCE_INDOOR):
+    """Sherman-Grimsrud flow as ``q0 + q1 |T_zone - T_out|`` per step (its tangent).
+
+    EnergyPlus' ``ZoneInfiltration:EffectiveLeakageArea``: ``q = A / 1000 x sqrt(Cs dT + Cw
+    v^2)`` [m3/s] (ASHRAE Handbook of Fundamentals; Sherman and Grimsrud, 1980). The model's
+    outdoor air is linear in ``dT = |T_zone - T_out|`` (with the zone temperature of the
+    previous step), so the square root is replaced by its tangent at ``dT0 = |reference -
+    T_out|``: exact at ``dT0``, above the square root elsewhere by ``(dT - dT0)^2 Cs^2 / (8
+    f0^3)`` to second order (``f0`` its value at ``dT0``): ``(dT - dT0)^2 / (8 dT0^2)`` of the
+    flow in still air, 3 % for 10 K off at ``dT0`` = 20 K, less with wind.
+
+    Parameters
+    ----------
+    leakage : tuple
+        ``(area [cm2], Cs [(L/s)2/(cm4 K)], Cw [(L/s)2/(cm4 (m/s)2)])``.
+    temp_air, wind_speed : ndarray [C], [m/s]
+        Outdoor temperature and the weather file's wind speed per step.
+    reference : float [C]
+        Indoor temperature of the tangent.
+
+    Returns
+    -------
+    q0, q1 : ndarray [m3/s], [m3/(s K)]
+    """
+    area, stack, wind = leakage
+    dt0 = np.abs(reference - np.asarray(temp_air, dtype=float))
+    f0 = np.sqrt(stack * dt0 + wind * np.asarray(wind_speed, dtype=float) ** 2)
+    f0 = np.maximum(f0, 1e-12)
+    slope = stack / (2.0 * f0)
+    return area / 1000.0 * (f0 - slope * dt0), area / 1000.0 * slope
 
 
 #: Wind boundary-layer exponent and thickness [m] per terrain (EnergyPlus ``Building`` field
@@ -310,8 +354,56 @@ class LoadStages:
                             f"(range {low:g}..{high:g}): the constant zone rate "
                             "(schedules='constant') ignores it"
                         )
+        self._leakage_infiltration()
         self.info.zone_nominal_ach = dict(self.zone_ach)
         self.info.notes.extend(coefficient_notes)
+
+    def _leakage_infiltration(self) -> None:
+        """``ZoneInfiltration:EffectiveLeakageArea`` (Sherman-Grimsrud): per step in the
+        simulation (:func:`leakage_flow_linearised`); the constant zone rate at the reference
+        wind speed and no indoor-outdoor difference."""
+        for rec in self.records("ZONEINFILTRATION:EFFECTIVELEAKAGEAREA"):
+            obj = rec["_object"]
+            values = []
+            for field, label in (
+                ("effective_air_leakage_area", "Effective Air Leakage Area"),
+                ("stack_coefficient", "Stack Coefficient"),
+                ("wind_coefficient", "Wind Coefficient"),
+            ):
+                value = _number(rec, field)
+                if not value >= 0.0:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field '{label}' = {value:g} must be zero or positive."
+                    )
+                values.append(value)
+            area, stack, wind = values
+            schedule = rec["schedule_name"] or None
+            v = INFILTRATION_REFERENCE_WIND_SPEED
+            for zone_name in self.zone_targets(rec):
+                volume = self.zone_volume[zone_name]
+                nominal = area / 1000.0 * math.sqrt(wind) * v
+                self.zone_ach[zone_name] = (
+                    self.zone_ach.get(zone_name, 0.0) + nominal * 3600.0 / volume
+                )
+                self.info.infiltration.append(
+                    InfiltrationInfo(
+                        rec["name"],
+                        zone_name,
+                        nominal,
+                        schedule,
+                        (1.0, 0.0, 0.0, 0.0),
+                        object_class="ZoneInfiltration:EffectiveLeakageArea",
+                        leakage=(area, stack, wind),
+                    )
+                )
+                if schedule:
+                    self.info.infiltration_schedules.setdefault(zone_name, []).append(schedule)
+                self.info.notes.append(
+                    f"ZoneInfiltration:EffectiveLeakageArea '{rec['name']}' (zone {zone_name}): "
+                    f"{area:g} cm2, Cs {stack:g}, Cw {wind:g}: the Sherman-Grimsrud flow per "
+                    "step, linear in |T_zone - T_out| about an indoor "
+                    f"{LEAKAGE_REFERENCE_INDOOR:g} C (3 % high in still air 10 K away from it)"
+                )
 
     def _ventilation(self) -> None:
         """Stage: ``ZoneVentilation:DesignFlowRate`` as outdoor air like infiltration (its
@@ -449,7 +541,7 @@ class LoadStages:
                 people_count[zone_name] = people_count.get(zone_name, 0.0) + _people_number(
                     rec, self.zone_area[zone_name]
                 )
-        for key in ("OTHEREQUIPMENT", "ELECTRICEQUIPMENT", "LIGHTS", "PEOPLE"):
+        for key in ("OTHEREQUIPMENT", "ELECTRICEQUIPMENT", "GASEQUIPMENT", "LIGHTS", "PEOPLE"):
             for rec in self.records(key):
                 for zone_name in self.zone_targets(rec):
                     gain = _internal_gain(

@@ -19,6 +19,7 @@ import numpy as np
 from thermocal.multizone.idf.loads import (
     InfiltrationInfo,
     InternalGainInfo,
+    leakage_flow_linearised,
     people_sensible_coefficients,
     people_sensible_heat,
 )
@@ -251,6 +252,13 @@ class IdfImportInfo:
             if inf.zone not in column:
                 continue
             c = column[inf.zone]
+            if inf.leakage is not None:
+                # Sherman-Grimsrud with the weather file's wind speed (EnergyPlus)
+                q0, q1 = leakage_flow_linearised(inf.leakage, temp_air, wind)
+                per = 3600.0 / self.zone_volume[inf.zone] * values(inf.schedule)
+                ach[:, c] += q0 * per
+                ach_dt[:, c] += q1 * per
+                continue
             a, b, c_wind, d = inf.coefficients
             v = wind * self.zone_wind_factor.get(inf.zone, 1.0)
             base = inf.design_flow * 3600.0 / self.zone_volume[inf.zone] * values(inf.schedule)

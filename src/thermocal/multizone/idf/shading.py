@@ -80,6 +80,8 @@ class ShadingStages:
             for rec in self.records(key):
                 found.extend(self._fins(rec, projection=key.endswith("PROJECTION")))
         self.info.shading_surfaces = self._solar_distribution(found)
+        if self.info.solar_distribution.replace(" ", "").upper() != "MINIMALSHADOWING":
+            self.info.shading_surfaces = self.info.shading_surfaces + self._own_shadows()
 
         for side in ("inside", "outside"):
             rec = self.single(f"SURFACECONVECTIONALGORITHM:{side.upper()}")
@@ -96,6 +98,33 @@ class ShadingStages:
                 self.info.shadow_update_days = 0
             elif numbers:
                 self.info.shadow_update_days = max(1, int(float(numbers[0])))
+
+    def _own_shadows(self) -> list:
+        """The building's own exterior surfaces as shading polygons (EnergyPlus' FullExterior:
+        the exterior surfaces of all zones cast shadows, e.g. one wing on another, or a row of
+        flats on the facade across a breezeway). A surface only shades what lies in front of
+        it, so a convex building casts no shadow on itself (and costs nothing)."""
+        from thermocal.multizone.shading import ShadingSurface
+
+        own = [
+            ShadingSurface(
+                f"{data['name']} (building surface)", data["world"], None, data["obj"].where()
+            )
+            for data in self.surface_data.values()
+            if data["boundary"] == "outdoors"
+        ]
+        if not own:
+            return []
+        mutual = _casts_on_others(own)
+        if mutual:
+            merged = _merge_coplanar(mutual)
+            self.info.notes.append(
+                f"{len(mutual)} exterior surface(s) of the building cast shadows on others "
+                f"(EnergyPlus' FullExterior): simulated as {len(merged)} shading polygon(s) "
+                "(coplanar surfaces tiling a rectangle merged into it)"
+            )
+            mutual = merged
+        return mutual
 
     def _solar_distribution(self, found: list) -> list:
         """The ``Building`` object's Solar Distribution: ``MinimalShadowing`` drops the shading
@@ -218,3 +247,112 @@ class ShadingStages:
                 ShadingSurface(f"{rec['name']} {side}", vertices, None, rec["_object"].where())
             )
         return fins
+
+
+def _casts_on_others(surfaces: list) -> list:
+    """The polygons of ``surfaces`` with a part in front of another one's plane (by more than
+    1 mm): those that can shade another surface of the same building."""
+    planes = []
+    for surface in surfaces:
+        verts = np.asarray(surface.vertices, dtype=float)
+        normal = newell_normal(verts)
+        planes.append((verts, verts[0], normal / np.linalg.norm(normal)))
+    keep = []
+    for i, (verts, _, _) in enumerate(planes):
+        for j, (_, origin, normal) in enumerate(planes):
+            if i != j and float(np.max((verts - origin) @ normal)) > 1e-3:
+                keep.append(surfaces[i])
+                break
+    return keep
+
+
+def _merge_coplanar(surfaces: list, tolerance: float = 1e-3) -> list:
+    """Coplanar polygons that tile their common bounding rectangle exactly (the storeys and
+    flats of one facade) replaced by that rectangle: the same shadow, fewer polygons.
+
+    Polygons are grouped by plane (unit normal and offset within ``tolerance`` [m]); a group
+    whose areas sum to the area of its bounding rectangle in the plane (within 0.1 %) covers
+    it without gaps (building surfaces do not overlap), so the rectangle casts the same
+    shadow; this is checked per set of touching polygons (the two rows of a facade plane
+    apart). Other polygons are kept one by one.
+    """
+    groups: list[tuple[np.ndarray, float, list]] = []
+    for surface in surfaces:
+        verts = np.asarray(surface.vertices, dtype=float)
+        normal = newell_normal(verts)
+        area = 0.5 * float(np.linalg.norm(normal))
+        normal = normal / np.linalg.norm(normal)
+        offset = float(verts[0] @ normal)
+        for g_normal, g_offset, members in groups:
+            if np.abs(g_normal - normal).max() < 1e-6 and abs(g_offset - offset) < tolerance:
+                members.append((surface, verts, area))
+                break
+        else:
+            groups.append((normal, offset, [(surface, verts, area)]))
+    out = []
+    for normal, _, group in groups:
+        for members in _touching(group, tolerance):
+            out.extend(_tiled_rectangle(members, normal))
+    return out
+
+
+def _touching(members: list, tolerance: float) -> list[list]:
+    """The members (surface, vertices, area) in groups whose bounding boxes touch (connected
+    components)."""
+    lows = [verts.min(axis=0) - tolerance for _, verts, _ in members]
+    highs = [verts.max(axis=0) + tolerance for _, verts, _ in members]
+    parent = list(range(len(members)))
+
+    def root(i):
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    for i in range(len(members)):
+        for j in range(i + 1, len(members)):
+            if np.all(lows[i] <= highs[j]) and np.all(lows[j] <= highs[i]):
+                parent[root(i)] = root(j)
+    components: dict[int, list] = {}
+    for i, member in enumerate(members):
+        components.setdefault(root(i), []).append(member)
+    return list(components.values())
+
+
+def _tiled_rectangle(members: list, normal: np.ndarray) -> list:
+    """``[rectangle]`` when the members tile their bounding rectangle, else their surfaces."""
+    from thermocal.multizone.shading import ShadingSurface
+
+    if len(members) > 1:
+        points = np.concatenate([verts for _, verts, _ in members])
+        helper = np.array([0.0, 0.0, 1.0]) if abs(normal[2]) < 0.9 else np.array([1.0, 0, 0])
+        u = np.cross(helper, normal)
+        u /= np.linalg.norm(u)
+        v = np.cross(normal, u)
+        origin = points[0]
+        pu, pv = (points - origin) @ u, (points - origin) @ v
+        box = (pu.max() - pu.min()) * (pv.max() - pv.min())
+        total = sum(area for _, _, area in members)
+        if abs(total - box) <= 1e-3 * box:
+            rectangle = np.array(
+                [
+                    origin + a * u + b * v
+                    for a, b in (
+                        (pu.min(), pv.min()),
+                        (pu.max(), pv.min()),
+                        (pu.max(), pv.max()),
+                        (pu.min(), pv.max()),
+                    )
+                ]
+            )
+            if float(newell_normal(rectangle) @ normal) < 0:
+                rectangle = rectangle[::-1]
+            names = ", ".join(surface.name for surface, _, _ in members[:3])
+            return [
+                ShadingSurface(
+                    f"{len(members)} coplanar surfaces ({names}, ...)",
+                    rectangle,
+                    None,
+                    members[0][0].source,
+                )
+            ]
+    return [surface for surface, _, _ in members]

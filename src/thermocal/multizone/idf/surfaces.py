@@ -20,6 +20,7 @@ from thermocal.multizone.idf.geometry import (
     _boundary,
     _check_planar,
     _vertices,
+    newell_normal,
     outward_normal,
     polyhedron_is_closed,
     tilt_azimuth,
@@ -88,6 +89,13 @@ class SurfaceStages:
                     f"{rec['_object'].where()}: the name is already used by a building surface."
                 )
             self.fenestration.add(rec)
+        for key, kind in (("WINDOW", "Window"), ("DOOR", "Door"), ("GLAZEDDOOR", "GlassDoor")):
+            for rec in self.records(key):
+                if rec["name"].upper() in self.surfaces:
+                    raise ThermocalInputError(
+                        f"{rec['_object'].where()}: the name is already used by a building surface."
+                    )
+                self.fenestration.add(self._rectangular_subsurface(rec, kind))
 
         self.surface_data: dict[str, dict] = {}
         for name, obj, rec in self.surfaces.values():
@@ -152,7 +160,7 @@ class SurfaceStages:
 
         The area vectors (outward normal x area) of a closed zone sum to zero; when one surface
         is reversed they sum to twice its area vector instead. Zones that are not closed
-        (surfaces missing) are left alone: no surface explains their sum.
+        (surfaces missing) are left alone: no single surface explains their sum.
         """
         by_zone: dict[str, list[dict]] = {}
         for data in self.surface_data.values():
@@ -166,8 +174,12 @@ class SurfaceStages:
             if np.linalg.norm(total) <= 1e-3 * scale:
                 continue
             misfit = np.linalg.norm(vectors - total / 2.0, axis=1)
-            best = int(np.argmin(misfit))
-            if misfit[best] <= 0.01 * np.linalg.norm(vectors[best]):
+            fits = np.flatnonzero(misfit <= 0.01 * np.linalg.norm(vectors, axis=1))
+            # the surface whose reversal closes the zone edge to edge (an open zone such as a
+            # breezeway of stacked floors without walls has none: left alone)
+            closing = [k for k in fits if self._closed_with_reversed(surfaces, k)]
+            if len(closing) == 1:
+                best = closing[0]
                 data = surfaces[best]
                 raise ThermocalInputError(
                     f"{data['obj'].where()}: its vertices run the wrong way: the outward "
@@ -249,6 +261,66 @@ class SurfaceStages:
                 self.info.notes.append(
                     f"sub-surface '{name}' of type {kind.title()} is not modelled"
                 )
+
+    def _closed_with_reversed(self, surfaces: list[dict], k: int) -> bool:
+        """True if the zone's polygons close edge to edge with polygon ``k`` reversed."""
+        polygons = []
+        for i, data in enumerate(surfaces):
+            world = data["world"][::-1] if i == k else data["world"]
+            polygons.append(world[::-1] if self.rules.clockwise else world)
+        return polyhedron_is_closed(polygons)
+
+    def _rectangular_subsurface(self, rec: dict, kind: str) -> dict:
+        """A ``Window``, ``Door`` or ``GlazedDoor`` object as the record of the equivalent
+        ``FenestrationSurface:Detailed``: a rectangle ``length`` x ``height`` [m] whose lower-left
+        corner (seen from outside) is at ``(starting x, starting z)`` [m] from the lower-left
+        corner of its base surface, in the base surface's plane (EnergyPlus' convention: x
+        along the base surface's bottom edge, left to right seen from outside, z up along the
+        surface), in the base surface's coordinates, vertex order per GlobalGeometryRules."""
+        obj = rec["_object"]
+        base = self.surfaces.get(rec["building_surface_name"])
+        if base is None:
+            raise ThermocalInputError(
+                f"{obj.where()}: field 'Building Surface Name' = "
+                f"'{rec['building_surface_name']}' is not a building surface of the file."
+            )
+        points = _vertices(base[2])
+        normal = newell_normal(points)
+        if self.rules.clockwise:
+            normal = -normal
+        normal = normal / np.linalg.norm(normal)
+        right = np.cross([0.0, 0.0, 1.0], normal)
+        if np.linalg.norm(right) < 1e-6:
+            raise ThermocalInputError(
+                f"{obj.where()}: base surface '{base[0]}' is horizontal; give this {kind} as a "
+                "FenestrationSurface:Detailed with its vertices."
+            )
+        right = right / np.linalg.norm(right)
+        up = np.cross(normal, right)
+        corner = points[0] + np.min((points - points[0]) @ right) * right
+        corner = corner + np.min((points - points[0]) @ up) * up
+        x0, z0 = _number(rec, "starting_x_coordinate"), _number(rec, "starting_z_coordinate")
+        length, height = _number(rec, "length"), _number(rec, "height")
+        if length <= 0.0 or height <= 0.0:
+            raise ThermocalInputError(
+                f"{obj.where()}: fields 'Length' and 'Height' must be positive "
+                f"(got {length:g} m and {height:g} m)."
+            )
+        lower_left = corner + x0 * right + z0 * up
+        rectangle = [
+            lower_left + height * up,
+            lower_left,
+            lower_left + length * right,
+            lower_left + length * right + height * up,
+        ]  # counterclockwise seen from outside, from the upper-left corner
+        if self.rules.clockwise:
+            rectangle = rectangle[::-1]
+        return {
+            **rec,
+            "surface_type": kind,
+            "number_of_vertices": "4",
+            "vertices": [[repr(float(c)) for c in point] for point in rectangle],
+        }
 
     def _world_polygon(self, rec: dict, zone_name: str):
         """World vertices, outward (Newell) normal and area [m2] of a surface's polygon in the
@@ -428,11 +500,36 @@ class SurfaceStages:
                 )
                 self.info.surface_types[mass_name] = "InternalMass"
 
+    def _zone_partners(self) -> list[dict]:
+        """The reversed partners EnergyPlus creates for surfaces whose outside boundary is a
+        Zone (``Outside Boundary Condition`` = Zone): polygon reversed, in the other zone, a
+        ceiling's partner a floor and a floor's a ceiling (EnergyPlus' surface types), so that
+        they count in that zone's floor area and close its geometry."""
+        partners = []
+        kinds = {"CEILING": "Floor", "ROOF": "Floor", "FLOOR": "Ceiling", "WALL": "Wall"}
+        for data in self.surface_data.values():
+            rec = data["rec"]
+            if (rec["outside_boundary_condition"] or "").upper() != "ZONE":
+                continue
+            other = self.zones.get(rec["outside_boundary_condition_object"])
+            if other is None:
+                continue  # refused with the file's line by the model surfaces
+            partners.append(
+                {
+                    **data,
+                    "zone": other[0],
+                    "type": kinds.get(data["type"].upper(), data["type"]),
+                    "world": data["world"][::-1].copy(),
+                    "normal": -data["normal"],
+                }
+            )
+        return partners
+
     def _zone_volumes(self) -> None:
-        """Stage: zone areas and volumes."""
+        """Stage: zone areas and volumes (the partners of Zone-boundary surfaces included)."""
         self.zone_floor_area: dict[str, float] = {}
         self.zone_polygons: dict[str, list] = {}
-        for data in self.surface_data.values():
+        for data in [*self.surface_data.values(), *self._zone_partners()]:
             self.zone_polygons.setdefault(data["zone"], []).append(data)
             if data["type"].upper() == "FLOOR":
                 self.zone_floor_area[data["zone"]] = (
@@ -462,8 +559,7 @@ class SurfaceStages:
                 if not _is_auto(rec, "ceiling_height") and _number(rec, "ceiling_height") > 0:
                     height = _number(rec, "ceiling_height")
                 elif polys:
-                    z = np.concatenate([d["world"][:, 2] for d in polys])
-                    height = float(z.max() - z.min())
+                    height = _ceiling_height(polys)
                 else:
                     height = 0.0
                 volume = floor_area * height
@@ -474,3 +570,22 @@ class SurfaceStages:
                     "(no closed geometry, floor area or ceiling height); set field 'Volume'."
                 )
             self.zone_volume[name] = volume
+
+
+def _ceiling_height(polys: list[dict]) -> float:
+    """A zone's ceiling height [m] from its surfaces, as EnergyPlus derives it when the zone
+    is not closed: the area-weighted mean height of its ceilings and roofs minus that of its
+    floors; the zone's height range when it has no floor or no ceiling."""
+
+    def mean_z(kinds):
+        chosen = [d for d in polys if d["type"].upper() in kinds]
+        area = sum(d["area"] for d in chosen)
+        if area <= 0.0:
+            return None
+        return sum(d["area"] * float(np.mean(d["world"][:, 2])) for d in chosen) / area
+
+    top, bottom = mean_z(("CEILING", "ROOF")), mean_z(("FLOOR",))
+    if top is not None and bottom is not None and top > bottom:
+        return top - bottom
+    z = np.concatenate([d["world"][:, 2] for d in polys])
+    return float(z.max() - z.min())

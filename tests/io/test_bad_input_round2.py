@@ -26,6 +26,7 @@ from thermocal.errors import ThermocalInputError
 from thermocal.identification.sensors import (
     SensorMapping,
     _hold_final_step,
+    _hold_first_step,
     check_sensor_plausibility,
 )
 from thermocal.io._time import as_timezone
@@ -160,6 +161,19 @@ def test_log_ending_exactly_at_end_holds_the_last_value():
     # a log that stops earlier keeps its gap (named by the caller)
     kept, runs = _hold_final_step(series, index[-3], pd.Timedelta("5min"))
     assert np.isnan(kept.iloc[-1]) and runs == []
+
+
+def test_log_stamped_at_step_ends_holds_the_first_value():
+    """A log whose first value is stamped at the end of the first step (EnergyPlus' convention)
+    leaves the first step's window without data: held from the second step, not a gap."""
+    step = pd.Timedelta("10min")
+    index = pd.date_range("2024-01-01", periods=6, freq=step, tz="UTC")
+    series = pd.Series([np.nan, 20.1, 20.2, 20.3, 20.4, 20.5], index=index)
+    held, runs = _hold_first_step(series, index[0] + step, step)
+    assert held.iloc[0] == 20.1 and len(runs) == 1 and runs[0]["start"] == index[0]
+    # a log that starts later keeps its gap (named by the caller)
+    kept, runs = _hold_first_step(series, index[2], step)
+    assert np.isnan(kept.iloc[0]) and runs == []
 
 
 # ------------------------------------------------------------------------------------------

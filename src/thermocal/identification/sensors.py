@@ -463,7 +463,8 @@ def zone_references(
         series = own.get(zone, own.get(src.zone)).copy()
         series, filled = _interpolate_short_gaps(series, max_gap)
         series, held = _hold_final_step(series, last, step)
-        interpolated += [{"zone": zone, **gap} for gap in filled + held]
+        series, held_first = _hold_first_step(series, first, step)
+        interpolated += [{"zone": zone, **gap} for gap in held_first + filled + held]
         reference[zone] = series
     for zone, src in tracked.items():
         missing = reference[zone].isna()
@@ -481,6 +482,18 @@ def zone_references(
                     f"{missing.sum() * step / pd.Timedelta('1h'):.2f} h of the period (from "
                     f"{first_missing}): {source} ends at {last}; end the period there (--end) or "
                     "extend the log"
+                )
+            if (
+                missing.iloc[0]
+                and not missing.iloc[missing.argmin() :].any()
+                and missing.argmin() > 0
+            ):
+                lead = missing.argmin()
+                raise ThermocalInputError(
+                    f"zone {zone!r} (sensors {', '.join(src.sensors)}) has no data for the first "
+                    f"{lead * step / pd.Timedelta('1h'):.2f} h of the period (until "
+                    f"{reference.index[lead]}): {source} starts at {first}; start the period "
+                    "there (--start) or extend the log"
                 )
             raise ThermocalInputError(
                 f"zone {zone!r} (sensors {', '.join(src.sensors)}) has no data for "
@@ -732,6 +745,33 @@ def _hold_final_step(series: pd.Series, last_report: pd.Timestamp, step: pd.Time
     series.iloc[-1] = series.iloc[-2]
     hours = step / pd.Timedelta("1h")
     return series, [{"start": series.index[-1], "end": series.index[-1] + step, "hours": hours}]
+
+
+def _hold_first_step(series: pd.Series, first_report: pd.Timestamp, step: pd.Timedelta):
+    """Fill a missing first step when the log starts within it (values stamped at step ends).
+
+    A log whose first value is stamped at the end of the period's first step (EnergyPlus'
+    convention, many loggers' too) leaves the first step's averaging window with a single
+    point on its edge; its value is held from the second step instead of calling the start of
+    the log a gap. Returns the series and the filled run (for the report).
+
+    Parameters
+    ----------
+    series : Series [C]
+        One zone's reference on the step grid (index: step starts).
+    first_report : Timestamp
+        Time stamp of the log's first value.
+    step : Timedelta
+        Simulation step [s].
+    """
+    if len(series) < 2 or not np.isnan(series.iloc[0]) or np.isnan(series.iloc[1]):
+        return series, []
+    if first_report > series.index[0] + step:
+        return series, []
+    series = series.copy()
+    series.iloc[0] = series.iloc[1]
+    hours = step / pd.Timedelta("1h")
+    return series, [{"start": series.index[0], "end": series.index[0] + step, "hours": hours}]
 
 
 def _fallback_zone(building, zone, src, sources, reference) -> str | None:

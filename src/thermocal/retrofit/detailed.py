@@ -594,6 +594,25 @@ class DetailedRetrofitResult:
         return 100.0 * (1.0 - self.annual_kwh / self.annual_kwh[0])
 
 
+def _variant_simulation():
+    """:class:`~thermocal.multizone.simulation.Simulation` whose envelope can be swapped.
+
+    The strategies share zones, geometry, schedules and weather: only constructions and window
+    types change, so the sun, the irradiance on each orientation and the exterior convection
+    computed for the first strategy serve all (the simulation's own caches, as
+    ``Simulation.set_parameters`` uses them); the network is re-assembled and refactorised.
+    """
+    from thermocal.multizone.simulation import Simulation
+
+    class VariantSimulation(Simulation):
+        def use_building(self, building) -> None:
+            """Simulate ``building`` next (same zones, surfaces and windows; other layers)."""
+            self.building = building
+            self._build()
+
+    return VariantSimulation
+
+
 def _default_step(building) -> str:
     info = getattr(building, "idf_info", None)
     per_hour = getattr(info, "timesteps_per_hour", None) if info is not None else None
@@ -621,7 +640,7 @@ def simulate_strategies(
     *,
     source: str | Path | None = None,
     step: str | None = None,
-    warmup_year: bool = True,
+    warmup_year: bool | None = None,
     start=None,
     end=None,
     progress: Callable[[str], None] | None = None,
@@ -643,9 +662,11 @@ def simulate_strategies(
         ground (:func:`foundations_as_ground`).
     step : str, optional
         Time step; default the IDF's ``Timestep``, else 15 min.
-    warmup_year : bool
+    warmup_year : bool or None
         Simulate the year before (the same weather) first, so that slow parts (soil under a
-        slab) start in their periodic state; else the model's week of warm-up.
+        slab, time constants of months) start in their periodic state; else (or when the
+        weather is shorter than a year) the model's week of warm-up. None (default): a warm-up
+        year when the building has soil layers (:func:`foundations_as_ground`).
     start, end : timestamp-like, optional
         A shorter period ``[start, end)`` (tests); default the whole weather frame.
     progress : callable, optional
@@ -655,7 +676,6 @@ def simulate_strategies(
     -------
     DetailedRetrofitResult
     """
-    from thermocal.multizone import Simulation
 
     if not strategies or strategies[0].measures:
         raise ThermocalInputError("the first strategy must be '0' (no retrofit)")
@@ -672,8 +692,16 @@ def simulate_strategies(
         )
     step = step or _default_step(building)
     sim_weather, year_start = weather, None
+    span = pd.DatetimeIndex(weather.index)[-1] - pd.DatetimeIndex(weather.index)[0]
+    if warmup_year is None:
+        warmup_year = any(_is_soil(m) for m in building.materials)
     if warmup_year and start is None and end is None:
-        sim_weather, year_start = _with_year_before(weather)
+        if span >= pd.Timedelta(days=364):
+            sim_weather, year_start = _with_year_before(weather)
+        else:
+            notes.append(
+                f"weather of {span.days + 1} days (not a year): a week of warm-up, no warm-up year"
+            )
     kwargs = {"step": step, "store_surfaces": False, "start": start, "end": end}
     timings: dict[str, float] = {"prepare": time.perf_counter() - t0}
     annual, monthly, changes = [], {}, {}
@@ -682,11 +710,15 @@ def simulate_strategies(
         variant, done = apply_measures(building, [measures[m] for m in strategy.measures])
         variants[strategy.code] = variant
         changes[strategy.code] = done
+    sim = None
     for strategy in strategies:
         if progress is not None:
             progress(f"detailed model: strategy {strategy.label}")
         t1 = time.perf_counter()
-        sim = Simulation(variants[strategy.code], sim_weather, metadata, **kwargs)
+        if sim is None:
+            sim = _variant_simulation()(variants[strategy.code], sim_weather, metadata, **kwargs)
+        else:
+            sim.use_building(variants[strategy.code])
         result = sim.run()
         heating = result.heating[heated].sum(axis=1)
         if year_start is not None:

@@ -110,8 +110,8 @@ def detailed(repeats: int) -> None:
     stamp = dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     print(f"# detailed-model retrofit benchmark, {stamp}, {platform.node()}, "
           f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")  # fmt: skip
-    print("| case (16 strategies, a year + a warm-up year, 15 min) | best [s] | median [s] | "
-          "target [s] | pass |")  # fmt: skip
+    print("| case (16 strategies, a year at 15 min, warm-up year with soil) | best [s] | "
+          "median [s] | target [s] | pass |")  # fmt: skip
     print("|---|---|---|---|---|")
     for name, times in rows:
         med = statistics.median(times)

@@ -199,6 +199,8 @@ def test_cli_detailed_only_writes_economics(tmp_path):
     assert res["recommendation"] == "1"
     csv = pd.read_csv(tmp_path / "r" / "strategies_detailed.csv")
     assert list(csv["code"].astype(str)) == ["0", "1"]
+    report = (tmp_path / "r" / "report.html").read_text()
+    assert "Retrofit on the detailed model" in report and "Recommended strategy 1" in report
 
 
 def test_cli_detailed_only_needs_a_building(tmp_path):

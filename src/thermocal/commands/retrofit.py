@@ -227,17 +227,21 @@ def print_detailed_summary(detailed: dict, rc: dict | None = None) -> None:
         )
 
 
-def _add_detailed(folder: Path, detailed: dict) -> None:
-    """Put the detailed model's results into the folder's results.json and its CSV."""
+def _add_detailed(folder: Path, detailed: dict, report: str) -> None:
+    """Put the detailed model's results into the folder's results.json, its CSV and an HTML
+    report named ``report``."""
     import json
 
     from thermocal.retrofit.detailed import write_detailed_outputs
+    from thermocal.retrofit.detailed_report import write_detailed_report
 
     path = folder / "results.json"
-    results = json.loads(path.read_text()) if path.exists() else {}
+    rc = json.loads(path.read_text()) if path.exists() else None
+    results = dict(rc or {})
     results["detailed_model"] = detailed
     path.write_text(json.dumps(results, indent=1, default=str) + "\n")
     write_detailed_outputs(detailed, folder)
+    write_detailed_report(detailed, folder / report, rc=rc)
 
 
 @app.command()
@@ -271,7 +275,7 @@ def retrofit(
     (default 90 %), computes final energy, cost, CO2 and payback, and writes results.json,
     CSV tables, figures and report.html. With --detailed the same strategies are also
     simulated with a detailed multi-zone model (results.json 'detailed_model',
-    strategies_detailed.csv), side by side in the summary.
+    strategies_detailed.csv, report_detailed.html), side by side in the summary.
     """
     from rich.console import Console
 
@@ -297,9 +301,9 @@ def retrofit(
         ):
             result = run_detailed_retrofit(cfg, detailed, progress=status.update)
             det = detailed_results(result, cfg)
-            _add_detailed(tmp, det)
+            _add_detailed(tmp, det, "report.html")
         print_detailed_summary(det)
-        console.print(f"results in {out} (results.json, strategies_detailed.csv)")
+        console.print(f"results in {out} (results.json, strategies_detailed.csv, report.html)")
         return
     cfg = load_config(config)
     _check_site_and_clock(cfg)
@@ -316,7 +320,7 @@ def retrofit(
 
             result = run_detailed_retrofit(cfg, detailed, progress=status.update)
             det = detailed_results(result, cfg)
-            _add_detailed(tmp, det)
+            _add_detailed(tmp, det, "report_detailed.html")
     print_summary(results, out)
     if det is not None:
         print_detailed_summary(det, results)

@@ -594,6 +594,22 @@ class DetailedRetrofitResult:
         return 100.0 * (1.0 - self.annual_kwh / self.annual_kwh[0])
 
 
+def _import_notes(notes: Sequence[str], *, converted: bool) -> list[str]:
+    """The simulation's notes without what :func:`foundations_as_ground` took over."""
+    import re
+
+    out = []
+    for note in notes:
+        if converted and "Foundation is not modelled" in note:
+            continue
+        if converted and note.startswith("objects not represented"):
+            for cls in ("Foundation:Kiva", "SurfaceProperty:ExposedFoundationPerimeter"):
+                note = re.sub(rf"{cls} \(\d+\)(, )?", "", note)
+            note = note.rstrip(", ")
+        out.append(note)
+    return out
+
+
 def _variant_simulation():
     """:class:`~thermocal.multizone.simulation.Simulation` whose envelope can be swapped.
 
@@ -681,6 +697,7 @@ def simulate_strategies(
         raise ThermocalInputError("the first strategy must be '0' (no retrofit)")
     t0 = time.perf_counter()
     notes: list[str] = []
+    ground_notes: list[str] = []
     if source is not None and str(source).lower().endswith(".idf"):
         building, ground_notes = foundations_as_ground(building, source, weather)
         notes += ground_notes
@@ -729,7 +746,7 @@ def simulate_strategies(
         monthly[strategy.code] = kwh.groupby(kwh.index.month).sum()
         timings[strategy.code] = time.perf_counter() - t1
         if strategy is strategies[0]:
-            notes += [a for a in sim.approximations() if "Foundation is not modelled" not in a]
+            notes += _import_notes(sim.approximations(), converted=bool(ground_notes))
     timings["total"] = time.perf_counter() - t0
     return DetailedRetrofitResult(
         strategies=list(strategies),

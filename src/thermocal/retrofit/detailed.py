@@ -277,7 +277,7 @@ def foundations_as_ground(building, idf_path: str | Path, weather: pd.DataFrame)
         )
     depth = sum(d * a for d, a in depths) / sum(a for _, a in depths)
     params = ground_temperature_parameters(weather)
-    months = pd.date_range("2001-01-15", periods=12, freq="MS") + pd.Timedelta(days=14)
+    months = pd.date_range("2001-01-01", periods=12, freq="MS") + pd.Timedelta(days=14)
     monthly = ground_temperature(months, depth, **params).to_numpy()
     notes.append(
         f"ground under the soil layers ({depth:.2f} m): undisturbed ground temperature of the "

@@ -256,3 +256,21 @@ def test_yaml_building_walls_saving_matches_its_steady_state(tmp_path):
     expected = dh * float((20.0 - te).sum()) / 1000.0
     saved = result.annual_kwh[0] - result.annual_kwh[1]
     assert saved == pytest.approx(expected, rel=0.15)
+
+
+def test_a_building_without_set_points_needs_one():
+    """A calibrated_building.yaml carries no set points (calibrate identifies the heat):
+    refused with the remedy; --setpoint heats every zone of such a building (and is refused
+    for a building that already heats some: its unheated cellar stays unheated)."""
+    from thermocal.multizone import generators
+
+    free = generators.single_family_house(heating_setpoint=None)
+    weather = _synthetic_year().assign(dni=0.0, dhi=0.0)
+    with pytest.raises(ThermocalInputError, match="no zone with a heating set point.*--setpoint"):
+        det.simulate_strategies(free, weather, {}, [Strategy("0", ())], {})
+    heated = det.with_heating_setpoint(free, 21.0)
+    assert all(z.heating_setpoint == 21.0 for z in heated.zones.values())
+    with pytest.raises(ThermocalInputError, match="already heats 8 zone"):
+        det.with_heating_setpoint(generators.single_family_house(), 21.0)
+    with pytest.raises(ThermocalInputError, match="not an indoor temperature"):
+        det.with_heating_setpoint(free, 293.15)

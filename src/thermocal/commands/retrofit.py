@@ -258,6 +258,14 @@ def retrofit(
             "building YAML, e.g. calibrated_building.yaml, or an EnergyPlus IDF)",
         ),
     ] = None,
+    setpoint: Annotated[
+        float | None,
+        typer.Option(
+            "--setpoint",
+            help="with --detailed, for a building without set points (e.g. a "
+            "calibrated_building.yaml): heat every zone at this temperature [C]",
+        ),
+    ] = None,
     detailed_only: Annotated[
         bool,
         typer.Option(
@@ -299,7 +307,7 @@ def retrofit(
             output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,
             console.status("retrofit with the detailed model") as status,
         ):
-            result = run_detailed_retrofit(cfg, detailed, progress=status.update)
+            result = run_detailed_retrofit(cfg, detailed, setpoint=setpoint, progress=status.update)
             det = detailed_results(result, cfg)
             _add_detailed(tmp, det, "report.html")
         print_detailed_summary(det)
@@ -318,7 +326,7 @@ def retrofit(
         if detailed is not None:
             from thermocal.retrofit.detailed import detailed_results, run_detailed_retrofit
 
-            result = run_detailed_retrofit(cfg, detailed, progress=status.update)
+            result = run_detailed_retrofit(cfg, detailed, setpoint=setpoint, progress=status.update)
             det = detailed_results(result, cfg)
             _add_detailed(tmp, det, "report_detailed.html")
     print_summary(results, out)

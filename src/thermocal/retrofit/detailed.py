@@ -70,6 +70,7 @@ __all__ = [
     "load_detailed_building",
     "measure_surfaces",
     "simulate_strategies",
+    "with_heating_setpoint",
 ]
 
 #: Conductivity of the added insulation [W/(m K)] (EPS, XPS, mineral wool).
@@ -705,7 +706,7 @@ def simulate_strategies(
     if not any(building.zones[z].heating_setpoint is not None for z in heated):
         raise ThermocalInputError(
             f"building '{building.name}' has no zone with a heating set point: nothing to heat "
-            "(set heating_setpoint on the heated zones)"
+            "(set heating_setpoint on the heated zones, or give --setpoint C to heat every zone)"
         )
     step = step or _default_step(building)
     sim_weather, year_start = weather, None
@@ -809,7 +810,36 @@ def load_detailed_config(path: str | Path):
         raise ThermocalInputError(_format_validation_error(exc, str(path))) from None
 
 
-def run_detailed_retrofit(cfg, building_path: str | Path, *, progress=None):
+def with_heating_setpoint(building, setpoint: float):
+    """Copy of a building without set points whose zones are all heated at ``setpoint`` [C].
+
+    For a building calibrated from temperatures alone (``thermocal calibrate`` identifies the
+    heat, so its zones carry no set point) or a file without thermostats. A building that
+    already heats some zones is refused (its unheated zones stay unheated).
+    """
+    from thermocal.retrofit.config import INDOOR_PROFILE_RANGE
+
+    low, high = INDOOR_PROFILE_RANGE
+    if not low <= float(setpoint) <= high:
+        raise ThermocalInputError(
+            f"--setpoint {setpoint:g} C is not an indoor temperature (expected {low:g}-{high:g} C)"
+        )
+    heated = [name for name, zone in building.zones.items() if zone.conditioned]
+    if heated:
+        raise ThermocalInputError(
+            f"--setpoint is for a building without set points, but '{building.name}' already "
+            f"heats {len(heated)} zone(s) ({', '.join(heated[:3])}): leave --setpoint out"
+        )
+    zones = {
+        name: dataclasses.replace(zone, heating_setpoint=float(setpoint))
+        for name, zone in building.zones.items()
+    }
+    return building.replaced(zones=zones)
+
+
+def run_detailed_retrofit(
+    cfg, building_path: str | Path, *, setpoint: float | None = None, progress=None
+):
     """The strategies of a retrofit configuration simulated with a detailed building.
 
     Parameters
@@ -818,18 +848,29 @@ def run_detailed_retrofit(cfg, building_path: str | Path, *, progress=None):
         Weather (the demand year), measures, strategies.
     building_path : str or Path
         Multi-zone building (YAML or IDF).
+    setpoint : float or None [C]
+        Heating set point of the zones that have none (:func:`with_heating_setpoint`).
 
     Returns
     -------
     DetailedRetrofitResult
     """
-    from thermocal.io.weather import read_weather
+    from thermocal.io.weather import check_site_matches_weather, read_weather
     from thermocal.retrofit.workflow import resolve_weather_path
 
     building = load_detailed_building(building_path)
+    if setpoint is not None:
+        building = with_heating_setpoint(building, setpoint)
     weather_path = resolve_weather_path(cfg.weather.file)
     weather, meta = read_weather(
         weather_path, format=cfg.weather.format, columns=cfg.weather.columns
+    )
+    check_site_matches_weather(
+        building.location.latitude,
+        building.location.longitude,
+        meta,
+        building_source=str(building_path),
+        weather_source=str(cfg.weather.file),
     )
     return simulate_strategies(
         building,

@@ -274,3 +274,50 @@ def test_a_building_without_set_points_needs_one():
         det.with_heating_setpoint(generators.single_family_house(), 21.0)
     with pytest.raises(ThermocalInputError, match="not an indoor temperature"):
         det.with_heating_setpoint(free, 293.15)
+
+
+def test_both_models_side_by_side(tmp_path, capsys):
+    """With --detailed beside the RC analysis: results.json keeps the RC results and gains
+    'detailed_model'; the summary and report_detailed.html show the RC saving beside."""
+    from thermocal.commands.retrofit import _add_detailed, print_detailed_summary
+    from thermocal.retrofit.config import EconomicsConfig
+
+    strategies = [Strategy("0", ()), Strategy("1a", ("walls",))]
+    result = det.DetailedRetrofitResult(
+        strategies=strategies,
+        annual_kwh=np.array([10_000.0, 6_000.0]),
+        monthly_kwh=pd.DataFrame({"0": [1000.0] * 10, "1a": [600.0] * 10}, index=range(1, 11)),
+        changes={"0": [], "1a": []},
+        areas={"walls": 100.0},
+        building_name="house",
+        source="house.yaml",
+        heated_zones=["living"],
+        step="15min",
+    )
+
+    class Cfg:
+        economics = EconomicsConfig()
+
+        @staticmethod
+        def measure_objects():
+            return {"walls": Measure("walls", "walls", u_value=0.2, cost_per_m2=250.0)}
+
+    out = det.detailed_results(result, Cfg())
+    assert out["scenarios"][1]["saving_pct"] == pytest.approx(40.0)
+    assert out["scenarios"][1]["economics"]["investment"] == pytest.approx(25_000.0)
+    # 4,000 kWh of useful heat / 0.85 x 0.12 CHF/kWh (the default economics)
+    assert out["scenarios"][1]["economics"]["cost_saving_per_year"] == pytest.approx(
+        4000 / 0.85 * 0.12
+    )
+    rc = {"heat_loss_coefficient_W_per_K": {"value": 300.0}, "scenarios": [
+        {"code": "0", "saving_pct": 0.0}, {"code": "1a", "saving_pct": 35.5}]}  # fmt: skip
+    (tmp_path / "results.json").write_text(json.dumps(rc))
+    _add_detailed(tmp_path, out, "report_detailed.html")
+    both = json.loads((tmp_path / "results.json").read_text())
+    assert both["heat_loss_coefficient_W_per_K"]["value"] == 300.0
+    assert both["detailed_model"]["annual_heating_demand_kWh"] == 10_000.0
+    assert "35.5" in (tmp_path / "report_detailed.html").read_text()
+    print_detailed_summary(out, rc)
+    printed = capsys.readouterr().out
+    assert "RC %" in printed and "35.5" in printed and "40.0" in printed
+    assert max(len(line) for line in printed.splitlines()) <= 80

@@ -59,7 +59,7 @@ def weather_variant(weather: Path, out: Path, *, no_sun=False, sky_at_air=False)
 
 
 def cases(weather: Path, work: Path) -> dict:
-    """name -> (IDF text, weather file, steady: bool)."""
+    """name -> (IDF text, weather file, steady: bool[, thermocal's albedo])."""
     base = adiabatic(mr.house_idf())
     assert STUCCO in base and ROOF in base and GLAZING in base
     steady = mr.steady_weather(weather, work / "steady.epw")
@@ -77,6 +77,9 @@ def cases(weather: Path, work: Path) -> dict:
         "adiabatic, glazing SHGC 0.05": (
             base.replace(GLAZING, "WindowMaterial:SimpleGlazingSystem, DARK GLAZING, 3.1, 0.05;\n"
                          "Construction, Dbl Clr 3mm/6mm Air, DARK GLAZING;"), weather, False),
+        # thermocal takes the EPW's albedo (snow: up to 0.73), EnergyPlus its
+        # Site:GroundReflectance (default 0.2): the same albedo in both
+        "adiabatic, albedo 0.2 in thermocal too": (base, weather, False, 0.2),
         "steady, adiabatic floors": (adiabatic(mr.house_idf(gains=False)), steady, True),
         "steady, with the ground": (mr.house_idf(gains=False), steady, True),
         "steady, with the ground, walls measure": (
@@ -90,7 +93,7 @@ def energyplus(text: str, weather: Path, work: Path, steady: bool) -> float:
     return float(q.iloc[-168:].mean() / 20.0) if steady else float(q.sum() / 1000.0)
 
 
-def thermocal(text: str, weather: Path, work: Path, steady: bool) -> float:
+def thermocal(text: str, weather: Path, work: Path, steady: bool, albedo=None) -> float:
     from thermocal.io.weather import read_weather
     from thermocal.retrofit.detailed import load_detailed_building, simulate_strategies
     from thermocal.retrofit.strategies import Strategy
@@ -98,6 +101,8 @@ def thermocal(text: str, weather: Path, work: Path, steady: bool) -> float:
     work.mkdir(parents=True, exist_ok=True)
     (work / "in.idf").write_text(text)
     frame, meta = read_weather(weather)
+    if albedo is not None:
+        frame = frame.assign(albedo=albedo)
     building = load_detailed_building(work / "in.idf")
     result = simulate_strategies(
         building, frame, meta, [Strategy("0", ())], {}, source=work / "in.idf"
@@ -113,11 +118,11 @@ def main(weather: str, work: str = "/tmp/retrofit_energyplus_house_diagnosis") -
     jobs = cases(weather, work)
     with ThreadPoolExecutor(2) as pool:
         eplus = {
-            k: pool.submit(energyplus, t, w, work / f"eplus_{i}", s)
-            for i, (k, (t, w, s)) in enumerate(jobs.items())
+            k: pool.submit(energyplus, *job[:2], work / f"eplus_{i}", job[2])
+            for i, (k, job) in enumerate(jobs.items())
         }
-        ours = {k: thermocal(t, w, work / f"thermocal_{i}", s)
-                for i, (k, (t, w, s)) in enumerate(jobs.items())}  # fmt: skip
+        ours = {k: thermocal(*job[:2], work / f"thermocal_{i}", *job[2:])
+                for i, (k, job) in enumerate(jobs.items())}  # fmt: skip
         for k, f in eplus.items():
             unit = "W/K" if jobs[k][2] else "kWh"
             e = f.result()

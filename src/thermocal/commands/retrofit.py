@@ -177,12 +177,103 @@ def _check_site_and_clock(cfg) -> None:
 RETROFIT_SIGNATURE = ("results.json", "report.html")
 
 
+def print_detailed_summary(detailed: dict, rc: dict | None = None) -> None:
+    """Strategy table of the detailed model (stdout), beside the RC model's when both exist."""
+    from rich import box
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console()
+    console.print(
+        f"[bold]detailed model ({detailed['building']}): annual heating demand "
+        f"{detailed['annual_heating_demand_kWh']:,.0f} kWh[/bold]"
+    )
+    scenarios = detailed["scenarios"]
+    short = measure_abbreviations(list(dict.fromkeys(m for s in scenarios for m in s["measures"])))
+    rc_by_code = {s["code"]: s for s in (rc or {}).get("scenarios", [])}
+    cur = detailed["economics"]["currency"]
+    table = Table(title="Retrofit strategies, detailed model", box=box.SIMPLE_HEAD, padding=(0, 1))
+    cols = ["code", "measures", "kWh/a", "saving %"]
+    if rc_by_code:
+        cols += ["RC %"]
+    cols += [f"invest {cur}", f"{cur}/a", "payback a"]
+    labels = ["+".join(short[m] for m in s["measures"]) or "none" for s in scenarios]
+    for col in cols:
+        table.add_column(
+            col,
+            justify="left" if col == "measures" else "right",
+            no_wrap=col == "measures",
+            min_width=max(map(len, labels)) if col == "measures" else None,
+        )
+    for s, label in zip(scenarios, labels, strict=True):
+        e = s["economics"]
+        row = [s["code"], label, f"{s['annual_kWh']:,.0f}", f"{s['saving_pct']:.1f}"]
+        if rc_by_code:
+            other = rc_by_code.get(s["code"])
+            row.append("" if other is None else f"{other['saving_pct']:.1f}")
+        payback = e.get("payback_years")
+        row += [
+            f"{e['investment']:,.0f}",
+            f"{e['cost_saving_per_year']:,.0f}",
+            "" if payback is None else f"{payback:.0f}",
+        ]
+        table.add_row(*row)
+    console.print(table)
+    console.print("measures: " + ", ".join(f"{a} {m.replace('_', ' ')}" for m, a in short.items()))
+    if detailed.get("recommendation"):
+        console.print(
+            f"detailed model, recommended strategy: [bold]{detailed['recommendation']}[/bold] "
+            f"({detailed['recommendation_rule']})"
+        )
+
+
+def _add_detailed(folder: Path, detailed: dict, report: str) -> None:
+    """Put the detailed model's results into the folder's results.json, its CSV and an HTML
+    report named ``report``."""
+    import json
+
+    from thermocal.retrofit.detailed import write_detailed_outputs
+    from thermocal.retrofit.detailed_report import write_detailed_report
+
+    path = folder / "results.json"
+    rc = json.loads(path.read_text()) if path.exists() else None
+    results = dict(rc or {})
+    results["detailed_model"] = detailed
+    path.write_text(json.dumps(results, indent=1, default=str) + "\n")
+    write_detailed_outputs(detailed, folder)
+    write_detailed_report(detailed, folder / report, rc=rc)
+
+
 @app.command()
 def retrofit(
     config: Annotated[Path, typer.Argument(help="retrofit configuration (YAML)")],
     out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
         "retrofit-results"
     ),
+    detailed: Annotated[
+        Path | None,
+        typer.Option(
+            "--detailed",
+            help="also simulate the strategies with this multi-zone building (thermocal "
+            "building YAML, e.g. calibrated_building.yaml, or an EnergyPlus IDF)",
+        ),
+    ] = None,
+    setpoint: Annotated[
+        float | None,
+        typer.Option(
+            "--setpoint",
+            help="with --detailed, for a building without set points (e.g. a "
+            "calibrated_building.yaml): heat every zone at this temperature [C]",
+        ),
+    ] = None,
+    detailed_only: Annotated[
+        bool,
+        typer.Option(
+            "--detailed-only",
+            help="only the detailed model (no measurements needed; the configuration gives "
+            "weather, measures, strategies and economics)",
+        ),
+    ] = False,
 ) -> None:
     """Retrofit analysis: calibrate, validate, annual demand, retrofit strategies, report.
 
@@ -190,15 +281,38 @@ def retrofit(
     test periods, simulates the annual heating demand and the retrofit strategies (default:
     the 16 combinations of roof, walls, windows and cellar ceiling) with uncertainty intervals
     (default 90 %), computes final energy, cost, CO2 and payback, and writes results.json,
-    CSV tables, figures and report.html.
+    CSV tables, figures and report.html. With --detailed the same strategies are also
+    simulated with a detailed multi-zone model (results.json 'detailed_model',
+    strategies_detailed.csv, report_detailed.html), side by side in the summary.
     """
     from rich.console import Console
 
+    from thermocal.errors import ThermocalInputError
     from thermocal.io.output import check_output_folder, output_folder
     from thermocal.retrofit import load_config, run_retrofit, write_outputs
 
     console = Console(stderr=True)
+    if detailed_only and detailed is None:
+        raise ThermocalInputError("--detailed-only needs --detailed BUILDING (YAML or IDF)")
     check_output_folder(out, signature=RETROFIT_SIGNATURE)
+    if detailed_only:
+        from thermocal.retrofit.detailed import (
+            detailed_results,
+            load_detailed_config,
+            run_detailed_retrofit,
+        )
+
+        cfg = load_detailed_config(config)
+        with (
+            output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,
+            console.status("retrofit with the detailed model") as status,
+        ):
+            result = run_detailed_retrofit(cfg, detailed, setpoint=setpoint, progress=status.update)
+            det = detailed_results(result, cfg)
+            _add_detailed(tmp, det, "report.html")
+        print_detailed_summary(det)
+        console.print(f"results in {out} (results.json, strategies_detailed.csv, report.html)")
+        return
     cfg = load_config(config)
     _check_site_and_clock(cfg)
     with (
@@ -208,4 +322,13 @@ def retrofit(
         analysis = run_retrofit(cfg, progress=lambda msg: status.update(msg))
         status.update("writing results, figures and report")
         results = write_outputs(analysis, tmp)
+        det = None
+        if detailed is not None:
+            from thermocal.retrofit.detailed import detailed_results, run_detailed_retrofit
+
+            result = run_detailed_retrofit(cfg, detailed, setpoint=setpoint, progress=status.update)
+            det = detailed_results(result, cfg)
+            _add_detailed(tmp, det, "report_detailed.html")
     print_summary(results, out)
+    if det is not None:
+        print_detailed_summary(det, results)

@@ -1,0 +1,324 @@
+"""Retrofit on the detailed multi-zone model (issue 25, item 7).
+
+Truth we did not make: EnergyPlus 25.2 ran NREL's SingleFamilyHouse (``house_v25.idf``) for
+Zurich 2015 and each strategy with insulation layers that take the constructions' nominal
+U-values to the measures' (``tests/reference/retrofit_energyplus_house/make_reference.py``).
+thermocal gets the same IDF and the same measure definitions. The full 16-strategy table is
+``measure_detailed.py`` beside the reference (docs/retrofit.md).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from conftest import shared_data_path
+from thermocal.cli import app
+from thermocal.errors import ThermocalInputError
+from thermocal.retrofit import detailed as det
+from thermocal.retrofit.strategies import Measure, Strategy
+
+REF = Path(__file__).resolve().parents[1] / "reference" / "retrofit_energyplus_house"
+IDF = REF / "house_v25.idf"
+
+
+def _reference() -> dict:
+    return json.loads((REF / "reference.json").read_text())
+
+
+def _measures() -> dict[str, Measure]:
+    return {
+        name: Measure(name=name, component=name, u_value=m["u_value"], g_value=m.get("g_value"))
+        for name, m in _reference()["measures"].items()
+    }
+
+
+def _make_reference():
+    sys.path.insert(0, str(REF))
+    try:
+        import make_reference
+    finally:
+        sys.path.remove(str(REF))
+    return make_reference
+
+
+def _synthetic_year() -> pd.DataFrame:
+    index = pd.date_range("2015-01-01", periods=8760, freq="h")
+    day = np.asarray(index.day_of_year, dtype=float)
+    return pd.DataFrame({"temp_air": 10.0 - 9.0 * np.cos(2 * np.pi * (day - 20) / 365)}, index)
+
+
+@pytest.fixture(scope="module")
+def house():
+    building = det.load_detailed_building(IDF)
+    grounded, notes = det.foundations_as_ground(building, IDF, _synthetic_year())
+    return building, grounded, notes
+
+
+def test_layers_added_as_energyplus_added_them(house):
+    """Each opaque measure adds lambda 0.035 insulation of the thickness make_reference.py gave
+    EnergyPlus (nominal ISO 6946 U-value -> target), on the side EnergyPlus put it."""
+    mr = _make_reference()
+    _, grounded, _ = house
+    measures = _measures()
+    expected = {
+        "walls": mr.insulation_thickness(mr.U_WALL, 0.19),
+        "attic_ceiling": mr.insulation_thickness(mr.U_ATTIC_CEILING, 0.10),
+        "ground_floor": mr.insulation_thickness(mr.U_SLAB, 0.25),
+    }
+    for name, thickness in expected.items():
+        changed, changes = det.apply_measures(grounded, [measures[name]])
+        assert len(changes) == 1, changes
+        assert changes[0]["insulation_m"] == pytest.approx(thickness, rel=1e-6)
+        layers = changed.constructions[f"{changes[0]['construction']} + {name}"].layers
+        if name == "walls":  # between the stucco and the block, as in EnergyPlus
+            assert layers[0] == "A1 - 1 IN STUCCO" and layers[2] == "CB11"
+        if name == "attic_ceiling":  # on the attic side; the attic's floor mirrored
+            assert layers[0].startswith("attic_ceiling insulation")
+            partner = changed.surfaces["Attic:LivingFloor"].construction
+            assert changed.constructions[partner].layers == tuple(reversed(layers))
+        if name == "ground_floor":  # under the concrete, above the soil
+            assert layers[0].startswith("soil under") and layers[2] == "CC03"
+    # only the heated zone: the garage's walls and floor keep their constructions
+    changed, _ = det.apply_measures(grounded, [measures["walls"]])
+    assert changed.surfaces["Garage:EastWall"].construction == "EXTWALL:GARAGE"
+    assert sorted(det.measure_surfaces(grounded, "walls")) == sorted(
+        ["Living:North", "Living:East", "Living:South", "Living:West"]
+    )
+
+
+def test_windows_get_the_simple_glazing_model(house):
+    _, grounded, _ = house
+    changed, changes = det.apply_measures(grounded, [_measures()["windows"]])
+    new = changed.window_types[changed.windows["SouthWindow"].window_type]
+    assert new.u_value == pytest.approx(0.76)
+    assert new.shgc == pytest.approx(0.50, abs=0.01)
+    assert changes[0]["area_m2"] == pytest.approx(4 * 4.572 * 1.524, rel=1e-6)
+
+
+def test_foundation_floor_gets_the_iso13370_u_value(house):
+    """Kiva's Foundation becomes a soil layer whose steady U is ISO 13370's for the slab with
+    the file's exposed perimeter (49.12 m) and footing wall (stucco + block, 0.229 m)."""
+    from thermocal.physics.ground import iso13370_slab_on_ground
+
+    building, grounded, notes = house
+    floor = grounded.surfaces["Living:Floor"]
+    assert building.surfaces["Living:Floor"].boundary == "adiabatic"
+    assert floor.boundary == "ground"
+    layers = grounded.construction_layers(floor.construction)
+    r = sum(m.resistance for m in layers)
+    slab_r = sum(m.resistance for m in building.construction_layers("FLOOR:LIVING"))
+    u = iso13370_slab_on_ground(
+        floor.area, 49.121, wall_thickness=0.0254 + 0.2032, floor_resistance=slab_r
+    )
+    assert 1.0 / (0.17 + r) == pytest.approx(u, rel=1e-4)
+    # the undisturbed ground at the soil layer's depth (about 3 m): the annual wave of the air
+    # (minimum on day 20, mean 10 C, amplitude 9 K) damped and delayed by Kusuda's solution
+    from thermocal.physics.ground import ground_temperature, ground_temperature_parameters
+
+    params = ground_temperature_parameters(_synthetic_year())
+    mid = pd.date_range("2015-01-01", periods=12, freq="MS") + pd.Timedelta(days=14)
+    area_mean = {"Living:Floor": floor.area, "Garage:Floor": grounded.surfaces["Garage:Floor"].area}
+    depths = {
+        name: next(
+            m.thickness
+            for m in grounded.construction_layers(grounded.surfaces[name].construction)
+            if m.name.startswith("soil under")
+        )
+        for name in area_mean
+    }
+    depth = sum(depths[n] * a for n, a in area_mean.items()) / sum(area_mean.values())
+    expected = ground_temperature(mid, depth, **params).to_numpy()
+    assert np.allclose(grounded.ground_temperatures, expected, atol=0.01)
+    assert int(np.argmin(grounded.ground_temperatures)) in (2, 3)  # March-April at ~3 m
+    assert any("exposed perimeter 49.12 m" in n for n in notes)
+
+
+def test_bad_measures_are_refused_with_a_clear_message(house):
+    _, grounded, _ = house
+    with pytest.raises(ThermocalInputError, match="does not improve construction 'EXTWALL"):
+        det.apply_measures(grounded, [Measure("walls", "walls", u_value=3.0)])
+    with pytest.raises(ThermocalInputError, match="no such surface.*components found: walls"):
+        det.apply_measures(grounded, [Measure("cellar", "cellar_ceiling", u_value=0.2)])
+    with pytest.raises(ThermocalInputError, match="not available with the detailed model"):
+        det.apply_measures(grounded, [Measure("tight", "airtightness", air_change_rate_change=-1)])
+    with pytest.raises(ThermocalInputError, match="not found"):
+        det.load_detailed_building(REF / "no_such_house.idf")
+
+
+@pytest.fixture(scope="module")
+def year_run():
+    from thermocal.io.weather import read_weather
+
+    weather, meta = read_weather(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw"))
+    names = ("attic_ceiling", "walls", "windows", "ground_floor")
+    strategies = [Strategy("0", ())] + [Strategy(f"1{n}", (n,)) for n in names]
+    building = det.load_detailed_building(IDF)
+    result = det.simulate_strategies(building, weather, meta, strategies, _measures(), source=IDF)
+    ref = _reference()
+    assert any("read it as an upper bound" in n for n in result.notes)
+    return {
+        s.measures[0] if s.measures else "none": (kwh, sav, ref["annual_heating_kWh"], ref)
+        for s, kwh, sav in zip(strategies, result.annual_kwh, result.saving_pct, strict=True)
+    }
+
+
+@pytest.mark.slow
+def test_baseline_demand_within_10_percent_of_energyplus(year_run):
+    kwh, _, ref_kwh, _ = year_run["none"]
+    # measured 2026-11-25: 9,639 vs 10,302 kWh (-6.4 %)
+    assert kwh == pytest.approx(ref_kwh["none"], rel=0.10)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("measure", ["attic_ceiling", "windows"])
+def test_saving_within_3_points_of_energyplus(year_run, measure):
+    _, saving, _, ref = year_run[measure]
+    # measured 2026-11-25: attic ceiling 5.5 vs 5.3 %, windows 20.2 vs 20.8 %
+    assert saving == pytest.approx(ref["saving_pct"][measure], abs=3.0)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason="known gap (docs/retrofit.md, 'Retrofit on the detailed model'): walls 55 vs 59 % "
+    "(-5 pp), slab +13 pp (ISO 13370 soil layer vs Kiva's 2-D ground)",
+)
+@pytest.mark.parametrize("measure", ["walls", "ground_floor"])
+def test_saving_within_3_points_of_energyplus_not_yet(year_run, measure):
+    _, saving, _, ref = year_run[measure]
+    assert saving == pytest.approx(ref["saving_pct"][measure], abs=3.0)
+
+
+@pytest.mark.slow
+def test_cli_detailed_only_writes_economics(tmp_path):
+    weather = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
+    cfg = {
+        "weather": {"file": str(weather)},
+        "measures": {"windows": {"u_value": 0.76, "g_value": 0.5, "cost_per_m2": 800}},
+        "economics": {"energy_price": 0.2, "system_efficiency": 0.9},
+    }
+    (tmp_path / "cfg.yaml").write_text(yaml.safe_dump(cfg))
+    args = ["retrofit", str(tmp_path / "cfg.yaml"), "--detailed", str(IDF), "--detailed-only"]
+    result = CliRunner().invoke(app, [*args, "--out", str(tmp_path / "r")])
+    assert result.exit_code == 0, result.output
+    res = json.loads((tmp_path / "r" / "results.json").read_text())["detailed_model"]
+    base, win = res["scenarios"]
+    # the economics of the RC workflow: cost saving = saved useful heat / efficiency x price
+    saved = base["annual_kWh"] - win["annual_kWh"]
+    assert win["economics"]["cost_saving_per_year"] == pytest.approx(saved / 0.9 * 0.2)
+    assert win["economics"]["investment"] == pytest.approx(800 * 4 * 4.572 * 1.524, rel=1e-6)
+    assert res["recommendation"] == "1"
+    csv = pd.read_csv(tmp_path / "r" / "strategies_detailed.csv")
+    assert list(csv["code"].astype(str)) == ["0", "1"]
+    report = (tmp_path / "r" / "report.html").read_text()
+    assert "Retrofit on the detailed model" in report and "Recommended strategy 1" in report
+
+
+def test_cli_detailed_only_needs_a_building(tmp_path):
+    (tmp_path / "cfg.yaml").write_text("weather: {file: w.epw}\n")
+    result = CliRunner().invoke(app, ["retrofit", str(tmp_path / "cfg.yaml"), "--detailed-only"])
+    assert isinstance(result.exception, ThermocalInputError)  # main() prints it, exit 2
+    assert "--detailed-only needs --detailed" in str(result.exception)
+
+
+@pytest.mark.slow
+def test_yaml_building_walls_saving_matches_its_steady_state(tmp_path):
+    """A thermocal building YAML (the demo's 9-zone house, as ``thermocal calibrate`` writes
+    one): the walls measure's saving over three cold January weeks equals the change of the
+    model's steady-state heat loss coefficient times the degree-hours (heating on all the time)
+    within 15 % (measured 2026-11-25: 1,300 vs 1,214 kWh, +7 %; TARP's extra interior
+    convection at large temperature differences is not in the steady coefficient)."""
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone import generators, save_building, steady_state_heat_loss_coefficient
+    from thermocal.retrofit.strategies import paper_measures
+
+    weather, meta = read_weather(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw"))
+    save_building(generators.single_family_house(), tmp_path / "house.yaml")
+    building = det.load_detailed_building(tmp_path / "house.yaml")
+    measures = paper_measures()
+    assert len(det.measure_surfaces(building, "walls")) == 20
+    assert len(det.measure_surfaces(building, "cellar_ceiling")) == 3
+    strategies = [Strategy("0", ()), Strategy("1", ("walls",))]
+    result = det.simulate_strategies(
+        building, weather, meta, strategies, measures, start="2015-01-05", end="2015-01-26"
+    )
+    walls, _ = det.apply_measures(building, [measures["walls"]])
+    dh = steady_state_heat_loss_coefficient(building) - steady_state_heat_loss_coefficient(walls)
+    te = weather["temp_air"].loc["2015-01-05":"2015-01-25 23:00"]
+    assert te.mean() < 5.0  # a cold spell: the heating runs nearly all the time
+    expected = dh * float((20.0 - te).sum()) / 1000.0
+    saved = result.annual_kwh[0] - result.annual_kwh[1]
+    assert saved == pytest.approx(expected, rel=0.15)
+
+
+def test_a_building_without_set_points_needs_one():
+    """A calibrated_building.yaml carries no set points (calibrate identifies the heat):
+    refused with the remedy; --setpoint heats every zone of such a building (and is refused
+    for a building that already heats some: its unheated cellar stays unheated)."""
+    from thermocal.multizone import generators
+
+    free = generators.single_family_house(heating_setpoint=None)
+    weather = _synthetic_year().assign(dni=0.0, dhi=0.0)
+    with pytest.raises(ThermocalInputError, match="no zone with a heating set point.*--setpoint"):
+        det.simulate_strategies(free, weather, {}, [Strategy("0", ())], {})
+    heated = det.with_heating_setpoint(free, 21.0)
+    assert all(z.heating_setpoint == 21.0 for z in heated.zones.values())
+    with pytest.raises(ThermocalInputError, match="already heats 8 zone"):
+        det.with_heating_setpoint(generators.single_family_house(), 21.0)
+    with pytest.raises(ThermocalInputError, match="not an indoor temperature"):
+        det.with_heating_setpoint(free, 293.15)
+
+
+def test_both_models_side_by_side(tmp_path, capsys):
+    """With --detailed beside the RC analysis: results.json keeps the RC results and gains
+    'detailed_model'; the summary and report_detailed.html show the RC saving beside."""
+    from thermocal.commands.retrofit import _add_detailed, print_detailed_summary
+    from thermocal.retrofit.config import EconomicsConfig
+
+    strategies = [Strategy("0", ()), Strategy("1a", ("walls",))]
+    result = det.DetailedRetrofitResult(
+        strategies=strategies,
+        annual_kwh=np.array([10_000.0, 6_000.0]),
+        monthly_kwh=pd.DataFrame({"0": [1000.0] * 10, "1a": [600.0] * 10}, index=range(1, 11)),
+        changes={"0": [], "1a": []},
+        areas={"walls": 100.0},
+        building_name="house",
+        source="house.yaml",
+        heated_zones=["living"],
+        step="15min",
+    )
+
+    class Cfg:
+        economics = EconomicsConfig()
+
+        @staticmethod
+        def measure_objects():
+            return {"walls": Measure("walls", "walls", u_value=0.2, cost_per_m2=250.0)}
+
+    out = det.detailed_results(result, Cfg())
+    assert out["scenarios"][1]["saving_pct"] == pytest.approx(40.0)
+    assert out["scenarios"][1]["economics"]["investment"] == pytest.approx(25_000.0)
+    # 4,000 kWh of useful heat / 0.85 x 0.12 CHF/kWh (the default economics)
+    assert out["scenarios"][1]["economics"]["cost_saving_per_year"] == pytest.approx(
+        4000 / 0.85 * 0.12
+    )
+    rc = {"heat_loss_coefficient_W_per_K": {"value": 300.0}, "scenarios": [
+        {"code": "0", "saving_pct": 0.0}, {"code": "1a", "saving_pct": 35.5}]}  # fmt: skip
+    (tmp_path / "results.json").write_text(json.dumps(rc))
+    _add_detailed(tmp_path, out, "report_detailed.html")
+    both = json.loads((tmp_path / "results.json").read_text())
+    assert both["heat_loss_coefficient_W_per_K"]["value"] == 300.0
+    assert both["detailed_model"]["annual_heating_demand_kWh"] == 10_000.0
+    assert "35.5" in (tmp_path / "report_detailed.html").read_text()
+    print_detailed_summary(out, rc)
+    printed = capsys.readouterr().out
+    assert "RC %" in printed and "35.5" in printed and "40.0" in printed
+    assert max(len(line) for line in printed.splitlines()) <= 80

@@ -1,7 +1,7 @@
 """Closed-loop identification of the fifth-order model (``model.calibration: heat``).
 
 Truth made by the fifth-order model itself with a known envelope that is NOT the building
-file's: the roof and walls conduct 25 % less than calculated (the prebound effect), so the
+file's: the roof and walls conduct 40 % less than calculated (the prebound effect), so the
 calibration must lower the calculated losses. A thermostat holds the indoor temperature on a
 day/night profile; the heat meter reads the model's ideal controller with 3 % noise.
 """
@@ -13,8 +13,8 @@ import pandas as pd
 import pytest
 from retrofit_synthetic import TMY3, building_dict
 
-TRUE_K_ENV = 0.75
-TRUE_H_EST = 90.0  # [W/K]
+TRUE_K_ENV = 0.6
+TRUE_H_EST = 40.0  # [W/K]
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +63,7 @@ def test_heat_fit_lowers_the_calculated_losses(closed_loop):
 
     model, data, setpoint, truth = closed_loop
     calculated = calculated_hlc(model.conductances())
-    assert truth < 0.9 * (calculated + model.audit_h_est)
+    assert truth < 0.9 * calculated  # below what the published topology can reach
     # as the retrofit analysis makes it: capacities on the hourly, conductances on the daily heat
     cal = calibrate_to_heat(model, data, setpoint, gains=False, correction=True,
                             u_value_rel_std=0.2, block_h=RETROFIT_HEAT_BLOCK_H)  # fmt: skip
@@ -72,7 +72,7 @@ def test_heat_fit_lowers_the_calculated_losses(closed_loop):
     assert lo <= truth <= hi
     assert cal.correction.factors["k_env"] < 0.95
     published = calibrate_to_heat(model, data, setpoint, gains=False)
-    assert published.heat_loss_coefficient > calculated
+    assert published.heat_loss_coefficient > calculated > truth / 0.9
 
 
 def test_tight_control_selects_the_heat_fit(closed_loop):

@@ -254,7 +254,7 @@ def test_shipped_verify_demo_data_are_what_the_generator_makes():
 def test_heating_setpoint_ignores_free_floating_excursions():
     """Heated hours keep the measured temperature; a sunny afternoon without heat floats above
     the thermostat and counts as its hour's heated median, a night set-back stays as measured."""
-    from thermocal.retrofit.verify import heating_setpoint
+    from thermocal.retrofit.calibration import heating_setpoint
 
     idx = pd.date_range("2024-01-01", periods=24 * 14, freq="h")
     hours = idx.hour.to_numpy()
@@ -269,7 +269,7 @@ def test_heating_setpoint_ignores_free_floating_excursions():
 
 
 def test_tight_control_tells_a_thermostat_from_a_heating_curve():
-    from thermocal.retrofit.verify import tight_control
+    from thermocal.retrofit.calibration import tight_control
 
     rng = np.random.default_rng(3)
     idx = pd.date_range("2024-01-01", periods=24 * 21, freq="h")

@@ -728,3 +728,370 @@ def check_training_data(
                 "is reset or a sign convention"
             )
         )
+
+
+# ---------------------------------------------------------------- closed-loop identification
+#: Heated interval: measured heat above this share of the period's 95th percentile [-].
+HEATED_SHARE = 0.02
+#: Tight control: half the heated hours within this of the thermostat's profile [K].
+TIGHT_CONTROL_K = 0.1
+#: Hours at the start of a period left out of the heat fit while the initial state settles.
+HEAT_FIT_WARM_UP_H = 48.0
+#: Heat fit residuals: mean heat over blocks of this many hours [h].
+HEAT_FIT_BLOCK_H = 1.0
+#: Heat fit of the retrofit analysis: daily heat [h]. The hourly heat under a thermostat is
+#: dominated by set-back recoveries and solar peaks that one air node and one internal mass
+#: describe only roughly; fitted hour by hour, those structural errors decide the split of the
+#: losses between the envelope groups. The daily heat is what the annual demand integrates and
+#: ASHRAE Guideline 14 checks; the capacities stay identified by the day-to-day response to
+#: the weather.
+RETROFIT_HEAT_BLOCK_H = 24.0
+#: At most this many fits re-weighting the heat residuals by their scale at the optimum.
+MAP_WEIGHT_ITERATIONS = 4
+#: Standard deviation of ln C of a capacity in the heat fit's posterior (a factor of two).
+CAPACITY_PRIOR_STD_LOG = float(np.log(2.0))
+
+
+def heating_setpoint(ti: pd.Series, heat: pd.Series, periods) -> pd.Series:
+    """Indoor temperature the heating held [C]: the set point the model follows.
+
+    While the house was heated (measured heat above :data:`HEATED_SHARE` of the period's
+    95th percentile) the measured indoor temperature is the set point. While it floated (no
+    heat: sun, internal gains, a set-back cooling down) the measured temperature is only an
+    upper bound of it: a house that floats above its thermostat demands no heat. There the
+    set point is at most the median indoor temperature of the period's heated intervals at
+    the same hour of the day (the thermostat's profile).
+
+    Parameters
+    ----------
+    ti : pd.Series [C]
+        Measured indoor temperature.
+    heat : pd.Series [W]
+        Measured heating power on the same index.
+    periods : sequence of (start, end)
+        Periods each with its own profile (e.g. training and test, or pre- and post-retrofit).
+
+    Returns
+    -------
+    pd.Series [C] on ``ti.index``.
+    """
+    out = ti.copy()
+    hours = np.asarray(ti.index.hour)
+    for a, b in periods:
+        sel = np.asarray((ti.index >= a) & (ti.index < b))
+        q = heat[sel]
+        heated = np.zeros(len(ti), bool)
+        heated[sel] = np.asarray(q > HEATED_SHARE * float(q.quantile(0.95)))
+        if not heated.any():
+            continue
+        prof = ti[heated].groupby(hours[heated]).median().reindex(range(24))
+        prof = prof.fillna(float(ti[heated].median())).to_numpy(float)
+        free = sel & ~heated
+        out[free] = np.minimum(ti[free].to_numpy(float), prof[hours[free]])
+    return out
+
+
+def tight_control(ti: pd.Series, heat: pd.Series) -> dict:
+    """Does a thermostat hold the indoor temperature (closed loop, no information in it)?
+
+    The median absolute deviation of the measured indoor temperature from the thermostat's
+    hour-of-day profile (:func:`heating_setpoint`) over the heated hours. Below
+    :data:`TIGHT_CONTROL_K` (a sensor's resolution, a fraction of a room thermostat's
+    0.25-0.5 K switching differential) half the heated hours sit on the set point: the
+    indoor temperature is the controller's target, the heat its answer, and a fit of the
+    temperature identifies little (:func:`calibrate_to_heat`). A heating curve or a slow
+    emitter lets the temperature move with the weather and the gains (the demo: 0.3 K).
+
+    Parameters
+    ----------
+    ti : pd.Series [C]
+        Measured indoor temperature.
+    heat : pd.Series [W]
+        Measured heating power.
+
+    Returns
+    -------
+    dict: ``mad_K`` [K], ``tight`` (bool), ``limit_K`` [K].
+    """
+    heated = np.asarray(heat > HEATED_SHARE * float(heat.quantile(0.95)))
+    hours = np.asarray(ti.index.hour)[heated]
+    t = ti[heated]
+    prof = t.groupby(hours).median()
+    dev = np.abs(t.to_numpy(float) - prof.reindex(hours).to_numpy(float))
+    mad = float(np.nanmedian(dev)) if len(dev) else float("nan")
+    return {"mad_K": mad, "tight": bool(mad < TIGHT_CONTROL_K), "limit_K": TIGHT_CONTROL_K}
+
+
+def calibrate_to_heat(
+    model: FifthOrderModel,
+    data: pd.DataFrame,
+    setpoint: pd.Series,
+    *,
+    gains: bool,
+    correction: bool = False,
+    u_value_rel_std: float = 0.2,
+    heat_rel_std: float = 0.0,
+    block_h: float = HEAT_FIT_BLOCK_H,
+) -> Calibration:
+    """Calibrate the fifth-order model on the metered heat (closed-loop identification).
+
+    :func:`calibrate` predicts the indoor temperature from the heat. Under a tight thermostat
+    that is closed-loop identification the wrong way round: the heat is the controller's
+    answer to every disturbance the model does not describe, the indoor temperature barely
+    moves, and the likelihood is maximised by a model whose heat hardly moves it
+    (capacities on their upper bounds, ``H_est`` and ``C_env`` fully correlated); the
+    estimates are biased (Ljung 1999, section 13.4; Forssell and Ljung 1999). Here the
+    model's ideal controller (:func:`thermocal.retrofit.gate.heat_to_follow_measured`, the
+    demand simulation's) follows ``setpoint`` and the estimated parameters minimise the
+    squared difference of its hourly heat to the metered heat (``scipy.optimize.
+    least_squares``, trust-region reflective, in log parameters within the model's bounds);
+    the first :data:`HEAT_FIT_WARM_UP_H` hours start from the steady state and are left out.
+    This is what ASHRAE Guideline 14 checks and IPMVP Option D calibrates, and exactly the
+    part of the model the annual demand and the savings use.
+
+    With ``correction`` the envelope group factors of :mod:`thermocal.retrofit.correction`
+    are estimated too, maximum a posteriori with the same priors (``ln k ~ N(0, s^2)`` from
+    ``u_value_rel_std``, ``ln H_est ~ N(ln H_est0, 0.5^2)``): the data fix the total heat loss
+    coefficient, in both directions, and as much of its split as they resolve. The data
+    residuals are weighted by their standard deviation from a first fit without the factors,
+    widened for the lag-1 autocorrelation (``n / n' = (1 + rho) / (1 - rho)``). Posterior:
+    Gauss-Newton ``J'J / s^2`` plus the prior precisions (a capacity: ``ln 2``), inverted,
+    so parameters on a bound keep their uncertainty in the draws
+    (:func:`thermocal.retrofit.correction.draw_corrected`, truncated to the bounds); plus
+    ``ln(1 + heat_rel_std^2)`` common to all (the meter's systematic error scales every
+    conductance and capacity). Without ``correction``: the published topology, covariance
+    ``s^2 (J'J)^-1`` in log space, a parameter on a bound held there.
+
+    Parameters
+    ----------
+    model : FifthOrderModel
+    data : pd.DataFrame
+        The period: :data:`thermocal.retrofit.demand.DEMAND_INPUTS` [C, W], ``phi_h_measured``
+        [W], ``phi_int`` [W], the measured indoor temperature [C].
+    setpoint : pd.Series [C]
+        What the heating held (:func:`heating_setpoint`), on ``data.index``.
+    gains : bool
+        Internal gains (``phi_int``) are an input.
+    correction : bool
+        Also estimate the envelope group factors.
+    u_value_rel_std : float [-]
+        Relative standard deviation of the audit U-values (prior of the factors).
+    heat_rel_std : float [-]
+        Relative systematic uncertainty of the heat meter.
+    block_h : float [h]
+        Residuals are the mean heat over blocks of this length (24: daily heat, see
+        :data:`RETROFIT_HEAT_BLOCK_H`).
+
+    Returns
+    -------
+    Calibration (``correction`` and ``envelope`` set with the group factors).
+
+    References
+    ----------
+    L. Ljung, System Identification: Theory for the User, 2nd ed., 1999, ch. 13.4.
+    U. Forssell and L. Ljung, "Closed-loop identification revisited", Automatica 35(7), 1999.
+    """
+    import time
+
+    from scipy.optimize import least_squares
+
+    from thermocal.retrofit.correction import (
+        FACTOR_BOUNDS,
+        GROUPS,
+        H_EST_PRIOR_STD_LOG,
+        SEPARATED_RATIO,
+        Correction,
+        _group_present,
+        draw_corrected,
+        prior_std_log,
+        scaled_envelope,
+    )
+    from thermocal.retrofit.demand import DEMAND_INPUTS
+    from thermocal.retrofit.gate import heat_to_follow_measured
+    from thermocal.retrofit.model import system_matrices
+
+    t0 = time.perf_counter()
+    phys = [n for n in ESTIMATED_PARAMETERS if n not in model.fixed]
+    unit = {n: 1e6 if model.estimated[n][3] == "MJ/K" else 1.0 for n in ESTIMATED_PARAMETERS}
+    s_k = prior_std_log(u_value_rel_std)
+    groups = (
+        [g for g in GROUPS if _group_present(model.envelope, g)]
+        if correction and s_k > 0 else []
+    )  # fmt: skip
+    names = groups + phys
+    ng = len(groups)
+    lo = np.array([np.log(FACTOR_BOUNDS[0])] * ng
+                  + [np.log(model.estimated[n][0] * unit[n]) for n in phys])  # fmt: skip
+    hi = np.array([np.log(FACTOR_BOUNDS[1])] * ng
+                  + [np.log(model.estimated[n][2] * unit[n]) for n in phys])  # fmt: skip
+    p0 = initial_params_si(model)
+    z0 = np.clip(np.array([0.0] * ng + [np.log(p0[n]) for n in phys]), lo + 1e-6, hi - 1e-6)
+    u_mean = data.iloc[:24][list(BOUNDARY_COLUMNS + HEAT_COLUMNS)].mean().to_numpy(float)
+    ti0 = float(data[OUTPUT_COLUMN].dropna().iloc[0])
+    u = data[list(DEMAND_INPUTS)]
+    g_in = data["phi_int"] if gains else None
+    step_h = (data.index[1] - data.index[0]) / pd.Timedelta(hours=1)
+    keep = np.arange(len(data)) >= int(round(HEAT_FIT_WARM_UP_H / step_h))
+    meas = data["phi_h_measured"].to_numpy(float)
+    keep &= np.isfinite(meas)
+    kept = np.flatnonzero(keep)
+
+    def unpack(z):
+        p = dict(p0)
+        p.update(dict(zip(phys, np.exp(z[ng:]), strict=True)))
+        env = scaled_envelope(model.envelope, dict(zip(groups, np.exp(z[:ng]), strict=True)))
+        return p, (env if ng else None)
+
+    def start(p, env):
+        a, b = system_matrices(model.conductances(env), p)
+        return steady_states_with_indoor(a, b, u_mean, ti0)[0]
+
+    def data_resid(z, block):
+        p, env = unpack(z)
+        q = heat_to_follow_measured(model, p, env, start(p, env), u, setpoint, g_in)
+        n_keep = len(kept) // block * block
+        rows = kept[-n_keep:] if n_keep else kept
+        r = (q.to_numpy(float)[rows] - meas[rows]) / 1000.0  # [kW]
+        return r.reshape(-1, block).mean(axis=1) if n_keep else r
+
+    def noise_scale(e, k):
+        rho = float(np.corrcoef(e[:-1], e[1:])[0, 1]) if len(e) > 2 else 0.0
+        rho = min(max(rho, 0.0), 0.95) if np.isfinite(rho) else 0.0
+        return float(e @ e) / max(len(e) - k, 1) * (1.0 + rho) / (1.0 - rho)
+
+    i_h = names.index("H_est") if "H_est" in names else None
+    ln_h0 = float(np.log(max(model.audit_h_est, 1e-3)))
+
+    def prior_resid(z):
+        if not ng:
+            return np.zeros(0)
+        out = list(z[:ng] / s_k)
+        if i_h is not None:
+            out.append((z[i_h] - ln_h0) / H_EST_PRIOR_STD_LOG)
+        return np.array(out)
+
+    def map_fit(z, free, block, s2):
+        """Maximum a posteriori over ``z[free]``, the heat residuals weighted by their scale
+        (iterated: a first scale also holds the misfit the fit removes)."""
+        free = np.asarray(free)
+        for _ in range(MAP_WEIGHT_ITERATIONS):
+            sd_e = np.sqrt(s2)
+
+            def resid(zf, sd_e=sd_e, z=z):
+                zz = z.copy()
+                zz[free] = zf
+                return np.concatenate([data_resid(zz, block) / sd_e, prior_resid(zz)])
+
+            zf0 = np.clip(z[free], lo[free] + 1e-6, hi[free] - 1e-6)
+            sol = least_squares(resid, zf0, bounds=(lo[free], hi[free]), diff_step=1e-3,
+                                x_scale=1.0)  # fmt: skip
+            z = z.copy()
+            z[free] = sol.x
+            e = data_resid(z, block)
+            s2_new = noise_scale(e, len(free))
+            done = abs(np.sqrt(s2_new / s2) - 1.0) < 0.05
+            s2 = s2_new
+            if done:
+                break
+        return z, s2, e, sol
+
+    fast = max(int(round(HEAT_FIT_BLOCK_H / step_h)), 1)
+    slow = max(int(round(block_h / step_h)), 1)
+    # 1. the published topology on the hourly heat: the capacities and H_est
+    sol = least_squares(
+        lambda zp: data_resid(np.concatenate([np.zeros(ng), zp]), fast), z0[ng:],
+        bounds=(lo[ng:], hi[ng:]), diff_step=1e-3, x_scale=1.0,
+    )  # fmt: skip
+    z = np.concatenate([np.zeros(ng), sol.x])
+    s2 = noise_scale(sol.fun, len(phys))
+    if ng:  # 2. with the group factors, maximum a posteriori, still hourly (the dynamics)
+        z, s2, e, sol = map_fit(z, np.arange(len(names)), fast, s2)
+    block = fast
+    if slow > fast:
+        # 3. the conductances (group factors, H_est) on the daily heat with the capacities of
+        # the hourly fit: the dynamics from the hours, the energy balance from the days
+        cond = np.array([i for i, nm in enumerate(names) if nm in groups or nm == "H_est"])
+        e_slow = data_resid(z, slow)
+        z, s2, e, sol = map_fit(z, cond, slow, noise_scale(e_slow, len(cond)))
+        block = slow
+    # the Jacobian of the heat residuals in every z at the optimum (forward differences)
+    e = data_resid(z, block)
+    jac = np.empty((len(e), len(names)))
+    for j in range(len(names)):
+        dz = 1e-3 if z[j] + 1e-3 <= hi[j] else -1e-3
+        zz = z.copy()
+        zz[j] += dz
+        jac[:, j] = (data_resid(zz, block) - e) / dz
+    n_res = len(e)
+    at_bounds = [nm for nm, zz, a, b in zip(names, z, lo, hi, strict=True)
+                 if zz - a < 1e-3 or b - zz < 1e-3]  # fmt: skip
+    precision = jac.T @ jac / s2
+    if ng:
+        prior_prec = np.full(len(names), 1.0 / CAPACITY_PRIOR_STD_LOG**2)
+        prior_prec[:ng] = 1.0 / s_k**2
+        if i_h is not None:
+            prior_prec[i_h] = 1.0 / H_EST_PRIOR_STD_LOG**2
+        cov_z = np.linalg.inv(precision + np.diag(prior_prec))
+    else:  # the published topology: a parameter on its bound is held there in the draws
+        cov_z = np.linalg.pinv(precision)
+        free = np.array([nm not in at_bounds for nm in names])
+        cov_z = cov_z * np.outer(free, free)
+    p, env = unpack(z)
+    full = list(ESTIMATED_PARAMETERS)
+    z_phys = z[ng:]
+    cov_phys = cov_z[ng:, ng:]
+    xs = np.exp(z_phys)
+    cov_si = np.zeros((len(full), len(full)))
+    pos = [full.index(nm) for nm in phys]
+    cov_si[np.ix_(pos, pos)] = cov_phys * np.outer(xs, xs)
+    sd = np.sqrt(np.clip(np.diag(cov_z), 0.0, None))
+    corr = cov_z / np.where(np.outer(sd, sd) > 0, np.outer(sd, sd), 1.0)
+    declared = pd.Series({nm: p[nm] / unit[nm] for nm in full})
+    bse = pd.Series({nm: float(np.sqrt(cov_si[full.index(nm), full.index(nm)])) / unit[nm]
+                     for nm in full})  # fmt: skip
+    rss = float(e @ e)
+    loglike = -0.5 * n_res * (np.log(2.0 * np.pi * rss / n_res) + 1.0)
+    k = len(names)
+    x0 = start(p, env)
+    flags = [
+        bound_flag(nm, float(declared[nm]), model.estimated[nm][0], model.estimated[nm][2],
+                   model.estimated[nm][3], drawn=bool(ng))
+        for nm in at_bounds if nm in phys
+    ]  # fmt: skip
+    hlc = calculated_hlc(model.conductances(env)) + p["H_est"]
+    corrected = None
+    hd = None
+    hlc_std = float(np.sqrt(cov_si[0, 0]))
+    if ng:
+        cov_data = cov_z.copy()
+        if heat_rel_std > 0:
+            cov_z = cov_z + np.log1p(heat_rel_std**2) * np.ones_like(cov_z)
+        prior = {g: s_k for g in groups}
+        post = {g: float(sd[i]) for i, g in enumerate(groups)}
+        if i_h is not None:
+            prior["H_est"] = H_EST_PRIOR_STD_LOG
+            post["H_est"] = float(sd[i_h])
+        pairs = {
+            f"{names[i]}/{names[j]}": float(corr[i, j])
+            for i in range(k) for j in range(i) if abs(corr[i, j]) > 0.9
+        }  # fmt: skip
+        corrected = Correction(
+            factors={g: float(np.exp(z[i])) for i, g in enumerate(groups)}, names=names,
+            z_map=z, cov_z=cov_z, cov_data=cov_data, z_lower=lo, z_upper=hi, prior_std=prior,
+            posterior_std=post,
+            separated={g: bool(post[g] < SEPARATED_RATIO * prior[g]) for g in groups},
+            log_posterior=float(-0.5 * np.sum(sol.fun**2)), correlation=pairs,
+        )  # fmt: skip
+        zd = draw_corrected(corrected, 1000, seed=1)[1:]
+        hd = hlc_of_draws(model, corrected.group_factors(zd), corrected.physical_si(zd)["H_est"])
+        hlc_std = float(np.std(hd))
+    return Calibration(
+        estimates_si={nm: float(p[nm]) for nm in full}, cov_si=cov_si, params=declared,
+        bse=bse, correlation=pd.DataFrame(corr, index=names, columns=names),
+        loglike=float(loglike), aic=float(-2 * loglike + 2 * k),
+        bic=float(-2 * loglike + k * np.log(n_res)), converged=bool(sol.status > 0),
+        flags=flags, x0=x0, fit_seconds=time.perf_counter() - t0,
+        heat_loss_coefficient=float(hlc), heat_loss_coefficient_std=hlc_std,
+        at_bounds=[nm for nm in at_bounds if nm in phys], correction=corrected, envelope=env,
+        heat_loss_coefficient_draws=hd,
+    )  # fmt: skip

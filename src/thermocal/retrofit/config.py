@@ -244,6 +244,14 @@ class ModelConfig(_Strict):
         "windows and floor with a prior from uncertainty.u_value_rel_std (the data can lower "
         "or raise the calculated losses); none: the published topology (only H_est added)",
     )
+    calibration: Literal["auto", "temperature", "heat"] = Field(
+        "auto",
+        description="temperature: the method's maximum-likelihood fit of the measured indoor "
+        "temperature; heat: the model fitted to the metered heat it needs to follow the "
+        "thermostat's set point (closed-loop identification); auto: heat when a thermostat "
+        "holds the indoor temperature in the training period (median deviation from its "
+        "daily profile below 0.1 K), else temperature",
+    )
 
     @model_validator(mode="after")
     def _bounds_and_fixed(self) -> ModelConfig:

@@ -188,6 +188,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "test": [str(analysis.test[0]), str(analysis.test[1])] if analysis.test else None,
         },
         "calibration": {
+            "method": analysis.calibration_method,
             "params": params,
             "calculated_conductances_W_per_K": h,
             "max_abs_correlation": _num(np.nanmax(np.abs(off))) if off.size else None,

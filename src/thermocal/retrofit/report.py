@@ -161,6 +161,8 @@ def write_report(
     rep.paragraph(f"{today} {advice}", css_class="lead")
     if gate["passed"] and gate.get("summary"):
         rep.paragraph(gate["summary"])
+    if (results["calibration"].get("method") or {}).get("summary"):
+        rep.paragraph(results["calibration"]["method"]["summary"])
     corr = results["calibration"].get("correction")
     if corr:
         parts = [
@@ -478,8 +480,27 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
     cfg = analysis.config
     cal = results["calibration"]
     hlc = results["heat_loss_coefficient_W_per_K"]
+    method = cal.get("method") or {}
+    if method.get("summary"):
+        rep.paragraph(
+            method["summary"]
+            + (
+                " Under a thermostat the heat is the controller's answer to every disturbance "
+                "and the indoor temperature barely moves, so a fit of the temperature biases "
+                "the estimates (closed-loop identification, Ljung 1999 sec. 13.4; Forssell and "
+                "Ljung 1999); the fit of the heat is the part of the model the demand and the "
+                "savings use. model.calibration: temperature | heat | auto selects it."
+                if method.get("method") == "heat"
+                else " model.calibration: temperature | heat | auto selects it."
+            )
+        )
+    fit = (
+        "Least-squares fit of the heat"
+        if method.get("method") == "heat"
+        else ("Maximum-likelihood fit")
+    )
     rep.paragraph(
-        f"Maximum-likelihood fit of the fifth-order model on the training period: log-"
+        f"{fit} of the fifth-order model on the training period: log-"
         f"likelihood {cal['loglike']:.1f}, AIC {cal['aic']:.1f}, converged: "
         f"{cal['converged']}, {cal['fit_seconds']:.1f} s. Largest |correlation| between the "
         f"estimated physical parameters: {_fmt(cal['max_abs_correlation_physical'], '.3f')} "

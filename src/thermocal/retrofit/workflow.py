@@ -23,11 +23,15 @@ from thermocal.retrofit.calibration import (
     BOUNDARY_COLUMNS,
     HEAT_COLUMNS,
     OUTPUT_COLUMN,
+    RETROFIT_HEAT_BLOCK_H,
     Calibration,
     calibrate,
+    calibrate_to_heat,
     check_heating_power_magnitude,
     check_training_data,
     draw_parameters,
+    heating_setpoint,
+    tight_control,
 )
 from thermocal.retrofit.config import RetrofitConfig
 from thermocal.retrofit.data import (
@@ -77,6 +81,7 @@ class RetrofitAnalysis:
     heat_validation: dict | None = None  # daily heat of model vs meter, test period
     gate: dict | None = None  # verdict of thermocal.retrofit.gate.validation_gate
     year_gains: np.ndarray | None = None  # [W] internal gains of the demand year
+    calibration_method: dict | None = None  # :func:`calibration_method` (what was fitted, why)
 
 
 def load_building(source, *, config_source: str = "the retrofit configuration"):
@@ -319,18 +324,32 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         f"{mc.columns['heat']!r}"
         + (f" and boiler_efficiency {mc.boiler_efficiency:g}" if mc.boiler_efficiency else ""),
     )
-    cal = calibrate(
-        model,
-        train,
-        n_starts=cfg.model.n_starts,
-        seed=cfg.model.seed,
-        max_correlation=cfg.model.max_correlation,
-        # U-values declared exact (u_value_rel_std 0): nothing to correct, the published model
-        correction=cfg.model.correction == "groups" and cfg.uncertainty.u_value_rel_std > 0,
-        fixed_noise=cfg.model.fixed_noise,
-        heat_rel_std=cfg.uncertainty.heat_rel_std,
-        u_value_rel_std=cfg.uncertainty.u_value_rel_std,
+    setpoint = heating_setpoint(
+        inputs[OUTPUT_COLUMN], inputs["phi_h_measured"], [training] + ([test] if test else [])
     )
+    method = calibration_method(cfg.model.calibration, train)
+    say(method["summary"])
+    correct = cfg.model.correction == "groups" and cfg.uncertainty.u_value_rel_std > 0
+    if method["method"] == "heat":
+        cal = calibrate_to_heat(
+            model, train, setpoint[train.index], gains=gains is not None, correction=correct,
+            u_value_rel_std=cfg.uncertainty.u_value_rel_std,
+            heat_rel_std=cfg.uncertainty.heat_rel_std, block_h=RETROFIT_HEAT_BLOCK_H,
+        )  # fmt: skip
+    else:
+        cal = calibrate(
+            model,
+            train,
+            n_starts=cfg.model.n_starts,
+            seed=cfg.model.seed,
+            max_correlation=cfg.model.max_correlation,
+            # U-values declared exact (u_value_rel_std 0): nothing to correct, the published
+            # model
+            correction=correct,
+            fixed_noise=cfg.model.fixed_noise,
+            heat_rel_std=cfg.uncertainty.heat_rel_std,
+            u_value_rel_std=cfg.uncertainty.u_value_rel_std,
+        )
     if cal.correction is not None:
         say(cal.correction.summary())
     timings["calibration"] = time.perf_counter() - t1
@@ -365,7 +384,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             cal.envelope,
             states.loc[sel].iloc[0].to_numpy(float),
             filled.loc[sel, list(DEMAND_INPUTS)],
-            inputs.loc[sel, OUTPUT_COLUMN],
+            # the heat fit's model follows the thermostat's set point; the temperature fit's
+            # the measured indoor temperature (as the method validates it)
+            (setpoint if method["method"] == "heat" else inputs[OUTPUT_COLUMN]).loc[sel],
             None if gains is None else inputs.loc[sel, "phi_int"],
         )
         heat_check = heat_validation(model_heat, inputs.loc[sel, "phi_h_measured"])
@@ -447,8 +468,52 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         year_gains=year_gains,
         envelopes=envelopes,
         timings=timings, notes=notes, measurements_quality=quality,
-        heat_validation=heat_check, gate=gate,
+        heat_validation=heat_check, gate=gate, calibration_method=method,
     )  # fmt: skip
+
+
+def calibration_method(requested: str, train: pd.DataFrame) -> dict:
+    """Which quantity the calibration fits, and why (``model.calibration``).
+
+    ``auto``: the metered heat (:func:`thermocal.retrofit.calibration.calibrate_to_heat`) when
+    a thermostat holds the indoor temperature over the training period
+    (:func:`thermocal.retrofit.calibration.tight_control`): the temperature then carries no
+    information on the losses, the heat does; otherwise the indoor temperature (the method's
+    maximum-likelihood fit, :func:`thermocal.retrofit.calibration.calibrate`).
+
+    Parameters
+    ----------
+    requested : {"auto", "temperature", "heat"}
+    train : pd.DataFrame
+        Training data with the measured indoor temperature [C] and ``phi_h_measured`` [W].
+
+    Returns
+    -------
+    dict: ``method`` ("heat" or "temperature"), ``requested``, ``tight_control`` (the
+    deviation ``mad_K`` [K], ``tight``, ``limit_K`` [K]) and ``summary`` (one sentence).
+    """
+    control = tight_control(train[OUTPUT_COLUMN], train["phi_h_measured"])
+    method = requested
+    if requested == "auto":
+        method = "heat" if control["tight"] else "temperature"
+    held = (
+        f"the indoor temperature deviates by {control['mad_K']:.2f} K (median) from the "
+        f"thermostat's daily profile while heating (tight control below {control['limit_K']:g}"
+        " K)"
+    )
+    what = (
+        "fitted to the metered heat the model needs to follow the thermostat's set point "
+        "(closed-loop identification)"
+        if method == "heat"
+        else "fitted to the measured indoor temperature (maximum likelihood, Kalman filter)"
+    )
+    why = (
+        f"chosen automatically: {held}"
+        if requested == "auto"
+        else f"model.calibration: {requested}; {held}"
+    )
+    return {"method": method, "requested": requested, "tight_control": control,
+            "summary": f"The model was {what}; {why}."}  # fmt: skip
 
 
 def internal_gains(grid: pd.DataFrame, cfg) -> pd.Series | None:

@@ -9,20 +9,21 @@ compared hour by hour (first day left out) with the sensible gains EnergyPlus re
 the zones, in all hours and in the method's unoccupied hours.
 
 Measured 2026-11-25 (this period; January in ``tests/reference/identification_5zone``), NMBE /
-CV(RMSE), and the bounds (a little above, so that a regression fails):
+CV(RMSE), and the bounds (a little above, so that a regression fails; the unoccupied-hour bounds
+fail with the former star long-wave network, which gave +13.8 % / 21.8 % and +10.9 % / 18.0 %):
 
 | case | all hours | bound | unoccupied hours | bound |
 |---|---|---|---|---|
-| 6 of 6 sensed, default form | +0.5 % / 4.8 % | 5 % / 15 % | +13.8 % / 21.8 % | 20 % / 26 % |
-| 5 of 6 sensed, plenum floats | +0.5 % / 3.9 % | 5 % / 15 % | +10.9 % / 18.0 % | 20 % / 26 % |
-| 6 of 6, the paper's form (all into the air) | -26.1 % / 45.7 % | NMBE < -15 % | - | - |
+| 6 of 6 sensed, default form | -0.1 % / 4.8 % | 5 % / 15 % | +11.1 % / 20.2 % | 12.5 % / 21 % |
+| 5 of 6 sensed, plenum floats | -0.2 % / 4.0 % | 5 % / 15 % | +7.9 % / 16.4 % | 9.5 % / 17.5 % |
+| 6 of 6, the paper's form (all into the air) | about -26 % / 46 % | NMBE < -15 % | - | - |
 
-The floating plenum's simulated temperature: hourly RMSE 0.18 K, bias 0.00 K against
-EnergyPlus (bound 0.5 K). Runtime about 13 s (EnergyPlus 2 s, four identifications).
+The floating plenum's simulated temperature: hourly RMSE about 0.13-0.18 K against EnergyPlus
+(bound 0.5 K). Runtime about 13 s (EnergyPlus 2 s, four identifications).
 
-The unoccupied-hour target of issue 28 (|NMBE| <= 5 %, CV(RMSE) <= 15 %) is not met yet: the
-night gains are 82 % radiant (lights) where the day's are 60 %, and on weekend nights thermocal
-needs about 0.1 kW (10 %) more than EnergyPlus for the same radiant gains (see
+The unoccupied-hour target of issue 28 (|NMBE| <= 5 %, CV(RMSE) <= 15 %) is not met yet: what
+is left is mostly the return plenum (about +75 W of the +95 W at night with every zone sensed),
+whose temperature swings about 0.1-0.2 K more than EnergyPlus' over the day (see
 docs/identification.md).
 """
 
@@ -76,8 +77,8 @@ def test_identified_heat_matches_energyplus_gains_all_zones_sensed(twin):
     _, every, empty = _identify(twin, ZONES)
     assert abs(every["nmbe"]) <= 0.05
     assert every["cvrmse"] <= 0.15
-    assert abs(empty["nmbe"]) <= 0.20
-    assert empty["cvrmse"] <= 0.26
+    assert abs(empty["nmbe"]) <= 0.125
+    assert empty["cvrmse"] <= 0.21
     # the paper's form (all of the heat into the air) misses the radiant gains
     _, paper, _ = _identify(twin, ZONES, radiant_fraction=0.0, feedback="air")
     assert paper["nmbe"] < -0.15
@@ -90,8 +91,8 @@ def test_identified_heat_with_the_plenum_unsensed_floating(twin):
     assert (result.q_id["PLENUM-1"] == 0.0).all()
     assert abs(every["nmbe"]) <= 0.05
     assert every["cvrmse"] <= 0.15
-    assert abs(empty["nmbe"]) <= 0.20
-    assert empty["cvrmse"] <= 0.26
+    assert abs(empty["nmbe"]) <= 0.095
+    assert empty["cvrmse"] <= 0.175
     # the floating plenum's simulated temperature follows EnergyPlus'
     floating = result.floating_temperature["PLENUM-1"]
     reference = twin.temperature["PLENUM-1"].reindex(floating.index)

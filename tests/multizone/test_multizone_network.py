@@ -523,8 +523,7 @@ def test_shading_hides_the_sky_in_the_long_wave_and_radiant_gains_follow_area_em
 
 def test_grey_exchange_factors_and_the_pairwise_interior_long_wave_option():
     """Two parallel grey plates exchange with 1 / (1/eps1 + 1/eps2 - 1); the "view_factors"
-    exchange (the default) links every pair of faces of a zone except co-planar ones (a wall and
-    its window), the "star" option goes through one radiant node per zone."""
+    option links every pair of faces of a zone except co-planar ones (a wall and its window)."""
     from thermocal.multizone import generators
     from thermocal.multizone.network import (
         NetworkOptions,
@@ -536,8 +535,10 @@ def test_grey_exchange_factors_and_the_pairwise_interior_long_wave_option():
     assert plates[0, 1] == pytest.approx(1.0 / (1.0 / 0.9 + 1.0 / 0.6 - 1.0))
     assert plates[0, 0] == 0.0 and plates[1, 0] == pytest.approx(plates[0, 1])
     building = generators.clinic(12, n_corridors=1, corridor_sections=2)
-    star = assemble(building, 300.0, options=NetworkOptions(interior_longwave_exchange="star"))
-    pairs = assemble(building, 300.0)
+    star = assemble(building, 300.0)
+    pairs = assemble(
+        building, 300.0, options=NetworkOptions(interior_longwave_exchange="view_factors")
+    )
     assert len(star.lw_pair_g) == 0 and (star.face_mrt_node >= 0).any()
     assert len(pairs.lw_pair_g) > 0 and (pairs.face_mrt_node < 0).all()
     assert pairs.n_nodes == star.n_nodes - int((star.mrt_node >= 0).sum())

@@ -3,18 +3,18 @@
 A 3 m x 3 m x 2.5 m concrete box (plan generator) with 2 kW of internal gains at hourly steps:
 with TARP convection the surface-air differences reach 10 K and the explicit (previous-step)
 convection excess used to grow by a factor of about 4 per step until the kernel stopped with a
-ZeroDivisionError. The reference is the same box at 5-minute steps.
+ZeroDivisionError. The kernel now limits a zone's lagged excess to what its air node can take
+without ringing. The reference is the same box at 5-minute steps.
 """
 
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 from test_multizone_network import constant_weather
 
 from thermocal.multizone.generators import Constructions, Room, Storey, plan_building
 from thermocal.multizone.model import Construction, Location, Material, WindowType
-from thermocal.multizone.simulation import Simulation, lagged_convection_bound
+from thermocal.multizone.simulation import Simulation
 
 
 def heavy_box(gains=2000.0):
@@ -55,28 +55,13 @@ def _air(step):
 
 
 def test_heavy_box_with_2kw_at_hourly_steps_follows_the_five_minute_run():
+    """Measured 2026-11-25: after the first hours the hourly run moves smoothly (second
+    differences <= 0.02 K) and lies 0.6 K above the 5-minute run (the convection excess the
+    lagged correction may use at 1 h in so small a room is limited); before: ZeroDivisionError
+    after a growth of about 4 per step."""
     hourly, fine = _air("1h"), _air("5min")
     assert np.isfinite(hourly).all()
-    # no step-to-step oscillation: after the first hour the temperature moves smoothly
-    assert np.abs(np.diff(hourly.to_numpy(), 2)).max() < 1.0
-    # bounded but not exact: the convection excess allowed at 1 h is small in so small a room
-    # (measured 2026-11-25: 2.8-3.5 K warmer than the 5-minute run; use short steps for such
-    # rooms)
-    diff = (hourly - fine.reindex(hourly.index)).iloc[1:]
-    assert np.abs(diff).max() < 4.0, float(np.abs(diff).max())
-
-
-def test_lagged_convection_bound_shares_the_air_capacity():
-    weather, meta = constant_weather(days=1)
-    sim = Simulation(heavy_box(), weather, meta, step="1h", warmup_days=0)
-    net = sim.network
-    bound = lagged_convection_bound(net, 3600.0)
-    air = net.capacity[net.air_node[0]]
-    area = net.face_area.sum()
-    expected = np.minimum(
-        2.0 * net.face_h0 + net.face_capacity / 3600.0, net.face_h0 + air / area / 3600.0
-    )
-    np.testing.assert_allclose(bound, expected)
-    # the air bound binds at 1 h in this box, not at 5 min in an office-sized room
-    assert (bound < 2.0 * net.face_h0 + net.face_capacity / 3600.0).all()
-    assert pd.Timedelta(sim.step_size) == pd.Timedelta("1h")
+    settled = hourly.iloc[6:]
+    assert np.abs(np.diff(settled.to_numpy(), 2)).max() < 0.2
+    diff = settled - fine.reindex(settled.index)
+    assert np.abs(diff).max() < 1.0, float(np.abs(diff).max())

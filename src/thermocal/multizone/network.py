@@ -107,15 +107,16 @@ class NetworkOptions:
         Correct the interior long-wave exchange, linearised at ``radiant_temperature``, to the
         exact ``sigma (T_f^2 + T_r^2)(T_f + T_r)`` coefficient between each face and the zone's
         radiant star node (EnergyPlus exchanges ``sigma T^4`` exactly).
-    interior_longwave_exchange : {"view_factors", "star"}
-        "view_factors" (default): every pair of faces exchanges directly with EnergyPlus'
-        grey-body exchange factors (ScriptF, Hottel) on its approximate view factors, which
-        exclude co-planar faces (:func:`grey_exchange_factors`); "star": each face exchanges
-        with one mean-radiant star node per zone (Carroll 1980), so a wall also exchanges with
-        its own co-planar windows. On NREL's 5ZoneAirCooled at night (January, EnergyPlus
-        25.2) the star makes the exterior walls' inside faces 0.23-0.28 K colder than
-        EnergyPlus' (they see their own cold windows, and a plenum wall the whole enclosure
-        through one node); the pairwise exchange puts them within 0.02 K.
+    interior_longwave_exchange : {"star", "view_factors"}
+        "star" (default): each face exchanges with one mean-radiant star node per zone (Carroll
+        1980), so a wall also exchanges with its own co-planar windows; "view_factors": every
+        pair of faces exchanges directly with EnergyPlus' grey-body exchange factors (ScriptF,
+        Hottel) on its approximate view factors, which exclude co-planar faces
+        (:func:`grey_exchange_factors`). :class:`~thermocal.multizone.simulation.Simulation`
+        uses "view_factors" for buildings imported from an IDF file (EnergyPlus' own rule): on
+        NREL's 5ZoneAirCooled at night the star makes the exterior walls' inside faces
+        0.23-0.28 K colder than EnergyPlus' (they see their own cold windows), the pairwise
+        exchange within 0.02 K.
     exact_sky_longwave : bool
         Correct the linearised exterior long-wave exchange to the exact ``sigma T^4`` law.
     roughness_factor : float [-]
@@ -143,7 +144,7 @@ class NetworkOptions:
     h_interior_fixed: float | None = None
     interior_longwave: bool = True
     exact_interior_longwave: bool = True
-    interior_longwave_exchange: str = "view_factors"
+    interior_longwave_exchange: str = "star"
     exact_sky_longwave: bool = True
     roughness_factor: float = 1.67
     wind_speed_factor: float = 0.845

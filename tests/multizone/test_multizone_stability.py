@@ -10,8 +10,10 @@ without ringing. The reference is the same box at 5-minute steps.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from test_multizone_network import constant_weather
 
+from thermocal.errors import ThermocalInputError
 from thermocal.multizone.generators import Constructions, Room, Storey, plan_building
 from thermocal.multizone.model import Construction, Location, Material, WindowType
 from thermocal.multizone.simulation import Simulation
@@ -65,3 +67,11 @@ def test_heavy_box_with_2kw_at_hourly_steps_follows_the_five_minute_run():
     assert np.abs(np.diff(settled.to_numpy(), 2)).max() < 0.2
     diff = settled - fine.reindex(settled.index)
     assert np.abs(diff).max() < 1.0, float(np.abs(diff).max())
+
+
+def test_a_diverged_run_is_refused_naming_the_zone_and_a_remedy():
+    weather, meta = constant_weather(days=1)
+    sim = Simulation(heavy_box(), weather, meta, step="1h", warmup_days=0)
+    sim._diverged(0, 24, np.zeros((24, 1)))  # finite: nothing to say
+    with pytest.raises(ThermocalInputError, match=r"diverged.*'box'.*shorter step"):
+        sim._diverged(0, 24, np.full((24, 1), np.nan))

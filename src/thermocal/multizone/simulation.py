@@ -634,9 +634,14 @@ class Simulation:
         self._b = (b.indptr.astype(np.int64), b.indices.astype(np.int64), b.data)
         counts = np.bincount(net.face_zone, weights=net.face_area, minlength=len(zones))
         self._zone_face_area = counts.astype(float)
-        self._ext_area_eps = np.ascontiguousarray(
-            np.stack([net.ext_area, net.ext_area * net.ext_emissivity], axis=1)
-        )
+        # second column: the area of the exact sigma T^4 correction of the exterior long-wave;
+        # EnergyPlus' SimpleCombined coefficient of an opaque face is a constant combined
+        # coefficient (its radiative part linear in T_out - T_s): no correction there (on
+        # 5ZoneAirCooled's south walls in the sun it made the outside faces 1-1.6 K too cold)
+        longwave_area = net.ext_area * net.ext_emissivity
+        if self.options.exterior_convection == "simple_combined":
+            longwave_area = np.where(net.ext_is_window, longwave_area, 0.0)
+        self._ext_area_eps = np.ascontiguousarray(np.stack([net.ext_area, longwave_area], axis=1))
         self._tracking_cache = {}
         self._fine = self._context(self.dt, self._inputs, self._ext_dh_raw, self._inf_dh)
         self._lu = self._fine.lu

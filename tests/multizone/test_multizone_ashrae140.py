@@ -23,6 +23,7 @@ import pytest
 
 from thermocal.io.weather import read_weather
 from thermocal.multizone.idf import read_idf
+from thermocal.multizone.network import NetworkOptions
 from thermocal.multizone.simulation import Simulation
 
 
@@ -80,10 +81,17 @@ def test_case600ff_temperatures_within_six_programs(case600):
             for name, z in building.zones.items()
         },
     )
-    # dataclasses.replace drops the import's idf_info: the IDF default weather interpolation is
-    # given explicitly so that both runs below see the same weather
+    # dataclasses.replace drops the import's idf_info: the IDF defaults (weather interpolation,
+    # EnergyPlus' pairwise interior long-wave exchange; the file's convection algorithms are the
+    # defaults) are given explicitly so that both runs below see the same model
     result = Simulation(
-        free, weather, meta, step="15min", store_surfaces=False, weather_interpolation="energyplus"
+        free,
+        weather,
+        meta,
+        step="15min",
+        store_surfaces=False,
+        weather_interpolation="energyplus",
+        options=NetworkOptions(interior_longwave_exchange="view_factors"),
     ).run()
     hourly = result.air_temperature["ZONE ONE"].resample("1h").mean()
     for quantity, value in (

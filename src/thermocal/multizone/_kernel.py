@@ -535,6 +535,10 @@ def run_steps(
     t_free = np.empty(nc)
     rhs_d = np.empty(n)
     mrt_tmp = np.zeros(nz)
+    face_excess = np.zeros(face_node.shape[0])
+    zone_excess = np.zeros(nz)
+    zone_g0 = np.zeros(nz)
+    zone_scale = np.ones(nz)
     sp_rows = ctrl_heat_sp.shape[0]
     dt_rows = inf_dt.shape[0]
     people_rows = people_b.shape[0]
@@ -594,6 +598,9 @@ def run_steps(
                 corr += ext_area_eps[e, 1] * (exact - linear)
             rhs[node] += corr
         if tarp_on:
+            for z in range(nz):
+                zone_excess[z] = 0.0
+                zone_g0[z] = 0.0
             for f in range(face_node.shape[0]):
                 node = face_node[f]
                 an = face_air[f]
@@ -606,7 +613,29 @@ def run_steps(
                     h = tarp_from_root(dt_s, root, face_cos[f])
                 if h > face_hmax[f]:
                     h = face_hmax[f]
-                corr = (h - face_h0[f]) * face_area[f] * (x[an] - x[node])
+                face_excess[f] = (h - face_h0[f]) * face_area[f]
+                z = face_zone[f]
+                zone_g0[z] += face_h0[f] * face_area[f]
+                if face_excess[f] > 0.0:
+                    zone_excess[z] += face_excess[f]
+            # the excess conductances of a zone's faces all act on its air node, lagged: with
+            # the surfaces held, the air's deviation from them is multiplied by
+            # (C/dt - Gx) / (C/dt + G0) each step, so a positive excess Gx above
+            # (4 C/dt + G0) / 3 (a factor below -1/3: a growing or ringing oscillation, small
+            # rooms at long steps; 2 kW in a 3 m concrete box at 1 h grew 4-fold per step) is
+            # scaled down to that limit
+            for z in range(nz):
+                limit = (c_dt[air_node[z]] * 4.0 + zone_g0[z]) / 3.0
+                zone_scale[z] = 1.0
+                if zone_excess[z] > limit:
+                    zone_scale[z] = limit / zone_excess[z]
+            for f in range(face_node.shape[0]):
+                node = face_node[f]
+                an = face_air[f]
+                g_x = face_excess[f]
+                if g_x > 0.0:
+                    g_x *= zone_scale[face_zone[f]]
+                corr = g_x * (x[an] - x[node])
                 rhs[node] += corr
                 rhs[an] -= corr
         # exact interior long-wave exchange: face <-> radiant star node with the coefficient
@@ -699,6 +728,28 @@ def run_steps(
                 rhs[an] += people_excess(
                     x[an], people_a[k, z], people_b[k, z], people_c[k, z], people_max[k, z]
                 )
+        # 1''. PID heat from the error at the start of the step: known before the solve, so the
+        #      PID zones' outdoor air is implicit in the step as a free-floating zone's (2')
+        if track_mode == 2:
+            for c in range(nc):
+                e = track_ref[s, c] - track_fb[c]
+                u_c = pid_c1[c] * pid_state[c, 0] + pid_c2[c] * pid_state[c, 1] + pid_d[c] * e
+                integrate = 1.0
+                if u_c > q_hi[c]:
+                    u_c = q_hi[c]
+                    if e > 0.0:
+                        integrate = 0.0
+                elif u_c < q_lo[c]:
+                    u_c = q_lo[c]
+                    if e < 0.0:
+                        integrate = 0.0
+                # canonical form x1' = x1 + e, x2' = x1; with the integration frozen the
+                # derivative memory x1 - x2 still equals the last error
+                pid_state[c, 0] += integrate * e
+                pid_state[c, 1] = pid_state[c, 0] - e
+                q[c] = u_c
+                for p in range(track_ptr[c], track_ptr[c + 1]):
+                    rhs[track_idx[p]] += track_val[p] * u_c
         # 2'. outdoor air of the implicit zones in the step it belongs to (Woodbury on the first
         #     solve's system): y = air temperatures without it, then (I + G D) y = y0 + G D T_out
         if m_imp > 0:
@@ -785,25 +836,7 @@ def run_steps(
         # 3'. tracking: PID heat from the error at the start of the step, or the exact inverse
         done = False
         if track_mode == 2:
-            for c in range(nc):
-                e = track_ref[s, c] - track_fb[c]
-                u_c = pid_c1[c] * pid_state[c, 0] + pid_c2[c] * pid_state[c, 1] + pid_d[c] * e
-                integrate = 1.0
-                if u_c > q_hi[c]:
-                    u_c = q_hi[c]
-                    if e > 0.0:
-                        integrate = 0.0
-                elif u_c < q_lo[c]:
-                    u_c = q_lo[c]
-                    if e < 0.0:
-                        integrate = 0.0
-                # canonical form x1' = x1 + e, x2' = x1; with the integration frozen the
-                # derivative memory x1 - x2 still equals the last error
-                pid_state[c, 0] += integrate * e
-                pid_state[c, 1] = pid_state[c, 0] - e
-                q[c] = u_c
-                for p in range(track_ptr[c], track_ptr[c + 1]):
-                    rhs[track_idx[p]] += track_val[p] * u_c
+            # the PID heat is already in rhs (before the outdoor air, see 1'')
             lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
             done = True
         elif track_mode == 1 and not track_general:
@@ -933,6 +966,25 @@ def run_steps(
                 for c in range(nc):
                     rhs[air_node[ctrl_zone[c]]] += q[c]
                 lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+        # 4'. a zone the ideal loads hold at a set point meets its scheduled outdoor air at that
+        #     set point, not at its previous temperature: the load takes the difference (the
+        #     temperatures do not change while the zone stays held)
+        if ideal_on and track_mode == 0:
+            for c in range(nc):
+                if active[c] == 0:
+                    continue
+                z = ctrl_zone[c]
+                if imp_of[z] >= 0 or gt_of[z] >= 0:
+                    continue
+                held_t = heat_sp_k[c] if active[c] == 1 else cool_sp_k[c]
+                lag = inf_temp[z]
+                extra = (inf_dh[k, z] + vent_d[z]) * (lag - held_t)
+                if dt_rows > 0:
+                    g_dt = inf_dt[k if dt_rows > 1 else 0, z]
+                    d_held = t_out - held_t
+                    d_lag = t_out - lag
+                    extra += g_dt * (abs(d_held) * d_held - abs(d_lag) * d_lag)
+                q[c] -= extra
         for i in range(n):
             x[i] = x_new[i]
         # 5. outputs

@@ -14,6 +14,7 @@ the compiled loop.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import warnings
 from collections.abc import Mapping
@@ -385,8 +386,11 @@ class Simulation:
         info = getattr(building, "idf_info", None)
         self._convection_notes: list[str] = []
         if options is None and info is not None and hasattr(info, "network_options"):
-            # the file's SurfaceConvectionAlgorithm:Inside/Outside
+            # the file's SurfaceConvectionAlgorithm:Inside/Outside, and EnergyPlus' interior
+            # long-wave exchange (pairwise grey-body factors on its approximate view factors,
+            # which exclude co-planar faces: a wall does not see its own windows)
             options, self._convection_notes = info.network_options()
+            options = dataclasses.replace(options, interior_longwave_exchange="view_factors")
         self.options = options or NetworkOptions()
         try:
             self.step_size = pd.Timedelta(step)
@@ -630,9 +634,14 @@ class Simulation:
         self._b = (b.indptr.astype(np.int64), b.indices.astype(np.int64), b.data)
         counts = np.bincount(net.face_zone, weights=net.face_area, minlength=len(zones))
         self._zone_face_area = counts.astype(float)
-        self._ext_area_eps = np.ascontiguousarray(
-            np.stack([net.ext_area, net.ext_area * net.ext_emissivity], axis=1)
-        )
+        # second column: the area of the exact sigma T^4 correction of the exterior long-wave;
+        # EnergyPlus' SimpleCombined coefficient of an opaque face is a constant combined
+        # coefficient (its radiative part linear in T_out - T_s): no correction there (on
+        # 5ZoneAirCooled's south walls in the sun it made the outside faces 1-1.6 K too cold)
+        longwave_area = net.ext_area * net.ext_emissivity
+        if self.options.exterior_convection == "simple_combined":
+            longwave_area = np.where(net.ext_is_window, longwave_area, 0.0)
+        self._ext_area_eps = np.ascontiguousarray(np.stack([net.ext_area, longwave_area], axis=1))
         self._tracking_cache = {}
         self._fine = self._context(self.dt, self._inputs, self._ext_dh_raw, self._inf_dh)
         self._lu = self._fine.lu
@@ -1192,94 +1201,125 @@ class Simulation:
             imp = _NO_IMPLICIT[:4] + (np.zeros(nz, dtype=np.bool_),)
             vent = _NO_VENT
         else:
-            held = controlled if (ideal or tracking is not None) else ()
+            # zones whose air temperature the step holds (ideal loads, the exact inverse); a PID
+            # zone's heat is known before the solve, so its outdoor air is implicit as a free one's
+            inverse = tracking is not None and track["mode"] == 1
+            held = controlled if (ideal or inverse) else ()
             imp = self._implicit_arrays(context, held, dirichlet_first)
             vent = context.vent
         general = tracking is not None and track["mode"] == 1 and track["general"]
         tracked_air = context.implicit.get("tracked", _NO_TRACKED_AIR) if general else None
         if tracked_air is None or linear:
             tracked_air = _NO_TRACKED_AIR
-        _kernel.run_steps(
-            k0,
-            n,
-            self._x,
-            context.c_dt,
-            *self._b,
-            context.inputs,
-            np.ascontiguousarray(heat, dtype=float),
-            *context.factors,
-            net.ext_node,
-            self._ext_area_eps,
-            net.ext_view_air,
-            net.ext_view_sky,
-            net.ext_hr0,
-            ext_dh,
-            self.options.exact_sky_longwave and not linear,
-            net.face_node,
-            net.air_node[net.face_zone],
-            net.face_area,
-            net.face_cos_up,
-            net.face_h0,
-            context.face_hmax,
-            tarp_on,
-            self._face_root,
-            net.air_node,
-            inf_dh,
-            np.zeros((0, nz)) if linear else context.inf_dt,
-            np.zeros((0, nz)) if linear else context.people_a,
-            np.zeros((0, nz)) if linear else context.people_b,
-            np.zeros((0, nz)) if linear else context.people_c,
-            np.zeros((0, nz)) if linear else context.people_max,
-            controlled,
-            context.heat_sp if tracking is None else track["dummy_sp"],
-            context.cool_sp if tracking is None else track["dummy_sp"],
-            context.g_ctrl,
-            bool(ideal),
-            net.face_zone,
-            self._zone_face_area,
-            out_air,
-            out_mrt,
-            out_heat,
-            out_cool,
-            out_face,
-            bool(store),
-            self._active,
-            self._cache_member,
-            self._cache_inv,
-            self._cache_m,
-            len(self._ctrl) > 0 and self.use_dirichlet,
-            *context.dirichlet,
-            *context.air_rows,
-            net.window_outer,
-            net.window_inner,
-            net.window_conductance,
-            window_ratio,
-            WINDOW_TEMPERATURE_GRID[0],
-            WINDOW_TEMPERATURE_GRID[1] - WINDOW_TEMPERATURE_GRID[0],
-            self.options.exact_interior_longwave and self.options.interior_longwave and not linear,
-            net.face_mrt_node,
-            net.face_mrt_conductance,
-            net.lw_pair_a,
-            net.lw_pair_b,
-            net.lw_pair_g,
-            net.h_black,
-            track["mode"],
-            track["reference"],
-            track["general"],
-            track["w_air"],
-            *track["distribution"],
-            *track["pid"],
-            track["pid_state"],
-            track["feedback"],
-            track["q_low"],
-            track["q_high"],
-            track["g_inverse"],
-            track["out_q"],
-            *imp,
-            *vent,
-            *tracked_air,
-        )
+        try:
+            _kernel.run_steps(
+                k0,
+                n,
+                self._x,
+                context.c_dt,
+                *self._b,
+                context.inputs,
+                np.ascontiguousarray(heat, dtype=float),
+                *context.factors,
+                net.ext_node,
+                self._ext_area_eps,
+                net.ext_view_air,
+                net.ext_view_sky,
+                net.ext_hr0,
+                ext_dh,
+                self.options.exact_sky_longwave and not linear,
+                net.face_node,
+                net.air_node[net.face_zone],
+                net.face_area,
+                net.face_cos_up,
+                net.face_h0,
+                context.face_hmax,
+                tarp_on,
+                self._face_root,
+                net.air_node,
+                inf_dh,
+                np.zeros((0, nz)) if linear else context.inf_dt,
+                np.zeros((0, nz)) if linear else context.people_a,
+                np.zeros((0, nz)) if linear else context.people_b,
+                np.zeros((0, nz)) if linear else context.people_c,
+                np.zeros((0, nz)) if linear else context.people_max,
+                controlled,
+                context.heat_sp if tracking is None else track["dummy_sp"],
+                context.cool_sp if tracking is None else track["dummy_sp"],
+                context.g_ctrl,
+                bool(ideal),
+                net.face_zone,
+                self._zone_face_area,
+                out_air,
+                out_mrt,
+                out_heat,
+                out_cool,
+                out_face,
+                bool(store),
+                self._active,
+                self._cache_member,
+                self._cache_inv,
+                self._cache_m,
+                len(self._ctrl) > 0 and self.use_dirichlet,
+                *context.dirichlet,
+                *context.air_rows,
+                net.window_outer,
+                net.window_inner,
+                net.window_conductance,
+                window_ratio,
+                WINDOW_TEMPERATURE_GRID[0],
+                WINDOW_TEMPERATURE_GRID[1] - WINDOW_TEMPERATURE_GRID[0],
+                self.options.exact_interior_longwave
+                and self.options.interior_longwave
+                and not linear,
+                net.face_mrt_node,
+                net.face_mrt_conductance,
+                net.lw_pair_a,
+                net.lw_pair_b,
+                net.lw_pair_g,
+                net.h_black,
+                track["mode"],
+                track["reference"],
+                track["general"],
+                track["w_air"],
+                *track["distribution"],
+                *track["pid"],
+                track["pid_state"],
+                track["feedback"],
+                track["q_low"],
+                track["q_high"],
+                track["g_inverse"],
+                track["out_q"],
+                *imp,
+                *vent,
+                *tracked_air,
+            )
+        except ZeroDivisionError:
+            self._diverged(k0, n, None)
+        if tracking is None:  # a diverging tracking loop is marked and handled by its caller
+            self._diverged(k0, n, out_air)
         return out_air, out_mrt, out_heat, out_cool, out_face
+
+    def _diverged(self, k0: int, n: int, air) -> None:
+        """Refuse a run whose temperatures became NaN or infinite (an unstable step)."""
+        if air is not None:
+            bad = ~np.isfinite(air)
+            if not bad.any():
+                return
+            zones = [self.network.zone_names[z] for z in np.flatnonzero(bad.any(axis=0))]
+        else:
+            x = self._x[self.network.air_node]
+            bad = ~np.isfinite(x)
+            zones = [self.network.zone_names[z] for z in np.flatnonzero(bad)] or list(
+                self.network.zone_names
+            )
+        raise ThermocalInputError(
+            f"the simulation diverged between steps {k0} and {k0 + n} "
+            f"({self.times[min(k0, len(self.times) - 1)]} onwards) in zone(s) "
+            f"{', '.join(repr(z) for z in zones[:5])}: the step ({self.step_size}) is too long "
+            "for these zones' air capacity and gains; use a shorter step (e.g. '15min' or "
+            "'5min') or check the zone's volume and gains"
+        )
 
     def _implicit_arrays(self, context: _Context, held, dirichlet: bool) -> tuple:
         """Kernel arrays of the zones whose outdoor air is implicit in the step.

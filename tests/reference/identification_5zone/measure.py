@@ -1,15 +1,17 @@
 """Identified heat vs EnergyPlus on the 5ZoneAirCooled twin, every option: writes results.json.
 
-Run from the repository root (EnergyPlus 25.2 and ../shared/data needed, about a minute)::
+Run from the repository root (EnergyPlus 25.2 and ../shared/data needed, a few minutes)::
 
     python tests/reference/identification_5zone/measure.py
 
 EnergyPlus runs ``5ZoneAirCooled_FF_v25.idf`` (free float, its People/Lights/ElectricEquipment
-schedules) for January at 5-minute steps (``tests/identification/energyplus_twin.py``); its zone
-air temperatures are perfect sensors; thermocal gets the file without the loads and identifies
-the heat with the exact inverse. Hourly NMBE and CV(RMSE) of the building's identified heat
-against the sensible gains EnergyPlus reports entering the zones, after the first day, in all
-hours and in the method's unoccupied hours (20:00-04:00, Saturday from 11:00, Sunday).
+schedules) for January at 1-minute steps, sampled at 5 minutes
+(``tests/identification/energyplus_twin.py``: EnergyPlus' own 5-minute result is not converged
+in the plenum); its zone air temperatures are perfect sensors; thermocal gets the file without
+the loads and identifies the heat with the exact inverse at 5 minutes. Hourly NMBE and CV(RMSE)
+of the building's identified heat against the sensible gains EnergyPlus reports entering the
+zones, after the first day, in all hours and in the method's unoccupied hours (20:00-04:00,
+Saturday from 11:00, Sunday).
 """
 
 from __future__ import annotations

@@ -160,6 +160,49 @@ def build_network(
 
 
 @njit(cache=True, error_model="numpy")
+def heat_loss_from_network(G, s):
+    """Steady-state heat loss coefficient [W/K] of state ``s`` to all boundary temperatures.
+
+    ``H = -(G_ss + G_sf x_f)`` with ``G_ff x_f = -G_fs`` (``G`` [W/K] the conductance matrix,
+    ``f`` the other states, floating without heat input); NaN when ``G_ff`` is singular.
+    """
+    n = G.shape[0]
+    if n == 1:
+        return -G[0, 0]
+    f = np.empty(n - 1, dtype=np.int64)
+    q = 0
+    for i in range(n):
+        if i != s:
+            f[q] = i
+            q += 1
+    Gff = np.empty((n - 1, n - 1))
+    rhs = np.empty(n - 1)
+    for a in range(n - 1):
+        rhs[a] = -G[f[a], s]
+        for b in range(n - 1):
+            Gff[a, b] = G[f[a], f[b]]
+    if not np.all(np.isfinite(Gff)) or abs(np.linalg.det(Gff)) == 0.0:
+        return np.nan
+    x = np.linalg.solve(Gff, rhs)
+    acc = G[s, s]
+    for a in range(n - 1):
+        acc += G[s, f[a]] * x[a]
+    return -acc
+
+
+@njit(cache=True, error_model="numpy")
+def heat_loss_theta(theta, tr, st, n_inputs, s):
+    """:func:`heat_loss_from_network` [W/K] at unconstrained parameters ``theta`` (``tr``,
+    ``st`` as in :func:`loglike_theta`)."""
+    values = fill_values(theta, tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
+    _, G, _, _ = build_network(
+        values, st[0], st[1], st[2], st[3], st[4], st[5], st[6], st[7], st[8], st[9], st[10],
+        st[11], st[12], st[13], st[14], st[18], n_inputs,
+    )  # fmt: skip
+    return heat_loss_from_network(G, s)
+
+
+@njit(cache=True, error_model="numpy")
 def eigen_network(cap, G, B_raw, sigma):
     """Eigen-decomposition of the RC system used by :func:`discretise_from_eigen`.
 

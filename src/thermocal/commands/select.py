@@ -156,6 +156,16 @@ def select(
             "this factor on both sides (default 1: bounds made for the FlexHouse data).",
         ),
     ] = 1.0,
+    bounds: Annotated[
+        str,
+        typer.Option(
+            "--bounds",
+            help="'auto' (default): the family's start values and bounds scaled to the "
+            "building (capacities and aperture times, resistances divided by the power of ten "
+            "nearest the data's energy-balance heat loss coefficient over the FlexHouse's "
+            "~170 W/K); 'family': as published (made for the FlexHouse data).",
+        ),
+    ] = "auto",
     hlc_profile: Annotated[
         bool,
         typer.Option(
@@ -188,7 +198,7 @@ def select(
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import output_folder
     from thermocal.statespace.diagnostics import forward_selection
-    from thermocal.statespace.families import FAMILIES
+    from thermocal.statespace.families import FAMILIES, family_scale
 
     if family not in FAMILIES:
         raise ThermocalInputError(f"--family {family!r}: use one of {', '.join(FAMILIES)}")
@@ -221,9 +231,6 @@ def select(
     solar = "Ps" in data.columns
     if not solar:
         notes.append("no solar column Ps: the family is fitted without solar gains")
-    models, extensions, start = FAMILIES[family](
-        heat_unit=heat_unit, solar_unit=solar_unit if solar else None, bound_factor=bound_factor
-    )
     time_column = resolve_time_column(data, time_column, time_format, data_file)
     check_time_axis(data, time_column, time_unit, data_file)
     if gaps not in ("stop", "split"):
@@ -233,6 +240,22 @@ def select(
     except ThermocalInputError as exc:
         raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
     data = shift_end_stamped(data, ["Ta", "Ph", *(["Ps"] if solar else [])], time_stamps, notes)
+    if bounds not in ("auto", "family"):
+        raise ThermocalInputError(f"--bounds {bounds!r}: use auto or family")
+    scale = 1.0
+    if bounds == "auto":
+        scale, h_balance = family_scale(data, heat_unit, source=str(data_file))
+        if scale != 1.0:
+            notes.append(
+                f"family scaled to the data (--bounds auto): energy-balance heat loss "
+                f"coefficient {h_balance:.4g} W/K, so capacities and the aperture x{scale:g}, "
+                f"resistances /{scale:g} (start values and bounds); --bounds family: as "
+                "published"
+            )
+    models, extensions, start = FAMILIES[family](
+        heat_unit=heat_unit, solar_unit=solar_unit if solar else None, bound_factor=bound_factor,
+        scale=scale,
+    )  # fmt: skip
 
     with output_folder(out, command="select", signature=("selection.json",)) as tmp:
 
@@ -283,6 +306,9 @@ def select(
                 "thermocal_version": __version__,
                 "seed": seed,
                 "n_starts": n_starts,
+                "bounds": bounds,
+                "family_scale": scale,
+                "bound_factor": bound_factor,
                 "files": {str(data_file): {"sha256": file_sha256(data_file)}},
             },
         }

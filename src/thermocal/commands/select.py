@@ -239,6 +239,7 @@ def select(
         check_numbers(data, ["Ta", "Ph", "yTi", *(["Ps"] if solar else [])], data_file, decimal)
     except ThermocalInputError as exc:
         raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
+    as_stamped = data
     data = shift_end_stamped(data, ["Ta", "Ph", *(["Ps"] if solar else [])], time_stamps, notes)
     if bounds not in ("auto", "family"):
         raise ThermocalInputError(f"--bounds {bounds!r}: use auto or family")
@@ -276,6 +277,18 @@ def select(
         except ThermocalInputError as exc:
             raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
         table = result.table
+        stamps = None
+        if gaps != "split":
+            from thermocal.statespace.checks import time_stamp_check
+
+            # the start model refitted with the inputs as stamped and moved one sample
+            stamps = time_stamp_check(
+                result.fits[start], as_stamped, stamps=time_stamps, time_column=time_column,
+                time_unit=time_unit,
+                input_gaps="interpolate" if max_gap else "error", max_gap=max(max_gap, 1),
+            )  # fmt: skip
+            if stamps["message"]:
+                notes.insert(0, stamps["message"])
         hlcs = {}
         for name, res in result.fits.items():
             folder = tmp / name
@@ -299,6 +312,7 @@ def select(
             "path": result.path,
             "selected": result.selected,
             "heat_loss_coefficient": hlcs,
+            "time_stamp_check": stamps,
             "alpha": alpha,
             "table": records,
             "data_notes": notes,

@@ -597,6 +597,16 @@ def fit(
             "each interval) and say which --time-stamps the data support (two refits).",
         ),
     ] = True,
+    hlc_split: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--hlc-split",
+            help="Start of another period (time stamp, or number in --time-unit; repeat for "
+            "more): the model is fitted on each period too and their heat loss coefficients "
+            "compared; a flag when their intervals do not overlap (e.g. a randomised heating "
+            "sequence and a steady phase, adjacent spaces following the test).",
+        ),
+    ] = None,
     hlc: Annotated[
         bool,
         typer.Option(
@@ -721,6 +731,20 @@ def fit(
             content["time_stamp_check"] = stamps
             if stamps["message"]:
                 results.flags.insert(0, stamps["message"])
+                content["flags"] = list(results.flags)
+        if hlc_split:
+            from thermocal.statespace.checks import heat_loss_regime_check, split_at
+
+            console.print("heat loss coefficient per period...")
+            periods = split_at(data, hlc_split, time_column=time_column, time_unit=time_unit,
+                               source=str(data_file))  # fmt: skip
+            regime = heat_loss_regime_check(
+                model, periods, hold=hold, time_column=time_column, time_unit=time_unit,
+                profile=False, n_starts=n_starts, seed=seed,
+            )  # fmt: skip
+            content["heat_loss_by_period"] = regime
+            if regime["message"]:
+                results.flags.insert(0, regime["message"])
                 content["flags"] = list(results.flags)
         if hlc and model.heat_loss_state() is not None:
             console.print("heat loss coefficient and its profile likelihood...")

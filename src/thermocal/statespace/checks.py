@@ -138,6 +138,7 @@ def heat_loss_regime_check(
     time_column: str | None = None,
     time_unit: str = "s",
     profile: bool = True,
+    alpha: float = 0.05,
     n_starts: int | None = None,
     seed: int | None = None,
 ) -> dict:
@@ -161,6 +162,8 @@ def heat_loss_regime_check(
         As for :meth:`RCModel.fit`.
     profile : bool
         Profile-likelihood intervals (else Wald).
+    alpha : float
+        1 - confidence level of the intervals.
 
     Returns
     -------
@@ -183,7 +186,7 @@ def heat_loss_regime_check(
             data, hold=hold, time_column=time_column, time_unit=time_unit, n_starts=n_starts,
             seed=seed, progress=False, source=f"period '{label}'",
         )  # fmt: skip
-        h = res.heat_loss_coefficient(profile=profile)
+        h = res.heat_loss_coefficient(profile=profile, alpha=alpha)
         h |= {"loglike": res.loglike, "converged": bool(res.converged)}
         h |= _regime(res)
         out[label] = h
@@ -233,3 +236,67 @@ def _regime(res) -> dict:
     diff = float(np.nanmean(prep.Y[:, r]) - u[:n_b].mean())
     balance = heat / diff if abs(diff) > 1e-9 else math.nan
     return {"mean_heat": heat, "mean_difference": diff, "balance": balance}
+
+
+def split_at(data, splits, *, time_column: str | None = None, time_unit: str = "s",
+             source: str = "data") -> dict:  # fmt: skip
+    """``data`` cut into consecutive periods at the given times.
+
+    Parameters
+    ----------
+    data : DataFrame
+    splits : sequence of str or float
+        Times where a new period starts: ISO 8601 stamps for datetime axes (in the data's time
+        zone when they carry no offset), numbers in ``time_unit`` for numeric axes.
+    time_column, time_unit, source :
+        See :func:`thermocal.statespace.data.time_axis`.
+
+    Returns
+    -------
+    dict
+        ``{"until <t1>": rows before t1, "<t1> to <t2>": ..., "from <tk>": ...}``.
+    """
+    import pandas as pd
+
+    from thermocal.statespace.data import time_axis
+
+    index, _ = time_axis(data, time_column=time_column, time_unit=time_unit, source=source)
+    cuts = []
+    for s in splits:
+        try:
+            if isinstance(index, pd.DatetimeIndex):
+                t = pd.Timestamp(s)
+                if t.tzinfo is None and index.tz is not None:
+                    t = t.tz_localize(index.tz)
+            else:
+                t = float(s)
+        except (ValueError, TypeError):
+            kind = "an ISO 8601 time stamp" if isinstance(index, pd.DatetimeIndex) else (
+                f"a number in {time_unit}")  # fmt: skip
+            raise ThermocalInputError(f"{source}: split time {s!r}: give {kind}") from None
+        if not index[0] < t <= index[-1]:
+            raise ThermocalInputError(
+                f"{source}: split time {s!r} is not inside the data ({index[0]} to {index[-1]})"
+            )
+        cuts.append((t, str(s)))
+    cuts.sort(key=lambda c: c[0])
+    bounds = [None, *[c[0] for c in cuts], None]
+    names = [c[1] for c in cuts]
+    periods = {}
+    for i in range(len(bounds) - 1):
+        lo, hi = bounds[i], bounds[i + 1]
+        mask = np.ones(len(index), dtype=bool)
+        if lo is not None:
+            mask &= np.asarray(index >= lo)
+        if hi is not None:
+            mask &= np.asarray(index < hi)
+        if i == 0:
+            label = f"until {names[0]}"
+        elif i == len(bounds) - 2:
+            label = f"from {names[-1]}"
+        else:
+            label = f"{names[i - 1]} to {names[i]}"
+        if mask.sum() < 10:
+            raise ThermocalInputError(f"{source}: period '{label}' has fewer than 10 rows")
+        periods[label] = data.iloc[np.flatnonzero(mask)]
+    return periods

@@ -136,7 +136,13 @@ def bm_cases() -> dict:
     t0 = time.perf_counter()
     sel = forward_selection(models, ext, df_bm, start=first, time_column="t", time_unit="h",
                             seed=1)  # fmt: skip
-    hlc = {name: sel.fits[name].heat_loss_coefficient() for name in sel.path}
+    try:  # the profiles of the path in parallel, as `thermocal select` (after issue 29)
+        from thermocal.statespace.results import heat_loss_coefficients
+
+        hlc = heat_loss_coefficients(sel.fits, profile=sel.path)
+        hlc = {name: hlc[name] for name in sel.path}
+    except ImportError:  # an older commit (peer): one after the other
+        hlc = {name: sel.fits[name].heat_loss_coefficient() for name in sel.path}
     out["select"] = time.perf_counter() - t0
     out["path"] = " -> ".join(sel.path)
     out["path_loglikes"] = ", ".join(f"{sel.fits[n].loglike:.3f}" for n in sel.path)

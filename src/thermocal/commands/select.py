@@ -199,6 +199,7 @@ def select(
     from thermocal.io.output import output_folder
     from thermocal.statespace.diagnostics import forward_selection
     from thermocal.statespace.families import FAMILIES, family_scale
+    from thermocal.statespace.results import heat_loss_coefficients
 
     if family not in FAMILIES:
         raise ThermocalInputError(f"--family {family!r}: use one of {', '.join(FAMILIES)}")
@@ -289,16 +290,16 @@ def select(
             )  # fmt: skip
             if stamps["message"]:
                 notes.insert(0, stamps["message"])
-        hlcs = {}
+        if hlc_profile:
+            console.print(
+                f"heat loss coefficient: profile likelihood of {', '.join(result.path)}..."
+            )
+        hlcs = heat_loss_coefficients(result.fits, profile=result.path if hlc_profile else ())
         for name, res in result.fits.items():
             folder = tmp / name
             folder.mkdir()
             content_fit = res.to_dict()
-            if res.model.heat_loss_state() is not None:
-                profile_it = hlc_profile and name in result.path
-                if profile_it:
-                    console.print(f"{name:<12} heat loss coefficient: profile likelihood...")
-                hlcs[name] = res.heat_loss_coefficient(profile=profile_it)
+            if name in hlcs:
                 content_fit["heat_loss_coefficient"] = hlcs[name]
             (folder / "fit.json").write_text(json.dumps(content_fit, indent=2))
             res.parameter_table().to_csv(folder / "parameters.csv")

@@ -932,6 +932,234 @@ def _stationary_steps(k0, k1, b, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
 
 
 @njit(cache=True, error_model="numpy")
+def _batch_stationary(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
+    """Samples ``k0`` to the end of the stationary filters of all columns of the batch arrays,
+    advanced together (the innermost loops over the columns); the same operations, in the same
+    order, as the stationary branch of :func:`kalman_filter`."""
+    n, B = Z.shape
+    ny, m, N = Y.shape[1], U.shape[1], Y.shape[0]
+    v = np.empty(B)
+    acc = np.empty(B)
+    for k in range(k0, N):
+        for r in range(ny):
+            y = Y[k, r]
+            for b in range(B):
+                v[b] = y
+            for i in range(n):
+                for b in range(B):
+                    v[b] -= CZ[r, i, b] * Z[i, b]
+            for i in range(n):
+                for b in range(B):
+                    Z[i, b] += KF[r, i, b] * v[b]
+            for b in range(B):
+                LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v[b] * v[b] / S[r, b])
+        if k == N - 1:
+            break
+        for i in range(n):
+            for b in range(B):
+                acc[b] = E[i, b] * Z[i, b]
+            for c in range(m):
+                u = U[k, c]
+                for b in range(B):
+                    acc[b] += GA[i, c, b] * u
+            if foh:
+                for c in range(m):
+                    u = U[k + 1, c]
+                    for b in range(B):
+                        acc[b] += GB[i, c, b] * u
+            for b in range(B):
+                Z[i, b] = acc[b]
+
+
+@njit(cache=True, error_model="numpy")
+def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
+    """:func:`loglike_batch` on data with every output observed, one period and one sampling
+    interval: all rows' filters run together from the first sample (the innermost loops over
+    the rows, also while the covariances are still converging); each row switches to its frozen
+    gain when its own filter would (the same test), so the numbers are those of
+    :func:`kalman_filter` row by row."""
+    B = thetas.shape[0]
+    N = Y.shape[0]
+    n = st[0].size
+    ny = C.shape[0]
+    m = U.shape[1]
+    Z = np.zeros((n, B))
+    P = np.zeros((n, n, B))
+    Pprior = np.zeros((n, n, B))
+    KF = np.zeros((ny, n, B))
+    S = np.ones((ny, B))
+    LS = np.zeros((ny, B))
+    CZ = np.zeros((ny, n, B))
+    MV = np.ones((ny, B))
+    E = np.zeros((n, B))
+    GA = np.zeros((n, m, B))
+    GB = np.zeros((n, m, B))
+    W = np.zeros((n, n, B))
+    LL = np.zeros(B)
+    steady = np.zeros(B, dtype=np.bool_)
+    dead = np.zeros(B, dtype=np.bool_)
+    e1 = np.empty(n)
+    g0 = np.empty((n, m))
+    g1 = np.empty((n, m))
+    w1 = np.empty((n, n))
+    for b in range(B):
+        values = fill_values(thetas[b], tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
+        lam, T, Tinv, TB, M, meas_var, x0, P0 = system_from_values(
+            values, st[0], st[1], st[2], st[3], st[4], st[5], st[6], st[7], st[8], st[9],
+            st[10], st[11], st[12], st[13], st[14], st[15], st[16], st[17], st[18], m,
+        )  # fmt: skip
+        finite = True
+        for i in range(n):
+            if not math.isfinite(lam[i]):
+                finite = False
+        if not finite:
+            dead[b] = True
+            steady[b] = True  # never tested again
+            continue
+        # as kalman_filter: modal output matrix, initial mean and covariance, discretisation
+        for r in range(ny):
+            MV[r, b] = meas_var[r]
+            for j in range(n):
+                acc = 0.0
+                for i in range(n):
+                    acc += C[r, i] * T[i, j]
+                CZ[r, j, b] = acc
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += Tinv[i, j] * x0[j]
+            Z[i, b] = acc
+        for i in range(n):
+            for j in range(n):
+                acc = 0.0
+                for a in range(n):
+                    for c in range(n):
+                        acc += Tinv[i, a] * P0[a, c] * Tinv[j, c]
+                P[i, j, b] = acc
+        if N > 1:
+            modal_discretise(lam, TB, M, dts[0], foh, e1, g0, g1, w1)
+            for i in range(n):
+                E[i, b] = e1[i]
+                for c in range(m):
+                    GA[i, c, b] = g0[i, c]
+                    GB[i, c, b] = g1[i, c]
+                for j in range(n):
+                    W[i, j, b] = w1[i, j]
+    v = np.empty(B)
+    s = np.empty(B)
+    PC = np.empty((n, B))
+    K = np.empty((n, B))
+    LP = np.empty((n, n, B))
+    acc_b = np.empty(B)
+    change = np.empty(B)
+    scale = np.empty(B)
+    k = 0
+    while k < N:
+        all_steady = True
+        for b in range(B):
+            if not steady[b]:
+                all_steady = False
+        if all_steady:
+            break
+        for i in range(n):
+            for j in range(n):
+                for b in range(B):
+                    Pprior[i, j, b] = P[i, j, b]
+        for r in range(ny):
+            y = Y[k, r]
+            for b in range(B):
+                v[b] = y
+            for i in range(n):
+                for b in range(B):
+                    v[b] -= CZ[r, i, b] * Z[i, b]
+            for b in range(B):
+                s[b] = MV[r, b]
+            for i in range(n):
+                for b in range(B):
+                    acc_b[b] = 0.0
+                for j in range(n):
+                    for b in range(B):
+                        acc_b[b] += P[i, j, b] * CZ[r, j, b]
+                for b in range(B):
+                    PC[i, b] = acc_b[b]
+                    s[b] += CZ[r, i, b] * acc_b[b]
+            for b in range(B):
+                if not steady[b]:
+                    if not (s[b] > 0.0) or not math.isfinite(s[b]):
+                        dead[b] = True
+                        steady[b] = True
+                        s[b] = 1.0  # the row's result is -inf; keep its arithmetic finite
+            for i in range(n):
+                for b in range(B):
+                    K[i, b] = PC[i, b] / s[b]
+            for b in range(B):
+                if not steady[b]:
+                    for i in range(n):
+                        KF[r, i, b] = K[i, b]
+                    S[r, b] = s[b]
+                    LS[r, b] = math.log(s[b])
+            for i in range(n):
+                for b in range(B):
+                    Z[i, b] += KF[r, i, b] * v[b]
+            # Joseph form (computed for every row; a stationary row's covariance is unused)
+            for i in range(n):
+                for j in range(n):
+                    for b in range(B):
+                        LP[i, j, b] = P[i, j, b] - K[i, b] * PC[j, b]
+            for i in range(n):
+                for j in range(i, n):
+                    for b in range(B):
+                        acc_b[b] = MV[r, b] * K[i, b] * K[j, b]
+                    for q in range(n):
+                        delta = 1.0 if q == j else 0.0
+                        for b in range(B):
+                            acc_b[b] += LP[i, q, b] * (delta - K[j, b] * CZ[r, q, b])
+                    for b in range(B):
+                        P[i, j, b] = acc_b[b]
+                        P[j, i, b] = acc_b[b]
+            for b in range(B):
+                LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v[b] * v[b] / S[r, b])
+        if k == N - 1:
+            k = N
+            break
+        for i in range(n):
+            for b in range(B):
+                acc_b[b] = E[i, b] * Z[i, b]
+            for c in range(m):
+                u = U[k, c]
+                for b in range(B):
+                    acc_b[b] += GA[i, c, b] * u
+            if foh:
+                for c in range(m):
+                    u = U[k + 1, c]
+                    for b in range(B):
+                        acc_b[b] += GB[i, c, b] * u
+            for b in range(B):
+                Z[i, b] = acc_b[b]
+        for b in range(B):
+            change[b] = 0.0
+            scale[b] = 0.0
+        for i in range(n):
+            for j in range(i, n):
+                for b in range(B):
+                    val = E[i, b] * E[j, b] * P[i, j, b] + W[i, j, b]
+                    P[i, j, b] = val
+                    P[j, i, b] = val
+                    change[b] = max(change[b], abs(val - Pprior[i, j, b]))
+                    scale[b] = max(scale[b], abs(val))
+        for b in range(B):
+            if not steady[b] and change[b] <= STEADY_STATE_TOLERANCE * scale[b] and k + 1 < N:
+                steady[b] = True
+        k += 1
+    if k < N:
+        _batch_stationary(k, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
+    out = np.empty(B)
+    for b in range(B):
+        out[b] = -np.inf if dead[b] or not math.isfinite(LL[b]) else LL[b]
+    return out
+
+
+@njit(cache=True, error_model="numpy")
 def loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start):
     """Log-likelihoods at the rows of ``thetas`` (see :func:`loglike_theta`), equal to
     evaluating them one by one (the same floating-point operations).
@@ -947,6 +1175,12 @@ def loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start):
     ny = C.shape[0]
     m = U.shape[1]
     start = stationary_from(dts, Y, seg_start)
+    complete = True
+    for r in range(ny):
+        if N == 0 or math.isnan(Y[0, r]):
+            complete = False
+    if complete and start == 1 and seg_start.size == 0:
+        return _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh)
     out = np.empty(B)
     Z = np.zeros((n, B))
     KF = np.zeros((ny, n, B))
@@ -987,37 +1221,7 @@ def loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start):
         for b in range(B):
             if kst[b] < kmax:
                 _stationary_steps(kst[b], kmax, b, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
-        v = np.empty(B)
-        acc = np.empty(B)
-        for k in range(kmax, N):
-            for r in range(ny):
-                y = Y[k, r]
-                for b in range(B):
-                    v[b] = y
-                for i in range(n):
-                    for b in range(B):
-                        v[b] -= CZ[r, i, b] * Z[i, b]
-                for i in range(n):
-                    for b in range(B):
-                        Z[i, b] += KF[r, i, b] * v[b]
-                for b in range(B):
-                    LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v[b] * v[b] / S[r, b])
-            if k == N - 1:
-                break
-            for i in range(n):
-                for b in range(B):
-                    acc[b] = E[i, b] * Z[i, b]
-                for c in range(m):
-                    u = U[k, c]
-                    for b in range(B):
-                        acc[b] += GA[i, c, b] * u
-                if foh:
-                    for c in range(m):
-                        u = U[k + 1, c]
-                        for b in range(B):
-                            acc[b] += GB[i, c, b] * u
-                for b in range(B):
-                    Z[i, b] = acc[b]
+        _batch_stationary(kmax, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
         for b in range(B):
             if kst[b] < N:
                 out[b] = LL[b]

@@ -2,10 +2,15 @@
 
 Run:  /work/venv/bin/python benchmarks/bench_statespace.py
 
+Run with a peer:  python benchmarks/bench_statespace.py --peer <commit>  (the Bacher & Madsen
+cases of that commit timed in the same run, e.g. the previous main).
+
 Targets (issue 2):
 - one log-likelihood evaluation, 2 states, 2 inputs, 230 samples: <= 100 microseconds;
 - a full fit of that model (7 free parameters incl. noise and initial state): <= 0.15 s warm;
 - the fifth-order retrofit model (14 free parameters) on 504 hourly samples: <= 2 s warm.
+Targets (issue 29): the Bacher & Madsen TiTe fit <= 0.15 s warm per start; ``select`` on the
+PRBS data (with the heat loss coefficient's profile intervals of the path) <= 30 s on 2 cores.
 "Warm" = numba kernels compiled and cached (the first call in a fresh process loads them).
 Synthetic data are simulated from the model itself (exact discretisation, fixed seeds); the fits
 start from perturbed values.
@@ -92,7 +97,93 @@ def timeit(fn, *, repeats: int, number: int = 1) -> tuple[float, float]:
     return min(times), statistics.median(times)
 
 
+BM = REPO.parent / "shared" / "data" / "bacher_madsen_2011_prbs" / "inputPRBS1.csv"
+#: (key of bm_cases, row label, target [s])
+BM_ROWS = [
+    ("tite_one", "TiTe on the Bacher & Madsen data, 10 free, 1691 samples, one start", 0.15),
+    ("tite_per_start", "TiTe, default starts ({tite_starts}, serial), per start", 0.15),
+    ("tite_multi", "(context) TiTe, default starts ({tite_starts}, serial), whole fit", None),
+    (
+        "select",
+        "select on the PRBS data (API: forward selection, default starts, 2 processes, "
+        "+ HLC profile intervals of the path {path})",
+        30.0,
+    ),
+]
+
+
+def bm_cases() -> dict:
+    """Times [s] and results of the Bacher & Madsen cases with the thermocal on sys.path."""
+    from thermocal.statespace.diagnostics import forward_selection
+    from thermocal.statespace.families import bacher_madsen_family
+
+    df_bm = pd.read_csv(BM, sep=";")
+    tite = RCModel.from_yaml(REPO / "examples" / "models" / "TiTe.yaml")
+    kw = {"time_column": "t", "time_unit": "h", "n_starts": 1}
+    one = tite.fit(df_bm, **kw)
+    out = {"tite_loglike": one.loglike}
+    out["tite_one"], out["tite_one_median"] = timeit(lambda: tite.fit(df_bm, **kw), repeats=5)
+    # the default multi-start (issue 29): max(3, ceil(k/2)) starts + the energy-balance start
+    # (+ one more batch when the best is reached once), serial
+    kw = {"time_column": "t", "time_unit": "h", "n_jobs": 1, "seed": 1}
+    n_run = len(tite.fit(df_bm, **kw).start_loglikes)
+    best, med = timeit(lambda: tite.fit(df_bm, **kw), repeats=3)
+    out |= {"tite_starts": n_run, "tite_multi": best, "tite_multi_median": med,
+            "tite_per_start": best / n_run, "tite_per_start_median": med / n_run}  # fmt: skip
+    # forward selection on the PRBS data plus the HLC profile intervals along the path, as
+    # `thermocal select` computes them
+    models, ext, first = bacher_madsen_family()
+    t0 = time.perf_counter()
+    sel = forward_selection(models, ext, df_bm, start=first, time_column="t", time_unit="h",
+                            seed=1)  # fmt: skip
+    try:  # the profiles of the path in parallel, as `thermocal select` (after issue 29)
+        from thermocal.statespace.results import heat_loss_coefficients
+
+        hlc = heat_loss_coefficients(sel.fits, profile=sel.path)
+        hlc = {name: hlc[name] for name in sel.path}
+    except ImportError:  # an older commit (peer): one after the other
+        hlc = {name: sel.fits[name].heat_loss_coefficient() for name in sel.path}
+    out["select"] = time.perf_counter() - t0
+    out["path"] = " -> ".join(sel.path)
+    out["path_loglikes"] = ", ".join(f"{sel.fits[n].loglike:.3f}" for n in sel.path)
+    out["path_hlc"] = ", ".join(
+        f"{n} {h['value']:.1f} [{h.get('lower', float('nan')):.1f}, "
+        f"{h.get('upper', float('nan')):.1f}]"
+        for n, h in hlc.items()
+    )
+    return out
+
+
+def peer_cases(commit: str) -> dict:
+    """:func:`bm_cases` of another commit of this repository (``git archive`` of its ``src``
+    into a temporary folder, run in a subprocess with that source first on the path)."""
+    import json
+    import subprocess
+    import sys
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        archive = subprocess.run(["git", "-C", str(REPO), "archive", commit, "src"],
+                                 check=True, capture_output=True).stdout  # fmt: skip
+        subprocess.run(["tar", "-x", "-C", tmp], input=archive, check=True)
+        env = dict(os.environ, PYTHONPATH=str(Path(tmp) / "src"))
+        done = subprocess.run([sys.executable, __file__, "--bm-json"], env=env, check=True,
+                              capture_output=True, text=True)  # fmt: skip
+        return json.loads(done.stdout.strip().splitlines()[-1])
+
+
 def main() -> None:
+    import argparse
+    import json
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--peer", help="a commit of this repository to time alongside (e.g. "
+                        "the previous main), Bacher & Madsen cases only")  # fmt: skip
+    parser.add_argument("--bm-json", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.bm_json:
+        print(json.dumps(bm_cases()))
+        return
     rows = []
     model = two_state_model()
     data = two_state_data(model)
@@ -130,39 +221,29 @@ def main() -> None:
     rows.append(("(context) log-likelihood of the fifth-order model, 504 samples", best_l * 1e6,
                  med_l * 1e6, "us", None))  # fmt: skip
 
-    bm = REPO.parent / "shared" / "data" / "bacher_madsen_2011_prbs" / "inputPRBS1.csv"
-    if bm.exists():
-        df_bm = pd.read_csv(bm, sep=";")
-        tite = RCModel.from_yaml(REPO / "examples" / "models" / "TiTe.yaml")
-        tite.fit(df_bm, time_column="t", time_unit="h", n_starts=1)
-        kw = {"time_column": "t", "time_unit": "h", "n_starts": 1}
-        best, med = timeit(lambda: tite.fit(df_bm, **kw), repeats=5)
-        rows.append(("TiTe on the Bacher & Madsen data, 10 free, 1691 samples, one start", best,
-                     med, "s", 0.15))  # fmt: skip
-        # the default multi-start (issue 29): max(3, ceil(k/2)) starts + the energy-balance
-        # start (+ one more batch when the best is reached once), serial, per start
-        kw = {"time_column": "t", "time_unit": "h", "n_jobs": 1, "seed": 1}
-        multi = tite.fit(df_bm, **kw)
-        n_run = len(multi.start_loglikes)
-        best, med = timeit(lambda: tite.fit(df_bm, **kw), repeats=3)
-        rows.append((f"TiTe, default starts ({n_run}, serial), per start", best / n_run,
-                     med / n_run, "s", 0.15))  # fmt: skip
-        rows.append((f"(context) TiTe, default starts ({n_run}, serial), whole fit", best, med,
-                     "s", None))  # fmt: skip
-        # forward selection on the PRBS data (bacher-madsen family, default starts, 2 processes)
-        # plus the heat loss coefficient's profile interval along the path, as `thermocal select`
-        from thermocal.statespace.diagnostics import forward_selection
-        from thermocal.statespace.families import bacher_madsen_family
-
-        models, ext, first = bacher_madsen_family()
-        t0 = time.perf_counter()
-        sel = forward_selection(models, ext, df_bm, start=first, time_column="t",
-                                time_unit="h", seed=1)  # fmt: skip
-        for name in sel.path:
-            sel.fits[name].heat_loss_coefficient()
-        seconds = time.perf_counter() - t0
-        rows.append((f"select on the PRBS data, path {' -> '.join(sel.path)}, with the HLC "
-                     "profiles of the path", seconds, seconds, "s", 30.0))  # fmt: skip
+    peer = None
+    if BM.exists():
+        if args.peer:
+            peer = peer_cases(args.peer)
+        cur = bm_cases()
+        for key, label, target in BM_ROWS:
+            label = label.format(**cur)
+            if peer is not None and key in peer:
+                ratio = peer[key] / cur[key] if cur[key] > 0 else float("nan")
+                label += f" (peer {args.peer}: {peer[key]:.3g} s, {ratio:.2f}x)"
+            rows.append((label, cur[key], cur.get(key + "_median", cur[key]), "s", target))
+        extra = [
+            "Bacher & Madsen results (this code): TiTe one start loglike "
+            f"{cur['tite_loglike']:.4f}; select path {cur['path']}, loglikes "
+            f"{cur['path_loglikes']}, HLC [W/K] {cur['path_hlc']}.",
+        ]
+        if peer is not None:
+            extra.append(
+                f"Peer {args.peer}: TiTe loglike {peer['tite_loglike']:.4f}; select path "
+                f"{peer['path']}, loglikes {peer['path_loglikes']}, HLC [W/K] {peer['path_hlc']}."
+            )
+    else:
+        extra = [f"(no Bacher & Madsen data at {BM}: those rows skipped)"]
 
     lines = [
         "# Benchmarks: thermocal.statespace",
@@ -183,6 +264,8 @@ def main() -> None:
         "",
         f"Fit results: two-state loglike {res.loglike:.3f} ({res.n_free} free); fifth-order "
         f"loglike {res5.loglike:.3f} ({res5.n_free} free), flags: {len(res5.flags)}.",
+        "",
+        *extra,
         "",
     ]
     text = "\n".join(lines)

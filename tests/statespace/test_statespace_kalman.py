@@ -230,3 +230,33 @@ def test_simulation_of_a_later_period_from_a_given_initial_state():
     assert plain["Ti"].iloc[0] == 20.0  # the declared initial mean Ti0
     with pytest.raises(ThermocalInputError, match="'Tx' is not a state.*Ti, Tm, Te"):
         model.simulate(df, initial_state={"Tx": 20.0})
+
+
+@pytest.mark.parametrize("hold", ["zoh", "foh"])
+@pytest.mark.parametrize("case", ["uniform", "gaps_and_missing", "irregular"])
+def test_batched_likelihoods_equal_the_filter_run_row_by_row(hold, case):
+    """The gradient and Hessian evaluate many likelihoods together (``loglike_batch``: rows
+    advance sample by sample once stationary). Reference: the filter run one row at a time,
+    bit for bit, on uniform data, on data with missing outputs and a change of interval near the
+    end (where the stationary shortcut must stop), and on an irregular grid (no shortcut)."""
+    from thermocal.statespace.estimation import LikelihoodProblem
+
+    model = three_state_model()
+    df = random_data(600, seed=11, irregular=case == "irregular")
+    if case == "uniform":
+        df[["yTi", "yTm"]] = df[["yTi", "yTm"]].ffill()
+    if case == "gaps_and_missing":
+        df.loc[df.index[550], "yTm"] = np.nan
+        shift = np.where(np.arange(len(df)) >= 580, 1200.0, 0.0)  # one 35-min interval
+        df.index = df.index + pd.to_timedelta(shift, unit="s")
+    prep = prepare_data(model, df)
+    problem = LikelihoodProblem(model, prep, hold == "foh")
+    rng = np.random.default_rng(5)
+    thetas = model.theta0() + rng.normal(0.0, 0.5, (9, model.n_free))
+    thetas[4, 1] = 1e3  # an overflowing capacity (Cm): -inf in both
+    one_by_one = np.array([problem.loglike(t) for t in thetas])
+    together = problem.loglike_many(thetas)
+    assert np.isneginf(one_by_one[4]) and np.isneginf(together[4])
+    np.testing.assert_array_equal(together, one_by_one)
+    start = kernels.stationary_from(prep.dts, prep.Y, problem.seg)
+    assert start == {"uniform": 1, "gaps_and_missing": 581, "irregular": len(df) - 1}[case]

@@ -86,6 +86,9 @@ def test_select_command_runs_forward_selection_with_mapped_columns(tmp_path):
         assert fit["loglike"] == pytest.approx(loglike[name])
         assert (out / name / "model.yaml").exists()
     assert "no solar column Ps" in " ".join(content["data_notes"])
+    # the energy balance of this house (~125 W/K) keeps the family as published
+    assert content["provenance"]["bounds"] == "auto"
+    assert content["provenance"]["family_scale"] == 1.0
     # convergence, status and the heat loss coefficient in the path table; the written model
     # files hold the estimates
     md = (out / "selection.md").read_text()
@@ -222,3 +225,64 @@ def test_family_bounds_can_be_widened():
         assert (q.lower, q.upper) == (p.lower, p.upper)
     with pytest.raises(ThermocalInputError, match="bound factor"):
         bacher_madsen_family(bound_factor=0.5)
+
+
+def _large_building_data(n: int = 24 * 10) -> tuple[pd.DataFrame, dict]:
+    """Hourly data of a large building from the family's TiTe: capacities and aperture beyond
+    the published family's upper bounds (Ci 80 > 50 kWh/K, Ce 300 > 100 kWh/K, Aw 500 > 200
+    m2), heat loss coefficient 1 / (Rie + Rea) = 5 kW/K (30 x the FlexHouse's)."""
+    models, _, _ = bacher_madsen_family(scale=10.0)  # bounds that admit the truth
+    truth = {"Ci": 80.0, "Ce": 300.0, "Rie": 0.05, "Rea": 0.15, "Aw": 500.0, "sigma_i": 0.05,
+             "sigma_e": 0.05, "e_std": 0.05, "Ti0": 20.0, "Te0": 8.0}  # fmt: skip
+    rng = np.random.default_rng(4)
+    hours = np.arange(n)
+    day = np.clip(np.sin(2 * np.pi * (hours % 24 - 6) / 24), 0, None)
+    blocks = np.repeat(rng.uniform(size=n // 4 + 1) > 0.5, 4)[:n]  # 4-hour heating blocks
+    data = pd.DataFrame(
+        {"Ta": 2 + 3 * np.sin(2 * np.pi * hours / 24) + rng.normal(0, 0.3, n),
+         "Ph": 40.0 + 120.0 * blocks, "Ps": 0.4 * day},
+        index=pd.date_range("2024-01-08", periods=n, freq="h", tz="UTC"),
+    )  # fmt: skip
+    data["yTi"] = simulate_stochastic(models["TiTe"].with_parameters(truth), data, seed=4)["yTi"]
+    return data, truth
+
+
+def test_family_scaled_to_a_large_building_selects_what_the_published_bounds_refuse():
+    """A building whose true capacities and aperture lie beyond the published family's bounds.
+    With the family as published, TiTe ends with parameters on those bounds and is refused (the
+    selection stays at Ti); scaled to the data (the energy balance gives ~5 kW/K, scale 10),
+    TiTe is accepted with its estimates near the truth and the heat loss coefficient's truth
+    inside its interval."""
+    from thermocal.statespace.diagnostics import forward_selection
+    from thermocal.statespace.families import family_scale
+
+    data, truth = _large_building_data()
+    scale, h_balance = family_scale(data, "kW")
+    assert scale == 10.0 and 2000 < h_balance < 10000
+    runs = {}
+    for label, s in (("published", 1.0), ("scaled", scale)):
+        models, _, _ = bacher_madsen_family(scale=s)
+        runs[label] = forward_selection(
+            {k: models[k] for k in ("Ti", "TiTe")}, {"Ti": ["TiTe"]}, data, start="Ti", seed=1
+        )
+    published = runs["published"].table.set_index("model")
+    assert runs["published"].path == ["Ti"]
+    assert published.loc["TiTe", "at_bound"] != ""  # Ci, Ce or Aw on its upper bound
+    assert runs["scaled"].path == ["Ti", "TiTe"]
+    fit = runs["scaled"].fits["TiTe"]
+    for name in ("Ci", "Ce", "Rie", "Rea", "Aw"):
+        assert fit.params[name] == pytest.approx(truth[name], rel=0.35), name
+    hlc = fit.heat_loss_coefficient(profile=False)
+    assert hlc["wald_lower"] < 5000.0 < hlc["wald_upper"]
+
+
+def test_family_scale_of_the_flexhouse_like_data_is_one():
+    """Data like the FlexHouse's (and data without heating) keep the published family."""
+    from thermocal.statespace.families import family_scale
+
+    n = 50
+    df = pd.DataFrame({"Ta": np.full(n, 1.5), "yTi": np.full(n, 18.0), "Ph": np.full(n, 2.85)})
+    scale, h = family_scale(df, "kW")
+    assert scale == 1.0 and h == pytest.approx(2850 / 16.5)
+    assert family_scale(df.assign(Ph=0.0), "kW")[0] == 1.0
+    assert family_scale(df.assign(Ph=2850.0), "W")[1] == pytest.approx(h)

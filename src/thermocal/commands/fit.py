@@ -138,10 +138,10 @@ def shift_end_stamped(data, inputs, stamps: str, notes: list[str]):
         raise ThermocalInputError(f"--time-stamps {stamps!r}: use start or end")
     if stamps == "start":
         return data
+    from thermocal.statespace.data import end_stamped_inputs
+
     cols = [c for c in inputs if c in data.columns]
-    data = data.copy()
-    data[cols] = data[cols].shift(-1)
-    data = data.iloc[:-1]
+    data = end_stamped_inputs(data, cols)
     notes.append(
         "--time-stamps end: input columns " + ", ".join(cols) + " shifted one sample earlier "
         "(each value is the mean over the interval ending at its stamp); last row dropped"
@@ -589,6 +589,24 @@ def fit(
             "one sample.",
         ),
     ] = "start",
+    stamp_check: Annotated[
+        bool,
+        typer.Option(
+            "--time-stamp-check/--no-time-stamp-check",
+            help="Refit with the inputs as stamped and moved one sample (stamps at the end of "
+            "each interval) and say which --time-stamps the data support (two refits).",
+        ),
+    ] = True,
+    hlc_split: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--hlc-split",
+            help="Start of another period (time stamp, or number in --time-unit; repeat for "
+            "more): the model is fitted on each period too and their heat loss coefficients "
+            "compared; a flag when their intervals do not overlap (e.g. a randomised heating "
+            "sequence and a steady phase, adjacent spaces following the test).",
+        ),
+    ] = None,
     hlc: Annotated[
         bool,
         typer.Option(
@@ -652,6 +670,7 @@ def fit(
             )
     check_time_axis(data, time_column, time_unit, data_file)
     check_numbers(data, [*model.input_names, *model.output_names], data_file, decimal)
+    as_stamped = data
     data = shift_end_stamped(data, model.input_names, time_stamps, notes)
     work = work_estimate(
         model, data, time_column=time_column, time_unit=time_unit, n_starts=n_starts, jobs=jobs
@@ -700,6 +719,33 @@ def fit(
                 interval = results.profile_interval(name)
                 interval.pop("points")
                 content["profile_intervals"][name] = interval
+        if stamp_check and gaps != "split":
+            from thermocal.statespace.checks import time_stamp_check
+
+            console.print("time stamps: refitting with the inputs moved one sample...")
+            stamps = time_stamp_check(
+                results, as_stamped, stamps=time_stamps, time_column=time_column,
+                time_unit=time_unit,
+                input_gaps="interpolate" if max_gap > 0 else "error", max_gap=max(max_gap, 1),
+            )  # fmt: skip
+            content["time_stamp_check"] = stamps
+            if stamps["message"]:
+                results.flags.insert(0, stamps["message"])
+                content["flags"] = list(results.flags)
+        if hlc_split:
+            from thermocal.statespace.checks import heat_loss_regime_check, split_at
+
+            console.print("heat loss coefficient per period...")
+            periods = split_at(data, hlc_split, time_column=time_column, time_unit=time_unit,
+                               source=str(data_file))  # fmt: skip
+            regime = heat_loss_regime_check(
+                model, periods, hold=hold, time_column=time_column, time_unit=time_unit,
+                profile=False, n_starts=n_starts, seed=seed,
+            )  # fmt: skip
+            content["heat_loss_by_period"] = regime
+            if regime["message"]:
+                results.flags.insert(0, regime["message"])
+                content["flags"] = list(results.flags)
         if hlc and model.heat_loss_state() is not None:
             console.print("heat loss coefficient and its profile likelihood...")
             content["heat_loss_coefficient"] = results.heat_loss_coefficient()

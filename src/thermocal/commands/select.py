@@ -156,6 +156,16 @@ def select(
             "this factor on both sides (default 1: bounds made for the FlexHouse data).",
         ),
     ] = 1.0,
+    bounds: Annotated[
+        str,
+        typer.Option(
+            "--bounds",
+            help="'auto' (default): the family's start values and bounds scaled to the "
+            "building (capacities and aperture times, resistances divided by the power of ten "
+            "nearest the data's energy-balance heat loss coefficient over the FlexHouse's "
+            "~170 W/K); 'family': as published (made for the FlexHouse data).",
+        ),
+    ] = "auto",
     hlc_profile: Annotated[
         bool,
         typer.Option(
@@ -188,7 +198,8 @@ def select(
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import output_folder
     from thermocal.statespace.diagnostics import forward_selection
-    from thermocal.statespace.families import FAMILIES
+    from thermocal.statespace.families import FAMILIES, family_scale
+    from thermocal.statespace.results import heat_loss_coefficients
 
     if family not in FAMILIES:
         raise ThermocalInputError(f"--family {family!r}: use one of {', '.join(FAMILIES)}")
@@ -221,9 +232,6 @@ def select(
     solar = "Ps" in data.columns
     if not solar:
         notes.append("no solar column Ps: the family is fitted without solar gains")
-    models, extensions, start = FAMILIES[family](
-        heat_unit=heat_unit, solar_unit=solar_unit if solar else None, bound_factor=bound_factor
-    )
     time_column = resolve_time_column(data, time_column, time_format, data_file)
     check_time_axis(data, time_column, time_unit, data_file)
     if gaps not in ("stop", "split"):
@@ -232,7 +240,24 @@ def select(
         check_numbers(data, ["Ta", "Ph", "yTi", *(["Ps"] if solar else [])], data_file, decimal)
     except ThermocalInputError as exc:
         raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
+    as_stamped = data
     data = shift_end_stamped(data, ["Ta", "Ph", *(["Ps"] if solar else [])], time_stamps, notes)
+    if bounds not in ("auto", "family"):
+        raise ThermocalInputError(f"--bounds {bounds!r}: use auto or family")
+    scale = 1.0
+    if bounds == "auto":
+        scale, h_balance = family_scale(data, heat_unit, source=str(data_file))
+        if scale != 1.0:
+            notes.append(
+                f"family scaled to the data (--bounds auto): energy-balance heat loss "
+                f"coefficient {h_balance:.4g} W/K, so capacities and the aperture x{scale:g}, "
+                f"resistances /{scale:g} (start values and bounds); --bounds family: as "
+                "published"
+            )
+    models, extensions, start = FAMILIES[family](
+        heat_unit=heat_unit, solar_unit=solar_unit if solar else None, bound_factor=bound_factor,
+        scale=scale,
+    )  # fmt: skip
 
     with output_folder(out, command="select", signature=("selection.json",)) as tmp:
 
@@ -253,16 +278,28 @@ def select(
         except ThermocalInputError as exc:
             raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
         table = result.table
-        hlcs = {}
+        stamps = None
+        if gaps != "split":
+            from thermocal.statespace.checks import time_stamp_check
+
+            # the start model refitted with the inputs as stamped and moved one sample
+            stamps = time_stamp_check(
+                result.fits[start], as_stamped, stamps=time_stamps, time_column=time_column,
+                time_unit=time_unit,
+                input_gaps="interpolate" if max_gap else "error", max_gap=max(max_gap, 1),
+            )  # fmt: skip
+            if stamps["message"]:
+                notes.insert(0, stamps["message"])
+        if hlc_profile:
+            console.print(
+                f"heat loss coefficient: profile likelihood of {', '.join(result.path)}..."
+            )
+        hlcs = heat_loss_coefficients(result.fits, profile=result.path if hlc_profile else ())
         for name, res in result.fits.items():
             folder = tmp / name
             folder.mkdir()
             content_fit = res.to_dict()
-            if res.model.heat_loss_state() is not None:
-                profile_it = hlc_profile and name in result.path
-                if profile_it:
-                    console.print(f"{name:<12} heat loss coefficient: profile likelihood...")
-                hlcs[name] = res.heat_loss_coefficient(profile=profile_it)
+            if name in hlcs:
                 content_fit["heat_loss_coefficient"] = hlcs[name]
             (folder / "fit.json").write_text(json.dumps(content_fit, indent=2))
             res.parameter_table().to_csv(folder / "parameters.csv")
@@ -276,6 +313,7 @@ def select(
             "path": result.path,
             "selected": result.selected,
             "heat_loss_coefficient": hlcs,
+            "time_stamp_check": stamps,
             "alpha": alpha,
             "table": records,
             "data_notes": notes,
@@ -283,6 +321,9 @@ def select(
                 "thermocal_version": __version__,
                 "seed": seed,
                 "n_starts": n_starts,
+                "bounds": bounds,
+                "family_scale": scale,
+                "bound_factor": bound_factor,
                 "files": {str(data_file): {"sha256": file_sha256(data_file)}},
             },
         }

@@ -392,3 +392,17 @@ def _interpolate_gaps(values, seconds, index, col, max_gap, source, notes, split
             f"at most {max(lengths)} sample(s) interpolated linearly"
         )
     return out, long_rows
+
+
+def end_stamped_inputs(data: pd.DataFrame, inputs) -> pd.DataFrame:
+    """Inputs stamped at the END of each interval moved onto the zero-order hold.
+
+    A logger's mean over ``[t_k-1, t_k]`` stamped ``t_k`` is the input over the step INTO
+    sample ``k``; the zero-order hold applies ``u[k]`` over ``[t_k, t_k+1)``. The ``inputs``
+    columns present are shifted one row earlier and the last row (without an input for its
+    step) is dropped.
+    """
+    cols = [c for c in inputs if c in data.columns]
+    data = data.copy()
+    data[cols] = data[cols].shift(-1)
+    return data.iloc[:-1]

@@ -88,7 +88,8 @@ def _loglike_values(model, values, prep: PreparedData, foh: bool) -> float:
     return float(
         kernels.kalman_filter(
             lam, T, Tinv, TB, M, st.C, meas_var, x0, P0, prep.dts, prep.U, prep.Y, foh,
-            False, e2, e3, e2, e3, e3, seg_start, seg_x0,
+            False, e2, e3, e2, e3, e3, seg_start, seg_x0, prep.Y.shape[0] + 1,
+            kernels.handoff_buffers(st.n_states, st.C.shape[0], st.n_inputs),
         )
     )  # fmt: skip
 
@@ -183,6 +184,22 @@ class LikelihoodProblem:
             )  # fmt: skip
         )
 
+    def loglike_many(self, thetas: np.ndarray) -> np.ndarray:
+        """Log-likelihoods at the rows of ``thetas``, evaluated together (the same values as
+        :meth:`loglike` row by row, see :func:`kernels.loglike_batch`)."""
+        p = self.prep
+        thetas = np.ascontiguousarray(np.atleast_2d(np.asarray(thetas, dtype=float)))
+        return kernels.loglike_batch(
+            thetas, self.tr, self.st, self.C, p.dts, p.U, p.Y, self.foh, self.seg
+        )
+
+    def target_many(self, thetas: np.ndarray) -> np.ndarray:
+        """:meth:`target` at the rows of ``thetas``."""
+        ll = self.loglike_many(thetas)
+        if self.priors:
+            ll = ll + np.array([self.logprior(t)[0] for t in np.atleast_2d(thetas)])
+        return ll
+
     def logprior(self, theta: np.ndarray) -> tuple[float, np.ndarray]:
         """Log prior density (declared units, no Jacobian) and its gradient in ``theta``."""
         total, grad = 0.0, np.zeros(len(theta))
@@ -226,27 +243,28 @@ class LikelihoodProblem:
         theta = np.asarray(theta, dtype=float)
         k = theta.size
         h = np.finfo(float).eps ** 0.25 * np.maximum(np.abs(theta), 1.0)
-        f0 = self.target(theta)
-        H = np.empty((k, k))
-        fp = np.empty(k)
-        fm = np.empty(k)
+        # all points of the central differences, evaluated together
+        points = [theta]
         for i in range(k):
             e = np.zeros(k)
             e[i] = h[i]
-            fp[i] = self.target(theta + e)
-            fm[i] = self.target(theta - e)
-            H[i, i] = (fp[i] - 2.0 * f0 + fm[i]) / h[i] ** 2
+            points += [theta + e, theta - e]
+        pairs = [(i, j) for i in range(k) for j in range(i + 1, k)]
+        for i, j in pairs:
+            ei = np.zeros(k)
+            ej = np.zeros(k)
+            ei[i] = h[i]
+            ej[j] = h[j]
+            points += [theta + ei + ej, theta + ei - ej, theta - ei + ej, theta - ei - ej]
+        values = self.target_many(np.array(points))
+        f0 = values[0]
+        H = np.empty((k, k))
         for i in range(k):
-            for j in range(i + 1, k):
-                ei = np.zeros(k)
-                ej = np.zeros(k)
-                ei[i] = h[i]
-                ej[j] = h[j]
-                fpp = self.target(theta + ei + ej)
-                fpm = self.target(theta + ei - ej)
-                fmp = self.target(theta - ei + ej)
-                fmm = self.target(theta - ei - ej)
-                H[i, j] = H[j, i] = (fpp - fpm - fmp + fmm) / (4.0 * h[i] * h[j])
+            fp, fm = values[1 + 2 * i], values[2 + 2 * i]
+            H[i, i] = (fp - 2.0 * f0 + fm) / h[i] ** 2
+        for q, (i, j) in enumerate(pairs):
+            fpp, fpm, fmp, fmm = values[1 + 2 * k + 4 * q : 5 + 2 * k + 4 * q]
+            H[i, j] = H[j, i] = (fpp - fpm - fmp + fmm) / (4.0 * h[i] * h[j])
         return H
 
 
@@ -297,14 +315,17 @@ def _diagonal_metric(problem: LikelihoodProblem, theta: np.ndarray, h: float = 1
     capacities and conductances in log space can jump by factors of e^100 into degenerate regions.
     """
     theta = problem.clip(theta)
-    f0 = -problem.target(theta) / problem.scale
     k = theta.size
-    curv = np.empty(k)
+    points = [theta]
     for i in range(k):
         e = np.zeros(k)
         e[i] = h
-        fp = -problem.target(theta + e) / problem.scale
-        fm = -problem.target(theta - e) / problem.scale
+        points += [theta + e, theta - e]
+    values = -problem.target_many(np.array(points)) / problem.scale
+    f0 = values[0]
+    curv = np.empty(k)
+    for i in range(k):
+        fp, fm = values[1 + 2 * i], values[2 + 2 * i]
         curv[i] = (fp - 2.0 * f0 + fm) / h**2
     curv = np.abs(curv)
     floor = max(1e-2 * curv.max(), 1e-8) if np.all(np.isfinite(curv)) else 1.0
@@ -881,7 +902,8 @@ def filter_arrays(model, prep: PreparedData, params: Mapping[str, float] | None,
     Pp, Pf, Ads = np.empty((N, n, n)), np.empty((N, n, n)), np.zeros((N, n, n))
     ll = kernels.kalman_filter(
         lam, T, Tinv, TB, M, st.C, meas_var, x0, P0, prep.dts, prep.U, prep.Y, foh,
-        True, xp, Pp, xf, Pf, Ads, seg_start, seg_x0,
+        True, xp, Pp, xf, Pf, Ads, seg_start, seg_x0, N + 1,
+        kernels.handoff_buffers(n, st.C.shape[0], st.n_inputs),
     )  # fmt: skip
     return {
         "xp": xp, "Pp": Pp, "xf": xf, "Pf": Pf, "Ads": Ads, "loglike": float(ll),

@@ -75,6 +75,63 @@ _PARAMETERS = {
 
 #: Parameters whose bounds ``bound_factor`` widens (capacities, resistances, aperture).
 _WIDENED = ("Ci", "Cm", "Ce", "Ch", "Rih", "Rim", "Rie", "Rea", "Ria", "Aw")
+#: Parameters that grow with the building (start values and bounds multiplied by the scale).
+_EXTENSIVE = ("Ci", "Cm", "Ce", "Ch", "Aw")
+#: Parameters that shrink with the building (divided by the scale).
+_INTENSIVE = ("Rih", "Rim", "Rie", "Rea", "Ria")
+#: Heat loss coefficient the family's values were made for [W/K]: the FlexHouse test building
+#: of Bacher & Madsen (2011), ~ 170 W/K (mean heating 2.85 kW over a mean indoor-outdoor
+#: difference of 16.5 K; the envelope path of the declared values, 1 / (Rie + Rea), is 167 W/K).
+FAMILY_HEAT_LOSS = 1000.0 / 6.0
+
+
+def family_scale(data, heat_unit: str = "kW", source: str = "data") -> tuple[float, float]:
+    """Scale of the family for a building: a power of ten near ``H / FAMILY_HEAT_LOSS``.
+
+    ``H = mean(Ph) / mean(yTi - Ta)`` [W/K] is the steady energy balance of the data (solar
+    and internal gains left out, so it errs low; the LR tests are not affected, only the start
+    values and bounds). Capacities and the aperture are multiplied by the scale, resistances
+    divided (time constants kept), so that a building ten or a thousand times the FlexHouse
+    has its parameters as far inside the bounds as the FlexHouse has. Rounded to a power of
+    ten, so data like the FlexHouse's keep the family as published (scale 1).
+
+    Parameters
+    ----------
+    data : DataFrame
+        Columns ``Ph`` [``heat_unit``], ``yTi`` and ``Ta`` [C].
+    heat_unit : str
+        Unit of ``Ph``.
+    source : str
+        Name of the data, for error messages.
+
+    Returns
+    -------
+    (scale, H)
+        The power of ten [-] and the energy-balance heat loss coefficient [W/K].
+    """
+    import numpy as np
+
+    if heat_unit not in HEAT_COLUMN_UNITS:
+        raise ThermocalInputError(
+            f"heating column unit {heat_unit!r}: use one of {', '.join(HEAT_COLUMN_UNITS)}"
+        )
+    missing = [c for c in ("Ph", "yTi", "Ta") if c not in data.columns]
+    if missing:
+        raise ThermocalInputError(
+            f"{source}: scaling the family to the data needs column(s) {', '.join(missing)}"
+        )
+    heat = np.asarray(data["Ph"], dtype=float) * HEAT_COLUMN_UNITS[heat_unit]
+    diff = np.asarray(data["yTi"], dtype=float) - np.asarray(data["Ta"], dtype=float)
+    ok = np.isfinite(heat) & np.isfinite(diff)
+    if ok.sum() < 2:
+        return 1.0, math.nan
+    mean_heat, mean_diff = float(heat[ok].mean()), float(diff[ok].mean())
+    if not (mean_heat > 0 and mean_diff > 0.5):
+        # no net heating or no indoor-outdoor difference (cooling season, a free-floating
+        # test): no energy balance to scale with; the family as published
+        return 1.0, math.nan
+    h = mean_heat / mean_diff
+    return 10.0 ** round(math.log10(h / FAMILY_HEAT_LOSS)), h
 
 
 def bacher_madsen_spec(
@@ -83,8 +140,11 @@ def bacher_madsen_spec(
     heat_unit: str = "kW",
     solar_unit: str | None = "kW/m2",
     bound_factor: float = 1.0,
+    scale: float = 1.0,
 ) -> dict:
     """Model-file dictionary of one member (see :func:`bacher_madsen_family`)."""
+    if not (scale > 0 and math.isfinite(scale)):
+        raise ThermocalInputError(f"family scale {scale!r}: give a positive finite number")
     if not (bound_factor >= 1.0 and math.isfinite(bound_factor)):
         raise ThermocalInputError(
             f"bound factor {bound_factor!r}: give a finite number >= 1 (1: the family's bounds, "
@@ -133,9 +193,20 @@ def bacher_madsen_spec(
         "heat_inputs": heat_inputs,
         "outputs": [{"column": "yTi", "state": "Ti", "noise": "e_std"}],
         "parameters": {
-            k: _widened(k, v, bound_factor) for k, v in _PARAMETERS.items() if k in used
+            k: _widened(k, _scaled(k, v, scale), bound_factor)
+            for k, v in _PARAMETERS.items()
+            if k in used
         },  # fmt: skip
     }
+
+
+def _scaled(name: str, spec: dict, scale: float) -> dict:
+    out = dict(spec)
+    if scale != 1.0 and name in _EXTENSIVE + _INTENSIVE:
+        f = scale if name in _EXTENSIVE else 1.0 / scale
+        for key in ("value", "lower", "upper"):
+            out[key] = spec[key] * f
+    return out
 
 
 def _widened(name: str, spec: dict, factor: float) -> dict:
@@ -147,7 +218,11 @@ def _widened(name: str, spec: dict, factor: float) -> dict:
 
 
 def bacher_madsen_family(
-    *, heat_unit: str = "kW", solar_unit: str | None = "kW/m2", bound_factor: float = 1.0
+    *,
+    heat_unit: str = "kW",
+    solar_unit: str | None = "kW/m2",
+    bound_factor: float = 1.0,
+    scale: float = 1.0,
 ) -> tuple[dict[str, RCModel], dict[str, list[str]], str]:
     """The Bacher & Madsen (2011) candidate models, their extensions and the start model.
 
@@ -162,6 +237,10 @@ def bacher_madsen_family(
         by this factor on both sides (lower / factor, upper * factor); the defaults were made
         for the FlexHouse data (a 120 m2 test building) and a large building's capacities or
         small resistances can lie beyond them.
+    scale : float
+        Capacities and the aperture (start values and bounds) multiplied by this factor,
+        resistances divided by it: the family for a building ``scale`` times the FlexHouse's
+        heat loss coefficient (see :func:`family_scale`, which derives it from the data).
 
     Returns
     -------
@@ -175,7 +254,11 @@ def bacher_madsen_family(
     models = {
         name: RCModel.from_dict(
             bacher_madsen_spec(
-                name, heat_unit=heat_unit, solar_unit=solar_unit, bound_factor=bound_factor
+                name,
+                heat_unit=heat_unit,
+                solar_unit=solar_unit,
+                bound_factor=bound_factor,
+                scale=scale,
             ),
             source=f"Bacher & Madsen family ({name})",
         )

@@ -160,6 +160,49 @@ def build_network(
 
 
 @njit(cache=True, error_model="numpy")
+def heat_loss_from_network(G, s):
+    """Steady-state heat loss coefficient [W/K] of state ``s`` to all boundary temperatures.
+
+    ``H = -(G_ss + G_sf x_f)`` with ``G_ff x_f = -G_fs`` (``G`` [W/K] the conductance matrix,
+    ``f`` the other states, floating without heat input); NaN when ``G_ff`` is singular.
+    """
+    n = G.shape[0]
+    if n == 1:
+        return -G[0, 0]
+    f = np.empty(n - 1, dtype=np.int64)
+    q = 0
+    for i in range(n):
+        if i != s:
+            f[q] = i
+            q += 1
+    Gff = np.empty((n - 1, n - 1))
+    rhs = np.empty(n - 1)
+    for a in range(n - 1):
+        rhs[a] = -G[f[a], s]
+        for b in range(n - 1):
+            Gff[a, b] = G[f[a], f[b]]
+    if not np.all(np.isfinite(Gff)) or abs(np.linalg.det(Gff)) == 0.0:
+        return np.nan
+    x = np.linalg.solve(Gff, rhs)
+    acc = G[s, s]
+    for a in range(n - 1):
+        acc += G[s, f[a]] * x[a]
+    return -acc
+
+
+@njit(cache=True, error_model="numpy")
+def heat_loss_theta(theta, tr, st, n_inputs, s):
+    """:func:`heat_loss_from_network` [W/K] at unconstrained parameters ``theta`` (``tr``,
+    ``st`` as in :func:`loglike_theta`)."""
+    values = fill_values(theta, tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
+    _, G, _, _ = build_network(
+        values, st[0], st[1], st[2], st[3], st[4], st[5], st[6], st[7], st[8], st[9], st[10],
+        st[11], st[12], st[13], st[14], st[18], n_inputs,
+    )  # fmt: skip
+    return heat_loss_from_network(G, s)
+
+
+@njit(cache=True, error_model="numpy")
 def eigen_network(cap, G, B_raw, sigma):
     """Eigen-decomposition of the RC system used by :func:`discretise_from_eigen`.
 
@@ -316,8 +359,29 @@ STEADY_STATE_TOLERANCE = 1e-13
 
 @njit(cache=True, error_model="numpy")
 def kalman_filter(
-    lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, xp, Pp, xf, Pf, Ads,
-    seg_start, seg_x0,
+    lam,
+    T,
+    Tinv,
+    TB,
+    M,
+    C,
+    meas_var,
+    x0,
+    P0,
+    dts,
+    U,
+    Y,
+    foh,
+    store,
+    xp,
+    Pp,
+    xf,
+    Pf,
+    Ads,
+    seg_start,
+    seg_x0,
+    handoff,
+    hand,
 ):
     """Kalman filter over the samples; returns the log-likelihood of ``Y``.
 
@@ -342,6 +406,13 @@ def kalman_filter(
     restarts from its own initial mean ``seg_x0[s]`` [C] with covariance ``P0`` (nothing is
     carried over the gap; ``Ads`` of the step into it is zero, so the RTS smoother treats the
     periods independently). Empty arrays: one period.
+
+    Hand-off (used by :func:`loglike_batch`): when the filter is stationary at the start of a
+    sample ``k >= handoff`` (no store), it stops there and writes what the rest of the run needs
+    into the buffers ``hand`` (see :func:`handoff_buffers`: ``k``, the modal mean, the frozen
+    gains and innovation variances, the modal output matrix and the discretisation); the
+    returned value is then the log-likelihood of the samples before ``k``. ``handoff`` beyond
+    the last sample: no hand-off.
     """
     n = lam.size
     m = TB.shape[1]
@@ -416,6 +487,9 @@ def kalman_filter(
                 complete = False
         if steady and not complete:
             steady = False
+        if steady and k >= handoff and not store:
+            _write_handoff(hand, k, z, Kfix, sfix, log_sfix, Cz, e, G0, G1)
+            return loglike
         if store:
             _to_physical(T, z, P, xs, Ps)
             for i in range(n):
@@ -522,6 +596,56 @@ def kalman_filter(
             if dts[k + 1] == dt:
                 steady = True
     return loglike
+
+
+@njit(cache=True, error_model="numpy")
+def handoff_buffers(n, ny, m):
+    """Buffers of a filter hand-off (see :func:`kalman_filter`): ``(k, z, Kfix, sfix,
+    log_sfix, Cz, e, G0, G1)``; ``k[0] = -1`` until a hand-off happens."""
+    k = np.full(1, -1, dtype=np.int64)
+    return (
+        k, np.zeros(n), np.zeros((ny, n)), np.ones(ny), np.zeros(ny), np.zeros((ny, n)),
+        np.zeros(n), np.zeros((n, m)), np.zeros((n, m)),
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def _write_handoff(hand, k, z, Kfix, sfix, log_sfix, Cz, e, G0, G1):
+    hand[0][0] = k
+    hand[1][:] = z
+    hand[2][:, :] = Kfix
+    hand[3][:] = sfix
+    hand[4][:] = log_sfix
+    hand[5][:, :] = Cz
+    hand[6][:] = e
+    hand[7][:, :] = G0
+    hand[8][:, :] = G1
+
+
+@njit(cache=True, error_model="numpy")
+def stationary_from(dts, Y, seg_start):
+    """First sample ``c >= 1`` from which the data cannot interrupt a stationary filter: every
+    sample from ``c`` on has all outputs observed and starts no period, and the intervals from
+    ``c - 1`` to the end are all equal. ``Y.shape[0]`` when there is none."""
+    N = Y.shape[0]
+    c = N
+    if N < 2:
+        return c
+    dt = dts[N - 2]
+    j = N - 1
+    while j >= 1:
+        ok = dts[j - 1] == dt
+        for r in range(Y.shape[1]):
+            if math.isnan(Y[j, r]):
+                ok = False
+        for s in range(seg_start.size):
+            if seg_start[s] == j:
+                ok = False
+        if not ok:
+            break
+        c = j
+        j -= 1
+    return c
 
 
 @njit(cache=True, error_model="numpy")
@@ -705,14 +829,9 @@ def period_initial_means(values, seg_x0_idx, n):
 
 
 @njit(cache=True, error_model="numpy")
-def loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start):
-    """Log-likelihood at unconstrained parameters ``theta``.
-
-    ``tr`` = (free_idx, kind, lower, upper, si_factor, base_values) and ``st`` = the structure
-    tuple of :meth:`RCModel.structure` (see :func:`system_from_values`; ``st[19]`` indexes the
-    initial means of the periods after the first, see :func:`period_initial_means`);
-    ``seg_start``: first sample of each later period (empty: one period).
-    """
+def _filter_theta(theta, tr, st, C, dts, U, Y, foh, seg_start, handoff, hand):
+    """The likelihood filter at unconstrained ``theta`` (see :func:`loglike_theta`), with a
+    hand-off from sample ``handoff`` on (see :func:`kalman_filter`)."""
     values = fill_values(theta, tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
     lam, T, Tinv, TB, M, meas_var, x0, P0 = system_from_values(
         values,
@@ -743,28 +862,391 @@ def loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start):
     # Literal[bool]) besides the one called with store=True from Python: a runtime False shares it
     store = U.shape[0] < 0
     seg_x0 = period_initial_means(values, st[19], x0.size)
-    ll = kalman_filter(
-        lam, T, Tinv, TB, M, C, meas_var, x0, P0, dts, U, Y, foh, store, e2, e3, e2, e3, e3,
-        seg_start, seg_x0,
+    return kalman_filter(
+        lam,
+        T,
+        Tinv,
+        TB,
+        M,
+        C,
+        meas_var,
+        x0,
+        P0,
+        dts,
+        U,
+        Y,
+        foh,
+        store,
+        e2,
+        e3,
+        e2,
+        e3,
+        e3,
+        seg_start,
+        seg_x0,
+        handoff,
+        hand,
     )
+
+
+@njit(cache=True, error_model="numpy")
+def loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start):
+    """Log-likelihood at unconstrained parameters ``theta``.
+
+    ``tr`` = (free_idx, kind, lower, upper, si_factor, base_values) and ``st`` = the structure
+    tuple of :meth:`RCModel.structure` (see :func:`system_from_values`; ``st[19]`` indexes the
+    initial means of the periods after the first, see :func:`period_initial_means`);
+    ``seg_start``: first sample of each later period (empty: one period).
+    """
+    hand = handoff_buffers(st[0].size, C.shape[0], U.shape[1])
+    ll = _filter_theta(theta, tr, st, C, dts, U, Y, foh, seg_start, Y.shape[0] + 1, hand)
     if not math.isfinite(ll):
         return -np.inf
     return ll
 
 
 @njit(cache=True, error_model="numpy")
+def _stationary_steps(k0, k1, b, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
+    """Samples ``k0 .. k1 - 1`` of the stationary filter of column ``b`` of the batch arrays
+    (the same operations, in the same order, as the stationary branch of
+    :func:`kalman_filter`)."""
+    n, ny, m, N = Z.shape[0], Y.shape[1], U.shape[1], Y.shape[0]
+    for k in range(k0, k1):
+        for r in range(ny):
+            v = Y[k, r]
+            for i in range(n):
+                v -= CZ[r, i, b] * Z[i, b]
+            for i in range(n):
+                Z[i, b] += KF[r, i, b] * v
+            LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v * v / S[r, b])
+        if k == N - 1:
+            break
+        for i in range(n):
+            acc = E[i, b] * Z[i, b]
+            for c in range(m):
+                acc += GA[i, c, b] * U[k, c]
+            if foh:
+                for c in range(m):
+                    acc += GB[i, c, b] * U[k + 1, c]
+            Z[i, b] = acc
+
+
+@njit(cache=True, error_model="numpy")
+def _batch_stationary(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
+    """Samples ``k0`` to the end of the stationary filters of all columns of the batch arrays,
+    advanced together (the innermost loops over the columns); the same operations, in the same
+    order, as the stationary branch of :func:`kalman_filter`."""
+    n, B = Z.shape
+    ny, m, N = Y.shape[1], U.shape[1], Y.shape[0]
+    v = np.empty(B)
+    acc = np.empty(B)
+    for k in range(k0, N):
+        for r in range(ny):
+            y = Y[k, r]
+            for b in range(B):
+                v[b] = y
+            for i in range(n):
+                for b in range(B):
+                    v[b] -= CZ[r, i, b] * Z[i, b]
+            for i in range(n):
+                for b in range(B):
+                    Z[i, b] += KF[r, i, b] * v[b]
+            for b in range(B):
+                LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v[b] * v[b] / S[r, b])
+        if k == N - 1:
+            break
+        for i in range(n):
+            for b in range(B):
+                acc[b] = E[i, b] * Z[i, b]
+            for c in range(m):
+                u = U[k, c]
+                for b in range(B):
+                    acc[b] += GA[i, c, b] * u
+            if foh:
+                for c in range(m):
+                    u = U[k + 1, c]
+                    for b in range(B):
+                        acc[b] += GB[i, c, b] * u
+            for b in range(B):
+                Z[i, b] = acc[b]
+
+
+@njit(cache=True, error_model="numpy")
+def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
+    """:func:`loglike_batch` on data with every output observed, one period and one sampling
+    interval: all rows' filters run together from the first sample (the innermost loops over
+    the rows, also while the covariances are still converging); each row switches to its frozen
+    gain when its own filter would (the same test), so the numbers are those of
+    :func:`kalman_filter` row by row."""
+    B = thetas.shape[0]
+    N = Y.shape[0]
+    n = st[0].size
+    ny = C.shape[0]
+    m = U.shape[1]
+    Z = np.zeros((n, B))
+    P = np.zeros((n, n, B))
+    Pprior = np.zeros((n, n, B))
+    KF = np.zeros((ny, n, B))
+    S = np.ones((ny, B))
+    LS = np.zeros((ny, B))
+    CZ = np.zeros((ny, n, B))
+    MV = np.ones((ny, B))
+    E = np.zeros((n, B))
+    GA = np.zeros((n, m, B))
+    GB = np.zeros((n, m, B))
+    W = np.zeros((n, n, B))
+    LL = np.zeros(B)
+    steady = np.zeros(B, dtype=np.bool_)
+    dead = np.zeros(B, dtype=np.bool_)
+    e1 = np.empty(n)
+    g0 = np.empty((n, m))
+    g1 = np.empty((n, m))
+    w1 = np.empty((n, n))
+    for b in range(B):
+        values = fill_values(thetas[b], tr[0], tr[1], tr[2], tr[3], tr[4], tr[5])
+        lam, T, Tinv, TB, M, meas_var, x0, P0 = system_from_values(
+            values, st[0], st[1], st[2], st[3], st[4], st[5], st[6], st[7], st[8], st[9],
+            st[10], st[11], st[12], st[13], st[14], st[15], st[16], st[17], st[18], m,
+        )  # fmt: skip
+        finite = True
+        for i in range(n):
+            if not math.isfinite(lam[i]):
+                finite = False
+        if not finite:
+            dead[b] = True
+            steady[b] = True  # never tested again
+            continue
+        # as kalman_filter: modal output matrix, initial mean and covariance, discretisation
+        for r in range(ny):
+            MV[r, b] = meas_var[r]
+            for j in range(n):
+                acc = 0.0
+                for i in range(n):
+                    acc += C[r, i] * T[i, j]
+                CZ[r, j, b] = acc
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += Tinv[i, j] * x0[j]
+            Z[i, b] = acc
+        for i in range(n):
+            for j in range(n):
+                acc = 0.0
+                for a in range(n):
+                    for c in range(n):
+                        acc += Tinv[i, a] * P0[a, c] * Tinv[j, c]
+                P[i, j, b] = acc
+        if N > 1:
+            modal_discretise(lam, TB, M, dts[0], foh, e1, g0, g1, w1)
+            for i in range(n):
+                E[i, b] = e1[i]
+                for c in range(m):
+                    GA[i, c, b] = g0[i, c]
+                    GB[i, c, b] = g1[i, c]
+                for j in range(n):
+                    W[i, j, b] = w1[i, j]
+    v = np.empty(B)
+    s = np.empty(B)
+    PC = np.empty((n, B))
+    K = np.empty((n, B))
+    LP = np.empty((n, n, B))
+    acc_b = np.empty(B)
+    change = np.empty(B)
+    scale = np.empty(B)
+    k = 0
+    while k < N:
+        all_steady = True
+        for b in range(B):
+            if not steady[b]:
+                all_steady = False
+        if all_steady:
+            break
+        for i in range(n):
+            for j in range(n):
+                for b in range(B):
+                    Pprior[i, j, b] = P[i, j, b]
+        for r in range(ny):
+            y = Y[k, r]
+            for b in range(B):
+                v[b] = y
+            for i in range(n):
+                for b in range(B):
+                    v[b] -= CZ[r, i, b] * Z[i, b]
+            for b in range(B):
+                s[b] = MV[r, b]
+            for i in range(n):
+                for b in range(B):
+                    acc_b[b] = 0.0
+                for j in range(n):
+                    for b in range(B):
+                        acc_b[b] += P[i, j, b] * CZ[r, j, b]
+                for b in range(B):
+                    PC[i, b] = acc_b[b]
+                    s[b] += CZ[r, i, b] * acc_b[b]
+            for b in range(B):
+                if not steady[b]:
+                    if not (s[b] > 0.0) or not math.isfinite(s[b]):
+                        dead[b] = True
+                        steady[b] = True
+                        s[b] = 1.0  # the row's result is -inf; keep its arithmetic finite
+            for i in range(n):
+                for b in range(B):
+                    K[i, b] = PC[i, b] / s[b]
+            for b in range(B):
+                if not steady[b]:
+                    for i in range(n):
+                        KF[r, i, b] = K[i, b]
+                    S[r, b] = s[b]
+                    LS[r, b] = math.log(s[b])
+            for i in range(n):
+                for b in range(B):
+                    Z[i, b] += KF[r, i, b] * v[b]
+            # Joseph form (computed for every row; a stationary row's covariance is unused)
+            for i in range(n):
+                for j in range(n):
+                    for b in range(B):
+                        LP[i, j, b] = P[i, j, b] - K[i, b] * PC[j, b]
+            for i in range(n):
+                for j in range(i, n):
+                    for b in range(B):
+                        acc_b[b] = MV[r, b] * K[i, b] * K[j, b]
+                    for q in range(n):
+                        delta = 1.0 if q == j else 0.0
+                        for b in range(B):
+                            acc_b[b] += LP[i, q, b] * (delta - K[j, b] * CZ[r, q, b])
+                    for b in range(B):
+                        P[i, j, b] = acc_b[b]
+                        P[j, i, b] = acc_b[b]
+            for b in range(B):
+                LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v[b] * v[b] / S[r, b])
+        if k == N - 1:
+            k = N
+            break
+        for i in range(n):
+            for b in range(B):
+                acc_b[b] = E[i, b] * Z[i, b]
+            for c in range(m):
+                u = U[k, c]
+                for b in range(B):
+                    acc_b[b] += GA[i, c, b] * u
+            if foh:
+                for c in range(m):
+                    u = U[k + 1, c]
+                    for b in range(B):
+                        acc_b[b] += GB[i, c, b] * u
+            for b in range(B):
+                Z[i, b] = acc_b[b]
+        for b in range(B):
+            change[b] = 0.0
+            scale[b] = 0.0
+        for i in range(n):
+            for j in range(i, n):
+                for b in range(B):
+                    val = E[i, b] * E[j, b] * P[i, j, b] + W[i, j, b]
+                    P[i, j, b] = val
+                    P[j, i, b] = val
+                    change[b] = max(change[b], abs(val - Pprior[i, j, b]))
+                    scale[b] = max(scale[b], abs(val))
+        for b in range(B):
+            if not steady[b] and change[b] <= STEADY_STATE_TOLERANCE * scale[b] and k + 1 < N:
+                steady[b] = True
+        k += 1
+    if k < N:
+        _batch_stationary(k, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
+    out = np.empty(B)
+    for b in range(B):
+        out[b] = -np.inf if dead[b] or not math.isfinite(LL[b]) else LL[b]
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start):
+    """Log-likelihoods at the rows of ``thetas`` (see :func:`loglike_theta`), equal to
+    evaluating them one by one (the same floating-point operations).
+
+    Each row's filter runs on its own until it is stationary on a stretch the data cannot
+    interrupt (:func:`stationary_from`); the rows then advance together, sample by sample, with
+    the innermost loops over the rows, so the independent recursions overlap in the processor
+    instead of each waiting on its own chain of dependent operations.
+    """
+    B = thetas.shape[0]
+    N = Y.shape[0]
+    n = st[0].size
+    ny = C.shape[0]
+    m = U.shape[1]
+    start = stationary_from(dts, Y, seg_start)
+    complete = True
+    for r in range(ny):
+        if N == 0 or math.isnan(Y[0, r]):
+            complete = False
+    if complete and start == 1 and seg_start.size == 0:
+        return _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh)
+    out = np.empty(B)
+    Z = np.zeros((n, B))
+    KF = np.zeros((ny, n, B))
+    S = np.ones((ny, B))
+    LS = np.zeros((ny, B))
+    CZ = np.zeros((ny, n, B))
+    E = np.zeros((n, B))
+    GA = np.zeros((n, m, B))
+    GB = np.zeros((n, m, B))
+    LL = np.zeros(B)
+    kst = np.full(B, N, dtype=np.int64)
+    hand = handoff_buffers(n, ny, m)
+    kmax = -1
+    for b in range(B):
+        hand[0][0] = -1
+        ll = _filter_theta(thetas[b], tr, st, C, dts, U, Y, foh, seg_start, start, hand)
+        out[b] = ll
+        k = hand[0][0]
+        if k < 0 or not math.isfinite(ll):
+            continue
+        kst[b] = k
+        kmax = max(kmax, k)
+        LL[b] = ll
+        for i in range(n):
+            Z[i, b] = hand[1][i]
+            E[i, b] = hand[6][i]
+            for c in range(m):
+                GA[i, c, b] = hand[7][i, c]
+                GB[i, c, b] = hand[8][i, c]
+        for r in range(ny):
+            S[r, b] = hand[3][r]
+            LS[r, b] = hand[4][r]
+            for i in range(n):
+                KF[r, i, b] = hand[2][r, i]
+                CZ[r, i, b] = hand[5][r, i]
+    if kmax >= 0:
+        # the rows that became stationary earlier catch up one by one, then all go together
+        for b in range(B):
+            if kst[b] < kmax:
+                _stationary_steps(kst[b], kmax, b, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
+        _batch_stationary(kmax, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
+        for b in range(B):
+            if kst[b] < N:
+                out[b] = LL[b]
+    for b in range(B):
+        if not math.isfinite(out[b]):
+            out[b] = -np.inf
+    return out
+
+
+@njit(cache=True, error_model="numpy")
 def negloglike_and_gradient(theta, tr, st, C, dts, U, Y, foh, seg_start, rel_step):
-    """Negative log-likelihood and its central-difference gradient in ``theta``."""
-    f0 = -loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start)
+    """Negative log-likelihood and its central-difference gradient in ``theta`` (the ``2p + 1``
+    likelihoods evaluated together by :func:`loglike_batch`)."""
     p = theta.size
-    grad = np.empty(p)
-    th = theta.copy()
+    thetas = np.empty((2 * p + 1, p))
+    steps = np.empty(p)
+    for j in range(2 * p + 1):
+        thetas[j, :] = theta
     for i in range(p):
         h = rel_step * max(1.0, abs(theta[i]))
-        th[i] = theta[i] + h
-        fp = -loglike_theta(th, tr, st, C, dts, U, Y, foh, seg_start)
-        th[i] = theta[i] - h
-        fm = -loglike_theta(th, tr, st, C, dts, U, Y, foh, seg_start)
-        th[i] = theta[i]
-        grad[i] = (fp - fm) / (2.0 * h)
-    return f0, grad
+        steps[i] = h
+        thetas[1 + 2 * i, i] = theta[i] + h
+        thetas[2 + 2 * i, i] = theta[i] - h
+    ll = loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start)
+    grad = np.empty(p)
+    for i in range(p):
+        grad[i] = (-ll[1 + 2 * i] - -ll[2 + 2 * i]) / (2.0 * steps[i])
+    return -ll[0], grad

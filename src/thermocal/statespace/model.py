@@ -902,15 +902,7 @@ class RCModel:
         _, G, _, _ = kernels.build_network(
             self.values_si(params), *st.arrays[:15], st.arrays[18], st.n_inputs
         )
-        s = self.state_names.index(state)
-        f = [i for i in range(G.shape[0]) if i != s]
-        if not f:
-            return float(-G[s, s])
-        try:
-            x_f = np.linalg.solve(G[np.ix_(f, f)], -G[f, s])
-        except np.linalg.LinAlgError:
-            return float("nan")
-        return float(-(G[s, s] + G[s, f] @ x_f))
+        return float(kernels.heat_loss_from_network(G, self.state_names.index(state)))
 
     def diffusion_matrix(self, params: Mapping[str, float] | None = None) -> np.ndarray:
         """Diagonal diffusion matrix ``Sigma`` [K/sqrt(s)] of ``dx = f dt + Sigma dw``."""

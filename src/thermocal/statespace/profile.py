@@ -104,15 +104,18 @@ class _ParameterProfile:
 class _DerivedProfile:
     """``l_p`` of a derived quantity, on its natural scale."""
 
-    def __init__(self, res, name: str, func=None, se: float = math.nan) -> None:
+    def __init__(self, res, name: str, func=None, se: float = math.nan, theta_func=None) -> None:
         from thermocal.statespace.estimation import LikelihoodProblem, _hold_flag
 
         self.res = res
         self.name = name
         #: {parameter: value [declared units]} -> the quantity
         self.func = func or (lambda values: res.model.derived_values(values)[name])
+        #: the same as a function of the unconstrained free parameters (faster), optional
+        self.theta_func = theta_func
         self.problem = LikelihoodProblem(res.model, res.data, _hold_flag(res.hold))
         self.free = [res.model.parameters[n] for n in res.model.free_parameter_names]
+        self.base = res.params.to_dict()
         self.center = float(self.g(res.theta))
         if func is None:
             derived = res.derived()
@@ -123,7 +126,9 @@ class _DerivedProfile:
         }
 
     def g(self, theta) -> float:
-        values = self.res.params.to_dict()
+        if self.theta_func is not None:
+            return float(self.theta_func(np.asarray(theta, dtype=float)))
+        values = dict(self.base)
         for p, t in zip(self.free, theta, strict=True):
             values[p.name] = p.from_unconstrained(float(t))
         return self.func(values)
@@ -235,10 +240,17 @@ def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
     elif name in model.derived:
         prof = _DerivedProfile(res, name)
     elif name == "heat_loss_coefficient":  # implied by the network [W/K]
+        from thermocal.statespace import kernels
+
         hlc = res.heat_loss_coefficient(profile=False)
+        tr, st = model.transform_arrays(), model.structure()
+        state = model.state_names.index(model.heat_loss_state())
         prof = _DerivedProfile(
-            res, name, lambda values: model.heat_loss_coefficient(values), hlc["std_error"]
-        )
+            res, name, lambda values: model.heat_loss_coefficient(values), hlc["std_error"],
+            theta_func=lambda theta: kernels.heat_loss_theta(
+                theta, tr, st.arrays, st.n_inputs, state
+            ),
+        )  # fmt: skip
     else:
         raise ThermocalInputError(
             f"profile: '{name}' is neither a free parameter nor a derived quantity of model "

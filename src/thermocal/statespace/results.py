@@ -809,6 +809,80 @@ class FitResults:
         }
 
 
+# the fits whose heat loss coefficients are profiled, in each worker process of the pool
+_HLC_FITS: dict = {}
+
+
+def _hlc_worker(args):
+    name, alpha = args
+    try:  # one BLAS thread per worker: the pool is the parallelism
+        from threadpoolctl import threadpool_limits
+
+        threadpool_limits(1)
+    except ImportError:  # pragma: no cover - threadpoolctl comes with scikit-learn
+        pass
+    res = _HLC_FITS[name]
+    hlc = res.heat_loss_coefficient(alpha=alpha, profile=True)
+    return name, hlc, res.converged, list(res.flags)
+
+
+def heat_loss_coefficients(
+    fits, *, profile=(), alpha: float = 0.05, n_jobs: int | None = None
+) -> dict:
+    """:meth:`FitResults.heat_loss_coefficient` of several fits, with the profile-likelihood
+    intervals of the fits named in ``profile`` computed in parallel processes (each profile is
+    a series of constrained refits; on ``n_jobs`` cores they run side by side).
+
+    Parameters
+    ----------
+    fits : mapping
+        ``FitResults`` by name.
+    profile : collection of str
+        Names whose interval is the profile-likelihood one (the others: Wald).
+    alpha : float
+        1 - confidence level.
+    n_jobs : int, optional
+        Processes (default: the number of CPUs, at most one per profile).
+
+    Returns
+    -------
+    dict
+        ``{name: heat loss coefficient dict}`` for the fits whose structure implies one. A
+        profile that finds a better optimum marks its fit not converged and flags it, as when
+        computed in this process.
+    """
+    import os
+
+    names = [n for n, r in fits.items() if r.model.heat_loss_state() is not None]
+    todo = [n for n in names if n in set(profile)]
+    out = {}
+    if n_jobs is None:
+        n_jobs = min(len(todo), os.cpu_count() or 1)
+    if len(todo) > 1 and n_jobs > 1:
+        import multiprocessing as mp
+        from concurrent.futures import ProcessPoolExecutor
+
+        global _HLC_FITS
+        _HLC_FITS = {n: fits[n] for n in todo}
+        ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else None)
+        try:
+            with ProcessPoolExecutor(min(n_jobs, len(todo)), mp_context=ctx) as pool:
+                # the longest profiles (most free parameters) first
+                order = sorted(todo, key=lambda n: -fits[n].n_free)
+                for name, hlc, converged, flags in pool.map(
+                    _hlc_worker, [(n, alpha) for n in order]
+                ):
+                    out[name] = hlc
+                    fits[name].converged = converged
+                    fits[name].flags[:] = flags
+        finally:
+            _HLC_FITS = {}
+    for name in names:
+        if name not in out:
+            out[name] = fits[name].heat_loss_coefficient(alpha=alpha, profile=name in todo)
+    return {n: out[n] for n in names}
+
+
 def _jsonable(x):
     """``x`` with numpy scalars as floats and non-finite numbers as None."""
     if isinstance(x, dict):

@@ -1,0 +1,302 @@
+"""Checks of the data against the assumptions behind a fit: the time-stamp convention and a
+heat loss coefficient that depends on the test regime.
+
+- :func:`time_stamp_check`: the zero-order hold applies the input of row ``k`` from its time
+  stamp to the next. Loggers often stamp the mean over the interval ENDING at ``t_k``; the
+  inputs are then one step late, which biases the dynamics and the heat loss coefficient
+  (a twin-house TiTe moved from 60 to 96 W/K). The model is refitted with both conventions on
+  the same rows and the likelihoods compared.
+- :func:`heat_loss_regime_check`: the heat loss coefficient of a model with one boundary
+  temperature (outdoor air) is the ratio of heat to indoor-outdoor difference only in the
+  regime the data cover. Fitted on a heating sequence alone (little change of the mean
+  indoor-outdoor difference), or in a building whose adjacent spaces (cellar, attic,
+  neighbours) follow the test, it can differ from the same building's steady periods. The
+  check fits the model on the given periods separately and compares the intervals.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+
+#: Log-likelihood difference [-] between the two time-stamp conventions above which one is
+#: recommended: a likelihood ratio of e^3 (about 20) between fits with the same parameters.
+TIME_STAMP_EVIDENCE = 3.0
+
+
+def _refit(res, data, fit_kw):
+    """``res.model`` refitted on ``data``: from its declared values and from ``res``'s
+    estimates (two starts, no Hessian)."""
+    from thermocal.statespace.estimation import fit
+
+    return fit(
+        res.model, data, n_starts=1, warm_start=res.params.to_dict(), compute_hessian=False,
+        n_jobs=1, progress=False, **fit_kw,
+    )  # fmt: skip
+
+
+def time_stamp_check(
+    res,
+    data,
+    *,
+    stamps: str = "start",
+    time_column: str | None = None,
+    time_unit: str = "s",
+    input_gaps: str = "interpolate",
+    max_gap: int = 3,
+) -> dict:
+    """Which time-stamp convention the data support, by a likelihood comparison.
+
+    The model of ``res`` is refitted (from its declared values and from ``res``'s estimates)
+    on the same rows twice: with the inputs as stamped (``start``: each row's input holds from
+    its stamp to the next) and moved one sample earlier (``end``: each value is the mean over
+    the interval ending at its stamp, see :func:`thermocal.statespace.data.end_stamped_inputs`).
+    The last row is left out of both, so the two likelihoods cover the same outputs. Both fits
+    have the same parameters, so the difference of their log-likelihoods is the evidence; one
+    convention is suggested when it is ahead by more than :data:`TIME_STAMP_EVIDENCE`.
+
+    Parameters
+    ----------
+    res : FitResults
+        A fit of the data (with either convention).
+    data : DataFrame
+        The data AS STAMPED (before any shift).
+    stamps : {"start", "end"}
+        The convention ``res`` was fitted with.
+    time_column, time_unit, input_gaps, max_gap :
+        As for the fit.
+
+    Returns
+    -------
+    dict
+        ``loglike_start``, ``loglike_end`` [-], ``used``, ``suggested`` (``"start"``,
+        ``"end"`` or None when the evidence is below the threshold), ``difference`` (the other
+        convention's log-likelihood minus the used one's) and ``message`` (None, or what to do).
+    """
+    from thermocal.statespace.data import end_stamped_inputs
+
+    if stamps not in ("start", "end"):
+        raise ThermocalInputError(f"time stamps {stamps!r}: use start or end")
+    if len(data) < 10:
+        raise ThermocalInputError("time-stamp check: at least 10 rows are needed")
+    fit_kw = {"hold": res.hold, "time_column": time_column, "time_unit": time_unit,
+              "input_gaps": input_gaps, "max_gap": max_gap}  # fmt: skip
+    inputs = res.model.input_names
+    ll = {
+        "start": _refit(res, data.iloc[:-1], fit_kw).loglike,
+        "end": _refit(res, end_stamped_inputs(data, inputs), fit_kw).loglike,
+    }
+    other = "end" if stamps == "start" else "start"
+    diff = ll[other] - ll[stamps]
+    suggested = None
+    if abs(diff) > TIME_STAMP_EVIDENCE:
+        suggested = other if diff > 0 else stamps
+    message = None
+    if suggested == other:
+        meaning = (
+            "the mean over the interval ENDING at each stamp"
+            if other == "end"
+            else "the value from each stamp to the next"
+        )
+        message = (
+            f"time stamps: the data fit {diff:.1f} log-units better with --time-stamps {other} "
+            f"(inputs {', '.join(inputs)} as {meaning}); the fit used '{stamps}', which "
+            "shifts the inputs one sample against the response and biases the dynamics and "
+            f"the heat loss coefficient; refit with --time-stamps {other}"
+        )
+    return {
+        "loglike_start": float(ll["start"]),
+        "loglike_end": float(ll["end"]),
+        "used": stamps,
+        "suggested": suggested,
+        "difference": float(diff),
+        "message": message,
+    }
+
+
+def _overlap(a: dict, b: dict) -> bool:
+    """True when two heat-loss intervals (``lower``/``upper``, else the Wald ones) overlap."""
+    lo_a, hi_a = _ends(a)
+    lo_b, hi_b = _ends(b)
+    return lo_a <= hi_b and lo_b <= hi_a
+
+
+def _ends(h: dict) -> tuple[float, float]:
+    if h.get("interval") == "profile":
+        return h["lower"], h["upper"]
+    return h["wald_lower"], h["wald_upper"]
+
+
+def heat_loss_regime_check(
+    model,
+    periods: dict,
+    *,
+    hold: str = "zoh",
+    time_column: str | None = None,
+    time_unit: str = "s",
+    profile: bool = True,
+    alpha: float = 0.05,
+    n_starts: int | None = None,
+    seed: int | None = None,
+) -> dict:
+    """Heat loss coefficients of the same model fitted on separate periods, compared.
+
+    The coefficient of a model whose only boundary is the outdoor air is the steady heat flow
+    per kelvin to it in the regime the data cover. When adjacent spaces (cellar, attic,
+    neighbours) are not in the model and follow the test regime, or the period is a heating
+    sequence whose mean indoor-outdoor difference hardly changes (Bacher & Madsen 2011: a
+    pseudo-random sequence identifies the dynamics well and the steady level poorly), the
+    coefficients of different periods disagree. Each period is fitted and its coefficient
+    given with its interval (profile likelihood, Pawitan 2001; else Wald); the check is
+    flagged when two intervals do not overlap.
+
+    Parameters
+    ----------
+    model : RCModel
+    periods : dict
+        ``{label: DataFrame}``, e.g. a randomised heating sequence and a steady period.
+    hold, time_column, time_unit, n_starts, seed :
+        As for :meth:`RCModel.fit`.
+    profile : bool
+        Profile-likelihood intervals (else Wald).
+    alpha : float
+        1 - confidence level of the intervals.
+
+    Returns
+    -------
+    dict
+        ``periods`` ({label: heat loss coefficient dict with ``loglike``, ``converged`` and
+        the regime: ``mean_heat`` [W], ``mean_difference`` [K] and ``balance`` [W/K], the
+        ratio of the two}), ``agree`` (every pair of intervals overlaps), ``message`` (None,
+        or the warning with the numbers).
+    """
+    if model.heat_loss_state() is None:
+        raise ThermocalInputError(
+            f"model '{model.name}' implies no heat loss coefficient (no output observes a "
+            "single state connected to a boundary temperature)"
+        )
+    if len(periods) < 2:
+        raise ThermocalInputError("heat-loss regime check: give at least two periods")
+    out = {}
+    for label, data in periods.items():
+        res = model.fit(
+            data, hold=hold, time_column=time_column, time_unit=time_unit, n_starts=n_starts,
+            seed=seed, progress=False, source=f"period '{label}'",
+        )  # fmt: skip
+        h = res.heat_loss_coefficient(profile=profile, alpha=alpha)
+        h |= {"loglike": res.loglike, "converged": bool(res.converged)}
+        h |= _regime(res)
+        out[label] = h
+    labels = list(out)
+    disagree = [
+        (a, b)
+        for i, a in enumerate(labels)
+        for b in labels[i + 1 :]
+        if not _overlap(out[a], out[b])
+    ]
+    message = None
+    if disagree:
+        parts = []
+        for label in labels:
+            lo, hi = _ends(out[label])
+            parts.append(f"{label}: {out[label]['value']:.4g} W/K [{lo:.4g}, {hi:.4g}]")
+        message = (
+            "heat loss coefficient depends on the period: " + "; ".join(parts) + ". The "
+            "intervals of " + ", ".join(f"'{a}' and '{b}'" for a, b in disagree) + " do not "
+            "overlap: the coefficient to the outdoor air holds only in the regime of each "
+            "period (a heating sequence alone identifies the steady level poorly; adjacent "
+            "unheated spaces that follow the test are not in the model). Report the one of "
+            "the period that represents the use you need, or model the adjacent spaces as "
+            "boundary temperatures"
+        )
+    return {"periods": out, "agree": not disagree, "message": message}
+
+
+def _regime(res) -> dict:
+    """Mean heat input [W] (heating and solar gains at the estimates), mean difference between
+    the observed state and the boundary temperatures [K] and their ratio [W/K] over the fitted
+    data: the steady energy balance of the period."""
+    from thermocal.statespace import kernels
+
+    model, prep = res.model, res.data
+    st = model.structure()
+    s = model.state_names.index(model.heat_loss_state())
+    r = next(
+        r for r in range(st.C.shape[0]) if st.C[r, s] == 1.0 and np.count_nonzero(st.C[r]) == 1
+    )
+    _, _, B_raw, _ = kernels.build_network(
+        model.values_si(res.params.to_dict()), *st.arrays[:15], st.arrays[18], st.n_inputs
+    )
+    n_b = len(model.boundary_names)
+    u = np.nanmean(prep.U, axis=0)
+    heat = float(B_raw[:, n_b:].sum(axis=0) @ u[n_b:])
+    diff = float(np.nanmean(prep.Y[:, r]) - u[:n_b].mean())
+    balance = heat / diff if abs(diff) > 1e-9 else math.nan
+    return {"mean_heat": heat, "mean_difference": diff, "balance": balance}
+
+
+def split_at(data, splits, *, time_column: str | None = None, time_unit: str = "s",
+             source: str = "data") -> dict:  # fmt: skip
+    """``data`` cut into consecutive periods at the given times.
+
+    Parameters
+    ----------
+    data : DataFrame
+    splits : sequence of str or float
+        Times where a new period starts: ISO 8601 stamps for datetime axes (in the data's time
+        zone when they carry no offset), numbers in ``time_unit`` for numeric axes.
+    time_column, time_unit, source :
+        See :func:`thermocal.statespace.data.time_axis`.
+
+    Returns
+    -------
+    dict
+        ``{"until <t1>": rows before t1, "<t1> to <t2>": ..., "from <tk>": ...}``.
+    """
+    import pandas as pd
+
+    from thermocal.statespace.data import time_axis
+
+    index, _ = time_axis(data, time_column=time_column, time_unit=time_unit, source=source)
+    cuts = []
+    for s in splits:
+        try:
+            if isinstance(index, pd.DatetimeIndex):
+                t = pd.Timestamp(s)
+                if t.tzinfo is None and index.tz is not None:
+                    t = t.tz_localize(index.tz)
+            else:
+                t = float(s)
+        except (ValueError, TypeError):
+            kind = "an ISO 8601 time stamp" if isinstance(index, pd.DatetimeIndex) else (
+                f"a number in {time_unit}")  # fmt: skip
+            raise ThermocalInputError(f"{source}: split time {s!r}: give {kind}") from None
+        if not index[0] < t <= index[-1]:
+            raise ThermocalInputError(
+                f"{source}: split time {s!r} is not inside the data ({index[0]} to {index[-1]})"
+            )
+        cuts.append((t, str(s)))
+    cuts.sort(key=lambda c: c[0])
+    bounds = [None, *[c[0] for c in cuts], None]
+    names = [c[1] for c in cuts]
+    periods = {}
+    for i in range(len(bounds) - 1):
+        lo, hi = bounds[i], bounds[i + 1]
+        mask = np.ones(len(index), dtype=bool)
+        if lo is not None:
+            mask &= np.asarray(index >= lo)
+        if hi is not None:
+            mask &= np.asarray(index < hi)
+        if i == 0:
+            label = f"until {names[0]}"
+        elif i == len(bounds) - 2:
+            label = f"from {names[-1]}"
+        else:
+            label = f"{names[i - 1]} to {names[i]}"
+        if mask.sum() < 10:
+            raise ThermocalInputError(f"{source}: period '{label}' has fewer than 10 rows")
+        periods[label] = data.iloc[np.flatnonzero(mask)]
+    return periods

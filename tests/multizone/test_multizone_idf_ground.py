@@ -16,6 +16,7 @@ import re
 import warnings
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from conftest import requires_energyplus
@@ -164,3 +165,51 @@ def test_preprocessor_ground_boundary_is_noted(tmp_path):
     notes = building.idf_info.report()["notes"]["ground"]
     assert any("1 surface(s) with the boundary GroundSlabPreprocessorAverage" in n for n in notes)
     assert building.surfaces["F"].boundary == "ground"
+
+
+def test_ground_reflectance_as_energyplus_takes_it(tmp_path):
+    """EnergyPlus reflects the sun off the ground with Site:GroundReflectance or 0.2, never with
+    the weather file's albedo (Zurich 2015: up to 0.73 with snow): so does the imported model."""
+    building = _read(_box(tmp_path))
+    assert building.ground_reflectance == (0.2,) * 12
+    monthly = ",".join(f"{0.1 + 0.05 * m:.2f}" for m in range(12))
+    given = _read(_box(tmp_path, f"Site:GroundReflectance,{monthly};", name="r.idf"))
+    assert given.ground_reflectance == pytest.approx([0.1 + 0.05 * m for m in range(12)])
+    # kept in the building file (e.g. the calibrated building a retrofit runs on)
+    from thermocal.multizone.files import building_from_dict, building_to_dict
+
+    again = building_from_dict(building_to_dict(given))
+    assert again.ground_reflectance == given.ground_reflectance
+    bad = _box(tmp_path, "Site:GroundReflectance,0.2,0.2,1.4,0.2,0.2,0.2,0.2,0.2,0.2,0.2,0.2,0.2;")
+    with pytest.raises(ThermocalInputError, match=r"ground_reflectance must be 12 monthly"):
+        _read(bad)
+
+
+def test_simulation_reflects_the_building_s_ground_reflectance(tmp_path):
+    """The irradiance on a wall carries the building's ground reflectance, not the weather's
+    albedo: on a vertical surface the ground-reflected part is rho * GHI / 2."""
+    from thermocal.multizone.simulation import _ground_reflectance, _irradiance
+
+    index = pd.date_range("2015-01-05 10:00", periods=4, freq="1h", tz="Etc/GMT-1")
+    grid = pd.DataFrame(
+        {
+            "ghi": [300.0, 400.0, 350.0, 200.0],
+            "dni": [500.0, 600.0, 550.0, 300.0],
+            "dhi": [100.0, 120.0, 110.0, 90.0],
+            "albedo": [0.73] * 4,
+            "temp_air": [0.0] * 4,
+        },
+        index=index,
+    )
+    site = {"latitude": 47.4, "longitude": 8.5, "altitude": 556.0}
+    orientation = (90.0, 180.0)
+    monthly = (0.2,) * 12
+    ours = _irradiance(
+        grid, site, [orientation], "isotropic", albedo=_ground_reflectance(grid, monthly)
+    )[orientation]
+    weather = _irradiance(
+        grid, site, [orientation], "isotropic", albedo=_ground_reflectance(grid, None)
+    )[orientation]
+    ghi = grid["ghi"].to_numpy()
+    assert ours["poa_ground_diffuse"] == pytest.approx(0.2 * ghi / 2, rel=1e-6)
+    assert weather["poa_ground_diffuse"] == pytest.approx(0.73 * ghi / 2, rel=1e-6)

@@ -34,7 +34,14 @@ _SECTIONS = {
     "surfaces": Surface,
     "windows": Window,
 }
-_TOP_LEVEL = {"name", "location", "ground_temperatures", "description", *_SECTIONS}
+_TOP_LEVEL = {
+    "name",
+    "location",
+    "ground_temperatures",
+    "ground_reflectance",
+    "description",
+    *_SECTIONS,
+}
 _NOT_IN_FILES = {"angular_transmittance"}  # callables cannot be written to a file
 
 
@@ -164,6 +171,7 @@ def building_from_dict(data: Mapping) -> Building:
         name=str(data["name"]),
         location=location,
         ground_temperatures=data.get("ground_temperatures"),
+        ground_reflectance=data.get("ground_reflectance"),
         **objects,
     )
 
@@ -202,6 +210,11 @@ def building_to_dict(building: Building) -> dict:
         **(
             {"ground_temperatures": list(building.ground_temperatures)}
             if building.ground_temperatures is not None
+            else {}
+        ),
+        **(
+            {"ground_reflectance": list(building.ground_reflectance)}
+            if building.ground_reflectance is not None
             else {}
         ),
         "materials": [clean(m) for m in building.materials.values()],

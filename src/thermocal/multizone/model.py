@@ -799,6 +799,8 @@ class Building:
     dicts in definition order.  ``ground_temperatures``: 12 monthly values [C] (January first) for
     surfaces with ``boundary="ground"``; None lets the simulation derive them from the weather
     (annual mean outdoor temperature, ISO 13370 Annex-style damped and lagged annual wave).
+    ``ground_reflectance``: 12 monthly ground reflectances [-] (January first) for the sun
+    reflected onto the facades; None takes the weather file's albedo (0.2 where it has none).
     """
 
     name: str
@@ -810,6 +812,7 @@ class Building:
     surfaces: dict[str, Surface] = field(default_factory=dict)
     windows: dict[str, Window] = field(default_factory=dict)
     ground_temperatures: tuple[float, ...] | None = None
+    ground_reflectance: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         if isinstance(self.location, Mapping):
@@ -828,6 +831,14 @@ class Building:
                     f"(January first), got {self.ground_temperatures!r}"
                 )
             self.ground_temperatures = temps
+        if self.ground_reflectance is not None:
+            values = tuple(float(r) for r in self.ground_reflectance)
+            if len(values) != 12 or not all(0.0 <= r <= 1.0 for r in values):
+                raise ThermocalInputError(
+                    f"building '{self.name}': ground_reflectance must be 12 monthly values in "
+                    f"[0, 1] (January first), got {self.ground_reflectance!r}"
+                )
+            self.ground_reflectance = values
         self.validate()
 
     # -- validation -----------------------------------------------------------------------------

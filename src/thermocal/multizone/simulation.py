@@ -925,7 +925,14 @@ class Simulation:
             missing = sorted(o for o in orientations if o not in cache)
             if missing:
                 cache.update(
-                    _irradiance(grid, self._site, missing, self.sky_model, self._sun_at_end)
+                    _irradiance(
+                        grid,
+                        self._site,
+                        missing,
+                        self.sky_model,
+                        self._sun_at_end,
+                        albedo=_ground_reflectance(grid, self.building.ground_reflectance),
+                    )
                 )
             irr = cache
             for key, col in net.orientation_inputs.items():
@@ -1826,7 +1833,12 @@ class Simulation:
                         else "every step; "
                     )
                     + "isotropic sky diffuse by the unshaded sky view; ground-reflected not "
-                    "shaded); the building's own surfaces cast no shadows"
+                    "shaded)"
+                    + (
+                        ", the building's own surfaces among them"
+                        if any("(building surface)" in str(s.name) for s in shaders)
+                        else "; the building's own surfaces cast no shadows"
+                    )
                 )
             elif not self.shading:
                 out.append(f"{len(shaders)} shading surfaces ignored (shading=False)")
@@ -2133,8 +2145,23 @@ def _sun_position(index: pd.DatetimeIndex, site: dict, at_end: pd.Timedelta | No
     return position
 
 
+def _ground_reflectance(grid: pd.DataFrame, monthly) -> str | float | np.ndarray:
+    """Ground reflectance [-] per step: the building's monthly values (January first) when it
+    has them (an imported IDF always has, as EnergyPlus: ``Site:GroundReflectance`` or 0.2),
+    else the weather's albedo column, else 0.2."""
+    if monthly is not None:
+        return np.asarray(monthly, dtype=float)[grid.index.month.to_numpy() - 1]
+    return "weather" if "albedo" in grid else 0.2
+
+
 def _irradiance(
-    grid: pd.DataFrame, site: dict, orientations, model: str, at_end: pd.Timedelta | None = None
+    grid: pd.DataFrame,
+    site: dict,
+    orientations,
+    model: str,
+    at_end: pd.Timedelta | None = None,
+    *,
+    albedo: str | float | np.ndarray = "weather",
 ) -> dict:
     from thermocal.physics.solar import irradiance_on_surfaces
 
@@ -2147,7 +2174,7 @@ def _irradiance(
         surfaces,
         altitude=site["altitude"],
         model=model,
-        albedo="weather" if "albedo" in grid else 0.2,
+        albedo=albedo if not (isinstance(albedo, str) and "albedo" not in grid) else 0.2,
         solar_position=position,
     )
     out = {}

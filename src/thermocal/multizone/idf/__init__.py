@@ -386,6 +386,7 @@ class _IdfReader(SiteStages, ConstructionStages, SurfaceStages, ShadingStages, L
                 surfaces=self.model_surfaces,
                 windows=self.model_windows,
                 ground_temperatures=self.ground,
+                ground_reflectance=self.ground_reflectance,
             )
         except ThermocalInputError as exc:
             raise ThermocalInputError(f"{self.path.name}: {exc}") from None

@@ -44,6 +44,8 @@ IMPORTED_CLASSES = (
     "GlobalGeometryRules",
     "Site:Location",
     "Site:GroundTemperature:BuildingSurface",
+    "Site:GroundReflectance",
+    "Site:GroundReflectance:SnowModifier",
     "Timestep",
     "RunPeriod",
     "RunPeriodControl:SpecialDays",

@@ -17,6 +17,9 @@ from thermocal.multizone.idf.schedules import ScheduleEvaluator, year_for_start_
 
 #: EnergyPlus default ground temperature [C] when Site:GroundTemperature:BuildingSurface is absent.
 ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE = 18.0
+#: EnergyPlus default ground reflectance [-] when Site:GroundReflectance is absent (not the
+#: weather file's albedo, which EnergyPlus does not use).
+ENERGYPLUS_DEFAULT_GROUND_REFLECTANCE = 0.2
 
 
 class SiteStages:
@@ -145,6 +148,31 @@ class SiteStages:
         )
         self.info.schedules = self.schedules
 
+    def _ground_reflectance(self) -> None:
+        """Stage: ground reflectance, as EnergyPlus takes it.
+
+        ``Site:GroundReflectance`` (12 monthly values) or, when absent, EnergyPlus' constant 0.2;
+        EnergyPlus never uses the weather file's albedo, so neither does the imported model.
+        ``Site:GroundReflectance:SnowModifier`` (a factor on snow days) is noted, not applied.
+        """
+        rec = self.single("SITE:GROUNDREFLECTANCE")
+        names = SCHEMA["SITE:GROUNDREFLECTANCE"][0]
+        self.ground_reflectance = tuple(
+            _number(rec, n, default=ENERGYPLUS_DEFAULT_GROUND_REFLECTANCE)
+            if rec is not None
+            else ENERGYPLUS_DEFAULT_GROUND_REFLECTANCE
+            for n in names
+        )
+        snow = self.single("SITE:GROUNDREFLECTANCE:SNOWMODIFIER")
+        modifier = 1.0
+        if snow is not None:
+            modifier = _number(snow, "ground_reflected_solar_modifier", default=1.0)
+        if modifier != 1.0:
+            self.info.notes.append(
+                "Site:GroundReflectance:SnowModifier: the factor on days with snow is not applied "
+                "(the model keeps the monthly ground reflectance on snow days)"
+            )
+
     def _ground(self) -> None:
         """Stage: ground.
 
@@ -182,6 +210,7 @@ class SiteStages:
                 _number(fc_rec, n, default=13.0)
                 for n in SCHEMA["SITE:GROUNDTEMPERATURE:FCFACTORMETHOD"][0]
             )
+        self._ground_reflectance()
         self.ground = None
         if ground_rec is not None:
             self.ground = tuple(

@@ -73,6 +73,7 @@ class LinearHeatModel:
     nominal: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
+    series_count: int = 1
 
     def residual(self, z: np.ndarray) -> np.ndarray:
         """Residual series for log-parameters ``z`` (shape (d,) or (m, d)) [W]."""
@@ -108,13 +109,15 @@ def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHe
     coef = np.atleast_2d(np.asarray(surrogate.estimator_.coef_, dtype=float))
     intercept = np.asarray(surrogate.estimator_.intercept_, dtype=float).ravel()
     jac = coef[:, idx]
+    centred = getattr(surrogate, "centred", lambda a: a - a.mean(axis=-1, keepdims=True))
     return LinearHeatModel(
         names=tuple(str(n) for n in names),
-        offset=intercept - intercept.mean(),
-        jacobian=jac - jac.mean(axis=0),
+        offset=centred(intercept),
+        jacobian=centred(jac.T).T,
         nominal=np.array([surrogate.nominal[n] for n in names], dtype=float),
         lower=np.asarray(lower, dtype=float),
         upper=np.asarray(upper, dtype=float),
+        series_count=len(getattr(surrogate, "segments", [None])),
     )
 
 
@@ -252,7 +255,8 @@ def emulator_variance(surrogate, X, *, folds: int = 5, seed: int = 0) -> float:
     for train, test in KFold(k, shuffle=True, random_state=int(seed)).split(Z):
         fit = Ridge(alpha=float(surrogate.estimator_.alpha_)).fit(Z[train], S[train])
         e = fit.predict(Z[test]) - S[test]
-        errors.append(e - e.mean(axis=1, keepdims=True))
+        errors.append(surrogate.centred(e) if hasattr(surrogate, "centred")
+                      else e - e.mean(axis=1, keepdims=True))
     return float(np.mean(np.concatenate(errors) ** 2))
 
 
@@ -264,7 +268,8 @@ def _noise(model: LinearHeatModel) -> tuple[np.ndarray, float, float, float]:
     n, d = model.jacobian.shape
     fit = lsq_linear(model.jacobian, -model.offset, bounds=(zl, zu), method="bvls")
     r = model.residual(fit.x)
-    dof = max(n - 1 - d, 1)  # the hourly mean (the unknown constant gain) and d parameters
+    # the hourly mean of each series (the unknown constant gains) and d parameters
+    dof = max(n - model.series_count - d, 1)
     variance = float(r @ r) / dof
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 3 and np.std(r) > 0 else 0.0
     rho = min(max(rho if np.isfinite(rho) else 0.0, 0.0), 0.99)

@@ -42,7 +42,10 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
         "Nominal unoccupied std": f"{np.sqrt(result.nominal_metric) / 1000:.3f} kW",
         "Calibrated unoccupied std": f"{confirm['calibrated']['confirmed_std_W'] / 1000:.3f} kW",
         "Calibrated parameters from": confirm["calibrated"]["source"],
-        "Maximum-variance std": f"{confirm['max']['confirmed_std_W'] / 1000:.3f} kW",
+        "Maximum-variance std": _kw(confirm["max"]["confirmed_std_W"]),
+        "Metric": data["metric_description"],
+        "Model runs": f"{data['model_runs'].get('simulated', 0)} simulated, "
+        f"{data['model_runs'].get('from_store', 0)} read from the store",
     }
     report.key_values(items)
     for note in result.notes:
@@ -110,6 +113,11 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
         report.table(top, caption="Sobol indices on the meta-model (95 % confidence)")
     report.references([REFERENCE])
     return report
+
+
+def _kw(value: float) -> str:
+    """A standard deviation in kW, or "not simulated" for a run a re-analysis did not make."""
+    return "not simulated" if not np.isfinite(value) else f"{value / 1000:.3f} kW"
 
 
 def write_report(result, path, *, pngs: dict | None = None) -> Path:

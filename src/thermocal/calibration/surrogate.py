@@ -400,18 +400,38 @@ class SeriesSurrogate(_Surrogate):
         Ridge penalties tried (efficient leave-one-out; default 1e-4 ... 1e3).
     cv_folds : int
     seed : int
+    segments : sequence of (start, stop), optional
+        Column ranges of several series side by side (e.g. one per zone group, see
+        :mod:`thermocal.calibration.spatial`); the metric is then the sum of their variances.
+        Default: one series.
     """
 
     kind = "series"
     log_target = False
 
     def __init__(self, *, series: Any, nominal: Any, alphas: Any = None, cv_folds: int = 5,
-                 seed: int = 0) -> None:
+                 seed: int = 0, segments: Any = None) -> None:
         self.series = np.asarray(series, dtype=float)
         self.nominal = dict(nominal)
         self.alphas = alphas
         self.cv_folds = cv_folds
         self.seed = seed
+        self.segments = (
+            [(0, self.series.shape[-1])] if segments is None
+            else [(int(a), int(b)) for a, b in segments]
+        )
+
+    def series_variance(self, series: np.ndarray) -> np.ndarray:
+        """The sum over the segments of the variance of each row's series [W^2]."""
+        series = np.atleast_2d(series)
+        return sum(series[:, a:b].var(axis=1) for a, b in self.segments)
+
+    def centred(self, values: np.ndarray) -> np.ndarray:
+        """``values`` (rows: series over the last axis) minus each segment's mean."""
+        out = np.array(values, dtype=float, copy=True)
+        for a, b in self.segments:
+            out[..., a:b] -= out[..., a:b].mean(axis=-1, keepdims=True)
+        return out
 
     def _log_parameters(self, Xa: np.ndarray) -> np.ndarray:
         reference = np.array([self.nominal[n] for n in self.feature_names_in_], dtype=float)
@@ -440,7 +460,7 @@ class SeriesSurrogate(_Surrogate):
         self.feature_names_in_ = np.array(names, dtype=object)
         self.n_features_in_ = Xa.shape[1]
         Z = self._log_parameters(Xa)
-        within = ya - self.series.var(axis=1)
+        within = ya - self.series_variance(self.series)
         self.estimator_ = self._ridge().fit(Z, self.series)
         self.within_hour_ = float(within.mean())
         if self.cv_folds and self.cv_folds >= 2:
@@ -449,7 +469,8 @@ class SeriesSurrogate(_Surrogate):
             oof = np.empty_like(ya)
             for train, test in folds.split(Z):
                 model = self._ridge().fit(Z[train], self.series[train])
-                oof[test] = model.predict(Z[test]).var(axis=1) + within[train].mean()
+                oof[test] = (self.series_variance(model.predict(Z[test]))
+                             + within[train].mean())
             self.oof_prediction_ = oof
             scores = regression_scores(ya, oof)
             self.cv_r2_, self.cv_rmse_ = scores["r2"], scores["rmse"]
@@ -463,7 +484,7 @@ class SeriesSurrogate(_Surrogate):
         if return_std:
             raise ThermocalInputError("the series meta-model gives no predictive std")
         Z = self._log_parameters(self._as_array(X))
-        return self.estimator_.predict(Z).var(axis=1) + self.within_hour_
+        return self.series_variance(self.estimator_.predict(Z)) + self.within_hour_
 
     def hyperparameters_(self) -> dict[str, Any]:
         return {"alpha": float(self.estimator_.alpha_), "within_hour_W2": self.within_hour_,

@@ -55,6 +55,16 @@ def no_simulation(monkeypatch):
 
 def test_reanalysis_reproduces_the_campaign_without_simulating(stored, no_simulation):
     folder, path, original = stored
+    # by default the calibrated model changes only what the posterior says the data determine
+    determined = original.posterior.determined
+    assert original.confirmed["calibrated_parameters"] == [
+        n for n in original.space.names if n in determined
+    ]
+    calibrated = original.calibrated_building.parameters()
+    nominal = original.space.nominal_dict()
+    for name in original.space.names:
+        if name not in determined:
+            assert calibrated[name] == pytest.approx(nominal[name], rel=1e-12), name
     assert original.runs["simulated"] >= 4  # nominal, minimum, maximum, refinement...
     again = reanalyse(load_campaign(path), folder / "store.sqlite", log=lambda line: None)
     assert no_simulation == []

@@ -20,7 +20,10 @@ the strong correlations of compensating parameters.
 
 Identifiability: the Fisher information ``F = (n_eff / n) J_c^T J_c / sigma^2`` of all campaign
 parameters (``J_c`` the hour-centred Jacobian) says which directions the data fix; a parameter is
-*determined* when its 90 % credible interval is narrower than half its prior range, and two
+*determined* when its 90 % credible interval is narrower than half its prior range and its
+fitted effect stands out of the meta-model's estimation noise (:func:`effect_to_noise`: a
+parameter with no effect at all gets a fitted Jacobian of pure noise, whose norm over hundreds
+of hours would otherwise look like information), and two
 parameters *compensate* each other when their posterior correlation exceeds 0.7 in magnitude (the
 data fix a combination of them, not each one).
 
@@ -49,6 +52,10 @@ __all__ = ["Posterior", "calibration_posterior", "emulator_variance", "linear_he
 DETERMINED_FRACTION = 0.5
 #: Posterior correlation above which two parameters are said to compensate each other [-].
 COMPENSATION_CORRELATION = 0.7
+#: A parameter is determined only when its fitted effect on the hour-centred series is this many
+#: times (in squared norm) what the meta-model's own estimation noise gives an inert parameter
+#: [-]; under no effect the ratio is about 1.
+EFFECT_TO_NOISE = 4.0
 
 
 @dataclass(frozen=True)
@@ -260,6 +267,49 @@ def emulator_variance(surrogate, X, *, folds: int = 5, seed: int = 0) -> float:
     return float(np.mean(np.concatenate(errors) ** 2))
 
 
+def effect_to_noise(surrogate, names: Sequence[str], emulator_error: float) -> np.ndarray:
+    """Squared norm of each parameter's fitted hour-centred effect over its estimation noise.
+
+    The ridge regression of the series on the log-parameters ``Z`` estimates each hour's
+    effect with the variance ``s2 [A G A]_pp``, ``G = Zc^T Zc``, ``A = (G + alpha I)^-1``
+    (``s2`` the meta-model's hourly error variance, ``Zc`` the centred design; Hoerl and
+    Kennard 1970); summed over the ``H`` hours, an inert parameter's fitted effect has the
+    squared norm ``H s2 [A G A]_pp`` on average. The ratio is about 1 for a parameter without
+    effect and grows with a real one.
+
+    Parameters
+    ----------
+    surrogate : SeriesSurrogate
+        Fitted (its design ``log_parameters_`` and ridge penalty are used).
+    names : sequence of str
+    emulator_error : float
+        The meta-model's hourly error variance (:func:`emulator_variance`) [W^2].
+
+    Returns
+    -------
+    ndarray
+        One ratio per name [-]; infinite when the meta-model's error is zero.
+    """
+    features = [str(f) for f in surrogate.feature_names_in_]
+    Z = np.asarray(surrogate.log_parameters_, dtype=float)
+    Zc = Z - Z.mean(axis=0)
+    alpha = float(getattr(surrogate.estimator_, "alpha_", 0.0))
+    gram = Zc.T @ Zc
+    A = np.linalg.pinv(gram + alpha * np.eye(Z.shape[1]))
+    inverse = A @ gram @ A
+    coef = np.atleast_2d(np.asarray(surrogate.estimator_.coef_, dtype=float))
+    centred = getattr(surrogate, "centred", lambda a: a - a.mean(axis=-1, keepdims=True))
+    jac = centred(coef.T)  # (parameters, hours)
+    hours = jac.shape[1]
+    out = []
+    for name in names:
+        p = features.index(str(name))
+        noise = hours * max(float(emulator_error), 0.0) * inverse[p, p]
+        signal = float(jac[p] @ jac[p])
+        out.append(np.inf if noise <= 0 else signal / noise)
+    return np.array(out)
+
+
 def _noise(model: LinearHeatModel) -> tuple[np.ndarray, float, float, float]:
     """Best bounded fit ``z``, residual variance [W^2], effective and total hours [-]."""
     from scipy.optimize import lsq_linear
@@ -355,6 +405,10 @@ def calibration_posterior(
     q05, q50, q95 = np.quantile(values, [0.05, 0.5, 0.95], axis=0)
     prior_width = model.upper - model.lower
     fraction = (q95 - q05) / np.where(prior_width > 0, prior_width, np.nan)
+    if hasattr(surrogate, "log_parameters_"):
+        significance = effect_to_noise(surrogate, names, emulator_error)
+    else:
+        significance = np.full(d, np.inf)
     summary = pd.DataFrame(
         {
             "unit": list(units) if units is not None else ["?"] * d,
@@ -366,7 +420,8 @@ def calibration_posterior(
             "prior_lower": model.lower,
             "prior_upper": model.upper,
             "width_fraction": fraction,
-            "determined": fraction < DETERMINED_FRACTION,
+            "effect_to_noise": significance,
+            "determined": (fraction < DETERMINED_FRACTION) & (significance > EFFECT_TO_NOISE),
         },
         index=pd.Index(names, name="parameter"),
     )

@@ -462,6 +462,7 @@ class SeriesSurrogate(_Surrogate):
         Z = self._log_parameters(Xa)
         within = ya - self.series_variance(self.series)
         self.estimator_ = self._ridge().fit(Z, self.series)
+        self.log_parameters_ = Z  # the design, for the significance of each fitted effect
         self.within_hour_ = float(within.mean())
         if self.cv_folds and self.cv_folds >= 2:
             folds = KFold(n_splits=min(int(self.cv_folds), Xa.shape[0]), shuffle=True,
@@ -485,6 +486,55 @@ class SeriesSurrogate(_Surrogate):
             raise ThermocalInputError("the series meta-model gives no predictive std")
         Z = self._log_parameters(self._as_array(X))
         return self.series_variance(self.estimator_.predict(Z)) + self.within_hour_
+
+    #: largest number of parameters whose box maximum is found by visiting every vertex
+    MAX_VERTEX_PARAMETERS = 12
+
+    def box_optimum(self, sense: str, lower: Any, upper: Any) -> tuple[np.ndarray, float] | None:
+        """The exact minimum or maximum of the predicted metric over a box of parameters.
+
+        The prediction is a convex quadratic in ``z = log(p / p_nominal)`` (the variance of an
+        affine series): its minimum over the box is a bounded linear least-squares problem
+        (``scipy.optimize.lsq_linear``, bounded-variable least squares: the global minimum),
+        and its maximum lies at a vertex of the box (all are visited up to
+        :data:`MAX_VERTEX_PARAMETERS` parameters; beyond, None).
+
+        Parameters
+        ----------
+        sense : {"min", "max"}
+        lower, upper : array-like
+            Bounds of the fitted parameters, in their order [unit of each parameter].
+
+        Returns
+        -------
+        (ndarray, float) or None
+            The optimal parameters [unit of each] and the predicted metric there.
+        """
+        from scipy.optimize import lsq_linear
+
+        reference = np.array([self.nominal[n] for n in self.feature_names_in_], dtype=float)
+        zl = np.log(np.asarray(lower, dtype=float) / reference)
+        zu = np.log(np.asarray(upper, dtype=float) / reference)
+        if sense == "min":
+            coef = np.atleast_2d(np.asarray(self.estimator_.coef_, dtype=float))
+            intercept = np.asarray(self.estimator_.intercept_, dtype=float).ravel()
+            weights = np.empty(intercept.size)
+            for a, b in self.segments:
+                weights[a:b] = 1.0 / np.sqrt(b - a)
+            A = self.centred(coef.T).T * weights[:, None]
+            r0 = self.centred(intercept) * weights
+            fit = lsq_linear(A, -r0, bounds=(zl, np.maximum(zu, zl + 1e-12)), method="bvls")
+            x = reference * np.exp(fit.x)
+        else:
+            d = zl.size
+            if d > self.MAX_VERTEX_PARAMETERS:
+                return None
+            corners = (np.arange(2**d)[:, None] >> np.arange(d)[None, :]) & 1
+            Z = np.where(corners == 1, zu, zl)
+            values = self.series_variance(self.estimator_.predict(Z)) + self.within_hour_
+            x = reference * np.exp(Z[int(np.argmax(values))])
+        value = float(self.predict(x[None, :])[0])
+        return x, value
 
     def hyperparameters_(self) -> dict[str, Any]:
         return {"alpha": float(self.estimator_.alpha_), "within_hour_W2": self.within_hour_,

@@ -458,6 +458,9 @@ def calibrate(
 
     timings: dict[str, float] = {}
     notes: list[str] = []
+    n = int(samples if samples is not None else campaign.sampling.samples)
+    path = Path(store_path or campaign.store or "campaign.sqlite")
+    refuse_filled_store(path, resume, n)
     t0 = time.perf_counter()
     inputs = load_inputs(campaign)
     check_period_length(inputs.start, inputs.end, inputs.weather.index)
@@ -482,7 +485,6 @@ def calibrate(
         "identification)"
     )
     space = campaign_space(campaign, inputs.building)
-    n = int(samples if samples is not None else campaign.sampling.samples)
     if n < 1:
         raise ThermocalInputError(f"--samples must be >= 1, got {n}")
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
@@ -493,7 +495,6 @@ def calibrate(
         samples=n,
         problem=problem_settings(campaign, problem, evaluator),
     )
-    path = Path(store_path or campaign.store or "campaign.sqlite")
     log(f"campaign: {n} samples of {space.dimension} parameters -> {path}")
     t0 = time.perf_counter()
     with (
@@ -558,6 +559,38 @@ def calibrate(
             RunCache(store, evaluator, later), timings=timings, notes=notes, log=log,
             morris=morris,
         )
+
+
+def refuse_filled_store(path: Path, resume: bool, samples: int) -> None:
+    """Refuse at once (before the set-up, which takes a while on a large building) a store that
+    already holds samples when ``--resume`` is not given; the full check of the campaign's
+    definition happens when the store is opened."""
+    if resume or not path.is_file():
+        return
+    try:
+        con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+        try:
+            done = con.execute("SELECT COUNT(*) FROM results").fetchone()[0]
+            row = con.execute("SELECT value FROM campaign WHERE key = 'definition'").fetchone()
+        finally:
+            con.close()
+        stored = int(json.loads(row[0])["sampler"]["samples"])
+    except (sqlite3.Error, TypeError, KeyError, ValueError):
+        return  # not a readable campaign store: opening it says why
+    if not done:
+        return
+    remedy = "use another --out (or store), or delete the file to start afresh"
+    if stored != samples:
+        raise ThermocalInputError(
+            f"store {path} already holds {done} finished sample(s) of a campaign of {stored} "
+            f"samples; pass --resume to extend it to {samples} (the same sampling sequence; "
+            f"a store of another campaign is then refused, naming what differs), or {remedy}"
+        )
+    raise ThermocalInputError(
+        f"store {path} already holds {done} finished sample(s); pass --resume to continue "
+        f"the campaign (a store of another campaign is then refused, naming what differs), or "
+        f"{remedy}"
+    )
 
 
 def campaign_space(campaign, building):
@@ -775,12 +808,10 @@ def analyse(
         y,
         space,
         critical,
-        surrogate=surrogate_for(kind, m, series, space, campaign.sampling.seed, segments),
+        surrogate=reduced_surrogate(kind, m, series, space, campaign.sampling.seed, segments),
         starts=campaign.optimisation.starts,
         seed=campaign.optimisation.seed,
-        surrogate_options=None
-        if kind == "series"
-        else {"cv_folds": m.cv_folds, "log_target": m.log_target},
+        surrogate_options=reduced_options(kind, m),
     )
     timings["metamodel_sensitivity_optimisation"] = time.perf_counter() - t0
     screening = None
@@ -865,11 +896,9 @@ def analyse(
         # the reduced meta-model's minimum over the determined critical parameters only
         restricted = optimise_reduced(
             X, y, space, [c for c in critical if c in determined],
-            surrogate=surrogate_for(kind, m, series, space, campaign.sampling.seed, segments),
+            surrogate=reduced_surrogate(kind, m, series, space, campaign.sampling.seed, segments),
             starts=campaign.optimisation.starts, seed=campaign.optimisation.seed,
-            surrogate_options=None
-            if kind == "series"
-            else {"cv_folds": m.cv_folds, "log_target": m.log_target},
+            surrogate_options=reduced_options(kind, m),
         )
         values = restricted.parameters("min")
         found = runs.get(values, heat=False)
@@ -921,7 +950,7 @@ def analyse(
             segments=segments,
             movable=movable,
         )
-        if len(refinement) < campaign.optimisation.refine:
+        if runs.evaluator is None and len(refinement) < campaign.optimisation.refine and movable:
             notes.append(
                 f"Re-analysis without simulation: the trust-region refinement stopped after "
                 f"{len(refinement)} of {campaign.optimisation.refine} steps (the next candidate "
@@ -1467,10 +1496,8 @@ def refine_minimum(runs, space, X, y, series, kind, start, *, steps: int, seed: 
     Ss = None if series is None else np.asarray(series, dtype=float)
     radius = 0.25
     history = []
-    frozen_mask = np.array(
-        [movable is None or n in movable for n in names], dtype=float
-    )
-    if not frozen_mask.any():
+    moving = np.array([movable is None or n in movable for n in names])
+    if not moving.any():
         return (float(best_metric), best_values), history
     for step in range(steps):
         frame = pd.DataFrame(Xs, columns=names)
@@ -1480,18 +1507,24 @@ def refine_minimum(runs, space, X, y, series, kind, start, *, steps: int, seed: 
         else:
             model = make_surrogate(kind if kind != "series" else "gp", cv_folds=0, seed=seed)
         model.fit(frame, ys)
-        half = radius * (upper - lower) * frozen_mask
-        lo = np.maximum(lower, best_z - half)
-        hi = np.minimum(upper, best_z + half)
-        hi = np.maximum(hi, lo + 1e-9 * frozen_mask)
+        half = radius * (upper - lower)
+        lo = np.maximum(lower, best_z - half)[moving]
+        hi = np.minimum(upper, best_z + half)[moving]
+        hi = np.maximum(hi, lo + 1e-9)
 
-        def predict(Z, model=model):
-            return model.predict(np.exp(np.atleast_2d(Z)))
+        def predict(Zm, model=model, fixed=best_z):
+            Zm = np.atleast_2d(Zm)
+            Z = np.repeat(fixed[None, :], len(Zm), axis=0)
+            Z[:, moving] = Zm
+            return model.predict(np.exp(Z))
 
-        optimum = optimise_box(
-            predict, lo, hi, sense="min", starts=2, initial=[best_z], seed=seed + step, maxiter=100
+        reduced = optimise_box(
+            predict, lo, hi, sense="min", starts=2, initial=[best_z[moving]], seed=seed + step,
+            maxiter=100,
         )
-        values = {**space.nominal_dict(), **dict(zip(names, np.exp(optimum.x), strict=True))}
+        z = best_z.copy()
+        z[moving] = reduced.x
+        values = {**space.nominal_dict(), **dict(zip(names, np.exp(z), strict=True))}
         found = runs.get(values, heat=False)
         if found is None:  # a re-analysis: not simulated
             break
@@ -1501,7 +1534,7 @@ def refine_minimum(runs, space, X, y, series, kind, start, *, steps: int, seed: 
         history.append(
             {
                 "step": step + 1,
-                "predicted": float(optimum.value),
+                "predicted": float(reduced.value),
                 "confirmed": float(value),
                 "accepted": bool(accepted),
                 "radius": radius,
@@ -1512,7 +1545,7 @@ def refine_minimum(runs, space, X, y, series, kind, start, *, steps: int, seed: 
             f"({'better' if accepted else 'not better'}; best "
             f"{np.sqrt(min(value, best_metric)) / 1000:.2f} kW)"
         )
-        Xs = np.vstack([Xs, np.exp(optimum.x)])
+        Xs = np.vstack([Xs, np.exp(z)])
         ys = np.append(ys, value)
         if Ss is not None:
             columns = (
@@ -1522,7 +1555,7 @@ def refine_minimum(runs, space, X, y, series, kind, start, *, steps: int, seed: 
             )
             Ss = np.vstack([Ss, [metrics.get(c, np.nan) for c in columns]])
         if accepted:
-            best_metric, best_values, best_z = value, values, optimum.x
+            best_metric, best_values, best_z = value, values, z
             radius = min(0.5, radius * 1.5)
         else:
             radius *= 0.5
@@ -1581,6 +1614,23 @@ def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None)
         series=series, nominal=space.nominal_dict(), cv_folds=metamodel.cv_folds, seed=seed,
         segments=segments,
     )
+
+
+def reduced_surrogate(kind: str, metamodel, series, space, seed: int, segments=None):
+    """The unfitted reduced meta-model (no out-of-fold scores: only its optimum is used)."""
+    model = surrogate_for(kind, metamodel, series, space, seed, segments)
+    if not isinstance(model, str):
+        model.cv_folds = 0
+    return model
+
+
+def reduced_options(kind: str, metamodel) -> dict | None:
+    """Options of the reduced SVR or GP: the SVR's grid search keeps the campaign's folds;
+    the GP skips the out-of-fold scores (five more fits, unused)."""
+    if kind == "series":
+        return None
+    return {"cv_folds": metamodel.cv_folds if kind == "svr" else 0,
+            "log_target": metamodel.log_target}
 
 
 def choose_surrogate(

@@ -52,13 +52,26 @@ def main(argv=None) -> int:
         rows = []
         fresh = not store.exists()
         t0 = time.perf_counter()
-        base = calibrate(load_campaign(path), samples=args.samples, workers=2, resume=not fresh,
-                         store_path=store, progress=False, log=lambda line: None)
+        base = calibrate(
+            load_campaign(path),
+            samples=args.samples,
+            workers=2,
+            resume=not fresh,
+            store_path=store,
+            progress=False,
+            log=lambda line: None,
+        )
         wall = time.perf_counter() - t0
         peer = base.timings["nominal_run"]
         what = "campaign" if fresh else "calibrate --resume of the stored campaign"
-        rows.append((f"{what}, {args.samples} samples + analysis (context)", wall, len(calls),
-                     f"{base.summary.evaluated} samples evaluated"))
+        rows.append(
+            (
+                f"{what}, {args.samples} samples + analysis (context)",
+                wall,
+                len(calls),
+                f"{base.summary.evaluated} samples evaluated",
+            )
+        )
         variants = {
             "nothing changed": "",
             "metric: groups": "metric: groups\n",
@@ -82,8 +95,11 @@ def main(argv=None) -> int:
             same = ""
             if label == "nothing changed" and base is not None:
                 differences = _differences(result, base)
-                same = "same results" if not differences else "DIFFERENT: " + ", ".join(
-                    differences[:5])
+                same = (
+                    "same results"
+                    if not differences
+                    else "DIFFERENT: " + ", ".join(differences[:5])
+                )
             rows.append((f"re-analysis, {label}", wall, len(calls) - before, same))
     lines = [
         f"Date: {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC. Machine: "
@@ -112,6 +128,7 @@ def _differences(a, b) -> list[str]:
 
     x, y = (json.loads(json.dumps(r.as_dict())) for r in (a, b))
     for d in (x, y):
+        d.pop("campaign")  # the variant's file name
         d.pop("timings_s")
         d.pop("model_runs")
         d["samples"].pop("wall_time_s")

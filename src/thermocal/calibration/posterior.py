@@ -33,6 +33,8 @@ References
    Publications of the Astronomical Society of the Pacific 125, 306-312.
 .. [2] Kennedy M.C., O'Hagan A. (2001), Bayesian calibration of computer models, Journal of
    the Royal Statistical Society B 63, 425-464.
+.. [3] Hoerl A.E., Kennard R.W. (1970), Ridge regression: biased estimation for nonorthogonal
+   problems, Technometrics 12, 55-67.
 """
 
 from __future__ import annotations
@@ -211,8 +213,10 @@ class Posterior:
         """JSON-ready form (summary, compensating pairs, noise, sampler diagnostics)."""
         return {
             "parameters": {
-                n: {k: (bool(v) if k == "determined" else v if k == "unit" else float(v))
-                    for k, v in row.items()}
+                n: {
+                    k: (bool(v) if k == "determined" else v if k == "unit" else float(v))
+                    for k, v in row.items()
+                }
                 for n, row in self.summary.iterrows()
             },
             "compensating": [[a, b, float(r)] for a, b, r in self.compensating],
@@ -262,8 +266,11 @@ def emulator_variance(surrogate, X, *, folds: int = 5, seed: int = 0) -> float:
     for train, test in KFold(k, shuffle=True, random_state=int(seed)).split(Z):
         fit = Ridge(alpha=float(surrogate.estimator_.alpha_)).fit(Z[train], S[train])
         e = fit.predict(Z[test]) - S[test]
-        errors.append(surrogate.centred(e) if hasattr(surrogate, "centred")
-                      else e - e.mean(axis=1, keepdims=True))
+        errors.append(
+            surrogate.centred(e)
+            if hasattr(surrogate, "centred")
+            else e - e.mean(axis=1, keepdims=True)
+        )
     return float(np.mean(np.concatenate(errors) ** 2))
 
 
@@ -394,8 +401,11 @@ def calibration_posterior(
     n_walkers += n_walkers % 2
     # start in a small ball around the best fit, inside the bounds
     width = np.maximum(zu - zl, 1e-9)
-    start = np.clip(z_hat + 1e-3 * width * rng.standard_normal((n_walkers, d)),
-                    zl + 1e-6 * width, zu - 1e-6 * width)
+    start = np.clip(
+        z_hat + 1e-3 * width * rng.standard_normal((n_walkers, d)),
+        zl + 1e-6 * width,
+        zu - 1e-6 * width,
+    )
     sampler = emcee.EnsembleSampler(n_walkers, d, log_probability, vectorize=True)
     sampler.random_state = np.random.RandomState(int(seed)).get_state()
     sampler.run_mcmc(start, int(steps), progress=False)
@@ -429,7 +439,8 @@ def calibration_posterior(
     correlation = pd.DataFrame(np.atleast_2d(corr), index=names, columns=names)
     pairs = [
         (names[i], names[j], float(corr[i, j]))
-        for i in range(d) for j in range(i + 1, d)
+        for i in range(d)
+        for j in range(i + 1, d)
         if abs(corr[i, j]) > COMPENSATION_CORRELATION
     ]
     full_names = [str(f) for f in surrogate.feature_names_in_]

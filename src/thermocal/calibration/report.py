@@ -50,8 +50,10 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
     report.key_values(items)
     for note in result.notes:
         report.note(note)
-    table = result.table1().reset_index().rename(
-        columns={"min_metric": "minimum variance", "max_metric": "maximum variance"}
+    table = (
+        result.table1()
+        .reset_index()
+        .rename(columns={"min_metric": "minimum variance", "max_metric": "maximum variance"})
     )
     report.table(table, caption="Critical parameters: nominal, minimum and maximum variance")
     if result.posterior is not None:
@@ -96,12 +98,18 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
             pd.DataFrame([result.validation]),
             caption="Validation on a period the calibration did not see",
         )
-    report.figure(figure("sensitivity", lambda: figures.sensitivity_bars(result)),
-                  caption="Parameter influence (critical parameters coloured).")
-    report.figure(figure("q_id_cases", lambda: figures.heat_cases(result)),
-                  caption="Building-wide identified heat for the three parameter sets.")
-    report.figure(figure("metamodel_parity", lambda: figures.parity(result)),
-                  caption="Meta-model parity (out-of-fold predictions).")
+    report.figure(
+        figure("sensitivity", lambda: figures.sensitivity_bars(result)),
+        caption="Parameter influence (critical parameters coloured).",
+    )
+    report.figure(
+        figure("q_id_cases", lambda: figures.heat_cases(result)),
+        caption="Building-wide identified heat for the three parameter sets.",
+    )
+    report.figure(
+        figure("metamodel_parity", lambda: figures.parity(result)),
+        caption="Meta-model parity (out-of-fold predictions).",
+    )
     if result.morris is not None:
         report.table(
             result.morris.head(15).reset_index(),

@@ -468,8 +468,13 @@ class CampaignStore:
         text = self.meta(f"info:{name}")
         return None if text is None else json.loads(text)
 
-    def record_run(self, parameters: Mapping[str, float], outputs: Mapping[str, float],
-                   heat: pd.Series | None = None, tag: str = "") -> None:
+    def record_run(
+        self,
+        parameters: Mapping[str, float],
+        outputs: Mapping[str, float],
+        heat: pd.Series | None = None,
+        tag: str = "",
+    ) -> None:
         """Store one analysis run (see the ``runs`` table) and commit at once.
 
         Parameters
@@ -519,7 +524,8 @@ class CampaignStore:
         if row[1]:
             data = json.loads(row[1])
             index = pd.date_range(
-                pd.Timestamp(data["start"]), periods=len(data["values"]),
+                pd.Timestamp(data["start"]),
+                periods=len(data["values"]),
                 freq=pd.Timedelta(seconds=data["step_s"] or 1.0),
             )
             heat = pd.Series([_float(v) for v in data["values"]], index=index, name=data["name"])

@@ -139,8 +139,11 @@ class _Surrogate:
         t = self._target(ya)
         self.estimator_ = self._fit_estimator(Xa, t)
         if self.cv_folds and self.cv_folds >= 2:
-            folds = KFold(n_splits=min(int(self.cv_folds), Xa.shape[0]), shuffle=True,
-                          random_state=int(self.seed))
+            folds = KFold(
+                n_splits=min(int(self.cv_folds), Xa.shape[0]),
+                shuffle=True,
+                random_state=int(self.seed),
+            )
             oof = cross_val_predict(clone(self.estimator_), Xa, t, cv=folds)
             self.oof_prediction_ = np.exp(oof) if self.log_target else oof
             scores = regression_scores(ya, self.oof_prediction_)
@@ -260,14 +263,19 @@ class SVRSurrogate(_Surrogate):
             "regressor__svr__epsilon": list(self.epsilon or (0.02, 0.1)),
             "regressor__svr__gamma": list(self.gamma or [g / d for g in (0.1, 0.3, 1.0, 3.0)]),
         }
-        folds = KFold(n_splits=max(2, min(int(self.cv_folds or 5), Xa.shape[0])), shuffle=True,
-                      random_state=int(self.seed))
-        search = GridSearchCV(self._estimator(d), grid, cv=folds, scoring="r2",
-                              n_jobs=self.n_jobs, refit=True)
+        folds = KFold(
+            n_splits=max(2, min(int(self.cv_folds or 5), Xa.shape[0])),
+            shuffle=True,
+            random_state=int(self.seed),
+        )
+        search = GridSearchCV(
+            self._estimator(d), grid, cv=folds, scoring="r2", n_jobs=self.n_jobs, refit=True
+        )
         search.fit(Xa, t)
         self.search_ = search
-        self.best_params_ = {k.rsplit("__", 1)[-1]: float(v)
-                             for k, v in search.best_params_.items()}
+        self.best_params_ = {
+            k.rsplit("__", 1)[-1]: float(v) for k, v in search.best_params_.items()
+        }
         return search.best_estimator_
 
     def hyperparameters_(self) -> dict[str, Any]:
@@ -334,9 +342,12 @@ class GPSurrogate(_Surrogate):
         kernel = ConstantKernel(1.0, (1e-3, 1e3)) * Matern(
             length_scale=np.ones(n_features), length_scale_bounds=(1e-2, 1e3), nu=2.5
         ) + WhiteKernel(1e-3, (1e-8, 1.0))
-        gp = GaussianProcessRegressor(kernel=kernel, normalize_y=True,
-                                      n_restarts_optimizer=int(self.n_restarts),
-                                      random_state=int(self.seed))
+        gp = GaussianProcessRegressor(
+            kernel=kernel,
+            normalize_y=True,
+            n_restarts_optimizer=int(self.n_restarts),
+            random_state=int(self.seed),
+        )
         return Pipeline([("scale", StandardScaler()), ("gp", gp)])
 
     def _fit_estimator(self, Xa: np.ndarray, t: np.ndarray) -> Any:
@@ -409,15 +420,24 @@ class SeriesSurrogate(_Surrogate):
     kind = "series"
     log_target = False
 
-    def __init__(self, *, series: Any, nominal: Any, alphas: Any = None, cv_folds: int = 5,
-                 seed: int = 0, segments: Any = None) -> None:
+    def __init__(
+        self,
+        *,
+        series: Any,
+        nominal: Any,
+        alphas: Any = None,
+        cv_folds: int = 5,
+        seed: int = 0,
+        segments: Any = None,
+    ) -> None:
         self.series = np.asarray(series, dtype=float)
         self.nominal = dict(nominal)
         self.alphas = alphas
         self.cv_folds = cv_folds
         self.seed = seed
         self.segments = (
-            [(0, self.series.shape[-1])] if segments is None
+            [(0, self.series.shape[-1])]
+            if segments is None
             else [(int(a), int(b)) for a, b in segments]
         )
 
@@ -465,13 +485,15 @@ class SeriesSurrogate(_Surrogate):
         self.log_parameters_ = Z  # the design, for the significance of each fitted effect
         self.within_hour_ = float(within.mean())
         if self.cv_folds and self.cv_folds >= 2:
-            folds = KFold(n_splits=min(int(self.cv_folds), Xa.shape[0]), shuffle=True,
-                          random_state=int(self.seed))
+            folds = KFold(
+                n_splits=min(int(self.cv_folds), Xa.shape[0]),
+                shuffle=True,
+                random_state=int(self.seed),
+            )
             oof = np.empty_like(ya)
             for train, test in folds.split(Z):
                 model = self._ridge().fit(Z[train], self.series[train])
-                oof[test] = (self.series_variance(model.predict(Z[test]))
-                             + within[train].mean())
+                oof[test] = self.series_variance(model.predict(Z[test])) + within[train].mean()
             self.oof_prediction_ = oof
             scores = regression_scores(ya, oof)
             self.cv_r2_, self.cv_rmse_ = scores["r2"], scores["rmse"]
@@ -537,8 +559,11 @@ class SeriesSurrogate(_Surrogate):
         return x, value
 
     def hyperparameters_(self) -> dict[str, Any]:
-        return {"alpha": float(self.estimator_.alpha_), "within_hour_W2": self.within_hour_,
-                "hours": int(self.series.shape[1])}
+        return {
+            "alpha": float(self.estimator_.alpha_),
+            "within_hour_W2": self.within_hour_,
+            "hours": int(self.series.shape[1]),
+        }
 
 
 def make_surrogate(kind: Literal["svr", "gp"] = "svr", **options: Any) -> _Surrogate:

@@ -187,8 +187,10 @@ def choose_quiet_hours(campaign, heat: pd.Series, log=print) -> tuple[OccupancyS
         "paper_schedule_quiet": check.quiet,
     }
     if declared == "data" or not check.quiet:
-        log(f"occupancy: the published schedule is not quiet here ({check.describe()}); the "
-            f"metric uses the quiet hours found in the identified heat: {quiet.describe()}")
+        log(
+            f"occupancy: the published schedule is not quiet here ({check.describe()}); the "
+            f"metric uses the quiet hours found in the identified heat: {quiet.describe()}"
+        )
         return quiet.schedule, {"source": "data", **info}
     return schedule, {"source": "paper", **info}
 
@@ -319,8 +321,7 @@ class CalibrationResult:
         for name in self.space.names:
             if name in values and not np.isclose(values[name], nominal[name], rtol=1e-9):
                 lines.append(
-                    f"#   {name}: {nominal[name]:.6g} -> {values[name]:.6g} "
-                    f"{parameter_unit(name)}"
+                    f"#   {name}: {nominal[name]:.6g} -> {values[name]:.6g} {parameter_unit(name)}"
                 )
         body = yaml.safe_dump(
             building_to_dict(self.calibrated_building), sort_keys=False, allow_unicode=True
@@ -519,9 +520,9 @@ def calibrate(
                     "start": grid.index[0].isoformat(),
                     "step_s": (grid.index[1] - grid.index[0]).total_seconds(),
                     "temp_air": grid["temp_air"].to_numpy().tolist(),
-                    "ghi": (
-                        grid["ghi"] if "ghi" in grid else grid["dni"] + grid["dhi"]
-                    ).to_numpy().tolist(),
+                    "ghi": (grid["ghi"] if "ghi" in grid else grid["dni"] + grid["dhi"])
+                    .to_numpy()
+                    .tolist(),
                 },
             },
         )
@@ -547,16 +548,26 @@ def calibrate(
             else ProgressLines(pending, n - pending, log),
         )
         timings["campaign"] = time.perf_counter() - t0
-        log(f"campaign done: {summary.evaluated} evaluated, {summary.failed} failed, "
-            f"{summary.backend}")
+        log(
+            f"campaign done: {summary.evaluated} evaluated, {summary.failed} failed, "
+            f"{summary.backend}"
+        )
 
         def morris():
             bar = progress and sys.stderr.isatty()  # a bar only where it is seen
             return _morris(campaign, problem, space, path, workers, scheduler, bar, log)
 
         return analyse(
-            campaign, inputs, space, sample_set, summary, store,
-            RunCache(store, evaluator, later), timings=timings, notes=notes, log=log,
+            campaign,
+            inputs,
+            space,
+            sample_set,
+            summary,
+            store,
+            RunCache(store, evaluator, later),
+            timings=timings,
+            notes=notes,
+            log=log,
             morris=morris,
         )
 
@@ -656,8 +667,7 @@ class RunCache:
 #: what each metric of the campaign file's ``metric`` key is, for calibration.json and the report
 METRIC_NAMES = {
     "building": "unoccupied variance of the building-wide identified heat",
-    "groups": "sum over the zone groups of the unoccupied variance of their hourly identified "
-    "heat",
+    "groups": "sum over the zone groups of the unoccupied variance of their hourly identified heat",
 }
 
 
@@ -705,7 +715,17 @@ def metric_value(outputs: dict, metric: str) -> float:
 
 
 def analyse(
-    campaign, inputs, space, sample_set, summary, store, runs, *, timings, notes, log=print,
+    campaign,
+    inputs,
+    space,
+    sample_set,
+    summary,
+    store,
+    runs,
+    *,
+    timings,
+    notes,
+    log=print,
     morris=None,
 ) -> CalibrationResult:
     """Meta-model, ranking, optimisation, posterior and calibrated model of a stored campaign.
@@ -750,9 +770,11 @@ def analyse(
     occupancy = info.get("occupancy", {})
     if occupancy.get("source") == "data":
         notes.append(
-            "Unoccupied hours from the data: " + occupancy.get("paper_schedule_check", "")
+            "Unoccupied hours from the data: "
+            + occupancy.get("paper_schedule_check", "")
             + "; the metric uses the quiet hours of the nominal identified heat ("
-            + occupancy["quiet_hours"] + ")."
+            + occupancy["quiet_hours"]
+            + ")."
         )
     nominal_found = runs.get({})
     if nominal_found is None:
@@ -827,9 +849,13 @@ def analyse(
         found = runs.get(optimisation.parameters(sense))
         if found is None:
             unconfirmed.append(sense)
-            confirmed[sense] = {"predicted": float(optimum.value), "confirmed": float("nan"),
-                                "confirmed_std_W": float("nan"), "ratio_to_nominal": None,
-                                "simulated": False}
+            confirmed[sense] = {
+                "predicted": float(optimum.value),
+                "confirmed": float("nan"),
+                "confirmed_std_W": float("nan"),
+                "ratio_to_nominal": None,
+                "simulated": False,
+            }
             continue
         run_outputs, heat[sense] = found
         value = metric_value(run_outputs, metric)
@@ -840,9 +866,14 @@ def analyse(
             "ratio_to_nominal": value / nominal_metric,
             "building_std_W": run_outputs["unoccupied_std"],
         }
-    log("confirmation of the minimum and maximum with the full model: " + (
-        "done" if not unconfirmed else f"not simulated in a re-analysis ({', '.join(unconfirmed)})"
-    ))
+    log(
+        "confirmation of the minimum and maximum with the full model: "
+        + (
+            "done"
+            if not unconfirmed
+            else f"not simulated in a re-analysis ({', '.join(unconfirmed)})"
+        )
+    )
     if unconfirmed:
         notes.append(
             "Re-analysis without simulation: the meta-model's "
@@ -890,14 +921,20 @@ def analyse(
     candidates = {}
     moves_only_movable = set(critical) <= set(movable)
     if "min" not in unconfirmed and moves_only_movable:
-        candidates["meta-model minimum"] = (confirmed["min"]["confirmed"],
-                                            optimisation.parameters("min"))
+        candidates["meta-model minimum"] = (
+            confirmed["min"]["confirmed"],
+            optimisation.parameters("min"),
+        )
     elif determined is not None and [c for c in critical if c in determined]:
         # the reduced meta-model's minimum over the determined critical parameters only
         restricted = optimise_reduced(
-            X, y, space, [c for c in critical if c in determined],
+            X,
+            y,
+            space,
+            [c for c in critical if c in determined],
             surrogate=reduced_surrogate(kind, m, series, space, campaign.sampling.seed, segments),
-            starts=campaign.optimisation.starts, seed=campaign.optimisation.seed,
+            starts=campaign.optimisation.starts,
+            seed=campaign.optimisation.seed,
             surrogate_options=reduced_options(kind, m),
         )
         values = restricted.parameters("min")
@@ -905,15 +942,19 @@ def analyse(
         if found is not None:
             value = metric_value(found[0], metric)
             candidates["meta-model minimum of the determined parameters"] = (value, values)
-            confirmed["min_determined"] = {"predicted": float(restricted.minimum.value),
-                                           "confirmed": value}
+            confirmed["min_determined"] = {
+                "predicted": float(restricted.minimum.value),
+                "confirmed": value,
+            }
     # never return a building worse than the one the user gave
     candidates["nominal building (no change)"] = (nominal_metric, space.nominal_dict())
     if posterior is not None:
         # the joint posterior's median (all varied parameters at once, or the determined
         # ones), confirmed with the model
-        median = {**space.nominal_dict(),
-                  **{n: v for n, v in posterior.summary["median"].items() if n in movable}}
+        median = {
+            **space.nominal_dict(),
+            **{n: v for n, v in posterior.summary["median"].items() if n in movable},
+        }
         found = runs.get(median, heat=False)
         if found is not None:
             candidates["posterior median"] = (metric_value(found[0], metric), median)
@@ -1001,8 +1042,11 @@ def analyse(
     )
     grid = info.get("weather")
     if grid:
-        index = pd.date_range(pd.Timestamp(grid["start"]), periods=len(grid["temp_air"]),
-                              freq=pd.Timedelta(seconds=grid["step_s"]))
+        index = pd.date_range(
+            pd.Timestamp(grid["start"]),
+            periods=len(grid["temp_air"]),
+            freq=pd.Timedelta(seconds=grid["step_s"]),
+        )
         weather = pd.DataFrame({"temp_air": grid["temp_air"], "ghi": grid["ghi"]}, index=index)
     else:
         weather = pd.DataFrame({"temp_air": [], "ghi": []})
@@ -1072,19 +1116,35 @@ def reanalyse(campaign, store_path, *, log=print) -> CalibrationResult:
         n = int(stored["sampler"]["samples"])
         sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
         done = store.count(failed=False)
-        log(f"re-analysis of {path}: {done} samples of {space.dimension} parameters, metric "
-            f"{campaign.metric}, meta-model {campaign.metamodel.kind}; nothing is simulated")
+        log(
+            f"re-analysis of {path}: {done} samples of {space.dimension} parameters, metric "
+            f"{campaign.metric}, meta-model {campaign.metamodel.kind}; nothing is simulated"
+        )
         summary = CampaignSummary(
-            total=n, already_done=store.count(), evaluated=0, failed=0, wall_time_s=0.0,
+            total=n,
+            already_done=store.count(),
+            evaluated=0,
+            failed=0,
+            wall_time_s=0.0,
             backend="store (re-analysis)",
         )
         notes: list[str] = []
         if done + store.count(failed=True) < n:
-            notes.append(f"The store holds {done} of the campaign's {n} samples (interrupted "
-                         "campaign); the re-analysis uses those.")
+            notes.append(
+                f"The store holds {done} of the campaign's {n} samples (interrupted "
+                "campaign); the re-analysis uses those."
+            )
         return analyse(
-            campaign, inputs, space, sample_set, summary, store, RunCache(store),
-            timings=timings, notes=notes, log=log,
+            campaign,
+            inputs,
+            space,
+            sample_set,
+            summary,
+            store,
+            RunCache(store),
+            timings=timings,
+            notes=notes,
+            log=log,
             morris=lambda: _stored_morris(campaign, space, path, notes),
         )
 
@@ -1114,8 +1174,9 @@ def check_same_campaign(campaign, space, stored: dict, path) -> None:
         "sampler": {k: v for k, v in (stored.get("sampler") or {}).items() if k != "samples"},
         "problem": {k: settings[k] for k in current["problem"]},
     }
-    diffs = _definition_differences(json.loads(json.dumps(before, default=str)),
-                                    json.loads(json.dumps(current, default=str)))
+    diffs = _definition_differences(
+        json.loads(json.dumps(before, default=str)), json.loads(json.dumps(current, default=str))
+    )
     if diffs:
         raise ThermocalInputError(
             f"store {path} holds another campaign than {campaign.path}: "
@@ -1132,16 +1193,19 @@ def _stored_morris(campaign, space, store_path, notes):
 
     m = campaign.morris
     lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
-    design = morris_design(list(space.names), lower, upper, trajectories=m.trajectories,
-                           levels=m.levels, seed=m.seed)
+    design = morris_design(
+        list(space.names), lower, upper, trajectories=m.trajectories, levels=m.levels, seed=m.seed
+    )
     path = Path(store_path).with_name(Path(store_path).stem + "_morris.sqlite")
     outputs = None
     if path.is_file():
         with CampaignStore.existing(path) as store:
             outputs = store.outputs(successful=False)[METRIC].reindex(design.index)
     if outputs is None or outputs.isna().any():
-        notes.append("Morris screening not re-analysed: its runs are not all in its store "
-                     f"({path.name}); thermocal calibrate --resume runs them.")
+        notes.append(
+            "Morris screening not re-analysed: its runs are not all in its store "
+            f"({path.name}); thermocal calibrate --resume runs them."
+        )
         return None
     return morris_analyze(design, outputs.to_numpy(), lower, upper, levels=m.levels, seed=m.seed)
 
@@ -1182,15 +1246,17 @@ def candidate_parameters(building, level: str = "material") -> dict[str, float]:
 POSTERIOR_MAX_PARAMETERS = 30
 
 
-def _posterior_or_note(surrogate, kind, X, y, series, space, critical, campaign, notes,
-                       segments=None):
+def _posterior_or_note(
+    surrogate, kind, X, y, series, space, critical, campaign, notes, segments=None
+):
     """Posterior of the critical parameters from the series meta-model, or a note why not."""
     from thermocal.calibration.posterior import calibration_posterior, emulator_variance
 
     model = surrogate
     if kind != "series":
-        model = surrogate_for("series", campaign.metamodel, series, space,
-                              campaign.sampling.seed, segments).fit(X, y)
+        model = surrogate_for(
+            "series", campaign.metamodel, series, space, campaign.sampling.seed, segments
+        ).fit(X, y)
     # the joint posterior of every varied parameter (a parameter held at its nominal value
     # would make the others compensate for it); the critical ones only in large spaces
     names = list(space.names) if space.dimension <= POSTERIOR_MAX_PARAMETERS else list(critical)
@@ -1202,9 +1268,14 @@ def _posterior_or_note(surrogate, kind, X, y, series, space, critical, campaign,
     idx = [space.index(n) for n in names]
     try:
         posterior = calibration_posterior(
-            model, names, space.lower[idx], space.upper[idx],
-            all_lower=space.lower, all_upper=space.upper,
-            units=[space.units[i] for i in idx], seed=campaign.sampling.seed,
+            model,
+            names,
+            space.lower[idx],
+            space.upper[idx],
+            all_lower=space.lower,
+            all_upper=space.upper,
+            units=[space.units[i] for i in idx],
+            seed=campaign.sampling.seed,
             emulator_error=emulator_variance(model, X, seed=campaign.sampling.seed),
         )
     except (ThermocalInputError, np.linalg.LinAlgError, ValueError) as exc:
@@ -1267,15 +1338,20 @@ def calibration_flags(space, values, metric, posterior, series_model, truth=None
                 else "the data do not determine it: it likely absorbs an error of the model"
             )
             if name in true or truth is not None:
-                perturbed = not np.isclose(true.get(name, nominal[name]), nominal[name],
-                                           rtol=1e-9)
+                perturbed = not np.isclose(true.get(name, nominal[name]), nominal[name], rtol=1e-9)
                 why += "; the truth " + ("perturbed" if perturbed else "did not perturb") + " it"
-            flags.append({
-                "kind": "at bound", "parameter": name, "side": side, "value": value,
-                "bound": bound, "determined": name in determined,
-                "text": f"{name} ends at its {side} sampling bound ({value:.4g} "
-                f"{space.units[i]}; nominal {nominal[name]:.4g}): {why}.",
-            })
+            flags.append(
+                {
+                    "kind": "at bound",
+                    "parameter": name,
+                    "side": side,
+                    "value": value,
+                    "bound": bound,
+                    "determined": name in determined,
+                    "text": f"{name} ends at its {side} sampling bound ({value:.4g} "
+                    f"{space.units[i]}; nominal {nominal[name]:.4g}): {why}.",
+                }
+            )
     if posterior is not None and series_model is not None and len(posterior.samples):
         draws = posterior.samples.iloc[:: max(1, len(posterior.samples) // 400)]
         frame = pd.DataFrame({n: np.full(len(draws), nominal[n]) for n in space.names})
@@ -1284,14 +1360,18 @@ def calibration_flags(space, values, metric, posterior, series_model, truth=None
         predicted = series_model.predict(frame[list(series_model.feature_names_in_)])
         floor = float(np.quantile(predicted, 0.05))
         if metric < floor:
-            flags.append({
-                "kind": "below model error", "metric": float(metric), "floor": floor,
-                "text": f"The calibrated metric ({np.sqrt(metric) / 1000:.3f} kW as a standard "
-                f"deviation) is below what the model error allows ({np.sqrt(floor) / 1000:.3f} "
-                "kW, the 5 % quantile of the metric over the posterior): the calibration fits "
-                "the model's error or the noise, not only the envelope; trust the posterior's "
-                "intervals more than the calibrated values.",
-            })
+            flags.append(
+                {
+                    "kind": "below model error",
+                    "metric": float(metric),
+                    "floor": floor,
+                    "text": f"The calibrated metric ({np.sqrt(metric) / 1000:.3f} kW as a standard "
+                    f"deviation) is below what the model error allows ({np.sqrt(floor) / 1000:.3f} "
+                    "kW, the 5 % quantile of the metric over the posterior): the calibration fits "
+                    "the model's error or the noise, not only the envelope; trust the posterior's "
+                    "intervals more than the calibrated values.",
+                }
+            )
     return flags
 
 
@@ -1461,8 +1541,22 @@ def _store_errors(path: Path):
         ) from None
 
 
-def refine_minimum(runs, space, X, y, series, kind, start, *, steps: int, seed: int, log=print,
-                   metric: str = "building", segments=None, movable=None):
+def refine_minimum(
+    runs,
+    space,
+    X,
+    y,
+    series,
+    kind,
+    start,
+    *,
+    steps: int,
+    seed: int,
+    log=print,
+    metric: str = "building",
+    segments=None,
+    movable=None,
+):
     """Trust-region refinement of the minimum with the full model in the loop (beyond the paper).
 
     From the best confirmed point, each step fits the meta-model (the chosen kind, without
@@ -1502,8 +1596,9 @@ def refine_minimum(runs, space, X, y, series, kind, start, *, steps: int, seed: 
     for step in range(steps):
         frame = pd.DataFrame(Xs, columns=names)
         if kind == "series" and Ss is not None:
-            model = SeriesSurrogate(series=Ss, nominal=space.nominal_dict(), cv_folds=0,
-                                    segments=segments)
+            model = SeriesSurrogate(
+                series=Ss, nominal=space.nominal_dict(), cv_folds=0, segments=segments
+            )
         else:
             model = make_surrogate(kind if kind != "series" else "gp", cv_folds=0, seed=seed)
         model.fit(frame, ys)
@@ -1519,7 +1614,13 @@ def refine_minimum(runs, space, X, y, series, kind, start, *, steps: int, seed: 
             return model.predict(np.exp(Z))
 
         reduced = optimise_box(
-            predict, lo, hi, sense="min", starts=2, initial=[best_z[moving]], seed=seed + step,
+            predict,
+            lo,
+            hi,
+            sense="min",
+            starts=2,
+            initial=[best_z[moving]],
+            seed=seed + step,
             maxiter=100,
         )
         z = best_z.copy()
@@ -1611,7 +1712,10 @@ def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None)
     from thermocal.calibration.surrogate import SeriesSurrogate
 
     return SeriesSurrogate(
-        series=series, nominal=space.nominal_dict(), cv_folds=metamodel.cv_folds, seed=seed,
+        series=series,
+        nominal=space.nominal_dict(),
+        cv_folds=metamodel.cv_folds,
+        seed=seed,
         segments=segments,
     )
 
@@ -1629,12 +1733,22 @@ def reduced_options(kind: str, metamodel) -> dict | None:
     the GP skips the out-of-fold scores (five more fits, unused)."""
     if kind == "series":
         return None
-    return {"cv_folds": metamodel.cv_folds if kind == "svr" else 0,
-            "log_target": metamodel.log_target}
+    return {
+        "cv_folds": metamodel.cv_folds if kind == "svr" else 0,
+        "log_target": metamodel.log_target,
+    }
 
 
 def choose_surrogate(
-    X, y, kind: str, *, cv_folds: int, log_target: bool, seed: int, series=None, nominal=None,
+    X,
+    y,
+    kind: str,
+    *,
+    cv_folds: int,
+    log_target: bool,
+    seed: int,
+    series=None,
+    nominal=None,
     segments=None,
 ):
     """Fit the meta-model; with ``kind="auto"`` the SVR, the GP and the series model, keeping
@@ -1667,8 +1781,9 @@ def choose_surrogate(
     fitted = {}
     for k in kinds:
         if k == "series":
-            model = SeriesSurrogate(series=series, nominal=nominal, cv_folds=cv_folds, seed=seed,
-                                    segments=segments)
+            model = SeriesSurrogate(
+                series=series, nominal=nominal, cv_folds=cv_folds, seed=seed, segments=segments
+            )
         else:
             model = make_surrogate(k, cv_folds=cv_folds, log_target=log_target, seed=seed)
         fitted[k] = model.fit(X, y)

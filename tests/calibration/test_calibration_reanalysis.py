@@ -104,3 +104,22 @@ def test_reanalysis_of_another_campaign_is_refused(stored, tmp_path):
         reanalyse(load_campaign(other), folder / "store.sqlite", log=lambda line: None)
     with pytest.raises(ThermocalInputError, match="does not exist"):
         reanalyse(load_campaign(path), tmp_path / "none.sqlite", log=lambda line: None)
+
+
+def test_reanalyse_cli_bad_input(tmp_path):
+    import subprocess
+    import sys
+
+    def run(*args):
+        return subprocess.run(
+            [sys.executable, "-m", "thermocal", "calibrate", *args],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+
+    done = run("--demo", "--reanalyse", "--out", str(tmp_path / "none"))
+    assert done.returncode == 2 and "Traceback" not in done.stderr
+    assert "holds no demo campaign" in done.stderr, done.stderr
+    done = run("--demo", "--reanalyse", "--samples", "3", "--out", str(tmp_path / "none"))
+    assert done.returncode == 2 and "leave out --samples" in done.stderr, done.stderr

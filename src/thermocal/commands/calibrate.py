@@ -97,6 +97,11 @@ def calibrate(
     if demo:
         # the demo's campaign file, written so that it can be edited and run again
         campaign = out / "demo_campaign.yaml"
+        if reanalyse and not campaign.exists():
+            raise ThermocalInputError(
+                f"--reanalyse: {out} holds no demo campaign (no {campaign.name}); run "
+                f"thermocal calibrate --demo --out {out} first"
+            )
         if not campaign.exists() and not reanalyse:
             out.mkdir(parents=True, exist_ok=True)
             campaign.write_text(DEMO_CAMPAIGN)

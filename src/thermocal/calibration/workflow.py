@@ -780,7 +780,8 @@ def analyse(
     if nominal_found is None:
         raise ThermocalInputError(
             f"store {store.path}: the nominal model's run is not stored (a store written before "
-            "re-analysis existed); run thermocal calibrate with --resume once to add it"
+            "thermocal could re-analyse campaigns, without the zone-group series either); run "
+            "the campaign again into a new store (another --out) to re-analyse it"
         )
     nominal_outputs, nominal_heat = nominal_found
     nominal_metric = metric_value(nominal_outputs, metric)

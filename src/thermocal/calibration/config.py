@@ -165,11 +165,14 @@ class MorrisSection(_Strict):
 
 
 class OptimisationSection(_Strict):
-    """Starts and seed of the reduced-model optimisation; trust-region refinement steps."""
+    """Starts and seed of the reduced-model optimisation; trust-region refinement steps; which
+    parameters the calibrated model may change (``calibrate``: ``determined``, the default,
+    only those the posterior says the data determine; ``all``: every varied one)."""
 
     starts: int = Field(8, ge=1)
     seed: int = 1
     refine: int = Field(8, ge=0)
+    calibrate: Literal["determined", "all"] = "determined"
 
 
 class CampaignFile(_Strict):
@@ -186,6 +189,7 @@ class CampaignFile(_Strict):
     step: str = "5min"
     identification: dict[str, Any] = Field(default_factory=dict)
     occupancy: dict[str, Any] | Literal["auto", "paper", "data"] | None = None
+    metric: Literal["building", "groups"] = "building"
     parameters: ParametersSection = Field(default_factory=ParametersSection)
     sampling: SamplingSection = Field(default_factory=SamplingSection)
     metamodel: MetamodelSection = Field(default_factory=MetamodelSection)

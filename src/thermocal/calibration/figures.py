@@ -37,21 +37,24 @@ def heat_cases(result):
         ("nominal", COLORS["measured"], "nominal"),
         ("min", COLORS["primary"], "minimum variance"),
     ):
+        if key not in result.heat:  # a re-analysis does not simulate a new optimum
+            continue
         series = result.heat[key]
         axes[0].plot(series.index, series / 1000, lw=0.7, color=color, label=label)
     axes[0].set_ylabel("Q_ID [kW]")
     axes[0].legend(loc="upper right", fontsize=8)
     axes[0].set_title("Building-wide identified heat: nominal and calibrated (minimum variance)")
-    series = result.heat["max"]
-    axes[1].plot(series.index, series / 1000, lw=0.7, color=COLORS["reference"])
+    if "max" in result.heat:
+        series = result.heat["max"]
+        axes[1].plot(series.index, series / 1000, lw=0.7, color=COLORS["reference"])
     axes[1].set_ylabel("Q_ID [kW]")
     axes[1].set_title("Maximum-variance parameters (note the scale)")
-    axes[2].plot(result.weather.index, result.weather["temp_air"], color=COLORS["reference"],
-                 lw=0.8)
+    axes[2].plot(
+        result.weather.index, result.weather["temp_air"], color=COLORS["reference"], lw=0.8
+    )
     axes[2].set_ylabel("outdoor [C]")
     twin = axes[2].twinx()
-    twin.fill_between(result.weather.index, result.weather["ghi"], color="#f0b400", alpha=0.4,
-                      lw=0)
+    twin.fill_between(result.weather.index, result.weather["ghi"], color="#f0b400", alpha=0.4, lw=0)
     twin.set_ylabel("GHI [W/m2]")
     fig.autofmt_xdate()
     fig.tight_layout()

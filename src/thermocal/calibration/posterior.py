@@ -20,7 +20,10 @@ the strong correlations of compensating parameters.
 
 Identifiability: the Fisher information ``F = (n_eff / n) J_c^T J_c / sigma^2`` of all campaign
 parameters (``J_c`` the hour-centred Jacobian) says which directions the data fix; a parameter is
-*determined* when its 90 % credible interval is narrower than half its prior range, and two
+*determined* when its 90 % credible interval is narrower than half its prior range and its
+fitted effect stands out of the meta-model's estimation noise (:func:`effect_to_noise`: a
+parameter with no effect at all gets a fitted Jacobian of pure noise, whose norm over hundreds
+of hours would otherwise look like information), and two
 parameters *compensate* each other when their posterior correlation exceeds 0.7 in magnitude (the
 data fix a combination of them, not each one).
 
@@ -30,6 +33,8 @@ References
    Publications of the Astronomical Society of the Pacific 125, 306-312.
 .. [2] Kennedy M.C., O'Hagan A. (2001), Bayesian calibration of computer models, Journal of
    the Royal Statistical Society B 63, 425-464.
+.. [3] Hoerl A.E., Kennard R.W. (1970), Ridge regression: biased estimation for nonorthogonal
+   problems, Technometrics 12, 55-67.
 """
 
 from __future__ import annotations
@@ -49,6 +54,10 @@ __all__ = ["Posterior", "calibration_posterior", "emulator_variance", "linear_he
 DETERMINED_FRACTION = 0.5
 #: Posterior correlation above which two parameters are said to compensate each other [-].
 COMPENSATION_CORRELATION = 0.7
+#: A parameter is determined only when its fitted effect on the hour-centred series is this many
+#: times (in squared norm) what the meta-model's own estimation noise gives an inert parameter
+#: [-]; under no effect the ratio is about 1.
+EFFECT_TO_NOISE = 4.0
 
 
 @dataclass(frozen=True)
@@ -73,6 +82,7 @@ class LinearHeatModel:
     nominal: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
+    series_count: int = 1
 
     def residual(self, z: np.ndarray) -> np.ndarray:
         """Residual series for log-parameters ``z`` (shape (d,) or (m, d)) [W]."""
@@ -108,13 +118,15 @@ def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHe
     coef = np.atleast_2d(np.asarray(surrogate.estimator_.coef_, dtype=float))
     intercept = np.asarray(surrogate.estimator_.intercept_, dtype=float).ravel()
     jac = coef[:, idx]
+    centred = getattr(surrogate, "centred", lambda a: a - a.mean(axis=-1, keepdims=True))
     return LinearHeatModel(
         names=tuple(str(n) for n in names),
-        offset=intercept - intercept.mean(),
-        jacobian=jac - jac.mean(axis=0),
+        offset=centred(intercept),
+        jacobian=centred(jac.T).T,
         nominal=np.array([surrogate.nominal[n] for n in names], dtype=float),
         lower=np.asarray(lower, dtype=float),
         upper=np.asarray(upper, dtype=float),
+        series_count=len(getattr(surrogate, "segments", [None])),
     )
 
 
@@ -201,8 +213,10 @@ class Posterior:
         """JSON-ready form (summary, compensating pairs, noise, sampler diagnostics)."""
         return {
             "parameters": {
-                n: {k: (bool(v) if k == "determined" else v if k == "unit" else float(v))
-                    for k, v in row.items()}
+                n: {
+                    k: (bool(v) if k == "determined" else v if k == "unit" else float(v))
+                    for k, v in row.items()
+                }
                 for n, row in self.summary.iterrows()
             },
             "compensating": [[a, b, float(r)] for a, b, r in self.compensating],
@@ -252,8 +266,55 @@ def emulator_variance(surrogate, X, *, folds: int = 5, seed: int = 0) -> float:
     for train, test in KFold(k, shuffle=True, random_state=int(seed)).split(Z):
         fit = Ridge(alpha=float(surrogate.estimator_.alpha_)).fit(Z[train], S[train])
         e = fit.predict(Z[test]) - S[test]
-        errors.append(e - e.mean(axis=1, keepdims=True))
+        errors.append(
+            surrogate.centred(e)
+            if hasattr(surrogate, "centred")
+            else e - e.mean(axis=1, keepdims=True)
+        )
     return float(np.mean(np.concatenate(errors) ** 2))
+
+
+def effect_to_noise(surrogate, names: Sequence[str], emulator_error: float) -> np.ndarray:
+    """Squared norm of each parameter's fitted hour-centred effect over its estimation noise.
+
+    The ridge regression of the series on the log-parameters ``Z`` estimates each hour's
+    effect with the variance ``s2 [A G A]_pp``, ``G = Zc^T Zc``, ``A = (G + alpha I)^-1``
+    (``s2`` the meta-model's hourly error variance, ``Zc`` the centred design; Hoerl and
+    Kennard 1970); summed over the ``H`` hours, an inert parameter's fitted effect has the
+    squared norm ``H s2 [A G A]_pp`` on average. The ratio is about 1 for a parameter without
+    effect and grows with a real one.
+
+    Parameters
+    ----------
+    surrogate : SeriesSurrogate
+        Fitted (its design ``log_parameters_`` and ridge penalty are used).
+    names : sequence of str
+    emulator_error : float
+        The meta-model's hourly error variance (:func:`emulator_variance`) [W^2].
+
+    Returns
+    -------
+    ndarray
+        One ratio per name [-]; infinite when the meta-model's error is zero.
+    """
+    features = [str(f) for f in surrogate.feature_names_in_]
+    Z = np.asarray(surrogate.log_parameters_, dtype=float)
+    Zc = Z - Z.mean(axis=0)
+    alpha = float(getattr(surrogate.estimator_, "alpha_", 0.0))
+    gram = Zc.T @ Zc
+    A = np.linalg.pinv(gram + alpha * np.eye(Z.shape[1]))
+    inverse = A @ gram @ A
+    coef = np.atleast_2d(np.asarray(surrogate.estimator_.coef_, dtype=float))
+    centred = getattr(surrogate, "centred", lambda a: a - a.mean(axis=-1, keepdims=True))
+    jac = centred(coef.T)  # (parameters, hours)
+    hours = jac.shape[1]
+    out = []
+    for name in names:
+        p = features.index(str(name))
+        noise = hours * max(float(emulator_error), 0.0) * inverse[p, p]
+        signal = float(jac[p] @ jac[p])
+        out.append(np.inf if noise <= 0 else signal / noise)
+    return np.array(out)
 
 
 def _noise(model: LinearHeatModel) -> tuple[np.ndarray, float, float, float]:
@@ -264,7 +325,8 @@ def _noise(model: LinearHeatModel) -> tuple[np.ndarray, float, float, float]:
     n, d = model.jacobian.shape
     fit = lsq_linear(model.jacobian, -model.offset, bounds=(zl, zu), method="bvls")
     r = model.residual(fit.x)
-    dof = max(n - 1 - d, 1)  # the hourly mean (the unknown constant gain) and d parameters
+    # the hourly mean of each series (the unknown constant gains) and d parameters
+    dof = max(n - model.series_count - d, 1)
     variance = float(r @ r) / dof
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if n > 3 and np.std(r) > 0 else 0.0
     rho = min(max(rho if np.isfinite(rho) else 0.0, 0.0), 0.99)
@@ -339,8 +401,11 @@ def calibration_posterior(
     n_walkers += n_walkers % 2
     # start in a small ball around the best fit, inside the bounds
     width = np.maximum(zu - zl, 1e-9)
-    start = np.clip(z_hat + 1e-3 * width * rng.standard_normal((n_walkers, d)),
-                    zl + 1e-6 * width, zu - 1e-6 * width)
+    start = np.clip(
+        z_hat + 1e-3 * width * rng.standard_normal((n_walkers, d)),
+        zl + 1e-6 * width,
+        zu - 1e-6 * width,
+    )
     sampler = emcee.EnsembleSampler(n_walkers, d, log_probability, vectorize=True)
     sampler.random_state = np.random.RandomState(int(seed)).get_state()
     sampler.run_mcmc(start, int(steps), progress=False)
@@ -350,6 +415,10 @@ def calibration_posterior(
     q05, q50, q95 = np.quantile(values, [0.05, 0.5, 0.95], axis=0)
     prior_width = model.upper - model.lower
     fraction = (q95 - q05) / np.where(prior_width > 0, prior_width, np.nan)
+    if hasattr(surrogate, "log_parameters_"):
+        significance = effect_to_noise(surrogate, names, emulator_error)
+    else:
+        significance = np.full(d, np.inf)
     summary = pd.DataFrame(
         {
             "unit": list(units) if units is not None else ["?"] * d,
@@ -361,7 +430,8 @@ def calibration_posterior(
             "prior_lower": model.lower,
             "prior_upper": model.upper,
             "width_fraction": fraction,
-            "determined": fraction < DETERMINED_FRACTION,
+            "effect_to_noise": significance,
+            "determined": (fraction < DETERMINED_FRACTION) & (significance > EFFECT_TO_NOISE),
         },
         index=pd.Index(names, name="parameter"),
     )
@@ -369,7 +439,8 @@ def calibration_posterior(
     correlation = pd.DataFrame(np.atleast_2d(corr), index=names, columns=names)
     pairs = [
         (names[i], names[j], float(corr[i, j]))
-        for i in range(d) for j in range(i + 1, d)
+        for i in range(d)
+        for j in range(i + 1, d)
         if abs(corr[i, j]) > COMPENSATION_CORRELATION
     ]
     full_names = [str(f) for f in surrogate.feature_names_in_]

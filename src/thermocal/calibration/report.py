@@ -42,13 +42,18 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
         "Nominal unoccupied std": f"{np.sqrt(result.nominal_metric) / 1000:.3f} kW",
         "Calibrated unoccupied std": f"{confirm['calibrated']['confirmed_std_W'] / 1000:.3f} kW",
         "Calibrated parameters from": confirm["calibrated"]["source"],
-        "Maximum-variance std": f"{confirm['max']['confirmed_std_W'] / 1000:.3f} kW",
+        "Maximum-variance std": _kw(confirm["max"]["confirmed_std_W"]),
+        "Metric": data["metric_description"],
+        "Model runs": f"{data['model_runs'].get('simulated', 0)} simulated, "
+        f"{data['model_runs'].get('from_store', 0)} read from the store",
     }
     report.key_values(items)
     for note in result.notes:
         report.note(note)
-    table = result.table1().reset_index().rename(
-        columns={"min_metric": "minimum variance", "max_metric": "maximum variance"}
+    table = (
+        result.table1()
+        .reset_index()
+        .rename(columns={"min_metric": "minimum variance", "max_metric": "maximum variance"})
     )
     report.table(table, caption="Critical parameters: nominal, minimum and maximum variance")
     if result.posterior is not None:
@@ -93,12 +98,18 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
             pd.DataFrame([result.validation]),
             caption="Validation on a period the calibration did not see",
         )
-    report.figure(figure("sensitivity", lambda: figures.sensitivity_bars(result)),
-                  caption="Parameter influence (critical parameters coloured).")
-    report.figure(figure("q_id_cases", lambda: figures.heat_cases(result)),
-                  caption="Building-wide identified heat for the three parameter sets.")
-    report.figure(figure("metamodel_parity", lambda: figures.parity(result)),
-                  caption="Meta-model parity (out-of-fold predictions).")
+    report.figure(
+        figure("sensitivity", lambda: figures.sensitivity_bars(result)),
+        caption="Parameter influence (critical parameters coloured).",
+    )
+    report.figure(
+        figure("q_id_cases", lambda: figures.heat_cases(result)),
+        caption="Building-wide identified heat for the three parameter sets.",
+    )
+    report.figure(
+        figure("metamodel_parity", lambda: figures.parity(result)),
+        caption="Meta-model parity (out-of-fold predictions).",
+    )
     if result.morris is not None:
         report.table(
             result.morris.head(15).reset_index(),
@@ -110,6 +121,11 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
         report.table(top, caption="Sobol indices on the meta-model (95 % confidence)")
     report.references([REFERENCE])
     return report
+
+
+def _kw(value: float) -> str:
+    """A standard deviation in kW, or "not simulated" for a run a re-analysis did not make."""
+    return "not simulated" if not np.isfinite(value) else f"{value / 1000:.3f} kW"
 
 
 def write_report(result, path, *, pngs: dict | None = None) -> Path:

@@ -14,6 +14,14 @@ Tables
 worker TEXT, finished_at TEXT)``
     ``parameters`` and ``outputs`` are JSON objects (name -> value); ``error`` is NULL for a
     successful sample; ``runtime_s`` is the evaluation wall time [s].
+``runs(key TEXT PRIMARY KEY, parameters TEXT, outputs TEXT, heat TEXT)``
+    The model runs of the analysis besides the samples (nominal, confirmations, posterior
+    median, refinement steps), keyed by their parameter values, with the building-wide
+    identified heat per step (``{"start", "step_s", "values"}``): a re-analysis finds them here
+    instead of simulating again.
+``campaign`` keys ``info:<name>``
+    What the analysis needs besides the samples (the chosen unoccupied hours, the zone groups,
+    the weather on the simulation grid), JSON.
 """
 
 from __future__ import annotations
@@ -294,6 +302,10 @@ class CampaignStore:
                 "parameters TEXT NOT NULL, outputs TEXT NOT NULL, runtime_s REAL, error TEXT, "
                 "worker TEXT, finished_at TEXT)"
             )
+            con.execute(
+                "CREATE TABLE IF NOT EXISTS runs (key TEXT PRIMARY KEY, parameters TEXT NOT NULL, "
+                "outputs TEXT NOT NULL, heat TEXT)"
+            )
             rows = dict(con.execute("SELECT key, value FROM campaign").fetchall())
         except sqlite3.DatabaseError as exc:
             raise ThermocalInputError(
@@ -406,6 +418,118 @@ class CampaignStore:
         """A value of the ``campaign`` table (``"campaign_text"``, ``"definition"``...)."""
         row = self._con.execute("SELECT value FROM campaign WHERE key = ?", (key,)).fetchone()
         return None if row is None else row[0]
+
+    @classmethod
+    def existing(cls, path: Path | str) -> CampaignStore:
+        """Open the store of a finished (or interrupted) campaign as it is, for a re-analysis.
+
+        Raises
+        ------
+        ThermocalInputError
+            No such file, not a campaign store, or in use by a running campaign.
+        """
+        path = Path(path)
+        if not path.is_file():
+            raise ThermocalInputError(
+                f"store {path} does not exist: a re-analysis needs the store of a campaign run "
+                "before (thermocal calibrate writes OUT/campaign.sqlite, or the campaign file's "
+                "'store')"
+            )
+        try:
+            con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+            try:
+                row = con.execute("SELECT value FROM campaign WHERE key = 'fingerprint'").fetchone()
+            finally:
+                con.close()
+        except sqlite3.DatabaseError:
+            row = None
+        if row is None:
+            raise ThermocalInputError(
+                f"store {path} is not a thermocal campaign store (no campaign fingerprint); "
+                "give the store written by thermocal calibrate"
+            )
+        return cls.open(path, row[0], resume=True)
+
+    def definition(self) -> dict:
+        """The campaign definition the store was written with (JSON)."""
+        text = self.meta("definition")
+        return json.loads(text) if text else {}
+
+    def set_info(self, name: str, value: Any) -> None:
+        """Store a JSON value under ``info:<name>`` (replacing an older one)."""
+        with self._con:
+            self._con.execute(
+                "INSERT OR REPLACE INTO campaign (key, value) VALUES (?, ?)",
+                (f"info:{name}", _canonical(value)),
+            )
+
+    def info(self, name: str) -> Any:
+        """The JSON value stored under ``info:<name>``, None when absent."""
+        text = self.meta(f"info:{name}")
+        return None if text is None else json.loads(text)
+
+    def record_run(
+        self,
+        parameters: Mapping[str, float],
+        outputs: Mapping[str, float],
+        heat: pd.Series | None = None,
+        tag: str = "",
+    ) -> None:
+        """Store one analysis run (see the ``runs`` table) and commit at once.
+
+        Parameters
+        ----------
+        parameters : mapping
+            The parameters that differ from the nominal model [unit of each].
+        outputs : mapping
+            Its outputs (as a sample's) [unit of each].
+        heat : Series, optional
+            Building-wide identified heat on a regular time index [W].
+        tag : str
+            The problem it ran ("" the campaign's, ``"validation"`` the validation period).
+        """
+        stored = None
+        if heat is not None:
+            step = (heat.index[1] - heat.index[0]).total_seconds() if len(heat) > 1 else 0.0
+            stored = json.dumps(
+                {
+                    "start": heat.index[0].isoformat(),
+                    "step_s": step,
+                    "name": heat.name,
+                    "values": [_num(v) for v in heat.to_numpy()],
+                }
+            )
+        with self._con:
+            self._con.execute(
+                "INSERT OR REPLACE INTO runs (key, parameters, outputs, heat) VALUES (?, ?, ?, ?)",
+                (
+                    run_key(parameters, tag),
+                    json.dumps({k: _num(v) for k, v in parameters.items()}),
+                    json.dumps({k: _num(v) for k, v in outputs.items()}),
+                    stored,
+                ),
+            )
+
+    def find_run(
+        self, parameters: Mapping[str, float], tag: str = ""
+    ) -> tuple[dict, pd.Series | None] | None:
+        """Outputs and heat of a stored analysis run with these parameters, or None."""
+        row = self._con.execute(
+            "SELECT outputs, heat FROM runs WHERE key = ?", (run_key(parameters, tag),)
+        ).fetchone()
+        if row is None:
+            return None
+        outputs = {k: _float(v) for k, v in json.loads(row[0]).items()}
+        heat = None
+        if row[1]:
+            data = json.loads(row[1])
+            index = pd.date_range(
+                pd.Timestamp(data["start"]),
+                periods=len(data["values"]),
+                freq=pd.Timedelta(seconds=data["step_s"] or 1.0),
+            )
+            heat = pd.Series([_float(v) for v in data["values"]], index=index, name=data["name"])
+        return outputs, heat
 
     def count(self, *, failed: bool | None = None) -> int:
         """Number of finished samples (``failed=True``/``False`` to count only those) [-]."""
@@ -539,6 +663,13 @@ class CampaignStore:
         if suffix == ".csv":
             return atomic_write(path, lambda p: frame.to_csv(p))
         raise ThermocalInputError(f"export file {path} must end in .parquet or .csv")
+
+
+def run_key(parameters: Mapping[str, float], tag: str = "") -> str:
+    """Key of an analysis run: its parameters to 12 significant digits, sorted by name, and a
+    tag naming the problem it ran (e.g. ``"validation"``)."""
+    items = sorted((str(k), float(f"{float(v):.12g}")) for k, v in parameters.items())
+    return hashlib.sha256(_canonical([tag, items]).encode()).hexdigest()
 
 
 def _num(value: Any) -> float | None:

@@ -139,8 +139,11 @@ class _Surrogate:
         t = self._target(ya)
         self.estimator_ = self._fit_estimator(Xa, t)
         if self.cv_folds and self.cv_folds >= 2:
-            folds = KFold(n_splits=min(int(self.cv_folds), Xa.shape[0]), shuffle=True,
-                          random_state=int(self.seed))
+            folds = KFold(
+                n_splits=min(int(self.cv_folds), Xa.shape[0]),
+                shuffle=True,
+                random_state=int(self.seed),
+            )
             oof = cross_val_predict(clone(self.estimator_), Xa, t, cv=folds)
             self.oof_prediction_ = np.exp(oof) if self.log_target else oof
             scores = regression_scores(ya, self.oof_prediction_)
@@ -260,14 +263,19 @@ class SVRSurrogate(_Surrogate):
             "regressor__svr__epsilon": list(self.epsilon or (0.02, 0.1)),
             "regressor__svr__gamma": list(self.gamma or [g / d for g in (0.1, 0.3, 1.0, 3.0)]),
         }
-        folds = KFold(n_splits=max(2, min(int(self.cv_folds or 5), Xa.shape[0])), shuffle=True,
-                      random_state=int(self.seed))
-        search = GridSearchCV(self._estimator(d), grid, cv=folds, scoring="r2",
-                              n_jobs=self.n_jobs, refit=True)
+        folds = KFold(
+            n_splits=max(2, min(int(self.cv_folds or 5), Xa.shape[0])),
+            shuffle=True,
+            random_state=int(self.seed),
+        )
+        search = GridSearchCV(
+            self._estimator(d), grid, cv=folds, scoring="r2", n_jobs=self.n_jobs, refit=True
+        )
         search.fit(Xa, t)
         self.search_ = search
-        self.best_params_ = {k.rsplit("__", 1)[-1]: float(v)
-                             for k, v in search.best_params_.items()}
+        self.best_params_ = {
+            k.rsplit("__", 1)[-1]: float(v) for k, v in search.best_params_.items()
+        }
         return search.best_estimator_
 
     def hyperparameters_(self) -> dict[str, Any]:
@@ -334,9 +342,12 @@ class GPSurrogate(_Surrogate):
         kernel = ConstantKernel(1.0, (1e-3, 1e3)) * Matern(
             length_scale=np.ones(n_features), length_scale_bounds=(1e-2, 1e3), nu=2.5
         ) + WhiteKernel(1e-3, (1e-8, 1.0))
-        gp = GaussianProcessRegressor(kernel=kernel, normalize_y=True,
-                                      n_restarts_optimizer=int(self.n_restarts),
-                                      random_state=int(self.seed))
+        gp = GaussianProcessRegressor(
+            kernel=kernel,
+            normalize_y=True,
+            n_restarts_optimizer=int(self.n_restarts),
+            random_state=int(self.seed),
+        )
         return Pipeline([("scale", StandardScaler()), ("gp", gp)])
 
     def _fit_estimator(self, Xa: np.ndarray, t: np.ndarray) -> Any:
@@ -400,18 +411,47 @@ class SeriesSurrogate(_Surrogate):
         Ridge penalties tried (efficient leave-one-out; default 1e-4 ... 1e3).
     cv_folds : int
     seed : int
+    segments : sequence of (start, stop), optional
+        Column ranges of several series side by side (e.g. one per zone group, see
+        :mod:`thermocal.calibration.spatial`); the metric is then the sum of their variances.
+        Default: one series.
     """
 
     kind = "series"
     log_target = False
 
-    def __init__(self, *, series: Any, nominal: Any, alphas: Any = None, cv_folds: int = 5,
-                 seed: int = 0) -> None:
+    def __init__(
+        self,
+        *,
+        series: Any,
+        nominal: Any,
+        alphas: Any = None,
+        cv_folds: int = 5,
+        seed: int = 0,
+        segments: Any = None,
+    ) -> None:
         self.series = np.asarray(series, dtype=float)
         self.nominal = dict(nominal)
         self.alphas = alphas
         self.cv_folds = cv_folds
         self.seed = seed
+        self.segments = (
+            [(0, self.series.shape[-1])]
+            if segments is None
+            else [(int(a), int(b)) for a, b in segments]
+        )
+
+    def series_variance(self, series: np.ndarray) -> np.ndarray:
+        """The sum over the segments of the variance of each row's series [W^2]."""
+        series = np.atleast_2d(series)
+        return sum(series[:, a:b].var(axis=1) for a, b in self.segments)
+
+    def centred(self, values: np.ndarray) -> np.ndarray:
+        """``values`` (rows: series over the last axis) minus each segment's mean."""
+        out = np.array(values, dtype=float, copy=True)
+        for a, b in self.segments:
+            out[..., a:b] -= out[..., a:b].mean(axis=-1, keepdims=True)
+        return out
 
     def _log_parameters(self, Xa: np.ndarray) -> np.ndarray:
         reference = np.array([self.nominal[n] for n in self.feature_names_in_], dtype=float)
@@ -440,16 +480,20 @@ class SeriesSurrogate(_Surrogate):
         self.feature_names_in_ = np.array(names, dtype=object)
         self.n_features_in_ = Xa.shape[1]
         Z = self._log_parameters(Xa)
-        within = ya - self.series.var(axis=1)
+        within = ya - self.series_variance(self.series)
         self.estimator_ = self._ridge().fit(Z, self.series)
+        self.log_parameters_ = Z  # the design, for the significance of each fitted effect
         self.within_hour_ = float(within.mean())
         if self.cv_folds and self.cv_folds >= 2:
-            folds = KFold(n_splits=min(int(self.cv_folds), Xa.shape[0]), shuffle=True,
-                          random_state=int(self.seed))
+            folds = KFold(
+                n_splits=min(int(self.cv_folds), Xa.shape[0]),
+                shuffle=True,
+                random_state=int(self.seed),
+            )
             oof = np.empty_like(ya)
             for train, test in folds.split(Z):
                 model = self._ridge().fit(Z[train], self.series[train])
-                oof[test] = model.predict(Z[test]).var(axis=1) + within[train].mean()
+                oof[test] = self.series_variance(model.predict(Z[test])) + within[train].mean()
             self.oof_prediction_ = oof
             scores = regression_scores(ya, oof)
             self.cv_r2_, self.cv_rmse_ = scores["r2"], scores["rmse"]
@@ -463,11 +507,63 @@ class SeriesSurrogate(_Surrogate):
         if return_std:
             raise ThermocalInputError("the series meta-model gives no predictive std")
         Z = self._log_parameters(self._as_array(X))
-        return self.estimator_.predict(Z).var(axis=1) + self.within_hour_
+        return self.series_variance(self.estimator_.predict(Z)) + self.within_hour_
+
+    #: largest number of parameters whose box maximum is found by visiting every vertex
+    MAX_VERTEX_PARAMETERS = 12
+
+    def box_optimum(self, sense: str, lower: Any, upper: Any) -> tuple[np.ndarray, float] | None:
+        """The exact minimum or maximum of the predicted metric over a box of parameters.
+
+        The prediction is a convex quadratic in ``z = log(p / p_nominal)`` (the variance of an
+        affine series): its minimum over the box is a bounded linear least-squares problem
+        (``scipy.optimize.lsq_linear``, bounded-variable least squares: the global minimum),
+        and its maximum lies at a vertex of the box (all are visited up to
+        :data:`MAX_VERTEX_PARAMETERS` parameters; beyond, None).
+
+        Parameters
+        ----------
+        sense : {"min", "max"}
+        lower, upper : array-like
+            Bounds of the fitted parameters, in their order [unit of each parameter].
+
+        Returns
+        -------
+        (ndarray, float) or None
+            The optimal parameters [unit of each] and the predicted metric there.
+        """
+        from scipy.optimize import lsq_linear
+
+        reference = np.array([self.nominal[n] for n in self.feature_names_in_], dtype=float)
+        zl = np.log(np.asarray(lower, dtype=float) / reference)
+        zu = np.log(np.asarray(upper, dtype=float) / reference)
+        if sense == "min":
+            coef = np.atleast_2d(np.asarray(self.estimator_.coef_, dtype=float))
+            intercept = np.asarray(self.estimator_.intercept_, dtype=float).ravel()
+            weights = np.empty(intercept.size)
+            for a, b in self.segments:
+                weights[a:b] = 1.0 / np.sqrt(b - a)
+            A = self.centred(coef.T).T * weights[:, None]
+            r0 = self.centred(intercept) * weights
+            fit = lsq_linear(A, -r0, bounds=(zl, np.maximum(zu, zl + 1e-12)), method="bvls")
+            x = reference * np.exp(fit.x)
+        else:
+            d = zl.size
+            if d > self.MAX_VERTEX_PARAMETERS:
+                return None
+            corners = (np.arange(2**d)[:, None] >> np.arange(d)[None, :]) & 1
+            Z = np.where(corners == 1, zu, zl)
+            values = self.series_variance(self.estimator_.predict(Z)) + self.within_hour_
+            x = reference * np.exp(Z[int(np.argmax(values))])
+        value = float(self.predict(x[None, :])[0])
+        return x, value
 
     def hyperparameters_(self) -> dict[str, Any]:
-        return {"alpha": float(self.estimator_.alpha_), "within_hour_W2": self.within_hour_,
-                "hours": int(self.series.shape[1])}
+        return {
+            "alpha": float(self.estimator_.alpha_),
+            "within_hour_W2": self.within_hour_,
+            "hours": int(self.series.shape[1]),
+        }
 
 
 def make_surrogate(kind: Literal["svr", "gp"] = "svr", **options: Any) -> _Surrogate:

@@ -187,8 +187,10 @@ def choose_quiet_hours(campaign, heat: pd.Series, log=print) -> tuple[OccupancyS
         "paper_schedule_quiet": check.quiet,
     }
     if declared == "data" or not check.quiet:
-        log(f"occupancy: the published schedule is not quiet here ({check.describe()}); the "
-            f"metric uses the quiet hours found in the identified heat: {quiet.describe()}")
+        log(
+            f"occupancy: the published schedule is not quiet here ({check.describe()}); the "
+            f"metric uses the quiet hours found in the identified heat: {quiet.describe()}"
+        )
         return quiet.schedule, {"source": "data", **info}
     return schedule, {"source": "paper", **info}
 
@@ -247,6 +249,8 @@ class CalibrationResult:
     campaign_path: str = ""
     posterior: Any = None
     occupancy: dict = field(default_factory=dict)
+    metric: str = "building"
+    runs: dict = field(default_factory=dict)
 
     def table1(self) -> pd.DataFrame:
         """The paper's Table 1: nominal, min-variance and max-variance critical values."""
@@ -261,8 +265,10 @@ class CalibrationResult:
         }
         out = {
             "campaign": self.campaign_path,
-            "metric": METRIC,
+            "metric": self.metric,
+            "metric_description": METRIC_NAMES[self.metric],
             "metric_unit": "W^2",
+            "model_runs": self.runs,
             "samples": {
                 "total": int(self.summary.total),
                 "successful": int(self.store_frame["error"].isna().sum()),
@@ -315,8 +321,7 @@ class CalibrationResult:
         for name in self.space.names:
             if name in values and not np.isclose(values[name], nominal[name], rtol=1e-9):
                 lines.append(
-                    f"#   {name}: {nominal[name]:.6g} -> {values[name]:.6g} "
-                    f"{parameter_unit(name)}"
+                    f"#   {name}: {nominal[name]:.6g} -> {values[name]:.6g} {parameter_unit(name)}"
                 )
         body = yaml.safe_dump(
             building_to_dict(self.calibrated_building), sort_keys=False, allow_unicode=True
@@ -447,69 +452,50 @@ def calibrate(
     -------
     CalibrationResult
     """
-    from thermocal.calibration.optimise import optimise_reduced
     from thermocal.calibration.runner import run_campaign
     from thermocal.calibration.sampling import sample
-    from thermocal.calibration.sensitivity import influence_ranking, top_k
-    from thermocal.calibration.space import ParameterSpace
+    from thermocal.calibration.spatial import campaign_evaluator
     from thermocal.calibration.store import CampaignStore, campaign_definition
 
     timings: dict[str, float] = {}
     notes: list[str] = []
+    n = int(samples if samples is not None else campaign.sampling.samples)
+    path = Path(store_path or campaign.store or "campaign.sqlite")
+    refuse_filled_store(path, resume, n)
     t0 = time.perf_counter()
     inputs = load_inputs(campaign)
     check_period_length(inputs.start, inputs.end, inputs.weather.index)
     problem, _ = build_problem(campaign, inputs)
     later = validation_problem(campaign, inputs)
-    # the series meta-model needs each sample's unoccupied heat series
     # every sample stores its unoccupied heat series, whatever the meta-model: the series
     # model and the posterior need it, and a campaign re-analysed with another meta-model kind
     # re-uses its simulations (the kind is an analysis setting, not part of the store)
     problem.series_outputs = True
+    evaluator = campaign_evaluator(problem, inputs.building)
     timings["setup"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     nominal_run = problem.run({})
     problem.schedule, occupancy = choose_quiet_hours(campaign, nominal_run.heat.sum(axis=1), log)
     if later is not None:  # the validation period's metric uses the same hours
         later.schedule = problem.schedule
-    if occupancy["source"] == "data":
-        notes.append(
-            "Unoccupied hours from the data: " + occupancy.get("paper_schedule_check", "")
-            + "; the metric uses the quiet hours of the nominal identified heat ("
-            + occupancy["quiet_hours"] + ")."
-        )
-    nominal = problem.metrics(nominal_run.heat)
+    nominal_outputs = evaluator.outputs(nominal_run.heat)
     timings["nominal_run"] = time.perf_counter() - t0
     log(
-        f"nominal model: unoccupied std of building Q_ID {nominal['unoccupied_std'] / 1000:.3f} "
-        f"kW ({timings['nominal_run']:.1f} s per identification)"
+        f"nominal model: unoccupied std of building Q_ID "
+        f"{nominal_outputs['unoccupied_std'] / 1000:.3f} kW ({timings['nominal_run']:.1f} s per "
+        "identification)"
     )
-    p = campaign.parameters
-    space = ParameterSpace.from_parameters(
-        candidate_parameters(inputs.building, p.level),
-        include=p.include,
-        exclude=p.exclude,
-        default_range=p.default_range,
-        ranges=p.ranges,
-    )
-    n = int(samples if samples is not None else campaign.sampling.samples)
+    space = campaign_space(campaign, inputs.building)
     if n < 1:
         raise ThermocalInputError(f"--samples must be >= 1, got {n}")
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
-    clipped = sample_set.clip_counts[sample_set.clip_counts["total"] > 0]
-    if len(clipped):
-        notes.append(
-            f"{len(clipped)} parameter(s) had samples clipped to their physical limits: "
-            + ", ".join(f"{name} ({int(row['total'])})" for name, row in clipped.iterrows())
-        )
     definition = campaign_definition(
         space,
         method=campaign.sampling.method,
         seed=campaign.sampling.seed,
         samples=n,
-        problem=problem_settings(campaign, problem),
+        problem=problem_settings(campaign, problem, evaluator),
     )
-    path = Path(store_path or campaign.store or "campaign.sqlite")
     log(f"campaign: {n} samples of {space.dimension} parameters -> {path}")
     t0 = time.perf_counter()
     with (
@@ -522,6 +508,24 @@ def calibrate(
             expected=sample_set.values,
         ) as store,
     ):
+        store.record_run({}, nominal_outputs, nominal_run.heat.sum(axis=1))
+        grid = problem.simulation().weather_on_grid
+        store.set_info(
+            "analysis",
+            {
+                "occupancy": {**occupancy, "schedule": problem.schedule.as_dict()},
+                "groups": evaluator.groups,
+                "group_labels": evaluator.labels,
+                "weather": {
+                    "start": grid.index[0].isoformat(),
+                    "step_s": (grid.index[1] - grid.index[0]).total_seconds(),
+                    "temp_air": grid["temp_air"].to_numpy().tolist(),
+                    "ghi": (grid["ghi"] if "ghi" in grid else grid["dni"] + grid["dhi"])
+                    .to_numpy()
+                    .tolist(),
+                },
+            },
+        )
         pending = len(store.pending(sample_set.values.index))
         check_campaign_time(
             pending,
@@ -533,7 +537,7 @@ def calibrate(
         )
         interactive = progress and sys.stderr.isatty()
         summary = run_campaign(
-            problem,
+            evaluator,
             sample_set.values,
             store,
             workers=workers,
@@ -543,14 +547,253 @@ def calibrate(
             if interactive or not progress
             else ProgressLines(pending, n - pending, log),
         )
-        frame = store.to_frame()
-        X = store.parameters()[list(space.names)]
-        outputs = store.outputs()
-        y = outputs[METRIC].to_numpy(dtype=float)
-        series_columns = [c for c in outputs.columns if c.startswith("series/")]
-        series = outputs[series_columns].to_numpy(dtype=float) if series_columns else None
-    frame = frame.drop(columns=[c for c in frame.columns if c.startswith("out:series/")])
-    timings["campaign"] = time.perf_counter() - t0
+        timings["campaign"] = time.perf_counter() - t0
+        log(
+            f"campaign done: {summary.evaluated} evaluated, {summary.failed} failed, "
+            f"{summary.backend}"
+        )
+
+        def morris():
+            bar = progress and sys.stderr.isatty()  # a bar only where it is seen
+            return _morris(campaign, problem, space, path, workers, scheduler, bar, log)
+
+        return analyse(
+            campaign,
+            inputs,
+            space,
+            sample_set,
+            summary,
+            store,
+            RunCache(store, evaluator, later),
+            timings=timings,
+            notes=notes,
+            log=log,
+            morris=morris,
+        )
+
+
+def refuse_filled_store(path: Path, resume: bool, samples: int) -> None:
+    """Refuse at once (before the set-up, which takes a while on a large building) a store that
+    already holds samples when ``--resume`` is not given; the full check of the campaign's
+    definition happens when the store is opened."""
+    if resume or not path.is_file():
+        return
+    try:
+        con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+        try:
+            done = con.execute("SELECT COUNT(*) FROM results").fetchone()[0]
+            row = con.execute("SELECT value FROM campaign WHERE key = 'definition'").fetchone()
+        finally:
+            con.close()
+        stored = int(json.loads(row[0])["sampler"]["samples"])
+    except (sqlite3.Error, TypeError, KeyError, ValueError):
+        return  # not a readable campaign store: opening it says why
+    if not done:
+        return
+    remedy = "use another --out (or store), or delete the file to start afresh"
+    if stored != samples:
+        raise ThermocalInputError(
+            f"store {path} already holds {done} finished sample(s) of a campaign of {stored} "
+            f"samples; pass --resume to extend it to {samples} (the same sampling sequence; "
+            f"a store of another campaign is then refused, naming what differs), or {remedy}"
+        )
+    raise ThermocalInputError(
+        f"store {path} already holds {done} finished sample(s); pass --resume to continue "
+        f"the campaign (a store of another campaign is then refused, naming what differs), or "
+        f"{remedy}"
+    )
+
+
+def campaign_space(campaign, building):
+    """The campaign's parameter space on ``building`` (its ``parameters`` section)."""
+    from thermocal.calibration.space import ParameterSpace
+
+    p = campaign.parameters
+    return ParameterSpace.from_parameters(
+        candidate_parameters(building, p.level),
+        include=p.include,
+        exclude=p.exclude,
+        default_range=p.default_range,
+        ranges=p.ranges,
+    )
+
+
+@dataclass
+class RunCache:
+    """The analysis' model runs (nominal, confirmations, refinement), kept in the store.
+
+    A run found in the store (same parameters, same problem) is read, not simulated; with no
+    evaluator (a re-analysis) a run that is not stored is not simulated and :meth:`get` returns
+    None.
+
+    Attributes
+    ----------
+    store : CampaignStore
+    evaluator : CampaignEvaluator or None
+    validation : IdentificationProblem or None
+        The validation period's problem.
+    simulated : int
+        Runs simulated by this cache [-].
+    """
+
+    store: Any
+    evaluator: Any = None
+    validation: Any = None
+    simulated: int = 0
+    reused: int = 0
+
+    def get(self, parameters, *, tag: str = "", heat: bool = True):
+        """Outputs [unit of each] and building-wide heat [W] of a run, or None (not stored
+        and nothing may be simulated)."""
+        parameters = dict(parameters)
+        found = self.store.find_run(parameters, tag)
+        if found is not None:
+            self.reused += 1
+            return found
+        if self.evaluator is None:
+            return None
+        if tag == "validation":
+            run = self.validation.run(parameters)
+            outputs = self.validation.metrics(run.heat)
+        else:
+            run = self.evaluator.problem.run(parameters)
+            outputs = self.evaluator.outputs(run.heat)
+        total = run.heat.sum(axis=1)
+        self.simulated += 1
+        self.store.record_run(parameters, outputs, total if heat else None, tag)
+        return outputs, total
+
+
+#: what each metric of the campaign file's ``metric`` key is, for calibration.json and the report
+METRIC_NAMES = {
+    "building": "unoccupied variance of the building-wide identified heat",
+    "groups": "sum over the zone groups of the unoccupied variance of their hourly identified heat",
+}
+
+
+def metric_data(outputs: pd.DataFrame, metric: str):
+    """The chosen metric of every sample, and the series of its series meta-model.
+
+    Parameters
+    ----------
+    outputs : DataFrame
+        The samples' stored outputs (:meth:`CampaignStore.outputs`).
+    metric : {"building", "groups"}
+
+    Returns
+    -------
+    y : ndarray [W^2]
+    series : ndarray (samples, columns) [W] or None
+    segments : list of (start, stop) or None
+        Column range of each series (one per zone group; None: one series).
+    """
+    from thermocal.calibration.spatial import group_metric, group_segments
+
+    if metric == "building":
+        columns = sorted(c for c in outputs.columns if c.startswith("series/"))
+        series = outputs[columns].to_numpy(dtype=float) if columns else None
+        return outputs[METRIC].to_numpy(dtype=float), series, None
+    columns, segments = group_segments(list(outputs.columns))
+    if not columns:
+        raise ThermocalInputError(
+            "metric: groups needs the zone-group heat series of every sample, which this "
+            "campaign's store does not hold (written before they were stored); use metric: "
+            "building, or run the campaign again into a new store"
+        )
+    series = outputs[columns].to_numpy(dtype=float)
+    return group_metric(series, segments), series, segments
+
+
+def metric_value(outputs: dict, metric: str) -> float:
+    """The chosen metric of one run's outputs [W^2]."""
+    from thermocal.calibration.spatial import group_metric, group_segments
+
+    if metric == "building":
+        return float(outputs[METRIC])
+    columns, segments = group_segments(list(outputs))
+    return group_metric(np.array([outputs[c] for c in columns], dtype=float), segments)
+
+
+def analyse(
+    campaign,
+    inputs,
+    space,
+    sample_set,
+    summary,
+    store,
+    runs,
+    *,
+    timings,
+    notes,
+    log=print,
+    morris=None,
+) -> CalibrationResult:
+    """Meta-model, ranking, optimisation, posterior and calibrated model of a stored campaign.
+
+    Everything after the campaign's simulations: the samples come from ``store``; model runs
+    (confirmations, posterior median, refinement, validation) go through ``runs`` (found in the
+    store when they were run before with the same parameters; simulated only when ``runs`` has
+    an evaluator).
+
+    Parameters
+    ----------
+    campaign : CampaignFile
+        Its analysis sections (``metric``, ``metamodel``, ``optimisation``) are used.
+    inputs : CampaignInputs
+        The building (and the demo's truth).
+    space : ParameterSpace
+    sample_set : SampleSet
+    summary : CampaignSummary
+    store : CampaignStore
+    runs : RunCache
+    timings, notes : dict, list
+        Filled in.
+    log : callable
+    morris : callable, optional
+        Returns the Morris screening (None: none).
+
+    Returns
+    -------
+    CalibrationResult
+    """
+    from thermocal.calibration.optimise import optimise_reduced
+    from thermocal.calibration.sensitivity import influence_ranking, top_k
+
+    metric = campaign.metric
+    clipped = sample_set.clip_counts[sample_set.clip_counts["total"] > 0]
+    if len(clipped):
+        notes.append(
+            f"{len(clipped)} parameter(s) had samples clipped to their physical limits: "
+            + ", ".join(f"{name} ({int(row['total'])})" for name, row in clipped.iterrows())
+        )
+    info = store.info("analysis") or {}
+    occupancy = info.get("occupancy", {})
+    if occupancy.get("source") == "data":
+        notes.append(
+            "Unoccupied hours from the data: "
+            + occupancy.get("paper_schedule_check", "")
+            + "; the metric uses the quiet hours of the nominal identified heat ("
+            + occupancy["quiet_hours"]
+            + ")."
+        )
+    nominal_found = runs.get({})
+    if nominal_found is None:
+        raise ThermocalInputError(
+            f"store {store.path}: the nominal model's run is not stored (a store written before "
+            "thermocal could re-analyse campaigns, without the zone-group series either); run "
+            "the campaign again into a new store (another --out) to re-analyse it"
+        )
+    nominal_outputs, nominal_heat = nominal_found
+    nominal_metric = metric_value(nominal_outputs, metric)
+    t0 = time.perf_counter()
+    frame = store.to_frame()
+    X = store.parameters()[list(space.names)]
+    outputs = store.outputs()
+    y, series, segments = metric_data(outputs, metric)
+    frame = frame.drop(
+        columns=[c for c in frame.columns if c.startswith(("out:series/", "out:group/"))]
+    )
+    timings["read_store"] = time.perf_counter() - t0
     failed = int(frame["error"].notna().sum())
     if failed:
         notes.append(f"{failed} sample(s) failed (errors in the store); they are left out")
@@ -558,7 +801,8 @@ def calibrate(
         raise ThermocalInputError(
             f"only {len(y)} successful samples: too few for a meta-model; use more --samples"
         )
-    log(f"campaign done: {summary.evaluated} evaluated, {failed} failed, {summary.backend}")
+    if metric != "building":
+        notes.append(f"Metric: the {METRIC_NAMES[metric]} ({len(segments)} groups).")
     t0 = time.perf_counter()
     m = campaign.metamodel
     surrogate, kind, scores = choose_surrogate(
@@ -570,6 +814,7 @@ def calibrate(
         seed=campaign.sampling.seed,
         series=series,
         nominal=space.nominal_dict(),
+        segments=segments,
     )
     if m.kind == "auto":
         notes.append(
@@ -586,49 +831,75 @@ def calibrate(
         y,
         space,
         critical,
-        surrogate=surrogate_for(kind, m, series, space, campaign.sampling.seed),
+        surrogate=reduced_surrogate(kind, m, series, space, campaign.sampling.seed, segments),
         starts=campaign.optimisation.starts,
         seed=campaign.optimisation.seed,
-        surrogate_options=None
-        if kind == "series"
-        else {"cv_folds": m.cv_folds, "log_target": m.log_target},
+        surrogate_options=reduced_options(kind, m),
     )
     timings["metamodel_sensitivity_optimisation"] = time.perf_counter() - t0
-    morris = None
-    if campaign.morris is not None:
+    screening = None
+    if campaign.morris is not None and morris is not None:
         t0 = time.perf_counter()
-        bar = progress and sys.stderr.isatty()  # a bar only where it is seen
-        morris = _morris(campaign, problem, space, path, workers, scheduler, bar, log)
+        screening = morris()
         timings["morris"] = time.perf_counter() - t0
     log(f"meta-model cross-validated R2 {surrogate.cv_r2_:.3f}; critical: {', '.join(critical)}")
     t0 = time.perf_counter()
-    confirmed, heat = {}, {"nominal": nominal_run.heat.sum(axis=1)}
+    confirmed, heat = {}, {"nominal": nominal_heat}
+    unconfirmed = []
     for sense, optimum in (("min", optimisation.minimum), ("max", optimisation.maximum)):
-        run = problem.run(optimisation.parameters(sense))
-        log(f"confirmation of the {sense}imum with the full model: done")
-        metrics = problem.metrics(run.heat)
-        heat[sense] = run.heat.sum(axis=1)
+        found = runs.get(optimisation.parameters(sense))
+        if found is None:
+            unconfirmed.append(sense)
+            confirmed[sense] = {
+                "predicted": float(optimum.value),
+                "confirmed": float("nan"),
+                "confirmed_std_W": float("nan"),
+                "ratio_to_nominal": None,
+                "simulated": False,
+            }
+            continue
+        run_outputs, heat[sense] = found
+        value = metric_value(run_outputs, metric)
         confirmed[sense] = {
             "predicted": float(optimum.value),
-            "confirmed": metrics[METRIC],
-            "confirmed_std_W": metrics["unoccupied_std"],
-            "ratio_to_nominal": metrics[METRIC] / nominal[METRIC],
+            "confirmed": value,
+            "confirmed_std_W": float(np.sqrt(value)),
+            "ratio_to_nominal": value / nominal_metric,
+            "building_std_W": run_outputs["unoccupied_std"],
         }
+    log(
+        "confirmation of the minimum and maximum with the full model: "
+        + (
+            "done"
+            if not unconfirmed
+            else f"not simulated in a re-analysis ({', '.join(unconfirmed)})"
+        )
+    )
+    if unconfirmed:
+        notes.append(
+            "Re-analysis without simulation: the meta-model's "
+            + " and ".join(f"{s}imum" for s in unconfirmed)
+            + " of this analysis differ from the runs in the store and are not confirmed with "
+            "the full model (their values are the meta-model's); the calibrated model is the "
+            "best confirmed one. Run thermocal calibrate with --resume to confirm them."
+        )
     confirmed["nominal"] = {
-        "confirmed": nominal[METRIC],
-        "confirmed_std_W": nominal["unoccupied_std"],
+        "confirmed": nominal_metric,
+        "confirmed_std_W": float(np.sqrt(nominal_metric)),
+        "building_std_W": nominal_outputs["unoccupied_std"],
     }
     timings["confirmation"] = time.perf_counter() - t0
     validation = None
     if campaign.validation is not None:
         t0 = time.perf_counter()
-        validation = _validate(campaign, inputs, optimisation, later)
+        validation = _validate(campaign, inputs, optimisation, runs)
         timings["validation"] = time.perf_counter() - t0
-    posterior = None
+    posterior = series_model = None
     if series is not None:
         t0 = time.perf_counter()
-        posterior = _posterior_or_note(surrogate, kind, X, y, series, space, critical,
-                                       campaign, notes)
+        posterior, series_model = _posterior_or_note(
+            surrogate, kind, X, y, series, space, critical, campaign, notes, segments
+        )
         timings["posterior"] = time.perf_counter() - t0
         if posterior is not None:
             for line in posterior.sentences():
@@ -636,30 +907,78 @@ def calibrate(
     # the calibrated model: the best confirmed candidate among the reduced meta-model's minimum,
     # the joint posterior's median, the campaign's best sample (a meta-model fitted on few
     # samples can miss) and the trust-region refinement from the best of them
-    candidates = {
-        "meta-model minimum": (confirmed["min"]["confirmed"], optimisation.parameters("min"))
-    }
-    if nominal[METRIC] < candidates["meta-model minimum"][0]:
-        # never return a building worse than the one the user gave
-        candidates["nominal building (no change)"] = (nominal[METRIC], space.nominal_dict())
+    # with ``optimisation.calibrate: determined`` (the default) the calibrated model changes
+    # only the parameters the posterior says the data determine; the others stay nominal
+    determined = None
+    if posterior is not None and campaign.optimisation.calibrate == "determined":
+        determined = [n for n in space.names if n in posterior.determined]
+        if len(determined) < space.dimension:
+            notes.append(
+                f"Calibrated parameters: only the {len(determined)} the data determine"
+                + (f" ({', '.join(determined)})" if determined else "")
+                + "; the others stay nominal (optimisation.calibrate: all changes every one)."
+            )
+    movable = list(space.names) if determined is None else determined
+    candidates = {}
+    moves_only_movable = set(critical) <= set(movable)
+    if "min" not in unconfirmed and moves_only_movable:
+        candidates["meta-model minimum"] = (
+            confirmed["min"]["confirmed"],
+            optimisation.parameters("min"),
+        )
+    elif determined is not None and [c for c in critical if c in determined]:
+        # the reduced meta-model's minimum over the determined critical parameters only
+        restricted = optimise_reduced(
+            X,
+            y,
+            space,
+            [c for c in critical if c in determined],
+            surrogate=reduced_surrogate(kind, m, series, space, campaign.sampling.seed, segments),
+            starts=campaign.optimisation.starts,
+            seed=campaign.optimisation.seed,
+            surrogate_options=reduced_options(kind, m),
+        )
+        values = restricted.parameters("min")
+        found = runs.get(values, heat=False)
+        if found is not None:
+            value = metric_value(found[0], metric)
+            candidates["meta-model minimum of the determined parameters"] = (value, values)
+            confirmed["min_determined"] = {
+                "predicted": float(restricted.minimum.value),
+                "confirmed": value,
+            }
+    # never return a building worse than the one the user gave
+    candidates["nominal building (no change)"] = (nominal_metric, space.nominal_dict())
     if posterior is not None:
-        # the joint posterior's median (all varied parameters at once), confirmed with the model
-        median = {**space.nominal_dict(), **posterior.summary["median"].to_dict()}
-        candidates["posterior median"] = (problem.metrics(problem.run(median).heat)[METRIC],
-                                          median)
-        confirmed["posterior_median"] = {"confirmed": candidates["posterior median"][0]}
+        # the joint posterior's median (all varied parameters at once, or the determined
+        # ones), confirmed with the model
+        median = {
+            **space.nominal_dict(),
+            **{n: v for n, v in posterior.summary["median"].items() if n in movable},
+        }
+        found = runs.get(median, heat=False)
+        if found is not None:
+            candidates["posterior median"] = (metric_value(found[0], metric), median)
+            confirmed["posterior_median"] = {"confirmed": candidates["posterior median"][0]}
     best = int(np.argmin(y))
     if y[best] < min(c[0] for c in candidates.values()):
-        candidates[f"campaign sample {int(X.index[best])}"] = (
-            float(y[best]),
-            {**space.nominal_dict(), **X.iloc[best].to_dict()},
-        )
+        if determined is None:
+            candidates[f"campaign sample {int(X.index[best])}"] = (
+                float(y[best]),
+                {**space.nominal_dict(), **X.iloc[best].to_dict()},
+            )
+        else:
+            notes.append(
+                f"The best campaign sample ({int(X.index[best])}, "
+                f"{np.sqrt(y[best]) / 1000:.2f} kW) changes parameters the data do not "
+                "determine; it is not used as the calibrated model."
+            )
     refinement = []
     if campaign.optimisation.refine > 0:
         t1 = time.perf_counter()
         start_name = min(candidates, key=lambda k: candidates[k][0])
         refined, refinement = refine_minimum(
-            problem,
+            runs,
             space,
             X,
             y,
@@ -669,7 +988,16 @@ def calibrate(
             steps=campaign.optimisation.refine,
             seed=campaign.optimisation.seed,
             log=log,
+            metric=metric,
+            segments=segments,
+            movable=movable,
         )
+        if runs.evaluator is None and len(refinement) < campaign.optimisation.refine and movable:
+            notes.append(
+                f"Re-analysis without simulation: the trust-region refinement stopped after "
+                f"{len(refinement)} of {campaign.optimisation.refine} steps (the next candidate "
+                "is not in the store)."
+            )
         if refined[0] < candidates[start_name][0]:
             candidates[f"trust-region refinement ({len(refinement)} runs)"] = refined
         timings["refinement"] = time.perf_counter() - t1
@@ -694,6 +1022,12 @@ def calibrate(
         "confirmed": float(calibrated_metric),
         "confirmed_std_W": float(np.sqrt(calibrated_metric)),
     }
+    flags = calibration_flags(
+        space, calibrated_values, calibrated_metric, posterior, series_model, inputs.truth
+    )
+    notes.extend(flag["text"] for flag in flags)
+    confirmed["flags"] = flags
+    confirmed["calibrated_parameters"] = movable
     comparison = None
     if inputs.truth is not None:
         perturbed = [
@@ -703,18 +1037,20 @@ def calibrate(
             list(critical) + perturbed, space, inputs.truth, calibrated_values, critical
         )
         if inputs.true_loads is not None:
-            confirmed["guideline14_vs_true_loads"] = _guideline14(heat, inputs.true_loads, problem)
+            confirmed["guideline14_vs_true_loads"] = _guideline14(heat, inputs.true_loads)
     calibrated = inputs.building.with_parameters(
         {name: calibrated_values[name] for name in space.names}
     )
-    grid = problem.simulation().weather_on_grid
-    weather = pd.DataFrame(
-        {
-            "temp_air": grid["temp_air"].to_numpy(),
-            "ghi": (grid["ghi"] if "ghi" in grid else grid["dni"] + grid["dhi"]).to_numpy(),
-        },
-        index=grid.index,
-    )
+    grid = info.get("weather")
+    if grid:
+        index = pd.date_range(
+            pd.Timestamp(grid["start"]),
+            periods=len(grid["temp_air"]),
+            freq=pd.Timedelta(seconds=grid["step_s"]),
+        )
+        weather = pd.DataFrame({"temp_air": grid["temp_air"], "ghi": grid["ghi"]}, index=index)
+    else:
+        weather = pd.DataFrame({"temp_air": [], "ghi": []})
     return CalibrationResult(
         space=space,
         samples=sample_set,
@@ -725,20 +1061,154 @@ def calibrate(
         sobol=sobol,
         critical=critical,
         optimisation=optimisation,
-        nominal_metric=nominal[METRIC],
+        nominal_metric=nominal_metric,
         confirmed=confirmed,
         heat=heat,
         weather=weather,
         validation=validation,
-        morris=morris,
+        morris=screening,
         truth_comparison=comparison,
         calibrated_building=calibrated,
         timings=timings,
         notes=notes,
         campaign_path=str(campaign.path),
         posterior=posterior,
-        occupancy={**occupancy, "schedule": problem.schedule.as_dict()},
+        occupancy=occupancy,
+        metric=metric,
+        runs={"simulated": runs.simulated, "from_store": runs.reused},
     )
+
+
+def reanalyse(campaign, store_path, *, log=print) -> CalibrationResult:
+    """Analyse a stored campaign again without simulating anything.
+
+    Another metric (``metric``), meta-model (``metamodel``), reduction (``top_k``), optimiser or
+    posterior settings re-use the campaign's samples as they are in the store. Model runs of
+    the earlier analysis (nominal, confirmations, posterior median, refinement, validation)
+    are read from the store when this analysis asks for the same parameters; the others are
+    not simulated (said in the notes): with nothing changed the result equals the original.
+
+    Parameters
+    ----------
+    campaign : CampaignFile
+        The campaign file; its building, inputs, parameters and sampling must be those of the
+        store (a mismatch is named); its analysis sections may differ.
+    store_path : path
+        The campaign's store (``OUT/campaign.sqlite`` of thermocal calibrate).
+    log : callable
+
+    Returns
+    -------
+    CalibrationResult
+    """
+    from thermocal.calibration.runner import CampaignSummary
+    from thermocal.calibration.sampling import sample
+    from thermocal.calibration.store import CampaignStore
+
+    timings: dict[str, float] = {}
+    t0 = time.perf_counter()
+    inputs = analysis_inputs(campaign)
+    space = campaign_space(campaign, inputs.building)
+    timings["setup"] = time.perf_counter() - t0
+    path = Path(store_path)
+    with _store_errors(path), CampaignStore.existing(path) as store:
+        stored = store.definition()
+        check_same_campaign(campaign, space, stored, path)
+        n = int(stored["sampler"]["samples"])
+        sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
+        done = store.count(failed=False)
+        log(
+            f"re-analysis of {path}: {done} samples of {space.dimension} parameters, metric "
+            f"{campaign.metric}, meta-model {campaign.metamodel.kind}; nothing is simulated"
+        )
+        summary = CampaignSummary(
+            total=n,
+            already_done=store.count(),
+            evaluated=0,
+            failed=0,
+            wall_time_s=0.0,
+            backend="store (re-analysis)",
+        )
+        notes: list[str] = []
+        if done + store.count(failed=True) < n:
+            notes.append(
+                f"The store holds {done} of the campaign's {n} samples (interrupted "
+                "campaign); the re-analysis uses those."
+            )
+        return analyse(
+            campaign,
+            inputs,
+            space,
+            sample_set,
+            summary,
+            store,
+            RunCache(store),
+            timings=timings,
+            notes=notes,
+            log=log,
+            morris=lambda: _stored_morris(campaign, space, path, notes),
+        )
+
+
+def analysis_inputs(campaign) -> CampaignInputs:
+    """What a re-analysis needs of the inputs: the building (and the demo's truth)."""
+    if campaign.is_demo:
+        return load_inputs(campaign)
+    from thermocal.multizone.files import load_building
+
+    building = load_building(campaign.building_path)
+    return CampaignInputs(building, pd.DataFrame(), {}, pd.DataFrame(), None, None, None)
+
+
+def check_same_campaign(campaign, space, stored: dict, path) -> None:
+    """Refuse a re-analysis of a store written for other inputs, parameters or sampling."""
+    from thermocal.calibration.store import _definition_differences
+
+    settings = dict(stored.get("problem") or {})
+    current = {
+        "space": space.to_dict(),
+        "sampler": {"method": campaign.sampling.method, "seed": campaign.sampling.seed},
+        "problem": {k: v for k, v in campaign.problem_settings().items() if k in settings},
+    }
+    before = {
+        "space": stored.get("space"),
+        "sampler": {k: v for k, v in (stored.get("sampler") or {}).items() if k != "samples"},
+        "problem": {k: settings[k] for k in current["problem"]},
+    }
+    diffs = _definition_differences(
+        json.loads(json.dumps(before, default=str)), json.loads(json.dumps(current, default=str))
+    )
+    if diffs:
+        raise ThermocalInputError(
+            f"store {path} holds another campaign than {campaign.path}: "
+            + "; ".join(diffs[:8])
+            + ". A re-analysis may change the metric, meta-model, optimisation and posterior "
+            "settings, not the inputs, parameters or sampling (run thermocal calibrate for those)"
+        )
+
+
+def _stored_morris(campaign, space, store_path, notes):
+    """The Morris screening from its store, when all its runs are there (else None, noted)."""
+    from thermocal.calibration.sensitivity import morris_analyze, morris_design
+    from thermocal.calibration.store import CampaignStore
+
+    m = campaign.morris
+    lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
+    design = morris_design(
+        list(space.names), lower, upper, trajectories=m.trajectories, levels=m.levels, seed=m.seed
+    )
+    path = Path(store_path).with_name(Path(store_path).stem + "_morris.sqlite")
+    outputs = None
+    if path.is_file():
+        with CampaignStore.existing(path) as store:
+            outputs = store.outputs(successful=False)[METRIC].reindex(design.index)
+    if outputs is None or outputs.isna().any():
+        notes.append(
+            "Morris screening not re-analysed: its runs are not all in its store "
+            f"({path.name}); thermocal calibrate --resume runs them."
+        )
+        return None
+    return morris_analyze(design, outputs.to_numpy(), lower, upper, levels=m.levels, seed=m.seed)
 
 
 def candidate_parameters(building, level: str = "material") -> dict[str, float]:
@@ -777,14 +1247,17 @@ def candidate_parameters(building, level: str = "material") -> dict[str, float]:
 POSTERIOR_MAX_PARAMETERS = 30
 
 
-def _posterior_or_note(surrogate, kind, X, y, series, space, critical, campaign, notes):
+def _posterior_or_note(
+    surrogate, kind, X, y, series, space, critical, campaign, notes, segments=None
+):
     """Posterior of the critical parameters from the series meta-model, or a note why not."""
     from thermocal.calibration.posterior import calibration_posterior, emulator_variance
 
     model = surrogate
     if kind != "series":
-        model = surrogate_for("series", campaign.metamodel, series, space,
-                              campaign.sampling.seed).fit(X, y)
+        model = surrogate_for(
+            "series", campaign.metamodel, series, space, campaign.sampling.seed, segments
+        ).fit(X, y)
     # the joint posterior of every varied parameter (a parameter held at its nominal value
     # would make the others compensate for it); the critical ones only in large spaces
     names = list(space.names) if space.dimension <= POSTERIOR_MAX_PARAMETERS else list(critical)
@@ -795,15 +1268,112 @@ def _posterior_or_note(surrogate, kind, X, y, series, space, critical, campaign,
         )
     idx = [space.index(n) for n in names]
     try:
-        return calibration_posterior(
-            model, names, space.lower[idx], space.upper[idx],
-            all_lower=space.lower, all_upper=space.upper,
-            units=[space.units[i] for i in idx], seed=campaign.sampling.seed,
+        posterior = calibration_posterior(
+            model,
+            names,
+            space.lower[idx],
+            space.upper[idx],
+            all_lower=space.lower,
+            all_upper=space.upper,
+            units=[space.units[i] for i in idx],
+            seed=campaign.sampling.seed,
             emulator_error=emulator_variance(model, X, seed=campaign.sampling.seed),
         )
     except (ThermocalInputError, np.linalg.LinAlgError, ValueError) as exc:
         notes.append(f"No posterior of the calibrated parameters: {exc}")
-        return None
+        return None, model
+    return posterior, model
+
+
+#: a calibrated parameter within this share of its log-range of a sampling bound is "at" it
+AT_BOUND = 0.02
+
+
+def calibration_flags(space, values, metric, posterior, series_model, truth=None) -> list[dict]:
+    """Warnings on a calibrated model: parameters at their bounds, a metric below the floor.
+
+    * A parameter that ends within 2 % (of the logarithm of its range) of a sampling bound:
+      either its range is too narrow or it absorbs an error of the model (the published
+      method's failure mode: window U at its upper bound, SHGC at its lower one). Said with
+      whether the posterior declares it determined and, with a known truth (the demo), whether
+      the truth perturbed it at all.
+    * A calibrated metric below what the model error allows: below the 5 % quantile of the
+      metric the series meta-model predicts over the posterior's draws (the metric's spread
+      that the noise and the model error leave): the calibration then fits the model's error,
+      not the envelope.
+
+    Parameters
+    ----------
+    space : ParameterSpace
+    values : dict
+        Calibrated parameters [unit of each].
+    metric : float
+        Its confirmed metric [W^2].
+    posterior : Posterior or None
+    series_model : SeriesSurrogate or None
+        Fitted on all the campaign's parameters.
+    truth : dict, optional
+        The demo's ``truth.json``.
+
+    Returns
+    -------
+    list of dict
+        ``kind`` ("at bound" or "below model error"), ``text`` and the numbers.
+    """
+    flags = []
+    nominal = space.nominal_dict()
+    true = {n: row["true"] for n, row in (truth or {}).get("parameters", {}).items()}
+    determined = set(posterior.determined) if posterior is not None else set()
+    for i, name in enumerate(space.names):
+        value = float(values[name])
+        if np.isclose(value, nominal[name], rtol=1e-9):
+            continue
+        lo, hi = float(space.lower[i]), float(space.upper[i])
+        span = np.log(hi / lo)
+        for side, bound in (("lower", lo), ("upper", hi)):
+            if abs(np.log(value / bound)) > AT_BOUND * span:
+                continue
+            why = (
+                "the data determine it: its range may be too narrow"
+                if name in determined
+                else "the data do not determine it: it likely absorbs an error of the model"
+            )
+            if name in true or truth is not None:
+                perturbed = not np.isclose(true.get(name, nominal[name]), nominal[name], rtol=1e-9)
+                why += "; the truth " + ("perturbed" if perturbed else "did not perturb") + " it"
+            flags.append(
+                {
+                    "kind": "at bound",
+                    "parameter": name,
+                    "side": side,
+                    "value": value,
+                    "bound": bound,
+                    "determined": name in determined,
+                    "text": f"{name} ends at its {side} sampling bound ({value:.4g} "
+                    f"{space.units[i]}; nominal {nominal[name]:.4g}): {why}.",
+                }
+            )
+    if posterior is not None and series_model is not None and len(posterior.samples):
+        draws = posterior.samples.iloc[:: max(1, len(posterior.samples) // 400)]
+        frame = pd.DataFrame({n: np.full(len(draws), nominal[n]) for n in space.names})
+        for n in draws.columns:
+            frame[n] = draws[n].to_numpy()
+        predicted = series_model.predict(frame[list(series_model.feature_names_in_)])
+        floor = float(np.quantile(predicted, 0.05))
+        if metric < floor:
+            flags.append(
+                {
+                    "kind": "below model error",
+                    "metric": float(metric),
+                    "floor": floor,
+                    "text": f"The calibrated metric ({np.sqrt(metric) / 1000:.3f} kW as a standard "
+                    f"deviation) is below what the model error allows ({np.sqrt(floor) / 1000:.3f} "
+                    "kW, the 5 % quantile of the metric over the posterior): the calibration fits "
+                    "the model's error or the noise, not only the envelope; trust the posterior's "
+                    "intervals more than the calibrated values.",
+                }
+            )
+    return flags
 
 
 def _sobol_or_note(surrogate, space, lower, upper, seed: int, kind: str, notes: list[str]):
@@ -832,12 +1402,13 @@ def _sobol_or_note(surrogate, space, lower, upper, seed: int, kind: str, notes: 
     )
 
 
-def problem_settings(campaign, problem: IdentificationProblem) -> dict:
+def problem_settings(campaign, problem: IdentificationProblem, evaluator=None) -> dict:
     """What determines a sample's outputs besides its parameters, by name (for the store).
 
     The campaign file's settings (input files by content, period, step, options), whether each
-    sample's unoccupied-heat series is stored (the series meta-model needs it) and a digest of
-    the identification problem built from them.
+    sample's unoccupied-heat series is stored (the series meta-model needs it), the zone groups
+    whose series are stored (the spatial metric) and a digest of the identification problem
+    built from them.
     """
     series = problem.series_outputs
     try:  # the digest without the series switch, which is named on its own line
@@ -845,9 +1416,13 @@ def problem_settings(campaign, problem: IdentificationProblem) -> dict:
         digest = problem.fingerprint()
     finally:
         problem.series_outputs = series
+    extra = {}
+    if evaluator is not None:
+        extra["zone-group heat series stored per sample"] = list(evaluator.labels)
     return {
         **campaign.problem_settings(),
         "heat series stored per sample": bool(series),
+        **extra,
         "identification problem": digest,
     }
 
@@ -967,7 +1542,22 @@ def _store_errors(path: Path):
         ) from None
 
 
-def refine_minimum(problem, space, X, y, series, kind, start, *, steps: int, seed: int, log=print):
+def refine_minimum(
+    runs,
+    space,
+    X,
+    y,
+    series,
+    kind,
+    start,
+    *,
+    steps: int,
+    seed: int,
+    log=print,
+    metric: str = "building",
+    segments=None,
+    movable=None,
+):
     """Trust-region refinement of the minimum with the full model in the loop (beyond the paper).
 
     From the best confirmed point, each step fits the meta-model (the chosen kind, without
@@ -977,7 +1567,10 @@ def refine_minimum(problem, space, X, y, series, kind, start, *, steps: int, see
     model and the identification, and keeps it if it is better; the box grows by 1.5 after a
     success and halves after a failure. A meta-model fitted on few samples extrapolates badly
     to the corners of a 70-parameter box; the trust region keeps each step where it is
-    informed, and every simulated point improves the next fit.
+    informed, and every simulated point improves the next fit. The runs go through ``runs``
+    (:class:`RunCache`): found in the store when run before; in a re-analysis the refinement
+    stops at the first candidate that is not stored. Only the ``movable`` parameters (default
+    all) change; the others keep the start's values.
 
     Returns
     -------
@@ -986,6 +1579,7 @@ def refine_minimum(problem, space, X, y, series, kind, start, *, steps: int, see
         One row per step: predicted and confirmed metric [W^2], accepted, box half-width.
     """
     from thermocal.calibration.optimise import optimise_box
+    from thermocal.calibration.spatial import group_segments
     from thermocal.calibration.surrogate import SeriesSurrogate, make_surrogate
 
     names = list(space.names)
@@ -997,49 +1591,73 @@ def refine_minimum(problem, space, X, y, series, kind, start, *, steps: int, see
     Ss = None if series is None else np.asarray(series, dtype=float)
     radius = 0.25
     history = []
+    moving = np.array([movable is None or n in movable for n in names])
+    if not moving.any():
+        return (float(best_metric), best_values), history
     for step in range(steps):
         frame = pd.DataFrame(Xs, columns=names)
         if kind == "series" and Ss is not None:
-            model = SeriesSurrogate(series=Ss, nominal=space.nominal_dict(), cv_folds=0)
+            model = SeriesSurrogate(
+                series=Ss, nominal=space.nominal_dict(), cv_folds=0, segments=segments
+            )
         else:
             model = make_surrogate(kind if kind != "series" else "gp", cv_folds=0, seed=seed)
         model.fit(frame, ys)
         half = radius * (upper - lower)
-        lo = np.maximum(lower, best_z - half)
-        hi = np.minimum(upper, best_z + half)
+        lo = np.maximum(lower, best_z - half)[moving]
+        hi = np.minimum(upper, best_z + half)[moving]
         hi = np.maximum(hi, lo + 1e-9)
 
-        def predict(Z, model=model):
-            return model.predict(np.exp(np.atleast_2d(Z)))
+        def predict(Zm, model=model, fixed=best_z):
+            Zm = np.atleast_2d(Zm)
+            Z = np.repeat(fixed[None, :], len(Zm), axis=0)
+            Z[:, moving] = Zm
+            return model.predict(np.exp(Z))
 
-        optimum = optimise_box(
-            predict, lo, hi, sense="min", starts=2, initial=[best_z], seed=seed + step, maxiter=100
+        reduced = optimise_box(
+            predict,
+            lo,
+            hi,
+            sense="min",
+            starts=2,
+            initial=[best_z[moving]],
+            seed=seed + step,
+            maxiter=100,
         )
-        values = {**space.nominal_dict(), **dict(zip(names, np.exp(optimum.x), strict=True))}
-        metrics = problem.metrics(problem.run(values).heat)
-        metric = metrics[METRIC]
-        accepted = metric < best_metric
+        z = best_z.copy()
+        z[moving] = reduced.x
+        values = {**space.nominal_dict(), **dict(zip(names, np.exp(z), strict=True))}
+        found = runs.get(values, heat=False)
+        if found is None:  # a re-analysis: not simulated
+            break
+        metrics = found[0]
+        value = metric_value(metrics, metric)
+        accepted = value < best_metric
         history.append(
             {
                 "step": step + 1,
-                "predicted": float(optimum.value),
-                "confirmed": float(metric),
+                "predicted": float(reduced.value),
+                "confirmed": float(value),
                 "accepted": bool(accepted),
                 "radius": radius,
             }
         )
         log(
-            f"refinement {step + 1}/{steps}: unoccupied std {np.sqrt(metric) / 1000:.2f} kW "
+            f"refinement {step + 1}/{steps}: unoccupied std {np.sqrt(value) / 1000:.2f} kW "
             f"({'better' if accepted else 'not better'}; best "
-            f"{np.sqrt(min(metric, best_metric)) / 1000:.2f} kW)"
+            f"{np.sqrt(min(value, best_metric)) / 1000:.2f} kW)"
         )
-        Xs = np.vstack([Xs, np.exp(optimum.x)])
-        ys = np.append(ys, metric)
+        Xs = np.vstack([Xs, np.exp(z)])
+        ys = np.append(ys, value)
         if Ss is not None:
-            row = [metrics.get(f"series/{i:05d}", np.nan) for i in range(Ss.shape[1])]
-            Ss = np.vstack([Ss, row])
+            columns = (
+                [f"series/{i:05d}" for i in range(Ss.shape[1])]
+                if segments is None
+                else group_segments(list(metrics))[0]
+            )
+            Ss = np.vstack([Ss, [metrics.get(c, np.nan) for c in columns]])
         if accepted:
-            best_metric, best_values, best_z = metric, values, optimum.x
+            best_metric, best_values, best_z = value, values, z
             radius = min(0.5, radius * 1.5)
         else:
             radius *= 0.5
@@ -1088,19 +1706,51 @@ def _morris(campaign, problem, space, store_path, workers, scheduler, progress, 
 AUTO_GP_MAX_SAMPLES = 400
 
 
-def surrogate_for(kind: str, metamodel, series, space, seed: int):
+def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None):
     """An unfitted meta-model of ``kind`` (a name, or the series model with its data)."""
     if kind != "series":
         return kind
     from thermocal.calibration.surrogate import SeriesSurrogate
 
     return SeriesSurrogate(
-        series=series, nominal=space.nominal_dict(), cv_folds=metamodel.cv_folds, seed=seed
+        series=series,
+        nominal=space.nominal_dict(),
+        cv_folds=metamodel.cv_folds,
+        seed=seed,
+        segments=segments,
     )
 
 
+def reduced_surrogate(kind: str, metamodel, series, space, seed: int, segments=None):
+    """The unfitted reduced meta-model (no out-of-fold scores: only its optimum is used)."""
+    model = surrogate_for(kind, metamodel, series, space, seed, segments)
+    if not isinstance(model, str):
+        model.cv_folds = 0
+    return model
+
+
+def reduced_options(kind: str, metamodel) -> dict | None:
+    """Options of the reduced SVR or GP: the SVR's grid search keeps the campaign's folds;
+    the GP skips the out-of-fold scores (five more fits, unused)."""
+    if kind == "series":
+        return None
+    return {
+        "cv_folds": metamodel.cv_folds if kind == "svr" else 0,
+        "log_target": metamodel.log_target,
+    }
+
+
 def choose_surrogate(
-    X, y, kind: str, *, cv_folds: int, log_target: bool, seed: int, series=None, nominal=None
+    X,
+    y,
+    kind: str,
+    *,
+    cv_folds: int,
+    log_target: bool,
+    seed: int,
+    series=None,
+    nominal=None,
+    segments=None,
 ):
     """Fit the meta-model; with ``kind="auto"`` the SVR, the GP and the series model, keeping
     the best.
@@ -1132,7 +1782,9 @@ def choose_surrogate(
     fitted = {}
     for k in kinds:
         if k == "series":
-            model = SeriesSurrogate(series=series, nominal=nominal, cv_folds=cv_folds, seed=seed)
+            model = SeriesSurrogate(
+                series=series, nominal=nominal, cv_folds=cv_folds, seed=seed, segments=segments
+            )
         else:
             model = make_surrogate(k, cv_folds=cv_folds, log_target=log_target, seed=seed)
         fitted[k] = model.fit(X, y)
@@ -1158,17 +1810,17 @@ def validation_problem(campaign, inputs: CampaignInputs):
     return problem
 
 
-def _validate(campaign, inputs: CampaignInputs, optimisation, problem=None) -> dict:
-    """Nominal vs calibrated metric on the validation period (not seen by the calibration)."""
-    start = _localise(campaign.validation.start, inputs.weather.index[0])
-    end = _localise(campaign.validation.end, inputs.weather.index[0])
-    if problem is None:
-        problem = validation_problem(campaign, inputs)
-    nominal = problem.evaluate({})[METRIC]
-    calibrated = problem.evaluate(optimisation.parameters("min"))[METRIC]
+def _validate(campaign, inputs: CampaignInputs, optimisation, runs) -> dict | None:
+    """Nominal vs calibrated building metric on the validation period (not seen by the
+    calibration); None when its runs are not stored in a re-analysis."""
+    nominal = runs.get({}, tag="validation", heat=False)
+    calibrated = runs.get(optimisation.parameters("min"), tag="validation", heat=False)
+    if nominal is None or calibrated is None:
+        return None
+    nominal, calibrated = nominal[0][METRIC], calibrated[0][METRIC]
     return {
-        "start": str(start),
-        "end": str(end),
+        "start": str(campaign.validation.start),
+        "end": str(campaign.validation.end),
         "nominal": nominal,
         "calibrated": calibrated,
         "ratio": calibrated / nominal if nominal > 0 else None,
@@ -1176,7 +1828,7 @@ def _validate(campaign, inputs: CampaignInputs, optimisation, problem=None) -> d
     }
 
 
-def _guideline14(heat: dict, true_loads: pd.DataFrame, problem: IdentificationProblem) -> dict:
+def _guideline14(heat: dict, true_loads: pd.DataFrame) -> dict:
     """ASHRAE Guideline 14 statistics of the building Q_ID against the demo's true loads."""
     if "time" in true_loads.columns:
         true_loads = true_loads.set_index("time")

@@ -46,6 +46,14 @@ def calibrate(
     demo: Annotated[
         bool, typer.Option("--demo", help="Run on the built-in clinic with known truth.")
     ] = False,
+    reanalyse: Annotated[
+        bool,
+        typer.Option(
+            "--reanalyse",
+            help="Analyse the stored campaign again (another metric, meta-model, top_k, "
+            "optimisation or posterior setting in the campaign file) without simulating.",
+        ),
+    ] = False,
     max_hours: Annotated[
         float,
         typer.Option(
@@ -60,6 +68,8 @@ def calibrate(
     samples.parquet and samples.csv (the campaign), campaign.sqlite (the durable store,
     continued by --resume), calibrated_building.yaml, figures and report.html. The results
     replace OUT in one step when all are written; the store is updated sample by sample.
+    With --reanalyse nothing is simulated: the samples and the earlier analysis' model runs
+    are read from the store.
     """
     from rich.console import Console
 
@@ -78,27 +88,42 @@ def calibrate(
         raise ThermocalInputError(f"--samples must be >= 1, got {samples}")
     if not max_hours > 0:
         raise ThermocalInputError(f"--max-hours must be positive, got {max_hours}")
+    if reanalyse and (samples is not None or resume or scheduler is not None):
+        raise ThermocalInputError(
+            "--reanalyse uses the samples in the store as they are; leave out --samples, "
+            "--resume and --scheduler (run the campaign without --reanalyse to add samples)"
+        )
     check_output_folder(out, signature=SIGNATURE)
     if demo:
         # the demo's campaign file, written so that it can be edited and run again
         campaign = out / "demo_campaign.yaml"
-        if not campaign.exists():
+        if reanalyse and not campaign.exists():
+            raise ThermocalInputError(
+                f"--reanalyse: {out} holds no demo campaign (no {campaign.name}); run "
+                f"thermocal calibrate --demo --out {out} first"
+            )
+        if not campaign.exists() and not reanalyse:
             out.mkdir(parents=True, exist_ok=True)
             campaign.write_text(DEMO_CAMPAIGN)
     spec = load_campaign(campaign)
     store = Path(spec.store) if spec.store is not None else out / "campaign.sqlite"
     total = samples if samples is not None else spec.sampling.samples
     try:
-        result = run_calibration(
-            spec,
-            samples=samples,
-            workers=workers,
-            scheduler=scheduler,
-            resume=resume,
-            store_path=store,
-            log=lambda line: console.print(line),
-            max_hours=max_hours,
-        )
+        if reanalyse:
+            from thermocal.calibration.workflow import reanalyse as run_reanalysis
+
+            result = run_reanalysis(spec, store, log=lambda line: console.print(line))
+        else:
+            result = run_calibration(
+                spec,
+                samples=samples,
+                workers=workers,
+                scheduler=scheduler,
+                resume=resume,
+                store_path=store,
+                log=lambda line: console.print(line),
+                max_hours=max_hours,
+            )
         with output_folder(out, command="calibrate", signature=SIGNATURE) as tmp:
             written = [out / Path(p).name for p in result.to_files(tmp)]
             written += [out / p.name for p in _carry_over(out, tmp, store)]
@@ -193,7 +218,12 @@ def _print_summary(result) -> None:
         )
     console.print(table)
     confirm = result.confirmed
-    summary = Table(title="unoccupied std of the building-wide identified heat", show_header=True)
+    title = (
+        "unoccupied std of the building-wide identified heat"
+        if result.metric == "building"
+        else "square root of the zone groups' summed unoccupied variance"
+    )
+    summary = Table(title=title, show_header=True)
     for column in ("model", "meta-model [kW]", "confirmed [kW]"):
         summary.add_column(column, justify="left" if column == "model" else "right")
     for case, label in (
@@ -203,10 +233,11 @@ def _print_summary(result) -> None:
         ("max", "max variance"),
     ):
         predicted = confirm[case].get("predicted")
+        std = confirm[case]["confirmed_std_W"]
         summary.add_row(
             label,
             "" if predicted is None else f"{np.sqrt(max(predicted, 0)) / 1000:.3f}",
-            f"{confirm[case]['confirmed_std_W'] / 1000:.3f}",
+            f"{std / 1000:.3f}" if np.isfinite(std) else "not simulated",
         )
     console.print(summary)
     if result.truth_comparison is not None:

@@ -552,3 +552,38 @@ def test_grey_exchange_factors_and_the_pairwise_interior_long_wave_option():
     assert conductance[int(pairs.face_node[host])] < 0.05 * max(conductance.values())
     with pytest.raises(ThermocalInputError, match="interior_longwave_exchange"):
         assemble(building, 300.0, options=NetworkOptions(interior_longwave_exchange="bogus"))
+
+
+@pytest.mark.parametrize("algorithm", ["doe2", "tarp"])
+def test_exterior_natural_convection_at_the_face_temperature(algorithm):
+    """In still air the DOE-2 and TARP outside coefficients reduce to TARP's natural convection
+    at the face's own difference from the air (EnergyPlus' ``CalcASHRAETARPNatural`` with the
+    outside face temperature), not at a nominal 3 K: a poorly insulated box held at 20 C in 0 C
+    air, its faces 8-10 K above the air, loses what the per-face balance solved by hand gives."""
+    from scipy.optimize import brentq
+
+    layers = [Material("concrete", 1.4, 2000.0, 1000.0, 0.1)]
+    building = box_building(layers)
+    h_in = 8.0
+    options = NetworkOptions(
+        interior_convection="fixed",
+        h_interior_fixed=h_in,
+        interior_longwave=False,
+        exterior_convection=algorithm,
+        exact_sky_longwave=False,
+    )
+    weather, meta = constant_weather(days=10, wind=0.0)
+    result = Simulation(building, weather, meta, step="1h", options=options).run()
+    h_r = 4.0 * STEFAN_BOLTZMANN * 273.15**3 * 0.9  # sky and ground at the air temperature
+    r_in = 1 / h_in + 0.1 / 1.4
+    expected = 0.0
+    for surface in building.surfaces.values():
+        cos_up = np.cos(np.radians(surface.tilt))
+
+        def balance(ts, cos_up=cos_up):
+            h_c = float(tarp_natural_convection(ts, cos_up))
+            return (20.0 - ts) / r_in - (h_c + h_r) * ts
+
+        ts = brentq(balance, 0.0, 20.0)
+        expected += surface.area * (20.0 - ts) / r_in
+    assert result.heating["room"].iloc[-1] == pytest.approx(expected, rel=2e-3)

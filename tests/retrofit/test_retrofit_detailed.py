@@ -171,17 +171,18 @@ def year_run():
 
 
 @pytest.mark.slow
-def test_baseline_demand_within_10_percent_of_energyplus(year_run):
+def test_baseline_demand_within_5_percent_of_energyplus(year_run):
     kwh, _, ref_kwh, _ = year_run["none"]
-    # measured 2026-11-25: 9,639 vs 10,302 kWh (-6.4 %)
-    assert kwh == pytest.approx(ref_kwh["none"], rel=0.10)
+    # measured 2026-11-25: 10,230 vs 10,302 kWh (-0.7 %; -6.4 % with the outside natural
+    # convection at a nominal 3 K, docs/retrofit.md)
+    assert kwh == pytest.approx(ref_kwh["none"], rel=0.05)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("measure", ["attic_ceiling", "windows"])
 def test_saving_within_3_points_of_energyplus(year_run, measure):
     _, saving, _, ref = year_run[measure]
-    # measured 2026-11-25: attic ceiling 5.5 vs 5.3 %, windows 20.2 vs 20.8 %
+    # measured 2026-11-25: attic ceiling 5.3 vs 5.3 %, windows 19.8 vs 20.8 %
     assert saving == pytest.approx(ref["saving_pct"][measure], abs=3.0)
 
 
@@ -189,7 +190,7 @@ def test_saving_within_3_points_of_energyplus(year_run, measure):
 @pytest.mark.xfail(
     strict=True,
     reason="known gap (docs/retrofit.md, 'Retrofit on the detailed model'): walls 55 vs 59 % "
-    "(-5 pp), slab +13 pp (ISO 13370 soil layer vs Kiva's 2-D ground)",
+    "(-4 pp), slab +13 pp (ISO 13370 soil layer vs Kiva's 2-D ground)",
 )
 @pytest.mark.parametrize("measure", ["walls", "ground_floor"])
 def test_saving_within_3_points_of_energyplus_not_yet(year_run, measure):

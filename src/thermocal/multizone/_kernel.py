@@ -399,6 +399,7 @@ def run_steps(
     ext_view_sky,
     ext_hr0,
     ext_dh,
+    ext_natural,
     exact_sky,
     face_node,
     face_air,
@@ -585,7 +586,19 @@ def run_steps(
         for e in range(ext_node.shape[0]):
             node = ext_node[e]
             ts = x[node]
-            corr = ext_dh[k, e] * ext_area_eps[e, 0] * (t_out - ts)
+            dh = ext_dh[k, e]
+            mode = ext_natural[e, 0]
+            if mode > 0.0:
+                # the natural part at the face's (lagged) difference from the air, as EnergyPlus'
+                # outside TARP natural term: 1 DOE-2 (ext_dh holds the MoWiTT forced term
+                # a V^b), 2 TARP (ext_dh holds the forced term)
+                hn = tarp(ts - t_out, ext_natural[e, 2])
+                if mode == 1.0:
+                    hc = hn + ext_natural[e, 1] * (np.sqrt(hn * hn + dh * dh) - hn)
+                else:
+                    hc = hn + dh
+                dh = min(max(hc - ext_natural[e, 3], 0.1 - ext_natural[e, 3]), ext_natural[e, 4])
+            corr = dh * ext_area_eps[e, 0] * (t_out - ts)
             if exact_sky:
                 ts2 = (ts + KELVIN) * (ts + KELVIN)
                 to2 = (t_out + KELVIN) * (t_out + KELVIN)

@@ -1091,7 +1091,8 @@ def assemble(
         view_sky = np.where(ext_is_window, view_sky, 0.0)
         view_air = np.where(ext_is_window, view_air, 1.0)
     cos_tilt = np.cos(np.radians(ext_tilt))
-    # natural part of the exterior convection at a nominal 3 K difference
+    # natural part of the exterior convection at a nominal 3 K difference (the matrix part; the
+    # time loop takes DOE-2's and TARP's at the face's own difference, see Simulation)
     dt_nominal = NOMINAL_EXTERIOR_DELTA_T
     h_natural = np.where(
         np.abs(cos_tilt) < 0.02,

@@ -40,6 +40,7 @@ from thermocal.multizone.network import (
     air_density,
     assemble,
     exterior_convection,
+    mowitt_forced,
     pressure_at_altitude,
 )
 
@@ -61,6 +62,7 @@ class _Context:
     ext_dh: np.ndarray
     inf_dh: np.ndarray
     face_hmax: np.ndarray
+    ext_natural: np.ndarray = None  # (n_ext, 5): mode, roughness, cos tilt, hc0, max excess
     heat_sp: np.ndarray = None  # (1 or n_steps, n_controlled) [C]
     cool_sp: np.ndarray = None
     inf_dt: np.ndarray = None  # (0, 1 or n_steps, n_zones) [W/K^2]
@@ -813,7 +815,10 @@ class Simulation:
         # explicit-correction bounds (stability of the lagged terms, see network module)
         face_hmax = 2.0 * net.face_h0 + net.face_capacity / dt
         upper = net.ext_hc0 + net.ext_hr0 * net.ext_emissivity + net.ext_capacity / dt
-        ext_dh = np.clip(ext_dh_raw, 0.1 - net.ext_hc0[None, :], upper[None, :])
+        ext_natural = self._ext_natural(upper)
+        plain = ext_natural[:, 0] == 0.0
+        clipped = np.clip(ext_dh_raw, 0.1 - net.ext_hc0[None, :], upper[None, :])
+        ext_dh = np.where(plain[None, :], clipped, ext_dh_raw)
         per_step = (
             self._heat_sp_steps,
             self._cool_sp_steps,
@@ -857,6 +862,7 @@ class Simulation:
             ext_dh=np.ascontiguousarray(ext_dh),
             inf_dh=np.ascontiguousarray(inf_dh),
             face_hmax=face_hmax,
+            ext_natural=ext_natural,
         )
 
     def _coarse_context(self, **kwargs) -> _Context | None:
@@ -1123,15 +1129,49 @@ class Simulation:
         diff = np.abs((direction[:, None] - azimuth[None, :] + 180.0) % 360.0 - 180.0)
         horizontal = np.abs(np.cos(np.radians(tilt))) >= 0.98
         windward = (diff <= 90.0 + 1e-3) | horizontal[None, :]
+        local = station[:, None] * factor[None, :]
+        if self.options.exterior_convection == "doe2":
+            # the kernel combines it with the natural part at each step's face temperature
+            forced = mowitt_forced(local, windward)
+            return np.ascontiguousarray(forced[:, np.ravel(inverse)])
         hc = exterior_convection(
             self.options.exterior_convection,
-            station[:, None] * factor[None, :],
+            local,
             windward,
             h_natural=h_natural[None, :],
             roughness_factor=roughness[None, :],
             perimeter_over_area=p_over_a[None, :],
         )
+        if self.options.exterior_convection == "tarp":  # the forced part alone
+            return np.ascontiguousarray((hc - h_natural[None, :])[:, np.ravel(inverse)])
         return np.ascontiguousarray((hc - hc0[None, :])[:, np.ravel(inverse)])
+
+    def _ext_natural(self, upper: np.ndarray) -> np.ndarray:
+        """Per exterior face: how the kernel takes the natural part of the outside convection.
+
+        Columns: mode (0 the series is the excess over ``hc0``; 1 DOE-2, 2 TARP: the series is
+        the forced term and the natural part is TARP's at each step's face-to-air difference,
+        as EnergyPlus' ``CalcASHRAETARPNatural`` with the outside face temperature), the DOE-2
+        roughness multiplier [-], the cosine of the tilt [-], ``hc0`` [W/(m2 K)] and the largest
+        excess over ``hc0`` that keeps the lagged term stable [W/(m2 K)].
+        """
+        net = self.network
+        mode = {"doe2": 1.0, "tarp": 2.0}.get(self.options.exterior_convection, 0.0)
+        n_ext = len(net.ext_node)
+        if not n_ext:
+            return np.zeros((0, 5))
+        return np.ascontiguousarray(
+            np.stack(
+                [
+                    np.full(n_ext, mode),
+                    net.ext_roughness,
+                    np.cos(np.radians(net.ext_tilt)),
+                    net.ext_hc0,
+                    upper,
+                ],
+                axis=1,
+            )
+        )
 
     # ------------------------------------------------------------------------------------------
     def reset(self, *, free_float: bool = True, initial_temperature: float | None = None) -> None:
@@ -1234,6 +1274,7 @@ class Simulation:
                 net.ext_view_sky,
                 net.ext_hr0,
                 ext_dh,
+                np.zeros_like(context.ext_natural) if linear else context.ext_natural,
                 self.options.exact_sky_longwave and not linear,
                 net.face_node,
                 net.air_node[net.face_zone],

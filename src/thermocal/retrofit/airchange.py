@@ -138,7 +138,10 @@ def stack_prior(h_est: float, dt0: float) -> tuple[float, float]:
 
 
 def estimate_slope(
-    measured: pd.Series, model: pd.Series, indoor: pd.Series, temp_out: pd.Series,
+    measured: pd.Series,
+    model: pd.Series,
+    indoor: pd.Series,
+    temp_out: pd.Series,
     h_est: float,
 ) -> dict:
     """The stack coefficient ``k`` of the air change from the calibration period's heat.

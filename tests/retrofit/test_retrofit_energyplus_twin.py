@@ -100,8 +100,10 @@ def test_twin_validation_gate_fails_and_recommends_nothing(twin):
 
 def test_twin_heat_loss_coefficient_and_demand(twin):
     """EnergyPlus steady state 299.2 W/K; thermocal 352.7 W/K (90 %: 321-408), +18 %: the
-    10 % target fails. Demand 16,882 kWh vs 10,302 (+64 %). (Temperature fit before: 383.5 W/K,
-    +28 %; 17,244 kWh, +67 %.) Pinned: the bounds that hold."""
+    10 % target fails. Demand 16,722 kWh vs 10,302 (+62 %; 16,882, +64 %, without the air
+    change's stack term, which this house's constant-flow infiltration does not have).
+    (Temperature fit before: 383.5 W/K, +28 %; 17,244 kWh, +67 %.) Pinned: the bounds that
+    hold."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]
     err = hlc["value"] / ref["heat_loss_coefficient_W_per_K"] - 1.0
@@ -109,13 +111,14 @@ def test_twin_heat_loss_coefficient_and_demand(twin):
     assert hlc["p05"] < hlc["value"] < hlc["p95"]
     demand = twin["annual_heating_demand_kWh"]["value"]
     err_d = demand / ref["annual_heating_kWh"]["none"] - 1.0
-    assert abs(err_d) < 0.75, err_d  # target 0.10 (not met: +0.64)
+    assert abs(err_d) < 0.75, err_d  # target 0.10 (not met: +0.62)
 
 
 def test_twin_strategy_savings(twin):
-    """Every strategy against EnergyPlus. Measured (heat fit): mean absolute difference 10.8 pp,
-    max 22.3 pp (3a); 1 of 15 within 3 pp; 6 of 15 intervals cover EnergyPlus; median
-    half-width 12.0 pp (temperature fit before: 11.4, 23.4, 1, 6, 11.2).
+    """Every strategy against EnergyPlus. Measured (heat fit, air change's stack term): mean
+    absolute difference 10.6 pp, max 22.0 pp; 0 of 15 within 3 pp (1 of 15, 2.8 pp, without
+    the stack term); 6 of 15 intervals cover EnergyPlus; median half-width 12.1 pp
+    (temperature fit before: 11.4, 23.4, 1, 6, 11.2).
     Targets (every one within 3 pp, coverage >= 12/15, half-width <= 6 pp)
     not met; pinned: the bounds that hold."""
     saving = _reference()["saving_pct"]
@@ -128,10 +131,10 @@ def test_twin_strategy_savings(twin):
         covered += s["saving_pct_p05"] <= e <= s["saving_pct_p95"]
         half.append(0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]))
     diff = np.abs(diff)
-    assert diff.max() < 26.0, diff  # target 3 (not met: 22.3)
-    assert diff.mean() < 13.0, diff  # (10.8)
+    assert diff.max() < 26.0, diff  # target 3 (not met: 22.0)
+    assert diff.mean() < 13.0, diff  # (10.6)
     assert covered >= 5, covered  # target 12 of 15 (not met: 6)
-    assert np.median(half) < 13.0  # target 6 (not met: 12.0)
+    assert np.median(half) < 13.0  # target 6 (not met: 12.1)
     # the ranking: the all-measures strategy saves most in both
     best = max(rows, key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)

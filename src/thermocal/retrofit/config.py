@@ -252,6 +252,14 @@ class ModelConfig(_Strict):
         "holds the indoor temperature in the training period (median deviation from its "
         "daily profile below 0.1 K), else temperature",
     )
+    air_change: Literal["slope", "constant"] = Field(
+        "slope",
+        description="slope: the air-change loss grows with the indoor-outdoor difference (stack "
+        "effect): the calibration period's daily heat residuals regressed on that difference "
+        "and, when the slope is resolved (2 standard errors), applied to each heated day of the "
+        "demand year (docs/retrofit.md, 'Air change and the temperature difference'); "
+        "constant: H_est as calibrated, the same at every difference",
+    )
 
     @model_validator(mode="after")
     def _bounds_and_fixed(self) -> ModelConfig:

@@ -187,6 +187,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "training": [str(analysis.training[0]), str(analysis.training[1])],
             "test": [str(analysis.test[0]), str(analysis.test[1])] if analysis.test else None,
         },
+        "air_change_adjustment": analysis.air_change,
         "calibration": {
             "method": analysis.calibration_method,
             "params": params,

@@ -53,6 +53,11 @@ import pandas as pd
 from pydantic import Field, ValidationError, field_validator
 
 from thermocal.errors import ThermocalInputError
+from thermocal.retrofit.airchange import (  # noqa: F401 - re-exported
+    MIN_SLOPE_T,
+    daily_energy,
+    residual_adjustment,
+)
 from thermocal.retrofit.calibration import calibrate_to_heat, heating_setpoint, tight_control
 from thermocal.retrofit.config import (
     MIN_TRAINING_DAYS,
@@ -614,77 +619,6 @@ def fractional_savings_uncertainty(
         "t": t,
         "n_eff": float(n_eff),
     }
-
-
-#: Residual adjustment only when its slope is at least this many standard errors [-].
-MIN_SLOPE_T = 2.0
-
-
-def residual_adjustment(
-    residual_pre: np.ndarray, dt_pre: np.ndarray, dt_post: np.ndarray, rho: float
-) -> dict:
-    """Linear adjustment of the baseline model's daily heat in the indoor-outdoor difference.
-
-    The fifth-order model is linear with one constant ``H_est`` (ventilation, infiltration);
-    a real house's air change grows with the indoor-outdoor temperature difference (stack
-    effect) and the wind, so the calibrated ``H_est`` is the linearisation at the baseline
-    period's conditions. The daily residuals of the baseline period (measured minus model)
-    regressed on the daily mean indoor-outdoor difference, ``r = c + b (dT - mean dT_pre)``
-    (the two-parameter form of ASHRAE Guideline 14's inverse baseline models), measure that
-    slope error; applied to the reporting period's days it corrects the extrapolation to
-    warmer or colder weather. Estimated from the baseline period only, and applied only when
-    that period resolves the slope (``|b| >= 2 se(b)``, the usual t-test of a regression
-    term, with the standard error widened for autocorrelated residuals); otherwise no
-    adjustment (``applied`` False).
-
-    Parameters
-    ----------
-    residual_pre : ndarray [kWh/day]
-        Measured minus model daily heat of the baseline period.
-    dt_pre, dt_post : ndarray [K]
-        Daily mean indoor minus outdoor temperature of the baseline and reporting days.
-    rho : float [-]
-        Lag-1 autocorrelation of the residuals (inflates the variances by ``n / n'``).
-
-    Returns
-    -------
-    dict: ``per_day`` [kWh/day] for the reporting days, ``intercept`` [kWh/day],
-    ``slope`` [kWh/(day K)], ``slope_se``, ``sum_se`` [kWh] (standard error of the summed
-    adjustment), ``residual`` [kWh/day] of the baseline days after the adjustment,
-    ``applied`` (bool).
-    """
-    r = np.asarray(residual_pre, float)
-    x = np.asarray(dt_pre, float) - float(np.mean(dt_pre))
-    xp = np.asarray(dt_post, float) - float(np.mean(dt_pre))
-    n = len(r)
-    sxx = float(np.sum(x**2))
-    if n < 4 or sxx <= 0:
-        return {"per_day": np.zeros(len(xp)), "intercept": 0.0, "slope": 0.0,
-                "slope_se": 0.0, "sum_se": 0.0, "residual": r, "applied": False}  # fmt: skip
-    b = float(np.sum(x * r) / sxx)
-    c = float(np.mean(r))
-    e = r - c - b * x
-    rho = max(float(rho), 0.0) if np.isfinite(rho) else 0.0
-    inflation = (1.0 + rho) / (1.0 - min(rho, 0.95))  # n / n' of autocorrelated residuals
-    s2 = float(np.sum(e**2) / (n - 2)) * inflation
-    se_b = float(np.sqrt(s2 / sxx))
-    applied = abs(b) >= MIN_SLOPE_T * se_b
-    if not applied:  # the baseline period does not resolve the slope: no adjustment
-        return {"per_day": np.zeros(len(xp)), "intercept": c, "slope": b, "slope_se": se_b,
-                "sum_se": 0.0, "residual": r, "applied": False}  # fmt: skip
-    m, sx = len(xp), float(np.sum(xp))
-    sum_var = s2 * (m**2 / n + sx**2 / sxx)
-    return {"per_day": c + b * xp, "intercept": c, "slope": b, "slope_se": se_b,
-            "sum_se": float(np.sqrt(sum_var)), "residual": e, "applied": True}  # fmt: skip
-
-
-def daily_energy(power: pd.DataFrame) -> pd.DataFrame:
-    """Daily energy [kWh] of complete days of power columns [W]."""
-    step_h = (power.index[1] - power.index[0]) / pd.Timedelta(hours=1)
-    per_day = round(24.0 / step_h)
-    days = power.groupby(power.index.normalize())
-    complete = (days.count() == per_day).all(axis=1)
-    return (days.sum(min_count=1) * step_h / 1000.0)[complete]
 
 
 def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) -> Verification:

@@ -19,6 +19,7 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 from thermocal.physics.ground import ground_temperature, ground_temperature_parameters
+from thermocal.retrofit.airchange import adjust_demand, air_change_summary, estimate_slope
 from thermocal.retrofit.calibration import (
     BOUNDARY_COLUMNS,
     HEAT_COLUMNS,
@@ -82,6 +83,7 @@ class RetrofitAnalysis:
     gate: dict | None = None  # verdict of thermocal.retrofit.gate.validation_gate
     year_gains: np.ndarray | None = None  # [W] internal gains of the demand year
     calibration_method: dict | None = None  # :func:`calibration_method` (what was fitted, why)
+    air_change: dict | None = None  # :func:`thermocal.retrofit.airchange.estimate_slope`
 
 
 def load_building(source, *, config_source: str = "the retrofit configuration"):
@@ -391,6 +393,22 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         )
         heat_check = heat_validation(model_heat, inputs.loc[sel, "phi_h_measured"])
     gate = validation_gate(validation, heat_check, cfg.validation.model_dump())
+    air_change = None
+    if cfg.model.air_change == "slope":
+        # the air change's growth with the indoor-outdoor difference, from the calibration
+        # period's daily heat residuals (thermocal.retrofit.airchange)
+        sel = np.asarray(inputs.index < training[1])
+        follow = (setpoint if method["method"] == "heat" else inputs[OUTPUT_COLUMN]).loc[sel]
+        train_heat = heat_to_follow_measured(
+            model, cal.estimates_si, cal.envelope, states.loc[sel].iloc[0].to_numpy(float),
+            filled.loc[sel, list(DEMAND_INPUTS)], follow,
+            None if gains is None else inputs.loc[sel, "phi_int"],
+        )  # fmt: skip
+        air_change = estimate_slope(
+            inputs.loc[sel, "phi_h_measured"], train_heat, follow.interpolate(
+                limit_direction="both"), filled.loc[sel, "Te"], cal.estimates_si["H_est"],
+        )  # fmt: skip
+        say(air_change_summary(air_change))
     (log.info if gate["passed"] else log.warning)("%s", gate["summary"])
     timings["validation"] = time.perf_counter() - t2
 
@@ -454,6 +472,8 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     demand = simulate_demand(
         model, draws, envelopes, year[list(DEMAND_INPUTS)], profile, gains=year_gains
     )
+    if air_change is not None:
+        demand = adjust_demand(demand, air_change, year["Te"], profile, cfg.uncertainty.seed)
     timings["demand"] = time.perf_counter() - t3
     timings["total"] = time.perf_counter() - t0
     log.info(
@@ -469,6 +489,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         envelopes=envelopes,
         timings=timings, notes=notes, measurements_quality=quality,
         heat_validation=heat_check, gate=gate, calibration_method=method,
+        air_change=air_change,
     )  # fmt: skip
 
 
@@ -668,6 +689,11 @@ def compare_with_reference_demands(
         analysis.model, analysis.draws, envelopes, analysis.year_inputs, float(setpoint),
         gains=analysis.year_gains,
     )  # fmt: skip
+    if analysis.air_change is not None:
+        res = adjust_demand(
+            res, analysis.air_change, analysis.year_inputs["Te"], float(setpoint),
+            cfg.uncertainty.seed,
+        )  # fmt: skip
     annual = res.annual_kwh()
     lo_q = 0.5 * (1.0 - cfg.uncertainty.interval)
     base_ref = reference_kwh.get("0")

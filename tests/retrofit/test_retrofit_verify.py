@@ -361,3 +361,34 @@ def test_verify_energyplus_house_with_setback_is_right_or_inconclusive():
     else:  # and it says why: the baseline's Guideline 14 statistics or a wide interval
         why = ver.comparison["explanation"]
         assert ("Guideline 14" in why) != av["baseline_meets_criteria"] or "measure longer" in why
+
+
+def test_exchanged_sensor_is_named():
+    """A sensor read at 0.1 K before and 0.5 K after the retrofit, and a heat meter logging
+    every 10 min before and hourly after, are named; unchanged sensors are not."""
+    import numpy as np
+    import pandas as pd
+
+    from thermocal.retrofit.verify import sensor_change_notes
+
+    rng = np.random.default_rng(3)
+    index = pd.date_range("2024-01-01", "2024-03-31", freq="10min", tz="UTC")
+    date = pd.Timestamp("2024-02-15", tz="UTC")
+    temp = 20 + rng.normal(0, 0.6, len(index))
+    after = index >= date
+    temp_in = np.where(after, np.round(temp / 0.5) * 0.5, np.round(temp, 1))
+    heat = pd.Series(1500 + rng.normal(0, 300, len(index)), index=index)
+    heat[after & (index.minute != 0)] = np.nan
+    raw = pd.DataFrame(
+        {"temp_in": temp_in, "temp_out": np.round(rng.normal(2, 4, len(index)), 1), "phi_h": heat},
+        index=index,
+    )
+    pre = (index[0], date - pd.Timedelta("1D"))
+    post = (date + pd.Timedelta("1D"), index[-1])
+    columns = {"temp_in": "T_living", "temp_out": "Te", "phi_h": "Q_heat"}
+    notes = sensor_change_notes(raw, pre, post, columns, "log.csv")
+    assert len(notes) == 2, notes
+    assert "column 'T_living'" in notes[0] and "0.1 before, 0.5 after" in notes[0]
+    assert "column 'Q_heat'" in notes[1] and "10 min before, 60 min after" in notes[1]
+    same = sensor_change_notes(raw[["temp_out"]], pre, post, columns, "log.csv")
+    assert same == []

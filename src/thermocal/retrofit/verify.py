@@ -499,6 +499,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         electricity_cumulative=ig.electricity_cumulative,
     )  # fmt: skip
     notes = list(removed_values_notes(quality, mc.columns))
+    quality = {"quality": quality, "raw": raw}
     step = grid.index[1] - grid.index[0]
     weather, meta = load_weather_year(cfg, step)
     ground = ground_temperature_parameters(weather)
@@ -621,6 +622,86 @@ def fractional_savings_uncertainty(
     }
 
 
+#: reading steps a sensor or meter may have [unit of its values]
+_READING_STEPS = (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.25, 0.5, 1, 2, 5, 10, 20, 50)
+
+
+def _resolution(values: np.ndarray) -> float:
+    """The sensor's reading step [unit of the values]: the largest of the usual steps of
+    which at least 99 % of its non-zero readings are multiples; NaN when there are fewer than
+    20 non-zero readings or none fits (continuous readings)."""
+    values = values[np.isfinite(values) & (values != 0)]
+    if len(values) < 20:
+        return float("nan")
+    for step in reversed(_READING_STEPS):
+        ratio = values / step
+        if np.mean(np.abs(ratio - np.round(ratio)) < 1e-6 * np.maximum(1.0, np.abs(ratio))) >= 0.99:
+            return float(step)
+    return float("nan")
+
+
+def _logging_interval(times: pd.DatetimeIndex) -> pd.Timedelta | None:
+    """Median time between a column's readings, None with fewer than 3 readings."""
+    if len(times) < 3:
+        return None
+    return pd.Series(times).diff().median()
+
+
+def sensor_change_notes(
+    raw: pd.DataFrame, pre: tuple, post: tuple, columns: dict, source: str
+) -> list[str]:
+    """Signs that a sensor or meter was exchanged between the periods.
+
+    A replaced sensor usually reads with another resolution (e.g. 0.1 K -> 0.5 K, a heat
+    meter's 1 kWh -> 0.1 kWh) or logs at another interval; its readings before and after are
+    then not the same measurement and the verified saving can move with the change (ASHRAE
+    Guideline 14 asks for the same metering in both periods). Each column whose reading step
+    or logging interval differs by a factor of 2 or more between the periods is named.
+
+    Parameters
+    ----------
+    raw : DataFrame
+        Measurements as read (standard column names, original time stamps).
+    pre, post : tuple of Timestamp
+        Start and end of the pre- and post-retrofit periods.
+    columns : dict
+        Standard name -> the file's column name (for the messages).
+    source : str
+        Measurement file (for the messages).
+
+    Returns
+    -------
+    list of str
+        One note per changed column (empty when nothing changed).
+    """
+    out = []
+    for name in raw.columns:
+        series = raw[name].dropna()
+        before = series[(series.index >= pre[0]) & (series.index < pre[1])]
+        after = series[(series.index >= post[0]) & (series.index < post[1])]
+        if before.empty or after.empty:
+            continue
+        label = f"{source}, column {columns.get(name, name)!r}"
+        r0 = _resolution(before.to_numpy(float))
+        r1 = _resolution(after.to_numpy(float))
+        if np.isfinite(r0) and np.isfinite(r1) and max(r0, r1) >= 2.0 * min(r0, r1):
+            out.append(
+                f"{label}: the readings change resolution at the retrofit ({r0:g} before, "
+                f"{r1:g} after): a sensor or meter was probably exchanged; check that both "
+                "measure the same quantity in the same place, else the verified saving carries "
+                "the difference"
+            )
+        i0, i1 = _logging_interval(before.index), _logging_interval(after.index)
+        if i0 is not None and i1 is not None and max(i0, i1) >= 2 * min(i0, i1):
+            out.append(
+                f"{label}: the logging interval changes at the retrofit "
+                f"({i0 / pd.Timedelta('1min'):g} min before, {i1 / pd.Timedelta('1min'):g} min "
+                "after): a sensor or logger was probably exchanged; check that both measure the "
+                "same quantity in the same place"
+            )
+    return out
+
+
 def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) -> Verification:
     """Run the verification: both calibrations, avoided energy, physical change, comparison.
 
@@ -647,10 +728,11 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
     say("reading building, measurements and weather")
-    building, model, inputs, year, has_gains, _quality, notes, meta = prepare_inputs(
+    building, model, inputs, year, has_gains, quality, notes, meta = prepare_inputs(
         cfg, vcfg.source
     )
     pre, post, date = split_periods(inputs.index, sec, source)
+    notes += sensor_change_notes(quality["raw"], pre, post, cfg.measurements.columns, source)
     sel_pre = (inputs.index >= pre[0]) & (inputs.index < pre[1])
     sel_post = (inputs.index >= post[0]) & (inputs.index < post[1])
     check_period(inputs.loc[sel_pre], "pre", sec.min_days, source)

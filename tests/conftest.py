@@ -42,3 +42,31 @@ requires_energyplus = pytest.mark.skipif(
 def shared_data():
     """The :func:`shared_data_path` function, as a fixture."""
     return shared_data_path
+
+
+#: ``THERMOCAL_TEST_CONDUCTION=reduced`` runs the tests with every Simulation's network built
+#: with the reduced conduction model (``NetworkOptions.conduction = "reduced"``, optionally
+#: ``THERMOCAL_TEST_CONDUCTION_TOLERANCE``): the measurement of the reduced model against the
+#: EnergyPlus reference tests (issue 22). Unset, the tests run as written.
+TEST_CONDUCTION = os.environ.get("THERMOCAL_TEST_CONDUCTION")
+
+
+@pytest.fixture(autouse=True)
+def _conduction_model(monkeypatch):
+    if not TEST_CONDUCTION:
+        return
+    import dataclasses
+
+    from thermocal.multizone import simulation
+    from thermocal.multizone.network import NetworkOptions
+
+    assemble = simulation.assemble
+    changes = {"conduction": TEST_CONDUCTION}
+    if os.environ.get("THERMOCAL_TEST_CONDUCTION_TOLERANCE"):
+        changes["conduction_tolerance"] = float(os.environ["THERMOCAL_TEST_CONDUCTION_TOLERANCE"])
+
+    def reduced_assemble(building, step, *, options=None, **kwargs):
+        options = dataclasses.replace(options or NetworkOptions(), **changes)
+        return assemble(building, step, options=options, **kwargs)
+
+    monkeypatch.setattr(simulation, "assemble", reduced_assemble)

@@ -35,6 +35,8 @@ side (see :mod:`thermocal.multizone.simulation`).
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -132,6 +134,16 @@ class NetworkOptions:
         Contact conductance between a ground face and the ground temperature.
     radiant_temperature : float [C]
         Mean temperature at which the interior long-wave exchange is linearised.
+    conduction : {"full", "reduced"}
+        "full" (default): the finite-difference nodes of every opaque construction; "reduced":
+        each construction's interior nodes replaced by the fewest states of a balanced
+        truncation (singular perturbation, exact steady state) whose surface temperatures stay
+        within ``conduction_tolerance`` of the finite-difference model's at every frequency
+        from a year to the time step's Nyquist frequency
+        (:mod:`thermocal.multizone.conduction_reduction`); the surface nodes stay physical.
+    conduction_tolerance : float [K/K]
+        Largest change of a surface temperature per kelvin of oscillation of its surroundings
+        that the "reduced" conduction model may make (surface coefficients 3-30 W/(m2 K)).
     """
 
     fourier_min: float = 1.0 / 3.0
@@ -150,8 +162,21 @@ class NetworkOptions:
     wind_speed_factor: float = 0.845
     ground_contact_conductance: float = 1000.0
     radiant_temperature: float = 20.0
+    conduction: str = "full"
+    conduction_tolerance: float = 1e-3
 
     def __post_init__(self) -> None:
+        if self.conduction not in ("full", "reduced"):
+            raise ThermocalInputError(
+                f"conduction must be 'full' or 'reduced', got {self.conduction!r}"
+            )
+        if not (
+            isinstance(self.conduction_tolerance, int | float) and self.conduction_tolerance > 0
+        ):
+            raise ThermocalInputError(
+                "conduction_tolerance must be a positive number [K/K] (e.g. 1e-3), got "
+                f"{self.conduction_tolerance!r}"
+            )
         if self.interior_convection not in ("tarp", "fixed", "simple"):
             raise ThermocalInputError(
                 "interior_convection must be 'tarp', 'fixed' or 'simple', got "
@@ -537,21 +562,47 @@ def pressure_at_altitude(altitude):
 
 @dataclass
 class ConstructionTemplate:
-    """Per-m2 conductances between successive nodes and node capacities of a construction."""
+    """Per-m2 conductances and node capacities of a construction (outside node first, inside
+    node last).
+
+    ``matrix`` is None for the finite-difference chain (``conductance`` between successive
+    nodes); for a reduced model (``NetworkOptions.conduction = "reduced"``) it is the symmetric
+    conductance matrix of the nodes with zero row sums, and ``conductance`` holds the
+    finite-difference chain it replaces.
+    """
 
     conductance: np.ndarray  # (n_cells,) [W/(m2 K)]
-    capacity: np.ndarray  # (n_cells + 1,) [J/(m2 K)]
+    capacity: np.ndarray  # (n_nodes,) [J/(m2 K)]
     resistance: float  # [m2 K/W], surface to surface
+    matrix: np.ndarray | None = None  # (n_nodes, n_nodes) [W/(m2 K)]
+    n_full: int = 0  # finite-difference nodes of the construction
+
+    @functools.cached_property
+    def links(self) -> list[tuple[int, int, float]]:
+        """Node pairs (i < j) and their conductance [W/(m2 K)] (negative ones possible in a
+        reduced model)."""
+        if self.matrix is None:
+            return [(c, c + 1, float(g)) for c, g in enumerate(self.conductance)]
+        rows, cols = np.nonzero(np.triu(self.matrix, 1))
+        return [
+            (int(i), int(j), float(-self.matrix[i, j])) for i, j in zip(rows, cols, strict=True)
+        ]
 
 
-def construction_template(layers, step: float, options: NetworkOptions) -> ConstructionTemplate:
-    """Discretise a construction (layers outside -> inside) into cells.
+def construction_template(
+    layers, step: float, options: NetworkOptions, cache: dict | None = None
+) -> ConstructionTemplate:
+    """Discretise a construction (layers outside -> inside) into cells, reduced if
+    ``options.conduction`` is "reduced".
 
     Parameters
     ----------
     layers : sequence of Material or NoMassMaterial
     step : float [s]
     options : NetworkOptions
+    cache : dict, optional
+        Reduced models by finite-difference chain, step and tolerance (reused between
+        assemblies).
     """
     conductance: list[float] = []
     capacity = [0.0]
@@ -578,11 +629,31 @@ def construction_template(layers, step: float, options: NetworkOptions) -> Const
             conductance.append(1.0 / layer.resistance)
             capacity.append(0.0)
     conductance_arr = np.asarray(conductance)
-    return ConstructionTemplate(
+    capacity_arr = np.asarray(capacity)
+    template = ConstructionTemplate(
         conductance=conductance_arr,
-        capacity=np.asarray(capacity),
+        capacity=capacity_arr,
         resistance=float(np.sum(1.0 / conductance_arr)),
+        n_full=len(capacity_arr),
     )
+    if options.conduction == "full":
+        return template
+    from thermocal.multizone.conduction_reduction import reduce_construction
+
+    key = (
+        "reduced_conduction",
+        conductance_arr.tobytes(),
+        capacity_arr.tobytes(),
+        float(step),
+        float(options.conduction_tolerance),
+    )
+    cache = {} if cache is None else cache
+    if key not in cache:
+        cache[key] = reduce_construction(
+            conductance_arr, capacity_arr, step, options.conduction_tolerance
+        )
+    reduced = cache[key]
+    return dataclasses.replace(template, capacity=reduced.capacity, matrix=reduced.conductance)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -774,7 +845,7 @@ def assemble(
     def template(name: str) -> ConstructionTemplate:
         if name not in templates:
             templates[name] = construction_template(
-                building.construction_layers(name), step, options
+                building.construction_layers(name), step, options, cache
             )
         return templates[name]
 
@@ -812,10 +883,9 @@ def assemble(
         tpl = template(surface.construction)
         area = surface.area - window_area_of.get(surface.name, 0.0)
         first = new_nodes(tpl.capacity * area)
-        n_cells = len(tpl.conductance)
-        for c in range(n_cells):
-            link(first + c, first + c + 1, tpl.conductance[c] * area)
-        outside, inside = first, first + n_cells
+        for i, j, g in tpl.links:
+            link(first + i, first + j, g * area)
+        outside, inside = first, first + len(tpl.capacity) - 1
         surface_nodes[surface.name] = (outside, inside)
         alpha_in, eps_in = face_props(surface, layers, inside=True)
         f_name.append(surface.name)

@@ -8,7 +8,10 @@ Nodes
   cells (:func:`cells_per_layer`), nodes sit on the cell faces (so the outermost and innermost nodes
   ARE the surface temperatures), each node carries half of the capacity of its adjacent cells; a
   no-mass layer is one cell without capacity.  An inter-zone partition gets ONE set of nodes (from
-  the first of its two :class:`~thermocal.multizone.model.Surface` descriptions);
+  the first of its two :class:`~thermocal.multizone.model.Surface` descriptions).  With
+  ``NetworkOptions(conduction="reduced")`` the interior nodes of each construction are replaced
+  by the fewest states of a balanced truncation within ``conduction_tolerance``
+  (:mod:`thermocal.multizone.conduction_reduction`); the two surface nodes stay;
 * two massless nodes per window (outer and inner glass face).
 
 Links

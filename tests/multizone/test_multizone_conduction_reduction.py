@@ -64,8 +64,8 @@ def test_reduced_wall_matches_transfer_matrix_admittance(layers):
     fd_error = cr.reduction_error(exact, y_fd)
     red_error = cr.reduction_error(exact, y_red)
     assert fd_error < 1e-2, fd_error  # the finite-difference reference itself
-    assert red_error < 2e-3 + fd_error, (red_error, fd_error, reduced.n_modes)
-    assert reduced.n_modes <= 16 and reduced.n_modes < (len(c) - 2) / 3, reduced.n_modes
+    assert red_error < 2e-3 + fd_error, (red_error, fd_error, reduced.n_states)
+    assert reduced.n_states <= 16 and reduced.n_states < (len(c) - 2) / 3, reduced.n_states
     # steady state exact: the transmittance at zero frequency is 1 / R
     resistance = sum(
         layer.thickness / layer.conductivity if isinstance(layer, Material) else layer.resistance
@@ -74,8 +74,8 @@ def test_reduced_wall_matches_transfer_matrix_admittance(layers):
     y0 = cr.surface_admittance(reduced.conductance, reduced.capacity, [0.0])[0]
     np.testing.assert_allclose(-y0[0, 1].real, 1.0 / resistance, rtol=1e-10)
     # and without the states that the tolerance asks for it would fail
-    if reduced.n_modes > 0:
-        k_r, c_r = cr.balanced_reduction(k, c, reduced.n_modes - 1)
+    if reduced.n_states > 0:
+        k_r, c_r = cr.balanced_reduction(k, c, reduced.n_states - 1)
         assert cr.reduction_error(exact, cr.surface_admittance(k_r, c_r, s)) > 2e-3
 
 
@@ -103,7 +103,7 @@ def test_reduced_slab_step_response_matches_series_solution():
         x = np.linalg.solve(a, (expm(a * t) - np.eye(len(free))) @ forcing)
         found[fourier] = x[-1] - (1.0 - _series_insulated_face(fourier))
     assert max(abs(v) for v in found.values()) < 3e-3, found
-    assert reduced.n_modes <= 10 < len(c) - 2, reduced.n_modes
+    assert reduced.n_states <= 10 < len(c) - 2, reduced.n_states
 
 
 @pytest.mark.parametrize(
@@ -135,7 +135,7 @@ def test_reduction_error_is_measured_against_the_finite_difference_model():
     assert cr.reduction_error(
         y_full, cr.surface_admittance(reduced.conductance, reduced.capacity, s)
     ) == pytest.approx(reduced.error, rel=1e-9)
-    fewer = cr.balanced_reduction(k, c, reduced.n_modes - 1)
+    fewer = cr.balanced_reduction(k, c, reduced.n_states - 1)
     assert cr.reduction_error(y_full, cr.surface_admittance(*fewer, s)) > 1e-3
     wrong_capacity = reduced.capacity * np.r_[1.0, np.full(len(reduced.capacity) - 2, 1.2), 1.0]
     assert (

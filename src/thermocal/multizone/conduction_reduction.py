@@ -72,7 +72,7 @@ class ReducedConstruction:
         Symmetric, zero row sums; node 0 the outside surface, node ``n - 1`` the inside surface,
         nodes ``1 .. n - 2`` the reduced interior states.
     capacity : ndarray (n,) [J/(m2 K)]
-    n_modes : int
+    n_states : int
         Interior states (the finite-difference interior nodes when no state could be saved).
     n_full : int
         Number of nodes of the finite-difference model it replaces.
@@ -82,7 +82,7 @@ class ReducedConstruction:
 
     conductance: np.ndarray
     capacity: np.ndarray
-    n_modes: int
+    n_states: int
     n_full: int
     error: float
 
@@ -298,7 +298,7 @@ def _truncate(form, n_states: int):
         static = b2.T @ np.linalg.solve(a22, b2)
     else:
         a_r, b_r, static = a11, b1, np.zeros((2, 2))
-    k_qq, k_qb = _temperature_like_modes(-a_r, -b_r)
+    (k_qq, c_q), k_qb = _temperature_like_modes(-a_r, -b_r)
     k_r = np.zeros((m + 2, m + 2))
     c_r = np.zeros(m + 2)
     outer = np.array([0, m + 1])
@@ -306,11 +306,10 @@ def _truncate(form, n_states: int):
     k_r[np.ix_(outer, outer)] = k_bb + static
     c_r[outer] = c_b
     if m:
-        # temperature-like states (see _temperature_like_modes): unit capacity times g^2
-        k_r[np.ix_(inner, inner)] = k_qq[0]
+        k_r[np.ix_(inner, inner)] = k_qq
         k_r[np.ix_(inner, outer)] = k_qb
         k_r[np.ix_(outer, inner)] = k_qb.T
-        c_r[inner] = k_qq[1]
+        c_r[inner] = c_q
     return 0.5 * (k_r + k_r.T), c_r
 
 

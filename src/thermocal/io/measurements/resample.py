@@ -331,36 +331,12 @@ def resample_measurements(
     meta = raw.attrs.get("measurements", {}) if isinstance(raw.attrs, dict) else {}
     interval_td = _as_timedelta(meta.get("interval") if interval is None else interval, "interval")
     sensors = list(series)
-    quantity_of = dict(meta.get("quantities", {}))
-    for name in sensors:
-        quantity_of.setdefault(name, _guess_quantity(name))
-    if quantities:
-        for name, quantity in _per_sensor(quantities, sensors, "quantities", None).items():
-            if quantity is not None:
-                if quantity not in CANONICAL_UNITS:
-                    raise ThermocalInputError(
-                        f"quantities: unknown quantity '{quantity}' for '{name}' "
-                        f"(known: {', '.join(CANONICAL_UNITS)})"
-                    )
-                quantity_of[name] = quantity
+    quantity_of = _quantities(sensors, meta, quantities)
     unit_of = {
         s: meta.get("units", {}).get(s) or CANONICAL_UNITS.get(quantity_of[s] or "", "")
         for s in sensors
     }
-    if how is None or isinstance(how, str):
-        operations = {
-            s: how or _DEFAULT_OPERATION.get(quantity_of[s] or "", "mean") for s in sensors
-        }
-    else:
-        operations = _per_sensor(
-            how, sensors, "how", lambda s: _DEFAULT_OPERATION.get(quantity_of[s] or "", "mean")
-        )
-    for name, operation in operations.items():
-        if operation not in OPERATIONS:
-            raise ThermocalInputError(
-                f"how: operation '{operation}' for '{name}' is not one of {', '.join(OPERATIONS)}"
-                f"{_suggest(str(operation), OPERATIONS)}"
-            )
+    operations = _operations(how, sensors, quantity_of)
     gaps_of = {
         name: _as_timedelta(value, f"max_gap['{name}']")
         for name, value in _per_sensor(max_gap, sensors, "max_gap", "1h").items()
@@ -376,88 +352,52 @@ def resample_measurements(
         last_ns += interval_td.value  # the last row describes [t_last, t_last + interval)
     grid = _grid(first_ns, last_ns, step_td, tz, start, end)
     origin_ns = grid[0].value
-    step_s = step_td.total_seconds()
-    edges = np.arange(len(grid) + 1, dtype=np.float64) * step_s
+    edges = np.arange(len(grid) + 1, dtype=np.float64) * step_td.total_seconds()
     data_end = (last_ns - origin_ns) / 1e9
     if end is not None:
         data_end = min(data_end, edges[-1])
+    first_s = (first_ns - origin_ns) / 1e9  # the first report of any sensor
 
     columns: dict[str, np.ndarray] = {}
     coverage_columns: dict[str, np.ndarray] = {}
     sensor_rows: list[dict] = []
     gap_rows: list[dict] = []
     flag_rows: list[dict] = []
-    actions: list[str] = []
-    for note in meta.get("notes", []):
-        actions.append(f"reading: {note}")
-    for name, note in meta.get("conversions", {}).items():
-        actions.append(f"{name}: converted {note}")
-    if interval_td is not None:
-        actions.append(
-            f"rows are interval means: each held until the next row or for at most "
-            f"{interval_td}, the last until {pd.Timestamp(last_ns, tz='UTC').tz_convert(tz)}"
-        )
-
+    actions = _reading_actions(meta, interval_td, last_ns, tz)
     for name in sensors:
         times_ns, values, lines_of = series[name]
-        quantity = quantity_of[name]
-        operation = operations[name]
-        unit = unit_of[name]
-        # physically impossible values
-        if limit_of[name] is not None:
-            low, high = limit_of[name]
-            reason = "outside the limits given"
-        elif quantity in PHYSICAL_LIMITS:
-            low, high, reason = PHYSICAL_LIMITS[quantity]
-        else:
-            low, high, reason = -math.inf, math.inf, ""
-        impossible = (values < low) | (values > high)
-        n_impossible = int(impossible.sum())
-        if n_impossible:
-            for index in np.flatnonzero(impossible)[:1000]:
-                flag_rows.append(
-                    {
-                        "sensor": name,
-                        "time": pd.Timestamp(int(times_ns[index]), tz="UTC").tz_convert(tz),
-                        "value": float(values[index]),
-                        "line": None if lines_of is None else int(lines_of[index]),
-                        "flag": "impossible",
-                        "action": "removed",
-                        "reason": f"{reason} {low:g} to {high:g} {unit}".strip(),
-                    }
-                )
-            first_time = pd.Timestamp(int(times_ns[np.flatnonzero(impossible)[0]]), tz="UTC")
-            actions.append(
-                f"{name}: removed {n_impossible} physically impossible value(s) outside "
-                f"{low:g} to {high:g} {unit} (first at {first_time.tz_convert(tz).isoformat()})"
-            )
-            times_ns, values = times_ns[~impossible], values[~impossible]
-            lines_of = None if lines_of is None else lines_of[~impossible]
-        # isolated spikes
+        quantity, operation, unit = quantity_of[name], operations[name], unit_of[name]
+        low, high, reason = _limits(limit_of[name], quantity)
+        keep, flags, action = _impossible(
+            name, times_ns, values, lines_of, low, high, reason, unit, tz
+        )
+        n_impossible = len(values) - int(keep.sum())
+        flag_rows += flags
+        actions += action
+        times_ns, values = times_ns[keep], values[keep]
+        lines_of = None if lines_of is None else lines_of[keep]
         n_outliers = n_removed = 0
         if outliers != "ignore" and quantity in OUTLIER_FLOORS and values.size:
             spikes = _spikes(values, outlier_sigma, OUTLIER_FLOORS[quantity], outlier_max_run)
             n_outliers = int(spikes.sum())
             if n_outliers:
-                action = "removed" if outliers == "remove" else "kept"
-                for index in np.flatnonzero(spikes)[:1000]:
-                    flag_rows.append(
-                        {
-                            "sensor": name,
-                            "time": pd.Timestamp(int(times_ns[index]), tz="UTC").tz_convert(tz),
-                            "value": float(values[index]),
-                            "line": None if lines_of is None else int(lines_of[index]),
-                            "flag": "outlier",
-                            "action": action,
-                            "reason": (
-                                f"spike: jumps more than max({OUTLIER_FLOORS[quantity]:g} {unit}, "
-                                f"{outlier_sigma:g} robust standard deviations of the successive "
-                                f"differences) away from both neighbours and back within "
-                                f"{outlier_max_run} report(s)"
-                            ),
-                        }
-                    )
-                actions.append(f"{name}: {n_outliers} isolated spike(s) {action}")
+                flag_rows += _spike_flags(
+                    name,
+                    spikes,
+                    times_ns,
+                    values,
+                    lines_of,
+                    outliers,
+                    quantity,
+                    unit,
+                    tz,
+                    outlier_sigma,
+                    outlier_max_run,
+                )
+                actions.append(
+                    f"{name}: {n_outliers} isolated spike(s) "
+                    f"{'removed' if outliers == 'remove' else 'kept'}"
+                )
                 if outliers == "remove":
                     n_removed = n_outliers
                     times_ns, values = times_ns[~spikes], values[~spikes]
@@ -466,8 +406,7 @@ def resample_measurements(
         n = len(grid)
         max_gap_s = math.inf if gaps_of[name] is None else gaps_of[name].total_seconds()
         if values.size == 0:
-            result = np.zeros(n) if operation == "count" else np.full(n, np.nan)
-            columns[name] = result
+            columns[name] = np.zeros(n) if operation == "count" else np.full(n, np.nan)
             coverage_columns[name] = np.zeros(n)
             sensor_rows.append(
                 _sensor_row(
@@ -490,81 +429,14 @@ def resample_measurements(
             actions.append(f"{name}: no usable report; all intervals NaN")
             continue
         t = (times_ns - origin_ns) / 1e9
-        intervals = np.diff(t)
-        typical = float(np.median(intervals)) if intervals.size else step_s
-        hold = min(max_gap_s, typical if intervals.size else max_gap_s)
-        if not math.isfinite(hold):
-            hold = step_s
-        ends, gap = _validity_ends(t, data_end, max_gap_s, hold)
-        if interval_td is not None:
-            ends = np.minimum(ends, t + interval_td.total_seconds())
-        reference = float(values[0])
-        integral, cover = _held_integral(t, values - reference, ends, edges)
-        covered = np.diff(cover)
-        coverage = covered / step_s
-        enough = coverage >= min_coverage - 1e-12
-        enough &= covered > 0
-        if operation == "mean":
-            with np.errstate(invalid="ignore", divide="ignore"):
-                result = np.diff(integral) / covered + reference
-            result[~enough] = np.nan
-        elif operation == "mean_linear":
-            integral_lin, cover_lin = _linear_integral(t, values - reference, gap, edges)
-            covered_lin = np.diff(cover_lin)
-            coverage = covered_lin / step_s
-            enough = (coverage >= min_coverage - 1e-12) & (covered_lin > 0)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                result = np.diff(integral_lin) / covered_lin + reference
-            result[~enough] = np.nan
-        elif operation == "last":
-            result = _held_at(t, values, ends, edges[1:], before=True)
-        elif operation == "first":
-            result = _held_at(t, values, ends, edges[:-1], before=False)
-        elif operation in ("min", "max", "sum", "count"):
-            bins = np.searchsorted(edges, t, side="right") - 1
-            inside = (bins >= 0) & (bins < n)
-            b, vals = bins[inside], values[inside]
-            if operation == "count":
-                result = np.bincount(b, minlength=n).astype(np.float64)
-            elif operation == "sum":
-                result = np.bincount(b, weights=vals, minlength=n)
-                result[~enough] = np.nan
-            else:
-                at_start = _held_at(t, values, ends, edges[:-1], before=False)
-                fill = math.inf if operation == "min" else -math.inf
-                extreme = np.where(np.isfinite(at_start), at_start, fill)
-                (np.minimum if operation == "min" else np.maximum).at(extreme, b, vals)
-                extreme[~np.isfinite(extreme)] = np.nan
-                extreme[~enough] = np.nan
-                result = extreme
+        result, coverage, gap = _aggregate(
+            operation, t, values, edges, data_end, max_gap_s, interval_td, min_coverage
+        )
         columns[name] = result
         coverage_columns[name] = coverage
-        n_missing = int(np.isnan(result).sum())
-        # gaps: silences after a report longer than max_gap, and before the first report
-        gap_index = np.flatnonzero(gap)
-        sensor_gaps = []
-        lead = t[0] - max(edges[0], (first_ns - origin_ns) / 1e9)
-        if lead > max_gap_s:
-            sensor_gaps.append(((first_ns - origin_ns) / 1e9, t[0]))
-        for index in gap_index:
-            following = t[index + 1] if index + 1 < t.size else data_end
-            sensor_gaps.append((t[index], following))
-        gap_hours = 0.0
-        for begin_s, end_s in sensor_gaps:
-            lo = int(np.searchsorted(edges, begin_s, side="right") - 1)
-            hi = int(np.searchsorted(edges, end_s, side="left"))
-            missing_bins = int(np.isnan(result[max(lo, 0) : min(hi, n)]).sum())
-            duration_h = (end_s - begin_s) / 3600.0
-            gap_hours += duration_h
-            gap_rows.append(
-                {
-                    "sensor": name,
-                    "start": grid[0] + pd.Timedelta(seconds=begin_s),
-                    "end": grid[0] + pd.Timedelta(seconds=end_s),
-                    "duration_hours": duration_h,
-                    "n_missing": missing_bins,
-                }
-            )
+        sensor_gaps = _silences(t, gap, first_s, edges[0], data_end, max_gap_s)
+        rows, gap_hours = _gap_rows(name, sensor_gaps, result, edges, grid[0])
+        gap_rows += rows
         if sensor_gaps:
             longest = max(e - b for b, e in sensor_gaps) / 3600.0
             actions.append(
@@ -572,6 +444,7 @@ def resample_measurements(
                 f"{gaps_of[name]} (longest {longest:.2f} h, {gap_hours:.2f} h in total) left "
                 f"NaN, not interpolated"
             )
+        intervals = np.diff(t)
         sensor_rows.append(
             _sensor_row(
                 name,
@@ -587,7 +460,7 @@ def resample_measurements(
                 n_outliers,
                 n_removed,
                 float(np.mean(np.clip(coverage, 0.0, 1.0))),
-                n_missing,
+                int(np.isnan(result).sum()),
             )
         )
 
@@ -608,3 +481,284 @@ def resample_measurements(
         actions=actions,
     )
     return data, report
+
+
+# ----------------------------------------------------------------------------------------------
+# the stages of resample_measurements
+# ----------------------------------------------------------------------------------------------
+def _quantities(
+    sensors: Sequence[str], meta: Mapping[str, Any], quantities: Mapping[str, str] | None
+) -> dict[str, str | None]:
+    """Quantity per sensor: the reader's, else guessed from the name, overridden by the user."""
+    quantity_of = dict(meta.get("quantities", {}))
+    for name in sensors:
+        quantity_of.setdefault(name, _guess_quantity(name))
+    if quantities:
+        for name, quantity in _per_sensor(quantities, sensors, "quantities", None).items():
+            if quantity is not None:
+                if quantity not in CANONICAL_UNITS:
+                    raise ThermocalInputError(
+                        f"quantities: unknown quantity '{quantity}' for '{name}' "
+                        f"(known: {', '.join(CANONICAL_UNITS)})"
+                    )
+                quantity_of[name] = quantity
+    return quantity_of
+
+
+def _operations(
+    how: str | Mapping[str, str] | None,
+    sensors: Sequence[str],
+    quantity_of: Mapping[str, str | None],
+) -> dict[str, str]:
+    """Resampling operation per sensor (default "mean", "last" for energy meter readings)."""
+    if how is None or isinstance(how, str):
+        operations = {
+            s: how or _DEFAULT_OPERATION.get(quantity_of[s] or "", "mean") for s in sensors
+        }
+    else:
+        operations = _per_sensor(
+            how, sensors, "how", lambda s: _DEFAULT_OPERATION.get(quantity_of[s] or "", "mean")
+        )
+    for name, operation in operations.items():
+        if operation not in OPERATIONS:
+            raise ThermocalInputError(
+                f"how: operation '{operation}' for '{name}' is not one of {', '.join(OPERATIONS)}"
+                f"{_suggest(str(operation), OPERATIONS)}"
+            )
+    return operations
+
+
+def _reading_actions(
+    meta: Mapping[str, Any], interval_td: pd.Timedelta | None, last_ns: int, tz: Any
+) -> list[str]:
+    """What the reader did (notes, unit conversions, interval means), for the report."""
+    actions = [f"reading: {note}" for note in meta.get("notes", [])]
+    actions += [f"{name}: converted {note}" for name, note in meta.get("conversions", {}).items()]
+    if interval_td is not None:
+        actions.append(
+            f"rows are interval means: each held until the next row or for at most "
+            f"{interval_td}, the last until {pd.Timestamp(last_ns, tz='UTC').tz_convert(tz)}"
+        )
+    return actions
+
+
+def _limits(given: tuple[float, float] | None, quantity: str | None) -> tuple[float, float, str]:
+    """Physically possible (low, high) of a sensor in its unit, and the reason for the report."""
+    if given is not None:
+        return given[0], given[1], "outside the limits given"
+    if quantity in PHYSICAL_LIMITS:
+        return PHYSICAL_LIMITS[quantity]
+    return -math.inf, math.inf, ""
+
+
+def _flag_row(name, time_ns, value, line, flag, action, reason, tz) -> dict:
+    return {
+        "sensor": name,
+        "time": pd.Timestamp(int(time_ns), tz="UTC").tz_convert(tz),
+        "value": float(value),
+        "line": None if line is None else int(line),
+        "flag": flag,
+        "action": action,
+        "reason": reason,
+    }
+
+
+def _impossible(
+    name: str,
+    times_ns: np.ndarray,
+    values: np.ndarray,
+    lines_of: np.ndarray | None,
+    low: float,
+    high: float,
+    reason: str,
+    unit: str,
+    tz: Any,
+) -> tuple[np.ndarray, list[dict], list[str]]:
+    """Reports to keep (inside the physical limits), the flags of the others and the action."""
+    impossible = (values < low) | (values > high)
+    if not impossible.any():
+        return ~impossible, [], []
+    text = f"{reason} {low:g} to {high:g} {unit}".strip()
+    where = np.flatnonzero(impossible)
+    flags = [
+        _flag_row(
+            name,
+            times_ns[i],
+            values[i],
+            None if lines_of is None else lines_of[i],
+            "impossible",
+            "removed",
+            text,
+            tz,
+        )
+        for i in where[:1000]
+    ]
+    first_time = pd.Timestamp(int(times_ns[where[0]]), tz="UTC").tz_convert(tz)
+    action = (
+        f"{name}: removed {where.size} physically impossible value(s) outside "
+        f"{low:g} to {high:g} {unit} (first at {first_time.isoformat()})"
+    )
+    return ~impossible, flags, [action]
+
+
+def _spike_flags(
+    name, spikes, times_ns, values, lines_of, outliers, quantity, unit, tz, sigma, max_run
+) -> list[dict]:
+    """Flag rows of the spikes found by the QARTOD-style spike test."""
+    reason = (
+        f"spike: jumps more than max({OUTLIER_FLOORS[quantity]:g} {unit}, {sigma:g} robust "
+        f"standard deviations of the successive differences) away from both neighbours and "
+        f"back within {max_run} report(s)"
+    )
+    action = "removed" if outliers == "remove" else "kept"
+    return [
+        _flag_row(
+            name,
+            times_ns[i],
+            values[i],
+            None if lines_of is None else lines_of[i],
+            "outlier",
+            action,
+            reason,
+            tz,
+        )
+        for i in np.flatnonzero(spikes)[:1000]
+    ]
+
+
+def _aggregate(
+    operation: str,
+    t: np.ndarray,
+    values: np.ndarray,
+    edges: np.ndarray,
+    data_end: float,
+    max_gap_s: float,
+    interval_td: pd.Timedelta | None,
+    min_coverage: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One sensor on the grid: the operation's values, the coverage per interval and the gaps.
+
+    Parameters
+    ----------
+    operation : str
+        One of :data:`OPERATIONS`.
+    t : ndarray
+        Report times from the grid's start [s].
+    values : ndarray
+        Report values (canonical unit).
+    edges : ndarray
+        Interval edges from the grid's start [s], ``n + 1`` values.
+    data_end : float
+        End of the data [s from the grid's start].
+    max_gap_s : float
+        Longest silence across which a value is held [s].
+    interval_td : Timedelta or None
+        Logging interval of interval means (each row holds for at most this long).
+    min_coverage : float [-]
+        Intervals covered less than this fraction are NaN.
+
+    Returns
+    -------
+    result, coverage : ndarray
+        Per interval: the value (NaN where unknown) and the covered fraction [-].
+    gap : ndarray of bool
+        Per report: the silence after it is longer than ``max_gap_s``.
+    """
+    n = edges.size - 1
+    step_s = float(edges[1] - edges[0])
+    intervals = np.diff(t)
+    typical = float(np.median(intervals)) if intervals.size else step_s
+    hold = min(max_gap_s, typical if intervals.size else max_gap_s)
+    if not math.isfinite(hold):
+        hold = step_s
+    ends, gap = _validity_ends(t, data_end, max_gap_s, hold)
+    if interval_td is not None:
+        ends = np.minimum(ends, t + interval_td.total_seconds())
+    reference = float(values[0])
+    integral, cover = _held_integral(t, values - reference, ends, edges)
+    covered = np.diff(cover)
+    coverage = covered / step_s
+    enough = (coverage >= min_coverage - 1e-12) & (covered > 0)
+    if operation == "mean":
+        with np.errstate(invalid="ignore", divide="ignore"):
+            result = np.diff(integral) / covered + reference
+        result[~enough] = np.nan
+    elif operation == "mean_linear":
+        integral_lin, cover_lin = _linear_integral(t, values - reference, gap, edges)
+        covered_lin = np.diff(cover_lin)
+        coverage = covered_lin / step_s
+        enough = (coverage >= min_coverage - 1e-12) & (covered_lin > 0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            result = np.diff(integral_lin) / covered_lin + reference
+        result[~enough] = np.nan
+    elif operation == "last":
+        result = _held_at(t, values, ends, edges[1:], before=True)
+    elif operation == "first":
+        result = _held_at(t, values, ends, edges[:-1], before=False)
+    else:  # min, max, sum, count
+        bins = np.searchsorted(edges, t, side="right") - 1
+        inside = (bins >= 0) & (bins < n)
+        b, vals = bins[inside], values[inside]
+        if operation == "count":
+            result = np.bincount(b, minlength=n).astype(np.float64)
+        elif operation == "sum":
+            result = np.bincount(b, weights=vals, minlength=n)
+            result[~enough] = np.nan
+        else:
+            at_start = _held_at(t, values, ends, edges[:-1], before=False)
+            fill = math.inf if operation == "min" else -math.inf
+            extreme = np.where(np.isfinite(at_start), at_start, fill)
+            (np.minimum if operation == "min" else np.maximum).at(extreme, b, vals)
+            extreme[~np.isfinite(extreme)] = np.nan
+            extreme[~enough] = np.nan
+            result = extreme
+    return result, coverage, gap
+
+
+def _silences(
+    t: np.ndarray,
+    gap: np.ndarray,
+    first_s: float,
+    grid_start: float,
+    data_end: float,
+    max_gap_s: float,
+) -> list[tuple[float, float]]:
+    """Silences longer than max_gap: (begin, end) [s from the grid's start].
+
+    Before the sensor's first report (from the first report of any sensor) and after each
+    report flagged in ``gap``.
+    """
+    silences = []
+    if t[0] - max(grid_start, first_s) > max_gap_s:
+        silences.append((first_s, t[0]))
+    for index in np.flatnonzero(gap):
+        following = t[index + 1] if index + 1 < t.size else data_end
+        silences.append((t[index], following))
+    return silences
+
+
+def _gap_rows(
+    name: str,
+    silences: Sequence[tuple[float, float]],
+    result: np.ndarray,
+    edges: np.ndarray,
+    origin: pd.Timestamp,
+) -> tuple[list[dict], float]:
+    """Report rows of a sensor's gaps and their total duration [h]."""
+    n = result.size
+    rows, total_h = [], 0.0
+    for begin_s, end_s in silences:
+        lo = int(np.searchsorted(edges, begin_s, side="right") - 1)
+        hi = int(np.searchsorted(edges, end_s, side="left"))
+        duration_h = (end_s - begin_s) / 3600.0
+        total_h += duration_h
+        rows.append(
+            {
+                "sensor": name,
+                "start": origin + pd.Timedelta(seconds=begin_s),
+                "end": origin + pd.Timedelta(seconds=end_s),
+                "duration_hours": duration_h,
+                "n_missing": int(np.isnan(result[max(lo, 0) : min(hi, n)]).sum()),
+            }
+        )
+    return rows, total_h

@@ -176,7 +176,7 @@ def test_simulate_runs_the_multizone_example_and_refuses_the_retrofit_building_f
                        "--out", tmp_path / "wrong")  # fmt: skip
     assert wrong.returncode == 2 and "Traceback" not in wrong.stderr
     lines = wrong.stderr.strip().splitlines()
-    assert len(lines) == 1 and "is a retrofit building file" in lines[0]
+    assert len(lines) == 1 and "is an envelope description" in lines[0]
     assert "examples/buildings/multizone_single_family_house.yaml" in lines[0]
     assert not (tmp_path / "wrong").exists()
     run = _thermocal("simulate", "examples/buildings/multizone_single_family_house.yaml",

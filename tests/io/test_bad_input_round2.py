@@ -25,8 +25,7 @@ from conftest import shared_data_path
 from thermocal.errors import ThermocalInputError
 from thermocal.identification.sensors import (
     SensorMapping,
-    _hold_final_step,
-    _hold_first_step,
+    _hold_edge_step,
     check_sensor_plausibility,
 )
 from thermocal.io._time import as_timezone
@@ -156,10 +155,12 @@ def test_log_ending_exactly_at_end_holds_the_last_value():
     """The final step's window reaches half a step past --end: held, reported, not a gap."""
     index = pd.date_range("2024-01-01", periods=6, freq="5min", tz="UTC")
     series = pd.Series([20.0, 20.1, 20.2, 20.3, 20.4, np.nan], index=index)
-    held, runs = _hold_final_step(series, index[-1] + pd.Timedelta("5min"), pd.Timedelta("5min"))
+    held, runs = _hold_edge_step(
+        series, index[-1] + pd.Timedelta("5min"), pd.Timedelta("5min"), "last"
+    )
     assert held.iloc[-1] == 20.4 and len(runs) == 1 and runs[0]["start"] == index[-1]
     # a log that stops earlier keeps its gap (named by the caller)
-    kept, runs = _hold_final_step(series, index[-3], pd.Timedelta("5min"))
+    kept, runs = _hold_edge_step(series, index[-3], pd.Timedelta("5min"), "last")
     assert np.isnan(kept.iloc[-1]) and runs == []
 
 
@@ -169,10 +170,10 @@ def test_log_stamped_at_step_ends_holds_the_first_value():
     step = pd.Timedelta("10min")
     index = pd.date_range("2024-01-01", periods=6, freq=step, tz="UTC")
     series = pd.Series([np.nan, 20.1, 20.2, 20.3, 20.4, 20.5], index=index)
-    held, runs = _hold_first_step(series, index[0] + step, step)
+    held, runs = _hold_edge_step(series, index[0] + step, step, "first")
     assert held.iloc[0] == 20.1 and len(runs) == 1 and runs[0]["start"] == index[0]
     # a log that starts later keeps its gap (named by the caller)
-    kept, runs = _hold_first_step(series, index[2], step)
+    kept, runs = _hold_edge_step(series, index[2], step, "first")
     assert np.isnan(kept.iloc[0]) and runs == []
 
 

@@ -28,7 +28,7 @@ def make_dataset(
     folder: Path, *, days: float = 42.0, seed: int = 3, noise: float = 0.1, flow_sign: float = 1.0
 ) -> Path:
     """Write building.yaml, measurements.csv and config.yaml into ``folder``; return config."""
-    from thermocal.io.building import Building
+    from thermocal.io.envelope import EnvelopeDescription
     from thermocal.io.weather import read_weather
     from thermocal.physics.ground import ground_temperature_parameters
     from thermocal.retrofit.calibration import initial_params_si, steady_initial_state
@@ -37,7 +37,7 @@ def make_dataset(
 
     folder.mkdir(parents=True, exist_ok=True)
     bdict = building_dict()
-    building = Building.model_validate(bdict)
+    building = EnvelopeDescription.model_validate(bdict)
     (folder / "building.yaml").write_text(yaml.safe_dump(bdict, sort_keys=False))
     weather, _ = read_weather(TMY3)
     gp = ground_temperature_parameters(weather)

@@ -194,7 +194,7 @@ def test_demo_economics_from_the_configuration(demo_results):
 
 
 def _walls_area(out):
-    from thermocal.io.building import read_building
+    from thermocal.io.envelope import read_envelope
 
-    b = read_building(out / "data" / "building.yaml")
+    b = read_envelope(out / "data" / "building.yaml")
     return sum(float(c.area) for c in b.components if c.type == "external_wall")

@@ -78,9 +78,9 @@ def test_recommend_when_nothing_pays_back_within_30_years():
 
 @pytest.fixture(scope="module")
 def model():
-    from thermocal.io.building import Building
+    from thermocal.io.envelope import EnvelopeDescription
 
-    return build_fifth_order_model(Building.model_validate(building_dict()))
+    return build_fifth_order_model(EnvelopeDescription.model_validate(building_dict()))
 
 
 def _matrices(model, env, h_est=150.0):
@@ -177,9 +177,9 @@ def test_measure_areas(model):
 
 
 def test_bounds_and_fixed_reach_the_model():
-    from thermocal.io.building import Building
+    from thermocal.io.envelope import EnvelopeDescription
 
-    b = Building.model_validate(building_dict())
+    b = EnvelopeDescription.model_validate(building_dict())
     m = build_fifth_order_model(b, bounds={"C_env": (5.0, 300.0)}, fixed={"C_gf": 30.0})
     assert m.estimated["C_env"][0] == 5.0 and m.estimated["C_env"][2] == 300.0
     assert m.estimated["C_gf"][1] == 30.0 and "C_gf" in m.fixed
@@ -217,7 +217,7 @@ def test_measures_apply_to_the_component_they_name_and_must_improve_it():
 def test_unheated_attic_and_garage_with_iso13789_b_factors():
     """A ceiling under an unheated attic (b 0.8 by default) and a wall to a garage (b 0.5)
     lose b U A; the attic-ceiling measure acts on the ceiling, a roof measure is refused."""
-    from thermocal.io.building import Building
+    from thermocal.io.envelope import EnvelopeDescription
     from thermocal.retrofit.model import calculated_hlc, check_measures, envelope_from_building
 
     data = building_dict()
@@ -226,9 +226,9 @@ def test_unheated_attic_and_garage_with_iso13789_b_factors():
     attic = {"name": "attic ceiling", "type": "attic_ceiling", "area": 90.0, "u_value": 0.9}
     garage = {"name": "garage wall", "type": "wall_to_unheated", "area": 20.0, "u_value": 1.2,
               "b_factor": 0.6}  # fmt: skip
-    with_roof = build_fifth_order_model(Building.model_validate(data))
+    with_roof = build_fifth_order_model(EnvelopeDescription.model_validate(data))
     data["components"] = [*others, attic, garage]
-    building = Building.model_validate(data)
+    building = EnvelopeDescription.model_validate(data)
     model = build_fifth_order_model(building)
     env = envelope_from_building(building)
     assert env.attic_b == pytest.approx(0.8) and env.adjacent_b == pytest.approx(0.6)
@@ -246,6 +246,6 @@ def test_unheated_attic_and_garage_with_iso13789_b_factors():
     bad = {**garage, "b_factor": 1.4}
     data["components"] = [*others, attic, bad]
     with pytest.raises(ThermocalInputError, match="b_factor"):
-        from thermocal.io.building import building_from_dict
+        from thermocal.io.envelope import envelope_from_dict
 
-        building_from_dict(data, source="test")
+        envelope_from_dict(data, source="test")

@@ -28,7 +28,7 @@ from typer.testing import CliRunner
 
 from conftest import shared_data_path
 from thermocal.cli import app
-from thermocal.io.building import read_building
+from thermocal.io.envelope import read_envelope
 
 REF = Path(__file__).resolve().parents[1] / "reference" / "retrofit_energyplus_house"
 MEASURES = ("attic_ceiling", "walls", "windows", "ground_floor")
@@ -72,7 +72,7 @@ def test_reference_is_what_the_script_writes():
         sys.path.remove(str(REF))
     assert (REF / "house_v25.idf").read_text() == mk.house_idf()
     assert yaml.safe_load((REF / "building.yaml").read_text()) == mk.building_description()
-    building = read_building(REF / "building.yaml")
+    building = read_envelope(REF / "building.yaml")
     assert building.area("window") == pytest.approx(4 * 4.572 * 1.524, abs=0.05)
     ref = _reference()
     assert ref["nominal_u_values"]["wall"] == pytest.approx(mk.U_WALL)

@@ -19,7 +19,7 @@ TRUE_H_EST = 40.0  # [W/K]
 
 @pytest.fixture(scope="module")
 def closed_loop():
-    from thermocal.io.building import Building
+    from thermocal.io.envelope import EnvelopeDescription
     from thermocal.io.weather import read_weather
     from thermocal.physics.ground import ground_temperature_parameters
     from thermocal.retrofit.calibration import initial_params_si, steady_initial_state
@@ -29,7 +29,7 @@ def closed_loop():
     from thermocal.retrofit.model import build_fifth_order_model, calculated_hlc
     from thermocal.retrofit.workflow import model_inputs
 
-    building = Building.model_validate(building_dict())
+    building = EnvelopeDescription.model_validate(building_dict())
     weather, _ = read_weather(TMY3)
     start = pd.Timestamp("2001-01-10 00:00", tz=weather.index.tz)
     w = weather.loc[(weather.index >= start) & (weather.index < start + pd.Timedelta(days=14))]

@@ -30,12 +30,12 @@ def _training_data(
 ) -> pd.DataFrame:
     """Hourly data simulated by ``model`` at its initial parameters (thermostat on phi_h);
     ``envelope``: the house's true U-values (default: the building file's)."""
-    from thermocal.io.building import Building
+    from thermocal.io.envelope import EnvelopeDescription
     from thermocal.io.weather import read_weather
     from thermocal.physics.ground import ground_temperature_parameters
     from thermocal.retrofit.workflow import model_inputs
 
-    building = Building.model_validate(building_dict())
+    building = EnvelopeDescription.model_validate(building_dict())
     weather, _ = read_weather(TMY3)
     start = pd.Timestamp("2001-02-02 00:00", tz=weather.index.tz)
     sel = (weather.index >= start) & (weather.index < start + pd.Timedelta(days=days))
@@ -62,9 +62,9 @@ def _training_data(
 
 @pytest.fixture(scope="module")
 def base_model():
-    from thermocal.io.building import Building
+    from thermocal.io.envelope import EnvelopeDescription
 
-    return build_fifth_order_model(Building.model_validate(building_dict()))
+    return build_fifth_order_model(EnvelopeDescription.model_validate(building_dict()))
 
 
 def test_inseparable_capacities_are_reported_as_a_pair(base_model):

@@ -8,7 +8,7 @@ import pytest
 from retrofit_synthetic import building_dict
 
 from thermocal.errors import ThermocalInputError
-from thermocal.io.building import Building
+from thermocal.io.envelope import EnvelopeDescription
 from thermocal.physics.ground import iso13370_slab_on_ground
 from thermocal.retrofit.calibration import initial_params_si
 from thermocal.retrofit.config import parse_config
@@ -98,7 +98,7 @@ def test_iso13370_slab_known_value():
 
 
 def _model():
-    return build_fifth_order_model(Building.model_validate(building_dict()))
+    return build_fifth_order_model(EnvelopeDescription.model_validate(building_dict()))
 
 
 def test_system_matrices_conserve_energy():
@@ -241,7 +241,7 @@ def test_ground_variants_steady_state(kind):
     }
     if kind == "heated":
         data["ground"].update({"basement_depth": 2.2, "basement_wall_u_value": 1.2})
-    building = Building.model_validate(data)
+    building = EnvelopeDescription.model_validate(data)
     m = build_fifth_order_model(building)
     h = m.conductances()
     area = m.envelope.floor_area
@@ -317,7 +317,7 @@ def _ground_variant(kind):
         }
         if kind == "heated":
             data["ground"].update({"basement_depth": 2.2, "basement_wall_u_value": 1.2})
-    return build_fifth_order_model(Building.model_validate(data))
+    return build_fifth_order_model(EnvelopeDescription.model_validate(data))
 
 
 def _hand_written_matrices(h, p, demand):

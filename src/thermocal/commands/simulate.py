@@ -13,31 +13,6 @@ from thermocal.cli import app
 MAX_WARMUP_DAYS = 366
 
 
-#: The multi-zone example shipped beside the retrofit building file.
-MULTIZONE_EXAMPLE = "examples/buildings/multizone_single_family_house.yaml"
-
-
-def _refuse_retrofit_building_file(path: Path) -> None:
-    """One clear line when a retrofit building file (components with areas and U-values) is
-    given where a multi-zone building file (zones, surfaces) is needed."""
-    from thermocal.errors import ThermocalInputError
-    from thermocal.io.yamlfile import read_yaml
-
-    if path.suffix.lower() not in (".yaml", ".yml") or not path.is_file():
-        return
-    try:
-        tree = read_yaml(path, what="building file")
-    except ThermocalInputError:
-        return  # the multi-zone reader reports it
-    if isinstance(tree, dict) and "components" in tree and "zones" not in tree:
-        raise ThermocalInputError(
-            f"{path} is a retrofit building file (components with areas and U-values, for "
-            "thermocal retrofit), not a multi-zone building file (zones, surfaces, "
-            f"constructions); thermocal simulate needs the latter, e.g. {MULTIZONE_EXAMPLE} "
-            "(format: docs/multizone-file.md)"
-        )
-
-
 def _add_import_report(path: Path, info) -> None:
     """Add the IDF import's full report (classes not represented and notes, by kind) to
     summary.json as ``idf_import``."""
@@ -122,7 +97,6 @@ def simulate(
     signature = ("summary.json", f"zone_temperatures.{output_format}")
     check_output_folder(out, signature=signature)
     console = Console(stderr=True)
-    _refuse_retrofit_building_file(building)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = load_building(building)

@@ -462,8 +462,8 @@ def zone_references(
     for zone, src in tracked.items():
         series = own.get(zone, own.get(src.zone)).copy()
         series, filled = _interpolate_short_gaps(series, max_gap)
-        series, held = _hold_final_step(series, last, step)
-        series, held_first = _hold_first_step(series, first, step)
+        series, held = _hold_edge_step(series, last, step, "last")
+        series, held_first = _hold_edge_step(series, first, step, "first")
         interpolated += [{"zone": zone, **gap} for gap in held_first + filled + held]
         reference[zone] = series
     for zone, src in tracked.items():
@@ -730,48 +730,46 @@ def _interpolate_short_gaps(series: pd.Series, max_gap: pd.Timedelta):
     return pd.Series(values, index=series.index), filled
 
 
-def _hold_final_step(series: pd.Series, last_report: pd.Timestamp, step: pd.Timedelta):
-    """Fill a missing final step when the log reaches its start (a log ending at ``--end``).
+def _hold_edge_step(
+    series: pd.Series, report: pd.Timestamp, step: pd.Timedelta, edge: str
+) -> tuple[pd.Series, list[dict]]:
+    """Fill a missing first or last step of a log that reaches into it.
 
-    The reference of the final step is centred on the period's end, so its averaging window
-    reaches half a step beyond the log; the last value is held there instead of calling the
-    end of the log a gap. Returns the series and the filled run (for the report).
-    """
-    if len(series) < 2 or not np.isnan(series.iloc[-1]) or np.isnan(series.iloc[-2]):
-        return series, []
-    if last_report < series.index[-1]:
-        return series, []
-    series = series.copy()
-    series.iloc[-1] = series.iloc[-2]
-    hours = step / pd.Timedelta("1h")
-    return series, [{"start": series.index[-1], "end": series.index[-1] + step, "hours": hours}]
-
-
-def _hold_first_step(series: pd.Series, first_report: pd.Timestamp, step: pd.Timedelta):
-    """Fill a missing first step when the log starts within it (values stamped at step ends).
-
-    A log whose first value is stamped at the end of the period's first step (EnergyPlus'
-    convention, many loggers' too) leaves the first step's averaging window with a single
-    point on its edge; its value is held from the second step instead of calling the start of
-    the log a gap. Returns the series and the filled run (for the report).
+    ``edge="last"``: a log ending at ``--end``. The reference of the final step is centred on
+    the period's end, so its averaging window reaches half a step beyond the log; the last value
+    is held there instead of calling the end of the log a gap.
+    ``edge="first"``: a log whose first value is stamped at the end of the period's first step
+    (EnergyPlus' convention, many loggers' too) leaves the first step's averaging window with a
+    single point on its edge; the second step's value is held there.
 
     Parameters
     ----------
     series : Series [C]
         One zone's reference on the step grid (index: step starts).
-    first_report : Timestamp
-        Time stamp of the log's first value.
+    report : Timestamp
+        Time stamp of the log's last (``edge="last"``) or first (``"first"``) value.
     step : Timedelta
         Simulation step [s].
+    edge : {"first", "last"}
+
+    Returns
+    -------
+    series : Series [C]
+        With the edge step filled, or unchanged.
+    filled : list of dict
+        The filled run (start, end, hours) for the report; empty when nothing was filled.
     """
-    if len(series) < 2 or not np.isnan(series.iloc[0]) or np.isnan(series.iloc[1]):
+    at, inner = (-1, -2) if edge == "last" else (0, 1)
+    if len(series) < 2 or not np.isnan(series.iloc[at]) or np.isnan(series.iloc[inner]):
         return series, []
-    if first_report > series.index[0] + step:
+    if edge == "last" and report < series.index[-1]:
+        return series, []
+    if edge == "first" and report > series.index[0] + step:
         return series, []
     series = series.copy()
-    series.iloc[0] = series.iloc[1]
+    series.iloc[at] = series.iloc[inner]
     hours = step / pd.Timedelta("1h")
-    return series, [{"start": series.index[0], "end": series.index[0] + step, "hours": hours}]
+    return series, [{"start": series.index[at], "end": series.index[at] + step, "hours": hours}]
 
 
 def _fallback_zone(building, zone, src, sources, reference) -> str | None:

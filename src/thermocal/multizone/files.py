@@ -77,9 +77,17 @@ def load_building(path: str | Path) -> Building:
             f"building file {path}: unknown extension {path.suffix!r}; use .yaml/.yml "
             "(thermocal format, docs/multizone-file.md) or .idf (EnergyPlus)"
         )
+    from thermocal.io.envelope import MULTIZONE_EXAMPLE, is_envelope_tree
     from thermocal.io.yamlfile import read_yaml
 
     data = read_yaml(path, what="building file")
+    if is_envelope_tree(data):
+        raise ThermocalInputError(
+            f"{path} is an envelope description (components with areas and U-values, the "
+            "retrofit analysis' building file), not a multi-zone building file (zones, surfaces, "
+            f"constructions) that this command needs, e.g. {MULTIZONE_EXAMPLE} "
+            "(format: docs/multizone-file.md)"
+        )
     try:
         return building_from_dict(data)
     except ThermocalInputError as exc:

@@ -97,7 +97,7 @@ def _outer_absorptance(mz, surface) -> float:
 
 
 def audit_building(mz, *, name: str | None = None, floors: int = 3) -> dict:
-    """The building file (``thermocal.io.building`` mapping) of a multi-zone building.
+    """The building file (``thermocal.io.envelope`` mapping) of a multi-zone building.
 
     Areas, orientations and U-values (ISO 6946 surface resistances) of the envelope of the
     heated zones; the unheated cellar becomes the ISO 13370 ground section. Thermal bridges

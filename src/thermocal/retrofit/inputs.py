@@ -51,10 +51,10 @@ def solar_inputs(frame: pd.DataFrame, building) -> pd.DataFrame:
     frame : pd.DataFrame
         Regular DatetimeIndex (interval starts) with ``dni`` and ``dhi`` [W/m2] (``ghi`` is
         computed as ``dhi + dni cos(zenith)`` when absent).
-    building : thermocal.io.building.Building
+    building : thermocal.io.envelope.EnvelopeDescription
         Validated building: tilt and azimuth are set for every component, g_value,
         frame_fraction and shading_factor for windows, absorptance for opaque components
-        (defaults applied by :mod:`thermocal.io.building`).
+        (defaults applied by :mod:`thermocal.io.envelope`).
 
     Returns
     -------

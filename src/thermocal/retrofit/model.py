@@ -512,7 +512,7 @@ def build_fifth_order_model(
 
     Parameters
     ----------
-    building : thermocal.io.building.Building
+    building : thermocal.io.envelope.EnvelopeDescription
     solar_to_internal_mass : float [-]
         Fraction of the window solar gains absorbed by the internal mass.
     bounds : dict name -> (lower, upper), optional
@@ -529,7 +529,7 @@ def build_fifth_order_model(
     floor_area = float(building.heated_floor_area)
     if floor_area <= 0:
         raise ThermocalInputError("building file: heated_floor_area must be > 0 m2")
-    emitter = building.emitter  # validated by thermocal.io.building (EmitterType)
+    emitter = building.emitter  # validated by thermocal.io.envelope (EmitterType)
     if emitter not in EMITTERS:
         raise ThermocalInputError(
             f"building file: emitter {emitter!r} unknown; use one of {sorted(EMITTERS)}"

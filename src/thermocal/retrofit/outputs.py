@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from thermocal.jsonsafe import json_number as _num
+from thermocal.jsonsafe import json_ready as _clean
 from thermocal.retrofit.economics import measure_areas, measure_investment, strategy_economics
 from thermocal.retrofit.model import ESTIMATED_PARAMETERS
 from thermocal.retrofit.workflow import (
@@ -18,27 +19,6 @@ from thermocal.retrofit.workflow import (
 )
 
 MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
-
-
-def _num(x):
-    if x is None:
-        return None
-    if isinstance(x, int | np.integer):
-        return int(x)
-    x = float(x)
-    return x if math.isfinite(x) else None
-
-
-def _clean(obj):
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return [_clean(v) for v in obj.tolist()]
-    if isinstance(obj, float | np.floating | int | np.integer) and not isinstance(obj, bool):
-        return _num(obj)
-    return obj
 
 
 def scenario_table(analysis: RetrofitAnalysis) -> pd.DataFrame:

@@ -53,6 +53,7 @@ import pandas as pd
 from pydantic import Field, ValidationError, field_validator
 
 from thermocal.errors import ThermocalInputError
+from thermocal.jsonsafe import json_ready as _clean
 from thermocal.retrofit.airchange import (  # noqa: F401 - re-exported
     MIN_SLOPE_T,
     daily_energy,
@@ -1317,17 +1318,6 @@ def main() -> None:  # pragma: no cover - the script that made the shipped data
 # ------------------------------------------------------------------------------------------
 # outputs
 # ------------------------------------------------------------------------------------------
-def _clean(obj):
-    """JSON content: NaN/inf -> None, numpy scalars -> Python numbers."""
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.generic):
-        obj = obj.item()
-    if isinstance(obj, float) and not np.isfinite(obj):
-        return None
-    return obj
 
 
 def results_dict(ver: Verification) -> dict:

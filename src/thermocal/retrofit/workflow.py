@@ -87,9 +87,9 @@ class RetrofitAnalysis:
 
 
 def load_building(source, *, config_source: str = "the retrofit configuration"):
-    """A :class:`thermocal.io.building.Building` from a path or an inline mapping.
+    """A :class:`thermocal.io.envelope.EnvelopeDescription` from a path or an inline mapping.
 
-    Both go through :mod:`thermocal.io.building` (``read_building`` / ``building_from_dict``),
+    Both go through :mod:`thermocal.io.envelope` (``read_envelope`` / ``envelope_from_dict``),
     so invalid input raises :class:`ThermocalInputError` naming the field, the component, the
     YAML line (files), the plausible range with unit and likely typos.
 
@@ -100,11 +100,11 @@ def load_building(source, *, config_source: str = "the retrofit configuration"):
     config_source : str
         Where an inline description comes from, for error messages.
     """
-    from thermocal.io.building import building_from_dict, read_building
+    from thermocal.io.envelope import envelope_from_dict, read_envelope
 
     if isinstance(source, dict):
-        return building_from_dict(source, source=f"building (inline in {config_source})")
-    return read_building(Path(source))
+        return envelope_from_dict(source, source=f"building (inline in {config_source})")
+    return read_envelope(Path(source))
 
 
 def resolve_weather_path(path) -> Path:

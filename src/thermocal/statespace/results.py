@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from thermocal.jsonsafe import json_ready as _jsonable
 from thermocal.statespace import kernels
 from thermocal.statespace.data import PreparedData, prepare_data
 from thermocal.statespace.estimation import (
@@ -881,19 +882,6 @@ def heat_loss_coefficients(
         if name not in out:
             out[name] = fits[name].heat_loss_coefficient(alpha=alpha, profile=name in todo)
     return {n: out[n] for n in names}
-
-
-def _jsonable(x):
-    """``x`` with numpy scalars as floats and non-finite numbers as None."""
-    if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, (float, np.floating)):
-        return float(x) if math.isfinite(x) else None
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    return x
 
 
 def _duration(seconds: float) -> str:

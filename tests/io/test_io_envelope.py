@@ -1,4 +1,4 @@
-"""Tests of thermocal.io.building: schema, plausibility messages, conveniences, file reading."""
+"""Tests of thermocal.io.envelope: schema, plausibility messages, conveniences, file reading."""
 
 from __future__ import annotations
 
@@ -9,11 +9,11 @@ import pytest
 from pydantic import ValidationError
 
 from thermocal.errors import ThermocalInputError
-from thermocal.io.building import (
-    Building,
-    building_from_dict,
-    read_building,
-    write_building,
+from thermocal.io.envelope import (
+    EnvelopeDescription,
+    envelope_from_dict,
+    read_envelope,
+    write_envelope,
 )
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
@@ -51,13 +51,13 @@ def minimal() -> dict:
 
 def error_text(data: dict) -> str:
     with pytest.raises(ThermocalInputError) as info:
-        building_from_dict(data, source="house.yaml")
+        envelope_from_dict(data, source="house.yaml")
     return str(info.value)
 
 
 # ------------------------------------------------------------------------------ valid input
 def test_defaults_by_component_type():
-    building = Building.model_validate(minimal())
+    building = EnvelopeDescription.model_validate(minimal())
     wall = building.component("wall E")
     assert wall.tilt == 90.0 and wall.azimuth == 90.0 and wall.absorptance == 0.6
     assert wall.g_value is None and wall.frame_fraction is None
@@ -72,7 +72,7 @@ def test_defaults_by_component_type():
 
 
 def test_transmission_coefficient_is_sum_ua_plus_thermal_bridges():
-    building = Building.model_validate(minimal())
+    building = EnvelopeDescription.model_validate(minimal())
     sum_ua = 4 * 20 * 0.3 + 100 * 0.2 + 10 * 1.0 + 100 * 0.25
     opaque = 4 * 20 + 100 + 100
     assert building.opaque_area == pytest.approx(opaque)
@@ -85,7 +85,7 @@ def test_transmission_coefficient_is_sum_ua_plus_thermal_bridges():
 
 
 def test_area_and_components_of_type():
-    building = Building.model_validate(minimal())
+    building = EnvelopeDescription.model_validate(minimal())
     assert building.area("external_wall") == pytest.approx(80.0)
     assert building.area("window") == pytest.approx(10.0)
     assert building.area("door") == 0.0
@@ -103,7 +103,7 @@ def test_area_and_components_of_type():
 
 
 def test_example_building_file_is_valid_and_matches_paper_000_audit():
-    building = read_building(EXAMPLE)
+    building = read_envelope(EXAMPLE)
     assert building.floors == 3 and building.construction_year == 1953
     assert building.emitter == "radiators"
     assert building.ground is not None and building.ground.basement == "unheated"
@@ -145,18 +145,18 @@ def test_toml_and_yaml_give_the_same_building(tmp_path):
             toml_lines.append(f"{key} = {value!r}".replace("'", '"'))
     toml_path = tmp_path / "b.toml"
     toml_path.write_text("\n".join(toml_lines) + "\n")
-    assert read_building(toml_path) == read_building(yaml_path)
+    assert read_envelope(toml_path) == read_envelope(yaml_path)
 
 
 def test_model_dump_round_trips():
-    building = Building.model_validate(minimal())
-    assert Building.model_validate(building.model_dump()) == building
+    building = EnvelopeDescription.model_validate(minimal())
+    assert EnvelopeDescription.model_validate(building.model_dump()) == building
 
 
 def test_timezone_as_offset_in_hours():
     data = minimal()
     data["location"]["timezone"] = 1
-    assert Building.model_validate(data).location.timezone == 1.0
+    assert EnvelopeDescription.model_validate(data).location.timezone == 1.0
 
 
 # ------------------------------------------------------------------------------ bad input
@@ -175,7 +175,7 @@ def test_wall_u_value_of_19_is_reported_as_typo_for_0_19():
 def test_window_u_value_range_differs_from_opaque():
     data = minimal()
     data["components"][5]["u_value"] = 5.5  # single glazing: plausible for a window
-    Building.model_validate(data)
+    EnvelopeDescription.model_validate(data)
     data["components"][0]["u_value"] = 5.5  # not for a wall
     message = error_text(data)
     assert "wall N" in message and "0.08 to 4 W/(m2 K)" in message
@@ -283,7 +283,7 @@ def test_location_and_ground_ranges():
     data["ground"]["basement"] = "heated"
     assert "ground.basement = 'heated'" in error_text(data)
     data["ground"]["basement"] = "unheated"
-    Building.model_validate(data)
+    EnvelopeDescription.model_validate(data)
 
 
 def test_all_problems_listed_at_once():
@@ -299,7 +299,7 @@ def test_model_validate_raises_pydantic_error_with_the_same_text():
     data = minimal()
     data["components"][2]["u_value"] = 19
     with pytest.raises(ValidationError, match="did you mean 0.19"):
-        Building.model_validate(data)
+        EnvelopeDescription.model_validate(data)
 
 
 def test_yaml_errors_carry_line_numbers(tmp_path):
@@ -309,7 +309,7 @@ def test_yaml_errors_carry_line_numbers(tmp_path):
     path = tmp_path / "house.yaml"
     path.write_text(text)
     with pytest.raises(ThermocalInputError) as info:
-        read_building(path)
+        read_envelope(path)
     message = str(info.value)
     lines = text.splitlines()
     start = lines.index("  - name: wall east")
@@ -320,38 +320,77 @@ def test_yaml_errors_carry_line_numbers(tmp_path):
 
 def test_file_level_errors(tmp_path):
     with pytest.raises(ThermocalInputError, match="does not exist"):
-        read_building(tmp_path / "missing.yaml")
+        read_envelope(tmp_path / "missing.yaml")
     bad = tmp_path / "bad.yaml"
     bad.write_text("name: [unclosed\n")
     with pytest.raises(ThermocalInputError, match="not valid YAML at line"):
-        read_building(bad)
+        read_envelope(bad)
     bad_toml = tmp_path / "bad.toml"
     bad_toml.write_text("name = \n")
     with pytest.raises(ThermocalInputError, match="not valid TOML"):
-        read_building(bad_toml)
+        read_envelope(bad_toml)
     other = tmp_path / "b.json"
     other.write_text("{}")
     with pytest.raises(ThermocalInputError, match="use .yaml, .yml or .toml"):
-        read_building(other)
+        read_envelope(other)
     empty = tmp_path / "e.yaml"
     empty.write_text("")
     with pytest.raises(ThermocalInputError, match="empty"):
-        read_building(empty)
+        read_envelope(empty)
 
 
 def test_building_is_immutable():
-    building = Building.model_validate(minimal())
+    building = EnvelopeDescription.model_validate(minimal())
     with pytest.raises(ValidationError):
         building.floors = 2
     changed = building.model_copy(update={"floors": 2})
     assert changed.floors == 2 and building.floors == 1
     data = copy.deepcopy(minimal())
-    assert Building.model_validate(data) == building
+    assert EnvelopeDescription.model_validate(data) == building
 
 
 def test_write_building_round_trips(tmp_path):
-    building = read_building(EXAMPLE)
-    path = write_building(building, tmp_path / "copy.yaml")
-    assert read_building(path) == building
+    building = read_envelope(EXAMPLE)
+    path = write_envelope(building, tmp_path / "copy.yaml")
+    assert read_envelope(path) == building
     with pytest.raises(ThermocalInputError, match="writes YAML"):
-        write_building(building, tmp_path / "copy.toml")
+        write_envelope(building, tmp_path / "copy.toml")
+
+
+# ----------------------------------------------------------------------------------------------
+# the two kinds of building file, and the old names
+# ----------------------------------------------------------------------------------------------
+MULTIZONE_EXAMPLE = (
+    Path(__file__).parents[2] / "examples/buildings/multizone_single_family_house.yaml"
+)
+
+
+def test_the_envelope_reader_names_a_multizone_file_and_where_it_belongs():
+    with pytest.raises(ThermocalInputError) as error:
+        read_envelope(MULTIZONE_EXAMPLE)
+    text = str(error.value)
+    assert "is a multi-zone building file" in text and "single_family_house_1953.yaml" in text
+
+
+def test_the_multizone_reader_names_an_envelope_description():
+    from thermocal.multizone.files import load_building
+
+    with pytest.raises(ThermocalInputError) as error:
+        load_building(EXAMPLE)
+    text = str(error.value)
+    assert "is an envelope description" in text and "multizone_single_family_house" in text
+
+
+def test_the_old_names_still_work_and_warn():
+    import thermocal.io
+    import thermocal.io.building as old
+    from thermocal.io.envelope import Site
+
+    with pytest.warns(DeprecationWarning, match="EnvelopeDescription"):
+        assert old.Building is EnvelopeDescription
+    with pytest.warns(DeprecationWarning, match="Site"):
+        assert old.Location is Site
+    with pytest.warns(DeprecationWarning, match="EnvelopeDescription"):
+        assert thermocal.io.Building is EnvelopeDescription
+    assert old.read_building is read_envelope and old.building_from_dict is envelope_from_dict
+    assert old.write_building is write_envelope

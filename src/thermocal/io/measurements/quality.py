@@ -1,0 +1,170 @@
+"""The quality report of a resampled sensor log: gaps, flags, coverage and actions; the spike test.
+
+Part of :mod:`thermocal.io.measurements`; see its docstring for the conventions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+
+def _spikes(values: np.ndarray, n_sigma: float, floor: float, max_run: int = 2) -> np.ndarray:
+    """Boolean mask of spikes: runs of at most ``max_run`` reports that jump away and back.
+
+    A run ``values[i:i + r]`` (1 <= r <= max_run) is a spike when every value in it lies more
+    than the threshold above (or below) both neighbours ``values[i - 1]`` and ``values[i + r]``,
+    and the neighbours agree within the threshold (the signal comes back). The threshold is
+    ``max(floor, n_sigma * 1.4826 * MAD(first differences))``. A step (no return) and a real
+    event reported by several change-triggered reports (small successive differences) are not
+    spikes.
+
+    References
+    ----------
+    .. [1] U.S. IOOS (2020). Manual for Real-Time Quality Control of In-situ Temperature and
+       Salinity Data, version 2.1, QARTOD test 9 (spike test).
+    """
+    n = values.size
+    spikes = np.zeros(n, dtype=bool)
+    if n < 3:
+        return spikes
+    steps = np.diff(values)
+    mad = float(np.median(np.abs(steps - np.median(steps))))
+    threshold = max(floor, n_sigma * 1.4826 * mad)
+    for run in range(1, max_run + 1):
+        if n < run + 2:
+            break
+        before = values[: n - run - 1]
+        after = values[run + 1 :]
+        window = np.lib.stride_tricks.sliding_window_view(values[1 : n - 1], run)
+        low_run, high_run = window.min(axis=1), window.max(axis=1)
+        returns = np.abs(before - after) <= threshold
+        up = low_run - np.maximum(before, after) > threshold
+        down = np.minimum(before, after) - high_run > threshold
+        for first in np.flatnonzero(returns & (up | down)):
+            spikes[first + 1 : first + 1 + run] = True
+    return spikes
+
+
+@dataclass
+class QualityReport:
+    """What :func:`resample_measurements` did and found.
+
+    Attributes
+    ----------
+    step : Timedelta
+        Grid step.
+    start, end : Timestamp
+        First interval start and last interval end of the grid.
+    sensors : DataFrame
+        One row per sensor: quantity, unit, operation, n_reports, median_interval [s],
+        max_interval [s], n_gaps, gap_hours [h], n_impossible, n_outliers, n_outliers_removed,
+        coverage [-] (mean covered fraction of the intervals), n_missing (NaN intervals).
+    gaps : DataFrame
+        One row per silence longer than ``max_gap``: sensor, start (last report before), end
+        (first report after, or the end of the data), duration [h], n_missing (NaN intervals).
+    flags : DataFrame
+        One row per flagged report: sensor, time, value, line (1-based line in the file, long
+        logs from :func:`read_measurements`; else None), flag ("impossible" or "outlier"),
+        action ("removed" or "kept"), reason.
+    coverage : DataFrame
+        Covered fraction of every interval [-] (grid x sensors).
+    actions : list of str
+        Plain-language account of everything done (conversions, removals, gaps left NaN).
+    """
+
+    step: pd.Timedelta
+    start: pd.Timestamp
+    end: pd.Timestamp
+    sensors: pd.DataFrame
+    gaps: pd.DataFrame
+    flags: pd.DataFrame
+    coverage: pd.DataFrame
+    actions: list[str] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        """True when there were no gaps, impossible values or outliers."""
+        return self.gaps.empty and self.flags.empty
+
+    def summary(self) -> str:
+        """Plain-text summary (one line per sensor, then the actions)."""
+        head = (
+            f"Measurement quality: {len(self.sensors)} sensor(s), grid {self.start.isoformat()} "
+            f"to {self.end.isoformat()}, step {self.step}"
+        )
+        columns = [
+            "quantity",
+            "unit",
+            "operation",
+            "n_reports",
+            "coverage",
+            "n_gaps",
+            "gap_hours",
+            "n_impossible",
+            "n_outliers",
+            "n_missing",
+        ]
+        table = self.sensors[columns].to_string(float_format=lambda x: f"{x:.3g}")
+        body = "\n".join(f"- {a}" for a in self.actions) if self.actions else "- nothing to report"
+        return f"{head}\n{table}\n{body}"
+
+    def __str__(self) -> str:
+        return self.summary()
+
+    def to_dict(self) -> dict:
+        """JSON-serialisable content (times as ISO 8601 strings)."""
+
+        def records(frame: pd.DataFrame) -> list[dict]:
+            out = frame.copy()
+            for column in out.columns:
+                if isinstance(out[column].dtype, pd.DatetimeTZDtype):
+                    out[column] = out[column].map(lambda x: x.isoformat())
+            return out.astype(object).where(out.notna(), None).to_dict(orient="records")
+
+        sensors = self.sensors.reset_index()
+        return {
+            "step_seconds": self.step.total_seconds(),
+            "start": self.start.isoformat(),
+            "end": self.end.isoformat(),
+            "sensors": records(sensors),
+            "gaps": records(self.gaps),
+            "flags": records(self.flags),
+            "actions": list(self.actions),
+        }
+
+
+def _sensor_row(
+    name,
+    quantity,
+    unit,
+    operation,
+    n_reports,
+    median_interval,
+    max_interval,
+    n_gaps,
+    gap_hours,
+    n_impossible,
+    n_outliers,
+    n_removed,
+    coverage,
+    n_missing,
+) -> dict:
+    return {
+        "sensor": name,
+        "quantity": quantity or "",
+        "unit": unit or "",
+        "operation": operation,
+        "n_reports": int(n_reports),
+        "median_interval": median_interval,
+        "max_interval": max_interval,
+        "n_gaps": int(n_gaps),
+        "gap_hours": gap_hours,
+        "n_impossible": int(n_impossible),
+        "n_outliers": int(n_outliers),
+        "n_outliers_removed": int(n_removed),
+        "coverage": coverage,
+        "n_missing": int(n_missing),
+    }

@@ -17,8 +17,8 @@ office's and one perimeter office's infiltration determined within 7 %, every in
 the truth, metric 1.06x the true envelope's. With the published building-total metric the data
 determine nothing (roof and wall compensate, posterior correlation -0.90), the nominal building
 is returned and its metric is 1.30x the true envelope's: that target fails (strict xfail).
-Takes about 130 s at a load of 5-9 on 2 cores (the campaign 12 s of it; the analyses, with the
-GP meta-model's fit and Sobol' indices, the rest).
+Takes 72 s of CPU (130-300 s of wall time at a load of 5-10 on 2 cores; the campaign 12 s of
+it, the two analyses with the GP meta-model's fit and Sobol' indices the rest).
 """
 
 from __future__ import annotations

@@ -639,12 +639,14 @@ def ground_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_groun
         "steady_soil173": (house_idf(gains=False), steady),
         "steady_soil173_slab": (house_idf(slab, gains=False), steady),
         "steady_soil173_settings": (
-            house_idf(gains=False, kiva_settings="Foundation:Kiva:Settings, 1.73;\n"), steady
+            house_idf(gains=False, kiva_settings="Foundation:Kiva:Settings, 1.73;\n"),
+            steady,
         ),
         "steady_soil2": (house_idf(gains=False, kiva_settings=soil2), steady),
         "steady_soil2_slab": (house_idf(slab, gains=False, kiva_settings=soil2), steady),
         "steady_soil2_slab_edge": (
-            house_idf(slab, gains=False, kiva_settings=soil2, foundation=edge), steady
+            house_idf(slab, gains=False, kiva_settings=soil2, foundation=edge),
+            steady,
         ),
         "year": (house_idf(), weather),
         "year_slab": (house_idf(slab), weather),

@@ -753,8 +753,63 @@ def ground_dynamics_study(
     return out
 
 
+def sunless_weather(weather: Path, out: Path) -> Path:
+    """The weather file without the sun (global, beam and diffuse irradiance and illuminance
+    0); air temperature, humidity, wind and the sky's infrared as measured."""
+    lines = weather.read_text().splitlines()
+    body = []
+    for ln in lines[8:]:
+        f = ln.split(",")
+        for i in (10, 11, 13, 14, 15, 16, 17, 18):
+            f[i] = "0"
+        body.append(",".join(f))
+    out.write_text("\n".join(lines[:8] + body) + "\n")
+    return out
+
+
+def ground_sun_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_ground_sun") -> dict:
+    """Item 5, third part: the slab measure held at 20-21 C for a year without the sun.
+
+    With the sun, the beam through the windows falls on the floor, and an uninsulated slab
+    conducts part of it into the ground; insulating the slab keeps it in the room, where on
+    a sunny day it is not needed. Without the sun the floor's loss is heating load only.
+    Soil 0.864 (Kiva's code default) and 2.0 W/(m K), without and with the slab measure, one
+    year. Writes ``ground_sun.json`` (annual heating, floor loss October-April and year).
+    """
+    weather, work = Path(weather), Path(work)
+    work.mkdir(parents=True, exist_ok=True)
+    dark = sunless_weather(weather, work / "sunless.epw")
+    soil2 = "Foundation:Kiva:Settings, 2.0;\n"
+    slab = frozenset({"ground_floor"})
+    jobs = {
+        "sunless": house_idf(cooling=True),
+        "sunless_slab": house_idf(slab, cooling=True),
+        "sunless_soil2": house_idf(cooling=True, kiva_settings=soil2),
+        "sunless_soil2_slab": house_idf(slab, cooling=True, kiva_settings=soil2),
+    }
+    with ThreadPoolExecutor(2) as pool:
+        futures = {
+            k: pool.submit(_run, idf + FLOOR_OUTPUT, dark, work / k) for k, idf in jobs.items()
+        }
+        res = {k: f.result() for k, f in futures.items()}
+    out: dict = {}
+    for k, df in res.items():
+        floor = -_col(df, "LIVING:FLOOR:Surface Inside Face Conduction")
+        q = _col(df, "Zone Ideal Loads Zone Sensible Heating Rate")
+        heating_months = floor.index.month.isin([1, 2, 3, 4, 10, 11, 12])
+        out[k] = {
+            "heating_kWh": float(q.sum() / 1000),
+            "floor_loss_kWh_year": float(floor.sum() / 1000),
+            "floor_loss_kWh_oct_apr": float(floor[heating_months].sum() / 1000),
+        }
+    (HERE / "ground_sun.json").write_text(json.dumps(out, indent=1) + "\n")
+    return out
+
+
 if __name__ == "__main__":
-    if "--ground-dynamics" in sys.argv:
+    if "--ground-sun" in sys.argv:
+        print(json.dumps(ground_sun_study(sys.argv[1]), indent=1))
+    elif "--ground-dynamics" in sys.argv:
         print(json.dumps(ground_dynamics_study(sys.argv[1]), indent=1))
     elif "--ground" in sys.argv:
         print(json.dumps(ground_study(sys.argv[1]), indent=1))

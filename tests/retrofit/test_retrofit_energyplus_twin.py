@@ -103,7 +103,7 @@ def test_twin_validation_gate_fails_and_recommends_nothing(twin):
 def test_twin_heat_loss_coefficient_and_demand(twin):
     """EnergyPlus steady state 299.2 W/K; thermocal 316.5 W/K (90 %: 297-351), +5.8 %: the
     10 % target holds (352.7 W/K, +17.9 %, before the heat fit's daily step kept its weight;
-    temperature fit 383.5 W/K, +28 %). Demand 14,037 kWh (11,781-17,381) vs 10,302, +36 %
+    temperature fit 383.5 W/K, +28 %). Demand 14,037 kWh (12,096-17,042) vs 10,302, +36 %
     (before 16,722, +62 %): the 10 % target fails; pinned."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]
@@ -119,7 +119,8 @@ def test_twin_strategy_savings(twin):
     """Every strategy against EnergyPlus. Measured (heat fit, air change's stack term,
     measures adding their insulation to the corrected constructions): mean absolute
     difference 10.7 pp, max 21.7 pp (3a); 0 of 15 within 3 pp; 6 of 15 intervals cover
-    EnergyPlus; median half-width 12.7 pp (before the daily step kept its weight: 10.6, 22.0,
+    EnergyPlus; median half-width 12.4 pp (12.7 with the internal gains' factor drawn
+    independently of the fit; before the daily step kept its weight: 10.6, 22.0,
     0, 6, 12.1, the attic measure's saving negative once corrected; temperature fit: 11.4,
     23.4, 1, 6, 11.2).
     Targets (every one within 3 pp, coverage >= 12/15, half-width <= 6 pp)
@@ -137,7 +138,7 @@ def test_twin_strategy_savings(twin):
     assert diff.max() < 24.0, diff  # target 3 (not met: 21.7)
     assert diff.mean() < 12.0, diff  # (10.7)
     assert covered >= 5, covered  # target 12 of 15 (not met: 6)
-    assert np.median(half) < 14.0  # target 6 (not met: 12.7)
+    assert np.median(half) < 14.0  # target 6 (not met: 12.4)
     # the ranking: the all-measures strategy saves most in both
     best = max(rows, key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)

@@ -207,7 +207,8 @@ def test_fit_command_compares_the_halves_without_being_asked(tmp_path, h_adjacen
     by_period = content["heat_loss_by_period"]
     split = periods["steady"].index[0].isoformat()
     assert list(by_period["periods"]) == [
-        f"first half (until {split})", f"second half (from {split})"
+        f"first half (until {split})",
+        f"second half (from {split})",
     ]
     flagged = [f for f in content["flags"] if f.startswith("heat loss coefficient depends on")]
     if h_adjacent < 1:

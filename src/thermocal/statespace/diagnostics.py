@@ -330,7 +330,10 @@ def forward_selection(
     escape local optima: each extension gets an extra start at the parent's estimates, and the
     parent is re-polished from each extension's estimates (shared parameters); when that
     improves the parent by more than :data:`REPOLISH_GAIN`, the parent's fit is replaced and
-    the tests of the iteration use it.
+    the tests of the iteration use it. The refits this triggers (the parent's multi-start with
+    the new start, the extensions from the better parent) take over the ends of the starts
+    they share with the earlier fits (``reuse`` of :func:`~thermocal.statespace.estimation.fit`:
+    the same start on the same problem ends at the same point) and run only the new ones.
 
     Parameters
     ----------
@@ -367,8 +370,10 @@ def forward_selection(
     }  # fmt: skip
     fits: dict = {}
 
-    def fit_model(name, parent_fit=None):
-        res = models[name].fit(data, n_starts=n_starts, seed=seed, warm_start=parent_fit, **fit_kw)
+    def fit_model(name, parent_fit=None, reuse=None):
+        res = models[name].fit(
+            data, n_starts=n_starts, seed=seed, warm_start=parent_fit, reuse=reuse, **fit_kw
+        )
         fits[name] = res
         if callback is not None:
             callback(name, res)
@@ -391,9 +396,11 @@ def forward_selection(
         if probe.loglike > old.loglike + REPOLISH_GAIN:
             # a better parent optimum exists: the full multi-start again, with that start, so
             # that the agreement of the starts is judged as for any fit
+            # (the starts it shares with the previous fit are taken over, not run again)
             again = models[parent].fit(
-                data, n_starts=n_starts, seed=seed, warm_start=start_values, **fit_kw
-            )
+                data, n_starts=n_starts, seed=seed, warm_start=start_values, reuse=old,
+                **fit_kw,
+            )  # fmt: skip
             if again.loglike < probe.loglike - REPOLISH_GAIN:
                 return False  # pragma: no cover - the warm start is among the starts
             again.flags.insert(
@@ -472,7 +479,7 @@ def forward_selection(
             # the extensions again from the better parent
             for cand in candidates:
                 old = fits[cand]
-                fit_model(cand, fits[current])
+                fit_model(cand, fits[current], reuse=old)
                 if fits[cand].loglike < old.loglike:
                     fits[cand] = old
         parent_ok = fits[current].converged

@@ -86,9 +86,14 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=None, help="--seed of select (default: "
                         "select's own default)")  # fmt: skip
     parser.add_argument("--no-warmup", action="store_true")
+    parser.add_argument("--keep", type=Path, help="write the selections here (else a "
+                        "temporary folder)")  # fmt: skip
     args = parser.parse_args()
     sources = {"peer": args.peer_src or peer_source(args.peer), "this": REPO / "src"}
     with tempfile.TemporaryDirectory() as tmp:
+        if args.keep is not None:
+            tmp = args.keep
+            Path(tmp).mkdir(parents=True, exist_ok=True)
         if not args.no_warmup:
             for name, src in sources.items():
                 run_select(src, Path(tmp) / f"warm_{name}", args.seed)

@@ -385,20 +385,18 @@ def forward_selection(
         start_values = _shared_values(ext_fit, models[parent])
         if not start_values:
             return False
-        from thermocal.statespace.profile import _inside
-
-        # one start, at the extension's estimates (the declared values were run already)
-        probe = (
-            models[parent]
-            .with_parameters(_inside(models[parent], start_values))
-            .fit(data, n_starts=1, compute_hessian=False, **fit_kw)
-        )
+        # one new start, at the extension's estimates (the declared values' end is taken
+        # over from the previous fit)
+        probe = models[parent].fit(
+            data, n_starts=1, seed=seed, warm_start=start_values, compute_hessian=False,
+            reuse=old, **fit_kw,
+        )  # fmt: skip
         if probe.loglike > old.loglike + REPOLISH_GAIN:
-            # a better parent optimum exists: the full multi-start again, with that start, so
-            # that the agreement of the starts is judged as for any fit
-            # (the starts it shares with the previous fit are taken over, not run again)
+            # a better parent optimum exists: the full multi-start with that start, so that
+            # the agreement of the starts is judged as for any fit (the starts run for the
+            # previous fit and the probe are taken over, not run again)
             again = models[parent].fit(
-                data, n_starts=n_starts, seed=seed, warm_start=start_values, reuse=old,
+                data, n_starts=n_starts, seed=seed, warm_start=start_values, reuse=probe,
                 **fit_kw,
             )  # fmt: skip
             if again.loglike < probe.loglike - REPOLISH_GAIN:

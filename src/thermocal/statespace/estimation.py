@@ -449,15 +449,28 @@ def _polished_start(problem: LikelihoodProblem, theta_start, method, maxiter, st
 _WORKER_PROBLEM: LikelihoodProblem | None = None
 
 
+def one_blas_thread():
+    """A context limiting BLAS/LAPACK to one thread (``threadpoolctl``), restored on exit.
+
+    The linear algebra of the optimisers is on matrices of 20 x 20 or smaller; OpenBLAS'
+    threads only wait for each other there, and on a loaded machine they spin: scipy 1.17's
+    SLSQP on 19 parameters took 18 ms per iteration with two BLAS threads against 1 ms with
+    one (measured 2026-11-25, load ~7), the profile of a four-state model 16-18 CPU-s against
+    3.7-4.7 s.
+    """
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover - threadpoolctl comes with scikit-learn
+        from contextlib import nullcontext
+
+        return nullcontext()
+    return threadpool_limits(1)
+
+
 def _init_worker(problem: LikelihoodProblem) -> None:
     global _WORKER_PROBLEM
     _WORKER_PROBLEM = problem
-    try:  # one BLAS thread per worker: the pool is the parallelism
-        from threadpoolctl import threadpool_limits
-
-        threadpool_limits(1)
-    except ImportError:  # pragma: no cover - threadpoolctl comes with scikit-learn
-        pass
+    one_blas_thread()  # for the worker's lifetime: the pool is the parallelism
 
 
 def _worker_start(args):
@@ -602,6 +615,10 @@ def _run_starts(problem, starts, method, maxiter, stall_tolerance, n_jobs, progr
             from concurrent.futures import ProcessPoolExecutor, as_completed
 
             ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else None)
+            if ctx.get_start_method() == "fork":
+                # the compiled kernels loaded here once, inherited by the forked workers
+                # (otherwise each worker loads them from numba's cache on its first start)
+                problem.objective(starts[0])
             with ProcessPoolExecutor(
                 n_jobs, mp_context=ctx, initializer=_init_worker, initargs=(problem,)
             ) as pool:
@@ -621,6 +638,46 @@ def _run_starts(problem, starts, method, maxiter, stall_tolerance, n_jobs, progr
             bar.stop()
     problem.iterations = iterations
     return results
+
+
+def _start_key(theta) -> bytes:
+    """Key of an optimiser start: its exact start point."""
+    return np.ascontiguousarray(np.asarray(theta, dtype=float)).tobytes()
+
+
+def _reusable_ends(reuse, model, prep: PreparedData, hold: str, method: str, maxiter: int,
+                   stall_tolerance: float) -> dict:  # fmt: skip
+    """The polished ends of the starts of an earlier fit that a new fit may take over: only
+    from a fit of the same model (declared values and bounds) on the same observations with
+    the same optimiser settings, where a start from the same point ends at the same point."""
+    ends = getattr(reuse, "_start_ends", None)
+    if not ends:
+        return {}
+    same = (
+        reuse.model.to_dict() == model.to_dict()
+        and reuse.nobs == prep.nobs
+        and reuse.hold == hold
+        and getattr(reuse, "_optimiser", None) == (method, maxiter, stall_tolerance)
+        and np.array_equal(reuse.data.Y, prep.Y, equal_nan=True)
+        and np.array_equal(reuse.data.U, prep.U, equal_nan=True)
+        and np.array_equal(reuse.data.dts, prep.dts)
+    )
+    return dict(ends) if same else {}
+
+
+def _run_new_starts(problem, starts, method, maxiter, stall_tolerance, n_jobs, progress, ends):
+    """:func:`_run_starts` for the starts whose end is not in ``ends`` (start key -> result,
+    updated); results in start order."""
+    keys = [_start_key(t) for t in starts]
+    todo = [i for i, k in enumerate(keys) if k not in ends]
+    if todo:
+        done = _run_starts(problem, [starts[i] for i in todo], method, maxiter, stall_tolerance,
+                           n_jobs, progress)  # fmt: skip
+        for i, r in zip(todo, done, strict=True):
+            ends[keys[i]] = r
+    else:
+        problem.iterations = 0
+    return [ends[k] for k in keys]
 
 
 def _warm_start_theta(model, warm_start) -> np.ndarray:
@@ -671,6 +728,7 @@ def fit(
     progress: bool | None = None,
     input_gaps: str = "error",
     max_gap: int = 3,
+    reuse=None,
 ):
     """Estimate the free parameters of ``model`` by maximum likelihood.
 
@@ -730,6 +788,12 @@ def fit(
         (and at jumps of the time axis) into periods with their own initial states; the
         results then belong to ``model.with_periods(...)`` (parameters ``Ti0_p2``, ...). See
         :func:`thermocal.statespace.data.prepare_data`; noted in the results.
+    reuse : FitResults, optional
+        An earlier fit of the same model on the same data (e.g. before a new ``warm_start``
+        was known): its starts from the same points are not run again; their polished ends
+        are taken over (the same start on the same problem ends at the same point, so the
+        results are those of a full refit). Ignored unless model, observations, hold and
+        optimiser settings are the same.
 
     Returns
     -------
@@ -759,7 +823,9 @@ def fit(
             starts.insert(1, problem.clip(physical))
     if warm_start is not None:
         starts.insert(1, problem.clip(_warm_start_theta(model, warm_start)))
-    results = _run_starts(problem, starts, method, maxiter, stall_tolerance, n_jobs, progress)
+    ends = _reusable_ends(reuse, model, prep, hold, method, maxiter, stall_tolerance)
+    results = _run_new_starts(problem, starts, method, maxiter, stall_tolerance, n_jobs, progress,
+                              ends)  # fmt: skip
     start_loglikes = [float("nan") if r is None else -float(r.fun) * problem.scale for r in results]
     if adaptive and n_starts > 1 and start_agreement(start_loglikes)["n_best"] < 2:
         # the best optimum was reached once: one more batch of random starts (default starts
@@ -767,7 +833,8 @@ def fit(
         extra_seed = None if seed is None else int(seed) + 7919
         extra = _start_points(model, n_starts + 1, extra_seed)[1:]
         iterations = problem.iterations
-        more = _run_starts(problem, extra, method, maxiter, stall_tolerance, n_jobs, progress)
+        more = _run_new_starts(problem, extra, method, maxiter, stall_tolerance, n_jobs,
+                               progress, ends)  # fmt: skip
         problem.iterations += iterations
         results += more
         start_loglikes += [float("nan") if r is None else -float(r.fun) * problem.scale
@@ -789,7 +856,7 @@ def fit(
     if warm_start is not None and hasattr(warm_start, "loglike") and hasattr(warm_start, "nobs"):
         if warm_start.nobs == prep.nobs and warm_start.n_free < model.n_free:
             nested = warm_start
-    return FitResults(
+    out = FitResults(
         model=model,
         theta=theta,
         loglike=ll,
@@ -808,6 +875,10 @@ def fit(
         logprior=problem.logprior(theta)[0] if problem.priors else None,
         agreement=start_agreement(start_loglikes),
     )
+    # the polished end of every start, for a later fit of the same problem (``reuse``)
+    out._start_ends = ends
+    out._optimiser = (method, maxiter, stall_tolerance)
+    return out
 
 
 def nonfinite_culprit(model, prep: PreparedData, foh: bool) -> str:

@@ -280,7 +280,7 @@ def _confirm_by_extension(res, ext_fit) -> None:
     """Confirm a fit whose only doubt is the agreement of its starts when it reaches the
     converged optimum of a model that contains it: that optimum bounds the restricted model's
     from above, so the restricted optimum is global."""
-    from thermocal.statespace.estimation import AGREEMENT_TOLERANCE, CONVERGENCE_GAIN
+    from thermocal.statespace.convergence import AGREEMENT_TOLERANCE, CONVERGENCE_GAIN
 
     if res.converged or not ext_fit.converged:
         return

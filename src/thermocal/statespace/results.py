@@ -10,17 +10,14 @@ import pandas as pd
 
 from thermocal.jsonsafe import json_ready as _jsonable
 from thermocal.statespace import kernels
-from thermocal.statespace.data import PreparedData, prepare_data
-from thermocal.statespace.estimation import (
+from thermocal.statespace.convergence import (
     AGREEMENT_TOLERANCE,
     BOUND_TOLERANCE,
     CONVERGENCE_GAIN,
     CORRELATION_LIMIT,
-    _hold_flag,
-    filter_arrays,
-    rts_smoother,
-    simulate,
 )
+from thermocal.statespace.data import PreparedData, prepare_data
+from thermocal.statespace.kalman import _hold_flag, filter_arrays, rts_smoother, simulate
 
 #: Standard error above this fraction of the estimate flags a positive parameter.
 RELATIVE_SE_LIMIT = 0.5
@@ -830,7 +827,7 @@ def _load_hlc_kernels(res) -> None:
 
 def _hlc_worker(args):
     name, alpha = args
-    from thermocal.statespace.estimation import one_blas_thread
+    from thermocal.statespace.convergence import one_blas_thread
 
     one_blas_thread()  # for the worker's lifetime: the pool is the parallelism
     res = _HLC_FITS[name]

@@ -65,6 +65,23 @@ def test_fin_shadow_and_sky_diffuse_ratio():
     assert ShadowCaster([], {"w": (_south_window(), ())}).sky_diffuse_ratio("w") == 1.0
 
 
+def test_sky_dome_and_horizon_shading_ratios_are_energyplus_ones():
+    """EnergyPlus' own unit test (tst/EnergyPlus/unit/SolarShading.unit.cc,
+    ``SolarShadingTest_FigureSolarBeamAtTimestep``, ``SkyDifSolarShading``): a 6 x 2 m south
+    window under a 1 m deep overhang as wide as the window, at its head, has
+    ``DifShdgRatioIsoSky`` 0.6504 and ``DifShdgRatioHoriz`` 0.9152 (thermocal 0.648 / 0.910 at
+    its default sampling, 0.651 / 0.916 with 16 x as many cells)."""
+    window = np.array([[-3, -5, 2.5], [-3, -5, 0.5], [3, -5, 0.5], [3, -5, 2.5]], float)
+    overhang = ShadingSurface(
+        "shade", np.array([[-3, -5, 2.5], [-3, -6, 2.5], [3, -6, 2.5], [3, -5, 2.5]], float)
+    )
+    dome, horizon = ShadowCaster([overhang], {"w": (window, ())}).sky_diffuse_ratios("w")
+    assert dome == pytest.approx(0.6504, abs=0.005)
+    assert horizon == pytest.approx(0.9152, abs=0.01)
+    # the horizon band is the lowest row of sky patches: an overhang hides less of it
+    assert horizon > dome
+
+
 @pytest.mark.parametrize("hole", [True, False])
 def test_wall_minus_its_window(hole):
     wall = np.array([[4, 0, 3], [0, 0, 3], [0, 0, 0], [4, 0, 0]], float)

@@ -12,9 +12,12 @@ overhang shadow in ``tests/multizone/test_multizone_shading.py``). Shading polyg
 from both faces (EnergyPlus mirrors detached shading surfaces) and may be partly transparent
 (``transmittance`` per step).
 
-The isotropic sky-diffuse view of a receiver is reduced in the same way as EnergyPlus'
-``DifShdgRatioIsoSky``: the sunlit fraction is averaged over 6 x 24 sky patches (altitude
-bands of 15 deg, azimuth sectors of 15 deg), weighted by ``cos(incidence) cos(altitude)``.
+The sky-diffuse view of a receiver is reduced in the same way as EnergyPlus'
+``DifShdgRatioIsoSky`` (the dome) and ``DifShdgRatioHoriz`` (the horizon band): the sunlit
+fraction is averaged over 6 x 24 sky patches (altitude bands of 15 deg, azimuth sectors of 15 deg),
+weighted by ``cos(incidence) cos(altitude)``, over all of them or over the lowest band. The
+circumsolar part of the sky is shaded like the beam (EnergyPlus Engineering Reference, "Shadowing
+of Sky Diffuse Solar Radiation").
 
 Coordinates are world coordinates [m]: x east, y north, z up.
 """
@@ -286,12 +289,30 @@ class ShadowCaster:
         ``transmittance``: (n_shaders,) constant transmittances (default opaque). Returns 1 for
         receivers no shading polygon can shade.
         """
+        return self.sky_diffuse_ratios(name, transmittance)[0]
+
+    def sky_diffuse_ratios(self, name: str, transmittance=None) -> tuple[float, float]:
+        """Unshaded shares of the sky dome and of the horizon band on a receiver [-].
+
+        EnergyPlus' ``SkyDifSolarShading``: the sunlit fraction toward 6 x 24 sky patches
+        (altitudes 7.5 to 82.5 deg, azimuths every 15 deg), weighted by
+        ``cos(altitude) cos(incidence)`` over the patches in front of the receiver:
+        ``DifShdgRatioIsoSky`` over all of them, ``DifShdgRatioHoriz`` over the lowest band
+        (7.5 deg). ``transmittance``: (n_shaders,) constant transmittances (default opaque).
+        (1, 1) for receivers no shading polygon can shade.
+
+        References
+        ----------
+        .. [1] EnergyPlus Engineering Reference 25.2, "Shadowing of Sky Diffuse Solar
+           Radiation" (sky radiance model).
+        """
         if name not in self._receivers:
-            return 1.0
+            return 1.0, 1.0
         normal = self._receivers[name].normal
         altitudes = np.radians(np.arange(6) * 15.0 + 7.5)
-        azimuths = np.radians(np.arange(24) * 15.0 + 7.5)
+        azimuths = np.radians(np.arange(24) * 15.0)
         alt, az = np.meshgrid(altitudes, azimuths, indexing="ij")
+        band = np.broadcast_to(np.arange(6)[:, None], alt.shape).ravel()
         alt, az = alt.ravel(), az.ravel()
         directions = np.stack(
             [np.cos(alt) * np.sin(az), np.cos(alt) * np.cos(az), np.sin(alt)], axis=1
@@ -299,14 +320,18 @@ class ShadowCaster:
         cos_incidence = directions @ normal
         weight = np.where(cos_incidence > 0, cos_incidence * np.cos(alt), 0.0)
         if weight.sum() <= 0:
-            return 1.0
+            return 1.0, 1.0
         tau = None
         if transmittance is not None:
             tau = np.broadcast_to(
                 np.asarray(transmittance, float), (len(directions), len(self.shaders))
             )
         lit = self.sunlit_fraction(name, directions, tau)
-        return float((weight * lit).sum() / weight.sum())
+        dome = float((weight * lit).sum() / weight.sum())
+        low = band == 0
+        if weight[low].sum() <= 0:
+            return dome, 1.0
+        return dome, float((weight[low] * lit[low]).sum() / weight[low].sum())
 
 
 def sun_vectors(zenith_deg, azimuth_deg) -> np.ndarray:

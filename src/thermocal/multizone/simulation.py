@@ -340,8 +340,9 @@ class Simulation:
     shading : bool
         For buildings imported from an IDF file: shadows of the file's shading surfaces
         (``Shading:Zone/Building/Site:Detailed``, overhangs, fins) on windows and outdoor
-        surfaces, beam by the sunlit fraction of each step and isotropic sky diffuse by the
-        unshaded sky view (:mod:`thermocal.multizone.shading`); False ignores them.
+        surfaces, beam and the sky's circumsolar part by the sunlit fraction of each step, the
+        sky dome and horizon band by their unshaded views, as EnergyPlus
+        (:mod:`thermocal.multizone.shading`); False ignores them.
     weather_interpolation : {None, "hold", "energyplus"}
         How hourly weather becomes sub-hourly steps. ``"hold"``: irradiance means held over each
         hour, each step's air temperature the mean of its end values (linear in time between the
@@ -570,12 +571,14 @@ class Simulation:
                     )
         mean_tau = None if tau is None else tau.mean(axis=0)
         tau_eval = None if tau is None else tau[evaluated]
+        ratios = {name: caster.sky_diffuse_ratios(name, mean_tau) for name in caster.shaded}
         return {
             "beam": {
                 name: caster.sunlit_fraction(name, sun[evaluated], tau_eval)[inverse]
                 for name in caster.shaded
             },
-            "sky": {name: caster.sky_diffuse_ratio(name, mean_tau) for name in caster.shaded},
+            "sky": {name: dome for name, (dome, _) in ratios.items()},
+            "horizon": {name: band for name, (_, band) in ratios.items()},
         }
 
     def _network_building(self):
@@ -1078,10 +1081,17 @@ class Simulation:
         return np.ascontiguousarray(constant), np.ascontiguousarray(limit)
 
     def _shaded(self, irradiance: dict, name: str) -> dict:
-        """Irradiance on a shaded receiver: beam x sunlit fraction, sky diffuse x sky view."""
+        """Irradiance on a shaded receiver, as EnergyPlus' ``AnisoSkyViewFactors``: beam and
+        the sky's circumsolar part x the sunlit fraction, the dome x its unshaded share
+        (``DifShdgRatioIsoSky``), the horizon band x its own (``DifShdgRatioHoriz``)."""
         out = dict(irradiance)
-        out["poa_direct"] = irradiance["poa_direct"] * self._shadows["beam"][name]
-        out["poa_sky_diffuse"] = irradiance["poa_sky_diffuse"] * self._shadows["sky"][name]
+        sunlit = self._shadows["beam"][name]
+        out["poa_direct"] = irradiance["poa_direct"] * sunlit
+        out["poa_sky_diffuse"] = (
+            irradiance["poa_sky_isotropic"] * self._shadows["sky"][name]
+            + irradiance["poa_sky_circumsolar"] * sunlit
+            + irradiance["poa_sky_horizon"] * self._shadows["horizon"][name]
+        )
         out["poa_global"] = out["poa_direct"] + out["poa_sky_diffuse"] + out["poa_ground_diffuse"]
         return out
 
@@ -1873,8 +1883,8 @@ class Simulation:
                         if info.shadow_update_days
                         else "every step; "
                     )
-                    + "isotropic sky diffuse by the unshaded sky view; ground-reflected not "
-                    "shaded)"
+                    + "sky diffuse as EnergyPlus: its circumsolar part like the beam, the dome "
+                    "and the horizon band by their unshaded views; ground-reflected not shaded)"
                     + (
                         ", the building's own surfaces among them"
                         if any("(building surface)" in str(s.name) for s in shaders)
@@ -2222,7 +2232,16 @@ def _irradiance(
     for key, frame in frames.items():
         out[key] = {
             c: np.nan_to_num(frame[c].to_numpy(dtype=float))
-            for c in ("poa_global", "poa_direct", "poa_sky_diffuse", "poa_ground_diffuse", "aoi")
+            for c in (
+                "poa_global",
+                "poa_direct",
+                "poa_sky_diffuse",
+                "poa_ground_diffuse",
+                "aoi",
+                "poa_sky_isotropic",
+                "poa_sky_circumsolar",
+                "poa_sky_horizon",
+            )
         }
         out[key]["aoi"] = np.where(np.isfinite(frame["aoi"].to_numpy()), out[key]["aoi"], 90.0)
     return out

@@ -27,6 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 #: cells per receiver of the sampling (about)
 DEFAULT_SAMPLES = 1600
@@ -62,6 +63,7 @@ class _Receiver:
     u_axis: np.ndarray
     v_axis: np.ndarray
     points: np.ndarray  # (p, 2) sample points in (u, v)
+    weights: np.ndarray  # (p,) covered share of each point's cell
     shaders: list[tuple[int, np.ndarray]] = field(default_factory=list)  # (index, clipped verts)
 
 
@@ -138,6 +140,45 @@ def sample_points(
     Returns
     -------
     (p, 3) array [m]
+        The centres of the cells that lie mostly on the polygon.
+    """
+    points, weights = sample_cells(vertices, normal, holes=holes, samples=samples)
+    return points[weights > 0.5]
+
+
+def sample_cells(
+    vertices: np.ndarray,
+    normal: np.ndarray,
+    *,
+    holes=(),
+    samples: int = DEFAULT_SAMPLES,
+    refine: int = 4,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Cells of a regular grid over a planar polygon minus its holes, with their covered share.
+
+    Each cell's share of polygon (minus holes) is counted on ``refine x refine`` sub-cells, so
+    that a sunlit fraction averaged with these weights has the receiver's area right although
+    the edges of its holes (a wall's windows) do not follow the grid; the shadow test is made
+    at the cell centre.
+
+    Parameters
+    ----------
+    vertices : (n, 3) array [m]
+    normal : (3,) array
+        Outward normal (any length).
+    holes : sequence of (m, 3) arrays
+        Sub-surfaces (windows, doors) excluded from the receiver.
+    samples : int
+        Number of cells over the polygon's area (about).
+    refine : int
+        Sub-cells per cell side for the covered share.
+
+    Returns
+    -------
+    points : (p, 3) array [m]
+        Centres of the cells that touch the polygon.
+    weights : (p,) array [-]
+        Their covered share (0, 1].
     """
     v = np.asarray(vertices, dtype=float)
     n = normal / np.linalg.norm(normal)
@@ -149,17 +190,24 @@ def sample_points(
     lo, hi = local.min(axis=0), local.max(axis=0)
     nu = max(1, int(np.ceil((hi[0] - lo[0]) / cell)))
     nv = max(1, int(np.ceil((hi[1] - lo[1]) / cell)))
-    gu = lo[0] + (np.arange(nu) + 0.5) * (hi[0] - lo[0]) / nu
-    gv = lo[1] + (np.arange(nv) + 0.5) * (hi[1] - lo[1]) / nv
-    uu, vv = np.meshgrid(gu, gv, indexing="ij")
-    uu, vv = uu.ravel(), vv.ravel()
+    r = max(1, int(refine))
+    fu = lo[0] + (np.arange(nu * r) + 0.5) * (hi[0] - lo[0]) / (nu * r)
+    fv = lo[1] + (np.arange(nv * r) + 0.5) * (hi[1] - lo[1]) / (nv * r)
+    uu, vv = np.meshgrid(fu, fv, indexing="ij")
     keep = _inside(local, uu, vv)
     for hole in holes:
         h = np.asarray(hole, dtype=float)
         h_local = np.stack([(h - origin) @ u_axis, (h - origin) @ v_axis], axis=1)
         keep &= ~_inside(h_local, uu, vv)
-    uu, vv = uu[keep], vv[keep]
-    return origin[None, :] + uu[:, None] * u_axis[None, :] + vv[:, None] * v_axis[None, :]
+    weights = keep.reshape(nu, r, nv, r).mean(axis=(1, 3)).ravel()
+    gu = lo[0] + (np.arange(nu) + 0.5) * (hi[0] - lo[0]) / nu
+    gv = lo[1] + (np.arange(nv) + 0.5) * (hi[1] - lo[1]) / nv
+    cu, cv = np.meshgrid(gu, gv, indexing="ij")
+    cu, cv = cu.ravel(), cv.ravel()
+    touched = weights > 0
+    cu, cv, weights = cu[touched], cv[touched], weights[touched]
+    points = origin[None, :] + cu[:, None] * u_axis[None, :] + cv[:, None] * v_axis[None, :]
+    return points, weights
 
 
 class ShadowCaster:
@@ -215,13 +263,13 @@ class ShadowCaster:
                     candidates.append((k, clipped))
             if not candidates:
                 continue
-            points = sample_points(verts, normal, holes=holes, samples=samples)
+            points, weights = sample_cells(verts, normal, holes=holes, samples=samples)
             if len(points) == 0:
                 continue
             u_axis, v_axis = _plane_axes(normal)
             local = np.stack([(points - origin) @ u_axis, (points - origin) @ v_axis], axis=1)
             self._receivers[name] = _Receiver(
-                name, origin, normal, u_axis, v_axis, local, candidates
+                name, origin, normal, u_axis, v_axis, local, weights, candidates
             )
         self.shaded = list(self._receivers)
 
@@ -248,39 +296,32 @@ class ShadowCaster:
             return out
         front = (sun @ rec.normal > 1e-9) & (sun[:, 2] > -1e-9)
         steps = np.flatnonzero(front)
-        x, y = rec.points[:, 0][None, :], rec.points[:, 1][None, :]
+        if not len(steps):
+            return out
+        n_shaders = len(rec.shaders)
+        n_vertices = np.array([len(verts) for _, verts in rec.shaders], dtype=np.int64)
+        width = int(n_vertices.max())
+        px = np.ascontiguousarray(rec.points[:, 0])
+        py = np.ascontiguousarray(rec.points[:, 1])
         for start in range(0, len(steps), _TIME_CHUNK):
             chunk = steps[start : start + _TIME_CHUNK]
             s = sun[chunk]  # (c, 3)
-            lit = np.ones((len(chunk), len(x[0])))
             cos_n = s @ rec.normal  # (c,) > 0
-            for k, verts in rec.shaders:
+            su = np.zeros((len(chunk), n_shaders, width))
+            sv = np.zeros((len(chunk), n_shaders, width))
+            tau = np.zeros((len(chunk), n_shaders))
+            for j, (k, verts) in enumerate(rec.shaders):
                 # shadow of the polygon on the receiver's plane, along the sun's rays
                 rel = verts - rec.origin  # (m, 3)
                 height = rel @ rec.normal  # (m,) > 0 after clipping
                 shadow = (
                     rel[None, :, :] - (height[None, :, None] / cos_n[:, None, None]) * s[:, None, :]
                 )
-                su, sv = shadow @ rec.u_axis, shadow @ rec.v_axis  # (c, m)
-                inside = np.zeros(lit.shape, dtype=bool)
-                m = len(verts)
-                for i in range(m):
-                    x1, y1 = su[:, i : i + 1], sv[:, i : i + 1]
-                    x2, y2 = (
-                        su[:, (i + 1) % m : (i + 1) % m + 1],
-                        sv[:, (i + 1) % m : (i + 1) % m + 1],
-                    )
-                    dy = y2 - y1
-                    crosses = (y1 > y) != (y2 > y)
-                    with np.errstate(divide="ignore", invalid="ignore"):
-                        x_at = x1 + (y - y1) * (x2 - x1) / np.where(dy == 0, 1.0, dy)
-                    inside ^= crosses & (x < x_at)
-                if transmittance is None:
-                    lit[inside] = 0.0
-                else:
-                    tau = np.broadcast_to(transmittance[chunk, k][:, None], lit.shape)
-                    lit = np.where(inside, lit * tau, lit)
-            out[chunk] = lit.mean(axis=1)
+                su[:, j, : len(verts)] = shadow @ rec.u_axis
+                sv[:, j, : len(verts)] = shadow @ rec.v_axis
+                if transmittance is not None:
+                    tau[:, j] = transmittance[chunk, k]
+            out[chunk] = _lit_share(px, py, rec.weights, su, sv, n_vertices, tau)
         return out
 
     def sky_diffuse_ratio(self, name: str, transmittance=None) -> float:
@@ -332,6 +373,55 @@ class ShadowCaster:
         if weight[low].sum() <= 0:
             return dome, 1.0
         return dome, float((weight[low] * lit[low]).sum() / weight[low].sum())
+
+
+@njit(cache=True)
+def _lit_share(px, py, weights, su, sv, n_vertices, tau):  # pragma: no cover - compiled
+    """Mean over the points ``(px, py)`` (weighted) of the light left after the shadow polygons
+    ``(su, sv)[t, k, :n_vertices[k]]`` (even-odd rule; a point in shadow k keeps ``tau[t, k]``
+    of it), per step ``t``; each polygon's bounding box first."""
+    n_steps, n_shaders, _ = su.shape
+    n_points = len(px)
+    out = np.ones(n_steps)
+    lit = np.empty(n_points)
+    for t in range(n_steps):
+        lit[:] = 1.0
+        for k in range(n_shaders):
+            m = n_vertices[k]
+            u0 = su[t, k, 0]
+            u1 = u0
+            v0 = sv[t, k, 0]
+            v1 = v0
+            for i in range(1, m):
+                u0 = min(u0, su[t, k, i])
+                u1 = max(u1, su[t, k, i])
+                v0 = min(v0, sv[t, k, i])
+                v1 = max(v1, sv[t, k, i])
+            keep = tau[t, k]
+            for p in range(n_points):
+                x = px[p]
+                y = py[p]
+                if x < u0 or x > u1 or y < v0 or y > v1:
+                    continue
+                inside = False
+                for i in range(m):
+                    j = i + 1 if i + 1 < m else 0
+                    y1 = sv[t, k, i]
+                    y2 = sv[t, k, j]
+                    if (y1 > y) != (y2 > y):
+                        x1 = su[t, k, i]
+                        x_at = x1 + (y - y1) * (su[t, k, j] - x1) / (y2 - y1)
+                        if x < x_at:
+                            inside = not inside
+                if inside:
+                    lit[p] *= keep
+        total = 0.0
+        norm = 0.0
+        for p in range(n_points):
+            total += weights[p] * lit[p]
+            norm += weights[p]
+        out[t] = total / norm if norm > 0.0 else 1.0
+    return out
 
 
 def sun_vectors(zenith_deg, azimuth_deg) -> np.ndarray:

@@ -159,7 +159,7 @@ def sample_cells(
     Each cell's share of polygon (minus holes) is counted on ``refine x refine`` sub-cells, so
     that a sunlit fraction averaged with these weights has the receiver's area right although
     the edges of its holes (a wall's windows) do not follow the grid; the shadow test is made
-    at the cell centre.
+    at one point of the cell.
 
     Parameters
     ----------
@@ -176,7 +176,8 @@ def sample_cells(
     Returns
     -------
     points : (p, 3) array [m]
-        Centres of the cells that touch the polygon.
+        One point in each cell that touches the polygon (jittered about its centre by a fixed
+        pseudo-random sequence).
     weights : (p,) array [-]
         Their covered share (0, 1].
     """
@@ -203,6 +204,12 @@ def sample_cells(
     gu = lo[0] + (np.arange(nu) + 0.5) * (hi[0] - lo[0]) / nu
     gv = lo[1] + (np.arange(nv) + 0.5) * (hi[1] - lo[1]) / nv
     cu, cv = np.meshgrid(gu, gv, indexing="ij")
+    # the ray of each cell leaves from a point jittered within the cell (a fixed sequence), so
+    # that shadow edges parallel to the grid (an overhang over a window) move the sunlit
+    # fraction smoothly rather than a row at a time
+    jitter = np.random.default_rng(20261125).uniform(-0.5, 0.5, size=(2, nu, nv))
+    cu = cu + jitter[0] * (hi[0] - lo[0]) / nu
+    cv = cv + jitter[1] * (hi[1] - lo[1]) / nv
     cu, cv = cu.ravel(), cv.ravel()
     touched = weights > 0
     cu, cv, weights = cu[touched], cv[touched], weights[touched]

@@ -547,8 +547,10 @@ class Simulation:
         site = self._site
         position = _sun_position(self._grid.index, site, self._sun_at_end)
         sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
-        # EnergyPlus' "Periodic" shadow calculation: the sunlit fractions of the first day of
-        # each period of N days (sun positions of that day, step by step) serve the whole period
+        # EnergyPlus' "Periodic" shadow calculation (PerformSolarCalculations): one day of
+        # sunlit fractions serves each period of N days, computed step by step with the sun of
+        # the period's mean declination (of its sine) and mean equation of time over the
+        # period's days within the run period
         days = int(getattr(info, "shadow_update_days", 0))
         per_day = int(round(86400.0 / self.dt))
         step_index = np.arange(len(self.times))
@@ -556,6 +558,9 @@ class Simulation:
             elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
             first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
             step_index = np.minimum(first, len(self.times) - 1)
+            sun = _period_sun_vectors(
+                self.times, self.step_size, self._sun_at_end, site, elapsed // per_day // days, days
+            )
         evaluated, inverse = np.unique(step_index, return_inverse=True)
         tau = None
         if any(s.transmittance_schedule for s in shaders):
@@ -1087,10 +1092,11 @@ class Simulation:
         out = dict(irradiance)
         sunlit = self._shadows["beam"][name]
         out["poa_direct"] = irradiance["poa_direct"] * sunlit
-        out["poa_sky_diffuse"] = (
+        out["poa_sky_diffuse"] = np.maximum(
             irradiance["poa_sky_isotropic"] * self._shadows["sky"][name]
             + irradiance["poa_sky_circumsolar"] * sunlit
-            + irradiance["poa_sky_horizon"] * self._shadows["horizon"][name]
+            + irradiance["poa_sky_horizon"] * self._shadows["horizon"][name],
+            0.0,
         )
         out["poa_global"] = out["poa_direct"] + out["poa_sky_diffuse"] + out["poa_ground_diffuse"]
         return out
@@ -2194,6 +2200,49 @@ def _sun_position(index: pd.DatetimeIndex, site: dict, at_end: pd.Timedelta | No
     position = solar_position(index + at_end, site["latitude"], site["longitude"], site["altitude"])
     position.index = index
     return position
+
+
+def _period_sun_vectors(times, step, at_end, site, period, days) -> np.ndarray:
+    """Unit vectors toward the sun (x east, y north, z up) per step as EnergyPlus' periodic
+    shadow calculation places it: the step's clock instant (its end with ``at_end``, else its
+    middle), with the mean sine of the declination and the mean equation of time of the days of
+    the step's period (``period`` index per step, ``days`` per period) that the run covers
+    (Spencer 1971 series, as pvlib).
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference 25.2, "Shading Module" (periodic calculation with
+       the period's average solar declination and equation of time); SolarShading.cc,
+       ``PerformSolarCalculations``.
+    .. [2] Spencer, J. W. (1971), "Fourier series representation of the position of the sun",
+       Search 2(5), 172.
+    """
+    from pvlib.solarposition import declination_spencer71, equation_of_time_spencer71
+
+    instants = times + (at_end if at_end is not None else step / 2)
+    utc = instants.tz_convert("UTC") if instants.tz is not None else instants
+    day_of_year = utc.day_of_year.to_numpy()
+    sin_decl = np.sin(declination_spencer71(day_of_year))
+    eot = np.asarray(equation_of_time_spencer71(day_of_year), dtype=float)  # [min]
+    period = np.asarray(period)
+    # the days (one value each) of each period, averaged
+    day_key = utc.normalize().as_unit("s").asi8 // 86_400
+    _, first_of_day = np.unique(day_key, return_index=True)
+    mean_sin = np.zeros(period.max() + 1)
+    mean_eot = np.zeros(period.max() + 1)
+    for p in range(period.max() + 1):
+        in_period = first_of_day[period[first_of_day] == p][:days]
+        if len(in_period):
+            mean_sin[p] = sin_decl[in_period].mean()
+            mean_eot[p] = eot[in_period].mean()
+    decl = np.arcsin(mean_sin[period])
+    hours = (utc - utc.normalize()).total_seconds().to_numpy() / 3600.0
+    hour_angle = np.radians(15.0 * (hours - 12.0) + site["longitude"] + mean_eot[period] / 4.0)
+    lat = np.radians(site["latitude"])
+    up = np.sin(lat) * np.sin(decl) + np.cos(lat) * np.cos(decl) * np.cos(hour_angle)
+    east = -np.cos(decl) * np.sin(hour_angle)
+    north = np.cos(lat) * np.sin(decl) - np.sin(lat) * np.cos(decl) * np.cos(hour_angle)
+    return np.stack([east, north, up], axis=1)
 
 
 def _ground_reflectance(grid: pd.DataFrame, monthly) -> str | float | np.ndarray:

@@ -31,13 +31,15 @@ MULTIFAMILY = ROOT / "tests" / "reference" / "identification_multifamily"
 
 
 def timed(function, repeats):
-    """Best wall time [s] of ``function()`` over ``repeats`` untraced calls, the last result,
+    """Best wall time [s] of ``function()`` over ``repeats`` untraced calls, that call's result,
     and the peak of Python and numpy allocations [GB] of one more, traced call."""
     best, result = float("inf"), None
     for _ in range(repeats):
         start = time.perf_counter()
-        result = function()
-        best = min(best, time.perf_counter() - start)
+        value = function()
+        wall = time.perf_counter() - start
+        if wall < best:
+            best, result = wall, value
     tracemalloc.start()
     function()
     peak = tracemalloc.get_traced_memory()[1] / 1024**3

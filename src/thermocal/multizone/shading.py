@@ -431,6 +431,74 @@ def _lit_share(px, py, weights, su, sv, n_vertices, tau):  # pragma: no cover - 
     return out
 
 
+def interior_beam_fractions(
+    window: np.ndarray, faces: dict, sun: np.ndarray, *, samples: int = 400
+) -> np.ndarray:
+    """Where the beam entering through a window lands: the share on each face of its zone.
+
+    Rays from cells of the window (weighted by their covered share) travel along the sun's
+    direction into the zone; each lands on the nearest face it crosses (EnergyPlus'
+    ``FullInteriorAndExterior`` projects the sunlit window onto the zone's back surfaces, for
+    convex zones the same). Rays that find no face (an open zone) are not counted.
+
+    Parameters
+    ----------
+    window : (n, 3) array [m]
+        The window's vertices, counter-clockwise seen from outside (outward normal).
+    faces : dict of str -> (m, 3) array [m]
+        The zone's faces (any vertex order).
+    sun : (t, 3) array
+        Unit vectors toward the sun.
+    samples : int
+        Cells on the window (about).
+
+    Returns
+    -------
+    (t, len(faces)) array [-]
+        Shares of the transmitted beam per face (rows sum to 1, or 0 with the sun behind the
+        window or below the horizon).
+    """
+    window = np.asarray(window, dtype=float)
+    outward = newell_normal(window)
+    outward = outward / np.linalg.norm(outward)
+    points, weights = sample_cells(window, outward, samples=samples)
+    sun = np.atleast_2d(np.asarray(sun, dtype=float))
+    names = list(faces)
+    out = np.zeros((len(sun), len(names)))
+    planes = []
+    for name in names:
+        verts = np.asarray(faces[name], dtype=float)
+        normal = newell_normal(verts)
+        normal = normal / max(np.linalg.norm(normal), 1e-12)
+        u_axis, v_axis = _plane_axes(normal)
+        local = np.stack([(verts - verts[0]) @ u_axis, (verts - verts[0]) @ v_axis], axis=1)
+        planes.append((verts[0], normal, u_axis, v_axis, local))
+    lit = np.flatnonzero((sun @ outward > 1e-6) & (sun[:, 2] > 0.0))
+    for t in lit:
+        direction = -sun[t]
+        best = np.full(len(points), np.inf)
+        hit = np.full(len(points), -1)
+        for k, (origin, normal, u_axis, v_axis, local) in enumerate(planes):
+            denominator = direction @ normal
+            if abs(denominator) < 1e-9:
+                continue
+            distance = ((origin - points) @ normal) / denominator
+            ahead = distance > 1e-6
+            if not ahead.any():
+                continue
+            where = points + distance[:, None] * direction[None, :]
+            x = (where - origin) @ u_axis
+            y = (where - origin) @ v_axis
+            inside = ahead & _inside(local, x, y) & (distance < best)
+            best[inside] = distance[inside]
+            hit[inside] = k
+        found = hit >= 0
+        total = weights[found].sum()
+        if total > 0:
+            out[t] = np.bincount(hit[found], weights=weights[found], minlength=len(names)) / total
+    return out
+
+
 def sun_vectors(zenith_deg, azimuth_deg) -> np.ndarray:
     """Unit vectors toward the sun (x east, y north, z up) from zenith and azimuth [deg]."""
     zen = np.radians(np.asarray(zenith_deg, dtype=float))

@@ -450,6 +450,7 @@ class Simulation:
         self._site = self._site_from(self.metadata, building)
         self.shading = bool(shading)
         self._shadows = self._shadow_setup()
+        self._interior_beam = self._interior_beam_setup()
         #: solve with prescribed air temperatures when every controlled zone sits at a set point
         self.use_dirichlet = True
         #: False: only the linear network (no lagged state-dependent corrections: TARP, exact
@@ -493,6 +494,11 @@ class Simulation:
             gain_input_zones=gain_zones,
             own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
             sky_view_ratio=self._shadows["sky"] if self._shadows else None,
+            interior_beam=(
+                {w: names for w, (names, _) in self._interior_beam.items()}
+                if self._interior_beam
+                else None
+            ),
         )
         self._inputs = self._input_matrix()
         self._factorise()
@@ -528,7 +534,7 @@ class Simulation:
         shaders = getattr(info, "shading_surfaces", None) if info is not None else None
         if not self.shading or not shaders:
             return None
-        from thermocal.multizone.shading import ShadowCaster, sun_vectors
+        from thermocal.multizone.shading import ShadowCaster
 
         vertices = info.surface_vertices
         receivers = {}
@@ -544,24 +550,7 @@ class Simulation:
         caster = ShadowCaster(shaders, receivers)
         if not caster.shaded:
             return None
-        site = self._site
-        position = _sun_position(self._grid.index, site, self._sun_at_end)
-        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
-        # EnergyPlus' "Periodic" shadow calculation (PerformSolarCalculations): one day of
-        # sunlit fractions serves each period of N days, computed step by step with the sun of
-        # the period's mean declination (of its sine) and mean equation of time over the
-        # period's days within the run period
-        days = int(getattr(info, "shadow_update_days", 0))
-        per_day = int(round(86400.0 / self.dt))
-        step_index = np.arange(len(self.times))
-        if days > 0 and abs(per_day * self.dt - 86400.0) < 1e-6:
-            elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
-            first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
-            step_index = np.minimum(first, len(self.times) - 1)
-            sun = _period_sun_vectors(
-                self.times, self.step_size, self._sun_at_end, site, elapsed // per_day // days, days
-            )
-        evaluated, inverse = np.unique(step_index, return_inverse=True)
+        sun, evaluated, inverse = self._shadow_suns()
         tau = None
         if any(s.transmittance_schedule for s in shaders):
             tau = np.zeros((len(self.times), len(shaders)))
@@ -585,6 +574,74 @@ class Simulation:
             "sky": {name: dome for name, (dome, _) in ratios.items()},
             "horizon": {name: band for name, (_, band) in ratios.items()},
         }
+
+    def _shadow_suns(self):
+        """Sun vectors per step for the shadow calculations, the steps evaluated and, per step,
+        the evaluated step that serves it.
+
+        EnergyPlus' "Periodic" shadow calculation (PerformSolarCalculations): one day of sunlit
+        fractions serves each period of N days, computed step by step with the sun of the
+        period's mean declination (of its sine) and mean equation of time over the period's
+        days within the run period; "Timestep" (N = 0): every step its own sun.
+        """
+        from thermocal.multizone.shading import sun_vectors
+
+        info = self._idf_info
+        site = self._site
+        position = _sun_position(self._grid.index, site, self._sun_at_end)
+        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
+        days = int(getattr(info, "shadow_update_days", 0)) if info is not None else 0
+        per_day = int(round(86400.0 / self.dt))
+        step_index = np.arange(len(self.times))
+        if days > 0 and abs(per_day * self.dt - 86400.0) < 1e-6:
+            elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
+            first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
+            step_index = np.minimum(first, len(self.times) - 1)
+            sun = _period_sun_vectors(
+                self.times, self.step_size, self._sun_at_end, site, elapsed // per_day // days, days
+            )
+        evaluated, inverse = np.unique(step_index, return_inverse=True)
+        return sun, evaluated, inverse
+
+    def _interior_beam_setup(self) -> dict | None:
+        """EnergyPlus' ``FullInteriorAndExterior``: per window, the faces of its zone and the
+        share of its transmitted beam landing on each, per step (rays along the sun, one day per
+        shadow period as the exterior shadows); None for other solar distributions or without
+        the geometry."""
+        info = self._idf_info
+        if info is None:
+            return None
+        key = str(getattr(info, "solar_distribution", "")).replace(" ", "").upper()
+        if not key.startswith("FULLINTERIORANDEXTERIOR"):
+            return None
+        from thermocal.multizone.shading import interior_beam_fractions
+
+        vertices = info.surface_vertices
+        sun, evaluated, inverse = self._shadow_suns()
+        out = {}
+        for window in self.building.windows.values():
+            host = self.building.surfaces[window.surface]
+            if not host.sun_exposed or window.name not in vertices:
+                continue
+            # windows first: where a window and its host wall share a plane, the window is hit
+            faces = {
+                w.name: vertices[w.name]
+                for w in self.building.windows.values()
+                if self.building.surfaces[w.surface].zone == host.zone and w.name in vertices
+            }
+            faces.update(
+                (s.name, vertices[s.name])
+                for s in self.building.surfaces.values()
+                if s.zone == host.zone and s.name in vertices
+            )
+            faces.pop(window.name, None)
+            shares = interior_beam_fractions(vertices[window.name], faces, sun[evaluated])
+            reached = shares.any(axis=0)
+            if not reached.any():
+                continue
+            names = [name for name, r in zip(faces, reached, strict=True) if r]
+            out[window.name] = (names, np.ascontiguousarray(shares[:, reached][inverse]))
+        return out or None
 
     def _network_building(self):
         """Building handed to the network: scheduled gains as inputs, infiltration at its mean."""
@@ -965,11 +1022,19 @@ class Simulation:
                     self._input_cache[key] = _window_inputs(wt, source, n_steps)
                 for col, values in zip(cols, self._input_cache[key], strict=True):
                     u[:, col] = values
+        interior = []
+        for window, (beam_col, area, targets) in net.window_beam_targets.items():
+            names, shares = self._interior_beam[window]
+            for face, col in targets:
+                # transmitted beam [W] landing on the face
+                u[:, col] = u[:, beam_col] * area * shares[:, names.index(face)]
+                interior.append(col)
         if self.weather_interpolation == "energyplus":
             # rows hold the curve at each step's end: the step is forced by the mean of its start
             # and end values (the first step keeps its end value)
             weather_driven = [IN_TEMP_OUT, IN_TEMP_SKY, *net.orientation_inputs.values()]
             weather_driven += [col for cols in net.window_inputs.values() for col in cols]
+            weather_driven += interior
             u[1:, weather_driven] = 0.5 * (u[1:, weather_driven] + u[:-1, weather_driven])
             t_out = u[:, IN_TEMP_OUT]
         # explicit corrections: exterior convection (wind) and infiltration air density

@@ -465,37 +465,85 @@ def interior_beam_fractions(
     sun = np.atleast_2d(np.asarray(sun, dtype=float))
     names = list(faces)
     out = np.zeros((len(sun), len(names)))
-    planes = []
-    for name in names:
+    width = max(len(faces[name]) for name in names) if names else 0
+    origins = np.zeros((len(names), 3))
+    normals = np.zeros((len(names), 3))
+    u_axes = np.zeros((len(names), 3))
+    v_axes = np.zeros((len(names), 3))
+    polygons = np.zeros((len(names), max(width, 1), 2))
+    n_vertices = np.zeros(len(names), dtype=np.int64)
+    for k, name in enumerate(names):
         verts = np.asarray(faces[name], dtype=float)
         normal = newell_normal(verts)
         normal = normal / max(np.linalg.norm(normal), 1e-12)
         u_axis, v_axis = _plane_axes(normal)
-        local = np.stack([(verts - verts[0]) @ u_axis, (verts - verts[0]) @ v_axis], axis=1)
-        planes.append((verts[0], normal, u_axis, v_axis, local))
+        origins[k], normals[k], u_axes[k], v_axes[k] = verts[0], normal, u_axis, v_axis
+        polygons[k, : len(verts)] = np.stack(
+            [(verts - verts[0]) @ u_axis, (verts - verts[0]) @ v_axis], axis=1
+        )
+        n_vertices[k] = len(verts)
     lit = np.flatnonzero((sun @ outward > 1e-6) & (sun[:, 2] > 0.0))
-    for t in lit:
-        direction = -sun[t]
-        best = np.full(len(points), np.inf)
-        hit = np.full(len(points), -1)
-        for k, (origin, normal, u_axis, v_axis, local) in enumerate(planes):
-            denominator = direction @ normal
-            if abs(denominator) < 1e-9:
-                continue
-            distance = ((origin - points) @ normal) / denominator
-            ahead = distance > 1e-6
-            if not ahead.any():
-                continue
-            where = points + distance[:, None] * direction[None, :]
-            x = (where - origin) @ u_axis
-            y = (where - origin) @ v_axis
-            inside = ahead & _inside(local, x, y) & (distance < best)
-            best[inside] = distance[inside]
-            hit[inside] = k
-        found = hit >= 0
-        total = weights[found].sum()
-        if total > 0:
-            out[t] = np.bincount(hit[found], weights=weights[found], minlength=len(names)) / total
+    if len(lit) and len(names):
+        out[lit] = _land(
+            points, weights, -sun[lit], origins, normals, u_axes, v_axes, polygons, n_vertices
+        )
+    return out
+
+
+@njit(cache=True)
+def _land(
+    points, weights, directions, origins, normals, u_axes, v_axes, polygons, n_vertices
+):  # pragma: no cover - compiled
+    """Per direction, the weighted share of the rays from ``points`` landing first on each
+    face (planes ``origins``/``normals``, polygons in their ``u``/``v`` axes); a face at the
+    same distance as an earlier one does not take the ray."""
+    n_dir = directions.shape[0]
+    n_faces = origins.shape[0]
+    out = np.zeros((n_dir, n_faces))
+    for t in range(n_dir):
+        d0, d1, d2 = directions[t, 0], directions[t, 1], directions[t, 2]
+        total = 0.0
+        for p in range(points.shape[0]):
+            x0, x1, x2 = points[p, 0], points[p, 1], points[p, 2]
+            best = np.inf
+            hit = -1
+            for k in range(n_faces):
+                den = d0 * normals[k, 0] + d1 * normals[k, 1] + d2 * normals[k, 2]
+                if abs(den) < 1e-9:
+                    continue
+                dist = (
+                    (origins[k, 0] - x0) * normals[k, 0]
+                    + (origins[k, 1] - x1) * normals[k, 1]
+                    + (origins[k, 2] - x2) * normals[k, 2]
+                ) / den
+                if dist <= 1e-6 or dist >= best - 1e-6:
+                    continue
+                w0 = x0 + dist * d0 - origins[k, 0]
+                w1 = x1 + dist * d1 - origins[k, 1]
+                w2 = x2 + dist * d2 - origins[k, 2]
+                x = w0 * u_axes[k, 0] + w1 * u_axes[k, 1] + w2 * u_axes[k, 2]
+                y = w0 * v_axes[k, 0] + w1 * v_axes[k, 1] + w2 * v_axes[k, 2]
+                m = n_vertices[k]
+                inside = False
+                for i in range(m):
+                    j = i + 1 if i + 1 < m else 0
+                    y1 = polygons[k, i, 1]
+                    y2 = polygons[k, j, 1]
+                    if (y1 > y) != (y2 > y):
+                        x_at = polygons[k, i, 0] + (y - y1) * (
+                            polygons[k, j, 0] - polygons[k, i, 0]
+                        ) / (y2 - y1)
+                        if x < x_at:
+                            inside = not inside
+                if inside:
+                    best = dist
+                    hit = k
+            if hit >= 0:
+                out[t, hit] += weights[p]
+                total += weights[p]
+        if total > 0.0:
+            for k in range(n_faces):
+                out[t, k] /= total
     return out
 
 

@@ -619,6 +619,7 @@ class Simulation:
         vertices = info.surface_vertices
         sun, evaluated, inverse = self._shadow_suns()
         out = {}
+        cache: dict[tuple, np.ndarray] = {}
         for window in self.building.windows.values():
             host = self.building.surfaces[window.surface]
             if not host.sun_exposed or window.name not in vertices:
@@ -635,7 +636,16 @@ class Simulation:
                 if s.zone == host.zone and s.name in vertices
             )
             faces.pop(window.name, None)
-            shares = interior_beam_fractions(vertices[window.name], faces, sun[evaluated])
+            # zones of the same shape (a grid of rooms) share the result: the key is the
+            # geometry relative to the window's first vertex
+            anchor = np.asarray(vertices[window.name], dtype=float)[0]
+            key = tuple(
+                np.round(np.asarray(v, dtype=float) - anchor, 4).tobytes()
+                for v in (vertices[window.name], *faces.values())
+            )
+            if key not in cache:
+                cache[key] = interior_beam_fractions(vertices[window.name], faces, sun[evaluated])
+            shares = cache[key]
             reached = shares.any(axis=0)
             if not reached.any():
                 continue

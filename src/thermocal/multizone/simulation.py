@@ -340,8 +340,9 @@ class Simulation:
     shading : bool
         For buildings imported from an IDF file: shadows of the file's shading surfaces
         (``Shading:Zone/Building/Site:Detailed``, overhangs, fins) on windows and outdoor
-        surfaces, beam by the sunlit fraction of each step and isotropic sky diffuse by the
-        unshaded sky view (:mod:`thermocal.multizone.shading`); False ignores them.
+        surfaces, beam and the sky's circumsolar part by the sunlit fraction of each step, the
+        sky dome and horizon band by their unshaded views, as EnergyPlus
+        (:mod:`thermocal.multizone.shading`); False ignores them.
     weather_interpolation : {None, "hold", "energyplus"}
         How hourly weather becomes sub-hourly steps. ``"hold"``: irradiance means held over each
         hour, each step's air temperature the mean of its end values (linear in time between the
@@ -449,6 +450,7 @@ class Simulation:
         self._site = self._site_from(self.metadata, building)
         self.shading = bool(shading)
         self._shadows = self._shadow_setup()
+        self._interior_beam = self._interior_beam_setup()
         #: solve with prescribed air temperatures when every controlled zone sits at a set point
         self.use_dirichlet = True
         #: False: only the linear network (no lagged state-dependent corrections: TARP, exact
@@ -492,6 +494,11 @@ class Simulation:
             gain_input_zones=gain_zones,
             own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
             sky_view_ratio=self._shadows["sky"] if self._shadows else None,
+            interior_beam=(
+                {w: names for w, (names, _) in self._interior_beam.items()}
+                if self._interior_beam
+                else None
+            ),
         )
         self._inputs = self._input_matrix()
         self._factorise()
@@ -527,7 +534,7 @@ class Simulation:
         shaders = getattr(info, "shading_surfaces", None) if info is not None else None
         if not self.shading or not shaders:
             return None
-        from thermocal.multizone.shading import ShadowCaster, sun_vectors
+        from thermocal.multizone.shading import ShadowCaster
 
         vertices = info.surface_vertices
         receivers = {}
@@ -543,19 +550,7 @@ class Simulation:
         caster = ShadowCaster(shaders, receivers)
         if not caster.shaded:
             return None
-        site = self._site
-        position = _sun_position(self._grid.index, site, self._sun_at_end)
-        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
-        # EnergyPlus' "Periodic" shadow calculation: the sunlit fractions of the first day of
-        # each period of N days (sun positions of that day, step by step) serve the whole period
-        days = int(getattr(info, "shadow_update_days", 0))
-        per_day = int(round(86400.0 / self.dt))
-        step_index = np.arange(len(self.times))
-        if days > 0 and abs(per_day * self.dt - 86400.0) < 1e-6:
-            elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
-            first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
-            step_index = np.minimum(first, len(self.times) - 1)
-        evaluated, inverse = np.unique(step_index, return_inverse=True)
+        sun, evaluated, inverse = self._shadow_suns()
         tau = None
         if any(s.transmittance_schedule for s in shaders):
             tau = np.zeros((len(self.times), len(shaders)))
@@ -570,13 +565,93 @@ class Simulation:
                     )
         mean_tau = None if tau is None else tau.mean(axis=0)
         tau_eval = None if tau is None else tau[evaluated]
+        ratios = {name: caster.sky_diffuse_ratios(name, mean_tau) for name in caster.shaded}
         return {
             "beam": {
                 name: caster.sunlit_fraction(name, sun[evaluated], tau_eval)[inverse]
                 for name in caster.shaded
             },
-            "sky": {name: caster.sky_diffuse_ratio(name, mean_tau) for name in caster.shaded},
+            "sky": {name: dome for name, (dome, _) in ratios.items()},
+            "horizon": {name: band for name, (_, band) in ratios.items()},
         }
+
+    def _shadow_suns(self):
+        """Sun vectors per step for the shadow calculations, the steps evaluated and, per step,
+        the evaluated step that serves it.
+
+        EnergyPlus' "Periodic" shadow calculation (PerformSolarCalculations): one day of sunlit
+        fractions serves each period of N days, computed step by step with the sun of the
+        period's mean declination (of its sine) and mean equation of time over the period's
+        days within the run period; "Timestep" (N = 0): every step its own sun.
+        """
+        from thermocal.multizone.shading import sun_vectors
+
+        info = self._idf_info
+        site = self._site
+        position = _sun_position(self._grid.index, site, self._sun_at_end)
+        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
+        days = int(getattr(info, "shadow_update_days", 0)) if info is not None else 0
+        per_day = int(round(86400.0 / self.dt))
+        step_index = np.arange(len(self.times))
+        if days > 0 and abs(per_day * self.dt - 86400.0) < 1e-6:
+            elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
+            first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
+            step_index = np.minimum(first, len(self.times) - 1)
+            sun = _period_sun_vectors(
+                self.times, self.step_size, self._sun_at_end, site, elapsed // per_day // days, days
+            )
+        evaluated, inverse = np.unique(step_index, return_inverse=True)
+        return sun, evaluated, inverse
+
+    def _interior_beam_setup(self) -> dict | None:
+        """EnergyPlus' ``FullInteriorAndExterior``: per window, the faces of its zone and the
+        share of its transmitted beam landing on each, per step (rays along the sun, one day per
+        shadow period as the exterior shadows); None for other solar distributions or without
+        the geometry."""
+        info = self._idf_info
+        if info is None:
+            return None
+        key = str(getattr(info, "solar_distribution", "")).replace(" ", "").upper()
+        if not key.startswith("FULLINTERIORANDEXTERIOR"):
+            return None
+        from thermocal.multizone.shading import interior_beam_fractions
+
+        vertices = info.surface_vertices
+        sun, evaluated, inverse = self._shadow_suns()
+        out = {}
+        cache: dict[tuple, np.ndarray] = {}
+        for window in self.building.windows.values():
+            host = self.building.surfaces[window.surface]
+            if not host.sun_exposed or window.name not in vertices:
+                continue
+            # windows first: where a window and its host wall share a plane, the window is hit
+            faces = {
+                w.name: vertices[w.name]
+                for w in self.building.windows.values()
+                if self.building.surfaces[w.surface].zone == host.zone and w.name in vertices
+            }
+            faces.update(
+                (s.name, vertices[s.name])
+                for s in self.building.surfaces.values()
+                if s.zone == host.zone and s.name in vertices
+            )
+            faces.pop(window.name, None)
+            # zones of the same shape (a grid of rooms) share the result: the key is the
+            # geometry relative to the window's first vertex
+            anchor = np.asarray(vertices[window.name], dtype=float)[0]
+            key = tuple(
+                np.round(np.asarray(v, dtype=float) - anchor, 4).tobytes()
+                for v in (vertices[window.name], *faces.values())
+            )
+            if key not in cache:
+                cache[key] = interior_beam_fractions(vertices[window.name], faces, sun[evaluated])
+            shares = cache[key]
+            reached = shares.any(axis=0)
+            if not reached.any():
+                continue
+            names = [name for name, r in zip(faces, reached, strict=True) if r]
+            out[window.name] = (names, np.ascontiguousarray(shares[:, reached][inverse]))
+        return out or None
 
     def _network_building(self):
         """Building handed to the network: scheduled gains as inputs, infiltration at its mean."""
@@ -957,11 +1032,19 @@ class Simulation:
                     self._input_cache[key] = _window_inputs(wt, source, n_steps)
                 for col, values in zip(cols, self._input_cache[key], strict=True):
                     u[:, col] = values
+        interior = []
+        for window, (beam_col, area, targets) in net.window_beam_targets.items():
+            names, shares = self._interior_beam[window]
+            for face, col in targets:
+                # transmitted beam [W] landing on the face
+                u[:, col] = u[:, beam_col] * area * shares[:, names.index(face)]
+                interior.append(col)
         if self.weather_interpolation == "energyplus":
             # rows hold the curve at each step's end: the step is forced by the mean of its start
             # and end values (the first step keeps its end value)
             weather_driven = [IN_TEMP_OUT, IN_TEMP_SKY, *net.orientation_inputs.values()]
             weather_driven += [col for cols in net.window_inputs.values() for col in cols]
+            weather_driven += interior
             u[1:, weather_driven] = 0.5 * (u[1:, weather_driven] + u[:-1, weather_driven])
             t_out = u[:, IN_TEMP_OUT]
         # explicit corrections: exterior convection (wind) and infiltration air density
@@ -1078,10 +1161,18 @@ class Simulation:
         return np.ascontiguousarray(constant), np.ascontiguousarray(limit)
 
     def _shaded(self, irradiance: dict, name: str) -> dict:
-        """Irradiance on a shaded receiver: beam x sunlit fraction, sky diffuse x sky view."""
+        """Irradiance on a shaded receiver, as EnergyPlus' ``AnisoSkyViewFactors``: beam and
+        the sky's circumsolar part x the sunlit fraction, the dome x its unshaded share
+        (``DifShdgRatioIsoSky``), the horizon band x its own (``DifShdgRatioHoriz``)."""
         out = dict(irradiance)
-        out["poa_direct"] = irradiance["poa_direct"] * self._shadows["beam"][name]
-        out["poa_sky_diffuse"] = irradiance["poa_sky_diffuse"] * self._shadows["sky"][name]
+        sunlit = self._shadows["beam"][name]
+        out["poa_direct"] = irradiance["poa_direct"] * sunlit
+        out["poa_sky_diffuse"] = np.maximum(
+            irradiance["poa_sky_isotropic"] * self._shadows["sky"][name]
+            + irradiance["poa_sky_circumsolar"] * sunlit
+            + irradiance["poa_sky_horizon"] * self._shadows["horizon"][name],
+            0.0,
+        )
         out["poa_global"] = out["poa_direct"] + out["poa_sky_diffuse"] + out["poa_ground_diffuse"]
         return out
 
@@ -1873,8 +1964,8 @@ class Simulation:
                         if info.shadow_update_days
                         else "every step; "
                     )
-                    + "isotropic sky diffuse by the unshaded sky view; ground-reflected not "
-                    "shaded)"
+                    + "sky diffuse as EnergyPlus: its circumsolar part like the beam, the dome "
+                    "and the horizon band by their unshaded views; ground-reflected not shaded)"
                     + (
                         ", the building's own surfaces among them"
                         if any("(building surface)" in str(s.name) for s in shaders)
@@ -2186,6 +2277,49 @@ def _sun_position(index: pd.DatetimeIndex, site: dict, at_end: pd.Timedelta | No
     return position
 
 
+def _period_sun_vectors(times, step, at_end, site, period, days) -> np.ndarray:
+    """Unit vectors toward the sun (x east, y north, z up) per step as EnergyPlus' periodic
+    shadow calculation places it: the step's clock instant (its end with ``at_end``, else its
+    middle), with the mean sine of the declination and the mean equation of time of the days of
+    the step's period (``period`` index per step, ``days`` per period) that the run covers
+    (Spencer 1971 series, as pvlib).
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference 25.2, "Shading Module" (periodic calculation with
+       the period's average solar declination and equation of time); SolarShading.cc,
+       ``PerformSolarCalculations``.
+    .. [2] Spencer, J. W. (1971), "Fourier series representation of the position of the sun",
+       Search 2(5), 172.
+    """
+    from pvlib.solarposition import declination_spencer71, equation_of_time_spencer71
+
+    instants = times + (at_end if at_end is not None else step / 2)
+    utc = instants.tz_convert("UTC") if instants.tz is not None else instants
+    day_of_year = utc.day_of_year.to_numpy()
+    sin_decl = np.sin(declination_spencer71(day_of_year))
+    eot = np.asarray(equation_of_time_spencer71(day_of_year), dtype=float)  # [min]
+    period = np.asarray(period)
+    # the days (one value each) of each period, averaged
+    day_key = utc.normalize().as_unit("s").asi8 // 86_400
+    _, first_of_day = np.unique(day_key, return_index=True)
+    mean_sin = np.zeros(period.max() + 1)
+    mean_eot = np.zeros(period.max() + 1)
+    for p in range(period.max() + 1):
+        in_period = first_of_day[period[first_of_day] == p][:days]
+        if len(in_period):
+            mean_sin[p] = sin_decl[in_period].mean()
+            mean_eot[p] = eot[in_period].mean()
+    decl = np.arcsin(mean_sin[period])
+    hours = (utc - utc.normalize()).total_seconds().to_numpy() / 3600.0
+    hour_angle = np.radians(15.0 * (hours - 12.0) + site["longitude"] + mean_eot[period] / 4.0)
+    lat = np.radians(site["latitude"])
+    up = np.sin(lat) * np.sin(decl) + np.cos(lat) * np.cos(decl) * np.cos(hour_angle)
+    east = -np.cos(decl) * np.sin(hour_angle)
+    north = np.cos(lat) * np.sin(decl) - np.sin(lat) * np.cos(decl) * np.cos(hour_angle)
+    return np.stack([east, north, up], axis=1)
+
+
 def _ground_reflectance(grid: pd.DataFrame, monthly) -> str | float | np.ndarray:
     """Ground reflectance [-] per step: the building's monthly values (January first) when it
     has them (an imported IDF always has, as EnergyPlus: ``Site:GroundReflectance`` or 0.2),
@@ -2222,7 +2356,16 @@ def _irradiance(
     for key, frame in frames.items():
         out[key] = {
             c: np.nan_to_num(frame[c].to_numpy(dtype=float))
-            for c in ("poa_global", "poa_direct", "poa_sky_diffuse", "poa_ground_diffuse", "aoi")
+            for c in (
+                "poa_global",
+                "poa_direct",
+                "poa_sky_diffuse",
+                "poa_ground_diffuse",
+                "aoi",
+                "poa_sky_isotropic",
+                "poa_sky_circumsolar",
+                "poa_sky_horizon",
+            )
         }
         out[key]["aoi"] = np.where(np.isfinite(frame["aoi"].to_numpy()), out[key]["aoi"], 90.0)
     return out

@@ -1,0 +1,432 @@
+"""The forcing of a run prepared once: shadows and sky-diffuse ratios, where the beam lands inside,
+the input matrix, ground temperatures, exterior convection and the people's limits.
+
+A part of :class:`thermocal.multizone.simulation.Simulation`, which inherits it; the methods
+work on the simulation's state.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.forcing import (
+    _ground_reflectance,
+    _irradiance,
+    _period_sun_vectors,
+    _sun_position,
+    _window_inputs,
+)
+from thermocal.multizone.network import (
+    AIR_SPECIFIC_HEAT,
+    IN_ONE,
+    IN_TEMP_GROUND,
+    IN_TEMP_OUT,
+    IN_TEMP_SKY,
+    air_density,
+    exterior_convection,
+    mowitt_forced,
+)
+
+
+class ForcingSetup:
+    """The forcing of a run prepared once (part of
+    :class:`~thermocal.multizone.simulation.Simulation`).
+    """
+
+    def _shadow_setup(self) -> dict | None:
+        """Sunlit fractions (per step) and sky-diffuse ratios of the shaded receivers."""
+        info = getattr(self.building, "idf_info", None)
+        shaders = getattr(info, "shading_surfaces", None) if info is not None else None
+        if not self.shading or not shaders:
+            return None
+        from thermocal.multizone.shading import ShadowCaster
+
+        vertices = info.surface_vertices
+        receivers = {}
+        for surface in self.building.surfaces.values():
+            if surface.boundary == "outdoors" and surface.sun_exposed and surface.name in vertices:
+                holes = [
+                    vertices[h] for h in info.subsurfaces_of.get(surface.name, []) if h in vertices
+                ]
+                receivers[surface.name] = (vertices[surface.name], holes)
+        for window in self.building.windows.values():
+            if self.building.surfaces[window.surface].sun_exposed and window.name in vertices:
+                receivers[window.name] = (vertices[window.name], ())
+        caster = ShadowCaster(shaders, receivers)
+        if not caster.shaded:
+            return None
+        sun, evaluated, inverse = self._shadow_suns()
+        tau = None
+        if any(s.transmittance_schedule for s in shaders):
+            tau = np.zeros((len(self.times), len(shaders)))
+            for k, s in enumerate(shaders):
+                if s.transmittance_schedule:
+                    tau[:, k] = np.clip(
+                        info.schedules.on_grid(
+                            s.transmittance_schedule, self.times, self.step_size
+                        ),
+                        0.0,
+                        1.0,
+                    )
+        mean_tau = None if tau is None else tau.mean(axis=0)
+        tau_eval = None if tau is None else tau[evaluated]
+        ratios = {name: caster.sky_diffuse_ratios(name, mean_tau) for name in caster.shaded}
+        return {
+            "beam": {
+                name: caster.sunlit_fraction(name, sun[evaluated], tau_eval)[inverse]
+                for name in caster.shaded
+            },
+            "sky": {name: dome for name, (dome, _) in ratios.items()},
+            "horizon": {name: band for name, (_, band) in ratios.items()},
+        }
+
+    def _shadow_suns(self):
+        """Sun vectors per step for the shadow calculations, the steps evaluated and, per step,
+        the evaluated step that serves it.
+
+        EnergyPlus' "Periodic" shadow calculation (PerformSolarCalculations): one day of sunlit
+        fractions serves each period of N days, computed step by step with the sun of the
+        period's mean declination (of its sine) and mean equation of time over the period's
+        days within the run period; "Timestep" (N = 0): every step its own sun.
+        """
+        from thermocal.multizone.shading import sun_vectors
+
+        info = self._idf_info
+        site = self._site
+        position = _sun_position(self._grid.index, site, self._sun_at_end)
+        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
+        days = int(getattr(info, "shadow_update_days", 0)) if info is not None else 0
+        per_day = int(round(86400.0 / self.dt))
+        step_index = np.arange(len(self.times))
+        if days > 0 and abs(per_day * self.dt - 86400.0) < 1e-6:
+            elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
+            first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
+            step_index = np.minimum(first, len(self.times) - 1)
+            sun = _period_sun_vectors(
+                self.times, self.step_size, self._sun_at_end, site, elapsed // per_day // days, days
+            )
+        evaluated, inverse = np.unique(step_index, return_inverse=True)
+        return sun, evaluated, inverse
+
+    def _interior_beam_setup(self) -> dict | None:
+        """EnergyPlus' ``FullInteriorAndExterior``: per window, the faces of its zone and the
+        share of its transmitted beam landing on each, per step (rays along the sun, one day per
+        shadow period as the exterior shadows); None for other solar distributions or without
+        the geometry."""
+        info = self._idf_info
+        if info is None:
+            return None
+        key = str(getattr(info, "solar_distribution", "")).replace(" ", "").upper()
+        if not key.startswith("FULLINTERIORANDEXTERIOR"):
+            return None
+        from thermocal.multizone.shading import interior_beam_fractions
+
+        vertices = info.surface_vertices
+        sun, evaluated, inverse = self._shadow_suns()
+        out = {}
+        cache: dict[tuple, np.ndarray] = {}
+        for window in self.building.windows.values():
+            host = self.building.surfaces[window.surface]
+            if not host.sun_exposed or window.name not in vertices:
+                continue
+            # windows first: where a window and its host wall share a plane, the window is hit
+            faces = {
+                w.name: vertices[w.name]
+                for w in self.building.windows.values()
+                if self.building.surfaces[w.surface].zone == host.zone and w.name in vertices
+            }
+            faces.update(
+                (s.name, vertices[s.name])
+                for s in self.building.surfaces.values()
+                if s.zone == host.zone and s.name in vertices
+            )
+            faces.pop(window.name, None)
+            # zones of the same shape (a grid of rooms) share the result: the key is the
+            # geometry relative to the window's first vertex
+            anchor = np.asarray(vertices[window.name], dtype=float)[0]
+            key = tuple(
+                np.round(np.asarray(v, dtype=float) - anchor, 4).tobytes()
+                for v in (vertices[window.name], *faces.values())
+            )
+            if key not in cache:
+                cache[key] = interior_beam_fractions(vertices[window.name], faces, sun[evaluated])
+            shares = cache[key]
+            reached = shares.any(axis=0)
+            if not reached.any():
+                continue
+            names = [name for name, r in zip(faces, reached, strict=True) if r]
+            out[window.name] = (names, np.ascontiguousarray(shares[:, reached][inverse]))
+        return out or None
+
+    def _input_matrix(self) -> np.ndarray:
+        """Inputs ``u`` (n_steps x n_inputs) and the explicit-correction coefficient series."""
+        net = self.network
+        grid = self._grid
+        n_steps = len(grid)
+        u = np.zeros((n_steps, len(net.input_names)))
+        t_out = grid["temp_air_mean"].to_numpy()
+        u[:, IN_TEMP_OUT] = t_out
+        u[:, IN_TEMP_SKY] = grid["temp_sky"].to_numpy()
+        u[:, IN_TEMP_GROUND] = self._ground_temperature()
+        u[:, IN_ONE] = 1.0
+        # solar
+        orientations = {k[:2] for k in net.orientation_inputs}
+        orientations.update((k[1], k[2]) for k in net.window_inputs)
+        if orientations:
+            cache = self.__dict__.setdefault("_irradiance_cache", {})
+            missing = sorted(o for o in orientations if o not in cache)
+            if missing:
+                cache.update(
+                    _irradiance(
+                        grid,
+                        self._site,
+                        missing,
+                        self.sky_model,
+                        self._sun_at_end,
+                        albedo=_ground_reflectance(grid, self.building.ground_reflectance),
+                    )
+                )
+            irr = cache
+            for key, col in net.orientation_inputs.items():
+                if len(key) == 3:  # a shaded receiver
+                    u[:, col] = self._shaded(irr[key[:2]], key[2])["poa_global"]
+                else:
+                    u[:, col] = irr[key]["poa_global"]
+            for wkey, cols in net.window_inputs.items():
+                wt_name, tilt, az = wkey[:3]
+                wt = self.building.window_types[wt_name]
+                key = ("window", wt_name, wt.shgc, wt.solar_transmittance, *wkey[1:])
+                if key not in self._input_cache:
+                    source = irr[(tilt, az)]
+                    if len(wkey) == 4:
+                        source = self._shaded(source, wkey[3])
+                    self._input_cache[key] = _window_inputs(wt, source, n_steps)
+                for col, values in zip(cols, self._input_cache[key], strict=True):
+                    u[:, col] = values
+        interior = []
+        for window, (beam_col, area, targets) in net.window_beam_targets.items():
+            names, shares = self._interior_beam[window]
+            for face, col in targets:
+                # transmitted beam [W] landing on the face
+                u[:, col] = u[:, beam_col] * area * shares[:, names.index(face)]
+                interior.append(col)
+        if self.weather_interpolation == "energyplus":
+            # rows hold the curve at each step's end: the step is forced by the mean of its start
+            # and end values (the first step keeps its end value)
+            weather_driven = [IN_TEMP_OUT, IN_TEMP_SKY, *net.orientation_inputs.values()]
+            weather_driven += [col for cols in net.window_inputs.values() for col in cols]
+            weather_driven += interior
+            u[1:, weather_driven] = 0.5 * (u[1:, weather_driven] + u[:-1, weather_driven])
+            t_out = u[:, IN_TEMP_OUT]
+        # explicit corrections: exterior convection (wind) and infiltration air density
+        key = ("doe2", tuple(net.ext_names))
+        if key not in self._input_cache:
+            self._input_cache[key] = self._exterior_convection_excess()
+        self._ext_dh_raw = self._input_cache[key]
+        pressure = grid["pressure"].to_numpy() if "pressure" in grid else None
+        if pressure is None or not np.isfinite(pressure).all():
+            pressure = np.full(n_steps, self._pressure)
+        rho = air_density(pressure, t_out)
+        ratio = rho / net.reference_density - 1.0
+        inf_dh = ratio[:, None] * net.zone_infiltration[None, :]
+        self._inf_dt = np.zeros((0, len(net.zone_names)))
+        self._people = (np.zeros((0, len(net.zone_names))),) * 4
+        scheduled = self._scheduled
+        if scheduled is not None:
+            if scheduled.people_per_kelvin is not None and np.any(scheduled.people_per_kelvin):
+                # People's sensible heat at the zone temperature (lagged), beyond its 22 C value,
+                # clipped to [0, activity] in the time loop
+                people_a, people_max = self._people_limits()
+                self._people = (
+                    people_a,
+                    np.ascontiguousarray(scheduled.people_per_kelvin),
+                    np.ascontiguousarray(scheduled.people_per_kelvin2),
+                    people_max,
+                )
+            names = list(net.zone_names)
+            for name in self._gain_zones:
+                z = names.index(name)
+                u[:, net.input_names.index(f"gains_convective/{name}")] = (
+                    scheduled.gains_convective[:, z]
+                )
+                u[:, net.input_names.index(f"gains_radiant/{name}")] = scheduled.gains_radiant[:, z]
+            volume = np.array([z.volume for z in self.building.zones.values()])
+            per_ach = AIR_SPECIFIC_HEAT * volume / 3600.0  # [J/(m3 K)] x [m3] / [s/h]
+            zones = np.asarray(self._inf_zones, dtype=np.int64)
+            if len(zones):
+                ach = scheduled.infiltration_ach[:, zones] * self._inf_scale[zones]
+                inf_dh[:, zones] = (
+                    rho[:, None] * per_ach[zones] * ach - net.zone_infiltration[zones][None, :]
+                )
+                ach_dt = scheduled.infiltration_ach_per_kelvin * self._inf_scale[None, :]
+                if np.any(ach_dt):
+                    self._inf_dt = np.ascontiguousarray(rho[:, None] * per_ach[None, :] * ach_dt)
+        self._inf_dh = np.ascontiguousarray(inf_dh)
+        self._vent = self._ventilation_arrays(rho, n_steps)
+        return u
+
+    def _shaded(self, irradiance: dict, name: str) -> dict:
+        """Irradiance on a shaded receiver, as EnergyPlus' ``AnisoSkyViewFactors``: beam and
+        the sky's circumsolar part x the sunlit fraction, the dome x its unshaded share
+        (``DifShdgRatioIsoSky``), the horizon band x its own (``DifShdgRatioHoriz``)."""
+        out = dict(irradiance)
+        sunlit = self._shadows["beam"][name]
+        out["poa_direct"] = irradiance["poa_direct"] * sunlit
+        out["poa_sky_diffuse"] = np.maximum(
+            irradiance["poa_sky_isotropic"] * self._shadows["sky"][name]
+            + irradiance["poa_sky_circumsolar"] * sunlit
+            + irradiance["poa_sky_horizon"] * self._shadows["horizon"][name],
+            0.0,
+        )
+        out["poa_global"] = out["poa_direct"] + out["poa_sky_diffuse"] + out["poa_ground_diffuse"]
+        return out
+
+    def _exterior_convection_excess(self) -> np.ndarray:
+        """Wind-driven exterior convection minus its matrix part, per step and face [W/(m2 K)]."""
+        net = self.network
+        grid = self._grid
+        n_steps = len(grid)
+        if self.options.exterior_convection == "fixed" or not len(net.ext_node):
+            return np.zeros((n_steps, len(net.ext_node)))
+        station = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
+        station = np.nan_to_num(station)
+        if self.options.exterior_convection == "simple_combined":
+            from thermocal.multizone.network import simple_combined_exterior_coefficient
+
+            keys = np.stack([net.ext_roughness, net.ext_wind_factor], axis=1)
+            unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
+            rough, factor = unique.T
+            hc = simple_combined_exterior_coefficient(station[:, None] * factor, rough[None, :])
+            # opaque faces: the long-wave part is the network's (all with the outdoor air);
+            # windows: all of it convective, their long-wave exchange apart (EnergyPlus)
+            radiative = np.where(net.ext_is_window, 0.0, net.ext_hr0 * net.ext_emissivity)
+            hc = hc[:, np.ravel(inverse)] - radiative
+            return np.ascontiguousarray(np.maximum(hc, 0.0) - net.ext_hc0[None, :])
+        if "wind_direction" in grid:
+            direction = np.nan_to_num(grid["wind_direction"].to_numpy())
+        else:
+            direction = np.zeros(n_steps)
+        # faces of equal orientation and exposure share the series: compute per class, broadcast
+        keys = np.stack(
+            [
+                net.ext_tilt,
+                net.ext_azimuth,
+                net.ext_hc0,
+                net.ext_h_natural,
+                net.ext_roughness,
+                net.ext_wind_factor,
+                net.ext_perimeter_over_area,
+            ],
+            axis=1,
+        )
+        unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
+        tilt, azimuth, hc0, h_natural, roughness, factor, p_over_a = unique.T
+        # EnergyPlus' Windward(): within 90 degrees of the outward normal, or |cos tilt| >= 0.98
+        diff = np.abs((direction[:, None] - azimuth[None, :] + 180.0) % 360.0 - 180.0)
+        horizontal = np.abs(np.cos(np.radians(tilt))) >= 0.98
+        windward = (diff <= 90.0 + 1e-3) | horizontal[None, :]
+        local = station[:, None] * factor[None, :]
+        if self.options.exterior_convection == "doe2":
+            # the kernel combines it with the natural part at each step's face temperature
+            forced = mowitt_forced(local, windward)
+            return np.ascontiguousarray(forced[:, np.ravel(inverse)])
+        hc = exterior_convection(
+            self.options.exterior_convection,
+            local,
+            windward,
+            h_natural=h_natural[None, :],
+            roughness_factor=roughness[None, :],
+            perimeter_over_area=p_over_a[None, :],
+        )
+        if self.options.exterior_convection == "tarp":  # the forced part alone
+            return np.ascontiguousarray((hc - h_natural[None, :])[:, np.ravel(inverse)])
+        return np.ascontiguousarray((hc - hc0[None, :])[:, np.ravel(inverse)])
+
+    def _ext_natural(self, upper: np.ndarray) -> np.ndarray:
+        """Per exterior face: how the kernel takes the natural part of the outside convection.
+
+        Columns: mode (0 the series is the excess over ``hc0``; 1 DOE-2, 2 TARP: the series is
+        the forced term and the natural part is TARP's at each step's face-to-air difference,
+        as EnergyPlus' ``CalcASHRAETARPNatural`` with the outside face temperature), the DOE-2
+        roughness multiplier [-], the cosine of the tilt [-], ``hc0`` [W/(m2 K)] and the largest
+        excess over ``hc0`` that keeps the lagged term stable [W/(m2 K)].
+        """
+        net = self.network
+        mode = {"doe2": 1.0, "tarp": 2.0}.get(self.options.exterior_convection, 0.0)
+        n_ext = len(net.ext_node)
+        if not n_ext:
+            return np.zeros((0, 5))
+        return np.ascontiguousarray(
+            np.stack(
+                [
+                    np.full(n_ext, mode),
+                    net.ext_roughness,
+                    np.cos(np.radians(net.ext_tilt)),
+                    net.ext_hc0,
+                    upper,
+                ],
+                axis=1,
+            )
+        )
+
+    # ------------------------------------------------------------------------------------------
+    def _ground_temperature(self) -> np.ndarray:
+        months = self.times.month.to_numpy() - 1
+        if self.building.ground_temperatures is not None:
+            monthly = np.asarray(self.building.ground_temperatures)
+        else:
+            table = self.metadata.get("ground_temperatures") or {}
+            if table:
+                depth = min(table, key=lambda d: abs(float(d) - 2.0))
+                monthly = np.asarray(table[depth], dtype=float)
+            else:
+                return self._kusuda_ground_temperature()
+        return monthly[months]
+
+    def _kusuda_ground_temperature(self) -> np.ndarray:
+        """Undisturbed ground at 2 m from the weather's annual wave, else the mean outdoor air."""
+        from thermocal.physics.ground import ground_temperature, ground_temperature_parameters
+
+        try:
+            params = ground_temperature_parameters(self._weather)
+        except (ThermocalInputError, ValueError):
+            return np.full(len(self.times), self._mean_tout)
+        return ground_temperature(self.times, 2.0, **params).to_numpy(dtype=float)
+
+    def _people_limits(self) -> tuple[np.ndarray, np.ndarray]:
+        """Constant term [W] and upper limit [W] of the People sensible heat per zone and step.
+
+        For People with an autocalculated sensible fraction: ``sum(number x a(activity))`` of
+        :func:`~thermocal.multizone.idf.loads.people_sensible_coefficients` and
+        ``sum(number x activity)`` (EnergyPlus clips each person's sensible heat to
+        ``[0, activity]``; clipping the zone's sum is the same when its People share one activity
+        schedule).
+        """
+        from thermocal.multizone.idf.loads import people_sensible_coefficients
+
+        info = self._idf_info
+        names = list(self.building.zones)
+        n, nz = len(self.times), len(names)
+        constant = np.zeros((n, nz))
+        limit = np.zeros((n, nz))
+        sched = info.schedules
+        for gain in info.internal_gains:
+            if (
+                gain.zone not in self.building.zones
+                or gain.people_count <= 0
+                or gain.activity_schedule is None
+                or gain.sensible_fraction is not None
+            ):
+                continue
+            z = names.index(gain.zone)
+            fraction = (
+                np.ones(n)
+                if gain.schedule is None
+                else sched.on_grid(gain.schedule, self.times, self.step_size)
+            )
+            activity = sched.on_grid(gain.activity_schedule, self.times, self.step_size)
+            a, _, _ = people_sensible_coefficients(activity)
+            constant[:, z] += gain.people_count * fraction * a
+            limit[:, z] += gain.people_count * fraction * activity
+        return np.ascontiguousarray(constant), np.ascontiguousarray(limit)

@@ -1,0 +1,331 @@
+"""The network of a run and its factorised step matrices: site, schedules on the grid, the
+assembled network, set points, ventilation, and the kernel's context.
+
+A part of :class:`thermocal.multizone.simulation.Simulation`, which inherits it; the methods
+work on the simulation's state.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from thermocal.multizone import _kernel
+from thermocal.multizone._simtools import (
+    _Context,
+    _factorise,
+    _hourly_first_day,
+)
+from thermocal.multizone.network import (
+    AIR_SPECIFIC_HEAT,
+    assemble,
+    pressure_at_altitude,
+)
+
+
+class NetworkSetup:
+    """The network of a run and its factorised step matrices (part of
+    :class:`~thermocal.multizone.simulation.Simulation`).
+    """
+
+    # ------------------------------------------------------------------------------------------
+    @staticmethod
+    def _site_from(metadata, building):
+        loc = building.location
+        return {
+            "latitude": float(metadata.get("latitude", loc.latitude)),
+            "longitude": float(metadata.get("longitude", loc.longitude)),
+            "altitude": float(metadata.get("altitude", loc.altitude) or 0.0),
+        }
+
+    def _build(self) -> None:
+        grid = self._grid
+        pressure = (
+            float(np.nanmean(grid["pressure"]))
+            if "pressure" in grid and grid["pressure"].notna().any()
+            else pressure_at_altitude(self._site["altitude"])
+        )
+        self._pressure = pressure
+        self._mean_wind = float(np.nanmean(grid["wind_speed"])) if "wind_speed" in grid else 0.0
+        self._mean_tout = float(np.nanmean(grid["temp_air"]))
+        network_building, gain_zones = self._network_building()
+        self.network = assemble(
+            network_building,
+            self.dt,
+            options=self.options,
+            mean_wind_speed=self._mean_wind,
+            mean_outdoor_temperature=self._mean_tout,
+            pressure=pressure,
+            cache=self._assembly_cache,
+            gain_input_zones=gain_zones,
+            own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
+            sky_view_ratio=self._shadows["sky"] if self._shadows else None,
+            interior_beam=(
+                {w: names for w, (names, _) in self._interior_beam.items()}
+                if self._interior_beam
+                else None
+            ),
+        )
+        self._inputs = self._input_matrix()
+        self._factorise()
+
+    def _evaluate_schedules(self):
+        """The IDF file's schedules on the grid (None: no file schedules or 'constant')."""
+        info = self._idf_info = getattr(self.building, "idf_info", None)
+        if self.schedules != "file" or info is None or getattr(info, "schedules", None) is None:
+            return None
+        scheduled = info.scheduled_inputs(
+            list(self.building.zones), self.times, self.step_size, self._grid
+        )
+        zones = list(self.building.zones.values())
+        # zones whose gains / infiltration vary (the others keep the exact constant path)
+        gains = scheduled.gains_convective + scheduled.gains_radiant
+        self._gain_zones = [
+            z.name for i, z in enumerate(zones) if np.ptp(gains[:, i]) > 1e-9 * (1 + gains[0, i])
+        ]
+        ach = scheduled.infiltration_ach
+        gated = set() if scheduled.ventilation is None else set(scheduled.ventilation["zone"])
+        self._inf_zones = [
+            i
+            for i, z in enumerate(zones)
+            if np.ptp(ach[:, i]) > 1e-12
+            or np.any(scheduled.infiltration_ach_per_kelvin[:, i])
+            or i in gated
+        ]
+        return scheduled
+
+    def _network_building(self):
+        """Building handed to the network: scheduled gains as inputs, infiltration at its mean."""
+        import dataclasses
+
+        if self._scheduled is None:
+            return self.building, ()
+        info = self._idf_info
+        zones = dict(self.building.zones)
+        self._inf_scale = np.ones(len(zones))
+        names = list(zones)
+        for i in self._inf_zones:
+            zone = zones[names[i]]
+            nominal = info.zone_nominal_ach.get(zone.name, 0.0)
+            # a calibrated infiltration parameter scales the file's rate
+            scale = zone.infiltration_ach / nominal if nominal > 0 else 0.0
+            self._inf_scale[i] = scale
+            mean = float(np.mean(self._scheduled.infiltration_ach[:, i])) * scale
+            zones[zone.name] = dataclasses.replace(zone, infiltration_ach=mean)
+        for name in self._gain_zones:
+            zones[name] = dataclasses.replace(zones[name], internal_gains=0.0)
+        return dataclasses.replace(self.building, zones=zones), tuple(self._gain_zones)
+
+    def _setpoint_arrays(self, heat_sp, cool_sp):
+        """Per-step set points of the controlled zones, or one row when they are constant."""
+        heat = heat_sp[None, :]
+        cool = cool_sp[None, :]
+        if self._scheduled is not None and len(self._ctrl):
+            h = self._scheduled.heating_setpoint[:, self._ctrl]
+            c = self._scheduled.cooling_setpoint[:, self._ctrl]
+            h = np.where(np.isnan(h), -np.inf, h)
+            c = np.where(np.isnan(c), np.inf, c)
+            # a zone without the schedule keeps its constant value
+            h = np.where(np.isfinite(heat) & ~np.isfinite(h), heat, h)
+            c = np.where(np.isfinite(cool) & ~np.isfinite(c), cool, c)
+            if (
+                np.ptp(np.where(np.isfinite(h), h, 0.0), axis=0).any()
+                or np.ptp(np.where(np.isfinite(c), c, 0.0), axis=0).any()
+            ):
+                heat, cool = h, c
+        return np.ascontiguousarray(heat, dtype=float), np.ascontiguousarray(cool, dtype=float)
+
+    def _factorise(self) -> None:
+        net = self.network
+        zones = list(self.building.zones.values())
+        ctrl = [i for i, z in enumerate(zones) if z.conditioned]
+        self._ctrl = np.asarray(ctrl, dtype=np.int64)
+        heat_sp = [zones[i].heating_setpoint for i in ctrl]
+        cool_sp = [zones[i].cooling_setpoint for i in ctrl]
+        self._heat_sp = np.array([-np.inf if t is None else t for t in heat_sp], dtype=float)
+        self._cool_sp = np.array([np.inf if t is None else t for t in cool_sp], dtype=float)
+        self._heat_sp_steps, self._cool_sp_steps = self._setpoint_arrays(
+            self._heat_sp, self._cool_sp
+        )
+        b = net.inputs.tocsr()
+        b.sort_indices()
+        self._b = (b.indptr.astype(np.int64), b.indices.astype(np.int64), b.data)
+        counts = np.bincount(net.face_zone, weights=net.face_area, minlength=len(zones))
+        self._zone_face_area = counts.astype(float)
+        # second column: the area of the exact sigma T^4 correction of the exterior long-wave;
+        # EnergyPlus' SimpleCombined coefficient of an opaque face is a constant combined
+        # coefficient (its radiative part linear in T_out - T_s): no correction there (on
+        # 5ZoneAirCooled's south walls in the sun it made the outside faces 1-1.6 K too cold)
+        longwave_area = net.ext_area * net.ext_emissivity
+        if self.options.exterior_convection == "simple_combined":
+            longwave_area = np.where(net.ext_is_window, longwave_area, 0.0)
+        self._ext_area_eps = np.ascontiguousarray(np.stack([net.ext_area, longwave_area], axis=1))
+        self._tracking_cache = {}
+        self._fine = self._context(self.dt, self._inputs, self._ext_dh_raw, self._inf_dh)
+        self._lu = self._fine.lu
+        self._coarse = None
+        self._reset_ideal_state()
+
+    def _ventilation_arrays(self, rho: np.ndarray, n_steps: int) -> tuple:
+        """Kernel arrays of the ventilation objects with indoor-temperature limits.
+
+        ``(zone (j,), conductance [W/K], per kelvin [W/K^2] (0 rows when none), fan heat [W],
+        minimum [C], maximum [C], delta [K], open state (n_steps, j))``, per step and object,
+        the flow scaled with a calibrated infiltration rate of the zone as the file's other
+        outdoor air.
+        """
+        scheduled = self._scheduled
+        vent = None if scheduled is None else scheduled.ventilation
+        if vent is None:
+            empty = np.zeros((0, 0))
+            return (np.zeros(0, dtype=np.int64), empty, empty, empty, empty, empty, empty, empty)
+        zones = vent["zone"]
+        volume = np.array([z.volume for z in self.building.zones.values()])[zones]
+        per_ach = rho[:, None] * AIR_SPECIFIC_HEAT * volume[None, :] / 3600.0
+        scale = self._inf_scale[zones][None, :]
+        gdt = per_ach * vent["ach_per_kelvin"] * scale
+        return (
+            np.ascontiguousarray(zones, dtype=np.int64),
+            np.ascontiguousarray(per_ach * vent["ach"] * scale),
+            np.ascontiguousarray(gdt if np.any(gdt) else np.zeros((0, len(zones)))),
+            np.ascontiguousarray(vent["fan_heat"] * scale),
+            np.ascontiguousarray(vent["minimum"]),
+            np.ascontiguousarray(vent["maximum"]),
+            np.ascontiguousarray(vent["delta"]),
+            np.zeros((n_steps, len(zones))),
+        )
+
+    def _context(
+        self,
+        dt: float,
+        inputs,
+        ext_dh_raw,
+        inf_dh,
+        *,
+        controlled=None,
+        ideal: bool = True,
+        base: _Context | None = None,
+    ) -> _Context:
+        """Factorisation and step-size dependent arrays for steps of ``dt`` seconds.
+
+        ``controlled``: zone indices whose air temperatures the Dirichlet system prescribes
+        (default: the conditioned zones); ``ideal=False`` skips the ideal-load response matrix;
+        ``base``: a context of the same network and step whose factorisation is reused.
+        """
+        net = self.network
+        controlled = self._ctrl if controlled is None else np.asarray(controlled, dtype=np.int64)
+        matrix = net.system_matrix(dt)
+        if base is not None and base.dt == dt:
+            lu, factors = base.lu, base.factors
+        else:
+            lu = _factorise(matrix)
+            factors = _kernel.prepare_factors(lu.L, lu.U, lu.perm_r, lu.perm_c)
+        dirichlet = factors
+        d_lu = None
+        rows = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
+        if len(controlled):
+            # the same system with the controlled air temperatures prescribed (identity rows)
+            air = net.air_node[controlled]
+            keep = np.ones(net.n_nodes)
+            keep[air] = 0.0
+            prescribed = sp.diags(keep) @ matrix + sp.diags(1.0 - keep)
+            d_lu = _factorise(prescribed.tocsc())
+            dirichlet = _kernel.prepare_factors(d_lu.L, d_lu.U, d_lu.perm_r, d_lu.perm_c)
+            air_rows = matrix.tocsr()[air]
+            air_rows.sort_indices()
+            rows = (
+                air_rows.indptr.astype(np.int64),
+                air_rows.indices.astype(np.int64),
+                air_rows.data.copy(),
+            )
+        if len(controlled) and ideal:
+            unit = np.zeros((net.n_nodes, len(controlled)))
+            unit[net.air_node[controlled], np.arange(len(controlled))] = 1.0
+            g_ctrl = np.ascontiguousarray(lu.solve(unit)[net.air_node[controlled], :])
+        else:
+            g_ctrl = np.zeros((0, 0))
+        # explicit-correction bounds (stability of the lagged terms, see network module)
+        face_hmax = 2.0 * net.face_h0 + net.face_capacity / dt
+        upper = net.ext_hc0 + net.ext_hr0 * net.ext_emissivity + net.ext_capacity / dt
+        ext_natural = self._ext_natural(upper)
+        plain = ext_natural[:, 0] == 0.0
+        clipped = np.clip(ext_dh_raw, 0.1 - net.ext_hc0[None, :], upper[None, :])
+        ext_dh = np.where(plain[None, :], clipped, ext_dh_raw)
+        per_step = (
+            self._heat_sp_steps,
+            self._cool_sp_steps,
+            self._inf_dt,
+            *self._people,
+        )
+        vent = self._vent
+        if dt == self.dt:
+            heat_sp, cool_sp, inf_dt, people_a, people_b, people_c, people_max = per_step
+        else:  # hourly warm-up context of the first day
+            per_day = int(round(86400.0 / self.dt))
+            m = int(round(3600.0 / self.dt))
+            heat_sp, cool_sp, inf_dt, people_a, people_b, people_c, people_max = (
+                a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m) for a in per_step
+            )
+            vent = (
+                (vent[0],)
+                + tuple(
+                    a if a.shape[0] <= 1 else _hourly_first_day(a, per_day, m) for a in vent[1:-1]
+                )
+                + (np.zeros((per_day // m, vent[0].shape[0])),)
+            )
+        return _Context(
+            d_lu=d_lu,
+            vent=vent,
+            heat_sp=np.ascontiguousarray(heat_sp),
+            cool_sp=np.ascontiguousarray(cool_sp),
+            inf_dt=np.ascontiguousarray(inf_dt),
+            people_a=np.ascontiguousarray(people_a),
+            people_b=np.ascontiguousarray(people_b),
+            people_c=np.ascontiguousarray(people_c),
+            people_max=np.ascontiguousarray(people_max),
+            dt=dt,
+            lu=lu,
+            factors=factors,
+            dirichlet=dirichlet,
+            air_rows=rows,
+            c_dt=net.capacity / dt,
+            g_ctrl=g_ctrl,
+            inputs=np.ascontiguousarray(inputs),
+            ext_dh=np.ascontiguousarray(ext_dh),
+            inf_dh=np.ascontiguousarray(inf_dh),
+            face_hmax=face_hmax,
+            ext_natural=ext_natural,
+        )
+
+    def _coarse_context(self, **kwargs) -> _Context | None:
+        """Hourly context over the first day of the period, for the warm-up (or None).
+
+        Keyword arguments go to :meth:`_context` (a tracking context is not cached).
+        """
+        per_hour = 3600.0 / self.dt
+        per_day = int(round(86400.0 / self.dt))
+        if per_hour <= 1 or not float(per_hour).is_integer() or len(self.times) < per_day:
+            return None
+        if self._coarse is None or kwargs:
+            m = int(per_hour)
+            context = self._context(
+                3600.0,
+                _hourly_first_day(self._inputs, per_day, m),
+                _hourly_first_day(self._ext_dh_raw, per_day, m),
+                _hourly_first_day(self._inf_dh, per_day, m),
+                **kwargs,
+            )
+            if kwargs:
+                return context
+            self._coarse = context
+        return self._coarse
+
+    def _reset_ideal_state(self) -> None:
+        nc = len(self._ctrl)
+        self._active = np.zeros(nc, dtype=np.int64)
+        self._cache_member = np.zeros(nc, dtype=np.bool_)
+        self._cache_inv = np.zeros((nc, nc))
+        # diagnostics: members (-1: invalid), updates since inversion, inversions, rank-one
+        # updates, active-set iterations, Dirichlet rejections, superposition calls
+        self._cache_m = np.zeros(8, dtype=np.int64)
+        self._cache_m[0] = -1

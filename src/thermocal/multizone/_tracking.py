@@ -1,0 +1,401 @@
+"""Tracking measured zone temperatures (the identification's inverse and PID loops): which zones,
+how the heat is distributed, the implicit arrays and the tracked run.
+
+A part of :class:`thermocal.multizone.simulation.Simulation`, which inherits it; the methods
+work on the simulation's state.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import scipy.sparse as sp
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone._simtools import (
+    _CHUNK,
+    _NO_IMPLICIT,
+    _Context,
+    _hourly_first_day,
+    _progress,
+    _tracking_form,
+)
+from thermocal.multizone.results import (
+    TrackingResult,
+)
+
+
+class Tracking:
+    """Tracking measured zone temperatures (the identification's inverse and PID loops) (part of
+    :class:`~thermocal.multizone.simulation.Simulation`).
+    """
+
+    def _tracking_context(self, zones: np.ndarray, form: tuple, coarse: bool):
+        """Fine (or hourly first-day) context whose Dirichlet system prescribes ``zones``.
+
+        ``form = (air_weight, radiant_fraction)``, two tuples over ``zones`` (see
+        :meth:`track`). Returns ``(context, g_inverse, distribution)``: ``g_inverse`` is the
+        inverse of the sensed-temperature response of the tracked zones to their unit heat (empty
+        when the sensors read the air and the heat goes into the air: the Dirichlet system
+        solves that case), ``distribution`` the kernel's CSR of the nodes each zone's heat enters.
+        Cached until the network changes (:meth:`set_parameters`).
+        """
+        key = (tuple(int(z) for z in zones), form, bool(coarse))
+        cache = self.__dict__.setdefault("_tracking_cache", {})
+        if key in cache:
+            return cache[key]
+        if coarse:
+            context = self._coarse_context(controlled=zones, ideal=False, base=self._coarse)
+            if context is None:
+                cache[key] = None
+                return None
+        else:
+            context = self._context(
+                self.dt,
+                self._inputs,
+                self._ext_dh_raw,
+                self._inf_dh,
+                controlled=zones,
+                ideal=False,
+                base=self._fine,
+            )
+        air_weight = np.asarray(form[0], dtype=float)
+        distribution = self._heat_distribution(zones, np.asarray(form[1], dtype=float))
+        g_inverse = np.zeros((0, 0))
+        if np.any(air_weight != 1.0) or np.any(np.asarray(form[1]) != 0.0):
+            net = self.network
+            ptr, idx, val = distribution
+            rows = np.repeat(np.arange(len(zones)), np.diff(ptr))
+            unit = sp.csc_matrix((val, (idx, rows)), shape=(net.n_nodes, len(zones))).toarray()
+            response = context.lu.solve(unit)
+            weights = sp.csr_matrix(
+                (net.face_area, (net.face_zone, net.face_node)),
+                shape=(len(net.zone_names), net.n_nodes),
+            )
+            area = self._zone_face_area[zones]
+            mrt = np.asarray(weights[zones] @ response)
+            air = response[net.air_node[zones], :]
+            mrt = np.where(area[:, None] > 0, mrt / np.where(area > 0, area, 1.0)[:, None], air)
+            sensed = air_weight[:, None] * air + (1.0 - air_weight[:, None]) * mrt
+            g_inverse = np.ascontiguousarray(np.linalg.inv(sensed))
+
+            def sensed_of(resp):
+                m_rt = np.asarray(weights[zones] @ resp)
+                a_ir = resp[net.air_node[zones], :]
+                m_rt = np.where(
+                    area[:, None] > 0, m_rt / np.where(area > 0, area, 1.0)[:, None], a_ir
+                )
+                return air_weight[:, None] * a_ir + (1.0 - air_weight[:, None]) * m_rt
+
+            # tracked zones with scheduled outdoor air: their air flow in the step it belongs
+            # to, solved with the tracking heat (see the kernel's general inverse)
+            inf = set(int(z) for z in getattr(self, "_inf_zones", ()))
+            held = np.asarray([int(z) for z in zones if int(z) in inf], dtype=np.int64)
+            if len(held):
+                air_t = net.air_node[held]
+                unit_t = np.zeros((net.n_nodes, len(held)))
+                unit_t[air_t, np.arange(len(held))] = 1.0
+                resp_t = context.lu.solve(unit_t)
+                a_q = response[air_t, :]
+                k_h = g_inverse @ sensed_of(resp_t)
+                m_h = resp_t[air_t, :] - a_q @ k_h
+                context.implicit["tracked"] = (
+                    held,
+                    np.ascontiguousarray(a_q),
+                    np.ascontiguousarray(k_h),
+                    np.ascontiguousarray(m_h),
+                    np.zeros(len(held) + 1),
+                    np.zeros((len(held), len(held))),
+                )
+        cache[key] = (context, g_inverse, distribution)
+        return cache[key]
+
+    def _heat_distribution(self, zones: np.ndarray, radiant_fraction: np.ndarray) -> tuple:
+        """Nodes and weights of each tracked zone's heat: ``1 - f`` into the air, ``f`` over
+        its faces as the radiant internal gains (:func:`~thermocal.multizone.network.
+        radiant_gain_shares`); CSR arrays ``(ptr, idx, val)`` for the kernel."""
+        net = self.network
+        ptr, idx, val = [0], [], []
+        for z, fraction in zip(zones, radiant_fraction, strict=True):
+            members = np.flatnonzero(net.face_zone == z)
+            if fraction == 0.0 or len(members) == 0:
+                idx.append(int(net.air_node[z]))
+                val.append(1.0)
+            else:
+                idx.append(int(net.air_node[z]))
+                val.append(1.0 - float(fraction))
+                idx.extend(int(n) for n in net.face_node[members])
+                val.extend(float(fraction) * net.face_radiant_share[members])
+            ptr.append(len(idx))
+        return (
+            np.asarray(ptr, dtype=np.int64),
+            np.asarray(idx, dtype=np.int64),
+            np.asarray(val, dtype=float),
+        )
+
+    def _implicit_arrays(self, context: _Context, held, dirichlet: bool) -> tuple:
+        """Kernel arrays of the zones whose outdoor air is implicit in the step.
+
+        The zones with scheduled or indoor-limited outdoor air apart from ``held`` (zones the
+        ideal loads or the tracking hold at a temperature); ``imp_g`` is their air-temperature
+        response [K/W] to unit heat in their air in the system of the kernel's first solve (the
+        Dirichlet system when ``dirichlet``). Cached per context.
+        """
+        if not len(getattr(self, "_inf_zones", ())):
+            return _NO_IMPLICIT[:4] + (np.zeros(len(self.network.zone_names), dtype=np.bool_),)
+        held = {int(z) for z in held}
+        zones = tuple(int(z) for z in self._inf_zones if int(z) not in held)
+        key = (zones, bool(dirichlet), tuple(sorted(held)) if dirichlet else ())
+        if key in context.implicit:
+            return context.implicit[key]
+        if not zones:
+            free = np.zeros(len(self.network.zone_names), dtype=np.bool_)
+            free[np.asarray(self._inf_zones, dtype=np.int64)] = True
+            context.implicit[key] = _NO_IMPLICIT[:4] + (free,)
+            return context.implicit[key]
+        net = self.network
+        air = net.air_node[np.asarray(zones, dtype=np.int64)]
+        unit = np.zeros((net.n_nodes, len(zones)))
+        unit[air, np.arange(len(zones))] = 1.0
+        if dirichlet:
+            if context.d_lu is None:
+                raise RuntimeError("tracking by the Dirichlet system without its factorisation")
+            lu = context.d_lu
+        else:
+            lu = context.lu
+        g = np.ascontiguousarray(lu.solve(unit)[air, :])
+        m = len(zones)
+        free = np.zeros(len(net.zone_names), dtype=np.bool_)
+        free[np.asarray(self._inf_zones, dtype=np.int64)] = True
+        arrays = (
+            np.asarray(zones, dtype=np.int64),
+            g,
+            np.zeros(m + 1),
+            np.zeros((m, m)),
+            free,
+        )
+        context.implicit[key] = arrays
+        return arrays
+
+    def track(
+        self,
+        reference: np.ndarray,
+        *,
+        zones=None,
+        method: str = "inverse",
+        feedback="air",
+        radiant_fraction=0.0,
+        pid: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+        limits: tuple[np.ndarray, np.ndarray] | None = None,
+        heat_input: pd.DataFrame | np.ndarray | None = None,
+        progress: bool = False,
+    ) -> TrackingResult:
+        """Closed loop over the whole period: the heat each zone needs to follow ``reference``.
+
+        The loop runs inside the compiled kernel (one call per chunk of 2,048 steps), all zones at
+        once. Before the period, the first day of the reference is tracked ``warmup_days`` times
+        with the exact inverse at hourly steps (hourly means of the reference), so that walls and
+        floors start in a state consistent with the measurements; the PID integrators then start
+        bumplessly at the last warm-up heat (``x1 = x2 = q0 / KI``).
+
+        Parameters
+        ----------
+        reference : ndarray (n_steps, n_zones) [C]
+            Temperature to reach at the end of each step (rows = steps labelled by their start,
+            columns = ``zones``). Must be finite.
+        zones : sequence of str or int, optional
+            Tracked zones (names or indices into ``building.zones``); default all zones.
+        method : {"inverse", "pid"}
+            "inverse": the heat of each step that puts the zone temperature exactly on the
+            reference at the end of the step (one linear solve per step; exact up to the
+            network's lagged explicit corrections, which are evaluated at the start of the step).
+            "pid": a discrete PID per zone on the error between the reference of the step and
+            the model temperature at the end of the previous step, as in a co-simulation.
+        feedback : {"air", "operative"}, float or ndarray (n_zones,)
+            The sensor model, the tracked model temperature ``w T_air + (1 - w) T_surf``
+            (``T_surf`` the area-weighted interior surface temperature): "air" (``w = 1``),
+            "operative" (``w = 0.5``) or the air weight ``w`` [-] in ``[0, 1]``, one or per zone.
+        radiant_fraction : float or ndarray (n_zones,) [-]
+            Where the identified heat goes: ``1 - f`` into the zone air, ``f`` over the zone's
+            surfaces as radiant internal gains are distributed (area x thermal absorptance,
+            :func:`~thermocal.multizone.network.radiant_gain_shares`); one or per zone, in
+            ``[0, 1]``. 0 (default): all into the air.
+        pid : tuple of three ndarray (n_zones,), optional
+            Controller-canonical coefficients per zone ``(D, C1, C2) = (KP + KI + KD, KI - KD,
+            KD)`` with discrete gains [W/K] (see :mod:`thermocal.identification.pid`); required
+            for ``method="pid"``.
+        limits : tuple of two ndarray (n_zones,), optional [W]
+            Lower and upper limit of the PID output (conditional integration while limited);
+            None = unlimited. Ignored by the inverse.
+        heat_input : DataFrame or ndarray, optional [W]
+            Known heat per zone and step (as in :meth:`run`), added before the identified heat.
+        progress : bool
+            Show a progress bar.
+
+        Returns
+        -------
+        TrackingResult
+        """
+        net = self.network
+        nz = len(net.zone_names)
+        n_steps = len(self.times)
+        tracked = self._zone_indices(zones)
+        nt = len(tracked)
+        reference = np.ascontiguousarray(reference, dtype=float)
+        if reference.shape != (n_steps, nt):
+            raise ThermocalInputError(
+                f"track: reference must have shape (n_steps, n_zones) = ({n_steps}, {nt}), got "
+                f"{reference.shape}"
+            )
+        if not np.isfinite(reference).all():
+            raise ThermocalInputError("track: the reference contains NaN or infinite values")
+        if method not in ("inverse", "pid"):
+            raise ThermocalInputError(f"track: method must be 'inverse' or 'pid', got {method!r}")
+        form = _tracking_form(feedback, radiant_fraction, nt)
+        if method == "pid":
+            if pid is None:
+                raise ThermocalInputError("track: method='pid' needs the controller coefficients")
+            pid = tuple(np.ascontiguousarray(np.broadcast_to(c, nt), dtype=float) for c in pid)
+        else:
+            pid = (np.zeros(nt), np.zeros(nt), np.zeros(nt))
+        if limits is None:
+            q_low, q_high = np.full(nt, -np.inf), np.full(nt, np.inf)
+        else:
+            q_low = np.ascontiguousarray(np.broadcast_to(limits[0], nt), dtype=float)
+            q_high = np.ascontiguousarray(np.broadcast_to(limits[1], nt), dtype=float)
+            if np.any(q_low > q_high):
+                raise ThermocalInputError("track: a lower heat limit exceeds its upper limit")
+        heat = self._heat_array(heat_input, n_steps, nz)
+        self._x = np.full(net.n_nodes, self.initial_temperature)
+        self._face_root = np.ones(len(net.face_node))
+        self._reset_ideal_state()
+        self._k = 0
+        fine, g_fine, distribution = self._tracking_context(tracked, form, coarse=False)
+        state = {
+            "zones": tracked,
+            "dummy_sp": np.zeros((1, nt)),
+            "general": g_fine.shape[0] > 0,
+            "w_air": np.asarray(form[0], dtype=float),
+            "distribution": distribution,
+            "pid": pid,
+            "pid_state": np.zeros((nt, 2)),
+            "feedback": reference[0].copy(),
+            "q_low": q_low,
+            "q_high": q_high,
+        }
+        q0 = np.zeros(nt)
+        if self.warmup_days > 0:
+            q0 = self._warm_up_tracking(tracked, form, reference, state)
+        if method == "pid":
+            ki = pid[1] + pid[2]  # C1 + C2 = KI
+            start = np.divide(np.clip(q0, q_low, q_high), ki, out=np.zeros(nt), where=ki > 0)
+            state["pid_state"][:, 0] = start
+            state["pid_state"][:, 1] = start
+        air = np.empty((n_steps, nz))
+        mrt = np.empty((n_steps, nz))
+        q = np.empty((n_steps, nt))
+        bar = _progress(progress, n_steps)
+        try:
+            for k0 in range(0, n_steps, _CHUNK):
+                n = min(_CHUNK, n_steps - k0)
+                state.update(
+                    mode=1 if method == "inverse" else 2,
+                    reference=reference[k0 : k0 + n],
+                    g_inverse=g_fine,
+                    out_q=np.empty((n, nt)),
+                )
+                out = self._advance(
+                    k0,
+                    n,
+                    heat[k0 : k0 + n],
+                    ideal=False,
+                    store=False,
+                    context=fine,
+                    tracking=state,
+                )
+                air[k0 : k0 + n] = out[0]
+                mrt[k0 : k0 + n] = out[1]
+                q[k0 : k0 + n] = state["out_q"]
+                if bar is not None:
+                    bar[0].update(bar[1], advance=n)
+                if not np.isfinite(state["feedback"]).all():
+                    air[k0 + n :] = np.nan
+                    mrt[k0 + n :] = np.nan
+                    q[k0 + n :] = np.nan
+                    break
+        finally:
+            if bar is not None:
+                bar[0].stop()
+        self._k = n_steps
+        weight = np.asarray(form[0], dtype=float)
+        diverged = ~np.isfinite(state["feedback"])
+        names = [net.zone_names[i] for i in tracked]
+        index = self.times
+        return TrackingResult(
+            air_temperature=pd.DataFrame(air, index=index, columns=net.zone_names),
+            operative_temperature=pd.DataFrame(
+                0.5 * (air + mrt), index=index, columns=net.zone_names
+            ),
+            heat=pd.DataFrame(q, index=index, columns=names),
+            reference=pd.DataFrame(reference, index=index, columns=names),
+            feedback=feedback,
+            method=method,
+            step=self.step_size,
+            diverged=[name for name, bad in zip(names, diverged, strict=True) if bad],
+            sensed_temperature=pd.DataFrame(
+                weight * air[:, tracked] + (1.0 - weight) * mrt[:, tracked],
+                index=index,
+                columns=names,
+            ),
+        )
+
+    def _zone_indices(self, zones) -> np.ndarray:
+        names = list(self.building.zones)
+        if zones is None:
+            return np.arange(len(names), dtype=np.int64)
+        out = []
+        for zone in zones:
+            if isinstance(zone, int | np.integer):
+                if not 0 <= int(zone) < len(names):
+                    raise ThermocalInputError(f"zone index {zone} outside [0, {len(names)})")
+                out.append(int(zone))
+            elif zone in self.building.zones:
+                out.append(names.index(zone))
+            else:
+                import difflib
+
+                close = difflib.get_close_matches(str(zone), names, n=3)
+                hint = f"; did you mean {', '.join(map(repr, close))}?" if close else ""
+                raise ThermocalInputError(
+                    f"zone {zone!r} is not a zone of building '{self.building.name}'{hint}"
+                )
+        if len(set(out)) != len(out):
+            raise ThermocalInputError("track: a zone is listed twice")
+        return np.asarray(out, dtype=np.int64)
+
+    def _warm_up_tracking(self, tracked, form, reference, state) -> np.ndarray:
+        """Track the first day's reference ``warmup_days`` times; the last heat [W]."""
+        coarse = self._tracking_context(tracked, form, coarse=True)
+        if coarse is None:  # no hourly context: the first day at the fine step
+            context, g_inverse, _ = self._tracking_context(tracked, form, coarse=False)
+            n_day = min(int(round(86400.0 / self.dt)), len(reference))
+            day = reference[:n_day]
+        else:
+            context, g_inverse, _ = coarse
+            per_hour = int(round(3600.0 / self.dt))
+            day = _hourly_first_day(reference, 24 * per_hour, per_hour)
+            n_day = 24
+        nz = len(self.building.zones)
+        state.update(mode=1, reference=np.ascontiguousarray(day), g_inverse=g_inverse)
+        for _ in range(self.warmup_days):
+            state["out_q"] = np.empty((n_day, len(tracked)))
+            self._advance(
+                0,
+                n_day,
+                np.zeros((n_day, nz)),
+                ideal=False,
+                store=False,
+                context=context,
+                tracking=state,
+            )
+        return state["out_q"][-1].copy()

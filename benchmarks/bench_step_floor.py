@@ -18,16 +18,25 @@ the air temperatures, PID, free run with given heat):
 
 The floor of a step is its bytes divided by the triad bandwidth at the same working-set size.
 
-Run: /work/venv/bin/python benchmarks/bench_step_floor.py [--repeats 5] [--write results.md]
+With ``--peer COMMIT`` the kernel module of that commit (``git show
+COMMIT:src/thermocal/multizone/_kernel.py``) runs the same captured arguments in turn with this
+one (A B A B ...): the step times' ratio, and whether the outputs (zone air and mean radiant
+temperatures, identified heat, final state) are bit-identical.
+
+Run: /work/venv/bin/python benchmarks/bench_step_floor.py [--repeats 5] [--peer de53112]
+     [--write results.md]
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime
+import importlib.util
 import inspect
 import os
 import platform
+import subprocess
+import tempfile
 import time
 import types
 import warnings
@@ -160,7 +169,21 @@ def capture_clinic():
             cases[mode] = dict(zip(names, first, strict=True))
     finally:
         _kernel.run_steps = original
-    return sim, cases
+    calls = {
+        "identification, exact inverse (air), warm-up + month": lambda: sim.track(
+            reference, method="inverse"
+        ).heat.to_numpy(),
+        "identification, PID, warm-up + month": lambda: sim.track(
+            reference, method="pid", pid=pid
+        ).heat.to_numpy(),
+        "identification, exact inverse (operative), warm-up + month": lambda: sim.track(
+            reference, method="inverse", feedback="operative"
+        ).heat.to_numpy(),
+        "campaign sample: set 1 parameter + inverse + metric": lambda: np.array(
+            [problem.evaluate({"material/R16 insulation/resistance": 2.0})["unoccupied_variance"]]
+        ),
+    }
+    return sim, cases, calls
 
 
 def solves_per_step(args: dict) -> dict:
@@ -181,15 +204,38 @@ def solves_per_step(args: dict) -> dict:
     return count
 
 
+def peer_kernel(commit: str):
+    """The ``_kernel`` module of another commit of this repository (compiled here, not cached)."""
+    root = Path(__file__).resolve().parents[1]
+    source = subprocess.run(
+        ["git", "show", f"{commit}:src/thermocal/multizone/_kernel.py"],
+        cwd=root,
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.replace("cache=True", "cache=False")
+    folder = Path(tempfile.mkdtemp(prefix="thermocal_peer_kernel_"))
+    path = folder / f"peer_kernel_{commit}.py"
+    path.write_text(source)
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+OUTPUTS = ("x", "out_air", "out_mrt", "out_q", "out_heat", "out_cool", "face_root")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--write", type=Path)
+    parser.add_argument("--peer", help="a commit whose kernel to time alongside (e.g. de53112)")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
     from thermocal.multizone import _kernel
 
-    sim, cases = capture_clinic()
+    sim, cases, whole_calls = capture_clinic()
     n_nodes = sim.network.n_nodes
     no_solve = njit(fastmath=True)(
         types.FunctionType(
@@ -257,6 +303,74 @@ def main(argv=None) -> int:
                 flops=solve_flops,
             )
         )
+    peer_lines = []
+    if args.peer:
+        peer = peer_kernel(args.peer)
+        peer_lines = [
+            "",
+            f"This kernel against the kernel of {args.peer}, the same captured arguments in turn "
+            f"(best of {args.repeats} pairs):",
+            "",
+            f"| mode | peer {args.peer} [us/step] | this [us/step] | speed-up | outputs |",
+            "|---|---:|---:|---:|---|",
+        ]
+        for mode, case in cases.items():
+            values = list(case.values())
+            runs = {}
+            for name, kernel in (("peer", peer.run_steps), ("this", _kernel.run_steps)):
+                fresh = [a.copy() if isinstance(a, np.ndarray) else a for a in values]
+                kernel(*fresh)
+                runs[name] = dict(zip(case, fresh, strict=True))
+            same = all(np.array_equal(runs["peer"][k], runs["this"][k]) for k in OUTPUTS)
+            worst = max(
+                float(np.max(np.abs(runs["peer"][k] - runs["this"][k]), initial=0.0))
+                for k in OUTPUTS
+            )
+            times = {"peer": np.inf, "this": np.inf}
+            for _ in range(args.repeats):
+                for name, kernel in (("peer", peer.run_steps), ("this", _kernel.run_steps)):
+                    fresh = [a.copy() if isinstance(a, np.ndarray) else a for a in values]
+                    t0 = time.perf_counter()
+                    kernel(*fresh)
+                    times[name] = min(times[name], time.perf_counter() - t0)
+            n = case["n_steps"]
+            peer_lines.append(
+                f"| {mode} | {times['peer'] / n * 1e6:.1f} | {times['this'] / n * 1e6:.1f} | "
+                f"{times['peer'] / times['this']:.2f}x | "
+                + ("bit-identical" if same else f"differ, largest {worst:.3g}")
+                + " |"
+            )
+    if args.peer:
+        peer_lines += [
+            "",
+            "Whole calls with either kernel (the module attribute swapped, A B A B ...; "
+            "identified heat compared):",
+            "",
+            f"| call | peer {args.peer} [s] | this [s] | speed-up | identified heat |",
+            "|---|---:|---:|---:|---|",
+        ]
+        this_kernel = _kernel.run_steps
+        try:
+            for label, call in whole_calls.items():
+                times = {"peer": np.inf, "this": np.inf}
+                values = {}
+                for _ in range(max(2, args.repeats // 2)):
+                    for name, kernel in (("peer", peer.run_steps), ("this", this_kernel)):
+                        _kernel.run_steps = kernel
+                        t0 = time.perf_counter()
+                        values[name] = call()
+                        times[name] = min(times[name], time.perf_counter() - t0)
+                same = np.array_equal(values["peer"], values["this"])
+                scale = float(np.max(np.abs(values["peer"])))
+                worst = float(np.max(np.abs(values["peer"] - values["this"])))
+                peer_lines.append(
+                    f"| {label} | {times['peer']:.3f} | {times['this']:.3f} | "
+                    f"{times['peer'] / times['this']:.2f}x | "
+                    + ("bit-identical" if same else f"largest difference {worst / scale:.2g} rel.")
+                    + " |"
+                )
+        finally:
+            _kernel.run_steps = this_kernel
     bw_cache = triad_bandwidth(step_bytes_max)
     bw_l2 = triad_bandwidth(256e3)
     bw_dram = triad_bandwidth(96e6)
@@ -285,7 +399,7 @@ def main(argv=None) -> int:
             f"{r['rest_bytes'] / 1e3:.0f}) | {r['flops']:,} | {floor * 1e6:.1f} | "
             f"{r['step'] / floor:.1f}x |"
         )
-    text = "\n".join(lines)
+    text = "\n".join(lines + peer_lines)
     print(text)
     if args.write:
         args.write.write_text(text + "\n")

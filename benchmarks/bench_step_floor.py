@@ -204,23 +204,27 @@ def solves_per_step(args: dict) -> dict:
     return count
 
 
-def peer_kernel(commit: str):
-    """The ``_kernel`` module of another commit of this repository (compiled here, not cached)."""
+def peer_kernel(commit: str, module: str = "_kernel"):
+    """A module of ``thermocal.multizone`` at another commit of this repository (numba functions
+    compiled here, not cached)."""
+    import sys
+
     root = Path(__file__).resolve().parents[1]
     source = subprocess.run(
-        ["git", "show", f"{commit}:src/thermocal/multizone/_kernel.py"],
+        ["git", "show", f"{commit}:src/thermocal/multizone/{module}.py"],
         cwd=root,
         check=True,
         capture_output=True,
         text=True,
     ).stdout.replace("cache=True", "cache=False")
     folder = Path(tempfile.mkdtemp(prefix="thermocal_peer_kernel_"))
-    path = folder / f"peer_kernel_{commit}.py"
+    path = folder / f"peer_{module}_{commit}.py"
     path.write_text(source)
-    spec = importlib.util.spec_from_file_location(path.stem, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    spec = importlib.util.spec_from_file_location(f"thermocal.multizone.{path.stem}", path)
+    loaded = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = loaded
+    spec.loader.exec_module(loaded)
+    return loaded
 
 
 OUTPUTS = ("x", "out_air", "out_mrt", "out_q", "out_heat", "out_cool", "face_root")
@@ -371,6 +375,31 @@ def main(argv=None) -> int:
                 )
         finally:
             _kernel.run_steps = this_kernel
+        # set_parameters with either network assembly (simulation.assemble swapped)
+        from thermocal.multizone import simulation as simulation_module
+
+        peer_network = peer_kernel(args.peer, "network")
+        this_assemble = simulation_module.assemble
+        times = {"peer": np.inf, "this": np.inf}
+        matrices = {}
+        try:
+            for r in range(max(2, args.repeats)):
+                for name, function in (("peer", peer_network.assemble), ("this", this_assemble)):
+                    simulation_module.assemble = function
+                    value = 2.0 + 0.1 * r
+                    t0 = time.perf_counter()
+                    sim.set_parameters({"material/R16 insulation/resistance": value})
+                    times[name] = min(times[name], time.perf_counter() - t0)
+                    matrices[name] = sim.network.system_matrix(sim.dt)
+        finally:
+            simulation_module.assemble = this_assemble
+        same = (matrices["peer"] != matrices["this"]).nnz == 0
+        peer_lines.append(
+            f"| set_parameters (1 parameter), network assembly of {args.peer} / this | "
+            f"{times['peer']:.3f} | {times['this']:.3f} | {times['peer'] / times['this']:.2f}x | "
+            + ("system matrix identical" if same else "system matrix DIFFERS")
+            + " |"
+        )
     bw_cache = triad_bandwidth(step_bytes_max)
     bw_l2 = triad_bandwidth(256e3)
     bw_dram = triad_bandwidth(96e6)

@@ -249,3 +249,38 @@ def test_unheated_attic_and_garage_with_iso13789_b_factors():
         from thermocal.io.envelope import envelope_from_dict
 
         envelope_from_dict(data, source="test")
+
+
+def test_measure_adds_insulation_to_the_corrected_construction(model):
+    """A U-value measure on an opaque construction adds the insulation that takes the described
+    construction to the target, ``Delta R = 1/U_target - 1/U_audit``, to the construction as
+    the data corrected it; windows are replaced (the target). On the described envelope every
+    measure gives its target; a construction the data find better than the target still
+    improves (before: it took the target and got worse)."""
+    from thermocal.retrofit.correction import scaled_envelope
+
+    audit = model.envelope
+    walls = Measure("walls", "walls", u_value=0.19)
+    roof = Measure("roof", "roof", u_value=0.18)
+    windows = Measure("windows", "windows", u_value=0.76)
+    cellar = Measure("cellar_ceiling", "cellar_ceiling", u_value=0.19)
+    done = model.apply_measures([walls, roof, windows, cellar])
+    for attr, target in (("walls_u", 0.19), ("roof_u", 0.18), ("windows_u", 0.76),
+                         ("floor_u", 0.19)):  # fmt: skip
+        assert getattr(done, attr) == pytest.approx(target, rel=1e-12)
+    k = {"k_env": 0.6, "k_win": 0.8, "k_floor": 1.3}
+    corrected = scaled_envelope(audit, k)
+    after = model.apply_measures([walls, roof, windows, cellar], corrected)
+
+    def by_hand(u_audit, factor, target):
+        return 1.0 / (1.0 / (factor * u_audit) + 1.0 / target - 1.0 / u_audit)
+
+    assert after.walls_u == pytest.approx(by_hand(audit.walls_u, 0.6, 0.19), rel=1e-12)
+    assert after.roof_u == pytest.approx(by_hand(audit.roof_u, 0.6, 0.18), rel=1e-12)
+    assert after.floor_u == pytest.approx(by_hand(audit.floor_u, 1.3, 0.19), rel=1e-12)
+    assert after.windows_u == pytest.approx(0.76, rel=1e-12)
+    # better than described -> better than the target; worse -> worse than the target
+    assert after.walls_u < 0.19 and after.floor_u > 0.19
+    # a construction corrected below the target still improves
+    low = scaled_envelope(audit, {"k_env": 0.18 / audit.roof_u * 0.9})
+    assert model.apply_measures([roof], low).roof_u < low.roof_u

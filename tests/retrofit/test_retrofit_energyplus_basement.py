@@ -12,14 +12,16 @@ basement as an unheated space under the floor, ISO 13370 9.4) and ``measurements
 Measured 2026-11-25 (docs/retrofit.md, "Second EnergyPlus twin"), with the default
 ``model.calibration: auto``, which finds the thermostat holding the indoor temperature (0.06 K)
 and fits the metered heat (closed-loop identification), and the air change's stack term
-(``model.air_change: slope``): the heat loss coefficient (-1.3 %), the demand (+1.6 %; +5.4 %
-without the stack term), the intervals' coverage (15 of 15) and the cellar-ceiling saving
-(item 5: +1.4 pp) meet the issue's targets; the largest saving difference (3.7 pp, 14 of 15
-within 3 pp), the median half-width (15.9 pp) and the validation gate (indoor temperature
-MAE 1.77 K)
-do not: those targets are asserted as they are and marked ``xfail(strict=True)`` with the
-measured number, so an improvement shows as XPASS; the bounds that hold today are pinned
-beside them. (The temperature fit before: +14.3 %, +25.6 %, 11 of 15, 13.3 pp, bias -3.03 K.)
+(``model.air_change: slope``): the heat loss coefficient (-1.5 %), the demand (+1.3 %), the
+intervals' coverage (14 of 15) and the cellar-ceiling saving (item 5: +1.5 pp) meet the
+issue's targets; the largest saving difference (3.7 pp, 13 of 15 within 3 pp), the median
+half-width (11.9 pp), the cellar-ceiling interval (2.4-5.6 % against EnergyPlus's 2.0 %) and
+the validation gate (indoor temperature MAE 1.75 K) do not: those targets are asserted as
+they are and marked ``xfail(strict=True)`` with the measured number, so an improvement shows
+as XPASS; the bounds that hold today are pinned beside them. (Before the heat fit's daily step
+kept its weight and the measures added their insulation to the corrected constructions:
+-1.3 %, +1.6 %, 15 of 15, 3.7 pp with 14 of 15, 15.9 pp; the temperature fit: +14.3 %,
++25.6 %, 11 of 15, 13.3 pp, bias -3.03 K.)
 """
 
 from __future__ import annotations
@@ -219,31 +221,33 @@ def test_air_change_stack_coefficient_vs_sherman_grimsrud(twin):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 3/6: measured test MAE 1.77 K")
+@pytest.mark.xfail(strict=True, reason="issue 25 item 3/6: measured test MAE 1.75 K")
 def test_validation_gate_passes(twin):
     assert twin["validation_gate"]["passed"]
 
 
 @pytest.mark.slow
 def test_heat_loss_coefficient_and_demand_pinned(twin):
-    """EnergyPlus 200.1 W/K steady state, 9,297 kWh at 22.2 C; thermocal 197.4 W/K (90 %:
-    189.0-215.8, covers EnergyPlus), -1.3 %; demand 9,449 kWh (90 %: 7,023-12,315), +1.6 %
-    (without the air change's stack term 9,797 kWh, +5.4 %; the temperature fit before:
-    228.7 W/K, +14.3 %; 11,674 kWh, +25.6 %)."""
+    """EnergyPlus 200.1 W/K steady state, 9,297 kWh at 22.2 C; thermocal 197.1 W/K (90 %:
+    189-215, covers EnergyPlus), -1.5 %; demand 9,422 kWh (90 %: 8,520-11,103; 7,311-12,318
+    with the internal gains' factor drawn independently of the fit), +1.3 %
+    (before the daily step kept its weight 197.4 W/K, 9,449 kWh; without the air change's
+    stack term 9,797 kWh, +5.4 %; the temperature fit: 228.7 W/K, +14.3 %; 11,674 kWh,
+    +25.6 %)."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]
     truth = ref["heat_loss_coefficient_W_per_K"]
-    assert abs(hlc["value"] / truth - 1.0) < 0.20  # (-0.013)
+    assert abs(hlc["value"] / truth - 1.0) < 0.20  # (-0.015)
     assert hlc["p05"] <= truth <= hlc["p95"]
     demand = twin["annual_heating_demand_kWh"]
     err = demand["value"] / ref["annual_heating_kWh"]["none"] - 1.0
-    assert abs(err) < 0.35  # (+0.016)
+    assert abs(err) < 0.35  # (+0.013)
     assert demand["p05"] <= ref["annual_heating_kWh"]["none"] <= demand["p95"]
 
 
 @pytest.mark.slow
 def test_heat_loss_coefficient_and_demand_targets(twin):
-    """The issue's targets, met since the heat fit (measured -1.3 % and +1.6 %)."""
+    """The issue's targets, met since the heat fit (measured -1.5 % and +1.3 %)."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]["value"]
     demand = twin["annual_heating_demand_kWh"]["value"]
@@ -253,25 +257,26 @@ def test_heat_loss_coefficient_and_demand_targets(twin):
 
 @pytest.mark.slow
 def test_strategy_savings(twin):
-    """Every strategy against EnergyPlus. Measured: mean |difference| 1.4 pp, max 3.7 (walls +
-    windows + cellar ceiling), 14 of 15 within 3 pp; 15 of 15 intervals cover EnergyPlus
-    (target >= 12: met); median half-width 15.9 pp (target 6: not met, xfail below; 15.3
-    without the air change's stack term, whose uncertainty the draws carry). The strategy
-    with all four measures saves most in both. (Temperature fit before: 2.1, 5.0, 11 of 15,
-    15 of 15, 13.3 pp.)"""
+    """Every strategy against EnergyPlus. Measured: mean |difference| 2.1 pp, max 3.7 (walls +
+    windows + cellar ceiling), 13 of 15 within 3 pp; 14 of 15 intervals cover EnergyPlus
+    (target >= 12: met; the cellar ceiling alone is not covered, below); median half-width
+    11.9 pp (target 6: not met, xfail below; 12.1 with the gains' factor drawn independently).
+    The strategy with all four measures saves most in both. (Before the daily step kept its
+    weight and the measures added their insulation to the corrected constructions: 1.4, 3.7,
+    14 of 15, 15 of 15, 15.9 pp; temperature fit: 2.1, 5.0, 11 of 15, 15 of 15, 13.3 pp.)"""
     diff, covered, half = _savings(twin)
     assert covered >= 12, covered  # the issue's coverage target (80 %)
     assert np.abs(diff).max() < 6.5, diff  # (3.7; target 3)
-    assert np.abs(diff).mean() < 3.0, diff  # (1.4)
-    assert (np.abs(diff) <= 3.0).sum() >= 13  # (14 of 15)
-    assert np.median(half) < 16.0  # (15.9; target 6)
+    assert np.abs(diff).mean() < 3.0, diff  # (2.1)
+    assert (np.abs(diff) <= 3.0).sum() >= 13  # (13 of 15)
+    assert np.median(half) < 13.5  # (11.9; target 6)
     best = max(twin["scenarios"][1:], key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)
 
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 3.7 pp "
-                   "(14 of 15 within 3 pp), median half-width 15.9 pp")  # fmt: skip
+                   "(13 of 15 within 3 pp), median half-width 11.9 pp")  # fmt: skip
 def test_strategy_savings_targets(twin):
     diff, _, half = _savings(twin)
     assert np.abs(diff).max() <= 3.0
@@ -281,11 +286,24 @@ def test_strategy_savings_targets(twin):
 @pytest.mark.slow
 def test_cellar_ceiling_saving_vs_kiva(twin):
     """Item 5 on a cellar: insulating the floor over the unheated basement to U 0.12 saves 2.0 %
-    in EnergyPlus (Kiva) and 3.4 % (90 %: 0.6-8.0) in thermocal (ISO 13370 9.4): within 3 pp,
-    inside the interval."""
+    in EnergyPlus (Kiva) and 3.5 % (90 %: 2.4-5.6) in thermocal (ISO 13370 9.4): within 3 pp."""
     ref = _reference()["saving_pct"]["cellar_ceiling"]
     model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["cellar_ceiling"])
     assert abs(model["saving_pct"] - ref) <= 3.0, (model["saving_pct"], ref)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="issue 25 item 2/5: the cellar-ceiling interval 2.4-5.6 % "
+                   "misses EnergyPlus's 2.0 %: the draws carry the U-values, not the ground "
+                   "path's soil and basement air change")  # fmt: skip
+def test_cellar_ceiling_interval_covers_kiva(twin):
+    """The interval covered (0.9-7.1 %) while every draw's retrofitted ceiling took the target
+    U-value whatever the draw's existing one, which widened it; with the insulation added to
+    each draw's construction it reflects the U-values' uncertainty only, and the model's
+    +1.5 pp from ISO 13370 with the user's defaults (soil 2.0 W/(m K), 0.3 1/h against Kiva's
+    0.864 and none) lies outside it."""
+    ref = _reference()["saving_pct"]["cellar_ceiling"]
+    model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["cellar_ceiling"])
     assert model["saving_pct_p05"] <= ref <= model["saving_pct_p95"]
 
 

@@ -8,11 +8,12 @@ meter), the year and the 16 strategies at 20 C, and the steady-state heat loss c
 Here thermocal gets only what a user knows (``building.yaml``: areas, nominal ISO 6946
 U-values; ``measurements.csv``) and is compared with the committed EnergyPlus values.
 
-The issue's targets (HLC and demand within 10 %, every saving within 3 pp, 90 % intervals
-covering >= 80 % with a median half-width <= 6 pp) do NOT hold on this house (measured
-2026-11-25, docs/retrofit.md "EnergyPlus twin"): the validation gate fails, and these tests
-pin that state -- the gate must say so and recommend nothing -- and the bounds that hold now,
-each with its measured value, so that a regression shows and an improvement can tighten them.
+Of the issue's targets (HLC and demand within 10 %, every saving within 3 pp, 90 % intervals
+covering >= 80 % with a median half-width <= 6 pp) only the HLC holds on this house (+5.8 %
+since the heat fit's daily step keeps its weight, measured 2026-11-25, docs/retrofit.md
+"Closed-loop identification"): the validation gate fails, and these tests pin that state --
+the gate must say so and recommend nothing -- and the bounds that hold now, each with its
+measured value, so that a regression shows and an improvement can tighten them.
 """
 
 from __future__ import annotations
@@ -89,9 +90,10 @@ def test_reference_is_what_the_script_writes():
 
 
 def test_twin_validation_gate_fails_and_recommends_nothing(twin):
-    """Measured (the heat fit, ``model.calibration: auto``): test-period bias -2.84 K, MAE
-    2.90 K, daily heat NMBE -61 % (the temperature fit before: -4.31 K, -119 %): the model does
-    not reproduce the house and says so (issue 25 item 3 holds; item 6's targets do not)."""
+    """Measured (the heat fit, ``model.calibration: auto``): test-period bias -1.50 K, MAE
+    1.92 K, daily heat NMBE -33 %, CV(RMSE) 34 % (-2.84 K, 2.90 K, -61 % before the daily
+    step kept its weight; the temperature fit: -4.31 K, -119 %): the model does not reproduce
+    the house and says so (issue 25 item 3 holds; item 6's targets do not)."""
     gate = twin["validation_gate"]
     assert gate["passed"] is False
     assert twin["recommendation"] is None
@@ -99,26 +101,28 @@ def test_twin_validation_gate_fails_and_recommends_nothing(twin):
 
 
 def test_twin_heat_loss_coefficient_and_demand(twin):
-    """EnergyPlus steady state 299.2 W/K; thermocal 352.7 W/K (90 %: 321-408), +18 %: the
-    10 % target fails. Demand 16,722 kWh vs 10,302 (+62 %; 16,882, +64 %, without the air
-    change's stack term, which this house's constant-flow infiltration does not have).
-    (Temperature fit before: 383.5 W/K, +28 %; 17,244 kWh, +67 %.) Pinned: the bounds that
-    hold."""
+    """EnergyPlus steady state 299.2 W/K; thermocal 316.5 W/K (90 %: 297-351), +5.8 %: the
+    10 % target holds (352.7 W/K, +17.9 %, before the heat fit's daily step kept its weight;
+    temperature fit 383.5 W/K, +28 %). Demand 14,037 kWh (12,096-17,042) vs 10,302, +36 %
+    (before 16,722, +62 %): the 10 % target fails; pinned."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]
     err = hlc["value"] / ref["heat_loss_coefficient_W_per_K"] - 1.0
-    assert abs(err) < 0.35, err  # target 0.10 (not met: +0.18)
-    assert hlc["p05"] < hlc["value"] < hlc["p95"]
+    assert abs(err) < 0.10, err  # the target (+0.058)
+    assert hlc["p05"] <= ref["heat_loss_coefficient_W_per_K"] <= hlc["p95"]
     demand = twin["annual_heating_demand_kWh"]["value"]
     err_d = demand / ref["annual_heating_kWh"]["none"] - 1.0
-    assert abs(err_d) < 0.75, err_d  # target 0.10 (not met: +0.62)
+    assert abs(err_d) < 0.45, err_d  # target 0.10 (not met: +0.36)
 
 
 def test_twin_strategy_savings(twin):
-    """Every strategy against EnergyPlus. Measured (heat fit, air change's stack term): mean
-    absolute difference 10.6 pp, max 22.0 pp; 0 of 15 within 3 pp (1 of 15, 2.8 pp, without
-    the stack term); 6 of 15 intervals cover EnergyPlus; median half-width 12.1 pp
-    (temperature fit before: 11.4, 23.4, 1, 6, 11.2).
+    """Every strategy against EnergyPlus. Measured (heat fit, air change's stack term,
+    measures adding their insulation to the corrected constructions): mean absolute
+    difference 10.7 pp, max 21.7 pp (3a); 0 of 15 within 3 pp; 6 of 15 intervals cover
+    EnergyPlus; median half-width 12.4 pp (12.7 with the internal gains' factor drawn
+    independently of the fit; before the daily step kept its weight: 10.6, 22.0,
+    0, 6, 12.1, the attic measure's saving negative once corrected; temperature fit: 11.4,
+    23.4, 1, 6, 11.2).
     Targets (every one within 3 pp, coverage >= 12/15, half-width <= 6 pp)
     not met; pinned: the bounds that hold."""
     saving = _reference()["saving_pct"]
@@ -131,10 +135,10 @@ def test_twin_strategy_savings(twin):
         covered += s["saving_pct_p05"] <= e <= s["saving_pct_p95"]
         half.append(0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]))
     diff = np.abs(diff)
-    assert diff.max() < 26.0, diff  # target 3 (not met: 22.0)
-    assert diff.mean() < 13.0, diff  # (10.6)
+    assert diff.max() < 24.0, diff  # target 3 (not met: 21.7)
+    assert diff.mean() < 12.0, diff  # (10.7)
     assert covered >= 5, covered  # target 12 of 15 (not met: 6)
-    assert np.median(half) < 13.0  # target 6 (not met: 12.1)
+    assert np.median(half) < 14.0  # target 6 (not met: 12.4)
     # the ranking: the all-measures strategy saves most in both
     best = max(rows, key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)
@@ -142,12 +146,13 @@ def test_twin_strategy_savings(twin):
 
 def test_twin_slab_saving_thermocal_vs_kiva(twin):
     """Item 5, measured: under-slab insulation to U 0.25 saves 0.7 % in EnergyPlus (Kiva) and
-    18.8 % in thermocal (ISO 13370); docs/retrofit.md explains the difference. Pinned: the
-    EnergyPlus value stays small, thermocal's stays the larger one (heat fit: 12.3 %)."""
+    14.3 % in thermocal (ISO 13370; 18.8 % with the temperature fit); docs/retrofit.md ("Second
+    ground study") explains the difference: EnergyPlus's soil, the slab edge, the summer.
+    Pinned: the EnergyPlus value stays small, thermocal's stays the larger one."""
     ref = _reference()["saving_pct"]["ground_floor"]
     model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["ground_floor"])
     assert 0.0 < ref < 2.0
-    assert model["saving_pct"] > ref + 10.0  # (12.3 vs 0.7: the open item 5)
+    assert model["saving_pct"] > ref + 10.0  # (14.3 vs 0.7: item 5, explained in the docs)
 
 
 def test_slab_insulation_iso13370_vs_kiva():
@@ -185,6 +190,60 @@ def test_slab_insulation_iso13370_vs_kiva():
         saving = 1.0 - year[slab]["heating_kWh"] / year[base]["heating_kWh"]
         assert 0.0 < saving < 0.03, (base, saving)  # (0.7 %, 1.6 %)
     assert year["year"]["heating_kWh"] == pytest.approx(_reference()["annual_heating_kWh"]["none"])
+
+
+def test_slab_measure_soil_and_summer_in_kiva():
+    """Item 5, second study (``ground_dynamics.json``, make_reference.py --ground-dynamics, two
+    years each): the slab measure's annual saving in EnergyPlus (Kiva) depends on the soil and
+    on the house's summer. Measured: held at 20-21 C, soil 0.864 (Kiva's code default, the
+    reference runs) 1.6 % first year / 1.2 % spun up, soil 2.0 (ISO 13370's default) 8.2 % /
+    6.6 %; floating in summer (the reference) 0.7 % / -0.4 %. The first year of the two-year
+    run is the committed reference within 0.2 %."""
+    study = json.loads((REF / "ground_dynamics.json").read_text())
+
+    def saving(case, year):
+        base = study[case][year]["heating_kWh"]
+        return 100.0 * (1.0 - study[f"{case}_slab"][year]["heating_kWh"] / base)
+
+    first, spun = "first_year", "second_year"
+    assert saving("cooled", first) == pytest.approx(1.6, abs=0.2)
+    assert saving("cooled", spun) == pytest.approx(1.2, abs=0.2)
+    assert saving("cooled_soil2", first) == pytest.approx(8.2, abs=0.2)
+    assert saving("cooled_soil2", spun) == pytest.approx(6.6, abs=0.2)
+    assert saving("reference", first) == pytest.approx(0.7, abs=0.2)
+    assert saving("reference", spun) == pytest.approx(-0.4, abs=0.2)
+    # the soil's factor and the summer's sign
+    assert saving("cooled_soil2", spun) > 3.0 * saving("cooled", spun)
+    assert saving("reference", spun) < saving("cooled", spun)
+    ref = _reference()["annual_heating_kWh"]["none"]
+    assert study["reference"][first]["heating_kWh"] == pytest.approx(ref, rel=0.002)
+    # Kiva's start: the spun-up year needs less heat (-2.8 %), the measurement weeks -5.3 %
+    assert study["reference"][spun]["heating_kWh"] < study["reference"][first]["heating_kWh"]
+    weeks = [study["measurements"][y]["heating_kWh_feb2_mar15"] for y in (first, spun)]
+    assert weeks[1] / weeks[0] - 1.0 == pytest.approx(-0.053, abs=0.005)
+
+
+def test_slab_measure_without_the_sun_in_kiva():
+    """Item 5, third study (``ground_sun.json``, make_reference.py --ground-sun): held at 20-21 C
+    for a year without the sun the slab measure saves 914 kWh (3.8 %) on Kiva's soil and 3,055
+    kWh (11.4 %) on soil 2.0, against 177 and 978 kWh with the sun (``ground_dynamics.json``,
+    first year): the heating keeps 67-75 % of the floor's loss reduction without the sun,
+    19-42 % with it (the beam on the floor)."""
+    dark = json.loads((REF / "ground_sun.json").read_text())
+    sunny = json.loads((REF / "ground_dynamics.json").read_text())
+    for soil, kwh_dark, kwh_sunny in (("", 914.0, 177.0), ("_soil2", 3055.0, 978.0)):
+        base, ins = dark[f"sunless{soil}"], dark[f"sunless{soil}_slab"]
+        saved = base["heating_kWh"] - ins["heating_kWh"]
+        assert saved == pytest.approx(kwh_dark, abs=5.0)
+        lit = sunny[f"cooled{soil}"]["first_year"]["heating_kWh"]
+        lit -= sunny[f"cooled{soil}_slab"]["first_year"]["heating_kWh"]
+        assert lit == pytest.approx(kwh_sunny, abs=5.0)
+        kept_dark = saved / (base["floor_loss_kWh_year"] - ins["floor_loss_kWh_year"])
+        floor_lit = (
+            sunny[f"cooled{soil}"]["first_year"]["floor_loss_kWh_year"]
+            - sunny[f"cooled{soil}_slab"]["first_year"]["floor_loss_kWh_year"]
+        )
+        assert 0.6 < kept_dark < 0.8 and lit / floor_lit < 0.45
 
 
 def test_twin_with_small_fixed_diffusions(tmp_path):

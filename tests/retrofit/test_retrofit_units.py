@@ -300,8 +300,14 @@ def test_uncertain_u_values_keep_the_calibrated_hlc():
     assert np.allclose(hlc, hlc0)
     walls = np.array([e.walls_u for e in base])
     assert 0.08 < np.std(walls / m.envelope.walls_u) < 0.25
-    # retrofitted components take the measure's U-value in every draw
-    assert all(e.walls_u == PAPER_MEASURE_U_VALUES["walls"] for e in envs[-1])
+    # retrofitted walls get the insulation that takes the described wall to the target, added
+    # to each draw's wall (the estimate: the target); windows are replaced (the target)
+    target = PAPER_MEASURE_U_VALUES["walls"]
+    d_r = 1.0 / target - 1.0 / m.envelope.walls_u
+    after = np.array([e.walls_u for e in envs[-1]])
+    assert after[0] == pytest.approx(target, rel=1e-12)
+    assert np.allclose(after, 1.0 / (1.0 / walls + d_r), rtol=1e-12)
+    assert all(e.windows_u == PAPER_MEASURE_U_VALUES["windows"] for e in envs[-1])
 
 
 def _ground_variant(kind):

@@ -310,7 +310,7 @@ def test_missing_files_are_named(synthetic, tmp_path):
         load_config(tmp_path / "missing.yaml")
 
 
-def test_building_errors_come_from_io_building(synthetic, tmp_path):
+def test_building_errors_come_from_io_envelope(synthetic, tmp_path):
     """Inline and file buildings are validated by thermocal.io.envelope: field, component,
     range with unit, typo hint and (files) the YAML line."""
 

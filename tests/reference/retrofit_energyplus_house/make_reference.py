@@ -639,12 +639,14 @@ def ground_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_groun
         "steady_soil173": (house_idf(gains=False), steady),
         "steady_soil173_slab": (house_idf(slab, gains=False), steady),
         "steady_soil173_settings": (
-            house_idf(gains=False, kiva_settings="Foundation:Kiva:Settings, 1.73;\n"), steady
+            house_idf(gains=False, kiva_settings="Foundation:Kiva:Settings, 1.73;\n"),
+            steady,
         ),
         "steady_soil2": (house_idf(gains=False, kiva_settings=soil2), steady),
         "steady_soil2_slab": (house_idf(slab, gains=False, kiva_settings=soil2), steady),
         "steady_soil2_slab_edge": (
-            house_idf(slab, gains=False, kiva_settings=soil2, foundation=edge), steady
+            house_idf(slab, gains=False, kiva_settings=soil2, foundation=edge),
+            steady,
         ),
         "year": (house_idf(), weather),
         "year_slab": (house_idf(slab), weather),
@@ -688,8 +690,128 @@ def ground_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_groun
     return out
 
 
+def _two_years(idf_text: str) -> str:
+    """The same house run over two years, the weather file repeated (2014 then 2015): the
+    second year starts from a ground that has been through a whole year of the house."""
+    start = f"RunPeriod, Year, 1, 1, {YEAR}, "
+    if start not in idf_text:
+        raise ValueError("no RunPeriod starting on 1 January")
+    return idf_text.replace(start, f"RunPeriod, Year, 1, 1, {YEAR - 1}, ", 1)
+
+
+def ground_dynamics_study(
+    weather: str, work: str = "/tmp/retrofit_energyplus_house_ground_dynamics"
+) -> dict:
+    """Item 5, second part: what EnergyPlus's small slab saving depends on.
+
+    Every case runs two years with the weather repeated and reports the second (Kiva starts
+    each run from a steady state 120 days before the start with the indoor air at the
+    thermostat's set point and three accelerated 30-day steps; it never sees a previous
+    summer): the reference house (heating only, floats in summer), held at 20-21 C all year
+    (ideal cooling) with Kiva's soil (0.864 W/(m K)) and with ISO 13370's default soil 2.0
+    W/(m K), each without and with the slab measure; and the measurement run (thermostat
+    20/17 C) to compare its first-year February-March with the spun-up one. Writes
+    ``ground_dynamics.json`` (annual heating, the floor's monthly loss and Ti).
+    """
+    weather, work = Path(weather), Path(work)
+    work.mkdir(parents=True, exist_ok=True)
+    soil2 = "Foundation:Kiva:Settings, 2.0;\n"
+    slab = frozenset({"ground_floor"})
+    jobs = {
+        "reference": house_idf(),
+        "reference_slab": house_idf(slab),
+        "cooled": house_idf(cooling=True),
+        "cooled_slab": house_idf(slab, cooling=True),
+        "cooled_soil2": house_idf(cooling=True, kiva_settings=soil2),
+        "cooled_soil2_slab": house_idf(slab, cooling=True, kiva_settings=soil2),
+        "measurements": house_idf(setback=True),
+    }
+    with ThreadPoolExecutor(2) as pool:
+        futures = {
+            k: pool.submit(_run, _two_years(idf) + FLOOR_OUTPUT, weather, work / k)
+            for k, idf in jobs.items()
+        }
+        res = {k: f.result() for k, f in futures.items()}
+    out: dict = {}
+    hours = 8760
+    for k, df in res.items():
+        entry = {}
+        for tag, part in (("first_year", df.iloc[:hours]), ("second_year", df.iloc[-hours:])):
+            part = part.set_axis(pd.date_range(f"{YEAR}-01-01", periods=hours, freq="h"))
+            floor = -_col(part, "LIVING:FLOOR:Surface Inside Face Conduction")
+            q = _col(part, "Zone Ideal Loads Zone Sensible Heating Rate")
+            ti = _col(part, "LIVING ZONE:Zone Mean Air")
+            entry[tag] = {
+                "heating_kWh": float(q.sum() / 1000),
+                "heating_kWh_feb2_mar15": float(q.loc["2015-02-02":"2015-03-15"].sum() / 1000),
+                "floor_loss_kWh_year": float(floor.sum() / 1000),
+                "floor_loss_W_monthly": [round(float(v), 1) for v in floor.resample("MS").mean()],
+                "ti_C_monthly": [round(float(v), 2) for v in ti.resample("MS").mean()],
+            }
+        out[k] = entry
+    (HERE / "ground_dynamics.json").write_text(json.dumps(out, indent=1) + "\n")
+    return out
+
+
+def sunless_weather(weather: Path, out: Path) -> Path:
+    """The weather file without the sun (global, beam and diffuse irradiance and illuminance
+    0); air temperature, humidity, wind and the sky's infrared as measured."""
+    lines = weather.read_text().splitlines()
+    body = []
+    for ln in lines[8:]:
+        f = ln.split(",")
+        for i in (10, 11, 13, 14, 15, 16, 17, 18):
+            f[i] = "0"
+        body.append(",".join(f))
+    out.write_text("\n".join(lines[:8] + body) + "\n")
+    return out
+
+
+def ground_sun_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_ground_sun") -> dict:
+    """Item 5, third part: the slab measure held at 20-21 C for a year without the sun.
+
+    With the sun, the beam through the windows falls on the floor, and an uninsulated slab
+    conducts part of it into the ground; insulating the slab keeps it in the room, where on
+    a sunny day it is not needed. Without the sun the floor's loss is heating load only.
+    Soil 0.864 (Kiva's code default) and 2.0 W/(m K), without and with the slab measure, one
+    year. Writes ``ground_sun.json`` (annual heating, floor loss October-April and year).
+    """
+    weather, work = Path(weather), Path(work)
+    work.mkdir(parents=True, exist_ok=True)
+    dark = sunless_weather(weather, work / "sunless.epw")
+    soil2 = "Foundation:Kiva:Settings, 2.0;\n"
+    slab = frozenset({"ground_floor"})
+    jobs = {
+        "sunless": house_idf(cooling=True),
+        "sunless_slab": house_idf(slab, cooling=True),
+        "sunless_soil2": house_idf(cooling=True, kiva_settings=soil2),
+        "sunless_soil2_slab": house_idf(slab, cooling=True, kiva_settings=soil2),
+    }
+    with ThreadPoolExecutor(2) as pool:
+        futures = {
+            k: pool.submit(_run, idf + FLOOR_OUTPUT, dark, work / k) for k, idf in jobs.items()
+        }
+        res = {k: f.result() for k, f in futures.items()}
+    out: dict = {}
+    for k, df in res.items():
+        floor = -_col(df, "LIVING:FLOOR:Surface Inside Face Conduction")
+        q = _col(df, "Zone Ideal Loads Zone Sensible Heating Rate")
+        heating_months = floor.index.month.isin([1, 2, 3, 4, 10, 11, 12])
+        out[k] = {
+            "heating_kWh": float(q.sum() / 1000),
+            "floor_loss_kWh_year": float(floor.sum() / 1000),
+            "floor_loss_kWh_oct_apr": float(floor[heating_months].sum() / 1000),
+        }
+    (HERE / "ground_sun.json").write_text(json.dumps(out, indent=1) + "\n")
+    return out
+
+
 if __name__ == "__main__":
-    if "--ground" in sys.argv:
+    if "--ground-sun" in sys.argv:
+        print(json.dumps(ground_sun_study(sys.argv[1]), indent=1))
+    elif "--ground-dynamics" in sys.argv:
+        print(json.dumps(ground_dynamics_study(sys.argv[1]), indent=1))
+    elif "--ground" in sys.argv:
         print(json.dumps(ground_study(sys.argv[1]), indent=1))
     else:
         main(*sys.argv[1:])

@@ -1,0 +1,113 @@
+"""``thermocal calibrate`` against EnergyPlus 25.2 on a building thermocal did not write.
+
+The twin (``tests/reference/calibration_energyplus_5zone``): NREL's 5ZoneAirCooled run by
+EnergyPlus for January with a hidden envelope, wall insulation resistance x0.6, roof
+insulation x1.5 and every zone's infiltration x1.4; its zone air temperatures (committed,
+5 minutes, 0.01 K) are the sensor log. thermocal gets the nominal IDF without its loads, the
+weather and the log, and calibrates the element-level parameters (exterior wall and roof
+resistance, each office's infiltration) with a small campaign (48 Sobol' samples, 15-minute
+steps, January 4-31). The truth is what thermocal reads from the perturbed file.
+
+Targets (issue 26 item 7): the element resistances the posterior declares determined within
+15 % of the truth, every 90 % interval covering the truth, the confirmed metric within 1.2x
+the true envelope's and never below it without a flag. Measured (2026-11-25; the full table
+in the reference folder's ``results.md``) with the zone-group metric: roof 4.95 m2 K/W
+[4.67, 5.24] (truth 5.20, -4.9 %), wall 1.59 [1.34, 1.88] (truth 1.61, -1.4 %), the core
+office's and one perimeter office's infiltration determined within 7 %, every interval covering
+the truth, metric 1.06x the true envelope's. With the published building-total metric the data
+determine nothing (roof and wall compensate, posterior correlation -0.90), the nominal building
+is returned and its metric is 1.30x the true envelope's: that target fails (strict xfail).
+Takes 72 s of CPU (130-300 s of wall time at a load of 5-10 on 2 cores; the campaign 12 s of
+it, the two analyses with the GP meta-model's fit and Sobol' indices the rest).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+from conftest import requires_energyplus, shared_data_path
+
+REFERENCE = Path(__file__).resolve().parents[1] / "reference" / "calibration_energyplus_5zone"
+sys.path.insert(0, str(REFERENCE))
+
+pytestmark = [pytest.mark.slow, requires_energyplus]
+
+SAMPLES = 48
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    """The campaign with the zone-group metric, then the same samples re-analysed with the
+    building-total metric (nothing simulated again)."""
+    shared = shared_data_path("energyplus_reference")
+    import calibrate_twin as ct
+
+    from thermocal.calibration.config import load_campaign
+    from thermocal.calibration.workflow import calibrate, reanalyse
+
+    folder = tmp_path_factory.mktemp("calibration_5zone")
+    path = ct.prepare(folder, SAMPLES, extra="metric: groups\n", shared=shared)
+    truth_file = json.loads((REFERENCE / "truth.json").read_text())
+    out = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        groups = load_campaign(path)
+        result = calibrate(
+            groups, workers=1, store_path=folder / "s.sqlite", progress=False, log=lambda s: 0
+        )
+        out["groups"] = ct.summarise(result, groups, truth_file, "groups")
+        other = folder / "building.yaml"
+        other.write_text(path.read_text().replace("metric: groups\n", ""))
+        building = load_campaign(other)
+        again = reanalyse(building, folder / "s.sqlite", log=lambda s: 0)
+        out["building"] = ct.summarise(again, building, truth_file, "building")
+        out["reanalysis_runs"] = again.runs
+    return out
+
+
+def _check_elements(summary):
+    rows = {r["parameter"]: r for r in summary["rows"]}
+    determined = [n for n, r in rows.items() if r.get("determined")]
+    for name in determined:
+        if name.startswith("construction/") and name.endswith("/resistance"):
+            assert abs(rows[name]["error"]) <= 0.15, (name, rows[name])
+    uncovered = [n for n, r in rows.items() if not r.get("covers", True)]
+    assert not uncovered, [rows[n] for n in uncovered]
+    return determined
+
+
+def _check_metric(summary):
+    ratio = summary["calibrated_metric"] / summary["true_metric"]
+    below = any(f.get("kind") == "below model error" for f in summary["flags"])
+    assert ratio <= 1.2, ratio
+    assert ratio >= 1.0 or below, ratio
+
+
+def test_group_metric_finds_roof_and_walls_of_the_energyplus_twin(twin):
+    summary = twin["groups"]
+    determined = _check_elements(summary)
+    # not vacuous: the data determine both envelope elements the truth changed
+    assert {"construction/WALL-1/resistance", "construction/ROOF-1/resistance"} <= set(determined)
+    _check_metric(summary)
+
+
+def test_building_metric_elements_of_the_energyplus_twin(twin):
+    # nothing simulated again; the intervals cover the truth (none is narrow enough to be
+    # "determined": the roof and the walls compensate in the building's sum)
+    assert twin["reanalysis_runs"].get("simulated", 0) == 0
+    _check_elements(twin["building"])
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured 2026-11-25: with the building-total metric nothing is "
+    "determined, the nominal building is returned, metric 1.30x the true envelope's (target "
+    "1.2x)",
+)
+def test_building_metric_confirmed_within_1_2_of_the_true_envelope(twin):
+    _check_metric(twin["building"])

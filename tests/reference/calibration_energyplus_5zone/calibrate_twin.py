@@ -1,0 +1,231 @@
+"""``thermocal calibrate`` on the EnergyPlus twin of 5ZoneAirCooled: element table vs the truth.
+
+Run from the repository root after ``make_reference.py`` (EnergyPlus 25.2 for its weather file
+and ../shared/data for the nominal IDF)::
+
+    PYTHONPATH=src python tests/reference/calibration_energyplus_5zone/calibrate_twin.py \
+        [--samples 32] [--write]
+
+thermocal gets what a user has: the nominal IDF without its load objects, Chicago O'Hare's
+TMY3 weather and the committed sensor log (``sensors.csv.gz``, EnergyPlus' zone air
+temperatures of the hidden envelope). The campaign (:func:`campaign_text`) varies the
+element-level parameters a building physicist names: the exterior wall's and the roof's
+thermal resistance and each office's infiltration, +-75 % (the default range), Sobol'
+samples, the default meta-model, posterior and metric; then the same samples are re-analysed
+with the zone-group metric. Besides the campaign, the true envelope's metric (the model with
+the truth's element values, identified the same way) is what the confirmed metric is compared
+with. ``--write`` writes ``results.json`` and ``results.md`` beside this script.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gzip
+import json
+import shutil
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from make_reference import SHARED, nominal_envelope  # noqa: E402
+
+WALL, ROOF = "construction/WALL-1/resistance", "construction/ROOF-1/resistance"
+OFFICES = ("SPACE1-1", "SPACE2-1", "SPACE3-1", "SPACE4-1", "SPACE5-1")
+INFILTRATION = tuple(f"zone/{z}/infiltration_ach" for z in OFFICES)
+PERIOD = ("2023-01-04", "2023-02-01")
+
+
+def campaign_text(samples: int, *, step: str = "15min", period=PERIOD, extra: str = "") -> str:
+    """The campaign file (building, weather, sensors and mapping beside it)."""
+    include = ", ".join(f'"{n}"' for n in (WALL, ROOF, "zone/SPACE*/infiltration_ach"))
+    return f"""building: nominal.idf
+weather: weather.epw
+sensors: sensors.csv
+mapping: mapping.yaml
+period: {{start: {period[0]}, end: {period[1]}}}
+step: {step}
+identification: {{method: inverse, settle: 1D, warmup_days: 3}}
+parameters:
+  level: element
+  include: [{include}]
+sampling: {{method: sobol, samples: {samples}, seed: 1}}
+optimisation: {{starts: 4, seed: 1, refine: 4}}
+{extra}"""
+
+
+def prepare(folder: Path, samples: int, *, shared: Path = SHARED, **kwargs) -> Path:
+    """Write the user's inputs and the campaign file into ``folder``; return its path.
+
+    ``shared``: the folder of ``5ZoneAirCooled_FF_v25.idf``; ``kwargs`` go to
+    :func:`campaign_text`."""
+    from thermocal.multizone.energyplus import energyplus_weather_folder
+
+    folder = Path(folder)
+    nominal_envelope(folder / "nominal.idf", shared)
+    weather = energyplus_weather_folder() / "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
+    shutil.copy(weather, folder / "weather.epw")
+    with gzip.open(HERE / "sensors.csv.gz", "rb") as fh:
+        (folder / "sensors.csv").write_bytes(fh.read())
+    shutil.copy(HERE / "mapping.yaml", folder / "mapping.yaml")
+    (folder / "campaign.yaml").write_text(campaign_text(samples, **kwargs))
+    return folder / "campaign.yaml"
+
+
+def true_metric(campaign, truth: dict, metric: str) -> float:
+    """The campaign's metric of the model with the true element values [W^2]."""
+    from thermocal.calibration.spatial import campaign_evaluator
+    from thermocal.calibration.workflow import build_problem, choose_quiet_hours, load_inputs
+
+    inputs = load_inputs(campaign)
+    problem, _ = build_problem(campaign, inputs)
+    problem.series_outputs = True
+    evaluator = campaign_evaluator(problem, inputs.building)
+    nominal = problem.run({})
+    problem.schedule, _ = choose_quiet_hours(campaign, nominal.heat.sum(axis=1), log=lambda s: 0)
+    outputs = evaluator.outputs(problem.run(truth).heat)
+    from thermocal.calibration.workflow import metric_value
+
+    return float(metric_value(outputs, metric))
+
+
+def element_rows(result, nominal: dict, truth: dict) -> list[dict]:
+    """Nominal, calibrated, posterior median and 90 % interval, truth per varied parameter."""
+    from thermocal.calibration.workflow import candidate_parameters
+
+    calibrated = candidate_parameters(result.calibrated_building, "element")
+    post = result.posterior.summary
+    rows = []
+    for name in result.space.names:
+        row = {
+            "parameter": name,
+            "nominal": nominal[name],
+            "calibrated": calibrated[name],
+            "truth": truth[name],
+        }
+        if name in post.index:
+            row.update(
+                median=float(post.at[name, "median"]),
+                q05=float(post.at[name, "q05"]),
+                q95=float(post.at[name, "q95"]),
+                determined=bool(post.at[name, "determined"]),
+            )
+            row["covers"] = row["q05"] <= row["truth"] <= row["q95"]
+        row["error"] = row["calibrated"] / row["truth"] - 1.0
+        rows.append(row)
+    return rows
+
+
+def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
+    """Element rows, metrics (nominal, true envelope, calibrated), flags and timings of a
+    calibration result."""
+    nominal, truth = truth_file["nominal"], truth_file["truth"]
+    varied = {n: truth[n] for n in result.space.names}
+    envelope = true_metric(campaign, varied, metric)
+    confirmed = result.confirmed["calibrated"]
+    return {
+        "rows": element_rows(result, nominal, truth),
+        "nominal_metric": float(result.nominal_metric),
+        "true_metric": envelope,
+        "calibrated_metric": float(confirmed["confirmed"]),
+        "calibrated_source": str(confirmed.get("source")),
+        "flags": result.confirmed.get("flags", []),
+        "cv_r2": float(result.surrogate.cv_r2_),
+        "surrogate": type(result.surrogate).__name__,
+        "runs": result.runs,
+        "timings": result.timings,
+        "notes": result.notes,
+        "noise_std_W": float(result.posterior.noise_std),
+        "emulator_std_W": float(result.posterior.emulator_std),
+        "correlation_wall_roof": float(result.posterior.correlation.loc[WALL, ROOF]),
+    }
+
+
+def run(folder: Path, samples: int, *, metrics=("building", "groups"), workers=1, log=None):
+    """The campaign with the first metric, then the same samples with the others (``--resume``:
+    nothing sampled again, their optima confirmed with the model).
+
+    Returns a dict per metric (:func:`summarise`) with the seconds it took."""
+    from thermocal.calibration.config import load_campaign
+    from thermocal.calibration.workflow import calibrate
+
+    truth_file = json.loads((HERE / "truth.json").read_text())
+    path = prepare(folder, samples)
+    quiet = log or (lambda line: None)
+    out = {}
+    for i, metric in enumerate(metrics):
+        path.write_text(campaign_text(samples, extra=f"metric: {metric}\n"))
+        campaign = load_campaign(path)
+        t0 = time.perf_counter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            result = calibrate(
+                campaign,
+                workers=workers,
+                store_path=folder / "campaign.sqlite",
+                resume=bool(i),
+                progress=False,
+                log=quiet,
+            )
+            elapsed = time.perf_counter() - t0
+            out[metric] = summarise(result, campaign, truth_file, metric)
+        out[metric]["seconds"] = elapsed
+    return out
+
+
+def markdown(results: dict, samples: int) -> str:
+    lines = [
+        "# thermocal calibrate on the EnergyPlus twin of 5ZoneAirCooled\n",
+        f"Generated by `calibrate_twin.py` ({samples} samples; hidden truth in `truth.json`).\n",
+        "| metric | parameter | nominal | calibrated | posterior median [90 % interval] | truth "
+        "| calibrated / truth | determined | interval covers truth |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for metric, r in results.items():
+        for row in r["rows"]:
+            interval = "-"
+            if "median" in row:
+                interval = f"{row['median']:.3f} [{row['q05']:.3f}, {row['q95']:.3f}]"
+            lines.append(
+                f"| {metric} | {row['parameter']} | {row['nominal']:.3f} | {row['calibrated']:.3f} "
+                f"| {interval} | {row['truth']:.3f} | {100 * row['error']:+.1f} % | "
+                f"{row.get('determined', '-')} | {row.get('covers', '-')} |"
+            )
+    lines.append("")
+    for metric, r in results.items():
+        ratio = r["calibrated_metric"] / r["true_metric"]
+        lines.append(
+            f"- {metric}: metric nominal {r['nominal_metric']:.4g}, true envelope "
+            f"{r['true_metric']:.4g}, calibrated {r['calibrated_metric']:.4g} W^2 "
+            f"(x{ratio:.3f} the true envelope's; from the {r['calibrated_source']}); "
+            f"{r['surrogate']} CV R2 {r['cv_r2']:.3f}; flags: "
+            + ("; ".join(f.get("text", str(f)) for f in r["flags"]) or "none")
+            + f"; noise {r['noise_std_W']:.0f} W per hour (meta-model {r['emulator_std_W']:.0f} W);"
+            + f" posterior correlation wall/roof {r['correlation_wall_roof']:+.2f}"
+            + f"; {r['seconds']:.0f} s"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--samples", type=int, default=32)
+    parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--write", action="store_true")
+    args = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        results = run(Path(tmp), args.samples, workers=args.workers, log=print)
+    text = markdown(results, args.samples)
+    print(text)
+    if args.write:
+        (HERE / "results.md").write_text(text)
+        (HERE / "results.json").write_text(json.dumps(results, indent=2, default=str) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

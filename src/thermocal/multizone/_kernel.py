@@ -537,6 +537,7 @@ def run_steps(
     rhs_d = np.empty(n)
     mrt_tmp = np.zeros(nz)
     face_excess = np.zeros(face_node.shape[0])
+    face_lw = np.zeros(face_node.shape[0])
     zone_excess = np.zeros(nz)
     zone_g0 = np.zeros(nz)
     zone_scale = np.ones(nz)
@@ -566,6 +567,10 @@ def run_steps(
     r_t = np.zeros(mt)
     h_t = np.zeros(mt)
     res_t = np.zeros(mt)
+    n_faces = face_node.shape[0]
+    # the zones' interior convective conductance in the matrix (constant over the steps)
+    for f in range(n_faces):
+        zone_g0[face_zone[f]] += face_h0[f] * face_area[f]
     for s in range(n_steps):
         k = k0 + s
         # set points: one row per step, or a single row for the whole run
@@ -611,13 +616,9 @@ def run_steps(
                 corr += ext_area_eps[e, 1] * (exact - linear)
             rhs[node] += corr
         if tarp_on:
-            for z in range(nz):
-                zone_excess[z] = 0.0
-                zone_g0[z] = 0.0
-            for f in range(face_node.shape[0]):
-                node = face_node[f]
-                an = face_air[f]
-                dt_s = x[node] - x[an]
+            # per face (independent, no scatter: the compiler can keep several faces in flight)
+            for f in range(n_faces):
+                dt_s = x[face_node[f]] - x[face_air[f]]
                 root = cube_root_update(abs(dt_s), face_root[f])
                 face_root[f] = root
                 if tarp_on == 2:
@@ -627,10 +628,12 @@ def run_steps(
                 if h > face_hmax[f]:
                     h = face_hmax[f]
                 face_excess[f] = (h - face_h0[f]) * face_area[f]
-                z = face_zone[f]
-                zone_g0[z] += face_h0[f] * face_area[f]
+            # per zone, in face order (the same sums as one pass)
+            for z in range(nz):
+                zone_excess[z] = 0.0
+            for f in range(n_faces):
                 if face_excess[f] > 0.0:
-                    zone_excess[z] += face_excess[f]
+                    zone_excess[face_zone[f]] += face_excess[f]
             # the excess conductances of a zone's faces all act on its air node, lagged: with
             # the surfaces held, the air's deviation from them is multiplied by
             # (C/dt - Gx) / (C/dt + G0) each step, so a positive excess Gx above
@@ -654,7 +657,8 @@ def run_steps(
         # exact interior long-wave exchange: face <-> radiant star node with the coefficient
         # sigma (Tf^2 + Tr^2)(Tf + Tr) instead of 4 sigma T0^3
         if exact_interior:
-            for f in range(face_node.shape[0]):
+            # the corrections first (independent per face), then added in face order
+            for f in range(n_faces):
                 r_node = face_mrt[f]
                 if r_node < 0:
                     continue
@@ -662,9 +666,13 @@ def run_steps(
                 tf = x[node] + KELVIN
                 tr = x[r_node] + KELVIN
                 h_exact = SIGMA * (tf * tf + tr * tr) * (tf + tr)
-                corr = face_mrt_g[f] * (h_exact / h_black - 1.0) * (x[r_node] - x[node])
-                rhs[node] += corr
-                rhs[r_node] -= corr
+                face_lw[f] = face_mrt_g[f] * (h_exact / h_black - 1.0) * (x[r_node] - x[node])
+            for f in range(n_faces):
+                r_node = face_mrt[f]
+                if r_node < 0:
+                    continue
+                rhs[face_node[f]] += face_lw[f]
+                rhs[r_node] -= face_lw[f]
             # pairwise exchange factors: the same correction between the two faces of a pair
             for p in range(lw_pair_a.shape[0]):
                 a = lw_pair_a[p]

@@ -1029,6 +1029,8 @@ def assemble(
     face_is_window = np.asarray(f_win, dtype=bool)
     face_tau = np.asarray(f_window_tau, dtype=float)
     face_back = np.reshape(np.asarray(f_back, dtype=float), (len(f_back), 2))
+    # orientation and mass flag of every face, converted once (indexed per zone below)
+    tilt_all, az_all, mass_all = np.asarray(f_tilt), np.asarray(f_az), np.asarray(f_mass)
 
     # ---- interior convection -----------------------------------------------------------------
     if options.interior_convection == "tarp":
@@ -1083,16 +1085,16 @@ def assemble(
                 "lw_view",
                 face_area[members].tobytes(),
                 face_eps[members].tobytes(),
-                np.asarray(f_tilt)[members].tobytes(),
-                np.asarray(f_az)[members].tobytes(),
-                np.asarray(f_mass)[members].tobytes(),
+                tilt_all[members].tobytes(),
+                az_all[members].tobytes(),
+                mass_all[members].tobytes(),
             )
             if key not in cache:
                 view = approximate_view_factors(
                     face_area[members],
-                    np.asarray(f_tilt)[members],
-                    np.asarray(f_az)[members],
-                    np.asarray(f_mass)[members],
+                    tilt_all[members],
+                    az_all[members],
+                    mass_all[members],
                 )
                 cache[key] = grey_exchange_factors(view, face_eps[members])
             script_f = cache[key]
@@ -1271,16 +1273,16 @@ def assemble(
         vf_key = (
             "solar_view",
             face_area[members].tobytes(),
-            np.asarray(f_tilt)[members].tobytes(),
-            np.asarray(f_az)[members].tobytes(),
-            np.asarray(f_mass)[members].tobytes(),
+            tilt_all[members].tobytes(),
+            az_all[members].tobytes(),
+            mass_all[members].tobytes(),
         )
         if vf_key not in cache:
             cache[vf_key] = approximate_view_factors(
                 face_area[members],
-                np.asarray(f_tilt)[members],
-                np.asarray(f_az)[members],
-                np.asarray(f_mass)[members],
+                tilt_all[members],
+                az_all[members],
+                mass_all[members],
             )
         view[z] = cache[vf_key]
 

@@ -158,11 +158,12 @@ class GroundPath:
 #: 0.80 - 0.39 (default values of the floor / wall junction, "méthode 3CL-DPE 2021",
 #: arrêté du 31 mars 2021, annexe 1, 3.4.1: wall not insulated, floor not insulated 0.39,
 #: floor insulated underneath "en sous face" 0.80; the table's default when the position of
-#: a floor's insulation is unknown), for the soil of ISO 13370's default, 2.0 W/(m K); the
-#: junction's heat flows through the ground, so for another soil it scales with the soil's
-#: conductivity (as ISO 13370 Annex B's edge-insulation psi values do). ISO 13370 (7.2) leaves
-#: this junction to a psi value of ISO 14683 / EN ISO 10211; its floor U-value alone lets the
-#: insulation act over the whole floor.
+#: a floor's insulation is unknown). The table does not state its soil; taken as ISO 13370's
+#: default, 2.0 W/(m K). The junction's heat flows through the ground, so for another soil it
+#: scales with the soil's conductivity (as ISO 13370 Annex B's edge-insulation psi values
+#: do). ISO 13370 (7.2) leaves this junction to a psi value of ISO 14683 / EN ISO 10211 and
+#: counts it in the ground's coefficient, ``H_g = A U + P psi_g``; its floor U-value alone
+#: lets the insulation act over the whole floor.
 SLAB_EDGE_PSI_CHANGE = 0.41
 #: Soil conductivity of the tabulated junction values [W/(m K)].
 SLAB_EDGE_PSI_SOIL = 2.0
@@ -191,9 +192,11 @@ class EnvelopeComponents:
     adjacent_u: float = 1.0
     adjacent_b: float = 1.0
     # slab on ground: exposed perimeter [m] and the junction's psi change [W/(m K)] that
-    # insulating the floor adds (a direct Ti-Te conductance, like the thermal bridges in H_est)
+    # insulating the floor adds; after such a measure the junction's conductance [W/K] joins
+    # the ground path (ISO 13370: H_g = A U + P psi_g)
     floor_perimeter: float = 0.0
     floor_edge_psi: float = 0.0
+    floor_edge_conductance: float = 0.0
     # ground path of this envelope when it differs from the model's (uncertainty draws of
     # the soil conductivity and the basement air change); None: the model's
     ground: GroundPath | None = None
@@ -256,9 +259,8 @@ class EnvelopeComponents:
                 if m.component == "ground_floor" and env.floor_edge_psi > 0:
                     # the edge of the slab stays uninsulated (ISO 13370 7.2, ISO 14683)
                     env = replace(
-                        env, h_est_change=env.h_est_change + env.floor_edge_psi
-                        * env.floor_perimeter
-                    )  # fmt: skip
+                        env, floor_edge_conductance=env.floor_edge_psi * env.floor_perimeter
+                    )
             if m.g_value is not None:
                 if not windows_g:
                     raise ThermocalInputError(
@@ -546,7 +548,7 @@ class FifthOrderModel:
                 # retrofit adds resistance: Delta R from the change in the construction's U
                 d_r = 1.0 / env.floor_u - 1.0 / self.envelope.floor_u
                 u13370 = 1.0 / (1.0 / u13370 + d_r)
-                total = u13370 * env.floor_area
+                total = u13370 * env.floor_area + env.floor_edge_conductance
             else:
                 total = ground.to_ground
             # a heated basement's walls can conduct more than the floor's inner half: then

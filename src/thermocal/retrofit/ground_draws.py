@@ -35,6 +35,9 @@ References
 ISO 13370:2017, Table 7 (thermal properties of the ground), 9.4 (unheated basement).
 ISO 13789:2017, Table 7 (conventional air change rates of unheated spaces).
 ISO 14683:2017, 5 (accuracy of the methods for psi values).
+Arrêté du 31 mars 2021 relatif aux méthodes et procédures applicables au diagnostic de
+performance énergétique, annexe 1 ("méthode 3CL-DPE 2021"), 3.4.1 (default psi values of the
+floor / wall junction).
 O. T. Farouki, "Thermal properties of soils", CRREL Monograph 81-1, US Army Cold Regions
 Research and Engineering Laboratory, 1981.
 """
@@ -62,7 +65,8 @@ DESCRIPTION = {
     f"{BASEMENT_ACH_STD_LOG:.2f}: 90 % within 0.1-1 1/h (ISO 13789 conventional rates of "
     "unheated spaces)",
     "slab_edge_psi_change": "0.41 W/(m K) at soil 2.0 W/(m K) (default psi values of the "
-    "wall / floor junction: under-slab insulation 0.80 against an uninsulated floor 0.39), "
+    "wall / floor junction, French 3CL-DPE 2021 method, 3.4.1: under-slab insulation 0.80 "
+    "against an uninsulated floor 0.39), "
     "proportional to the drawn soil conductivity, times a log-normal factor with sd of ln "
     f"{SLAB_EDGE_PSI_STD_LOG:.2f} (ISO 14683: +/- 20 %)",
 }

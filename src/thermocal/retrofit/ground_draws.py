@@ -12,7 +12,7 @@ the standards, independently of each other:
   0.9-1.9 W/(m K) at 1,600-1,900 kg/m3; Farouki 1981);
 - **air change of an unheated basement** ``n``: log-normal with the building file's value as
   median (ISO 13370's 0.3 1/h) and ``sigma_ln = ln(10) / (2 x 1.645) = 0.70``: 5-95 % from
-  0.1 to 1 1/h, the first three classes of ISO 13789:2017's conventional air change rates of
+  0.1 to 1 1/h, the first three classes of ISO 13789's conventional air change rates of
   unheated spaces (no openings, joints sealed: 0.1; joints sealed, no openings: 0.5; small
   ventilation openings: 1); a leaky cellar with open joints or permanent openings (3 or 10
   1/h) is a description the user should give;
@@ -33,8 +33,10 @@ calibration's, and the savings through the measures' share of the ground path.
 References
 ----------
 ISO 13370:2017, Table 7 (thermal properties of the ground), 9.4 (unheated basement).
-ISO 13789:2017, Table 7 (conventional air change rates of unheated spaces).
-ISO 14683:2017, 5 (accuracy of the methods for psi values).
+ISO 13789:2007, Table 3 (conventional air change rates between unheated spaces and the
+external environment).
+ISO 14683:2007, 5.1, Table 1 (expected accuracy of psi values by method: catalogues and
+manual calculations +/- 20 %, default values 0 to +50 %).
 Arrêté du 31 mars 2021 relatif aux méthodes et procédures applicables au diagnostic de
 performance énergétique, annexe 1 ("méthode 3CL-DPE 2021"), 3.4.1 (default psi values of the
 floor / wall junction).

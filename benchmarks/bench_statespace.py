@@ -154,14 +154,20 @@ def bm_cases() -> dict:
     return out
 
 
-def peer_cases(commit: str) -> dict:
+def peer_cases(commit: str, src: Path | None = None) -> dict:
     """:func:`bm_cases` of another commit of this repository (``git archive`` of its ``src``
-    into a temporary folder, run in a subprocess with that source first on the path)."""
+    into a temporary folder, or ``src`` when given, e.g. an extraction whose numba cache is
+    warm; run in a subprocess with that source first on the path)."""
     import json
     import subprocess
     import sys
     import tempfile
 
+    if src is not None:
+        env = dict(os.environ, PYTHONPATH=str(src))
+        done = subprocess.run([sys.executable, __file__, "--bm-json"], env=env, check=True,
+                              capture_output=True, text=True)  # fmt: skip
+        return json.loads(done.stdout.strip().splitlines()[-1])
     with tempfile.TemporaryDirectory() as tmp:
         archive = subprocess.run(["git", "-C", str(REPO), "archive", commit, "src"],
                                  check=True, capture_output=True).stdout  # fmt: skip
@@ -172,18 +178,8 @@ def peer_cases(commit: str) -> dict:
         return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def main() -> None:
-    import argparse
-    import json
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--peer", help="a commit of this repository to time alongside (e.g. "
-                        "the previous main), Bacher & Madsen cases only")  # fmt: skip
-    parser.add_argument("--bm-json", action="store_true", help=argparse.SUPPRESS)
-    args = parser.parse_args()
-    if args.bm_json:
-        print(json.dumps(bm_cases()))
-        return
+def synthetic_cases() -> tuple[list, str]:
+    """Rows of the synthetic cases (issue 2 targets) and a line with their fit results."""
     rows = []
     model = two_state_model()
     data = two_state_data(model)
@@ -220,11 +216,34 @@ def main() -> None:
     best_l, med_l = timeit(lambda: p5.loglike(th5), repeats=7, number=200)
     rows.append(("(context) log-likelihood of the fifth-order model, 504 samples", best_l * 1e6,
                  med_l * 1e6, "us", None))  # fmt: skip
+    fit_line = (
+        f"Fit results: two-state loglike {res.loglike:.3f} ({res.n_free} free); fifth-order "
+        f"loglike {res5.loglike:.3f} ({res5.n_free} free), flags: {len(res5.flags)}."
+    )
+    return rows, fit_line
+
+
+def main() -> None:
+    import argparse
+    import json
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--peer", help="a commit of this repository to time alongside (e.g. "
+                        "the previous main), Bacher & Madsen cases only")  # fmt: skip
+    parser.add_argument("--peer-src", type=Path, help="an extracted `src` of the peer "
+                        "(numba cache warm) instead of a fresh `git archive`")  # fmt: skip
+    parser.add_argument("--bm-json", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--bm-only", action="store_true", help="only the Bacher & Madsen cases")
+    args = parser.parse_args()
+    if args.bm_json:
+        print(json.dumps(bm_cases()))
+        return
+    rows, fit_line = ([], "") if args.bm_only else synthetic_cases()
 
     peer = None
     if BM.exists():
         if args.peer:
-            peer = peer_cases(args.peer)
+            peer = peer_cases(args.peer, args.peer_src)
         cur = bm_cases()
         for key, label, target in BM_ROWS:
             label = label.format(**cur)
@@ -262,8 +281,7 @@ def main() -> None:
         lines.append(f"| {name} | {best:.3g} | {med:.3g} | {unit} | {tgt} | {verdict} |")
     lines += [
         "",
-        f"Fit results: two-state loglike {res.loglike:.3f} ({res.n_free} free); fifth-order "
-        f"loglike {res5.loglike:.3f} ({res5.n_free} free), flags: {len(res5.flags)}.",
+        fit_line,
         "",
         *extra,
         "",

@@ -81,9 +81,12 @@ def test_case600ff_temperatures_within_six_programs(case600):
             for name, z in building.zones.items()
         },
     )
-    # dataclasses.replace drops the import's idf_info: the IDF defaults (weather interpolation,
-    # EnergyPlus' pairwise interior long-wave exchange; the file's convection algorithms are the
-    # defaults) are given explicitly so that both runs below see the same model
+    # dataclasses.replace drops the import's idf_info: it is put back (the file's
+    # FullInteriorAndExterior distribution of the beam and its schedules), and the IDF defaults
+    # (weather interpolation, EnergyPlus' pairwise interior long-wave exchange; the file's
+    # convection algorithms are the defaults) are given explicitly so that both runs below see
+    # the same model
+    free.idf_info = building.idf_info
     result = Simulation(
         free,
         weather,

@@ -194,7 +194,7 @@ def test_case600ff_time_step_against_fine_step_energyplus(case600ff_energyplus, 
     uses the previous step's zone air) by 0.52 K; thermocal at 15 min stays within 0.28 K of its
     own 3-min solution (each step forced by the mean of the weather at its start and end; with
     the step-end weather of EnergyPlus it was 0.59 K and led); at 3 min the two engines agree
-    within 0.45 K, the -0.34 K bias left. Hourly means; thermocal as ``_both`` runs it and with
+    within 0.3 K (bias -0.16 K). Hourly means; thermocal as ``_both`` runs it and with
     the weather held."""
     idf = _folder("energyplus_reference") / "case_600FF_v25.idf"
     ep15, ep_fine = case600ff_energyplus[4], case600ff_energyplus[FINE_STEPS_PER_HOUR]
@@ -220,9 +220,13 @@ def test_case600ff_time_step_against_fine_step_energyplus(case600ff_energyplus, 
     assert rmse["tc15 vs ep_fine"] < 0.5, found
     assert rmse["tc15 vs ep_fine"] < 0.8 * rmse["tc15 vs ep15"], found
     assert rmse["hold tc15 vs ep_fine"] < 0.53, found
-    # both at the fine step: measured 0.29 K, bias -0.07 K
+    # both at the fine step: measured 0.28 K, bias -0.16 K (0.29 K / -0.07 K while thermocal put
+    # all the beam on the floor; the file's FullInteriorAndExterior, now simulated as EnergyPlus
+    # does, puts about 19 % of it on the walls, within 1 % of EnergyPlus per face, see
+    # test_multizone_idf_solar_distribution.py: the -0.16 K is a difference the floor's extra
+    # sun hid, not located)
     assert rmse["tc_fine vs ep_fine"] < 0.37, found
-    assert -0.15 < found["tc_fine vs ep_fine"][1] < 0.05, found
+    assert -0.2 < found["tc_fine vs ep_fine"][1] < 0.05, found
     assert rmse["tc_fine vs ep_fine"] < 0.6 * rmse["tc15 vs ep15"], found
     # each engine's own 15-min error: EnergyPlus 0.52 K; thermocal 0.28 K (EnergyPlus-style
     # weather, the default for IDF files, and held weather alike)

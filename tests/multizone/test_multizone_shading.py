@@ -5,7 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from thermocal.multizone.shading import ShadingSurface, ShadowCaster, sun_vectors
+from thermocal.multizone.shading import (
+    ShadingSurface,
+    ShadowCaster,
+    interior_beam_fractions,
+    sun_vectors,
+)
 
 
 def _south_window(width=2.0, height=1.5):
@@ -65,6 +70,23 @@ def test_fin_shadow_and_sky_diffuse_ratio():
     assert ShadowCaster([], {"w": (_south_window(), ())}).sky_diffuse_ratio("w") == 1.0
 
 
+def test_sky_dome_and_horizon_shading_ratios_are_energyplus_ones():
+    """EnergyPlus' own unit test (tst/EnergyPlus/unit/SolarShading.unit.cc,
+    ``SolarShadingTest_FigureSolarBeamAtTimestep``, ``SkyDifSolarShading``): a 6 x 2 m south
+    window under a 1 m deep overhang as wide as the window, at its head, has
+    ``DifShdgRatioIsoSky`` 0.6504 and ``DifShdgRatioHoriz`` 0.9152 (thermocal 0.648 / 0.910 at
+    its default sampling, 0.651 / 0.916 with 16 x as many cells)."""
+    window = np.array([[-3, -5, 2.5], [-3, -5, 0.5], [3, -5, 0.5], [3, -5, 2.5]], float)
+    overhang = ShadingSurface(
+        "shade", np.array([[-3, -5, 2.5], [-3, -6, 2.5], [3, -6, 2.5], [3, -5, 2.5]], float)
+    )
+    dome, horizon = ShadowCaster([overhang], {"w": (window, ())}).sky_diffuse_ratios("w")
+    assert dome == pytest.approx(0.6504, abs=0.005)
+    assert horizon == pytest.approx(0.9152, abs=0.01)
+    # the horizon band is the lowest row of sky patches: an overhang hides less of it
+    assert horizon > dome
+
+
 @pytest.mark.parametrize("hole", [True, False])
 def test_wall_minus_its_window(hole):
     wall = np.array([[4, 0, 3], [0, 0, 3], [0, 0, 0], [4, 0, 0]], float)
@@ -116,3 +138,32 @@ def test_idf_overhang_and_fins_are_placed_on_their_windows():
     np.testing.assert_allclose(sorted(set(np.round(fin[:, 1], 6))), [-0.75, 0.0])
     np.testing.assert_allclose(sorted(set(np.round(fin[:, 2], 6))), [0.2, 2.4])
     assert "Shading:Overhang" not in info.unsupported
+
+
+def test_interior_beam_lands_where_the_sun_puts_it():
+    """A south window in an 8 x 6 x 2.7 m box (window sill 0.2 m, head 2.2 m), the sun due
+    south: a ray from height z reaches the floor at z / tan(altitude) from the facade, the north
+    wall beyond 6 m; at 10 deg the floor gets (6 tan 10 - 0.2) / 2 = 0.429 of the beam."""
+    width, depth, height = 8.0, 6.0, 2.7
+    faces = {
+        "floor": [[0, 0, 0], [width, 0, 0], [width, depth, 0], [0, depth, 0]],
+        "ceiling": [[0, 0, height], [0, depth, height], [width, depth, height], [width, 0, height]],
+        "south": [[0, 0, 0], [0, 0, height], [width, 0, height], [width, 0, 0]],
+        "north": [[0, depth, 0], [width, depth, 0], [width, depth, height], [0, depth, height]],
+        "east": [[width, 0, 0], [width, 0, height], [width, depth, height], [width, depth, 0]],
+        "west": [[0, 0, 0], [0, depth, 0], [0, depth, height], [0, 0, height]],
+    }
+    faces = {name: np.array(v, float) for name, v in faces.items()}
+    window = np.array([[7, 0, 2.2], [1, 0, 2.2], [1, 0, 0.2], [7, 0, 0.2]], float)
+    altitude = np.array([10.0, 20.0, 60.0])
+    shares = interior_beam_fractions(window, faces, sun_vectors(90.0 - altitude, 180.0))
+    names = list(faces)
+    floor = np.clip((depth * np.tan(np.radians(altitude)) - 0.2) / 2.0, 0.0, 1.0)
+    np.testing.assert_allclose(shares[:, names.index("floor")], floor, atol=0.01)
+    np.testing.assert_allclose(shares[:, names.index("north")], 1.0 - floor, atol=0.01)
+    np.testing.assert_allclose(shares.sum(axis=1), 1.0)
+    # the sun from the south-west at 10 deg: part of the beam reaches the east wall
+    oblique = interior_beam_fractions(window, faces, sun_vectors([80.0], [225.0]))[0]
+    assert oblique[names.index("east")] > 0.3 and oblique[names.index("west")] == 0.0
+    # the sun behind the window: no beam
+    assert not interior_beam_fractions(window, faces, sun_vectors([60.0], [0.0])).any()

@@ -176,3 +176,51 @@ def test_fit_command_compares_the_heat_loss_of_periods(tmp_path):
     assert list(by_period["periods"]) == [f"until {split}", f"from {split}"]
     assert not by_period["agree"]
     assert content["flags"][0].startswith("heat loss coefficient depends on the period")
+
+
+@pytest.mark.parametrize("h_adjacent", [1e-6, 60.0])
+def test_fit_command_compares_the_halves_without_being_asked(tmp_path, h_adjacent):
+    """`thermocal fit` without --hlc-split compares the heat loss coefficients of the first and
+    the second half of the data: on the house whose adjacent space follows the test (not in the
+    model) the disagreement is the first flag; without the adjacent space the halves agree and
+    nothing is flagged. Before, the period dependence was looked for only with --hlc-split (no
+    'heat_loss_by_period' in fit.json, no flag)."""
+    import json
+
+    import yaml
+    from typer.testing import CliRunner
+
+    from thermocal.cli import app
+
+    periods = _regime_periods(h_adjacent)
+    data = pd.concat(list(periods.values()))
+    data.index.name = "time"
+    data.to_csv(tmp_path / "house.csv")
+    (tmp_path / "m.yaml").write_text(yaml.safe_dump(two_state().to_dict(), sort_keys=False))
+    ran = CliRunner().invoke(
+        app,
+        ["fit", str(tmp_path / "m.yaml"), str(tmp_path / "house.csv"), "--no-figures",
+         "--no-time-stamp-check", "--out", str(tmp_path / "o")],
+    )  # fmt: skip
+    assert ran.exit_code == 0, ran.output
+    content = json.loads((tmp_path / "o" / "fit.json").read_text())
+    by_period = content["heat_loss_by_period"]
+    split = periods["steady"].index[0].isoformat()
+    assert list(by_period["periods"]) == [
+        f"first half (until {split})",
+        f"second half (from {split})",
+    ]
+    flagged = [f for f in content["flags"] if f.startswith("heat loss coefficient depends on")]
+    if h_adjacent < 1:
+        assert by_period["agree"] and not flagged
+    else:
+        assert not by_period["agree"]
+        assert content["flags"][0] == flagged[0]
+        # --no-hlc-halves: the check is skipped
+        ran = CliRunner().invoke(
+            app,
+            ["fit", str(tmp_path / "m.yaml"), str(tmp_path / "house.csv"), "--no-figures",
+             "--no-time-stamp-check", "--no-hlc-halves", "--out", str(tmp_path / "p")],
+        )  # fmt: skip
+        assert ran.exit_code == 0, ran.output
+        assert "heat_loss_by_period" not in json.loads((tmp_path / "p" / "fit.json").read_text())

@@ -217,3 +217,26 @@ def test_heat_loss_coefficient_implied_by_the_network(fitted):
     expected = 1000.0 * (1 / 8.0 + 1 / (2.0 + 3.0))  # W/K
     assert m.heat_loss_coefficient(values) == pytest.approx(expected, rel=1e-12)
     assert models["TiTmTeTh"].heat_loss_state() == "Ti"
+
+
+def test_profile_runs_with_one_blas_thread_and_restores_the_setting(fitted, monkeypatch):
+    """The constrained fits of a profile (SLSQP) run with one BLAS thread: with OpenBLAS' two
+    threads on this 2-core machine, SLSQP on 19 parameters took 18 ms per iteration instead of
+    1 ms and a four-state heat loss profile 16-18 CPU-s instead of 3.7-4.7 (measured under
+    load). Before, `thermocal fit` profiled with every BLAS thread of the process."""
+    threadpoolctl = pytest.importorskip("threadpoolctl")
+    from thermocal.statespace import profile
+
+    outside = [lib["num_threads"] for lib in threadpoolctl.threadpool_info()]
+    seen = []
+    original = profile._profile_interval
+
+    def spy(*args, **kwargs):
+        seen.extend(lib["num_threads"] for lib in threadpoolctl.threadpool_info())
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(profile, "_profile_interval", spy)
+    interval = fitted.profile_interval("H")
+    assert interval["lower"] < fitted.params["H"] < interval["upper"]
+    assert seen and set(seen) == {1}
+    assert [lib["num_threads"] for lib in threadpoolctl.threadpool_info()] == outside

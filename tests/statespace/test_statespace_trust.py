@@ -503,3 +503,29 @@ def test_spikes_that_inflate_quantiles_and_negative_heat_are_named_by_column_tim
     flags = evaluate(model, kelvin).flags
     assert any(f.startswith("input 'Ta' (temperature [C]) has 200 value(s) outside the physical")
                for f in flags), flags  # fmt: skip
+
+
+def test_refit_with_reuse_equals_a_full_refit_and_runs_only_the_new_start(clean, monkeypatch):
+    """A multi-start fit with a new warm start, reusing an earlier fit of the same model and
+    data (as forward selection re-polishes a parent from an extension's estimates): the same
+    log-likelihood, estimates and start ends as the full refit, with one optimiser start run
+    instead of all; a different model (other declared values) reuses nothing."""
+    from thermocal.statespace import estimation
+
+    model = envelope_model().with_parameters({"Ci": 1.0, "Ce": 400.0, "Hie": 60.0, "e": 0.5})
+    first = model.fit(clean, n_starts=3, seed=4, n_jobs=1, compute_hessian=False)
+    warm = {"Ci": 2.5, "Ce": 150.0, "Hie": 250.0, "Hea": 90.0}
+    full = model.fit(clean, n_starts=3, seed=4, n_jobs=1, warm_start=warm)
+    runs = []
+    original = estimation._polished_start
+    monkeypatch.setattr(estimation, "_polished_start", lambda *a: runs.append(1) or original(*a))
+    again = model.fit(clean, n_starts=3, seed=4, n_jobs=1, warm_start=warm, reuse=first)
+    assert len(runs) == 1  # the warm start only
+    assert again.loglike == full.loglike
+    np.testing.assert_array_equal(again.theta, full.theta)
+    assert again.start_loglikes == full.start_loglikes
+    assert again.converged == full.converged and again.flags == full.flags
+    other = model.with_parameters({"Ci": 1.1})
+    runs.clear()
+    other.fit(clean, n_starts=3, seed=4, n_jobs=1, compute_hessian=False, reuse=first)
+    assert len(runs) == len(first.start_loglikes)

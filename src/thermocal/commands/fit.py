@@ -607,6 +607,15 @@ def fit(
             "sequence and a steady phase, adjacent spaces following the test).",
         ),
     ] = None,
+    hlc_halves: Annotated[
+        bool,
+        typer.Option(
+            "--hlc-halves/--no-hlc-halves",
+            help="Without --hlc-split, with --hlc: fit the model on the first and on the "
+            "second half of the data too (two more fits) and flag when the heat loss "
+            "coefficients' intervals do not overlap (a period-dependent coefficient).",
+        ),
+    ] = True,
     hlc: Annotated[
         bool,
         typer.Option(
@@ -732,16 +741,36 @@ def fit(
             if stamps["message"]:
                 results.flags.insert(0, stamps["message"])
                 content["flags"] = list(results.flags)
-        if hlc_split:
-            from thermocal.statespace.checks import heat_loss_regime_check, split_at
+        halves = (
+            not hlc_split and hlc_halves and hlc and gaps != "split"
+            and model.heat_loss_state() is not None
+        )  # fmt: skip
+        regime = None
+        if hlc_split or halves:
+            from thermocal.statespace.checks import heat_loss_regime_check, split_at, split_halves
 
             console.print("heat loss coefficient per period...")
-            periods = split_at(data, hlc_split, time_column=time_column, time_unit=time_unit,
-                               source=str(data_file))  # fmt: skip
-            regime = heat_loss_regime_check(
-                model, periods, hold=hold, time_column=time_column, time_unit=time_unit,
-                profile=False, n_starts=n_starts, seed=seed,
-            )  # fmt: skip
+            gap_kw = {"input_gaps": "interpolate" if max_gap > 0 else "error",
+                      "max_gap": max(max_gap, 1)}  # fmt: skip
+            if hlc_split:
+                periods = split_at(data, hlc_split, time_column=time_column,
+                                   time_unit=time_unit, source=str(data_file))  # fmt: skip
+                regime = heat_loss_regime_check(
+                    model, periods, hold=hold, time_column=time_column, time_unit=time_unit,
+                    profile=False, n_starts=n_starts, seed=seed, **gap_kw,
+                )  # fmt: skip
+            else:
+                try:  # automatic: a period that cannot be fitted alone skips the check
+                    periods = split_halves(data, time_column=time_column, time_unit=time_unit,
+                                           source=str(data_file))  # fmt: skip
+                    regime = heat_loss_regime_check(
+                        model, periods, hold=hold, time_column=time_column,
+                        time_unit=time_unit, profile=False, n_starts=n_starts, seed=seed,
+                        **gap_kw,
+                    )  # fmt: skip
+                except ThermocalInputError as exc:
+                    notes.append(f"heat loss coefficient per half of the data not compared: {exc}")
+        if regime is not None:
             content["heat_loss_by_period"] = regime
             if regime["message"]:
                 results.flags.insert(0, regime["message"])

@@ -360,3 +360,11 @@ def select(
     console.print(
         f"wrote {out / 'selection.json'}, {out / 'selection.md'} and one folder per model"
     )
+    if result.selected in hlcs:
+        # the period dependence is not checked here (two more multi-start fits of the
+        # selected model); `fit` compares the halves of the data by default
+        console.print(
+            "period dependence of the heat loss coefficient (not checked here): thermocal fit "
+            f"{out / result.selected / 'model.yaml'} {data_file} with the same time and --map "
+            "options compares the two halves of the data (or periods given by --hlc-split)"
+        )

@@ -628,7 +628,7 @@ def check_sensor_plausibility(
     for sensor in grid.columns:
         values = grid[sensor].to_numpy(dtype=float)
         same = np.abs(np.diff(values)) <= 1e-9 * np.maximum(1.0, np.abs(values[1:]))
-        runs = _runs(np.append(same, False), grid.index, step)
+        runs = _runs(np.append(same, False), grid.index, step, min_steps=int(STUCK_AFTER // step))
         long = [r for r in runs if r["hours"] * pd.Timedelta("1h") >= STUCK_AFTER]
         if steps_per_day and long:
             first = long[0]
@@ -686,26 +686,20 @@ def check_period_length(start, end, weather_index: pd.DatetimeIndex) -> None:
         )
 
 
-def _runs(mask: np.ndarray, index: pd.DatetimeIndex, step: pd.Timedelta) -> list[dict]:
-    runs = []
-    n = len(mask)
-    i = 0
-    while i < n:
-        if mask[i]:
-            j = i
-            while j < n and mask[j]:
-                j += 1
-            runs.append(
-                {
-                    "start": index[i],
-                    "end": index[j - 1] + step,
-                    "hours": (j - i) * step / pd.Timedelta("1h"),
-                }
-            )
-            i = j
-        else:
-            i += 1
-    return runs
+def _runs(
+    mask: np.ndarray, index: pd.DatetimeIndex, step: pd.Timedelta, *, min_steps: int = 1
+) -> list[dict]:
+    """Runs of True in ``mask`` of at least ``min_steps`` steps: start, end (timestamps) and
+    length [h] each, in order (vectorised: only the runs kept are turned into timestamps)."""
+    flags = np.concatenate(([False], np.asarray(mask, dtype=bool), [False]))
+    edges = np.flatnonzero(flags[1:] != flags[:-1])
+    starts, stops = edges[0::2], edges[1::2]
+    keep = (stops - starts) >= max(1, int(min_steps))
+    hour = step / pd.Timedelta("1h")
+    return [
+        {"start": index[i], "end": index[j - 1] + step, "hours": (j - i) * hour}
+        for i, j in zip(starts[keep].tolist(), stops[keep].tolist(), strict=True)
+    ]
 
 
 def _interpolate_short_gaps(series: pd.Series, max_gap: pd.Timedelta):

@@ -717,6 +717,9 @@ class Network:
     # solar inputs
     orientation_inputs: dict = field(default_factory=dict)  # (tilt, az) -> input col (opaque)
     window_inputs: dict = field(default_factory=dict)  # (wt, tilt, az) -> 4 input cols
+    #: window -> (beam input col, glazed area [m2], [(face, input col)]): the beam of windows
+    #: whose interior distribution follows the sun (EnergyPlus' FullInteriorAndExterior)
+    window_beam_targets: dict = field(default_factory=dict)
     zone_transmitted: sp.csr_matrix | None = None  # (nz, n_inputs): transmitted solar per zone
     # windows: glass-face nodes, matrix conductance [W/K] and its ratio on WINDOW_TEMPERATURE_GRID
     ext_is_window: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
@@ -749,6 +752,7 @@ def assemble(
     gain_input_zones=(),
     own_solar_inputs=frozenset(),
     sky_view_ratio=None,
+    interior_beam=None,
 ) -> Network:
     """Assemble the sparse network of a building for a time step.
 
@@ -780,6 +784,12 @@ def assemble(
         the ratio of shaded to unshaded isotropic sky diffuse, which multiplies the sky's share
         of their long-wave exchange as in EnergyPlus (the rest is exchanged at the outdoor-air
         temperature).
+    interior_beam : dict of str -> sequence of str, optional
+        Windows (names) whose transmitted beam lands where the sun puts it (EnergyPlus'
+        ``FullInteriorAndExterior``): the faces of their zone it can reach. Each (window, face)
+        gets an input column [W of transmitted beam landing on the face], absorbed there and
+        reflected as the floor's share is; the caller sets it per step
+        (``Network.window_beam_targets``). Other windows put their beam on the floor.
     """
     options = options or NetworkOptions()
     cache = {} if cache is None else cache
@@ -1320,6 +1330,7 @@ def assemble(
         diffuse_share[window.name] = with_reflection(z, *first_incidence(z, row))
 
     window_inputs: dict[tuple[str, float, float], tuple[int, int, int, int]] = {}
+    window_beam_targets: dict[str, tuple] = {}
     zt_rows: list[int] = []
     zt_cols: list[int] = []
     zt_vals: list[float] = []
@@ -1342,8 +1353,20 @@ def assemble(
         c_beam, c_diff, c_out, c_in = window_inputs[key]
         area = window.glazed_area * window.shading_factor
         z = zone_index[host.zone]
-        for node, s in beam_share.get(z, []):
-            source(node, c_beam, area * s)
+        targets = (interior_beam or {}).get(window.name)
+        if targets:
+            in_zone = np.asarray(zone_members[z])
+            on_faces = []
+            for face in targets:
+                onto = np.array([1.0 if f_name[m] == face else 0.0 for m in in_zone])
+                c_face = new_input(f"window_beam_on/{window.name}/{face}")
+                for node, s in with_reflection(z, *first_incidence(z, onto)):
+                    source(node, c_face, s)
+                on_faces.append((face, c_face))
+            window_beam_targets[window.name] = (c_beam, area, on_faces)
+        else:
+            for node, s in beam_share.get(z, []):
+                source(node, c_beam, area * s)
         for node, s in diffuse_share.get(window.name, []):
             source(node, c_diff, area * s)
         outer, inner = window_nodes[window.name]
@@ -1404,6 +1427,7 @@ def assemble(
         reference_density=rho_ref,
         orientation_inputs=orientation_inputs,
         window_inputs=window_inputs,
+        window_beam_targets=window_beam_targets,
         zone_transmitted=zone_transmitted,
         window_outer=np.array([n[0] for n in window_nodes.values()], dtype=np.int64),
         window_inner=np.array([n[1] for n in window_nodes.values()], dtype=np.int64),

@@ -12,9 +12,12 @@ overhang shadow in ``tests/multizone/test_multizone_shading.py``). Shading polyg
 from both faces (EnergyPlus mirrors detached shading surfaces) and may be partly transparent
 (``transmittance`` per step).
 
-The isotropic sky-diffuse view of a receiver is reduced in the same way as EnergyPlus'
-``DifShdgRatioIsoSky``: the sunlit fraction is averaged over 6 x 24 sky patches (altitude
-bands of 15 deg, azimuth sectors of 15 deg), weighted by ``cos(incidence) cos(altitude)``.
+The sky-diffuse view of a receiver is reduced in the same way as EnergyPlus'
+``DifShdgRatioIsoSky`` (the dome) and ``DifShdgRatioHoriz`` (the horizon band): the sunlit
+fraction is averaged over 6 x 24 sky patches (altitude bands of 15 deg, azimuth sectors of 15 deg),
+weighted by ``cos(incidence) cos(altitude)``, over all of them or over the lowest band. The
+circumsolar part of the sky is shaded like the beam (EnergyPlus Engineering Reference, "Shadowing
+of Sky Diffuse Solar Radiation").
 
 Coordinates are world coordinates [m]: x east, y north, z up.
 """
@@ -24,6 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 #: cells per receiver of the sampling (about)
 DEFAULT_SAMPLES = 1600
@@ -59,6 +63,7 @@ class _Receiver:
     u_axis: np.ndarray
     v_axis: np.ndarray
     points: np.ndarray  # (p, 2) sample points in (u, v)
+    weights: np.ndarray  # (p,) covered share of each point's cell
     shaders: list[tuple[int, np.ndarray]] = field(default_factory=list)  # (index, clipped verts)
 
 
@@ -135,6 +140,46 @@ def sample_points(
     Returns
     -------
     (p, 3) array [m]
+        The centres of the cells that lie mostly on the polygon.
+    """
+    points, weights = sample_cells(vertices, normal, holes=holes, samples=samples)
+    return points[weights > 0.5]
+
+
+def sample_cells(
+    vertices: np.ndarray,
+    normal: np.ndarray,
+    *,
+    holes=(),
+    samples: int = DEFAULT_SAMPLES,
+    refine: int = 4,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Cells of a regular grid over a planar polygon minus its holes, with their covered share.
+
+    Each cell's share of polygon (minus holes) is counted on ``refine x refine`` sub-cells, so
+    that a sunlit fraction averaged with these weights has the receiver's area right although
+    the edges of its holes (a wall's windows) do not follow the grid; the shadow test is made
+    at one point of the cell.
+
+    Parameters
+    ----------
+    vertices : (n, 3) array [m]
+    normal : (3,) array
+        Outward normal (any length).
+    holes : sequence of (m, 3) arrays
+        Sub-surfaces (windows, doors) excluded from the receiver.
+    samples : int
+        Number of cells over the polygon's area (about).
+    refine : int
+        Sub-cells per cell side for the covered share.
+
+    Returns
+    -------
+    points : (p, 3) array [m]
+        One point in each cell that touches the polygon (jittered about its centre by a fixed
+        pseudo-random sequence).
+    weights : (p,) array [-]
+        Their covered share (0, 1].
     """
     v = np.asarray(vertices, dtype=float)
     n = normal / np.linalg.norm(normal)
@@ -146,17 +191,30 @@ def sample_points(
     lo, hi = local.min(axis=0), local.max(axis=0)
     nu = max(1, int(np.ceil((hi[0] - lo[0]) / cell)))
     nv = max(1, int(np.ceil((hi[1] - lo[1]) / cell)))
-    gu = lo[0] + (np.arange(nu) + 0.5) * (hi[0] - lo[0]) / nu
-    gv = lo[1] + (np.arange(nv) + 0.5) * (hi[1] - lo[1]) / nv
-    uu, vv = np.meshgrid(gu, gv, indexing="ij")
-    uu, vv = uu.ravel(), vv.ravel()
+    r = max(1, int(refine))
+    fu = lo[0] + (np.arange(nu * r) + 0.5) * (hi[0] - lo[0]) / (nu * r)
+    fv = lo[1] + (np.arange(nv * r) + 0.5) * (hi[1] - lo[1]) / (nv * r)
+    uu, vv = np.meshgrid(fu, fv, indexing="ij")
     keep = _inside(local, uu, vv)
     for hole in holes:
         h = np.asarray(hole, dtype=float)
         h_local = np.stack([(h - origin) @ u_axis, (h - origin) @ v_axis], axis=1)
         keep &= ~_inside(h_local, uu, vv)
-    uu, vv = uu[keep], vv[keep]
-    return origin[None, :] + uu[:, None] * u_axis[None, :] + vv[:, None] * v_axis[None, :]
+    weights = keep.reshape(nu, r, nv, r).mean(axis=(1, 3)).ravel()
+    gu = lo[0] + (np.arange(nu) + 0.5) * (hi[0] - lo[0]) / nu
+    gv = lo[1] + (np.arange(nv) + 0.5) * (hi[1] - lo[1]) / nv
+    cu, cv = np.meshgrid(gu, gv, indexing="ij")
+    # the ray of each cell leaves from a point jittered within the cell (a fixed sequence), so
+    # that shadow edges parallel to the grid (an overhang over a window) move the sunlit
+    # fraction smoothly rather than a row at a time
+    jitter = np.random.default_rng(20261125).uniform(-0.5, 0.5, size=(2, nu, nv))
+    cu = cu + jitter[0] * (hi[0] - lo[0]) / nu
+    cv = cv + jitter[1] * (hi[1] - lo[1]) / nv
+    cu, cv = cu.ravel(), cv.ravel()
+    touched = weights > 0
+    cu, cv, weights = cu[touched], cv[touched], weights[touched]
+    points = origin[None, :] + cu[:, None] * u_axis[None, :] + cv[:, None] * v_axis[None, :]
+    return points, weights
 
 
 class ShadowCaster:
@@ -212,13 +270,13 @@ class ShadowCaster:
                     candidates.append((k, clipped))
             if not candidates:
                 continue
-            points = sample_points(verts, normal, holes=holes, samples=samples)
+            points, weights = sample_cells(verts, normal, holes=holes, samples=samples)
             if len(points) == 0:
                 continue
             u_axis, v_axis = _plane_axes(normal)
             local = np.stack([(points - origin) @ u_axis, (points - origin) @ v_axis], axis=1)
             self._receivers[name] = _Receiver(
-                name, origin, normal, u_axis, v_axis, local, candidates
+                name, origin, normal, u_axis, v_axis, local, weights, candidates
             )
         self.shaded = list(self._receivers)
 
@@ -245,39 +303,32 @@ class ShadowCaster:
             return out
         front = (sun @ rec.normal > 1e-9) & (sun[:, 2] > -1e-9)
         steps = np.flatnonzero(front)
-        x, y = rec.points[:, 0][None, :], rec.points[:, 1][None, :]
+        if not len(steps):
+            return out
+        n_shaders = len(rec.shaders)
+        n_vertices = np.array([len(verts) for _, verts in rec.shaders], dtype=np.int64)
+        width = int(n_vertices.max())
+        px = np.ascontiguousarray(rec.points[:, 0])
+        py = np.ascontiguousarray(rec.points[:, 1])
         for start in range(0, len(steps), _TIME_CHUNK):
             chunk = steps[start : start + _TIME_CHUNK]
             s = sun[chunk]  # (c, 3)
-            lit = np.ones((len(chunk), len(x[0])))
             cos_n = s @ rec.normal  # (c,) > 0
-            for k, verts in rec.shaders:
+            su = np.zeros((len(chunk), n_shaders, width))
+            sv = np.zeros((len(chunk), n_shaders, width))
+            tau = np.zeros((len(chunk), n_shaders))
+            for j, (k, verts) in enumerate(rec.shaders):
                 # shadow of the polygon on the receiver's plane, along the sun's rays
                 rel = verts - rec.origin  # (m, 3)
                 height = rel @ rec.normal  # (m,) > 0 after clipping
                 shadow = (
                     rel[None, :, :] - (height[None, :, None] / cos_n[:, None, None]) * s[:, None, :]
                 )
-                su, sv = shadow @ rec.u_axis, shadow @ rec.v_axis  # (c, m)
-                inside = np.zeros(lit.shape, dtype=bool)
-                m = len(verts)
-                for i in range(m):
-                    x1, y1 = su[:, i : i + 1], sv[:, i : i + 1]
-                    x2, y2 = (
-                        su[:, (i + 1) % m : (i + 1) % m + 1],
-                        sv[:, (i + 1) % m : (i + 1) % m + 1],
-                    )
-                    dy = y2 - y1
-                    crosses = (y1 > y) != (y2 > y)
-                    with np.errstate(divide="ignore", invalid="ignore"):
-                        x_at = x1 + (y - y1) * (x2 - x1) / np.where(dy == 0, 1.0, dy)
-                    inside ^= crosses & (x < x_at)
-                if transmittance is None:
-                    lit[inside] = 0.0
-                else:
-                    tau = np.broadcast_to(transmittance[chunk, k][:, None], lit.shape)
-                    lit = np.where(inside, lit * tau, lit)
-            out[chunk] = lit.mean(axis=1)
+                su[:, j, : len(verts)] = shadow @ rec.u_axis
+                sv[:, j, : len(verts)] = shadow @ rec.v_axis
+                if transmittance is not None:
+                    tau[:, j] = transmittance[chunk, k]
+            out[chunk] = _lit_share(px, py, rec.weights, su, sv, n_vertices, tau)
         return out
 
     def sky_diffuse_ratio(self, name: str, transmittance=None) -> float:
@@ -286,12 +337,30 @@ class ShadowCaster:
         ``transmittance``: (n_shaders,) constant transmittances (default opaque). Returns 1 for
         receivers no shading polygon can shade.
         """
+        return self.sky_diffuse_ratios(name, transmittance)[0]
+
+    def sky_diffuse_ratios(self, name: str, transmittance=None) -> tuple[float, float]:
+        """Unshaded shares of the sky dome and of the horizon band on a receiver [-].
+
+        EnergyPlus' ``SkyDifSolarShading``: the sunlit fraction toward 6 x 24 sky patches
+        (altitudes 7.5 to 82.5 deg, azimuths every 15 deg), weighted by
+        ``cos(altitude) cos(incidence)`` over the patches in front of the receiver:
+        ``DifShdgRatioIsoSky`` over all of them, ``DifShdgRatioHoriz`` over the lowest band
+        (7.5 deg). ``transmittance``: (n_shaders,) constant transmittances (default opaque).
+        (1, 1) for receivers no shading polygon can shade.
+
+        References
+        ----------
+        .. [1] EnergyPlus Engineering Reference 25.2, "Shadowing of Sky Diffuse Solar
+           Radiation" (sky radiance model).
+        """
         if name not in self._receivers:
-            return 1.0
+            return 1.0, 1.0
         normal = self._receivers[name].normal
         altitudes = np.radians(np.arange(6) * 15.0 + 7.5)
-        azimuths = np.radians(np.arange(24) * 15.0 + 7.5)
+        azimuths = np.radians(np.arange(24) * 15.0)
         alt, az = np.meshgrid(altitudes, azimuths, indexing="ij")
+        band = np.broadcast_to(np.arange(6)[:, None], alt.shape).ravel()
         alt, az = alt.ravel(), az.ravel()
         directions = np.stack(
             [np.cos(alt) * np.sin(az), np.cos(alt) * np.cos(az), np.sin(alt)], axis=1
@@ -299,14 +368,183 @@ class ShadowCaster:
         cos_incidence = directions @ normal
         weight = np.where(cos_incidence > 0, cos_incidence * np.cos(alt), 0.0)
         if weight.sum() <= 0:
-            return 1.0
+            return 1.0, 1.0
         tau = None
         if transmittance is not None:
             tau = np.broadcast_to(
                 np.asarray(transmittance, float), (len(directions), len(self.shaders))
             )
         lit = self.sunlit_fraction(name, directions, tau)
-        return float((weight * lit).sum() / weight.sum())
+        dome = float((weight * lit).sum() / weight.sum())
+        low = band == 0
+        if weight[low].sum() <= 0:
+            return dome, 1.0
+        return dome, float((weight[low] * lit[low]).sum() / weight[low].sum())
+
+
+@njit(cache=True)
+def _lit_share(px, py, weights, su, sv, n_vertices, tau):  # pragma: no cover - compiled
+    """Mean over the points ``(px, py)`` (weighted) of the light left after the shadow polygons
+    ``(su, sv)[t, k, :n_vertices[k]]`` (even-odd rule; a point in shadow k keeps ``tau[t, k]``
+    of it), per step ``t``; each polygon's bounding box first."""
+    n_steps, n_shaders, _ = su.shape
+    n_points = len(px)
+    out = np.ones(n_steps)
+    lit = np.empty(n_points)
+    for t in range(n_steps):
+        lit[:] = 1.0
+        for k in range(n_shaders):
+            m = n_vertices[k]
+            u0 = su[t, k, 0]
+            u1 = u0
+            v0 = sv[t, k, 0]
+            v1 = v0
+            for i in range(1, m):
+                u0 = min(u0, su[t, k, i])
+                u1 = max(u1, su[t, k, i])
+                v0 = min(v0, sv[t, k, i])
+                v1 = max(v1, sv[t, k, i])
+            keep = tau[t, k]
+            for p in range(n_points):
+                x = px[p]
+                y = py[p]
+                if x < u0 or x > u1 or y < v0 or y > v1:
+                    continue
+                inside = False
+                for i in range(m):
+                    j = i + 1 if i + 1 < m else 0
+                    y1 = sv[t, k, i]
+                    y2 = sv[t, k, j]
+                    if (y1 > y) != (y2 > y):
+                        x1 = su[t, k, i]
+                        x_at = x1 + (y - y1) * (su[t, k, j] - x1) / (y2 - y1)
+                        if x < x_at:
+                            inside = not inside
+                if inside:
+                    lit[p] *= keep
+        total = 0.0
+        norm = 0.0
+        for p in range(n_points):
+            total += weights[p] * lit[p]
+            norm += weights[p]
+        out[t] = total / norm if norm > 0.0 else 1.0
+    return out
+
+
+def interior_beam_fractions(
+    window: np.ndarray, faces: dict, sun: np.ndarray, *, samples: int = 400
+) -> np.ndarray:
+    """Where the beam entering through a window lands: the share on each face of its zone.
+
+    Rays from cells of the window (weighted by their covered share) travel along the sun's
+    direction into the zone; each lands on the nearest face it crosses (EnergyPlus'
+    ``FullInteriorAndExterior`` projects the sunlit window onto the zone's back surfaces, for
+    convex zones the same). Rays that find no face (an open zone) are not counted.
+
+    Parameters
+    ----------
+    window : (n, 3) array [m]
+        The window's vertices, counter-clockwise seen from outside (outward normal).
+    faces : dict of str -> (m, 3) array [m]
+        The zone's faces (any vertex order).
+    sun : (t, 3) array
+        Unit vectors toward the sun.
+    samples : int
+        Cells on the window (about).
+
+    Returns
+    -------
+    (t, len(faces)) array [-]
+        Shares of the transmitted beam per face (rows sum to 1, or 0 with the sun behind the
+        window or below the horizon).
+    """
+    window = np.asarray(window, dtype=float)
+    outward = newell_normal(window)
+    outward = outward / np.linalg.norm(outward)
+    points, weights = sample_cells(window, outward, samples=samples)
+    sun = np.atleast_2d(np.asarray(sun, dtype=float))
+    names = list(faces)
+    out = np.zeros((len(sun), len(names)))
+    width = max(len(faces[name]) for name in names) if names else 0
+    origins = np.zeros((len(names), 3))
+    normals = np.zeros((len(names), 3))
+    u_axes = np.zeros((len(names), 3))
+    v_axes = np.zeros((len(names), 3))
+    polygons = np.zeros((len(names), max(width, 1), 2))
+    n_vertices = np.zeros(len(names), dtype=np.int64)
+    for k, name in enumerate(names):
+        verts = np.asarray(faces[name], dtype=float)
+        normal = newell_normal(verts)
+        normal = normal / max(np.linalg.norm(normal), 1e-12)
+        u_axis, v_axis = _plane_axes(normal)
+        origins[k], normals[k], u_axes[k], v_axes[k] = verts[0], normal, u_axis, v_axis
+        polygons[k, : len(verts)] = np.stack(
+            [(verts - verts[0]) @ u_axis, (verts - verts[0]) @ v_axis], axis=1
+        )
+        n_vertices[k] = len(verts)
+    lit = np.flatnonzero((sun @ outward > 1e-6) & (sun[:, 2] > 0.0))
+    if len(lit) and len(names):
+        out[lit] = _land(
+            points, weights, -sun[lit], origins, normals, u_axes, v_axes, polygons, n_vertices
+        )
+    return out
+
+
+@njit(cache=True)
+def _land(
+    points, weights, directions, origins, normals, u_axes, v_axes, polygons, n_vertices
+):  # pragma: no cover - compiled
+    """Per direction, the weighted share of the rays from ``points`` landing first on each
+    face (planes ``origins``/``normals``, polygons in their ``u``/``v`` axes); a face at the
+    same distance as an earlier one does not take the ray."""
+    n_dir = directions.shape[0]
+    n_faces = origins.shape[0]
+    out = np.zeros((n_dir, n_faces))
+    for t in range(n_dir):
+        d0, d1, d2 = directions[t, 0], directions[t, 1], directions[t, 2]
+        total = 0.0
+        for p in range(points.shape[0]):
+            x0, x1, x2 = points[p, 0], points[p, 1], points[p, 2]
+            best = np.inf
+            hit = -1
+            for k in range(n_faces):
+                den = d0 * normals[k, 0] + d1 * normals[k, 1] + d2 * normals[k, 2]
+                if abs(den) < 1e-9:
+                    continue
+                dist = (
+                    (origins[k, 0] - x0) * normals[k, 0]
+                    + (origins[k, 1] - x1) * normals[k, 1]
+                    + (origins[k, 2] - x2) * normals[k, 2]
+                ) / den
+                if dist <= 1e-6 or dist >= best - 1e-6:
+                    continue
+                w0 = x0 + dist * d0 - origins[k, 0]
+                w1 = x1 + dist * d1 - origins[k, 1]
+                w2 = x2 + dist * d2 - origins[k, 2]
+                x = w0 * u_axes[k, 0] + w1 * u_axes[k, 1] + w2 * u_axes[k, 2]
+                y = w0 * v_axes[k, 0] + w1 * v_axes[k, 1] + w2 * v_axes[k, 2]
+                m = n_vertices[k]
+                inside = False
+                for i in range(m):
+                    j = i + 1 if i + 1 < m else 0
+                    y1 = polygons[k, i, 1]
+                    y2 = polygons[k, j, 1]
+                    if (y1 > y) != (y2 > y):
+                        x_at = polygons[k, i, 0] + (y - y1) * (
+                            polygons[k, j, 0] - polygons[k, i, 0]
+                        ) / (y2 - y1)
+                        if x < x_at:
+                            inside = not inside
+                if inside:
+                    best = dist
+                    hit = k
+            if hit >= 0:
+                out[t, hit] += weights[p]
+                total += weights[p]
+        if total > 0.0:
+            for k in range(n_faces):
+                out[t, k] /= total
+    return out
 
 
 def sun_vectors(zenith_deg, azimuth_deg) -> np.ndarray:

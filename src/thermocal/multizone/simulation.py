@@ -15,11 +15,8 @@ the compiled loop.
 from __future__ import annotations
 
 import dataclasses
-import json
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -28,6 +25,15 @@ from scipy.sparse.linalg import splu
 
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone import _kernel
+from thermocal.multizone.forcing import (  # noqa: F401 - re-exported
+    _energyplus_weather,
+    _ground_reflectance,
+    _irradiance,
+    _period_sun_vectors,
+    _sun_position,
+    _weather_grid,
+    _window_inputs,
+)
 from thermocal.multizone.model import Building
 from thermocal.multizone.network import (
     AIR_SPECIFIC_HEAT,
@@ -42,6 +48,15 @@ from thermocal.multizone.network import (
     exterior_convection,
     mowitt_forced,
     pressure_at_altitude,
+)
+from thermocal.multizone.results import (  # noqa: F401 - re-exported
+    OUTPUT_QUANTITIES,
+    SimulationResult,
+    TrackingResult,
+    _hourly_mean,
+    _write_csv,
+    _write_parquet,
+    output_quantities,
 )
 
 _CHUNK = 2048
@@ -73,234 +88,6 @@ class _Context:
     d_lu: object = None  # factorisation of the Dirichlet system (None: no controlled zones)
     vent: tuple = None  # indoor-limited ventilation arrays of the kernel (see _ventilation_arrays)
     implicit: dict = field(default_factory=dict)  # implicit outdoor-air sets -> kernel arrays
-
-
-@dataclass
-class SimulationResult:
-    """Output of :meth:`Simulation.run` (frames indexed by step start, one column per zone).
-
-    Attributes
-    ----------
-    air_temperature : DataFrame [C]
-    operative_temperature : DataFrame [C]
-        Mean of air and mean radiant (area-weighted interior surface) temperature.
-    mean_radiant_temperature : DataFrame [C]
-    heating, cooling : DataFrame [W]
-        Ideal heating and cooling powers (>= 0), constant over each step.
-    heat_input : DataFrame [W]
-        Given heat delivered to the zone air.
-    transmitted_solar : DataFrame [W]
-        Solar radiation transmitted by the windows into each zone.
-    infiltration : DataFrame [W]
-        Heat brought by infiltration (negative when it cools the zone).
-    surface_temperature : DataFrame or None [C]
-        Interior surface temperatures (one column per face seen from a zone), if stored.
-    step : pandas.Timedelta
-    """
-
-    air_temperature: pd.DataFrame
-    operative_temperature: pd.DataFrame
-    mean_radiant_temperature: pd.DataFrame
-    heating: pd.DataFrame
-    cooling: pd.DataFrame
-    heat_input: pd.DataFrame
-    transmitted_solar: pd.DataFrame
-    infiltration: pd.DataFrame
-    surface_temperature: pd.DataFrame | None
-    step: pd.Timedelta
-    approximations: list = field(default_factory=list)
-
-    def summary(self) -> dict:
-        """Per zone: min/max/mean air temperature [C], heating/cooling energy [kWh], peaks [kW].
-
-        Peaks are the largest hourly-integrated loads (as ASHRAE Standard 140 reports them) when
-        the step divides an hour, otherwise the largest step values.
-        """
-        hours = self.step.total_seconds() / 3600.0
-        to_kwh = hours / 1000.0
-        temp = self.air_temperature
-        air_h = _hourly_mean(temp, self.step)
-        columns = {
-            "air_temperature_min_C": temp.min(),
-            "air_temperature_max_C": temp.max(),
-            "air_temperature_mean_C": temp.mean(),
-            # hourly-integrated values, as ASHRAE Standard 140 defines them
-            "air_temperature_hourly_min_C": air_h.min(),
-            "air_temperature_hourly_max_C": air_h.max(),
-            "air_temperature_hourly_mean_C": air_h.mean(),
-            "heating_kWh": self.heating.sum() * to_kwh,
-            "cooling_kWh": self.cooling.sum() * to_kwh,
-            "heating_peak_kW": _hourly_mean(self.heating, self.step).max() / 1000.0,
-            "cooling_peak_kW": _hourly_mean(self.cooling, self.step).max() / 1000.0,
-            "heat_input_kWh": self.heat_input.sum() * to_kwh,
-        }
-        table = pd.DataFrame(columns).reindex(temp.columns)
-        zones = {
-            zone: {key: float(value) for key, value in row.items()}
-            for zone, row in zip(table.index, table.to_dict("records"), strict=True)
-        }
-        total_heat = self.heating.sum(axis=1)
-        total_cool = self.cooling.sum(axis=1)
-        return {
-            "start": str(self.air_temperature.index[0]),
-            "end": str(self.air_temperature.index[-1] + self.step),
-            "step_seconds": self.step.total_seconds(),
-            "zones": zones,
-            "building": {
-                "heating_kWh": float(total_heat.sum() * hours / 1000.0),
-                "cooling_kWh": float(total_cool.sum() * hours / 1000.0),
-                "heating_peak_kW": float(_hourly_mean(total_heat, self.step).max() / 1000.0),
-                "cooling_peak_kW": float(_hourly_mean(total_cool, self.step).max() / 1000.0),
-            },
-            "approximations": list(self.approximations),
-        }
-
-    def to_files(
-        self, directory: str | Path, *, format: str = "csv", quantities=None
-    ) -> list[Path]:
-        """Write zone temperatures, heat flows and ``summary.json`` into ``directory``.
-
-        Parameters
-        ----------
-        directory : str or Path
-        format : {"csv", "parquet"}
-        quantities : sequence of str, optional
-            Which of :data:`OUTPUT_QUANTITIES` to write (default: all); a file whose
-            quantities are all left out is not written.
-
-        Returns
-        -------
-        list of Path
-            The files written.
-        """
-        if format not in ("csv", "parquet"):
-            raise ThermocalInputError(f"format must be 'csv' or 'parquet', got {format!r}")
-        chosen = output_quantities(quantities)
-        directory = Path(directory)
-        directory.mkdir(parents=True, exist_ok=True)
-        jobs = []
-        for name in ("zone_temperatures", "zone_heat_flows"):
-            parts = [q for q in chosen if OUTPUT_QUANTITIES[q][0] == name]
-            if not parts:
-                continue
-            frames = [getattr(self, q) for q in parts]
-            flat = pd.DataFrame(
-                np.hstack([f.to_numpy(dtype=float) for f in frames]),
-                index=frames[0].index.rename("time"),
-                columns=[
-                    f"{zone}|{OUTPUT_QUANTITIES[q][1]}"
-                    for q, f in zip(parts, frames, strict=True)
-                    for zone in f.columns
-                ],
-            )
-            jobs.append((flat, directory / f"{name}.{format}"))
-        writer = _write_csv if format == "csv" else _write_parquet
-        if len(jobs) > 1:
-            # Arrow's writers release the GIL: the two files are written side by side
-            from concurrent.futures import ThreadPoolExecutor
-
-            with ThreadPoolExecutor(max_workers=len(jobs)) as pool:
-                list(pool.map(lambda job: writer(*job), jobs))
-        else:
-            for job in jobs:
-                writer(*job)
-        written = [path for _, path in jobs]
-        path = directory / "summary.json"
-        path.write_text(json.dumps(self.summary(), indent=2))
-        written.append(path)
-        return written
-
-
-@dataclass
-class TrackingResult:
-    """Output of :meth:`Simulation.track` (frames indexed by step start).
-
-    Attributes
-    ----------
-    air_temperature, operative_temperature : DataFrame [C]
-        Model temperatures of every zone at the end of each step.
-    heat : DataFrame [W]
-        Heat delivered to each tracked zone over each step (constant over the step), into its
-        air and, for a radiant fraction, its surfaces.
-    reference : DataFrame [C]
-        The tracked reference temperatures.
-    feedback : {"air", "operative"}, float or ndarray
-        The sensor model as given to :meth:`Simulation.track`.
-    method : {"inverse", "pid"}
-    step : pandas.Timedelta
-    diverged : list of str
-        Zones whose loop diverged (the run stopped there; the rest of every frame is NaN).
-    sensed_temperature : DataFrame [C]
-        The model temperature the sensor model reads, tracked zones only.
-    """
-
-    air_temperature: pd.DataFrame
-    operative_temperature: pd.DataFrame
-    heat: pd.DataFrame
-    reference: pd.DataFrame
-    feedback: str
-    method: str
-    step: pd.Timedelta
-    diverged: list = field(default_factory=list)
-    sensed_temperature: pd.DataFrame | None = None
-
-    def tracked_temperature(self) -> pd.DataFrame:
-        """The model temperature that was tracked (the sensor model) of the tracked zones [C]."""
-        if self.sensed_temperature is not None:
-            return self.sensed_temperature
-        frame = self.air_temperature if self.feedback == "air" else self.operative_temperature
-        return frame[self.heat.columns]
-
-
-#: Quantities ``SimulationResult.to_files`` can write: name -> (file stem, column suffix).
-OUTPUT_QUANTITIES = {
-    "air_temperature": ("zone_temperatures", "air_temperature_C"),
-    "operative_temperature": ("zone_temperatures", "operative_temperature_C"),
-    "heating": ("zone_heat_flows", "heating_W"),
-    "cooling": ("zone_heat_flows", "cooling_W"),
-    "heat_input": ("zone_heat_flows", "heat_input_W"),
-    "transmitted_solar": ("zone_heat_flows", "transmitted_solar_W"),
-    "infiltration": ("zone_heat_flows", "infiltration_W"),
-}
-
-
-def output_quantities(quantities=None) -> list[str]:
-    """The quantities to write, checked against :data:`OUTPUT_QUANTITIES` (None: all).
-
-    Parameters
-    ----------
-    quantities : str or sequence of str, optional
-        Names, or one comma-separated string (``"air_temperature,heating"``).
-    """
-    if quantities is None:
-        return list(OUTPUT_QUANTITIES)
-    if isinstance(quantities, str):
-        quantities = [q.strip() for q in quantities.split(",") if q.strip()]
-    unknown = [q for q in quantities if q not in OUTPUT_QUANTITIES]
-    if unknown or not quantities:
-        raise ThermocalInputError(
-            f"output quantities {', '.join(map(repr, unknown)) or '(none given)'}: choose from "
-            f"{', '.join(OUTPUT_QUANTITIES)} (comma-separated)"
-        )
-    return [q for q in OUTPUT_QUANTITIES if q in quantities]
-
-
-def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
-    frame.to_parquet(path)
-
-
-def _write_csv(frame: pd.DataFrame, path: Path) -> None:
-    """Values rounded to 4 decimals (0.1 mK, 0.1 mW), time labels as pandas prints them."""
-    from thermocal.io.csv_writer import write_frame_csv
-
-    write_frame_csv(frame, path, decimals=4)
-
-
-def _hourly_mean(frame, step: pd.Timedelta):
-    per_hour = pd.Timedelta("1h") / step
-    if per_hour >= 1 and float(per_hour).is_integer() and per_hour > 1:
-        return frame.resample("1h").mean()
-    return frame
 
 
 class Simulation:
@@ -340,8 +127,9 @@ class Simulation:
     shading : bool
         For buildings imported from an IDF file: shadows of the file's shading surfaces
         (``Shading:Zone/Building/Site:Detailed``, overhangs, fins) on windows and outdoor
-        surfaces, beam by the sunlit fraction of each step and isotropic sky diffuse by the
-        unshaded sky view (:mod:`thermocal.multizone.shading`); False ignores them.
+        surfaces, beam and the sky's circumsolar part by the sunlit fraction of each step, the
+        sky dome and horizon band by their unshaded views, as EnergyPlus
+        (:mod:`thermocal.multizone.shading`); False ignores them.
     weather_interpolation : {None, "hold", "energyplus"}
         How hourly weather becomes sub-hourly steps. ``"hold"``: irradiance means held over each
         hour, each step's air temperature the mean of its end values (linear in time between the
@@ -449,6 +237,7 @@ class Simulation:
         self._site = self._site_from(self.metadata, building)
         self.shading = bool(shading)
         self._shadows = self._shadow_setup()
+        self._interior_beam = self._interior_beam_setup()
         #: solve with prescribed air temperatures when every controlled zone sits at a set point
         self.use_dirichlet = True
         #: False: only the linear network (no lagged state-dependent corrections: TARP, exact
@@ -492,6 +281,11 @@ class Simulation:
             gain_input_zones=gain_zones,
             own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
             sky_view_ratio=self._shadows["sky"] if self._shadows else None,
+            interior_beam=(
+                {w: names for w, (names, _) in self._interior_beam.items()}
+                if self._interior_beam
+                else None
+            ),
         )
         self._inputs = self._input_matrix()
         self._factorise()
@@ -527,7 +321,7 @@ class Simulation:
         shaders = getattr(info, "shading_surfaces", None) if info is not None else None
         if not self.shading or not shaders:
             return None
-        from thermocal.multizone.shading import ShadowCaster, sun_vectors
+        from thermocal.multizone.shading import ShadowCaster
 
         vertices = info.surface_vertices
         receivers = {}
@@ -543,19 +337,7 @@ class Simulation:
         caster = ShadowCaster(shaders, receivers)
         if not caster.shaded:
             return None
-        site = self._site
-        position = _sun_position(self._grid.index, site, self._sun_at_end)
-        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
-        # EnergyPlus' "Periodic" shadow calculation: the sunlit fractions of the first day of
-        # each period of N days (sun positions of that day, step by step) serve the whole period
-        days = int(getattr(info, "shadow_update_days", 0))
-        per_day = int(round(86400.0 / self.dt))
-        step_index = np.arange(len(self.times))
-        if days > 0 and abs(per_day * self.dt - 86400.0) < 1e-6:
-            elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
-            first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
-            step_index = np.minimum(first, len(self.times) - 1)
-        evaluated, inverse = np.unique(step_index, return_inverse=True)
+        sun, evaluated, inverse = self._shadow_suns()
         tau = None
         if any(s.transmittance_schedule for s in shaders):
             tau = np.zeros((len(self.times), len(shaders)))
@@ -570,13 +352,93 @@ class Simulation:
                     )
         mean_tau = None if tau is None else tau.mean(axis=0)
         tau_eval = None if tau is None else tau[evaluated]
+        ratios = {name: caster.sky_diffuse_ratios(name, mean_tau) for name in caster.shaded}
         return {
             "beam": {
                 name: caster.sunlit_fraction(name, sun[evaluated], tau_eval)[inverse]
                 for name in caster.shaded
             },
-            "sky": {name: caster.sky_diffuse_ratio(name, mean_tau) for name in caster.shaded},
+            "sky": {name: dome for name, (dome, _) in ratios.items()},
+            "horizon": {name: band for name, (_, band) in ratios.items()},
         }
+
+    def _shadow_suns(self):
+        """Sun vectors per step for the shadow calculations, the steps evaluated and, per step,
+        the evaluated step that serves it.
+
+        EnergyPlus' "Periodic" shadow calculation (PerformSolarCalculations): one day of sunlit
+        fractions serves each period of N days, computed step by step with the sun of the
+        period's mean declination (of its sine) and mean equation of time over the period's
+        days within the run period; "Timestep" (N = 0): every step its own sun.
+        """
+        from thermocal.multizone.shading import sun_vectors
+
+        info = self._idf_info
+        site = self._site
+        position = _sun_position(self._grid.index, site, self._sun_at_end)
+        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
+        days = int(getattr(info, "shadow_update_days", 0)) if info is not None else 0
+        per_day = int(round(86400.0 / self.dt))
+        step_index = np.arange(len(self.times))
+        if days > 0 and abs(per_day * self.dt - 86400.0) < 1e-6:
+            elapsed = ((self.times - self.times[0]) // self.step_size).to_numpy()
+            first = (elapsed // per_day // days) * days * per_day + elapsed % per_day
+            step_index = np.minimum(first, len(self.times) - 1)
+            sun = _period_sun_vectors(
+                self.times, self.step_size, self._sun_at_end, site, elapsed // per_day // days, days
+            )
+        evaluated, inverse = np.unique(step_index, return_inverse=True)
+        return sun, evaluated, inverse
+
+    def _interior_beam_setup(self) -> dict | None:
+        """EnergyPlus' ``FullInteriorAndExterior``: per window, the faces of its zone and the
+        share of its transmitted beam landing on each, per step (rays along the sun, one day per
+        shadow period as the exterior shadows); None for other solar distributions or without
+        the geometry."""
+        info = self._idf_info
+        if info is None:
+            return None
+        key = str(getattr(info, "solar_distribution", "")).replace(" ", "").upper()
+        if not key.startswith("FULLINTERIORANDEXTERIOR"):
+            return None
+        from thermocal.multizone.shading import interior_beam_fractions
+
+        vertices = info.surface_vertices
+        sun, evaluated, inverse = self._shadow_suns()
+        out = {}
+        cache: dict[tuple, np.ndarray] = {}
+        for window in self.building.windows.values():
+            host = self.building.surfaces[window.surface]
+            if not host.sun_exposed or window.name not in vertices:
+                continue
+            # windows first: where a window and its host wall share a plane, the window is hit
+            faces = {
+                w.name: vertices[w.name]
+                for w in self.building.windows.values()
+                if self.building.surfaces[w.surface].zone == host.zone and w.name in vertices
+            }
+            faces.update(
+                (s.name, vertices[s.name])
+                for s in self.building.surfaces.values()
+                if s.zone == host.zone and s.name in vertices
+            )
+            faces.pop(window.name, None)
+            # zones of the same shape (a grid of rooms) share the result: the key is the
+            # geometry relative to the window's first vertex
+            anchor = np.asarray(vertices[window.name], dtype=float)[0]
+            key = tuple(
+                np.round(np.asarray(v, dtype=float) - anchor, 4).tobytes()
+                for v in (vertices[window.name], *faces.values())
+            )
+            if key not in cache:
+                cache[key] = interior_beam_fractions(vertices[window.name], faces, sun[evaluated])
+            shares = cache[key]
+            reached = shares.any(axis=0)
+            if not reached.any():
+                continue
+            names = [name for name, r in zip(faces, reached, strict=True) if r]
+            out[window.name] = (names, np.ascontiguousarray(shares[:, reached][inverse]))
+        return out or None
 
     def _network_building(self):
         """Building handed to the network: scheduled gains as inputs, infiltration at its mean."""
@@ -957,11 +819,19 @@ class Simulation:
                     self._input_cache[key] = _window_inputs(wt, source, n_steps)
                 for col, values in zip(cols, self._input_cache[key], strict=True):
                     u[:, col] = values
+        interior = []
+        for window, (beam_col, area, targets) in net.window_beam_targets.items():
+            names, shares = self._interior_beam[window]
+            for face, col in targets:
+                # transmitted beam [W] landing on the face
+                u[:, col] = u[:, beam_col] * area * shares[:, names.index(face)]
+                interior.append(col)
         if self.weather_interpolation == "energyplus":
             # rows hold the curve at each step's end: the step is forced by the mean of its start
             # and end values (the first step keeps its end value)
             weather_driven = [IN_TEMP_OUT, IN_TEMP_SKY, *net.orientation_inputs.values()]
             weather_driven += [col for cols in net.window_inputs.values() for col in cols]
+            weather_driven += interior
             u[1:, weather_driven] = 0.5 * (u[1:, weather_driven] + u[:-1, weather_driven])
             t_out = u[:, IN_TEMP_OUT]
         # explicit corrections: exterior convection (wind) and infiltration air density
@@ -1078,10 +948,18 @@ class Simulation:
         return np.ascontiguousarray(constant), np.ascontiguousarray(limit)
 
     def _shaded(self, irradiance: dict, name: str) -> dict:
-        """Irradiance on a shaded receiver: beam x sunlit fraction, sky diffuse x sky view."""
+        """Irradiance on a shaded receiver, as EnergyPlus' ``AnisoSkyViewFactors``: beam and
+        the sky's circumsolar part x the sunlit fraction, the dome x its unshaded share
+        (``DifShdgRatioIsoSky``), the horizon band x its own (``DifShdgRatioHoriz``)."""
         out = dict(irradiance)
-        out["poa_direct"] = irradiance["poa_direct"] * self._shadows["beam"][name]
-        out["poa_sky_diffuse"] = irradiance["poa_sky_diffuse"] * self._shadows["sky"][name]
+        sunlit = self._shadows["beam"][name]
+        out["poa_direct"] = irradiance["poa_direct"] * sunlit
+        out["poa_sky_diffuse"] = np.maximum(
+            irradiance["poa_sky_isotropic"] * self._shadows["sky"][name]
+            + irradiance["poa_sky_circumsolar"] * sunlit
+            + irradiance["poa_sky_horizon"] * self._shadows["horizon"][name],
+            0.0,
+        )
         out["poa_global"] = out["poa_direct"] + out["poa_sky_diffuse"] + out["poa_ground_diffuse"]
         return out
 
@@ -1873,8 +1751,8 @@ class Simulation:
                         if info.shadow_update_days
                         else "every step; "
                     )
-                    + "isotropic sky diffuse by the unshaded sky view; ground-reflected not "
-                    "shaded)"
+                    + "sky diffuse as EnergyPlus: its circumsolar part like the beam, the dome "
+                    "and the horizon band by their unshaded views; ground-reflected not shaded)"
                     + (
                         ", the building's own surfaces among them"
                         if any("(building surface)" in str(s.name) for s in shaders)
@@ -1988,36 +1866,6 @@ def _factorise(matrix):
     )
 
 
-def _window_inputs(wt, irradiance: dict, n_steps: int):
-    """Transmitted beam, transmitted diffuse, outer- and inner-pane absorbed [W/m2 glazing]."""
-    direct = irradiance["poa_direct"]
-    diffuse = irradiance["poa_sky_diffuse"] + irradiance["poa_ground_diffuse"]
-    aoi = irradiance["aoi"]
-    beam = direct * wt.transmittance(aoi)
-    diffuse_in = diffuse * wt.diffuse_transmittance_value
-    outer = np.zeros(n_steps)
-    inner = np.zeros(n_steps)
-    if wt.layered:
-        absorbed = wt.pane_absorptance(aoi) * direct[:, None]
-        absorbed = absorbed + wt.diffuse_pane_absorptance_values[None, :] * diffuse[:, None]
-        n_panes = absorbed.shape[1]
-        outer = absorbed[:, 0].copy()
-        if n_panes == 1:
-            # one layer between the two nodes (a single pane, or EnergyPlus' simple-glazing
-            # equivalent layer, whose resistance is most of the window's): absorbed at its
-            # middle, half on each face, so that the inward-flowing fraction is EnergyPlus'
-            # (R_out + R_layer / 2) / R_total
-            outer *= 0.5
-            inner = outer.copy()
-        if n_panes > 1:
-            inner = absorbed[:, -1].copy()
-        if n_panes > 2:
-            middle = absorbed[:, 1:-1].sum(axis=1)
-            outer += 0.5 * middle
-            inner += 0.5 * middle
-    return beam, diffuse_in, outer, inner
-
-
 def _progress(enabled: bool, total: int):
     if not enabled:
         return None
@@ -2037,195 +1885,6 @@ def _progress(enabled: bool, total: int):
 # ----------------------------------------------------------------------------------------------
 # weather on the simulation grid
 # ----------------------------------------------------------------------------------------------
-
-
-def _weather_grid(
-    weather: pd.DataFrame, step: pd.Timedelta, start, end, interpolation: str = "hold"
-) -> pd.DataFrame:
-    """Weather resampled to the simulation step, restricted to ``[start, end)``.
-
-    ``interpolation="energyplus"``: :func:`_energyplus_weather` (hourly weather only).
-    """
-    from thermocal.io.weather import resample_weather, weather_step
-    from thermocal.physics.solar import sky_temperature
-
-    if not isinstance(weather, pd.DataFrame) or not isinstance(weather.index, pd.DatetimeIndex):
-        raise ThermocalInputError(
-            "Simulation: weather must be the DataFrame of thermocal.io.weather.read_weather"
-        )
-    missing = [c for c in ("temp_air", "dni", "dhi") if c not in weather]
-    if missing:
-        raise ThermocalInputError(
-            f"Simulation: the weather lacks the columns {missing} (needed: temp_air [C], dni and "
-            "dhi [W/m2])"
-        )
-    if interpolation == "energyplus":
-        grid = _energyplus_weather(weather, step)
-    elif weather_step(weather) != step:
-        grid = resample_weather(weather, step)
-    else:
-        grid = weather.copy()
-    index = grid.index
-
-    def stamp(value, what):
-        try:
-            ts = pd.Timestamp(value)
-        except ValueError as exc:
-            raise ThermocalInputError(f"Simulation: cannot read {what} {value!r}") from exc
-        if ts.tzinfo is None and index.tz is not None:
-            ts = ts.tz_localize(index.tz)
-        return ts
-
-    t0 = index[0] if start is None else stamp(start, "start")
-    t1 = index[-1] + step if end is None else stamp(end, "end")
-    if t0 < index[0] or t1 > index[-1] + step or t1 <= t0:
-        raise ThermocalInputError(
-            f"Simulation: period [{t0}, {t1}) is empty or outside the weather data "
-            f"[{index[0]}, {index[-1] + step})"
-        )
-    # the steps must tile the period exactly: a start between two steps or a length that is not
-    # a whole number of steps would silently simulate another period
-    if (t0 - index[0]) % step != pd.Timedelta(0) or (t1 - t0) % step != pd.Timedelta(0):
-        raise ThermocalInputError(
-            f"Simulation: the period [{t0}, {t1}) is not a whole number of "
-            f"{step.total_seconds() / 60:g}-min steps on the "
-            f"weather's grid (which starts at {index[0]}); choose start, end and step so that "
-            "the step divides both the offset from the grid start and the period length"
-        )
-    # interval-mean temperatures from the instant values at both ends of each step
-    temp = grid["temp_air"].to_numpy(dtype=float)
-    following = np.append(temp[1:], temp[-1])
-    if interpolation == "energyplus":
-        grid["temp_air_mean"] = following  # the value at the step's end
-    else:
-        grid["temp_air_mean"] = 0.5 * (temp + following)
-    if "ghi_infrared" in grid and grid["ghi_infrared"].notna().all():
-        sky = sky_temperature(grid["temp_air_mean"], ghi_infrared=grid["ghi_infrared"])
-    elif "temp_dew" in grid and grid["temp_dew"].notna().all():
-        sky = sky_temperature(grid["temp_air_mean"], temp_dew=grid["temp_dew"])
-    else:
-        warnings.warn(
-            "weather has neither ghi_infrared nor temp_dew: sky temperature = air - 11 K "
-            "(ISO 52016-1 default)",
-            stacklevel=3,
-        )
-        sky = grid["temp_air_mean"].to_numpy() - 11.0
-    grid["temp_sky"] = sky
-    selected = grid.loc[(index >= t0) & (index < t1)]
-    if len(selected) == 0:
-        raise ThermocalInputError(f"Simulation: no weather rows in [{t0}, {t1})")
-    for column in ("temp_air_mean", "dni", "dhi"):
-        if selected[column].isna().any():
-            bad = selected.index[selected[column].isna()][0]
-            raise ThermocalInputError(
-                f"Simulation: weather column {column} has missing values (first at {bad}); fill "
-                "the gap or choose another period"
-            )
-    return selected
-
-
-#: Instant columns that EnergyPlus interpolates to the end of each step (air temperature is kept at
-#: the step start in ``temp_air``; the step value is ``temp_air_mean``).
-_STEP_END_COLUMNS = ("temp_dew", "relative_humidity", "pressure", "wind_speed", "wind_direction")
-#: Irradiance columns interpolated between the hourly values placed at the half hours.
-_HALF_HOUR_COLUMNS = ("ghi", "dni", "dhi")
-#: Interval columns of the weather frame that EnergyPlus interpolates as instants at the hour's
-#: end (the EPW horizontal infrared of hour h as the value at h:00, like the temperatures).
-_HOUR_END_COLUMNS = ("ghi_infrared",)
-
-
-def _energyplus_weather(weather: pd.DataFrame, step: pd.Timedelta) -> pd.DataFrame:
-    """Hourly weather on sub-hourly steps as EnergyPlus' weather manager does.
-
-    Each step ``[t, t + step)`` takes values at ``t + step``: irradiance linearly interpolated
-    between the hourly means placed at the middle of their hours (held before the first and after
-    the last middle), instant quantities linearly interpolated between the hourly instants
-    (:func:`thermocal.io.weather.resample_weather`, then shifted one step; the last step holds).
-    ``temp_air`` stays the instant at ``t`` (the caller takes the step value from its end).
-    """
-    from thermocal.io.weather import resample_weather, weather_step
-
-    hour = pd.Timedelta("1h")
-    if weather_step(weather) != hour:
-        raise ThermocalInputError(
-            "Simulation: weather_interpolation='energyplus' needs hourly weather, the weather step "
-            f"is {weather_step(weather)}; use weather_interpolation='hold'"
-        )
-    if hour % step != pd.Timedelta(0):
-        raise ThermocalInputError(
-            f"Simulation: weather_interpolation='energyplus' needs a step dividing the hour, got "
-            f"{step}"
-        )
-    grid = resample_weather(weather, step) if step != hour else weather.copy()
-    ends = (grid.index + step).asi8.astype(float)
-    middles = (weather.index + hour / 2).asi8.astype(float)
-    for column in _HALF_HOUR_COLUMNS:
-        if column in grid:
-            grid[column] = np.interp(ends, middles, weather[column].to_numpy(dtype=float))
-    hour_ends = (weather.index + hour).asi8.astype(float)
-    for column in _HOUR_END_COLUMNS:
-        if column in grid:
-            grid[column] = np.interp(ends, hour_ends, weather[column].to_numpy(dtype=float))
-    for column in _STEP_END_COLUMNS:
-        if column in grid:
-            values = grid[column].to_numpy(dtype=float)
-            grid[column] = np.append(values[1:], values[-1])
-    return grid
-
-
-def _sun_position(index: pd.DatetimeIndex, site: dict, at_end: pd.Timedelta | None):
-    """Sun position of each step: representative of the interval (``at_end`` None, see
-    :func:`~thermocal.physics.solar.interval_solar_position`) or, as EnergyPlus, at the step's end
-    ``t + at_end``."""
-    from thermocal.physics.solar import interval_solar_position, solar_position
-
-    if at_end is None:
-        return interval_solar_position(index, site["latitude"], site["longitude"], site["altitude"])
-    position = solar_position(index + at_end, site["latitude"], site["longitude"], site["altitude"])
-    position.index = index
-    return position
-
-
-def _ground_reflectance(grid: pd.DataFrame, monthly) -> str | float | np.ndarray:
-    """Ground reflectance [-] per step: the building's monthly values (January first) when it
-    has them (an imported IDF always has, as EnergyPlus: ``Site:GroundReflectance`` or 0.2),
-    else the weather's albedo column, else 0.2."""
-    if monthly is not None:
-        return np.asarray(monthly, dtype=float)[grid.index.month.to_numpy() - 1]
-    return "weather" if "albedo" in grid else 0.2
-
-
-def _irradiance(
-    grid: pd.DataFrame,
-    site: dict,
-    orientations,
-    model: str,
-    at_end: pd.Timedelta | None = None,
-    *,
-    albedo: str | float | np.ndarray = "weather",
-) -> dict:
-    from thermocal.physics.solar import irradiance_on_surfaces
-
-    position = _sun_position(grid.index, site, at_end)
-    surfaces = {key: key for key in orientations}
-    frames = irradiance_on_surfaces(
-        grid,
-        site["latitude"],
-        site["longitude"],
-        surfaces,
-        altitude=site["altitude"],
-        model=model,
-        albedo=albedo if not (isinstance(albedo, str) and "albedo" not in grid) else 0.2,
-        solar_position=position,
-    )
-    out = {}
-    for key, frame in frames.items():
-        out[key] = {
-            c: np.nan_to_num(frame[c].to_numpy(dtype=float))
-            for c in ("poa_global", "poa_direct", "poa_sky_diffuse", "poa_ground_diffuse", "aoi")
-        }
-        out[key]["aoi"] = np.where(np.isfinite(frame["aoi"].to_numpy()), out[key]["aoi"], 90.0)
-    return out
 
 
 # ----------------------------------------------------------------------------------------------

@@ -224,8 +224,12 @@ def irradiance_on_surface(
     Returns
     -------
     pandas.DataFrame
-        ``poa_global``, ``poa_direct``, ``poa_sky_diffuse``, ``poa_ground_diffuse`` [W/m2] and
-        ``aoi`` [deg] (angle of incidence), indexed like ``weather``.
+        ``poa_global``, ``poa_direct``, ``poa_sky_diffuse``, ``poa_ground_diffuse`` [W/m2],
+        ``aoi`` [deg] (angle of incidence) and the parts of the sky diffuse [W/m2]:
+        ``poa_sky_isotropic`` (the dome), ``poa_sky_circumsolar`` (Perez and Hay-Davies: the
+        disc around the sun) and ``poa_sky_horizon`` (Perez and Reindl: the horizon band, may be
+        negative under overcast skies); they sum to ``poa_sky_diffuse`` (the Klucher model's
+        sky is all dome), indexed like ``weather``.
 
     References
     ----------
@@ -804,11 +808,18 @@ def _transpose(prepared, tilt: float, azimuth: float) -> pd.DataFrame:
         airmass=prepared.airmass,
         albedo=prepared.albedo,
         model=prepared.model,
+        diffuse_components=prepared.model != "klucher",
     )
     aoi = np.asarray(pvlib.irradiance.aoi(tilt, azimuth, prepared.zenith, prepared.sun_azimuth))
     direct = np.clip(np.nan_to_num(np.asarray(total["poa_direct"], dtype=float)), 0.0, None)
     sky = np.clip(np.nan_to_num(np.asarray(total["poa_sky_diffuse"], dtype=float)), 0.0, None)
     ground = np.clip(np.nan_to_num(np.asarray(total["poa_ground_diffuse"], dtype=float)), 0.0, None)
+    # the sky's parts (Perez: dome, circumsolar disc, horizon band; shading treats each its own
+    # way); the dome takes what is left so that the parts sum to the sky diffuse
+    circumsolar = np.nan_to_num(np.asarray(total.get("poa_circumsolar", 0.0), dtype=float))
+    horizon = np.nan_to_num(np.asarray(total.get("poa_horizon", 0.0), dtype=float))
+    circumsolar = np.where(sky > 0.0, np.broadcast_to(circumsolar, sky.shape), 0.0)
+    horizon = np.where(sky > 0.0, np.broadcast_to(horizon, sky.shape), 0.0)
     missing = ~(np.isfinite(prepared.dni) & np.isfinite(prepared.dhi) & np.isfinite(prepared.ghi))
     frame = pd.DataFrame(
         {
@@ -817,13 +828,14 @@ def _transpose(prepared, tilt: float, azimuth: float) -> pd.DataFrame:
             "poa_sky_diffuse": sky,
             "poa_ground_diffuse": ground,
             "aoi": aoi,
+            "poa_sky_isotropic": sky - circumsolar - horizon,
+            "poa_sky_circumsolar": circumsolar,
+            "poa_sky_horizon": horizon,
         },
         index=prepared.index,
     )
     if missing.any():
-        frame.loc[
-            missing, ["poa_global", "poa_direct", "poa_sky_diffuse", "poa_ground_diffuse"]
-        ] = np.nan
+        frame.loc[missing, [c for c in frame.columns if c.startswith("poa_")]] = np.nan
     return frame
 
 

@@ -26,7 +26,8 @@ from thermocal.statespace.diagnostics import (
     likelihood_ratio_test,
 )
 from thermocal.statespace.discretise import discretise
-from thermocal.statespace.estimation import evaluate, simulate_stochastic
+from thermocal.statespace.estimation import evaluate
+from thermocal.statespace.kalman import simulate_stochastic
 from thermocal.statespace.model import Parameter, RCModel
 from thermocal.statespace.results import FitResults
 

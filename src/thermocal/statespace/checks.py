@@ -141,6 +141,8 @@ def heat_loss_regime_check(
     alpha: float = 0.05,
     n_starts: int | None = None,
     seed: int | None = None,
+    input_gaps: str = "error",
+    max_gap: int = 3,
 ) -> dict:
     """Heat loss coefficients of the same model fitted on separate periods, compared.
 
@@ -158,7 +160,7 @@ def heat_loss_regime_check(
     model : RCModel
     periods : dict
         ``{label: DataFrame}``, e.g. a randomised heating sequence and a steady period.
-    hold, time_column, time_unit, n_starts, seed :
+    hold, time_column, time_unit, n_starts, seed, input_gaps, max_gap :
         As for :meth:`RCModel.fit`.
     profile : bool
         Profile-likelihood intervals (else Wald).
@@ -184,7 +186,8 @@ def heat_loss_regime_check(
     for label, data in periods.items():
         res = model.fit(
             data, hold=hold, time_column=time_column, time_unit=time_unit, n_starts=n_starts,
-            seed=seed, progress=False, source=f"period '{label}'",
+            seed=seed, progress=False, source=f"period '{label}'", input_gaps=input_gaps,
+            max_gap=max_gap,
         )  # fmt: skip
         h = res.heat_loss_coefficient(profile=profile, alpha=alpha)
         h |= {"loglike": res.loglike, "converged": bool(res.converged)}
@@ -300,3 +303,31 @@ def split_at(data, splits, *, time_column: str | None = None, time_unit: str = "
             raise ThermocalInputError(f"{source}: period '{label}' has fewer than 10 rows")
         periods[label] = data.iloc[np.flatnonzero(mask)]
     return periods
+
+
+def split_halves(data, *, time_column: str | None = None, time_unit: str = "s",
+                 source: str = "data") -> dict:  # fmt: skip
+    """``data`` cut into its first and second half (by rows), for
+    :func:`heat_loss_regime_check` when no period is given.
+
+    An experiment whose regime changes (a randomised heating sequence followed by steady
+    phases, adjacent spaces conditioned differently) usually changes it somewhere inside; the
+    halves then see different regimes and their heat loss coefficients differ.
+
+    Returns
+    -------
+    dict
+        ``{"first half (until <t>)": rows before t, "second half (from <t>)": the rest}``.
+    """
+    from thermocal.statespace.data import time_axis
+
+    index, _ = time_axis(data, time_column=time_column, time_unit=time_unit, source=source)
+    n = len(index)
+    if n < 20:
+        raise ThermocalInputError(f"{source}: {n} rows, too few to compare two halves")
+    cut = index[n // 2]
+    stamp = cut.isoformat() if hasattr(cut, "isoformat") else f"{cut:g} {time_unit}"
+    return {
+        f"first half (until {stamp})": data.iloc[: n // 2],
+        f"second half (from {stamp})": data.iloc[n // 2 :],
+    }

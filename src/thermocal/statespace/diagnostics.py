@@ -280,7 +280,7 @@ def _confirm_by_extension(res, ext_fit) -> None:
     """Confirm a fit whose only doubt is the agreement of its starts when it reaches the
     converged optimum of a model that contains it: that optimum bounds the restricted model's
     from above, so the restricted optimum is global."""
-    from thermocal.statespace.estimation import AGREEMENT_TOLERANCE, CONVERGENCE_GAIN
+    from thermocal.statespace.convergence import AGREEMENT_TOLERANCE, CONVERGENCE_GAIN
 
     if res.converged or not ext_fit.converged:
         return
@@ -330,7 +330,10 @@ def forward_selection(
     escape local optima: each extension gets an extra start at the parent's estimates, and the
     parent is re-polished from each extension's estimates (shared parameters); when that
     improves the parent by more than :data:`REPOLISH_GAIN`, the parent's fit is replaced and
-    the tests of the iteration use it.
+    the tests of the iteration use it. The refits this triggers (the parent's multi-start with
+    the new start, the extensions from the better parent) take over the ends of the starts
+    they share with the earlier fits (``reuse`` of :func:`~thermocal.statespace.estimation.fit`:
+    the same start on the same problem ends at the same point) and run only the new ones.
 
     Parameters
     ----------
@@ -367,8 +370,10 @@ def forward_selection(
     }  # fmt: skip
     fits: dict = {}
 
-    def fit_model(name, parent_fit=None):
-        res = models[name].fit(data, n_starts=n_starts, seed=seed, warm_start=parent_fit, **fit_kw)
+    def fit_model(name, parent_fit=None, reuse=None):
+        res = models[name].fit(
+            data, n_starts=n_starts, seed=seed, warm_start=parent_fit, reuse=reuse, **fit_kw
+        )
         fits[name] = res
         if callback is not None:
             callback(name, res)
@@ -380,20 +385,20 @@ def forward_selection(
         start_values = _shared_values(ext_fit, models[parent])
         if not start_values:
             return False
-        from thermocal.statespace.profile import _inside
-
-        # one start, at the extension's estimates (the declared values were run already)
-        probe = (
-            models[parent]
-            .with_parameters(_inside(models[parent], start_values))
-            .fit(data, n_starts=1, compute_hessian=False, **fit_kw)
-        )
+        # one new start, at the extension's estimates (the declared values' end is taken
+        # over from the previous fit)
+        probe = models[parent].fit(
+            data, n_starts=1, seed=seed, warm_start=start_values, compute_hessian=False,
+            reuse=old, **fit_kw,
+        )  # fmt: skip
         if probe.loglike > old.loglike + REPOLISH_GAIN:
-            # a better parent optimum exists: the full multi-start again, with that start, so
-            # that the agreement of the starts is judged as for any fit
+            # a better parent optimum exists: the full multi-start with that start, so that
+            # the agreement of the starts is judged as for any fit (the starts run for the
+            # previous fit and the probe are taken over, not run again)
             again = models[parent].fit(
-                data, n_starts=n_starts, seed=seed, warm_start=start_values, **fit_kw
-            )
+                data, n_starts=n_starts, seed=seed, warm_start=start_values, reuse=probe,
+                **fit_kw,
+            )  # fmt: skip
             if again.loglike < probe.loglike - REPOLISH_GAIN:
                 return False  # pragma: no cover - the warm start is among the starts
             again.flags.insert(
@@ -472,7 +477,7 @@ def forward_selection(
             # the extensions again from the better parent
             for cand in candidates:
                 old = fits[cand]
-                fit_model(cand, fits[current])
+                fit_model(cand, fits[current], reuse=old)
                 if fits[cand].loglike < old.loglike:
                     fits[cand] = old
         parent_ok = fits[current].converged

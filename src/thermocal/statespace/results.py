@@ -10,17 +10,14 @@ import pandas as pd
 
 from thermocal.jsonsafe import json_ready as _jsonable
 from thermocal.statespace import kernels
-from thermocal.statespace.data import PreparedData, prepare_data
-from thermocal.statespace.estimation import (
+from thermocal.statespace.convergence import (
     AGREEMENT_TOLERANCE,
     BOUND_TOLERANCE,
     CONVERGENCE_GAIN,
     CORRELATION_LIMIT,
-    _hold_flag,
-    filter_arrays,
-    rts_smoother,
-    simulate,
 )
+from thermocal.statespace.data import PreparedData, prepare_data
+from thermocal.statespace.kalman import _hold_flag, filter_arrays, rts_smoother, simulate
 
 #: Standard error above this fraction of the estimate flags a positive parameter.
 RELATIVE_SE_LIMIT = 0.5
@@ -814,14 +811,25 @@ class FitResults:
 _HLC_FITS: dict = {}
 
 
+def _load_hlc_kernels(res) -> None:
+    """Call the compiled functions of a heat loss coefficient's profile once (numba loads
+    them from its cache on the first call)."""
+    from thermocal.statespace import kernels
+
+    model = res.model
+    st = model.structure()
+    state = model.state_names.index(model.heat_loss_state())
+    kernels.heat_loss_theta(
+        np.asarray(res.theta, dtype=float), model.transform_arrays(), st.arrays, st.n_inputs,
+        state,
+    )  # fmt: skip
+
+
 def _hlc_worker(args):
     name, alpha = args
-    try:  # one BLAS thread per worker: the pool is the parallelism
-        from threadpoolctl import threadpool_limits
+    from thermocal.statespace.convergence import one_blas_thread
 
-        threadpool_limits(1)
-    except ImportError:  # pragma: no cover - threadpoolctl comes with scikit-learn
-        pass
+    one_blas_thread()  # for the worker's lifetime: the pool is the parallelism
     res = _HLC_FITS[name]
     hlc = res.heat_loss_coefficient(alpha=alpha, profile=True)
     return name, hlc, res.converged, list(res.flags)
@@ -866,6 +874,8 @@ def heat_loss_coefficients(
         global _HLC_FITS
         _HLC_FITS = {n: fits[n] for n in todo}
         ctx = mp.get_context("fork" if "fork" in mp.get_all_start_methods() else None)
+        if ctx.get_start_method() == "fork":
+            _load_hlc_kernels(fits[todo[0]])  # here once, inherited by the forked workers
         try:
             with ProcessPoolExecutor(min(n_jobs, len(todo)), mp_context=ctx) as pool:
                 # the longest profiles (most free parameters) first

@@ -162,6 +162,10 @@ def _per_sensor(option: Any, sensors: Sequence[str], name: str, default: Any) ->
 
 def _split_raw(raw: pd.DataFrame) -> tuple[dict[str, tuple], Any]:
     """Per-sensor (times in ns, values, file line numbers or None) from a long or wide frame."""
+    if raw.attrs:
+        # pandas deep-copies ``attrs`` into every column taken: drop them once here
+        raw = raw.copy(deep=False)
+        raw.attrs = {}
     if isinstance(raw.index, pd.DatetimeIndex):
         if raw.index.tz is None:
             raise ThermocalInputError(

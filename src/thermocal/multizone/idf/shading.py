@@ -128,10 +128,10 @@ class ShadingStages:
 
     def _solar_distribution(self, found: list) -> list:
         """The ``Building`` object's Solar Distribution: ``MinimalShadowing`` drops the shading
-        surfaces (EnergyPlus casts no shadow from them); the model puts the beam entering a zone
-        on its floor, EnergyPlus' ``FullExterior`` and ``MinimalShadowing``; the interior
-        distribution of ``FullInteriorAndExterior`` and the reflections of the
-        ``...WithReflections`` options are approximated (noted). Sets
+        surfaces (EnergyPlus casts no shadow from them); the beam entering a zone lands on its
+        floor under ``FullExterior`` and ``MinimalShadowing`` and where the sun puts it under
+        ``FullInteriorAndExterior`` (the simulation casts the rays; noted); the reflections of
+        the ``...WithReflections`` options are not modelled (noted). Sets
         ``info.solar_distribution``."""
         rec = self.single("BUILDING")
         text = (rec["solar_distribution"] if rec is not None else "") or "FullExterior"
@@ -159,9 +159,9 @@ class ShadingStages:
             found = []
         if key.startswith("FULLINTERIORANDEXTERIOR"):
             notes.append(
-                f"Solar Distribution {text} approximated: the direct sun entering a zone lands on "
-                "its floor (EnergyPlus: on the surfaces it reaches, walls and windows included); "
-                "zones glazed on several sides (sunspaces) get more of it back out"
+                f"Solar Distribution {text}: the direct sun entering a zone lands on the faces "
+                "it reaches (rays from each window along the sun, windows included, updated as "
+                "the exterior shadows), as EnergyPlus"
             )
         if key.endswith("WITHREFLECTIONS"):
             notes.append(

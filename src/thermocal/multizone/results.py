@@ -1,0 +1,244 @@
+"""Results of a multi-zone simulation: zone temperatures, heat, surfaces and the identification's
+tracking, and the files they are written to.
+
+Returned by :class:`thermocal.multizone.simulation.Simulation` (``run`` and ``track``).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+
+
+@dataclass
+class SimulationResult:
+    """Output of :meth:`Simulation.run` (frames indexed by step start, one column per zone).
+
+    Attributes
+    ----------
+    air_temperature : DataFrame [C]
+    operative_temperature : DataFrame [C]
+        Mean of air and mean radiant (area-weighted interior surface) temperature.
+    mean_radiant_temperature : DataFrame [C]
+    heating, cooling : DataFrame [W]
+        Ideal heating and cooling powers (>= 0), constant over each step.
+    heat_input : DataFrame [W]
+        Given heat delivered to the zone air.
+    transmitted_solar : DataFrame [W]
+        Solar radiation transmitted by the windows into each zone.
+    infiltration : DataFrame [W]
+        Heat brought by infiltration (negative when it cools the zone).
+    surface_temperature : DataFrame or None [C]
+        Interior surface temperatures (one column per face seen from a zone), if stored.
+    step : pandas.Timedelta
+    """
+
+    air_temperature: pd.DataFrame
+    operative_temperature: pd.DataFrame
+    mean_radiant_temperature: pd.DataFrame
+    heating: pd.DataFrame
+    cooling: pd.DataFrame
+    heat_input: pd.DataFrame
+    transmitted_solar: pd.DataFrame
+    infiltration: pd.DataFrame
+    surface_temperature: pd.DataFrame | None
+    step: pd.Timedelta
+    approximations: list = field(default_factory=list)
+
+    def summary(self) -> dict:
+        """Per zone: min/max/mean air temperature [C], heating/cooling energy [kWh], peaks [kW].
+
+        Peaks are the largest hourly-integrated loads (as ASHRAE Standard 140 reports them) when
+        the step divides an hour, otherwise the largest step values.
+        """
+        hours = self.step.total_seconds() / 3600.0
+        to_kwh = hours / 1000.0
+        temp = self.air_temperature
+        air_h = _hourly_mean(temp, self.step)
+        columns = {
+            "air_temperature_min_C": temp.min(),
+            "air_temperature_max_C": temp.max(),
+            "air_temperature_mean_C": temp.mean(),
+            # hourly-integrated values, as ASHRAE Standard 140 defines them
+            "air_temperature_hourly_min_C": air_h.min(),
+            "air_temperature_hourly_max_C": air_h.max(),
+            "air_temperature_hourly_mean_C": air_h.mean(),
+            "heating_kWh": self.heating.sum() * to_kwh,
+            "cooling_kWh": self.cooling.sum() * to_kwh,
+            "heating_peak_kW": _hourly_mean(self.heating, self.step).max() / 1000.0,
+            "cooling_peak_kW": _hourly_mean(self.cooling, self.step).max() / 1000.0,
+            "heat_input_kWh": self.heat_input.sum() * to_kwh,
+        }
+        table = pd.DataFrame(columns).reindex(temp.columns)
+        zones = {
+            zone: {key: float(value) for key, value in row.items()}
+            for zone, row in zip(table.index, table.to_dict("records"), strict=True)
+        }
+        total_heat = self.heating.sum(axis=1)
+        total_cool = self.cooling.sum(axis=1)
+        return {
+            "start": str(self.air_temperature.index[0]),
+            "end": str(self.air_temperature.index[-1] + self.step),
+            "step_seconds": self.step.total_seconds(),
+            "zones": zones,
+            "building": {
+                "heating_kWh": float(total_heat.sum() * hours / 1000.0),
+                "cooling_kWh": float(total_cool.sum() * hours / 1000.0),
+                "heating_peak_kW": float(_hourly_mean(total_heat, self.step).max() / 1000.0),
+                "cooling_peak_kW": float(_hourly_mean(total_cool, self.step).max() / 1000.0),
+            },
+            "approximations": list(self.approximations),
+        }
+
+    def to_files(
+        self, directory: str | Path, *, format: str = "csv", quantities=None
+    ) -> list[Path]:
+        """Write zone temperatures, heat flows and ``summary.json`` into ``directory``.
+
+        Parameters
+        ----------
+        directory : str or Path
+        format : {"csv", "parquet"}
+        quantities : sequence of str, optional
+            Which of :data:`OUTPUT_QUANTITIES` to write (default: all); a file whose
+            quantities are all left out is not written.
+
+        Returns
+        -------
+        list of Path
+            The files written.
+        """
+        if format not in ("csv", "parquet"):
+            raise ThermocalInputError(f"format must be 'csv' or 'parquet', got {format!r}")
+        chosen = output_quantities(quantities)
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        jobs = []
+        for name in ("zone_temperatures", "zone_heat_flows"):
+            parts = [q for q in chosen if OUTPUT_QUANTITIES[q][0] == name]
+            if not parts:
+                continue
+            frames = [getattr(self, q) for q in parts]
+            flat = pd.DataFrame(
+                np.hstack([f.to_numpy(dtype=float) for f in frames]),
+                index=frames[0].index.rename("time"),
+                columns=[
+                    f"{zone}|{OUTPUT_QUANTITIES[q][1]}"
+                    for q, f in zip(parts, frames, strict=True)
+                    for zone in f.columns
+                ],
+            )
+            jobs.append((flat, directory / f"{name}.{format}"))
+        writer = _write_csv if format == "csv" else _write_parquet
+        if len(jobs) > 1:
+            # Arrow's writers release the GIL: the two files are written side by side
+            from concurrent.futures import ThreadPoolExecutor
+
+            with ThreadPoolExecutor(max_workers=len(jobs)) as pool:
+                list(pool.map(lambda job: writer(*job), jobs))
+        else:
+            for job in jobs:
+                writer(*job)
+        written = [path for _, path in jobs]
+        path = directory / "summary.json"
+        path.write_text(json.dumps(self.summary(), indent=2))
+        written.append(path)
+        return written
+
+
+@dataclass
+class TrackingResult:
+    """Output of :meth:`Simulation.track` (frames indexed by step start).
+
+    Attributes
+    ----------
+    air_temperature, operative_temperature : DataFrame [C]
+        Model temperatures of every zone at the end of each step.
+    heat : DataFrame [W]
+        Heat delivered to each tracked zone over each step (constant over the step), into its
+        air and, for a radiant fraction, its surfaces.
+    reference : DataFrame [C]
+        The tracked reference temperatures.
+    feedback : {"air", "operative"}, float or ndarray
+        The sensor model as given to :meth:`Simulation.track`.
+    method : {"inverse", "pid"}
+    step : pandas.Timedelta
+    diverged : list of str
+        Zones whose loop diverged (the run stopped there; the rest of every frame is NaN).
+    sensed_temperature : DataFrame [C]
+        The model temperature the sensor model reads, tracked zones only.
+    """
+
+    air_temperature: pd.DataFrame
+    operative_temperature: pd.DataFrame
+    heat: pd.DataFrame
+    reference: pd.DataFrame
+    feedback: str
+    method: str
+    step: pd.Timedelta
+    diverged: list = field(default_factory=list)
+    sensed_temperature: pd.DataFrame | None = None
+
+    def tracked_temperature(self) -> pd.DataFrame:
+        """The model temperature that was tracked (the sensor model) of the tracked zones [C]."""
+        if self.sensed_temperature is not None:
+            return self.sensed_temperature
+        frame = self.air_temperature if self.feedback == "air" else self.operative_temperature
+        return frame[self.heat.columns]
+
+
+#: Quantities ``SimulationResult.to_files`` can write: name -> (file stem, column suffix).
+OUTPUT_QUANTITIES = {
+    "air_temperature": ("zone_temperatures", "air_temperature_C"),
+    "operative_temperature": ("zone_temperatures", "operative_temperature_C"),
+    "heating": ("zone_heat_flows", "heating_W"),
+    "cooling": ("zone_heat_flows", "cooling_W"),
+    "heat_input": ("zone_heat_flows", "heat_input_W"),
+    "transmitted_solar": ("zone_heat_flows", "transmitted_solar_W"),
+    "infiltration": ("zone_heat_flows", "infiltration_W"),
+}
+
+
+def output_quantities(quantities=None) -> list[str]:
+    """The quantities to write, checked against :data:`OUTPUT_QUANTITIES` (None: all).
+
+    Parameters
+    ----------
+    quantities : str or sequence of str, optional
+        Names, or one comma-separated string (``"air_temperature,heating"``).
+    """
+    if quantities is None:
+        return list(OUTPUT_QUANTITIES)
+    if isinstance(quantities, str):
+        quantities = [q.strip() for q in quantities.split(",") if q.strip()]
+    unknown = [q for q in quantities if q not in OUTPUT_QUANTITIES]
+    if unknown or not quantities:
+        raise ThermocalInputError(
+            f"output quantities {', '.join(map(repr, unknown)) or '(none given)'}: choose from "
+            f"{', '.join(OUTPUT_QUANTITIES)} (comma-separated)"
+        )
+    return [q for q in OUTPUT_QUANTITIES if q in quantities]
+
+
+def _write_parquet(frame: pd.DataFrame, path: Path) -> None:
+    frame.to_parquet(path)
+
+
+def _write_csv(frame: pd.DataFrame, path: Path) -> None:
+    """Values rounded to 4 decimals (0.1 mK, 0.1 mW), time labels as pandas prints them."""
+    from thermocal.io.csv_writer import write_frame_csv
+
+    write_frame_csv(frame, path, decimals=4)
+
+
+def _hourly_mean(frame, step: pd.Timedelta):
+    per_hour = pd.Timedelta("1h") / step
+    if per_hour >= 1 and float(per_hour).is_integer() and per_hour > 1:
+        return frame.resample("1h").mean()
+    return frame

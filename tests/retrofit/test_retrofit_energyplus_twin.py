@@ -103,8 +103,9 @@ def test_twin_validation_gate_fails_and_recommends_nothing(twin):
 def test_twin_heat_loss_coefficient_and_demand(twin):
     """EnergyPlus steady state 299.2 W/K; thermocal 316.5 W/K (90 %: 297-351), +5.8 %: the
     10 % target holds (352.7 W/K, +17.9 %, before the heat fit's daily step kept its weight;
-    temperature fit 383.5 W/K, +28 %). Demand 14,037 kWh (12,096-17,042) vs 10,302, +36 %
-    (before 16,722, +62 %): the 10 % target fails; pinned."""
+    temperature fit 383.5 W/K, +28 %). Demand 14,037 kWh (12,033-17,389; 12,096-17,042
+    before the ground's inputs were drawn) vs 10,302, +36 % (before 16,722, +62 %): the 10 %
+    target fails; pinned."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]
     err = hlc["value"] / ref["heat_loss_coefficient_W_per_K"] - 1.0
@@ -117,12 +118,13 @@ def test_twin_heat_loss_coefficient_and_demand(twin):
 
 def test_twin_strategy_savings(twin):
     """Every strategy against EnergyPlus. Measured (heat fit, air change's stack term,
-    measures adding their insulation to the corrected constructions): mean absolute
-    difference 10.7 pp, max 21.7 pp (3a); 0 of 15 within 3 pp; 6 of 15 intervals cover
-    EnergyPlus; median half-width 12.4 pp (12.7 with the internal gains' factor drawn
-    independently of the fit; before the daily step kept its weight: 10.6, 22.0,
-    0, 6, 12.1, the attic measure's saving negative once corrected; temperature fit: 11.4,
-    23.4, 1, 6, 11.2).
+    measures adding their insulation to the corrected constructions, the slab edge and the
+    ground's inputs in the draws): mean absolute difference 10.9 pp, max 21.7 pp (3a); 3 of
+    15 within 3 pp; 7 of 15 intervals cover EnergyPlus; median half-width 12.8 pp (before
+    the slab edge and the ground draws: 10.7, 21.7, 0, 6, 12.4; with the internal gains'
+    factor drawn independently of the fit 12.7 pp; before the daily step kept its weight:
+    10.6, 22.0, 0, 6, 12.1, the attic measure's saving negative once corrected; temperature
+    fit: 11.4, 23.4, 1, 6, 11.2).
     Targets (every one within 3 pp, coverage >= 12/15, half-width <= 6 pp)
     not met; pinned: the bounds that hold."""
     saving = _reference()["saving_pct"]
@@ -136,9 +138,9 @@ def test_twin_strategy_savings(twin):
         half.append(0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]))
     diff = np.abs(diff)
     assert diff.max() < 24.0, diff  # target 3 (not met: 21.7)
-    assert diff.mean() < 12.0, diff  # (10.7)
-    assert covered >= 5, covered  # target 12 of 15 (not met: 6)
-    assert np.median(half) < 14.0  # target 6 (not met: 12.4)
+    assert diff.mean() < 12.0, diff  # (10.9)
+    assert covered >= 7, covered  # target 12 of 15 (not met: 7)
+    assert np.median(half) < 14.0  # target 6 (not met: 12.8)
     # the ranking: the all-measures strategy saves most in both
     best = max(rows, key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)
@@ -146,13 +148,17 @@ def test_twin_strategy_savings(twin):
 
 def test_twin_slab_saving_thermocal_vs_kiva(twin):
     """Item 5, measured: under-slab insulation to U 0.25 saves 0.7 % in EnergyPlus (Kiva) and
-    14.3 % in thermocal (ISO 13370; 18.8 % with the temperature fit); docs/retrofit.md ("Second
-    ground study") explains the difference: EnergyPlus's soil, the slab edge, the summer.
-    Pinned: the EnergyPlus value stays small, thermocal's stays the larger one."""
+    5.6 % (90 %: -0.1-16.9) in thermocal since the measure leaves the slab edge uninsulated
+    (the wall / floor junction's psi change, 0.41 W/(m K) x soil / 2.0, in the ground path)
+    and the draws carry the soil's conductivity (``thermocal.retrofit.ground_draws``);
+    before: 14.3 % (12.1-20.9), ISO 13370's floor alone at a fixed soil of 2.0 W/(m K).
+    The interval now covers EnergyPlus; the 3 pp target is not met (+4.9 pp): EnergyPlus's
+    soil (0.864) and the house's summer (docs/retrofit.md, "Second ground study")."""
     ref = _reference()["saving_pct"]["ground_floor"]
     model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["ground_floor"])
     assert 0.0 < ref < 2.0
-    assert model["saving_pct"] > ref + 10.0  # (14.3 vs 0.7: item 5, explained in the docs)
+    assert model["saving_pct_p05"] <= ref <= model["saving_pct_p95"]
+    assert ref < model["saving_pct"] < ref + 6.0  # (+4.9 pp; target 3)
 
 
 def test_slab_insulation_iso13370_vs_kiva():

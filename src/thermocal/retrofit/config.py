@@ -309,6 +309,12 @@ class UncertaintyConfig(_Strict):
         "calibration, flow and temperature-difference errors); with model.correction: groups "
         "it scales every estimated conductance and capacity in the draws",
     )
+    ground: bool = Field(
+        True,
+        description="draw the ground's uncertain inputs: the soil conductivity, an unheated "
+        "basement's air change and the slab-edge psi a floor-insulation measure leaves "
+        "(thermocal.retrofit.ground_draws; false: the building file's values in every draw)",
+    )
 
 
 class ValidationConfig(_Strict):

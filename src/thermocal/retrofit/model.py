@@ -150,7 +150,23 @@ class GroundPath:
 
     to_ground: float  # [W/K] cellar -> Tgr (basement floor and walls below grade)
     to_air: float  # [W/K] cellar -> Te (walls above grade, cellar ventilation)
-    kind: str  # "unheated_basement" or "slab"
+    kind: str  # "unheated_basement", "heated_basement" or "slab"
+
+
+#: Change of the linear thermal transmittance of the wall / slab-on-ground junction when a
+#: heavy slab next to an uninsulated heavy wall gets insulation on its underside [W/(m K)]:
+#: 0.80 - 0.39 (default values of the floor / wall junction, "méthode 3CL-DPE 2021",
+#: arrêté du 31 mars 2021, annexe 1, 3.4.1: wall not insulated, floor not insulated 0.39,
+#: floor insulated underneath "en sous face" 0.80; the table's default when the position of
+#: a floor's insulation is unknown). The table does not state its soil; taken as ISO 13370's
+#: default, 2.0 W/(m K). The junction's heat flows through the ground, so for another soil it
+#: scales with the soil's conductivity (as ISO 13370 Annex B's edge-insulation psi values
+#: do). ISO 13370 (7.2) leaves this junction to a psi value of ISO 14683 / EN ISO 10211 and
+#: counts it in the ground's coefficient, ``H_g = A U + P psi_g``; its floor U-value alone
+#: lets the insulation act over the whole floor.
+SLAB_EDGE_PSI_CHANGE = 0.41
+#: Soil conductivity of the tabulated junction values [W/(m K)].
+SLAB_EDGE_PSI_SOIL = 2.0
 
 
 @dataclass(frozen=True)
@@ -175,6 +191,15 @@ class EnvelopeComponents:
     adjacent_area: float = 0.0  # walls to an unheated garage, staircase, ...
     adjacent_u: float = 1.0
     adjacent_b: float = 1.0
+    # slab on ground: exposed perimeter [m] and the junction's psi change [W/(m K)] that
+    # insulating the floor adds; after such a measure the junction's conductance [W/K] joins
+    # the ground path (ISO 13370: H_g = A U + P psi_g)
+    floor_perimeter: float = 0.0
+    floor_edge_psi: float = 0.0
+    floor_edge_conductance: float = 0.0
+    # ground path of this envelope when it differs from the model's (uncertainty draws of
+    # the soil conductivity and the basement air change); None: the model's
+    ground: GroundPath | None = None
 
     def with_measures(self, u_values: dict[str, float]) -> EnvelopeComponents:
         """Copy with the U-values of the given measures replaced (capacities unchanged)."""
@@ -231,6 +256,11 @@ class EnvelopeComponents:
                 if m.component != "windows" and u_audit > 0 and u_now > 0:
                     u = 1.0 / (1.0 / u_now + (1.0 / u - 1.0 / u_audit))
                 env = env.with_measures({m.component: u})
+                if m.component == "ground_floor" and env.floor_edge_psi > 0:
+                    # the edge of the slab stays uninsulated (ISO 13370 7.2, ISO 14683)
+                    env = replace(
+                        env, floor_edge_conductance=env.floor_edge_psi * env.floor_perimeter
+                    )
             if m.g_value is not None:
                 if not windows_g:
                     raise ThermocalInputError(
@@ -363,8 +393,24 @@ def _adjacent(components) -> tuple[float, float, float]:
     return area, u, b
 
 
-def ground_path(building, envelope: EnvelopeComponents) -> GroundPath:
-    """ISO 13370 conductances between the cellar (or below-slab) and the boundaries [W/K]."""
+def ground_path(
+    building,
+    envelope: EnvelopeComponents,
+    *,
+    soil_conductivity: float | None = None,
+    basement_air_changes: float | None = None,
+) -> GroundPath:
+    """ISO 13370 conductances between the cellar (or below-slab) and the boundaries [W/K].
+
+    Parameters
+    ----------
+    building : thermocal.io.envelope.EnvelopeDescription
+    envelope : EnvelopeComponents
+    soil_conductivity : float [W/(m K)], optional
+        Instead of the building file's ``ground.soil_conductivity`` (uncertainty draws).
+    basement_air_changes : float [1/h], optional
+        Instead of the building file's ``ground.basement_air_change_rate``.
+    """
     g = building.ground
     if g is None:
         raise ThermocalInputError(
@@ -372,7 +418,7 @@ def ground_path(building, envelope: EnvelopeComponents) -> GroundPath:
             "basement, ...) is needed for the ISO 13370 ground path of the gf element"
         )
     basement = g.basement
-    lam = float(g.soil_conductivity)
+    lam = float(g.soil_conductivity if soil_conductivity is None else soil_conductivity)
     perimeter = float(g.perimeter)
     w = float(g.wall_thickness)
     area = float(g.floor_area or envelope.floor_area)
@@ -389,7 +435,9 @@ def ground_path(building, envelope: EnvelopeComponents) -> GroundPath:
         r_floor = max(1.0 / u_floor - R_SI["downward"] - R_SE, 0.0)
         r_wall = max(1.0 / u_wall - R_SI["horizontal"] - R_SE, 0.0)
         h_above = float(g.basement_wall_height_above_ground)
-        ach = float(g.basement_air_change_rate)
+        ach = float(
+            g.basement_air_change_rate if basement_air_changes is None else basement_air_changes
+        )
         volume = float(g.basement_volume or area * (depth + h_above))
         from thermocal.physics.ground import iso13370_unheated_basement
 
@@ -457,6 +505,7 @@ class FifthOrderModel:
     def conductances(self, envelope: EnvelopeComponents | None = None) -> dict[str, float]:
         """Calculated conductances [W/K] (and solar shares [-]) for the given U-values."""
         env = envelope or self.envelope
+        ground = env.ground if env.ground is not None else self.ground
         out: dict[str, float] = {}
         r_in, r_out, s_roof = element_conductances(
             max(env.roof_area, 1e-9), env.roof_u, R_SI["upward"], R_SE
@@ -482,26 +531,26 @@ class FifthOrderModel:
         out["share_roof"] = float(s_roof)
         out["share_walls"] = float(s_walls)
         out["H_win"] = float(env.windows_area * env.windows_u)
-        if self.ground.kind == "unheated_basement":
+        if ground.kind == "unheated_basement":
             # floor above an unheated space: Rse = Rsi (ISO 6946 Table 7 note)
             g_in, g_out, _ = element_conductances(
                 env.floor_area, env.floor_u, R_SI["downward"], R_SI["downward"]
             )
-            total = g_out + self.ground.to_ground + self.ground.to_air
+            total = g_out + ground.to_ground + ground.to_air
             out["H_gf_in"] = float(g_in)
-            out["H_gf_gr"] = float(g_out * self.ground.to_ground / total)
-            out["H_gf_e"] = float(g_out * self.ground.to_air / total)
+            out["H_gf_gr"] = float(g_out * ground.to_ground / total)
+            out["H_gf_e"] = float(g_out * ground.to_air / total)
         else:
             r_cond = max(1.0 / env.floor_u - R_SI["downward"] - R_SE, 1e-3)
             g_in = 1.0 / (R_SI["downward"] / env.floor_area + 0.5 * r_cond / env.floor_area)
             if self.envelope.floor_kind == "ground_floor" and env is not self.envelope:
-                u13370 = self.ground.to_ground / self.envelope.floor_area
+                u13370 = ground.to_ground / self.envelope.floor_area
                 # retrofit adds resistance: Delta R from the change in the construction's U
                 d_r = 1.0 / env.floor_u - 1.0 / self.envelope.floor_u
                 u13370 = 1.0 / (1.0 / u13370 + d_r)
-                total = u13370 * env.floor_area
+                total = u13370 * env.floor_area + env.floor_edge_conductance
             else:
-                total = self.ground.to_ground
+                total = ground.to_ground
             # a heated basement's walls can conduct more than the floor's inner half: then
             # the node moves towards the inside so the series still equals the ground U A
             g_in = max(g_in, 2.0 * total)
@@ -553,6 +602,12 @@ def build_fifth_order_model(
     """
     envelope = envelope_from_building(building)
     ground = ground_path(building, envelope)
+    if ground.kind == "slab" and envelope.floor_kind == "ground_floor":
+        envelope = replace(
+            envelope, floor_perimeter=float(building.ground.perimeter),
+            floor_edge_psi=SLAB_EDGE_PSI_CHANGE * float(building.ground.soil_conductivity)
+            / SLAB_EDGE_PSI_SOIL,
+        )  # fmt: skip
     floor_area = float(building.heated_floor_area)
     if floor_area <= 0:
         raise ThermocalInputError("building file: heated_floor_area must be > 0 m2")

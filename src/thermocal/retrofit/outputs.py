@@ -211,11 +211,26 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         },
         "provenance": provenance(analysis),
         "uncertainty": {"draws": cfg.uncertainty.draws, "interval": cfg.uncertainty.interval,
-                        "seed": cfg.uncertainty.seed},
+                        "seed": cfg.uncertainty.seed, "ground": _ground_draws_dict(analysis)},
         "measurements_quality": _quality_dict(analysis.measurements_quality),
         "notes": analysis.notes,
         "timings_s": analysis.timings,
     })  # fmt: skip
+
+
+def _ground_draws_dict(analysis) -> dict | None:
+    """The ground's inputs drawn (thermocal.retrofit.ground_draws): distribution, 5/50/95 %."""
+    from thermocal.retrofit.ground_draws import DESCRIPTION
+
+    draws = analysis.draws or {}
+    out = {}
+    for name, text in DESCRIPTION.items():
+        if name in draws and len(draws[name]) > 1:
+            v = np.asarray(draws[name][1:], float)
+            out[name] = {"distribution": text, "estimate": float(draws[name][0]),
+                         "p05": float(np.quantile(v, 0.05)), "p50": float(np.median(v)),
+                         "p95": float(np.quantile(v, 0.95))}  # fmt: skip
+    return out or None
 
 
 def _correction_dict(corr) -> dict | None:

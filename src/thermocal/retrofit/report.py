@@ -332,6 +332,22 @@ def write_report(
             " % relative spread, keeping the measured heat loss coefficient), which decides "
             "how much each single measure saves"
         )
+    ground = (results.get("uncertainty") or {}).get("ground")
+    if ground:
+        labels = {
+            "soil_conductivity": "the soil's thermal conductivity",
+            "basement_air_change_rate": "the unheated basement's air change",
+            "slab_edge_psi_change": "the slab edge a floor-insulation measure leaves "
+            "uninsulated (linear thermal bridge)",
+        }
+        covered.append(
+            "the ground's inputs the description does not know, each draw keeping the "
+            "measured heat balance: "
+            + "; ".join(
+                f"{labels[k]} ({v['distribution']}; drawn 5-95 %: {v['p05']:.2g}-{v['p95']:.2g})"
+                for k, v in ground.items()
+            )
+        )
     rep.bullets(covered, intro=f"The {pct} intervals ({low} to {high}) cover:")
     not_covered = [
         "the weather: one typical year is used; a cold winter needs more, a mild one less "
@@ -345,8 +361,8 @@ def write_report(
             f"{100 * cfg.internal_gains.rel_std:.0f} % uncertainty is covered)"
         ),
         "the model structure: five lumped temperatures stand for the whole house; effects it "
-        "cannot represent (thermal bridges changed by a retrofit, moisture, zones held at other "
-        "temperatures) are not in the intervals",
+        "cannot represent (thermal bridges a retrofit changes other than the slab edge, "
+        "moisture, zones held at other temperatures) are not in the intervals",
         "prices, system efficiency and costs: the economic figures are computed at the "
         "configured values and scale directly with them",
     ]

@@ -10,7 +10,7 @@ uncertainty, and returns everything as a :class:`RetrofitAnalysis`, which
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -42,6 +42,7 @@ from thermocal.retrofit.data import (
 )
 from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
 from thermocal.retrofit.gate import heat_to_follow_measured, heat_validation, validation_gate
+from thermocal.retrofit.ground_draws import draw_ground_inputs, ground_overrides
 from thermocal.retrofit.inputs import solar_inputs
 from thermocal.retrofit.metrics import daily_profile, validation_metrics
 from thermocal.retrofit.model import (
@@ -448,10 +449,25 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             else np.full(24, float(ig.constant_W))
         )  # fmt: skip
         year_gains = day[np.asarray(year.index.hour)]
+    ground = None
+    if cfg.uncertainty.ground and cfg.uncertainty.draws > 0:
+        # the ground's uncertain inputs (thermocal.retrofit.ground_draws); the calibration
+        # period's means keep each draw's heat balance
+        cal_rows = np.asarray(inputs.index < training[1])
+        ground = {
+            "inputs": draw_ground_inputs(
+                building, model, cfg.uncertainty.draws + 1, seed=cfg.uncertainty.seed
+            ),
+            "means": {
+                c: float(np.nanmean(inputs[col].to_numpy(float)[cal_rows]))
+                for c, col in (("Ti", OUTPUT_COLUMN), ("Te", "Te"), ("Tgr", "Tgr"))
+            },
+        }
+        ground["overrides"] = ground_overrides(building, model, ground["inputs"])
     if cal.correction is not None:
         draws, envelopes = corrected_scenarios(
             model, cal, strategies, cfg.measure_objects(), cfg.uncertainty.draws,
-            seed=cfg.uncertainty.seed,
+            seed=cfg.uncertainty.seed, ground=ground,
         )  # fmt: skip
     else:
         draws = draw_parameters(cal, model, cfg.uncertainty.draws, seed=cfg.uncertainty.seed)
@@ -462,7 +478,10 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             draws,
             cfg.uncertainty.u_value_rel_std,
             seed=cfg.uncertainty.seed,
+            ground=ground,
         )
+    if ground is not None:
+        draws.update(ground["inputs"])
     if gains is not None:  # their uncertainty: one log-normal factor per draw (first: 1)
         sigma = np.sqrt(np.log1p(ig.rel_std**2))
         rng = np.random.default_rng(cfg.uncertainty.seed + 104729)
@@ -591,6 +610,7 @@ def scenario_envelopes(
     draws: dict[str, np.ndarray],
     u_value_rel_std: float = 0.0,
     seed: int = 0,
+    ground: dict | None = None,
 ):
     """Envelopes (U-values) of every strategy, optionally per draw with uncertain audit U.
 
@@ -603,6 +623,10 @@ def scenario_envelopes(
     so the draw's ``H_est`` is shifted to keep the calibrated HLC (``draws`` is updated in
     place, clipped at 1 W/K). The retrofitted components take the measure's U-value.
 
+    ``ground`` (``inputs``, ``overrides``, ``means``; :mod:`thermocal.retrofit.ground_draws`)
+    gives each draw its ground path; its ``H_est`` keeps the calibration period's heat
+    balance (:func:`~thermocal.retrofit.ground_draws.h_est_shifts`).
+
     Returns
     -------
     list (one per strategy) of EnvelopeComponents, or of lists of them (one per draw).
@@ -611,7 +635,7 @@ def scenario_envelopes(
         name: m if isinstance(m, Measure) else Measure(name, name, u_value=float(m))
         for name, m in measures.items()
     }
-    if u_value_rel_std <= 0:
+    if u_value_rel_std <= 0 and ground is None:
         return [model.apply_measures([measures[m] for m in s.measures]) for s in strategies]
     n = len(draws["H_est"])
     rng = np.random.default_rng(seed + 7919)
@@ -634,19 +658,35 @@ def scenario_envelopes(
         shift = hlc0 - calculated_hlc(model.conductances(env))
         draws["H_est"][d] = max(draws["H_est"][d] + shift, 1.0)
         per_draw.append(env)
+    per_draw = _with_ground(model, per_draw, draws, ground)
     return [
         [model.apply_measures([measures[m] for m in s.measures], env) for env in per_draw]
         for s in strategies
     ]
 
 
-def corrected_scenarios(model, cal, strategies, measures: dict, n_draws: int, seed: int = 0):
+def _with_ground(model, envelopes: list, draws: dict, ground: dict | None) -> list:
+    """Each draw's envelope with its drawn ground; its ``H_est`` shifted (in place) to keep
+    the calibration period's heat balance."""
+    if ground is None:
+        return envelopes
+    from thermocal.retrofit.ground_draws import h_est_shifts
+
+    overrides = ground["overrides"]
+    shifts = h_est_shifts(model, envelopes, overrides, ground["means"])
+    draws["H_est"] = np.maximum(np.asarray(draws["H_est"], float) + shifts, 1.0)
+    return [replace(env, **fields) for env, fields in zip(envelopes, overrides, strict=True)]
+
+
+def corrected_scenarios(
+    model, cal, strategies, measures: dict, n_draws: int, seed: int = 0, ground=None
+):
     """Parameter draws and per-draw envelopes of every strategy from the posterior of the
     group corrections (:mod:`thermocal.retrofit.correction`).
 
-    Each draw scales the building file's U-values by its group factors; a measure then sets
-    the U-value of the component it retrofits (the new construction is known), the other
-    components keep the draw's corrected U-value.
+    Each draw scales the building file's U-values by its group factors; a measure then adds
+    its insulation to the construction it retrofits, the other components keep the draw's
+    corrected U-value. ``ground``: as :func:`scenario_envelopes`.
 
     Returns
     -------
@@ -670,6 +710,7 @@ def corrected_scenarios(model, cal, strategies, measures: dict, n_draws: int, se
         scaled_envelope(model.envelope, {g: v[d] for g, v in factors.items()})
         for d in range(len(z))
     ]
+    base = _with_ground(model, base, draws, ground)
     envelopes = [
         [model.apply_measures([measures[m] for m in s.measures], env) for env in base]
         for s in strategies

@@ -249,8 +249,13 @@ class NetworkSetup:
         upper = net.ext_hc0 + net.ext_hr0 * net.ext_emissivity + net.ext_capacity / dt
         ext_natural = self._ext_natural(upper)
         plain = ext_natural[:, 0] == 0.0
-        clipped = np.clip(ext_dh_raw, 0.1 - net.ext_hc0[None, :], upper[None, :])
-        ext_dh = np.where(plain[None, :], clipped, ext_dh_raw)
+        if plain.any():  # clip only the faces whose natural term is not computed in the loop
+            ext_dh = np.array(ext_dh_raw, dtype=float, order="C")
+            ext_dh[:, plain] = np.clip(
+                ext_dh_raw[:, plain], 0.1 - net.ext_hc0[None, plain], upper[None, plain]
+            )
+        else:  # every exterior face computes its natural term in the loop: nothing to clip
+            ext_dh = ext_dh_raw
         per_step = (
             self._heat_sp_steps,
             self._cool_sp_steps,

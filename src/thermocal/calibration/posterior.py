@@ -47,7 +47,13 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 
-__all__ = ["Posterior", "calibration_posterior", "emulator_variance", "linear_heat_model"]
+__all__ = [
+    "Posterior",
+    "calibration_posterior",
+    "discrepancy_basis",
+    "emulator_variance",
+    "linear_heat_model",
+]
 
 #: A parameter is determined when its 90 % credible interval is narrower than this fraction of
 #: its prior range [-].
@@ -83,6 +89,7 @@ class LinearHeatModel:
     lower: np.ndarray
     upper: np.ndarray
     series_count: int = 1
+    segments: tuple = ()
 
     def residual(self, z: np.ndarray) -> np.ndarray:
         """Residual series for log-parameters ``z`` (shape (d,) or (m, d)) [W]."""
@@ -127,7 +134,56 @@ def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHe
         lower=np.asarray(lower, dtype=float),
         upper=np.asarray(upper, dtype=float),
         series_count=len(getattr(surrogate, "segments", [None])),
+        segments=tuple(
+            (int(a), int(b)) for a, b in getattr(surrogate, "segments", [(0, len(intercept))])
+        ),
     )
+
+
+def discrepancy_basis(
+    model: LinearHeatModel, residual: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Parameter-like model discrepancy: its directions and prior variances.
+
+    The true envelope's own unoccupied heat is not constant (the model's error), and the part
+    of it that looks like a parameter change never shows in the residual the noise level is
+    taken from (Brynjarsdottir and O'Hagan 2014). This discrepancy is modelled explicitly: in
+    each series ``g`` (zone group, or the building) and for each parameter ``k``, a component
+    ``b_gk u_gk(t)`` along the parameter's own hour-centred signature in that series
+    (``u_gk = J_gk / rms(J_gk)``, unit RMS per hour), with ``b_gk ~ N(0, tau_g^2)``
+    independent across groups and parameters, and ``tau_g^2`` the series' residual variance
+    per hour at the best bounded fit (the model-error floor that series shows across the
+    parameters' directions, assumed as large along them).
+
+    Parameters
+    ----------
+    model : LinearHeatModel
+    residual : ndarray (n_hours,)
+        Residual series at the best bounded fit [W].
+
+    Returns
+    -------
+    basis : ndarray (n_hours, m)
+        Unit-RMS signatures, zero outside their series [-].
+    variance : ndarray (m,)
+        Prior variance of each component's amplitude [W^2].
+    """
+    n, d = model.jacobian.shape
+    columns, variances = [], []
+    for a, b in model.segments or ((0, n),):
+        tau2 = float(np.mean(residual[a:b] ** 2))
+        for k in range(d):
+            signature = model.jacobian[a:b, k]
+            rms = float(np.sqrt(np.mean(signature**2)))
+            if rms <= 0 or tau2 <= 0:
+                continue
+            column = np.zeros(n)
+            column[a:b] = signature / rms
+            columns.append(column)
+            variances.append(tau2)
+    if not columns:
+        return np.zeros((n, 0)), np.zeros(0)
+    return np.column_stack(columns), np.array(variances)
 
 
 @dataclass(frozen=True)
@@ -343,6 +399,7 @@ def calibration_posterior(
     all_upper=None,
     units: Sequence[str] | None = None,
     emulator_error: float = 0.0,
+    discrepancy: bool = False,
     walkers: int | None = None,
     steps: int = 2000,
     seed: int = 0,
@@ -365,6 +422,10 @@ def calibration_posterior(
     emulator_error : float
         Variance of the meta-model's own hourly error (:func:`emulator_variance`), added to the
         residual noise [W^2].
+    discrepancy : bool
+        Add the parameter-like model discrepancy of :func:`discrepancy_basis` to the
+        likelihood, marginalised analytically (Gaussian, by the Woodbury identity): the
+        intervals then include what a model error that mimics a parameter change may shift.
     walkers : int, optional
         Ensemble size [-]; default ``max(32, 4 d)``.
     steps : int
@@ -387,13 +448,27 @@ def calibration_posterior(
     variance = residual_variance + max(float(emulator_error), 0.0)
     scale = (n_eff / n) / (2.0 * variance)
     zl, zu = model.z_bounds
+    basis, tau2 = (
+        discrepancy_basis(model, model.residual(z_hat)) if discrepancy else (np.zeros((0, 0)), [])
+    )
+    if len(tau2):
+        # covariance a I + U T U^T with a = 1 / (2 scale): its inverse by Woodbury,
+        # r^T S^-1 r = (|r|^2 - (U^T r)^T (a T^-1 + U^T U)^-1 (U^T r)) / a
+        a = 1.0 / (2.0 * scale)
+        woodbury = np.linalg.inv(np.diag(a / tau2) + basis.T @ basis)
+    else:
+        woodbury = None
 
     def log_probability(z: np.ndarray) -> np.ndarray:
         z = np.atleast_2d(z)
         inside = np.all((z >= zl) & (z <= zu), axis=1)
         r = model.residual(z)
+        quadratic = np.einsum("ij,ij->i", r, r)
+        if woodbury is not None:
+            projected = r @ basis
+            quadratic = quadratic - np.einsum("ij,jk,ik->i", projected, woodbury, projected)
         # uniform prior in the parameter p = p_nominal exp(z): density exp(sum z) in z
-        lp = -scale * np.einsum("ij,ij->i", r, r) + z.sum(axis=1)
+        lp = -scale * quadratic + z.sum(axis=1)
         return np.where(inside, lp, -np.inf)
 
     rng = np.random.default_rng(int(seed))

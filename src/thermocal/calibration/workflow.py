@@ -1027,6 +1027,9 @@ def analyse(
     )
     notes.extend(flag["text"] for flag in flags)
     confirmed["flags"] = flags
+    floor = model_error_floor(space, posterior, series_model)
+    if floor is not None:
+        confirmed["model_error_floor"] = floor
     confirmed["calibrated_parameters"] = movable
     comparison = None
     if inputs.truth is not None:
@@ -1278,6 +1281,7 @@ def _posterior_or_note(
             units=[space.units[i] for i in idx],
             seed=campaign.sampling.seed,
             emulator_error=emulator_variance(model, X, seed=campaign.sampling.seed),
+            discrepancy=campaign.posterior.discrepancy,
         )
     except (ThermocalInputError, np.linalg.LinAlgError, ValueError) as exc:
         notes.append(f"No posterior of the calibrated parameters: {exc}")
@@ -1287,6 +1291,28 @@ def _posterior_or_note(
 
 #: a calibrated parameter within this share of its log-range of a sampling bound is "at" it
 AT_BOUND = 0.02
+
+
+def model_error_floor(space, posterior, series_model) -> float | None:
+    """The lowest metric the model error allows: the 5 % quantile of the metric the series
+    meta-model predicts over the posterior's draws [W^2]; None without a posterior.
+
+    Parameters
+    ----------
+    space : ParameterSpace
+    posterior : Posterior or None
+    series_model : SeriesSurrogate or None
+        Fitted on all the campaign's parameters.
+    """
+    if posterior is None or series_model is None or not len(posterior.samples):
+        return None
+    nominal = space.nominal_dict()
+    draws = posterior.samples.iloc[:: max(1, len(posterior.samples) // 400)]
+    frame = pd.DataFrame({n: np.full(len(draws), nominal[n]) for n in space.names})
+    for n in draws.columns:
+        frame[n] = draws[n].to_numpy()
+    predicted = series_model.predict(frame[list(series_model.feature_names_in_)])
+    return float(np.quantile(predicted, 0.05))
 
 
 def calibration_flags(space, values, metric, posterior, series_model, truth=None) -> list[dict]:
@@ -1353,13 +1379,8 @@ def calibration_flags(space, values, metric, posterior, series_model, truth=None
                     f"{space.units[i]}; nominal {nominal[name]:.4g}): {why}.",
                 }
             )
-    if posterior is not None and series_model is not None and len(posterior.samples):
-        draws = posterior.samples.iloc[:: max(1, len(posterior.samples) // 400)]
-        frame = pd.DataFrame({n: np.full(len(draws), nominal[n]) for n in space.names})
-        for n in draws.columns:
-            frame[n] = draws[n].to_numpy()
-        predicted = series_model.predict(frame[list(series_model.feature_names_in_)])
-        floor = float(np.quantile(predicted, 0.05))
+    floor = model_error_floor(space, posterior, series_model)
+    if floor is not None:
         if metric < floor:
             flags.append(
                 {

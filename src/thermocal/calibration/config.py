@@ -177,10 +177,12 @@ class OptimisationSection(_Strict):
 
 class PosteriorSection(_Strict):
     """Options of the posterior of the calibrated parameters (``discrepancy``: add a
-    parameter-like model discrepancy to the likelihood, Brynjarsdottir and O'Hagan 2014; see
+    parameter-like model discrepancy to the likelihood, Brynjarsdottir and O'Hagan 2014, its
+    prior scale from the residual along the parameters' shifted signatures, ``neighbours``, or
+    the whole model-error floor, ``floor``; see
     :func:`thermocal.calibration.posterior.discrepancy_basis`)."""
 
-    discrepancy: bool = False
+    discrepancy: Literal["none", "neighbours", "floor"] = "none"
 
 
 class CampaignFile(_Strict):

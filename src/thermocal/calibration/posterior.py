@@ -140,8 +140,34 @@ def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHe
     )
 
 
+#: Hour shifts of a parameter's signature whose residual energy estimates, with
+#: ``discrepancy="neighbours"``, the discrepancy along the signature itself [h].
+NEIGHBOUR_SHIFTS = (-12, -6, -3, -2, -1, 1, 2, 3, 6, 12)
+
+
+def _neighbour_variance(signature, others, residual) -> float:
+    """Mean squared residual along the shifted copies of a signature, per hour [W^2].
+
+    Each copy is made orthogonal to the fitted signatures and to a constant (the directions
+    the fit already used, where the residual is zero), so the residual's energy along it is
+    observed; under white noise it is the noise variance per direction, under a smooth model
+    error it is larger."""
+    n = len(signature)
+    basis, _ = np.linalg.qr(np.column_stack([np.ones(n), others]))
+    energies = []
+    for shift in NEIGHBOUR_SHIFTS:
+        if abs(shift) >= n // 4:
+            continue
+        v = np.roll(signature, shift)
+        v = v - basis @ (basis.T @ v)
+        norm2 = float(v @ v)
+        if norm2 > 1e-12 * float(signature @ signature):
+            energies.append(float(residual @ v) ** 2 / norm2)
+    return float(np.mean(energies)) / n if energies else 0.0
+
+
 def discrepancy_basis(
-    model: LinearHeatModel, residual: np.ndarray
+    model: LinearHeatModel, residual: np.ndarray, scale: str = "neighbours"
 ) -> tuple[np.ndarray, np.ndarray]:
     """Parameter-like model discrepancy: its directions and prior variances.
 
@@ -150,16 +176,25 @@ def discrepancy_basis(
     taken from (Brynjarsdottir and O'Hagan 2014). This discrepancy is modelled explicitly: in
     each series ``g`` (zone group, or the building) and for each parameter ``k``, a component
     ``b_gk u_gk(t)`` along the parameter's own hour-centred signature in that series
-    (``u_gk = J_gk / rms(J_gk)``, unit RMS per hour), with ``b_gk ~ N(0, tau_g^2)``
-    independent across groups and parameters, and ``tau_g^2`` the series' residual variance
-    per hour at the best bounded fit (the model-error floor that series shows across the
-    parameters' directions, assumed as large along them).
+    (``u_gk = J_gk / rms(J_gk)``, unit RMS per hour), with ``b_gk ~ N(0, tau_gk^2)``
+    independent across groups and parameters. Its prior scale ``tau_gk^2`` [W^2]:
+
+    * ``"floor"``: the series' residual variance per hour at the best bounded fit (the
+      model-error floor that series shows across the parameters' directions, assumed as
+      large along one of them: the upper bound, the whole model error mimicking a parameter);
+    * ``"neighbours"``: the residual's energy along the signature shifted by 1 to 12 hours
+      (made orthogonal to what the fit used), per hour: a model error that mimics a
+      parameter's signature is assumed as large as along its slightly shifted copies, which
+      the data do show (a smoothness assumption on the discrepancy; under white noise this
+      is the noise's own level and the intervals widen by about sqrt(2)).
 
     Parameters
     ----------
     model : LinearHeatModel
     residual : ndarray (n_hours,)
         Residual series at the best bounded fit [W].
+    scale : {"neighbours", "floor"}
+        How the prior scale is set.
 
     Returns
     -------
@@ -168,14 +203,26 @@ def discrepancy_basis(
     variance : ndarray (m,)
         Prior variance of each component's amplitude [W^2].
     """
+    if scale not in ("neighbours", "floor"):
+        raise ThermocalInputError(
+            f"posterior: discrepancy must be 'none', 'neighbours' or 'floor', got {scale!r}"
+        )
     n, d = model.jacobian.shape
     columns, variances = [], []
     for a, b in model.segments or ((0, n),):
-        tau2 = float(np.mean(residual[a:b] ** 2))
+        r = residual[a:b]
+        floor = float(np.mean(r**2))
         for k in range(d):
             signature = model.jacobian[a:b, k]
             rms = float(np.sqrt(np.mean(signature**2)))
-            if rms <= 0 or tau2 <= 0:
+            if rms <= 0:
+                continue
+            tau2 = (
+                floor
+                if scale == "floor"
+                else _neighbour_variance(signature, model.jacobian[a:b], r)
+            )
+            if tau2 <= 0:
                 continue
             column = np.zeros(n)
             column[a:b] = signature / rms
@@ -399,7 +446,7 @@ def calibration_posterior(
     all_upper=None,
     units: Sequence[str] | None = None,
     emulator_error: float = 0.0,
-    discrepancy: bool = False,
+    discrepancy: str | bool = "none",
     walkers: int | None = None,
     steps: int = 2000,
     seed: int = 0,
@@ -422,10 +469,11 @@ def calibration_posterior(
     emulator_error : float
         Variance of the meta-model's own hourly error (:func:`emulator_variance`), added to the
         residual noise [W^2].
-    discrepancy : bool
-        Add the parameter-like model discrepancy of :func:`discrepancy_basis` to the
-        likelihood, marginalised analytically (Gaussian, by the Woodbury identity): the
-        intervals then include what a model error that mimics a parameter change may shift.
+    discrepancy : {"none", "neighbours", "floor"}
+        Add the parameter-like model discrepancy of :func:`discrepancy_basis` (with that prior
+        scale; ``True`` means ``"neighbours"``) to the likelihood, marginalised analytically
+        (Gaussian, by the Woodbury identity): the intervals then include what a model error
+        that mimics a parameter change may shift.
     walkers : int, optional
         Ensemble size [-]; default ``max(32, 4 d)``.
     steps : int
@@ -448,9 +496,12 @@ def calibration_posterior(
     variance = residual_variance + max(float(emulator_error), 0.0)
     scale = (n_eff / n) / (2.0 * variance)
     zl, zu = model.z_bounds
-    basis, tau2 = (
-        discrepancy_basis(model, model.residual(z_hat)) if discrepancy else (np.zeros((0, 0)), [])
-    )
+    if discrepancy is True:
+        discrepancy = "neighbours"
+    if discrepancy in (False, None, "none"):
+        basis, tau2 = np.zeros((0, 0)), []
+    else:
+        basis, tau2 = discrepancy_basis(model, model.residual(z_hat), str(discrepancy))
     if len(tau2):
         # covariance a I + U T U^T with a = 1 / (2 scale): its inverse by Woodbury,
         # r^T S^-1 r = (|r|^2 - (U^T r)^T (a T^-1 + U^T U)^-1 (U^T r)) / a
@@ -466,7 +517,7 @@ def calibration_posterior(
         quadratic = np.einsum("ij,ij->i", r, r)
         if woodbury is not None:
             projected = r @ basis
-            quadratic = quadratic - np.einsum("ij,jk,ik->i", projected, woodbury, projected)
+            quadratic = quadratic - np.einsum("ij,ij->i", projected @ woodbury, projected)
         # uniform prior in the parameter p = p_nominal exp(z): density exp(sum z) in z
         lp = -scale * quadratic + z.sum(axis=1)
         return np.where(inside, lp, -np.inf)

@@ -30,9 +30,9 @@ def _clinic(folder: Path):
     sys.path.insert(0, str(REF.parent / "calibration"))
     from test_calibration_workflow import _campaign, _clinic
 
-    from thermocal.multizone.elements import element_parameters
+    from thermocal.calibration.workflow import candidate_parameters
 
-    start = element_parameters(_clinic())
+    start = candidate_parameters(_clinic(), "element")
     wall, roof = "construction/Exterior wall/resistance", "construction/Roof/resistance"
     truth = {wall: 0.6 * start[wall], roof: 1.5 * start[roof]}
     parameters = """parameters:
@@ -53,7 +53,7 @@ def _energyplus(name: str, folder: Path, samples: int):
     return path, json.loads((REF / name / "truth.json").read_text())["truth"]
 
 
-def measure(twin: str, workers: int) -> dict:
+def measure(twin: str, workers: int, modes=("none", "neighbours", "floor")) -> dict:
     from thermocal.calibration.config import load_campaign
     from thermocal.calibration.workflow import calibrate, reanalyse
 
@@ -78,11 +78,10 @@ def measure(twin: str, workers: int) -> dict:
         out["campaign_s"] = time.perf_counter() - t0
         base = path.read_text()
         for metric in ("building", "groups"):
-            for discrepancy in (False, True):
+            for discrepancy in modes:
                 other = folder / f"{metric}_{discrepancy}.yaml"
                 other.write_text(
-                    base
-                    + f"metric: {metric}\nposterior: {{discrepancy: {str(discrepancy).lower()}}}\n"
+                    base + f"metric: {metric}\nposterior: {{discrepancy: {discrepancy}}}\n"
                 )
                 result = reanalyse(load_campaign(other), folder / "s.sqlite", log=lambda s: None)
                 post = result.posterior.summary
@@ -100,7 +99,7 @@ def measure(twin: str, workers: int) -> dict:
                         "width_fraction": float(post.at[n, "width_fraction"]),
                         "determined": bool(post.at[n, "determined"]),
                     }
-                out[f"{metric}/{'discrepancy' if discrepancy else 'none'}"] = {
+                out[f"{metric}/{discrepancy}"] = {
                     "rows": rows,
                     "noise_std_W": float(result.posterior.noise_std),
                     "flags": result.confirmed.get("flags", []),
@@ -133,9 +132,10 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("twins", nargs="+", choices=["clinic", "5zone", "multifamily"])
     parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument("--modes", nargs="+", default=["none", "neighbours", "floor"])
     args = parser.parse_args(argv)
     for twin in args.twins:
-        res = measure(twin, args.workers)
+        res = measure(twin, args.workers, tuple(args.modes))
         (HERE / f"{twin}.json").write_text(json.dumps(res, indent=2, default=str) + "\n")
         text = markdown(twin, res)
         print(text, flush=True)

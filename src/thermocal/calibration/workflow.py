@@ -564,7 +564,11 @@ def calibrate(
             sample_set,
             summary,
             store,
-            RunCache(store, evaluator, later),
+            RunCache(
+                store,
+                evaluator,
+                None if later is None else campaign_evaluator(later, inputs.building),
+            ),
             timings=timings,
             notes=notes,
             log=log,
@@ -630,8 +634,8 @@ class RunCache:
     ----------
     store : CampaignStore
     evaluator : CampaignEvaluator or None
-    validation : IdentificationProblem or None
-        The validation period's problem.
+    validation : CampaignEvaluator or None
+        The validation period's evaluator (its problem and zone groups).
     simulated : int
         Runs simulated by this cache [-].
     """
@@ -653,8 +657,8 @@ class RunCache:
         if self.evaluator is None:
             return None
         if tag == "validation":
-            run = self.validation.run(parameters)
-            outputs = self.validation.metrics(run.heat)
+            run = self.validation.problem.run(parameters)
+            outputs = self.validation.outputs(run.heat)
         else:
             run = self.evaluator.problem.run(parameters)
             outputs = self.evaluator.outputs(run.heat)
@@ -889,11 +893,6 @@ def analyse(
         "building_std_W": nominal_outputs["unoccupied_std"],
     }
     timings["confirmation"] = time.perf_counter() - t0
-    validation = None
-    if campaign.validation is not None:
-        t0 = time.perf_counter()
-        validation = _validate(campaign, inputs, optimisation, runs)
-        timings["validation"] = time.perf_counter() - t0
     posterior = series_model = None
     if series is not None:
         t0 = time.perf_counter()
@@ -1031,6 +1030,11 @@ def analyse(
     if floor is not None:
         confirmed["model_error_floor"] = floor
     confirmed["calibrated_parameters"] = movable
+    validation = None
+    if campaign.validation is not None:
+        t0 = time.perf_counter()
+        validation = _validate(campaign, calibrated_values, runs, metric)
+        timings["validation"] = time.perf_counter() - t0
     comparison = None
     if inputs.truth is not None:
         perturbed = [
@@ -1839,22 +1843,45 @@ def validation_problem(campaign, inputs: CampaignInputs):
     return problem
 
 
-def _validate(campaign, inputs: CampaignInputs, optimisation, runs) -> dict | None:
-    """Nominal vs calibrated building metric on the validation period (not seen by the
-    calibration); None when its runs are not stored in a re-analysis."""
+def _validate(campaign, calibrated_values: dict, runs, metric: str) -> dict | None:
+    """Nominal vs calibrated building's metric on the validation period (not seen by the
+    calibration); None when its runs are not stored in a re-analysis.
+
+    Parameters
+    ----------
+    campaign : CampaignFile
+    calibrated_values : dict
+        The calibrated building's parameters (the chosen candidate) [unit of each].
+    runs : RunCache
+    metric : str
+        The campaign's metric (``building`` or ``groups``); the building total is reported
+        too.
+
+    Returns
+    -------
+    dict or None
+        ``nominal`` and ``calibrated`` in the campaign's metric [W^2], their ``ratio``,
+        ``keeps_lower_variance``, the building-total metrics and the period.
+    """
     nominal = runs.get({}, tag="validation", heat=False)
-    calibrated = runs.get(optimisation.parameters("min"), tag="validation", heat=False)
+    calibrated = runs.get(dict(calibrated_values), tag="validation", heat=False)
     if nominal is None or calibrated is None:
         return None
-    nominal, calibrated = nominal[0][METRIC], calibrated[0][METRIC]
-    return {
-        "start": str(campaign.validation.start),
-        "end": str(campaign.validation.end),
-        "nominal": nominal,
-        "calibrated": calibrated,
-        "ratio": calibrated / nominal if nominal > 0 else None,
-        "keeps_lower_variance": bool(calibrated < nominal),
-    }
+    out = {"start": str(campaign.validation.start), "end": str(campaign.validation.end)}
+    try:
+        values = [metric_value(run[0], metric) for run in (nominal, calibrated)]
+    except (KeyError, ValueError):  # a store written before the group outputs were stored
+        return None
+    out.update(
+        metric=metric,
+        nominal=values[0],
+        calibrated=values[1],
+        ratio=values[1] / values[0] if values[0] > 0 else None,
+        keeps_lower_variance=bool(values[1] < values[0]),
+        building_nominal=float(nominal[0][METRIC]),
+        building_calibrated=float(calibrated[0][METRIC]),
+    )
+    return out
 
 
 def _guideline14(heat: dict, true_loads: pd.DataFrame) -> dict:

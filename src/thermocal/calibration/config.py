@@ -179,10 +179,11 @@ class PosteriorSection(_Strict):
     """Options of the posterior of the calibrated parameters (``discrepancy``: add a
     parameter-like model discrepancy to the likelihood, Brynjarsdottir and O'Hagan 2014, its
     prior scale from the residual along the parameters' shifted signatures, ``neighbours``, or
-    the whole model-error floor, ``floor``; see
+    the whole model-error floor, ``floor``, or that floor shared among the parameters,
+    ``shared``; see
     :func:`thermocal.calibration.posterior.discrepancy_basis`)."""
 
-    discrepancy: Literal["none", "neighbours", "floor"] = "none"
+    discrepancy: Literal["none", "neighbours", "floor", "shared"] = "none"
 
 
 class CampaignFile(_Strict):

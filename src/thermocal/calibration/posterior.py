@@ -182,6 +182,9 @@ def discrepancy_basis(
     * ``"floor"``: the series' residual variance per hour at the best bounded fit (the
       model-error floor that series shows across the parameters' directions, assumed as
       large along one of them: the upper bound, the whole model error mimicking a parameter);
+    * ``"shared"``: that floor shared among the ``d`` parameters' signatures,
+      ``tau_gk^2 = floor_g / d`` (the model error's energy per hour bounds the part of it
+      that mimics the parameters, all of them together);
     * ``"neighbours"``: the residual's energy along the signature shifted by 1 to 12 hours
       (made orthogonal to what the fit used), per hour: a model error that mimics a
       parameter's signature is assumed as large as along its slightly shifted copies, which
@@ -193,7 +196,7 @@ def discrepancy_basis(
     model : LinearHeatModel
     residual : ndarray (n_hours,)
         Residual series at the best bounded fit [W].
-    scale : {"neighbours", "floor"}
+    scale : {"neighbours", "floor", "shared"}
         How the prior scale is set.
 
     Returns
@@ -203,9 +206,10 @@ def discrepancy_basis(
     variance : ndarray (m,)
         Prior variance of each component's amplitude [W^2].
     """
-    if scale not in ("neighbours", "floor"):
+    if scale not in ("neighbours", "floor", "shared"):
         raise ThermocalInputError(
-            f"posterior: discrepancy must be 'none', 'neighbours' or 'floor', got {scale!r}"
+            "posterior: discrepancy must be 'none', 'neighbours', 'floor' or 'shared', got "
+            f"{scale!r}"
         )
     n, d = model.jacobian.shape
     columns, variances = [], []
@@ -217,11 +221,10 @@ def discrepancy_basis(
             rms = float(np.sqrt(np.mean(signature**2)))
             if rms <= 0:
                 continue
-            tau2 = (
-                floor
-                if scale == "floor"
-                else _neighbour_variance(signature, model.jacobian[a:b], r)
-            )
+            if scale == "neighbours":
+                tau2 = _neighbour_variance(signature, model.jacobian[a:b], r)
+            else:
+                tau2 = floor / (d if scale == "shared" else 1)
             if tau2 <= 0:
                 continue
             column = np.zeros(n)
@@ -469,7 +472,7 @@ def calibration_posterior(
     emulator_error : float
         Variance of the meta-model's own hourly error (:func:`emulator_variance`), added to the
         residual noise [W^2].
-    discrepancy : {"none", "neighbours", "floor"}
+    discrepancy : {"none", "neighbours", "floor", "shared"}
         Add the parameter-like model discrepancy of :func:`discrepancy_basis` (with that prior
         scale; ``True`` means ``"neighbours"``) to the likelihood, marginalised analytically
         (Gaussian, by the Woodbury identity): the intervals then include what a model error

@@ -53,14 +53,16 @@ def _energyplus(name: str, folder: Path, samples: int):
     return path, json.loads((REF / name / "truth.json").read_text())["truth"]
 
 
-def measure(twin: str, workers: int, modes=("none", "neighbours", "floor")) -> dict:
+def measure(twin: str, workers: int, modes=("none", "neighbours", "floor"), keep=None) -> dict:
     from thermocal.calibration.config import load_campaign
     from thermocal.calibration.workflow import calibrate, reanalyse
 
     out = {}
     with tempfile.TemporaryDirectory() as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        folder = Path(tmp)
+        folder = Path(keep) / twin if keep else Path(tmp)
+        folder.mkdir(parents=True, exist_ok=True)
+        stored = (folder / "s.sqlite").exists()
         if twin == "clinic":
             path, truth = _clinic(folder)
         elif twin == "5zone":
@@ -68,13 +70,14 @@ def measure(twin: str, workers: int, modes=("none", "neighbours", "floor")) -> d
         else:
             path, truth = _energyplus("calibration_energyplus_multifamily", folder, 32)
         t0 = time.perf_counter()
-        calibrate(
-            load_campaign(path),
-            workers=workers,
-            store_path=folder / "s.sqlite",
-            progress=False,
-            log=lambda s: None,
-        )
+        if not stored:
+            calibrate(
+                load_campaign(path),
+                workers=workers,
+                store_path=folder / "s.sqlite",
+                progress=False,
+                log=lambda s: None,
+            )
         out["campaign_s"] = time.perf_counter() - t0
         base = path.read_text()
         for metric in ("building", "groups"):
@@ -133,9 +136,10 @@ def main(argv=None) -> int:
     parser.add_argument("twins", nargs="+", choices=["clinic", "5zone", "multifamily"])
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--modes", nargs="+", default=["none", "neighbours", "floor"])
+    parser.add_argument("--keep", type=Path, default=None, help="folder keeping the stores")
     args = parser.parse_args(argv)
     for twin in args.twins:
-        res = measure(twin, args.workers, tuple(args.modes))
+        res = measure(twin, args.workers, tuple(args.modes), args.keep)
         (HERE / f"{twin}.json").write_text(json.dumps(res, indent=2, default=str) + "\n")
         text = markdown(twin, res)
         print(text, flush=True)

@@ -46,8 +46,14 @@ def _clinic(folder: Path):
 
 
 def _energyplus(name: str, folder: Path, samples: int):
-    sys.path.insert(0, str(REF / name))
-    import calibrate_twin as ct
+    import importlib.util
+
+    # the twins' scripts share a module name: load each from its file (the multifamily one
+    # imports the 5-zone one as ``calibrate_twin``)
+    sys.path.insert(0, str(REF / "calibration_energyplus_5zone"))
+    spec = importlib.util.spec_from_file_location(f"twin_{name}", REF / name / "calibrate_twin.py")
+    ct = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ct)
 
     path = ct.prepare(folder, samples, extra="metamodel: {kind: series}\n")
     return path, json.loads((REF / name / "truth.json").read_text())["truth"]

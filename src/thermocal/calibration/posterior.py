@@ -35,6 +35,9 @@ References
    the Royal Statistical Society B 63, 425-464.
 .. [3] Hoerl A.E., Kennard R.W. (1970), Ridge regression: biased estimation for nonorthogonal
    problems, Technometrics 12, 55-67.
+.. [4] Brynjarsdottir J., O'Hagan A. (2014), Learning about physical parameters: the importance
+   of model discrepancy, Inverse Problems 30, 114007 (the opt-in ``discrepancy`` term,
+   :func:`discrepancy_basis`).
 """
 
 from __future__ import annotations

@@ -87,6 +87,8 @@ def test_demo_needs_no_inputs(folder):
         ("sensors: sensors.csv\n", "", r"sensors missing"),
         ("store: campaign.sqlite", "store: campaign.sqlite\nsampling: {samples: 3}",
          r"key 'sampling' appears twice"),
+        ("store: campaign.sqlite", "store: campaign.sqlite\nposterior: {discrepancy: big}",
+         r"posterior\.discrepancy: .*'none', 'neighbours', 'floor' or 'shared'"),
     ],
 )
 def test_bad_campaign_files(folder, replace, by, expected):

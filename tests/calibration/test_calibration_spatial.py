@@ -130,6 +130,49 @@ def test_flags_parameters_at_bounds_and_a_metric_below_the_model_error():
     assert calibration_flags(space, inside, 2 * 30.0**2, post, model, truth) == []
 
 
+def test_model_error_floor_of_a_group_metric_is_that_of_a_simulated_run():
+    """With several zone groups each simulated series holds an error no parameter explains
+    (20 W per hour, new in every run); the metric of a run at the truth holds it in every
+    group (4 x 20^2 W^2 besides the variance the truth leaves). The floor is what a run would
+    give, not the meta-model's prediction, which lacks that error: the truth's run is not
+    below it by more than its own spread."""
+    from thermocal.calibration.posterior import calibration_posterior, emulator_variance
+    from thermocal.calibration.space import ParameterSpace
+    from thermocal.calibration.workflow import model_error_floor
+
+    nominal = {"construction/Roof/resistance": 2.0}
+    space = ParameterSpace.from_parameters(nominal, default_range=0.5)
+    roof_r = "construction/Roof/resistance"
+    rng = np.random.default_rng(8)
+    n, hours, groups = 40, 120, 4
+    X = pd.DataFrame({roof_r: 2.0 * np.exp(rng.uniform(-0.4, 0.4, n))})
+    t = np.arange(hours)
+    signature = np.concatenate([(g + 1) * 100 * np.sin(2 * np.pi * t / 24) for g in range(groups)])
+    segments = [(g * hours, (g + 1) * hours) for g in range(groups)]
+
+    def runs(values):
+        z = np.log(np.asarray(values) / 2.6)[:, None]
+        return z * signature + rng.normal(0, 20.0, size=(len(values), hours * groups))
+
+    series = runs(X[roof_r].to_numpy())
+    model = SeriesSurrogate(series=series, nominal=nominal, cv_folds=5, seed=0, segments=segments)
+    model.fit(X, model.series_variance(series))
+    post = calibration_posterior(
+        model,
+        [roof_r],
+        space.lower,
+        space.upper,
+        steps=600,
+        seed=0,
+        emulator_error=emulator_variance(model, X, seed=0),
+    )
+    floor = model_error_floor(space, post, model)
+    truth_runs = model.series_variance(runs(np.full(200, 2.6)))
+    predicted = float(model.predict(pd.DataFrame({roof_r: [2.6]}))[0])
+    assert predicted < 0.6 * truth_runs.mean()  # the prediction lacks the runs' own error
+    assert np.quantile(truth_runs, 0.05) < floor < np.quantile(truth_runs, 0.95) * 1.2
+
+
 def test_series_metamodel_box_optima_are_exact():
     """The minimum (bounded least squares) and the maximum (vertices) against brute force."""
     rng = np.random.default_rng(4)

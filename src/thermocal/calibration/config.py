@@ -175,6 +175,17 @@ class OptimisationSection(_Strict):
     calibrate: Literal["determined", "all"] = "determined"
 
 
+class PosteriorSection(_Strict):
+    """Options of the posterior of the calibrated parameters (``discrepancy``: add a
+    parameter-like model discrepancy to the likelihood, Brynjarsdottir and O'Hagan 2014, its
+    prior scale from the residual along the parameters' shifted signatures, ``neighbours``, or
+    the whole model-error floor, ``floor``, or that floor shared among the parameters,
+    ``shared``; see
+    :func:`thermocal.calibration.posterior.discrepancy_basis`)."""
+
+    discrepancy: Literal["none", "neighbours", "floor", "shared"] = "none"
+
+
 class CampaignFile(_Strict):
     """A validated campaign file; paths are resolved against the file's folder.
 
@@ -194,6 +205,7 @@ class CampaignFile(_Strict):
     sampling: SamplingSection = Field(default_factory=SamplingSection)
     metamodel: MetamodelSection = Field(default_factory=MetamodelSection)
     optimisation: OptimisationSection = Field(default_factory=OptimisationSection)
+    posterior: PosteriorSection = Field(default_factory=PosteriorSection)
     morris: MorrisSection | None = None
     validation: Period | None = None
     store: Path | None = None

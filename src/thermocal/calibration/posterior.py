@@ -35,6 +35,9 @@ References
    the Royal Statistical Society B 63, 425-464.
 .. [3] Hoerl A.E., Kennard R.W. (1970), Ridge regression: biased estimation for nonorthogonal
    problems, Technometrics 12, 55-67.
+.. [4] Brynjarsdottir J., O'Hagan A. (2014), Learning about physical parameters: the importance
+   of model discrepancy, Inverse Problems 30, 114007 (the opt-in ``discrepancy`` term,
+   :func:`discrepancy_basis`).
 """
 
 from __future__ import annotations
@@ -47,7 +50,13 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 
-__all__ = ["Posterior", "calibration_posterior", "emulator_variance", "linear_heat_model"]
+__all__ = [
+    "Posterior",
+    "calibration_posterior",
+    "discrepancy_basis",
+    "emulator_variance",
+    "linear_heat_model",
+]
 
 #: A parameter is determined when its 90 % credible interval is narrower than this fraction of
 #: its prior range [-].
@@ -83,6 +92,7 @@ class LinearHeatModel:
     lower: np.ndarray
     upper: np.ndarray
     series_count: int = 1
+    segments: tuple = ()
 
     def residual(self, z: np.ndarray) -> np.ndarray:
         """Residual series for log-parameters ``z`` (shape (d,) or (m, d)) [W]."""
@@ -127,7 +137,106 @@ def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHe
         lower=np.asarray(lower, dtype=float),
         upper=np.asarray(upper, dtype=float),
         series_count=len(getattr(surrogate, "segments", [None])),
+        segments=tuple(
+            (int(a), int(b)) for a, b in getattr(surrogate, "segments", [(0, len(intercept))])
+        ),
     )
+
+
+#: Hour shifts of a parameter's signature whose residual energy estimates, with
+#: ``discrepancy="neighbours"``, the discrepancy along the signature itself [h].
+NEIGHBOUR_SHIFTS = (-12, -6, -3, -2, -1, 1, 2, 3, 6, 12)
+
+
+def _neighbour_variance(signature, others, residual) -> float:
+    """Mean squared residual along the shifted copies of a signature, per hour [W^2].
+
+    Each copy is made orthogonal to the fitted signatures and to a constant (the directions
+    the fit already used, where the residual is zero), so the residual's energy along it is
+    observed; under white noise it is the noise variance per direction, under a smooth model
+    error it is larger."""
+    n = len(signature)
+    basis, _ = np.linalg.qr(np.column_stack([np.ones(n), others]))
+    energies = []
+    for shift in NEIGHBOUR_SHIFTS:
+        if abs(shift) >= n // 4:
+            continue
+        v = np.roll(signature, shift)
+        v = v - basis @ (basis.T @ v)
+        norm2 = float(v @ v)
+        if norm2 > 1e-12 * float(signature @ signature):
+            energies.append(float(residual @ v) ** 2 / norm2)
+    return float(np.mean(energies)) / n if energies else 0.0
+
+
+def discrepancy_basis(
+    model: LinearHeatModel, residual: np.ndarray, scale: str = "neighbours"
+) -> tuple[np.ndarray, np.ndarray]:
+    """Parameter-like model discrepancy: its directions and prior variances.
+
+    The true envelope's own unoccupied heat is not constant (the model's error), and the part
+    of it that looks like a parameter change never shows in the residual the noise level is
+    taken from (Brynjarsdottir and O'Hagan 2014). This discrepancy is modelled explicitly: in
+    each series ``g`` (zone group, or the building) and for each parameter ``k``, a component
+    ``b_gk u_gk(t)`` along the parameter's own hour-centred signature in that series
+    (``u_gk = J_gk / rms(J_gk)``, unit RMS per hour), with ``b_gk ~ N(0, tau_gk^2)``
+    independent across groups and parameters. Its prior scale ``tau_gk^2`` [W^2]:
+
+    * ``"floor"``: the series' residual variance per hour at the best bounded fit (the
+      model-error floor that series shows across the parameters' directions, assumed as
+      large along one of them: the upper bound, the whole model error mimicking a parameter);
+    * ``"shared"``: that floor shared among the ``d`` parameters' signatures,
+      ``tau_gk^2 = floor_g / d`` (the model error's energy per hour bounds the part of it
+      that mimics the parameters, all of them together);
+    * ``"neighbours"``: the residual's energy along the signature shifted by 1 to 12 hours
+      (made orthogonal to what the fit used), per hour: a model error that mimics a
+      parameter's signature is assumed as large as along its slightly shifted copies, which
+      the data do show (a smoothness assumption on the discrepancy; under white noise this
+      is the noise's own level and the intervals widen by about sqrt(2)).
+
+    Parameters
+    ----------
+    model : LinearHeatModel
+    residual : ndarray (n_hours,)
+        Residual series at the best bounded fit [W].
+    scale : {"neighbours", "floor", "shared"}
+        How the prior scale is set.
+
+    Returns
+    -------
+    basis : ndarray (n_hours, m)
+        Unit-RMS signatures, zero outside their series [-].
+    variance : ndarray (m,)
+        Prior variance of each component's amplitude [W^2].
+    """
+    if scale not in ("neighbours", "floor", "shared"):
+        raise ThermocalInputError(
+            "posterior: discrepancy must be 'none', 'neighbours', 'floor' or 'shared', got "
+            f"{scale!r}"
+        )
+    n, d = model.jacobian.shape
+    columns, variances = [], []
+    for a, b in model.segments or ((0, n),):
+        r = residual[a:b]
+        floor = float(np.mean(r**2))
+        for k in range(d):
+            signature = model.jacobian[a:b, k]
+            rms = float(np.sqrt(np.mean(signature**2)))
+            if rms <= 0:
+                continue
+            if scale == "neighbours":
+                tau2 = _neighbour_variance(signature, model.jacobian[a:b], r)
+            else:
+                tau2 = floor / (d if scale == "shared" else 1)
+            if tau2 <= 0:
+                continue
+            column = np.zeros(n)
+            column[a:b] = signature / rms
+            columns.append(column)
+            variances.append(tau2)
+    if not columns:
+        return np.zeros((n, 0)), np.zeros(0)
+    return np.column_stack(columns), np.array(variances)
 
 
 @dataclass(frozen=True)
@@ -343,6 +452,7 @@ def calibration_posterior(
     all_upper=None,
     units: Sequence[str] | None = None,
     emulator_error: float = 0.0,
+    discrepancy: str | bool = "none",
     walkers: int | None = None,
     steps: int = 2000,
     seed: int = 0,
@@ -365,6 +475,11 @@ def calibration_posterior(
     emulator_error : float
         Variance of the meta-model's own hourly error (:func:`emulator_variance`), added to the
         residual noise [W^2].
+    discrepancy : {"none", "neighbours", "floor", "shared"}
+        Add the parameter-like model discrepancy of :func:`discrepancy_basis` (with that prior
+        scale; ``True`` means ``"neighbours"``) to the likelihood, marginalised analytically
+        (Gaussian, by the Woodbury identity): the intervals then include what a model error
+        that mimics a parameter change may shift.
     walkers : int, optional
         Ensemble size [-]; default ``max(32, 4 d)``.
     steps : int
@@ -387,13 +502,30 @@ def calibration_posterior(
     variance = residual_variance + max(float(emulator_error), 0.0)
     scale = (n_eff / n) / (2.0 * variance)
     zl, zu = model.z_bounds
+    if discrepancy is True:
+        discrepancy = "neighbours"
+    if discrepancy in (False, None, "none"):
+        basis, tau2 = np.zeros((0, 0)), []
+    else:
+        basis, tau2 = discrepancy_basis(model, model.residual(z_hat), str(discrepancy))
+    if len(tau2):
+        # covariance a I + U T U^T with a = 1 / (2 scale): its inverse by Woodbury,
+        # r^T S^-1 r = (|r|^2 - (U^T r)^T (a T^-1 + U^T U)^-1 (U^T r)) / a
+        a = 1.0 / (2.0 * scale)
+        woodbury = np.linalg.inv(np.diag(a / tau2) + basis.T @ basis)
+    else:
+        woodbury = None
 
     def log_probability(z: np.ndarray) -> np.ndarray:
         z = np.atleast_2d(z)
         inside = np.all((z >= zl) & (z <= zu), axis=1)
         r = model.residual(z)
+        quadratic = np.einsum("ij,ij->i", r, r)
+        if woodbury is not None:
+            projected = r @ basis
+            quadratic = quadratic - np.einsum("ij,ij->i", projected @ woodbury, projected)
         # uniform prior in the parameter p = p_nominal exp(z): density exp(sum z) in z
-        lp = -scale * np.einsum("ij,ij->i", r, r) + z.sum(axis=1)
+        lp = -scale * quadratic + z.sum(axis=1)
         return np.where(inside, lp, -np.inf)
 
     rng = np.random.default_rng(int(seed))

@@ -134,6 +134,7 @@ def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
         "calibrated_metric": float(confirmed["confirmed"]),
         "calibrated_source": str(confirmed.get("source")),
         "flags": result.confirmed.get("flags", []),
+        "model_error_floor": result.confirmed.get("model_error_floor"),
         "cv_r2": float(result.surrogate.cv_r2_),
         "surrogate": type(result.surrogate).__name__,
         "runs": result.runs,

@@ -42,6 +42,7 @@ def _measures() -> dict[str, Measure]:
 
 def _make_reference():
     sys.path.insert(0, str(REF))
+    sys.modules.pop("make_reference", None)  # other references' scripts share the name
     try:
         import make_reference
     finally:

@@ -31,6 +31,8 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+# other reference folders have a make_reference.py too: take this folder's, not a cached one
+sys.modules.pop("make_reference", None)
 
 from make_reference import SHARED, nominal_envelope  # noqa: E402
 

@@ -134,18 +134,27 @@ EXIT_INTERNAL = 70
 _state: dict = {"pid": None, "signal": None, "pending": None}
 
 
-#: Packages whose Python code runs as a callback of compiled code (numba's compiler calls back
-#: into Python through ctypes): an exception raised there is printed as "Exception ignored on
-#: calling ctypes callback function" with a traceback and lost, and the run goes on.
-_DEFER_INSIDE = (f"{os.sep}numba{os.sep}", f"{os.sep}llvmlite{os.sep}")
+#: The Python functions that compiled code calls back through ctypes while numba compiles
+#: (llvmlite's object-cache hooks, which run numba's ``_object_compiled_hook`` and
+#: ``_object_getbuffer_hook``): an exception raised inside them is printed as "Exception ignored
+#: on calling ctypes callback function" with a traceback and lost, and the run goes on. Anywhere
+#: else in numba's compiler (pure Python) a KeyboardInterrupt propagates normally.
+_CTYPES_CALLBACKS = frozenset({"_raw_object_cache_notify", "_raw_object_cache_getbuffer"})
+_CALLBACK_FILE = f"{os.sep}llvmlite{os.sep}"
 #: Seconds between two checks whether a deferred signal can be raised.
 _DEFER_POLL_S = 0.05
 
 
-def _inside_compiler(frame) -> bool:
-    """Whether the interrupted Python code runs inside numba or llvmlite (a compilation)."""
+def _inside_ctypes_callback(frame) -> bool:
+    """Whether the interrupted Python code runs inside a ctypes callback of llvmlite.
+
+    Only those frames swallow an exception; the rest of a numba compilation (type inference,
+    lowering, the cache) is ordinary Python, so a signal there is raised at once and Ctrl-C
+    stops a first run within a fraction of a second instead of after the whole compilation.
+    """
     while frame is not None:
-        if any(part in frame.f_code.co_filename for part in _DEFER_INSIDE):
+        code = frame.f_code
+        if code.co_name in _CTYPES_CALLBACKS and _CALLBACK_FILE in code.co_filename:
             return True
         frame = frame.f_back
     return False
@@ -159,16 +168,16 @@ def _raise_for(signum: int) -> None:
 
 
 def _on_signal(signum, frame) -> None:
-    """SIGINT/SIGTERM: raise in the main process, or defer while numba compiles.
+    """SIGINT/SIGTERM: raise in the main process, or defer while llvmlite calls back.
 
-    A signal that arrives during a numba compilation (the first run of a kernel, up to half a
-    minute) is remembered and raised as soon as the compiler has returned to thermocal's code,
-    polled with a short interval timer: raised inside the compiler it would be swallowed by a
-    ctypes callback, printed with a traceback, and the run would go on.
+    A signal that arrives while llvmlite runs one of numba's hooks through a ctypes callback
+    (during the first, uncached compilation of a kernel) is remembered and raised as soon as the
+    callback has returned, polled with a short interval timer: raised inside the callback it
+    would be swallowed, printed with a traceback, and the run would go on.
     """
     if os.getpid() != _state["pid"]:  # a forked worker: the parent reports, quietly
         os._exit(128 + signum)
-    if _inside_compiler(frame):
+    if _inside_ctypes_callback(frame):
         if _state.get("pending") != signal.SIGTERM:  # SIGTERM wins over a later Ctrl-C
             _state["pending"] = signum
         signal.setitimer(signal.ITIMER_REAL, _DEFER_POLL_S)
@@ -177,11 +186,11 @@ def _on_signal(signum, frame) -> None:
 
 
 def _on_deferred_check(signum, frame) -> None:  # noqa: ARG001 - the signal-handler signature
-    """SIGALRM of the poll timer: raise the deferred signal once out of the compiler."""
+    """SIGALRM of the poll timer: raise the deferred signal once out of the callback."""
     pending = _state.get("pending")
     if pending is None or os.getpid() != _state["pid"]:
         return
-    if _inside_compiler(frame):
+    if _inside_ctypes_callback(frame):
         signal.setitimer(signal.ITIMER_REAL, _DEFER_POLL_S)
         return
     _state["pending"] = None

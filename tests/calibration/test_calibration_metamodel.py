@@ -160,18 +160,18 @@ def test_a_constant_metamodel_is_a_result_not_a_crash():
     stopped the command after the campaign; now its indices are zero and a note says why."""
     from types import SimpleNamespace
 
+    from thermocal.calibration.metamodels import sobol_or_note
     from thermocal.calibration.space import ParameterSpace
-    from thermocal.calibration.workflow import _sobol_or_note
 
     space = ParameterSpace.from_parameters(
         {"window/w/u_value": 2.0, "zone/z/infiltration_ach": 0.5}
     )
     flat = SimpleNamespace(predict=lambda X: np.full(len(np.atleast_2d(X)), 3.0), cv_r2_=-0.1)
     notes: list[str] = []
-    sobol = _sobol_or_note(flat, space, space.lower, space.upper, 0, "gp", notes)
+    sobol = sobol_or_note(flat, space, space.lower, space.upper, 0, "gp", notes)
     assert list(sobol.index) == list(space.names)
     assert (sobol["ST"] == 0).all() and (sobol["S1"] == 0).all()
     assert len(notes) == 1 and "no influence of any parameter" in notes[0]
     slope = SimpleNamespace(predict=lambda X: np.atleast_2d(X)[:, 0], cv_r2_=0.9)
-    sobol = _sobol_or_note(slope, space, space.lower, space.upper, 0, "svr", notes := [])
+    sobol = sobol_or_note(slope, space, space.lower, space.upper, 0, "svr", notes := [])
     assert notes == [] and sobol["ST"].iloc[0] > 0.9

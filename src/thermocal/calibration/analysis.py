@@ -1,0 +1,669 @@
+"""The analysis of a stored calibration campaign, stage by stage: the samples' metric, the
+meta-model with its ranking and reduced optima, the confirmation of the optima with the full
+model, the posterior, the candidate calibrated models, the trust-region refinement, the choice of
+the calibrated model with its flags, the validation period and the comparison with a truth.
+
+:func:`analyse` runs the stages in order; :func:`thermocal.calibration.workflow.calibrate` calls
+it after a campaign and :func:`thermocal.calibration.workflow.reanalyse` on a stored one.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from thermocal.calibration.flags import calibration_flags, model_error_floor
+from thermocal.calibration.metamodels import (
+    choose_surrogate,
+    reduced_options,
+    reduced_surrogate,
+    sobol_or_note,
+    surrogate_for,
+)
+from thermocal.calibration.metric import METRIC_NAMES, metric_data, metric_value
+from thermocal.calibration.refine import refine_minimum
+from thermocal.calibration.result import CalibrationResult, truth_comparison
+from thermocal.errors import ThermocalInputError
+from thermocal.identification.metrics import guideline14
+from thermocal.identification.problem import METRIC
+
+#: Largest campaign space whose joint posterior is sampled (else: the critical parameters).
+POSTERIOR_MAX_PARAMETERS = 30
+
+
+def analyse(
+    campaign,
+    inputs,
+    space,
+    sample_set,
+    summary,
+    store,
+    runs,
+    *,
+    timings,
+    notes,
+    log=print,
+    morris=None,
+) -> CalibrationResult:
+    """Meta-model, ranking, optimisation, posterior and calibrated model of a stored campaign.
+
+    Everything after the campaign's simulations: the samples come from ``store``; model runs
+    (confirmations, posterior median, refinement, validation) go through ``runs`` (found in the
+    store when they were run before with the same parameters; simulated only when ``runs`` has
+    an evaluator). The stages, in order: the campaign's notes, the nominal run, the samples'
+    metric, the meta-model with its ranking and reduced optima, the Morris screening, the
+    confirmation of the optima, the posterior, the candidate calibrated models, the
+    trust-region refinement, the choice of the calibrated model with its flags, the
+    validation period and the comparison with a known truth.
+
+    Parameters
+    ----------
+    campaign : CampaignFile
+        Its analysis sections (``metric``, ``metamodel``, ``optimisation``) are used.
+    inputs : CampaignInputs
+        The building (and the demo's truth).
+    space : ParameterSpace
+    sample_set : SampleSet
+    summary : CampaignSummary
+    store : CampaignStore
+    runs : RunCache
+    timings, notes : dict, list
+        Filled in.
+    log : callable
+    morris : callable, optional
+        Returns the Morris screening (None: none).
+
+    Returns
+    -------
+    CalibrationResult
+    """
+    metric = campaign.metric
+    info = store.info("analysis") or {}
+    occupancy = info.get("occupancy", {})
+    notes.extend(_campaign_notes(sample_set, occupancy))
+    nominal_outputs, nominal_heat = _nominal_run(runs, store)
+    nominal_metric = metric_value(nominal_outputs, metric)
+    samples = _read_samples(campaign, space, store, timings, notes)
+    t0 = time.perf_counter()
+    fitted = _fit_metamodel(campaign, space, samples, notes)
+    timings["metamodel_sensitivity_optimisation"] = time.perf_counter() - t0
+    screening = None
+    if campaign.morris is not None and morris is not None:
+        t0 = time.perf_counter()
+        screening = morris()
+        timings["morris"] = time.perf_counter() - t0
+    log(
+        f"meta-model cross-validated R2 {fitted.surrogate.cv_r2_:.3f}; critical: "
+        f"{', '.join(fitted.critical)}"
+    )
+    t0 = time.perf_counter()
+    confirmed, heat, unconfirmed = _confirm_optima(
+        runs, fitted.optimisation, metric, nominal_outputs, nominal_heat, nominal_metric
+    )
+    log(
+        "confirmation of the minimum and maximum with the full model: "
+        + (
+            "done"
+            if not unconfirmed
+            else f"not simulated in a re-analysis ({', '.join(unconfirmed)})"
+        )
+    )
+    if unconfirmed:
+        notes.append(
+            "Re-analysis without simulation: the meta-model's "
+            + " and ".join(f"{s}imum" for s in unconfirmed)
+            + " of this analysis differ from the runs in the store and are not confirmed with "
+            "the full model (their values are the meta-model's); the calibrated model is the "
+            "best confirmed one. Run thermocal calibrate with --resume to confirm them."
+        )
+    confirmed["nominal"] = {
+        "confirmed": nominal_metric,
+        "confirmed_std_W": float(np.sqrt(nominal_metric)),
+        "building_std_W": nominal_outputs["unoccupied_std"],
+    }
+    timings["confirmation"] = time.perf_counter() - t0
+    posterior = series_model = None
+    if samples.series is not None:
+        t0 = time.perf_counter()
+        posterior, series_model = _posterior_or_note(
+            fitted.surrogate,
+            fitted.kind,
+            samples.X,
+            samples.y,
+            samples.series,
+            space,
+            fitted.critical,
+            campaign,
+            notes,
+            samples.segments,
+        )
+        timings["posterior"] = time.perf_counter() - t0
+        if posterior is not None:
+            for line in posterior.sentences():
+                log(line)
+    movable = _movable_parameters(campaign, space, posterior, notes)
+    candidates = _candidates(
+        campaign,
+        space,
+        samples,
+        fitted,
+        runs,
+        confirmed,
+        unconfirmed,
+        posterior,
+        movable,
+        nominal_metric,
+        notes,
+    )
+    refinement = []
+    if campaign.optimisation.refine > 0:
+        t1 = time.perf_counter()
+        refinement = _refine(campaign, space, samples, fitted.kind, runs, candidates, movable, log)
+        if runs.evaluator is None and len(refinement) < campaign.optimisation.refine and movable:
+            notes.append(
+                f"Re-analysis without simulation: the trust-region refinement stopped after "
+                f"{len(refinement)} of {campaign.optimisation.refine} steps (the next candidate "
+                "is not in the store)."
+            )
+        timings["refinement"] = time.perf_counter() - t1
+    confirmed["refinement"] = refinement
+    calibrated_source, calibrated_metric, calibrated_values = _choose_calibrated(candidates, notes)
+    confirmed["calibrated"] = {
+        "source": calibrated_source,
+        "confirmed": float(calibrated_metric),
+        "confirmed_std_W": float(np.sqrt(calibrated_metric)),
+    }
+    flags = calibration_flags(
+        space, calibrated_values, calibrated_metric, posterior, series_model, inputs.truth
+    )
+    notes.extend(flag["text"] for flag in flags)
+    confirmed["flags"] = flags
+    floor = model_error_floor(space, posterior, series_model)
+    if floor is not None:
+        confirmed["model_error_floor"] = floor
+    confirmed["calibrated_parameters"] = movable
+    validation = None
+    if campaign.validation is not None:
+        t0 = time.perf_counter()
+        validation = _validate(campaign, calibrated_values, runs, metric)
+        timings["validation"] = time.perf_counter() - t0
+    comparison = None
+    if inputs.truth is not None:
+        perturbed = [
+            n
+            for n in inputs.truth.get("parameters", {})
+            if n in space.names and n not in fitted.critical
+        ]
+        comparison = truth_comparison(
+            list(fitted.critical) + perturbed,
+            space,
+            inputs.truth,
+            calibrated_values,
+            fitted.critical,
+        )
+        if inputs.true_loads is not None:
+            confirmed["guideline14_vs_true_loads"] = _guideline14(heat, inputs.true_loads)
+    calibrated = inputs.building.with_parameters(
+        {name: calibrated_values[name] for name in space.names}
+    )
+    return CalibrationResult(
+        space=space,
+        samples=sample_set,
+        store_frame=samples.frame,
+        summary=summary,
+        surrogate=fitted.surrogate,
+        ranking=fitted.ranking,
+        sobol=fitted.sobol,
+        critical=fitted.critical,
+        optimisation=fitted.optimisation,
+        nominal_metric=nominal_metric,
+        confirmed=confirmed,
+        heat=heat,
+        weather=_stored_weather(info),
+        validation=validation,
+        morris=screening,
+        truth_comparison=comparison,
+        calibrated_building=calibrated,
+        timings=timings,
+        notes=notes,
+        campaign_path=str(campaign.path),
+        posterior=posterior,
+        occupancy=occupancy,
+        metric=metric,
+        runs={"simulated": runs.simulated, "from_store": runs.reused},
+    )
+
+
+def _campaign_notes(sample_set, occupancy: dict) -> list[str]:
+    """Notes on the campaign itself: samples clipped to physical limits, quiet hours from data."""
+    notes = []
+    clipped = sample_set.clip_counts[sample_set.clip_counts["total"] > 0]
+    if len(clipped):
+        notes.append(
+            f"{len(clipped)} parameter(s) had samples clipped to their physical limits: "
+            + ", ".join(f"{name} ({int(row['total'])})" for name, row in clipped.iterrows())
+        )
+    if occupancy.get("source") == "data":
+        notes.append(
+            "Unoccupied hours from the data: "
+            + occupancy.get("paper_schedule_check", "")
+            + "; the metric uses the quiet hours of the nominal identified heat ("
+            + occupancy["quiet_hours"]
+            + ")."
+        )
+    return notes
+
+
+def _nominal_run(runs, store):
+    """The nominal model's outputs [unit of each] and building-wide heat [W], from the store."""
+    found = runs.get({})
+    if found is None:
+        raise ThermocalInputError(
+            f"store {store.path}: the nominal model's run is not stored (a store written before "
+            "thermocal could re-analyse campaigns, without the zone-group series either); run "
+            "the campaign again into a new store (another --out) to re-analyse it"
+        )
+    return found
+
+
+@dataclass
+class CampaignSamples:
+    """The successful samples of a campaign and their metric.
+
+    Attributes
+    ----------
+    frame : DataFrame
+        The store's table without the heat series (for the report and ``samples.csv``).
+    X : DataFrame
+        Parameter values of the successful samples [unit of each].
+    y : ndarray
+        Their metric [W^2].
+    series, segments : ndarray or None, list or None
+        Their unoccupied heat series [W] and each zone group's column range (see
+        :func:`thermocal.calibration.metric.metric_data`).
+    """
+
+    frame: pd.DataFrame
+    X: pd.DataFrame
+    y: np.ndarray
+    series: np.ndarray | None
+    segments: list | None
+
+
+def _read_samples(campaign, space, store, timings: dict, notes: list) -> CampaignSamples:
+    """The samples of the store and their metric; failed samples and too few samples noted."""
+    metric = campaign.metric
+    t0 = time.perf_counter()
+    frame = store.to_frame()
+    X = store.parameters()[list(space.names)]
+    y, series, segments = metric_data(store.outputs(), metric)
+    frame = frame.drop(
+        columns=[c for c in frame.columns if c.startswith(("out:series/", "out:group/"))]
+    )
+    timings["read_store"] = time.perf_counter() - t0
+    failed = int(frame["error"].notna().sum())
+    if failed:
+        notes.append(f"{failed} sample(s) failed (errors in the store); they are left out")
+    if len(y) < max(10, campaign.metamodel.cv_folds + 2):
+        raise ThermocalInputError(
+            f"only {len(y)} successful samples: too few for a meta-model; use more --samples"
+        )
+    if metric != "building":
+        notes.append(f"Metric: the {METRIC_NAMES[metric]} ({len(segments)} groups).")
+    return CampaignSamples(frame, X, y, series, segments)
+
+
+@dataclass
+class FittedMetamodel:
+    """The meta-model of a campaign, its parameter ranking and its reduced optima.
+
+    Attributes
+    ----------
+    surrogate : object
+        The fitted meta-model (``predict``, ``cv_r2_``).
+    kind : str
+        Its kind (``"svr"``, ``"gp"`` or ``"series"``).
+    ranking, sobol : DataFrame, DataFrame or None
+        Influence ranking and Sobol indices of the parameters.
+    critical : list of str
+        The parameters the reduced meta-model optimises.
+    optimisation : ReducedOptimisation
+        The reduced meta-model's minimum and maximum.
+    """
+
+    surrogate: Any
+    kind: str
+    ranking: Any
+    sobol: Any
+    critical: list
+    optimisation: Any
+
+    def reduced_optimum(self, campaign, space, samples: CampaignSamples, parameters: list):
+        """The reduced meta-model's optima over ``parameters`` (a subset of the space)."""
+        from thermocal.calibration.optimise import optimise_reduced
+
+        m = campaign.metamodel
+        seed = campaign.sampling.seed
+        return optimise_reduced(
+            samples.X,
+            samples.y,
+            space,
+            parameters,
+            surrogate=reduced_surrogate(
+                self.kind, m, samples.series, space, seed, samples.segments
+            ),
+            starts=campaign.optimisation.starts,
+            seed=campaign.optimisation.seed,
+            surrogate_options=reduced_options(self.kind, m),
+        )
+
+
+def _fit_metamodel(campaign, space, samples: CampaignSamples, notes: list) -> FittedMetamodel:
+    """Meta-model (chosen by cross-validation with ``kind: auto``), ranking, Sobol indices and
+    the reduced meta-model's optima over the ``top_k`` critical parameters."""
+    from thermocal.calibration.sensitivity import influence_ranking, top_k
+
+    m = campaign.metamodel
+    surrogate, kind, scores = choose_surrogate(
+        samples.X,
+        samples.y,
+        m.kind,
+        cv_folds=m.cv_folds,
+        log_target=m.log_target,
+        seed=campaign.sampling.seed,
+        series=samples.series,
+        nominal=space.nominal_dict(),
+        segments=samples.segments,
+    )
+    if m.kind == "auto":
+        notes.append(
+            "Meta-model: "
+            + ", ".join(f"{k.upper()} cross-validated R2 {r2:.3f}" for k, r2 in scores.items())
+            + f"; the {kind.upper()} was used."
+        )
+    lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
+    ranking = influence_ranking(surrogate.predict, samples.X, lower, upper, names=space.names)
+    sobol = sobol_or_note(surrogate, space, lower, upper, campaign.sampling.seed, kind, notes)
+    critical = top_k(ranking, m.top_k)
+    fitted = FittedMetamodel(surrogate, kind, ranking, sobol, critical, None)
+    fitted.optimisation = fitted.reduced_optimum(campaign, space, samples, critical)
+    return fitted
+
+
+def _confirm_optima(runs, optimisation, metric, nominal_outputs, nominal_heat, nominal_metric):
+    """The reduced meta-model's minimum and maximum run with the full model.
+
+    Returns
+    -------
+    confirmed : dict
+        Per optimum (``"min"``, ``"max"``) its predicted and confirmed metric [W^2].
+    heat : dict of str to Series
+        Building-wide identified heat of the nominal model and of each confirmed optimum [W].
+    unconfirmed : list of str
+        The optima not in the store of a re-analysis (not simulated).
+    """
+    confirmed, heat = {}, {"nominal": nominal_heat}
+    unconfirmed = []
+    for sense, optimum in (("min", optimisation.minimum), ("max", optimisation.maximum)):
+        found = runs.get(optimisation.parameters(sense))
+        if found is None:
+            unconfirmed.append(sense)
+            confirmed[sense] = {
+                "predicted": float(optimum.value),
+                "confirmed": float("nan"),
+                "confirmed_std_W": float("nan"),
+                "ratio_to_nominal": None,
+                "simulated": False,
+            }
+            continue
+        run_outputs, heat[sense] = found
+        value = metric_value(run_outputs, metric)
+        confirmed[sense] = {
+            "predicted": float(optimum.value),
+            "confirmed": value,
+            "confirmed_std_W": float(np.sqrt(value)),
+            "ratio_to_nominal": value / nominal_metric,
+            "building_std_W": run_outputs["unoccupied_std"],
+        }
+    return confirmed, heat, unconfirmed
+
+
+def _movable_parameters(campaign, space, posterior, notes: list) -> list[str]:
+    """The parameters the calibrated model may change.
+
+    With ``optimisation.calibrate: determined`` (the default) only those the posterior says the
+    data determine; the others stay nominal. Without a posterior, or with ``all``, every one.
+    """
+    if posterior is None or campaign.optimisation.calibrate != "determined":
+        return list(space.names)
+    determined = [n for n in space.names if n in posterior.determined]
+    if len(determined) < space.dimension:
+        notes.append(
+            f"Calibrated parameters: only the {len(determined)} the data determine"
+            + (f" ({', '.join(determined)})" if determined else "")
+            + "; the others stay nominal (optimisation.calibrate: all changes every one)."
+        )
+    return determined
+
+
+def _candidates(
+    campaign,
+    space,
+    samples: CampaignSamples,
+    fitted: FittedMetamodel,
+    runs,
+    confirmed: dict,
+    unconfirmed: list,
+    posterior,
+    movable: list,
+    nominal_metric: float,
+    notes: list,
+) -> dict:
+    """The candidate calibrated models, each with its confirmed metric [W^2] and parameters.
+
+    The reduced meta-model's minimum (or, when it moves parameters the data do not determine,
+    its minimum over the determined critical ones), the nominal building (never return a
+    building worse than the one the user gave), the joint posterior's median and the campaign's
+    best sample (a meta-model fitted on few samples can miss), each confirmed with the model.
+    """
+    metric = campaign.metric
+    determined_only = posterior is not None and campaign.optimisation.calibrate == "determined"
+    candidates = {}
+    if "min" not in unconfirmed and set(fitted.critical) <= set(movable):
+        candidates["meta-model minimum"] = (
+            confirmed["min"]["confirmed"],
+            fitted.optimisation.parameters("min"),
+        )
+    elif determined_only and [c for c in fitted.critical if c in movable]:
+        restricted = fitted.reduced_optimum(
+            campaign, space, samples, [c for c in fitted.critical if c in movable]
+        )
+        values = restricted.parameters("min")
+        found = runs.get(values, heat=False)
+        if found is not None:
+            value = metric_value(found[0], metric)
+            candidates["meta-model minimum of the determined parameters"] = (value, values)
+            confirmed["min_determined"] = {
+                "predicted": float(restricted.minimum.value),
+                "confirmed": value,
+            }
+    candidates["nominal building (no change)"] = (nominal_metric, space.nominal_dict())
+    if posterior is not None:
+        median = {
+            **space.nominal_dict(),
+            **{n: v for n, v in posterior.summary["median"].items() if n in movable},
+        }
+        found = runs.get(median, heat=False)
+        if found is not None:
+            candidates["posterior median"] = (metric_value(found[0], metric), median)
+            confirmed["posterior_median"] = {"confirmed": candidates["posterior median"][0]}
+    X, y = samples.X, samples.y
+    best = int(np.argmin(y))
+    if y[best] < min(c[0] for c in candidates.values()):
+        if not determined_only:
+            candidates[f"campaign sample {int(X.index[best])}"] = (
+                float(y[best]),
+                {**space.nominal_dict(), **X.iloc[best].to_dict()},
+            )
+        else:
+            notes.append(
+                f"The best campaign sample ({int(X.index[best])}, "
+                f"{np.sqrt(y[best]) / 1000:.2f} kW) changes parameters the data do not "
+                "determine; it is not used as the calibrated model."
+            )
+    return candidates
+
+
+def _refine(campaign, space, samples, kind, runs, candidates: dict, movable, log) -> list:
+    """The trust-region refinement from the best candidate (added to ``candidates`` when it
+    improves on it); the refinement's runs."""
+    start_name = min(candidates, key=lambda k: candidates[k][0])
+    refined, refinement = refine_minimum(
+        runs,
+        space,
+        samples.X,
+        samples.y,
+        samples.series,
+        kind,
+        candidates[start_name],
+        steps=campaign.optimisation.refine,
+        seed=campaign.optimisation.seed,
+        log=log,
+        metric=campaign.metric,
+        segments=samples.segments,
+        movable=movable,
+    )
+    if refined[0] < candidates[start_name][0]:
+        candidates[f"trust-region refinement ({len(refinement)} runs)"] = refined
+    return refinement
+
+
+def _choose_calibrated(candidates: dict, notes: list) -> tuple[str, float, dict]:
+    """The best confirmed candidate: its name, metric [W^2] and parameters (noted when it is
+    the nominal building or a campaign sample)."""
+    source = min(candidates, key=lambda k: candidates[k][0])
+    value, parameters = candidates[source]
+    if source.startswith("nominal"):
+        notes.append(
+            "No candidate was confirmed better than the nominal building "
+            f"({np.sqrt(value) / 1000:.2f} kW): the calibrated building is the "
+            "nominal one. The metric cannot tell the parameters apart on these data; more "
+            "samples, a narrower parameter selection or another period may."
+        )
+    if source.startswith("campaign sample"):
+        notes.append(
+            f"The meta-model's minima were confirmed worse than the best simulated sample "
+            f"({np.sqrt(value) / 1000:.2f} kW): the calibrated building takes "
+            "that sample's parameters. More samples give a better meta-model."
+        )
+    return source, value, parameters
+
+
+def _stored_weather(info: dict) -> pd.DataFrame:
+    """The campaign period's outdoor temperature [C] and global horizontal irradiance [W/m2],
+    as stored with the campaign (for the report's figures; empty when not stored)."""
+    grid = info.get("weather")
+    if not grid:
+        return pd.DataFrame({"temp_air": [], "ghi": []})
+    index = pd.date_range(
+        pd.Timestamp(grid["start"]),
+        periods=len(grid["temp_air"]),
+        freq=pd.Timedelta(seconds=grid["step_s"]),
+    )
+    return pd.DataFrame({"temp_air": grid["temp_air"], "ghi": grid["ghi"]}, index=index)
+
+
+def _posterior_or_note(
+    surrogate, kind, X, y, series, space, critical, campaign, notes, segments=None
+):
+    """Posterior of the critical parameters from the series meta-model, or a note why not."""
+    from thermocal.calibration.posterior import calibration_posterior, emulator_variance
+
+    model = surrogate
+    if kind != "series":
+        model = surrogate_for(
+            "series", campaign.metamodel, series, space, campaign.sampling.seed, segments
+        ).fit(X, y)
+    # the joint posterior of every varied parameter (a parameter held at its nominal value
+    # would make the others compensate for it); the critical ones only in large spaces
+    names = list(space.names) if space.dimension <= POSTERIOR_MAX_PARAMETERS else list(critical)
+    if len(names) < space.dimension:
+        notes.append(
+            f"The posterior covers the {len(names)} critical parameters (the others at their "
+            f"nominal values): the space has more than {POSTERIOR_MAX_PARAMETERS} parameters."
+        )
+    idx = [space.index(n) for n in names]
+    try:
+        posterior = calibration_posterior(
+            model,
+            names,
+            space.lower[idx],
+            space.upper[idx],
+            all_lower=space.lower,
+            all_upper=space.upper,
+            units=[space.units[i] for i in idx],
+            seed=campaign.sampling.seed,
+            emulator_error=emulator_variance(model, X, seed=campaign.sampling.seed),
+            discrepancy=campaign.posterior.discrepancy,
+        )
+    except (ThermocalInputError, np.linalg.LinAlgError, ValueError) as exc:
+        notes.append(f"No posterior of the calibrated parameters: {exc}")
+        return None, model
+    return posterior, model
+
+
+def _validate(campaign, calibrated_values: dict, runs, metric: str) -> dict | None:
+    """Nominal vs calibrated building's metric on the validation period (not seen by the
+    calibration); None when its runs are not stored in a re-analysis.
+
+    Parameters
+    ----------
+    campaign : CampaignFile
+    calibrated_values : dict
+        The calibrated building's parameters (the chosen candidate) [unit of each].
+    runs : RunCache
+    metric : str
+        The campaign's metric (``building`` or ``groups``); the building total is reported
+        too.
+
+    Returns
+    -------
+    dict or None
+        ``nominal`` and ``calibrated`` in the campaign's metric [W^2], their ``ratio``,
+        ``keeps_lower_variance``, the building-total metrics and the period.
+    """
+    nominal = runs.get({}, tag="validation", heat=False)
+    calibrated = runs.get(dict(calibrated_values), tag="validation", heat=False)
+    if nominal is None or calibrated is None:
+        return None
+    out = {"start": str(campaign.validation.start), "end": str(campaign.validation.end)}
+    try:
+        values = [metric_value(run[0], metric) for run in (nominal, calibrated)]
+    except (KeyError, ValueError):  # a store written before the group outputs were stored
+        return None
+    out.update(
+        metric=metric,
+        nominal=values[0],
+        calibrated=values[1],
+        ratio=values[1] / values[0] if values[0] > 0 else None,
+        keeps_lower_variance=bool(values[1] < values[0]),
+        building_nominal=float(nominal[0][METRIC]),
+        building_calibrated=float(calibrated[0][METRIC]),
+    )
+    return out
+
+
+def _guideline14(heat: dict, true_loads: pd.DataFrame) -> dict:
+    """ASHRAE Guideline 14 statistics of the building Q_ID against the demo's true loads."""
+    if "time" in true_loads.columns:
+        true_loads = true_loads.set_index("time")
+    column = "total" if "total" in true_loads else true_loads.columns[-1]
+    truth = true_loads[column].reindex(heat["nominal"].index)
+    out = {}
+    for case, series in heat.items():
+        out[case] = guideline14(series.to_numpy(), truth.to_numpy())
+    return out

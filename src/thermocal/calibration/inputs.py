@@ -1,0 +1,265 @@
+"""The inputs of a calibration campaign, loaded once: building, weather, sensor log and
+mapping (or the built-in demo), the identification options, the unoccupied hours of the metric,
+and the identification problems of the calibration and validation periods.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from thermocal.errors import ThermocalInputError
+from thermocal.identification.occupancy import OccupancySchedule
+from thermocal.identification.problem import IdentificationProblem
+
+#: identification options a campaign file may set (its ``identification`` section)
+IDENTIFICATION_KEYS = {
+    "method": "inverse",
+    "feedback": "air",
+    "settle": "1D",
+    "max_gap": "1h",
+    "silence": "15min",
+    "warmup_days": 7,
+    "tuning_zone": None,
+}
+
+
+@dataclass
+class CampaignInputs:
+    """Everything a campaign needs, loaded once."""
+
+    building: Any
+    weather: pd.DataFrame
+    metadata: dict
+    sensor_log: pd.DataFrame
+    mapping: Any
+    start: Any
+    end: Any
+    truth: dict | None = None
+    true_loads: pd.DataFrame | None = None
+    log_name: str = "sensor log"
+
+
+def load_inputs(campaign) -> CampaignInputs:
+    """Building, weather, sensor log and mapping of a campaign file (or the built-in demo)."""
+    if campaign.is_demo:
+        name = campaign.building.split(":", 1)[1]
+        if name != "clinic":
+            raise ThermocalInputError(
+                f"{campaign.path}: unknown demo building {campaign.building!r}; use demo:clinic"
+            )
+        from thermocal.identification.demo_data import load_demo
+
+        building, weather, meta, raw, mapping, truth = load_demo()
+        start, end = meta["period"]
+        if campaign.period is not None:
+            start, end = (
+                _localise(campaign.period.start, start),
+                _localise(campaign.period.end, start),
+            )
+        loads = None
+        path = meta["files"].get("true_loads.parquet")
+        if path is not None and Path(path).is_file():
+            loads = pd.read_parquet(path)
+        return CampaignInputs(
+            building,
+            weather,
+            meta["weather"],
+            raw,
+            mapping,
+            start,
+            end,
+            truth,
+            loads,
+            str(meta["files"]["sensors.parquet"]),
+        )
+    from thermocal.identification.sensors import load_mapping
+    from thermocal.io.measurements import read_measurements
+    from thermocal.io.weather import check_building_site, check_weather_clock, read_weather
+    from thermocal.multizone.files import load_building
+
+    if campaign.mapping is None:
+        raise ThermocalInputError(
+            f"{campaign.path}: 'mapping' is missing: the file assigning sensors to zones"
+        )
+    building = load_building(campaign.building_path)
+    weather, site = read_weather(campaign.weather)
+    check_building_site(
+        building, site, building_source=str(campaign.building), weather_source=str(campaign.weather)
+    )
+    check_weather_clock(weather, site, source=str(campaign.weather))
+    tz = campaign.identification.get("tz")
+    raw, _ = read_measurements(campaign.sensors, tz=tz)
+    mapping = load_mapping(campaign.mapping)
+    start = end = None
+    if campaign.period is not None:
+        start = _localise(campaign.period.start, weather.index[0])
+        end = _localise(campaign.period.end, weather.index[0])
+    return CampaignInputs(
+        building, weather, site, raw, mapping, start, end, log_name=str(campaign.sensors)
+    )
+
+
+def _localise(value, like) -> pd.Timestamp:
+    stamp = pd.Timestamp(value)
+    if stamp.tzinfo is None and getattr(like, "tzinfo", None) is not None:
+        stamp = stamp.tz_localize(like.tzinfo)
+    return stamp
+
+
+def identification_options(campaign) -> dict:
+    """The campaign's identification options with their defaults (unknown keys rejected)."""
+    options = dict(IDENTIFICATION_KEYS)
+    allowed = set(IDENTIFICATION_KEYS) | {"tz"}
+    unknown = set(campaign.identification) - allowed
+    if unknown:
+        raise ThermocalInputError(
+            f"{campaign.path}: identification: unknown keys {sorted(unknown)} (allowed: "
+            f"{', '.join(sorted(allowed))})"
+        )
+    options.update({k: v for k, v in campaign.identification.items() if k != "tz"})
+    return options
+
+
+def campaign_schedule(campaign) -> OccupancySchedule:
+    """The occupancy schedule the campaign file declares (the published one by default)."""
+    if isinstance(campaign.occupancy, str) or campaign.occupancy is None:
+        return OccupancySchedule.paper()
+    return OccupancySchedule.from_dict(campaign.occupancy, source=f"{campaign.path}: occupancy")
+
+
+def choose_quiet_hours(campaign, heat: pd.Series, log=print) -> tuple[OccupancySchedule, dict]:
+    """The schedule of the metric: declared, or the quiet hours of the nominal identified heat.
+
+    ``occupancy`` in the campaign file: a schedule (used as given), ``"paper"`` (the published
+    method's schedule, used as given), ``"data"`` (the quiet hours found in the identified
+    heat, :func:`thermocal.identification.quiet.quiet_hours`) or absent (``"auto"``: the
+    published schedule, unless the data show that its hours are demonstrably not quiet; then
+    the quiet hours).
+
+    Parameters
+    ----------
+    campaign : Campaign
+    heat : Series
+        Building-wide identified heat of the nominal model per step [W].
+    log : callable
+
+    Returns
+    -------
+    (OccupancySchedule, dict)
+        The schedule and what was found (for calibration.json and the report).
+    """
+    from thermocal.identification.quiet import check_schedule, quiet_hours
+
+    declared = campaign.occupancy
+    schedule = campaign_schedule(campaign)
+    if isinstance(declared, dict) or declared == "paper":
+        return schedule, {"source": "declared" if isinstance(declared, dict) else "paper"}
+    try:
+        quiet = quiet_hours(heat)
+    except ThermocalInputError as exc:
+        if declared == "data":
+            raise ThermocalInputError(f"{campaign.path}: occupancy: data: {exc}") from None
+        return schedule, {"source": "paper", "check": f"not checked: {exc}"}
+    check = check_schedule(quiet, schedule)
+    info = {
+        "quiet_hours": quiet.describe(),
+        "quiet_hours_per_week": quiet.hours_per_week,
+        "paper_schedule_check": check.describe(),
+        "paper_schedule_quiet": check.quiet,
+    }
+    if declared == "data" or not check.quiet:
+        log(
+            f"occupancy: the published schedule is not quiet here ({check.describe()}); the "
+            f"metric uses the quiet hours found in the identified heat: {quiet.describe()}"
+        )
+        return quiet.schedule, {"source": "data", **info}
+    return schedule, {"source": "paper", **info}
+
+
+def build_problem(campaign, inputs: CampaignInputs, *, start=None, end=None, schedule=None):
+    """The :class:`IdentificationProblem` of the campaign (references built once)."""
+    from thermocal.identification.problem import problem_from_measurements
+
+    options = identification_options(campaign)
+    schedule = schedule or campaign_schedule(campaign)
+    problem, report = problem_from_measurements(
+        inputs.building,
+        inputs.weather,
+        inputs.metadata,
+        inputs.sensor_log,
+        inputs.mapping,
+        start=inputs.start if start is None else start,
+        end=inputs.end if end is None else end,
+        step=campaign.step,
+        method=options["method"],
+        feedback=options["feedback"],
+        tuning_zone=options["tuning_zone"],
+        schedule=schedule,
+        settle=options["settle"],
+        max_gap=options["max_gap"],
+        silence=options["silence"],
+        warmup_days=int(options["warmup_days"]),
+        log_name=inputs.log_name,
+    )
+    return problem, report
+
+
+def analysis_inputs(campaign) -> CampaignInputs:
+    """What a re-analysis needs of the inputs: the building (and the demo's truth)."""
+    if campaign.is_demo:
+        return load_inputs(campaign)
+    from thermocal.multizone.files import load_building
+
+    building = load_building(campaign.building_path)
+    return CampaignInputs(building, pd.DataFrame(), {}, pd.DataFrame(), None, None, None)
+
+
+def problem_settings(campaign, problem: IdentificationProblem, evaluator=None) -> dict:
+    """What determines a sample's outputs besides its parameters, by name (for the store).
+
+    The campaign file's settings (input files by content, period, step, options), whether each
+    sample's unoccupied-heat series is stored (the series meta-model needs it), the zone groups
+    whose series are stored (the spatial metric) and a digest of the identification problem
+    built from them.
+    """
+    series = problem.series_outputs
+    try:  # the digest without the series switch, which is named on its own line
+        problem.series_outputs = False
+        digest = problem.fingerprint()
+    finally:
+        problem.series_outputs = series
+    extra = {}
+    if evaluator is not None:
+        extra["zone-group heat series stored per sample"] = list(evaluator.labels)
+    return {
+        **campaign.problem_settings(),
+        "heat series stored per sample": bool(series),
+        **extra,
+        "identification problem": digest,
+    }
+
+
+def validation_problem(campaign, inputs: CampaignInputs):
+    """The identification problem of the validation period, built (and so checked: weather,
+    sensor coverage) before the campaign rather than after it; None without a validation."""
+    if campaign.validation is None:
+        return None
+    start = _localise(campaign.validation.start, inputs.weather.index[0])
+    end = _localise(campaign.validation.end, inputs.weather.index[0])
+    try:
+        problem, _ = build_problem(campaign, inputs, start=start, end=end)
+    except ThermocalInputError as exc:
+        raise ThermocalInputError(
+            f"{campaign.path}: validation period [{start}, {end}): {exc} (checked before the "
+            "campaign; correct 'validation:' or remove it)"
+        ) from None
+    return problem
+
+
+def evaluator_for(problem: IdentificationProblem) -> IdentificationProblem:
+    """The runner's evaluator: the problem itself (picklable, built once per worker)."""
+    return problem

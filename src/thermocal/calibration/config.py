@@ -176,14 +176,17 @@ class OptimisationSection(_Strict):
 
 
 class PosteriorSection(_Strict):
-    """Options of the posterior of the calibrated parameters (``discrepancy``: add a
-    parameter-like model discrepancy to the likelihood, Brynjarsdottir and O'Hagan 2014, its
-    prior scale from the residual along the parameters' shifted signatures, ``neighbours``, or
-    the whole model-error floor, ``floor``, or that floor shared among the parameters,
-    ``shared``; see
-    :func:`thermocal.calibration.posterior.discrepancy_basis`)."""
+    """Options of the posterior of the calibrated parameters.
 
-    discrepancy: Literal["none", "neighbours", "floor", "shared"] = "none"
+    ``discrepancy``: the parameter-like model discrepancy added to the likelihood
+    (Brynjarsdottir and O'Hagan 2014), its prior scale from the residual along the parameters'
+    shifted signatures (``neighbours``, the default), the whole model-error floor (``floor``),
+    that floor shared among the parameters (``shared``), or no discrepancy (``none``: the
+    intervals assume the model is exact and are too narrow on buildings it did not generate);
+    see :func:`thermocal.calibration.posterior.discrepancy_basis`.
+    """
+
+    discrepancy: Literal["none", "neighbours", "floor", "shared"] = "neighbours"
 
 
 class CampaignFile(_Strict):

@@ -34,9 +34,9 @@ def refine_minimum(
     success and halves after a failure. A meta-model fitted on few samples extrapolates badly
     to the corners of a 70-parameter box; the trust region keeps each step where it is
     informed, and every simulated point improves the next fit. The runs go through ``runs``
-    (:class:`RunCache`): found in the store when run before; in a re-analysis the refinement
-    stops at the first candidate that is not stored. Only the ``movable`` parameters (default
-    all) change; the others keep the start's values.
+    (:class:`thermocal.calibration.workflow.RunCache`): found in the store when run before; in
+    a re-analysis the refinement stops at the first candidate that is not stored. Only the
+    ``movable`` parameters (default all) change; the others keep the start's values.
 
     Returns
     -------

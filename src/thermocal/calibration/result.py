@@ -16,7 +16,7 @@ from thermocal.identification.workflow import jsonable
 
 @dataclass
 class CalibrationResult:
-    """What the calibration found (see :func:`calibrate`)."""
+    """What the calibration found (see :func:`thermocal.calibration.workflow.calibrate`)."""
 
     space: Any
     samples: Any

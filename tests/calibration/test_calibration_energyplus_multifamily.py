@@ -1,0 +1,120 @@
+"""``thermocal calibrate`` against EnergyPlus 25.2 on a second building it did not write.
+
+The twin (``tests/reference/calibration_energyplus_multifamily``): the PNNL/DOE multifamily
+prototype (18 flats on three storeys, breezeway, vented attic) run by EnergyPlus for January
+with a hidden envelope: wall insulation R x1.5, attic-floor insulation R x0.6, every effective
+leakage area x1.4; its zone air temperatures (committed, 10 minutes, 0.01 K) are the sensor
+log. thermocal gets the nominal IDF without its loads, Chicago O'Hare's TMY3 and the log, and
+calibrates the exterior wall's and the top flats' ceiling resistance and the attic's
+infiltration with a small campaign (32 Sobol' samples), with the default settings (the
+building-total metric, the posterior's model-discrepancy term ``neighbours``), then the same
+samples with the zone-group metric (``--resume``: nothing sampled again, only that metric's
+optima and refinement run with the model).
+
+Targets (issue 26 item 7): the element resistances the posterior declares determined within
+15 % of the truth, every 90 % interval covering the truth, the confirmed metric within 1.2x
+the true envelope's and never below it without a flag. Measured 2026-11-28 (re-analyses of
+``tests/reference/calibration_discrepancy/measure.py``): every interval covers with both
+metrics (without the discrepancy term the attic infiltration, and with the group metric the
+wall, were missed). The meta-model is the series model (the posterior uses it whatever the
+kind; the GP's fit would triple the time). Needs EnergyPlus only for its weather file.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+from conftest import requires_energyplus
+
+REFERENCE = Path(__file__).resolve().parents[1] / "reference"
+FOLDER = REFERENCE / "calibration_energyplus_multifamily"
+
+pytestmark = [pytest.mark.slow, requires_energyplus]
+
+SAMPLES = 32
+
+
+def _twin_script():
+    """The multifamily twin's script, loaded from its file (the 5-zone twin's script has the
+    same module name and is imported by it as ``calibrate_twin``)."""
+    sys.path.insert(0, str(REFERENCE / "calibration_energyplus_5zone"))
+    spec = importlib.util.spec_from_file_location(
+        "calibrate_twin_multifamily", FOLDER / "calibrate_twin.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    """The campaign with the default (building-total) metric, then the zone-group metric on
+    the same samples."""
+    ct = _twin_script()
+    base = ct.base
+    base.WALL, base.ROOF = ct.WALL, ct.CEILING  # the pair whose posterior correlation is reported
+
+    from thermocal.calibration.config import load_campaign
+    from thermocal.calibration.workflow import calibrate
+
+    folder = tmp_path_factory.mktemp("calibration_multifamily")
+    path = ct.prepare(folder, SAMPLES, extra="metamodel: {kind: series}\n")
+    truth_file = json.loads((FOLDER / "truth.json").read_text())
+    out = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        campaign = load_campaign(path)
+        result = calibrate(
+            campaign, workers=1, store_path=folder / "s.sqlite", progress=False, log=lambda s: 0
+        )
+        out["building"] = base.summarise(result, campaign, truth_file, "building")
+        other = folder / "groups.yaml"
+        other.write_text(path.read_text() + "metric: groups\n")
+        groups = load_campaign(other)
+        again = calibrate(
+            groups,
+            workers=1,
+            store_path=folder / "s.sqlite",
+            resume=True,
+            progress=False,
+            log=lambda s: 0,
+        )
+        out["groups"] = base.summarise(again, groups, truth_file, "groups")
+        out["groups_summary"] = again.summary
+    return out
+
+
+def _check(summary):
+    rows = {r["parameter"]: r for r in summary["rows"]}
+    determined = [n for n, r in rows.items() if r.get("determined")]
+    for name in determined:
+        if name.endswith("/resistance"):
+            assert abs(rows[name]["error"]) <= 0.15, (name, rows[name])
+    uncovered = [rows[n] for n, r in rows.items() if not r.get("covers", True)]
+    assert not uncovered, uncovered
+    ratio = summary["calibrated_metric"] / summary["true_metric"]
+    below = any(f.get("kind") == "below model error" for f in summary["flags"])
+    assert ratio <= 1.2, ratio
+    assert ratio >= 1.0 or below, (ratio, summary["flags"])
+    return determined
+
+
+@pytest.mark.parametrize("metric", ["building", "groups"])
+def test_calibration_finds_the_multifamily_envelope(twin, metric):
+    determined = _check(twin[metric])
+    # not vacuous: the data determine the wall and the attic floor the truth changed
+    assert {name for name in determined if name.endswith("/resistance")} >= {
+        "construction/Exterior Wall/resistance",
+        "construction/Interior Ceiling/resistance",
+    }
+
+
+def test_second_metric_resumes_without_sampling_again(twin):
+    summary = twin["groups_summary"]
+    assert summary.evaluated == 0 and summary.already_done == SAMPLES

@@ -608,22 +608,32 @@ EXCHANGE_GROUP = 2
 EXCHANGE_ROUNDS = 3
 
 
-def _exchange_thetas(problem, results, start_loglikes, pairs) -> list[np.ndarray]:
+def _exchange_thetas(problem, results, start_loglikes, pairs, origin) -> tuple[list, list]:
     """State-exchange starts (see :mod:`~thermocal.statespace.exchange`) from the ends of the
     best :data:`EXCHANGE_GROUP` starts within :data:`AGREEMENT_TOLERANCE` of the best, one per
-    exchangeable pair of states and end."""
+    exchangeable pair of states and end, except the pair that produced the end (``origin[i]``:
+    index of that pair, -1 for the other starts; swapping back returns to where it came from).
+
+    Returns
+    -------
+    (list of ndarray, list of int)
+        The start points and the index of their pair.
+    """
     model = problem.model
     free = model.free_parameter_names
     ll = np.array([v if math.isfinite(v) else -np.inf for v in start_loglikes])
     order = [i for i in np.argsort(-ll, kind="stable") if ll[i] >= ll.max() - AGREEMENT_TOLERANCE]
-    thetas = []
+    thetas, pair_of = [], []
     for i in order[:EXCHANGE_GROUP]:
         x = problem.clip(results[i].x)
         values = {n: model.parameters[n].from_unconstrained(x[k]) for k, n in enumerate(free)}
-        for swaps in pairs:
+        for j, swaps in enumerate(pairs):
+            if origin[i] == j:
+                continue
             moved = exchanged_values(values, swaps)
             thetas.append(problem.clip(_warm_start_theta(model, moved)))
-    return thetas
+            pair_of.append(j)
+    return thetas, pair_of
 
 
 def _exchange_rounds(problem, results, start_loglikes, method, maxiter, stall_tolerance, n_jobs,
@@ -635,10 +645,13 @@ def _exchange_rounds(problem, results, start_loglikes, method, maxiter, stall_to
     if not pairs or not np.any(np.isfinite(start_loglikes)):
         return []
     results, start_loglikes = list(results), list(start_loglikes)
+    origin = [-1] * len(results)
     added: list = []
     for _ in range(EXCHANGE_ROUNDS):
         best = float(np.nanmax(start_loglikes))
-        thetas = _exchange_thetas(problem, results, start_loglikes, pairs)
+        thetas, pair_of = _exchange_thetas(problem, results, start_loglikes, pairs, origin)
+        if not thetas:
+            break
         iterations = problem.iterations
         more = _run_new_starts(problem, thetas, method, maxiter, stall_tolerance, n_jobs,
                                progress, ends)  # fmt: skip
@@ -647,6 +660,7 @@ def _exchange_rounds(problem, results, start_loglikes, method, maxiter, stall_to
         added += more
         results += more
         start_loglikes += lls
+        origin += pair_of
         if not np.any(np.asarray(lls) > best + AGREEMENT_TOLERANCE):
             break
     return added

@@ -736,9 +736,13 @@ def fit(
         conductance and capacity scaled by one factor so that the steady state under the mean
         inputs matches the mean output, see :func:`_energy_balance_start`). Default:
         :func:`default_n_starts` (``max(3, ceil(n_free / 2))``) and, when the best end is reached
-        by one start only, as many more random starts. The fit counts as converged only when
-        at least two starts reach the best log-likelihood (within :data:`AGREEMENT_TOLERANCE`),
-        besides the Newton-step criterion at the end point (``results.agreement``).
+        by one start only, as many more random starts. With two starts or more, models with
+        two hidden states that can exchange roles
+        (:func:`thermocal.statespace.exchange.exchange_pairs`) get state-exchange starts from
+        the two best ends, in rounds while they find a better optimum (random starts can agree
+        on the poorer of two such optima). The fit counts as converged only when at least two
+        starts reach the best log-likelihood (within :data:`AGREEMENT_TOLERANCE`), besides
+        the Newton-step criterion at the end point (``results.agreement``).
     seed : int, optional
         Seed of the random starts (default :data:`DEFAULT_SEED`: the same model and data give
         the same fit; the convergence verdict depends on the agreement of the starts).

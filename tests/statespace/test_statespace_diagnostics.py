@@ -214,3 +214,29 @@ def test_forward_selection_finds_the_second_state():
     # the split model nests TiTe (f = 1, on its bound): its optimum is not lower, up to the
     # optimiser's stall tolerance for a parameter creeping towards a bound
     assert table.loc["TiTe_split", "loglike"] >= table.loc["TiTe", "loglike"] - 0.01
+
+
+def test_distribution_functions_equal_scipy_stats_and_select_does_not_import_it():
+    """The engine's chi-squared and normal functions are scipy.stats' own numbers, and the
+    commands' modules no longer import scipy.stats (1.5-2.5 s of start-up)."""
+    import subprocess
+    import sys
+
+    from scipy import stats
+
+    from thermocal.statespace.distributions import chi2_quantile, chi2_sf, normal_quantile
+
+    for p in (0.5, 0.9, 0.95, 0.975, 0.995):
+        assert normal_quantile(p) == stats.norm.ppf(p)
+        for df in (1, 2, 4, 20):
+            assert chi2_quantile(p, df) == stats.chi2.ppf(p, df)
+    for x in (0.0, 1e-9, 0.9, 3.84, 31.2, 138.8, 2000.0):
+        for df in (1, 4, 20):
+            assert chi2_sf(x, df) == stats.chi2.sf(x, df)
+    code = (
+        "import sys, thermocal.cli, thermocal.commands.select, thermocal.commands.fit, "
+        "thermocal.statespace.diagnostics, thermocal.statespace.profile, "
+        "thermocal.statespace.checks; print('scipy.stats' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

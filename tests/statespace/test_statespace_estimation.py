@@ -245,3 +245,23 @@ def test_random_starts_of_wide_positive_ranges_stay_near_the_declared_value():
     assert np.all((ci > 1e-4) & (ci < 50.0))
     assert np.median(np.abs(np.log(ci / 0.5))) == pytest.approx(0.674, abs=0.1)
     assert stats.kstest((hie - 251.0) / 98.0, "uniform").pvalue > 0.01
+
+
+def test_exchange_pairs_of_the_bacher_madsen_models():
+    """Only hidden, unheated states with a shared neighbour exchange roles; the swap covers
+    capacities, noises, initial means and the paths to the shared node."""
+    from pathlib import Path
+
+    from thermocal.statespace.exchange import exchange_pairs, exchanged_values
+
+    models = Path(__file__).resolve().parents[2] / "examples" / "models"
+    pairs = {n: exchange_pairs(RCModel.from_yaml(models / f"{n}.yaml"))
+             for n in ("Ti", "TiTe", "TiTeTh", "TiTmTeTh", "TiTmTeThRia")}  # fmt: skip
+    swap = [("Cm", "Ce"), ("sigma_m", "sigma_e"), ("Tm0", "Te0"), ("Rim", "Rie")]
+    assert pairs == {"Ti": [], "TiTe": [], "TiTeTh": [], "TiTmTeTh": [swap],
+                     "TiTmTeThRia": [swap]}  # fmt: skip
+    values = {"Cm": 1.0, "Ce": 2.0, "sigma_m": 0.1, "sigma_e": 0.2, "Tm0": 20.0, "Te0": 10.0,
+              "Rim": 3.0, "Rie": 4.0, "Rea": 5.0}  # fmt: skip
+    out = exchanged_values(values, swap)
+    assert out == {"Cm": 2.0, "Ce": 1.0, "sigma_m": 0.2, "sigma_e": 0.1, "Tm0": 10.0,
+                   "Te0": 20.0, "Rim": 4.0, "Rie": 3.0, "Rea": 5.0}  # fmt: skip

@@ -20,9 +20,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from scipy import stats
 
 from thermocal.errors import ThermocalInputError
+from thermocal.statespace.distributions import chi2_sf, normal_quantile
 
 #: A likelihood-ratio statistic below minus this is reported (a general model below its
 #: restricted one); smaller negative values are optimiser tolerance (see ``stall_tolerance``).
@@ -78,7 +78,7 @@ def autocorrelation(residuals, nlags: int = 40, alpha: float = 0.05) -> pd.DataF
     sums = np.array([float(d[: big_n - k] @ d[k:]) for k in lags])
     with np.errstate(invalid="ignore", divide="ignore"):
         acf = (1.0 - lags / big_n) * (sums / pairs) / c0
-        bound = stats.norm.ppf(1 - alpha / 2) / np.sqrt(pairs * big_n / (big_n - lags))
+        bound = normal_quantile(1 - alpha / 2) / np.sqrt(pairs * big_n / (big_n - lags))
     acf[0] = 1.0
     return pd.DataFrame({"acf": acf, "bound": bound}, index=pd.RangeIndex(nlags + 1, name="lag"))
 
@@ -154,7 +154,7 @@ def ljung_box(residuals, nlags: int = 20) -> tuple[float, float]:
     r = autocorrelation(residuals, nlags=h)["acf"].to_numpy()[1:]
     k = np.arange(1, r.size + 1)
     q = float(n * (n + 2) * np.sum(r**2 / (n - k)))
-    return q, float(stats.chi2.sf(q, r.size))
+    return q, float(chi2_sf(q, r.size))
 
 
 def fraction_outside_band(cpgram: pd.DataFrame) -> float:
@@ -212,7 +212,7 @@ def likelihood_ratio_test(restricted, general) -> LikelihoodRatioTest:
             f"({restricted.nobs} vs {general.nobs})"
         )
     statistic = 2.0 * (general.loglike - restricted.loglike)
-    pvalue = float(stats.chi2.sf(max(statistic, 0.0), df))
+    pvalue = float(chi2_sf(max(statistic, 0.0), df))
     warning = ""
     if statistic < -NEGATIVE_LR_TOLERANCE:
         warning = (

@@ -34,6 +34,7 @@ from thermocal.statespace.convergence import (  # noqa: F401 - re-exported
     start_agreement,
 )
 from thermocal.statespace.data import PreparedData, prepare_data
+from thermocal.statespace.exchange import exchange_pairs, exchanged_values
 from thermocal.statespace.kalman import (  # noqa: F401 - re-exported
     _hold_flag,
     _loglike_values,
@@ -600,6 +601,71 @@ def _run_new_starts(problem, starts, method, maxiter, stall_tolerance, n_jobs, p
     return [ends[k] for k in keys]
 
 
+#: Ends of the best group exchanged per round (two: the fewest that can agree).
+EXCHANGE_GROUP = 2
+#: Rounds of state-exchange starts at most (a round follows only when the previous one found
+#: a better optimum).
+EXCHANGE_ROUNDS = 3
+
+
+def _exchange_thetas(problem, results, start_loglikes, pairs, origin) -> tuple[list, list]:
+    """State-exchange starts (see :mod:`~thermocal.statespace.exchange`) from the ends of the
+    best :data:`EXCHANGE_GROUP` starts within :data:`AGREEMENT_TOLERANCE` of the best, one per
+    exchangeable pair of states and end, except the pair that produced the end (``origin[i]``:
+    index of that pair, -1 for the other starts; swapping back returns to where it came from).
+
+    Returns
+    -------
+    (list of ndarray, list of int)
+        The start points and the index of their pair.
+    """
+    model = problem.model
+    free = model.free_parameter_names
+    ll = np.array([v if math.isfinite(v) else -np.inf for v in start_loglikes])
+    order = [i for i in np.argsort(-ll, kind="stable") if ll[i] >= ll.max() - AGREEMENT_TOLERANCE]
+    thetas, pair_of = [], []
+    for i in order[:EXCHANGE_GROUP]:
+        x = problem.clip(results[i].x)
+        values = {n: model.parameters[n].from_unconstrained(x[k]) for k, n in enumerate(free)}
+        for j, swaps in enumerate(pairs):
+            if origin[i] == j:
+                continue
+            moved = exchanged_values(values, swaps)
+            thetas.append(problem.clip(_warm_start_theta(model, moved)))
+            pair_of.append(j)
+    return thetas, pair_of
+
+
+def _exchange_rounds(problem, results, start_loglikes, method, maxiter, stall_tolerance, n_jobs,
+                     progress, ends) -> list:  # fmt: skip
+    """Run state-exchange starts from the best ends until a round finds no better optimum
+    (at most :data:`EXCHANGE_ROUNDS`); their results, in order. ``problem.iterations`` counts
+    the iterations of all starts so far."""
+    pairs = exchange_pairs(problem.model)
+    if not pairs or not np.any(np.isfinite(start_loglikes)):
+        return []
+    results, start_loglikes = list(results), list(start_loglikes)
+    origin = [-1] * len(results)
+    added: list = []
+    for _ in range(EXCHANGE_ROUNDS):
+        best = float(np.nanmax(start_loglikes))
+        thetas, pair_of = _exchange_thetas(problem, results, start_loglikes, pairs, origin)
+        if not thetas:
+            break
+        iterations = problem.iterations
+        more = _run_new_starts(problem, thetas, method, maxiter, stall_tolerance, n_jobs,
+                               progress, ends)  # fmt: skip
+        problem.iterations += iterations
+        lls = [float("nan") if r is None else -float(r.fun) * problem.scale for r in more]
+        added += more
+        results += more
+        start_loglikes += lls
+        origin += pair_of
+        if not np.any(np.asarray(lls) > best + AGREEMENT_TOLERANCE):
+            break
+    return added
+
+
 def _warm_start_theta(model, warm_start) -> np.ndarray:
     """Start point in theta from the estimates of another fit (or a mapping of values).
 
@@ -670,9 +736,13 @@ def fit(
         conductance and capacity scaled by one factor so that the steady state under the mean
         inputs matches the mean output, see :func:`_energy_balance_start`). Default:
         :func:`default_n_starts` (``max(3, ceil(n_free / 2))``) and, when the best end is reached
-        by one start only, as many more random starts. The fit counts as converged only when
-        at least two starts reach the best log-likelihood (within :data:`AGREEMENT_TOLERANCE`),
-        besides the Newton-step criterion at the end point (``results.agreement``).
+        by one start only, as many more random starts. With two starts or more, models with
+        two hidden states that can exchange roles
+        (:func:`thermocal.statespace.exchange.exchange_pairs`) get state-exchange starts from
+        the two best ends, in rounds while they find a better optimum (random starts can agree
+        on the poorer of two such optima). The fit counts as converged only when at least two
+        starts reach the best log-likelihood (within :data:`AGREEMENT_TOLERANCE`), besides
+        the Newton-step criterion at the end point (``results.agreement``).
     seed : int, optional
         Seed of the random starts (default :data:`DEFAULT_SEED`: the same model and data give
         the same fit; the convergence verdict depends on the agreement of the starts).
@@ -756,6 +826,12 @@ def fit(
         more = _run_new_starts(problem, extra, method, maxiter, stall_tolerance, n_jobs,
                                progress, ends)  # fmt: skip
         problem.iterations += iterations
+        results += more
+        start_loglikes += [float("nan") if r is None else -float(r.fun) * problem.scale
+                           for r in more]  # fmt: skip
+    if n_starts > 1:
+        more = _exchange_rounds(problem, results, start_loglikes, method, maxiter,
+                                stall_tolerance, n_jobs, progress, ends)  # fmt: skip
         results += more
         start_loglikes += [float("nan") if r is None else -float(r.fun) * problem.scale
                            for r in more]  # fmt: skip

@@ -28,10 +28,11 @@ import math
 
 import numpy as np
 import pandas as pd
-from scipy import optimize, stats
+from scipy import optimize
 
 from thermocal.errors import ThermocalInputError
 from thermocal.statespace.convergence import AGREEMENT_TOLERANCE
+from thermocal.statespace.distributions import chi2_quantile
 
 #: Largest number of outward steps per side before the interval is declared open.
 MAX_STEPS = 12
@@ -272,7 +273,7 @@ def _profile_interval(res, name: str, *, alpha: float) -> dict:
         )
     if not 0 < alpha < 1:
         raise ThermocalInputError(f"profile: alpha must lie in (0, 1), got {alpha}")
-    drop = 0.5 * float(stats.chi2.ppf(1 - alpha, 1))
+    drop = 0.5 * float(chi2_quantile(1 - alpha, 1))
     threshold = res.loglike - drop
     ends, open_end = {}, {}
     z = math.sqrt(2 * drop)

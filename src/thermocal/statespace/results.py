@@ -17,6 +17,7 @@ from thermocal.statespace.convergence import (
     CORRELATION_LIMIT,
 )
 from thermocal.statespace.data import PreparedData, prepare_data
+from thermocal.statespace.distributions import normal_quantile
 from thermocal.statespace.kalman import _hold_flag, filter_arrays, rts_smoother, simulate
 
 #: Standard error above this fraction of the estimate flags a positive parameter.
@@ -426,11 +427,9 @@ class FitResults:
             bounds; the interval is asymmetric where the likelihood is. ``"natural"``: the
             symmetric Wald interval ``estimate +- z se`` in declared units.
         """
-        from scipy import stats
-
         if scale not in ("transformed", "natural"):
             raise ValueError("scale must be 'transformed' or 'natural'")
-        z = stats.norm.ppf(1 - alpha / 2)
+        z = normal_quantile(1 - alpha / 2)
         free = self.model.free_parameter_names
         est, se = self.params[free], self.bse[free]
         if scale == "natural":
@@ -468,8 +467,6 @@ class FitResults:
             (the boundary columns the heat flows to; with more than one, the coefficient
             depends on their temperatures, e.g. a cellar or attic that follows the test).
         """
-        from scipy import stats
-
         if self.model.heat_loss_state() is None:
             return None
         model = self.model
@@ -487,7 +484,7 @@ class FitResults:
         se = math.nan
         if np.all(known) and cov.size:
             se = float(np.sqrt(max(grad @ np.where(np.isfinite(cov), cov, 0.0) @ grad, 0.0)))
-        z = float(stats.norm.ppf(1 - alpha / 2))
+        z = float(normal_quantile(1 - alpha / 2))
         out = {
             "value": value, "std_error": se, "unit": "W/K",
             "wald_lower": value - z * se, "wald_upper": value + z * se,

@@ -271,3 +271,57 @@ def test_twin_with_small_fixed_diffusions(tmp_path):
     assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.15  # (+10.1 %; target 10 %)
     test = results["validation"]["test"]
     assert abs(test["mean_simulated"] - test["mean_measured"]) < 1.0  # (-0.60 K)
+
+
+def _energyplus_paths() -> dict[str, np.ndarray]:
+    """EnergyPlus's monthly living-zone balance (``balance.json``, diagnose_balance.py) on the
+    paths of ``thermocal.retrofit.balance`` [kWh], heat out of the zone positive."""
+    b = {k: np.asarray(v) for k, v in json.loads((REF / "balance.json").read_text())[
+        "monthly_kWh"].items()}  # fmt: skip
+    walls = ("Living:North", "Living:East", "Living:South", "Living:West")
+    windows = ("NorthWindow", "EastWindow", "SouthWindow", "WestWindow")
+    out = {
+        "envelope": -sum(b[s] for s in (*walls, "Living:Ceiling", "Living:Interior")),
+        # the windows' net loss includes the transmitted sun: conduction alone here
+        "windows": sum(b[w] for w in windows) - b["transmitted_sun"],
+        "air_change": b["infiltration"],
+        "floor": -b["Living:Floor"],
+        "sun": b["transmitted_sun"],
+        "gains": b["gains_convective"] + b["gains_radiant"] + b["gains_visible"],
+        "heating": b["heating"],
+    }
+    out["stored"] = out["heating"] - sum(out[k] for k in out if k != "heating")
+    return out
+
+
+def test_twin_demand_gap_decomposed(twin):
+    """Where thermocal's +36 % annual demand goes, path by path against EnergyPlus's own
+    balance of the living zone (docs/retrofit.md, "Where the first twin's demand goes").
+    Measured, October-April [kWh], thermocal - EnergyPlus: floor +2,096 (5,309 vs 3,213),
+    air change +1,805 (``H_est`` 35 W/K vs an infiltration of 12 W/K), walls + attic + garage
+    -1,011, windows +197, sun through the windows -703, internal gains +799 (the occupants'
+    heat is on no meter), heating +3,143 (13,286 vs 10,143). EnergyPlus's balance closes to
+    80 kWh a year. The calibrated model's own training heat is 0.47 kW (13 %) above the
+    meter: the gate's failure (the air-change regression's intercept, -11.3 kWh per day)."""
+    ep = _energyplus_paths()
+    rc = {k: np.asarray(v) for k, v in twin["heat_balance_kWh"]["monthly"].items()}
+    season = [9, 10, 11, 0, 1, 2, 3]
+    assert abs(ep["stored"].sum()) < 0.01 * ep["heating"].sum()  # (80 of 10,302)
+    d = {k: rc[k][season].sum() - ep[k][season].sum() for k in rc}
+    gap = d.pop("heating")
+    assert 2500.0 < gap < 3800.0, d  # (3,143)
+    # the floor is the largest single excess, the ground under the slab (soil 2.0 vs Kiva's
+    # 0.864, no memory of the house's 28-33 C summer: EnergyPlus's floor loses -20 / 177 /
+    # 347 kWh in October / November / December, thermocal's 467 / 568 / 704)
+    assert d["floor"] > 0.5 * gap and d["floor"] == max(d.values()), d  # (2,096)
+    assert rc["floor"][9] - ep["floor"][9] > 350.0  # October (487)
+    # the conductance paths together are within 10 % of EnergyPlus's: their split is not
+    ti_te = sum(d[k] for k in ("envelope", "windows", "air_change"))
+    base = sum(ep[k][season].sum() for k in ("envelope", "windows", "air_change"))
+    assert abs(ti_te) < 0.10 * base, (ti_te, base)  # (+991 of 15,807)
+    assert d["air_change"] > 1200.0 and d["envelope"] < -600.0, d  # (+1,805, -1,011)
+    # the occupants' sensible heat (1,096 kWh a year) is not in the electricity meter
+    people = _reference()["internal_gains_kWh"]["people_sensible"]
+    assert rc["gains"].sum() - ep["gains"].sum() == pytest.approx(people, rel=0.02)
+    # the calibrated model needs more heat than the meter in its own training period
+    assert twin["air_change_adjustment"]["intercept_kWh_per_day"] < -8.0  # (-11.3)

@@ -73,7 +73,9 @@ def twin(tmp_path_factory):
         app, ["retrofit", str(out / "config.yaml"), "--out", str(out / "r")]
     )
     assert result.exit_code == 0, result.output
-    return json.loads((out / "r" / "results.json").read_text())
+    results = json.loads((out / "r" / "results.json").read_text())
+    results["_out"] = str(out / "r")  # the CSV tables beside it
+    return results
 
 
 def _savings(twin):
@@ -221,9 +223,37 @@ def test_air_change_stack_coefficient_vs_sherman_grimsrud(twin):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 3/6: measured test MAE 1.75 K")
+@pytest.mark.xfail(
+    strict=True,
+    reason="issue 25 item 3/6: measured test MAE 1.75 K, the heat fit's capacities on their "
+    "lower bounds swing +-2.4 K open loop (test_validation_gate_fails_on_the_open_loop_swing)",
+)
 def test_validation_gate_passes(twin):
     assert twin["validation_gate"]["passed"]
+
+
+@pytest.mark.slow
+def test_validation_gate_fails_on_the_open_loop_swing(twin):
+    """Why the gate fails (docs/retrofit.md, "Validation gates (2026-11-28)"): only the indoor
+    temperature's MAE (1.75 K) fails; its mean (-0.30 K) and the daily heat (NMBE -3.1 %,
+    CV(RMSE) 6.1 %) pass. Driven by the measured heat, the heat fit's model swings too far:
+    hour-of-day means of simulated - measured Ti in the test period -2.44 K at 02:00, +2.42 K
+    at 12:00, with the internal mass and the air on their lower bounds (the capacities that
+    reproduce the heat after each set-back). Measured, not taken: C_im held at 10 MJ/K or the
+    air-to-mass coupling convective only pass the gate (MAE 0.81 / 0.68 K) and put 6 more
+    savings outside 3 pp."""
+    import pandas as pd  # noqa: PLC0415
+
+    checks = {c["name"]: c for c in twin["validation_gate"]["checks"]}
+    failed = [name for name, c in checks.items() if not c["passed"]]
+    assert failed == ["indoor temperature MAE"], failed
+    assert 1.5 < checks["indoor temperature MAE"]["value"] < 2.0  # (1.75)
+    v = pd.read_csv(Path(twin["_out"]) / "validation_timeseries.csv", index_col=0)
+    v.index = pd.to_datetime(v.index, utc=True).tz_convert("Etc/GMT-1")
+    t = v[v["period"] == "test"]
+    err = (t["Ti_simulated_C"] - t["Ti_measured_C"]).groupby(t.index.hour).mean()
+    assert err[2] < -1.5 and err[12] > 1.5, err.round(2).to_dict()  # (-2.44, +2.42)
+    assert {"C_im", "C_i"} <= set(twin["calibration"]["parameters_at_bounds"])
 
 
 @pytest.mark.slow

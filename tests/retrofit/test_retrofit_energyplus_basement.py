@@ -73,7 +73,9 @@ def twin(tmp_path_factory):
         app, ["retrofit", str(out / "config.yaml"), "--out", str(out / "r")]
     )
     assert result.exit_code == 0, result.output
-    return json.loads((out / "r" / "results.json").read_text())
+    results = json.loads((out / "r" / "results.json").read_text())
+    results["_out"] = str(out / "r")  # the CSV tables beside it
+    return results
 
 
 def _savings(twin):
@@ -221,9 +223,38 @@ def test_air_change_stack_coefficient_vs_sherman_grimsrud(twin):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 3/6: measured test MAE 1.75 K")
+@pytest.mark.xfail(
+    strict=True,
+    reason="issue 25 item 3/6: measured test MAE 1.75 K, the heat fit's capacities on their "
+    "lower bounds swing +-2.4 K open loop (test_validation_gate_fails_on_the_open_loop_swing)",
+)
 def test_validation_gate_passes(twin):
     assert twin["validation_gate"]["passed"]
+
+
+@pytest.mark.slow
+def test_validation_gate_fails_on_the_open_loop_swing(twin):
+    """Why the gate fails (docs/retrofit.md, "Validation gates (2026-11-28)"): only the indoor
+    temperature's MAE (1.75 K) fails; its mean (-0.24 K) and the daily heat (NMBE -2.4 %,
+    CV(RMSE) 5.8 %) pass (-0.30 K, -3.1 %, 6.1 % before the period's mean heat had its own
+    weight). Driven by the measured heat, the heat fit's model swings too far:
+    hour-of-day means of simulated - measured Ti in the test period -2.44 K at 02:00, +2.42 K
+    at 12:00, with the internal mass and the air on their lower bounds (the capacities that
+    reproduce the heat after each set-back). Measured, not taken: C_im held at 10 MJ/K or the
+    air-to-mass coupling convective only pass the gate (MAE 0.81 / 0.68 K) and put 6 more
+    savings outside 3 pp."""
+    import pandas as pd  # noqa: PLC0415
+
+    checks = {c["name"]: c for c in twin["validation_gate"]["checks"]}
+    failed = [name for name, c in checks.items() if not c["passed"]]
+    assert failed == ["indoor temperature MAE"], failed
+    assert 1.5 < checks["indoor temperature MAE"]["value"] < 2.0  # (1.75)
+    v = pd.read_csv(Path(twin["_out"]) / "validation_timeseries.csv", index_col=0)
+    v.index = pd.to_datetime(v.index, utc=True).tz_convert("Etc/GMT-1")
+    t = v[v["period"] == "test"]
+    err = (t["Ti_simulated_C"] - t["Ti_measured_C"]).groupby(t.index.hour).mean()
+    assert err[2] < -1.5 and err[12] > 1.5, err.round(2).to_dict()  # (-2.44, +2.42)
+    assert {"C_im", "C_i"} <= set(twin["calibration"]["parameters_at_bounds"])
 
 
 @pytest.mark.slow
@@ -258,11 +289,12 @@ def test_heat_loss_coefficient_and_demand_targets(twin):
 
 @pytest.mark.slow
 def test_strategy_savings(twin):
-    """Every strategy against EnergyPlus. Measured: mean |difference| 2.1 pp, max 3.7 (walls +
-    windows + cellar ceiling), 13 of 15 within 3 pp; 14 of 15 intervals cover EnergyPlus
-    (target >= 12: met; the cellar ceiling alone is not covered, below); median half-width
-    11.8 pp (target 6: not met, xfail below; 11.9 before the ground's inputs were drawn, 12.1
-    with the gains' factor drawn independently).
+    """Every strategy against EnergyPlus. Measured: mean |difference| 2.2 pp, max 3.8 (walls +
+    windows + cellar ceiling), 12 of 15 within 3 pp (3d at 3.0, 4 at 3.1); 14 of 15 intervals
+    cover EnergyPlus (target >= 12: met; the cellar ceiling alone is not covered, below);
+    median half-width 11.6 pp (target 6: not met, xfail below). Before the period's mean heat
+    had its own weight in the daily step: 2.1, 3.7, 13 of 15, 14 of 15, 11.8 pp (11.9 before
+    the ground's inputs were drawn, 12.1 with the gains' factor drawn independently).
     The strategy with all four measures saves most in both. (Before the daily step kept its
     weight and the measures added their insulation to the corrected constructions: 1.4, 3.7,
     14 of 15, 15 of 15, 15.9 pp; temperature fit: 2.1, 5.0, 11 of 15, 15 of 15, 13.3 pp.)"""
@@ -270,15 +302,15 @@ def test_strategy_savings(twin):
     assert covered >= 12, covered  # the issue's coverage target (80 %)
     assert np.abs(diff).max() < 6.5, diff  # (3.7; target 3)
     assert np.abs(diff).mean() < 3.0, diff  # (2.1)
-    assert (np.abs(diff) <= 3.0).sum() >= 13  # (13 of 15)
+    assert (np.abs(diff) <= 3.0).sum() >= 12  # (12 of 15; 13 before the mean heat's weight)
     assert np.median(half) < 13.5  # (11.8; target 6)
     best = max(twin["scenarios"][1:], key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 3.7 pp "
-                   "(13 of 15 within 3 pp), median half-width 11.8 pp")  # fmt: skip
+@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 3.8 pp "
+                   "(12 of 15 within 3 pp), median half-width 11.6 pp")  # fmt: skip
 def test_strategy_savings_targets(twin):
     diff, _, half = _savings(twin)
     assert np.abs(diff).max() <= 3.0

@@ -9,9 +9,10 @@ Here thermocal gets only what a user knows (``building.yaml``: areas, nominal IS
 U-values; ``measurements.csv``) and is compared with the committed EnergyPlus values.
 
 Of the issue's targets (HLC and demand within 10 %, every saving within 3 pp, 90 % intervals
-covering >= 80 % with a median half-width <= 6 pp) only the HLC holds on this house (+5.8 %
-since the heat fit's daily step keeps its weight, measured 2026-11-25, docs/retrofit.md
-"Closed-loop identification"): the validation gate fails, and these tests pin that state --
+covering >= 80 % with a median half-width <= 6 pp) only the HLC holds on this house (-1.6 %
+since the period's mean heat has its own weight in the heat fit's daily step, measured
+2026-11-28; +5.8 % before, docs/retrofit.md "Where the first twin's demand goes"): the
+validation gate fails, and these tests pin that state --
 the gate must say so and recommend nothing -- and the bounds that hold now, each with its
 measured value, so that a regression shows and an improvement can tighten them.
 """
@@ -91,10 +92,11 @@ def test_reference_is_what_the_script_writes():
 
 
 def test_twin_validation_gate_fails_and_recommends_nothing(twin):
-    """Measured (the heat fit, ``model.calibration: auto``): test-period bias -1.50 K, MAE
-    1.92 K, daily heat NMBE -33 %, CV(RMSE) 34 % (-2.84 K, 2.90 K, -61 % before the daily
-    step kept its weight; the temperature fit: -4.31 K, -119 %): the model does not reproduce
-    the house and says so (issue 25 item 3 holds; item 6's targets do not)."""
+    """Measured (the heat fit, ``model.calibration: auto``): test-period bias -0.54 K, MAE
+    1.53 K, daily heat NMBE -16 %, CV(RMSE) 19 % (-1.50 K, 1.92 K, -33 %, 34 % before the
+    period's mean heat had its own weight; -2.84 K, 2.90 K, -61 % before the daily step kept
+    its weight; the temperature fit: -4.31 K, -119 %): the model does not reproduce the house
+    and says so (issue 25 item 3 holds; item 6's targets do not)."""
     gate = twin["validation_gate"]
     assert gate["passed"] is False
     assert twin["recommendation"] is None
@@ -102,11 +104,11 @@ def test_twin_validation_gate_fails_and_recommends_nothing(twin):
 
 
 def test_twin_heat_loss_coefficient_and_demand(twin):
-    """EnergyPlus steady state 299.2 W/K; thermocal 316.5 W/K (90 %: 297-351), +5.8 %: the
-    10 % target holds (352.7 W/K, +17.9 %, before the heat fit's daily step kept its weight;
-    temperature fit 383.5 W/K, +28 %). Demand 14,037 kWh (12,033-17,389; 12,096-17,042
-    before the ground's inputs were drawn) vs 10,302, +36 % (before 16,722, +62 %): the 10 %
-    target fails; pinned."""
+    """EnergyPlus steady state 299.2 W/K; thermocal 294.6 W/K (90 %: 285-315), -1.6 %, since
+    the period's mean heat has its own weight in the daily step (316.5 W/K, +5.8 %, before;
+    352.7 W/K, +17.9 %, before the daily step kept its weight; temperature fit 383.5 W/K,
+    +28 %). Demand 12,437 kWh (11,413-15,167) vs 10,302, +20.7 % (before 14,037, +36.3 %;
+    16,722, +62 %): the 10 % target fails; pinned."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]
     err = hlc["value"] / ref["heat_loss_coefficient_W_per_K"] - 1.0
@@ -114,14 +116,16 @@ def test_twin_heat_loss_coefficient_and_demand(twin):
     assert hlc["p05"] <= ref["heat_loss_coefficient_W_per_K"] <= hlc["p95"]
     demand = twin["annual_heating_demand_kWh"]["value"]
     err_d = demand / ref["annual_heating_kWh"]["none"] - 1.0
-    assert abs(err_d) < 0.45, err_d  # target 0.10 (not met: +0.36)
+    assert abs(err_d) < 0.25, err_d  # target 0.10 (not met: +0.207)
 
 
 def test_twin_strategy_savings(twin):
     """Every strategy against EnergyPlus. Measured (heat fit, air change's stack term,
     measures adding their insulation to the corrected constructions, the slab edge and the
-    ground's inputs in the draws): mean absolute difference 10.9 pp, max 21.7 pp (3a); 3 of
-    15 within 3 pp; 7 of 15 intervals cover EnergyPlus; median half-width 12.8 pp (before
+    ground's inputs in the draws, the period's mean heat weighted by its own standard error):
+    mean absolute difference 11.5 pp, max 23.2 pp (3a); 3 of 15 within 3 pp; 6 of 15
+    intervals cover EnergyPlus; median half-width 13.1 pp (one scale for the mean and the
+    days: 10.9, 21.7, 3, 7, 12.8; before
     the slab edge and the ground draws: 10.7, 21.7, 0, 6, 12.4; with the internal gains'
     factor drawn independently of the fit 12.7 pp; before the daily step kept its weight:
     10.6, 22.0, 0, 6, 12.1, the attic measure's saving negative once corrected; temperature
@@ -140,7 +144,7 @@ def test_twin_strategy_savings(twin):
     diff = np.abs(diff)
     assert diff.max() < 24.0, diff  # target 3 (not met: 21.7)
     assert diff.mean() < 12.0, diff  # (10.9)
-    assert covered >= 7, covered  # target 12 of 15 (not met: 7)
+    assert covered >= 6, covered  # target 12 of 15 (not met: 6)
     assert np.median(half) < 14.0  # target 6 (not met: 12.8)
     # the ranking: the all-measures strategy saves most in both
     best = max(rows, key=lambda s: s["saving_pct"])
@@ -271,3 +275,61 @@ def test_twin_with_small_fixed_diffusions(tmp_path):
     assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.15  # (+10.1 %; target 10 %)
     test = results["validation"]["test"]
     assert abs(test["mean_simulated"] - test["mean_measured"]) < 1.0  # (-0.60 K)
+
+
+def _energyplus_paths() -> dict[str, np.ndarray]:
+    """EnergyPlus's monthly living-zone balance (``balance.json``, diagnose_balance.py) on the
+    paths of ``thermocal.retrofit.balance`` [kWh], heat out of the zone positive."""
+    b = {k: np.asarray(v) for k, v in json.loads((REF / "balance.json").read_text())[
+        "monthly_kWh"].items()}  # fmt: skip
+    walls = ("Living:North", "Living:East", "Living:South", "Living:West")
+    windows = ("NorthWindow", "EastWindow", "SouthWindow", "WestWindow")
+    out = {
+        "envelope": -sum(b[s] for s in (*walls, "Living:Ceiling", "Living:Interior")),
+        # the windows' net loss includes the transmitted sun: conduction alone here
+        "windows": sum(b[w] for w in windows) - b["transmitted_sun"],
+        "air_change": b["infiltration"],
+        "floor": -b["Living:Floor"],
+        "sun": b["transmitted_sun"],
+        "gains": b["gains_convective"] + b["gains_radiant"] + b["gains_visible"],
+        "heating": b["heating"],
+    }
+    out["stored"] = out["heating"] - sum(out[k] for k in out if k != "heating")
+    return out
+
+
+def test_twin_demand_gap_decomposed(twin):
+    """Where thermocal's +36 % annual demand goes, path by path against EnergyPlus's own
+    balance of the living zone (docs/retrofit.md, "Where the first twin's demand goes").
+    Measured, October-April [kWh], thermocal - EnergyPlus: floor +2,124 (5,337 vs 3,213),
+    air change +1,447 (``H_est`` 30 W/K vs an infiltration of 12 W/K), walls + attic + garage
+    -1,804, windows -121, sun through the windows -703, internal gains +799 (the occupants'
+    heat is on no meter), heating +1,701 (11,844 vs 10,143). EnergyPlus's balance closes to
+    80 kWh a year. Before the period's mean heat had its own weight in the heat fit's daily
+    step the calibrated model's own training heat was 0.47 kW (13 %) above the meter (the
+    gate's failure then) and the heating +3,143: floor +2,096, air change +1,805, envelope
+    -1,011, windows +197."""
+    ep = _energyplus_paths()
+    rc = {k: np.asarray(v) for k, v in twin["heat_balance_kWh"]["monthly"].items()}
+    season = [9, 10, 11, 0, 1, 2, 3]
+    assert abs(ep["stored"].sum()) < 0.01 * ep["heating"].sum()  # (80 of 10,302)
+    d = {k: rc[k][season].sum() - ep[k][season].sum() for k in rc}
+    gap = d.pop("heating")
+    assert 1300.0 < gap < 2200.0, d  # (1,701; 3,143 before the mean heat's own weight)
+    # the floor is the largest single excess, the ground under the slab (soil 2.0 vs Kiva's
+    # 0.864, no memory of the house's 28-33 C summer: EnergyPlus's floor loses -20 / 177 /
+    # 347 kWh in October / November / December, thermocal's 467 / 568 / 704)
+    assert d["floor"] > 0.5 * gap and d["floor"] == max(d.values()), d  # (2,096)
+    assert rc["floor"][9] - ep["floor"][9] > 350.0  # October (492)
+    # the conductance paths together are within 10 % of EnergyPlus's: their split is not
+    ti_te = sum(d[k] for k in ("envelope", "windows", "air_change"))
+    base = sum(ep[k][season].sum() for k in ("envelope", "windows", "air_change"))
+    assert abs(ti_te) < 0.10 * base, (ti_te, base)  # (-478 of 15,807)
+    assert d["air_change"] > 1200.0 and d["envelope"] < -1200.0, d  # (+1,447, -1,804)
+    # the occupants' sensible heat (1,096 kWh a year) is not in the electricity meter
+    people = _reference()["internal_gains_kWh"]["people_sensible"]
+    assert rc["gains"].sum() - ep["gains"].sum() == pytest.approx(people, rel=0.02)
+    # the calibrated model meets its own training period's heat: the mean daily residual
+    # (the air-change regression's intercept) -1.3 kWh per day, -11.3 (0.47 kW, 13 %)
+    # before the period's mean heat had its own weight in the daily step
+    assert abs(twin["air_change_adjustment"]["intercept_kWh_per_day"]) < 3.0

@@ -88,3 +88,39 @@ def test_tight_control_selects_the_heat_fit(closed_loop):
     loose["Ti_measured"] += 0.1 * (loose["Te"] - loose["Te"].mean())
     assert calibration_method("auto", loose)["method"] == "temperature"
     assert calibration_method("temperature", data)["method"] == "temperature"
+
+
+def test_split_mean_residuals_keeps_the_sum_of_squares():
+    """The mean apart from the deviations: with the mean's standard error sd / sqrt(n) the
+    weighted sum of squares is the plain one; a smaller standard error weighs the mean more."""
+    from thermocal.retrofit.calibration import split_mean_residuals
+
+    e = np.random.default_rng(5).normal(0.3, 1.0, 21)
+    plain = split_mean_residuals(e, 0.8)
+    np.testing.assert_allclose(plain, e / 0.8)
+    same = split_mean_residuals(e, 0.8, 0.8 / np.sqrt(len(e)))
+    assert same @ same == pytest.approx(plain @ plain)
+    tight = split_mean_residuals(e, 0.8, 0.05)
+    assert tight[-1] == pytest.approx(e.mean() / 0.05)
+    np.testing.assert_allclose(tight[:-1], (e - e.mean()) / 0.8)
+
+
+def test_mean_heat_sd_ignores_what_the_parameters_explain():
+    """Residuals the parameters could remove (in the Jacobian's span) are not noise: a daily
+    misfit proportional to the temperature difference plus white noise of 0.1 kW gives the
+    noise's standard error of the mean (0.1 / sqrt(n)), not the misfit's."""
+    from thermocal.retrofit.calibration import mean_heat_sd
+
+    rng = np.random.default_rng(11)
+    n = 400
+    dt = 15.0 + 5.0 * np.sin(np.arange(n) / 3.0)
+    jac = np.column_stack([dt, np.ones(n)])
+    noise = rng.normal(0.0, 0.1, n)
+    e = 0.08 * dt + 0.5 + noise
+    sd = mean_heat_sd(e, jac, 2)
+    assert sd == pytest.approx(0.1 / np.sqrt(n), rel=0.15)
+    # autocorrelated noise widens it: AR(1) with rho 0.6 -> sqrt((1 + 0.6) / (1 - 0.6)) = 2
+    ar = np.zeros(n)
+    for i in range(1, n):
+        ar[i] = 0.6 * ar[i - 1] + rng.normal(0.0, 0.1)
+    assert mean_heat_sd(ar, jac, 2) / (ar.std() / np.sqrt(n)) == pytest.approx(2.0, rel=0.25)

@@ -197,6 +197,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "validation_gate": analysis.gate,
         "recommendation": _recommended_code(analysis),
         "annual_heating_demand_kWh": demand,
+        "heat_balance_kWh": heat_balance_dict(analysis),
         "scenarios": scenarios,
         "measures_u_values": {
             k: m.u_value for k, m in cfg.measures.items() if m.u_value is not None
@@ -216,6 +217,32 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "notes": analysis.notes,
         "timings_s": analysis.timings,
     })  # fmt: skip
+
+
+def heat_balance_dict(analysis) -> dict | None:
+    """The estimate's monthly heat balance per path in the demand year
+    (:func:`thermocal.retrofit.balance.heat_balance`) for results.json [kWh]."""
+    from thermocal.retrofit.balance import BALANCE_PATHS, heat_balance
+
+    if analysis.year_inputs is None:
+        return None
+    env = analysis.envelopes[0] if analysis.envelopes else analysis.calibration.envelope
+    if isinstance(env, list | tuple):
+        env = env[0]
+    draws = analysis.draws or analysis.calibration.estimates_si
+    params = {k: float(np.atleast_1d(draws[k])[0]) for k in ESTIMATED_PARAMETERS}
+    bal = heat_balance(analysis.model, params, env, analysis.year_inputs,
+                       analysis.indoor_profile, gains=analysis.year_gains)  # fmt: skip
+    columns = list(BALANCE_PATHS) + ["heating"]
+    return {
+        "note": "the estimate's heat flows out of the indoor air per path and month (sun and "
+        "gains negative; they add up to the heating); the air change's temperature slope is "
+        "not in it (thermocal.retrofit.balance)",
+        "monthly": {c: [float(v) for v in bal[c]] for c in columns},
+        "annual": {c: float(bal[c].sum()) for c in columns},
+        "monthly_mean_Ti_C": [float(v) for v in bal["Ti"]],
+        "monthly_mean_Tgr_C": [float(v) for v in bal["Tgr"]],
+    }
 
 
 def _ground_draws_dict(analysis) -> dict | None:

@@ -62,7 +62,7 @@ def twin(tmp_path_factory):
         )
         out["groups"] = ct.summarise(result, groups, truth_file, "groups")
         other = folder / "building.yaml"
-        other.write_text(path.read_text().replace("metric: groups\n", ""))
+        other.write_text(path.read_text().replace("metric: groups\n", "metric: building\n"))
         building = load_campaign(other)
         again = reanalyse(building, folder / "s.sqlite", log=lambda s: 0)
         out["building"] = ct.summarise(again, building, truth_file, "building")

@@ -203,7 +203,7 @@ class CampaignFile(_Strict):
     step: str = "5min"
     identification: dict[str, Any] = Field(default_factory=dict)
     occupancy: dict[str, Any] | Literal["auto", "paper", "data"] | None = None
-    metric: Literal["building", "groups"] = "building"
+    metric: Literal["building", "groups"] = "groups"
     parameters: ParametersSection = Field(default_factory=ParametersSection)
     sampling: SamplingSection = Field(default_factory=SamplingSection)
     metamodel: MetamodelSection = Field(default_factory=MetamodelSection)

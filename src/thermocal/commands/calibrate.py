@@ -205,7 +205,7 @@ def _print_summary(result) -> None:
     from rich.table import Table
 
     console = Console()
-    table = Table(title="critical parameters (the paper's Table 1)")
+    table = Table(title="critical parameters (Table 1 of the published calibration method)")
     for column in ("parameter", "unit", "nominal", "min variance", "max variance"):
         table.add_column(column, justify="left" if column == "parameter" else "right")
     for name, row in result.table1().iterrows():

@@ -260,3 +260,63 @@ def test_ground_temperature_bad_input():
     )
     with pytest.raises(ThermocalInputError, match="300"):
         ground.ground_temperature_parameters(short)
+
+
+# ISO 13370 periodic (monthly) heat flow ------------------------------------------------------
+def test_periodic_penetration_depth_reproduces_table_h1():
+    """ISO 13370 Table H.1 (2.2 / 3.2 / 4.2 m) from Table 7's lambda and rho c."""
+    from thermocal.physics.ground import periodic_penetration_depth
+
+    assert periodic_penetration_depth(1.5, 3.0e6) == pytest.approx(2.2, abs=0.05)
+    assert periodic_penetration_depth(2.0, 2.0e6) == pytest.approx(3.2, abs=0.05)
+    assert periodic_penetration_depth(3.5, 2.0e6) == pytest.approx(4.2, abs=0.05)
+    # by hand: sqrt(3.15e7 * 2 / (pi * 2e6)) = sqrt(10.0268)
+    assert periodic_penetration_depth(2.0, 2.0e6) == pytest.approx(3.16651, rel=1e-5)
+
+
+def test_slab_periodic_coefficients_by_hand():
+    """A = 100 m2, P = 40 m, w = 0.3 m, R_f = 0, lambda 2, rho c 2e6, by hand:
+    d_t = 0.3 + 2 (0.17 + 0.04) = 0.72 m, delta = 3.16651 m;
+    H_pi = 100 * 2 / 0.72 * sqrt(2 / ((1 + 3.16651 / 0.72)^2 + 1)) = 71.56 W/K;
+    H_pe = 0.37 * 40 * 2 * ln(3.16651 / 0.72 + 1) = 49.91 W/K."""
+    from thermocal.physics.ground import iso13370_slab_periodic_coefficients
+
+    c = iso13370_slab_periodic_coefficients(100.0, 40.0, wall_thickness=0.3)
+    assert c["d_t"] == pytest.approx(0.72)
+    assert c["delta"] == pytest.approx(3.16651, rel=1e-5)
+    assert c["h_pi"] == pytest.approx(71.56, abs=0.01)
+    assert c["h_pe"] == pytest.approx(49.91, abs=0.01)
+    # insulation lowers both
+    ins = iso13370_slab_periodic_coefficients(100.0, 40.0, wall_thickness=0.3, floor_resistance=2.0)
+    assert ins["h_pi"] < c["h_pi"] and ins["h_pe"] < c["h_pe"]
+
+
+def test_monthly_heat_flow_is_the_cosine_form_for_sinusoids():
+    """With sinusoidal monthly temperatures the monthly-series form equals ISO 13370's
+    ``H_g (Ti - Te) - H_pi Ti_amp cos(2 pi (m - tau + alpha)/12)
+    + H_pe Te_amp cos(2 pi (m - tau - beta)/12)``; with a constant internal temperature the
+    internal periodic term is zero (only the set point's swing charges the ground)."""
+    from thermocal.physics.ground import iso13370_monthly_heat_flow, virtual_ground_temperature
+
+    m = np.arange(1, 13)
+    tau = 1.0  # coldest month
+    ti = 23.0 - 5.0 * np.cos(2 * np.pi * (m - tau) / 12)
+    te = 9.0 - 9.0 * np.cos(2 * np.pi * (m - tau) / 12)
+    h_g, h_pi, h_pe = 84.0, 36.0, 30.0
+    for alpha, beta in ((0, 1), (1, 2)):
+        phi = iso13370_monthly_heat_flow(h_g, h_pi, h_pe, ti, te, lead_months=alpha,
+                                         lag_months=beta)  # fmt: skip
+        expected = (
+            h_g * (23.0 - 9.0)
+            - h_pi * 5.0 * np.cos(2 * np.pi * (m - tau + alpha) / 12)
+            + h_pe * 9.0 * np.cos(2 * np.pi * (m - tau - beta) / 12)
+        )
+        np.testing.assert_allclose(phi, expected, atol=1e-9)
+    flat = iso13370_monthly_heat_flow(h_g, h_pi, h_pe, np.full(12, 20.0), te)
+    np.testing.assert_allclose(
+        flat, iso13370_monthly_heat_flow(h_g, 0.0, h_pe, np.full(12, 20.0), te), atol=1e-12
+    )
+    theta = virtual_ground_temperature(ti, phi, 80.0)
+    np.testing.assert_allclose(80.0 * (ti - theta), phi)
+    with pytest.raises(ThermocalInputError):
+        iso13370_monthly_heat_flow(h_g, h_pi, h_pe, ti[:11], te)

@@ -125,3 +125,28 @@ def test_slab_measure_steady_saving_vs_kiva(soil, kiva_bare, kiva_slab):
     )
     assert abs(saving / kiva - 1.0) < 0.2, (saving, kiva)
     assert abs(floor_only / kiva - 1.0) > 0.3  # the floor alone over-states it
+
+
+@pytest.mark.parametrize(
+    "folder, component, kind",
+    [(HOUSE, "ground_floor", "slab"), (BASEMENT, "cellar_ceiling", "unheated_basement")],
+)
+def test_results_floor_group_names_the_buildings_floor(folder, component, kind):
+    """``results.json`` -> calibration.correction.groups.k_floor names the floor the building
+    has: the first twin's slab on ground (``ground_floor``), the basement twin's ceiling over
+    its unheated basement (``cellar_ceiling``); it listed ``cellar_ceiling`` for both."""
+    from types import SimpleNamespace
+
+    from thermocal.retrofit.outputs import _correction_dict
+
+    _, model = _model(folder)
+    corr = SimpleNamespace(
+        factors={"k_env": 1.0, "k_win": 1.0, "k_floor": 1.0}, prior_std={},
+        posterior_std={}, separated={}, correlation={}, summary=lambda: "",
+    )  # fmt: skip
+    groups = _correction_dict(corr, model)["groups"]
+    assert model.ground.kind == kind
+    assert groups["k_floor"]["components"] == [component]
+    word = {"slab": "slab on ground", "unheated_basement": "unheated basement"}[kind]
+    assert word in groups["k_floor"]["description"]
+    assert groups["k_win"]["components"] == ["windows"]

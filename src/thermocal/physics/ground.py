@@ -24,6 +24,10 @@ __all__ = [
     "iso13370_heated_basement",
     "iso13370_unheated_basement",
     "ground_heat_transfer_coefficient",
+    "periodic_penetration_depth",
+    "iso13370_slab_periodic_coefficients",
+    "iso13370_monthly_heat_flow",
+    "virtual_ground_temperature",
     "ground_temperature",
     "ground_temperature_parameters",
 ]
@@ -148,8 +152,9 @@ def iso13370_slab_on_ground(
     floor_resistance : float
         Thermal resistance of the floor slab incl. insulation and covering ``R_f`` [m2 K/W].
     soil_conductivity : float
-        Thermal conductivity of the ground ``lambda`` [W/(m K)] (2.0 for clay/silt, the ISO
-        default; 1.5 clay; 3.5 rock).
+        Thermal conductivity of the ground ``lambda`` [W/(m K)] (ISO 13370 Table 7: 1.5 clay
+        or silt; 2.0 sand or gravel, also the value to use when the soil is unknown; 3.5
+        homogeneous rock).
 
     Returns
     -------
@@ -412,6 +417,176 @@ def ground_heat_transfer_coefficient(
             f"basement = {basement!r}: use 'none' (slab on ground), 'heated' or 'unheated'"
         )
     return h + float(perimeter) * float(linear_thermal_transmittance)
+
+
+# --------------------------------------------------------------------------------------------
+# ISO 13370 periodic (monthly) heat flow
+# --------------------------------------------------------------------------------------------
+#: Period of the annual cycle ISO 13370 uses in the penetration depth [s] (equation H.1).
+_ISO_YEAR_SECONDS = 3.15e7
+
+
+def periodic_penetration_depth(soil_conductivity: float, volumetric_heat_capacity: float) -> float:
+    """Periodic penetration depth of the annual cycle ``delta = sqrt(3.15e7 lambda / (pi rho c))``.
+
+    Parameters
+    ----------
+    soil_conductivity : float
+        Thermal conductivity of the ground ``lambda`` [W/(m K)].
+    volumetric_heat_capacity : float
+        ``rho c`` of the ground [J/(m3 K)] (ISO 13370 Table 7: 3.0e6 clay or silt, 2.0e6
+        sand or gravel and rock).
+
+    Returns
+    -------
+    float
+        ``delta`` [m] (Table H.1: 2.2 m clay or silt, 3.2 m sand or gravel, 4.2 m rock).
+
+    References
+    ----------
+    .. [1] ISO 13370:2017, Annex H, equation (H.1) and Table H.1.
+    """
+    lam = _positive("soil_conductivity", soil_conductivity, "W/(m K)")
+    rho_c = _positive("volumetric_heat_capacity", volumetric_heat_capacity, "J/(m3 K)")
+    return float(np.sqrt(_ISO_YEAR_SECONDS * lam / (np.pi * rho_c)))
+
+
+def iso13370_slab_periodic_coefficients(
+    area: float,
+    perimeter: float,
+    *,
+    wall_thickness: float,
+    floor_resistance: float = 0.0,
+    soil_conductivity: float = 2.0,
+    volumetric_heat_capacity: float = 2.0e6,
+) -> dict[str, float]:
+    """Periodic heat transfer coefficients of an uninsulated or all-over insulated slab.
+
+    ``H_pi = A lambda / d_t sqrt(2 / ((1 + delta / d_t)^2 + 1))`` (internal) and
+    ``H_pe = 0.37 P lambda ln(delta / d_t + 1)`` (external), with the total equivalent
+    thickness ``d_t`` of :func:`equivalent_thickness` and the penetration depth ``delta`` of
+    :func:`periodic_penetration_depth`.
+
+    Parameters
+    ----------
+    area : float
+        Floor area ``A`` [m2].
+    perimeter : float
+        Exposed perimeter ``P`` [m].
+    wall_thickness : float
+        Full thickness of the external walls at ground level ``w`` [m].
+    floor_resistance : float
+        Thermal resistance of the slab incl. insulation and covering ``R_f`` [m2 K/W].
+    soil_conductivity : float
+        ``lambda`` [W/(m K)].
+    volumetric_heat_capacity : float
+        ``rho c`` of the ground [J/(m3 K)] (default 2.0e6, ISO 13370 Table 7 for the default
+        ``lambda`` of 2.0).
+
+    Returns
+    -------
+    dict
+        ``h_pi``, ``h_pe`` [W/K], ``d_t``, ``delta`` [m].
+
+    References
+    ----------
+    .. [1] ISO 13370:2017, Annex H, equations (H.2) and (H.3) (slab on ground, no edge
+       insulation).
+    """
+    area = _positive("area", area, "m2")
+    perimeter = _positive("perimeter", perimeter, "m")
+    lam = _positive("soil_conductivity", soil_conductivity, "W/(m K)")
+    d_t = equivalent_thickness(lam, floor_resistance, wall_thickness=wall_thickness)
+    delta = periodic_penetration_depth(lam, volumetric_heat_capacity)
+    h_pi = area * lam / d_t * np.sqrt(2.0 / ((1.0 + delta / d_t) ** 2 + 1.0))
+    h_pe = 0.37 * perimeter * lam * np.log(delta / d_t + 1.0)
+    return {"h_pi": float(h_pi), "h_pe": float(h_pe), "d_t": float(d_t), "delta": float(delta)}
+
+
+def iso13370_monthly_heat_flow(
+    h_g: float,
+    h_pi: float,
+    h_pe: float,
+    internal_monthly,
+    external_monthly,
+    *,
+    lead_months: int = 0,
+    lag_months: int = 1,
+) -> np.ndarray:
+    """Mean ground heat flow rate of each month (ISO 13370's monthly method) [W].
+
+    ``Phi_m = H_g (Ti_mean - Te_mean) - H_pi (Ti_mean - Ti_(m + alpha))
+    + H_pe (Te_mean - Te_(m - beta))`` with the annual means of the twelve monthly means, the
+    heat flow leading the internal temperature by ``alpha`` and lagging the external one by
+    ``beta`` months. For sinusoidal temperatures this is the standard's cosine form
+    ``H_g (Ti_mean - Te_mean) - H_pi Ti_amp cos(2 pi (m - tau + alpha) / 12)
+    + H_pe Te_amp cos(2 pi (m - tau - beta) / 12)``.
+
+    Parameters
+    ----------
+    h_g : float
+        Steady-state ground heat transfer coefficient [W/K].
+    h_pi, h_pe : float
+        Internal and external periodic heat transfer coefficients [W/K]
+        (:func:`iso13370_slab_periodic_coefficients`).
+    internal_monthly, external_monthly : array-like (12,)
+        Monthly mean internal and external air temperatures, January first [C].
+    lead_months, lag_months : int
+        ``alpha`` and ``beta`` [months]; default 0 and 1, the values ISO 52016-1 takes for
+        its virtual ground temperature.
+
+    Returns
+    -------
+    ndarray (12,)
+        ``Phi_m`` [W], heat out of the building positive.
+
+    References
+    ----------
+    .. [1] ISO 13370:2017, Annex C (monthly heat flow rates) and Annex H (coefficients).
+    .. [2] ISO 52016-1:2017, 6.5.8 (virtual ground temperature, time lead 0 and lag 1 month).
+    """
+    ti = np.asarray(internal_monthly, dtype=float)
+    te = np.asarray(external_monthly, dtype=float)
+    if ti.shape != (12,) or te.shape != (12,):
+        raise ThermocalInputError(
+            f"iso13370_monthly_heat_flow needs 12 monthly temperatures each, got {ti.shape} "
+            f"and {te.shape}"
+        )
+    ti_lead = np.roll(ti, -int(lead_months))  # value of month m + alpha
+    te_lag = np.roll(te, int(lag_months))  # value of month m - beta
+    return (
+        float(h_g) * (ti.mean() - te.mean())
+        - float(h_pi) * (ti.mean() - ti_lead)
+        + float(h_pe) * (te.mean() - te_lag)
+    )
+
+
+def virtual_ground_temperature(internal_monthly, heat_flow_monthly, conductance: float):
+    """Monthly temperature behind a floor's ground conductance that gives ISO 13370's flow.
+
+    ``theta_vi,m = Ti_m - Phi_m / (A U)``: a dynamic model that couples the floor to this
+    temperature through ``A U`` loses ``Phi_m`` in each month's mean.
+
+    Parameters
+    ----------
+    internal_monthly : array-like (12,)
+        Monthly mean internal temperature [C].
+    heat_flow_monthly : array-like (12,)
+        ``Phi_m`` of :func:`iso13370_monthly_heat_flow` [W] (without the junction's
+        ``P psi`` share).
+    conductance : float
+        ``A U`` [W/K].
+
+    Returns
+    -------
+    ndarray (12,) [C]
+
+    References
+    ----------
+    .. [1] ISO 13370:2017, Annex F, equation (F.2) (approximate virtual temperature).
+    """
+    conductance = _positive("conductance", conductance, "W/K")
+    return np.asarray(internal_monthly, float) - np.asarray(heat_flow_monthly, float) / conductance
 
 
 # --------------------------------------------------------------------------------------------

@@ -50,12 +50,46 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-#: Correction groups and the envelope components they scale.
+#: Correction groups and the envelope components they can scale; the floor group scales
+#: whichever floor the building has (:func:`group_components`).
 GROUPS: dict[str, tuple[str, ...]] = {
     "k_env": ("roof", "walls", "attic_ceiling", "wall_to_unheated"),
     "k_win": ("windows",),
-    "k_floor": ("cellar_ceiling",),
+    "k_floor": ("cellar_ceiling", "ground_floor"),
 }
+#: What the floor group's component is, by the ground path's kind (ISO 13370 clause).
+FLOOR_DESCRIPTIONS: dict[str, str] = {
+    "unheated_basement": "ceiling over an unheated basement (ISO 13370 clause 9.3)",
+    "slab": "slab on ground (ISO 13370 clause 9.1)",
+    "heated_basement": "floor of a heated basement (ISO 13370 clause 9.2)",
+}
+
+
+def group_components(envelope, ground_kind: str) -> dict[str, dict]:
+    """The components each correction group scales in this building, and what the floor is.
+
+    Parameters
+    ----------
+    envelope : EnvelopeComponents
+        The building file's envelope; its ``floor_kind`` is the floor's component type
+        (``cellar_ceiling`` or ``ground_floor``).
+    ground_kind : str
+        :attr:`GroundPath.kind` of the model (``unheated_basement``, ``slab``,
+        ``heated_basement``).
+
+    Returns
+    -------
+    dict group -> {"label": str, "components": list of str[, "description": str]}
+        The floor group names the building's floor component only, with its description.
+    """
+    out = {g: {"label": GROUP_LABELS[g], "components": list(comps)} for g, comps in
+           GROUPS.items() if g != "k_floor"}  # fmt: skip
+    out["k_floor"] = {
+        "label": GROUP_LABELS["k_floor"],
+        "components": [envelope.floor_kind],
+        "description": FLOOR_DESCRIPTIONS.get(ground_kind, ground_kind),
+    }
+    return out
 #: Prior standard deviation of ln H_est (air change rates: a factor ~2 either way).
 H_EST_PRIOR_STD_LOG = 0.5
 #: A group is separated by the data when posterior / prior standard deviation is below this.

@@ -189,7 +189,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "parameters_fixed": sorted(model.fixed),
             "residual_diagnostics": residual_summary(cal.residuals),
             "fit_seconds": cal.fit_seconds,
-            "correction": _correction_dict(cal.correction),
+            "correction": _correction_dict(cal.correction, model),
         },
         "heat_loss_coefficient_W_per_K": hlc,
         "validation": analysis.validation,
@@ -260,17 +260,21 @@ def _ground_draws_dict(analysis) -> dict | None:
     return out or None
 
 
-def _correction_dict(corr) -> dict | None:
-    """The group corrections of the calibrated U-values (None: the published topology)."""
+def _correction_dict(corr, model) -> dict | None:
+    """The group corrections of the calibrated U-values (None: the published topology).
+
+    Each group lists the components it scales in this building (the floor group: the
+    building's ``cellar_ceiling`` or ``ground_floor``, with what it is).
+    """
     if corr is None:
         return None
-    from thermocal.retrofit.correction import GROUP_LABELS, GROUPS
+    from thermocal.retrofit.correction import group_components
 
+    groups = group_components(model.envelope, model.ground.kind)
     return {
         "method": "maximum a posteriori, prior ln k ~ N(0, s^2) per envelope group",
         "factors": corr.factors,
-        "groups": {g: {"label": GROUP_LABELS[g], "components": list(GROUPS[g])}
-                   for g in corr.factors},
+        "groups": {g: groups[g] for g in corr.factors},
         "prior_std_log": corr.prior_std,
         "posterior_std_log": corr.posterior_std,
         "separated_by_data": corr.separated,

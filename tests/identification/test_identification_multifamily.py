@@ -27,6 +27,15 @@ with the bounds (a little above, so that a regression fails):
 | 15 of 20 sensed, unoccupied hours | -1.3 % / 12.2 % | 5 % / 15 % |
 | floating breezeway / attic, hourly RMSE | 0.16 K / 0.09 K | 0.3 K |
 
+Re-measured 2026-11-28 (after the EnergyPlus-like shading): all sensed -0.9 % / 11.5 % in all
+hours and +5.2 % / 12.6 % unoccupied; 15 sensed -6.6 % / 13.4 % and -1.0 % / 11.9 %. The
+unoccupied +5.2 % is a delay, not one zone: every flat's identified heat is the true gains
+smoothed and about 2-3 h late (-2.3 kW at 16-17 h while they rise, +2.2 kW at 23-00 h while
+they fall), and the published unoccupied hours (weekday 20-04 h, weekends) sample only the
+evening half; hence the 7 % bound, above the issue's 5 % target (issue 28, open). With 15
+sensed, the floating flats' -2.16 kW is offset by +1.29 kW in their sensed neighbours (heat
+through the party walls into the cooler floating flats).
+
 Without the building's own shadows (the front row shading the back row's breezeway facade)
 the back-row flats ran +0.5 K warm (worst RMSE 0.72 K); without the ``Window`` objects the
 file has no glazing at all. With 15 of 20 sensed, the three floating flats get no heat

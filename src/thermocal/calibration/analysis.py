@@ -432,13 +432,19 @@ def _confirm_optima(runs, optimisation, metric, nominal_outputs, nominal_heat, n
     return confirmed, heat, unconfirmed
 
 
+def _determined_only(campaign, posterior) -> bool:
+    """Whether the calibrated model may change only what the posterior says the data determine
+    (``optimisation.calibrate: determined``, the default, and a posterior to say it)."""
+    return posterior is not None and campaign.optimisation.calibrate == "determined"
+
+
 def _movable_parameters(campaign, space, posterior, notes: list) -> list[str]:
     """The parameters the calibrated model may change.
 
     With ``optimisation.calibrate: determined`` (the default) only those the posterior says the
     data determine; the others stay nominal. Without a posterior, or with ``all``, every one.
     """
-    if posterior is None or campaign.optimisation.calibrate != "determined":
+    if not _determined_only(campaign, posterior):
         return list(space.names)
     determined = [n for n in space.names if n in posterior.determined]
     if len(determined) < space.dimension:
@@ -471,7 +477,7 @@ def _candidates(
     best sample (a meta-model fitted on few samples can miss), each confirmed with the model.
     """
     metric = campaign.metric
-    determined_only = posterior is not None and campaign.optimisation.calibrate == "determined"
+    determined_only = _determined_only(campaign, posterior)
     candidates = {}
     if "min" not in unconfirmed and set(fitted.critical) <= set(movable):
         candidates["meta-model minimum"] = (

@@ -38,38 +38,12 @@ from thermocal.retrofit.model import (
     steady_states_with_indoor,
     system_matrices,
 )
+from thermocal.retrofit.simulation import ideal_heating_states
 
 #: the paths of :func:`heat_balance`, in order
 BALANCE_PATHS: tuple[str, ...] = (
     "envelope", "windows", "air_change", "floor", "sun", "gains", "stored",
 )  # fmt: skip
-
-
-def _controlled_states(ad, bd, x0, u, setpoint):
-    """States at every step boundary and the heat of the ideal heating-only controller.
-
-    Parameters
-    ----------
-    ad : ndarray (ns, ns); bd : ndarray (ns, ni + 1), the heating the last column
-    x0 : ndarray (ns,) [C]
-    u : ndarray (nk, ni); setpoint : ndarray (nk,) [C]
-
-    Returns
-    -------
-    x : ndarray (nk + 1, ns) [C]; heat : ndarray (nk,) [W]
-    """
-    nk = len(u)
-    x = np.empty((nk + 1, len(x0)))
-    heat = np.empty(nk)
-    x[0] = x0
-    b_q = bd[:, -1]
-    free = u @ bd[:, :-1].T
-    for k in range(nk):
-        xn = ad @ x[k] + free[k]
-        q = max((setpoint[k] - xn[0]) / b_q[0], 0.0)
-        x[k + 1] = xn + b_q * q
-        heat[k] = q
-    return x, heat
 
 
 def heat_balance(
@@ -119,8 +93,8 @@ def heat_balance(
     x0 = steady_states_with_indoor(a, b, u[-n_warm:].mean(axis=0) if n_warm else u[0],
                                    float(sp[-1]))[0]  # fmt: skip
     if n_warm:
-        x0 = _controlled_states(ad[0], bd[0], x0, u[-n_warm:], sp[-n_warm:])[0][-1]
-    x, heat = _controlled_states(ad[0], bd[0], x0, u, sp)
+        x0 = ideal_heating_states(ad[0], bd[0], x0, u[-n_warm:], sp[-n_warm:])[0][-1]
+    x, heat = ideal_heating_states(ad[0], bd[0], x0, u, sp)
     mean = 0.5 * (x[:-1] + x[1:])
     ti, tenv, tgf = mean[:, 0], mean[:, 1], mean[:, 2]
     te = inputs["Te"].to_numpy(float)

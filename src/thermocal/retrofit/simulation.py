@@ -84,6 +84,42 @@ def ideal_heating_batch(ad, bd, x0, u, setpoint):
     )
 
 
+@numba.njit(cache=True)
+def _ideal_heating_states(ad, bd, x0, u, setpoint):  # pragma: no cover - compiled
+    ns = x0.shape[0]
+    nk = u.shape[0]
+    states = np.empty((nk + 1, ns))
+    heat = np.empty(nk)
+    states[0] = x0
+    for k in range(nk):
+        heat[k] = _ideal_heating_step(ad, bd, 0, states[k], states[k + 1], u[k], setpoint[k])
+    return states, heat
+
+
+def ideal_heating_states(ad, bd, x0, u, setpoint):
+    """:func:`ideal_heating_batch` of one system that keeps every state at every step boundary
+    (for a heat balance per path, :func:`thermocal.retrofit.balance.heat_balance`).
+
+    Parameters
+    ----------
+    ad : ndarray (ns, ns); bd : ndarray (ns, ni + 1), the heating the last column [K per W]
+    x0 : ndarray (ns,) [C]
+    u : ndarray (nk, ni); setpoint : ndarray (nk,) [C]
+
+    Returns
+    -------
+    states : ndarray (nk + 1, ns) [C]
+    heat : ndarray (nk,) [W] mean heating power over each step
+    """
+    return _ideal_heating_states(
+        np.ascontiguousarray(ad, dtype=float)[None],
+        np.ascontiguousarray(bd, dtype=float)[None],
+        np.ascontiguousarray(x0, dtype=float),
+        np.ascontiguousarray(u, dtype=float),
+        np.ascontiguousarray(setpoint, dtype=float),
+    )
+
+
 @numba.njit(cache=True, parallel=True)
 def _ideal_heating_binned(ad, bd, x0, u, setpoint, bins, n_bins):  # pragma: no cover
     n, ns, _ = ad.shape

@@ -442,7 +442,5 @@ class ForcingSetup:
             weight = float(np.mean(gain.people_count * fraction * a))
             radiant_weight[z] += weight * gain.radiant_fraction
             total_weight[z] += weight
-        radiant = np.divide(
-            radiant_weight, total_weight, out=np.zeros(nz), where=total_weight > 0
-        )
+        radiant = np.divide(radiant_weight, total_weight, out=np.zeros(nz), where=total_weight > 0)
         return np.ascontiguousarray(constant), np.ascontiguousarray(limit), radiant

@@ -64,12 +64,18 @@ def cases():
     flats = (MULTIFAMILY / "multifamily_5A_FF_v25.idf").read_text()
     for factor in (1, 4, 8, 14):
         yield "5ZoneAirCooled", f"loads x {factor}", scaled_loads(office, factor), 12
-    yield "5ZoneAirCooled", "loads x 14, People convective", convective_people(
-        scaled_loads(office, 14)
-    ), 12
-    yield "5ZoneAirCooled", "loads x 14 without People", without_people(
-        scaled_loads(office, 14)
-    ), 12
+    yield (
+        "5ZoneAirCooled",
+        "loads x 14, People convective",
+        convective_people(scaled_loads(office, 14)),
+        12,
+    )
+    yield (
+        "5ZoneAirCooled",
+        "loads x 14 without People",
+        without_people(scaled_loads(office, 14)),
+        12,
+    )
     for factor in (1, 3, 6):
         yield "multifamily", f"loads x {factor}", scaled_loads(flats, factor), 6
 

@@ -232,12 +232,16 @@ class ForcingSetup:
         inf_dh = ratio[:, None] * net.zone_infiltration[None, :]
         self._inf_dt = np.zeros((0, len(net.zone_names)))
         self._people = (np.zeros((0, len(net.zone_names))),) * 4
+        self._people_face_w = np.zeros(len(net.face_node))
         scheduled = self._scheduled
         if scheduled is not None:
             if scheduled.people_per_kelvin is not None and np.any(scheduled.people_per_kelvin):
                 # People's sensible heat at the zone temperature (lagged), beyond its 22 C value,
                 # clipped to [0, activity] in the time loop
-                people_a, people_max = self._people_limits()
+                people_a, people_max, people_radiant = self._people_limits()
+                self._people_face_w = np.ascontiguousarray(
+                    people_radiant[net.face_zone] * net.face_radiant_share
+                )
                 self._people = (
                     people_a,
                     np.ascontiguousarray(scheduled.people_per_kelvin),
@@ -394,14 +398,18 @@ class ForcingSetup:
             return np.full(len(self.times), self._mean_tout)
         return ground_temperature(self.times, 2.0, **params).to_numpy(dtype=float)
 
-    def _people_limits(self) -> tuple[np.ndarray, np.ndarray]:
-        """Constant term [W] and upper limit [W] of the People sensible heat per zone and step.
+    def _people_limits(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Constant term [W] and upper limit [W] of the People sensible heat per zone and step,
+        and the radiant fraction [-] of each zone's People sensible heat.
 
         For People with an autocalculated sensible fraction: ``sum(number x a(activity))`` of
         :func:`~thermocal.multizone.idf.loads.people_sensible_coefficients` and
         ``sum(number x activity)`` (EnergyPlus clips each person's sensible heat to
         ``[0, activity]``; clipping the zone's sum is the same when its People share one activity
-        schedule).
+        schedule). The radiant fraction is each People object's ``Fraction Radiant`` weighted by
+        its mean constant term (exact when a zone's People share one fraction): EnergyPlus
+        splits the sensible heat at the zone temperature, not at a reference, into radiant and
+        convective parts, so the time loop's temperature correction is split the same way.
         """
         from thermocal.multizone.idf.loads import people_sensible_coefficients
 
@@ -410,6 +418,8 @@ class ForcingSetup:
         n, nz = len(self.times), len(names)
         constant = np.zeros((n, nz))
         limit = np.zeros((n, nz))
+        radiant_weight = np.zeros(nz)
+        total_weight = np.zeros(nz)
         sched = info.schedules
         for gain in info.internal_gains:
             if (
@@ -429,4 +439,8 @@ class ForcingSetup:
             a, _, _ = people_sensible_coefficients(activity)
             constant[:, z] += gain.people_count * fraction * a
             limit[:, z] += gain.people_count * fraction * activity
-        return np.ascontiguousarray(constant), np.ascontiguousarray(limit)
+            weight = float(np.mean(gain.people_count * fraction * a))
+            radiant_weight[z] += weight * gain.radiant_fraction
+            total_weight[z] += weight
+        radiant = np.divide(radiant_weight, total_weight, out=np.zeros(nz), where=total_weight > 0)
+        return np.ascontiguousarray(constant), np.ascontiguousarray(limit), radiant

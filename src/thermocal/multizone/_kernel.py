@@ -416,6 +416,7 @@ def run_steps(
     people_b,
     people_c,
     people_max,
+    people_face_w,
     ctrl_zone,
     ctrl_heat_sp,
     ctrl_cool_sp,
@@ -544,6 +545,13 @@ def run_steps(
     sp_rows = ctrl_heat_sp.shape[0]
     dt_rows = inf_dt.shape[0]
     people_rows = people_b.shape[0]
+    # People's temperature correction split as EnergyPlus splits their sensible heat: the
+    # radiant share onto the zone's faces (people_face_w), the rest into the air
+    people_air_w = np.ones(nz)
+    if people_rows > 0:
+        for f in range(people_face_w.shape[0]):
+            people_air_w[face_zone[f]] -= people_face_w[f]
+    zone_people = np.zeros(nz)
     m_imp = imp_zone.shape[0]
     n_vent = vent_zone.shape[0]
     gdt_rows = vent_gdt.shape[0]
@@ -746,9 +754,12 @@ def run_steps(
         if people_rows > 0:
             for z in range(nz):
                 an = air_node[z]
-                rhs[an] += people_excess(
+                zone_people[z] = people_excess(
                     x[an], people_a[k, z], people_b[k, z], people_c[k, z], people_max[k, z]
                 )
+                rhs[an] += people_air_w[z] * zone_people[z]
+            for f in range(people_face_w.shape[0]):
+                rhs[face_node[f]] += people_face_w[f] * zone_people[face_zone[f]]
         # 1''. PID heat from the error at the start of the step: known before the solve, so the
         #      PID zones' outdoor air is implicit in the step as a free-floating zone's (2')
         if track_mode == 2:

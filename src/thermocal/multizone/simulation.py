@@ -343,6 +343,7 @@ class Simulation(NetworkSetup, ForcingSetup, Tracking, Outputs):
                 np.zeros((0, nz)) if linear else context.people_b,
                 np.zeros((0, nz)) if linear else context.people_c,
                 np.zeros((0, nz)) if linear else context.people_max,
+                self._people_face_w,
                 controlled,
                 context.heat_sp if tracking is None else track["dummy_sp"],
                 context.cool_sp if tracking is None else track["dummy_sp"],

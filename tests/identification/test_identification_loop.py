@@ -287,6 +287,39 @@ def test_inverse_recovers_a_radiant_heat_with_its_form(feedback):
     assert np.abs(into_air[:, 2] - 800.0).max() > 20.0
 
 
+def test_inverse_recovers_gains_whose_composition_changes_with_a_per_step_form():
+    """800 W radiant all the time plus 500 W into the air every other 3 hours: the radiant
+    share changes from 1 to 0.62 and back. With the form given per step the inverse returns
+    the total exactly (the run split where the form changes); with one constant fraction (the
+    period's mean) it cannot."""
+    import copy
+
+    building = _building()
+    zone = list(building.zones)[2]
+    loaded = copy.deepcopy(building)
+    loaded.zones[zone].internal_gains = 800.0
+    loaded.zones[zone].internal_gains_radiative_fraction = 1.0
+    sim_loaded = _simulation(loaded, warmup_days=0, initial_temperature=5.0)
+    heat = _square_wave(sim_loaded, 2)
+    reference = sim_loaded.run(free_float=True, heat_input=heat).air_temperature.to_numpy()
+    total = 800.0 + heat[:, 2]
+    fraction = np.zeros(reference.shape)
+    fraction[:, 2] = 800.0 / total
+    sim = _simulation(building, warmup_days=0, initial_temperature=5.0)
+    tracked = sim.track(reference, method="inverse", radiant_fraction=fraction)
+    expected = np.zeros(reference.shape)
+    expected[:, 2] = total
+    np.testing.assert_allclose(tracked.heat.to_numpy(), expected, atol=1e-6 * 800.0)
+    np.testing.assert_allclose(tracked.tracked_temperature().to_numpy(), reference, atol=1e-8)
+    constant = sim.track(reference, method="inverse", radiant_fraction=fraction.mean(axis=0))
+    assert np.abs(constant.heat.to_numpy()[:, 2] - total).max() > 50.0
+    with pytest.raises(ThermocalInputError, match="per-step radiant_fraction must have shape"):
+        sim.track(reference, method="inverse", radiant_fraction=fraction[:-1])
+    fraction[5, 2] = 1.5
+    with pytest.raises(ThermocalInputError, match="in \\[0, 1\\] at every step"):
+        sim.track(reference, method="inverse", radiant_fraction=fraction)
+
+
 def test_long_gap_takes_the_nearest_zone_with_data_through_floating_zones():
     from thermocal.identification.sensors import mapping_from_dict, shared_areas, zone_references
 

@@ -380,9 +380,12 @@ def identify(
         or the air weight [-] of ``w T_air + (1 - w) T_surf``; a dict zone -> one of these for
         some zones. Default: the mapping's (``identified_heat.sensor``, per zone ``sensor``),
         else "air".
-    radiant_fraction : float or dict, optional [-]
+    radiant_fraction : float, dict or DataFrame, optional [-]
         Where the identified heat goes: ``1 - f`` into the zone air, ``f`` over its surfaces as
-        EnergyPlus distributes radiant internal gains; one value or a dict zone -> value.
+        EnergyPlus distributes radiant internal gains; one value, a dict zone -> value, or a
+        DataFrame (the steps x the tracked zones) for a form that follows the composition of
+        the gains step by step (e.g. from a file's load objects:
+        :func:`thermocal.multizone.idf.loads.declared_radiant_fraction`).
         Default: the mapping's (``identified_heat.radiant_fraction``, per zone
         ``radiant_fraction``), else :data:`DEFAULT_RADIANT_FRACTION`. The method's paper puts
         all of it into the air (``radiant_fraction=0, feedback="air"``).
@@ -462,9 +465,14 @@ def identify(
             f"{mapping.source}: no zone has a sensor or takes another zone's data; map at least "
             "one sensor to a zone"
         )
+    per_step = radiant_fraction if isinstance(radiant_fraction, pd.DataFrame) else None
+    if per_step is not None:  # the report states each zone's mean over the period
+        radiant_fraction = per_step.mean().to_dict()
     form = identified_heat_form(building, mapping, feedback, radiant_fraction)
     weights = form.loc[zones, "sensor_air_weight"].to_numpy()
     fractions = form.loc[zones, "radiant_fraction"].to_numpy()
+    if per_step is not None:
+        fractions = _per_step_fraction(per_step, zones, sim.times)
     form.insert(0, "treatment", ["floating" if z in floating else "tracked" for z in all_zones])
     feedback_name = _sensor_name(weights)
     track_form = dict(zones=zones, feedback=weights, radiant_fraction=fractions)
@@ -675,6 +683,24 @@ def identified_heat_form(
     return pd.DataFrame(
         {"radiant_fraction": fractions, "sensor_air_weight": weights}, index=pd.Index(zones)
     )
+
+
+def _per_step_fraction(per_step: pd.DataFrame, zones: list, times: pd.DatetimeIndex):
+    """A per-step radiant fraction [-] on the simulation's steps and tracked zones."""
+    missing = [z for z in zones if z not in per_step.columns]
+    if missing:
+        raise ThermocalInputError(
+            f"radiant_fraction: the per-step form has no column for zone {missing[0]!r}; give "
+            "one column per tracked zone"
+        )
+    aligned = per_step[zones].reindex(times)
+    if aligned.isna().any().any():
+        first = aligned.index[aligned.isna().any(axis=1)][0]
+        raise ThermocalInputError(
+            f"radiant_fraction: the per-step form has no value at {first} (the identification "
+            f"runs {times[0]} .. {times[-1]}); give a value at every step"
+        )
+    return aligned.to_numpy(dtype=float)
 
 
 def _sensor_name(weights: np.ndarray) -> str:

@@ -7,6 +7,8 @@ work on the simulation's state.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 import scipy.sparse as sp
@@ -44,21 +46,28 @@ class Tracking:
         cache = self.__dict__.setdefault("_tracking_cache", {})
         if key in cache:
             return cache[key]
-        if coarse:
-            context = self._coarse_context(controlled=zones, ideal=False, base=self._coarse)
-            if context is None:
-                cache[key] = None
-                return None
-        else:
-            context = self._context(
-                self.dt,
-                self._inputs,
-                self._ext_dh_raw,
-                self._inf_dh,
-                controlled=zones,
-                ideal=False,
-                base=self._fine,
-            )
+        # the Dirichlet system depends on the tracked zones only: built once, shared by every
+        # form (a time-varying radiant fraction asks for one form per distinct row)
+        base_key = ("base", key[0], key[2])
+        if base_key not in cache:
+            if coarse:
+                cache[base_key] = self._coarse_context(
+                    controlled=zones, ideal=False, base=self._coarse
+                )
+            else:
+                cache[base_key] = self._context(
+                    self.dt,
+                    self._inputs,
+                    self._ext_dh_raw,
+                    self._inf_dh,
+                    controlled=zones,
+                    ideal=False,
+                    base=self._fine,
+                )
+        if cache[base_key] is None:
+            cache[key] = None
+            return None
+        context = dataclasses.replace(cache[base_key], implicit=dict(cache[base_key].implicit))
         air_weight = np.asarray(form[0], dtype=float)
         distribution = self._heat_distribution(zones, np.asarray(form[1], dtype=float))
         g_inverse = np.zeros((0, 0))
@@ -215,11 +224,14 @@ class Tracking:
             The sensor model, the tracked model temperature ``w T_air + (1 - w) T_surf``
             (``T_surf`` the area-weighted interior surface temperature): "air" (``w = 1``),
             "operative" (``w = 0.5``) or the air weight ``w`` [-] in ``[0, 1]``, one or per zone.
-        radiant_fraction : float or ndarray (n_zones,) [-]
+        radiant_fraction : float, ndarray (n_zones,) or ndarray (n_steps, n_zones) [-]
             Where the identified heat goes: ``1 - f`` into the zone air, ``f`` over the zone's
             surfaces as radiant internal gains are distributed (area x thermal absorptance,
-            :func:`~thermocal.multizone.network.radiant_gain_shares`); one or per zone, in
-            ``[0, 1]``. 0 (default): all into the air.
+            :func:`~thermocal.multizone.network.radiant_gain_shares`); one, per zone, or per
+            step and zone (a form that follows the composition of the gains hour by hour, e.g.
+            :func:`~thermocal.multizone.idf.loads.declared_radiant_fraction`), in ``[0, 1]``.
+            0 (default): all into the air. Per step, the run is split where a row changes (the
+            warm-up uses the period's mean row).
         pid : tuple of three ndarray (n_zones,), optional
             Controller-canonical coefficients per zone ``(D, C1, C2) = (KP + KI + KD, KI - KD,
             KD)`` with discrete gains [W/K] (see :mod:`thermocal.identification.pid`); required
@@ -251,7 +263,8 @@ class Tracking:
             raise ThermocalInputError("track: the reference contains NaN or infinite values")
         if method not in ("inverse", "pid"):
             raise ThermocalInputError(f"track: method must be 'inverse' or 'pid', got {method!r}")
-        form = _tracking_form(feedback, radiant_fraction, nt)
+        rows, starts = _radiant_rows(radiant_fraction, n_steps, nt)
+        form = _tracking_form(feedback, rows.mean(axis=0) if starts else radiant_fraction, nt)
         if method == "pid":
             if pid is None:
                 raise ThermocalInputError("track: method='pid' needs the controller coefficients")
@@ -271,6 +284,10 @@ class Tracking:
         self._reset_ideal_state()
         self._k = 0
         fine, g_fine, distribution = self._tracking_context(tracked, form, coarse=False)
+        # pieces of constant form: (first step, its form), in step order
+        pieces = [(0, form)]
+        if starts:
+            pieces = [(k, (form[0], tuple(float(v) for v in rows[k]))) for k in starts]
         state = {
             "zones": tracked,
             "dummy_sp": np.zeros((1, nt)),
@@ -295,9 +312,14 @@ class Tracking:
         mrt = np.empty((n_steps, nz))
         q = np.empty((n_steps, nt))
         bar = _progress(progress, n_steps)
+        bounds = [k for k, _ in pieces[1:]] + [n_steps]
         try:
-            for k0 in range(0, n_steps, _CHUNK):
-                n = min(_CHUNK, n_steps - k0)
+            for k0, n, piece in _chunks(bounds, n_steps):
+                if len(pieces) > 1:
+                    fine, g_fine, distribution = self._tracking_context(
+                        tracked, pieces[piece][1], coarse=False
+                    )
+                    state.update(general=g_fine.shape[0] > 0, distribution=distribution)
                 state.update(
                     mode=1 if method == "inverse" else 2,
                     reference=reference[k0 : k0 + n],
@@ -399,3 +421,32 @@ class Tracking:
                 tracking=state,
             )
         return state["out_q"][-1].copy()
+
+
+def _radiant_rows(radiant_fraction, n_steps: int, n_tracked: int) -> tuple[np.ndarray, list]:
+    """A per-step radiant fraction ``(n_steps, n_tracked)`` [-], validated, and the steps where
+    its row changes (the first included); ``(empty, [])`` for a constant form."""
+    if np.ndim(radiant_fraction) != 2:
+        return np.zeros((0, n_tracked)), []
+    rows = np.asarray(radiant_fraction, dtype=float)
+    if rows.shape != (n_steps, n_tracked):
+        raise ThermocalInputError(
+            f"track: a per-step radiant_fraction must have shape (n_steps, n_zones) = "
+            f"({n_steps}, {n_tracked}), got {rows.shape}"
+        )
+    if not np.all((rows >= 0.0) & (rows <= 1.0)):
+        raise ThermocalInputError("track: radiant_fraction must lie in [0, 1] at every step")
+    changed = np.flatnonzero(np.any(rows[1:] != rows[:-1], axis=1)) + 1
+    return rows, [0, *(int(k) for k in changed)]
+
+
+def _chunks(bounds: list, n_steps: int):
+    """``(first step, steps, piece)`` of the kernel calls: chunks of at most ``_CHUNK`` steps
+    that never cross the end of a piece of constant form (``bounds``: each piece's end)."""
+    k0, piece = 0, 0
+    while k0 < n_steps:
+        while bounds[piece] <= k0:
+            piece += 1
+        n = min(_CHUNK, bounds[piece] - k0)
+        yield k0, n, piece
+        k0 += n

@@ -739,6 +739,59 @@ def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGai
     )
 
 
+def declared_radiant_fraction(info, zones, times, step, fallback: float) -> np.ndarray:
+    """Radiant share of the sensible internal gains an IDF declares, per step and zone [-].
+
+    The form of gains whose composition changes hour by hour (office equipment at night, lights
+    in the evening, convective occupants at home): at each step, the zone's scheduled radiant
+    (long-wave + visible) heat over its scheduled sensible heat, from its People, Lights and
+    equipment objects (People at their 22 C sensible heat).
+
+    Parameters
+    ----------
+    info : IdfImportInfo
+        ``building.idf_info`` of a file read with its load objects.
+    zones : sequence of str
+        Zone names (columns of the result).
+    times : pandas.DatetimeIndex
+        Step starts (local standard time).
+    step : str or Timedelta
+        Step length.
+    fallback : float [-]
+        The fraction of a zone that declares no gains at all. Steps without gains in a zone
+        that has some take that zone's gain-weighted mean over the period.
+
+    Returns
+    -------
+    ndarray (n_steps, n_zones) [-]
+    """
+    n, names = len(times), list(zones)
+    radiant = np.zeros((n, len(names)))
+    total = np.zeros((n, len(names)))
+    for gain in info.internal_gains:
+        if gain.zone not in names or gain.design_level <= 0:
+            continue
+        z = names.index(gain.zone)
+        fraction = (
+            np.ones(n)
+            if gain.schedule is None
+            else info.schedules.on_grid(gain.schedule, times, step)
+        )
+        level = gain.design_level * fraction
+        total[:, z] += level
+        radiant[:, z] += level * gain.radiant_fraction
+    period_total = total.sum(axis=0)
+    mean = np.divide(
+        radiant.sum(axis=0),
+        period_total,
+        out=np.full(len(names), float(fallback)),
+        where=period_total > 0,
+    )
+    out = np.broadcast_to(mean, total.shape).copy()
+    np.divide(radiant, total, out=out, where=total > 0)
+    return np.clip(out, 0.0, 1.0)
+
+
 def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
     """Zone -> (heating set point, cooling set point) from the thermostat objects."""
     setpoint_objects: dict[str, dict] = {}

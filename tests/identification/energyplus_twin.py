@@ -235,6 +235,27 @@ def make_twin_of(
     return Twin(building, weather, metadata, temperature, gains, start, end)
 
 
+def forward_on_the_same_file(text: str, directory: Path, days: int, steps_per_hour: int):
+    """EnergyPlus and thermocal on the same IDF text (loads included), free float from January
+    1: ``(twin, table)`` with the per-zone hourly RMSE and bias [K] of thermocal's air
+    temperature against EnergyPlus' (first day left out)."""
+    from thermocal.multizone.simulation import Simulation
+
+    twin = make_twin_of(text, directory, days, timesteps_per_hour=steps_per_hour, envelope=text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = Simulation(
+            twin.building,
+            twin.weather,
+            twin.metadata,
+            step=f"{60 // steps_per_hour}min",
+            start=twin.start,
+            end=twin.end,
+            store_surfaces=False,
+        ).run(free_float=True)
+    return twin, hourly_rmse_bias(result.air_temperature, twin.temperature)
+
+
 def hourly_rmse_bias(simulated: pd.DataFrame, reference: pd.DataFrame, skip="1D") -> pd.DataFrame:
     """Per zone hourly RMSE and bias [K] of ``simulated`` - ``reference`` (zone air
     temperatures [C] per step on the same step-start index), after ``skip``."""

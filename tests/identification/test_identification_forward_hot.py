@@ -24,14 +24,12 @@ convective (``Fraction Radiant`` 0) and did not change.
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
 
 import pytest
-from energyplus_twin import IDF_NAME, hourly_rmse_bias, make_twin_of, scaled_loads
+from energyplus_twin import IDF_NAME, forward_on_the_same_file, scaled_loads
 
 from conftest import requires_energyplus, shared_data_path
-from thermocal.multizone.simulation import Simulation
 
 pytestmark = [pytest.mark.slow, requires_energyplus]
 
@@ -43,26 +41,12 @@ MULTIFAMILY = (
 )
 
 
-def _forward(text: str, directory: Path, days: int, steps_per_hour: int):
-    twin = make_twin_of(text, directory, days, timesteps_per_hour=steps_per_hour, envelope=text)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        result = Simulation(
-            twin.building,
-            twin.weather,
-            twin.metadata,
-            step=f"{60 // steps_per_hour}min",
-            start=twin.start,
-            end=twin.end,
-            store_surfaces=False,
-        ).run(free_float=True)
-    return twin, hourly_rmse_bias(result.air_temperature, twin.temperature)
-
-
 def test_5zone_office_with_eight_times_its_loads_against_energyplus(tmp_path):
     """Offices at up to ~50 C: before, mean RMSE 0.99 K, bias -0.51 K (core zone 1.47 K)."""
     office = (shared_data_path("energyplus_reference") / IDF_NAME).read_text()
-    twin, table = _forward(scaled_loads(office, 8.0), tmp_path, days=8, steps_per_hour=12)
+    twin, table = forward_on_the_same_file(
+        scaled_loads(office, 8.0), tmp_path, days=8, steps_per_hour=12
+    )
     assert twin.temperature.max().max() > 45.0  # the variant really runs hot
     assert table["rmse"].mean() < 0.3, table
     assert abs(table["bias"].mean()) < 0.15, table
@@ -73,7 +57,7 @@ def test_5zone_office_with_eight_times_its_loads_against_energyplus(tmp_path):
 
 def test_multifamily_with_six_times_its_loads_against_energyplus(tmp_path):
     """Flats at up to ~45 C (measured over 15 days: 0.15 K / -0.07 K, worst 0.20 K)."""
-    twin, table = _forward(
+    twin, table = forward_on_the_same_file(
         scaled_loads(MULTIFAMILY.read_text(), 6.0), tmp_path, days=6, steps_per_hour=6
     )
     assert twin.temperature.max().max() > 35.0

@@ -19,7 +19,6 @@ from __future__ import annotations
 import json
 import sys
 import tempfile
-import warnings
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -31,12 +30,9 @@ from energyplus_twin import (  # noqa: E402
     _class,
     _join,
     _objects,
-    hourly_rmse_bias,
-    make_twin_of,
+    forward_on_the_same_file,
     scaled_loads,
 )
-
-from thermocal.multizone.simulation import Simulation  # noqa: E402
 
 SHARED = ROOT.parent / "shared" / "data" / "energyplus_reference"
 MULTIFAMILY = ROOT / "tests" / "reference" / "identification_multifamily"
@@ -82,19 +78,7 @@ def cases():
 
 def forward(text: str, steps_per_hour: int, directory: Path) -> dict:
     """Both engines on ``text``: per-zone hourly RMSE / bias [K] and EnergyPlus' range [C]."""
-    twin = make_twin_of(text, directory, DAYS, timesteps_per_hour=steps_per_hour, envelope=text)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        result = Simulation(
-            twin.building,
-            twin.weather,
-            twin.metadata,
-            step=f"{60 // steps_per_hour}min",
-            start=twin.start,
-            end=twin.end,
-            store_surfaces=False,
-        ).run(free_float=True)
-    table = hourly_rmse_bias(result.air_temperature, twin.temperature)
+    twin, table = forward_on_the_same_file(text, directory, DAYS, steps_per_hour)
     return {
         "energyplus_min_C": round(float(twin.temperature.min().min()), 2),
         "energyplus_max_C": round(float(twin.temperature.max().max()), 2),

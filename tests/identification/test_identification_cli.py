@@ -35,3 +35,10 @@ def test_identify_without_inputs_is_a_clear_error(tmp_path):
     assert done.returncode == 2
     assert "identify needs BUILDING, WEATHER, SENSORS, --mapping" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_identify_radiant_fraction_out_of_range_is_a_clear_error(tmp_path):
+    done = _run("identify", "--demo", "--radiant-fraction", "1.5", "--out", str(tmp_path / "x"))
+    assert done.returncode == 2
+    assert "--radiant-fraction '1.5': give a number in [0, 1]" in done.stderr
+    assert "or declared" in done.stderr and "Traceback" not in done.stderr

@@ -229,6 +229,15 @@ def test_bad_input_gets_clear_messages(tmp_path):
     # unstable gains that no retuning (gains halved four times) rescues
     with pytest.raises(ThermocalInputError, match="diverges"):
         run(log, mapping, method="pid", gains=PIDGains(1.0e6, 0.0, 0.0))
+    # the declared form of a building that declares no load objects, or a misspelt form
+    declared = {**mapping, "identified_heat": {"radiant_fraction": "declared"}}
+    with pytest.raises(ThermocalInputError, match="declares none: give the IDF file"):
+        run(log, declared)
+    with pytest.raises(ThermocalInputError, match="a number in \\[0, 1\\] or 'declared'"):
+        run(log, mapping, radiant_fraction="declard")
+    misspelt = {**mapping, "identified_heat": {"radiant_fraction": "declard"}}
+    with pytest.raises(ThermocalInputError, match="number in \\[0, 1\\] \\(or declared"):
+        run(log, misspelt)
 
 
 def test_unsensed_zones_neighbour_rule_per_zone_and_globally():

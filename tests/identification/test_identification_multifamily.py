@@ -52,11 +52,13 @@ from __future__ import annotations
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 from energyplus_twin import fidelity, hourly_rmse_bias, make_twin_of, sensor_log
 
 from conftest import requires_energyplus
+from thermocal.errors import ThermocalInputError
 from thermocal.identification.workflow import identify
 from thermocal.multizone.idf import read_idf
 from thermocal.multizone.idf.loads import declared_radiant_fraction
@@ -92,12 +94,12 @@ def twin(tmp_path_factory):
     return twin
 
 
-def _identify(twin, zones, radiant_fraction=None):
+def _identify(twin, zones, radiant_fraction=None, building=None):
     log, mapping = sensor_log(twin, zones)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         result = identify(
-            twin.building,
+            twin.building if building is None else building,
             twin.weather,
             twin.metadata,
             log,
@@ -162,21 +164,75 @@ def test_identified_heat_three_quarters_sensed(twin):
 
 def test_identified_heat_with_the_form_the_file_declares_step_by_step(twin):
     """The form of the identified heat taken from the file's own People/Lights/equipment
-    objects step by step (``declared_radiant_fraction``: the flats' gains are 60-88 % radiant
-    as their composition changes; the occupants are convective): the 2-3 h delay of the
-    constant 0.6 form goes (hourly correlation 0.93 -> 0.99)."""
+    objects step by step (``radiant_fraction="declared"`` on the file with its loads, which
+    are then not simulated; the flats' gains are 60-88 % radiant as their composition changes,
+    the occupants convective): the 2-3 h delay of the constant 0.6 form goes (hourly
+    correlation 0.93 -> 0.99). The same as the envelope file given the form as a frame."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        declared = read_idf(twin.folder / "twin.idf")  # the same file, with its loads
+        loaded = read_idf(twin.folder / "twin.idf")  # the same file, with its loads
     zones = list(twin.temperature.columns)
-    step = pd.Timedelta(STEP)
-    times = pd.date_range(twin.start, twin.end, freq=step, inclusive="left")
-    form = pd.DataFrame(
-        declared_radiant_fraction(declared.idf_info, zones, times, step, fallback=0.6),
-        index=times,
-        columns=zones,
-    )
-    _, every, empty = _identify(twin, zones, radiant_fraction=form)
+    result, every, empty = _identify(twin, zones, radiant_fraction="declared", building=loaded)
     assert abs(every["nmbe"]) <= 0.03 and every["cvrmse"] <= 0.08, every
     assert abs(empty["nmbe"]) <= 0.03 and empty["cvrmse"] <= 0.08, empty
     assert every["r"] > 0.98
+    assert any("the identified heat stands for them" in note for note in result.notes)
+    step = pd.Timedelta(STEP)
+    times = pd.date_range(twin.start, twin.end, freq=step, inclusive="left")
+    form = pd.DataFrame(
+        declared_radiant_fraction(loaded.idf_info, zones, times, step, fallback=0.6),
+        index=times,
+        columns=zones,
+    )
+    by_frame, _, _ = _identify(twin, zones, radiant_fraction=form)
+    np.testing.assert_allclose(result.q_id.to_numpy(), by_frame.q_id.to_numpy(), atol=1e-6)
+
+
+def test_load_objects_of_the_file_are_known_heat_unless_declared(twin):
+    """Without ``declared`` the file's loads are simulated and the identified heat is what they
+    do not account for (here almost nothing); the report says so and names the option."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        loaded = read_idf(twin.folder / "twin.idf")
+    zones = list(twin.temperature.columns)
+    result, _, _ = _identify(twin, zones, building=loaded)
+    assert abs(result.q_id.sum(axis=1).mean()) < 0.02 * twin.gains.sum(axis=1).mean()
+    assert any("radiant_fraction: declared" in note for note in result.notes)
+    with pytest.raises(ThermocalInputError, match="declares none"):
+        _identify(twin, zones, radiant_fraction="declared")  # the envelope file: no loads
+
+
+def test_calibration_problem_takes_the_declared_form_too(twin):
+    """The calibration's identification problem (one per campaign worker) with the mapping's
+    ``identified_heat: {radiant_fraction: declared}`` gives the same identified heat as
+    :func:`identify`, and a fingerprint that tells the form apart."""
+    from thermocal.identification.problem import problem_from_measurements
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        loaded = read_idf(twin.folder / "twin.idf")
+    zones = list(twin.temperature.columns)
+    log, mapping = sensor_log(twin, zones)
+    mapping["identified_heat"] = {"radiant_fraction": "declared"}
+    common = dict(
+        start=twin.start + (twin.temperature.index[1] - twin.temperature.index[0]),
+        end=twin.end,
+        step=STEP,
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        problem, _ = problem_from_measurements(
+            loaded, twin.weather, twin.metadata, log, mapping, **common
+        )
+        heat = problem.run().heat
+        direct = identify(
+            loaded, twin.weather, twin.metadata, log, mapping, method="inverse", **common
+        )
+    np.testing.assert_allclose(heat.to_numpy(), direct.q_id[heat.columns].to_numpy(), atol=1e-6)
+    constant = dict(mapping, identified_heat={"radiant_fraction": 0.6})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        other, _ = problem_from_measurements(
+            twin.building, twin.weather, twin.metadata, log, constant, **common
+        )
+    assert problem.fingerprint() != other.fingerprint()

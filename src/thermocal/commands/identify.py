@@ -35,10 +35,12 @@ def identify(
         ),
     ] = None,
     radiant_fraction: Annotated[
-        float | None,
+        str | None,
         typer.Option(
             help="Share 0..1 of the identified heat put on the zone's surfaces as radiant "
-            "internal gains (default: the mapping's, else 0.6; the paper's: 0)."
+            "internal gains, or 'declared': step by step from the IDF's own People, Lights and "
+            "equipment objects, which the identified heat then stands for (default: the "
+            "mapping's, else 0.6; the paper's: 0)."
         ),
     ] = None,
     unsensed: Annotated[
@@ -164,10 +166,11 @@ def identify(
         check_period_length(start, end, frame.index)
         mapping_data = _with_unsensed(mapping_data, unsensed)
         feedback_value = _parse_feedback(feedback)
+        radiant_fraction = _parse_radiant_fraction(radiant_fraction)
         console.print(
             f"{model.name}: {len(model.zones)} zones; method {method}"
             + (f", feedback {feedback}" if feedback else "")
-            + (f", radiant fraction {radiant_fraction:g}" if radiant_fraction is not None else "")
+            + (f", radiant fraction {radiant_fraction}" if radiant_fraction is not None else "")
         )
         result = run_identification(
             model,
@@ -261,6 +264,24 @@ def _log_period(raw, weather_index, step: str, console, log_name: str):
     return t0, t1
 
 
+def _parse_radiant_fraction(text: str | None):
+    """``--radiant-fraction``: None, "declared" or a number in [0, 1]."""
+    from thermocal.errors import ThermocalInputError
+
+    if text is None or text.strip().lower() == "declared":
+        return None if text is None else "declared"
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 <= value <= 1.0:
+        raise ThermocalInputError(
+            f"--radiant-fraction {text!r}: give a number in [0, 1] (the share of the identified "
+            "heat on the zone's surfaces) or declared (the IDF's own load objects, step by step)"
+        )
+    return value
+
+
 def _parse_feedback(text: str | None):
     """``--feedback``: None, "air", "operative" or an air weight as a number."""
     if text is None or text in ("air", "operative"):
@@ -337,9 +358,13 @@ def _print_summary(result, truth) -> None:
     if result.form is not None:
         tracked = result.form[result.form["treatment"] == "tracked"]
         fractions = sorted(set(tracked["radiant_fraction"].round(3)))
+        shown = (
+            ", ".join(f"{f:g}" for f in fractions)
+            if len(fractions) <= 4
+            else f"{fractions[0]:g}..{fractions[-1]:g} (period means per zone)"
+        )
         summary.add_row(
-            "identified heat form",
-            f"radiant fraction {', '.join(f'{f:g}' for f in fractions)}; sensor {result.feedback}",
+            "identified heat form", f"radiant fraction {shown}; sensor {result.feedback}"
         )
     console.print(summary)
     for note in result.notes:

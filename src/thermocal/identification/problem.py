@@ -43,9 +43,11 @@ class IdentificationProblem:
     method : {"inverse", "pid"}
     feedback : {"air", "operative"}, float or dict
         Sensor model (:meth:`~thermocal.multizone.Simulation.track`), one or per zone.
-    radiant_fraction : float or dict [-]
+    radiant_fraction : float, dict or DataFrame [-]
         Share of the identified heat on the zone's surfaces, one or per zone (default
-        :data:`~thermocal.identification.workflow.DEFAULT_RADIANT_FRACTION`).
+        :data:`~thermocal.identification.workflow.DEFAULT_RADIANT_FRACTION`), or per step and
+        zone (a DataFrame on the simulation's steps: the file's declared form,
+        :mod:`thermocal.identification.form`).
     gains : dict of zone -> PIDGains, optional
         Required for the PID.
     schedule : OccupancySchedule
@@ -130,12 +132,18 @@ class IdentificationProblem:
                 )
             self._zones = zones
             self._reference = np.ascontiguousarray(self.reference[zones].to_numpy(dtype=float))
+            per_step = self.radiant_fraction if _is_per_step(self.radiant_fraction) else None
             form = identified_heat_form(
-                self.building, None, self.feedback, self.radiant_fraction
+                self.building,
+                None,
+                self.feedback,
+                self.radiant_fraction if per_step is None else per_step.mean().to_dict(),
             ).loc[zones]
             self._form = {
                 "feedback": form["sensor_air_weight"].to_numpy(),
-                "radiant_fraction": form["radiant_fraction"].to_numpy(),
+                "radiant_fraction": form["radiant_fraction"].to_numpy()
+                if per_step is None
+                else _per_step_fraction(per_step, zones, self._sim.times),
             }
             if self.method == "pid":
                 self._pid = kernel_coefficients([self.gains[z] for z in zones])
@@ -223,7 +231,7 @@ class IdentificationProblem:
                     str(self.end),
                     self.method,
                     self.feedback,
-                    self.radiant_fraction,
+                    _form_key(self.radiant_fraction),
                     self.settle,
                     self.warmup_days,
                     self.schedule.as_dict(),
@@ -277,8 +285,14 @@ def problem_from_measurements(
     problem : IdentificationProblem
     report : thermocal.identification.sensors.ReferenceReport
     """
+    from thermocal.identification.form import (
+        declared_form,
+        declared_form_requested,
+        without_declared_loads,
+    )
     from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
     from thermocal.identification.workflow import (
+        DEFAULT_RADIANT_FRACTION,
         _weather_for_log,
         identified_heat_form,
         pid_gains_for,
@@ -289,8 +303,10 @@ def problem_from_measurements(
         mapping = mapping_from_dict(mapping)
     # a typical-year file on the year of the measurements (as identify)
     weather, metadata = _weather_for_log(weather, metadata, sensor_log, start, end)
+    declared = declared_form_requested(mapping, radiant_fraction)
+    simulated = without_declared_loads(building) if declared else building
     sim = Simulation(
-        building,
+        simulated,
         weather,
         metadata,
         step=step,
@@ -310,9 +326,15 @@ def problem_from_measurements(
         silence=silence,
         source=log_name,
     )
+    per_step = None
+    if declared:
+        per_step = declared_form(
+            building, mapping, sim.times, sim.step_size, DEFAULT_RADIANT_FRACTION
+        )
+        radiant_fraction = per_step.mean().to_dict()
     form = identified_heat_form(building, mapping, feedback, radiant_fraction)
     feedback = form["sensor_air_weight"].to_dict()
-    radiant_fraction = form["radiant_fraction"].to_dict()
+    radiant_fraction = form["radiant_fraction"].to_dict() if per_step is None else per_step
     zone_gains = None
     if method == "pid":
         grid = sim.weather_on_grid
@@ -330,7 +352,7 @@ def problem_from_measurements(
             tracked=list(reference.columns),
         )
     problem = IdentificationProblem(
-        building=building,
+        building=simulated,
         weather=weather,
         metadata=dict(metadata or {}),
         reference=reference,
@@ -355,3 +377,24 @@ def problem_from_measurements(
 def split_outputs(outputs: Mapping[str, float], zones: Sequence[str]) -> pd.Series:
     """Per-zone variances of an :meth:`IdentificationProblem.evaluate` output [W^2]."""
     return pd.Series({z: outputs.get(f"zone_variance/{z}", np.nan) for z in zones})
+
+
+def _is_per_step(radiant_fraction) -> bool:
+    return isinstance(radiant_fraction, pd.DataFrame)
+
+
+def _form_key(radiant_fraction):
+    """A value that identifies the form in the fingerprint (a per-step form by its values)."""
+    if not _is_per_step(radiant_fraction):
+        return radiant_fraction
+    import hashlib
+
+    digest = hashlib.sha256(np.ascontiguousarray(radiant_fraction.to_numpy(float)).tobytes())
+    digest.update(repr(list(radiant_fraction.columns)).encode())
+    return f"per step {digest.hexdigest()[:16]}"
+
+
+def _per_step_fraction(per_step: pd.DataFrame, zones, times):
+    from thermocal.identification.workflow import _per_step_fraction as aligned
+
+    return aligned(per_step, list(zones), times)

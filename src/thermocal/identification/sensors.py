@@ -9,7 +9,8 @@ Mapping file (YAML)::
     unsensed: float     # optional: zones without a sensor float (default) or take a
                         # neighbour's data ("neighbour")
     identified_heat:    # optional: the form of Q_ID for every zone
-      radiant_fraction: 0.6   # share of Q_ID on the zone's surfaces [-] (default 0.6)
+      radiant_fraction: 0.6   # share of Q_ID on the zone's surfaces [-] (default 0.6), or
+                              # declared: step by step from the IDF's own load objects
       sensor: air             # air | operative | the air weight of the sensed temperature [-]
     zones:              # optional, per zone
       Room 29: {use: Room 27}             # a zone without a sensor that uses another's data
@@ -58,7 +59,7 @@ class SensorMapping:
     treatments: dict[str, str] = field(default_factory=dict)
     #: form of Q_ID: radiant fraction [-] and sensor model ("air", "operative" or air weight
     #: [-]) for every zone (None: the caller's default) and per zone
-    radiant_fraction: float | None = None
+    radiant_fraction: float | str | None = None  # a number [-] or "declared"
     sensor: str | float | None = None
     zone_radiant_fraction: dict[str, float] = field(default_factory=dict)
     zone_sensor: dict[str, str | float] = field(default_factory=dict)
@@ -122,11 +123,14 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
     heat = data.get("identified_heat") or {}
     if not isinstance(heat, Mapping) or set(heat) - {"radiant_fraction", "sensor"}:
         raise ThermocalInputError(
-            f"{source}: identified_heat must be {{radiant_fraction: <0..1>, sensor: air | "
-            f"operative | <air weight 0..1>}}, got {heat!r}"
+            f"{source}: identified_heat must be {{radiant_fraction: <0..1> | declared, "
+            f"sensor: air | operative | <air weight 0..1>}}, got {heat!r}"
         )
     radiant = heat.get("radiant_fraction")
-    radiant = None if radiant is None else _fraction(radiant, f"{source}: identified_heat")
+    if isinstance(radiant, str) and radiant.strip().lower() == "declared":
+        radiant = "declared"  # the building file's own form (thermocal.identification.form)
+    elif radiant is not None:
+        radiant = _fraction(radiant, f"{source}: identified_heat")
     sensor = heat.get("sensor")
     sensor = None if sensor is None else sensor_weight(sensor, f"{source}: identified_heat")
     substitutes: dict[str, str] = {}
@@ -205,7 +209,8 @@ def _treatment(value, where: str) -> str:
 def _fraction(value, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not 0 <= value <= 1:
         raise ThermocalInputError(
-            f"{where}: radiant_fraction must be a number in [0, 1], got {value!r}"
+            f"{where}: radiant_fraction must be a number in [0, 1] (or declared for all zones), "
+            f"got {value!r}"
         )
     return float(value)
 

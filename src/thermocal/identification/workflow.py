@@ -16,6 +16,12 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.identification.form import (
+    declared_form,
+    declared_form_requested,
+    loads_note,
+    without_declared_loads,
+)
 from thermocal.identification.metrics import (
     tracking_metrics,
     unoccupied_steps,
@@ -380,12 +386,14 @@ def identify(
         or the air weight [-] of ``w T_air + (1 - w) T_surf``; a dict zone -> one of these for
         some zones. Default: the mapping's (``identified_heat.sensor``, per zone ``sensor``),
         else "air".
-    radiant_fraction : float, dict or DataFrame, optional [-]
+    radiant_fraction : float, dict, DataFrame or "declared", optional [-]
         Where the identified heat goes: ``1 - f`` into the zone air, ``f`` over its surfaces as
-        EnergyPlus distributes radiant internal gains; one value, a dict zone -> value, or a
+        EnergyPlus distributes radiant internal gains; one value, a dict zone -> value, a
         DataFrame (the steps x the tracked zones) for a form that follows the composition of
-        the gains step by step (e.g. from a file's load objects:
-        :func:`thermocal.multizone.idf.loads.declared_radiant_fraction`).
+        the gains step by step, or "declared": that form from the building file's own People,
+        Lights and equipment objects, which are then not simulated (the identified heat stands
+        for them; :mod:`thermocal.identification.form`). Without "declared" a file's load
+        objects are simulated as known heat and the identified heat is the heat beyond them.
         Default: the mapping's (``identified_heat.radiant_fraction``, per zone
         ``radiant_fraction``), else :data:`DEFAULT_RADIANT_FRACTION`. The method's paper puts
         all of it into the air (``radiant_fraction=0, feedback="air"``).
@@ -432,9 +440,10 @@ def identify(
     weather_year = metadata.get("weather_year")
     if weather_year:
         notes.append(weather_year["statement"])
+    declared = declared_form_requested(mapping, radiant_fraction)
     t0 = time.perf_counter()
     sim = Simulation(
-        building,
+        without_declared_loads(building) if declared else building,
         weather,
         metadata,
         step=step,
@@ -444,6 +453,13 @@ def identify(
         warmup_days=warmup_days,
         store_surfaces=False,
     )
+    if declared:
+        radiant_fraction = declared_form(
+            building, mapping, sim.times, sim.step_size, DEFAULT_RADIANT_FRACTION
+        )
+    note = loads_note(building, declared, radiant_fraction if declared else None)
+    if note:
+        notes.append(note)
     timings["model_setup"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     reference, ref_report = zone_references(

@@ -34,7 +34,7 @@ sys.path.insert(0, str(HERE))
 # other reference folders have a make_reference.py too: take this folder's, not a cached one
 sys.modules.pop("make_reference", None)
 
-from make_reference import SHARED, nominal_envelope  # noqa: E402
+from make_reference import SHARED, nominal_envelope, nominal_with_loads  # noqa: E402
 
 WALL, ROOF = "construction/WALL-1/resistance", "construction/ROOF-1/resistance"
 OFFICES = ("SPACE1-1", "SPACE2-1", "SPACE3-1", "SPACE4-1", "SPACE5-1")
@@ -60,7 +60,9 @@ optimisation: {{starts: 4, seed: 1, refine: 4}}
 {extra}"""
 
 
-def prepare(folder: Path, samples: int, *, shared: Path = SHARED, **kwargs) -> Path:
+def prepare(
+    folder: Path, samples: int, *, shared: Path = SHARED, declared: bool = False, **kwargs
+) -> Path:
     """Write the user's inputs and the campaign file into ``folder``; return its path.
 
     ``shared``: the folder of ``5ZoneAirCooled_FF_v25.idf``; ``kwargs`` go to
@@ -68,12 +70,20 @@ def prepare(folder: Path, samples: int, *, shared: Path = SHARED, **kwargs) -> P
     from thermocal.multizone.energyplus import energyplus_weather_folder
 
     folder = Path(folder)
-    nominal_envelope(folder / "nominal.idf", shared)
+    if declared:
+        # the nominal file as the user has it, with its People/Lights/equipment objects, and the
+        # identified heat in the form they declare step by step (the objects not simulated)
+        nominal_with_loads(folder / "nominal.idf", shared)
+    else:
+        nominal_envelope(folder / "nominal.idf", shared)
     weather = energyplus_weather_folder() / "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
     shutil.copy(weather, folder / "weather.epw")
     with gzip.open(HERE / "sensors.csv.gz", "rb") as fh:
         (folder / "sensors.csv").write_bytes(fh.read())
     shutil.copy(HERE / "mapping.yaml", folder / "mapping.yaml")
+    if declared:
+        with (folder / "mapping.yaml").open("a") as fh:
+            fh.write("identified_heat: {radiant_fraction: declared}\n")
     (folder / "campaign.yaml").write_text(campaign_text(samples, **kwargs))
     return folder / "campaign.yaml"
 
@@ -148,7 +158,15 @@ def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
     }
 
 
-def run(folder: Path, samples: int, *, metrics=("building", "groups"), workers=1, log=None):
+def run(
+    folder: Path,
+    samples: int,
+    *,
+    metrics=("building", "groups"),
+    workers=1,
+    log=None,
+    declared: bool = False,
+):
     """The campaign with the first metric, then the same samples with the others (``--resume``:
     nothing sampled again, their optima confirmed with the model).
 
@@ -157,7 +175,7 @@ def run(folder: Path, samples: int, *, metrics=("building", "groups"), workers=1
     from thermocal.calibration.workflow import calibrate
 
     truth_file = json.loads((HERE / "truth.json").read_text())
-    path = prepare(folder, samples)
+    path = prepare(folder, samples, declared=declared)
     quiet = log or (lambda line: None)
     out = {}
     for i, metric in enumerate(metrics):
@@ -219,14 +237,23 @@ def main(argv=None) -> int:
     parser.add_argument("--samples", type=int, default=32)
     parser.add_argument("--workers", type=int, default=1)
     parser.add_argument("--write", action="store_true")
+    parser.add_argument(
+        "--declared",
+        action="store_true",
+        help="the nominal file with its load objects and the identified heat in the form they "
+        "declare step by step (writes results_declared.*)",
+    )
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
-        results = run(Path(tmp), args.samples, workers=args.workers, log=print)
+        results = run(
+            Path(tmp), args.samples, workers=args.workers, log=print, declared=args.declared
+        )
     text = markdown(results, args.samples)
     print(text)
     if args.write:
-        (HERE / "results.md").write_text(text)
-        (HERE / "results.json").write_text(json.dumps(results, indent=2, default=str) + "\n")
+        name = "results_declared" if args.declared else "results"
+        (HERE / f"{name}.md").write_text(text)
+        (HERE / f"{name}.json").write_text(json.dumps(results, indent=2, default=str) + "\n")
     return 0
 
 

@@ -93,6 +93,13 @@ def nominal_envelope(path: Path, shared: Path = SHARED) -> Path:
     return Path(path)
 
 
+def nominal_with_loads(path: Path, shared: Path = SHARED) -> Path:
+    """Write the nominal file as a user has it (with its load objects, January) to ``path``."""
+    source = (Path(shared) / IDF_NAME).read_text()
+    Path(path).write_text(twin_idf(source, DAYS))
+    return Path(path)
+
+
 def element_values(idf_text: str, folder: Path) -> dict[str, float]:
     """The element-level parameters thermocal reads from an IDF text (without its loads)."""
     from thermocal.calibration.workflow import candidate_parameters

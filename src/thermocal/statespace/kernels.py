@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numba import njit
 
@@ -931,13 +932,89 @@ def _stationary_steps(k0, k1, b, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
             Z[i, b] = acc
 
 
+#: Largest number of states with a compiled specialisation of the stationary batch filter
+#: (:func:`_batch_stationary_fixed`); larger systems use the generic loops.
+FIXED_MAX_STATES = 4
+
+
+@njit(cache=True, error_model="numpy")
+def _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, n):
+    """:func:`_batch_stationary` for one output, compiled for ``n`` states given as a literal
+    constant: the loops over the states are unrolled, so a sample is one loop over the columns
+    for the measurement update and one for the time update (two or three inputs, zero-order
+    hold; otherwise one per input plus two), which the compiler vectorises, instead of a short
+    loop over the columns per state and input. The same operations, in the same order, for
+    each column (bit-identical results)."""
+    numba.literally(n)
+    B = Z.shape[1]
+    N, m = Y.shape[0], U.shape[1]
+    acc = np.empty((n, B))
+    for k in range(k0, N):
+        y = Y[k, 0]
+        for b in range(B):
+            v = y
+            for i in range(n):
+                v -= CZ[0, i, b] * Z[i, b]
+            for i in range(n):
+                Z[i, b] += KF[0, i, b] * v
+            LL[b] -= 0.5 * (LOG_2PI + LS[0, b] + v * v / S[0, b])
+        if k == N - 1:
+            break
+        # time update, the terms added in the order of kalman_filter's
+        if m == 3 and not foh:
+            u0, u1, u2 = U[k, 0], U[k, 1], U[k, 2]
+            for b in range(B):
+                for i in range(n):
+                    z = E[i, b] * Z[i, b] + GA[i, 0, b] * u0
+                    Z[i, b] = z + GA[i, 1, b] * u1 + GA[i, 2, b] * u2
+            continue
+        if m == 2 and not foh:
+            u0, u1 = U[k, 0], U[k, 1]
+            for b in range(B):
+                for i in range(n):
+                    Z[i, b] = E[i, b] * Z[i, b] + GA[i, 0, b] * u0 + GA[i, 1, b] * u1
+            continue
+        for b in range(B):
+            for i in range(n):
+                acc[i, b] = E[i, b] * Z[i, b]
+        for c in range(m):
+            u = U[k, c]
+            for b in range(B):
+                for i in range(n):
+                    acc[i, b] += GA[i, c, b] * u
+        if foh:
+            for c in range(m):
+                u = U[k + 1, c]
+                for b in range(B):
+                    for i in range(n):
+                        acc[i, b] += GB[i, c, b] * u
+        for b in range(B):
+            for i in range(n):
+                Z[i, b] = acc[i, b]
+
+
 @njit(cache=True, error_model="numpy")
 def _batch_stationary(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
     """Samples ``k0`` to the end of the stationary filters of all columns of the batch arrays,
     advanced together (the innermost loops over the columns); the same operations, in the same
-    order, as the stationary branch of :func:`kalman_filter`."""
+    order, as the stationary branch of :func:`kalman_filter`. One output and at most
+    :data:`FIXED_MAX_STATES` states: the specialised loops
+    of :func:`_batch_stationary_fixed` (the same numbers)."""
     n, B = Z.shape
     ny, m, N = Y.shape[1], U.shape[1], Y.shape[0]
+    if ny == 1 and k0 < N:
+        if n == 1:
+            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 1)
+            return
+        if n == 2:
+            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 2)
+            return
+        if n == 3:
+            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 3)
+            return
+        if n == 4:
+            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 4)
+            return
     v = np.empty(B)
     acc = np.empty(B)
     for k in range(k0, N):

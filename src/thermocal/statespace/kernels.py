@@ -1062,7 +1062,6 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
     m = U.shape[1]
     Z = np.zeros((n, B))
     P = np.zeros((n, n, B))
-    Pprior = np.zeros((n, n, B))
     KF = np.zeros((ny, n, B))
     S = np.ones((ny, B))
     LS = np.zeros((ny, B))
@@ -1122,26 +1121,85 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
                     GB[i, c, b] = g1[i, c]
                 for j in range(n):
                     W[i, j, b] = w1[i, j]
+    # rows with the same covariance recursion (initial covariance, modal output matrix,
+    # measurement variances, transition and process noise all equal bit for bit: e.g. the
+    # gradient's rows that move an initial mean or an input coefficient only) share one
+    # covariance row: its gains, innovation variances and stationarity are theirs
+    cov_of = np.empty(B, dtype=np.int64)
+    rep = np.empty(B, dtype=np.int64)
+    NU = 0
+    for b in range(B):
+        cov_of[b] = -1
+        for t in range(NU):
+            a = rep[t]
+            if dead[a] != dead[b]:
+                continue
+            same = True
+            for r in range(ny):
+                if MV[r, a] != MV[r, b]:
+                    same = False
+                for i in range(n):
+                    if CZ[r, i, a] != CZ[r, i, b]:
+                        same = False
+            for i in range(n):
+                if E[i, a] != E[i, b]:
+                    same = False
+                for j in range(n):
+                    if P[i, j, a] != P[i, j, b] or W[i, j, a] != W[i, j, b]:
+                        same = False
+            if same:
+                cov_of[b] = t
+                break
+        if cov_of[b] < 0:
+            rep[NU] = b
+            cov_of[b] = NU
+            NU += 1
+    # the covariance rows
+    Pc = np.empty((n, n, NU))
+    Wc = np.empty((n, n, NU))
+    Ec = np.empty((n, NU))
+    CZc = np.empty((ny, n, NU))
+    MVc = np.empty((ny, NU))
+    KFc = np.zeros((ny, n, NU))
+    Sc = np.ones((ny, NU))
+    LSc = np.zeros((ny, NU))
+    steady_c = np.empty(NU, dtype=np.bool_)
+    dead_c = np.empty(NU, dtype=np.bool_)
+    for t in range(NU):
+        a = rep[t]
+        steady_c[t] = steady[a]
+        dead_c[t] = dead[a]
+        for i in range(n):
+            Ec[i, t] = E[i, a]
+            for j in range(n):
+                Pc[i, j, t] = P[i, j, a]
+                Wc[i, j, t] = W[i, j, a]
+        for r in range(ny):
+            MVc[r, t] = MV[r, a]
+            for i in range(n):
+                CZc[r, i, t] = CZ[r, i, a]
     v = np.empty(B)
-    s = np.empty(B)
-    PC = np.empty((n, B))
-    K = np.empty((n, B))
-    LP = np.empty((n, n, B))
+    s = np.empty(NU)
+    PC = np.empty((n, NU))
+    K = np.empty((n, NU))
+    LP = np.empty((n, n, NU))
+    Pprior = np.empty((n, n, NU))
     acc_b = np.empty(B)
-    change = np.empty(B)
-    scale = np.empty(B)
+    acc_c = np.empty(NU)
+    change = np.empty(NU)
+    scale = np.empty(NU)
     k = 0
     while k < N:
         all_steady = True
-        for b in range(B):
-            if not steady[b]:
+        for t in range(NU):
+            if not steady_c[t]:
                 all_steady = False
         if all_steady:
             break
         for i in range(n):
             for j in range(n):
-                for b in range(B):
-                    Pprior[i, j, b] = P[i, j, b]
+                for t in range(NU):
+                    Pprior[i, j, t] = Pc[i, j, t]
         for r in range(ny):
             y = Y[k, r]
             for b in range(B):
@@ -1149,51 +1207,57 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
             for i in range(n):
                 for b in range(B):
                     v[b] -= CZ[r, i, b] * Z[i, b]
-            for b in range(B):
-                s[b] = MV[r, b]
+            for t in range(NU):
+                s[t] = MVc[r, t]
             for i in range(n):
-                for b in range(B):
-                    acc_b[b] = 0.0
+                for t in range(NU):
+                    acc_c[t] = 0.0
                 for j in range(n):
-                    for b in range(B):
-                        acc_b[b] += P[i, j, b] * CZ[r, j, b]
-                for b in range(B):
-                    PC[i, b] = acc_b[b]
-                    s[b] += CZ[r, i, b] * acc_b[b]
-            for b in range(B):
-                if not steady[b]:
-                    if not (s[b] > 0.0) or not math.isfinite(s[b]):
-                        dead[b] = True
-                        steady[b] = True
-                        s[b] = 1.0  # the row's result is -inf; keep its arithmetic finite
+                    for t in range(NU):
+                        acc_c[t] += Pc[i, j, t] * CZc[r, j, t]
+                for t in range(NU):
+                    PC[i, t] = acc_c[t]
+                    s[t] += CZc[r, i, t] * acc_c[t]
+            for t in range(NU):
+                if not steady_c[t]:
+                    if not (s[t] > 0.0) or not math.isfinite(s[t]):
+                        dead_c[t] = True
+                        steady_c[t] = True
+                        s[t] = 1.0  # the row's result is -inf; keep its arithmetic finite
             for i in range(n):
-                for b in range(B):
-                    K[i, b] = PC[i, b] / s[b]
-            for b in range(B):
-                if not steady[b]:
+                for t in range(NU):
+                    K[i, t] = PC[i, t] / s[t]
+            for t in range(NU):
+                if not steady_c[t]:
                     for i in range(n):
-                        KF[r, i, b] = K[i, b]
-                    S[r, b] = s[b]
-                    LS[r, b] = math.log(s[b])
+                        KFc[r, i, t] = K[i, t]
+                    Sc[r, t] = s[t]
+                    LSc[r, t] = math.log(s[t])
+            for b in range(B):
+                t = cov_of[b]
+                for i in range(n):
+                    KF[r, i, b] = KFc[r, i, t]
+                S[r, b] = Sc[r, t]
+                LS[r, b] = LSc[r, t]
             for i in range(n):
                 for b in range(B):
                     Z[i, b] += KF[r, i, b] * v[b]
             # Joseph form (computed for every row; a stationary row's covariance is unused)
             for i in range(n):
                 for j in range(n):
-                    for b in range(B):
-                        LP[i, j, b] = P[i, j, b] - K[i, b] * PC[j, b]
+                    for t in range(NU):
+                        LP[i, j, t] = Pc[i, j, t] - K[i, t] * PC[j, t]
             for i in range(n):
                 for j in range(i, n):
-                    for b in range(B):
-                        acc_b[b] = MV[r, b] * K[i, b] * K[j, b]
+                    for t in range(NU):
+                        acc_c[t] = MVc[r, t] * K[i, t] * K[j, t]
                     for q in range(n):
                         delta = 1.0 if q == j else 0.0
-                        for b in range(B):
-                            acc_b[b] += LP[i, q, b] * (delta - K[j, b] * CZ[r, q, b])
-                    for b in range(B):
-                        P[i, j, b] = acc_b[b]
-                        P[j, i, b] = acc_b[b]
+                        for t in range(NU):
+                            acc_c[t] += LP[i, q, t] * (delta - K[j, t] * CZc[r, q, t])
+                    for t in range(NU):
+                        Pc[i, j, t] = acc_c[t]
+                        Pc[j, i, t] = acc_c[t]
             for b in range(B):
                 LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v[b] * v[b] / S[r, b])
         if k == N - 1:
@@ -1213,21 +1277,23 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
                         acc_b[b] += GB[i, c, b] * u
             for b in range(B):
                 Z[i, b] = acc_b[b]
-        for b in range(B):
-            change[b] = 0.0
-            scale[b] = 0.0
+        for t in range(NU):
+            change[t] = 0.0
+            scale[t] = 0.0
         for i in range(n):
             for j in range(i, n):
-                for b in range(B):
-                    val = E[i, b] * E[j, b] * P[i, j, b] + W[i, j, b]
-                    P[i, j, b] = val
-                    P[j, i, b] = val
-                    change[b] = max(change[b], abs(val - Pprior[i, j, b]))
-                    scale[b] = max(scale[b], abs(val))
-        for b in range(B):
-            if not steady[b] and change[b] <= STEADY_STATE_TOLERANCE * scale[b] and k + 1 < N:
-                steady[b] = True
+                for t in range(NU):
+                    val = Ec[i, t] * Ec[j, t] * Pc[i, j, t] + Wc[i, j, t]
+                    Pc[i, j, t] = val
+                    Pc[j, i, t] = val
+                    change[t] = max(change[t], abs(val - Pprior[i, j, t]))
+                    scale[t] = max(scale[t], abs(val))
+        for t in range(NU):
+            if not steady_c[t] and change[t] <= STEADY_STATE_TOLERANCE * scale[t] and k + 1 < N:
+                steady_c[t] = True
         k += 1
+    for b in range(B):
+        dead[b] = dead_c[cov_of[b]]
     if k < N:
         _batch_stationary(k, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
     out = np.empty(B)

@@ -1196,10 +1196,7 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
                 all_steady = False
         if all_steady:
             break
-        for i in range(n):
-            for j in range(n):
-                for t in range(NU):
-                    Pprior[i, j, t] = Pc[i, j, t]
+        Pprior[:, :, :] = Pc
         for r in range(ny):
             y = Y[k, r]
             for b in range(B):
@@ -1263,7 +1260,17 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
         if k == N - 1:
             k = N
             break
-        for i in range(n):
+        if m == 3 and not foh:
+            # the same sums as below, one loop per state
+            u0, u1, u2 = U[k, 0], U[k, 1], U[k, 2]
+            for i in range(n):
+                for b in range(B):
+                    z = E[i, b] * Z[i, b] + GA[i, 0, b] * u0
+                    Z[i, b] = z + GA[i, 1, b] * u1 + GA[i, 2, b] * u2
+            n_left = 0
+        else:
+            n_left = n
+        for i in range(n_left):
             for b in range(B):
                 acc_b[b] = E[i, b] * Z[i, b]
             for c in range(m):

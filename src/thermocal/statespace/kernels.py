@@ -1254,7 +1254,10 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
                             acc_c[t] += LP[i, q, t] * (delta - K[j, t] * CZc[r, q, t])
                     for t in range(NU):
                         Pc[i, j, t] = acc_c[t]
-                        Pc[j, i, t] = acc_c[t]
+            for i in range(n):
+                for j in range(i + 1, n):
+                    for t in range(NU):
+                        Pc[j, i, t] = Pc[i, j, t]
             for b in range(B):
                 LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v[b] * v[b] / S[r, b])
         if k == N - 1:
@@ -1287,14 +1290,21 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
         for t in range(NU):
             change[t] = 0.0
             scale[t] = 0.0
+        # the upper triangle, its change, then the mirror (separate loops: each vectorises)
         for i in range(n):
             for j in range(i, n):
                 for t in range(NU):
-                    val = Ec[i, t] * Ec[j, t] * Pc[i, j, t] + Wc[i, j, t]
-                    Pc[i, j, t] = val
-                    Pc[j, i, t] = val
+                    Pc[i, j, t] = Ec[i, t] * Ec[j, t] * Pc[i, j, t] + Wc[i, j, t]
+        for i in range(n):
+            for j in range(i, n):
+                for t in range(NU):
+                    val = Pc[i, j, t]
                     change[t] = max(change[t], abs(val - Pprior[i, j, t]))
                     scale[t] = max(scale[t], abs(val))
+        for i in range(n):
+            for j in range(i + 1, n):
+                for t in range(NU):
+                    Pc[j, i, t] = Pc[i, j, t]
         for t in range(NU):
             if not steady_c[t] and change[t] <= STEADY_STATE_TOLERANCE * scale[t] and k + 1 < N:
                 steady_c[t] = True

@@ -260,3 +260,51 @@ def test_batched_likelihoods_equal_the_filter_run_row_by_row(hold, case):
     np.testing.assert_array_equal(together, one_by_one)
     start = kernels.stationary_from(prep.dts, prep.Y, problem.seg)
     assert start == {"uniform": 1, "gaps_and_missing": 581, "irregular": len(df) - 1}[case]
+
+
+@pytest.mark.parametrize("hold", ["zoh", "foh"])
+@pytest.mark.parametrize("name", ["Ti", "TiTh", "TiTeTh", "TiTmTeTh", "TiTmTeThRia", "two_inputs"])
+def test_batched_gradient_rows_equal_the_filter_run_row_by_row(name, hold):
+    """One output and 1-4 states (the compiled specialisations of the stationary batch filter)
+    and the gradient's rows, of which those moving an initial mean or an input coefficient
+    share one covariance recursion with the centre: bit for bit the filter run one row at a
+    time (two and three inputs, both holds)."""
+    from pathlib import Path
+
+    from thermocal.statespace.estimation import GRADIENT_STEP, LikelihoodProblem
+
+    if name == "two_inputs":
+        model = RCModel("two_inputs")
+        model.add_state("Ti", capacity="Ci", noise="si", initial_mean="Ti0", initial_std=0.4)
+        model.add_state("Te", capacity="Ce", noise="se", initial_mean="Te0", initial_std=2.0)
+        model.add_conductance("Ti", "Te", conductance="Hie")
+        model.add_conductance("Te", "Ta", conductance="Hea")
+        model.add_heat_input("Ph", into="Ti", scale="eta", unit="kW")
+        model.add_output("yTi", state="Ti", noise="e_i")
+        for p, value, unit in [("Ci", 2.0, "MJ/K"), ("Ce", 20.0, "MJ/K"), ("Hie", 300.0, "W/K"),
+                               ("Hea", 200.0, "W/K"), ("eta", 1.0, "-"), ("si", 0.5, "K/sqrt(h)"),
+                               ("se", 0.5, "K/sqrt(h)"), ("e_i", 0.1, "K"), ("Ti0", 20.0, "C"),
+                               ("Te0", 10.0, "C")]:  # fmt: skip
+            model.add_parameter(p, value, unit=unit)
+    else:
+        repo = Path(__file__).resolve().parents[2]
+        model = RCModel.from_yaml(repo / "examples" / "models" / f"{name}.yaml")
+    df = random_data(500, seed=21)
+    df["yTi"] = df["yTi"].rolling(5, min_periods=1).mean()
+    prep = prepare_data(model, df)
+    problem = LikelihoodProblem(model, prep, hold == "foh")
+    rng = np.random.default_rng(8)
+    theta = problem.clip(model.theta0() + rng.normal(0.0, 0.3, model.n_free))
+    rows = [theta]
+    for i in range(theta.size):
+        h = GRADIENT_STEP * max(1.0, abs(theta[i]))
+        for sign in (1.0, -1.0):
+            row = theta.copy()
+            row[i] += sign * h
+            rows.append(row)
+    rows.append(problem.clip(model.theta0() + rng.normal(0.0, 0.3, model.n_free)))
+    thetas = np.array(rows)
+    one_by_one = np.array([problem.loglike(t) for t in thetas])
+    together = problem.loglike_many(thetas)
+    assert np.all(np.isfinite(one_by_one))
+    np.testing.assert_array_equal(together, one_by_one)

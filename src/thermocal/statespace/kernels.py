@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numba import njit
 
@@ -931,13 +932,89 @@ def _stationary_steps(k0, k1, b, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
             Z[i, b] = acc
 
 
+#: Largest number of states with a compiled specialisation of the stationary batch filter
+#: (:func:`_batch_stationary_fixed`); larger systems use the generic loops.
+FIXED_MAX_STATES = 4
+
+
+@njit(cache=True, error_model="numpy")
+def _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, n):
+    """:func:`_batch_stationary` for one output, compiled for ``n`` states given as a literal
+    constant: the loops over the states are unrolled, so a sample is one loop over the columns
+    for the measurement update and one for the time update (two or three inputs, zero-order
+    hold; otherwise one per input plus two), which the compiler vectorises, instead of a short
+    loop over the columns per state and input. The same operations, in the same order, for
+    each column (bit-identical results)."""
+    numba.literally(n)
+    B = Z.shape[1]
+    N, m = Y.shape[0], U.shape[1]
+    acc = np.empty((n, B))
+    for k in range(k0, N):
+        y = Y[k, 0]
+        for b in range(B):
+            v = y
+            for i in range(n):
+                v -= CZ[0, i, b] * Z[i, b]
+            for i in range(n):
+                Z[i, b] += KF[0, i, b] * v
+            LL[b] -= 0.5 * (LOG_2PI + LS[0, b] + v * v / S[0, b])
+        if k == N - 1:
+            break
+        # time update, the terms added in the order of kalman_filter's
+        if m == 3 and not foh:
+            u0, u1, u2 = U[k, 0], U[k, 1], U[k, 2]
+            for b in range(B):
+                for i in range(n):
+                    z = E[i, b] * Z[i, b] + GA[i, 0, b] * u0
+                    Z[i, b] = z + GA[i, 1, b] * u1 + GA[i, 2, b] * u2
+            continue
+        if m == 2 and not foh:
+            u0, u1 = U[k, 0], U[k, 1]
+            for b in range(B):
+                for i in range(n):
+                    Z[i, b] = E[i, b] * Z[i, b] + GA[i, 0, b] * u0 + GA[i, 1, b] * u1
+            continue
+        for b in range(B):
+            for i in range(n):
+                acc[i, b] = E[i, b] * Z[i, b]
+        for c in range(m):
+            u = U[k, c]
+            for b in range(B):
+                for i in range(n):
+                    acc[i, b] += GA[i, c, b] * u
+        if foh:
+            for c in range(m):
+                u = U[k + 1, c]
+                for b in range(B):
+                    for i in range(n):
+                        acc[i, b] += GB[i, c, b] * u
+        for b in range(B):
+            for i in range(n):
+                Z[i, b] = acc[i, b]
+
+
 @njit(cache=True, error_model="numpy")
 def _batch_stationary(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
     """Samples ``k0`` to the end of the stationary filters of all columns of the batch arrays,
     advanced together (the innermost loops over the columns); the same operations, in the same
-    order, as the stationary branch of :func:`kalman_filter`."""
+    order, as the stationary branch of :func:`kalman_filter`. One output and at most
+    :data:`FIXED_MAX_STATES` states: the specialised loops
+    of :func:`_batch_stationary_fixed` (the same numbers)."""
     n, B = Z.shape
     ny, m, N = Y.shape[1], U.shape[1], Y.shape[0]
+    if ny == 1 and k0 < N:
+        if n == 1:
+            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 1)
+            return
+        if n == 2:
+            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 2)
+            return
+        if n == 3:
+            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 3)
+            return
+        if n == 4:
+            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 4)
+            return
     v = np.empty(B)
     acc = np.empty(B)
     for k in range(k0, N):
@@ -985,7 +1062,6 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
     m = U.shape[1]
     Z = np.zeros((n, B))
     P = np.zeros((n, n, B))
-    Pprior = np.zeros((n, n, B))
     KF = np.zeros((ny, n, B))
     S = np.ones((ny, B))
     LS = np.zeros((ny, B))
@@ -1045,26 +1121,82 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
                     GB[i, c, b] = g1[i, c]
                 for j in range(n):
                     W[i, j, b] = w1[i, j]
+    # rows with the same covariance recursion (initial covariance, modal output matrix,
+    # measurement variances, transition and process noise all equal bit for bit: e.g. the
+    # gradient's rows that move an initial mean or an input coefficient only) share one
+    # covariance row: its gains, innovation variances and stationarity are theirs
+    cov_of = np.empty(B, dtype=np.int64)
+    rep = np.empty(B, dtype=np.int64)
+    NU = 0
+    for b in range(B):
+        cov_of[b] = -1
+        for t in range(NU):
+            a = rep[t]
+            if dead[a] != dead[b]:
+                continue
+            same = True
+            for r in range(ny):
+                if MV[r, a] != MV[r, b]:
+                    same = False
+                for i in range(n):
+                    if CZ[r, i, a] != CZ[r, i, b]:
+                        same = False
+            for i in range(n):
+                if E[i, a] != E[i, b]:
+                    same = False
+                for j in range(n):
+                    if P[i, j, a] != P[i, j, b] or W[i, j, a] != W[i, j, b]:
+                        same = False
+            if same:
+                cov_of[b] = t
+                break
+        if cov_of[b] < 0:
+            rep[NU] = b
+            cov_of[b] = NU
+            NU += 1
+    # the covariance rows
+    Pc = np.empty((n, n, NU))
+    Wc = np.empty((n, n, NU))
+    Ec = np.empty((n, NU))
+    CZc = np.empty((ny, n, NU))
+    MVc = np.empty((ny, NU))
+    KFc = np.zeros((ny, n, NU))
+    Sc = np.ones((ny, NU))
+    LSc = np.zeros((ny, NU))
+    steady_c = np.empty(NU, dtype=np.bool_)
+    dead_c = np.empty(NU, dtype=np.bool_)
+    for t in range(NU):
+        a = rep[t]
+        steady_c[t] = steady[a]
+        dead_c[t] = dead[a]
+        for i in range(n):
+            Ec[i, t] = E[i, a]
+            for j in range(n):
+                Pc[i, j, t] = P[i, j, a]
+                Wc[i, j, t] = W[i, j, a]
+        for r in range(ny):
+            MVc[r, t] = MV[r, a]
+            for i in range(n):
+                CZc[r, i, t] = CZ[r, i, a]
     v = np.empty(B)
-    s = np.empty(B)
-    PC = np.empty((n, B))
-    K = np.empty((n, B))
-    LP = np.empty((n, n, B))
+    s = np.empty(NU)
+    PC = np.empty((n, NU))
+    K = np.empty((n, NU))
+    LP = np.empty((n, n, NU))
+    Pprior = np.empty((n, n, NU))
     acc_b = np.empty(B)
-    change = np.empty(B)
-    scale = np.empty(B)
+    acc_c = np.empty(NU)
+    change = np.empty(NU)
+    scale = np.empty(NU)
     k = 0
     while k < N:
         all_steady = True
-        for b in range(B):
-            if not steady[b]:
+        for t in range(NU):
+            if not steady_c[t]:
                 all_steady = False
         if all_steady:
             break
-        for i in range(n):
-            for j in range(n):
-                for b in range(B):
-                    Pprior[i, j, b] = P[i, j, b]
+        Pprior[:, :, :] = Pc
         for r in range(ny):
             y = Y[k, r]
             for b in range(B):
@@ -1072,57 +1204,76 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
             for i in range(n):
                 for b in range(B):
                     v[b] -= CZ[r, i, b] * Z[i, b]
-            for b in range(B):
-                s[b] = MV[r, b]
+            for t in range(NU):
+                s[t] = MVc[r, t]
             for i in range(n):
-                for b in range(B):
-                    acc_b[b] = 0.0
+                for t in range(NU):
+                    acc_c[t] = 0.0
                 for j in range(n):
-                    for b in range(B):
-                        acc_b[b] += P[i, j, b] * CZ[r, j, b]
-                for b in range(B):
-                    PC[i, b] = acc_b[b]
-                    s[b] += CZ[r, i, b] * acc_b[b]
-            for b in range(B):
-                if not steady[b]:
-                    if not (s[b] > 0.0) or not math.isfinite(s[b]):
-                        dead[b] = True
-                        steady[b] = True
-                        s[b] = 1.0  # the row's result is -inf; keep its arithmetic finite
+                    for t in range(NU):
+                        acc_c[t] += Pc[i, j, t] * CZc[r, j, t]
+                for t in range(NU):
+                    PC[i, t] = acc_c[t]
+                    s[t] += CZc[r, i, t] * acc_c[t]
+            for t in range(NU):
+                if not steady_c[t]:
+                    if not (s[t] > 0.0) or not math.isfinite(s[t]):
+                        dead_c[t] = True
+                        steady_c[t] = True
+                        s[t] = 1.0  # the row's result is -inf; keep its arithmetic finite
             for i in range(n):
-                for b in range(B):
-                    K[i, b] = PC[i, b] / s[b]
-            for b in range(B):
-                if not steady[b]:
+                for t in range(NU):
+                    K[i, t] = PC[i, t] / s[t]
+            for t in range(NU):
+                if not steady_c[t]:
                     for i in range(n):
-                        KF[r, i, b] = K[i, b]
-                    S[r, b] = s[b]
-                    LS[r, b] = math.log(s[b])
+                        KFc[r, i, t] = K[i, t]
+                    Sc[r, t] = s[t]
+                    LSc[r, t] = math.log(s[t])
+            for b in range(B):
+                t = cov_of[b]
+                for i in range(n):
+                    KF[r, i, b] = KFc[r, i, t]
+                S[r, b] = Sc[r, t]
+                LS[r, b] = LSc[r, t]
             for i in range(n):
                 for b in range(B):
                     Z[i, b] += KF[r, i, b] * v[b]
             # Joseph form (computed for every row; a stationary row's covariance is unused)
             for i in range(n):
                 for j in range(n):
-                    for b in range(B):
-                        LP[i, j, b] = P[i, j, b] - K[i, b] * PC[j, b]
+                    for t in range(NU):
+                        LP[i, j, t] = Pc[i, j, t] - K[i, t] * PC[j, t]
             for i in range(n):
                 for j in range(i, n):
-                    for b in range(B):
-                        acc_b[b] = MV[r, b] * K[i, b] * K[j, b]
+                    for t in range(NU):
+                        acc_c[t] = MVc[r, t] * K[i, t] * K[j, t]
                     for q in range(n):
                         delta = 1.0 if q == j else 0.0
-                        for b in range(B):
-                            acc_b[b] += LP[i, q, b] * (delta - K[j, b] * CZ[r, q, b])
-                    for b in range(B):
-                        P[i, j, b] = acc_b[b]
-                        P[j, i, b] = acc_b[b]
+                        for t in range(NU):
+                            acc_c[t] += LP[i, q, t] * (delta - K[j, t] * CZc[r, q, t])
+                    for t in range(NU):
+                        Pc[i, j, t] = acc_c[t]
+            for i in range(n):
+                for j in range(i + 1, n):
+                    for t in range(NU):
+                        Pc[j, i, t] = Pc[i, j, t]
             for b in range(B):
                 LL[b] -= 0.5 * (LOG_2PI + LS[r, b] + v[b] * v[b] / S[r, b])
         if k == N - 1:
             k = N
             break
-        for i in range(n):
+        if m == 3 and not foh:
+            # the same sums as below, one loop per state
+            u0, u1, u2 = U[k, 0], U[k, 1], U[k, 2]
+            for i in range(n):
+                for b in range(B):
+                    z = E[i, b] * Z[i, b] + GA[i, 0, b] * u0
+                    Z[i, b] = z + GA[i, 1, b] * u1 + GA[i, 2, b] * u2
+            n_left = 0
+        else:
+            n_left = n
+        for i in range(n_left):
             for b in range(B):
                 acc_b[b] = E[i, b] * Z[i, b]
             for c in range(m):
@@ -1136,21 +1287,30 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
                         acc_b[b] += GB[i, c, b] * u
             for b in range(B):
                 Z[i, b] = acc_b[b]
-        for b in range(B):
-            change[b] = 0.0
-            scale[b] = 0.0
+        for t in range(NU):
+            change[t] = 0.0
+            scale[t] = 0.0
+        # the upper triangle, its change, then the mirror (separate loops: each vectorises)
         for i in range(n):
             for j in range(i, n):
-                for b in range(B):
-                    val = E[i, b] * E[j, b] * P[i, j, b] + W[i, j, b]
-                    P[i, j, b] = val
-                    P[j, i, b] = val
-                    change[b] = max(change[b], abs(val - Pprior[i, j, b]))
-                    scale[b] = max(scale[b], abs(val))
-        for b in range(B):
-            if not steady[b] and change[b] <= STEADY_STATE_TOLERANCE * scale[b] and k + 1 < N:
-                steady[b] = True
+                for t in range(NU):
+                    Pc[i, j, t] = Ec[i, t] * Ec[j, t] * Pc[i, j, t] + Wc[i, j, t]
+        for i in range(n):
+            for j in range(i, n):
+                for t in range(NU):
+                    val = Pc[i, j, t]
+                    change[t] = max(change[t], abs(val - Pprior[i, j, t]))
+                    scale[t] = max(scale[t], abs(val))
+        for i in range(n):
+            for j in range(i + 1, n):
+                for t in range(NU):
+                    Pc[j, i, t] = Pc[i, j, t]
+        for t in range(NU):
+            if not steady_c[t] and change[t] <= STEADY_STATE_TOLERANCE * scale[t] and k + 1 < N:
+                steady_c[t] = True
         k += 1
+    for b in range(B):
+        dead[b] = dead_c[cov_of[b]]
     if k < N:
         _batch_stationary(k, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
     out = np.empty(B)

@@ -65,6 +65,14 @@ from thermocal.multizone.results import (  # noqa: F401 - re-exported
     output_quantities,
 )
 
+#: EnergyPlus' initial zone air and surface temperature before its warm-up [C]
+ENERGYPLUS_INITIAL_TEMPERATURE = 23.0
+
+
+def _daily_extremes(air: np.ndarray) -> np.ndarray:
+    """Each zone's maximum and minimum air temperature of a day [C] (steps x zones in)."""
+    return np.concatenate([air.max(axis=0), air.min(axis=0)])
+
 
 class Simulation(NetworkSetup, ForcingSetup, Tracking, Outputs):
     """Simulate a :class:`~thermocal.multizone.model.Building` over a weather period.
@@ -86,9 +94,13 @@ class Simulation(NetworkSetup, ForcingSetup, Tracking, Outputs):
         Period ``[start, end)``; default: the whole weather frame.
     options : NetworkOptions, optional
     warmup_days : int
-        Days of the period's first day repeated before the run to reach a periodic initial state
-        (as EnergyPlus' warm-up), 0 = start from ``initial_temperature``.
-    initial_temperature : float [C]
+        Repetitions of the period's first day before the run to reach a periodic initial state
+        (as EnergyPlus' warm-up; for a building imported from an IDF file the least number, the
+        file's own convergence rule deciding the rest, see :meth:`_warm_up`); 0 = start from
+        ``initial_temperature``.
+    initial_temperature : float, optional [C]
+        Uniform temperature the warm-up (or the run) starts from; default 23 C for a building
+        imported from an IDF file (EnergyPlus' start), else 20 C.
     store_surfaces : bool
         Keep interior surface temperatures in the result.
     sky_model : {"perez", "isotropic"}
@@ -138,7 +150,7 @@ class Simulation(NetworkSetup, ForcingSetup, Tracking, Outputs):
         end=None,
         options: NetworkOptions | None = None,
         warmup_days: int = 7,
-        initial_temperature: float = 20.0,
+        initial_temperature: float | None = None,
         store_surfaces: bool = True,
         sky_model: str = "perez",
         schedules: str = "file",
@@ -170,6 +182,9 @@ class Simulation(NetworkSetup, ForcingSetup, Tracking, Outputs):
             raise ThermocalInputError(
                 f"Simulation: warmup_days (--warmup-days) must be >= 0, got {warmup_days!r}"
             )
+        if initial_temperature is None:
+            # EnergyPlus starts its warm-up from 23 C (zone air and surfaces)
+            initial_temperature = ENERGYPLUS_INITIAL_TEMPERATURE if info is not None else 20.0
         self.initial_temperature = float(initial_temperature)
         self.store_surfaces = bool(store_surfaces)
         self.sky_model = sky_model
@@ -247,12 +262,38 @@ class Simulation(NetworkSetup, ForcingSetup, Tracking, Outputs):
             self._warm_up(ideal=not free_float)
 
     def _warm_up(self, *, ideal: bool) -> None:
-        """Repeat the period's first day ``warmup_days`` times (hourly steps when possible)."""
+        """Repeat the period's first day (hourly steps when possible) ``warmup_days`` times.
+
+        A building imported from an IDF file warms up as EnergyPlus does with that file: the
+        first day is repeated until no zone's daily maximum and minimum air temperature changes
+        by more than the ``Building`` object's Temperature Convergence Tolerance Value between
+        two repetitions, at least ``warmup_days`` and at most its Maximum Number of Warmup Days
+        times (``IdfImportInfo.warmup``; EnergyPlus' defaults 0.4 K and 25 days). A room with a
+        long time constant (a heavy room losing only through an insulated roof: ten days and
+        more) is far from its periodic state after a week, and EnergyPlus' state is then the
+        one its rule leaves: on a DOE prototype's top-floor storage rooms the fixed week left
+        them 14 K warmer than EnergyPlus'. ``self.warmup_days_run`` holds the count.
+        """
         context = self._coarse_context() or self._fine
         n_day = min(int(round(86400.0 / context.dt)), len(context.inputs))
         zeros = np.zeros((n_day, len(self.building.zones)))
-        for _ in range(self.warmup_days):
-            self._advance(0, n_day, zeros, ideal=ideal, store=False, context=context)
+        rule = getattr(getattr(self.building, "idf_info", None), "warmup", None)
+        tolerance = None if rule is None else float(rule["tolerance_K"])
+        most = self.warmup_days if rule is None else max(self.warmup_days, rule["maximum_days"])
+        previous = None
+        self.warmup_days_run = 0
+        for day in range(most):
+            air = self._advance(0, n_day, zeros, ideal=ideal, store=False, context=context)[0]
+            self.warmup_days_run = day + 1
+            if tolerance is None or day + 1 < self.warmup_days:
+                previous = None if tolerance is None else _daily_extremes(air)
+                continue
+            extremes = _daily_extremes(air)
+            if previous is not None and np.max(np.abs(extremes - previous)) <= tolerance:
+                break
+            if not np.isfinite(extremes).all():
+                break
+            previous = extremes
 
     def _advance(
         self,

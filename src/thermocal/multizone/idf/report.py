@@ -132,6 +132,11 @@ class IdfImportInfo:
     convection: dict[str, str] = field(default_factory=dict)
     #: the Building object's Solar Distribution as written (EnergyPlus' default FullExterior)
     solar_distribution: str = "FullExterior"
+    #: the Building object's warm-up: Temperature Convergence Tolerance Value [K], Maximum and
+    #: Minimum Number of Warmup Days (EnergyPlus 25.2's defaults 0.4, 25, 1)
+    warmup: dict = field(
+        default_factory=lambda: {"tolerance_K": 0.4, "maximum_days": 25, "minimum_days": 1}
+    )
 
     def report(self) -> dict:
         """What was not simulated and what was approximated, by kind (see

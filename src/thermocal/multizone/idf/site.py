@@ -38,6 +38,17 @@ class SiteStages:
         if building_rec is not None:
             self.building_name = building_rec["name"] or self.building_name
             self.north_axis = _number(building_rec, "north_axis", default=0.0)
+            self.info.warmup = {
+                "tolerance_K": _number(
+                    building_rec, "temperature_convergence_tolerance_value", default=0.4
+                ),
+                "maximum_days": int(
+                    _number(building_rec, "maximum_number_of_warmup_days", default=25)
+                ),
+                "minimum_days": int(
+                    _number(building_rec, "minimum_number_of_warmup_days", default=1)
+                ),
+            }
         rules_rec = self.single("GLOBALGEOMETRYRULES")
         self.rules = GeometryRules()
         if rules_rec is not None:

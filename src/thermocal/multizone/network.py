@@ -1032,6 +1032,23 @@ def assemble(
     # orientation and mass flag of every face, converted once (indexed per zone below)
     tilt_all, az_all, mass_all = np.asarray(f_tilt), np.asarray(f_az), np.asarray(f_mass)
 
+    def zone_view(members: np.ndarray) -> np.ndarray:
+        """Approximate view factors of the faces ``members`` of a zone, once per distinct zone
+        geometry (areas, orientations, mass flags; shared by the long-wave exchange and the
+        interior solar distribution, and between assemblies through ``cache``)."""
+        key = (
+            "view",
+            face_area[members].tobytes(),
+            tilt_all[members].tobytes(),
+            az_all[members].tobytes(),
+            mass_all[members].tobytes(),
+        )
+        if key not in cache:
+            cache[key] = approximate_view_factors(
+                face_area[members], tilt_all[members], az_all[members], mass_all[members]
+            )
+        return cache[key]
+
     # ---- interior convection -----------------------------------------------------------------
     if options.interior_convection == "tarp":
         nominal = 2.0  # [K] representative surface-air difference for the matrix part
@@ -1090,13 +1107,7 @@ def assemble(
                 mass_all[members].tobytes(),
             )
             if key not in cache:
-                view = approximate_view_factors(
-                    face_area[members],
-                    tilt_all[members],
-                    az_all[members],
-                    mass_all[members],
-                )
-                cache[key] = grey_exchange_factors(view, face_eps[members])
+                cache[key] = grey_exchange_factors(zone_view(members), face_eps[members])
             script_f = cache[key]
             g = h_black * face_area[members][:, None] * script_f
             g = 0.5 * (g + g.T)
@@ -1270,21 +1281,7 @@ def assemble(
             face_is_window[members], face_tau[members] + face_back[members].sum(axis=1), 0.0
         )
         isabsf[z] = [(node, w / total) for node, w in pool if total > 0 and w > 0]
-        vf_key = (
-            "solar_view",
-            face_area[members].tobytes(),
-            tilt_all[members].tobytes(),
-            az_all[members].tobytes(),
-            mass_all[members].tobytes(),
-        )
-        if vf_key not in cache:
-            cache[vf_key] = approximate_view_factors(
-                face_area[members],
-                tilt_all[members],
-                az_all[members],
-                mass_all[members],
-            )
-        view[z] = cache[vf_key]
+        view[z] = zone_view(members)
 
     def first_incidence(z: int, fractions) -> tuple[dict[int, float], float]:
         """Absorbed share per node and reflected share of radiation first hitting the faces of
@@ -1453,6 +1450,11 @@ def approximate_view_factors(area, tilt, azimuth, internal_mass=None, iterations
     (``F_ij = A_j / sum of the areas it sees``); reciprocity ``A_i F_ij = A_j F_ji`` and
     completeness ``sum_j F_ij = 1`` are then enforced by alternating symmetrisation and row
     scaling (EnergyPlus' FixViewFactors).  A face that sees nothing keeps a zero row.
+
+    The iteration is a pure function of the current matrix, so once a matrix recurs (a fixed
+    point, or a cycle of a few last-bit oscillations, typically after 70-140 sweeps) the result
+    of the remaining sweeps is known: it is taken from the cycle, bit for bit what running all
+    ``iterations`` gives.
     """
     area = np.asarray(area, dtype=float)
     tilt = np.asarray(tilt, dtype=float)
@@ -1469,10 +1471,21 @@ def approximate_view_factors(area, tilt, azimuth, internal_mass=None, iterations
     f = np.where(sees, area[None, :], 0.0) / np.where(seen_area > 0, seen_area, 1.0)[:, None]
     af = area[:, None] * f
     af = 0.5 * (af + af.T)
-    for _ in range(iterations):
-        rows = af.sum(axis=1)
-        af = af * np.where(rows > 0, area / np.where(rows > 0, rows, 1.0), 0.0)[:, None]
-        af = 0.5 * (af + af.T)
+    # iterates by their bytes: a repeat at sweep k of sweep j < k is a cycle of period k - j
+    seen: dict[bytes, int] = {af.tobytes(): 0}
+    history = [af]
+    add, where = np.add, np.where  # (the sweep's arithmetic as written, minus call overhead)
+    for k in range(1, iterations + 1):
+        rows = add.reduce(af, axis=1)
+        positive = rows > 0
+        af = af * where(positive, area / where(positive, rows, 1.0), 0.0)[:, None]
+        af = add(af, af.T)
+        af *= 0.5
+        first = seen.setdefault(af.tobytes(), k)
+        if first != k:
+            af = history[first + (iterations - first) % (k - first)]
+            break
+        history.append(af)
     return af / area[:, None]
 
 

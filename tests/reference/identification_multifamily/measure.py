@@ -38,6 +38,7 @@ sys.path.insert(0, str(ROOT / "tests" / "identification"))
 
 from energyplus_twin import (  # noqa: E402
     fidelity,
+    forward_on_the_same_file,
     hourly_rmse_bias,
     make_twin_of,
     scaled_loads,
@@ -46,7 +47,6 @@ from energyplus_twin import (  # noqa: E402
 )
 
 from thermocal.identification.workflow import identify  # noqa: E402
-from thermocal.multizone.simulation import Simulation  # noqa: E402
 
 IDF = HERE / "multifamily_5A_FF_v25.idf"
 STEPS_PER_HOUR = 6
@@ -68,25 +68,12 @@ VARIANTS = {
 
 def forward(text: str, directory: Path, days: int) -> tuple[pd.DataFrame, dict]:
     """EnergyPlus and thermocal on the same file: per-zone hourly RMSE and bias [K]."""
-    twin = make_twin_of(text, directory, days, timesteps_per_hour=STEPS_PER_HOUR, envelope=text)
     started = time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        result = Simulation(
-            twin.building,
-            twin.weather,
-            twin.metadata,
-            step=f"{60 // STEPS_PER_HOUR}min",
-            start=twin.start,
-            end=twin.end,
-            store_surfaces=False,
-        ).run(free_float=True)
-    elapsed = time.perf_counter() - started
-    table = hourly_rmse_bias(result.air_temperature, twin.temperature)
+    twin, table = forward_on_the_same_file(text, directory, days, STEPS_PER_HOUR)
     ranges = {
         "energyplus_min_C": float(twin.temperature.min().min()),
         "energyplus_max_C": float(twin.temperature.max().max()),
-        "thermocal_seconds": elapsed,
+        "seconds_both_engines": time.perf_counter() - started,
     }
     return table, ranges
 

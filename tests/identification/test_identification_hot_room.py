@@ -54,3 +54,16 @@ def test_a_declared_hot_room_passes_and_its_range_is_checked():
 def test_a_bad_declared_range_is_named(value):
     with pytest.raises(ThermocalInputError, match=r"zones\.boiler room: plausible must be"):
         _mapping({"plausible": value})
+
+
+def test_a_warm_room_with_a_hot_day_is_no_unit_slip_but_a_day_in_tenths_is():
+    """A room that usually reads 29 C and one day 36 C (an MRI control room in free float on
+    the DOE outpatient prototype) was refused as 'tenths of a degree?': the day is now judged
+    against the sensor's own typical day; a day logged in tenths still is a slip."""
+    grid = _grid(21.0)
+    grid["S9"] = 29.0 + 0.5 * np.sin(np.arange(96) * 2 * np.pi / 24)
+    grid.loc[grid.index[72:], "S9"] += 7.0  # the fourth day averages 36 C
+    check_sensor_plausibility(grid, _mapping(), STEP, "log.csv")
+    grid.loc[grid.index[72:], "S9"] = 10.0 * grid["S9"].iloc[:24].to_numpy()  # 290 for 29.0
+    with pytest.raises(ThermocalInputError, match=r"'S9'.*tenths of a degree"):
+        check_sensor_plausibility(grid, _mapping(), STEP, "log.csv")

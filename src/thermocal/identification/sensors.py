@@ -43,6 +43,7 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 from thermocal.io.measurements import temperature_unit_slip
+from thermocal.io.measurements.units import INDOOR_MEAN_RANGE, NEIGHBOUR_TOLERANCE
 
 
 @dataclass(frozen=True)
@@ -616,12 +617,14 @@ def check_sensor_plausibility(
         if len(daily) < 3:
             continue
         typical = float(daily.median())
+        # a day is judged against the sensor's own typical day: a warm room's hot day (35 C
+        # where it usually reads 29 C) is no unit slip, a day read in tenths or Kelvin is
+        low, high = declared.get(str(sensor), INDOOR_MEAN_RANGE)
+        if str(sensor) not in declared:
+            low = min(low, typical - NEIGHBOUR_TOLERANCE)
+            high = max(high, typical + NEIGHBOUR_TOLERANCE)
         for day, value in daily.items():
-            slip = temperature_unit_slip(
-                float(value),
-                typical,
-                **({"plausible": declared[str(sensor)]} if str(sensor) in declared else {}),
-            )
+            slip = temperature_unit_slip(float(value), typical, plausible=(low, high))
             if slip is not None and not np.isnan(slip[2]):
                 raise ThermocalInputError(
                     f"{where(sensor)} averages {value:.1f} on {day:%Y-%m-%d} but "

@@ -121,7 +121,10 @@ class IdentificationProblem:
                 store_surfaces=False,
             )
         if getattr(self, "_reference", None) is None:
-            from thermocal.identification.workflow import identified_heat_form
+            from thermocal.identification.workflow import (
+                identified_heat_form,
+                per_step_fraction,
+            )
 
             zones = [z for z in self.building.zones if z in self.reference.columns]
             unknown = [z for z in self.reference.columns if z not in self.building.zones]
@@ -132,18 +135,14 @@ class IdentificationProblem:
                 )
             self._zones = zones
             self._reference = np.ascontiguousarray(self.reference[zones].to_numpy(dtype=float))
-            per_step = self.radiant_fraction if _is_per_step(self.radiant_fraction) else None
             form = identified_heat_form(
-                self.building,
-                None,
-                self.feedback,
-                self.radiant_fraction if per_step is None else per_step.mean().to_dict(),
+                self.building, None, self.feedback, self.radiant_fraction
             ).loc[zones]
             self._form = {
                 "feedback": form["sensor_air_weight"].to_numpy(),
-                "radiant_fraction": form["radiant_fraction"].to_numpy()
-                if per_step is None
-                else _per_step_fraction(per_step, zones, self._sim.times),
+                "radiant_fraction": per_step_fraction(self.radiant_fraction, zones, self._sim.times)
+                if _is_per_step(self.radiant_fraction)
+                else form["radiant_fraction"].to_numpy(),
             }
             if self.method == "pid":
                 self._pid = kernel_coefficients([self.gains[z] for z in zones])
@@ -326,15 +325,14 @@ def problem_from_measurements(
         silence=silence,
         source=log_name,
     )
-    per_step = None
     if declared:
-        per_step = declared_form(
+        radiant_fraction = declared_form(
             building, mapping, sim.times, sim.step_size, DEFAULT_RADIANT_FRACTION
         )
-        radiant_fraction = per_step.mean().to_dict()
     form = identified_heat_form(building, mapping, feedback, radiant_fraction)
     feedback = form["sensor_air_weight"].to_dict()
-    radiant_fraction = form["radiant_fraction"].to_dict() if per_step is None else per_step
+    if not _is_per_step(radiant_fraction):
+        radiant_fraction = form["radiant_fraction"].to_dict()
     zone_gains = None
     if method == "pid":
         grid = sim.weather_on_grid
@@ -392,9 +390,3 @@ def _form_key(radiant_fraction):
     digest = hashlib.sha256(np.ascontiguousarray(radiant_fraction.to_numpy(float)).tobytes())
     digest.update(repr(list(radiant_fraction.columns)).encode())
     return f"per step {digest.hexdigest()[:16]}"
-
-
-def _per_step_fraction(per_step: pd.DataFrame, zones, times):
-    from thermocal.identification.workflow import _per_step_fraction as aligned
-
-    return aligned(per_step, list(zones), times)

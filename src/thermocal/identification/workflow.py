@@ -481,14 +481,11 @@ def identify(
             f"{mapping.source}: no zone has a sensor or takes another zone's data; map at least "
             "one sensor to a zone"
         )
-    per_step = radiant_fraction if isinstance(radiant_fraction, pd.DataFrame) else None
-    if per_step is not None:  # the report states each zone's mean over the period
-        radiant_fraction = per_step.mean().to_dict()
     form = identified_heat_form(building, mapping, feedback, radiant_fraction)
     weights = form.loc[zones, "sensor_air_weight"].to_numpy()
     fractions = form.loc[zones, "radiant_fraction"].to_numpy()
-    if per_step is not None:
-        fractions = _per_step_fraction(per_step, zones, sim.times)
+    if isinstance(radiant_fraction, pd.DataFrame):
+        fractions = per_step_fraction(radiant_fraction, zones, sim.times)
     form.insert(0, "treatment", ["floating" if z in floating else "tracked" for z in all_zones])
     feedback_name = _sensor_name(weights)
     track_form = dict(zones=zones, feedback=weights, radiant_fraction=fractions)
@@ -652,8 +649,9 @@ def identified_heat_form(
 ):
     """Radiant fraction [-] and sensor air weight [-] of every zone's identified heat.
 
-    Precedence: the arguments (one value or a dict zone -> value), then the mapping's per-zone
-    and global entries (``mapping`` may be None), then the defaults
+    Precedence: the arguments (one value or a dict zone -> value; a per-step DataFrame of
+    radiant fractions counts with each zone's mean over the period), then the mapping's
+    per-zone and global entries (``mapping`` may be None), then the defaults
     (:data:`DEFAULT_RADIANT_FRACTION`, air sensors).
 
     Returns
@@ -664,6 +662,8 @@ def identified_heat_form(
 
     zones = list(building.zones)
     mapping = mapping if mapping is not None else SensorMapping({})
+    if isinstance(radiant_fraction, pd.DataFrame):  # a per-step form: its means per zone
+        radiant_fraction = radiant_fraction.mean().to_dict()
 
     def resolve(argument, per_zone, global_value, default, check, what):
         if isinstance(argument, Mapping):
@@ -701,7 +701,7 @@ def identified_heat_form(
     )
 
 
-def _per_step_fraction(per_step: pd.DataFrame, zones: list, times: pd.DatetimeIndex):
+def per_step_fraction(per_step: pd.DataFrame, zones: list, times: pd.DatetimeIndex):
     """A per-step radiant fraction [-] on the simulation's steps and tracked zones."""
     missing = [z for z in zones if z not in per_step.columns]
     if missing:

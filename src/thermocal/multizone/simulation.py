@@ -285,13 +285,11 @@ class Simulation(NetworkSetup, ForcingSetup, Tracking, Outputs):
         for day in range(most):
             air = self._advance(0, n_day, zeros, ideal=ideal, store=False, context=context)[0]
             self.warmup_days_run = day + 1
-            if tolerance is None or day + 1 < self.warmup_days:
-                previous = None if tolerance is None else _daily_extremes(air)
+            if tolerance is None:
                 continue
             extremes = _daily_extremes(air)
-            if previous is not None and np.max(np.abs(extremes - previous)) <= tolerance:
-                break
-            if not np.isfinite(extremes).all():
+            settled = previous is not None and np.max(np.abs(extremes - previous)) <= tolerance
+            if day + 1 >= self.warmup_days and (settled or not np.isfinite(extremes).all()):
                 break
             previous = extremes
 

@@ -269,21 +269,24 @@ def test_slab_measure_without_the_sun_in_kiva():
 
 def test_twin_with_small_fixed_diffusions(tmp_path):
     """The cause of the failed calibration (docs/retrofit.md): the estimated diffusions let the
-    slow states hold up a wrong heat balance. With them fixed small the HLC is 296.1 W/K (90 %:
-    286-313) against EnergyPlus's 299.2 and the test bias -0.60 K; the daily heat check and the
-    savings still fail (mean |difference| 11.6 pp). Not the default (yet)."""
+    slow states hold up a wrong heat balance. With them fixed small and the 3 occupants stated
+    the HLC is 301.4 W/K (90 %: 292-319) against EnergyPlus's 299.2 (+0.7 %), the demand
+    +7.9 % (within the 10 % target) and the test bias -0.51 K (without the occupants 296.1 W/K,
+    286-313, demand +10.1 %, bias -0.60 K; the daily heat check and the savings failed then,
+    mean |difference| 11.6 pp). Not the default (yet)."""
     noise = {"sigma_Tenv": 0.01, "sigma_Tgf": 0.01, "sigma_Tim": 0.01, "sigma_Ti": 0.05}
     # the temperature fit (model.calibration: temperature), whose diffusions this test is about
     results = _run_twin(tmp_path, fixed_noise=noise, calibration="temperature")
     ref = _reference()
     hlc = results["heat_loss_coefficient_W_per_K"]
     truth = ref["heat_loss_coefficient_W_per_K"]
-    assert abs(hlc["value"] / truth - 1.0) < 0.05  # (-1.0 %; target 10 %)
+    assert abs(hlc["value"] / truth - 1.0) < 0.05  # (+0.7 %; target 10 %)
     assert hlc["p05"] <= truth <= hlc["p95"]
     demand = results["annual_heating_demand_kWh"]["value"]
-    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.15  # (+10.1 %; target 10 %)
+    # (+7.9 %; +10.1 % without the occupants, bound 0.15 -> 0.10: the target holds)
+    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.10
     test = results["validation"]["test"]
-    assert abs(test["mean_simulated"] - test["mean_measured"]) < 1.0  # (-0.60 K)
+    assert abs(test["mean_simulated"] - test["mean_measured"]) < 1.0  # (-0.51 K)
 
 
 def _energyplus_paths() -> dict[str, np.ndarray]:

@@ -419,7 +419,8 @@ class InternalGainsConfig(_Strict):
         if bad:
             raise ValueError(
                 "occupant_presence: fractions of the occupants at home, between 0 and 1 ("
-                + ", ".join(bad[:3]) + ")"
+                + ", ".join(bad[:3])
+                + ")"
             )
         return value
 

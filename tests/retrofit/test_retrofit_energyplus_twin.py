@@ -9,9 +9,10 @@ Here thermocal gets only what a user knows (``building.yaml``: areas, nominal IS
 U-values; ``measurements.csv``) and is compared with the committed EnergyPlus values.
 
 Of the issue's targets (HLC and demand within 10 %, every saving within 3 pp, 90 % intervals
-covering >= 80 % with a median half-width <= 6 pp) only the HLC holds on this house (-1.6 %
-since the period's mean heat has its own weight in the heat fit's daily step, measured
-2026-11-28; +5.8 % before, docs/retrofit.md "Where the first twin's demand goes"): the
+covering >= 80 % with a median half-width <= 6 pp) only the HLC holds on this house (+0.2 %
+since the configuration states the 3 occupants, ``internal_gains.occupants``, measured
+2026-11-28; -1.6 % before, +5.8 % before the period's mean heat had its own weight in the heat
+fit's daily step, docs/retrofit.md "Where the first twin's demand goes"): the
 validation gate fails, and these tests pin that state --
 the gate must say so and recommend nothing -- and the bounds that hold now, each with its
 measured value, so that a regression shows and an improvement can tighten them.
@@ -92,8 +93,9 @@ def test_reference_is_what_the_script_writes():
 
 
 def test_twin_validation_gate_fails_and_recommends_nothing(twin):
-    """Measured (the heat fit, ``model.calibration: auto``): test-period bias -0.54 K, MAE
-    1.53 K, daily heat NMBE -16 %, CV(RMSE) 19 % (-1.50 K, 1.92 K, -33 %, 34 % before the
+    """Measured (the heat fit, ``model.calibration: auto``, ``occupants: 3``): test-period
+    bias -0.43 K, MAE 1.44 K, daily heat NMBE -14.1 %, CV(RMSE) 17.5 %: only the NMBE fails
+    (without the occupants -0.54 K, 1.53 K, -16 %, 19 %; -1.50 K, 1.92 K, -33 %, 34 % before the
     period's mean heat had its own weight; -2.84 K, 2.90 K, -61 % before the daily step kept
     its weight; the temperature fit: -4.31 K, -119 %): the model does not reproduce the house
     and says so (issue 25 item 3 holds; item 6's targets do not)."""
@@ -104,11 +106,14 @@ def test_twin_validation_gate_fails_and_recommends_nothing(twin):
 
 
 def test_twin_heat_loss_coefficient_and_demand(twin):
-    """EnergyPlus steady state 299.2 W/K; thermocal 294.6 W/K (90 %: 285-315), -1.6 %, since
-    the period's mean heat has its own weight in the daily step (316.5 W/K, +5.8 %, before;
-    352.7 W/K, +17.9 %, before the daily step kept its weight; temperature fit 383.5 W/K,
-    +28 %). Demand 12,437 kWh (11,413-15,167) vs 10,302, +20.7 % (before 14,037, +36.3 %;
-    16,722, +62 %): the 10 % target fails; pinned."""
+    """EnergyPlus steady state 299.2 W/K; thermocal 299.7 W/K (90 %: 291-324), +0.2 %, with
+    the 3 occupants stated (``internal_gains.occupants``; without them 294.6 W/K, 285-315,
+    -1.6 %: their unmetered heat was missing from the calibration's balance); 316.5 W/K,
+    +5.8 %, before the period's mean heat had its own weight in the daily step; 352.7 W/K,
+    +17.9 %, before the daily step kept its weight; temperature fit 383.5 W/K, +28 %. Demand
+    12,217 kWh (11,243-14,535) vs 10,302, +18.6 % (without the occupants 12,437, +20.7 %;
+    before 14,037, +36.3 %; 16,722, +62 %): the 10 % target fails; pinned (bound 25 -> 21 %
+    with the occupants)."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]
     err = hlc["value"] / ref["heat_loss_coefficient_W_per_K"] - 1.0
@@ -116,16 +121,18 @@ def test_twin_heat_loss_coefficient_and_demand(twin):
     assert hlc["p05"] <= ref["heat_loss_coefficient_W_per_K"] <= hlc["p95"]
     demand = twin["annual_heating_demand_kWh"]["value"]
     err_d = demand / ref["annual_heating_kWh"]["none"] - 1.0
-    assert abs(err_d) < 0.25, err_d  # target 0.10 (not met: +0.207)
+    assert abs(err_d) < 0.21, err_d  # target 0.10 (not met: +0.186)
 
 
 def test_twin_strategy_savings(twin):
     """Every strategy against EnergyPlus. Measured (heat fit, air change's stack term,
     measures adding their insulation to the corrected constructions, the slab edge and the
-    ground's inputs in the draws, the period's mean heat weighted by its own standard error):
-    mean absolute difference 11.5 pp, max 23.2 pp (3a); 3 of 15 within 3 pp; 6 of 15
-    intervals cover EnergyPlus; median half-width 13.1 pp (one scale for the mean and the
-    days: 10.9, 21.7, 3, 7, 12.8; before
+    ground's inputs in the draws, the period's mean heat weighted by its own standard error,
+    the 3 occupants stated): mean absolute difference 10.2 pp, max 20.5 pp (3a); 3 of 15
+    within 3 pp; 8 of 15 intervals cover EnergyPlus; median half-width 11.9 pp (without the
+    occupants 11.5, 23.2, 3, 6, 13.1; the walls alone 46.7 % (32.2-56.0) vs 59.3 %, 45.1 %
+    (28.9-55.2) without them: the walls / air-change split, test_twin_walls_and_air_change_
+    share_the_loss; one scale for the mean and the days: 10.9, 21.7, 3, 7, 12.8; before
     the slab edge and the ground draws: 10.7, 21.7, 0, 6, 12.4; with the internal gains'
     factor drawn independently of the fit 12.7 pp; before the daily step kept its weight:
     10.6, 22.0, 0, 6, 12.1, the attic measure's saving negative once corrected; temperature
@@ -142,10 +149,10 @@ def test_twin_strategy_savings(twin):
         covered += s["saving_pct_p05"] <= e <= s["saving_pct_p95"]
         half.append(0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]))
     diff = np.abs(diff)
-    assert diff.max() < 24.0, diff  # target 3 (not met: 21.7)
-    assert diff.mean() < 12.0, diff  # (10.9)
-    assert covered >= 6, covered  # target 12 of 15 (not met: 6)
-    assert np.median(half) < 14.0  # target 6 (not met: 12.8)
+    assert diff.max() < 22.0, diff  # target 3 (not met: 20.5; bound 24 -> 22)
+    assert diff.mean() < 11.0, diff  # (10.2; bound 12 -> 11)
+    assert covered >= 8, covered  # target 12 of 15 (not met: 8; bound 6 -> 8)
+    assert np.median(half) < 13.0  # target 6 (not met: 11.9; bound 14 -> 13)
     # the ranking: the all-measures strategy saves most in both
     best = max(rows, key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)
@@ -153,17 +160,19 @@ def test_twin_strategy_savings(twin):
 
 def test_twin_slab_saving_thermocal_vs_kiva(twin):
     """Item 5, measured: under-slab insulation to U 0.25 saves 0.7 % in EnergyPlus (Kiva) and
-    5.6 % (90 %: -0.1-16.9) in thermocal since the measure leaves the slab edge uninsulated
+    6.5 % (90 %: -0.2-21.4) in thermocal with the occupants stated (5.6 %, -0.1-16.9, without
+    them) since the measure leaves the slab edge uninsulated
     (the wall / floor junction's psi change, 0.41 W/(m K) x soil / 2.0, in the ground path)
     and the draws carry the soil's conductivity (``thermocal.retrofit.ground_draws``);
     before: 14.3 % (12.1-20.9), ISO 13370's floor alone at a fixed soil of 2.0 W/(m K).
-    The interval now covers EnergyPlus; the 3 pp target is not met (+4.9 pp): EnergyPlus's
+    The interval now covers EnergyPlus; the 3 pp target is not met (+5.8 pp): EnergyPlus's
     soil (0.864) and the house's summer (docs/retrofit.md, "Second ground study")."""
     ref = _reference()["saving_pct"]["ground_floor"]
     model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["ground_floor"])
     assert 0.0 < ref < 2.0
     assert model["saving_pct_p05"] <= ref <= model["saving_pct_p95"]
-    assert ref < model["saving_pct"] < ref + 6.0  # (+4.9 pp; target 3)
+    assert ref < model["saving_pct"] < ref + 6.5  # (+5.8 pp; +4.9 without the occupants,
+    # bound 6.0 -> 6.5: the stated occupants' heat raised the HLC and the slab's share; target 3)
 
 
 def test_slab_insulation_iso13370_vs_kiva():
@@ -260,21 +269,24 @@ def test_slab_measure_without_the_sun_in_kiva():
 
 def test_twin_with_small_fixed_diffusions(tmp_path):
     """The cause of the failed calibration (docs/retrofit.md): the estimated diffusions let the
-    slow states hold up a wrong heat balance. With them fixed small the HLC is 296.1 W/K (90 %:
-    286-313) against EnergyPlus's 299.2 and the test bias -0.60 K; the daily heat check and the
-    savings still fail (mean |difference| 11.6 pp). Not the default (yet)."""
+    slow states hold up a wrong heat balance. With them fixed small and the 3 occupants stated
+    the HLC is 301.4 W/K (90 %: 292-319) against EnergyPlus's 299.2 (+0.7 %), the demand
+    +7.9 % (within the 10 % target) and the test bias -0.51 K (without the occupants 296.1 W/K,
+    286-313, demand +10.1 %, bias -0.60 K; the daily heat check and the savings failed then,
+    mean |difference| 11.6 pp). Not the default (yet)."""
     noise = {"sigma_Tenv": 0.01, "sigma_Tgf": 0.01, "sigma_Tim": 0.01, "sigma_Ti": 0.05}
     # the temperature fit (model.calibration: temperature), whose diffusions this test is about
     results = _run_twin(tmp_path, fixed_noise=noise, calibration="temperature")
     ref = _reference()
     hlc = results["heat_loss_coefficient_W_per_K"]
     truth = ref["heat_loss_coefficient_W_per_K"]
-    assert abs(hlc["value"] / truth - 1.0) < 0.05  # (-1.0 %; target 10 %)
+    assert abs(hlc["value"] / truth - 1.0) < 0.05  # (+0.7 %; target 10 %)
     assert hlc["p05"] <= truth <= hlc["p95"]
     demand = results["annual_heating_demand_kWh"]["value"]
-    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.15  # (+10.1 %; target 10 %)
+    # (+7.9 %; +10.1 % without the occupants, bound 0.15 -> 0.10: the target holds)
+    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.10
     test = results["validation"]["test"]
-    assert abs(test["mean_simulated"] - test["mean_measured"]) < 1.0  # (-0.60 K)
+    assert abs(test["mean_simulated"] - test["mean_measured"]) < 1.0  # (-0.51 K)
 
 
 def _energyplus_paths() -> dict[str, np.ndarray]:
@@ -301,35 +313,56 @@ def _energyplus_paths() -> dict[str, np.ndarray]:
 def test_twin_demand_gap_decomposed(twin):
     """Where thermocal's +36 % annual demand goes, path by path against EnergyPlus's own
     balance of the living zone (docs/retrofit.md, "Where the first twin's demand goes").
-    Measured, October-April [kWh], thermocal - EnergyPlus: floor +2,124 (5,337 vs 3,213),
-    air change +1,447 (``H_est`` 30 W/K vs an infiltration of 12 W/K), walls + attic + garage
-    -1,804, windows -121, sun through the windows -703, internal gains +799 (the occupants'
-    heat is on no meter), heating +1,701 (11,844 vs 10,143). EnergyPlus's balance closes to
-    80 kWh a year. Before the period's mean heat had its own weight in the heat fit's daily
-    step the calibrated model's own training heat was 0.47 kW (13 %) above the meter (the
-    gate's failure then) and the heating +3,143: floor +2,096, air change +1,805, envelope
-    -1,011, windows +197."""
+    Measured with the 3 occupants stated, October-April [kWh], thermocal - EnergyPlus: floor
+    +2,129, air change +1,530 (``H_est`` 31.5 W/K vs an infiltration of 12 W/K), walls + attic
+    + garage -1,595, windows -36, sun through the windows -703, internal gains +265 (the
+    occupants' 920 kWh a year by SIA 380/1's defaults vs EnergyPlus's 1,096), heating +1,550.
+    Without the occupants: floor +2,124, air change +1,447, walls + attic + garage -1,804,
+    windows -121, sun -703, internal gains +799 (their heat on no meter), heating +1,701
+    (11,844 vs 10,143). EnergyPlus's balance closes to 80 kWh a year. Before the period's
+    mean heat had its own weight in the heat fit's daily step the calibrated model's own
+    training heat was 0.47 kW (13 %) above the meter (the gate's failure then) and the
+    heating +3,143: floor +2,096, air change +1,805, envelope -1,011, windows +197."""
     ep = _energyplus_paths()
     rc = {k: np.asarray(v) for k, v in twin["heat_balance_kWh"]["monthly"].items()}
     season = [9, 10, 11, 0, 1, 2, 3]
     assert abs(ep["stored"].sum()) < 0.01 * ep["heating"].sum()  # (80 of 10,302)
     d = {k: rc[k][season].sum() - ep[k][season].sum() for k in rc}
     gap = d.pop("heating")
-    assert 1300.0 < gap < 2200.0, d  # (1,701; 3,143 before the mean heat's own weight)
+    assert 1300.0 < gap < 2200.0, d  # (1,550; 1,701 without the occupants; 3,143 before)
     # the floor is the largest single excess, the ground under the slab (soil 2.0 vs Kiva's
     # 0.864, no memory of the house's 28-33 C summer: EnergyPlus's floor loses -20 / 177 /
     # 347 kWh in October / November / December, thermocal's 467 / 568 / 704)
-    assert d["floor"] > 0.5 * gap and d["floor"] == max(d.values()), d  # (2,096)
+    assert d["floor"] > 0.5 * gap and d["floor"] == max(d.values()), d  # (2,129)
     assert rc["floor"][9] - ep["floor"][9] > 350.0  # October (492)
     # the conductance paths together are within 10 % of EnergyPlus's: their split is not
     ti_te = sum(d[k] for k in ("envelope", "windows", "air_change"))
     base = sum(ep[k][season].sum() for k in ("envelope", "windows", "air_change"))
-    assert abs(ti_te) < 0.10 * base, (ti_te, base)  # (-478 of 15,807)
-    assert d["air_change"] > 1200.0 and d["envelope"] < -1200.0, d  # (+1,447, -1,804)
-    # the occupants' sensible heat (1,096 kWh a year) is not in the electricity meter
+    assert abs(ti_te) < 0.10 * base, (ti_te, base)  # (-101 of 15,807; -478 without occupants)
+    assert d["air_change"] > 1200.0 and d["envelope"] < -1200.0, d  # (+1,530, -1,595)
+    # the occupants' sensible heat (1,096 kWh a year in EnergyPlus) is on no meter; the
+    # configuration's occupants: 3 gives 3 x 70 W x 12 h x 365 = 920 kWh (SIA 380/1)
     people = _reference()["internal_gains_kWh"]["people_sensible"]
-    assert rc["gains"].sum() - ep["gains"].sum() == pytest.approx(people, rel=0.02)
+    stated = 3 * 70.0 * 12.0 * 365.0 / 1000.0
+    assert rc["gains"].sum() - ep["gains"].sum() == pytest.approx(people - stated, abs=25.0)
     # the calibrated model meets its own training period's heat: the mean daily residual
-    # (the air-change regression's intercept) -1.3 kWh per day, -11.3 (0.47 kW, 13 %)
+    # (the air-change regression's intercept) -1.2 kWh per day (-1.3 without the occupants),
+    # -11.3 (0.47 kW, 13 %)
     # before the period's mean heat had its own weight in the daily step
     assert abs(twin["air_change_adjustment"]["intercept_kWh_per_day"]) < 3.0
+
+
+def test_twin_walls_and_air_change_share_the_loss(twin):
+    """Why the walls' saving is under-estimated (46.7 % vs EnergyPlus's 59.3 %): the calibration
+    corrects roof + walls by x 0.54 (EnergyPlus's walls follow their nominal U-values once the
+    sun on them is counted, docs/retrofit.md "Walls and the air change on the first twin") and
+    puts the rest in ``H_est`` (31.5 W/K vs an infiltration of 12 W/K). The six weeks' daily
+    heat fixes their sum, not their split: posterior correlation of ln k_env with ln H_est
+    -0.65; with k_env held at 0.5 / 0.6 / 0.7 and the rest re-fitted the data's misfit changes
+    by about one chi-square unit while the priors' changes by eight (H_est's prior sits at the
+    building file's 0.5 1/h, 99.5 W/K); the summary says the priors decide the split."""
+    corr = twin["calibration"]["correction"]
+    assert corr["factors"]["k_env"] < 0.7  # (0.54)
+    assert corr["correlation_with_H_est"]["k_env"] < -0.5  # (-0.65)
+    assert "shares the loss with roof + walls" in corr["summary"]
+    assert twin["calibration"]["params"]["H_est"]["value"] > 20.0  # (31.5 vs 12 W/K)

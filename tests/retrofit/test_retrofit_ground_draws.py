@@ -142,7 +142,7 @@ def test_results_floor_group_names_the_buildings_floor(folder, component, kind):
     _, model = _model(folder)
     corr = SimpleNamespace(
         factors={"k_env": 1.0, "k_win": 1.0, "k_floor": 1.0}, prior_std={},
-        posterior_std={}, separated={}, correlation={}, summary=lambda: "",
+        posterior_std={}, separated={}, correlation={}, h_est_correlation={}, summary=lambda: "",
     )  # fmt: skip
     groups = _correction_dict(corr, model)["groups"]
     assert model.ground.kind == kind

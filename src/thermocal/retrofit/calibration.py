@@ -1159,6 +1159,8 @@ def calibrate_to_heat(
             posterior_std=post,
             separated={g: bool(post[g] < SEPARATED_RATIO * prior[g]) for g in groups},
             log_posterior=float(-0.5 * np.sum(sol.fun**2)), correlation=pairs,
+            h_est_correlation={} if i_h is None else {
+                g: float(corr[i, i_h]) for i, g in enumerate(groups)},
         )  # fmt: skip
         zd = draw_corrected(corrected, 1000, seed=1)[1:]
         hd = hlc_of_draws(model, corrected.group_factors(zd), corrected.physical_si(zd)["H_est"])

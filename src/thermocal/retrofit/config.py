@@ -76,6 +76,11 @@ FLOW_UNITS: dict[str, float] = {
 #: Most parameter draws for the intervals (a 90 % interval settles within a few thousand).
 MAX_DRAWS = 100_000
 
+#: Most occupants of one house (more: a block of flats, analyse it per dwelling).
+MAX_OCCUPANTS = 30
+#: Range of a person's sensible heat [W]: asleep (0.8 met) to active housework (~2.5 met).
+OCCUPANT_SENSIBLE_RANGE_W = (30.0, 200.0)
+
 #: A constant indoor temperature of the demand simulation must lie in this range [C].
 INDOOR_PROFILE_RANGE = (5.0, 35.0)
 
@@ -341,6 +346,12 @@ class InternalGainsConfig(_Strict):
     ``schedule_W`` (hour 0..23 local standard time, repeated every day); ``electricity``: the
     measurements' ``electricity`` column times ``fraction_inside`` during the measurements,
     its mean 24-hour profile in the demand year.
+
+    ``occupants`` (on top of any source, also of ``none``): the number of people living in the
+    house; their sensible heat ``occupant_sensible_W`` per person (default 70 W) times the
+    hourly presence ``occupant_presence`` (default: 12 hours a day), both SIA 380/1:2016
+    standard use values of housing (:mod:`thermocal.retrofit.gains`), relative uncertainty
+    ``occupants_rel_std`` in the draws.
     """
 
     source: Literal["none", "constant", "schedule", "electricity"] = "none"
@@ -357,9 +368,70 @@ class InternalGainsConfig(_Strict):
     rel_std: float = Field(
         0.3, ge=0, le=1.0, description="relative standard deviation of the gains in the demand"
     )
+    occupants: float | None = Field(
+        None, description="number of people living in the house (their sensible heat is on "
+        "no meter; added to the source's gains)",
+    )  # fmt: skip
+    occupant_sensible_W: float = Field(
+        70.0, description="sensible heat per occupant while present [W] (SIA 380/1:2016: 70 W)"
+    )
+    occupant_presence: list[float] | None = Field(
+        None, description="24 hourly presence fractions 0..1 (hour 0..23, local standard "
+        "time); default: thermocal.retrofit.gains.OCCUPANT_PRESENCE, 12 h a day (SIA 380/1)",
+    )  # fmt: skip
+    occupants_rel_std: float = Field(
+        0.3, ge=0, le=1.0, description="relative standard deviation of the occupants' gains "
+        "(presence and heat per person) in the demand",
+    )  # fmt: skip
+
+    @field_validator("occupants")
+    @classmethod
+    def _people(cls, value: float | None) -> float | None:
+        """A house's occupants: not negative, not a block of flats."""
+        if value is not None and not 0 <= value <= MAX_OCCUPANTS:
+            raise ValueError(
+                f"occupants = {value:g}: the number of people living in the house, between 0 "
+                f"and {MAX_OCCUPANTS}"
+            )
+        return value
+
+    @field_validator("occupant_sensible_W")
+    @classmethod
+    def _per_person(cls, value: float) -> float:
+        """A person's sensible heat lies between sleeping (~40 W) and housework (~150 W)."""
+        lo, hi = OCCUPANT_SENSIBLE_RANGE_W
+        if not lo <= value <= hi:
+            hint = f"; is it in kW? then write {value * 1000:g}" if 0 < value < 1 else ""
+            raise ValueError(
+                f"occupant_sensible_W = {value:g}: the sensible heat of one person [W], between "
+                f"{lo:g} (asleep) and {hi:g} (active){hint}"
+            )
+        return value
+
+    @field_validator("occupant_presence")
+    @classmethod
+    def _presence(cls, value: list[float] | None) -> list[float] | None:
+        if value is None:
+            return value
+        if len(value) != 24:
+            raise ValueError(f"occupant_presence needs 24 hourly fractions, got {len(value)}")
+        bad = [f"hour {h}: {v:g}" for h, v in enumerate(value) if not 0.0 <= v <= 1.0]
+        if bad:
+            raise ValueError(
+                "occupant_presence: fractions of the occupants at home, between 0 and 1 ("
+                + ", ".join(bad[:3])
+                + ")"
+            )
+        return value
 
     @model_validator(mode="after")
     def _complete(self) -> InternalGainsConfig:
+        given = {"occupant_sensible_W", "occupant_presence"} & self.model_fields_set
+        if given and self.occupants is None:
+            raise ValueError(
+                f"{', '.join(sorted(given))} without occupants: give the number of people "
+                "(internal_gains.occupants)"
+            )
         if self.source == "constant" and self.constant_W is None:
             raise ValueError("source 'constant' needs constant_W [W]")
         if self.source == "schedule":

@@ -94,6 +94,9 @@ def group_components(envelope, ground_kind: str) -> dict[str, dict]:
 H_EST_PRIOR_STD_LOG = 0.5
 #: A group is separated by the data when posterior / prior standard deviation is below this.
 SEPARATED_RATIO = 0.7
+#: A group whose ln k correlates with ln H_est at or below minus this shares its loss with
+#: H_est: the summary says the priors decide their split.
+SHARED_CORRELATION = 0.5
 #: Bounds of the factors [-].
 FACTOR_BOUNDS = (0.3, 3.0)
 
@@ -138,6 +141,8 @@ class Correction:
     log_posterior: float = 0.0
     map_values: dict = field(default_factory=dict)  # every parameter of the network, declared
     correlation: dict[str, float] = field(default_factory=dict)  # pairs of z with |r| > 0.9
+    #: posterior correlation of each group's ln k with ln H_est (data and priors)
+    h_est_correlation: dict[str, float] = field(default_factory=dict)
 
     def physical_si(self, z: np.ndarray) -> dict[str, np.ndarray]:
         """Estimated parameters in SI (W/K, J/K) of draws ``z`` (n, len(names))."""
@@ -159,7 +164,19 @@ class Correction:
                 + ("separated by the data" if self.separated[g] else "prior-dominated")
                 + ")"
             )
-        return "calculated U-values corrected by the data: " + "; ".join(parts)
+        shared = [
+            f"{GROUP_LABELS[g]} (posterior correlation {r:+.2f})"
+            for g, r in self.h_est_correlation.items() if r <= -SHARED_CORRELATION
+        ]  # fmt: skip
+        text = "calculated U-values corrected by the data: " + "; ".join(parts)
+        if shared:
+            text += (
+                "; the estimated extra loss H_est shares the loss with "
+                + ", ".join(shared)
+                + ": the data fix their sum, the priors mostly their split (the intervals "
+                "carry it)"
+            )
+        return text
 
 
 GROUP_LABELS = {"k_env": "roof + walls", "k_win": "windows", "k_floor": "floor"}
@@ -313,7 +330,9 @@ def estimate_correction(
         log_posterior=float(-res.fun),
         map_values=map_values,
         correlation=pairs,
-    )
+        h_est_correlation={} if i_h is None else {
+            g: float(corr[i, i_h]) for i, g in enumerate(groups)},
+    )  # fmt: skip
 
 
 def _group_present(envelope, group: str) -> bool:

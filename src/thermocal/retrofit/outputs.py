@@ -279,6 +279,7 @@ def _correction_dict(corr, model) -> dict | None:
         "posterior_std_log": corr.posterior_std,
         "separated_by_data": corr.separated,
         "strong_correlations": corr.correlation,
+        "correlation_with_H_est": corr.h_est_correlation,
         "summary": corr.summary(),
     }  # fmt: skip
 

@@ -15,6 +15,7 @@ import pandas as pd
 
 from thermocal.retrofit import references as refs
 from thermocal.retrofit.economics import measure_areas, measure_investment, recommend
+from thermocal.retrofit.gains import has_gains
 from thermocal.retrofit.model import ESTIMATED_PARAMETERS
 from thermocal.retrofit.workflow import RetrofitAnalysis
 
@@ -356,9 +357,9 @@ def write_report(
         + (
             "; internal gains as during the measurements (not an input: internal_gains: in "
             "the configuration); other habits change the demand"
-            if cfg.internal_gains.source == "none"
+            if not has_gains(cfg.internal_gains)
             else f"; other habits change the demand (the internal gains' "
-            f"{100 * cfg.internal_gains.rel_std:.0f} % uncertainty is covered)"
+            f"{100 * _gains_rel_std(analysis):.0f} % uncertainty is covered)"
         ),
         "the model structure: five lumped temperatures stand for the whole house; effects it "
         "cannot represent (thermal bridges a retrofit changes other than the slab edge, "
@@ -613,17 +614,32 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
 _LIMIT_SIGN = {True: "± ", False: "<= "}
 
 
+def _gains_rel_std(analysis) -> float:
+    """Relative uncertainty [-] of all internal gains in the draws."""
+    from thermocal.retrofit.gains import combined_rel_std
+
+    ig = analysis.config.internal_gains
+    year = analysis.year_gains
+    if year is None:
+        return float(ig.rel_std)
+    day = np.asarray(year, float)[: 24 * (len(year) // 24)].reshape(-1, 24).mean(axis=0)
+    return combined_rel_std(day, ig)
+
+
 def _gains_text(analysis) -> str:
     """The assumptions row on internal gains."""
+    from thermocal.retrofit.gains import OCCUPANT_PRESENCE, occupant_day_profile
+
     ig = analysis.config.internal_gains
-    if ig.source == "none":
+    if not has_gains(ig):
         return (
             "not a separate input (internal_gains.source: none): the gains of occupants and "
             "appliances during the measurements are contained in the calibrated heat balance "
             "(mostly in H_est), so the demand assumes the same use of the house"
         )
     year = analysis.year_gains
-    kwh = float(np.sum(year)) * analysis.demand.step_hours / 1000.0 if year is not None else 0.0
+    step_h = analysis.demand.step_hours
+    kwh = float(np.sum(year)) * step_h / 1000.0 if year is not None else 0.0
     # only the chosen source's text is formatted: the others' values are None
     if ig.source == "electricity":
         what = (
@@ -632,12 +648,28 @@ def _gains_text(analysis) -> str:
         )
     elif ig.source == "schedule":
         what = "a 24-hour schedule (internal_gains.schedule_W)"
-    else:
+    elif ig.source == "constant":
         what = f"a constant {ig.constant_W:g} W (internal_gains.constant_W)"
+    else:
+        what = ""
+    people = occupant_day_profile(ig)
+    if people is not None:
+        hours = float(np.sum(ig.occupant_presence if ig.occupant_presence is not None
+                             else OCCUPANT_PRESENCE))  # fmt: skip
+        occ_kwh = float(np.mean(people)) * 8760.0 / 1000.0
+        source = (
+            "internal_gains.occupant_presence" if ig.occupant_presence is not None
+            else "SIA 380/1:2016 standard use values of housing"
+        )  # fmt: skip
+        occ = (
+            f"{ig.occupants:g} occupants x {ig.occupant_sensible_W:g} W sensible heat, present "
+            f"{hours:.1f} h a day ({source}): {occ_kwh:,.0f} kWh a year"
+        )
+        what = f"{what}; plus {occ}" if what else occ
     return (
-        f"an input into the indoor air: {what}; {kwh:,.0f} kWh a year, "
-        f"{100 * ig.rel_std:.0f} % relative uncertainty in the intervals. In the calibration "
-        "they are added to the measured heating power"
+        f"an input into the indoor air: {what}; {kwh:,.0f} kWh a year in all, "
+        f"{100 * _gains_rel_std(analysis):.0f} % relative uncertainty in the intervals. In the "
+        "calibration they are added to the measured heating power"
     )
 
 

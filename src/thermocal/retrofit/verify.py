@@ -476,10 +476,10 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         removed_values_notes,
     )
     from thermocal.retrofit.demand import DEMAND_INPUTS
+    from thermocal.retrofit.gains import internal_gains
     from thermocal.retrofit.model import build_fifth_order_model
     from thermocal.retrofit.workflow import (
         _location_tz,
-        internal_gains,
         load_building,
         load_weather_year,
         model_inputs,
@@ -886,12 +886,9 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     draws_post, env_post = scenario_draws(cfg, model_post, cal_post, strategies[:1], {})
     year_gains = None
     if has_gains:
-        ig = cfg.internal_gains
-        day = (
-            daily_profile(inputs.loc[sel_pre, "phi_int"]) if ig.source == "electricity"
-            else np.asarray(ig.schedule_W, float) if ig.source == "schedule"
-            else np.full(24, float(ig.constant_W))
-        )  # fmt: skip
+        from thermocal.retrofit.gains import gains_day_profile
+
+        day = gains_day_profile(inputs.loc[sel_pre, "phi_int"], cfg.internal_gains)
         year_gains = day[np.asarray(year.index.hour)]
     a_pre = simulate_demand(model, draws_pre, env_pre, year, prof_pre, gains=year_gains)
     a_pre = a_pre.annual_kwh()  # (2, D+1): as it was, with the measures (model prediction)

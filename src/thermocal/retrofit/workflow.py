@@ -41,6 +41,7 @@ from thermocal.retrofit.data import (
     removed_values_notes,
 )
 from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
+from thermocal.retrofit.gains import combined_rel_std, gains_day_profile, internal_gains
 from thermocal.retrofit.gate import heat_to_follow_measured, heat_validation, validation_gate
 from thermocal.retrofit.ground_draws import draw_ground_inputs, ground_overrides
 from thermocal.retrofit.inputs import solar_inputs
@@ -442,13 +443,11 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         )
     strategies = cfg.strategy_list()
     year_gains = None
-    if gains is not None:
-        day = (
-            daily_profile(inputs["phi_int"]) if metered
-            else np.asarray(ig.schedule_W, float) if ig.source == "schedule"
-            else np.full(24, float(ig.constant_W))
-        )  # fmt: skip
+    gains_std = 0.0
+    if gains is not None:  # the source's and the occupants' (thermocal.retrofit.gains)
+        day = gains_day_profile(inputs["phi_int"], ig)
         year_gains = day[np.asarray(year.index.hour)]
+        gains_std = combined_rel_std(day, ig)
     ground = None
     if cfg.uncertainty.ground and cfg.uncertainty.draws > 0:
         # the ground's uncertain inputs (thermocal.retrofit.ground_draws); the calibration
@@ -483,7 +482,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     if ground is not None:
         draws.update(ground["inputs"])
     if gains is not None:  # their uncertainty: one log-normal factor per draw (first: 1)
-        sigma = np.sqrt(np.log1p(ig.rel_std**2))
+        sigma = np.sqrt(np.log1p(gains_std**2))
         rng = np.random.default_rng(cfg.uncertainty.seed + 104729)
         factor = np.exp(rng.normal(-0.5 * sigma**2, sigma, len(draws["H_est"])))
         factor[0] = 1.0
@@ -566,25 +565,6 @@ def calibration_method(requested: str, train: pd.DataFrame) -> dict:
     )
     return {"method": method, "requested": requested, "tight_control": control,
             "summary": f"The model was {what}; {why}."}  # fmt: skip
-
-
-def internal_gains(grid: pd.DataFrame, cfg) -> pd.Series | None:
-    """Internal gains [W] on the measurement grid (None: ``internal_gains.source: none``).
-
-    Parameters
-    ----------
-    grid : pd.DataFrame
-        The measurement grid (``phi_el`` [W] from the electricity meter when metered).
-    cfg : thermocal.retrofit.config.InternalGainsConfig
-    """
-    if cfg.source == "none":
-        return None
-    if cfg.source == "electricity":
-        return grid["phi_el"].astype(float) * cfg.fraction_inside
-    if cfg.source == "schedule":
-        values = np.asarray(cfg.schedule_W, float)[np.asarray(grid.index.hour)]
-        return pd.Series(values, index=grid.index)
-    return pd.Series(float(cfg.constant_W), index=grid.index)
 
 
 def _location_tz(building):

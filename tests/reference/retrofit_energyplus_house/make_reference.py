@@ -22,6 +22,8 @@ transcribed below field by field (vertices as in the file); the HVAC is replaced
 Kiva needs massive layers: the carpet CP02 (Material:NoMass, R 0.217) becomes a 12.7 mm layer of
 the same resistance (200 kg/m3, 1300 J/(kg K)).
 
+``--config-only`` rewrites ``config.yaml`` alone (no EnergyPlus run).
+
 Run (about 3 minutes on 2 cores)::
 
     python tests/reference/retrofit_energyplus_house/make_reference.py \
@@ -466,9 +468,20 @@ def retrofit_config(weather: str) -> dict:
         "weather": {"file": f"../../../../shared/data/weather_switzerland/{weather}"},
         "periods": {"training_days": 21, "test_days": 21},
         "measures": MEASURES,
-        "internal_gains": {"source": "electricity", "electricity_unit": "W"},
+        # what a user knows: the electricity meter and the number of people living in the
+        # house (the IDF's 3 occupants; not its schedule or activity level: thermocal's
+        # defaults, SIA 380/1, stand for those)
+        "internal_gains": {"source": "electricity", "electricity_unit": "W", "occupants": 3},
         "demand": {"indoor_profile": SETPOINT},
     }
+
+
+def write_config(weather: str) -> None:
+    """``config.yaml`` alone (the EnergyPlus results do not depend on it)."""
+    (HERE / "config.yaml").write_text(
+        "# written by make_reference.py; weather: the Zurich 2015 EPW of the shared test data\n"
+        + yaml.safe_dump(retrofit_config(Path(weather).name), sort_keys=False)
+    )
 
 
 # ---------------------------------------------------------------------------------------------
@@ -596,10 +609,7 @@ def main(weather: str, work: str = "/tmp/retrofit_energyplus_house") -> None:
         "# written by make_reference.py: the house as a user describes it\n"
         + yaml.safe_dump(building_description(), sort_keys=False)
     )
-    (HERE / "config.yaml").write_text(
-        "# written by make_reference.py; weather: the Zurich 2015 EPW of the shared test data\n"
-        + yaml.safe_dump(retrofit_config(weather.name), sort_keys=False)
-    )
+    write_config(weather.name)
     print(json.dumps({"hlc": hlc, "annual": annual}, indent=1))
 
 
@@ -811,6 +821,8 @@ if __name__ == "__main__":
         print(json.dumps(ground_sun_study(sys.argv[1]), indent=1))
     elif "--ground-dynamics" in sys.argv:
         print(json.dumps(ground_dynamics_study(sys.argv[1]), indent=1))
+    elif "--config-only" in sys.argv:
+        write_config(sys.argv[1])
     elif "--ground" in sys.argv:
         print(json.dumps(ground_study(sys.argv[1]), indent=1))
     else:

@@ -108,3 +108,27 @@ def test_fit_started_at_a_poor_optimum_finds_the_exchanged_one_or_says_so(prbs):
     assert res.loglike > 5448.2  # before: 5445.78, converged
     assert res.converged and res.agreement["n_best"] >= 2
     assert res.params["Cm"] > res.params["Ce"]  # the mass is now the heavy state
+
+
+def test_heat_loss_profiles_in_parallel_equal_the_serial_ones(fits, monkeypatch):
+    """`heat_loss_coefficients` computes each side of each profile in its own process; the
+    intervals, the profile points' effects (flags, convergence) are those of the profile in
+    one piece, bit for bit. On this data Ti's lower side evaluates the profile at the estimate
+    (its first step crosses the threshold), which moves the point the upper side starts from:
+    the upper side is then computed again from it."""
+    import copy
+
+    from thermocal.statespace import results
+
+    names = ["Ti", "TiTh"]
+    parallel = {n: copy.deepcopy(fits[n]) for n in names}
+    serial = {n: copy.deepcopy(fits[n]) for n in names}
+    got = results.heat_loss_coefficients(parallel, profile=names, n_jobs=2)
+    for n in names:
+        assert got[n] == serial[n].heat_loss_coefficient()
+        assert got[n]["interval"] == "profile"
+        assert parallel[n].converged == serial[n].converged
+        assert parallel[n].flags == serial[n].flags
+    monkeypatch.setattr(results, "_HLC_FITS", {"Ti": fits["Ti"]})
+    lower = results._hlc_side_worker(("Ti", -1.0, 0.05, None))
+    assert results._centre_moved(fits["Ti"], lower[3]) is not None

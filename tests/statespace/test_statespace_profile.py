@@ -240,3 +240,24 @@ def test_profile_runs_with_one_blas_thread_and_restores_the_setting(fitted, monk
     assert interval["lower"] < fitted.params["H"] < interval["upper"]
     assert seen and set(seen) == {1}
     assert [lib["num_threads"] for lib in threadpoolctl.threadpool_info()] == outside
+
+
+def test_heat_loss_profiles_in_parallel_equal_the_serial_ones(fitted):
+    """`heat_loss_coefficients` (each side of each profile a task of a process pool) gives
+    the dicts, flags and convergence of the profiles computed in this process one after the
+    other, bit for bit; also for a fit below its own profile (flagged, not converged)."""
+    import copy
+
+    from thermocal.statespace.results import heat_loss_coefficients
+
+    early = fitted.model.with_parameters({"H": 100.0}).fit(fitted.data, n_starts=1, maxiter=1)
+    early.converged = True
+    fits = {"fitted": fitted, "early": early}
+    parallel = {n: copy.deepcopy(r) for n, r in fits.items()}
+    serial = {n: copy.deepcopy(r) for n, r in fits.items()}
+    got = heat_loss_coefficients(parallel, profile=list(fits), n_jobs=2)
+    for n in fits:
+        assert got[n] == serial[n].heat_loss_coefficient()
+        assert parallel[n].converged == serial[n].converged
+        assert parallel[n].flags == serial[n].flags
+    assert not parallel["early"].converged

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -286,3 +287,49 @@ def test_family_scale_of_the_flexhouse_like_data_is_one():
     assert scale == 1.0 and h == pytest.approx(2850 / 16.5)
     assert family_scale(df.assign(Ph=0.0), "kW")[0] == 1.0
     assert family_scale(df.assign(Ph=2850.0), "W")[1] == pytest.approx(h)
+
+
+def test_selection_in_one_shared_pool_equals_pools_per_fit(monkeypatch):
+    """`forward_selection` sends the starts of all its fits to one process pool (forked once,
+    each task with its problem); the table, the estimates and every start's end are those of
+    the fits each with its own pool, bit for bit."""
+    from contextlib import contextmanager
+
+    from thermocal.statespace import estimation
+    from thermocal.statespace.diagnostics import forward_selection
+
+    data, _ = _large_building_data()
+    models, _, _ = bacher_madsen_family(scale=10.0)
+    names = ("Ti", "TiTe", "TiTh")
+
+    def run():
+        return forward_selection({k: models[k] for k in names}, {"Ti": ["TiTe", "TiTh"]}, data,
+                                 start="Ti", seed=1)  # fmt: skip
+
+    pools = []
+    original = estimation.shared_pool
+
+    @contextmanager
+    def spy(problems=(), n_jobs=None):
+        with original(problems, n_jobs) as pool:
+            pools.append(pool)
+            yield pool
+
+    monkeypatch.setattr(estimation, "shared_pool", spy)
+    shared = run()
+    if (os.cpu_count() or 1) > 1:
+        assert pools and pools[0] is not None
+    assert estimation._SHARED_POOL is None  # closed with the selection
+
+    @contextmanager
+    def no_shared_pool(problems=(), n_jobs=None):
+        yield None
+
+    monkeypatch.setattr(estimation, "shared_pool", no_shared_pool)
+    per_fit = run()
+    pd.testing.assert_frame_equal(shared.table, per_fit.table)
+    assert shared.path == per_fit.path
+    for name in names:
+        a, b = shared.fits[name], per_fit.fits[name]
+        assert np.array_equal(a.theta, b.theta) and a.loglike == b.loglike
+        assert a.start_loglikes == b.start_loglikes and a.flags == b.flags

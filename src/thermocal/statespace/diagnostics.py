@@ -368,6 +368,33 @@ def forward_selection(
         "hold": hold, "time_column": time_column, "time_unit": time_unit,
         "input_gaps": input_gaps, "max_gap": max_gap,
     }  # fmt: skip
+    from thermocal.statespace.estimation import shared_pool
+
+    # the starts of all fits in one process pool, forked once with every candidate's
+    # compiled kernels loaded
+    with shared_pool(_candidate_problems(models, extensions, start, data, fit_kw)):
+        return _forward_selection(models, extensions, data, start, alpha, n_starts, seed,
+                                  fit_kw, callback)  # fmt: skip
+
+
+def _candidate_problems(models, extensions, start: str, data, fit_kw: dict) -> list:
+    """The likelihood problems of the start model and of every extension (each model once);
+    a model whose data cannot be prepared is left out (its fit reports why)."""
+    from thermocal.statespace.estimation import prepared_problem
+
+    names = dict.fromkeys([start, *[c for cs in extensions.values() for c in cs]])
+    problems = []
+    for name in names:
+        try:
+            problems.append(prepared_problem(models[name], data, **fit_kw))
+        except ThermocalInputError:
+            continue
+    return problems
+
+
+def _forward_selection(models, extensions, data, start, alpha, n_starts, seed, fit_kw,
+                       callback) -> SelectionResult:  # fmt: skip
+    """:func:`forward_selection` after the checks, in its process pool."""
     fits: dict = {}
 
     def fit_model(name, parent_fit=None, reuse=None):

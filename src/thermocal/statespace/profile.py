@@ -248,6 +248,34 @@ def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
 
 def _profile_interval(res, name: str, *, alpha: float) -> dict:
     """:func:`profile_interval` in the current thread settings."""
+    prof, threshold, drop = profile_setup(res, name, alpha=alpha)
+    ends = [profile_side(prof, side, threshold, drop) for side in (-1.0, 1.0)]
+    return profile_summary(res, name, prof, ends, threshold, alpha)
+
+
+#: The two ends of a profile interval: below and above the estimate (on the profiled scale).
+SIDES = (-1.0, 1.0)
+
+
+def profile_setup(res, name: str, *, alpha: float = 0.05):
+    """The profile-likelihood function of ``name`` and the threshold of its interval.
+
+    Parameters
+    ----------
+    res : FitResults
+    name : str
+        A free parameter, a quantity declared under ``derived:`` or
+        ``"heat_loss_coefficient"``.
+    alpha : float
+        1 - confidence level.
+
+    Returns
+    -------
+    (profile, threshold, drop)
+        The profile (callable: value on its scale -> profile log-likelihood, with its cache of
+        computed points), the log-likelihood at the interval's ends [-] and its distance below
+        the optimum [-].
+    """
     model = res.model
     if name in model.free_parameter_names:
         prof = _ParameterProfile(res, name)
@@ -274,36 +302,72 @@ def _profile_interval(res, name: str, *, alpha: float) -> dict:
     if not 0 < alpha < 1:
         raise ThermocalInputError(f"profile: alpha must lie in (0, 1), got {alpha}")
     drop = 0.5 * float(chi2_quantile(1 - alpha, 1))
-    threshold = res.loglike - drop
-    ends, open_end = {}, {}
-    z = math.sqrt(2 * drop)
-    for side in (-1.0, 1.0):
-        inner, outer = _bracket(prof, side, z * prof.step, threshold)
-        if outer is None:
-            if isinstance(prof, _ParameterProfile):  # the bound in this direction
-                p = model.parameters[name]
-                going_up = prof.value(prof.center + side * 1e-3) > prof.value(prof.center)
-                ends[side] = p.upper if going_up else p.lower
-            else:  # the edge of the range the quantity reaches within the bounds
-                ends[side] = prof.value(inner)
-            open_end[side] = True
-            continue
+    return prof, res.loglike - drop, drop
 
-        def excess(t):
-            try:
-                return prof(t) - threshold
-            except ThermocalInputError:
-                return -drop  # infeasible inside a bracket: below the threshold
 
-        root = optimize.brentq(
-            excess, min(inner, outer), max(inner, outer),
-            xtol=1e-6 * max(1.0, abs(prof.center)), rtol=1e-8, maxiter=40,
-        )  # fmt: skip
-        ends[side] = prof.value(root)
-        open_end[side] = False
-    (lower, open_lower), (upper, open_upper) = sorted(
-        [(ends[-1.0], open_end[-1.0]), (ends[1.0], open_end[1.0])]
-    )
+def profile_side(prof, side: float, threshold: float, drop: float) -> tuple[float, bool]:
+    """One end of a profile interval: bracketing outwards from the estimate, then Brent.
+
+    The profile points of one side are warm-started from the nearest point computed so far,
+    which is the estimate or a point of the same side, so the two sides can be computed
+    apart (e.g. in two processes, their caches merged afterwards) with the same numbers.
+
+    Parameters
+    ----------
+    prof : profile from :func:`profile_setup`
+    side : {-1.0, 1.0}
+        Below or above the estimate.
+    threshold, drop : float
+        From :func:`profile_setup` [-].
+
+    Returns
+    -------
+    (end, open)
+        The end [declared unit] and whether it is open (the profile stays above the threshold
+        up to the parameter's bound or the edge of the reachable range).
+    """
+    inner, outer = _bracket(prof, side, math.sqrt(2 * drop) * prof.step, threshold)
+    if outer is None:
+        if isinstance(prof, _ParameterProfile):  # the bound in this direction
+            p = prof.res.model.parameters[prof.name]
+            going_up = prof.value(prof.center + side * 1e-3) > prof.value(prof.center)
+            return (p.upper if going_up else p.lower), True
+        return prof.value(inner), True  # the edge of the range reached within the bounds
+
+    def excess(t):
+        try:
+            return prof(t) - threshold
+        except ThermocalInputError:
+            return -drop  # infeasible inside a bracket: below the threshold
+
+    root = optimize.brentq(
+        excess, min(inner, outer), max(inner, outer),
+        xtol=1e-6 * max(1.0, abs(prof.center)), rtol=1e-8, maxiter=40,
+    )  # fmt: skip
+    return prof.value(root), False
+
+
+def profile_summary(res, name: str, prof, ends, threshold: float, alpha: float) -> dict:
+    """The interval of :func:`profile_interval` from its two ends.
+
+    Parameters
+    ----------
+    res : FitResults
+        The fit; marked not converged and flagged when a profile point is more than
+        :data:`AGREEMENT_TOLERANCE` above its optimum.
+    name : str
+    prof : profile from :func:`profile_setup`
+        Its cache holds the points of both sides.
+    ends : sequence of (float, bool)
+        :func:`profile_side` of the sides in :data:`SIDES` order.
+    threshold, alpha : float
+
+    Returns
+    -------
+    dict
+        As :func:`profile_interval`.
+    """
+    (lower, open_lower), (upper, open_upper) = sorted(ends)
     points = {prof.value(t): ll for t, (ll, _) in sorted(prof.cache.items())}
     better = max(points.items(), key=lambda item: item[1])
     better_optimum = None

@@ -499,16 +499,7 @@ class FitResults:
             except ThermocalInputError as exc:
                 out["profile_error"] = str(exc)
                 return out
-            width = prof["upper"] - prof["lower"]
-            off = max(
-                abs(out["wald_lower"] - prof["lower"]), abs(out["wald_upper"] - prof["upper"])
-            )
-            out |= {
-                "lower": prof["lower"], "upper": prof["upper"],
-                "open_lower": prof["open_lower"], "open_upper": prof["open_upper"],
-                "interval": "profile",
-                "disagree": bool(not math.isfinite(se) or off > 0.1 * width),
-            }  # fmt: skip
+            out = with_profile_interval(out, prof)
         return out
 
     def note_better_optimum(self, loglike: float, where: str) -> None:
@@ -822,14 +813,108 @@ def _load_hlc_kernels(res) -> None:
     )  # fmt: skip
 
 
-def _hlc_worker(args):
-    name, alpha = args
-    from thermocal.statespace.convergence import one_blas_thread
+def with_profile_interval(hlc: dict, prof: dict) -> dict:
+    """A heat loss coefficient dict (Wald, see :meth:`FitResults.heat_loss_coefficient`) with
+    the ends of its profile-likelihood interval ``prof`` [W/K] (from
+    :func:`thermocal.statespace.profile.profile_interval`); ``disagree`` when an end of the Wald
+    interval is more than 10 % of the profile interval's width off."""
+    width = prof["upper"] - prof["lower"]
+    off = max(abs(hlc["wald_lower"] - prof["lower"]), abs(hlc["wald_upper"] - prof["upper"]))
+    return hlc | {
+        "lower": prof["lower"], "upper": prof["upper"],
+        "open_lower": prof["open_lower"], "open_upper": prof["open_upper"],
+        "interval": "profile",
+        "disagree": bool(not math.isfinite(hlc["std_error"]) or off > 0.1 * width),
+    }  # fmt: skip
 
+
+def _hlc_side_worker(args):
+    """One side of the heat loss coefficient's profile of ``_HLC_FITS[name]``, in a worker.
+
+    ``args``: ``(name, side, alpha, centre)``; ``centre``, when not None, replaces the profile
+    point at the estimate before the side is computed (the point as the other side left it,
+    see :func:`_centre_moved`).
+
+    Returns ``(name, side, end, cache, error)``: the end [W/K] and whether it is open, the
+    profile points computed (value [W/K] -> (log-likelihood, theta)), or the message of the
+    input error that stopped it (``end`` and ``cache`` then None).
+    """
+    from thermocal.errors import ThermocalInputError
+    from thermocal.statespace.convergence import one_blas_thread
+    from thermocal.statespace.profile import profile_setup, profile_side
+
+    name, side, alpha, centre = args
     one_blas_thread()  # for the worker's lifetime: the pool is the parallelism
-    res = _HLC_FITS[name]
-    hlc = res.heat_loss_coefficient(alpha=alpha, profile=True)
-    return name, hlc, res.converged, list(res.flags)
+    try:
+        prof, threshold, drop = profile_setup(_HLC_FITS[name], "heat_loss_coefficient",
+                                              alpha=alpha)  # fmt: skip
+        if centre is not None:
+            prof.cache[prof.center] = centre
+        end = profile_side(prof, side, threshold, drop)
+    except ThermocalInputError as exc:
+        return name, side, None, None, str(exc)
+    return name, side, end, prof.cache, None
+
+
+def _centre_moved(res, cache) -> tuple | None:
+    """The profile point at the estimate as a side of the profile left it (``cache``), when it
+    is no longer the fit's own (log-likelihood and theta): Brent's method evaluates the
+    profile at the estimate when the first step out already crosses the threshold, and that
+    constrained fit replaces the point; the other side then starts from it. None otherwise."""
+    if cache is None or not cache:
+        return None
+    ll, theta = next(iter(cache.values()))  # the estimate: the first point of every profile
+    same = ll == res.loglike and np.array_equal(theta, np.asarray(res.theta, dtype=float))
+    return None if same else (ll, theta)
+
+
+def _hlc_from_sides(res, alpha: float, sides: dict) -> dict:
+    """:meth:`FitResults.heat_loss_coefficient` with the profile from its two sides computed
+    apart (``sides``: side -> ``(end, cache, error)`` of :func:`_hlc_side_worker`, the upper
+    side started from the estimate's point as the lower side left it): the same dict, flags
+    and convergence as computed in one piece."""
+    from thermocal.statespace.profile import SIDES, profile_setup, profile_summary
+
+    out = res.heat_loss_coefficient(alpha=alpha, profile=False)
+    for side in SIDES:  # the first error, as in one piece (lower side first)
+        if sides[side][2] is not None:
+            return out | {"profile_error": sides[side][2]}
+    name = "heat_loss_coefficient"
+    prof, threshold, _ = profile_setup(res, name, alpha=alpha)
+    for side in SIDES:
+        prof.cache.update(sides[side][1])
+    ends = [sides[side][0] for side in SIDES]
+    return with_profile_interval(out, profile_summary(res, name, prof, ends, threshold, alpha))
+
+
+def _hlc_sides(pool, fits, todo, alpha) -> dict:
+    """Both sides of the heat loss coefficient's profile of each fit in ``todo``, as tasks of
+    ``pool`` (the longest profiles, most free parameters, first).
+
+    The sides share one point, the estimate's (see :func:`_centre_moved`): the upper side is
+    computed from the fit's own point, and computed again from the lower side's when that
+    side moved it, so the results are those of the two sides one after the other.
+
+    Returns
+    -------
+    dict
+        ``{(name, side): (end, cache, error)}``.
+    """
+    from thermocal.statespace.profile import SIDES
+
+    lower, upper = SIDES
+    order = sorted(todo, key=lambda n: -fits[n].n_free)
+    tasks = [(n, side, alpha, None) for n in order for side in SIDES]
+    done = {(n, side): rest for n, side, *rest in pool.map(_hlc_side_worker, tasks)}
+    again = []
+    for n in order:
+        if done[n, lower][2] is None:
+            centre = _centre_moved(fits[n], done[n, lower][1])
+            if centre is not None:
+                again.append((n, upper, alpha, centre))
+    for n, side, *rest in pool.map(_hlc_side_worker, again):
+        done[n, side] = tuple(rest)
+    return {key: tuple(value) for key, value in done.items()}
 
 
 def heat_loss_coefficients(
@@ -859,12 +944,14 @@ def heat_loss_coefficients(
     """
     import os
 
+    from thermocal.statespace.profile import SIDES
+
     names = [n for n, r in fits.items() if r.model.heat_loss_state() is not None]
     todo = [n for n in names if n in set(profile)]
     out = {}
     if n_jobs is None:
-        n_jobs = min(len(todo), os.cpu_count() or 1)
-    if len(todo) > 1 and n_jobs > 1:
+        n_jobs = min(len(SIDES) * len(todo), os.cpu_count() or 1)
+    if todo and n_jobs > 1:
         import multiprocessing as mp
         from concurrent.futures import ProcessPoolExecutor
 
@@ -874,17 +961,12 @@ def heat_loss_coefficients(
         if ctx.get_start_method() == "fork":
             _load_hlc_kernels(fits[todo[0]])  # here once, inherited by the forked workers
         try:
-            with ProcessPoolExecutor(min(n_jobs, len(todo)), mp_context=ctx) as pool:
-                # the longest profiles (most free parameters) first
-                order = sorted(todo, key=lambda n: -fits[n].n_free)
-                for name, hlc, converged, flags in pool.map(
-                    _hlc_worker, [(n, alpha) for n in order]
-                ):
-                    out[name] = hlc
-                    fits[name].converged = converged
-                    fits[name].flags[:] = flags
+            with ProcessPoolExecutor(min(n_jobs, len(SIDES) * len(todo)), mp_context=ctx) as pool:
+                done = _hlc_sides(pool, fits, todo, alpha)
         finally:
             _HLC_FITS = {}
+        for n in todo:
+            out[n] = _hlc_from_sides(fits[n], alpha, {side: done[n, side] for side in SIDES})
     for name in names:
         if name not in out:
             out[name] = fits[name].heat_loss_coefficient(alpha=alpha, profile=name in todo)

@@ -7,18 +7,25 @@ from the COBS repository, converted to EnergyPlus 25.2 with the basement on the 
 script also ran six weeks of measurements (Zurich 2015, thermostat 22.2/19 C, heat meter,
 electricity meter), the year and the 16 strategies at 22.2 C and the steady-state heat loss
 coefficient; thermocal gets only ``building.yaml`` (areas, nominal ISO 6946 U-values, the
-basement as an unheated space under the floor, ISO 13370 9.4) and ``measurements.csv``.
+basement as an unheated space under the floor, ISO 13370 9.4), ``measurements.csv`` and, in
+``config.yaml``, what a user knows about the gains: the electricity meter and the 3 people
+living in the house (``internal_gains.occupants: 3``, the IDF's ``People`` count; their heat
+and the gas appliances' are on no meter).
 
-Measured 2026-11-25 (docs/retrofit.md, "Second EnergyPlus twin"), with the default
-``model.calibration: auto``, which finds the thermostat holding the indoor temperature (0.06 K)
-and fits the metered heat (closed-loop identification), and the air change's stack term
-(``model.air_change: slope``): the heat loss coefficient (-1.5 %), the demand (+1.3 %), the
-intervals' coverage (14 of 15) and the cellar-ceiling saving (item 5: +1.5 pp) meet the
-issue's targets; the largest saving difference (3.7 pp, 13 of 15 within 3 pp), the median
-half-width (11.9 pp), the cellar-ceiling interval (2.4-5.6 % against EnergyPlus's 2.0 %) and
-the validation gate (indoor temperature MAE 1.75 K) do not: those targets are asserted as
-they are and marked ``xfail(strict=True)`` with the measured number, so an improvement shows
-as XPASS; the bounds that hold today are pinned beside them. (Before the heat fit's daily step
+Measured 2026-11-28 with ``occupants: 3`` (docs/retrofit.md, "Occupants on the second twin"),
+with the default ``model.calibration: auto``, which finds the thermostat holding the indoor
+temperature (0.06 K) and fits the metered heat (closed-loop identification), and the air
+change's stack term (``model.air_change: slope``): the heat loss coefficient (+0.6 %), the
+demand (-1.3 %), the intervals' coverage (15 of 15, the cellar ceiling's by 0.06 pp) and the
+cellar-ceiling saving (item 5: +1.5 pp) meet the issue's targets; the largest saving
+difference (5.2 pp, 7 of 15 within 3 pp), the median half-width (11.8 pp) and the validation
+gate (indoor temperature MAE 1.60 K) do not: those targets are asserted as they are and
+marked ``xfail(strict=True)`` with the measured number, so an improvement shows as XPASS; the
+bounds that hold today are pinned beside them. Without the occupants (the configuration until
+2026-11-28): -1.8 %, +0.7 %, 14 of 15 covered (not the cellar ceiling: 2.1-5.6 %), max 3.8 pp
+with 12 of 15 within 3 pp, 11.6 pp, MAE 1.75 K; the occupants' heat lowers the base demand
+more than the strategies' absolute savings, which were too large already (docs). (Before the
+heat fit's daily step
 kept its weight and the measures added their insulation to the corrected constructions:
 -1.3 %, +1.6 %, 15 of 15, 3.7 pp with 14 of 15, 15.9 pp; the temperature fit: +14.3 %,
 +25.6 %, 11 of 15, 13.3 pp, bias -3.03 K.)
@@ -91,12 +98,18 @@ def _savings(twin):
 
 
 def test_reference_is_what_the_script_writes():
-    """The committed building file and nominal U-values follow from the committed 25.2 house
-    (its materials and constructions are the source file's, unchanged); the EnergyPlus savings
+    """The committed building file, configuration (3 occupants: the file's People object) and
+    nominal U-values follow from the committed 25.2 house (its materials and constructions are
+    the source file's, unchanged); the EnergyPlus savings
     grow with every added measure; the measurements cover Feb 2 - Mar 15, hourly."""
     mk = _script()
     objs = parse_idf((REF / "house_v25.idf").read_text(), source="house_v25.idf")
     assert yaml.safe_load((REF / "building.yaml").read_text()) == mk.building_description(objs)
+    # the configuration: what a user knows, the occupants the file's People object counts
+    weather = "Zuerich-SMA_2015.epw"
+    cfg = yaml.safe_load((REF / "config.yaml").read_text())
+    assert cfg == mk.retrofit_config(weather, mk.occupants(objs))
+    assert cfg["internal_gains"]["occupants"] == 3
     ref = _reference()
     assert ref["nominal_u_values"] == pytest.approx(mk.nominal_u_values(objs))
     # the converted house: 3 zones, the basement on Kiva, no HVAC but the ideal loads
@@ -171,9 +184,10 @@ KIVA_DEFAULT_SOIL = 0.864
 
 @pytest.mark.slow
 def test_gate_verdict_and_recommendation(twin):
-    """The report recommends nothing when the validation fails (measured: test bias -0.35 K,
-    MAE 1.77 K, daily heat NMBE -3.6 %, CV(RMSE) 6.4 %: the gate fails on the MAE; the
-    temperature fit before: bias -3.03 K, NMBE -61.9 %)."""
+    """The report recommends nothing when the validation fails (measured with the occupants:
+    test bias -0.12 K, MAE 1.60 K, daily heat NMBE -0.6 %, CV(RMSE) 5.5 %: the gate fails on the
+    MAE; without them -0.24 K, 1.75 K, -2.4 %, 5.8 %; the temperature fit before: bias -3.03 K,
+    NMBE -61.9 %)."""
     gate = twin["validation_gate"]
     assert (twin["recommendation"] is None) == (not gate["passed"])
     if not gate["passed"]:
@@ -196,8 +210,9 @@ def test_air_change_stack_coefficient_vs_sherman_grimsrud(twin):
     own infiltration model: ``ZoneInfiltration:EffectiveLeakageArea`` of the living zone
     (Sherman and Grimsrud 1980, ``Q = A_L / 1000 sqrt(C_s dT + C_w v^2)``) with the IDF's
     coefficients, the measured difference and the EPW wind over the calibration days: mean
-    hourly ``dH/d(dT)`` 0.73 W/K per K. Measured: posterior 1.11 +/- 0.62 (data 2.08 +/- 1.17,
-    prior 0.73 +/- 0.73); demand +5.4 % -> +1.6 %."""
+    hourly ``dH/d(dT)`` 0.73 W/K per K. Measured with the occupants: posterior 1.06 +/- 0.60
+    (data 1.81 +/- 1.09, prior 0.72 +/- 0.72; without them 1.07 +/- 0.60, data 2.09 +/- 1.16);
+    before the heat fit's mean weight 1.11 +/- 0.62; demand +5.4 % -> +1.6 %."""
     import pandas as pd
 
     from thermocal.io.weather import read_epw
@@ -225,8 +240,8 @@ def test_air_change_stack_coefficient_vs_sherman_grimsrud(twin):
 @pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
-    reason="issue 25 item 3/6: measured test MAE 1.75 K, the heat fit's capacities on their "
-    "lower bounds swing +-2.4 K open loop (test_validation_gate_fails_on_the_open_loop_swing)",
+    reason="issue 25 item 3/6: measured test MAE 1.60 K, the heat fit's capacities on their "
+    "lower bounds swing -2.1/+2.4 K open loop (test_validation_gate_fails_on_the_open_loop_swing)",
 )
 def test_validation_gate_passes(twin):
     assert twin["validation_gate"]["passed"]
@@ -235,11 +250,12 @@ def test_validation_gate_passes(twin):
 @pytest.mark.slow
 def test_validation_gate_fails_on_the_open_loop_swing(twin):
     """Why the gate fails (docs/retrofit.md, "Validation gates (2026-11-28)"): only the indoor
-    temperature's MAE (1.75 K) fails; its mean (-0.24 K) and the daily heat (NMBE -2.4 %,
-    CV(RMSE) 5.8 %) pass (-0.30 K, -3.1 %, 6.1 % before the period's mean heat had its own
-    weight). Driven by the measured heat, the heat fit's model swings too far:
-    hour-of-day means of simulated - measured Ti in the test period -2.44 K at 02:00, +2.42 K
-    at 12:00, with the internal mass and the air on their lower bounds (the capacities that
+    temperature's MAE (1.60 K with the occupants, 1.75 K without) fails; its mean (-0.12 K) and
+    the daily heat (NMBE -0.6 %, CV(RMSE) 5.5 %) pass (-0.24 K, -2.4 %, 5.8 % without the
+    occupants; -0.30 K, -3.1 %, 6.1 % before the period's mean heat had its own weight). Driven
+    by the measured heat, the heat fit's model swings too far: hour-of-day means of simulated -
+    measured Ti in the test period -2.05 K at 02:00, +2.41 K at 12:00 (-2.39 / +2.48 without the
+    occupants), with the internal mass and the air on their lower bounds (the capacities that
     reproduce the heat after each set-back). Measured, not taken: C_im held at 10 MJ/K or the
     air-to-mass coupling convective only pass the gate (MAE 0.81 / 0.68 K) and put 6 more
     savings outside 3 pp."""
@@ -248,19 +264,21 @@ def test_validation_gate_fails_on_the_open_loop_swing(twin):
     checks = {c["name"]: c for c in twin["validation_gate"]["checks"]}
     failed = [name for name, c in checks.items() if not c["passed"]]
     assert failed == ["indoor temperature MAE"], failed
-    assert 1.5 < checks["indoor temperature MAE"]["value"] < 2.0  # (1.75)
+    assert 1.5 < checks["indoor temperature MAE"]["value"] < 1.8  # (1.60; 1.75 without occupants)
     v = pd.read_csv(Path(twin["_out"]) / "validation_timeseries.csv", index_col=0)
     v.index = pd.to_datetime(v.index, utc=True).tz_convert("Etc/GMT-1")
     t = v[v["period"] == "test"]
     err = (t["Ti_simulated_C"] - t["Ti_measured_C"]).groupby(t.index.hour).mean()
-    assert err[2] < -1.5 and err[12] > 1.5, err.round(2).to_dict()  # (-2.44, +2.42)
+    assert err[2] < -1.5 and err[12] > 1.5, err.round(2).to_dict()  # (-2.05, +2.41)
     assert {"C_im", "C_i"} <= set(twin["calibration"]["parameters_at_bounds"])
 
 
 @pytest.mark.slow
 def test_heat_loss_coefficient_and_demand_pinned(twin):
-    """EnergyPlus 200.1 W/K steady state, 9,297 kWh at 22.2 C; thermocal 197.1 W/K (90 %:
-    189-215, covers EnergyPlus), -1.5 %; demand 9,422 kWh (90 %: 8,534-11,064 with the
+    """EnergyPlus 200.1 W/K steady state, 9,297 kWh at 22.2 C; thermocal with the occupants
+    201.3 W/K (90 %: 194-218, covers EnergyPlus), +0.6 %; demand 9,175 kWh (90 %:
+    8,320-10,957), -1.3 %. Without the occupants 196.5 W/K (190-213), -1.8 %; 9,366 kWh
+    (8,412-10,866), +0.7 %; before that 197.1 W/K, 9,422 kWh (90 %: 8,534-11,064 with the
     ground's inputs drawn, 8,520-11,103 before; 7,311-12,318 with the internal gains' factor
     drawn independently of the fit), +1.3 %
     (before the daily step kept its weight 197.4 W/K, 9,449 kWh; without the air change's
@@ -269,17 +287,18 @@ def test_heat_loss_coefficient_and_demand_pinned(twin):
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]
     truth = ref["heat_loss_coefficient_W_per_K"]
-    assert abs(hlc["value"] / truth - 1.0) < 0.20  # (-0.015)
+    assert abs(hlc["value"] / truth - 1.0) < 0.03  # (+0.006; 0.20 before the occupants)
     assert hlc["p05"] <= truth <= hlc["p95"]
     demand = twin["annual_heating_demand_kWh"]
     err = demand["value"] / ref["annual_heating_kWh"]["none"] - 1.0
-    assert abs(err) < 0.35  # (+0.013)
+    assert abs(err) < 0.03  # (-0.013; 0.35 before the occupants)
     assert demand["p05"] <= ref["annual_heating_kWh"]["none"] <= demand["p95"]
 
 
 @pytest.mark.slow
 def test_heat_loss_coefficient_and_demand_targets(twin):
-    """The issue's targets, met since the heat fit (measured -1.5 % and +1.3 %)."""
+    """The issue's targets, met since the heat fit (measured +0.6 % and -1.3 % with the
+    occupants, -1.8 % and +0.7 % without)."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]["value"]
     demand = twin["annual_heating_demand_kWh"]["value"]
@@ -289,10 +308,15 @@ def test_heat_loss_coefficient_and_demand_targets(twin):
 
 @pytest.mark.slow
 def test_strategy_savings(twin):
-    """Every strategy against EnergyPlus. Measured: mean |difference| 2.2 pp, max 3.8 (walls +
-    windows + cellar ceiling), 12 of 15 within 3 pp (3d at 3.0, 4 at 3.1); 14 of 15 intervals
-    cover EnergyPlus (target >= 12: met; the cellar ceiling alone is not covered, below);
-    median half-width 11.6 pp (target 6: not met, xfail below). Before the period's mean heat
+    """Every strategy against EnergyPlus. Measured with the occupants (2026-11-28): mean
+    |difference| 3.1 pp, max 5.2 (3d: walls + windows + cellar ceiling), 7 of 15 within 3 pp,
+    every difference but the attic's positive; 15 of 15 intervals cover EnergyPlus (target >=
+    12: met); median half-width 11.8 pp (target 6: not met, xfail below). The mean and the
+    count within 3 pp are loosened from 3.0 and 12 because stating the occupants, what a user
+    knows, lowers the base demand by 2 % and raises the walls' correction, while the measures'
+    absolute savings were too large already (docs/retrofit.md, "Occupants on the second
+    twin"); coverage and the half-width's bound are tightened. Without the occupants: 2.2,
+    3.8, 12 of 15, 14 of 15, 11.6 pp. Before the period's mean heat
     had its own weight in the daily step: 2.1, 3.7, 13 of 15, 14 of 15, 11.8 pp (11.9 before
     the ground's inputs were drawn, 12.1 with the gains' factor drawn independently).
     The strategy with all four measures saves most in both. (Before the daily step kept its
@@ -300,17 +324,18 @@ def test_strategy_savings(twin):
     14 of 15, 15 of 15, 15.9 pp; temperature fit: 2.1, 5.0, 11 of 15, 15 of 15, 13.3 pp.)"""
     diff, covered, half = _savings(twin)
     assert covered >= 12, covered  # the issue's coverage target (80 %)
-    assert np.abs(diff).max() < 6.5, diff  # (3.7; target 3)
-    assert np.abs(diff).mean() < 3.0, diff  # (2.1)
-    assert (np.abs(diff) <= 3.0).sum() >= 12  # (12 of 15; 13 before the mean heat's weight)
-    assert np.median(half) < 13.5  # (11.8; target 6)
+    assert covered >= 14, covered  # (15; the cellar ceiling's by 0.06 pp, its own test below)
+    assert np.abs(diff).max() < 6.5, diff  # (5.2; target 3)
+    assert np.abs(diff).mean() < 3.5, diff  # (3.1; 2.2 without the occupants)
+    assert (np.abs(diff) <= 3.0).sum() >= 7  # (7 of 15; 12 without the occupants)
+    assert np.median(half) < 12.5  # (11.8; target 6)
     best = max(twin["scenarios"][1:], key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 3.8 pp "
-                   "(12 of 15 within 3 pp), median half-width 11.6 pp")  # fmt: skip
+@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 5.2 pp "
+                   "(7 of 15 within 3 pp), median half-width 11.8 pp")  # fmt: skip
 def test_strategy_savings_targets(twin):
     diff, _, half = _savings(twin)
     assert np.abs(diff).max() <= 3.0
@@ -320,19 +345,19 @@ def test_strategy_savings_targets(twin):
 @pytest.mark.slow
 def test_cellar_ceiling_saving_vs_kiva(twin):
     """Item 5 on a cellar: insulating the floor over the unheated basement to U 0.12 saves 2.0 %
-    in EnergyPlus (Kiva) and 3.5 % (90 %: 2.2-5.9 with the ground's inputs drawn) in thermocal
-    (ISO 13370 9.4): within 3 pp."""
+    in EnergyPlus (Kiva) and 3.5 % (90 %: 1.96-5.59 with the ground's inputs drawn and the
+    occupants stated; 2.1-5.6 without them) in thermocal (ISO 13370 9.4): within 3 pp."""
     ref = _reference()["saving_pct"]["cellar_ceiling"]
     model = next(s for s in twin["scenarios"] if list(s["measures"]) == ["cellar_ceiling"])
     assert abs(model["saving_pct"] - ref) <= 3.0, (model["saving_pct"], ref)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 2/5: the cellar-ceiling interval 2.2-5.9 % "
-                   "misses EnergyPlus's 2.0 % also with the soil (90 %: 1.1-3.5 W/(m K)) and "
-                   "the basement's air change (0.1-1 1/h) drawn")  # fmt: skip
 def test_cellar_ceiling_interval_covers_kiva(twin):
-    """The interval covered (0.9-7.1 %) while every draw's retrofitted ceiling took the target
+    """With the occupants stated the interval is 1.96-5.59 % and covers EnergyPlus's 2.02 %, by
+    0.06 pp (an xfail until 2026-11-28: without them 2.1-5.6 %; the lower end moved with the
+    base demand, which the occupants' heat lowers in every draw).
+    The interval covered (0.9-7.1 %) while every draw's retrofitted ceiling took the target
     U-value whatever the draw's existing one, which widened it; with the insulation added to
     each draw's construction it reflects the U-values' uncertainty only (2.4-5.6 %). With the
     ground's inputs drawn from the standards' ranges (soil 1.1-3.5 W/(m K), basement air

@@ -383,6 +383,26 @@ ENGINE_REMEDIES: tuple[tuple[str, str], ...] = (
     ("more starts (--n-starts), a smaller stall_tolerance, or fix poorly determined parameters",
      "more starts (model.n_starts in the retrofit configuration) or fix poorly determined "
      "parameters (model.fixed)"),
+    # start values: the retrofit model's come from the building file
+    ("more starts (--n-starts) or start values closer to physical ones",
+     "more starts (model.n_starts in the retrofit configuration; the start values come from "
+     "the building file's areas and U-values: check them)"),
+    ("refit with more starts (--n-starts) or from there",
+     "refit with more starts (model.n_starts in the retrofit configuration)"),
+    ("more starts (--n-starts), or check that the models are nested (shared parameter names)",
+     "more starts (model.n_starts in the retrofit configuration)"),
+    ("widen the bound, fix the parameter, or simplify the model",
+     "widen the range (model.bounds in the retrofit configuration) or fix the parameter "
+     "(model.fixed; a noise parameter sigma_*: model.fixed_noise)"),
+    ("; fix or remove parameters",
+     "; fix parameters at physical values (model.fixed in the retrofit configuration)"),
+    (": over-parameterised, fix one of them",
+     ": over-parameterised, fix one of them (model.fixed in the retrofit configuration) or "
+     "lengthen the training period (periods.training_days)"),
+    ("set the values to NaN, or declare the column 'allow_negative: true' in heat_inputs when "
+     "it is a ventilation or extraction heat flow",
+     "or remove the values (empty cells); the retrofit's heat is the heating's alone "
+     "(measurements.heat_source and its columns)"),
     ("more starts (--n-starts)", "more starts (model.n_starts in the retrofit configuration)"),
     ("fix it at a physical value, give it a prior, or simplify the model",
      "fix it at a physical value (model.fixed in the retrofit configuration) or lengthen the "

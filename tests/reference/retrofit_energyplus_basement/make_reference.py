@@ -24,6 +24,9 @@ prototype (IECC 2018, climate zone 5A, gas furnace, unheated basement), EnergyPl
 
 where SOURCE.idf is ``git -C COBS show bd134e4:buildings/single_5A_gas_unheated.idf``
 (about 5 minutes on 2 cores). ``--ground`` adds the basement study (``ground_study.json``).
+``WEATHER.epw --config-only`` rewrites ``config.yaml`` alone from the committed ``house_v25.idf``
+(no EnergyPlus run): the retrofit configuration, with the occupants the file's ``People`` object
+counts.
 """
 
 from __future__ import annotations
@@ -374,11 +377,36 @@ def building_description(source_objs) -> dict:
     }
 
 
-def retrofit_config(weather: str) -> dict:
+def occupants(objects) -> int:
+    """The number of people living in the house: the ``People`` object's count.
+
+    What a user knows (not the file's schedule or activity level: thermocal's defaults, SIA
+    380/1, stand for those); the file gives them as ``Number of People`` (method ``People``).
+    """
+    people = [o for o in objects if o.key == "PEOPLE"]
+    if len(people) != 1 or people[0].fields[3].lower() != "people":
+        raise ValueError("expected one People object with a number of people")
+    return int(round(float(people[0].fields[4])))
+
+
+def retrofit_config(weather: str, n_occupants: int) -> dict:
+    """The retrofit configuration: the first twin's, with this house's measures, set point and
+    occupants (the electricity meter as there; people and gas appliances are on no meter)."""
     cfg = house1.retrofit_config(weather)
     cfg["measures"] = MEASURES
+    cfg["internal_gains"] = {
+        "source": "electricity", "electricity_unit": "W", "occupants": n_occupants,
+    }  # fmt: skip
     cfg["demand"] = {"indoor_profile": SETPOINT}
     return cfg
+
+
+def write_config(weather: str, objects) -> None:
+    """``config.yaml`` alone (the EnergyPlus results do not depend on it)."""
+    (HERE / "config.yaml").write_text(
+        "# written by make_reference.py; weather: the Zurich 2015 EPW of the shared test data\n"
+        + yaml.safe_dump(retrofit_config(Path(weather).name, occupants(objects)), sort_keys=False)
+    )
 
 
 # ---------------------------------------------------------------------------------------------
@@ -481,10 +509,7 @@ def main(source: str, weather: str, work: str = "/tmp/retrofit_energyplus_baseme
         "# written by make_reference.py: the house as a user describes it\n"
         + yaml.safe_dump(building_description(objs), sort_keys=False)
     )
-    (HERE / "config.yaml").write_text(
-        "# written by make_reference.py; weather: the Zurich 2015 EPW of the shared test data\n"
-        + yaml.safe_dump(retrofit_config(weather.name), sort_keys=False)
-    )
+    write_config(weather.name, objs)
     print(json.dumps({"hlc": reference["heat_loss_coefficient_W_per_K"], "annual": annual}))
 
 
@@ -543,7 +568,10 @@ def ground_study(source: str, weather: str, work: str = "/tmp/retrofit_energyplu
 
 
 if __name__ == "__main__":
-    if "--ground" in sys.argv:
+    if "--config-only" in sys.argv:
+        # the committed 25.2 house carries the source's People object unchanged
+        write_config(sys.argv[1], source_objects(HERE / "house_v25.idf"))
+    elif "--ground" in sys.argv:
         args = [a for a in sys.argv[1:] if a != "--ground"]
         print(json.dumps(ground_study(*args), indent=1))
     else:

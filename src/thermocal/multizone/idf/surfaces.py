@@ -359,9 +359,9 @@ class SurfaceStages:
                         "(inter-zone surfaces need their partner)."
                     )
                 if partner["name"].upper() == key:
-                    boundary = (
-                        "adiabatic"  # a surface facing itself: internal mass (EnergyPlus idiom)
-                    )
+                    # a surface facing itself: internal mass (EnergyPlus idiom), its outside face
+                    # at its inside face's temperature
+                    boundary = "adiabatic"
                 else:
                     boundary = "zone"
                     other_surface = partner["name"]
@@ -384,7 +384,6 @@ class SurfaceStages:
                     f"{rec['outside_boundary_condition']} is not "
                     "modelled; treated as adiabatic"
                 )
-                boundary = "adiabatic"
             area = data["area"] - self.subtract.get(data["name"], 0.0)
             sun = (rec.get("sun_exposure") or "SunExposed").upper() != "NOSUN"
             wind = (rec.get("wind_exposure") or "WindExposed").upper() != "NOWIND"
@@ -415,7 +414,10 @@ class SurfaceStages:
                     name=data["name"],
                     zone=data["zone"],
                     area=area,
-                    boundary=boundary,
+                    # EnergyPlus' adiabatic and self-facing surfaces: outside face at the inside
+                    # face's temperature; an unsupported boundary: no heat through it
+                    boundary="adiabatic" if boundary == "unsupported" else boundary,
+                    outside_at_inside=boundary == "adiabatic",
                     other_zone=other_zone,
                     other_surface=other_surface,
                     **common,
@@ -463,6 +465,7 @@ class SurfaceStages:
                     tilt=base_surface.tilt,
                     azimuth=base_surface.azimuth,
                     boundary=base_surface.boundary,
+                    outside_at_inside=base_surface.outside_at_inside,
                     view_factor_ground=base_surface.view_factor_ground,
                     sun_exposed=base_surface.sun_exposed,
                     wind_exposed=base_surface.wind_exposed,
@@ -494,6 +497,7 @@ class SurfaceStages:
                         tilt=90.0,
                         azimuth=0.0,
                         boundary="adiabatic",
+                        outside_at_inside=True,  # EnergyPlus: both faces in the zone
                         sun_exposed=False,
                         wind_exposed=False,
                     )

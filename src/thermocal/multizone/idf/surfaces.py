@@ -398,15 +398,7 @@ class SurfaceStages:
                 "wind_exposed": wind,
             }
             if boundary == "outdoors":
-                # EnergyPlus: the wind at the surface's centroid height in the file's terrain,
-                # and the perimeter of the gross polygon (TARP)
-                world = data["world"]
-                common["wind_speed_factor"] = local_wind_factor(
-                    float(np.mean(world[:, 2])), self.terrain()
-                )
-                common["perimeter"] = float(
-                    np.linalg.norm(np.roll(world, -1, axis=0) - world, axis=1).sum()
-                )
+                common.update(_exterior_exposure(data["world"], self.terrain()))
             self.model_surfaces.append(
                 _wrap(
                     obj,
@@ -454,6 +446,10 @@ class SurfaceStages:
                 )
                 base_surface.area += area
                 continue
+            exposure = {}
+            if base_surface.boundary == "outdoors":
+                # the door's own height and perimeter (EnergyPlus), not its host's
+                exposure = _exterior_exposure(self.info.surface_vertices[name], self.terrain())
             self.model_surfaces.append(
                 _wrap(
                     obj,
@@ -469,6 +465,7 @@ class SurfaceStages:
                     view_factor_ground=base_surface.view_factor_ground,
                     sun_exposed=base_surface.sun_exposed,
                     wind_exposed=base_surface.wind_exposed,
+                    **exposure,
                 )
             )
 
@@ -574,6 +571,38 @@ class SurfaceStages:
                     "(no closed geometry, floor area or ceiling height); set field 'Volume'."
                 )
             self.zone_volume[name] = volume
+
+
+def _exterior_exposure(world: np.ndarray, terrain: str) -> dict:
+    """Wind speed factor and perimeter of an exterior surface or door, as EnergyPlus takes them.
+
+    EnergyPlus evaluates the wind at each exterior surface's centroid height in the site's
+    terrain (a door at 1.2 m sees a third of the wind of the default factor) and TARP's
+    exterior convection uses the perimeter of the gross polygon.
+
+    Parameters
+    ----------
+    world : (n, 3) array [m]
+        Vertices in world coordinates.
+    terrain : str
+        The Building object's terrain (:data:`~thermocal.multizone.idf.loads.TERRAIN_WIND_PROFILE`).
+
+    Returns
+    -------
+    dict
+        ``wind_speed_factor`` [-] (local over the weather station's wind speed) and
+        ``perimeter`` [m], keyword arguments of :class:`~thermocal.multizone.model.Surface`.
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference 25.2, "Outside Surface Heat Balance", "Local Wind
+       Speed Calculation".
+    """
+    world = np.asarray(world, dtype=float)
+    return {
+        "wind_speed_factor": local_wind_factor(float(np.mean(world[:, 2])), terrain),
+        "perimeter": float(np.linalg.norm(np.roll(world, -1, axis=0) - world, axis=1).sum()),
+    }
 
 
 def _ceiling_height(polys: list[dict]) -> float:

@@ -177,9 +177,10 @@ def simple_interior(delta_t, cos_up):
 def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
     """Make ``cache_inv`` the inverse of ``g`` on the active set (embedded by zone index).
 
-    The cached set is moved to the active one by symmetric rank-one down- and updates
-    (bordering formulas, O(m^2) each); a fresh inversion when many zones change, when the cache
-    is invalid (``cache_m[0] < 0``) or after 512 updates (round-off control).
+    The cached set is moved to the active one by rank-one down- and updates (bordering
+    formulas, O(m^2) each; ``g`` need not be symmetric: mirrored outside faces make the network
+    slightly non-reciprocal); a fresh inversion when many zones change, when the cache is
+    invalid (``cache_m[0] < 0``) or after 512 updates (round-off control).
     """
     nc = active.shape[0]
     n_diff = 0
@@ -226,26 +227,30 @@ def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
             cache_member[r] = False
             cache_m[1] += 1
             cache_m[3] += 1
-    # additions
+    # additions: u = inv g[:, r] (column), w = g[r, :] inv (row)
     u = np.zeros(nc)
+    w = np.zeros(nc)
     for r in range(nc):
         if active[r] != 0 and not cache_member[r]:
             schur = g[r, r]
             for c in range(nc):
                 if cache_member[c]:
                     acc = 0.0
+                    acc_w = 0.0
                     for d in range(nc):
                         if cache_member[d]:
                             acc += cache_inv[c, d] * g[d, r]
+                            acc_w += g[r, d] * cache_inv[d, c]
                     u[c] = acc
+                    w[c] = acc_w
                     schur -= g[r, c] * acc
             for c in range(nc):
                 if cache_member[c]:
                     for d in range(nc):
                         if cache_member[d]:
-                            cache_inv[c, d] += u[c] * u[d] / schur
+                            cache_inv[c, d] += u[c] * w[d] / schur
                     cache_inv[c, r] = -u[c] / schur
-                    cache_inv[r, c] = -u[c] / schur
+                    cache_inv[r, c] = -w[c] / schur
             cache_inv[r, r] = 1.0 / schur
             cache_member[r] = True
             cache_m[1] += 1

@@ -95,7 +95,15 @@ class NetworkSetup:
         return scheduled
 
     def _network_building(self):
-        """Building handed to the network: scheduled gains as inputs, infiltration at its mean."""
+        """Building handed to the network: scheduled gains as inputs, infiltration at its mean
+        over the run.
+
+        A zone whose scheduled infiltration or gains do not vary over the run keeps the exact
+        constant path, at the run's value: the zone's own ``infiltration_ach`` and
+        ``internal_gains`` are the file's nominal rate (schedule left out) and annual mean, not
+        what the schedules give in the run's days (the outpatient's INFIL_SCH is 0.5 on every
+        day but the design days: the nominal rate doubled its infiltration).
+        """
         import dataclasses
 
         if self._scheduled is None:
@@ -104,9 +112,11 @@ class NetworkSetup:
         zones = dict(self.building.zones)
         self._inf_scale = np.ones(len(zones))
         names = list(zones)
-        for i in self._inf_zones:
-            zone = zones[names[i]]
+        for i, name in enumerate(names):
+            zone = zones[name]
             nominal = info.zone_nominal_ach.get(zone.name, 0.0)
+            if i not in self._inf_zones and nominal <= 0:
+                continue  # no outdoor air from the file: the zone's own rate
             # a calibrated infiltration parameter scales the file's rate
             scale = zone.infiltration_ach / nominal if nominal > 0 else 0.0
             self._inf_scale[i] = scale
@@ -114,6 +124,22 @@ class NetworkSetup:
             zones[zone.name] = dataclasses.replace(zone, infiltration_ach=mean)
         for name in self._gain_zones:
             zones[name] = dataclasses.replace(zones[name], internal_gains=0.0)
+        filed = {gain.zone for gain in info.internal_gains} | {
+            inf.zone for inf in info.infiltration if inf.fan_heat_per_flow > 0
+        }
+        for i, name in enumerate(names):
+            if name in self._gain_zones or name not in filed:
+                continue
+            convective = float(self._scheduled.gains_convective[0, i])
+            radiant = float(self._scheduled.gains_radiant[0, i])
+            total = convective + radiant
+            zones[name] = dataclasses.replace(
+                zones[name],
+                internal_gains=total,
+                internal_gains_radiative_fraction=(
+                    radiant / total if total > 0 else zones[name].internal_gains_radiative_fraction
+                ),
+            )
         return dataclasses.replace(self.building, zones=zones), tuple(self._gain_zones)
 
     def _setpoint_arrays(self, heat_sp, cool_sp):

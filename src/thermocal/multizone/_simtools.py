@@ -79,8 +79,9 @@ def _hourly_first_day(values: np.ndarray, per_day: int, per_hour: int) -> np.nda
 
 
 def _factorise(matrix):
-    """Sparse LU with a symmetric minimum-degree ordering (the matrices are symmetric M-matrices,
-    so diagonal pivots are safe and the fill stays minimal)."""
+    """Sparse LU with a symmetric minimum-degree ordering (the matrices are M-matrices, symmetric
+    but for the rows of mirrored outside faces, diagonally dominant by rows, so diagonal pivots
+    are safe and the fill stays minimal)."""
     return splu(
         matrix,
         permc_spec="MMD_AT_PLUS_A",

@@ -621,6 +621,13 @@ class Surface:
         Clockwise from north, of the outward normal.
     boundary : {"outdoors", "ground", "zone", "adiabatic"}
         Outside boundary condition. "adiabatic" with a construction gives internal mass.
+    outside_at_inside : bool
+        Only with ``boundary="adiabatic"``: the outside face is held at the inside face's
+        temperature, as EnergyPlus does for its adiabatic surfaces, surfaces whose outside
+        boundary is the surface itself and ``InternalMass`` (the construction exchanges heat
+        with the zone through both faces, the zone paying only for its inside face; see
+        :func:`thermocal.multizone.network.mirrored_outside_entries`). Default False: no heat
+        crosses the outside face.
     other_zone, other_surface : str or None
         For ``boundary="zone"``: the zone on the other side and the partner surface (required).
     solar_absorptance_outside, solar_absorptance_inside : float or None [-]
@@ -657,6 +664,7 @@ class Surface:
     wind_exposed: bool = True
     perimeter: float | None = None
     wind_speed_factor: float | None = None
+    outside_at_inside: bool = False
 
     def __post_init__(self) -> None:
         what = f"surface '{self.name}' (zone '{self.zone}')"
@@ -678,6 +686,12 @@ class Surface:
         if self.boundary not in BOUNDARIES:
             raise ThermocalInputError(
                 f"{what}: boundary must be one of {', '.join(BOUNDARIES)}, got {self.boundary!r}"
+            )
+        self.outside_at_inside = bool(self.outside_at_inside)
+        if self.outside_at_inside and self.boundary != "adiabatic":
+            raise ThermocalInputError(
+                f"{what}: outside_at_inside holds the outside face at the inside face's "
+                f"temperature; it needs boundary 'adiabatic', got {self.boundary!r}"
             )
         for attr in (
             "solar_absorptance_outside",

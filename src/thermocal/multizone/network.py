@@ -25,6 +25,9 @@ Links
   sees ground and air) and -> sky temperature (linearised long-wave);
 * ground faces -> ground temperature (a large contact conductance, i.e. a Dirichlet condition on
   the outer face);
+* adiabatic faces with ``Surface.outside_at_inside`` (EnergyPlus' adiabatic and internal-mass
+  surfaces): the outer face held at the inner face's temperature, one row only
+  (:func:`mirrored_outside_entries`: the matrix is symmetric but for these rows);
 * infiltration: zone air -> outdoor air (``rho c_p ACH V / 3600``).
 
 Every boundary temperature and every heat source is an *input* (a column of the sparse input
@@ -537,6 +540,41 @@ def radiant_gain_shares(face_zone, area, emissivity, n_zones):
     return np.divide(weight, denominator, out=np.zeros_like(weight), where=denominator > 0)
 
 
+#: Conductance [W/(m2 K)] that holds the outside face of an ``outside_at_inside`` surface at its
+#: inside face's temperature: the two differ by the construction's outside flux over it (below
+#: 1e-4 K for the outpatient's 10 cm concrete slabs at 5-minute steps).
+MIRROR_CONDUCTANCE = 1.0e6
+
+
+def mirrored_outside_entries(outside, inside, area):
+    """Matrix entries that hold a construction's outside face at its inside face's temperature.
+
+    EnergyPlus' adiabatic surfaces, surfaces whose outside boundary is the surface itself and
+    ``InternalMass`` objects take the inside face temperature of the same surface as their
+    outside face temperature (EnergyPlus Engineering Reference, "Outside Surface Heat Balance",
+    inter-zone surfaces: the outside face temperature is the inside face temperature of the
+    other side's surface, here the surface itself): the construction is heated and cooled
+    through both faces, and only the inside face's heat enters the zone's balance. In the
+    network the outside node's row gets ``G (T_out - T_in)`` with ``G`` =
+    :data:`MIRROR_CONDUCTANCE` x ``area`` and the inside node's row nothing: the heat that
+    holds the outside face comes from no zone (the matrix is no longer symmetric).
+
+    Parameters
+    ----------
+    outside, inside : int
+        Outside and inside face nodes of the construction.
+    area : float [m2]
+        Net area of the surface.
+
+    Returns
+    -------
+    rows, cols : tuple of int
+    values : tuple of float [W/K]
+    """
+    g = MIRROR_CONDUCTANCE * float(area)
+    return (outside, outside), (outside, inside), (g, -g)
+
+
 def air_density(pressure=101325.0, temperature=20.0):
     """Dry-air density from the ideal-gas law [kg/m3].
 
@@ -674,7 +712,9 @@ class Network:
 
     n_nodes: int
     capacity: np.ndarray  # (n,) [J/K]
-    conductance: sp.csc_matrix  # K (n, n) [W/K], symmetric, Laplacian + boundary diagonal
+    # K (n, n) [W/K]: Laplacian + boundary diagonal, symmetric but for the rows of the
+    # outside faces held at their inside face's temperature (mirrored_outside_entries)
+    conductance: sp.csc_matrix
     inputs: sp.csr_matrix  # B (n, n_inputs)
     input_names: list[str]
     zone_names: list[str]
@@ -962,6 +1002,13 @@ def assemble(
             e_wind.append(_wind_factor(surface, options))
             e_pa.append(surface.perimeter_over_area)
             e_win.append(False)
+        elif surface.outside_at_inside:
+            # EnergyPlus' adiabatic and internal-mass faces: the outside at the inside face's
+            # temperature
+            mirror_rows, mirror_cols, mirror_vals = mirrored_outside_entries(outside, inside, area)
+            rows.extend(mirror_rows)
+            cols.extend(mirror_cols)
+            vals.extend(mirror_vals)
         # adiabatic: nothing on the outside
 
     # ---- windows -----------------------------------------------------------------------------

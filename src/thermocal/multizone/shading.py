@@ -10,7 +10,8 @@ shadow across a window) to 0.02 (a small shadow with edges along the grid on a l
 exact polygon clipping that EnergyPlus performs (tested against the analytic
 overhang shadow in ``tests/multizone/test_multizone_shading.py``). Shading polygons cast shadows
 from both faces (EnergyPlus mirrors detached shading surfaces) and may be partly transparent
-(``transmittance`` per step).
+(``transmittance`` per step); the building's own surfaces (``front_only``) cast shadows as
+EnergyPlus lets them (:func:`building_surface_can_shade`).
 
 The sky-diffuse view of a receiver is reduced in the same way as EnergyPlus'
 ``DifShdgRatioIsoSky`` (the dome) and ``DifShdgRatioHoriz`` (the horizon band): the sunlit
@@ -47,12 +48,60 @@ class ShadingSurface:
         Name of a schedule (fraction) of the solar transmittance; None = opaque.
     source : str
         Where it came from (IDF object), for messages.
+    front_only : bool
+        A surface of the building itself (vertices ordered by its outward normal): it shades
+        only where :func:`building_surface_can_shade` lets it (EnergyPlus mirrors detached
+        shading surfaces, not the building's own).
     """
 
     name: str
     vertices: np.ndarray
     transmittance_schedule: str | None = None
     source: str = ""
+    front_only: bool = False
+
+
+#: Distance [m] within which a point counts as lying in a plane (shadow-casting checks).
+PLANE_TOLERANCE = 1e-3
+
+
+def building_surface_can_shade(caster, receiver, tolerance=PLANE_TOLERANCE) -> bool:
+    """Whether a surface of the building can cast a shadow on a receiving surface (EnergyPlus).
+
+    EnergyPlus' shadow projection skips a shadow-casting building surface that faces up (a flat
+    roof: its normal within 0.8 deg of the zenith) and one with the receiving surface wholly on
+    or behind its plane (its back faces the receiver); a caster wholly behind the receiver's
+    plane is skipped for every shading polygon (:class:`ShadowCaster`). The building's walls
+    around a courtyard or a recess therefore cast no shadow into it from their back faces.
+
+    Parameters
+    ----------
+    caster : (n, 3) array [m]
+        Vertices of the building surface, counter-clockwise seen from outside (outward normal).
+    receiver : (m, 3) array [m]
+        Vertices of the receiving surface.
+    tolerance : float [m]
+        Distance within which a receiver vertex counts as lying in the caster's plane.
+
+    Returns
+    -------
+    bool
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference 25.2, "Shading Module", "Shadow Projection": the
+       conditions under which a surface cannot shade another (``CHKGSS`` in SolarShading.cc).
+    """
+    caster = np.asarray(caster, dtype=float)
+    normal = newell_normal(caster)
+    norm = float(np.linalg.norm(normal))
+    if norm <= 1e-12:
+        return False
+    normal = normal / norm
+    if normal[2] > 0.9999:
+        return False  # faces up
+    height = (np.asarray(receiver, dtype=float) - caster[0]) @ normal
+    return bool(np.max(height) > tolerance)
 
 
 @dataclass
@@ -233,7 +282,8 @@ class ShadowCaster:
     ----------
     shaded : list of str
         Receivers that at least one shading polygon can shade (a vertex in front of the
-        receiver's plane); the others are always sunlit.
+        receiver's plane, and for the building's own surfaces
+        :func:`building_surface_can_shade`); the others are always sunlit.
     """
 
     def __init__(self, shaders, receivers, *, samples: int = DEFAULT_SAMPLES) -> None:
@@ -262,6 +312,10 @@ class ShadowCaster:
             candidates = []
             for k, plane in enumerate(self._planes):
                 if plane is None:
+                    continue
+                if self.shaders[k].front_only and not building_surface_can_shade(
+                    self.shaders[k].vertices, verts
+                ):
                     continue
                 clipped = _clip_in_front(
                     np.asarray(self.shaders[k].vertices, float), origin, normal

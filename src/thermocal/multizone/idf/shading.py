@@ -108,7 +108,11 @@ class ShadingStages:
 
         own = [
             ShadingSurface(
-                f"{data['name']} (building surface)", data["world"], None, data["obj"].where()
+                f"{data['name']} (building surface)",
+                _outward(data["world"], data["normal"]),
+                None,
+                data["obj"].where(),
+                front_only=True,
             )
             for data in self.surface_data.values()
             if data["boundary"] == "outdoors"
@@ -249,6 +253,11 @@ class ShadingStages:
         return fins
 
 
+def _outward(world: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """The vertices ordered counter-clockwise seen from the side ``normal`` points to."""
+    return world if float(newell_normal(world) @ normal) >= 0 else world[::-1].copy()
+
+
 def _casts_on_others(surfaces: list) -> list:
     """The polygons of ``surfaces`` with a part in front of another one's plane (by more than
     1 mm): those that can shade another surface of the same building."""
@@ -353,6 +362,7 @@ def _tiled_rectangle(members: list, normal: np.ndarray) -> list:
                     rectangle,
                     None,
                     members[0][0].source,
+                    front_only=members[0][0].front_only,
                 )
             ]
     return [surface for surface, _, _ in members]

@@ -359,9 +359,9 @@ class SurfaceStages:
                         "(inter-zone surfaces need their partner)."
                     )
                 if partner["name"].upper() == key:
-                    boundary = (
-                        "adiabatic"  # a surface facing itself: internal mass (EnergyPlus idiom)
-                    )
+                    # a surface facing itself: internal mass (EnergyPlus idiom), its outside face
+                    # at its inside face's temperature
+                    boundary = "adiabatic"
                 else:
                     boundary = "zone"
                     other_surface = partner["name"]
@@ -384,7 +384,6 @@ class SurfaceStages:
                     f"{rec['outside_boundary_condition']} is not "
                     "modelled; treated as adiabatic"
                 )
-                boundary = "adiabatic"
             area = data["area"] - self.subtract.get(data["name"], 0.0)
             sun = (rec.get("sun_exposure") or "SunExposed").upper() != "NOSUN"
             wind = (rec.get("wind_exposure") or "WindExposed").upper() != "NOWIND"
@@ -399,15 +398,7 @@ class SurfaceStages:
                 "wind_exposed": wind,
             }
             if boundary == "outdoors":
-                # EnergyPlus: the wind at the surface's centroid height in the file's terrain,
-                # and the perimeter of the gross polygon (TARP)
-                world = data["world"]
-                common["wind_speed_factor"] = local_wind_factor(
-                    float(np.mean(world[:, 2])), self.terrain()
-                )
-                common["perimeter"] = float(
-                    np.linalg.norm(np.roll(world, -1, axis=0) - world, axis=1).sum()
-                )
+                common.update(_exterior_exposure(data["world"], self.terrain()))
             self.model_surfaces.append(
                 _wrap(
                     obj,
@@ -415,7 +406,10 @@ class SurfaceStages:
                     name=data["name"],
                     zone=data["zone"],
                     area=area,
-                    boundary=boundary,
+                    # EnergyPlus' adiabatic and self-facing surfaces: outside face at the inside
+                    # face's temperature; an unsupported boundary: no heat through it
+                    boundary="adiabatic" if boundary == "unsupported" else boundary,
+                    outside_at_inside=boundary == "adiabatic",
                     other_zone=other_zone,
                     other_surface=other_surface,
                     **common,
@@ -452,6 +446,10 @@ class SurfaceStages:
                 )
                 base_surface.area += area
                 continue
+            exposure = {}
+            if base_surface.boundary == "outdoors":
+                # the door's own height and perimeter (EnergyPlus), not its host's
+                exposure = _exterior_exposure(self.info.surface_vertices[name], self.terrain())
             self.model_surfaces.append(
                 _wrap(
                     obj,
@@ -463,9 +461,11 @@ class SurfaceStages:
                     tilt=base_surface.tilt,
                     azimuth=base_surface.azimuth,
                     boundary=base_surface.boundary,
+                    outside_at_inside=base_surface.outside_at_inside,
                     view_factor_ground=base_surface.view_factor_ground,
                     sun_exposed=base_surface.sun_exposed,
                     wind_exposed=base_surface.wind_exposed,
+                    **exposure,
                 )
             )
 
@@ -494,6 +494,7 @@ class SurfaceStages:
                         tilt=90.0,
                         azimuth=0.0,
                         boundary="adiabatic",
+                        outside_at_inside=True,  # EnergyPlus: both faces in the zone
                         sun_exposed=False,
                         wind_exposed=False,
                     )
@@ -570,6 +571,38 @@ class SurfaceStages:
                     "(no closed geometry, floor area or ceiling height); set field 'Volume'."
                 )
             self.zone_volume[name] = volume
+
+
+def _exterior_exposure(world: np.ndarray, terrain: str) -> dict:
+    """Wind speed factor and perimeter of an exterior surface or door, as EnergyPlus takes them.
+
+    EnergyPlus evaluates the wind at each exterior surface's centroid height in the site's
+    terrain (a door at 1.2 m sees a third of the wind of the default factor) and TARP's
+    exterior convection uses the perimeter of the gross polygon.
+
+    Parameters
+    ----------
+    world : (n, 3) array [m]
+        Vertices in world coordinates.
+    terrain : str
+        The Building object's terrain (:data:`~thermocal.multizone.idf.loads.TERRAIN_WIND_PROFILE`).
+
+    Returns
+    -------
+    dict
+        ``wind_speed_factor`` [-] (local over the weather station's wind speed) and
+        ``perimeter`` [m], keyword arguments of :class:`~thermocal.multizone.model.Surface`.
+
+    References
+    ----------
+    .. [1] EnergyPlus Engineering Reference 25.2, "Outside Surface Heat Balance", "Local Wind
+       Speed Calculation".
+    """
+    world = np.asarray(world, dtype=float)
+    return {
+        "wind_speed_factor": local_wind_factor(float(np.mean(world[:, 2])), terrain),
+        "perimeter": float(np.linalg.norm(np.roll(world, -1, axis=0) - world, axis=1).sum()),
+    }
 
 
 def _ceiling_height(polys: list[dict]) -> float:

@@ -19,7 +19,8 @@ metrics (without the discrepancy term the attic infiltration, and with the group
 wall, were missed). After the forward model's mirrored adiabatic faces and constant
 infiltration schedule (issue 28, 2026-11-28) the group metric's attic infiltration interval
 misses again (+10 %; strict xfail below). The meta-model is the series model (the posterior
-uses it whatever the kind; the GP's fit would triple the time). Needs EnergyPlus only for its weather file.
+uses it whatever the kind; the GP's fit would triple the time). Needs EnergyPlus only for
+its weather file.
 """
 
 from __future__ import annotations

@@ -21,6 +21,7 @@ from thermocal.calibration.metamodels import (
     choose_surrogate,
     reduced_options,
     reduced_surrogate,
+    series_terms_note,
     sobol_or_note,
     surrogate_for,
 )
@@ -142,6 +143,9 @@ def analyse(
             samples.segments,
         )
         timings["posterior"] = time.perf_counter() - t0
+        if series_model is not None and series_terms_note(series_model):
+            confirmed["series_metamodel"] = series_model.hyperparameters_()
+            notes.append(series_terms_note(series_model))
         if posterior is not None:
             for line in posterior.sentences():
                 log(line)
@@ -378,6 +382,7 @@ def _fit_metamodel(campaign, space, samples: CampaignSamples, notes: list) -> Fi
         series=samples.series,
         nominal=space.nominal_dict(),
         segments=samples.segments,
+        series_terms=m.series_terms,
     )
     if m.kind == "auto":
         notes.append(
@@ -542,6 +547,7 @@ def _refine(campaign, space, samples, kind, runs, candidates: dict, movable, log
         metric=campaign.metric,
         segments=samples.segments,
         movable=movable,
+        series_terms=campaign.metamodel.series_terms,
     )
     if refined[0] < candidates[start_name][0]:
         candidates[f"trust-region refinement ({len(refinement)} runs)"] = refined

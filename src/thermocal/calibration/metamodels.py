@@ -40,6 +40,37 @@ def sobol_or_note(surrogate, space, lower, upper, seed: int, kind: str, notes: l
     )
 
 
+def series_terms_note(model) -> str | None:
+    """The series meta-model's form in words, for the report's notes (None: not a series
+    meta-model).
+
+    Parameters
+    ----------
+    model : SeriesSurrogate or other
+        Fitted.
+
+    Returns
+    -------
+    str or None
+    """
+    terms = getattr(model, "terms_", None)
+    if terms is None:
+        return None
+    errors = getattr(model, "term_errors_", {}) or {}
+    form = (
+        "with a curvature term per parameter (quadratic in log p)"
+        if terms == "quadratic"
+        else "affine in log p (the published form)"
+    )
+    text = f"Series meta-model (optimum and posterior): the hourly heat {form}"
+    if errors:
+        text += (
+            f", chosen by cross-validation: out-of-fold hourly error {errors['affine']:.0f} W "
+            f"affine, {errors['quadratic']:.0f} W with curvature"
+        )
+    return text + "."
+
+
 def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None):
     """An unfitted meta-model of ``kind`` (a name, or the series model with its data)."""
     if kind != "series":
@@ -52,6 +83,7 @@ def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None)
         cv_folds=metamodel.cv_folds,
         seed=seed,
         segments=segments,
+        terms=getattr(metamodel, "series_terms", "auto"),
     )
 
 
@@ -85,6 +117,7 @@ def choose_surrogate(
     series=None,
     nominal=None,
     segments=None,
+    series_terms: str = "auto",
 ):
     """Fit the meta-model; with ``kind="auto"`` the SVR, the GP and the series model, keeping
     the best.
@@ -96,7 +129,8 @@ def choose_surrogate(
     suite). With each sample's unoccupied heat series (``series``), the series model
     (:class:`~thermocal.calibration.surrogate.SeriesSurrogate`) uses the metric's structure.
     "auto" fits all three (the GP up to :data:`AUTO_GP_MAX_SAMPLES` samples, the series model
-    when series are given) and keeps the highest cross-validated R2.
+    when series are given) and keeps the highest cross-validated R2. ``series_terms`` is the
+    series model's form (``"auto"``, ``"affine"`` or ``"quadratic"``).
 
     Returns
     -------
@@ -117,7 +151,12 @@ def choose_surrogate(
     for k in kinds:
         if k == "series":
             model = SeriesSurrogate(
-                series=series, nominal=nominal, cv_folds=cv_folds, seed=seed, segments=segments
+                series=series,
+                nominal=nominal,
+                cv_folds=cv_folds,
+                seed=seed,
+                segments=segments,
+                terms=series_terms,
             )
         else:
             model = make_surrogate(k, cv_folds=cv_folds, log_target=log_target, seed=seed)

@@ -166,7 +166,10 @@ def analyse(
     refinement = []
     if campaign.optimisation.refine > 0:
         t1 = time.perf_counter()
-        refinement = _refine(campaign, space, samples, fitted.kind, runs, candidates, movable, log)
+        terms = getattr(series_model, "terms_", campaign.metamodel.series_terms)
+        refinement = _refine(
+            campaign, space, samples, fitted.kind, runs, candidates, movable, log, terms
+        )
         if runs.evaluator is None and len(refinement) < campaign.optimisation.refine and movable:
             notes.append(
                 f"Re-analysis without simulation: the trust-region refinement stopped after "
@@ -358,7 +361,13 @@ class FittedMetamodel:
             space,
             parameters,
             surrogate=reduced_surrogate(
-                self.kind, m, samples.series, space, seed, samples.segments
+                self.kind,
+                m,
+                samples.series,
+                space,
+                seed,
+                samples.segments,
+                getattr(self.surrogate, "terms_", None),
             ),
             starts=campaign.optimisation.starts,
             seed=campaign.optimisation.seed,
@@ -529,9 +538,12 @@ def _candidates(
     return candidates
 
 
-def _refine(campaign, space, samples, kind, runs, candidates: dict, movable, log) -> list:
+def _refine(
+    campaign, space, samples, kind, runs, candidates: dict, movable, log, terms="auto"
+) -> list:
     """The trust-region refinement from the best candidate (added to ``candidates`` when it
-    improves on it); the refinement's runs."""
+    improves on it); the refinement's runs. ``terms``: the series meta-model's form (the one
+    chosen on the campaign, so that each step does not choose again)."""
     start_name = min(candidates, key=lambda k: candidates[k][0])
     refined, refinement = refine_minimum(
         runs,
@@ -547,7 +559,7 @@ def _refine(campaign, space, samples, kind, runs, candidates: dict, movable, log
         metric=campaign.metric,
         segments=samples.segments,
         movable=movable,
-        series_terms=campaign.metamodel.series_terms,
+        series_terms=terms,
     )
     if refined[0] < candidates[start_name][0]:
         candidates[f"trust-region refinement ({len(refinement)} runs)"] = refined

@@ -71,8 +71,9 @@ def series_terms_note(model) -> str | None:
     return text + "."
 
 
-def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None):
-    """An unfitted meta-model of ``kind`` (a name, or the series model with its data)."""
+def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None, terms=None):
+    """An unfitted meta-model of ``kind`` (a name, or the series model with its data; its form
+    ``terms``, default the campaign's ``metamodel.series_terms``)."""
     if kind != "series":
         return kind
     from thermocal.calibration.surrogate import SeriesSurrogate
@@ -83,13 +84,14 @@ def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None)
         cv_folds=metamodel.cv_folds,
         seed=seed,
         segments=segments,
-        terms=getattr(metamodel, "series_terms", "auto"),
+        terms=terms or getattr(metamodel, "series_terms", "auto"),
     )
 
 
-def reduced_surrogate(kind: str, metamodel, series, space, seed: int, segments=None):
-    """The unfitted reduced meta-model (no out-of-fold scores: only its optimum is used)."""
-    model = surrogate_for(kind, metamodel, series, space, seed, segments)
+def reduced_surrogate(kind: str, metamodel, series, space, seed: int, segments=None, terms=None):
+    """The unfitted reduced meta-model (no out-of-fold scores: only its optimum is used; a
+    series model takes the form ``terms`` the campaign's model chose)."""
+    model = surrogate_for(kind, metamodel, series, space, seed, segments, terms)
     if not isinstance(model, str):
         model.cv_folds = 0
     return model

@@ -114,7 +114,9 @@ def test_curvature_posterior_covers_the_truth_of_a_resistance():
 
     X, y, S, nominal, segments, truth = _conduction_campaign()
     lower, upper = np.full(3, 0.25), np.full(3, 1.75)
-    model = SeriesSurrogate(series=S, nominal=nominal, segments=segments, seed=1).fit(X, y)
+    model = SeriesSurrogate(series=S, nominal=nominal, segments=segments, seed=1, terms="auto")
+    model.fit(X, y)
+    assert model.terms_ == "quadratic"
     post = calibration_posterior(
         model,
         list(X.columns),
@@ -133,5 +135,5 @@ def test_auto_keeps_the_affine_form_when_the_heat_is_affine():
     """Few samples of many parameters and an affine truth: the curvature's extra coefficients
     do not lower the out-of-fold error, so "auto" keeps the published form."""
     X, y, series, nominal, _ = _campaign(n=24)
-    model = SeriesSurrogate(series=series, nominal=nominal, cv_folds=5, seed=1).fit(X, y)
-    assert model.terms_ == "affine", model.term_errors_
+    model = SeriesSurrogate(series=series, nominal=nominal, cv_folds=5, seed=1, terms="auto")
+    assert model.fit(X, y).terms_ == "affine", model.term_errors_

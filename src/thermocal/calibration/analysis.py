@@ -143,9 +143,10 @@ def analyse(
             samples.segments,
         )
         timings["posterior"] = time.perf_counter() - t0
-        if series_model is not None and series_terms_note(series_model):
+        note = series_terms_note(series_model, optimum=fitted.kind == "series")
+        if note:
+            notes.append(note)
             confirmed["series_metamodel"] = series_model.hyperparameters_()
-            notes.append(series_terms_note(series_model))
         if posterior is not None:
             for line in posterior.sentences():
                 log(line)
@@ -539,7 +540,7 @@ def _candidates(
 
 
 def _refine(
-    campaign, space, samples, kind, runs, candidates: dict, movable, log, terms="auto"
+    campaign, space, samples, kind, runs, candidates: dict, movable, log, terms="affine"
 ) -> list:
     """The trust-region refinement from the best candidate (added to ``candidates`` when it
     improves on it); the refinement's runs. ``terms``: the series meta-model's form (the one

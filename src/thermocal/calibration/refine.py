@@ -23,7 +23,7 @@ def refine_minimum(
     metric: str = "building",
     segments=None,
     movable=None,
-    series_terms: str = "auto",
+    series_terms: str = "affine",
 ):
     """Trust-region refinement of the minimum with the full model in the loop (beyond the paper).
 

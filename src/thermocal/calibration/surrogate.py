@@ -494,10 +494,13 @@ class SeriesSurrogate(_Surrogate):
     resistance's signature several per cent low (-6.6 % for the roof of the EnergyPlus twin
     of 5ZoneAirCooled). ``terms="quadratic"`` adds one ``z_k^2`` per parameter,
     ``q(t) = q0(t) + J(t) z + K(t) z^2`` (no cross terms; the same ridge penalty, which
-    regularises when the samples are fewer than the ``2 d`` coefficients); ``"auto"`` (the
-    default) keeps it only when its out-of-fold hourly error (hour-centred, what the
-    posterior and the optimum use) is below the affine model's, so that a small campaign is
-    not over-fitted; ``"affine"`` is the published form.
+    regularises when the samples are fewer than the ``2 d`` coefficients); ``"auto"`` keeps
+    it only when its out-of-fold hourly error (hour-centred, what the posterior and the
+    optimum use) is below the affine model's, so that a small campaign is not over-fitted;
+    ``"affine"`` (the default) is the published form. The curvature removes the
+    linearisation's bias of the optimum, and with it most of the meta-model's own error: the
+    posterior's intervals then rest on the residual noise and the model discrepancy alone,
+    and narrow (docs/calibration.md, "Curvature of the series meta-model").
 
     Parameters
     ----------
@@ -537,7 +540,7 @@ class SeriesSurrogate(_Surrogate):
         cv_folds: int = 5,
         seed: int = 0,
         segments: Any = None,
-        terms: str = "auto",
+        terms: str = "affine",
     ) -> None:
         if terms not in SERIES_TERMS:
             raise ThermocalInputError(
@@ -578,6 +581,13 @@ class SeriesSurrogate(_Surrogate):
     def design(self, Z: np.ndarray) -> np.ndarray:
         """The regressions' features of log-parameters ``Z`` in the fitted form [-]."""
         return series_design(Z, getattr(self, "terms_", self.terms))
+
+    def compare_terms(self) -> dict[str, float]:
+        """Out-of-fold RMS hour-centred error of the affine and the quadratic form on the
+        fitted samples [W] (what ``terms="auto"`` chooses by; stored in ``term_errors_``)."""
+        if not self.term_errors_:
+            self.term_errors_ = self._term_errors(self.log_parameters_)
+        return dict(self.term_errors_)
 
     def _term_errors(self, Z: np.ndarray) -> dict[str, float]:
         """Out-of-fold RMS hour-centred error of the affine and the quadratic form [W]."""

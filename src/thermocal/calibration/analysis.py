@@ -21,6 +21,7 @@ from thermocal.calibration.metamodels import (
     choose_surrogate,
     reduced_options,
     reduced_surrogate,
+    series_terms_note,
     sobol_or_note,
     surrogate_for,
 )
@@ -142,6 +143,10 @@ def analyse(
             samples.segments,
         )
         timings["posterior"] = time.perf_counter() - t0
+        note = series_terms_note(series_model, optimum=fitted.kind == "series")
+        if note:
+            notes.append(note)
+            confirmed["series_metamodel"] = series_model.hyperparameters_()
         if posterior is not None:
             for line in posterior.sentences():
                 log(line)
@@ -162,7 +167,10 @@ def analyse(
     refinement = []
     if campaign.optimisation.refine > 0:
         t1 = time.perf_counter()
-        refinement = _refine(campaign, space, samples, fitted.kind, runs, candidates, movable, log)
+        terms = getattr(series_model, "terms_", campaign.metamodel.series_terms)
+        refinement = _refine(
+            campaign, space, samples, fitted.kind, runs, candidates, movable, log, terms
+        )
         if runs.evaluator is None and len(refinement) < campaign.optimisation.refine and movable:
             notes.append(
                 f"Re-analysis without simulation: the trust-region refinement stopped after "
@@ -354,7 +362,13 @@ class FittedMetamodel:
             space,
             parameters,
             surrogate=reduced_surrogate(
-                self.kind, m, samples.series, space, seed, samples.segments
+                self.kind,
+                m,
+                samples.series,
+                space,
+                seed,
+                samples.segments,
+                getattr(self.surrogate, "terms_", None),
             ),
             starts=campaign.optimisation.starts,
             seed=campaign.optimisation.seed,
@@ -378,6 +392,7 @@ def _fit_metamodel(campaign, space, samples: CampaignSamples, notes: list) -> Fi
         series=samples.series,
         nominal=space.nominal_dict(),
         segments=samples.segments,
+        series_terms=m.series_terms,
     )
     if m.kind == "auto":
         notes.append(
@@ -524,9 +539,12 @@ def _candidates(
     return candidates
 
 
-def _refine(campaign, space, samples, kind, runs, candidates: dict, movable, log) -> list:
+def _refine(
+    campaign, space, samples, kind, runs, candidates: dict, movable, log, terms="affine"
+) -> list:
     """The trust-region refinement from the best candidate (added to ``candidates`` when it
-    improves on it); the refinement's runs."""
+    improves on it); the refinement's runs. ``terms``: the series meta-model's form (the one
+    chosen on the campaign, so that each step does not choose again)."""
     start_name = min(candidates, key=lambda k: candidates[k][0])
     refined, refinement = refine_minimum(
         runs,
@@ -542,6 +560,7 @@ def _refine(campaign, space, samples, kind, runs, candidates: dict, movable, log
         metric=campaign.metric,
         segments=samples.segments,
         movable=movable,
+        series_terms=terms,
     )
     if refined[0] < candidates[start_name][0]:
         candidates[f"trust-region refinement ({len(refinement)} runs)"] = refined

@@ -148,12 +148,21 @@ class SamplingSection(_Strict):
 
 
 class MetamodelSection(_Strict):
-    """Meta-model kind and critical-parameter count."""
+    """Meta-model kind and critical-parameter count.
+
+    ``series_terms``: the form of the series meta-model's hourly regressions in
+    ``log(p / p_nominal)`` (it also gives the posterior): ``affine`` (the default, the
+    published form), ``quadratic`` (a curvature term per parameter) or ``auto`` (the curvature
+    kept when it lowers the out-of-fold hourly error); see
+    :class:`thermocal.calibration.surrogate.SeriesSurrogate` and docs/calibration.md for
+    what each does on the twins.
+    """
 
     kind: Literal["svr", "gp", "series", "auto"] = "auto"
     top_k: int = Field(10, ge=1)
     cv_folds: int = Field(5, ge=2)
     log_target: bool = False
+    series_terms: Literal["auto", "affine", "quadratic"] = "affine"
 
 
 class MorrisSection(_Strict):

@@ -40,8 +40,43 @@ def sobol_or_note(surrogate, space, lower, upper, seed: int, kind: str, notes: l
     )
 
 
-def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None):
-    """An unfitted meta-model of ``kind`` (a name, or the series model with its data)."""
+def series_terms_note(model, optimum: bool = False) -> str | None:
+    """The series meta-model's form in words, for the report's notes (None: not a series
+    meta-model).
+
+    Parameters
+    ----------
+    model : SeriesSurrogate or other
+        Fitted (its out-of-fold comparison of the two forms is computed when missing).
+    optimum : bool
+        Whether it also gives the optimum (the campaign's meta-model is the series one).
+
+    Returns
+    -------
+    str or None
+    """
+    terms = getattr(model, "terms_", None)
+    if terms is None:
+        return None
+    form = (
+        "with a curvature term per parameter (quadratic in log p)"
+        if terms == "quadratic"
+        else "affine in log p (the published form)"
+    )
+    errors = model.compare_terms()
+    return (
+        f"Series meta-model (posterior{' and optimum' if optimum else ''}): "
+        f"the hourly heat {form}; out-of-fold hourly error {errors['affine']:.0f} W affine, "
+        f"{errors['quadratic']:.0f} W with curvature (metamodel.series_terms: "
+        f"{model.terms}). A straight line in log p over a wide prior biases the optimum of "
+        "the resistances (their heat goes as 1 / (R + films)); the curvature removes that "
+        "bias and narrows the intervals to the residual noise and the model discrepancy."
+    )
+
+
+def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None, terms=None):
+    """An unfitted meta-model of ``kind`` (a name, or the series model with its data; its form
+    ``terms``, default the campaign's ``metamodel.series_terms``)."""
     if kind != "series":
         return kind
     from thermocal.calibration.surrogate import SeriesSurrogate
@@ -52,12 +87,14 @@ def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None)
         cv_folds=metamodel.cv_folds,
         seed=seed,
         segments=segments,
+        terms=terms or getattr(metamodel, "series_terms", "affine"),
     )
 
 
-def reduced_surrogate(kind: str, metamodel, series, space, seed: int, segments=None):
-    """The unfitted reduced meta-model (no out-of-fold scores: only its optimum is used)."""
-    model = surrogate_for(kind, metamodel, series, space, seed, segments)
+def reduced_surrogate(kind: str, metamodel, series, space, seed: int, segments=None, terms=None):
+    """The unfitted reduced meta-model (no out-of-fold scores: only its optimum is used; a
+    series model takes the form ``terms`` the campaign's model chose)."""
+    model = surrogate_for(kind, metamodel, series, space, seed, segments, terms)
     if not isinstance(model, str):
         model.cv_folds = 0
     return model
@@ -85,6 +122,7 @@ def choose_surrogate(
     series=None,
     nominal=None,
     segments=None,
+    series_terms: str = "affine",
 ):
     """Fit the meta-model; with ``kind="auto"`` the SVR, the GP and the series model, keeping
     the best.
@@ -96,7 +134,8 @@ def choose_surrogate(
     suite). With each sample's unoccupied heat series (``series``), the series model
     (:class:`~thermocal.calibration.surrogate.SeriesSurrogate`) uses the metric's structure.
     "auto" fits all three (the GP up to :data:`AUTO_GP_MAX_SAMPLES` samples, the series model
-    when series are given) and keeps the highest cross-validated R2.
+    when series are given) and keeps the highest cross-validated R2. ``series_terms`` is the
+    series model's form (``"auto"``, ``"affine"`` or ``"quadratic"``).
 
     Returns
     -------
@@ -117,7 +156,12 @@ def choose_surrogate(
     for k in kinds:
         if k == "series":
             model = SeriesSurrogate(
-                series=series, nominal=nominal, cv_folds=cv_folds, seed=seed, segments=segments
+                series=series,
+                nominal=nominal,
+                cv_folds=cv_folds,
+                seed=seed,
+                segments=segments,
+                terms=series_terms,
             )
         else:
             model = make_surrogate(k, cv_folds=cv_folds, log_target=log_target, seed=seed)

@@ -287,7 +287,8 @@ def optimise_reduced(
 
     results = {}
     for sense, pick in (("min", np.argmin), ("max", np.argmax)):
-        # the series meta-model's metric is a convex quadratic: its optima are found exactly
+        # the series meta-model's minimum is a bounded least-squares problem (exact when it is
+        # affine in log p), its maximum at a vertex (with curvature, polished from the best one)
         exact = model.box_optimum(sense, lo, hi) if hasattr(model, "box_optimum") else None
         if exact is not None:
             x, value = exact

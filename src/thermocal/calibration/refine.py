@@ -23,6 +23,7 @@ def refine_minimum(
     metric: str = "building",
     segments=None,
     movable=None,
+    series_terms: str = "affine",
 ):
     """Trust-region refinement of the minimum with the full model in the loop (beyond the paper).
 
@@ -37,6 +38,8 @@ def refine_minimum(
     (:class:`thermocal.calibration.workflow.RunCache`): found in the store when run before; in
     a re-analysis the refinement stops at the first candidate that is not stored. Only the
     ``movable`` parameters (default all) change; the others keep the start's values.
+    ``series_terms``: the series meta-model's form (the campaign's, see
+    :class:`~thermocal.calibration.surrogate.SeriesSurrogate`).
 
     Returns
     -------
@@ -64,7 +67,11 @@ def refine_minimum(
         frame = pd.DataFrame(Xs, columns=names)
         if kind == "series" and Ss is not None:
             model = SeriesSurrogate(
-                series=Ss, nominal=space.nominal_dict(), cv_folds=0, segments=segments
+                series=Ss,
+                nominal=space.nominal_dict(),
+                cv_folds=0,
+                segments=segments,
+                terms=series_terms,
             )
         else:
             model = make_surrogate(kind if kind != "series" else "gp", cv_folds=0, seed=seed)

@@ -510,6 +510,7 @@ def test_report_gains_text_for_every_source(source):
     analysis = SimpleNamespace(
         config=SimpleNamespace(internal_gains=gains),
         year_gains=np.full(8760, 500.0),
+        gains_rel_std=gains.rel_std,  # no occupants: the source's spread alone
         demand=SimpleNamespace(step_hours=1.0),
     )
     text = _gains_text(analysis)

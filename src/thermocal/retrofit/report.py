@@ -615,15 +615,11 @@ _LIMIT_SIGN = {True: "± ", False: "<= "}
 
 
 def _gains_rel_std(analysis) -> float:
-    """Relative uncertainty [-] of all internal gains in the draws."""
-    from thermocal.retrofit.gains import combined_rel_std
-
-    ig = analysis.config.internal_gains
-    year = analysis.year_gains
-    if year is None:
-        return float(ig.rel_std)
-    day = np.asarray(year, float)[: 24 * (len(year) // 24)].reshape(-1, 24).mean(axis=0)
-    return combined_rel_std(day, ig)
+    """Relative uncertainty [-] of all internal gains in the draws (the analysis' own; the
+    configured ``rel_std`` when the demand year has no gains)."""
+    if analysis.year_gains is None:
+        return float(analysis.config.internal_gains.rel_std)
+    return float(analysis.gains_rel_std)
 
 
 def _gains_text(analysis) -> str:

@@ -84,6 +84,7 @@ class RetrofitAnalysis:
     heat_validation: dict | None = None  # daily heat of model vs meter, test period
     gate: dict | None = None  # verdict of thermocal.retrofit.gate.validation_gate
     year_gains: np.ndarray | None = None  # [W] internal gains of the demand year
+    gains_rel_std: float = 0.0  # [-] relative spread of those gains in the draws
     calibration_method: dict | None = None  # :func:`calibration_method` (what was fitted, why)
     air_change: dict | None = None  # :func:`thermocal.retrofit.airchange.estimate_slope`
 
@@ -515,7 +516,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         training=training, test=test, simulated_ti=sim_ti, validation=validation,
         indoor_profile=profile, strategies=strategies, demand=demand,
         weather_meta=weather_meta, year_inputs=year[list(DEMAND_INPUTS)], draws=draws,
-        year_gains=year_gains,
+        year_gains=year_gains, gains_rel_std=gains_std,
         envelopes=envelopes,
         timings=timings, notes=notes, measurements_quality=quality,
         heat_validation=heat_check, gate=gate, calibration_method=method,

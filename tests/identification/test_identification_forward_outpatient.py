@@ -34,10 +34,13 @@ room); after, 0.076 K / -0.026 K (worst 0.29 K, the MRI room at 93 C).
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
 import pytest
-from energyplus_twin import forward_on_the_same_file
+from energyplus_twin import fidelity, forward_on_the_same_file, hourly_rmse_bias, sensor_log
 
 from conftest import requires_energyplus
 
@@ -51,13 +54,59 @@ OUTPATIENT = (
 )
 
 
-def test_outpatient_with_its_loads_against_energyplus(tmp_path):
+@pytest.fixture(scope="module")
+def forward(tmp_path_factory):
+    if not OUTPATIENT.is_file():
+        pytest.skip(f"{OUTPATIENT} is missing (run its convert.py)")
+    folder = tmp_path_factory.mktemp("outpatient")
+    return forward_on_the_same_file(OUTPATIENT.read_text(), folder, days=4, steps_per_hour=12)
+
+
+def test_outpatient_with_its_loads_against_energyplus(forward):
     """Before the four fixes: mean RMSE 2.34 K, bias -2.17 K over these 3 days."""
-    twin, table = forward_on_the_same_file(
-        OUTPATIENT.read_text(), tmp_path, days=4, steps_per_hour=12
-    )
+    twin, table = forward
     assert len(table) == 118
     assert twin.temperature.max().max() > 90.0  # the MRI room really runs hot
     assert table["rmse"].mean() < 0.2, table.sort_values("rmse").tail()
     assert abs(table["bias"].mean()) < 0.1, table.sort_values("bias").head()
     assert table["rmse"].max() < 0.5, table.sort_values("rmse").tail()
+
+
+def test_outpatient_identified_heat_with_three_quarters_sensed(forward):
+    """87 of 118 zones sensed (drawn with seed 1, as ``measure_identification.py``), the form
+    the file declares: the floating zones keep their load objects (no sensor identifies
+    them), so they float as EnergyPlus' and the sensed zones' identified heat is their own
+    gains (issue 28 item 7: |NMBE| <= 5 %, CV(RMSE) <= 15 %, also in the unoccupied hours).
+    Measured 2026-11-28 over these 3 days: before (the floating zones without their loads
+    float too cold, the MRI room by 42 K, mean 4.7 K, and draw heat from their sensed
+    neighbours) +26.1 % / 27.6 %, unoccupied +56.0 % / 59.3 %; now -0.1 % / 1.5 %, unoccupied
+    +0.4 % / 3.0 %, floating zones 0.05 K (worst 0.28 K). The whole January week: +0.7 % /
+    2.2 %, unoccupied +1.5 % / 3.2 %."""
+    from thermocal.identification.workflow import identify
+
+    twin, _ = forward
+    zones = list(twin.temperature.columns)
+    sensed = sorted(np.random.default_rng(1).choice(zones, size=87, replace=False).tolist())
+    log, mapping = sensor_log(twin, sensed)
+    for zone in sensed:  # the hot rooms' own plausible range (the MRI room reaches 95 C)
+        mean = float(twin.temperature[zone].mean())
+        if not 5.0 < mean < 30.0:
+            mapping.setdefault("zones", {})[zone] = {"plausible": [mean - 15, mean + 15]}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = identify(
+            twin.building, twin.weather, twin.metadata, log, mapping,
+            start=twin.start + pd.Timedelta("5min"), end=twin.end, step="5min",
+            method="inverse", radiant_fraction="declared",
+        )  # fmt: skip
+    q = result.q_id[sensed]
+    truth = twin.gains.reindex(q.index)[sensed]
+    keep = q.index >= q.index[0] + pd.Timedelta("1D")
+    own = fidelity(q[keep], truth[keep])
+    quiet = fidelity(q[keep], truth[keep], result.unoccupied_mask()[keep])
+    assert abs(own["nmbe"]) <= 0.05 and own["cvrmse"] <= 0.15, own
+    assert abs(quiet["nmbe"]) <= 0.05 and quiet["cvrmse"] <= 0.15, quiet
+    floating = [z for z in zones if z not in sensed]
+    error = hourly_rmse_bias(result.floating_temperature[floating], twin.temperature[floating])
+    assert error["rmse"].mean() < 0.3, error.sort_values("rmse").tail()
+

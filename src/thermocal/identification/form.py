@@ -42,10 +42,18 @@ def _declared_gains(building) -> list:
     return gains
 
 
-def without_declared_loads(building):
+def without_declared_loads(building, keep=()):
     """The building whose identified heat stands for its load objects: People, Lights and
     equipment removed from what is simulated (constant and scheduled gains alike), the rest
     (envelope, infiltration, ventilation, schedules) unchanged.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+        Read from an IDF file with its load objects.
+    keep : iterable of str
+        Zones whose load objects stay simulated: the floating zones, which have no sensor and
+        hence no identified heat to stand for their loads (:func:`floating_zones`).
 
     Raises
     ------
@@ -61,13 +69,46 @@ def without_declared_loads(building):
             "number (default 0.6)"
         )
     info = building.idf_info
+    keep = set(keep)
     zones = {
-        name: dataclasses.replace(zone, internal_gains=0.0)
+        name: zone if name in keep else dataclasses.replace(zone, internal_gains=0.0)
         for name, zone in building.zones.items()
     }
     stripped = building.replaced(zones=zones)
-    stripped.idf_info = dataclasses.replace(info, internal_gains=[])
+    stripped.idf_info = dataclasses.replace(
+        info, internal_gains=[g for g in info.internal_gains if g.zone in keep]
+    )
     return stripped
+
+
+def floating_zones(building, mapping) -> list[str]:
+    """The zones without a reference temperature (no sensor, no named or neighbour's data):
+    they float freely with ``Q_ID = 0``."""
+    from thermocal.identification.sensors import zone_sources
+
+    return [z for z, src in zone_sources(building, mapping).items() if src.kind == "float"]
+
+
+def building_to_simulate(building, mapping, declared: bool):
+    """The building the identification simulates and the floating zones that keep their loads.
+
+    Without the declared form: ``building`` itself (a file's load objects simulated as known
+    heat everywhere). With it: the load objects left out of the tracked zones (the identified
+    heat stands for them) and kept in the floating zones, which have no identified heat: the
+    file's loads are the best knowledge of what those zones get, and leaving them out would
+    make them float colder than the building and draw heat from their sensed neighbours.
+
+    Returns
+    -------
+    building : thermocal.multizone.Building
+    kept : list of str
+        Floating zones whose load objects stay simulated (empty without the declared form).
+    """
+    if not declared:
+        return building, []
+    floating = floating_zones(building, mapping)
+    kept = sorted({g.zone for g in _declared_gains(building)} & set(floating))
+    return without_declared_loads(building, keep=kept), kept
 
 
 def declared_form(building, mapping, times: pd.DatetimeIndex, step, fallback: float):
@@ -88,8 +129,11 @@ def declared_form(building, mapping, times: pd.DatetimeIndex, step, fallback: fl
     return frame
 
 
-def loads_note(building, declared: bool, form: pd.DataFrame | None = None) -> str | None:
-    """The report's sentence on the file's load objects (None when it has none)."""
+def loads_note(
+    building, declared: bool, form: pd.DataFrame | None = None, kept=()
+) -> str | None:
+    """The report's sentence on the file's load objects (None when it has none); ``kept``:
+    floating zones whose objects stay simulated (:func:`building_to_simulate`)."""
     gains = _declared_gains(building)
     if not gains:
         return None
@@ -97,10 +141,16 @@ def loads_note(building, declared: bool, form: pd.DataFrame | None = None) -> st
     if declared:
         low = float(form.min().min()) if form is not None else float("nan")
         high = float(form.max().max()) if form is not None else float("nan")
+        floating = (
+            f" The {len(kept)} floating zone(s) with load objects keep them, simulated as known "
+            f"heat (no sensor, no identified heat): {_names(kept)}."
+            if kept
+            else ""
+        )
         return (
             f"The identified heat takes the form the building file declares step by step "
             f"({len(gains)} objects: {', '.join(kinds)}; radiant share {low:.2f}..{high:.2f}); "
-            "those objects are not simulated: the identified heat stands for them."
+            "those objects are not simulated: the identified heat stands for them." + floating
         )
     return (
         f"The building file's {len(gains)} load objects ({', '.join(kinds)}) are simulated as "
@@ -108,3 +158,11 @@ def loads_note(building, declared: bool, form: pd.DataFrame | None = None) -> st
         f"in the form the file declares, set identified_heat: {{radiant_fraction: {DECLARED}}} "
         f"in the mapping (or --radiant-fraction {DECLARED})."
     )
+
+
+def _names(names, shown: int = 6) -> str:
+    """``a, b, c`` or ``a, b, ... and 12 more``."""
+    names = list(names)
+    if len(names) <= shown:
+        return ", ".join(names)
+    return f"{', '.join(names[:shown])} and {len(names) - shown} more"

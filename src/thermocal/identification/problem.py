@@ -285,9 +285,9 @@ def problem_from_measurements(
     report : thermocal.identification.sensors.ReferenceReport
     """
     from thermocal.identification.form import (
+        building_to_simulate,
         declared_form,
         declared_form_requested,
-        without_declared_loads,
     )
     from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
     from thermocal.identification.workflow import (
@@ -303,7 +303,7 @@ def problem_from_measurements(
     # a typical-year file on the year of the measurements (as identify)
     weather, metadata = _weather_for_log(weather, metadata, sensor_log, start, end)
     declared = declared_form_requested(mapping, radiant_fraction)
-    simulated = without_declared_loads(building) if declared else building
+    simulated, _ = building_to_simulate(building, mapping, declared)
     sim = Simulation(
         simulated,
         weather,

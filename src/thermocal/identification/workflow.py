@@ -17,10 +17,10 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 from thermocal.identification.form import (
+    building_to_simulate,
     declared_form,
     declared_form_requested,
     loads_note,
-    without_declared_loads,
 )
 from thermocal.identification.metrics import (
     tracking_metrics,
@@ -442,8 +442,9 @@ def identify(
         notes.append(weather_year["statement"])
     declared = declared_form_requested(mapping, radiant_fraction)
     t0 = time.perf_counter()
+    simulated, kept = building_to_simulate(building, mapping, declared)
     sim = Simulation(
-        without_declared_loads(building) if declared else building,
+        simulated,
         weather,
         metadata,
         step=step,
@@ -457,7 +458,7 @@ def identify(
         radiant_fraction = declared_form(
             building, mapping, sim.times, sim.step_size, DEFAULT_RADIANT_FRACTION
         )
-    note = loads_note(building, declared, radiant_fraction if declared else None)
+    note = loads_note(building, declared, radiant_fraction if declared else None, kept)
     if note:
         notes.append(note)
     timings["model_setup"] = time.perf_counter() - t0
@@ -486,7 +487,7 @@ def identify(
     fractions = form.loc[zones, "radiant_fraction"].to_numpy()
     if isinstance(radiant_fraction, pd.DataFrame):
         fractions = per_step_fraction(radiant_fraction, zones, sim.times)
-    form.insert(0, "treatment", ["floating" if z in floating else "tracked" for z in all_zones])
+    form.insert(0, "treatment", [_treatment(z, floating, kept) for z in all_zones])
     feedback_name = _sensor_name(weights)
     track_form = dict(zones=zones, feedback=weights, radiant_fraction=fractions)
     ref = reference[zones].to_numpy()
@@ -724,6 +725,13 @@ def _sensor_name(weights: np.ndarray) -> str:
     if len(unique) > 1:
         return "per zone"
     return {1.0: "air", 0.5: "operative"}.get(float(unique[0]), f"air weight {unique[0]:g}")
+
+
+def _treatment(zone: str, floating: list[str], kept: list[str]) -> str:
+    """The zone table's treatment: tracked, floating, or floating with the file's loads."""
+    if zone not in floating:
+        return "tracked"
+    return "floating, the file's loads simulated" if zone in kept else "floating"
 
 
 def _with_floating(heat: pd.DataFrame, zones: list[str]) -> pd.DataFrame:

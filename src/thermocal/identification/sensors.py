@@ -452,6 +452,9 @@ def zone_references(
         end=end,
         outliers="flag",
     )
+    # pandas deep-copies ``attrs`` (the sensors' units) into every column and frame taken from
+    # the grid; they are not used below: drop them once
+    grid.attrs = {}
     if grid.index.tz is not None and tz is not None:
         grid.index = grid.index.tz_convert(tz)
     grid = grid.reindex(times + half)

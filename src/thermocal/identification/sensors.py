@@ -452,6 +452,9 @@ def zone_references(
         end=end,
         outliers="flag",
     )
+    # pandas deep-copies ``attrs`` (the sensors' units) into every column and frame taken from
+    # the grid; they are not used below: drop them once
+    grid.attrs = {}
     if grid.index.tz is not None and tz is not None:
         grid.index = grid.index.tz_convert(tz)
     grid = grid.reindex(times + half)
@@ -581,7 +584,9 @@ def check_sensor_plausibility(
         for sensor, zone in mapping.sensors.items()
         if zone in mapping.zone_plausible
     }
-    for sensor, mean in means.items():
+    # the sensors judged against the others (those without a declared range), once
+    undeclared = np.array([str(s) not in declared for s in means.index], dtype=bool)
+    for position, (sensor, mean) in enumerate(means.items()):
         if str(sensor) in declared:
             low, high = declared[str(sensor)]
             if not low <= mean <= high:
@@ -593,7 +598,10 @@ def check_sensor_plausibility(
                     f"{hint}; correct the unit of the values or the declared range"
                 )
             continue
-        others = means.drop([s for s in means.index if s == sensor or str(s) in declared])
+        keep = undeclared.copy()
+        keep[position] = False
+        keep &= np.asarray(means.index != sensor)
+        others = means[keep]
         reference = float(others.median()) if len(others) else None
         slip = temperature_unit_slip(float(mean), reference)
         if slip is None:
@@ -612,8 +620,10 @@ def check_sensor_plausibility(
             f"warm or cold, declare it in {mapping.source}: zones: {{{zone}: {{plausible: "
             "[low, high]}} in C)"
         )
+    # every sensor's daily means in one resampling (per column the same means as one by one)
+    all_daily = grid[list(means.index)].resample("1D").mean()
     for sensor in means.index:
-        daily = grid[sensor].resample("1D").mean().dropna()
+        daily = all_daily[sensor].dropna()
         if len(daily) < 3:
             continue
         typical = float(daily.median())

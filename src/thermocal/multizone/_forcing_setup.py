@@ -207,17 +207,26 @@ class ForcingSetup:
         interior = []
         for window, (beam_col, area, targets) in net.window_beam_targets.items():
             names, shares = self._interior_beam[window]
-            for face, col in targets:
-                # transmitted beam [W] landing on the face
-                u[:, col] = u[:, beam_col] * area * shares[:, names.index(face)]
-                interior.append(col)
+            # transmitted beam [W] landing on each face, all faces of the window in one block
+            # (the same products as face by face: (beam x area) x share)
+            cols = [col for _, col in targets]
+            beam = u[:, beam_col] * area
+            u[:, cols] = beam[:, None] * shares[:, [names.index(face) for face, _ in targets]]
+            interior.extend(cols)
         if self.weather_interpolation == "energyplus":
             # rows hold the curve at each step's end: the step is forced by the mean of its start
             # and end values (the first step keeps its end value)
             weather_driven = [IN_TEMP_OUT, IN_TEMP_SKY, *net.orientation_inputs.values()]
             weather_driven += [col for cols in net.window_inputs.values() for col in cols]
             weather_driven += interior
-            u[1:, weather_driven] = 0.5 * (u[1:, weather_driven] + u[:-1, weather_driven])
+            # the mean over all columns, copied into the weather-driven ones: the same values
+            # as gathering and scattering those columns (ten times slower on a large building)
+            driven = np.zeros(u.shape[1], dtype=bool)
+            driven[weather_driven] = True
+            mean = u[1:] + u[:-1]
+            mean *= 0.5
+            np.copyto(u[1:], mean, where=driven[None, :])
+            del mean
             t_out = u[:, IN_TEMP_OUT]
         # explicit corrections: exterior convection (wind) and infiltration air density
         key = ("doe2", tuple(net.ext_names))

@@ -97,10 +97,30 @@ def building_surface_can_shade(caster, receiver, tolerance=PLANE_TOLERANCE) -> b
     norm = float(np.linalg.norm(normal))
     if norm <= 1e-12:
         return False
-    normal = normal / norm
+    return _plane_can_shade(caster[0], normal / norm, receiver, tolerance)
+
+
+def _plane_can_shade(origin, normal, receiver, tolerance=PLANE_TOLERANCE) -> bool:
+    """:func:`building_surface_can_shade` for a caster given by a vertex ``origin`` and its
+    unit outward ``normal`` (computed once per caster by :class:`ShadowCaster`).
+
+    Parameters
+    ----------
+    origin : (3,) array [m]
+        The caster's first vertex.
+    normal : (3,) array
+        The caster's unit outward normal (Newell's, normalised).
+    receiver : (m, 3) array [m]
+        Vertices of the receiving surface.
+    tolerance : float [m]
+
+    Returns
+    -------
+    bool
+    """
     if normal[2] > 0.9999:
         return False  # faces up
-    height = (np.asarray(receiver, dtype=float) - caster[0]) @ normal
+    height = (np.asarray(receiver, dtype=float) - origin) @ normal
     return bool(np.max(height) > tolerance)
 
 
@@ -299,7 +319,7 @@ class ShadowCaster:
             normal = normal / norm
             u_axis, v_axis = _plane_axes(normal)
             local = np.stack([(verts - verts[0]) @ u_axis, (verts - verts[0]) @ v_axis], axis=1)
-            self._planes.append((verts[0], normal, u_axis, v_axis, local))
+            self._planes.append((verts[0], normal, u_axis, v_axis, local, verts))
         self._receivers: dict[str, _Receiver] = {}
         for name, (vertices, holes) in receivers.items():
             verts = np.asarray(vertices, dtype=float)
@@ -313,13 +333,10 @@ class ShadowCaster:
             for k, plane in enumerate(self._planes):
                 if plane is None:
                     continue
-                if self.shaders[k].front_only and not building_surface_can_shade(
-                    self.shaders[k].vertices, verts
-                ):
+                # the caster's plane (vertex, unit normal) is the one of building_surface_can_shade
+                if self.shaders[k].front_only and not _plane_can_shade(plane[0], plane[1], verts):
                     continue
-                clipped = _clip_in_front(
-                    np.asarray(self.shaders[k].vertices, float), origin, normal
-                )
+                clipped = _clip_in_front(plane[5], origin, normal)
                 if len(clipped):
                     candidates.append((k, clipped))
             if not candidates:

@@ -15,7 +15,8 @@ declares (``radiant_fraction="declared"``). Compared with the gains EnergyPlus p
 zones (first day left out): NMBE, CV(RMSE) and correlation over all hours and over the
 method's unoccupied hours, for the building (the floating zones' gains included in the truth:
 nobody identifies them) and for the sensed zones alone (their identified heat against their own
-gains). With the declared form the floating zones keep the file's load objects. ``LABEL`` (default "after") names the entry in the JSON file.
+gains). With the declared form the floating zones keep the file's load objects. ``LABEL``
+(default "after") names the entry in the JSON file.
 """
 
 from __future__ import annotations

@@ -36,7 +36,7 @@ def main(argv=None) -> int:
     from thermocal.calibration.sampling import sample
     from thermocal.calibration.space import ParameterSpace
     from thermocal.calibration.store import CampaignStore
-    from thermocal.identification.demo_data import load_demo
+    from thermocal.demos.identification import load_demo
     from thermocal.identification.problem import problem_from_measurements
 
     building, weather, meta, raw, mapping, _ = load_demo()

@@ -132,8 +132,8 @@ def compare(label, make_sim, run, repeats, tolerance):
 
 
 def clinic_rows(repeats, tolerance):
+    from thermocal.demos.buildings import clinic
     from thermocal.io.weather import read_weather
-    from thermocal.multizone.generators import clinic
     from thermocal.multizone.simulation import Simulation
 
     weather, meta = read_weather(WEATHER)
@@ -197,7 +197,7 @@ def idf_rows(name, label, start, end, step, year, repeats, tolerance):
 
 
 def identification_rows(repeats, tolerance):
-    from thermocal.identification.demo_data import load_demo
+    from thermocal.demos.identification import load_demo
     from thermocal.identification.problem import problem_from_measurements
 
     building, weather, meta, raw, mapping, _ = load_demo()

@@ -38,7 +38,7 @@ def main(argv=None) -> int:
     parser.add_argument("--write", type=Path)
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
-    from thermocal.identification.demo_data import load_demo
+    from thermocal.demos.identification import load_demo
     from thermocal.identification.pid import kernel_coefficients
     from thermocal.identification.problem import problem_from_measurements
     from thermocal.identification.tuning import tune_zone, volume_scaled_gains

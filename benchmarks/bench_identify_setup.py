@@ -55,7 +55,7 @@ def main(argv=None) -> int:
     warnings.simplefilter("ignore")
     import pandas as pd
 
-    from thermocal.identification.demo_data import load_demo
+    from thermocal.demos.identification import load_demo
     from thermocal.identification.workflow import identify
     from thermocal.io.weather import read_weather
     from thermocal.multizone.energyplus import energyplus_weather_folder

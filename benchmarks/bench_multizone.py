@@ -129,8 +129,8 @@ def main() -> None:
     parser.add_argument("--write", type=Path, default=None)
     args = parser.parse_args()
 
+    from thermocal.demos.buildings import clinic
     from thermocal.io.weather import read_weather
-    from thermocal.multizone.generators import clinic
     from thermocal.multizone.idf import read_idf
     from thermocal.multizone.simulation import Simulation
 

@@ -80,8 +80,8 @@ def _energyplus_year() -> float | None:
 def detailed(repeats: int) -> None:
     import json
 
+    from thermocal.demos.buildings import single_family_house
     from thermocal.io.weather import read_weather
-    from thermocal.multizone.generators import single_family_house
     from thermocal.retrofit.detailed import load_detailed_building
     from thermocal.retrofit.strategies import Measure, paper_measures
 

@@ -29,9 +29,9 @@ CHILD = r"""
 import json, sys, time, warnings
 warnings.simplefilter("ignore")
 import pandas as pd
-from thermocal.identification.demo_data import load_demo
+from thermocal.demos.identification import load_demo
 from thermocal.io.weather import read_weather
-from thermocal.multizone import generators
+from thermocal.demos import buildings as generators
 from thermocal.multizone.energyplus import energyplus_weather_folder
 from thermocal.multizone.idf import read_idf
 from thermocal.multizone.network import assemble

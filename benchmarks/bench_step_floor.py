@@ -130,7 +130,7 @@ def loop_bytes(args: dict, n_nodes: int) -> int:
 
 def capture_clinic():
     """The clinic demo's identification problem and the kernel arguments of three modes."""
-    from thermocal.identification.demo_data import load_demo
+    from thermocal.demos.identification import load_demo
     from thermocal.identification.pid import kernel_coefficients
     from thermocal.identification.problem import problem_from_measurements
     from thermocal.identification.tuning import tune_zone, volume_scaled_gains

@@ -119,7 +119,7 @@ def test_zero_nominal_is_skipped_and_negative_rejected():
 
 
 def test_real_building_parameters():
-    from thermocal.multizone import generators
+    from thermocal.demos import buildings as generators
 
     building = generators.single_family_house() if hasattr(
         generators, "single_family_house") else None
@@ -150,7 +150,7 @@ def _model_refusals(building, space, n: int = 64) -> list[str]:
 def test_every_sample_of_a_valid_space_is_a_valid_building(relative_range):
     """The limits of sampling and model have one source: no sample is refused by the model
     (before: light insulation densities sampled below the model's 5 kg/m3 failed the run)."""
-    from thermocal.multizone import generators
+    from thermocal.demos import buildings as generators
     from thermocal.multizone.model import Material
 
     building = generators.single_family_house()

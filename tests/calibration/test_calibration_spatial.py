@@ -8,7 +8,7 @@ import pytest
 
 from thermocal.calibration.spatial import group_metric, group_outputs, group_segments, zone_groups
 from thermocal.calibration.surrogate import SeriesSurrogate
-from thermocal.multizone import generators
+from thermocal.demos import buildings as generators
 
 
 def test_zone_groups_of_the_clinic_follow_its_envelope():

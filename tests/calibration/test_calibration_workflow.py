@@ -12,8 +12,9 @@ import pytest
 
 from thermocal.calibration.config import load_campaign
 from thermocal.calibration.workflow import calibrate
+from thermocal.demos import buildings as generators
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone import Simulation, generators
+from thermocal.multizone import Simulation
 from thermocal.multizone.files import save_building
 
 START, END = "2001-01-08", "2001-01-15"
@@ -24,7 +25,7 @@ TRUE = {
 
 
 def _weather_path():
-    from thermocal.retrofit.demo_data import pvlib_weather_path
+    from thermocal.demos.retrofit import pvlib_weather_path
 
     return pvlib_weather_path()
 

@@ -19,9 +19,9 @@ import pandas as pd
 import pytest
 import yaml
 
-from thermocal.identification import demo_data as dd
+from thermocal.demos import buildings as generators
+from thermocal.demos import identification as dd
 from thermocal.io.measurements import read_measurements, resample_measurements
-from thermocal.multizone import generators
 
 FOLDER = dd.DEMO_FOLDER
 
@@ -72,7 +72,7 @@ def test_shipped_log_equals_regenerated(regenerated, shipped_log):
         n_bad += int(np.sum((dt > 1) | (dv > dd.QUANTUM + 1e-9)))
     assert n_bad <= 1e-3 * len(t_new), (
         f"the shipped sensor log differs from the regenerated one in {n_bad} of {len(t_new)} "
-        "reports: regenerate it with `python -m thermocal.identification.demo_data --write "
+        "reports: regenerate it with `python -m thermocal.demos.identification --write "
         "src/thermocal/data/identification_demo`"
     )
 

@@ -8,21 +8,22 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from thermocal.demos import buildings as generators
 from thermocal.errors import ThermocalInputError
 from thermocal.identification.metrics import unoccupied_variance
 from thermocal.identification.occupancy import OccupancySchedule, unoccupied_mask
 from thermocal.identification.pid import PIDGains
 from thermocal.identification.tuning import tune_zone
 from thermocal.identification.workflow import identify
-from thermocal.multizone import Simulation, generators
+from thermocal.multizone import Simulation
 
 START, END = "2001-01-08", "2001-01-13"
 
 
 @functools.cache
 def _weather():
+    from thermocal.demos.retrofit import pvlib_weather_path
     from thermocal.io.weather import read_weather
-    from thermocal.retrofit.demo_data import pvlib_weather_path
 
     return read_weather(pvlib_weather_path())
 

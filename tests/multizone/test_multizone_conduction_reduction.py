@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
+from thermocal.demos.buildings import single_family_house
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone import conduction_reduction as cr
-from thermocal.multizone.generators import single_family_house
 from thermocal.multizone.model import Material, NoMassMaterial
 from thermocal.multizone.network import NetworkOptions, assemble, construction_template
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
+from thermocal.demos import buildings as generators
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone import generators
 from thermocal.multizone.elements import (
     construction_roles,
     element_parameters,

@@ -12,8 +12,8 @@ import pytest
 from typer.testing import CliRunner
 
 from thermocal.cli import app
+from thermocal.demos import buildings as generators
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone import generators
 from thermocal.multizone.files import building_from_dict, load_building, save_building
 from thermocal.multizone.simulation import Simulation, steady_state_heat_loss_coefficient
 

@@ -504,7 +504,7 @@ def test_shading_hides_the_sky_in_the_long_wave_and_radiant_gains_follow_area_em
     """A shaded receiver's sky view factor is multiplied by its isotropic sky shading ratio
     (EnergyPlus' ViewFactorSkyIR x DifShdgRatioIsoSky), the rest exchanged at the air
     temperature; radiant gains are shared by area x thermal absorptance."""
-    from thermocal.multizone import generators
+    from thermocal.demos import buildings as generators
     from thermocal.multizone.network import assemble, radiant_gain_shares
 
     building = generators.clinic(12, n_corridors=1, corridor_sections=2)
@@ -524,7 +524,7 @@ def test_shading_hides_the_sky_in_the_long_wave_and_radiant_gains_follow_area_em
 def test_grey_exchange_factors_and_the_pairwise_interior_long_wave_option():
     """Two parallel grey plates exchange with 1 / (1/eps1 + 1/eps2 - 1); the "view_factors"
     option links every pair of faces of a zone except co-planar ones (a wall and its window)."""
-    from thermocal.multizone import generators
+    from thermocal.demos import buildings as generators
     from thermocal.multizone.network import (
         NetworkOptions,
         assemble,

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from test_multizone_network import constant_weather
 
+from thermocal.demos.buildings import Constructions, Room, Storey, plan_building
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone.generators import Constructions, Room, Storey, plan_building
 from thermocal.multizone.model import Construction, Location, Material, WindowType
 from thermocal.multizone.simulation import Simulation
 

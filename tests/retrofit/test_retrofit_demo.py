@@ -13,7 +13,7 @@ import yaml
 from typer.testing import CliRunner
 
 from thermocal.cli import app
-from thermocal.retrofit.demo_data import SHIPPED_DATA, generate_demo_data
+from thermocal.demos.retrofit import SHIPPED_DATA, generate_demo_data
 from thermocal.retrofit.strategies import all_strategies
 
 
@@ -79,7 +79,7 @@ def test_demo_outputs(demo_results):
 
 
 def test_shipped_demo_data_regenerate_identically():
-    """The shipped data are what ``python -m thermocal.retrofit.demo_data`` makes."""
+    """The shipped data are what ``python -m thermocal.demos.retrofit`` makes."""
     fresh = generate_demo_data()
     shipped = pd.read_csv(SHIPPED_DATA / "measurements.csv")
     new = fresh["measurements"]

@@ -238,8 +238,9 @@ def test_yaml_building_walls_saving_matches_its_steady_state(tmp_path):
     model's steady-state heat loss coefficient times the degree-hours (heating on all the time)
     within 15 % (measured 2026-11-25: 1,300 vs 1,214 kWh, +7 %; TARP's extra interior
     convection at large temperature differences is not in the steady coefficient)."""
+    from thermocal.demos import buildings as generators
     from thermocal.io.weather import read_weather
-    from thermocal.multizone import generators, save_building, steady_state_heat_loss_coefficient
+    from thermocal.multizone import save_building, steady_state_heat_loss_coefficient
     from thermocal.retrofit.strategies import paper_measures
 
     weather, meta = read_weather(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw"))
@@ -265,7 +266,7 @@ def test_a_building_without_set_points_needs_one():
     """A calibrated_building.yaml carries no set points (calibrate identifies the heat):
     refused with the remedy; --setpoint heats every zone of such a building (and is refused
     for a building that already heats some: its unheated cellar stays unheated)."""
-    from thermocal.multizone import generators
+    from thermocal.demos import buildings as generators
 
     free = generators.single_family_house(heating_setpoint=None)
     weather = _synthetic_year().assign(dni=0.0, dhi=0.0)

@@ -51,7 +51,7 @@ def load_inputs(campaign) -> CampaignInputs:
             raise ThermocalInputError(
                 f"{campaign.path}: unknown demo building {campaign.building!r}; use demo:clinic"
             )
-        from thermocal.identification.demo_data import load_demo
+        from thermocal.demos.identification import load_demo
 
         building, weather, meta, raw, mapping, truth = load_demo()
         start, end = meta["period"]

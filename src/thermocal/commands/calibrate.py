@@ -204,6 +204,8 @@ def _print_summary(result) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    from thermocal.textformat import format_number
+
     console = Console()
     table = Table(title="critical parameters (Table 1 of the published calibration method)")
     for column in ("parameter", "unit", "nominal", "min variance", "max variance"):
@@ -237,7 +239,7 @@ def _print_summary(result) -> None:
         summary.add_row(
             label,
             "" if predicted is None else f"{np.sqrt(max(predicted, 0)) / 1000:.3f}",
-            f"{std / 1000:.3f}" if np.isfinite(std) else "not simulated",
+            format_number(std / 1000, ".3f", missing="not simulated"),
         )
     console.print(summary)
     if result.truth_comparison is not None:

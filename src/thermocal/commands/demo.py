@@ -41,11 +41,11 @@ def demo(
     from rich.console import Console
 
     from thermocal.commands.retrofit import RETROFIT_SIGNATURE, print_summary
+    from thermocal.demos.retrofit import prepare_demo
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import output_folder
     from thermocal.retrofit import load_config, run_retrofit, write_outputs
     from thermocal.retrofit.config import MAX_DRAWS
-    from thermocal.retrofit.demo_data import prepare_demo
 
     if draws > MAX_DRAWS:
         raise ThermocalInputError(

@@ -109,7 +109,7 @@ def identify(
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if demo:
-            from thermocal.identification.demo_data import load_demo
+            from thermocal.demos.identification import load_demo
 
             model, frame, metadata, raw, mapping_data, truth = load_demo()
             start = start or str(metadata["period"][0])

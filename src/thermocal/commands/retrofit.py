@@ -36,6 +36,8 @@ def print_summary(results: dict, out: Path) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    from thermocal.textformat import format_number
+
     console = Console()
     hlc = results["heat_loss_coefficient_W_per_K"]
     dem = results["annual_heating_demand_kWh"]
@@ -111,7 +113,7 @@ def print_summary(results: dict, out: Path) -> None:
             row += [
                 f"{e.get('investment', 0):,.0f}",
                 f"{e.get('cost_saving_per_year', 0):,.0f}",
-                "" if payback is None else f"{payback:.0f}",
+                format_number(payback, ".0f", missing=""),
             ]
         table.add_row(*row)
     console.print(table)
@@ -183,6 +185,8 @@ def print_detailed_summary(detailed: dict, rc: dict | None = None) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    from thermocal.textformat import format_number
+
     console = Console()
     console.print(
         f"[bold]detailed model ({detailed['building']}): annual heating demand "
@@ -215,7 +219,7 @@ def print_detailed_summary(detailed: dict, rc: dict | None = None) -> None:
         row += [
             f"{e['investment']:,.0f}",
             f"{e['cost_saving_per_year']:,.0f}",
-            "" if payback is None else f"{payback:.0f}",
+            format_number(payback, ".0f", missing=""),
         ]
         table.add_row(*row)
     console.print(table)

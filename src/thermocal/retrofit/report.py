@@ -18,6 +18,7 @@ from thermocal.retrofit.economics import measure_areas, measure_investment, reco
 from thermocal.retrofit.gains import has_gains
 from thermocal.retrofit.model import ESTIMATED_PARAMETERS
 from thermocal.retrofit.workflow import RetrofitAnalysis
+from thermocal.textformat import format_number
 
 MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
 
@@ -35,19 +36,8 @@ ECONOMICS_SOURCES = {
 }
 
 
-def _fmt(value, spec: str, missing: str = "n/a") -> str:
-    if value is None:
-        return missing
-    try:
-        if not np.isfinite(value):
-            return missing
-    except TypeError:
-        return missing
-    return format(value, spec)
-
-
 def _money(value, currency: str) -> str:
-    return f"{_fmt(value, ',.0f')} {currency}"
+    return f"{format_number(value, ',.0f')} {currency}"
 
 
 def interval_labels(interval: float) -> tuple[str, str]:
@@ -149,8 +139,9 @@ def write_report(
             f" to {srow['saving_pct_p95']:.0f} %), about {_money(r['cost_saving_per_year'], cur)}"
             f" and {r['co2_saving_kg_per_year'] / 1000:,.1f} t CO2 a year, costs about "
             f"{_money(r['investment'], cur)} and pays for itself in about "
-            f"{_fmt(r['payback_years'], '.0f')} years ({_fmt(r['payback_years_lo'], '.0f')} to "
-            f"{_fmt(r['payback_years_hi'], '.0f')} years) at today's energy price."
+            f"{format_number(r['payback_years'], '.0f')} years "
+            f"({format_number(r['payback_years_lo'], '.0f')} to "
+            f"{format_number(r['payback_years_hi'], '.0f')} years) at today's energy price."
         )
     elif not gate["passed"]:
         advice = (
@@ -175,14 +166,15 @@ def write_report(
             "The measurements correct the heat losses calculated from the building file: "
             + ", ".join(parts)
             + f"; heat loss coefficient {hlc['value']:.0f} W/K ({pct} interval "
-            f"{_fmt(hlc['p05'], '.0f')} to {_fmt(hlc['p95'], '.0f')} W/K) against "
+            f"{format_number(hlc['p05'], '.0f')} to {format_number(hlc['p95'], '.0f')} W/K) "
+            "against "
             f"{hlc['audit_prior']:.0f} W/K from the building file alone (section Calibration)."
         )
     tiles = {
         "Heat demand today": f"{dem['value']:,.0f} kWh/a",
         f"{pct} interval": f"{dem['p05']:,.0f} – {dem['p95']:,.0f} kWh/a",
-        "Heat loss coefficient": f"{hlc['value']:.0f} W/K ({pct}: {_fmt(hlc['p05'], '.0f')}"
-        f" – {_fmt(hlc['p95'], '.0f')})",
+        "Heat loss coefficient": f"{hlc['value']:.0f} W/K "
+        f"({pct}: {format_number(hlc['p05'], '.0f')} – {format_number(hlc['p95'], '.0f')})",
         "Running cost today": f"{_money(base['cost_per_year'], cur)}/a",
     }
     if rec is not None:
@@ -191,7 +183,7 @@ def write_report(
             f"-{scen.loc[scen['code'] == rec['code'], 'saving_pct'].iloc[0]:.0f} % heat"
         )
         tiles["Investment"] = _money(r["investment"], cur)
-        tiles["Simple payback"] = f"{_fmt(r['payback_years'], '.0f')} years"
+        tiles["Simple payback"] = f"{format_number(r['payback_years'], '.0f')} years"
     if "true" in hlc:
         tiles["True HLC (demo generator)"] = (
             f"{hlc['true']:.0f} W/K ({hlc['relative_error_pct']:+.1f} %)"
@@ -266,7 +258,7 @@ def write_report(
                                              strict=True)
     ]  # fmt: skip
     e["payback interval [a]"] = [
-        "" if not np.isfinite(p) else f"{_fmt(a, '.0f')} – {_fmt(c, '.0f', '∞')}"
+        "" if not np.isfinite(p) else f"{format_number(a, '.0f')} – {format_number(c, '.0f', '∞')}"
         for p, a, c in zip(e["payback_years"], e["payback_years_lo"], e["payback_years_hi"],
                            strict=True)
     ]  # fmt: skip
@@ -520,7 +512,8 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
         f"{fit} of the fifth-order model on the training period: log-"
         f"likelihood {cal['loglike']:.1f}, AIC {cal['aic']:.1f}, converged: "
         f"{cal['converged']}, {cal['fit_seconds']:.1f} s. Largest |correlation| between the "
-        f"estimated physical parameters: {_fmt(cal['max_abs_correlation_physical'], '.3f')} "
+        "estimated physical parameters: "
+        f"{format_number(cal['max_abs_correlation_physical'], '.3f')} "
         f"(limit {cfg.model.max_correlation}, Madsen et al. 2016)."
     )
     corr = cal.get("correction")
@@ -569,13 +562,13 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
     for _, row in p.iterrows():
         status = row["status"]
         if status == "at bound" and analysis.calibration.correction is not None:
-            se.append(f"{_fmt(row['std_error'], ',.4g')} (at bound, posterior)")
+            se.append(f"{format_number(row['std_error'], ',.4g')} (at bound, posterior)")
         elif status == "at bound":
             se.append("n/a (at bound)")
         elif status == "fixed":
             se.append("n/a (fixed)")
         else:
-            se.append(_fmt(row["std_error"], ",.4g"))
+            se.append(format_number(row["std_error"], ",.4g"))
     p["std_error"] = se
     p["bounds from"] = [
         results["calibration"]["params"][n].get("bounds_from", "") for n in p["parameter"]
@@ -597,8 +590,8 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
     )
     rep.paragraph(
         f"HLC = calculated part {hlc['calculated_part']:.1f} W/K + H_est {hlc['H_est']:.1f} W/K "
-        f"= {hlc['value']:.1f} W/K (standard error {_fmt(hlc['std'], '.1f')} W/K). The building "
-        f"file alone suggests {hlc['audit_prior']:.1f} W/K."
+        f"= {hlc['value']:.1f} W/K (standard error {format_number(hlc['std'], '.1f')} W/K). "
+        f"The building file alone suggests {hlc['audit_prior']:.1f} W/K."
     )
     phys = [n for n in ESTIMATED_PARAMETERS if n in analysis.calibration.correlation.columns]
     if phys:

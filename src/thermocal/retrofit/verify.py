@@ -1192,7 +1192,7 @@ SHIPPED_VERIFY_DATA = Path(__file__).resolve().parents[1] / "data" / "verify_dem
 def generate_verify_demo_data(seed: int = 2019) -> dict:
     """Measurements of the demo house with roof and walls retrofitted at a known date.
 
-    The multi-zone generator of :mod:`thermocal.retrofit.demo_data` simulates the house twice
+    The multi-zone generator of :mod:`thermocal.demos.retrofit` simulates the house twice
     over the same weather, controls and sensor noise: as it was and with the measures (the
     Table 1 U-values of the fifth-order RC method, radiators unchanged). The measurements are
     the first run before the retrofit date and the second after it; the first run after the
@@ -1205,7 +1205,7 @@ def generate_verify_demo_data(seed: int = 2019) -> dict:
     dict with ``measurements`` (DataFrame), ``building`` (mapping, the house before the
     retrofit), ``truth`` (dict).
     """
-    from thermocal.retrofit.demo_data import SHIPPED_DATA, generate_demo_data
+    from thermocal.demos.retrofit import SHIPPED_DATA, generate_demo_data
     from thermocal.retrofit.strategies import PAPER_MEASURE_U_VALUES
 
     code, names = DEMO_STRATEGY
@@ -1241,7 +1241,7 @@ def generate_verify_demo_data(seed: int = 2019) -> dict:
         "annual_heating_demand_20C_kWh": {"0": annual["0"], code: annual[code]},
         "annual_saving_pct": 100.0 * (1.0 - annual[code] / annual["0"]),
         "note": "generator: thermocal.multizone single_family_house with radiator loop "
-        "(thermocal.retrofit.demo_data), run twice (as it was / retrofitted) over the same "
+        "(thermocal.demos.retrofit), run twice (as it was / retrofitted) over the same "
         "weather and sensor noise; annual: ideal heating at 20 C over the weather year",
         "weather_file": before["truth"]["weather_file"],
         "seed": seed,
@@ -1251,14 +1251,14 @@ def generate_verify_demo_data(seed: int = 2019) -> dict:
 
 def write_verify_demo_data(data: dict, folder: Path | str) -> Path:
     """Write measurements.csv, building.yaml and truth.json of the verify demo."""
-    from thermocal.retrofit.demo_data import write_demo_data
+    from thermocal.demos.retrofit import write_demo_data
 
     return write_demo_data(data, folder)
 
 
 def verify_demo_config(data_dir: Path | str = SHIPPED_VERIFY_DATA, draws: int = 200) -> dict:
     """The verification configuration of the demo (paths relative to its data folder)."""
-    from thermocal.retrofit.demo_data import DEMO_MODEL_OPTIONS, demo_config
+    from thermocal.demos.retrofit import DEMO_MODEL_OPTIONS, demo_config
 
     data_dir = Path(data_dir)
     cfg = demo_config(data_dir, "pvlib:723170TYA.CSV", draws=draws)

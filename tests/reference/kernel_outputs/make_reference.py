@@ -50,7 +50,7 @@ def weather() -> tuple[pd.DataFrame, dict]:
 
 def kernel_outputs() -> dict[str, np.ndarray]:
     """The five cases' outputs with the installed thermocal."""
-    from thermocal.multizone.generators import single_family_house
+    from thermocal.demos.buildings import single_family_house
     from thermocal.multizone.simulation import Simulation
 
     frame, meta = weather()

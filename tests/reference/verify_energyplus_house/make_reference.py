@@ -8,7 +8,7 @@ mineral wool thickened from 12 to 30 cm. The measurements are the first run befo
 retrofit date (February 12) and the second after it, January 8 to March 18 (hourly heat of
 the ideal loads, volume-weighted air temperature, outdoor air temperature, DNI and DHI of
 the weather file, internal gains as an electricity meter would see them). The building file
-is the audit of the house (:func:`thermocal.retrofit.demo_data.audit_building` of the IDF
+is the audit of the house (:func:`thermocal.demos.retrofit.audit_building` of the IDF
 read by thermocal). Truth: EnergyPlus' heating of both variants over the whole weather year
 (annual saving) and over the post period (the first run is the exact counterfactual).
 
@@ -67,10 +67,10 @@ def make_variant(variant: str, out: Path, work: Path) -> dict:
     """Run EnergyPlus for one variant and write its measurements, building, config, truth."""
     from energyplus_house import CONDITIONED, WEATHER_FILE, house_idf
 
+    from thermocal.demos.retrofit import audit_building
     from thermocal.io.weather import read_weather
     from thermocal.multizone.energyplus import energyplus_weather_folder
     from thermocal.multizone.idf import read_idf
-    from thermocal.retrofit.demo_data import audit_building
 
     weather = energyplus_weather_folder() / WEATHER_FILE
     edit = constant_heating if variant == "constant_20" else (lambda t: t)

@@ -1,0 +1,44 @@
+"""Numbers as text: the one formatter of a number that may be missing.
+
+Reports, tables and console summaries print values that can be absent (``None`` in a results
+dict cleaned by :func:`thermocal.jsonsafe.json_ready`, NaN in a table, infinity for a payback
+that never comes). :func:`format_number` formats such a value with a format spec, or puts a
+placeholder in its place, so every table says "n/a" (or the caller's word) the same way.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["format_number"]
+
+
+def format_number(value: Any, spec: str = "g", missing: str = "n/a") -> str:
+    """``format(value, spec)``, or ``missing`` for a value that is not a finite number.
+
+    Parameters
+    ----------
+    value : number or None
+        Python or numpy scalar, any unit (formatted as given).
+    spec : str
+        Format specification, e.g. ``".0f"``, ``",.4g"``.
+    missing : str
+        Text for None, NaN, +-infinity and values that are not numbers.
+
+    Examples
+    --------
+    >>> format_number(1234.5, ",.0f"), format_number(None, ".1f")
+    ('1,234', 'n/a')
+    >>> format_number(float("inf"), ".0f", missing="∞")
+    '∞'
+    """
+    if value is None:
+        return missing
+    try:
+        if not np.isfinite(value):
+            return missing
+    except TypeError:
+        return missing
+    return format(value, spec)

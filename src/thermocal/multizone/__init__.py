@@ -2,8 +2,9 @@
 
 Public API: the dataclasses of :mod:`thermocal.multizone.model`, :func:`load_building` /
 :func:`save_building` (YAML, IDF), :class:`Simulation`, :class:`SimulationResult`,
-:func:`steady_state_heat_loss_coefficient`, :class:`NetworkOptions` and the generators in
-:mod:`thermocal.multizone.generators`. The simulation layer (numba) is imported lazily.
+:func:`steady_state_heat_loss_coefficient`, :class:`NetworkOptions`; ``generators`` is
+:mod:`thermocal.demos.buildings` (the generated demo buildings, formerly
+``thermocal.multizone.generators``). The simulation layer (numba) is imported lazily.
 """
 
 from thermocal.multizone.model import (
@@ -26,7 +27,7 @@ _LAZY = {
     "SimulationResult": "thermocal.multizone.simulation",
     "steady_state_heat_loss_coefficient": "thermocal.multizone.simulation",
     "NetworkOptions": "thermocal.multizone.network",
-    "generators": "thermocal.multizone.generators",
+    "generators": "thermocal.demos.buildings",
 }
 
 __all__ = [

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from thermocal.retrofit.outputs import _measures_short, _recommended_code, scenario_table
+from thermocal.retrofit.tables import _measures_short, _recommended_code, scenario_table
 from thermocal.retrofit.workflow import (
     RetrofitAnalysis,
 )

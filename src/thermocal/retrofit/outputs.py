@@ -10,8 +10,15 @@ import pandas as pd
 
 from thermocal.jsonsafe import json_number as _num
 from thermocal.jsonsafe import json_ready as _clean
-from thermocal.retrofit.economics import measure_areas, measure_investment, strategy_economics
+from thermocal.retrofit.economics import measure_investment
 from thermocal.retrofit.model import ESTIMATED_PARAMETERS
+from thermocal.retrofit.tables import (  # noqa: F401 (scenario_table: public here too)
+    _areas,
+    _measures_short,
+    _recommended_code,
+    economics_table,
+    scenario_table,
+)
 from thermocal.retrofit.workflow import (
     RetrofitAnalysis,
     heat_loss_coefficient_draws,
@@ -19,33 +26,6 @@ from thermocal.retrofit.workflow import (
 )
 
 MONTHS = ("Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec")
-
-
-def scenario_table(analysis: RetrofitAnalysis) -> pd.DataFrame:
-    """Annual demand and saving of every strategy, with the uncertainty interval."""
-    cfg = analysis.config
-    lo_q = 0.5 * (1.0 - cfg.uncertainty.interval)
-    hi_q = 1.0 - lo_q
-    annual = analysis.demand.annual_kwh()  # (S, D+1); draw 0 = estimate
-    base = annual[0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        saving = 100.0 * (1.0 - annual / base[None, :])
-    has_draws = annual.shape[1] > 1
-    rows = []
-    for i, s in enumerate(analysis.strategies):
-        d = annual[i, 1:] if has_draws else annual[i, :1]
-        sv = saving[i, 1:] if has_draws else saving[i, :1]
-        rows.append({
-            "code": s.code,
-            "measures": " + ".join(s.measures) if s.measures else "none",
-            "annual_kWh": float(annual[i, 0]),
-            "annual_kWh_p05": float(np.quantile(d, lo_q)),
-            "annual_kWh_p95": float(np.quantile(d, hi_q)),
-            "saving_pct": float(saving[i, 0]) if i else 0.0,
-            "saving_pct_p05": float(np.quantile(sv, lo_q)) if i else 0.0,
-            "saving_pct_p95": float(np.quantile(sv, hi_q)) if i else 0.0,
-        })  # fmt: skip
-    return pd.DataFrame(rows)
 
 
 def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -> dict:
@@ -284,27 +264,6 @@ def _correction_dict(corr, model) -> dict | None:
     }  # fmt: skip
 
 
-def _areas(analysis: RetrofitAnalysis) -> dict[str, float]:
-    return measure_areas(analysis.model.envelope, float(analysis.building.heated_floor_area))
-
-
-def economics_table(analysis: RetrofitAnalysis) -> pd.DataFrame:
-    """Final energy, cost, CO2, investment and payback per strategy (see
-    :func:`thermocal.retrofit.economics.strategy_economics`)."""
-    cfg = analysis.config
-    eco = cfg.economics
-    return strategy_economics(
-        analysis.demand.annual_kwh(),
-        analysis.strategies,
-        cfg.measure_objects(),
-        _areas(analysis),
-        system_efficiency=eco.system_efficiency,
-        energy_price=eco.energy_price,
-        emission_factor=eco.emission_factor,
-        interval=cfg.uncertainty.interval,
-    )
-
-
 def _sha256(path: Path) -> str | None:
     import hashlib
 
@@ -374,23 +333,6 @@ def _interval_labels(interval: float) -> tuple[str, str]:
         return f"p{q:02.0f}" if q == int(q) else f"p{q:g}"
 
     return name(lo), name(100.0 - lo)
-
-
-_SHORT_MEASURE = {
-    "roof": "roof",
-    "walls": "walls",
-    "windows": "windows",
-    "cellar_ceiling": "cellar",
-}
-
-
-def _measures_short(measures, n_total: int = 4) -> str:
-    """Measures of a strategy, one per line, for a bar label ("none", "all four")."""
-    if not measures:
-        return "none"
-    if len(measures) == n_total and n_total > 2:
-        return "all\nfour" if n_total == 4 else f"all\n{n_total}"
-    return "\n".join(_SHORT_MEASURE.get(m, m) for m in measures)
 
 
 def _max_off_diagonal(corr: pd.DataFrame | None) -> float | None:
@@ -537,13 +479,3 @@ def residual_summary(res: pd.DataFrame | None) -> dict | None:
         "share_of_lags_outside_band": _num(out.mean()),
         "periodogram_share_outside_band": _num(fraction_outside_band(cumulated_periodogram(e))),
     }
-
-
-def _recommended_code(analysis: RetrofitAnalysis) -> str | None:
-    from thermocal.retrofit.economics import recommend
-
-    if analysis.gate is not None and not analysis.gate["passed"]:
-        return None  # a model that failed its validation recommends nothing
-    scen = scenario_table(analysis)
-    rec = recommend(economics_table(analysis), scen["saving_pct"])
-    return None if rec is None else rec["code"]

@@ -9,10 +9,11 @@ zones on three storeys), with the hidden envelope of issue 26's measurement
 (:func:`perturbation`): the wall insulation's resistance / 1.5 (``Steel Frame NonRes Wall
 Insulation`` conductivity x1.5), the roof insulation's / 0.6 (``IEAD NonRes Roof Insulation``
 conductivity x0.6, its R x1.67) and every infiltration object's design level x1.4 (52
-``Flow/ExteriorWallArea``, 4 shafts' ``AirChanges/Hour``). EnergyPlus runs January free float with the file's loads at 5-minute
-steps; its zone air temperatures at every second step (10 minutes), rounded to 0.01 K, are the
-sensor log of 87 of the 118 zones (drawn with seed 1, as ``measure_identification.py``); the
-other 31 float. Writes beside this script, like ``../calibration_energyplus_5zone``:
+``Flow/ExteriorWallArea``, 4 shafts' ``AirChanges/Hour``). EnergyPlus runs January free float
+with the file's loads at 5-minute steps; its zone air temperatures at every second step (10
+minutes), rounded to 0.01 K, are the sensor log of 87 of the 118 zones (drawn with seed 1, as
+``measure_identification.py``); the other 31 float. Writes beside this script, like
+``../calibration_energyplus_5zone``:
 
 - ``sensors.csv.gz``: the log (``time`` = end of each 10-minute step, ``T000``... by the
   zone's place in the file);

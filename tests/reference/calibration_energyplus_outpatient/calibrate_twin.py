@@ -168,11 +168,13 @@ def markdown(results: dict, samples: int, terms: str) -> str:
         rows = r["rows"]
         zones = [row for row in rows if row["parameter"].endswith("/infiltration_ach")]
         if len(zones) > 2 and "infiltration_total" in r:
-            undetermined = sum(not row.get("determined") for row in zones)
+            posterior = sum("median" in row for row in zones)
+            determined = sum(bool(row.get("determined")) for row in zones)
             missed = sum(not row.get("covers", True) for row in zones)
             total = dict(r["infiltration_total"])
             total["parameter"] += (
-                f" ({len(zones) - undetermined} zones determined, {missed} intervals missing)"
+                f" ({posterior} zones in the posterior, the others at their calibrated value; "
+                f"{determined} determined; {missed} zone intervals miss)"
             )
             rows = [row for row in rows if row not in zones] + [total]
         folded[metric] = {**r, "rows": rows}

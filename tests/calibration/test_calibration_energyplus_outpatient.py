@@ -1,0 +1,129 @@
+"""``thermocal calibrate`` against EnergyPlus 25.2 on the large building it did not write.
+
+The twin (``tests/reference/calibration_energyplus_outpatient``): the DOE outpatient prototype
+(118 zones on three storeys) run by EnergyPlus for January free float with its loads and the
+hidden envelope of issue 26: wall insulation R / 1.5, roof insulation R / 0.6, every
+infiltration object x1.4; the air temperatures of 87 zones (committed, 10 minutes, 0.01 K) are
+the sensor log, the other 31 float. thermocal gets the nominal IDF with its load objects, the
+identified heat in the form they declare (the floating zones keep the file's loads), Chicago
+O'Hare's TMY3 and the log, and calibrates the exterior wall's and the roof's resistance with
+the zone-group metric (24 Sobol' samples, 30-minute steps, January 4-31: leaner than the
+script's 32 samples at 10 minutes, same findings). The infiltration is
+not varied here (the element level offers one parameter per zone, 56 of them: the twin's
+script varies them all, ``results.md``); its x1.4 is a model error the wall may absorb, since
+the file's infiltration is a flow per exterior-wall area.
+
+Targets (issue 26 item 7): the element resistances the posterior declares determined within
+15 % of the truth, their 90 % intervals covering it, the confirmed metric within 1.2x the true
+envelope's and never below it without a flag. Measured 2026-11-28 (this test's campaign, 71 s
+on a lightly loaded 2-core machine): wall 1.273 m2 K/W [1.173, 1.385] (truth 1.355, -6.0 %),
+roof 4.029 [3.792, 4.273] (truth 4.391, -8.2 %), both determined, the roof's interval missing
+the truth (strict xfail below); metric 0.997x the true envelope's, flagged "below model
+error". The script's campaign (32 samples, 10 minutes): wall -2.9 % covered, roof -7.7 %
+[3.831, 4.285] missed, metric 1.002x. With the building-total metric nothing is determined
+(the script's ``results_fixed_infiltration.md``).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+from conftest import requires_energyplus
+
+REFERENCE = Path(__file__).resolve().parents[1] / "reference"
+FOLDER = REFERENCE / "calibration_energyplus_outpatient"
+
+pytestmark = [pytest.mark.slow, requires_energyplus]
+
+SAMPLES = 24
+STEP = "30min"
+
+
+def _twin_script():
+    """The outpatient twin's script, loaded from its file (the 5-zone twin's script has the
+    same module name and is imported by it as ``calibrate_twin``)."""
+    needed = (
+        REFERENCE / "identification_outpatient" / "outpatient_FF_v25.idf",
+        FOLDER / "sensors.csv.gz",
+        FOLDER / "truth.json",
+    )
+    missing = [p.name for p in needed if not p.exists()]
+    if missing:
+        pytest.skip(f"the outpatient twin's files are absent: {missing}")
+    sys.path.insert(0, str(REFERENCE / "calibration_energyplus_5zone"))
+    spec = importlib.util.spec_from_file_location(
+        "calibrate_twin_outpatient", FOLDER / "calibrate_twin.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    """The campaign over wall and roof resistance with the zone-group metric."""
+    ct = _twin_script()
+    base = ct.base
+    base.WALL, base.ROOF = ct.WALL, ct.ROOF  # the pair whose posterior correlation is reported
+
+    from thermocal.calibration.config import load_campaign
+    from thermocal.calibration.workflow import calibrate
+
+    folder = tmp_path_factory.mktemp("calibration_outpatient")
+    path = ct.prepare(
+        folder,
+        SAMPLES,
+        include=(ct.WALL, ct.ROOF),
+        step=STEP,
+        extra="metamodel: {kind: series}\nmetric: groups\n",
+    )
+    truth_file = json.loads((FOLDER / "truth.json").read_text())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        campaign = load_campaign(path)
+        result = calibrate(
+            campaign, workers=1, store_path=folder / "s.sqlite", progress=False, log=lambda s: 0
+        )
+        return base.summarise(result, campaign, truth_file, "groups")
+
+
+def _rows(summary) -> dict:
+    return {r["parameter"].split("/")[1]: r for r in summary["rows"]}
+
+
+def test_the_groups_determine_wall_and_roof_within_15_percent(twin):
+    rows = _rows(twin)
+    for name in ("Steel Frame Non-res Ext Wall", "IEAD Non-res Roof"):
+        assert rows[name]["determined"], rows[name]
+        assert abs(rows[name]["error"]) <= 0.15, rows[name]
+
+
+def test_the_wall_interval_covers_the_truth(twin):
+    row = _rows(twin)["Steel Frame Non-res Ext Wall"]
+    assert row["covers"], row
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured 2026-11-28: the roof's resistance is determined at 4.029 m2 K/W, 90 % "
+    "interval [3.792, 4.273], against a truth of 4.391 (-8.2 %, inside the 15 % target): the "
+    "interval lies wholly below the truth (32 samples at 10 minutes: 4.051 [3.831, 4.285], "
+    "-7.7 %); the unvaried infiltration (x1.4 in the truth) and the affine series meta-model's "
+    "bias in log R are candidate causes, not separated",
+)
+def test_the_roof_interval_covers_the_truth(twin):
+    row = _rows(twin)["IEAD Non-res Roof"]
+    assert row["covers"], row
+
+
+def test_the_metric_ends_near_the_true_envelope_and_never_below_it_unflagged(twin):
+    ratio = twin["calibrated_metric"] / twin["true_metric"]
+    below = any(f.get("kind") == "below model error" for f in twin["flags"])
+    assert ratio <= 1.2, ratio
+    assert ratio >= 1.0 or below, (ratio, twin["flags"])

@@ -37,6 +37,13 @@ requires_energyplus = pytest.mark.skipif(
     "Linux x86-64)",
 )
 
+#: Skip mark of the heavy reference runs (a calibration campaign on a large EnergyPlus twin):
+#: they run only with ``THERMOCAL_REFERENCE_RUNS=1``, to keep the suite within ~10 minutes.
+reference_run = pytest.mark.skipif(
+    os.environ.get("THERMOCAL_REFERENCE_RUNS", "") not in ("1", "true", "yes"),
+    reason="heavy reference run (about 90 s): set THERMOCAL_REFERENCE_RUNS=1 to run it",
+)
+
 
 @pytest.fixture
 def shared_data():

@@ -19,13 +19,13 @@ import pandas as pd
 import pytest
 import yaml
 
+from thermocal.demos.verify import prepare_verify_demo
 from thermocal.errors import ThermocalInputError
 from thermocal.retrofit.verify import (
     Prediction,
     compare,
     fractional_savings_uncertainty,
     load_verify_config,
-    prepare_verify_demo,
     run_verify,
 )
 
@@ -227,7 +227,7 @@ def test_configuration_without_prediction_or_section(tmp_path):
 
 
 def test_shipped_verify_demo_data_are_what_the_generator_makes():
-    from thermocal.retrofit.verify import SHIPPED_VERIFY_DATA, generate_verify_demo_data
+    from thermocal.demos.verify import SHIPPED_VERIFY_DATA, generate_verify_demo_data
 
     data = generate_verify_demo_data()
     shipped = pd.read_csv(SHIPPED_VERIFY_DATA / "measurements.csv", parse_dates=["time"])

@@ -97,12 +97,12 @@ def verify(
 
     from rich.console import Console
 
+    from thermocal.demos.verify import prepare_verify_demo
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import check_output_folder, output_folder
     from thermocal.retrofit.verify import (
         VERIFY_SIGNATURE,
         load_verify_config,
-        prepare_verify_demo,
         run_verify,
         write_verify_outputs,
     )

@@ -16,6 +16,11 @@ apart from it: the library's packages reach them only from inside the functions 
     radiator loop under thermostatic control, "measured" hourly like the retrofit method's
     wireless sensor network (``generate_demo_data``, ``write_demo_data``, ``prepare_demo``,
     ``audit_building``). Formerly ``thermocal.retrofit.demo_data``.
+:mod:`thermocal.demos.verify`
+    The post-retrofit verification demo: the same house with roof and walls retrofitted at a
+    known date, so the avoided energy is known (``generate_verify_demo_data``,
+    ``prepare_verify_demo``). Formerly in ``thermocal.retrofit.verify``, where its names still
+    resolve.
 :mod:`thermocal.demos.identification`
     The identification demo's sensor log: the clinic in January with perturbed envelope
     parameters, dual-duct HVAC and 82 event-reporting room sensors with offsets, dropouts and a
@@ -28,7 +33,7 @@ compare (``tests/retrofit/test_retrofit_demo.py``,
 ``tests/retrofit/test_retrofit_verify.py``). Regenerate them with::
 
     python -m thermocal.demos.retrofit          # data/retrofit_demo
-    python -m thermocal.retrofit.verify         # data/verify_demo (the house before/after)
+    python -m thermocal.demos.verify            # data/verify_demo (the house before/after)
     python -m thermocal.demos.identification --write src/thermocal/data/identification_demo
 
 The old module paths (``thermocal.multizone.generators``, ``thermocal.retrofit.demo_data``,

@@ -10,6 +10,7 @@ import pandas as pd
 from thermocal.identification import REFERENCE
 from thermocal.io.atomic import atomic_write
 from thermocal.report.html import HtmlReport
+from thermocal.textformat import format_number
 
 
 def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> HtmlReport:
@@ -124,8 +125,10 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
 
 
 def _kw(value: float) -> str:
-    """A standard deviation in kW, or "not simulated" for a run a re-analysis did not make."""
-    return "not simulated" if not np.isfinite(value) else f"{value / 1000:.3f} kW"
+    """A standard deviation [W] in kW, or "not simulated" for a run a re-analysis did not
+    make."""
+    text = format_number(value / 1000 if value is not None else None, ".3f", "not simulated")
+    return text if text == "not simulated" else f"{text} kW"
 
 
 def write_report(result, path, *, pngs: dict | None = None) -> Path:

@@ -981,10 +981,13 @@ class Building:
         """Copy of the building with some parameters changed (names as in :meth:`parameters`).
 
         Besides the names listed by :meth:`parameters`, ``zone/<name>/infiltration_ach`` is
-        accepted for every zone (also grouped ones), and the construction-level
+        accepted for every zone (also grouped ones), the construction-level
         ``construction/<name>/{resistance,heat_capacity}`` of
-        :mod:`thermocal.multizone.elements` (applied after the material-level names).  Unknown
-        names raise :class:`ThermocalInputError` with close matches.
+        :mod:`thermocal.multizone.elements` (applied after the material-level names), and
+        ``infiltration/building/factor`` [-]: every zone's air change rate (as changed by the
+        other names) times this value, one parameter for a building whose file gives each zone
+        its own infiltration object.  Unknown names raise :class:`ThermocalInputError` with
+        close matches.
         """
         from thermocal.multizone.elements import apply_element_parameters, is_element_parameter
 
@@ -992,6 +995,22 @@ class Building:
         if elements:
             rest = {k: v for k, v in mapping.items() if not is_element_parameter(k)}
             return apply_element_parameters(self.with_parameters(rest), elements)
+        from thermocal.multizone.parameters import INFILTRATION_FACTOR
+
+        factor = mapping.get(INFILTRATION_FACTOR)
+        if factor is not None:
+            rest = {k: v for k, v in mapping.items() if k != INFILTRATION_FACTOR}
+            changed = self.with_parameters(rest) if rest else self
+            value = float(factor)
+            if not value >= 0.0:
+                raise ThermocalInputError(
+                    f"{INFILTRATION_FACTOR} must be a non-negative number, got {factor!r}"
+                )
+            zones = {
+                name: dataclasses.replace(zone, infiltration_ach=zone.infiltration_ach * value)
+                for name, zone in changed.zones.items()
+            }
+            return changed.replaced(zones=zones)
         materials = dict(self.materials)
         window_types = dict(self.window_types)
         zones = dict(self.zones)

@@ -1,0 +1,54 @@
+"""One factor on every zone's infiltration (``parameters: {infiltration: building}``): the
+element a campaign can determine in a building whose file gives each zone its own
+infiltration object (the DOE prototypes), where 56 separate rates are not determined."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from thermocal.calibration.space import ParameterSpace
+from thermocal.calibration.workflow import candidate_parameters
+from thermocal.demos import buildings
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.parameters import INFILTRATION_FACTOR, parameter_unit
+
+
+@pytest.fixture(scope="module")
+def house():
+    return buildings.single_family_house()
+
+
+def test_factor_scales_every_zone_and_follows_other_changes(house):
+    nominal = {name: z.infiltration_ach for name, z in house.zones.items()}
+    assert sum(v > 0 for v in nominal.values()) >= 2
+    scaled = house.with_parameters({INFILTRATION_FACTOR: 1.4})
+    for name, zone in scaled.zones.items():
+        assert zone.infiltration_ach == pytest.approx(1.4 * nominal[name], rel=1e-12)
+    # a zone's own rate is set first, then the factor applies to it
+    zone = next(n for n, v in nominal.items() if v > 0)
+    both = house.with_parameters({f"zone/{zone}/infiltration_ach": 2.0, INFILTRATION_FACTOR: 0.5})
+    assert both.zones[zone].infiltration_ach == pytest.approx(1.0)
+    # the envelope is untouched
+    assert both.parameters().keys() == house.parameters().keys()
+    assert house.with_parameters({INFILTRATION_FACTOR: 1.0}).parameters() == house.parameters()
+    with pytest.raises(ThermocalInputError, match="non-negative"):
+        house.with_parameters({INFILTRATION_FACTOR: -1.0})
+
+
+def test_candidates_trade_the_zone_rates_for_one_factor(house):
+    per_zone = candidate_parameters(house, "element")
+    factor = candidate_parameters(house, "element", infiltration="building")
+    zone_rates = [
+        n for n in per_zone if n.endswith("/infiltration_ach") or n.startswith("infiltration/")
+    ]
+    assert zone_rates
+    assert not [n for n in factor if n.endswith("/infiltration_ach")]
+    assert factor[INFILTRATION_FACTOR] == 1.0
+    assert set(factor) - {INFILTRATION_FACTOR} == set(per_zone) - set(zone_rates)
+    assert parameter_unit(INFILTRATION_FACTOR) == "-"
+    space = ParameterSpace.from_parameters(factor, include=["infiltration/*"])
+    assert space.names == (INFILTRATION_FACTOR,)
+    np.testing.assert_allclose([space.lower[0], space.upper[0]], [0.25, 1.75])
+    with pytest.raises(ThermocalInputError, match="'per_zone' or 'building'"):
+        candidate_parameters(house, "element", infiltration="zones")

@@ -52,3 +52,25 @@ def test_candidates_trade_the_zone_rates_for_one_factor(house):
     np.testing.assert_allclose([space.lower[0], space.upper[0]], [0.25, 1.75])
     with pytest.raises(ThermocalInputError, match="'per_zone' or 'building'"):
         candidate_parameters(house, "element", infiltration="zones")
+
+
+def test_factor_replaces_an_earlier_factor_instead_of_compounding(house):
+    """A campaign changes one simulation's parameters sample after sample
+    (``Simulation.set_parameters`` on the building as last changed): the factor applies to
+    the rates before any factor, and 1 restores the nominal building."""
+    nominal = {name: z.infiltration_ach for name, z in house.zones.items()}
+    first = house.with_parameters({INFILTRATION_FACTOR: 1.4})
+    second = first.with_parameters({INFILTRATION_FACTOR: 0.8})
+    back = second.with_parameters({INFILTRATION_FACTOR: 1.0})
+    for name in nominal:
+        assert second.zones[name].infiltration_ach == pytest.approx(0.8 * nominal[name])
+        assert back.zones[name].infiltration_ach == pytest.approx(nominal[name])
+    # other changes keep the factor's base: the envelope changes, the rates stay nominal x 0.8
+    other = second.with_parameters({"window/" + next(iter(house.window_types)) + "/u_value": 1.0})
+    assert [z.infiltration_ach for z in other.zones.values()] == pytest.approx(
+        [0.8 * v for v in nominal.values()]
+    )
+    again = other.with_parameters({INFILTRATION_FACTOR: 0.5})
+    assert [z.infiltration_ach for z in again.zones.values()] == pytest.approx(
+        [0.5 * v for v in nominal.values()]
+    )

@@ -955,7 +955,8 @@ class Building:
         Names: ``material/<name>/{conductivity,density,specific_heat,thickness}`` (massive
         layers), ``material/<name>/resistance`` (no-mass layers), ``window/<name>/{u_value,shgc}``,
         ``zone/<name>/infiltration_ach`` (zones without an infiltration group) and
-        ``infiltration/<group>/ach`` (one per group, the mean of its zones).
+        ``infiltration/<group>/ach`` (one per group, the mean of its zones; setting it scales
+        the members in proportion).
         """
         params: dict[str, float] = {}
         for mat in self.materials.values():
@@ -999,18 +1000,9 @@ class Building:
 
         factor = mapping.get(INFILTRATION_FACTOR)
         if factor is not None:
-            rest = {k: v for k, v in mapping.items() if k != INFILTRATION_FACTOR}
-            changed = self.with_parameters(rest) if rest else self
-            value = float(factor)
-            if not value >= 0.0:
-                raise ThermocalInputError(
-                    f"{INFILTRATION_FACTOR} must be a non-negative number, got {factor!r}"
-                )
-            zones = {
-                name: dataclasses.replace(zone, infiltration_ach=zone.infiltration_ach * value)
-                for name, zone in changed.zones.items()
-            }
-            return changed.replaced(zones=zones)
+            return self._with_infiltration_factor(
+                float(factor), {k: v for k, v in mapping.items() if k != INFILTRATION_FACTOR}
+            )
         materials = dict(self.materials)
         window_types = dict(self.window_types)
         zones = dict(self.zones)
@@ -1042,9 +1034,13 @@ class Building:
                 zones[name] = dataclasses.replace(zones[name], infiltration_ach=value)
                 ok = True
             elif kind == "infiltration" and attr == "ach":
+                # the group's mean rate: members scaled in proportion, their differences kept
+                # (the nominal value reproduces the nominal building)
                 members = [z for z in zones.values() if z.infiltration_group == name]
+                mean = float(np.mean([z.infiltration_ach for z in members])) if members else 0.0
                 for zone in members:
-                    zones[zone.name] = dataclasses.replace(zone, infiltration_ach=value)
+                    rate = zone.infiltration_ach * (value / mean) if mean > 0 else value
+                    zones[zone.name] = dataclasses.replace(zone, infiltration_ach=rate)
                 ok = bool(members)
             if not ok:
                 known = known if known is not None else list(self.parameters())
@@ -1054,6 +1050,38 @@ class Building:
                     f"unknown building parameter '{key}'{hint} (see Building.parameters())"
                 )
         return self.replaced(materials=materials, window_types=window_types, zones=zones)
+
+    def _with_infiltration_factor(self, value: float, rest: Mapping[str, float]) -> Building:
+        """``with_parameters`` with ``infiltration/building/factor``: the other names first,
+        then every zone's rate = its rate before any factor x ``value`` [-].
+
+        The rates before the factor travel with the building (``infiltration_base``), so a
+        factor applied to a building already scaled by one replaces it instead of compounding
+        (a campaign changes the parameters of one simulation sample after sample); a zone rate
+        set in the same call is the new rate before the factor.
+        """
+        from thermocal.multizone.parameters import INFILTRATION_FACTOR
+
+        if not value >= 0.0:
+            raise ThermocalInputError(
+                f"{INFILTRATION_FACTOR} must be a non-negative number, got {value!r}"
+            )
+        changed = self.with_parameters(rest) if rest else self
+        stored = getattr(self, "infiltration_base", None) or {}
+        base = {}
+        for name, zone in changed.zones.items():
+            before = self.zones[name].infiltration_ach if name in self.zones else None
+            if name in stored and zone.infiltration_ach == before:
+                base[name] = stored[name]  # untouched by ``rest``: the rate before the factor
+            else:
+                base[name] = zone.infiltration_ach
+        zones = {
+            name: dataclasses.replace(zone, infiltration_ach=base[name] * value)
+            for name, zone in changed.zones.items()
+        }
+        result = changed.replaced(zones=zones)
+        result.infiltration_base = base
+        return result
 
     def replaced(self, **changes) -> Building:
         """Copy with some fields replaced (``dataclasses.replace``), keeping the attributes

@@ -74,3 +74,12 @@ def test_factor_replaces_an_earlier_factor_instead_of_compounding(house):
     assert [z.infiltration_ach for z in again.zones.values()] == pytest.approx(
         [0.5 * v for v in nominal.values()]
     )
+
+
+def test_a_calibrated_building_reports_the_factor_it_was_given(house):
+    calibrated = house.with_parameters({INFILTRATION_FACTOR: 1.3})
+    values = candidate_parameters(calibrated, "element", infiltration="building")
+    assert values[INFILTRATION_FACTOR] == pytest.approx(1.3)
+    assert candidate_parameters(house, "element", infiltration="building")[
+        INFILTRATION_FACTOR
+    ] == pytest.approx(1.0)

@@ -461,7 +461,8 @@ def candidate_parameters(
             if not (k.endswith("/infiltration_ach") or k.startswith("infiltration/"))
         }
         if any(z.infiltration_ach > 0 for z in building.zones.values()):
-            params[INFILTRATION_FACTOR] = 1.0
+            # 1 on a building as read; a calibrated building carries the factor it was given
+            params[INFILTRATION_FACTOR] = float(getattr(building, "infiltration_factor", 1.0))
     if level == "material":
         return params
     if level != "element":

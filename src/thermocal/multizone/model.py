@@ -1055,7 +1055,8 @@ class Building:
         """``with_parameters`` with ``infiltration/building/factor``: the other names first,
         then every zone's rate = its rate before any factor x ``value`` [-].
 
-        The rates before the factor travel with the building (``infiltration_base``), so a
+        The rates before the factor travel with the building (``infiltration_base``, the
+        factor as ``infiltration_factor``), so a
         factor applied to a building already scaled by one replaces it instead of compounding
         (a campaign changes the parameters of one simulation sample after sample); a zone rate
         set in the same call is the new rate before the factor.
@@ -1081,6 +1082,7 @@ class Building:
         }
         result = changed.replaced(zones=zones)
         result.infiltration_base = base
+        result.infiltration_factor = value
         return result
 
     def replaced(self, **changes) -> Building:

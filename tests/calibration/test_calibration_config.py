@@ -89,6 +89,8 @@ def test_demo_needs_no_inputs(folder):
          r"key 'sampling' appears twice"),
         ("store: campaign.sqlite", "store: campaign.sqlite\nposterior: {discrepancy: big}",
          r"posterior\.discrepancy: .*'none', 'neighbours', 'floor' or 'shared'"),
+        ("  exclude: []", "  exclude: []\n  infiltration: buildings",
+         r"parameters\.infiltration: .*'per_zone' or 'building'"),
     ],
 )
 def test_bad_campaign_files(folder, replace, by, expected):

@@ -141,8 +141,13 @@ def test_infiltration_groups():
     building = _building(zones=zones)
     params = building.parameters()
     assert "infiltration/east/ach" in params and "zone/living/infiltration_ach" not in params
+    assert params["infiltration/east/ach"] == pytest.approx(0.4)
+    # the group's mean rate: members scaled in proportion (before: both set to 0.8, so the
+    # group's own nominal value changed a building whose members differ)
     changed = building.with_parameters({"infiltration/east/ach": 0.8})
-    assert [z.infiltration_ach for z in changed.zones.values()] == [0.8, 0.8]
+    assert [z.infiltration_ach for z in changed.zones.values()] == pytest.approx([1.0, 0.6])
+    same = building.with_parameters({"infiltration/east/ach": params["infiltration/east/ach"]})
+    assert [z.infiltration_ach for z in same.zones.values()] == pytest.approx([0.5, 0.3])
 
 
 def test_u_value_hand_computed():

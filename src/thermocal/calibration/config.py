@@ -11,6 +11,8 @@ Example (every path is relative to the campaign file)::
     identification: {method: inverse, feedback: air}
     occupancy: null
     parameters:
+      level: material                # or element (construction resistance / heat capacity)
+      infiltration: per_zone         # or building: one factor on every zone's rate
       include: ["material/*", "window/*", "infiltration/*", "zone/*"]
       exclude: []
       default_range: 0.75            # relative half-width (+-75 %)
@@ -81,6 +83,7 @@ class ParametersSection(_Strict):
     """Which model parameters vary and by how much (relative half-widths, 0.75 = +-75 %)."""
 
     level: Literal["material", "element"] = "material"
+    infiltration: Literal["per_zone", "building"] = "per_zone"
     include: list[str] = Field(default_factory=lambda: ["*"])
     exclude: list[str] = Field(default_factory=list)
     default_range: float = Field(0.75, ge=0.0, allow_inf_nan=False)

@@ -269,7 +269,7 @@ def campaign_space(campaign, building):
 
     p = campaign.parameters
     return ParameterSpace.from_parameters(
-        candidate_parameters(building, p.level),
+        candidate_parameters(building, p.level, infiltration=p.infiltration),
         include=p.include,
         exclude=p.exclude,
         default_range=p.default_range,
@@ -418,7 +418,9 @@ def _stored_morris(campaign, space, store_path, notes):
     return morris_analyze(design, outputs.to_numpy(), lower, upper, levels=m.levels, seed=m.seed)
 
 
-def candidate_parameters(building, level: str = "material") -> dict[str, float]:
+def candidate_parameters(
+    building, level: str = "material", *, infiltration: str = "per_zone"
+) -> dict[str, float]:
     """The parameters a campaign may vary, by name, at the chosen level.
 
     Parameters
@@ -431,6 +433,13 @@ def candidate_parameters(building, level: str = "material") -> dict[str, float]:
         resistance [m2 K/W] and heat capacity [J/(m2 K)] with the layers scaled consistently
         (:mod:`thermocal.multizone.elements`); window U-value and SHGC and infiltration at both
         levels.
+    infiltration : {"per_zone", "building"}
+        ``"per_zone"``: each zone's air change rate ``zone/<name>/infiltration_ach`` [1/h] (one
+        ``infiltration/<group>/ach`` per group of zones sharing an infiltration object).
+        ``"building"``: one factor on every zone's rate, ``infiltration/building/factor``
+        (nominal 1) [-], for a building whose file gives each zone its own infiltration
+        object (e.g. a flow per exterior-wall area): one parameter the campaign can
+        determine instead of one per zone that it cannot.
 
     Returns
     -------
@@ -438,8 +447,22 @@ def candidate_parameters(building, level: str = "material") -> dict[str, float]:
         Nominal values [unit of each parameter].
     """
     from thermocal.multizone.elements import element_parameters
+    from thermocal.multizone.parameters import INFILTRATION_FACTOR
 
+    if infiltration not in ("per_zone", "building"):
+        raise ThermocalInputError(
+            f"parameters.infiltration must be 'per_zone' or 'building', got {infiltration!r}"
+        )
     params = building.parameters()
+    if infiltration == "building":
+        params = {
+            k: v
+            for k, v in params.items()
+            if not (k.endswith("/infiltration_ach") or k.startswith("infiltration/"))
+        }
+        if any(z.infiltration_ach > 0 for z in building.zones.values()):
+            # 1 on a building as read; a calibrated building carries the factor it was given
+            params[INFILTRATION_FACTOR] = float(getattr(building, "infiltration_factor", 1.0))
     if level == "material":
         return params
     if level != "element":

@@ -89,10 +89,12 @@ class IdentificationProblem:
             raise ThermocalInputError("the PID method needs gains for every zone")
         self.nominal = dict(self.building.parameters())
         from thermocal.multizone.elements import element_parameters
+        from thermocal.multizone.parameters import INFILTRATION_FACTOR
 
-        # construction-level names (resistance, heat capacity) are accepted beside the
-        # material-level ones; they are not part of the fingerprint (the same building)
-        self.element_nominal = element_parameters(self.building)
+        # construction-level names (resistance, heat capacity) and the building-wide
+        # infiltration factor are accepted beside the material-level ones; they are not part
+        # of the fingerprint (the same building)
+        self.element_nominal = {**element_parameters(self.building), INFILTRATION_FACTOR: 1.0}
 
     def __getstate__(self):
         state = dict(self.__dict__)

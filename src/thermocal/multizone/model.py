@@ -955,7 +955,8 @@ class Building:
         Names: ``material/<name>/{conductivity,density,specific_heat,thickness}`` (massive
         layers), ``material/<name>/resistance`` (no-mass layers), ``window/<name>/{u_value,shgc}``,
         ``zone/<name>/infiltration_ach`` (zones without an infiltration group) and
-        ``infiltration/<group>/ach`` (one per group, the mean of its zones).
+        ``infiltration/<group>/ach`` (one per group, the mean of its zones; setting it scales
+        the members in proportion).
         """
         params: dict[str, float] = {}
         for mat in self.materials.values():
@@ -981,10 +982,13 @@ class Building:
         """Copy of the building with some parameters changed (names as in :meth:`parameters`).
 
         Besides the names listed by :meth:`parameters`, ``zone/<name>/infiltration_ach`` is
-        accepted for every zone (also grouped ones), and the construction-level
+        accepted for every zone (also grouped ones), the construction-level
         ``construction/<name>/{resistance,heat_capacity}`` of
-        :mod:`thermocal.multizone.elements` (applied after the material-level names).  Unknown
-        names raise :class:`ThermocalInputError` with close matches.
+        :mod:`thermocal.multizone.elements` (applied after the material-level names), and
+        ``infiltration/building/factor`` [-]: every zone's air change rate (as changed by the
+        other names) times this value, one parameter for a building whose file gives each zone
+        its own infiltration object.  Unknown names raise :class:`ThermocalInputError` with
+        close matches.
         """
         from thermocal.multizone.elements import apply_element_parameters, is_element_parameter
 
@@ -992,6 +996,13 @@ class Building:
         if elements:
             rest = {k: v for k, v in mapping.items() if not is_element_parameter(k)}
             return apply_element_parameters(self.with_parameters(rest), elements)
+        from thermocal.multizone.parameters import INFILTRATION_FACTOR
+
+        factor = mapping.get(INFILTRATION_FACTOR)
+        if factor is not None:
+            return self._with_infiltration_factor(
+                float(factor), {k: v for k, v in mapping.items() if k != INFILTRATION_FACTOR}
+            )
         materials = dict(self.materials)
         window_types = dict(self.window_types)
         zones = dict(self.zones)
@@ -1023,9 +1034,13 @@ class Building:
                 zones[name] = dataclasses.replace(zones[name], infiltration_ach=value)
                 ok = True
             elif kind == "infiltration" and attr == "ach":
+                # the group's mean rate: members scaled in proportion, their differences kept
+                # (the nominal value reproduces the nominal building)
                 members = [z for z in zones.values() if z.infiltration_group == name]
+                mean = float(np.mean([z.infiltration_ach for z in members])) if members else 0.0
                 for zone in members:
-                    zones[zone.name] = dataclasses.replace(zone, infiltration_ach=value)
+                    rate = zone.infiltration_ach * (value / mean) if mean > 0 else value
+                    zones[zone.name] = dataclasses.replace(zone, infiltration_ach=rate)
                 ok = bool(members)
             if not ok:
                 known = known if known is not None else list(self.parameters())
@@ -1035,6 +1050,40 @@ class Building:
                     f"unknown building parameter '{key}'{hint} (see Building.parameters())"
                 )
         return self.replaced(materials=materials, window_types=window_types, zones=zones)
+
+    def _with_infiltration_factor(self, value: float, rest: Mapping[str, float]) -> Building:
+        """``with_parameters`` with ``infiltration/building/factor``: the other names first,
+        then every zone's rate = its rate before any factor x ``value`` [-].
+
+        The rates before the factor travel with the building (``infiltration_base``, the
+        factor as ``infiltration_factor``), so a
+        factor applied to a building already scaled by one replaces it instead of compounding
+        (a campaign changes the parameters of one simulation sample after sample); a zone rate
+        set in the same call is the new rate before the factor.
+        """
+        from thermocal.multizone.parameters import INFILTRATION_FACTOR
+
+        if not value >= 0.0:
+            raise ThermocalInputError(
+                f"{INFILTRATION_FACTOR} must be a non-negative number, got {value!r}"
+            )
+        changed = self.with_parameters(rest) if rest else self
+        stored = getattr(self, "infiltration_base", None) or {}
+        base = {}
+        for name, zone in changed.zones.items():
+            before = self.zones[name].infiltration_ach if name in self.zones else None
+            if name in stored and zone.infiltration_ach == before:
+                base[name] = stored[name]  # untouched by ``rest``: the rate before the factor
+            else:
+                base[name] = zone.infiltration_ach
+        zones = {
+            name: dataclasses.replace(zone, infiltration_ach=base[name] * value)
+            for name, zone in changed.zones.items()
+        }
+        result = changed.replaced(zones=zones)
+        result.infiltration_base = base
+        result.infiltration_factor = value
+        return result
 
     def replaced(self, **changes) -> Building:
         """Copy with some fields replaced (``dataclasses.replace``), keeping the attributes

@@ -2,7 +2,8 @@
 
 Names are ``material/<name>/{conductivity,density,specific_heat,thickness}``,
 ``material/<name>/resistance``, ``window/<name>/{u_value,shgc}``,
-``zone/<name>/infiltration_ach`` and ``infiltration/<group>/ach``, and the construction-level
+``zone/<name>/infiltration_ach``, ``infiltration/<group>/ach`` and the building-wide factor
+``infiltration/building/factor`` (:data:`INFILTRATION_FACTOR`), and the construction-level
 ``construction/<name>/{resistance,heat_capacity}`` of :mod:`thermocal.multizone.elements`; the
 kind is the last part.
 """
@@ -21,7 +22,11 @@ PARAMETER_UNITS: dict[str, str] = {
     "shgc": "-",
     "infiltration_ach": "1/h",
     "ach": "1/h",
+    "factor": "-",
 }
+
+#: The building-wide infiltration factor [-]: every zone's air change rate times this value.
+INFILTRATION_FACTOR = "infiltration/building/factor"
 
 
 def parameter_kind(name: str) -> str:

@@ -109,7 +109,10 @@ def element_rows(result, nominal: dict, truth: dict) -> list[dict]:
     """Nominal, calibrated, posterior median and 90 % interval, truth per varied parameter."""
     from thermocal.calibration.workflow import candidate_parameters
 
-    calibrated = candidate_parameters(result.calibrated_building, "element")
+    factor = "infiltration/building/factor" in result.space.names
+    calibrated = candidate_parameters(
+        result.calibrated_building, "element", infiltration="building" if factor else "per_zone"
+    )
     post = result.posterior.summary
     rows = []
     for name in result.space.names:

@@ -39,16 +39,19 @@ from energyplus_twin import twin_idf  # noqa: E402
 IDF = ROOT / "tests" / "reference" / "identification_outpatient" / "outpatient_FF_v25.idf"
 WALL = "construction/Steel Frame Non-res Ext Wall/resistance"
 ROOF = "construction/IEAD Non-res Roof/resistance"
-#: every zone's infiltration (the element level offers no building-wide factor for a file with
-#: one infiltration object per zone; zones without infiltration are skipped by the campaign)
+#: every zone's infiltration (one parameter per zone; ``--building-infiltration`` varies one factor
+#: on all of them instead; zones without infiltration are skipped by the campaign)
 INFILTRATION = ("zone/*/infiltration_ach",)
 INCLUDE = (WALL, ROOF, *INFILTRATION)
+#: one factor on every zone's infiltration (``parameters: {infiltration: building}``)
+FACTOR = "infiltration/building/factor"
 STEP = "10min"
 AIR = 1.2 * 1006.0 / 3600.0  # volumetric heat capacity of air per ACH [W h/(m3 K s)] -> W/K
 
 
 def campaign_text(samples: int, *, extra: str = "", include=INCLUDE, step: str = STEP) -> str:
     names = ", ".join(f'"{n}"' for n in include)
+    infiltration = "building" if FACTOR in include else "per_zone"
     return f"""building: nominal.idf
 weather: weather.epw
 sensors: sensors.csv
@@ -58,6 +61,7 @@ step: {step}
 identification: {{method: inverse, settle: 1D, warmup_days: 3}}
 parameters:
   level: element
+  infiltration: {infiltration}
   include: [{names}]
 sampling: {{method: sobol, samples: {samples}, seed: 1}}
 optimisation: {{starts: 4, seed: 1, refine: 4}}
@@ -133,7 +137,7 @@ def run(
     from thermocal.calibration.workflow import calibrate
 
     base.WALL, base.ROOF = WALL, ROOF  # the pair whose posterior correlation is reported
-    truth_file = json.loads((HERE / "truth.json").read_text())
+    truth_file = with_factor(json.loads((HERE / "truth.json").read_text()))
     path = prepare(folder, samples, include=include)
     form = f"metamodel: {{kind: series, series_terms: {terms}}}\n"
     out = {}
@@ -158,6 +162,27 @@ def run(
                 out[metric]["infiltration_total"] = total
         out[metric]["seconds"] = elapsed
     return out
+
+
+def with_factor(truth_file: dict) -> dict:
+    """``truth_file`` with the building-wide infiltration factor: nominal 1, truth the common
+    ratio of every zone's true to nominal rate (the hidden envelope scales every infiltration
+    object by the same factor; checked)."""
+    import numpy as np
+
+    nominal, truth = truth_file["nominal"], truth_file["truth"]
+    ratios = [
+        truth[n] / nominal[n]
+        for n in nominal
+        if n.endswith("/infiltration_ach") and nominal[n] > 0
+    ]
+    if not ratios or np.ptp(ratios) > 1e-6 * np.mean(ratios):
+        raise ValueError(f"the zones' infiltration ratios differ: {sorted(set(ratios))[:5]}")
+    return {
+        **truth_file,
+        "nominal": {**nominal, FACTOR: 1.0},
+        "truth": {**truth, FACTOR: float(np.mean(ratios))},
+    }
 
 
 def markdown(results: dict, samples: int, terms: str) -> str:
@@ -194,9 +219,17 @@ def main(argv=None) -> int:
         help="vary the wall and the roof only (the infiltration, x1.4 in the truth, left "
         "nominal: a model error; writes results_fixed_infiltration.*)",
     )
+    parser.add_argument(
+        "--building-infiltration",
+        action="store_true",
+        help="vary the wall, the roof and one factor on every zone's infiltration "
+        "(parameters: {infiltration: building}; writes results_building_infiltration.*)",
+    )
     parser.add_argument("--write", action="store_true")
     args = parser.parse_args(argv)
     include = (WALL, ROOF) if args.fixed_infiltration else INCLUDE
+    if args.building_infiltration:
+        include = (WALL, ROOF, FACTOR)
     with tempfile.TemporaryDirectory() as tmp:
         results = run(
             Path(tmp),
@@ -212,6 +245,8 @@ def main(argv=None) -> int:
         name = "results" if args.terms == "affine" else f"results_{args.terms}"
         if args.fixed_infiltration:
             name += "_fixed_infiltration"
+        if args.building_infiltration:
+            name += "_building_infiltration"
         (HERE / f"{name}.md").write_text(text)
         (HERE / f"{name}.json").write_text(json.dumps(results, indent=2, default=str) + "\n")
     return 0

@@ -298,3 +298,14 @@ def fidelity(identified: pd.DataFrame, truth: pd.DataFrame, mask: np.ndarray | N
         "hours": int(len(hourly)),
         "truth_mean_W": mean,
     }
+
+
+def zone_fidelity(result, twin: Twin, zones=None, skip: str = "1D"):
+    """Fidelity (:func:`fidelity`) of the identified heat of ``zones`` (default every zone)
+    against their own gains, in all hours and in the identification's unoccupied hours, the
+    first ``skip`` left out: ``(every, unoccupied)``."""
+    q = result.q_id if zones is None else result.q_id[list(zones)]
+    truth = twin.gains.reindex(q.index)[list(q.columns)]
+    keep = q.index >= q.index[0] + pd.Timedelta(skip)
+    quiet = result.unoccupied_mask()[keep]
+    return fidelity(q[keep], truth[keep]), fidelity(q[keep], truth[keep], quiet)

@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-from energyplus_twin import fidelity, forward_on_the_same_file, hourly_rmse_bias, sensor_log
+from energyplus_twin import forward_on_the_same_file, hourly_rmse_bias, sensor_log, zone_fidelity
 
 from conftest import requires_energyplus
 
@@ -99,11 +99,7 @@ def test_outpatient_identified_heat_with_three_quarters_sensed(forward):
             start=twin.start + pd.Timedelta("5min"), end=twin.end, step="5min",
             method="inverse", radiant_fraction="declared",
         )  # fmt: skip
-    q = result.q_id[sensed]
-    truth = twin.gains.reindex(q.index)[sensed]
-    keep = q.index >= q.index[0] + pd.Timedelta("1D")
-    own = fidelity(q[keep], truth[keep])
-    quiet = fidelity(q[keep], truth[keep], result.unoccupied_mask()[keep])
+    own, quiet = zone_fidelity(result, twin, sensed)
     assert abs(own["nmbe"]) <= 0.05 and own["cvrmse"] <= 0.15, own
     assert abs(quiet["nmbe"]) <= 0.05 and quiet["cvrmse"] <= 0.15, quiet
     floating = [z for z in zones if z not in sensed]

@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-from energyplus_twin import fidelity, hourly_rmse_bias, make_twin_of, sensor_log
+from energyplus_twin import hourly_rmse_bias, make_twin_of, sensor_log, zone_fidelity
 
 from conftest import requires_energyplus
 from thermocal.errors import ThermocalInputError
@@ -111,11 +111,7 @@ def _identify(twin, zones, radiant_fraction=None, building=None):
             method="inverse",
             radiant_fraction=radiant_fraction,
         )
-    q = result.q_id
-    truth = twin.gains.reindex(q.index)
-    keep = q.index >= q.index[0] + pd.Timedelta("1D")
-    every = fidelity(q[keep], truth[keep])
-    empty = fidelity(q[keep], truth[keep], result.unoccupied_mask()[keep])
+    every, empty = zone_fidelity(result, twin)
     return result, every, empty
 
 
@@ -200,11 +196,7 @@ def test_floating_flats_keep_the_loads_the_file_declares(twin):
         loaded = read_idf(twin.folder / "twin.idf")
     sensed = [z for z in twin.temperature.columns if z not in UNSENSED]
     result, _, _ = _identify(twin, sensed, radiant_fraction="declared", building=loaded)
-    q = result.q_id[sensed]
-    truth = twin.gains.reindex(q.index)[sensed]
-    keep = q.index >= q.index[0] + pd.Timedelta("1D")
-    own = fidelity(q[keep], truth[keep])
-    quiet = fidelity(q[keep], truth[keep], result.unoccupied_mask()[keep])
+    own, quiet = zone_fidelity(result, twin, sensed)
     assert abs(own["nmbe"]) <= 0.03 and own["cvrmse"] <= 0.08, own
     assert abs(quiet["nmbe"]) <= 0.03 and quiet["cvrmse"] <= 0.08, quiet
     flats = [z for z in UNSENSED if z.startswith("living")]

@@ -34,7 +34,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "identification"))
 
-from energyplus_twin import fidelity, make_twin_of, sensor_log  # noqa: E402
+from energyplus_twin import make_twin_of, sensor_log, zone_fidelity  # noqa: E402
 
 IDF = HERE / "outpatient_FF_v25.idf"
 RESULTS = HERE / "identification_results.json"
@@ -76,15 +76,8 @@ def main() -> None:
                         start=twin.start + pd.Timedelta("5min"), end=twin.end, step="5min",
                         method="inverse", radiant_fraction=fraction,
                     )  # fmt: skip
-                q = res.q_id
-                truth = twin.gains.reindex(q.index)
-                keep = q.index >= q.index[0] + pd.Timedelta("1D")
-                quiet = res.unoccupied_mask()[keep]
-                every = fidelity(q[keep], truth[keep])
-                unoccupied = fidelity(q[keep], truth[keep], quiet)
-                tracked = list(sensed)
-                own = fidelity(q[keep][tracked], truth[keep][tracked])
-                own_quiet = fidelity(q[keep][tracked], truth[keep][tracked], quiet)
+                every, unoccupied = zone_fidelity(res, twin)
+                own, own_quiet = zone_fidelity(res, twin, sensed)
                 row = {
                     "sensed": sensed_label,
                     "form": form,

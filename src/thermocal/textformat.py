@@ -1,4 +1,5 @@
-"""Numbers as text: the one formatter of a number that may be missing.
+"""Numbers and lists as text: the one formatter of a number that may be missing, and of a list
+shortened to its first items.
 
 Reports, tables and console summaries print values that can be absent (``None`` in a results
 dict cleaned by :func:`thermocal.jsonsafe.json_ready`, NaN in a table, infinity for a payback
@@ -12,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["format_number"]
+__all__ = ["format_number", "shortened_list"]
 
 
 def format_number(value: Any, spec: str = "g", missing: str = "n/a") -> str:
@@ -42,3 +43,22 @@ def format_number(value: Any, spec: str = "g", missing: str = "n/a") -> str:
     except TypeError:
         return missing
     return format(value, spec)
+
+
+def shortened_list(items, shown: int = 6) -> str:
+    """The first ``shown`` items joined by commas, then `` and K more`` when there are more.
+
+    Parameters
+    ----------
+    items : sequence of str
+    shown : int
+        How many items are written out [-].
+
+    Examples
+    --------
+    >>> shortened_list(["a", "b", "c"], 2)
+    'a, b and 1 more'
+    """
+    items = list(items)
+    more = f" and {len(items) - shown} more" if len(items) > shown else ""
+    return ", ".join(items[:shown]) + more

@@ -16,6 +16,7 @@ import dataclasses
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.textformat import shortened_list
 
 #: The value of ``radiant_fraction`` that asks for the form the building file declares
 DECLARED = "declared"
@@ -143,7 +144,7 @@ def loads_note(
         high = float(form.max().max()) if form is not None else float("nan")
         floating = (
             f" The {len(kept)} floating zone(s) with load objects keep them, simulated as known "
-            f"heat (no sensor, no identified heat): {_names(kept)}."
+            f"heat (no sensor, no identified heat): {shortened_list(kept)}."
             if kept
             else ""
         )
@@ -159,10 +160,3 @@ def loads_note(
         f"in the mapping (or --radiant-fraction {DECLARED})."
     )
 
-
-def _names(names, shown: int = 6) -> str:
-    """``a, b, c`` or ``a, b, ... and 12 more``."""
-    names = list(names)
-    if len(names) <= shown:
-        return ", ".join(names)
-    return f"{', '.join(names[:shown])} and {len(names) - shown} more"

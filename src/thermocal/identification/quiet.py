@@ -32,6 +32,7 @@ from thermocal.identification.occupancy import (
     UnoccupiedWindow,
     unoccupied_mask,
 )
+from thermocal.textformat import shortened_list
 
 __all__ = ["QuietHours", "ScheduleCheck", "check_schedule", "hour_of_week_profile", "quiet_hours"]
 
@@ -203,12 +204,11 @@ class ScheduleCheck:
         """In words, naming the first offending hours."""
         if not self.not_quiet:
             return f"all {self.hours} unoccupied hours of the schedule are quiet in the data"
-        first = ", ".join(f"{DAY_NAMES[h // 24]} {h % 24:02d}:00" for h in self.not_quiet[:6])
-        more = f" and {len(self.not_quiet) - 6} more" if len(self.not_quiet) > 6 else ""
+        first = shortened_list(f"{DAY_NAMES[h // 24]} {h % 24:02d}:00" for h in self.not_quiet)
         return (
             f"{len(self.not_quiet)} of the schedule's {self.hours} unoccupied hours a week "
             f"({self.share_not_quiet:.0%}) are not quiet in the data, on average "
-            f"{self.excess / 1000:.2f} kW above the quiet level ({first}{more}); they raise the "
+            f"{self.excess / 1000:.2f} kW above the quiet level ({first}); they raise the "
             f"spread of the metric's hours by {self.std_increase:.0%}"
         )
 

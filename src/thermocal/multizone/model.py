@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
+from thermocal.multizone.parameters import INFILTRATION_FACTOR
 
 #: Allowed surface boundary conditions.
 BOUNDARIES = ("outdoors", "ground", "zone", "adiabatic")
@@ -996,8 +997,6 @@ class Building:
         if elements:
             rest = {k: v for k, v in mapping.items() if not is_element_parameter(k)}
             return apply_element_parameters(self.with_parameters(rest), elements)
-        from thermocal.multizone.parameters import INFILTRATION_FACTOR
-
         factor = mapping.get(INFILTRATION_FACTOR)
         if factor is not None:
             return self._with_infiltration_factor(
@@ -1061,8 +1060,6 @@ class Building:
         (a campaign changes the parameters of one simulation sample after sample); a zone rate
         set in the same call is the new rate before the factor.
         """
-        from thermocal.multizone.parameters import INFILTRATION_FACTOR
-
         if not value >= 0.0:
             raise ThermocalInputError(
                 f"{INFILTRATION_FACTOR} must be a non-negative number, got {value!r}"

@@ -174,15 +174,30 @@ def run(
     nothing sampled again, their optima confirmed with the model).
 
     Returns a dict per metric (:func:`summarise`) with the seconds it took."""
+    truth_file = json.loads((HERE / "truth.json").read_text())
+    path = prepare(folder, samples, declared=declared)
+    return calibrate_each_metric(
+        path,
+        lambda metric: campaign_text(samples, extra=f"metric: {metric}\n"),
+        truth_file,
+        metrics=metrics,
+        workers=workers,
+        log=log,
+    )
+
+
+def calibrate_each_metric(path: Path, text_for, truth_file: dict, *, metrics, workers, log,
+                          extra=None) -> dict:  # fmt: skip
+    """``thermocal calibrate`` of the campaign file ``path`` (its text ``text_for(metric)``)
+    with the first metric, then the same samples with the others (``--resume``: nothing
+    sampled again), the store beside ``path``. Returns a dict per metric (:func:`summarise`,
+    updated by ``extra(result, truth_file)`` when given) with the seconds it took."""
     from thermocal.calibration.config import load_campaign
     from thermocal.calibration.workflow import calibrate
 
-    truth_file = json.loads((HERE / "truth.json").read_text())
-    path = prepare(folder, samples, declared=declared)
-    quiet = log or (lambda line: None)
     out = {}
     for i, metric in enumerate(metrics):
-        path.write_text(campaign_text(samples, extra=f"metric: {metric}\n"))
+        path.write_text(text_for(metric))
         campaign = load_campaign(path)
         t0 = time.perf_counter()
         with warnings.catch_warnings():
@@ -190,13 +205,15 @@ def run(
             result = calibrate(
                 campaign,
                 workers=workers,
-                store_path=folder / "campaign.sqlite",
+                store_path=path.parent / "campaign.sqlite",
                 resume=bool(i),
                 progress=False,
-                log=quiet,
+                log=log or (lambda line: None),
             )
             elapsed = time.perf_counter() - t0
             out[metric] = summarise(result, campaign, truth_file, metric)
+            if extra is not None:
+                out[metric].update(extra(result, truth_file))
         out[metric]["seconds"] = elapsed
     return out
 

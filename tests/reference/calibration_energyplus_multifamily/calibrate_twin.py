@@ -22,8 +22,6 @@ import json
 import shutil
 import sys
 import tempfile
-import time
-import warnings
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -72,31 +70,17 @@ def prepare(folder: Path, samples: int, **kwargs) -> Path:
 
 
 def run(folder: Path, samples: int, *, metrics=("building", "groups"), workers=1, log=None):
-    from thermocal.calibration.config import load_campaign
-    from thermocal.calibration.workflow import calibrate
-
     base.WALL, base.ROOF = WALL, CEILING  # the pair whose posterior correlation is reported
     truth_file = json.loads((HERE / "truth.json").read_text())
     path = prepare(folder, samples)
-    out = {}
-    for i, metric in enumerate(metrics):
-        path.write_text(campaign_text(samples, extra=f"metric: {metric}\n"))
-        campaign = load_campaign(path)
-        t0 = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            result = calibrate(
-                campaign,
-                workers=workers,
-                store_path=folder / "campaign.sqlite",
-                resume=bool(i),
-                progress=False,
-                log=log or (lambda line: None),
-            )
-            elapsed = time.perf_counter() - t0
-            out[metric] = base.summarise(result, campaign, truth_file, metric)
-        out[metric]["seconds"] = elapsed
-    return out
+    return base.calibrate_each_metric(
+        path,
+        lambda metric: campaign_text(samples, extra=f"metric: {metric}\n"),
+        truth_file,
+        metrics=metrics,
+        workers=workers,
+        log=log,
+    )
 
 
 def main(argv=None) -> int:

@@ -24,8 +24,6 @@ import json
 import shutil
 import sys
 import tempfile
-import time
-import warnings
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -133,35 +131,24 @@ def run(
     include=INCLUDE,
     log=None,
 ):
-    from thermocal.calibration.config import load_campaign
-    from thermocal.calibration.workflow import calibrate
-
     base.WALL, base.ROOF = WALL, ROOF  # the pair whose posterior correlation is reported
     truth_file = with_factor(json.loads((HERE / "truth.json").read_text()))
     path = prepare(folder, samples, include=include)
     form = f"metamodel: {{kind: series, series_terms: {terms}}}\n"
-    out = {}
-    for i, metric in enumerate(metrics):
-        path.write_text(campaign_text(samples, include=include, extra=form + f"metric: {metric}\n"))
-        campaign = load_campaign(path)
-        t0 = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            result = calibrate(
-                campaign,
-                workers=workers,
-                store_path=folder / "campaign.sqlite",
-                resume=bool(i),
-                progress=False,
-                log=log or (lambda line: None),
-            )
-            elapsed = time.perf_counter() - t0
-            out[metric] = base.summarise(result, campaign, truth_file, metric)
-            total = infiltration_row(result, truth_file)
-            if total is not None:
-                out[metric]["infiltration_total"] = total
-        out[metric]["seconds"] = elapsed
-    return out
+
+    def infiltration_total(result, truth_file) -> dict:
+        total = infiltration_row(result, truth_file)
+        return {} if total is None else {"infiltration_total": total}
+
+    return base.calibrate_each_metric(
+        path,
+        lambda metric: campaign_text(samples, include=include, extra=form + f"metric: {metric}\n"),
+        truth_file,
+        metrics=metrics,
+        workers=workers,
+        log=log,
+        extra=infiltration_total,
+    )
 
 
 def with_factor(truth_file: dict) -> dict:

@@ -90,6 +90,10 @@ class ForcingSetup:
         period's mean declination (of its sine) and mean equation of time over the period's
         days within the run period; "Timestep" (N = 0): every step its own sun.
         """
+        key = (self.times[0], len(self.times), self.dt, self._sun_at_end)
+        cached = self.__dict__.get("_shadow_suns_cache")
+        if cached is not None and cached[0] == key:
+            return cached[1]
         from thermocal.multizone.shading import sun_vectors
 
         info = self._idf_info
@@ -107,6 +111,7 @@ class ForcingSetup:
                 self.times, self.step_size, self._sun_at_end, site, elapsed // per_day // days, days
             )
         evaluated, inverse = np.unique(step_index, return_inverse=True)
+        self._shadow_suns_cache = (key, (sun, evaluated, inverse))
         return sun, evaluated, inverse
 
     def _interior_beam_setup(self) -> dict | None:
@@ -156,7 +161,8 @@ class ForcingSetup:
             if not reached.any():
                 continue
             names = [name for name, r in zip(faces, reached, strict=True) if r]
-            out[window.name] = (names, np.ascontiguousarray(shares[:, reached][inverse]))
+            # kept per evaluated step (one day per shadow period); expanded where used
+            out[window.name] = (names, np.ascontiguousarray(shares[:, reached]), inverse)
         return out or None
 
     def _input_matrix(self) -> np.ndarray:
@@ -206,12 +212,13 @@ class ForcingSetup:
                     u[:, col] = values
         interior = []
         for window, (beam_col, area, targets) in net.window_beam_targets.items():
-            names, shares = self._interior_beam[window]
+            names, shares, step_row = self._interior_beam[window]
             # transmitted beam [W] landing on each face, all faces of the window in one block
             # (the same products as face by face: (beam x area) x share)
             cols = [col for _, col in targets]
             beam = u[:, beam_col] * area
-            u[:, cols] = beam[:, None] * shares[:, [names.index(face) for face, _ in targets]]
+            landing = shares[:, [names.index(face) for face, _ in targets]][step_row]
+            u[:, cols] = beam[:, None] * landing
             interior.extend(cols)
         if self.weather_interpolation == "energyplus":
             # rows hold the curve at each step's end: the step is forced by the mean of its start

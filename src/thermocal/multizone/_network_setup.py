@@ -61,7 +61,7 @@ class NetworkSetup:
             own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
             sky_view_ratio=self._shadows["sky"] if self._shadows else None,
             interior_beam=(
-                {w: names for w, (names, _) in self._interior_beam.items()}
+                {w: names for w, (names, *_) in self._interior_beam.items()}
                 if self._interior_beam
                 else None
             ),

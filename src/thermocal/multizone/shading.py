@@ -30,6 +30,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
+from thermocal.multizone.idf.geometry import newell_normal
+
 #: cells per receiver of the sampling (about)
 DEFAULT_SAMPLES = 1600
 _TIME_CHUNK = 512
@@ -151,12 +153,19 @@ def _clip_in_front(vertices: np.ndarray, origin: np.ndarray, normal: np.ndarray)
     return np.array(out) if len(out) >= 3 else np.zeros((0, 3))
 
 
+def _cross(a, b) -> np.ndarray:
+    """``numpy.cross`` of two 3-vectors, the same products without its per-call overhead."""
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+
+
 def _plane_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n = normal / np.linalg.norm(normal)
-    helper = np.array([0.0, 0.0, 1.0]) if abs(n[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    u = np.cross(helper, n)
+    helper = (0.0, 0.0, 1.0) if abs(n[2]) < 0.9 else (1.0, 0.0, 0.0)
+    u = _cross(helper, n)
     u /= np.linalg.norm(u)
-    return u, np.cross(n, u)
+    return u, _cross(n, u)
 
 
 def _inside(polygon_2d: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -172,19 +181,6 @@ def _inside(polygon_2d: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         x_at = x1 + (y - y1) * (x2 - x1) / (y2 - y1)
         inside ^= crosses & (x < x_at)
     return inside
-
-
-def newell_normal(vertices: np.ndarray) -> np.ndarray:
-    """Area vector (Newell) of a polygon: normal x 2 area, right-hand rule on the vertex order."""
-    v = np.asarray(vertices, dtype=float)
-    w = np.roll(v, -1, axis=0)
-    return np.array(
-        [
-            np.sum((v[:, 1] - w[:, 1]) * (v[:, 2] + w[:, 2])),
-            np.sum((v[:, 2] - w[:, 2]) * (v[:, 0] + w[:, 0])),
-            np.sum((v[:, 0] - w[:, 0]) * (v[:, 1] + w[:, 1])),
-        ]
-    )
 
 
 def sample_points(
@@ -321,6 +317,13 @@ class ShadowCaster:
             local = np.stack([(verts - verts[0]) @ u_axis, (verts - verts[0]) @ v_axis], axis=1)
             self._planes.append((verts[0], normal, u_axis, v_axis, local, verts))
         self._receivers: dict[str, _Receiver] = {}
+        # every caster's plane at once for building_surface_can_shade's test (a vertex, the unit
+        # normal; "front only" casters that face up or have the receiver behind them are out)
+        planar = [k for k, plane in enumerate(self._planes) if plane is not None]
+        plane_origin = np.array([self._planes[k][0] for k in planar]).reshape(-1, 3)
+        plane_normal = np.array([self._planes[k][1] for k in planar]).reshape(-1, 3)
+        front_only = np.array([self.shaders[k].front_only for k in planar], dtype=bool)
+        faces_up = plane_normal[:, 2] > 0.9999
         for name, (vertices, holes) in receivers.items():
             verts = np.asarray(vertices, dtype=float)
             normal = newell_normal(verts)
@@ -329,14 +332,15 @@ class ShadowCaster:
             normal = normal / np.linalg.norm(normal)
             # lift the plane a little so that shaders touching the face do not shade it
             origin = verts[0] + 1e-6 * normal
+            height = np.einsum(
+                "smk,sk->sm", verts[None, :, :] - plane_origin[:, None, :], plane_normal
+            )
+            can_shade = ~faces_up & (height.max(axis=1, initial=-np.inf) > PLANE_TOLERANCE)
             candidates = []
-            for k, plane in enumerate(self._planes):
-                if plane is None:
+            for j, k in enumerate(planar):
+                if front_only[j] and not can_shade[j]:
                     continue
-                # the caster's plane (vertex, unit normal) is the one of building_surface_can_shade
-                if self.shaders[k].front_only and not _plane_can_shade(plane[0], plane[1], verts):
-                    continue
-                clipped = _clip_in_front(plane[5], origin, normal)
+                clipped = _clip_in_front(self._planes[k][5], origin, normal)
                 if len(clipped):
                     candidates.append((k, clipped))
             if not candidates:
@@ -376,29 +380,31 @@ class ShadowCaster:
         steps = np.flatnonzero(front)
         if not len(steps):
             return out
-        n_shaders = len(rec.shaders)
         n_vertices = np.array([len(verts) for _, verts in rec.shaders], dtype=np.int64)
-        width = int(n_vertices.max())
+        shader_index = np.array([k for k, _ in rec.shaders], dtype=np.int64)
+        # the shaders' vertices relative to the receiver, padded to the longest polygon (the
+        # padding is never read: each polygon has its own vertex count)
+        rel = np.zeros((len(rec.shaders), int(n_vertices.max()), 3))
+        for j, (_, verts) in enumerate(rec.shaders):
+            rel[j, : len(verts)] = verts - rec.origin
+        height = rel @ rec.normal  # (n_shaders, width) > 0 after clipping
         px = np.ascontiguousarray(rec.points[:, 0])
         py = np.ascontiguousarray(rec.points[:, 1])
         for start in range(0, len(steps), _TIME_CHUNK):
             chunk = steps[start : start + _TIME_CHUNK]
             s = sun[chunk]  # (c, 3)
             cos_n = s @ rec.normal  # (c,) > 0
-            su = np.zeros((len(chunk), n_shaders, width))
-            sv = np.zeros((len(chunk), n_shaders, width))
-            tau = np.zeros((len(chunk), n_shaders))
-            for j, (k, verts) in enumerate(rec.shaders):
-                # shadow of the polygon on the receiver's plane, along the sun's rays
-                rel = verts - rec.origin  # (m, 3)
-                height = rel @ rec.normal  # (m,) > 0 after clipping
-                shadow = (
-                    rel[None, :, :] - (height[None, :, None] / cos_n[:, None, None]) * s[:, None, :]
-                )
-                su[:, j, : len(verts)] = shadow @ rec.u_axis
-                sv[:, j, : len(verts)] = shadow @ rec.v_axis
-                if transmittance is not None:
-                    tau[:, j] = transmittance[chunk, k]
+            # shadow of each polygon on the receiver's plane, along the sun's rays
+            shadow = (
+                rel[None, :, :, :]
+                - (height[None, :, :, None] / cos_n[:, None, None, None]) * s[:, None, None, :]
+            )
+            su = np.ascontiguousarray(shadow @ rec.u_axis)
+            sv = np.ascontiguousarray(shadow @ rec.v_axis)
+            if transmittance is None:
+                tau = np.zeros((len(chunk), len(rec.shaders)))
+            else:
+                tau = np.ascontiguousarray(transmittance[chunk][:, shader_index], dtype=float)
             out[chunk] = _lit_share(px, py, rec.weights, su, sv, n_vertices, tau)
         return out
 
@@ -457,13 +463,22 @@ class ShadowCaster:
 def _lit_share(px, py, weights, su, sv, n_vertices, tau):  # pragma: no cover - compiled
     """Mean over the points ``(px, py)`` (weighted) of the light left after the shadow polygons
     ``(su, sv)[t, k, :n_vertices[k]]`` (even-odd rule; a point in shadow k keeps ``tau[t, k]``
-    of it), per step ``t``; each polygon's bounding box first."""
+    of it), per step ``t``; each polygon's bounding box first, against the points' box and
+    then point by point; a step no polygon shades is 1 (the weighted mean of ones)."""
     n_steps, n_shaders, _ = su.shape
     n_points = len(px)
     out = np.ones(n_steps)
     lit = np.empty(n_points)
+    if n_points == 0:
+        return out
+    points_u0, points_u1 = px.min(), px.max()
+    points_v0, points_v1 = py.min(), py.max()
+    norm = 0.0
+    for p in range(n_points):
+        norm += weights[p]
     for t in range(n_steps):
         lit[:] = 1.0
+        shaded = False
         for k in range(n_shaders):
             m = n_vertices[k]
             u0 = su[t, k, 0]
@@ -475,6 +490,8 @@ def _lit_share(px, py, weights, su, sv, n_vertices, tau):  # pragma: no cover - 
                 u1 = max(u1, su[t, k, i])
                 v0 = min(v0, sv[t, k, i])
                 v1 = max(v1, sv[t, k, i])
+            if u1 < points_u0 or u0 > points_u1 or v1 < points_v0 or v0 > points_v1:
+                continue
             keep = tau[t, k]
             for p in range(n_points):
                 x = px[p]
@@ -493,11 +510,12 @@ def _lit_share(px, py, weights, su, sv, n_vertices, tau):  # pragma: no cover - 
                             inside = not inside
                 if inside:
                     lit[p] *= keep
+                    shaded = True
+        if not shaded:
+            continue
         total = 0.0
-        norm = 0.0
         for p in range(n_points):
             total += weights[p] * lit[p]
-            norm += weights[p]
         out[t] = total / norm if norm > 0.0 else 1.0
     return out
 
@@ -567,26 +585,47 @@ def _land(
 ):  # pragma: no cover - compiled
     """Per direction, the weighted share of the rays from ``points`` landing first on each
     face (planes ``origins``/``normals``, polygons in their ``u``/``v`` axes); a face at the
-    same distance as an earlier one does not take the ray."""
+    same distance as an earlier one does not take the ray.
+
+    What does not depend on the direction is computed once: each point's distance numerator to
+    each face's plane and each polygon's bounding box (a landing point outside it cannot be
+    inside the polygon, so the even-odd test is skipped; the result is the same)."""
     n_dir = directions.shape[0]
     n_faces = origins.shape[0]
+    n_points = points.shape[0]
     out = np.zeros((n_dir, n_faces))
+    numerator = np.empty((n_points, n_faces))
+    for p in range(n_points):
+        x0, x1, x2 = points[p, 0], points[p, 1], points[p, 2]
+        for k in range(n_faces):
+            numerator[p, k] = (
+                (origins[k, 0] - x0) * normals[k, 0]
+                + (origins[k, 1] - x1) * normals[k, 1]
+                + (origins[k, 2] - x2) * normals[k, 2]
+            )
+    box = np.empty((n_faces, 4))  # u min, u max, v min, v max
+    for k in range(n_faces):
+        box[k, 0] = box[k, 1] = polygons[k, 0, 0]
+        box[k, 2] = box[k, 3] = polygons[k, 0, 1]
+        for i in range(1, n_vertices[k]):
+            box[k, 0] = min(box[k, 0], polygons[k, i, 0])
+            box[k, 1] = max(box[k, 1], polygons[k, i, 0])
+            box[k, 2] = min(box[k, 2], polygons[k, i, 1])
+            box[k, 3] = max(box[k, 3], polygons[k, i, 1])
+    den = np.empty(n_faces)
     for t in range(n_dir):
         d0, d1, d2 = directions[t, 0], directions[t, 1], directions[t, 2]
+        for k in range(n_faces):
+            den[k] = d0 * normals[k, 0] + d1 * normals[k, 1] + d2 * normals[k, 2]
         total = 0.0
-        for p in range(points.shape[0]):
+        for p in range(n_points):
             x0, x1, x2 = points[p, 0], points[p, 1], points[p, 2]
             best = np.inf
             hit = -1
             for k in range(n_faces):
-                den = d0 * normals[k, 0] + d1 * normals[k, 1] + d2 * normals[k, 2]
-                if abs(den) < 1e-9:
+                if abs(den[k]) < 1e-9:
                     continue
-                dist = (
-                    (origins[k, 0] - x0) * normals[k, 0]
-                    + (origins[k, 1] - x1) * normals[k, 1]
-                    + (origins[k, 2] - x2) * normals[k, 2]
-                ) / den
+                dist = numerator[p, k] / den[k]
                 if dist <= 1e-6 or dist >= best - 1e-6:
                     continue
                 w0 = x0 + dist * d0 - origins[k, 0]
@@ -594,6 +633,8 @@ def _land(
                 w2 = x2 + dist * d2 - origins[k, 2]
                 x = w0 * u_axes[k, 0] + w1 * u_axes[k, 1] + w2 * u_axes[k, 2]
                 y = w0 * v_axes[k, 0] + w1 * v_axes[k, 1] + w2 * v_axes[k, 2]
+                if x < box[k, 0] or x > box[k, 1] or y < box[k, 2] or y > box[k, 3]:
+                    continue
                 m = n_vertices[k]
                 inside = False
                 for i in range(m):

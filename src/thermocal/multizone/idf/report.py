@@ -30,9 +30,22 @@ class IdfImportWarning(UserWarning):
     """IDF objects the importer does not represent (listed, never silently dropped)."""
 
 
+def _constant_as_view(values: np.ndarray) -> np.ndarray:
+    """``values`` itself, or, when every entry is the same (all zero, all NaN), a read-only
+    view of that one value in the same shape (no memory per step and zone)."""
+    if values.size == 0:
+        return values
+    first = values.flat[0]
+    same = np.isnan(values).all() if np.isnan(first) else (values == first).all()
+    return np.broadcast_to(np.array(first), values.shape) if same else values
+
+
 @dataclass
 class ScheduledInputs:
     """The file's schedules evaluated on a simulation grid (rows = steps, columns = zones).
+
+    An array whose entries are all the same (no gains, no set point) is a read-only view of that
+    value: read it, index it or copy it, never write into it.
 
     Attributes
     ----------
@@ -298,15 +311,12 @@ class IdfImportInfo:
                     np.stack([np.broadcast_to(g[i], (n,)) for g in gated], axis=1), dtype=float
                 )
         return ScheduledInputs(
-            heating,
-            cooling,
-            convective,
-            radiant,
-            latent,
-            ach,
-            ach_dt,
-            people_b,
-            people_c,
+            *(
+                _constant_as_view(a)
+                for a in (heating, cooling, convective, radiant, latent, ach, ach_dt)
+            ),
+            _constant_as_view(people_b),
+            _constant_as_view(people_c),
             ventilation,
         )
 

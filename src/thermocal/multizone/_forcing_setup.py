@@ -71,15 +71,13 @@ class ForcingSetup:
                     )
         mean_tau = None if tau is None else tau.mean(axis=0)
         tau_eval = None if tau is None else tau[evaluated]
-        ratios = {name: caster.sky_diffuse_ratios(name, mean_tau) for name in caster.shaded}
-        return {
-            "beam": {
-                name: caster.sunlit_fraction(name, sun[evaluated], tau_eval)[inverse]
-                for name in caster.shaded
-            },
-            "sky": {name: dome for name, (dome, _) in ratios.items()},
-            "horizon": {name: band for name, (_, band) in ratios.items()},
-        }
+        out = {"beam": {}, "sky": {}, "horizon": {}}
+        for name in caster.shaded:
+            beam, dome, band = caster.beam_and_sky(name, sun[evaluated], tau_eval, mean_tau)
+            out["beam"][name] = beam[inverse]
+            out["sky"][name] = dome
+            out["horizon"][name] = band
+        return out
 
     def _shadow_suns(self):
         """Sun vectors per step for the shadow calculations, the steps evaluated and, per step,

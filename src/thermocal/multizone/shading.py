@@ -431,32 +431,65 @@ class ShadowCaster:
         .. [1] EnergyPlus Engineering Reference 25.2, "Shadowing of Sky Diffuse Solar
            Radiation" (sky radiance model).
         """
+        return self.beam_and_sky(name, np.zeros((0, 3)), None, transmittance)[1:]
+
+    def beam_and_sky(
+        self, name: str, sun: np.ndarray, transmittance=None, sky_transmittance=None
+    ) -> tuple[np.ndarray, float, float]:
+        """:meth:`sunlit_fraction` toward ``sun`` and :meth:`sky_diffuse_ratios` in one pass
+        over the receiver's shadows (the sky patches appended to the sun's directions).
+
+        Parameters
+        ----------
+        name : str
+        sun : (t, 3) array
+            Unit vectors toward the sun.
+        transmittance : (t, n_shaders) array, optional
+            Per direction toward the sun (default opaque).
+        sky_transmittance : (n_shaders,) array, optional
+            Constant transmittances for the sky patches (default opaque).
+
+        Returns
+        -------
+        beam : (t,) array [-]
+        dome, horizon : float [-]
+        """
+        sun = np.asarray(sun, dtype=float).reshape(-1, 3)
         if name not in self._receivers:
-            return 1.0, 1.0
-        normal = self._receivers[name].normal
-        altitudes = np.radians(np.arange(6) * 15.0 + 7.5)
-        azimuths = np.radians(np.arange(24) * 15.0)
-        alt, az = np.meshgrid(altitudes, azimuths, indexing="ij")
-        band = np.broadcast_to(np.arange(6)[:, None], alt.shape).ravel()
-        alt, az = alt.ravel(), az.ravel()
-        directions = np.stack(
-            [np.cos(alt) * np.sin(az), np.cos(alt) * np.cos(az), np.sin(alt)], axis=1
-        )
-        cos_incidence = directions @ normal
-        weight = np.where(cos_incidence > 0, cos_incidence * np.cos(alt), 0.0)
-        if weight.sum() <= 0:
-            return 1.0, 1.0
+            return np.ones(len(sun)), 1.0, 1.0
+        directions, altitude, band = _SKY_PATCHES
+        cos_incidence = directions @ self._receivers[name].normal
+        weight = np.where(cos_incidence > 0, cos_incidence * np.cos(altitude), 0.0)
         tau = None
-        if transmittance is not None:
-            tau = np.broadcast_to(
-                np.asarray(transmittance, float), (len(directions), len(self.shaders))
-            )
-        lit = self.sunlit_fraction(name, directions, tau)
+        if transmittance is not None or sky_transmittance is not None:
+            tau = np.zeros((len(sun) + len(directions), len(self.shaders)))
+            if transmittance is not None:
+                tau[: len(sun)] = transmittance
+            if sky_transmittance is not None:
+                tau[len(sun) :] = np.asarray(sky_transmittance, float)[None, :]
+        lit = self.sunlit_fraction(name, np.concatenate([sun, directions]), tau)
+        beam, lit = lit[: len(sun)], lit[len(sun) :]
+        if weight.sum() <= 0:
+            return beam, 1.0, 1.0
         dome = float((weight * lit).sum() / weight.sum())
         low = band == 0
         if weight[low].sum() <= 0:
-            return dome, 1.0
-        return dome, float((weight[low] * lit[low]).sum() / weight[low].sum())
+            return beam, dome, 1.0
+        return beam, dome, float((weight[low] * lit[low]).sum() / weight[low].sum())
+
+
+def _sky_patches() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """EnergyPlus' 6 x 24 sky patches: unit vectors (144, 3), altitudes [rad] and bands."""
+    altitudes = np.radians(np.arange(6) * 15.0 + 7.5)
+    azimuths = np.radians(np.arange(24) * 15.0)
+    alt, az = np.meshgrid(altitudes, azimuths, indexing="ij")
+    band = np.broadcast_to(np.arange(6)[:, None], alt.shape).ravel()
+    alt, az = alt.ravel(), az.ravel()
+    directions = np.stack([np.cos(alt) * np.sin(az), np.cos(alt) * np.cos(az), np.sin(alt)], axis=1)
+    return directions, alt, band
+
+
+_SKY_PATCHES = _sky_patches()
 
 
 @njit(cache=True)

@@ -1,0 +1,342 @@
+"""The pieces of the compiled time loop (numba): the sparse LU substitutions and their factors,
+interior convection (TARP, EnergyPlus' Simple), People's sensible heat beyond its reference, and
+the ideal loads' active-set solution. :func:`thermocal.multizone._kernel.run_steps` strings them
+into a step.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+#: Zone temperature at which the scheduled People gains hold their sensible heat [C]
+#: (``thermocal.multizone.idf.loads.PEOPLE_SENSIBLE_REFERENCE_TEMPERATURE``; tested equal)
+PEOPLE_T0 = 22.0
+
+
+def prepare_factors(lower, upper, perm_r, perm_c):
+    """Strictly triangular CSC parts, inverse diagonal of ``U`` and permutations as flat arrays.
+
+    ``Pr A Pc = L U`` (SuperLU, unit lower ``L``); the returned tuple feeds :func:`lu_solve`.
+    """
+    lower = lower.tocsc()
+    upper = upper.tocsc()
+    lower.sort_indices()
+    upper.sort_indices()
+    n = lower.shape[0]
+    diag = upper.diagonal()
+    strict_l = (lower - _sparse_diag(lower.diagonal())).tocsc()
+    strict_u = (upper - _sparse_diag(diag)).tocsc()
+    strict_l.eliminate_zeros()
+    strict_u.eliminate_zeros()
+    strict_l.sort_indices()
+    strict_u.sort_indices()
+    inverse_r = np.empty(n, dtype=np.int64)
+    inverse_r[np.asarray(perm_r)] = np.arange(n)
+    return (
+        strict_l.indptr.astype(np.int64),
+        strict_l.indices.astype(np.int32),
+        strict_l.data.copy(),
+        strict_u.indptr.astype(np.int64),
+        strict_u.indices.astype(np.int32),
+        strict_u.data.copy(),
+        1.0 / diag,
+        inverse_r,
+        np.asarray(perm_c, dtype=np.int64),
+    )
+
+
+def _sparse_diag(values):
+    import scipy.sparse as sp
+
+    return sp.diags(values, format="csc")
+
+
+@njit(cache=True, fastmath=True)
+def lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, out):
+    """Solve ``A x = b`` with the factors of :func:`prepare_factors`."""
+    n = b.shape[0]
+    for j in range(n):
+        work[j] = b[inverse_r[j]]
+    for j in range(n):
+        zj = work[j]
+        if zj != 0.0:
+            for p in range(lp[j], lp[j + 1]):
+                work[li[p]] -= lx[p] * zj
+    for j in range(n - 1, -1, -1):
+        yj = work[j] * inv_diag[j]
+        work[j] = yj
+        if yj != 0.0:
+            for p in range(up[j], up[j + 1]):
+                work[ui[p]] -= ux[p] * yj
+    for i in range(n):
+        out[i] = work[perm_c[i]]
+
+
+@njit(cache=True, inline="always")
+def cube_root_update(x, guess):
+    """Cube root of ``x >= 0`` by three Newton steps from ``guess`` (the previous step's root).
+
+    Surface-air temperature differences change little from one step to the next, so the root of
+    the previous step is an excellent start; this is much cheaper than ``cbrt`` in the hot loop.
+    """
+    x = max(x, 1e-6)
+    y = max(guess, 1e-2)
+    for _ in range(3):
+        y = (2.0 * y + x / (y * y)) / 3.0
+    return y
+
+
+@njit(cache=True, inline="always")
+def people_excess(t_air, a, b, c, limit):
+    """People's sensible heat at ``t_air`` minus its value at ``PEOPLE_T0`` [W].
+
+    ``a + b T + c T^2`` (sums over a zone's People of number x the per-person coefficients of
+    EnergyPlus' autocalculated sensible fraction [W], [W/K], [W/K^2]), each value clipped to
+    ``[0, limit]`` with ``limit`` the zone's total metabolic heat [W] (number x activity level),
+    as EnergyPlus clips the sensible heat per person. The scheduled gains hold the value at
+    ``PEOPLE_T0``; this is the lagged correction the time loop adds to the zone air.
+    """
+    at_t = a + b * t_air + c * t_air * t_air
+    at_0 = a + b * PEOPLE_T0 + c * PEOPLE_T0 * PEOPLE_T0
+    at_t = min(max(at_t, 0.0), limit)
+    at_0 = min(max(at_0, 0.0), limit)
+    return at_t - at_0
+
+
+@njit(cache=True)
+def tarp(delta_t, cos_up):
+    """TARP natural convection (scalar version of network.tarp_natural_convection)."""
+    return tarp_from_root(delta_t, np.cbrt(abs(delta_t)), cos_up)
+
+
+@njit(cache=True, inline="always")
+def tarp_from_root(delta_t, root, cos_up):
+    """TARP coefficient given ``root = |delta_t|^(1/3)``."""
+    abs_cos = abs(cos_up)
+    if abs_cos < 1e-3:
+        h = 1.31 * root
+    elif delta_t * cos_up > 0.0:
+        h = 9.482 * root / (7.238 - abs_cos)
+    else:
+        h = 1.810 * root / (1.382 + abs_cos)
+    return max(h, 0.1)
+
+
+@njit(cache=True)
+def simple_interior(delta_t, cos_up):
+    """EnergyPlus' "Simple" interior coefficient (ASHRAE): 3.076 on vertical faces; on horizontal
+    (tilted) faces 4.040 (3.870) when the heat flow is unstable (a face warmer than the air facing
+    up, colder facing down), else 0.948 (2.281)."""
+    abs_cos = abs(cos_up)
+    product = delta_t * cos_up
+    if abs_cos < 0.3827 or product == 0.0:
+        return 3.076
+    if abs_cos >= 0.9239:
+        return 4.040 if product > 0.0 else 0.948
+    return 3.870 if product > 0.0 else 2.281
+
+
+@njit(cache=True)
+def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
+    """Make ``cache_inv`` the inverse of ``g`` on the active set (embedded by zone index).
+
+    The cached set is moved to the active one by rank-one down- and updates (bordering
+    formulas, O(m^2) each; ``g`` need not be symmetric: mirrored outside faces make the network
+    slightly non-reciprocal); a fresh inversion when many zones change, when the cache is
+    invalid (``cache_m[0] < 0``) or after 512 updates (round-off control).
+    """
+    nc = active.shape[0]
+    n_diff = 0
+    for c in range(nc):
+        if cache_member[c] != (active[c] != 0):
+            n_diff += 1
+    if n_diff == 0 and cache_m[0] >= 0:
+        return
+    m_new = 0
+    for c in range(nc):
+        if active[c] != 0:
+            m_new += 1
+    if cache_m[0] < 0 or cache_m[1] + n_diff > 512 or n_diff > max(8, m_new // 3):
+        idx = np.empty(m_new, dtype=np.int64)
+        j = 0
+        for c in range(nc):
+            cache_member[c] = active[c] != 0
+            if active[c] != 0:
+                idx[j] = c
+                j += 1
+        if m_new > 0:
+            block = np.empty((m_new, m_new))
+            for a in range(m_new):
+                for b in range(m_new):
+                    block[a, b] = g[idx[a], idx[b]]
+            inverse = np.linalg.inv(block)
+            for a in range(m_new):
+                for b in range(m_new):
+                    cache_inv[idx[a], idx[b]] = inverse[a, b]
+        cache_m[0] = m_new
+        cache_m[1] = 0
+        cache_m[2] += 1
+        return
+    # removals
+    for r in range(nc):
+        if cache_member[r] and active[r] == 0:
+            pivot = cache_inv[r, r]
+            for c in range(nc):
+                if cache_member[c] and c != r:
+                    f = cache_inv[c, r] / pivot
+                    for d in range(nc):
+                        if cache_member[d] and d != r:
+                            cache_inv[c, d] -= f * cache_inv[r, d]
+            cache_member[r] = False
+            cache_m[1] += 1
+            cache_m[3] += 1
+    # additions: u = inv g[:, r] (column), w = g[r, :] inv (row)
+    u = np.zeros(nc)
+    w = np.zeros(nc)
+    for r in range(nc):
+        if active[r] != 0 and not cache_member[r]:
+            schur = g[r, r]
+            for c in range(nc):
+                if cache_member[c]:
+                    acc = 0.0
+                    acc_w = 0.0
+                    for d in range(nc):
+                        if cache_member[d]:
+                            acc += cache_inv[c, d] * g[d, r]
+                            acc_w += g[r, d] * cache_inv[d, c]
+                    u[c] = acc
+                    w[c] = acc_w
+                    schur -= g[r, c] * acc
+            for c in range(nc):
+                if cache_member[c]:
+                    for d in range(nc):
+                        if cache_member[d]:
+                            cache_inv[c, d] += u[c] * w[d] / schur
+                    cache_inv[c, r] = -u[c] / schur
+                    cache_inv[r, c] = -w[c] / schur
+            cache_inv[r, r] = 1.0 / schur
+            cache_member[r] = True
+            cache_m[1] += 1
+            cache_m[3] += 1
+    cache_m[0] = m_new
+
+
+@njit(cache=True)
+def ideal_loads(t_free, heat_sp, cool_sp, g, active, q, cache_member, cache_inv, cache_m):
+    """Heating (+) / cooling (-) powers that bring every controlled zone inside its set points.
+
+    Active-set method on ``T = t_free + G q``: zones at a set point ("active") get the power that
+    holds them exactly there (the inverse of the active block of ``G``), the others none. The
+    iteration starts from the previous step's active set; the inverse is cached and updated by
+    rank-one steps when zones join or leave, so a step costs O(m^2) instead of O(m^3).
+    ``q`` is written in place; ``active`` updated.
+    """
+    nc = t_free.shape[0]
+    idx = np.empty(nc, dtype=np.int64)
+    rv = np.empty(nc)
+    for _ in range(4 * nc + 4):
+        cache_m[4] += 1
+        _sync_inverse(g, active, cache_member, cache_inv, cache_m)
+        m = 0
+        for c in range(nc):
+            q[c] = 0.0
+            if active[c] != 0:
+                idx[m] = c
+                m += 1
+        for b in range(m):
+            cb = idx[b]
+            target = heat_sp[cb] if active[cb] == 1 else cool_sp[cb]
+            rv[b] = target - t_free[cb]
+        for a in range(m):
+            row = cache_inv[idx[a]]
+            acc = 0.0
+            for b in range(m):
+                acc += row[idx[b]] * rv[b]
+            q[idx[a]] = acc
+        changed = False
+        # release zones whose power has the wrong sign
+        for a in range(m):
+            c = idx[a]
+            if (active[c] == 1 and q[c] < 0.0) or (active[c] == -1 and q[c] > 0.0):
+                active[c] = 0
+                changed = True
+        if changed:
+            continue
+        # add free zones outside their band
+        for c in range(nc):
+            if active[c] == 0:
+                t = t_free[c]
+                for a in range(m):
+                    t += g[c, idx[a]] * q[idx[a]]
+                if t < heat_sp[c] - 1e-9:
+                    active[c] = 1
+                    changed = True
+                elif t > cool_sp[c] + 1e-9:
+                    active[c] = -1
+                    changed = True
+        if not changed:
+            return
+
+
+@njit(cache=True, fastmath=True)
+def _refined_solve(inv, g, d, b, y, r, d_left):
+    """Solve ``(I + G diag(d)) y = b`` (``d_left``: ``(I + diag(d) G) y = b``) with ``inv`` the
+    inverse of the system at a nearby ``d`` (iterative refinement, at most 4 corrections).
+
+    Returns True when the residual is below 1e-10 of ``b``; False (``y`` not usable): invert
+    the system at this ``d``.
+    """
+    m = b.shape[0]
+    scale = 0.0
+    for i in range(m):
+        scale = max(scale, abs(b[i]))
+    tol = 1e-10 * (1.0 + scale)
+    for i in range(m):
+        acc = 0.0
+        for j in range(m):
+            acc += inv[i, j] * b[j]
+        y[i] = acc
+    last = np.inf
+    for _ in range(5):
+        worst = 0.0
+        for i in range(m):
+            acc = 0.0
+            if d_left:
+                for j in range(m):
+                    acc += g[i, j] * y[j]
+                acc *= d[i]
+            else:
+                for j in range(m):
+                    acc += g[i, j] * d[j] * y[j]
+            r[i] = b[i] - y[i] - acc
+            worst = max(worst, abs(r[i]))
+        if worst <= tol:
+            return True
+        if worst >= last:
+            return False
+        last = worst
+        for i in range(m):
+            acc = 0.0
+            for j in range(m):
+                acc += inv[i, j] * r[j]
+            y[i] += acc
+    return False
+
+
+@njit(cache=True, fastmath=True)
+def _invert_into(g, d, out, d_store, d_left):
+    """``out = inv(I + G diag(d))`` (``d_left``: ``inv(I + diag(d) G)``); ``d_store`` keeps ``d``
+    and its last entry marks the inverse valid."""
+    m = d.shape[0]
+    mat = np.empty((m, m))
+    for i in range(m):
+        for j in range(m):
+            mat[i, j] = (d[i] if d_left else d[j]) * g[i, j]
+        mat[i, i] += 1.0
+    inv = np.linalg.inv(mat)
+    for i in range(m):
+        d_store[i] = d[i]
+        for j in range(m):
+            out[i, j] = inv[i, j]
+    d_store[m] = 1.0

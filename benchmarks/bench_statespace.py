@@ -114,8 +114,8 @@ BM_ROWS = [
 
 def bm_cases() -> dict:
     """Times [s] and results of the Bacher & Madsen cases with the thermocal on sys.path."""
-    from thermocal.statespace.diagnostics import forward_selection
     from thermocal.statespace.families import bacher_madsen_family
+    from thermocal.statespace.selection import forward_selection
 
     df_bm = pd.read_csv(BM, sep=";")
     tite = RCModel.from_yaml(REPO / "examples" / "models" / "TiTe.yaml")

@@ -20,7 +20,7 @@ from pathlib import Path
 import pandas as pd
 
 from thermocal.statespace import RCModel
-from thermocal.statespace.diagnostics import forward_selection
+from thermocal.statespace.selection import forward_selection
 
 REPO = Path(__file__).resolve().parents[2]
 DATA = (

@@ -13,11 +13,11 @@ from thermocal.statespace import RCModel
 from thermocal.statespace.diagnostics import (
     autocorrelation,
     cumulated_periodogram,
-    forward_selection,
     fraction_outside_band,
     likelihood_ratio_test,
 )
 from thermocal.statespace.estimation import simulate_stochastic
+from thermocal.statespace.selection import forward_selection
 
 
 @pytest.mark.parametrize("hold", ["zoh", "foh"])
@@ -240,3 +240,13 @@ def test_distribution_functions_equal_scipy_stats_and_select_does_not_import_it(
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_forward_selection_names_at_their_old_place_are_deprecated_aliases():
+    import thermocal.statespace.diagnostics as diagnostics
+    from thermocal.statespace import selection
+
+    with pytest.warns(DeprecationWarning, match="moved to thermocal.statespace.selection"):
+        assert diagnostics.forward_selection is selection.forward_selection
+    with pytest.raises(AttributeError):
+        diagnostics.no_such_name  # noqa: B018

@@ -137,7 +137,7 @@ def test_select_path_through_a_poor_parent_is_refused():
     sys.path.insert(0, str(Path(__file__).parent))
     from test_statespace_trust import DECOY_START, envelope_model, inputs, output_error_model
 
-    from thermocal.statespace.diagnostics import forward_selection
+    from thermocal.statespace.selection import forward_selection
 
     data = inputs()
     data["y"] = simulate_stochastic(output_error_model(), data, seed=3)["y"]
@@ -165,7 +165,7 @@ def test_extension_with_a_physical_parameter_at_its_bound_is_not_accepted():
     (truth 30): the fit ends on the bound with a likelihood far above the one-state model's.
     Before, the likelihood-ratio test alone accepted it; now it is shown with the parameter at
     its bound and not accepted."""
-    from thermocal.statespace.diagnostics import forward_selection
+    from thermocal.statespace.selection import forward_selection
 
     truth = RCModel("TiTe")
     truth.add_state("Ti", capacity="Ci", noise="si", initial_mean="Ti0", initial_std=0.2)
@@ -254,8 +254,8 @@ def test_family_scaled_to_a_large_building_selects_what_the_published_bounds_ref
     selection stays at Ti); scaled to the data (the energy balance gives ~5 kW/K, scale 10),
     TiTe is accepted with its estimates near the truth and the heat loss coefficient's truth
     inside its interval."""
-    from thermocal.statespace.diagnostics import forward_selection
     from thermocal.statespace.families import family_scale
+    from thermocal.statespace.selection import forward_selection
 
     data, truth = _large_building_data()
     scale, h_balance = family_scale(data, "kW")
@@ -296,7 +296,7 @@ def test_selection_in_one_shared_pool_equals_pools_per_fit(monkeypatch):
     from contextlib import contextmanager
 
     from thermocal.statespace import estimation
-    from thermocal.statespace.diagnostics import forward_selection
+    from thermocal.statespace.selection import forward_selection
 
     data, _ = _large_building_data()
     models, _, _ = bacher_madsen_family(scale=10.0)

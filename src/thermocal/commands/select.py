@@ -197,9 +197,9 @@ def select(
     )
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import output_folder
-    from thermocal.statespace.diagnostics import forward_selection
     from thermocal.statespace.families import FAMILIES, family_scale
     from thermocal.statespace.results import heat_loss_coefficients
+    from thermocal.statespace.selection import forward_selection
 
     if family not in FAMILIES:
         raise ThermocalInputError(f"--family {family!r}: use one of {', '.join(FAMILIES)}")

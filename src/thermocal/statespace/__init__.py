@@ -18,10 +18,8 @@ References
 from thermocal.statespace.data import PreparedData, prepare_data, time_axis
 from thermocal.statespace.diagnostics import (
     LikelihoodRatioTest,
-    SelectionResult,
     autocorrelation,
     cumulated_periodogram,
-    forward_selection,
     fraction_outside_band,
     likelihood_ratio_test,
 )
@@ -30,6 +28,7 @@ from thermocal.statespace.estimation import evaluate
 from thermocal.statespace.kalman import simulate_stochastic
 from thermocal.statespace.model import Parameter, RCModel
 from thermocal.statespace.results import FitResults
+from thermocal.statespace.selection import SelectionResult, forward_selection
 
 __all__ = [
     "FitResults",

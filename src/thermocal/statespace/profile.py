@@ -81,8 +81,6 @@ class _ParameterProfile:
         return self.p.from_unconstrained(t)
 
     def __call__(self, t: float) -> float:
-        from thermocal.statespace.estimation import fit
-
         nearest = min(self.cache, key=lambda s: abs(s - t))
         start = _inside(self.res.model, self.cache[nearest][1].to_dict())
         start[self.name] = self.value(t)
@@ -93,9 +91,9 @@ class _ParameterProfile:
             ll = model.loglike(self.res.data, hold=self.res.hold)
             params = pd.Series(start)
         else:
-            fitted = fit(
-                model, self.res.data, hold=self.res.hold, n_starts=1, compute_hessian=False,
-                n_jobs=1, progress=False, stall_tolerance=PROFILE_STALL_TOLERANCE,
+            fitted = self.res.refit(
+                model, n_starts=1, compute_hessian=False, n_jobs=1, progress=False,
+                stall_tolerance=PROFILE_STALL_TOLERANCE,
             )  # fmt: skip
             ll, params = fitted.loglike, fitted.params
         self.cache[t] = (ll, params)
@@ -106,8 +104,8 @@ class _DerivedProfile:
     """``l_p`` of a derived quantity, on its natural scale."""
 
     def __init__(self, res, name: str, func=None, se: float = math.nan, theta_func=None) -> None:
-        from thermocal.statespace.estimation import LikelihoodProblem
         from thermocal.statespace.kalman import _hold_flag
+        from thermocal.statespace.likelihood import LikelihoodProblem
 
         self.res = res
         self.name = name

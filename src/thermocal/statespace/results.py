@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from thermocal.errors import ThermocalInputError
 from thermocal.jsonsafe import json_ready as _jsonable
 from thermocal.statespace import kernels
 from thermocal.statespace.convergence import (
@@ -88,9 +89,13 @@ class FitResults:
         nested=None,
         logprior: float | None = None,
         agreement: dict | None = None,
+        fitter=None,
     ) -> None:
         self.model = model
         self.theta = theta
+        #: The function that made this fit (:func:`thermocal.statespace.estimation.fit`), for
+        #: :meth:`refit`.
+        self._fitter = fitter
         self.loglike = float(loglike)
         #: Log prior density at the estimates (None without priors: maximum likelihood).
         self.logprior = logprior
@@ -314,6 +319,18 @@ class FitResults:
                 )
         self.flags.extend(input_flags(model, prep))
 
+    def refit(self, model, **options) -> FitResults:
+        """Fit ``model`` (e.g. this model with a parameter held fixed: the profile
+        likelihood's refits) on this fit's data, with its hold, by the function that made it.
+
+        ``options`` go to :func:`thermocal.statespace.estimation.fit`.
+        """
+        if self._fitter is None:
+            raise ThermocalInputError(
+                "refit: these results were not made by fit(); fit the model to refit it"
+            )
+        return self._fitter(model, self.data, hold=self.hold, **options)
+
     def _bound_flags(self, model, free: list[str]) -> list[int]:
         """Flag estimates at a bound; return their positions in ``free``."""
         at = []
@@ -492,8 +509,6 @@ class FitResults:
             "alpha": alpha, "interval": "wald", "disagree": False,
         }  # fmt: skip
         if profile:
-            from thermocal.errors import ThermocalInputError
-
             try:
                 prof = self.profile_interval("heat_loss_coefficient", alpha=alpha)
             except ThermocalInputError as exc:

@@ -8,6 +8,7 @@ import pandas as pd
 import pytest
 from calibration_evaluators import QuadraticEvaluator
 
+from conftest import reference_run
 from thermocal.calibration.config import load_campaign
 from thermocal.calibration.sampling import unit_sample
 from thermocal.calibration.store import CampaignStore
@@ -17,6 +18,7 @@ from thermocal.calibration.zoom import (
     ZOOM_MIN_HALF_WIDTH,
     box_space,
     inside_box,
+    narrowed,
     run_zoom,
     zoom_box,
     zoom_design,
@@ -89,6 +91,15 @@ def test_zoom_box_width_and_clipping():
     assert below == pytest.approx(0.5, abs=0.1)
 
 
+def test_no_zoom_where_the_first_posterior_narrows_nothing():
+    lower, upper = np.array([0.25, 0.25]), np.array([1.75, 1.75])
+    # a wide posterior (sd 0.3 in log p: +-3 sd spans most of the range) narrows nothing
+    lo, hi = zoom_box(lower, upper, [1.0, 1.0], [0.3, 0.3])
+    assert not narrowed(lower, upper, lo, hi).any()
+    lo, hi = zoom_box(lower, upper, [1.0, 1.0], [0.3, 0.04])
+    assert narrowed(lower, upper, lo, hi).tolist() == [False, True]
+
+
 def test_box_space_keeps_the_names_nominal_values_and_limits():
     from thermocal.calibration.space import ParameterSpace
 
@@ -147,3 +158,41 @@ def test_zoom_configuration(tmp_path):
     for bad in ("5", "-1", "many", "true", "12.5"):
         with pytest.raises(ThermocalInputError, match=r"sampling\.zoom: .*0 \(off\).*at least 10"):
             load_campaign(_campaign(tmp_path, f"{{samples: 64, zoom: {bad}}}"))
+
+
+@reference_run
+def test_zoom_stage_in_the_workflow_resumes_and_reanalyses_without_simulating(tmp_path):
+    """The clinic campaign of test_calibration_workflow with a zoom stage: it runs, says so
+    (calibration.json, report), a resume and a re-analysis simulate nothing and agree."""
+    from test_calibration_reanalysis import _comparable
+    from test_calibration_workflow import _campaign
+
+    from thermocal.calibration.workflow import calibrate, reanalyse
+
+    path = _campaign(tmp_path, samples=24, zoom=16)
+    store = tmp_path / "store.sqlite"
+
+    def run(resume):
+        return calibrate(
+            load_campaign(path), workers=1, store_path=store, resume=resume, progress=False,
+            log=lambda line: None,
+        )  # fmt: skip
+
+    first = run(False)
+    zoom = first.as_dict()["zoom"]
+    assert zoom is not None and zoom["runs"]["simulated"] == 16 and zoom["local_samples"] == 16
+    assert any(note.startswith("Zoom stage: a second campaign of 16") for note in first.notes)
+    again = run(True)
+    assert again.runs["simulated"] == 0 and again.zoom["runs"]["from_store"] == 16
+    stored = reanalyse(load_campaign(path), store, log=lambda line: None)
+    assert stored.runs["simulated"] == 0
+
+    def same(result):
+        data = _comparable(result)
+        data["zoom"].pop("runs")
+        return data
+
+    assert same(again) == same(first) == same(stored)
+    written = {p.name for p in first.to_files(tmp_path / "out")}
+    assert "report.html" in written
+    assert "Zoom stage" in (tmp_path / "out" / "report.html").read_text()

@@ -349,6 +349,7 @@ def _zoom_stage(campaign, space, samples, first: Stage, runs, nominal, *, notes,
         ZOOM_STANDARD_DEVIATIONS,
         box_space,
         inside_box,
+        narrowed,
         posterior_log_sd,
         run_zoom,
         zoom_box,
@@ -366,6 +367,13 @@ def _zoom_stage(campaign, space, samples, first: Stage, runs, nominal, *, notes,
     center = np.array([first.values[name] for name in names], dtype=float)
     log_sd = posterior_log_sd(first.posterior.samples, names)
     lower, upper = zoom_box(space.lower, space.upper, center, log_sd)
+    if not narrowed(space.lower, space.upper, lower, upper).any():
+        notes.append(
+            "No zoom campaign: the first posterior narrows no parameter to less than half its "
+            "range (+-3 sd of log p), so a local box would be the whole range; more samples in "
+            "the first campaign, or fewer parameters, are what would help."
+        )
+        return None
     seed = campaign.sampling.seed + 1
     design = zoom_design(names, lower, upper, n, method=campaign.sampling.method, seed=seed)
     t0 = time.perf_counter()

@@ -34,6 +34,7 @@ __all__ = [
     "ZOOM_STANDARD_DEVIATIONS",
     "box_space",
     "inside_box",
+    "narrowed",
     "run_zoom",
     "zoom_box",
     "zoom_design",
@@ -87,6 +88,19 @@ def zoom_box(
     sd = np.full(c.shape, np.inf) if log_sd is None else np.asarray(log_sd, float)
     half = np.where(np.isfinite(sd), np.maximum(standard_deviations * sd, min_half_width), np.inf)
     return np.exp(np.maximum(lo, c - half)), np.exp(np.minimum(hi, c + half))
+
+
+#: a box narrower than this fraction of the sampled range (in log p) narrows the parameter [-]
+NARROWED_FRACTION = 0.5
+
+
+def narrowed(lower, upper, box_lower, box_upper, fraction: float = NARROWED_FRACTION):
+    """Which parameters the box narrows to less than ``fraction`` of the campaign's range in
+    ``log(p)`` (bool array). With none, the zoom campaign would only be more samples over the
+    whole range: the first posterior determined nothing to zoom on."""
+    whole = np.log(np.asarray(upper, float) / np.asarray(lower, float))
+    width = np.log(np.asarray(box_upper, float) / np.asarray(box_lower, float))
+    return width < fraction * whole
 
 
 def posterior_log_sd(draws: pd.DataFrame, names) -> np.ndarray:

@@ -2,6 +2,9 @@
 meta-model with its ranking and reduced optima, the confirmation of the optima with the full
 model, the posterior, the candidate calibrated models, the trust-region refinement, the choice of
 the calibrated model with its flags, the validation period and the comparison with a truth.
+The stages from the meta-model to the choice (:func:`_calibration_stage`) run once on the
+campaign's samples and, with ``sampling.zoom``, again on a local campaign around the first
+answer (:func:`_zoom_stage`, :mod:`thermocal.calibration.zoom`).
 
 :func:`analyse` runs the stages in order; :func:`thermocal.calibration.workflow.calibrate` calls
 it after a campaign and :func:`thermocal.calibration.workflow.reanalyse` on a stored one.
@@ -62,7 +65,8 @@ def analyse(
     an evaluator). The stages, in order: the campaign's notes, the nominal run, the samples'
     metric, the meta-model with its ranking and reduced optima, the Morris screening, the
     confirmation of the optima, the posterior, the candidate calibrated models, the
-    trust-region refinement, the choice of the calibrated model with its flags, the
+    trust-region refinement, the zoom stage (the same stages on a local campaign around the
+    first answer, ``sampling.zoom``), the choice of the calibrated model with its flags, the
     validation period and the comparison with a known truth.
 
     Parameters

@@ -231,7 +231,7 @@ class Stage:
 
 def _calibration_stage(
     campaign, space, samples, runs, nominal, *, prior_space, timings, notes, log,
-    extra_candidates=None,
+    extra_candidates=None, critical=None,
 ) -> Stage:  # fmt: skip
     """Meta-model, confirmed optima, posterior, candidates, refinement and choice on ``samples``.
 
@@ -239,12 +239,14 @@ def _calibration_stage(
     the zoom box); ``prior_space``: the posterior's uniform prior (always the campaign's
     range, so that "determined" keeps its meaning). ``nominal``: the nominal run's outputs,
     heat [W] and metric [W^2]. ``extra_candidates`` (name -> (metric [W^2], parameters)) join
-    the stage's own before the refinement starts from the best.
+    the stage's own before the refinement starts from the best; ``critical``: the parameters
+    the reduced meta-model optimises (and the posterior covers in spaces of more than
+    :data:`POSTERIOR_MAX_PARAMETERS`), None: the stage's own ``top_k`` ranking.
     """
     nominal_outputs, nominal_heat, nominal_metric = nominal
     metric = campaign.metric
     t0 = time.perf_counter()
-    fitted = _fit_metamodel(campaign, space, samples, notes)
+    fitted = _fit_metamodel(campaign, space, samples, notes, critical)
     timings["metamodel_sensitivity_optimisation"] = time.perf_counter() - t0
     log(
         f"meta-model cross-validated R2 {fitted.surrogate.cv_r2_:.3f}; critical: "
@@ -422,7 +424,7 @@ def _zoom_stage(campaign, space, samples, first: Stage, runs, nominal, *, notes,
     stage = _calibration_stage(
         campaign, box_space(space, lower, upper), local, runs, nominal, prior_space=space,
         timings=stage_timings, notes=stage_notes, log=lambda line: log(f"zoom: {line}"),
-        extra_candidates=extra,
+        extra_candidates=extra, critical=first.fitted.critical,
     )  # fmt: skip
     notes.extend(f"Zoom stage: {note}" for note in stage_notes)
     if counts["missing"]:
@@ -600,9 +602,13 @@ class FittedMetamodel:
         )
 
 
-def _fit_metamodel(campaign, space, samples: CampaignSamples, notes: list) -> FittedMetamodel:
+def _fit_metamodel(
+    campaign, space, samples: CampaignSamples, notes: list, critical=None
+) -> FittedMetamodel:
     """Meta-model (chosen by cross-validation with ``kind: auto``), ranking, Sobol indices and
-    the reduced meta-model's optima over the ``top_k`` critical parameters."""
+    the reduced meta-model's optima over the ``top_k`` critical parameters (or the given
+    ``critical`` ones: the zoom stage keeps the first stage's, whose influence over the whole
+    range is what the box narrows; within the box their influence is small by design)."""
     from thermocal.calibration.sensitivity import influence_ranking, top_k
 
     m = campaign.metamodel
@@ -627,7 +633,7 @@ def _fit_metamodel(campaign, space, samples: CampaignSamples, notes: list) -> Fi
     lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
     ranking = influence_ranking(surrogate.predict, samples.X, lower, upper, names=space.names)
     sobol = sobol_or_note(surrogate, space, lower, upper, campaign.sampling.seed, kind, notes)
-    critical = top_k(ranking, m.top_k)
+    critical = top_k(ranking, m.top_k) if critical is None else list(critical)
     fitted = FittedMetamodel(surrogate, kind, ranking, sobol, critical, None)
     fitted.optimisation = fitted.reduced_optimum(campaign, space, samples, critical)
     return fitted

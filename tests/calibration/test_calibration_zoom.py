@@ -149,7 +149,7 @@ def _campaign(folder, sampling: str):
 
 
 def test_zoom_configuration(tmp_path):
-    assert load_campaign(_campaign(tmp_path, "{samples: 64}")).sampling.zoom == 32
+    assert load_campaign(_campaign(tmp_path, "{samples: 64}")).sampling.zoom == 0
     assert load_campaign(_campaign(tmp_path, "{samples: 64, zoom: 0}")).sampling.zoom == 0
     assert load_campaign(_campaign(tmp_path, "{zoom: 48}")).sampling.zoom == 48
     # the zoom is a stage of the analysis: it leaves the first campaign's fingerprint alone

@@ -370,6 +370,15 @@ def _zoom_stage(campaign, space, samples, first: Stage, runs, nominal, *, notes,
         return None
     names = list(space.names)
     n = campaign.sampling.zoom
+    if n < space.dimension + 2:
+        notes.append(
+            f"No zoom campaign: its {n} samples are fewer than the {space.dimension + 2} the "
+            f"affine meta-model needs ({space.dimension} parameters, an intercept and one more "
+            "for its error); measured on the outpatient twin (58 parameters, 32 samples): the "
+            "local fit determined nothing. Give sampling.zoom at least that, or fewer "
+            "parameters."
+        )
+        return None
     center = np.array([first.values[name] for name in names], dtype=float)
     log_sd = posterior_log_sd(first.posterior.samples, names)
     lower, upper = zoom_box(space.lower, space.upper, center, log_sd)

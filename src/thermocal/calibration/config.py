@@ -17,7 +17,7 @@ Example (every path is relative to the campaign file)::
       exclude: []
       default_range: 0.75            # relative half-width (+-75 %)
       ranges: {"*/shgc": 100.0, "*/thickness": 10.0}
-    sampling: {method: sobol, samples: 500, seed: 1, zoom: 32}   # zoom: local campaign, 0 = off
+    sampling: {method: sobol, samples: 500, seed: 1, zoom: 0}   # zoom: local campaign, 0 = off
     metamodel: {kind: svr, top_k: 10, cv_folds: 5, log_target: false}
     optimisation: {starts: 8, seed: 1}
     validation: null                 # optional {start:, end:} second period
@@ -150,7 +150,7 @@ ZOOM_MIN_SAMPLES = 10
 class SamplingSection(_Strict):
     """Sampler, number of samples and seed; ``zoom``: the samples of the local campaign.
 
-    ``zoom`` (default 32, 0 = off): after the first calibration, a second batch of that many
+    ``zoom`` (default 0 = off; e.g. 32): after the first calibration, a second batch of that many
     samples (same sampler, seed + 1) uniform in the logarithm of the parameters over a box
     around the first answer (+-3 posterior standard deviations of each log-parameter, at least
     +-10 %, clipped to the sampled range); the meta-model is refitted on them, minimised,
@@ -162,7 +162,7 @@ class SamplingSection(_Strict):
     method: Literal["sobol", "lhs", "halton"] = "sobol"
     samples: int = Field(500, ge=1)
     seed: int = 1
-    zoom: int = 32
+    zoom: int = 0
 
     @field_validator("zoom", mode="before")
     @classmethod

@@ -46,8 +46,11 @@ def _clinic():
     return generators.clinic(12, n_corridors=1, corridor_sections=2, location=site)
 
 
-def _campaign(tmp_path, *, samples=48, extra="", end=END, truth=TRUE, parameters=PARAMETERS):
-    """Nominal building file, the true building's sensor log, mapping and campaign file."""
+def _campaign(
+    tmp_path, *, samples=48, extra="", end=END, truth=TRUE, parameters=PARAMETERS, zoom=0
+):
+    """Nominal building file, the true building's sensor log, mapping and campaign file
+    (``zoom``: the local campaign's samples, off here: test_calibration_zoom tests it)."""
     from thermocal.io.weather import read_weather
 
     weather, meta = read_weather(_weather_path())
@@ -82,7 +85,7 @@ period: {{start: {START}, end: {END}}}
 step: 15min
 identification: {{method: inverse, settle: 1D, warmup_days: 3}}
 {parameters}
-sampling: {{method: sobol, samples: {samples}, seed: 3}}
+sampling: {{method: sobol, samples: {samples}, seed: 3, zoom: {zoom}}}
 metamodel: {{kind: auto, top_k: 3}}
 optimisation: {{starts: 4, seed: 1}}
 {extra}

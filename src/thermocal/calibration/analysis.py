@@ -2,6 +2,9 @@
 meta-model with its ranking and reduced optima, the confirmation of the optima with the full
 model, the posterior, the candidate calibrated models, the trust-region refinement, the choice of
 the calibrated model with its flags, the validation period and the comparison with a truth.
+The stages from the meta-model to the choice (:func:`_calibration_stage`) run once on the
+campaign's samples and, with ``sampling.zoom``, again on a local campaign around the first
+answer (:func:`_zoom_stage`, :mod:`thermocal.calibration.zoom`).
 
 :func:`analyse` runs the stages in order; :func:`thermocal.calibration.workflow.calibrate` calls
 it after a campaign and :func:`thermocal.calibration.workflow.reanalyse` on a stored one.
@@ -34,6 +37,10 @@ from thermocal.identification.problem import METRIC
 
 #: Largest campaign space whose joint posterior is sampled (else: the critical parameters).
 POSTERIOR_MAX_PARAMETERS = 30
+#: whether the zoom stage's meta-model also uses the first campaign's samples inside its box
+#: (False: the zoom campaign's samples only; measured on the 5ZoneAirCooled twin, see
+#: docs/calibration.md)
+ZOOM_WITH_FIRST_INSIDE = False
 
 
 def analyse(
@@ -58,7 +65,8 @@ def analyse(
     an evaluator). The stages, in order: the campaign's notes, the nominal run, the samples'
     metric, the meta-model with its ranking and reduced optima, the Morris screening, the
     confirmation of the optima, the posterior, the candidate calibrated models, the
-    trust-region refinement, the choice of the calibrated model with its flags, the
+    trust-region refinement, the zoom stage (the same stages on a local campaign around the
+    first answer, ``sampling.zoom``), the choice of the calibrated model with its flags, the
     validation period and the comparison with a known truth.
 
     Parameters
@@ -89,97 +97,33 @@ def analyse(
     nominal_outputs, nominal_heat = _nominal_run(runs, store)
     nominal_metric = metric_value(nominal_outputs, metric)
     samples = _read_samples(campaign, space, store, timings, notes)
-    t0 = time.perf_counter()
-    fitted = _fit_metamodel(campaign, space, samples, notes)
-    timings["metamodel_sensitivity_optimisation"] = time.perf_counter() - t0
     screening = None
     if campaign.morris is not None and morris is not None:
         t0 = time.perf_counter()
         screening = morris()
         timings["morris"] = time.perf_counter() - t0
-    log(
-        f"meta-model cross-validated R2 {fitted.surrogate.cv_r2_:.3f}; critical: "
-        f"{', '.join(fitted.critical)}"
-    )
-    t0 = time.perf_counter()
-    confirmed, heat, unconfirmed = _confirm_optima(
-        runs, fitted.optimisation, metric, nominal_outputs, nominal_heat, nominal_metric
-    )
-    log(
-        "confirmation of the minimum and maximum with the full model: "
-        + (
-            "done"
-            if not unconfirmed
-            else f"not simulated in a re-analysis ({', '.join(unconfirmed)})"
-        )
-    )
-    if unconfirmed:
-        notes.append(
-            "Re-analysis without simulation: the meta-model's "
-            + " and ".join(f"{s}imum" for s in unconfirmed)
-            + " of this analysis differ from the runs in the store and are not confirmed with "
-            "the full model (their values are the meta-model's); the calibrated model is the "
-            "best confirmed one. Run thermocal calibrate with --resume to confirm them."
-        )
-    confirmed["nominal"] = {
-        "confirmed": nominal_metric,
-        "confirmed_std_W": float(np.sqrt(nominal_metric)),
-        "building_std_W": nominal_outputs["unoccupied_std"],
-    }
-    timings["confirmation"] = time.perf_counter() - t0
-    posterior = series_model = None
-    if samples.series is not None:
+    nominal = (nominal_outputs, nominal_heat, nominal_metric)
+    first = _calibration_stage(
+        campaign, space, samples, runs, nominal, prior_space=space, timings=timings, notes=notes,
+        log=log,
+    )  # fmt: skip
+    fitted, confirmed, heat = first.fitted, first.confirmed, first.heat
+    confirmed["refinement"] = first.refinement
+    final = first
+    zoom_info = None
+    if campaign.sampling.zoom > 0:
         t0 = time.perf_counter()
-        posterior, series_model = _posterior_or_note(
-            fitted.surrogate,
-            fitted.kind,
-            samples.X,
-            samples.y,
-            samples.series,
-            space,
-            fitted.critical,
-            campaign,
-            notes,
-            samples.segments,
-        )
-        timings["posterior"] = time.perf_counter() - t0
-        note = series_terms_note(series_model, optimum=fitted.kind == "series")
-        if note:
-            notes.append(note)
-            confirmed["series_metamodel"] = series_model.hyperparameters_()
-        if posterior is not None:
-            for line in posterior.sentences():
-                log(line)
-    movable = _movable_parameters(campaign, space, posterior, notes)
-    candidates = _candidates(
-        campaign,
-        space,
-        samples,
-        fitted,
-        runs,
-        confirmed,
-        unconfirmed,
-        posterior,
-        movable,
-        nominal_metric,
-        notes,
+        zoomed = _zoom_stage(campaign, space, samples, first, runs, nominal, notes=notes, log=log)
+        timings["zoom"] = time.perf_counter() - t0
+        if zoomed is not None:
+            final, zoom_info = zoomed
+            timings.update({f"zoom_{k}": v for k, v in zoom_info.pop("timings_s").items()})
+    posterior, series_model, movable = final.posterior, final.series_model, final.movable
+    calibrated_source, calibrated_metric, calibrated_values = (
+        final.source,
+        final.metric,
+        final.values,
     )
-    refinement = []
-    if campaign.optimisation.refine > 0:
-        t1 = time.perf_counter()
-        terms = getattr(series_model, "terms_", campaign.metamodel.series_terms)
-        refinement = _refine(
-            campaign, space, samples, fitted.kind, runs, candidates, movable, log, terms
-        )
-        if runs.evaluator is None and len(refinement) < campaign.optimisation.refine and movable:
-            notes.append(
-                f"Re-analysis without simulation: the trust-region refinement stopped after "
-                f"{len(refinement)} of {campaign.optimisation.refine} steps (the next candidate "
-                "is not in the store)."
-            )
-        timings["refinement"] = time.perf_counter() - t1
-    confirmed["refinement"] = refinement
-    calibrated_source, calibrated_metric, calibrated_values = _choose_calibrated(candidates, notes)
     confirmed["calibrated"] = {
         "source": calibrated_source,
         "confirmed": float(calibrated_metric),
@@ -243,7 +187,298 @@ def analyse(
         occupancy=occupancy,
         metric=metric,
         runs={"simulated": runs.simulated, "from_store": runs.reused},
+        zoom=zoom_info,
     )
+
+
+@dataclass
+class Stage:
+    """One calibration stage on one set of samples (the campaign's, or the zoom campaign's).
+
+    Attributes
+    ----------
+    fitted : FittedMetamodel
+    confirmed : dict
+        The optima's predicted and confirmed metric [W^2] (see :func:`_confirm_optima`).
+    heat : dict of str to Series
+        Building-wide identified heat of the nominal model and the confirmed optima [W].
+    unconfirmed : list of str
+    posterior : Posterior or None
+    series_model : SeriesSurrogate or None
+    movable : list of str
+        The parameters the calibrated model may change.
+    candidates : dict
+        Name -> (confirmed metric [W^2], parameters [unit of each]).
+    refinement : list of dict
+        The trust-region refinement's steps.
+    source, metric, values : str, float, dict
+        The best candidate: its name, metric [W^2] and parameters [unit of each].
+    """
+
+    fitted: Any
+    confirmed: dict
+    heat: dict
+    unconfirmed: list
+    posterior: Any
+    series_model: Any
+    movable: list
+    candidates: dict
+    refinement: list
+    source: str
+    metric: float
+    values: dict
+
+
+def _calibration_stage(
+    campaign, space, samples, runs, nominal, *, prior_space, timings, notes, log,
+    extra_candidates=None, critical=None,
+) -> Stage:  # fmt: skip
+    """Meta-model, confirmed optima, posterior, candidates, refinement and choice on ``samples``.
+
+    ``space``: the bounds of the meta-model's optimisation and refinement (the campaign's, or
+    the zoom box); ``prior_space``: the posterior's uniform prior (always the campaign's
+    range, so that "determined" keeps its meaning). ``nominal``: the nominal run's outputs,
+    heat [W] and metric [W^2]. ``extra_candidates`` (name -> (metric [W^2], parameters)) join
+    the stage's own before the refinement starts from the best; ``critical``: the parameters
+    the reduced meta-model optimises (and the posterior covers in spaces of more than
+    :data:`POSTERIOR_MAX_PARAMETERS`), None: the stage's own ``top_k`` ranking.
+    """
+    nominal_outputs, nominal_heat, nominal_metric = nominal
+    metric = campaign.metric
+    t0 = time.perf_counter()
+    fitted = _fit_metamodel(campaign, space, samples, notes, critical)
+    timings["metamodel_sensitivity_optimisation"] = time.perf_counter() - t0
+    log(
+        f"meta-model cross-validated R2 {fitted.surrogate.cv_r2_:.3f}; critical: "
+        f"{', '.join(fitted.critical)}"
+    )
+    t0 = time.perf_counter()
+    confirmed, heat, unconfirmed = _confirm_optima(
+        runs, fitted.optimisation, metric, nominal_outputs, nominal_heat, nominal_metric
+    )
+    log(
+        "confirmation of the minimum and maximum with the full model: "
+        + (
+            "done"
+            if not unconfirmed
+            else f"not simulated in a re-analysis ({', '.join(unconfirmed)})"
+        )
+    )
+    if unconfirmed:
+        notes.append(
+            "Re-analysis without simulation: the meta-model's "
+            + " and ".join(f"{s}imum" for s in unconfirmed)
+            + " of this analysis differ from the runs in the store and are not confirmed with "
+            "the full model (their values are the meta-model's); the calibrated model is the "
+            "best confirmed one. Run thermocal calibrate with --resume to confirm them."
+        )
+    confirmed["nominal"] = {
+        "confirmed": nominal_metric,
+        "confirmed_std_W": float(np.sqrt(nominal_metric)),
+        "building_std_W": nominal_outputs["unoccupied_std"],
+    }
+    timings["confirmation"] = time.perf_counter() - t0
+    posterior = series_model = None
+    if samples.series is not None:
+        t0 = time.perf_counter()
+        posterior, series_model = _posterior_or_note(
+            fitted.surrogate,
+            fitted.kind,
+            samples.X,
+            samples.y,
+            samples.series,
+            prior_space,
+            fitted.critical,
+            campaign,
+            notes,
+            samples.segments,
+        )
+        timings["posterior"] = time.perf_counter() - t0
+        note = series_terms_note(series_model, optimum=fitted.kind == "series")
+        if note:
+            notes.append(note)
+            confirmed["series_metamodel"] = series_model.hyperparameters_()
+        if posterior is not None:
+            for line in posterior.sentences():
+                log(line)
+    movable = _movable_parameters(campaign, space, posterior, notes)
+    candidates = _candidates(
+        campaign,
+        space,
+        samples,
+        fitted,
+        runs,
+        confirmed,
+        unconfirmed,
+        posterior,
+        movable,
+        nominal_metric,
+        notes,
+    )
+    candidates.update(extra_candidates or {})
+    refinement = []
+    if campaign.optimisation.refine > 0:
+        t1 = time.perf_counter()
+        terms = getattr(series_model, "terms_", campaign.metamodel.series_terms)
+        refinement = _refine(
+            campaign, space, samples, fitted.kind, runs, candidates, movable, log, terms
+        )
+        if runs.evaluator is None and len(refinement) < campaign.optimisation.refine and movable:
+            notes.append(
+                f"Re-analysis without simulation: the trust-region refinement stopped after "
+                f"{len(refinement)} of {campaign.optimisation.refine} steps (the next candidate "
+                "is not in the store)."
+            )
+        timings["refinement"] = time.perf_counter() - t1
+    source, value, values = _choose_calibrated(candidates, notes)
+    return Stage(
+        fitted, confirmed, heat, unconfirmed, posterior, series_model, movable, candidates,
+        refinement, source, value, values,
+    )  # fmt: skip
+
+
+def _zoom_stage(campaign, space, samples, first: Stage, runs, nominal, *, notes, log):
+    """The zoom campaign and the calibration stage on its samples (see
+    :mod:`thermocal.calibration.zoom`); None (noted) when it cannot run.
+
+    Returns
+    -------
+    stage : Stage
+    info : dict
+        The box (per parameter ``lower``, ``upper``, ``center`` [unit of each] and the
+        first posterior's ``log_sd`` [-]), the design's size and seed, the runs simulated and
+        read from the store, the local samples used, the local meta-model's cross-validated
+        R2, its confirmed minimum and the stage's choice, refinement and timings [s].
+    """
+    from thermocal.calibration.zoom import (
+        ZOOM_MIN_HALF_WIDTH,
+        ZOOM_STANDARD_DEVIATIONS,
+        box_space,
+        inside_box,
+        narrowed,
+        posterior_log_sd,
+        run_zoom,
+        zoom_box,
+        zoom_design,
+    )
+
+    if first.posterior is None:
+        notes.append(
+            "No zoom campaign: it is sized by the first stage's posterior, which could not be "
+            "computed."
+        )
+        return None
+    names = list(space.names)
+    n = campaign.sampling.zoom
+    if n < space.dimension + 2:
+        notes.append(
+            f"No zoom campaign: its {n} samples are fewer than the {space.dimension + 2} the "
+            f"affine meta-model needs ({space.dimension} parameters, an intercept and one more "
+            "for its error); measured on the outpatient twin (58 parameters, 32 samples): the "
+            "local fit determined nothing. Give sampling.zoom at least that, or fewer "
+            "parameters."
+        )
+        return None
+    center = np.array([first.values[name] for name in names], dtype=float)
+    log_sd = posterior_log_sd(first.posterior.samples, names)
+    lower, upper = zoom_box(space.lower, space.upper, center, log_sd)
+    if not narrowed(space.lower, space.upper, lower, upper).any():
+        notes.append(
+            "No zoom campaign: the first posterior narrows no parameter to less than half its "
+            "range (+-3 sd of log p), so a local box would be the whole range; more samples in "
+            "the first campaign, or fewer parameters, are what would help."
+        )
+        return None
+    seed = campaign.sampling.seed + 1
+    design = zoom_design(names, lower, upper, n, method=campaign.sampling.method, seed=seed)
+    t0 = time.perf_counter()
+    X, outputs, counts = run_zoom(runs, design)
+    campaign_s = time.perf_counter() - t0
+    log(
+        f"zoom campaign: {n} samples in a box of +-{ZOOM_STANDARD_DEVIATIONS:g} posterior sd "
+        f"(at least +-{100 * ZOOM_MIN_HALF_WIDTH:.0f} %) around the first answer: "
+        f"{counts['simulated']} simulated, {counts['from_store']} from the store"
+        + (f", {counts['failed']} failed" if counts["failed"] else "")
+    )
+    if len(X):
+        y, series, segments = metric_data(outputs, campaign.metric)
+        X = X[names]
+    else:
+        y, series, segments = np.zeros(0), None, None
+    keep = inside_box(samples.X[names], lower, upper) if ZOOM_WITH_FIRST_INSIDE else None
+    if keep is not None and keep.any() and series is not None:
+        X = pd.concat([X, samples.X[names][keep]])
+        y = np.concatenate([y, samples.y[keep]])
+        series = np.vstack([series, samples.series[keep]])
+    needed = max(10, campaign.metamodel.cv_folds + 2)
+    if len(y) < needed:
+        missing = counts["missing"]
+        notes.append(
+            f"No zoom stage: {len(y)} of its {n} samples are available (at least {needed} "
+            "needed)"
+            + (
+                f"; {missing} are not in the store (a re-analysis does not simulate; "
+                "thermocal calibrate --resume runs them)."
+                if missing
+                else "."
+            )
+        )
+        return None
+    local = CampaignSamples(frame=X, X=X, y=y, series=series, segments=segments)
+    extra = {
+        f"first stage: {k}": v for k, v in first.candidates.items() if not k.startswith("nominal")
+    }
+    stage_notes: list[str] = []
+    stage_timings: dict[str, float] = {"zoom_campaign": campaign_s}
+    stage = _calibration_stage(
+        campaign, box_space(space, lower, upper), local, runs, nominal, prior_space=space,
+        timings=stage_timings, notes=stage_notes, log=lambda line: log(f"zoom: {line}"),
+        extra_candidates=extra, critical=first.fitted.critical,
+    )  # fmt: skip
+    notes.extend(f"Zoom stage: {note}" for note in stage_notes)
+    if counts["missing"]:
+        notes.append(
+            f"Zoom stage: {counts['missing']} of its {n} samples are not in the store (a "
+            "re-analysis does not simulate); the local meta-model uses the others."
+        )
+    notes.append(
+        f"Zoom stage: a second campaign of {n} samples (Sobol' design, seed {seed}) uniform in "
+        f"log p over +-{ZOOM_STANDARD_DEVIATIONS:g} posterior standard deviations (at least "
+        f"+-{100 * ZOOM_MIN_HALF_WIDTH:.0f} %) around the first answer ({first.source}); the "
+        f"meta-model refitted on its {len(y)} local samples (cross-validated R2 "
+        f"{stage.fitted.surrogate.cv_r2_:.3f}), its minimum confirmed, the posterior "
+        f"recomputed from it; calibrated model from {stage.source} (sequential design: "
+        "Kennedy and O'Hagan 2001)."
+    )
+    box = {
+        name: {
+            "lower": float(lower[i]),
+            "upper": float(upper[i]),
+            "center": float(center[i]),
+            "log_sd": float(log_sd[i]),
+        }
+        for i, name in enumerate(names)
+    }
+    info = {
+        "samples": int(n),
+        "seed": int(seed),
+        "method": campaign.sampling.method,
+        "standard_deviations": ZOOM_STANDARD_DEVIATIONS,
+        "min_half_width_log": ZOOM_MIN_HALF_WIDTH,
+        "first_stage": {"source": first.source, "confirmed": float(first.metric)},
+        "box": box,
+        "runs": counts,
+        "local_samples": int(len(y)),
+        "first_batch_samples_in_box": int(keep.sum()) if keep is not None else 0,
+        "cv_r2": float(stage.fitted.surrogate.cv_r2_),
+        "min": stage.confirmed.get("min"),
+        "posterior_median": stage.confirmed.get("posterior_median"),
+        "refinement": stage.refinement,
+        "source": stage.source,
+        "confirmed": float(stage.metric),
+        "timings_s": stage_timings,
+    }
+    return stage, info
 
 
 def _campaign_notes(sample_set, occupancy: dict) -> list[str]:
@@ -376,9 +611,13 @@ class FittedMetamodel:
         )
 
 
-def _fit_metamodel(campaign, space, samples: CampaignSamples, notes: list) -> FittedMetamodel:
+def _fit_metamodel(
+    campaign, space, samples: CampaignSamples, notes: list, critical=None
+) -> FittedMetamodel:
     """Meta-model (chosen by cross-validation with ``kind: auto``), ranking, Sobol indices and
-    the reduced meta-model's optima over the ``top_k`` critical parameters."""
+    the reduced meta-model's optima over the ``top_k`` critical parameters (or the given
+    ``critical`` ones: the zoom stage keeps the first stage's, whose influence over the whole
+    range is what the box narrows; within the box their influence is small by design)."""
     from thermocal.calibration.sensitivity import influence_ranking, top_k
 
     m = campaign.metamodel
@@ -403,7 +642,7 @@ def _fit_metamodel(campaign, space, samples: CampaignSamples, notes: list) -> Fi
     lower, upper = np.asarray(space.lower, float), np.asarray(space.upper, float)
     ranking = influence_ranking(surrogate.predict, samples.X, lower, upper, names=space.names)
     sobol = sobol_or_note(surrogate, space, lower, upper, campaign.sampling.seed, kind, notes)
-    critical = top_k(ranking, m.top_k)
+    critical = top_k(ranking, m.top_k) if critical is None else list(critical)
     fitted = FittedMetamodel(surrogate, kind, ranking, sobol, critical, None)
     fitted.optimisation = fitted.reduced_optimum(campaign, space, samples, critical)
     return fitted

@@ -17,7 +17,7 @@ Example (every path is relative to the campaign file)::
       exclude: []
       default_range: 0.75            # relative half-width (+-75 %)
       ranges: {"*/shgc": 100.0, "*/thickness": 10.0}
-    sampling: {method: sobol, samples: 500, seed: 1}
+    sampling: {method: sobol, samples: 500, seed: 1, zoom: 0}   # zoom: local campaign, 0 = off
     metamodel: {kind: svr, top_k: 10, cv_folds: 5, log_target: false}
     optimisation: {starts: 8, seed: 1}
     validation: null                 # optional {start:, end:} second period
@@ -142,12 +142,41 @@ def _relative_half_width(value: Any, key: str) -> Any:
     return value
 
 
+#: fewest samples of a zoom campaign (as of the first one: a meta-model and its
+#: cross-validation need them) [-]
+ZOOM_MIN_SAMPLES = 10
+
+
 class SamplingSection(_Strict):
-    """Sampler, number of samples and seed."""
+    """Sampler, number of samples and seed; ``zoom``: the samples of the local campaign.
+
+    ``zoom`` (default 0 = off; e.g. 32): after the first calibration, a second batch of that many
+    samples (same sampler, seed + 1) uniform in the logarithm of the parameters over a box
+    around the first answer (+-3 posterior standard deviations of each log-parameter, at least
+    +-10 %, clipped to the sampled range); the meta-model is refitted on them, minimised,
+    confirmed with the model and the posterior recomputed (:mod:`thermocal.calibration.zoom`).
+    Its runs go to the campaign's store like every analysis run: ``--resume`` and a
+    re-analysis read them.
+    """
 
     method: Literal["sobol", "lhs", "halton"] = "sobol"
     samples: int = Field(500, ge=1)
     seed: int = 1
+    zoom: int = 0
+
+    @field_validator("zoom", mode="before")
+    @classmethod
+    def _zoom_count(cls, value: Any) -> Any:
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int)
+            or (0 < value < ZOOM_MIN_SAMPLES or value < 0)
+        ):
+            raise ValueError(
+                f"sampling.zoom is the number of samples of the local (zoom) campaign: 0 (off) "
+                f"or a whole number of at least {ZOOM_MIN_SAMPLES}, got {value!r}"
+            )
+        return value
 
 
 class MetamodelSection(_Strict):
@@ -331,6 +360,7 @@ class CampaignFile(_Strict):
         method is a cheaper summary from the file alone.
         """
         sampling = self.sampling.model_dump()
+        sampling.pop("zoom")  # the zoom campaign is a stage of the analysis, not of the first one
         if samples is not None:
             sampling["samples"] = int(samples)
         return campaign_fingerprint(

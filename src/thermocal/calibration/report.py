@@ -48,6 +48,14 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
         "Model runs": f"{data['model_runs'].get('simulated', 0)} simulated, "
         f"{data['model_runs'].get('from_store', 0)} read from the store",
     }
+    zoom = result.zoom
+    if zoom:
+        runs = zoom["runs"]
+        items["Zoom stage"] = (
+            f"{zoom['samples']} samples in a box of +-{zoom['standard_deviations']:g} posterior "
+            f"sd around the first answer ({runs['simulated']} simulated, {runs['from_store']} "
+            f"from the store); local meta-model R2 {zoom['cv_r2']:.3f}"
+        )
     report.key_values(items)
     for note in result.notes:
         report.note(note)
@@ -68,6 +76,17 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
             caption="Posterior of the critical parameters (series meta-model, uniform prior on "
             "the sampled range, noise level from the residual identified heat; emcee, "
             "Foreman-Mackey et al. 2013): median and 90 % credible interval",
+        )
+    if zoom:
+        report.table(
+            pd.DataFrame(zoom["box"])
+            .T.rename(columns={"center": "first answer", "log_sd": "posterior sd of log p"})
+            .reset_index(names="parameter"),
+            caption="Zoom stage: the box of the local campaign (uniform in log p; +-"
+            f"{zoom['standard_deviations']:g} posterior sd of the first stage, at least +-"
+            f"{100 * zoom['min_half_width_log']:.0f} %, within the sampled range); the "
+            "meta-model refitted on its samples gives the posterior above (sequential design, "
+            "Kennedy and O'Hagan 2001)",
         )
     if result.truth_comparison is not None:
         truth = result.truth_comparison.reset_index().rename(

@@ -42,6 +42,7 @@ class CalibrationResult:
     occupancy: dict = field(default_factory=dict)
     metric: str = "building"
     runs: dict = field(default_factory=dict)
+    zoom: dict | None = None
 
     def table1(self) -> pd.DataFrame:
         """The paper's Table 1: nominal, min-variance and max-variance critical values."""
@@ -84,6 +85,7 @@ class CalibrationResult:
             if self.truth_comparison is None
             else self.truth_comparison.reset_index().to_dict(orient="records"),
             "posterior": None if self.posterior is None else self.posterior.to_dict(),
+            "zoom": self.zoom,
             "occupancy": self.occupancy,
             "timings_s": self.timings,
             "notes": self.notes,

@@ -255,6 +255,8 @@ def calibrate(
                 store,
                 evaluator,
                 None if later is None else campaign_evaluator(later, inputs.building),
+                workers=workers,
+                scheduler=scheduler,
             ),
             timings=timings,
             notes=notes,
@@ -293,6 +295,11 @@ class RunCache:
         The validation period's evaluator (its problem and zone groups).
     simulated : int
         Runs simulated by this cache [-].
+    reused : int
+        Runs read from the store [-].
+    workers, scheduler : int or None, str or object or None
+        How a batch of runs (the zoom campaign) is simulated: local processes (None: all
+        cores) or a Dask scheduler, as the campaign.
     """
 
     store: Any
@@ -300,6 +307,8 @@ class RunCache:
     validation: Any = None
     simulated: int = 0
     reused: int = 0
+    workers: int | None = None
+    scheduler: Any = None
 
     def get(self, parameters, *, tag: str = "", heat: bool = True):
         """Outputs [unit of each] and building-wide heat [W] of a run, or None (not stored

@@ -228,14 +228,19 @@ def _print_summary(result) -> None:
     summary = Table(title=title, show_header=True)
     for column in ("model", "meta-model [kW]", "confirmed [kW]"):
         summary.add_column(column, justify="left" if column == "model" else "right")
-    for case, label in (
-        ("nominal", "nominal"),
-        ("min", "meta-model minimum"),
-        ("calibrated", f"calibrated ({confirm['calibrated']['source']})"),
-        ("max", "max variance"),
-    ):
-        predicted = confirm[case].get("predicted")
-        std = confirm[case]["confirmed_std_W"]
+    rows = [
+        ("nominal", confirm["nominal"]),
+        ("meta-model minimum", confirm["min"]),
+        (f"calibrated ({confirm['calibrated']['source']})", confirm["calibrated"]),
+        ("max variance", confirm["max"]),
+    ]
+    zoom = result.zoom
+    if zoom and zoom.get("min"):  # the local campaign's meta-model minimum, after the global one
+        rows.insert(2, (f"zoom: meta-model minimum ({zoom['local_samples']} local samples)",
+                        zoom["min"]))  # fmt: skip
+    for label, case in rows:
+        predicted = case.get("predicted")
+        std = case["confirmed_std_W"]
         summary.add_row(
             label,
             "" if predicted is None else f"{np.sqrt(max(predicted, 0)) / 1000:.3f}",

@@ -42,8 +42,11 @@ INFILTRATION = tuple(f"zone/{z}/infiltration_ach" for z in OFFICES)
 PERIOD = ("2023-01-04", "2023-02-01")
 
 
-def campaign_text(samples: int, *, step: str = "15min", period=PERIOD, extra: str = "") -> str:
-    """The campaign file (building, weather, sensors and mapping beside it)."""
+def campaign_text(
+    samples: int, *, step: str = "15min", period=PERIOD, extra: str = "", zoom: int | None = None
+) -> str:
+    """The campaign file (building, weather, sensors and mapping beside it); ``zoom``: the
+    local campaign's samples (None: the default)."""
     include = ", ".join(f'"{n}"' for n in (WALL, ROOF, "zone/SPACE*/infiltration_ach"))
     return f"""building: nominal.idf
 weather: weather.epw
@@ -55,7 +58,7 @@ identification: {{method: inverse, settle: 1D, warmup_days: 3}}
 parameters:
   level: element
   include: [{include}]
-sampling: {{method: sobol, samples: {samples}, seed: 1}}
+sampling: {{method: sobol, samples: {samples}, seed: 1{"" if zoom is None else f", zoom: {zoom}"}}}
 optimisation: {{starts: 4, seed: 1, refine: 4}}
 {extra}"""
 
@@ -158,6 +161,7 @@ def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
         "noise_std_W": float(result.posterior.noise_std),
         "emulator_std_W": float(result.posterior.emulator_std),
         "correlation_wall_roof": float(result.posterior.correlation.loc[WALL, ROOF]),
+        "zoom": result.zoom,
     }
 
 
@@ -169,16 +173,17 @@ def run(
     workers=1,
     log=None,
     declared: bool = False,
+    zoom: int | None = None,
 ):
     """The campaign with the first metric, then the same samples with the others (``--resume``:
     nothing sampled again, their optima confirmed with the model).
 
     Returns a dict per metric (:func:`summarise`) with the seconds it took."""
     truth_file = json.loads((HERE / "truth.json").read_text())
-    path = prepare(folder, samples, declared=declared)
+    path = prepare(folder, samples, declared=declared, zoom=zoom)
     return calibrate_each_metric(
         path,
-        lambda metric: campaign_text(samples, extra=f"metric: {metric}\n"),
+        lambda metric: campaign_text(samples, extra=f"metric: {metric}\n", zoom=zoom),
         truth_file,
         metrics=metrics,
         workers=workers,
@@ -248,14 +253,35 @@ def markdown(results: dict, samples: int) -> str:
             + f"; noise {r['noise_std_W']:.0f} W per hour (meta-model {r['emulator_std_W']:.0f} W);"
             + f" posterior correlation wall/roof {r['correlation_wall_roof']:+.2f}"
             + f"; {r['seconds']:.0f} s"
+            + zoom_text(r.get("zoom"))
         )
     return "\n".join(lines) + "\n"
+
+
+def zoom_text(zoom: dict | None) -> str:
+    """The zoom stage in one clause (empty when none ran)."""
+    if not zoom:
+        return ""
+    box = "; ".join(
+        f"{name.split('/')[1]} [{b['lower']:.3g}, {b['upper']:.3g}]"
+        for name, b in zoom["box"].items()
+        if b["upper"] / b["lower"] < 4.0  # the narrowed ones; the others span the whole range
+    )
+    return (
+        f"; zoom stage: {zoom['local_samples']} local samples ({zoom['runs']['simulated']} "
+        f"simulated), box {box or 'the whole range'}, local meta-model CV R2 "
+        f"{zoom['cv_r2']:.3f}, first stage's answer {zoom['first_stage']['confirmed']:.4g} W^2 "
+        f"({zoom['first_stage']['source']})"
+    )
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--samples", type=int, default=32)
     parser.add_argument("--workers", type=int, default=1)
+    parser.add_argument(
+        "--zoom", type=int, default=None, help="sampling.zoom (default: the campaign default)"
+    )
     parser.add_argument("--write", action="store_true")
     parser.add_argument(
         "--declared",
@@ -266,7 +292,12 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
         results = run(
-            Path(tmp), args.samples, workers=args.workers, log=print, declared=args.declared
+            Path(tmp),
+            args.samples,
+            workers=args.workers,
+            log=print,
+            declared=args.declared,
+            zoom=args.zoom,
         )
     text = markdown(results, args.samples)
     print(text)

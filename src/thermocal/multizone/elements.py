@@ -22,6 +22,10 @@ Roles follow each construction's surfaces (the role of the largest area when sev
 ``exterior_wall``, ``roof``, ``exposed_floor`` (outdoors), ``ground_floor``, ``ground_wall``
 (ground), ``partition``, ``interzone_floor`` (between zones), ``internal_mass`` (adiabatic).
 
+The functions take the multi-zone model's ``Building`` and ``Surface`` (named in their
+docstrings; not imported here: the model applies these parameters, so importing it back would
+tie the two modules in a circle).
+
 References
 ----------
 .. [1] ISO 6946:2017, Building components and building elements -- Thermal resistance and
@@ -32,14 +36,10 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
-
-if TYPE_CHECKING:  # pragma: no cover - typing only
-    from thermocal.multizone.model import Building, Surface
 
 __all__ = [
     "ELEMENT_KINDS",
@@ -60,7 +60,7 @@ def is_element_parameter(name: str) -> bool:
     return len(parts) >= 3 and parts[0] == "construction" and parts[-1] in ELEMENT_KINDS
 
 
-def surface_role(surface: Surface) -> str:
+def surface_role(surface) -> str:
     """Role of an opaque surface in the envelope, from its boundary and tilt.
 
     Parameters
@@ -88,7 +88,7 @@ def surface_role(surface: Surface) -> str:
     return "exterior_wall"
 
 
-def construction_roles(building: Building) -> dict[str, str]:
+def construction_roles(building) -> dict[str, str]:
     """Role of each construction used by a surface (the role of its largest total area).
 
     Parameters
@@ -112,7 +112,7 @@ def construction_roles(building: Building) -> dict[str, str]:
     }
 
 
-def _layer_totals(building: Building, construction: str) -> tuple[float, float]:
+def _layer_totals(building, construction: str) -> tuple[float, float]:
     """Resistance [m2 K/W] and areal heat capacity [J/(m2 K)] of a construction's layers."""
     layers = building.construction_layers(construction)
     resistance = float(sum(layer.resistance for layer in layers))
@@ -120,7 +120,7 @@ def _layer_totals(building: Building, construction: str) -> tuple[float, float]:
     return resistance, capacity
 
 
-def element_parameters(building: Building) -> dict[str, float]:
+def element_parameters(building) -> dict[str, float]:
     """Construction-level parameters of every construction used by a surface.
 
     Parameters
@@ -153,7 +153,7 @@ def _scaled_layer(layer, resistance_factor: float, capacity_factor: float):
     return dataclasses.replace(layer, resistance=layer.resistance * resistance_factor)
 
 
-def apply_element_parameters(building: Building, mapping: Mapping[str, float]) -> Building:
+def apply_element_parameters(building, mapping: Mapping[str, float]):
     """Copy of the building with construction-level parameters set.
 
     Parameters

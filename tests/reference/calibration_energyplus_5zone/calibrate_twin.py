@@ -198,29 +198,48 @@ def calibrate_each_metric(path: Path, text_for, truth_file: dict, *, metrics, wo
     sampled again), the store beside ``path``. Returns a dict per metric (:func:`summarise`,
     updated by ``extra(result, truth_file)`` when given) with the seconds it took."""
     from thermocal.calibration.config import load_campaign
-    from thermocal.calibration.workflow import calibrate
 
     out = {}
     for i, metric in enumerate(metrics):
         path.write_text(text_for(metric))
         campaign = load_campaign(path)
-        t0 = time.perf_counter()
+        result, elapsed = timed_calibration(campaign, path.parent, workers=workers,
+                                            resume=bool(i), log=log)  # fmt: skip
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            result = calibrate(
-                campaign,
-                workers=workers,
-                store_path=path.parent / "campaign.sqlite",
-                resume=bool(i),
-                progress=False,
-                log=log or (lambda line: None),
-            )
-            elapsed = time.perf_counter() - t0
             out[metric] = summarise(result, campaign, truth_file, metric)
             if extra is not None:
                 out[metric].update(extra(result, truth_file))
         out[metric]["seconds"] = elapsed
     return out
+
+
+def timed_calibration(campaign, folder: Path, *, workers: int, resume: bool, log=None):
+    """``thermocal calibrate`` of a loaded campaign with its store in ``folder``, quiet
+    (warnings and progress off); returns the result and the seconds it took."""
+    from thermocal.calibration.workflow import calibrate
+
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = calibrate(
+            campaign,
+            workers=workers,
+            store_path=folder / "campaign.sqlite",
+            resume=resume,
+            progress=False,
+            log=log or (lambda line: None),
+        )
+    return result, time.perf_counter() - t0
+
+
+def interval_cell(row: dict) -> str:
+    """A parameter's row as a table cell: calibrated / truth - 1 [posterior 90 % interval]
+    and whether it covers the truth."""
+    return (
+        f"{100 * row['error']:+.1f} % [{row['q05']:.3f}, {row['q95']:.3f}] "
+        f"{'yes' if row['covers'] else 'no'}"
+    )
 
 
 def markdown(results: dict, samples: int) -> str:

@@ -19,8 +19,6 @@ import argparse
 import json
 import sys
 import tempfile
-import time
-import warnings
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -41,7 +39,6 @@ def measure(folder: Path, samples: int, zoom: int, workers: int, metrics=("group
     """Per metric and variant: :func:`calibrate_twin.summarise` with the seconds it took."""
     from thermocal.calibration import analysis
     from thermocal.calibration.config import load_campaign
-    from thermocal.calibration.workflow import calibrate
 
     truth_file = json.loads((ct.HERE / "truth.json").read_text())
     path = ct.prepare(folder, samples)
@@ -53,19 +50,9 @@ def measure(folder: Path, samples: int, zoom: int, workers: int, metrics=("group
             path.write_text(ct.campaign_text(samples, extra=f"metric: {metric}\n", zoom=count))
             campaign = load_campaign(path)
             analysis.ZOOM_WITH_FIRST_INSIDE = inside
-            t0 = time.perf_counter()
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                result = calibrate(
-                    campaign,
-                    workers=workers,
-                    store_path=folder / "campaign.sqlite",
-                    resume=not first,
-                    progress=False,
-                    log=lambda line: None,
-                )
+            result, elapsed = ct.timed_calibration(campaign, folder, workers=workers,
+                                                   resume=not first)  # fmt: skip
             first = False
-            elapsed = time.perf_counter() - t0
             row = ct.summarise(result, campaign, truth_file, metric)
             row["seconds"] = elapsed
             out.setdefault(metric, {})[label] = row
@@ -93,13 +80,7 @@ def markdown(results: dict, samples: int, zoom: int) -> str:
     for metric, variants in results.items():
         for label, r in variants.items():
             rows = {row["parameter"]: row for row in r["rows"]}
-            cells = []
-            for n in names:
-                row = rows[n]
-                cells.append(
-                    f"{100 * row['error']:+.1f} % [{row['q05']:.3f}, {row['q95']:.3f}] "
-                    f"{'yes' if row['covers'] else 'no'}"
-                )
+            cells = [ct.interval_cell(rows[n]) for n in names]
             ratio = r["calibrated_metric"] / r["true_metric"]
             lines.append(
                 f"| {metric} | {label} | " + " | ".join(cells) + f" | {ratio:.3f} | "

@@ -17,8 +17,6 @@ from __future__ import annotations
 import argparse
 import json
 import tempfile
-import time
-import warnings
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -42,7 +40,6 @@ base = ct.base
 def measure(folder: Path, samples: int, zoom: int, workers: int, metric: str = "groups") -> dict:
     """Per variant (``before (no zoom)``, ``zoom``): the twin's summary with the seconds."""
     from thermocal.calibration.config import load_campaign
-    from thermocal.calibration.workflow import calibrate
 
     base.WALL, base.ROOF = ct.WALL, ct.ROOF
     truth_file = ct.with_factor(json.loads((HERE / "truth.json").read_text()))
@@ -53,18 +50,10 @@ def measure(folder: Path, samples: int, zoom: int, workers: int, metric: str = "
         text = ct.campaign_text(samples, extra=form)
         path.write_text(text.replace("seed: 1}\n", f"seed: 1, zoom: {count}}}\n", 1))
         campaign = load_campaign(path)
-        t0 = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            result = calibrate(
-                campaign,
-                workers=workers,
-                store_path=folder / "campaign.sqlite",
-                resume=bool(i) or (folder / "campaign.sqlite").exists(),
-                progress=False,
-                log=lambda line: None,
-            )
-        elapsed = time.perf_counter() - t0
+        result, elapsed = base.timed_calibration(
+            campaign, folder, workers=workers,
+            resume=bool(i) or (folder / "campaign.sqlite").exists(),
+        )  # fmt: skip
         row = base.summarise(result, campaign, truth_file, metric)
         total = ct.infiltration_row(result, truth_file)
         if total is not None:
@@ -90,13 +79,7 @@ def markdown(results: dict, samples: int, zoom: int) -> str:
         rows = {row["parameter"]: row for row in r["rows"]}
         cells = []
         for row in (rows[ct.WALL], rows[ct.ROOF], r.get("infiltration_total")):
-            if row is None or "q05" not in row:
-                cells.append("-")
-                continue
-            cells.append(
-                f"{100 * row['error']:+.1f} % [{row['q05']:.3f}, {row['q95']:.3f}] "
-                f"{'yes' if row['covers'] else 'no'}"
-            )
+            cells.append("-" if row is None or "q05" not in row else base.interval_cell(row))
         ratio = r["calibrated_metric"] / r["true_metric"]
         lines.append(
             f"| {label} | " + " | ".join(cells) + f" | {ratio:.3f} | {r['calibrated_source']} "

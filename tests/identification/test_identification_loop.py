@@ -416,3 +416,33 @@ def test_floating_zones_are_simulated_exactly_while_the_others_are_tracked():
     np.testing.assert_allclose(
         result.air_temperature.to_numpy(), forward.air_temperature.to_numpy(), atol=1e-8
     )
+
+
+def test_each_form_of_the_heat_is_combined_from_two_responses_as_a_direct_solve_gives():
+    """The tracked zones' sensed response to their heat, for a radiant fraction and sensor mix
+    per zone, is combined from the responses to heat in the air and on the faces (linear in
+    the fraction); a direct solve with the form's own distribution gives the same matrix."""
+    import scipy.sparse as sp
+
+    building = _building()
+    sim = _simulation(building, warmup_days=0)
+    net = sim.network
+    zones = np.arange(len(building.zones))
+    rng = np.random.default_rng(7)
+    fraction = rng.uniform(0.0, 1.0, len(zones))
+    fraction[0] = 0.0  # a zone whose heat stays in the air
+    air_weight = rng.uniform(0.3, 1.0, len(zones))
+    form = (tuple(air_weight), tuple(fraction))
+    context, g_inverse, (ptr, idx, val) = sim._tracking_context(zones, form, coarse=False)
+    columns = np.repeat(np.arange(len(zones)), np.diff(ptr))
+    unit = sp.csc_matrix((val, (idx, columns)), shape=(net.n_nodes, len(zones))).toarray()
+    response = context.lu.solve(unit)
+    area = sim._zone_face_area[zones]
+    weights = sp.csr_matrix(
+        (net.face_area, (net.face_zone, net.face_node)), shape=(len(zones), net.n_nodes)
+    )
+    air = response[net.air_node[zones], :]
+    mrt = np.asarray(weights @ response) / area[:, None]
+    sensed = air_weight[:, None] * air + (1.0 - air_weight[:, None]) * mrt
+    np.testing.assert_allclose(g_inverse @ sensed, np.eye(len(zones)), atol=1e-9)
+    np.testing.assert_allclose(np.linalg.inv(sensed), g_inverse, rtol=1e-9)

@@ -72,42 +72,24 @@ class Tracking:
         distribution = self._heat_distribution(zones, np.asarray(form[1], dtype=float))
         g_inverse = np.zeros((0, 0))
         if np.any(air_weight != 1.0) or np.any(np.asarray(form[1]) != 0.0):
-            net = self.network
-            ptr, idx, val = distribution
-            rows = np.repeat(np.arange(len(zones)), np.diff(ptr))
-            unit = sp.csc_matrix((val, (idx, rows)), shape=(net.n_nodes, len(zones))).toarray()
-            response = context.lu.solve(unit)
-            weights = sp.csr_matrix(
-                (net.face_area, (net.face_zone, net.face_node)),
-                shape=(len(net.zone_names), net.n_nodes),
-            )
-            area = self._zone_face_area[zones]
-            mrt = np.asarray(weights[zones] @ response)
-            air = response[net.air_node[zones], :]
-            mrt = np.where(area[:, None] > 0, mrt / np.where(area > 0, area, 1.0)[:, None], air)
-            sensed = air_weight[:, None] * air + (1.0 - air_weight[:, None]) * mrt
+            fraction = np.asarray(form[1], dtype=float)[None, :]
+            parts = self._tracking_responses(base_key, context, zones)
+
+            def combined(name):
+                # the response to a zone's heat is linear in its radiant fraction f: (1 - f) x
+                # the response to heat in its air + f x the response to heat on its faces
+                return parts[name][0] * (1.0 - fraction) + parts[name][1] * fraction
+
+            w_air = air_weight[:, None]
+            sensed = w_air * combined("air") + (1.0 - w_air) * combined("mrt")
             g_inverse = np.ascontiguousarray(np.linalg.inv(sensed))
-
-            def sensed_of(resp):
-                m_rt = np.asarray(weights[zones] @ resp)
-                a_ir = resp[net.air_node[zones], :]
-                m_rt = np.where(
-                    area[:, None] > 0, m_rt / np.where(area > 0, area, 1.0)[:, None], a_ir
-                )
-                return air_weight[:, None] * a_ir + (1.0 - air_weight[:, None]) * m_rt
-
             # tracked zones with scheduled outdoor air: their air flow in the step it belongs
             # to, solved with the tracking heat (see the kernel's general inverse)
-            inf = set(int(z) for z in getattr(self, "_inf_zones", ()))
-            held = np.asarray([int(z) for z in zones if int(z) in inf], dtype=np.int64)
-            if len(held):
-                air_t = net.air_node[held]
-                unit_t = np.zeros((net.n_nodes, len(held)))
-                unit_t[air_t, np.arange(len(held))] = 1.0
-                resp_t = context.lu.solve(unit_t)
-                a_q = response[air_t, :]
-                k_h = g_inverse @ sensed_of(resp_t)
-                m_h = resp_t[air_t, :] - a_q @ k_h
+            if parts["held"] is not None:
+                held, held_air, held_mrt, held_self = parts["held"]
+                a_q = combined("held_rows")
+                k_h = g_inverse @ (w_air * held_air + (1.0 - w_air) * held_mrt)
+                m_h = held_self - a_q @ k_h
                 context.implicit["tracked"] = (
                     held,
                     np.ascontiguousarray(a_q),
@@ -118,6 +100,62 @@ class Tracking:
                 )
         cache[key] = (context, g_inverse, distribution)
         return cache[key]
+
+    def _tracking_responses(self, base_key: tuple, context, zones: np.ndarray) -> dict:
+        """The tracked zones' responses in the Dirichlet system ``context`` (cached with it), from
+        which every form of the identified heat is combined without another solve.
+
+        Returns a dict of ``(response to heat in the air, response to heat on the faces)`` pairs
+        (zones x zones, the faces' share as the radiant internal gains): ``air`` the zones' air
+        temperatures [K/W], ``mrt`` their area-weighted surface temperatures [K/W] (the air's
+        where a zone has no faces), ``held_rows`` the air temperatures of the tracked zones with
+        scheduled outdoor air; and ``held``: None, or those zones, the air and surface responses
+        of the tracked zones to unit heat in their air [K/W] and those zones' own air rows.
+        """
+        cache = self.__dict__.setdefault("_tracking_cache", {})
+        key = ("responses", *base_key[1:])
+        if key in cache:
+            return cache[key]
+        net = self.network
+        zones = np.asarray(zones, dtype=np.int64)
+        columns = np.arange(len(zones))
+        air_unit = np.zeros((net.n_nodes, len(zones)))
+        air_unit[net.air_node[zones], columns] = 1.0
+        face_unit = air_unit.copy()  # a zone without faces keeps its radiant heat in the air
+        for column, zone in enumerate(zones):
+            members = np.flatnonzero(net.face_zone == zone)
+            if len(members):
+                face_unit[net.air_node[zone], column] = 0.0
+                np.add.at(face_unit[:, column], net.face_node[members],
+                          net.face_radiant_share[members])  # fmt: skip
+        weights = sp.csr_matrix(
+            (net.face_area, (net.face_zone, net.face_node)),
+            shape=(len(net.zone_names), net.n_nodes),
+        )[zones]
+        area = self._zone_face_area[zones]
+        air_nodes = net.air_node[zones]
+
+        def project(response):
+            air = response[air_nodes, :]
+            mrt = np.asarray(weights @ response)
+            mrt = np.where(area[:, None] > 0, mrt / np.where(area > 0, area, 1.0)[:, None], air)
+            return air, mrt
+
+        to_air = context.lu.solve(air_unit)
+        to_faces = context.lu.solve(face_unit)
+        (air0, mrt0), (air1, mrt1) = project(to_air), project(to_faces)
+        parts = {"air": (air0, air1), "mrt": (mrt0, mrt1), "held": None}
+        inf = {int(z) for z in getattr(self, "_inf_zones", ())}
+        held = np.asarray([int(z) for z in zones if int(z) in inf], dtype=np.int64)
+        if len(held):
+            held_air = net.air_node[held]
+            unit = np.zeros((net.n_nodes, len(held)))
+            unit[held_air, np.arange(len(held))] = 1.0
+            response = context.lu.solve(unit)
+            parts["held_rows"] = (to_air[held_air, :], to_faces[held_air, :])
+            parts["held"] = (held, *project(response), response[held_air, :])
+        cache[key] = parts
+        return parts
 
     def _heat_distribution(self, zones: np.ndarray, radiant_fraction: np.ndarray) -> tuple:
         """Nodes and weights of each tracked zone's heat: ``1 - f`` into the air, ``f`` over

@@ -261,17 +261,18 @@ def _outward(world: np.ndarray, normal: np.ndarray) -> np.ndarray:
 def _casts_on_others(surfaces: list) -> list:
     """The polygons of ``surfaces`` with a part in front of another one's plane (by more than
     1 mm): those that can shade another surface of the same building."""
-    planes = []
-    for surface in surfaces:
-        verts = np.asarray(surface.vertices, dtype=float)
-        normal = newell_normal(verts)
-        planes.append((verts, verts[0], normal / np.linalg.norm(normal)))
+    vertices = [np.asarray(surface.vertices, dtype=float) for surface in surfaces]
+    normals = np.array([newell_normal(verts) for verts in vertices])
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    origins = np.array([verts[0] for verts in vertices])
     keep = []
-    for i, (verts, _, _) in enumerate(planes):
-        for j, (_, origin, normal) in enumerate(planes):
-            if i != j and float(np.max((verts - origin) @ normal)) > 1e-3:
-                keep.append(surfaces[i])
-                break
+    for i, verts in enumerate(vertices):
+        # every vertex's height over every other surface's plane, at once
+        height = np.einsum("vjk,jk->vj", verts[:, None, :] - origins[None, :, :], normals)
+        ahead = height.max(axis=0) > 1e-3
+        ahead[i] = False
+        if ahead.any():
+            keep.append(surfaces[i])
     return keep
 
 

@@ -68,6 +68,11 @@ def test_outputs_complete(synthetic):
     assert quality["gaps"] == [] and quality["flags"] == []
     for key in ("code", "measures", "annual_kWh", "saving_pct", "saving_pct_p05", "saving_pct_p95"):
         assert key in saved["scenarios"][5]
+    # the interval ends' Monte Carlo error from the 30 draws: positive, below the half-width
+    for row in saved["scenarios"][1:]:
+        half = 0.5 * (row["saving_pct_p95"] - row["saving_pct_p05"])
+        assert 0 < row["saving_pct_mcse"] < half, row
+    assert saved["scenarios"][0]["saving_pct_mcse"] == 0
     # the issue's list of keys, exactly
     cal = saved["calibration"]
     for key in ("params", "max_abs_correlation", "loglike", "flags"):
@@ -94,6 +99,7 @@ def test_outputs_complete(synthetic):
     ):
         assert (out / name).is_file(), name
     html = (out / "report.html").read_text()
+    assert "interval ends come from 30 parameter draws" in html
     assert html.count("data:image/png;base64,") >= 4
     assert "<script" not in html and 'src="http' not in html  # self-contained
     assert "http://" not in html and "https://" not in html and "@import" not in html

@@ -12,7 +12,8 @@ the integrated autocorrelation time (Sokal 1997, with emcee's estimator):
 - :func:`ensemble_until_precise`: emcee's affine-invariant ensemble sampler (Foreman-Mackey et
   al. 2013) for any log-density (the meta-model with curvature).
 
-:func:`quantile_standard_error` gives the Monte Carlo standard error of an interval end.
+:func:`thermocal.montecarlo.quantile_standard_error` (re-exported here) gives the Monte Carlo
+standard error of an interval end.
 
 References
 ----------
@@ -33,6 +34,8 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import special
+
+from thermocal.montecarlo import quantile_standard_error
 
 __all__ = [
     "ensemble_until_precise",
@@ -129,32 +132,6 @@ def _autocorrelation_time(kept: np.ndarray) -> float:
     )
     tau = tau[np.isfinite(tau)]
     return float(max(tau.max(), 1.0)) if tau.size else 1.0
-
-
-def quantile_standard_error(values: np.ndarray, p: float, effective: float) -> np.ndarray:
-    """Monte Carlo standard error of the ``p`` quantile of posterior draws.
-
-    Half the distance between the quantiles at ``p -+ sqrt(p (1 - p) / n_eff)``: the draws'
-    binomial uncertainty of which draw is the ``p`` quantile, mapped through the empirical
-    distribution (the binomial approximation of Vehtari et al. 2021, Bayesian Analysis 16, 667-718).
-
-    Parameters
-    ----------
-    values : ndarray (draws, d)
-        Posterior draws [unit of each parameter].
-    p : float
-        Probability of the quantile [-].
-    effective : float
-        Effective number of independent draws [-].
-
-    Returns
-    -------
-    ndarray (d,)
-        Standard error of each parameter's quantile [unit of each parameter].
-    """
-    delta = np.sqrt(p * (1.0 - p) / max(float(effective), 1.0))
-    lo, hi = np.quantile(values, [max(p - delta, 0.0), min(p + delta, 1.0)], axis=0)
-    return (hi - lo) / 2.0
 
 
 def truncated_gaussian_gibbs(

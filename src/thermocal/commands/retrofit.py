@@ -118,6 +118,11 @@ def print_summary(results: dict, out: Path) -> None:
         table.add_row(*row)
     console.print(table)
     console.print("measures: " + ", ".join(f"{a} {m.replace('_', ' ')}" for m, a in short.items()))
+    end_error = max((s.get("saving_pct_mcse") or 0.0 for s in results["scenarios"]), default=0.0)
+    if end_error > 0:
+        console.print(
+            f"interval ends ±{end_error:.1f} pp (Monte Carlo error; more draws: uncertainty.draws)"
+        )
     if gate and not gate["passed"]:
         console.print("[bold red]no strategy recommended: the model failed its validation[/]")
     elif results.get("recommendation"):

@@ -293,6 +293,14 @@ def write_report(
         },
         highlight_rows=[codes.index(rec["code"])] if rec else (),
     )
+    end_error = float(scen["saving_pct_mcse"].max()) if "saving_pct_mcse" in scen else 0.0
+    if end_error > 0:
+        rep.paragraph(
+            f"The savings' interval ends come from {analysis.config.uncertainty.draws} parameter "
+            f"draws: they are known to about ±{end_error:.1f} percentage points (Monte Carlo "
+            "standard error of the less precise end; more draws narrow it: "
+            "uncertainty.draws)."
+        )
     rep.figure(
         figures["scenario_savings"],
         caption=f"Saving of heat per strategy; whiskers: {pct} interval (parameter uncertainty)",

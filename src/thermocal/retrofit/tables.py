@@ -7,12 +7,15 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from thermocal.montecarlo import interval_end_error
 from thermocal.retrofit.economics import measure_areas, strategy_economics
 from thermocal.retrofit.workflow import RetrofitAnalysis
 
 
 def scenario_table(analysis: RetrofitAnalysis) -> pd.DataFrame:
-    """Annual demand and saving of every strategy, with the uncertainty interval."""
+    """Annual demand and saving of every strategy, with the uncertainty interval and the Monte
+    Carlo standard error of its ends (``saving_pct_mcse`` [percentage points], the draws being
+    independent)."""
     cfg = analysis.config
     lo_q = 0.5 * (1.0 - cfg.uncertainty.interval)
     hi_q = 1.0 - lo_q
@@ -34,6 +37,9 @@ def scenario_table(analysis: RetrofitAnalysis) -> pd.DataFrame:
             "saving_pct": float(saving[i, 0]) if i else 0.0,
             "saving_pct_p05": float(np.quantile(sv, lo_q)) if i else 0.0,
             "saving_pct_p95": float(np.quantile(sv, hi_q)) if i else 0.0,
+            # how well the interval's ends are known from this many draws (Monte Carlo)
+            "saving_pct_mcse": interval_end_error(sv, cfg.uncertainty.interval)
+            if i and has_draws else 0.0,
         })  # fmt: skip
     return pd.DataFrame(rows)
 

@@ -119,10 +119,11 @@ def test_a_round_off_change_of_the_heat_moves_the_interval_by_round_off():
     assert a.to_dict()["effective_draws"] == pytest.approx(a.effective_draws)
 
 
-@pytest.mark.parametrize("mean", [-1.0, 2.5])
+@pytest.mark.parametrize("mean", [-1.0, 2.5, -5.0, 6.0])
 def test_a_box_far_in_the_tail_of_the_gaussian(mean):
-    """The box [0.5, 1] lies 15 standard deviations from the mean (either side): the draws
-    crowd at the nearer bound with the tail's exponential shape, by integration."""
+    """The box [0.5, 1] lies 15 or 50 standard deviations from the mean (either side; at 50
+    the distribution function underflows in double precision): the draws crowd at the nearer
+    bound with the tail's exponential shape, by integration."""
     q = 100.0
     chain, effective, _, _ = truncated_gaussian_gibbs(
         np.array([[q]]), np.array([q * mean]), np.array([0.5]), np.array([1.0]), np.array([0.75]),

@@ -237,12 +237,15 @@ def _conditional_draw(shift, q, lower, upper, u):
     sd = 1.0 / np.sqrt(q)
     mean = shift / q
     a, b = (lower - mean) / sd, (upper - mean) / sd
-    # in the upper tail work with the mirrored interval, where the distribution function keeps
-    # its precision
+    # in the upper tail work with the mirrored interval, and with the logarithm of the
+    # distribution function: both ends may lie dozens of standard deviations in its lower tail
     flip = a > 0
     lo, hi = np.where(flip, -b, a), np.where(flip, -a, b)
-    pa, pb = special.ndtr(lo), special.ndtr(hi)
-    x = special.ndtri(pa + u * (pb - pa))
+    log_pa, log_pb = special.log_ndtr(lo), special.log_ndtr(hi)
+    with np.errstate(divide="ignore"):
+        # log(pa + u (pb - pa)), pa <= pb
+        log_p = log_pb + np.log(u + (1.0 - u) * np.exp(log_pa - log_pb))
+    x = special.ndtri_exp(log_p)
     x = np.clip(np.nan_to_num(x, nan=0.0, posinf=np.inf, neginf=-np.inf), lo, hi)
     x = np.where(flip, -x, x)
     return np.clip(mean + sd * x, lower, upper)

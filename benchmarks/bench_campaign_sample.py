@@ -14,7 +14,9 @@ the same samples in turn (A B A B ...), so both see the same machine load. Per s
 source: the whole ``evaluate`` wall time and its parts (``set_parameters``; the network
 assembly alone; the identification and metric), best over the rounds. The identified heat and
 the metric of every sample are compared between the sources (bit-identical, or the largest
-difference relative to the largest heat).
+difference relative to the largest heat). Then, in this tree's child, the network assembly of
+every sample by this ``network.py`` and the peer's, in turn in one process (every field of the
+networks compared), and each child's peak memory.
 
 Run::
 
@@ -123,9 +125,74 @@ def _timed_parts(problem, parameters) -> dict:
     return spent
 
 
+def _same_network(a, b) -> bool:
+    """Whether two assembled networks have identical fields (sparse matrices entry by entry)."""
+    import dataclasses
+
+    import scipy.sparse as sp
+
+    for f in dataclasses.fields(a):
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if sp.issparse(x):
+            same = (
+                x.format == y.format
+                and np.array_equal(x.indptr, y.indptr)
+                and np.array_equal(x.indices, y.indices)
+                and np.array_equal(x.data, y.data)
+            )
+        elif isinstance(x, np.ndarray):
+            same = x.dtype == y.dtype and np.array_equal(x, y)
+        else:
+            same = x == y
+        if not same:
+            return False
+    return True
+
+
+def _assembly_against(problem, samples, peer_network: Path, repeats: int = 3) -> dict:
+    """The network assembly of each sample by this source and by the peer's ``network.py``
+    (loaded from its file), in turn: best times [s] and whether every field is identical."""
+    import importlib.util
+
+    from thermocal.multizone import _network_setup
+
+    spec = importlib.util.spec_from_file_location("thermocal.multizone.peer_network", peer_network)
+    peer = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = peer
+    spec.loader.exec_module(peer)
+    sim = problem.simulation()
+    captured = []
+    original = _network_setup.assemble
+
+    def record(*args, **kwargs):
+        captured.append((args, {k: v for k, v in kwargs.items() if k != "cache"}))
+        return original(*args, **kwargs)
+
+    _network_setup.assemble = record
+    try:
+        for parameters in samples:  # behind the problem's back: the child's last command
+            sim.set_parameters(parameters)
+    finally:
+        _network_setup.assemble = original
+    times = {"peer": float("inf"), "this": float("inf")}
+    identical = True
+    for args, kwargs in captured:
+        caches = {"peer": {}, "this": {}}
+        built = {}
+        for _ in range(repeats):
+            for label, assemble in (("peer", peer.assemble), ("this", original)):
+                t0 = time.perf_counter()
+                built[label] = assemble(*args, cache=caches[label], **kwargs)
+                times[label] = min(times[label], time.perf_counter() - t0)
+        identical &= _same_network(built["peer"], built["this"])
+    return {"peer": times["peer"], "this": times["this"], "identical": identical}
+
+
 def child(n_samples: int) -> None:
-    """Answer ``sample I`` (timings and metric) and ``heat I`` (digest of the identified heat,
-    saved to a file) commands, one JSON line each."""
+    """Answer ``sample I`` (timings and metric), ``heat I PATH`` (the identified heat saved,
+    its digest), ``assemble PEER_NETWORK_PY`` (the assembly against the peer's) and ``rss``
+    (peak resident memory [GB]) commands, one JSON line each."""
+    import resource
     import warnings
 
     warnings.simplefilter("ignore")
@@ -145,6 +212,12 @@ def child(n_samples: int) -> None:
             np.save(path, heat)
             digest = hashlib.sha256(heat.tobytes()).hexdigest()
             print(json.dumps({"sha256": digest}), flush=True)
+        elif command == "assemble":
+            result = _assembly_against(problem, samples, Path(argument.strip()))
+            print(json.dumps(result), flush=True)
+        elif command == "rss":
+            peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2
+            print(json.dumps({"rss_GB": peak}), flush=True)
         else:
             raise SystemExit(f"unknown command {command!r}")
 
@@ -229,6 +302,11 @@ def main(argv=None) -> int:
                 same_heat = False
                 scale = float(np.max(np.abs(heat["peer"])))
                 worst = max(worst, float(np.max(np.abs(heat["peer"] - heat["this"]))) / scale)
+    assembly = None
+    if args.peer:
+        network_py = sources["peer"] / "thermocal" / "multizone" / "network.py"
+        assembly = workers["this"].ask(f"assemble {network_py}")
+    rss = {label: worker.ask("rss")["rss_GB"] for label, worker in workers.items()}
     for worker in workers.values():
         worker.close()
     wall = time.perf_counter() - started
@@ -256,6 +334,15 @@ def main(argv=None) -> int:
                 f"| {part} | {before:.3f} | {after:.3f} | {before - after:.3f} | "
                 f"{before / after:.2f}x |"
             )
+        lines.append(
+            f"| network assembly alone, both in one process in turn | {assembly['peer']:.3f} | "
+            f"{assembly['this']:.3f} | {assembly['peer'] - assembly['this']:.3f} | "
+            f"{assembly['peer'] / assembly['this']:.2f}x |"
+        )
+        lines.append(
+            f"| peak memory of the child after the run [GB] | {rss['peer']:.2f} | "
+            f"{rss['this']:.2f} | | |"
+        )
         same_metric = metrics["peer"] == metrics["this"]
         lines += [
             "",
@@ -263,6 +350,8 @@ def main(argv=None) -> int:
             + ("bit-identical" if same_heat else f"differs, largest {worst:.2g} relative")
             + "; metrics (variance, std, mean): "
             + ("bit-identical" if same_metric else "DIFFER")
+            + "; assembled networks (every field, every sample): "
+            + ("identical" if assembly["identical"] else "DIFFER")
             + ".",
         ]
     else:

@@ -11,8 +11,9 @@ are the demo campaign's (70 parameters of ``material/*``, ``window/*``, ``infilt
 Two long-lived child processes, one per source (this tree and, with ``--peer COMMIT``, the
 peer's ``src`` extracted once with ``git archive``), build the problem once and then evaluate
 the same samples in turn (A B A B ...), so both see the same machine load. Per sample and
-source: the whole ``evaluate`` wall time and its parts (``set_parameters``; the network
-assembly alone; the identification and metric), best over the rounds. The identified heat and
+source: the whole ``evaluate`` wall time and its parts (the compiled time loop,
+``_kernel.run_steps``, and everything outside it; ``set_parameters``; the network assembly
+alone; the identification and metric), each best over the rounds. The identified heat and
 the metric of every sample are compared between the sources (bit-identical, or the largest
 difference relative to the largest heat). Then, in this tree's child, the network assembly of
 every sample by this ``network.py`` and the peer's, in turn in one process (every field of the
@@ -92,13 +93,20 @@ def _identified_heat(problem, parameters) -> np.ndarray:
 
 
 def _timed_parts(problem, parameters) -> dict:
-    """``set_parameters`` (and the network assembly inside it) timed by wrapping them."""
-    from thermocal.multizone import _network_setup
+    """``set_parameters`` (and the network assembly inside it) and the compiled loop
+    (``_kernel.run_steps``) timed by wrapping them."""
+    from thermocal.multizone import _kernel, _network_setup
 
     sim = problem.simulation()
-    spent = {"set_parameters": 0.0, "assemble": 0.0}
+    spent = {"set_parameters": 0.0, "assemble": 0.0, "compiled loop": 0.0}
     original_set = sim.set_parameters
     original_assemble = _network_setup.assemble
+    original_kernel = _kernel.run_steps
+
+    def run_steps(*args):
+        t0 = time.perf_counter()
+        original_kernel(*args)
+        spent["compiled loop"] += time.perf_counter() - t0
 
     def set_parameters(mapping):
         t0 = time.perf_counter()
@@ -113,6 +121,7 @@ def _timed_parts(problem, parameters) -> dict:
 
     sim.set_parameters = set_parameters
     _network_setup.assemble = assemble
+    _kernel.run_steps = run_steps
     try:
         t0 = time.perf_counter()
         metric = problem.evaluate(parameters)
@@ -120,7 +129,9 @@ def _timed_parts(problem, parameters) -> dict:
     finally:
         del sim.set_parameters
         _network_setup.assemble = original_assemble
+        _kernel.run_steps = original_kernel
     spent["identification + metric"] = spent["sample"] - spent["set_parameters"]
+    spent["outside the compiled loop"] = spent["sample"] - spent["compiled loop"]
     spent["metric"] = metric
     return spent
 
@@ -200,7 +211,7 @@ def child(n_samples: int) -> None:
     problem.evaluate({})  # compile and build once
     print(json.dumps({"ready": True}), flush=True)
     for line in sys.stdin:
-        command, argument = line.split(maxsplit=1)
+        command, _, argument = line.strip().partition(" ")
         if command == "sample":
             parts = _timed_parts(problem, samples[int(argument)])
             metric = parts.pop("metric")
@@ -255,7 +266,14 @@ class Worker:
         self.process.wait(timeout=60)
 
 
-PARTS = ("sample", "set_parameters", "assemble", "identification + metric")
+PARTS = (
+    "sample",
+    "compiled loop",
+    "outside the compiled loop",
+    "set_parameters",
+    "assemble",
+    "identification + metric",
+)
 
 
 def main(argv=None) -> int:

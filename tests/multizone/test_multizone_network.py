@@ -587,3 +587,77 @@ def test_exterior_natural_convection_at_the_face_temperature(algorithm):
         ts = brentq(balance, 0.0, 20.0)
         expected += surface.area * (20.0 - ts) / r_in
     assert result.heating["room"].iloc[-1] == pytest.approx(expected, rel=2e-3)
+
+
+# ----------------------------------------------------------------------------------------------
+# the assembly's blocks of links (issue 22: a calibration sample's re-assembly)
+# ----------------------------------------------------------------------------------------------
+
+
+def _one_at_a_time(links):
+    """The triplets of links added one at a time, as ``assemble``'s ``link`` adds them."""
+    rows, cols, vals = [], [], []
+    for i, j, g in links:
+        rows.extend((i, j, i, j))
+        cols.extend((i, j, j, i))
+        vals.extend((g, g, -g, -g))
+    return rows, cols, vals
+
+
+def test_links_added_as_blocks_keep_the_order_of_one_at_a_time():
+    from thermocal.multizone.network import _Triplets
+
+    rng = np.random.default_rng(3)
+    first = [(int(a), int(b), float(g)) for a, b, g in zip(*rng.integers(0, 9, (2, 5)),
+                                                           rng.random(5), strict=True)]  # fmt: skip
+    block = rng.integers(0, 9, (2, 7))
+    block_g = rng.random(7)
+    last = (4, 2, 0.25)
+    entries = _Triplets()
+    for i, j, g in first:
+        entries.rows.extend((i, j, i, j))
+        entries.cols.extend((i, j, j, i))
+        entries.vals.extend((g, g, -g, -g))
+    entries.add_links(block[0], block[1], block_g)
+    entries.vals.append(0.5)  # a single boundary entry
+    entries.rows.append(last[0])
+    entries.cols.append(last[0])
+    entries.add_links([last[0]], [last[1]], [last[2]], before_pending=True)
+    vals, (rows, cols) = entries.arrays()
+    expected = _one_at_a_time(first + list(zip(*block.tolist(), block_g.tolist(), strict=True)))
+    expected_last = _one_at_a_time([last])
+    assert rows.tolist() == expected[0] + expected_last[0] + [last[0]]
+    assert cols.tolist() == expected[1] + expected_last[1] + [last[0]]
+    assert vals.tolist() == expected[2] + expected_last[2] + [0.5]
+
+
+@pytest.mark.parametrize("conduction", ["full", "reduced"])
+def test_chain_links_of_many_surfaces_are_each_template_link_times_its_area(conduction):
+    from thermocal.multizone.network import _chain_links
+
+    options = NetworkOptions(conduction=conduction)
+    wall = [Material("brick", 0.8, 1800.0, 900.0, 0.2), NoMassMaterial("film", 0.5),
+            Material("wool", 0.04, 30.0, 1000.0, 0.1)]  # fmt: skip
+    slab = [Material("concrete", 1.8, 2300.0, 900.0, 0.25)]
+    templates = [construction_template(layers, 300.0, options) for layers in (wall, slab)]
+    chains = [(templates[0], 4, 12.5), (templates[1], 40, 3.0), (templates[0], 90, 0.7)]
+    i, j, g = _chain_links(chains)
+    expected = [
+        (first + a, first + b, c * area) for tpl, first, area in chains for a, b, c in tpl.links
+    ]
+    assert len(expected) > 6
+    assert i.tolist() == [e[0] for e in expected]
+    assert j.tolist() == [e[1] for e in expected]
+    assert g.tolist() == [e[2] for e in expected]
+    empty = _chain_links([])
+    assert all(len(a) == 0 for a in empty)
+
+
+def test_zone_members_are_each_zones_faces_in_ascending_order():
+    from thermocal.multizone.network import _zone_members
+
+    face_zone = np.array([2, 0, 2, 3, 0, 2, 3, 3, 0, 5])
+    members = _zone_members(face_zone, 7)
+    assert len(members) == 7
+    for z in range(7):
+        assert members[z].tolist() == np.flatnonzero(face_zone == z).tolist()

@@ -233,3 +233,32 @@ def test_set_parameters_reuses_the_cache_and_gives_the_fresh_network(conduction)
     )
     assert_same_network(sim.network, fresh.network)
     assert not np.array_equal(before["conductance"], network_arrays(sim.network)["conductance"])
+
+
+def test_window_inputs_of_earlier_parameters_are_not_kept():
+    """A campaign changes the SHGC at every sample: the window inputs of the earlier values are
+    dropped (they grew by ~2 MB a sample on the clinic's month), and the inputs are a fresh
+    simulation's."""
+    from thermocal.demos import buildings as generators
+    from thermocal.demos.retrofit import pvlib_weather_path
+    from thermocal.io.weather import read_weather
+
+    weather, meta = read_weather(pvlib_weather_path())
+    building = generators.clinic(12, n_corridors=1, corridor_sections=2)
+    common = dict(step="1h", start="2001-06-01", end="2001-06-03", warmup_days=0)
+    sim = Simulation(building, weather, meta, **common)
+    shgc = "window/Exterior window/shgc"
+
+    def window_keys():
+        return {key for key in sim._input_cache if key[0] == "window"}
+
+    first = window_keys()
+    assert first
+    for value in (0.3, 0.45):
+        sim.set_parameters({shgc: value})
+        keys = window_keys()
+        assert len(keys) == len(first)  # one entry a window type and orientation
+        assert {key[2] for key in keys if key[1] == "Exterior window"} == {value}
+        fresh = Simulation(building.with_parameters({shgc: value}), weather, meta, **common)
+        assert np.array_equal(sim._inputs, fresh._inputs)
+        first = keys

@@ -101,6 +101,7 @@ class IdentificationProblem:
         state["_sim"] = None
         state["_touched"] = set()
         state["_reference"] = None
+        state["_mask"] = None
         state.pop("_form", None)
         state.pop("_zones", None)
         return state
@@ -157,6 +158,28 @@ class IdentificationProblem:
         -------
         thermocal.multizone.simulation.TrackingResult
         """
+        sim = self._with_parameters(parameters)
+        result = sim.track(self._reference, zones=self._zones, **self._track_options())
+        _refuse_diverged(result.diverged)
+        return result
+
+    def identified_heat(self, parameters: Mapping[str, float] | None = None) -> np.ndarray:
+        """The identified heat alone for the given parameters (others nominal): what a
+        campaign sample needs, without the temperature frames of :meth:`run`.
+
+        Returns
+        -------
+        ndarray (n_steps, n_tracked) [W]
+            Bit-identical to ``run(parameters).heat.to_numpy()``; columns in the order of the
+            tracked zones (``building.zones`` order).
+        """
+        sim = self._with_parameters(parameters)
+        result = sim.track_heat(self._reference, zones=self._zones, **self._track_options())
+        _refuse_diverged(result.diverged)
+        return result.heat
+
+    def _with_parameters(self, parameters: Mapping[str, float] | None):
+        """The simulation with ``parameters`` set and every other parameter nominal."""
         sim = self.simulation()
         parameters = dict(parameters or {})
         nominal = {**self.nominal, **self.element_nominal}
@@ -172,15 +195,12 @@ class IdentificationProblem:
         if change:
             sim.set_parameters(change)
         self._touched = set(parameters)
+        return sim
+
+    def _track_options(self) -> dict:
+        """Keyword arguments of the tracking call: method, sensor model, form, PID."""
         kwargs = {"pid": self._pid} if self.method == "pid" else {}
-        result = sim.track(
-            self._reference, zones=self._zones, method=self.method, **self._form, **kwargs
-        )
-        if result.diverged:
-            raise ThermocalInputError(
-                f"the PID loop diverges with these parameters in zones {result.diverged[:5]}"
-            )
-        return result
+        return {"method": self.method, **self._form, **kwargs}
 
     def evaluate(self, parameters: Mapping[str, float]) -> dict[str, float]:
         """The metric for one parameter set.
@@ -191,13 +211,35 @@ class IdentificationProblem:
             ``unoccupied_variance`` [W^2], ``unoccupied_std`` [W], ``unoccupied_mean`` [W] of
             the building-wide Q_ID, and ``zone_variance/<zone>`` [W^2] when ``zone_outputs``.
         """
-        result = self.run(parameters)
-        return self.metrics(result.heat)
+        heat = self.identified_heat(parameters)
+        times = self._sim.times
+        key = (repr(self.schedule.as_dict()), self.settle)
+        if getattr(self, "_mask", None) is None or self._mask[0] != key:
+            self._mask = (key, unoccupied_steps(times, self.schedule, settle=self.settle))
+        return self._metric_values(heat, times, self._zones, self._mask[1])
 
     def metrics(self, heat: pd.DataFrame) -> dict[str, float]:
         """The outputs of :meth:`evaluate` from identified heat per zone [W]."""
         mask = unoccupied_steps(heat.index, self.schedule, settle=self.settle)
-        values = heat.to_numpy()[mask]
+        return self._metric_values(heat.to_numpy(), heat.index, list(heat.columns), mask)
+
+    def _metric_values(
+        self, heat: np.ndarray, times: pd.DatetimeIndex, zones: Sequence[str], mask: np.ndarray
+    ) -> dict[str, float]:
+        """The outputs of :meth:`evaluate`.
+
+        Parameters
+        ----------
+        heat : ndarray (n_steps, n_zones) [W]
+            Identified heat per step and zone.
+        times : DatetimeIndex
+            The steps' start labels.
+        zones : sequence of str
+            The columns' zones.
+        mask : ndarray of bool (n_steps,)
+            The unoccupied steps (:func:`~thermocal.identification.metrics.unoccupied_steps`).
+        """
+        values = heat[mask]
         total = values.sum(axis=1)
         out = {
             METRIC: float(np.var(total)),
@@ -205,14 +247,10 @@ class IdentificationProblem:
             "unoccupied_mean": float(np.mean(total)),
         }
         if self.zone_outputs:
-            for zone, variance in zip(heat.columns, np.var(values, axis=0), strict=True):
+            for zone, variance in zip(zones, np.var(values, axis=0), strict=True):
                 out[f"zone_variance/{zone}"] = float(variance)
         if self.series_outputs:
-            hours = (
-                pd.Series(total, index=heat.index[mask])
-                .groupby(heat.index[mask].floor("1h"))
-                .mean()
-            )
+            hours = pd.Series(total, index=times[mask]).groupby(times[mask].floor("1h")).mean()
             for i, value in enumerate(hours.to_numpy()):
                 out[f"series/{i:05d}"] = float(value)
         return out
@@ -377,6 +415,14 @@ def problem_from_measurements(
 def split_outputs(outputs: Mapping[str, float], zones: Sequence[str]) -> pd.Series:
     """Per-zone variances of an :meth:`IdentificationProblem.evaluate` output [W^2]."""
     return pd.Series({z: outputs.get(f"zone_variance/{z}", np.nan) for z in zones})
+
+
+def _refuse_diverged(diverged: Sequence[str]) -> None:
+    """Refuse a run whose PID loop diverged in the zones ``diverged``."""
+    if diverged:
+        raise ThermocalInputError(
+            f"the PID loop diverges with these parameters in zones {list(diverged)[:5]}"
+        )
 
 
 def _is_per_step(radiant_fraction) -> bool:

@@ -175,6 +175,7 @@ class ForcingSetup:
         u[:, IN_TEMP_GROUND] = self._ground_temperature()
         u[:, IN_ONE] = 1.0
         # solar
+        used_windows: set = set()
         orientations = {k[:2] for k in net.orientation_inputs}
         orientations.update((k[1], k[2]) for k in net.window_inputs)
         if orientations:
@@ -201,6 +202,7 @@ class ForcingSetup:
                 wt_name, tilt, az = wkey[:3]
                 wt = self.building.window_types[wt_name]
                 key = ("window", wt_name, wt.shgc, wt.solar_transmittance, *wkey[1:])
+                used_windows.add(key)
                 if key not in self._input_cache:
                     source = irr[(tilt, az)]
                     if len(wkey) == 4:
@@ -208,6 +210,7 @@ class ForcingSetup:
                     self._input_cache[key] = _window_inputs(wt, source, n_steps)
                 for col, values in zip(cols, self._input_cache[key], strict=True):
                     u[:, col] = values
+        _drop_unused(self._input_cache, "window", used_windows)
         interior = []
         for window, (beam_col, area, targets) in net.window_beam_targets.items():
             names, shares, step_row = self._interior_beam[window]
@@ -458,3 +461,22 @@ class ForcingSetup:
             total_weight[z] += weight
         radiant = np.divide(radiant_weight, total_weight, out=np.zeros(nz), where=total_weight > 0)
         return np.ascontiguousarray(constant), np.ascontiguousarray(limit), radiant
+
+
+def _drop_unused(cache: dict, kind: str, used: set) -> None:
+    """Forget the entries of ``kind`` (their keys' first item) that the current network does not
+    use: a calibration campaign changes a window's SHGC at every sample, and each value's
+    window inputs (4 columns of the period, ~0.3 MB a window orientation on the clinic's month)
+    would otherwise stay for the rest of the campaign.
+
+    Parameters
+    ----------
+    cache : dict
+        Keys are tuples whose first item names their kind.
+    kind : str
+    used : set
+        The keys of ``kind`` to keep.
+    """
+    stale = [key for key in cache if key[0] == kind and key not in used]
+    for key in stale:
+        del cache[key]

@@ -629,6 +629,108 @@ class ConstructionTemplate:
             (int(i), int(j), float(-self.matrix[i, j])) for i, j in zip(rows, cols, strict=True)
         ]
 
+    @functools.cached_property
+    def link_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:attr:`links` as arrays: nodes ``i``, ``j`` and conductance [W/(m2 K)]."""
+        links = self.links
+        return (
+            np.asarray([link[0] for link in links], dtype=np.int64),
+            np.asarray([link[1] for link in links], dtype=np.int64),
+            np.asarray([link[2] for link in links], dtype=float),
+        )
+
+
+def _chain_links(chains) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The conduction links of many surfaces at once, surface after surface in template order.
+
+    Parameters
+    ----------
+    chains : sequence of (ConstructionTemplate, int, float)
+        Each surface's template, its first node and its net area [m2].
+
+    Returns
+    -------
+    i, j : ndarray of int
+        The linked nodes.
+    g : ndarray [W/K]
+        Their conductances (per-m2 conductance x area).
+    """
+    if not chains:
+        empty = np.zeros(0, dtype=np.int64)
+        return empty, empty, np.zeros(0)
+    local = [tpl.link_arrays for tpl, _, _ in chains]
+    counts = [len(arrays[0]) for arrays in local]
+    first = np.repeat(np.asarray([c[1] for c in chains], dtype=np.int64), counts)
+    area = np.repeat(np.asarray([c[2] for c in chains], dtype=float), counts)
+    return (
+        first + np.concatenate([a[0] for a in local]),
+        first + np.concatenate([a[1] for a in local]),
+        np.concatenate([a[2] for a in local]) * area,
+    )
+
+
+def _zone_members(face_zone: np.ndarray, n_zones: int) -> list[np.ndarray]:
+    """The faces of each zone, ascending (``np.flatnonzero(face_zone == z)`` for every zone)."""
+    order = np.argsort(face_zone, kind="stable")
+    bounds = np.searchsorted(face_zone[order], np.arange(n_zones + 1))
+    return [order[bounds[z] : bounds[z + 1]] for z in range(n_zones)]
+
+
+class _Triplets:
+    """The (row, column, value) triplets of a sparse matrix in the order they are added: one at a
+    time into the lists ``rows``, ``cols``, ``vals`` (pending), many at once as arrays.
+
+    The order matters: the conversion to a compressed matrix sums the values of a repeated
+    position in an order that depends on the positions of each column's triplets.
+    """
+
+    def __init__(self) -> None:
+        self.rows: list[int] = []
+        self.cols: list[int] = []
+        self.vals: list[float] = []
+        self._blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+
+    def flush(self) -> None:
+        """Move the pending single triplets into a block."""
+        if self.rows:
+            self._blocks.append(
+                (
+                    np.asarray(self.rows, dtype=np.int64),
+                    np.asarray(self.cols, dtype=np.int64),
+                    np.asarray(self.vals, dtype=float),
+                )
+            )
+            self.rows.clear()
+            self.cols.clear()
+            self.vals.clear()
+
+    def add_links(self, i, j, g, *, before_pending: bool = False) -> None:
+        """Conductances ``g`` [W/K] between nodes ``i`` and ``j`` (arrays): per link the
+        triplets ``(i, i, g), (j, j, g), (i, j, -g), (j, i, -g)``, as one link at a time.
+
+        ``before_pending``: the block goes before the pending single triplets.
+        """
+        i = np.asarray(i, dtype=np.int64)
+        j = np.asarray(j, dtype=np.int64)
+        g = np.asarray(g, dtype=float)
+        if not before_pending:
+            self.flush()
+        self._blocks.append(
+            (
+                np.stack([i, j, i, j], axis=1).ravel(),
+                np.stack([i, j, j, i], axis=1).ravel(),
+                np.stack([g, g, -g, -g], axis=1).ravel(),
+            )
+        )
+
+    def arrays(self) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray]]:
+        """``(values, (rows, cols))`` of every triplet, as ``scipy.sparse.coo_matrix`` takes."""
+        self.flush()
+        if not self._blocks:
+            return np.zeros(0), (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
+        rows, cols, vals = (np.concatenate(parts) for parts in zip(*self._blocks, strict=True))
+        return vals, (rows, cols)
+
 
 def construction_template(
     layers, step: float, options: NetworkOptions, cache: dict | None = None
@@ -841,17 +943,19 @@ def assemble(
     nz = len(zones)
 
     cap: list[float] = [0.0] * nz  # air nodes first
-    rows: list[int] = []
-    cols: list[int] = []
-    vals: list[float] = []
+    cap_blocks: list[np.ndarray] = []  # then the capacities of every later block of nodes
+    n_nodes = [nz]
+    entries = _Triplets()  # the conductance matrix K
+    rows, cols, vals = entries.rows, entries.cols, entries.vals
     b_rows: list[int] = []
     b_cols: list[int] = []
     b_vals: list[float] = []
     input_names = ["temp_out", "temp_sky", "temp_ground", "one"]
 
     def new_nodes(capacities) -> int:
-        first = len(cap)
-        cap.extend(capacities)
+        first = n_nodes[0]
+        cap_blocks.append(np.asarray(capacities, dtype=float))
+        n_nodes[0] += len(cap_blocks[-1])
         return first
 
     def link(i: int, j: int, g: float) -> None:
@@ -929,15 +1033,21 @@ def assemble(
             mat.thermal_absorptance if eps is None else eps,
         )
 
+    # the conduction links of every surface go in one block, before the loop's single entries
+    # (each surface's own nodes get their links first, as one link at a time did)
+    entries.flush()
+    chains: list[tuple[ConstructionTemplate, int, float]] = []
+    layers_of: dict[str, list] = {}
     for surface in building.surfaces.values():
         if surface.name in surface_nodes:
             continue  # partner of an already built partition
-        layers = building.construction_layers(surface.construction)
+        if surface.construction not in layers_of:
+            layers_of[surface.construction] = building.construction_layers(surface.construction)
+        layers = layers_of[surface.construction]
         tpl = template(surface.construction)
         area = surface.area - window_area_of.get(surface.name, 0.0)
         first = new_nodes(tpl.capacity * area)
-        for i, j, g in tpl.links:
-            link(first + i, first + j, g * area)
+        chains.append((tpl, first, area))
         outside, inside = first, first + len(tpl.capacity) - 1
         surface_nodes[surface.name] = (outside, inside)
         alpha_in, eps_in = face_props(surface, layers, inside=True)
@@ -1010,6 +1120,7 @@ def assemble(
             cols.extend(mirror_cols)
             vals.extend(mirror_vals)
         # adiabatic: nothing on the outside
+    entries.add_links(*_chain_links(chains), before_pending=True)
 
     # ---- windows -----------------------------------------------------------------------------
     window_nodes: dict[str, tuple[int, int]] = {}
@@ -1078,6 +1189,7 @@ def assemble(
     face_back = np.reshape(np.asarray(f_back, dtype=float), (len(f_back), 2))
     # orientation and mass flag of every face, converted once (indexed per zone below)
     tilt_all, az_all, mass_all = np.asarray(f_tilt), np.asarray(f_az), np.asarray(f_mass)
+    members_of = _zone_members(face_zone, nz)
 
     def zone_view(members: np.ndarray) -> np.ndarray:
         """Approximate view factors of the faces ``members`` of a zone, once per distinct zone
@@ -1125,8 +1237,7 @@ def assemble(
         else:
             h0 = np.where(face_cos > 0.7, 0.7, np.where(face_cos < -0.7, 5.0, 2.5))
         hmax = h0.copy()
-    for node, zone, area, h in zip(face_node, face_zone, face_area, h0, strict=True):
-        link(int(node), int(zone), float(h * area))
+    entries.add_links(face_node, face_zone, h0 * face_area)
 
     # ---- interior long-wave: MRT star per zone, or pairwise exchange factors ------------------
     mrt_node = -np.ones(nz, dtype=np.int64)
@@ -1142,7 +1253,7 @@ def assemble(
         )
     if options.interior_longwave and options.interior_longwave_exchange == "view_factors":
         for z in range(nz):
-            members = np.flatnonzero(face_zone == z)
+            members = members_of[z]
             if len(members) < 2:
                 continue
             key = (
@@ -1158,17 +1269,19 @@ def assemble(
             script_f = cache[key]
             g = h_black * face_area[members][:, None] * script_f
             g = 0.5 * (g + g.T)
-            for i in range(len(members)):
-                for j in range(i + 1, len(members)):
-                    if g[i, j] > 0.0:
-                        a, b = int(face_node[members[i]]), int(face_node[members[j]])
-                        link(a, b, float(g[i, j]))
-                        pair_a.append(a)
-                        pair_b.append(b)
-                        pair_g.append(float(g[i, j]))
+            upper_i, upper_j = np.triu_indices(len(members), 1)  # row by row, as the pairs
+            seen = g[upper_i, upper_j] > 0.0
+            upper_i, upper_j = upper_i[seen], upper_j[seen]
+            pair_a.extend(face_node[members[upper_i]].tolist())
+            pair_b.extend(face_node[members[upper_j]].tolist())
+            pair_g.extend(g[upper_i, upper_j].tolist())
+        entries.add_links(pair_a, pair_b, pair_g)
     elif options.interior_longwave:
+        star_i: list[np.ndarray] = []
+        star_j: list[np.ndarray] = []
+        star_g: list[np.ndarray] = []
         for z in range(nz):
-            members = np.flatnonzero(face_zone == z)
+            members = members_of[z]
             if len(members) < 2:
                 continue
             node = new_nodes([0.0])
@@ -1180,8 +1293,13 @@ def assemble(
                 )
             g = cache[mrt_key]
             face_mrt_g[members] = g
-            for m, gm in zip(members, g, strict=True):
-                link(int(face_node[m]), node, float(gm))
+            star_i.append(face_node[members])
+            star_j.append(np.full(len(members), node, dtype=np.int64))
+            star_g.append(np.asarray(g, dtype=float))
+        if star_i:
+            entries.add_links(
+                np.concatenate(star_i), np.concatenate(star_j), np.concatenate(star_g)
+            )
 
     # ---- internal gains ----------------------------------------------------------------------
     # radiant internal gains (and the radiant part of identified heat) are shared by the zone's
@@ -1192,7 +1310,7 @@ def assemble(
             continue
         radiative = zone.internal_gains * zone.internal_gains_radiative_fraction
         source(z, IN_ONE, zone.internal_gains - radiative)
-        members = np.flatnonzero(face_zone == z)
+        members = members_of[z]
         if len(members) == 0:
             source(z, IN_ONE, radiative)
             continue
@@ -1203,7 +1321,7 @@ def assemble(
         z = zone_index[name]
         source(z, new_input(f"gains_convective/{name}"), 1.0)
         column = new_input(f"gains_radiant/{name}")
-        members = np.flatnonzero(face_zone == z)
+        members = members_of[z]
         if len(members) == 0:
             source(z, column, 1.0)
             continue
@@ -1310,19 +1428,29 @@ def assemble(
     zone_members: dict[int, np.ndarray] = {}
     isabsf: dict[int, list[tuple[int, float]]] = {}  # (node, weight) of the reflected pool
     view: dict[int, np.ndarray] = {}
+    # per-face values as Python floats for the loops below (the same double arithmetic as numpy
+    # scalars, without their overhead)
+    is_window_of, glazed_of, area_of, alpha_of, tau_of, node_of = (
+        a.tolist()
+        for a in (face_is_window, face_glazed, face_area, face_alpha, face_tau, face_node)
+    )
+    back_outer_of, back_inner_of = face_back[:, 0].tolist(), face_back[:, 1].tolist()
+    back_sum_of = face_back.sum(axis=1).tolist()
+    member_list: dict[int, list[int]] = {}
     for z in range(nz):
-        members = np.flatnonzero(face_zone == z)
+        members = members_of[z]
         if len(members) == 0:
             continue
         zone_members[z] = members
+        member_list[z] = members.tolist()
         pool = []
-        for m in members:
-            if face_is_window[m]:
+        for m in member_list[z]:
+            if is_window_of[m]:
                 outer, inner = window_nodes[f_name[m]]
-                pool.append((outer, face_glazed[m] * face_back[m, 0]))
-                pool.append((inner, face_glazed[m] * face_back[m, 1]))
+                pool.append((outer, glazed_of[m] * back_outer_of[m]))
+                pool.append((inner, glazed_of[m] * back_inner_of[m]))
             else:
-                pool.append((int(face_node[m]), face_area[m] * face_alpha[m]))
+                pool.append((node_of[m], area_of[m] * alpha_of[m]))
         total = face_area[members] @ np.where(face_is_window[members], 0.0, face_alpha[members])
         total += face_glazed[members] @ np.where(
             face_is_window[members], face_tau[members] + face_back[members].sum(axis=1), 0.0
@@ -1335,19 +1463,19 @@ def assemble(
         zone ``z`` with the fractions ``fractions`` (per member)."""
         absorbed: dict[int, float] = {}
         reflected = 0.0
-        for m, f in zip(zone_members[z], fractions, strict=True):
+        for m, f in zip(member_list[z], np.asarray(fractions).tolist(), strict=True):
             if f <= 0:
                 continue
-            if face_is_window[m]:
-                glazed = face_glazed[m] / face_area[m]
+            if is_window_of[m]:
+                glazed = glazed_of[m] / area_of[m]
                 outer, inner = window_nodes[f_name[m]]
-                absorbed[outer] = absorbed.get(outer, 0.0) + f * glazed * face_back[m, 0]
-                absorbed[inner] = absorbed.get(inner, 0.0) + f * glazed * face_back[m, 1]
-                reflected += f * (1.0 - glazed * (face_tau[m] + face_back[m].sum()))
+                absorbed[outer] = absorbed.get(outer, 0.0) + f * glazed * back_outer_of[m]
+                absorbed[inner] = absorbed.get(inner, 0.0) + f * glazed * back_inner_of[m]
+                reflected += f * (1.0 - glazed * (tau_of[m] + back_sum_of[m]))
             else:
-                node = int(face_node[m])
-                absorbed[node] = absorbed.get(node, 0.0) + f * face_alpha[m]
-                reflected += f * (1.0 - face_alpha[m])
+                node = node_of[m]
+                absorbed[node] = absorbed.get(node, 0.0) + f * alpha_of[m]
+                reflected += f * (1.0 - alpha_of[m])
         return absorbed, reflected
 
     def with_reflection(z: int, absorbed: dict[int, float], reflected: float):
@@ -1422,14 +1550,14 @@ def assemble(
         zt_cols.extend((c_beam, c_diff))
         zt_vals.extend((area, area))
 
-    n = len(cap)
+    n = n_nodes[0]
     n_inputs = len(input_names)
-    conductance = sp.coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsc()
+    conductance = sp.coo_matrix(entries.arrays(), shape=(n, n)).tocsc()
     inputs = sp.coo_matrix((b_vals, (b_rows, b_cols)), shape=(n, n_inputs)).tocsr()
     zone_transmitted = sp.coo_matrix((zt_vals, (zt_rows, zt_cols)), shape=(nz, n_inputs)).tocsr()
     return Network(
         n_nodes=n,
-        capacity=np.asarray(cap, dtype=float),
+        capacity=np.concatenate([np.asarray(cap, dtype=float), *cap_blocks]),
         conductance=conductance,
         inputs=inputs,
         input_names=input_names,

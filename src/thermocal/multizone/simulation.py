@@ -39,6 +39,7 @@ from thermocal.multizone._simtools import (  # noqa: F401 - re-exported
 )
 from thermocal.multizone._stepping import Stepping
 from thermocal.multizone._tracking import Tracking
+from thermocal.multizone._tracking_heat import TrackedHeat
 from thermocal.multizone.forcing import (  # noqa: F401 - re-exported
     _energyplus_weather,
     _ground_reflectance,
@@ -68,7 +69,7 @@ from thermocal.multizone.results import (  # noqa: F401 - re-exported
 ENERGYPLUS_INITIAL_TEMPERATURE = 23.0
 
 
-class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, Outputs):
+class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Outputs):
     """Simulate a :class:`~thermocal.multizone.model.Building` over a weather period.
 
     Parameters

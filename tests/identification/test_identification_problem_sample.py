@@ -88,3 +88,17 @@ def test_a_diverging_pid_is_refused_by_the_lean_path_too():
     for call in (problem.evaluate, problem.run):
         with pytest.raises(ThermocalInputError, match="PID loop diverges"):
             call(PARAMETERS)
+
+
+def test_the_campaign_evaluator_takes_the_lean_path_with_the_same_outputs():
+    """``thermocal calibrate``'s evaluator (metrics and zone-group series) from the identified
+    heat alone: the same outputs as from the whole tracking result, bit for bit."""
+    from thermocal.calibration.spatial import campaign_evaluator
+
+    problem = _problem()
+    evaluator = campaign_evaluator(problem, problem.building)
+    for parameters in (PARAMETERS, {}):
+        frame = problem.identified_heat_frame(parameters)
+        heat = problem.run(parameters).heat
+        pd.testing.assert_frame_equal(frame, heat)
+        assert evaluator.evaluate(parameters) == evaluator.outputs(heat)

@@ -186,8 +186,10 @@ class CampaignEvaluator:
         return out
 
     def evaluate(self, parameters: Mapping[str, float]) -> dict[str, float]:
-        """The outputs for one parameter set (others nominal)."""
-        return self.outputs(self.problem.run(parameters).heat)
+        """The outputs for one parameter set (others nominal), from the identified heat alone
+        (:meth:`IdentificationProblem.identified_heat`: the tracking result's temperature
+        frames are not built)."""
+        return self.outputs(self.problem.identified_heat_frame(parameters))
 
 
 def campaign_evaluator(problem, building) -> CampaignEvaluator:

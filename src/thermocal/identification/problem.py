@@ -178,6 +178,12 @@ class IdentificationProblem:
         _refuse_diverged(result.diverged)
         return result.heat
 
+    def identified_heat_frame(self, parameters: Mapping[str, float] | None = None) -> pd.DataFrame:
+        """:meth:`identified_heat` labelled as ``run(parameters).heat`` (steps x tracked
+        zones) [W], without the temperature frames of :meth:`run`."""
+        heat = self.identified_heat(parameters)
+        return pd.DataFrame(heat, index=self._sim.times, columns=list(self._zones))
+
     def _with_parameters(self, parameters: Mapping[str, float] | None):
         """The simulation with ``parameters`` set and every other parameter nominal."""
         sim = self.simulation()

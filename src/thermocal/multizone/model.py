@@ -1006,6 +1006,7 @@ class Building:
         window_types = dict(self.window_types)
         zones = dict(self.zones)
         known = None
+        groups = None
         for key, value in mapping.items():
             parts = str(key).split("/")
             kind, attr = parts[0], parts[-1]
@@ -1036,10 +1037,12 @@ class Building:
                 # the group's mean rate: members scaled in proportion, their differences kept
                 # (the nominal value reproduces the nominal building)
                 members = [z for z in zones.values() if z.infiltration_group == name]
-                mean = float(np.mean([z.infiltration_ach for z in members])) if members else 0.0
+                groups = dict(groups if groups is not None else self._infiltration_groups())
+                rates, mean = _group_base(groups.get(name), members)
                 for zone in members:
-                    rate = zone.infiltration_ach * (value / mean) if mean > 0 else value
+                    rate = rates[zone.name] * (value / mean) if mean > 0 else value
                     zones[zone.name] = dataclasses.replace(zone, infiltration_ach=rate)
+                groups[name] = (rates, mean, float(value))
                 ok = bool(members)
             if not ok:
                 known = known if known is not None else list(self.parameters())
@@ -1048,7 +1051,15 @@ class Building:
                 raise ThermocalInputError(
                     f"unknown building parameter '{key}'{hint} (see Building.parameters())"
                 )
-        return self.replaced(materials=materials, window_types=window_types, zones=zones)
+        result = self.replaced(materials=materials, window_types=window_types, zones=zones)
+        if groups is not None:
+            result.infiltration_groups = groups
+        return result
+
+    def _infiltration_groups(self) -> dict:
+        """Per infiltration group scaled so far: the members' rates and mean it was scaled
+        from and the last group value (travels with the building, see :func:`_group_base`)."""
+        return getattr(self, "infiltration_groups", None) or {}
 
     def _with_infiltration_factor(self, value: float, rest: Mapping[str, float]) -> Building:
         """``with_parameters`` with ``infiltration/building/factor``: the other names first,
@@ -1116,3 +1127,37 @@ def construction_u_value(
     """
     total = inside_resistance + outside_resistance + sum(layer.resistance for layer in layers)
     return 1.0 / total
+
+
+def _group_base(stored, members) -> tuple[dict, float]:
+    """The rates and mean an infiltration group is scaled from [1/h].
+
+    The first scaling takes the members' current rates. Later ones take the same rates again
+    as long as every member still has the rate the last scaling gave it: a campaign that sets
+    the group sample after sample on one simulation then gives a sample's rates from the
+    sample's value alone, not from the rates the previous samples left (scaling the last
+    rates by a ratio drifts by round-off, so the same sample's heat differed by up to 5e-11
+    depending on what its worker had run before). A member changed otherwise since (e.g.
+    ``zone/<name>/infiltration_ach``) starts a new base.
+
+    Parameters
+    ----------
+    stored : tuple (rates, mean, value) or None
+        The group's entry in ``Building.infiltration_groups``.
+    members : list of Zone
+        The group's zones now.
+
+    Returns
+    -------
+    rates : dict of zone name -> rate [1/h]
+    mean : float [1/h]
+    """
+    current = {z.name: z.infiltration_ach for z in members}
+    if stored is not None:
+        rates, mean, value = stored
+        if set(rates) == set(current) and all(
+            current[n] == (rates[n] * (value / mean) if mean > 0 else value) for n in current
+        ):
+            return rates, mean
+    mean = float(np.mean(list(current.values()))) if current else 0.0
+    return current, mean

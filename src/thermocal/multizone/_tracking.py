@@ -19,8 +19,6 @@ from thermocal.multizone._simtools import (
     _NO_IMPLICIT,
     _Context,
     _hourly_first_day,
-    _progress,
-    _tracking_form,
 )
 from thermocal.multizone.results import (
     TrackingResult,
@@ -286,124 +284,25 @@ class Tracking:
         -------
         TrackingResult
         """
-        net = self.network
-        nz = len(net.zone_names)
-        n_steps = len(self.times)
-        tracked = self._zone_indices(zones)
-        nt = len(tracked)
-        reference = np.ascontiguousarray(reference, dtype=float)
-        if reference.shape != (n_steps, nt):
-            raise ThermocalInputError(
-                f"track: reference must have shape (n_steps, n_zones) = ({n_steps}, {nt}), got "
-                f"{reference.shape}"
-            )
-        if not np.isfinite(reference).all():
-            raise ThermocalInputError("track: the reference contains NaN or infinite values")
-        if method not in ("inverse", "pid"):
-            raise ThermocalInputError(f"track: method must be 'inverse' or 'pid', got {method!r}")
-        rows, starts = _radiant_rows(radiant_fraction, n_steps, nt)
-        form = _tracking_form(feedback, rows.mean(axis=0) if starts else radiant_fraction, nt)
-        if method == "pid":
-            if pid is None:
-                raise ThermocalInputError("track: method='pid' needs the controller coefficients")
-            pid = tuple(np.ascontiguousarray(np.broadcast_to(c, nt), dtype=float) for c in pid)
-        else:
-            pid = (np.zeros(nt), np.zeros(nt), np.zeros(nt))
-        if limits is None:
-            q_low, q_high = np.full(nt, -np.inf), np.full(nt, np.inf)
-        else:
-            q_low = np.ascontiguousarray(np.broadcast_to(limits[0], nt), dtype=float)
-            q_high = np.ascontiguousarray(np.broadcast_to(limits[1], nt), dtype=float)
-            if np.any(q_low > q_high):
-                raise ThermocalInputError("track: a lower heat limit exceeds its upper limit")
-        heat = self._heat_array(heat_input, n_steps, nz)
-        self._x = np.full(net.n_nodes, self.initial_temperature)
-        self._face_root = np.ones(len(net.face_node))
-        self._reset_ideal_state()
-        self._k = 0
-        fine, g_fine, distribution = self._tracking_context(tracked, form, coarse=False)
-        # pieces of constant form: (first step, its form), in step order
-        pieces = [(0, form)]
-        if starts:
-            pieces = [(k, (form[0], tuple(float(v) for v in rows[k]))) for k in starts]
-        state = {
-            "zones": tracked,
-            "dummy_sp": np.zeros((1, nt)),
-            "general": g_fine.shape[0] > 0,
-            "w_air": np.asarray(form[0], dtype=float),
-            "distribution": distribution,
-            "pid": pid,
-            "pid_state": np.zeros((nt, 2)),
-            "feedback": reference[0].copy(),
-            "q_low": q_low,
-            "q_high": q_high,
-        }
-        q0 = np.zeros(nt)
-        if self.warmup_days > 0:
-            q0 = self._warm_up_tracking(tracked, form, reference, state)
-        if method == "pid":
-            ki = pid[1] + pid[2]  # C1 + C2 = KI
-            start = np.divide(np.clip(q0, q_low, q_high), ki, out=np.zeros(nt), where=ki > 0)
-            state["pid_state"][:, 0] = start
-            state["pid_state"][:, 1] = start
-        air = np.empty((n_steps, nz))
-        mrt = np.empty((n_steps, nz))
-        q = np.empty((n_steps, nt))
-        bar = _progress(progress, n_steps)
-        bounds = [k for k, _ in pieces[1:]] + [n_steps]
-        try:
-            for k0, n, piece in _chunks(bounds, n_steps):
-                if len(pieces) > 1:
-                    fine, g_fine, distribution = self._tracking_context(
-                        tracked, pieces[piece][1], coarse=False
-                    )
-                    state.update(general=g_fine.shape[0] > 0, distribution=distribution)
-                state.update(
-                    mode=1 if method == "inverse" else 2,
-                    reference=reference[k0 : k0 + n],
-                    g_inverse=g_fine,
-                    out_q=np.empty((n, nt)),
-                )
-                out = self._advance(
-                    k0,
-                    n,
-                    heat[k0 : k0 + n],
-                    ideal=False,
-                    store=False,
-                    context=fine,
-                    tracking=state,
-                )
-                air[k0 : k0 + n] = out[0]
-                mrt[k0 : k0 + n] = out[1]
-                q[k0 : k0 + n] = state["out_q"]
-                if bar is not None:
-                    bar[0].update(bar[1], advance=n)
-                if not np.isfinite(state["feedback"]).all():
-                    air[k0 + n :] = np.nan
-                    mrt[k0 + n :] = np.nan
-                    q[k0 + n :] = np.nan
-                    break
-        finally:
-            if bar is not None:
-                bar[0].stop()
-        self._k = n_steps
-        weight = np.asarray(form[0], dtype=float)
-        diverged = ~np.isfinite(state["feedback"])
-        names = [net.zone_names[i] for i in tracked]
+        loop = self._tracking_loop(
+            reference, zones=zones, method=method, feedback=feedback,
+            radiant_fraction=radiant_fraction, pid=pid, limits=limits, heat_input=heat_input,
+            temperatures=True, progress=progress,
+        )  # fmt: skip
+        zone_names = self.network.zone_names
+        names, air, mrt, weight = loop.names, loop.air, loop.mrt, loop.air_weight
         index = self.times
         return TrackingResult(
-            air_temperature=pd.DataFrame(air, index=index, columns=net.zone_names),
-            operative_temperature=pd.DataFrame(
-                0.5 * (air + mrt), index=index, columns=net.zone_names
-            ),
-            heat=pd.DataFrame(q, index=index, columns=names),
-            reference=pd.DataFrame(reference, index=index, columns=names),
+            air_temperature=pd.DataFrame(air, index=index, columns=zone_names),
+            operative_temperature=pd.DataFrame(0.5 * (air + mrt), index=index, columns=zone_names),
+            heat=pd.DataFrame(loop.heat, index=index, columns=names),
+            reference=pd.DataFrame(loop.reference, index=index, columns=names),
             feedback=feedback,
             method=method,
             step=self.step_size,
-            diverged=[name for name, bad in zip(names, diverged, strict=True) if bad],
+            diverged=loop.diverged,
             sensed_temperature=pd.DataFrame(
-                weight * air[:, tracked] + (1.0 - weight) * mrt[:, tracked],
+                weight * air[:, loop.tracked] + (1.0 - weight) * mrt[:, loop.tracked],
                 index=index,
                 columns=names,
             ),

@@ -3,10 +3,10 @@ frames, for calibration campaigns (issue 22).
 
 A campaign sample only needs the heat of the tracked zones; :meth:`Simulation.track` also
 returns the air, operative, reference and sensed temperatures as month-long data frames (on the
-clinic, 5 frames of 8,928 x 186 values, ~0.1 s a sample). :meth:`TrackedHeat.track_heat` runs
-the same steps with the same contexts and state (:mod:`thermocal.multizone._tracking`'s
-helpers), so its heat is bit-identical to ``track(...).heat`` (tested for every mode in
-``tests/multizone/test_track_heat.py``).
+clinic, 5 frames of 8,928 x 186 values, ~0.1 s a sample). Both run the one tracking loop here
+(:meth:`TrackedHeat._tracking_loop`); :meth:`TrackedHeat.track_heat` keeps only its heat,
+:meth:`Simulation.track` builds the frames from it (the heat bit-identical, tested for every
+mode in ``tests/multizone/test_multizone_track_heat.py``).
 
 A part of :class:`thermocal.multizone.simulation.Simulation`, which inherits it.
 """
@@ -18,7 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone._simtools import _tracking_form
+from thermocal.multizone._simtools import _progress, _tracking_form
 from thermocal.multizone._tracking import _chunks, _radiant_rows
 
 
@@ -37,6 +37,34 @@ class IdentifiedHeat(NamedTuple):
 
     heat: np.ndarray
     zones: list
+    diverged: list
+
+
+class TrackingLoop(NamedTuple):
+    """What the tracking run leaves (:meth:`TrackedHeat._tracking_loop`).
+
+    Attributes
+    ----------
+    heat : ndarray (n_steps, n_tracked) [W]
+    air, mrt : ndarray (n_steps, n_zones) or None
+        Every zone's air and mean radiant temperature [C] (None without ``temperatures``).
+    tracked : ndarray of int
+        Indices of the tracked zones.
+    names : list of str
+        Their names.
+    air_weight : ndarray (n_tracked,)
+        The sensor's air weight ``w`` [-].
+    reference : ndarray (n_steps, n_tracked) [C]
+    diverged : list of str
+    """
+
+    heat: np.ndarray
+    air: np.ndarray | None
+    mrt: np.ndarray | None
+    tracked: np.ndarray
+    names: list
+    air_weight: np.ndarray
+    reference: np.ndarray
     diverged: list
 
 
@@ -75,6 +103,30 @@ class TrackedHeat:
             The heat [W] (bit-identical to ``track(...).heat``), the tracked zones and the
             diverged ones.
         """
+        loop = self._tracking_loop(
+            reference, zones=zones, method=method, feedback=feedback,
+            radiant_fraction=radiant_fraction, pid=pid, limits=limits, heat_input=heat_input,
+            temperatures=False,
+        )  # fmt: skip
+        return IdentifiedHeat(heat=loop.heat, zones=loop.names, diverged=loop.diverged)
+
+    def _tracking_loop(
+        self,
+        reference: np.ndarray,
+        *,
+        zones=None,
+        method: str = "inverse",
+        feedback="air",
+        radiant_fraction=0.0,
+        pid=None,
+        limits=None,
+        heat_input=None,
+        temperatures: bool = True,
+        progress: bool = False,
+    ) -> TrackingLoop:
+        """The tracking run of :meth:`track` and :meth:`track_heat` (one implementation):
+        arguments as :meth:`track`; ``temperatures``: also keep every zone's air and mean
+        radiant temperature per step (what :meth:`track`'s frames need)."""
         net = self.network
         nz = len(net.zone_names)
         n_steps = len(self.times)
@@ -100,6 +152,7 @@ class TrackedHeat:
         self._reset_ideal_state()
         self._k = 0
         fine, g_fine, distribution = self._tracking_context(tracked, form, coarse=False)
+        # pieces of constant form: (first step, its form), in step order
         pieces = [(0, form)]
         if starts:
             pieces = [(k, (form[0], tuple(float(v) for v in rows[k]))) for k in starts]
@@ -124,40 +177,49 @@ class TrackedHeat:
             state["pid_state"][:, 0] = start
             state["pid_state"][:, 1] = start
         q = np.empty((n_steps, nt))
+        air = np.empty((n_steps, nz)) if temperatures else None
+        mrt = np.empty((n_steps, nz)) if temperatures else None
+        bar = _progress(progress, n_steps)
         bounds = [k for k, _ in pieces[1:]] + [n_steps]
-        for k0, n, piece in _chunks(bounds, n_steps):
-            if len(pieces) > 1:
-                fine, g_fine, distribution = self._tracking_context(
-                    tracked, pieces[piece][1], coarse=False
+        try:
+            for k0, n, piece in _chunks(bounds, n_steps):
+                if len(pieces) > 1:
+                    fine, g_fine, distribution = self._tracking_context(
+                        tracked, pieces[piece][1], coarse=False
+                    )
+                    state.update(general=g_fine.shape[0] > 0, distribution=distribution)
+                state.update(
+                    mode=1 if method == "inverse" else 2,
+                    reference=reference[k0 : k0 + n],
+                    g_inverse=g_fine,
+                    out_q=q[k0 : k0 + n],
                 )
-                state.update(general=g_fine.shape[0] > 0, distribution=distribution)
-            state.update(
-                mode=1 if method == "inverse" else 2,
-                reference=reference[k0 : k0 + n],
-                g_inverse=g_fine,
-                out_q=q[k0 : k0 + n],
-            )
-            self._advance(
-                k0,
-                n,
-                heat[k0 : k0 + n],
-                ideal=False,
-                store=False,
-                context=fine,
-                tracking=state,
-            )
-            if not np.isfinite(state["feedback"]).all():
-                q[k0 + n :] = np.nan
-                break
+                out = self._advance(
+                    k0, n, heat[k0 : k0 + n], ideal=False, store=False, context=fine,
+                    tracking=state,
+                )  # fmt: skip
+                if temperatures:
+                    air[k0 : k0 + n] = out[0]
+                    mrt[k0 : k0 + n] = out[1]
+                if bar is not None:
+                    bar[0].update(bar[1], advance=n)
+                if not np.isfinite(state["feedback"]).all():
+                    q[k0 + n :] = np.nan
+                    if temperatures:
+                        air[k0 + n :] = np.nan
+                        mrt[k0 + n :] = np.nan
+                    break
+        finally:
+            if bar is not None:
+                bar[0].stop()
         self._k = n_steps
-        diverged = ~np.isfinite(state["feedback"])
         names = [net.zone_names[i] for i in tracked]
-        return IdentifiedHeat(
-            heat=q,
-            zones=names,
-            diverged=[name for name, bad in zip(names, diverged, strict=True) if bad],
-        )
-
+        bad = ~np.isfinite(state["feedback"])
+        return TrackingLoop(
+            heat=q, air=air, mrt=mrt, tracked=tracked, names=names,
+            air_weight=np.asarray(form[0], dtype=float), reference=reference,
+            diverged=[name for name, b in zip(names, bad, strict=True) if b],
+        )  # fmt: skip
 
 def _pid_coefficients(method: str, pid, n_tracked: int) -> tuple:
     """The PID's controller-canonical coefficients per tracked zone ``(D, C1, C2)`` [W/K]

@@ -16,9 +16,11 @@ with ``sigma^2`` the residual variance at the best bounded fit (the noise level 
 identified heat, model error included: the honest floor) plus the meta-model's own out-of-fold
 error (:func:`emulator_variance`), and ``n_eff = n (1 - rho) / (1 + rho)``
 the number of independent hours given the residual's lag-1 autocorrelation ``rho``. The prior is
-the campaign's: uniform in each parameter between its bounds. The posterior is sampled with
-emcee's affine-invariant ensemble sampler (Foreman-Mackey et al. 2013), which is insensitive to
-the strong correlations of compensating parameters.
+the campaign's: uniform in each parameter between its bounds. With the affine model the
+posterior is a Gaussian in ``z`` truncated to the prior box, sampled exactly by Gibbs sweeps
+(:func:`~thermocal.calibration.mcmc.truncated_gaussian_gibbs`); with curvature by emcee's
+affine-invariant ensemble sampler (Foreman-Mackey et al. 2013); either until the draws are
+worth a set number of independent ones, the Monte Carlo error of each interval end reported.
 
 Identifiability: the Fisher information ``F = (n_eff / n) J_c^T J_c / sigma^2`` of all campaign
 parameters (``J_c`` the hour-centred Jacobian, at the best fit when there is curvature) says
@@ -622,8 +624,8 @@ def calibration_posterior(
     walkers : int, optional
         Ensemble size of the sampler with curvature [-]; default ``max(128, 8 d)``.
     steps : int
-        Fewest steps per walker (Gibbs sweeps for the affine model) [-]; the first half of all
-        steps run is discarded as burn-in.
+        Fewest steps per walker (for the affine model's Gibbs sampler at most ``GIBBS_SWEEPS``
+        sweeps) [-]; the first half of all steps run is discarded as burn-in.
     seed : int
         Seed of the sampler [-].
     effective_draws : int

@@ -582,6 +582,38 @@ def _gaussian_form(model: LinearHeatModel, basis, woodbury, scale: float):
     return precision, 1.0 - 2.0 * scale * cross
 
 
+def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float):
+    """The log-posterior of ``z`` (any model, curvature included) for the ensemble sampler:
+    ``-scale`` times the residual's quadratic form (the discrepancy's Woodbury term removed)
+    plus ``sum z`` (the uniform prior in ``p``), ``-inf`` outside the box.
+
+    Parameters
+    ----------
+    model : LinearHeatModel
+    basis, woodbury, scale
+        As :func:`_gaussian_form`.
+
+    Returns
+    -------
+    callable
+        ``z`` (shape (k, d)) -> log-density (shape (k,)) [-].
+    """
+    zl, zu = model.z_bounds
+    squared_norm = residual_quadratic_form(model, basis if woodbury is not None else None)
+
+    def log_probability(z: np.ndarray) -> np.ndarray:
+        z = np.atleast_2d(z)
+        inside = np.all((z >= zl) & (z <= zu), axis=1)
+        quadratic, projected = squared_norm(z)
+        if woodbury is not None:
+            quadratic = quadratic - np.einsum("ij,ij->i", projected @ woodbury, projected)
+        # uniform prior in the parameter p = p_nominal exp(z): density exp(sum z) in z
+        lp = -scale * quadratic + z.sum(axis=1)
+        return np.where(inside, lp, -np.inf)
+
+    return log_probability
+
+
 def calibration_posterior(
     surrogate,
     names: Sequence[str],
@@ -662,18 +694,6 @@ def calibration_posterior(
     else:
         woodbury = None
 
-    squared_norm = residual_quadratic_form(model, basis if woodbury is not None else None)
-
-    def log_probability(z: np.ndarray) -> np.ndarray:
-        z = np.atleast_2d(z)
-        inside = np.all((z >= zl) & (z <= zu), axis=1)
-        quadratic, projected = squared_norm(z)
-        if woodbury is not None:
-            quadratic = quadratic - np.einsum("ij,ij->i", projected @ woodbury, projected)
-        # uniform prior in the parameter p = p_nominal exp(z): density exp(sum z) in z
-        lp = -scale * quadratic + z.sum(axis=1)
-        return np.where(inside, lp, -np.inf)
-
     if model.curvature is None:
         # affine: the posterior is a Gaussian in z truncated to the box; sampled exactly
         precision, linear = _gaussian_form(model, basis, woodbury, scale)
@@ -692,6 +712,7 @@ def calibration_posterior(
             zl + 1e-6 * width,
             zu - 1e-6 * width,
         )
+        log_probability = _log_probability(model, basis, woodbury, scale)
         chain, effective, tau, acceptance = ensemble_until_precise(
             log_probability, start, int(steps), int(seed), int(effective_draws)
         )

@@ -6,6 +6,10 @@ EnergyPlus's surface conduction, infiltration, transmitted sun and internal gain
 simulation is run once more for the estimate and the heat leaving the indoor air node is
 summed per path and month:
 
+With the split inside (``model.interior: split``, :mod:`thermocal.retrofit.interior`) the
+element paths are the heat their inner surfaces conduct into the element (the inside-face
+conduction, as a reference reports it) and ``stored`` also holds what the internal mass keeps.
+
 - ``envelope`` -- into the roof / wall element (``H_env_in (Ti - Tenv)``: walls, roof, ceilings
   under an unheated attic, walls to unheated spaces; the sun absorbed outside on roof and walls
   is in it, as in a reference's inside-face conduction);
@@ -99,12 +103,22 @@ def heat_balance(
     ti, tenv, tgf = mean[:, 0], mean[:, 1], mean[:, 2]
     te = inputs["Te"].to_numpy(float)
     h_est = max(p["H_est"] + float(h.get("H_est_change", 0.0)), 0.0)
+    interior = model.reduced_interior(envelope)
+    if interior is None:
+        into = {"Tenv": h["H_env_in"] * (ti - tenv), "Te": h["H_win"] * (ti - te),
+                "Tgf": h["H_gf_in"] * (ti - tgf)}  # fmt: skip
+    else:
+        # the split inside: what the inner surfaces conduct into each element (the room's
+        # air, its internal mass and its surfaces together lose it)
+        into = interior.inside_face_flows(
+            {"Ti": ti, "Tenv": tenv, "Tgf": tgf, "Tim": mean[:, 3], "Te": te}
+        )
     flows = pd.DataFrame(
         {
-            "envelope": h["H_env_in"] * (ti - tenv),
-            "windows": h["H_win"] * (ti - te),
+            "envelope": into["Tenv"],
+            "windows": into["Te"],
             "air_change": h_est * (ti - te),
-            "floor": h["H_gf_in"] * (ti - tgf),
+            "floor": into["Tgf"],
             "sun": -float(h.get("g_factor", 1.0)) * inputs["phi_sol"].to_numpy(float),
             "gains": -g,
             "heating": heat,

@@ -249,6 +249,13 @@ class ModelConfig(_Strict):
         "windows and floor with a prior from uncertainty.u_value_rel_std (the data can lower "
         "or raise the calculated losses); none: the published topology (only H_est added)",
     )
+    interior: Literal["combined", "split"] = Field(
+        "combined",
+        description="the room's inside: combined: each element's surface resistance Rsi to "
+        "the indoor air (the method's); split: convection to the air and long-wave radiation "
+        "among the surfaces (a convectively heated room controlled on its air temperature, "
+        "docs/retrofit.md 'The room's inside')",
+    )
     calibration: Literal["auto", "temperature", "heat"] = Field(
         "auto",
         description="temperature: the method's maximum-likelihood fit of the measured indoor "

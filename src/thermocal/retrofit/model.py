@@ -50,6 +50,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
+from thermocal.retrofit.interior import PAIR_NAMES as INTERIOR_PAIR_NAMES
+from thermocal.retrofit.interior import PAIRS as INTERIOR_PAIRS
 
 STATE_NAMES: tuple[str, ...] = ("Ti", "Tenv", "Tgf", "Tim", "Th")
 INPUT_NAMES: tuple[str, ...] = ("Te", "Tgr", "phi_h", "phi_sol", "phi_abs_roof", "phi_abs_walls")
@@ -495,6 +497,10 @@ class FifthOrderModel:
     volume: float = 0.0  # [m3] heated air volume (ventilation measures)
     windows_g: float | None = None  # [-] area-weighted g-value of the windows
     bounds_source: dict = field(default_factory=dict)  # name -> "building file" / "configuration"
+    #: the room's inside (:mod:`thermocal.retrofit.interior`): "combined" (the method's
+    #: surface resistances to the air) or "split" (convection to the air, radiation among the
+    #: surfaces)
+    interior: str = "combined"
 
     def apply_measures(self, measures, envelope: EnvelopeComponents | None = None):
         """The envelope after the given :class:`~thermocal.retrofit.strategies.Measure` s."""
@@ -504,9 +510,17 @@ class FifthOrderModel:
 
     def conductances(self, envelope: EnvelopeComponents | None = None) -> dict[str, float]:
         """Calculated conductances [W/K] (and solar shares [-]) for the given U-values."""
+        out, surfaces = self._elements(envelope)
+        out.update(self._interior_pairs(out, surfaces))
+        return out
+
+    def _elements(self, envelope: EnvelopeComponents | None = None):
+        """The elements' conductances [W/K] and shares [-], and each inner surface as (node,
+        area [m2], conductance through ``Rsi`` [W/K], heat-flow direction)."""
         env = envelope or self.envelope
         ground = env.ground if env.ground is not None else self.ground
         out: dict[str, float] = {}
+        surfaces: list[tuple[str, float, float, str, float]] = []  # node, A, combined, flow
         r_in, r_out, s_roof = element_conductances(
             max(env.roof_area, 1e-9), env.roof_u, R_SI["upward"], R_SE
         )
@@ -515,17 +529,22 @@ class FifthOrderModel:
         )
         if env.roof_area <= 0:
             r_in = r_out = s_roof = 0.0
+        else:
+            surfaces.append(("Tenv", env.roof_area, float(r_in), "upward"))
         if env.walls_area <= 0:
             w_in = w_out = s_walls = 0.0
+        else:
+            surfaces.append(("Tenv", env.walls_area, float(w_in), "horizontal"))
         # towards unheated spaces: the effective U-value b U (ISO 13789), surface resistance
         # Rsi on both sides (ISO 6946 Table 7 note), no solar radiation
-        for area, u, b, r_s in (
-            (env.attic_area, env.attic_u, env.attic_b, R_SI["upward"]),
-            (env.adjacent_area, env.adjacent_u, env.adjacent_b, R_SI["horizontal"]),
+        for area, u, b, flow in (
+            (env.attic_area, env.attic_u, env.attic_b, "upward"),
+            (env.adjacent_area, env.adjacent_u, env.adjacent_b, "horizontal"),
         ):
             if area > 0:
-                a_in, a_out, _ = element_conductances(area, b * u, r_s, r_s)
+                a_in, a_out, _ = element_conductances(area, b * u, R_SI[flow], R_SI[flow])
                 r_in, r_out = r_in + a_in, r_out + a_out
+                surfaces.append(("Tenv", area, float(a_in), flow))
         out["H_env_in"] = float(r_in + w_in)
         out["H_env_out"] = float(r_out + w_out)
         out["share_roof"] = float(s_roof)
@@ -540,6 +559,7 @@ class FifthOrderModel:
             out["H_gf_in"] = float(g_in)
             out["H_gf_gr"] = float(g_out * ground.to_ground / total)
             out["H_gf_e"] = float(g_out * ground.to_air / total)
+            surfaces.append(("Tgf", env.floor_area, float(g_in), "downward"))
         else:
             r_cond = max(1.0 / env.floor_u - R_SI["downward"] - R_SE, 1e-3)
             g_in = 1.0 / (R_SI["downward"] / env.floor_area + 0.5 * r_cond / env.floor_area)
@@ -557,12 +577,56 @@ class FifthOrderModel:
             out["H_gf_in"] = float(g_in)
             out["H_gf_gr"] = float(1.0 / (1.0 / total - 1.0 / g_in))
             out["H_gf_e"] = 0.0
+            surfaces.append(("Tgf", env.floor_area, float(g_in), "downward"))
         out["H_h"] = float(self.heating_conductance)
         out["H_im"] = float(self.internal_mass_conductance)
         out["f_im"] = float(self.solar_to_internal_mass)
         out["g_factor"] = float(env.windows_g_factor)
         out["H_est_change"] = float(env.h_est_change)
-        return out
+        if env.windows_area > 0:
+            surfaces.append(("Te", env.windows_area, out["H_win"], "horizontal"))
+        return out, surfaces
+
+    def _interior_pairs(self, h: dict, surfaces) -> dict[str, float]:
+        """The inside's pair conductances ``G_<a>_<b>`` [W/K] (:mod:`~thermocal.retrofit.
+        interior`) and the flag ``interior_split`` (1.0 for the split inside)."""
+        if self.interior != "split":
+            pairs = dict.fromkeys(INTERIOR_PAIR_NAMES, 0.0)
+            pairs.update(G_Ti_Tenv=h["H_env_in"], G_Ti_Tgf=h["H_gf_in"], G_Ti_Tim=h["H_im"],
+                         G_Ti_Te=h["H_win"], interior_split=0.0)  # fmt: skip
+            return pairs
+        return {**self.interior_network(surfaces).pairs, "interior_split": 1.0}
+
+    def interior_network(self, surfaces):
+        """The split inside of the given surfaces, reduced (a :class:`~thermocal.retrofit.
+        interior.ReducedInterior`).
+
+        Parameters
+        ----------
+        surfaces : sequence of (node, area [m2], combined conductance [W/K], heat-flow
+            direction) per component, the combined conductance the one through ``Rsi``.
+        """
+        from thermocal.retrofit.interior import InteriorSurface, inner_conduction, reduce_interior
+
+        parts = [
+            InteriorSurface(
+                node=node,
+                convection=area * H_CI[flow],
+                radiation=area * (1.0 / R_SI[flow] - H_CI[flow]),
+                conduction=inner_conduction(combined, area, R_SI[flow]),
+            )
+            for node, area, combined, flow in surfaces
+        ]
+        # the internal mass: its surface is its node; the same coefficients as H_im
+        area_im = self.internal_mass_conductance / (H_CI["horizontal"] + H_RI)
+        return reduce_interior(parts, area_im * H_CI["horizontal"], area_im * H_RI)
+
+    def reduced_interior(self, envelope: EnvelopeComponents | None = None):
+        """The split inside of the given U-values (a :class:`~thermocal.retrofit.interior.
+        ReducedInterior`); None for the combined inside."""
+        if self.interior != "split":
+            return None
+        return self.interior_network(self._elements(envelope)[1])
 
     def calculated_heat_loss_coefficient(self, envelope: EnvelopeComponents | None = None) -> float:
         """Steady-state HLC [W/K] of the calculated conductances (without Hest)."""
@@ -572,6 +636,10 @@ class FifthOrderModel:
 
 def calculated_hlc(h: dict[str, float]) -> float:
     """Steady-state conductance [W/K] of the calculated paths from ``Ti`` to all boundaries."""
+    if h.get("interior_split"):
+        from thermocal.retrofit.interior import steady_heat_loss
+
+        return steady_heat_loss(h)
     env = _series(h["H_env_in"], h["H_env_out"]) if h["H_env_in"] > 0 else 0.0
     gf = _series(h["H_gf_in"], h["H_gf_gr"] + h["H_gf_e"])
     return float(env + h["H_win"] + gf)
@@ -583,6 +651,7 @@ def build_fifth_order_model(
     solar_to_internal_mass: float = 0.5,
     bounds: dict[str, tuple[float, float]] | None = None,
     fixed: dict[str, float] | None = None,
+    interior: str = "combined",
 ) -> FifthOrderModel:
     """Calculated conductances and estimation bounds of the fifth-order model for a building.
 
@@ -595,11 +664,20 @@ def build_fifth_order_model(
         Estimation bounds replacing the defaults: ``H_est`` [W/K], capacities [MJ/K].
     fixed : dict name -> value, optional
         Parameters held at a value instead of estimated (same units).
+    interior : {"combined", "split"}
+        The room's inside (:mod:`thermocal.retrofit.interior`): the method's combined surface
+        resistances to the air, or convection to the air and radiation among the surfaces.
 
     Returns
     -------
     FifthOrderModel
     """
+    from thermocal.retrofit.interior import INTERIOR_FORMS
+
+    if interior not in INTERIOR_FORMS:
+        raise ThermocalInputError(
+            f"model.interior {interior!r}: use one of {', '.join(INTERIOR_FORMS)}"
+        )
     envelope = envelope_from_building(building)
     ground = ground_path(building, envelope)
     if ground.kind == "slab" and envelope.floor_kind == "ground_floor":
@@ -685,6 +763,7 @@ def build_fifth_order_model(
         volume=volume,
         windows_g=windows_g,
         bounds_source=source,
+        interior=interior,
     )
 
 
@@ -692,6 +771,8 @@ def build_fifth_order_model(
 #: named in :meth:`FifthOrderModel.conductances` and in the RC network of :func:`network_spec`.
 CALCULATED_CONDUCTANCES: tuple[str, ...] = (
     "H_env_in", "H_env_out", "H_win", "H_gf_in", "H_gf_gr", "H_gf_e", "H_h", "H_im",
+    "G_Ti_Tenv", "G_Ti_Tgf", "G_Ti_Tim", "G_Ti_Te", "G_Tenv_Tgf", "G_Tenv_Tim", "G_Tenv_Te",
+    "G_Tgf_Tim", "G_Tgf_Te", "G_Tim_Te",
 )  # fmt: skip
 CALCULATED_FACTORS: tuple[str, ...] = ("share_roof", "share_walls", "f_im", "g_factor")
 
@@ -741,18 +822,34 @@ def network_spec(h: dict, *, demand: bool = False, calculated_as_parameters: boo
         }
         for s in names
     }
-    conductances = [
-        {"between": ["Ti", "Tenv"], "conductance": value("H_env_in")},
-        {"between": ["Tenv", "Te"], "conductance": value("H_env_out")},
-        {"between": ["Ti", "Tgf"], "conductance": value("H_gf_in")},
-        {"between": ["Tgf", "Tgr"], "conductance": value("H_gf_gr")},
-        {"between": ["Ti", "Tim"], "conductance": value("H_im")},
-        {"between": ["Ti", "Te"], "conductance": "H_est"},
-    ]
-    if not demand:
-        conductances.insert(5, {"between": ["Ti", "Th"], "conductance": value("H_h")})
-    if float(np.max(h["H_win"])) > 0:
-        conductances.append({"between": ["Ti", "Te"], "conductance": value("H_win")})
+    if _split(h):
+        # the split inside (thermocal.retrofit.interior): its pairs replace the four
+        # air-to-element paths
+        conductances = [
+            {"between": [a, b], "conductance": value(name)}
+            for (a, b), name in zip(INTERIOR_PAIRS, INTERIOR_PAIR_NAMES, strict=True)
+            if float(np.max(h[name])) > 0
+        ]
+        conductances += [
+            {"between": ["Tenv", "Te"], "conductance": value("H_env_out")},
+            {"between": ["Tgf", "Tgr"], "conductance": value("H_gf_gr")},
+            {"between": ["Ti", "Te"], "conductance": "H_est"},
+        ]
+        if not demand:
+            conductances.append({"between": ["Ti", "Th"], "conductance": value("H_h")})
+    else:
+        conductances = [
+            {"between": ["Ti", "Tenv"], "conductance": value("H_env_in")},
+            {"between": ["Tenv", "Te"], "conductance": value("H_env_out")},
+            {"between": ["Ti", "Tgf"], "conductance": value("H_gf_in")},
+            {"between": ["Tgf", "Tgr"], "conductance": value("H_gf_gr")},
+            {"between": ["Ti", "Tim"], "conductance": value("H_im")},
+            {"between": ["Ti", "Te"], "conductance": "H_est"},
+        ]
+        if not demand:
+            conductances.insert(5, {"between": ["Ti", "Th"], "conductance": value("H_h")})
+        if float(np.max(h["H_win"])) > 0:
+            conductances.append({"between": ["Ti", "Te"], "conductance": value("H_win")})
     if float(np.max(h["H_gf_e"])) > 0:
         conductances.append({"between": ["Tgf", "Te"], "conductance": value("H_gf_e")})
     solar = {"column": "phi_sol", "unit": "W"}
@@ -782,12 +879,19 @@ def network_spec(h: dict, *, demand: bool = False, calculated_as_parameters: boo
 _NETWORKS: dict = {}
 
 
+def _split(h: dict) -> bool:
+    """Whether ``h`` describes the split inside (``interior_split`` set in any set)."""
+    return float(np.max(h.get("interior_split", 0.0))) > 0
+
+
 def simulation_network(h: dict, *, demand: bool = False):
     """The compiled :class:`thermocal.statespace.RCModel` of :func:`network_spec` with every
     value a parameter in SI units (W/K, J/K, -), cached per structure."""
     from thermocal.statespace import RCModel
 
     key = (demand, float(np.max(h["H_win"])) > 0, float(np.max(h["H_gf_e"])) > 0)
+    if _split(h):
+        key += tuple(float(np.max(h[name])) > 0 for name in INTERIOR_PAIR_NAMES)
     rc = _NETWORKS.get(key)
     if rc is None:
         spec = network_spec(h, demand=demand, calculated_as_parameters=True)

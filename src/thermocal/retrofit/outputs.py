@@ -140,6 +140,8 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             }
         )
     h = model.conductances()
+    if model.interior != "split":  # the combined inside: its pairs repeat the four paths
+        h = {k: v for k, v in h.items() if not k.startswith("G_") and k != "interior_split"}
     return _clean({
         "thermocal_workflow": "retrofit (the fifth-order RC method)",
         "building": analysis.building.name,
@@ -150,6 +152,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "air_change_adjustment": analysis.air_change,
         "calibration": {
             "method": analysis.calibration_method,
+            "interior": model.interior,
             "params": params,
             "calculated_conductances_W_per_K": h,
             "max_abs_correlation": _num(np.nanmax(np.abs(off))) if off.size else None,

@@ -589,7 +589,7 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
     hc = pd.DataFrame([
         {"conductance": k, "value": v}
         for k, v in cal["calculated_conductances_W_per_K"].items()
-        if k not in ("g_factor", "H_est_change")
+        if k not in ("g_factor", "H_est_change", "interior_split")
     ])  # fmt: skip
     rep.table(
         hc,
@@ -601,6 +601,13 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
         f"= {hlc['value']:.1f} W/K (standard error {format_number(hlc['std'], '.1f')} W/K). "
         f"The building file alone suggests {hlc['audit_prior']:.1f} W/K."
     )
+    if cal.get("interior") == "split":
+        rep.paragraph(
+            "The room's inside is split (model.interior: split): each element's inner surface "
+            "exchanges heat with the air by convection and with the other surfaces by long-wave "
+            "radiation (ISO 52016-1 air and surface nodes), reduced to the pair conductances "
+            "G_<a>_<b> above; the element paths of the heat balance are inside-face conduction."
+        )
     phys = [n for n in ESTIMATED_PARAMETERS if n in analysis.calibration.correlation.columns]
     if phys:
         corr = analysis.calibration.correlation.loc[phys, phys].reset_index(names="parameter")

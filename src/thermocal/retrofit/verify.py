@@ -506,7 +506,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     ground = ground_temperature_parameters(weather)
     model = build_fifth_order_model(
         building, solar_to_internal_mass=cfg.model.solar_to_internal_mass,
-        bounds=cfg.model.bounds, fixed=cfg.model.fixed,
+        bounds=cfg.model.bounds, fixed=cfg.model.fixed, interior=cfg.model.interior,
     )  # fmt: skip
     inputs = model_inputs(
         grid, building, ground, temp_col="temp_out", solar=cfg.model.solar_gains,

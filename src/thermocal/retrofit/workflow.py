@@ -293,6 +293,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         solar_to_internal_mass=cfg.model.solar_to_internal_mass,
         bounds=cfg.model.bounds,
         fixed=cfg.model.fixed,
+        interior=cfg.model.interior,
     )
     check_measures(model.envelope, cfg.measure_objects(), building.name)
     inputs = model_inputs(

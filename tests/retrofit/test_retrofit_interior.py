@@ -207,3 +207,18 @@ def test_split_inside_on_the_energyplus_basement_house(tmp_path):
     assert res["calibration"]["calculated_conductances_W_per_K"]["G_Tenv_Tim"] > 0
     report = (tmp_path / "r" / "report.html").read_text()
     assert "model.interior: split" in report
+
+
+def test_slow_state_diffusions_fixed_by_one_key():
+    """``model.slow_state_diffusion: fixed`` holds the envelope's, floor's and internal mass's
+    diffusions at 0.01 K/sqrt(h); ``model.fixed_noise`` overrides per state; the default
+    estimates them all (the method's), and the default inside is the method's."""
+    from thermocal.retrofit.config import SLOW_STATE_DIFFUSION, ModelConfig
+
+    assert ModelConfig().fixed_diffusions() == {}
+    assert ModelConfig().interior == "combined"
+    fixed = ModelConfig(slow_state_diffusion="fixed", fixed_noise={"sigma_Tim": 0.05})
+    assert fixed.fixed_diffusions() == {
+        "sigma_Tenv": SLOW_STATE_DIFFUSION, "sigma_Tgf": SLOW_STATE_DIFFUSION, "sigma_Tim": 0.05,
+    }  # fmt: skip
+    assert ModelConfig(fixed_noise={"sigma_Ti": 0.1}).fixed_diffusions() == {"sigma_Ti": 0.1}

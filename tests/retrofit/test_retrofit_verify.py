@@ -210,6 +210,11 @@ def test_prediction_from_another_building_or_unknown_strategy_is_refused(demo_fo
     changed = json.loads(json.dumps(results))
     changed["calibration"]["calculated_conductances_W_per_K"]["H_win"] *= 1.5
     assert "another building description" in _message(with_results(changed, "2a"))
+    # a prediction made with the split inside is refused by name, not as another building
+    split = json.loads(json.dumps(results))
+    split["calibration"]["interior"] = "split"
+    msg = _message(with_results(split, "2a"))
+    assert "model.interior: split" in msg and "this verification uses combined" in msg
 
 
 def test_configuration_without_prediction_or_section(tmp_path):

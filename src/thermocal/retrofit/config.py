@@ -216,6 +216,11 @@ class PeriodsConfig(_Strict):
         return value
 
 
+#: Diffusion of the slow states (envelope, floor, internal mass) with
+#: ``model.slow_state_diffusion: fixed`` [K/sqrt(h)]: a random walk of 0.2 K over three weeks.
+SLOW_STATE_DIFFUSION = 0.01
+
+
 class ModelConfig(_Strict):
     """Options of the fifth-order model."""
 
@@ -249,6 +254,15 @@ class ModelConfig(_Strict):
         "windows and floor with a prior from uncertainty.u_value_rel_std (the data can lower "
         "or raise the calculated losses); none: the published topology (only H_est added)",
     )
+    slow_state_diffusion: Literal["fixed", "estimated"] = Field(
+        "estimated",
+        description="fixed: the diffusions of the envelope, floor and internal-mass states "
+        f"held at {SLOW_STATE_DIFFUSION} K/sqrt(h) in the temperature fit, so that the filter "
+        "cannot hold those unmeasured states where the data want instead of where the physics "
+        "sends them; "
+        "estimated: the method's (every diffusion estimated); model.fixed_noise overrides "
+        "either per state (docs/retrofit.md 'The room's inside')",
+    )
     interior: Literal["combined", "split"] = Field(
         "combined",
         description="the room's inside: combined: each element's surface resistance Rsi to "
@@ -272,6 +286,16 @@ class ModelConfig(_Strict):
         "demand year (docs/retrofit.md, 'Air change and the temperature difference'); "
         "constant: H_est as calibrated, the same at every difference",
     )
+
+    def fixed_diffusions(self) -> dict[str, float]:
+        """The diffusions held at a value [K/sqrt(h)]: the slow states' when
+        ``slow_state_diffusion`` is "fixed", then ``fixed_noise`` over them."""
+        fixed = (
+            dict.fromkeys(("sigma_Tenv", "sigma_Tgf", "sigma_Tim"), SLOW_STATE_DIFFUSION)
+            if self.slow_state_diffusion == "fixed" else {}
+        )  # fmt: skip
+        fixed.update(self.fixed_noise)
+        return fixed
 
     @model_validator(mode="after")
     def _bounds_and_fixed(self) -> ModelConfig:

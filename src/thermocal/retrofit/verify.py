@@ -319,6 +319,14 @@ def read_prediction(vcfg: VerifyConfig, model) -> Prediction:
             f"{res.get('building')!r}, this verification is of {building.name!r}; give the "
             "results.json of this building"
         )
+    theirs_interior = res["calibration"].get("interior", "combined")
+    if theirs_interior != model.interior:
+        raise ThermocalInputError(
+            f"verify.prediction.results: {path} was computed with model.interior: "
+            f"{theirs_interior}, this verification uses {model.interior}; set model.interior: "
+            f"{theirs_interior} in the verification's retrofit configuration (or re-run the "
+            "prediction with the same model)"
+        )
     theirs = res["calibration"].get("calculated_conductances_W_per_K") or {}
     ours = model.conductances()
     try:
@@ -532,7 +540,7 @@ def _calibrate(cfg: RetrofitConfig, model, data: pd.DataFrame, source: str):
         model, data, n_starts=cfg.model.n_starts, seed=cfg.model.seed,
         max_correlation=cfg.model.max_correlation,
         correction=cfg.model.correction == "groups" and cfg.uncertainty.u_value_rel_std > 0,
-        fixed_noise=cfg.model.fixed_noise, heat_rel_std=cfg.uncertainty.heat_rel_std,
+        fixed_noise=cfg.model.fixed_diffusions(), heat_rel_std=cfg.uncertainty.heat_rel_std,
         u_value_rel_std=cfg.uncertainty.u_value_rel_std,
     )  # fmt: skip
 

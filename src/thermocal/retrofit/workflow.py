@@ -352,7 +352,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             # U-values declared exact (u_value_rel_std 0): nothing to correct, the published
             # model
             correction=correct,
-            fixed_noise=cfg.model.fixed_noise,
+            fixed_noise=cfg.model.fixed_diffusions(),
             heat_rel_std=cfg.uncertainty.heat_rel_std,
             u_value_rel_std=cfg.uncertainty.u_value_rel_std,
         )

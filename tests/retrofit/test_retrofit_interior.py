@@ -222,3 +222,31 @@ def test_slow_state_diffusions_fixed_by_one_key():
         "sigma_Tenv": SLOW_STATE_DIFFUSION, "sigma_Tgf": SLOW_STATE_DIFFUSION, "sigma_Tim": 0.05,
     }  # fmt: skip
     assert ModelConfig(fixed_noise={"sigma_Ti": 0.1}).fixed_diffusions() == {"sigma_Ti": 0.1}
+
+
+def test_steady_state_conserves_heat_and_gives_the_floor_flow():
+    """The steady network: the combined model's pairs reproduce the closed-form floor flow of
+    the ground draws (``ground_flow``) and its HLC; with the split inside the heat from the air
+    leaves through the outdoor and ground paths (conservation), and the floor's flow is what
+    the ground path carries."""
+    from thermocal.retrofit.ground_draws import ground_flow
+    from thermocal.retrofit.interior import steady_temperatures
+
+    building = EnvelopeDescription.model_validate(building_dict())
+    h = build_fifth_order_model(building).conductances()
+    t = steady_temperatures(h, 20.0, -3.0, 6.0)
+    combined_floor = ground_flow(h, 20.0, -3.0, 6.0)
+    assert h["H_gf_gr"] * (t["Tgf"] - 6.0) + h["H_gf_e"] * (t["Tgf"] + 3.0) == pytest.approx(
+        combined_floor, rel=1e-12
+    )
+    assert steady_temperatures(h, 1.0, 0.0, 0.0)["heat"] == pytest.approx(calculated_hlc(h))
+    hs = build_fifth_order_model(building, interior="split").conductances()
+    ts = steady_temperatures(hs, 20.0, -3.0, 6.0)
+    temps = {"Ti": 20.0, "Te": -3.0, **ts}
+    out = hs["H_env_out"] * (ts["Tenv"] + 3.0) + sum(
+        hs[f"G_{a}_Te"] * (temps[a] + 3.0) for a in ("Ti", "Tenv", "Tgf", "Tim")
+    )
+    floor = hs["H_gf_gr"] * (ts["Tgf"] - 6.0) + hs["H_gf_e"] * (ts["Tgf"] + 3.0)
+    assert ts["heat"] == pytest.approx(out + floor, rel=1e-10)
+    assert ground_flow(hs, 20.0, -3.0, 6.0) == pytest.approx(floor, rel=1e-12)
+    assert 0 < floor < ts["heat"]

@@ -141,9 +141,16 @@ def ground_flow(h: dict, ti: float, te: float, tgr: float) -> float:
     ----------
     h : dict
         Conductances [W/K] of :meth:`FifthOrderModel.conductances` (``H_gf_in``, ``H_gf_gr``,
-        ``H_gf_e``).
+        ``H_gf_e``; with the split inside its pairs too: the floor's steady flow to the ground
+        and outdoor air in the whole network).
     """
     h_in, h_gr, h_e = float(h["H_gf_in"]), float(h["H_gf_gr"]), float(h["H_gf_e"])
+    if h.get("interior_split"):
+        # the split inside: the floor node's steady temperature in the whole network
+        from thermocal.retrofit.interior import steady_temperatures
+
+        t_gf = steady_temperatures(h, ti, te, tgr)["Tgf"]
+        return h_gr * (t_gf - tgr) + h_e * (t_gf - te)
     t_gf = (h_in * ti + h_gr * tgr + h_e * te) / (h_in + h_gr + h_e)
     return h_in * (ti - t_gf)
 

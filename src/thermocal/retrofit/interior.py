@@ -166,15 +166,16 @@ def reduce_interior(
     )
 
 
-def steady_heat_loss(h: dict) -> float:
-    """Steady-state heat [W] that holds ``Ti`` 1 K above ``Te`` and ``Tgr`` in the split
-    inside's network (:data:`PAIR_NAMES` plus ``H_env_out``, ``H_gf_gr``, ``H_gf_e``), i.e.
-    its calculated heat loss coefficient [W/K] without ``H_est``.
+def steady_temperatures(h: dict, ti: float, te: float, tgr: float) -> dict[str, float]:
+    """Steady temperatures [C] of ``Tenv``, ``Tgf`` and ``Tim`` in the split inside's network
+    (:data:`PAIR_NAMES` plus ``H_env_out``, ``H_gf_gr``, ``H_gf_e``) with the air, the outdoor
+    air and the ground held at ``ti``, ``te``, ``tgr`` [C] (no sun, no gains).
 
     Parameters
     ----------
     h : dict
         Conductances [W/K] of :meth:`thermocal.retrofit.model.FifthOrderModel.conductances`.
+    ti, te, tgr : float [C]
     """
     nodes = ("Ti", "Tenv", "Tgf", "Tim", "Te", "Tgr")
     index = {name: i for i, name in enumerate(nodes)}
@@ -192,12 +193,26 @@ def steady_heat_loss(h: dict) -> float:
         g[i, i] += value
         g[j, j] += value
     free = [index["Tenv"], index["Tgf"], index["Tim"]]
-    fixed = np.zeros(len(nodes))
-    fixed[index["Ti"]] = 1.0
+    temps = np.zeros(len(nodes))
+    temps[[index["Ti"], index["Te"], index["Tgr"]]] = (ti, te, tgr)
     # a free node without any link (no roof/walls, no floor) keeps the air's temperature
-    diag = np.diag(g)[free]
-    g_ff = g[np.ix_(free, free)] + np.diag(np.where(diag > 0, 0.0, 1.0))
-    rhs = -g[free] @ fixed + np.where(diag > 0, 0.0, 1.0)
-    temps = fixed.copy()
+    isolated = np.diag(g)[free] <= 0
+    g_ff = g[np.ix_(free, free)] + np.diag(np.where(isolated, 1.0, 0.0))
+    fixed = temps.copy()
+    rhs = -g[free] @ fixed + np.where(isolated, ti, 0.0)
     temps[free] = np.linalg.solve(g_ff, rhs)
-    return float(g[index["Ti"]] @ temps)
+    return {"Tenv": float(temps[1]), "Tgf": float(temps[2]), "Tim": float(temps[3]),
+            "heat": float(g[index["Ti"]] @ temps)}  # fmt: skip
+
+
+def steady_heat_loss(h: dict) -> float:
+    """Steady-state heat [W] that holds ``Ti`` 1 K above ``Te`` and ``Tgr`` in the split
+    inside's network, i.e. its calculated heat loss coefficient [W/K] without ``H_est``
+    (:func:`steady_temperatures`).
+
+    Parameters
+    ----------
+    h : dict
+        Conductances [W/K] of :meth:`thermocal.retrofit.model.FifthOrderModel.conductances`.
+    """
+    return steady_temperatures(h, 1.0, 0.0, 0.0)["heat"]

@@ -198,3 +198,18 @@ def _walls_area(out):
 
     b = read_envelope(out / "data" / "building.yaml")
     return sum(float(c.area) for c in b.components if c.type == "external_wall")
+
+
+def test_demo_interval_ends_state_their_monte_carlo_precision(demo_results):
+    """The heat loss coefficient's and the demand's interval ends carry the Monte Carlo
+    standard error of their draws (``interval_mcse``; the savings' is ``saving_pct_mcse``):
+    positive, small against the interval, and said in the report."""
+    out, results = demo_results
+    for key in ("heat_loss_coefficient_W_per_K", "annual_heating_demand_kWh"):
+        block = results[key]
+        width = block["p95"] - block["p05"]
+        assert 0 < block["interval_mcse"] < 0.2 * width, (key, block)
+    import html as html_text
+
+    text = html_text.unescape((out / "report.html").read_text())
+    assert "the heat loss coefficient's to ±" in text and "the annual demand's to ±" in text

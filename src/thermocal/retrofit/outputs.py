@@ -10,6 +10,7 @@ import pandas as pd
 
 from thermocal.jsonsafe import json_number as _num
 from thermocal.jsonsafe import json_ready as _clean
+from thermocal.montecarlo import interval_end_error
 from thermocal.retrofit.economics import measure_investment
 from thermocal.retrofit.model import ESTIMATED_PARAMETERS
 from thermocal.retrofit.tables import (  # noqa: F401 (scenario_table: public here too)
@@ -80,6 +81,8 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "std": _num(cal.heat_loss_coefficient_std),
         "p05": _num(np.quantile(hlc_draws, lo_q)),
         "p95": _num(np.quantile(hlc_draws, 1 - lo_q)),
+        # Monte Carlo standard error of the less precise interval end [W/K]
+        "interval_mcse": _num(interval_end_error(hlc_draws, cfg.uncertainty.interval)),
         "calculated_part": _num(cal.heat_loss_coefficient - cal.estimates_si["H_est"]),
         "H_est": _num(cal.estimates_si["H_est"]),
         "audit_prior": _num(model.calculated_heat_loss_coefficient() + model.audit_h_est),
@@ -99,6 +102,9 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "value": _num(annual[0, 0]),
         "p05": _num(np.quantile(base_draws, lo_q)),
         "p95": _num(np.quantile(base_draws, 1 - lo_q)),
+        # Monte Carlo standard error of the less precise interval end [kWh]
+        "interval_mcse": _num(interval_end_error(base_draws, cfg.uncertainty.interval))
+        if has_draws else None,
         "monthly": [_num(v) for v in monthly[0, 0]],
         "monthly_p05": [_num(v) for v in np.quantile(mdraws, lo_q, axis=0)],
         "monthly_p95": [_num(v) for v in np.quantile(mdraws, 1 - lo_q, axis=0)],

@@ -299,7 +299,9 @@ def write_report(
             f"The savings' interval ends come from {analysis.config.uncertainty.draws} parameter "
             f"draws: they are known to about ±{end_error:.1f} percentage points (Monte Carlo "
             "standard error of the less precise end; more draws narrow it: "
-            "uncertainty.draws)."
+            "uncertainty.draws)"
+            + _interval_precision(results)
+            + "."
         )
     rep.figure(
         figures["scenario_savings"],
@@ -854,3 +856,17 @@ def _reference_check(rep, results, figures, pct, low, high) -> None:
         caption="Model vs reference at constant set point",
         number_format={v: "{:,.0f}" if "kWh" in v else "{:.1f}" for v in names.values()},
     )
+
+
+def _interval_precision(results: dict) -> str:
+    """The Monte Carlo precision of the heat loss coefficient's and the demand's interval ends,
+    as a clause ("" when they are not in ``results``)."""
+    parts = []
+    for key, what, unit, fmt in (
+        ("heat_loss_coefficient_W_per_K", "the heat loss coefficient's", "W/K", ".1f"),
+        ("annual_heating_demand_kWh", "the annual demand's", "kWh", ",.0f"),
+    ):
+        error = (results.get(key) or {}).get("interval_mcse")
+        if error is not None and error > 0:
+            parts.append(f"{what} to ±{format(error, fmt)} {unit}")
+    return "; " + " and ".join(parts) if parts else ""

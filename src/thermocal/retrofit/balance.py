@@ -6,10 +6,6 @@ EnergyPlus's surface conduction, infiltration, transmitted sun and internal gain
 simulation is run once more for the estimate and the heat leaving the indoor air node is
 summed per path and month:
 
-With the split inside (``model.interior: split``, :mod:`thermocal.retrofit.interior`) the
-element paths are the heat their inner surfaces conduct into the element (the inside-face
-conduction, as a reference reports it) and ``stored`` also holds what the internal mass keeps.
-
 - ``envelope`` -- into the roof / wall element (``H_env_in (Ti - Tenv)``: walls, roof, ceilings
   under an unheated attic, walls to unheated spaces; the sun absorbed outside on roof and walls
   is in it, as in a reference's inside-face conduction);
@@ -23,6 +19,11 @@ conduction, as a reference reports it) and ``stored`` also holds what the intern
 - ``gains`` -- minus the internal gains;
 - ``stored`` -- what the air and the internal mass keep or give back (the rest of the balance,
   close to zero over a month).
+
+With the split inside (``model.interior: split``, :mod:`thermocal.retrofit.interior`) the
+element paths are the heat their inner surfaces conduct into the element (the inside-face
+conduction, as a reference reports it): heat out of the room (its air, internal mass and
+surfaces together) rather than out of the air node alone.
 
 Every column is a heat flow OUT of the indoor air [kWh] (sun and gains negative), and they add
 up to ``heating`` by construction. Interval means of the states are taken as the mean of the

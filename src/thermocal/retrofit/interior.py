@@ -120,9 +120,7 @@ def inner_conduction(combined: float, area: float, r_si: float) -> float:
     return 1.0 / rest if rest > 1e-3 / film else 1e3 * film
 
 
-def reduce_interior(
-    surfaces, mass_convection: float, mass_radiation: float
-) -> ReducedInterior:
+def reduce_interior(surfaces, mass_convection: float, mass_radiation: float) -> ReducedInterior:
     """Eliminate the massless surface and star nodes of the room's inside.
 
     Parameters
@@ -161,9 +159,7 @@ def reduce_interior(
     solve = np.linalg.solve(g[n_m:, n_m:], g_ms.T)  # G_SS^-1 G_SM
     reduced = g[:n_m, :n_m] - g_ms @ solve
     pairs = {f"G_{a}_{b}": float(max(-reduced[index[a], index[b]], 0.0)) for a, b in PAIRS}
-    return ReducedInterior(
-        pairs=pairs, surface_weights=-solve[:-1], surfaces=kept_surfaces
-    )
+    return ReducedInterior(pairs=pairs, surface_weights=-solve[:-1], surfaces=kept_surfaces)
 
 
 def steady_temperatures(h: dict, ti: float, te: float, tgr: float) -> dict[str, float]:
@@ -176,6 +172,12 @@ def steady_temperatures(h: dict, ti: float, te: float, tgr: float) -> dict[str, 
     h : dict
         Conductances [W/K] of :meth:`thermocal.retrofit.model.FifthOrderModel.conductances`.
     ti, te, tgr : float [C]
+
+    Returns
+    -------
+    dict
+        ``Tenv``, ``Tgf``, ``Tim`` [C] and ``heat`` [W], the heat the air needs to stay at
+        ``ti``.
     """
     nodes = ("Ti", "Tenv", "Tgf", "Tim", "Te", "Tgr")
     index = {name: i for i, name in enumerate(nodes)}

@@ -28,6 +28,10 @@ Element network (``Hc = A / Rc`` conduction conductance, ``Rc = 1/U - Rsi - Rse`
   thermal bridges, doors).
 - ``Hh`` (heating surface) and ``Him`` (internal mass surface) from areas estimated from the
   floor area, number of floors and emitter type, times ISO 52016-1 surface coefficients.
+- With ``interior="split"`` (:mod:`thermocal.retrofit.interior`) the four air-to-element paths
+  (env, win, gf inner halves and ``Him``) become the Kron-reduced network of each element's
+  inner surface (convection to the air, radiation to a star node) and the internal mass: ten
+  pair conductances ``G_<a>_<b>`` among ``Ti, Tenv, Tgf, Tim, Te``; same states.
 
 Estimated parameters: ``H_est`` [W/K], ``C_env``, ``C_gf``, ``C_im``, ``C_i``, ``C_h`` [MJ/K],
 with bounds from ISO 52016-1 / ISO 13790 typical areal capacities.
@@ -520,7 +524,7 @@ class FifthOrderModel:
         env = envelope or self.envelope
         ground = env.ground if env.ground is not None else self.ground
         out: dict[str, float] = {}
-        surfaces: list[tuple[str, float, float, str, float]] = []  # node, A, combined, flow
+        surfaces: list[tuple[str, float, float, str]] = []  # node, A, combined, flow
         r_in, r_out, s_roof = element_conductances(
             max(env.roof_area, 1e-9), env.roof_u, R_SI["upward"], R_SE
         )

@@ -67,11 +67,13 @@ def _key(measures) -> str:
     return "+".join(m for m in MEASURES if m in measures) or "none"
 
 
-@pytest.fixture(scope="module")
-def twin(tmp_path_factory):
+def run_twin(out: Path, **model) -> dict:
+    """``thermocal retrofit`` on the committed configuration (``model`` options added) into
+    ``out``; its results.json, with ``_out`` the folder of the tables beside it."""
     weather = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
-    out = tmp_path_factory.mktemp("basement_twin")
     cfg = yaml.safe_load((REF / "config.yaml").read_text())
+    if model:
+        cfg.setdefault("model", {}).update(model)
     cfg["building"] = str(REF / "building.yaml")
     cfg["measurements"]["file"] = str(REF / "measurements.csv")
     cfg["weather"]["file"] = str(weather)
@@ -83,6 +85,11 @@ def twin(tmp_path_factory):
     results = json.loads((out / "r" / "results.json").read_text())
     results["_out"] = str(out / "r")  # the CSV tables beside it
     return results
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    return run_twin(tmp_path_factory.mktemp("basement_twin"))
 
 
 def _savings(twin):

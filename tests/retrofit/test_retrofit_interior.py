@@ -176,27 +176,12 @@ def test_split_inside_on_the_energyplus_basement_house(tmp_path):
     3 pp of EnergyPlus's (combined: 7), mean |difference| 2.05 pp (3.08), max 3.63 pp (5.21),
     15 of 15 intervals covering (15), HLC +0.3 % (+0.6 %); results.json names the inside and
     carries its pair conductances, and the report says so."""
-    from typer.testing import CliRunner
+    from test_retrofit_energyplus_basement import MEASURES, run_twin
 
-    from conftest import shared_data_path
-    from thermocal.cli import app
-
-    weather = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
-    cfg = yaml.safe_load((BASEMENT / "config.yaml").read_text())
-    cfg.setdefault("model", {})["interior"] = "split"
-    cfg["building"] = str(BASEMENT / "building.yaml")
-    cfg["measurements"]["file"] = str(BASEMENT / "measurements.csv")
-    cfg["weather"]["file"] = str(weather)
-    (tmp_path / "config.yaml").write_text(yaml.safe_dump(cfg, sort_keys=False))
-    result = CliRunner().invoke(
-        app, ["retrofit", str(tmp_path / "config.yaml"), "--out", str(tmp_path / "r")]
-    )
-    assert result.exit_code == 0, result.output
-    res = json.loads((tmp_path / "r" / "results.json").read_text())
+    res = run_twin(tmp_path, interior="split")
     ref = json.loads((BASEMENT / "reference.json").read_text())
-    order = ("attic_ceiling", "walls", "windows", "cellar_ceiling")
     diff = np.array([
-        s["saving_pct"] - ref["saving_pct"]["+".join(m for m in order if m in s["measures"])]
+        s["saving_pct"] - ref["saving_pct"]["+".join(m for m in MEASURES if m in s["measures"])]
         for s in res["scenarios"][1:]
     ])  # fmt: skip
     assert np.sum(np.abs(diff) <= 3.0) >= 12, diff  # measured 13 (combined 7)

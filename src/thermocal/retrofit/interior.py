@@ -96,6 +96,14 @@ class ReducedInterior:
         return out
 
 
+def _link(g: np.ndarray, a: int, b: int, value: float) -> None:
+    """Add a conductance [W/K] between nodes ``a`` and ``b`` to the conductance matrix ``g``."""
+    g[a, b] -= value
+    g[b, a] -= value
+    g[a, a] += value
+    g[b, b] += value
+
+
 def inner_conduction(combined: float, area: float, r_si: float) -> float:
     """The construction part [W/K] of an inner conductance ``A/Rsi (+) K``.
 
@@ -141,18 +149,12 @@ def reduce_interior(surfaces, mass_convection: float, mass_radiation: float) -> 
     star = n_m + len(kept_surfaces)
     g = np.zeros((star + 1, star + 1))
 
-    def link(a: int, b: int, value: float) -> None:
-        g[a, b] -= value
-        g[b, a] -= value
-        g[a, a] += value
-        g[b, b] += value
-
     for k, s in enumerate(kept_surfaces):
-        link(n_m + k, index["Ti"], s.convection)
-        link(n_m + k, star, s.radiation)
-        link(n_m + k, index[s.node], s.conduction)
-    link(index["Tim"], index["Ti"], mass_convection)
-    link(index["Tim"], star, mass_radiation)
+        _link(g, n_m + k, index["Ti"], s.convection)
+        _link(g, n_m + k, star, s.radiation)
+        _link(g, n_m + k, index[s.node], s.conduction)
+    _link(g, index["Tim"], index["Ti"], mass_convection)
+    _link(g, index["Tim"], star, mass_radiation)
     if g[star, star] <= 0:
         g[star, star] = 1.0  # no radiation at all: the star is an isolated node
     g_ms = g[:n_m, n_m:]
@@ -189,11 +191,7 @@ def steady_temperatures(h: dict, ti: float, te: float, tgr: float) -> dict[str, 
         ("Tgf", "Te", float(h["H_gf_e"])),
     ]
     for a, b, value in links:
-        i, j = index[a], index[b]
-        g[i, j] -= value
-        g[j, i] -= value
-        g[i, i] += value
-        g[j, j] += value
+        _link(g, index[a], index[b], value)
     free = [index["Tenv"], index["Tgf"], index["Tim"]]
     temps = np.zeros(len(nodes))
     temps[[index["Ti"], index["Te"], index["Tgr"]]] = (ti, te, tgr)

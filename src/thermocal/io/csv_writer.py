@@ -82,11 +82,10 @@ def write_frame_csv(frame: pd.DataFrame, path: str | Path, decimals: int = 4) ->
     csv.writer(header, lineterminator="\n").writerow(
         [frame.index.name or "", *map(str, frame.columns)]
     )
-    values = frame.to_numpy(dtype=float)
     labels = time_labels(frame.index)
-    largest = np.fmax.reduce(np.abs(values).ravel(), initial=0.0)  # NaN ignored, inf kept
-    if largest >= FIXED_POINT_LIMIT:
-        _write_with_arrow(header.getvalue(), labels, values, decimals, Path(path))
+    if _largest_magnitude(frame) >= FIXED_POINT_LIMIT:
+        _write_with_arrow(header.getvalue(), labels, frame.to_numpy(dtype=float), decimals,
+                          Path(path))  # fmt: skip
         return
     import pyarrow as pa
 
@@ -100,11 +99,25 @@ def write_frame_csv(frame: pd.DataFrame, path: str | Path, decimals: int = 4) ->
     per_value = 2 + 13 + 1 + decimals  # comma, sign, 13 digits, point, decimals
     with open(path, "wb") as handle:
         handle.write(header.getvalue().encode())
-        for first in range(0, len(values), ROWS_PER_BLOCK):
-            block = np.ascontiguousarray(values[first : first + ROWS_PER_BLOCK])
+        for first in range(0, len(frame), ROWS_PER_BLOCK):
+            # one block of rows at a time: a frame of several quantities (pandas blocks) is
+            # never copied whole
+            block = np.ascontiguousarray(
+                frame.iloc[first : first + ROWS_PER_BLOCK].to_numpy(dtype=float)
+            )
             out = np.empty(block.shape[0] * (width + 1 + per_value * block.shape[1]), np.uint8)
             used = format_rows(label_data, label_offsets, first, block, decimals, out)
             handle.write(memoryview(out[:used]))
+
+
+def _largest_magnitude(frame: pd.DataFrame) -> float:
+    """The largest absolute value of ``frame`` (NaN ignored, infinity kept), column by column
+    (no temporary the size of the table)."""
+    largest = 0.0
+    for j in range(frame.shape[1]):
+        column = frame.iloc[:, j].to_numpy(dtype=float)
+        largest = max(largest, float(np.fmax.reduce(np.abs(column), initial=0.0)))
+    return largest
 
 
 def _write_with_arrow(header: str, labels, values: np.ndarray, decimals: int, path: Path):

@@ -54,8 +54,10 @@ class Outputs:
         index = self.times
         zones = net.zone_names
 
-        def frame(values):
-            return pd.DataFrame(values, index=index, columns=zones)
+        def frame(values, own=True):
+            # the run's own arrays become the frames' blocks (no copy: a month of a 186-zone
+            # building is 13 MB per quantity); the caller's heat is copied
+            return pd.DataFrame(values, index=index, columns=zones, copy=not own)
 
         transmitted = np.asarray(net.zone_transmitted @ self._inputs.T).T
         t_out = self._inputs[:, IN_TEMP_OUT]
@@ -77,12 +79,12 @@ class Outputs:
             mean_radiant_temperature=frame(mrt),
             heating=frame(heating),
             cooling=frame(cooling),
-            heat_input=frame(heat),
+            heat_input=frame(heat, own=False),
             transmitted_solar=frame(transmitted),
             infiltration=frame(infiltration),
             surface_temperature=None
             if faces is None
-            else pd.DataFrame(faces, index=index, columns=net.face_names),
+            else pd.DataFrame(faces, index=index, columns=net.face_names, copy=False),
             step=self.step_size,
             approximations=self.approximations(),
         )

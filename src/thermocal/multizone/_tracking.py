@@ -292,19 +292,23 @@ class Tracking:
         zone_names = self.network.zone_names
         names, air, mrt, weight = loop.names, loop.air, loop.mrt, loop.air_weight
         index = self.times
+
+        def frame(values, columns, own=True):
+            # the loop's own arrays become the frames' blocks (no copy); the caller's reference
+            # (kept as given when it is already a float array) is copied
+            return pd.DataFrame(values, index=index, columns=columns, copy=not own)
+
         return TrackingResult(
-            air_temperature=pd.DataFrame(air, index=index, columns=zone_names),
-            operative_temperature=pd.DataFrame(0.5 * (air + mrt), index=index, columns=zone_names),
-            heat=pd.DataFrame(loop.heat, index=index, columns=names),
-            reference=pd.DataFrame(loop.reference, index=index, columns=names),
+            air_temperature=frame(air, zone_names),
+            operative_temperature=frame(0.5 * (air + mrt), zone_names),
+            heat=frame(loop.heat, names),
+            reference=frame(loop.reference, names, own=False),
             feedback=feedback,
             method=method,
             step=self.step_size,
             diverged=loop.diverged,
-            sensed_temperature=pd.DataFrame(
-                weight * air[:, loop.tracked] + (1.0 - weight) * mrt[:, loop.tracked],
-                index=index,
-                columns=names,
+            sensed_temperature=frame(
+                weight * air[:, loop.tracked] + (1.0 - weight) * mrt[:, loop.tracked], names
             ),
         )
 

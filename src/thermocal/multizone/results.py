@@ -10,7 +10,6 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
@@ -124,16 +123,19 @@ class SimulationResult:
             parts = [q for q in chosen if OUTPUT_QUANTITIES[q][0] == name]
             if not parts:
                 continue
-            frames = [getattr(self, q) for q in parts]
-            flat = pd.DataFrame(
-                np.hstack([f.to_numpy(dtype=float) for f in frames]),
-                index=frames[0].index.rename("time"),
-                columns=[
-                    f"{zone}|{OUTPUT_QUANTITIES[q][1]}"
-                    for q, f in zip(parts, frames, strict=True)
-                    for zone in f.columns
+            # the quantities side by side without copying them (the writers read a block of
+            # rows at a time): a year of a large building is gigabytes per copy
+            flat = pd.concat(
+                [
+                    getattr(self, q).set_axis(
+                        [f"{zone}|{OUTPUT_QUANTITIES[q][1]}" for zone in getattr(self, q).columns],
+                        axis=1,
+                    )
+                    for q in parts
                 ],
+                axis=1,
             )
+            flat.index = flat.index.rename("time")
             jobs.append((flat, directory / f"{name}.{format}"))
         writer = _write_csv if format == "csv" else _write_parquet
         if len(jobs) > 1:

@@ -82,3 +82,22 @@ def test_empty_frame(tmp_path):
     frame = _frame(rows=10).iloc[:0]
     write_frame_csv(frame, tmp_path / "a.csv")
     assert (tmp_path / "a.csv").read_text() == "time," + ",".join(frame.columns) + "\n"
+
+
+def test_a_frame_of_several_quantities_is_written_as_one(tmp_path, monkeypatch):
+    """``SimulationResult.to_files`` puts the quantities side by side without copying them
+    (pandas concatenation: several blocks); the text is the one of the same frame in one block,
+    block boundaries included."""
+    import thermocal.io.csv_writer as writer
+
+    monkeypatch.setattr(writer, "ROWS_PER_BLOCK", 11)
+    frame = _frame(rows=60)
+    parts = pd.concat([frame.iloc[:, :3], frame.iloc[:, 3:].copy()], axis=1)
+    assert len(parts._mgr.blocks) == 2
+    write_frame_csv(parts, tmp_path / "parts.csv")
+    write_frame_csv(frame, tmp_path / "one.csv")
+    assert (tmp_path / "parts.csv").read_bytes() == (tmp_path / "one.csv").read_bytes()
+    huge = parts.copy()
+    huge.iloc[5, 4] = 2e13  # beyond fixed point in the second block: Arrow's writer
+    write_frame_csv(huge, tmp_path / "huge.csv")
+    assert pd.read_csv(tmp_path / "huge.csv", index_col=0).iloc[5, 4] == 2e13

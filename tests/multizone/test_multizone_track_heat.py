@@ -117,3 +117,25 @@ def test_track_heat_refuses_what_track_refuses(kwargs, match):
             call(reference, **kwargs)
     with pytest.raises(ThermocalInputError, match="reference must have shape"):
         sim.track_heat(reference[:-1])
+
+
+def test_result_frames_hold_their_own_data():
+    """The frames of ``run`` and ``track`` take the loop's arrays without copying (issue 22,
+    memory): the caller's heat and reference are still copied, and a second call does not
+    write into the first call's frames."""
+    sim, reference, heat = _case()
+    given = heat.copy()
+    first = sim.run(free_float=True, heat_input=given)
+    kept = {q: getattr(first, q).to_numpy().copy() for q in ("air_temperature", "heating")}
+    given[:] = 12345.0  # the caller reuses its array
+    assert not np.any(first.heat_input.to_numpy() == 12345.0)
+    sim.run(free_float=True, heat_input=heat * 2.0)  # another run on the same simulation
+    for q, values in kept.items():
+        np.testing.assert_array_equal(getattr(first, q).to_numpy(), values)
+    target = reference.copy()
+    tracked = sim.track(target, method="inverse")
+    heat_before = tracked.heat.to_numpy().copy()
+    target[:] = 0.0
+    assert np.all(tracked.reference.to_numpy() == reference)
+    sim.track(reference + 1.0, method="inverse")
+    np.testing.assert_array_equal(tracked.heat.to_numpy(), heat_before)

@@ -127,3 +127,91 @@ def test_configuration_messages_echo_the_bad_value():
     message = str(info.value)
     assert "measurements.flow_unit = 'gal': " in message and "'l/h'" in message
     assert "periods.training_days = 'three weeks': " in message
+
+
+def _to_fahrenheit(tmp_path, days, names):
+    """The synthetic house with the columns ``names`` (standard names) logged in Fahrenheit."""
+    config = make_dataset(tmp_path, days=days)
+    cfg = yaml.safe_load(config.read_text())
+    measurements = tmp_path / cfg["measurements"]["file"]
+    frame = pd.read_csv(measurements)
+    for name in names:
+        column = cfg["measurements"]["columns"][name]
+        frame[column] = frame[column] * 1.8 + 32.0
+    frame.to_csv(measurements, index=False)
+    return config, cfg
+
+
+def test_an_indoor_log_in_fahrenheit_is_refused_and_the_remedy_works(tmp_path):
+    """A thermostat's log at 68-71 (F) read as C used to give a wrong building with no error
+    (the validation gate failed without naming why); now refused, naming the column and the
+    key, and with the key set the analysis is the one of the log in C."""
+    reference = run_retrofit(load_config(make_dataset(tmp_path / "c", days=16.0)))
+    config, cfg = _to_fahrenheit(tmp_path / "f", 16.0, ["temp_in"])
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"column 'Ti' \(measurements.columns.temp_in, declared in C\): the indoor "
+        r"temperature averages 6\d\.\d .* Fahrenheit\? \(\d\d\.\d C\): set "
+        r"measurements.temperature_unit: \{temp_in: F\}",
+    ):
+        run_retrofit(load_config(config))
+    cfg["measurements"]["temperature_unit"] = {"temp_in": "F"}
+    config.write_text(yaml.safe_dump(cfg))
+    result = run_retrofit(load_config(config))
+    assert result.calibration.heat_loss_coefficient == pytest.approx(
+        reference.calibration.heat_loss_coefficient, rel=1e-4
+    )
+
+
+def test_an_outdoor_log_in_fahrenheit_is_refused_against_the_weather_file(tmp_path):
+    config, cfg = _to_fahrenheit(tmp_path, 16.0, ["temp_out"])
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"column 'Te' .*the outdoor temperature averages \d+\.\d over 2001-02-02 to "
+        r"2001-02-17, the weather file's same days -?\d+\.\d C; Fahrenheit\?",
+    ):
+        run_retrofit(load_config(config))
+
+
+def test_temperature_checks_name_slips_and_note_another_climate():
+    from thermocal.retrofit.config import MeasurementsConfig
+    from thermocal.retrofit.data import check_temperature_units
+
+    index = pd.date_range("2001-02-02", periods=24 * 14, freq="h", tz="Etc/GMT+5")
+    weather = pd.DataFrame(
+        {"temp_air": 2.0 + 5.0 * np.sin(np.arange(8760) * 2 * np.pi / 24)},
+        index=pd.date_range("2001-01-01", periods=8760, freq="h", tz="Etc/GMT+5"),
+    )
+    cfg = MeasurementsConfig(file="m.csv", columns={"temp_in": "T room"})
+    ok = pd.DataFrame({"temp_in": 20.5, "temp_out": 3.0}, index=index)
+    assert check_temperature_units(ok, weather, cfg, "m.csv") == []
+    tenths = ok.assign(temp_in=205.0)
+    with pytest.raises(ThermocalInputError, match=r"'T room'.*tenths of a degree.*divide the "
+                       r"values of column 'T room' by 10 in the file"):  # fmt: skip
+        check_temperature_units(tenths, weather, cfg, "m.csv")
+    # 16 K warmer than the weather file, and no unit explains it: a note, not an error
+    notes = check_temperature_units(ok.assign(temp_out=18.0), weather, cfg, "m.csv")
+    assert len(notes) == 1 and "+16.0 K" in notes[0] and "weather.file" in notes[0]
+    declared = MeasurementsConfig(file="m.csv", temperature_unit="F")
+    assert declared.temperature_unit_of("temp_out") == "F"
+    with pytest.raises(ValueError, match=r"\['heat'\] are not temperature columns"):
+        MeasurementsConfig(file="m.csv", temperature_unit={"heat": "F"})
+
+
+def test_heating_water_in_fahrenheit_is_refused(tmp_path):
+    """Supply 113-118 F and return 95-100 F read as C (their difference, and the heat, 1.8
+    times the truth): refused naming the column and the key (it was refused by the heating
+    power's range check, "temp_supply = 115.25 C is outside the range of liquid heating
+    water", without either)."""
+    config, _ = _to_fahrenheit(tmp_path, 16.0, ["temp_supply", "temp_return"])
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"column 'T_supply' \(measurements.columns.temp_supply, declared in C\) reaches "
+        r"11\d\.\d; Fahrenheit\? \(4\d\.\d C\): set measurements.temperature_unit: "
+        r"\{temp_supply: F, temp_return: F\}",
+    ):
+        run_retrofit(load_config(config))
+    cfg = yaml.safe_load(config.read_text())
+    cfg["measurements"]["temperature_unit"] = {"temp_supply": "F", "temp_return": "F"}
+    config.write_text(yaml.safe_dump(cfg))
+    assert run_retrofit(load_config(config)).calibration.heat_loss_coefficient > 0

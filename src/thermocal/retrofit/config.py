@@ -95,6 +95,10 @@ MAX_ANNUAL_KWH = 2.0e6
 MIN_HEAT_LOSS_COEFFICIENT = 5.0
 
 
+#: The temperature columns of the measurements (standard names).
+TEMPERATURE_NAMES = ("temp_out", "temp_in", "temp_supply", "temp_return")
+
+
 class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
@@ -109,6 +113,11 @@ class MeasurementsConfig(_Strict):
         description="mapping standard name -> column in the file",
     )
     flow_unit: Literal["m3/s", "m3/h", "l/s", "l/min", "l/h"] = "m3/s"
+    temperature_unit: Literal["C", "K", "F"] | dict[str, Literal["C", "K", "F"]] = Field(
+        "C",
+        description="unit of the temperature columns: one for all, or per standard name "
+        "(e.g. {temp_in: F} for a thermostat's log in Fahrenheit)",
+    )
     timezone: str | float | None = Field(
         None, description="time zone of naive timestamps (name or hours from UTC)"
     )
@@ -150,6 +159,24 @@ class MeasurementsConfig(_Strict):
                 f"({self.heat_unit}); set heat_unit to kWh, MWh, MJ, ..."
             )
         return self
+
+    @field_validator("temperature_unit")
+    @classmethod
+    def _temperature_names(cls, value):
+        if isinstance(value, dict):
+            other = sorted(set(value) - set(TEMPERATURE_NAMES))
+            if other:
+                raise ValueError(
+                    f"temperature_unit: {other} are not temperature columns; use "
+                    f"{list(TEMPERATURE_NAMES)} as keys"
+                )
+        return value
+
+    def temperature_unit_of(self, name: str) -> str:
+        """The declared unit of the temperature column ``name`` (a standard name)."""
+        if isinstance(self.temperature_unit, dict):
+            return self.temperature_unit.get(name, "C")
+        return self.temperature_unit
 
     @field_validator("columns")
     @classmethod

@@ -24,6 +24,9 @@ from thermocal.physics.hydronics import heating_power
 from thermocal.retrofit.config import MEASUREMENT_COLUMNS, MeasurementsConfig
 
 TEMPERATURE_COLUMNS = ("temp_out", "temp_supply", "temp_return", "temp_in")
+#: Highest supply or return water temperature [C] (liquid water at ambient pressure), and
+#: highest indoor or outdoor air temperature [C]; above, a unit slip.
+WATER_LIMIT, AIR_LIMIT = 100.0, 150.0
 #: Irradiance above this [W/m2] is impossible at the ground (the solar constant is 1361 W/m2);
 #: the upper physical limit of :func:`thermocal.io.measurements.resample_measurements`.
 IRRADIANCE_LIMIT = 1600.0
@@ -51,9 +54,122 @@ _READER_REMEDIES = (
 def _units(cfg: MeasurementsConfig, electricity_unit: str | None = None) -> dict[str, str]:
     """The unit of every mapped file column, from the configuration."""
     unit = {"flow": cfg.flow_unit, "dni": "W/m2", "dhi": "W/m2", "heat": cfg.heat_unit}
+    unit.update({name: cfg.temperature_unit_of(name) for name in TEMPERATURE_COLUMNS})
     if electricity_unit:
         unit["electricity"] = electricity_unit
     return {col: unit.get(std, "C") for std, col in cfg.columns.items()}
+
+
+#: Mean indoor temperature of a heated home over the measured weeks [C]; outside, a unit slip
+#: (or not the heated rooms' temperature).
+HEATED_INDOOR_RANGE = (5.0, 35.0)
+#: The measured outdoor temperature's mean over the measured days and the weather file's over
+#: the same days of its year may differ by this much (a typical year against a real one)
+#: before it is reported [K].
+OUTDOOR_TOLERANCE = 12.0
+#: A converted mean this close to the expected one identifies a unit slip [K].
+UNIT_MATCH = 5.0
+
+
+
+def _slip_remedy(label: str, name: str, column: str) -> str:
+    """What to write in the retrofit configuration (or the file) for a unit slip."""
+    unit = {"Kelvin?": "K", "Fahrenheit?": "F"}.get(label)
+    if unit:
+        return (
+            f"set measurements.temperature_unit: {{{name}: {unit}}} (or {unit} for every "
+            f"temperature column) in the retrofit configuration"
+        )
+    factor = 10 if label.startswith("tenths") else 100
+    return f"divide the values of column '{column}' by {factor} in the file"
+
+
+def check_temperature_units(
+    grid: pd.DataFrame, weather: pd.DataFrame, cfg: MeasurementsConfig, source: str
+) -> list[str]:
+    """Refuse an indoor or outdoor temperature logged in another unit than declared.
+
+    The reader refuses a Kelvin log declared in C (values above 100). A Fahrenheit log looks
+    like a plausible number in C: a heated home at 68 (20 C), or a winter's outdoor air at 35
+    (2 C), and the fit then returns a wrong building with no error. Two checks, on the
+    averaged measurements:
+
+    - the indoor temperature's mean over the measured weeks lies within
+      :data:`HEATED_INDOOR_RANGE` (a heated home); outside it, the unit slip that brings it
+      there is named (:func:`thermocal.io.measurements.units.temperature_unit_slip`:
+      Fahrenheit, Kelvin, tenths or hundredths of a degree);
+    - the outdoor temperature's mean over the measured days against the weather file's mean
+      over the same days of its year: more than :data:`OUTDOOR_TOLERANCE` apart and within
+      :data:`UNIT_MATCH` once converted from Fahrenheit, it is refused; more than the tolerance
+      apart otherwise, a note (the weather file of another place, or an exceptional period).
+
+    Parameters
+    ----------
+    grid : DataFrame
+        Averaged measurements with ``temp_in`` and ``temp_out`` [C as declared].
+    weather : DataFrame
+        The weather year with ``temp_air`` [C] (:func:`thermocal.retrofit.workflow.
+        load_weather_year`).
+    cfg : MeasurementsConfig
+    source : str
+        The measurement file, for the messages.
+
+    Returns
+    -------
+    list of str
+        Notes (the outdoor temperature far from the weather file's without a unit slip).
+
+    Raises
+    ------
+    ThermocalInputError
+        A unit slip, naming the column, the mean and the configuration key to set.
+    """
+    from thermocal.io.measurements.units import temperature_unit_slip
+
+    notes: list[str] = []
+    indoor = grid["temp_in"].to_numpy(float)
+    if np.isfinite(indoor).any():
+        mean = float(np.nanmean(indoor))
+        slip = temperature_unit_slip(mean, plausible=HEATED_INDOOR_RANGE)
+        if slip is not None:
+            label, _, value = slip
+            column = cfg.columns.get("temp_in", "temp_in")
+            what = (
+                f"{label} ({value:.1f} C): {_slip_remedy(label, 'temp_in', column)}"
+                if np.isfinite(value)
+                else "check its unit and that it is the heated rooms' air temperature"
+            )
+            raise ThermocalInputError(
+                f"{source}, column '{column}' (measurements.columns.temp_in, declared in "
+                f"{cfg.temperature_unit_of('temp_in')}): the indoor temperature averages "
+                f"{mean:.1f} over the measurements, outside {HEATED_INDOOR_RANGE[0]:g}-"
+                f"{HEATED_INDOOR_RANGE[1]:g} C for a heated home; {what}"
+            )
+    outdoor = grid["temp_out"].to_numpy(float)
+    days = np.unique(grid.index.day_of_year)
+    same = weather["temp_air"].to_numpy(float)[np.isin(weather.index.day_of_year, days)]
+    if not (np.isfinite(outdoor).any() and np.isfinite(same).any()):
+        return notes
+    mean, expected = float(np.nanmean(outdoor)), float(np.nanmean(same))
+    if abs(mean - expected) <= OUTDOOR_TOLERANCE:
+        return notes
+    column = cfg.columns.get("temp_out", "temp_out")
+    period = f"{grid.index[0]:%Y-%m-%d} to {grid.index[-1]:%Y-%m-%d}"
+    converted = (mean - 32.0) * 5.0 / 9.0
+    if cfg.temperature_unit_of("temp_out") == "C" and abs(converted - expected) <= UNIT_MATCH:
+        raise ThermocalInputError(
+            f"{source}, column '{column}' (measurements.columns.temp_out, declared in C): the "
+            f"outdoor temperature averages {mean:.1f} over {period}, the weather file's same "
+            f"days {expected:.1f} C; Fahrenheit? ({converted:.1f} C): "
+            + _slip_remedy("Fahrenheit?", "temp_out", column)
+        )
+    notes.append(
+        f"the measured outdoor temperature averages {mean:.1f} C over {period}, the weather "
+        f"file's same days {expected:.1f} C ({mean - expected:+.1f} K): the weather file may be "
+        f"of another place (weather.file), or the outdoor column '{column}' of another unit or "
+        "sensor; the annual demand uses the weather file's climate"
+    )
+    return notes
 
 
 def read_raw_measurements(
@@ -125,10 +241,20 @@ def read_raw_measurements(
         if std not in out:
             continue
         high = np.nanmax(out[std].to_numpy()) if out[std].notna().any() else np.nan
-        if np.isfinite(high) and high > 150.0:
+        # heating water is liquid (at most 100 C, the limit of the heating power's check)
+        limit = WATER_LIMIT if std in ("temp_supply", "temp_return") else AIR_LIMIT
+        if np.isfinite(high) and high > limit:
+            # above 250 Kelvin; below it Fahrenheit (212 F boils; 113 F is 45 C)
+            unit, value = ("K", high - 273.15) if high > 250.0 else ("F", (high - 32.0) / 1.8)
+            # supply and return come from one controller: both are in that unit
+            names = ("temp_supply", "temp_return") if limit == WATER_LIMIT else (std,)
+            declared = ", ".join(f"{name}: {unit}" for name in names if name in out)
             raise ThermocalInputError(
-                f"measurement file {path}: column {cfg.columns[std]!r} reaches {high:.1f}; "
-                "temperatures must be in degrees C (Kelvin? subtract 273.15)"
+                f"measurement file {path}: column {cfg.columns[std]!r} (measurements.columns."
+                f"{std}, declared in {cfg.temperature_unit_of(std)}) reaches {high:.1f}; "
+                f"{'Kelvin' if unit == 'K' else 'Fahrenheit'}? ({value:.1f} C): set "
+                f"measurements.temperature_unit: {{{declared}}} (or {unit} for every "
+                "temperature column) in the retrofit configuration"
             )
     for std in ("dni", "dhi"):
         low = np.nanmin(out[std].to_numpy()) if out[std].notna().any() else 0.0

@@ -479,6 +479,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     from thermocal.physics.ground import ground_temperature_parameters
     from thermocal.retrofit.calibration import OUTPUT_COLUMN
     from thermocal.retrofit.data import (
+        check_temperature_units,
         prepare_measurements,
         read_raw_measurements,
         removed_values_notes,
@@ -511,6 +512,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     quality = {"quality": quality, "raw": raw}
     step = grid.index[1] - grid.index[0]
     weather, meta = load_weather_year(cfg, step)
+    notes += check_temperature_units(grid, weather, mc, str(mc.file))
     ground = ground_temperature_parameters(weather)
     model = build_fifth_order_model(
         building, solar_to_internal_mass=cfg.model.solar_to_internal_mass,

@@ -36,6 +36,7 @@ from thermocal.retrofit.calibration import (
 )
 from thermocal.retrofit.config import RetrofitConfig
 from thermocal.retrofit.data import (
+    check_temperature_units,
     prepare_measurements,
     read_raw_measurements,
     removed_values_notes,
@@ -283,6 +284,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     weather, weather_meta = load_weather_year(cfg, step)
     ground_params = ground_temperature_parameters(weather)
     training, test, notes = _periods(grid, cfg, source)
+    for note in check_temperature_units(grid, weather, cfg.measurements, source):
+        log.warning(note)
+        notes.append(note)
     for note in removed_values_notes(quality, cfg.measurements.columns):
         log.warning(note)
         notes.append(note)

@@ -162,7 +162,7 @@ def _check_site_and_clock(cfg) -> None:
     )
     # the measurements' clock against the sun at the building (when they carry irradiance)
     raw = read_raw_measurements(cfg.measurements, default_tz=_location_tz(building))
-    solar = [c for c in ("dni", "dhi") if c in raw.columns]
+    solar = [c for c in cfg.measurements.irradiance_columns() if c in raw.columns]
     if solar:
         tz = cfg.measurements.timezone
         setting = (

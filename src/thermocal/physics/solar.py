@@ -30,6 +30,7 @@ __all__ = [
     "STEFAN_BOLTZMANN",
     "solar_position",
     "interval_solar_position",
+    "beam_and_diffuse_from_global",
     "irradiance_on_surface",
     "irradiance_on_surfaces",
     "glazing_angular_factor",
@@ -181,6 +182,71 @@ def interval_solar_position(
     position.insert(0, "time", instants)
     position.index = index
     return position
+
+
+def beam_and_diffuse_from_global(
+    ghi: pd.Series,
+    latitude: float,
+    longitude: float,
+    altitude: float = 0.0,
+    *,
+    solar_position: pd.DataFrame | None = None,
+) -> pd.DataFrame:
+    """Direct normal and diffuse horizontal irradiance from the global horizontal alone.
+
+    A pyranometer measures the global horizontal irradiance; the transposition to walls, roof
+    and windows needs its beam and diffuse parts. Their split is the Erbs et al. (1982)
+    correlation of the diffuse fraction with the clearness index (``pvlib.irradiance.
+    erbs_driesse``: Driesse et al. 2024's continuous form of it), at each interval's
+    representative sun position (:func:`interval_solar_position`). The parts add up to the
+    global: ``dhi + dni cos(zenith) = ghi`` wherever the sun is more than 3 deg above the
+    horizon; lower, all of it is diffuse.
+
+    Parameters
+    ----------
+    ghi : pandas.Series
+        Global horizontal irradiance [W/m2], interval means labelled by interval start
+        (tz-aware index).
+    latitude : float
+        Site latitude [deg N].
+    longitude : float
+        Site longitude [deg E].
+    altitude : float
+        Site altitude [m].
+    solar_position : pandas.DataFrame, optional
+        Precomputed :func:`interval_solar_position` of ``ghi.index``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``dni``, ``dhi`` [W/m2] and ``ghi`` [W/m2] (as given), indexed as ``ghi``; NaN where
+        ``ghi`` is NaN.
+
+    References
+    ----------
+    .. [1] D. G. Erbs, S. A. Klein, J. A. Duffie, "Estimation of the diffuse radiation fraction
+       for hourly, daily and monthly-average global radiation", Solar Energy 28 (1982)
+       293-302.
+    .. [2] A. Driesse, A. Jensen, R. Perez, "A continuous form of the Perez diffuse sky model
+       for forward and reverse transposition", Solar Energy 267 (2024) 112093.
+    """
+    import pvlib
+
+    _check_site(latitude, longitude)
+    if solar_position is None:
+        solar_position = interval_solar_position(ghi.index, latitude, longitude, altitude)
+    values = ghi.to_numpy(dtype=float)
+    zenith = solar_position["apparent_zenith"].to_numpy(dtype=float)
+    split = pvlib.irradiance.erbs_driesse(
+        np.clip(np.nan_to_num(values, nan=0.0), 0.0, None), zenith,
+        datetime_or_doy=ghi.index.day_of_year.to_numpy(),
+    )  # fmt: skip
+    dni = np.asarray(split["dni"], dtype=float)
+    dhi = np.asarray(split["dhi"], dtype=float)
+    missing = ~np.isfinite(values)
+    dni[missing] = np.nan
+    dhi[missing] = np.nan
+    return pd.DataFrame({"dni": dni, "dhi": dhi, "ghi": values}, index=ghi.index)
 
 
 def irradiance_on_surface(

@@ -49,6 +49,7 @@ MEASUREMENT_COLUMNS: dict[str, str] = {
     "temp_return": "heating return water temperature [C]",
     "dni": "direct normal irradiance [W/m2] (hourly Wh/m2 is the same number)",
     "dhi": "diffuse horizontal irradiance [W/m2]",
+    "ghi": "global horizontal irradiance [W/m2] (a pyranometer; measurements.irradiance: ghi)",
     "temp_in": "internal air temperature Ti [C]",
     "heat": "heat (or fuel) meter: power or energy, unit measurements.heat_unit",
     "electricity": "electricity meter: power or energy, unit internal_gains.electricity_unit",
@@ -121,6 +122,11 @@ class MeasurementsConfig(_Strict):
     timezone: str | float | None = Field(
         None, description="time zone of naive timestamps (name or hours from UTC)"
     )
+    irradiance: Literal["dni_dhi", "ghi"] = Field(
+        "dni_dhi",
+        description="dni_dhi: the columns dni and dhi; ghi: a pyranometer's global horizontal "
+        "irradiance alone, split into beam and diffuse by the Erbs et al. (1982) correlation",
+    )
     step: str = Field("1h", description="resampling step of the calibration data")
     heat_source: Literal["hydronic", "heat_meter", "fuel_meter"] = Field(
         "hydronic",
@@ -139,8 +145,13 @@ class MeasurementsConfig(_Strict):
 
     def required_columns(self, electricity: bool = False) -> list[str]:
         """Standard names read from the file for this heat source (and electricity meter)."""
-        names = ["temp_out", *HEAT_SOURCE_COLUMNS[self.heat_source], "dni", "dhi", "temp_in"]
+        names = ["temp_out", *HEAT_SOURCE_COLUMNS[self.heat_source], *self.irradiance_columns(),
+                 "temp_in"]  # fmt: skip
         return names + (["electricity"] if electricity else [])
+
+    def irradiance_columns(self) -> tuple[str, ...]:
+        """The irradiance columns read from the file (standard names)."""
+        return ("ghi",) if self.irradiance == "ghi" else ("dni", "dhi")
 
     @model_validator(mode="after")
     def _fuel_needs_efficiency(self) -> MeasurementsConfig:

@@ -53,11 +53,35 @@ _READER_REMEDIES = (
 
 def _units(cfg: MeasurementsConfig, electricity_unit: str | None = None) -> dict[str, str]:
     """The unit of every mapped file column, from the configuration."""
-    unit = {"flow": cfg.flow_unit, "dni": "W/m2", "dhi": "W/m2", "heat": cfg.heat_unit}
+    unit = {"flow": cfg.flow_unit, "heat": cfg.heat_unit, "dni": "W/m2", "dhi": "W/m2",
+            "ghi": "W/m2"}  # fmt: skip
     unit.update({name: cfg.temperature_unit_of(name) for name in TEMPERATURE_COLUMNS})
     if electricity_unit:
         unit["electricity"] = electricity_unit
     return {col: unit.get(std, "C") for std, col in cfg.columns.items()}
+
+
+def with_beam_and_diffuse(grid: pd.DataFrame, cfg: MeasurementsConfig, location) -> pd.DataFrame:
+    """The averaged measurements with ``dni`` and ``dhi`` [W/m2]: as measured, or, for a
+    pyranometer's global horizontal irradiance (``measurements.irradiance: ghi``), split by
+    :func:`thermocal.physics.solar.beam_and_diffuse_from_global` at the building's site.
+
+    Parameters
+    ----------
+    grid : DataFrame
+        From :func:`prepare_measurements` (``ghi`` [W/m2] when the configuration says so).
+    cfg : MeasurementsConfig
+    location : the building file's location (``latitude``, ``longitude`` [deg], ``altitude`` [m])
+    """
+    if cfg.irradiance != "ghi":
+        return grid
+    from thermocal.physics.solar import beam_and_diffuse_from_global
+
+    split = beam_and_diffuse_from_global(
+        grid["ghi"], float(location.latitude), float(location.longitude),
+        float(getattr(location, "altitude", 0.0) or 0.0),
+    )  # fmt: skip
+    return grid.assign(dni=split["dni"], dhi=split["dhi"])
 
 
 #: Mean indoor temperature of a heated home over the measured weeks [C]; outside, a unit slip
@@ -256,14 +280,15 @@ def read_raw_measurements(
                 f"measurements.temperature_unit: {{{declared}}} (or {unit} for every "
                 "temperature column) in the retrofit configuration"
             )
-    for std in ("dni", "dhi"):
+    solar = list(cfg.irradiance_columns())
+    for std in solar:
         low = np.nanmin(out[std].to_numpy()) if out[std].notna().any() else 0.0
         if low < -10.0:
             raise ThermocalInputError(
                 f"measurement file {path}: irradiance column {cfg.columns[std]!r} has "
                 f"{low:.1f} W/m2 < 0"
             )
-    for std in ("dni", "dhi"):
+    for std in solar:
         values = out[std].to_numpy()
         above = values > IRRADIANCE_LIMIT
         sunny = np.isfinite(values) & (values > 5.0)
@@ -277,14 +302,13 @@ def read_raw_measurements(
                 "1000 points to kW vs W or W/m2 written as mW/m2): convert the column to W/m2"
             )
     span = (index[-1] - index[0]) if len(index) else pd.Timedelta(0)
-    high = (
-        np.nanmax(out[["dni", "dhi"]].to_numpy()) if out[["dni", "dhi"]].notna().any().any() else 0
-    )
+    high = np.nanmax(out[solar].to_numpy()) if out[solar].notna().any().any() else 0
     if span >= pd.Timedelta(days=2) and high < 5.0:
         raise ThermocalInputError(
-            f"measurement file {path}: irradiance columns {cfg.columns['dni']!r} and "
-            f"{cfg.columns['dhi']!r} never exceed {high:.2f} over {span}; they must be in W/m2 "
-            "(hourly Wh/m2 are the same numbers; kWh/m2: multiply by 1000)"
+            f"measurement file {path}: irradiance column(s) "
+            f"{' and '.join(repr(cfg.columns[std]) for std in solar)} never exceed {high:.2f} "
+            f"over {span}; they must be in W/m2 (hourly Wh/m2 are the same numbers; kWh/m2: "
+            "multiply by 1000)"
         )
     out.attrs["measurements"] = raw.attrs["measurements"]
     return out
@@ -306,6 +330,7 @@ QUANTITIES: dict[str, str] = {
     "flow": "flow",
     "dni": "irradiance",
     "dhi": "irradiance",
+    "ghi": "irradiance",
     "phi_h": "power",
     "phi_el": "power",
 }
@@ -407,8 +432,9 @@ def prepare_measurements(
             frame.pop("electricity"), energy=electricity_energy,
             cumulative=electricity_cumulative, interval=logging_interval,
         )  # fmt: skip
-    frame["dni"] = frame["dni"].clip(lower=0.0)
-    frame["dhi"] = frame["dhi"].clip(lower=0.0)
+    for std in ("dni", "dhi", "ghi"):
+        if std in frame:
+            frame[std] = frame[std].clip(lower=0.0)
     grid, report = resample_measurements(
         frame,
         step_td,

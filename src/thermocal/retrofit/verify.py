@@ -483,11 +483,13 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         prepare_measurements,
         read_raw_measurements,
         removed_values_notes,
+        with_beam_and_diffuse,
     )
     from thermocal.retrofit.demand import DEMAND_INPUTS
     from thermocal.retrofit.gains import internal_gains
     from thermocal.retrofit.model import build_fifth_order_model
     from thermocal.retrofit.workflow import (
+        IRRADIANCE_SPLIT_NOTE,
         _location_tz,
         load_building,
         load_weather_year,
@@ -508,7 +510,10 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         electricity_energy=ig.electricity_unit not in ("W", "kW"),
         electricity_cumulative=ig.electricity_cumulative,
     )  # fmt: skip
+    grid = with_beam_and_diffuse(grid, mc, building.location)
     notes = list(removed_values_notes(quality, mc.columns))
+    if mc.irradiance == "ghi":
+        notes.append(IRRADIANCE_SPLIT_NOTE)
     quality = {"quality": quality, "raw": raw}
     step = grid.index[1] - grid.index[0]
     weather, meta = load_weather_year(cfg, step)

@@ -719,7 +719,7 @@ def check_training_data(
         frac = float(data[col].isna().mean())
         if col != OUTPUT_COLUMN and frac > 0:
             origin = (
-                " (from missing irradiance dni/dhi: missing sun is not zero sun)"
+                " (from missing irradiance dni/dhi or ghi: missing sun is not zero sun)"
                 if col.startswith("phi_") and col != "phi_h"
                 else ""
             )

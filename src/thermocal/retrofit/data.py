@@ -95,7 +95,6 @@ OUTDOOR_TOLERANCE = 12.0
 UNIT_MATCH = 5.0
 
 
-
 def _slip_remedy(label: str, name: str, column: str) -> str:
     """What to write in the retrofit configuration (or the file) for a unit slip."""
     unit = {"Kelvin?": "K", "Fahrenheit?": "F"}.get(label)

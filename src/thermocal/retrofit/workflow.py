@@ -125,9 +125,10 @@ def resolve_weather_path(path) -> Path:
 #: Said with every analysis of a pyranometer's global irradiance (measurements.irradiance: ghi).
 IRRADIANCE_SPLIT_NOTE = (
     "beam and diffuse irradiance split from the measured global horizontal irradiance "
-    "(Erbs et al. 1982 correlation): against measured beam and diffuse, the savings of the "
-    "strategies with the walls moved by up to 3.5 pp on a synthetic house (0.25 pp on the "
-    "demo); the intervals do not include this error"
+    "(Erbs et al. 1982 correlation): against measured beam and diffuse, the savings moved by "
+    "at most 0.2 and 1.0 pp on two EnergyPlus houses, 0.25 pp on the demo and up to 3.5 pp "
+    "(the strategies with the walls) on a synthetic house; the intervals do not include this "
+    "error"
 )
 
 

@@ -215,3 +215,25 @@ def test_heating_water_in_fahrenheit_is_refused(tmp_path):
     cfg["measurements"]["temperature_unit"] = {"temp_supply": "F", "temp_return": "F"}
     config.write_text(yaml.safe_dump(cfg))
     assert run_retrofit(load_config(config)).calibration.heat_loss_coefficient > 0
+
+
+def test_an_electricity_meter_in_another_unit_is_refused_by_name():
+    """A meter logged in W and declared as kW made 300 kW of internal gains, and the heat
+    balance's check blamed the heating (measurements.heat_unit, the heat column): the meter is
+    now checked first, per heated floor area, naming its column and key."""
+    from thermocal.retrofit.config import InternalGainsConfig
+    from thermocal.retrofit.gains import check_metered_electricity
+
+    index = pd.date_range("2015-02-02", periods=48, freq="h", tz="Etc/GMT-1")
+    grid = pd.DataFrame({"phi_el": 400.0}, index=index)  # W, as read
+    metered = InternalGainsConfig(source="electricity", electricity_unit="W")
+    check_metered_electricity(grid, metered, 150.0, "m.csv", "P_el")  # 2.7 W/m2: a home
+    with pytest.raises(ThermocalInputError, match=r"column 'P_el' \(the electricity meter\): "
+                       r"it averages 400,000 W .* read in kW \(internal_gains.electricity_unit\)"
+                       r".* far too large"):  # fmt: skip
+        kw = InternalGainsConfig(source="electricity", electricity_unit="kW")
+        check_metered_electricity(grid * 1000.0, kw, 150.0, "m.csv", "P_el")
+    with pytest.raises(ThermocalInputError, match=r"averages 0.4 W .* far too small"):
+        check_metered_electricity(grid / 1000.0, metered, 150.0, "m.csv", "P_el")
+    # not metered: nothing to check
+    check_metered_electricity(grid * 1e6, InternalGainsConfig(), 150.0, "m.csv", "P_el")

@@ -29,6 +29,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from thermocal.errors import ThermocalInputError
+
 #: Sensible heat per occupant [W], SIA 380/1:2016 standard use value of housing.
 OCCUPANT_SENSIBLE_W = 70.0
 #: Mean presence per occupant [h/day], SIA 380/1:2016 standard use value of housing.
@@ -80,6 +82,53 @@ def source_gains(grid: pd.DataFrame, cfg) -> pd.Series | None:
         values = np.asarray(cfg.schedule_W, float)[np.asarray(grid.index.hour)]
         return pd.Series(values, index=grid.index)
     return pd.Series(float(cfg.constant_W), index=grid.index)
+
+
+#: Mean metered electricity per heated floor area [W/m2] a home can have; outside, a unit
+#: slip (homes average about 0.5-8 W/m2; a W/kW or Wh/kWh slip moves it by 1000).
+ELECTRICITY_PER_AREA_RANGE = (0.05, 100.0)
+
+
+def check_metered_electricity(
+    grid: pd.DataFrame, cfg, floor_area: float, source: str, column: str
+) -> None:
+    """Refuse an electricity meter read in another unit than declared.
+
+    A meter logged in W and declared as kW (``internal_gains.electricity_unit``) turns a
+    house's 300 W into 300 kW of internal gains; the heat balance's check then blames the
+    heating (its mean includes the gains). The metered mean per heated floor area outside
+    :data:`ELECTRICITY_PER_AREA_RANGE` is refused naming the column and the key.
+
+    Parameters
+    ----------
+    grid : pd.DataFrame
+        The measurement grid with ``phi_el`` [W].
+    cfg : thermocal.retrofit.config.InternalGainsConfig
+    floor_area : float [m2]
+        The building file's heated floor area.
+    source, column : str
+        The measurement file and the meter's column, for the message.
+    """
+    if cfg.source != "electricity" or "phi_el" not in grid or floor_area <= 0:
+        return
+    values = grid["phi_el"].to_numpy(float)
+    if not np.isfinite(values).any():
+        return
+    mean = float(np.nanmean(values))
+    per_area = mean / floor_area
+    low, high = ELECTRICITY_PER_AREA_RANGE
+    if low <= per_area <= high:
+        return
+    direction = "large" if per_area > high else "small"
+    shown = f"{mean:,.0f}" if abs(mean) >= 10 else f"{mean:.3g}"
+    raise ThermocalInputError(
+        f"{source}, column '{column}' (the electricity meter): it averages {shown} W over "
+        f"the measurements as read in {cfg.electricity_unit} (internal_gains."
+        f"electricity_unit), {per_area:.3g} W per m2 of heated floor: far too {direction} for "
+        f"a home ({low:g}-{high:g} W/m2; homes average about 0.5-8). Check internal_gains."
+        "electricity_unit (W and kW, Wh and kWh differ by 1000; a meter reading needs "
+        "electricity_cumulative: true)"
+    )
 
 
 def internal_gains(grid: pd.DataFrame, cfg) -> pd.Series | None:

@@ -486,7 +486,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         with_beam_and_diffuse,
     )
     from thermocal.retrofit.demand import DEMAND_INPUTS
-    from thermocal.retrofit.gains import internal_gains
+    from thermocal.retrofit.gains import check_metered_electricity, internal_gains
     from thermocal.retrofit.model import build_fifth_order_model
     from thermocal.retrofit.workflow import (
         IRRADIANCE_SPLIT_NOTE,
@@ -526,6 +526,10 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     inputs = model_inputs(
         grid, building, ground, temp_col="temp_out", solar=cfg.model.solar_gains,
         depth=cfg.model.ground_depth,
+    )  # fmt: skip
+    check_metered_electricity(
+        grid, ig, float(building.heated_floor_area), str(mc.file),
+        mc.columns.get("electricity", "electricity"),
     )  # fmt: skip
     gains = internal_gains(grid, ig)
     inputs["phi_h_measured"] = grid["phi_h"].to_numpy(float)

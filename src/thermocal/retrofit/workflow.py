@@ -43,7 +43,12 @@ from thermocal.retrofit.data import (
     with_beam_and_diffuse,
 )
 from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
-from thermocal.retrofit.gains import combined_rel_std, gains_day_profile, internal_gains
+from thermocal.retrofit.gains import (
+    check_metered_electricity,
+    combined_rel_std,
+    gains_day_profile,
+    internal_gains,
+)
 from thermocal.retrofit.gate import heat_to_follow_measured, heat_validation, validation_gate
 from thermocal.retrofit.ground_draws import draw_ground_inputs, ground_overrides
 from thermocal.retrofit.inputs import solar_inputs
@@ -324,6 +329,10 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     )
     # internal gains: in the calibration added to the heating power (the heating-system node
     # passes heat to the air within minutes), in the demand an input into the air node
+    check_metered_electricity(
+        grid, ig, float(building.heated_floor_area), source,
+        cfg.measurements.columns.get("electricity", "electricity"),
+    )  # fmt: skip
     gains = internal_gains(grid, ig)
     inputs["phi_h_measured"] = grid["phi_h"].to_numpy(float)
     inputs["phi_int"] = 0.0 if gains is None else gains.to_numpy(float)

@@ -237,3 +237,21 @@ def test_an_electricity_meter_in_another_unit_is_refused_by_name():
         check_metered_electricity(grid / 1000.0, metered, 150.0, "m.csv", "P_el")
     # not metered: nothing to check
     check_metered_electricity(grid * 1e6, InternalGainsConfig(), 150.0, "m.csv", "P_el")
+
+
+def test_swapped_beam_and_diffuse_columns_are_refused(tmp_path):
+    """DNI and DHI swapped pass every range check and gave the retrofit demo a wrong building
+    with no error (HLC 694 instead of 570 W/K, measured 2026-11-29); the diffuse horizontal
+    irradiance beyond the BSRN physically possible limit (Long and Dutton 2002) names them.
+    The shipped logs reach at most 51 % of that limit."""
+    config = make_dataset(tmp_path, days=16.0)
+    cfg = yaml.safe_load(config.read_text())
+    measurements = tmp_path / cfg["measurements"]["file"]
+    frame = pd.read_csv(measurements)
+    dni, dhi = cfg["measurements"]["columns"]["dni"], cfg["measurements"]["columns"]["dhi"]
+    frame[[dni, dhi]] = frame[[dhi, dni]].to_numpy()
+    frame.to_csv(measurements, index=False)
+    with pytest.raises(ThermocalInputError, match=rf"column '{dhi}' \(measurements.columns.dhi\)"
+                       r": the diffuse horizontal irradiance exceeds what the sun can give .* "
+                       r"may be swapped"):  # fmt: skip
+        run_retrofit(load_config(config))

@@ -84,6 +84,75 @@ def with_beam_and_diffuse(grid: pd.DataFrame, cfg: MeasurementsConfig, location)
     return grid.assign(dni=split["dni"], dhi=split["dhi"])
 
 
+#: Solar constant [W/m2] (Kopp and Lean 2011).
+SOLAR_CONSTANT = 1361.0
+
+
+def irradiance_limits(index: pd.DatetimeIndex, location) -> dict[str, np.ndarray]:
+    """The physically possible limits of the irradiance on ``index`` [W/m2]: the BSRN quality
+    control's (Long and Dutton 2002) for the global and diffuse horizontal,
+    ``S_a 1.5 mu0^1.2 + 100`` and ``S_a 0.95 mu0^1.2 + 50``, with ``S_a`` the solar constant
+    at the day's sun-earth distance and ``mu0`` the cosine of the zenith at each interval's
+    representative sun (:func:`thermocal.physics.solar.interval_solar_position`); NaN where the
+    sun is below the horizon."""
+    from thermocal.physics.solar import interval_solar_position
+
+    position = interval_solar_position(
+        index, float(location.latitude), float(location.longitude),
+        float(getattr(location, "altitude", 0.0) or 0.0),
+    )  # fmt: skip
+    mu0 = np.cos(np.radians(position["apparent_zenith"].to_numpy(float)))
+    day = np.asarray(index.day_of_year, float)
+    s_a = SOLAR_CONSTANT * (1.0 + 0.033 * np.cos(2.0 * np.pi * day / 365.0))
+    up = np.where(mu0 > 0.0, mu0, np.nan) ** 1.2
+    return {"ghi": s_a * 1.5 * up + 100.0, "dhi": s_a * 0.95 * up + 50.0}
+
+
+def check_irradiance_limits(
+    grid: pd.DataFrame, cfg: MeasurementsConfig, location, source: str
+) -> None:
+    """Refuse a horizontal irradiance beyond what the sun can give at that hour.
+
+    A log with the direct normal and the diffuse columns swapped passes every range check
+    (both are irradiances below 1,600 W/m2), and the fit then takes the beam for diffuse light:
+    a wrong building with no error (the retrofit demo: HLC 694 instead of 570 W/K). The diffuse
+    (or global) horizontal irradiance above the BSRN physically possible limit
+    (:func:`irradiance_limits`) in more than 1 % of the sunlit rows (at least 3) is refused.
+
+    Parameters
+    ----------
+    grid : DataFrame
+        Averaged measurements with ``dhi`` (or ``ghi``) [W/m2].
+    cfg : MeasurementsConfig
+    location : the building file's location (``latitude``, ``longitude`` [deg], ``altitude`` [m])
+    source : str
+        The measurement file, for the message.
+    """
+    std = "ghi" if cfg.irradiance == "ghi" else "dhi"
+    values = grid[std].to_numpy(float)
+    limit = irradiance_limits(grid.index, location)[std]
+    sunlit = np.isfinite(limit) & np.isfinite(values)
+    above = sunlit & (values > np.where(np.isfinite(limit), limit, np.inf))
+    if above.sum() <= max(3, 0.01 * sunlit.sum()):
+        return
+    first = int(np.argmax(above))
+    column = cfg.columns.get(std, std)
+    what = "diffuse" if std == "dhi" else "global"
+    hint = (
+        "the direct normal and the diffuse columns may be swapped (measurements.columns.dni and "
+        ".dhi)"
+        if std == "dhi"
+        else "the column may be the direct normal irradiance or not in W/m2"
+    )
+    raise ThermocalInputError(
+        f"{source}, column '{column}' (measurements.columns.{std}): the {what} horizontal "
+        f"irradiance exceeds what the sun can give (the BSRN physically possible limit, Long "
+        f"and Dutton 2002) in {int(above.sum())} of {int(sunlit.sum())} sunlit rows, first at "
+        f"{grid.index[first]} ({values[first]:.0f} W/m2 where the limit is "
+        f"{limit[first]:.0f}): {hint}; check the building's location too"
+    )
+
+
 #: Mean indoor temperature of a heated home over the measured weeks [C]; outside, a unit slip
 #: (or not the heated rooms' temperature).
 HEATED_INDOOR_RANGE = (5.0, 35.0)

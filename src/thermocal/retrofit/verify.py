@@ -479,7 +479,8 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     from thermocal.physics.ground import ground_temperature_parameters
     from thermocal.retrofit.calibration import OUTPUT_COLUMN
     from thermocal.retrofit.data import (
-        check_temperature_units,
+        check_irradiance_limits,
+    check_temperature_units,
         prepare_measurements,
         read_raw_measurements,
         removed_values_notes,
@@ -510,6 +511,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         electricity_energy=ig.electricity_unit not in ("W", "kW"),
         electricity_cumulative=ig.electricity_cumulative,
     )  # fmt: skip
+    check_irradiance_limits(grid, mc, building.location, str(mc.file))
     grid = with_beam_and_diffuse(grid, mc, building.location)
     notes = list(removed_values_notes(quality, mc.columns))
     if mc.irradiance == "ghi":

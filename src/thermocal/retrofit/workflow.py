@@ -36,6 +36,7 @@ from thermocal.retrofit.calibration import (
 )
 from thermocal.retrofit.config import RetrofitConfig
 from thermocal.retrofit.data import (
+    check_irradiance_limits,
     check_temperature_units,
     prepare_measurements,
     read_raw_measurements,
@@ -296,6 +297,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             f"{source}: heating flow column {cfg.measurements.columns['flow']!r} read in "
             f"{cfg.measurements.flow_unit} (measurements.flow_unit): {exc}"
         ) from None
+    check_irradiance_limits(grid, cfg.measurements, building.location, source)
     grid = with_beam_and_diffuse(grid, cfg.measurements, building.location)
     step = grid.index[1] - grid.index[0]
     weather, weather_meta = load_weather_year(cfg, step)

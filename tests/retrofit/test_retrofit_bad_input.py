@@ -255,3 +255,25 @@ def test_swapped_beam_and_diffuse_columns_are_refused(tmp_path):
                        r": the diffuse horizontal irradiance exceeds what the sun can give .* "
                        r"may be swapped"):  # fmt: skip
         run_retrofit(load_config(config))
+
+
+def test_an_hour_off_the_sun_is_said_in_a_note(tmp_path):
+    """Two hours or more off the sun are refused before the analysis; one hour (time stamps
+    labelling the interval's end, or daylight-saving time) was left alone without a word. The
+    shipped logs are 0 h off; shifted by an hour, 1 h."""
+    from types import SimpleNamespace
+
+    from thermocal.retrofit.config import MeasurementsConfig
+    from thermocal.retrofit.data import clock_notes
+
+    config = make_dataset(tmp_path, days=16.0)
+    frame = pd.read_csv(tmp_path / "measurements.csv")
+    times = pd.DatetimeIndex(pd.to_datetime(frame["time"])).tz_localize("Etc/GMT+5")
+    grid = pd.DataFrame({"dni": frame["DNI"].to_numpy(), "dhi": frame["DHI"].to_numpy()},
+                        index=times)  # fmt: skip
+    cfg = MeasurementsConfig(file=config.parent / "measurements.csv")
+    site = SimpleNamespace(latitude=36.1, longitude=-79.95)
+    assert clock_notes(grid, cfg, site, "m.csv") == []
+    late = grid.set_axis(times + pd.Timedelta("1h"))
+    (note,) = clock_notes(late, cfg, site, "m.csv")
+    assert "peaks 1 h later than the sun" in note and "measurements.timezone" in note

@@ -153,6 +153,42 @@ def check_irradiance_limits(
     )
 
 
+def clock_notes(grid: pd.DataFrame, cfg: MeasurementsConfig, location, source: str) -> list[str]:
+    """A note when the measured irradiance peaks an hour from the sun at the building.
+
+    Two hours or more are refused before the analysis (:func:`thermocal.io.measurements.
+    check_clock_against_sun`); one hour is what time stamps labelling the interval's end
+    (thermocal reads starts) or daylight-saving time give, and it moves every solar gain by an
+    hour. On the shipped logs the offset is 0; shifted by an hour, 1.
+
+    Parameters
+    ----------
+    grid : DataFrame
+        Averaged measurements with the irradiance columns [W/m2] (``dni`` and ``dhi``).
+    cfg : MeasurementsConfig
+    location : the building file's location (``latitude``, ``longitude`` [deg])
+    source : str
+        The measurement file, for the note.
+    """
+    from thermocal.io.measurements import check_clock_against_sun
+
+    columns = list(cfg.irradiance_columns())
+    hours = check_clock_against_sun(
+        grid[columns].sum(axis=1, min_count=len(columns)),
+        float(location.latitude), float(location.longitude), source=source,
+        column=" + ".join(cfg.columns.get(c, c) for c in columns),
+    )  # fmt: skip
+    if abs(hours) < 1.0:
+        return []
+    direction = "later" if hours > 0 else "earlier"
+    return [
+        f"{source}: the measured irradiance peaks {abs(hours):.0f} h {direction} than the sun "
+        "at the building: time stamps labelling the interval's end "
+        "(thermocal reads them as its start) or in daylight-saving time? Every solar gain is "
+        "moved by that much; check the labels and measurements.timezone"
+    ]
+
+
 #: Mean indoor temperature of a heated home over the measured weeks [C]; outside, a unit slip
 #: (or not the heated rooms' temperature).
 HEATED_INDOOR_RANGE = (5.0, 35.0)

@@ -480,7 +480,8 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     from thermocal.retrofit.calibration import OUTPUT_COLUMN
     from thermocal.retrofit.data import (
         check_irradiance_limits,
-    check_temperature_units,
+        check_temperature_units,
+        clock_notes,
         prepare_measurements,
         read_raw_measurements,
         removed_values_notes,
@@ -519,6 +520,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     quality = {"quality": quality, "raw": raw}
     step = grid.index[1] - grid.index[0]
     weather, meta = load_weather_year(cfg, step)
+    notes += clock_notes(grid, mc, building.location, str(mc.file))
     notes += check_temperature_units(grid, weather, mc, str(mc.file))
     ground = ground_temperature_parameters(weather)
     model = build_fifth_order_model(

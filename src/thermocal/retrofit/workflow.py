@@ -38,6 +38,7 @@ from thermocal.retrofit.config import RetrofitConfig
 from thermocal.retrofit.data import (
     check_irradiance_limits,
     check_temperature_units,
+    clock_notes,
     prepare_measurements,
     read_raw_measurements,
     removed_values_notes,
@@ -305,7 +306,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     training, test, notes = _periods(grid, cfg, source)
     if cfg.measurements.irradiance == "ghi":
         notes.append(IRRADIANCE_SPLIT_NOTE)
-    for note in check_temperature_units(grid, weather, cfg.measurements, source):
+    for note in clock_notes(grid, cfg.measurements, building.location, source) + (
+        check_temperature_units(grid, weather, cfg.measurements, source)
+    ):
         log.warning(note)
         notes.append(note)
     for note in removed_values_notes(quality, cfg.measurements.columns):

@@ -427,8 +427,9 @@ def test_strategy_table_fits_80_columns(synthetic, capsys, monkeypatch):
 
 
 def test_heat_meter_and_fuel_meter_inputs(synthetic, tmp_path):
-    """A cumulative heat-meter reading in kWh, or a fuel meter's energy per hour with the
-    boiler's efficiency, gives the same heating power as flow x (supply - return)."""
+    """A cumulative heat-meter reading in kWh, a fuel meter's energy per hour with the
+    boiler's efficiency, or a gas meter's m3 per hour with the bill's calorific value, gives the
+    same heating power as flow x (supply - return)."""
     from thermocal.physics.hydronics import heating_power
     from thermocal.retrofit.data import prepare_measurements, read_raw_measurements
 
@@ -437,6 +438,7 @@ def test_heat_meter_and_fuel_meter_inputs(synthetic, tmp_path):
     phi = heating_power(meas["V_dot"] / 3.6e6, meas["T_supply"], meas["T_return"]).to_numpy()
     meas["E_meter"] = np.concatenate([[1000.0], 1000.0 + np.cumsum(phi[:-1]) / 1000.0])  # kWh
     meas["fuel_kWh"] = phi / 1000.0 / 0.85
+    meas["gas_m3"] = phi / 1000.0 / 0.85 / 10.5  # a gas meter per hour, 10.5 kWh/m3 (the bill)
     meas.drop(columns=["V_dot", "T_supply", "T_return"]).to_csv(tmp_path / "m.csv", index=False)
     cfg = yaml.safe_load(config.read_text())
     base = load_config(config).measurements
@@ -448,6 +450,8 @@ def test_heat_meter_and_fuel_meter_inputs(synthetic, tmp_path):
     for source, column, extra in (
         ("heat_meter", "E_meter", {"heat_unit": "kWh", "heat_cumulative": True}),
         ("fuel_meter", "fuel_kWh", {"heat_unit": "kWh", "boiler_efficiency": 0.85}),
+        ("fuel_meter", "gas_m3", {"heat_unit": "m3", "fuel_kWh_per_unit": 10.5,
+                                  "boiler_efficiency": 0.85}),
     ):
         m = dict(cfg["measurements"], heat_source=source, **extra)
         m["columns"] = {**m["columns"], "heat": column}
@@ -465,6 +469,17 @@ def test_heat_meter_and_fuel_meter_inputs(synthetic, tmp_path):
     (tmp_path / "c.yaml").write_text(yaml.safe_dump({**cfg, "measurements": m}))
     with pytest.raises(ThermocalInputError, match="boiler_efficiency"):
         load_config(tmp_path / "c.yaml")
+    for extra, message in (
+        ({"heat_unit": "m3", "boiler_efficiency": 0.9}, r"needs measurements.fuel_kWh_per_unit"),
+        ({"heat_unit": "kWh", "boiler_efficiency": 0.9, "fuel_kWh_per_unit": 10.5},
+         r"fuel_kWh_per_unit applies to a fuel meter read in m3 or l"),
+        ({"heat_source": "heat_meter", "heat_unit": "l", "fuel_kWh_per_unit": 10.0},
+         r"'l' is a fuel's volume: it needs heat_source: fuel_meter"),
+    ):  # fmt: skip
+        m = {**cfg["measurements"], "heat_source": "fuel_meter", **extra}
+        (tmp_path / "c.yaml").write_text(yaml.safe_dump({**cfg, "measurements": m}))
+        with pytest.raises(ThermocalInputError, match=message):
+            load_config(tmp_path / "c.yaml")
 
 
 def test_internal_gains_from_an_electricity_meter(synthetic, tmp_path):

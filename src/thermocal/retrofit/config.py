@@ -63,6 +63,9 @@ HEAT_SOURCE_COLUMNS: dict[str, tuple[str, ...]] = {
 #: Units of a meter column: power (row = mean power) or energy (row = energy of its interval,
 #: or a cumulative reading with ``*_cumulative: true``).
 METER_UNITS = ("W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ")
+#: Fuel volumes a fuel meter may be read in (measurements.heat_unit), with
+#: measurements.fuel_kWh_per_unit.
+FUEL_VOLUME_UNITS = ("m3", "l")
 
 #: Conversion factors of supported flow units to m3/s.
 FLOW_UNITS: dict[str, float] = {
@@ -133,8 +136,17 @@ class MeasurementsConfig(_Strict):
         description="hydronic: flow x (supply - return); heat_meter: the 'heat' column is the "
         "useful heat; fuel_meter: the 'heat' column is fuel energy, times boiler_efficiency",
     )
-    heat_unit: Literal["W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ"] = Field(
-        "kW", description="unit of the heat column: power (mean over the row) or energy"
+    heat_unit: Literal["W", "kW", "Wh", "kWh", "MWh", "MJ", "GJ", "m3", "l"] = Field(
+        "kW",
+        description="unit of the heat column: power (mean over the row) or energy; for a fuel "
+        "meter also the fuel's volume, m3 (gas) or l (oil), with fuel_kWh_per_unit",
+    )
+    fuel_kWh_per_unit: float | None = Field(
+        None,
+        gt=1.0,
+        le=40.0,
+        description="energy of one m3 or l of fuel [kWh] (the gas bill's calorific value, e.g. "
+        "10.5 kWh/m3 for natural gas; about 10 kWh/l for heating oil)",
     )
     heat_cumulative: bool = Field(
         False, description="the heat column is a meter reading (counter), not per-row energy"
@@ -163,6 +175,24 @@ class MeasurementsConfig(_Strict):
         if self.heat_source != "fuel_meter" and self.boiler_efficiency is not None:
             raise ValueError(
                 "measurements.boiler_efficiency applies to heat_source: fuel_meter only"
+            )
+        volume = self.heat_unit in FUEL_VOLUME_UNITS
+        if volume and self.heat_source != "fuel_meter":
+            raise ValueError(
+                f"measurements.heat_unit {self.heat_unit!r} is a fuel's volume: it needs "
+                "heat_source: fuel_meter (and fuel_kWh_per_unit, boiler_efficiency)"
+            )
+        if volume and self.fuel_kWh_per_unit is None:
+            raise ValueError(
+                f"measurements.heat_unit {self.heat_unit!r} needs measurements."
+                f"fuel_kWh_per_unit: the energy of one {self.heat_unit} of fuel in kWh (the gas "
+                "bill's calorific value, e.g. 10.5 kWh/m3 for natural gas; about 10 kWh/l for "
+                "heating oil)"
+            )
+        if not volume and self.fuel_kWh_per_unit is not None:
+            raise ValueError(
+                "measurements.fuel_kWh_per_unit applies to a fuel meter read in m3 or l "
+                "(heat_unit)"
             )
         if self.heat_cumulative and self.heat_unit in ("W", "kW"):
             raise ValueError(

@@ -21,7 +21,11 @@ import pandas as pd
 from thermocal.errors import ThermocalInputError
 from thermocal.io.measurements import QualityReport
 from thermocal.physics.hydronics import heating_power
-from thermocal.retrofit.config import MEASUREMENT_COLUMNS, MeasurementsConfig
+from thermocal.retrofit.config import (
+    FUEL_VOLUME_UNITS,
+    MEASUREMENT_COLUMNS,
+    MeasurementsConfig,
+)
 
 TEMPERATURE_COLUMNS = ("temp_out", "temp_supply", "temp_return", "temp_in")
 #: Highest supply or return water temperature [C] (liquid water at ambient pressure), and
@@ -53,8 +57,9 @@ _READER_REMEDIES = (
 
 def _units(cfg: MeasurementsConfig, electricity_unit: str | None = None) -> dict[str, str]:
     """The unit of every mapped file column, from the configuration."""
-    unit = {"flow": cfg.flow_unit, "heat": cfg.heat_unit, "dni": "W/m2", "dhi": "W/m2",
-            "ghi": "W/m2"}  # fmt: skip
+    # a fuel volume is read as kWh and multiplied by the fuel's energy per unit afterwards
+    heat = "kWh" if cfg.heat_unit in FUEL_VOLUME_UNITS else cfg.heat_unit
+    unit = {"flow": cfg.flow_unit, "heat": heat, "dni": "W/m2", "dhi": "W/m2", "ghi": "W/m2"}
     unit.update({name: cfg.temperature_unit_of(name) for name in TEMPERATURE_COLUMNS})
     if electricity_unit:
         unit["electricity"] = electricity_unit
@@ -356,6 +361,8 @@ def read_raw_measurements(
             f"measurement file {path}: timestamps have no time zone; set measurements.timezone"
         )
     out = raw[needed].copy()
+    if cfg.heat_unit in FUEL_VOLUME_UNITS and "heat" in out:
+        out["heat"] = out["heat"] * float(cfg.fuel_kWh_per_unit)  # read as kWh per unit
     index = out.index
     neg = out["flow"].to_numpy() < 0 if "flow" in out else np.zeros(len(out), bool)
     if neg.any():

@@ -42,20 +42,10 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _peer import peer_source  # benchmarks/ is the script's folder
 
 REPO = Path(__file__).resolve().parents[1]
 
-
-def peer_source(commit: str) -> Path:
-    """``src`` of ``commit``, extracted once into the user's cache (as
-    ``bench_identify_outpatient.py``)."""
-    target = Path.home() / ".cache" / "thermocal-bench" / commit / "src"
-    if not target.exists():
-        target.parent.mkdir(parents=True, exist_ok=True)
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", commit, "src"],
-                                 check=True, capture_output=True).stdout  # fmt: skip
-        subprocess.run(["tar", "-x", "-C", str(target.parent)], input=archive, check=True)
-    return target
 
 
 # ----------------------------------------------------------------------------------------------

@@ -41,6 +41,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from _peer import peer_source  # benchmarks/ is the script's folder
+
 REPO = Path(__file__).resolve().parents[1]
 INPUTS = Path(tempfile.gettempdir()) / "thermocal-bench-outpatient"
 #: Simulation methods timed inside the model set-up (those present in the source)
@@ -52,16 +54,6 @@ SETUP_PARTS = {
     "reset": "warm-up",
 }
 
-
-def peer_source(commit: str) -> Path:
-    """``src`` of ``commit``, extracted once into the user's cache."""
-    target = Path.home() / ".cache" / "thermocal-bench" / commit / "src"
-    if not target.exists():
-        target.parent.mkdir(parents=True, exist_ok=True)
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", commit, "src"],
-                                 check=True, capture_output=True).stdout  # fmt: skip
-        subprocess.run(["tar", "-x", "-C", str(target.parent)], input=archive, check=True)
-    return target
 
 
 def cli_args(inputs: Path, out: Path) -> list[str]:

@@ -42,6 +42,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from _peer import peer_source  # benchmarks/ is the script's folder
+
 REPO = Path(__file__).resolve().parents[1]
 DATA = REPO.parent / "shared" / "data"
 DENVER = DATA / "ashrae140_bestest" / "725650TYCST.epw"
@@ -115,6 +117,7 @@ NEEDS = {
 HARNESS = """
 import json, os, threading, time, warnings
 from pathlib import Path
+
 warnings.simplefilter("ignore")
 DENVER, GRID, OUT, SAMPLES = Path({denver!r}), Path({grid!r}), {out!r}, {samples}
 FAILED = 0
@@ -163,16 +166,6 @@ if __name__ == "__main__":
                                   "failed": FAILED}}))
 """
 
-
-def peer_source(commit: str) -> Path:
-    """``src`` of ``commit``, extracted once into the user's cache (as the other benchmarks)."""
-    target = Path.home() / ".cache" / "thermocal-bench" / commit / "src"
-    if not target.exists():
-        target.parent.mkdir(parents=True, exist_ok=True)
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", commit, "src"],
-                                 check=True, capture_output=True).stdout  # fmt: skip
-        subprocess.run(["tar", "-x", "-C", str(target.parent)], input=archive, check=True)
-    return target
 
 
 def run_case(name: str, source: Path, out: Path, samples: int) -> dict:

@@ -27,19 +27,11 @@ import tempfile
 import time
 from pathlib import Path
 
+from _peer import peer_source  # benchmarks/ is the script's folder
+
 REPO = Path(__file__).resolve().parents[1]
 DATA = REPO.parent / "shared" / "data" / "bacher_madsen_2011_prbs" / "inputPRBS1.csv"
 
-
-def peer_source(commit: str) -> Path:
-    """``src`` of ``commit``, extracted once into the user's cache."""
-    target = Path.home() / ".cache" / "thermocal-bench" / commit / "src"
-    if not target.exists():
-        target.parent.mkdir(parents=True, exist_ok=True)
-        archive = subprocess.run(["git", "-C", str(REPO), "archive", commit, "src"],
-                                 check=True, capture_output=True).stdout  # fmt: skip
-        subprocess.run(["tar", "-x", "-C", str(target.parent)], input=archive, check=True)
-    return target
 
 
 def run_select(src: Path, out: Path, seed: int | None) -> dict:

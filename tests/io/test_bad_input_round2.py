@@ -926,9 +926,10 @@ def test_retrofit_timezone_as_signed_hours_text(tmp_path, timezone):
     """measurements.timezone '-5' (text) reads the demo like -5.0 and passes the site checks."""
     from test_bad_input_table import _retrofit_config
 
-    from thermocal.commands.retrofit import _check_site_and_clock
+    from thermocal.commands.retrofit import _check_site
     from thermocal.retrofit import load_config
-    from thermocal.retrofit.data import read_raw_measurements
+    from thermocal.retrofit.data import clock_notes, read_raw_measurements
+    from thermocal.retrofit.workflow import load_building
 
     configs = []
     for value in (timezone, -5.0):
@@ -937,7 +938,10 @@ def test_retrofit_timezone_as_signed_hours_text(tmp_path, timezone):
         path = tmp_path / f"config{len(configs)}.yaml"
         path.write_text(yaml.safe_dump(cfg, sort_keys=False))
         configs.append(load_config(path))
-    _check_site_and_clock(configs[0])
+    _check_site(configs[0])
+    building = load_building(configs[0].building, config_source="the configuration")
+    measurements = configs[0].measurements
+    assert clock_notes(read_raw_measurements(measurements), measurements, building.location) == []
     pd.testing.assert_frame_equal(
         read_raw_measurements(configs[0].measurements),
         read_raw_measurements(configs[1].measurements),

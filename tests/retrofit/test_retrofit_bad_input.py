@@ -272,8 +272,8 @@ def test_an_hour_off_the_sun_is_said_in_a_note(tmp_path):
     grid = pd.DataFrame({"dni": frame["DNI"].to_numpy(), "dhi": frame["DHI"].to_numpy()},
                         index=times)  # fmt: skip
     cfg = MeasurementsConfig(file=config.parent / "measurements.csv")
-    site = SimpleNamespace(latitude=36.1, longitude=-79.95)
-    assert clock_notes(grid, cfg, site, "m.csv") == []
+    site = SimpleNamespace(latitude=36.1, longitude=-79.95, timezone=-5.0)
+    assert clock_notes(grid, cfg, site) == []
     late = grid.set_axis(times + pd.Timedelta("1h"))
-    (note,) = clock_notes(late, cfg, site, "m.csv")
+    (note,) = clock_notes(late, cfg, site)
     assert "peaks 1 h later than the sun" in note and "measurements.timezone" in note

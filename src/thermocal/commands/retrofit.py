@@ -136,16 +136,12 @@ def print_summary(results: dict, out: Path) -> None:
     console.print(f"results in [bold]{out}[/bold] (results.json, report.html, CSV, figures/)")
 
 
-def _check_site_and_clock(cfg) -> None:
-    """Refuse weather far from the building, and measurements whose clock does not fit the sun.
-
-    Both before computing: the typical-year weather file's site against the building's
-    location, and the measured irradiance's daily profile against the sun's at the building.
-    """
-    from thermocal.io.measurements import check_clock_against_sun
+def _check_site(cfg) -> None:
+    """Refuse a typical-year weather file far from the building, before computing (the
+    measurements' clock against the sun is checked where the analysis reads them:
+    :func:`thermocal.retrofit.data.clock_notes`)."""
     from thermocal.io.weather import check_site_matches_weather, read_weather
-    from thermocal.retrofit.data import read_raw_measurements
-    from thermocal.retrofit.workflow import _location_tz, load_building, resolve_weather_path
+    from thermocal.retrofit.workflow import load_building, resolve_weather_path
 
     building = load_building(
         cfg.building, config_source=f"the retrofit configuration in {cfg.base_dir}"
@@ -160,24 +156,6 @@ def _check_site_and_clock(cfg) -> None:
         building_source=str(source),
         weather_source=str(cfg.weather.file),
     )
-    # the measurements' clock against the sun at the building (when they carry irradiance)
-    raw = read_raw_measurements(cfg.measurements, default_tz=_location_tz(building))
-    solar = [c for c in cfg.measurements.irradiance_columns() if c in raw.columns]
-    if solar:
-        tz = cfg.measurements.timezone
-        setting = (
-            f"measurements.timezone (now {tz!r})"
-            if tz is not None
-            else f"the building's location.timezone (now {building.location.timezone!r})"
-        )
-        check_clock_against_sun(
-            raw[solar].sum(axis=1, min_count=len(solar)),
-            building.location.latitude,
-            building.location.longitude,
-            source=f"measurement file {cfg.measurements.file}",
-            column=" + ".join(cfg.measurements.columns[c] for c in solar),
-            timezone_setting=setting,
-        )
 
 
 #: Files of a retrofit output folder: an existing folder holding one of them is replaced.
@@ -323,7 +301,7 @@ def retrofit(
         console.print(f"results in {out} (results.json, strategies_detailed.csv, report.html)")
         return
     cfg = load_config(config)
-    _check_site_and_clock(cfg)
+    _check_site(cfg)
     with (
         output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,
         console.status("retrofit analysis") as status,

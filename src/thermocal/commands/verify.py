@@ -116,10 +116,10 @@ def verify(
     console = Console(stderr=True)
     check_output_folder(out, signature=VERIFY_SIGNATURE)
     vcfg = None if demo else load_verify_config(config)
-    if vcfg is not None:  # weather far from the building, measurements off the sun's clock
-        from thermocal.commands.retrofit import _check_site_and_clock
+    if vcfg is not None:  # weather far from the building (the clock: where it is read)
+        from thermocal.commands.retrofit import _check_site
 
-        _check_site_and_clock(vcfg.retrofit)
+        _check_site(vcfg.retrofit)
     with (
         output_folder(out, command="verify", signature=VERIFY_SIGNATURE) as tmp,
         console.status("post-retrofit verification") as status,

@@ -158,30 +158,45 @@ def check_irradiance_limits(
     )
 
 
-def clock_notes(grid: pd.DataFrame, cfg: MeasurementsConfig, location, source: str) -> list[str]:
-    """A note when the measured irradiance peaks an hour from the sun at the building.
+def clock_notes(raw: pd.DataFrame, cfg: MeasurementsConfig, location) -> list[str]:
+    """Check the measurements' clock against the sun at the building: refuse two hours or
+    more, say one hour in a note.
 
-    Two hours or more are refused before the analysis (:func:`thermocal.io.measurements.
-    check_clock_against_sun`); one hour is what time stamps labelling the interval's end
-    (thermocal reads starts) or daylight-saving time give, and it moves every solar gain by an
-    hour. On the shipped logs the offset is 0; shifted by an hour, 1.
+    The measured irradiance's daily profile against the sun's
+    (:func:`thermocal.io.measurements.check_clock_against_sun`, at the log's own resolution):
+    two hours or more off (a wrong time zone) are refused naming the setting that fixes the
+    clock; one hour is what time stamps labelling the interval's end (thermocal reads starts)
+    or daylight-saving time give, and it moves every solar gain by an hour: a note. On the
+    shipped logs the offset is 0; shifted by an hour, 1.
 
     Parameters
     ----------
-    grid : DataFrame
-        Averaged measurements with the irradiance columns [W/m2] (``dni`` and ``dhi``).
+    raw : DataFrame
+        The measurements as read (:func:`read_raw_measurements`), with the irradiance columns
+        [W/m2] (``dni`` and ``dhi``, or ``ghi``).
     cfg : MeasurementsConfig
-    location : the building file's location (``latitude``, ``longitude`` [deg])
-    source : str
-        The measurement file, for the note.
+    location : the building file's location (``latitude``, ``longitude`` [deg], ``timezone``)
+
+    Raises
+    ------
+    ThermocalInputError
+        The clock two hours or more off the sun.
     """
     from thermocal.io.measurements import check_clock_against_sun
 
-    columns = list(cfg.irradiance_columns())
+    columns = [c for c in cfg.irradiance_columns() if c in raw.columns]
+    if not columns:
+        return []
+    setting = (
+        f"measurements.timezone (now {cfg.timezone!r})"
+        if cfg.timezone is not None
+        else f"the building's location.timezone (now {location.timezone!r})"
+    )
+    source = f"measurement file {cfg.file}"
     hours = check_clock_against_sun(
-        grid[columns].sum(axis=1, min_count=len(columns)),
+        raw[columns].sum(axis=1, min_count=len(columns)),
         float(location.latitude), float(location.longitude), source=source,
-        column=" + ".join(cfg.columns.get(c, c) for c in columns),
+        column=" + ".join(cfg.columns.get(c, c) for c in columns), timezone_setting=setting,
     )  # fmt: skip
     if abs(hours) < 1.0:
         return []

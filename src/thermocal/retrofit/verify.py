@@ -512,6 +512,8 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         electricity_energy=ig.electricity_unit not in ("W", "kW"),
         electricity_cumulative=ig.electricity_cumulative,
     )  # fmt: skip
+    # the clock first: a wrong time zone also puts sunlight where the sun is low
+    clock = clock_notes(raw, mc, building.location)
     check_irradiance_limits(grid, mc, building.location, str(mc.file))
     grid = with_beam_and_diffuse(grid, mc, building.location)
     notes = list(removed_values_notes(quality, mc.columns))
@@ -520,7 +522,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     quality = {"quality": quality, "raw": raw}
     step = grid.index[1] - grid.index[0]
     weather, meta = load_weather_year(cfg, step)
-    notes += clock_notes(grid, mc, building.location, str(mc.file))
+    notes += clock
     notes += check_temperature_units(grid, weather, mc, str(mc.file))
     ground = ground_temperature_parameters(weather)
     model = build_fifth_order_model(

@@ -298,6 +298,8 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             f"{source}: heating flow column {cfg.measurements.columns['flow']!r} read in "
             f"{cfg.measurements.flow_unit} (measurements.flow_unit): {exc}"
         ) from None
+    # the clock first: a wrong time zone also puts sunlight where the sun is low
+    clock = clock_notes(raw, cfg.measurements, building.location)
     check_irradiance_limits(grid, cfg.measurements, building.location, source)
     grid = with_beam_and_diffuse(grid, cfg.measurements, building.location)
     step = grid.index[1] - grid.index[0]
@@ -306,7 +308,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     training, test, notes = _periods(grid, cfg, source)
     if cfg.measurements.irradiance == "ghi":
         notes.append(IRRADIANCE_SPLIT_NOTE)
-    for note in clock_notes(grid, cfg.measurements, building.location, source) + (
+    for note in clock + (
         check_temperature_units(grid, weather, cfg.measurements, source)
     ):
         log.warning(note)

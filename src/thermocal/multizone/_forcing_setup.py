@@ -240,7 +240,7 @@ class ForcingSetup:
         key = ("doe2", tuple(net.ext_names))
         if key not in self._input_cache:
             self._input_cache[key] = self._exterior_convection_excess()
-        self._ext_dh_raw = self._input_cache[key]
+        self._ext_dh_raw, self._ext_class = self._input_cache[key]
         pressure = grid["pressure"].to_numpy() if "pressure" in grid else None
         if pressure is None or not np.isfinite(pressure).all():
             pressure = np.full(n_steps, self._pressure)
@@ -303,32 +303,41 @@ class ForcingSetup:
         out["poa_global"] = out["poa_direct"] + out["poa_sky_diffuse"] + out["poa_ground_diffuse"]
         return out
 
-    def _exterior_convection_excess(self) -> np.ndarray:
-        """Wind-driven exterior convection minus its matrix part, per step and face [W/(m2 K)]."""
+    def _exterior_convection_excess(self) -> tuple[np.ndarray, np.ndarray]:
+        """Wind-driven exterior convection minus its matrix part [W/(m2 K)], one series per class
+        of exterior faces that share it, and each face's class.
+
+        Returns ``(series, face_class)``: ``series`` (steps, classes) and ``face_class`` (faces,)
+        int64, so that face ``e`` at step ``k`` takes ``series[k, face_class[e]]`` (a month at 5
+        minutes of the clinic's faces in one array per face was 24 MiB of a campaign worker).
+        """
         net = self.network
         grid = self._grid
         n_steps = len(grid)
-        if self.options.exterior_convection == "fixed" or not len(net.ext_node):
-            return np.zeros((n_steps, len(net.ext_node)))
+        n_ext = len(net.ext_node)
+        if self.options.exterior_convection == "fixed" or not n_ext:
+            return np.zeros((n_steps, min(n_ext, 1))), np.zeros(n_ext, dtype=np.int64)
         station = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
         station = np.nan_to_num(station)
         if self.options.exterior_convection == "simple_combined":
             from thermocal.multizone.network import simple_combined_exterior_coefficient
 
-            keys = np.stack([net.ext_roughness, net.ext_wind_factor], axis=1)
-            unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
-            rough, factor = unique.T
-            hc = simple_combined_exterior_coefficient(station[:, None] * factor, rough[None, :])
             # opaque faces: the long-wave part is the network's (all with the outdoor air);
             # windows: all of it convective, their long-wave exchange apart (EnergyPlus)
             radiative = np.where(net.ext_is_window, 0.0, net.ext_hr0 * net.ext_emissivity)
-            hc = hc[:, np.ravel(inverse)] - radiative
-            return np.ascontiguousarray(np.maximum(hc, 0.0) - net.ext_hc0[None, :])
+            exposure = np.round(np.stack([net.ext_roughness, net.ext_wind_factor], axis=1), 6)
+            classes = np.concatenate([exposure, radiative[:, None], net.ext_hc0[:, None]], axis=1)
+            _, first, inverse = np.unique(classes, axis=0, return_index=True, return_inverse=True)
+            rough, factor = exposure[first].T
+            hc = simple_combined_exterior_coefficient(station[:, None] * factor, rough[None, :])
+            hc -= radiative[first][None, :]
+            series = np.maximum(hc, 0.0) - net.ext_hc0[first][None, :]
+            return np.ascontiguousarray(series), np.ravel(inverse).astype(np.int64)
         if "wind_direction" in grid:
             direction = np.nan_to_num(grid["wind_direction"].to_numpy())
         else:
             direction = np.zeros(n_steps)
-        # faces of equal orientation and exposure share the series: compute per class, broadcast
+        # faces of equal orientation and exposure share the series: one per class
         keys = np.stack(
             [
                 net.ext_tilt,
@@ -341,8 +350,14 @@ class ForcingSetup:
             ],
             axis=1,
         )
+        if self.options.exterior_convection == "doe2":
+            keys = keys[:, [0, 1, 5]]  # MoWiTT's forced term: orientation and wind speed only
         unique, inverse = np.unique(np.round(keys, 6), axis=0, return_inverse=True)
-        tilt, azimuth, hc0, h_natural, roughness, factor, p_over_a = unique.T
+        face_class = np.ravel(inverse).astype(np.int64)
+        if self.options.exterior_convection == "doe2":
+            tilt, azimuth, factor = unique.T
+        else:
+            tilt, azimuth, hc0, h_natural, roughness, factor, p_over_a = unique.T
         # EnergyPlus' Windward(): within 90 degrees of the outward normal, or |cos tilt| >= 0.98
         diff = np.abs((direction[:, None] - azimuth[None, :] + 180.0) % 360.0 - 180.0)
         horizontal = np.abs(np.cos(np.radians(tilt))) >= 0.98
@@ -350,8 +365,7 @@ class ForcingSetup:
         local = station[:, None] * factor[None, :]
         if self.options.exterior_convection == "doe2":
             # the kernel combines it with the natural part at each step's face temperature
-            forced = mowitt_forced(local, windward)
-            return np.ascontiguousarray(forced[:, np.ravel(inverse)])
+            return np.ascontiguousarray(mowitt_forced(local, windward)), face_class
         hc = exterior_convection(
             self.options.exterior_convection,
             local,
@@ -361,8 +375,8 @@ class ForcingSetup:
             perimeter_over_area=p_over_a[None, :],
         )
         if self.options.exterior_convection == "tarp":  # the forced part alone
-            return np.ascontiguousarray((hc - h_natural[None, :])[:, np.ravel(inverse)])
-        return np.ascontiguousarray((hc - hc0[None, :])[:, np.ravel(inverse)])
+            return np.ascontiguousarray(hc - h_natural[None, :]), face_class
+        return np.ascontiguousarray(hc - hc0[None, :]), face_class
 
     def _ext_natural(self, upper: np.ndarray) -> np.ndarray:
         """Per exterior face: how the kernel takes the natural part of the outside convection.

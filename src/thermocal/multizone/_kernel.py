@@ -90,6 +90,7 @@ def run_steps(
     ext_view_sky,
     ext_hr0,
     ext_dh,
+    ext_class,
     ext_natural,
     exact_sky,
     face_node,
@@ -290,9 +291,13 @@ def run_steps(
         for e in range(ext_node.shape[0]):
             node = ext_node[e]
             ts = x[node]
-            dh = ext_dh[k, e]
+            # the wind's series is shared by the faces of one class (orientation, exposure)
+            dh = ext_dh[k, ext_class[e]]
             mode = ext_natural[e, 0]
-            if mode > 0.0:
+            if mode == 0.0:
+                # the series is the excess over hc0: clipped to the stable range of the lag
+                dh = min(max(dh, 0.1 - ext_natural[e, 3]), ext_natural[e, 4])
+            else:
                 # the natural part at the face's (lagged) difference from the air, as EnergyPlus'
                 # outside TARP natural term: 1 DOE-2 (ext_dh holds the MoWiTT forced term
                 # a V^b), 2 TARP (ext_dh holds the forced term)

@@ -273,15 +273,8 @@ class NetworkSetup:
         # explicit-correction bounds (stability of the lagged terms, see network module)
         face_hmax = 2.0 * net.face_h0 + net.face_capacity / dt
         upper = net.ext_hc0 + net.ext_hr0 * net.ext_emissivity + net.ext_capacity / dt
+        # the loop clips each face's excess to [0.1 - hc0, upper] (the series is per class)
         ext_natural = self._ext_natural(upper)
-        plain = ext_natural[:, 0] == 0.0
-        if plain.any():  # clip only the faces whose natural term is not computed in the loop
-            ext_dh = np.array(ext_dh_raw, dtype=float, order="C")
-            ext_dh[:, plain] = np.clip(
-                ext_dh_raw[:, plain], 0.1 - net.ext_hc0[None, plain], upper[None, plain]
-            )
-        else:  # every exterior face computes its natural term in the loop: nothing to clip
-            ext_dh = ext_dh_raw
         per_step = (
             self._heat_sp_steps,
             self._cool_sp_steps,
@@ -322,7 +315,7 @@ class NetworkSetup:
             c_dt=net.capacity / dt,
             g_ctrl=g_ctrl,
             inputs=np.ascontiguousarray(inputs),
-            ext_dh=np.ascontiguousarray(ext_dh),
+            ext_dh=np.ascontiguousarray(ext_dh_raw),
             inf_dh=np.ascontiguousarray(inf_dh),
             face_hmax=face_hmax,
             ext_natural=ext_natural,

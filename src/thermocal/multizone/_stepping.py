@@ -133,6 +133,7 @@ class Stepping:
                 net.ext_view_sky,
                 net.ext_hr0,
                 ext_dh,
+                self._ext_class,
                 np.zeros_like(context.ext_natural) if linear else context.ext_natural,
                 self.options.exact_sky_longwave and not linear,
                 net.face_node,

@@ -2,7 +2,7 @@
 
 Used by the calibration posterior (:mod:`thermocal.calibration.mcmc`, draws of a Markov chain,
 their effective number from the autocorrelation) and the retrofit analysis' intervals
-(independent parameter draws).
+(independent parameter draws), and the retrofit analysis' truncated Gaussian parameter draws.
 
 References
 ----------
@@ -15,7 +15,12 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["interval_end_error", "quantile_standard_error"]
+__all__ = [
+    "interval_end_error",
+    "quantile_standard_error",
+    "symmetric_square_root",
+    "truncated_gaussian_draws",
+]
 
 
 def quantile_standard_error(values: np.ndarray, p: float, effective: float) -> np.ndarray:
@@ -70,3 +75,78 @@ def interval_end_error(draws, interval: float) -> float:
     return float(
         max(quantile_standard_error(values, p, len(values))[0] for p in (low, 1.0 - low))
     )
+
+
+def symmetric_square_root(cov: np.ndarray) -> np.ndarray:
+    """The symmetric square root of a covariance, its negative eigenvalues set to zero.
+
+    Unlike the factor ``V sqrt(W)`` that ``numpy.random.Generator.multivariate_normal`` builds
+    from an eigen-decomposition, the symmetric root ``V sqrt(W) V^T`` does not depend on the
+    sign of each eigenvector nor on the basis chosen within a repeated eigenvalue, which a
+    LAPACK build picks by round-off: draws made with it are a continuous function of the
+    covariance for fixed random numbers, so the same seed gives the same draws (to round-off)
+    on every machine.
+
+    Parameters
+    ----------
+    cov : ndarray (d, d)
+        Covariance [product of the parameters' units]; symmetrised first.
+
+    Returns
+    -------
+    ndarray (d, d)
+        ``S`` with ``S @ S = cov`` projected onto the positive semi-definite matrices.
+    """
+    cov = np.asarray(cov, dtype=float)
+    w, v = np.linalg.eigh(0.5 * (cov + cov.T))
+    return (v * np.sqrt(np.clip(w, 0.0, None))) @ v.T
+
+
+def truncated_gaussian_draws(
+    rng: np.random.Generator,
+    mean: np.ndarray,
+    cov: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    n_draws: int,
+) -> np.ndarray:
+    """Draws of a multivariate normal truncated to a box, by rejection.
+
+    Candidates are ``mean + z S`` with ``S`` the :func:`symmetric_square_root` of ``cov`` and
+    ``z`` standard normal; those outside ``[lower, upper]`` are rejected. After 50 rounds the
+    remaining draws (a box holding almost none of the mass) are clipped to it.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Source of the random numbers.
+    mean : ndarray (d,)
+        Mean [unit of each parameter].
+    cov : ndarray (d, d)
+        Covariance [product of the units]; not positive semi-definite parts are dropped.
+    lower, upper : ndarray (d,)
+        Bounds of the box [unit of each parameter].
+    n_draws : int
+        Number of draws [-].
+
+    Returns
+    -------
+    ndarray (n_draws, d)
+    """
+    mean = np.asarray(mean, dtype=float)
+    root = symmetric_square_root(cov)
+    out = np.empty((n_draws, len(mean)))
+    filled = 0
+    for _ in range(50):
+        if filled >= n_draws:
+            break
+        z = rng.standard_normal((2 * (n_draws - filled) + 10, len(mean)))
+        cand = mean + z @ root
+        ok = np.all((cand >= lower) & (cand <= upper), axis=1)
+        take = cand[ok][: n_draws - filled]
+        out[filled : filled + len(take)] = take
+        filled += len(take)
+    if filled < n_draws:
+        z = rng.standard_normal((n_draws - filled, len(mean)))
+        out[filled:] = np.clip(mean + z @ root, lower, upper)
+    return out

@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.montecarlo import truncated_gaussian_draws
 from thermocal.retrofit.model import (
     CALCULATED_CONDUCTANCES,
     CALCULATED_FACTORS,
@@ -613,9 +614,6 @@ def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed
     """
     names = list(ESTIMATED_PARAMETERS)
     mean = np.array([cal.estimates_si[n] for n in names])
-    cov = np.nan_to_num(cal.cov_si)
-    w, v = np.linalg.eigh(0.5 * (cov + cov.T))
-    cov = (v * np.clip(w, 0.0, None)) @ v.T
     lo = np.array(
         [model.estimated[n][0] * (1e6 if model.estimated[n][3] == "MJ/K" else 1.0) for n in names]
     )
@@ -623,22 +621,7 @@ def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed
         [model.estimated[n][2] * (1e6 if model.estimated[n][3] == "MJ/K" else 1.0) for n in names]
     )
     rng = np.random.default_rng(seed)
-    out = np.empty((n_draws, len(names)))
-    filled = 0
-    for _ in range(50):
-        if filled >= n_draws:
-            break
-        cand = rng.multivariate_normal(
-            mean, cov, size=2 * (n_draws - filled) + 10, method="eigh", check_valid="ignore"
-        )
-        ok = np.all((cand >= lo) & (cand <= hi), axis=1)
-        take = cand[ok][: n_draws - filled]
-        out[filled : filled + len(take)] = take
-        filled += len(take)
-    if filled < n_draws:
-        out[filled:] = np.clip(
-            rng.multivariate_normal(mean, cov, size=n_draws - filled, check_valid="ignore"), lo, hi
-        )
+    out = truncated_gaussian_draws(rng, mean, np.nan_to_num(cal.cov_si), lo, hi, n_draws)
     allp = np.vstack([mean[None, :], out])
     return {n: allp[:, i] for i, n in enumerate(names)}
 

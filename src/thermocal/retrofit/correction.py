@@ -50,6 +50,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from thermocal.montecarlo import truncated_gaussian_draws
+
 #: Correction groups and the envelope components they can scale; the floor group scales
 #: whichever floor the building has (:func:`group_components`).
 GROUPS: dict[str, tuple[str, ...]] = {
@@ -369,23 +371,7 @@ def draw_corrected(correction: Correction, n_draws: int, seed: int = 0):
     ndarray (n_draws + 1, len(names))
     """
     rng = np.random.default_rng(seed)
-    lo, hi = correction.z_lower, correction.z_upper
-    out = np.empty((n_draws, len(correction.names)))
-    filled = 0
-    for _ in range(50):
-        if filled >= n_draws:
-            break
-        cand = rng.multivariate_normal(
-            correction.z_map, correction.cov_z, size=2 * (n_draws - filled) + 10, method="eigh"
-        )
-        ok = np.all((cand >= lo) & (cand <= hi), axis=1)
-        take = cand[ok][: n_draws - filled]
-        out[filled : filled + len(take)] = take
-        filled += len(take)
-    if filled < n_draws:
-        out[filled:] = np.clip(
-            rng.multivariate_normal(correction.z_map, correction.cov_z, size=n_draws - filled),
-            lo,
-            hi,
-        )
+    out = truncated_gaussian_draws(
+        rng, correction.z_map, correction.cov_z, correction.z_lower, correction.z_upper, n_draws
+    )
     return np.vstack([correction.z_map[None, :], out])

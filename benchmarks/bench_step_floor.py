@@ -112,14 +112,14 @@ def factor_bytes(factors) -> tuple[int, int]:
 def loop_bytes(args: dict, n_nodes: int) -> int:
     """Bytes the step touches outside its substitutions (per-step rows of the input tables)."""
     n_steps = args["n_steps"]
-    per_step_tables = ("u", "ext_dh", "inf_dh", "heat_extra", "track_ref")
+    per_step_tables = ("u", "ext_dh", "inf_ratio", "inf_scheduled", "heat_extra", "track_ref")
     total = 0
     for name, value in args.items():
         if not isinstance(value, np.ndarray) or name in FACTOR_NAMES + DIRICHLET_NAMES:
             continue
         if name in ("out_air", "out_mrt", "out_heat", "out_cool", "out_q", "out_face"):
             total += value.nbytes // max(1, value.shape[0])
-        elif name in per_step_tables and value.ndim == 2 and value.shape[0] >= n_steps:
+        elif name in per_step_tables and value.ndim >= 1 and value.shape[0] >= n_steps:
             total += value.nbytes // value.shape[0]
         elif value.ndim == 2 and value.shape[0] > 1000:  # per-step tables not read in this mode
             continue

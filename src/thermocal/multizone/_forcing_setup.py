@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
+from thermocal.multizone._simtools import OutdoorAirExcess
 from thermocal.multizone.forcing import (
     _ground_reflectance,
     _irradiance,
@@ -246,7 +247,9 @@ class ForcingSetup:
             pressure = np.full(n_steps, self._pressure)
         rho = air_density(pressure, t_out)
         ratio = rho / net.reference_density - 1.0
-        inf_dh = ratio[:, None] * net.zone_infiltration[None, :]
+        n_zones = len(net.zone_names)
+        inf_column = np.full(n_zones, -1, dtype=np.int64)
+        inf_scheduled = np.zeros((n_steps, 0))
         self._inf_dt = np.zeros((0, len(net.zone_names)))
         self._people = (np.zeros((0, len(net.zone_names))),) * 4
         self._people_face_w = np.zeros(len(net.face_node))
@@ -277,13 +280,19 @@ class ForcingSetup:
             zones = np.asarray(self._inf_zones, dtype=np.int64)
             if len(zones):
                 ach = scheduled.infiltration_ach[:, zones] * self._inf_scale[zones]
-                inf_dh[:, zones] = (
+                inf_column[zones] = np.arange(len(zones))
+                inf_scheduled = (
                     rho[:, None] * per_ach[zones] * ach - net.zone_infiltration[zones][None, :]
                 )
                 ach_dt = scheduled.infiltration_ach_per_kelvin * self._inf_scale[None, :]
                 if np.any(ach_dt):
                     self._inf_dt = np.ascontiguousarray(rho[:, None] * per_ach[None, :] * ach_dt)
-        self._inf_dh = np.ascontiguousarray(inf_dh)
+        self._inf_dh = OutdoorAirExcess(
+            np.ascontiguousarray(ratio),
+            np.ascontiguousarray(net.zone_infiltration, dtype=float),
+            inf_column,
+            np.ascontiguousarray(inf_scheduled),
+        )
         self._vent = self._ventilation_arrays(rho, n_steps)
         return u
 

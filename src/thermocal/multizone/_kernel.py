@@ -53,6 +53,7 @@ from thermocal.multizone._kernel_parts import (  # noqa: F401 - the loop's piece
     cube_root_update,
     ideal_loads,
     lu_solve,
+    outdoor_air_excess,
     people_excess,
     prepare_factors,
     simple_interior,
@@ -102,7 +103,10 @@ def run_steps(
     tarp_on,
     face_root,
     air_node,
-    inf_dh,
+    inf_ratio,
+    inf_base,
+    inf_column,
+    inf_scheduled,
     inf_dt,
     people_a,
     people_b,
@@ -197,13 +201,18 @@ def run_steps(
     each tracked zone is written to ``out_q`` (n_steps, nc) [W].
 
     Outdoor air of the zones ``imp_zone`` (m,) is implicit: the step's conductance beyond the
-    matrix value, ``d = inf_dh[k, z]`` plus the open indoor-limited ventilation objects, enters
-    the step it belongs to through the air-temperature response ``imp_g`` (m, m) [K/W] of the
-    first solve's system (Woodbury: ``(I + G diag(d)) y = y0 + G d T_out``); ``imp_d`` (m + 1,) and
-    ``imp_inv`` (m, m) cache the last ``d`` and the inverse (``imp_d[m]`` 0: invalid). The
+    matrix value, ``d`` (:func:`outdoor_air_excess`: ``inf_ratio[k] inf_base[z]``, or
+    ``inf_scheduled[k, inf_column[z]]`` for a scheduled zone) plus the open indoor-limited
+    ventilation objects, enters the step it belongs to through the air-temperature response
+    ``imp_g`` (m, m) [K/W] of the first solve's system (Woodbury: ``(I + G diag(d)) y = y0 + G d
+    T_out``); ``imp_d`` (m + 1,) and ``imp_inv`` (m, m) cache the last ``d`` and the inverse
+    (``imp_d[m]`` 0: invalid). The
     other zones take it with their previous temperature, except the zones tracked by the exact
     air inverse that a free run treats implicitly (``imp_free`` (nz,) true): at their reference,
     their end-of-step temperature, so that tracking a free run's temperatures is exact.
+
+    The wind's exterior convection ``ext_dh`` is one series per class of faces (steps,
+    classes): face ``e`` takes ``ext_dh[k, ext_class[e]]``.
 
     Indoor-limited ventilation objects ``vent_zone`` (j,): open at step ``k`` when the zone air
     temperature of the previous step ``T`` satisfies ``vent_tmin <= T <= vent_tmax`` and
@@ -436,7 +445,8 @@ def run_steps(
             if imp_of[z] >= 0 or gt_of[z] >= 0:
                 continue
             an = air_node[z]
-            rhs[an] += (inf_dh[k, z] + vent_d[z]) * (t_out - inf_temp[z])
+            d_air = outdoor_air_excess(k, z, inf_ratio, inf_base, inf_column, inf_scheduled)
+            rhs[an] += (d_air + vent_d[z]) * (t_out - inf_temp[z])
         # infiltration temperature term (conductance per kelvin of |T_zone - T_out|), lagged
         if dt_rows > 0:
             dt_k = k if dt_rows > 1 else 0
@@ -484,7 +494,8 @@ def run_steps(
             any_d = n_vent > 0
             for i in range(m_imp):
                 z = imp_zone[i]
-                d_now[i] = inf_dh[k, z] + vent_d[z]
+                d_air = outdoor_air_excess(k, z, inf_ratio, inf_base, inf_column, inf_scheduled)
+                d_now[i] = d_air + vent_d[z]
                 if d_now[i] != 0.0:
                     any_d = True
             if any_d:
@@ -602,7 +613,8 @@ def run_steps(
             if mt > 0:
                 for i in range(mt):
                     z = gt_zone[i]
-                    d_t[i] = inf_dh[k, z] + vent_d[z]
+                    d_air = outdoor_air_excess(k, z, inf_ratio, inf_base, inf_column, inf_scheduled)
+                    d_t[i] = d_air + vent_d[z]
                 if gt_d[mt] == 0.0:
                     _invert_into(gt_m, d_t, gt_inv, gt_d, True)
                 for i in range(mt):
@@ -706,7 +718,8 @@ def run_steps(
                     continue
                 held_t = heat_sp_k[c] if active[c] == 1 else cool_sp_k[c]
                 lag = inf_temp[z]
-                extra = (inf_dh[k, z] + vent_d[z]) * (lag - held_t)
+                d_air = outdoor_air_excess(k, z, inf_ratio, inf_base, inf_column, inf_scheduled)
+                extra = (d_air + vent_d[z]) * (lag - held_t)
                 if dt_rows > 0:
                     g_dt = inf_dt[k if dt_rows > 1 else 0, z]
                     d_held = t_out - held_t

@@ -73,7 +73,7 @@ def lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, out):
         out[i] = work[perm_c[i]]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=True)
 def cube_root_update(x, guess):
     """Cube root of ``x >= 0`` by three Newton steps from ``guess`` (the previous step's root).
 
@@ -87,7 +87,7 @@ def cube_root_update(x, guess):
     return y
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=True)
 def people_excess(t_air, a, b, c, limit):
     """People's sensible heat at ``t_air`` minus its value at ``PEOPLE_T0`` [W].
 
@@ -110,7 +110,7 @@ def tarp(delta_t, cos_up):
     return tarp_from_root(delta_t, np.cbrt(abs(delta_t)), cos_up)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, fastmath=True)
 def tarp_from_root(delta_t, root, cos_up):
     """TARP coefficient given ``root = |delta_t|^(1/3)``."""
     abs_cos = abs(cos_up)
@@ -340,3 +340,17 @@ def _invert_into(g, d, out, d_store, d_left):
         for j in range(m):
             out[i, j] = inv[i, j]
     d_store[m] = 1.0
+
+
+@njit(cache=True, fastmath=True)
+def outdoor_air_excess(k, z, ratio, base, column, scheduled):
+    """Outdoor-air conductance of zone ``z`` at step ``k`` beyond its matrix value [W/K].
+
+    ``ratio[k] base[z]`` (the air density's variation of a constant rate) or, for a zone with
+    its own schedule (``column[z] >= 0``), ``scheduled[k, column[z]]``
+    (:class:`thermocal.multizone._simtools.OutdoorAirExcess`).
+    """
+    c = column[z]
+    if c < 0:
+        return ratio[k] * base[z]
+    return scheduled[k, c]

@@ -316,7 +316,7 @@ class NetworkSetup:
             g_ctrl=g_ctrl,
             inputs=np.ascontiguousarray(inputs),
             ext_dh=np.ascontiguousarray(ext_dh_raw),
-            inf_dh=np.ascontiguousarray(inf_dh),
+            inf_dh=inf_dh,
             face_hmax=face_hmax,
             ext_natural=ext_natural,
         )
@@ -336,7 +336,7 @@ class NetworkSetup:
                 3600.0,
                 _hourly_first_day(self._inputs, per_day, m),
                 _hourly_first_day(self._ext_dh_raw, per_day, m),
-                _hourly_first_day(self._inf_dh, per_day, m),
+                self._inf_dh.hourly_first_day(per_day, m),
                 **kwargs,
             )
             if kwargs:

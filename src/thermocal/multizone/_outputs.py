@@ -61,7 +61,7 @@ class Outputs:
 
         transmitted = np.asarray(net.zone_transmitted @ self._inputs.T).T
         t_out = self._inputs[:, IN_TEMP_OUT]
-        conductance = net.zone_infiltration[None, :] + self._inf_dh
+        conductance = net.zone_infiltration[None, :] + self._inf_dh.full()
         if len(self._inf_dt):
             conductance = conductance + self._inf_dt * np.abs(t_out[:, None] - air)
         zone, g, gdt, _, _, _, _, opened = self._vent

@@ -96,7 +96,7 @@ class Stepping:
         ):
             tarp_on = 2
         ext_dh = np.zeros_like(context.ext_dh) if linear else context.ext_dh
-        inf_dh = np.zeros_like(context.inf_dh) if linear else context.inf_dh
+        inf_dh = context.inf_dh.zero() if linear else context.inf_dh
         window_ratio = (
             np.ones_like(net.window_conductance_ratio) if linear else net.window_conductance_ratio
         )
@@ -145,7 +145,7 @@ class Stepping:
                 tarp_on,
                 self._face_root,
                 net.air_node,
-                inf_dh,
+                *inf_dh,
                 np.zeros((0, nz)) if linear else context.inf_dt,
                 np.zeros((0, nz)) if linear else context.people_a,
                 np.zeros((0, nz)) if linear else context.people_b,

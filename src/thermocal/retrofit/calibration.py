@@ -977,6 +977,7 @@ def calibrate_to_heat(
         Correction,
         _group_present,
         draw_corrected,
+        group_prior_std_log,
         prior_std_log,
         scaled_envelope,
     )
@@ -994,6 +995,7 @@ def calibrate_to_heat(
     )  # fmt: skip
     names = groups + phys
     ng = len(groups)
+    s_groups = group_prior_std_log(groups, u_value_rel_std, model.envelope)
     lo = np.array([np.log(FACTOR_BOUNDS[0])] * ng
                   + [np.log(model.estimated[n][0] * unit[n]) for n in phys])  # fmt: skip
     hi = np.array([np.log(FACTOR_BOUNDS[1])] * ng
@@ -1039,7 +1041,7 @@ def calibrate_to_heat(
     def prior_resid(z):
         if not ng:
             return np.zeros(0)
-        out = list(z[:ng] / s_k)
+        out = list(z[:ng] / s_groups)
         if i_h is not None:
             out.append((z[i_h] - ln_h0) / H_EST_PRIOR_STD_LOG)
         return np.array(out)
@@ -1126,7 +1128,7 @@ def calibrate_to_heat(
     precision = jac_w.T @ jac_w
     if ng:
         prior_prec = np.full(len(names), 1.0 / CAPACITY_PRIOR_STD_LOG**2)
-        prior_prec[:ng] = 1.0 / s_k**2
+        prior_prec[:ng] = 1.0 / s_groups**2
         if i_h is not None:
             prior_prec[i_h] = 1.0 / H_EST_PRIOR_STD_LOG**2
         cov_z = np.linalg.inv(precision + np.diag(prior_prec))
@@ -1164,7 +1166,7 @@ def calibrate_to_heat(
         cov_data = cov_z.copy()
         if heat_rel_std > 0:
             cov_z = cov_z + np.log1p(heat_rel_std**2) * np.ones_like(cov_z)
-        prior = {g: s_k for g in groups}
+        prior = {g: float(sg) for g, sg in zip(groups, s_groups, strict=True)}
         post = {g: float(sd[i]) for i, g in enumerate(groups)}
         if i_h is not None:
             prior["H_est"] = H_EST_PRIOR_STD_LOG

@@ -13,7 +13,9 @@ capacities and ``H_est``:
 - ``k_env`` (roof + walls), ``k_win`` (windows), ``k_floor`` (cellar ceiling or ground floor):
   the construction's U-value is ``k U_audit``; the element's inner and outer conductances and
   its share of absorbed solar radiation follow (:meth:`FifthOrderModel.conductances`), so the
-  calibrated network is the one the strategies use. Prior ``ln k ~ N(0, s^2)`` with
+  calibrated network is the one the strategies use. For a floor on the ground ``k_floor``
+  scales the ground path as a whole, with the soil's uncertainty added to its prior
+  (:func:`group_prior_std_log`). Prior ``ln k ~ N(0, s^2)`` with
   ``s = sqrt(ln(1 + r^2))`` from the relative U-value uncertainty ``r``
   (``uncertainty.u_value_rel_std``): centred on the description, no direction built in;
 - ``H_est``: prior ``ln H_est ~ N(ln H_est0, 0.5^2)`` around the building file's allowance
@@ -108,13 +110,39 @@ def prior_std_log(rel_std: float) -> float:
     return float(np.sqrt(np.log1p(float(rel_std) ** 2)))
 
 
+def group_prior_std_log(groups, rel_std: float, envelope) -> np.ndarray:
+    """Prior standard deviation of each group's ``ln k`` [-].
+
+    ``prior_std_log(rel_std)`` for every group, except the floor of a house on the ground
+    (slab or heated basement, ISO 13370): its factor corrects the ground path as a whole
+    (:func:`scaled_envelope`), whose loss is the soil's far more than the construction's, so
+    its prior also carries the soil conductivity's (log-normal around ISO 13370's default,
+    :data:`thermocal.retrofit.ground_draws.SOIL_STD_LOG`):
+    ``sqrt(prior_std_log(rel_std)^2 + SOIL_STD_LOG^2)``.
+    """
+    from thermocal.retrofit.ground_draws import SOIL_STD_LOG
+
+    s_k = prior_std_log(rel_std)
+    on_ground = envelope.floor_kind == "ground_floor"
+    return np.array(
+        [np.hypot(s_k, SOIL_STD_LOG) if g == "k_floor" and on_ground else s_k for g in groups]
+    )
+
+
 def scaled_envelope(envelope, factors: dict[str, float]):
     """The envelope with its U-values multiplied by the group factors.
 
     Always a new object, so :meth:`FifthOrderModel.conductances` treats it as a changed
-    construction (for a slab, the ISO 13370 ground U follows the changed resistance).
+    construction. The floor group's factor scales the floor's U-value above an unheated
+    basement (its construction decides the loss) and, for a floor on the ground (slab or heated
+    basement), the ground path's conductance as a whole (``floor_factor``): its loss is the
+    soil's far more than the slab's (the first EnergyPlus twin: a factor on the uninsulated
+    slab's construction of 0.7 moved the ISO 13370 ground loss by 5 %), so the data could not
+    correct it; a measure adds its insulation in series with the corrected path.
     """
     k_env = float(factors.get("k_env", 1.0))
+    k_floor = float(factors.get("k_floor", 1.0))
+    on_ground = envelope.floor_kind == "ground_floor"
     return replace(
         envelope,
         roof_u=envelope.roof_u * k_env,
@@ -122,7 +150,8 @@ def scaled_envelope(envelope, factors: dict[str, float]):
         attic_u=envelope.attic_u * k_env,
         adjacent_u=envelope.adjacent_u * k_env,
         windows_u=envelope.windows_u * float(factors.get("k_win", 1.0)),
-        floor_u=envelope.floor_u * float(factors.get("k_floor", 1.0)),
+        floor_u=envelope.floor_u if on_ground else envelope.floor_u * k_floor,
+        floor_factor=envelope.floor_factor * k_floor if on_ground else envelope.floor_factor,
     )
 
 
@@ -235,6 +264,7 @@ def estimate_correction(
     names = groups + phys
     scale = {n: 1e6 if model.estimated[n][3] == "MJ/K" else 1.0 for n in phys}
     s_k = prior_std_log(rel_std)
+    s_groups = group_prior_std_log(groups, rel_std, model.envelope)
     lo = [np.log(FACTOR_BOUNDS[0])] * len(groups)
     hi = [np.log(FACTOR_BOUNDS[1])] * len(groups)
     for n in phys:
@@ -262,7 +292,7 @@ def estimate_correction(
         ll = rc.loglike(prep, values(z))
         if not np.isfinite(ll):
             return 1e12
-        lp = -0.5 * np.sum((z[: len(groups)] / s_k) ** 2) if s_k > 0 else 0.0
+        lp = -0.5 * np.sum((z[: len(groups)] / s_groups) ** 2) if s_k > 0 else 0.0
         if i_h is not None:
             lp += -0.5 * ((z[i_h] - ln_h0) / H_EST_PRIOR_STD_LOG) ** 2
         return -(ll + lp)
@@ -289,13 +319,13 @@ def estimate_correction(
     precision = (v * np.clip(w, 0.0, None)) @ v.T
     prior_precision = np.full(len(names), 1.0 / np.log(2.0) ** 2)
     if s_k > 0:
-        prior_precision[: len(groups)] = 1.0 / s_k**2
+        prior_precision[: len(groups)] = 1.0 / s_groups**2
     if i_h is not None:
         prior_precision[i_h] = 1.0 / H_EST_PRIOR_STD_LOG**2
     precision += np.diag(prior_precision)
     cov = np.linalg.inv(precision)
     sd = np.sqrt(np.diag(cov))
-    prior = {g: s_k for g in groups}
+    prior = {g: float(s) for g, s in zip(groups, s_groups, strict=True)}
     post = {g: float(sd[i]) for i, g in enumerate(groups)}
     if i_h is not None:
         prior["H_est"] = H_EST_PRIOR_STD_LOG

@@ -74,7 +74,9 @@ DESCRIPTION = {
 }
 
 
-def draw_ground_inputs(building, model, n: int, seed: int = 0) -> dict[str, np.ndarray]:
+def draw_ground_inputs(
+    building, model, n: int, seed: int = 0, *, soil: bool = True
+) -> dict[str, np.ndarray]:
     """Soil conductivity, basement air change and slab-edge psi change of ``n`` draws.
 
     Parameters
@@ -84,6 +86,11 @@ def draw_ground_inputs(building, model, n: int, seed: int = 0) -> dict[str, np.n
     n : int
         Number of draws, the first being the estimate (the building file's values).
     seed : int
+    soil : bool
+        Draw the soil conductivity (default). ``False`` when the data's correction of a floor on
+        the ground carries it (``k_floor`` scales the ground path, its prior includes the
+        soil's, :func:`thermocal.retrofit.correction.group_prior_std_log`): the soil stays the
+        building file's in every draw, the edge keeps its own spread.
 
     Returns
     -------
@@ -95,7 +102,8 @@ def draw_ground_inputs(building, model, n: int, seed: int = 0) -> dict[str, np.n
     g = building.ground
     z = rng.standard_normal((n, 3))
     z[0] = 0.0
-    out = {"soil_conductivity": float(g.soil_conductivity) * np.exp(SOIL_STD_LOG * z[:, 0])}
+    soil_std = SOIL_STD_LOG if soil else 0.0
+    out = {"soil_conductivity": float(g.soil_conductivity) * np.exp(soil_std * z[:, 0])}
     if model.ground.kind == "unheated_basement":
         out["basement_air_change_rate"] = float(g.basement_air_change_rate) * np.exp(
             BASEMENT_ACH_STD_LOG * z[:, 1]

@@ -203,6 +203,10 @@ class EnvelopeComponents:
     floor_perimeter: float = 0.0
     floor_edge_psi: float = 0.0
     floor_edge_conductance: float = 0.0
+    # a floor on the ground: the data's correction of the ground path as a whole [-] (its
+    # loss is the soil's far more than the slab's construction); measures add their
+    # insulation in series with the corrected path
+    floor_factor: float = 1.0
     # ground path of this envelope when it differs from the model's (uncertainty draws of
     # the soil conductivity and the basement air change); None: the model's
     ground: GroundPath | None = None
@@ -565,14 +569,20 @@ class FifthOrderModel:
             out["H_gf_e"] = float(g_out * ground.to_air / total)
             surfaces.append(("Tgf", env.floor_area, float(g_in), "downward"))
         else:
-            r_cond = max(1.0 / env.floor_u - R_SI["downward"] - R_SE, 1e-3)
+            # under-slab insulation lies below the slab's mass: the room's side of the floor
+            # keeps the described construction's inner half
+            construction_u = (
+                self.envelope.floor_u if self.envelope.floor_kind == "ground_floor" else env.floor_u
+            )
+            r_cond = max(1.0 / construction_u - R_SI["downward"] - R_SE, 1e-3)
             g_in = 1.0 / (R_SI["downward"] / env.floor_area + 0.5 * r_cond / env.floor_area)
             if self.envelope.floor_kind == "ground_floor" and env is not self.envelope:
-                u13370 = ground.to_ground / self.envelope.floor_area
-                # retrofit adds resistance: Delta R from the change in the construction's U
+                # the ground path as the data corrected it (floor_factor), then the retrofit's
+                # resistance in series: Delta R from the change in the construction's U
+                u13370 = env.floor_factor * ground.to_ground / self.envelope.floor_area
                 d_r = 1.0 / env.floor_u - 1.0 / self.envelope.floor_u
                 u13370 = 1.0 / (1.0 / u13370 + d_r)
-                total = u13370 * env.floor_area + env.floor_edge_conductance
+                total = u13370 * env.floor_area + env.floor_factor * env.floor_edge_conductance
             else:
                 total = ground.to_ground
             # a heated basement's walls can conduct more than the floor's inner half: then

@@ -491,7 +491,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         cal_rows = np.asarray(inputs.index < training[1])
         ground = {
             "inputs": draw_ground_inputs(
-                building, model, cfg.uncertainty.draws + 1, seed=cfg.uncertainty.seed
+                building, model, cfg.uncertainty.draws + 1, seed=cfg.uncertainty.seed,
+                # a floor on the ground: the floor group's correction carries the soil
+                soil=cal.correction is None or model.envelope.floor_kind != "ground_floor",
             ),
             "means": {
                 c: float(np.nanmean(inputs[col].to_numpy(float)[cal_rows]))

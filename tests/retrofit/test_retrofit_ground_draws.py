@@ -150,3 +150,67 @@ def test_results_floor_group_names_the_buildings_floor(folder, component, kind):
     word = {"slab": "slab on ground", "unheated_basement": "unheated basement"}[kind]
     assert word in groups["k_floor"]["description"]
     assert groups["k_win"]["components"] == ["windows"]
+
+
+def _floor_series(h: dict) -> float:
+    """The floor element's conductance from the indoor air to the ground [W/K]."""
+    return 1.0 / (1.0 / h["H_gf_in"] + 1.0 / h["H_gf_gr"])
+
+
+def test_floor_group_scales_a_slabs_ground_path_and_a_cellar_ceilings_u_value():
+    """On a slab the floor group's factor scales the ISO 13370 ground path as a whole (a factor
+    on the uninsulated slab's construction moved it by a few per cent: the data could not
+    correct the soil), with the soil's spread added to its prior; above an unheated basement it
+    still scales the ceiling's U-value, whose insulation decides that loss."""
+    from thermocal.retrofit.correction import (
+        group_prior_std_log,
+        prior_std_log,
+        scaled_envelope,
+    )
+    from thermocal.retrofit.ground_draws import SOIL_STD_LOG
+
+    _, model = _model(HOUSE)
+    h0 = model.conductances()
+    h = model.conductances(scaled_envelope(model.envelope, {"k_floor": 0.7}))
+    assert _floor_series(h) == pytest.approx(0.7 * _floor_series(h0), rel=1e-12)
+    assert h["H_gf_in"] == h0["H_gf_in"]  # the room's side of the slab is unchanged
+    s = group_prior_std_log(["k_env", "k_floor"], 0.2, model.envelope)
+    assert s[0] == prior_std_log(0.2)
+    assert s[1] == pytest.approx(np.hypot(prior_std_log(0.2), SOIL_STD_LOG), rel=1e-12)
+    _, cellar = _model(BASEMENT)
+    env = scaled_envelope(cellar.envelope, {"k_floor": 0.7})
+    assert env.floor_u == pytest.approx(0.7 * cellar.envelope.floor_u) and env.floor_factor == 1.0
+    assert group_prior_std_log(["k_floor"], 0.2, cellar.envelope)[0] == prior_std_log(0.2)
+
+
+def test_under_slab_insulation_lies_below_the_slabs_mass():
+    """A floor-insulation measure on a slab adds its resistance in series with the corrected
+    ground path, the junction's conductance scaled with it; the room's side of the floor (its
+    node's coupling to the air) keeps the described construction's inner half. Before, the
+    node sat in the middle of the whole new construction: half of the insulation came
+    between the room and the slab's mass."""
+    from thermocal.retrofit.correction import scaled_envelope
+
+    building, model = _model(HOUSE)
+    corrected = scaled_envelope(model.envelope, {"k_floor": 0.6})
+    after = model.apply_measures([Measure("ground_floor", "ground_floor", u_value=0.25)],
+                                 envelope=corrected)  # fmt: skip
+    h0, h = model.conductances(), model.conductances(after)
+    assert h["H_gf_in"] == h0["H_gf_in"]
+    area = model.envelope.floor_area
+    u_ground = 0.6 * model.ground.to_ground / area
+    d_r = 1.0 / 0.25 - 1.0 / model.envelope.floor_u
+    edge = 0.6 * after.floor_edge_conductance
+    expected = area / (1.0 / u_ground + d_r) + edge
+    assert _floor_series(h) == pytest.approx(expected, rel=1e-12)
+    assert edge == pytest.approx(0.6 * 0.41 * 49.12, rel=1e-3)
+
+
+def test_soil_held_when_the_floor_group_carries_it():
+    """``soil=False`` (a slab whose floor group's prior carries the soil): the soil is the
+    building file's in every draw; the slab edge keeps ISO 14683's own +/- 20 %."""
+    building, model = _model(HOUSE)
+    g = draw_ground_inputs(building, model, 2001, seed=3, soil=False)
+    assert np.all(g["soil_conductivity"] == building.ground.soil_conductivity)
+    psi = g["slab_edge_psi_change"]
+    assert np.std(np.log(psi[1:] / 0.41)) == pytest.approx(0.2, rel=0.08)

@@ -64,8 +64,10 @@ GROUPS: dict[str, tuple[str, ...]] = {
 #: What the floor group's component is, by the ground path's kind (ISO 13370 clause).
 FLOOR_DESCRIPTIONS: dict[str, str] = {
     "unheated_basement": "ceiling over an unheated basement (ISO 13370 clause 9.3)",
-    "slab": "slab on ground (ISO 13370 clause 9.1)",
-    "heated_basement": "floor of a heated basement (ISO 13370 clause 9.2)",
+    "slab": "slab on ground (ISO 13370 clause 9.1); the factor scales its ground path as a "
+    "whole, the soil's uncertainty in its prior",
+    "heated_basement": "floor of a heated basement (ISO 13370 clause 9.2); the factor scales "
+    "its ground path as a whole, the soil's uncertainty in its prior",
 }
 
 

@@ -235,7 +235,11 @@ def heat_balance_dict(analysis) -> dict | None:
 
 
 def _ground_draws_dict(analysis) -> dict | None:
-    """The ground's inputs drawn (thermocal.retrofit.ground_draws): distribution, 5/50/95 %."""
+    """The ground's inputs drawn (thermocal.retrofit.ground_draws): distribution, 5/50/95 %.
+
+    An input held at the building file's value in every draw is not listed (a slab's soil
+    when the floor group's correction carries its uncertainty).
+    """
     from thermocal.retrofit.ground_draws import DESCRIPTION
 
     draws = analysis.draws or {}
@@ -243,6 +247,8 @@ def _ground_draws_dict(analysis) -> dict | None:
     for name, text in DESCRIPTION.items():
         if name in draws and len(draws[name]) > 1:
             v = np.asarray(draws[name][1:], float)
+            if np.all(v == draws[name][0]):
+                continue
             out[name] = {"distribution": text, "estimate": float(draws[name][0]),
                          "p05": float(np.quantile(v, 0.05)), "p50": float(np.median(v)),
                          "p95": float(np.quantile(v, 0.95))}  # fmt: skip

@@ -417,7 +417,8 @@ class UncertaintyConfig(_Strict):
         True,
         description="draw the ground's uncertain inputs: the soil conductivity, an unheated "
         "basement's air change and the slab-edge psi a floor-insulation measure leaves "
-        "(thermocal.retrofit.ground_draws; false: the building file's values in every draw)",
+        "(thermocal.retrofit.ground_draws; false: the building file's values in every draw); "
+        "on a slab with model.correction: groups the floor group's factor carries the soil",
     )
 
 

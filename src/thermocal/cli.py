@@ -141,12 +141,20 @@ _state: dict = {"pid": None, "signal": None, "pending": None}
 #: else in numba's compiler (pure Python) a KeyboardInterrupt propagates normally.
 _CTYPES_CALLBACKS = frozenset({"_raw_object_cache_notify", "_raw_object_cache_getbuffer"})
 _CALLBACK_FILE = f"{os.sep}llvmlite{os.sep}"
+#: Python also swallows, with an "Exception ignored in" traceback, an exception raised in a
+#: weakref callback or a finaliser: the import system's own weakref callback on its module
+#: locks (``cb`` in ``importlib._bootstrap``, run whenever a module lock is released during an
+#: import) and any ``__del__``. A Ctrl-C during an import was lost there (1 of 7 clean runs of
+#: the signal tests on 2026-11-29).
+_SWALLOWING = frozenset({("cb", "<frozen importlib._bootstrap>")})
 #: Seconds between two checks whether a deferred signal can be raised.
 _DEFER_POLL_S = 0.05
 
 
-def _inside_ctypes_callback(frame) -> bool:
-    """Whether the interrupted Python code runs inside a ctypes callback of llvmlite.
+def _inside_swallowing_callback(frame) -> bool:
+    """Whether the interrupted Python code runs where an exception would be swallowed: a
+    ctypes callback of llvmlite, the import system's weakref callback on a module lock, or a
+    finaliser (``__del__``).
 
     Only those frames swallow an exception; the rest of a numba compilation (type inference,
     lowering, the cache) is ordinary Python, so a signal there is raised at once and Ctrl-C
@@ -155,6 +163,8 @@ def _inside_ctypes_callback(frame) -> bool:
     while frame is not None:
         code = frame.f_code
         if code.co_name in _CTYPES_CALLBACKS and _CALLBACK_FILE in code.co_filename:
+            return True
+        if code.co_name == "__del__" or (code.co_name, code.co_filename) in _SWALLOWING:
             return True
         frame = frame.f_back
     return False
@@ -168,16 +178,18 @@ def _raise_for(signum: int) -> None:
 
 
 def _on_signal(signum, frame) -> None:
-    """SIGINT/SIGTERM: raise in the main process, or defer while llvmlite calls back.
+    """SIGINT/SIGTERM: raise in the main process, or defer inside a callback that would
+    swallow the exception.
 
     A signal that arrives while llvmlite runs one of numba's hooks through a ctypes callback
-    (during the first, uncached compilation of a kernel) is remembered and raised as soon as the
+    (during the first, uncached compilation of a kernel), while the import system runs its
+    weakref callback on a module lock, or in a finaliser is remembered and raised as soon as the
     callback has returned, polled with a short interval timer: raised inside the callback it
     would be swallowed, printed with a traceback, and the run would go on.
     """
     if os.getpid() != _state["pid"]:  # a forked worker: the parent reports, quietly
         os._exit(128 + signum)
-    if _inside_ctypes_callback(frame):
+    if _inside_swallowing_callback(frame):
         if _state.get("pending") != signal.SIGTERM:  # SIGTERM wins over a later Ctrl-C
             _state["pending"] = signum
         signal.setitimer(signal.ITIMER_REAL, _DEFER_POLL_S)
@@ -190,7 +202,7 @@ def _on_deferred_check(signum, frame) -> None:  # noqa: ARG001 - the signal-hand
     pending = _state.get("pending")
     if pending is None or os.getpid() != _state["pid"]:
         return
-    if _inside_ctypes_callback(frame):
+    if _inside_swallowing_callback(frame):
         signal.setitimer(signal.ITIMER_REAL, _DEFER_POLL_S)
         return
     _state["pending"] = None

@@ -256,6 +256,64 @@ def test_signal_inside_a_numba_compiler_callback_is_raised_after_it(sig, name):
     assert "Exception ignored" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
 
 
+_SIGNAL_INSIDE_A_SWALLOWING_CALLBACK = """
+import os, signal, sys, time, weakref
+from thermocal import cli
+
+cli._install_signal_handlers()
+
+class Obj:
+    {body}
+
+# the import system's weakref callback on a module lock (importlib._bootstrap's ``cb``, which
+# a Ctrl-C during an import hit) or a finaliser: Python swallows an exception raised in either
+source = (
+    "def cb(ref, name=None):\\n"
+    "    os.kill(os.getpid(), signal.{sig})\\n"
+    "    for _ in range(100_000):\\n"
+    "        pass\\n"
+)
+namespace = {{"os": os, "signal": signal}}
+exec(compile(source, "<frozen importlib._bootstrap>", "exec"), namespace)
+try:
+    obj = Obj()
+    ref = weakref.ref(obj, namespace["cb"]) if {weak} else None
+    del obj
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline:
+        time.sleep(0.01)
+    print("signal lost", flush=True)
+except KeyboardInterrupt as exc:
+    print(f"raised {{type(exc).__name__}} after the callback", flush=True)
+"""
+
+
+@pytest.mark.parametrize("where", ["weakref callback of the import system", "finaliser"])
+@pytest.mark.parametrize(
+    ("sig", "name"), [("SIGINT", "KeyboardInterrupt"), ("SIGTERM", "Terminated")]
+)
+def test_signal_inside_a_callback_python_swallows_is_raised_after_it(sig, name, where):
+    """A signal inside the import system's weakref callback on a module lock (a Ctrl-C during
+    an import: "Exception ignored in: <function _get_module_lock.<locals>.cb>" and a traceback
+    in 1 of 7 clean runs of the fit's signal test) or inside a ``__del__`` would be swallowed;
+    it is deferred and raised once the callback returns."""
+    weak = where.startswith("weakref")
+    body = (
+        "pass"
+        if weak
+        else "def __del__(self):\n"
+        "        os.kill(os.getpid(), signal.{sig})\n"
+        "        for _ in range(100_000):\n"
+        "            pass"
+    ).replace("{sig}", sig)
+    script = _SIGNAL_INSIDE_A_SWALLOWING_CALLBACK.format(sig=sig, body=body, weak=weak)
+    proc = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert proc.stdout.strip() == f"raised {name} after the callback", proc.stdout + proc.stderr
+    assert "Exception ignored" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+
+
 _SIGNAL_DURING_TYPE_INFERENCE = """
 import os, signal, time
 from numba import njit

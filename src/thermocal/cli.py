@@ -147,6 +147,11 @@ _CALLBACK_FILE = f"{os.sep}llvmlite{os.sep}"
 #: import) and any ``__del__``. A Ctrl-C during an import was lost there (1 of 7 clean runs of
 #: the signal tests on 2026-11-29).
 _SWALLOWING = frozenset({("cb", "<frozen importlib._bootstrap>")})
+#: The standard library's weakref callbacks (WeakSet, WeakValueDictionary, weakref.finalize),
+#: by function and file name.
+_SWALLOWING_STDLIB = frozenset(
+    {("_remove", "_weakrefset.py"), ("remove", "weakref.py"), ("__call__", "weakref.py")}
+)
 #: Seconds between two checks whether a deferred signal can be raised.
 _DEFER_POLL_S = 0.05
 
@@ -165,6 +170,8 @@ def _inside_swallowing_callback(frame) -> bool:
         if code.co_name in _CTYPES_CALLBACKS and _CALLBACK_FILE in code.co_filename:
             return True
         if code.co_name == "__del__" or (code.co_name, code.co_filename) in _SWALLOWING:
+            return True
+        if (code.co_name, os.path.basename(code.co_filename)) in _SWALLOWING_STDLIB:
             return True
         frame = frame.f_back
     return False

@@ -512,3 +512,22 @@ def test_demand_holds_the_24h_profile_at_the_end_of_each_hour():
     heat, temp_in, _ = ideal_heating_batch(ad, bd, x0, u, sp)
     assert np.all(heat > 0)
     np.testing.assert_allclose(temp_in[0], sp, atol=1e-9)
+
+
+def test_air_change_rate_sets_the_prior_of_the_extra_loss():
+    """``air_change_rate`` in the building file (1/h; a blower-door test's n50 / 20, or a
+    ventilation's flow over the volume) is the median of ``H_est``'s prior: rho c n V plus the
+    thermal bridges and doors; the default is the standard 0.5 1/h."""
+    from pathlib import Path
+
+    from thermocal.io.envelope import read_envelope
+    from thermocal.retrofit.model import build_fifth_order_model
+
+    path = Path(__file__).resolve().parents[1] / "reference" / "retrofit_energyplus_house"
+    building = read_envelope(path / "building.yaml")
+    default = build_fifth_order_model(building).audit_h_est
+    tight = build_fifth_order_model(building.model_copy(update={"air_change_rate": 0.1}))
+    assert building.air_change_rate == 0.5
+    assert default - tight.audit_h_est == pytest.approx(0.4 * building.volume / 3.0, rel=1e-12)
+    lo, _, hi, _ = tight.estimated["H_est"]
+    assert lo < tight.audit_h_est < hi

@@ -140,6 +140,7 @@ PLAUSIBLE_RANGES: dict[str, tuple[float, float, str, bool, bool]] = {
     "heated_floor_area": (0.0, 1_000_000.0, "m2", False, True),
     "volume": (0.0, 10_000_000.0, "m3", False, True),
     "thermal_bridge_allowance": (0.0, 0.5, "W/(m2 K)", True, True),
+    "air_change_rate": (0.05, 3.0, "1/h", False, False),
     "construction_year": (1000, 2100, "-", True, True),
     "perimeter": (0.0, 10_000.0, "m", False, True),
     "wall_thickness": (0.05, 1.5, "m", True, True),
@@ -580,6 +581,12 @@ class EnvelopeDescription(_Strict):
     thermal_bridge_allowance : float [W/(m2 K)]
         Delta U added on the opaque envelope area for thermal bridges, default 0.05
         (ISO 13789 / SIA 380/1 simplified allowance), plausible 0 to 0.5.
+    air_change_rate : float [1/h]
+        Air change by infiltration and ventilation the description assumes, default 0.5 (the
+        standard value for housing, EN 12831 / SIA 380/1); the median of the retrofit
+        analysis' prior of the estimated extra loss ``H_est``. A blower-door test gives about
+        ``n50 / 20`` (Sherman 1987); a mechanical ventilation its flow over the volume.
+        Plausible above 0.05 and below 3.
     construction_year : int or None
     components : list of Component
         At least one; names unique.
@@ -593,13 +600,16 @@ class EnvelopeDescription(_Strict):
     volume: float
     emitter: EmitterType
     thermal_bridge_allowance: float = 0.05
+    air_change_rate: float = 0.5
     construction_year: int | None = None
     components: list[Component] = Field(min_length=1)
     ground: Ground | None = None
 
     @model_validator(mode="after")
     def _plausible_and_consistent(self) -> EnvelopeDescription:
-        for field in ("floors", "heated_floor_area", "volume", "thermal_bridge_allowance"):
+        for field in (
+            "floors", "heated_floor_area", "volume", "thermal_bridge_allowance", "air_change_rate"
+        ):
             _check_named_range(field, getattr(self, field))
         _check_named_range("construction_year", self.construction_year)
         height = self.volume / self.heated_floor_area

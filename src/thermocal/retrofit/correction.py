@@ -19,8 +19,8 @@ capacities and ``H_est``:
   ``s = sqrt(ln(1 + r^2))`` from the relative U-value uncertainty ``r``
   (``uncertainty.u_value_rel_std``): centred on the description, no direction built in;
 - ``H_est``: prior ``ln H_est ~ N(ln H_est0, 0.5^2)`` around the building file's allowance
-  (0.5 1/h of air change, thermal bridges, doors): air-change rates of houses range over a
-  factor of about 2 either way.
+  (its ``air_change_rate``, default 0.5 1/h, thermal bridges, doors): air-change rates of
+  houses range over a factor of about 2 either way.
 - capacities: flat within their bounds.
 
 The nuisance parameters (diffusions, measurement noise, initial states) stay at their

@@ -712,7 +712,7 @@ def build_fifth_order_model(
     h_h = a_frac * floor_area * h_em
     h_im = internal_mass_area(floor_area, building.floors) * (H_CI["horizontal"] + H_RI)
 
-    # prior of Hest: ventilation/infiltration 0.5 1/h, thermal bridges, doors
+    # prior of Hest: the description's air change (default 0.5 1/h), thermal bridges, doors
     volume = float(building.volume)
     opaque = (
         envelope.roof_area + envelope.walls_area + envelope.floor_area + envelope.attic_area
@@ -721,7 +721,7 @@ def build_fifth_order_model(
     bridges = float(building.thermal_bridge_allowance) * opaque
     doors = sum(float(c.area) * float(c.u_value) for c in building.components if c.type == "door")
     air = 1200.0 / 3600.0  # rho c of air [Wh/(m3 K)] -> [W h/(m3 K)]
-    h_est0 = air * 0.5 * volume + bridges + doors
+    h_est0 = air * float(building.air_change_rate) * volume + bridges + doors
     h_est_lo = air * 0.05 * volume + 0.25 * bridges + doors * 0.5
     h_est_hi = air * 3.0 * volume + 4.0 * bridges + 2.0 * doors
     estimated: dict[str, tuple[float, float, float, str]] = {

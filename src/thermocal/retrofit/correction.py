@@ -112,6 +112,13 @@ def prior_std_log(rel_std: float) -> float:
     return float(np.sqrt(np.log1p(float(rel_std) ** 2)))
 
 
+def corrects_the_ground_path(envelope) -> bool:
+    """Whether the floor group's factor scales the ground path as a whole (a floor on the
+    ground: slab or heated basement, whose loss is the soil's) rather than the floor's U-value
+    (a ceiling over an unheated basement, whose insulation decides its loss)."""
+    return envelope.floor_kind == "ground_floor"
+
+
 def group_prior_std_log(groups, rel_std: float, envelope) -> np.ndarray:
     """Prior standard deviation of each group's ``ln k`` [-].
 
@@ -125,7 +132,7 @@ def group_prior_std_log(groups, rel_std: float, envelope) -> np.ndarray:
     from thermocal.retrofit.ground_draws import SOIL_STD_LOG
 
     s_k = prior_std_log(rel_std)
-    on_ground = envelope.floor_kind == "ground_floor"
+    on_ground = corrects_the_ground_path(envelope)
     return np.array(
         [np.hypot(s_k, SOIL_STD_LOG) if g == "k_floor" and on_ground else s_k for g in groups]
     )
@@ -144,7 +151,7 @@ def scaled_envelope(envelope, factors: dict[str, float]):
     """
     k_env = float(factors.get("k_env", 1.0))
     k_floor = float(factors.get("k_floor", 1.0))
-    on_ground = envelope.floor_kind == "ground_floor"
+    on_ground = corrects_the_ground_path(envelope)
     return replace(
         envelope,
         roof_u=envelope.roof_u * k_env,

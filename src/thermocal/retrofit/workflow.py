@@ -35,6 +35,7 @@ from thermocal.retrofit.calibration import (
     tight_control,
 )
 from thermocal.retrofit.config import RetrofitConfig
+from thermocal.retrofit.correction import corrects_the_ground_path
 from thermocal.retrofit.data import (
     check_irradiance_limits,
     check_temperature_units,
@@ -493,7 +494,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "inputs": draw_ground_inputs(
                 building, model, cfg.uncertainty.draws + 1, seed=cfg.uncertainty.seed,
                 # a floor on the ground: the floor group's correction carries the soil
-                soil=cal.correction is None or model.envelope.floor_kind != "ground_floor",
+                soil=cal.correction is None or not corrects_the_ground_path(model.envelope),
             ),
             "means": {
                 c: float(np.nanmean(inputs[col].to_numpy(float)[cal_rows]))

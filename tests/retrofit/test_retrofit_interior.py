@@ -197,11 +197,17 @@ def test_split_inside_on_the_energyplus_basement_house(tmp_path):
 def test_slow_state_diffusions_fixed_by_one_key():
     """``model.slow_state_diffusion: fixed`` holds the envelope's, floor's and internal mass's
     diffusions at 0.01 K/sqrt(h); ``model.fixed_noise`` overrides per state; the default
-    estimates them all (the method's), and the default inside is the method's."""
+    estimates them all (the method's); the default inside is split with the heat fit and the
+    method's with the temperature fit, either stated wins."""
     from thermocal.retrofit.config import SLOW_STATE_DIFFUSION, ModelConfig
+    from thermocal.retrofit.workflow import interior_for
 
     assert ModelConfig().fixed_diffusions() == {}
-    assert ModelConfig().interior == "combined"
+    assert ModelConfig().interior == "auto"
+    assert interior_for("auto", "heat") == "split"
+    assert interior_for("auto", "temperature") == "combined"
+    for stated in ("combined", "split"):
+        assert {interior_for(stated, m) for m in ("heat", "temperature")} == {stated}
     fixed = ModelConfig(slow_state_diffusion="fixed", fixed_noise={"sigma_Tim": 0.05})
     assert fixed.fixed_diffusions() == {
         "sigma_Tenv": SLOW_STATE_DIFFUSION, "sigma_Tgf": SLOW_STATE_DIFFUSION, "sigma_Tim": 0.05,

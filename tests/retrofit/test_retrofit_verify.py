@@ -185,7 +185,7 @@ def test_prediction_from_another_building_or_unknown_strategy_is_refused(demo_fo
             name=f"cfg-{code}.yaml",
         )  # fmt: skip
 
-    from thermocal.retrofit.verify import read_prediction
+    from thermocal.retrofit.verify import _prediction_interior, read_prediction
 
     good = load_verify_config(
         with_results(
@@ -210,11 +210,19 @@ def test_prediction_from_another_building_or_unknown_strategy_is_refused(demo_fo
     changed = json.loads(json.dumps(results))
     changed["calibration"]["calculated_conductances_W_per_K"]["H_win"] *= 1.5
     assert "another building description" in _message(with_results(changed, "2a"))
-    # a prediction made with the split inside is refused by name, not as another building
+    # a prediction made with the split inside: with model.interior stated otherwise it is
+    # refused by name, not as another building; with auto (the default) the verification
+    # takes the prediction's inside
     split = json.loads(json.dumps(results))
     split["calibration"]["interior"] = "split"
-    msg = _message(with_results(split, "2a"))
+    path = with_results(split, "2a")
+    assert _prediction_interior(load_verify_config(path)) == "split"
+    stated = yaml.safe_load(path.read_text())
+    stated.setdefault("model", {})["interior"] = "combined"
+    path.write_text(yaml.safe_dump(stated))
+    msg = _message(path)
     assert "model.interior: split" in msg and "this verification uses combined" in msg
+    assert _prediction_interior(load_verify_config(with_results(results, "2a"))) == "combined"
 
 
 def test_configuration_without_prediction_or_section(tmp_path):

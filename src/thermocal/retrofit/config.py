@@ -331,12 +331,13 @@ class ModelConfig(_Strict):
         "estimated: the method's (every diffusion estimated); model.fixed_noise overrides "
         "either per state (docs/retrofit.md 'The room's inside')",
     )
-    interior: Literal["combined", "split"] = Field(
-        "combined",
+    interior: Literal["auto", "combined", "split"] = Field(
+        "auto",
         description="the room's inside: combined: each element's surface resistance Rsi to "
         "the indoor air (the method's); split: convection to the air and long-wave radiation "
-        "among the surfaces (a convectively heated room controlled on its air temperature, "
-        "docs/retrofit.md 'The room's inside')",
+        "among the surfaces (a convectively heated room controlled on its air temperature); "
+        "auto: split with the heat fit (a thermostat holds the air temperature), combined "
+        "with the temperature fit (docs/retrofit.md 'The room's inside')",
     )
     calibration: Literal["auto", "temperature", "heat"] = Field(
         "auto",

@@ -605,10 +605,16 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
     )
     if cal.get("interior") == "split":
         rep.paragraph(
-            "The room's inside is split (model.interior: split): each element's inner surface "
-            "exchanges heat with the air by convection and with the other surfaces by long-wave "
-            "radiation (ISO 52016-1 air and surface nodes), reduced to the pair conductances "
-            "G_<a>_<b> above; the element paths of the heat balance are inside-face conduction."
+            "The room's inside is split: each element's inner surface exchanges heat with the "
+            "air by convection and with the other surfaces by long-wave radiation (ISO 52016-1 "
+            "air and surface nodes), reduced to the pair conductances G_<a>_<b> above; the "
+            "element paths of the heat balance are inside-face conduction. "
+            + (
+                "Chosen with the heat fit (model.interior: auto): a thermostat holds the air "
+                "temperature, and the losses referenced to it are the split inside's."
+                if cfg.model.interior == "auto"
+                else "(model.interior: split)"
+            )
         )
     phys = [n for n in ESTIMATED_PARAMETERS if n in analysis.calibration.correlation.columns]
     if phys:

@@ -275,6 +275,21 @@ class Prediction:
     weather: str | None = None  # name of the prediction's reference-year weather
 
 
+def _prediction_interior(vcfg: VerifyConfig) -> str | None:
+    """The room's inside (``calibration.interior``) of the prediction's results.json, or None
+    (no results file, or one :func:`read_prediction` refuses with its reason)."""
+    path = vcfg.verify.prediction.results
+    if path is None or not path.is_file():
+        return None
+    try:
+        res = json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError):
+        return None
+    calibration = res.get("calibration") if isinstance(res, dict) else None
+    interior = calibration.get("interior", "combined") if isinstance(calibration, dict) else None
+    return interior if interior in ("combined", "split") else None
+
+
 def read_prediction(vcfg: VerifyConfig, model) -> Prediction:
     """The prediction of the configuration (results.json + strategy, or given directly).
 
@@ -527,7 +542,9 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     ground = ground_temperature_parameters(weather)
     model = build_fifth_order_model(
         building, solar_to_internal_mass=cfg.model.solar_to_internal_mass,
-        bounds=cfg.model.bounds, fixed=cfg.model.fixed, interior=cfg.model.interior,
+        bounds=cfg.model.bounds, fixed=cfg.model.fixed,
+        # auto: settled in run_verify (the prediction's inside, or the calibration method's)
+        interior="combined" if cfg.model.interior == "auto" else cfg.model.interior,
     )  # fmt: skip
     inputs = model_inputs(
         grid, building, ground, temp_col="temp_out", solar=cfg.model.solar_gains,
@@ -743,6 +760,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     from thermocal.retrofit.gate import ashrae14_statistics, heat_to_follow_measured
     from thermocal.retrofit.metrics import daily_profile
     from thermocal.retrofit.strategies import Strategy
+    from thermocal.retrofit.workflow import interior_for
 
     def say(msg: str) -> None:
         if progress is not None:
@@ -763,6 +781,16 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     sel_post = (inputs.index >= post[0]) & (inputs.index < post[1])
     check_period(inputs.loc[sel_pre], "pre", sec.min_days, source)
     check_period(inputs.loc[sel_post], "post", sec.min_days, source)
+    control = tight_control(
+        inputs.loc[sel_pre, OUTPUT_COLUMN], inputs.loc[sel_pre, "phi_h_measured"]
+    )
+    method = sec.calibration
+    if method == "auto":
+        method = "heat" if control["tight"] else "temperature"
+    if cfg.model.interior == "auto":
+        # the inside the prediction was computed with, else the calibration method's
+        interior = _prediction_interior(vcfg) or interior_for("auto", method)
+        model = dataclasses.replace(model, interior=interior)
     prediction = read_prediction(vcfg, model)
     measures = prediction.measures
     from thermocal.retrofit.model import check_measures
@@ -773,12 +801,6 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     # what the heating held: the set point the models follow (not free-floating excursions)
     setpoint_all = heating_setpoint(inputs[OUTPUT_COLUMN], inputs["phi_h_measured"], (pre, post))
     model_post = dataclasses.replace(model, envelope=model.apply_measures(list(measures.values())))
-    control = tight_control(
-        inputs.loc[sel_pre, OUTPUT_COLUMN], inputs.loc[sel_pre, "phi_h_measured"]
-    )
-    method = sec.calibration
-    if method == "auto":
-        method = "heat" if control["tight"] else "temperature"
     for name, mdl, sel in (("pre", model, sel_pre), ("post", model_post, sel_post)):
         say(f"calibrating the fifth-order model on the {name}-retrofit period")
         t1 = time.perf_counter()

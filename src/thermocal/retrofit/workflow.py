@@ -324,7 +324,8 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         solar_to_internal_mass=cfg.model.solar_to_internal_mass,
         bounds=cfg.model.bounds,
         fixed=cfg.model.fixed,
-        interior=cfg.model.interior,
+        # auto: settled with the calibration method below (interior_for)
+        interior="combined" if cfg.model.interior == "auto" else cfg.model.interior,
     )
     check_measures(model.envelope, cfg.measure_objects(), building.name)
     inputs = model_inputs(
@@ -370,6 +371,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     )
     method = calibration_method(cfg.model.calibration, train)
     say(method["summary"])
+    interior = interior_for(cfg.model.interior, method["method"])
+    if interior != model.interior:
+        model = replace(model, interior=interior)
     correct = cfg.model.correction == "groups" and cfg.uncertainty.u_value_rel_std > 0
     if method["method"] == "heat":
         cal = calibrate_to_heat(
@@ -560,6 +564,30 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         heat_validation=heat_check, gate=gate, calibration_method=method,
         air_change=air_change,
     )  # fmt: skip
+
+
+def interior_for(requested: str, method: str) -> str:
+    """The room's inside (``model.interior``) the model gets with a calibration method.
+
+    ``auto``: the split inside (convection to the air, radiation among the surfaces,
+    :mod:`thermocal.retrofit.interior`) with the heat fit, whose house a thermostat holds at
+    its air temperature, so that the losses referenced to that air are what the split inside
+    computes; the method's combined surface resistances with the temperature fit, on which the
+    split inside's likelihood has several optima (docs/retrofit.md, "The room's inside").
+
+    Parameters
+    ----------
+    requested : {"auto", "combined", "split"}
+    method : {"heat", "temperature"}
+        The calibration method chosen (:func:`calibration_method`).
+
+    Returns
+    -------
+    str: "combined" or "split".
+    """
+    if requested != "auto":
+        return requested
+    return "split" if method == "heat" else "combined"
 
 
 def calibration_method(requested: str, train: pd.DataFrame) -> dict:

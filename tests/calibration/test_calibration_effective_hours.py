@@ -9,6 +9,7 @@ computed by brute force, not by the estimator.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from scipy.signal import lfilter
 
 from thermocal.calibration.posterior import effective_hours
@@ -70,3 +71,19 @@ def test_effective_hours_add_over_the_series():
     both = effective_hours(np.concatenate([a, b]), [(0, 1500), (1500, 2300)])
     assert both == effective_hours(a, [(0, 1500)]) + effective_hours(b, [(0, 800)])
     assert effective_hours(np.zeros(30), [(0, 30)]) == 30  # no variance: every hour
+
+
+def test_a_smooth_oscillation_keeps_the_lag1_time():
+    """A residual that oscillates over two days (a model error with its own daily shape): the
+    integrated time sums its negative lobes away (as in a mean), the lag-1 time does not; the
+    count takes the longer, so such a residual is not counted as nearly independent hours."""
+    import emcee
+
+    rng = np.random.default_rng(5)
+    n = 480
+    t = np.arange(n)
+    r = 30.0 * np.cos(t / 7.0) + rng.normal(0.0, 2.0, n)
+    integrated = emcee.autocorr.integrated_time(r, c=5, tol=0)[0]
+    lag1 = _lag1_tau(r)
+    assert lag1 > 5.0 * max(integrated, 1.0), (lag1, integrated)
+    assert effective_hours(r, [(0, n)]) == pytest.approx(n / lag1)

@@ -32,15 +32,16 @@ def test_mcmc_matches_the_analytic_posterior_of_a_linear_gaussian_model():
     surrogate = _series_model(J, intercept, names, nominal)
     lower, upper = nominal * np.exp(-3.0), nominal * np.exp(3.0)
     post = calibration_posterior(surrogate, names, lower, upper, steps=3000, seed=2)
-    # by hand: centred least squares, residual variance, the residual's integrated
-    # autocorrelation time (emcee's estimator, at least 1), Gaussian
+    # by hand: centred least squares, residual variance, the longer of the residual's
+    # integrated (emcee's estimator) and lag-1 autocorrelation times, at least 1; Gaussian
     import emcee
 
     Jc, oc = J - J.mean(0), intercept - intercept.mean()
     z_ls, *_ = np.linalg.lstsq(Jc, -oc, rcond=None)
     r = oc + Jc @ z_ls
     var = r @ r / (n - 1 - d)
-    tau = max(emcee.autocorr.integrated_time(r, c=5, tol=0)[0], 1.0)
+    rho = min(max(np.corrcoef(r[:-1], r[1:])[0, 1], 0.0), 0.99)
+    tau = max(emcee.autocorr.integrated_time(r, c=5, tol=0)[0], (1 + rho) / (1 - rho), 1.0)
     precision = Jc.T @ Jc / var / tau
     mean = np.linalg.solve(precision, precision @ z_ls + 1.0)
     std = np.sqrt(np.diag(np.linalg.inv(precision)))

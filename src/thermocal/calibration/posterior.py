@@ -15,8 +15,8 @@ Gaussian noise of variance ``sigma^2`` it gives the likelihood
 with ``sigma^2`` the residual variance at the best bounded fit (the noise level of the residual
 identified heat, model error included: the honest floor) plus the meta-model's own out-of-fold
 error (:func:`emulator_variance`), and ``n_eff = sum_g n_g / tau_g`` the number of
-independent hours given each series' integrated autocorrelation time ``tau_g``
-(:func:`effective_hours`). The prior is
+independent hours given each series' correlation time ``tau_g`` (the longer of its integrated
+and its lag-1 autocorrelation times, :func:`effective_hours`). The prior is
 the campaign's: uniform in each parameter between its bounds. With the affine model the
 posterior is a Gaussian in ``z`` truncated to the prior box, sampled exactly by Gibbs sweeps
 (:func:`~thermocal.calibration.mcmc.truncated_gaussian_gibbs`); with curvature by emcee's
@@ -509,8 +509,8 @@ def _noise(model: LinearHeatModel) -> tuple[np.ndarray, float, float, float]:
     return z, max(variance, 1e-12), effective_hours(r, model.segments or ((0, n),)), float(n)
 
 
-#: Fewest hours of a series for its own autocorrelation time; a shorter one is taken at the
-#: lag-1 estimate ``(1 + rho) / (1 - rho)`` [h].
+#: Fewest hours of a series for its integrated autocorrelation time; a shorter one is taken at
+#: the lag-1 time ``(1 + rho) / (1 - rho)`` alone [h].
 IACT_MIN_HOURS = 50
 
 
@@ -518,13 +518,17 @@ def effective_hours(residual: np.ndarray, segments) -> float:
     """Effectively independent hours of a residual series, summed over its series [-].
 
     Each series (zone group, or the building) counts ``n_g / tau_g`` hours, with ``tau_g`` the
-    integrated autocorrelation time of its residual: the sum of its autocorrelations up to
-    Sokal's (1997) automatic window (the smallest lag ``M >= 5 tau(M)``; emcee's estimator,
-    the one the posterior's chains are judged by), at least 1. The lag-1 form ``(1 + rho) /
-    (1 - rho)`` is the same time for a first-order autoregression, but the residual of the
-    unoccupied heat also has the slower structure of the weather and of a model error that
-    lasts for days, which a lag-1 correlation does not see (measured on the 118-zone
-    outpatient twin: 2.5-14 h against 1.1-10 h).
+    longer of two correlation times of its residual, at least 1:
+
+    * the integrated autocorrelation time: the sum of its autocorrelations up to Sokal's (1997)
+      automatic window (the smallest lag ``M >= 5 tau(M)``; emcee's estimator, the one the
+      posterior's chains are judged by). It sees the slow structure of the weather and of a
+      model error that lasts for days (measured on the 118-zone outpatient twin: 2.5-14 h);
+    * the lag-1 time ``(1 + rho) / (1 - rho)`` of a first-order autoregression (the form used
+      alone before, 1.1-10 h there). For a smooth residual that oscillates over a day or two the
+      integrated time sums the oscillation's negative lobes away, as they would cancel in a
+      mean; along a parameter's signature, which has its own daily shape, they need not, and
+      the lag-1 time is the longer one.
 
     Parameters
     ----------
@@ -546,13 +550,13 @@ def effective_hours(residual: np.ndarray, segments) -> float:
         if n < 4 or np.std(r) <= 0:
             total += n
             continue
-        if n < IACT_MIN_HOURS:
-            rho = float(np.corrcoef(r[:-1], r[1:])[0, 1])
-            rho = min(max(rho if np.isfinite(rho) else 0.0, 0.0), 0.99)
-            tau = (1.0 + rho) / (1.0 - rho)
-        else:
-            tau = float(emcee.autocorr.integrated_time(r, c=5, tol=0)[0])
-        total += n / max(tau if np.isfinite(tau) else 1.0, 1.0)
+        rho = float(np.corrcoef(r[:-1], r[1:])[0, 1])
+        rho = min(max(rho if np.isfinite(rho) else 0.0, 0.0), 0.99)
+        tau = (1.0 + rho) / (1.0 - rho)
+        if n >= IACT_MIN_HOURS:
+            integrated = float(emcee.autocorr.integrated_time(r, c=5, tol=0)[0])
+            tau = max(tau, integrated if np.isfinite(integrated) else 1.0)
+        total += n / max(tau, 1.0)
     return total
 
 

@@ -210,6 +210,7 @@ def test_thermostat_detected_and_heat_fitted(twin):
     assert method["requested"] == "auto" and method["method"] == "heat"
     assert method["tight_control"]["tight"] and method["tight_control"]["mad_K"] < 0.1
     assert "closed-loop" in method["summary"]
+    assert "The room's inside is split" in method["summary"]  # model.interior: auto
 
 
 @pytest.mark.slow

@@ -370,10 +370,15 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         inputs[OUTPUT_COLUMN], inputs["phi_h_measured"], [training] + ([test] if test else [])
     )
     method = calibration_method(cfg.model.calibration, train)
-    say(method["summary"])
     interior = interior_for(cfg.model.interior, method["method"])
     if interior != model.interior:
         model = replace(model, interior=interior)
+    if cfg.model.interior == "auto":
+        method["summary"] += (
+            f" The room's inside is {interior} (model.interior: auto: split with the heat fit, "
+            "combined with the temperature fit)."
+        )
+    say(method["summary"])
     correct = cfg.model.correction == "groups" and cfg.uncertainty.u_value_rel_std > 0
     if method["method"] == "heat":
         cal = calibrate_to_heat(

@@ -48,9 +48,9 @@ def test_effective_hours_of_a_first_order_autoregression():
 
 def test_effective_hours_see_the_slow_part_the_lag1_form_misses():
     """A fast AR(1) plus a slow drift, 600 hours a series (a month's quiet hours): the brute-force
-    tau is about 31 h, the lag-1 form says about 6, the integrated autocorrelation time (short
-    series bias it low) about 17-20: at least twice the lag-1 one, within a factor 2 of the
-    truth."""
+    tau is about 31 h, the lag-1 form says about 5.5, the integrated autocorrelation time (short
+    series bias it low) about 16-18: at least twice the lag-1 one, and not below 0.4 of the
+    truth (0.52-0.58 of it on seeds 0-9)."""
     rng = np.random.default_rng(3)
     n = 600
     x = _replicates(rng, 2000, n, 0.25)
@@ -59,7 +59,7 @@ def test_effective_hours_see_the_slow_part_the_lag1_form_misses():
     iact = np.median([n / effective_hours(row, [(0, n)]) for row in x[:200]])
     lag1 = np.median([_lag1_tau(row) for row in x[:200]])
     assert iact > 2.0 * lag1, (iact, lag1)
-    assert 0.5 * truth < iact < 1.2 * truth, (iact, truth)
+    assert 0.4 * truth < iact < 1.2 * truth, (iact, truth)
 
 
 def test_effective_hours_add_over_the_series():
@@ -87,3 +87,13 @@ def test_a_smooth_oscillation_keeps_the_lag1_time():
     lag1 = _lag1_tau(r)
     assert lag1 > 5.0 * max(integrated, 1.0), (lag1, integrated)
     assert effective_hours(r, [(0, n)]) == pytest.approx(n / lag1)
+
+
+def test_a_short_series_takes_the_lag1_time_alone():
+    """Fewer than ``IACT_MIN_HOURS`` hours: too short for Sokal's window, the lag-1 time alone."""
+    from thermocal.calibration.posterior import IACT_MIN_HOURS
+
+    rng = np.random.default_rng(6)
+    n = IACT_MIN_HOURS - 10
+    r = lfilter([1.0], [1.0, -0.6], rng.standard_normal(n))
+    assert effective_hours(r, [(0, n)]) == pytest.approx(n / _lag1_tau(r))

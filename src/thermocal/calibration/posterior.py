@@ -515,7 +515,7 @@ IACT_MIN_HOURS = 50
 
 
 def effective_hours(residual: np.ndarray, segments) -> float:
-    """Effectively independent hours of a residual series, summed over its series [-].
+    """Effectively independent hours of a residual series, summed over its series [h].
 
     Each series (zone group, or the building) counts ``n_g / tau_g`` hours, with ``tau_g`` the
     longer of two correlation times of its residual, at least 1:
@@ -530,16 +530,23 @@ def effective_hours(residual: np.ndarray, segments) -> float:
       mean; along a parameter's signature, which has its own daily shape, they need not, and
       the lag-1 time is the longer one.
 
+    The longer of the two is a conservative rule: it never counts more independent hours than
+    the lag-1 form alone did, so the intervals only widen. The exact answer for each parameter
+    would be the long-run (HAC) variance of the residual along that parameter's own signature;
+    a single count scales every direction alike. The series hold the quiet hours only, one
+    after the other, so a lag is a quiet hour, not a clock hour.
+
     Parameters
     ----------
     residual : ndarray (n_hours,)
         The residual series at the best fit, the series one after the other [W].
-    segments : sequence of (start, end)
-        Each series' hours in ``residual`` [-].
+    segments : sequence of (int, int)
+        Each series' start and end in ``residual`` [-].
 
     Returns
     -------
     float
+        The effectively independent hours of all series together [h].
     """
     import emcee
 

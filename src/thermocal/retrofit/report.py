@@ -613,7 +613,7 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
                 "Chosen with the heat fit (model.interior: auto): a thermostat holds the air "
                 "temperature, and the losses referenced to it are the split inside's."
                 if cfg.model.interior == "auto"
-                else "(model.interior: split)"
+                else "Set by model.interior: split."
             )
         )
     phys = [n for n in ESTIMATED_PARAMETERS if n in analysis.calibration.correlation.columns]

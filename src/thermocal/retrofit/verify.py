@@ -508,6 +508,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     from thermocal.retrofit.workflow import (
         IRRADIANCE_SPLIT_NOTE,
         _location_tz,
+        interior_for,
         load_building,
         load_weather_year,
         model_inputs,
@@ -544,7 +545,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         building, solar_to_internal_mass=cfg.model.solar_to_internal_mass,
         bounds=cfg.model.bounds, fixed=cfg.model.fixed,
         # auto: settled in run_verify (the prediction's inside, or the calibration method's)
-        interior="combined" if cfg.model.interior == "auto" else cfg.model.interior,
+        interior=interior_for(cfg.model.interior),
     )  # fmt: skip
     inputs = model_inputs(
         grid, building, ground, temp_col="temp_out", solar=cfg.model.solar_gains,
@@ -789,8 +790,15 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
         method = "heat" if control["tight"] else "temperature"
     if cfg.model.interior == "auto":
         # the inside the prediction was computed with, else the calibration method's
-        interior = _prediction_interior(vcfg) or interior_for("auto", method)
-        model = dataclasses.replace(model, interior=interior)
+        own = interior_for("auto", method)
+        theirs = _prediction_interior(vcfg)
+        if theirs is not None and theirs != own:
+            notes.append(
+                f"the prediction was computed with the {theirs} room inside; the verification "
+                f"takes it (model.interior: auto), although its own {method} fit would take the "
+                f"{own} one"
+            )
+        model = dataclasses.replace(model, interior=theirs or own)
     prediction = read_prediction(vcfg, model)
     measures = prediction.measures
     from thermocal.retrofit.model import check_measures
@@ -984,6 +992,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
 
     avoided = {
         "calibration": method,
+        "interior": model.interior,
         "indoor_control": control,
         "method": "IPMVP Option D: baseline model (calibrated on the pre period) follows the "
         "indoor temperature the heating held under the post period's weather",

@@ -324,8 +324,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         solar_to_internal_mass=cfg.model.solar_to_internal_mass,
         bounds=cfg.model.bounds,
         fixed=cfg.model.fixed,
-        # auto: settled with the calibration method below (interior_for)
-        interior="combined" if cfg.model.interior == "auto" else cfg.model.interior,
+        interior=interior_for(cfg.model.interior),  # auto: settled with the method below
     )
     check_measures(model.envelope, cfg.measure_objects(), building.name)
     inputs = model_inputs(
@@ -571,7 +570,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     )  # fmt: skip
 
 
-def interior_for(requested: str, method: str) -> str:
+def interior_for(requested: str, method: str | None = None) -> str:
     """The room's inside (``model.interior``) the model gets with a calibration method.
 
     ``auto``: the split inside (convection to the air, radiation among the surfaces,
@@ -583,12 +582,15 @@ def interior_for(requested: str, method: str) -> str:
     Parameters
     ----------
     requested : {"auto", "combined", "split"}
-    method : {"heat", "temperature"}
-        The calibration method chosen (:func:`calibration_method`).
+        The configuration's ``model.interior``.
+    method : {"heat", "temperature"} or None
+        The calibration method chosen (:func:`calibration_method`); None before it is known
+        (``auto`` then gives the combined inside until the method settles it).
 
     Returns
     -------
-    str: "combined" or "split".
+    str
+        "combined" or "split".
     """
     if requested != "auto":
         return requested

@@ -132,6 +132,11 @@ def element_rows(result, nominal: dict, truth: dict) -> list[dict]:
                 q95=float(post.at[name, "q95"]),
                 determined=bool(post.at[name, "determined"]),
             )
+            if "q05_mcse" in post.columns:  # the Monte Carlo standard errors of the ends
+                row.update(
+                    q05_mcse=float(post.at[name, "q05_mcse"]),
+                    q95_mcse=float(post.at[name, "q95_mcse"]),
+                )
             row["covers"] = row["q05"] <= row["truth"] <= row["q95"]
         row["error"] = row["calibrated"] / row["truth"] - 1.0
         rows.append(row)

@@ -216,3 +216,53 @@ def test_demo_interval_ends_state_their_monte_carlo_precision(demo_results):
 
     text = html_text.unescape((out / "report.html").read_text())
     assert "the heat loss coefficient's to ±" in text and "the annual demand's to ±" in text
+
+
+def test_report_states_the_track_record_on_independent_houses(demo_results):
+    """The report's section on the intervals ends with how the analysis held on the houses
+    thermocal did not write (``thermocal.retrofit.track_record``; the twins' tests keep the
+    figures current), a row per house with its figures."""
+    import html as html_text
+
+    from thermocal.retrofit.track_record import INDEPENDENT_CHECKS
+
+    out, _ = demo_results
+    text = html_text.unescape((out / "report.html").read_text())
+    assert "How far such figures can be off" in text
+    for check in INDEPENDENT_CHECKS.values():
+        assert check.house in text and check.note in text
+        assert f"{check.savings_mean_abs_pp:.1f} / {check.savings_max_abs_pp:.1f} pp" in text
+
+
+def test_track_record_figures_from_a_run():
+    """``measured_check`` against figures computed by hand on two strategies, and
+    ``differs_from`` names a field moved beyond its rounding and nothing else."""
+    from thermocal.retrofit.track_record import IndependentCheck, differs_from, measured_check
+
+    results = {
+        "heat_loss_coefficient_W_per_K": {"value": 110.0},
+        "annual_heating_demand_kWh": {"value": 9000.0},
+        "validation_gate": {"passed": True},
+        "scenarios": [
+            {"measures": []},
+            {"measures": ["walls"], "saving_pct": 30.0, "saving_pct_p05": 25.0,
+             "saving_pct_p95": 35.0},
+            {"measures": ["roof", "walls"], "saving_pct": 41.0, "saving_pct_p05": 30.0,
+             "saving_pct_p95": 38.0},
+        ],
+    }  # fmt: skip
+    reference = {
+        "heat_loss_coefficient_W_per_K": 100.0,
+        "annual_heating_kWh": {"none": 10000.0},
+        "saving_pct": {"walls": 28.0, "roof+walls": 40.0},
+    }
+    m = measured_check(results, reference, ("roof", "walls"))
+    assert m == pytest.approx({
+        "hlc_error_pct": 10.0, "demand_error_pct": -10.0, "savings_mean_abs_pp": 1.5,
+        "savings_max_abs_pp": 2.0, "within_3pp": 2, "covered": 1, "median_half_width_pp": 4.5,
+        "gate_passed": True,
+    })  # fmt: skip
+    stated = IndependentCheck("h", 10.0, -10.0, 1.5, 2.0, 2, 1, 4.5, True, "n")
+    assert differs_from(stated, m) == {}
+    moved = IndependentCheck("h", 10.0, -10.0, 1.6, 2.0, 2, 2, 4.5, True, "n")
+    assert set(differs_from(moved, m)) == {"savings_mean_abs_pp", "covered"}

@@ -455,3 +455,14 @@ def test_converted_house_fits_the_25_2_idd():
     assert people.fields[12] == "EnclosureAveraged"
     kiva = next(o for o in objs if o.key == "FOUNDATION:KIVA")
     assert float(kiva.fields[12]) == 0.0
+
+
+@pytest.mark.slow
+def test_the_reports_track_record_is_this_run(twin):
+    """The report states how the analysis held on this house
+    (``thermocal.retrofit.track_record``); a change that moves any of its figures beyond their
+    rounding fails here, so the report never states a stale record."""
+    from thermocal.retrofit.track_record import INDEPENDENT_CHECKS, differs_from, measured_check
+
+    measured = measured_check(twin, _reference(), MEASURES)
+    assert not differs_from(INDEPENDENT_CHECKS[REF.name], measured), measured

@@ -477,3 +477,13 @@ def test_twin_walls_and_air_change_share_the_loss(twin):
     assert corr["correlation_with_H_est"]["k_env"] < -0.5  # (-0.65)
     assert "shares the loss with roof + walls" in corr["summary"]
     assert twin["calibration"]["params"]["H_est"]["value"] > 20.0  # (31.5 vs 12 W/K)
+
+
+def test_the_reports_track_record_is_this_run(twin):
+    """The report states how the analysis held on this house
+    (``thermocal.retrofit.track_record``); a change that moves any of its figures beyond their
+    rounding fails here, so the report never states a stale record."""
+    from thermocal.retrofit.track_record import INDEPENDENT_CHECKS, differs_from, measured_check
+
+    measured = measured_check(twin, _reference(), MEASURES)
+    assert not differs_from(INDEPENDENT_CHECKS[REF.name], measured), measured

@@ -201,3 +201,20 @@ def test_building_metric_elements_of_the_energyplus_twin(twin):
 )
 def test_building_metric_confirmed_within_1_2_of_the_true_envelope(twin):
     _check_metric(twin["building"])
+
+
+def test_the_reports_track_record_is_this_run(twin):
+    """The calibration report states how the default calibration held on this building
+    (``thermocal.calibration.track_record``); a change that moves a figure beyond its rounding
+    fails here, so the report never states a stale record."""
+    sys.path.insert(
+        0, str(Path(__file__).resolve().parents[1] / "reference" / "calibration_energyplus_5zone")
+    )
+    from calibrate_twin import track_record_figures
+
+    from thermocal.calibration.track_record import INDEPENDENT_CALIBRATIONS, differs_from
+
+    measured = track_record_figures(twin["groups_no_zoom"])
+    assert not differs_from(INDEPENDENT_CALIBRATIONS["calibration_energyplus_5zone"], measured), (
+        measured
+    )

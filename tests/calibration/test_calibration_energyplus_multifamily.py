@@ -160,3 +160,20 @@ def test_every_interval_covers_the_truth_with_the_group_metric(twin):
 def test_second_metric_resumes_without_sampling_again(twin):
     summary = twin["groups_summary"]
     assert summary.evaluated == 0 and summary.already_done == SAMPLES
+
+
+def test_the_reports_track_record_is_this_run(twin):
+    """The calibration report states how the default calibration held on this building
+    (``thermocal.calibration.track_record``); a change that moves a figure beyond its rounding
+    fails here, so the report never states a stale record."""
+    sys.path.insert(
+        0, str(Path(__file__).resolve().parents[1] / "reference" / "calibration_energyplus_5zone")
+    )
+    from calibrate_twin import track_record_figures
+
+    from thermocal.calibration.track_record import INDEPENDENT_CALIBRATIONS, differs_from
+
+    measured = track_record_figures(twin["groups"])
+    assert not differs_from(
+        INDEPENDENT_CALIBRATIONS["calibration_energyplus_multifamily"], measured
+    ), measured

@@ -130,3 +130,20 @@ def test_the_metric_ends_near_the_true_envelope_and_never_below_it_unflagged(twi
     below = any(f.get("kind") == "below model error" for f in twin["flags"])
     assert ratio <= 1.2, ratio
     assert ratio >= 1.0 or below, (ratio, twin["flags"])
+
+
+def test_the_reports_track_record_is_this_run(twin):
+    """The calibration report states how the default calibration held on this building
+    (``thermocal.calibration.track_record``); a change that moves a figure beyond its rounding
+    fails here, so the report never states a stale record."""
+    sys.path.insert(
+        0, str(Path(__file__).resolve().parents[1] / "reference" / "calibration_energyplus_5zone")
+    )
+    from calibrate_twin import track_record_figures
+
+    from thermocal.calibration.track_record import INDEPENDENT_CALIBRATIONS, differs_from
+
+    measured = track_record_figures(twin)
+    assert not differs_from(
+        INDEPENDENT_CALIBRATIONS["calibration_energyplus_outpatient"], measured
+    ), measured

@@ -123,6 +123,15 @@ def test_min_variance_moves_critical_parameters_towards_the_truth(tmp_path):
     assert {"calibration.json", "table1.csv", "calibrated_building.yaml", "report.html"} <= written
     data = json.loads((tmp_path / "out" / "calibration.json").read_text())
     assert data["samples"]["successful"] == 48
+    # the report states the calibration's track record on the independent buildings
+    import html
+
+    from thermocal.calibration.track_record import INDEPENDENT_CALIBRATIONS
+
+    report = html.unescape((tmp_path / "out" / "report.html").read_text())
+    assert "How far such answers can be off" in report
+    for check in INDEPENDENT_CALIBRATIONS.values():
+        assert check.building in report and check.note in report
     # the calibrated building file is a building thermocal reads back
     from thermocal.multizone.files import load_building
 

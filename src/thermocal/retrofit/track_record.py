@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from thermocal.records import differs_from
+
 __all__ = ["INDEPENDENT_CHECKS", "IndependentCheck", "differs_from", "measured_check"]
 
 
@@ -124,34 +126,3 @@ def measured_check(results: dict, reference: dict, measures) -> dict:
         "median_half_width_pp": float(np.median(half)),
         "gate_passed": bool(results["validation_gate"]["passed"]),
     }
-
-
-def differs_from(check: IndependentCheck, measured: dict, *, tolerance: float = 0.051) -> dict:
-    """The fields where a measured check differs from the stated one beyond its rounding.
-
-    Parameters
-    ----------
-    check : IndependentCheck
-        The record the report states.
-    measured : dict
-        :func:`measured_check` of a run.
-    tolerance : float
-        Largest difference of a percentage or percentage-point field (its last digit's
-        rounding) [% or pp].
-
-    Returns
-    -------
-    dict
-        Field -> (stated, measured), empty when the record holds.
-    """
-    out = {}
-    for name, value in measured.items():
-        stated = getattr(check, name)
-        same = (
-            stated == value
-            if isinstance(value, bool | int) and not isinstance(value, float)
-            else abs(stated - value) <= tolerance
-        )
-        if not same:
-            out[name] = (stated, value)
-    return out

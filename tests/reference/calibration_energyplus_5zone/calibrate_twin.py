@@ -143,6 +143,28 @@ def element_rows(result, nominal: dict, truth: dict) -> list[dict]:
     return rows
 
 
+def track_record_figures(summary: dict) -> dict:
+    """The figures ``thermocal.calibration.track_record`` states for a twin, from its summary:
+    the determined element resistances, their largest error [%], the intervals covering the
+    truth of the parameters in the posterior, the confirmed metric against the true envelope's
+    [%]."""
+    rows = [r for r in summary["rows"] if "q05" in r]
+    resistances = [
+        r for r in rows
+        if r["parameter"].startswith("construction/") and r["parameter"].endswith("/resistance")
+        and r.get("determined")
+    ]  # fmt: skip
+    return {
+        "determined_resistances": len(resistances),
+        "max_resistance_error_pct": max(
+            (100.0 * abs(r["error"]) for r in resistances), default=0.0
+        ),
+        "covered": sum(bool(r["covers"]) for r in rows),
+        "parameters": len(rows),
+        "metric_vs_truth_pct": 100.0 * (summary["calibrated_metric"] / summary["true_metric"] - 1),
+    }
+
+
 def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
     """Element rows, metrics (nominal, true envelope, calibrated), flags and timings of a
     calibration result."""

@@ -1,0 +1,39 @@
+"""Stated track records against what a run measures (shared by the retrofit and the
+calibration reports, whose records of the independent references the twins' tests keep
+current)."""
+
+from __future__ import annotations
+
+__all__ = ["differs_from"]
+
+
+def differs_from(check, measured: dict, *, tolerance: float = 0.051) -> dict:
+    """The fields where a measured check differs from the stated one beyond its rounding.
+
+    Parameters
+    ----------
+    check : dataclass instance
+        The record a report states (e.g. :class:`thermocal.retrofit.track_record.
+        IndependentCheck`), with an attribute per key of ``measured``.
+    measured : dict
+        :func:`measured_check` of a run.
+    tolerance : float
+        Largest difference of a percentage or percentage-point field (its last digit's
+        rounding) [% or pp].
+
+    Returns
+    -------
+    dict
+        Field -> (stated, measured), empty when the record holds.
+    """
+    out = {}
+    for name, value in measured.items():
+        stated = getattr(check, name)
+        same = (
+            stated == value
+            if isinstance(value, bool | int) and not isinstance(value, float)
+            else abs(stated - value) <= tolerance
+        )
+        if not same:
+            out[name] = (stated, value)
+    return out

@@ -16,7 +16,8 @@ def differs_from(check, measured: dict, *, tolerance: float = 0.051) -> dict:
         The record a report states (e.g. :class:`thermocal.retrofit.track_record.
         IndependentCheck`), with an attribute per key of ``measured``.
     measured : dict
-        :func:`measured_check` of a run.
+        The same figures of a run (e.g.
+        :func:`thermocal.retrofit.track_record.measured_check`).
     tolerance : float
         Largest difference of a percentage or percentage-point field (its last digit's
         rounding) [% or pp].

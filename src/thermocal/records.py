@@ -30,11 +30,9 @@ def differs_from(check, measured: dict, *, tolerance: float = 0.051) -> dict:
     out = {}
     for name, value in measured.items():
         stated = getattr(check, name)
-        same = (
-            stated == value
-            if isinstance(value, bool | int) and not isinstance(value, float)
-            else abs(stated - value) <= tolerance
-        )
+        # a figure rounded to its last digit within the tolerance; a count, a flag or a word
+        # exactly
+        same = abs(stated - value) <= tolerance if isinstance(value, float) else stated == value
         if not same:
             out[name] = (stated, value)
     return out

@@ -71,6 +71,16 @@ def test_verify_demo_recovers_the_true_saving(tmp_path):
     html = (out / "report.html").read_text()
     assert "REBOUND" in html and "Guideline 14" in html and "data:image/png;base64" in html
     assert 'src="http' not in html and "paper 000" not in html
+    # the verification's track record on the EnergyPlus house (kept current by its tests)
+    import html as html_text
+
+    from thermocal.retrofit.track_record import INDEPENDENT_VERIFICATIONS
+
+    text = html_text.unescape(html)
+    assert "How far such a verification can be off" in text
+    assert all(c.case in text for c in INDEPENDENT_VERIFICATIONS.values())
+    # the inside the verification used (the demo: the temperature fit's combined one)
+    assert av["interior"] == "combined"
     daily = pd.read_csv(out / "daily_heat.csv")
     assert set(daily["period"]) >= {"pre", "post"}
 
@@ -339,6 +349,19 @@ def _verify_energyplus(variant: str, **model):
     return ver, json.loads((ref / "truth.json").read_text())
 
 
+def _check_track_record(variant: str, ver, truth: dict) -> None:
+    """The verify report states this run's figures (``track_record``): a change that moves
+    one beyond its rounding fails here, so the report never states a stale record."""
+    from thermocal.retrofit.track_record import (
+        INDEPENDENT_VERIFICATIONS,
+        differs_from,
+        measured_verification,
+    )
+
+    measured = measured_verification(ver, truth)
+    assert not differs_from(INDEPENDENT_VERIFICATIONS[variant], measured), measured
+
+
 @pytest.mark.slow
 def test_verify_energyplus_house_constant_heating_recovers_the_true_saving():
     """EnergyPlus house at a constant 20 C (walls 12 -> 30 cm mineral wool): the normalised
@@ -349,6 +372,7 @@ def test_verify_energyplus_house_constant_heating_recovers_the_true_saving():
     EnergyPlus' own un-retrofitted run (the exact counterfactual, 34.4 %) within 3 pp, its
     baseline within 5 % (combined: 33.4 %, 853 kWh against 866)."""
     ver, truth = _verify_energyplus("constant_20")
+    _check_track_record("constant_20", ver, truth)
     av = ver.avoided
     assert av["calibration"] == "heat" and av["indoor_control"]["tight"]
     assert av["interior"] == "split"  # model.interior: auto with the heat fit
@@ -391,6 +415,7 @@ def test_verify_energyplus_house_with_setback_and_the_split_inside():
     delivered; the method's combined inside: 40.9 % (33.5-47.8), baseline outside Guideline
     14, inconclusive (the test above)."""
     ver, truth = _verify_energyplus("setback")
+    _check_track_record("setback", ver, truth)
     av = ver.avoided
     assert av["calibration"] == "heat" and av["baseline_meets_criteria"]
     assert av["interior"] == "split"

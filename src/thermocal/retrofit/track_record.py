@@ -15,7 +15,14 @@ from dataclasses import dataclass
 
 from thermocal.records import differs_from
 
-__all__ = ["INDEPENDENT_CHECKS", "IndependentCheck", "differs_from", "measured_check"]
+__all__ = [
+    "INDEPENDENT_CHECKS",
+    "INDEPENDENT_VERIFICATIONS",
+    "IndependentCheck",
+    "IndependentVerification",
+    "differs_from",
+    "measured_check",
+]
 
 
 @dataclass(frozen=True)
@@ -82,6 +89,80 @@ INDEPENDENT_CHECKS: dict[str, IndependentCheck] = {
         "report recommended nothing",
     ),
 }
+
+
+@dataclass(frozen=True)
+class IndependentVerification:
+    """One post-retrofit verification of a house thermocal did not write, against EnergyPlus.
+
+    Attributes
+    ----------
+    case : str
+        The house, its control and the retrofit.
+    error_pp : float
+        The verified (normalised, reference-year) saving minus EnergyPlus's annual saving
+        [percentage points].
+    covered : bool
+        Whether the verified saving's 90 % interval contains EnergyPlus's.
+    post_period_error_pp : float
+        The post period's avoided-energy saving minus EnergyPlus's own counterfactual
+        (the house without the retrofit over the same weeks) [percentage points].
+    verdict : str
+        The verdict the verification gave.
+    """
+
+    case: str
+    error_pp: float
+    covered: bool
+    post_period_error_pp: float
+    verdict: str
+
+
+#: Measured 2026-11-29 (``tests/reference/verify_energyplus_house``, Chicago TMY3 reference
+#: year, 40 draws, the default settings: the heat fit with the split inside), keyed by variant.
+INDEPENDENT_VERIFICATIONS: dict[str, IndependentVerification] = {
+    "constant_20": IndependentVerification(
+        case="EnergyPlus house held at 20 C, walls 12 -> 30 cm mineral wool",
+        error_pp=1.0,
+        covered=True,
+        post_period_error_pp=0.1,
+        verdict="delivered",
+    ),
+    "setback": IndependentVerification(
+        case="the same house with its 4 K night set-back, four zones on their own schedules",
+        error_pp=1.8,
+        covered=True,
+        post_period_error_pp=1.8,
+        verdict="delivered",
+    ),
+}
+
+
+def measured_verification(verification, truth: dict) -> dict:
+    """The figures of an :class:`IndependentVerification` from a run and its truth.
+
+    Parameters
+    ----------
+    verification : thermocal.retrofit.verify.Verification
+        The run.
+    truth : dict
+        The reference's ``truth.json``: ``annual_saving_pct`` and ``post_period_saving_pct``
+        [%].
+
+    Returns
+    -------
+    dict
+        The fields of :class:`IndependentVerification` but ``case`` (unrounded).
+    """
+    av = verification.avoided
+    norm = av["normalised_saving_pct"]
+    true = truth["annual_saving_pct"]
+    return {
+        "error_pp": float(norm["value"] - true),
+        "covered": bool(norm["lo"] <= true <= norm["hi"]),
+        "post_period_error_pp": float(av["saving_pct"] - truth["post_period_saving_pct"]),
+        "verdict": str(verification.comparison["verdict"]),
+    }
 
 
 def measured_check(results: dict, reference: dict, measures) -> dict:

@@ -7,7 +7,7 @@ from __future__ import annotations
 __all__ = ["differs_from"]
 
 
-def differs_from(check, measured: dict, *, tolerance: float = 0.051) -> dict:
+def differs_from(check, measured: dict, *, tolerance: float = 0.05 + 1e-9) -> dict:
     """The fields where a measured check differs from the stated one beyond its rounding.
 
     Parameters
@@ -19,8 +19,8 @@ def differs_from(check, measured: dict, *, tolerance: float = 0.051) -> dict:
         The same figures of a run (e.g.
         :func:`thermocal.retrofit.track_record.measured_check`).
     tolerance : float
-        Largest difference of a percentage or percentage-point field (its last digit's
-        rounding) [% or pp].
+        Largest difference of a stated decimal figure from the measured one: half its last
+        digit, so that the measured value rounds to the stated one [% or pp].
 
     Returns
     -------
@@ -30,9 +30,11 @@ def differs_from(check, measured: dict, *, tolerance: float = 0.051) -> dict:
     out = {}
     for name, value in measured.items():
         stated = getattr(check, name)
-        # a figure rounded to its last digit within the tolerance; a count, a flag or a word
-        # exactly
-        same = abs(stated - value) <= tolerance if isinstance(value, float) else stated == value
+        # a stated decimal figure is the measured one rounded; a count, a flag or a word exactly
+        if isinstance(stated, float):
+            same = abs(stated - float(value)) <= tolerance
+        else:
+            same = stated == value
         if not same:
             out[name] = (stated, value)
     return out

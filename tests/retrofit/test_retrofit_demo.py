@@ -266,3 +266,13 @@ def test_track_record_figures_from_a_run():
     assert differs_from(stated, m) == {}
     moved = IndependentCheck("h", 10.0, -10.0, 1.6, 2.0, 2, 2, 4.5, True, "n")
     assert set(differs_from(moved, m)) == {"savings_mean_abs_pp", "covered"}
+    # a stated decimal is the measured value rounded; flags and words compare exactly
+    from thermocal.retrofit.track_record import IndependentVerification
+
+    stated = IndependentVerification("c", 1.0, True, 0.1, "delivered")
+    same = {"error_pp": 1.04, "covered": True, "post_period_error_pp": 0.149,
+            "verdict": "delivered"}  # fmt: skip
+    assert differs_from(stated, same) == {}
+    moved = {"error_pp": np.float64(0.94), "covered": np.bool_(False), "post_period_error_pp": 0.1,
+             "verdict": "inconclusive"}  # fmt: skip
+    assert set(differs_from(stated, moved)) == {"error_pp", "covered", "verdict"}

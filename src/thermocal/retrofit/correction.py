@@ -214,8 +214,8 @@ class Correction:
                 "; the estimated extra loss H_est shares the loss with "
                 + ", ".join(shared)
                 + ": the data fix their sum, the priors mostly their split (the intervals "
-                "carry it); a measured air change narrows it (the building file's "
-                "air_change_rate [1/h], e.g. a blower-door test's n50 / 20)"
+                "carry it); a measured air change moves that split towards the house's (the "
+                "building file's air_change_rate [1/h], e.g. a blower-door test's n50 / 20)"
             )
         return text
 

@@ -1535,10 +1535,10 @@ def _verification_track_record(rep) -> None:
         for c in INDEPENDENT_VERIFICATIONS.values()
     ]
     rep.paragraph(
-        "How far such a verification can be off: the same analysis, with its default settings, "
-        "on a house thermocal did not write, measured by EnergyPlus 25.2 before and after a "
-        "wall retrofit, against EnergyPlus's own annual saving and its run without the retrofit "
-        "over the same weeks:"
+        "How far such a verification can be off: the same analysis on a house thermocal did "
+        "not write, measured by EnergyPlus 25.2 before and after a wall retrofit, against "
+        "EnergyPlus's own annual saving and its run without the retrofit over the same weeks "
+        "(pp: percentage points):"
     )
     rep.table(pd.DataFrame(rows), caption="The verification against EnergyPlus")
 

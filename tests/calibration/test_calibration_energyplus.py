@@ -22,8 +22,9 @@ With the zoom stage (``sampling.zoom: 32``, off by default: the meta-model refit
 samples in a box around the first answer) the zone-group roof is +1.2 % [4.82, 5.76], the wall
 -2.4 % [1.39, 1.88], every interval covering the truth, metric 1.02x the true envelope's
 (measured 2026-11-28, ``zoom.md``). Without it, the roof's interval with the zone groups and the
-default (published) series meta-model, affine in log p, misses the truth (measured 2026-11-28:
-4.87 [4.56, 5.17], truth 5.20, -6.4 %; wall +7.8 %): the straight line in log R of a heat that
+default (published) series meta-model, affine in log p, misses the truth (measured 2026-11-29:
+4.86 [4.62, 5.12], truth 5.20, -6.5 %; wall +8.9 %; 2026-11-28, the independent hours by lag 1
+alone: 4.87 [4.56, 5.17], wall +7.8 %): the straight line in log R of a heat that
 goes as 1 / (R + films) puts the minimum low (``diagnose_roof.md``). With the curvature term
 (``metamodel: {kind: series, series_terms: auto}``, the same samples, 6-10 confirmation runs)
 the roof is 5.25 m2 K/W (+0.8 %; median 5.23 [4.76, 5.85]), the wall 1.56 (-3.1 %; 1.63 [1.42,
@@ -159,9 +160,9 @@ def test_group_metric_intervals_cover_the_energyplus_twin(twin):
 
 @pytest.mark.xfail(
     strict=True,
-    reason="measured 2026-11-28 without the zoom stage (sampling.zoom: 0), the series "
+    reason="measured 2026-11-29 without the zoom stage (sampling.zoom: 0), the series "
     "meta-model affine in log p fitted over the +-75 % prior: the zone-group metric's roof "
-    "4.87 [4.56, 5.17] m2K/W (truth 5.203, -6.4 %), its 90 % interval ending below the truth "
+    "4.86 [4.62, 5.12] m2K/W (truth 5.203, -6.5 %), its 90 % interval ending below the truth "
     "(the log-linearisation of the roof's 1 / (R + films), diagnose_roof.md); removed by the "
     "zoom stage (previous test) or the curvature term (next one)",
 )

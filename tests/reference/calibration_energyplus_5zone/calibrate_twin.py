@@ -165,6 +165,15 @@ def track_record_figures(summary: dict) -> dict:
     }
 
 
+def check_track_record(summary: dict, key: str) -> None:
+    """Assert that ``thermocal.calibration.track_record`` states this twin's figures (the
+    report's record of the reference folder ``key``), each within its rounding."""
+    from thermocal.calibration.track_record import INDEPENDENT_CALIBRATIONS, differs_from
+
+    measured = track_record_figures(summary)
+    assert not differs_from(INDEPENDENT_CALIBRATIONS[key], measured), measured
+
+
 def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
     """Element rows, metrics (nominal, true envelope, calibrated), flags and timings of a
     calibration result."""

@@ -24,6 +24,7 @@ def demo_results(tmp_path_factory):
     # noisy to measure the coverage of the intervals; not the default, to see --draws work
     result = CliRunner().invoke(app, ["demo", "--out", str(out), "--draws", "250"])
     assert result.exit_code == 0, result.output
+    (out.parent / f"{out.name}-terminal.txt").write_text(result.output)  # what the user saw
     return out, json.loads((out / "results.json").read_text())
 
 
@@ -229,6 +230,13 @@ def test_report_states_the_track_record_on_independent_houses(demo_results):
     out, _ = demo_results
     text = html_text.unescape((out / "report.html").read_text())
     assert "How far such figures can be off" in text
+    # and the terminal says it in one line: the range of the houses' mean and the largest
+    terminal = " ".join((out.parent / f"{out.name}-terminal.txt").read_text().split())
+    means = sorted(c.savings_mean_abs_pp for c in INDEPENDENT_CHECKS.values())
+    assert (
+        f"independent EnergyPlus houses: savings off by {means[0]:.1f}-{means[-1]:.1f} pp"
+        in terminal
+    ), terminal
     for check in INDEPENDENT_CHECKS.values():
         assert check.house in text and check.note in text
         assert f"{check.savings_mean_abs_pp:.1f} / {check.savings_max_abs_pp:.1f} pp" in text

@@ -123,6 +123,7 @@ def print_summary(results: dict, out: Path) -> None:
         console.print(
             f"interval ends ±{end_error:.1f} pp (Monte Carlo error; more draws: uncertainty.draws)"
         )
+    console.print(_track_record_line())
     if gate and not gate["passed"]:
         console.print("[bold red]no strategy recommended: the model failed its validation[/]")
     elif results.get("recommendation"):
@@ -134,6 +135,20 @@ def print_summary(results: dict, out: Path) -> None:
         if not note.startswith("measurements:"):  # those were logged while computing
             log.warning("%s", note)
     console.print(f"results in [bold]{out}[/bold] (results.json, report.html, CSV, figures/)")
+
+
+def _track_record_line() -> str:
+    """One line on how far the savings were from EnergyPlus on the houses thermocal did not
+    write (``thermocal.retrofit.track_record``; the report has the table)."""
+    from thermocal.retrofit.track_record import INDEPENDENT_CHECKS
+
+    checks = INDEPENDENT_CHECKS.values()
+    means = sorted(c.savings_mean_abs_pp for c in checks)
+    largest = max(c.savings_max_abs_pp for c in checks)
+    return (
+        f"independent EnergyPlus houses: savings off by {means[0]:.1f}-{means[-1]:.1f} pp on "
+        f"average, max {largest:.1f} pp"
+    )
 
 
 def _check_site(cfg) -> None:

@@ -59,7 +59,7 @@ from thermocal.retrofit.airchange import (  # noqa: F401 - re-exported
     daily_energy,
     residual_adjustment,
 )
-from thermocal.retrofit.calibration import calibrate_to_heat, heating_setpoint, tight_control
+from thermocal.retrofit.calibration import calibrate_to_heat, heating_setpoint
 from thermocal.retrofit.config import (
     MIN_TRAINING_DAYS,
     RetrofitConfig,
@@ -761,7 +761,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     from thermocal.retrofit.gate import ashrae14_statistics, heat_to_follow_measured
     from thermocal.retrofit.metrics import daily_profile
     from thermocal.retrofit.strategies import Strategy
-    from thermocal.retrofit.workflow import interior_for
+    from thermocal.retrofit.workflow import calibration_method, interior_for
 
     def say(msg: str) -> None:
         if progress is not None:
@@ -782,12 +782,9 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     sel_post = (inputs.index >= post[0]) & (inputs.index < post[1])
     check_period(inputs.loc[sel_pre], "pre", sec.min_days, source)
     check_period(inputs.loc[sel_post], "post", sec.min_days, source)
-    control = tight_control(
-        inputs.loc[sel_pre, OUTPUT_COLUMN], inputs.loc[sel_pre, "phi_h_measured"]
-    )
-    method = sec.calibration
-    if method == "auto":
-        method = "heat" if control["tight"] else "temperature"
+    # the fit the retrofit analysis would choose on the pre period (one rule for both)
+    chosen = calibration_method(sec.calibration, inputs.loc[sel_pre])
+    control, method = chosen["tight_control"], chosen["method"]
     if cfg.model.interior == "auto":
         # the inside the prediction was computed with, else the calibration method's
         own = interior_for("auto", method)

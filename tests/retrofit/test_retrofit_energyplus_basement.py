@@ -12,7 +12,7 @@ knows about the gains: the electricity meter and the 3 people living in the hous
 (``internal_gains.occupants: 3``, the IDF's ``People`` count; their heat and the gas appliances' are
 on no meter).
 
-Measured 2026-11-29 with ``occupants: 3`` (docs/retrofit.md, "Occupants on the second twin"), with
+Measured 2026-11-29 with ``occupants: 3`` (docs/retrofit-twins.md, "Occupants on the second twin"), with
 the default ``model.calibration: auto``, which finds the thermostat holding the indoor temperature
 (0.06 K) and fits the metered heat (closed-loop identification), with it the default
 ``model.interior: auto``'s split inside (docs/retrofit.md, "The default"), and the air change's
@@ -258,7 +258,7 @@ def test_validation_gate_passes(twin):
 
 @pytest.mark.slow
 def test_validation_gate_fails_on_the_open_loop_swing(twin):
-    """Why the gate fails (docs/retrofit.md, "Validation gates (2026-11-28)"): only the indoor
+    """Why the gate fails (docs/retrofit-twins.md, "Validation gates (2026-11-28)"): only the indoor
     temperature's MAE (1.63 K with the occupants and the split inside; 1.60 K combined, 1.75 K
     without the occupants) fails; its mean (-0.15 K; -0.12 K) and
     the daily heat (NMBE -0.6 %, CV(RMSE) 5.5 %) pass (-0.24 K, -2.4 %, 5.8 % without the

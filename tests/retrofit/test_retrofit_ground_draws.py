@@ -102,7 +102,7 @@ def test_h_est_shift_keeps_the_calibration_heat_balance():
 @pytest.mark.parametrize(("soil", "kiva_bare", "kiva_slab"), [
     (2.0, "steady_soil2", "steady_soil2_slab"),
     # Kiva without a settings object: soil 0.864 W/(m K) (named "soil173" in the study, before
-    # its code default was found; docs/retrofit.md, "Second ground study")
+    # its code default was found; docs/retrofit-twins.md, "Second ground study")
     (0.864, "steady_soil173", "steady_soil173_slab"),
 ])  # fmt: skip
 def test_slab_measure_steady_saving_vs_kiva(soil, kiva_bare, kiva_slab):
@@ -143,6 +143,7 @@ def test_results_floor_group_names_the_buildings_floor(folder, component, kind):
     corr = SimpleNamespace(
         factors={"k_env": 1.0, "k_win": 1.0, "k_floor": 1.0}, prior_std={},
         posterior_std={}, separated={}, correlation={}, h_est_correlation={}, summary=lambda: "",
+        prior_mean={}, measured=(),
     )  # fmt: skip
     groups = _correction_dict(corr, model)["groups"]
     assert model.ground.kind == kind

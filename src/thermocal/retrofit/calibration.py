@@ -971,13 +971,14 @@ def calibrate_to_heat(
 
     from thermocal.retrofit.correction import (
         FACTOR_BOUNDS,
-        GROUPS,
         H_EST_PRIOR_STD_LOG,
         SEPARATED_RATIO,
         Correction,
-        _group_present,
+        correction_groups,
         draw_corrected,
-        group_prior_std_log,
+        group_label,
+        group_priors,
+        measured_groups,
         prior_std_log,
         scaled_envelope,
     )
@@ -989,19 +990,16 @@ def calibrate_to_heat(
     phys = [n for n in ESTIMATED_PARAMETERS if n not in model.fixed]
     unit = {n: 1e6 if model.estimated[n][3] == "MJ/K" else 1.0 for n in ESTIMATED_PARAMETERS}
     s_k = prior_std_log(u_value_rel_std)
-    groups = (
-        [g for g in GROUPS if _group_present(model.envelope, g)]
-        if correction and s_k > 0 else []
-    )  # fmt: skip
+    groups = correction_groups(model) if correction and s_k > 0 else []
     names = groups + phys
     ng = len(groups)
-    s_groups = group_prior_std_log(groups, u_value_rel_std, model.envelope)
+    m_groups, s_groups = group_priors(groups, u_value_rel_std, model)
     lo = np.array([np.log(FACTOR_BOUNDS[0])] * ng
                   + [np.log(model.estimated[n][0] * unit[n]) for n in phys])  # fmt: skip
     hi = np.array([np.log(FACTOR_BOUNDS[1])] * ng
                   + [np.log(model.estimated[n][2] * unit[n]) for n in phys])  # fmt: skip
     p0 = initial_params_si(model)
-    z0 = np.clip(np.array([0.0] * ng + [np.log(p0[n]) for n in phys]), lo + 1e-6, hi - 1e-6)
+    z0 = np.clip(np.array(list(m_groups) + [np.log(p0[n]) for n in phys]), lo + 1e-6, hi - 1e-6)
     u_mean = data.iloc[:24][list(BOUNDARY_COLUMNS + HEAT_COLUMNS)].mean().to_numpy(float)
     ti0 = float(data[OUTPUT_COLUMN].dropna().iloc[0])
     u = data[list(DEMAND_INPUTS)]
@@ -1041,7 +1039,7 @@ def calibrate_to_heat(
     def prior_resid(z):
         if not ng:
             return np.zeros(0)
-        out = list(z[:ng] / s_groups)
+        out = list((z[:ng] - m_groups) / s_groups)
         if i_h is not None:
             out.append((z[i_h] - ln_h0) / H_EST_PRIOR_STD_LOG)
         return np.array(out)
@@ -1078,12 +1076,14 @@ def calibrate_to_heat(
 
     fast = max(int(round(HEAT_FIT_BLOCK_H / step_h)), 1)
     slow = max(int(round(block_h / step_h)), 1)
-    # 1. the published topology on the hourly heat: the capacities and H_est
+    # 1. the published topology on the hourly heat: the capacities and H_est (the factors
+    # at their priors' centres: the description, or a component's in-situ measurement)
+    z_groups = np.clip(m_groups, lo[:ng] + 1e-6, hi[:ng] - 1e-6)
     sol = least_squares(
-        lambda zp: data_resid(np.concatenate([np.zeros(ng), zp]), fast), z0[ng:],
+        lambda zp: data_resid(np.concatenate([z_groups, zp]), fast), z0[ng:],
         bounds=(lo[ng:], hi[ng:]), diff_step=1e-3, x_scale=1.0,
     )  # fmt: skip
-    z = np.concatenate([np.zeros(ng), sol.x])
+    z = np.concatenate([z_groups, sol.x])
     s2 = noise_scale(sol.fun, len(phys))
     if ng:  # 2. with the group factors, maximum a posteriori, still hourly (the dynamics)
         z, s2, e, sol = map_fit(z, np.arange(len(names)), fast, s2)
@@ -1183,6 +1183,9 @@ def calibrate_to_heat(
             log_posterior=float(-0.5 * np.sum(sol.fun**2)), correlation=pairs,
             h_est_correlation={} if i_h is None else {
                 g: float(corr[i, i_h]) for i, g in enumerate(groups)},
+            labels={g: group_label(g, model) for g in groups},
+            prior_mean={g: float(m) for g, m in zip(groups, m_groups, strict=True)},
+            measured=measured_groups(groups, model),
         )  # fmt: skip
         zd = draw_corrected(corrected, 1000, seed=1)[1:]
         hd = hlc_of_draws(model, corrected.group_factors(zd), corrected.physical_si(zd)["H_est"])

@@ -439,6 +439,79 @@ class ValidationConfig(_Strict):
     )
 
 
+#: Envelope components whose U-value a heat-flux meter can measure in situ (ISO 9869-1:
+#: opaque elements between the heated inside and the outside or an unheated space), with the
+#: direction of their heat flow (ISO 6946 surface resistances) and building-file type.
+IN_SITU_COMPONENTS: dict[str, tuple[str, str]] = {
+    "walls": ("horizontal", "external_wall"),
+    "roof": ("upward", "roof"),
+    "attic_ceiling": ("upward", "attic_ceiling"),
+    "wall_to_unheated": ("horizontal", "wall_to_unheated"),
+    "cellar_ceiling": ("downward", "cellar_ceiling"),
+}
+
+
+class InSituConfig(_Strict):
+    """An in-situ U-value of one envelope component: a heat-flux meter's log analysed by the
+    average method of ISO 9869-1 (:mod:`thermocal.physics.heat_flux`), or a value with its
+    uncertainty from a survey (``u_value`` and ``rel_std``).
+
+    The measured value replaces the calculated one's prior in the calibration: the component
+    gets its own correction factor centred on measured / described U with the measurement's
+    uncertainty.
+    """
+
+    file: Path | None = Field(None, description="heat-flux meter log (CSV or parquet)")
+    time_column: str = "time"
+    columns: dict[str, str] = Field(
+        default_factory=lambda: {"heat_flux": "q", "temp_in": "Ti", "temp_out": "Te"},
+        description="heat_flux [W/m2], temp_in and temp_out [temperature_unit] -> file column",
+    )
+    timezone: str | float | None = Field(
+        None, description="of time stamps without offset (default: the measurements')"
+    )
+    temperature_unit: Literal["C", "K", "F"] = "C"
+    temperatures: Literal["air", "surface"] = Field(
+        "air", description="air: the room's and outdoor air (U); surface: the element's faces"
+    )
+    heat_flux_sign: Literal["outward", "inward"] = Field(
+        "outward", description="the direction the plate reports as positive"
+    )
+    plate_rel_std: float = Field(
+        0.05, ge=0, le=0.5, description="plate calibration and flow disturbance [-]"
+    )
+    temperature_std: float = Field(0.1, ge=0, le=2.0, description="per sensor [K]")
+    spot_rel_std: float = Field(
+        0.05, ge=0, le=0.5, description="how well the spot stands for the element [-]"
+    )
+    areal_heat_capacity: float | None = Field(
+        None, gt=0, le=2000, description="of the element, for ISO 9869-1's criterion d "
+        "[kJ/(m2 K)]",
+    )  # fmt: skip
+    component: str | None = Field(
+        None, description="name of the building-file component the plate was on (needed when "
+        "the type's components differ in U-value)",
+    )  # fmt: skip
+    u_value: float | None = Field(None, gt=0, le=6.0, description="a given value [W/(m2 K)]")
+    rel_std: float | None = Field(
+        None, gt=0, le=1.0, description="relative standard uncertainty of u_value [-]"
+    )
+
+    @model_validator(mode="after")
+    def _one_source(self) -> InSituConfig:
+        if (self.file is None) == (self.u_value is None):
+            raise ValueError(
+                "give either file (a heat-flux meter log, analysed by ISO 9869-1's average "
+                "method) or u_value with rel_std (a measured value and its uncertainty)"
+            )
+        if self.u_value is not None and self.rel_std is None:
+            raise ValueError(f"u_value {self.u_value:g}: give its rel_std too (e.g. 0.1)")
+        missing = {"heat_flux", "temp_in", "temp_out"} - set(self.columns)
+        if self.file is not None and missing:
+            raise ValueError(f"columns: map {sorted(missing)} to the log's column names")
+        return self
+
+
 class InternalGainsConfig(_Strict):
     """Internal gains (occupants, appliances, lighting) into the heated air [W].
 
@@ -696,6 +769,9 @@ class RetrofitConfig(_Strict):
     demand: DemandConfig = Field(default_factory=DemandConfig)
     validation: ValidationConfig = Field(default_factory=ValidationConfig)
     internal_gains: InternalGainsConfig = Field(default_factory=InternalGainsConfig)
+    in_situ: dict[str, InSituConfig] = Field(
+        default_factory=dict, description="component -> in-situ U-value (ISO 9869-1)"
+    )
     base_dir: Path = Field(Path("."), description="folder relative paths refer to")
 
     @field_validator("measures")
@@ -778,6 +854,18 @@ class RetrofitConfig(_Strict):
             raise ValueError(f"strategies: {exc}") from None
         return self
 
+    @field_validator("in_situ")
+    @classmethod
+    def _in_situ(cls, value: dict) -> dict:
+        for component in value:
+            if component not in IN_SITU_COMPONENTS:
+                raise ValueError(
+                    f"{component!r}: a heat-flux meter measures one of "
+                    f"{list(IN_SITU_COMPONENTS)} (windows have rated U-values; a floor on the "
+                    "ground loses through the soil, not its construction alone)"
+                )
+        return value
+
     @model_validator(mode="after")
     def _resolve_paths(self) -> RetrofitConfig:
         base = self.base_dir
@@ -787,6 +875,9 @@ class RetrofitConfig(_Strict):
             self.measurements.file = base / self.measurements.file
         if not self.weather.file.is_absolute():
             self.weather.file = base / self.weather.file
+        for spec in self.in_situ.values():
+            if spec.file is not None and not spec.file.is_absolute():
+                spec.file = base / spec.file
         return self
 
 

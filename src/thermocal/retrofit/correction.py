@@ -71,7 +71,7 @@ FLOOR_DESCRIPTIONS: dict[str, str] = {
 }
 
 
-def group_components(envelope, ground_kind: str) -> dict[str, dict]:
+def group_components(envelope, ground_kind: str, in_situ=()) -> dict[str, dict]:
     """The components each correction group scales in this building, and what the floor is.
 
     Parameters
@@ -88,14 +88,105 @@ def group_components(envelope, ground_kind: str) -> dict[str, dict]:
     dict group -> {"label": str, "components": list of str[, "description": str]}
         The floor group names the building's floor component only, with its description.
     """
-    out = {g: {"label": GROUP_LABELS[g], "components": list(comps)} for g, comps in
-           GROUPS.items() if g != "k_floor"}  # fmt: skip
+    measured = set(in_situ)
+    out = {g: {"label": GROUP_LABELS[g], "components": [c for c in comps if c not in measured]}
+           for g, comps in GROUPS.items() if g != "k_floor"}  # fmt: skip
+    if measured & set(GROUPS["k_env"]):
+        out["k_env"]["label"] = " + ".join(COMPONENT_WORDS[c] for c in out["k_env"]["components"])
+    for g, c in IN_SITU_GROUPS.items():
+        if c in measured:
+            out[g] = {"label": GROUP_LABELS[g], "components": [c],
+                      "description": "measured in situ (ISO 9869-1)"}  # fmt: skip
     out["k_floor"] = {
         "label": GROUP_LABELS["k_floor"],
         "components": [envelope.floor_kind],
-        "description": FLOOR_DESCRIPTIONS.get(ground_kind, ground_kind),
+        "description": FLOOR_DESCRIPTIONS.get(ground_kind, ground_kind)
+        + ("; measured in situ (ISO 9869-1)" if "cellar_ceiling" in measured else ""),
     }
     return out
+#: Components of ``k_env`` that take a factor of their own when measured in situ
+#: (:mod:`thermocal.retrofit.in_situ`), with their envelope attribute; a measured cellar
+#: ceiling is the floor group's only component, so its measurement is ``k_floor``'s prior.
+IN_SITU_GROUPS: dict[str, str] = {
+    "k_roof": "roof",
+    "k_walls": "walls",
+    "k_attic_ceiling": "attic_ceiling",
+    "k_wall_to_unheated": "wall_to_unheated",
+}
+_COMPONENT_PRESENT = {
+    "roof": "roof_area",
+    "walls": "walls_area",
+    "attic_ceiling": "attic_area",
+    "wall_to_unheated": "adjacent_area",
+}
+
+
+def is_factor(name: str) -> bool:
+    """Whether ``name`` (an entry of :attr:`Correction.names`) is a group factor."""
+    return name in GROUPS or name in IN_SITU_GROUPS
+
+
+def correction_groups(model) -> list[str]:
+    """The factors the calibration estimates for this model, in order.
+
+    ``k_env`` over the roof and walls not measured in situ (absent when all were), one
+    ``k_<component>`` per measured component of it, ``k_win``, ``k_floor`` -- each when the
+    building has the components.
+    """
+    env = model.envelope
+    measured = set(getattr(model, "in_situ", {}) or {})
+    out = []
+    for g in GROUPS:
+        if g == "k_env":
+            present = [c for c in GROUPS[g] if getattr(env, _COMPONENT_PRESENT[c]) > 0]
+            if any(c not in measured for c in present):
+                out.append(g)
+            out += [f"k_{c}" for c in present if c in measured]
+        elif _group_present(env, g):
+            out.append(g)
+    return out
+
+
+def group_label(group: str, model) -> str:
+    """What a factor scales, in words (``k_env`` names only its unmeasured components when
+    some have factors of their own)."""
+    measured = set(getattr(model, "in_situ", {}) or {})
+    if group == "k_env" and measured & set(GROUPS["k_env"]):
+        env = model.envelope
+        rest = [COMPONENT_WORDS[c] for c in GROUPS["k_env"]
+                if c not in measured and getattr(env, _COMPONENT_PRESENT[c]) > 0]  # fmt: skip
+        return " + ".join(rest)
+    if group == "k_floor" and "cellar_ceiling" in measured:
+        return "floor (in situ)"
+    return GROUP_LABELS[group]
+
+
+def measured_groups(groups, model) -> tuple[str, ...]:
+    """The factors among ``groups`` whose prior is an in-situ measurement."""
+    in_situ = getattr(model, "in_situ", {}) or {}
+    return tuple(
+        g for g in groups
+        if IN_SITU_GROUPS.get(g) in in_situ or (g == "k_floor" and "cellar_ceiling" in in_situ)
+    )  # fmt: skip
+
+
+def group_priors(groups, rel_std: float, model) -> tuple[np.ndarray, np.ndarray]:
+    """Prior mean and standard deviation of each factor's ``ln k`` [-].
+
+    Centred on the description (0) with :func:`group_prior_std_log`, except a component
+    measured in situ: ``ln(U_measured / U_described)`` with the measurement's uncertainty
+    (:attr:`thermocal.retrofit.in_situ.InSituMeasurement.prior`).
+    """
+    in_situ = getattr(model, "in_situ", {}) or {}
+    std = group_prior_std_log(groups, rel_std, model.envelope)
+    mean = np.zeros(len(groups))
+    for i, g in enumerate(groups):
+        component = IN_SITU_GROUPS.get(g) or ("cellar_ceiling" if g == "k_floor" else None)
+        if component in in_situ:
+            mean[i], std[i] = in_situ[component]
+    return mean, std
+
+
 #: Prior standard deviation of ln H_est (air change rates: a factor ~2 either way).
 H_EST_PRIOR_STD_LOG = 0.5
 #: A group is separated by the data when posterior / prior standard deviation is below this.
@@ -152,12 +243,16 @@ def scaled_envelope(envelope, factors: dict[str, float]):
     k_env = float(factors.get("k_env", 1.0))
     k_floor = float(factors.get("k_floor", 1.0))
     on_ground = corrects_the_ground_path(envelope)
+
+    def k(component):  # a component measured in situ has its own factor
+        return float(factors.get(f"k_{component}", k_env))
+
     return replace(
         envelope,
-        roof_u=envelope.roof_u * k_env,
-        walls_u=envelope.walls_u * k_env,
-        attic_u=envelope.attic_u * k_env,
-        adjacent_u=envelope.adjacent_u * k_env,
+        roof_u=envelope.roof_u * k("roof"),
+        walls_u=envelope.walls_u * k("walls"),
+        attic_u=envelope.attic_u * k("attic_ceiling"),
+        adjacent_u=envelope.adjacent_u * k("wall_to_unheated"),
         windows_u=envelope.windows_u * float(factors.get("k_win", 1.0)),
         floor_u=envelope.floor_u if on_ground else envelope.floor_u * k_floor,
         floor_factor=envelope.floor_factor * k_floor if on_ground else envelope.floor_factor,
@@ -183,29 +278,46 @@ class Correction:
     correlation: dict[str, float] = field(default_factory=dict)  # pairs of z with |r| > 0.9
     #: posterior correlation of each group's ln k with ln H_est (data and priors)
     h_est_correlation: dict[str, float] = field(default_factory=dict)
+    #: what each factor scales, in words (:func:`group_label`); default GROUP_LABELS
+    labels: dict[str, str] = field(default_factory=dict)
+    #: prior mean of each factor's ln k (non-zero for a component measured in situ)
+    prior_mean: dict[str, float] = field(default_factory=dict)
+    #: the factors whose prior is an in-situ measurement
+    measured: tuple = ()
+
+    def label(self, group: str) -> str:
+        """What ``group`` scales, in words."""
+        return self.labels.get(group) or GROUP_LABELS[group]
 
     def physical_si(self, z: np.ndarray) -> dict[str, np.ndarray]:
         """Estimated parameters in SI (W/K, J/K) of draws ``z`` (n, len(names))."""
         z = np.atleast_2d(z)
-        return {n: np.exp(z[:, i]) for i, n in enumerate(self.names) if n not in GROUPS}
+        return {n: np.exp(z[:, i]) for i, n in enumerate(self.names) if not is_factor(n)}
 
     def group_factors(self, z: np.ndarray) -> dict[str, np.ndarray]:
         """Group factors [-] of draws ``z`` (n, len(names))."""
         z = np.atleast_2d(z)
-        return {n: np.exp(z[:, i]) for i, n in enumerate(self.names) if n in GROUPS}
+        return {n: np.exp(z[:, i]) for i, n in enumerate(self.names) if is_factor(n)}
 
     def summary(self) -> str:
         """One sentence on what the data correct and what they separate."""
         parts = []
         for g, k in self.factors.items():
+            if g in self.measured:
+                parts.append(
+                    f"{self.label(g)} x {k:.2f} (measured in situ x "
+                    f"{np.exp(self.prior_mean[g]):.2f}, sd of ln k {self.prior_std[g]:.2f}; "
+                    f"posterior {self.posterior_std[g]:.2f})"
+                )
+                continue
             parts.append(
-                f"{GROUP_LABELS[g]} x {k:.2f} (posterior sd of ln k {self.posterior_std[g]:.2f}"
+                f"{self.label(g)} x {k:.2f} (posterior sd of ln k {self.posterior_std[g]:.2f}"
                 f" vs prior {self.prior_std[g]:.2f}: "
                 + ("separated by the data" if self.separated[g] else "prior-dominated")
                 + ")"
             )
         shared = [
-            f"{GROUP_LABELS[g]} (posterior correlation {r:+.2f})"
+            f"{self.label(g)} (posterior correlation {r:+.2f})"
             for g, r in self.h_est_correlation.items() if r <= -SHARED_CORRELATION
         ]  # fmt: skip
         text = "calculated U-values corrected by the data: " + "; ".join(parts)
@@ -220,7 +332,22 @@ class Correction:
         return text
 
 
-GROUP_LABELS = {"k_env": "roof + walls", "k_win": "windows", "k_floor": "floor"}
+GROUP_LABELS = {
+    "k_env": "roof + walls",
+    "k_win": "windows",
+    "k_floor": "floor",
+    "k_roof": "roof (in situ)",
+    "k_walls": "walls (in situ)",
+    "k_attic_ceiling": "ceiling under the attic (in situ)",
+    "k_wall_to_unheated": "walls to unheated spaces (in situ)",
+}
+#: The components of ``k_env`` in words.
+COMPONENT_WORDS = {
+    "roof": "roof",
+    "walls": "walls",
+    "attic_ceiling": "ceiling under the attic",
+    "wall_to_unheated": "walls to unheated spaces",
+}
 
 
 def estimate_correction(
@@ -269,19 +396,19 @@ def estimate_correction(
 
     prep = prepare_data(rc, data)
     base = {n: float(params[n]) for n in rc.parameter_names}
-    groups = [g for g in GROUPS if _group_present(model.envelope, g)]
+    groups = correction_groups(model)
     phys = [n for n in ESTIMATED_PARAMETERS if n not in model.fixed]
     names = groups + phys
     scale = {n: 1e6 if model.estimated[n][3] == "MJ/K" else 1.0 for n in phys}
     s_k = prior_std_log(rel_std)
-    s_groups = group_prior_std_log(groups, rel_std, model.envelope)
+    m_groups, s_groups = group_priors(groups, rel_std, model)
     lo = [np.log(FACTOR_BOUNDS[0])] * len(groups)
     hi = [np.log(FACTOR_BOUNDS[1])] * len(groups)
     for n in phys:
         lo.append(np.log(model.estimated[n][0] * scale[n]))
         hi.append(np.log(model.estimated[n][2] * scale[n]))
     lo, hi = np.array(lo), np.array(hi)
-    z0 = np.array([0.0] * len(groups) + [np.log(base[n] * scale[n]) for n in phys])
+    z0 = np.array(list(m_groups) + [np.log(base[n] * scale[n]) for n in phys])
     z0 = np.clip(z0, lo + 1e-6, hi - 1e-6)
     ln_h0 = np.log(h_est_prior)
     i_h = names.index("H_est") if "H_est" in names else None
@@ -302,7 +429,7 @@ def estimate_correction(
         ll = rc.loglike(prep, values(z))
         if not np.isfinite(ll):
             return 1e12
-        lp = -0.5 * np.sum((z[: len(groups)] / s_groups) ** 2) if s_k > 0 else 0.0
+        lp = -0.5 * np.sum(((z[: len(groups)] - m_groups) / s_groups) ** 2) if s_k > 0 else 0.0
         if i_h is not None:
             lp += -0.5 * ((z[i_h] - ln_h0) / H_EST_PRIOR_STD_LOG) ** 2
         return -(ll + lp)
@@ -374,6 +501,9 @@ def estimate_correction(
         correlation=pairs,
         h_est_correlation={} if i_h is None else {
             g: float(corr[i, i_h]) for i, g in enumerate(groups)},
+        labels={g: group_label(g, model) for g in groups},
+        prior_mean={g: float(m) for g, m in zip(groups, m_groups, strict=True)},
+        measured=measured_groups(groups, model),
     )  # fmt: skip
 
 

@@ -509,6 +509,9 @@ class FifthOrderModel:
     #: surface resistances to the air) or "split" (convection to the air, radiation among the
     #: surfaces)
     interior: str = "combined"
+    #: in-situ U-values (:mod:`thermocal.retrofit.in_situ`): component -> mean and standard
+    #: deviation of ``ln k``, its own correction factor's prior (measured / described U)
+    in_situ: dict = field(default_factory=dict)
 
     def apply_measures(self, measures, envelope: EnvelopeComponents | None = None):
         """The envelope after the given :class:`~thermocal.retrofit.strategies.Measure` s."""

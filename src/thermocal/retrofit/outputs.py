@@ -179,6 +179,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
             "residual_diagnostics": residual_summary(cal.residuals),
             "fit_seconds": cal.fit_seconds,
             "correction": _correction_dict(cal.correction, model),
+            "in_situ": {c: m.as_dict() for c, m in analysis.in_situ.items()} or None,
         },
         "heat_loss_coefficient_W_per_K": hlc,
         "validation": analysis.validation,
@@ -265,9 +266,13 @@ def _correction_dict(corr, model) -> dict | None:
         return None
     from thermocal.retrofit.correction import group_components
 
-    groups = group_components(model.envelope, model.ground.kind)
+    groups = group_components(model.envelope, model.ground.kind, model.in_situ)
     return {
-        "method": "maximum a posteriori, prior ln k ~ N(0, s^2) per envelope group",
+        "method": "maximum a posteriori, prior ln k ~ N(0, s^2) per envelope group; a "
+        "component measured in situ: its own factor, ln k ~ N(ln(U_measured / U_described), "
+        "s_measured^2)",
+        "prior_mean_log": corr.prior_mean,
+        "measured_in_situ": list(corr.measured),
         "factors": corr.factors,
         "groups": {g: groups[g] for g in corr.factors},
         "prior_std_log": corr.prior_std,

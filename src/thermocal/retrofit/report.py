@@ -560,6 +560,8 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
         f"(limit {cfg.model.max_correlation}, Madsen et al. 2016)."
     )
     corr = cal.get("correction")
+    if cal.get("in_situ"):
+        _in_situ_table(rep, cal["in_situ"])
     if corr:
         rep.paragraph(
             "The data correct the building description in both directions: one factor per "
@@ -580,7 +582,9 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
                         "factor on U": f"{k:.2f}",
                         "prior sd of ln k": f"{corr['prior_std_log'][g]:.2f}",
                         "posterior sd of ln k": f"{corr['posterior_std_log'][g]:.2f}",
-                        "data separate it": "yes" if corr["separated_by_data"][g] else "no (prior)",
+                        "data separate it": "measured in situ"
+                        if g in corr.get("measured_in_situ", ())
+                        else "yes" if corr["separated_by_data"][g] else "no (prior)",
                     }
                     for g, k in corr["factors"].items()
                 ]
@@ -909,3 +913,31 @@ def _interval_precision(results: dict) -> str:
         if error is not None and error > 0:
             parts.append(f"{what} to ±{format(error, fmt)} {unit}")
     return "; " + " and ".join(parts) if parts else ""
+
+
+def _in_situ_table(rep, in_situ: dict) -> None:
+    """The in-situ U-values (ISO 9869-1) the calibration took as its components' priors."""
+    rep.paragraph(
+        "In-situ U-values: a heat-flux meter's log is reduced by the average method of ISO "
+        "9869-1 (the sums of heat flux and temperature difference over whole days, checked by "
+        "the standard's convergence criteria); the component gets a correction factor of its "
+        "own whose prior is the measured over the described U-value, with the measurement's "
+        "standard uncertainty (plate calibration, temperature sensors, convergence, how well "
+        "the spot stands for the element). The heating data still fix the total heat loss."
+    )
+    rows = []
+    for component, m in in_situ.items():
+        given = m["days"] == 0
+        rows.append(
+            {
+                "component": component,
+                "described U": f"{m['described_u_W_per_m2K']:.3g}",
+                "measured U": f"{m['u_value_W_per_m2K']:.3g}",
+                "x described": f"{m['measured_over_described']:.2f}",
+                "std. unc.": f"{100 * m['rel_std']:.1f} %",
+                "days / mean dT": "given" if given else
+                f"{m['days']} / {m['mean_difference_K']:.1f} K",
+                "ISO 9869-1": "-" if given else ("converged" if m["converged"] else "not"),
+            }
+        )  # fmt: skip
+    rep.table(pd.DataFrame(rows), caption="In-situ U-values [W/(m2 K)]")

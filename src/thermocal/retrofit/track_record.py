@@ -2,7 +2,7 @@
 
 The retrofit report states, next to its intervals, how far the same analysis with its default
 settings was from EnergyPlus 25.2 on the independent references of the test suite
-(docs/retrofit.md, "EnergyPlus twin: NREL SingleFamilyHouse in Zurich" and "Second EnergyPlus
+(docs/retrofit-twins.md, "EnergyPlus twin: NREL SingleFamilyHouse in Zurich" and "Second EnergyPlus
 twin"): a user reads the headline numbers against a measured tolerance, not against the
 intervals alone; the verification report does the same with the EnergyPlus house of
 docs/verify.md. The values are those the references' tests measure

@@ -54,6 +54,7 @@ from thermocal.retrofit.gains import (
 )
 from thermocal.retrofit.gate import heat_to_follow_measured, heat_validation, validation_gate
 from thermocal.retrofit.ground_draws import draw_ground_inputs, ground_overrides
+from thermocal.retrofit.in_situ import in_situ_priors, measure_in_situ
 from thermocal.retrofit.inputs import solar_inputs
 from thermocal.retrofit.metrics import daily_profile, validation_metrics
 from thermocal.retrofit.model import (
@@ -97,6 +98,8 @@ class RetrofitAnalysis:
     gains_rel_std: float = 0.0  # [-] relative spread of those gains in the draws
     calibration_method: dict | None = None  # :func:`calibration_method` (what was fitted, why)
     air_change: dict | None = None  # :func:`thermocal.retrofit.airchange.estimate_slope`
+    #: component -> :class:`thermocal.retrofit.in_situ.InSituMeasurement` (``in_situ:``)
+    in_situ: dict = field(default_factory=dict)
 
 
 def load_building(source, *, config_source: str = "the retrofit configuration"):
@@ -327,6 +330,20 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         interior=interior_for(cfg.model.interior),  # auto: settled with the method below
     )
     check_measures(model.envelope, cfg.measure_objects(), building.name)
+    in_situ = measure_in_situ(cfg, building, _location_tz(building))
+    if in_situ:
+        if cfg.model.correction != "groups" or cfg.uncertainty.u_value_rel_std <= 0:
+            raise ThermocalInputError(
+                "in_situ: the in-situ U-values correct the description through the group "
+                "factors; they need model.correction: groups and uncertainty.u_value_rel_std > 0"
+            )
+        model = replace(model, in_situ=in_situ_priors(in_situ))
+        for m in in_situ.values():
+            say(
+                f"in situ: {m.component} U = {m.result.u_value:.3g} W/(m2 K) +- "
+                f"{100 * m.result.rel_std:.0f} % ({m.source}), {m.ratio:.2f} x the described "
+                f"{m.described_u:.3g}"
+            )
     inputs = model_inputs(
         grid,
         building,
@@ -566,7 +583,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         envelopes=envelopes,
         timings=timings, notes=notes, measurements_quality=quality,
         heat_validation=heat_check, gate=gate, calibration_method=method,
-        air_change=air_change,
+        air_change=air_change, in_situ=in_situ,
     )  # fmt: skip
 
 

@@ -7,7 +7,7 @@ windows' net heat loss, the infiltration, the transmitted sun, the internal gain
 the ideal-loads heating, and the attic's and the garage's mean temperatures with the ISO 13789
 adjustment factor they imply, ``b = (Ti - Tu) / (Ti - Te)``. Writes ``balance.json`` beside
 the reference (monthly [kWh] and mean temperatures [C]; read by
-``tests/retrofit/test_retrofit_energyplus_twin.py``, docs/retrofit.md "Where the first twin's
+``tests/retrofit/test_retrofit_energyplus_twin.py``, docs/retrofit-twins.md "Where the first twin's
 demand goes"). About 30 s.
 
     python tests/reference/retrofit_energyplus_house/diagnose_balance.py \\

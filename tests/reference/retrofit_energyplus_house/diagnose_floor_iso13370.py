@@ -1,5 +1,5 @@
 """The first twin's floor with ISO 13370's monthly method instead of the ground wave at 2 m
-(docs/retrofit.md, "The floor with ISO 13370's periodic coefficients", issue 25).
+(docs/retrofit-twins.md, "The floor with ISO 13370's periodic coefficients", issue 25).
 
 thermocal couples the slab through the ISO 13370 steady conductance to the undisturbed ground
 temperature at 2 m (Kusuda's wave). Its floor therefore follows the indoor temperature's annual

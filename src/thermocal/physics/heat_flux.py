@@ -1,0 +1,299 @@
+"""In-situ U-value of a building element from a heat-flux meter: the average method of
+ISO 9869-1:2014.
+
+A heat-flux plate on the inside face of a wall, roof or ceiling measures the density of heat
+flow rate ``q`` through it; with the inside and outside air temperatures the element's
+air-to-air thermal transmittance is the ratio of the sums over whole days
+
+    ``U = sum(q dt) / sum((T_i - T_e) dt)``                       (ISO 9869-1, 7.2)
+
+With the element's inside and outside *surface* temperatures the ratio is its surface-to-surface
+conductance ``Lambda``, and ``U = 1 / (R_si + 1/Lambda + R_se)`` with ISO 6946's conventional
+surface resistances. The average is right when the heat stored in the element at the end equals
+that at the start, which long tests over whole days approach; ISO 9869-1 (7.2.1) ends a test
+when
+
+a) it lasted at least 72 h (and is an integer number of days: only whole days are used);
+b) the value at its end is within 5 % of the value 24 h earlier;
+c) the value from the first ``INT(2 D / 3)`` days is within 5 % of that from the last as many
+   days (``D`` the test's days);
+d) the change of the heat stored in the element is below 5 % of the heat that passed through
+   it (checked when the element's areal heat capacity is given).
+
+The result's standard uncertainty combines, as independent relative parts: the plate's
+calibration, the temperature sensors' error over the mean difference, the convergence (the
+larger deviation of b or c as the half-width of a rectangular distribution) and how well one
+spot stands for the element (thermal bridges, workmanship, moisture). ISO 9869-1 (clause 9)
+puts the total at 14-28 % for a careful measurement; the parts here are the user's to state.
+
+References
+----------
+ISO 9869-1:2014, Thermal insulation -- Building elements -- In-situ measurement of thermal
+resistance and thermal transmittance -- Part 1: Heat flow meter method.
+ISO 6946:2017, Building components and building elements -- Thermal resistance and thermal
+transmittance -- Calculation methods (surface resistances, Table 7).
+K. Gaspar, M. Casals and M. Gangolells, "In situ measurement of facades with a low U-value:
+Avoiding deviations", Energy and Buildings 170, 2018 (the criteria in practice).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "CONVERGENCE_LIMIT",
+    "MIN_DAYS",
+    "MIN_MEAN_DIFFERENCE_K",
+    "SURFACE_RESISTANCES",
+    "InSituUValue",
+    "average_method",
+]
+
+#: ISO 9869-1 7.2.1: shortest test [days] and the relative limit of criteria b, c and d [-].
+MIN_DAYS = 3
+CONVERGENCE_LIMIT = 0.05
+#: Below this mean inside-outside difference [K] the temperature sensors' error weighs on the
+#: result; practice asks for at least 10 K (Gaspar et al. 2018): reported, not refused.
+MIN_MEAN_DIFFERENCE_K = 10.0
+#: ISO 6946 Table 7 conventional surface resistances [m2 K/W] by the heat flow's direction
+#: through the element: (inside, outside).
+SURFACE_RESISTANCES: dict[str, tuple[float, float]] = {
+    "horizontal": (0.13, 0.04),
+    "upward": (0.10, 0.04),
+    "downward": (0.17, 0.04),
+}
+
+
+@dataclass(frozen=True)
+class InSituUValue:
+    """An element's measured U-value with its standard uncertainty.
+
+    Attributes
+    ----------
+    u_value : float
+        Air-to-air thermal transmittance [W/(m2 K)].
+    rel_std : float
+        Relative standard uncertainty of ``u_value`` [-].
+    days : int
+        Whole days of the log the value is from [d] (0 when the value was given, not measured).
+    mean_difference_K : float
+        Mean inside-outside temperature difference of those days [K] (NaN when given).
+    checks : dict
+        ISO 9869-1's criteria: name -> {"value", "limit", "passed"} (relative values [-],
+        duration [d]).
+    uncertainty : dict
+        The relative standard uncertainties combined in ``rel_std``, by source [-].
+    conductance : float
+        Surface-to-surface conductance ``Lambda`` [W/(m2 K)] when surface temperatures were
+        measured, else NaN.
+    notes : list of str
+        What was assumed or not checked.
+    """
+
+    u_value: float
+    rel_std: float
+    days: int = 0
+    mean_difference_K: float = float("nan")
+    checks: dict = field(default_factory=dict)
+    uncertainty: dict = field(default_factory=dict)
+    conductance: float = float("nan")
+    notes: list = field(default_factory=list)
+
+    @property
+    def converged(self) -> bool:
+        """Whether every checked criterion of ISO 9869-1 7.2.1 holds."""
+        return all(c["passed"] for c in self.checks.values())
+
+    def failed(self) -> list[str]:
+        """The criteria that failed, each in a few words with its value and limit."""
+        out = []
+        for name, c in self.checks.items():
+            if not c["passed"]:
+                value, limit = c["value"], c["limit"]
+                if name == "duration":
+                    out.append(f"{name}: {value:g} days < {limit:g}")
+                else:
+                    out.append(f"{name}: {100 * value:.1f} % > {100 * limit:.0f} %")
+        return out
+
+    def as_dict(self) -> dict:
+        """JSON-ready form (results.json)."""
+        return {
+            "u_value_W_per_m2K": self.u_value,
+            "rel_std": self.rel_std,
+            "days": self.days,
+            "mean_difference_K": None if np.isnan(self.mean_difference_K) else
+            self.mean_difference_K,
+            "conductance_W_per_m2K": None if np.isnan(self.conductance) else self.conductance,
+            "converged": self.converged,
+            "checks": self.checks,
+            "uncertainty": self.uncertainty,
+            "notes": list(self.notes),
+        }  # fmt: skip
+
+
+def _interval_seconds(times: pd.DatetimeIndex) -> np.ndarray:
+    """Each row's interval [s]: to the next time stamp, the last one the median spacing."""
+    t = np.asarray((times - times[0]) / pd.Timedelta(seconds=1), float) if len(times) else []
+    if len(t) < 2:
+        return np.ones(len(t))
+    dt = np.diff(t)
+    return np.append(dt, np.median(dt))
+
+
+def _ratio(q: np.ndarray, dtemp: np.ndarray, w: np.ndarray) -> float:
+    """``sum(q w) / sum(dtemp w)`` [W/(m2 K)]."""
+    return float(np.sum(q * w) / np.sum(dtemp * w))
+
+
+def average_method(
+    times: pd.DatetimeIndex,
+    heat_flux: np.ndarray,
+    temp_in: np.ndarray,
+    temp_out: np.ndarray,
+    *,
+    temperatures: str = "air",
+    flow: str = "horizontal",
+    plate_rel_std: float = 0.05,
+    temperature_std_K: float = 0.1,
+    spot_rel_std: float = 0.05,
+    areal_heat_capacity: float | None = None,
+) -> InSituUValue:
+    """The average method of ISO 9869-1 (7.2) on a heat-flux meter's log.
+
+    Parameters
+    ----------
+    times : DatetimeIndex
+        Start of each logged interval; the rows are interval means.
+    heat_flux : ndarray [W/m2]
+        Density of heat flow rate through the element, positive from inside to outside.
+    temp_in, temp_out : ndarray [C]
+        Inside and outside air temperatures (``temperatures="air"``), or the element's inside
+        and outside surface temperatures (``"surface"``).
+    temperatures : {"air", "surface"}
+        What ``temp_in`` and ``temp_out`` are.
+    flow : {"horizontal", "upward", "downward"}
+        Direction of the heat flow through the element (walls horizontal, roofs and ceilings
+        upward, floors downward): ISO 6946's surface resistances for ``"surface"``.
+    plate_rel_std : float [-]
+        Relative standard uncertainty of the plate's calibration and of its disturbance of the
+        flow (ISO 9869-1 clause 9: about 5 % together).
+    temperature_std_K : float [K]
+        Standard uncertainty of each temperature sensor (a constant offset).
+    spot_rel_std : float [-]
+        How well the measured spot stands for the whole element (relative standard
+        uncertainty; thermal bridges, workmanship, moisture).
+    areal_heat_capacity : float [J/(m2 K)], optional
+        The element's heat capacity per area, for criterion d; unchecked when None.
+
+    Returns
+    -------
+    InSituUValue
+        From the log's whole days (a partial last day is left out).
+
+    Raises
+    ------
+    ValueError
+        Fewer than one whole day of finite rows, or a mean difference that is not positive
+        (the sum's denominator), with what to check.
+    """
+    times = pd.DatetimeIndex(times)
+    q = np.asarray(heat_flux, float)
+    ti = np.asarray(temp_in, float)
+    te = np.asarray(temp_out, float)
+    ok = np.isfinite(q) & np.isfinite(ti) & np.isfinite(te)
+    w_all = _interval_seconds(times)
+    elapsed = np.cumsum(w_all) - w_all  # from the first row's start [s]
+    days = int((elapsed[-1] + w_all[-1]) // 86400.0) if len(times) else 0
+    if days < 1:
+        raise ValueError("the heat-flux log covers less than one whole day")
+    whole = elapsed < days * 86400.0
+    w = np.where(ok & whole, w_all, 0.0)
+    q0, dt0 = np.where(ok, q, 0.0), np.where(ok, ti - te, 0.0)
+    mean_dt = float(np.sum(dt0 * w) / np.sum(w))
+    if not mean_dt > 0:
+        raise ValueError(
+            f"the mean inside-outside temperature difference is {mean_dt:.2f} K: the average "
+            "method needs the inside warmer than the outside (a heating-season measurement; "
+            "check that the inside and outside columns are not swapped)"
+        )
+    ratio = _ratio(q0, dt0, w)
+    day = elapsed // 86400.0
+
+    def upto(n_days: float) -> float:
+        m = w * (day < n_days)
+        return _ratio(q0, dt0, m)
+
+    def between(first: float, last: float) -> float:
+        m = w * ((day >= first) & (day < last))
+        return _ratio(q0, dt0, m)
+
+    checks = {"duration": {"value": days, "limit": MIN_DAYS, "passed": days >= MIN_DAYS}}
+    if days >= 2:
+        change = float(abs(ratio - upto(days - 1)) / abs(ratio))
+        checks["last day"] = {
+            "value": change, "limit": CONVERGENCE_LIMIT, "passed": change <= CONVERGENCE_LIMIT
+        }  # fmt: skip
+    part = int(2 * days / 3)
+    if part >= 1 and days >= 2:
+        spread = float(abs(between(0, part) - between(days - part, days)) / abs(ratio))
+        checks["first vs last 2/3"] = {
+            "value": spread, "limit": CONVERGENCE_LIMIT, "passed": spread <= CONVERGENCE_LIMIT
+        }  # fmt: skip
+    notes = []
+    if areal_heat_capacity is not None:
+        mid = 0.5 * (ti + te)
+        first = np.average(mid[(day == 0) & ok], weights=w_all[(day == 0) & ok])
+        last_sel = (day == days - 1) & ok
+        last = np.average(mid[last_sel], weights=w_all[last_sel])
+        stored = abs(float(areal_heat_capacity) * float(last - first))
+        passed = float(np.sum(q0 * w))
+        share = float(stored / abs(passed))
+        checks["heat stored"] = {
+            "value": share, "limit": CONVERGENCE_LIMIT, "passed": share <= CONVERGENCE_LIMIT
+        }  # fmt: skip
+    else:
+        notes.append(
+            "criterion d (heat stored in the element below 5 % of the heat through it) not "
+            "checked: give the element's areal heat capacity"
+        )
+    if mean_dt < MIN_MEAN_DIFFERENCE_K:
+        notes.append(
+            f"mean inside-outside difference {mean_dt:.1f} K below the {MIN_MEAN_DIFFERENCE_K:g} "
+            "K practice asks for: the sensors' error weighs more"
+        )
+    convergence = max(
+        [c["value"] for k, c in checks.items() if k in ("last day", "first vs last 2/3")],
+        default=0.0,
+    )
+    parts = {
+        "plate": float(plate_rel_std),
+        "temperatures": float(np.sqrt(2.0) * temperature_std_K / mean_dt),
+        "convergence": float(convergence / np.sqrt(3.0)),
+        "spot": float(spot_rel_std),
+    }
+    conductance = float("nan")
+    u = ratio
+    if temperatures == "surface":
+        r_si, r_se = SURFACE_RESISTANCES[flow]
+        conductance = ratio
+        u = 1.0 / (r_si + 1.0 / ratio + r_se)
+        # the conventional surface resistances' share of the result is not measured: a
+        # relative error of Lambda moves U by U / Lambda of it
+        parts = {k: v * u / ratio for k, v in parts.items()}
+    elif temperatures != "air":
+        raise ValueError(f"temperatures must be 'air' or 'surface', not {temperatures!r}")
+    rel_std = float(np.sqrt(sum(v * v for v in parts.values())))
+    return InSituUValue(
+        u_value=float(u),
+        rel_std=rel_std,
+        days=days,
+        mean_difference_K=mean_dt,
+        checks=checks,
+        uncertainty=parts,
+        conductance=conductance,
+        notes=notes,
+    )

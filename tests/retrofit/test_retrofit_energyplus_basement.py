@@ -12,7 +12,8 @@ knows about the gains: the electricity meter and the 3 people living in the hous
 (``internal_gains.occupants: 3``, the IDF's ``People`` count; their heat and the gas appliances' are
 on no meter).
 
-Measured 2026-11-29 with ``occupants: 3`` (docs/retrofit-twins.md, "Occupants on the second twin"), with
+Measured 2026-11-29 with ``occupants: 3`` (docs/retrofit-twins.md, "Occupants on the second
+twin"), with
 the default ``model.calibration: auto``, which finds the thermostat holding the indoor temperature
 (0.06 K) and fits the metered heat (closed-loop identification), with it the default
 ``model.interior: auto``'s split inside (docs/retrofit.md, "The default"), and the air change's

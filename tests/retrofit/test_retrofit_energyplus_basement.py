@@ -69,11 +69,13 @@ def _key(measures) -> str:
     return "+".join(m for m in MEASURES if m in measures) or "none"
 
 
-def run_twin(out: Path, **model) -> dict:
-    """``thermocal retrofit`` on the committed configuration (``model`` options added) into
-    ``out``; its results.json, with ``_out`` the folder of the tables beside it."""
+def run_twin(out: Path, extra: dict | None = None, **model) -> dict:
+    """``thermocal retrofit`` on the committed configuration (``extra`` sections and ``model``
+    options added) into ``out``; its results.json, with ``_out`` the folder of the tables
+    beside it."""
     weather = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
     cfg = yaml.safe_load((REF / "config.yaml").read_text())
+    cfg.update(extra or {})
     if model:
         cfg.setdefault("model", {}).update(model)
     cfg["building"] = str(REF / "building.yaml")
@@ -92,6 +94,44 @@ def run_twin(out: Path, **model) -> dict:
 @pytest.fixture(scope="module")
 def twin(tmp_path_factory):
     return run_twin(tmp_path_factory.mktemp("basement_twin"))
+
+
+def test_twin_with_an_in_situ_wall_u_value(tmp_path):
+    """A heat-flux plate on the ground floor's north wall for two weeks of February
+    (``make_reference.py SRC.idf WEATHER --heat-flux``: EnergyPlus's inside-face conduction,
+    the plate reading 3 % high with 2 % noise): ISO 9869-1's average method 0.327 W/(m2 K) +-
+    7.1 % against EnergyPlus's steady 0.298 and the described 0.338 (+9.7 %: the plate's 3 %
+    and the room's radiant gains on the wall's face, which a steady state without gains does
+    not have). Measured 2026-11-29 against the same run without the plate (``twin``): walls
+    factor 0.96 (EnergyPlus 0.88), **every strategy within 3 pp** (13 of 15 without), mean /
+    max absolute difference 2.0 / 3.6 -> 1.25 / 2.8 pp, 15 of 15 covered, median half-width
+    10.8 -> 9.7 pp; the validation gate still fails (the indoor temperature's MAE), so nothing
+    is recommended."""
+    spec = {
+        "walls": {
+            "file": str(REF / "heat_flux_north_wall.csv"),
+            "columns": {"heat_flux": "q_W_m2", "temp_in": "Ti", "temp_out": "Te"},
+        }
+    }
+    run = run_twin(tmp_path, extra={"in_situ": spec})
+    measured = run["calibration"]["in_situ"]["walls"]
+    truth = json.loads((REF / "heat_flux_reference.json").read_text())
+    assert measured["converged"] and measured["u_value_W_per_m2K"] == pytest.approx(0.327, abs=1e-3)
+    assert abs(np.log(measured["u_value_W_per_m2K"] / truth["u_value_W_per_m2K"])) < (
+        2 * measured["rel_std"]
+    )
+    assert run["calibration"]["correction"]["measured_in_situ"] == ["k_walls"]
+    saving = _reference()["saving_pct"]
+    rows = run["scenarios"][1:]
+    diff = np.array([s["saving_pct"] - saving[_key(s["measures"])] for s in rows])
+    covered = sum(
+        s["saving_pct_p05"] <= saving[_key(s["measures"])] <= s["saving_pct_p95"] for s in rows
+    )
+    half = np.median([0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]) for s in rows])
+    assert (np.abs(diff) <= 3.0).all(), diff  # the target: 15 of 15 (13 without the plate)
+    assert np.abs(diff).mean() < 1.5  # 1.25 pp (2.0 without)
+    assert covered == 15
+    assert half < 10.0  # 9.7 pp (10.8 without; target 6)
 
 
 def _savings(twin):

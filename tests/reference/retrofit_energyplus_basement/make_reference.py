@@ -567,10 +567,61 @@ def ground_study(source: str, weather: str, work: str = "/tmp/retrofit_energyplu
     return out
 
 
+#: The heat-flux plate: the back (north) wall of the ground floor, as on the first twin.
+PLATE_SURFACE = "Wall_ldb_1.unit1"
+
+
+def heat_flux_study(
+    source: str, weather: str, work: str = "/tmp/retrofit_energyplus_basement_hfm"
+) -> dict:
+    """The first twin's in-situ wall measurement (``house1.heat_flux_study``) on this house:
+    a plate on the north wall of the ground floor for the first two weeks of the measurement
+    run, and the wall's air-to-air U in EnergyPlus at steady state. Writes
+    ``heat_flux_north_wall.csv`` and ``heat_flux_reference.json``."""
+    objs = source_objects(Path(source))
+    weather, work = Path(weather), Path(work)
+    work.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng(98692)
+    steady = house1.steady_weather(weather, work / "steady.epw")
+    outputs = house1.wall_outputs(PLATE_SURFACE)
+    jobs = {
+        "measurements": (house_idf(objs, setback=True, extra=outputs), weather),
+        "steady": (house_idf(objs, gains=False, extra=outputs), steady),
+    }
+    with ThreadPoolExecutor(2) as pool:
+        futures = {k: pool.submit(house1._run, idf, w, work / k) for k, (idf, w) in jobs.items()}
+        res = {k: f.result() for k, f in futures.items()}
+    log, (q_st, ti_st, te_st) = house1.plate_log(res, PLATE_SURFACE.upper(), LIVING.upper(), rng)
+    log.round(3).to_csv(HERE / "heat_flux_north_wall.csv", index=False)
+    truth = {
+        "what": "the north wall's air-to-air U-value in EnergyPlus 25.2 at steady state: its "
+        "inside-face conduction over the room-to-outdoor air difference, the last week of a "
+        "year at constant 0 C outside (3 m/s wind, no sun), no gains",
+        "u_value_W_per_m2K": q_st / (ti_st - te_st),
+        "steady_state_run": {"q_W_m2": q_st, "Ti_C": ti_st, "Te_C": te_st},
+        "nominal_u_value_W_per_m2K": nominal_u_values(objs)["wall"],
+        "log": {
+            "file": "heat_flux_north_wall.csv",
+            "surface": PLATE_SURFACE,
+            "period": list(house1.HEAT_FLUX_PERIOD),
+            "plate_bias": house1.HEAT_FLUX_PLATE_BIAS,
+            "plate_noise_rel": 0.02,
+            "temperature_noise_K": 0.1,
+            "seed": 98692,
+        },
+        "energyplus": "25.2",
+    }
+    (HERE / "heat_flux_reference.json").write_text(json.dumps(truth, indent=1) + "\n")
+    return truth
+
+
 if __name__ == "__main__":
     if "--config-only" in sys.argv:
         # the committed 25.2 house carries the source's People object unchanged
         write_config(sys.argv[1], source_objects(HERE / "house_v25.idf"))
+    elif "--heat-flux" in sys.argv:
+        args = [a for a in sys.argv[1:] if a != "--heat-flux"]
+        print(json.dumps(heat_flux_study(*args), indent=1))
     elif "--ground" in sys.argv:
         args = [a for a in sys.argv[1:] if a != "--ground"]
         print(json.dumps(ground_study(*args), indent=1))

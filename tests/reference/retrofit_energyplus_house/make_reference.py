@@ -821,11 +821,54 @@ def ground_sun_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_g
 #: high (within a plate's calibration uncertainty) with 2 % noise per hourly reading.
 HEAT_FLUX_PERIOD = ("2015-02-02 00:00", "2015-02-15 23:00")
 HEAT_FLUX_PLATE_BIAS = 1.03
-WALL_OUTPUTS = (
-    "Output:Variable, Living:North, Surface Inside Face Conduction Heat Transfer Rate per Area, "
-    "Hourly;\n"
-    "Output:Variable, Living:North, Surface Inside Face Temperature, Hourly;\n"
-)
+
+
+def wall_outputs(surface: str) -> str:
+    """The output variables of a heat-flux plate on ``surface`` (hourly)."""
+    return (
+        f"Output:Variable, {surface}, Surface Inside Face Conduction Heat Transfer Rate per "
+        f"Area, Hourly;\nOutput:Variable, {surface}, Surface Inside Face Temperature, Hourly;\n"
+    )
+
+
+WALL_OUTPUTS = wall_outputs("Living:North")
+
+
+def plate_log(res: dict, surface: str, zone: str, rng, period=HEAT_FLUX_PERIOD):
+    """The plate's log from the measurement run and the steady state's flux and temperatures.
+
+    Parameters
+    ----------
+    res : dict
+        ``"measurements"`` and ``"steady"`` runs (``_run``) with ``WALL_OUTPUTS`` for
+        ``surface`` (EnergyPlus's upper-case name).
+    zone : str
+        The room's zone (its mean air temperature is the inside air).
+
+    Returns
+    -------
+    log : DataFrame
+        time, q_W_m2 (outward, x HEAT_FLUX_PLATE_BIAS x (1 + N(0, 0.02))), Ti, Te (+ N(0, 0.1)).
+    steady : tuple
+        Mean outward flux [W/m2], inside and outside air [C] of the steady run's last week.
+    """
+    df = res["measurements"].loc[period[0] : period[1]]
+    n = len(df)
+    # EnergyPlus's inside-face conduction is positive into the zone: the loss is its negative
+    q = -_col(df, f"{surface}:Surface Inside Face Conduction Heat Transfer Rate per Area")
+    log = pd.DataFrame(
+        {
+            "time": df.index.strftime("%Y-%m-%d %H:%M"),
+            "q_W_m2": q.to_numpy() * HEAT_FLUX_PLATE_BIAS * (1 + rng.normal(0, 0.02, n)),
+            "Ti": _col(df, f"{zone}:Zone Mean Air").to_numpy() + rng.normal(0, 0.1, n),
+            "Te": _col(df, "Site Outdoor Air Drybulb").to_numpy() + rng.normal(0, 0.1, n),
+        }
+    )
+    st = res["steady"].iloc[-24 * 7 :]
+    q_st = float(-_col(st, f"{surface}:Surface Inside Face Conduction Heat Transfer Rate per "
+                       "Area").mean())  # fmt: skip
+    return log, (q_st, float(_col(st, f"{zone}:Zone Mean Air").mean()),
+                 float(_col(st, "Site Outdoor Air Drybulb").mean()))  # fmt: skip
 
 
 def heat_flux_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_hfm") -> dict:
@@ -850,23 +893,9 @@ def heat_flux_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_hf
     with ThreadPoolExecutor(2) as pool:
         futures = {k: pool.submit(_run, idf, w, work / k) for k, (idf, w) in jobs.items()}
         res = {k: f.result() for k, f in futures.items()}
-    df = res["measurements"].loc[HEAT_FLUX_PERIOD[0] : HEAT_FLUX_PERIOD[1]]
-    n = len(df)
-    # EnergyPlus's inside-face conduction is positive into the zone: the loss is its negative
-    q = -_col(df, "LIVING:NORTH:Surface Inside Face Conduction Heat Transfer Rate per Area")
-    log = pd.DataFrame(
-        {
-            "time": df.index.strftime("%Y-%m-%d %H:%M"),
-            "q_W_m2": q.to_numpy() * HEAT_FLUX_PLATE_BIAS * (1 + rng.normal(0, 0.02, n)),
-            "Ti": _col(df, "LIVING ZONE:Zone Mean Air").to_numpy() + rng.normal(0, 0.1, n),
-            "Te": _col(df, "Site Outdoor Air Drybulb").to_numpy() + rng.normal(0, 0.1, n),
-        }
-    )
+    log, u_steady = plate_log(res, "LIVING:NORTH", "LIVING ZONE", rng)
     log.round(3).to_csv(HERE / "heat_flux_north_wall.csv", index=False)
-    st = res["steady"].iloc[-24 * 7 :]
-    q_st = float(-_col(st, "LIVING:NORTH:Surface Inside Face Conduction").mean())
-    ti_st = float(_col(st, "LIVING ZONE:Zone Mean Air").mean())
-    te_st = float(_col(st, "Site Outdoor Air Drybulb").mean())
+    q_st, ti_st, te_st = u_steady
     truth = {
         "what": "the north wall's air-to-air U-value in EnergyPlus 25.2 at steady state: its "
         "inside-face conduction over the room-to-outdoor air difference, the last week of a "

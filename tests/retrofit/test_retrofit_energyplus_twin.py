@@ -212,6 +212,9 @@ def test_twin_with_an_in_situ_wall_u_value(tmp_path):
     k_true = truth["u_value_W_per_m2K"] / truth["nominal_u_value_W_per_m2K"]
     assert abs(corr["factors"]["k_walls"] - k_true) < 0.05  # 0.70 vs 0.72
     assert "walls (in situ)" in corr["summary"]
+    # the rest of the envelope group, named by what the house has (no roof: an attic)
+    assert corr["groups"]["k_env"]["label"] == "ceiling under the attic + walls to unheated spaces"
+    assert corr["groups"]["k_walls"]["components"] == ["walls"]
     saving = _reference()["saving_pct"]
     rows = run["scenarios"][1:]
     diff = np.array([s["saving_pct"] - saving[_key(s["measures"])] for s in rows])

@@ -246,6 +246,13 @@ def test_configuration_without_prediction_or_section(tmp_path):
             {**base, "verify": {"retrofit_date": "2001-02-19", "prediction": {}}},
             base_dir=tmp_path,
         )
+    # an in-situ U-value informs the prediction, not the verification: said, not ignored
+    with pytest.raises(ThermocalInputError, match="'in_situ' does not apply to a verification"):
+        parse_verify_config(
+            {**base, "in_situ": {"walls": {"u_value": 1.0, "rel_std": 0.1}},
+             "verify": {"retrofit_date": "2001-02-19", "prediction": {}}},
+            base_dir=tmp_path,
+        )  # fmt: skip
     assert Path(tmp_path).is_dir()
 
 

@@ -92,7 +92,7 @@ def group_components(envelope, ground_kind: str, in_situ=()) -> dict[str, dict]:
     out = {g: {"label": GROUP_LABELS[g], "components": [c for c in comps if c not in measured]}
            for g, comps in GROUPS.items() if g != "k_floor"}  # fmt: skip
     if measured & set(GROUPS["k_env"]):
-        out["k_env"]["label"] = " + ".join(COMPONENT_WORDS[c] for c in out["k_env"]["components"])
+        out["k_env"]["label"] = _unmeasured_words(envelope, measured)
     for g, c in IN_SITU_GROUPS.items():
         if c in measured:
             out[g] = {"label": GROUP_LABELS[g], "components": [c],
@@ -147,15 +147,20 @@ def correction_groups(model) -> list[str]:
     return out
 
 
+def _unmeasured_words(envelope, measured) -> str:
+    """The building's components of ``k_env`` not measured in situ, in words."""
+    return " + ".join(
+        COMPONENT_WORDS[c] for c in GROUPS["k_env"]
+        if c not in measured and getattr(envelope, _COMPONENT_PRESENT[c]) > 0
+    )  # fmt: skip
+
+
 def group_label(group: str, model) -> str:
     """What a factor scales, in words (``k_env`` names only its unmeasured components when
     some have factors of their own)."""
     measured = set(getattr(model, "in_situ", {}) or {})
     if group == "k_env" and measured & set(GROUPS["k_env"]):
-        env = model.envelope
-        rest = [COMPONENT_WORDS[c] for c in GROUPS["k_env"]
-                if c not in measured and getattr(env, _COMPONENT_PRESENT[c]) > 0]  # fmt: skip
-        return " + ".join(rest)
+        return _unmeasured_words(model.envelope, measured)
     if group == "k_floor" and "cellar_ceiling" in measured:
         return "floor (in situ)"
     return GROUP_LABELS[group]

@@ -573,6 +573,12 @@ def _calibration(rep, analysis: RetrofitAnalysis, results: dict, tables: dict) -
             "2012). A group is separated by the data when they narrow its prior standard "
             "deviation by at least 30 %; otherwise its share follows the prior and only the "
             "total heat loss coefficient is measured."
+            + (
+                " A component measured in situ has a factor of its own, its prior the "
+                "measurement (above)."
+                if corr.get("measured_in_situ")
+                else ""
+            )
         )
         rep.table(
             pd.DataFrame(

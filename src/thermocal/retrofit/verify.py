@@ -207,6 +207,13 @@ def parse_verify_config(
                 f"configuration {source}: {key!r} does not apply to a verification (the periods "
                 "are verify.pre_* / verify.post_*, the strategy is verify.prediction)"
             )
+    if data.get("in_situ"):
+        raise ThermocalInputError(
+            f"configuration {source}: 'in_situ' does not apply to a verification: in-situ "
+            "U-values inform the prediction (thermocal retrofit), while the verification "
+            "measures the saving from the heat before and after the retrofit, when the measured "
+            "construction has changed; remove the in_situ section here"
+        )
     cfg = parse_config(data, base_dir=base_dir, source=source)
     try:
         sec = VerifySection.model_validate(section)

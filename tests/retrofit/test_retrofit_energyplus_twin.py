@@ -215,20 +215,16 @@ def test_twin_with_an_in_situ_wall_u_value(tmp_path):
     # the rest of the envelope group, named by what the house has (no roof: an attic)
     assert corr["groups"]["k_env"]["label"] == "ceiling under the attic + walls to unheated spaces"
     assert corr["groups"]["k_walls"]["components"] == ["walls"]
-    saving = _reference()["saving_pct"]
-    rows = run["scenarios"][1:]
-    diff = np.array([s["saving_pct"] - saving[_key(s["measures"])] for s in rows])
-    covered = sum(
-        s["saving_pct_p05"] <= saving[_key(s["measures"])] <= s["saving_pct_p95"] for s in rows
-    )
-    half = np.median([0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]) for s in rows])
-    walls = next(s for s in rows if s["measures"] == ["walls"])
-    assert abs(walls["saving_pct"] - saving["walls"]) < 3.0  # -1.9 pp (-5.8 without)
-    assert np.abs(diff).mean() < 5.0  # 4.68 pp (5.77 without)
-    assert np.abs(diff).max() < 9.5  # 9.0 pp (10.9 without)
-    assert (np.abs(diff) <= 3.0).sum() >= 5  # 5 (4 without)
-    assert covered >= 14  # 14 (13 without)
-    assert half < 9.5  # 8.8 pp (12.6 without)
+    from thermocal.retrofit.track_record import measured_check
+
+    got = measured_check(run, _reference(), MEASURES)
+    walls = next(s for s in run["scenarios"] if s["measures"] == ["walls"])
+    assert abs(walls["saving_pct"] - _reference()["saving_pct"]["walls"]) < 3.0  # -1.9 pp
+    assert got["savings_mean_abs_pp"] < 5.0  # 4.68 pp (5.77 without)
+    assert got["savings_max_abs_pp"] < 9.5  # 9.0 pp (10.9 without)
+    assert got["within_3pp"] >= 5  # 5 (4 without)
+    assert got["covered"] >= 14  # 14 (13 without)
+    assert got["median_half_width_pp"] < 9.5  # 8.8 pp (12.6 without)
 
 
 def test_twin_slab_saving_thermocal_vs_kiva(twin):

@@ -581,7 +581,6 @@ def heat_flux_study(
     objs = source_objects(Path(source))
     weather, work = Path(weather), Path(work)
     work.mkdir(parents=True, exist_ok=True)
-    rng = np.random.default_rng(98692)
     steady = house1.steady_weather(weather, work / "steady.epw")
     outputs = house1.wall_outputs(PLATE_SURFACE)
     jobs = {
@@ -591,28 +590,8 @@ def heat_flux_study(
     with ThreadPoolExecutor(2) as pool:
         futures = {k: pool.submit(house1._run, idf, w, work / k) for k, (idf, w) in jobs.items()}
         res = {k: f.result() for k, f in futures.items()}
-    log, (q_st, ti_st, te_st) = house1.plate_log(res, PLATE_SURFACE.upper(), LIVING.upper(), rng)
-    log.round(3).to_csv(HERE / "heat_flux_north_wall.csv", index=False)
-    truth = {
-        "what": "the north wall's air-to-air U-value in EnergyPlus 25.2 at steady state: its "
-        "inside-face conduction over the room-to-outdoor air difference, the last week of a "
-        "year at constant 0 C outside (3 m/s wind, no sun), no gains",
-        "u_value_W_per_m2K": q_st / (ti_st - te_st),
-        "steady_state_run": {"q_W_m2": q_st, "Ti_C": ti_st, "Te_C": te_st},
-        "nominal_u_value_W_per_m2K": nominal_u_values(objs)["wall"],
-        "log": {
-            "file": "heat_flux_north_wall.csv",
-            "surface": PLATE_SURFACE,
-            "period": list(house1.HEAT_FLUX_PERIOD),
-            "plate_bias": house1.HEAT_FLUX_PLATE_BIAS,
-            "plate_noise_rel": 0.02,
-            "temperature_noise_K": 0.1,
-            "seed": 98692,
-        },
-        "energyplus": "25.2",
-    }
-    (HERE / "heat_flux_reference.json").write_text(json.dumps(truth, indent=1) + "\n")
-    return truth
+    wall_u = nominal_u_values(objs)["wall"]
+    return house1.plate_study(res, PLATE_SURFACE, LIVING, 98692, wall_u, HERE)
 
 
 if __name__ == "__main__":

@@ -834,41 +834,74 @@ def wall_outputs(surface: str) -> str:
 WALL_OUTPUTS = wall_outputs("Living:North")
 
 
-def plate_log(res: dict, surface: str, zone: str, rng, period=HEAT_FLUX_PERIOD):
-    """The plate's log from the measurement run and the steady state's flux and temperatures.
+def plate_study(res: dict, surface: str, zone: str, seed: int, nominal_u: float, out: Path):
+    """A heat-flux plate's log and the truth it estimates, written into ``out``.
 
     Parameters
     ----------
     res : dict
-        ``"measurements"`` and ``"steady"`` runs (``_run``) with ``WALL_OUTPUTS`` for
-        ``surface`` (EnergyPlus's upper-case name).
+        ``"measurements"`` and ``"steady"`` runs (``_run``) with :func:`wall_outputs` of
+        ``surface``.
+    surface : str
+        The wall the plate is on (EnergyPlus's name).
     zone : str
         The room's zone (its mean air temperature is the inside air).
+    seed : int
+        Of the noise.
+    nominal_u : float
+        The wall's described U-value [W/(m2 K)].
+    out : Path
+        Folder of ``heat_flux_north_wall.csv`` (time, q_W_m2 outward x HEAT_FLUX_PLATE_BIAS x
+        (1 + N(0, 0.02)), Ti and Te + N(0, 0.1 K), the first two weeks of the measurements) and
+        ``heat_flux_reference.json`` (the wall's air-to-air U in EnergyPlus at steady state: its
+        inside-face conduction over the room-to-outdoor air difference in the steady run's
+        last week).
 
     Returns
     -------
-    log : DataFrame
-        time, q_W_m2 (outward, x HEAT_FLUX_PLATE_BIAS x (1 + N(0, 0.02))), Ti, Te (+ N(0, 0.1)).
-    steady : tuple
-        Mean outward flux [W/m2], inside and outside air [C] of the steady run's last week.
+    dict
+        The reference written.
     """
-    df = res["measurements"].loc[period[0] : period[1]]
+    rng = np.random.default_rng(seed)
+    df = res["measurements"].loc[HEAT_FLUX_PERIOD[0] : HEAT_FLUX_PERIOD[1]]
     n = len(df)
+    flux = f"{surface.upper()}:Surface Inside Face Conduction Heat Transfer Rate per Area"
+    air = f"{zone.upper()}:Zone Mean Air"
     # EnergyPlus's inside-face conduction is positive into the zone: the loss is its negative
-    q = -_col(df, f"{surface}:Surface Inside Face Conduction Heat Transfer Rate per Area")
     log = pd.DataFrame(
         {
             "time": df.index.strftime("%Y-%m-%d %H:%M"),
-            "q_W_m2": q.to_numpy() * HEAT_FLUX_PLATE_BIAS * (1 + rng.normal(0, 0.02, n)),
-            "Ti": _col(df, f"{zone}:Zone Mean Air").to_numpy() + rng.normal(0, 0.1, n),
+            "q_W_m2": -_col(df, flux).to_numpy() * HEAT_FLUX_PLATE_BIAS
+            * (1 + rng.normal(0, 0.02, n)),
+            "Ti": _col(df, air).to_numpy() + rng.normal(0, 0.1, n),
             "Te": _col(df, "Site Outdoor Air Drybulb").to_numpy() + rng.normal(0, 0.1, n),
         }
-    )
+    )  # fmt: skip
+    log.round(3).to_csv(out / "heat_flux_north_wall.csv", index=False)
     st = res["steady"].iloc[-24 * 7 :]
-    q_st = float(-_col(st, f"{surface}:Surface Inside Face Conduction Heat Transfer Rate per "
-                       "Area").mean())  # fmt: skip
-    return log, (q_st, float(_col(st, f"{zone}:Zone Mean Air").mean()),
-                 float(_col(st, "Site Outdoor Air Drybulb").mean()))  # fmt: skip
+    q_st = float(-_col(st, flux).mean())
+    ti_st = float(_col(st, air).mean())
+    te_st = float(_col(st, "Site Outdoor Air Drybulb").mean())
+    truth = {
+        "what": "the north wall's air-to-air U-value in EnergyPlus 25.2 at steady state: its "
+        "inside-face conduction over the room-to-outdoor air difference, the last week of a "
+        "year at constant 0 C outside (3 m/s wind, no sun), no gains",
+        "u_value_W_per_m2K": q_st / (ti_st - te_st),
+        "steady_state_run": {"q_W_m2": q_st, "Ti_C": ti_st, "Te_C": te_st},
+        "nominal_u_value_W_per_m2K": nominal_u,
+        "log": {
+            "file": "heat_flux_north_wall.csv",
+            "surface": surface,
+            "period": list(HEAT_FLUX_PERIOD),
+            "plate_bias": HEAT_FLUX_PLATE_BIAS,
+            "plate_noise_rel": 0.02,
+            "temperature_noise_K": 0.1,
+            "seed": seed,
+        },
+        "energyplus": "25.2",
+    }
+    (out / "heat_flux_reference.json").write_text(json.dumps(truth, indent=1) + "\n")
+    return truth
 
 
 def heat_flux_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_hfm") -> dict:
@@ -883,7 +916,6 @@ def heat_flux_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_hf
     """
     weather = Path(weather)
     work = Path(work)
-    rng = np.random.default_rng(98691)
     work.mkdir(parents=True, exist_ok=True)
     steady = steady_weather(weather, work / "steady.epw")
     jobs = {
@@ -893,28 +925,7 @@ def heat_flux_study(weather: str, work: str = "/tmp/retrofit_energyplus_house_hf
     with ThreadPoolExecutor(2) as pool:
         futures = {k: pool.submit(_run, idf, w, work / k) for k, (idf, w) in jobs.items()}
         res = {k: f.result() for k, f in futures.items()}
-    log, u_steady = plate_log(res, "LIVING:NORTH", "LIVING ZONE", rng)
-    log.round(3).to_csv(HERE / "heat_flux_north_wall.csv", index=False)
-    q_st, ti_st, te_st = u_steady
-    truth = {
-        "what": "the north wall's air-to-air U-value in EnergyPlus 25.2 at steady state: its "
-        "inside-face conduction over the room-to-outdoor air difference, the last week of a "
-        "year at constant 0 C outside (3 m/s wind, no sun), no gains, 20 C inside",
-        "u_value_W_per_m2K": q_st / (ti_st - te_st),
-        "steady_state_run": {"q_W_m2": q_st, "Ti_C": ti_st, "Te_C": te_st},
-        "nominal_u_value_W_per_m2K": U_WALL,
-        "log": {
-            "file": "heat_flux_north_wall.csv",
-            "period": list(HEAT_FLUX_PERIOD),
-            "plate_bias": HEAT_FLUX_PLATE_BIAS,
-            "plate_noise_rel": 0.02,
-            "temperature_noise_K": 0.1,
-            "seed": 98691,
-        },
-        "energyplus": "25.2",
-    }
-    (HERE / "heat_flux_reference.json").write_text(json.dumps(truth, indent=1) + "\n")
-    return truth
+    return plate_study(res, "Living:North", "LIVING ZONE", 98691, U_WALL, HERE)
 
 
 if __name__ == "__main__":

@@ -101,6 +101,25 @@ class InSituUValue:
     uncertainty: dict = field(default_factory=dict)
     conductance: float = float("nan")
     notes: list = field(default_factory=list)
+    flow: str = "horizontal"
+
+    @property
+    def resistance(self) -> float:
+        """The element's surface-to-surface thermal resistance [m2 K/W]: ``1 / Lambda`` when
+        surface temperatures were measured, else ``1 / U`` less ISO 6946's surface
+        resistances."""
+        if np.isfinite(self.conductance):
+            return 1.0 / self.conductance
+        r_si, r_se = SURFACE_RESISTANCES[self.flow]
+        return 1.0 / self.u_value - r_si - r_se
+
+    @property
+    def resistance_rel_std(self) -> float:
+        """Relative standard uncertainty of :attr:`resistance` [-] (a relative error of U
+        moves ``1 / U`` alike, and ``R`` by ``1 / (U R)`` of it)."""
+        if np.isfinite(self.conductance):
+            return self.rel_std * self.conductance / self.u_value
+        return self.rel_std / (self.u_value * self.resistance)
 
     @property
     def converged(self) -> bool:
@@ -128,6 +147,8 @@ class InSituUValue:
             "mean_difference_K": None if np.isnan(self.mean_difference_K) else
             self.mean_difference_K,
             "conductance_W_per_m2K": None if np.isnan(self.conductance) else self.conductance,
+            "resistance_m2K_per_W": self.resistance,
+            "resistance_rel_std": self.resistance_rel_std,
             "converged": self.converged,
             "checks": self.checks,
             "uncertainty": self.uncertainty,
@@ -296,4 +317,5 @@ def average_method(
         uncertainty=parts,
         conductance=conductance,
         notes=notes,
+        flow=flow,
     )

@@ -29,6 +29,7 @@ from pydantic import (
 )
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io.heat_flux_log import InSituConfig
 from thermocal.retrofit.strategies import (
     DEFAULT_COST_PER_M2,
     MEASURE_COMPONENTS,
@@ -449,68 +450,6 @@ IN_SITU_COMPONENTS: dict[str, tuple[str, str]] = {
     "wall_to_unheated": ("horizontal", "wall_to_unheated"),
     "cellar_ceiling": ("downward", "cellar_ceiling"),
 }
-
-
-class InSituConfig(_Strict):
-    """An in-situ U-value of one envelope component: a heat-flux meter's log analysed by the
-    average method of ISO 9869-1 (:mod:`thermocal.physics.heat_flux`), or a value with its
-    uncertainty from a survey (``u_value`` and ``rel_std``).
-
-    The measured value replaces the calculated one's prior in the calibration: the component
-    gets its own correction factor centred on measured / described U with the measurement's
-    uncertainty.
-    """
-
-    file: Path | None = Field(None, description="heat-flux meter log (CSV or parquet)")
-    time_column: str = "time"
-    columns: dict[str, str] = Field(
-        default_factory=lambda: {"heat_flux": "q", "temp_in": "Ti", "temp_out": "Te"},
-        description="heat_flux [W/m2], temp_in and temp_out [temperature_unit] -> file column",
-    )
-    timezone: str | float | None = Field(
-        None, description="of time stamps without offset (default: the measurements')"
-    )
-    temperature_unit: Literal["C", "K", "F"] = "C"
-    temperatures: Literal["air", "surface"] = Field(
-        "air", description="air: the room's and outdoor air (U); surface: the element's faces"
-    )
-    heat_flux_sign: Literal["outward", "inward"] = Field(
-        "outward", description="the direction the plate reports as positive"
-    )
-    plate_rel_std: float = Field(
-        0.05, ge=0, le=0.5, description="plate calibration and flow disturbance [-]"
-    )
-    temperature_std: float = Field(0.1, ge=0, le=2.0, description="per sensor [K]")
-    spot_rel_std: float = Field(
-        0.05, ge=0, le=0.5, description="how well the spot stands for the element [-]"
-    )
-    areal_heat_capacity: float | None = Field(
-        None, gt=0, le=2000, description="of the element, for ISO 9869-1's criterion d "
-        "[kJ/(m2 K)]",
-    )  # fmt: skip
-    component: str | None = Field(
-        None, description="name of the building-file component the plate was on (needed when "
-        "the type's components differ in U-value)",
-    )  # fmt: skip
-    u_value: float | None = Field(None, gt=0, le=6.0, description="a given value [W/(m2 K)]")
-    rel_std: float | None = Field(
-        None, gt=0, le=1.0, description="relative standard uncertainty of u_value [-]"
-    )
-
-    @model_validator(mode="after")
-    def _one_source(self) -> InSituConfig:
-        if (self.file is None) == (self.u_value is None):
-            raise ValueError(
-                "give either file (a heat-flux meter log, analysed by ISO 9869-1's average "
-                "method) or u_value with rel_std (a measured value and its uncertainty)"
-            )
-        if self.u_value is not None and self.rel_std is None:
-            raise ValueError(f"u_value {self.u_value:g}: give its rel_std too (e.g. 0.1)")
-        missing = {"heat_flux", "temp_in", "temp_out"} - set(self.columns)
-        if self.file is not None and missing:
-            raise ValueError(f"columns: map {sorted(missing)} to the log's column names")
-        return self
-
 
 class InternalGainsConfig(_Strict):
     """Internal gains (occupants, appliances, lighting) into the heated air [W].

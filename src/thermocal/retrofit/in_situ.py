@@ -14,18 +14,15 @@ measurement's relative standard uncertainty ``r``; the other components keep the
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
-from thermocal.physics.heat_flux import InSituUValue, average_method
+from thermocal.io.heat_flux_log import measure_in_situ_value
+from thermocal.physics.heat_flux import InSituUValue
 
 __all__ = ["InSituMeasurement", "in_situ_priors", "measure_in_situ"]
-
-log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -105,48 +102,6 @@ def _described_u(building, component: str, spec) -> float:
     return float(of_kind[0].u_value)
 
 
-def _read_log(spec, component: str, default_tz):
-    """The log's time stamps, outward heat flux [W/m2] and temperatures [C]."""
-    from thermocal.io.measurements import read_measurements
-    from thermocal.retrofit.data import _timezone
-
-    path = Path(spec.file)
-    where = f"in_situ.{component}"
-    if not path.is_file():
-        raise ThermocalInputError(f"heat-flux log {path} not found ({where}.file)")
-    names = {col: std for std, col in spec.columns.items()}
-    units = {
-        spec.columns["heat_flux"]: "W/m2",
-        spec.columns["temp_in"]: spec.temperature_unit,
-        spec.columns["temp_out"]: spec.temperature_unit,
-    }
-    try:
-        raw, _ = read_measurements(
-            path, layout="wide", time_column=spec.time_column, sensors=names, units=units,
-            tz=_timezone(spec.timezone) or _timezone(default_tz), rows="interval_start",
-            unknown_sensors="ignore",
-        )  # fmt: skip
-    except ThermocalInputError as exc:
-        text = str(exc)
-        if "look like Kelvin" in text or "look like Fahrenheit" in text:
-            text += f" (here: {where}.temperature_unit)"
-        raise ThermocalInputError(f"{where}: {text}") from None
-    q = raw["heat_flux"].to_numpy(float)
-    if spec.heat_flux_sign == "inward":
-        q = -q
-    ti, te = raw["temp_in"].to_numpy(float), raw["temp_out"].to_numpy(float)
-    for std, values in (("temp_in", ti), ("temp_out", te)):
-        high = np.nanmax(values) if np.isfinite(values).any() else np.nan
-        if np.isfinite(high) and high > 60.0:
-            guess = "Kelvin" if high > 250.0 else "Fahrenheit"
-            raise ThermocalInputError(
-                f"heat-flux log {path}: column {spec.columns[std]!r} ({where}.columns.{std}) "
-                f"reaches {high:.1f} {spec.temperature_unit}; {guess}? Set "
-                f"{where}.temperature_unit"
-            )
-    return raw.index, q, ti, te
-
-
 def measure_in_situ(cfg, building, default_tz=None) -> dict[str, InSituMeasurement]:
     """Every configured in-situ U-value (``cfg.in_situ``), checked.
 
@@ -174,36 +129,13 @@ def measure_in_situ(cfg, building, default_tz=None) -> dict[str, InSituMeasureme
     for component, spec in cfg.in_situ.items():
         where = f"in_situ.{component}"
         described = _described_u(building, component, spec)
-        if spec.file is None:
-            result = InSituUValue(u_value=float(spec.u_value), rel_std=float(spec.rel_std))
-            out[component] = InSituMeasurement(component, described, result, "given")
-            continue
-        times, q, ti, te = _read_log(spec, component, default_tz)
-        mean_q = float(np.nanmean(q))
-        if mean_q < 0 and float(np.nanmean(ti - te)) > 0:
+        if spec.resistance is not None:
             raise ThermocalInputError(
-                f"heat-flux log {spec.file}: the heat flux is {mean_q:.1f} W/m2 on average "
-                "(inwards) while the inside is warmer: the plate reports the other direction; "
-                f"set {where}.heat_flux_sign: inward"
+                f"{where}: give the component's U-value (u_value, air to air) rather than its "
+                "resistance: the building file describes U-values"
             )
-        try:
-            result = average_method(
-                times, q, ti, te, temperatures=spec.temperatures,
-                flow=IN_SITU_COMPONENTS[component][0], plate_rel_std=spec.plate_rel_std,
-                temperature_std_K=spec.temperature_std, spot_rel_std=spec.spot_rel_std,
-                areal_heat_capacity=None if spec.areal_heat_capacity is None
-                else 1e3 * spec.areal_heat_capacity,
-            )  # fmt: skip
-        except ValueError as exc:
-            raise ThermocalInputError(f"heat-flux log {spec.file} ({where}): {exc}") from None
-        if not result.converged:
-            raise ThermocalInputError(
-                f"heat-flux log {spec.file} ({where}): the average method of ISO 9869-1 has not "
-                f"converged ({'; '.join(result.failed())}): log longer (whole days of winter), "
-                f"or give {where}.u_value with a rel_std that covers the spread"
-            )
-        for note in result.notes:
-            log.info("%s: %s", where, note)
-        source = f"{Path(spec.file).name}: ISO 9869-1 average method, {result.days} days"
+        result, source = measure_in_situ_value(
+            spec, where, flow=IN_SITU_COMPONENTS[component][0], default_tz=default_tz
+        )
         out[component] = InSituMeasurement(component, described, result, source)
     return out

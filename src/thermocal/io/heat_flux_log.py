@@ -1,0 +1,232 @@
+"""Heat-flux meter logs: their configuration and their reduction to an in-situ U-value or
+thermal resistance (ISO 9869-1's average method, :mod:`thermocal.physics.heat_flux`).
+
+One configuration entry (:class:`InSituConfig`, the ``in_situ:`` sections of ``thermocal
+retrofit`` and ``thermocal calibrate``) is either a logged measurement (a CSV or parquet file
+with the heat flux through the element and the temperatures on both sides) or a value a survey
+reported with its relative standard uncertainty. :func:`measure_in_situ_value` reads and reduces
+it, and refuses a log the standard's convergence criteria reject with what to do.
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from thermocal.errors import ThermocalInputError
+from thermocal.physics.heat_flux import InSituUValue, average_method
+
+__all__ = ["InSituConfig", "measure_in_situ_value", "read_heat_flux_log"]
+
+log = logging.getLogger(__name__)
+
+
+class InSituConfig(BaseModel):
+    """An in-situ measurement of one element: a heat-flux meter's log analysed by the average
+    method of ISO 9869-1, or a value with its uncertainty from a survey (``u_value`` or
+    ``resistance``, with ``rel_std``)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    file: Path | None = Field(None, description="heat-flux meter log (CSV or parquet)")
+    time_column: str = "time"
+    columns: dict[str, str] = Field(
+        default_factory=lambda: {"heat_flux": "q", "temp_in": "Ti", "temp_out": "Te"},
+        description="heat_flux [W/m2], temp_in and temp_out [temperature_unit] -> file column",
+    )
+    timezone: str | float | None = Field(
+        None, description="of time stamps without offset (default: the building's)"
+    )
+    temperature_unit: Literal["C", "K", "F"] = "C"
+    temperatures: Literal["air", "surface"] = Field(
+        "air", description="air: the room's and outdoor air (U); surface: the element's faces"
+    )
+    heat_flux_sign: Literal["outward", "inward"] = Field(
+        "outward", description="the direction the plate reports as positive"
+    )
+    plate_rel_std: float = Field(
+        0.05, ge=0, le=0.5, description="plate calibration and flow disturbance [-]"
+    )
+    temperature_std: float = Field(0.1, ge=0, le=2.0, description="per sensor [K]")
+    spot_rel_std: float = Field(
+        0.05, ge=0, le=0.5, description="how well the spot stands for the element [-]"
+    )
+    areal_heat_capacity: float | None = Field(
+        None, gt=0, le=2000, description="of the element, for ISO 9869-1's criterion d "
+        "[kJ/(m2 K)]",
+    )  # fmt: skip
+    component: str | None = Field(
+        None, description="name of the building-file component the plate was on (needed when "
+        "the type's components differ in U-value)",
+    )  # fmt: skip
+    u_value: float | None = Field(None, gt=0, le=6.0, description="a given value [W/(m2 K)]")
+    resistance: float | None = Field(
+        None, gt=0, le=50.0, description="a given surface-to-surface resistance [m2 K/W]"
+    )
+    rel_std: float | None = Field(
+        None, gt=0, le=1.0, description="relative standard uncertainty of the given value [-]"
+    )
+
+    @model_validator(mode="after")
+    def _one_source(self) -> InSituConfig:
+        given = [k for k in ("u_value", "resistance") if getattr(self, k) is not None]
+        if len(given) > 1:
+            raise ValueError("give u_value or resistance, not both")
+        if (self.file is None) == (not given):
+            raise ValueError(
+                "give either file (a heat-flux meter log, analysed by ISO 9869-1's average "
+                "method) or u_value with rel_std (a measured value and its uncertainty)"
+            )
+        if given and self.rel_std is None:
+            value = getattr(self, given[0])
+            raise ValueError(f"{given[0]} {value:g}: give its rel_std too (e.g. 0.1)")
+        missing = {"heat_flux", "temp_in", "temp_out"} - set(self.columns)
+        if self.file is not None and missing:
+            raise ValueError(f"columns: map {sorted(missing)} to the log's column names")
+        return self
+
+
+def _timezone(tz):
+    """A time zone for :func:`read_measurements`: a name, or a fixed offset [h] as float."""
+    if tz is None:
+        return None
+    return float(tz) if isinstance(tz, int | float) else tz
+
+
+def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
+    """A heat-flux meter's log: time stamps, outward heat flux and temperatures.
+
+    Parameters
+    ----------
+    spec : InSituConfig
+        With ``file``.
+    where : str
+        The configuration key, for messages (e.g. ``in_situ.walls``).
+    default_tz : str or float, optional
+        Time zone of time stamps without offset when ``spec`` gives none.
+
+    Returns
+    -------
+    times : DatetimeIndex
+    heat_flux : ndarray [W/m2]
+        Positive from inside to outside.
+    temp_in, temp_out : ndarray [C]
+
+    Raises
+    ------
+    ThermocalInputError
+        The file missing or unreadable (the reader's message, with the key), temperatures that
+        look like Kelvin or Fahrenheit.
+    """
+    from thermocal.io.measurements import read_measurements
+
+    path = Path(spec.file)
+    if not path.is_file():
+        raise ThermocalInputError(f"heat-flux log {path} not found ({where}.file)")
+    names = {col: std for std, col in spec.columns.items()}
+    units = {
+        spec.columns["heat_flux"]: "W/m2",
+        spec.columns["temp_in"]: spec.temperature_unit,
+        spec.columns["temp_out"]: spec.temperature_unit,
+    }
+    try:
+        raw, _ = read_measurements(
+            path, layout="wide", time_column=spec.time_column, sensors=names, units=units,
+            tz=_timezone(spec.timezone) or _timezone(default_tz), rows="interval_start",
+            unknown_sensors="ignore",
+        )  # fmt: skip
+    except ThermocalInputError as exc:
+        text = str(exc)
+        if "look like Kelvin" in text or "look like Fahrenheit" in text:
+            text += f" (here: {where}.temperature_unit)"
+        raise ThermocalInputError(f"{where}: {text}") from None
+    q = raw["heat_flux"].to_numpy(float)
+    if spec.heat_flux_sign == "inward":
+        q = -q
+    ti, te = raw["temp_in"].to_numpy(float), raw["temp_out"].to_numpy(float)
+    for std, values in (("temp_in", ti), ("temp_out", te)):
+        high = np.nanmax(values) if np.isfinite(values).any() else np.nan
+        if np.isfinite(high) and high > 60.0:
+            guess = "Kelvin" if high > 250.0 else "Fahrenheit"
+            raise ThermocalInputError(
+                f"heat-flux log {path}: column {spec.columns[std]!r} ({where}.columns.{std}) "
+                f"reaches {high:.1f} {spec.temperature_unit}; {guess}? Set "
+                f"{where}.temperature_unit"
+            )
+    return raw.index, q, ti, te
+
+
+def measure_in_situ_value(
+    spec: InSituConfig, where: str, *, flow: str = "horizontal", default_tz=None
+) -> tuple[InSituUValue, str]:
+    """An entry's in-situ value: the log reduced by ISO 9869-1's average method, or the given
+    value.
+
+    Parameters
+    ----------
+    spec : InSituConfig
+    where : str
+        The configuration key, for messages.
+    flow : {"horizontal", "upward", "downward"}
+        The heat flow's direction through the element (ISO 6946's surface resistances).
+    default_tz : str or float, optional
+        Time zone of log time stamps without offset.
+
+    Returns
+    -------
+    InSituUValue
+        A given ``resistance`` is returned as its conductance (``1 / R``) with ``u_value`` from
+        ISO 6946's surface resistances; a given ``u_value`` as is.
+    str
+        Where the value comes from (the log and method, or "given").
+
+    Raises
+    ------
+    ThermocalInputError
+        The log's errors (:func:`read_heat_flux_log`), a heat flux whose mean points inwards
+        while the inside is warmer (the plate's sign), a log that fails ISO 9869-1's criteria.
+    """
+    from thermocal.physics.heat_flux import SURFACE_RESISTANCES
+
+    if spec.file is None:
+        if spec.resistance is not None:
+            r_si, r_se = SURFACE_RESISTANCES[flow]
+            u = 1.0 / (r_si + spec.resistance + r_se)
+            result = InSituUValue(
+                u_value=u, rel_std=float(spec.rel_std) * u * spec.resistance,
+                conductance=1.0 / spec.resistance, flow=flow,
+            )  # fmt: skip
+            return result, "given"
+        result = InSituUValue(u_value=float(spec.u_value), rel_std=float(spec.rel_std), flow=flow)
+        return result, "given"
+    times, q, ti, te = read_heat_flux_log(spec, where, default_tz)
+    mean_q = float(np.nanmean(q))
+    if mean_q < 0 and float(np.nanmean(ti - te)) > 0:
+        raise ThermocalInputError(
+            f"heat-flux log {spec.file}: the heat flux is {mean_q:.1f} W/m2 on average "
+            "(inwards) while the inside is warmer: the plate reports the other direction; "
+            f"set {where}.heat_flux_sign: inward"
+        )
+    try:
+        result = average_method(
+            times, q, ti, te, temperatures=spec.temperatures, flow=flow,
+            plate_rel_std=spec.plate_rel_std, temperature_std_K=spec.temperature_std,
+            spot_rel_std=spec.spot_rel_std,
+            areal_heat_capacity=None if spec.areal_heat_capacity is None
+            else 1e3 * spec.areal_heat_capacity,
+        )  # fmt: skip
+    except ValueError as exc:
+        raise ThermocalInputError(f"heat-flux log {spec.file} ({where}): {exc}") from None
+    if not result.converged:
+        raise ThermocalInputError(
+            f"heat-flux log {spec.file} ({where}): the average method of ISO 9869-1 has not "
+            f"converged ({'; '.join(result.failed())}): log longer (whole days of winter), "
+            f"or give the value with a rel_std that covers the spread"
+        )
+    for note in result.notes:
+        log.info("%s: %s", where, note)
+    return result, f"{Path(spec.file).name}: ISO 9869-1 average method, {result.days} days"

@@ -108,3 +108,42 @@ def test_not_a_mapping_and_missing_file(folder):
         load_campaign(folder / "nope.yaml")
     with pytest.raises(ThermocalInputError, match="not valid YAML"):
         load_campaign(_write(folder, "building: [unclosed\n"))
+
+
+@pytest.mark.parametrize(
+    ("entry", "expected"),
+    [
+        (
+            "  material/IN46/conductivity: {resistance: 5.0, rel_std: 0.1}",
+            "name it construction/<name>/resistance",
+        ),
+        (
+            "  construction/ROOF-1/resistance: {u_value: 0.18, rel_std: 0.1}",
+            "give flow: horizontal",
+        ),
+        (
+            "  construction/ROOF-1/resistance: {file: plate.csv, temperatures: surface}",
+            "in_situ.construction/ROOF-1/resistance.file': file .*plate.csv not found",
+        ),
+        (
+            "  construction/ROOF-1/resistance: {resistance: 5.0}",
+            "give its rel_std too",
+        ),
+    ],
+)
+def test_in_situ_entries_are_checked(folder, entry, expected):
+    """An in-situ measurement names a construction's resistance, says how to get the
+    resistance from a U-value, and points at a file that exists."""
+    (folder / "c.yaml").write_text(GOOD + "in_situ:\n" + entry + "\n")
+    with pytest.raises(ThermocalInputError, match=expected):
+        load_campaign(folder / "c.yaml")
+
+
+def test_in_situ_entry_resolved_against_the_campaign_file(folder):
+    (folder / "plate.csv").write_text("time,q,Tsi,Tse\n")
+    (folder / "c.yaml").write_text(
+        GOOD + "in_situ:\n  construction/ROOF-1/resistance: {file: plate.csv, "
+        "temperatures: surface}\n"
+    )
+    campaign = load_campaign(folder / "c.yaml")
+    assert campaign.in_situ["construction/ROOF-1/resistance"].file == folder / "plate.csv"

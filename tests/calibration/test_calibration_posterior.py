@@ -155,3 +155,76 @@ def test_model_discrepancy_along_a_signature_is_covered_only_with_the_term():
     )
     assert not plain and with_term
     assert width < 1.0  # still informative: narrower than the truth itself
+
+
+def test_an_in_situ_measurement_multiplies_the_posterior_as_the_analytic_gaussian():
+    """A measured parameter's log-normal prior (``measured=``) against the hand-computed
+    Gaussian: the data's precision plus the measurement's, the means weighted by them."""
+    import emcee
+
+    rng = np.random.default_rng(7)
+    n, d = 400, 2
+    names = ["construction/Roof/resistance", "construction/Wall/resistance"]
+    nominal = np.array([3.0, 2.0])
+    J = rng.normal(0.0, 100.0, (n, d))
+    intercept = -(J - J.mean(0)) @ np.array([0.3, -0.2]) + rng.normal(0.0, 300.0, n)
+    surrogate = _series_model(J, intercept, names, nominal)
+    lower, upper = nominal * np.exp(-3.0), nominal * np.exp(3.0)
+    value, rel = 3.0 * np.exp(0.1), 0.08
+    post = calibration_posterior(
+        surrogate, names, lower, upper, steps=3000, seed=3, measured={names[0]: (value, rel)}
+    )
+    Jc, oc = J - J.mean(0), intercept - intercept.mean()
+    z_ls, *_ = np.linalg.lstsq(Jc, -oc, rcond=None)
+    r = oc + Jc @ z_ls
+    var = r @ r / (n - 1 - d)
+    rho = min(max(np.corrcoef(r[:-1], r[1:])[0, 1], 0.0), 0.99)
+    tau = max(emcee.autocorr.integrated_time(r, c=5, tol=0)[0], (1 + rho) / (1 - rho), 1.0)
+    data_precision = Jc.T @ Jc / var / tau
+    prior_precision = np.diag([1.0 / np.log1p(rel**2), 0.0])
+    prior_mean = np.array([np.log(value / 3.0), 0.0])
+    precision = data_precision + prior_precision
+    mean = np.linalg.solve(precision, data_precision @ z_ls + prior_precision @ prior_mean + 1.0)
+    std = np.sqrt(np.diag(np.linalg.inv(precision)))
+    z_draws = np.log(post.samples.to_numpy() / nominal)
+    assert np.allclose(z_draws.mean(0), mean, atol=0.15 * std)
+    assert np.allclose(z_draws.std(0), std, rtol=0.15)
+    # the measurement narrows the roof below what the data alone give
+    alone = np.sqrt(np.diag(np.linalg.inv(data_precision)))
+    assert std[0] < 0.8 * alone[0]
+    assert list(post.summary["measured"]) == [True, False]
+    assert "* with an in-situ measurement" in " ".join(post.sentences())
+
+
+def test_a_measured_element_breaks_a_compensation():
+    """Roof and wall with nearly the same signature: the data fix only their combination (both
+    undetermined); measuring the roof determines both, the wall through the data."""
+    rng = np.random.default_rng(11)
+    n = 300
+    base = rng.normal(0.0, 100.0, n)
+    J = np.column_stack([base, -base + rng.normal(0.0, 3.0, n)])
+    z_true = np.array([0.4, -0.3])
+    intercept = -(J - J.mean(0)) @ z_true + rng.normal(0.0, 300.0, n)
+    names = ["construction/Roof/resistance", "construction/Wall/resistance"]
+    nominal = np.array([3.0, 2.0])
+    surrogate = _series_model(J, intercept, names, nominal)
+    lower, upper = nominal * 0.3, nominal * 3.0
+    plain = calibration_posterior(surrogate, names, lower, upper, steps=1500, seed=0)
+    assert not plain.determined
+    measured = calibration_posterior(
+        surrogate, names, lower, upper, steps=1500, seed=0,
+        measured={names[0]: (3.0 * np.exp(0.4), 0.05)},
+    )  # fmt: skip
+    assert measured.determined == names
+    s = measured.summary
+    for name, z in zip(names, z_true, strict=True):
+        assert s.at[name, "q05"] <= s.at[name, "nominal"] * np.exp(z) <= s.at[name, "q95"]
+    with pytest.raises(Exception, match="not a parameter of the posterior"):
+        calibration_posterior(
+            surrogate,
+            names,
+            lower,
+            upper,
+            steps=100,
+            measured={"construction/X/resistance": (1.0, 0.1)},
+        )

@@ -13,7 +13,7 @@ it after a campaign and :func:`thermocal.calibration.workflow.reanalyse` on a st
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -330,7 +330,9 @@ def _calibration_stage(
                 "is not in the store)."
             )
         timings["refinement"] = time.perf_counter() - t1
-    source, value, values = _choose_calibrated(candidates, notes)
+    source, value, values = _choose_calibrated(
+        candidates, notes, prefer="posterior median" if campaign.in_situ else None
+    )
     return Stage(
         fitted, confirmed, heat, unconfirmed, posterior, series_model, movable, candidates,
         refinement, source, value, values,
@@ -806,10 +808,15 @@ def _refine(
     return refinement
 
 
-def _choose_calibrated(candidates: dict, notes: list) -> tuple[str, float, dict]:
+def _choose_calibrated(
+    candidates: dict, notes: list, prefer: str | None = None
+) -> tuple[str, float, dict]:
     """The best confirmed candidate: its name, metric [W^2] and parameters (noted when it is
-    the nominal building or a campaign sample)."""
+    the nominal building or a campaign sample); ``prefer``: that candidate when it exists (the
+    posterior's median with in-situ measurements, which the metric alone cannot weigh)."""
     source = min(candidates, key=lambda k: candidates[k][0])
+    if prefer in candidates:
+        source = prefer
     value, parameters = candidates[source]
     if source.startswith("nominal"):
         notes.append(
@@ -861,6 +868,7 @@ def _posterior_or_note(
             f"nominal values): the space has more than {POSTERIOR_MAX_PARAMETERS} parameters."
         )
     idx = [space.index(n) for n in names]
+    measured, details = _in_situ_values(campaign, space, names, notes)
     try:
         posterior = calibration_posterior(
             model,
@@ -873,11 +881,60 @@ def _posterior_or_note(
             seed=campaign.sampling.seed,
             emulator_error=emulator_variance(model, X, seed=campaign.sampling.seed),
             discrepancy=campaign.posterior.discrepancy,
+            measured=measured,
         )
     except (ThermocalInputError, np.linalg.LinAlgError, ValueError) as exc:
         notes.append(f"No posterior of the calibrated parameters: {exc}")
         return None, model
+    if details:
+        posterior = replace(posterior, in_situ=details)
     return posterior, model
+
+
+def _in_situ_values(campaign, space, names, notes) -> tuple[dict, dict]:
+    """The campaign's in-situ measurements (``in_situ:``) of the posterior's parameters.
+
+    Returns
+    -------
+    measured : dict
+        name -> (resistance [m2 K/W], relative standard uncertainty [-]), for
+        :func:`~thermocal.calibration.posterior.calibration_posterior`.
+    details : dict
+        name -> the measurement (JSON-ready) with its source.
+
+    Raises
+    ------
+    ThermocalInputError
+        A measured name that is not a parameter of the campaign, or a log that cannot be read
+        or has not converged (:func:`thermocal.io.heat_flux_log.measure_in_situ_value`).
+    """
+    from thermocal.io.heat_flux_log import measure_in_situ_value
+
+    measured, details = {}, {}
+    for name, spec in campaign.in_situ.items():
+        where = f"in_situ.{name}"
+        if name not in space.names:
+            raise ThermocalInputError(
+                f"campaign {where}: {name!r} is not a parameter of the campaign (its "
+                "resistances: "
+                + ", ".join(n for n in space.names if n.endswith("/resistance"))
+                + "); element-level parameters need parameters.level: element"
+            )
+        result, source = measure_in_situ_value(spec, where, flow=spec.flow or "horizontal")
+        if name not in names:
+            notes.append(
+                f"{name} was measured in situ but is not among the posterior's parameters "
+                "(the critical ones of a large space): the measurement is not used."
+            )
+            continue
+        measured[name] = (result.resistance, result.resistance_rel_std)
+        details[name] = {"source": source, **result.as_dict()}
+        notes.append(
+            f"{name} measured in situ: {result.resistance:.3g} m2 K/W +- "
+            f"{100 * result.resistance_rel_std:.0f} % ({source}); the posterior multiplies the "
+            "campaign's prior by it, and the calibrated building is the posterior's median."
+        )
+    return measured, details
 
 
 def _validate(campaign, calibrated_values: dict, runs, metric: str) -> dict | None:

@@ -49,6 +49,7 @@ from pydantic import (
 
 from thermocal.calibration.store import campaign_fingerprint
 from thermocal.errors import ThermocalInputError
+from thermocal.io.heat_flux_log import InSituConfig
 
 __all__ = [
     "CampaignFile",
@@ -253,6 +254,7 @@ class CampaignFile(_Strict):
     morris: MorrisSection | None = None
     validation: Period | None = None
     store: Path | None = None
+    in_situ: dict[str, InSituConfig] = Field(default_factory=dict)
 
     _path: Path | None = PrivateAttr(default=None)
     _text: str = PrivateAttr(default="")
@@ -457,6 +459,28 @@ def parse_campaign(
         updates["building"] = str(base / campaign.building)
     if updates:
         campaign = campaign.model_copy(update=updates)
+    for name, spec in campaign.in_situ.items():
+        if not name.startswith("construction/") or not name.endswith("/resistance"):
+            raise ThermocalInputError(
+                f"campaign file {source}, key 'in_situ.{name}': an in-situ measurement gives a "
+                "construction's thermal resistance; name it construction/<name>/resistance "
+                "(element-level parameters, parameters.level: element)"
+            )
+        if spec.u_value is not None or (spec.file is not None and spec.temperatures == "air"):
+            if spec.flow is None:
+                raise ThermocalInputError(
+                    f"campaign file {source}, key 'in_situ.{name}': from a U-value (air "
+                    "temperatures) the resistance needs ISO 6946's surface resistances: give "
+                    "flow: horizontal (walls), upward (roofs) or downward (floors), or log the "
+                    "surface temperatures (temperatures: surface)"
+                )
+        if spec.file is not None and not Path(spec.file).is_absolute():
+            spec.file = base / spec.file
+        if spec.file is not None and not Path(spec.file).is_file():
+            raise ThermocalInputError(
+                f"campaign file {source}, key 'in_situ.{name}.file': file {spec.file} not found "
+                "(paths are relative to the campaign file)"
+            )
     for key in ("building", "weather", "sensors", "mapping"):
         value = getattr(campaign, key)
         if value is None or (key == "building" and campaign.is_demo):

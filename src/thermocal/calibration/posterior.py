@@ -319,6 +319,9 @@ class Posterior:
         autocorrelation time) [-].
     autocorrelation_steps : float
         The sampler's largest integrated autocorrelation time [steps].
+    in_situ : dict
+        The in-situ measurements in the prior: parameter -> the measurement
+        (:meth:`thermocal.physics.heat_flux.InSituUValue.as_dict` and its ``source``).
     """
 
     summary: pd.DataFrame
@@ -332,6 +335,7 @@ class Posterior:
     samples: pd.DataFrame = field(default_factory=pd.DataFrame)
     effective_draws: float = float("nan")
     autocorrelation_steps: float = float("nan")
+    in_situ: dict = field(default_factory=dict)
 
     @property
     def determined(self) -> list[str]:
@@ -343,11 +347,15 @@ class Posterior:
         s = self.summary
         out = []
         det = self.determined
+        measured = [n for n in s.index if "measured" in s and bool(s.at[n, "measured"])]
         if det:
             out.append(
-                "Determined by the data (90 % credible interval): "
+                "Determined by the data (90 % credible interval"
+                + ("; * with an in-situ measurement" if measured else "")
+                + "): "
                 + "; ".join(
-                    f"{n} {s.at[n, 'median']:.4g} ({s.at[n, 'q05']:.4g} to {s.at[n, 'q95']:.4g}"
+                    f"{n}{'*' if n in measured else ''} {s.at[n, 'median']:.4g} "
+                    f"({s.at[n, 'q05']:.4g} to {s.at[n, 'q95']:.4g}"
                     f" {s.at[n, 'unit']}, nominal {s.at[n, 'nominal']:.4g})"
                     for n in det
                 )
@@ -386,7 +394,8 @@ class Posterior:
         return {
             "parameters": {
                 n: {
-                    k: (bool(v) if k == "determined" else v if k == "unit" else float(v))
+                    k: (bool(v) if k in ("determined", "measured") else v if k == "unit"
+                        else float(v))
                     for k, v in row.items()
                 }
                 for n, row in self.summary.iterrows()
@@ -399,6 +408,7 @@ class Posterior:
             "acceptance_fraction": float(self.acceptance),
             "effective_draws": float(self.effective_draws),
             "autocorrelation_steps": float(self.autocorrelation_steps),
+            "in_situ": self.in_situ,
             "sentences": self.sentences(),
         }
 
@@ -671,6 +681,46 @@ def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float):
     return log_probability
 
 
+def measured_prior(names, nominal, measured: dict) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and precision of the log-normal priors of in-situ measured parameters, in ``z``.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The posterior's parameters.
+    nominal : array-like
+        Their nominal values [unit of each].
+    measured : dict
+        name -> (value [unit of the parameter], relative standard uncertainty [-]); every name
+        must be in ``names``.
+
+    Returns
+    -------
+    mean : ndarray
+        ``ln(value / nominal)`` (0 where not measured) [-].
+    precision : ndarray
+        ``1 / ln(1 + r^2)`` (0 where not measured) [-].
+    """
+    names = list(names)
+    unknown = [n for n in measured if n not in names]
+    if unknown:
+        raise ThermocalInputError(
+            f"in-situ measurement of {unknown[0]!r}: not a parameter of the posterior "
+            f"({', '.join(names)})"
+        )
+    mean, precision = np.zeros(len(names)), np.zeros(len(names))
+    for name, (value, rel_std) in measured.items():
+        i = names.index(name)
+        if not (value > 0 and rel_std > 0):
+            raise ThermocalInputError(
+                f"in-situ measurement of {name!r}: value {value} and relative uncertainty "
+                f"{rel_std} must be positive"
+            )
+        mean[i] = np.log(value / float(np.asarray(nominal)[i]))
+        precision[i] = 1.0 / np.log1p(rel_std**2)
+    return mean, precision
+
+
 def calibration_posterior(
     surrogate,
     names: Sequence[str],
@@ -686,6 +736,7 @@ def calibration_posterior(
     steps: int = 2000,
     seed: int = 0,
     effective_draws: int = POSTERIOR_EFFECTIVE_DRAWS,
+    measured: dict | None = None,
 ) -> Posterior:
     """Sample the posterior of some parameters from a fitted series meta-model.
 
@@ -722,6 +773,10 @@ def calibration_posterior(
         kept draws are worth this many independent ones, by the integrated autocorrelation
         time (Goodman and Weare 2010; Sokal 1997) [-]. The Monte Carlo standard errors of the
         interval ends are in the summary (``q05_mcse``, ``q95_mcse``).
+    measured : dict, optional
+        In-situ measurements of some of ``names``: name -> (value [unit of the parameter],
+        relative standard uncertainty [-]). Each multiplies the campaign's uniform prior by a
+        log-normal one, ``z ~ N(ln(value / nominal), ln(1 + r^2))`` (:func:`measured_prior`).
 
     Returns
     -------
@@ -732,6 +787,7 @@ def calibration_posterior(
     d = len(names)
     if d == 0:
         raise ThermocalInputError("posterior: no parameter to calibrate")
+    prior_mean, prior_precision = measured_prior(names, model.nominal, measured or {})
     z_hat, residual_variance, n_eff, n = _noise(model)
     variance = residual_variance + max(float(emulator_error), 0.0)
     scale = (n_eff / n) / (2.0 * variance)
@@ -754,6 +810,8 @@ def calibration_posterior(
     if model.curvature is None:
         # affine: the posterior is a Gaussian in z truncated to the box; sampled exactly
         precision, linear = _gaussian_form(model, basis, woodbury, scale)
+        precision = precision + np.diag(prior_precision)
+        linear = linear + prior_precision * prior_mean
         chain, effective, tau, acceptance = truncated_gaussian_gibbs(
             precision, linear, zl, zu, z_hat, sweeps=min(int(steps), GIBBS_SWEEPS), seed=int(seed),
             effective_draws=int(effective_draws),
@@ -769,7 +827,12 @@ def calibration_posterior(
             zl + 1e-6 * width,
             zu - 1e-6 * width,
         )
-        log_probability = _log_probability(model, basis, woodbury, scale)
+        data_probability = _log_probability(model, basis, woodbury, scale)
+
+        def log_probability(z):
+            z = np.atleast_2d(z)
+            return data_probability(z) - 0.5 * ((z - prior_mean) ** 2 @ prior_precision)
+
         chain, effective, tau, acceptance = ensemble_until_precise(
             log_probability, start, int(steps), int(seed), int(effective_draws)
         )
@@ -797,7 +860,10 @@ def calibration_posterior(
             "prior_upper": model.upper,
             "width_fraction": fraction,
             "effect_to_noise": significance,
-            "determined": (fraction < DETERMINED_FRACTION) & (significance > EFFECT_TO_NOISE),
+            "measured": prior_precision > 0,
+            # a parameter measured in situ is determined by the measurement and the data
+            "determined": (fraction < DETERMINED_FRACTION)
+            & ((significance > EFFECT_TO_NOISE) | (prior_precision > 0)),
         },
         index=pd.Index(names, name="parameter"),
     )

@@ -59,6 +59,11 @@ class InSituConfig(BaseModel):
         None, gt=0, le=2000, description="of the element, for ISO 9869-1's criterion d "
         "[kJ/(m2 K)]",
     )  # fmt: skip
+    flow: Literal["horizontal", "upward", "downward"] | None = Field(
+        None, description="the heat flow's direction through the element (ISO 6946 surface "
+        "resistances: walls horizontal, roofs upward, floors downward); the retrofit's "
+        "components imply it",
+    )  # fmt: skip
     component: str | None = Field(
         None, description="name of the building-file component the plate was on (needed when "
         "the type's components differ in U-value)",
@@ -136,7 +141,10 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
     try:
         raw, _ = read_measurements(
             path, layout="wide", time_column=spec.time_column, sensors=names, units=units,
-            tz=_timezone(spec.timezone) or _timezone(default_tz), rows="interval_start",
+            # the average method counts whole days from the log's first row: without a zone
+            # (given or the building's) the stamps are read as they are, as UTC
+            tz=_timezone(spec.timezone) or _timezone(default_tz) or "UTC",
+            rows="interval_start",
             unknown_sensors="ignore",
         )  # fmt: skip
     except ThermocalInputError as exc:

@@ -42,6 +42,7 @@ sys.path.insert(0, str(ROOT / "tests" / "identification"))
 
 from energyplus_twin import (  # noqa: E402
     IDF_NAME,
+    WEATHER_NAME,
     ZONES,
     _class,
     _join,
@@ -154,5 +155,92 @@ def main() -> None:
     print(json.dumps(changed, indent=2))
 
 
+#: The heat-flux plate of :func:`heat_flux_study`: on the inside face of the roof (over the
+#: plenum), with the roof's inside and outside surface temperatures, January 4-17 (days 3 to
+#: 17 after the run's start).
+PLATE_SURFACE, PLATE_DAYS = "TOP-1", (3, 17)
+
+
+def heat_flux_study() -> dict:
+    """An in-situ measurement of the roof as a building physicist makes it (ISO 9869-1 with
+    surface temperatures: the construction's thermal resistance): EnergyPlus runs the hidden
+    building (loads included, free floating, 1-minute steps) with the roof's inside-face
+    conduction and its two surface temperatures as hourly outputs; two weeks of them, the
+    plate reading 3 % high with 2 % noise per hour, the surface sensors with 0.1 K noise.
+
+    Writes ``heat_flux_roof.csv`` (time = start of each hour, ``q_W_m2`` outward, ``Tsi``,
+    ``Tse`` [C]) and adds ``heat_flux`` (the plate and its seed) to ``truth.json``: the truth it
+    estimates is the hidden roof's ``construction/ROOF-1/resistance`` already there.
+    """
+    import numpy as np
+    import pandas as pd
+
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone.energyplus import (
+        energyplus_weather_folder,
+        read_eso,
+        run_energyplus,
+    )
+
+    hidden = perturbed((SHARED / IDF_NAME).read_text())
+    variables = {
+        "q": "Surface Inside Face Conduction Heat Transfer Rate per Area",
+        "Tsi": "Surface Inside Face Temperature",
+        "Tse": "Surface Outside Face Temperature",
+    }
+    text = twin_idf(hidden, DAYS, timesteps_per_hour=60) + "".join(
+        f"Output:Variable, {PLATE_SURFACE}, {v}, Timestep;\n" for v in variables.values()
+    )
+    weather_path = energyplus_weather_folder() / WEATHER_NAME
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        weather, _ = read_weather(weather_path)
+    with tempfile.TemporaryDirectory() as tmp:
+        idf = Path(tmp) / "in.idf"
+        idf.write_text(text)
+        eso = run_energyplus(idf, weather_path, Path(tmp) / "energyplus")
+        frame = read_eso(eso, year=int(weather.index[0].year), frequency="timestep")
+    columns = {
+        k: next(c for c in frame.columns if c.upper().startswith(f"{PLATE_SURFACE}:{v}".upper()))
+        for k, v in variables.items()
+    }
+    # hourly means labelled by the hour's start (read_eso labels each step by its start)
+    minute = frame[list(columns.values())].rename(columns={c: k for k, c in columns.items()})
+    hourly = minute.groupby(minute.index.floor("1h")).mean()
+    first = hourly.index[0].normalize()
+    days = (hourly.index - first) / pd.Timedelta(days=1)
+    hourly = hourly[(days >= PLATE_DAYS[0]) & (days < PLATE_DAYS[1])]
+    rng = np.random.default_rng(98693)
+    n = len(hourly)
+    log = pd.DataFrame(
+        {
+            "time": hourly.index.strftime("%Y-%m-%d %H:%M"),
+            # EnergyPlus's inside-face conduction is positive into the zone
+            "q_W_m2": -hourly["q"].to_numpy() * 1.03 * (1 + rng.normal(0, 0.02, n)),
+            "Tsi": hourly["Tsi"].to_numpy() + rng.normal(0, 0.1, n),
+            "Tse": hourly["Tse"].to_numpy() + rng.normal(0, 0.1, n),
+        }
+    )
+    log.round(3).to_csv(HERE / "heat_flux_roof.csv", index=False)
+    truth = json.loads((HERE / "truth.json").read_text())
+    truth["heat_flux"] = {
+        "file": "heat_flux_roof.csv",
+        "surface": PLATE_SURFACE,
+        "construction": "ROOF-1",
+        "period": [str(hourly.index[0]), str(hourly.index[-1])],
+        "temperatures": "surface",
+        "plate_bias": 1.03,
+        "plate_noise_rel": 0.02,
+        "temperature_noise_K": 0.1,
+        "seed": 98693,
+        "truth": "truth['construction/ROOF-1/resistance']",
+    }
+    (HERE / "truth.json").write_text(json.dumps(truth, indent=2) + "\n")
+    return truth["heat_flux"]
+
+
 if __name__ == "__main__":
-    main()
+    if "--heat-flux" in sys.argv:
+        print(json.dumps(heat_flux_study(), indent=1))
+    else:
+        main()

@@ -317,7 +317,9 @@ def _calibration_stage(
     )
     candidates.update(extra_candidates or {})
     refinement = []
-    if campaign.optimisation.refine > 0:
+    # with in-situ measurements the calibrated building is the posterior's median: no
+    # refinement of the metric's minimum
+    if campaign.optimisation.refine > 0 and not campaign.in_situ:
         t1 = time.perf_counter()
         terms = getattr(series_model, "terms_", campaign.metamodel.series_terms)
         refinement = _refine(

@@ -139,3 +139,19 @@ def test_components_of_different_u_values_need_the_plates_component(tmp_path):
         measure_in_situ(cfg, building)
     cfg = _config({"walls": {"u_value": 1.0, "rel_std": 0.1, "component": "north wall"}}, tmp_path)
     assert measure_in_situ(cfg, building)["walls"].described_u == 1.2
+
+
+def test_the_summary_offers_the_plate_when_the_data_leave_the_envelope_to_the_prior():
+    from thermocal.retrofit.correction import Correction
+
+    def correction(separated: bool, measured=()):
+        return Correction(
+            factors={"k_env": 0.8, "k_win": 1.0}, names=["k_env", "k_win"],
+            z_map=np.zeros(2), cov_z=np.eye(2), cov_data=np.eye(2), z_lower=-np.ones(2),
+            z_upper=np.ones(2), prior_std={"k_env": 0.2, "k_win": 0.2},
+            posterior_std={"k_env": 0.19, "k_win": 0.19},
+            separated={"k_env": separated, "k_win": False},
+        )  # fmt: skip
+
+    assert "in_situ section" in correction(False).summary()
+    assert "in_situ section" not in correction(True).summary()

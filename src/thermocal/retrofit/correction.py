@@ -334,6 +334,13 @@ class Correction:
                 "carry it); a measured air change moves that split towards the house's (the "
                 "building file's air_change_rate [1/h], e.g. a blower-door test's n50 / 20)"
             )
+        if "k_env" in self.factors and not self.separated.get("k_env", True):
+            # the remedy the analysis can take: the roof-and-walls group's own measurement
+            text += (
+                f"; the {self.label('k_env')} share the data leave to the prior; an in-situ "
+                "U-value of its largest element (a heat-flux plate, ISO 9869-1: the retrofit "
+                "configuration's in_situ section) gives it a factor of its own"
+            )
         return text
 
 

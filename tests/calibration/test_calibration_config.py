@@ -129,21 +129,35 @@ def test_not_a_mapping_and_missing_file(folder):
             "  construction/ROOF-1/resistance: {resistance: 5.0}",
             "give its rel_std too",
         ),
+        (
+            "  construction/ROOF-1/resistance: {resistance: 5.0, rel_std: 0.1, component: x}",
+            "the parameter's name says which construction",
+        ),
     ],
 )
 def test_in_situ_entries_are_checked(folder, entry, expected):
     """An in-situ measurement names a construction's resistance, says how to get the
     resistance from a U-value, and points at a file that exists."""
-    (folder / "c.yaml").write_text(GOOD + "in_situ:\n" + entry + "\n")
+    (folder / "c.yaml").write_text(ELEMENT + "in_situ:\n" + entry + "\n")
     with pytest.raises(ThermocalInputError, match=expected):
         load_campaign(folder / "c.yaml")
+
+
+#: The example campaign at element level.
+ELEMENT = GOOD.replace("parameters:\n", "parameters:\n  level: element\n", 1)
 
 
 def test_in_situ_entry_resolved_against_the_campaign_file(folder):
     (folder / "plate.csv").write_text("time,q,Tsi,Tse\n")
     (folder / "c.yaml").write_text(
-        GOOD + "in_situ:\n  construction/ROOF-1/resistance: {file: plate.csv, "
+        ELEMENT + "in_situ:\n  construction/ROOF-1/resistance: {file: plate.csv, "
         "temperatures: surface}\n"
     )
     campaign = load_campaign(folder / "c.yaml")
     assert campaign.in_situ["construction/ROOF-1/resistance"].file == folder / "plate.csv"
+    # element-level parameters only: a material-level campaign has no construction resistance
+    (folder / "m.yaml").write_text(
+        GOOD + "in_situ:\n  construction/ROOF-1/resistance: {resistance: 5.0, rel_std: 0.1}\n"
+    )
+    with pytest.raises(ThermocalInputError, match="set parameters.level: element"):
+        load_campaign(folder / "m.yaml")

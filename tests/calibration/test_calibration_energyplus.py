@@ -237,7 +237,7 @@ def test_a_roof_plate_determines_roof_and_wall_with_the_building_metric(twin):
     1.61). A heat-flux plate on the roof for two weeks (ISO 9869-1 with surface temperatures,
     EnergyPlus's roof reading 3 % high: 4.99 m2 K/W +- 7.6 %, truth 5.20) determines both: the
     roof by the measurement, the wall through the data's roof-wall combination. Measured
-    2026-11-29: roof 4.95 [4.38, 5.60] (-4.8 %), wall 1.66 [1.08, 2.57] (+3.0 %), both covering
+    2026-11-29: roof 4.92 [4.35, 5.56] (-5.4 %), wall 1.68 [1.09, 2.59] (+3.8 %), both covering
     the truth; the calibrated building is the posterior's median."""
     rows = {r["parameter"]: r for r in twin["roof_plate"]["rows"]}
     roof, wall = rows["construction/ROOF-1/resistance"], rows["construction/WALL-1/resistance"]

@@ -159,7 +159,9 @@ def test_model_discrepancy_along_a_signature_is_covered_only_with_the_term():
 
 def test_an_in_situ_measurement_multiplies_the_posterior_as_the_analytic_gaussian():
     """A measured parameter's log-normal prior (``measured=``) against the hand-computed
-    Gaussian: the data's precision plus the measurement's, the means weighted by them."""
+    Gaussian: the data's precision plus the measurement's, the means weighted by them; the
+    measurement replaces the parameter's uniform prior. With data that carry nothing on it the
+    posterior's median is the measurement."""
     import emcee
 
     rng = np.random.default_rng(7)
@@ -184,7 +186,9 @@ def test_an_in_situ_measurement_multiplies_the_posterior_as_the_analytic_gaussia
     prior_precision = np.diag([1.0 / np.log1p(rel**2), 0.0])
     prior_mean = np.array([np.log(value / 3.0), 0.0])
     precision = data_precision + prior_precision
-    mean = np.linalg.solve(precision, data_precision @ z_ls + prior_precision @ prior_mean + 1.0)
+    # the roof's log-normal prior replaces its uniform one (no exp(z) tilt); the wall keeps it
+    tilt = np.array([0.0, 1.0])
+    mean = np.linalg.solve(precision, data_precision @ z_ls + prior_precision @ prior_mean + tilt)
     std = np.sqrt(np.diag(np.linalg.inv(precision)))
     z_draws = np.log(post.samples.to_numpy() / nominal)
     assert np.allclose(z_draws.mean(0), mean, atol=0.15 * std)
@@ -194,6 +198,13 @@ def test_an_in_situ_measurement_multiplies_the_posterior_as_the_analytic_gaussia
     assert std[0] < 0.8 * alone[0]
     assert list(post.summary["measured"]) == [True, False]
     assert "* with an in-situ measurement" in " ".join(post.sentences())
+    # no information in the data on the roof: its posterior is the measurement itself
+    J0 = np.column_stack([np.zeros(n), J[:, 1]])
+    flat = calibration_posterior(
+        _series_model(J0, intercept, names, nominal), names, lower, upper, steps=3000, seed=4,
+        measured={names[0]: (value, rel)},
+    )  # fmt: skip
+    assert flat.summary.at[names[0], "median"] == pytest.approx(value, rel=0.01)
 
 
 def test_a_measured_element_breaks_a_compensation():

@@ -130,3 +130,26 @@ def test_plate_on_an_energyplus_wall_recovers_its_u_value():
     assert r.u_value / truth["log"]["plate_bias"] == pytest.approx(u_true, rel=0.025)
     # the described U-value is 39 % above the wall's in EnergyPlus: what the plate corrects
     assert truth["nominal_u_value_W_per_m2K"] / u_true > 1.35
+
+
+def test_gaps_dead_plates_and_empty_logs_are_refused_by_name():
+    """A log's missing days are not counted as measured ones: a whole day covered less than
+    90 % by rows with the heat flux and both temperatures is refused and named; a row does not
+    stand for the gap after it; a dead plate and a log without a valid row are said so."""
+    n = 24 * 8
+    times = pd.date_range("2025-01-06", periods=n, freq="1h")
+    ti, te = np.full(n, 20.0), np.full(n, 0.0)
+    q = 1.2 * (ti - te)
+    gap = q.copy()
+    gap[24 * 5 : 24 * 6 + 6] = np.nan  # day 5 and a quarter of day 6 missing
+    with pytest.raises(ValueError, match="2 of the log's 8 whole days.*2025-01-11 00:00 .0 %"):
+        average_method(times, gap, ti, te)
+    # rows missing altogether (not NaN): the row before the gap holds one interval only
+    keep = np.ones(n, bool)
+    keep[24 * 2 : 24 * 4] = False
+    with pytest.raises(ValueError, match="not covered"):
+        average_method(times[keep], q[keep], ti[keep], te[keep])
+    with pytest.raises(ValueError, match="sums to zero"):
+        average_method(times, np.zeros(n), ti, te)
+    with pytest.raises(ValueError, match="no row has the heat flux and both temperatures"):
+        average_method(times, np.full(n, np.nan), ti, te)

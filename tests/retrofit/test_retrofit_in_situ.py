@@ -155,3 +155,34 @@ def test_the_summary_offers_the_plate_when_the_data_leave_the_envelope_to_the_pr
 
     assert "in_situ section" in correction(False).summary()
     assert "in_situ section" not in correction(True).summary()
+
+
+def test_a_ratio_beyond_the_corrections_range_is_refused(building, tmp_path):
+    cfg = _config({"walls": {"u_value": 0.5, "rel_std": 0.1}}, tmp_path)  # 0.24 x 2.08
+    with pytest.raises(ThermocalInputError, match="beyond the range the data may correct"):
+        measure_in_situ(cfg, building)
+
+
+def test_towards_an_unheated_space_the_films_are_the_inside_ones_on_both_sides(
+    building, tmp_path
+):
+    """A plate on the ceiling under the attic with the ceiling's two surface temperatures:
+    U adds ISO 6946's upward inside resistance on both sides (0.10 + 0.10), as the model
+    describes an element towards an unheated space, not an outside one (0.04)."""
+    n = 24 * 4
+    log = pd.DataFrame(
+        {
+            "time": pd.date_range("2015-02-02", periods=n, freq="1h").strftime("%Y-%m-%d %H:%M"),
+            "q": np.full(n, 2.0),
+            "Tsi": np.full(n, 19.0),
+            "Tse": np.full(n, 9.0),
+        }
+    )
+    cfg = _config(
+        {"attic_ceiling": {"file": str(_log(tmp_path, log)), "temperatures": "surface",
+                           "columns": {"heat_flux": "q", "temp_in": "Tsi", "temp_out": "Tse"}}},
+        tmp_path,
+    )  # fmt: skip
+    ceiling = measure_in_situ(cfg, building, 1.0)["attic_ceiling"]
+    assert ceiling.result.conductance == pytest.approx(0.2)
+    assert ceiling.result.u_value == pytest.approx(1.0 / (0.10 + 5.0 + 0.10))

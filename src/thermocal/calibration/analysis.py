@@ -317,9 +317,18 @@ def _calibration_stage(
     )
     candidates.update(extra_candidates or {})
     refinement = []
-    # with in-situ measurements the calibrated building is the posterior's median: no
+    # with in-situ measurements in the posterior the calibrated building is its median: no
     # refinement of the metric's minimum
-    if campaign.optimisation.refine > 0 and not campaign.in_situ:
+    by_median = bool(posterior is not None and posterior.in_situ) and (
+        "posterior median" in candidates
+    )
+    if campaign.in_situ and not by_median:
+        notes.append(
+            "The in-situ measurements did not enter a confirmed posterior median (no posterior, "
+            "the measured parameters not among its parameters, or the median not in the store "
+            "of a re-analysis): the calibrated building is the best confirmed candidate."
+        )
+    if campaign.optimisation.refine > 0 and not by_median:
         t1 = time.perf_counter()
         terms = getattr(series_model, "terms_", campaign.metamodel.series_terms)
         refinement = _refine(
@@ -333,8 +342,13 @@ def _calibration_stage(
             )
         timings["refinement"] = time.perf_counter() - t1
     source, value, values = _choose_calibrated(
-        candidates, notes, prefer="posterior median" if campaign.in_situ else None
+        candidates, notes, prefer="posterior median" if by_median else None
     )
+    if by_median:
+        notes.append(
+            "The calibrated building is the posterior's median: it weighs the in-situ "
+            "measurements, which the metric alone cannot."
+        )
     return Stage(
         fitted, confirmed, heat, unconfirmed, posterior, series_model, movable, candidates,
         refinement, source, value, values,
@@ -700,11 +714,14 @@ def _movable_parameters(campaign, space, posterior, notes: list) -> list[str]:
     """The parameters the calibrated model may change.
 
     With ``optimisation.calibrate: determined`` (the default) only those the posterior says the
-    data determine; the others stay nominal. Without a posterior, or with ``all``, every one.
+    data determine, and those measured in situ; the others stay nominal. Without a posterior,
+    or with ``all``, every one.
     """
     if not _determined_only(campaign, posterior):
         return list(space.names)
-    determined = [n for n in space.names if n in posterior.determined]
+    # a parameter measured in situ moves with its posterior whatever its width
+    measured = set(getattr(posterior, "in_situ", {}) or {})
+    determined = [n for n in space.names if n in posterior.determined or n in measured]
     if len(determined) < space.dimension:
         notes.append(
             f"Calibrated parameters: only the {len(determined)} the data determine"
@@ -893,8 +910,49 @@ def _posterior_or_note(
     return posterior, model
 
 
+def measure_in_situ(campaign, space) -> dict:
+    """The campaign's in-situ measurements (``in_situ:``), read, reduced and checked.
+
+    Called before the campaign runs (a bad log stops it before any simulation) and by the
+    analysis.
+
+    Returns
+    -------
+    dict
+        name -> (:class:`~thermocal.physics.heat_flux.InSituUValue`, source).
+
+    Raises
+    ------
+    ThermocalInputError
+        A measured name that is not a parameter of the campaign, a log that cannot be read or
+        has not converged (:func:`thermocal.io.heat_flux_log.measure_in_situ_value`), or a
+        resistance that comes out not positive.
+    """
+    from thermocal.io.heat_flux_log import measure_in_situ_value
+
+    out = {}
+    for name, spec in campaign.in_situ.items():
+        where = f"in_situ.{name}"
+        if name not in space.names:
+            raise ThermocalInputError(
+                f"campaign {where}: {name!r} is not a parameter of the campaign (its "
+                "resistances: "
+                + (", ".join(n for n in space.names if n.endswith("/resistance")) or "none")
+                + "; check parameters.include)"
+            )
+        result, source = measure_in_situ_value(spec, where, flow=spec.flow or "horizontal")
+        if not (result.resistance > 0 and result.resistance_rel_std > 0):
+            raise ThermocalInputError(
+                f"campaign {where}: U {result.u_value:.3g} W/(m2 K) leaves no resistance "
+                f"({result.resistance:.3g} m2 K/W) beyond ISO 6946's surface resistances "
+                f"{result.surface_resistances}: check the value and flow"
+            )
+        out[name] = (result, source)
+    return out
+
+
 def _in_situ_values(campaign, space, names, notes) -> tuple[dict, dict]:
-    """The campaign's in-situ measurements (``in_situ:``) of the posterior's parameters.
+    """The campaign's in-situ measurements of the posterior's parameters (:func:`measure_in_situ`).
 
     Returns
     -------
@@ -903,40 +961,33 @@ def _in_situ_values(campaign, space, names, notes) -> tuple[dict, dict]:
         :func:`~thermocal.calibration.posterior.calibration_posterior`.
     details : dict
         name -> the measurement (JSON-ready) with its source.
-
-    Raises
-    ------
-    ThermocalInputError
-        A measured name that is not a parameter of the campaign, or a log that cannot be read
-        or has not converged (:func:`thermocal.io.heat_flux_log.measure_in_situ_value`).
     """
-    from thermocal.io.heat_flux_log import measure_in_situ_value
-
     measured, details = {}, {}
-    for name, spec in campaign.in_situ.items():
-        where = f"in_situ.{name}"
-        if name not in space.names:
-            raise ThermocalInputError(
-                f"campaign {where}: {name!r} is not a parameter of the campaign (its "
-                "resistances: "
-                + ", ".join(n for n in space.names if n.endswith("/resistance"))
-                + "); element-level parameters need parameters.level: element"
-            )
-        result, source = measure_in_situ_value(spec, where, flow=spec.flow or "horizontal")
+    for name, (result, source) in measure_in_situ(campaign, space).items():
         if name not in names:
-            notes.append(
+            _note_once(
+                notes,
                 f"{name} was measured in situ but is not among the posterior's parameters "
-                "(the critical ones of a large space): the measurement is not used."
+                "(the critical ones of a large space): the measurement is not used.",
             )
             continue
         measured[name] = (result.resistance, result.resistance_rel_std)
         details[name] = {"source": source, **result.as_dict()}
-        notes.append(
+        _note_once(
+            notes,
             f"{name} measured in situ: {result.resistance:.3g} m2 K/W +- "
-            f"{100 * result.resistance_rel_std:.0f} % ({source}); the posterior multiplies the "
-            "campaign's prior by it, and the calibrated building is the posterior's median."
+            f"{100 * result.resistance_rel_std:.0f} % ({source}); its log-normal prior replaces "
+            "the campaign's uniform one in the posterior.",
         )
+        for line in result.notes:
+            _note_once(notes, f"in_situ.{name}: {line}")
     return measured, details
+
+
+def _note_once(notes: list, text: str) -> None:
+    """Append ``text`` to ``notes`` unless it is there (the zoom stage analyses again)."""
+    if text not in notes:
+        notes.append(text)
 
 
 def _validate(campaign, calibrated_values: dict, runs, metric: str) -> dict | None:

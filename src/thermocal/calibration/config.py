@@ -459,7 +459,17 @@ def parse_campaign(
         updates["building"] = str(base / campaign.building)
     if updates:
         campaign = campaign.model_copy(update=updates)
+    if campaign.in_situ and campaign.parameters.level != "element":
+        raise ThermocalInputError(
+            f"campaign file {source}, key 'in_situ': in-situ measurements give construction "
+            "resistances, element-level parameters: set parameters.level: element"
+        )
     for name, spec in campaign.in_situ.items():
+        if spec.component is not None:
+            raise ThermocalInputError(
+                f"campaign file {source}, key 'in_situ.{name}.component': the parameter's name "
+                "says which construction was measured; remove the key"
+            )
         if not name.startswith("construction/") or not name.endswith("/resistance"):
             raise ThermocalInputError(
                 f"campaign file {source}, key 'in_situ.{name}': an in-situ measurement gives a "

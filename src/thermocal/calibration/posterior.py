@@ -775,8 +775,9 @@ def calibration_posterior(
         interval ends are in the summary (``q05_mcse``, ``q95_mcse``).
     measured : dict, optional
         In-situ measurements of some of ``names``: name -> (value [unit of the parameter],
-        relative standard uncertainty [-]). Each multiplies the campaign's uniform prior by a
-        log-normal one, ``z ~ N(ln(value / nominal), ln(1 + r^2))`` (:func:`measured_prior`).
+        relative standard uncertainty [-]). Each replaces the parameter's uniform prior by a
+        log-normal one within the same bounds, ``z ~ N(ln(value / nominal), ln(1 + r^2))``
+        (:func:`measured_prior`).
 
     Returns
     -------
@@ -810,8 +811,9 @@ def calibration_posterior(
     if model.curvature is None:
         # affine: the posterior is a Gaussian in z truncated to the box; sampled exactly
         precision, linear = _gaussian_form(model, basis, woodbury, scale)
+        # a measured parameter's log-normal prior replaces the uniform one (its exp(z))
         precision = precision + np.diag(prior_precision)
-        linear = linear + prior_precision * prior_mean
+        linear = linear + prior_precision * prior_mean - (prior_precision > 0)
         chain, effective, tau, acceptance = truncated_gaussian_gibbs(
             precision, linear, zl, zu, z_hat, sweeps=min(int(steps), GIBBS_SWEEPS), seed=int(seed),
             effective_draws=int(effective_draws),
@@ -831,7 +833,9 @@ def calibration_posterior(
 
         def log_probability(z):
             z = np.atleast_2d(z)
-            return data_probability(z) - 0.5 * ((z - prior_mean) ** 2 @ prior_precision)
+            measured_part = -0.5 * ((z - prior_mean) ** 2 @ prior_precision)
+            # the log-normal prior replaces the uniform one (its exp(z)) of a measured one
+            return data_probability(z) + measured_part - z @ (prior_precision > 0)
 
         chain, effective, tau, acceptance = ensemble_until_precise(
             log_probability, start, int(steps), int(seed), int(effective_draws)

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from thermocal.calibration.analysis import POSTERIOR_MAX_PARAMETERS, analyse
+from thermocal.calibration.analysis import POSTERIOR_MAX_PARAMETERS, analyse, measure_in_situ
 from thermocal.calibration.flags import AT_BOUND, calibration_flags, model_error_floor
 from thermocal.calibration.guards import (
     ProgressLines,
@@ -173,6 +173,7 @@ def calibrate(
         "identification)"
     )
     space = campaign_space(campaign, inputs.building)
+    measure_in_situ(campaign, space)  # a bad log stops here, before any simulation
     if n < 1:
         raise ThermocalInputError(f"--samples must be >= 1, got {n}")
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
@@ -362,6 +363,7 @@ def reanalyse(campaign, store_path, *, log=print) -> CalibrationResult:
     t0 = time.perf_counter()
     inputs = analysis_inputs(campaign)
     space = campaign_space(campaign, inputs.building)
+    measure_in_situ(campaign, space)
     timings["setup"] = time.perf_counter() - t0
     path = Path(store_path)
     with store_errors(path), CampaignStore.existing(path) as store:

@@ -43,8 +43,9 @@ class InSituConfig(BaseModel):
     )
     temperature_unit: Literal["C", "K", "F"] = "C"
     temperatures: Literal["air", "surface"] = Field(
-        "air", description="air: the room's and outdoor air (U); surface: the element's faces"
-    )
+        "air", description="air: the room's air and the air on the element's other side "
+        "(outdoors, or the unheated attic, garage or cellar): U; surface: the element's faces",
+    )  # fmt: skip
     heat_flux_sign: Literal["outward", "inward"] = Field(
         "outward", description="the direction the plate reports as positive"
     )
@@ -151,6 +152,15 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
         text = str(exc)
         if "look like Kelvin" in text or "look like Fahrenheit" in text:
             text += f" (here: {where}.temperature_unit)"
+        # the reader's remedies name its Python options; here the configuration's keys
+        for option, remedy in (
+            ("pass time_column=", f"set {where}.time_column"),
+            ("pass tz=", f"set {where}.timezone"),
+            ("pass time_format=", "write the times as ISO 8601"),
+            ("pass sort=True", "sort the log by time"),
+            ("pass decimal=','", "write decimal points"),
+        ):
+            text = text.replace(option, remedy)
         raise ThermocalInputError(f"{where}: {text}") from None
     q = raw["heat_flux"].to_numpy(float)
     if spec.heat_flux_sign == "inward":
@@ -169,7 +179,12 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
 
 
 def measure_in_situ_value(
-    spec: InSituConfig, where: str, *, flow: str = "horizontal", default_tz=None
+    spec: InSituConfig,
+    where: str,
+    *,
+    flow: str = "horizontal",
+    surface_resistances: tuple[float, float] | None = None,
+    default_tz=None,
 ) -> tuple[InSituUValue, str]:
     """An entry's in-situ value: the log reduced by ISO 9869-1's average method, or the given
     value.
@@ -181,6 +196,9 @@ def measure_in_situ_value(
         The configuration key, for messages.
     flow : {"horizontal", "upward", "downward"}
         The heat flow's direction through the element (ISO 6946's surface resistances).
+    surface_resistances : (float, float), optional
+        Inside and outside surface resistances [m2 K/W] instead of ``flow``'s (an element
+        towards an unheated space: the inside one on both sides).
     default_tz : str or float, optional
         Time zone of log time stamps without offset.
 
@@ -200,16 +218,19 @@ def measure_in_situ_value(
     """
     from thermocal.physics.heat_flux import SURFACE_RESISTANCES
 
+    films = tuple(surface_resistances or SURFACE_RESISTANCES[flow])
     if spec.file is None:
         if spec.resistance is not None:
-            r_si, r_se = SURFACE_RESISTANCES[flow]
-            u = 1.0 / (r_si + spec.resistance + r_se)
+            u = 1.0 / (sum(films) + spec.resistance)
             result = InSituUValue(
                 u_value=u, rel_std=float(spec.rel_std) * u * spec.resistance,
-                conductance=1.0 / spec.resistance, flow=flow,
+                conductance=1.0 / spec.resistance, surface_resistances=films,
             )  # fmt: skip
-            return result, "given"
-        result = InSituUValue(u_value=float(spec.u_value), rel_std=float(spec.rel_std), flow=flow)
+        else:
+            result = InSituUValue(
+                u_value=float(spec.u_value), rel_std=float(spec.rel_std),
+                surface_resistances=films,
+            )  # fmt: skip
         return result, "given"
     times, q, ti, te = read_heat_flux_log(spec, where, default_tz)
     mean_q = float(np.nanmean(q))
@@ -222,12 +243,13 @@ def measure_in_situ_value(
     try:
         result = average_method(
             times, q, ti, te, temperatures=spec.temperatures, flow=flow,
+            surface_resistances=films,
             plate_rel_std=spec.plate_rel_std, temperature_std_K=spec.temperature_std,
             spot_rel_std=spec.spot_rel_std,
             areal_heat_capacity=None if spec.areal_heat_capacity is None
             else 1e3 * spec.areal_heat_capacity,
         )  # fmt: skip
-    except ValueError as exc:
+    except (ValueError, ZeroDivisionError) as exc:
         raise ThermocalInputError(f"heat-flux log {spec.file} ({where}): {exc}") from None
     if not result.converged:
         raise ThermocalInputError(

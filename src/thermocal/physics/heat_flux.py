@@ -55,6 +55,9 @@ __all__ = [
 #: ISO 9869-1 7.2.1: shortest test [days] and the relative limit of criteria b, c and d [-].
 MIN_DAYS = 3
 CONVERGENCE_LIMIT = 0.05
+#: Least share of each whole day the valid rows must cover (ISO 9869-1 asks for a continuous
+#: record; a day with a longer gap is refused, not counted) [-].
+MIN_DAY_COVERAGE = 0.9
 #: Below this mean inside-outside difference [K] the temperature sensors' error weighs on the
 #: result; practice asks for at least 10 K (Gaspar et al. 2018): reported, not refused.
 MIN_MEAN_DIFFERENCE_K = 10.0
@@ -101,7 +104,9 @@ class InSituUValue:
     uncertainty: dict = field(default_factory=dict)
     conductance: float = float("nan")
     notes: list = field(default_factory=list)
-    flow: str = "horizontal"
+    #: the surface resistances (inside, outside) [m2 K/W] between U and the element's own
+    #: resistance (ISO 6946 Table 7; Rsi on both sides towards an unheated space)
+    surface_resistances: tuple = SURFACE_RESISTANCES["horizontal"]
 
     @property
     def resistance(self) -> float:
@@ -110,7 +115,7 @@ class InSituUValue:
         resistances."""
         if np.isfinite(self.conductance):
             return 1.0 / self.conductance
-        r_si, r_se = SURFACE_RESISTANCES[self.flow]
+        r_si, r_se = self.surface_resistances
         return 1.0 / self.u_value - r_si - r_se
 
     @property
@@ -156,13 +161,16 @@ class InSituUValue:
         }  # fmt: skip
 
 
-def _interval_seconds(times: pd.DatetimeIndex) -> np.ndarray:
-    """Each row's interval [s]: to the next time stamp, the last one the median spacing."""
+def _interval_seconds(times: pd.DatetimeIndex) -> tuple[np.ndarray, np.ndarray]:
+    """Each row's start after the first row's [s] and its weight [s]: the time to the next
+    row but at most the logging interval (the median spacing), so that a row does not stand for
+    the gap after it."""
     t = np.asarray((times - times[0]) / pd.Timedelta(seconds=1), float) if len(times) else []
     if len(t) < 2:
-        return np.ones(len(t))
+        return np.asarray(t, float), np.full(len(t), 3600.0)
     dt = np.diff(t)
-    return np.append(dt, np.median(dt))
+    interval = float(np.median(dt))
+    return t, np.minimum(np.append(dt, interval), interval)
 
 
 def _ratio(q: np.ndarray, dtemp: np.ndarray, w: np.ndarray) -> float:
@@ -178,6 +186,7 @@ def average_method(
     *,
     temperatures: str = "air",
     flow: str = "horizontal",
+    surface_resistances: tuple[float, float] | None = None,
     plate_rel_std: float = 0.05,
     temperature_std_K: float = 0.1,
     spot_rel_std: float = 0.05,
@@ -199,6 +208,9 @@ def average_method(
     flow : {"horizontal", "upward", "downward"}
         Direction of the heat flow through the element (walls horizontal, roofs and ceilings
         upward, floors downward): ISO 6946's surface resistances for ``"surface"``.
+    surface_resistances : (float, float), optional
+        Inside and outside surface resistances [m2 K/W] instead of ``flow``'s (an element
+        towards an unheated space has the inside one on both sides).
     plate_rel_std : float [-]
         Relative standard uncertainty of the plate's calibration and of its disturbance of the
         flow (ISO 9869-1 clause 9: about 5 % together).
@@ -218,22 +230,44 @@ def average_method(
     Raises
     ------
     ValueError
-        Fewer than one whole day of finite rows, or a mean difference that is not positive
-        (the sum's denominator), with what to check.
+        Fewer than one whole day, a whole day whose valid rows (heat flux and both
+        temperatures) cover less than :data:`MIN_DAY_COVERAGE` of it (named), a heat flux that
+        sums to zero, or a mean difference that is not positive, each with what to check.
     """
     times = pd.DatetimeIndex(times)
     q = np.asarray(heat_flux, float)
     ti = np.asarray(temp_in, float)
     te = np.asarray(temp_out, float)
     ok = np.isfinite(q) & np.isfinite(ti) & np.isfinite(te)
-    w_all = _interval_seconds(times)
-    elapsed = np.cumsum(w_all) - w_all  # from the first row's start [s]
+    if not ok.any():
+        raise ValueError("no row has the heat flux and both temperatures")
+    elapsed, w_all = _interval_seconds(times)
     days = int((elapsed[-1] + w_all[-1]) // 86400.0) if len(times) else 0
     if days < 1:
         raise ValueError("the heat-flux log covers less than one whole day")
     whole = elapsed < days * 86400.0
     w = np.where(ok & whole, w_all, 0.0)
+    day = elapsed // 86400.0
+    coverage = np.bincount(day[whole].astype(int), weights=w[whole], minlength=days) / 86400.0
+    short = np.flatnonzero(coverage < MIN_DAY_COVERAGE)
+    if short.size:
+        named = ", ".join(
+            f"{(times[0] + pd.Timedelta(days=int(i))).strftime('%Y-%m-%d %H:%M')} "
+            f"({100 * coverage[i]:.0f} %)"
+            for i in short[:5]
+        )
+        raise ValueError(
+            f"{short.size} of the log's {days} whole days are not covered by rows with the heat "
+            f"flux and both temperatures to {100 * MIN_DAY_COVERAGE:.0f} %: the days from "
+            f"{named}{' ...' if short.size > 5 else ''}; the average method needs a continuous "
+            "record of whole days: fill the gap or cut the log to a continuous stretch"
+        )
     q0, dt0 = np.where(ok, q, 0.0), np.where(ok, ti - te, 0.0)
+    if np.sum(q0 * w) == 0.0:
+        raise ValueError(
+            "the heat flux sums to zero over the log (a dead or unconnected plate?); check "
+            "the heat-flux column"
+        )
     mean_dt = float(np.sum(dt0 * w) / np.sum(w))
     if not mean_dt > 0:
         raise ValueError(
@@ -242,7 +276,6 @@ def average_method(
             "check that the inside and outside columns are not swapped)"
         )
     ratio = _ratio(q0, dt0, w)
-    day = elapsed // 86400.0
 
     def upto(n_days: float) -> float:
         m = w * (day < n_days)
@@ -298,8 +331,9 @@ def average_method(
     }
     conductance = float("nan")
     u = ratio
+    films = tuple(surface_resistances or SURFACE_RESISTANCES[flow])
     if temperatures == "surface":
-        r_si, r_se = SURFACE_RESISTANCES[flow]
+        r_si, r_se = films
         conductance = ratio
         u = 1.0 / (r_si + 1.0 / ratio + r_se)
         # the conventional surface resistances' share of the result is not measured: a
@@ -317,5 +351,5 @@ def average_method(
         uncertainty=parts,
         conductance=conductance,
         notes=notes,
-        flow=flow,
+        surface_resistances=films,
     )

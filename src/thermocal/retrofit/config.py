@@ -442,13 +442,16 @@ class ValidationConfig(_Strict):
 
 #: Envelope components whose U-value a heat-flux meter can measure in situ (ISO 9869-1:
 #: opaque elements between the heated inside and the outside or an unheated space), with the
-#: direction of their heat flow (ISO 6946 surface resistances) and building-file type.
-IN_SITU_COMPONENTS: dict[str, tuple[str, str]] = {
-    "walls": ("horizontal", "external_wall"),
-    "roof": ("upward", "roof"),
-    "attic_ceiling": ("upward", "attic_ceiling"),
-    "wall_to_unheated": ("horizontal", "wall_to_unheated"),
-    "cellar_ceiling": ("downward", "cellar_ceiling"),
+#: direction of their heat flow, their building-file type and their surface resistances
+#: (inside, other side) [m2 K/W] (ISO 6946 Table 7; towards an unheated space the inside value
+#: on both sides, as the model takes them). Towards an unheated space the "outside" air of a
+#: measurement is that space's air.
+IN_SITU_COMPONENTS: dict[str, tuple[str, str, tuple[float, float]]] = {
+    "walls": ("horizontal", "external_wall", (0.13, 0.04)),
+    "roof": ("upward", "roof", (0.10, 0.04)),
+    "attic_ceiling": ("upward", "attic_ceiling", (0.10, 0.10)),
+    "wall_to_unheated": ("horizontal", "wall_to_unheated", (0.13, 0.13)),
+    "cellar_ceiling": ("downward", "cellar_ceiling", (0.17, 0.17)),
 }
 
 class InternalGainsConfig(_Strict):

@@ -98,7 +98,7 @@ def group_components(envelope, ground_kind: str, in_situ=()) -> dict[str, dict]:
             out[g] = {"label": GROUP_LABELS[g], "components": [c],
                       "description": "measured in situ (ISO 9869-1)"}  # fmt: skip
     out["k_floor"] = {
-        "label": GROUP_LABELS["k_floor"],
+        "label": GROUP_LABELS["k_floor"] + (" (in situ)" if "cellar_ceiling" in measured else ""),
         "components": [envelope.floor_kind],
         "description": FLOOR_DESCRIPTIONS.get(ground_kind, ground_kind)
         + ("; measured in situ (ISO 9869-1)" if "cellar_ceiling" in measured else ""),

@@ -124,6 +124,7 @@ def measure_in_situ(cfg, building, default_tz=None) -> dict[str, InSituMeasureme
         value with its uncertainty), a component the building lacks.
     """
     from thermocal.retrofit.config import IN_SITU_COMPONENTS
+    from thermocal.retrofit.correction import FACTOR_BOUNDS
 
     out: dict[str, InSituMeasurement] = {}
     for component, spec in cfg.in_situ.items():
@@ -139,8 +140,19 @@ def measure_in_situ(cfg, building, default_tz=None) -> dict[str, InSituMeasureme
                 f"{where}: give the component's U-value (u_value, air to air) rather than its "
                 "resistance: the building file describes U-values"
             )
+        flow, _, films = IN_SITU_COMPONENTS[component]
         result, source = measure_in_situ_value(
-            spec, where, flow=IN_SITU_COMPONENTS[component][0], default_tz=default_tz
+            spec, where, flow=flow, surface_resistances=films, default_tz=default_tz
         )
-        out[component] = InSituMeasurement(component, described, result, source)
+        measurement = InSituMeasurement(component, described, result, source)
+        low, high = FACTOR_BOUNDS
+        if not low <= measurement.ratio <= high:
+            raise ThermocalInputError(
+                f"{where}: the measured U-value {result.u_value:.3g} W/(m2 K) is "
+                f"{measurement.ratio:.2f} times the building file's {described:.3g}, beyond "
+                f"the range the data may correct ({low:g}-{high:g} times): check the log "
+                "(plate position, the temperatures' sides) or correct the building file's "
+                "U-value"
+            )
+        out[component] = measurement
     return out

@@ -157,11 +157,16 @@ def write_report(
         rep.paragraph(results["calibration"]["method"]["summary"])
     corr = results["calibration"].get("correction")
     if corr:
+        in_situ = set(corr.get("measured_in_situ") or ())
         parts = [
             f"{corr['groups'][g]['label']} {100 * (k - 1):+.0f} %"
-            + (" (measured)" if corr["separated_by_data"][g] else " (not separable: prior)")
+            + (
+                " (measured in situ)" if g in in_situ
+                else " (measured)" if corr["separated_by_data"][g]
+                else " (not separable: prior)"
+            )
             for g, k in corr["factors"].items()
-        ]
+        ]  # fmt: skip
         rep.paragraph(
             "The measurements correct the heat losses calculated from the building file: "
             + ", ".join(parts)

@@ -338,6 +338,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
                 "factors; they need model.correction: groups and uncertainty.u_value_rel_std > 0"
             )
         model = replace(model, in_situ=in_situ_priors(in_situ))
+        notes += [f"in_situ.{c}: {n}" for c, m in in_situ.items() for n in m.result.notes]
         for m in in_situ.values():
             say(
                 f"in situ: {m.component} U = {m.result.u_value:.3g} W/(m2 K) +- "
@@ -762,7 +763,8 @@ def corrected_scenarios(
     Returns
     -------
     draws : dict name -> ndarray (n_draws + 1,) in SI (first = the estimate), with the group
-        factors ``k_env``, ``k_win``, ``k_floor`` [-]
+        factors ``k_env``, ``k_win``, ``k_floor`` and those of components measured in situ
+        (``k_walls``, ...) [-]
     envelopes : list (per strategy) of lists (per draw) of EnvelopeComponents
     """
     from thermocal.retrofit.correction import draw_corrected, scaled_envelope

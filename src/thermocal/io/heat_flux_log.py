@@ -144,7 +144,10 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
             path, layout="wide", time_column=spec.time_column, sensors=names, units=units,
             # the average method counts whole days from the log's first row: without a zone
             # (given or the building's) the stamps are read as they are, as UTC
-            tz=_timezone(spec.timezone) or _timezone(default_tz) or "UTC",
+            tz=next(
+                (tz for tz in (_timezone(spec.timezone), _timezone(default_tz)) if tz is not None),
+                "UTC",
+            ),
             rows="interval_start",
             unknown_sensors="ignore",
         )  # fmt: skip

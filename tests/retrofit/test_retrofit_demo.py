@@ -240,6 +240,13 @@ def test_report_states_the_track_record_on_independent_houses(demo_results):
     for check in INDEPENDENT_CHECKS.values():
         assert check.house in text and check.note in text
         assert f"{check.savings_mean_abs_pp:.1f} / {check.savings_max_abs_pp:.1f} pp" in text
+    # and what a heat-flux plate on one wall did on the same houses
+    from thermocal.retrofit.track_record import IN_SITU_CHECKS
+
+    assert "The analysis with an in-situ wall U-value against EnergyPlus" in text
+    for check in IN_SITU_CHECKS.values():
+        assert check.house in text
+        assert f"{check.savings_mean_abs_pp:.1f} / {check.savings_max_abs_pp:.1f} pp" in text
 
 
 def test_track_record_figures_from_a_run():

@@ -121,9 +121,11 @@ def test_twin_with_an_in_situ_wall_u_value(tmp_path):
         2 * measured["rel_std"]
     )
     assert run["calibration"]["correction"]["measured_in_situ"] == ["k_walls"]
-    from thermocal.retrofit.track_record import measured_check
+    from thermocal.retrofit.track_record import IN_SITU_CHECKS, differs_from, measured_check
 
     got = measured_check(run, _reference(), MEASURES)
+    # the report's record of the plate on this house is this run
+    assert not differs_from(IN_SITU_CHECKS[REF.name], got), got
     assert got["within_3pp"] == 15, got  # the target (13 without the plate)
     assert got["savings_mean_abs_pp"] < 1.5  # 1.25 pp (2.0 without)
     assert got["covered"] == 15

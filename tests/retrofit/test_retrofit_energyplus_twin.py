@@ -215,9 +215,11 @@ def test_twin_with_an_in_situ_wall_u_value(tmp_path):
     # the rest of the envelope group, named by what the house has (no roof: an attic)
     assert corr["groups"]["k_env"]["label"] == "ceiling under the attic + walls to unheated spaces"
     assert corr["groups"]["k_walls"]["components"] == ["walls"]
-    from thermocal.retrofit.track_record import measured_check
+    from thermocal.retrofit.track_record import IN_SITU_CHECKS, differs_from, measured_check
 
     got = measured_check(run, _reference(), MEASURES)
+    # the report's record of the plate on this house is this run
+    assert not differs_from(IN_SITU_CHECKS[REF.name], got), got
     walls = next(s for s in run["scenarios"] if s["measures"] == ["walls"])
     assert abs(walls["saving_pct"] - _reference()["saving_pct"]["walls"]) < 3.0  # -1.9 pp
     assert got["savings_mean_abs_pp"] < 5.0  # 4.68 pp (5.77 without)

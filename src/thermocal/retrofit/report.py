@@ -452,7 +452,7 @@ def write_report(
 def _track_record(rep) -> None:
     """How the same analysis held on houses thermocal did not write (EnergyPlus 25.2 twins,
     their 90 % intervals whatever this run's ``uncertainty.interval``)."""
-    from thermocal.retrofit.track_record import INDEPENDENT_CHECKS
+    from thermocal.retrofit.track_record import IN_SITU_CHECKS, INDEPENDENT_CHECKS
 
     checks = list(INDEPENDENT_CHECKS.values())
     rep.paragraph(
@@ -462,22 +462,35 @@ def _track_record(rep) -> None:
         "thermocal given only the areas and nominal U-values of the building file; pp: "
         "percentage points):"
     )
-    rows = [
-        {
-            "house": c.house,
-            "heat loss coefficient": f"{c.hlc_error_pct:+.1f} %",
-            "demand": f"{c.demand_error_pct:+.1f} %",
-            "savings: mean / max difference": f"{c.savings_mean_abs_pp:.1f} / "
-            f"{c.savings_max_abs_pp:.1f} pp",
-            "savings within 3 pp": f"{c.within_3pp} of 15",
-            "90 % intervals covering": f"{c.covered} of 15",
-            "median half-width": f"{c.median_half_width_pp:.1f} pp",
-            "validation": "passed" if c.gate_passed else "failed",
-        }
-        for c in checks
-    ]
+    rows = [_track_record_row(c) for c in checks]
     rep.table(pd.DataFrame(rows), caption="The analysis against EnergyPlus on independent houses")
     rep.bullets([f"{c.house}: {c.note}" for c in checks])
+    plates = list(IN_SITU_CHECKS.values())
+    rep.paragraph(
+        "With one more measurement an energy auditor makes, a heat-flux plate on one wall for "
+        "two weeks of winter (in-situ U-value, ISO 9869-1; the configuration's in_situ "
+        "section), on the same houses:"
+    )
+    rep.table(
+        pd.DataFrame([_track_record_row(c) for c in plates]),
+        caption="The analysis with an in-situ wall U-value against EnergyPlus",
+    )
+    rep.bullets([f"{c.house}: {c.note}" for c in plates])
+
+
+def _track_record_row(c) -> dict:
+    """One house's row of the track record tables."""
+    return {
+        "house": c.house,
+        "heat loss coefficient": f"{c.hlc_error_pct:+.1f} %",
+        "demand": f"{c.demand_error_pct:+.1f} %",
+        "savings: mean / max difference": f"{c.savings_mean_abs_pp:.1f} / "
+        f"{c.savings_max_abs_pp:.1f} pp",
+        "savings within 3 pp": f"{c.within_3pp} of 15",
+        "90 % intervals covering": f"{c.covered} of 15",
+        "median half-width": f"{c.median_half_width_pp:.1f} pp",
+        "validation": "passed" if c.gate_passed else "failed",
+    }
 
 
 def _assumptions(rep, analysis: RetrofitAnalysis, results: dict) -> None:

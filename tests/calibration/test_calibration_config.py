@@ -161,3 +161,31 @@ def test_in_situ_entry_resolved_against_the_campaign_file(folder):
     )
     with pytest.raises(ThermocalInputError, match="set parameters.level: element"):
         load_campaign(folder / "m.yaml")
+
+
+def test_in_situ_measurement_outside_the_campaigns_range_is_refused():
+    """A measured resistance beyond the parameter's range (a dead plate's 20 m2 K/W on a roof
+    sampled up to 5.25) stops the command before any simulation, naming the range."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from thermocal.calibration.analysis import measure_in_situ
+    from thermocal.io.heat_flux_log import InSituConfig
+
+    name = "construction/ROOF-1/resistance"
+    space = SimpleNamespace(
+        names=[name], index=lambda n: 0, lower=np.array([0.9]), upper=np.array([5.25])
+    )
+    for value, ok in ((4.0, True), (20.0, False)):
+        campaign = SimpleNamespace(in_situ={name: InSituConfig(resistance=value, rel_std=0.1)})
+        if ok:
+            assert measure_in_situ(campaign, space)[name][0].resistance == pytest.approx(value)
+        else:
+            with pytest.raises(ThermocalInputError, match="outside the campaign's range"):
+                measure_in_situ(campaign, space)
+    campaign = SimpleNamespace(in_situ={"construction/X/resistance": InSituConfig(
+        resistance=1.0, rel_std=0.1)})  # fmt: skip
+    with pytest.raises(ThermocalInputError, match="not a parameter of the campaign"):
+        measure_in_situ(campaign, space)
+

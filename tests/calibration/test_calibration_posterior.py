@@ -157,7 +157,7 @@ def test_model_discrepancy_along_a_signature_is_covered_only_with_the_term():
     assert width < 1.0  # still informative: narrower than the truth itself
 
 
-def test_an_in_situ_measurement_multiplies_the_posterior_as_the_analytic_gaussian():
+def test_an_in_situ_measurement_replaces_the_prior_as_the_analytic_gaussian():
     """A measured parameter's log-normal prior (``measured=``) against the hand-computed
     Gaussian: the data's precision plus the measurement's, the means weighted by them; the
     measurement replaces the parameter's uniform prior. With data that carry nothing on it the

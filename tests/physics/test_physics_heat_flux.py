@@ -153,3 +153,20 @@ def test_gaps_dead_plates_and_empty_logs_are_refused_by_name():
         average_method(times, np.zeros(n), ti, te)
     with pytest.raises(ValueError, match="no row has the heat flux and both temperatures"):
         average_method(times, np.full(n, np.nan), ti, te)
+
+
+def test_a_logger_that_changes_its_interval_is_not_a_gap_and_a_near_dead_plate_is_refused():
+    """Two days at 1 minute, then ten at 10 minutes, with jitter: every row keeps its own
+    spacing (no day refused, the exact U back); a plate reading a thousandth of the flux is
+    refused as reading nothing."""
+    rng = np.random.default_rng(0)
+    fine = pd.date_range("2025-01-06", periods=2 * 24 * 60, freq="1min")
+    coarse = pd.date_range(fine[-1] + pd.Timedelta("1min"), periods=10 * 24 * 6, freq="10min")
+    jitter = pd.to_timedelta(rng.integers(-60, 60, len(coarse)), unit="s")
+    times = fine.append(coarse + jitter).sort_values()
+    n = len(times)
+    ti, te = np.full(n, 20.0), np.full(n, 5.0)
+    r = average_method(times, 0.9 * (ti - te), ti, te)
+    assert r.days == 11 and r.u_value == pytest.approx(0.9)
+    with pytest.raises(ValueError, match="reads .almost. nothing"):
+        average_method(times, 1e-4 * (ti - te), ti, te)

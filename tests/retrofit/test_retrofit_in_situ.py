@@ -87,6 +87,16 @@ def test_a_given_value_and_its_uncertainty(building, tmp_path):
         ({"walls": {"u_value": 1.0}}, "give its rel_std too"),
         ({"walls": {"file": "x.csv", "u_value": 1.0, "rel_std": 0.1}}, "give either file"),
         ({"walls": {"file": "x.csv", "columns": {"heat_flux": "q"}}}, "temp_in"),
+        (
+            {"walls": {"file": "x.csv",
+                       "columns": {"heat_flux": "q", "temp_in": "T", "temp_out": "T"}}},
+            "needs its own log column",
+        ),
+        (
+            {"walls": {"file": "x.csv", "columns": {"heat_flux": "q", "temp_in": "Ti",
+                                                    "temp_out": "Te", "rh": "RH"}}},
+            "not used",
+        ),
     ],
 )
 def test_configuration_errors_name_the_key(entry, message, tmp_path):
@@ -109,6 +119,7 @@ def test_log_errors_say_what_to_do(building, tmp_path):
         ({}, good.assign(q_W_m2=-good["q_W_m2"]), "heat_flux_sign: inward"),
         ({}, good.iloc[:48], "has not converged .duration: 2 days < 3"),
         ({"component": "north window"}, good, "is not a external_wall"),
+        ({"other_side": "unheated"}, good, "the component sets"),
     ]
     for spec, rows, message in cases:
         entry = {"file": str(LOG), "columns": COLUMNS, **spec}

@@ -881,10 +881,14 @@ def _posterior_or_note(
     # the joint posterior of every varied parameter (a parameter held at its nominal value
     # would make the others compensate for it); the critical ones only in large spaces
     names = list(space.names) if space.dimension <= POSTERIOR_MAX_PARAMETERS else list(critical)
+    # a parameter measured in situ is in the posterior whether or not it is critical
+    names += [n for n in campaign.in_situ if n in space.names and n not in names]
     if len(names) < space.dimension:
         notes.append(
-            f"The posterior covers the {len(names)} critical parameters (the others at their "
-            f"nominal values): the space has more than {POSTERIOR_MAX_PARAMETERS} parameters."
+            f"The posterior covers the {len(names)} critical "
+            + ("and measured " if campaign.in_situ else "")
+            + "parameters (the others at their nominal values): the space has more than "
+            f"{POSTERIOR_MAX_PARAMETERS} parameters."
         )
     idx = [space.index(n) for n in names]
     measured, details = _in_situ_values(campaign, space, names, notes)
@@ -947,6 +951,15 @@ def measure_in_situ(campaign, space) -> dict:
                 f"({result.resistance:.3g} m2 K/W) beyond ISO 6946's surface resistances "
                 f"{result.surface_resistances}: check the value and flow"
             )
+        i = space.index(name)
+        low, high = float(space.lower[i]), float(space.upper[i])
+        if not low <= result.resistance <= high:
+            raise ThermocalInputError(
+                f"campaign {where}: the measured resistance {result.resistance:.3g} m2 K/W lies "
+                f"outside the campaign's range for it ({low:.3g} to {high:.3g}): widen "
+                "parameters.ranges for it, or check the log (plate position, the temperatures' "
+                "sides, other_side)"
+            )
         out[name] = (result, source)
     return out
 
@@ -985,7 +998,7 @@ def _in_situ_values(campaign, space, names, notes) -> tuple[dict, dict]:
 
 
 def _note_once(notes: list, text: str) -> None:
-    """Append ``text`` to ``notes`` unless it is there (the zoom stage analyses again)."""
+    """Append ``text`` to ``notes`` unless it is there already."""
     if text not in notes:
         notes.append(text)
 

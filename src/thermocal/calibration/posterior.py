@@ -17,7 +17,9 @@ identified heat, model error included: the honest floor) plus the meta-model's o
 error (:func:`emulator_variance`), and ``n_eff = sum_g n_g / tau_g`` the number of
 independent hours given each series' correlation time ``tau_g`` (the longer of its integrated
 and its lag-1 autocorrelation times, :func:`effective_hours`). The prior is
-the campaign's: uniform in each parameter between its bounds. With the affine model the
+the campaign's: uniform in each parameter between its bounds, or, for an element measured in
+situ (a heat-flux meter, ISO 9869-1), log-normal around the measurement within the same bounds
+(:func:`measured_prior`). With the affine model the
 posterior is a Gaussian in ``z`` truncated to the prior box, sampled exactly by Gibbs sweeps
 (:func:`~thermocal.calibration.mcmc.truncated_gaussian_gibbs`); with curvature by emcee's
 affine-invariant ensemble sampler (Foreman-Mackey et al. 2013); either until the draws are

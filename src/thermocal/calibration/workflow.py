@@ -152,6 +152,8 @@ def calibrate(
     t0 = time.perf_counter()
     inputs = load_inputs(campaign)
     check_period_length(inputs.start, inputs.end, inputs.weather.index)
+    space = campaign_space(campaign, inputs.building)
+    measure_in_situ(campaign, space)  # a bad log stops here, before any simulation
     problem, _ = build_problem(campaign, inputs)
     later = validation_problem(campaign, inputs)
     # every sample stores its unoccupied heat series, whatever the meta-model: the series
@@ -172,8 +174,6 @@ def calibrate(
         f"{nominal_outputs['unoccupied_std'] / 1000:.3f} kW ({timings['nominal_run']:.1f} s per "
         "identification)"
     )
-    space = campaign_space(campaign, inputs.building)
-    measure_in_situ(campaign, space)  # a bad log stops here, before any simulation
     if n < 1:
         raise ThermocalInputError(f"--samples must be >= 1, got {n}")
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)

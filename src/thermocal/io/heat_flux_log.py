@@ -18,7 +18,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from thermocal.errors import ThermocalInputError
-from thermocal.physics.heat_flux import InSituUValue, average_method
+from thermocal.physics.heat_flux import MIN_CONDUCTANCE, InSituUValue, average_method
 
 __all__ = ["InSituConfig", "measure_in_situ_value", "read_heat_flux_log"]
 
@@ -60,6 +60,11 @@ class InSituConfig(BaseModel):
         None, gt=0, le=2000, description="of the element, for ISO 9869-1's criterion d "
         "[kJ/(m2 K)]",
     )  # fmt: skip
+    other_side: Literal["outdoors", "unheated"] | None = Field(
+        None, description="what is on the element's other side: outdoors (ISO 6946's outside "
+        "surface resistance) or an unheated space (the inside one on both sides); the "
+        "retrofit's components imply it",
+    )  # fmt: skip
     flow: Literal["horizontal", "upward", "downward"] | None = Field(
         None, description="the heat flow's direction through the element (ISO 6946 surface "
         "resistances: walls horizontal, roofs upward, floors downward); the retrofit's "
@@ -90,9 +95,14 @@ class InSituConfig(BaseModel):
         if given and self.rel_std is None:
             value = getattr(self, given[0])
             raise ValueError(f"{given[0]} {value:g}: give its rel_std too (e.g. 0.1)")
-        missing = {"heat_flux", "temp_in", "temp_out"} - set(self.columns)
+        needed = {"heat_flux", "temp_in", "temp_out"}
+        missing, extra = needed - set(self.columns), set(self.columns) - needed
         if self.file is not None and missing:
             raise ValueError(f"columns: map {sorted(missing)} to the log's column names")
+        if extra:
+            raise ValueError(f"columns: {sorted(extra)} not used; map only {sorted(needed)}")
+        if len(set(self.columns.values())) < len(self.columns):
+            raise ValueError(f"columns: each of {sorted(needed)} needs its own log column")
         return self
 
 
@@ -158,10 +168,14 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
         # the reader's remedies name its Python options; here the configuration's keys
         for option, remedy in (
             ("pass time_column=", f"set {where}.time_column"),
-            ("pass tz=", f"set {where}.timezone"),
-            ("pass time_format=", "write the times as ISO 8601"),
+            (", or pass time_format= (e.g. '%d.%m.%Y %H:%M')", ""),
+            ("pass tz=", f"set {where}.timezone:"),
+            ("pass the time zone (--tz Europe/Zurich)", f"set {where}.timezone (Europe/Zurich)"),
+            ("pass a fixed offset, e.g. tz=1.0", f"set {where}.timezone to an offset, e.g. 1.0"),
             ("pass sort=True", "sort the log by time"),
+            (", or pass duplicates='first' or 'last'", ""),
             ("pass decimal=','", "write decimal points"),
+            ("pass interval=", "log more than one row"),
         ):
             text = text.replace(option, remedy)
         raise ThermocalInputError(f"{where}: {text}") from None
@@ -222,6 +236,8 @@ def measure_in_situ_value(
     from thermocal.physics.heat_flux import SURFACE_RESISTANCES
 
     films = tuple(surface_resistances or SURFACE_RESISTANCES[flow])
+    if surface_resistances is None and spec.other_side == "unheated":
+        films = (films[0], films[0])
     if spec.file is None:
         if spec.resistance is not None:
             u = 1.0 / (sum(films) + spec.resistance)
@@ -236,8 +252,12 @@ def measure_in_situ_value(
             )  # fmt: skip
         return result, "given"
     times, q, ti, te = read_heat_flux_log(spec, where, default_tz)
-    mean_q = float(np.nanmean(q))
-    if mean_q < 0 and float(np.nanmean(ti - te)) > 0:
+    valid = np.isfinite(q) & np.isfinite(ti) & np.isfinite(te)
+    mean_q = float(np.mean(q[valid])) if valid.any() else 0.0
+    mean_dt = float(np.mean((ti - te)[valid])) if valid.any() else 0.0
+    # a plate that reads inwards on average while the inside is warmer is mounted or wired the
+    # other way; one that reads almost nothing is the average method's to refuse
+    if mean_dt > 0 and mean_q < -MIN_CONDUCTANCE * mean_dt:
         raise ThermocalInputError(
             f"heat-flux log {spec.file}: the heat flux is {mean_q:.1f} W/m2 on average "
             "(inwards) while the inside is warmer: the plate reports the other direction; "

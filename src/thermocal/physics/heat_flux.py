@@ -55,6 +55,9 @@ __all__ = [
 #: ISO 9869-1 7.2.1: shortest test [days] and the relative limit of criteria b, c and d [-].
 MIN_DAYS = 3
 CONVERGENCE_LIMIT = 0.05
+#: Smallest plausible heat flux over temperature difference of a building element [W/(m2 K)]
+#: (a resistance of 50 m2 K/W; the best passive-house walls have about 10).
+MIN_CONDUCTANCE = 0.02
 #: Least share of each whole day the valid rows must cover (ISO 9869-1 asks for a continuous
 #: record; a day with a longer gap is refused, not counted) [-].
 MIN_DAY_COVERAGE = 0.9
@@ -161,16 +164,25 @@ class InSituUValue:
         }  # fmt: skip
 
 
+#: A spacing longer than this many times the local logging interval (the median of the
+#: neighbouring spacings) is a gap: the row before it stands for one local interval only.
+GAP_FACTOR = 2.0
+#: Neighbouring spacings the local logging interval is the median of [-].
+GAP_WINDOW = 25
+
+
 def _interval_seconds(times: pd.DatetimeIndex) -> tuple[np.ndarray, np.ndarray]:
     """Each row's start after the first row's [s] and its weight [s]: the time to the next
-    row but at most the logging interval (the median spacing), so that a row does not stand for
-    the gap after it."""
+    row, except before a gap (a spacing over :data:`GAP_FACTOR` times the local interval, the
+    median of the :data:`GAP_WINDOW` neighbouring spacings), where the row stands for one local
+    interval only; a logger that changes its interval or jitters keeps its rows' own spacing."""
     t = np.asarray((times - times[0]) / pd.Timedelta(seconds=1), float) if len(times) else []
     if len(t) < 2:
         return np.asarray(t, float), np.full(len(t), 3600.0)
     dt = np.diff(t)
-    interval = float(np.median(dt))
-    return t, np.minimum(np.append(dt, interval), interval)
+    local = pd.Series(dt).rolling(GAP_WINDOW, center=True, min_periods=1).median().to_numpy()
+    weight = np.where(dt > GAP_FACTOR * local, local, dt)
+    return t, np.append(weight, local[-1])
 
 
 def _ratio(q: np.ndarray, dtemp: np.ndarray, w: np.ndarray) -> float:
@@ -241,6 +253,8 @@ def average_method(
     ok = np.isfinite(q) & np.isfinite(ti) & np.isfinite(te)
     if not ok.any():
         raise ValueError("no row has the heat flux and both temperatures")
+    start = int(np.argmax(ok))  # the days count from the first valid row
+    times, q, ti, te, ok = times[start:], q[start:], ti[start:], te[start:], ok[start:]
     elapsed, w_all = _interval_seconds(times)
     days = int((elapsed[-1] + w_all[-1]) // 86400.0) if len(times) else 0
     if days < 1:
@@ -276,6 +290,12 @@ def average_method(
             "check that the inside and outside columns are not swapped)"
         )
     ratio = _ratio(q0, dt0, w)
+    if abs(ratio) < MIN_CONDUCTANCE:
+        raise ValueError(
+            f"the heat flux over the temperature difference is {ratio:.2g} W/(m2 K), below any "
+            f"building element's ({MIN_CONDUCTANCE:g}): the plate reads (almost) nothing; check "
+            "its connection and the heat-flux column"
+        )
 
     def upto(n_days: float) -> float:
         m = w * (day < n_days)

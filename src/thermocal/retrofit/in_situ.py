@@ -130,11 +130,12 @@ def measure_in_situ(cfg, building, default_tz=None) -> dict[str, InSituMeasureme
     for component, spec in cfg.in_situ.items():
         where = f"in_situ.{component}"
         described = _described_u(building, component, spec)
-        if spec.flow is not None:
-            raise ThermocalInputError(
-                f"{where}.flow: the component sets the heat flow's direction "
-                f"({IN_SITU_COMPONENTS[component][0]} for {component}); remove the key"
-            )
+        for key in ("flow", "other_side"):
+            if getattr(spec, key) is not None:
+                raise ThermocalInputError(
+                    f"{where}.{key}: the component sets the heat flow's direction and what is "
+                    f"on its other side ({component}); remove the key"
+                )
         if spec.resistance is not None:
             raise ThermocalInputError(
                 f"{where}: give the component's U-value (u_value, air to air) rather than its "

@@ -161,7 +161,7 @@ def write_report(
         parts = [
             f"{corr['groups'][g]['label']} {100 * (k - 1):+.0f} %"
             + (
-                " (measured in situ)" if g in in_situ
+                "" if g in in_situ  # its label says "(in situ)"
                 else " (measured)" if corr["separated_by_data"][g]
                 else " (not separable: prior)"
             )

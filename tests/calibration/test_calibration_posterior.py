@@ -19,6 +19,22 @@ def _series_model(jacobian, intercept, names, nominal):
     )
 
 
+def _data_precision(J, intercept):
+    """By hand: the centred least squares ``z``, the data's precision in ``z`` and the residual
+    variance: the longer of the residual's integrated (emcee's estimator) and lag-1
+    autocorrelation times, at least 1, dividing the hours."""
+    import emcee
+
+    n, d = J.shape
+    Jc, oc = J - J.mean(0), intercept - intercept.mean()
+    z_ls, *_ = np.linalg.lstsq(Jc, -oc, rcond=None)
+    r = oc + Jc @ z_ls
+    var = r @ r / (n - 1 - d)
+    rho = min(max(np.corrcoef(r[:-1], r[1:])[0, 1], 0.0), 0.99)
+    tau = max(emcee.autocorr.integrated_time(r, c=5, tol=0)[0], (1 + rho) / (1 - rho), 1.0)
+    return z_ls, Jc.T @ Jc / var / tau, var
+
+
 def test_mcmc_matches_the_analytic_posterior_of_a_linear_gaussian_model():
     """Wide bounds: the posterior in z = log(p/p0) is Gaussian (tilted by the uniform prior's
     Jacobian exp(sum z)); mean and covariance computed by hand with numpy."""
@@ -32,17 +48,7 @@ def test_mcmc_matches_the_analytic_posterior_of_a_linear_gaussian_model():
     surrogate = _series_model(J, intercept, names, nominal)
     lower, upper = nominal * np.exp(-3.0), nominal * np.exp(3.0)
     post = calibration_posterior(surrogate, names, lower, upper, steps=3000, seed=2)
-    # by hand: centred least squares, residual variance, the longer of the residual's
-    # integrated (emcee's estimator) and lag-1 autocorrelation times, at least 1; Gaussian
-    import emcee
-
-    Jc, oc = J - J.mean(0), intercept - intercept.mean()
-    z_ls, *_ = np.linalg.lstsq(Jc, -oc, rcond=None)
-    r = oc + Jc @ z_ls
-    var = r @ r / (n - 1 - d)
-    rho = min(max(np.corrcoef(r[:-1], r[1:])[0, 1], 0.0), 0.99)
-    tau = max(emcee.autocorr.integrated_time(r, c=5, tol=0)[0], (1 + rho) / (1 - rho), 1.0)
-    precision = Jc.T @ Jc / var / tau
+    z_ls, precision, var = _data_precision(J, intercept)
     mean = np.linalg.solve(precision, precision @ z_ls + 1.0)
     std = np.sqrt(np.diag(np.linalg.inv(precision)))
     z_draws = np.log(post.samples.to_numpy() / nominal)
@@ -162,8 +168,6 @@ def test_an_in_situ_measurement_replaces_the_prior_as_the_analytic_gaussian():
     Gaussian: the data's precision plus the measurement's, the means weighted by them; the
     measurement replaces the parameter's uniform prior. With data that carry nothing on it the
     posterior's median is the measurement."""
-    import emcee
-
     rng = np.random.default_rng(7)
     n, d = 400, 2
     names = ["construction/Roof/resistance", "construction/Wall/resistance"]
@@ -176,13 +180,7 @@ def test_an_in_situ_measurement_replaces_the_prior_as_the_analytic_gaussian():
     post = calibration_posterior(
         surrogate, names, lower, upper, steps=3000, seed=3, measured={names[0]: (value, rel)}
     )
-    Jc, oc = J - J.mean(0), intercept - intercept.mean()
-    z_ls, *_ = np.linalg.lstsq(Jc, -oc, rcond=None)
-    r = oc + Jc @ z_ls
-    var = r @ r / (n - 1 - d)
-    rho = min(max(np.corrcoef(r[:-1], r[1:])[0, 1], 0.0), 0.99)
-    tau = max(emcee.autocorr.integrated_time(r, c=5, tol=0)[0], (1 + rho) / (1 - rho), 1.0)
-    data_precision = Jc.T @ Jc / var / tau
+    z_ls, data_precision, _ = _data_precision(J, intercept)
     prior_precision = np.diag([1.0 / np.log1p(rel**2), 0.0])
     prior_mean = np.array([np.log(value / 3.0), 0.0])
     precision = data_precision + prior_precision

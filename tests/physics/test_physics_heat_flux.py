@@ -170,3 +170,5 @@ def test_a_logger_that_changes_its_interval_is_not_a_gap_and_a_near_dead_plate_i
     assert r.days == 11 and r.u_value == pytest.approx(0.9)
     with pytest.raises(ValueError, match="reads .almost. nothing"):
         average_method(times, 1e-4 * (ti - te), ti, te)
+    with pytest.raises(ValueError, match="the other direction"):
+        average_method(times, -0.9 * (ti - te), ti, te)

@@ -244,7 +244,8 @@ def average_method(
     ValueError
         Fewer than one whole day, a whole day whose valid rows (heat flux and both
         temperatures) cover less than :data:`MIN_DAY_COVERAGE` of it (named), a heat flux that
-        sums to zero, or a mean difference that is not positive, each with what to check.
+        sums to zero or reads almost nothing or inwards, or a mean difference that is not
+        positive, each with what to check.
     """
     times = pd.DatetimeIndex(times)
     q = np.asarray(heat_flux, float)
@@ -290,6 +291,11 @@ def average_method(
             "check that the inside and outside columns are not swapped)"
         )
     ratio = _ratio(q0, dt0, w)
+    if ratio <= -MIN_CONDUCTANCE:
+        raise ValueError(
+            "the heat flows inwards on average while the inside is warmer: the plate reports "
+            "the other direction (its sign)"
+        )
     if abs(ratio) < MIN_CONDUCTANCE:
         raise ValueError(
             f"the heat flux over the temperature difference is {ratio:.2g} W/(m2 K), below any "

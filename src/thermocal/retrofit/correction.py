@@ -337,9 +337,9 @@ class Correction:
         if "k_env" in self.factors and not self.separated.get("k_env", True):
             # the remedy the analysis can take: the roof-and-walls group's own measurement
             text += (
-                f"; the {self.label('k_env')} share the data leave to the prior; an in-situ "
-                "U-value of its largest element (a heat-flux plate, ISO 9869-1: the retrofit "
-                "configuration's in_situ section) gives it a factor of its own"
+                f"; the data leave the {self.label('k_env')} to the prior: an in-situ U-value "
+                "of its largest element (a heat-flux plate, ISO 9869-1: the retrofit "
+                "configuration's in_situ section) gives that element a factor of its own"
             )
         return text
 

@@ -104,6 +104,8 @@ def group_components(envelope, ground_kind: str, in_situ=()) -> dict[str, dict]:
         + ("; measured in situ (ISO 9869-1)" if "cellar_ceiling" in measured else ""),
     }
     return out
+
+
 #: Components of ``k_env`` that take a factor of their own when measured in situ
 #: (:mod:`thermocal.retrofit.in_situ`), with their envelope attribute; a measured cellar
 #: ceiling is the floor group's only component, so its measurement is ``k_floor``'s prior.

@@ -128,6 +128,9 @@ def twin(tmp_path_factory):
         )
         out["roof_plate"] = ct.summarise(result, measured, truth_file, "building")
         out["roof_plate_posterior"] = result.posterior.to_dict()
+        from thermocal.calibration.report import write_report
+
+        out["roof_plate_report"] = write_report(result, folder / "roof_plate.html").read_text()
     return out
 
 
@@ -254,6 +257,8 @@ def test_a_roof_plate_determines_roof_and_wall_with_the_building_metric(twin):
     truth = json.loads((REFERENCE / "truth.json").read_text())["truth"]
     r_true = truth["construction/ROOF-1/resistance"]
     assert abs(measurement["resistance_m2K_per_W"] / r_true - 1) < measurement["resistance_rel_std"]
+    report = twin["roof_plate_report"]
+    assert "In-situ measurements in the posterior" in report and "heat_flux_roof.csv" in report
 
 
 def test_the_reports_track_record_is_this_run(twin):

@@ -74,9 +74,27 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
             .reset_index()
             .rename(columns={"q05": "5 %", "q95": "95 %"}),
             caption="Posterior of the critical parameters (series meta-model, uniform prior on "
-            "the sampled range, noise level from the residual identified heat; emcee, "
-            "Foreman-Mackey et al. 2013): median and 90 % credible interval",
+            "the sampled range, log-normal around an in-situ measurement, noise level from the "
+            "residual identified heat; emcee, Foreman-Mackey et al. 2013): median and 90 % "
+            "credible interval",
         )
+        if post.in_situ:
+            report.table(
+                pd.DataFrame(
+                    [
+                        {
+                            "parameter": name,
+                            "measured R [m2 K/W]": f"{m['resistance_m2K_per_W']:.3g}",
+                            "std. unc.": f"{100 * m['resistance_rel_std']:.1f} %",
+                            "days / mean dT": "given" if not m["days"] else
+                            f"{m['days']} / {m['mean_difference_K']:.1f} K",
+                            "source": m["source"],
+                        }
+                        for name, m in post.in_situ.items()
+                    ]
+                ),
+                caption="In-situ measurements in the posterior (ISO 9869-1 average method)",
+            )  # fmt: skip
     if zoom:
         report.table(
             pd.DataFrame(zoom["box"])

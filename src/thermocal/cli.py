@@ -76,6 +76,7 @@ COMMAND_MODULES = (
     "verify",
     "identify",
     "calibrate",
+    "insitu",
 )
 
 

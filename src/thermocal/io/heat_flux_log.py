@@ -178,6 +178,11 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
             ("pass interval=", "log more than one row"),
         ):
             text = text.replace(option, remedy)
+        if "not found" in text:
+            text += (
+                f"; map the log's columns with {where}.columns (heat_flux, temp_in, temp_out)"
+                + _header_hint(path)
+            )
         raise ThermocalInputError(f"{where}: {text}") from None
     q = raw["heat_flux"].to_numpy(float)
     if spec.heat_flux_sign == "inward":
@@ -193,6 +198,22 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
                 f"{where}.temperature_unit"
             )
     return raw.index, q, ti, te
+
+
+def _header_hint(path: Path) -> str:
+    """``"; the log's columns: ..."`` for a CSV or parquet log, empty when unreadable."""
+    import pandas as pd
+
+    try:
+        if path.suffix.lower() in (".parquet", ".pq"):
+            import pyarrow.parquet as pq
+
+            names = pq.read_schema(path).names
+        else:
+            names = list(pd.read_csv(path, nrows=0, sep=None, engine="python").columns)
+    except Exception:  # noqa: BLE001 - only a hint; the reader's message stands
+        return ""
+    return f"; the log's columns: {', '.join(map(str, names[:12]))}"
 
 
 def measure_in_situ_value(

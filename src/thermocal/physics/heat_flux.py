@@ -379,3 +379,45 @@ def average_method(
         notes=notes,
         surface_resistances=films,
     )
+
+
+def running_average(
+    times: pd.DatetimeIndex, heat_flux: np.ndarray, temp_in: np.ndarray, temp_out: np.ndarray
+) -> pd.Series:
+    """The average method's ratio at the end of each whole day, from the log's first valid
+    row: how the estimate converges (ISO 9869-1 reads its criteria b and c off it).
+
+    Parameters
+    ----------
+    times, heat_flux, temp_in, temp_out
+        As :func:`average_method` [W/m2, C].
+
+    Returns
+    -------
+    Series
+        The ratio ``sum(q dt) / sum(dT dt)`` over the days up to each one [W/(m2 K)] (U with
+        air temperatures, Lambda with surface ones), indexed by the day's end; NaN where no
+        valid row has come yet.
+    """
+    times = pd.DatetimeIndex(times)
+    q = np.asarray(heat_flux, float)
+    dtemp = np.asarray(temp_in, float) - np.asarray(temp_out, float)
+    ok = np.isfinite(q) & np.isfinite(dtemp)
+    if not ok.any():
+        return pd.Series(dtype=float)
+    start = int(np.argmax(ok))
+    times, q, dtemp, ok = times[start:], q[start:], dtemp[start:], ok[start:]
+    elapsed, weight = _interval_seconds(times)
+    days = int((elapsed[-1] + weight[-1]) // 86400.0)
+    w = np.where(ok, weight, 0.0)
+    day = (elapsed // 86400.0).astype(int)
+    keep = day < days
+    q_sum = np.cumsum(np.bincount(day[keep], weights=(np.where(ok, q, 0.0) * w)[keep],
+                                  minlength=days))  # fmt: skip
+    t_sum = np.cumsum(np.bincount(day[keep], weights=(np.where(ok, dtemp, 0.0) * w)[keep],
+                                  minlength=days))  # fmt: skip
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(t_sum != 0, q_sum / t_sum, np.nan)
+    ends = times[0] + pd.to_timedelta(np.arange(1, days + 1), unit="D")
+    return pd.Series(ratio, index=ends, name="running_average_W_per_m2K")
+

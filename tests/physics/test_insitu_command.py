@@ -1,0 +1,61 @@
+"""``thermocal insitu LOG``: the average method of ISO 9869-1 on a heat-flux meter's log from
+the command line (the EnergyPlus wall of the retrofit twin), its files and its messages."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from thermocal.cli import app
+from thermocal.errors import ThermocalInputError
+
+REF = Path(__file__).resolve().parents[1] / "reference" / "retrofit_energyplus_house"
+LOG = REF / "heat_flux_north_wall.csv"
+
+
+def test_the_wall_of_the_energyplus_twin(tmp_path):
+    runner = CliRunner()
+    out = tmp_path / "out"
+    result = runner.invoke(
+        app, ["insitu", str(LOG), "--heat-flux", "q_W_m2", "--out", str(out)], terminal_width=80
+    )
+    assert result.exit_code == 0, result.output
+    assert "1.578 W/(m2 K)" in result.output and "7.3 %" in result.output
+    assert "first vs last 2/3" in result.output and "FAILS" not in result.output
+    assert max(len(line) for line in result.output.splitlines()) <= 80
+    saved = json.loads((out / "in_situ.json").read_text())
+    assert saved["u_value_W_per_m2K"] == pytest.approx(1.578, abs=1e-3)
+    assert saved["converged"] and saved["days"] == 14
+    running = pd.read_csv(out / "running_average.csv")
+    assert len(running) == 14
+    assert running.iloc[-1, 1] == pytest.approx(saved["u_value_W_per_m2K"])
+    assert (out / "figures" / "running_average.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    ("rows", "options", "message"),
+    [
+        (None, [], "'q'.*--heat-flux, --temp-in and --temp-out.*columns: time, q_W_m2, Ti, Te"),
+        ("kelvin", ["--heat-flux", "q_W_m2"], "--temperature-unit"),
+        ("inward", ["--heat-flux", "q_W_m2"], "--inward"),
+        (None, ["--heat-flux", "q_W_m2", "--temp-in", "Te"], "its own log column"),
+    ],
+)
+def test_mistakes_are_named_with_the_commands_options(tmp_path, rows, options, message):
+    path = LOG
+    if rows is not None:
+        log = pd.read_csv(LOG)
+        if rows == "kelvin":
+            log["Ti"] += 273.15
+        else:
+            log["q_W_m2"] = -log["q_W_m2"]
+        path = tmp_path / "plate.csv"
+        log.to_csv(path, index=False)
+    result = CliRunner().invoke(app, ["insitu", str(path), *options])
+    assert isinstance(result.exception, ThermocalInputError), result.output
+    assert pytest.importorskip("re").search(message, str(result.exception)), result.exception
+    assert "LOG." not in str(result.exception)

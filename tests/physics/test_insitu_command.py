@@ -59,3 +59,19 @@ def test_mistakes_are_named_with_the_commands_options(tmp_path, rows, options, m
     assert isinstance(result.exception, ThermocalInputError), result.output
     assert pytest.importorskip("re").search(message, str(result.exception)), result.exception
     assert "LOG." not in str(result.exception)
+
+
+def test_a_log_that_has_not_converged_is_shown_and_exits_with_1(tmp_path):
+    """Two days: the table says which criterion fails (the analyses would refuse the log) and
+    the command exits with 1 after writing what it found."""
+    path = tmp_path / "two_days.csv"
+    pd.read_csv(LOG).iloc[:48].to_csv(path, index=False)
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        app, ["insitu", str(path), "--heat-flux", "q_W_m2", "--out", str(out)], terminal_width=80
+    )
+    assert result.exit_code == 1, result.output
+    assert "FAILS" in result.output and "NOT CONVERGED" in result.output
+    assert "duration: 2 days < 3" in " ".join(result.output.split())
+    assert not json.loads((out / "in_situ.json").read_text())["converged"]
+

@@ -129,8 +129,13 @@ def insitu(
     the criteria fail (the analyses would refuse the log).
     """
     from thermocal.errors import ThermocalInputError
-    from thermocal.io.heat_flux_log import InSituConfig, read_heat_flux_log
-    from thermocal.physics.heat_flux import SURFACE_RESISTANCES, average_method, running_average
+    from thermocal.io.heat_flux_log import (
+        InSituConfig,
+        read_heat_flux_log,
+        reduce_heat_flux_log,
+        surface_resistances_of,
+    )
+    from thermocal.physics.heat_flux import running_average
 
     try:
         spec = InSituConfig(
@@ -144,18 +149,11 @@ def insitu(
         raise ThermocalInputError(f"thermocal insitu: {exc}") from None
     try:
         times, q, ti, te = read_heat_flux_log(spec, "LOG")
+        # not refused when it has not converged: this command shows why
+        films = surface_resistances_of(spec, flow)
+        result = reduce_heat_flux_log(spec, "LOG", times, q, ti, te, films)
     except ThermocalInputError as exc:
         raise ThermocalInputError(_in_options(str(exc))) from None
-    r_si, r_se = SURFACE_RESISTANCES[flow]
-    try:  # not refused when it has not converged: this command shows why
-        result = average_method(
-            times, q, ti, te, temperatures=spec.temperatures,
-            surface_resistances=(r_si, r_si if unheated else r_se),
-            areal_heat_capacity=None if heat_capacity is None else 1e3 * heat_capacity,
-        )  # fmt: skip
-    except ValueError as exc:
-        hint = " (--inward)" if "other direction" in str(exc) else ""
-        raise ThermocalInputError(f"heat-flux log {log}: {exc}{hint}") from None
     source = f"{log.name}: ISO 9869-1 average method, {result.days} days"
     running = running_average(times, q, ti, te)
     if surface:  # the running average is Lambda; shown as U like the result

@@ -18,9 +18,20 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from thermocal.errors import ThermocalInputError
-from thermocal.physics.heat_flux import MIN_CONDUCTANCE, InSituUValue, average_method
+from thermocal.physics.heat_flux import (
+    SURFACE_RESISTANCES,
+    InSituUValue,
+    InwardHeatFlux,
+    average_method,
+)
 
-__all__ = ["InSituConfig", "measure_in_situ_value", "read_heat_flux_log"]
+__all__ = [
+    "InSituConfig",
+    "measure_in_situ_value",
+    "read_heat_flux_log",
+    "reduce_heat_flux_log",
+    "surface_resistances_of",
+]
 
 log = logging.getLogger(__name__)
 
@@ -106,13 +117,6 @@ class InSituConfig(BaseModel):
         return self
 
 
-def _timezone(tz):
-    """A time zone for :func:`read_measurements`: a name, or a fixed offset [h] as float."""
-    if tz is None:
-        return None
-    return float(tz) if isinstance(tz, int | float) else tz
-
-
 def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
     """A heat-flux meter's log: time stamps, outward heat flux and temperatures.
 
@@ -154,10 +158,7 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
             path, layout="wide", time_column=spec.time_column, sensors=names, units=units,
             # the average method counts whole days from the log's first row: without a zone
             # (given or the building's) the stamps are read as they are, as UTC
-            tz=next(
-                (tz for tz in (_timezone(spec.timezone), _timezone(default_tz)) if tz is not None),
-                "UTC",
-            ),
+            tz=next((tz for tz in (spec.timezone, default_tz) if tz is not None), "UTC"),
             rows="interval_start",
             unknown_sensors="ignore",
         )  # fmt: skip
@@ -216,6 +217,56 @@ def _header_hint(path: Path) -> str:
     return f"; the log's columns: {', '.join(map(str, names[:12]))}"
 
 
+def surface_resistances_of(
+    spec: InSituConfig, flow: str = "horizontal", given: tuple[float, float] | None = None
+) -> tuple[float, float]:
+    """The (inside, other side) surface resistances [m2 K/W] between U and the element's own
+    resistance: ``given``, else ISO 6946's for ``flow``, the inside one on both sides when
+    ``spec.other_side`` is an unheated space."""
+    if given is not None:
+        return tuple(given)
+    r_si, r_se = SURFACE_RESISTANCES[flow]
+    return (r_si, r_si if spec.other_side == "unheated" else r_se)
+
+
+def reduce_heat_flux_log(
+    spec: InSituConfig, where: str, times, q, ti, te, films: tuple[float, float]
+) -> InSituUValue:
+    """ISO 9869-1's average method on a log read by :func:`read_heat_flux_log`, whether or not
+    it has converged (``result.converged``).
+
+    Parameters
+    ----------
+    spec : InSituConfig
+    where : str
+        The configuration key, for messages.
+    times, q, ti, te
+        The log [W/m2, C].
+    films : (float, float)
+        :func:`surface_resistances_of` [m2 K/W].
+
+    Raises
+    ------
+    ThermocalInputError
+        What :func:`thermocal.physics.heat_flux.average_method` refuses, with the remedy (a
+        plate reporting inward flow: ``heat_flux_sign``).
+    """
+    try:
+        return average_method(
+            times, q, ti, te, temperatures=spec.temperatures, surface_resistances=films,
+            plate_rel_std=spec.plate_rel_std, temperature_std_K=spec.temperature_std,
+            spot_rel_std=spec.spot_rel_std,
+            areal_heat_capacity=None if spec.areal_heat_capacity is None
+            else 1e3 * spec.areal_heat_capacity,
+        )  # fmt: skip
+    except InwardHeatFlux as exc:
+        raise ThermocalInputError(
+            f"heat-flux log {spec.file}: {exc}; set {where}.heat_flux_sign: inward"
+        ) from None
+    except (ValueError, ZeroDivisionError) as exc:
+        raise ThermocalInputError(f"heat-flux log {spec.file} ({where}): {exc}") from None
+
+
 def measure_in_situ_value(
     spec: InSituConfig,
     where: str,
@@ -254,11 +305,7 @@ def measure_in_situ_value(
         The log's errors (:func:`read_heat_flux_log`), a heat flux whose mean points inwards
         while the inside is warmer (the plate's sign), a log that fails ISO 9869-1's criteria.
     """
-    from thermocal.physics.heat_flux import SURFACE_RESISTANCES
-
-    films = tuple(surface_resistances or SURFACE_RESISTANCES[flow])
-    if surface_resistances is None and spec.other_side == "unheated":
-        films = (films[0], films[0])
+    films = surface_resistances_of(spec, flow, surface_resistances)
     if spec.file is None:
         if spec.resistance is not None:
             u = 1.0 / (sum(films) + spec.resistance)
@@ -272,29 +319,7 @@ def measure_in_situ_value(
                 surface_resistances=films,
             )  # fmt: skip
         return result, "given"
-    times, q, ti, te = read_heat_flux_log(spec, where, default_tz)
-    valid = np.isfinite(q) & np.isfinite(ti) & np.isfinite(te)
-    mean_q = float(np.mean(q[valid])) if valid.any() else 0.0
-    mean_dt = float(np.mean((ti - te)[valid])) if valid.any() else 0.0
-    # a plate that reads inwards on average while the inside is warmer is mounted or wired the
-    # other way; one that reads almost nothing is the average method's to refuse
-    if mean_dt > 0 and mean_q < -MIN_CONDUCTANCE * mean_dt:
-        raise ThermocalInputError(
-            f"heat-flux log {spec.file}: the heat flux is {mean_q:.1f} W/m2 on average "
-            "(inwards) while the inside is warmer: the plate reports the other direction; "
-            f"set {where}.heat_flux_sign: inward"
-        )
-    try:
-        result = average_method(
-            times, q, ti, te, temperatures=spec.temperatures, flow=flow,
-            surface_resistances=films,
-            plate_rel_std=spec.plate_rel_std, temperature_std_K=spec.temperature_std,
-            spot_rel_std=spec.spot_rel_std,
-            areal_heat_capacity=None if spec.areal_heat_capacity is None
-            else 1e3 * spec.areal_heat_capacity,
-        )  # fmt: skip
-    except (ValueError, ZeroDivisionError) as exc:
-        raise ThermocalInputError(f"heat-flux log {spec.file} ({where}): {exc}") from None
+    result = reduce_heat_flux_log(spec, where, *read_heat_flux_log(spec, where, default_tz), films)
     if not result.converged:
         raise ThermocalInputError(
             f"heat-flux log {spec.file} ({where}): the average method of ISO 9869-1 has not "

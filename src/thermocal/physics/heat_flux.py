@@ -49,6 +49,7 @@ __all__ = [
     "MIN_MEAN_DIFFERENCE_K",
     "SURFACE_RESISTANCES",
     "InSituUValue",
+    "InwardHeatFlux",
     "average_method",
 ]
 
@@ -71,6 +72,10 @@ SURFACE_RESISTANCES: dict[str, tuple[float, float]] = {
     "upward": (0.10, 0.04),
     "downward": (0.17, 0.04),
 }
+
+
+class InwardHeatFlux(ValueError):
+    """The heat flows inwards on average while the inside is warmer: the plate's sign."""
 
 
 @dataclass(frozen=True)
@@ -292,7 +297,7 @@ def average_method(
         )
     ratio = _ratio(q0, dt0, w)
     if ratio <= -MIN_CONDUCTANCE:
-        raise ValueError(
+        raise InwardHeatFlux(
             "the heat flows inwards on average while the inside is warmer: the plate reports "
             "the other direction (its sign)"
         )

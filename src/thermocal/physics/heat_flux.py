@@ -190,9 +190,41 @@ def _interval_seconds(times: pd.DatetimeIndex) -> tuple[np.ndarray, np.ndarray]:
     return t, np.append(weight, local[-1])
 
 
-def _ratio(q: np.ndarray, dtemp: np.ndarray, w: np.ndarray) -> float:
-    """``sum(q w) / sum(dtemp w)`` [W/(m2 K)]."""
-    return float(np.sum(q * w) / np.sum(dtemp * w))
+@dataclass(frozen=True)
+class _Days:
+    """A log from its first valid row, its rows' weights and its whole days' sums."""
+
+    first: int  # the first valid row of the log as given
+    times: pd.DatetimeIndex  # from it
+    ok: np.ndarray  # rows with the heat flux and both temperatures
+    day: np.ndarray  # each row's day from the first valid row [-]
+    weight: np.ndarray  # each row's interval [s] (:func:`_interval_seconds`)
+    days: int  # whole days
+    flux: np.ndarray  # per whole day: sum of q dt over its valid rows [J/m2]
+    difference: np.ndarray  # per whole day: sum of dT dt [K s]
+    covered: np.ndarray  # per whole day: the valid rows' time [s]
+
+
+def _whole_days(times, q, ti, te) -> _Days | None:
+    """The log's whole days and their sums (None without a valid row)."""
+    ok = np.isfinite(q) & np.isfinite(ti) & np.isfinite(te)
+    if not ok.any():
+        return None
+    start = int(np.argmax(ok))  # the days count from the first valid row
+    times, q, dtemp, ok = times[start:], q[start:], (ti - te)[start:], ok[start:]
+    elapsed, weight = _interval_seconds(times)
+    days = int((elapsed[-1] + weight[-1]) // 86400.0)
+    day = (elapsed // 86400.0).astype(int)
+    whole = day < days
+    w = np.where(ok & whole, weight, 0.0)
+
+    def per_day(values):
+        return np.bincount(day[whole], weights=(np.where(ok, values, 0.0) * w)[whole],
+                           minlength=days)  # fmt: skip
+
+    return _Days(
+        start, times, ok, day, weight, days, per_day(q), per_day(dtemp), per_day(np.ones(len(q)))
+    )
 
 
 def average_method(
@@ -256,19 +288,13 @@ def average_method(
     q = np.asarray(heat_flux, float)
     ti = np.asarray(temp_in, float)
     te = np.asarray(temp_out, float)
-    ok = np.isfinite(q) & np.isfinite(ti) & np.isfinite(te)
-    if not ok.any():
+    log = _whole_days(times, q, ti, te)
+    if log is None:
         raise ValueError("no row has the heat flux and both temperatures")
-    start = int(np.argmax(ok))  # the days count from the first valid row
-    times, q, ti, te, ok = times[start:], q[start:], ti[start:], te[start:], ok[start:]
-    elapsed, w_all = _interval_seconds(times)
-    days = int((elapsed[-1] + w_all[-1]) // 86400.0) if len(times) else 0
+    days, times = log.days, log.times
     if days < 1:
         raise ValueError("the heat-flux log covers less than one whole day")
-    whole = elapsed < days * 86400.0
-    w = np.where(ok & whole, w_all, 0.0)
-    day = elapsed // 86400.0
-    coverage = np.bincount(day[whole].astype(int), weights=w[whole], minlength=days) / 86400.0
+    coverage = log.covered / 86400.0
     short = np.flatnonzero(coverage < MIN_DAY_COVERAGE)
     if short.size:
         named = ", ".join(
@@ -282,20 +308,20 @@ def average_method(
             f"{named}{' ...' if short.size > 5 else ''}; the average method needs a continuous "
             "record of whole days: fill the gap or cut the log to a continuous stretch"
         )
-    q0, dt0 = np.where(ok, q, 0.0), np.where(ok, ti - te, 0.0)
-    if np.sum(q0 * w) == 0.0:
+    flux, difference = log.flux.sum(), log.difference.sum()
+    if flux == 0.0:
         raise ValueError(
             "the heat flux sums to zero over the log (a dead or unconnected plate?); check "
             "the heat-flux column"
         )
-    mean_dt = float(np.sum(dt0 * w) / np.sum(w))
+    mean_dt = float(difference / log.covered.sum())
     if not mean_dt > 0:
         raise ValueError(
             f"the mean inside-outside temperature difference is {mean_dt:.2f} K: the average "
             "method needs the inside warmer than the outside (a heating-season measurement; "
             "check that the inside and outside columns are not swapped)"
         )
-    ratio = _ratio(q0, dt0, w)
+    ratio = float(flux / difference)
     if ratio <= -MIN_CONDUCTANCE:
         raise InwardHeatFlux(
             "the heat flows inwards on average while the inside is warmer: the plate reports "
@@ -308,17 +334,12 @@ def average_method(
             "its connection and the heat-flux column"
         )
 
-    def upto(n_days: float) -> float:
-        m = w * (day < n_days)
-        return _ratio(q0, dt0, m)
-
-    def between(first: float, last: float) -> float:
-        m = w * ((day >= first) & (day < last))
-        return _ratio(q0, dt0, m)
+    def between(first: int, last: int) -> float:  # the days first .. last - 1
+        return float(log.flux[first:last].sum() / log.difference[first:last].sum())
 
     checks = {"duration": {"value": days, "limit": MIN_DAYS, "passed": days >= MIN_DAYS}}
     if days >= 2:
-        change = float(abs(ratio - upto(days - 1)) / abs(ratio))
+        change = float(abs(ratio - between(0, days - 1)) / abs(ratio))
         checks["last day"] = {
             "value": change, "limit": CONVERGENCE_LIMIT, "passed": change <= CONVERGENCE_LIMIT
         }  # fmt: skip
@@ -330,13 +351,14 @@ def average_method(
         }  # fmt: skip
     notes = []
     if areal_heat_capacity is not None:
-        mid = 0.5 * (ti + te)
-        first = np.average(mid[(day == 0) & ok], weights=w_all[(day == 0) & ok])
-        last_sel = (day == days - 1) & ok
-        last = np.average(mid[last_sel], weights=w_all[last_sel])
-        stored = abs(float(areal_heat_capacity) * float(last - first))
-        passed = float(np.sum(q0 * w))
-        share = float(stored / abs(passed))
+        mid = 0.5 * (ti + te)[log.first :]
+
+        def day_mean(i):
+            rows = (log.day == i) & log.ok
+            return np.average(mid[rows], weights=log.weight[rows])
+
+        stored = abs(float(areal_heat_capacity) * float(day_mean(days - 1) - day_mean(0)))
+        share = float(stored / abs(flux))
         checks["heat stored"] = {
             "value": share, "limit": CONVERGENCE_LIMIT, "passed": share <= CONVERGENCE_LIMIT
         }  # fmt: skip
@@ -404,25 +426,14 @@ def running_average(
         air temperatures, Lambda with surface ones), indexed by the day's end; NaN where no
         valid row has come yet.
     """
-    times = pd.DatetimeIndex(times)
-    q = np.asarray(heat_flux, float)
-    dtemp = np.asarray(temp_in, float) - np.asarray(temp_out, float)
-    ok = np.isfinite(q) & np.isfinite(dtemp)
-    if not ok.any():
+    log = _whole_days(
+        pd.DatetimeIndex(times), np.asarray(heat_flux, float), np.asarray(temp_in, float),
+        np.asarray(temp_out, float),
+    )  # fmt: skip
+    if log is None:
         return pd.Series(dtype=float)
-    start = int(np.argmax(ok))
-    times, q, dtemp, ok = times[start:], q[start:], dtemp[start:], ok[start:]
-    elapsed, weight = _interval_seconds(times)
-    days = int((elapsed[-1] + weight[-1]) // 86400.0)
-    w = np.where(ok, weight, 0.0)
-    day = (elapsed // 86400.0).astype(int)
-    keep = day < days
-    q_sum = np.cumsum(np.bincount(day[keep], weights=(np.where(ok, q, 0.0) * w)[keep],
-                                  minlength=days))  # fmt: skip
-    t_sum = np.cumsum(np.bincount(day[keep], weights=(np.where(ok, dtemp, 0.0) * w)[keep],
-                                  minlength=days))  # fmt: skip
+    q_sum, t_sum, times, days = np.cumsum(log.flux), np.cumsum(log.difference), log.times, log.days
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(t_sum != 0, q_sum / t_sum, np.nan)
     ends = times[0] + pd.to_timedelta(np.arange(1, days + 1), unit="D")
     return pd.Series(ratio, index=ends, name="running_average_W_per_m2K")
-

@@ -891,7 +891,7 @@ def _posterior_or_note(
             f"{POSTERIOR_MAX_PARAMETERS} parameters."
         )
     idx = [space.index(n) for n in names]
-    measured, details = _in_situ_values(campaign, space, names, notes)
+    measured, details = _in_situ_values(campaign, space, notes)
     try:
         posterior = calibration_posterior(
             model,
@@ -964,8 +964,9 @@ def measure_in_situ(campaign, space) -> dict:
     return out
 
 
-def _in_situ_values(campaign, space, names, notes) -> tuple[dict, dict]:
-    """The campaign's in-situ measurements of the posterior's parameters (:func:`measure_in_situ`).
+def _in_situ_values(campaign, space, notes) -> tuple[dict, dict]:
+    """The campaign's in-situ measurements (:func:`measure_in_situ`) for the posterior, whose
+    parameters include every measured one.
 
     Returns
     -------
@@ -977,30 +978,15 @@ def _in_situ_values(campaign, space, names, notes) -> tuple[dict, dict]:
     """
     measured, details = {}, {}
     for name, (result, source) in measure_in_situ(campaign, space).items():
-        if name not in names:
-            _note_once(
-                notes,
-                f"{name} was measured in situ but is not among the posterior's parameters "
-                "(the critical ones of a large space): the measurement is not used.",
-            )
-            continue
         measured[name] = (result.resistance, result.resistance_rel_std)
         details[name] = {"source": source, **result.as_dict()}
-        _note_once(
-            notes,
+        notes.append(
             f"{name} measured in situ: {result.resistance:.3g} m2 K/W +- "
             f"{100 * result.resistance_rel_std:.0f} % ({source}); its log-normal prior replaces "
-            "the campaign's uniform one in the posterior.",
+            "the campaign's uniform one in the posterior."
         )
-        for line in result.notes:
-            _note_once(notes, f"in_situ.{name}: {line}")
+        notes += [f"in_situ.{name}: {line}" for line in result.notes]
     return measured, details
-
-
-def _note_once(notes: list, text: str) -> None:
-    """Append ``text`` to ``notes`` unless it is there already."""
-    if text not in notes:
-        notes.append(text)
 
 
 def _validate(campaign, calibrated_values: dict, runs, metric: str) -> dict | None:

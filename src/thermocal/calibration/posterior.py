@@ -616,14 +616,15 @@ def residual_quadratic_form(model: LinearHeatModel, basis: np.ndarray | None = N
     return evaluate
 
 
-def _gaussian_form(model: LinearHeatModel, basis, woodbury, scale: float):
+def _gaussian_form(model: LinearHeatModel, basis, woodbury, scale: float, prior):
     """Precision ``Q`` and linear term ``b`` of the affine model's log-posterior in ``z``,
-    ``-z^T Q z / 2 + b^T z`` (+ constant), the uniform prior in ``p`` included.
+    ``-z^T Q z / 2 + b^T z`` (+ constant), the prior included.
 
     With ``r(z) = r0 + A z`` and the discrepancy's Woodbury term ``W`` on ``U^T r``:
     ``|r|^2 - (U^T r)^T W (U^T r)`` has the quadratic part ``A^T A - (A^T U) W (A^T U)^T``
     and the linear part ``2 (A^T r0 - (A^T U) W U^T r0)``; the log-posterior is ``-scale``
-    times that plus ``sum z`` (the prior's density in ``z``).
+    times that plus the prior's log-density in ``z`` (``z`` for the uniform prior in ``p``, the
+    log-normal of a parameter measured in situ).
 
     Parameters
     ----------
@@ -635,6 +636,8 @@ def _gaussian_form(model: LinearHeatModel, basis, woodbury, scale: float):
         ``(a T^-1 + U^T U)^-1`` [-].
     scale : float
         ``(n_eff / n) / (2 sigma^2)`` [1/W^2].
+    prior : (ndarray, ndarray)
+        :func:`measured_prior`'s mean and precision.
 
     Returns
     -------
@@ -647,19 +650,23 @@ def _gaussian_form(model: LinearHeatModel, basis, woodbury, scale: float):
         mixed = A.T @ basis
         gram = gram - mixed @ woodbury @ mixed.T
         cross = cross - mixed @ (woodbury @ (basis.T @ r0))
-    precision = 2.0 * scale * (gram + gram.T) / 2.0
-    return precision, 1.0 - 2.0 * scale * cross
+    mean, measured_precision = prior
+    # the uniform prior in p tilts z by exp(z); a measured parameter's log-normal replaces it
+    tilt = (measured_precision == 0).astype(float)
+    precision = 2.0 * scale * (gram + gram.T) / 2.0 + np.diag(measured_precision)
+    return precision, tilt + measured_precision * mean - 2.0 * scale * cross
 
 
-def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float):
+def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float, prior):
     """The log-posterior of ``z`` (any model, curvature included) for the ensemble sampler:
     ``-scale`` times the residual's quadratic form (the discrepancy's Woodbury term removed)
-    plus ``sum z`` (the uniform prior in ``p``), ``-inf`` outside the box.
+    plus the prior's log-density (``z`` for the uniform prior in ``p``, the log-normal of a
+    measured parameter), ``-inf`` outside the box.
 
     Parameters
     ----------
     model : LinearHeatModel
-    basis, woodbury, scale
+    basis, woodbury, scale, prior
         As :func:`_gaussian_form`.
 
     Returns
@@ -669,6 +676,8 @@ def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float):
     """
     zl, zu = model.z_bounds
     squared_norm = residual_quadratic_form(model, basis if woodbury is not None else None)
+    mean, measured_precision = prior
+    tilt = (measured_precision == 0).astype(float)
 
     def log_probability(z: np.ndarray) -> np.ndarray:
         z = np.atleast_2d(z)
@@ -676,8 +685,9 @@ def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float):
         quadratic, projected = squared_norm(z)
         if woodbury is not None:
             quadratic = quadratic - np.einsum("ij,ij->i", projected @ woodbury, projected)
-        # uniform prior in the parameter p = p_nominal exp(z): density exp(sum z) in z
-        lp = -scale * quadratic + z.sum(axis=1)
+        # uniform prior in the parameter p = p_nominal exp(z): density exp(z) in z; a measured
+        # parameter's log-normal instead
+        lp = -scale * quadratic + z @ tilt - 0.5 * ((z - mean) ** 2 @ measured_precision)
         return np.where(inside, lp, -np.inf)
 
     return log_probability
@@ -812,10 +822,9 @@ def calibration_posterior(
 
     if model.curvature is None:
         # affine: the posterior is a Gaussian in z truncated to the box; sampled exactly
-        precision, linear = _gaussian_form(model, basis, woodbury, scale)
-        # a measured parameter's log-normal prior replaces the uniform one (its exp(z))
-        precision = precision + np.diag(prior_precision)
-        linear = linear + prior_precision * prior_mean - (prior_precision > 0)
+        precision, linear = _gaussian_form(
+            model, basis, woodbury, scale, (prior_mean, prior_precision)
+        )
         chain, effective, tau, acceptance = truncated_gaussian_gibbs(
             precision, linear, zl, zu, z_hat, sweeps=min(int(steps), GIBBS_SWEEPS), seed=int(seed),
             effective_draws=int(effective_draws),
@@ -831,13 +840,9 @@ def calibration_posterior(
             zl + 1e-6 * width,
             zu - 1e-6 * width,
         )
-        data_probability = _log_probability(model, basis, woodbury, scale)
-
-        def log_probability(z):
-            z = np.atleast_2d(z)
-            measured_part = -0.5 * ((z - prior_mean) ** 2 @ prior_precision)
-            # the log-normal prior replaces the uniform one (its exp(z)) of a measured one
-            return data_probability(z) + measured_part - z @ (prior_precision > 0)
+        log_probability = _log_probability(
+            model, basis, woodbury, scale, (prior_mean, prior_precision)
+        )
 
         chain, effective, tau, acceptance = ensemble_until_precise(
             log_probability, start, int(steps), int(seed), int(effective_draws)

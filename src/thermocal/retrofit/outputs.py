@@ -386,11 +386,15 @@ def write_outputs(
     reference_demands: dict[str, float] | None = None,
     reference_monthly: list[float] | None = None,
     reference_label: str = "reference",
+    measurement_advice: dict | None = None,
 ) -> dict:
     """Write results.json, the CSV tables, the figures and report.html into ``out_dir``.
 
     Parameters
     ----------
+    measurement_advice : dict, optional
+        :func:`thermocal.retrofit.advice.advise_measurements` (results.json
+        ``measurement_advice`` and a table in the report).
     reference_demands : dict code -> kWh, optional
         Annual demands at a constant 20 C of some or all strategies from another model (the
         demo: the multi-zone generator); compared with the model's at 20 C.
@@ -411,6 +415,8 @@ def write_outputs(
         if reference_monthly is not None:
             check["monthly_reference_kWh"] = list(reference_monthly)
         results["reference_check"] = _clean(check)
+    if measurement_advice is not None:
+        results["measurement_advice"] = _clean(measurement_advice)
     (out / "results.json").write_text(json.dumps(results, indent=2))
     tables = write_tables(analysis, out, results)
     from thermocal.report.figures import close, figure_to_png

@@ -388,6 +388,8 @@ def write_report(
         "demand intervals."
     )
     _track_record(rep)
+    if results.get("measurement_advice"):
+        _measurement_advice(rep, results["measurement_advice"], pct)
 
     # ------------------------------------------------------------------ annual demand
     rep.section("Annual heating demand")
@@ -476,6 +478,46 @@ def _track_record(rep) -> None:
         caption="The analysis with an in-situ wall U-value against EnergyPlus",
     )
     rep.bullets([f"{c.house}: {c.note}" for c in plates])
+
+
+def _measurement_advice(rep, advice: dict, pct: str) -> None:
+    """Which heat-flux plate would narrow the savings' intervals most (``--advise``)."""
+    rep.heading("Which measurement next")
+    if not advice["available"]:
+        rep.paragraph(f"No measurement advice: {advice['reason']}.")
+        return
+    rep.paragraph(
+        f"{advice['summary']}. How it was found: for each component a heat-flux plate can "
+        "measure, the plate's reading was drawn from what the calibrated model now expects of "
+        "that component (its current estimate with its uncertainty and the plate's, "
+        f"{100 * advice['plate_rel_std']:.0f} %), the whole analysis was run again with that "
+        f"reading, and the half-widths of the savings' {pct} intervals were averaged over the "
+        f"readings (preposterior analysis; {advice['draws']:,} draws in every run, so the "
+        "present figures differ a little from the table above). On the two EnergyPlus houses "
+        "the expected median half-width after a plate on the walls was within 1 pp of what "
+        "the real plate then gave."
+    )
+    rows = []
+    for a in advice["components"]:
+        row = {
+            "measurement": a["label"],
+            "on": a["where"],
+            "U described / now": f"{a['described_u']:.3g} / {a['expected_u']:.3g}",
+            "expected reading": f"+-{100 * a['reading_rel_std']:.0f} %",
+            "median half-width": f"{a['median_half_width_pp']:.1f} -> "
+            f"{a['expected_median_half_width_pp']:.1f} pp",
+        }
+        if a["recommended_half_width_pp"] is not None:
+            row["recommended strategy"] = (
+                f"{a['recommended_half_width_pp']:.1f} -> "
+                f"{a['expected_recommended_half_width_pp']:.1f} pp"
+            )
+        rows.append(row)
+    rep.table(
+        pd.DataFrame(rows),
+        caption="Expected half-widths of the savings' intervals after one heat-flux plate "
+        "[W/(m2 K); percentage points]",
+    )
 
 
 def _track_record_row(c) -> dict:

@@ -163,7 +163,11 @@ def test_the_advice_expects_what_the_real_plate_gave(tmp_path, folder, narrowing
     2026-11-29 (1,000 draws): NREL house 12.0 pp now, 9.45 expected, 8.77 with the real
     plate; basement house 11.3 now, 10.4 expected, 10.6 with the real plate."""
     cfg = _twin_config(folder, tmp_path)
-    got = advise_measurements(cfg, run_retrofit(cfg), components=["walls"])
+    analysis = run_retrofit(cfg)
+    got = advise_measurements(cfg, analysis, components=["walls"])
+    # the basement house fails its validation gate (the indoor temperature's MAE): said first
+    failed = got["summary"].startswith("The calibrated model failed its validation")
+    assert failed == (not analysis.gate["passed"])
     walls = got["components"][0]
     assert walls["component"] == "walls"
     assert walls["expected_median_half_width_pp"] < walls["median_half_width_pp"] - narrowing

@@ -323,6 +323,11 @@ def advise_measurements(
             f"{best.expected_median_half_width_pp:.1f} pp): what is left is not the envelope's "
             "split (the windows, the air change, the inputs)"
         )
+    if analysis.gate is not None and not analysis.gate["passed"]:
+        summary = (
+            "The calibrated model failed its validation, so its intervals are not reliable "
+            "either; were it valid: " + summary[0].lower() + summary[1:]
+        )
     return {
         "available": True,
         "method": method,

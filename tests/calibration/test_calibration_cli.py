@@ -114,6 +114,19 @@ def test_calibrate_demo_quick(tmp_path):
     for key in ("table1", "confirmation", "posterior", "truth_comparison", "critical"):
         assert reanalysed[key] == second[key], key
     assert (out / "campaign.sqlite").is_file()
+    # --advise: which plate would determine what; the demo's parameters are materials', so it
+    # says why it has no advice, and the analysis is otherwise the same
+    advised = subprocess.run(
+        [sys.executable, "-m", "thermocal", "calibrate", "--demo", "--reanalyse", "--advise",
+         "--out", str(out)],
+        capture_output=True, text=True, timeout=900,
+    )  # fmt: skip
+    assert advised.returncode == 0, advised.stderr[-3000:]
+    with_advice = json.loads((out / "calibration.json").read_text())
+    advice = with_advice["posterior"]["advice"]
+    assert not advice["available"] and "parameters.level: element" in advice["reason"]
+    for key in ("table1", "confirmation", "truth_comparison", "critical"):
+        assert with_advice[key] == reanalysed[key], key
     # more samples of the same sequence without --resume: refused, saying --resume extends it
     other = subprocess.run(
         [
@@ -135,4 +148,4 @@ def test_calibrate_demo_quick(tmp_path):
     )
     assert other.returncode == 2 and "Traceback" not in other.stderr
     assert "pass --resume to extend it to 13" in other.stderr, other.stderr
-    assert json.loads((out / "calibration.json").read_text()) == reanalysed  # untouched
+    assert json.loads((out / "calibration.json").read_text()) == with_advice  # untouched

@@ -237,3 +237,51 @@ def test_a_measured_element_breaks_a_compensation():
             steps=100,
             measured={"construction/X/resistance": (1.0, 0.1)},
         )
+
+
+def test_the_advice_finds_the_plate_that_breaks_a_compensation():
+    """The measurement advice on the compensating roof and wall (no simulation): a plate on
+    either determines both at every reading, a plate on a third, independent element (a floor
+    with its own signature, determined already) determines nothing new; the three readings lie
+    at the median and +-sqrt(3) sd of what the plate may read, inside the sampled range; an
+    infiltration rate is not a candidate."""
+    from thermocal.calibration.advice import advise_measurements, measurable_parameters
+
+    rng = np.random.default_rng(11)
+    n = 300
+    base = rng.normal(0.0, 100.0, n)
+    J = np.column_stack(
+        [base, -base + rng.normal(0.0, 3.0, n), rng.normal(0.0, 400.0, n), np.zeros(n)]
+    )
+    z_true = np.array([0.4, -0.3, 0.2, 0.0])
+    intercept = -(J - J.mean(0)) @ z_true + rng.normal(0.0, 300.0, n)
+    names = [
+        "construction/Roof/resistance",
+        "construction/Wall/resistance",
+        "construction/Floor/resistance",
+        "zone/z/infiltration_ach",
+    ]
+    nominal = np.array([3.0, 2.0, 1.0, 0.5])
+    surrogate = _series_model(J, intercept, names, nominal)
+    lower, upper = nominal * 0.3, nominal * 3.0
+    kwargs = {"steps": 1500, "seed": 0}
+    post = calibration_posterior(surrogate, names, lower, upper, **kwargs)
+    assert post.determined == ["construction/Floor/resistance"]
+    assert measurable_parameters(names, {names[2]: (1.0, 0.1)}) == names[:2]
+    advice = advise_measurements(surrogate, names, lower, upper, post, **kwargs)
+    plates = {c["parameter"]: c for c in advice["candidates"]}
+    assert set(plates) == set(names[:3])
+    for name in names[:2]:
+        assert plates[name]["determined"] == names[:3]
+        assert plates[name]["determined_probability"][names[0]] == 1.0
+        median = post.summary.at[name, "median"]
+        i = names.index(name)
+        readings = plates[name]["readings"]
+        assert readings[1] == pytest.approx(median)
+        assert lower[i] <= readings[0] < median < readings[2] <= upper[i]
+    assert plates[names[2]]["determined"] == [names[2]]
+    assert advice["candidates"][-1]["parameter"] == names[2]  # the least informative last
+    assert "would determine construction/Roof/resistance, construction/Wall/resistance " in (
+        advice["summary"]
+    )
+    assert advice["now"][names[2]]["determined"]

@@ -892,23 +892,33 @@ def _posterior_or_note(
         )
     idx = [space.index(n) for n in names]
     measured, details = _in_situ_values(campaign, space, notes)
+    arguments = {
+        "all_lower": space.lower,
+        "all_upper": space.upper,
+        "units": [space.units[i] for i in idx],
+        "seed": campaign.sampling.seed,
+        "emulator_error": emulator_variance(model, X, seed=campaign.sampling.seed),
+        "discrepancy": campaign.posterior.discrepancy,
+    }
     try:
         posterior = calibration_posterior(
-            model,
-            names,
-            space.lower[idx],
-            space.upper[idx],
-            all_lower=space.lower,
-            all_upper=space.upper,
-            units=[space.units[i] for i in idx],
-            seed=campaign.sampling.seed,
-            emulator_error=emulator_variance(model, X, seed=campaign.sampling.seed),
-            discrepancy=campaign.posterior.discrepancy,
-            measured=measured,
+            model, names, space.lower[idx], space.upper[idx], measured=measured, **arguments
         )
     except (ThermocalInputError, np.linalg.LinAlgError, ValueError) as exc:
         notes.append(f"No posterior of the calibrated parameters: {exc}")
         return None, model
+    if campaign.posterior.advise:
+        from thermocal.calibration.advice import advise_measurements
+
+        try:
+            advice = advise_measurements(
+                model, names, space.lower[idx], space.upper[idx], posterior,
+                measured=measured, **arguments,
+            )  # fmt: skip
+        except (ThermocalInputError, np.linalg.LinAlgError, ValueError) as exc:
+            notes.append(f"No measurement advice: {exc}")
+        else:
+            posterior = replace(posterior, advice=advice)
     if details:
         posterior = replace(posterior, in_situ=details)
     return posterior, model

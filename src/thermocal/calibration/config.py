@@ -226,9 +226,14 @@ class PosteriorSection(_Strict):
     that floor shared among the parameters (``shared``), or no discrepancy (``none``: the
     intervals assume the model is exact and are too narrow on buildings it did not generate);
     see :func:`thermocal.calibration.posterior.discrepancy_basis`.
+
+    ``advise``: also say which in-situ measurement (a heat-flux plate on one element, the
+    ``in_situ`` section) would determine which parameters: the posterior recomputed with each
+    element's expected reading (:mod:`thermocal.calibration.advice`; no simulation).
     """
 
     discrepancy: Literal["none", "neighbours", "floor", "shared"] = "neighbours"
+    advise: bool = False
 
 
 class CampaignFile(_Strict):

@@ -324,6 +324,9 @@ class Posterior:
     in_situ : dict
         The in-situ measurements in the prior: parameter -> the measurement
         (:meth:`thermocal.physics.heat_flux.InSituUValue.as_dict` and its ``source``).
+    advice : dict
+        Which in-situ measurement would determine which parameters
+        (:func:`thermocal.calibration.advice.advise_measurements`; empty when not asked).
     """
 
     summary: pd.DataFrame
@@ -338,6 +341,7 @@ class Posterior:
     effective_draws: float = float("nan")
     autocorrelation_steps: float = float("nan")
     in_situ: dict = field(default_factory=dict)
+    advice: dict = field(default_factory=dict)
 
     @property
     def determined(self) -> list[str]:
@@ -375,6 +379,8 @@ class Posterior:
                 f"{a} and {b} compensate each other (posterior correlation {r:+.2f}): the data "
                 "fix a combination of the two, not each one."
             )
+        if self.advice:
+            out.append(self.advice["summary"] + ".")
         out.append(
             f"Error level of the unoccupied heat {self.noise_std / 1000:.2f} kW per hour (of "
             f"which the meta-model's own {self.emulator_std / 1000:.2f} kW) over "
@@ -411,6 +417,7 @@ class Posterior:
             "effective_draws": float(self.effective_draws),
             "autocorrelation_steps": float(self.autocorrelation_steps),
             "in_situ": self.in_situ,
+            "advice": self.advice,
             "sentences": self.sentences(),
         }
 

@@ -95,6 +95,28 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
                 ),
                 caption="In-situ measurements in the posterior (ISO 9869-1 average method)",
             )  # fmt: skip
+        if post.advice.get("available"):
+            report.table(
+                pd.DataFrame(
+                    [
+                        {
+                            "heat-flux plate on": c["parameter"],
+                            "readings": " / ".join(f"{r:.3g}" for r in c["readings"]),
+                            "determined then (probability)": ", ".join(
+                                f"{n} ({p:.0%})"
+                                for n, p in c["determined_probability"].items() if p > 0
+                            ) or "none",
+                            "mean interval / range": f"{100 * c['mean_width_fraction']:.0f} %",
+                        }
+                        for c in post.advice["candidates"]
+                    ]
+                ),
+                caption="Which measurement next: the posterior recomputed with each element's "
+                "plate readings (its present median and +-1.73 sd of what the plate may read, "
+                "weights 1/6, 2/3, 1/6; plate "
+                f"{100 * post.advice['plate_rel_std']:.0f} %; no simulation; preposterior "
+                "analysis, Raiffa and Schlaifer 1961); the mean interval at the median reading",
+            )
     if zoom:
         report.table(
             pd.DataFrame(zoom["box"])

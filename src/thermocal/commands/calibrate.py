@@ -61,6 +61,14 @@ def calibrate(
             "identification / workers)."
         ),
     ] = 24.0,
+    advise: Annotated[
+        bool,
+        typer.Option(
+            "--advise",
+            help="Also say which heat-flux plate on an element would determine which "
+            "parameters (the campaign file's posterior.advise; no simulation).",
+        ),
+    ] = False,
 ) -> None:
     """Find which envelope parameters are wrong and by how much, from zone temperature sensors.
 
@@ -106,6 +114,9 @@ def calibrate(
             out.mkdir(parents=True, exist_ok=True)
             campaign.write_text(DEMO_CAMPAIGN)
     spec = load_campaign(campaign)
+    if advise:
+        posterior = spec.posterior.model_copy(update={"advise": True})
+        spec = spec.model_copy(update={"posterior": posterior})
     store = Path(spec.store) if spec.store is not None else out / "campaign.sqlite"
     total = samples if samples is not None else spec.sampling.samples
     try:

@@ -117,6 +117,18 @@ class InSituConfig(BaseModel):
         return self
 
 
+#: Relative standard uncertainty [-] of a plate's value at the defaults of an ``in_situ`` entry:
+#: the plate's and the spot's parts (5 % each) in quadrature. A real log adds its sensors' and
+#: its convergence parts (7.1-7.6 % in all on the EnergyPlus walls and roof); what the
+#: measurement advice of both workflows assumes before anyone goes on site.
+TYPICAL_REL_STD = float(
+    np.hypot(
+        InSituConfig.model_fields["plate_rel_std"].default,
+        InSituConfig.model_fields["spot_rel_std"].default,
+    )
+)
+
+
 def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
     """A heat-flux meter's log: time stamps, outward heat flux and temperatures.
 

@@ -39,7 +39,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from thermocal.io.heat_flux_log import InSituConfig
+from thermocal.io.heat_flux_log import TYPICAL_REL_STD, InSituConfig
 
 __all__ = [
     "ADVICE_DRAWS",
@@ -49,15 +49,9 @@ __all__ = [
     "measurable_components",
 ]
 
-#: Relative standard uncertainty [-] of the plate the advice assumes: the plate's and the
-#: spot's parts at the defaults of an ``in_situ`` entry (5 % each, in quadrature). A real log
-#: adds its sensors' and convergence parts (7.1-7.6 % in all on the EnergyPlus walls and roof).
-PLATE_REL_STD = float(
-    np.hypot(
-        InSituConfig.model_fields["plate_rel_std"].default,
-        InSituConfig.model_fields["spot_rel_std"].default,
-    )
-)
+#: Relative standard uncertainty [-] of the plate the advice assumes
+#: (:data:`thermocal.io.heat_flux_log.TYPICAL_REL_STD`).
+PLATE_REL_STD = TYPICAL_REL_STD
 #: Parameter draws of the analyses the advice compares (their interval ends' Monte Carlo error
 #: is about +-1.5 pp with 200 draws, +-0.3 pp with 1,000: measured on the first EnergyPlus house).
 ADVICE_DRAWS = 1000

@@ -1,0 +1,190 @@
+"""Which in-situ measurement would determine which envelope parameters (``posterior.advise``).
+
+"Is it the roof or the walls?" is what a building's heat data answer worst when roof and
+walls change the heat with the same time signature: the posterior then determines neither and
+says they compensate (:mod:`thermocal.calibration.posterior`). A heat-flux plate on one element
+(ISO 9869-1, the campaign's ``in_situ`` section) settles it: measured, its resistance gets a
+log-normal prior, and the data's combination then fixes the other. Which element to measure is
+answered before anyone goes on site, without simulating: for each element-level resistance in
+the posterior that is not measured yet, the posterior is recomputed from the same meta-model
+with the plate's reading as an in-situ measurement of the typical uncertainty
+(:data:`thermocal.io.heat_flux_log.TYPICAL_REL_STD`). The reading is drawn from what the plate
+may give -- the parameter's present posterior (its 90 % interval in log space) widened by the
+plate's own spread -- at the three points of a Gauss-Hermite rule (-sqrt(3), 0, +sqrt(3)
+standard deviations, weights 1/6, 2/3, 1/6): a parameter is *determined* by the plate with the
+weights of the readings after which the posterior determines it (preposterior analysis, Raiffa
+and Schlaifer 1961). In log space the affine meta-model's posterior narrows by the same amount
+wherever the reading falls; whether that is narrow enough to call the parameter determined
+(its interval against the sampled range) depends on the level, hence the three readings.
+
+Checked against EnergyPlus (docs/calibration.md, "Which measurement next"): on the
+5ZoneAirCooled twin with the building-total metric, where neither the roof nor the wall is
+determined, the advice names the roof plate as the one that determines both, which the real
+plate (EnergyPlus's roof reduced by ISO 9869-1) then did.
+
+References
+----------
+H. Raiffa and R. Schlaifer, Applied Statistical Decision Theory, Harvard University, 1961.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from thermocal.io.heat_flux_log import TYPICAL_REL_STD
+
+__all__ = ["advise_measurements", "measurable_parameters"]
+
+#: Gauss-Hermite rule of three points for a standard normal: abscissae and weights.
+_NODES = (-np.sqrt(3.0), 0.0, np.sqrt(3.0))
+_WEIGHTS = (1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0)
+
+
+def measurable_parameters(names: Sequence[str], measured) -> list[str]:
+    """The element-level resistances among ``names`` a heat-flux plate could measure, not
+    measured yet (``construction/<name>/resistance``)."""
+    return [
+        n for n in names
+        if n.startswith("construction/") and n.endswith("/resistance") and n not in measured
+    ]  # fmt: skip
+
+
+def _intervals(posterior) -> dict[str, dict]:
+    s = posterior.summary
+    return {
+        n: {
+            "median": float(s.at[n, "median"]),
+            "q05": float(s.at[n, "q05"]),
+            "q95": float(s.at[n, "q95"]),
+            "width_fraction": float(s.at[n, "width_fraction"]),
+            "determined": bool(s.at[n, "determined"]),
+        }
+        for n in s.index
+    }
+
+
+def advise_measurements(
+    surrogate,
+    names: Sequence[str],
+    lower,
+    upper,
+    posterior,
+    *,
+    measured: dict | None = None,
+    plate_rel_std: float = TYPICAL_REL_STD,
+    **posterior_arguments,
+) -> dict:
+    """The posterior each heat-flux plate would give, against the present one.
+
+    Parameters
+    ----------
+    surrogate, names, lower, upper
+        As for :func:`thermocal.calibration.posterior.calibration_posterior` (the present
+        posterior's meta-model, parameters and bounds [unit of each parameter]).
+    posterior : Posterior
+        The present posterior.
+    measured : dict, optional
+        The campaign's in-situ measurements: name -> (value, relative standard uncertainty).
+    plate_rel_std : float [-]
+        Relative standard uncertainty of a plate's resistance.
+    **posterior_arguments
+        The other arguments of the present posterior (bounds of the whole space, units,
+        seed, emulator error, discrepancy).
+
+    Returns
+    -------
+    dict
+        ``available``, ``reason`` (when not), ``method``, ``plate_rel_std``, ``now`` (each
+        parameter's median, 90 % interval, width over the prior range and whether determined)
+        and ``candidates`` (per measurable parameter: the three ``readings``, each
+        parameter's ``determined_probability``, those at 0.5 or more as ``determined``, the
+        ``expected`` intervals at the median reading and their ``mean_width_fraction``; the
+        one determining most first), ``summary``.
+    """
+    from thermocal.calibration.posterior import calibration_posterior
+
+    measured = dict(measured or {})
+    method = (
+        "preposterior analysis: the posterior recomputed from the same meta-model with each "
+        "element's plate readings (three-point Gauss-Hermite rule over what the plate may "
+        "read; no simulation)"
+    )
+    candidates = measurable_parameters(names, measured)
+    if not candidates:
+        return {
+            "available": False,
+            "method": method,
+            "reason": "no element-level resistance (construction/<name>/resistance, "
+            "parameters.level: element) in the posterior that is not measured already",
+            "summary": "No measurement advice: no element-level resistance to measure",
+        }
+    now = _intervals(posterior)
+    s_plate = float(np.sqrt(np.log1p(plate_rel_std**2)))
+    rows = []
+    for name in candidates:
+        i = list(names).index(name)
+        median = now[name]["median"]
+        # the reading's spread: the parameter's present posterior (its 90 % interval in log
+        # space, 2 x 1.645 sd) and the plate's
+        spread = np.hypot(np.log(now[name]["q95"] / now[name]["q05"]) / 3.29, s_plate)
+        probability = dict.fromkeys(now, 0.0)
+        readings, central = [], None
+        for z, w in zip(_NODES, _WEIGHTS, strict=True):
+            reading = float(np.clip(median * np.exp(z * spread), lower[i], upper[i]))
+            expected = _intervals(
+                calibration_posterior(
+                    surrogate, names, lower, upper,
+                    measured={**measured, name: (reading, plate_rel_std)}, **posterior_arguments,
+                )  # fmt: skip
+            )
+            readings.append(reading)
+            for n, v in expected.items():
+                probability[n] += w * v["determined"]
+            if z == 0.0:
+                central = expected
+        probability = {n: round(p, 9) for n, p in probability.items()}
+        rows.append(
+            {
+                "parameter": name,
+                "readings": readings,
+                "determined_probability": probability,
+                "determined": [n for n, p in probability.items() if p >= 0.5],
+                "mean_width_fraction": float(
+                    np.mean([v["width_fraction"] for v in central.values()])
+                ),
+                "expected": central,
+            }
+        )
+    rows.sort(
+        key=lambda r: (-sum(r["determined_probability"].values()), r["mean_width_fraction"])
+    )
+    best = rows[0]
+    determined_now = [n for n, v in now.items() if v["determined"]]
+    gained = [n for n in best["determined"] if n not in determined_now]
+    if gained:
+        summary = (
+            f"A heat-flux plate on {_element(best['parameter'])} (ISO 9869-1, "
+            f"{100 * plate_rel_std:.0f} %) would determine {', '.join(gained)} (determined "
+            f"now: {', '.join(determined_now) or 'none'})"
+        )
+    else:
+        summary = (
+            "No single heat-flux plate would determine a parameter the data leave open (the "
+            f"most informative, on {_element(best['parameter'])}, narrows the intervals to "
+            f"{100 * best['mean_width_fraction']:.0f} % of the sampled ranges on average)"
+        )
+    return {
+        "available": True,
+        "method": method,
+        "plate_rel_std": plate_rel_std,
+        "now": now,
+        "candidates": rows,
+        "summary": summary,
+    }
+
+
+def _element(parameter: str) -> str:
+    """``construction/ROOF-1/resistance`` -> ``construction ROOF-1``."""
+    return "construction " + parameter.split("/")[1]

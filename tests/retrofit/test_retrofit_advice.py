@@ -131,6 +131,8 @@ def test_the_demo_command_prints_and_writes_the_advice(tmp_path, monkeypatch):
     assert advice["available"] and len(advice["components"]) == 3
     report = (tmp_path / "d" / "report.html").read_text()
     assert "Which measurement next" in report and "preposterior analysis" in report
+    # what the intervals assume of the components sharing a factor, said beside them
+    assert "differences between the description errors of the roof and the walls" in report
 
 
 def _twin_config(folder: str, out: Path, **extra):

@@ -149,6 +149,17 @@ def correction_groups(model) -> list[str]:
     return out
 
 
+def shared_factor_components(model) -> list[str]:
+    """The building's components that share the roof-and-walls factor ``k_env`` (present and
+    not measured in situ): their measures' intervals assume their descriptions are off by the
+    same factor."""
+    measured = set(getattr(model, "in_situ", {}) or {})
+    return [
+        c for c in GROUPS["k_env"]
+        if c not in measured and getattr(model.envelope, _COMPONENT_PRESENT[c]) > 0
+    ]  # fmt: skip
+
+
 def _unmeasured_words(envelope, measured) -> str:
     """The building's components of ``k_env`` not measured in situ, in words."""
     return " + ".join(

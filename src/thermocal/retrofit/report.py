@@ -374,6 +374,18 @@ def write_report(
         "prices, system efficiency and costs: the economic figures are computed at the "
         "configured values and scale directly with them",
     ]
+    if corrected:
+        from thermocal.retrofit.correction import COMPONENT_WORDS, shared_factor_components
+
+        shared = shared_factor_components(analysis.model)
+        if len(shared) > 1:
+            not_covered.append(
+                "differences between the description errors of the "
+                + " and the ".join(COMPONENT_WORDS[c] for c in shared)
+                + ": they share one correction factor, so a measure on one of them is "
+                "taken to be off by the same factor as the others (an in-situ U-value gives "
+                "a component its own; thermocal retrofit --advise shows what one would change)"
+            )
     held = list(fixed) if corrected else at_bound + list(fixed)
     if held:
         not_covered.append(

@@ -181,3 +181,16 @@ def test_the_advice_expects_what_the_real_plate_gave(tmp_path, folder, narrowing
     }
     real = _twin_config(folder, tmp_path, in_situ=plate, uncertainty={"draws": got["draws"]})
     assert abs(_median_half_width(real) - walls["expected_median_half_width_pp"]) < 1.0
+
+
+def test_advise_with_the_detailed_model_alone_is_refused(tmp_path):
+    """``--advise`` reruns the measurements' analysis: with ``--detailed-only`` (no measurements)
+    it is refused by name, before anything runs."""
+    from thermocal.errors import ThermocalInputError
+
+    (tmp_path / "cfg.yaml").write_text("weather: {file: w.epw}\n")
+    args = ["retrofit", str(tmp_path / "cfg.yaml"), "--detailed-only", "--detailed",
+            str(tmp_path / "b.yaml"), "--advise"]  # fmt: skip
+    result = CliRunner().invoke(app, args)
+    assert isinstance(result.exception, ThermocalInputError)
+    assert "--advise reruns the fifth-order analysis" in str(result.exception)

@@ -335,6 +335,11 @@ def retrofit(
     console = Console(stderr=True)
     if detailed_only and detailed is None:
         raise ThermocalInputError("--detailed-only needs --detailed BUILDING (YAML or IDF)")
+    if detailed_only and advise:
+        raise ThermocalInputError(
+            "--advise reruns the fifth-order analysis of the measurements, which --detailed-only "
+            "leaves out: drop one of the two"
+        )
     check_output_folder(out, signature=RETROFIT_SIGNATURE)
     if detailed_only:
         from thermocal.retrofit.detailed import (

@@ -15,7 +15,16 @@ from __future__ import annotations
 
 import numpy as np
 
+#: Gauss-Hermite rule of three points for a standard normal variable (exact for polynomials up
+#: to degree 5): abscissae [standard deviations] and weights [-] (1/6, 2/3, 1/6). The
+#: measurement advice of both workflows averages over a plate's possible readings with it.
+GAUSS_HERMITE_3 = (
+    (-float(np.sqrt(3.0)), 0.0, float(np.sqrt(3.0))),
+    (1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0),
+)
+
 __all__ = [
+    "GAUSS_HERMITE_3",
     "interval_end_error",
     "quantile_standard_error",
     "symmetric_square_root",

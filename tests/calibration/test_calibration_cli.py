@@ -127,6 +127,9 @@ def test_calibrate_demo_quick(tmp_path):
     assert not advice["available"] and "parameters.level: element" in advice["reason"]
     for key in ("table1", "confirmation", "truth_comparison", "critical"):
         assert with_advice[key] == reanalysed[key], key
+    for key, value in reanalysed["posterior"].items():
+        if key not in ("advice", "sentences"):
+            assert with_advice["posterior"][key] == value, key
     # more samples of the same sequence without --resume: refused, saying --resume extends it
     other = subprocess.run(
         [

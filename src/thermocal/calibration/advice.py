@@ -17,10 +17,16 @@ and Schlaifer 1961). In log space the affine meta-model's posterior narrows by t
 wherever the reading falls; whether that is narrow enough to call the parameter determined
 (its interval against the sampled range) depends on the level, hence the three readings.
 
+The plate's relative uncertainty applies to the resistance directly: a plate with surface
+thermometers measures ``R`` as the ratio of the face-to-face difference to the heat flux, so
+its calibration and its spot scale ``R`` as they scale the flux.
+
 Checked against EnergyPlus (docs/calibration.md, "Which measurement next"): on the
 5ZoneAirCooled twin with the building-total metric, where neither the roof nor the wall is
-determined, the advice names the roof plate as the one that determines both, which the real
-plate (EnergyPlus's roof reduced by ISO 9869-1) then did.
+determined, the advice expects a plate on the wall to determine both and one on the roof to
+determine the roof (the wall only at its outer readings); the real roof plate (EnergyPlus's
+roof, ISO 9869-1) narrowed the roof's and the wall's intervals to log widths within 15 % of
+the advice's expectation.
 
 References
 ----------
@@ -34,17 +40,26 @@ from collections.abc import Sequence
 import numpy as np
 
 from thermocal.io.heat_flux_log import TYPICAL_REL_STD
+from thermocal.montecarlo import GAUSS_HERMITE_3
 
 __all__ = ["advise_measurements", "measurable_parameters"]
 
-#: Gauss-Hermite rule of three points for a standard normal: abscissae and weights.
-_NODES = (-np.sqrt(3.0), 0.0, np.sqrt(3.0))
-_WEIGHTS = (1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0)
-
 
 def measurable_parameters(names: Sequence[str], measured) -> list[str]:
-    """The element-level resistances among ``names`` a heat-flux plate could measure, not
-    measured yet (``construction/<name>/resistance``)."""
+    """The element-level resistances a heat-flux plate could measure, not measured yet.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The posterior's parameters.
+    measured : collection of str
+        The parameters measured in situ already.
+
+    Returns
+    -------
+    list of str
+        The ``construction/<name>/resistance`` among ``names`` not in ``measured``.
+    """
     return [
         n for n in names
         if n.startswith("construction/") and n.endswith("/resistance") and n not in measured
@@ -52,6 +67,8 @@ def measurable_parameters(names: Sequence[str], measured) -> list[str]:
 
 
 def _intervals(posterior) -> dict[str, dict]:
+    """Per parameter: median, 90 % interval [unit of each], its width over the sampled range
+    [-] and whether the posterior determines it."""
     s = posterior.summary
     return {
         n: {
@@ -88,7 +105,7 @@ def advise_measurements(
     measured : dict, optional
         The campaign's in-situ measurements: name -> (value, relative standard uncertainty).
     plate_rel_std : float [-]
-        Relative standard uncertainty of a plate's resistance.
+        Relative standard uncertainty of a plate's resistance (module docstring).
     **posterior_arguments
         The other arguments of the present posterior (bounds of the whole space, units,
         seed, emulator error, discrepancy).
@@ -126,12 +143,12 @@ def advise_measurements(
     for name in candidates:
         i = list(names).index(name)
         median = now[name]["median"]
-        # the reading's spread: the parameter's present posterior (its 90 % interval in log
-        # space, 2 x 1.645 sd) and the plate's
-        spread = np.hypot(np.log(now[name]["q95"] / now[name]["q05"]) / 3.29, s_plate)
+        # the reading's spread: the parameter's present posterior (its draws' in log space)
+        # and the plate's
+        spread = np.hypot(float(np.std(np.log(posterior.samples[name]))), s_plate)
         probability = dict.fromkeys(now, 0.0)
         readings, central = [], None
-        for z, w in zip(_NODES, _WEIGHTS, strict=True):
+        for z, w in zip(*GAUSS_HERMITE_3, strict=True):
             reading = float(np.clip(median * np.exp(z * spread), lower[i], upper[i]))
             expected = _intervals(
                 calibration_posterior(

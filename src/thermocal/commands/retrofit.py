@@ -148,7 +148,7 @@ def print_measurement_advice(advice: dict) -> None:
         console.print(f"measurement advice: none ({advice['reason']})")
         return
     table = Table(
-        title="Which measurement next: savings' interval half-widths [pp]",
+        title="Which measurement next: savings' interval half-widths \\[pp]",
         box=box.SIMPLE_HEAD,
         padding=(0, 1),
     )

@@ -14,12 +14,21 @@ component's current factor ``k`` with its posterior spread and the plate's own u
 Gauss-Hermite rule (weights 1/6, 2/3, 1/6 at -sqrt(3), 0, +sqrt(3) standard deviations), the
 whole analysis is run again with that reading as ``in_situ``, and the half-widths of the
 savings' intervals are averaged with the rule's weights. Each run is the analysis itself (one
-implementation of the calibration and the draws), with the same seed, so the differences are
-the plate's and not Monte Carlo noise.
+implementation of the calibration and the draws). The plate splits the component from the
+roof-and-walls group, whose shared factor the data fixed together with its other members: the
+component's own factor is then known only to the description's spread, so the readings are
+drawn with the wider of the group's posterior spread and its prior one.
+
+The runs draw at least :data:`ADVICE_DRAWS` parameter sets: a plate adds a factor, so its runs
+draw other random numbers than the present analysis, and what the advice compares carries the
+Monte Carlo error of the intervals' ends (each end about 0.9 pp at 1,000 draws, the results'
+``saving_pct_mcse``; the median half-width over the strategies less: 12.0 and 12.3 pp with
+seeds 0 and 1 on the first EnergyPlus house, 12.6 and 12.2 pp with 200 draws). A narrowing
+smaller than the present run's median end error is reported as none.
 
 Checked against EnergyPlus (docs/retrofit.md, "Which measurement next"): on both independent
-houses the expected median half-width after a plate on the walls lies within 1.5 pp of what
-the real plate then gave.
+houses the expected median half-width after a plate on the walls lies within 1 pp of what the
+real plate then gave.
 
 References
 ----------
@@ -40,6 +49,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from thermocal.io.heat_flux_log import TYPICAL_REL_STD, InSituConfig
+from thermocal.montecarlo import GAUSS_HERMITE_3
 
 __all__ = [
     "ADVICE_DRAWS",
@@ -52,20 +62,11 @@ __all__ = [
 #: Relative standard uncertainty [-] of the plate the advice assumes
 #: (:data:`thermocal.io.heat_flux_log.TYPICAL_REL_STD`).
 PLATE_REL_STD = TYPICAL_REL_STD
-#: Parameter draws of the analyses the advice compares (their interval ends' Monte Carlo error
-#: is about +-1.5 pp with 200 draws, +-0.3 pp with 1,000: measured on the first EnergyPlus house).
+#: Parameter draws of the analyses the advice compares (module docstring: their Monte Carlo
+#: error).
 ADVICE_DRAWS = 1000
-#: Gauss-Hermite rule of three points for a standard normal: abscissae and weights.
-_NODES = (-np.sqrt(3.0), 0.0, np.sqrt(3.0))
-_WEIGHTS = (1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0)
-#: What each measurable component is, in words.
-_WORDS = {
-    "walls": "walls",
-    "roof": "roof",
-    "attic_ceiling": "ceiling under the attic",
-    "wall_to_unheated": "walls to unheated spaces",
-    "cellar_ceiling": "cellar ceiling",
-}
+#: The largest U-value an ``in_situ`` entry takes [W/(m2 K)] (:class:`InSituConfig`).
+_MAX_U = next(m.le for m in InSituConfig.model_fields["u_value"].metadata if hasattr(m, "le"))
 
 
 @dataclass(frozen=True)
@@ -89,8 +90,8 @@ class ComponentAdvice:
         The same for the recommended strategy (None: nothing recommended).
     half_widths_pp : dict code -> (now, expected) [pp]
         Per strategy.
-    seconds : float
-        Time of the three analyses.
+    seconds : float [s]
+        Wall time of its three analyses (their share of the pool's).
     """
 
     component: str
@@ -108,7 +109,9 @@ class ComponentAdvice:
     @property
     def element(self) -> str:
         """The component in words."""
-        return _WORDS[self.component]
+        from thermocal.retrofit.correction import COMPONENT_WORDS
+
+        return COMPONENT_WORDS[self.component]
 
     @property
     def label(self) -> str:
@@ -138,12 +141,12 @@ def measurable_components(cfg, building) -> list[tuple[str, str, float]]:
     return out
 
 
-def _half_widths(results: dict) -> dict[str, float]:
-    """Half-width [pp] of every strategy's saving interval (results.json ``scenarios``)."""
-    return {
-        s["code"]: 0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"])
-        for s in results["scenarios"][1:]
-    }
+def _half_widths(results: dict) -> tuple[dict[str, float], float]:
+    """Half-width [pp] of every strategy's saving interval (results.json ``scenarios``), and
+    the median Monte Carlo error of their ends [pp]."""
+    scenarios = results["scenarios"][1:]
+    widths = {s["code"]: 0.5 * (s["saving_pct_p95"] - s["saving_pct_p05"]) for s in scenarios}
+    return widths, float(np.median([s.get("saving_pct_mcse") or 0.0 for s in scenarios]))
 
 
 def _group_of(component: str) -> str:
@@ -164,8 +167,8 @@ def _quiet():
         logger.setLevel(level)
 
 
-def _half_widths_of(variant) -> dict[str, float]:
-    """The savings' interval half-widths [pp] of an analysis of ``variant`` (a configuration)."""
+def _half_widths_of(variant) -> tuple[dict[str, float], float]:
+    """:func:`_half_widths` of an analysis of ``variant`` (a configuration)."""
     from thermocal.retrofit import run_retrofit
     from thermocal.retrofit.outputs import results_dict
 
@@ -173,7 +176,7 @@ def _half_widths_of(variant) -> dict[str, float]:
         return _half_widths(results_dict(run_retrofit(variant)))
 
 
-def _run_all(variants: list, workers: int, progress) -> list[dict[str, float]]:
+def _run_all(variants: list, workers: int, progress) -> list[tuple[dict[str, float], float]]:
     """:func:`_half_widths_of` of every variant, on a pool of ``workers`` processes."""
     if workers <= 1 or len(variants) == 1:
         out = []
@@ -220,12 +223,11 @@ def advise_measurements(
     plate_rel_std : float [-]
         Relative standard uncertainty of the plate's U-value.
     draws : int, optional
-        Parameter draws of every analysis the advice runs, the present one included (at
-        least the configuration's; default :data:`ADVICE_DRAWS`): the half-widths it compares
-        carry the Monte Carlo error of their interval ends, about +-1.5 pp with 200 draws and
-        +-0.3 pp with 1,000.
+        Parameter draws [-] of every analysis the advice runs, the present one included (at
+        least the configuration's; default :data:`ADVICE_DRAWS`; module docstring: their
+        Monte Carlo error).
     workers : int
-        Processes running the analyses.
+        Processes running the analyses [-].
     progress : callable, optional
         Called with a message as the analyses run.
 
@@ -233,10 +235,15 @@ def advise_measurements(
     -------
     dict
         ``available`` (bool), ``reason`` (when not), ``method``, ``plate_rel_std``,
-        ``draws``, ``components`` (:class:`ComponentAdvice` as dicts with their ``label``,
-        the most narrowing first) and ``summary`` (one sentence).
+        ``draws``, ``mcse_pp`` (the present run's median Monte Carlo error of an interval
+        end), ``components`` (:class:`ComponentAdvice` as dicts with their ``label`` and
+        ``element``, the most narrowing first) and ``summary`` (one sentence).
     """
-    from thermocal.retrofit.correction import FACTOR_BOUNDS, prior_std_log
+    from thermocal.retrofit.correction import (
+        FACTOR_BOUNDS,
+        prior_std_log,
+        shared_factor_components,
+    )
     from thermocal.retrofit.tables import _recommended_code
 
     method = (
@@ -267,27 +274,35 @@ def advise_measurements(
     )
     s_plate = prior_std_log(plate_rel_std)
     low, high = FACTOR_BOUNDS
+    shared = shared_factor_components(analysis.model.envelope, cfg.in_situ)
+    nodes, weights = GAUSS_HERMITE_3
     variants, plan = [base], []
     for key, name, described in candidates:
         group = _group_of(key)
         k_now = float(correction.factors[group])
-        spread = float(np.hypot(correction.posterior_std.get(group, 0.0), s_plate))
+        spread_k = correction.posterior_std.get(group, 0.0)
+        if group == "k_env" and len(shared) > 1:
+            # split from the group, the component's own factor is known to its prior's spread
+            spread_k = max(spread_k, correction.prior_std.get(group, 0.0))
+        spread = float(np.hypot(spread_k, s_plate))
         plan.append((key, name, described, k_now, spread))
-        for z in _NODES:
+        for z in nodes:
             k = float(np.clip(k_now * np.exp(z * spread), low * 1.001, high * 0.999))
             spec = InSituConfig(
-                u_value=round(k * described, 6), rel_std=plate_rel_std, component=name
+                u_value=round(min(k * described, _MAX_U), 6),
+                rel_std=plate_rel_std,
+                component=name,
             )
             variants.append(base.model_copy(update={"in_situ": {**cfg.in_situ, key: spec}}))
     t0 = time.perf_counter()
     widths = _run_all(variants, workers, progress)
     seconds = (time.perf_counter() - t0) / len(variants)
-    now = widths[0]
+    now, mcse = widths[0]
     recommended = _recommended_code(analysis)
     advice = []
     for i, (key, name, described, k_now, spread) in enumerate(plan):
-        nodes = widths[1 + 3 * i : 4 + 3 * i]
-        expected = {c: sum(w * n[c] for w, n in zip(_WEIGHTS, nodes, strict=True)) for c in now}
+        runs = [w for w, _ in widths[1 + 3 * i : 4 + 3 * i]]
+        expected = {c: sum(w * r[c] for w, r in zip(weights, runs, strict=True)) for c in now}
         advice.append(
             ComponentAdvice(
                 component=key,
@@ -310,12 +325,12 @@ def advise_measurements(
         f"{best.median_half_width_pp:.1f} pp -> {best.expected_median_half_width_pp:.1f} pp "
         f"expected (plate {100 * plate_rel_std:.0f} %)"
     )
-    if best.expected_median_half_width_pp > best.median_half_width_pp - 0.5:
+    if best.expected_median_half_width_pp > best.median_half_width_pp - max(0.5, mcse):
         summary = (
-            "No heat-flux plate would narrow the savings' intervals by much (the best, on "
-            f"the {best.element}: median half-width {best.median_half_width_pp:.1f} -> "
-            f"{best.expected_median_half_width_pp:.1f} pp): what is left is not the envelope's "
-            "split (the windows, the air change, the inputs)"
+            "No heat-flux plate would narrow the savings' intervals by more than their Monte "
+            f"Carlo error ({mcse:.1f} pp; the best, on the {best.element}: median half-width "
+            f"{best.median_half_width_pp:.1f} -> {best.expected_median_half_width_pp:.1f} pp): "
+            "what is left is not the envelope's split (the windows, the air change, the inputs)"
         )
     if analysis.gate is not None and not analysis.gate["passed"]:
         summary = (
@@ -327,6 +342,7 @@ def advise_measurements(
         "method": method,
         "plate_rel_std": plate_rel_std,
         "draws": draws,
+        "mcse_pp": mcse,
         "components": [asdict(a) | {"label": a.label, "element": a.element} for a in advice],
         "summary": summary,
     }

@@ -140,32 +140,36 @@ def correction_groups(model) -> list[str]:
     out = []
     for g in GROUPS:
         if g == "k_env":
-            present = [c for c in GROUPS[g] if getattr(env, _COMPONENT_PRESENT[c]) > 0]
-            if any(c not in measured for c in present):
+            if shared_factor_components(env, measured):
                 out.append(g)
+            present = [c for c in GROUPS[g] if getattr(env, _COMPONENT_PRESENT[c]) > 0]
             out += [f"k_{c}" for c in present if c in measured]
         elif _group_present(env, g):
             out.append(g)
     return out
 
 
-def shared_factor_components(model) -> list[str]:
-    """The building's components that share the roof-and-walls factor ``k_env`` (present and
-    not measured in situ): their measures' intervals assume their descriptions are off by the
-    same factor."""
-    measured = set(getattr(model, "in_situ", {}) or {})
+def shared_factor_components(envelope, measured=()) -> list[str]:
+    """The building's components that share the roof-and-walls factor ``k_env``: present and
+    not measured in situ (their measures' intervals assume their descriptions are off by the
+    same factor).
+
+    Parameters
+    ----------
+    envelope : EnvelopeComponents
+    measured : iterable of str
+        The components measured in situ (``in_situ`` keys).
+    """
+    measured = set(measured)
     return [
         c for c in GROUPS["k_env"]
-        if c not in measured and getattr(model.envelope, _COMPONENT_PRESENT[c]) > 0
+        if c not in measured and getattr(envelope, _COMPONENT_PRESENT[c]) > 0
     ]  # fmt: skip
 
 
 def _unmeasured_words(envelope, measured) -> str:
     """The building's components of ``k_env`` not measured in situ, in words."""
-    return " + ".join(
-        COMPONENT_WORDS[c] for c in GROUPS["k_env"]
-        if c not in measured and getattr(envelope, _COMPONENT_PRESENT[c]) > 0
-    )  # fmt: skip
+    return " + ".join(COMPONENT_WORDS[c] for c in shared_factor_components(envelope, measured))
 
 
 def group_label(group: str, model) -> str:
@@ -372,6 +376,7 @@ COMPONENT_WORDS = {
     "walls": "walls",
     "attic_ceiling": "ceiling under the attic",
     "wall_to_unheated": "walls to unheated spaces",
+    "cellar_ceiling": "cellar ceiling",
 }
 
 

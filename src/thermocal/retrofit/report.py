@@ -377,11 +377,15 @@ def write_report(
     if corrected:
         from thermocal.retrofit.correction import COMPONENT_WORDS, shared_factor_components
 
-        shared = shared_factor_components(analysis.model)
+        model = analysis.model
+        shared = [
+            f"the {COMPONENT_WORDS[c]}"
+            for c in shared_factor_components(model.envelope, model.in_situ or ())
+        ]
         if len(shared) > 1:
             not_covered.append(
-                "differences between the description errors of the "
-                + " and the ".join(COMPONENT_WORDS[c] for c in shared)
+                "differences between the description errors of "
+                + (", ".join(shared[:-1]) + " and " + shared[-1])
                 + ": they share one correction factor, so a measure on one of them is "
                 "taken to be off by the same factor as the others (an in-situ U-value gives "
                 "a component its own; thermocal retrofit --advise shows what one would change)"
@@ -505,7 +509,8 @@ def _measurement_advice(rep, advice: dict, pct: str) -> None:
         f"{100 * advice['plate_rel_std']:.0f} %), the whole analysis was run again with that "
         f"reading, and the half-widths of the savings' {pct} intervals were averaged over the "
         f"readings (preposterior analysis; {advice['draws']:,} draws in every run, so the "
-        "present figures differ a little from the table above). On the two EnergyPlus houses "
+        "present figures differ a little from the strategy table's). On the two EnergyPlus "
+        "houses "
         "the expected median half-width after a plate on the walls was within 1 pp of what "
         "the real plate then gave."
     )

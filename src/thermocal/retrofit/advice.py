@@ -21,10 +21,11 @@ drawn with the wider of the group's posterior spread and its prior one.
 
 The runs draw at least :data:`ADVICE_DRAWS` parameter sets: a plate adds a factor, so its runs
 draw other random numbers than the present analysis, and what the advice compares carries the
-Monte Carlo error of the intervals' ends (each end about 0.9 pp at 1,000 draws, the results'
-``saving_pct_mcse``; the median half-width over the strategies less: 12.0 and 12.3 pp with
-seeds 0 and 1 on the first EnergyPlus house, 12.6 and 12.2 pp with 200 draws). A narrowing
-smaller than the present run's median end error is reported as none.
+Monte Carlo error of the intervals' ends (the results' ``saving_pct_mcse``: its median over
+the strategies 0.47 pp on the basement house at 1,000 draws; the median half-width over the
+strategies: 12.0 and 12.3 pp with seeds 0 and 1 on the first EnergyPlus house, 12.6 and 12.2
+pp with 200 draws). A narrowing smaller than the present run's median end error is reported
+as none.
 
 Checked against EnergyPlus (docs/retrofit.md, "Which measurement next"): on both independent
 houses the expected median half-width after a plate on the walls lies within 1 pp of what the

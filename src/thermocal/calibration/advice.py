@@ -118,7 +118,7 @@ def advise_measurements(
         and ``candidates`` (per measurable parameter: the three ``readings``, each
         parameter's ``determined_probability``, those at 0.5 or more as ``determined``, the
         ``expected`` intervals at the median reading and their ``mean_width_fraction``; the
-        one determining most first), ``summary``.
+        one determining most besides its own parameter first), ``summary``.
     """
     from thermocal.calibration.posterior import calibration_posterior
 
@@ -174,23 +174,29 @@ def advise_measurements(
                 "expected": central,
             }
         )
+    # a plate determines what it measures: ranked by what else it settles, then by how much
+    # it narrows the intervals
     rows.sort(
-        key=lambda r: (-sum(r["determined_probability"].values()), r["mean_width_fraction"])
+        key=lambda r: (
+            -sum(p for n, p in r["determined_probability"].items() if n != r["parameter"]),
+            r["mean_width_fraction"],
+        )
     )
     best = rows[0]
     determined_now = [n for n, v in now.items() if v["determined"]]
-    gained = [n for n in best["determined"] if n not in determined_now]
-    if gained:
+    others = [n for n in best["determined"] if n not in determined_now and n != best["parameter"]]
+    if others:
         summary = (
             f"A heat-flux plate on {_element(best['parameter'])} (ISO 9869-1, "
-            f"{100 * plate_rel_std:.0f} %) would determine {', '.join(gained)} (determined "
-            f"now: {', '.join(determined_now) or 'none'})"
+            f"{100 * plate_rel_std:.0f} %) would determine {best['parameter']} and, through "
+            f"the data, {', '.join(others)} (determined now: {', '.join(determined_now) or 'none'})"
         )
     else:
         summary = (
-            "No single heat-flux plate would determine a parameter the data leave open (the "
-            f"most informative, on {_element(best['parameter'])}, narrows the intervals to "
-            f"{100 * best['mean_width_fraction']:.0f} % of the sampled ranges on average)"
+            "No heat-flux plate would determine a parameter the data leave open other than the "
+            f"one it measures (the most informative, on {_element(best['parameter'])}, "
+            f"narrows the intervals to {100 * best['mean_width_fraction']:.0f} % of the sampled "
+            "ranges on average)"
         )
     return {
         "available": True,

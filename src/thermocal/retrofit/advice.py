@@ -179,6 +179,9 @@ def _half_widths_of(variant) -> tuple[dict[str, float], float]:
 
 def _run_all(variants: list, workers: int, progress) -> list[tuple[dict[str, float], float]]:
     """:func:`_half_widths_of` of every variant, on a pool of ``workers`` processes."""
+    import os
+
+    workers = min(int(workers), os.cpu_count() or 1)
     if workers <= 1 or len(variants) == 1:
         out = []
         for i, v in enumerate(variants):
@@ -228,7 +231,7 @@ def advise_measurements(
         least the configuration's; default :data:`ADVICE_DRAWS`; module docstring: their
         Monte Carlo error).
     workers : int
-        Processes running the analyses [-].
+        Processes running the analyses [-] (at most the machine's cores).
     progress : callable, optional
         Called with a message as the analyses run.
 

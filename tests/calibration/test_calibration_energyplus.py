@@ -68,6 +68,13 @@ def twin(tmp_path_factory):
     path = ct.prepare(folder, SAMPLES, extra="metric: groups\n", shared=shared, zoom=32)
     truth_file = json.loads((REFERENCE / "truth.json").read_text())
     out = {}
+
+    def resume(campaign):  # every sample, and every run the analysis confirms, from the store
+        return calibrate(
+            campaign, workers=1, store_path=folder / "s.sqlite", resume=True, progress=False,
+            log=lambda s: 0,
+        )  # fmt: skip
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         groups = load_campaign(path)
@@ -79,14 +86,7 @@ def twin(tmp_path_factory):
         before = folder / "no_zoom.yaml"
         before.write_text(path.read_text().replace("zoom: 32}", "zoom: 0}", 1))
         no_zoom = load_campaign(before)
-        result = calibrate(
-            no_zoom,
-            workers=1,
-            store_path=folder / "s.sqlite",
-            resume=True,
-            progress=False,
-            log=lambda s: 0,
-        )
+        result = resume(no_zoom)
         out["groups_no_zoom"] = ct.summarise(result, no_zoom, truth_file, "groups")
         out["no_zoom_runs"] = result.runs
         other = folder / "building.yaml"
@@ -97,11 +97,9 @@ def twin(tmp_path_factory):
         out["reanalysis_runs"] = again.runs
         # the analysis the real roof plate below enters (no zoom, the building total) asked
         # which heat-flux plate would determine what (no simulation)
+        building_text = before.read_text().replace("metric: groups\n", "metric: building\n")
         advised = folder / "building_advice.yaml"
-        advised.write_text(
-            before.read_text().replace("metric: groups\n", "metric: building\n")
-            + "posterior: {advise: true}\n"
-        )
+        advised.write_text(building_text + "posterior: {advise: true}\n")
         out["building_advice"] = reanalyse(
             load_campaign(advised), folder / "s.sqlite", log=lambda s: 0
         ).posterior.advice
@@ -110,33 +108,16 @@ def twin(tmp_path_factory):
             before.read_text() + "metamodel: {kind: series, series_terms: auto}\n"
         )  # without the zoom: the curvature term's own answer
         curvature = load_campaign(curved)
-        result = calibrate(
-            curvature,
-            workers=1,
-            store_path=folder / "s.sqlite",
-            resume=True,
-            progress=False,
-            log=lambda s: 0,
-        )
+        result = resume(curvature)
         out["curvature"] = ct.summarise(result, curvature, truth_file, "groups")
         out["curvature_terms"] = result.confirmed["series_metamodel"]["terms"]
         out["curvature_summary"] = result.summary
         # the published building-total metric with a heat-flux plate on the roof (ISO 9869-1,
         # make_reference.py --heat-flux): the same samples, the posterior's median confirmed
         plate = folder / "roof_plate.yaml"
-        plate.write_text(
-            before.read_text().replace("metric: groups\n", "metric: building\n")
-            + ROOF_PLATE
-        )
+        plate.write_text(building_text + ROOF_PLATE)
         measured = load_campaign(plate)
-        result = calibrate(
-            measured,
-            workers=1,
-            store_path=folder / "s.sqlite",
-            resume=True,
-            progress=False,
-            log=lambda s: 0,
-        )
+        result = resume(measured)
         out["roof_plate"] = ct.summarise(result, measured, truth_file, "building")
         out["roof_plate_posterior"] = result.posterior.to_dict()
         from thermocal.calibration.report import write_report

@@ -248,6 +248,34 @@ def test_units_argument_and_long_unit_column(tmp_path):
         read_measurements(path2, units={"heating": "kw/h"})
 
 
+def test_a_unit_that_changes_names_the_line_of_the_other_unit_not_an_empty_cell(tmp_path):
+    text = (
+        "time,sensor,value,unit\n"
+        "2019-02-02T00:00:00Z,T_in,20.5,C\n"
+        "2019-02-02T00:05:00Z,T_in,20.6,\n"  # no unit declared on this row: not a change
+        "2019-02-02T00:10:00Z,T_out,1.0,C\n"
+        "2019-02-02T00:15:00Z,T_in,293.8, K\n"
+    )
+    path = write(tmp_path, text)
+    table = pd.read_csv(path, keep_default_na=False)
+    table["time"] = pd.to_datetime(table["time"])
+    table.to_parquet(tmp_path / "log.parquet")  # text columns read as categories
+    for source, line in ((path, 5), (tmp_path / "log.parquet", 4)):
+        with pytest.raises(ThermocalInputError) as info:
+            read_measurements(source)
+        message = str(info.value)
+        assert f"line {line}: sensor 'T_in' changes unit from 'C' to 'K'" in message, message
+    table.loc[3, "unit"] = "C"  # one unit, an empty cell: read, the same from both files
+    table.loc[3, "value"] = 20.7
+    table.to_parquet(tmp_path / "log.parquet")
+    path = write(tmp_path, text.replace("293.8, K", "20.7,C"))
+    from_csv, meta_csv = read_measurements(path)
+    from_parquet, meta_parquet = read_measurements(tmp_path / "log.parquet")
+    assert meta_parquet["units_in_file"] == meta_csv["units_in_file"] == {"T_in": "C", "T_out": "C"}
+    np.testing.assert_array_equal(from_parquet["value"], from_csv["value"])
+    assert list(from_parquet["sensor"]) == list(from_csv["sensor"])
+
+
 def test_undeclared_flow_in_litres_per_hour_rejected(tmp_path):
     path = write(tmp_path, "time,flow\n2019-02-02T00:00:00Z,850\n")
     with pytest.raises(ThermocalInputError, match=r"declare the unit .*'flow \[l/h\]'"):

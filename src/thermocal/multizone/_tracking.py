@@ -298,18 +298,26 @@ class Tracking:
             # (kept as given when it is already a float array) is copied
             return pd.DataFrame(values, index=index, columns=columns, copy=not own)
 
+        # in place: a month of a large building's (n_steps, n_zones) arrays is ~13 MB each
+        sensed = np.take(air, loop.tracked, axis=1)
+        sensed *= weight
+        radiant = np.take(mrt, loop.tracked, axis=1)
+        radiant *= 1.0 - weight
+        sensed += radiant
+        del radiant
+        operative = mrt  # the loop's own array, not used after this
+        operative += air
+        operative *= 0.5
         return TrackingResult(
             air_temperature=frame(air, zone_names),
-            operative_temperature=frame(0.5 * (air + mrt), zone_names),
+            operative_temperature=frame(operative, zone_names),
             heat=frame(loop.heat, names),
             reference=frame(loop.reference, names, own=False),
             feedback=feedback,
             method=method,
             step=self.step_size,
             diverged=loop.diverged,
-            sensed_temperature=frame(
-                weight * air[:, loop.tracked] + (1.0 - weight) * mrt[:, loop.tracked], names
-            ),
+            sensed_temperature=frame(sensed, names),
         )
 
     def _zone_indices(self, zones) -> np.ndarray:

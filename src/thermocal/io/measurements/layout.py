@@ -180,9 +180,11 @@ def _read_long(
     starts = np.concatenate(([0], bounds))
     ends = np.concatenate((bounds, [len(order)]))
 
-    unit_values = None
-    if unit_col is not None:
-        unit_values = frame[unit_col].astype("string").str.strip()
+    unit_codes, unit_names = None, None
+    if unit_col is not None:  # codes and their stripped names: no text column per row
+        unit_codes, found = pd.factorize(frame[unit_col], sort=False)
+        unit_names = np.asarray([str(u).strip() for u in found] + [""], dtype=object)
+        unit_codes = np.where(unit_codes < 0, len(found), unit_codes)
 
     keep_sorted = np.ones(len(order), dtype=bool)
     out_values = values[order]
@@ -201,17 +203,19 @@ def _read_long(
         )
         keep_sorted[begin:end] = keep
         unit = _lookup(units, file_name, name)
-        if unit_values is not None:
-            declared = unit_values.iloc[rows].dropna().unique()
-            declared = [u for u in declared if u]
+        if unit_codes is not None:
+            declared = [
+                u for u in dict.fromkeys(unit_names[pd.unique(unit_codes[rows])]) if u
+            ]
             if len(declared) > 1:
+                sensor_units = unit_names[unit_codes[rows]]
                 position = int(
-                    np.flatnonzero((unit_values.iloc[rows] != declared[0]).fillna(False))[0]
+                    np.flatnonzero((sensor_units != declared[0]) & (sensor_units != ""))[0]
                 )
                 raise ThermocalInputError(
                     f"{source}, column '{unit_col}', line {lines[rows[position]]}: sensor "
                     f"'{file_name}' changes unit from '{declared[0]}' to "
-                    f"'{unit_values.iloc[rows[position]]}'; one unit per sensor"
+                    f"'{sensor_units[position]}'; one unit per sensor"
                 )
             if declared:
                 if unit is not None and _resolve_unit(unit, source) != _resolve_unit(

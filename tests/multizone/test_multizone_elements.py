@@ -2,6 +2,12 @@
 
 from __future__ import annotations
 
+import dataclasses
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
 import pytest
 
 from thermocal.demos import buildings as generators
@@ -9,6 +15,7 @@ from thermocal.errors import ThermocalInputError
 from thermocal.multizone.elements import (
     construction_roles,
     element_parameters,
+    far_side_constructions,
     is_element_parameter,
 )
 from thermocal.multizone.model import construction_u_value
@@ -83,3 +90,77 @@ def test_material_then_element_level_in_one_mapping(house):
 def test_bad_element_parameters_are_named(house, mapping, words):
     with pytest.raises(ThermocalInputError, match=words):
         house.with_parameters(mapping)
+
+
+# ------------------------------------------------------------ the far side of inter-zone walls
+REFERENCE = Path(__file__).resolve().parents[1] / "reference"
+HOUSE_IDF = REFERENCE / "retrofit_energyplus_house" / "house_v25.idf"
+MULTIFAMILY_IDF = REFERENCE / "identification_multifamily" / "multifamily_5A_FF_v25.idf"
+
+
+def _read(path):
+    from thermocal.multizone.idf import read_idf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return read_idf(path)
+
+
+@pytest.mark.parametrize(
+    ("path", "far", "built"),
+    [
+        # NREL's house: the attic floor's own construction, the living ceiling's mirror
+        (HOUSE_IDF, "reverseCEILING:LIVING", "CEILING:LIVING"),
+        # the multifamily prototype: ceilings whose boundary is the attic zone, their partners
+        # made by the import
+        (MULTIFAMILY_IDF, "Interior Ceiling (reversed)", "Interior Ceiling"),
+    ],
+)
+def test_the_far_side_of_an_inter_zone_wall_is_not_a_parameter(path, far, built):
+    """The model builds an inter-zone wall once, from the first surface of the pair: a
+    construction only on far sides changes nothing, so it is no parameter to calibrate or to
+    measure, and naming it says which construction to set."""
+    building = _read(path)
+    assert far in building.constructions
+    assert far_side_constructions(building) == {far: built}
+    params = element_parameters(building)
+    assert f"construction/{built}/resistance" in params
+    assert not any(f"/{far}/" in name for name in params)
+    assert not any(f"/{far}/" in name for name in building.parameters())
+    instead = rf"set 'construction/{re.escape(built)}/resistance' instead"
+    with pytest.raises(ThermocalInputError, match=instead):
+        building.with_parameters({f"construction/{far}/resistance": 1.0})
+    # the far side's layers are never read: another layer list there leaves the network as it
+    # is; the built side's resistance moves it
+    from thermocal.multizone.network import assemble
+
+    def system(b):
+        network = assemble(b, 300.0)
+        return network.system_matrix(300.0), network.capacity
+
+    matrix, capacity = system(building)
+    construction = building.constructions[far]
+    thinner = building.replaced(
+        constructions={
+            **building.constructions,
+            far: dataclasses.replace(construction, layers=construction.layers[:1]),
+        }
+    )
+    other_matrix, other_capacity = system(thinner)
+    assert abs(other_matrix - matrix).max() == 0.0
+    np.testing.assert_array_equal(other_capacity, capacity)
+    value = params[f"construction/{built}/resistance"]
+    built_changed = building.with_parameters({f"construction/{built}/resistance": 2.0 * value})
+    changed_matrix, _ = system(built_changed)
+    assert changed_matrix.shape != matrix.shape or abs(changed_matrix - matrix).max() > 0.0
+
+
+def test_a_pair_of_constructions_that_are_not_mirrors_is_noted(tmp_path):
+    text = HOUSE_IDF.read_text()
+    mirrored = "Construction, reverseCEILING:LIVING, GP01, IN05;"
+    assert mirrored in text
+    path = tmp_path / "house.idf"
+    path.write_text(text.replace(mirrored, "Construction, reverseCEILING:LIVING, GP01;"))
+    notes = [n for n in _read(path).idf_info.notes if "inter-zone wall" in n]
+    assert len(notes) == 1 and "from 'CEILING:LIVING'" in notes[0], notes
+    assert not [n for n in _read(HOUSE_IDF).idf_info.notes if "inter-zone wall" in n]

@@ -66,11 +66,13 @@ INDEPENDENT_CALIBRATIONS: dict[str, IndependentCalibration] = {
         building="DOE/PNNL multifamily prototype (wall R x1.5, attic floor R x0.6, leakage x1.4 "
         "hidden; 32 samples)",
         determined_resistances=2,
-        max_resistance_error_pct=6.8,
-        covered=3,
-        parameters=4,
-        metric_vs_truth_pct=-4.5,
-        note="the attic's infiltration +10 %, its interval 2.2 % above the truth",
+        max_resistance_error_pct=8.5,
+        covered=1,
+        parameters=3,
+        metric_vs_truth_pct=-4.3,
+        note="the attic's infiltration +11 %, its interval 9 % above the truth, and the wall "
+        "-8.5 %, its interval 3.3 % below: the unvaried flats' infiltration (+4-10 %) is a "
+        "model error they absorb",
     ),
     "calibration_energyplus_outpatient": IndependentCalibration(
         building="DOE outpatient prototype, 118 zones (wall R / 1.5, roof R / 0.6, infiltration "

@@ -22,6 +22,13 @@ Roles follow each construction's surfaces (the role of the largest area when sev
 ``exterior_wall``, ``roof``, ``exposed_floor`` (outdoors), ``ground_floor``, ``ground_wall``
 (ground), ``partition``, ``interzone_floor`` (between zones), ``internal_mass`` (adiabatic).
 
+An inter-zone wall is described from both sides (two surfaces, each with a construction), but the
+model builds it once, from the first surface of the pair in the building's order
+(:func:`built_surfaces`); the partner's side is that construction's other face. A construction
+found only on such far sides (an IDF's ``reverseCEILING``, or the ``"<name> (reversed)"`` the
+IDF import makes for a surface whose boundary is a zone) changes nothing in the model, so it has
+no element parameters, and naming one is an error that says which construction to set instead.
+
 The functions take the multi-zone model's ``Building`` and ``Surface`` (named in their
 docstrings; not imported here: the model applies these parameters, so importing it back would
 tie the two modules in a circle).
@@ -44,7 +51,9 @@ from thermocal.errors import ThermocalInputError
 __all__ = [
     "ELEMENT_KINDS",
     "apply_element_parameters",
+    "built_surfaces",
     "construction_roles",
+    "far_side_constructions",
     "element_parameters",
     "is_element_parameter",
     "surface_role",
@@ -88,8 +97,62 @@ def surface_role(surface) -> str:
     return "exterior_wall"
 
 
+def built_surfaces(surfaces) -> list:
+    """The surfaces whose construction the model builds, in their order.
+
+    Every surface but the second of each inter-zone pair (``boundary="zone"``): the network
+    (:func:`thermocal.multizone.network.assemble`) builds an inter-zone wall once, from the
+    first surface of the pair, and its partner's inside face is that wall's outside face.
+
+    Parameters
+    ----------
+    surfaces : iterable of thermocal.multizone.model.Surface
+        A building's surfaces in its order (``building.surfaces.values()``).
+
+    Returns
+    -------
+    list of thermocal.multizone.model.Surface
+    """
+    built, far_sides = [], set()
+    for surface in surfaces:
+        if surface.name in far_sides:
+            continue
+        built.append(surface)
+        if surface.boundary == "zone" and surface.other_surface is not None:
+            far_sides.add(surface.other_surface)
+    return built
+
+
+def far_side_constructions(building) -> dict[str, str]:
+    """Constructions found only on the far side of inter-zone walls, and the one built there.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.model.Building
+
+    Returns
+    -------
+    dict of str to str
+        Construction name -> the construction the model builds for those walls (of the first
+        such wall, in the building's order).
+    """
+    built = built_surfaces(building.surfaces.values())
+    built_constructions = {surface.construction for surface in built}
+    opposite: dict[str, str] = {}
+    for surface in built:
+        if surface.boundary != "zone" or surface.other_surface is None:
+            continue
+        partner = building.surfaces[surface.other_surface]
+        if partner.construction not in built_constructions:
+            opposite.setdefault(partner.construction, surface.construction)
+    return opposite
+
+
 def construction_roles(building) -> dict[str, str]:
-    """Role of each construction used by a surface (the role of its largest total area).
+    """Role of each construction the model builds (the role of its largest total area).
+
+    The far side of an inter-zone wall counts for the construction built there, not for its own
+    (:func:`built_surfaces`).
 
     Parameters
     ----------
@@ -101,7 +164,7 @@ def construction_roles(building) -> dict[str, str]:
         Construction name -> role (see :func:`surface_role`), in the building's order.
     """
     areas: dict[str, dict[str, float]] = {}
-    for surface in building.surfaces.values():
+    for surface in built_surfaces(building.surfaces.values()):
         by_role = areas.setdefault(surface.construction, {})
         role = surface_role(surface)
         by_role[role] = by_role.get(role, 0.0) + float(surface.area)
@@ -185,6 +248,14 @@ def apply_element_parameters(building, mapping: Mapping[str, float]):
             raise ThermocalInputError(
                 f"unknown building parameter '{key}': no construction '{name}' (see "
                 "thermocal.multizone.elements.element_parameters)"
+            )
+        far_side = far_side_constructions(building)
+        if name in far_side:
+            raise ThermocalInputError(
+                f"building parameter '{key}': construction '{name}' is only the far side of "
+                f"inter-zone walls that the model builds from '{far_side[name]}' (one wall per "
+                f"pair of surfaces, from the first); set 'construction/{far_side[name]}/{kind}' "
+                "instead"
             )
         number = float(value)
         if not np.isfinite(number) or number <= 0.0:

@@ -50,6 +50,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from thermocal.errors import ThermocalInputError
+from thermocal.multizone.elements import built_surfaces
 from thermocal.multizone.model import ROUGHNESS_FACTORS, Building, Material
 
 #: Stefan-Boltzmann constant [W/(m2 K4)].
@@ -1038,9 +1039,7 @@ def assemble(
     entries.flush()
     chains: list[tuple[ConstructionTemplate, int, float]] = []
     layers_of: dict[str, list] = {}
-    for surface in building.surfaces.values():
-        if surface.name in surface_nodes:
-            continue  # partner of an already built partition
+    for surface in built_surfaces(building.surfaces.values()):  # a pair once, from its first
         if surface.construction not in layers_of:
             layers_of[surface.construction] = building.construction_layers(surface.construction)
         layers = layers_of[surface.construction]

@@ -118,6 +118,28 @@ def test_zero_nominal_is_skipped_and_negative_rejected():
         ParameterSpace.from_parameters({"material/x/density": -1.0})
 
 
+def test_parameters_the_model_does_not_use_are_left_out_with_the_reason():
+    unused = {"material/airgap/resistance": "material 'airgap' is in no construction"}
+    space = ParameterSpace.from_parameters(PARAMS, unused=unused)
+    assert "material/airgap/resistance" not in space.names
+    assert space.skipped["material/airgap/resistance"] == (
+        "not used by the model: material 'airgap' is in no construction"
+    )
+    assert len(space) == len(PARAMS) - 1
+    with pytest.raises(ThermocalInputError, match=r"left out: material/airgap/resistance: not"):
+        ParameterSpace.from_parameters(PARAMS, include=["material/airgap/*"], unused=unused)
+    from thermocal.calibration.workflow import left_out_notes
+
+    lines = []
+    notes = left_out_notes(space, lines.append)
+    assert notes == [
+        "Parameters left out of the campaign: material/airgap/resistance (not used by the "
+        "model: material 'airgap' is in no construction)."
+    ]
+    assert lines and "material/airgap/resistance" in lines[0]
+    assert left_out_notes(ParameterSpace.from_parameters(PARAMS), lines.append) == []
+
+
 def test_real_building_parameters():
     from thermocal.demos import buildings as generators
 

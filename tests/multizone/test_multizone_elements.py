@@ -17,6 +17,7 @@ from thermocal.multizone.elements import (
     element_parameters,
     far_side_constructions,
     is_element_parameter,
+    unused_parameters,
 )
 from thermocal.multizone.model import construction_u_value
 
@@ -164,3 +165,30 @@ def test_a_pair_of_constructions_that_are_not_mirrors_is_noted(tmp_path):
     notes = [n for n in _read(path).idf_info.notes if "inter-zone wall" in n]
     assert len(notes) == 1 and "from 'CEILING:LIVING'" in notes[0], notes
     assert not [n for n in _read(HOUSE_IDF).idf_info.notes if "inter-zone wall" in n]
+
+
+def test_the_parameters_the_model_does_not_read_change_nothing():
+    """The multifamily prototype's file carries a library of materials its constructions do
+    not use, and the far side of its attic floor has its own: every such parameter leaves the
+    assembled network as it is, a used one moves it."""
+    from thermocal.multizone.network import assemble
+
+    building = _read(MULTIFAMILY_IDF)
+    unused = unused_parameters(building)
+    materials = {name.split("/")[1] for name in unused}
+    assert len(materials) >= 20 and "Batt_R19" in materials, sorted(materials)
+    assert all(reason.startswith("material '") for reason in unused.values())
+
+    def system(b):
+        network = assemble(b, 300.0)
+        return network.system_matrix(300.0), network.capacity
+
+    nominal = building.parameters()
+    matrix, capacity = system(building)
+    for name in list(unused)[::7]:  # a spread of them: each assembly takes ~0.1 s
+        other_matrix, other_capacity = system(building.with_parameters({name: 1.7 * nominal[name]}))
+        assert abs(other_matrix - matrix).max() == 0.0, name
+        np.testing.assert_array_equal(other_capacity, capacity)
+    used = next(n for n in nominal if n.endswith("/conductivity") and n not in unused)
+    other_matrix, _ = system(building.with_parameters({used: 1.7 * nominal[used]}))
+    assert other_matrix.shape != matrix.shape or abs(other_matrix - matrix).max() > 0.0

@@ -175,6 +175,7 @@ class ParameterSpace:
         default_range: float = DEFAULT_RELATIVE_RANGE,
         ranges: Mapping[str, float] | None = None,
         floor_fraction: float = FLOOR_FRACTION,
+        unused: Mapping[str, str] | None = None,
     ) -> ParameterSpace:
         """Select parameters by glob patterns and give them ranges.
 
@@ -195,6 +196,10 @@ class ParameterSpace:
             When several patterns match a name, the last one listed wins.
         floor_fraction : float
             Lower physical limit of every property as a fraction of its nominal value [-].
+        unused : mapping of str to str, optional
+            Names that change nothing in the model, with the reason
+            (:func:`thermocal.multizone.elements.unused_parameters`): selected, they are left
+            out and listed in ``skipped``.
 
         Returns
         -------
@@ -237,7 +242,11 @@ class ParameterSpace:
 
         names: list[str] = []
         skipped: dict[str, str] = {}
+        unused = {} if unused is None else dict(unused)
         for n in selected:
+            if n in unused:
+                skipped[n] = f"not used by the model: {unused[n]}"
+                continue
             value = float(parameters[n])
             if not np.isfinite(value) or value < 0.0:
                 raise ThermocalInputError(
@@ -249,9 +258,11 @@ class ParameterSpace:
                 continue
             names.append(n)
         if not names:
+            why = "; ".join(f"{n}: {reason}" for n, reason in list(skipped.items())[:5])
             raise ThermocalInputError(
-                "parameters: the include/exclude patterns select no parameter with a non-zero "
-                f"nominal value (include={include}, exclude={exclude})"
+                "parameters: the include/exclude patterns select no parameter the model uses "
+                f"with a non-zero nominal value (include={include}, exclude={exclude})"
+                + (f"; left out: {why}" if why else "")
             )
 
         nominal = np.array([float(parameters[n]) for n in names])

@@ -153,6 +153,7 @@ def calibrate(
     inputs = load_inputs(campaign)
     check_period_length(inputs.start, inputs.end, inputs.weather.index)
     space = campaign_space(campaign, inputs.building)
+    notes.extend(left_out_notes(space, log))
     measure_in_situ(campaign, space)  # a bad log stops here, before any simulation
     problem, _ = build_problem(campaign, inputs)
     later = validation_problem(campaign, inputs)
@@ -269,6 +270,7 @@ def calibrate(
 def campaign_space(campaign, building):
     """The campaign's parameter space on ``building`` (its ``parameters`` section)."""
     from thermocal.calibration.space import ParameterSpace
+    from thermocal.multizone.elements import unused_parameters
 
     p = campaign.parameters
     return ParameterSpace.from_parameters(
@@ -277,7 +279,17 @@ def campaign_space(campaign, building):
         exclude=p.exclude,
         default_range=p.default_range,
         ranges=p.ranges,
+        unused=unused_parameters(building),
     )
+
+
+def left_out_notes(space, log) -> list[str]:
+    """The report's note (and the log's line) on the selected parameters the space left out."""
+    if not space.skipped:
+        return []
+    left_out = "; ".join(f"{name} ({why})" for name, why in space.skipped.items())
+    log(f"left out of the campaign: {left_out}")
+    return [f"Parameters left out of the campaign: {left_out}."]
 
 
 @dataclass
@@ -384,7 +396,7 @@ def reanalyse(campaign, store_path, *, log=print) -> CalibrationResult:
             wall_time_s=0.0,
             backend="store (re-analysis)",
         )
-        notes: list[str] = []
+        notes = left_out_notes(space, log)
         if done + store.count(failed=True) < n:
             notes.append(
                 f"The store holds {done} of the campaign's {n} samples (interrupted "

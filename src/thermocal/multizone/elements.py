@@ -28,6 +28,9 @@ model builds it once, from the first surface of the pair in the building's order
 found only on such far sides (an IDF's ``reverseCEILING``, or the ``"<name> (reversed)"`` the
 IDF import makes for a surface whose boundary is a zone) changes nothing in the model, so it has
 no element parameters, and naming one is an error that says which construction to set instead.
+Likewise a material in no construction the model builds and a window type no window uses are
+listed by :meth:`Building.parameters` but change nothing (:func:`unused_parameters`): a
+calibration leaves them out rather than spend its samples on them.
 
 The functions take the multi-zone model's ``Building`` and ``Surface`` (named in their
 docstrings; not imported here: the model applies these parameters, so importing it back would
@@ -57,6 +60,7 @@ __all__ = [
     "element_parameters",
     "is_element_parameter",
     "surface_role",
+    "unused_parameters",
 ]
 
 #: Kinds of the construction-level parameters and their units.
@@ -146,6 +150,36 @@ def far_side_constructions(building) -> dict[str, str]:
         if partner.construction not in built_constructions:
             opposite.setdefault(partner.construction, surface.construction)
     return opposite
+
+
+def unused_parameters(building) -> dict[str, str]:
+    """The names of :meth:`Building.parameters` that change nothing in the model, and why.
+
+    A material in no construction of a surface the model builds (:func:`built_surfaces`:
+    e.g. a file's library material, or one only in a construction on the far side of
+    inter-zone walls), and a window type no window uses.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.model.Building
+
+    Returns
+    -------
+    dict of str to str
+        Parameter name -> the reason, in the order of :meth:`Building.parameters`.
+    """
+    built = {s.construction for s in built_surfaces(building.surfaces.values())}
+    in_use = {layer for name in built for layer in building.constructions[name].layers}
+    window_types = {window.window_type for window in building.windows.values()}
+    unused: dict[str, str] = {}
+    for name in building.parameters():
+        parts = str(name).split("/")
+        owner = "/".join(parts[1:-1])
+        if parts[0] == "material" and owner not in in_use:
+            unused[name] = f"material '{owner}' is in no construction of a surface the model builds"
+        elif parts[0] == "window" and owner not in window_types:
+            unused[name] = f"window type '{owner}' is used by no window"
+    return unused
 
 
 def construction_roles(building) -> dict[str, str]:

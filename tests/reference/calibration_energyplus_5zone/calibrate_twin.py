@@ -146,7 +146,8 @@ def element_rows(result, nominal: dict, truth: dict) -> list[dict]:
 def track_record_figures(summary: dict) -> dict:
     """The figures ``thermocal.calibration.track_record`` states for a twin, from its summary:
     the determined element resistances, their largest error [%], the intervals covering the
-    truth of the parameters in the posterior, the confirmed metric against the true envelope's
+    truth of the parameters in the posterior (all, and those declared determined), the confirmed
+    metric against the true envelope's
     [%]."""
     rows = [r for r in summary["rows"] if "q05" in r]
     resistances = [
@@ -154,6 +155,7 @@ def track_record_figures(summary: dict) -> dict:
         if r["parameter"].startswith("construction/") and r["parameter"].endswith("/resistance")
         and r.get("determined")
     ]  # fmt: skip
+    determined = [r for r in rows if r.get("determined")]
     return {
         "determined_resistances": len(resistances),
         "max_resistance_error_pct": max(
@@ -161,6 +163,8 @@ def track_record_figures(summary: dict) -> dict:
         ),
         "covered": sum(bool(r["covers"]) for r in rows),
         "parameters": len(rows),
+        "determined_covered": sum(bool(r["covers"]) for r in determined),
+        "determined": len(determined),
         "metric_vs_truth_pct": 100.0 * (summary["calibrated_metric"] / summary["true_metric"] - 1),
     }
 

@@ -61,3 +61,68 @@ def test_one_missing_infrared_value_is_filled_aloud():
         "2001-01-02 23:00:00+00:00)"
     ]
     assert weather["ghi_infrared"].isna().sum() == 1  # the reader's frame is left as it was
+
+
+# ---------------------------------------------------------------- faults found by fuzzing
+def test_epw_without_data_lines_is_named(shared_data, tmp_path):
+    source = shared_data("weather_switzerland", "Zuerich-SMA_2015.epw")
+    path = _copy_with(source, tmp_path, lambda lines: lines.__delitem__(slice(8, None)))
+    with pytest.raises(ThermocalInputError, match="no data lines after the 8 header lines"):
+        read_weather(path)
+
+
+@pytest.mark.parametrize(
+    ("keep", "separator", "words"),
+    [
+        (20, ",", "20 comma-separated fields where an EPW data line has 35: wind direction, "
+         "wind speed, total sky cover, opaque sky cover are missing"),
+        (35, ";", "line 9: the fields are separated by semicolons"),
+    ],
+)  # fmt: skip
+def test_epw_with_every_line_short_or_another_separator_is_refused(
+    shared_data, tmp_path, keep, separator, words
+):
+    """Before: fields 21-35 read as missing, so the wind speed was absent and the simulation
+    ran at still air (cooling +17 % on Case 600); semicolons gave 'year ... is not a number'."""
+    source = shared_data("weather_switzerland", "Zuerich-SMA_2015.epw")
+
+    def edit(lines):
+        for i in range(8, len(lines)):
+            lines[i] = separator.join(lines[i].split(",")[:keep])
+
+    with pytest.raises(ThermocalInputError, match=words):
+        read_weather(_copy_with(source, tmp_path, edit))
+
+
+def test_epw_time_zone_of_the_wrong_sign_is_refused(shared_data, tmp_path):
+    """Denver (104.65 W) at UTC+7: the sun at night. Before: read without a word, and Case 600
+    needed no cooling."""
+    source = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    header = source.read_text().splitlines()[0].split(",")
+    assert float(header[8]) == -7.0 and float(header[7]) < -100.0
+
+    def flip(lines):
+        fields = lines[0].split(",")
+        fields[8] = "7.0"
+        lines[0] = ",".join(fields)
+
+    with pytest.raises(ThermocalInputError, match=r"time zone \+7 h does not fit its longitude"):
+        read_weather(_copy_with(source, tmp_path, flip))
+    read_weather(source)  # the file as it is
+
+
+def test_simulate_refuses_a_weather_file_that_ends_inside_the_run_period(
+    shared_data, tmp_path, capsys
+):
+    """A full-year RunPeriod and an EPW cut at a line boundary: before, the run stopped where
+    the weather did (heating of January to mid-June reported as the year's) without a word."""
+    from test_bad_input_table import run
+
+    idf = shared_data("energyplus_reference", "case_600_v25.idf")
+    source = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    path = _copy_with(source, tmp_path, lambda lines: lines.__delitem__(slice(8 + 4000, None)))
+    code, text = run(["simulate", idf, path, "--step", "1h", "--out", tmp_path / "out"], capsys)
+    text = " ".join(text.split())
+    assert code == 2, text
+    assert "RunPeriod" in text and "runs to 12/31" in text and "truncated weather file" in text
+    assert not (tmp_path / "out" / "summary.json").exists()

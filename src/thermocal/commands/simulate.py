@@ -110,10 +110,15 @@ def simulate(
             start = f"{first.year:04d}-{m1:02d}-{d1:02d}"
             end_day = pd.Timestamp(f"{first.year:04d}-{m2:02d}-{d2:02d}") + pd.Timedelta(days=1)
             end = str(end_day.date())
-            if pd.Timestamp(end_day).tz_localize(first.tz) > frame.index[-1] + (
-                frame.index[1] - frame.index[0]
-            ):
-                end = None
+            weather_end = frame.index[-1] + (frame.index[1] - frame.index[0])
+            if pd.Timestamp(end_day).tz_localize(first.tz) > weather_end:
+                # EnergyPlus stops with an error when the weather ends inside the RunPeriod
+                raise ThermocalInputError(
+                    f"{building}: the RunPeriod '{name}' runs to {m2}/{d2}, but the weather file "
+                    f"{weather} ends at {weather_end} (its last row starts at "
+                    f"{frame.index[-1]}): a truncated weather file? Use a complete file, or "
+                    "give --start and --end inside the weather"
+                )
             period_note = (
                 f"period from the IDF RunPeriod '{name}' ({m1}/{d1} to {m2}/{d2}); weather "
                 f"labelled {first.year}"

@@ -151,6 +151,22 @@ _PLAUSIBLE = {
 }
 
 _EPW_FIELDS = 35
+#: The EPW data fields in order (EnergyPlus Auxiliary Programs, the EPW data dictionary).
+_EPW_FIELD_NAMES = (
+    "year", "month", "day", "hour", "minute", "data source flags", "dry-bulb temperature",
+    "dew-point temperature", "relative humidity", "station pressure",
+    "extraterrestrial horizontal radiation", "extraterrestrial direct normal radiation",
+    "horizontal infrared radiation", "global horizontal radiation", "direct normal radiation",
+    "diffuse horizontal radiation", "global horizontal illuminance",
+    "direct normal illuminance", "diffuse horizontal illuminance", "zenith luminance",
+    "wind direction", "wind speed", "total sky cover", "opaque sky cover", "visibility",
+    "ceiling height", "present weather observation", "present weather codes",
+    "precipitable water", "aerosol optical depth", "snow depth", "days since last snowfall",
+    "albedo", "liquid precipitation depth", "liquid precipitation quantity",
+)  # fmt: skip
+#: Fields a data line must have: up to the opaque sky cover (older files end after field 32;
+#: thermocal reads nothing beyond the sky cover but the albedo, which may be absent).
+_EPW_MIN_FIELDS = 24
 _WEEKDAYS = {name.lower(): i for i, name in enumerate(calendar.day_name)}
 
 
@@ -271,8 +287,9 @@ def read_epw(
 
     path = Path(path)
     header = _read_epw_header(path)
+    buffer = _epw_buffer(path)
     try:
-        raw, meta = pvlib.iotools.read_epw(_epw_buffer(path))
+        raw, meta = pvlib.iotools.read_epw(buffer)
     except Exception as exc:  # pvlib fails deep inside pandas: find the culprit ourselves
         _diagnose_epw(path, exc)
         raise ThermocalInputError(f"weather file {path} is not a readable EPW file: {exc}") from exc
@@ -301,7 +318,7 @@ def read_epw(
         coerce_year=coerce_year,
         first_weekday=header["start_weekday"],
     )
-    utc_offset = float(meta["TZ"])
+    utc_offset = _checked_utc_offset(meta, path)
     index = pd.DatetimeIndex(start).tz_localize(as_timezone(utc_offset, f"weather file {path}"))
     frame = pd.DataFrame(index=index)
     missing: dict[str, int] = {}
@@ -421,7 +438,7 @@ def read_tmy3(
         coerce_year=coerce_year,
         first_weekday=None,
     )
-    utc_offset = float(meta["TZ"])
+    utc_offset = _checked_utc_offset(meta, path)
     index = pd.DatetimeIndex(start).tz_localize(as_timezone(utc_offset, f"weather file {path}"))
     frame = pd.DataFrame(index=index)
     for column in STANDARD_COLUMNS:
@@ -1067,7 +1084,25 @@ def _epw_buffer(path: Path) -> io.StringIO:
     lines = text.splitlines()
     n_fields = _EPW_FIELDS
     counts = [line.count(",") + 1 for line in lines[8:] if line.strip()]
-    usual = max(set(counts), key=counts.count) if counts else n_fields
+    if not counts:
+        raise ThermocalInputError(
+            f"weather file {path}: no data lines after the 8 header lines (a truncated "
+            "download?); download the file again"
+        )
+    usual = max(set(counts), key=counts.count)
+    first = next(i for i in range(8, len(lines)) if lines[i].strip())
+    for separator, word in ((";", "semicolons"), ("\t", "tabs")):
+        if usual < _EPW_MIN_FIELDS and lines[first].count(separator) >= _EPW_MIN_FIELDS - 1:
+            raise ThermocalInputError(
+                f"weather file {path}, line {first + 1}: the fields are separated by {word}; an "
+                "EPW file is comma-separated (a spreadsheet's export?): save it with commas"
+            )
+    if usual < _EPW_MIN_FIELDS:
+        raise ThermocalInputError(
+            f"weather file {path}: its data lines have {usual} comma-separated fields where an "
+            f"EPW data line has {n_fields}: {', '.join(_EPW_FIELD_NAMES[usual:_EPW_MIN_FIELDS])} "
+            "are missing (a file cut to fewer columns?); use the complete file"
+        )
     for i in range(8, len(lines)):
         count = lines[i].count(",") + 1
         if count < usual and lines[i].strip():
@@ -1203,6 +1238,30 @@ def _check_time_index(index: pd.DatetimeIndex, path: Path | str, column: str, fi
             f"{pd.Timedelta(int(step), unit='ns')}; weather data must be on a regular grid "
             "(fill or resample the gap first)"
         )
+
+
+#: Largest difference between a weather file's time zone and its longitude's solar time [h]
+#: (western China's UTC+8 at 75 E is 3 h; a time zone whose sign is flipped is 10-14 h off).
+MAX_TIME_ZONE_OFFSET_H = 4.0
+
+
+def _checked_utc_offset(meta: dict, path: Path) -> float:
+    """The file's time zone [h east of UTC], refused when its longitude contradicts it.
+
+    A time zone with a flipped sign (+7 for Denver) puts the sun at night: the simulation
+    runs, silently wrong.
+    """
+    utc_offset = float(meta["TZ"])
+    longitude = float(meta["longitude"])
+    off = (utc_offset - longitude / 15.0 + 12.0) % 24.0 - 12.0
+    if abs(off) > MAX_TIME_ZONE_OFFSET_H:
+        raise ThermocalInputError(
+            f"weather file {path}: its time zone {utc_offset:+g} h does not fit its longitude "
+            f"{longitude:g} deg (about {longitude / 15.0:+.0f} h; east is positive): the sun "
+            "would shine at the wrong hours; check the sign of the time zone (and of the "
+            "longitude) in the file's header"
+        )
+    return utc_offset
 
 
 def _dates_with_years(

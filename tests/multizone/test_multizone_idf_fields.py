@@ -201,3 +201,33 @@ def test_gain_classes_read_under_the_importer_names():
     assert year["week_periods"] == [("W1", "1", "1", "6", "30"), ("W2", "7", "1", "12", "31")]
     cons = record(_one("Construction,C,Outer,Middle,Inner;"))
     assert cons["layers"] == [("Outer",), ("Middle",), ("Inner",)]
+
+
+HOUSE_IDF = Path(__file__).resolve().parents[1] / "reference" / "retrofit_energyplus_house"
+
+
+@pytest.mark.parametrize(
+    ("line", "swallowed"),
+    [
+        ("Site:Location, Zuerich-SMA, 47.378, 8.567, 1.0, 556.0;", "GlobalGeometryRules"),
+        ("GlobalGeometryRules, UpperLeftCorner, CounterClockWise, World;", "Zone"),
+    ],
+)
+def test_a_missing_semicolon_is_refused_naming_the_swallowed_object(tmp_path, line, swallowed):
+    """Before: the next object was read into the open one and lost without a word (Case 600's
+    ground temperatures swallowed by its Site:Location: a note said they were absent)."""
+    from thermocal.errors import ThermocalInputError
+    from thermocal.multizone.idf import read_idf
+
+    text = (HOUSE_IDF / "house_v25.idf").read_text()
+    assert line in text
+    path = tmp_path / "house.idf"
+    path.write_text(text.replace(line, line[:-1] + ","))
+    with pytest.raises(ThermocalInputError) as info:
+        read_idf(path)
+    message = str(info.value)
+    assert f"is '{swallowed}': the ';' at the end of the object is missing" in message, message
+    assert "house.idf line" in message
+    obj = parse_idf("Material:NoMass, R1, Smooth, 2.0, 0.9, 0.7, 0.7, 5.0;")[0]
+    with pytest.raises(ThermocalInputError, match="7 fields where a Material:NoMass has 6"):
+        record(obj)

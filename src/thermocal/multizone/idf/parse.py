@@ -196,6 +196,8 @@ def record(obj: IdfObject, *, version: tuple[int, int] = (9, 3)) -> dict:
         raise KeyError(f"no schema for class {obj.class_name}")
     fields = obj.fields
     names, group_name, group_size = layout(key, fields, version)
+    if group_name is None:
+        _refuse_swallowed_object(obj, len(names))
     out: dict = {"_object": obj}
     n_fields = len(fields)
     for index, name in enumerate(names):
@@ -208,6 +210,43 @@ def record(obj: IdfObject, *, version: tuple[int, int] = (9, 3)) -> dict:
         groups = [tuple(rest[i : i + group_size]) for i in range(0, len(rest), group_size)]
         out[group_name] = groups
     return out
+
+
+def _looks_like_a_class(value: str) -> bool:
+    """Whether a field's value is the name of an IDF class (one the importer knows, or a
+    ``Word:Word`` name without blanks, as every EnergyPlus class with a colon is written)."""
+    text = value.strip()
+    if text.upper() in SCHEMA:
+        return True
+    parts = text.split(":")
+    return len(parts) > 1 and all(part.isalnum() for part in parts)
+
+
+def _refuse_swallowed_object(obj: IdfObject, n_names: int) -> None:
+    """Refuse an object with more (non-blank) fields than its class has.
+
+    EnergyPlus refuses such an object too. The usual cause is a ';' missing at the object's
+    end: the next object is read into it and would otherwise be lost without a word (a
+    ``Site:Location`` eating the next ``Site:GroundTemperature:...``); its class name, among
+    the fields, is named.
+    """
+    extra = [value for value in obj.fields[n_names:] if value != ""]
+    if not extra:
+        return
+    swallowed = next(
+        ((i, value) for i, value in enumerate(obj.fields) if i > 0 and _looks_like_a_class(value)),
+        None,
+    )
+    cause = (
+        f"field {swallowed[0] + 1} is '{swallowed[1]}': the ';' at the end of the object is "
+        "missing, so the next object was read into it; end the object's last field with ';'"
+        if swallowed is not None
+        else "a ';' missing at its end, or fields of another EnergyPlus version? Remove them"
+    )
+    raise ThermocalInputError(
+        f"{obj.where()}: {len(obj.fields)} fields where a {obj.class_name} has {n_names}; "
+        + cause
+    )
 
 
 def _number(rec: dict, name: str, *, default: float | None = None, required: bool = True) -> float:

@@ -229,3 +229,28 @@ def test_interrupted_demo_leaves_the_previous_results_untouched(tmp_path, sig, c
     assert len(lines) == 1 and lines[0].startswith(word) and "Traceback" not in err, err
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
+
+
+def test_thermocals_own_warnings_are_one_line_without_the_source(capsys):
+    """Before: `thermocal calibrate` printed '.../multizone/files.py:74: IdfImportWarning: ...'
+    and the source line 'return read_idf(path)'."""
+    import warnings
+
+    from thermocal.cli import _install_warning_format
+    from thermocal.multizone.idf import IdfImportWarning
+
+    saved = warnings.showwarning
+    others = []
+    try:
+        warnings.showwarning = lambda message, category, *args, **kwargs: others.append(category)
+        _install_warning_format()
+        with warnings.catch_warnings():
+            warnings.simplefilter("always")
+            warnings.warn("house.idf: 3 import notes", IdfImportWarning, stacklevel=1)
+            warnings.warn("from another library", DeprecationWarning, stacklevel=1)
+    finally:
+        warnings.showwarning = saved
+    err = capsys.readouterr().err
+    assert "warning: house.idf: 3 import notes" in err
+    assert "IdfImportWarning" not in err and "warnings.warn" not in err
+    assert others == [DeprecationWarning]  # other libraries' keep the handler they had

@@ -272,6 +272,23 @@ def _write_error_log(exc: BaseException) -> Path | None:
         return None
 
 
+def _install_warning_format() -> None:
+    """Print thermocal's own warnings (an IDF's import notes, a substituted sensor) as one
+    ``warning:`` line, without the Python source line a bare ``warnings.warn`` shows; other
+    libraries' warnings keep Python's format."""
+    import warnings
+
+    default = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if category.__module__.split(".")[0] == "thermocal":
+            typer.secho(f"warning: {message}", err=True, fg=typer.colors.YELLOW)
+        else:
+            default(message, category, filename, lineno, file, line)
+
+    warnings.showwarning = show
+
+
 def _error(message: str) -> None:
     typer.secho(f"error: {message}", err=True, fg=typer.colors.RED)
 
@@ -288,6 +305,7 @@ def main() -> None:
     from thermocal.errors import ThermocalInputError
 
     _install_signal_handlers()
+    _install_warning_format()
     try:
         app()
     except SystemExit:

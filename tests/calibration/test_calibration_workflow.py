@@ -203,7 +203,7 @@ def test_campaign_bad_input(tmp_path):
 
 
 def test_calibrate_cli_unreachable_scheduler_is_a_clear_error(tmp_path):
-    path = _campaign(tmp_path, samples=4)
+    path = _campaign(tmp_path, samples=12)
     done = subprocess.run(
         [
             sys.executable,
@@ -342,3 +342,37 @@ def test_element_level_calibration_finds_wall_and_roof(tmp_path):
     )
     post = groups.posterior.summary
     assert post.at[wall, "q05"] <= truth_values[wall] <= post.at[wall, "q95"]
+
+
+def test_too_few_samples_are_refused_before_any_simulation(tmp_path):
+    """Before: 4 samples were simulated, then 'too few for a meta-model'."""
+    campaign = load_campaign(_campaign(tmp_path, samples=4))
+    lines = []
+    with pytest.raises(ThermocalInputError, match=r"--samples 4: a meta-model needs at least 10"):
+        calibrate(
+            campaign, workers=1, store_path=tmp_path / "s.sqlite", progress=False, log=lines.append
+        )
+    assert lines == [] and not (tmp_path / "s.sqlite").exists()
+
+
+def test_element_capacity_limits_keep_every_scaled_layer_in_the_models_range():
+    """A heat capacity scaled down by the campaign divides every massive layer's density by one
+    factor: its lower limit is set by the lightest layer (5 kg/m3 at least), so that no sample
+    is refused. Before: at +-100 % a third of the samples failed on 'density ... is outside'."""
+    from thermocal.calibration.space import ParameterSpace
+    from thermocal.multizone.elements import element_limits, element_parameters
+
+    building = generators.clinic(12, n_corridors=1, corridor_sections=2)
+    params = element_parameters(building)
+    limits = element_limits(building)
+    space = ParameterSpace.from_parameters(
+        params, include=["construction/*"], default_range=1.0, limits=limits
+    )
+    assert any(lo > 0.01 * v for (lo, _), v in zip(limits.values(), params.values(), strict=True))
+    for corner in (space.lower, space.upper):
+        building.with_parameters(dict(zip(space.names, corner, strict=True)))  # accepted
+    name = next(n for n in space.names if n.endswith("/heat_capacity"))
+    i = space.names.index(name)
+    with pytest.raises(ThermocalInputError, match="density"):
+        building.with_parameters({name: 0.999 * limits[name][0]})
+    assert space.lower[i] >= limits[name][0]

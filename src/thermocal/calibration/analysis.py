@@ -555,11 +555,45 @@ class CampaignSamples:
     segments: list | None
 
 
+def minimum_samples(campaign) -> int:
+    """The fewest successful samples a campaign's meta-model is fitted to [-]."""
+    return max(10, campaign.metamodel.cv_folds + 2)
+
+
+def _range_hint(campaign) -> str:
+    """A hint for a relative range written as a percentage (50 for +-50 %)."""
+    p = campaign.parameters
+    wide = {"default_range": p.default_range} if p.default_range > 1.0 else {}
+    if not wide:
+        return ""
+    return (
+        f" (parameters.default_range {p.default_range:g} is a relative half-width: "
+        f"+-{100 * p.default_range:g} %, clipped to the physical limits; did you mean "
+        f"{p.default_range / 100:g}?)"
+    )
+
+
 def _read_samples(campaign, space, store, timings: dict, notes: list) -> CampaignSamples:
     """The samples of the store and their metric; failed samples and too few samples noted."""
     metric = campaign.metric
     t0 = time.perf_counter()
     frame = store.to_frame()
+    errors = frame["error"].dropna()
+    minimum = minimum_samples(campaign)
+    if len(frame) - len(errors) < minimum:
+        raise ThermocalInputError(
+            f"only {len(frame) - len(errors)} successful samples of {len(frame)}: too few for "
+            f"a meta-model (at least {minimum})"
+            + (
+                f"; {len(errors)} failed, the first (sample {errors.index[0]}) with: "
+                f"{errors.iloc[0]}"
+                if len(errors)
+                else ""
+            )
+            + _range_hint(campaign)
+            + "; use more --samples"
+            + (" or narrower parameter ranges" if len(errors) else "")
+        )
     X = store.parameters()[list(space.names)]
     y, series, segments = metric_data(store.outputs(), metric)
     frame = frame.drop(
@@ -569,10 +603,6 @@ def _read_samples(campaign, space, store, timings: dict, notes: list) -> Campaig
     failed = int(frame["error"].notna().sum())
     if failed:
         notes.append(f"{failed} sample(s) failed (errors in the store); they are left out")
-    if len(y) < max(10, campaign.metamodel.cv_folds + 2):
-        raise ThermocalInputError(
-            f"only {len(y)} successful samples: too few for a meta-model; use more --samples"
-        )
     if metric != "building":
         notes.append(f"Metric: the {METRIC_NAMES[metric]} ({len(segments)} groups).")
     return CampaignSamples(frame, X, y, series, segments)

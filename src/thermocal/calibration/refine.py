@@ -99,7 +99,10 @@ def refine_minimum(
         )
         z = best_z.copy()
         z[moving] = reduced.x
-        values = {**space.nominal_dict(), **dict(zip(names, np.exp(z), strict=True))}
+        # exp(log(bound)) can exceed the bound by a rounding error the model refuses (a window
+        # U-value of 10.000000000000002 W/(m2 K))
+        point = np.clip(np.exp(z), space.lower, space.upper)
+        values = {**space.nominal_dict(), **dict(zip(names, point, strict=True))}
         found = runs.get(values, heat=False)
         if found is None:  # a re-analysis: not simulated
             break
@@ -120,7 +123,7 @@ def refine_minimum(
             f"({'better' if accepted else 'not better'}; best "
             f"{np.sqrt(min(value, best_metric)) / 1000:.2f} kW)"
         )
-        Xs = np.vstack([Xs, np.exp(z)])
+        Xs = np.vstack([Xs, point])
         ys = np.append(ys, value)
         if Ss is not None:
             columns = (

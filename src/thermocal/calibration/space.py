@@ -62,6 +62,8 @@ UNITS: dict[str, str] = PARAMETER_UNITS
 
 #: Kinds that are fractions, limited to (0, 1].
 FRACTION_KINDS = frozenset({"shgc"})
+#: Relative margin kept inside the model's hard limits [-].
+LIMIT_MARGIN = 1e-9
 #: upper limits the building model accepts, by kind (a window U-value above 10 W/(m2 K) is
 #: rejected by :class:`thermocal.multizone.WindowType`)
 UPPER_LIMITS = {"u_value": 10.0}
@@ -100,8 +102,11 @@ def physical_limits(name: str, nominal: float, floor_fraction: float = FLOOR_FRA
     upper = min(upper, UPPER_LIMITS.get(kind, np.inf))
     if name.startswith("material/") and kind in PLAUSIBLE:
         model_lower, model_upper = PLAUSIBLE[kind][:2]
-        lower, upper = max(lower, model_lower), min(upper, model_upper)
-    return float(lower), float(upper)
+        lower, upper = max(lower, model_lower * (1.0 + LIMIT_MARGIN)), min(upper, model_upper)
+    # a hair inside the model's own upper limits: a value computed in logarithms and sitting on
+    # the limit (a posterior median, an optimum) comes back a rounding error above it, which the
+    # model refuses (a window U-value of 10.000000000000002 W/(m2 K))
+    return float(lower), float(upper * (1.0 - LIMIT_MARGIN))
 
 
 def _pattern_candidates(names: Sequence[str]) -> list[str]:
@@ -176,6 +181,7 @@ class ParameterSpace:
         ranges: Mapping[str, float] | None = None,
         floor_fraction: float = FLOOR_FRACTION,
         unused: Mapping[str, str] | None = None,
+        limits: Mapping[str, tuple[float, float]] | None = None,
     ) -> ParameterSpace:
         """Select parameters by glob patterns and give them ranges.
 
@@ -200,6 +206,10 @@ class ParameterSpace:
             Names that change nothing in the model, with the reason
             (:func:`thermocal.multizone.elements.unused_parameters`): selected, they are left
             out and listed in ``skipped``.
+        limits : mapping of str to (float, float), optional
+            Limits the model sets on some parameters beyond :func:`physical_limits` (e.g. the
+            element parameters' from their layers,
+            :func:`thermocal.multizone.elements.element_limits`) [unit of each parameter].
 
         Returns
         -------
@@ -271,10 +281,14 @@ class ParameterSpace:
             for i, n in enumerate(names):
                 if _matches(n, pattern):
                     rel[i] = float(value)
-        limits = [physical_limits(n, v, floor_fraction) for n, v in zip(names, nominal,
-                                                                          strict=True)]
-        limit_lower = np.array([lo for lo, _ in limits])
-        limit_upper = np.array([hi for _, hi in limits])
+        extra = {} if limits is None else dict(limits)
+        bounds = []
+        for n, v in zip(names, nominal, strict=True):
+            lo, hi = physical_limits(n, v, floor_fraction)
+            model_lo, model_hi = extra.get(n, (lo, hi))
+            bounds.append((max(lo, model_lo), min(hi, model_hi)))
+        limit_lower = np.array([lo for lo, _ in bounds])
+        limit_upper = np.array([hi for _, hi in bounds])
         for n, nom, hi in zip(names, nominal, limit_upper, strict=True):
             if nom > hi:
                 raise ThermocalInputError(

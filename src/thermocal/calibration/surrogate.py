@@ -22,6 +22,7 @@ mean (the median of a log-normal), and the GP standard deviation is propagated t
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from typing import Any, Literal
 
@@ -220,18 +221,26 @@ class _Surrogate:
         -------
         self
         """
+        from sklearn.exceptions import ConvergenceWarning
+
         Xa, ya, names = _check_xy(X, y)
         self.feature_names_in_ = np.array(names, dtype=object)
         self.n_features_in_ = Xa.shape[1]
         t = self._target(ya)
-        self.estimator_ = self._fit_estimator(Xa, t)
+        with warnings.catch_warnings():
+            # a GP length scale at its bound is a parameter without effect on the metric, which
+            # the ranking and the Sobol indices report; sklearn's one warning per dimension and
+            # fold (printed with its source line) tells a user nothing more
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            self.estimator_ = self._fit_estimator(Xa, t)
+            if self.cv_folds and self.cv_folds >= 2:
+                folds = KFold(
+                    n_splits=min(int(self.cv_folds), Xa.shape[0]),
+                    shuffle=True,
+                    random_state=int(self.seed),
+                )
+                oof = cross_val_predict(clone(self.estimator_), Xa, t, cv=folds)
         if self.cv_folds and self.cv_folds >= 2:
-            folds = KFold(
-                n_splits=min(int(self.cv_folds), Xa.shape[0]),
-                shuffle=True,
-                random_state=int(self.seed),
-            )
-            oof = cross_val_predict(clone(self.estimator_), Xa, t, cv=folds)
             self.oof_prediction_ = np.exp(oof) if self.log_target else oof
             scores = regression_scores(ya, self.oof_prediction_)
             self.cv_r2_ = scores["r2"]

@@ -20,7 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from thermocal.calibration.analysis import POSTERIOR_MAX_PARAMETERS, analyse, measure_in_situ
+from thermocal.calibration.analysis import (
+    POSTERIOR_MAX_PARAMETERS,
+    analyse,
+    measure_in_situ,
+    minimum_samples,
+)
 from thermocal.calibration.flags import AT_BOUND, calibration_flags, model_error_floor
 from thermocal.calibration.guards import (
     ProgressLines,
@@ -147,6 +152,11 @@ def calibrate(
     timings: dict[str, float] = {}
     notes: list[str] = []
     n = int(samples if samples is not None else campaign.sampling.samples)
+    if n < minimum_samples(campaign):
+        raise ThermocalInputError(
+            f"--samples {n}: a meta-model needs at least {minimum_samples(campaign)} successful "
+            "samples (a few dozen to determine anything); nothing was simulated"
+        )
     path = Path(store_path or campaign.store or "campaign.sqlite")
     refuse_filled_store(path, resume, n)
     t0 = time.perf_counter()
@@ -175,8 +185,6 @@ def calibrate(
         f"{nominal_outputs['unoccupied_std'] / 1000:.3f} kW ({timings['nominal_run']:.1f} s per "
         "identification)"
     )
-    if n < 1:
-        raise ThermocalInputError(f"--samples must be >= 1, got {n}")
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
     definition = campaign_definition(
         space,
@@ -270,7 +278,7 @@ def calibrate(
 def campaign_space(campaign, building):
     """The campaign's parameter space on ``building`` (its ``parameters`` section)."""
     from thermocal.calibration.space import ParameterSpace
-    from thermocal.multizone.elements import unused_parameters
+    from thermocal.multizone.elements import element_limits, unused_parameters
 
     p = campaign.parameters
     return ParameterSpace.from_parameters(
@@ -280,6 +288,7 @@ def campaign_space(campaign, building):
         default_range=p.default_range,
         ranges=p.ranges,
         unused=unused_parameters(building),
+        limits=element_limits(building) if p.level == "element" else None,
     )
 
 

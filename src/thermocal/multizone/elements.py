@@ -239,6 +239,44 @@ def element_parameters(building) -> dict[str, float]:
     return params
 
 
+def element_limits(building) -> dict[str, tuple[float, float]]:
+    """The values of each element parameter whose scaled layers the model accepts.
+
+    A new resistance divides every massive layer's conductivity by one factor and a new heat
+    capacity multiplies every massive layer's density by one factor; each scaled property must
+    stay inside the model's plausible range (:data:`thermocal.multizone.model.PLAUSIBLE`, e.g.
+    a density of at least 5 kg/m3), so the factor is bounded by the layer nearest to a limit.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.model.Building
+
+    Returns
+    -------
+    dict of str to (float, float)
+        ``construction/<name>/resistance`` [m2 K/W] and ``.../heat_capacity`` [J/(m2 K)] ->
+        lower and upper limit (``inf`` when unbounded).
+    """
+    from thermocal.multizone.model import PLAUSIBLE
+
+    k_low, k_high = PLAUSIBLE["conductivity"][:2]
+    rho_low, rho_high = PLAUSIBLE["density"][:2]
+    limits: dict[str, tuple[float, float]] = {}
+    for name, value in element_parameters(building).items():
+        parts = name.split("/")
+        construction, kind = "/".join(parts[1:-1]), parts[-1]
+        massive = [m for m in building.construction_layers(construction) if hasattr(m, "density")]
+        if kind == "resistance":  # conductivity / f in [k_low, k_high]
+            low = max((m.conductivity / k_high for m in massive), default=0.0)
+            high = min((m.conductivity / k_low for m in massive), default=np.inf)
+        else:  # density * f in [rho_low, rho_high]
+            low = max(rho_low / m.density for m in massive)
+            high = min(rho_high / m.density for m in massive)
+        # a hair inside, so that a sample on the limit is not refused by round-off
+        limits[name] = (float(low * value * (1.0 + 1e-9)), float(high * value * (1.0 - 1e-9)))
+    return limits
+
+
 def _scaled_layer(layer, resistance_factor: float, capacity_factor: float):
     """A layer with its resistance and heat capacity scaled [-]."""
     if hasattr(layer, "conductivity"):

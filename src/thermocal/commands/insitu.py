@@ -16,6 +16,9 @@ INSITU_SIGNATURE = ("in_situ.json", "running_average.csv")
 #: The log's configuration keys in the messages of :mod:`thermocal.io.heat_flux_log`, and the
 #: options of this command that set them.
 _OPTIONS = (
+    ("with LOG.heat_flux_sign inward", "with --inward"),
+    ("set LOG.heat_flux_sign: outward (the default)", "drop --inward"),
+    ("LOG.temperatures: surface", "--surface"),
     ("LOG.temperature_unit", "--temperature-unit"),
     ("LOG.timezone", "--timezone"),
     ("LOG.heat_flux_sign: inward", "--inward"),
@@ -36,6 +39,35 @@ def _in_options(text: str) -> str:
     for key, option in _OPTIONS:
         text = text.replace(key, option)
     return text
+
+
+#: The configuration's fields in pydantic's messages (as the retrofit configuration's
+#: formatter words them), the options of this command that set them, and what each allows.
+_FIELDS = (
+    ("areal_heat_capacity = ", "--heat-capacity ", "; give the element's areal heat capacity "
+     "in kJ/(m2 K), a number above 0 and at most 2000 (about 300 for 20 cm of brick)"),
+    ("(top level): Value error, ", "", ""),
+    ("columns.heat_flux", "--heat-flux", ""),
+    ("columns.temp_in", "--temp-in", ""),
+    ("columns.temp_out", "--temp-out", ""),
+    ("heat_flux, temp_in and temp_out", "--heat-flux, --temp-in and --temp-out", ""),
+)  # fmt: skip
+
+
+def _option_errors(exc) -> str:
+    """A validation error of the options' :class:`~thermocal.io.heat_flux_log.InSituConfig`,
+    worded as the retrofit configuration's (one line per problem), with this command's options
+    for the configuration's keys and what each allows."""
+    from thermocal.retrofit.config import _format_validation_error
+
+    problems = []
+    for line in _format_validation_error(exc, "").splitlines()[1:]:  # not the file's header
+        text = line.removeprefix("  - ")
+        for key, option, allowed in _FIELDS:
+            if key in text:
+                text = text.replace(key, option) + allowed
+        problems.append(text)
+    return "thermocal insitu: " + "\n  ".join(problems)
 
 
 def print_result(result, source: str, running) -> None:
@@ -74,11 +106,16 @@ def print_result(result, source: str, running) -> None:
     console.print(
         "as a surveyed value in a retrofit configuration (walls, roof, attic_ceiling, ...):\n"
         f"  in_situ: {{COMPONENT: {{u_value: {result.u_value:.3g}, "
-        f"rel_std: {result.rel_std:.2g}}}}}\n"
-        "or in a calibration campaign:\n"
-        f"  in_situ: {{construction/NAME/resistance: {{resistance: {result.resistance:.3g}, "
-        f"rel_std: {result.resistance_rel_std:.2g}}}}}"
+        f"rel_std: {result.rel_std:.2g}}}}}"
     )
+    # the average method refuses a U-value that leaves the element no resistance; a result
+    # without one has nothing to give a campaign (its uncertainty would be NaN or negative)
+    if result.resistance > 0 and result.resistance_rel_std > 0:
+        console.print(
+            "or in a calibration campaign:\n"
+            f"  in_situ: {{construction/NAME/resistance: {{resistance: {result.resistance:.3g}, "
+            f"rel_std: {result.resistance_rel_std:.2g}}}}}"
+        )
 
 
 @app.command()
@@ -128,6 +165,8 @@ def insitu(
     --out: in_situ.json, running_average.csv and figures/running_average.png. Exits with 1 when
     the criteria fail (the analyses would refuse the log).
     """
+    from pydantic import ValidationError
+
     from thermocal.errors import ThermocalInputError
     from thermocal.io.heat_flux_log import (
         InSituConfig,
@@ -145,8 +184,8 @@ def insitu(
             heat_flux_sign="inward" if inward else "outward", areal_heat_capacity=heat_capacity,
             other_side="unheated" if unheated else "outdoors", flow=flow,
         )  # fmt: skip
-    except ValueError as exc:  # pydantic's, e.g. two options naming one column
-        raise ThermocalInputError(f"thermocal insitu: {exc}") from None
+    except ValidationError as exc:  # e.g. two options naming one column
+        raise ThermocalInputError(_option_errors(exc)) from None
     try:
         times, q, ti, te = read_heat_flux_log(spec, "LOG")
         # not refused when it has not converged: this command shows why

@@ -41,7 +41,8 @@ class InSituConfig(BaseModel):
     method of ISO 9869-1, or a value with its uncertainty from a survey (``u_value`` or
     ``resistance``, with ``rel_std``)."""
 
-    model_config = ConfigDict(extra="forbid")
+    # NaN passes no bound (every comparison is false) and would read as "less than 2000"
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 
     file: Path | None = Field(None, description="heat-flux meter log (CSV or parquet)")
     time_column: str = "time"
@@ -112,8 +113,13 @@ class InSituConfig(BaseModel):
             raise ValueError(f"columns: map {sorted(missing)} to the log's column names")
         if extra:
             raise ValueError(f"columns: {sorted(extra)} not used; map only {sorted(needed)}")
-        if len(set(self.columns.values())) < len(self.columns):
-            raise ValueError(f"columns: each of {sorted(needed)} needs its own log column")
+        for column in dict.fromkeys(self.columns.values()):
+            keys = [f"columns.{k}" for k in sorted(needed) if self.columns.get(k) == column]
+            if len(keys) > 1:
+                raise ValueError(
+                    f"{' and '.join(keys)} both name the log column {column!r}: each of "
+                    "heat_flux, temp_in and temp_out needs its own log column"
+                )
         return self
 
 
@@ -261,7 +267,7 @@ def reduce_heat_flux_log(
     ------
     ThermocalInputError
         What :func:`thermocal.physics.heat_flux.average_method` refuses, with the remedy (a
-        plate reporting inward flow: ``heat_flux_sign``).
+        plate reporting the other direction: ``heat_flux_sign``, inward or back to outward).
     """
     try:
         return average_method(
@@ -272,11 +278,20 @@ def reduce_heat_flux_log(
             else 1e3 * spec.areal_heat_capacity,
         )  # fmt: skip
     except InwardHeatFlux as exc:
+        if spec.heat_flux_sign == "inward":  # turned already: the plate reports outward flow
+            raise ThermocalInputError(
+                f"heat-flux log {spec.file}: with {where}.heat_flux_sign inward the heat flows "
+                "inwards on average while the inside is warmer: the plate reports outward flow "
+                f"as positive already; set {where}.heat_flux_sign: outward (the default)"
+            ) from None
         raise ThermocalInputError(
             f"heat-flux log {spec.file}: {exc}; set {where}.heat_flux_sign: inward"
         ) from None
     except (ValueError, ZeroDivisionError) as exc:
-        raise ThermocalInputError(f"heat-flux log {spec.file} ({where}): {exc}") from None
+        text = str(exc)
+        if text.endswith("measured with its surface temperatures"):  # an impossible U-value
+            text += f" ({where}.temperatures: surface)"
+        raise ThermocalInputError(f"heat-flux log {spec.file} ({where}): {text}") from None
 
 
 def measure_in_situ_value(
@@ -315,7 +330,8 @@ def measure_in_situ_value(
     ------
     ThermocalInputError
         The log's errors (:func:`read_heat_flux_log`), a heat flux whose mean points inwards
-        while the inside is warmer (the plate's sign), a log that fails ISO 9869-1's criteria.
+        while the inside is warmer (the plate's sign), a U-value the surface resistances alone
+        do not allow (measured or given), a log that fails ISO 9869-1's criteria.
     """
     films = surface_resistances_of(spec, flow, surface_resistances)
     if spec.file is None:
@@ -326,6 +342,16 @@ def measure_in_situ_value(
                 conductance=1.0 / spec.resistance, surface_resistances=films,
             )  # fmt: skip
         else:
+            if spec.u_value >= 1.0 / sum(films):  # no element left beyond the films
+                raise ThermocalInputError(
+                    f"{where}: u_value {spec.u_value:g} W/(m2 K) is impossible: the surface "
+                    f"resistances alone ({films[0]:g} + {films[1]:g} m2 K/W, ISO 6946"
+                    + (", the inside one on both sides towards an unheated space"
+                       if spec.other_side == "unheated" else "")
+                    + f") allow at most {1.0 / sum(films):.2f} W/(m2 K); check the value "
+                    "(air to air, W/(m2 K))"
+                    + (f" and {where}.other_side" if spec.other_side == "unheated" else "")
+                )  # fmt: skip
             result = InSituUValue(
                 u_value=float(spec.u_value), rel_std=float(spec.rel_std),
                 surface_resistances=films,

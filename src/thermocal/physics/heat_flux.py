@@ -48,6 +48,7 @@ __all__ = [
     "MIN_DAYS",
     "MIN_MEAN_DIFFERENCE_K",
     "SURFACE_RESISTANCES",
+    "THIN_ELEMENT_RESISTANCE",
     "InSituUValue",
     "InwardHeatFlux",
     "average_method",
@@ -59,6 +60,10 @@ CONVERGENCE_LIMIT = 0.05
 #: Smallest plausible heat flux over temperature difference of a building element [W/(m2 K)]
 #: (a resistance of 50 m2 K/W; the best passive-house walls have about 10).
 MIN_CONDUCTANCE = 0.02
+#: Element resistance [m2 K/W] below which a result is noted (not refused) as only glazing,
+#: sheet metal or a thin bare slab's: 10 cm of concrete (lambda 2.0) has 0.05, 4 mm of glass
+#: 0.004 (single glazing, about 5.8 W/(m2 K) air to air), a steel sheet almost nothing.
+THIN_ELEMENT_RESISTANCE = 0.05
 #: Least share of each whole day the valid rows must cover (ISO 9869-1 asks for a continuous
 #: record; a day with a longer gap is refused, not counted) [-].
 MIN_DAY_COVERAGE = 0.9
@@ -129,10 +134,14 @@ class InSituUValue:
     @property
     def resistance_rel_std(self) -> float:
         """Relative standard uncertainty of :attr:`resistance` [-] (a relative error of U
-        moves ``1 / U`` alike, and ``R`` by ``1 / (U R)`` of it)."""
+        moves ``1 / U`` alike, and ``R`` by ``1 / (U R)`` of it); NaN when the resistance is
+        not positive (a U-value the surface resistances alone do not allow)."""
         if np.isfinite(self.conductance):
             return self.rel_std * self.conductance / self.u_value
-        return self.rel_std / (self.u_value * self.resistance)
+        resistance = self.resistance
+        if not resistance > 0:  # no element left beyond the films: no uncertainty of it
+            return float("nan")
+        return self.rel_std / (self.u_value * resistance)
 
     @property
     def converged(self) -> bool:
@@ -161,7 +170,8 @@ class InSituUValue:
             self.mean_difference_K,
             "conductance_W_per_m2K": None if np.isnan(self.conductance) else self.conductance,
             "resistance_m2K_per_W": self.resistance,
-            "resistance_rel_std": self.resistance_rel_std,
+            "resistance_rel_std": None if np.isnan(self.resistance_rel_std) else
+            self.resistance_rel_std,
             "converged": self.converged,
             "checks": self.checks,
             "uncertainty": self.uncertainty,
@@ -281,8 +291,10 @@ def average_method(
     ValueError
         Fewer than one whole day, a whole day whose valid rows (heat flux and both
         temperatures) cover less than :data:`MIN_DAY_COVERAGE` of it (named), a heat flux that
-        sums to zero or reads almost nothing or inwards, or a mean difference that is not
-        positive, each with what to check.
+        sums to zero or reads almost nothing or inwards, a mean difference that is not
+        positive, or (with air temperatures) a U-value of ``1 / (R_si + R_se)`` or more, which
+        would leave the element a negative resistance (a heat flux in mW/m2, an "outside"
+        sensor indoors), each with what to check.
     """
     times = pd.DatetimeIndex(times)
     q = np.asarray(heat_flux, float)
@@ -334,6 +346,15 @@ def average_method(
             "its connection and the heat-flux column"
         )
 
+    films = tuple(surface_resistances or SURFACE_RESISTANCES[flow])
+    if temperatures == "air":
+        valid = q[log.first :][log.ok]
+        peak = int(np.argmax(np.abs(valid)))
+        _refuse_impossible(
+            ratio, films, float(flux / log.covered.sum()), mean_dt,
+            (times[log.ok][peak], float(valid[peak]), float(np.median(np.abs(valid)))),
+        )  # fmt: skip
+
     def between(first: int, last: int) -> float:  # the days first .. last - 1
         return float(log.flux[first:last].sum() / log.difference[first:last].sum())
 
@@ -384,7 +405,6 @@ def average_method(
     }
     conductance = float("nan")
     u = ratio
-    films = tuple(surface_resistances or SURFACE_RESISTANCES[flow])
     if temperatures == "surface":
         r_si, r_se = films
         conductance = ratio
@@ -395,6 +415,15 @@ def average_method(
     elif temperatures != "air":
         raise ValueError(f"temperatures must be 'air' or 'surface', not {temperatures!r}")
     rel_std = float(np.sqrt(sum(v * v for v in parts.values())))
+    resistance = 1.0 / ratio if temperatures == "surface" else 1.0 / u - sum(films)
+    if resistance < THIN_ELEMENT_RESISTANCE:
+        # noted, not refused: see _refuse_impossible
+        notes.append(
+            f"the element's resistance {resistance:.2g} m2 K/W is that of glazing, sheet metal "
+            f"or at most 10 cm of bare concrete ({THIN_ELEMENT_RESISTANCE:g}): for any other "
+            "element check the heat-flux unit (W/m2), the plate's sensitivity and that the "
+            "other side's temperature is measured there"
+        )
     return InSituUValue(
         u_value=float(u),
         rel_std=rel_std,
@@ -405,6 +434,71 @@ def average_method(
         conductance=conductance,
         notes=notes,
         surface_resistances=films,
+    )
+
+
+#: A reading this many times the log's median heat flux is named as a spike when the U-value
+#: is impossible [-].
+SPIKE_FACTOR = 100.0
+
+
+def _refuse_impossible(
+    u: float, films: tuple[float, float], mean_flux: float, mean_dt: float, peak: tuple
+) -> None:
+    """Refuse an air-to-air U-value the surface resistances alone do not allow.
+
+    ``U = 1 / (R_si + R + R_se)`` with the element's resistance ``R >= 0``, so no element has a
+    U-value of ``1 / (R_si + R_se)`` or more (5.88 W/(m2 K) for a wall); above it the element's
+    resistance would be negative, and so its uncertainty.
+
+    A positive but implausibly small resistance is *not* refused: the log does not say what the
+    element is, and real ones come close to the limit (single glazing, 4 mm of glass, has
+    0.004 m2 K/W: about 5.8 W/(m2 K); a steel sheet or a metal door almost nothing), so any
+    floor above zero would refuse a real measurement. A plate in mW/m2 (x 1000) or an "outside"
+    sensor indoors (a difference of tenths of a kelvin) lands far beyond the limit; a plate
+    sensitivity off by some factor may land below it, which only the element's description can
+    tell: the result gets a note below :data:`THIN_ELEMENT_RESISTANCE` instead.
+
+    Parameters
+    ----------
+    u : float
+        The air-to-air ratio [W/(m2 K)].
+    films : (float, float)
+        Inside and outside surface resistances [m2 K/W].
+    mean_flux, mean_dt : float
+        The log's mean heat flux [W/m2] and inside-outside difference [K], for the message.
+    peak : (Timestamp, float, float)
+        The largest reading's time and heat flux and the median absolute heat flux [W/m2]:
+        a reading :data:`SPIKE_FACTOR` times the median is named.
+
+    Raises
+    ------
+    ValueError
+        With the U-value, the limit and the causes to check.
+    """
+    r_si, r_se = films
+    limit = 1.0 / (r_si + r_se)
+    if u < limit:
+        return
+    when, high, median = peak
+    spike = ""
+    if median > 0 and abs(high) > SPIKE_FACTOR * median:
+        spike = (
+            f"the reading at {when.strftime('%Y-%m-%d %H:%M')}, {high:g} W/m2, is "
+            f"{abs(high) / median:.0f} times the log's median: a spike (remove the row or "
+            "empty its cell); "
+        )
+    raise ValueError(
+        f"the measured U-value {u:.4g} W/(m2 K) is impossible: the element's own resistance "
+        f"would be negative ({1.0 / u - r_si - r_se:.3g} m2 K/W), as the surface resistances "
+        f"alone ({r_si:g} + {r_se:g} m2 K/W, ISO 6946) allow at most {limit:.2f} W/(m2 K) "
+        f"(single glazing has about 5.8); the log's mean heat flux is {mean_flux:.1f} W/m2 "
+        f"over a mean inside-outside difference of {mean_dt:.2g} K; {spike}check the "
+        "heat-flux unit "
+        "(W/m2: in mW/m2 it is 1000 times too high), that the outside temperature is measured "
+        "outside (not a second sensor indoors) and the plate's sensitivity (its calibration "
+        "factor); a thin element (glazing, sheet metal) is measured with its surface "
+        "temperatures"
     )
 
 

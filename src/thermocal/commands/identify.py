@@ -58,10 +58,19 @@ def identify(
         typer.Option(help="Zone of the Ziegler-Nichols tuning (default: median volume)."),
     ] = None,
     max_gap: Annotated[
-        str, typer.Option(help="Zone data gaps up to this long are interpolated.")
+        str,
+        typer.Option(
+            help="Zone data gaps up to this long are interpolated; a longer one takes another "
+            "zone's data (named on the console when more than 10 % of the period)."
+        ),
     ] = "1h",
     silence: Annotated[
-        str, typer.Option(help="A sensor silent longer than this has a gap.")
+        str,
+        typer.Option(
+            help="A sensor silent longer than this has a gap. A sensor that reports less "
+            "often (at most every --max-gap) is judged on its own interval: a silence up to "
+            "1.5 times it is no gap."
+        ),
     ] = "15min",
     occupancy: Annotated[
         Path | None,

@@ -34,6 +34,8 @@ a zone with no sensored neighbour floats. Every choice and its reason are report
 
 from __future__ import annotations
 
+import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -404,7 +406,12 @@ def zone_references(
         the zone has none.
     silence : str or Timedelta
         Longest silence across which a sensor's last report is held (a sensor reporting every
-        5 minutes that stays silent longer has dropped out).
+        5 minutes that stays silent longer has dropped out). A sensor that reports less often
+        (its own interval, the median spacing of its values in the period, longer than
+        ``silence``) but at most every ``max_gap`` is bridged on its own terms: a silence up to
+        :data:`OWN_INTERVAL_TOLERANCE` times its interval (at most ``max_gap``) is no gap, and
+        a :class:`ReferenceWarning` says so; one that reports less often than ``max_gap`` is an
+        error (raise ``silence`` to bridge it).
     source : str
         Name of the log, for messages.
 
@@ -413,6 +420,20 @@ def zone_references(
     reference : DataFrame (steps x tracked zones) [C]
         One column per zone that is not floating.
     report : ReferenceReport
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        A sensor of the log mapped to no zone, a mapped sensor absent from the log or without a
+        value in the period, a sensor reporting less often than both ``silence`` and
+        ``max_gap``, a log that does not overlap the period, a sensor in the wrong unit or
+        stuck, a zone gap with no zone to take over.
+
+    Warns
+    -----
+    ReferenceWarning
+        A sensor bridged on its own reporting interval; a zone whose reference is taken from
+        another zone for more than :data:`SUBSTITUTED_WARN_SHARE` of the period.
     """
     from thermocal.io.measurements import resample_measurements
 
@@ -443,11 +464,17 @@ def zone_references(
             f"[{times[0]}, {times[-1] + step}); check the period, and the time zones of the log "
             "and of the weather file"
         )
+    silence = pd.Timedelta(silence)
+    checked = [s for s in mapping.sensors if s not in mapping.ignore]
+    silences = _sensor_silences(
+        raw, checked, mapping, start, end, silence, max_gap, (times[0], times[-1] + step), source
+    )
     grid, quality = resample_measurements(
         raw,
         step,
         how="mean_linear",
-        max_gap=pd.Timedelta(silence),
+        # one silence for all (bit-identical to before) unless a sensor reports less often
+        max_gap=silences or silence,
         start=start,
         end=end,
         outliers="flag",
@@ -461,6 +488,14 @@ def zone_references(
     grid.index = times
     checked = [c for c in grid.columns if c in mapping.sensors and c not in mapping.ignore]
     check_sensor_plausibility(grid[checked], mapping, step, source)
+    for sensor in checked:
+        if grid[sensor].isna().all():
+            raise ThermocalInputError(
+                f"{source}: sensor {sensor!r} (zone {mapping.sensors[sensor]!r}) gives no "
+                f"temperature in the period [{times[0]}, {times[-1] + step}): its values there "
+                "are outside physical limits or isolated (see the quality report); remove it "
+                f"from {mapping.source}, list it under 'ignore:', or fix the log"
+            )
     own = {}
     for zone, src in sources.items():
         if src.kind == "sensor":
@@ -514,6 +549,20 @@ def zone_references(
         for gap in _runs(missing.to_numpy(), reference.index, step):
             substituted.append({"zone": zone, "from_zone": fallback, **gap})
         reference.loc[missing, zone] = reference.loc[missing, fallback]
+        share = float(missing.mean())
+        if share > SUBSTITUTED_WARN_SHARE:
+            hours = step / pd.Timedelta("1h")
+            warnings.warn(
+                f"zone {zone!r} takes its reference from zone {fallback!r} for "
+                f"{100 * share:.0f} % of the period ({missing.sum() * hours:.1f} h of "
+                f"{len(missing) * hours:.1f} h, first at {reference.index[missing.argmax()]}): "
+                f"sensor(s) {', '.join(src.sensors)} in {source} have no data there, so its "
+                f"identified heat follows the temperatures of {fallback!r}, not its own; fill "
+                "the log or shorten the period (the gaps: substituted_gaps in "
+                "identification.json)",
+                ReferenceWarning,
+                stacklevel=2,
+            )
     report = ReferenceReport(
         sources=sources,
         interpolated=pd.DataFrame(interpolated, columns=["zone", "start", "end", "hours"]),
@@ -523,6 +572,158 @@ def zone_references(
         quality=quality,
     )
     return reference, report
+
+
+class ReferenceWarning(UserWarning):
+    """How the zone references were built needs the user's attention (a sensor bridged on its
+    own reporting interval, a zone following another zone's data for a large share)."""
+
+
+#: A zone whose reference is taken from another zone (its own data missing for longer than
+#: ``max_gap``) for more than this share of the period is named in a :class:`ReferenceWarning`
+#: (on the console of ``thermocal identify``), not only in the report: its identified heat is
+#: then largely the other zone's. 10 %: a few hours of a multi-day period pass unremarked.
+SUBSTITUTED_WARN_SHARE = 0.10
+
+#: A sensor reporting less often than ``silence`` (at most every ``max_gap``): silences up to
+#: this multiple of its own reporting interval are bridged (a missed report, twice the
+#: interval, stays a gap; a late report does not).
+OWN_INTERVAL_TOLERANCE = 1.5
+
+
+def _report_times(raw: pd.DataFrame, names) -> dict[str, np.ndarray]:
+    """Sorted times [ns, UTC] of the finite values of the sensors ``names`` (tz-aware logs;
+    empty for a log without time zone, which the resampling refuses)."""
+    names = [str(n) for n in names]
+    if {"sensor", "value"} <= set(raw.columns):
+        times = pd.DatetimeIndex(raw["time"])
+        if times.tz is None:
+            return {}
+        ok = np.isfinite(pd.to_numeric(raw["value"], errors="coerce").to_numpy(float))
+        codes, labels = pd.factorize(raw["sensor"].astype(str).to_numpy()[ok])
+        stamps = times.as_unit("ns").asi8[ok]
+        order = np.lexsort((stamps, codes))
+        bounds = np.searchsorted(codes[order], np.arange(len(labels) + 1))
+        where = {str(label): i for i, label in enumerate(labels)}
+        empty = np.array([], dtype=np.int64)
+        return {
+            name: stamps[order[bounds[where[name]] : bounds[where[name] + 1]]]
+            if name in where
+            else empty
+            for name in names
+        }
+    index = pd.DatetimeIndex(raw["time"] if "time" in raw.columns else raw.index)
+    if index.tz is None:
+        return {}
+    stamps = index.as_unit("ns").asi8
+    columns = {str(c): c for c in raw.columns}
+    out = {}
+    for name in names:
+        values = pd.to_numeric(raw[columns[name]], errors="coerce").to_numpy(float)
+        out[name] = np.sort(stamps[np.isfinite(values)])
+    return out
+
+
+def _duration(delta: pd.Timedelta, *, up: bool = False) -> str:
+    """A duration as a command-line value, "30min", "3h", "1h30min" (``up``: whole minutes
+    rounded up, else to the nearest)."""
+    minutes = delta / pd.Timedelta("1min")
+    minutes = math.ceil(minutes - 1e-9) if up else round(minutes)
+    hours, rest = divmod(int(minutes), 60)
+    if not hours:
+        return f"{rest}min"
+    return f"{hours}h" + (f"{rest}min" if rest else "")
+
+
+def _sensor_silences(
+    raw: pd.DataFrame,
+    sensors,
+    mapping: SensorMapping,
+    start: pd.Timestamp,
+    end: pd.Timestamp,
+    silence: pd.Timedelta,
+    max_gap: pd.Timedelta,
+    period: tuple[pd.Timestamp, pd.Timestamp],
+    source: str,
+) -> dict[str, pd.Timedelta]:
+    """The silence of every logged sensor when one reports less often than ``silence``.
+
+    A sensor's own reporting interval is the median spacing of its values over the resampled
+    window ``[start, end]`` (with the values just outside it). One that reports less often than
+    ``silence`` but at most every ``max_gap`` gets ``OWN_INTERVAL_TOLERANCE`` times its interval
+    (at most ``max_gap``), with a :class:`ReferenceWarning`; the others keep ``silence``.
+
+    Parameters
+    ----------
+    raw : DataFrame
+        The sensor log (long or wide).
+    sensors : list of str
+        The sensors checked (mapped, not ignored).
+    mapping : SensorMapping
+        For the zones and the file name in messages.
+    start, end : Timestamp
+        The resampled window (tz-aware).
+    silence, max_gap : Timedelta
+        The command's ``--silence`` and ``--max-gap``.
+    period : (Timestamp, Timestamp)
+        The simulated period, for messages.
+    source : str
+        The sensor log, for messages.
+
+    Returns
+    -------
+    dict of sensor -> Timedelta
+        One entry per sensor of the log; empty when every sensor keeps ``silence``.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        A sensor without a value in the window, or reporting less often than ``silence`` and
+        ``max_gap``.
+    """
+    times = _report_times(raw, sensors)
+    if not times:
+        return {}
+    lo, hi = start.value, end.value
+    own: dict[str, pd.Timedelta] = {}
+    for sensor in sensors:
+        stamps = times[sensor]
+        i0 = int(np.searchsorted(stamps, lo, side="left"))
+        i1 = int(np.searchsorted(stamps, hi, side="right"))
+        where = f"{source}: sensor {sensor!r} (zone {mapping.sensors[sensor]!r})"
+        if i1 <= i0:
+            found = "none in the log" if stamps.size == 0 else f"{stamps.size} outside the period"
+            raise ThermocalInputError(
+                f"{where} has no values in the period [{period[0]}, {period[1]}) ({found}): "
+                f"remove it from {mapping.source}, list it under 'ignore:', or fix the log"
+            )
+        spacing = np.diff(stamps[max(i0 - 1, 0) : i1 + 1])
+        if spacing.size == 0:
+            continue  # one value: the check after the resampling names it
+        interval = pd.Timedelta(int(np.median(spacing)), unit="ns")
+        if interval <= silence:
+            continue
+        if interval > max_gap:
+            raise ThermocalInputError(
+                f"{where} reports every {_duration(interval)} (the median spacing of its "
+                f"{i1 - i0} values in the period), longer than --silence {_duration(silence)} "
+                f"and --max-gap {_duration(max_gap)}: its readings count as missing between "
+                f"reports; raise --silence to at least {_duration(interval, up=True)} (its "
+                "values are then interpolated linearly between reports), or list it under "
+                f"'ignore:' in {mapping.source}"
+            )
+        own[sensor] = max(silence, min(OWN_INTERVAL_TOLERANCE * interval, max_gap))
+        warnings.warn(
+            f"{where} reports every {_duration(interval)}, less often than --silence "
+            f"{_duration(silence)}: its values are interpolated linearly between reports "
+            f"(shorter than --max-gap {_duration(max_gap)}), a silence longer than "
+            f"{_duration(own[sensor])} is a gap",
+            ReferenceWarning,
+            stacklevel=3,
+        )
+    if not own:
+        return {}
+    return {name: own.get(name, silence) for name in _sensor_names(raw)}
 
 
 def _sensor_names(raw: pd.DataFrame) -> list[str]:

@@ -832,7 +832,10 @@ def _format_validation_error(exc: ValidationError, source: str) -> str:
             shown = repr(value)
             shown = shown if len(shown) <= 60 else shown[:57] + "..."
             where = f"{where} = {shown}"  # echo the bad value: which one is wrong
-        lines.append(f"  - {where}: {err['msg']}")
+        message = str(err["msg"])
+        # a validator's own message, without pydantic's "Value error, " in front of it
+        message = message.removeprefix("Value error, ").removeprefix("Assertion failed, ")
+        lines.append(f"  - {where}: {message}")
     return "\n".join(lines)
 
 

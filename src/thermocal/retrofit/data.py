@@ -540,6 +540,12 @@ def prepare_measurements(
         ) from None
     if step_td <= pd.Timedelta(0):
         raise ThermocalInputError(f"measurements.step {step!r} must be a positive duration")
+    if pd.Timedelta(hours=1) % step_td and step_td % pd.Timedelta(hours=1):
+        raise ThermocalInputError(
+            f"measurements.step {step!r} neither divides an hour nor is a whole number of hours: "
+            "the grid would not line up with the log's clock (and the hourly weather); use e.g. "
+            "5min, 10min, 15min, 30min, 1h or 2h"
+        )
     if len(raw) < 2:
         raise ThermocalInputError("measurement file: fewer than two rows of measurements")
     frame = raw.copy()

@@ -138,6 +138,18 @@ class PredictionConfig(_Strict):
         None, description="measures carried out (names under measures:), with saving_pct"
     )
 
+    @field_validator("saving_pct")
+    @classmethod
+    def _percent_not_fraction(cls, value):
+        if value is not None and 0.0 < abs(value) < 1.0:
+            raise ValueError(
+                f"saving_pct {value:g} is in percent of the annual heating demand (35 for 35 %), "
+                f"not a fraction: write {100 * value:g} if you meant {100 * value:g} %; a "
+                "saving below 1 % cannot be told from the weather's and the occupants' spread "
+                f"(a verdict is inconclusive within {DEFAULT_INCONCLUSIVE_PP:g} pp by default)"
+            )
+        return value
+
 
 class VerifySection(_Strict):
     """The ``verify:`` section of the configuration."""

@@ -176,6 +176,12 @@ def _periods(grid: pd.DataFrame, cfg: RetrofitConfig, source: str):
             start = start.tz_localize(grid.index.tz)
     step = grid.index[1] - grid.index[0]
     end_data = grid.index[-1] + step
+    if not grid.index[0] <= start < end_data:
+        raise ThermocalInputError(
+            f"{source}: periods.training_start {start} is outside the measurements, which run "
+            f"from {grid.index[0]} to {end_data}; give a start inside them (or leave "
+            "periods.training_start out: the first measurement)"
+        )
     train_end = start + pd.Timedelta(days=cfg.periods.training_days)
     if train_end > end_data:
         have = (end_data - start) / pd.Timedelta(days=1)

@@ -208,12 +208,14 @@ UNIT_MATCH = 5.0
 TEMPERATURE_UNIT_SLIPS = (
     (
         "Kelvin?",
-        "declare its unit as K (in the header, e.g. 'NAME [K]', a unit column, or units=)",
+        "declare its unit as K (in the header, e.g. 'NAME [K]', a unit column, units= in "
+        "Python, or measurements.temperature_unit: K in a retrofit configuration)",
         lambda v: v - 273.15,
     ),
     (
         "Fahrenheit?",
-        "declare its unit as F (in the header, e.g. 'NAME [F]', a unit column, or units=)",
+        "declare its unit as F (in the header, e.g. 'NAME [F]', a unit column, units= in "
+        "Python, or measurements.temperature_unit: F in a retrofit configuration)",
         lambda v: (v - 32.0) * 5.0 / 9.0,
     ),
     (
@@ -266,6 +268,11 @@ def temperature_unit_slip(
         value = convert(mean)
         if low <= value <= high and (plausible is False or abs(value - target) <= UNIT_MATCH):
             fits.append((abs(value - target), label, remedy, value))
+    if reference is None and fits:
+        # nothing to compare with (an outdoor sensor, a sensor alone): the most common slip
+        # that gives a plausible value, not the one nearest 20 C (an outdoor 281 K is 8 C, not
+        # 28.1 C in tenths)
+        return fits[0][1:]
     close = [fit for fit in fits if fit[0] <= UNIT_MATCH]
     if close:
         return close[0][1:]
@@ -310,6 +317,16 @@ def _convert_units(
                     f"{where}: the unit is declared as {unit} but the values (median "
                     f"{median:.1f}) look like {label.replace('?', '')}; "
                     f"{remedy.replace('NAME', name)}, or fix the values"
+                )
+        if quantity == "temperature" and unit == "K" and finite.size:
+            median = float(np.median(finite))
+            if median < 150.0:  # below -123 C as Kelvin: degrees C (or F) declared as K
+                raise ThermocalInputError(
+                    f"{where}: the unit is declared as K but the values (median {median:.1f}) "
+                    f"would be {median - 273.15:.0f} C: they are not Kelvin (degrees C?); "
+                    "remove the K declaration (the header's [K], the unit column, units= in "
+                    "Python, measurements.temperature_unit in a retrofit configuration) or fix "
+                    "the values"
                 )
         note = None
         if factor != 1.0 or offset != 0.0:

@@ -1,0 +1,79 @@
+"""Inputs a user gets slightly wrong (found by fuzzing the commands): each gets a message that
+names the key and what to do, instead of a wrong number or advice that makes it worse."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermocal.errors import ThermocalInputError
+from thermocal.io.measurements.units import _convert_units, temperature_unit_slip
+
+
+def _convert(values, unit):
+    return _convert_units(
+        "Te", np.asarray(values, float), unit=unit, quantity=None, source="log.csv",
+        column_label="Te", lines=np.arange(2, 2 + len(values)),
+    )  # fmt: skip
+
+
+def test_an_outdoor_temperature_in_kelvin_is_called_kelvin_not_tenths():
+    """February outdoors, 281 K: before, 'look like tenths of a degree: divide by 10' (28 C)."""
+    with pytest.raises(ThermocalInputError) as info:
+        _convert(np.linspace(275.0, 288.0, 50), "C")
+    message = str(info.value)
+    assert "look like Kelvin" in message and "measurements.temperature_unit: K" in message
+    assert "tenths" not in message
+    # an indoor log in tenths stays tenths; a neighbour's reference still decides
+    assert temperature_unit_slip(202.0)[0].startswith("tenths")
+    assert temperature_unit_slip(293.0)[0] == "Kelvin?"
+
+
+def test_celsius_values_declared_as_kelvin_are_named():
+    """Before: 'temp_supply = -248.45 C is outside the range of liquid heating water'."""
+    with pytest.raises(ThermocalInputError, match=r"declared as K but the values \(median 8\.0\)"):
+        _convert(np.linspace(2.0, 14.0, 49), "K")
+    values, _, canonical, _ = _convert(np.array([275.15, 281.15]), "K")
+    assert canonical == "C" and values.tolist() == pytest.approx([2.0, 8.0])
+
+
+def test_a_predicted_saving_written_as_a_fraction_is_refused():
+    """0.35 for 35 %: before, verify compared the measured 58 % with 0.35 % and said prebound."""
+    from pydantic import ValidationError
+
+    from thermocal.retrofit.verify import PredictionConfig
+
+    with pytest.raises(ValidationError, match="write 35 if you meant 35 %"):
+        PredictionConfig(measures=["roof", "walls"], saving_pct=0.35)
+    assert PredictionConfig(measures=["roof"], saving_pct=35.0).saving_pct == 35.0
+
+
+def test_a_step_that_does_not_divide_an_hour_is_refused():
+    """7 min on an hourly log: before, 'input Te has 1 missing values ... at 23:55' (before the
+    data start)."""
+    from thermocal.retrofit.data import prepare_measurements
+
+    index = pd.date_range("2021-01-01", periods=48, freq="h", tz="UTC")
+    raw = pd.DataFrame({"temp_out": 5.0, "temp_in": 20.0, "heat": 1000.0}, index=index)
+    with pytest.raises(ThermocalInputError, match="'7min' neither divides an hour"):
+        prepare_measurements(raw, "7min", heat_source="meter")
+
+
+def test_a_training_start_outside_the_measurements_is_named():
+    """Before: 'the measurements from 2005-01-01 cover -1387.0 days'."""
+    from types import SimpleNamespace
+
+    from thermocal.retrofit.workflow import _periods
+
+    index = pd.date_range("2001-02-02", periods=24 * 42, freq="h", tz="Etc/GMT+5")
+    grid = pd.DataFrame({"Te": 0.0}, index=index)
+
+    def cfg(start):
+        periods = SimpleNamespace(training_start=start, training_days=21, test_days=14)
+        return SimpleNamespace(periods=periods)
+
+    with pytest.raises(ThermocalInputError, match="training_start 2005-01-01.* is outside the"):
+        _periods(grid, cfg("2005-01-01"), "log.csv")
+    train, test, _ = _periods(grid, cfg("2001-02-05"), "log.csv")
+    assert train[0] == pd.Timestamp("2001-02-05", tz="Etc/GMT+5") and test is not None

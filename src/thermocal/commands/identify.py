@@ -9,6 +9,20 @@ import typer
 
 from thermocal.cli import app
 
+#: The sensor-log reader's remedies name its Python options; this command's are options.
+_READER_REMEDIES = (
+    ("pass tz= (", "pass --tz ("),
+    ("or pass tz=", "or pass --tz"),
+    ("pass the time zone (--tz Europe/Zurich)", "pass --tz (e.g. Europe/Zurich)"),
+    ("pass a fixed offset, e.g. tz=1.0", "pass --tz with an offset, e.g. 1.0"),
+    ("(--time-unit on the command line, time_unit= in Python)", "(--time-unit)"),
+    ("(--time-origin, start=; ", "(--time-origin; "),
+    (": sort it, or pass sort=True", ": sort it by time"),
+    (", or pass duplicates='first' or 'last'", ""),
+    ("(a decimal comma: pass decimal=',')", "(a decimal comma: write decimal points)"),
+    ("; pass interval=", "; log more than one row per sensor"),
+)
+
 
 @app.command()
 def identify(
@@ -153,7 +167,15 @@ def identify(
                 model, site, building_source=str(building), weather_source=str(weather)
             )
             check_weather_clock(frame, site, source=str(weather))
-            raw, _ = read_measurements(sensors, tz=tz, time_unit=time_unit, start=time_origin)
+            try:
+                raw, _ = read_measurements(
+                    sensors, tz=tz, time_unit=time_unit, start=time_origin
+                )
+            except ThermocalInputError as exc:  # the reader's remedies in this command's terms
+                text = str(exc)
+                for option, remedy in _READER_REMEDIES:
+                    text = text.replace(option, remedy)
+                raise ThermocalInputError(text) from None
             frame, site = _weather_for_measurements(frame, site, raw, start, end, str(weather))
             if site.get("weather_year", {}).get("kind") == "typical":
                 console.print(f"weather: {site['weather_year']['statement']}")

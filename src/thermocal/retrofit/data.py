@@ -13,6 +13,7 @@ which also reports the data quality.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -52,7 +53,13 @@ _READER_REMEDIES = (
     ("(a decimal comma: pass decimal=',')", "(a decimal comma: write decimal points)"),
     (", or pass time_format= (e.g. '%d.%m.%Y %H:%M')", " (the retrofit workflow reads ISO 8601)"),
     ("pass tz=", "set measurements.timezone"),
+    ("pass the time zone (--tz Europe/Zurich)", "set measurements.timezone (e.g. Europe/Zurich)"),
+    ("pass a fixed offset, e.g. tz=1.0", "set measurements.timezone to an offset, e.g. 1.0"),
+    (", or pass duplicates='first' or 'last'", ""),
+    ("; pass interval=", "; supply more than one row"),
 )
+#: A log whose times are numbers: the retrofit configuration has no key for their unit.
+_NUMERIC_TIMES = re.compile(r"(the times are numbers \([^)]*\)); give their unit.*$", re.S)
 
 
 def _units(cfg: MeasurementsConfig, electricity_unit: str | None = None) -> dict[str, str]:
@@ -361,6 +368,11 @@ def read_raw_measurements(
         text = str(exc)
         for option, remedy in _READER_REMEDIES:
             text = text.replace(option, remedy)
+        text = _NUMERIC_TIMES.sub(
+            r"\1; write them as dates and times (ISO 8601, e.g. 2021-01-04T00:00:00+01:00): the "
+            "retrofit configuration reads no numeric time",
+            text,
+        )
         hint = ""
         if "not found" in text:
             named = [

@@ -126,3 +126,32 @@ def test_simulate_refuses_a_weather_file_that_ends_inside_the_run_period(
     assert code == 2, text
     assert "RunPeriod" in text and "runs to 12/31" in text and "truncated weather file" in text
     assert not (tmp_path / "out" / "summary.json").exists()
+
+
+def test_simulate_says_when_the_weather_is_another_sites(shared_data, tmp_path, capsys):
+    """The multifamily prototype (Chicago) with Denver's weather: a forward run elsewhere is
+    legitimate (EnergyPlus runs it with a warning), but it is said; before, nothing."""
+    from test_bad_input_table import run
+
+    idf = Path(__file__).resolve().parents[1] / "reference" / "identification_multifamily"
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    code, text = run(
+        ["simulate", idf / "multifamily_5A_FF_v25.idf", weather, "--start", "2023-01-01",
+         "--end", "2023-01-02", "--out", tmp_path / "out"],
+        capsys,
+    )  # fmt: skip
+    text = " ".join(text.split())
+    assert code == 0, text
+    assert "1,424 km apart: simulated at the weather file's site and climate" in text, text
+
+
+def test_an_epw_saved_with_a_byte_order_mark_is_read(shared_data, tmp_path):
+    """A spreadsheet or an editor on Windows writes one; CSV and YAML were read with it, an EPW
+    was refused ("found '\\ufeffLOCATION...'")."""
+    source = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    path = tmp_path / "bom.epw"
+    path.write_bytes(b"\xef\xbb\xbf" + source.read_bytes())
+    weather, meta = read_weather(path)
+    plain, plain_meta = read_weather(source)
+    pd.testing.assert_frame_equal(weather, plain)
+    assert meta["name"] == plain_meta["name"] == "DENVER INTL AP"

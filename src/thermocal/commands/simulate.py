@@ -126,6 +126,19 @@ def simulate(
             )
         else:
             frame, metadata = read_weather(weather)
+        from thermocal.io.weather import check_building_site
+
+        try:
+            check_building_site(
+                model, metadata, building_source=str(building), weather_source=str(weather)
+            )
+        except ThermocalInputError as exc:  # a forward run elsewhere is legitimate: said
+            warnings.warn(
+                f"{str(exc).split(' (at most')[0]}: simulated at the weather file's site and "
+                "climate (as EnergyPlus does, with a warning); identify, calibrate and retrofit "
+                "refuse such a pair",
+                stacklevel=1,
+            )
         per_hour = getattr(getattr(model, "idf_info", None), "timesteps_per_hour", None)
         step_note = None
         if step is None:

@@ -936,7 +936,7 @@ def _detect_format(path: Path) -> str:
     if suffix == ".epw":
         return "epw"
     try:
-        with open(path, encoding="utf-8", errors="replace") as handle:
+        with open(path, encoding="utf-8-sig", errors="replace") as handle:
             first = handle.readline()
             second = handle.readline()
     except OSError as exc:
@@ -955,7 +955,7 @@ def _detect_format(path: Path) -> str:
 
 def _read_epw_header(path: Path) -> dict:
     try:
-        with open(path, encoding="utf-8", errors="replace") as handle:
+        with open(path, encoding="utf-8-sig", errors="replace") as handle:
             lines = [handle.readline() for _ in range(8)]
     except OSError as exc:
         raise ThermocalInputError(f"weather file {path} cannot be opened: {exc}") from exc
@@ -1078,7 +1078,7 @@ def _epw_buffer(path: Path) -> io.StringIO:
     and liquid precipitation; the padded fields read as missing.
     """
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
+        text = path.read_text(encoding="utf-8-sig", errors="replace")
     except OSError as exc:
         raise ThermocalInputError(f"weather file {path} cannot be opened: {exc}") from exc
     lines = text.splitlines()
@@ -1119,7 +1119,7 @@ def _epw_buffer(path: Path) -> io.StringIO:
 def _diagnose_epw(path: Path, exc: Exception) -> None:
     """Raise a precise error for an EPW file pvlib could not parse (if we can find why)."""
     try:
-        with open(path, encoding="utf-8", errors="replace") as handle:
+        with open(path, encoding="utf-8-sig", errors="replace") as handle:
             lines = handle.readlines()
     except OSError:
         return

@@ -394,3 +394,24 @@ def test_the_old_names_still_work_and_warn():
         assert thermocal.io.Building is EnvelopeDescription
     assert old.read_building is read_envelope and old.building_from_dict is envelope_from_dict
     assert old.write_building is write_envelope
+
+
+def test_odd_values_found_by_fuzzing_get_messages_that_fit_them():
+    """Tilts in radians (1.5708 for a wall) were accepted (the validation failed later, far
+    from the cause); a window frame fraction of 1 was 'did you mean 0.01 (a percentage)?'; a
+    perimeter of 0 was 'outside the plausible range 0 to 10000 m'."""
+    data = minimal()
+    wall = next(c for c in data["components"] if c["type"] == "external_wall")
+    wall["tilt"] = 1.5708
+    message = error_text(data)
+    assert "tilt = 1.5708 deg for an external wall" in message
+    assert "1.5708 rad is 90 deg: write degrees" in message
+    data = minimal()
+    window = next(c for c in data["components"] if c["type"] == "window")
+    window["frame_fraction"] = 1.0
+    message = error_text(data)
+    assert "frame_fraction = 1 is outside the plausible range 0 to 0.6" in message
+    assert "did you mean" not in message
+    data = minimal()
+    data["ground"] = {"perimeter": 0.0, "wall_thickness": 0.3}
+    assert "range above 0 up to 10000 m" in error_text(data)

@@ -110,6 +110,11 @@ DEFAULT_TILT: dict[str, float] = {
     "wall_to_unheated": 90.0,
 }
 
+#: Component types that are walls, and the tilts a wall can have [deg] (a mansard's lower
+#: slope stands at about 60-75 deg; flatter is a roof).
+WALL_TYPES = frozenset({"external_wall", "wall_to_unheated", "door"})
+WALL_TILT = (45.0, 135.0)
+
 #: Plausible U-value ranges per component type [W/(m2 K)]. The lower limits are passive-house
 #: levels, the upper ones single glazing (windows, doors) and uninsulated thin constructions
 #: (opaque elements); see SIA 380/1 and ISO 10077 / ISO 6946 typical values.
@@ -192,6 +197,8 @@ def _range_text(low: float, high: float, unit: str, low_inc: bool, high_inc: boo
     unit_text = "" if unit == "-" else f" {unit}"
     if math.isinf(high) or high >= 1e5:
         return f"{'>=' if low_inc else '>'} {_format_number(low)}{unit_text}"
+    if not low_inc:  # "0 to 10000 m" would read as if 0 were allowed
+        return f"above {_format_number(low)} up to {_format_number(high)}{unit_text}"
     return f"{_format_number(low)} to {_format_number(high)}{unit_text}"
 
 
@@ -208,6 +215,8 @@ def _probable_typo(
     else:
         reasons = {0.01: "a missing decimal point"}
     for factor in (0.01, 0.1, 0.001, 10.0, 100.0):
+        if unit == "-" and factor < 1.0 and abs(value) <= 1.0:
+            continue  # a fraction up to 1 is no slip (a window frame_fraction of 1: no glass)
         candidate = round(value * factor, 10)
         if _inside(candidate, low, high, low_inc, high_inc):
             reason = reasons.get(factor, "a misplaced decimal point")
@@ -406,6 +415,25 @@ class Component(_Strict):
         _check_range("u_value", self.u_value, low, high, "W/(m2 K)", what=what)
         tilt = DEFAULT_TILT[kind] if self.tilt is None else self.tilt
         _check_named_range("tilt", tilt)
+        if kind in WALL_TYPES and not WALL_TILT[0] <= tilt <= WALL_TILT[1]:
+            raise PydanticCustomError(
+                "wall_tilt",
+                "tilt = {tilt} deg for {what}: a wall stands between {low} and {high} deg (90 "
+                "vertical){radians}; a component this flat is a roof, an attic ceiling or a "
+                "floor: give it that type",
+                {
+                    "tilt": _format_number(tilt),
+                    "what": what,
+                    "low": _format_number(WALL_TILT[0]),
+                    "high": _format_number(WALL_TILT[1]),
+                    "radians": (
+                        f"; {_format_number(tilt)} rad is {math.degrees(tilt):.0f} deg: write "
+                        "degrees"
+                        if 0.0 < tilt <= math.pi
+                        else ""
+                    ),
+                },
+            )
         if self.azimuth is not None and self.azimuth < 0 and self.azimuth >= -360:
             raise PydanticCustomError(
                 "azimuth",

@@ -164,7 +164,8 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
 
     path = Path(spec.file)
     if not path.is_file():
-        raise ThermocalInputError(f"heat-flux log {path} not found ({where}.file)")
+        what = "is not a file" if path.exists() else "not found"
+        raise ThermocalInputError(f"heat-flux log {path} {what} ({where}.file)")
     names = {col: std for std, col in spec.columns.items()}
     units = {
         spec.columns["heat_flux"]: "W/m2",

@@ -599,8 +599,18 @@ def _report_times(raw: pd.DataFrame, names) -> dict[str, np.ndarray]:
         times = pd.DatetimeIndex(raw["time"])
         if times.tz is None:
             return {}
-        ok = np.isfinite(pd.to_numeric(raw["value"], errors="coerce").to_numpy(float))
-        codes, labels = pd.factorize(raw["sensor"].astype(str).to_numpy()[ok])
+        value = raw["value"]
+        if not pd.api.types.is_numeric_dtype(value.dtype):
+            value = pd.to_numeric(value, errors="coerce")
+        sensor = raw["sensor"]
+        if isinstance(sensor.dtype, pd.CategoricalDtype):  # the reader's: codes, no strings
+            all_codes = sensor.cat.codes.to_numpy()
+            labels = [str(label) for label in sensor.cat.categories]
+        else:
+            all_codes, found = pd.factorize(sensor)
+            labels = [str(label) for label in found]
+        ok = np.isfinite(value.to_numpy(float)) & (all_codes >= 0)
+        codes = all_codes[ok]
         stamps = times.as_unit("ns").asi8[ok]
         order = np.lexsort((stamps, codes))
         bounds = np.searchsorted(codes[order], np.arange(len(labels) + 1))

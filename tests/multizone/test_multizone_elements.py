@@ -152,6 +152,11 @@ def test_the_far_side_of_an_inter_zone_wall_is_not_a_parameter(path, far, built)
     np.testing.assert_array_equal(other_capacity, capacity)
     value = params[f"construction/{built}/resistance"]
     built_changed = building.with_parameters({f"construction/{built}/resistance": 2.0 * value})
+    # the far side follows as the mirror of the changed wall, as it was of the nominal one
+    assert built_changed.constructions[far].layers == tuple(
+        reversed(built_changed.constructions[built].layers)
+    )
+    assert built_changed.constructions[far].layers != building.constructions[far].layers
     changed_matrix, _ = system(built_changed)
     assert changed_matrix.shape != matrix.shape or abs(changed_matrix - matrix).max() > 0.0
 

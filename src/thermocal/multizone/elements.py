@@ -311,6 +311,7 @@ def apply_element_parameters(building, mapping: Mapping[str, float]):
         without massive layers.
     """
     wanted: dict[str, dict[str, float]] = {}
+    far_side = far_side_constructions(building)
     for key, value in mapping.items():
         if not is_element_parameter(key):
             raise ThermocalInputError(f"'{key}' is not a construction-level parameter")
@@ -321,7 +322,6 @@ def apply_element_parameters(building, mapping: Mapping[str, float]):
                 f"unknown building parameter '{key}': no construction '{name}' (see "
                 "thermocal.multizone.elements.element_parameters)"
             )
-        far_side = far_side_constructions(building)
         if name in far_side:
             raise ThermocalInputError(
                 f"building parameter '{key}': construction '{name}' is only the far side of "
@@ -358,4 +358,11 @@ def apply_element_parameters(building, mapping: Mapping[str, float]):
                 materials[own] = dataclasses.replace(scaled, name=own)
             layers.append(own)
         constructions[cname] = dataclasses.replace(constructions[cname], layers=tuple(layers))
+    # the far side of a changed inter-zone wall stays its mirror (the model does not read it,
+    # but a calibrated building file should not describe the two faces of one wall differently)
+    for far, built in far_side.items():
+        before = building.constructions
+        if built in wanted and tuple(before[far].layers) == tuple(reversed(before[built].layers)):
+            mirrored = tuple(reversed(constructions[built].layers))
+            constructions[far] = dataclasses.replace(constructions[far], layers=mirrored)
     return building.replaced(materials=materials, constructions=constructions)

@@ -155,3 +155,29 @@ def test_an_epw_saved_with_a_byte_order_mark_is_read(shared_data, tmp_path):
     plain, plain_meta = read_weather(source)
     pd.testing.assert_frame_equal(weather, plain)
     assert meta["name"] == plain_meta["name"] == "DENVER INTL AP"
+
+
+def test_simulate_refuses_irradiance_hours_away_from_the_sun(shared_data, tmp_path, capsys):
+    """Irradiance 6 h early (UTC labels): before, the year's transmitted sun was 32.3 instead of
+    13.0 MWh, 137 kW in one sunrise hour, a kitchen at 63 C, exit 0."""
+    from test_bad_input_table import run
+
+    source = shared_data("weather_switzerland", "Zuerich-SMA_2015.epw")
+
+    def shift(lines):
+        rows = [line.split(",") for line in lines[8:]]
+        solar = [[row[i] for i in (13, 14, 15)] for row in rows]
+        for k, row in enumerate(rows):
+            row[13], row[14], row[15] = solar[(k + 6) % len(rows)]
+            lines[8 + k] = ",".join(row)
+
+    path = _copy_with(source, tmp_path, shift)
+    building = Path(__file__).resolve().parents[2] / "examples" / "buildings"
+    code, text = run(
+        ["simulate", building / "multizone_single_family_house.yaml", path, "--step", "1h",
+         "--out", tmp_path / "out"],
+        capsys,
+    )  # fmt: skip
+    text = " ".join(text.split())
+    assert code == 2, text
+    assert "the time stamps are 6 h early" in text, text

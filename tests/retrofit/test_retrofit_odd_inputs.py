@@ -77,3 +77,54 @@ def test_a_training_start_outside_the_measurements_is_named():
         _periods(grid, cfg("2005-01-01"), "log.csv")
     train, test, _ = _periods(grid, cfg("2001-02-05"), "log.csv")
     assert train[0] == pd.Timestamp("2001-02-05", tz="Etc/GMT+5") and test is not None
+
+
+def test_ventilation_measures_beyond_the_houses_air_change_loss_are_refused():
+    """Before: -0.6, -1.5 and -2.9 1/h gave the same saving (the loss clipped at zero) and the
+    measure was recommended."""
+    from thermocal.retrofit.model import check_ventilation_measures
+    from thermocal.retrofit.strategies import Measure, Strategy
+
+    tighter = Measure(name="tighter", component="airtightness", air_change_rate_change=-1.5)
+    hr = Measure(
+        name="hr", component="heat_recovery", heat_recovery_air_change_rate=0.4,
+        heat_recovery_efficiency=0.8,
+    )  # fmt: skip
+    measures = {"tighter": tighter, "hr": hr}
+    with pytest.raises(ThermocalInputError, match=r"remove 312 W/K .* H_est 87 W/K, about 0\.42"):
+        check_ventilation_measures([Strategy("1", ("tighter",))], measures, 624.0, 87.0)
+    check_ventilation_measures([Strategy("2", ("hr",))], measures, 624.0, 87.0)  # 67 W/K: fine
+    small = {"tighter": Measure(name="tighter", component="airtightness",
+                                air_change_rate_change=-0.2), "hr": hr}  # fmt: skip
+    with pytest.raises(ThermocalInputError, match="strategy 3"):  # together 108 W/K
+        check_ventilation_measures([Strategy("3", ("tighter", "hr"))], small, 624.0, 87.0)
+
+
+@pytest.mark.parametrize(
+    ("section", "words"),
+    [
+        ({"measures": {"t": {"component": "airtightness", "air_change_rate_change": 0.3}}},
+         "makes the envelope leakier"),
+        ({"economics": {"energy_price": 12}}, "in cents\\? write 0.12"),
+        ({"economics": {"emission_factor": 310}}, "in g/kWh\\? write 0.31"),
+        ({"uncertainty": {"draws": 1}}, "1 draws give no 90 % interval"),
+        ({"internal_gains": {"source": "constant", "constant_W": 0.4}}, "in kW\\? then write 400"),
+        ({"internal_gains": {"source": "none", "constant_W": 400}}, "would be ignored"),
+    ],
+)  # fmt: skip
+def test_configuration_values_in_another_unit_or_ignored_are_refused(tmp_path, section, words):
+    """Before: a leakier 'measure' was a strategy of -15 %, a price in cents made every payback
+    0 years, g/kWh put 9,000 t of CO2 on a house, 1 draw printed a '90 % interval' without the
+    estimate, gains in kW were 0.4 W, and constant_W under source: none was dropped."""
+    import yaml
+
+    from thermocal.demos.retrofit import prepare_demo
+    from thermocal.retrofit import load_config
+
+    path, _ = prepare_demo(tmp_path)
+    config = yaml.safe_load(path.read_text())
+    for key, value in section.items():
+        config[key] = {**config.get(key, {}), **value} if key != "measures" else value
+    path.write_text(yaml.safe_dump(config))
+    with pytest.raises(ThermocalInputError, match=words):
+        load_config(path)

@@ -126,8 +126,11 @@ def simulate(
             )
         else:
             frame, metadata = read_weather(weather)
-        from thermocal.io.weather import check_building_site
+        from thermocal.io.weather import check_building_site, check_weather_clock
 
+        # irradiance hours away from the sun (UTC labels, a shifted export) heats rooms by the
+        # sun at night or sunrise: refused, as identify and calibrate do
+        check_weather_clock(frame, metadata, source=str(weather))
         try:
             check_building_site(
                 model, metadata, building_source=str(building), weather_source=str(weather)

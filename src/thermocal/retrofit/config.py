@@ -392,6 +392,10 @@ class ModelConfig(_Strict):
         return self
 
 
+#: Fewest Monte Carlo draws that make an interval (0: none) [-].
+MIN_DRAWS = 10
+
+
 class UncertaintyConfig(_Strict):
     """Propagation of the parameter uncertainty into demands and savings."""
 
@@ -423,6 +427,17 @@ class UncertaintyConfig(_Strict):
         "on a slab with model.correction: groups the floor group's factor carries the soil",
     )
 
+    @field_validator("draws")
+    @classmethod
+    def _enough_for_an_interval(cls, value: int) -> int:
+        if 0 < value < MIN_DRAWS:
+            raise ValueError(
+                f"{value} draws give no 90 % interval (with 1 its ends are one draw, beside the "
+                f"estimate); give at least {MIN_DRAWS} (200 by default; the report states each "
+                "interval end's Monte Carlo error), or 0 for none"
+            )
+        return value
+
 
 class ValidationConfig(_Strict):
     """Test-period criteria of the validation gate (:mod:`thermocal.retrofit.gate`); when one
@@ -453,6 +468,10 @@ IN_SITU_COMPONENTS: dict[str, tuple[str, str, tuple[float, float]]] = {
     "wall_to_unheated": ("horizontal", "wall_to_unheated", (0.13, 0.13)),
     "cellar_ceiling": ("downward", "cellar_ceiling", (0.17, 0.17)),
 }
+
+#: Below this the largest of a household's internal gains is a unit slip (kW written) [W].
+MIN_HOUSEHOLD_GAINS_W = 10.0
+
 
 class InternalGainsConfig(_Strict):
     """Internal gains (occupants, appliances, lighting) into the heated air [W].
@@ -550,11 +569,27 @@ class InternalGainsConfig(_Strict):
             )
         if self.source == "constant" and self.constant_W is None:
             raise ValueError("source 'constant' needs constant_W [W]")
+        for key, used in (("constant_W", "constant"), ("schedule_W", "schedule")):
+            if getattr(self, key) is not None and self.source != used:
+                raise ValueError(
+                    f"{key} is given but source is '{self.source}', so it would be ignored: set "
+                    f"source: {used} (or remove {key})"
+                )
         if self.source == "schedule":
             if self.schedule_W is None or len(self.schedule_W) != 24:
                 raise ValueError("source 'schedule' needs schedule_W: 24 hourly values [W]")
             if min(self.schedule_W) < 0:
                 raise ValueError("schedule_W: gains must not be negative")
+        values = (
+            [self.constant_W] if self.source == "constant" else list(self.schedule_W or [])
+        )
+        if self.source in ("constant", "schedule") and 0 < max(values) < MIN_HOUSEHOLD_GAINS_W:
+            key = "constant_W" if self.source == "constant" else "schedule_W"
+            raise ValueError(
+                f"{key} at most {max(values):g} W: not a household's internal gains (a few "
+                f"hundred W: appliances, lights, people); is it in kW? then write "
+                f"{1000 * max(values):g}"
+            )
         if self.electricity_cumulative and self.electricity_unit in ("W", "kW"):
             raise ValueError(
                 "electricity_cumulative: a meter reading is an energy; set electricity_unit "
@@ -642,6 +677,14 @@ class MeasureConfig(_Strict):
     description: str = ""
 
 
+#: Largest plausible emission factor of final energy [kg CO2-eq/kWh].
+MAX_EMISSION_FACTOR = 2.0
+#: Largest plausible price of final energy in the currencies worth about a US dollar
+#: [currency/kWh]; other currencies (yen, rupees, ...) are not checked.
+MAX_ENERGY_PRICE = 2.0
+MAJOR_CURRENCIES = frozenset({"CHF", "EUR", "USD", "GBP", "CAD", "AUD", "NZD"})
+
+
 class EconomicsConfig(_Strict):
     """Final energy, running cost, CO2 and payback of the strategies.
 
@@ -662,6 +705,26 @@ class EconomicsConfig(_Strict):
     emission_factor: float = Field(
         0.310, ge=0, description="greenhouse-gas emissions of final energy [kg CO2-eq/kWh]"
     )
+
+    @field_validator("emission_factor")
+    @classmethod
+    def _kilograms(cls, value: float) -> float:
+        if value > MAX_EMISSION_FACTOR:
+            raise ValueError(
+                f"{value:g} kg CO2-eq per kWh of final energy is more than any fuel's (coal about "
+                f"0.4, coal-fired electricity about 1.1); in g/kWh? write {value / 1000:g}"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _price_per_kwh(self) -> EconomicsConfig:
+        if self.currency.upper() in MAJOR_CURRENCIES and self.energy_price > MAX_ENERGY_PRICE:
+            raise ValueError(
+                f"energy_price {self.energy_price:g} {self.currency}/kWh is more than any "
+                f"final energy costs (heating oil and gas about 0.1, electricity at most about "
+                f"0.6); in cents? write {self.energy_price / 100:g}"
+            )
+        return self
 
 
 class DemandConfig(_Strict):
@@ -746,6 +809,12 @@ class RetrofitConfig(_Strict):
                 raise ValueError(
                     f"measure {name!r}: give air_change_rate_change [1/h] "
                     "(negative: tighter envelope)"
+                )
+            if component == "airtightness" and spec.air_change_rate_change > 0:
+                raise ValueError(
+                    f"measure {name!r}: air_change_rate_change "
+                    f"{spec.air_change_rate_change:g} 1/h makes the envelope leakier; a measure "
+                    f"improves it: write {-spec.air_change_rate_change:g} (negative: tighter)"
                 )
             if component == "heat_recovery" and not (
                 spec.air_change_rate > 0 and spec.efficiency > 0

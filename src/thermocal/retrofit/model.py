@@ -284,6 +284,47 @@ class EnvelopeComponents:
         return env
 
 
+def check_ventilation_measures(strategies, measures, volume: float, h_est: float) -> None:
+    """Refuse a strategy whose airtightness or heat-recovery measures remove more ventilation
+    loss than the calibrated house has.
+
+    ``H_est`` (the estimated loss beyond the envelope: ventilation, infiltration and the rest
+    the calibration put there) bounds what those measures can remove; beyond it the demand
+    simulation would clip the loss at zero, so a change of -0.6 1/h and of -3 1/h (an n50
+    difference written as a natural air change) gave the same saving without a word.
+
+    Parameters
+    ----------
+    strategies : iterable of :class:`~thermocal.retrofit.strategies.Strategy`
+    measures : dict name -> :class:`~thermocal.retrofit.strategies.Measure`
+    volume : float
+        Heated air volume [m3].
+    h_est : float
+        The calibrated ``H_est`` [W/K].
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the strategy, its measures, the change and ``H_est`` as an air change.
+    """
+    from thermocal.retrofit.strategies import AIR_HEAT_CAPACITY_WH_PER_M3K
+
+    per_air_change = AIR_HEAT_CAPACITY_WH_PER_M3K * float(volume)  # [W/K per 1/h]
+    for strategy in strategies:
+        change = sum(measures[m].heat_loss_change(volume) for m in strategy.measures)
+        if change < 0.0 and -change > h_est * (1.0 + 1e-9):
+            names = [m for m in strategy.measures if measures[m].heat_loss_change(volume)]
+            raise ThermocalInputError(
+                f"measures {', '.join(names)} (strategy {strategy.code}) remove {-change:.0f} W/K "
+                f"of ventilation loss ({-change / per_air_change:.2f} 1/h for "
+                f"{volume:.0f} m3), more than the calibrated house has: H_est {h_est:.0f} W/K, "
+                f"about {h_est / per_air_change:.2f} 1/h. An n50 difference (at 50 Pa) is about "
+                "20 times the natural air change: divide it by about 20; give at most "
+                f"{h_est / per_air_change:.2f} 1/h in total (air_change_rate_change, or "
+                "air_change_rate x efficiency of a heat recovery)"
+            )
+
+
 #: Envelope attribute (U-value) and floor kind of every U-value measure component.
 MEASURE_TARGETS: dict[str, tuple[str, str | None]] = {
     "roof": ("roof_u", None),

@@ -1072,7 +1072,9 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
         for d in range(n):
             env = _envelope_of(env0, d)
             h = mdl.conductances(env)
-            hlc[d] = calculated_hlc(h) + draws["H_est"][d] + h["H_est_change"]
+            # the ventilation measures cannot remove more than the loss there is (as the
+            # demand simulation: thermocal.retrofit.model._parameter_sets)
+            hlc[d] = calculated_hlc(h) + max(draws["H_est"][d] + h["H_est_change"], 0.0)
             for g, v in group_conductances(mdl, env).items():
                 groups[g][d] = v
         return hlc, groups

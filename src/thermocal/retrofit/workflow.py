@@ -64,6 +64,7 @@ from thermocal.retrofit.model import (
     build_fifth_order_model,
     calculated_hlc,
     check_measures,
+    check_ventilation_measures,
     simulation_network,
 )
 from thermocal.retrofit.strategies import Measure, Strategy
@@ -511,6 +512,9 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "a complete weather year: use a complete file (e.g. a TMY) or fill the gaps"
         )
     strategies = cfg.strategy_list()
+    check_ventilation_measures(
+        strategies, cfg.measure_objects(), float(building.volume), cal.estimates_si["H_est"]
+    )
     year_gains = None
     gains_std = 0.0
     if gains is not None:  # the source's and the occupants' (thermocal.retrofit.gains)

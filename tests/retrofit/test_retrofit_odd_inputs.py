@@ -128,3 +128,24 @@ def test_configuration_values_in_another_unit_or_ignored_are_refused(tmp_path, s
     path.write_text(yaml.safe_dump(config))
     with pytest.raises(ThermocalInputError, match=words):
         load_config(path)
+
+
+def test_the_advice_says_when_a_plate_would_widen_the_intervals():
+    """A tiny configuration's advice table offered 'walls 3.7 -> 6.2 pp' without a word."""
+    from thermocal.retrofit.advice import ComponentAdvice, advice_summary
+
+    def advice(component, now, expected):
+        return ComponentAdvice(
+            component=component, where=component, described_u=1.0, expected_u=1.0,
+            reading_rel_std=0.15, median_half_width_pp=now,
+            expected_median_half_width_pp=expected, recommended_half_width_pp=now,
+            expected_recommended_half_width_pp=expected, half_widths_pp={}, seconds=1.0,
+        )  # fmt: skip
+
+    rows = [advice("roof", 3.7, 2.8), advice("cellar_ceiling", 3.7, 3.7), advice("walls", 3.7, 6.2)]
+    text = advice_summary(rows, 0.26, 0.071, {"passed": True})
+    assert text.startswith("A heat-flux plate on the roof would narrow")
+    assert "A heat-flux plate on the walls would widen them (3.7 -> 6.2 pp" in text
+    assert "not a measurement to make" in text
+    quiet = advice_summary(rows[:2], 0.26, 0.071, {"passed": True})
+    assert "widen" not in quiet

@@ -56,6 +56,7 @@ __all__ = [
     "ADVICE_DRAWS",
     "PLATE_REL_STD",
     "ComponentAdvice",
+    "advice_summary",
     "advise_measurements",
     "measurable_components",
 ]
@@ -204,6 +205,58 @@ def _run_all(variants: list, workers: int, progress) -> list[tuple[dict[str, flo
         return out
 
 
+def advice_summary(advice: list, mcse: float, plate_rel_std: float, gate: dict | None) -> str:
+    """The sentence of the advice: the most narrowing plate, or none; a plate that widens.
+
+    Parameters
+    ----------
+    advice : list of ComponentAdvice
+        The most narrowing first.
+    mcse : float
+        The present run's median Monte Carlo error of an interval end [pp].
+    plate_rel_std : float
+        The plate's relative standard uncertainty [-].
+    gate : dict or None
+        The validation gate's verdict (``passed``).
+
+    Returns
+    -------
+    str
+    """
+    best = advice[0]
+    summary = (
+        f"A {best.label} would narrow the savings' intervals most: their median half-width "
+        f"{best.median_half_width_pp:.1f} pp -> {best.expected_median_half_width_pp:.1f} pp "
+        f"expected (plate {100 * plate_rel_std:.0f} %)"
+    )
+    if best.expected_median_half_width_pp > best.median_half_width_pp - max(0.5, mcse):
+        summary = (
+            "No heat-flux plate would narrow the savings' intervals by more than their Monte "
+            f"Carlo error ({mcse:.1f} pp; the best, on the {best.element}: median half-width "
+            f"{best.median_half_width_pp:.1f} -> {best.expected_median_half_width_pp:.1f} pp): "
+            "what is left is not the envelope's split (the windows, the air change, the inputs)"
+        )
+    # a plate gives its element a factor of its own: another model, whose intervals can be wider
+    widening = [
+        a
+        for a in advice
+        if a.expected_median_half_width_pp > a.median_half_width_pp + max(0.5, 2.0 * mcse)
+    ]
+    if widening:
+        text = "; ".join(
+            f"a {a.label} would widen them ({a.median_half_width_pp:.1f} -> "
+            f"{a.expected_median_half_width_pp:.1f} pp, averaged over the readings it can give)"
+            for a in widening
+        )
+        summary += f". {text[0].upper()}{text[1:]}: not a measurement to make for these savings"
+    if gate is not None and not gate["passed"]:
+        summary = (
+            "The calibrated model failed its validation, so its intervals are not reliable "
+            "either; were it valid: " + summary[0].lower() + summary[1:]
+        )
+    return summary
+
+
 def advise_measurements(
     cfg,
     analysis,
@@ -323,24 +376,7 @@ def advise_measurements(
             )
         )
     advice.sort(key=lambda a: a.expected_median_half_width_pp)
-    best = advice[0]
-    summary = (
-        f"A {best.label} would narrow the savings' intervals most: their median half-width "
-        f"{best.median_half_width_pp:.1f} pp -> {best.expected_median_half_width_pp:.1f} pp "
-        f"expected (plate {100 * plate_rel_std:.0f} %)"
-    )
-    if best.expected_median_half_width_pp > best.median_half_width_pp - max(0.5, mcse):
-        summary = (
-            "No heat-flux plate would narrow the savings' intervals by more than their Monte "
-            f"Carlo error ({mcse:.1f} pp; the best, on the {best.element}: median half-width "
-            f"{best.median_half_width_pp:.1f} -> {best.expected_median_half_width_pp:.1f} pp): "
-            "what is left is not the envelope's split (the windows, the air change, the inputs)"
-        )
-    if analysis.gate is not None and not analysis.gate["passed"]:
-        summary = (
-            "The calibrated model failed its validation, so its intervals are not reliable "
-            "either; were it valid: " + summary[0].lower() + summary[1:]
-        )
+    summary = advice_summary(advice, mcse, plate_rel_std, analysis.gate)
     return {
         "available": True,
         "method": method,

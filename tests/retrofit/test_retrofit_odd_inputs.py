@@ -149,3 +149,23 @@ def test_the_advice_says_when_a_plate_would_widen_the_intervals():
     assert "not a measurement to make" in text
     quiet = advice_summary(rows[:2], 0.26, 0.071, {"passed": True})
     assert "widen" not in quiet
+
+
+def test_the_demo_measures_in_the_heating_season_of_its_weathers_hemisphere(shared_data, tmp_path):
+    """Before: a southern-hemisphere weather file put the demo's measured weeks in summer (the
+    indoor profile of a hot February became the heating set point: demand x2, a gate failure
+    blamed on the building); a tropical one ran to the same end."""
+    from thermocal.demos.retrofit import PERIOD, SOUTHERN_PERIOD, demo_period, generate_demo_data
+
+    assert demo_period(47.4) == PERIOD and demo_period(-37.8) == SOUTHERN_PERIOD
+    source = shared_data("weather_switzerland", "Zuerich-SMA_2015.epw")
+    lines = source.read_text().splitlines()
+    for i in range(8, len(lines)):
+        fields = lines[i].split(",")
+        fields[6] = f"{float(fields[6]) + 26.0:.1f}"  # a tropical year
+        fields[7] = f"{float(fields[7]) + 26.0:.1f}"
+        lines[i] = ",".join(fields)
+    path = tmp_path / "tropic.epw"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ThermocalInputError, match=r"outdoors, no heating season"):
+        generate_demo_data(path)

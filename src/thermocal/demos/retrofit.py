@@ -49,6 +49,12 @@ from thermocal.errors import ThermocalInputError
 DEFAULT_WEATHER = Path(__import__("pvlib").__file__).parent / "data" / "723170TYA.CSV"
 #: Measurement period of the method's case study (day-month), simulated in the weather file's year.
 PERIOD = ("02-02", "03-16")  # [Feb 2 00:00, Mar 16 00:00) = Feb 2 .. Mar 15
+#: The same weeks of the southern hemisphere's heating season (a weather file south of the
+#: equator): Aug 2 .. Sep 15.
+SOUTHERN_PERIOD = ("08-02", "09-16")
+#: Warmest mean outdoor temperature of the measured weeks that still makes a heating season
+#: [C]: the method calibrates on heated weeks.
+MAX_PERIOD_MEAN_OUTDOOR_C = 12.0
 WARMUP_DAYS = 14
 STEP = "10min"
 RADIATOR_EXPONENT = 1.3
@@ -348,6 +354,18 @@ def _quantise(values, resolution: float) -> np.ndarray:
     return np.round(np.asarray(values, float) / resolution) * resolution
 
 
+def demo_period(latitude: float) -> tuple[str, str]:
+    """The demo's measured weeks ("MM-DD", [start, end)) in the heating season of the site's
+    hemisphere: :data:`PERIOD` north of the equator, :data:`SOUTHERN_PERIOD` south of it.
+
+    Parameters
+    ----------
+    latitude : float
+        The weather file's site [deg N].
+    """
+    return SOUTHERN_PERIOD if latitude < 0.0 else PERIOD
+
+
 def generate_demo_data(
     weather_path: Path | str | None = None,
     *,
@@ -392,8 +410,18 @@ def generate_demo_data(
     weather, meta = read_weather(weather_path)
     year = weather.index[0].year
     tz = weather.index.tz
+    if period == PERIOD:
+        period = demo_period(float(meta.get("latitude", 0.0)))
     start = pd.Timestamp(f"{year}-{period[0]}", tz=tz)
     end = pd.Timestamp(f"{year}-{period[1]}", tz=tz)
+    mean_outdoor = float(weather.loc[start:end, "temp_air"].mean())
+    if mean_outdoor > MAX_PERIOD_MEAN_OUTDOOR_C:
+        raise ThermocalInputError(
+            f"weather file {weather_path}: the demo's measured weeks ({start:%d %b} - "
+            f"{end:%d %b}) average {mean_outdoor:.1f} C outdoors, no heating season (at most "
+            f"{MAX_PERIOD_MEAN_OUTDOOR_C:g} C): the retrofit method calibrates on heated weeks; "
+            "give the weather of a site with a winter"
+        )
     sim_start = start - pd.Timedelta(days=WARMUP_DAYS)
     if sim_start < weather.index[0] or end > weather.index[-1]:
         raise ThermocalInputError(

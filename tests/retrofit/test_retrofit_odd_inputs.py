@@ -169,3 +169,34 @@ def test_the_demo_measures_in_the_heating_season_of_its_weathers_hemisphere(shar
     path.write_text("\n".join(lines) + "\n")
     with pytest.raises(ThermocalInputError, match=r"outdoors, no heating season"):
         generate_demo_data(path)
+
+
+@pytest.mark.parametrize(
+    ("strategies", "words"),
+    [
+        ({}, "lists none"),
+        ({"a": []}, "lists no measure"),
+        ({"a": ["roof"], "b": ["roof"]}, "the same measures as strategy 'a'"),
+    ],
+)
+def test_strategy_lists_that_analyse_nothing_new_are_refused(strategies, words):
+    """Before: {} ran the house as it is alone, {a: []} repeated it, two equal lists gave two
+    identical rows."""
+    from thermocal.retrofit.strategies import Measure, listed_strategies
+
+    measures = {"roof": Measure(name="roof", component="roof", u_value=0.2)}
+    with pytest.raises(ValueError, match=words):
+        listed_strategies(strategies, measures)
+
+
+def test_odd_indoor_profile_gets_no_meaningless_unit_hint():
+    """200 was answered 'Kelvin? write -73.15'."""
+    from pydantic import ValidationError
+
+    from thermocal.retrofit.config import DemandConfig
+
+    with pytest.raises(ValidationError) as info:
+        DemandConfig(indoor_profile=200)
+    assert "Kelvin" not in str(info.value) and "not an indoor temperature" in str(info.value)
+    with pytest.raises(ValidationError, match=r"Kelvin\? write 20.00"):
+        DemandConfig(indoor_profile=293.15)

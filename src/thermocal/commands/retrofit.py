@@ -335,6 +335,11 @@ def retrofit(
     console = Console(stderr=True)
     if detailed_only and detailed is None:
         raise ThermocalInputError("--detailed-only needs --detailed BUILDING (YAML or IDF)")
+    if setpoint is not None and detailed is None:
+        raise ThermocalInputError(
+            "--setpoint heats the zones of the detailed model: it needs --detailed BUILDING (the "
+            "fifth-order analysis takes its indoor temperature from demand.indoor_profile)"
+        )
     if detailed_only and advise:
         raise ThermocalInputError(
             "--advise reruns the fifth-order analysis of the measurements, which --detailed-only "

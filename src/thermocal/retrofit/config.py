@@ -744,9 +744,9 @@ class DemandConfig(_Strict):
         low, high = INDOOR_PROFILE_RANGE
         if not low <= value <= high:
             hint = ""
-            if 200.0 <= value <= 400.0:
+            if low <= value - 273.15 <= high:
                 hint = f"; Kelvin? write {value - 273.15:.2f}"
-            elif 40.0 <= value <= 95.0:
+            elif low <= (value - 32.0) * 5.0 / 9.0 <= high:
                 hint = f"; Fahrenheit? write {(value - 32.0) * 5.0 / 9.0:.1f}"
             raise ValueError(
                 f"{value:g} C is not an indoor temperature (expected {low:g}-{high:g} C){hint}"

@@ -230,13 +230,30 @@ def listed_strategies(
     ValueError
         Naming the strategy with an unknown measure, or with two measures on one component.
     """
+    if not listed:
+        raise ValueError(
+            "strategies: {} lists none, so only the house as it is would be analysed; list "
+            "strategies (code: [measures]) or leave the key out for every combination"
+        )
     out = [Strategy("0", ())]
+    seen: dict[frozenset, str] = {}
     for code, names in listed.items():
         names = tuple(names)
         if str(code) == "0":
             if names:
                 raise ValueError("strategy '0' is reserved for 'no retrofit'")
             continue
+        if not names:
+            raise ValueError(
+                f"strategy {code!r} lists no measure: it would be the house as it is (strategy "
+                "0, always analysed); give its measures or remove it"
+            )
+        if frozenset(names) in seen:
+            raise ValueError(
+                f"strategy {code!r} applies the same measures as strategy "
+                f"{seen[frozenset(names)]!r}; remove one"
+            )
+        seen[frozenset(names)] = str(code)
         unknown = [m for m in names if m not in measures]
         if unknown:
             raise ValueError(

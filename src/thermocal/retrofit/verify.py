@@ -457,10 +457,11 @@ def split_periods(index: pd.DatetimeIndex, sec: VerifySection, source: str):
     pre = (_stamp(sec.pre_start, tz, first), _stamp(sec.pre_end, tz, date))
     post = (_stamp(sec.post_start, tz, date), _stamp(sec.post_end, tz, end_data))
     if pre[1] > post[0]:
+        relation = "come in the wrong order" if post[1] <= pre[0] else "overlap"
         raise ThermocalInputError(
             f"the pre-retrofit period ({pre[0]} - {pre[1]}) and the post-retrofit period "
-            f"({post[0]} - {post[1]}) overlap; the pre period must end before the post period "
-            "starts (verify.pre_end, verify.post_start)"
+            f"({post[0]} - {post[1]}) {relation}; the pre period must end before the post "
+            "period starts (verify.pre_end, verify.post_start)"
         )
     if pre[1] > date or post[0] < date:
         raise ThermocalInputError(

@@ -216,3 +216,12 @@ def test_default_angular_transmittance_is_fresnel():
     # clear double glazing keeps ~0.95 at 40 deg and ~0.8 at 60 deg (Duffie & Beckman fig. 5.3.1)
     assert 0.93 < rel[1] < 0.99
     assert 0.75 < rel[2] < 0.9
+
+
+def test_a_zone_without_surfaces_or_infiltration_is_refused():
+    """Before: accepted, and reported at 20.0 C with 0 kWh of heat for the whole run."""
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    zones = [*zones, Zone("store", 20.0, 8.0)]
+    with pytest.raises(ThermocalInputError, match=r"zone\(s\) \['store'\] have no surfaces"):
+        _building(zones=zones)
+    _building(zones=[*zones[:-1], Zone("store", 20.0, 8.0, infiltration_ach=0.5)])  # air: fine

@@ -880,6 +880,19 @@ class Building:
                     f"{owner}: other_zone/other_surface given but boundary is "
                     f"'{surface.boundary}'; set boundary: zone or remove them"
                 )
+        bounded = {s.zone for s in self.surfaces.values()}
+        lonely = [
+            name
+            for name, zone in self.zones.items()
+            if name not in bounded and zone.infiltration_ach <= 0.0
+        ]
+        if lonely and self.surfaces:
+            raise ThermocalInputError(
+                f"building '{self.name}': zone(s) {lonely[:5]} have no surfaces and no "
+                "infiltration: nothing connects their air to the outside or to another zone, so "
+                "their temperature would stay where it starts and their heat at zero; add their "
+                "surfaces (an inter-zone surface is described from both zones) or remove them"
+            )
         window_area: dict[str, float] = {}
         for window in self.windows.values():
             owner = f"window '{window.name}'"

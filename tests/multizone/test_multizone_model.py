@@ -225,3 +225,10 @@ def test_a_zone_without_surfaces_or_infiltration_is_refused():
     with pytest.raises(ThermocalInputError, match=r"zone\(s\) \['store'\] have no surfaces"):
         _building(zones=zones)
     _building(zones=[*zones[:-1], Zone("store", 20.0, 8.0, infiltration_ach=0.5)])  # air: fine
+
+
+def test_zone_gains_written_in_kilowatts_are_named():
+    """Before: 0.3 was taken as 0.3 W (the heating unchanged)."""
+    with pytest.raises(ThermocalInputError, match=r"0.3 W .* in kW\? then write 300"):
+        Zone("living", 60.0, 24.0, internal_gains=0.3)
+    assert Zone("living", 60.0, 24.0, internal_gains=300.0).internal_gains == 300.0

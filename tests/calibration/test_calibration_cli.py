@@ -49,6 +49,10 @@ def test_calibrate_demo_quick(tmp_path):
     assert "Traceback" not in done.stderr
     result = json.loads((out / "calibration.json").read_text())
     assert result["samples"]["successful"] == 12
+    # 12 samples of 70 parameters: a meta-model no better than the mean is said to be so
+    r2 = result["metamodel"]["cv_r2"]
+    said = any("worse than their mean" in note for note in result["notes"])
+    assert said == (r2 < 0.0), (r2, result["notes"])
     confirmed = result["confirmation"]
     # the calibrated model is better than the nominal one on the unoccupied variance
     assert confirmed["calibrated"]["confirmed"] < confirmed["nominal"]["confirmed"]

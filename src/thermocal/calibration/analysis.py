@@ -252,6 +252,16 @@ def _calibration_stage(
         f"meta-model cross-validated R2 {fitted.surrogate.cv_r2_:.3f}; critical: "
         f"{', '.join(fitted.critical)}"
     )
+    if fitted.surrogate.cv_r2_ < 0.0:
+        worse = (
+            f"The meta-model predicts the samples it did not see worse than their mean does "
+            f"(cross-validated R2 {fitted.surrogate.cv_r2_:.2f}, {len(samples.y)} samples of "
+            f"{space.dimension} parameters): its ranking of the parameters, the reduction to "
+            "the critical ones and its optima are not informative; run more samples (--resume "
+            "--samples N adds them) or vary fewer parameters."
+        )
+        notes.append(worse)
+        log(worse)
     t0 = time.perf_counter()
     confirmed, heat, unconfirmed = _confirm_optima(
         runs, fitted.optimisation, metric, nominal_outputs, nominal_heat, nominal_metric

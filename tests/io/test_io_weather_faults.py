@@ -181,3 +181,15 @@ def test_simulate_refuses_irradiance_hours_away_from_the_sun(shared_data, tmp_pa
     text = " ".join(text.split())
     assert code == 2, text
     assert "the time stamps are 6 h early" in text, text
+
+
+def test_a_period_outside_a_typical_years_calendar_says_which_year(shared_data):
+    """The file's own year (1995) was answered 'empty or outside the weather data [2023...'."""
+    from thermocal.multizone.forcing import _weather_grid
+
+    weather, _ = read_weather(shared_data("ashrae140_bestest", "725650TYCST.epw"))
+    year = weather.index[0].year
+    with pytest.raises(ThermocalInputError, match=f"give the period in {year}"):
+        _weather_grid(weather, pd.Timedelta("1h"), "1995-12-25", "1995-12-28")
+    with pytest.raises(ThermocalInputError, match="is empty: it ends before it starts"):
+        _weather_grid(weather, pd.Timedelta("1h"), f"{year}-03-01", f"{year}-02-01")

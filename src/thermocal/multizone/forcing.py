@@ -84,10 +84,21 @@ def _weather_grid(
 
     t0 = index[0] if start is None else stamp(start, "start")
     t1 = index[-1] + step if end is None else stamp(end, "end")
-    if t0 < index[0] or t1 > index[-1] + step or t1 <= t0:
+    if t1 <= t0:
         raise ThermocalInputError(
-            f"Simulation: period [{t0}, {t1}) is empty or outside the weather data "
-            f"[{index[0]}, {index[-1] + step})"
+            f"Simulation: period [{t0}, {t1}) is empty: it ends before it starts"
+        )
+    if t0 < index[0] or t1 > index[-1] + step:
+        year = ""
+        if index[0].year != t0.year:
+            year = (
+                f"; the weather runs in {index[0].year} (a typical year's months are put in "
+                f"one calendar year: give the period in {index[0].year})"
+            )
+        past = "; a period cannot run past the weather's last step" if t1 > index[-1] else ""
+        raise ThermocalInputError(
+            f"Simulation: period [{t0}, {t1}) is not inside the weather data "
+            f"[{index[0]}, {index[-1] + step}){year}{past}"
         )
     # the steps must tile the period exactly: a start between two steps or a length that is not
     # a whole number of steps would silently simulate another period

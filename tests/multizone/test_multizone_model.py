@@ -228,7 +228,13 @@ def test_a_zone_without_surfaces_or_infiltration_is_refused():
 
 
 def test_zone_gains_written_in_kilowatts_are_named():
-    """Before: 0.3 was taken as 0.3 W (the heating unchanged)."""
+    """Before: 0.3 in a building file was taken as 0.3 W (the heating unchanged). A Zone made in
+    code (an IDF's annual mean of a small scheduled gain) may be below 1 W."""
+    from thermocal.multizone.files import building_from_dict, building_to_dict
+
+    materials, constructions, window_types, zones, surfaces, windows = _parts()
+    data = building_to_dict(_building())
+    data["zones"][0]["internal_gains"] = 0.3
     with pytest.raises(ThermocalInputError, match=r"0.3 W .* in kW\? then write 300"):
-        Zone("living", 60.0, 24.0, internal_gains=0.3)
-    assert Zone("living", 60.0, 24.0, internal_gains=300.0).internal_gains == 300.0
+        building_from_dict(data)
+    assert Zone("shaft", 10.0, 4.0, internal_gains=0.4).internal_gains == 0.4

@@ -285,6 +285,8 @@ class ParameterSpace:
         bounds = []
         for n, v in zip(names, nominal, strict=True):
             lo, hi = physical_limits(n, v, floor_fraction)
+            if v <= hi / (1.0 - LIMIT_MARGIN) and v > hi:  # a nominal on the model's limit
+                hi = float(v)
             model_lo, model_hi = extra.get(n, (lo, hi))
             bounds.append((max(lo, model_lo), min(hi, model_hi)))
         limit_lower = np.array([lo for lo, _ in bounds])
@@ -292,8 +294,8 @@ class ParameterSpace:
         for n, nom, hi in zip(names, nominal, limit_upper, strict=True):
             if nom > hi:
                 raise ThermocalInputError(
-                    f"parameter {n!r} is a fraction but its nominal value {nom} exceeds 1; "
-                    "fix the building file"
+                    f"parameter {n!r}: its nominal value {nom:g} exceeds the largest value the "
+                    f"model accepts ({hi:g}); fix the building file"
                 )
         return cls(
             names=tuple(names),

@@ -46,7 +46,7 @@ def _in_options(text: str) -> str:
 _FIELDS = (
     ("areal_heat_capacity = ", "--heat-capacity ", "; give the element's areal heat capacity "
      "in kJ/(m2 K), a number above 0 and at most 2000 (about 300 for 20 cm of brick)"),
-    ("(top level): Value error, ", "", ""),
+    ("(top level): ", "", ""),
     ("columns.heat_flux", "--heat-flux", ""),
     ("columns.temp_in", "--temp-in", ""),
     ("columns.temp_out", "--temp-out", ""),

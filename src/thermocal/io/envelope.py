@@ -112,7 +112,7 @@ DEFAULT_TILT: dict[str, float] = {
 
 #: Component types that are walls, and the tilts a wall can have [deg] (a mansard's lower
 #: slope stands at about 60-75 deg; flatter is a roof).
-WALL_TYPES = frozenset({"external_wall", "wall_to_unheated", "door"})
+WALL_TYPES = frozenset({"external_wall", "wall_to_unheated"})  # a door may be a roof hatch
 WALL_TILT = (45.0, 135.0)
 
 #: Plausible U-value ranges per component type [W/(m2 K)]. The lower limits are passive-house

@@ -141,6 +141,21 @@ def _construct(cls, section: str, entry: dict):
         raise ThermocalInputError(f"{section} '{entry.get('name')}': {exc}") from None
 
 
+def _check_gains_unit(zone) -> None:
+    """A zone's constant gains written in kW (0.3 for 300 W) in a building file: named.
+
+    Only for a file a user writes: an IDF's annual mean of a small scheduled gain can be below
+    1 W and is right.
+    """
+    gains = float(zone.internal_gains)
+    if 0.0 < abs(gains) < 1.0:
+        raise ThermocalInputError(
+            f"zone '{zone.name}': internal_gains {gains:g} W is no room's heat (people, lights "
+            f"and appliances give tens to thousands of W); is it in kW? then write "
+            f"{1000 * gains:g}"
+        )
+
+
 def building_from_dict(data: Mapping) -> Building:
     """Build a :class:`Building` from the YAML structure (see docs/multizone-file.md)."""
     if not isinstance(data, Mapping):
@@ -164,6 +179,8 @@ def building_from_dict(data: Mapping) -> Building:
                 if section == "constructions" and isinstance(entry.get("layers"), list):
                     entry["layers"] = tuple(entry["layers"])
                 built.append(_construct(cls, section[:-1].replace("_", " "), entry))
+                if section == "zones":
+                    _check_gains_unit(built[-1])
         objects[section] = built
     location = data.get("location") or {}
     if not isinstance(location, Mapping):

@@ -95,7 +95,7 @@ def _weather_grid(
                 f"; the weather runs in {index[0].year} (a typical year's months are put in "
                 f"one calendar year: give the period in {index[0].year})"
             )
-        past = "; a period cannot run past the weather's last step" if t1 > index[-1] else ""
+        past = "; a period cannot run past the weather's last step" if t1 > index[-1] + step else ""
         raise ThermocalInputError(
             f"Simulation: period [{t0}, {t1}) is not inside the weather data "
             f"[{index[0]}, {index[-1] + step}){year}{past}"

@@ -579,12 +579,6 @@ class Zone:
             self.infiltration_ach, f"{what}: infiltration_ach [1/h]", allow_zero=True
         )
         self.internal_gains = float(self.internal_gains)
-        if 0.0 < abs(self.internal_gains) < 1.0:  # no zone's gains: a power written in kW
-            raise ThermocalInputError(
-                f"{what}: internal_gains {self.internal_gains:g} W is no room's heat (people, "
-                f"lights and appliances give tens to thousands of W); is it in kW? then write "
-                f"{1000 * self.internal_gains:g}"
-            )
         self.internal_gains_radiative_fraction = _fraction(
             self.internal_gains_radiative_fraction, f"{what}: internal_gains_radiative_fraction"
         )

@@ -721,8 +721,12 @@ class EconomicsConfig(_Strict):
         if self.currency.upper() in MAJOR_CURRENCIES and self.energy_price > MAX_ENERGY_PRICE:
             raise ValueError(
                 f"energy_price {self.energy_price:g} {self.currency}/kWh is more than any "
-                f"final energy costs (heating oil and gas about 0.1, electricity at most about "
-                f"0.6); in cents? write {self.energy_price / 100:g}"
+                "final energy costs (heating oil and gas about 0.1, electricity at most about "
+                + (
+                    f"0.6); per MWh? write {self.energy_price / 1000:g}"
+                    if self.energy_price > 20.0
+                    else f"0.6); in cents? write {self.energy_price / 100:g}"
+                )
             )
         return self
 

@@ -230,11 +230,6 @@ def listed_strategies(
     ValueError
         Naming the strategy with an unknown measure, or with two measures on one component.
     """
-    if not listed:
-        raise ValueError(
-            "strategies: {} lists none, so only the house as it is would be analysed; list "
-            "strategies (code: [measures]) or leave the key out for every combination"
-        )
     out = [Strategy("0", ())]
     seen: dict[frozenset, str] = {}
     for code, names in listed.items():
@@ -264,4 +259,9 @@ def listed_strategies(
         if dup:
             raise ValueError(f"strategy {code!r} applies two measures to the same part {dup}")
         out.append(Strategy(str(code), names))
+    if len(out) == 1:
+        raise ValueError(
+            "no strategy besides '0' (the house as it is, always analysed) is listed; list "
+            "strategies as code: [measures], or leave the key out for every combination"
+        )
     return out

@@ -177,7 +177,9 @@ def _periods(grid: pd.DataFrame, cfg: RetrofitConfig, source: str):
             start = start.tz_localize(grid.index.tz)
     step = grid.index[1] - grid.index[0]
     end_data = grid.index[-1] + step
-    if not grid.index[0] <= start < end_data:
+    # a start on the log's first day before its first row is fine (fewer training hours)
+    first_end = start + pd.Timedelta(days=cfg.periods.training_days)
+    if not (start < end_data and first_end > grid.index[0]):
         raise ThermocalInputError(
             f"{source}: periods.training_start {start} is outside the measurements, which run "
             f"from {grid.index[0]} to {end_data}; give a start inside them (or leave "
@@ -512,7 +514,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             "a complete weather year: use a complete file (e.g. a TMY) or fill the gaps"
         )
     strategies = cfg.strategy_list()
-    check_ventilation_measures(
+    notes += check_ventilation_measures(
         strategies, cfg.measure_objects(), float(building.volume), cal.estimates_si["H_est"]
     )
     year_gains = None

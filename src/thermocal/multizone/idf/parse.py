@@ -233,9 +233,16 @@ def _refuse_swallowed_object(obj: IdfObject, n_names: int) -> None:
     extra = [value for value in obj.fields[n_names:] if value != ""]
     if not extra:
         return
-    swallowed = next(
-        ((i, value) for i, value in enumerate(obj.fields) if i > 0 and _looks_like_a_class(value)),
-        None,
+    # a class the importer knows first (a zone may be named 'Block1:Office'), else one that
+    # is written like a class; a ';' deleted rather than replaced by ',' joins the last field
+    # and the next class name into one field ('No ElectricEquipment')
+    def last_word(value: str) -> str:
+        words = value.split()
+        return words[-1] if words else ""
+
+    candidates = [(i, last_word(v)) for i, v in enumerate(obj.fields) if i > 0]
+    swallowed = next(((i, w) for i, w in candidates if w.upper() in SCHEMA), None) or next(
+        ((i, w) for i, w in candidates if _looks_like_a_class(w)), None
     )
     cause = (
         f"field {swallowed[0] + 1} is '{swallowed[1]}': the ';' at the end of the object is "

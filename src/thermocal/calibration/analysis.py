@@ -573,8 +573,7 @@ def minimum_samples(campaign) -> int:
 def _range_hint(campaign) -> str:
     """A hint for a relative range written as a percentage (50 for +-50 %)."""
     p = campaign.parameters
-    wide = {"default_range": p.default_range} if p.default_range > 1.0 else {}
-    if not wide:
+    if p.default_range <= 1.0:
         return ""
     return (
         f" (parameters.default_range {p.default_range:g} is a relative half-width: "

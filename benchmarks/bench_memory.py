@@ -16,6 +16,9 @@ Cases:
   810,893 rows read, the problem set up, the exact inverse of the month with its data frames);
 - ``campaign worker``: ``run_campaign`` with a local pool of 2 workers over the demo
   campaign's first ``--samples`` Sobol samples (70 parameters); the larger worker;
+- ``identify``: ``thermocal identify --demo --method inverse`` (the whole command: the same
+  month as ``identification``, its files, figures and report written; the command's allocator
+  setting, ``thermocal.cli._return_freed_arrays_to_the_system``, applies);
 - ``simulate``: ``thermocal simulate`` of the 180-zone grid IDF for January at 5 minutes (the
   whole command, its CSV files written); the files of the two sources are compared byte for
   byte.
@@ -69,8 +72,7 @@ building, weather, meta, raw, mapping, _ = load_demo()
 start, end = meta["period"]
 problem, _ = problem_from_measurements(building, weather, meta["weather"], raw, mapping,
                                        start=start, end=end)
-result = problem.simulation().track(problem.reference[list(building.zones)].to_numpy(),
-                                    method="inverse")
+result = problem.run()
 """,
     "campaign worker": """
 from pathlib import Path
@@ -94,6 +96,16 @@ if __name__ == "__main__":
     FAILED = int(store.to_frame()["error"].notna().sum())
     store.close()
 """,
+    "identify": """
+import sys
+from thermocal.cli import main
+sys.argv = ["thermocal", "identify", "--demo", "--method", "inverse", "--out",
+            str(Path(OUT) / "identify")]
+try:
+    main()
+except SystemExit as stop:
+    assert not stop.code, stop.code
+""",
     "simulate": """
 import sys
 from thermocal.cli import main
@@ -110,6 +122,7 @@ NEEDS = {
     "free run": [DENVER],
     "identification": [],
     "campaign worker": [],
+    "identify": [],
     "simulate": [GRID, DENVER],
 }
 

@@ -254,3 +254,48 @@ def test_thermocals_own_warnings_are_one_line_without_the_source(capsys):
     assert "warning: house.idf: 3 import notes" in err
     assert "IdfImportWarning" not in err and "warnings.warn" not in err
     assert others == [DeprecationWarning]  # other libraries' keep the handler they had
+
+
+_FREED_ARRAYS_SCRIPT = """
+import sys
+import numpy as np
+from thermocal.cli import _return_freed_arrays_to_the_system
+if sys.argv[1] == "set":
+    assert _return_freed_arrays_to_the_system()
+def rss():
+    for line in open("/proc/self/status"):
+        if line.startswith("VmRSS"):
+            return int(line.split()[1]) / 1024
+big = np.ones((16 << 20) // 8)
+del big  # glibc's dynamic threshold now serves arrays up to 16 MiB from the heap
+base = rss()
+arrays = [np.ones((4 << 20) // 8) for _ in range(40)]
+kept = arrays[::2]
+del arrays
+print(rss() - base)
+"""
+
+
+def test_the_command_hands_freed_arrays_back_to_the_system():
+    """The command's allocator setting (issue 22, the clinic month's memory): 40 arrays of
+    4 MiB, every other one freed, after a 16-MiB one was freed. With glibc's dynamic mmap
+    threshold the freed ones stay in the heap's holes (160 MiB resident); with the command's
+    setting each went back to the system when freed (80 MiB)."""
+    import platform
+    import subprocess
+    import sys
+
+    if platform.system() != "Linux" or platform.libc_ver()[0] != "glibc":
+        pytest.skip("glibc's allocator setting: Linux with glibc only")
+    env = {k: v for k, v in __import__("os").environ.items() if not k.startswith("MALLOC_")}
+    grown = {
+        mode: float(
+            subprocess.run(
+                [sys.executable, "-c", _FREED_ARRAYS_SCRIPT, mode],
+                capture_output=True, text=True, check=True, env=env,
+            ).stdout.split()[-1]
+        )
+        for mode in ("default", "set")
+    }  # fmt: skip
+    assert grown["default"] > 140.0, grown
+    assert 70.0 < grown["set"] < 100.0, grown

@@ -102,3 +102,46 @@ def test_the_campaign_evaluator_takes_the_lean_path_with_the_same_outputs():
         heat = problem.run(parameters).heat
         pd.testing.assert_frame_equal(frame, heat)
         assert evaluator.evaluate(parameters) == evaluator.outputs(heat)
+
+
+def test_the_problem_tracks_its_reference_frame_without_a_copy():
+    """The zone references are held once (issue 22, the clinic month's memory): the tracking
+    reads the very array the problem's frame is a view of, and a problem whose frame was
+    replaced builds its own array from the new frame."""
+    import dataclasses
+
+    problem = _problem()
+    problem.simulation()
+    values = problem._reference
+    assert values.flags.c_contiguous and values.flags.writeable
+    assert np.shares_memory(values, problem.reference.to_numpy())
+    np.testing.assert_array_equal(values, problem.reference.to_numpy())
+    shifted = dataclasses.replace(problem, reference=problem.reference + 1.0)
+    shifted._sim, shifted._reference = None, values  # a stale array from elsewhere
+    shifted.simulation()
+    assert not np.shares_memory(shifted._reference, values)
+    np.testing.assert_array_equal(shifted._reference, values + 1.0)
+
+
+def test_tracking_metrics_by_blocks_equal_the_whole_array_at_once():
+    """The per-zone tracking errors, computed a block of zones at a time, are those of the
+    whole month's error array (brute force), NaN hours and a constant zone included."""
+    from thermocal.identification.metrics import TRACKING_METRICS_BLOCK, tracking_metrics
+
+    rng = np.random.default_rng(4)
+    n_zones = 2 * TRACKING_METRICS_BLOCK + 5
+    columns = [f"Z{i}" for i in range(n_zones)]
+    reference = pd.DataFrame(20.0 + rng.normal(0, 2, (500, n_zones)), columns=columns)
+    model = reference + rng.normal(0.1, 0.3, reference.shape)
+    model.iloc[::7, 3] = np.nan
+    reference.iloc[:, -1] = 0.0
+    got = tracking_metrics(model, reference)
+    error = model.to_numpy() - reference.to_numpy()
+    np.testing.assert_allclose(got["rmse_K"], np.sqrt(np.nanmean(error**2, axis=0)), rtol=1e-14)
+    np.testing.assert_allclose(got["max_abs_error_K"], np.nanmax(np.abs(error), axis=0))
+    np.testing.assert_allclose(got["bias_K"], np.nanmean(error, axis=0), rtol=1e-12)
+    level = np.mean(np.abs(reference.to_numpy()), axis=0)
+    expected = 100.0 * np.sqrt(np.nanmean(error**2, axis=0)) / level
+    np.testing.assert_allclose(got["error_std_percent"].to_numpy()[:-1], expected[:-1])
+    assert np.isnan(got["error_std_percent"].iloc[-1])
+    assert list(got.index) == columns

@@ -79,6 +79,10 @@ def unoccupied_steps(
     return mask
 
 
+#: Zones whose tracking errors :func:`tracking_metrics` computes at a time [-].
+TRACKING_METRICS_BLOCK = 16
+
+
 def tracking_metrics(model: pd.DataFrame, reference: pd.DataFrame) -> pd.DataFrame:
     """Per-zone tracking error of the model temperature against the reference.
 
@@ -94,16 +98,26 @@ def tracking_metrics(model: pd.DataFrame, reference: pd.DataFrame) -> pd.DataFra
         reference temperature [C], here normalised by the zone's mean ``|T_ref|`` instead of
         each step's ``T_ref`` (which explodes in a free-floating building near 0 C).
     """
-    error = model.to_numpy(dtype=float) - reference.to_numpy(dtype=float)
-    rmse = np.sqrt(np.nanmean(error**2, axis=0))
-    level = np.nanmean(np.abs(reference.to_numpy(dtype=float)), axis=0)
+    model_values = model.to_numpy(dtype=float)
+    reference_values = reference.to_numpy(dtype=float)
+    n_zones = reference_values.shape[1]
+    rmse, max_abs, bias, level = (np.empty(n_zones) for _ in range(4))
+    # a block of zones at a time: the month-long error of every zone at once would be a
+    # temporary the size of the frames (13 MiB for the clinic) several times over
+    for first in range(0, n_zones, TRACKING_METRICS_BLOCK):
+        block = slice(first, first + TRACKING_METRICS_BLOCK)
+        error = model_values[:, block] - reference_values[:, block]
+        rmse[block] = np.sqrt(np.nanmean(error**2, axis=0))
+        max_abs[block] = np.nanmax(np.abs(error), axis=0)
+        bias[block] = np.nanmean(error, axis=0)
+        level[block] = np.nanmean(np.abs(reference_values[:, block]), axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
         percent = np.where(level > 1e-9, 100.0 * rmse / level, np.nan)
     return pd.DataFrame(
         {
             "rmse_K": rmse,
-            "max_abs_error_K": np.nanmax(np.abs(error), axis=0),
-            "bias_K": np.nanmean(error, axis=0),
+            "max_abs_error_K": max_abs,
+            "bias_K": bias,
             "error_std_percent": percent,
         },
         index=pd.Index(reference.columns, name="zone"),

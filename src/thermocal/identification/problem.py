@@ -123,7 +123,7 @@ class IdentificationProblem:
                 warmup_days=self.warmup_days,
                 store_surfaces=False,
             )
-        if getattr(self, "_reference", None) is None:
+        if getattr(self, "_zones", None) is None:
             from thermocal.identification.workflow import (
                 identified_heat_form,
                 per_step_fraction,
@@ -137,7 +137,8 @@ class IdentificationProblem:
                     f"and one row per step ({len(self._sim.times)}); not zones: {unknown[:5]}"
                 )
             self._zones = zones
-            self._reference = np.ascontiguousarray(self.reference[zones].to_numpy(dtype=float))
+            if not _holds_reference(getattr(self, "_reference", None), self.reference, zones):
+                self._reference = np.ascontiguousarray(self.reference[zones].to_numpy(dtype=float))
             form = identified_heat_form(
                 self.building, None, self.feedback, self.radiant_fraction
             ).loc[zones]
@@ -335,7 +336,12 @@ def problem_from_measurements(
         declared_form,
         declared_form_requested,
     )
-    from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
+    from thermocal.identification.sensors import (
+        SensorMapping,
+        frame_over_own_array,
+        mapping_from_dict,
+        zone_references,
+    )
     from thermocal.identification.workflow import (
         DEFAULT_RADIANT_FRACTION,
         _weather_for_log,
@@ -395,6 +401,7 @@ def problem_from_measurements(
             tuning_zone=tuning_zone,
             tracked=list(reference.columns),
         )
+    reference, values = frame_over_own_array(reference)
     problem = IdentificationProblem(
         building=simulated,
         weather=weather,
@@ -414,8 +421,20 @@ def problem_from_measurements(
         zone_outputs=zone_outputs,
     )
     problem._sim = sim
+    problem._reference = values
     problem._touched = set()
     return problem, report
+
+
+def _holds_reference(values, reference: pd.DataFrame, zones: list) -> bool:
+    """Whether ``values`` is the array ``reference`` is a view of, its columns being ``zones``
+    in order (then the tracking reads it without a copy)."""
+    return (
+        isinstance(values, np.ndarray)
+        and list(reference.columns) == list(zones)
+        and values.shape == reference.shape
+        and np.shares_memory(values, reference.to_numpy(dtype=float, copy=False))
+    )
 
 
 def split_outputs(outputs: Mapping[str, float], zones: Sequence[str]) -> pd.Series:

@@ -370,6 +370,25 @@ class ReferenceReport:
         return pd.DataFrame(rows)
 
 
+def frame_over_own_array(reference: pd.DataFrame) -> tuple[pd.DataFrame, np.ndarray]:
+    """The zone references as a frame over a writable C-ordered (steps x zones) array, and
+    that array: the tracking reads the array, the user the frame, one copy between them.
+
+    Parameters
+    ----------
+    reference : DataFrame (steps x zones) [C]
+
+    Returns
+    -------
+    frame : DataFrame (steps x zones) [C]
+        The same values, index and columns, a view of ``values``.
+    values : ndarray (steps, zones) [C]
+    """
+    values = np.array(reference.to_numpy(dtype=float), order="C")  # writable, its own
+    frame = pd.DataFrame(values, index=reference.index, columns=reference.columns, copy=False)
+    return frame, values
+
+
 def zone_references(
     raw: pd.DataFrame,
     building,

@@ -29,9 +29,14 @@ from thermocal.identification.metrics import (
 )
 from thermocal.identification.occupancy import OccupancySchedule
 from thermocal.identification.pid import PIDGains, kernel_coefficients
-from thermocal.identification.sensors import SensorMapping, mapping_from_dict, zone_references
+from thermocal.identification.sensors import (
+    SensorMapping,
+    frame_over_own_array,
+    mapping_from_dict,
+    zone_references,
+)
 from thermocal.identification.tuning import TuningResult, tune_zone, volume_scaled_gains
-from thermocal.io.atomic import atomic_write
+from thermocal.io.atomic import atomic_parquet, atomic_write
 
 METHODS = ("inverse", "pid", "both")
 
@@ -265,7 +270,7 @@ def _atomic_text(path: Path, text: str) -> Path:
 
 
 def _atomic_parquet(path: Path, frame: pd.DataFrame) -> Path:
-    return atomic_write(path, frame.to_parquet)
+    return atomic_parquet(path, frame)
 
 
 def _png(fig) -> bytes:
@@ -490,7 +495,9 @@ def identify(
     form.insert(0, "treatment", [_treatment(z, floating, kept) for z in all_zones])
     feedback_name = _sensor_name(weights)
     track_form = dict(zones=zones, feedback=weights, radiant_fraction=fractions)
-    ref = reference[zones].to_numpy()
+    # the tracked zones' references in building order, one array the loops read and the
+    # frames the metrics and the result show are views of
+    reference, ref = frame_over_own_array(reference[zones])
     q_inverse = q_pid = None
     floating_temperature = None
     model_temperature, tracking = {}, {}
@@ -503,7 +510,8 @@ def identify(
         q_inverse = _with_floating(result.heat, all_zones)
         floating_temperature = result.air_temperature[floating]
         model_temperature["inverse"] = result.tracked_temperature()
-        tracking["inverse"] = tracking_metrics(model_temperature["inverse"], reference[zones])
+        tracking["inverse"] = tracking_metrics(model_temperature["inverse"], reference)
+        result = None  # its other month-long frames are not kept (the PID's come next)
     zone_gains, tuning = None, None
     if method in ("pid", "both"):
         grid = sim.weather_on_grid
@@ -589,7 +597,7 @@ def identify(
         if floating_temperature is None:
             floating_temperature = result.air_temperature[floating]
         model_temperature["pid"] = result.tracked_temperature()
-        tracking["pid"] = tracking_metrics(model_temperature["pid"], reference[zones])
+        tracking["pid"] = tracking_metrics(model_temperature["pid"], reference)
     source = metric_source or ("inverse" if q_inverse is not None else "pid")
     q_id = q_inverse if source == "inverse" else q_pid
     if q_id is None:
@@ -603,7 +611,7 @@ def identify(
         q_id=q_id,
         q_inverse=q_inverse,
         q_pid=q_pid,
-        reference=reference[zones],
+        reference=reference,
         model_temperature=model_temperature,
         tracking=tracking,
         sources=ref_report.zone_table(),

@@ -34,3 +34,31 @@ def atomic_write(path: Path | str, write: Callable[[Path], object]) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def atomic_parquet(path: Path | str, frame) -> Path:
+    """Write a data frame as a parquet file atomically (:func:`atomic_write`), then hand the
+    blocks Arrow's allocator kept from the conversion back to the system.
+
+    Arrow's default allocator keeps freed blocks for reuse; after the identification's
+    ``q_id.parquet`` of the clinic month (two methods, 374 columns) that was 40 MiB of the
+    process's resident memory for the rest of the command.
+
+    Parameters
+    ----------
+    path : path-like
+        Destination file.
+    frame : pandas.DataFrame
+        What to write (``DataFrame.to_parquet``, its index kept).
+
+    Returns
+    -------
+    Path
+        The destination.
+    """
+    import pyarrow
+
+    try:
+        return atomic_write(path, frame.to_parquet)
+    finally:
+        pyarrow.default_memory_pool().release_unused()

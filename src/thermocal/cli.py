@@ -289,23 +289,26 @@ def _install_warning_format() -> None:
     warnings.showwarning = show
 
 
-#: glibc's ``mallopt`` option numbers (malloc.h) and the default mmap threshold [bytes].
-_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD, _GLIBC_MMAP_THRESHOLD = -1, -3, 128 * 1024
+#: glibc's ``mallopt`` option number (malloc.h) and the fixed mmap threshold the commands use:
+#: arrays from 4 MiB up (a month-long series of the clinic is 7-13 MiB) [bytes].
+_M_MMAP_THRESHOLD, MMAP_THRESHOLD = -3, 4 << 20
 
 
 def _return_freed_arrays_to_the_system() -> bool:
-    """Keep glibc's allocator handing freed arrays back to the system (a process-wide setting
-    of the command, not of the library).
+    """Keep glibc's allocator handing freed large arrays back to the system (a process-wide
+    setting of the command, not of the library).
 
-    glibc serves an allocation above its mmap threshold (128 KiB) from a mapping of its own,
-    unmapped when freed, but raises that threshold to the size of any such block freed
-    (up to 32 MiB), after which arrays of a month-long series (7-13 MiB for the clinic) come
-    from the heap, whose freed holes stay in the process's memory. A sensor log's read and the
-    identification's frames then leave ~50 MiB of the clinic month's peak in such holes
-    (benchmarks/README.md, "Memory of the clinic month, fourth round"). Setting the threshold
-    (and the trim threshold, as Dask's worker processes do with ``MALLOC_TRIM_THRESHOLD_``)
-    keeps glibc's documented defaults fixed. Nothing happens on another C library or when the
-    user set ``MALLOC_MMAP_THRESHOLD_`` themselves.
+    glibc serves an allocation above its mmap threshold (128 KiB at start) from a mapping of
+    its own, unmapped when freed, but raises that threshold to the size of any such block
+    freed (up to 32 MiB), after which the arrays of a month-long series come from the heap,
+    whose freed holes stay in the process's memory. A sensor log's read and the
+    identification's frames left ~50 MiB of the clinic month's peak in such holes. A fixed
+    threshold of :data:`MMAP_THRESHOLD` keeps every array of 4 MiB or more in its own mapping
+    (smaller ones reuse the heap: with glibc's 128 KiB, `thermocal simulate` of the 180-zone
+    grid spent 0.35 s more in page faults; with 4 MiB its time is unchanged); measured in
+    benchmarks/README.md, "Memory of the clinic month, fourth round". Dask's worker processes
+    set glibc's trim threshold for the same reason. Nothing happens on another C library or
+    when the user set ``MALLOC_MMAP_THRESHOLD_`` themselves.
 
     Returns
     -------
@@ -319,15 +322,11 @@ def _return_freed_arrays_to_the_system() -> bool:
     if platform.libc_ver()[0] != "glibc" or "MALLOC_MMAP_THRESHOLD_" in os.environ:
         return False
     try:
-        libc = ctypes.CDLL(None)
-        mallopt = libc.mallopt
+        mallopt = ctypes.CDLL(None).mallopt
     except (OSError, AttributeError):
         return False
     mallopt.argtypes, mallopt.restype = [ctypes.c_int, ctypes.c_int], ctypes.c_int
-    applied = mallopt(_M_MMAP_THRESHOLD, _GLIBC_MMAP_THRESHOLD) == 1
-    if "MALLOC_TRIM_THRESHOLD_" not in os.environ:
-        mallopt(_M_TRIM_THRESHOLD, 2 * _GLIBC_MMAP_THRESHOLD)
-    return applied
+    return mallopt(_M_MMAP_THRESHOLD, MMAP_THRESHOLD) == 1
 
 
 def _error(message: str) -> None:

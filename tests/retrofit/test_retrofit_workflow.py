@@ -294,8 +294,8 @@ def test_gaps_in_indoor_temperature_and_finer_logging(synthetic, tmp_path):
             r"no time column 'time' .*set measurements\.time_column",
         ),
         (
-            lambda m: m.assign(time=pd.to_datetime(m["time"]).dt.strftime("%d.%m.%Y %H:%M")),
-            r"'time', line 2: cannot read '02\.02\.2001 00:00' as a time; use ISO 8601",
+            lambda m: m.assign(time=pd.to_datetime(m["time"]).dt.strftime("%d.%m.%y %H:%M")),
+            r"'time', line 2: cannot read '02\.02\.01 00:00' as a time; use ISO 8601",
         ),
     ],
 )
@@ -303,6 +303,29 @@ def test_bad_timestamps_and_cells(synthetic, tmp_path, edit, message):
     config = _variant(synthetic, tmp_path, csv_edit=edit)
     with pytest.raises(ThermocalInputError, match=message):
         run_retrofit(load_config(config))
+
+
+def test_day_first_timestamps_read_as_the_iso_ones(synthetic, tmp_path):
+    """A European day-first log (02.02.2001 ... 16.02.2001: a day above 12 decides the order)
+    gives the same measurement table as the ISO 8601 one (thermocal.io._time.day_month_order)."""
+    from thermocal.retrofit.data import read_raw_measurements
+
+    for name in ("iso", "day_first"):
+        (tmp_path / name).mkdir()
+    iso = load_config(_variant(synthetic, tmp_path / "iso"))
+    day_first = load_config(
+        _variant(
+            synthetic,
+            tmp_path / "day_first",
+            csv_edit=lambda m: m.assign(
+                time=pd.to_datetime(m["time"]).dt.strftime("%d.%m.%Y %H:%M")
+            ),
+        )
+    )
+    expected = read_raw_measurements(iso.measurements, default_tz="UTC")
+    got = read_raw_measurements(day_first.measurements, default_tz="UTC")
+    pd.testing.assert_index_equal(got.index, expected.index)
+    pd.testing.assert_frame_equal(got, expected, check_like=True)
 
 
 def test_missing_files_are_named(synthetic, tmp_path):

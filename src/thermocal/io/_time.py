@@ -2,8 +2,10 @@
 
 One parser for every table reader (weather CSV, measurement logs): ISO 8601 text with or without
 UTC offsets (pyarrow fast path), an explicit strftime format, numbers with a unit and an origin,
-or an already parsed datetime column (parquet). Naive times are placed in ``tz``; aware ones are
-converted to it. Every failure names the file, the column and the line.
+or an already parsed datetime column (parquet). Numeric dates written day and month first
+(``01/02/2015 00:00``, ``01.02.2015``) are read in the order the file's times decide, or
+refused. Naive times are placed in ``tz``; aware ones are converted to it. Every failure names
+the file, the column and the line.
 
 References
 ----------
@@ -13,6 +15,7 @@ References
 from __future__ import annotations
 
 import datetime as _dt
+import logging
 import math
 import re
 from typing import Any
@@ -22,6 +25,8 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 
+log = logging.getLogger(__name__)
+
 #: Units of numeric time columns -> pandas unit.
 TIME_UNITS = {"s": "s", "min": "min", "h": "h", "d": "D", "ms": "ms"}
 _OFFSET = re.compile(r"(Z|[+-]\d\d(:?\d\d)?)$")
@@ -29,6 +34,9 @@ _OFFSET = re.compile(r"(Z|[+-]\d\d(:?\d\d)?)$")
 _HOURS = re.compile(r"^\s*(?:UTC|GMT)?\s*[+-]?\d{1,2}(\.\d+)?\s*$", re.IGNORECASE)
 #: ... or as an ISO 8601 offset: ``+01:00``, ``-0700``, ``UTC+05:30``.
 _HHMM = re.compile(r"^\s*(?:UTC|GMT)?\s*([+-])(\d\d):?(\d\d)\s*$", re.IGNORECASE)
+#: A date with numeric day and month before the year, either way round, and an optional time:
+#: ``01/02/2015 00:00``, ``1.2.2015``, ``01-02-2015 00:00:00``.
+_DAY_MONTH = re.compile(r"(\d{1,2})([/.-])(\d{1,2})\2(\d{4})(?:([ T])\d{1,2}:\d\d(:\d\d)?)?")
 
 
 def as_timezone(tz: Any, source: str):
@@ -131,6 +139,11 @@ def parse_time_column(
     parsed = None if time_format else _parse_arrow(text, offset_match)
     if parsed is None:
         parsed = _parse_pandas(text, time_format, offset_match is not None)
+    order_note = ""
+    if time_format is None and bool(parsed.isna().any()):
+        parsed, order_note = day_month_order(
+            text, parsed, source=source, column=column, lines=lines
+        )
     bad = parsed.isna().to_numpy()
     if bad.any():
         first = int(np.flatnonzero(bad)[0])
@@ -148,7 +161,167 @@ def parse_time_column(
     result = _finish(pd.DatetimeIndex(parsed), values, source, column, lines, tz, zone)
     if offset_match is not None:
         check_clock_offsets(text, result[0], source=source, column=column, lines=lines)
+    if order_note:
+        result = (result[0], "; ".join(n for n in (order_note, result[1]) if n))
     return result
+
+
+def _disorder(times: pd.Series) -> tuple[int, int]:
+    """How far times in file order are from a sorted series at a regular step.
+
+    Parameters
+    ----------
+    times : pandas.Series
+        Parsed times (naive datetimes; missing ones are skipped), in the order of the file.
+
+    Returns
+    -------
+    backward : int
+        Steps that go back in time.
+    irregular : int
+        Forward steps more than 10 % away from the most frequent forward step (steps of zero,
+        several reports of one time, count as neither); a log of calendar months (28-31 days)
+        is regular.
+    """
+    stamps = pd.DatetimeIndex(times.dropna()).as_unit("ns").asi8
+    steps = np.diff(stamps)
+    forward = steps[steps > 0]
+    backward = int(np.count_nonzero(steps < 0))
+    if forward.size == 0:
+        return backward, 0
+    values, counts = np.unique(forward, return_counts=True)
+    usual = float(values[np.argmax(counts)])
+    return backward, int(np.count_nonzero(np.abs(forward - usual) > 0.1 * usual))
+
+
+def day_month_order(
+    text: pd.Series,
+    parsed: pd.Series,
+    *,
+    source: str,
+    column: str,
+    lines: np.ndarray | None = None,
+) -> tuple[pd.Series, str]:
+    """Read numeric dates day-first or month-first, as the file's times decide.
+
+    Applies when every stamp is a date with numeric day and month before a four-digit year,
+    separated by ``/``, ``.`` or ``-``, and an optional time (``01/02/2015 00:00``,
+    ``01.02.2015 00:00:00``). Both orders are parsed strictly (``%d/%m/%Y %H:%M`` and
+    ``%m/%d/%Y %H:%M``, with the file's separator and seconds). The order that reads every row
+    is kept when the other does not; when both do, the one whose times go back less often
+    and, then, have fewer steps off the log's usual step.
+
+    Parameters
+    ----------
+    text : pandas.Series
+        The stamps as written (stripped text; missing values are ``<NA>``).
+    parsed : pandas.Series
+        The stamps as read so far (ISO 8601; with missing times): returned when the stamps
+        are not numeric dates of that form.
+    source : str
+        The file, as it should appear in messages.
+    column : str
+        The column name, for messages.
+    lines : numpy.ndarray, optional
+        1-based file line of every row; messages say "row k" (1-based) without.
+
+    Returns
+    -------
+    times : pandas.Series
+        The stamps read in the order decided (naive); when neither order reads every row, the
+        reading with fewer unreadable rows, for the caller's message naming the first.
+    note : str
+        The order used and why ("" when the stamps are not of this form).
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Both orders read every row and give equally plausible times (e.g. one row, or two
+        rows both ways ordered and evenly spaced); the message names the file, the column
+        and the first row whose day and month are both at most 12.
+    """
+    written = text.dropna()
+    forms = written.str.fullmatch(_DAY_MONTH.pattern)
+    if written.empty or not bool(forms.all()):
+        return parsed, ""
+    first = _DAY_MONTH.fullmatch(str(written.iloc[0]))
+    sep, clock = first.group(2), ""
+    if first.group(5):
+        clock = first.group(5) + "%H:%M" + (":%S" if first.group(6) else "")
+    formats = {"day-first": f"%d{sep}%m{sep}%Y{clock}", "month-first": f"%m{sep}%d{sep}%Y{clock}"}
+    readings = {
+        order: pd.to_datetime(text, format=fmt, errors="coerce") for order, fmt in formats.items()
+    }
+    failed = {order: int((times.isna() & text.notna()).sum()) for order, times in readings.items()}
+    day_first, month_first = readings["day-first"], readings["month-first"]
+    if failed["day-first"] and failed["month-first"]:
+        return readings[min(failed, key=failed.get)], ""
+    if failed["day-first"] or failed["month-first"]:
+        order = "month-first" if failed["day-first"] else "day-first"
+        other = "day-first" if order == "month-first" else "month-first"
+        row = int(np.flatnonzero((readings[other].isna() & text.notna()).to_numpy())[0])
+        why = f"{_where(lines, row)} ({text.iloc[row]!r}) cannot be {other}"
+    else:
+        disorder = {order: _disorder(times) for order, times in readings.items()}
+        if disorder["day-first"] == disorder["month-first"]:
+            raise _ambiguous_order(text, day_first, month_first, source, column, lines)
+        order = min(disorder, key=disorder.get)
+        other = "day-first" if order == "month-first" else "month-first"
+        back, off = disorder[other]
+        why = (
+            f"read {other}, {off} step(s) would be off the log's usual step and {back} would go "
+            f"back in time ({order}: {disorder[order][1]} and {disorder[order][0]})"
+        )
+    note = f"dates read {order} ({formats[order]}): {why}"
+    log.info("%s, column '%s': %s", source, column, note)
+    return readings[order], note
+
+
+def _ambiguous_order(
+    text: pd.Series,
+    day_first: pd.Series,
+    month_first: pd.Series,
+    source: str,
+    column: str,
+    lines: np.ndarray | None,
+) -> ThermocalInputError:
+    """The error for numeric dates that fit day-first and month-first equally well.
+
+    Parameters
+    ----------
+    text : pandas.Series
+        The stamps as written (all of the form ``01/02/2015 00:00``; missing ones ``<NA>``).
+    day_first, month_first : pandas.Series
+        The stamps read both ways (naive times).
+    source, column : str
+        The file and the column, for the message.
+    lines : numpy.ndarray, optional
+        1-based file line of every row.
+
+    Returns
+    -------
+    thermocal.errors.ThermocalInputError
+        Naming the first row whose day and month are both at most 12, a stamp that the two
+        orders read as different dates, and ISO 8601 as the remedy.
+    """
+    fields = text.str.extract(_DAY_MONTH.pattern)[[0, 2]].astype(float).to_numpy()
+    row = int(np.flatnonzero((fields <= 12).all(axis=1))[0])
+    differ = np.flatnonzero((day_first.notna() & (day_first != month_first)).to_numpy(dtype=bool))
+    example = ""
+    if differ.size:
+        k = int(differ[0])
+        d, m = day_first.iloc[k], month_first.iloc[k]
+        at = f" on {_where(lines, k)}" if k != row else ""
+        example = (
+            f" ({text.iloc[k]!r}{at} is {d.day} {d:%B %Y} day-first, {m.day} {m:%B %Y} month-first)"
+        )
+    return ThermocalInputError(
+        f"{source}, column '{column}', {_where(lines, row)}: cannot read {text.iloc[row]!r} as "
+        f"a time: the file does not show whether its dates are day-first or month-first"
+        f"{example}; read either way, its times are as well ordered and evenly spaced. Write "
+        "the times in ISO 8601, year first (2015-02-01 00:00), or pass time_format= (e.g. "
+        "'%d.%m.%Y %H:%M')"
+    )
 
 
 def _offset_minutes(text: pd.Series) -> np.ndarray:

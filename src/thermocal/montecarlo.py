@@ -26,6 +26,7 @@ GAUSS_HERMITE_3 = (
 __all__ = [
     "GAUSS_HERMITE_3",
     "interval_end_error",
+    "interval_ends",
     "quantile_standard_error",
     "symmetric_square_root",
     "truncated_gaussian_draws",
@@ -57,6 +58,37 @@ def quantile_standard_error(values: np.ndarray, p: float, effective: float) -> n
     lo, hi = np.quantile(values, [max(p - delta, 0.0), min(p + delta, 1.0)], axis=0)
     return (hi - lo) / 2.0
 
+
+
+def interval_ends(draws, interval: float) -> tuple[float, float]:
+    """The ends of the central interval of some draws, NaN when there are none.
+
+    Parameters
+    ----------
+    draws : array-like (n,)
+        Draws of one quantity, the estimate not among them [its unit]; empty when no
+        uncertainty was propagated (the retrofit analysis' ``uncertainty.draws: 0``).
+    interval : float
+        Central probability of the interval, e.g. 0.9 [-].
+
+    Returns
+    -------
+    tuple of float
+        Lower and upper end [unit of the draws]; both NaN for no draws (no interval: a JSON
+        null, not the estimate as an interval of zero width).
+
+    Examples
+    --------
+    >>> interval_ends([1.0, 2.0, 3.0], 0.5)
+    (1.5, 2.5)
+    >>> interval_ends([], 0.9)
+    (nan, nan)
+    """
+    values = np.asarray(draws, dtype=float)
+    if values.size == 0:
+        return float("nan"), float("nan")
+    lo_q = 0.5 * (1.0 - float(interval))
+    return float(np.quantile(values, lo_q)), float(np.quantile(values, 1.0 - lo_q))
 
 
 def interval_end_error(draws, interval: float) -> float:

@@ -415,3 +415,26 @@ def test_odd_values_found_by_fuzzing_get_messages_that_fit_them():
     data = minimal()
     data["ground"] = {"perimeter": 0.0, "wall_thickness": 0.3}
     assert "range above 0 up to 10000 m" in error_text(data)
+
+
+def test_a_repeated_component_name_is_located_at_the_repeat(tmp_path):
+    """Before: '(top level) (line 1): components[3] name ...' (the file's first line). Now the
+    repeat's own location and line, and the line of the component that has the name first."""
+    text = EXAMPLE.read_text().replace("  - name: wall east\n", "  - name: roof north\n")
+    path = tmp_path / "house.yaml"
+    path.write_text(text)
+    with pytest.raises(ThermocalInputError) as info:
+        read_envelope(path)
+    message = str(info.value)
+    lines = text.splitlines()
+    first, repeat = (i + 1 for i, line in enumerate(lines) if line == "  - name: roof north")
+    assert f"components[3] ('roof north').name (line {repeat}): name 'roof north'" in message
+    assert f"already used by components[1] (line {first}); component names must be" in message
+    assert "top level" not in message and "(line 1)" not in message
+    # without a YAML file (an inline building): the positions alone
+    data = minimal()
+    data["components"][4]["name"] = "wall E"
+    message = error_text(data)
+    assert "components[4] ('wall E').name: name 'wall E' is already used by components[1];" in (
+        message
+    )

@@ -237,3 +237,72 @@ def test_a_missing_semicolon_names_the_class_not_a_zone_written_like_one():
         )
         with pytest.raises(ThermocalInputError, match=r"is 'ElectricEquipment': the ';'"):
             record(parse_idf(text)[0])
+
+
+def test_no_draws_give_no_interval_rather_than_one_of_zero_width(tmp_path):
+    """uncertainty.draws: 0 asks for no uncertainty analysis. Before, the console, the report
+    and results.json gave the estimate as its own 90 % interval ('saves about 25 % of the heat
+    (90 % interval 25 to 25 %)', '19–19'), which reads as certainty."""
+    import json
+    import re
+
+    from typer.testing import CliRunner
+
+    from thermocal.cli import app
+
+    out = tmp_path / "demo"
+    result = CliRunner().invoke(app, ["demo", "--out", str(out), "--draws", "0"])
+    assert result.exit_code == 0, result.output
+    results = json.loads((out / "results.json").read_text())
+    demand = results["annual_heating_demand_kWh"]
+    assert [demand[k] for k in ("p05", "p95", "monthly_p05", "monthly_p95")] == [None] * 4
+    for row in results["scenarios"]:
+        ends = [row[k] for k in ("annual_kWh_p05", "annual_kWh_p95", "saving_pct_p05",
+                                 "saving_pct_p95")]  # fmt: skip
+        assert ends == [None] * 4, row
+        assert row["economics"]["payback_years_lo"] is None
+        assert row["economics"]["cost_saving_per_year_hi"] is None
+    for row in results["reference_check"]["strategies"]:
+        assert row["model_saving_pct_p05"] is None and row["model_kWh_p95"] is None
+    # the console: the demand says so, the strategy table has no interval column
+    said = f"annual heating demand {demand['value']:,.0f} kWh, no interval (uncertainty.draws: 0)"
+    assert said in result.output
+    rows = {line.split()[0]: line for line in result.output.splitlines() if line.strip()}
+    one = results["scenarios"][1]
+    shown = ["1a", "R", f"{one['annual_kWh']:,.0f}", f"{one['saving_pct']:.1f}"]
+    assert rows["1a"].split()[:4] == shown and "–" not in rows["1a"]
+    # the report: one note, no interval of zero width anywhere, sentences without one
+    text = re.sub(r"<[^>]+>", " ", (out / "report.html").read_text())
+    assert "Demands, savings and paybacks: no interval (uncertainty.draws: 0)." in text
+    assert not re.search(r"\b(\d[\d,.]*) (?:to|–) \1\b", text)
+    assert re.search(r"saves about \d+ % of the heat, about", text)
+    # the heat loss coefficient keeps its interval: the calibration's own, not the draws'
+    hlc = results["heat_loss_coefficient_W_per_K"]
+    assert hlc["p05"] < hlc["value"] < hlc["p95"]
+
+
+def test_advice_without_draws_is_refused_before_anything_runs(tmp_path):
+    """--advise compares the widths of the savings' intervals; uncertainty.draws: 0 asks for
+    none. Before, the demo ran 10 analyses at 1,000 draws to advise on intervals its report
+    did not show."""
+    import yaml
+    from typer.testing import CliRunner
+
+    from thermocal.cli import app
+    from thermocal.demos.retrofit import prepare_demo
+
+    out = tmp_path / "demo"
+    result = CliRunner().invoke(app, ["demo", "--out", str(out), "--draws", "0", "--advise"])
+    assert isinstance(result.exception, ThermocalInputError)
+    message = str(result.exception)
+    assert "--advise compares the widths of the savings' intervals, but --draws 0" in message
+    assert "give --draws 200" in message and not out.exists()
+    path, _ = prepare_demo(tmp_path / "own", draws=200)
+    config = yaml.safe_load(path.read_text())
+    config["uncertainty"]["draws"] = 0
+    path.write_text(yaml.safe_dump(config))
+    args = ["retrofit", str(path), "--advise", "--out", str(tmp_path / "r")]
+    result = CliRunner().invoke(app, args)
+    assert isinstance(result.exception, ThermocalInputError)
+    assert f"uncertainty.draws: 0 in {path} asks for none" in str(result.exception)
+    assert not (tmp_path / "r").exists()

@@ -64,6 +64,10 @@ def demo(
             f"--draws {draws}: at most {MAX_DRAWS:,} draws (a 90 % interval settles within a "
             "few thousand; the default is 200)"
         )
+    if advise:  # before the demo runs
+        from thermocal.retrofit.advice import check_advice_draws
+
+        check_advice_draws(draws, option="--draws")
     if weather is not None and not Path(weather).is_file():
         raise ThermocalInputError(
             f"--weather {weather}: "

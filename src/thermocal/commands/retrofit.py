@@ -36,12 +36,15 @@ def print_summary(results: dict, out: Path) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    from thermocal.retrofit.config import NO_INTERVAL
+    from thermocal.retrofit.tables import has_intervals
     from thermocal.textformat import format_number
 
     console = Console()
     hlc = results["heat_loss_coefficient_W_per_K"]
     dem = results["annual_heating_demand_kWh"]
     pct = f"{100 * results.get('uncertainty', {}).get('interval', 0.9):.0f} %"
+    intervals = has_intervals(results)  # uncertainty.draws: 0 -> the estimates alone
     std = hlc["std"]
     line = f"HLC {hlc['value']:.0f} ± {'n/a' if std is None else format(std, '.0f')} W/K"
     if hlc.get("p05") is not None:
@@ -74,9 +77,10 @@ def print_summary(results: dict, out: Path) -> None:
         console.print(f"[{style}]{gate['summary']}[/{style}]")
 
     console.print(
-        f"[bold]annual heating demand {dem['value']:,.0f} kWh[/bold] "
-        f"({pct} interval {dem['p05']:,.0f} – {dem['p95']:,.0f} kWh)"
-    )
+        f"[bold]annual heating demand {dem['value']:,.0f} kWh[/bold]"
+        + (f" ({pct} interval {dem['p05']:,.0f} – {dem['p95']:,.0f} kWh)" if intervals
+           else f", {NO_INTERVAL}")
+    )  # fmt: skip
     for name, value in dem.get("references", {}).items():
         if not isinstance(value, list):
             console.print(f"  reference, {name}: {value:,.0f} kWh")
@@ -85,10 +89,11 @@ def print_summary(results: dict, out: Path) -> None:
         dict.fromkeys(m for s in results["scenarios"] for m in s["measures"])
     )
     short = measure_abbreviations(names)
-    table = Table(title="Retrofit strategies", box=box.SIMPLE_HEAD, padding=(0, 1))
+    title = "Retrofit strategies" + ("" if intervals else f", {NO_INTERVAL}")
+    table = Table(title=title, box=box.SIMPLE_HEAD, padding=(0, 1))
     eco = results.get("economics", {})
     cur = eco.get("currency", "")
-    cols = ["code", "measures", "kWh/a", "saving %", pct]
+    cols = ["code", "measures", "kWh/a", "saving %"] + ([pct] if intervals else [])
     if eco:
         cols += [f"invest {cur}", f"{cur}/a", "payback a"]
     labels = ["+".join(short[m] for m in s["measures"]) or "none" for s in results["scenarios"]]
@@ -105,8 +110,9 @@ def print_summary(results: dict, out: Path) -> None:
             label,
             f"{s['annual_kWh']:,.0f}",
             f"{s['saving_pct']:.1f}",
-            f"{s['saving_pct_p05']:.0f}–{s['saving_pct_p95']:.0f}",
         ]
+        if intervals:
+            row.append(f"{s['saving_pct_p05']:.0f}–{s['saving_pct_p95']:.0f}")
         if eco:
             e = s.get("economics", {})
             payback = e.get("payback_years")
@@ -365,6 +371,10 @@ def retrofit(
         console.print(f"results in {out} (results.json, strategies_detailed.csv, report.html)")
         return
     cfg = load_config(config)
+    if advise:  # before the analysis runs
+        from thermocal.retrofit.advice import check_advice_draws
+
+        check_advice_draws(cfg.uncertainty.draws, source=str(config))
     _check_site(cfg)
     with (
         output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,

@@ -836,12 +836,46 @@ def _describe_location(loc: tuple, data: Any) -> str:
     return "".join(parts) or "(top level)"
 
 
+def _duplicate_name_error(
+    ctx: Mapping[str, Any], lines: Mapping[tuple, int] | None
+) -> tuple[tuple, str]:
+    """Location and message of a component name used twice.
+
+    The check runs on the whole building (pydantic locates it at the top level); the message
+    points at the repeated name instead and names the component that has it first.
+
+    Parameters
+    ----------
+    ctx : mapping
+        The error's context: ``index`` and ``first`` (positions in ``components``) and
+        ``name``.
+    lines : mapping or None
+        Key path -> 1-based line of a YAML file (:func:`_yaml_line_index`); None for other
+        sources.
+
+    Returns
+    -------
+    tuple
+        The location ``("components", index, "name")`` and the message.
+    """
+    first = int(ctx["first"])
+    line = (lines or {}).get(("components", first, "name"))
+    at = f" (line {line})" if line else ""
+    return ("components", int(ctx["index"]), "name"), (
+        f"name '{ctx['name']}' is already used by components[{first}]{at}; component names "
+        "must be unique: rename one of the two"
+    )
+
+
 def _format_validation_error(
     error: ValidationError, data: Any, source: str, lines: Mapping[tuple, int] | None = None
 ) -> str:
     messages = []
     for item in error.errors(include_url=False):
         loc = tuple(x for x in item["loc"] if not (isinstance(x, str) and x in _UNION_TAGS))
+        message = item["msg"]
+        if item["type"] == "duplicate_name":  # the model's check, located at the repeat
+            loc, message = _duplicate_name_error(item["ctx"], lines)
         where = _describe_location(loc, data)
         line = None
         if lines:
@@ -851,7 +885,6 @@ def _format_validation_error(
                 probe = probe[:-1]
             line = lines.get(probe)
         line_text = f" (line {line})" if line else ""
-        message = item["msg"]
         if item["type"] == "missing":
             message = f"required field '{loc[-1] if loc else ''}' is missing"
         elif item["type"] == "literal_error":

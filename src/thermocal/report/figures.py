@@ -166,7 +166,7 @@ def plot_bars_with_intervals(
     ----------
     labels : sequence of str
     values, low, high : array-like
-        Central values and the interval bounds.
+        Central values and the interval bounds (``low`` and ``high`` None: no whiskers).
     highlight : sequence of str
         Labels drawn in the accent colour.
     highlight_label : str
@@ -179,9 +179,11 @@ def plot_bars_with_intervals(
         A horizontal reference line (e.g. a measured value).
     """
     vals = np.asarray(values, float)
-    yerr = np.clip(
-        np.vstack([vals - np.asarray(low, float), np.asarray(high, float) - vals]), 0, None
-    )
+    yerr = None
+    if low is not None and high is not None:
+        yerr = np.clip(
+            np.vstack([vals - np.asarray(low, float), np.asarray(high, float) - vals]), 0, None
+        )
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
@@ -210,7 +212,7 @@ def plot_bars_with_intervals(
         ax.axhline(hline, color=COLORS["reference"], lw=1.5)
         handles.append(Line2D([], [], color=COLORS["reference"], lw=1.5, label=hline_label))
     if handles:
-        top = np.nanmax(np.concatenate([vals, np.asarray(high, float)]))
+        top = np.nanmax(np.concatenate([vals, np.asarray(vals if high is None else high, float)]))
         if np.isfinite(top) and top > 0:
             ax.set_ylim(top=1.12 * top + 0.06 * top * len(handles))  # room for the legend
         ax.legend(handles=handles, frameon=False, fontsize=9, loc="best")

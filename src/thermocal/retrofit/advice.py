@@ -49,8 +49,10 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from thermocal.errors import ThermocalInputError
 from thermocal.io.heat_flux_log import TYPICAL_REL_STD, InSituConfig
 from thermocal.montecarlo import GAUSS_HERMITE_3
+from thermocal.retrofit.config import MIN_DRAWS
 
 __all__ = [
     "ADVICE_DRAWS",
@@ -58,6 +60,7 @@ __all__ = [
     "ComponentAdvice",
     "advice_summary",
     "advise_measurements",
+    "check_advice_draws",
     "measurable_components",
 ]
 
@@ -257,6 +260,36 @@ def advice_summary(advice: list, mcse: float, plate_rel_std: float, gate: dict |
     return summary
 
 
+def check_advice_draws(draws: int, option: str = "uncertainty.draws:", source: str = "") -> None:
+    """Refuse ``--advise`` for an analysis without intervals (``uncertainty.draws: 0``).
+
+    The advice compares the widths of the savings' intervals before and after a heat-flux
+    plate; an analysis that asks for no uncertainty analysis has none to narrow.
+
+    Parameters
+    ----------
+    draws : int
+        Parameter draws of the analysis [-].
+    option : str
+        How the user set them, for the message: ``"uncertainty.draws:"`` (the retrofit
+        configuration) or ``"--draws"`` (``thermocal demo``).
+    source : str
+        The configuration file, for the message ("" when none).
+
+    Raises
+    ------
+    ThermocalInputError
+        When ``draws`` is 0.
+    """
+    if draws == 0:
+        where = f" in {source}" if source else ""
+        raise ThermocalInputError(
+            f"--advise compares the widths of the savings' intervals, but {option} 0{where} "
+            f"asks for none (no uncertainty analysis): give {option} 200 (the default; at "
+            f"least {MIN_DRAWS}) or drop --advise"
+        )
+
+
 def advise_measurements(
     cfg,
     analysis,
@@ -303,6 +336,7 @@ def advise_measurements(
     )
     from thermocal.retrofit.tables import _recommended_code
 
+    check_advice_draws(cfg.uncertainty.draws, source="the retrofit configuration")
     method = (
         "preposterior analysis: the plate's reading drawn from the calibrated model's current "
         "estimate of the component (three-point Gauss-Hermite rule), the analysis rerun with "

@@ -395,6 +395,10 @@ class ModelConfig(_Strict):
 #: Fewest Monte Carlo draws that make an interval (0: none) [-].
 MIN_DRAWS = 10
 
+#: What the outputs say where an interval would stand when ``uncertainty.draws`` is 0 (no
+#: uncertainty analysis: the estimate alone, not an interval of zero width).
+NO_INTERVAL = "no interval (uncertainty.draws: 0)"
+
 
 class UncertaintyConfig(_Strict):
     """Propagation of the parameter uncertainty into demands and savings."""

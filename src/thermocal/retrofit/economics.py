@@ -20,6 +20,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pandas as pd
 
+from thermocal.montecarlo import interval_ends
 from thermocal.retrofit.strategies import Measure, Strategy
 
 
@@ -77,11 +78,10 @@ def strategy_economics(
         Columns ``code``, ``useful_heat_kWh``, ``final_energy_kWh``, ``cost_per_year``,
         ``co2_kg_per_year``, ``investment``, ``cost_saving_per_year`` (with ``_lo``/``_hi``),
         ``co2_saving_kg_per_year``, ``payback_years`` (with ``_lo``/``_hi``; NaN when the
-        strategy saves nothing), ``cost_per_kWh_saved_per_year``.
+        strategy saves nothing), ``cost_per_kWh_saved_per_year``. Without draws (only the
+        estimate's column) every ``_lo``/``_hi`` is NaN: no interval.
     """
     annual = np.asarray(annual_kwh, dtype=float)
-    lo_q = 0.5 * (1.0 - interval)
-    draws = annual[:, 1:] if annual.shape[1] > 1 else annual[:, :1]
     final = annual / system_efficiency
     cost = final * energy_price
     co2 = final * emission_factor
@@ -89,8 +89,8 @@ def strategy_economics(
     for i, s in enumerate(strategies):
         invest = sum(measure_investment(measures[m], areas) for m in s.measures)
         saving = cost[0] - cost[i]  # paired per draw
-        sd = saving[1:] if annual.shape[1] > 1 else saving[:1]
-        s_lo, s_hi = np.quantile(sd, [lo_q, 1.0 - lo_q])
+        s_lo, s_hi = interval_ends(saving[1:], interval)
+        heat_lo, heat_hi = interval_ends(annual[i, 1:], interval)
 
         def payback(x: float, invest: float = invest) -> float:
             return invest / x if x > 0 else float("nan")
@@ -98,8 +98,8 @@ def strategy_economics(
         rows.append({
             "code": s.code,
             "useful_heat_kWh": annual[i, 0],
-            "useful_heat_kWh_lo": float(np.quantile(draws[i], lo_q)),
-            "useful_heat_kWh_hi": float(np.quantile(draws[i], 1.0 - lo_q)),
+            "useful_heat_kWh_lo": heat_lo,
+            "useful_heat_kWh_hi": heat_hi,
             "final_energy_kWh": final[i, 0],
             "cost_per_year": cost[i, 0],
             "co2_kg_per_year": co2[i, 0],

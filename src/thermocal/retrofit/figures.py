@@ -7,7 +7,13 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from thermocal.retrofit.tables import _measures_short, _recommended_code, scenario_table
+from thermocal.retrofit.config import NO_INTERVAL
+from thermocal.retrofit.tables import (
+    _measures_short,
+    _recommended_code,
+    has_intervals,
+    scenario_table,
+)
 from thermocal.retrofit.workflow import (
     RetrofitAnalysis,
 )
@@ -44,6 +50,10 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
     dem = results["annual_heating_demand_kWh"]
     ref = analysis.config.reference
     interval = f"{int(round(100 * analysis.config.uncertainty.interval))} % interval"
+    intervals = has_intervals(results)
+    whiskers = (
+        f" (whiskers: {interval} of the parameter uncertainty)" if intervals else f", {NO_INTERVAL}"
+    )
     figs["monthly_demand"] = plot_monthly_bars(
         dem["monthly"],
         low=dem["monthly_p05"],
@@ -51,17 +61,22 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
         reference=ref.rating_monthly_kWh,
         reference_label=ref.rating_label,
         label="calibrated model",
-        title=f"Monthly heating demand (whiskers: {interval} of the parameter uncertainty)",
+        title=f"Monthly heating demand{whiskers}",
     )
     scen = scenario_table(analysis)
+    ends = {
+        key: scen[key] if intervals else None
+        for key in ("saving_pct_p05", "saving_pct_p95", "annual_kWh_p05", "annual_kWh_p95")
+    }
+    interval_label = f"{interval} (parameter uncertainty)" if intervals else ""
     n_measures = len(analysis.config.measures)
     sublabels = [_measures_short(s.measures, n_measures) for s in analysis.strategies]
     highlight = _recommended_code(analysis)
     figs["scenario_savings"] = plot_bars_with_intervals(
         list(scen["code"]),
         scen["saving_pct"],
-        scen["saving_pct_p05"],
-        scen["saving_pct_p95"],
+        ends["saving_pct_p05"],
+        ends["saving_pct_p95"],
         ylabel="Saving of heat vs. no retrofit [%]",
         highlight=(highlight,) if highlight else (),
         highlight_label=f"recommended strategy ({highlight}: "
@@ -69,8 +84,9 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
         if highlight
         else "",
         sublabels=sublabels,
-        interval_label=f"{interval} (parameter uncertainty)",
-        title=f"Saving of the {len(scen)} retrofit strategies",
+        interval_label=interval_label,
+        title=f"Saving of the {len(scen)} retrofit strategies"
+        + ("" if intervals else f", {NO_INTERVAL}"),
     )
     figs["inputs"] = _inputs_figure(analysis)
     if analysis.calibration.residuals is not None:
@@ -83,7 +99,9 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
         figs["annual_comparison"] = _annual_comparison_figure(dem, annual_refs)
     if "reference_check" in results:
         check = results["reference_check"]
-        figs["reference_check"] = _reference_figure(check, sublabels, interval)
+        figs["reference_check"] = _reference_figure(
+            check, sublabels, f"whiskers: {interval}" if intervals else NO_INTERVAL
+        )
         if "monthly_reference_kWh" in check:
             figs["monthly_reference_check"] = plot_monthly_bars(
                 check["monthly_model_kWh"], low=check["monthly_model_kWh_p05"],
@@ -95,13 +113,13 @@ def make_figures(analysis: RetrofitAnalysis, results: dict) -> dict:
     figs["scenario_demand"] = plot_bars_with_intervals(
         list(scen["code"]),
         scen["annual_kWh"],
-        scen["annual_kWh_p05"],
-        scen["annual_kWh_p95"],
+        ends["annual_kWh_p05"],
+        ends["annual_kWh_p95"],
         ylabel="Annual heating demand [kWh]",
         highlight=("0",),
         highlight_label="no retrofit (today)",
         sublabels=sublabels,
-        interval_label=f"{interval} (parameter uncertainty)",
+        interval_label=interval_label,
         hline=measured,
         hline_label="measured heat use",
         title="Annual heating demand per strategy",
@@ -187,14 +205,15 @@ def _annual_comparison_figure(dem: dict, references: dict):
     fig, ax = plt.subplots(figsize=(1.8 * len(values) + 2.0, 3.6))
     colors = ["#1b6ca8"] + ["#9ecae1"] * len(references)
     bars = ax.bar(range(len(values)), values, 0.6, color=colors)
-    ax.errorbar(
-        [0],
-        [dem["value"]],
-        yerr=[[dem["value"] - dem["p05"]], [dem["p95"] - dem["value"]]],
-        color="black",
-        capsize=4,
-        lw=1,
-    )
+    if dem["p05"] is not None:  # none after uncertainty.draws: 0
+        ax.errorbar(
+            [0],
+            [dem["value"]],
+            yerr=[[dem["value"] - dem["p05"]], [dem["p95"] - dem["value"]]],
+            color="black",
+            capsize=4,
+            lw=1,
+        )
     for bar, value in zip(bars, values, strict=True):
         ax.text(
             bar.get_x() + bar.get_width() / 2,
@@ -212,15 +231,18 @@ def _annual_comparison_figure(dem: dict, references: dict):
     return fig
 
 
-def _reference_figure(check: dict, sublabels=None, interval: str = "90 % interval"):
+def _reference_figure(check: dict, sublabels=None, whiskers: str = "whiskers: 90 % interval"):
+    """The model's savings (with ``whiskers``, the legend's words on them) beside the
+    reference's; no whiskers when the interval ends are None (uncertainty.draws: 0)."""
     import matplotlib.pyplot as plt
 
     rows = check["strategies"]
     codes = [r["code"] for r in rows]
     x = np.arange(len(codes))
     model = np.array([r["model_saving_pct"] for r in rows])
-    lo = np.array([r["model_saving_pct_p05"] for r in rows])
-    hi = np.array([r["model_saving_pct_p95"] for r in rows])
+    lo = np.array([r["model_saving_pct_p05"] for r in rows], dtype=float)
+    hi = np.array([r["model_saving_pct_p95"] for r in rows], dtype=float)
+    yerr = np.clip(np.vstack([model - lo, hi - model]), 0, None)
     ref = np.array(
         [np.nan if r["reference_saving_pct"] is None else r["reference_saving_pct"] for r in rows]
     )
@@ -230,8 +252,8 @@ def _reference_figure(check: dict, sublabels=None, interval: str = "90 % interva
         model,
         0.4,
         color="#1b6ca8",
-        label=f"fifth-order model (calibrated), whiskers: {interval}",
-        yerr=np.clip(np.vstack([model - lo, hi - model]), 0, None),
+        label=f"fifth-order model (calibrated), {whiskers}",
+        yerr=yerr if np.isfinite(yerr).all() else None,
         capsize=2,
     )
     ax.bar(x + 0.2, ref, 0.4, color="#d95f02", label=check.get("reference", "reference"))

@@ -10,7 +10,7 @@ import pandas as pd
 
 from thermocal.jsonsafe import json_number as _num
 from thermocal.jsonsafe import json_ready as _clean
-from thermocal.montecarlo import interval_end_error
+from thermocal.montecarlo import interval_end_error, interval_ends
 from thermocal.retrofit.economics import measure_investment
 from thermocal.retrofit.model import ESTIMATED_PARAMETERS
 from thermocal.retrofit.tables import (  # noqa: F401 (scenario_table: public here too)
@@ -95,19 +95,21 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         hlc["relative_error_pct"] = 100.0 * (cal.heat_loss_coefficient - true) / true
     monthly = analysis.demand.monthly_kwh()  # (S, D+1, 12)
     annual = analysis.demand.annual_kwh()
-    has_draws = annual.shape[1] > 1
-    base_draws = annual[0, 1:] if has_draws else annual[0, :1]
-    mdraws = monthly[0, 1:] if has_draws else monthly[0, :1]
+    has_draws = annual.shape[1] > 1  # uncertainty.draws: 0 -> no interval, null ends
+    base_lo, base_hi = interval_ends(annual[0, 1:], cfg.uncertainty.interval)
+    mdraws = monthly[0, 1:]
     demand = {
         "value": _num(annual[0, 0]),
-        "p05": _num(np.quantile(base_draws, lo_q)),
-        "p95": _num(np.quantile(base_draws, 1 - lo_q)),
+        "p05": _num(base_lo),
+        "p95": _num(base_hi),
         # Monte Carlo standard error of the less precise interval end [kWh]
-        "interval_mcse": _num(interval_end_error(base_draws, cfg.uncertainty.interval))
+        "interval_mcse": _num(interval_end_error(annual[0, 1:], cfg.uncertainty.interval))
         if has_draws else None,
         "monthly": [_num(v) for v in monthly[0, 0]],
-        "monthly_p05": [_num(v) for v in np.quantile(mdraws, lo_q, axis=0)],
-        "monthly_p95": [_num(v) for v in np.quantile(mdraws, 1 - lo_q, axis=0)],
+        "monthly_p05": [_num(v) for v in np.quantile(mdraws, lo_q, axis=0)]
+        if has_draws else None,
+        "monthly_p95": [_num(v) for v in np.quantile(mdraws, 1 - lo_q, axis=0)]
+        if has_draws else None,
         "indoor_profile_C": [_num(v) for v in analysis.indoor_profile],
         "weather": {
             k: analysis.weather_meta.get(k) for k in ("name", "latitude", "longitude", "source")

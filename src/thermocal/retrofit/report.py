@@ -14,9 +14,11 @@ import numpy as np
 import pandas as pd
 
 from thermocal.retrofit import references as refs
+from thermocal.retrofit.config import MIN_DRAWS, NO_INTERVAL
 from thermocal.retrofit.economics import measure_areas, measure_investment, recommend
 from thermocal.retrofit.gains import has_gains
 from thermocal.retrofit.model import ESTIMATED_PARAMETERS
+from thermocal.retrofit.tables import has_intervals
 from thermocal.retrofit.workflow import RetrofitAnalysis
 from thermocal.textformat import format_number
 
@@ -108,6 +110,7 @@ def write_report(
     econ = tables["economics"]
     pct = f"{100 * cfg.uncertainty.interval:.0f} %"
     low, high = interval_labels(cfg.uncertainty.interval)
+    intervals = has_intervals(results)  # uncertainty.draws: 0 -> none, said once in a note
     measures = cfg.measure_objects()
     gate = analysis.gate or {"passed": True, "summary": ""}
     # a model that failed its validation on the test period recommends nothing
@@ -124,8 +127,9 @@ def write_report(
         rep.paragraph(gate["summary"], css_class="lead")
     base = econ.iloc[0]
     today = (
-        f"Today the house needs about {dem['value']:,.0f} kWh of heat a year ({pct} interval "
-        f"{dem['p05']:,.0f} to {dem['p95']:,.0f} kWh), that is {base['final_energy_kWh']:,.0f} "
+        f"Today the house needs about {dem['value']:,.0f} kWh of heat a year"
+        + (f" ({pct} interval {dem['p05']:,.0f} to {dem['p95']:,.0f} kWh)" if intervals else "")
+        + f", that is {base['final_energy_kWh']:,.0f} "
         f"kWh of {eco.energy_carrier}, about {_money(base['cost_per_year'], cur)} and "
         f"{base['co2_kg_per_year'] / 1000:,.1f} t CO2 a year."
     )
@@ -135,14 +139,17 @@ def write_report(
         names = next(s.measures for s in analysis.strategies if s.code == rec["code"])
         advice = (
             f"We recommend strategy {rec['code']} ({_measures_label(names)}): it saves about "
-            f"{srow['saving_pct']:.0f} % of the heat ({pct} interval {srow['saving_pct_p05']:.0f}"
-            f" to {srow['saving_pct_p95']:.0f} %), about {_money(r['cost_saving_per_year'], cur)}"
+            f"{srow['saving_pct']:.0f} % of the heat"
+            + (f" ({pct} interval {srow['saving_pct_p05']:.0f} to {srow['saving_pct_p95']:.0f} "
+               "%)" if intervals else "")
+            + f", about {_money(r['cost_saving_per_year'], cur)}"
             f" and {r['co2_saving_kg_per_year'] / 1000:,.1f} t CO2 a year, costs about "
             f"{_money(r['investment'], cur)} and pays for itself in about "
             f"{format_number(r['payback_years'], '.0f')} years "
-            f"({format_number(r['payback_years_lo'], '.0f')} to "
-            f"{format_number(r['payback_years_hi'], '.0f')} years) at today's energy price."
-        )
+            + (f"({format_number(r['payback_years_lo'], '.0f')} to "
+               f"{format_number(r['payback_years_hi'], '.0f')} years) " if intervals else "")
+            + "at today's energy price."
+        )  # fmt: skip
     elif not gate["passed"]:
         advice = (
             "These figures come from a model that failed its validation (above): read them as "
@@ -151,6 +158,8 @@ def write_report(
     else:
         advice = "None of the strategies saves running cost at the configured prices."
     rep.paragraph(f"{today} {advice}", css_class="lead")
+    if not intervals:
+        rep.note(_no_interval_note(pct))
     if gate["passed"] and gate.get("summary"):
         rep.paragraph(gate["summary"])
     if (results["calibration"].get("method") or {}).get("summary"):
@@ -177,7 +186,8 @@ def write_report(
         )
     tiles = {
         "Heat demand today": f"{dem['value']:,.0f} kWh/a",
-        f"{pct} interval": f"{dem['p05']:,.0f} – {dem['p95']:,.0f} kWh/a",
+        **({f"{pct} interval": f"{dem['p05']:,.0f} – {dem['p95']:,.0f} kWh/a"} if intervals
+           else {"Uncertainty": NO_INTERVAL}),
         "Heat loss coefficient": f"{hlc['value']:.0f} W/K "
         f"({pct}: {format_number(hlc['p05'], '.0f')} – {format_number(hlc['p95'], '.0f')})",
         "Running cost today": f"{_money(base['cost_per_year'], cur)}/a",
@@ -281,6 +291,8 @@ def write_report(
         "payback_years": "simple payback [a]",
         "payback interval [a]": f"payback {pct} interval [a]",
     }
+    if not intervals:  # no columns of empty cells: the caption and the note say why
+        del shown["saving interval [%]"], shown["payback interval [a]"]
     table = e[list(shown)].rename(columns=shown)
     table.loc[0, shown["payback_years"]] = np.nan
     rep.table(
@@ -290,6 +302,7 @@ def write_report(
             f"{eco.system_efficiency:g} system efficiency, at {eco.energy_price:g} {cur}/kWh "
             f"and {eco.emission_factor:g} kg CO2/kWh"
             + (f"; highlighted: the recommended strategy {rec['code']}" if rec else "")
+            + ("" if intervals else f"; {NO_INTERVAL}")
         ),
         number_format={
             shown["saving [%]"]: "{:.1f}",
@@ -310,7 +323,8 @@ def write_report(
         )
     rep.figure(
         figures["scenario_savings"],
-        caption=f"Saving of heat per strategy; whiskers: {pct} interval (parameter uncertainty)",
+        caption="Saving of heat per strategy; "
+        + (f"whiskers: {pct} interval (parameter uncertainty)" if intervals else NO_INTERVAL),
         close_figure=False,
     )
     rep.figure(
@@ -318,7 +332,87 @@ def write_report(
     )
 
     # ------------------------------------------------------------------ intervals
-    rep.section("What the intervals cover, and what they do not")
+    if intervals:
+        rep.section("What the intervals cover, and what they do not")
+        _interval_coverage(rep, analysis, results)
+    else:
+        rep.section("Uncertainty")
+        rep.paragraph(
+            f"The demands and savings of this report have {NO_INTERVAL}: the estimates alone "
+            "(executive summary)."
+        )
+    _track_record(rep)
+    if results.get("measurement_advice"):
+        _measurement_advice(rep, results["measurement_advice"], pct)
+
+    # ------------------------------------------------------------------ annual demand
+    rep.section("Annual heating demand")
+    ref_items = {k: v for k, v in dem["references"].items() if not isinstance(v, list)}
+    ref_text = "; ".join(f"{k}: {v:,.0f} kWh" for k, v in ref_items.items())
+    rep.paragraph(
+        f"Simulated over the typical year of {dem['weather'].get('name') or 'the weather file'} "
+        f"with the 24-hour indoor temperature profile (see Assumptions) and ideal heating: "
+        f"{dem['value']:,.0f} kWh/a ({dem['per_m2_kWh']:.0f} kWh per m² heated floor area)."
+        + (f" References: {ref_text}." if ref_text else "")
+    )
+    rep.figure(figures["monthly_demand"], caption="Monthly heating demand", close_figure=False)
+    if "annual_comparison" in figures:
+        rep.figure(figures["annual_comparison"], caption="Annual demand vs references")
+    mon = pd.DataFrame({"month": list(MONTHS), "demand [kWh]": dem["monthly"]})
+    if intervals:
+        mon[f"{low} [kWh]"], mon[f"{high} [kWh]"] = dem["monthly_p05"], dem["monthly_p95"]
+    rep.table(
+        mon,
+        caption="Monthly demand [kWh]" + ("" if intervals else f"; {NO_INTERVAL}"),
+        number_format="{:,.0f}",
+    )
+
+    # ------------------------------------------------------------------ assumptions
+    rep.section("Assumptions")
+    _assumptions(rep, analysis, results)
+
+    # ------------------------------------------------------------------ calibration
+    rep.section("Calibration")
+    _calibration(rep, analysis, results, tables)
+
+    # ------------------------------------------------------------------ validation
+    rep.section("Validation")
+    _validation(rep, analysis, results, tables, figures)
+
+    # ------------------------------------------------------------------ data
+    rep.section("Measured data and data quality")
+    _data_quality(rep, analysis, results, figures)
+
+    if "reference_check" in results:
+        rep.section("Check against a known answer (demo)")
+        _reference_check(rep, results, figures, pct if intervals else None, low, high)
+
+    # ------------------------------------------------------------------ references
+    rep.section("References")
+    rep.paragraph(
+        "Method: the fifth-order RC model, its calibration, validation, demand simulation and "
+        "strategy coding follow the first reference; parameter correlation limit |r| < 0.98 "
+        "and residual checks follow Madsen et al. (2016)."
+    )
+    rep.references([r.entry() for r in refs.ALL])
+    prov = results.get("provenance", {})
+    if prov:
+        inputs = "; ".join(
+            f"{k}: {v['file']} (sha256 {str(v['sha256'])[:12]}…)" for k, v in prov["inputs"].items()
+        )
+        rep.paragraph(
+            f"Produced by thermocal {prov['thermocal_version']} on {prov['created']} "
+            f"({prov['command_line'] or 'Python API'}); seeds {prov['seeds']}; inputs: {inputs}.",
+            css_class="small",
+        )
+    return rep.write(path)
+
+
+def _interval_coverage(rep, analysis: RetrofitAnalysis, results: dict) -> None:
+    """What the demand's and the savings' intervals cover and what they do not (bullets)."""
+    cfg = analysis.config
+    pct = f"{100 * cfg.uncertainty.interval:.0f} %"
+    low, high = interval_labels(cfg.uncertainty.interval)
     at_bound = results["calibration"]["parameters_at_bounds"]
     fixed = results["calibration"].get("parameters_fixed", [])
     corrected = analysis.calibration.correction is not None
@@ -403,68 +497,17 @@ def write_report(
         "retrofit), so a strategy's saving interval is narrower than the difference of the two "
         "demand intervals."
     )
-    _track_record(rep)
-    if results.get("measurement_advice"):
-        _measurement_advice(rep, results["measurement_advice"], pct)
 
-    # ------------------------------------------------------------------ annual demand
-    rep.section("Annual heating demand")
-    ref_items = {k: v for k, v in dem["references"].items() if not isinstance(v, list)}
-    ref_text = "; ".join(f"{k}: {v:,.0f} kWh" for k, v in ref_items.items())
-    rep.paragraph(
-        f"Simulated over the typical year of {dem['weather'].get('name') or 'the weather file'} "
-        f"with the 24-hour indoor temperature profile (see Assumptions) and ideal heating: "
-        f"{dem['value']:,.0f} kWh/a ({dem['per_m2_kWh']:.0f} kWh per m² heated floor area)."
-        + (f" References: {ref_text}." if ref_text else "")
+
+def _no_interval_note(pct: str) -> str:
+    """The report's one note on the missing intervals of ``uncertainty.draws: 0``."""
+    return (
+        f"Demands, savings and paybacks: {NO_INTERVAL}. The configuration asks for no "
+        "uncertainty analysis, so they are the calibrated model's estimates alone, not "
+        "certain figures (the heat loss coefficient's interval is the calibration's own); "
+        f"uncertainty.draws: 200 (the default; at least {MIN_DRAWS}) gives their {pct} "
+        "intervals."
     )
-    rep.figure(figures["monthly_demand"], caption="Monthly heating demand", close_figure=False)
-    if "annual_comparison" in figures:
-        rep.figure(figures["annual_comparison"], caption="Annual demand vs references")
-    mon = pd.DataFrame({
-        "month": list(MONTHS), "demand [kWh]": dem["monthly"],
-        f"{low} [kWh]": dem["monthly_p05"], f"{high} [kWh]": dem["monthly_p95"],
-    })  # fmt: skip
-    rep.table(mon, caption="Monthly demand [kWh]", number_format="{:,.0f}")
-
-    # ------------------------------------------------------------------ assumptions
-    rep.section("Assumptions")
-    _assumptions(rep, analysis, results)
-
-    # ------------------------------------------------------------------ calibration
-    rep.section("Calibration")
-    _calibration(rep, analysis, results, tables)
-
-    # ------------------------------------------------------------------ validation
-    rep.section("Validation")
-    _validation(rep, analysis, results, tables, figures)
-
-    # ------------------------------------------------------------------ data
-    rep.section("Measured data and data quality")
-    _data_quality(rep, analysis, results, figures)
-
-    if "reference_check" in results:
-        rep.section("Check against a known answer (demo)")
-        _reference_check(rep, results, figures, pct, low, high)
-
-    # ------------------------------------------------------------------ references
-    rep.section("References")
-    rep.paragraph(
-        "Method: the fifth-order RC model, its calibration, validation, demand simulation and "
-        "strategy coding follow the first reference; parameter correlation limit |r| < 0.98 "
-        "and residual checks follow Madsen et al. (2016)."
-    )
-    rep.references([r.entry() for r in refs.ALL])
-    prov = results.get("provenance", {})
-    if prov:
-        inputs = "; ".join(
-            f"{k}: {v['file']} (sha256 {str(v['sha256'])[:12]}…)" for k, v in prov["inputs"].items()
-        )
-        rep.paragraph(
-            f"Produced by thermocal {prov['thermocal_version']} on {prov['created']} "
-            f"({prov['command_line'] or 'Python API'}); seeds {prov['seeds']}; inputs: {inputs}.",
-            css_class="small",
-        )
-    return rep.write(path)
 
 
 def _track_record(rep) -> None:
@@ -917,20 +960,24 @@ def _data_quality(rep, analysis, results, figures) -> None:
 
 
 def _reference_check(rep, results, figures, pct, low, high) -> None:
+    """The demo's check of the model against its generator; ``pct`` None: no intervals
+    (uncertainty.draws: 0), so no coverage is claimed and no interval columns shown."""
     check = results["reference_check"]
     measures_of = {s["code"]: s["measures"] for s in results["scenarios"]}
     rows = [{**r, "measures": measures_of.get(r["code"], ())} for r in check["strategies"]]
     base = rows[0]
     bias = 100.0 * (base["model_kWh"] / base["reference_kWh"] - 1.0) if base[
         "reference_kWh"] else float("nan")  # fmt: skip
-    inside_base = base["model_kWh_p05"] <= (base["reference_kWh"] or -1) <= base["model_kWh_p95"]
+    inside_base = pct is not None and (
+        base["model_kWh_p05"] <= (base["reference_kWh"] or -1) <= base["model_kWh_p95"]
+    )
     diffs = [
         (r["code"], r["model_saving_pct"] - r["reference_saving_pct"])
         for r in rows[1:]
         if r["reference_saving_pct"] is not None
     ]
     covered = sum(
-        1 for r in rows[1:] if r["reference_saving_pct"] is not None
+        1 for r in rows[1:] if pct is not None and r["reference_saving_pct"] is not None
         and r["model_saving_pct_p05"] <= r["reference_saving_pct"] <= r["model_saving_pct_p95"]
     )  # fmt: skip
     worst = max(diffs, key=lambda t: abs(t[1])) if diffs else None
@@ -938,12 +985,14 @@ def _reference_check(rep, results, figures, pct, low, high) -> None:
     rep.paragraph(
         f"The demo data come from a detailed model, {check['reference']}, so the right answers "
         f"are known. At a constant {check['setpoint_C']:.0f} C the calibrated model's demand "
-        f"without retrofit is {bias:+.0f} % off the reference "
-        f"({'inside' if inside_base else 'outside'} its {pct} interval). "
+        f"without retrofit is {bias:+.0f} % off the reference"
+        + (f" ({'inside' if inside_base else 'outside'} its {pct} interval). " if pct
+           else ". ")
         + (f"Its savings differ from the reference's by {min(d for _, d in diffs):+.0f} to "
            f"{max(d for _, d in diffs):+.0f} percentage points (largest: strategy {worst[0]}, "
-           f"{_measures_label(worst_measures)}); the {pct} interval contains the reference's "
-           f"saving for {covered} of {len(diffs)} strategies." if diffs else "")
+           f"{_measures_label(worst_measures)})"
+           + (f"; the {pct} interval contains the reference's saving for {covered} of "
+              f"{len(diffs)} strategies." if pct else ".") if diffs else "")
     )  # fmt: skip
     hlc = results["heat_loss_coefficient_W_per_K"]
     hlc_text = ""
@@ -959,11 +1008,12 @@ def _reference_check(rep, results, figures, pct, low, high) -> None:
         f"their ranking unchanged. {hlc_text}Differences in the savings come from the split of "
         "the losses between the components: the data identify the total heat loss, not its "
         "split, which comes from the audit U-values and areas; a measure on a component the "
-        "model weights more than the reference saves more in the model. The intervals cover "
-        "the estimation uncertainty (and the audit U-value spread when configured), not this "
-        "structural difference between a five-node model and a multi-zone one; where the "
-        "reference lies outside them, that difference dominates."
-    )
+        "model weights more than the reference saves more in the model."
+        + (" The intervals cover the estimation uncertainty (and the audit U-value spread when "
+           "configured), not this structural difference between a five-node model and a "
+           "multi-zone one; where the reference lies outside them, that difference dominates."
+           if pct else "")
+    )  # fmt: skip
     rep.figure(figures["reference_check"], caption="Savings: model vs reference")
     if "monthly_reference_check" in figures:
         rep.figure(
@@ -977,9 +1027,13 @@ def _reference_check(rep, results, figures, pct, low, high) -> None:
         "model_saving_pct_p95": f"model saving {high} [%]", "reference_kWh": "reference [kWh]",
         "reference_saving_pct": "reference saving [%]",
     }  # fmt: skip
+    table = pd.DataFrame(check["strategies"])
+    if pct is None:
+        table = table.drop(columns=[c for c in names if c.endswith(("_p05", "_p95"))])
     rep.table(
-        pd.DataFrame(check["strategies"]).rename(columns=names),
-        caption="Model vs reference at constant set point",
+        table.rename(columns=names),
+        caption="Model vs reference at constant set point"
+        + ("" if pct else f"; {NO_INTERVAL}"),
         number_format={v: "{:,.0f}" if "kWh" in v else "{:.1f}" for v in names.values()},
     )
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from thermocal.montecarlo import interval_end_error
+from thermocal.montecarlo import interval_end_error, interval_ends
 from thermocal.retrofit.economics import measure_areas, strategy_economics
 from thermocal.retrofit.workflow import RetrofitAnalysis
 
@@ -15,10 +15,9 @@ from thermocal.retrofit.workflow import RetrofitAnalysis
 def scenario_table(analysis: RetrofitAnalysis) -> pd.DataFrame:
     """Annual demand and saving of every strategy, with the uncertainty interval and the Monte
     Carlo standard error of its ends (``saving_pct_mcse`` [percentage points], the draws being
-    independent)."""
+    independent); without draws (``uncertainty.draws: 0``) the interval columns are NaN."""
     cfg = analysis.config
-    lo_q = 0.5 * (1.0 - cfg.uncertainty.interval)
-    hi_q = 1.0 - lo_q
+    interval = cfg.uncertainty.interval
     annual = analysis.demand.annual_kwh()  # (S, D+1); draw 0 = estimate
     base = annual[0]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -26,22 +25,41 @@ def scenario_table(analysis: RetrofitAnalysis) -> pd.DataFrame:
     has_draws = annual.shape[1] > 1
     rows = []
     for i, s in enumerate(analysis.strategies):
-        d = annual[i, 1:] if has_draws else annual[i, :1]
-        sv = saving[i, 1:] if has_draws else saving[i, :1]
+        kwh_lo, kwh_hi = interval_ends(annual[i, 1:], interval)
+        sv_lo, sv_hi = interval_ends(saving[i, 1:], interval) if i else (0.0, 0.0)
+        if not has_draws:
+            sv_lo = sv_hi = float("nan")
         rows.append({
             "code": s.code,
             "measures": " + ".join(s.measures) if s.measures else "none",
             "annual_kWh": float(annual[i, 0]),
-            "annual_kWh_p05": float(np.quantile(d, lo_q)),
-            "annual_kWh_p95": float(np.quantile(d, hi_q)),
+            "annual_kWh_p05": kwh_lo,
+            "annual_kWh_p95": kwh_hi,
             "saving_pct": float(saving[i, 0]) if i else 0.0,
-            "saving_pct_p05": float(np.quantile(sv, lo_q)) if i else 0.0,
-            "saving_pct_p95": float(np.quantile(sv, hi_q)) if i else 0.0,
+            "saving_pct_p05": sv_lo,
+            "saving_pct_p95": sv_hi,
             # how well the interval's ends are known from this many draws (Monte Carlo)
-            "saving_pct_mcse": interval_end_error(sv, cfg.uncertainty.interval)
-            if i and has_draws else 0.0,
+            "saving_pct_mcse": (interval_end_error(saving[i, 1:], interval) if i else 0.0)
+            if has_draws else float("nan"),
         })  # fmt: skip
     return pd.DataFrame(rows)
+
+
+def has_intervals(results: dict) -> bool:
+    """Whether the results carry the demand's and the savings' intervals.
+
+    Parameters
+    ----------
+    results : dict
+        The results.json content (:func:`thermocal.retrofit.outputs.results_dict`).
+
+    Returns
+    -------
+    bool
+        False after ``uncertainty.draws: 0`` (no uncertainty analysis: the interval ends are
+        null and the outputs say :data:`thermocal.retrofit.config.NO_INTERVAL`).
+    """
+    return results["annual_heating_demand_kWh"].get("p05") is not None
 
 
 def _areas(analysis: RetrofitAnalysis) -> dict[str, float]:

@@ -18,6 +18,8 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.jsonsafe import json_number
+from thermocal.montecarlo import interval_ends
 from thermocal.physics.ground import ground_temperature, ground_temperature_parameters
 from thermocal.retrofit.airchange import adjust_demand, air_change_summary, estimate_slope
 from thermocal.retrofit.calibration import (
@@ -819,7 +821,8 @@ def compare_with_reference_demands(
     Returns
     -------
     dict with ``setpoint_C`` and ``strategies``: per code the model's annual kWh (estimate,
-    p05, p95), saving [%] (estimate, p05, p95), the reference kWh and saving [%].
+    p05, p95), saving [%] (estimate, p05, p95), the reference kWh and saving [%]; the p05 and
+    p95 (and the monthly ones) are None without draws (``uncertainty.draws: 0``).
     """
     cfg = analysis.config
     envelopes = analysis.envelopes
@@ -833,38 +836,38 @@ def compare_with_reference_demands(
             cfg.uncertainty.seed,
         )  # fmt: skip
     annual = res.annual_kwh()
-    lo_q = 0.5 * (1.0 - cfg.uncertainty.interval)
+    interval = cfg.uncertainty.interval
+    lo_q = 0.5 * (1.0 - interval)
     base_ref = reference_kwh.get("0")
     rows = []
     for i, s in enumerate(analysis.strategies):
-        d = annual[i, 1:] if annual.shape[1] > 1 else annual[i, :1]
-        sv_all = 100.0 * (1.0 - annual[i] / annual[0])
-        sv = sv_all[1:] if annual.shape[1] > 1 else sv_all[:1]
+        sv = 100.0 * (1.0 - annual[i] / annual[0])
         ref = reference_kwh.get(s.code)
+        kwh_lo, kwh_hi = (json_number(v) for v in interval_ends(annual[i, 1:], interval))
+        sv_lo, sv_hi = (json_number(v) for v in interval_ends(sv[1:], interval))
         rows.append({
             "code": s.code,
             "model_kWh": float(annual[i, 0]),
-            "model_kWh_p05": float(np.quantile(d, lo_q)),
-            "model_kWh_p95": float(np.quantile(d, 1 - lo_q)),
-            "model_saving_pct": float(sv_all[0]),
-            "model_saving_pct_p05": float(np.quantile(sv, lo_q)),
-            "model_saving_pct_p95": float(np.quantile(sv, 1 - lo_q)),
+            "model_kWh_p05": kwh_lo,
+            "model_kWh_p95": kwh_hi,
+            "model_saving_pct": float(sv[0]),
+            "model_saving_pct_p05": sv_lo,
+            "model_saving_pct_p95": sv_hi,
             "reference_kWh": None if ref is None else float(ref),
             "reference_saving_pct": None if ref is None or not base_ref
             else float(100.0 * (1.0 - ref / base_ref)),
         })  # fmt: skip
     monthly = res.monthly_kwh()[0]
+    has_draws = monthly.shape[0] > 1
     return {
         "setpoint_C": float(setpoint),
         "strategies": rows,
         "monthly_model_kWh": [float(v) for v in monthly[0]],
         "monthly_model_kWh_p05": [float(v) for v in np.quantile(monthly[1:], lo_q, axis=0)]
-        if monthly.shape[0] > 1
-        else [float(v) for v in monthly[0]],
+        if has_draws else None,
         "monthly_model_kWh_p95": [float(v) for v in np.quantile(monthly[1:], 1 - lo_q, axis=0)]
-        if monthly.shape[0] > 1
-        else [float(v) for v in monthly[0]],
-    }
+        if has_draws else None,
+    }  # fmt: skip
 
 
 def heat_loss_coefficient_draws(analysis: RetrofitAnalysis, h_est: np.ndarray) -> np.ndarray:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -180,7 +181,9 @@ def test_simulate_refuses_irradiance_hours_away_from_the_sun(shared_data, tmp_pa
     )  # fmt: skip
     text = " ".join(text.split())
     assert code == 2, text
-    assert "the time stamps are 6 h early" in text, text
+    # the file's own days are centred about 0.5 h late (test_bad_input_round2.py,
+    # test_the_zurich_2015_weather_is_half_an_hour_late): 6 h early less that
+    assert re.search(r"the time stamps are (5\.[5-9]|6) h early", text), text
 
 
 def test_a_period_outside_a_typical_years_calendar_says_which_year(shared_data):

@@ -276,4 +276,4 @@ def test_an_hour_off_the_sun_is_said_in_a_note(tmp_path):
     assert clock_notes(grid, cfg, site) == []
     late = grid.set_axis(times + pd.Timedelta("1h"))
     (note,) = clock_notes(late, cfg, site)
-    assert "peaks 1 h later than the sun" in note and "measurements.timezone" in note
+    assert "centred 1 h later than the sun" in note and "measurements.timezone" in note

@@ -169,7 +169,7 @@ def clock_notes(raw: pd.DataFrame, cfg: MeasurementsConfig, location) -> list[st
     """Check the measurements' clock against the sun at the building: refuse two hours or
     more, say one hour in a note.
 
-    The measured irradiance's daily profile against the sun's
+    The centre of the measured irradiance's days against the sun's
     (:func:`thermocal.io.measurements.check_clock_against_sun`, at the log's own resolution):
     two hours or more off (a wrong time zone) are refused naming the setting that fixes the
     clock; one hour is what time stamps labelling the interval's end (thermocal reads starts)
@@ -190,6 +190,7 @@ def clock_notes(raw: pd.DataFrame, cfg: MeasurementsConfig, location) -> list[st
         The clock two hours or more off the sun.
     """
     from thermocal.io.measurements import check_clock_against_sun
+    from thermocal.io.measurements.clock import hours_text
 
     columns = [c for c in cfg.irradiance_columns() if c in raw.columns]
     if not columns:
@@ -209,7 +210,8 @@ def clock_notes(raw: pd.DataFrame, cfg: MeasurementsConfig, location) -> list[st
         return []
     direction = "later" if hours > 0 else "earlier"
     return [
-        f"{source}: the measured irradiance peaks {abs(hours):.0f} h {direction} than the sun "
+        f"{source}: the measured irradiance's days are centred {hours_text(hours)} {direction} "
+        "than the sun's "
         "at the building: time stamps labelling the interval's end "
         "(thermocal reads them as its start) or in daylight-saving time? Every solar gain is "
         "moved by that much; check the labels and measurements.timezone"

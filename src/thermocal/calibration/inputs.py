@@ -180,8 +180,11 @@ def choose_quiet_hours(campaign, heat: pd.Series, log=print) -> tuple[OccupancyS
     return schedule, {"source": "paper", **info}
 
 
-def build_problem(campaign, inputs: CampaignInputs, *, start=None, end=None, schedule=None):
-    """The :class:`IdentificationProblem` of the campaign (references built once)."""
+def build_problem(
+    campaign, inputs: CampaignInputs, *, start=None, end=None, schedule=None, step=None
+):
+    """The :class:`IdentificationProblem` of the campaign (references built once); ``step``
+    (a Timedelta) instead of the campaign's for :mod:`thermocal.calibration.stepcheck`."""
     from thermocal.identification.problem import problem_from_measurements
 
     options = identification_options(campaign)
@@ -194,7 +197,7 @@ def build_problem(campaign, inputs: CampaignInputs, *, start=None, end=None, sch
         inputs.mapping,
         start=inputs.start if start is None else start,
         end=inputs.end if end is None else end,
-        step=campaign.step,
+        step=campaign.step if step is None else f"{int(pd.Timedelta(step).total_seconds())}s",
         method=options["method"],
         feedback=options["feedback"],
         tuning_zone=options["tuning_zone"],

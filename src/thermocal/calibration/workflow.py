@@ -147,6 +147,7 @@ def calibrate(
     from thermocal.calibration.runner import run_campaign
     from thermocal.calibration.sampling import sample
     from thermocal.calibration.spatial import campaign_evaluator
+    from thermocal.calibration.stepcheck import check_campaign_step
     from thermocal.calibration.store import CampaignStore, campaign_definition
 
     timings: dict[str, float] = {}
@@ -186,6 +187,13 @@ def calibrate(
         "identification)"
     )
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
+    t0 = time.perf_counter()
+    step_check = check_campaign_step(campaign, inputs, problem, sample_set.values, log)
+    if step_check is not None:
+        timings["step_check"] = time.perf_counter() - t0
+        if step_check["passed"]:  # a failed check is a warning (CampaignStepWarning)
+            log(step_check["note"])
+        notes.append(step_check["note"])
     definition = campaign_definition(
         space,
         method=campaign.sampling.method,

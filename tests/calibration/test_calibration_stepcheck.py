@@ -1,0 +1,143 @@
+"""A campaign coarser than its sensor log: the response of the identified heat to the design's
+samples compared at the two steps (``thermocal.calibration.stepcheck``)."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermocal.calibration.stepcheck import (
+    STEP_TOLERANCE,
+    check_campaign_step,
+    log_interval,
+    response_difference,
+)
+
+START, END = "2001-01-08", "2001-01-12"
+
+
+def test_log_interval_of_long_and_wide_logs():
+    times = pd.date_range("2001-01-01", periods=50, freq="5min", tz="UTC")
+    wide = pd.DataFrame({"S1": np.arange(50.0), "S2": np.arange(50.0)}, index=times)
+    assert log_interval(wide) == pd.Timedelta("5min")
+    long = pd.DataFrame(
+        {
+            "time": list(times) + list(times[::2]),
+            "sensor": ["S1"] * 50 + ["S2"] * 25,
+            "value": np.arange(75.0),
+        }
+    )
+    # two sensors: every 5 and every 10 minutes; a third at 10 makes 10 the median
+    third = long[long["sensor"] == "S2"].assign(sensor="S3")
+    assert log_interval(pd.concat([long, third])) == pd.Timedelta("10min")
+    single = pd.DataFrame({"time": [times[0]], "sensor": ["S1"], "value": [1.0]})
+    assert log_interval(single) is None
+
+
+def test_response_difference_is_relative_to_the_fine_response():
+    rng = np.random.default_rng(0)
+    nominal = rng.normal(1000, 50, 200)
+    response = rng.normal(0, 100, 200)
+    offset = nominal + 7.0  # a level that moves with the step does not count
+    same = response_difference(nominal, nominal + response, offset, offset + response)
+    assert same == pytest.approx(0.0, abs=1e-12)
+    scaled = response_difference(nominal, nominal + response, nominal, nominal + 1.1 * response)
+    assert scaled == pytest.approx(0.1)
+    assert np.isnan(response_difference(nominal, nominal, nominal, nominal + response))
+
+
+@functools.cache
+def _inputs(tmp):
+    """The 12-zone clinic's true building logged every 5 minutes, its nominal file, mapping."""
+    from pathlib import Path
+
+    from thermocal.demos import buildings as generators
+    from thermocal.demos.retrofit import pvlib_weather_path
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone import Simulation
+    from thermocal.multizone.files import save_building
+    from thermocal.multizone.model import Location
+
+    folder = Path(tmp)
+    weather, meta = read_weather(pvlib_weather_path())
+    site = Location(meta["latitude"], meta["longitude"], meta.get("altitude") or 0.0)
+    nominal = generators.clinic(12, n_corridors=1, corridor_sections=2, location=site)
+    truth = nominal.with_parameters({"material/R16 insulation/resistance": 2.818 * 0.6})
+    air = (
+        Simulation(truth, weather, meta, step="5min", start=START, end=END, warmup_days=2,
+                   store_surfaces=False)  # fmt: skip
+        .run(free_float=True)
+        .air_temperature
+    )
+    air.index = air.index + pd.Timedelta("5min")  # the end-of-step state
+    names = {zone: f"S{i:02d}" for i, zone in enumerate(air.columns)}
+    log = air.rename(columns=names)
+    log.index.name = "time"
+    log.to_csv(folder / "sensors.csv", date_format="%Y-%m-%dT%H:%M:%S%z")
+    (folder / "mapping.yaml").write_text(
+        "sensors:\n" + "".join(f"  {s}: {z}\n" for z, s in names.items())
+    )
+    save_building(nominal, folder / "building.yaml")
+    return folder
+
+
+def _check(tmp, step):
+    from thermocal.calibration.config import load_campaign
+    from thermocal.calibration.inputs import build_problem, load_inputs
+    from thermocal.calibration.sampling import sample
+    from thermocal.calibration.workflow import campaign_space
+    from thermocal.demos.retrofit import pvlib_weather_path
+
+    folder = _inputs(tmp)
+    path = folder / f"campaign_{step}.yaml"
+    path.write_text(
+        f"""
+building: building.yaml
+weather: {pvlib_weather_path()}
+sensors: sensors.csv
+mapping: mapping.yaml
+period: {{start: {START}, end: {END}}}
+step: {step}
+identification: {{method: inverse, settle: 1D, warmup_days: 2}}
+parameters:
+  include: ["material/R16 insulation/resistance", "window/Exterior window/u_value"]
+  default_range: 0.5
+sampling: {{method: sobol, samples: 8, seed: 3}}
+"""
+    )
+    campaign = load_campaign(path)
+    inputs = load_inputs(campaign)
+    problem, _ = build_problem(campaign, inputs)
+    design = sample(campaign_space(campaign, inputs.building), 8, "sobol", seed=3).values
+    return check_campaign_step(campaign, inputs, problem, design, lambda line: None)
+
+
+def test_the_campaign_step_is_checked_against_the_logs(tmp_path_factory):
+    """At the log's step nothing is checked; at 15 minutes the response of the unoccupied
+    heat to the design's first samples stays within the tolerance; at an hour (the model's
+    largest step; implicit steps smear the day's heat) it moves further than at 15 minutes."""
+    tmp = str(tmp_path_factory.mktemp("stepcheck"))
+    assert _check(tmp, "5min") is None
+    fine = _check(tmp, "15min")
+    coarse = _check(tmp, "1h")
+    assert fine["log_step"] == "5 min" and len(fine["differences"]) == 2
+    assert fine["passed"] and fine["largest"] <= STEP_TOLERANCE, fine
+    assert "15min" in fine["note"] and "5 min" in fine["note"]
+    assert coarse["largest"] > 2 * fine["largest"], (fine, coarse)
+    if not coarse["passed"]:
+        assert "run the campaign at a finer step" in coarse["note"]
+
+
+def test_a_step_beyond_the_tolerance_is_a_warning(tmp_path_factory, monkeypatch):
+    """With the tolerance below what 15 minutes give, the check fails: a warning naming the
+    campaign file and the remedy, and the report's note."""
+    import thermocal.calibration.stepcheck as stepcheck
+
+    monkeypatch.setattr(stepcheck, "STEP_TOLERANCE", 1e-6)
+    tmp = str(tmp_path_factory.mktemp("stepcheck"))
+    with pytest.warns(stepcheck.CampaignStepWarning, match=r"campaign_15min\.yaml: .*finer step"):
+        result = _check(tmp, "15min")
+    assert not result["passed"] and result["tolerance"] == 1e-6

@@ -159,3 +159,44 @@ def test_bad_option_values_are_named_by_the_option_without_pydantic_text(tmp_pat
         assert boilerplate not in text, text
     if "--heat-capacity" in options:  # what is allowed
         assert "kJ/(m2 K)" in text and "2000" in text, text
+
+
+def test_an_implausibly_thick_element_is_noted_with_its_flux_and_the_causes():
+    """A plate logged in mV without its sensitivity (0.0625 mV per W/m2) reads a 0.495 W/(m2 K)
+    wall as 0.031 (R 32 m2 K/W): every ISO criterion passes, so before it was reported without
+    a word. The mean flux over the mean difference is the finding: noted first with both, the
+    heat-flux column and the causes; a passive-house wall (U 0.1) and a wall measured with its
+    surface temperatures below the limit get no such note."""
+    times, q, ti, te = _steady(0.495, ti=20.0, te=4.4)
+    r = average_method(times, 0.0625 * q, ti, te, heat_flux_column="q_plate")
+    assert r.converged and r.resistance == pytest.approx(1 / (0.0625 * 0.495) - 0.17)
+    note = r.notes[0]
+    assert note.startswith("implausibly high resistance: the element's 32.2 m2 K/W"), note
+    for part in ("above the 12", "mean heat flux 0.483 W/m2", "difference of 15.6 K",
+                 "U = 0.0309 W/(m2 K)", "'q_plate'", "mV", "sensitivity", "contact"):  # fmt: skip
+        assert part in note, (part, note)
+    times, q, ti, te = _steady(0.1)  # a passive-house wall: R 9.8 m2 K/W
+    assert not any("implausibly" in n for n in average_method(times, q, ti, te).notes)
+    times, q, ti, te = _steady(0.05)  # surface temperatures: Lambda 0.05, R 20
+    lam = average_method(times, q, ti, te, temperatures="surface")
+    assert lam.resistance == pytest.approx(20.0)
+    assert lam.notes[0].startswith("implausibly"), lam.notes
+    assert "Lambda (surface to surface) = 0.05" in lam.notes[0]
+    assert "column 'q" not in lam.notes[0]  # no column given: none named
+
+
+def test_the_command_warns_of_an_implausibly_thick_element_and_analyses_take_the_note(tmp_path):
+    """``thermocal insitu`` shows the note as a warning (exit 0: the log itself is valid) and
+    the retrofit and calibration configurations' in_situ entries carry it in their notes."""
+    from thermocal.io.heat_flux_log import InSituConfig, measure_in_situ_value
+
+    times, q, ti, te = _steady(0.495, ti=20.0, te=4.4)
+    path = tmp_path / "mV.csv"
+    pd.DataFrame({"time": times, "q": 0.0625 * q, "Ti": ti, "Te": te}).to_csv(path, index=False)
+    result = CliRunner().invoke(app, ["insitu", str(path)], terminal_width=200)
+    assert result.exit_code == 0, result.output
+    assert "warning: implausibly high resistance" in result.output, result.output
+    assert "heat-flux column 'q'" in result.output
+    spec = InSituConfig(file=path)
+    measured, _ = measure_in_situ_value(spec, "in_situ.walls", default_tz="UTC")
+    assert measured.notes[0].startswith("implausibly high resistance")

@@ -98,8 +98,11 @@ def print_result(result, source: str, running) -> None:
         verdict = "passes" if check["passed"] else "FAILS"
         table.add_row(f"ISO 9869-1 {name}", f"{value} (limit {limit}) {verdict}")
     console.print(table)
-    for note in result.notes:
-        console.print(f"note: {note}")
+    from thermocal.physics.heat_flux import IMPLAUSIBLY_THICK
+
+    for note in result.notes:  # a likely fault of the log stands out from what was assumed
+        warning = note.startswith(IMPLAUSIBLY_THICK)
+        console.print(f"{'[bold yellow]warning:[/bold yellow]' if warning else 'note:'} {note}")
     if len(running) > 1:
         tail = ", ".join(f"{v:.3f}" for v in running.tail(4))
         console.print(f"running average at the last days' ends: {tail} W/(m2 K)")

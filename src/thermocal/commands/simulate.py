@@ -23,6 +23,89 @@ def _add_import_report(path: Path, info) -> None:
     path.write_text(json.dumps(summary, indent=2))
 
 
+def _run_period_weather(run_period, frame, metadata, building: Path, weather: Path):
+    """The weather and the run's ``[start, end)`` (days, ``YYYY-MM-DD``) of an IDF's RunPeriod,
+    with the note on it.
+
+    The period is dated as EnergyPlus dates it
+    (:func:`thermocal.multizone.idf.site.run_period_dates`); one that crosses new year past a
+    typical-year weather file (TMY, or any file put on the RunPeriod's ``Begin Year``) has the
+    file repeated over the next year (:func:`thermocal.io.weather.weather_for_period`), as
+    EnergyPlus reads it cyclically.
+
+    Parameters
+    ----------
+    run_period : thermocal.multizone.idf.site.RunPeriod
+    frame, metadata
+        From :func:`thermocal.io.weather.read_weather` (in the begin year when given).
+    building, weather : Path
+        The files, for messages.
+
+    Returns
+    -------
+    frame, metadata, start, end, note
+
+    Raises
+    ------
+    ThermocalInputError
+        A RunPeriod that is no period (:func:`run_period_dates`), or one the weather does not
+        cover: a truncated file, or an actual-year file of one year and a period that crosses
+        new year.
+    """
+    import warnings
+
+    import pandas as pd
+
+    from thermocal.errors import ThermocalInputError
+    from thermocal.io.weather import weather_for_period
+    from thermocal.multizone.idf.site import run_period_dates
+
+    first = frame.index[0]
+    begin, last, notes = run_period_dates(run_period, first.year)
+    for note in notes:  # a period other than the file's words: said on the console too
+        warnings.warn(note, stacklevel=1)
+    start, end = pd.Timestamp(begin), pd.Timestamp(last) + pd.Timedelta(days=1)
+    span = f"{begin} to {last}"
+    crosses = last.year > begin.year
+    weather_end = frame.index[-1] + (frame.index[1] - frame.index[0])
+    typical = metadata.get("coerced_year") is not None
+    if crosses and typical and end.tz_localize(first.tz) > weather_end:
+        frame, metadata = weather_for_period(frame, metadata, start, end, source=str(weather))
+        weather_end = frame.index[-1] + (frame.index[1] - frame.index[0])
+        notes.append(
+            f"the period crosses new year: the typical-year weather repeats in {last.year}, "
+            f"where the schedules' weekdays and holidays follow {begin.year}'s calendar (by "
+            "month and day)"
+        )
+    if end.tz_localize(first.tz) > weather_end:
+        what = (
+            f"crosses new year (its end month/day before its begin's: {span}), but the "
+            f"weather file {weather} is an actual-year file ending at {weather_end}: use a "
+            "weather file that covers both years or a typical-year file (which repeats), "
+            if crosses and not typical
+            else f"runs to {run_period.end_month}/{run_period.end_day} ({last}), but the "
+            f"weather file {weather} ends at {weather_end} (its last row starts at "
+            f"{frame.index[-1]}): a truncated weather file? Use a complete file, "
+        )
+        # EnergyPlus stops with an error when the weather ends inside the RunPeriod
+        raise ThermocalInputError(
+            f"{building}: the RunPeriod '{run_period.name}' {what}or give --start and --end "
+            "inside the weather"
+        )
+    note = (
+        f"period from the IDF RunPeriod '{run_period.name}' ({run_period.begin_month}/"
+        f"{run_period.begin_day} to {run_period.end_month}/{run_period.end_day}: {span}); "
+        f"weather labelled {first.year}"
+        + (
+            ""
+            if run_period.begin_year
+            else " (the file gives no begin year: the weather's own calendar)"
+        )
+        + "".join(f"; {n}" for n in notes)
+    )
+    return frame, metadata, str(start.date()), str(end.date()), note
+
+
 @app.command()
 def simulate(
     building: Annotated[
@@ -71,7 +154,6 @@ def simulate(
     """
     import warnings
 
-    import pandas as pd
     from rich.console import Console
     from rich.table import Table
 
@@ -104,25 +186,9 @@ def simulate(
         period_note = None
         if run_period is not None and start is None and end is None:
             # the IDF's RunPeriod, in its begin year when it gives one (EnergyPlus' calendar)
-            name, m1, d1, m2, d2, year = run_period
-            frame, metadata = read_weather(weather, coerce_year=year)
-            first = frame.index[0]
-            start = f"{first.year:04d}-{m1:02d}-{d1:02d}"
-            end_day = pd.Timestamp(f"{first.year:04d}-{m2:02d}-{d2:02d}") + pd.Timedelta(days=1)
-            end = str(end_day.date())
-            weather_end = frame.index[-1] + (frame.index[1] - frame.index[0])
-            if pd.Timestamp(end_day).tz_localize(first.tz) > weather_end:
-                # EnergyPlus stops with an error when the weather ends inside the RunPeriod
-                raise ThermocalInputError(
-                    f"{building}: the RunPeriod '{name}' runs to {m2}/{d2}, but the weather file "
-                    f"{weather} ends at {weather_end} (its last row starts at "
-                    f"{frame.index[-1]}): a truncated weather file? Use a complete file, or "
-                    "give --start and --end inside the weather"
-                )
-            period_note = (
-                f"period from the IDF RunPeriod '{name}' ({m1}/{d1} to {m2}/{d2}); weather "
-                f"labelled {first.year}"
-                + ("" if year else " (the file gives no begin year: the weather's own calendar)")
+            frame, metadata = read_weather(weather, coerce_year=run_period.begin_year)
+            frame, metadata, start, end, period_note = _run_period_weather(
+                run_period, frame, metadata, building, weather
             )
         else:
             frame, metadata = read_weather(weather)

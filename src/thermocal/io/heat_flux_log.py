@@ -277,6 +277,7 @@ def reduce_heat_flux_log(
             spot_rel_std=spec.spot_rel_std,
             areal_heat_capacity=None if spec.areal_heat_capacity is None
             else 1e3 * spec.areal_heat_capacity,
+            heat_flux_column=spec.columns.get("heat_flux"),
         )  # fmt: skip
     except InwardHeatFlux as exc:
         if spec.heat_flux_sign == "inward":  # turned already: the plate reports outward flow

@@ -45,9 +45,11 @@ import pandas as pd
 
 __all__ = [
     "CONVERGENCE_LIMIT",
+    "IMPLAUSIBLY_THICK",
     "MIN_DAYS",
     "MIN_MEAN_DIFFERENCE_K",
     "SURFACE_RESISTANCES",
+    "THICK_ELEMENT_RESISTANCE",
     "THIN_ELEMENT_RESISTANCE",
     "InSituUValue",
     "InwardHeatFlux",
@@ -57,9 +59,18 @@ __all__ = [
 #: ISO 9869-1 7.2.1: shortest test [days] and the relative limit of criteria b, c and d [-].
 MIN_DAYS = 3
 CONVERGENCE_LIMIT = 0.05
-#: Smallest plausible heat flux over temperature difference of a building element [W/(m2 K)]
-#: (a resistance of 50 m2 K/W; the best passive-house walls have about 10).
+#: Smallest heat flux over temperature difference [W/(m2 K)] a plate can be said to measure
+#: anything at (a resistance of 50 m2 K/W; the best passive-house walls have about 10): below
+#: it the log is refused as a dead plate; between it and :data:`THICK_ELEMENT_RESISTANCE` a
+#: result is noted.
 MIN_CONDUCTANCE = 0.02
+#: Element resistance [m2 K/W] above which a result is noted (not refused) as beyond almost
+#: any building element's: passive-house walls have about 10 (U 0.1 W/(m2 K)), the best roofs
+#: about 12 (U 0.08); vacuum panels or half a metre of insulation go beyond, a plate in mV
+#: without its sensitivity applied (some 10 to 100 times too low) far beyond.
+THICK_ELEMENT_RESISTANCE = 12.0
+#: How the note on such a resistance starts (``thermocal insitu`` shows it as a warning).
+IMPLAUSIBLY_THICK = "implausibly high resistance"
 #: Element resistance [m2 K/W] below which a result is noted (not refused) as only glazing,
 #: sheet metal or a thin bare slab's: 10 cm of concrete (lambda 2.0) has 0.05, 4 mm of glass
 #: 0.004 (single glazing, about 5.8 W/(m2 K) air to air), a steel sheet almost nothing.
@@ -250,6 +261,7 @@ def average_method(
     temperature_std_K: float = 0.1,
     spot_rel_std: float = 0.05,
     areal_heat_capacity: float | None = None,
+    heat_flux_column: str | None = None,
 ) -> InSituUValue:
     """The average method of ISO 9869-1 (7.2) on a heat-flux meter's log.
 
@@ -280,6 +292,8 @@ def average_method(
         uncertainty; thermal bridges, workmanship, moisture).
     areal_heat_capacity : float [J/(m2 K)], optional
         The element's heat capacity per area, for criterion d; unchecked when None.
+    heat_flux_column : str, optional
+        The log's heat-flux column, named in the note on an implausibly high resistance.
 
     Returns
     -------
@@ -416,6 +430,12 @@ def average_method(
         raise ValueError(f"temperatures must be 'air' or 'surface', not {temperatures!r}")
     rel_std = float(np.sqrt(sum(v * v for v in parts.values())))
     resistance = 1.0 / ratio if temperatures == "surface" else 1.0 / u - sum(films)
+    thick = _thick_element_note(
+        resistance, float(flux / log.covered.sum()), mean_dt, temperatures == "surface",
+        heat_flux_column,
+    )  # fmt: skip
+    if thick:  # first: a likely fault of the log, before what was not checked
+        notes.insert(0, thick)
     if resistance < THIN_ELEMENT_RESISTANCE:
         # noted, not refused: see _refuse_impossible
         notes.append(
@@ -434,6 +454,54 @@ def average_method(
         conductance=conductance,
         notes=notes,
         surface_resistances=films,
+    )
+
+
+def _thick_element_note(
+    resistance: float, mean_flux: float, mean_dt: float, surface: bool, column: str | None = None
+) -> str | None:
+    """A note on a resistance beyond almost any building element's, else None.
+
+    The log's mean heat flux over its mean temperature difference is the measured U (or
+    Lambda): a mean of a few W/m2 or less over the 10 K or more of a winter measurement is the
+    same finding as the resistance above :data:`THICK_ELEMENT_RESISTANCE`, so both are told in
+    one note. Noted, not refused, like a thin element's (the log does not say what the element
+    is: vacuum panels or half a metre of insulation go beyond); a plate reading almost nothing
+    is refused before (:data:`MIN_CONDUCTANCE`).
+
+    Parameters
+    ----------
+    resistance : float
+        The element's surface-to-surface resistance [m2 K/W].
+    mean_flux : float
+        The log's mean heat flux [W/m2].
+    mean_dt : float
+        Its mean inside-outside (surface or air) temperature difference [K].
+    surface : bool
+        Whether the temperatures are the element's surfaces (the ratio is then Lambda, not U).
+    column : str, optional
+        The log's heat-flux column, for the note.
+
+    Returns
+    -------
+    str or None
+        The note, with the flux and difference it comes from and the causes to check.
+    """
+    if not resistance > THICK_ELEMENT_RESISTANCE:
+        return None
+    ratio = mean_flux / mean_dt
+    what = "Lambda (surface to surface)" if surface else "U"
+    named = f"the heat-flux column {column!r}" if column else "the heat-flux column"
+    return (
+        f"{IMPLAUSIBLY_THICK}: the element's {resistance:.3g} m2 K/W is above the "
+        f"{THICK_ELEMENT_RESISTANCE:g} of the best passive-house elements (walls about 10, U "
+        f"0.1 W/(m2 K)); the log's mean heat flux {mean_flux:.3g} W/m2 over a mean difference "
+        f"of {mean_dt:.3g} K gives {what} = {ratio:.3g} W/(m2 K). Unless the element is "
+        "super-insulated (vacuum panels, half a metre of insulation), check the unit of "
+        f"{named} (W/m2: a plate's voltage in mV must be "
+        "divided by its sensitivity, typically 0.01-0.1 mV per W/m2, or it reads 10-100 times "
+        "too low) and the plate's contact with the surface (an air gap or loose tape lets the "
+        "heat pass around it)"
     )
 
 

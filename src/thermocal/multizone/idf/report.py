@@ -133,7 +133,7 @@ class IdfImportInfo:
     zone_wind_factor: dict[str, float] = field(default_factory=dict)
     zone_nominal_ach: dict[str, float] = field(default_factory=dict)
     zone_volume: dict[str, float] = field(default_factory=dict)
-    run_period: tuple | None = None  # (name, begin month, day, end month, day, begin year|None)
+    run_period: tuple | None = None  # site.RunPeriod: name, begin/end month, day, year, where
     #: ``Timestep``: steps per hour of the file (EnergyPlus' default 6 when absent)
     timesteps_per_hour: int | None = None
     shading_surfaces: list = field(default_factory=list)  # shading.ShadingSurface

@@ -9,6 +9,10 @@ of the weather file's holidays and daylight saving period and the weekend holida
 
 from __future__ import annotations
 
+import calendar
+import datetime as _dt
+from typing import NamedTuple
+
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone.idf.fields import SCHEMA
 from thermocal.multizone.idf.geometry import GeometryRules
@@ -20,6 +24,106 @@ ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE = 18.0
 #: EnergyPlus default ground reflectance [-] when Site:GroundReflectance is absent (not the
 #: weather file's albedo, which EnergyPlus does not use).
 ENERGYPLUS_DEFAULT_GROUND_REFLECTANCE = 0.2
+
+
+class RunPeriod(NamedTuple):
+    """The first ``RunPeriod`` of an IDF as written (a blank year is None)."""
+
+    name: str
+    begin_month: int
+    begin_day: int
+    end_month: int
+    end_day: int
+    begin_year: int | None
+    end_year: int | None
+    #: the object and its file line, for messages
+    where: str = "RunPeriod"
+
+
+def _run_period_date(
+    period: RunPeriod, which: str, year: int, month: int, day: int
+) -> _dt.date | None:
+    """``month/day`` of ``year`` for the RunPeriod's ``which`` ("Begin" or "End") date, None
+    for 2/29 of a common year (the caller says what follows); a date no year has (13/1, 4/31,
+    2/30) is refused naming the fields."""
+    if not 1 <= month <= 12 or not 1 <= day <= calendar.monthrange(2000, month)[1]:
+        raise ThermocalInputError(
+            f"{period.where}: fields '{which} Month' = {month} and '{which} Day of Month' = "
+            f"{day} are not a date: give a month 1-12 and a day of that month"
+        )
+    return _dt.date(year, month, day) if calendar.isleap(year) or (month, day) != (2, 29) else None
+
+
+def run_period_dates(period: RunPeriod, weather_year: int) -> tuple[_dt.date, _dt.date, list[str]]:
+    """The first and last day of a RunPeriod's run, as EnergyPlus (9.0 and later) dates it.
+
+    A blank ``Begin Year`` is the weather's (the run follows the weather file's calendar). A
+    blank ``End Year`` is the begin year, or the next one when the end's month and day come
+    before the begin's: the period crosses new year (12/1 to 1/31 runs into January of the
+    next year). An end on 29 February in a common year with a blank ``End Year`` ends on 28
+    February (noted: EnergyPlus would run on to the next leap year's); with the year given it
+    is refused, as EnergyPlus refuses it.
+
+    Parameters
+    ----------
+    period : RunPeriod
+        As read from the IDF.
+    weather_year : int
+        The (first) year of the weather file's calendar [a.d.].
+
+    Returns
+    -------
+    begin, last : datetime.date
+        The first and the last day of the run (both whole days).
+    notes : list of str
+        What was assumed.
+
+    Raises
+    ------
+    ThermocalInputError
+        Month and day that are no date, 29 February of a common begin year or given end year,
+        and a given end year that puts the end before the begin: named by the RunPeriod, its
+        line and the fields.
+    """
+    notes: list[str] = []
+    begin_year = weather_year if period.begin_year is None else period.begin_year
+    begin = _run_period_date(period, "Begin", begin_year, period.begin_month, period.begin_day)
+    if begin is None:
+        given = period.begin_year is not None
+        raise ThermocalInputError(
+            f"{period.where}: the begin date 2/29 does not exist in {begin_year} ("
+            + ("field 'Begin Year'" if given else "the weather file's year, as 'Begin Year' is "
+               "blank")
+            + "), a common year: begin on 2/28 or 3/1"
+            + (", or give a leap year" if given else ", or use a weather file of a leap year")
+        )  # fmt: skip
+    end_month, end_day = period.end_month, period.end_day
+    if period.end_year is not None:
+        end = _run_period_date(period, "End", period.end_year, end_month, end_day)
+        if end is None:  # EnergyPlus: severe error, "end year is not a leap year"
+            raise ThermocalInputError(
+                f"{period.where}: field 'End Year' = {period.end_year} is a common year, but the "
+                "end date is 2/29: end on 2/28, or give a leap 'End Year'"
+            )
+        if end < begin:
+            raise ThermocalInputError(
+                f"{period.where}: the run would end on {end} (fields 'End Month', 'End Day of "
+                f"Month', 'End Year') before it begins on {begin}: check 'End Year' (or leave "
+                "it blank: an end before the begin in the year then runs into the next year)"
+            )
+        return begin, end, notes
+    crosses = (end_month, end_day) < (period.begin_month, period.begin_day)
+    end_year = begin_year + 1 if crosses else begin_year
+    end = _run_period_date(period, "End", end_year, end_month, end_day)
+    if end is None:
+        end = _dt.date(end_year, 2, 28)
+        notes.append(
+            f"{period.where}: the end date 2/29 does not exist in {end_year} ('End Year' "
+            "blank), a common year: the run ends on 2/28, the end of February (EnergyPlus "
+            "would run on to 2/29 of the next leap year; give 'End Year' or end on 2/28 to say "
+            "which)"
+        )
+    return begin, end, notes
 
 
 class SiteStages:
@@ -106,17 +210,21 @@ class SiteStages:
                 f = [*f[:3], "", *f[3:]]
             try:
                 begin_year = int(float(f[3])) if f[3] else None
-                self.info.run_period = (
+                # End Year: 9.x and later (before, the end is in the begin year or the next)
+                end_year = int(float(f[6])) if f[6] and self.version >= (9, 0) else None
+                self.info.run_period = RunPeriod(
                     f[0],
                     int(float(f[1])),
                     int(float(f[2])),
                     int(float(f[4])),
                     int(float(f[5])),
                     begin_year,
+                    end_year,
+                    rp.where(),
                 )
             except ValueError:
                 raise ThermocalInputError(
-                    f"{rp.where()}: the begin/end month and day fields must be numbers."
+                    f"{rp.where()}: the begin/end month, day and year fields must be numbers."
                 ) from None
         if self.year is None:
             self.year = 2006

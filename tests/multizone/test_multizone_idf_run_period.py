@@ -1,0 +1,146 @@
+"""An IDF's RunPeriod dated as EnergyPlus dates it: its End Year, a period that crosses new year
+and an end on 29 February of a common year (``thermocal simulate`` without --start/--end)."""
+
+from __future__ import annotations
+
+import datetime as dt
+import json
+import re
+
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from thermocal.cli import app
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.idf.site import RunPeriod, run_period_dates
+
+WHERE = "RunPeriod 'R' (box.idf line 9)"
+
+
+def _period(begin, end, begin_year=None, end_year=None) -> RunPeriod:
+    return RunPeriod("R", *begin, *end, begin_year, end_year, WHERE)
+
+
+@pytest.mark.parametrize(
+    ("period", "weather_year", "dates"),
+    [
+        # the fuzzed file: 12/1/2009 to 1/31/2010 with both years (was "ends before it starts")
+        (_period((12, 1), (1, 31), 2009, 2010), 2009, ("2009-12-01", "2010-01-31")),
+        # blank years: an end before the begin in the year is in the next year (EnergyPlus)
+        (_period((12, 1), (1, 31)), 2023, ("2023-12-01", "2024-01-31")),
+        (_period((12, 1), (1, 31), 2009), 2009, ("2009-12-01", "2010-01-31")),
+        (_period((1, 1), (12, 31), 2009, 2009), 2009, ("2009-01-01", "2009-12-31")),
+        (_period((2, 1), (2, 29)), 2016, ("2016-02-01", "2016-02-29")),  # a leap weather year
+        (_period((3, 1), (2, 29)), 2015, ("2015-03-01", "2016-02-29")),  # ends in a leap year
+    ],
+)
+def test_run_period_dates_as_energyplus(period, weather_year, dates):
+    begin, last, notes = run_period_dates(period, weather_year)
+    assert (str(begin), str(last)) == dates
+    assert notes == []
+
+
+def test_an_end_on_february_29_of_a_common_year_ends_with_february_noted():
+    """Blank years on a common weather year: before, an internal error (DateParseError:
+    2023-02-29); now the end of February, 2/28 inclusive, with a note naming the RunPeriod."""
+    begin, last, notes = run_period_dates(_period((2, 1), (2, 29)), 2023)
+    assert (begin, last) == (dt.date(2023, 2, 1), dt.date(2023, 2, 28))
+    assert len(notes) == 1 and notes[0].startswith(WHERE), notes
+    assert "2/29 does not exist in 2023" in notes[0] and "ends on 2/28" in notes[0]
+
+
+@pytest.mark.parametrize(
+    ("period", "message"),
+    [
+        (_period((2, 1), (2, 29), 2023, 2023), r"field 'End Year' = 2023 is a common year.*2/29"),
+        (_period((2, 29), (3, 31)), r"begin date 2/29 does not exist in 2023 .*'Begin Year' is bl"),
+        (_period((2, 29), (3, 31), 2023), r"2/29 does not exist in 2023 .field 'Begin Year'"),
+        (_period((3, 1), (2, 1), 2009, 2009), r"end on 2009-02-01 .* before it begins on 2009-03"),
+        (_period((13, 1), (12, 31)), r"'Begin Month' = 13 and 'Begin Day of Month' = 1 are not a"),
+        (_period((1, 1), (4, 31)), r"'End Month' = 4 and 'End Day of Month' = 31 are not a date"),
+    ],
+)
+def test_run_periods_that_are_no_period_are_refused_by_their_fields(period, message):
+    with pytest.raises(ThermocalInputError, match=message) as info:
+        run_period_dates(period, 2023)
+    assert str(info.value).startswith(WHERE)
+
+
+def _case_600(shared_data, tmp_path, fields: str, name: str = "rp.idf"):
+    """Case 600 of ASHRAE 140 (EnergyPlus 25.2) with its RunPeriod's Begin Month to Day of
+    Week for Start Day replaced by ``fields`` (comma-separated)."""
+    text = shared_data("energyplus_reference", "case_600_v25.idf").read_text()
+    head, rest = text.split("RunPeriod,\n", 1)
+    lines = rest.split("\n")
+    new = [f"  {value},  !- field" for value in fields.split(",")]
+    path = tmp_path / name
+    path.write_text(head + "RunPeriod,\n" + "\n".join([lines[0], *new, *lines[8:]]))
+    return path
+
+
+def _simulate(building, weather, out):
+    return CliRunner().invoke(
+        app, ["simulate", str(building), str(weather), "--step", "1h", "--out", str(out)]
+    )
+
+
+def test_the_run_period_reads_its_end_year(shared_data, tmp_path):
+    from thermocal.multizone.files import load_building
+    from thermocal.multizone.idf import IdfImportWarning
+
+    with pytest.warns(IdfImportWarning):  # Case 600's ideal loads: not this test's matter
+        building = load_building(_case_600(shared_data, tmp_path, "12,1,2009,1,31,2010,"))
+    period = building.idf_info.run_period
+    assert (period.begin_year, period.end_year) == (2009, 2010)
+    assert re.fullmatch(r"RunPeriod 'Run Period 1' \(rp.idf line \d+\)", period.where)
+
+
+def test_simulate_runs_a_period_across_new_year_on_a_typical_year(shared_data, tmp_path):
+    """12/1/2009 to 1/31/2010 with the years given (and with them blank) on Denver's TMY3:
+    before, refused as "period [2009-12-01, 2009-02-01) is empty"; now December and January,
+    the typical year repeated in January."""
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    for fields, first, last in [
+        ("12,1,2009,1,31,2010,", "2009-12-01 00:00", "2010-01-31 23:00"),
+        ("12,1,,1,31,,", "2023-12-01 00:00", "2024-01-31 23:00"),  # the TMY's year: 2023
+    ]:
+        out = tmp_path / f"out{first[:4]}"
+        result = _simulate(_case_600(shared_data, tmp_path, fields), weather, out)
+        assert result.exit_code == 0, (fields, result.output, result.exception)
+        times = pd.read_csv(out / "zone_temperatures.csv")["time"]
+        assert (times.iloc[0][:16], times.iloc[-1][:16], len(times)) == (first, last, 62 * 24)
+        notes = json.loads((out / "summary.json").read_text())["approximations"]
+        assert any("crosses new year: the typical-year weather repeats" in n for n in notes)
+
+
+def test_simulate_says_when_an_actual_year_weather_cannot_cover_a_new_year_period(
+    shared_data, tmp_path
+):
+    weather = shared_data("weather_switzerland", "Zuerich-SMA_2015.epw")
+    result = _simulate(_case_600(shared_data, tmp_path, "12,1,,1,31,,"), weather, tmp_path / "o")
+    assert isinstance(result.exception, ThermocalInputError), result.output
+    text = str(result.exception)
+    assert "RunPeriod 'Run Period 1' crosses new year" in text and "2016-01-31" in text, text
+    assert "actual-year file" in text and "Zuerich-SMA_2015.epw" in text
+    assert "ends before it starts" not in text and "truncated" not in text
+
+
+def test_simulate_ends_a_february_29_run_period_of_a_common_year_on_february_28(
+    shared_data, tmp_path
+):
+    """The fuzzed file (2/1 to 2/29, blank years) on a common typical year: before, an internal
+    error; now February to the 28th, noted in summary.json; with a common End Year given,
+    refused naming the field (EnergyPlus refuses it too)."""
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    out = tmp_path / "feb"
+    result = _simulate(_case_600(shared_data, tmp_path, "2,1,,2,29,,"), weather, out)
+    assert result.exit_code == 0, (result.output, result.exception)
+    times = pd.read_csv(out / "zone_temperatures.csv")["time"]
+    assert times.iloc[-1].startswith("2023-02-28 23:00") and len(times) == 28 * 24
+    notes = json.loads((out / "summary.json").read_text())["approximations"]
+    assert any("2/29 does not exist in 2023" in n and "ends on 2/28" in n for n in notes), notes
+    given = _case_600(shared_data, tmp_path, "2,1,,2,29,2023,", name="given.idf")
+    result = _simulate(given, weather, tmp_path / "given")
+    assert isinstance(result.exception, ThermocalInputError), result.output
+    assert "field 'End Year' = 2023 is a common year" in str(result.exception)

@@ -56,8 +56,123 @@ def test_a_step_that_does_not_divide_an_hour_is_refused():
 
     index = pd.date_range("2021-01-01", periods=48, freq="h", tz="UTC")
     raw = pd.DataFrame({"temp_out": 5.0, "temp_in": 20.0, "heat": 1000.0}, index=index)
-    with pytest.raises(ThermocalInputError, match="'7min' neither divides an hour"):
+    with pytest.raises(ThermocalInputError, match="'7min': does not divide an hour"):
         prepare_measurements(raw, "7min", heat_source="meter")
+
+
+def _config(step: str):
+    from thermocal.retrofit.config import parse_config
+
+    return parse_config(
+        {"building": "b.yaml", "measurements": {"file": "m.csv", "step": step},
+         "weather": {"file": "w.epw"}},
+        source="cfg.yaml",
+    )  # fmt: skip
+
+
+def test_a_step_above_an_hour_is_refused_by_the_configuration():
+    """2h: before, the configuration passed and the analysis crashed with an internal error
+    ('no data for hours [1, 3, ...] of the day', the hour-of-day indoor profile)."""
+    from thermocal.retrofit.data import prepare_measurements
+
+    with pytest.raises(ThermocalInputError) as info:
+        _config("2h")
+    message = str(info.value)
+    assert "measurements.step = '2h': coarser than an hour" in message
+    assert "hourly at most" in message and "use 1h or a divisor of it" in message
+    with pytest.raises(ThermocalInputError, match="'7min': does not divide an hour"):
+        _config("7min")
+    with pytest.raises(ThermocalInputError, match="'fivemin': not a duration"):
+        _config("fivemin")
+    assert _config("1h").measurements.step == "1h"
+    assert _config("15min").measurements.step == "15min"
+    # the same rule where the step is applied (a caller without the configuration)
+    index = pd.date_range("2021-01-01", periods=48, freq="h", tz="UTC")
+    raw = pd.DataFrame({"temp_out": 5.0, "temp_in": 20.0, "heat": 1000.0}, index=index)
+    with pytest.raises(ThermocalInputError, match="'2h': coarser than an hour"):
+        prepare_measurements(raw, "2h", heat_source="meter")
+
+
+def _log(freq: str, periods: int = 96, jitter_s: float = 0.0) -> pd.DataFrame:
+    index = pd.date_range("2021-01-01", periods=periods, freq=freq, tz="UTC")
+    if jitter_s:
+        index = index + pd.to_timedelta(
+            np.random.default_rng(0).uniform(-jitter_s, jitter_s, periods), unit="s"
+        )
+    raw = pd.DataFrame({"temp_out": 5.0, "temp_in": 20.0, "heat": 1000.0}, index=index)
+    raw.attrs["measurements"] = {"source": "log.csv"}
+    return raw
+
+
+def test_a_step_finer_than_the_log_is_refused():
+    """15 min on an hourly log: before, accepted, each value held over four steps, and the
+    savings moved (verify demo: predicted 61.1 % -> 71.8 %, the verdict flipped; retrofit
+    strategy 2a 60.5 % -> 66.2 %)."""
+    from thermocal.retrofit.data import prepare_measurements
+
+    with pytest.raises(ThermocalInputError) as info:
+        prepare_measurements(_log("h"), "15min", heat_source="meter")
+    message = str(info.value)
+    assert "measurements.step '15min' is finer than the interval of the log log.csv (1h" in message
+    assert "set measurements.step to the log's interval or coarser (1h)" in message
+    with pytest.raises(ThermocalInputError, match=r"log.csv \(15min.*or coarser \(15min, 20min"):
+        prepare_measurements(_log("15min"), "5min", heat_source="meter")
+    # a log coarser than an hour: no step is allowed, the remedy is another log
+    with pytest.raises(ThermocalInputError, match="give a log with an interval of 1 h or less"):
+        prepare_measurements(_log("2h"), "1h", heat_source="meter")
+    # at the log's interval or coarser: accepted, also with time stamps jittering by seconds
+    assert len(prepare_measurements(_log("h"), "1h", heat_source="meter")[0]) == 96
+    assert len(prepare_measurements(_log("10min"), "1h", heat_source="meter")[0]) == 16
+    jittered = _log("10min", jitter_s=20.0)
+    assert len(prepare_measurements(jittered, "10min", heat_source="meter")[0]) >= 95
+
+
+def test_a_prediction_interval_must_surround_its_saving_in_percent():
+    """Before, each was accepted and silently gave nonsense or was ignored: [0.75, 0.85] with
+    80 % (fractions), a reversed interval, an interval without saving_pct (ignored: the
+    method's own prediction was used), a saving outside its own interval."""
+    from pydantic import ValidationError
+
+    from thermocal.retrofit.verify import PredictionConfig
+
+    def refused(match, **kw):
+        with pytest.raises(ValidationError, match=match):
+            PredictionConfig(measures=["roof", "walls"], **kw)
+
+    refused(r"\[0.75, 0.85\] is in fractions.*write \[75, 85\] if you meant percent",
+            saving_pct=80, saving_pct_interval=(0.75, 0.85))  # fmt: skip
+    refused(r"\[69, 51\] is reversed.*write \[51, 69\]",
+            saving_pct=61, saving_pct_interval=(69, 51))  # fmt: skip
+    refused(r"\[20, 30\] without saving_pct.*give verify.prediction.saving_pct",
+            saving_pct_interval=(20, 30))  # fmt: skip
+    refused(r"\[35, 45\] does not contain saving_pct 30",
+            saving_pct=30, saving_pct_interval=(35, 45))  # fmt: skip
+    refused(r"\[40, 40\] has no width", saving_pct=40, saving_pct_interval=(40, 40))
+    refused(r"between -100 and 100", saving_pct=50, saving_pct_interval=(20, 150))
+    ok = PredictionConfig(measures=["roof"], saving_pct=80, saving_pct_interval=(75, 85))
+    assert ok.saving_pct_interval == (75.0, 85.0)
+    assert PredictionConfig(measures=["roof"], saving_pct=30, saving_pct_interval=(25, 35))
+    assert PredictionConfig(measures=["roof"], saving_pct=0.0, saving_pct_interval=(-0.5, 0.5))
+    # a saving written as a fraction is named once, by its own check
+    with pytest.raises(ValidationError) as info:
+        PredictionConfig(measures=["roof"], saving_pct=0.8, saving_pct_interval=(0.75, 0.85))
+    assert info.value.error_count() == 1 and "write 80 if you meant 80 %" in str(info.value)
+
+
+def test_a_prediction_interval_is_refused_with_its_key(tmp_path):
+    """Through the configuration reader: the key verify.prediction.saving_pct_interval."""
+    from thermocal.retrofit.verify import parse_verify_config
+
+    data = {
+        "building": "b.yaml", "measurements": {"file": "m.csv"}, "weather": {"file": "w"},
+        "verify": {"retrofit_date": "2001-02-19",
+                   "prediction": {"saving_pct_interval": [20, 30], "measures": ["roof"]}},
+    }  # fmt: skip
+    with pytest.raises(ThermocalInputError) as info:
+        parse_verify_config(data, base_dir=tmp_path, source="cfg.yaml")
+    message = str(info.value)
+    assert "cfg.yaml" in message
+    assert "verify.prediction.saving_pct_interval: [20, 30] without saving_pct" in message
 
 
 def test_a_training_start_outside_the_measurements_is_named():

@@ -66,3 +66,21 @@ def test_every_engine_remedy_is_a_retrofit_configuration_key(flag):
     assert not left, (left, text)
     if "fix" in text and "fix the meter" not in text:
         assert "model.fixed" in text, text
+
+
+def test_a_finer_step_is_offered_down_to_the_log_interval_only():
+    """Non-white residuals: before, 'use a finer step (measurements.step)' on a grid already
+    at the log's interval, where a finer step is refused (it only holds each logged value)."""
+    import pandas as pd
+
+    flag = next(f for f in _engine_flags() if "finer model of the heating" in f)
+    hour, ten = pd.Timedelta("1h"), pd.Timedelta("10min")
+    at_log = retrofit_remedy(flag, step=hour, log_interval=hour)
+    assert "finer step" not in at_log and at_log.endswith("or check the heating data"), at_log
+    coarser = retrofit_remedy(flag, step=hour, log_interval=ten)
+    assert coarser.endswith(
+        "or use a finer step (measurements.step, now 1h), down to the log's interval of 10min"
+    ), coarser
+    assert retrofit_remedy(flag).endswith(
+        "use a finer step (measurements.step), down to the log's interval"
+    )

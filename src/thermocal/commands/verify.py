@@ -65,6 +65,9 @@ def print_summary(results: dict, out: Path) -> None:
         )
     style = {"delivered": "green", "inconclusive": "yellow"}.get(comp["verdict"], "bold red")
     console.print(f"[{style}]{comp['verdict'].upper()}[/{style}]: {comp['explanation']}")
+    late = av.get("baseline_days_after_retrofit", {}).get("warning")
+    if late:  # the verdict stands, but its reporting period may hold days of the old house
+        console.print(f"[bold yellow]WARNING[/bold yellow]: {late}")
     console.print(f"results in [bold]{out}[/bold] (verify.json, report.html, CSV, figures/)")
 
 

@@ -182,6 +182,7 @@ def calibrate(
     u_value_rel_std: float = 0.2,
     fixed_noise: dict[str, float] | None = None,
     heat_rel_std: float = 0.0,
+    log_interval: pd.Timedelta | None = None,
 ) -> Calibration:
     """Maximum-likelihood calibration of the fifth-order model.
 
@@ -205,12 +206,20 @@ def calibrate(
         Diffusions held at a value, ``sigma_<state>`` [K/sqrt(h)].
     heat_rel_std : float [-]
         Relative uncertainty of the measured heat as a whole (group corrections only).
+    log_interval : pd.Timedelta, optional
+        The measurement log's interval [duration]: the flags offer a finer step down to it
+        only (:func:`finer_step_remedy`).
 
     Returns
     -------
     Calibration
     """
     from thermocal.statespace import RCModel
+
+    grid_step = data.index[1] - data.index[0] if len(data) > 1 else None
+
+    def remedy(flag: str) -> str:
+        return retrofit_remedy(flag, step=grid_step, log_interval=log_interval)
 
     first_day = data.iloc[: max(1, min(24, len(data)))]
     u_mean = first_day[list(BOUNDARY_COLUMNS + HEAT_COLUMNS)].mean().to_numpy(float)
@@ -344,8 +353,8 @@ def calibrate(
         hlc = calculated_hlc(model.conductances(envelope)) + estimates["H_est"]
         z = draw_corrected(corrected, 1000, seed=seed + 1)[1:]
         hd = hlc_of_draws(model, corrected.group_factors(z), corrected.physical_si(z)["H_est"])
-        flags = [retrofit_remedy(f) for f in flags if not f.startswith("H_est is at its bound")]
-        nuisance_flags = [retrofit_remedy(f) for f in nuisance_flags]
+        flags = [remedy(f) for f in flags if not f.startswith("H_est is at its bound")]
+        nuisance_flags = [remedy(f) for f in nuisance_flags]
         return Calibration(
             estimates_si=estimates, cov_si=cov_si, params=params, bse=bse, correlation=corr,
             loglike=float(res.loglike), aic=float(res_ml.aic), bic=float(res_ml.bic),
@@ -370,8 +379,8 @@ def calibrate(
             "calculated conductances allow (check the U-values and areas of the building file); "
             "no standard error of the HLC"
         )
-    flags = [retrofit_remedy(f) for f in flags]
-    nuisance_flags = [retrofit_remedy(f) for f in nuisance_flags]
+    flags = [remedy(f) for f in flags]
+    nuisance_flags = [remedy(f) for f in nuisance_flags]
     return Calibration(
         estimates_si=estimates,
         cov_si=cov_si,
@@ -394,6 +403,10 @@ def calibrate(
         residuals=residuals,
     )
 
+
+#: The remedy of non-white residuals a finer grid may follow, down to the log's interval
+#: (:func:`finer_step_remedy` says how far, or drops it on a grid at the log's interval).
+FINER_STEP = ", or use a finer step (measurements.step)"
 
 #: The grey-box engine's remedies name its own options (model files, command-line flags);
 #: the retrofit user has the retrofit configuration: each is replaced by the key that does it.
@@ -435,8 +448,8 @@ ENGINE_REMEDIES: tuple[tuple[str, str], ...] = (
      "at a small value (model.fixed_noise in the retrofit configuration, K/sqrt(h)), give a "
      "missing input (internal_gains:) or compare with model.correction: none"),
     ("add a state or an input, or a finer model of the heating",
-     "give the inputs the model lacks (internal_gains: in the retrofit configuration), check "
-     "the heating data or use a finer step (measurements.step)"),
+     "give the inputs the model lacks (internal_gains: in the retrofit configuration) or "
+     "check the heating data" + FINER_STEP),
     ("remove the values (NaN) or cut the period",
      "remove the values (empty cells) or cut the period (periods.training_start, "
      "periods.training_days)"),
@@ -444,12 +457,61 @@ ENGINE_REMEDIES: tuple[tuple[str, str], ...] = (
 )  # fmt: skip
 
 
-def retrofit_remedy(flag: str) -> str:
-    """The flag with the engine's remedy replaced by the retrofit configuration key."""
+def finer_step_remedy(
+    flag: str, step: pd.Timedelta | None, log_interval: pd.Timedelta | None
+) -> str:
+    """The flag with its finer-step remedy bounded by the log's interval.
+
+    A step finer than the log's interval only holds each logged value over several steps
+    (refused: :func:`thermocal.retrofit.data.check_step_against_log`), so the remedy goes
+    down to the log's interval, and is dropped on a grid already at it.
+
+    Parameters
+    ----------
+    flag : str
+        A flag after :data:`ENGINE_REMEDIES` (with :data:`FINER_STEP` or without).
+    step : pd.Timedelta or None
+        The calibration grid's step [duration]; None: unknown, the remedy names no interval.
+    log_interval : pd.Timedelta or None
+        The measurement log's interval [duration]; None: unknown.
+
+    Returns
+    -------
+    str
+    """
+    from thermocal.retrofit.data import LOG_INTERVAL_SLACK, duration_text
+
+    if FINER_STEP not in flag:
+        return flag
+    if step is None or log_interval is None:
+        return flag.replace(FINER_STEP, FINER_STEP + ", down to the log's interval")
+    if step <= log_interval * (1.0 + LOG_INTERVAL_SLACK):
+        return flag.replace(FINER_STEP, "")
+    return flag.replace(
+        FINER_STEP,
+        f", or use a finer step (measurements.step, now {duration_text(step)}), down to the "
+        f"log's interval of {duration_text(log_interval)}",
+    )
+
+
+def retrofit_remedy(
+    flag: str, *, step: pd.Timedelta | None = None, log_interval: pd.Timedelta | None = None
+) -> str:
+    """The flag with the engine's remedy replaced by the retrofit configuration key.
+
+    Parameters
+    ----------
+    flag : str
+        A flag of the grey-box engine.
+    step, log_interval : pd.Timedelta, optional
+        The calibration grid's step and the measurement log's interval [duration]: a finer
+        step is offered down to the log's interval only (:func:`finer_step_remedy`).
+    """
     import re
 
     for engine, retrofit in ENGINE_REMEDIES:
         flag = flag.replace(engine, retrofit)
+    flag = finer_step_remedy(flag, step, log_interval)
     # a heat input read in the wrong unit: the unit comes from the measurement keys
     return re.sub(
         r"set 'unit: [^']+' for '[^']+' in heat_inputs \(or convert the column\)",

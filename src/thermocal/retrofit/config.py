@@ -89,6 +89,53 @@ OCCUPANT_SENSIBLE_RANGE_W = (30.0, 200.0)
 #: A constant indoor temperature of the demand simulation must lie in this range [C].
 INDOOR_PROFILE_RANGE = (5.0, 35.0)
 
+#: Steps the analysis grid may take (``measurements.step``): divisors of an hour, which line
+#: up with the log's clock, the hourly weather and the hour-of-day profiles.
+GRID_STEPS = ("5min", "10min", "15min", "20min", "30min", "1h")
+
+
+def step_problem(step: str) -> str | None:
+    """Why ``measurements.step`` cannot be the grid of the fifth-order analysis, or None.
+
+    The method is hourly at most: the air and heating nodes answer within the hour, and the
+    thermostat's profile (:func:`thermocal.retrofit.calibration.heating_setpoint`), the
+    comfort take-back and the internal gains are hour-of-day profiles that need every hour of
+    the day on the grid. A step must therefore divide an hour.
+
+    Parameters
+    ----------
+    step : str
+        The grid step as written, e.g. ``"15min"`` or ``"1h"`` [duration].
+
+    Returns
+    -------
+    str or None
+        The reason with the steps to use instead (no key, no value: the caller names them).
+    """
+    import pandas as pd
+
+    hour = pd.Timedelta(hours=1)
+    try:
+        step_td = pd.Timedelta(step)
+    except ValueError as exc:
+        return f"not a duration ({exc}); write e.g. {', '.join(GRID_STEPS)}"
+    if step_td <= pd.Timedelta(0):
+        return f"a step must be a positive duration, e.g. {', '.join(GRID_STEPS)}"
+    if step_td > hour:
+        return (
+            "coarser than an hour: the fifth-order RC method is hourly at most (its air and "
+            "heating nodes answer within the hour; the thermostat's set-backs, the comfort "
+            "take-back and the internal gains are hour-of-day profiles that need every hour of "
+            f"the day); use 1h or a divisor of it ({', '.join(GRID_STEPS)})"
+        )
+    if hour % step_td:
+        return (
+            "does not divide an hour: the grid would not line up with the log's clock (and "
+            f"the hourly weather); use {', '.join(GRID_STEPS)}"
+        )
+    return None
+
+
 #: Shortest training period of the fifth-order model [d]: its slowest time constants (envelope,
 #: internal mass) are days long, and a weekly cycle of use should be inside.
 MIN_TRAINING_DAYS = 7.0
@@ -212,6 +259,15 @@ class MeasurementsConfig(_Strict):
                     f"temperature_unit: {other} are not temperature columns; use "
                     f"{list(TEMPERATURE_NAMES)} as keys"
                 )
+        return value
+
+    @field_validator("step")
+    @classmethod
+    def _grid_step(cls, value: str) -> str:
+        """A step that divides an hour (the method is hourly at most)."""
+        why = step_problem(value)
+        if why is not None:
+            raise ValueError(why)
         return value
 
     def temperature_unit_of(self, name: str) -> str:

@@ -42,6 +42,7 @@ from thermocal.retrofit.data import (
     check_irradiance_limits,
     check_temperature_units,
     clock_notes,
+    log_interval,
     prepare_measurements,
     read_raw_measurements,
     removed_values_notes,
@@ -427,6 +428,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             fixed_noise=cfg.model.fixed_diffusions(),
             heat_rel_std=cfg.uncertainty.heat_rel_std,
             u_value_rel_std=cfg.uncertainty.u_value_rel_std,
+            log_interval=log_interval(raw),
         )
     if cal.correction is not None:
         say(cal.correction.summary())

@@ -161,6 +161,20 @@ def _bad_case(tmp_path: Path, case: str) -> tuple[Path, Path, list[str]]:
     elif case == "all-NaN output":
         df.assign(Ti=np.nan).to_csv(data)
         expected = [str(data), "'Ti'", "all NaN"]
+    elif case == "no heating":  # a free-floating period: the heat loss coefficient is not
+        df.assign(phi_h=0.0).to_csv(data)  # identifiable (only the time constants are)
+        expected = [str(data), "no heat input of known power", "'phi_h' is zero in every row",
+                    "'ghi' enters through the free scale 'Aw'", "fixed: true"]  # fmt: skip
+    elif case == "one observation":
+        df.assign(Ti=[df["Ti"].iloc[0]] + [np.nan] * (len(df) - 1)).to_csv(data)
+        expected = [str(data), "'Ti'", "1 observed value(s) for the 11 free parameters"]
+    elif case == "rows missing from the time axis":
+        pd.concat([df.iloc[:10], df.iloc[30:]]).to_csv(data)
+        expected = [str(data), "the time axis jumps", "(rows 9 and 10): 20 sample(s)",
+                    "--gaps split"]  # fmt: skip
+    elif case == "indoor in Fahrenheit":
+        df.assign(Ti=df["Ti"] * 9 / 5 + 32).to_csv(data)
+        expected = [str(data), "indoor (output) temperature column 'Ti'", "Fahrenheit"]
     model = tmp_path / "model.yaml"
     model.write_text(model_text)
     return model, data, expected
@@ -170,7 +184,8 @@ def _bad_case(tmp_path: Path, case: str) -> tuple[Path, Path, list[str]]:
     "case",
     ["empty file", "corrupt parquet", "unknown column", "state without capacity",
      "parameter outside bounds", "duplicated time stamp", "non-increasing time stamps",
-     "all-NaN output"],
+     "all-NaN output", "no heating", "one observation", "rows missing from the time axis",
+     "indoor in Fahrenheit"],
 )  # fmt: skip
 def test_fit_command_bad_input_gives_one_clear_message(tmp_path, case):
     from thermocal.errors import ThermocalInputError

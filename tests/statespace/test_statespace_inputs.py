@@ -323,3 +323,114 @@ def test_likelihood_not_finite_names_the_row_and_column():
     df.iloc[12, df.columns.get_loc("yTi")] = np.inf
     with pytest.raises(ThermocalInputError, match="output column 'yTi' is infinite in row 12"):
         RCModel.from_dict(SPEC).fit(df)
+
+
+def test_fahrenheit_temperatures_are_refused_naming_column_median_and_celsius():
+    """An indoor temperature in F (20 C read as 68) is no heated room's temperature in C:
+    refused like kelvin, naming the column, its median and the value in C; the same data in
+    C pass. A boundary as hot (a heating circuit's supply water at 55-77 C) may be real: only
+    kelvin is refused there."""
+    from thermocal.statespace.data import prepare_data
+
+    model, df = RCModel.from_dict(SPEC), data()
+    prepare_data(model, df)
+    indoor = df.assign(yTi=df["yTi"] * 9 / 5 + 32)
+    median = indoor["yTi"].median()
+    with pytest.raises(
+        ThermocalInputError,
+        match=rf"indoor \(output\) temperature column 'yTi' has median {median:.1f}, which "
+        rf"looks like Fahrenheit \({(median - 32) * 5 / 9:.1f} C\).*\(F - 32\) x 5/9",
+    ):
+        prepare_data(model, indoor)
+    hot_boundary = df.assign(Ta=(df["Ta"] + 20) * 9 / 5 + 32)
+    prepare_data(model, hot_boundary)
+    with pytest.raises(ThermocalInputError, match=r"boundary temperature column 'Ta'.*kelvin"):
+        prepare_data(model, df.assign(Ta=df["Ta"] + 273.15))
+
+
+def test_data_without_a_heat_input_of_known_power_are_refused_before_fitting():
+    """Heating zero in every row (a free-floating period): every capacity and conductance
+    divided by one factor gives the same likelihood, so the heat loss coefficient is not
+    identifiable; the fit is refused naming the column. A fixed capacity anchors the scale."""
+    from thermocal.statespace.checks import scale_ridge
+    from thermocal.statespace.data import prepare_data
+
+    model = RCModel.from_dict(SPEC)
+    df = data(80).assign(Ph=0.0)
+    k = 3.0
+    scaled = {"Ci": 2.0 / k, "Ce": 20.0 / k, "Hie": 300.0 / k, "Rea": 5.0 * k}
+    assert model.loglike(df, scaled) == pytest.approx(model.loglike(df), rel=1e-9)
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"no heat input of known power.*'Ph' is zero in every row.*time constants",
+    ):
+        model.fit(df, n_starts=1)
+    assert scale_ridge(model, prepare_data(model, data(80)).U) is None  # heated: identifiable
+    fixed = RCModel.from_dict(spec(parameters__Ce={"value": 20.0, "unit": "MJ/K", "fixed": True}))
+    assert scale_ridge(fixed, prepare_data(fixed, df).U) is None
+
+
+def test_fewer_observations_than_free_parameters_are_refused_before_fitting():
+    model = RCModel.from_dict(SPEC)
+    df = data(40)
+    df.loc[df.index[1:], "yTi"] = np.nan
+    n = model.n_free
+    with pytest.raises(
+        ThermocalInputError,
+        match=rf"'yTi'.* 1 observed value\(s\) for the {n} free parameters.*at least {n + 1}",
+    ):
+        model.fit(df, n_starts=1)
+
+
+def test_heat_loss_coefficient_outside_buildings_names_the_heat_unit():
+    """'Ph' in W declared as kW: estimates that fit the data have a heat loss coefficient of
+    1.2e5 W/K, flagged with the unit that brings it to 120 W/K. The declared values' energy
+    balance cannot tell when the declared values are such estimates (they hold the indoor
+    temperature where it is measured)."""
+    from thermocal.statespace.results import heat_loss_unit_flags, heat_unit_flags
+
+    model, df = RCModel.from_dict(SPEC), data(80)
+    huge = model.evaluate(df.assign(Ph=df["Ph"] * 1000.0), {"Hie": 3.0e5, "Rea": 0.005})
+    assert huge.heat_loss_coefficient(profile=False)["value"] == pytest.approx(1.2e5)
+    assert not heat_unit_flags(huge.model, huge.data)
+    flags = [f for f in huge.flags if "outside the range of buildings" in f]
+    assert len(flags) == 1
+    assert "heat input 'Ph' is declared in kW: read as W it would be about 120 W/K" in flags[0]
+    assert "set 'unit: W'" in flags[0]
+    plain = model.evaluate(df)
+    assert not heat_loss_unit_flags(model, plain.params.to_dict(), plain.data)
+
+
+def _solar_spec():
+    """SPEC with an irradiance input (W/m2 through an aperture Aw)."""
+    s = spec()
+    s["heat_inputs"].append({"column": "Ps", "into": "Ti", "unit": "W/m2", "scale": "Aw"})
+    s["parameters"]["Aw"] = {"value": 5.0, "unit": "m2"}
+    return s
+
+
+def test_times_in_the_wrong_unit_are_flagged_by_the_daily_cycle_of_the_sun():
+    """Six days of 5-minute data, times in hours: the irradiance repeats every 24 h. Read in
+    minutes (a span of 144 min) it shows no daily cycle, read in hours it does: the flag names
+    the unit; read in hours, no flag."""
+    from thermocal.statespace.results import daily_cycle
+
+    rng = np.random.default_rng(1)
+    n = 6 * 288
+    hours = np.arange(n) / 12.0
+    sun = np.clip(np.sin(2 * np.pi * (hours % 24 - 6) / 24), 0, None)
+    df = pd.DataFrame({
+        "t": hours, "Ta": 3 + 2 * np.sin(2 * np.pi * hours / 24) + rng.normal(0, 0.2, n),
+        "Ph": rng.uniform(0, 3, n), "Ps": 600 * sun * rng.uniform(0.3, 1.0, n),
+        "yTi": 20 + rng.normal(0, 0.3, n),
+    })  # fmt: skip
+    model = RCModel.from_dict(_solar_spec())
+    in_minutes = model.evaluate(df, time_column="t", time_unit="min")
+    flags = [f for f in in_minutes.flags if "daily cycle" in f]
+    assert len(flags) == 1
+    assert "irradiance 'Ps'" in flags[0] and "--time-unit h" in flags[0]
+    assert "60 times too small" in flags[0]
+    in_hours = model.evaluate(df, time_column="t", time_unit="h")
+    assert not [f for f in in_hours.flags if "daily cycle" in f]
+    assert daily_cycle(df["Ps"].to_numpy(), 300.0)
+    assert not daily_cycle(np.cumsum(rng.normal(size=n)), 300.0)  # a random walk: no cycle

@@ -90,3 +90,32 @@ def test_split_fit_recovers_parameters_and_period_states():
     assert pred["y"].iloc[2:200].notna().all() and pred["y"].iloc[202:].notna().all()
     smooth = res.smooth()
     assert np.isfinite(smooth["Ti"]).all()
+
+
+def test_rows_missing_from_the_time_axis_are_a_gap_like_empty_cells():
+    """The 20-hour gap with its rows deleted instead of left empty: refused naming the rows
+    with input_gaps "error" or "interpolate", as the empty cells are, instead of holding the
+    inputs across it; two rows missing are bridged and noted (refused with max_gap 1);
+    "split" splits there. Jitter of the sampling is no jump."""
+    from thermocal.statespace.data import time_axis_jumps
+
+    _, _, data = two_periods(gap=20)
+    deleted = data.dropna()
+    for mode in ("error", "interpolate"):
+        with pytest.raises(
+            ThermocalInputError,
+            match=r"time axis jumps from .* \(rows 199 and 200\): 20 sample\(s\).*--max-gap",
+        ):
+            prepare_data(model(), deleted, input_gaps=mode, max_gap=3)
+    with pytest.raises(ThermocalInputError, match="missing for 20 consecutive samples"):
+        prepare_data(model(), data, input_gaps="interpolate", max_gap=3)
+    assert prepare_data(model(), deleted, input_gaps="split").segments.tolist() == [200]
+    short = deleted.drop(deleted.index[50:52])
+    prep = prepare_data(model(), short.iloc[:150], max_gap=3)
+    assert prep.notes == ["time axis: 1 jump(s) of at most 2 missing sample(s) bridged (the "
+                          "inputs held over them)"]  # fmt: skip
+    with pytest.raises(ThermocalInputError, match=r"rows 49 and 50\): 2 sample\(s\)"):
+        prepare_data(model(), short.iloc[:150], input_gaps="interpolate", max_gap=1)
+    jitter = np.arange(100) * 300.0 + np.random.default_rng(0).uniform(-50, 50, 100)
+    assert time_axis_jumps(jitter)[0].size == 0
+    assert time_axis_jumps(np.array([0.0, 1, 2, 5, 6]))[1].tolist() == [2]

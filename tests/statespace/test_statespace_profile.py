@@ -261,3 +261,56 @@ def test_heat_loss_profiles_in_parallel_equal_the_serial_ones(fitted):
         assert parallel[n].converged == serial[n].converged
         assert parallel[n].flags == serial[n].flags
     assert not parallel["early"].converged
+
+
+class _StubProfile:
+    """A profile (value = the profiled scale) whose log-likelihood is ``ll(t)`` [-], with the
+    estimate at 0 (log-likelihood 0) and a step ``step``."""
+
+    def __init__(self, ll, step: float = 1.0) -> None:
+        self.ll, self.center, self.step = ll, 0.0, step
+        self.cache = {0.0: (0.0, None)}
+
+    def value(self, t: float) -> float:
+        return t
+
+    def __call__(self, t: float) -> float:
+        self.cache[t] = (self.ll(t), None)
+        return self.cache[t][0]
+
+
+def test_an_end_that_cannot_be_located_is_reported_not_found_not_a_crash():
+    """Brent's method fails in two ways on a flat or ragged profile (the fuzzed crashes: heating
+    all zero, a single observation): the bracket's inner point below the threshold when
+    computed again (ValueError), and a crossing it cannot narrow down in 40 iterations
+    (RuntimeError). Both give an end that was not found, with the reason and a flag; the
+    other end is kept; the console line and the period comparison take it."""
+    from types import SimpleNamespace
+
+    from thermocal.commands.fit import heat_loss_text
+    from thermocal.statespace.checks import _overlap
+    from thermocal.statespace.profile import profile_side, profile_summary
+    from thermocal.statespace.results import with_profile_interval
+
+    drop = 0.5 * 3.841458820694124
+    ragged = _StubProfile(lambda t: -10.0)  # every refit far below the optimum
+    end, is_open, why = profile_side(ragged, 1.0, -drop, drop)
+    assert np.isnan(end) and not is_open and "not when computed again" in why
+    cliff = _StubProfile(lambda t: 0.0 if t < 1.0 else -10.0, step=1e12)
+    end, is_open, why = profile_side(cliff, 1.0, -drop, drop)
+    assert np.isnan(end) and "no crossing of the threshold" in why and "40 iterations" in why
+    smooth = _StubProfile(lambda t: -0.5 * t * t)
+    assert profile_side(smooth, -1.0, -drop, drop)[0] == pytest.approx(-np.sqrt(2 * drop))
+    res = SimpleNamespace(flags=[], loglike=0.0, note_better_optimum=lambda *args: None)
+    cliff.cache.update(smooth.cache)
+    ends = [profile_side(smooth, -1.0, -drop, drop), (end, is_open, why)]
+    out = profile_summary(res, "heat_loss_coefficient", cliff, ends, -drop, 0.05)
+    assert out["upper"] is None and out["not_found_upper"] == why
+    assert out["lower"] == pytest.approx(-np.sqrt(2 * drop)) and out["not_found_lower"] is None
+    assert len(res.flags) == 1 and "its upper end was not found" in res.flags[0]
+    hlc = {"value": 0.0, "std_error": 1.0, "wald_lower": -1.96, "wald_upper": 1.96,
+           "alpha": 0.05, "boundaries": ["Ta"]}  # fmt: skip
+    shown = with_profile_interval(hlc, out)
+    assert shown["interval"] == "profile" and not shown["disagree"]
+    assert "profile-likelihood interval [-1.96, not found]" in heat_loss_text(shown)
+    assert _overlap(shown, {"interval": "wald", "wald_lower": 100.0, "wald_upper": 200.0})

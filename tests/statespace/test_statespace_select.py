@@ -333,3 +333,35 @@ def test_selection_in_one_shared_pool_equals_pools_per_fit(monkeypatch):
         a, b = shared.fits[name], per_fit.fits[name]
         assert np.array_equal(a.theta, b.theta) and a.loglike == b.loglike
         assert a.start_loglikes == b.start_loglikes and a.flags == b.flags
+
+
+@pytest.mark.parametrize(("factor", "declared", "meant"), [(1000.0, "kW", "W"), (1.0, "W", "kW")])
+def test_heating_in_the_unit_a_factor_1000_away_is_refused_naming_the_unit(
+    tmp_path, factor, declared, meant
+):
+    """FlexHouse-like data (2.85 kW over 16.5 K): the heating written in W but read as kW
+    gives 173 kW/K (a family scale of 1000), in kW read as W 0.17 W/K (1/1000); both lie
+    outside the range of buildings and read in the other unit inside: refused with the unit to
+    use and how to go on for a building that size indeed (``thermocal select`` exits 2)."""
+    from thermocal.errors import ThermocalInputError
+    from thermocal.statespace.families import family_scale
+
+    n = 48
+    df = pd.DataFrame({"Ta": np.full(n, 1.5), "yTi": np.full(n, 18.0),
+                       "Ph": np.full(n, 2.85 * factor)})  # fmt: skip
+    with pytest.raises(
+        ThermocalInputError, match=rf"Ph in {meant}\? use --heat-unit {meant}.*--bounds family"
+    ):
+        family_scale(df, declared, source="house.csv")
+    assert family_scale(df, meant)[0] == 1.0
+    df.index = pd.date_range("2024-01-01", periods=n, freq="h", tz="UTC")
+    df.index.name = "time"
+    path = tmp_path / "house.csv"
+    df.rename(columns={"Ph": "heat"}).to_csv(path)
+    args = ["select", str(path), "--out", str(tmp_path / "sel"), "--map", "Ph=heat",
+            "--heat-unit", declared]  # fmt: skip
+    result = CliRunner().invoke(app, args)
+    assert isinstance(result.exception, ThermocalInputError), result.output
+    assert f"use --heat-unit {meant}" in str(result.exception)
+    assert "'Ph' (data column 'heat'" in str(result.exception)
+    assert not (tmp_path / "sel").exists()

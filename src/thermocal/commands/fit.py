@@ -160,6 +160,15 @@ def fitted_model_yaml(results) -> str:
     return yaml.safe_dump(model.to_dict(), sort_keys=False)
 
 
+def interval_end(value: float | None, is_open: bool, digits: int = 4, open_text: str = "open"
+                 ) -> str:  # fmt: skip
+    """One end of a profile-likelihood interval for the console: the value, marked when the
+    interval is open there (the bound), or 'not found' (None)."""
+    if value is None:
+        return "not found"
+    return f"{value:.{digits}g}{f' ({open_text})' if is_open else ''}"
+
+
 def heat_loss_text(hlc: dict | None) -> str:
     """One line on the heat loss coefficient: the profile interval first when computed."""
     if hlc is None:
@@ -168,8 +177,8 @@ def heat_loss_text(hlc: dict | None) -> str:
     wald = f"Wald {hlc['wald_lower']:.4g} to {hlc['wald_upper']:.4g}"
     text = f"heat loss coefficient {hlc['value']:.4g} W/K"
     if hlc.get("interval") == "profile":
-        lo = f"{hlc['lower']:.4g}{' (open)' if hlc['open_lower'] else ''}"
-        hi = f"{hlc['upper']:.4g}{' (open)' if hlc['open_upper'] else ''}"
+        lo = interval_end(hlc["lower"], hlc["open_lower"])
+        hi = interval_end(hlc["upper"], hlc["open_upper"])
         text += f", {pct} profile-likelihood interval [{lo}, {hi}] ({wald}"
         text += "; they disagree: use the profile interval)" if hlc["disagree"] else ")"
     else:
@@ -778,6 +787,8 @@ def fit(
         if hlc and model.heat_loss_state() is not None:
             console.print("heat loss coefficient and its profile likelihood...")
             content["heat_loss_coefficient"] = results.heat_loss_coefficient()
+        # the profiles may add flags (an end not found, a better optimum)
+        content["flags"], content["converged"] = list(results.flags), results.converged
         content["data_notes"] = notes + content.get("data_notes", [])
         content["provenance"] = {
             "thermocal_version": __version__,
@@ -847,9 +858,9 @@ def fit(
     console.print(table)
     for name, iv in content.get("profile_intervals", {}).items():
         console.print(
-            f"profile 95 % interval {name}: {iv['estimate']:.6g} in [{iv['lower']:.6g}"
-            f"{' (bound)' if iv['open_lower'] else ''}, {iv['upper']:.6g}"
-            f"{' (bound)' if iv['open_upper'] else ''}]"
+            f"profile 95 % interval {name}: {iv['estimate']:.6g} in "
+            f"[{interval_end(iv['lower'], iv['open_lower'], 6, 'bound')}, "
+            f"{interval_end(iv['upper'], iv['open_upper'], 6, 'bound')}]"
         )
     if "heat_loss_coefficient" in content:
         console.print(heat_loss_text(content["heat_loss_coefficient"]))

@@ -26,8 +26,11 @@ def _hlc_cell(hlc) -> str:
     if not hlc:
         return ""
     if hlc.get("interval") == "profile":
-        lo = f"{hlc['lower']:.4g}{'(open)' if hlc['open_lower'] else ''}"
-        hi = f"{hlc['upper']:.4g}{'(open)' if hlc['open_upper'] else ''}"
+        lo, hi = (
+            "not found" if end is None else f"{end:.4g}{'(open)' if is_open else ''}"
+            for end, is_open in ((hlc["lower"], hlc["open_lower"]),
+                                 (hlc["upper"], hlc["open_upper"]))
+        )  # fmt: skip
         return f"{hlc['value']:.4g} [{lo}, {hi}]"
     return f"{hlc['value']:.4g} +- {hlc['std_error']:.2g} (Wald)"
 
@@ -246,7 +249,10 @@ def select(
         raise ThermocalInputError(f"--bounds {bounds!r}: use auto or family")
     scale = 1.0
     if bounds == "auto":
-        scale, h_balance = family_scale(data, heat_unit, source=str(data_file))
+        try:
+            scale, h_balance = family_scale(data, heat_unit, source=str(data_file))
+        except ThermocalInputError as exc:
+            raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
         if scale != 1.0:
             notes.append(
                 f"family scaled to the data (--bounds auto): energy-balance heat loss "

@@ -6,6 +6,9 @@ heat loss coefficient that depends on the test regime.
   inputs are then one step late, which biases the dynamics and the heat loss coefficient
   (a twin-house TiTe moved from 60 to 96 W/K). The model is refitted with both conventions on
   the same rows and the likelihoods compared.
+- :func:`identifiability_check`: data that cannot determine the free parameters at all (fewer
+  observations than free parameters; no heat input of known power, where only the time
+  constants are identifiable), refused before fitting.
 - :func:`heat_loss_regime_check`: the heat loss coefficient of a model with one boundary
   temperature (outdoor air) is the ratio of heat to indoor-outdoor difference only in the
   regime the data cover. Fitted on a heating sequence alone (little change of the mean
@@ -25,6 +28,103 @@ from thermocal.errors import ThermocalInputError
 #: Log-likelihood difference [-] between the two time-stamp conventions above which one is
 #: recommended: a likelihood ratio of e^3 (about 20) between fits with the same parameters.
 TIME_STAMP_EVIDENCE = 3.0
+
+
+def scale_ridge(model, U: np.ndarray) -> dict | None:
+    """The one-factor ridge of a model without a heat input of known power.
+
+    With every capacity, conductance and the scale of every heat input that is not zero divided
+    by one factor ``k`` and every resistance multiplied by it, ``dT/dt`` is unchanged: the
+    likelihood is flat along that line unless a heat input of known gain (a unit, no free
+    scale) is non-zero, or one of those quantities is fixed (a constant or a fixed parameter).
+    Only the time constants and ratios are then identifiable, not the heat loss coefficient
+    [W/K] nor the capacities.
+
+    Parameters
+    ----------
+    model : RCModel
+    U : ndarray (N, n_inputs)
+        Inputs in ``model.input_names`` order.
+
+    Returns
+    -------
+    dict or None
+        None when no such ridge exists; else ``zero`` (heat columns of known gain that are zero
+        in every row) and ``scaled`` (column -> free scale parameter of the non-zero ones).
+    """
+    st = model.structure()
+    names = list(model.parameters)
+    free = set(model.free_parameter_names)
+    cap_idx, link_idx, link_res = st.arrays[0], st.arrays[4], st.arrays[5]
+    heat_input, heat_scale = st.arrays[7], st.arrays[9]
+
+    def free_name(i: int) -> str | None:
+        return names[i] if 0 <= i < len(names) and names[i] in free else None
+
+    down = {free_name(int(i)) for i in cap_idx}
+    down |= {free_name(int(i)) for i, r in zip(link_idx, link_res, strict=True) if not r}
+    up = {free_name(int(i)) for i, r in zip(link_idx, link_res, strict=True) if r}
+    active = np.any(np.nan_to_num(U) != 0, axis=0)
+    zero, scaled = [], {}
+    for j, k in zip(heat_input, heat_scale, strict=True):
+        col = model.input_names[int(j)]
+        if not active[int(j)]:
+            zero += [] if k >= 0 and free_name(int(k)) else [col]
+            continue
+        scaled[col] = free_name(int(k)) if k >= 0 else None
+        down.add(scaled[col])
+    if None in down or None in up or down & up:
+        return None  # a fixed quantity (or one parameter scaled both ways) anchors the scale
+    return {"zero": list(dict.fromkeys(zero)), "scaled": scaled}
+
+
+def identifiability_check(model, prep, source: str = "data") -> None:
+    """Refuse data that cannot determine the free parameters, before fitting.
+
+    - fewer observed output values than free parameters (plus one): the likelihood has no
+      unique maximum;
+    - no heat input of known power (:func:`scale_ridge`): heating zero in every row (a
+      free-floating period) with the other heat inputs entering through free scales (solar
+      apertures), or no heat input at all. The temperatures then follow only the time
+      constants ``C R`` and the ratios of the gains; the heat loss coefficient [W/K] and the
+      capacities are not identifiable (the profile likelihood of the heat loss coefficient is
+      flat).
+
+    Parameters
+    ----------
+    model : RCModel
+        With its periods (:meth:`RCModel.with_periods`) when the likelihood is split.
+    prep : PreparedData
+    source : str
+        Name of the data, for the message.
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the output or heat columns, the numbers and the remedy.
+    """
+    if prep.nobs <= model.n_free:
+        raise ThermocalInputError(
+            f"{source}: output(s) {', '.join(map(repr, model.output_names))} have "
+            f"{prep.nobs} observed value(s) for the {model.n_free} free parameters of model "
+            f"'{model.name}': at least {model.n_free + 1} are needed (many more for useful "
+            "estimates); check the output column(s) and the period, or fix parameters "
+            "(fixed: true)"
+        )
+    ridge = scale_ridge(model, prep.U)
+    if ridge is None:
+        return
+    why = [f"heat input '{c}' is zero in every row (no heating: a free-floating period)"
+           for c in ridge["zero"]] or ["the model has no heat input of known power"]  # fmt: skip
+    why += [f"'{c}' enters through the free scale '{p}'" for c, p in ridge["scaled"].items()]
+    raise ThermocalInputError(
+        f"{source}: no heat input of known power for model '{model.name}': {'; '.join(why)}. "
+        "Dividing every capacity and scale and multiplying every resistance by one factor "
+        "then gives the same temperatures: the data determine the time constants (C x R) but "
+        "not the heat loss coefficient [W/K] nor the capacities. Remedy: fit data with "
+        "heating, or fix one capacity, resistance or scale at a known value (fixed: true) to "
+        "estimate the time constants"
+    )
 
 
 def _refit(res, data, fit_kw):
@@ -125,8 +225,10 @@ def _overlap(a: dict, b: dict) -> bool:
 
 
 def _ends(h: dict) -> tuple[float, float]:
+    """The interval's ends [W/K]; an end of the profile not found (None) is unbounded."""
     if h.get("interval") == "profile":
-        return h["lower"], h["upper"]
+        lower, upper = h["lower"], h["upper"]
+        return (-math.inf if lower is None else lower), (math.inf if upper is None else upper)
     return h["wald_lower"], h["wald_upper"]
 
 

@@ -12,6 +12,10 @@ from thermocal.statespace.units import time_unit_seconds
 
 #: A temperature column whose median exceeds this [C] is taken for Kelvin by mistake.
 KELVIN_SUSPICION_C = 150.0
+#: An indoor (output) temperature whose median exceeds this [C] is taken for Fahrenheit by
+#: mistake: no heated room has a median above 45 C, while rooms at 60-80 F (16-27 C) read as
+#: such. Not applied to boundaries: a heating circuit's supply water may be that hot.
+FAHRENHEIT_SUSPICION_C = 45.0
 
 
 @dataclass
@@ -171,9 +175,15 @@ def prepare_data(
     - ``"split"``: short gaps interpolated as above; the rows of a longer gap are left out and
       the likelihood is split there into contiguous periods, each with its own initial states
       (:meth:`RCModel.with_periods`, done by ``fit``); gaps at the start or end are trimmed; a
-      jump of the time axis longer than ``max_gap + 1`` median intervals (rows missing
-      altogether) splits as well. Everything is listed in ``PreparedData.notes``. Missing
-      outputs never split: the filter skips them exactly.
+      jump of the time axis missing more than ``max_gap`` samples (rows missing altogether,
+      :func:`time_axis_jumps`) splits as well. Everything is listed in ``PreparedData.notes``.
+      Missing outputs never split: the filter skips them exactly.
+
+    A jump of the time axis is a gap of the samples it misses: with ``"error"`` and
+    ``"interpolate"`` one missing more than ``max_gap`` samples is an error naming the rows
+    (the filter would hold the inputs across it), shorter ones are bridged and noted.
+    Temperatures whose median looks like kelvin or Fahrenheit (:func:`temperature_unit_slip`)
+    are errors naming the column.
 
     Column names: the model's ``columns`` mapping (``{model name: data name}``, the model
     file's ``columns:`` section) renames the data's columns first.
@@ -248,12 +258,39 @@ def prepare_data(
                 )
         temperature_columns += model.output_names
     for col in temperature_columns:
-        values = pd.to_numeric(data[col], errors="coerce")
-        if values.median() > KELVIN_SUSPICION_C:
+        median = float(pd.to_numeric(data[col], errors="coerce").median())
+        slip = temperature_unit_slip(median)
+        boundary = col in model.boundary_names
+        if boundary and slip == "Fahrenheit":
+            # a boundary may be hot for real (a heating circuit's supply water): only kelvin
+            slip = None
+        if slip is not None:
+            limit = KELVIN_SUSPICION_C if slip == "kelvin" else FAHRENHEIT_SUSPICION_C
             raise ThermocalInputError(
-                f"{source}: temperature column '{col}' has median "
-                f"{values.median():.1f}, which looks "
-                "like kelvin; temperatures must be in degrees C (subtract 273.15)"
+                f"{source}: {'boundary' if boundary else 'indoor (output)'} temperature column "
+                f"'{col}' has median {median:.1f}, which looks like {slip} "
+                f"({celsius(median, slip):.1f} C): no "
+                f"{'outdoor air or adjacent space' if boundary else 'heated room'} has a median "
+                f"above {limit:g} C; temperatures must be in degrees C: {_CONVERSIONS[slip]}"
+            )
+    jump_rows, jump_missing = time_axis_jumps(seconds)
+    if jump_rows.size:
+        long = np.flatnonzero(jump_missing > max_gap)
+        if long.size and input_gaps != "split":  # "split" splits there (_split_periods)
+            k, missing = int(jump_rows[long[0]]), int(jump_missing[long[0]])
+            raise ThermocalInputError(
+                f"{source}: the time axis jumps from {index[k - 1]} to {index[k]} (rows {k - 1} "
+                f"and {k}): {missing} sample(s) of the median interval "
+                f"({float(np.median(np.diff(seconds))):g} s) are missing there, more than the "
+                f"{max_gap} bridged (max_gap, --max-gap); split the likelihood there "
+                "(input_gaps='split', --gaps split: each period gets its own initial states), "
+                "cut the data, or raise max_gap"
+            )
+        bridged = jump_missing[jump_missing <= max_gap]
+        if bridged.size:
+            notes.append(
+                f"time axis: {bridged.size} jump(s) of at most {int(bridged.max())} missing "
+                "sample(s) bridged (the inputs held over them)"
             )
     # intervals rounded to the microsecond: times given as decimal hours (0.0833333...) would
     # otherwise differ in the last bits and defeat the uniform-sampling fast path
@@ -273,6 +310,61 @@ def prepare_data(
         index=index, seconds=seconds, dts=dts, U=U, Y=Y, time_unit=time_unit, notes=notes,
         segments=segments,
     )  # fmt: skip
+
+
+#: Conversion to degrees C of a temperature slip (:func:`temperature_unit_slip`).
+_CONVERSIONS = {"kelvin": "subtract 273.15", "Fahrenheit": "convert with (F - 32) x 5/9"}
+
+
+def temperature_unit_slip(median: float) -> str | None:
+    """The unit a temperature column was probably written in instead of degrees C.
+
+    Parameters
+    ----------
+    median : float [C as read]
+        Median of an indoor (output) or boundary temperature column.
+
+    Returns
+    -------
+    str or None
+        ``"kelvin"`` above :data:`KELVIN_SUSPICION_C`, ``"Fahrenheit"`` above
+        :data:`FAHRENHEIT_SUSPICION_C`, None for a plausible temperature in C (or NaN).
+    """
+    if median > KELVIN_SUSPICION_C:
+        return "kelvin"
+    if median > FAHRENHEIT_SUSPICION_C:
+        return "Fahrenheit"
+    return None
+
+
+def celsius(value: float, unit: str) -> float:
+    """``value`` [``unit``: ``"kelvin"`` or ``"Fahrenheit"``] in degrees C."""
+    return value - 273.15 if unit == "kelvin" else (value - 32.0) * 5.0 / 9.0
+
+
+def time_axis_jumps(seconds: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Jumps of the time axis: rows missing altogether.
+
+    A step longer than the median interval by more than half an interval misses
+    ``round(step / median) - 1`` samples (rounded half up), a gap of that length as if the rows
+    were there with empty cells.
+
+    Parameters
+    ----------
+    seconds : ndarray [s]
+        Strictly increasing sample times.
+
+    Returns
+    -------
+    (rows, missing)
+        The first row after each jump and the number of samples missing before it.
+    """
+    step = np.diff(np.asarray(seconds, dtype=float))
+    if step.size == 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    missing = np.floor(step / np.median(step) + 0.5).astype(np.int64) - 1
+    at = np.flatnonzero(missing >= 1)
+    return at + 1, missing[at]
 
 
 def _apply_column_mapping(model, data: pd.DataFrame, source: str) -> pd.DataFrame:
@@ -308,14 +400,15 @@ def _split_periods(index, seconds, U, Y, drop, max_gap, source, notes):
     """Leave out the rows of long input gaps and split the rest into contiguous periods.
 
     Returns the kept ``index, seconds, U, Y`` and the first sample of each later period.
-    A jump of the time axis longer than ``max_gap + 1`` median intervals splits too.
+    A jump of the time axis missing more than ``max_gap`` samples (:func:`time_axis_jumps`)
+    splits too.
     """
     n = len(seconds)
-    step = float(np.median(np.diff(seconds)))
     keep = ~drop
     # period labels: a new period after every dropped run and every long time jump
     boundary = np.zeros(n, dtype=bool)
-    jumps = np.flatnonzero(np.diff(seconds) > (max_gap + 1) * step + 1e-9) + 1
+    rows, missing = time_axis_jumps(seconds)
+    jumps = rows[missing > max_gap]
     boundary[jumps] = True
     boundary[1:] |= drop[:-1] & keep[1:]
     period = np.cumsum(boundary & keep)

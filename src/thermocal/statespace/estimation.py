@@ -769,6 +769,9 @@ def fit(
         raise ThermocalInputError(
             f"model '{model.name}' has no free parameter to estimate; set 'fixed: false' on some"
         )
+    from thermocal.statespace.checks import identifiability_check
+
+    identifiability_check(model, prep, source)
     if seed is None:  # reproducible by default: the same data and model give the same fit
         seed = DEFAULT_SEED
     adaptive = n_starts is None

@@ -20,7 +20,11 @@ import math
 
 from thermocal.errors import ThermocalInputError
 from thermocal.statespace.model import RCModel
-from thermocal.statespace.units import HEAT_COLUMN_UNITS
+from thermocal.statespace.units import (
+    HEAT_COLUMN_UNITS,
+    PLAUSIBLE_HEAT_LOSS_W_PER_K,
+    heat_unit_slip,
+)
 
 #: Family members: (has Tm, has Te, has Th, has Ria with Te), in selection order.
 _MEMBERS = {
@@ -108,6 +112,14 @@ def family_scale(data, heat_unit: str = "kW", source: str = "data") -> tuple[flo
     -------
     (scale, H)
         The power of ten [-] and the energy-balance heat loss coefficient [W/K].
+
+    Raises
+    ------
+    ThermocalInputError
+        When ``H`` lies outside the range of buildings and ``Ph`` read a factor 1000 away
+        brings it inside (:func:`~thermocal.statespace.units.heat_unit_slip`; a scale of about
+        10^3 or 10^-3): ``Ph`` in W read as kW, or the reverse. The message names the unit to
+        use, and ``--bounds family`` with ``--bound-factor`` for a building that size indeed.
     """
     import numpy as np
 
@@ -131,6 +143,19 @@ def family_scale(data, heat_unit: str = "kW", source: str = "data") -> tuple[flo
         # test): no energy balance to scale with; the family as published
         return 1.0, math.nan
     h = mean_heat / mean_diff
+    slip = heat_unit_slip(h, heat_unit)
+    if slip is not None:
+        alt, alt_h = slip
+        lo, hi = PLAUSIBLE_HEAT_LOSS_W_PER_K
+        raise ThermocalInputError(
+            f"{source}: heating 'Ph' read in {heat_unit} (--heat-unit {heat_unit}) gives an "
+            f"energy-balance heat loss coefficient of {h:.4g} W/K (mean Ph "
+            f"{mean_heat / HEAT_COLUMN_UNITS[heat_unit]:.4g} {heat_unit} over a mean indoor-"
+            f"outdoor difference of {mean_diff:.3g} K), outside the range of buildings ({lo:g} "
+            f"to {hi:g} W/K); read in {alt} it would be {alt_h:.4g} W/K. Ph in {alt}? use "
+            f"--heat-unit {alt}. For a building of {h:.4g} W/K indeed, give --bounds family "
+            "--bound-factor 1000 (the family as published, its bounds widened a factor 1000)"
+        )
     return 10.0 ** round(math.log10(h / FAMILY_HEAT_LOSS)), h
 
 

@@ -229,7 +229,9 @@ def profile_interval(res, name: str, *, alpha: float = 0.05) -> dict:
     dict
         ``estimate``, ``lower``, ``upper`` [declared unit], ``open_lower`` / ``open_upper``
         (the profile stays above the threshold up to the parameter's bound: the end is the
-        bound), ``threshold`` (the profile log-likelihood at the end points), ``evaluations``
+        bound), ``not_found_lower`` / ``not_found_upper`` (why an end could not be located,
+        then None, see :func:`profile_side`; None when found), ``threshold`` (the profile
+        log-likelihood at the end points), ``evaluations``
         (profile points computed), ``points`` (value -> profile log-likelihood) and
         ``better_optimum`` (None, or the value and log-likelihood of a profile point more than
         0.1 above the fit's optimum: the fit is then marked not converged and flagged).
@@ -303,7 +305,9 @@ def profile_setup(res, name: str, *, alpha: float = 0.05):
     return prof, res.loglike - drop, drop
 
 
-def profile_side(prof, side: float, threshold: float, drop: float) -> tuple[float, bool]:
+def profile_side(
+    prof, side: float, threshold: float, drop: float
+) -> tuple[float, bool, str | None]:
     """One end of a profile interval: bracketing outwards from the estimate, then Brent.
 
     The profile points of one side are warm-started from the nearest point computed so far,
@@ -320,17 +324,19 @@ def profile_side(prof, side: float, threshold: float, drop: float) -> tuple[floa
 
     Returns
     -------
-    (end, open)
+    (end, open, not_found)
         The end [declared unit] and whether it is open (the profile stays above the threshold
-        up to the parameter's bound or the edge of the reachable range).
+        up to the parameter's bound or the edge of the reachable range); when the crossing of
+        the threshold cannot be located (a flat or ragged profile: the constrained fits do not
+        reproduce, or Brent's method does not converge), the end is NaN and ``not_found`` says
+        why (else None).
     """
     inner, outer = _bracket(prof, side, math.sqrt(2 * drop) * prof.step, threshold)
     if outer is None:
         if isinstance(prof, _ParameterProfile):  # the bound in this direction
             p = prof.res.model.parameters[prof.name]
-            going_up = prof.value(prof.center + side * 1e-3) > prof.value(prof.center)
-            return (p.upper if going_up else p.lower), True
-        return prof.value(inner), True  # the edge of the range reached within the bounds
+            return (p.upper if _going_up(prof, side) else p.lower), True, None
+        return prof.value(inner), True, None  # the edge of the range reached within the bounds
 
     def excess(t):
         try:
@@ -338,11 +344,41 @@ def profile_side(prof, side: float, threshold: float, drop: float) -> tuple[floa
         except ThermocalInputError:
             return -drop  # infeasible inside a bracket: below the threshold
 
-    root = optimize.brentq(
-        excess, min(inner, outer), max(inner, outer),
-        xtol=1e-6 * max(1.0, abs(prof.center)), rtol=1e-8, maxiter=40,
-    )  # fmt: skip
-    return prof.value(root), False
+    try:
+        root = optimize.brentq(
+            excess, min(inner, outer), max(inner, outer),
+            xtol=1e-6 * max(1.0, abs(prof.center)), rtol=1e-8, maxiter=BRENT_MAXITER,
+        )  # fmt: skip
+    except (ValueError, RuntimeError) as exc:
+        return math.nan, False, _not_found(prof, inner, outer, exc)
+    return prof.value(root), False, None
+
+
+#: Iterations of Brent's method for an end of a profile interval.
+BRENT_MAXITER = 40
+
+
+def _going_up(prof, side: float) -> bool:
+    """Whether ``side`` of the profiled scale goes to larger values of the quantity."""
+    return prof.value(prof.center + side * 1e-3) > prof.value(prof.center)
+
+
+def _not_found(prof, inner: float, outer: float, exc: Exception) -> str:
+    """Why the end between ``inner`` and ``outer`` (profiled scale) was not located: the
+    exception of Brent's method (``ValueError``: no sign change on evaluating the bracket
+    again; ``RuntimeError``: no convergence), in words."""
+    a, b = sorted((prof.value(inner), prof.value(outer)))
+    where = f"between {a:.6g} and {b:.6g}"
+    if isinstance(exc, ValueError):
+        return (
+            f"the profile log-likelihood fell below the threshold {where} while bracketing, but "
+            "not when computed again there (the constrained fits do not reproduce: a flat or "
+            "ragged profile)"
+        )
+    return (
+        f"Brent's method found no crossing of the threshold {where} in {BRENT_MAXITER} "
+        "iterations (a flat or ragged profile)"
+    )
 
 
 def profile_summary(res, name: str, prof, ends, threshold: float, alpha: float) -> dict:
@@ -356,16 +392,24 @@ def profile_summary(res, name: str, prof, ends, threshold: float, alpha: float) 
     name : str
     prof : profile from :func:`profile_setup`
         Its cache holds the points of both sides.
-    ends : sequence of (float, bool)
+    ends : sequence of (float, bool, str or None)
         :func:`profile_side` of the sides in :data:`SIDES` order.
     threshold, alpha : float
 
     Returns
     -------
     dict
-        As :func:`profile_interval`.
+        As :func:`profile_interval`; an end that was not found is None, with the reason in
+        ``not_found_lower`` / ``not_found_upper`` (None when found) and a flag on ``res``.
     """
-    (lower, open_lower), (upper, open_upper) = sorted(ends)
+    (lower, open_lower, why_lower), (upper, open_upper, why_upper) = _lower_first(prof, ends)
+    for which, why in (("lower", why_lower), ("upper", why_upper)):
+        if why is not None:
+            res.flags.append(
+                f"profile-likelihood interval of '{name}': its {which} end was not found: "
+                f"{why}; reported as not found (null): the data hardly determine '{name}' "
+                "there"
+            )
     points = {prof.value(t): ll for t, (ll, _) in sorted(prof.cache.items())}
     better = max(points.items(), key=lambda item: item[1])
     better_optimum = None
@@ -374,13 +418,23 @@ def profile_summary(res, name: str, prof, ends, threshold: float, alpha: float) 
         res.note_better_optimum(better[1], f"the profile of '{name}' at {name} = {better[0]:.6g}")
     return {
         "estimate": prof.value(prof.center),
-        "lower": lower,
-        "upper": upper,
+        "lower": None if why_lower else lower,
+        "upper": None if why_upper else upper,
         "open_lower": open_lower,
         "open_upper": open_upper,
+        "not_found_lower": why_lower,
+        "not_found_upper": why_upper,
         "threshold": threshold,
         "alpha": alpha,
         "evaluations": len(prof.cache) - 1,
         "points": points,
         "better_optimum": better_optimum,
     }
+
+
+def _lower_first(prof, ends) -> list:
+    """The two ends of :func:`profile_side` (in :data:`SIDES` order), lower end first: by
+    value when both were found, else by the direction of each side on the profiled scale."""
+    if all(why is None for _, _, why in ends):
+        return sorted(ends, key=lambda end: end[:2])
+    return list(ends) if _going_up(prof, SIDES[1]) else list(ends)[::-1]

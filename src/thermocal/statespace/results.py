@@ -20,6 +20,12 @@ from thermocal.statespace.convergence import (
 from thermocal.statespace.data import PreparedData, prepare_data
 from thermocal.statespace.distributions import normal_quantile
 from thermocal.statespace.kalman import _hold_flag, filter_arrays, rts_smoother, simulate
+from thermocal.statespace.units import (
+    HEAT_UNIT_SLIPS,
+    PLAUSIBLE_HEAT_LOSS_W_PER_K,
+    TIME_UNITS,
+    heat_unit_slip,
+)
 
 #: Standard error above this fraction of the estimate flags a positive parameter.
 RELATIVE_SE_LIMIT = 0.5
@@ -318,6 +324,9 @@ class FitResults:
                     "values (NaN) or cut the period"
                 )
         self.flags.extend(input_flags(model, prep))
+        if not heat_unit_flags(model, prep):  # the declared values' balance names no slip
+            self.flags.extend(heat_loss_unit_flags(model, self.params.to_dict(), prep))
+        self.flags.extend(time_unit_flags(model, prep))
 
     def refit(self, model, **options) -> FitResults:
         """Fit ``model`` (e.g. this model with a parameter held fixed: the profile
@@ -478,7 +487,9 @@ class FitResults:
             ``value`` and ``std_error`` (delta method) [W/K], ``wald_lower``/``wald_upper``
             (``value +- z se``), with ``profile``: ``lower``/``upper`` and
             ``open_lower``/``open_upper`` of the profile-likelihood interval (Pawitan 2001)
-            [W/K]; ``interval`` names the one to show first: ``"profile"`` (always computed
+            [W/K], an end None when it could not be located (the reason in
+            ``not_found_lower``/``not_found_upper``, and a flag);
+            ``interval`` names the one to show first: ``"profile"`` (always computed
             when asked) or ``"wald"``; ``disagree`` is True when an end of the Wald interval is
             more than 10 % of the profile interval's width off; ``state`` and ``boundaries``
             (the boundary columns the heat flows to; with more than one, the coefficient
@@ -831,16 +842,21 @@ def _load_hlc_kernels(res) -> None:
 def with_profile_interval(hlc: dict, prof: dict) -> dict:
     """A heat loss coefficient dict (Wald, see :meth:`FitResults.heat_loss_coefficient`) with
     the ends of its profile-likelihood interval ``prof`` [W/K] (from
-    :func:`thermocal.statespace.profile.profile_interval`); ``disagree`` when an end of the Wald
-    interval is more than 10 % of the profile interval's width off."""
-    width = prof["upper"] - prof["lower"]
-    off = max(abs(hlc["wald_lower"] - prof["lower"]), abs(hlc["wald_upper"] - prof["upper"]))
-    return hlc | {
+    :func:`thermocal.statespace.profile.profile_interval`; an end not found is None, with the
+    reason); ``disagree`` when an end of the Wald interval is more than 10 % of the profile
+    interval's width off (never with an end not found)."""
+    out = hlc | {
         "lower": prof["lower"], "upper": prof["upper"],
         "open_lower": prof["open_lower"], "open_upper": prof["open_upper"],
-        "interval": "profile",
-        "disagree": bool(not math.isfinite(hlc["std_error"]) or off > 0.1 * width),
+        "not_found_lower": prof.get("not_found_lower"),
+        "not_found_upper": prof.get("not_found_upper"),
+        "interval": "profile", "disagree": False,
     }  # fmt: skip
+    if prof["lower"] is None or prof["upper"] is None:
+        return out  # an end not found (see profile_side): nothing to compare
+    width = prof["upper"] - prof["lower"]
+    off = max(abs(hlc["wald_lower"] - prof["lower"]), abs(hlc["wald_upper"] - prof["upper"]))
+    return out | {"disagree": bool(not math.isfinite(hlc["std_error"]) or off > 0.1 * width)}
 
 
 def _hlc_side_worker(args):
@@ -1100,10 +1116,7 @@ def input_flags(model, prep: PreparedData) -> list[str]:
 
 
 #: Declared heat-column unit -> (the unit a factor 1000 off, the factor to it).
-_UNIT_SLIPS = {
-    "W": [("kW", 1e3)], "kW": [("W", 1e-3), ("MW", 1e3)], "MW": [("kW", 1e-3)],
-    "W/m2": [("kW/m2", 1e3)], "kW/m2": [("W/m2", 1e-3)],
-}  # fmt: skip
+_UNIT_SLIPS = HEAT_UNIT_SLIPS
 #: The energy-balance check speaks when the declared unit misses the mean measured output by
 #: more than this [K] and the alternative unit comes this many times closer.
 UNIT_SLIP_MISS_K = 5.0
@@ -1157,6 +1170,143 @@ def heat_unit_flags(model, prep: PreparedData) -> list[str]:
                 )
                 break
     return flags
+
+
+def known_power_columns(model, prep: PreparedData) -> list[tuple[str, str]]:
+    """The heat inputs of known power that are not zero: ``(column, unit)`` of the columns in
+    W, kW or MW entering with no scale or a fixed one (a constant or a fixed parameter)."""
+    free = set(model.free_parameter_names)
+    out = []
+    for h in model._heat_inputs:
+        unit, scale, col = h.get("unit") or "W", h.get("scale"), h["column"]
+        if unit.endswith("/m2") or (isinstance(scale, str) and scale in free):
+            continue
+        if np.any(np.nan_to_num(prep.U[:, model.input_names.index(col)]) != 0):
+            out.append((col, unit))
+    return list(dict.fromkeys(out))
+
+
+def heat_loss_unit_flags(model, params, prep: PreparedData) -> list[str]:
+    """A heat column probably in another unit, judged by the estimated heat loss coefficient.
+
+    With one heat input of known power (:func:`known_power_columns`), the fitted coefficient
+    is proportional to that column's unit: capacities, coefficient and free scales (solar
+    apertures) follow it, the time constants do not. A coefficient outside the range of
+    buildings (:data:`~thermocal.statespace.units.PLAUSIBLE_HEAT_LOSS_W_PER_K`) that the
+    column read a factor 1000 away brings inside is flagged
+    (:func:`~thermocal.statespace.units.heat_unit_slip`). Complements
+    :func:`heat_unit_flags`, which needs declared values near the building's.
+
+    Parameters
+    ----------
+    model : RCModel
+    params : mapping
+        The estimates [declared units].
+    prep : PreparedData
+
+    Returns
+    -------
+    list of str
+        At most one flag, naming the column, both units and both coefficients [W/K].
+    """
+    known = known_power_columns(model, prep)
+    if model.heat_loss_state() is None or len(known) != 1:
+        return []  # several columns of known power: no single factor to blame
+    (col, unit), (lo, hi) = known[0], PLAUSIBLE_HEAT_LOSS_W_PER_K
+    try:
+        value = model.heat_loss_coefficient(params)
+    except ThermocalInputError:
+        return []
+    slip = heat_unit_slip(value, unit)
+    if slip is None:
+        return []
+    alt, alt_value = slip
+    return [
+        f"heat loss coefficient {value:.4g} W/K at the estimates lies outside the range of "
+        f"buildings ({lo:g} to {hi:g} W/K); heat input '{col}' is declared in {unit}: read as "
+        f"{alt} it would be about {alt_value:.4g} W/K: is the column in {alt}? remedy: set "
+        f"'unit: {alt}' for '{col}' in heat_inputs (or convert the column); for a building "
+        "that size indeed, ignore this flag"
+    ]
+
+
+#: A daily cycle shows as an autocorrelation of at least DAILY_ACF at the lag of one day and
+#: DAILY_CONTRAST more than at half a day (night against day): the irradiance of the Bacher &
+#: Madsen data gives 0.62 and -0.26, a smooth series without daily cycle less at a day than
+#: at half of it.
+DAILY_ACF = 0.3
+DAILY_CONTRAST = 0.5
+
+
+def daily_cycle(u: np.ndarray, step: float) -> bool | None:
+    """Whether a series repeats every 24 h (night and day), at a sampling interval ``step``.
+
+    Parameters
+    ----------
+    u : ndarray
+        The series (an irradiance), NaN left out of the autocorrelation.
+    step : float [s]
+        Its sampling interval.
+
+    Returns
+    -------
+    bool or None
+        None when the series covers fewer than two days at ``step`` or a half day is shorter
+        than two samples (nothing to judge).
+    """
+    half = int(round(43200.0 / step))
+    x = np.asarray(u, dtype=float)
+    if half < 2 or 4 * half > x.size:
+        return None
+    x = np.where(np.isfinite(x), x - np.nanmean(x), 0.0)
+    power = float(x @ x)
+    if not power > 0:
+        return None
+    day, night = (float(x[:-lag] @ x[lag:]) / power for lag in (2 * half, half))
+    return day >= DAILY_ACF and day - night >= DAILY_CONTRAST
+
+
+def time_unit_flags(model, prep: PreparedData) -> list[str]:
+    """Numeric times probably given in another unit, judged by the sun's daily cycle.
+
+    An irradiance column (a heat input in W/m2 or kW/m2) repeats every 24 h. When it shows
+    no daily cycle with the times read in the given unit (or covers less than two days in it)
+    but does with the times read in another of
+    :data:`~thermocal.statespace.units.TIME_UNITS`, the unit is probably wrong: capacities and
+    time constants scale with it (hours read as minutes make them 60 times too small). Only
+    for numeric times (date-times carry their unit) and roughly uniform sampling (the median
+    interval is used). The outdoor temperature is not used: weather hides its daily cycle
+    (autocorrelation 0.24 at 24 h, 0.33 at 12 h on the Bacher & Madsen data).
+
+    Returns
+    -------
+    list of str
+        At most one flag, naming the column, the given and the likely unit.
+    """
+    if isinstance(prep.index, pd.DatetimeIndex) or prep.time_unit not in TIME_UNITS:
+        return []
+    step = float(np.median(prep.dts))
+    given = TIME_UNITS[prep.time_unit]
+    for h in model._heat_inputs:
+        if not (h.get("unit") or "W").endswith("/m2"):
+            continue
+        col = h["column"]
+        u = prep.U[:, model.input_names.index(col)]
+        if daily_cycle(u, step):
+            continue
+        for alt, seconds in TIME_UNITS.items():
+            if alt != prep.time_unit and daily_cycle(u, step * seconds / given):
+                span = (prep.seconds[-1] - prep.seconds[0]) / given
+                return [
+                    f"irradiance '{col}' shows no daily cycle with the times in "
+                    f"{prep.time_unit} (--time-unit {prep.time_unit}: the data span "
+                    f"{span:.4g} {prep.time_unit}), but one of 24 h with the times in {alt}: "
+                    f"are the times in {alt}? remedy: --time-unit {alt} (time_unit='{alt}'); "
+                    f"read in {prep.time_unit}, capacities and time constants are "
+                    f"{max(seconds / given, given / seconds):g} times too "
+                    f"{'small' if seconds > given else 'large'}"
+                ]
+    return []
 
 
 def _positive_definite(matrix: np.ndarray) -> bool:

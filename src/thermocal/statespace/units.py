@@ -79,6 +79,46 @@ HEAT_COLUMN_UNITS: dict[str, float] = {
     "kW/m2": 1e3,
 }
 
+#: Declared heat-column unit -> (the unit a factor 1000 off, the factor to it).
+HEAT_UNIT_SLIPS: dict[str, list[tuple[str, float]]] = {
+    "W": [("kW", 1e3)], "kW": [("W", 1e-3), ("MW", 1e3)], "MW": [("kW", 1e-3)],
+    "W/m2": [("kW/m2", 1e3)], "kW/m2": [("W/m2", 1e-3)],
+}  # fmt: skip
+
+#: Heat loss coefficients of buildings [W/K]: from a test cell of about a cubic metre (a few
+#: W/K) to the largest single buildings (a hospital or terminal of some 100,000 m2 floor,
+#: a few 10^4 W/K). A house read with its heating in W as kW lies a factor 1000 above
+#: (100-500 kW/K), read in kW as W a factor 1000 below (0.05-0.5 W/K).
+PLAUSIBLE_HEAT_LOSS_W_PER_K = (0.5, 5.0e4)
+
+
+def heat_unit_slip(heat_loss: float, unit: str) -> tuple[str, float] | None:
+    """The unit a heat column was probably written in, judged by the heat loss coefficient.
+
+    Parameters
+    ----------
+    heat_loss : float [W/K]
+        Heat loss coefficient with the column read in ``unit`` (proportional to the column:
+        an energy balance, or a fit with no other heat input of known power).
+    unit : str
+        Declared unit of the column, a key of :data:`HEAT_COLUMN_UNITS`.
+
+    Returns
+    -------
+    (str, float) or None
+        The unit a factor 1000 away (:data:`HEAT_UNIT_SLIPS`) that brings the coefficient into
+        :data:`PLAUSIBLE_HEAT_LOSS_W_PER_K`, and the coefficient read so [W/K]; None when the
+        coefficient is plausible (or not finite), or no such unit does.
+    """
+    lo, hi = PLAUSIBLE_HEAT_LOSS_W_PER_K
+    if not math.isfinite(heat_loss) or lo <= heat_loss <= hi:
+        return None
+    for alt, factor in HEAT_UNIT_SLIPS.get(unit, []):
+        if lo <= heat_loss * factor <= hi:
+            return alt, heat_loss * factor
+    return None
+
+
 #: Factor from a time unit to seconds.
 TIME_UNITS: dict[str, float] = {
     "s": 1.0,

@@ -1015,3 +1015,21 @@ def test_calibrate_period_too_short_is_refused_before_the_nominal_run(demo_input
         ThermocalInputError, match=r"is 24\.0 h; identification needs at least 2 days"
     ):
         workflow.calibrate(campaign, workers=1, progress=False, log=lambda line: None)
+
+
+def test_the_midnight_sun_has_no_centre_and_is_not_refused():
+    """Tromso in June: the sun never sets, so a day's daylight has no edge and no centre; the
+    check must not read an offset from such days (before the guard, the circular mean of a
+    whole day's hours is noise) and falls back to the daily profile, which finds the clock
+    right."""
+    from thermocal.physics.solar import solar_position
+
+    index = pd.date_range("2024-06-10", periods=24 * 10, freq="h", tz="Europe/Oslo")
+    elevation = solar_position(index + pd.Timedelta("30min"), 69.65, 18.96)["elevation"]
+    sun = np.sin(np.radians(elevation.to_numpy()))
+    # the low midnight sun behind the mountains: below the daylight threshold, so the data's
+    # day has edges while the sun's has none
+    values = pd.Series(np.where(elevation.to_numpy() > 6.0, 700 * sun, 1.0), index=index)
+    assert elevation.min() > 0  # the midnight sun
+    hours = check_clock_against_sun(values, 69.65, 18.96, source="m.csv", column="GHI")
+    assert abs(hours) < 1.0

@@ -43,14 +43,14 @@ def hours_text(hours: float) -> str:
 def daylight_centre_offset(
     values: pd.Series, elevation: np.ndarray, mid: pd.DatetimeIndex, step: pd.Timedelta
 ) -> float | None:
-    """How much later the data's daylight is centred than the sun's, median over whole days.
+    """How much later the data's daylight is centred than the sun's, over whole days.
 
     Each interval is daylight in the data when its irradiance exceeds the night's median by
     :data:`DAYLIGHT_THRESHOLD`, and daylight at the site when the sun is above the horizon at
-    its middle. On each day
-    with every interval present and daylight in both, the centre of the daylight intervals'
-    UTC times of day (a circular mean) is compared; the first and last intervals of daylight,
-    cut by the threshold alike at dawn and dusk, leave the centre where it is.
+    its middle. On each day with every interval present and a dawn and a dusk in both (not
+    the polar day or night), the centre of the daylight intervals' UTC times of day (a
+    circular mean) is compared; the first and last intervals of daylight, cut by the
+    threshold alike at dawn and dusk, leave the centre where it is.
 
     Parameters
     ----------
@@ -80,7 +80,12 @@ def daylight_centre_offset(
     per_day = int(round(pd.Timedelta("1D") / step))
     grouped = frame.groupby("day", sort=True)
     whole = grouped["hour"].transform("size").to_numpy() == per_day
-    frame = frame[whole]
+    # a day whose daylight has no edge (all dark, or the midnight sun) has no centre
+    edged = np.ones(len(frame), dtype=bool)
+    for column in ("lit", "up"):
+        share = grouped[column].transform("mean").to_numpy()
+        edged &= (share > 0.0) & (share < 1.0)
+    frame = frame[whole & edged]
     if frame.empty:
         return None
     angle = 2.0 * np.pi * frame["hour"] / 24.0

@@ -175,6 +175,27 @@ def test_a_prediction_interval_is_refused_with_its_key(tmp_path):
     assert "verify.prediction.saving_pct_interval: [20, 30] without saving_pct" in message
 
 
+@pytest.mark.parametrize(
+    "beside", [{"saving_pct": 40}, {"saving_pct": 40, "saving_pct_interval": [30, 50]},
+               {"measures": ["roof"]}],
+)  # fmt: skip
+def test_a_results_prediction_beside_another_is_refused(tmp_path, beside):
+    """verify.prediction.results with saving_pct (or measures) beside it: the results file's
+    strategy won and the other prediction was silently ignored (fuzzing round 3)."""
+    from thermocal.retrofit.verify import parse_verify_config
+
+    data = {
+        "building": "b.yaml", "measurements": {"file": "m.csv"}, "weather": {"file": "w"},
+        "verify": {"retrofit_date": "2001-02-19",
+                   "prediction": {"results": "results.json", "strategy": "2a", **beside}},
+    }  # fmt: skip
+    with pytest.raises(ThermocalInputError) as info:
+        parse_verify_config(data, base_dir=tmp_path, source="cfg.yaml")
+    message = str(info.value)
+    key = next(iter(beside))
+    assert "cfg.yaml" in message and f"verify.prediction.{key} are two predictions" in message
+
+
 def test_a_training_start_outside_the_measurements_is_named():
     """Before: 'the measurements from 2005-01-01 cover -1387.0 days'."""
     from types import SimpleNamespace

@@ -310,6 +310,17 @@ def parse_verify_config(
             "prediction from the pre-retrofit calibration)"
         )
     if pred.results is not None:
+        beside = [
+            key for key in ("saving_pct", "saving_pct_interval", "measures")
+            if getattr(pred, key) is not None
+        ]  # fmt: skip
+        if beside:
+            raise ThermocalInputError(
+                f"configuration {source}: verify.prediction.results (the strategy's saving and "
+                f"interval in results.json) and verify.prediction.{beside[0]} are two "
+                "predictions; the second would be ignored: keep one (results with strategy, or "
+                "measures with saving_pct)"
+            )
         if pred.strategy is None:
             raise ThermocalInputError(
                 f"configuration {source}: verify.prediction.results needs "

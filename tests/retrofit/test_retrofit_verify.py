@@ -86,7 +86,9 @@ def test_verify_demo_recovers_the_true_saving(tmp_path):
     # the right retrofit date: no step back to the baseline at the reporting period's start
     late = av["baseline_days_after_retrofit"]
     assert late["days"] == 0 and late["warning"] is None, late
-    assert "WARNING" not in run.output and "behave like the baseline" not in html
+    early = av["retrofitted_days_before_the_date"]
+    assert early["days"] == 0 and early["warning"] is None, early
+    assert "WARNING" not in run.output and "behave like" not in html
 
 
 def test_fractional_savings_uncertainty_formula():
@@ -513,3 +515,49 @@ def test_a_retrofit_date_a_week_early_is_warned_about(demo_folder, tmp_path):
     assert "(2001-02-12 to 2001-02-18) behave like the baseline" in late["warning"]
     assert "verify.retrofit_date (or verify.post_start) to 2001-02-19" in late["warning"]
     assert late["warning"] in ver.notes
+
+
+def test_trailing_days_that_behave_like_a_retrofitted_house_are_found():
+    """The mirror at the baseline period's end: days of the new house before the stated date
+    are found; the baseline itself, one odd day or a mild saving are not."""
+    from thermocal.retrofit.verify import retrofitted_days_before_the_date, retrofitted_days_note
+
+    rng = np.random.default_rng(6)
+    baseline = rng.uniform(70.0, 150.0, 28)  # [kWh/day]
+    noise = rng.normal(0.0, 8.0, 28)
+    before = baseline + noise
+    late = before.copy()
+    late[-6:] = 0.45 * baseline[-6:] + noise[-6:]
+    found = retrofitted_days_before_the_date(late, baseline, rho=0.5)
+    assert found["days"] == 6 and found["ratio_last"] == pytest.approx(0.45, abs=0.05)
+    assert found["ratio_before"] == pytest.approx(1.0, abs=0.05)
+    days = pd.date_range("2001-01-22", periods=28, freq="D")
+    note = retrofitted_days_note(found, days)
+    assert "the last 6 days of the baseline period (2001-02-13 to 2001-02-18)" in note
+    assert "set verify.retrofit_date (or verify.pre_end) to 2001-02-13" in note
+    assert retrofitted_days_before_the_date(before, baseline, rho=0.5)["days"] == 0
+    one = before.copy()
+    one[-1] = 0.45 * baseline[-1]
+    assert retrofitted_days_before_the_date(one, baseline, rho=0.5)["days"] == 0
+    mild = before.copy()
+    mild[-6:] = 0.93 * baseline[-6:] + noise[-6:]
+    assert retrofitted_days_before_the_date(mild, baseline, rho=0.5)["days"] == 0
+    higher = before.copy()  # the house needing more at the end is no retrofit
+    higher[-6:] = 1.6 * baseline[-6:]
+    assert retrofitted_days_before_the_date(higher, baseline, rho=0.5)["days"] == 0
+
+
+def test_a_retrofit_date_a_week_late_is_warned_about(demo_folder, tmp_path):
+    """The demo retrofitted on 2001-02-19, stated 2001-02-26 (fuzzing round 3): the baseline
+    period holds a week of the retrofitted house, which spoils its fit (the verdict:
+    inconclusive) without saying why; now its last seven days are named."""
+    path = _variant(demo_folder, tmp_path, lambda v: v.update(retrofit_date="2001-02-26"))
+    cfg = yaml.safe_load(path.read_text())
+    cfg["uncertainty"]["draws"] = 10
+    path.write_text(yaml.safe_dump(cfg))
+    ver = run_verify(load_verify_config(path))
+    early = ver.avoided["retrofitted_days_before_the_date"]
+    assert early["days"] == 7 and early["ratio_last"] < 0.6, early
+    assert "(2001-02-19 to 2001-02-25) behave like a retrofitted house" in early["warning"]
+    assert "verify.retrofit_date (or verify.pre_end) to 2001-02-19" in early["warning"]
+    assert early["warning"] in ver.notes

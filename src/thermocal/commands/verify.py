@@ -65,9 +65,11 @@ def print_summary(results: dict, out: Path) -> None:
         )
     style = {"delivered": "green", "inconclusive": "yellow"}.get(comp["verdict"], "bold red")
     console.print(f"[{style}]{comp['verdict'].upper()}[/{style}]: {comp['explanation']}")
-    late = av.get("baseline_days_after_retrofit", {}).get("warning")
-    if late:  # the verdict stands, but its reporting period may hold days of the old house
-        console.print(f"[bold yellow]WARNING[/bold yellow]: {late}")
+    # the verdict stands, but a period may hold days of the other house
+    for key in ("baseline_days_after_retrofit", "retrofitted_days_before_the_date"):
+        warning = av.get(key, {}).get("warning")
+        if warning:
+            console.print(f"[bold yellow]WARNING[/bold yellow]: {warning}")
     console.print(f"results in [bold]{out}[/bold] (verify.json, report.html, CSV, figures/)")
 
 

@@ -644,6 +644,91 @@ def baseline_days_after_retrofit(
     return out
 
 
+def retrofitted_days_before_the_date(
+    measured: np.ndarray, baseline: np.ndarray, rho: float, z: float = BASELINE_DAYS_Z
+) -> dict:
+    """Trailing days of the baseline period that behave unlike the baseline (a retrofit
+    finished before the stated date).
+
+    The mirror of :func:`baseline_days_after_retrofit`: on the last ``k`` days of the
+    baseline period the measured daily heat is a fitted fraction ``m`` of the baseline
+    model's, on the days before it the model's (``m = 1``); ``k = 0 .. n // 2`` by least
+    squares, reported when ``k >= 2``, ``m < 1`` (the house needed less: retrofitted) and the
+    fit improves on ``k = 0`` by more than ``z^2`` error variances (widened for the lag-1
+    autocorrelation ``rho``). The baseline model was calibrated on those days too, so the
+    contrast is smaller than after the date, and the test conservative.
+
+    Parameters
+    ----------
+    measured, baseline : ndarray [kWh]
+        Daily measured heat and the baseline model's of the baseline period's days, in order.
+    rho : float [-]
+        Lag-1 autocorrelation of the daily residuals (clipped to 0-0.9).
+    z : float [-]
+        Standard errors the step must exceed.
+
+    Returns
+    -------
+    dict
+        ``days`` (trailing days that behave like a retrofitted house, 0 when no step is
+        found; counted back from the last day, days without data included),
+        ``candidate_days``, ``ratio_last`` and ``ratio_before`` (measured over baseline heat of
+        the last ``candidate_days`` days and of the days before [-]), ``statistic`` and
+        ``threshold``.
+    """
+    y = np.asarray(measured, float)[::-1]
+    b = np.asarray(baseline, float)[::-1]
+    ok = np.isfinite(y) & np.isfinite(b) & (b > 0)
+    where = np.flatnonzero(ok)
+    y, b = y[ok], b[ok]
+    n = len(y)
+    out = {"days": 0, "candidate_days": 0, "ratio_last": float("nan"),
+           "ratio_before": float("nan"), "statistic": 0.0, "threshold": float(z * z)}  # fmt: skip
+    if n < 6:
+        return out
+    sse, fitted = [], []
+    for k in range(n // 2 + 1):
+        m = float(np.dot(y[:k], b[:k]) / np.dot(b[:k], b[:k])) if k else 1.0
+        sse.append(float(np.sum((y[:k] - m * b[:k]) ** 2) + np.sum((y[k:] - b[k:]) ** 2)))
+        fitted.append(m)
+    k = int(np.argmin(sse))
+    r = min(max(float(rho), 0.0), 0.9) if np.isfinite(rho) else 0.0
+    var = sse[k] / (n - 2) * (1.0 + r) / (1.0 - r)
+    stat = (sse[0] - sse[k]) / var if var > 0 else 0.0
+    span = int(where[k - 1]) + 1 if k else 0
+    out.update(
+        candidate_days=span, ratio_last=fitted[k] if k else float("nan"),
+        ratio_before=float(y[k:].sum() / b[k:].sum()), statistic=float(stat),
+        days=span if k >= 2 and fitted[k] < 1.0 and stat > z * z else 0,
+    )  # fmt: skip
+    return out
+
+
+def retrofitted_days_note(step: dict, days: pd.DatetimeIndex) -> str | None:
+    """The warning of :func:`retrofitted_days_before_the_date`, None without a step.
+
+    Parameters
+    ----------
+    step : dict
+        Its result.
+    days : pd.DatetimeIndex
+        The baseline period's days, in order (the last ``step["days"]`` are named).
+    """
+    k = step["days"]
+    if not k:
+        return None
+    first, last = days[len(days) - k], days[-1]
+    return (
+        f"the last {k} days of the baseline period ({first:%Y-%m-%d} to {last:%Y-%m-%d}) "
+        f"behave like a retrofitted house: it used {100 * step['ratio_last']:.0f} % of the "
+        f"baseline model's heat on them, {100 * step['ratio_before']:.0f} % before (a step of "
+        f"{np.sqrt(step['statistic']):.1f} standard errors, {np.sqrt(step['threshold']):g} "
+        "needed). Was the retrofit finished earlier? Then set verify.retrofit_date (or "
+        f"verify.pre_end) to {first:%Y-%m-%d}: days of the new house in the baseline lower "
+        "the baseline and the measured saving, and spoil the baseline's fit"
+    )
+
+
 def baseline_days_note(step: dict, days: pd.DatetimeIndex) -> str | None:
     """The warning of :func:`baseline_days_after_retrofit`, None without a step.
 
@@ -1092,6 +1177,13 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     late_note = baseline_days_note(late, d_post.index)
     if late_note is not None:
         notes.append(late_note)
+    # days of the new house before the stated retrofit date: a step down at the baseline's end
+    early = retrofitted_days_before_the_date(
+        d_pre["measured"].to_numpy(float), d_pre["baseline"].to_numpy(float), rho_adj
+    )
+    early_note = retrofitted_days_note(early, d_pre.index)
+    if early_note is not None:
+        notes.append(early_note)
     e_base = float(d_post["baseline"].sum())
     e_meas = float(d_post["measured"].sum())
     e_save = e_base - e_meas
@@ -1227,6 +1319,12 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
             "baseline on the first days, a fitted fraction of it on the rest (least squares); "
             f"reported from 2 days at {BASELINE_DAYS_Z:g} standard errors (lag-1 "
             "autocorrelation of the baseline's daily residuals allowed for)",
+        },
+        "retrofitted_days_before_the_date": {
+            **early, "warning": early_note,
+            "method": "change point of the baseline period's daily heat: a fitted fraction of "
+            "the baseline model's on the last days, the model's before (least squares); "
+            f"reported from 2 days at {BASELINE_DAYS_Z:g} standard errors",
         },
         "adjustment": {
             "method": "daily residuals of the baseline period (measured minus model) regressed "
@@ -1580,9 +1678,10 @@ def write_report(ver: Verification, results: dict, figures: dict, path: Path) ->
     )
     rep.section("Verdict")
     rep.paragraph(f"{comp['verdict'].upper()}: {comp['explanation']}.", css_class="lead")
-    late = av.get("baseline_days_after_retrofit", {}).get("warning")
-    if late:
-        rep.flags([late[0].upper() + late[1:] + "."])
+    for key in ("baseline_days_after_retrofit", "retrofitted_days_before_the_date"):
+        warning = av.get(key, {}).get("warning")
+        if warning:
+            rep.flags([warning[0].upper() + warning[1:] + "."])
     m, p, dd = comp["measured_saving_pct"], comp["predicted_saving_pct"], comp["difference_pp"]
     rep.key_values({
         "measured saving (reference year, normalised)": _pct(m),

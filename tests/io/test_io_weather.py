@@ -128,6 +128,18 @@ def test_explicit_coerce_year_and_tz_conversion(shared_data):
     assert weather.index[0] == pd.Timestamp("1999-01-01 07:00", tz="UTC")
 
 
+def test_a_typical_year_put_on_a_leap_year_names_the_missing_29_february(shared_data):
+    """A RunPeriod's Begin Year 2016 on a TMY file without 29 February: before, 'rows are
+    missing, duplicated or out of order' at line 1425 (fuzzing round 3)."""
+    path = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    with pytest.raises(
+        ThermocalInputError,
+        match=r"a year without 29 February put on 2016, a leap year \(line 1425 follows 28 "
+        r"February with 1 March\).*leave the RunPeriod's Begin Year blank",
+    ):
+        read_weather(path, coerce_year=2016)
+
+
 # ---------------------------------------------------------------------------------------------
 # TMY3
 # ---------------------------------------------------------------------------------------------

@@ -1314,6 +1314,15 @@ def _dates_with_years(
     wrong = diffs != step.value
     if wrong.any():
         row = int(np.flatnonzero(wrong)[0]) + 1
+        after = pd.Timestamp(values[row])
+        if coerced is not None and calendar.isleap(coerced) and (after.month, after.day) == (3, 1) \
+                and not np.any((month == 2) & (day == 29)):  # fmt: skip
+            raise ThermocalInputError(
+                f"weather file {path}: a year without 29 February put on {coerced}, a leap "
+                f"year (line {row + first_line} follows 28 February with 1 March): give a "
+                "year that is not a leap year (for an IDF, leave the RunPeriod's Begin Year "
+                "blank or use a common year), or a weather file with 29 February"
+            )
         raise ThermocalInputError(
             f"weather file {path}, line {row + first_line}: time stamp "
             f"{pd.Timestamp(values[row])} (interval start) does not follow "

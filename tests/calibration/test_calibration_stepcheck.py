@@ -35,6 +35,24 @@ def test_log_interval_of_long_and_wide_logs():
     assert log_interval(pd.concat([long, third])) == pd.Timedelta("10min")
     single = pd.DataFrame({"time": [times[0]], "sensor": ["S1"], "value": [1.0]})
     assert log_interval(single) is None
+    # review of the check: staggered wide sensors are not merged, unmapped fast meters do not
+    # count, and a jittered clock rounds to the step that divides an hour
+    quarter = pd.date_range("2001-01-01", periods=40, freq="15min", tz="UTC")
+    staggered = pd.concat(
+        [pd.DataFrame({"A": 1.0}, index=quarter),
+         pd.DataFrame({"B": 2.0}, index=quarter + pd.Timedelta("1min"))]
+    ).sort_index()  # fmt: skip
+    assert log_interval(staggered) == pd.Timedelta("15min")
+    fast = pd.DataFrame({"time": pd.date_range("2001-01-01", periods=400, freq="10s", tz="UTC"),
+                         "sensor": "P1", "value": 1.0})  # fmt: skip
+    temps = pd.DataFrame({"time": list(quarter) * 3, "value": 20.0,
+                          "sensor": ["T1"] * 40 + ["T2"] * 40 + ["T3"] * 40})  # fmt: skip
+    mixed = pd.concat([temps] + [fast.assign(sensor=f"P{i}") for i in range(4)])
+    assert log_interval(mixed) == pd.Timedelta("10s")
+    assert log_interval(mixed, sensors=["T1", "T2", "T3"]) == pd.Timedelta("15min")
+    jitter = np.random.default_rng(1).uniform(-0.9, 0.9, 50)
+    shaky = pd.DataFrame({"S": 1.0}, index=times + pd.to_timedelta(jitter, unit="s"))
+    assert log_interval(shaky) == pd.Timedelta("5min")
 
 
 def test_response_difference_is_relative_to_the_fine_response():

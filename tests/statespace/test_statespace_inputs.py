@@ -434,3 +434,25 @@ def test_times_in_the_wrong_unit_are_flagged_by_the_daily_cycle_of_the_sun():
     assert not [f for f in in_hours.flags if "daily cycle" in f]
     assert daily_cycle(df["Ps"].to_numpy(), 300.0)
     assert not daily_cycle(np.cumsum(rng.normal(size=n)), 300.0)  # a random walk: no cycle
+
+
+def test_a_hot_output_of_another_state_is_no_fahrenheit():
+    """A radiator's temperature observed beside the room's (review of the fuzzing round's
+    fix): its median of 55 C is real; only the room's output is checked for Fahrenheit."""
+    from pathlib import Path
+
+    from thermocal.statespace.data import indoor_outputs, prepare_data
+
+    models = Path(__file__).resolve().parents[2] / "examples" / "models"
+    spec = yaml.safe_load((models / "TiTh.yaml").read_text())
+    spec["outputs"].append({"column": "yTh", "state": "Th", "noise": "e_std"})
+    model = RCModel.from_dict(spec)
+    assert indoor_outputs(model) == {"yTi"}
+    n = 60
+    df = pd.DataFrame({"Ta": np.full(n, 2.0), "Ph": np.full(n, 1.0), "Ps": np.full(n, 0.1),
+                       "yTi": np.full(n, 20.0), "yTh": np.full(n, 55.0)},
+                      index=np.arange(n) * 3600.0)  # fmt: skip
+    df.index.name = "t"
+    prepare_data(model, df)
+    with pytest.raises(ThermocalInputError, match=r"'yTi' has median 68\.0.*Fahrenheit"):
+        prepare_data(model, df.assign(yTi=68.0))

@@ -116,6 +116,11 @@ def test_rows_missing_from_the_time_axis_are_a_gap_like_empty_cells():
                           "inputs held over them)"]  # fmt: skip
     with pytest.raises(ThermocalInputError, match=r"rows 49 and 50\): 2 sample\(s\)"):
         prepare_data(model(), short.iloc[:150], input_gaps="interpolate", max_gap=1)
+    # a simulation of given inputs (no outputs to fit: FitResult.simulate, predict) holds
+    # them over the jump, as before, with the note (review of the fuzzing round's fix)
+    held = prepare_data(model(), deleted, require_outputs=False)
+    assert held.notes == ["time axis: 1 jump(s) of at most 20 missing sample(s) bridged (the "
+                          "inputs held over them)"]  # fmt: skip
     jitter = np.arange(100) * 300.0 + np.random.default_rng(0).uniform(-50, 50, 100)
     assert time_axis_jumps(jitter)[0].size == 0
     assert time_axis_jumps(np.array([0.0, 1, 2, 5, 6]))[1].tolist() == [2]

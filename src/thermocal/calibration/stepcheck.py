@@ -36,39 +36,58 @@ class CampaignStepWarning(UserWarning):
 
 #: Samples of the design whose response is compared at the two steps [-].
 CHECKED_SAMPLES = 2
+#: A log step below this is not simulated for the check [duration].
+MIN_CHECKED_STEP = pd.Timedelta("1min")
+#: Nor one more than this many times finer than the campaign's [-].
+MAX_STEP_RATIO = 12
 #: Largest relative RMS difference of the responses at the two steps that passes [-]: the
 #: clinic demo's 6.3 % at 15 minutes moved its roof's resistance by 4 % (500 samples).
 STEP_TOLERANCE = 0.05
 
 
-def log_interval(sensor_log: pd.DataFrame) -> pd.Timedelta | None:
+def log_interval(sensor_log: pd.DataFrame, sensors=None) -> pd.Timedelta | None:
     """The sensor log's reporting interval: the median over the sensors of the median spacing
-    of each sensor's time stamps.
+    of each sensor's own readings, rounded to the nearest step that divides an hour.
 
     Parameters
     ----------
     sensor_log : DataFrame
         As read by :func:`thermocal.io.measurements.read_measurements`: long (``time``,
-        ``sensor``, ``value``) or wide (a DatetimeIndex, a column per sensor).
+        ``sensor``, ``value``) or wide (a DatetimeIndex, a column per sensor; each column's
+        spacing from its own non-missing readings, so staggered sensors are not merged).
+    sensors : collection of str, optional
+        The sensors that make the references (the mapping's); others (a fast power meter
+        beside the temperatures) do not count. None: all.
 
     Returns
     -------
     Timedelta or None
-        None when it cannot be told (fewer than two stamps per sensor).
+        None when it cannot be told (fewer than two readings per sensor).
     """
+    wanted = None if sensors is None else {str(s) for s in sensors}
     if {"time", "sensor"} <= set(sensor_log.columns):
-        spacings = [
-            np.median(np.diff(pd.DatetimeIndex(times).as_unit("ns").asi8))
-            for _, times in sensor_log.groupby("sensor", observed=True)["time"]
-            if len(times) > 1
-        ]
-    elif isinstance(sensor_log.index, pd.DatetimeIndex) and len(sensor_log.index) > 1:
-        spacings = [np.median(np.diff(sensor_log.index.as_unit("ns").asi8))]
+        groups = (
+            (str(name), pd.DatetimeIndex(times))
+            for name, times in sensor_log.groupby("sensor", observed=True)["time"]
+        )
+    elif isinstance(sensor_log.index, pd.DatetimeIndex):
+        groups = (
+            (str(col), sensor_log.index[sensor_log[col].notna().to_numpy()])
+            for col in sensor_log.columns
+        )
     else:
         return None
+    spacings = [
+        float(np.median(np.diff(times.as_unit("ns").asi8)))
+        for name, times in groups
+        if (wanted is None or name in wanted) and len(times) > 1
+    ]
     if not spacings:
         return None
-    return pd.Timedelta(int(np.median(spacings)), unit="ns")
+    median = float(np.median(spacings))
+    steps = [d * 10**9 for d in range(1, 3601) if 3600 % d == 0]  # [ns]
+    nearest = min(steps, key=lambda step: abs(step - median))
+    return pd.Timedelta(int(nearest), unit="ns")
 
 
 def response_difference(nominal_fine, sample_fine, nominal_coarse, sample_coarse) -> float:
@@ -124,11 +143,20 @@ def check_campaign_step(campaign, inputs, problem, design: pd.DataFrame, log) ->
     """
     from thermocal.calibration.inputs import build_problem
 
-    fine_step = log_interval(inputs.sensor_log)
+    mapping = inputs.mapping
+    sensors = getattr(mapping, "sensors", None)
+    if sensors is None and isinstance(mapping, dict):
+        sensors = mapping.get("sensors")
+    fine_step = log_interval(inputs.sensor_log, None if sensors is None else list(sensors))
     step = pd.Timedelta(campaign.step)
     if fine_step is None or fine_step >= step or design.empty:
         return None
     fine_text = _duration_text(fine_step)
+    if fine_step < MIN_CHECKED_STEP or step / fine_step > MAX_STEP_RATIO:
+        return _note(campaign.step, fine_text, [], (
+            f"not checked (the log's step is {step / fine_step:.0f} times finer: three "
+            "identifications at it would cost more than the check is worth)"
+        ))  # fmt: skip
     log(f"campaign step {campaign.step}: checking its response against the log's {fine_text}")
     try:
         with warnings.catch_warnings():  # the campaign's own set-up said them already

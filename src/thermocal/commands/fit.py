@@ -759,8 +759,12 @@ def fit(
             from thermocal.statespace.checks import heat_loss_regime_check, split_at, split_halves
 
             console.print("heat loss coefficient per period...")
-            gap_kw = {"input_gaps": "interpolate" if max_gap > 0 else "error",
-                      "max_gap": max(max_gap, 1)}  # fmt: skip
+            # the periods as the main fit read the gaps (split there: each its own start)
+            gap_kw = {
+                "input_gaps": "split" if gaps == "split"
+                else "interpolate" if max_gap > 0 else "error",
+                "max_gap": max(max_gap, 1),
+            }  # fmt: skip
             if hlc_split:
                 periods = split_at(data, hlc_split, time_column=time_column,
                                    time_unit=time_unit, source=str(data_file))  # fmt: skip

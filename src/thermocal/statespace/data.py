@@ -14,7 +14,8 @@ from thermocal.statespace.units import time_unit_seconds
 KELVIN_SUSPICION_C = 150.0
 #: An indoor (output) temperature whose median exceeds this [C] is taken for Fahrenheit by
 #: mistake: no heated room has a median above 45 C, while rooms at 60-80 F (16-27 C) read as
-#: such. Not applied to boundaries: a heating circuit's supply water may be that hot.
+#: such. Applied to the outputs of the room's state only (:func:`indoor_outputs`): a boundary
+#: or another state's output (a heating circuit's supply water, a radiator) may be that hot.
 FAHRENHEIT_SUSPICION_C = 45.0
 
 
@@ -257,12 +258,14 @@ def prepare_data(
                     "check the column or the period selected"
                 )
         temperature_columns += model.output_names
+    indoor = indoor_outputs(model)
     for col in temperature_columns:
         median = float(pd.to_numeric(data[col], errors="coerce").median())
         slip = temperature_unit_slip(median)
         boundary = col in model.boundary_names
-        if boundary and slip == "Fahrenheit":
-            # a boundary may be hot for real (a heating circuit's supply water): only kelvin
+        if slip == "Fahrenheit" and col not in indoor:
+            # a boundary or another state's output may be hot for real (a heating circuit's
+            # supply water, a radiator): only kelvin there
             slip = None
         if slip is not None:
             limit = KELVIN_SUSPICION_C if slip == "kelvin" else FAHRENHEIT_SUSPICION_C
@@ -275,7 +278,9 @@ def prepare_data(
             )
     jump_rows, jump_missing = time_axis_jumps(seconds)
     if jump_rows.size:
-        long = np.flatnonzero(jump_missing > max_gap)
+        # a simulation of given inputs (no outputs to fit) holds them over any jump, noted
+        bridge = max_gap if require_outputs else int(jump_missing.max())
+        long = np.flatnonzero(jump_missing > bridge)
         if long.size and input_gaps != "split":  # "split" splits there (_split_periods)
             k, missing = int(jump_rows[long[0]]), int(jump_missing[long[0]])
             raise ThermocalInputError(
@@ -286,7 +291,7 @@ def prepare_data(
                 "(input_gaps='split', --gaps split: each period gets its own initial states), "
                 "cut the data, or raise max_gap"
             )
-        bridged = jump_missing[jump_missing <= max_gap]
+        bridged = jump_missing[jump_missing <= bridge]
         if bridged.size:
             notes.append(
                 f"time axis: {bridged.size} jump(s) of at most {int(bridged.max())} missing "
@@ -314,6 +319,30 @@ def prepare_data(
 
 #: Conversion to degrees C of a temperature slip (:func:`temperature_unit_slip`).
 _CONVERSIONS = {"kelvin": "subtract 273.15", "Fahrenheit": "convert with (F - 32) x 5/9"}
+
+
+def indoor_outputs(model) -> set[str]:
+    """The output columns that observe the room: the model's heat-loss state alone
+    (:meth:`RCModel.heat_loss_state`); empty when the model has none.
+
+    Parameters
+    ----------
+    model : RCModel
+
+    Returns
+    -------
+    set of str
+        Data columns of those outputs.
+    """
+    state = model.heat_loss_state()
+    if state is None:
+        return set()
+    st = model.structure()
+    k = model.state_names.index(state)
+    return {
+        col for r, col in enumerate(model.output_names)
+        if np.flatnonzero(st.C[r]).tolist() == [k] and st.C[r, k] == 1.0
+    }  # fmt: skip
 
 
 def temperature_unit_slip(median: float) -> str | None:

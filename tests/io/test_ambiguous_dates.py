@@ -115,3 +115,18 @@ def test_month_first_reading_of_a_day_first_log_would_be_irregular(tmp_path):
         assert pd.to_datetime(pd.Series(stamps), format=fmt).is_monotonic_increasing
     raw, _ = read_measurements(_wide_log(tmp_path, stamps), tz=1.0)
     assert np.all(np.diff(raw.index.asi8) == np.diff(raw.index.asi8)[0])
+
+
+def test_a_spreadsheet_writes_midnight_as_the_date_alone(tmp_path):
+    """Spreadsheet exports drop 00:00 at midnight ('13/01/2024', then '13/01/2024 01:00'): both
+    orders failed on the midnight rows, so the file was refused as unreadable (review of the
+    day/month reading); each row is now read with its own time of day."""
+    stamps = pd.date_range("2024-01-13 00:00", periods=72, freq="h")
+    written = [
+        s.strftime("%d/%m/%Y") if s.hour == 0 else s.strftime("%d/%m/%Y %H:%M") for s in stamps
+    ]
+    raw, _ = read_measurements(_wide_log(tmp_path, written), tz=1.0)
+    index = raw.index if isinstance(raw.index, pd.DatetimeIndex) else pd.DatetimeIndex(raw["time"])
+    assert index[0] == pd.Timestamp("2024-01-13 00:00", tz=CET)
+    assert index[24] == pd.Timestamp("2024-01-14 00:00", tz=CET)
+    assert len(index.unique()) == 72

@@ -249,9 +249,12 @@ def day_month_order(
     if first.group(5):
         clock = first.group(5) + "%H:%M" + (":%S" if first.group(6) else "")
     formats = {"day-first": f"%d{sep}%m{sep}%Y{clock}", "month-first": f"%m{sep}%d{sep}%Y{clock}"}
+    clocks = _clock_formats(text)
     readings = {
-        order: pd.to_datetime(text, format=fmt, errors="coerce") for order, fmt in formats.items()
-    }
+        order: _read_dates(text, clocks, f"%d{sep}%m{sep}%Y" if order == "day-first"
+                           else f"%m{sep}%d{sep}%Y")
+        for order in formats
+    }  # fmt: skip
     failed = {order: int((times.isna() & text.notna()).sum()) for order, times in readings.items()}
     day_first, month_first = readings["day-first"], readings["month-first"]
     if failed["day-first"] and failed["month-first"]:
@@ -275,6 +278,24 @@ def day_month_order(
     note = f"dates read {order} ({formats[order]}): {why}"
     log.info("%s, column '%s': %s", source, column, note)
     return readings[order], note
+
+
+def _clock_formats(text: pd.Series) -> pd.Series:
+    """Per row, the strftime form of its time of day (``" %H:%M"``, ``"T%H:%M:%S"``, or
+    ``""`` for a date alone: spreadsheets write midnight as the date alone)."""
+    parts = text.str.extract(_DAY_MONTH.pattern)
+    joint, seconds = parts[4].fillna(""), parts[5].notna()
+    return joint + np.where(joint != "", "%H:%M", "") + np.where(seconds, ":%S", "")
+
+
+def _read_dates(text: pd.Series, clocks: pd.Series, date_format: str) -> pd.Series:
+    """The stamps read with ``date_format`` followed by each row's own clock form (missing
+    where it does not fit)."""
+    times = pd.Series(pd.NaT, index=text.index, dtype="datetime64[ns]")
+    for clock in clocks.dropna().unique():
+        rows = (clocks == clock).to_numpy()
+        times[rows] = pd.to_datetime(text[rows], format=date_format + clock, errors="coerce")
+    return times
 
 
 def _ambiguous_order(

@@ -616,32 +616,74 @@ def baseline_days_after_retrofit(
         baseline heat of the first ``candidate_days`` days and of the rest [-]),
         ``statistic`` (the fit's improvement in error variances) and ``threshold`` (``z^2``).
     """
+    out = {"days": 0, "candidate_days": 0, "ratio_first": float("nan"),
+           "ratio_rest": float("nan"), "statistic": 0.0, "threshold": float(z * z)}  # fmt: skip
+    step = _leading_step(measured, baseline, rho, fitted="rest")
+    if step is None:
+        return out
+    out.update(
+        candidate_days=step["span"], ratio_rest=step["ratio"], statistic=step["statistic"],
+        ratio_first=step["leading_ratio"],
+        days=step["span"] if step["k"] >= 2 and step["statistic"] > z * z else 0,
+    )  # fmt: skip
+    return out
+
+
+def _leading_step(measured, baseline, rho: float, *, fitted: str) -> dict | None:
+    """The least-squares change point of the daily heat after its leading days, shared by
+    :func:`baseline_days_after_retrofit` and (on the reversed days)
+    :func:`retrofitted_days_before_the_date`.
+
+    On the first ``k`` days and on the rest, the measured heat is the baseline model's or a
+    fitted fraction ``m`` of it: ``fitted`` says which part has the fraction ("rest" or
+    "leading"); ``k = 0 .. n // 2``. Days without heat data (or a baseline of 0) are skipped.
+
+    Parameters
+    ----------
+    measured, baseline : array-like [kWh]
+        Daily measured heat and the baseline model's, in order.
+    rho : float [-]
+        Lag-1 autocorrelation of the daily residuals (clipped to 0-0.9).
+    fitted : {"rest", "leading"}
+
+    Returns
+    -------
+    dict or None
+        ``k`` (leading days with data), ``span`` (the days they cover, skipped ones
+        included), ``ratio`` (the fitted ``m``; 1 for ``k = 0`` with "leading"),
+        ``leading_ratio`` and ``rest_ratio`` (measured over baseline heat of the two parts;
+        NaN for no leading day), ``statistic`` (the fit's improvement on ``k = 0`` in error
+        variances widened for ``rho``); None with fewer than 6 days.
+    """
     y = np.asarray(measured, float)
     b = np.asarray(baseline, float)
     ok = np.isfinite(y) & np.isfinite(b) & (b > 0)  # days without heat data are skipped
     where = np.flatnonzero(ok)
     y, b = y[ok], b[ok]
     n = len(y)
-    out = {"days": 0, "candidate_days": 0, "ratio_first": float("nan"),
-           "ratio_rest": float("nan"), "statistic": 0.0, "threshold": float(z * z)}  # fmt: skip
     if n < 6:
-        return out
-    sse, rest = [], []
+        return None
+    sse, ratios = [], []
     for k in range(n // 2 + 1):
-        m = float(np.dot(y[k:], b[k:]) / np.dot(b[k:], b[k:]))
-        sse.append(float(np.sum((y[:k] - b[:k]) ** 2) + np.sum((y[k:] - m * b[k:]) ** 2)))
-        rest.append(m)
+        if fitted == "rest":
+            m = float(np.dot(y[k:], b[k:]) / np.dot(b[k:], b[k:]))
+            lead, rest = 1.0, m
+        else:
+            m = float(np.dot(y[:k], b[:k]) / np.dot(b[:k], b[:k])) if k else 1.0
+            lead, rest = m, 1.0
+        sse.append(float(np.sum((y[:k] - lead * b[:k]) ** 2) + np.sum((y[k:] - rest * b[k:]) ** 2)))
+        ratios.append(m)
     k = int(np.argmin(sse))
     r = min(max(float(rho), 0.0), 0.9) if np.isfinite(rho) else 0.0
     var = sse[k] / (n - 2) * (1.0 + r) / (1.0 - r)
-    stat = (sse[0] - sse[k]) / var if var > 0 else 0.0
-    span = int(where[k - 1]) + 1 if k else 0  # up to the last such day, skipped ones included
-    out.update(
-        candidate_days=span, ratio_rest=rest[k], statistic=float(stat),
-        ratio_first=float(y[:k].sum() / b[:k].sum()) if k else float("nan"),
-        days=span if k >= 2 and stat > z * z else 0,
-    )  # fmt: skip
-    return out
+    return {
+        "k": k,
+        "span": int(where[k - 1]) + 1 if k else 0,  # up to the last such day
+        "ratio": ratios[k],
+        "leading_ratio": float(y[:k].sum() / b[:k].sum()) if k else float("nan"),
+        "rest_ratio": float(y[k:].sum() / b[k:].sum()),
+        "statistic": float((sse[0] - sse[k]) / var) if var > 0 else 0.0,
+    }
 
 
 def retrofitted_days_before_the_date(
@@ -676,30 +718,20 @@ def retrofitted_days_before_the_date(
         the last ``candidate_days`` days and of the days before [-]), ``statistic`` and
         ``threshold``.
     """
-    y = np.asarray(measured, float)[::-1]
-    b = np.asarray(baseline, float)[::-1]
-    ok = np.isfinite(y) & np.isfinite(b) & (b > 0)
-    where = np.flatnonzero(ok)
-    y, b = y[ok], b[ok]
-    n = len(y)
     out = {"days": 0, "candidate_days": 0, "ratio_last": float("nan"),
            "ratio_before": float("nan"), "statistic": 0.0, "threshold": float(z * z)}  # fmt: skip
-    if n < 6:
+    step = _leading_step(
+        np.asarray(measured, float)[::-1], np.asarray(baseline, float)[::-1], rho,
+        fitted="leading",
+    )  # fmt: skip
+    if step is None:
         return out
-    sse, fitted = [], []
-    for k in range(n // 2 + 1):
-        m = float(np.dot(y[:k], b[:k]) / np.dot(b[:k], b[:k])) if k else 1.0
-        sse.append(float(np.sum((y[:k] - m * b[:k]) ** 2) + np.sum((y[k:] - b[k:]) ** 2)))
-        fitted.append(m)
-    k = int(np.argmin(sse))
-    r = min(max(float(rho), 0.0), 0.9) if np.isfinite(rho) else 0.0
-    var = sse[k] / (n - 2) * (1.0 + r) / (1.0 - r)
-    stat = (sse[0] - sse[k]) / var if var > 0 else 0.0
-    span = int(where[k - 1]) + 1 if k else 0
+    k = step["k"]
     out.update(
-        candidate_days=span, ratio_last=fitted[k] if k else float("nan"),
-        ratio_before=float(y[k:].sum() / b[k:].sum()), statistic=float(stat),
-        days=span if k >= 2 and fitted[k] < 1.0 and stat > z * z else 0,
+        candidate_days=step["span"], ratio_last=step["ratio"] if k else float("nan"),
+        ratio_before=step["rest_ratio"], statistic=step["statistic"],
+        days=step["span"] if k >= 2 and step["ratio"] < 1.0 and step["statistic"] > z * z
+        else 0,
     )  # fmt: skip
     return out
 

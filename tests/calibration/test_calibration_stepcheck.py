@@ -102,7 +102,7 @@ def _inputs(tmp):
     return folder
 
 
-def _check(tmp, step):
+def _check(tmp, step, *, with_nominal=False):
     from thermocal.calibration.config import load_campaign
     from thermocal.calibration.inputs import build_problem, load_inputs
     from thermocal.calibration.sampling import sample
@@ -130,7 +130,13 @@ sampling: {{method: sobol, samples: 8, seed: 3}}
     inputs = load_inputs(campaign)
     problem, _ = build_problem(campaign, inputs)
     design = sample(campaign_space(campaign, inputs.building), 8, "sobol", seed=3).values
-    return check_campaign_step(campaign, inputs, problem, design, lambda line: None)
+    nominal = None
+    if with_nominal:  # as the workflow: the campaign's own nominal outputs
+        from thermocal.calibration.spatial import campaign_evaluator
+
+        problem.series_outputs = True
+        nominal = campaign_evaluator(problem, inputs.building).outputs(problem.run({}).heat)
+    return check_campaign_step(campaign, inputs, problem, design, lambda line: None, nominal)
 
 
 def test_the_campaign_step_is_checked_against_the_logs(tmp_path_factory):
@@ -145,6 +151,8 @@ def test_the_campaign_step_is_checked_against_the_logs(tmp_path_factory):
     assert fine["passed"] and fine["largest"] <= STEP_TOLERANCE, fine
     assert "15min" in fine["note"] and "5 min" in fine["note"]
     assert coarse["largest"] > 2 * fine["largest"], (fine, coarse)
+    # the campaign's own nominal run stands for the check's identification of it
+    assert _check(tmp, "15min", with_nominal=True)["differences"] == fine["differences"]
     if not coarse["passed"]:
         assert "run the campaign at a finer step" in coarse["note"]
 

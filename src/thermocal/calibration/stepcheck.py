@@ -118,7 +118,9 @@ def _series(outputs: dict) -> np.ndarray:
     return np.array([outputs[k] for k in keys], dtype=float)
 
 
-def check_campaign_step(campaign, inputs, problem, design: pd.DataFrame, log) -> dict | None:
+def check_campaign_step(
+    campaign, inputs, problem, design: pd.DataFrame, log, nominal_outputs: dict | None = None
+) -> dict | None:
     """Compare the responses of the first design samples at the campaign's and the log's step.
 
     Parameters
@@ -133,6 +135,9 @@ def check_campaign_step(campaign, inputs, problem, design: pd.DataFrame, log) ->
         The campaign's samples (a column per parameter, in its units).
     log : callable
         Progress lines.
+    nominal_outputs : dict, optional
+        The campaign's own outputs of the nominal model at its step (its ``series/*`` hours),
+        which the check then does not identify again.
 
     Returns
     -------
@@ -168,7 +173,10 @@ def check_campaign_step(campaign, inputs, problem, design: pd.DataFrame, log) ->
     points = [{}] + [
         {k: float(v) for k, v in row.items()} for _, row in design.head(CHECKED_SAMPLES).iterrows()
     ]
-    coarse_series = [_series(problem.evaluate(p)) for p in points]
+    coarse_series = [
+        _series(nominal_outputs) if not p and nominal_outputs else _series(problem.evaluate(p))
+        for p in points
+    ]
     fine_series = [_series(fine.evaluate(p)) for p in points]
     if any(len(c) != len(f) for c, f in zip(coarse_series, fine_series, strict=True)):
         return _note(campaign.step, fine_text, [], "not checked (the steps give other hours)")

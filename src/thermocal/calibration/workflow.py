@@ -188,7 +188,9 @@ def calibrate(
     )
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
     t0 = time.perf_counter()
-    step_check = check_campaign_step(campaign, inputs, problem, sample_set.values, log)
+    step_check = check_campaign_step(
+        campaign, inputs, problem, sample_set.values, log, nominal_outputs
+    )
     if step_check is not None:
         timings["step_check"] = time.perf_counter() - t0
         if step_check["passed"]:  # a failed check is a warning (CampaignStepWarning)

@@ -1,5 +1,5 @@
-"""Numbers and lists as text: the one formatter of a number that may be missing, and of a list
-shortened to its first items.
+"""Numbers, lists and durations as text: the one formatter of a number that may be missing, of
+a list shortened to its first items, and of a duration as a configuration writes it.
 
 Reports, tables and console summaries print values that can be absent (``None`` in a results
 dict cleaned by :func:`thermocal.jsonsafe.json_ready`, NaN in a table, infinity for a payback
@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["format_number", "shortened_list"]
+__all__ = ["duration_text", "format_number", "shortened_list"]
 
 
 def format_number(value: Any, spec: str = "g", missing: str = "n/a") -> str:
@@ -62,3 +62,24 @@ def shortened_list(items, shown: int = 6) -> str:
     items = list(items)
     more = f" and {len(items) - shown} more" if len(items) > shown else ""
     return ", ".join(items[:shown]) + more
+
+
+def duration_text(td) -> str:
+    """A duration as a configuration would write it: ``15min``, ``1h``, ``2h30min``, ``90s``.
+
+    Parameters
+    ----------
+    td : pandas.Timedelta
+        The duration.
+
+    Returns
+    -------
+    str
+    """
+    import pandas as pd
+
+    minutes = td / pd.Timedelta(minutes=1)
+    if minutes != int(minutes):
+        return f"{td.total_seconds():g}s"
+    hours, rest = divmod(int(minutes), 60)
+    return (f"{hours}h" if hours else "") + (f"{rest}min" if rest or not hours else "")

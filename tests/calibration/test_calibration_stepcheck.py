@@ -147,9 +147,9 @@ def test_the_campaign_step_is_checked_against_the_logs(tmp_path_factory):
     assert _check(tmp, "5min") is None
     fine = _check(tmp, "15min")
     coarse = _check(tmp, "1h")
-    assert fine["log_step"] == "5 min" and len(fine["differences"]) == 2
+    assert fine["log_step"] == "5min" and len(fine["differences"]) == 2
     assert fine["passed"] and fine["largest"] <= STEP_TOLERANCE, fine
-    assert "15min" in fine["note"] and "5 min" in fine["note"]
+    assert "15min" in fine["note"] and "log's: 5min" in fine["note"]
     assert coarse["largest"] > 2 * fine["largest"], (fine, coarse)
     # the campaign's own nominal run stands for the check's identification of it
     assert _check(tmp, "15min", with_nominal=True)["differences"] == fine["differences"]

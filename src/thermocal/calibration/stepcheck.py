@@ -25,6 +25,7 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.textformat import duration_text
 
 __all__ = ["CHECKED_SAMPLES", "STEP_TOLERANCE", "CampaignStepWarning", "check_campaign_step",
            "log_interval", "response_difference"]  # fmt: skip
@@ -156,7 +157,7 @@ def check_campaign_step(
     step = pd.Timedelta(campaign.step)
     if fine_step is None or fine_step >= step or design.empty:
         return None
-    fine_text = _duration_text(fine_step)
+    fine_text = duration_text(fine_step)
     if fine_step < MIN_CHECKED_STEP or step / fine_step > MAX_STEP_RATIO:
         return _note(campaign.step, fine_text, [], (
             f"not checked (the log's step is {step / fine_step:.0f} times finer: three "
@@ -219,10 +220,3 @@ def _note(step: str, fine_text: str, differences: list[float], skipped: str | No
         "passed": passed,
         "note": note,
     }
-
-
-def _duration_text(duration: pd.Timedelta) -> str:
-    minutes = duration.total_seconds() / 60.0
-    if minutes >= 60 and minutes % 60 == 0:
-        return f"{int(minutes // 60)} h"
-    return f"{minutes:g} min"

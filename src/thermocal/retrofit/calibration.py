@@ -479,7 +479,8 @@ def finer_step_remedy(
     -------
     str
     """
-    from thermocal.retrofit.data import LOG_INTERVAL_SLACK, duration_text
+    from thermocal.retrofit.data import LOG_INTERVAL_SLACK
+    from thermocal.textformat import duration_text
 
     if FINER_STEP not in flag:
         return flag

@@ -27,6 +27,7 @@ from thermocal.retrofit.config import (
     MEASUREMENT_COLUMNS,
     MeasurementsConfig,
 )
+from thermocal.textformat import duration_text
 
 TEMPERATURE_COLUMNS = ("temp_out", "temp_supply", "temp_return", "temp_in")
 #: Highest supply or return water temperature [C] (liquid water at ambient pressure), and
@@ -535,15 +536,6 @@ def log_source(raw: pd.DataFrame) -> str:
     """The measurement file of ``raw`` (its reader's ``source``), for messages."""
     meta = raw.attrs.get("measurements", {}) if isinstance(raw.attrs, dict) else {}
     return str(meta.get("source") or "the measurement file")
-
-
-def duration_text(td: pd.Timedelta) -> str:
-    """A duration as a configuration would write it: ``15min``, ``1h``, ``2h30min``."""
-    minutes = td / pd.Timedelta(minutes=1)
-    if minutes != int(minutes):
-        return f"{td.total_seconds():g}s"
-    hours, rest = divmod(int(minutes), 60)
-    return (f"{hours}h" if hours else "") + (f"{rest}min" if rest or not hours else "")
 
 
 def check_step_against_log(step: str, interval: pd.Timedelta, source: str) -> None:

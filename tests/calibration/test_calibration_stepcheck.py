@@ -8,6 +8,7 @@ import functools
 import numpy as np
 import pandas as pd
 import pytest
+from clinic_sensor_log import write_clinic_inputs
 
 from thermocal.calibration.stepcheck import (
     STEP_TOLERANCE,
@@ -72,34 +73,9 @@ def _inputs(tmp):
     """The 12-zone clinic's true building logged every 5 minutes, its nominal file, mapping."""
     from pathlib import Path
 
-    from thermocal.demos import buildings as generators
-    from thermocal.demos.retrofit import pvlib_weather_path
-    from thermocal.io.weather import read_weather
-    from thermocal.multizone import Simulation
-    from thermocal.multizone.files import save_building
-    from thermocal.multizone.model import Location
-
-    folder = Path(tmp)
-    weather, meta = read_weather(pvlib_weather_path())
-    site = Location(meta["latitude"], meta["longitude"], meta.get("altitude") or 0.0)
-    nominal = generators.clinic(12, n_corridors=1, corridor_sections=2, location=site)
-    truth = nominal.with_parameters({"material/R16 insulation/resistance": 2.818 * 0.6})
-    air = (
-        Simulation(truth, weather, meta, step="5min", start=START, end=END, warmup_days=2,
-                   store_surfaces=False)  # fmt: skip
-        .run(free_float=True)
-        .air_temperature
-    )
-    air.index = air.index + pd.Timedelta("5min")  # the end-of-step state
-    names = {zone: f"S{i:02d}" for i, zone in enumerate(air.columns)}
-    log = air.rename(columns=names)
-    log.index.name = "time"
-    log.to_csv(folder / "sensors.csv", date_format="%Y-%m-%dT%H:%M:%S%z")
-    (folder / "mapping.yaml").write_text(
-        "sensors:\n" + "".join(f"  {s}: {z}\n" for z, s in names.items())
-    )
-    save_building(nominal, folder / "building.yaml")
-    return folder
+    truth = {"material/R16 insulation/resistance": 2.818 * 0.6}
+    write_clinic_inputs(tmp, truth, step="5min", start=START, end=END, warmup_days=2)
+    return Path(tmp)
 
 
 def _check(tmp, step, *, with_nominal=False):
@@ -167,3 +143,40 @@ def test_a_step_beyond_the_tolerance_is_a_warning(tmp_path_factory, monkeypatch)
     with pytest.warns(stepcheck.CampaignStepWarning, match=r"campaign_15min\.yaml: .*finer step"):
         result = _check(tmp, "15min")
     assert not result["passed"] and result["tolerance"] == 1e-6
+
+
+def test_a_resumed_campaign_takes_its_stored_step_check(tmp_path, monkeypatch):
+    """The check runs once per campaign: its result is kept in the store, a resumed campaign
+    (same definition) takes it instead of identifying three models again, and a failed one
+    warns again. Before, every ``--resume`` re-ran it (a few seconds, the clinic's 7)."""
+    from types import SimpleNamespace
+
+    import thermocal.calibration.stepcheck as stepcheck
+    from thermocal.calibration.store import CampaignStore
+    from thermocal.calibration.workflow import _step_check
+
+    calls = []
+    failed = stepcheck._note("15min", "5min", [0.2, 0.1], None)
+
+    def check(campaign, *args):  # as the real check: it warns when it fails
+        calls.append(args)
+        stepcheck.warn_if_failed(failed, campaign.path)
+        return failed
+
+    monkeypatch.setattr(stepcheck, "check_campaign_step", check)
+    campaign = SimpleNamespace(path=tmp_path / "campaign.yaml")
+    definition = {"step": "15min"}
+    for resume in (False, True, True):
+        with CampaignStore.open(tmp_path / "s.sqlite", definition=definition) as store:
+            timings = {}
+            with pytest.warns(stepcheck.CampaignStepWarning, match=r"campaign\.yaml: .*finer"):
+                result = _step_check(campaign, None, None, None, None, store, resume, timings,
+                                     lambda line: None)  # fmt: skip
+            assert result == failed
+            assert ("step_check" in timings) == (not resume)
+    assert len(calls) == 1
+    # a fresh (not resumed) campaign checks again
+    with CampaignStore.open(tmp_path / "s.sqlite", definition=definition) as store:
+        with pytest.warns(stepcheck.CampaignStepWarning):
+            _step_check(campaign, None, None, None, None, store, False, {}, lambda line: None)
+    assert len(calls) == 2

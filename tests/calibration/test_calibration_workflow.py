@@ -9,13 +9,12 @@ import sys
 import numpy as np
 import pandas as pd
 import pytest
+from clinic_sensor_log import small_clinic, weather_path, write_clinic_inputs
 
 from thermocal.calibration.config import load_campaign
 from thermocal.calibration.workflow import calibrate
 from thermocal.demos import buildings as generators
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone import Simulation
-from thermocal.multizone.files import save_building
 
 START, END = "2001-01-08", "2001-01-15"
 TRUE = {
@@ -24,26 +23,15 @@ TRUE = {
 }
 
 
-def _weather_path():
-    from thermocal.demos.retrofit import pvlib_weather_path
-
-    return pvlib_weather_path()
-
-
 PARAMETERS = """parameters:
   include: ["material/R16 insulation/resistance", "window/Exterior window/*",
             "material/Concrete block/conductivity", "infiltration/corridor 1/ach"]
   default_range: 0.6"""
 
 
-def _clinic():
-    """The small clinic, standing where its weather was measured (300 km off is refused)."""
-    from thermocal.io.weather import read_weather
-    from thermocal.multizone.model import Location
-
-    _, meta = read_weather(_weather_path())
-    site = Location(meta["latitude"], meta["longitude"], meta.get("altitude") or 0.0)
-    return generators.clinic(12, n_corridors=1, corridor_sections=2, location=site)
+# the reference scripts (tests/reference/calibration_*) import these names from here
+_clinic = small_clinic
+_weather_path = weather_path
 
 
 def _campaign(
@@ -51,30 +39,7 @@ def _campaign(
 ):
     """Nominal building file, the true building's sensor log, mapping and campaign file
     (``zoom``: the local campaign's samples, off here: test_calibration_zoom tests it)."""
-    from thermocal.io.weather import read_weather
-
-    weather, meta = read_weather(_weather_path())
-    nominal = _clinic()
-    sim = Simulation(
-        nominal.with_parameters(truth),
-        weather,
-        meta,
-        step="15min",
-        start=START,
-        end=end,
-        store_surfaces=False,
-    )
-    air = sim.run(free_float=True).air_temperature
-    log = air.copy()
-    log.index = log.index + pd.Timedelta("15min")  # sensors see the end-of-step state
-    names = {zone: f"S{i:02d}" for i, zone in enumerate(log.columns)}
-    log = log.rename(columns=names)
-    log.index.name = "time"
-    log.to_csv(tmp_path / "sensors.csv", date_format="%Y-%m-%dT%H:%M:%S%z")
-    (tmp_path / "mapping.yaml").write_text(
-        "sensors:\n" + "".join(f"  {s}: {z}\n" for z, s in names.items())
-    )
-    save_building(nominal, tmp_path / "building.yaml")
+    write_clinic_inputs(tmp_path, truth, step="15min", start=START, end=end)
     (tmp_path / "campaign.yaml").write_text(
         f"""
 building: building.yaml

@@ -147,7 +147,6 @@ def calibrate(
     from thermocal.calibration.runner import run_campaign
     from thermocal.calibration.sampling import sample
     from thermocal.calibration.spatial import campaign_evaluator
-    from thermocal.calibration.stepcheck import check_campaign_step
     from thermocal.calibration.store import CampaignStore, campaign_definition
 
     timings: dict[str, float] = {}
@@ -187,15 +186,6 @@ def calibrate(
         "identification)"
     )
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
-    t0 = time.perf_counter()
-    step_check = check_campaign_step(
-        campaign, inputs, problem, sample_set.values, log, nominal_outputs
-    )
-    if step_check is not None:
-        timings["step_check"] = time.perf_counter() - t0
-        if step_check["passed"]:  # a failed check is a warning (CampaignStepWarning)
-            log(step_check["note"])
-        notes.append(step_check["note"])
     definition = campaign_definition(
         space,
         method=campaign.sampling.method,
@@ -233,6 +223,12 @@ def calibrate(
                 },
             },
         )
+        step_check = _step_check(campaign, inputs, problem, sample_set.values, nominal_outputs,
+                                 store, resume, timings, log)  # fmt: skip
+        if step_check is not None:
+            if step_check["passed"]:  # a failed check is a warning (CampaignStepWarning)
+                log(step_check["note"])
+            notes.append(step_check["note"])
         pending = len(store.pending(sample_set.values.index))
         check_campaign_time(
             pending,
@@ -283,6 +279,26 @@ def calibrate(
             log=log,
             morris=morris,
         )
+
+
+def _step_check(campaign, inputs, problem, design, nominal_outputs, store, resume, timings, log):
+    """The campaign step's check (:func:`thermocal.calibration.stepcheck.check_campaign_step`),
+    kept in the store: a resumed campaign (the same definition: step, design and problem) takes
+    the first run's instead of identifying three models again, and warns again when it failed.
+    Returns the check's result or None (the campaign runs at the log's step)."""
+    from thermocal.calibration.stepcheck import check_campaign_step, warn_if_failed
+
+    stored = store.info("step_check") if resume else None
+    if stored is not None:
+        log("campaign step: checked when this campaign began (kept in its store)")
+        warn_if_failed(stored, campaign.path)
+        return stored
+    t0 = time.perf_counter()
+    result = check_campaign_step(campaign, inputs, problem, design, log, nominal_outputs)
+    if result is not None:
+        timings["step_check"] = time.perf_counter() - t0
+        store.set_info("step_check", result)
+    return result
 
 
 def campaign_space(campaign, building):

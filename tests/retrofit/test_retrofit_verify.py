@@ -443,7 +443,7 @@ def test_exchanged_sensor_is_named():
     import numpy as np
     import pandas as pd
 
-    from thermocal.retrofit.verify import sensor_change_notes
+    from thermocal.retrofit.verify_periods import sensor_change_notes
 
     rng = np.random.default_rng(3)
     index = pd.date_range("2024-01-01", "2024-03-31", freq="10min", tz="UTC")
@@ -472,7 +472,7 @@ def test_leading_days_that_behave_like_the_baseline_are_found():
     """The change point of the reporting period's daily heat: days at the baseline before the
     retrofit was finished are found; a constant fraction, one odd day or a mild saving with
     the same noise are not."""
-    from thermocal.retrofit.verify import baseline_days_after_retrofit, baseline_days_note
+    from thermocal.retrofit.verify_periods import baseline_days_after_retrofit, baseline_days_note
 
     rng = np.random.default_rng(5)
     baseline = rng.uniform(70.0, 150.0, 28)  # [kWh/day]
@@ -520,7 +520,10 @@ def test_a_retrofit_date_a_week_early_is_warned_about(demo_folder, tmp_path):
 def test_trailing_days_that_behave_like_a_retrofitted_house_are_found():
     """The mirror at the baseline period's end: days of the new house before the stated date
     are found; the baseline itself, one odd day or a mild saving are not."""
-    from thermocal.retrofit.verify import retrofitted_days_before_the_date, retrofitted_days_note
+    from thermocal.retrofit.verify_periods import (
+        retrofitted_days_before_the_date,
+        retrofitted_days_note,
+    )
 
     rng = np.random.default_rng(6)
     baseline = rng.uniform(70.0, 150.0, 28)  # [kWh/day]

@@ -105,12 +105,8 @@ def verify(
     from thermocal.demos.verify import prepare_verify_demo
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import check_output_folder, output_folder
-    from thermocal.retrofit.verify import (
-        VERIFY_SIGNATURE,
-        load_verify_config,
-        run_verify,
-        write_verify_outputs,
-    )
+    from thermocal.retrofit.verify import VERIFY_SIGNATURE, load_verify_config, run_verify
+    from thermocal.retrofit.verify_report import write_verify_outputs
 
     if demo == (config is not None):
         raise ThermocalInputError(

@@ -313,7 +313,9 @@ def test_too_few_samples_are_refused_before_any_simulation(tmp_path):
     """Before: 4 samples were simulated, then 'too few for a meta-model'."""
     campaign = load_campaign(_campaign(tmp_path, samples=4))
     lines = []
-    with pytest.raises(ThermocalInputError, match=r"--samples 4: a meta-model needs at least 10"):
+    with pytest.raises(
+        ThermocalInputError, match=r"sampling\.samples is 4: a meta-model needs at least 10"
+    ):
         calibrate(
             campaign, workers=1, store_path=tmp_path / "s.sqlite", progress=False, log=lines.append
         )

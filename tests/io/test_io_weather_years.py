@@ -67,3 +67,53 @@ def test_actual_year_must_cover_the_period():
     assert "Zuerich-SMA_2015.epw" in message and "actual-year file of 2015" in message
     assert "[2013-02-01 00:00:00+01:00, 2013-02-10 00:00:00+01:00)" in message
     assert "typical-year file" in message  # what to do
+
+
+def _first_lines(source, target, days: int):
+    """The 8 header lines and the first ``days`` days of hourly rows of an EPW file."""
+    lines = source.read_text().splitlines(keepends=True)
+    target.write_text("".join(lines[: 8 + 24 * days]))
+    return target
+
+
+def test_a_truncated_typical_year_is_said_to_be_truncated_not_an_actual_year(tmp_path):
+    """Before: the first 10 days of a TMY (all from 1995, so read as an actual year) were
+    called "an actual-year file of 1995" that does not cover the period; the header declares
+    1/1 to 12/31, so the file is cut short: say so, with its rows and dates."""
+    path = _first_lines(
+        shared_data_path("ashrae140_bestest", "725650TYCST.epw"), tmp_path / "w.epw", 10
+    )
+    weather, meta = read_weather(path)
+    with pytest.raises(ThermocalInputError) as caught:
+        weather_for_period(weather, meta, "2023-01-02", "2023-01-09", source="w.epw")
+    message = str(caught.value)
+    assert "actual-year file" not in message
+    assert "w.epw" in message and "truncated or incomplete" in message
+    assert "DATA PERIODS line declares data from 1/1 to 12/31" in message
+    assert "240 hourly rows (10 days) from 1995-01-01 00:00 to 1995-01-10 23:00" in message
+    assert "complete file" in message
+    # a complete actual year (Zurich 2015) keeps its message: test_actual_year_must_cover...
+
+
+def test_annual_results_need_one_whole_year_of_weather(tmp_path):
+    """check_full_year: a typical year and an actual year pass; half a TMY is refused with its
+    rows, dates and the header's declared period; several years are refused too."""
+    from thermocal.io.weather import check_full_year
+
+    check_full_year(*_tmy(), source="tmy.epw")
+    check_full_year(
+        *read_weather(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")), source="z"
+    )
+    path = _first_lines(
+        shared_data_path("ashrae140_bestest", "725650TYCST.epw"), tmp_path / "half.epw", 181
+    )
+    with pytest.raises(ThermocalInputError) as caught:
+        check_full_year(*read_weather(path), source="half.epw")
+    message = str(caught.value)
+    assert "half.epw" in message and "one whole year" in message and "8,760 hours" in message
+    assert "4,344 hourly rows (181 days) from 1 January 00:00 to 30 June 23:00" in message
+    assert "truncated" in message and "declares data from 1/1 to 12/31" in message
+    weather, meta = _tmy()
+    two = pd.concat([weather, weather.set_axis(weather.index + pd.DateOffset(years=1))])
+    with pytest.raises(ThermocalInputError, match="17,520 hourly rows.*one year of it"):
+        check_full_year(two, {**meta, "coerced_year": None, "data_period": None}, source="2y")

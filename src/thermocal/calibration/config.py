@@ -34,10 +34,11 @@ import difflib
 import hashlib
 import json
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import pandas as pd
 from pydantic import (
+    AfterValidator,
     BaseModel,
     ConfigDict,
     Field,
@@ -143,6 +144,36 @@ def _relative_half_width(value: Any, key: str) -> Any:
     return value
 
 
+#: largest seed a campaign file may give [-]: scikit-learn's ``random_state`` (the meta-models
+#: and the posterior's folds take ``sampling.seed``) stops at 2**32 - 1, and the zoom stage
+#: samples with ``sampling.seed + 1``
+MAX_SEED = 2**32 - 2
+
+
+def _seed_in_range(value: int) -> int:
+    """Refuse a seed numpy and scikit-learn do not take (below 0 or above :data:`MAX_SEED`).
+
+    Parameters
+    ----------
+    value : int
+        The seed of a campaign file's section [-].
+
+    Returns
+    -------
+    int
+        ``value`` [-].
+    """
+    if not 0 <= value <= MAX_SEED:
+        raise ValueError(
+            f"a seed is a whole number from 0 to {MAX_SEED} (e.g. 1; the same seed gives the "
+            "same samples)"
+        )
+    return value
+
+
+#: the seed of a section (sampling, optimisation, morris), checked when the file is read
+Seed = Annotated[int, AfterValidator(_seed_in_range)]
+
 #: fewest samples of a zoom campaign (as of the first one: a meta-model and its
 #: cross-validation need them) [-]
 ZOOM_MIN_SAMPLES = 10
@@ -162,7 +193,7 @@ class SamplingSection(_Strict):
 
     method: Literal["sobol", "lhs", "halton"] = "sobol"
     samples: int = Field(500, ge=1)
-    seed: int = 1
+    seed: Seed = 1
     zoom: int = 0
 
     @field_validator("zoom", mode="before")
@@ -203,7 +234,7 @@ class MorrisSection(_Strict):
 
     trajectories: int = Field(10, ge=2)
     levels: int = Field(4, ge=2)
-    seed: int = 1
+    seed: Seed = 1
 
 
 class OptimisationSection(_Strict):
@@ -212,7 +243,7 @@ class OptimisationSection(_Strict):
     only those the posterior says the data determine; ``all``: every varied one)."""
 
     starts: int = Field(8, ge=1)
-    seed: int = 1
+    seed: Seed = 1
     refine: int = Field(8, ge=0)
     calibrate: Literal["determined", "all"] = "determined"
 

@@ -41,6 +41,8 @@ class CampaignInputs:
     truth: dict | None = None
     true_loads: pd.DataFrame | None = None
     log_name: str = "sensor log"
+    #: True when the campaign file gives no ``period:`` and the period is the log's span
+    period_from_log: bool = False
 
 
 def load_inputs(campaign) -> CampaignInputs:
@@ -94,13 +96,55 @@ def load_inputs(campaign) -> CampaignInputs:
     tz = campaign.identification.get("tz")
     raw, _ = read_measurements(campaign.sensors, tz=tz)
     mapping = load_mapping(campaign.mapping)
-    start = end = None
     if campaign.period is not None:
         start = _localise(campaign.period.start, weather.index[0])
         end = _localise(campaign.period.end, weather.index[0])
+    else:  # as identify without --start/--end: the log's span, not the whole weather file
+        start, end = sensor_log_period(raw, weather.index, campaign.step_timedelta())
     return CampaignInputs(
-        building, weather, site, raw, mapping, start, end, log_name=str(campaign.sensors)
+        building,
+        weather,
+        site,
+        raw,
+        mapping,
+        start,
+        end,
+        log_name=str(campaign.sensors),
+        period_from_log=campaign.period is None and start is not None,
     )
+
+
+def sensor_log_period(
+    sensor_log: pd.DataFrame, weather_index: pd.DatetimeIndex, step: pd.Timedelta
+) -> tuple[pd.Timestamp | None, pd.Timestamp | None]:
+    """The sensor log's span on the simulation grid: the default period of a campaign.
+
+    Parameters
+    ----------
+    sensor_log : DataFrame
+        The log as read by :func:`thermocal.io.measurements.read_measurements` (long or wide).
+    weather_index : DatetimeIndex
+        The weather's time stamps: their time zone and the grid's origin.
+    step : Timedelta
+        The campaign's step [s resolution].
+
+    Returns
+    -------
+    (Timestamp, Timestamp) or (None, None)
+        The first grid instant at or after the log's first reading and the last at or before
+        its last reading, in the weather's time zone; (None, None) when the log or the weather
+        has no time zone (the simulation then names the mismatch).
+    """
+    from thermocal.identification.sensors import _log_span
+
+    first, last = _log_span(sensor_log)
+    origin = weather_index[0]
+    if first.tzinfo is None or origin.tzinfo is None:
+        return None, None
+    first, last = first.tz_convert(origin.tz), last.tz_convert(origin.tz)
+    start = origin - ((origin - first) // step) * step  # the first grid instant at or after
+    end = origin + ((last - origin) // step) * step
+    return start, end
 
 
 def _localise(value, like) -> pd.Timestamp:
@@ -180,11 +224,71 @@ def choose_quiet_hours(campaign, heat: pd.Series, log=print) -> tuple[OccupancyS
     return schedule, {"source": "paper", **info}
 
 
+#: the identification's remedies name identify's options: a campaign sets its file's keys
+#: (``{key}``: the period's key, ``{file}``: the campaign file)
+PERIOD_REMEDIES = (
+    ("(--start/--end)", "({key}: {{start: ..., end: ...}} in {file})"),
+    ("(--start)", "({key}: {{start: ...}} in {file})"),
+    ("(--end)", "({key}: {{end: ...}} in {file})"),
+)
+
+
+def in_campaign_terms(exc: ThermocalInputError, campaign, key: str = "period"):
+    """The error with identify's ``--start``/``--end`` remedies said as the campaign file's key.
+
+    Parameters
+    ----------
+    exc : ThermocalInputError
+        An error of the identification's checks.
+    campaign : CampaignFile
+    key : str
+        The campaign file's key of the period concerned (``period`` or ``validation``).
+
+    Returns
+    -------
+    ThermocalInputError
+        ``exc`` itself when it names no such option.
+    """
+    text = str(exc)
+    where = campaign.path or "the campaign file"
+    for option, remedy in PERIOD_REMEDIES:
+        text = text.replace(option, remedy.format(key=key, file=where))
+    return exc if text == str(exc) else ThermocalInputError(text)
+
+
+def check_campaign_period(campaign, inputs: CampaignInputs) -> None:
+    """Refuse a period too short for the metric
+    (:func:`thermocal.identification.sensors.check_period_length`), in the file's terms."""
+    from thermocal.identification.sensors import check_period_length
+
+    try:
+        check_period_length(inputs.start, inputs.end, inputs.weather.index)
+    except ThermocalInputError as exc:
+        raise in_campaign_terms(exc, campaign) from None
+
+
 def build_problem(
-    campaign, inputs: CampaignInputs, *, start=None, end=None, schedule=None, step=None
+    campaign,
+    inputs: CampaignInputs,
+    *,
+    start=None,
+    end=None,
+    schedule=None,
+    step=None,
+    period_key: str = "period",
 ):
     """The :class:`IdentificationProblem` of the campaign (references built once); ``step``
-    (a Timedelta) instead of the campaign's for :mod:`thermocal.calibration.stepcheck`."""
+    (a Timedelta) instead of the campaign's for :mod:`thermocal.calibration.stepcheck`;
+    ``period_key``: the campaign file's key of the period (``validation`` for
+    :func:`validation_problem`), named in the remedies of a period the log does not cover."""
+    try:
+        return _identification_problem(campaign, inputs, start, end, schedule, step)
+    except ThermocalInputError as exc:
+        raise in_campaign_terms(exc, campaign, period_key) from None
+
+
+def _identification_problem(campaign, inputs: CampaignInputs, start, end, schedule, step):
+    """:func:`build_problem` without its remedies translated."""
     from thermocal.identification.problem import problem_from_measurements
 
     options = identification_options(campaign)
@@ -253,14 +357,99 @@ def validation_problem(campaign, inputs: CampaignInputs):
         return None
     start = _localise(campaign.validation.start, inputs.weather.index[0])
     end = _localise(campaign.validation.end, inputs.weather.index[0])
+    check_validation_apart(
+        (inputs.start, inputs.end),
+        (start, end),
+        source=str(campaign.path or "campaign file"),
+        calibration_from_log=inputs.period_from_log,
+    )
     try:
-        problem, _ = build_problem(campaign, inputs, start=start, end=end)
+        problem, _ = build_problem(
+            campaign, inputs, start=start, end=end, period_key="validation"
+        )
     except ThermocalInputError as exc:
         raise ThermocalInputError(
             f"{campaign.path}: validation period [{start}, {end}): {exc} (checked before the "
             "campaign; correct 'validation:' or remove it)"
         ) from None
     return problem
+
+
+def check_validation_apart(
+    calibration: tuple, validation: tuple, *, source: str, calibration_from_log: bool = False
+) -> None:
+    """Refuse a validation period that overlaps the calibration period: the validation is
+    meant to be on data the calibration did not see.
+
+    Parameters
+    ----------
+    calibration, validation : (Timestamp, Timestamp)
+        The periods ``[start, end)`` (local time of the data); a calibration period of None
+        (the whole weather file) is not checked here.
+    source : str
+        The campaign file, for the message.
+    calibration_from_log : bool
+        The calibration period is the sensor log's span (the file gives no ``period:``).
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming both periods, the overlap [h] and what to do.
+    """
+    (c0, c1), (v0, v1) = calibration, validation
+    if c0 is None or c1 is None or not (v0 < c1 and c0 < v1):
+        return
+    overlap = (min(c1, v1) - max(c0, v0)) / pd.Timedelta("1h")
+    if calibration_from_log:
+        why = " (the sensor log's span: the file gives no period:)"
+        remedy = "give a period: {start: ..., end: ...} on the log's other days"
+    else:
+        why = ""
+        remedy = (
+            "move 'validation:' outside 'period:' (e.g. the days after it), shortening "
+            "'period:' if the log holds no other days"
+        )
+    raise ThermocalInputError(
+        f"{source}: the validation period [{v0}, {v1}) overlaps the calibration period "
+        f"[{c0}, {c1}){why} by {overlap:.1f} h; the validation must be on data the "
+        f"calibration did not see: {remedy}, or remove 'validation:'"
+    )
+
+
+def check_unoccupied_steps(campaign, problem: IdentificationProblem, period: str) -> None:
+    """Refuse a schedule that leaves the metric no unoccupied steps in a period, before the
+    campaign: identify's check (:func:`thermocal.identification.metrics.unoccupied_variance`
+    refuses fewer than two) in the campaign file's terms.
+
+    Parameters
+    ----------
+    campaign : CampaignFile
+    problem : IdentificationProblem
+        With the metric's schedule (``problem.schedule``) set.
+    period : str
+        Which period it is, for the message (``calibration period``, ``validation period``).
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the campaign file's ``occupancy`` key, the period and what to do.
+    """
+    from thermocal.identification.metrics import unoccupied_variance
+
+    times = problem.reference.index
+    try:  # the metric's own check on the period's steps (the heat does not matter here)
+        unoccupied_variance(pd.Series(0.0, index=times), problem.schedule, settle=problem.settle)
+    except ThermocalInputError:
+        settle = "" if problem.settle is None else f" after its first {problem.settle} (settling)"
+        raise ThermocalInputError(
+            f"{campaign.path or 'campaign file'}: occupancy: the schedule of the metric leaves "
+            f"fewer than two unoccupied steps in the {period} [{times[0]}, "
+            f"{times[-1] + pd.Timedelta(problem.step)}){settle}; the metric is the variance of "
+            "the identified heat over the unoccupied hours: list the hours the building is "
+            "empty under occupancy: unoccupied: (e.g. - {days: all, from: '20:00', to: "
+            "'04:00'}), use occupancy: data (the quiet hours found in the identified heat), "
+            "or remove occupancy: (the published schedule)"
+        ) from None
 
 
 def evaluator_for(problem: IdentificationProblem) -> IdentificationProblem:

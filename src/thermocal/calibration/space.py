@@ -199,7 +199,8 @@ class ParameterSpace:
         ranges : mapping of str to float, optional
             Per-pattern relative half-widths overriding ``default_range`` [-], e.g.
             ``{"*/shgc": 100.0, "*/thickness": 10.0}`` (+-10000 % and +-1000 %, the paper's).
-            When several patterns match a name, the last one listed wins.
+            Patterns matching the same name must give it the same half-width (else refused:
+            the order of the keys would decide silently).
         floor_fraction : float
             Lower physical limit of every property as a fraction of its nominal value [-].
         unused : mapping of str to str, optional
@@ -218,8 +219,9 @@ class ParameterSpace:
         Raises
         ------
         ThermocalInputError
-            A pattern matching no parameter (with a "did you mean"), a negative or non-finite
-            range, a negative or non-finite nominal value, or an empty selection.
+            A pattern matching no parameter (with a "did you mean"), two ``ranges`` patterns
+            giving one parameter different half-widths, a negative or non-finite range, a
+            negative or non-finite nominal value, or an empty selection.
         """
         if not isinstance(parameters, Mapping) or not parameters:
             raise ThermocalInputError(
@@ -276,11 +278,7 @@ class ParameterSpace:
             )
 
         nominal = np.array([float(parameters[n]) for n in names])
-        rel = np.full(len(names), float(default_range))
-        for pattern, value in ranges.items():
-            for i, n in enumerate(names):
-                if _matches(n, pattern):
-                    rel[i] = float(value)
+        rel = _relative_ranges(names, ranges, default_range)
         extra = {} if limits is None else dict(limits)
         bounds = []
         for n, v in zip(names, nominal, strict=True):
@@ -471,6 +469,47 @@ class ParameterSpace:
             "limit_upper": fl(self.limit_upper),
             "floor_fraction": self.floor_fraction,
         }
+
+
+def _relative_ranges(
+    names: Sequence[str], ranges: Mapping[str, float], default_range: float
+) -> np.ndarray:
+    """Each parameter's relative half-width: that of the ``ranges`` patterns matching it, else
+    ``default_range``.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The varied parameters [-].
+    ranges : mapping of str to float
+        ``fnmatch`` pattern -> relative half-width [-] (0.75 = +-75 %).
+    default_range : float
+        Relative half-width of the parameters no pattern matches [-].
+
+    Returns
+    -------
+    ndarray
+        Relative half-width of each of ``names`` [-].
+
+    Raises
+    ------
+    ThermocalInputError
+        Two patterns giving one parameter different half-widths (naming the parameter and the
+        patterns): which one counts would depend on the order of the keys.
+    """
+    relative = np.full(len(names), float(default_range))
+    for i, name in enumerate(names):
+        matching = {p: float(v) for p, v in ranges.items() if _matches(name, p)}
+        if len(set(matching.values())) > 1:
+            listed = " and ".join(f"{p!r} (+-{100 * v:g} %)" for p, v in matching.items())
+            raise ThermocalInputError(
+                f"parameters.ranges: parameter {name!r} matches {listed}, which give it "
+                "different ranges; narrow a pattern so that only one matches it (e.g. "
+                "'window/*/shgc' instead of 'window/*'), or give them the same range"
+            )
+        if matching:
+            relative[i] = next(iter(matching.values()))
+    return relative
 
 
 def _check_range(what: str, value: object) -> None:

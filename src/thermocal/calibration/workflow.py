@@ -40,6 +40,8 @@ from thermocal.calibration.inputs import (
     analysis_inputs,
     build_problem,
     campaign_schedule,
+    check_campaign_period,
+    check_unoccupied_steps,
     choose_quiet_hours,
     evaluator_for,
     identification_options,
@@ -59,7 +61,6 @@ from thermocal.calibration.refine import refine_minimum
 from thermocal.calibration.result import CalibrationResult, truth_comparison
 from thermocal.errors import ThermocalInputError
 from thermocal.identification.problem import METRIC
-from thermocal.identification.sensors import check_period_length
 
 #: the workflow's own names and, for existing imports, those of the stages it calls (each
 #: defined in its own module of :mod:`thermocal.calibration`)
@@ -152,16 +153,18 @@ def calibrate(
     timings: dict[str, float] = {}
     notes: list[str] = []
     n = int(samples if samples is not None else campaign.sampling.samples)
-    if n < minimum_samples(campaign):
-        raise ThermocalInputError(
-            f"--samples {n}: a meta-model needs at least {minimum_samples(campaign)} successful "
-            "samples (a few dozen to determine anything); nothing was simulated"
-        )
+    check_sample_count(campaign, n, from_option=samples is not None)
     path = Path(store_path or campaign.store or "campaign.sqlite")
     refuse_filled_store(path, resume, n)
     t0 = time.perf_counter()
     inputs = load_inputs(campaign)
-    check_period_length(inputs.start, inputs.end, inputs.weather.index)
+    if inputs.period_from_log:
+        log(
+            f"period: [{inputs.start}, {inputs.end}), the span of {inputs.log_name} (the "
+            "campaign file gives no period:; set period: {start: ..., end: ...} to choose "
+            "another)"
+        )
+    check_campaign_period(campaign, inputs)
     space = campaign_space(campaign, inputs.building)
     notes.extend(left_out_notes(space, log))
     measure_in_situ(campaign, space)  # a bad log stops here, before any simulation
@@ -176,8 +179,10 @@ def calibrate(
     t0 = time.perf_counter()
     nominal_run = problem.run({})
     problem.schedule, occupancy = choose_quiet_hours(campaign, nominal_run.heat.sum(axis=1), log)
+    check_unoccupied_steps(campaign, problem, "calibration period")
     if later is not None:  # the validation period's metric uses the same hours
         later.schedule = problem.schedule
+        check_unoccupied_steps(campaign, later, "validation period")
     nominal_outputs = evaluator.outputs(nominal_run.heat)
     timings["nominal_run"] = time.perf_counter() - t0
     log(
@@ -279,6 +284,47 @@ def calibrate(
             log=log,
             morris=morris,
         )
+
+
+def check_sample_count(campaign, n: int, *, from_option: bool) -> None:
+    """Refuse a campaign of fewer samples than its meta-model needs, before any simulation.
+
+    Parameters
+    ----------
+    campaign : CampaignFile
+    n : int
+        The campaign's samples [-].
+    from_option : bool
+        ``n`` is the ``--samples`` option's (else the file's ``sampling.samples``).
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming where ``n`` comes from and, when they set the minimum, the meta-model's
+        cross-validation folds (``metamodel.cv_folds``).
+    """
+    minimum = minimum_samples(campaign)
+    if n >= minimum:
+        return
+    given = (
+        f"--samples {n}"
+        if from_option
+        else f"{campaign.path or 'the campaign file'}: sampling.samples is {n}"
+    )
+    folds = campaign.metamodel.cv_folds
+    if minimum == folds + 2:  # the cross-validation's folds set the minimum
+        why = (
+            f"the meta-model's {folds}-fold cross-validation (metamodel.cv_folds: {folds}) "
+            f"needs at least {minimum} successful samples"
+        )
+        remedy = f"give at least {minimum} samples or lower metamodel.cv_folds"
+    else:
+        why = (
+            f"a meta-model needs at least {minimum} successful samples (a few dozen to "
+            "determine anything)"
+        )
+        remedy = f"give at least {minimum} samples"
+    raise ThermocalInputError(f"{given}: {why}; {remedy}; nothing was simulated")
 
 
 def _step_check(campaign, inputs, problem, design, nominal_outputs, store, resume, timings, log):

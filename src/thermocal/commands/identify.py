@@ -122,9 +122,15 @@ def identify(
     from thermocal.errors import ThermocalInputError
     from thermocal.identification.occupancy import OccupancySchedule
     from thermocal.identification.sensors import check_period_length
+    from thermocal.identification.workflow import check_pid_only_options, gap_duration
     from thermocal.identification.workflow import identify as run_identification
     from thermocal.io.output import check_output_folder, output_folder
 
+    check_pid_only_options(
+        method, {"--tuning-zone": tuning_zone, "--limits": limits}, method_option="--method"
+    )
+    gap_duration(max_gap, "--max-gap", zero_allowed=True)
+    gap_duration(silence, "--silence", zero_allowed=False)
     signature = ("identification.json", "q_id.parquet", "report.html")
     check_output_folder(out, signature=signature)
     console = Console(stderr=True)
@@ -168,7 +174,7 @@ def identify(
             )
             check_weather_clock(frame, site, source=str(weather))
             try:
-                raw, _ = read_measurements(
+                raw, meta = read_measurements(
                     sensors, tz=tz, time_unit=time_unit, start=time_origin
                 )
             except ThermocalInputError as exc:  # the reader's remedies in this command's terms
@@ -176,6 +182,11 @@ def identify(
                 for option, remedy in _READER_REMEDIES:
                     text = text.replace(option, remedy)
                 raise ThermocalInputError(text) from None
+            unused_tz = _check_time_options(
+                raw, meta, str(sensors), tz=tz, time_unit=time_unit, time_origin=time_origin
+            )
+            if unused_tz:
+                warnings.warn(unused_tz, stacklevel=1)
             frame, site = _weather_for_measurements(frame, site, raw, start, end, str(weather))
             if site.get("weather_year", {}).get("kind") == "typical":
                 console.print(f"weather: {site['weather_year']['statement']}")
@@ -189,9 +200,10 @@ def identify(
             from thermocal.io.yamlfile import read_yaml
 
             data = read_yaml(occupancy, what="occupancy file")
+            section = isinstance(data, dict) and "occupancy" in data
             schedule = OccupancySchedule.from_dict(
-                data.get("occupancy", data) if isinstance(data, dict) else data,
-                source=str(occupancy),
+                data["occupancy"] if section else data,
+                source=f"{occupancy}: occupancy" if section else str(occupancy),
             )
         pid_limits = _parse_limits(limits)
         check_period_length(start, end, frame.index)
@@ -242,6 +254,71 @@ def identify(
     _print_summary(result, truth)
     for path in written:
         console.print(f"wrote {path}")
+
+
+def _check_time_options(
+    raw, meta: dict, source: str, *, tz, time_unit, time_origin
+) -> str | None:
+    """Refuse time options the sensor log's time column does not use; ``--tz`` unused is a
+    warning.
+
+    ``--time-unit`` and ``--time-origin`` read numeric time stamps; with date-times they would
+    be silently ignored. ``--tz`` places stamps written without UTC offset; stamps with
+    offsets are instants already, so it has no effect on the identification.
+
+    Parameters
+    ----------
+    raw : DataFrame
+        The log as read (:func:`thermocal.io.measurements.read_measurements`).
+    meta : dict
+        Its metadata; ``meta["notes"]`` says whether the times were numbers or were placed in
+        ``tz`` (:data:`thermocal.io._time.NUMERIC_TIMES_NOTE`, ``LOCAL_TIMES_NOTE``).
+    source : str
+        The log file, for messages.
+    tz, time_unit, time_origin : str or None
+        The options as given (None: not given).
+
+    Returns
+    -------
+    str or None
+        The warning when ``--tz`` has no effect, else None.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        ``--time-unit`` or ``--time-origin`` with a log of date-times, naming its first time.
+    """
+    import pandas as pd
+
+    from thermocal.errors import ThermocalInputError
+    from thermocal.identification.sensors import _log_span
+    from thermocal.io._time import LOCAL_TIMES_NOTE, NUMERIC_TIMES_NOTE
+
+    notes = [str(note) for note in meta.get("notes", ())]
+    numeric = any(note.startswith(NUMERIC_TIMES_NOTE) for note in notes)
+    given = [
+        f"{option} {value}"
+        for option, value in (("--time-unit", time_unit), ("--time-origin", time_origin))
+        if value is not None
+    ]
+    if given and not numeric:
+        one = len(given) == 1
+        raise ThermocalInputError(
+            f"{' and '.join(given)}: the time stamps of {source} are date-times, not numbers "
+            f"(the first: {_log_span(raw)[0]}); "
+            f"{'this option reads' if one else 'these options read'} numeric time stamps only: "
+            f"drop {'it' if one else 'them'}"
+        )
+    if tz is None or any(note.startswith(LOCAL_TIMES_NOTE) for note in notes):
+        return None
+    if numeric and time_origin is not None and pd.Timestamp(time_origin).tzinfo is None:
+        return None  # the origin written without offset was placed in --tz
+    what = "are numbers from an origin with a UTC offset" if numeric else "carry UTC offsets"
+    return (
+        f"the time stamps of {source} {what}, which fix their instants: "
+        f"--tz {tz} has no effect (it places time stamps written without offset); the "
+        "identification uses the file's times"
+    )
 
 
 def _weather_for_measurements(frame, site, raw, start, end, source: str):

@@ -188,24 +188,45 @@ def _track_record_line() -> str:
 
 
 def _check_site(cfg) -> None:
-    """Refuse a typical-year weather file far from the building, before computing (the
-    measurements' clock against the sun is checked where the analysis reads them:
-    :func:`thermocal.retrofit.data.clock_notes`)."""
-    from thermocal.io.weather import check_site_matches_weather, read_weather
-    from thermocal.retrofit.workflow import load_building, resolve_weather_path
+    """Refuse, before computing, a weather file far from the building or not one whole year
+    (:func:`thermocal.io.weather.check_full_year`: the annual demand of a half year would be
+    a half year's); the measurements' clock against the sun is checked where the analysis
+    reads them (:func:`thermocal.retrofit.data.clock_notes`)."""
+    from thermocal.io.weather import check_full_year, check_site_matches_weather, read_weather
+    from thermocal.retrofit.workflow import resolve_weather_path
 
-    building = load_building(
-        cfg.building, config_source=f"the retrofit configuration in {cfg.base_dir}"
-    )
+    building, source = _rc_building(cfg)
     weather = resolve_weather_path(cfg.weather.file)
-    _, meta = read_weather(weather, format=cfg.weather.format, columns=cfg.weather.columns)
-    source = cfg.building if isinstance(cfg.building, Path) else "the inline building"
+    year, meta = read_weather(weather, format=cfg.weather.format, columns=cfg.weather.columns)
+    check_full_year(year, meta, source=str(cfg.weather.file))
     check_site_matches_weather(
         building.location.latitude,
         building.location.longitude,
         meta,
-        building_source=str(source),
+        building_source=source,
         weather_source=str(cfg.weather.file),
+    )
+
+
+def _rc_building(cfg):
+    """The RC analysis's building file, read, and its name for messages."""
+    from thermocal.retrofit.workflow import load_building
+
+    building = load_building(
+        cfg.building, config_source=f"the retrofit configuration in {cfg.base_dir}"
+    )
+    return building, str(cfg.building if isinstance(cfg.building, Path) else "the inline building")
+
+
+def _check_detailed_pair(cfg, detailed: Path, setpoint: float | None) -> list[str]:
+    """Refuse a ``--detailed`` building that is not the RC building file's, before computing
+    (:func:`thermocal.retrofit.detailed.check_same_building`); the warnings it returns."""
+    from thermocal.retrofit.detailed import check_same_building, heated_detailed_building
+
+    envelope, source = _rc_building(cfg)
+    building = heated_detailed_building(detailed, setpoint)
+    return check_same_building(
+        envelope, building, rc_source=source, detailed_source=str(detailed)
     )
 
 
@@ -332,6 +353,8 @@ def retrofit(
     simulated with a detailed multi-zone model (results.json 'detailed_model',
     strategies_detailed.csv, report_detailed.html), side by side in the summary.
     """
+    import logging
+
     from rich.console import Console
 
     from thermocal.errors import ThermocalInputError
@@ -376,6 +399,7 @@ def retrofit(
 
         check_advice_draws(cfg.uncertainty.draws, source=str(config))
     _check_site(cfg)
+    pair_notes = [] if detailed is None else _check_detailed_pair(cfg, detailed, setpoint)
     with (
         output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,
         console.status("retrofit analysis") as status,
@@ -394,9 +418,12 @@ def retrofit(
 
             result = run_detailed_retrofit(cfg, detailed, setpoint=setpoint, progress=status.update)
             det = detailed_results(result, cfg)
+            det["notes"] = pair_notes + det["notes"]
             _add_detailed(tmp, det, "report_detailed.html")
     print_summary(results, out)
     if advice is not None:
         print_measurement_advice(advice)
     if det is not None:
         print_detailed_summary(det, results)
+        for note in pair_notes:
+            logging.getLogger("thermocal.retrofit").warning("%s", note)

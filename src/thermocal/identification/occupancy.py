@@ -13,17 +13,27 @@ File form (YAML, the ``occupancy`` section of an identification or campaign file
         - {days: [Sat], from: "11:00", to: "20:00"}
         - {days: [Sun], from: "00:00", to: "24:00"}
       holidays: [2001-01-01, 2001-01-15]              # whole days unoccupied
+
+Holidays are dates written year first (``YYYY-MM-DD``). A date written with a numeric day and
+month before the year is read only when its numbers decide the order (``25/12/2001``); one that
+reads as two dates (``01/09/2001``: 1 September or 9 January) is refused.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import datetime as dt
+import re
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io._time import day_month_readings
+
+#: A date written year first: ``2001-01-15``, ``2001-1-15``, ``2001/01/15``, ``2001.01.15``.
+_YEAR_FIRST = re.compile(r"(\d{4})([-/.])(\d{1,2})\2(\d{1,2})")
 
 DAY_NAMES = ("Mon", "Tue", "Wed", "Thu", "Fri", "Sat", "Sun")
 
@@ -48,6 +58,7 @@ class OccupancySchedule:
     ----------
     windows : tuple of UnoccupiedWindow
     holidays : tuple of datetime.date
+        Whole days unoccupied (local dates of the data).
     """
 
     windows: tuple[UnoccupiedWindow, ...] = field(
@@ -84,15 +95,17 @@ class OccupancySchedule:
             windows = tuple(
                 _window(item, f"{source}.unoccupied[{i}]") for i, item in enumerate(items)
             )
-        holidays = []
-        for i, value in enumerate(spec.get("holidays") or ()):
-            try:
-                holidays.append(pd.Timestamp(str(value)).date())
-            except ValueError as exc:
-                raise ThermocalInputError(
-                    f"{source}.holidays[{i}] = {value!r} is not a date (use YYYY-MM-DD)"
-                ) from exc
-        return cls(windows, tuple(holidays))
+        entries = spec.get("holidays")
+        entries = () if entries is None else entries
+        if isinstance(entries, (str, dt.date, Mapping)) or not isinstance(entries, Iterable):
+            raise ThermocalInputError(
+                f"{source}.holidays: expected a list of dates, e.g. [2001-01-01, 2001-12-25]; "
+                f"got {entries!r}"
+            )
+        holidays = tuple(
+            holiday_date(value, f"{source}.holidays[{i}]") for i, value in enumerate(entries)
+        )
+        return cls(windows, holidays)
 
     def as_dict(self) -> dict:
         return {
@@ -143,6 +156,64 @@ def unoccupied_mask(times: pd.DatetimeIndex, schedule: OccupancySchedule | None 
         dates = np.array([t.date() for t in times])
         mask |= np.isin(dates, np.array(schedule.holidays))
     return mask
+
+
+def holiday_date(value, where: str) -> dt.date:
+    """One entry of a schedule's ``holidays`` as a date.
+
+    Parameters
+    ----------
+    value : datetime.date, datetime.datetime or str
+        A date as YAML reads it (``2001-01-15`` unquoted), or text: year first (``2001-01-15``,
+        ``2001/1/15``), or day and month before the year (``25/12/2001``, ``12.25.2001``) when
+        only one order gives a date (or both give the same one, ``05/05/2001``).
+    where : str
+        The file and key of the entry, for the message (``"occ.yaml: occupancy.holidays[0]"``).
+
+    Returns
+    -------
+    datetime.date
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Text that is no calendar date (``2001-13-01``, ``2023-02-30``, ``31/31/2001``, ``2001``)
+        or a numeric date that reads as two (``01/09/2001``); the message names ``where``, the
+        entry and, for the latter, both readings.
+    """
+    if isinstance(value, dt.datetime):
+        return value.date()
+    if isinstance(value, dt.date):
+        return value
+    text = str(value).strip()
+    year_first = _YEAR_FIRST.fullmatch(text)
+    if year_first is not None:
+        year, month, day = (int(year_first.group(k)) for k in (1, 3, 4))
+        try:
+            return dt.date(year, month, day)
+        except ValueError as exc:
+            raise ThermocalInputError(
+                f"{where} = {value!r} is not a date ({exc}); write it as YYYY-MM-DD"
+            ) from None
+    readings = day_month_readings(text)
+    if readings is None:
+        raise ThermocalInputError(
+            f"{where} = {value!r} is not a date; write it as YYYY-MM-DD (e.g. 2001-12-25)"
+        )
+    dates = sorted(set(readings.values()))
+    if not dates:
+        raise ThermocalInputError(
+            f"{where} = {value!r} is not a date (neither day-first nor month-first); write it "
+            "as YYYY-MM-DD"
+        )
+    if len(dates) > 1:
+        day_first, month_first = readings["day-first"], readings["month-first"]
+        raise ThermocalInputError(
+            f"{where} = {value!r} is ambiguous: {day_first.day} {day_first:%B %Y} read "
+            f"day-first, {month_first.day} {month_first:%B %Y} month-first; write it year "
+            f"first, YYYY-MM-DD ({day_first.isoformat()} or {month_first.isoformat()})"
+        )
+    return dates[0]
 
 
 def _window(item, where: str) -> UnoccupiedWindow:

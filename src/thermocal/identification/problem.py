@@ -325,6 +325,9 @@ def problem_from_measurements(
 
     A typical-year weather file follows the year of the measurements
     (:func:`thermocal.io.weather.weather_for_period`; ``problem.metadata["weather_year"]``).
+    ``tuning_zone`` and ``gains`` (the PID loop's) are refused with ``method="inverse"``, and
+    ``max_gap`` / ``silence`` must be durations of at least 0 / above 0
+    (:func:`thermocal.identification.workflow.check_pid_only_options`, ``gap_duration``).
 
     Returns
     -------
@@ -345,11 +348,16 @@ def problem_from_measurements(
     from thermocal.identification.workflow import (
         DEFAULT_RADIANT_FRACTION,
         _weather_for_log,
+        check_pid_only_options,
+        gap_duration,
         identified_heat_form,
         pid_gains_for,
     )
     from thermocal.multizone.simulation import Simulation
 
+    check_pid_only_options(method, {"tuning_zone": tuning_zone, "gains": gains})
+    gap_duration(max_gap, "max_gap", zero_allowed=True)
+    gap_duration(silence, "silence", zero_allowed=False)
     if not isinstance(mapping, SensorMapping):
         mapping = mapping_from_dict(mapping)
     # a typical-year file on the year of the measurements (as identify)

@@ -19,6 +19,11 @@ Mapping file (YAML)::
       Boiler room: {plausible: [40, 80]}  # a zone whose sensors may average 40-80 C [C]
     ignore: [S77]       # optional: sensors of the log left out
 
+Sensor and zone names are read as written (``0101`` stays ``0101``, not YAML's octal 65). A
+sensor under ``ignore:`` that is not in the log, or that is also mapped (it is left out), is
+named in a warning; so are two sensors of one zone that differ by more than
+:data:`SENSOR_DISAGREEMENT` on average (their mean is a temperature neither measures).
+
 A sensor whose mean is not an indoor temperature (outside -30..35 C) or far from the others is
 refused as a unit slip (Kelvin, Fahrenheit, tenths...); ``plausible: [low, high]`` declares the
 mean range of a zone that is really that warm or cold (its sensors are then checked against that
@@ -34,6 +39,7 @@ a zone with no sensored neighbour floats. Every choice and its reason are report
 
 from __future__ import annotations
 
+import logging
 import math
 import warnings
 from collections.abc import Mapping
@@ -45,7 +51,13 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 from thermocal.io.measurements import temperature_unit_slip
-from thermocal.io.measurements.units import INDOOR_MEAN_RANGE, NEIGHBOUR_TOLERANCE
+from thermocal.io.measurements.units import (
+    INDOOR_MEAN_RANGE,
+    NEIGHBOUR_TOLERANCE,
+    log_unit_slips,
+)
+
+_log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -92,12 +104,87 @@ class ZoneSource:
 
 
 def load_mapping(path: str | Path) -> SensorMapping:
-    """Read and check the form of a mapping file (module docstring)."""
-    from thermocal.io.yamlfile import read_yaml
+    """Read and check the form of a mapping file (module docstring); its sensor and zone names
+    are read as written (:func:`names_as_written`)."""
+    from thermocal.io.yamlfile import read_yaml_text
 
     path = Path(path)
-    data = read_yaml(path, what="mapping file")
-    return mapping_from_dict(data, source=str(path))
+    data, text = read_yaml_text(path, what="mapping file")
+    return mapping_from_dict(names_as_written(data, text), source=str(path))
+
+
+def names_as_written(data, text: str):
+    """The parsed mapping file with its sensor and zone names as the text written.
+
+    YAML reads some names as something else: ``0101`` as the octal number 65, ``1.10`` as the
+    number 1.1, ``12:30`` as 750, ``yes`` as True; a log column ``0101`` then matches no sensor
+    of the mapping. The names (the keys of ``sensors`` and ``zones``, the zone of each sensor,
+    ``use``, the items of ``ignore``) are taken from the document's nodes as written (quoted or
+    not); everything else keeps its parsed value.
+
+    Parameters
+    ----------
+    data : object
+        The document parsed by :func:`thermocal.io.yamlfile.read_yaml_text` (its checks done).
+    text : str
+        The file's text.
+
+    Returns
+    -------
+    object
+        ``data`` with the names as written (``data`` itself when it is not a mapping).
+    """
+    import yaml
+
+    if not isinstance(data, Mapping):
+        return data
+    loader = yaml.SafeLoader(text)
+    try:
+        root = loader.get_single_node()
+        out = dict(data)
+        for key_node, node in root.value:
+            section = key_node.value if isinstance(key_node, yaml.ScalarNode) else None
+            if section not in out:
+                continue
+            if section == "sensors" and isinstance(node, yaml.MappingNode):
+                loader.flatten_mapping(node)  # merge keys (<<: *anchor) as the parser does
+                out[section] = {
+                    _name_as_written(loader, key): _name_as_written(loader, value)
+                    for key, value in node.value
+                }
+            elif section == "zones" and isinstance(node, yaml.MappingNode):
+                loader.flatten_mapping(node)
+                out[section] = {
+                    _name_as_written(loader, key): _zone_spec_as_written(loader, value)
+                    for key, value in node.value
+                }
+            elif section == "ignore" and isinstance(node, yaml.SequenceNode):
+                out[section] = [_name_as_written(loader, item) for item in node.value]
+    finally:
+        loader.dispose()
+    return out
+
+
+def _name_as_written(loader, node):
+    """A scalar node's text as written (a name); a null or a list or mapping as parsed (the
+    form checks name it)."""
+    import yaml
+
+    if isinstance(node, yaml.ScalarNode) and node.tag != "tag:yaml.org,2002:null":
+        return node.value
+    return loader.construct_object(node, deep=True)
+
+
+def _zone_spec_as_written(loader, node):
+    """A ``zones`` entry as parsed, its ``use`` (a zone name) as written."""
+    import yaml
+
+    spec = loader.construct_object(node, deep=True)
+    if isinstance(node, yaml.MappingNode) and isinstance(spec, dict):
+        for key, value in node.value:
+            if isinstance(key, yaml.ScalarNode) and key.value == "use":
+                spec["use"] = _name_as_written(loader, value)
+    return spec
 
 
 def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
@@ -235,10 +322,33 @@ def sensor_weight(value, where: str = "sensor") -> float:
 
 
 def _suggest(name: str, options) -> str:
+    """`` (did you mean 'X'?)`` naming the options closest to ``name``, or "".
+
+    The options equal to ``name`` but for case come first (``Space1-1`` for the IDF's
+    ``SPACE1-1``: names are matched as written, and difflib alone, which compares case, finds
+    nothing), then the close matches ignoring case.
+
+    Parameters
+    ----------
+    name : str
+        The name that matched nothing.
+    options : iterable of str
+        The names it could be.
+    """
     import difflib
 
-    close = difflib.get_close_matches(str(name), list(options), n=3)
-    return f" (did you mean {', '.join(map(repr, close))}?)" if close else ""
+    by_folded: dict[str, str] = {}
+    for option in map(str, options):
+        by_folded.setdefault(option.casefold(), option)
+    folded = str(name).casefold()
+    same_but_case = [o for o in map(str, options) if o.casefold() == folded]
+    if same_but_case:
+        return (
+            f" (did you mean {', '.join(map(repr, same_but_case))}? names are matched as "
+            "written, case included)"
+        )
+    close = difflib.get_close_matches(folded, list(by_folded), n=3)
+    return f" (did you mean {', '.join(repr(by_folded[c]) for c in close)}?)" if close else ""
 
 
 def main_orientation(building, zone: str) -> str:
@@ -299,7 +409,14 @@ def zone_sources(building, mapping: SensorMapping) -> dict[str, ZoneSource]:
                 "with a sensor"
             )
         sources[zone] = ZoneSource("named", tuple(own[use]), use, "named in the mapping")
-    for zone in mapping.treatments:
+    # every per-zone entry names a zone: one misspelt would be left out without a word
+    per_zone = (
+        mapping.treatments,
+        mapping.zone_radiant_fraction,
+        mapping.zone_sensor,
+        mapping.zone_plausible,
+    )
+    for zone in (zone for entries in per_zone for zone in entries):
         if zone not in building.zones:
             raise ThermocalInputError(
                 f"{mapping.source}: zones.{zone}: {zone!r} is not a zone of building "
@@ -451,8 +568,10 @@ def zone_references(
     Warns
     -----
     ReferenceWarning
-        A sensor bridged on its own reporting interval; a zone whose reference is taken from
-        another zone for more than :data:`SUBSTITUTED_WARN_SHARE` of the period.
+        Sensors bridged on their own reporting interval (one warning for all); a zone whose
+        reference is taken from another zone for more than :data:`SUBSTITUTED_WARN_SHARE` of
+        the period; two sensors of one zone more than :data:`SENSOR_DISAGREEMENT` apart on
+        average; a sensor under ``ignore:`` that is not in the log or is also mapped.
     """
     from thermocal.io.measurements import resample_measurements
 
@@ -471,6 +590,7 @@ def zone_references(
             f"{mapping.source}: sensor(s) {absent[:10]} do not occur in {source}"
             f"{_suggest(absent[0], logged)}"
         )
+    _warn_about_ignored(mapping, sources, logged, source)
     tz = times.tz
     half = step / 2
     start, end = times[0] + half, times[-1] + step + half
@@ -506,7 +626,8 @@ def zone_references(
     grid = grid.reindex(times + half)
     grid.index = times
     checked = [c for c in grid.columns if c in mapping.sensors and c not in mapping.ignore]
-    check_sensor_plausibility(grid[checked], mapping, step, source)
+    declared_units = raw.attrs.get("measurements", {}).get("units_in_file", {})
+    check_sensor_plausibility(grid[checked], mapping, step, source, declared_units=declared_units)
     for sensor in checked:
         if grid[sensor].isna().all():
             raise ThermocalInputError(
@@ -519,6 +640,7 @@ def zone_references(
     for zone, src in sources.items():
         if src.kind == "sensor":
             own[zone] = grid[list(src.sensors)].mean(axis=1, skipna=True)
+            _warn_if_sensors_disagree(grid[list(src.sensors)], zone, mapping, source)
     tracked = {zone: src for zone, src in sources.items() if src.kind != "float"}
     reference = pd.DataFrame(index=times, columns=list(tracked), dtype=float)
     interpolated, substituted = [], []
@@ -603,6 +725,138 @@ class ReferenceWarning(UserWarning):
 #: (on the console of ``thermocal identify``), not only in the report: its identified heat is
 #: then largely the other zone's. 10 %: a few hours of a multi-day period pass unremarked.
 SUBSTITUTED_WARN_SHARE = 0.10
+
+#: Mean absolute difference [K] over the period between two air-temperature sensors of one
+#: zone above which they are named in a :class:`ReferenceWarning`: two sensors in one room
+#: differ by their height (stratification; ISO 7730 / ASHRAE 55 allow 3 K between head and
+#: ankle, a heated room shows well below 2 K between two wall sensors) and position; 2 K on
+#: average is more, and their mean, the zone's reference, is then a temperature neither
+#: measures (a sensor in the room above, at a heater or in the sun).
+SENSOR_DISAGREEMENT = 2.0
+
+#: The same for a zone whose sensors see the surfaces (``sensor: operative`` or an air weight
+#: below 1) [K]: a globe beside a cold window or in the sun differs more from one in the
+#: middle of the room than two air sensors do.
+SENSOR_DISAGREEMENT_SURFACES = 3.0
+
+
+def sensor_disagreement(values: pd.DataFrame) -> tuple[str, str, float, float] | None:
+    """The two sensors of one zone that differ most: names, mean and largest difference.
+
+    Parameters
+    ----------
+    values : DataFrame
+        The zone's sensors on the simulation grid [C], one column each (NaN where missing).
+
+    Returns
+    -------
+    (str, str, float, float) or None
+        The pair with the largest mean absolute difference [K] over the steps where both
+        have a value, that mean [K] and their largest difference [K]; None with fewer than
+        two sensors or no common step.
+    """
+    worst = None
+    columns = list(values.columns)
+    for i, first in enumerate(columns):
+        for second in columns[i + 1 :]:
+            difference = (values[first] - values[second]).abs().dropna()
+            if difference.empty:
+                continue
+            mean = float(difference.mean())
+            if worst is None or mean > worst[2]:
+                worst = (str(first), str(second), mean, float(difference.max()))
+    return worst
+
+
+def _warn_if_sensors_disagree(
+    values: pd.DataFrame, zone: str, mapping: SensorMapping, source: str
+) -> None:
+    """A :class:`ReferenceWarning` when two sensors of ``zone`` differ by more than
+    :data:`SENSOR_DISAGREEMENT` on average (:data:`SENSOR_DISAGREEMENT_SURFACES` for sensors
+    that see the surfaces, by the mapping's sensor model).
+
+    Parameters
+    ----------
+    values : DataFrame
+        The zone's sensors on the simulation grid [C].
+    zone : str
+    mapping : SensorMapping
+        For the zone's sensor model and the file name in the message.
+    source : str
+        The sensor log, for the message.
+    """
+    pair = sensor_disagreement(values)
+    if pair is None:
+        return
+    first, second, mean, largest = pair
+    model = mapping.zone_sensor.get(zone, mapping.sensor)
+    air_weight = 1.0 if model is None else float(model)
+    threshold = SENSOR_DISAGREEMENT if air_weight >= 1.0 else SENSOR_DISAGREEMENT_SURFACES
+    if mean <= threshold:
+        return
+    kind = "air-temperature sensors" if air_weight >= 1.0 else "sensors that see the surfaces"
+    warnings.warn(
+        f"zone {zone!r}: sensors {first!r} and {second!r} in {source} differ by {mean:.1f} K "
+        f"on average over the period (largest {largest:.1f} K), more than the {threshold:g} K "
+        f"two {kind} of one room differ by; the zone's reference is the mean of its "
+        f"{values.shape[1]} sensors, a temperature none of them measures: check that both hang "
+        f"in {zone!r} (not in another room, at a heater or window, in the sun), then map the "
+        f"odd one to its zone or list it under 'ignore:' in {mapping.source}",
+        ReferenceWarning,
+        stacklevel=3,
+    )
+
+
+def _warn_about_ignored(
+    mapping: SensorMapping, sources: dict, logged: list[str], source: str
+) -> None:
+    """A :class:`ReferenceWarning` for the sensors under ``ignore:`` that are not in the log
+    (ignoring them changes nothing: a typo?) and for those also mapped under ``sensors:``
+    (they are left out; the message says what their zones' references become).
+
+    Parameters
+    ----------
+    mapping : SensorMapping
+    sources : dict of zone -> ZoneSource
+        :func:`zone_sources` of the mapping.
+    logged : list of str
+        The sensors of the log.
+    source : str
+        The sensor log, for messages.
+    """
+    in_log = set(logged)
+    unknown = [name for name in mapping.ignore if name not in in_log]
+    if unknown:
+        warnings.warn(
+            f"{mapping.source}: ignore: sensor(s) {unknown[:10]} do not occur in {source}, so "
+            f"ignoring them changes nothing{_suggest(unknown[0], logged)}; a typo? correct the "
+            "name(s) or remove them from 'ignore:'",
+            ReferenceWarning,
+            stacklevel=3,
+        )
+    mapped = [name for name in mapping.ignore if name in mapping.sensors]
+    if mapped:
+        zones = [
+            f"{name!r} (zone {mapping.sensors[name]!r}: "
+            f"{_reference_text(sources[mapping.sensors[name]])})"
+            for name in mapped[:10]
+        ]
+        warnings.warn(
+            f"{mapping.source}: sensor(s) {', '.join(zones)} are mapped under 'sensors:' and "
+            "listed under 'ignore:': they are left out; to use them, remove them from 'ignore:'",
+            ReferenceWarning,
+            stacklevel=3,
+        )
+
+
+def _reference_text(src: ZoneSource) -> str:
+    """What a zone's reference is, in words, for messages."""
+    if src.kind == "sensor":
+        return f"its reference from sensor(s) {', '.join(src.sensors)}"
+    if src.kind == "float":
+        return "no sensor left, it floats with Q_ID = 0"
+    return f"no sensor left, it takes zone {src.zone!r}'s data"
+
 
 #: A sensor reporting less often than ``silence`` (at most every ``max_gap``): silences up to
 #: this multiple of its own reporting interval are bridged (a missed report, twice the
@@ -715,6 +969,7 @@ def _sensor_silences(
         return {}
     lo, hi = start.value, end.value
     own: dict[str, pd.Timedelta] = {}
+    intervals: dict[str, pd.Timedelta] = {}
     for sensor in sensors:
         stamps = times[sensor]
         i0 = int(np.searchsorted(stamps, lo, side="left"))
@@ -742,17 +997,78 @@ def _sensor_silences(
                 f"'ignore:' in {mapping.source}"
             )
         own[sensor] = max(silence, min(OWN_INTERVAL_TOLERANCE * interval, max_gap))
-        warnings.warn(
-            f"{where} reports every {_duration(interval)}, less often than --silence "
-            f"{_duration(silence)}: its values are interpolated linearly between reports "
-            f"(shorter than --max-gap {_duration(max_gap)}), a silence longer than "
-            f"{_duration(own[sensor])} is a gap",
-            ReferenceWarning,
-            stacklevel=3,
-        )
+        intervals[sensor] = interval
     if not own:
         return {}
+    _warn_sparse_sensors(intervals, own, mapping, silence, max_gap, source)
     return {name: own.get(name, silence) for name in _sensor_names(raw)}
+
+
+#: Sensors named in the one warning about sensors that report less often than ``--silence``
+#: (every sensor and its interval: the debug log, ``-vv``).
+SPARSE_NAMED = 5
+
+
+def _warn_sparse_sensors(
+    intervals: dict[str, pd.Timedelta],
+    own: dict[str, pd.Timedelta],
+    mapping: SensorMapping,
+    silence: pd.Timedelta,
+    max_gap: pd.Timedelta,
+    source: str,
+) -> None:
+    """One :class:`ReferenceWarning` for the sensors reporting less often than ``silence``.
+
+    One sensor: its name, zone, interval and the silence that is a gap. Several (a whole log
+    every hour, a ``--silence`` below the log's interval): how many, the first
+    :data:`SPARSE_NAMED` names, the range of their intervals and of the silences that are gaps;
+    every sensor's line goes to the debug log (``-vv``) instead of one warning each.
+
+    Parameters
+    ----------
+    intervals : dict of sensor -> Timedelta
+        Own reporting interval of each sparse sensor [duration].
+    own : dict of sensor -> Timedelta
+        The silence bridged for each of them [duration].
+    mapping : SensorMapping
+        For the zones.
+    silence, max_gap : Timedelta
+        The command's ``--silence`` and ``--max-gap``.
+    source : str
+        The sensor log, for messages.
+    """
+    lines = {
+        sensor: (
+            f"{source}: sensor {sensor!r} (zone {mapping.sensors[sensor]!r}) reports every "
+            f"{_duration(interval)}, less often than --silence {_duration(silence)}: its "
+            f"values are interpolated linearly between reports (shorter than --max-gap "
+            f"{_duration(max_gap)}), a silence longer than {_duration(own[sensor])} is a gap"
+        )
+        for sensor, interval in intervals.items()
+    }
+    if len(lines) == 1:
+        warnings.warn(next(iter(lines.values())), ReferenceWarning, stacklevel=4)
+        return
+    for line in lines.values():
+        _log.debug(line)
+    names = sorted(intervals)
+    shown = ", ".join(names[:SPARSE_NAMED]) + (", ..." if len(names) > SPARSE_NAMED else "")
+    bridged = _duration(max(own.values()), up=True)  # what is bridged now, as the rule
+    warnings.warn(
+        f"{source}: {len(names)} sensors ({shown}) report every "
+        f"{_span(intervals.values())}, less often than --silence {_duration(silence)}: their "
+        f"values are interpolated linearly between reports (shorter than --max-gap "
+        f"{_duration(max_gap)}), a silence longer than {_span(own.values())} is a gap (each "
+        f"sensor: thermocal -vv); --silence {bridged} makes that the rule and this warning goes",
+        ReferenceWarning,
+        stacklevel=4,
+    )
+
+
+def _span(durations) -> str:
+    """"1h", or "30min to 1h" for durations that differ, as command-line values."""
+    texts = [_duration(d) for d in sorted(set(durations))]
+    return texts[0] if len(texts) == 1 or texts[0] == texts[-1] else f"{texts[0]} to {texts[-1]}"
 
 
 def _sensor_names(raw: pd.DataFrame) -> list[str]:
@@ -776,12 +1092,18 @@ def check_sensor_plausibility(
     mapping: SensorMapping,
     step: pd.Timedelta,
     source: str,
+    *,
+    declared_units: Mapping[str, str | None] | None = None,
 ) -> None:
     """Refuse sensors in the wrong unit or stuck, naming file, sensor, zone and what to do.
 
     * a sensor whose mean is not an indoor temperature, or disagrees with the other sensors by
       a unit-like factor (Kelvin, Fahrenheit, tenths or hundredths of a degree; the conversion
       that brings it next to the others is named);
+    * a log whose sensors' median is no indoor temperature either: the whole log is in another
+      unit, and every conversion that makes it a building's temperatures is named with the
+      values it gives (:func:`thermocal.io.measurements.units.log_unit_slips`: 287 K is
+      14 C, or 28.7 C in tenths);
     * a sensor that disagrees with its own history: a day whose mean is such a factor away
       from the sensor's median day (the logger's unit changed);
     * a sensor reading exactly the same value for :data:`STUCK_AFTER` or longer (a frozen
@@ -798,6 +1120,9 @@ def check_sensor_plausibility(
         Grid step.
     source : str
         The sensor log, for messages.
+    declared_units : mapping of sensor -> str or None, optional
+        The unit each sensor's values were declared in in the log (``units_in_file`` of
+        :func:`thermocal.io.measurements.read_measurements`; None: undeclared), for messages.
 
     Raises
     ------
@@ -833,6 +1158,12 @@ def check_sensor_plausibility(
         keep &= np.asarray(means.index != sensor)
         others = means[keep]
         reference = float(others.median()) if len(others) else None
+        if reference is not None and not _plausible_indoor(reference):
+            if _plausible_indoor(float(mean)):
+                continue  # the others are wrong: each is named in its turn
+            unit = (declared_units or {}).get(str(sensor))
+            text = _log_unit_text(str(sensor), float(mean), reference, len(others), unit)
+            raise ThermocalInputError(f"{where(sensor)} {text}")
         slip = temperature_unit_slip(float(mean), reference)
         if slip is None:
             continue
@@ -888,6 +1219,54 @@ def check_sensor_plausibility(
                 "remove those values from the log (a gap), or list the sensor under 'ignore:' "
                 f"in {mapping.source}"
             )
+
+
+def _plausible_indoor(mean: float) -> bool:
+    """Whether a mean [C] is an indoor temperature (:data:`INDOOR_MEAN_RANGE`)."""
+    return INDOOR_MEAN_RANGE[0] <= mean <= INDOOR_MEAN_RANGE[1]
+
+
+def _log_unit_text(
+    sensor: str, mean: float, median: float, n_others: int, unit: str | None
+) -> str:
+    """The message on a log whose sensors all read no indoor temperature in C, after the
+    sensor's name: both means, every conversion that fits (with the values it gives) and what
+    to do for each.
+
+    Parameters
+    ----------
+    sensor : str
+        The sensor named.
+    mean : float
+        Its mean as read [C].
+    median : float
+        The median of the other sensors' means as read [C].
+    n_others : int
+        How many other sensors.
+    unit : str or None
+        The unit the log declares for the sensor (None: undeclared).
+    """
+    low, high = INDOOR_MEAN_RANGE
+    declared = f"the {unit} it declares" if unit else "C"
+    head = (
+        f"reads {mean:.1f} on average and the other {n_others} sensor(s) {median:.1f} (their "
+        f"median): neither is an indoor temperature in C (a zone averages {low:g} to {high:g} "
+        f"C), so the whole log seems to be in another unit than {declared}"
+    )
+    slips = log_unit_slips(mean, median)
+    if not slips:
+        return f"{head}; check its unit and run again"
+    options = " or ".join(
+        f"{label} ({value:.1f} C for {sensor}, {typical:.1f} C for the others' median if so)"
+        for label, _, value, typical in slips
+    )
+    remedies = "; ".join(
+        f"if {label.split('?')[0]}: {remedy.replace('NAME', sensor)}, for every sensor"
+        if len(slips) > 1
+        else f"{remedy.replace('NAME', sensor)}, for every sensor"
+        for label, remedy, _, _ in slips
+    )
+    return f"{head}: {options}; {remedies}; and run again"
 
 
 #: Shortest identification period [d]: the first day lets the controllers and the walls

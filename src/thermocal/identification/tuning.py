@@ -386,6 +386,31 @@ def median_volume_zone(building) -> str:
     return zones[(len(zones) - 1) // 2].name
 
 
+def check_tuning_zone(building, zone: str) -> None:
+    """Refuse a tuning zone that is not a zone of the building, naming the closest ones.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+    zone : str
+        The zone named for the Ziegler-Nichols tuning (``--tuning-zone``, ``tuning_zone=``).
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        ``zone`` is not one of ``building.zones``; the message suggests up to three close names.
+    """
+    if zone in building.zones:
+        return
+    import difflib
+
+    close = difflib.get_close_matches(str(zone), list(building.zones), n=3)
+    hint = f"; did you mean {', '.join(map(repr, close))}?" if close else ""
+    raise ThermocalInputError(
+        f"tuning zone {zone!r} is not a zone of the building {building.name!r}{hint}"
+    )
+
+
 def zone_plant(sim, zone: str, feedback="air", radiant_fraction: float = 0.0) -> LinearLoopPlant:
     """The linear plant of ``zone`` in a :class:`~thermocal.multizone.Simulation`'s network.
 
@@ -518,12 +543,7 @@ def tune_zone(
     from thermocal.multizone.simulation import Simulation
 
     zone = zone or median_volume_zone(building)
-    if zone not in building.zones:
-        import difflib
-
-        close = difflib.get_close_matches(zone, list(building.zones), n=3)
-        hint = f"; did you mean {', '.join(map(repr, close))}?" if close else ""
-        raise ThermocalInputError(f"tuning zone {zone!r} is not a zone of the building{hint}")
+    check_tuning_zone(building, zone)
     site = metadata or {
         "latitude": building.location.latitude,
         "longitude": building.location.longitude,

@@ -35,7 +35,12 @@ from thermocal.identification.sensors import (
     mapping_from_dict,
     zone_references,
 )
-from thermocal.identification.tuning import TuningResult, tune_zone, volume_scaled_gains
+from thermocal.identification.tuning import (
+    TuningResult,
+    check_tuning_zone,
+    tune_zone,
+    volume_scaled_gains,
+)
 from thermocal.io.atomic import atomic_parquet, atomic_write
 
 METHODS = ("inverse", "pid", "both")
@@ -306,6 +311,8 @@ def pid_gains_for(
     given per-zone gains must cover them).
     """
     tracked = list(building.zones) if tracked is None else list(tracked)
+    if tuning_zone is not None:
+        check_tuning_zone(building, tuning_zone)
     if gains is None:
         from thermocal.identification.tuning import median_volume_zone
 
@@ -336,6 +343,84 @@ def pid_gains_for(
     if missing:
         raise ThermocalInputError(f"PID gains: zones {missing[:5]} have no gains")
     return {z: gains[z] for z in tracked if z in gains}, None
+
+
+def check_pid_only_options(
+    method: str, given: Mapping[str, object], *, method_option: str = "method"
+) -> None:
+    """Refuse options only the PID loop reads when the method runs no PID loop.
+
+    The exact inverse has no Ziegler-Nichols tuning, no gains and no output to limit: a
+    tuning zone, gains or limits given with ``method="inverse"`` would be silently ignored.
+
+    Parameters
+    ----------
+    method : {"both", "inverse", "pid"}
+        The identification method.
+    given : mapping of str to object
+        The PID-only options as the caller spells them (``{"--tuning-zone": value, "--limits":
+        value}`` on the command line, ``{"tuning_zone": ..., "limits": ...}`` in Python);
+        None means not given.
+    method_option : str
+        How the caller spells the method option ("--method", "method").
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        ``method`` is "inverse" and an option of ``given`` is not None; the message names the
+        options and the two ways out.
+    """
+    used = [name for name, value in given.items() if value is not None]
+    if method != "inverse" or not used:
+        return
+    one = len(used) == 1
+    raise ThermocalInputError(
+        f"{', '.join(used)} only appl{'ies' if one else 'y'} to the PID loop, which "
+        f"{method_option} inverse does not run (the exact inverse has no tuning, no gains and no "
+        f"output to limit): drop {'it' if one else 'them'}, or use {method_option} pid or both"
+    )
+
+
+def gap_duration(value, name: str, *, zero_allowed: bool) -> pd.Timedelta:
+    """A zone-data gap option (``max_gap``, ``silence``) as a Timedelta, checked.
+
+    Parameters
+    ----------
+    value : str or Timedelta
+        The duration, e.g. "1h" or "15min" [time].
+    name : str
+        How the caller spells the option, for the message ("--max-gap", "max_gap").
+    zero_allowed : bool
+        Whether zero means something: a ``max_gap`` of 0 interpolates no gap (every gap takes
+        another zone's data); a ``silence`` of 0 would make every instant after a report a gap.
+
+    Returns
+    -------
+    pandas.Timedelta
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        ``value`` is not a duration, is negative, or is zero where ``zero_allowed`` is False.
+    """
+    try:
+        delta = pd.Timedelta(value)
+    except (ValueError, TypeError):
+        delta = pd.NaT
+    if pd.isna(delta):
+        raise ThermocalInputError(
+            f"{name} {value!r} is not a duration; write one such as '1h' or '15min'"
+        )
+    if delta < pd.Timedelta(0):
+        raise ThermocalInputError(
+            f"{name} {value!r} must not be negative; write a duration such as '1h'"
+            + (" (0 interpolates no gap)" if zero_allowed else "")
+        )
+    if delta == pd.Timedelta(0) and not zero_allowed:
+        raise ThermocalInputError(
+            f"{name} {value!r} must be positive; write a duration such as '15min'"
+        )
+    return delta
 
 
 def identify(
@@ -407,15 +492,18 @@ def identify(
         default the first zone) or one per zone; None = Ziegler-Nichols on ``tuning_zone``
         (default the median-volume zone), scaled by volume.
     tuning_zone : str, optional
+        Zone of the Ziegler-Nichols tuning (a zone of ``building``; PID methods only).
     limits : (float, float), optional [W]
         Lower and upper limit of every zone's PID output (conditional integration while
-        limited); None = unlimited, as in the paper.
+        limited); None = unlimited, as in the paper. ``gains``, ``tuning_zone`` and ``limits``
+        are refused with ``method="inverse"``, which runs no PID loop.
     schedule : OccupancySchedule, optional
         Unoccupied steps for the metric (default: the paper's).
     settle : str or None
         First part of the period left out of the metric (default one day).
     max_gap, silence : str
-        See :func:`thermocal.identification.sensors.zone_references`.
+        See :func:`thermocal.identification.sensors.zone_references`; ``max_gap`` at least 0,
+        ``silence`` positive (:func:`gap_duration`).
     options : NetworkOptions, optional
     warmup_days : int
         Repetitions of the first day tracked before the period (exact inverse, hourly).
@@ -436,6 +524,11 @@ def identify(
 
     if method not in METHODS:
         raise ThermocalInputError(f"method must be one of {METHODS}, got {method!r}")
+    check_pid_only_options(method, {"tuning_zone": tuning_zone, "gains": gains, "limits": limits})
+    if tuning_zone is not None:
+        check_tuning_zone(building, tuning_zone)
+    gap_duration(max_gap, "max_gap", zero_allowed=True)
+    gap_duration(silence, "silence", zero_allowed=False)
     if not isinstance(mapping, SensorMapping):
         mapping = mapping_from_dict(mapping)
     schedule = schedule or OccupancySchedule()

@@ -37,6 +37,11 @@ _HHMM = re.compile(r"^\s*(?:UTC|GMT)?\s*([+-])(\d\d):?(\d\d)\s*$", re.IGNORECASE
 #: A date with numeric day and month before the year, either way round, and an optional time:
 #: ``01/02/2015 00:00``, ``1.2.2015``, ``01-02-2015 00:00:00``.
 _DAY_MONTH = re.compile(r"(\d{1,2})([/.-])(\d{1,2})\2(\d{4})(?:([ T])\d{1,2}:\d\d(:\d\d)?)?")
+#: How a reader's note starts when the times were numbers (``time_unit``, ``start`` used) ...
+NUMERIC_TIMES_NOTE = "numeric times in"
+#: ... and when stamps without UTC offset were placed in ``tz``: a caller can tell from
+#: ``meta["notes"]`` whether its time options were used.
+LOCAL_TIMES_NOTE = "time stamps without offset interpreted in"
 
 
 def as_timezone(tz: Any, source: str):
@@ -280,6 +285,37 @@ def day_month_order(
     return readings[order], note
 
 
+def day_month_readings(text: str) -> dict[str, _dt.date] | None:
+    """The dates a numeric date written with day and month before the year can be.
+
+    One date alone has no neighbours to decide the order by (:func:`day_month_order` decides
+    for a column of times): ``25/12/2001`` can only be day-first, ``01/09/2001`` either.
+
+    Parameters
+    ----------
+    text : str
+        A date such as ``01/09/2001``, ``1.9.2001`` or ``01-09-2001`` (a time after it is
+        allowed and not read).
+
+    Returns
+    -------
+    dict or None
+        ``{"day-first": date, "month-first": date}`` restricted to the orders that give a
+        valid calendar date (empty when neither does); None when ``text`` is not of that form.
+    """
+    match = _DAY_MONTH.fullmatch(str(text).strip())
+    if match is None:
+        return None
+    first, second, year = int(match.group(1)), int(match.group(3)), int(match.group(4))
+    readings = {}
+    for order, (day, month) in (("day-first", (first, second)), ("month-first", (second, first))):
+        try:
+            readings[order] = _dt.date(year, month, day)
+        except ValueError:
+            continue
+    return readings
+
+
 def _clock_formats(text: pd.Series) -> pd.Series:
     """Per row, the strftime form of its time of day (``" %H:%M"``, ``"T%H:%M:%S"``, or
     ``""`` for a date alone: spreadsheets write midnight as the date alone)."""
@@ -485,7 +521,7 @@ def _numeric_times(values, source, column, lines, zone, time_unit, start):
         origin = origin.tz_convert(zone)
     offsets = pd.to_timedelta(numbers, unit=TIME_UNITS[time_unit])
     times = pd.DatetimeIndex(origin + offsets).as_unit("ns")
-    return times, f"numeric times in {time_unit} from {origin.isoformat()}"
+    return times, f"{NUMERIC_TIMES_NOTE} {time_unit} from {origin.isoformat()}"
 
 
 def _parse_arrow(text: pd.Series, offset_match: re.Match | None) -> pd.Series | None:
@@ -556,4 +592,4 @@ def _finish(times, values, source, column, lines, tz, zone) -> tuple[pd.Datetime
             f"(clock change; {int(failed.sum())} such time(s)); write the time stamps with UTC "
             "offsets or in standard time and pass a fixed offset, e.g. tz=1.0"
         )
-    return localized.as_unit("ns"), f"time stamps without offset interpreted in {tz}"
+    return localized.as_unit("ns"), f"{LOCAL_TIMES_NOTE} {tz}"

@@ -91,6 +91,8 @@ __all__ = [
     "resample_weather",
     "weather_step",
     "weather_for_period",
+    "check_full_year",
+    "incomplete_file_statement",
 ]
 
 #: Quantities that are means over the interval ``[t, t + step)`` [W/m2 or -].
@@ -224,7 +226,10 @@ def read_weather(
         ({depth [m]: 12 monthly means [C]}), ``holidays`` ([(name, date text)] of the
         ``HOLIDAYS/DAYLIGHT SAVINGS`` line, dates as written: ``1/1``, ``Jan 1``,
         ``Last Monday in May``, ...) and ``daylight_saving`` ((start, end) date texts, None when
-        the file gives none).
+        the file gives none); for EPW and TMY3 ``data_period`` (``{"start": (month, day),
+        "end": (month, day), "declared_by": str}``: the period the file declares, an EPW's
+        ``DATA PERIODS`` line, a TMY3's whole year; None when unreadable), which tells a file
+        cut short (:func:`incomplete_file_statement`).
 
     Raises
     ------
@@ -366,6 +371,13 @@ def read_epw(
         "wmo": str(meta.get("WMO_code", "")).strip(),
         "holidays": header["holidays"],
         "daylight_saving": header["daylight_saving"],
+        "data_period": None
+        if header["data_period"] is None
+        else {
+            "start": header["data_period"][0],
+            "end": header["data_period"][1],
+            "declared_by": "its header's DATA PERIODS line",
+        },
     }
     return frame, metadata
 
@@ -471,6 +483,11 @@ def read_tmy3(
         "coerced_year": coerced,
         "missing": missing,
         "wmo": str(meta.get("USAF", "")),
+        "data_period": {
+            "start": (1, 1),
+            "end": (12, 31),
+            "declared_by": "the TMY3 format (a typical year)",
+        },
     }
     return frame, metadata
 
@@ -784,6 +801,13 @@ def weather_for_period(
         years = sorted({int(index[0].year), int(index[-1].year)})
         shown = "-".join(str(y) for y in dict.fromkeys(years))
         if t0 < index[0] or t1 > file_end:
+            truncated = incomplete_file_statement(weather, meta)
+            if truncated is not None:  # not an actual year: a file cut short
+                raise ThermocalInputError(
+                    f"weather file {source} does not cover the period [{t0}, {t1}): "
+                    f"{truncated}; use the complete file (a typical-year file, TMY/EPW, follows "
+                    "the year of the measurements), or the weather measured over that period."
+                )
             raise ThermocalInputError(
                 f"weather file {source}: an actual-year file of {shown} covering "
                 f"[{index[0]}, {file_end}) does not cover the period [{t0}, {t1}); give the "
@@ -849,6 +873,128 @@ def weather_for_period(
         ),
     }
     return out, meta
+
+
+def _rows_statement(index: pd.DatetimeIndex, step: pd.Timedelta, *, typical: bool) -> str:
+    """``"4,344 hourly rows (181 days) from 1 January 00:00 to 30 June 23:00"`` (interval
+    starts; the year left out for a typical year, whose year is thermocal's choice)."""
+    every = "hourly" if step == pd.Timedelta(hours=1) else f"{step.total_seconds() / 60:g}-min"
+    days = (index[-1] + step - index[0]) / pd.Timedelta(days=1)
+    shown = "%-d %B %H:%M" if typical else "%Y-%m-%d %H:%M"
+    return (
+        f"{len(index):,} {every} rows ({days:,.4g} days) from {index[0].strftime(shown)} to "
+        f"{index[-1].strftime(shown)}"
+    )
+
+
+def _file_clock(index: pd.DatetimeIndex, metadata: Mapping) -> pd.DatetimeIndex:
+    """The index on the weather file's own clock (its standard time, ``metadata["tz"]``)."""
+    tz = metadata.get("tz")
+    if tz is None or index.tz is None:
+        return index
+    return index.tz_convert(as_timezone(tz, f"weather file {metadata.get('source', '')}"))
+
+
+def _undelivered_period(weather: pd.DataFrame, metadata: Mapping) -> str | None:
+    """``"its header's DATA PERIODS line declares data from 1/1 to 12/31"`` when the rows do not
+    run from the first to the last day of the period the file declares; None otherwise."""
+    period = metadata.get("data_period")
+    index = pd.DatetimeIndex(weather.index)
+    if not period or len(index) == 0:
+        return None
+    local = _file_clock(index, metadata)
+    first, last = (local[0].month, local[0].day), (local[-1].month, local[-1].day)
+    start, end = tuple(period["start"]), tuple(period["end"])
+    if (first, last) == (start, end):
+        return None
+    return (
+        f"{period['declared_by']} declares data from {start[0]}/{start[1]} to "
+        f"{end[0]}/{end[1]}"
+    )
+
+
+def incomplete_file_statement(weather: pd.DataFrame, metadata: Mapping | None) -> str | None:
+    """Say that a weather file looks truncated when its rows stop short of (or start after)
+    the period it declares: an EPW's ``DATA PERIODS`` line, a TMY3's whole year.
+
+    Parameters
+    ----------
+    weather : DataFrame
+        From :func:`read_weather` (tz-aware index labelled by interval start).
+    metadata : mapping or None
+        Its metadata (``data_period``: ``{"start": (month, day), "end": (month, day),
+        "declared_by": str}`` or None, ``tz`` [h east of UTC], ``coerced_year``).
+
+    Returns
+    -------
+    str or None
+        ``"it looks truncated or incomplete: its header's DATA PERIODS line declares data from
+        1/1 to 12/31, but it holds 240 hourly rows (10 days) from ... to ..."``; None when the
+        rows span the declared period or no period is declared (CSV).
+    """
+    meta = metadata or {}
+    declared = _undelivered_period(weather, meta)
+    if declared is None:
+        return None
+    index = _file_clock(pd.DatetimeIndex(weather.index), meta)
+    typical = meta.get("coerced_year") is not None
+    rows = _rows_statement(index, weather_step(weather), typical=typical)
+    return f"it looks truncated or incomplete: {declared}, but it holds {rows}"
+
+
+def check_full_year(
+    weather: pd.DataFrame,
+    metadata: Mapping | None,
+    *,
+    source: str,
+    needed_for: str = "the annual heating demand",
+) -> None:
+    """Refuse weather that is not one whole year (an annual result from it would be a part
+    year's, or several years').
+
+    Parameters
+    ----------
+    weather : DataFrame
+        From :func:`read_weather` (regular, tz-aware index labelled by interval start).
+    metadata : mapping or None
+        Its metadata (``data_period``, ``tz``, ``coerced_year``: see
+        :func:`incomplete_file_statement`).
+    source : str
+        The weather file, for the message.
+    needed_for : str
+        What needs the year, for the message.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Unless the rows span 365 or 366 days (a typical year's 8,760 or 8,784 hours, or an
+        actual year); the message names the file, its rows and their dates, whether it looks
+        truncated, and what is needed.
+    """
+    index = pd.DatetimeIndex(weather.index)
+    if len(index) == 0:
+        raise ThermocalInputError(f"weather file {source} holds no rows; {needed_for} needs a year")
+    step = weather_step(weather)
+    span = index[-1] + step - index[0]
+    if span in (pd.Timedelta(days=365), pd.Timedelta(days=366)):
+        return
+    meta = metadata or {}
+    typical = meta.get("coerced_year") is not None
+    rows = _rows_statement(_file_clock(index, meta), step, typical=typical)
+    declared = _undelivered_period(weather, meta)
+    remedy = (
+        "one year of it, or a typical-year file (TMY/EPW) of the site"
+        if span > pd.Timedelta(days=366)
+        else "the complete file (a typical year, e.g. the site's TMY/EPW), or a whole year "
+        "of measured weather"
+    )
+    raise ThermocalInputError(
+        f"weather file {source}: {needed_for} needs one whole year of weather (a typical "
+        f"year's 8,760 hours, or an actual year of 365 or 366 days), but the "
+        f"{'typical-year ' if typical else ''}file holds {rows}"
+        + (f"; it looks truncated or incomplete: {declared}" if declared else "")
+        + f". Use {remedy}"
+    )
 
 
 def weather_step(weather: pd.DataFrame) -> pd.Timedelta:
@@ -969,6 +1115,7 @@ def _read_epw_header(path: Path) -> dict:
     ground: dict[float, list[float]] = {}
     holidays: list[tuple[str, str]] = []
     daylight_saving = None
+    data_period = None
     for number, line in enumerate(lines, start=1):
         fields = [f.strip() for f in line.rstrip("\n").split(",")]
         key = fields[0].upper()
@@ -986,6 +1133,9 @@ def _read_epw_header(path: Path) -> dict:
                     "records per hour does not divide an hour"
                 )
             start_weekday = _WEEKDAYS.get(fields[4].lower())
+            if fields[1] == "1" and len(fields) >= 7:  # one period: its first and last day
+                begin, end = _month_day(fields[5]), _month_day(fields[6])
+                data_period = (begin, end) if begin and end else None
         elif key == "GROUND TEMPERATURES" and len(fields) > 2:
             try:
                 n_depths = int(fields[1])
@@ -1016,7 +1166,17 @@ def _read_epw_header(path: Path) -> dict:
         "ground_temperatures": ground,
         "holidays": holidays,
         "daylight_saving": daylight_saving,
+        "data_period": data_period,
     }
+
+
+def _month_day(text: str) -> tuple[int, int] | None:
+    """``" 1/ 1"`` or ``"12/31"`` (an EPW DATA PERIODS date) -> (month, day); None otherwise."""
+    parts = text.replace(" ", "").split("/")
+    if len(parts) != 2 or not all(part.isdigit() for part in parts):
+        return None
+    month, day = int(parts[0]), int(parts[1])
+    return (month, day) if 1 <= month <= 12 and 1 <= day <= 31 else None
 
 
 #: Continuous weather fields whose isolated missing values :func:`fill_short_gaps` fills.

@@ -49,6 +49,19 @@ _UniqueKeyLoader.add_constructor(
 )
 
 
+def _construct_timestamp(loader: _UniqueKeyLoader, node: yaml.ScalarNode):
+    """A date or date-time; a scalar shaped like one that is no calendar date (``2023-02-30``,
+    ``2001-13-01``) stays text, as if quoted, for the reader of its key to refuse by name
+    (PyYAML raises a bare ValueError from ``datetime.date``)."""
+    try:
+        return yaml.SafeLoader.construct_yaml_timestamp(loader, node)
+    except ValueError:
+        return loader.construct_scalar(node)
+
+
+_UniqueKeyLoader.add_constructor("tag:yaml.org,2002:timestamp", _construct_timestamp)
+
+
 #: Largest YAML file read [bytes].
 MAX_BYTES = 20_000_000
 #: Deepest nesting of mappings and sequences.

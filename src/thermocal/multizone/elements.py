@@ -60,6 +60,8 @@ __all__ = [
     "element_parameters",
     "is_element_parameter",
     "surface_role",
+    "unmirrored_partners",
+    "unmirrored_partners_note",
     "unused_parameters",
 ]
 
@@ -125,6 +127,74 @@ def built_surfaces(surfaces) -> list:
         if surface.boundary == "zone" and surface.other_surface is not None:
             far_sides.add(surface.other_surface)
     return built
+
+
+def unmirrored_partners(
+    surfaces, layers: Mapping, *, identical_is_mirror: bool = False
+) -> dict[tuple[str, str], list[tuple[str, str]]]:
+    """Inter-zone walls whose far side's construction is not the mirror of the built side's.
+
+    The model builds an inter-zone wall once, from the first surface of the pair
+    (:func:`built_surfaces`), and does not read its partner's construction: a partner whose
+    layers are not the first's reversed describes another wall than the one built.
+
+    Parameters
+    ----------
+    surfaces : iterable of thermocal.multizone.model.Surface
+        A building's surfaces in its order.
+    layers : mapping of str to sequence of str
+        Construction name -> its layer names, outside -> inside.
+    identical_is_mirror : bool
+        Take the same layers on both sides for a mirror too (thermocal's building file names
+        one construction from both sides, as its documented example does; EnergyPlus gives
+        each side its own and warns).
+
+    Returns
+    -------
+    dict of (str, str) to list of (str, str)
+        (built construction, far construction) -> the walls as (built surface, far surface),
+        in the building's order.
+    """
+    surfaces = list(surfaces)
+    by_name = {surface.name: surface for surface in surfaces}
+    pairs: dict[tuple[str, str], list[tuple[str, str]]] = {}
+    for surface in built_surfaces(surfaces):
+        if surface.boundary != "zone" or surface.other_surface not in by_name:
+            continue
+        partner = by_name[surface.other_surface]
+        built = tuple(layers.get(surface.construction, ()))
+        far = layers.get(partner.construction)
+        mirrors = {tuple(reversed(built)), *([built] if identical_is_mirror else [])}
+        if far is None or tuple(far) not in mirrors:
+            key = (surface.construction, partner.construction)
+            pairs.setdefault(key, []).append((surface.name, partner.name))
+    return pairs
+
+
+def unmirrored_partners_note(built: str, far: str, walls: list[tuple[str, str]]) -> str:
+    """The note on inter-zone walls whose two sides are not each other's mirror.
+
+    Parameters
+    ----------
+    built, far : str
+        The construction the model builds (the first surface's of each pair) and the one on
+        the far side, which it does not read.
+    walls : list of (str, str)
+        The walls as (built surface, far surface), from :func:`unmirrored_partners`.
+
+    Returns
+    -------
+    str
+    """
+    first, partner = walls[0]
+    more = f", and {len(walls) - 1} more" if len(walls) > 1 else ""
+    return (
+        f"{len(walls)} inter-zone wall(s) with construction '{built}' on one side and '{far}' "
+        f"on the other (surface '{first}' and its partner '{partner}'{more}), whose layers are "
+        f"not the first's reversed: EnergyPlus gives each side its own; thermocal builds each "
+        f"wall once, from '{built}' (the first surface of the pair in the file), and does not "
+        f"read '{far}'"
+    )
 
 
 def far_side_constructions(building) -> dict[str, str]:

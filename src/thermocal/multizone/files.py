@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -24,6 +25,7 @@ from thermocal.multizone.model import (
     Window,
     WindowType,
     Zone,
+    setpoint_celsius,
 )
 
 _SECTIONS = {
@@ -43,6 +45,42 @@ _TOP_LEVEL = {
     *_SECTIONS,
 }
 _NOT_IN_FILES = {"angular_transmittance"}  # callables cannot be written to a file
+
+#: Heating set points of a zone in a building file [C]: from frost protection of an unheated
+#: garage, staircase or cellar (a few degrees above zero) to the warmest room's; a Fahrenheit
+#: one (60-75 F) lies above, a stray minus sign below.
+HEATING_SETPOINT_RANGE = (0.0, 35.0)
+#: Highest cooling set point of a zone in a building file [C]: EnergyPlus files set the cooling
+#: up to 30-40 C in unoccupied hours (the value ``thermocal calibrate`` writes for an IDF's
+#: zone is the one its schedule holds most of the year); a Fahrenheit one (72-85) lies above.
+MAX_COOLING_SETPOINT = 40.0
+#: Set points accepted in a building file [C], by key (:func:`_check_setpoints`). An IDF's
+#: schedule may hold an "off" value outside them (heating -50 C, cooling 100 C): the file
+#: :func:`save_building` writes leaves such a set point out (no heating or cooling, which is
+#: what the value means), so that thermocal reads every file it writes.
+SETPOINT_RANGES = {
+    "heating_setpoint": HEATING_SETPOINT_RANGE,
+    "cooling_setpoint": (5.0, MAX_COOLING_SETPOINT),
+}
+
+#: Air changes per hour above which a zone's ``infiltration_ach`` in a building file is
+#: warned about [1/h]: air leaking through an envelope is 0.1-1.5 1/h, a few 1/h in the
+#: leakiest old house (an n50 of 20 1/h at 50 Pa is about 1 1/h in use), so 45 is 0.45 typed
+#: as a percentage. A warning, not an error: the rate is all the zone's outdoor air, and a
+#: ventilation system's (a kitchen hood, a laboratory; an IDF's ZoneVentilation, which the
+#: calibrated building of an IDF carries in it) can be this high.
+MAX_INFILTRATION_ACH = 10.0
+
+#: Lowest mean height (volume over floor area) of a zone in a building file [m]: the shallowest
+#: air spaces modelled as zones, ceiling and raised-floor plenums and crawl spaces, are 0.2 m
+#: and more (5ZoneAirCooled's plenums 0.61 m, an attic of the EnergyPlus basement house
+#: 0.76 m); 1 m would refuse those, while a volume typed in litres / 1000, as the room's height
+#: or as 0.001 lies below.
+MIN_ZONE_MEAN_HEIGHT = 0.2
+
+
+class BuildingFileWarning(UserWarning):
+    """A building file's value that is unusual but possible (shown as a ``warning:`` line)."""
 
 
 def load_building(path: str | Path) -> Building:
@@ -89,7 +127,7 @@ def load_building(path: str | Path) -> Building:
             "(format: docs/multizone-file.md)"
         )
     try:
-        return building_from_dict(data)
+        return building_from_dict(data, source=f"building file {path}")
     except ThermocalInputError as exc:
         raise ThermocalInputError(f"building file {path}: {exc}") from None
 
@@ -156,8 +194,109 @@ def _check_gains_unit(zone) -> None:
         )
 
 
-def building_from_dict(data: Mapping) -> Building:
-    """Build a :class:`Building` from the YAML structure (see docs/multizone-file.md)."""
+def _check_setpoints(zone: Zone) -> None:
+    """A zone's set points in a building file: a room's (:data:`SETPOINT_RANGES`), not
+    Fahrenheit or below zero.
+
+    Only for a file a user writes: a :class:`Zone` made in code (the IDF import, whose
+    schedules hold -50 or 100 C for "off") keeps the broad check of :func:`setpoint_celsius`.
+
+    Parameters
+    ----------
+    zone : Zone
+        Set points in C.
+    """
+    for key, plausible in SETPOINT_RANGES.items():
+        setpoint_celsius(getattr(zone, key), f"zone '{zone.name}': {key}", plausible)
+
+
+def _check_volume(zone: Zone) -> None:
+    """A zone's volume that cannot stand on its floor (below :data:`MIN_ZONE_MEAN_HEIGHT`).
+
+    Parameters
+    ----------
+    zone : Zone
+        Volume in m3, floor area in m2 (0: no floor, nothing to compare).
+    """
+    if zone.floor_area > 0 and zone.volume < MIN_ZONE_MEAN_HEIGHT * zone.floor_area:
+        raise ThermocalInputError(
+            f"zone '{zone.name}': volume {zone.volume:g} m3 over floor_area "
+            f"{zone.floor_area:g} m2 is a mean height of {zone.volume / zone.floor_area:.3g} m "
+            f"(no room or plenum is lower than {MIN_ZONE_MEAN_HEIGHT:g} m); give the air "
+            f"volume in m3, the floor area times the height (e.g. "
+            f"{2.5 * zone.floor_area:g} for 2.5 m)"
+        )
+
+
+def _infiltration_note(zones: list[Zone]) -> str | None:
+    """The warning on air changes above :data:`MAX_INFILTRATION_ACH`, or None.
+
+    Parameters
+    ----------
+    zones : list of Zone
+        ``infiltration_ach`` in 1/h.
+
+    Returns
+    -------
+    str or None
+        One note naming the zones (the first three) and their rates.
+    """
+    high = [zone for zone in zones if zone.infiltration_ach > MAX_INFILTRATION_ACH]
+    if not high:
+        return None
+    named = ", ".join(f"'{z.name}' {z.infiltration_ach:g}" for z in high[:3])
+    more = f" and {len(high) - 3} more" if len(high) > 3 else ""
+    meant = ", ".join(dict.fromkeys(f"{z.infiltration_ach / 100:g}" for z in high[:3]))
+    return (
+        f"infiltration_ach of zone(s) {named}{more} 1/h: far above the air leaking through an "
+        f"envelope (0.1-1.5 1/h, a few in the leakiest house); a percentage? then write "
+        f"{meant}. Taken as given (a ventilation system's outdoor air, a kitchen hood's, can "
+        "be this high)"
+    )
+
+
+def _partner_notes(building: Building) -> list[str]:
+    """The inter-zone walls whose two sides name constructions that are not each other's
+    mirror (nor the same): the first surface's is built, the other not read."""
+    from thermocal.multizone.elements import unmirrored_partners, unmirrored_partners_note
+
+    layers = {c.name: c.layers for c in building.constructions.values()}
+    pairs = unmirrored_partners(building.surfaces.values(), layers, identical_is_mirror=True)
+    return [unmirrored_partners_note(built, far, walls) for (built, far), walls in pairs.items()]
+
+
+def _check_user_zone(zone: Zone) -> None:
+    """A zone of a building file a user writes: refused on a unit slip.
+
+    Parameters
+    ----------
+    zone : Zone
+    """
+    _check_gains_unit(zone)
+    _check_setpoints(zone)
+    _check_volume(zone)
+
+
+def building_from_dict(data: Mapping, *, source: str | None = None) -> Building:
+    """Build a :class:`Building` from the YAML structure (see docs/multizone-file.md).
+
+    Parameters
+    ----------
+    data : mapping
+        The file's structure.
+    source : str or None
+        What the warnings name first (``"building file house.yaml"``).
+
+    Returns
+    -------
+    Building
+
+    Warns
+    -----
+    BuildingFileWarning
+        A value that is unusual but possible: an air change above
+        :data:`MAX_INFILTRATION_ACH`, inter-zone walls whose sides are not each other's mirror.
+    """
     if not isinstance(data, Mapping):
         raise ThermocalInputError("the file must contain a mapping (name, zones, surfaces, ...)")
     unknown = sorted(set(data) - _TOP_LEVEL)
@@ -180,7 +319,7 @@ def building_from_dict(data: Mapping) -> Building:
                     entry["layers"] = tuple(entry["layers"])
                 built.append(_construct(cls, section[:-1].replace("_", " "), entry))
                 if section == "zones":
-                    _check_gains_unit(built[-1])
+                    _check_user_zone(built[-1])
         objects[section] = built
     location = data.get("location") or {}
     if not isinstance(location, Mapping):
@@ -192,13 +331,19 @@ def building_from_dict(data: Mapping) -> Building:
             f"{', '.join(sorted(allowed))}"
         )
     location = Location(**location)
-    return Building(
+    building = Building(
         name=str(data["name"]),
         location=location,
         ground_temperatures=data.get("ground_temperatures"),
         ground_reflectance=data.get("ground_reflectance"),
         **objects,
     )
+    notes = [_infiltration_note(objects["zones"]), *_partner_notes(building)]
+    for note in filter(None, notes):
+        warnings.warn(
+            f"{source}: {note}" if source else note, BuildingFileWarning, stacklevel=2
+        )
+    return building
 
 
 def building_to_dict(building: Building) -> dict:
@@ -245,10 +390,39 @@ def building_to_dict(building: Building) -> dict:
         "materials": [clean(m) for m in building.materials.values()],
         "constructions": [clean(c) for c in building.constructions.values()],
         "window_types": [clean(w) for w in building.window_types.values()],
-        "zones": [clean(z) for z in building.zones.values()],
+        "zones": [_without_off_setpoints(clean(z)) for z in building.zones.values()],
         "surfaces": [clean(s) for s in building.surfaces.values()],
         "windows": [clean(w) for w in building.windows.values()],
     }
+
+
+def _without_off_setpoints(zone: dict) -> dict:
+    """A zone's YAML entry without set points outside :data:`SETPOINT_RANGES`: an IDF
+    schedule's "off" value (heating -50 C, cooling 100 C) means no heating or cooling, which
+    the missing key says; a building file with the value would be refused when read.
+
+    Parameters
+    ----------
+    zone : dict
+        The zone's entry (set points in C).
+
+    Returns
+    -------
+    dict
+        The entry, with such set points left out (a warning names them).
+    """
+    for key, (low, high) in SETPOINT_RANGES.items():
+        value = zone.get(key)
+        if value is not None and not low <= float(value) <= high:
+            del zone[key]
+            warnings.warn(
+                f"zone '{zone.get('name')}': {key} {float(value):g} C (an 'off' value, outside "
+                f"{low:g}-{high:g} C) is left out of the building file: no "
+                f"{key.split('_')[0]} in that zone",
+                BuildingFileWarning,
+                stacklevel=3,
+            )
+    return zone
 
 
 def _same(a, b) -> bool:

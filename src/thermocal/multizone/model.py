@@ -77,8 +77,27 @@ def _plausible(value: float, quantity: str, what: str) -> float:
     )
 
 
-def _setpoint(value, what: str) -> float | None:
-    """A set point in C; Kelvin values (200-400) and absurd ones refused."""
+def setpoint_celsius(
+    value, what: str, plausible: tuple[float, float] | None = None
+) -> float | None:
+    """A set point in C; Kelvin values (200-400) and absurd ones refused.
+
+    Parameters
+    ----------
+    value : float or None [C]
+        The set point as given; None (no heating or cooling) passes.
+    what : str
+        The zone and the key, for the message (``"zone 'living': heating_setpoint"``).
+    plausible : tuple of float or None [C]
+        ``(lowest, highest)`` set point accepted, with the value probably meant when a
+        Fahrenheit value or a stray minus sign explains one outside; None accepts any
+        temperature from -100 to 200 C (a :class:`Zone` made in code, e.g. by the IDF import,
+        whose schedules use values such as -50 or 100 C for "off").
+
+    Returns
+    -------
+    float or None [C]
+    """
     if value is None:
         return None
     try:
@@ -94,7 +113,36 @@ def _setpoint(value, what: str) -> float | None:
         )
     if not -100 <= number <= 200:
         raise ThermocalInputError(f"{what} {number:g} C is not a plausible temperature")
+    if plausible is not None and not plausible[0] <= number <= plausible[1]:
+        raise ThermocalInputError(
+            f"{what} {number:g} C is not a room's set point (expected "
+            f"{plausible[0]:g}-{plausible[1]:g} C){_setpoint_slip(number, plausible)}"
+        )
     return number
+
+
+def _setpoint_slip(number: float, plausible: tuple[float, float]) -> str:
+    """The end of the message on a set point outside ``plausible``: the value probably meant.
+
+    Parameters
+    ----------
+    number : float [C as read]
+    plausible : tuple of float [C]
+        ``(lowest, highest)`` set point accepted.
+
+    Returns
+    -------
+    str
+        The Fahrenheit conversion or the value without its minus sign when that one is
+        plausible, otherwise the remedy for a value meaning "off".
+    """
+    low, high = plausible
+    fahrenheit = (number - 32.0) * 5.0 / 9.0
+    if low <= fahrenheit <= high:
+        return f"; Fahrenheit? then write {fahrenheit:.1f}"
+    if low <= -number <= high:
+        return f"; a minus sign too many? then write {-number:g}"
+    return "; a zone without this heating or cooling leaves the key out"
 
 
 def _fraction(value: float, what: str) -> float:
@@ -585,8 +633,12 @@ class Zone:
         self.air_capacity_factor = _positive(
             self.air_capacity_factor, f"{what}: air_capacity_factor"
         )
-        self.heating_setpoint = _setpoint(self.heating_setpoint, f"{what}: heating_setpoint")
-        self.cooling_setpoint = _setpoint(self.cooling_setpoint, f"{what}: cooling_setpoint")
+        self.heating_setpoint = setpoint_celsius(
+            self.heating_setpoint, f"{what}: heating_setpoint"
+        )
+        self.cooling_setpoint = setpoint_celsius(
+            self.cooling_setpoint, f"{what}: cooling_setpoint"
+        )
         if (
             self.heating_setpoint is not None
             and self.cooling_setpoint is not None

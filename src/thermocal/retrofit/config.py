@@ -15,6 +15,7 @@ unnoticed.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any, Literal
 
@@ -818,6 +819,19 @@ class DemandConfig(_Strict):
         return value
 
 
+def _short_form_measure(name: str, u_value: float) -> MeasureConfig:
+    """``walls: 0.2``: the measure on the component of that name with this U-value after the
+    retrofit [W/(m2 K)]; a bad value is refused naming the measure (``measures.walls``)."""
+    try:
+        return MeasureConfig(u_value=u_value)
+    except ValidationError as exc:
+        reason = "; ".join(str(err["msg"]) for err in exc.errors())
+        raise ValueError(
+            f"measure {name!r} = {u_value!r} (the U-value after the retrofit [W/(m2 K)]): "
+            f"{reason}"
+        ) from None
+
+
 class RetrofitConfig(_Strict):
     """The whole ``thermocal retrofit`` configuration."""
 
@@ -851,7 +865,7 @@ class RetrofitConfig(_Strict):
         out: dict[str, MeasureConfig] = {}
         for name, spec in value.items():
             if not isinstance(spec, MeasureConfig):  # short form: the U-value of a component
-                spec = MeasureConfig(u_value=spec)
+                spec = _short_form_measure(name, spec)
             component = spec.component or name
             if component not in MEASURE_COMPONENTS:
                 raise ValueError(
@@ -956,9 +970,89 @@ class RetrofitConfig(_Strict):
         return self
 
 
+#: pydantic's label of a union member in an error location: a type (``float``,
+#: ``dict[str,any]``, ``literal['C','K','F']``, ``lax-or-strict[...]``) or a model class name.
+_UNION_LABEL = re.compile(r"^(?:float|int|str|bool|none|[a-z][a-z-]*\[.*\])$", re.DOTALL)
+
+
+def _is_union_label(part, model_names: frozenset[str]) -> bool:
+    """Whether one element of a pydantic error location names a union member (not a key)."""
+    return isinstance(part, str) and (bool(_UNION_LABEL.match(part)) or part in model_names)
+
+
+def _config_model_names() -> frozenset[str]:
+    """Names of the configuration's pydantic models (union members in error locations)."""
+    return frozenset(
+        name for name, obj in globals().items()
+        if isinstance(obj, type) and issubclass(obj, BaseModel)
+    )  # fmt: skip
+
+
+def _union_member_errors(members: dict[str, list[dict]], site: tuple, models) -> list[dict]:
+    """The errors to show of one value checked against a union (``site``: its location).
+
+    ``members``: union label -> that member's errors. The members that got past the value's
+    type (errors deeper than the label) are the value's form: their errors, without labels.
+    When none did, one error at ``site`` with every member's message ("...; or ...").
+    """
+    deep = [
+        errors for errors in members.values()
+        if any(len(err["loc"]) > len(site) + 1 for err in errors)
+    ]  # fmt: skip
+    if deep:
+        return [
+            {**err, "loc": tuple(p for p in err["loc"] if not _is_union_label(p, models))}
+            for errors in deep
+            for err in errors
+        ]
+    every = [err for errors in members.values() for err in errors]
+    message = "; or ".join(dict.fromkeys(str(err["msg"]) for err in every))
+    return [{**every[0], "loc": site, "msg": message}]
+
+
+def _meaningful_errors(errors: list[dict]) -> list[dict]:
+    """pydantic's errors without the noise of a union's other members, and locations without
+    the members' labels.
+
+    A value checked against ``float | MeasureConfig`` gets one error per member: a mapping
+    with a bad ``u_value`` also reads "measures.walls.float: Input should be a valid number"
+    (:func:`_union_member_errors` keeps the member the value's type fits).
+
+    Parameters
+    ----------
+    errors : list of dict
+        ``ValidationError.errors()``.
+
+    Returns
+    -------
+    list of dict
+        The errors to show, in pydantic's order, each with ``loc`` free of union labels.
+    """
+    models = _config_model_names()
+    order: list = []  # errors outside unions, and union locations (tuples) where first seen
+    sites: dict[tuple, dict[str, list[dict]]] = {}
+    for err in errors:
+        loc = tuple(err["loc"])
+        at = next((i for i, p in enumerate(loc) if _is_union_label(p, models)), None)
+        if at is None:
+            order.append(err)
+            continue
+        if loc[:at] not in sites:
+            order.append(loc[:at])
+            sites[loc[:at]] = {}
+        sites[loc[:at]].setdefault(loc[at], []).append(err)
+    return [
+        shown
+        for item in order
+        for shown in (
+            _union_member_errors(sites[item], item, models) if isinstance(item, tuple) else [item]
+        )
+    ]
+
+
 def _format_validation_error(exc: ValidationError, source: str) -> str:
     lines = [f"invalid retrofit configuration {source}:"]
-    for err in exc.errors():
+    for err in _meaningful_errors(exc.errors()):
         where = ".".join(str(p) for p in err["loc"]) or "(top level)"
         value = err.get("input")
         if err["type"] != "missing" and not isinstance(value, dict | list):

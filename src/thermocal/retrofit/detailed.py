@@ -34,7 +34,10 @@ simulates each strategy for the weather year under the same heating:
   the heated zones over the weather year.
 
 The economics, CO2 and recommendation are those of the RC workflow
-(:mod:`thermocal.retrofit.economics`).
+(:mod:`thermocal.retrofit.economics`). Beside the RC analysis, the detailed model must be the
+RC building file's building (:func:`check_same_building`: heated floor area, external-wall and
+window area within 25 %), and the weather one whole year for both
+(:func:`thermocal.io.weather.check_full_year`).
 
 References
 ----------
@@ -66,6 +69,7 @@ __all__ = [
     "INSULATION_CONDUCTIVITY",
     "DetailedRetrofitResult",
     "apply_measures",
+    "check_same_building",
     "foundations_as_ground",
     "load_detailed_building",
     "measure_surfaces",
@@ -131,9 +135,12 @@ def load_detailed_building(path: str | Path):
             f"detailed building {path} not found (give a thermocal building YAML or an "
             "EnergyPlus IDF)"
         )
+    from thermocal.multizone.idf import IdfImportWarning
+
     with warnings.catch_warnings():
-        # the import's list of unsupported objects: summarised by the simulation's notes
-        warnings.simplefilter("ignore")
+        # the import's list of unsupported objects: summarised by the simulation's notes; a
+        # building file's warnings (an infiltration typed as a percentage...) are shown
+        warnings.simplefilter("ignore", IdfImportWarning)
         return load_building(path)
 
 
@@ -849,6 +856,125 @@ def with_heating_setpoint(building, setpoint: float):
     return building.replaced(zones=zones)
 
 
+def heated_detailed_building(building_path: str | Path, setpoint: float | None = None):
+    """The detailed building of ``--detailed``, its zones heated at ``setpoint`` [C] when
+    given (:func:`load_detailed_building`, :func:`with_heating_setpoint`)."""
+    building = load_detailed_building(building_path)
+    if setpoint is not None:
+        building = with_heating_setpoint(building, setpoint)
+    return building
+
+
+#: Largest relative difference [-] between the RC building file's and the detailed model's
+#: heated floor area, external-wall and window area still read as one building: the
+#: project's own pairs agree within 0.1 % (the EnergyPlus house twin: 185.8 m2, walls 91.9 m2,
+#: windows 27.9 m2; the demo house: 220 m2, 214.7 m2, 40.1 m2), a detailed model heated by
+#: ``--setpoint`` counts its cellar too (demo house: 300 m2 against 220 m2, +36 %).
+SAME_BUILDING_TOLERANCE = 0.25
+
+
+def building_sizes(envelope, building) -> dict[str, tuple[float, float]]:
+    """What the RC building file and the detailed model each say of the building's size.
+
+    Parameters
+    ----------
+    envelope : thermocal.io.envelope.EnvelopeDescription
+        The RC analysis's building file.
+    building : thermocal.multizone.model.Building
+        The detailed model (its heated zones: those with a set point).
+
+    Returns
+    -------
+    dict
+        ``"heated floor area"``, ``"external walls"`` (net of windows), ``"windows"`` ->
+        (RC file, detailed model) [m2].
+    """
+    walls = measure_surfaces(building, "walls")
+    return {
+        "heated floor area": (
+            float(envelope.heated_floor_area), float(building.conditioned_floor_area)
+        ),
+        "external walls": (
+            envelope.area("external_wall"), float(sum(building.net_area(n) for n in walls))
+        ),
+        "windows": (
+            envelope.area("window"),
+            float(sum(building.windows[n].area for n in _measure_windows(building))),
+        ),
+    }
+
+
+def _beyond(rc: float, detailed: float, tolerance: float) -> bool:
+    """Whether two areas [m2] differ by more than ``tolerance`` (relative, either way)."""
+    if rc <= 0.0 or detailed <= 0.0:
+        return max(rc, detailed) > 0.0
+    return max(rc, detailed) / min(rc, detailed) > 1.0 + tolerance
+
+
+def check_same_building(
+    envelope,
+    building,
+    *,
+    rc_source: str,
+    detailed_source: str,
+    tolerance: float = SAME_BUILDING_TOLERANCE,
+) -> list[str]:
+    """Refuse an RC building file and a detailed model of two different buildings.
+
+    Their savings are printed side by side ("RC %"): they must describe one building. Compared
+    (:func:`building_sizes`): heated floor area, external-wall area and window area. Two or
+    three of them beyond the tolerance: two buildings (refused); one: a warning (a detailed
+    model whose cellar ``--setpoint`` heats, a window the RC file left out).
+
+    Parameters
+    ----------
+    envelope : thermocal.io.envelope.EnvelopeDescription
+        The RC analysis's building file.
+    building : thermocal.multizone.model.Building
+        The detailed model, heated as it will be simulated.
+    rc_source, detailed_source : str
+        The two files, for the messages.
+    tolerance : float
+        Largest relative difference [-] of one quantity (:data:`SAME_BUILDING_TOLERANCE`).
+
+    Returns
+    -------
+    list of str
+        The warning when one quantity differs beyond the tolerance; empty when all agree.
+
+    Raises
+    ------
+    ThermocalInputError
+        When two or three quantities differ beyond the tolerance: the numbers of both files.
+    """
+    sizes = building_sizes(envelope, building)
+    off = [name for name, pair in sizes.items() if _beyond(*pair, tolerance)]
+    if not off:
+        return []
+    if len(off) >= 2:
+        listing = "; ".join(
+            f"{name} {rc:,.1f} m2 in the RC file, {detailed:,.1f} m2 in the detailed model"
+            for name, (rc, detailed) in sizes.items()
+        )
+        raise ThermocalInputError(
+            f"the RC building file {rc_source} and the detailed model {detailed_source} "
+            f"describe different buildings: {listing} ({', '.join(off[:-1])} and {off[-1]} "
+            f"differ by more than {100 * tolerance:.0f} %); their savings side by side would "
+            "compare two buildings. "
+            "Give the detailed model of the RC file's building, or run it alone with "
+            "--detailed-only"
+        )
+    name = off[0]
+    rc, detailed = sizes[name]
+    return [
+        f"the detailed model {detailed_source} and the RC building file {rc_source} differ in "
+        f"{name} by more than {100 * tolerance:.0f} % ({rc:,.1f} m2 in the RC file, "
+        f"{detailed:,.1f} m2 in the detailed model): check that they describe the same "
+        "building and heat the same zones (--setpoint heats every zone, an unheated cellar "
+        "too) before comparing their savings"
+    ]
+
+
 def run_detailed_retrofit(
     cfg, building_path: str | Path, *, setpoint: float | None = None, progress=None
 ):
@@ -866,17 +992,22 @@ def run_detailed_retrofit(
     Returns
     -------
     DetailedRetrofitResult
+
+    Raises
+    ------
+    ThermocalInputError
+        Weather that is not one whole year (:func:`thermocal.io.weather.check_full_year`, the
+        check of the RC analysis) or of another site than the building's.
     """
-    from thermocal.io.weather import check_site_matches_weather, read_weather
+    from thermocal.io.weather import check_full_year, check_site_matches_weather, read_weather
     from thermocal.retrofit.workflow import resolve_weather_path
 
-    building = load_detailed_building(building_path)
-    if setpoint is not None:
-        building = with_heating_setpoint(building, setpoint)
+    building = heated_detailed_building(building_path, setpoint)
     weather_path = resolve_weather_path(cfg.weather.file)
     weather, meta = read_weather(
         weather_path, format=cfg.weather.format, columns=cfg.weather.columns
     )
+    check_full_year(weather, meta, source=str(cfg.weather.file))
     check_site_matches_weather(
         building.location.latitude,
         building.location.longitude,

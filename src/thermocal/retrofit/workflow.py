@@ -148,13 +148,16 @@ IRRADIANCE_SPLIT_NOTE = (
 
 
 def load_weather_year(cfg: RetrofitConfig, step: pd.Timedelta) -> tuple[pd.DataFrame, dict]:
-    """The typical-year weather on the model step, with interval-mean air temperature."""
-    from thermocal.io.weather import read_weather, resample_weather
+    """The typical-year weather on the model step, with interval-mean air temperature (one
+    whole year: :func:`thermocal.io.weather.check_full_year`, for every caller: the command,
+    ``thermocal demo --weather``, verify, a script)."""
+    from thermocal.io.weather import check_full_year, read_weather, resample_weather
 
     path = resolve_weather_path(cfg.weather.file)
     if not path.is_file():
         raise ThermocalInputError(f"weather file {path} not found (weather.file)")
     weather, meta = read_weather(path, format=cfg.weather.format, columns=cfg.weather.columns)
+    check_full_year(weather, meta, source=str(cfg.weather.file))
     for col in ("temp_air", "dni", "dhi"):
         if col not in weather:
             raise ThermocalInputError(

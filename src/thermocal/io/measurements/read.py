@@ -5,6 +5,7 @@ Part of :mod:`thermocal.io.measurements`; see its docstring for the conventions.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal
@@ -300,9 +301,76 @@ def _read_csv_table(path: Path, *, sep: str | None, decimal: str, comment: str |
     except (pd.errors.ParserError, UnicodeDecodeError, pd.errors.EmptyDataError) as exc:
         raise ThermocalInputError(f"{path}: cannot read as CSV ({exc})") from None
     frame.columns = [str(c).strip() for c in frame.columns]
+    _check_repeated_header(path, frame.columns, separator=separator, comment=comment)
     if frame.empty:
         raise ThermocalInputError(f"{path}: no data rows below the header")
     return frame
+
+
+#: pandas' name for the n-th repeat of a column name: "S1", "S1.1", "S1.2", ...
+_MANGLED_REPEAT = re.compile(r"^(?P<name>.+)\.(?P<count>[1-9]\d*)$")
+
+
+def _check_repeated_header(
+    path: Path, columns: Sequence[str], *, separator: str, comment: str | None
+) -> None:
+    """Refuse a CSV header that names a column twice, with the name and the column positions.
+
+    pandas renames the repeats ("S1", "S1.1"), so the log would show a sensor "S1.1" that the
+    file does not name; the header as written is read again when a column looks renamed so,
+    or when two names are the same once stripped ("S1" and "S1 ").
+
+    Parameters
+    ----------
+    path : Path
+        The CSV file.
+    columns : sequence of str
+        The column names pandas gave (stripped).
+    separator : str
+        The field separator.
+    comment : str or None
+        The comment character.
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the file, the header's line, each repeated name and its 1-based column
+        positions.
+    """
+    names = set(columns)
+    renamed = any(
+        (match := _MANGLED_REPEAT.match(column)) and match.group("name") in names
+        for column in columns
+    )
+    if not renamed and len(names) == len(columns):
+        return
+    header = pd.read_csv(
+        path,
+        sep=separator,
+        comment=comment,
+        header=None,
+        nrows=1,
+        dtype=str,
+        keep_default_na=False,
+        skipinitialspace=True,
+        encoding="utf-8-sig",
+    )
+    written = [str(value).strip() for value in header.iloc[0]]
+    positions: dict[str, list[int]] = {}
+    for position, name in enumerate(written, start=1):
+        positions.setdefault(name, []).append(position)
+    repeated = {name: where for name, where in positions.items() if len(where) > 1}
+    if not repeated:
+        return
+    line, _ = _data_line_numbers(path, comment)
+    described = "; ".join(
+        f"'{name}' in columns {', '.join(map(str, where[:-1]))} and {where[-1]}"
+        for name, where in repeated.items()
+    )
+    raise ThermocalInputError(
+        f"{path}, line {line} (header): the same column name twice: {described}; every column "
+        "needs its own name (one per sensor): rename or remove the repeats"
+    )
 
 
 def _release_arrow_memory() -> None:

@@ -245,7 +245,8 @@ def temperature_unit_slip(
         The (mean) value as read [C].
     reference : float, optional
         What it should be near: the neighbouring sensors' median or the sensor's typical day
-        [C] (None: 20 C is used to rank the candidates).
+        [C] (None: 20 C is used to rank the candidates). A reference outside ``plausible`` is
+        read in the same wrong unit and is no yardstick: it is ignored.
     plausible : (float, float)
         Range of a plausible value [C]. A value outside it is always a slip (the best
         candidate, or "not an indoor temperature" when none fits); one inside it is a slip
@@ -259,26 +260,97 @@ def temperature_unit_slip(
         10.0)``; ``NAME`` in the remedy stands for the column.
     """
     low, high = plausible
-    target = 20.0 if reference is None else reference
-    plausible = low <= mean <= high
-    if plausible and (reference is None or abs(mean - reference) <= NEIGHBOUR_TOLERANCE):
+    if reference is not None and not low <= reference <= high:
+        reference = None
+    is_plausible = low <= mean <= high
+    if is_plausible and (reference is None or abs(mean - reference) <= NEIGHBOUR_TOLERANCE):
         return None
+    candidates = temperature_unit_candidates(mean, reference, plausible=plausible)
+    if candidates:
+        return candidates[0]
+    return None if is_plausible else ("not an indoor temperature", "check its unit", float("nan"))
+
+
+def temperature_unit_candidates(
+    mean: float,
+    reference: float | None = None,
+    *,
+    plausible: tuple[float, float] = INDOOR_MEAN_RANGE,
+) -> list[tuple[str, str, float]]:
+    """Every unit slip that makes a temperature read as C plausible, the likeliest first.
+
+    Parameters
+    ----------
+    mean : float
+        The (mean) value as read [C].
+    reference : float, optional
+        What it should be near [C] (:func:`temperature_unit_slip`); None, or outside
+        ``plausible`` (read in the same wrong unit), ranks the slips by how common they are.
+    plausible : (float, float)
+        Range of a plausible value [C].
+
+    Returns
+    -------
+    list of (label, remedy, value in C)
+        With a reference: the slips within :data:`UNIT_MATCH` of it (most common first), then
+        the others nearest first. Without: every slip whose value is plausible, most common
+        first (an outdoor 281 K is 8 C, not 28.1 C in tenths; a room's 285 K is 12 C before
+        28.5 C in tenths). A plausible ``mean`` lists only slips within :data:`UNIT_MATCH` of
+        the reference (20 C without one).
+    """
+    low, high = plausible
+    if reference is not None and not low <= reference <= high:
+        reference = None
+    target = 20.0 if reference is None else reference
+    is_plausible = low <= mean <= high
     fits = []
     for label, remedy, convert in TEMPERATURE_UNIT_SLIPS:  # in order of how common the slip is
         value = convert(mean)
-        if low <= value <= high and (plausible is False or abs(value - target) <= UNIT_MATCH):
+        if low <= value <= high and (not is_plausible or abs(value - target) <= UNIT_MATCH):
             fits.append((abs(value - target), label, remedy, value))
-    if reference is None and fits:
-        # nothing to compare with (an outdoor sensor, a sensor alone): the most common slip
-        # that gives a plausible value, not the one nearest 20 C (an outdoor 281 K is 8 C, not
-        # 28.1 C in tenths)
-        return fits[0][1:]
+    if reference is None:
+        return [fit[1:] for fit in fits]
     close = [fit for fit in fits if fit[0] <= UNIT_MATCH]
-    if close:
-        return close[0][1:]
-    if fits:
-        return min(fits)[1:]
-    return None if plausible else ("not an indoor temperature", "check its unit", float("nan"))
+    far = sorted(fit for fit in fits if fit[0] > UNIT_MATCH)
+    return [fit[1:] for fit in close + far]
+
+
+#: Median of a building's indoor sensors [C] that a unit conversion must give to be named when
+#: the log as a whole is in another unit (:func:`log_unit_slips`): a building's rooms together
+#: average 10-35 C, heated, cooled or free-floating in a mild season; a conversion giving a
+#: median of 2.9 C (285 read as hundredths) or 5.7 C (57 read as tenths) is not named.
+BUILDING_MEDIAN_RANGE = (10.0, 35.0)
+
+
+def log_unit_slips(mean: float, median: float) -> list[tuple[str, str, float, float]]:
+    """The unit slips that explain a log whose sensors read no indoor temperature as C.
+
+    When the other sensors' median is itself outside :data:`INDOOR_MEAN_RANGE`, the whole log
+    is in another unit and the sensors cannot be compared with each other: a slip is named when
+    it makes the sensor's mean an indoor temperature and the median a building's
+    (:data:`BUILDING_MEDIAN_RANGE`). 290 fits both Kelvin (16.9 C) and tenths (29.0 C): both are
+    named, the more common first.
+
+    Parameters
+    ----------
+    mean : float
+        One sensor's mean as read [C].
+    median : float
+        The median of the other sensors' means as read [C].
+
+    Returns
+    -------
+    list of (label, remedy, the sensor's mean in C, the median in C)
+        Most common slip first (:data:`TEMPERATURE_UNIT_SLIPS`); empty when none fits.
+    """
+    slips = []
+    for label, remedy, convert in TEMPERATURE_UNIT_SLIPS:
+        value, typical = convert(mean), convert(median)
+        in_room = INDOOR_MEAN_RANGE[0] <= value <= INDOOR_MEAN_RANGE[1]
+        in_building = BUILDING_MEDIAN_RANGE[0] <= typical <= BUILDING_MEDIAN_RANGE[1]
+        if in_room and in_building:
+            slips.append((label, remedy, value, typical))
+    return slips
 
 
 def _convert_units(

@@ -506,25 +506,11 @@ class SurfaceStages:
         """A note per pair of constructions of inter-zone surfaces that are not each other's
         mirror: EnergyPlus gives each side its own construction (and warns), thermocal builds
         the wall once, from the first surface of the pair."""
-        from thermocal.multizone.elements import built_surfaces
+        from thermocal.multizone.elements import unmirrored_partners, unmirrored_partners_note
 
         layers = {c.name: tuple(c.layers) for c in self.model_constructions}
-        by_name = {s.name: s for s in self.model_surfaces}
-        pairs: dict[tuple[str, str], int] = {}
-        for surface in built_surfaces(self.model_surfaces):
-            if surface.boundary != "zone" or surface.other_surface not in by_name:
-                continue
-            far = by_name[surface.other_surface].construction
-            if layers.get(far) != tuple(reversed(layers.get(surface.construction, ()))):
-                key = (surface.construction, far)
-                pairs[key] = pairs.get(key, 0) + 1
-        for (built, far), count in pairs.items():
-            self.info.notes.append(
-                f"{count} inter-zone wall(s) with construction '{built}' on one side and "
-                f"'{far}' on the other, whose layers are not the first's reversed: EnergyPlus "
-                f"gives each side its own; thermocal builds each wall once, from '{built}' (the "
-                "first surface of the pair in the file)"
-            )
+        for (built, far), walls in unmirrored_partners(self.model_surfaces, layers).items():
+            self.info.notes.append(unmirrored_partners_note(built, far, walls))
 
     def _zone_partners(self) -> list[dict]:
         """The reversed partners EnergyPlus creates for surfaces whose outside boundary is a

@@ -86,8 +86,11 @@ def test_validation_periods_that_only_touch_the_calibration_period_are_apart():
 
 
 def test_range_patterns_that_disagree_on_a_parameter_are_refused():
-    """Before: the key listed last won, silently (+-10 % or +-90 % by the keys' order)."""
-    nominal = {"window/W/u_value": 2.0, "window/W/shgc": 0.5, "material/M/conductivity": 1.0}
+    """Before: the key listed last won, silently (+-10 % or +-90 % by the keys' order). Now the
+    most specific pattern counts (one matching a strict subset of the other's parameters);
+    crossing patterns that disagree are refused, in either order."""
+    nominal = {"window/W/u_value": 2.0, "window/W/shgc": 0.5, "material/M/conductivity": 1.0,
+               "construction/roof/u_value": 0.3}  # fmt: skip
     for ranges in ({"window/*": 0.9, "*/u_value": 0.1}, {"*/u_value": 0.1, "window/*": 0.9}):
         with pytest.raises(
             ThermocalInputError,
@@ -96,6 +99,12 @@ def test_range_patterns_that_disagree_on_a_parameter_are_refused():
         ) as info:
             ParameterSpace.from_parameters(nominal, ranges=ranges)
         assert "'*/u_value' (+-10 %)" in str(info.value)
+    # nested: 'window/*/u_value' matches a part of what 'window/*' matches, whatever the order
+    for ranges in ({"window/*": 0.9, "window/*/u_value": 0.1},
+                   {"window/*/u_value": 0.1, "window/*": 0.9}):  # fmt: skip
+        space = ParameterSpace.from_parameters(nominal, ranges=ranges)
+        got = dict(zip(space.names, space.relative_range, strict=True))
+        assert got["window/W/u_value"] == 0.1 and got["window/W/shgc"] == 0.9, got
     same = ParameterSpace.from_parameters(
         nominal, ranges={"window/*": 0.2, "*/u_value": 0.2, "*/conductivity": 0.5}
     )
@@ -103,6 +112,7 @@ def test_range_patterns_that_disagree_on_a_parameter_are_refused():
         "window/W/u_value": 0.2,
         "window/W/shgc": 0.2,
         "material/M/conductivity": 0.5,
+        "construction/roof/u_value": 0.2,
     }
 
 
@@ -180,3 +190,19 @@ def test_without_a_period_the_campaign_takes_the_sensor_logs_span(clinic):
     )
     assert lines[0].startswith("period: [2001-01-08 00:15:00-05:00, 2001-01-12 00:00:00-05:00)")
     assert "sensors.csv" in lines[0] and "period: {start: ..., end: ...}" in lines[0]
+
+
+def test_a_pid_option_with_the_inverse_method_is_named_in_the_campaign_files_terms(clinic):
+    """Review: the refusal of a tuning zone with the exact inverse named neither the campaign
+    file nor its key ('tuning_zone only applies ... method inverse')."""
+    campaign = _campaign(clinic, "tuning", PERIOD)
+    text = campaign.path.read_text().replace(
+        "warmup_days: 2}", 'warmup_days: 2, tuning_zone: "Room 1"}'
+    )
+    campaign.path.write_text(text)
+    message, _ = _refused(
+        load_campaign(campaign.path), clinic, "tuning",
+        r"tuning\.yaml: identification\.tuning_zone only applies to the PID loop, which "
+        r"identification\.method inverse does not run",
+    )  # fmt: skip
+    assert "identification.method pid or both" in message

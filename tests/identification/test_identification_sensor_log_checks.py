@@ -230,3 +230,18 @@ def test_a_zone_written_in_another_case_is_refused_with_the_right_spelling():
     )
     with pytest.raises(ThermocalInputError, match=r"zones\.space2-1: .*did you mean 'SPACE2-1'"):
         zone_sources(BUILDING, per_zone)
+
+
+def test_two_sensors_in_kelvin_among_three_are_named_each_not_the_whole_log():
+    """Review: with two of three sensors in Kelvin the median of the others mixed a Kelvin and
+    a Celsius value (157) and the message called the whole log another unit, 'divide ... for
+    every sensor'. Each is now judged against the sensors that read an indoor temperature."""
+    means = {"S04": 293.5, "S05": 294.0, "S06": 20.5}
+    mapping = mapping_from_dict(
+        {"sensors": {"S04": "Room 7", "S05": "Room 9", "S06": "Room 11"}}, source="mapping.yaml"
+    )
+    with pytest.raises(ThermocalInputError) as caught:
+        check_sensor_plausibility(_grid(means), mapping, STEP, "log.csv")
+    message = str(caught.value)
+    assert "sensor 'S04'" in message and "Kelvin" in message, message
+    assert "for every sensor" not in message and "whole log" not in message, message

@@ -207,6 +207,9 @@ def test_unambiguous_holidays_are_read():
         dt.date(2001, 1, 1),
         dt.date(2001, 1, 2),
     )
+    # review: other unambiguous forms read before the ambiguity check stay readable
+    forms = ("2001-01-15 00:00", "2001-01-15T00:00", "15 January 2001", "Jan 15 2001", "20010115")
+    assert _holidays(*forms) == (dt.date(2001, 1, 15),) * len(forms)
 
 
 @pytest.mark.parametrize(
@@ -250,3 +253,18 @@ def test_an_impossible_unquoted_holiday_is_refused_naming_it(tmp_path, entry):
     data = read_yaml(path, what="occupancy file")
     with pytest.raises(ThermocalInputError, match=rf"holidays\[1\] = '{entry}' is not a date"):
         OccupancySchedule.from_dict(data["occupancy"], source=f"{path}: occupancy")
+
+
+def test_tz_with_a_day_first_naive_log_is_used_without_a_warning():
+    """Review: the reader's note for a day-first log starts with the date order, then says the
+    stamps were placed in the zone; the check looked only at the note's start and told such a
+    log that --tz had no effect."""
+    from thermocal.commands.identify import _check_time_options
+
+    index = pd.date_range("2001-01-13", periods=2, freq="h", tz="-05:00")
+    raw = pd.DataFrame({"S1": [20.0, 20.1]}, index=index)
+    note = ("dates read day-first (13/01/2001 has a day above 12); time stamps without offset "
+            "interpreted in America/New_York")  # fmt: skip
+    meta = {"notes": [note]}
+    assert _check_time_options(raw, meta, "log.csv", tz="America/New_York", time_unit=None,
+                               time_origin=None) is None

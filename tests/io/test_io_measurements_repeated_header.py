@@ -47,3 +47,13 @@ def test_a_column_really_named_like_a_renamed_repeat_is_read(tmp_path):
     path.write_text("time,S0,S1,S1.1,S3\n" + ROWS, encoding="utf-8")
     raw, _ = read_measurements(path)
     assert list(raw.columns) == ["S0", "S1", "S1.1", "S3"]
+
+
+def test_blank_header_cells_beside_a_dotted_name_are_read_as_before(tmp_path):
+    """Review: a spreadsheet's trailing empty header cells are not a repeated name (with an
+    'S1.1' column beside them the header was read again and '' refused as repeated)."""
+    path = tmp_path / "sensors.csv"
+    rows = "".join(line + ",,\n" for line in ROWS.splitlines())
+    path.write_text("time,S0,S1,S1.1,S3,,\n" + rows, encoding="utf-8")
+    raw, _ = read_measurements(path)
+    assert {"S0", "S1", "S1.1", "S3"} <= set(raw.columns)

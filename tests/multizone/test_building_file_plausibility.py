@@ -162,7 +162,7 @@ def test_an_infiltration_rate_typed_as_a_percentage_is_named(tmp_path):
 def test_a_percentage_in_every_zone_gives_one_warning(tmp_path):
     """The house of h06 has it in its eight heated zones: one line, not eight."""
     messages = _file_warnings(load_building, _write(tmp_path, _changed(infiltration_ach=45)))
-    assert len(messages) == 1 and "'living' 45, 'kitchen' 45 1/h" in messages[0], messages
+    assert len(messages) == 1 and "'living' 45 1/h, 'kitchen' 45 1/h" in messages[0], messages
 
 
 @pytest.mark.parametrize("ach", [0.0, 0.45, 3.0, 10.0])

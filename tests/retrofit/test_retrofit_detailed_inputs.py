@@ -101,6 +101,29 @@ def test_an_rc_file_and_a_detailed_model_of_two_buildings_are_refused():
     assert "heated floor area by more than 25 % (220.0 m2 in the RC file, 300.0 m2" in notes[0]
 
 
+def test_a_calibrated_building_heated_by_setpoint_is_warned_not_refused():
+    """Review: docs/retrofit.md's workflow, a calibrated building (no set points) with
+    --setpoint 21, heats the EnergyPlus house's garage and attic too (456 vs 186 m2): it was
+    refused as "different buildings" with a wrong remedy. With --setpoint the differences are
+    a warning that says what the option heated and what to do."""
+    import dataclasses
+
+    twin = det.load_detailed_building(TWIN / "house_v25.idf")
+    bare = twin.replaced(zones={
+        name: dataclasses.replace(zone, heating_setpoint=None, cooling_setpoint=None)
+        for name, zone in twin.zones.items()
+    })  # fmt: skip
+    heated = det.with_heating_setpoint(bare, 21.0)
+    envelope = read_envelope(TWIN / "building.yaml")
+    with pytest.raises(ThermocalInputError, match="describe different buildings"):
+        det.check_same_building(envelope, heated, rc_source="a.yaml", detailed_source="c.yaml")
+    notes = det.check_same_building(envelope, heated, rc_source="a.yaml",
+                                    detailed_source="c.yaml", heated_by_setpoint=True)  # fmt: skip
+    assert len(notes) == 1, notes
+    assert f"--setpoint heats all {len(twin.zones)} zones" in notes[0]
+    assert "give heating_setpoint to the heated zones" in notes[0]
+
+
 def test_the_command_refuses_two_buildings_before_the_analysis(tmp_path):
     """The pair is checked before the RC analysis runs (no output folder is written): the
     EnergyPlus twin's configuration with --detailed of the demo's 9-zone house."""

@@ -442,3 +442,17 @@ def test_advice_without_draws_is_refused_before_anything_runs(tmp_path):
     assert isinstance(result.exception, ThermocalInputError)
     assert f"uncertainty.draws: 0 in {path} asks for none" in str(result.exception)
     assert not (tmp_path / "r").exists()
+
+
+def test_an_impossible_date_in_the_periods_is_refused_with_its_key(tmp_path):
+    """Review: YAML keeps an unquoted impossible date (2005-02-30) as text; the configuration
+    took it and the analysis stopped later with an internal error (DateParseError)."""
+    from thermocal.demos.retrofit import prepare_demo
+    from thermocal.retrofit import load_config
+
+    path, _ = prepare_demo(tmp_path)
+    text = path.read_text()
+    assert "\nperiods:\n" in text  # a block mapping: the date goes in as its first key
+    path.write_text(text.replace("\nperiods:\n", "\nperiods:\n  training_start: 2005-02-30\n", 1))
+    with pytest.raises(ThermocalInputError, match=r"training_start.*'2005-02-30' is not a date"):
+        load_config(path)

@@ -100,7 +100,9 @@ def load_inputs(campaign) -> CampaignInputs:
         start = _localise(campaign.period.start, weather.index[0])
         end = _localise(campaign.period.end, weather.index[0])
     else:  # as identify without --start/--end: the log's span, not the whole weather file
-        start, end = sensor_log_period(raw, weather.index, campaign.step_timedelta())
+        from thermocal.identification.sensors import log_span_on_grid
+
+        start, end = log_span_on_grid(raw, weather.index, campaign.step_timedelta())
     return CampaignInputs(
         building,
         weather,
@@ -112,39 +114,6 @@ def load_inputs(campaign) -> CampaignInputs:
         log_name=str(campaign.sensors),
         period_from_log=campaign.period is None and start is not None,
     )
-
-
-def sensor_log_period(
-    sensor_log: pd.DataFrame, weather_index: pd.DatetimeIndex, step: pd.Timedelta
-) -> tuple[pd.Timestamp | None, pd.Timestamp | None]:
-    """The sensor log's span on the simulation grid: the default period of a campaign.
-
-    Parameters
-    ----------
-    sensor_log : DataFrame
-        The log as read by :func:`thermocal.io.measurements.read_measurements` (long or wide).
-    weather_index : DatetimeIndex
-        The weather's time stamps: their time zone and the grid's origin.
-    step : Timedelta
-        The campaign's step [s resolution].
-
-    Returns
-    -------
-    (Timestamp, Timestamp) or (None, None)
-        The first grid instant at or after the log's first reading and the last at or before
-        its last reading, in the weather's time zone; (None, None) when the log or the weather
-        has no time zone (the simulation then names the mismatch).
-    """
-    from thermocal.identification.sensors import _log_span
-
-    first, last = _log_span(sensor_log)
-    origin = weather_index[0]
-    if first.tzinfo is None or origin.tzinfo is None:
-        return None, None
-    first, last = first.tz_convert(origin.tz), last.tz_convert(origin.tz)
-    start = origin - ((origin - first) // step) * step  # the first grid instant at or after
-    end = origin + ((last - origin) // step) * step
-    return start, end
 
 
 def _localise(value, like) -> pd.Timestamp:
@@ -290,8 +259,14 @@ def build_problem(
 def _identification_problem(campaign, inputs: CampaignInputs, start, end, schedule, step):
     """:func:`build_problem` without its remedies translated."""
     from thermocal.identification.problem import problem_from_measurements
+    from thermocal.identification.workflow import check_pid_only_options
 
     options = identification_options(campaign)
+    check_pid_only_options(  # in the campaign file's terms (the problem would say 'method')
+        options["method"],
+        {f"{campaign.path}: identification.tuning_zone": options["tuning_zone"]},
+        method_option="identification.method",
+    )
     schedule = schedule or campaign_schedule(campaign)
     problem, report = problem_from_measurements(
         inputs.building,

@@ -474,8 +474,12 @@ class ParameterSpace:
 def _relative_ranges(
     names: Sequence[str], ranges: Mapping[str, float], default_range: float
 ) -> np.ndarray:
-    """Each parameter's relative half-width: that of the ``ranges`` patterns matching it, else
-    ``default_range``.
+    """Each parameter's relative half-width: that of the most specific ``ranges`` pattern
+    matching it, else ``default_range``.
+
+    A pattern is more specific than another when the parameters it matches are a strict subset
+    of the other's (``{"material/*": 0.5, "material/insulation/*": 0.9}``: the insulation's
+    +-90 %, whatever the order of the keys).
 
     Parameters
     ----------
@@ -494,21 +498,31 @@ def _relative_ranges(
     Raises
     ------
     ThermocalInputError
-        Two patterns giving one parameter different half-widths (naming the parameter and the
-        patterns): which one counts would depend on the order of the keys.
+        Patterns giving one parameter different half-widths none of which is more specific
+        than the others (naming the parameter and the patterns): which one counted depended on
+        the order of the keys (``{"window/*": 0.9, "*/u_value": 0.1}`` crossing at a window's
+        U-value when other U-values are varied too).
     """
+    matched = {p: frozenset(n for n in names if _matches(n, p)) for p in ranges}
     relative = np.full(len(names), float(default_range))
     for i, name in enumerate(names):
-        matching = {p: float(v) for p, v in ranges.items() if _matches(name, p)}
-        if len(set(matching.values())) > 1:
-            listed = " and ".join(f"{p!r} (+-{100 * v:g} %)" for p, v in matching.items())
-            raise ThermocalInputError(
-                f"parameters.ranges: parameter {name!r} matches {listed}, which give it "
-                "different ranges; narrow a pattern so that only one matches it (e.g. "
-                "'window/*/shgc' instead of 'window/*'), or give them the same range"
-            )
-        if matching:
-            relative[i] = next(iter(matching.values()))
+        matching = [p for p in ranges if name in matched[p]]
+        values = {float(ranges[p]) for p in matching}
+        if len(values) > 1:
+            narrowest = [
+                p for p in matching if all(matched[p] < matched[q] for q in matching if q != p)
+            ]
+            if len(narrowest) != 1:
+                listed = " and ".join(f"{p!r} (+-{100 * float(ranges[p]):g} %)" for p in matching)
+                raise ThermocalInputError(
+                    f"parameters.ranges: parameter {name!r} matches {listed}, which give it "
+                    "different ranges and none of which matches only a part of what the others "
+                    "match (the most specific pattern counts); narrow a pattern (e.g. "
+                    "'window/*/shgc' instead of 'window/*'), or give them the same range"
+                )
+            values = {float(ranges[narrowest[0]])}
+        if values:
+            relative[i] = values.pop()
     return relative
 
 

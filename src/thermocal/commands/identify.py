@@ -295,7 +295,7 @@ def _check_time_options(
     from thermocal.io._time import LOCAL_TIMES_NOTE, NUMERIC_TIMES_NOTE
 
     notes = [str(note) for note in meta.get("notes", ())]
-    numeric = any(note.startswith(NUMERIC_TIMES_NOTE) for note in notes)
+    numeric = any(NUMERIC_TIMES_NOTE in note for note in notes)
     given = [
         f"{option} {value}"
         for option, value in (("--time-unit", time_unit), ("--time-origin", time_origin))
@@ -309,7 +309,7 @@ def _check_time_options(
             f"{'this option reads' if one else 'these options read'} numeric time stamps only: "
             f"drop {'it' if one else 'them'}"
         )
-    if tz is None or any(note.startswith(LOCAL_TIMES_NOTE) for note in notes):
+    if tz is None or any(LOCAL_TIMES_NOTE in note for note in notes):
         return None
     if numeric and time_origin is not None and pd.Timestamp(time_origin).tzinfo is None:
         return None  # the origin written without offset was placed in --tz
@@ -348,7 +348,7 @@ def _log_period(raw, weather_index, step: str, console, log_name: str):
     import pandas as pd
 
     from thermocal.errors import ThermocalInputError
-    from thermocal.identification.sensors import _log_span
+    from thermocal.identification.sensors import log_span_on_grid
 
     try:
         delta = pd.Timedelta(step)
@@ -356,15 +356,8 @@ def _log_period(raw, weather_index, step: str, console, log_name: str):
         raise ThermocalInputError(f"--step {step!r}: give a duration such as 5min") from None
     if delta <= pd.Timedelta(0):
         raise ThermocalInputError(f"--step {step!r} must be positive")
-    first, last = _log_span(raw)
-    origin = weather_index[0]
-    if first.tzinfo is None or origin.tzinfo is None:
-        return None, None
-    first, last = first.tz_convert(origin.tz), last.tz_convert(origin.tz)
-    t0 = origin + -((origin - first) // delta) * delta  # first grid instant at or after
-    t1 = origin + ((last - origin) // delta) * delta
-    end_of_weather = weather_index[-1] + (weather_index[1] - weather_index[0])
-    if t1 <= t0 or t0 < origin or t1 > end_of_weather:
+    t0, t1 = log_span_on_grid(raw, weather_index, delta)
+    if t0 is None:
         return None, None
     console.print(
         f"period: the span of {log_name}, [{t0}, {t1}) (pass --start/--end to choose another)"

@@ -3,6 +3,7 @@ method (calibration, validation, annual demand, retrofit strategies, report)."""
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import Annotated
 
@@ -224,10 +225,13 @@ def _check_detailed_pair(cfg, detailed: Path, setpoint: float | None) -> list[st
     from thermocal.retrofit.detailed import check_same_building, heated_detailed_building
 
     envelope, source = _rc_building(cfg)
-    building = heated_detailed_building(detailed, setpoint)
+    with warnings.catch_warnings():  # the detailed run reads it again and shows its warnings
+        warnings.simplefilter("ignore")
+        building = heated_detailed_building(detailed, setpoint)
     return check_same_building(
-        envelope, building, rc_source=source, detailed_source=str(detailed)
-    )
+        envelope, building, rc_source=source, detailed_source=str(detailed),
+        heated_by_setpoint=setpoint is not None,
+    )  # fmt: skip
 
 
 #: Files of a retrofit output folder: an existing folder holding one of them is replaced.

@@ -197,9 +197,17 @@ def holiday_date(value, where: str) -> dt.date:
             ) from None
     readings = day_month_readings(text)
     if readings is None:
-        raise ThermocalInputError(
-            f"{where} = {value!r} is not a date; write it as YYYY-MM-DD (e.g. 2001-12-25)"
-        )
+        # other unambiguous forms pandas reads ('2001-01-15 00:00', '15 January 2001',
+        # '20010115'), as before; a bare year ('2001') is no day
+        try:
+            stamp = None if text.isdigit() and len(text) < 8 else pd.Timestamp(text)
+        except (ValueError, OverflowError):
+            stamp = None
+        if stamp is None or pd.isna(stamp):
+            raise ThermocalInputError(
+                f"{where} = {value!r} is not a date; write it as YYYY-MM-DD (e.g. 2001-12-25)"
+            )
+        return stamp.date()
     dates = sorted(set(readings.values()))
     if not dates:
         raise ThermocalInputError(

@@ -801,7 +801,9 @@ def _warn_if_sensors_disagree(
         f"two {kind} of one room differ by; the zone's reference is the mean of its "
         f"{values.shape[1]} sensors, a temperature none of them measures: check that both hang "
         f"in {zone!r} (not in another room, at a heater or window, in the sun), then map the "
-        f"odd one to its zone or list it under 'ignore:' in {mapping.source}",
+        f"odd one to its zone or list it under 'ignore:' in {mapping.source}; a zone that "
+        "spans several rooms (a floor, a perimeter zone) may differ this much between them: "
+        "then the mean is the zone's temperature and nothing needs changing",
         ReferenceWarning,
         stacklevel=3,
     )
@@ -1083,6 +1085,42 @@ def _log_span(raw: pd.DataFrame) -> tuple[pd.Timestamp, pd.Timestamp]:
     return times.min(), times.max()
 
 
+def log_span_on_grid(
+    raw: pd.DataFrame, weather_index: pd.DatetimeIndex, step: pd.Timedelta
+) -> tuple[pd.Timestamp | None, pd.Timestamp | None]:
+    """The sensor log's span on the simulation grid: the default period of ``thermocal
+    identify`` (no ``--start``/``--end``) and of a campaign without ``period:``.
+
+    Parameters
+    ----------
+    raw : DataFrame
+        The log as read by :func:`thermocal.io.measurements.read_measurements` (long or wide).
+    weather_index : DatetimeIndex
+        The weather's time stamps: their time zone and the grid's origin.
+    step : Timedelta
+        The simulation step [s resolution], positive.
+
+    Returns
+    -------
+    (Timestamp, Timestamp) or (None, None)
+        The first grid instant at or after the log's first reading and the last at or before
+        its last reading, in the weather's time zone; (None, None) when the log or the weather
+        has no time zone, the span holds no step or lies outside the weather (the overlap
+        check then names both ranges).
+    """
+    first, last = _log_span(raw)
+    origin = weather_index[0]
+    if first.tzinfo is None or origin.tzinfo is None:
+        return None, None
+    first, last = first.tz_convert(origin.tz), last.tz_convert(origin.tz)
+    start = origin + -((origin - first) // step) * step  # first grid instant at or after
+    end = origin + ((last - origin) // step) * step
+    end_of_weather = weather_index[-1] + (weather_index[1] - weather_index[0])
+    if end <= start or start < origin or end > end_of_weather:
+        return None, None
+    return start, end
+
+
 #: A sensor reading exactly the same value for at least this long is stuck.
 STUCK_AFTER = pd.Timedelta("1D")
 
@@ -1141,6 +1179,7 @@ def check_sensor_plausibility(
     }
     # the sensors judged against the others (those without a declared range), once
     undeclared = np.array([str(s) not in declared for s in means.index], dtype=bool)
+    indoor = np.array([_plausible_indoor(float(m)) for m in means], dtype=bool)
     for position, (sensor, mean) in enumerate(means.items()):
         if str(sensor) in declared:
             low, high = declared[str(sensor)]
@@ -1157,19 +1196,24 @@ def check_sensor_plausibility(
         keep[position] = False
         keep &= np.asarray(means.index != sensor)
         others = means[keep]
-        reference = float(others.median()) if len(others) else None
-        if reference is not None and not _plausible_indoor(reference):
+        # judged against the others that read an indoor temperature: a log with a few sensors
+        # in Kelvin among Celsius ones names each of them, not "the whole log"
+        sensible = means[keep & indoor]
+        if len(others) and not len(sensible):
             if _plausible_indoor(float(mean)):
                 continue  # the others are wrong: each is named in its turn
             unit = (declared_units or {}).get(str(sensor))
+            reference = float(others.median())
             text = _log_unit_text(str(sensor), float(mean), reference, len(others), unit)
             raise ThermocalInputError(f"{where(sensor)} {text}")
+        reference = float(sensible.median()) if len(sensible) else None
         slip = temperature_unit_slip(float(mean), reference)
         if slip is None:
             continue
         label, remedy, converted = slip
         company = (
-            f", while the other {len(others)} sensor(s) average {reference:.1f} C"
+            f", while the other {len(sensible)} sensor(s) reading an indoor temperature average "
+            f"{reference:.1f} C"
             if reference is not None
             else ""
         )

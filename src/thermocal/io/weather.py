@@ -880,10 +880,13 @@ def _rows_statement(index: pd.DatetimeIndex, step: pd.Timedelta, *, typical: boo
     starts; the year left out for a typical year, whose year is thermocal's choice)."""
     every = "hourly" if step == pd.Timedelta(hours=1) else f"{step.total_seconds() / 60:g}-min"
     days = (index[-1] + step - index[0]) / pd.Timedelta(days=1)
-    shown = "%-d %B %H:%M" if typical else "%Y-%m-%d %H:%M"
+
+    def shown(stamp: pd.Timestamp) -> str:  # no "%-d": not portable
+        return f"{stamp.day} {stamp:%B %H:%M}" if typical else f"{stamp:%Y-%m-%d %H:%M}"
+
     return (
-        f"{len(index):,} {every} rows ({days:,.4g} days) from {index[0].strftime(shown)} to "
-        f"{index[-1].strftime(shown)}"
+        f"{len(index):,} {every} rows ({days:,.4g} days) from {shown(index[0])} to "
+        f"{shown(index[-1])}"
     )
 
 

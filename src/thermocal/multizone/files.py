@@ -244,11 +244,11 @@ def _infiltration_note(zones: list[Zone]) -> str | None:
     high = [zone for zone in zones if zone.infiltration_ach > MAX_INFILTRATION_ACH]
     if not high:
         return None
-    named = ", ".join(f"'{z.name}' {z.infiltration_ach:g}" for z in high[:3])
-    more = f" and {len(high) - 3} more" if len(high) > 3 else ""
+    named = ", ".join(f"'{z.name}' {z.infiltration_ach:g} 1/h" for z in high[:3])
+    more = f" and {len(high) - 3} more zone(s)" if len(high) > 3 else ""
     meant = ", ".join(dict.fromkeys(f"{z.infiltration_ach / 100:g}" for z in high[:3]))
     return (
-        f"infiltration_ach of zone(s) {named}{more} 1/h: far above the air leaking through an "
+        f"infiltration_ach of zone(s) {named}{more}: far above the air leaking through an "
         f"envelope (0.1-1.5 1/h, a few in the leakiest house); a percentage? then write "
         f"{meant}. Taken as given (a ventilation system's outdoor air, a kitchen hood's, can "
         "be this high)"

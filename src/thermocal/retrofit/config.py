@@ -309,6 +309,34 @@ class WeatherConfig(_Strict):
     columns: dict[str, str] | None = None
 
 
+def date_text(value: Any) -> Any:
+    """A configuration's date as text: a YAML date (``2005-01-01`` unquoted) in ISO form, a
+    text checked to be a date (``2005-02-30``, which the YAML reader keeps as text, is refused
+    here with the key's name instead of failing later); None and other types unchanged.
+
+    Parameters
+    ----------
+    value : datetime.date, str or None
+        The value as read.
+
+    Returns
+    -------
+    str or None or the value
+    """
+    import datetime as _dt
+
+    import pandas as pd
+
+    if isinstance(value, _dt.date):
+        return value.isoformat()
+    if isinstance(value, str):
+        try:
+            pd.Timestamp(value)
+        except (ValueError, OverflowError) as exc:
+            raise ValueError(f"{value!r} is not a date ({exc}); write it as YYYY-MM-DD") from None
+    return value
+
+
 class PeriodsConfig(_Strict):
     """Training and test periods: explicit dates, or lengths from the first measurement."""
 
@@ -321,11 +349,7 @@ class PeriodsConfig(_Strict):
     @classmethod
     def _yaml_date(cls, value: Any) -> Any:
         """A YAML date (``training_start: 2005-01-01``) is read as that date."""
-        import datetime as _dt
-
-        if isinstance(value, _dt.date):
-            return value.isoformat()
-        return value
+        return date_text(value)
 
     @field_validator("training_days")
     @classmethod

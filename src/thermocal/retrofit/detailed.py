@@ -918,6 +918,7 @@ def check_same_building(
     rc_source: str,
     detailed_source: str,
     tolerance: float = SAME_BUILDING_TOLERANCE,
+    heated_by_setpoint: bool = False,
 ) -> list[str]:
     """Refuse an RC building file and a detailed model of two different buildings.
 
@@ -936,6 +937,10 @@ def check_same_building(
         The two files, for the messages.
     tolerance : float
         Largest relative difference [-] of one quantity (:data:`SAME_BUILDING_TOLERANCE`).
+    heated_by_setpoint : bool
+        Whether ``--setpoint`` heated every zone of the detailed model (a calibrated building
+        has no set points): its garage, attic or cellar then count as heated, so differences
+        are a warning that says so, never a refusal.
 
     Returns
     -------
@@ -951,6 +956,19 @@ def check_same_building(
     off = [name for name, pair in sizes.items() if _beyond(*pair, tolerance)]
     if not off:
         return []
+    if heated_by_setpoint:
+        listing = "; ".join(
+            f"{name} {rc:,.1f} m2 in the RC file, {detailed:,.1f} m2 in the detailed model"
+            for name, (rc, detailed) in sizes.items()
+        )
+        return [
+            f"the detailed model {detailed_source} and the RC building file {rc_source} differ "
+            f"in {' and '.join(off)} by more than {100 * tolerance:.0f} % ({listing}): "
+            f"--setpoint heats all {len(building.zones)} zones of the detailed model, an "
+            "unheated garage, attic or cellar too; give heating_setpoint to the heated zones in "
+            "the building file instead of --setpoint, or check that the two files describe the "
+            "same building, before comparing their savings"
+        ]
     if len(off) >= 2:
         listing = "; ".join(
             f"{name} {rc:,.1f} m2 in the RC file, {detailed:,.1f} m2 in the detailed model"

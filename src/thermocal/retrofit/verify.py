@@ -41,7 +41,6 @@ Forssell, U., Ljung, L. (1999). Closed-loop identification revisited. Automatica
 from __future__ import annotations
 
 import dataclasses
-import datetime as _dt
 import json
 import time
 from dataclasses import dataclass, field
@@ -65,6 +64,7 @@ from thermocal.retrofit.config import (
     RetrofitConfig,
     _format_validation_error,
     _Strict,
+    date_text,
     parse_config,
 )
 from thermocal.retrofit.references import Reference
@@ -244,9 +244,7 @@ class VerifySection(_Strict):
     )
     @classmethod
     def _yaml_date(cls, value: Any) -> Any:
-        if isinstance(value, _dt.date):
-            return value.isoformat()
-        return value
+        return date_text(value)
 
 
 @dataclass

@@ -359,7 +359,8 @@ def _check_repeated_header(
     positions: dict[str, list[int]] = {}
     for position, name in enumerate(written, start=1):
         positions.setdefault(name, []).append(position)
-    repeated = {name: where for name, where in positions.items() if len(where) > 1}
+    # blank header cells (a spreadsheet's trailing empty columns) are not names
+    repeated = {name: where for name, where in positions.items() if name and len(where) > 1}
     if not repeated:
         return
     line, _ = _data_line_numbers(path, comment)

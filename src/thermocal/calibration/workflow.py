@@ -230,10 +230,12 @@ def calibrate(
         )
         step_check = _step_check(campaign, inputs, problem, sample_set.values, nominal_outputs,
                                  store, resume, timings, log)  # fmt: skip
-        if step_check is not None:
-            if step_check["passed"]:  # a failed check is a warning (CampaignStepWarning)
-                log(step_check["note"])
-            notes.append(step_check["note"])
+        clock_check = _clock_check(campaign, inputs, problem, store, resume, timings, log)
+        for check in (step_check, clock_check):
+            if check is not None:
+                if check["passed"]:  # a failed check is a warning (its own category)
+                    log(check["note"])
+                notes.append(check["note"])
         pending = len(store.pending(sample_set.values.index))
         check_campaign_time(
             pending,
@@ -329,21 +331,49 @@ def check_sample_count(campaign, n: int, *, from_option: bool) -> None:
 
 def _step_check(campaign, inputs, problem, design, nominal_outputs, store, resume, timings, log):
     """The campaign step's check (:func:`thermocal.calibration.stepcheck.check_campaign_step`),
-    kept in the store: a resumed campaign (the same definition: step, design and problem) takes
-    the first run's instead of identifying three models again, and warns again when it failed.
-    Returns the check's result or None (the campaign runs at the log's step)."""
-    from thermocal.calibration.stepcheck import check_campaign_step, warn_if_failed
+    kept in the store (:func:`_stored_check`). Returns the check's result or None (the campaign
+    runs at the log's step)."""
+    from thermocal.calibration import stepcheck
 
-    stored = store.info("step_check") if resume else None
+    return _stored_check(
+        "step_check", "campaign step", store, resume, timings, log,
+        run=lambda: stepcheck.check_campaign_step(campaign, inputs, problem, design, log,
+                                                  nominal_outputs),
+        warn=lambda result: stepcheck.warn_if_failed(result, campaign.path),
+    )  # fmt: skip
+
+
+def _clock_check(campaign, inputs, problem, store, resume, timings, log):
+    """The sensor log's clock against the model's
+    (:func:`thermocal.calibration.clockcheck.check_log_clock`), kept in the store. Returns the
+    check's result or None (a period too short to shift)."""
+    from thermocal.calibration import clockcheck
+    from thermocal.calibration.spatial import campaign_evaluator
+
+    return _stored_check(
+        "log_clock", "sensor log's clock", store, resume, timings, log,
+        run=lambda: clockcheck.check_log_clock(
+            campaign, inputs, problem, lambda p: campaign_evaluator(p, inputs.building), log
+        ),
+        warn=lambda result: clockcheck.warn_if_clock_off(result, campaign.path),
+    )  # fmt: skip
+
+
+def _stored_check(name, what, store, resume, timings, log, *, run, warn):
+    """A check made once per campaign before its samples, its result kept in the store under
+    ``name``: a resumed campaign (the same definition: step, design and problem) takes the
+    first run's instead of identifying models again, and warns again (``warn(result)``) when
+    it failed. Returns ``run()``'s result (or the stored one); None when nothing was checked."""
+    stored = store.info(name) if resume else None
     if stored is not None:
-        log("campaign step: checked when this campaign began (kept in its store)")
-        warn_if_failed(stored, campaign.path)
+        log(f"{what}: checked when this campaign began (kept in its store)")
+        warn(stored)
         return stored
     t0 = time.perf_counter()
-    result = check_campaign_step(campaign, inputs, problem, design, log, nominal_outputs)
+    result = run()
     if result is not None:
-        timings["step_check"] = time.perf_counter() - t0
-        store.set_info("step_check", result)
+        timings[name] = time.perf_counter() - t0
+        store.set_info(name, result)
     return result
 
 

@@ -12,8 +12,9 @@ smoothest when the log's clock is the model's: the nominal model is identified w
 it is and shifted by an hour either way (:data:`SHIFTS`), over the same hours, and a shift that
 lowers the building's unoccupied standard deviation by more than :data:`CLOCK_TOLERANCE` is
 reported. On the twin with its right clock the unshifted log is the minimum by far (0.59 kW
-against 1.30 and 1.33 kW an hour either way). A model whose own timing is off (its capacities)
-could in principle prefer a shifted log too, so the warning names both causes.
+against 1.29 and 1.32 kW an hour either way; docs/calibration.md, "The sensor log's clock").
+A model whose own timing is off (its capacities) could in principle prefer a shifted log too,
+so the warning names both causes.
 """
 
 from __future__ import annotations
@@ -77,15 +78,14 @@ def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict | Non
         ``std`` (shift [h] -> unoccupied std [W]), ``best`` (the shift [h] with the lowest),
         ``passed`` and the report's ``note`` (a :class:`LogClockWarning` when it failed); None
         when the period is too short to shift (under two days once :data:`MAX_SHIFT_H` is taken
-        off each end).
+        off each end) or the log as written gives no unoccupied heat to compare.
     """
     from thermocal.calibration.inputs import build_problem
 
     step = campaign.step_timedelta()
     margin = pd.Timedelta(hours=MAX_SHIFT_H)
-    start = pd.Timestamp(inputs.start) + margin
-    end = pd.Timestamp(inputs.end) - margin
-    start = start.ceil(step) if start.tzinfo is not None else start
+    start = (pd.Timestamp(inputs.start) + margin).ceil(step)
+    end = (pd.Timestamp(inputs.end) - margin).floor(step)
     if end - start < pd.Timedelta(days=2):
         return None
     log("sensor log's clock: identifying the nominal model with the log shifted by +-1 h")
@@ -103,6 +103,8 @@ def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict | Non
         return float(evaluator_for(candidate).outputs(candidate.run({}).heat)["unoccupied_std"])
 
     std = {0.0: unoccupied_std(0.0)}
+    if not np.isfinite(std[0.0]) or std[0.0] <= 0.0:
+        return None  # nothing to compare with (the shortened period left no quiet hours)
     for first in SHIFTS:
         std[first] = unoccupied_std(first)
     best = min((h for h in std if np.isfinite(std[h])), key=std.get, default=0.0)
@@ -120,7 +122,7 @@ def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict | Non
 
 def _result(std: dict, best: float) -> dict:
     own = std[0.0]
-    gain = 1.0 - std[best] / own if own > 0 else 0.0
+    gain = 1.0 - std[best] / own
     passed = best == 0.0 or not gain > CLOCK_TOLERANCE
     around = ", ".join(f"{h:+g} h {std[h] / 1000:.3f} kW" for h in sorted(std) if h != 0.0)
     if passed:

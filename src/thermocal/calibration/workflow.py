@@ -508,6 +508,12 @@ def reanalyse(campaign, store_path, *, log=print) -> CalibrationResult:
             backend="store (re-analysis)",
         )
         notes = left_out_notes(space, log)
+        # the checks made before the campaign's samples (their warnings were given then)
+        notes.extend(
+            check["note"]
+            for check in (store.info("step_check"), store.info("log_clock"))
+            if check is not None
+        )
         if done + store.count(failed=True) < n:
             notes.append(
                 f"The store holds {done} of the campaign's {n} samples (interrupted "

@@ -245,3 +245,33 @@ def test_two_sensors_in_kelvin_among_three_are_named_each_not_the_whole_log():
     message = str(caught.value)
     assert "sensor 'S04'" in message and "Kelvin" in message, message
     assert "for every sensor" not in message and "whole log" not in message, message
+
+
+def test_zone_names_in_another_case_are_read_as_the_buildings():
+    """EnergyPlus reads names regardless of case: a mapping written 'Space1-1' for the IDF's
+    SPACE1-1 was refused (/tmp/fuzz4/e23_zone_lowercase). identify and a campaign's problem
+    now take the building's spelling (unique ignoring case), with a note; the lower-level checks
+    above still name an unknown name."""
+    from thermocal.identification.sensors import in_building_spelling
+
+    mapping = mapping_from_dict(
+        {"sensors": {"S1": "Space1-1", "S2": "SPACE3-1"},
+         "zones": {"space2-1": {"radiant_fraction": 0.2, "use": "space1-1"}}},
+        source="mapping.yaml",
+    )  # fmt: skip
+    respelled, notes = in_building_spelling(mapping, BUILDING)
+    assert respelled.sensors == {"S1": "SPACE1-1", "S2": "SPACE3-1"}
+    assert respelled.zone_radiant_fraction == {"SPACE2-1": 0.2}
+    assert set(respelled.substitutes.items()) <= {("SPACE2-1", "SPACE1-1")}
+    assert len(notes) == 1 and "'Space1-1' as 'SPACE1-1'" in notes[0] and "mapping.yaml" in notes[0]
+    sources = zone_sources(BUILDING, respelled)
+    assert sources["SPACE1-1"].sensors == ("S1",)
+    # an exact name is kept, a name matching none (or two zones) is left for the checks
+    same, none = in_building_spelling(
+        mapping_from_dict({"sensors": {"S1": "SPACE1-1"}}, source="m"), BUILDING
+    )
+    assert none == [] and same.sensors == {"S1": "SPACE1-1"}
+    twins = types.SimpleNamespace(name="B", zones=dict.fromkeys(("Hall", "HALL")), surfaces={})
+    kept, none = in_building_spelling(mapping_from_dict({"sensors": {"S1": "hall"}}, source="m"),
+                                      twins)  # fmt: skip
+    assert none == [] and kept.sensors == {"S1": "hall"}

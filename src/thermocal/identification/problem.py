@@ -340,8 +340,10 @@ def problem_from_measurements(
         declared_form_requested,
     )
     from thermocal.identification.sensors import (
+        ReferenceWarning,
         SensorMapping,
         frame_over_own_array,
+        in_building_spelling,
         mapping_from_dict,
         zone_references,
     )
@@ -360,6 +362,11 @@ def problem_from_measurements(
     gap_duration(silence, "silence", zero_allowed=False)
     if not isinstance(mapping, SensorMapping):
         mapping = mapping_from_dict(mapping)
+    mapping, spelling = in_building_spelling(mapping, building)
+    import warnings
+
+    for note in spelling:
+        warnings.warn(note, ReferenceWarning, stacklevel=2)
     # a typical-year file on the year of the measurements (as identify)
     weather, metadata = _weather_for_log(weather, metadata, sensor_log, start, end)
     declared = declared_form_requested(mapping, radiant_fraction)

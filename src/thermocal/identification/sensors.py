@@ -39,6 +39,7 @@ a zone with no sensored neighbour floats. Every choice and its reason are report
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import warnings
@@ -319,6 +320,62 @@ def sensor_weight(value, where: str = "sensor") -> float:
             f"temperature in [0, 1], got {value!r}"
         )
     return float(value)
+
+
+def in_building_spelling(mapping: SensorMapping, building) -> tuple[SensorMapping, list[str]]:
+    """The mapping with zone names written in another case than the building's respelled.
+
+    EnergyPlus matches names regardless of case (an IDF's ``SPACE1-1`` is ``Space1-1``); a
+    mapping written that way was refused. A zone name that is no zone of the building but
+    equals exactly one of them ignoring case is taken as that zone; any other unknown name is
+    left for the checks that name it (with "did you mean").
+
+    Parameters
+    ----------
+    mapping : SensorMapping
+        As read.
+    building : thermocal.multizone.Building
+        Its zones' names are the spelling used.
+
+    Returns
+    -------
+    (SensorMapping, list of str)
+        The mapping (the same object when nothing changed) and a note per respelled name.
+    """
+    zones = list(map(str, building.zones))
+    by_folded: dict[str, list[str]] = {}
+    for zone in zones:
+        by_folded.setdefault(zone.casefold(), []).append(zone)
+    renamed: dict[str, str] = {}
+
+    def spelt(name):
+        text = str(name)
+        if text in building.zones:
+            return name
+        matches = by_folded.get(text.casefold(), [])
+        if len(matches) != 1:
+            return name
+        renamed[text] = matches[0]
+        return matches[0]
+
+    def keys(table: dict) -> dict:
+        return {spelt(zone): value for zone, value in table.items()}
+
+    respelled = dataclasses.replace(
+        mapping,
+        sensors={sensor: spelt(zone) for sensor, zone in mapping.sensors.items()},
+        substitutes={spelt(zone): spelt(source) for zone, source in mapping.substitutes.items()},
+        treatments=keys(mapping.treatments),
+        zone_radiant_fraction=keys(mapping.zone_radiant_fraction),
+        zone_sensor=keys(mapping.zone_sensor),
+        zone_plausible=keys(mapping.zone_plausible),
+    )
+    if not renamed:
+        return mapping, []
+    listed = ", ".join(f"'{old}' as '{new}'" for old, new in renamed.items())
+    return respelled, [
+        f"{mapping.source}: zone names read regardless of case, as EnergyPlus reads them: {listed}"
+    ]
 
 
 def _suggest(name: str, options) -> str:

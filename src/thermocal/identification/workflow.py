@@ -32,6 +32,7 @@ from thermocal.identification.pid import PIDGains, kernel_coefficients
 from thermocal.identification.sensors import (
     SensorMapping,
     frame_over_own_array,
+    in_building_spelling,
     mapping_from_dict,
     zone_references,
 )
@@ -534,6 +535,8 @@ def identify(
     schedule = schedule or OccupancySchedule()
     timings: dict[str, float] = {}
     notes: list[str] = []
+    mapping, spelling = in_building_spelling(mapping, building)
+    notes.extend(spelling)
     weather, metadata = _weather_for_log(weather, metadata, sensor_log, start, end)
     weather_year = metadata.get("weather_year")
     if weather_year:

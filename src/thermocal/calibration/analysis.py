@@ -103,9 +103,13 @@ def analyse(
         screening = morris()
         timings["morris"] = time.perf_counter() - t0
     nominal = (nominal_outputs, nominal_heat, nominal_metric)
+    t0 = time.perf_counter()
+    uncertain = _uncertain_inputs(campaign, inputs, space, runs, nominal_outputs, notes, log)
+    if uncertain:
+        timings["uncertain_inputs"] = time.perf_counter() - t0
     first = _calibration_stage(
         campaign, space, samples, runs, nominal, prior_space=space, timings=timings, notes=notes,
-        log=log,
+        log=log, uncertain=uncertain,
     )  # fmt: skip
     fitted, confirmed, heat = first.fitted, first.confirmed, first.heat
     confirmed["refinement"] = first.refinement
@@ -113,7 +117,10 @@ def analyse(
     zoom_info = None
     if campaign.sampling.zoom > 0:
         t0 = time.perf_counter()
-        zoomed = _zoom_stage(campaign, space, samples, first, runs, nominal, notes=notes, log=log)
+        zoomed = _zoom_stage(
+            campaign, space, samples, first, runs, nominal, notes=notes, log=log,
+            uncertain=uncertain,
+        )  # fmt: skip
         timings["zoom"] = time.perf_counter() - t0
         if zoomed is not None:
             final, zoom_info = zoomed
@@ -231,7 +238,7 @@ class Stage:
 
 def _calibration_stage(
     campaign, space, samples, runs, nominal, *, prior_space, timings, notes, log,
-    extra_candidates=None, critical=None,
+    extra_candidates=None, critical=None, uncertain=(),
 ) -> Stage:  # fmt: skip
     """Meta-model, confirmed optima, posterior, candidates, refinement and choice on ``samples``.
 
@@ -241,7 +248,9 @@ def _calibration_stage(
     heat [W] and metric [W^2]. ``extra_candidates`` (name -> (metric [W^2], parameters)) join
     the stage's own before the refinement starts from the best; ``critical``: the parameters
     the reduced meta-model optimises (and the posterior covers in spaces of more than
-    :data:`POSTERIOR_MAX_PARAMETERS`), None: the stage's own ``top_k`` ranking.
+    :data:`POSTERIOR_MAX_PARAMETERS`), None: the stage's own ``top_k`` ranking;
+    ``uncertain``: the uncertain inputs' signatures the posterior marginalises
+    (:func:`_uncertain_inputs`).
     """
     nominal_outputs, nominal_heat, nominal_metric = nominal
     metric = campaign.metric
@@ -302,6 +311,7 @@ def _calibration_stage(
             campaign,
             notes,
             samples.segments,
+            uncertain,
         )
         timings["posterior"] = time.perf_counter() - t0
         note = series_terms_note(series_model, optimum=fitted.kind == "series")
@@ -365,7 +375,9 @@ def _calibration_stage(
     )  # fmt: skip
 
 
-def _zoom_stage(campaign, space, samples, first: Stage, runs, nominal, *, notes, log):
+def _zoom_stage(
+    campaign, space, samples, first: Stage, runs, nominal, *, notes, log, uncertain=()
+):
     """The zoom campaign and the calibration stage on its samples (see
     :mod:`thermocal.calibration.zoom`); None (noted) when it cannot run.
 
@@ -461,7 +473,7 @@ def _zoom_stage(campaign, space, samples, first: Stage, runs, nominal, *, notes,
     stage = _calibration_stage(
         campaign, box_space(space, lower, upper), local, runs, nominal, prior_space=space,
         timings=stage_timings, notes=stage_notes, log=lambda line: log(f"zoom: {line}"),
-        extra_candidates=extra, critical=first.fitted.critical,
+        extra_candidates=extra, critical=first.fitted.critical, uncertain=uncertain,
     )  # fmt: skip
     notes.extend(f"Zoom stage: {note}" for note in stage_notes)
     if counts["missing"]:
@@ -527,6 +539,45 @@ def _campaign_notes(sample_set, occupancy: dict) -> list[str]:
             + ")."
         )
     return notes
+
+
+def _uncertain_inputs(campaign, inputs, space, runs, nominal_outputs, notes, log):
+    """The signatures of the inputs the campaign holds nominal but does not know
+    (``posterior.uncertain``, :mod:`thermocal.calibration.uncertain`): one model run each,
+    through ``runs`` (stored; a re-analysis reads them and notes those it lacks)."""
+    from thermocal.calibration.uncertain import (
+        nominal_values,
+        uncertain_inputs,
+        uncertain_signatures,
+    )
+
+    items = uncertain_inputs(
+        campaign.posterior.uncertain,
+        nominal_values(inputs.building),
+        space.names,
+        where=f"{campaign.path or 'campaign file'}: posterior",
+    )
+    if not items:
+        return []
+
+    def run(parameters):
+        found = runs.get(parameters, heat=False)
+        return None if found is None else found[0]
+
+    signatures, missing = uncertain_signatures(items, run, nominal_outputs, campaign.metric)
+    for description, _, _ in signatures:
+        log(
+            f"uncertain input {description['label']} (+-{100 * description['rel_std']:.0f} %, "
+            "not varied): marginalised in the posterior"
+        )
+    if missing:
+        notes.append(
+            "Not marginalised in the posterior (their runs are not in the store and a "
+            "re-analysis does not simulate; thermocal calibrate --resume runs them): "
+            + ", ".join(missing)
+            + "."
+        )
+    return signatures
 
 
 def _nominal_run(runs, store):
@@ -907,7 +958,7 @@ def _stored_weather(info: dict) -> pd.DataFrame:
 
 
 def _posterior_or_note(
-    surrogate, kind, X, y, series, space, critical, campaign, notes, segments=None
+    surrogate, kind, X, y, series, space, critical, campaign, notes, segments=None, uncertain=()
 ):
     """Posterior of the critical parameters from the series meta-model, or a note why not."""
     from thermocal.calibration.posterior import calibration_posterior, emulator_variance
@@ -938,6 +989,7 @@ def _posterior_or_note(
         "seed": campaign.sampling.seed,
         "emulator_error": emulator_variance(model, X, seed=campaign.sampling.seed),
         "discrepancy": campaign.posterior.discrepancy,
+        "uncertain": uncertain,
     }
     try:
         posterior = calibration_posterior(

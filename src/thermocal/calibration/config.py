@@ -261,10 +261,17 @@ class PosteriorSection(_Strict):
     ``advise``: also say which in-situ measurement (a heat-flux plate on one element, the
     ``in_situ`` section) would determine which parameters: the posterior recomputed with each
     element's expected reading (:mod:`thermocal.calibration.advice`; no simulation).
+
+    ``uncertain``: inputs the campaign does not vary but does not know either, integrated out
+    of the posterior (one model run each): a parameter name or pattern -> its relative
+    standard uncertainty (``{"infiltration/building/factor": 0.4}``); ``auto`` the building's
+    infiltration by 40 % when the campaign varies none; ``{}`` (the default) none
+    (:mod:`thermocal.calibration.uncertain`).
     """
 
     discrepancy: Literal["none", "neighbours", "floor", "shared"] = "neighbours"
     advise: bool = False
+    uncertain: Literal["auto"] | dict[str, float] = Field(default_factory=dict)
 
 
 class CampaignFile(_Strict):

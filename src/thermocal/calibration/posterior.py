@@ -31,8 +31,10 @@ which directions the data fix; a parameter is *determined* when its 90 % credibl
 narrower than half its prior range and its fitted effect stands out of the meta-model's
 estimation noise (:func:`effect_to_noise`: a parameter with no effect at all gets a fitted
 Jacobian of pure noise, whose norm over hundreds of hours would otherwise look like
-information), and two parameters *compensate* each other when their posterior correlation
-exceeds 0.7 in magnitude (the data fix a combination of them, not each one).
+information) and its signature does not resemble an uncertain input's (correlation 0.7 or
+more in magnitude, :func:`resembling_parameters`: the data cannot tell the two apart), and two
+parameters *compensate* each other when their posterior correlation exceeds 0.7 in magnitude
+(the data fix a combination of them, not each one).
 
 References
 ----------
@@ -327,6 +329,9 @@ class Posterior:
     advice : dict
         Which in-situ measurement would determine which parameters
         (:func:`thermocal.calibration.advice.advise_measurements`; empty when not asked).
+    uncertain : list of dict
+        The uncertain inputs the posterior marginalised (:mod:`thermocal.calibration.uncertain`):
+        ``label``, ``rel_std`` [-] and ``parameters`` (the names it scales); empty when none.
     """
 
     summary: pd.DataFrame
@@ -342,6 +347,7 @@ class Posterior:
     autocorrelation_steps: float = float("nan")
     in_situ: dict = field(default_factory=dict)
     advice: dict = field(default_factory=dict)
+    uncertain: list = field(default_factory=list)
 
     @property
     def determined(self) -> list[str]:
@@ -374,6 +380,27 @@ class Posterior:
                 + ", ".join(loose)
                 + "."
             )
+        if self.uncertain:
+            out.append(
+                "The intervals include the uncertainty of inputs the campaign did not vary: "
+                + "; ".join(
+                    f"{u['label']} (+-{100 * u['rel_std']:.0f} %, {len(u['parameters'])} "
+                    f"parameter{'s' if len(u['parameters']) != 1 else ''})"
+                    for u in self.uncertain
+                )
+                + "."
+            )
+        for item in self.uncertain:
+            for name, r in item.get("resembles", {}).items():
+                out.append(
+                    f"{item['label']} changes the unoccupied heat much as {name} does "
+                    f"(correlation {r:+.2f}): the data cannot tell the two apart, so {name} "
+                    "is not determined (its interval rests on the rest of its signature, where "
+                    f"the model's own error weighs more); a measurement of {item['label']}"
+                    + (" (a pressurisation test, ISO 9972)" if "infiltration" in item["label"]
+                       else "")
+                    + " would separate them."
+                )  # fmt: skip
         for a, b, r in self.compensating:
             out.append(
                 f"{a} and {b} compensate each other (posterior correlation {r:+.2f}): the data "
@@ -418,6 +445,7 @@ class Posterior:
             "autocorrelation_steps": float(self.autocorrelation_steps),
             "in_situ": self.in_situ,
             "advice": self.advice,
+            "uncertain": self.uncertain,
             "sentences": self.sentences(),
         }
 
@@ -756,6 +784,7 @@ def calibration_posterior(
     seed: int = 0,
     effective_draws: int = POSTERIOR_EFFECTIVE_DRAWS,
     measured: dict | None = None,
+    uncertain: Sequence = (),
 ) -> Posterior:
     """Sample the posterior of some parameters from a fitted series meta-model.
 
@@ -797,6 +826,16 @@ def calibration_posterior(
         relative standard uncertainty [-]). Each replaces the parameter's uniform prior by a
         log-normal one within the same bounds, ``z ~ N(ln(value / nominal), ln(1 + r^2))``
         (:func:`measured_prior`).
+    uncertain : sequence of (dict, ndarray, float)
+        Inputs the campaign did not vary whose values are not known either (e.g. the
+        infiltration without a pressurisation test): per input its description (``label``,
+        ``rel_std``, ``parameters``, for the result), its signature (the series' change per
+        unit change of the log of the input, the series one after the other as the
+        meta-model's) [W] and the prior variance of that log [-]. Each enters the
+        likelihood's covariance as ``variance * s s^T`` (``s`` the signature centred over
+        each series' hours), marginalised analytically with the model discrepancy: the
+        exact marginal of a Gaussian nuisance parameter of the affine model
+        (:mod:`thermocal.calibration.uncertain`).
 
     Returns
     -------
@@ -819,6 +858,7 @@ def calibration_posterior(
     else:
         # the signatures at the best fit (with curvature, the tangent model's)
         basis, tau2 = discrepancy_basis(model.local(z_hat), model.residual(z_hat), str(discrepancy))
+    basis, tau2 = _with_uncertain_inputs(model, basis, tau2, uncertain)
     if len(tau2):
         # covariance a I + U T U^T with a = 1 / (2 scale): its inverse by Woodbury,
         # r^T S^-1 r = (|r|^2 - (U^T r)^T (a T^-1 + U^T U)^-1 (U^T r)) / a
@@ -864,6 +904,14 @@ def calibration_posterior(
         significance = effect_to_noise(surrogate, names, emulator_error)
     else:
         significance = np.full(d, np.inf)
+    uncertain_inputs = [
+        {**description, "resembles": resembling_parameters(model, signature)}
+        for description, signature, _ in uncertain
+    ]
+    # a parameter the data cannot tell from an uncertain input is not determined by them
+    confounded = np.array(
+        [any(n in item["resembles"] for item in uncertain_inputs) for n in names], dtype=bool
+    )
     summary = pd.DataFrame(
         {
             "unit": list(units) if units is not None else ["?"] * d,
@@ -881,7 +929,8 @@ def calibration_posterior(
             "measured": prior_precision > 0,
             # a parameter measured in situ is determined by the measurement and the data
             "determined": (fraction < DETERMINED_FRACTION)
-            & ((significance > EFFECT_TO_NOISE) | (prior_precision > 0)),
+            & ((significance > EFFECT_TO_NOISE) | (prior_precision > 0))
+            & ~confounded,
         },
         index=pd.Index(names, name="parameter"),
     )
@@ -914,5 +963,72 @@ def calibration_posterior(
         samples=draws,
         effective_draws=float(effective),
         autocorrelation_steps=float(tau),
+        uncertain=uncertain_inputs,
     )
+
+
+def resembling_parameters(model: LinearHeatModel, signature) -> dict[str, float]:
+    """The posterior's parameters whose signature an uncertain input's resembles.
+
+    The correlation of the two series' changes (each centred over each series' hours) at or
+    beyond :data:`COMPENSATION_CORRELATION` in magnitude: the data then cannot tell the input
+    from the parameter, whose interval, once the input is integrated out, rests on the part of
+    its signature the input does not share.
+
+    Parameters
+    ----------
+    model : LinearHeatModel
+    signature : ndarray (n_hours,)
+        The input's change of the series per unit log [W].
+
+    Returns
+    -------
+    dict of str to float
+        Parameter -> correlation [-].
+    """
+    n = model.offset.shape[0]
+    b = np.asarray(signature, dtype=float).copy()
+    for a, c in model.segments or ((0, n),):
+        b[a:c] -= b[a:c].mean()
+    out = {}
+    for k, name in enumerate(model.names):
+        column = model.jacobian[:, k]
+        norm = float(np.linalg.norm(column) * np.linalg.norm(b))
+        if norm > 0:
+            r = float(column @ b) / norm
+            if abs(r) >= COMPENSATION_CORRELATION:
+                out[name] = r
+    return out
+
+
+def _with_uncertain_inputs(model: LinearHeatModel, basis, tau2, uncertain):
+    """The discrepancy's directions and variances with the uncertain inputs' appended.
+
+    Each input's signature is centred over each series' hours (the residual's unknown
+    constant gains, as the meta-model's coefficients) and scaled to unit RMS, its variance
+    scaled by the same factor squared [W^2]; a signature without any change is left out.
+    """
+    if not len(uncertain):
+        return basis, tau2
+    n = model.offset.shape[0]
+    columns = [basis[:, k] for k in range(basis.shape[1])] if np.size(basis) else []
+    variances = list(np.asarray(tau2, dtype=float))
+    for description, signature, variance in uncertain:
+        signature = np.asarray(signature, dtype=float)
+        if signature.shape != (n,):
+            raise ThermocalInputError(
+                f"posterior: the signature of {description['label']} has "
+                f"{signature.shape[0]} hours, the meta-model's series {n}"
+            )
+        centred = signature.copy()
+        for a, b in model.segments or ((0, n),):
+            centred[a:b] -= centred[a:b].mean()
+        rms = float(np.sqrt(np.mean(centred**2)))
+        if rms <= 0 or not variance > 0:
+            continue
+        columns.append(centred / rms)
+        variances.append(float(variance) * rms**2)
+    if not columns:
+        return np.zeros((n, 0)), np.zeros(0)
+    return np.column_stack(columns), np.array(variances)
 

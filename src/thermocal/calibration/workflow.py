@@ -168,6 +168,7 @@ def calibrate(
     space = campaign_space(campaign, inputs.building)
     notes.extend(left_out_notes(space, log))
     measure_in_situ(campaign, space)  # a bad log stops here, before any simulation
+    check_uncertain_inputs(campaign, inputs.building, space)  # as does a bad pattern
     problem, _ = build_problem(campaign, inputs)
     later = validation_problem(campaign, inputs)
     # every sample stores its unoccupied heat series, whatever the meta-model: the series
@@ -375,6 +376,16 @@ def _stored_check(name, what, store, resume, timings, log, *, run, warn):
         timings[name] = time.perf_counter() - t0
         store.set_info(name, result)
     return result
+
+
+def check_uncertain_inputs(campaign, building, space) -> None:
+    """Refuse a ``posterior.uncertain`` entry that names nothing, or a calibrated parameter,
+    before any simulation (:func:`thermocal.calibration.uncertain.uncertain_inputs`)."""
+    from thermocal.calibration.uncertain import nominal_values, uncertain_inputs
+
+    where = f"{campaign.path or 'campaign file'}: posterior"
+    uncertain_inputs(campaign.posterior.uncertain, nominal_values(building), space.names,
+                     where=where)  # fmt: skip
 
 
 def campaign_space(campaign, building):

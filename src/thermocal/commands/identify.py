@@ -291,7 +291,7 @@ def _check_time_options(
     import pandas as pd
 
     from thermocal.errors import ThermocalInputError
-    from thermocal.identification.sensors import _log_span
+    from thermocal.identification.sensors import log_span
     from thermocal.io._time import LOCAL_TIMES_NOTE, NUMERIC_TIMES_NOTE
 
     notes = [str(note) for note in meta.get("notes", ())]
@@ -305,7 +305,7 @@ def _check_time_options(
         one = len(given) == 1
         raise ThermocalInputError(
             f"{' and '.join(given)}: the time stamps of {source} are date-times, not numbers "
-            f"(the first: {_log_span(raw)[0]}); "
+            f"(the first: {log_span(raw)[0]}); "
             f"{'this option reads' if one else 'these options read'} numeric time stamps only: "
             f"drop {'it' if one else 'them'}"
         )
@@ -324,12 +324,12 @@ def _check_time_options(
 def _weather_for_measurements(frame, site, raw, start, end, source: str):
     """A typical-year weather file on the year(s) of the sensor log (or of --start/--end); an
     actual-year file must cover --start/--end (:func:`thermocal.io.weather.weather_for_period`)."""
-    from thermocal.identification.sensors import _log_span
+    from thermocal.identification.sensors import log_span
     from thermocal.io.weather import weather_for_period
 
     if site.get("coerced_year") is None and (start is None or end is None):
         return frame, site  # an actual year: the log's span is checked against it later
-    first, last = _log_span(raw)
+    first, last = log_span(raw)
     return weather_for_period(
         frame,
         site,

@@ -651,7 +651,7 @@ def zone_references(
     tz = times.tz
     half = step / 2
     start, end = times[0] + half, times[-1] + step + half
-    first, last = _log_span(raw)
+    first, last = log_span(raw)
     if tz is not None and first.tzinfo is not None:
         first, last = first.tz_convert(tz), last.tz_convert(tz)
     if last <= times[0] or first >= times[-1] + step:
@@ -1136,7 +1136,20 @@ def _sensor_names(raw: pd.DataFrame) -> list[str]:
     return [str(c) for c in raw.columns if c not in ("time",)]
 
 
-def _log_span(raw: pd.DataFrame) -> tuple[pd.Timestamp, pd.Timestamp]:
+def log_span(raw: pd.DataFrame) -> tuple[pd.Timestamp, pd.Timestamp]:
+    """The first and last time stamp of a sensor log.
+
+    Parameters
+    ----------
+    raw : DataFrame
+        The log as read by :func:`thermocal.io.measurements.read_measurements`: long (a
+        ``time`` column) or wide (time stamps as the index).
+
+    Returns
+    -------
+    (Timestamp, Timestamp)
+        Its first and last reading's time, in the log's own time zone (or naive).
+    """
     times = raw["time"] if "time" in raw.columns else raw.index
     times = pd.DatetimeIndex(times)
     return times.min(), times.max()
@@ -1165,7 +1178,7 @@ def log_span_on_grid(
         has no time zone, the span holds no step or lies outside the weather (the overlap
         check then names both ranges).
     """
-    first, last = _log_span(raw)
+    first, last = log_span(raw)
     origin = weather_index[0]
     if first.tzinfo is None or origin.tzinfo is None:
         return None, None

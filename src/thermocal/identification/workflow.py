@@ -732,14 +732,14 @@ def identify(
 def _weather_for_log(weather, metadata, sensor_log, start, end):
     """The weather on the calendar of the measured period (:func:`~thermocal.io.weather.
     weather_for_period`; the period's open ends from the sensor log's span)."""
-    from thermocal.identification.sensors import _log_span
+    from thermocal.identification.sensors import log_span
     from thermocal.io.weather import weather_for_period
 
     if (metadata or {}).get("coerced_year") is None and (start is None or end is None):
         return weather, dict(metadata or {})  # an actual year: the simulation checks the period
     if start is None or end is None:
         try:
-            first, last = _log_span(sensor_log)
+            first, last = log_span(sensor_log)
         except (TypeError, ValueError):
             return weather, dict(metadata or {})
         start = first if start is None else start

@@ -1,0 +1,84 @@
+"""Uncertain inputs a campaign holds nominal (``posterior.uncertain``): which, and their runs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from thermocal.calibration.uncertain import (
+    INFILTRATION_REL_STD,
+    uncertain_inputs,
+    uncertain_signatures,
+)
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.parameters import INFILTRATION_FACTOR
+
+NOMINAL = {
+    "construction/Roof/resistance": 3.0,
+    "construction/Wall/resistance": 2.0,
+    "zone/A/infiltration_ach": 0.5,
+    "zone/B/infiltration_ach": 0.3,
+    "zone/C/infiltration_ach": 0.0,
+    INFILTRATION_FACTOR: 1.0,
+}
+VARIED = ["construction/Roof/resistance", "construction/Wall/resistance"]
+
+
+def test_auto_marks_the_infiltration_uncertain_only_when_no_infiltration_is_varied():
+    (item,) = uncertain_inputs("auto", NOMINAL, VARIED)
+    assert item.nominal == {INFILTRATION_FACTOR: 1.0}
+    assert item.rel_std == INFILTRATION_REL_STD
+    assert item.perturbed()[INFILTRATION_FACTOR] == pytest.approx(np.exp(item.log_sd))
+    assert item.log_sd == pytest.approx(np.sqrt(np.log(1 + INFILTRATION_REL_STD**2)))
+    assert uncertain_inputs("auto", NOMINAL, [*VARIED, "zone/A/infiltration_ach"]) == []
+    assert uncertain_inputs("auto", NOMINAL, [*VARIED, INFILTRATION_FACTOR]) == []
+    no_air = {k: (0.0 if k.endswith("_ach") else v) for k, v in NOMINAL.items()}
+    assert uncertain_inputs("auto", no_air, VARIED) == []
+    assert uncertain_inputs({}, NOMINAL, VARIED) == []
+
+
+def test_a_pattern_scales_every_rate_it_matches_together_and_leaves_zeros_out():
+    (item,) = uncertain_inputs({"zone/*/infiltration_ach": 0.3}, NOMINAL, VARIED)
+    assert item.nominal == {"zone/A/infiltration_ach": 0.5, "zone/B/infiltration_ach": 0.3}
+    factor = np.exp(np.sqrt(np.log(1.09)))
+    assert item.perturbed() == pytest.approx(
+        {"zone/A/infiltration_ach": 0.5 * factor, "zone/B/infiltration_ach": 0.3 * factor}
+    )
+    assert item.description()["parameters"] == sorted(item.nominal)
+
+
+@pytest.mark.parametrize(
+    ("spec", "words"),
+    [
+        ({"zone/*/infiltration": 0.3}, "matches no parameter"),
+        ({"Construction/roof/resistance": 0.2}, "in other case"),
+        ({"construction/*/resistance": 0.2}, "is varied by the campaign"),
+        ({"zone/C/infiltration_ach": 0.2}, "scaling it changes nothing"),
+        ({"zone/A/infiltration_ach": 0.0}, "must be a number in (0, 2]"),
+        ({"zone/A/infiltration_ach": 30}, "0.3 for +-30 %"),
+        ({"infiltration/*": 0.3, "*infiltration*": 0.3}, "give one of the two"),
+    ],
+)
+def test_entries_that_name_nothing_or_a_calibrated_parameter_are_refused(spec, words):
+    with pytest.raises(ThermocalInputError, match="uncertain") as error:
+        uncertain_inputs(spec, NOMINAL, VARIED, where="c.yaml: posterior")
+    assert words in str(error.value)
+    assert str(error.value).startswith("c.yaml: posterior.uncertain[")
+
+
+def test_the_signature_is_the_series_change_per_unit_log_and_a_missing_run_is_named():
+    (item,) = uncertain_inputs("auto", NOMINAL, VARIED)
+    nominal_outputs = {"unoccupied_variance": 4.0, "series/000": 10.0, "series/001": 20.0}
+    changed = {"unoccupied_variance": 9.0, "series/000": 13.0, "series/001": 18.0}
+    signatures, missing = uncertain_signatures(
+        [item], lambda p: changed, nominal_outputs, "building"
+    )
+    ((description, signature, variance),) = signatures
+    assert missing == []
+    assert signature == pytest.approx(np.array([3.0, -2.0]) / item.log_sd)
+    assert variance == pytest.approx(item.log_sd**2)
+    assert description["label"] == INFILTRATION_FACTOR
+    assert uncertain_signatures([item], lambda p: None, nominal_outputs, "building") == (
+        [],
+        [INFILTRATION_FACTOR],
+    )

@@ -200,24 +200,43 @@ def test_the_reports_track_record_is_this_run(twin):
     check_track_record(twin["groups"], "calibration_energyplus_multifamily")
 
 
-@pytest.mark.parametrize("metric", ["building", "groups"])
-def test_the_flats_infiltration_given_as_uncertain_widens_toward_the_truth(twin, metric):
+def test_the_flats_infiltration_given_as_uncertain_covers_with_the_group_metric(twin):
     """``posterior.uncertain`` with the flats' infiltration (not varied, x1.4 in the truth) by
-    40 %: measured 2026-11-29, building metric: wall 4.265 [3.693, 4.781] m2 K/W (truth 4.011),
-    ceiling 4.201 [3.139, 5.630] (4.737), attic 0.854 [0.673, 1.010] 1/h (0.827): every interval
-    covers (the attic's missed by 1.0 % without); group metric: wall 3.742 [3.471, 4.030] covers
-    (missed by 3.3 % without), ceiling covers, the attic 0.984 [0.904, 1.029] still misses
-    (+19 %). The flats' signature resembles none of the three (correlation -0.57 with the wall
-    at most), so all stay determined."""
-    summary = twin[f"uncertain_{metric}"]
+    40 %, the zone-group metric: measured 2026-11-29, wall 3.742 [3.471, 4.030] m2 K/W (truth
+    4.011) covers (missed by 3.3 % without), ceiling 4.840 [4.104, 5.712] (4.737) covers, the
+    attic's infiltration 0.984 [0.904, 1.029] 1/h (0.827) still misses; the flats' infiltration
+    compensates none of the three (their signatures' correlation -0.53 with the wall at most),
+    so all stay determined and the targets hold (metric 0.957x the true envelope's, flagged)."""
+    summary = twin["uncertain_groups"]
     _check(summary)
     rows = {r["parameter"]: r for r in summary["rows"]}
     covered = {name for name, row in rows.items() if row["covers"]}
-    expected = {"construction/Exterior Wall/resistance", "construction/Interior Ceiling/resistance"}
-    if metric == "building":
-        expected.add("zone/attic/infiltration_ach")
-    assert covered == expected, rows
+    assert covered == {
+        "construction/Exterior Wall/resistance",
+        "construction/Interior Ceiling/resistance",
+    }, rows
     assert all(row["determined"] for row in rows.values()), rows
-    (item,) = twin[f"uncertain_{metric}_posterior"].uncertain
+    (item,) = twin["uncertain_groups_posterior"].uncertain
     assert item["label"] == FLATS and len(item["parameters"]) == 18
-    assert item["resembles"] == {}
+    assert item["effect"] and item["compensates"] == {}
+
+
+def test_the_flats_infiltration_given_as_uncertain_with_the_building_total(twin):
+    """The same with the building-total metric: every interval covers (wall 4.265 [3.693,
+    4.781], ceiling 4.201 [3.139, 5.630], attic 0.854 [0.673, 1.010]; the attic's missed by
+    1.0 % without), but the total cannot tell the flats' infiltration from the wall or the
+    attic's (posterior correlations +0.85 and -0.80): both are then set by the input's prior,
+    not called determined and left nominal, and the calibrated model moves the ceiling alone
+    (5.606, +18 %, beyond the 15 % target; metric 2.79x the true envelope's against the
+    nominal's 2.99x). The honest answer of a metric that sums the zones."""
+    summary = twin["uncertain_building"]
+    rows = {r["parameter"]: r for r in summary["rows"]}
+    assert all(row["covers"] for row in rows.values()), rows
+    (item,) = twin["uncertain_building_posterior"].uncertain
+    assert set(item["compensates"]) == {
+        "construction/Exterior Wall/resistance",
+        "zone/attic/infiltration_ach",
+    }
+    assert {n for n, row in rows.items() if row["determined"]} == {
+        "construction/Interior Ceiling/resistance"
+    }

@@ -51,7 +51,7 @@ def test_a_pattern_scales_every_rate_it_matches_together_and_leaves_zeros_out():
     ("spec", "words"),
     [
         ({"zone/*/infiltration": 0.3}, "matches no parameter"),
-        ({"Construction/roof/resistance": 0.2}, "in other case"),
+        ({"Construction/roof/resistance": 0.2}, "did you mean"),
         ({"construction/*/resistance": 0.2}, "is varied by the campaign"),
         ({"zone/C/infiltration_ach": 0.2}, "scaling it changes nothing"),
         ({"zone/A/infiltration_ach": 0.0}, "must be a number in (0, 2]"),
@@ -82,3 +82,52 @@ def test_the_signature_is_the_series_change_per_unit_log_and_a_missing_run_is_na
         [],
         [INFILTRATION_FACTOR],
     )
+
+
+def _clinic():
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from clinic_sensor_log import small_clinic
+
+    return small_clinic()
+
+
+def test_auto_finds_infiltration_that_zones_share_in_groups():
+    """The generated clinic's zones share their infiltration objects (``infiltration/<group>/
+    ach``, no ``zone/*/infiltration_ach``): ``auto`` still marks the building's infiltration."""
+    from thermocal.calibration.uncertain import nominal_values
+
+    building = _clinic()
+    nominal = nominal_values(building)
+    assert not any(name.startswith("zone/") for name in nominal)
+    (item,) = uncertain_inputs("auto", nominal, ["construction/Roof/resistance"])
+    assert item.nominal == {INFILTRATION_FACTOR: 1.0}
+    assert uncertain_inputs("auto", nominal, ["infiltration/corridor 1/ach"]) == []
+
+
+def test_the_signature_run_goes_down_where_up_leaves_the_valid_range_and_is_refused_if_both_do():
+    """A window's SHGC of 0.8 cannot be raised by 50 %: the run goes one standard deviation
+    down; an uncertainty that the model refuses both ways is an error naming the key."""
+    from thermocal.calibration.uncertain import model_refusal, nominal_values
+
+    building = _clinic()
+    nominal, refusal = nominal_values(building), model_refusal(building)
+    (item,) = uncertain_inputs({"window/*/shgc": 0.5}, nominal, [], invalid=refusal)
+    assert item.direction == -1 and item.step < 0
+    assert refusal(item.perturbed()) is None
+    (roof,) = uncertain_inputs({"window/Skylight/u_value": 0.2}, nominal, [], invalid=refusal)
+    assert roof.direction == 1
+    signatures, _ = uncertain_signatures(
+        [item], lambda i: {"unoccupied_variance": 1.0, "series/000": 12.0},
+        {"unoccupied_variance": 1.0, "series/000": 10.0}, "building",
+    )  # fmt: skip
+    assert signatures[0][1] == pytest.approx([2.0 / item.step])  # the change per unit log
+
+
+def test_an_entry_that_scales_what_the_campaign_varies_is_refused():
+    with pytest.raises(ThermocalInputError, match="scales the air change rates"):
+        uncertain_inputs({INFILTRATION_FACTOR: 0.4}, NOMINAL, [*VARIED, "zone/A/infiltration_ach"])
+    with pytest.raises(ThermocalInputError, match="scales the air change rates"):
+        uncertain_inputs({"zone/*/infiltration_ach": 0.4}, NOMINAL, [*VARIED, INFILTRATION_FACTOR])

@@ -104,7 +104,9 @@ def analyse(
         timings["morris"] = time.perf_counter() - t0
     nominal = (nominal_outputs, nominal_heat, nominal_metric)
     t0 = time.perf_counter()
-    uncertain = _uncertain_inputs(campaign, inputs, space, runs, nominal_outputs, notes, log)
+    uncertain = []
+    if samples.series is not None:  # the posterior needs the series
+        uncertain = _uncertain_inputs(campaign, inputs, space, runs, nominal_outputs, notes, log)
     if uncertain:
         timings["uncertain_inputs"] = time.perf_counter() - t0
     first = _calibration_stage(
@@ -544,24 +546,36 @@ def _campaign_notes(sample_set, occupancy: dict) -> list[str]:
 def _uncertain_inputs(campaign, inputs, space, runs, nominal_outputs, notes, log):
     """The signatures of the inputs the campaign holds nominal but does not know
     (``posterior.uncertain``, :mod:`thermocal.calibration.uncertain`): one model run each,
-    through ``runs`` (stored; a re-analysis reads them and notes those it lacks)."""
+    through ``runs`` (stored; a re-analysis reads them and notes those it lacks; a run the
+    model fails is noted and its input left out)."""
     from thermocal.calibration.uncertain import (
+        model_refusal,
         nominal_values,
         uncertain_inputs,
         uncertain_signatures,
     )
 
+    setting = campaign.posterior.uncertain
     items = uncertain_inputs(
-        campaign.posterior.uncertain,
+        setting,
         nominal_values(inputs.building),
         space.names,
         where=f"{campaign.path or 'campaign file'}: posterior",
+        invalid=model_refusal(inputs.building),
     )
     if not items:
+        if setting == "auto":
+            log("posterior.uncertain auto: the campaign varies the infiltration, or the "
+                "building has none; nothing to integrate out")  # fmt: skip
         return []
+    failed: dict[str, str] = {}
 
-    def run(parameters):
-        found = runs.get(parameters, heat=False)
+    def run(item):
+        try:
+            found = runs.get(item.perturbed(), heat=False)
+        except (ThermocalInputError, ArithmeticError, ValueError, np.linalg.LinAlgError) as exc:
+            failed[item.label] = str(exc)
+            return None
         return None if found is None else found[0]
 
     signatures, missing = uncertain_signatures(items, run, nominal_outputs, campaign.metric)
@@ -570,11 +584,17 @@ def _uncertain_inputs(campaign, inputs, space, runs, nominal_outputs, notes, log
             f"uncertain input {description['label']} (+-{100 * description['rel_std']:.0f} %, "
             "not varied): marginalised in the posterior"
         )
-    if missing:
+    for label, why in failed.items():
+        notes.append(
+            f"The uncertain input {label} is not integrated out of the posterior: its model run "
+            f"failed ({why})."
+        )
+    unstored = [label for label in missing if label not in failed]
+    if unstored:
         notes.append(
             "Not marginalised in the posterior (their runs are not in the store and a "
             "re-analysis does not simulate; thermocal calibrate --resume runs them): "
-            + ", ".join(missing)
+            + ", ".join(unstored)
             + "."
         )
     return signatures

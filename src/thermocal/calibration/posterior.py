@@ -31,8 +31,8 @@ which directions the data fix; a parameter is *determined* when its 90 % credibl
 narrower than half its prior range and its fitted effect stands out of the meta-model's
 estimation noise (:func:`effect_to_noise`: a parameter with no effect at all gets a fitted
 Jacobian of pure noise, whose norm over hundreds of hours would otherwise look like
-information) and its signature does not resemble an uncertain input's (correlation 0.7 or
-more in magnitude, :func:`resembling_parameters`: the data cannot tell the two apart), and two
+information) and it does not compensate an uncertain input (posterior correlation beyond 0.7 in
+magnitude in their joint Gaussian: then the input's prior, not the data, sets it), and two
 parameters *compensate* each other when their posterior correlation exceeds 0.7 in magnitude
 (the data fix a combination of them, not each one).
 
@@ -331,7 +331,9 @@ class Posterior:
         (:func:`thermocal.calibration.advice.advise_measurements`; empty when not asked).
     uncertain : list of dict
         The uncertain inputs the posterior marginalised (:mod:`thermocal.calibration.uncertain`):
-        ``label``, ``rel_std`` [-] and ``parameters`` (the names it scales); empty when none.
+        ``label``, ``rel_std`` [-], ``parameters`` (the names it scales), ``effect`` (False: it
+        does not change the series and was left out) and ``compensates`` (parameter ->
+        posterior correlation [-] beyond 0.7 in magnitude); empty when none.
     """
 
     summary: pd.DataFrame
@@ -373,30 +375,36 @@ class Posterior:
                 )
                 + "."
             )
-        loose = [n for n in s.index if n not in det]
+        compensating = {n for u in self.uncertain for n in u.get("compensates", {})}
+        loose = [n for n in s.index if n not in det and n not in compensating]
         if loose:
             out.append(
                 "Not determined (the interval spans more than half the prior range): "
                 + ", ".join(loose)
                 + "."
             )
-        if self.uncertain:
+        effective = [u for u in self.uncertain if u.get("effect", True)]
+        if effective:
             out.append(
                 "The intervals include the uncertainty of inputs the campaign did not vary: "
                 + "; ".join(
                     f"{u['label']} (+-{100 * u['rel_std']:.0f} %, {len(u['parameters'])} "
                     f"parameter{'s' if len(u['parameters']) != 1 else ''})"
-                    for u in self.uncertain
+                    for u in effective
                 )
                 + "."
             )
         for item in self.uncertain:
-            for name, r in item.get("resembles", {}).items():
+            if not item.get("effect", True):
                 out.append(
-                    f"{item['label']} changes the unoccupied heat much as {name} does "
-                    f"(correlation {r:+.2f}): the data cannot tell the two apart, so {name} "
-                    "is not determined (its interval rests on the rest of its signature, where "
-                    f"the model's own error weighs more); a measurement of {item['label']}"
+                    f"{item['label']} does not change the unoccupied heat: not integrated out."
+                )
+            for name, r in item.get("compensates", {}).items():
+                out.append(
+                    f"{name} and the uncertain input {item['label']} compensate each other "
+                    f"(posterior correlation {r:+.2f}): the data fix a combination of the two, "
+                    f"so {name} is set by what {item['label']}'s prior assumes, not by the "
+                    f"data, and is not called determined; a measurement of {item['label']}"
                     + (" (a pressurisation test, ISO 9972)" if "infiltration" in item["label"]
                        else "")
                     + " would separate them."
@@ -858,11 +866,17 @@ def calibration_posterior(
     else:
         # the signatures at the best fit (with curvature, the tangent model's)
         basis, tau2 = discrepancy_basis(model.local(z_hat), model.residual(z_hat), str(discrepancy))
-    basis, tau2 = _with_uncertain_inputs(model, basis, tau2, uncertain)
+    a = 1.0 / (2.0 * scale)
+    inputs = _uncertain_columns(model, uncertain)
+    correlations = _input_correlations(model.local(z_hat), basis, tau2, a, inputs, prior_precision)
+    if inputs:
+        n_hours = len(model.offset)
+        basis = basis if np.size(basis) else np.zeros((n_hours, 0))
+        basis = np.column_stack([basis] + [column for _, column, _ in inputs])
+        tau2 = np.concatenate([np.asarray(tau2, dtype=float), [v for _, _, v in inputs]])
     if len(tau2):
         # covariance a I + U T U^T with a = 1 / (2 scale): its inverse by Woodbury,
         # r^T S^-1 r = (|r|^2 - (U^T r)^T (a T^-1 + U^T U)^-1 (U^T r)) / a
-        a = 1.0 / (2.0 * scale)
         woodbury = np.linalg.inv(np.diag(a / tau2) + basis.T @ basis)
     else:
         woodbury = None
@@ -904,13 +918,11 @@ def calibration_posterior(
         significance = effect_to_noise(surrogate, names, emulator_error)
     else:
         significance = np.full(d, np.inf)
-    uncertain_inputs = [
-        {**description, "resembles": resembling_parameters(model, signature)}
-        for description, signature, _ in uncertain
-    ]
-    # a parameter the data cannot tell from an uncertain input is not determined by them
+    uncertain_inputs = _input_descriptions(uncertain, inputs, correlations, names)
+    # a parameter that compensates an uncertain input is fixed by that input's prior, an
+    # assumption, not by the data (unless it was measured)
     confounded = np.array(
-        [any(n in item["resembles"] for item in uncertain_inputs) for n in names], dtype=bool
+        [any(n in item["compensates"] for item in uncertain_inputs) for n in names], dtype=bool
     )
     summary = pd.DataFrame(
         {
@@ -930,7 +942,7 @@ def calibration_posterior(
             # a parameter measured in situ is determined by the measurement and the data
             "determined": (fraction < DETERMINED_FRACTION)
             & ((significance > EFFECT_TO_NOISE) | (prior_precision > 0))
-            & ~confounded,
+            & ~(confounded & (prior_precision == 0)),
         },
         index=pd.Index(names, name="parameter"),
     )
@@ -967,68 +979,103 @@ def calibration_posterior(
     )
 
 
-def resembling_parameters(model: LinearHeatModel, signature) -> dict[str, float]:
-    """The posterior's parameters whose signature an uncertain input's resembles.
-
-    The correlation of the two series' changes (each centred over each series' hours) at or
-    beyond :data:`COMPENSATION_CORRELATION` in magnitude: the data then cannot tell the input
-    from the parameter, whose interval, once the input is integrated out, rests on the part of
-    its signature the input does not share.
-
-    Parameters
-    ----------
-    model : LinearHeatModel
-    signature : ndarray (n_hours,)
-        The input's change of the series per unit log [W].
-
-    Returns
-    -------
-    dict of str to float
-        Parameter -> correlation [-].
-    """
-    n = model.offset.shape[0]
-    b = np.asarray(signature, dtype=float).copy()
-    for a, c in model.segments or ((0, n),):
-        b[a:c] -= b[a:c].mean()
-    out = {}
-    for k, name in enumerate(model.names):
-        column = model.jacobian[:, k]
-        norm = float(np.linalg.norm(column) * np.linalg.norm(b))
-        if norm > 0:
-            r = float(column @ b) / norm
-            if abs(r) >= COMPENSATION_CORRELATION:
-                out[name] = r
+def _centred(values: np.ndarray, segments, n: int) -> np.ndarray:
+    """``values`` (the series one after the other) minus each series' mean."""
+    out = np.array(values, dtype=float, copy=True)
+    for a, b in segments or ((0, n),):
+        out[a:b] -= out[a:b].mean()
     return out
 
 
-def _with_uncertain_inputs(model: LinearHeatModel, basis, tau2, uncertain):
-    """The discrepancy's directions and variances with the uncertain inputs' appended.
+def _uncertain_columns(model: LinearHeatModel, uncertain) -> list:
+    """The uncertain inputs' directions for the likelihood's covariance.
 
-    Each input's signature is centred over each series' hours (the residual's unknown
-    constant gains, as the meta-model's coefficients) and scaled to unit RMS, its variance
-    scaled by the same factor squared [W^2]; a signature without any change is left out.
+    Each signature is centred over each series' hours (the residual's unknown constant gains,
+    as the meta-model's coefficients) and scaled to unit RMS, its variance by the same factor
+    squared [W^2].
+
+    Returns
+    -------
+    list of (int, ndarray, float)
+        Per input with an effect: its position in ``uncertain``, the unit-RMS column and the
+        variance [W^2].
     """
-    if not len(uncertain):
-        return basis, tau2
     n = model.offset.shape[0]
-    columns = [basis[:, k] for k in range(basis.shape[1])] if np.size(basis) else []
-    variances = list(np.asarray(tau2, dtype=float))
-    for description, signature, variance in uncertain:
+    out = []
+    for i, (description, signature, variance) in enumerate(uncertain):
         signature = np.asarray(signature, dtype=float)
         if signature.shape != (n,):
             raise ThermocalInputError(
                 f"posterior: the signature of {description['label']} has "
                 f"{signature.shape[0]} hours, the meta-model's series {n}"
             )
-        centred = signature.copy()
-        for a, b in model.segments or ((0, n),):
-            centred[a:b] -= centred[a:b].mean()
+        centred = _centred(signature, model.segments, n)
         rms = float(np.sqrt(np.mean(centred**2)))
-        if rms <= 0 or not variance > 0:
-            continue
-        columns.append(centred / rms)
-        variances.append(float(variance) * rms**2)
-    if not columns:
-        return np.zeros((n, 0)), np.zeros(0)
-    return np.column_stack(columns), np.array(variances)
+        if rms > 0 and variance > 0:
+            out.append((i, centred / rms, float(variance) * rms**2))
+    return out
 
+
+def _input_correlations(model: LinearHeatModel, basis, tau2, a: float, inputs, measured):
+    """Posterior correlations of the parameters with the uncertain inputs, (d, m).
+
+    From the joint Gaussian of ``z`` and the inputs' amplitudes (each with its prior
+    variance), the likelihood's covariance ``a I`` plus the model discrepancy's ``U T U^T``
+    (by Woodbury); ``z``'s uniform prior enters as a Gaussian of the same variance (its box's
+    width over sqrt(12)) and a measured parameter's log-normal with its precision. The box's
+    truncation is not taken into account (a diagnostic, not the sampler's posterior).
+
+    Parameters
+    ----------
+    model : LinearHeatModel
+        Affine (the tangent model at the best fit when there is curvature).
+    basis, tau2 : ndarray, sequence
+        The discrepancy's unit-RMS directions and variances [W^2].
+    a : float
+        The likelihood's variance per hour [W^2].
+    inputs : list
+        :func:`_uncertain_columns`.
+    measured : ndarray (d,)
+        Precision of the measured parameters' priors (0 where not measured) [-].
+
+    Returns
+    -------
+    ndarray (d, len(inputs))
+    """
+    d = model.jacobian.shape[1]
+    if not inputs:
+        return np.zeros((d, 0))
+    X = np.column_stack([model.jacobian] + [column for _, column, _ in inputs])
+    if np.size(basis):
+        U = basis
+        inverse = np.linalg.inv(np.diag(a / np.asarray(tau2, dtype=float)) + U.T @ U)
+        solved = (X - U @ (inverse @ (U.T @ X))) / a
+    else:
+        solved = X / a
+    precision = X.T @ solved
+    zl, zu = model.z_bounds
+    box = 12.0 / np.maximum(zu - zl, 1e-12) ** 2
+    precision[:d, :d] += np.diag(np.where(measured > 0, measured, box))
+    precision[d:, d:] += np.diag([1.0 / v for _, _, v in inputs])
+    covariance = np.linalg.pinv((precision + precision.T) / 2.0)
+    sd = np.sqrt(np.maximum(np.diag(covariance), 1e-300))
+    return (covariance / np.outer(sd, sd))[:d, d:]
+
+
+def _input_descriptions(uncertain, inputs, correlations, names) -> list[dict]:
+    """The uncertain inputs for the result: each description with ``effect`` (whether it
+    changes the series at all) and ``compensates`` (parameter -> posterior correlation beyond
+    :data:`COMPENSATION_CORRELATION` in magnitude)."""
+    column = {i: k for k, (i, _, _) in enumerate(inputs)}
+    out = []
+    for i, (description, _, _) in enumerate(uncertain):
+        k = column.get(i)
+        compensates = {}
+        if k is not None:
+            compensates = {
+                name: float(correlations[j, k])
+                for j, name in enumerate(names)
+                if abs(correlations[j, k]) > COMPENSATION_CORRELATION
+            }
+        out.append({**description, "effect": k is not None, "compensates": compensates})
+    return out

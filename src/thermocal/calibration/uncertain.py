@@ -24,14 +24,14 @@ together (one input: a building-wide error, e.g. ``infiltration/building/factor`
 ``auto`` marks the building's infiltration uncertain by :data:`INFILTRATION_REL_STD` when the
 campaign varies no infiltration parameter and the building has any; the default is none.
 
-A calibrated parameter whose signature resembles an input's (correlation 0.7 or more in
-magnitude, :func:`thermocal.calibration.posterior.resembling_parameters`) is then not
-determined: the data cannot tell the two apart. Measured on the EnergyPlus twins (2026-11-29,
-docs/calibration.md, "Inputs the campaign holds nominal but does not know"): the multifamily
-prototype's flats' infiltration given as uncertain makes every interval of the building metric
-cover its truth (the attic's infiltration from +16 % to +3 %); on the outpatient prototype, whose
-infiltration is a flow per exterior-wall area, the input's signature is the wall's (-0.87) and
-the wall is reported not determined rather than determined in the wrong place.
+A calibrated parameter that compensates an input (posterior correlation beyond 0.7 in magnitude
+in their joint Gaussian) is then not called determined: the input's prior, an assumption, sets
+it rather than the data. The marginal is exact for the posterior's log-affine model given its
+noise level, with two approximations: the signature is a one-sided difference at one standard
+deviation (for a heat that is linear in the input, e.g. an air change, it over-states the
+input's variance by about 19 % at 40 %), and it is taken at the nominal point of the campaign's
+parameters (also in the zoom stage, whose box is elsewhere). Measured on the EnergyPlus twins
+(2026-11-29, docs/calibration.md, "Inputs the campaign holds nominal but does not know").
 
 References
 ----------
@@ -54,6 +54,7 @@ from thermocal.errors import ThermocalInputError
 __all__ = [
     "INFILTRATION_REL_STD",
     "UncertainInput",
+    "model_refusal",
     "nominal_values",
     "uncertain_inputs",
     "uncertain_signatures",
@@ -73,26 +74,35 @@ class UncertainInput:
     Attributes
     ----------
     label : str
-        The name or pattern it was given by [-].
+        The name or pattern it was given by.
     rel_std : float
         Relative standard uncertainty [-].
     nominal : dict of str to float
         The parameters it scales and their nominal values [unit of each].
+    direction : {1, -1}
+        The side of the signature's run: up by one standard deviation, or down where up leaves
+        a parameter's valid range (a window's SHGC near 1) [-].
     """
 
     label: str
     rel_std: float
     nominal: dict
+    direction: int = 1
 
     @property
     def log_sd(self) -> float:
         """Prior standard deviation of the input's log, ``sqrt(ln(1 + r^2))`` [-]."""
         return float(np.sqrt(np.log1p(self.rel_std**2)))
 
+    @property
+    def step(self) -> float:
+        """The signature run's change of the input's log, ``direction * log_sd`` [-]."""
+        return self.direction * self.log_sd
+
     def perturbed(self) -> dict[str, float]:
-        """The parameters scaled by ``exp(log_sd)``: the run that gives the signature
+        """The parameters scaled by ``exp(step)``: the run that gives the signature
         [unit of each]."""
-        factor = float(np.exp(self.log_sd))
+        factor = float(np.exp(self.step))
         return {name: value * factor for name, value in self.nominal.items()}
 
     def description(self) -> dict:
@@ -107,9 +117,8 @@ class UncertainInput:
 def nominal_values(building) -> dict[str, float]:
     """Every parameter a campaign's problem accepts, with its nominal value.
 
-    The material fields and zone rates of :meth:`Building.parameters`, the construction-level
-    names of :func:`thermocal.multizone.elements.element_parameters` and the building-wide
-    infiltration factor (nominal 1), as
+    The material fields and zone rates of :meth:`Building.parameters` and the names of
+    :func:`thermocal.identification.problem.element_nominal_values`, as
     :class:`thermocal.identification.problem.IdentificationProblem` accepts them.
 
     Parameters
@@ -121,22 +130,52 @@ def nominal_values(building) -> dict[str, float]:
     dict of str to float
         [unit of each parameter]
     """
-    from thermocal.multizone.elements import element_parameters
-    from thermocal.multizone.parameters import INFILTRATION_FACTOR
+    from thermocal.identification.problem import element_nominal_values
 
-    return {
-        **building.parameters(),
-        **element_parameters(building),
-        INFILTRATION_FACTOR: 1.0,
-    }
+    return {**building.parameters(), **element_nominal_values(building)}
+
+
+def model_refusal(building):
+    """``invalid`` for :func:`uncertain_inputs`: why ``building`` refuses parameter values.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+
+    Returns
+    -------
+    callable
+        ``parameters`` -> the model's message (text) or None when it accepts them.
+    """
+
+    def refusal(parameters: Mapping[str, float]) -> str | None:
+        try:
+            building.with_parameters(dict(parameters))
+        except ThermocalInputError as exc:
+            return str(exc)
+        return None
+
+    return refusal
 
 
 def _is_infiltration(name: str) -> bool:
     return name.endswith("/infiltration_ach") or name.startswith("infiltration/")
 
 
+def _is_zone_rate(name: str) -> bool:
+    """A zone's or a zone group's own air change rate (not the building-wide factor)."""
+    from thermocal.multizone.parameters import INFILTRATION_FACTOR
+
+    return _is_infiltration(name) and name != INFILTRATION_FACTOR
+
+
 def uncertain_inputs(
-    spec, nominal: Mapping[str, float], varied: Sequence[str], *, where: str = "posterior"
+    spec,
+    nominal: Mapping[str, float],
+    varied: Sequence[str],
+    *,
+    where: str = "posterior",
+    invalid=None,
 ) -> list[UncertainInput]:
     """The uncertain inputs of a campaign from its ``posterior.uncertain`` setting.
 
@@ -153,6 +192,10 @@ def uncertain_inputs(
         The campaign's parameters.
     where : str
         The setting's place, for messages.
+    invalid : callable, optional
+        ``invalid(parameters)`` -> why the model refuses these parameter values (a text) or
+        None; the signature's run then goes down by one standard deviation instead of up, and
+        an input refused both ways is an error. Default: every value accepted.
 
     Returns
     -------
@@ -162,16 +205,16 @@ def uncertain_inputs(
     ------
     ThermocalInputError
         A pattern that matches no parameter, matches one the campaign varies (it is calibrated,
-        not uncertain) or only parameters whose nominal value is zero (scaling changes nothing),
-        or an uncertainty that is not in (0, 2].
+        not uncertain) or scales what a varied parameter scales (the building's infiltration
+        factor and the zones' own rates), matches only parameters whose nominal value is zero
+        (scaling changes nothing), an uncertainty that is not in (0, 2], or an input whose
+        values one standard deviation either way the model refuses.
     """
     from thermocal.multizone.parameters import INFILTRATION_FACTOR
 
     varied = set(varied)
     if spec == "auto":
-        has_infiltration = any(
-            value > 0 for name, value in nominal.items() if name.endswith("/infiltration_ach")
-        )
+        has_infiltration = any(value > 0 for name, value in nominal.items() if _is_zone_rate(name))
         if not has_infiltration or any(_is_infiltration(n) for n in varied):
             return []
         spec = {INFILTRATION_FACTOR: INFILTRATION_REL_STD}
@@ -185,12 +228,16 @@ def uncertain_inputs(
             )
         matched = sorted(n for n in nominal if fnmatch.fnmatchcase(n, pattern))
         if not matched:
+            import difflib
+
             close = sorted(n for n in nominal if fnmatch.fnmatchcase(n.lower(), pattern.lower()))
-            hint = f" (in other case: {', '.join(close[:3])})" if close else ""
+            close = close or difflib.get_close_matches(pattern, list(nominal), n=3)
+            hint = f" (did you mean {', '.join(close[:3])}?)" if close else ""
             raise ThermocalInputError(
-                f"{key}: matches no parameter of the building{hint}; give a name as in "
-                f"samples.csv or a pattern such as 'zone/*/infiltration_ach' or "
-                f"'{INFILTRATION_FACTOR}'"
+                f"{key}: matches no parameter of the building{hint}; parameters are named "
+                "material/<material>/<field>, construction/<construction>/resistance, "
+                "window/<type>/u_value, zone/<zone>/infiltration_ach or "
+                f"'{INFILTRATION_FACTOR}' (patterns with * allowed)"
             )
         calibrated = [n for n in matched if n in varied]
         if calibrated:
@@ -204,14 +251,43 @@ def uncertain_inputs(
                 f"{key}: matches {INFILTRATION_FACTOR!r} and the zones' own rates, which it "
                 "scales; give one of the two"
             )
+        scales_varied = (INFILTRATION_FACTOR in matched and any(map(_is_zone_rate, varied))) or (
+            INFILTRATION_FACTOR in varied and any(map(_is_zone_rate, matched))
+        )
+        if scales_varied:
+            raise ThermocalInputError(
+                f"{key}: scales the air change rates the campaign varies (the building's "
+                "infiltration factor multiplies every zone's rate); the data cannot tell the "
+                "two apart: leave it out, or vary the infiltration one way only"
+            )
         scaled = {n: float(nominal[n]) for n in matched if float(nominal[n]) != 0.0}
         if not scaled:
             raise ThermocalInputError(
                 f"{key}: every parameter it matches is zero ({', '.join(matched[:3])}); "
                 "scaling it changes nothing"
             )
-        out.append(UncertainInput(str(pattern), float(rel_std), scaled))
+        item = UncertainInput(str(pattern), float(rel_std), scaled)
+        if invalid is not None:
+            item = _valid_side(item, invalid, key)
+        out.append(item)
     return out
+
+
+def _valid_side(item: UncertainInput, invalid, key: str) -> UncertainInput:
+    """``item`` with the side of its signature run the model accepts (up, else down)."""
+    from dataclasses import replace
+
+    why = invalid(item.perturbed())
+    if why is None:
+        return item
+    down = replace(item, direction=-1)
+    why_down = invalid(down.perturbed())
+    if why_down is None:
+        return down
+    raise ThermocalInputError(
+        f"{key}: the model refuses the input one standard deviation either way ({why}; "
+        f"{why_down}); give a smaller relative uncertainty"
+    )
 
 
 def uncertain_signatures(inputs: Sequence[UncertainInput], run, nominal_outputs, metric: str):
@@ -221,8 +297,9 @@ def uncertain_signatures(inputs: Sequence[UncertainInput], run, nominal_outputs,
     ----------
     inputs : sequence of UncertainInput
     run : callable
-        ``run(parameters)`` -> the run's outputs (as a sample's) or None when it is neither
-        stored nor may be simulated (a re-analysis) [unit of each].
+        ``run(item)`` -> the outputs (as a sample's) of the run with ``item.perturbed()``,
+        or None when it is neither stored nor may be simulated (a re-analysis) or failed
+        [unit of each].
     nominal_outputs : mapping
         The nominal model's outputs [unit of each].
     metric : {"building", "groups"}
@@ -236,6 +313,11 @@ def uncertain_signatures(inputs: Sequence[UncertainInput], run, nominal_outputs,
         :func:`thermocal.calibration.posterior.calibration_posterior`).
     missing : list of str
         The labels of inputs whose run is not available.
+
+    Raises
+    ------
+    ThermocalInputError
+        The stored outputs hold no heat series (a store written before they were stored).
     """
     import pandas as pd
 
@@ -243,15 +325,18 @@ def uncertain_signatures(inputs: Sequence[UncertainInput], run, nominal_outputs,
 
     signatures, missing = [], []
     for item in inputs:
-        outputs = run(item.perturbed())
+        outputs = run(item)
         if outputs is None:
             missing.append(item.label)
             continue
         frame = pd.DataFrame([dict(nominal_outputs), dict(outputs)])
         _, series, _ = metric_data(frame, metric)
         if series is None:
-            missing.append(item.label)
-            continue
-        signature = (series[1] - series[0]) / item.log_sd
+            raise ThermocalInputError(
+                "posterior.uncertain needs the unoccupied heat series of the nominal run, "
+                "which this campaign's store does not hold; run the campaign again into a new "
+                "store"
+            )
+        signature = (series[1] - series[0]) / item.step
         signatures.append((item.description(), signature, item.log_sd**2))
     return signatures, missing

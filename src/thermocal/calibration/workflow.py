@@ -381,11 +381,11 @@ def _stored_check(name, what, store, resume, timings, log, *, run, warn):
 def check_uncertain_inputs(campaign, building, space) -> None:
     """Refuse a ``posterior.uncertain`` entry that names nothing, or a calibrated parameter,
     before any simulation (:func:`thermocal.calibration.uncertain.uncertain_inputs`)."""
-    from thermocal.calibration.uncertain import nominal_values, uncertain_inputs
+    from thermocal.calibration.uncertain import model_refusal, nominal_values, uncertain_inputs
 
     where = f"{campaign.path or 'campaign file'}: posterior"
     uncertain_inputs(campaign.posterior.uncertain, nominal_values(building), space.names,
-                     where=where)  # fmt: skip
+                     where=where, invalid=model_refusal(building))  # fmt: skip
 
 
 def campaign_space(campaign, building):
@@ -498,6 +498,7 @@ def reanalyse(campaign, store_path, *, log=print) -> CalibrationResult:
     inputs = analysis_inputs(campaign)
     space = campaign_space(campaign, inputs.building)
     measure_in_situ(campaign, space)
+    check_uncertain_inputs(campaign, inputs.building, space)
     timings["setup"] = time.perf_counter() - t0
     path = Path(store_path)
     with store_errors(path), CampaignStore.existing(path) as store:

@@ -24,6 +24,27 @@ from thermocal.identification.pid import PIDGains, kernel_coefficients
 METRIC = "unoccupied_variance"
 
 
+
+def element_nominal_values(building) -> dict[str, float]:
+    """The names a problem accepts beside :meth:`Building.parameters`, with nominal values.
+
+    The construction-level resistance and heat capacity of
+    :func:`thermocal.multizone.elements.element_parameters` [m2 K/W], [J/(m2 K)] and the
+    building-wide infiltration factor ``infiltration/building/factor`` (nominal 1) [-].
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+
+    Returns
+    -------
+    dict of str to float
+    """
+    from thermocal.multizone.elements import element_parameters
+    from thermocal.multizone.parameters import INFILTRATION_FACTOR
+
+    return {**element_parameters(building), INFILTRATION_FACTOR: 1.0}
+
 @dataclass
 class IdentificationProblem:
     """Envelope parameters -> identified heat -> unoccupied-variance metric.
@@ -88,13 +109,10 @@ class IdentificationProblem:
         if self.method == "pid" and not self.gains:
             raise ThermocalInputError("the PID method needs gains for every zone")
         self.nominal = dict(self.building.parameters())
-        from thermocal.multizone.elements import element_parameters
-        from thermocal.multizone.parameters import INFILTRATION_FACTOR
-
         # construction-level names (resistance, heat capacity) and the building-wide
         # infiltration factor are accepted beside the material-level ones; they are not part
         # of the fingerprint (the same building)
-        self.element_nominal = {**element_parameters(self.building), INFILTRATION_FACTOR: 1.0}
+        self.element_nominal = element_nominal_values(self.building)
 
     def __getstate__(self):
         state = dict(self.__dict__)

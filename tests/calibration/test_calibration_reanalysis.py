@@ -123,3 +123,37 @@ def test_reanalyse_cli_bad_input(tmp_path):
     assert "holds no demo campaign" in done.stderr, done.stderr
     done = run("--demo", "--reanalyse", "--samples", "3", "--out", str(tmp_path / "none"))
     assert done.returncode == 2 and "leave out --samples" in done.stderr, done.stderr
+
+
+def test_an_uncertain_input_runs_once_is_kept_and_read_by_a_reanalysis(stored, no_simulation):
+    """``posterior.uncertain`` on a stored campaign: a re-analysis cannot simulate the input's
+    run (noted, nothing integrated out); ``--resume`` simulates it once and keeps it; a
+    re-analysis then reads it and integrates the input out without simulating."""
+    folder, path, original = stored
+    uncertain = folder / "uncertain.yaml"
+    uncertain.write_text(
+        path.read_text() + "posterior: {uncertain: {'infiltration/row * west/ach': 0.4}}\n"
+    )
+    label = "infiltration/row * west/ach"
+    first = reanalyse(load_campaign(uncertain), folder / "store.sqlite", log=lambda line: None)
+    assert no_simulation == []
+    assert any("Not marginalised" in note and label in note for note in first.notes)
+    assert first.posterior.uncertain == []
+    resumed = calibrate(
+        load_campaign(uncertain),
+        workers=1,
+        store_path=folder / "store.sqlite",
+        resume=True,
+        progress=False,
+        log=lambda line: None,
+    )
+    perturbed = [p for p in no_simulation if p and all("west" in name for name in p)]
+    assert len(perturbed) == 1 and len(perturbed[0]) == 2  # both rows' west groups, one run
+    (item,) = resumed.posterior.uncertain
+    assert item["label"] == label and item["effect"]
+    del no_simulation[:]
+    again = reanalyse(load_campaign(uncertain), folder / "store.sqlite", log=lambda line: None)
+    assert no_simulation == []
+    assert again.posterior.uncertain == resumed.posterior.uncertain
+    assert not any("Not marginalised" in note for note in again.notes)
+    assert again.posterior.summary["q95"].to_dict() == resumed.posterior.summary["q95"].to_dict()

@@ -284,3 +284,93 @@ def test_measure_adds_insulation_to_the_corrected_construction(model):
     # a construction corrected below the target still improves
     low = scaled_envelope(audit, {"k_env": 0.18 / audit.roof_u * 0.9})
     assert model.apply_measures([roof], low).roof_u < low.roof_u
+
+
+def test_the_energy_carrier_sets_the_emission_factor_and_notes_the_oil_price():
+    """Fuzzing r26, r27: ``energy_carrier`` was a label. 'natural gas' kept heating oil's
+    0.310 kg CO2/kWh (CO2 +29 % against the documented 0.240); 'heat pump' with COP 3 kept
+    oil's factor and price (CO2 -45 % against grid electricity's 0.560), without a word."""
+    gas = parse_config(_cfg(economics={"energy_carrier": "natural gas"}))
+    assert gas.economics.emission_factor == 0.240 and gas.economics.system_efficiency == 0.85
+    (note,) = gas.economics_notes()
+    assert "'natural gas' keeps heating oil's energy_price 0.12 CHF/kWh" in note
+    pump = parse_config(_cfg(economics={"energy_carrier": "Air-source heat pump",
+                                        "system_efficiency": 3}))  # fmt: skip
+    assert pump.economics.emission_factor == 0.560 and pump.economics.system_efficiency == 3
+    assert "set economics.energy_price for the heat pump's electricity" in pump.economics_notes()[0]
+    # a value given wins, and a carrier given in full needs no note
+    own = parse_config(_cfg(economics={"energy_carrier": "gas", "emission_factor": 0.2,
+                                       "energy_price": 0.15}))  # fmt: skip
+    assert own.economics.emission_factor == 0.2 and own.economics_notes() == []
+    # the example configuration's oil factor kept beside another carrier is said
+    copied = parse_config(_cfg(economics={"energy_carrier": "natural gas", "energy_price": 0.13,
+                                          "emission_factor": 0.310}))  # fmt: skip
+    assert copied.economics.emission_factor == 0.310
+    assert copied.economics_notes() == [
+        "economics: emission_factor 0.31 kg CO2-eq/kWh is heating oil's (GEG 2020), but "
+        "energy_carrier is 'natural gas' (0.24): copied with another carrier? leave "
+        "emission_factor out to take natural gas's, or give your own"
+    ]
+    # a heat pump's efficiency is its seasonal COP: 3 assumed aloud, below 1 refused
+    assumed = parse_config(_cfg(economics={"energy_carrier": "heat_pump", "energy_price": 0.3}))
+    assert assumed.economics.system_efficiency == 3.0
+    assert assumed.economics_notes() == [
+        "economics: system_efficiency 3 assumed for 'heat_pump' (its seasonal COP: useful heat / "
+        "electricity over the year, about 2.5-3.5 air-water, 4 brine-water); set "
+        "economics.system_efficiency"
+    ]
+    with pytest.raises(ThermocalInputError, match="a heat pump's is its seasonal COP"):
+        parse_config(_cfg(economics={"energy_carrier": "heat pump", "system_efficiency": 0.85}))
+    # a carrier without a known emission factor keeps the oil's and says so
+    district = parse_config(_cfg(economics={"energy_carrier": "district heating"}))
+    assert district.economics.emission_factor == 0.310
+    assert "set economics.energy_price and emission_factor for district heating" in (
+        district.economics_notes()[0]
+    )
+    # heating oil, the default: nothing to say
+    assert parse_config(_cfg()).economics_notes() == []
+
+
+def test_the_measured_boilers_efficiency_is_the_default_system_efficiency():
+    """Fuzzing r09: a fuel meter with ``boiler_efficiency: 0.95`` beside the default
+    ``system_efficiency`` 0.85 made the final energy, cost and CO2 11.8 % too large, and
+    ``reference.boiler_efficiency`` could differ from both without a note."""
+    fuel = {"file": "m.csv", "heat_source": "fuel_meter", "heat_unit": "kWh",
+            "columns": {"heat": "fuel_kWh"}, "boiler_efficiency": 0.95}  # fmt: skip
+    measured = parse_config(_cfg(measurements=fuel))
+    assert measured.economics.system_efficiency == 0.95 and measured.economics_notes() == []
+    other = parse_config(_cfg(measurements=fuel, economics={"system_efficiency": 0.85}))
+    assert other.economics.system_efficiency == 0.85  # given: it wins
+    (note,) = other.economics_notes()
+    assert note.startswith("measurements.boiler_efficiency 0.95 differs from the system "
+                           "efficiency of the final energy, cost and CO2, 0.85")  # fmt: skip
+    assert note.endswith("for the same boiler set economics.system_efficiency: 0.95")
+    reference = parse_config(_cfg(reference={"boiler_efficiency": 0.9}))
+    assert reference.economics.system_efficiency == 0.85
+    assert reference.economics_notes()[0].startswith("reference.boiler_efficiency 0.9 differs")
+    # a heat pump replacing the boiler: its own efficiency, nothing to agree with
+    pump = parse_config(_cfg(measurements=fuel, economics={
+        "energy_carrier": "heat pump", "system_efficiency": 3.2, "energy_price": 0.3}))
+    assert pump.economics.system_efficiency == 3.2 and pump.economics_notes() == []
+
+
+def test_a_measure_may_name_every_component_a_measure_acts_on():
+    """Fuzzing r50: ``component: attic_ceiling`` was refused with a list of the allowed parts
+    that left out attic_ceiling and wall_to_unheated (a measure *named* attic_ceiling worked),
+    so two attic options could not be compared."""
+    from thermocal.retrofit.strategies import MEASURE_COMPONENTS
+
+    cfg = parse_config(_cfg(measures={
+        "attic_15cm": {"component": "attic_ceiling", "u_value": 0.25, "cost_per_m2": 40},
+        "attic_25cm": {"component": "attic_ceiling", "u_value": 0.15, "cost_per_m2": 60},
+        "garage_wall": {"component": "wall_to_unheated", "u_value": 0.3},
+    }))  # fmt: skip
+    objs = cfg.measure_objects()
+    assert objs["attic_25cm"].component == "attic_ceiling"
+    assert objs["garage_wall"].component == "wall_to_unheated"
+    strategies = [set(s.measures) for s in cfg.strategy_list()]
+    assert {"attic_15cm"} in strategies and {"attic_25cm", "garage_wall"} in strategies
+    assert not any({"attic_15cm", "attic_25cm"} <= s for s in strategies)  # one ceiling
+    with pytest.raises(ThermocalInputError) as info:
+        parse_config(_cfg(measures={"x": {"component": "attic", "u_value": 0.2}}))
+    assert all(repr(c) in str(info.value) for c in MEASURE_COMPONENTS), str(info.value)

@@ -456,3 +456,110 @@ def test_an_impossible_date_in_the_periods_is_refused_with_its_key(tmp_path):
     path.write_text(text.replace("\nperiods:\n", "\nperiods:\n  training_start: 2005-02-30\n", 1))
     with pytest.raises(ThermocalInputError, match=r"training_start.*'2005-02-30' is not a date"):
         load_config(path)
+
+
+def _measurements(**keys) -> dict:
+    from thermocal.retrofit.config import parse_config
+
+    return parse_config(
+        {"building": "b.yaml", "measurements": {"file": "m.csv", **keys},
+         "weather": {"file": "w.epw"}},
+        source="cfg.yaml",
+    )  # fmt: skip
+
+
+def test_a_heat_meter_beside_the_hydronic_heat_source_is_refused():
+    """Fuzzing r07: ``columns.heat`` and ``heat_unit: kWh`` under the default
+    ``heat_source: hydronic`` were ignored without a word (the results equal the flow's), and
+    a user with a flow sensor and a heat meter believed the meter was used."""
+    with pytest.raises(ThermocalInputError, match=(
+        r"measurements: columns\.heat \('Q_kW'\) and heat_unit \('kWh'\): a heat or fuel "
+        r"meter's keys, but heat_source is 'hydronic' .* or remove columns\.heat and heat_unit"
+    )):  # fmt: skip
+        _measurements(columns={"heat": "Q_kW"}, heat_unit="kWh")
+    with pytest.raises(ThermocalInputError, match="heat_cumulative: a heat or fuel meter's key"):
+        _measurements(heat_cumulative=True)
+    # the example configuration's heat_unit: kW (the default) and a meter that is used pass
+    _measurements(heat_unit="kW", heat_cumulative=False)
+    _measurements(heat_source="heat_meter", columns={"heat": "Q_kW"}, heat_unit="kWh")
+
+
+@pytest.mark.parametrize(
+    ("measurements", "economics", "words"),
+    [
+        ({"heat_unit": "m3", "fuel_kWh_per_unit": 37.8}, {},
+         r"37\.8 kWh per m3 is no fuel gas's .*looks like MJ/m3: divide by 3\.6 and write 10\.5"),
+        ({"heat_unit": "l", "fuel_kWh_per_unit": 36.0}, {},
+         r"36 kWh per l is no liquid fuel's .*looks like MJ/l: divide by 3\.6 and write 10$"),
+        ({"heat_unit": "m3", "fuel_kWh_per_unit": 20.0}, {"energy_carrier": "natural gas"},
+         r"20 kWh per m3 is not natural gas's \(economics\.energy_carrier: 8-12\.5 kWh/m3\)"),
+    ],
+)  # fmt: skip
+def test_a_fuels_energy_per_unit_in_megajoules_is_refused(measurements, economics, words):
+    """Fuzzing v35: ``fuel_kWh_per_unit: 37.8`` (natural gas in MJ/m3) was accepted; verify
+    then gave an HLC of 1,245 instead of 578 W/K and blamed ASHRAE Guideline 14 alone."""
+    from thermocal.retrofit.config import parse_config
+
+    fuel = {"file": "m.csv", "heat_source": "fuel_meter", "columns": {"heat": "fuel"},
+            "boiler_efficiency": 0.9, **measurements}  # fmt: skip
+    config = {"building": "b.yaml", "measurements": fuel, "weather": {"file": "w.epw"}}
+    with pytest.raises(ThermocalInputError, match=words):
+        parse_config({**config, "economics": economics}, source="cfg.yaml")
+    # the fuels of those units, in kWh, pass: natural gas, propane without a carrier, LPG, oil
+    for unit, value in (("m3", 10.5), ("m3", 26.0), ("l", 7.0), ("l", 10.0)):
+        ok = {**fuel, "heat_unit": unit, "fuel_kWh_per_unit": value}
+        parse_config({**config, "measurements": ok}, source="cfg.yaml")
+
+
+def test_internal_gains_beyond_a_homes_per_floor_area_are_refused(tmp_path):
+    """Fuzzing r12: ``constant_W: 40000`` (182 W per m2 of heated floor) was accepted; the
+    calibration failed its validation (bias +16 K) and the summary crashed (below)."""
+    import yaml
+    from retrofit_synthetic import building_dict
+
+    from thermocal.retrofit.config import parse_config
+    from thermocal.retrofit.workflow import run_retrofit
+
+    building = building_dict()
+    (tmp_path / "b.yaml").write_text(yaml.safe_dump(building))
+    area = float(building["heated_floor_area"])
+    for gains, words in (
+        ({"source": "constant", "constant_W": 200.0 * area},
+         rf"internal_gains\.constant_W: {200 * area:,.0f} W is 200 W per m2 of heated floor"),
+        ({"source": "schedule", "schedule_W": [150.0 * area] * 24},
+         r"internal_gains\.schedule_W: .* W on average is 150 W per m2"),
+    ):  # fmt: skip
+        cfg = parse_config(
+            {"building": "b.yaml", "measurements": {"file": "missing.csv"},
+             "weather": {"file": "missing.epw"}, "internal_gains": gains},
+            base_dir=tmp_path, source="cfg.yaml",
+        )  # fmt: skip
+        with pytest.raises(ThermocalInputError, match=words):
+            run_retrofit(cfg)  # refused before the measurements are read
+
+
+def test_the_summary_shows_a_missing_interval_end_as_na(capsys, tmp_path):
+    """Fuzzing r12: a failed calibration whose draws left no demand to save from gave null
+    interval ends in results.json, and the terminal summary crashed on them (TypeError in
+    ``print_summary``, exit 70) after the outputs were written."""
+    from thermocal.commands.retrofit import print_summary
+
+    scenario = {"code": "0", "measures": [], "annual_kWh": 2294.0, "saving_pct": 0.0,
+                "saving_pct_p05": 0.0, "saving_pct_p95": 0.0, "saving_pct_mcse": 0.0,
+                "economics": {"investment": 0.0, "cost_saving_per_year": 0.0}}  # fmt: skip
+    results = {
+        "heat_loss_coefficient_W_per_K": {"value": 1859.0, "std": 122.0, "p05": 1478.0,
+                                          "p95": 1871.0},
+        "annual_heating_demand_kWh": {"value": 2294.0, "p05": 0.0, "p95": 5244.0},
+        "validation": {},
+        "scenarios": [scenario, {**scenario, "code": "1a", "measures": ["roof"],
+                                 "annual_kWh": 57.6, "saving_pct": 97.5, "saving_pct_p05": None,
+                                 "saving_pct_p95": None}],
+        "economics": {"currency": "CHF"},
+        "calibration": {"flags": []},
+    }  # fmt: skip
+    print_summary(results, tmp_path)
+    rows = {line.split()[0]: line.split() for line in capsys.readouterr().out.splitlines()
+            if line.strip()}  # fmt: skip
+    assert rows["1a"][:5] == ["1a", "R", "58", "97.5", "n/a"]
+    assert rows["0"][:5] == ["0", "none", "2,294", "0.0", "0–0"]

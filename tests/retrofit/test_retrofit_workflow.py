@@ -42,6 +42,17 @@ def test_recovers_known_heat_loss_coefficient(synthetic):
     assert results["validation"]["test"]["mae"] < 0.5
 
 
+def test_the_economics_notes_reach_the_results(synthetic):
+    """Fuzzing r09, r26: the economics' contradictions were said nowhere. The synthetic
+    configuration's ``reference.boiler_efficiency: 0.9`` beside the default system efficiency
+    0.85 is one: a note in results.json (and the report and the terminal)."""
+    _, _, _, results = synthetic
+    assert any(
+        note.startswith("reference.boiler_efficiency 0.9 differs from the system efficiency")
+        for note in results["notes"]
+    ), results["notes"]
+
+
 def test_outputs_complete(synthetic):
     folder, _, _, results = synthetic
     out = folder / "out"

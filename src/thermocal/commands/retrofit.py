@@ -25,6 +25,27 @@ def measure_abbreviations(names) -> dict[str, str]:
     return out
 
 
+def interval_text(low, high, spec: str = ".0f") -> str:
+    """An interval's two ends as ``low–high``, or ``n/a`` when an end is missing.
+
+    A saving's interval has no end when draws leave no demand to save from (a calibration that
+    failed its validation: internal gains larger than the losses), and results.json then holds
+    null.
+
+    Parameters
+    ----------
+    low, high : float or None
+        The ends, any unit (formatted as given).
+    spec : str
+        Format specification of each end.
+    """
+    from thermocal.jsonsafe import json_number
+
+    if json_number(low) is None or json_number(high) is None:
+        return "n/a"
+    return f"{format(low, spec)}–{format(high, spec)}"
+
+
 def print_summary(results: dict, out: Path) -> None:
     """Rich tables of the key results (stdout): HLC, validation, annual demand, strategies.
 
@@ -109,11 +130,11 @@ def print_summary(results: dict, out: Path) -> None:
         row = [
             s["code"],
             label,
-            f"{s['annual_kWh']:,.0f}",
-            f"{s['saving_pct']:.1f}",
+            format_number(s["annual_kWh"], ",.0f"),
+            format_number(s["saving_pct"], ".1f"),
         ]
         if intervals:
-            row.append(f"{s['saving_pct_p05']:.0f}–{s['saving_pct_p95']:.0f}")
+            row.append(interval_text(s["saving_pct_p05"], s["saving_pct_p95"]))
         if eco:
             e = s.get("economics", {})
             payback = e.get("payback_years")
@@ -393,8 +414,11 @@ def retrofit(
         ):
             result = run_detailed_retrofit(cfg, detailed, setpoint=setpoint, progress=status.update)
             det = detailed_results(result, cfg)
+            det["notes"] = cfg.economics_notes() + det["notes"]
             _add_detailed(tmp, det, "report.html")
         print_detailed_summary(det)
+        for note in cfg.economics_notes():
+            logging.getLogger("thermocal.retrofit").warning("%s", note)
         console.print(f"results in {out} (results.json, strategies_detailed.csv, report.html)")
         return
     cfg = load_config(config)
@@ -422,7 +446,7 @@ def retrofit(
 
             result = run_detailed_retrofit(cfg, detailed, setpoint=setpoint, progress=status.update)
             det = detailed_results(result, cfg)
-            det["notes"] = pair_notes + det["notes"]
+            det["notes"] = pair_notes + cfg.economics_notes() + det["notes"]
             _add_detailed(tmp, det, "report_detailed.html")
     print_summary(results, out)
     if advice is not None:

@@ -24,6 +24,7 @@ from pydantic import (
     ConfigDict,
     Field,
     PositiveFloat,
+    PrivateAttr,
     ValidationError,
     field_validator,
     model_validator,
@@ -156,6 +157,63 @@ class _Strict(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
 
+#: Energy of one unit of a fuel [kWh] (the bill's calorific value) per unit a fuel meter may be
+#: read in, for any fuel sold by that unit: fuel gases from biogas (about 6 kWh/m3) over
+#: natural gas (8-12.5) to propane (about 26); liquid fuels from LPG (about 7 kWh/l) to heating
+#: oil (about 10).
+FUEL_KWH_PER_UNIT_RANGE: dict[str, tuple[float, float]] = {"m3": (4.0, 28.5), "l": (5.0, 11.5)}
+#: The same for a known fuel (``economics.energy_carrier`` given): natural gas per m3 (L- to
+#: H-gas, lower to upper calorific value), heating oil per l.
+CARRIER_KWH_PER_UNIT_RANGE: dict[tuple[str, str], tuple[float, float]] = {
+    ("natural gas", "m3"): (8.0, 12.5),
+    ("heating oil", "l"): (9.0, 11.0),
+}
+#: Megajoules per kilowatt-hour.
+MJ_PER_KWH = 3.6
+
+
+def fuel_energy_problem(value: float, unit: str, carrier: str | None = None) -> str | None:
+    """Why ``measurements.fuel_kWh_per_unit`` is no fuel's energy per unit, or None.
+
+    Parameters
+    ----------
+    value : float
+        The configured energy of one unit of fuel [kWh per m3 or l].
+    unit : {"m3", "l"}
+        The fuel meter's unit (``measurements.heat_unit``).
+    carrier : str, optional
+        The fuel when known (:func:`energy_carrier_name` of ``economics.energy_carrier``);
+        with a range in :data:`CARRIER_KWH_PER_UNIT_RANGE` that fuel's range is checked,
+        otherwise :data:`FUEL_KWH_PER_UNIT_RANGE`.
+
+    Returns
+    -------
+    str or None
+        The reason, with the value in kWh when it looks like megajoules (a factor 3.6).
+    """
+    known = (carrier, unit) in CARRIER_KWH_PER_UNIT_RANGE
+    low, high = (CARRIER_KWH_PER_UNIT_RANGE if known else FUEL_KWH_PER_UNIT_RANGE)[
+        (carrier, unit) if known else unit
+    ]
+    if low <= value <= high:
+        return None
+    fuels = {"m3": "biogas about 6, natural gas 8-12.5, propane about 26 kWh/m3",
+             "l": "LPG about 7, heating oil about 10 kWh/l"}[unit]  # fmt: skip
+    kind = {"m3": "fuel gas", "l": "liquid fuel"}[unit]
+    reason = (
+        f"{value:g} kWh per {unit} is not {carrier}'s (economics.energy_carrier: {low:g}-"
+        f"{high:g} kWh/{unit})"
+        if known
+        else f"{value:g} kWh per {unit} is no {kind}'s ({low:g}-{high:g} kWh/{unit}: {fuels})"
+    )
+    if low <= value / MJ_PER_KWH <= high:
+        return (
+            f"{reason}; {value:g} looks like MJ/{unit}: divide by {MJ_PER_KWH:g} and write "
+            f"{value / MJ_PER_KWH:.3g}"
+        )
+    return f"{reason}; give the energy of one {unit} in kWh (the fuel bill's calorific value)"
+
+
 class MeasurementsConfig(_Strict):
     """Where the measurements are and how their columns are named."""
 
@@ -192,8 +250,7 @@ class MeasurementsConfig(_Strict):
     )
     fuel_kWh_per_unit: float | None = Field(
         None,
-        gt=1.0,
-        le=40.0,
+        gt=0.0,
         description="energy of one m3 or l of fuel [kWh] (the gas bill's calorific value, e.g. "
         "10.5 kWh/m3 for natural gas; about 10 kWh/l for heating oil)",
     )
@@ -213,6 +270,33 @@ class MeasurementsConfig(_Strict):
     def irradiance_columns(self) -> tuple[str, ...]:
         """The irradiance columns read from the file (standard names)."""
         return ("ghi",) if self.irradiance == "ghi" else ("dni", "dhi")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _meter_keys_need_a_meter(cls, data: Any) -> Any:
+        """Refuse a heat meter's column or unit beside ``heat_source: hydronic``, which
+        computes the heat from the flow and the water temperatures and would ignore them."""
+        if not isinstance(data, dict) or data.get("heat_source", "hydronic") != "hydronic":
+            return data
+        columns = data.get("columns")
+        ignored = []
+        if isinstance(columns, dict) and "heat" in columns:
+            ignored.append(f"columns.heat ({columns['heat']!r})")
+        if data.get("heat_unit", "kW") != "kW":
+            ignored.append(f"heat_unit ({data['heat_unit']!r})")
+        if data.get("heat_cumulative"):
+            ignored.append("heat_cumulative")
+        if ignored:
+            raise ValueError(
+                f"{' and '.join(ignored)}: a heat or fuel meter's "
+                f"{'key' if len(ignored) == 1 else 'keys'}, but heat_source is 'hydronic' (the "
+                "default), which computes the heat from flow x "
+                "(supply - return) and ignores the meter: set heat_source: heat_meter (the "
+                "meter gives the useful heat) or fuel_meter (fuel energy, with "
+                "boiler_efficiency) to use it, or remove "
+                + " and ".join(key.split(" ")[0] for key in ignored)
+            )
+        return data
 
     @model_validator(mode="after")
     def _fuel_needs_efficiency(self) -> MeasurementsConfig:
@@ -243,6 +327,10 @@ class MeasurementsConfig(_Strict):
                 "measurements.fuel_kWh_per_unit applies to a fuel meter read in m3 or l "
                 "(heat_unit)"
             )
+        if volume:
+            why = fuel_energy_problem(self.fuel_kWh_per_unit, self.heat_unit)
+            if why is not None:
+                raise ValueError(f"fuel_kWh_per_unit {why}")
         if self.heat_cumulative and self.heat_unit in ("W", "kW"):
             raise ValueError(
                 f"measurements.heat_cumulative: a meter reading is an energy, not a power "
@@ -726,21 +814,18 @@ class ReferenceConfig(_Strict):
         return value
 
 
+#: What a measure can act on (``measures.<name>.component``): every part of
+#: :data:`thermocal.retrofit.strategies.MEASURE_COMPONENTS`, so that two options on one part
+#: (an attic ceiling with 15 or 25 cm) can be compared under names of their own.
+MeasureComponent = Literal[MEASURE_COMPONENTS]
+
+
 class MeasureConfig(_Strict):
     """One retrofit measure (see :class:`thermocal.retrofit.strategies.Measure`)."""
 
-    component: (
-        Literal[
-            "roof",
-            "walls",
-            "windows",
-            "cellar_ceiling",
-            "ground_floor",
-            "airtightness",
-            "heat_recovery",
-        ]
-        | None
-    ) = Field(None, description="what it acts on (default: the measure's name)")
+    component: MeasureComponent | None = Field(
+        None, description="what it acts on (default: the measure's name)"
+    )
     u_value: float | None = Field(None, ge=0.05, le=6.0, description="U after retrofit [W/(m2 K)]")
     g_value: float | None = Field(None, gt=0.0, lt=1.0, description="window g-value after [-]")
     air_change_rate_change: float = Field(
@@ -770,26 +855,96 @@ MAX_ENERGY_PRICE = 2.0
 MAJOR_CURRENCIES = frozenset({"CHF", "EUR", "USD", "GBP", "CAD", "AUD", "NZD"})
 
 
+#: Emission factor of final energy per energy carrier [kg CO2-eq/kWh]: GEG (2020) Anlage 9,
+#: the values docs/retrofit.md gives; a heat pump's final energy is grid electricity.
+CARRIER_EMISSION_FACTORS: dict[str, float] = {
+    "heating oil": 0.310,
+    "natural gas": 0.240,
+    "electricity": 0.560,
+    "heat pump": 0.560,
+    "wood": 0.020,
+}
+#: Other spellings of the carriers of :data:`CARRIER_EMISSION_FACTORS` (lower case, with
+#: ``_`` and ``-`` read as spaces); any text with "heat pump" in it is a heat pump.
+CARRIER_ALIASES: dict[str, str] = {
+    "oil": "heating oil",
+    "fuel oil": "heating oil",
+    "heating fuel oil": "heating oil",
+    "gas": "natural gas",
+    "grid electricity": "electricity",
+    "electric": "electricity",
+    "direct electric": "electricity",
+    "electric heating": "electricity",
+    "wood pellets": "wood",
+    "pellets": "wood",
+    "wood chips": "wood",
+    "firewood": "wood",
+    "logs": "wood",
+}
+#: Annual system efficiency of a boiler with its distribution (useful heat / final energy)
+#: [-]: the default of ``economics.system_efficiency`` for the fuels.
+BOILER_SYSTEM_EFFICIENCY = 0.85
+#: Default system efficiency [-] of the carriers a boiler's cannot stand for: direct electric
+#: heating turns all its electricity into heat; a heat pump's is its seasonal performance
+#: factor (useful heat / electricity over the year; about 2.5-3.5 air-water, 4 brine-water).
+CARRIER_SYSTEM_EFFICIENCY: dict[str, float] = {"electricity": 1.0, "heat pump": 3.0}
+
+
+def energy_carrier_name(text: str) -> str | None:
+    """The carrier of :data:`CARRIER_EMISSION_FACTORS` that ``economics.energy_carrier`` names.
+
+    Parameters
+    ----------
+    text : str
+        The energy carrier as written, e.g. ``"Natural gas"``, ``"air-source heat pump"``.
+
+    Returns
+    -------
+    str or None
+        ``"heating oil"``, ``"natural gas"``, ``"electricity"``, ``"heat pump"`` or ``"wood"``;
+        None for a carrier without a default (district heating, propane, ...).
+    """
+    words = " ".join(text.lower().replace("_", " ").replace("-", " ").split())
+    if "heat pump" in words or "heatpump" in words:
+        return "heat pump"
+    if words in CARRIER_EMISSION_FACTORS:
+        return words
+    return CARRIER_ALIASES.get(words)
+
+
 class EconomicsConfig(_Strict):
     """Final energy, running cost, CO2 and payback of the strategies.
 
     The defaults are documented in docs/retrofit.md with their sources; they are placeholders
     of the right order of magnitude for an oil-heated Swiss house, not advice: set your own.
+    ``energy_carrier`` sets the defaults of ``emission_factor`` (:data:`CARRIER_EMISSION_FACTORS`)
+    and of ``system_efficiency`` (:data:`CARRIER_SYSTEM_EFFICIENCY`; with a fuel meter, the
+    measured boiler's: ``RetrofitConfig._economics_of_the_measured_boiler``); a value given
+    always wins.
+    The price has no default per carrier (tariffs differ by country and year):
+    :meth:`RetrofitConfig.economics_notes` says when a carrier other than heating oil keeps the
+    oil price.
     """
 
     currency: str = "CHF"
     energy_carrier: str = "heating oil"
     system_efficiency: float = Field(
-        0.85,
+        BOILER_SYSTEM_EFFICIENCY,
         gt=0.1,
         le=5.0,
         description="useful heat / final energy over the year [-] "
-        "(boiler + distribution; a heat pump's seasonal COP > 1)",
+        "(boiler + distribution; a heat pump's seasonal COP > 1); default from the carrier",
     )
     energy_price: float = Field(0.12, ge=0, description="price of final energy [currency/kWh]")
     emission_factor: float = Field(
-        0.310, ge=0, description="greenhouse-gas emissions of final energy [kg CO2-eq/kWh]"
+        0.310,
+        ge=0,
+        description="greenhouse-gas emissions of final energy [kg CO2-eq/kWh]; default from the "
+        "carrier (GEG 2020: heating oil 0.310, natural gas 0.240, electricity and heat pump "
+        "0.560, wood 0.020)",
     )
+    #: The keys the configuration gave (the others are defaults).
+    _given: frozenset[str] = PrivateAttr(frozenset())
 
     @field_validator("emission_factor")
     @classmethod
@@ -814,6 +969,34 @@ class EconomicsConfig(_Strict):
                 )
             )
         return self
+
+    @model_validator(mode="after")
+    def _carrier_defaults(self) -> EconomicsConfig:
+        """The carrier's emission factor and system efficiency where none is given; a heat
+        pump's given efficiency must be a seasonal COP (above 1)."""
+        self._given = frozenset(self.model_fields_set)
+        carrier = self.carrier()
+        if carrier is None:
+            return self
+        if "emission_factor" not in self._given:
+            self.emission_factor = CARRIER_EMISSION_FACTORS[carrier]
+        if "system_efficiency" not in self._given and carrier in CARRIER_SYSTEM_EFFICIENCY:
+            self.system_efficiency = CARRIER_SYSTEM_EFFICIENCY[carrier]
+        if carrier == "heat pump" and self.system_efficiency <= 1.0:
+            raise ValueError(
+                f"system_efficiency {self.system_efficiency:g} with energy_carrier "
+                f"{self.energy_carrier!r}: a heat pump's is its seasonal COP (useful heat / "
+                "electricity over the year, about 2.5-3.5 air-water, 4 brine-water), above 1"
+            )
+        return self
+
+    def carrier(self) -> str | None:
+        """The carrier with defaults that ``energy_carrier`` names (:func:`energy_carrier_name`)."""
+        return energy_carrier_name(self.energy_carrier)
+
+    def given(self, key: str) -> bool:
+        """Whether the configuration gave ``key`` (False: a default)."""
+        return key in self._given
 
 
 class DemandConfig(_Strict):
@@ -854,6 +1037,63 @@ def _short_form_measure(name: str, u_value: float) -> MeasureConfig:
             f"measure {name!r} = {u_value!r} (the U-value after the retrofit [W/(m2 K)]): "
             f"{reason}"
         ) from None
+
+
+def _oil_defaults_note(eco: EconomicsConfig, carrier: str | None) -> list[str]:
+    """The note on a carrier other than heating oil that keeps the oil's price or (a carrier
+    without a known emission factor) its emission factor, or none.
+
+    Parameters
+    ----------
+    eco : EconomicsConfig
+    carrier : str or None
+        :func:`energy_carrier_name` of ``eco.energy_carrier``.
+    """
+    uses = {
+        "energy_price": (f"{eco.currency}/kWh", "the running costs and paybacks"),
+        "emission_factor": ("kg CO2-eq/kWh", "the CO2"),
+    }
+    kept = [key for key in uses if not eco.given(key) and (key == "energy_price" or not carrier)]
+    if not kept:
+        return []
+    unknown = "" if carrier else (
+        f" (none of {', '.join(CARRIER_EMISSION_FACTORS)}, whose emission factors are known)"
+    )  # fmt: skip
+    values = " and ".join(
+        f"{key} {getattr(eco, key):g} {uses[key][0]} ({uses[key][1]})" for key in kept
+    )
+    return [
+        f"economics: energy_carrier {eco.energy_carrier!r}{unknown} keeps heating oil's "
+        f"{values}; set economics.{' and '.join(kept)} for "
+        + ("the heat pump's electricity" if carrier == "heat pump" else eco.energy_carrier)
+    ]
+
+
+def _other_carriers_factor_note(eco: EconomicsConfig, carrier: str | None) -> list[str]:
+    """The note on an emission factor given as another carrier's (the example configuration's
+    heating-oil 0.310 kept beside ``energy_carrier: natural gas``), or none.
+
+    Parameters
+    ----------
+    eco : EconomicsConfig
+    carrier : str or None
+        :func:`energy_carrier_name` of ``eco.energy_carrier``.
+    """
+    if carrier is None or not eco.given("emission_factor"):
+        return []
+    own = CARRIER_EMISSION_FACTORS[carrier]
+    other = next(
+        (name for name, factor in CARRIER_EMISSION_FACTORS.items()
+         if factor != own and abs(factor - eco.emission_factor) < 1e-9),
+        None,
+    )  # fmt: skip
+    if other is None:
+        return []
+    return [
+        f"economics: emission_factor {eco.emission_factor:g} kg CO2-eq/kWh is {other}'s (GEG "
+        f"2020), but energy_carrier is {eco.energy_carrier!r} ({own:g}): copied with another "
+        f"carrier? leave emission_factor out to take {carrier}'s, or give your own"
+    ]
 
 
 class RetrofitConfig(_Strict):
@@ -958,6 +1198,75 @@ class RetrofitConfig(_Strict):
         if self.strategies is not None:
             return listed_strategies(self.strategies, measures)
         return all_strategies(tuple(measures), {n: m.component for n, m in measures.items()})
+
+    @model_validator(mode="after")
+    def _economics_of_the_measured_boiler(self) -> RetrofitConfig:
+        """With a fuel meter, the measured boiler's efficiency is the default system efficiency
+        (the calibration turned the fuel into useful heat with it); a known fuel's energy per
+        m3 or l is checked against that fuel's range."""
+        mc, eco = self.measurements, self.economics
+        if mc is None or mc.heat_source != "fuel_meter":
+            return self
+        carrier = eco.carrier() if eco.given("energy_carrier") else None
+        if not eco.given("system_efficiency") and carrier not in CARRIER_SYSTEM_EFFICIENCY:
+            eco.system_efficiency = mc.boiler_efficiency
+        if mc.fuel_kWh_per_unit is not None:
+            why = fuel_energy_problem(mc.fuel_kWh_per_unit, mc.heat_unit, carrier)
+            if why is not None:
+                raise ValueError(f"measurements.fuel_kWh_per_unit {why}")
+        return self
+
+    def economics_notes(self) -> list[str]:
+        """What the economics take from a default that may not fit the configured house.
+
+        A carrier other than heating oil that keeps the oil price (or, without a known emission
+        factor, the oil's), a heat pump's assumed seasonal COP, and a system efficiency other
+        than the boiler efficiency the measurements or the reference use.
+
+        Returns
+        -------
+        list of str
+            One note per finding, each naming the keys to set.
+        """
+        eco = self.economics
+        carrier = eco.carrier()
+        notes = []
+        if carrier != "heating oil":
+            notes += _oil_defaults_note(eco, carrier)
+        notes += _other_carriers_factor_note(eco, carrier)
+        if carrier in CARRIER_SYSTEM_EFFICIENCY and not eco.given("system_efficiency"):
+            notes.append(
+                f"economics: system_efficiency {eco.system_efficiency:g} assumed for "
+                f"{eco.energy_carrier!r}"
+                + (
+                    " (its seasonal COP: useful heat / electricity over the year, about 2.5-3.5 "
+                    "air-water, 4 brine-water)"
+                    if carrier == "heat pump"
+                    else " (direct electric heating; for a heat pump give its seasonal COP)"
+                )
+                + "; set economics.system_efficiency"
+            )
+        if carrier in CARRIER_SYSTEM_EFFICIENCY:  # a new system: no boiler to agree with
+            return notes
+        fuel_meter = self.measurements is not None and self.measurements.heat_source == "fuel_meter"
+        if eco.given("system_efficiency"):
+            used = "economics.system_efficiency"
+        elif fuel_meter:
+            used = "measurements.boiler_efficiency, the default of economics.system_efficiency"
+        else:
+            used = "the default of economics.system_efficiency"
+        for key, value in (
+            ("measurements.boiler_efficiency", self.measurements.boiler_efficiency
+             if fuel_meter else None),
+            ("reference.boiler_efficiency", self.reference.boiler_efficiency),
+        ):  # fmt: skip
+            if value is not None and abs(value - eco.system_efficiency) > 0.005:
+                notes.append(
+                    f"{key} {value:g} differs from the system efficiency of the final energy, "
+                    f"cost and CO2, {eco.system_efficiency:g} ({used}): right for a new heating "
+                    f"system; for the same boiler set economics.system_efficiency: {value:g}"
+                )
+        return notes
 
     @model_validator(mode="after")
     def _strategies(self) -> RetrofitConfig:

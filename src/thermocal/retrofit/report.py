@@ -38,6 +38,52 @@ ECONOMICS_SOURCES = {
 }
 
 
+def economics_source(config, key: str) -> str:
+    """Where the value of ``economics.<key>`` comes from, for the report's assumptions.
+
+    Parameters
+    ----------
+    config : RetrofitConfig
+    key : {"system_efficiency", "energy_price", "emission_factor"}
+
+    Returns
+    -------
+    str
+        "given in the configuration", the carrier's default with its source, the measured
+        boiler's efficiency, or the heating-oil placeholder of :data:`ECONOMICS_SOURCES`.
+    """
+    from thermocal.retrofit.config import CARRIER_SYSTEM_EFFICIENCY
+
+    eco = config.economics
+    if eco.given(key):
+        return f"given in the configuration (economics.{key})"
+    carrier = eco.carrier()
+    measurements = config.measurements
+    if key == "system_efficiency":
+        if carrier in CARRIER_SYSTEM_EFFICIENCY:
+            return (
+                f"default for {carrier} (useful heat per kWh of electricity"
+                + (": an assumed seasonal COP" if carrier == "heat pump" else "")
+                + "); set economics.system_efficiency"
+            )
+        if measurements is not None and measurements.heat_source == "fuel_meter":
+            return (
+                "the measured boiler's (measurements.boiler_efficiency, with which the fuel "
+                "meter was turned into useful heat); set economics.system_efficiency"
+            )
+    if key == "emission_factor" and carrier not in (None, "heating oil"):
+        return (
+            f"{refs.GEG_2020.key}: {carrier} {1000 * eco.emission_factor:.0f} g CO2-eq/kWh; "
+            "set economics.emission_factor"
+        )
+    if key == "energy_price" and carrier != "heating oil":
+        return (
+            f"not {eco.energy_carrier}'s: {ECONOMICS_SOURCES['energy_price']} (the heating-oil "
+            "placeholder)"
+        )
+    return ECONOMICS_SOURCES[key]
+
+
 def _money(value, currency: str) -> str:
     return f"{format_number(value, ',.0f')} {currency}"
 
@@ -140,8 +186,8 @@ def write_report(
         advice = (
             f"We recommend strategy {rec['code']} ({_measures_label(names)}): it saves about "
             f"{srow['saving_pct']:.0f} % of the heat"
-            + (f" ({pct} interval {srow['saving_pct_p05']:.0f} to {srow['saving_pct_p95']:.0f} "
-               "%)" if intervals else "")
+            + (f" ({pct} interval {format_number(srow['saving_pct_p05'], '.0f')} to "
+               f"{format_number(srow['saving_pct_p95'], '.0f')} %)" if intervals else "")
             + f", about {_money(r['cost_saving_per_year'], cur)}"
             f" and {r['co2_saving_kg_per_year'] / 1000:,.1f} t CO2 a year, costs about "
             f"{_money(r['investment'], cur)} and pays for itself in about "
@@ -269,8 +315,8 @@ def write_report(
     e.insert(1, "measures", [_measures_label(s.measures) for s in analysis.strategies])
     e["saving [%]"] = scen["saving_pct"].to_numpy()
     e["saving interval [%]"] = [
-        f"{a:.0f} – {c:.0f}" for a, c in zip(scen["saving_pct_p05"], scen["saving_pct_p95"],
-                                             strict=True)
+        f"{format_number(a, '.0f')} – {format_number(c, '.0f')}"
+        for a, c in zip(scen["saving_pct_p05"], scen["saving_pct_p95"], strict=True)
     ]  # fmt: skip
     e["payback interval [a]"] = [
         "" if not np.isfinite(p) else f"{format_number(a, '.0f')} – {format_number(c, '.0f', '∞')}"
@@ -630,11 +676,11 @@ def _assumptions(rep, analysis: RetrofitAnalysis, results: dict) -> None:
         ("Retrofits", "change U-values (and for windows optionally the g-value) of the "
          "components; heat capacities and the estimated H_est stay as calibrated"),
         ("Heating system", f"{eco.energy_carrier}, annual efficiency {eco.system_efficiency:g} "
-         f"(useful heat / final energy). Source: {ECONOMICS_SOURCES['system_efficiency']}"),
+         f"(useful heat / final energy). Source: {economics_source(cfg, 'system_efficiency')}"),
         ("Energy price", f"{eco.energy_price:g} {eco.currency}/kWh of final energy. Source: "
-         f"{ECONOMICS_SOURCES['energy_price']}"),
+         f"{economics_source(cfg, 'energy_price')}"),
         ("Emission factor", f"{eco.emission_factor:g} kg CO2-eq/kWh of final energy. Source: "
-         f"{ECONOMICS_SOURCES['emission_factor']}"),
+         f"{economics_source(cfg, 'emission_factor')}"),
         ("Measure costs", ECONOMICS_SOURCES["measure_costs"]),
     ]  # fmt: skip
     rep.table(pd.DataFrame(rows, columns=["assumption", "value"]), caption="Assumptions")

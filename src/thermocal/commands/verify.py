@@ -11,6 +11,18 @@ import typer
 from thermocal.cli import app
 
 
+def _number(value: float | None, spec: str, unit: str) -> str:
+    """A figure with its unit; "n/a" for one not computed (None in verify.json: NaN)."""
+    return "n/a" if value is None else f"{value:{spec}} {unit}"
+
+
+def _range(v: dict, spec: str) -> str:
+    """The interval of a figure, "" without one (an end None in verify.json)."""
+    if v.get("lo") is None or v.get("hi") is None:
+        return ""
+    return f"{v['lo']:{spec}} – {v['hi']:{spec}}"
+
+
 def print_summary(results: dict, out: Path) -> None:
     """The verdict and the key figures (stdout, fits 80 columns)."""
     from rich import box
@@ -27,8 +39,7 @@ def print_summary(results: dict, out: Path) -> None:
         table.add_column(col, justify="left" if not col else "right")
 
     def row(label, v, unit="%", spec=".1f"):
-        lo = "" if v.get("lo") is None else f"{v['lo']:{spec}} – {v['hi']:{spec}}"
-        table.add_row(label, f"{v['value']:{spec}} {unit}", lo)
+        table.add_row(label, _number(v.get("value"), spec, unit), _range(v, spec))
 
     row("measured saving (normalised)", comp["measured_saving_pct"])
     row("predicted saving", comp["predicted_saving_pct"])
@@ -37,16 +48,18 @@ def print_summary(results: dict, out: Path) -> None:
         "avoided energy, post period",
         {"value": av["saving_pct"], "lo": av["saving_pct_lo"], "hi": av["saving_pct_hi"]},
     )
-    table.add_row("comfort take-back", f"{av['take_back_pp']:+.1f} pp", "")
+    table.add_row("comfort take-back", _number(av["take_back_pp"], "+.1f", "pp"), "")
     hl = ph["heat_loss_coefficient_W_per_K"]
     row("HLC before", hl["pre"], "W/K", ".0f")
     row("HLC after", hl["post"], "W/K", ".0f")
     for g in ph["groups"].values():
         row(f"{g['label']} change", g["change"], "W/K", "+.0f")
     console.print(table)
+    fsu = av["fsu_at_68pct"]
     console.print(
-        f"baseline (pre period, daily heat): NMBE {av['baseline_nmbe_pct']:+.1f} %, "
-        f"CV(RMSE) {av['baseline_cv_rmse_pct']:.1f} %, FSU {100 * av['fsu_at_68pct']:.0f} % "
+        f"baseline (pre period, daily heat): NMBE {_number(av['baseline_nmbe_pct'], '+.1f', '%')}, "
+        f"CV(RMSE) {_number(av['baseline_cv_rmse_pct'], '.1f', '%')}, FSU "
+        f"{_number(None if fsu is None else 100 * fsu, '.0f', '%')} "
         "at 68 % (ASHRAE Guideline 14-2014); model fitted to the "
         + ("metered heat (indoor temperature held by a thermostat)"
            if av.get("calibration") == "heat" else "indoor temperature")
@@ -65,11 +78,12 @@ def print_summary(results: dict, out: Path) -> None:
         )
     style = {"delivered": "green", "inconclusive": "yellow"}.get(comp["verdict"], "bold red")
     console.print(f"[{style}]{comp['verdict'].upper()}[/{style}]: {comp['explanation']}")
-    # the verdict stands, but a period may hold days of the other house
-    for key in ("baseline_days_after_retrofit", "retrofitted_days_before_the_date"):
-        warning = av.get(key, {}).get("warning")
-        if warning:
-            console.print(f"[bold yellow]WARNING[/bold yellow]: {warning}")
+    # the verdict stands, but a period may hold days of the other house, or the metered
+    # heat may not be on the scale of the house
+    warnings = [av.get(key, {}).get("warning") for key in (
+        "baseline_days_after_retrofit", "retrofitted_days_before_the_date")]  # fmt: skip
+    for warning in [w for w in warnings if w] + list(comp.get("warnings") or []):
+        console.print(f"[bold yellow]WARNING[/bold yellow]: {warning}")
     console.print(f"results in [bold]{out}[/bold] (verify.json, report.html, CSV, figures/)")
 
 

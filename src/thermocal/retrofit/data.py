@@ -480,7 +480,15 @@ QUANTITIES: dict[str, str] = {
 PHI_H_LIMITS = (-1e8, 1e8)
 
 
-def meter_power(values: pd.Series, *, energy: bool, cumulative: bool, interval) -> pd.Series:
+def meter_power(
+    values: pd.Series,
+    *,
+    energy: bool,
+    cumulative: bool,
+    interval,
+    label: str = "the meter reading",
+    unit: tuple[str, float] = ("kWh", 3.6e6),
+) -> pd.Series:
     """Mean power [W] over each row's interval from a meter column.
 
     Parameters
@@ -488,8 +496,17 @@ def meter_power(values: pd.Series, *, energy: bool, cumulative: bool, interval) 
     values : pd.Series
         Power [W] (``energy`` False), energy of the row's interval [J], or a cumulative
         reading [J] (``cumulative``), rows labelled by the start of their interval.
+    energy : bool
+        The column is an energy (of the row's interval, or cumulative), not a power.
+    cumulative : bool
+        The column is a meter reading; a reading that falls is refused
+        (:func:`check_cumulative_reading`).
     interval : pd.Timedelta
         Logging interval (length of the last row's interval).
+    label : str
+        The file and column, for the message of a falling reading.
+    unit : tuple of (str, float)
+        The file's unit of the reading and its size [J], for that message.
 
     Returns
     -------
@@ -502,10 +519,171 @@ def meter_power(values: pd.Series, *, energy: bool, cumulative: bool, interval) 
     seconds = np.append(seconds, pd.Timedelta(interval).total_seconds())
     v = values.to_numpy(float)
     if cumulative:
+        check_cumulative_reading(values, label, unit)
         e = np.append(np.diff(v), np.nan)
     else:
         e = v
     return pd.Series(e / seconds, index=t)
+
+
+#: A cumulative reading may fall by this many times the 95th percentile of its rises before
+#: it is refused: a reading written with fewer digits, or a meter re-read, jitters by less
+#: than one interval's consumption; a reset or a roll-over drops by thousands of them.
+READING_DROP_FACTOR = 3.0
+
+
+def reading_drops(readings: np.ndarray) -> np.ndarray:
+    """Positions where a cumulative meter reading falls by more than reading jitter.
+
+    Parameters
+    ----------
+    readings : ndarray
+        The readings in time order, any energy unit; NaN (missing) are skipped, a drop is
+        measured between consecutive readings present.
+
+    Returns
+    -------
+    ndarray of int
+        Positions in ``readings`` of the first reading after each drop larger than
+        :data:`READING_DROP_FACTOR` times the 95th percentile of the rises (any drop when the
+        reading never rises).
+    """
+    v = np.asarray(readings, float)
+    present = np.flatnonzero(np.isfinite(v))
+    steps = np.diff(v[present])
+    rises = steps[steps > 0]
+    tolerance = READING_DROP_FACTOR * float(np.quantile(rises, 0.95)) if rises.size else 0.0
+    return present[1:][steps < -tolerance]
+
+
+def rollover_limit(before: float, after: float) -> float | None:
+    """The register size a meter rolled over at, or None for another drop.
+
+    A meter with ``k`` digits counts to ``10^k`` and starts again at 0: the reading before
+    the drop lies in the register's top tenth, the one after it in its bottom tenth.
+
+    Parameters
+    ----------
+    before, after : float
+        The readings before and after the drop, in the file's unit (e.g. kWh).
+    """
+    if not before > 0:
+        return None
+    limit = 10.0 ** np.ceil(np.log10(before))
+    if limit == before:
+        limit *= 10.0
+    return float(limit) if before >= 0.9 * limit and 0 <= after < 0.1 * limit else None
+
+
+def check_cumulative_reading(
+    values: pd.Series, label: str, unit: tuple[str, float] = ("kWh", 3.6e6)
+) -> None:
+    """Refuse a cumulative meter reading that falls (a reset, a replaced meter, a roll-over).
+
+    The heat of an interval is the next reading minus this one; a reading that drops to 0
+    or rolls over turns one interval into minus the whole count and the period's mean heat
+    negative, which is then blamed on the units. The drop is named with its time, the row
+    of the file and its size, and the edit that makes the readings continuous.
+
+    Parameters
+    ----------
+    values : pd.Series
+        The reading [J], rows labelled by time in the file's order.
+    label : str
+        The file and column (or configuration key), for the message.
+    unit : tuple of (str, float)
+        The file's unit of the reading and its size [J] (e.g. ``("kWh", 3.6e6)``).
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the first drop (and how many there are) and what to do.
+    """
+    name, size = unit
+    v = values.to_numpy(float) / size
+    drops = reading_drops(v)
+    if not drops.size:
+        return
+    at = int(drops[0])
+    before_at = int(np.flatnonzero(np.isfinite(v[:at]))[-1])
+    before, after = float(v[before_at]), float(v[at])
+    limit = rollover_limit(before, after)
+    if limit is not None:
+        remedy = (
+            f"the meter rolled over at {limit:,.0f} {name}: add {limit:,.0f} {name} to every "
+            "reading from that row on"
+        )
+    else:
+        remedy = (
+            f"if the meter was reset or replaced there, add {before:,.1f} {name} (the last "
+            "reading before the drop) to every reading from that row on, or use only the "
+            "measurements on one side of it; a single misread value: delete it (its interval "
+            "is then missing)"
+        )
+    more = f" ({drops.size} drops in all)" if drops.size > 1 else ""
+    raise ThermocalInputError(
+        f"{label}: a cumulative meter reading never falls, but it drops from {before:,.1f} "
+        f"to {after:,.1f} {name} (by {before - after:,.1f} {name}) at {values.index[at]} "
+        f"(row {at + 2} of the file){more}; {remedy}"
+    )
+
+
+def file_unit(raw: pd.DataFrame, std: str) -> tuple[str, float]:
+    """The unit a column of :func:`read_raw_measurements` had in the file and its size in
+    the unit ``raw`` holds (e.g. ``("kWh", 3.6e6)`` for a meter read into J).
+
+    Parameters
+    ----------
+    raw : pd.DataFrame
+        From :func:`read_raw_measurements` (``raw.attrs["measurements"]``).
+    std : str
+        Standard column name (e.g. ``"heat"``).
+
+    Returns
+    -------
+    tuple of (str, float)
+        The file's unit and its factor to ``raw``'s; ``(the unit held, 1.0)`` when the
+        reader converted nothing (or did not record it) or converted with an offset
+        (Fahrenheit, Kelvin). A fuel volume (m3, l) is read as its energy in kWh.
+    """
+    from thermocal.io.measurements.units import UNITS
+
+    meta = raw.attrs.get("measurements", {}) if isinstance(raw.attrs, dict) else {}
+    held = (meta.get("units") or {}).get(std, "")
+    name = (meta.get("units_in_file") or {}).get(std, held)
+    known = name in UNITS and held in UNITS and UNITS[name][0] == UNITS[held][0]
+    if known and UNITS[name][2] == UNITS[held][2]:  # a factor, no offset (F, K: kept in C)
+        return name, UNITS[name][1] / UNITS[held][1]
+    return held, 1.0
+
+
+def values_in_file_units(raw: pd.DataFrame, fuel_kWh_per_unit: float | None = None):
+    """The measurements of :func:`read_raw_measurements` in the units of the file.
+
+    The reader converts energies to J and powers to W; a reading step (0.1 kWh, 1 m3) is
+    only visible in the file's own unit.
+
+    Parameters
+    ----------
+    raw : pd.DataFrame
+        From :func:`read_raw_measurements`.
+    fuel_kWh_per_unit : float, optional
+        ``measurements.fuel_kWh_per_unit`` [kWh per m3 or l] of a fuel meter read in a
+        volume: its ``heat`` column goes back to that volume.
+
+    Returns
+    -------
+    pd.DataFrame
+        The same index and columns, each in its file unit (temperatures with an offset,
+        e.g. Kelvin, stay in C: only factors are undone).
+    """
+    out = raw.copy()
+    for std in raw.columns:
+        _, factor = file_unit(raw, std)
+        divisor = factor * (fuel_kWh_per_unit if std == "heat" and fuel_kWh_per_unit else 1.0)
+        if divisor != 1.0:
+            out[std] = raw[std] / divisor
+    return out
 
 
 #: Relative slack of the comparison of the grid step with the log's interval: a logger's
@@ -581,6 +759,15 @@ def check_step_against_log(step: str, interval: pd.Timedelta, source: str) -> No
     )
 
 
+def _meter_label(raw: pd.DataFrame, std: str, columns: dict[str, str] | None) -> str:
+    """The file and column of a meter, for messages (the configuration key without
+    ``columns``)."""
+    column = (columns or {}).get(std)
+    named = f"column {column!r}" if column else f"the {std} column"
+    where = f"{named} (measurements.columns.{std})"
+    return f"{log_source(raw)}, {where}"
+
+
 def prepare_measurements(
     raw: pd.DataFrame,
     step: str,
@@ -591,6 +778,7 @@ def prepare_measurements(
     boiler_efficiency: float | None = None,
     electricity_energy: bool = False,
     electricity_cumulative: bool = False,
+    columns: dict[str, str] | None = None,
 ) -> tuple[pd.DataFrame, QualityReport]:
     """Average onto a regular grid, add the heating power ``phi_h`` [W], report the quality.
 
@@ -611,6 +799,8 @@ def prepare_measurements(
         From :func:`read_raw_measurements` (standard column names, tz-aware index).
     step : str
         Grid step, e.g. "1h" (``measurements.step``).
+    columns : dict, optional
+        Standard name -> the file's column (``measurements.columns``), for messages.
 
     Returns
     -------
@@ -635,13 +825,16 @@ def prepare_measurements(
     else:  # a heat meter's useful heat, or fuel energy times the boiler's efficiency
         power = meter_power(
             frame.pop("heat"), energy=heat_energy, cumulative=heat_cumulative,
-            interval=logging_interval,
+            interval=logging_interval, label=_meter_label(raw, "heat", columns),
+            unit=file_unit(raw, "heat"),
         )  # fmt: skip
         frame["phi_h"] = power * (boiler_efficiency if heat_source == "fuel_meter" else 1.0)
     if "electricity" in frame:
         frame["phi_el"] = meter_power(
             frame.pop("electricity"), energy=electricity_energy,
             cumulative=electricity_cumulative, interval=logging_interval,
+            label=_meter_label(raw, "electricity", columns),
+            unit=file_unit(raw, "electricity"),
         )  # fmt: skip
     for std in ("dni", "dhi", "ghi"):
         if std in frame:

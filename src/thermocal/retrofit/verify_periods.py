@@ -30,6 +30,8 @@ __all__ = [
     "baseline_days_after_retrofit",
     "baseline_days_note",
     "check_period",
+    "data_end",
+    "in_period_terms",
     "retrofitted_days_before_the_date",
     "retrofitted_days_note",
     "sensor_change_notes",
@@ -52,8 +54,63 @@ def _stamp(text: str | None, tz, default: pd.Timestamp) -> pd.Timestamp:
     return t.tz_localize(tz) if t.tz is None else t.tz_convert(tz)
 
 
-def split_periods(index: pd.DatetimeIndex, sec: VerifySection, source: str):
-    """Pre and post periods [start, end) from the ``verify:`` section; refuses overlaps."""
+def data_end(index: pd.DatetimeIndex, heat: pd.Series | None = None) -> pd.Timestamp:
+    """End of the measurements a period can use: of the last row with metered heat.
+
+    A cumulative meter reading has no next reading for its last row (its heat is missing),
+    and a log may go on after the heat meter stopped; rows without heat cannot be
+    calibrated on.
+
+    Parameters
+    ----------
+    index : pd.DatetimeIndex
+        The regular grid of the model inputs (interval starts).
+    heat : pd.Series, optional
+        Metered heat [W] on ``index``; None (or no heat at all): the end of the last row.
+
+    Returns
+    -------
+    pd.Timestamp
+        The end of the last row with heat (interval start plus the grid step).
+    """
+    step = index[1] - index[0]
+    if heat is not None:
+        present = np.flatnonzero(np.isfinite(np.asarray(heat, float)))
+        if present.size:
+            return index[int(present[-1])] + step
+    return index[-1] + step
+
+
+def split_periods(
+    index: pd.DatetimeIndex, sec: VerifySection, source: str, heat: pd.Series | None = None
+) -> tuple[tuple, tuple, pd.Timestamp, list[str]]:
+    """Pre and post periods [start, end) from the ``verify:`` section; refuses overlaps.
+
+    The outer ends default to the measurements' (the post period's to the last row with
+    metered heat, :func:`data_end`); an outer end given beyond the measurements is moved to
+    theirs with a note, so the periods reported are those analysed; an inner end beyond them
+    (a period without data) is refused.
+
+    Parameters
+    ----------
+    index : pd.DatetimeIndex
+        The regular grid of the model inputs (interval starts, tz-aware).
+    sec : VerifySection
+        The ``verify:`` section (dates as text, local standard time when naive).
+    source : str
+        The measurement file, for messages.
+    heat : pd.Series, optional
+        Metered heat [W] on ``index`` (:func:`data_end`).
+
+    Returns
+    -------
+    pre, post : tuple of pd.Timestamp
+        Start and end of each period.
+    date : pd.Timestamp
+        The retrofit date.
+    notes : list of str
+        One per end moved to the measurements'.
+    """
     tz = index.tz
     step = index[1] - index[0]
     first, end_data = index[0], index[-1] + step
@@ -64,8 +121,36 @@ def split_periods(index: pd.DatetimeIndex, sec: VerifySection, source: str):
             f"{first} to {end_data}; the retrofit date must lie inside them (data before and "
             "after it)"
         )
-    pre = (_stamp(sec.pre_start, tz, first), _stamp(sec.pre_end, tz, date))
-    post = (_stamp(sec.post_start, tz, date), _stamp(sec.post_end, tz, end_data))
+    last = data_end(index, heat)
+    pre = [_stamp(sec.pre_start, tz, first), _stamp(sec.pre_end, tz, date)]
+    post = [_stamp(sec.post_start, tz, date), _stamp(sec.post_end, tz, last)]
+    notes = []
+    if pre[0] < first:
+        notes.append(
+            f"verify.pre_start {sec.pre_start} lies before the first measurement in {source} "
+            f"({first:%Y-%m-%d %H:%M}): the pre-retrofit period starts there"
+        )
+        pre[0] = first
+    if post[1] > last:
+        notes.append(
+            f"verify.post_end {sec.post_end} lies after the last measured heat in {source} "
+            f"(up to {last:%Y-%m-%d %H:%M}): the post-retrofit period ends there"
+        )
+        post[1] = last
+    if pre[1] <= first:
+        raise ThermocalInputError(
+            f"verify.pre_end {sec.pre_end}: the measurements in {source} start at {first}; "
+            "the pre-retrofit period must hold some of them (set verify.pre_end later, or "
+            "remove it to end the period at the retrofit date)"
+        )
+    if post[0] >= last:
+        start = sec.post_start or f"(default: verify.retrofit_date {sec.retrofit_date})"
+        raise ThermocalInputError(
+            f"verify.post_start {start}: the measured heat in "
+            f"{source} ends at {last}; the post-retrofit period must hold some of it (set "
+            "verify.post_start earlier, or measure longer after the retrofit)"
+        )
+    pre, post = tuple(pre), tuple(post)
     if pre[1] > post[0]:
         relation = "come in the wrong order" if post[1] <= pre[0] else "overlap"
         raise ThermocalInputError(
@@ -81,7 +166,39 @@ def split_periods(index: pd.DatetimeIndex, sec: VerifySection, source: str):
     for name, (a, b) in (("pre", pre), ("post", post)):
         if not a < b:
             raise ThermocalInputError(f"verify.{name}_start must be before verify.{name}_end")
-    return pre, post, date
+    return pre, post, date, notes
+
+
+def in_period_terms(message: str, name: str) -> str:
+    """A message of the calibration's data checks in the verification's terms.
+
+    The checks shared with the retrofit analysis
+    (:func:`thermocal.retrofit.calibration.check_training_data`,
+    :func:`~thermocal.retrofit.calibration.check_heating_power_magnitude`) speak of its
+    training period; a verification has a pre- and a post-retrofit period, set by
+    ``verify.<name>_start`` and ``verify.<name>_end``.
+
+    Parameters
+    ----------
+    message : str
+        The check's message.
+    name : {"pre", "post"}
+        The period checked.
+
+    Returns
+    -------
+    str
+        The message naming the period and its keys.
+    """
+    keys = f"verify.{name}_start / verify.{name}_end"
+    return (
+        message.replace(
+            "(fill or shorten the period)",
+            f"(fill them in the file, or move {keys} to leave them out)",
+        )
+        .replace("training intervals", f"intervals of the {name}-retrofit period")
+        .replace("training period", f"{name}-retrofit period")
+    )
 
 
 def check_period(frame: pd.DataFrame, name: str, min_days: float, source: str) -> None:
@@ -325,13 +442,26 @@ _READING_STEPS = (0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.25, 0.5, 1,
 def _resolution(values: np.ndarray) -> float:
     """The sensor's reading step [unit of the values]: the largest of the usual steps of
     which at least 99 % of its non-zero readings are multiples; NaN when there are fewer than
-    20 non-zero readings or none fits (continuous readings)."""
+    20 non-zero readings or none fits (continuous readings).
+
+    The values must be in the file's own unit (:func:`thermocal.retrofit.data.
+    values_in_file_units`): a meter's 0.1 kWh is no step of its readings in J. A reading is
+    a multiple when it lies within 1e-6 steps of one, an absolute tolerance: a relative one
+    lets every large value pass (readings of 1e7 J "are" multiples of 50 within 10 J).
+
+    Parameters
+    ----------
+    values : ndarray
+        A sensor's readings in the file's unit.
+    """
     values = values[np.isfinite(values) & (values != 0)]
     if len(values) < 20:
         return float("nan")
     for step in reversed(_READING_STEPS):
         ratio = values / step
-        if np.mean(np.abs(ratio - np.round(ratio)) < 1e-6 * np.maximum(1.0, np.abs(ratio))) >= 0.99:
+        # within 1e-6 of a step (float error grows with the value: 1e-12 of it)
+        off = np.abs(ratio - np.round(ratio))
+        if np.mean(off < 1e-6 * np.maximum(1.0, 1e-6 * np.abs(ratio))) >= 0.99:
             return float(step)
     return float("nan")
 
@@ -357,7 +487,9 @@ def sensor_change_notes(
     Parameters
     ----------
     raw : DataFrame
-        Measurements as read (standard column names, original time stamps).
+        Measurements as read (standard column names, original time stamps), in the file's
+        units (:func:`thermocal.retrofit.data.values_in_file_units`: a reading step is one
+        of the file's unit).
     pre, post : tuple of Timestamp
         Start and end of the pre- and post-retrofit periods.
     columns : dict

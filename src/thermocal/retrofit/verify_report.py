@@ -92,6 +92,9 @@ def write_report(ver: Verification, results: dict, figures: dict, path: Path) ->
         warning = av.get(key, {}).get("warning")
         if warning:
             rep.flags([warning[0].upper() + warning[1:] + "."])
+    # the metered heat's scale against the building file and between the periods
+    for warning in comp.get("warnings") or []:
+        rep.flags([warning[0].upper() + warning[1:] + "."])
     m, p, dd = comp["measured_saving_pct"], comp["predicted_saving_pct"], comp["difference_pp"]
     rep.key_values({
         "measured saving (reference year, normalised)": _pct(m),

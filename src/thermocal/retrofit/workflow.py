@@ -347,6 +347,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             boiler_efficiency=mc.boiler_efficiency,
             electricity_energy=ig.electricity_unit not in ("W", "kW"),
             electricity_cumulative=ig.electricity_cumulative,
+            columns=mc.columns,
         )
     except ThermocalInputError as exc:
         if "flow" not in str(exc):

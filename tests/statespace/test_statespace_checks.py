@@ -224,3 +224,59 @@ def test_fit_command_compares_the_halves_without_being_asked(tmp_path, h_adjacen
         )  # fmt: skip
         assert ran.exit_code == 0, ran.output
         assert "heat_loss_by_period" not in json.loads((tmp_path / "p" / "fit.json").read_text())
+
+
+def test_periods_whose_estimates_sit_on_bounds_are_not_compared():
+    """U4 (fuzz5 f03, f26, f33): the heating read 1000 times too large (kW read as W) pins the
+    conductances of both periods on their upper bound. Before: 'heat loss coefficient depends
+    on the period' (the degenerate intervals do not overlap), a false diagnosis on top of the
+    unit slip. Now the periods are not compared, and the message says why."""
+    spec = two_state().to_dict()
+    for name in ("Hie", "Hea"):
+        spec["parameters"][name] |= {"lower": 10.0, "upper": 1000.0}
+    model = RCModel.from_dict(spec)
+    periods = {
+        label: df.assign(Ph=df["Ph"] * 1000.0)
+        for label, df in _regime_periods(1e-6, days=2).items()
+    }
+    check = heat_loss_regime_check(model, periods, profile=False, n_starts=2)
+    assert not check["comparable"] and check["agree"] is None
+    assert check["message"].startswith("heat loss coefficient per period not compared")
+    assert "'randomised': estimates on a bound (" in check["message"]
+    assert "depends on the period" not in check["message"]
+    assert all(h["at_bound"] for h in check["periods"].values())
+
+
+def test_not_comparable_names_missing_and_degenerate_intervals():
+    """U4: an interval of NaN (no standard error) or of no width says nothing about a period;
+    a finite interval without estimates on a bound is comparable."""
+    from thermocal.statespace.checks import not_comparable
+
+    wald = {"interval": "wald", "at_bound": []}
+    assert not_comparable(wald | {"wald_lower": 80.0, "wald_upper": 90.0}) is None
+    assert "no interval" in not_comparable(wald | {"wald_lower": np.nan, "wald_upper": np.nan})
+    assert "no interval" in not_comparable(wald | {"wald_lower": 10.0, "wald_upper": 10.0})
+    bound = wald | {"wald_lower": 80.0, "wald_upper": 90.0, "at_bound": ["Rea"]}
+    assert not_comparable(bound) == "estimates on a bound (Rea)"
+    profile = {"interval": "profile", "lower": None, "upper": 12.0, "at_bound": []}
+    assert not_comparable(profile) is None  # an end not found: unbounded, not degenerate
+
+
+def test_time_stamp_check_calls_start_supported_only_when_both_neighbours_lose():
+    """Observation of fuzz5 (f47, f48): the check compared 'as stamped' with 'one sample
+    earlier' only, so data whose inputs act one sample LATER than stamped (stamps one sample
+    early, or a lag the model lacks) were reported as supporting 'start'. Now the inputs are
+    also moved one sample later: 'start' is supported only when both neighbours lose; the
+    later neighbour is a note (no --time-stamps setting gives it), not a suggestion."""
+    model = two_state()
+    df = prbs_data(model, n=300)
+    early = df.copy()
+    early[["Ta", "Ph"]] = df[["Ta", "Ph"]].shift(-1)  # each input stamped one sample early
+    early = early.iloc[:-1]
+    on_grid = time_stamp_check(model.fit(df, n_starts=2), df)
+    assert on_grid["supported"] and on_grid["suggested"] == "start" and on_grid["note"] is None
+    assert on_grid["loglikes"]["0"] > max(on_grid["loglikes"]["-1"], on_grid["loglikes"]["1"])
+    late = time_stamp_check(model.fit(early, n_starts=2), early)
+    assert not late["supported"] and late["suggested"] is None and late["message"] is None
+    assert late["loglikes"]["1"] > late["loglikes"]["0"] + 3.0
+    assert "inputs 1 sample later than --time-stamps start" in late["note"]

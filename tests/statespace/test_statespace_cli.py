@@ -372,3 +372,43 @@ def test_interval_end_time_stamps_shift_the_inputs_onto_the_hold(tmp_path):
     assert any("--time-stamps end" in n for n in shifted["data_notes"])
     late = loglike("end.csv")
     assert shifted["loglike"] > late["loglike"]
+
+
+def test_a_single_start_is_flagged_global_optimum_not_checked(tmp_path):
+    """I1 (fuzz5 m32): `--n-starts 1` gave `converged: true` with `starts_at_best: 1` and no
+    word that no second start could confirm the optimum (docs/model-file.md: converged needs
+    two starts that agree). Now the first flag says so; with two starts it is absent."""
+    write_data(tmp_path / "d.csv", n=120)
+    base = ["fit", str(MODEL), str(tmp_path / "d.csv"), "--no-figures", "--no-hlc",
+            "--no-time-stamp-check"]  # fmt: skip
+    ran = CliRunner().invoke(app, [*base, "--n-starts", "1", "--out", str(tmp_path / "one")])
+    assert ran.exit_code == 0, ran.output
+    content = json.loads((tmp_path / "one" / "fit.json").read_text())
+    assert content["flags"][0].startswith("global optimum not checked: a single optimiser start")
+    ran = CliRunner().invoke(app, [*base, "--n-starts", "2", "--out", str(tmp_path / "two")])
+    assert ran.exit_code == 0, ran.output
+    content = json.loads((tmp_path / "two" / "fit.json").read_text())
+    assert not [f for f in content["flags"] if f.startswith("global optimum not checked")]
+
+
+def test_model_file_docs_name_python_objects_that_exist():
+    """D3 (fuzz5 a04): docs/model-file.md named `forward_selection` beside
+    `thermocal.statespace.families`, where it is not. Every dotted `thermocal.statespace...`
+    name the page gives resolves (module, then attribute)."""
+    import importlib
+    import re
+
+    text = (REPO / "docs" / "model-file.md").read_text()
+    names = set(re.findall(r"`(thermocal\.statespace(?:\.[A-Za-z_]\w*)+)", text))
+    assert "thermocal.statespace.selection.forward_selection" in names
+    for name in sorted(names):
+        parts = name.split(".")
+        for cut in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:cut]))
+            except ModuleNotFoundError:
+                continue
+            for attr in parts[cut:]:
+                obj = getattr(obj, attr, None)
+                assert obj is not None, name
+            break

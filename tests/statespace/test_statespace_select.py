@@ -382,3 +382,18 @@ def test_a_small_energy_balance_is_no_unit_slip():
     df = pd.DataFrame({"Ta": np.full(n, 5.0), "yTi": np.full(n, 15.0), "Ph": heat})
     scale, h = family_scale(df, "kW", source="cell.csv")
     assert h == pytest.approx(0.4 * 4 / n * 1000 / 10, rel=1e-9) and scale < 1.0
+
+
+def test_a_small_energy_balance_notes_the_heat_unit_that_brings_it_inside():
+    """I4 (fuzz5 s02): kW data read with --heat-unit W give an energy balance of 0.17 W/K. It
+    stays unrefused (a test cell or a free-floating period can give so little, see
+    ``test_a_small_energy_balance_is_no_unit_slip``), but it is no longer silent: `select`
+    notes the unit that would bring it inside the range of buildings. Before: only 'family
+    scaled x0.001'."""
+    from thermocal.commands.select import small_balance_note
+
+    note = small_balance_note(0.1728, "W")
+    assert "0.173 W/K with 'Ph' in W" in note and "is Ph in kW? use --heat-unit kW" in note
+    assert small_balance_note(172.8, "kW") is None
+    assert small_balance_note(0.3, "MW") is None  # no unit 1000 times away brings it inside
+    assert small_balance_note(float("nan"), "kW") is None

@@ -276,7 +276,7 @@ def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
     import pandas as pd
 
     from thermocal.errors import ThermocalInputError
-    from thermocal.statespace.data import time_axis
+    from thermocal.statespace.data import check_sampling_interval, time_axis
     from thermocal.statespace.units import TIME_UNITS
 
     if time_unit not in TIME_UNITS:
@@ -338,15 +338,11 @@ def check_time_axis(data, time_column: str, time_unit: str, path: Path) -> None:
                     "times skip an hour at the spring clock change, which would read as a gap; "
                     "give the times in UTC or with their UTC offset (e.g. +01:00 / +02:00)"
                 )
-    if 0 < step < 1 or step > 86400:
-        unit_hint = {"s": "h", "min": "h", "h": "s", "d": "h"}[time_unit]
-        shown = f"{step:.3g} s" if step < 60 else f"{step / 3600:.3g} h"
-        raise ThermocalInputError(
-            f"data file {path}: the median sampling interval of '{time_column}' is {shown} "
-            f"when read with --time-unit {time_unit}, implausible for building data (under "
-            f"a second or over a day); give the unit of the numbers, e.g. --time-unit "
-            f"{unit_hint}"
-        )
+    # numeric axes were checked by time_axis; date-times over a day apart are no building data
+    check_sampling_interval(
+        seconds, time_column=time_column, time_unit=time_unit, source=f"data file {path}",
+        numeric=not isinstance(index, pd.DatetimeIndex),
+    )  # fmt: skip
     if step == 1 and time_unit == "s" and pd.api.types.is_numeric_dtype(raw):
         raise ThermocalInputError(
             f"data file {path}: time column '{time_column}' counts 0, 1, 2, ... read as 1 s "
@@ -517,9 +513,10 @@ def fit(
         typer.Option(
             "--n-starts",
             min=1,
-            help="Optimiser starts (1 = the declared values only). Default: max(3, half the "
-            "free parameters) plus a start from the data's energy balance, and as many more "
-            "when only one start reaches the best value (converged needs two that agree).",
+            help="Optimiser starts (1 = the declared values only, flagged: the global optimum "
+            "is not checked). Default: max(3, half the free parameters) plus a start from the "
+            "data's energy balance, and as many more when only one start reaches the best value "
+            "(converged needs two that agree).",
         ),
     ] = None,
     seed: Annotated[int | None, typer.Option("--seed", help="Seed of the random starts.")] = None,
@@ -639,6 +636,7 @@ def fit(
     import sys
 
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
     from thermocal import __version__
@@ -651,6 +649,7 @@ def fit(
         cumulated_periodogram,
         fraction_outside_band,
     )
+    from thermocal.statespace.results import single_start_flag
 
     if hold not in ("zoh", "foh"):
         raise ThermocalInputError(f"--hold {hold!r}: use zoh or foh")
@@ -729,6 +728,9 @@ def fit(
             input_gaps="split" if gaps == "split" else "interpolate" if max_gap > 0 else "error",
             max_gap=max_gap if gaps == "split" else max(max_gap, 1),
         )
+        single = single_start_flag(results)
+        if single:
+            results.flags.insert(0, single)
         content = results.to_dict()
         if profile:
             content["profile_intervals"] = {}
@@ -750,6 +752,8 @@ def fit(
             if stamps["message"]:
                 results.flags.insert(0, stamps["message"])
                 content["flags"] = list(results.flags)
+            if stamps["note"]:
+                notes.append(stamps["note"])
         halves = (
             not hlc_split and hlc_halves and hlc and gaps != "split"
             and model.heat_loss_state() is not None
@@ -785,9 +789,11 @@ def fit(
                     notes.append(f"heat loss coefficient per half of the data not compared: {exc}")
         if regime is not None:
             content["heat_loss_by_period"] = regime
-            if regime["message"]:
+            if regime["agree"] is False:
                 results.flags.insert(0, regime["message"])
                 content["flags"] = list(results.flags)
+            elif regime["message"]:  # not compared: the fit's own flags say why
+                notes.append(regime["message"])
         if hlc and model.heat_loss_state() is not None:
             console.print("heat loss coefficient and its profile likelihood...")
             content["heat_loss_coefficient"] = results.heat_loss_coefficient()
@@ -861,17 +867,17 @@ def fit(
         )
     console.print(table)
     for name, iv in content.get("profile_intervals", {}).items():
-        console.print(
+        console.print(escape(
             f"profile 95 % interval {name}: {iv['estimate']:.6g} in "
             f"[{interval_end(iv['lower'], iv['open_lower'], 6, 'bound')}, "
             f"{interval_end(iv['upper'], iv['open_upper'], 6, 'bound')}]"
-        )
+        ))  # fmt: skip
     if "heat_loss_coefficient" in content:
-        console.print(heat_loss_text(content["heat_loss_coefficient"]))
+        console.print(escape(heat_loss_text(content["heat_loss_coefficient"])))
     for note in content["data_notes"]:
-        console.print(f"note: {note}")
-    for flag in results.flags:
-        console.print(f"[yellow]flag:[/yellow] {flag}")
+        console.print(f"note: {escape(note)}")
+    for flag in results.flags:  # escaped: "[nan, nan]" would read as a markup tag
+        console.print(f"[yellow]flag:[/yellow] {escape(flag)}")
     for col, d in diagnostics.items():
         console.print(
             f"residuals {col}: std {d['residual_std']:.4f} K, "

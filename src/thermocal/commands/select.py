@@ -77,6 +77,41 @@ def selection_markdown(table, path: list[str], hlc: dict | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
+def small_balance_note(h_balance: float, heat_unit: str) -> str | None:
+    """A note on an energy balance below the range of buildings that the heating read a
+    factor 1000 away brings inside (kW read as W: 0.17 W/K for 173 W/K).
+
+    Not refused (:func:`thermocal.statespace.families.family_scale` refuses only the upward
+    slip): the balance leaves out the gains and errs low in a test cell or a mostly
+    free-floating period.
+
+    Parameters
+    ----------
+    h_balance : float [W/K]
+        The energy-balance heat loss coefficient (NaN: none).
+    heat_unit : str
+        The declared unit of ``Ph``.
+
+    Returns
+    -------
+    str or None
+    """
+    from thermocal.statespace.units import PLAUSIBLE_HEAT_LOSS_W_PER_K, heat_unit_slip
+
+    lo, hi = PLAUSIBLE_HEAT_LOSS_W_PER_K
+    slip = heat_unit_slip(h_balance, heat_unit)
+    if slip is None or not h_balance < lo:
+        return None
+    alt, alt_h = slip
+    return (
+        f"the energy balance of the data gives {h_balance:.3g} W/K with 'Ph' in {heat_unit} "
+        f"(--heat-unit {heat_unit}), below any building ({lo:g} to {hi:g} W/K); read in {alt} "
+        f"it would be {alt_h:.4g} W/K: is Ph in {alt}? use --heat-unit {alt}. Not refused: "
+        "the balance leaves out the gains, so a test cell or a mostly free-floating period can "
+        "give so little; the heat loss coefficients below then follow the unit given"
+    )
+
+
 def _name_data_columns(message: str, renames: dict, data_file) -> str:
     """A model-column name in an error message followed by the data column and file."""
     import re
@@ -184,6 +219,7 @@ def select(
 
     import pandas as pd
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
     from thermocal import __version__
@@ -201,7 +237,7 @@ def select(
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import output_folder
     from thermocal.statespace.families import FAMILIES, family_scale
-    from thermocal.statespace.results import heat_loss_coefficients
+    from thermocal.statespace.results import heat_loss_coefficients, single_start_flag
     from thermocal.statespace.selection import forward_selection
 
     if family not in FAMILIES:
@@ -253,6 +289,9 @@ def select(
             scale, h_balance = family_scale(data, heat_unit, source=str(data_file))
         except ThermocalInputError as exc:
             raise ThermocalInputError(_name_data_columns(str(exc), renames, data_file)) from None
+        low = small_balance_note(h_balance, heat_unit)
+        if low:
+            notes.insert(0, low)
         if scale != 1.0:
             notes.append(
                 f"family scaled to the data (--bounds auto): energy-balance heat loss "
@@ -296,6 +335,11 @@ def select(
             )  # fmt: skip
             if stamps["message"]:
                 notes.insert(0, stamps["message"])
+            if stamps["note"]:
+                notes.append(stamps["note"])
+        single = single_start_flag(result.fits[start])
+        if single:
+            notes.insert(0, f"{start}: {single}")
         if hlc_profile:
             console.print(
                 f"heat loss coefficient: profile likelihood of {', '.join(result.path)}..."
@@ -354,15 +398,15 @@ def select(
         )  # fmt: skip
     console.print(view)
     for note in notes:
-        console.print(f"note: {note}")
+        console.print(f"note: {escape(note)}")
     console.print(f"selected: {' -> '.join(result.path)}")
     if result.selected in hlcs:
-        console.print(f"{result.selected}: {heat_loss_text(hlcs[result.selected])}")
+        console.print(f"{result.selected}: {escape(heat_loss_text(hlcs[result.selected]))}")
     for name, res in result.fits.items():
         if not res.converged:
-            console.print(f"[yellow]{name}: not converged[/yellow] ({res.flags[0]})")
-    for flag in result.fits[result.selected].flags:
-        console.print(f"[yellow]flag ({result.selected}):[/yellow] {flag}")
+            console.print(f"[yellow]{name}: not converged[/yellow] ({escape(res.flags[0])})")
+    for flag in result.fits[result.selected].flags:  # escaped: "[nan, nan]" is no markup
+        console.print(f"[yellow]flag ({result.selected}):[/yellow] {escape(flag)}")
     console.print(
         f"wrote {out / 'selection.json'}, {out / 'selection.md'} and one folder per model"
     )

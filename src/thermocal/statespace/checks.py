@@ -4,8 +4,9 @@ heat loss coefficient that depends on the test regime.
 - :func:`time_stamp_check`: the zero-order hold applies the input of row ``k`` from its time
   stamp to the next. Loggers often stamp the mean over the interval ENDING at ``t_k``; the
   inputs are then one step late, which biases the dynamics and the heat loss coefficient
-  (a twin-house TiTe moved from 60 to 96 W/K). The model is refitted with both conventions on
-  the same rows and the likelihoods compared.
+  (a twin-house TiTe moved from 60 to 96 W/K). The model is refitted on the same rows with the
+  inputs where the convention puts them and moved one sample either way, and the likelihoods
+  compared: a convention is supported only when both neighbours lose.
 - :func:`identifiability_check`: data that cannot determine the free parameters at all (fewer
   observations than free parameters; no heat input of known power, where only the time
   constants are identifiable), refused before fitting.
@@ -28,6 +29,62 @@ from thermocal.errors import ThermocalInputError
 #: Log-likelihood difference [-] between the two time-stamp conventions above which one is
 #: recommended: a likelihood ratio of e^3 (about 20) between fits with the same parameters.
 TIME_STAMP_EVIDENCE = 3.0
+
+
+#: A mean indoor temperature more than this [K] below the mean of every boundary temperature
+#: while the heating adds heat on average inverts the steady energy balance
+#: (:func:`inverted_balance_message`).
+INVERTED_BALANCE_K = 1.0
+
+
+def inverted_balance_message(
+    indoor: str, mean_indoor: float, boundaries: dict[str, float], heat: str, mean_heat: float
+) -> str | None:
+    """The message for data whose room is heated while colder than all its surroundings.
+
+    Heat added on average to a room that stays more than :data:`INVERTED_BALANCE_K` colder
+    on average than every boundary temperature cannot leave it: the steady energy balance
+    needs an outward temperature difference. Over days of data (longer than the time
+    constants) no building does that without cooling; a boundary temperature logged in
+    Fahrenheit (34.7 F for 1.5 C), swapped columns or a heat input of the wrong sign do.
+
+    Parameters
+    ----------
+    indoor : str
+        The indoor (output) column.
+    mean_indoor : float [C]
+        Its mean.
+    boundaries : dict
+        Boundary column -> its mean [C].
+    heat : str
+        The heat input(s) and their mean in their unit, for the message ("'Ph' averages
+        2.85 kW").
+    mean_heat : float [W]
+        The mean heat input.
+
+    Returns
+    -------
+    str or None
+        None when the balance is not inverted (no heating on average, or a boundary not
+        warmer than the room by :data:`INVERTED_BALANCE_K`).
+    """
+    from thermocal.statespace.data import celsius
+
+    if not (mean_heat > 0 and boundaries and math.isfinite(mean_indoor)):
+        return None
+    if not all(m - mean_indoor > INVERTED_BALANCE_K for m in boundaries.values()):
+        return None
+    means = ", ".join(f"'{b}' {m:.1f} C" for b, m in boundaries.items())
+    as_f = ", ".join(f"'{b}' {m:.1f} F = {celsius(m, 'Fahrenheit'):.1f} C"
+                     for b, m in boundaries.items())  # fmt: skip
+    return (
+        f"the mean indoor temperature '{indoor}' ({mean_indoor:.1f} C) is below the mean "
+        f"boundary temperature(s) ({means}) while heat input {heat}: a room heated while "
+        "colder than all its surroundings cannot lose its heat in steady state, and the "
+        "estimates (heat loss coefficient, capacities) mean nothing. A boundary temperature "
+        f"in Fahrenheit? ({as_f}: convert with (F - 32) x 5/9); otherwise check the column "
+        "mapping (swapped columns) and the sign of the heat input"
+    )
 
 
 def scale_ridge(model, U: np.ndarray) -> dict | None:
@@ -138,25 +195,45 @@ def _refit(res, data, fit_kw):
     )  # fmt: skip
 
 
+#: Shift of the inputs [samples] each time-stamp convention applies to the data as stamped
+#: (input of row k = stamped input of row k - shift): ``end`` moves them one sample earlier.
+STAMP_SHIFTS = {"start": 0, "end": -1}
+
+
+def _shift_text(shift: int) -> str:
+    """An input shift [samples] in words."""
+    if shift == 0:
+        return "as stamped"
+    n = abs(shift)
+    return f"{n} sample{'s' if n > 1 else ''} {'earlier' if shift < 0 else 'later'}"
+
+
 def time_stamp_check(
     res,
     data,
     *,
     stamps: str = "start",
     time_column: str | None = None,
-    time_unit: str = "s",
+    time_unit: str | None = None,
     input_gaps: str = "interpolate",
     max_gap: int = 3,
 ) -> dict:
     """Which time-stamp convention the data support, by a likelihood comparison.
 
     The model of ``res`` is refitted (from its declared values and from ``res``'s estimates)
-    on the same rows twice: with the inputs as stamped (``start``: each row's input holds from
-    its stamp to the next) and moved one sample earlier (``end``: each value is the mean over
-    the interval ending at its stamp, see :func:`thermocal.statespace.data.end_stamped_inputs`).
-    The last row is left out of both, so the two likelihoods cover the same outputs. Both fits
-    have the same parameters, so the difference of their log-likelihoods is the evidence; one
-    convention is suggested when it is ahead by more than :data:`TIME_STAMP_EVIDENCE`.
+    on the same rows three times: with the inputs where the convention used puts them, and
+    moved one sample either way. For ``start`` (each row's input holds from its stamp to the
+    next) the neighbours are ``end`` (moved one sample earlier: each value is the mean over the
+    interval ending at its stamp, see :func:`thermocal.statespace.data.end_stamped_inputs`)
+    and the inputs one sample later; for ``end`` they are ``start`` and two samples earlier.
+    The rows without an input in one of the shifts (the first and last) are left out of all,
+    so the likelihoods cover the same outputs. The fits have the same parameters, so the
+    differences of their log-likelihoods are the evidence (:data:`TIME_STAMP_EVIDENCE`).
+
+    The convention used is *supported* only when it beats both neighbours. The other
+    convention is suggested when it beats the one used; a neighbour that no convention gives
+    (inputs one sample later than stamped: a lag the model lacks, such as a heater's or a
+    sensor's capacity, or stamps one sample early) is reported in ``note``, not suggested.
 
     Parameters
     ----------
@@ -166,35 +243,45 @@ def time_stamp_check(
         The data AS STAMPED (before any shift).
     stamps : {"start", "end"}
         The convention ``res`` was fitted with.
-    time_column, time_unit, input_gaps, max_gap :
+    time_column, time_unit : str, optional
+        As for the fit; default: the fit's (:meth:`FitResults.time_options`).
+    input_gaps, max_gap :
         As for the fit.
 
     Returns
     -------
     dict
-        ``loglike_start``, ``loglike_end`` [-], ``used``, ``suggested`` (``"start"``,
-        ``"end"`` or None when the evidence is below the threshold), ``difference`` (the other
-        convention's log-likelihood minus the used one's) and ``message`` (None, or what to do).
+        ``loglike_start``, ``loglike_end`` [-], ``loglikes`` ({shift [samples]:
+        log-likelihood}, the inputs moved that many rows, negative: earlier), ``used``,
+        ``supported`` (the convention used beats both neighbours), ``suggested`` (``"start"``,
+        ``"end"`` or None: the other convention when it beats the one used, else the one used
+        when supported), ``difference`` (the other convention's log-likelihood minus the used
+        one's), ``message`` (None, or the flag: refit with the other convention) and ``note``
+        (None, or a better neighbour that no convention gives).
     """
-    from thermocal.statespace.data import end_stamped_inputs
+    from thermocal.statespace.data import shifted_inputs
 
-    if stamps not in ("start", "end"):
+    if stamps not in STAMP_SHIFTS:
         raise ThermocalInputError(f"time stamps {stamps!r}: use start or end")
     if len(data) < 10:
         raise ThermocalInputError("time-stamp check: at least 10 rows are needed")
+    time_column, time_unit = res.time_options(data, time_column, time_unit)
     fit_kw = {"hold": res.hold, "time_column": time_column, "time_unit": time_unit,
               "input_gaps": input_gaps, "max_gap": max_gap}  # fmt: skip
     inputs = res.model.input_names
-    ll = {
-        "start": _refit(res, data.iloc[:-1], fit_kw).loglike,
-        "end": _refit(res, end_stamped_inputs(data, inputs), fit_kw).loglike,
-    }
+    used = STAMP_SHIFTS[stamps]
     other = "end" if stamps == "start" else "start"
-    diff = ll[other] - ll[stamps]
-    suggested = None
-    if abs(diff) > TIME_STAMP_EVIDENCE:
-        suggested = other if diff > 0 else stamps
-    message = None
+    shifts = sorted({*STAMP_SHIFTS.values(), used - 1, used + 1})
+    rows = slice(max(shifts), len(data) + min(shifts))  # every shift has its inputs there
+    ll = {
+        shift: float(_refit(res, shifted_inputs(data, inputs, shift).iloc[rows], fit_kw).loglike)
+        for shift in shifts
+    }
+    diff = ll[STAMP_SHIFTS[other]] - ll[used]
+    lead = ll[used] - max(ll[used - 1], ll[used + 1])
+    supported = lead > TIME_STAMP_EVIDENCE
+    suggested = other if diff > TIME_STAMP_EVIDENCE else stamps if supported else None
+    message = note = None
     if suggested == other:
         meaning = (
             "the mean over the interval ENDING at each stamp"
@@ -207,13 +294,28 @@ def time_stamp_check(
             "shifts the inputs one sample against the response and biases the dynamics and "
             f"the heat loss coefficient; refit with --time-stamps {other}"
         )
+    else:
+        best = max(ll, key=ll.get)
+        gain = ll[best] - ll[used]
+        if best not in STAMP_SHIFTS.values() and gain > TIME_STAMP_EVIDENCE:
+            note = (
+                f"time stamps: '{stamps}' is not supported: the data fit {gain:.1f} "
+                f"log-units better with the inputs {_shift_text(best - used)} than "
+                f"--time-stamps {stamps} puts them, which no --time-stamps setting gives; the "
+                "model may lack a lag of the response (a heater's or a sensor's capacity), "
+                "or the stamps are one sample early; compare with a model with a heater "
+                "state before trusting the dynamics"
+            )
     return {
-        "loglike_start": float(ll["start"]),
-        "loglike_end": float(ll["end"]),
+        "loglike_start": ll[STAMP_SHIFTS["start"]],
+        "loglike_end": ll[STAMP_SHIFTS["end"]],
+        "loglikes": {str(k): v for k, v in ll.items()},
         "used": stamps,
+        "supported": bool(supported),
         "suggested": suggested,
         "difference": float(diff),
         "message": message,
+        "note": note,
     }
 
 
@@ -230,6 +332,35 @@ def _ends(h: dict) -> tuple[float, float]:
         lower, upper = h["lower"], h["upper"]
         return (-math.inf if lower is None else lower), (math.inf if upper is None else upper)
     return h["wald_lower"], h["wald_upper"]
+
+
+def not_comparable(h: dict) -> str | None:
+    """Why a period's heat loss coefficient cannot be compared with another's, or None.
+
+    An interval that is not a number or has no width (a Wald interval without standard error,
+    estimates held on a bound) says nothing about the period; estimates of capacities,
+    resistances, conductances, scales or fractions on a bound (``h["at_bound"]``, see
+    :func:`thermocal.statespace.selection.physical_at_bound`) make the coefficient the bound's,
+    not the data's: a unit slip or a wrong model shows that way, and two such coefficients
+    differing says nothing about the regime.
+
+    Parameters
+    ----------
+    h : dict
+        A period's heat loss coefficient (:meth:`FitResults.heat_loss_coefficient`) with
+        ``at_bound``.
+
+    Returns
+    -------
+    str or None
+        The reason, for the message.
+    """
+    if h.get("at_bound"):
+        return f"estimates on a bound ({', '.join(h['at_bound'])})"
+    lo, hi = _ends(h)
+    if math.isnan(lo) or math.isnan(hi) or not hi > lo:
+        return "no interval (no standard error)"
+    return None
 
 
 def heat_loss_regime_check(
@@ -272,11 +403,16 @@ def heat_loss_regime_check(
     Returns
     -------
     dict
-        ``periods`` ({label: heat loss coefficient dict with ``loglike``, ``converged`` and
-        the regime: ``mean_heat`` [W], ``mean_difference`` [K] and ``balance`` [W/K], the
-        ratio of the two}), ``agree`` (every pair of intervals overlaps), ``message`` (None,
-        or the warning with the numbers).
+        ``periods`` ({label: heat loss coefficient dict with ``loglike``, ``converged``,
+        ``at_bound`` (physical estimates on a bound) and the regime: ``mean_heat`` [W],
+        ``mean_difference`` [K] and ``balance`` [W/K], the ratio of the two}), ``comparable``
+        (every period has a finite interval of some width and no physical estimate on a
+        bound, :func:`not_comparable`), ``agree`` (every pair of intervals overlaps; None when
+        not comparable), ``message`` (None, the warning with the numbers, or why the periods
+        were not compared).
     """
+    from thermocal.statespace.selection import physical_at_bound
+
     if model.heat_loss_state() is None:
         raise ThermocalInputError(
             f"model '{model.name}' implies no heat loss coefficient (no output observes a "
@@ -292,10 +428,21 @@ def heat_loss_regime_check(
             max_gap=max_gap,
         )  # fmt: skip
         h = res.heat_loss_coefficient(profile=profile, alpha=alpha)
-        h |= {"loglike": res.loglike, "converged": bool(res.converged)}
+        h |= {"loglike": res.loglike, "converged": bool(res.converged),
+              "at_bound": physical_at_bound(res)}  # fmt: skip
         h |= _regime(res)
         out[label] = h
     labels = list(out)
+    reasons = {label: not_comparable(out[label]) for label in labels}
+    if any(reasons.values()):
+        parts = [f"'{label}': {why}" for label, why in reasons.items() if why]
+        message = (
+            "heat loss coefficient per period not compared: " + "; ".join(parts) + ". A "
+            "coefficient without an interval, or with estimates held on a bound, says nothing "
+            "about the period: see the flags of the fit (a unit slip, a wrong column, a model "
+            "that does not fit the data) before judging the period dependence"
+        )
+        return {"periods": out, "comparable": False, "agree": None, "message": message}
     disagree = [
         (a, b)
         for i, a in enumerate(labels)
@@ -317,7 +464,7 @@ def heat_loss_regime_check(
             "the period that represents the use you need, or model the adjacent spaces as "
             "boundary temperatures"
         )
-    return {"periods": out, "agree": not disagree, "message": message}
+    return {"periods": out, "comparable": True, "agree": not disagree, "message": message}
 
 
 def _regime(res) -> dict:

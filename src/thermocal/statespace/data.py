@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -43,6 +44,9 @@ class PreparedData:
     U: np.ndarray
     Y: np.ndarray
     time_unit: str = "s"
+    #: The data column the times were read from (None: the index), the default of the
+    #: results' methods on other data.
+    time_column: str | None = None
     #: What was done to the data (e.g. interpolated input gaps), for the report.
     notes: list[str] = field(default_factory=list)
     #: First sample of each period after the first when the likelihood is split at long gaps
@@ -74,6 +78,11 @@ def time_axis(
     source: str = "data",
 ) -> tuple[pd.Index, np.ndarray]:
     """Time labels and seconds since the first sample, validated strictly increasing.
+
+    Text that is neither numeric nor ISO 8601 is refused with the remedy its content suggests
+    (:func:`time_text_hint`: ``--time-format`` for day-first dates, ``--decimal`` or ``--sep``
+    for commas); numeric times whose median interval is implausible in ``time_unit`` are
+    refused too (:func:`check_sampling_interval`: hours read as seconds).
 
     Parameters
     ----------
@@ -127,11 +136,12 @@ def time_axis(
             except ValueError:  # e.g. local times with changing UTC offsets (DST)
                 index = pd.DatetimeIndex(pd.to_datetime(raw, format="ISO8601", utc=True))
         except (ValueError, TypeError):
+            hint = time_text_hint(raw)
             raise ThermocalInputError(
                 f"{source}: time column '{time_column or raw.name}' is neither numeric nor "
-                f"ISO 8601 date-time (first value {raw.iloc[0]!r}); write the times as ISO 8601 "
-                "(2019-02-01 13:00 or 2019-02-01T13:00+01:00) or give numeric times with "
-                "--time-unit"
+                f"ISO 8601 date-time (first value {raw.iloc[0]!r}); "
+                + (hint or "write the times as ISO 8601 (2019-02-01 13:00 or "
+                   "2019-02-01T13:00+01:00) or give numeric times with --time-unit")
             ) from None
         seconds = (index - index[0]).total_seconds().to_numpy(dtype=float)
     if seconds.size < 2:
@@ -149,7 +159,174 @@ def time_axis(
             f"{source}: time stamps are not increasing at row {row} ({index[row - 1]} then "
             f"{index[row]}); sort the data by time"
         )
+    if not isinstance(index, pd.DatetimeIndex):  # date-times carry their unit
+        check_sampling_interval(
+            seconds, time_column=str(time_column or raw.name or "index"), time_unit=time_unit,
+            source=source,
+        )  # fmt: skip
     return index, seconds
+
+
+#: Median sampling interval of building data [s]: from a second to a day. Outside, the numbers
+#: of a numeric time axis are in another unit (hours read as seconds: 5-minute data become
+#: 0.083-second steps).
+PLAUSIBLE_SAMPLING_S = (1.0, 86400.0)
+#: The unit to suggest for numeric times whose interval is implausible in ``time_unit``.
+_TIME_UNIT_HINT = {"s": "h", "min": "h", "h": "s", "d": "h"}
+
+
+def check_sampling_interval(
+    seconds: np.ndarray, *, time_column: str, time_unit: str, source: str = "data",
+    numeric: bool = True,
+) -> None:  # fmt: skip
+    """Refuse a median sampling interval implausible for building data.
+
+    Parameters
+    ----------
+    seconds : ndarray [s]
+        Strictly increasing sample times as read in ``time_unit``.
+    time_column : str
+        Name of the time column (or index), for the message.
+    time_unit : str
+        Unit the times were read in (``s``, ``min``, ``h``, ``d``).
+    source : str
+        Name of the data (file), for the message.
+    numeric : bool
+        The times are numbers in ``time_unit`` (the remedy is their unit); False: date-times
+        (the remedy is finer data).
+
+    Raises
+    ------
+    ThermocalInputError
+        When the median interval lies outside :data:`PLAUSIBLE_SAMPLING_S` (under a second or
+        over a day): the message names the interval and the unit to give.
+    """
+    step = float(np.median(np.diff(seconds))) if len(seconds) > 1 else 0.0
+    lo, hi = PLAUSIBLE_SAMPLING_S
+    if not (0 < step < lo or step > hi):
+        return
+    hint = _TIME_UNIT_HINT.get(time_unit, "h")
+    shown = f"{step:.3g} s" if step < 60 else f"{step / 3600:.3g} h"
+    if not numeric:
+        raise ThermocalInputError(
+            f"{source}: the median sampling interval of '{time_column}' is {shown}, "
+            "implausible for building data (under a second or over a day); give data sampled "
+            "every few minutes to an hour (resample to hourly means)"
+        )
+    raise ThermocalInputError(
+        f"{source}: the median sampling interval of '{time_column}' is {shown} when read with "
+        f"--time-unit {time_unit} (time_unit='{time_unit}'), implausible for building data "
+        f"(under a second or over a day); give the unit of the numbers, e.g. --time-unit "
+        f"{hint} (time_unit='{hint}')"
+    )
+
+
+#: Dates written day or month first: day/month, separator, month/day, year, optional time.
+_DMY = r"(\d{1,2})([./-])(\d{1,2})\2(\d{2}|\d{4})(?:[ T](\d{1,2}:\d{2})(:\d{2})?)?"
+
+
+def time_text_hint(raw: pd.Series) -> str | None:
+    """What to do about time stamps that are neither numeric nor ISO 8601, from their text.
+
+    - numbers with decimal commas (``0,0833``): the file's decimal mark (``--decimal ','``);
+    - numbers stored as text (a file with decimal points read with ``--decimal ','``);
+    - other values containing a comma: the separator (``--sep``);
+    - dates written day or month first (``05/02/2009 14:26``, ``05.02.2009``): the
+      ``--time-format`` that reads them (day first when a first field exceeds 12 or the
+      separator is a dot, month first when a second field does).
+
+    Parameters
+    ----------
+    raw : Series
+        The time column as read (text).
+
+    Returns
+    -------
+    str or None
+        The remedy, naming the option and an example value; None when none applies.
+    """
+    text = raw.dropna().astype(str).str.strip()
+    text = text[text != ""]
+    if text.empty:
+        return None
+    sample = text.iloc[:500]
+    if sample.str.fullmatch(r"[-+]?\d+,\d*").mean() > 0.5:
+        example = sample[sample.str.contains(",")].iloc[0]
+        return (
+            f"the times are numbers with a decimal comma ({example!r}): read the file with "
+            "--decimal ',' (pandas: read_csv(..., decimal=','))"
+        )
+    if pd.to_numeric(sample, errors="coerce").notna().all():
+        example = sample[sample.str.contains(r"\.")]
+        shown = f" ({example.iloc[0]!r})" if len(example) else ""
+        return (
+            f"the times are numbers stored as text{shown}: a file with decimal points read "
+            "with --decimal ',' keeps them as text; leave out --decimal ',' (or convert the "
+            "column with pandas.to_numeric) and give their unit with --time-unit"
+        )
+    if sample.str.contains(",").mean() > 0.5:
+        return (
+            f"the values contain commas ({sample.iloc[0]!r}): is the separator right? give "
+            "it with --sep (e.g. --sep ',' or --sep ';')"
+        )
+    parts = sample.str.extract(rf"^{_DMY}$")
+    if parts[0].notna().mean() > 0.9:
+        return _date_format_hint(parts, sample[parts[0].notna().to_numpy()])
+    return None
+
+
+def _date_format_hint(parts: pd.DataFrame, text: pd.Series) -> str:
+    """The ``--time-format`` for the dates ``text`` matched by :data:`_DMY` (``parts``: its
+    groups); when every field fits both orders, the order that reads them as a regular axis."""
+    example = text.iloc[0]
+    first = pd.to_numeric(parts[0], errors="coerce")
+    second = pd.to_numeric(parts[2], errors="coerce")
+    sep = parts[1].dropna().iloc[0]
+    year = "%Y" if parts[3].dropna().str.len().iloc[0] == 4 else "%y"
+    clock = ""
+    if parts[4].notna().any():
+        clock = " %H:%M" + (":%S" if parts[5].notna().any() else "")
+    day_first = f"%d{sep}%m{sep}{year}{clock}"
+    month_first = f"%m{sep}%d{sep}{year}{clock}"
+    if (second > 12).any() and not (first > 12).any():
+        return _format_remedy("month first", month_first, example)
+    if (first > 12).any() or sep == ".":
+        return _format_remedy("day first", day_first, example)
+    regular = {fmt: _regularity(text, fmt) for fmt in (day_first, month_first)}
+    if regular[day_first] < regular[month_first]:
+        return _format_remedy("day first", day_first, example)
+    if regular[month_first] < regular[day_first]:
+        return _format_remedy("month first", month_first, example)
+    return (
+        f"the dates are written day or month first ({example!r}): give --time-format "
+        f"'{day_first}' (day first) or '{month_first}' (month first), or write the times as "
+        "ISO 8601 (2009-02-05 14:26)"
+    )
+
+
+def _regularity(text: pd.Series, fmt: str) -> float:
+    """How irregular the times ``text`` read with ``fmt`` are: the largest step over the
+    median step [-] (inf when they do not parse or do not increase). Read in the wrong order,
+    dates within one month jump by months at each new day."""
+    times = pd.to_datetime(text, format=fmt, errors="coerce")
+    if times.isna().any() or len(times) < 3:
+        return math.inf
+    step = np.diff(times.to_numpy().astype("datetime64[s]").astype(np.int64)).astype(float)
+    if not np.all(step > 0):
+        return math.inf
+    return float(step.max() / np.median(step))
+
+
+def _format_remedy(order: str, fmt: str, example: str) -> str:
+    """The remedy for dates written ``order`` ("day first"), readable with ``fmt``."""
+    try:
+        iso = f", {example!r} is {pd.to_datetime(example, format=fmt):%Y-%m-%d %H:%M}"
+    except (ValueError, TypeError):
+        iso = ""
+    return (
+        f"the dates are written {order} ({example!r}): give --time-format '{fmt}' (pandas: "
+        f"to_datetime(..., format='{fmt}')), or write the times as ISO 8601{iso}"
+    )
 
 
 def prepare_data(
@@ -312,8 +489,8 @@ def prepare_data(
         regular = float(np.median(dts))
         dts[segments - 1] = regular
     return PreparedData(
-        index=index, seconds=seconds, dts=dts, U=U, Y=Y, time_unit=time_unit, notes=notes,
-        segments=segments,
+        index=index, seconds=seconds, dts=dts, U=U, Y=Y, time_unit=time_unit,
+        time_column=time_column, notes=notes, segments=segments,
     )  # fmt: skip
 
 
@@ -524,7 +701,28 @@ def end_stamped_inputs(data: pd.DataFrame, inputs) -> pd.DataFrame:
     columns present are shifted one row earlier and the last row (without an input for its
     step) is dropped.
     """
+    return shifted_inputs(data, inputs, -1).iloc[:-1]
+
+
+def shifted_inputs(data, inputs, shift: int):
+    """``data`` with its ``inputs`` columns moved ``shift`` rows.
+
+    Parameters
+    ----------
+    data : DataFrame
+        The data as stamped.
+    inputs : sequence of str
+        The input columns to move (absent ones are skipped).
+    shift : int [samples]
+        The input of row k becomes that of row ``k - shift`` (negative: earlier, as
+        ``--time-stamps end``); the rows left without an input hold NaN.
+
+    Returns
+    -------
+    DataFrame
+    """
     cols = [c for c in inputs if c in data.columns]
-    data = data.copy()
-    data[cols] = data[cols].shift(-1)
-    return data.iloc[:-1]
+    moved = data.copy()
+    moved[cols] = data[cols].shift(shift)
+    return moved
+

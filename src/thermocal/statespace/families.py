@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 
 from thermocal.errors import ThermocalInputError
+from thermocal.statespace.checks import inverted_balance_message
 from thermocal.statespace.model import RCModel
 from thermocal.statespace.units import (
     HEAT_COLUMN_UNITS,
@@ -116,10 +117,16 @@ def family_scale(data, heat_unit: str = "kW", source: str = "data") -> tuple[flo
     Raises
     ------
     ThermocalInputError
-        When ``H`` lies outside the range of buildings and ``Ph`` read a factor 1000 away
+        When ``H`` lies above the range of buildings and ``Ph`` read a factor 1000 smaller
         brings it inside (:func:`~thermocal.statespace.units.heat_unit_slip`; a scale of about
-        10^3 or 10^-3): ``Ph`` in W read as kW, or the reverse. The message names the unit to
-        use, and ``--bounds family`` with ``--bound-factor`` for a building that size indeed.
+        10^3): ``Ph`` in W read as kW. The message names the unit to use, and ``--bounds
+        family`` with ``--bound-factor`` for a building that size indeed. A balance below the
+        range is not refused: it leaves out the gains and errs low (a test cell, a mostly
+        free-floating period); ``thermocal select`` notes the unit that would bring it inside.
+        When the room is heated on average while colder than the outdoor air by more than
+        :data:`~thermocal.statespace.checks.INVERTED_BALANCE_K`
+        (:func:`~thermocal.statespace.checks.inverted_balance_message`: ``Ta`` in Fahrenheit,
+        swapped columns): no energy balance gives a scale, and the family's fits mean nothing.
     """
     import numpy as np
 
@@ -133,11 +140,21 @@ def family_scale(data, heat_unit: str = "kW", source: str = "data") -> tuple[flo
             f"{source}: scaling the family to the data needs column(s) {', '.join(missing)}"
         )
     heat = np.asarray(data["Ph"], dtype=float) * HEAT_COLUMN_UNITS[heat_unit]
-    diff = np.asarray(data["yTi"], dtype=float) - np.asarray(data["Ta"], dtype=float)
-    ok = np.isfinite(heat) & np.isfinite(diff)
+    indoor = np.asarray(data["yTi"], dtype=float)
+    outdoor = np.asarray(data["Ta"], dtype=float)
+    ok = np.isfinite(heat) & np.isfinite(indoor) & np.isfinite(outdoor)
     if ok.sum() < 2:
         return 1.0, math.nan
-    mean_heat, mean_diff = float(heat[ok].mean()), float(diff[ok].mean())
+    mean_heat, mean_diff = float(heat[ok].mean()), float((indoor - outdoor)[ok].mean())
+    inverted = inverted_balance_message(
+        "yTi", float(indoor[ok].mean()), {"Ta": float(outdoor[ok].mean())},
+        f"'Ph' averages {mean_heat / HEAT_COLUMN_UNITS[heat_unit]:.4g} {heat_unit}", mean_heat,
+    )  # fmt: skip
+    if inverted is not None:
+        raise ThermocalInputError(
+            f"{source}: {inverted}. For data where this is real, --bounds family fits the "
+            "family as published (its fits flag the same)"
+        )
     if not (mean_heat > 0 and mean_diff > 0.5):
         # no net heating or no indoor-outdoor difference (cooling season, a free-floating
         # test): no energy balance to scale with; the family as published

@@ -47,6 +47,13 @@ NEGATIVE_OFFSET_FRACTION = 0.05
 #: Physical limits in SI of boundary temperatures [C] and irradiances [W/m2] (above the solar
 #: constant, 1361 W/m2, Kopp & Lean 2011, with margin for reflections).
 PHYSICAL_LIMITS = {"C": (-90.0, 150.0), "W/m2": (-50.0, 1500.0)}
+#: An irradiance whose maximum stays below this [W/m2] over at least DIM_IRRADIANCE_DAYS days
+#: is in another unit (kW/m2 read as W/m2): sunlight exceeds it every day but in a polar night
+#: (the threshold of the retrofit workflow's measurement check).
+DIM_IRRADIANCE_W_M2 = 5.0
+DIM_IRRADIANCE_DAYS = 2.0
+#: Out-of-range output values listed by row in a flag.
+ROWS_LISTED = 5
 #: A fit more than this below its nested model's log-likelihood is flagged.
 NESTED_TOLERANCE = 1e-2
 
@@ -122,7 +129,8 @@ class FitResults:
         for i, name in enumerate(free):
             values[name] = model.parameters[name].from_unconstrained(theta[i])
         self.params = pd.Series(values, name="estimate", dtype=float)
-        self.flags: list[str] = []
+        # the data's own faults first (after the verdict's flags, inserted before them)
+        self.flags: list[str] = data_flags(model, data)
         at_bound = self._bound_flags(model, free)
         self.at_bound = [free[i] for i in at_bound]
         jac = np.array([model.parameters[n].derivative(theta[i]) for i, n in enumerate(free)])
@@ -602,11 +610,14 @@ class FitResults:
         return self.model.with_parameters(self.params.to_dict())
 
     # ------------------------------------------------------------------ use of the estimates
-    def _prep(self, data, time_column=None, time_unit="s", require_outputs=True) -> PreparedData:
+    def _prep(self, data, time_column=None, time_unit=None, require_outputs=True) -> PreparedData:
+        """``data`` (None: the fit data) prepared for this model, its time axis read like the
+        fit's unless given (:meth:`time_options`)."""
         if data is None:
             return self.data
         if isinstance(data, PreparedData):
             return data
+        time_column, time_unit = self.time_options(data, time_column, time_unit)
         return prepare_data(
             self.model,
             data,
@@ -615,10 +626,38 @@ class FitResults:
             require_outputs=require_outputs,
         )
 
+    def time_options(self, data, time_column=None, time_unit=None) -> tuple[str | None, str]:
+        """The time column and unit to read other ``data`` with: those given, else the fit's.
+
+        The fit's time column is taken only when ``data`` has it (data with a DatetimeIndex
+        instead keep their index); its unit whenever none is given, so numeric times in hours
+        are not read as seconds (a time column given alone takes the fit's unit too).
+
+        Parameters
+        ----------
+        data : DataFrame
+        time_column : str, optional
+        time_unit : str, optional
+            ``s``, ``min``, ``h`` or ``d``.
+
+        Returns
+        -------
+        (time_column, time_unit)
+        """
+        if time_column is None and self.data.time_column is not None:
+            if isinstance(data, pd.DataFrame) and self.data.time_column in data.columns:
+                time_column = self.data.time_column
+        if time_unit is None:
+            time_unit = self.data.time_unit
+        return time_column, time_unit
+
     def simulate(
-        self, data=None, *, time_column=None, time_unit="s", initial_state=None
+        self, data=None, *, time_column=None, time_unit=None, initial_state=None
     ) -> pd.DataFrame:
         """Deterministic simulation at the estimates (default: over the fit data).
+
+        Other ``data`` are read with the fit's time column and unit unless given
+        (:meth:`time_options`).
 
         It starts from the estimated initial means, which belong to the start of the fit data;
         for another period give ``initial_state`` ({state: temperature [C]}), e.g. the measured
@@ -632,8 +671,9 @@ class FitResults:
     def _filter(self, prep):
         return filter_arrays(self.model, prep, self.params.to_dict(), _hold_flag(self.hold))
 
-    def one_step_residuals(self, data=None, *, time_column=None, time_unit="s") -> pd.DataFrame:
-        """One-step predictions and residuals of each output [C].
+    def one_step_residuals(self, data=None, *, time_column=None, time_unit=None) -> pd.DataFrame:
+        """One-step predictions and residuals of each output [C] (other ``data`` read with the
+        fit's time column and unit unless given, :meth:`time_options`).
 
         Columns per output ``y``: ``y`` (measured), ``y_pred`` (one-step prediction),
         ``y_std`` (its standard deviation incl. measurement noise [K]), ``y_residual``,
@@ -662,9 +702,10 @@ class FitResults:
         )
 
     def predict(
-        self, data=None, steps: int = 1, *, time_column=None, time_unit="s"
+        self, data=None, steps: int = 1, *, time_column=None, time_unit=None
     ) -> pd.DataFrame:
-        """k-step-ahead predictions of the outputs: mean [C] and standard deviation [K].
+        """k-step-ahead predictions of the outputs: mean [C] and standard deviation [K] (other
+        ``data`` read with the fit's time column and unit unless given, :meth:`time_options`).
 
         The prediction at sample ``t`` uses the observations up to ``t - steps`` and the known
         inputs; the first ``steps`` rows are NaN. ``steps=1`` is the one-step prediction.
@@ -689,8 +730,10 @@ class FitResults:
             out[f"{col}_std"] = np.sqrt(var[:, r])
         return out
 
-    def smooth(self, data=None, *, time_column=None, time_unit="s") -> pd.DataFrame:
-        """RTS-smoothed states: mean [C] and standard deviation [K] (columns ``s``, ``s_std``)."""
+    def smooth(self, data=None, *, time_column=None, time_unit=None) -> pd.DataFrame:
+        """RTS-smoothed states: mean [C] and standard deviation [K] (columns ``s``, ``s_std``);
+        other ``data`` read with the fit's time column and unit unless given
+        (:meth:`time_options`)."""
         prep = self._prep(data, time_column, time_unit)
         xs, Ps = rts_smoother(self._filter(prep))
         out = pd.DataFrame(index=prep.index)
@@ -1045,6 +1088,194 @@ def robust_range(u: np.ndarray) -> tuple[float, float, float]:
     q10, q90 = np.quantile(u, [0.1, 0.9])
     scale = max(mad, float(q90 - q10) / 2.563)
     return centre, scale, float(np.quantile(np.abs(u), 0.9))
+
+
+def data_flags(model, prep: PreparedData) -> list[str]:
+    """Faults of the data themselves, whatever the estimates: output temperatures outside
+    the physical range (:func:`output_range_flags`), a heated room colder than all its
+    surroundings (:func:`inverted_balance_flags`) and an irradiance too dim for its unit
+    (:func:`dim_irradiance_flags`).
+
+    Parameters
+    ----------
+    model : RCModel
+    prep : PreparedData
+        The data as fitted (inputs in their columns' units, outputs [C]).
+
+    Returns
+    -------
+    list of str
+        The flags, each with its remedy.
+    """
+    return (
+        output_range_flags(model, prep)
+        + inverted_balance_flags(model, prep)
+        + dim_irradiance_flags(model, prep)
+    )
+
+
+def output_range_flags(model, prep: PreparedData) -> list[str]:
+    """Output temperatures outside the physical range (:data:`PHYSICAL_LIMITS`), the check the
+    boundary temperatures get (:func:`input_flags`): a logger's missing-value code (-9999,
+    999) read as a temperature.
+
+    Parameters
+    ----------
+    model : RCModel
+    prep : PreparedData
+        The data as fitted (inputs in their columns' units, outputs [C]).
+
+    Returns
+    -------
+    list of str
+        One flag per output column, naming the number of values, the first rows (0-based data
+        rows; times only when the likelihood is split into periods, whose rows are renumbered)
+        with their values and times, and the remedy (NaN: the filter skips missing outputs).
+    """
+    lo, hi = PHYSICAL_LIMITS["C"]
+    flags = []
+    for r, col in enumerate(model.output_names):
+        y = prep.Y[:, r]
+        with np.errstate(invalid="ignore"):
+            bad = np.flatnonzero((y < lo) | (y > hi))
+        if not bad.size:
+            continue
+        shown = ", ".join(
+            f"{y[k]:.6g} at {_stamp(prep, k)}" if prep.segments.size
+            else f"{y[k]:.6g} in row {k} ({_stamp(prep, k)})"
+            for k in bad[:ROWS_LISTED]
+        )  # fmt: skip
+        more = f" and {bad.size - ROWS_LISTED} more" if bad.size > ROWS_LISTED else ""
+        flags.append(
+            f"output '{col}' (temperature [C]) has {bad.size} value(s) outside the physical "
+            f"range [{lo:g}, {hi:g}] C: {shown}{more}; a logger's missing-value code (-9999, "
+            "999)? remedy: set those values to NaN (leave the cells empty): the filter skips "
+            "missing outputs; the estimates of this fit are distorted by them"
+        )
+    return flags
+
+
+def inverted_balance_flags(model, prep: PreparedData) -> list[str]:
+    """A heated room colder on average than all its boundary temperatures
+    (:func:`thermocal.statespace.checks.inverted_balance_message`): an outdoor temperature in
+    Fahrenheit, swapped columns or a heat input of the wrong sign.
+
+    The heat is that of the heat inputs of known power without a scale (W, kW, MW); the
+    room's temperature the output observing the heat-loss state
+    (:func:`thermocal.statespace.data.indoor_outputs`), its values inside the physical range
+    (:func:`output_range_flags` names the others).
+
+    Parameters
+    ----------
+    model : RCModel
+    prep : PreparedData
+        The data as fitted (inputs in their columns' units, outputs [C]).
+
+    Returns
+    -------
+    list of str
+        At most one flag.
+    """
+    from thermocal.statespace.checks import inverted_balance_message
+    from thermocal.statespace.data import indoor_outputs
+    from thermocal.statespace.units import HEAT_COLUMN_UNITS
+
+    indoor = [c for c in model.output_names if c in indoor_outputs(model)]
+    n_b = len(model.boundary_names)
+    if not indoor or not n_b:
+        return []
+    known = dict.fromkeys(
+        (h["column"], h.get("unit") or "W") for h in model._heat_inputs
+        if h.get("scale") is None and not (h.get("unit") or "W").endswith("/m2")
+    )  # fmt: skip
+    means = {(c, u): float(np.nanmean(prep.U[:, model.input_names.index(c)])) for c, u in known}
+    y = prep.Y[:, model.output_names.index(indoor[0])]
+    lo, hi = PHYSICAL_LIMITS["C"]
+    with np.errstate(invalid="ignore"):
+        y = y[(y >= lo) & (y <= hi)]  # missing-value codes are flagged on their own
+    if not means or not y.size:
+        return []
+    heat = sum(m * HEAT_COLUMN_UNITS[u] for (_, u), m in means.items())
+    text = "; ".join(f"'{c}' averages {m:.4g} {u}" for (c, u), m in means.items())
+    boundaries = {b: float(np.nanmean(prep.U[:, j])) for j, b in enumerate(model.boundary_names)}
+    message = inverted_balance_message(indoor[0], float(np.nanmean(y)), boundaries, text, heat)
+    return [] if message is None else [message]
+
+
+def dim_irradiance_flags(model, prep: PreparedData) -> list[str]:
+    """Irradiance columns too dim for their declared unit: a maximum below
+    :data:`DIM_IRRADIANCE_W_M2` over at least :data:`DIM_IRRADIANCE_DAYS` days, where the
+    sun gives hundreds of W/m2 every day (a column in kW/m2 declared W/m2). A free aperture
+    absorbs the factor (it runs to its upper bound), so the heat-unit checks stay silent.
+
+    Parameters
+    ----------
+    model : RCModel
+    prep : PreparedData
+        The data as fitted (inputs in their columns' units, outputs [C]).
+
+    Returns
+    -------
+    list of str
+        One flag per column, naming its maximum, the span, and the unit that would give it a
+        physical peak.
+    """
+    from thermocal.statespace.units import HEAT_COLUMN_UNITS, HEAT_UNIT_SLIPS
+
+    span_days = float(prep.seconds[-1] - prep.seconds[0]) / 86400.0
+    if span_days < DIM_IRRADIANCE_DAYS:
+        return []
+    flags = []
+    for col, unit in dict.fromkeys(
+        (h["column"], h.get("unit") or "W") for h in model._heat_inputs
+    ):
+        if not unit.endswith("/m2"):
+            continue
+        u = prep.U[:, model.input_names.index(col)]
+        peak = float(np.nanmax(u)) if np.isfinite(u).any() else math.nan
+        if not peak * HEAT_COLUMN_UNITS[unit] < DIM_IRRADIANCE_W_M2:
+            continue
+        alt = [a for a, f in HEAT_UNIT_SLIPS.get(unit, [])
+               if DIM_IRRADIANCE_W_M2 <= peak * HEAT_COLUMN_UNITS[unit] * f
+               <= PHYSICAL_LIMITS["W/m2"][1]]  # fmt: skip
+        remedy = (
+            f"is the column in {alt[0]}? (its peak would be "
+            f"{peak * HEAT_COLUMN_UNITS[alt[0]]:.4g} W/m2) remedy: set 'unit: {alt[0]}' for "
+            f"'{col}' in heat_inputs (or convert the column); thermocal select: --solar-unit "
+            f"{alt[0]}"
+            if alt
+            else "check the unit and the sensor (covered, disconnected)"
+        )
+        flags.append(
+            f"irradiance '{col}' never exceeds {peak:.4g} {unit} over {span_days:.3g} days: "
+            f"sunlight gives hundreds of W/m2 on most days (beyond "
+            f"{DIM_IRRADIANCE_W_M2:g} W/m2 every day but in a polar night); {remedy}; a free "
+            "aperture absorbs the factor and ends on its bound"
+        )
+    return flags
+
+
+def single_start_flag(results) -> str | None:
+    """The flag of a fit whose global optimum was not checked: one optimiser start (with a
+    finite end), so no second start could reach the best value (``converged`` then rests on
+    the Newton criterion at that end point alone).
+
+    Parameters
+    ----------
+    results : FitResults
+
+    Returns
+    -------
+    str or None
+    """
+    agreement = results.agreement
+    if not agreement or agreement["n_starts"] >= 2:
+        return None
+    return (
+        "global optimum not checked: a single optimiser start, so no second start could reach "
+        "the best value; 'converged' rests on the Newton criterion at this end point alone; "
+        "remedy: more starts (--n-starts)"
+    )
 
 
 def input_flags(model, prep: PreparedData) -> list[str]:

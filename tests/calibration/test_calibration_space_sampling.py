@@ -196,8 +196,12 @@ def test_every_sample_of_an_energyplus_building_is_valid(shared_data):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         building = read_idf(idf)
+    from thermocal.multizone.elements import window_limits
+
     space = ParameterSpace.from_parameters(
-        building.parameters(), include=["material/*", "window/*", "*/infiltration_ach"]
+        building.parameters(),
+        include=["material/*", "window/*", "*/infiltration_ach"],
+        limits=window_limits(building),  # as campaign_space gives them
     )
     assert _model_refusals(building, space, n=128) == []
 
@@ -213,3 +217,26 @@ def test_a_value_on_a_model_limit_survives_a_round_trip_through_logarithms():
         assert upper <= 10.0
         assert nominal * np.exp(np.log(upper / nominal)) <= 10.0
         assert np.exp(np.log(upper)) <= 10.0
+
+
+def test_a_campaign_samples_a_layered_windows_shgc_only_as_far_as_its_glazing_reaches(shared_data):
+    """5ZoneAirCooled's double glazing (SHGC 0.764) can reach 0.875: a campaign's SHGC range
+    (+-75 %, and the published +-10000 %) stops there at both parameter levels, so no sample is
+    simulated at another SHGC than it is stored with (before, up to 1 was sampled)."""
+    from types import SimpleNamespace
+
+    from thermocal.calibration.config import ParametersSection
+    from thermocal.calibration.workflow import campaign_space
+    from thermocal.multizone.idf import read_idf
+
+    building = read_idf(shared_data("energyplus_reference", "5ZoneAirCooled_FF_v25.idf"))
+    name = "Dbl Clr 3mm/13mm Air"
+    limit = building.window_types[name].shgc_limit
+    assert 0.8 < limit < 0.9
+    for level in ("material", "element"):
+        for ranges in ({}, {"*/shgc": 100.0}):
+            section = ParametersSection(level=level, include=["window/*"], ranges=ranges)
+            space = campaign_space(SimpleNamespace(parameters=section), building)
+            i = space.index(f"window/{name}/shgc")
+            assert space.upper[i] == pytest.approx(limit, rel=1e-8)
+            building.with_parameters({f"window/{name}/shgc": float(space.upper[i])})

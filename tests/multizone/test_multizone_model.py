@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -238,3 +240,27 @@ def test_zone_gains_written_in_kilowatts_are_named():
     with pytest.raises(ThermocalInputError, match=r"0.3 W .* in kW\? then write 300"):
         building_from_dict(data)
     assert Zone("shaft", 10.0, 4.0, internal_gains=0.4).internal_gains == 0.4
+
+
+def test_an_shgc_beyond_what_layered_glazing_can_give_is_refused_and_a_campaign_stops_there():
+    """Found on the EnergyPlus twin with a low-e pane: an SHGC above the layered optics'
+    reach (transmittance + pane absorptances scaled to 1) was simulated at that reach while the
+    window type, the campaign's samples and the calibrated file said the value asked for."""
+    wt = WindowType(
+        "layered",
+        2.7,
+        0.79,
+        solar_transmittance=0.75,
+        pane_absorptances=(0.064, 0.052),
+    )
+    assert wt.shgc_limit == pytest.approx(0.79 / 0.866)
+    assert wt.with_shgc(wt.shgc_limit).solar_transmittance == pytest.approx(0.75 / 0.866)
+    with pytest.raises(ThermocalInputError, match=r"shgc 0\.95 is beyond .* at most 0\.9122"):
+        wt.with_shgc(0.95)
+    assert WindowType("simple", 2.7, 0.79).shgc_limit == 1.0
+    from thermocal.multizone.elements import window_limits
+
+    building = SimpleNamespace(window_types={"layered": wt, "simple": WindowType("s", 1.0, 0.5)})
+    limits = window_limits(building)
+    assert limits["window/layered/shgc"][1] == pytest.approx(wt.shgc_limit, rel=1e-8)
+    assert limits["window/simple/shgc"][1] == pytest.approx(1.0, rel=1e-8)

@@ -85,11 +85,17 @@ def calibration_flags(space, values, metric, posterior, series_model, truth=None
         for side, bound in (("lower", lo), ("upper", hi)):
             if abs(np.log(value / bound)) > AT_BOUND * span:
                 continue
-            why = (
-                "the data determine it: its range may be too narrow"
-                if name in determined
-                else "the data do not determine it: it likely absorbs an error of the model"
-            )
+            limit = space.limit_lower[i] if side == "lower" else space.limit_upper[i]
+            at_limit = np.isclose(bound, float(limit), rtol=1e-6)
+            if at_limit:  # the range was clipped there: a wider one cannot help
+                why = (
+                    "the model's physical limit for it (its range reaches beyond): it likely "
+                    "absorbs an error of the model"
+                )
+            elif name in determined:
+                why = "the data determine it: its range may be too narrow"
+            else:
+                why = "the data do not determine it: it likely absorbs an error of the model"
             if name in true or truth is not None:
                 perturbed = not np.isclose(true.get(name, nominal[name]), nominal[name], rtol=1e-9)
                 why += "; the truth " + ("perturbed" if perturbed else "did not perturb") + " it"
@@ -102,7 +108,9 @@ def calibration_flags(space, values, metric, posterior, series_model, truth=None
                     "bound": bound,
                     "determined": name in determined,
                     "text": f"{name} ends at its {side} sampling bound ({value:.4g} "
-                    f"{space.units[i]}; nominal {nominal[name]:.4g}): {why}.",
+                    f"{space.units[i]}, the bound {bound:.4g}; nominal {nominal[name]:.4g}): "
+                    f"{why}.",
+                    "at_limit": bool(at_limit),
                 }
             )
     floor = model_error_floor(space, posterior, series_model)

@@ -391,9 +391,12 @@ def check_uncertain_inputs(campaign, building, space) -> None:
 def campaign_space(campaign, building):
     """The campaign's parameter space on ``building`` (its ``parameters`` section)."""
     from thermocal.calibration.space import ParameterSpace
-    from thermocal.multizone.elements import element_limits, unused_parameters
+    from thermocal.multizone.elements import element_limits, unused_parameters, window_limits
 
     p = campaign.parameters
+    limits = window_limits(building)
+    if p.level == "element":
+        limits.update(element_limits(building))
     return ParameterSpace.from_parameters(
         candidate_parameters(building, p.level, infiltration=p.infiltration),
         include=p.include,
@@ -401,7 +404,7 @@ def campaign_space(campaign, building):
         default_range=p.default_range,
         ranges=p.ranges,
         unused=unused_parameters(building),
-        limits=element_limits(building) if p.level == "element" else None,
+        limits=limits,
     )
 
 

@@ -347,6 +347,25 @@ def element_limits(building) -> dict[str, tuple[float, float]]:
     return limits
 
 
+def window_limits(building) -> dict[str, tuple[float, float]]:
+    """The SHGC each window type of the building can take (:attr:`WindowType.shgc_limit`).
+
+    Parameters
+    ----------
+    building : thermocal.multizone.model.Building
+
+    Returns
+    -------
+    dict of str to (float, float)
+        ``window/<type>/shgc`` -> lower and upper limit [-] (a hair inside the upper, so that
+        a sample on it is not refused by round-off).
+    """
+    return {
+        f"window/{name}/shgc": (0.0, float(wt.shgc_limit) * (1.0 - 1e-9))
+        for name, wt in building.window_types.items()
+    }
+
+
 def _scaled_layer(layer, resistance_factor: float, capacity_factor: float):
     """A layer with its resistance and heat capacity scaled [-]."""
     if hasattr(layer, "conductivity"):

@@ -554,14 +554,42 @@ class WindowType:
             return np.zeros(0)
         return np.asarray(self._hemispherical(self.pane_absorptance), dtype=float)
 
+    @property
+    def shgc_limit(self) -> float:
+        """The largest SHGC :meth:`with_shgc` can give this window type [-].
+
+        A layered glazing's optics (transmittance and pane absorptances) are scaled together
+        with its SHGC, and together they cannot exceed 1 (a pane cannot transmit and absorb
+        more sun than falls on it): its limit is the SHGC at which they reach 1. A simple
+        window type (U-value and SHGC only) has 1.
+        """
+        if not self.layered or self.shgc == 0:
+            return 1.0
+        total = self.solar_transmittance + sum(self.pane_absorptances)
+        return min(1.0, self.shgc / total) if total > 0 else 1.0
+
     def with_shgc(self, shgc: float) -> WindowType:
-        """Copy with another SHGC; layered optics are scaled by the same ratio."""
+        """Copy with another SHGC; layered optics are scaled by the same ratio.
+
+        Raises
+        ------
+        ThermocalInputError
+            An SHGC beyond :attr:`shgc_limit` (before, the optics stopped there while the
+            window type reported the value asked for).
+        """
         shgc = _fraction(shgc, f"window type '{self.name}': shgc")
         if not self.layered or self.shgc == 0:
             return dataclasses.replace(self, shgc=shgc)
-        ratio = shgc / self.shgc
+        limit = self.shgc_limit
+        if shgc > limit * (1.0 + 1e-9):
+            raise ThermocalInputError(
+                f"window type '{self.name}': shgc {shgc:.4g} is beyond what its layered glazing "
+                f"can give ({limit:.4g}: its transmittance and pane absorptances, scaled with "
+                f"the SHGC, would exceed 1); give at most {limit:.4g}, or describe the window "
+                "by its U-value and SHGC alone"
+            )
         total = self.solar_transmittance + sum(self.pane_absorptances)
-        ratio = min(ratio, 1.0 / total) if total > 0 else ratio
+        ratio = min(shgc / self.shgc, 1.0 / total)  # equal at the limit, but for round-off
         return dataclasses.replace(
             self,
             shgc=shgc,

@@ -1,0 +1,165 @@
+"""``thermocal calibrate`` against EnergyPlus 25.2 with hidden windows, floor and roof.
+
+The twin (``tests/reference/calibration_energyplus_5zone_windows``): NREL's 5ZoneAirCooled, the
+building of ``test_calibration_energyplus.py``, with a second hidden envelope: the offices'
+double glazing given a low-e inner pane (emissivity 0.1 towards the gap, solar transmittance
+0.70), so that the U-value thermocal reads moves from 2.725 to 1.794 W/(m2 K) (-34 %) and the
+SHGC from 0.764 to 0.744; the ground floor slab's resistance x2 (0.078 -> 0.155 m2 K/W: the
+offices float at 18-20 C, below the file's 20 C ground, so the floor moves them, by 0.2-0.6 K
+on average alone, ``screen.json``); the roof insulation's resistance x0.7 (3.547 -> 2.553).
+Walls and infiltration as in the file. thermocal gets the nominal IDF without its loads, the
+weather and the log (6 zones, 5 minutes, 0.01 K) and calibrates, as a user would with the
+defaults, the wall's, roof's and floor's resistance, the glazing's U-value and SHGC and one
+factor on the infiltration (48 Sobol' samples, +-75 %, 15-minute steps, January 4-31, the
+zone-group metric).
+
+Targets (issue 26 item 7): the element resistances and window U the posterior declares
+determined within 15 % of the truth, their 90 % intervals covering it, the confirmed metric
+within 1.2x the true envelope's and never below it without a flag. Measured 2026-11-29 (this
+test's campaign, the reference folder's ``results.md``), since a campaign samples a layered
+glazing's SHGC only up to what its optics can give (0.8755 here; before, up to 1, simulated as
+0.853-0.875 while stored as asked): every parameter declared determined; roof 3.044 m2 K/W,
+median 3.097 [2.907, 3.309] (truth 2.553, +19.3 %, missed); wall 2.012, 2.064 [1.486, 2.773]
+(truth 2.451, -17.9 %, covered); floor 0.136, 0.134 [0.131, 0.136] (truth 0.155, -12.5 %, at
+the default range's upper bound, flagged, missed); window U 1.553, 1.493 [1.152, 1.895] (truth
+1.794, -13.4 %, covered); SHGC 0.875 (truth 0.744, +17.7 %) at the glazing's limit, flagged as
+the model's limit; metric 0.935x the true envelope's, flagged "below model error". The targets
+that fail are strict xfails below.
+
+A heavy reference run (about 20 s): it runs with ``THERMOCAL_REFERENCE_RUNS=1`` only.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import warnings
+from pathlib import Path
+
+import pytest
+
+from conftest import reference_run, requires_energyplus, shared_data_path
+
+FOLDER = Path(__file__).resolve().parents[1] / "reference" / "calibration_energyplus_5zone_windows"
+
+pytestmark = [pytest.mark.slow, requires_energyplus, reference_run]
+
+SAMPLES = 48
+
+ROOF, WALL = "construction/ROOF-1/resistance", "construction/WALL-1/resistance"
+FLOOR = "construction/FLOOR-SLAB-1/resistance"
+WINDOW_U = "window/Dbl Clr 3mm/13mm Air/u_value"
+
+
+def _twin_script():
+    """This twin's ``calibrate_twin.py``, loaded from its file (the 5-zone twin's script has
+    the same module name)."""
+    spec = importlib.util.spec_from_file_location(
+        "calibrate_twin_windows", FOLDER / "calibrate_twin.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    """The default campaign (zone-group metric, +-75 %) summarised against the truth."""
+    shared = shared_data_path("energyplus_reference")
+    ct = _twin_script()
+    from thermocal.calibration.config import load_campaign
+
+    folder = tmp_path_factory.mktemp("calibration_5zone_windows")
+    path = ct.prepare(folder, SAMPLES, shared=shared)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        campaign = load_campaign(path)
+        result, _ = ct.base.timed_calibration(campaign, folder, workers=1, resume=False)
+        summary = ct.base.summarise(result, campaign, ct.truth_file(), "groups")
+    summary["by_name"] = {r["parameter"]: r for r in summary["rows"]}
+    return summary
+
+
+def _xfail(reason: str):
+    return pytest.mark.xfail(strict=True, reason=reason)
+
+
+ERROR_CASES = [
+    pytest.param(
+        ROOF,
+        marks=_xfail(
+            "measured 2026-11-29: roof 3.044 m2 K/W against a truth of 2.553 (+19.3 %; "
+            "median 3.097 [2.907, 3.309]); with the floor's range widened to +-150 % +3.3 %"
+        ),
+        id="roof",
+    ),
+    pytest.param(
+        WALL,
+        marks=_xfail(
+            "measured 2026-11-29: wall 2.012 m2 K/W against a truth of 2.451 (-17.9 %; median "
+            "2.064 [1.486, 2.773]); the wall compensates the window U and the roof"
+        ),
+        id="wall",
+    ),
+    pytest.param(FLOOR, id="floor"),  # -12.5 %, at the default range's upper bound
+    pytest.param(WINDOW_U, id="window_u"),  # -13.4 % (-16.8 % with SHGC samples up to 1)
+]
+
+
+@pytest.mark.parametrize("name", ERROR_CASES)
+def test_determined_elements_within_15_percent_of_the_truth(twin, name):
+    row = twin["by_name"][name]
+    assert row["determined"], row
+    assert abs(row["error"]) <= 0.15, row
+
+
+COVER_CASES = [
+    pytest.param(
+        ROOF,
+        marks=_xfail(
+            "measured 2026-11-29: the roof's 90 % interval [2.907, 3.309] m2 K/W lies wholly "
+            "above the truth 2.553"
+        ),
+        id="roof",
+    ),
+    pytest.param(WALL, id="wall"),
+    pytest.param(
+        FLOOR,
+        marks=_xfail(
+            "measured 2026-11-29: the floor's truth 0.155 m2 K/W (x2) lies outside the default "
+            "+-75 % range (upper bound 0.136); its interval [0.131, 0.136] cannot cover it"
+        ),
+        id="floor",
+    ),
+    pytest.param(WINDOW_U, id="window_u"),  # [1.152, 1.895] against 1.794
+]
+
+
+@pytest.mark.parametrize("name", COVER_CASES)
+def test_determined_intervals_cover_the_truth(twin, name):
+    row = twin["by_name"][name]
+    assert row["determined"], row
+    assert row["covers"], row
+
+
+def test_the_metric_ends_near_the_true_envelope_and_never_below_it_unflagged(twin):
+    ratio = twin["calibrated_metric"] / twin["true_metric"]
+    below = any(f.get("kind") == "below model error" for f in twin["flags"])
+    assert ratio <= 1.2, ratio
+    assert ratio >= 1.0 or below, (ratio, twin["flags"])
+
+
+def test_the_floor_outside_the_default_range_is_flagged_at_its_bound(twin):
+    """The floor's truth (x2) lies beyond the default +-75 %: the calibration ends at the
+    range's upper bound and says the range may be too narrow."""
+    texts = " ".join(str(f.get("text", f)) for f in twin["flags"])
+    assert "FLOOR-SLAB-1/resistance ends at its upper sampling bound" in texts, texts
+
+
+def test_the_shgc_stops_at_what_the_glazing_can_give_and_is_flagged_as_the_models_limit(twin):
+    """The glazing's optics give at most SHGC 0.8755; the campaign samples no further and the
+    SHGC, pulled upward (more sun than EnergyPlus admits through this low-e glazing, see the
+    reference's README.md), ends there: flagged as the model's limit, not as a range to widen."""
+    row = twin["by_name"]["window/Dbl Clr 3mm/13mm Air/shgc"]
+    assert row["calibrated"] <= 0.8756 and row["q95"] <= 0.8756, row
+    (flag,) = [f for f in twin["flags"] if f.get("parameter", "").endswith("/shgc")]
+    assert flag["at_limit"] and "physical limit" in flag["text"], flag

@@ -138,12 +138,16 @@ def analyse(
         "confirmed": float(calibrated_metric),
         "confirmed_std_W": float(np.sqrt(calibrated_metric)),
     }
+    # the model-error floor is the campaign's (the first stage's posterior over its prior), not
+    # the zoom box's, whose 5 % quantile is about its own minimum
+    floor_from = (first.posterior, first.series_model)
     flags = calibration_flags(
-        space, calibrated_values, calibrated_metric, posterior, series_model, inputs.truth
-    )
+        space, calibrated_values, calibrated_metric, posterior, series_model, inputs.truth,
+        floor_from=floor_from,
+    )  # fmt: skip
     notes.extend(flag["text"] for flag in flags)
     confirmed["flags"] = flags
-    floor = model_error_floor(space, posterior, series_model)
+    floor = model_error_floor(space, *floor_from)
     if floor is not None:
         confirmed["model_error_floor"] = floor
     confirmed["calibrated_parameters"] = movable

@@ -184,3 +184,14 @@ def test_the_zoom_stage_below_the_true_envelope_is_flagged(tmp_path):
     ratio = summary["calibrated_metric"] / summary["true_metric"]
     assert ratio < 0.9, ratio
     assert any(f.get("kind") == "below model error" for f in summary["flags"]), summary["flags"]
+
+
+def test_the_reports_track_record_is_this_run(twin):
+    """The calibration report states how the default calibration held on this building
+    (``thermocal.calibration.track_record``)."""
+    import sys
+
+    sys.path.insert(0, str(FOLDER.parent / "calibration_energyplus_5zone"))
+    from calibrate_twin import check_track_record  # the 5-zone twin's script
+
+    check_track_record(twin, "calibration_energyplus_5zone_windows")

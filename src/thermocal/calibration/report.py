@@ -192,8 +192,8 @@ def _track_record(report: HtmlReport) -> None:
     checks = list(INDEPENDENT_CALIBRATIONS.values())
     report.paragraph(
         "How far such answers can be off: small campaigns (24 to 48 samples) of the same "
-        f"calibration with the zone-group metric (the default) on {len(checks)} buildings "
-        "thermocal did not write, EnergyPlus 25.2 running each with a hidden envelope and "
+        f"calibration with the zone-group metric (the default) on {len(checks)} hidden "
+        "envelopes of buildings thermocal did not write, EnergyPlus 25.2 running each and "
         "thermocal given the nominal file, the weather and the zone temperatures. A negative "
         "metric difference means the calibrated model follows the sensors better than the true "
         "envelope does: it fits model error as well as the envelope."

@@ -97,4 +97,18 @@ INDEPENDENT_CALIBRATIONS: dict[str, IndependentCalibration] = {
         note="the roof -8.8 %, its interval 2.1 % below the truth (the unvaried infiltration "
         "is a model error the envelope absorbs)",
     ),
+    "calibration_energyplus_5zone_windows": IndependentCalibration(
+        building="NREL 5ZoneAirCooled (low-e glazing: window U -34 %, ground slab R x2, roof R "
+        "x0.7 hidden; 48 samples)",
+        determined_resistances=3,
+        max_resistance_error_pct=19.3,
+        covered=3,
+        parameters=6,
+        determined_covered=3,
+        determined=6,
+        metric_vs_truth_pct=-6.5,
+        note="the roof +19 % and the unchanged wall -18 % (it trades with the window U, found at "
+        "-13 %); the slab's x2 lies beyond the default range; the SHGC ends at the glazing's "
+        "limit: the model wants more sun through this low-e glazing than EnergyPlus admits",
+    ),
 }

@@ -242,7 +242,9 @@ def test_periods_whose_estimates_sit_on_bounds_are_not_compared():
     check = heat_loss_regime_check(model, periods, profile=False, n_starts=2)
     assert not check["comparable"] and check["agree"] is None
     assert check["message"].startswith("heat loss coefficient per period not compared")
-    assert "'randomised': estimates on a bound (" in check["message"]
+    assert "'randomised': a conductance or resistance of the heat loss path on a bound (" in (
+        check["message"]
+    )
     assert "depends on the period" not in check["message"]
     assert all(h["at_bound"] for h in check["periods"].values())
 
@@ -256,10 +258,62 @@ def test_not_comparable_names_missing_and_degenerate_intervals():
     assert not_comparable(wald | {"wald_lower": 80.0, "wald_upper": 90.0}) is None
     assert "no interval" in not_comparable(wald | {"wald_lower": np.nan, "wald_upper": np.nan})
     assert "no interval" in not_comparable(wald | {"wald_lower": 10.0, "wald_upper": 10.0})
-    bound = wald | {"wald_lower": 80.0, "wald_upper": 90.0, "at_bound": ["Rea"]}
-    assert not_comparable(bound) == "estimates on a bound (Rea)"
+    bound = wald | {"wald_lower": 80.0, "wald_upper": 90.0, "at_bound": ["Rea"],
+                    "at_bound_on_heat_loss_path": ["Rea"]}  # fmt: skip
+    assert not_comparable(bound) == (
+        "a conductance or resistance of the heat loss path on a bound (Rea)"
+    )
+    capacity = bound | {"at_bound": ["Ce"], "at_bound_on_heat_loss_path": []}
+    assert not_comparable(capacity) is None  # the coefficient is still the data's
     profile = {"interval": "profile", "lower": None, "upper": 12.0, "at_bound": []}
     assert not_comparable(profile) is None  # an end not found: unbounded, not degenerate
+
+
+def test_a_capacity_on_a_bound_does_not_hide_the_period_dependence():
+    """Review of fuzz5 U4: the house with the 60 W/K adjacent space, the envelope capacity Ce
+    bounded to 5-15 MJ/K (truth 20) so that both periods end on its bound. The coefficients
+    are the data's all the same (measured 118.1 [112.4, 123.9] and 103.2 [100.2, 106.1] W/K);
+    before, the capacity on its bound demoted 'depends on the period' to 'not compared'. Now
+    the dependence is flagged, with a caveat naming the capacity."""
+    spec = two_state().to_dict()
+    spec["parameters"]["Ce"] |= {"value": 10.0, "lower": 5.0, "upper": 15.0}
+    model = RCModel.from_dict(spec)
+    check = heat_loss_regime_check(model, _regime_periods(60.0), profile=False, alpha=0.01)
+    assert all(h["at_bound"] == ["Ce"] for h in check["periods"].values())
+    assert check["comparable"] and check["agree"] is False
+    assert check["message"].startswith("heat loss coefficient depends on the period")
+    assert "Estimates on a bound ('randomised': Ce; 'steady': Ce)" in check["message"]
+    assert all(h["at_bound_on_heat_loss_path"] == [] for h in check["periods"].values())
+
+
+def test_heat_loss_path_holds_the_links_from_the_observed_state_to_a_boundary():
+    """The links the heat loss coefficient depends on: those on a path from the observed state
+    to a boundary temperature (through the envelope and the direct link, in series and in
+    parallel); a heater and a thermal mass hanging off the interior are dead ends."""
+    from thermocal.statespace.checks import heat_loss_path_parameters
+
+    m = RCModel("path")
+    for state in ("Ti", "Th", "Tm", "Te"):
+        m.add_state(state, capacity=f"C{state}", noise="s", initial_mean="x0", initial_std=1.0)
+    m.add_conductance("Ti", "Th", resistance="Rih")
+    m.add_conductance("Ti", "Tm", resistance="Rim")
+    m.add_conductance("Ti", "Te", resistance=["Rie1", "Rie2"])
+    m.add_conductance("Te", "Ta", resistance="Rea")
+    m.add_conductance("Ti", "Ta", conductance="Hia")
+    m.add_heat_input("Ph", into="Th")
+    m.add_output("y", state="Ti", noise="e")
+    for name in ("CTi", "CTh", "CTm", "CTe"):
+        m.add_parameter(name, 1.0, unit="MJ/K")
+    for name in ("Rih", "Rim", "Rie1", "Rie2", "Rea"):
+        m.add_parameter(name, 0.01, unit="K/W")
+    m.add_parameter("Hia", 10.0, unit="W/K")
+    for name, value, unit in [("s", 0.1, "K/sqrt(h)"), ("e", 0.05, "K"), ("x0", 20.0, "C")]:
+        m.add_parameter(name, value, unit=unit)
+    assert heat_loss_path_parameters(m) == {"Rie1", "Rie2", "Rea", "Hia"}
+    # a link from the mass to the outdoor air puts the mass on a path
+    m.add_conductance("Tm", "Ta", conductance="Hma")
+    m.add_parameter("Hma", 1.0, unit="W/K")
+    assert heat_loss_path_parameters(m) == {"Rim", "Hma", "Rie1", "Rie2", "Rea", "Hia"}
 
 
 def test_time_stamp_check_calls_start_supported_only_when_both_neighbours_lose():

@@ -117,6 +117,28 @@ def test_irradiance_too_dim_for_its_declared_unit_is_flagged():
     assert not flags_of(dim.iloc[:80], "never exceeds")  # 1.6 days: a dull spell
 
 
+def test_dim_irradiance_is_one_check_that_leaves_out_the_polar_night():
+    """Review of fuzz5 F-S2 (item 7): fit's flag and the retrofit workflow's refusal of an
+    irradiance too dim for W/m2 were two copies (fit flagged a polar night, retrofit refused
+    it). One helper now: a maximum below 5 W/m2 over two days or more; with the site's
+    latitude, days whose noon sun stays below 10 deg do not count (Tromso in December and at
+    the winter solstice; not in June, nor Munich in December)."""
+    from thermocal.statespace.units import daylight_rows, dim_irradiance
+
+    hours = np.arange(3 * 24) / 24.0
+    assert dim_irradiance(np.full(hours.size, 0.8), hours) == (0.8, pytest.approx(71 / 24))
+    assert dim_irradiance(np.full(hours.size, 300.0), hours) is None
+    assert dim_irradiance(np.full(40, 0.8), hours[:40]) is None  # 1.6 days: a dull spell
+    assert dim_irradiance(np.full(hours.size, np.nan), hours) is None  # no values, no unit
+    two = np.column_stack([np.full(hours.size, 0.8), np.full(hours.size, 1.2)])
+    assert dim_irradiance(two, hours)[0] == 1.2  # several columns: the larger
+    days = pd.to_datetime(["2023-12-01", "2023-12-21", "2023-06-21"]).tz_localize("UTC")
+    assert daylight_rows(days, 69.65).tolist() == [False, False, True]
+    assert daylight_rows(days, 48.14).tolist() == [True, True, True]
+    dark = daylight_rows(pd.date_range("2023-12-01", periods=hours.size, freq="1h"), 69.65)
+    assert dim_irradiance(np.full(hours.size, 0.8), hours, dark) is None
+
+
 def test_missing_value_codes_in_the_output_are_flagged_by_row():
     """F-S3 (fuzz5 f35, f36): -9999 and 999 in the output, which the physical range check of
     the boundary temperatures did not cover (before: 2,385 W/K and only 'residuals beyond 5

@@ -124,7 +124,8 @@ def irradiance_limits(index: pd.DatetimeIndex, location) -> dict[str, np.ndarray
 def check_irradiance_limits(
     grid: pd.DataFrame, cfg: MeasurementsConfig, location, source: str
 ) -> None:
-    """Refuse a horizontal irradiance beyond what the sun can give at that hour.
+    """Refuse a horizontal irradiance beyond what the sun can give at that hour, or too dim
+    for W/m2 on the days the sun climbs (:func:`check_dim_irradiance`).
 
     A log with the direct normal and the diffuse columns swapped passes every range check
     (both are irradiances below 1,600 W/m2), and the fit then takes the beam for diffuse light:
@@ -141,6 +142,7 @@ def check_irradiance_limits(
     source : str
         The measurement file, for the message.
     """
+    check_dim_irradiance(grid, cfg, location, source)
     std = "ghi" if cfg.irradiance == "ghi" else "dhi"
     values = grid[std].to_numpy(float)
     limit = irradiance_limits(grid.index, location)[std]
@@ -163,6 +165,56 @@ def check_irradiance_limits(
         f"and Dutton 2002) in {int(above.sum())} of {int(sunlit.sum())} sunlit rows, first at "
         f"{grid.index[first]} ({values[first]:.0f} W/m2 where the limit is "
         f"{limit[first]:.0f}): {hint}; check the building's location too"
+    )
+
+
+def check_dim_irradiance(
+    grid: pd.DataFrame, cfg: MeasurementsConfig, location, source: str
+) -> None:
+    """Refuse irradiance columns too dim for W/m2 on the days the sun climbs at the building.
+
+    :func:`thermocal.statespace.units.dim_irradiance` on the days whose noon sun rises above
+    :data:`~thermocal.statespace.units.DIM_IRRADIANCE_NOON_SUN_DEG` at the building's latitude
+    (:func:`~thermocal.statespace.units.daylight_rows`): a log in kW/m2 (or kWh/m2 per hour)
+    is refused, a polar night (the sun below the horizon all day, a few W/m2 of twilight at
+    most) is not.
+
+    Parameters
+    ----------
+    grid : DataFrame
+        Averaged measurements with the irradiance columns [W/m2] (``dni`` and ``dhi``, or
+        ``ghi``; tz-aware DatetimeIndex).
+    cfg : MeasurementsConfig
+    location : the building file's location (``latitude`` [deg])
+    source : str
+        The measurement file, for the message.
+    """
+    from thermocal.statespace.units import (
+        DIM_IRRADIANCE_NOON_SUN_DEG,
+        DIM_IRRADIANCE_W_M2,
+        daylight_rows,
+        dim_irradiance,
+    )
+
+    solar = [std for std in cfg.irradiance_columns() if std in grid]
+    if not solar or not len(grid):
+        return
+    days = (grid.index - grid.index[0]) / pd.Timedelta(days=1)
+    daylight = daylight_rows(grid.index, float(location.latitude))
+    dim = dim_irradiance(grid[solar].to_numpy(float), days, daylight)
+    if dim is None:
+        return
+    peak, span = dim
+    polar = "" if daylight.all() else " (days of a polar night and at its edges not counted)"
+    keys = " and ".join(f"measurements.columns.{std}" for std in solar)
+    raise ThermocalInputError(
+        f"{source}: irradiance column(s) {' and '.join(repr(cfg.columns[std]) for std in solar)} "
+        f"never exceed {peak:.2f} W/m2 over {span:.3g} days on which the noon sun at the "
+        f"building's latitude ({float(location.latitude):g} deg) climbs above "
+        f"{DIM_IRRADIANCE_NOON_SUN_DEG:g} deg{polar}, where sunlight gives more than "
+        f"{DIM_IRRADIANCE_W_M2:g} W/m2; they must be in W/m2 (hourly Wh/m2 are the same "
+        f"numbers; kWh/m2: multiply by 1000) in the columns of {keys}; check the building's "
+        "location too"
     )
 
 
@@ -346,7 +398,9 @@ def read_raw_measurements(
     ThermocalInputError
         File missing or unreadable, time column missing or unparsable, duplicated or
         unsorted timestamps, a mapped column missing, non-numeric values, negative flows,
-        temperatures that look like Kelvin, irradiance negative or not in W/m2.
+        temperatures that look like Kelvin, irradiance negative or beyond sunlight (a
+        column too dim for W/m2 is refused by :func:`check_dim_irradiance`, which knows the
+        building's latitude).
     """
     from thermocal.io.measurements import read_measurements
 
@@ -442,15 +496,6 @@ def read_raw_measurements(
                 "sunlight never exceeds about 1,400 W/m2, so the column is not in W/m2 (a factor "
                 "1000 points to kW vs W or W/m2 written as mW/m2): convert the column to W/m2"
             )
-    span = (index[-1] - index[0]) if len(index) else pd.Timedelta(0)
-    high = np.nanmax(out[solar].to_numpy()) if out[solar].notna().any().any() else 0
-    if span >= pd.Timedelta(days=2) and high < 5.0:
-        raise ThermocalInputError(
-            f"measurement file {path}: irradiance column(s) "
-            f"{' and '.join(repr(cfg.columns[std]) for std in solar)} never exceed {high:.2f} "
-            f"over {span}; they must be in W/m2 (hourly Wh/m2 are the same numbers; kWh/m2: "
-            "multiply by 1000)"
-        )
     out.attrs["measurements"] = raw.attrs["measurements"]
     return out
 

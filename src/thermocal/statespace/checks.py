@@ -334,33 +334,118 @@ def _ends(h: dict) -> tuple[float, float]:
     return h["wald_lower"], h["wald_upper"]
 
 
+def heat_loss_path_parameters(model) -> set[str]:
+    """The parameters of the conductances on the heat loss path of ``model``.
+
+    The heat loss coefficient (:meth:`RCModel.heat_loss_coefficient`) is the steady heat flow
+    from the observed state to the boundary temperatures; it depends on a conductance exactly
+    when the link lies on a path from that state to a boundary that visits no state twice. A
+    link to a dead end (a heater state, a thermal mass hanging off the interior) carries no
+    steady flow and leaves the coefficient alone.
+
+    Parameters
+    ----------
+    model : RCModel
+        A model whose structure implies a heat loss coefficient.
+
+    Returns
+    -------
+    set of str
+        Names of the conductance [W/K] and resistance [K/W] parameters of those links (empty
+        when the model implies no coefficient).
+    """
+    state = model.heat_loss_state()
+    if state is None:
+        return set()
+    st = model.structure()
+    edge_a, edge_b, link_ptr, link_idx = st.arrays[1:5]
+    boundary = -1  # every boundary temperature: all held 1 K below the state
+    ends = [
+        (int(a), int(b) if b >= 0 else boundary) for a, b in zip(edge_a, edge_b, strict=True)
+    ]
+    on_path: set[int] = set()
+
+    def walk(node: int, visited: frozenset, edges: tuple) -> None:
+        for e, (a, b) in enumerate(ends):
+            if node not in (a, b):
+                continue
+            other = b if node == a else a
+            if other == boundary:
+                on_path.update((*edges, e))
+            elif other not in visited:
+                walk(other, visited | {other}, (*edges, e))
+
+    start = model.state_names.index(state)
+    walk(start, frozenset({start}), ())
+    names = model.parameter_names
+    return {
+        names[i]
+        for e in on_path
+        for i in link_idx[link_ptr[e] : link_ptr[e + 1]]
+        if i < len(names)  # the rest are the model's constants
+    }
+
+
 def not_comparable(h: dict) -> str | None:
     """Why a period's heat loss coefficient cannot be compared with another's, or None.
 
     An interval that is not a number or has no width (a Wald interval without standard error,
-    estimates held on a bound) says nothing about the period; estimates of capacities,
-    resistances, conductances, scales or fractions on a bound (``h["at_bound"]``, see
-    :func:`thermocal.statespace.selection.physical_at_bound`) make the coefficient the bound's,
-    not the data's: a unit slip or a wrong model shows that way, and two such coefficients
-    differing says nothing about the regime.
+    estimates held on a bound) says nothing about the period; a conductance or resistance on
+    the heat loss path estimated on a bound (``h["at_bound_on_heat_loss_path"]``, see
+    :func:`heat_loss_path_parameters`) makes the coefficient the bound's, not the data's (a
+    unit slip or a wrong model shows that way), and two such coefficients differing says
+    nothing about the regime. Other estimates on a bound (capacities, scales, fractions, links
+    off the path) leave the coefficient to the data: the periods are compared, with a caveat
+    (:func:`bound_caveat`).
 
     Parameters
     ----------
     h : dict
-        A period's heat loss coefficient (:meth:`FitResults.heat_loss_coefficient`) with
-        ``at_bound``.
+        A period's heat loss coefficient [W/K] (:meth:`FitResults.heat_loss_coefficient`) with
+        ``at_bound_on_heat_loss_path``.
 
     Returns
     -------
     str or None
         The reason, for the message.
     """
-    if h.get("at_bound"):
-        return f"estimates on a bound ({', '.join(h['at_bound'])})"
+    on_path = h.get("at_bound_on_heat_loss_path")
+    if on_path:
+        names = ", ".join(on_path)
+        return f"a conductance or resistance of the heat loss path on a bound ({names})"
     lo, hi = _ends(h)
     if math.isnan(lo) or math.isnan(hi) or not hi > lo:
         return "no interval (no standard error)"
     return None
+
+
+def bound_caveat(periods: dict) -> str | None:
+    """The caveat for compared periods with estimates on a bound off the heat loss path.
+
+    Parameters
+    ----------
+    periods : dict
+        ``{label: heat loss coefficient dict}`` with ``at_bound`` (physical estimates on a
+        bound) and ``at_bound_on_heat_loss_path``.
+
+    Returns
+    -------
+    str or None
+        None when no period has such an estimate.
+    """
+    parts = []
+    for label, h in periods.items():
+        off_path = [n for n in h["at_bound"] if n not in h["at_bound_on_heat_loss_path"]]
+        if off_path:
+            parts.append(f"'{label}': {', '.join(off_path)}")
+    if not parts:
+        return None
+    return (
+        "Estimates on a bound (" + "; ".join(parts) + ") do not set the coefficients, but the "
+        "other estimates were fitted with them held there (a capacity on its bound: a period "
+        "too short for the slow dynamics; a scale or fraction at 0: an input the period hardly "
+        "excites); confirm with those bounds widened or the parameters fixed"
+    )
 
 
 def heat_loss_regime_check(
@@ -404,12 +489,14 @@ def heat_loss_regime_check(
     -------
     dict
         ``periods`` ({label: heat loss coefficient dict with ``loglike``, ``converged``,
-        ``at_bound`` (physical estimates on a bound) and the regime: ``mean_heat`` [W],
-        ``mean_difference`` [K] and ``balance`` [W/K], the ratio of the two}), ``comparable``
-        (every period has a finite interval of some width and no physical estimate on a
-        bound, :func:`not_comparable`), ``agree`` (every pair of intervals overlaps; None when
-        not comparable), ``message`` (None, the warning with the numbers, or why the periods
-        were not compared).
+        ``at_bound`` (physical estimates on a bound), ``at_bound_on_heat_loss_path`` (those
+        of them on the heat loss path, :func:`heat_loss_path_parameters`) and the regime:
+        ``mean_heat`` [W], ``mean_difference`` [K] and ``balance`` [W/K], the ratio of the
+        two}), ``comparable`` (every period has a finite interval of some width and no
+        conductance or resistance of the heat loss path on a bound, :func:`not_comparable`),
+        ``agree`` (every pair of intervals overlaps; None when not comparable), ``message``
+        (None, the warning with the numbers and the caveat of :func:`bound_caveat`, or why the
+        periods were not compared).
     """
     from thermocal.statespace.selection import physical_at_bound
 
@@ -428,8 +515,10 @@ def heat_loss_regime_check(
             max_gap=max_gap,
         )  # fmt: skip
         h = res.heat_loss_coefficient(profile=profile, alpha=alpha)
-        h |= {"loglike": res.loglike, "converged": bool(res.converged),
-              "at_bound": physical_at_bound(res)}  # fmt: skip
+        at_bound = physical_at_bound(res)
+        on_path = heat_loss_path_parameters(res.model)
+        h |= {"loglike": res.loglike, "converged": bool(res.converged), "at_bound": at_bound,
+              "at_bound_on_heat_loss_path": [n for n in at_bound if n in on_path]}  # fmt: skip
         h |= _regime(res)
         out[label] = h
     labels = list(out)
@@ -438,9 +527,10 @@ def heat_loss_regime_check(
         parts = [f"'{label}': {why}" for label, why in reasons.items() if why]
         message = (
             "heat loss coefficient per period not compared: " + "; ".join(parts) + ". A "
-            "coefficient without an interval, or with estimates held on a bound, says nothing "
-            "about the period: see the flags of the fit (a unit slip, a wrong column, a model "
-            "that does not fit the data) before judging the period dependence"
+            "coefficient without an interval, or whose heat loss path is held on a bound (the "
+            "coefficient is then the bound's), says nothing about the period: see the flags of "
+            "the fit (a unit slip, a wrong column, a model that does not fit the data) before "
+            "judging the period dependence"
         )
         return {"periods": out, "comparable": False, "agree": None, "message": message}
     disagree = [
@@ -464,6 +554,9 @@ def heat_loss_regime_check(
             "the period that represents the use you need, or model the adjacent spaces as "
             "boundary temperatures"
         )
+        caveat = bound_caveat(out)
+        if caveat:
+            message += ". " + caveat
     return {"periods": out, "comparable": True, "agree": not disagree, "message": message}
 
 

@@ -21,9 +21,11 @@ from thermocal.statespace.data import PreparedData, prepare_data
 from thermocal.statespace.distributions import normal_quantile
 from thermocal.statespace.kalman import _hold_flag, filter_arrays, rts_smoother, simulate
 from thermocal.statespace.units import (
+    DIM_IRRADIANCE_W_M2,
     HEAT_UNIT_SLIPS,
     PLAUSIBLE_HEAT_LOSS_W_PER_K,
     TIME_UNITS,
+    dim_irradiance,
     heat_unit_slip,
 )
 
@@ -47,11 +49,6 @@ NEGATIVE_OFFSET_FRACTION = 0.05
 #: Physical limits in SI of boundary temperatures [C] and irradiances [W/m2] (above the solar
 #: constant, 1361 W/m2, Kopp & Lean 2011, with margin for reflections).
 PHYSICAL_LIMITS = {"C": (-90.0, 150.0), "W/m2": (-50.0, 1500.0)}
-#: An irradiance whose maximum stays below this [W/m2] over at least DIM_IRRADIANCE_DAYS days
-#: is in another unit (kW/m2 read as W/m2): sunlight exceeds it every day but in a polar night
-#: (the threshold of the retrofit workflow's measurement check).
-DIM_IRRADIANCE_W_M2 = 5.0
-DIM_IRRADIANCE_DAYS = 2.0
 #: Out-of-range output values listed by row in a flag.
 ROWS_LISTED = 5
 #: A fit more than this below its nested model's log-likelihood is flagged.
@@ -1203,10 +1200,14 @@ def inverted_balance_flags(model, prep: PreparedData) -> list[str]:
 
 
 def dim_irradiance_flags(model, prep: PreparedData) -> list[str]:
-    """Irradiance columns too dim for their declared unit: a maximum below
-    :data:`DIM_IRRADIANCE_W_M2` over at least :data:`DIM_IRRADIANCE_DAYS` days, where the
-    sun gives hundreds of W/m2 every day (a column in kW/m2 declared W/m2). A free aperture
-    absorbs the factor (it runs to its upper bound), so the heat-unit checks stay silent.
+    """Irradiance columns too dim for their declared unit
+    (:func:`thermocal.statespace.units.dim_irradiance`: a maximum below
+    :data:`~thermocal.statespace.units.DIM_IRRADIANCE_W_M2` over at least
+    :data:`~thermocal.statespace.units.DIM_IRRADIANCE_DAYS` days, where the sun gives hundreds
+    of W/m2 every day): a column in kW/m2 declared W/m2. A free aperture absorbs the factor (it
+    runs to its upper bound), so the heat-unit checks stay silent. The fit knows no site, so
+    every day counts: data of a polar night are flagged too (a flag, not a refusal; the
+    retrofit workflow, which knows the latitude, leaves those days out).
 
     Parameters
     ----------
@@ -1220,11 +1221,9 @@ def dim_irradiance_flags(model, prep: PreparedData) -> list[str]:
         One flag per column, naming its maximum, the span, and the unit that would give it a
         physical peak.
     """
-    from thermocal.statespace.units import HEAT_COLUMN_UNITS, HEAT_UNIT_SLIPS
+    from thermocal.statespace.units import HEAT_COLUMN_UNITS
 
-    span_days = float(prep.seconds[-1] - prep.seconds[0]) / 86400.0
-    if span_days < DIM_IRRADIANCE_DAYS:
-        return []
+    days = (prep.seconds - prep.seconds[0]) / 86400.0
     flags = []
     for col, unit in dict.fromkeys(
         (h["column"], h.get("unit") or "W") for h in model._heat_inputs
@@ -1232,9 +1231,10 @@ def dim_irradiance_flags(model, prep: PreparedData) -> list[str]:
         if not unit.endswith("/m2"):
             continue
         u = prep.U[:, model.input_names.index(col)]
-        peak = float(np.nanmax(u)) if np.isfinite(u).any() else math.nan
-        if not peak * HEAT_COLUMN_UNITS[unit] < DIM_IRRADIANCE_W_M2:
+        dim = dim_irradiance(u * HEAT_COLUMN_UNITS[unit], days)
+        if dim is None:
             continue
+        peak, span_days = dim[0] / HEAT_COLUMN_UNITS[unit], dim[1]
         alt = [a for a, f in HEAT_UNIT_SLIPS.get(unit, [])
                if DIM_IRRADIANCE_W_M2 <= peak * HEAT_COLUMN_UNITS[unit] * f
                <= PHYSICAL_LIMITS["W/m2"][1]]  # fmt: skip
@@ -1249,8 +1249,9 @@ def dim_irradiance_flags(model, prep: PreparedData) -> list[str]:
         flags.append(
             f"irradiance '{col}' never exceeds {peak:.4g} {unit} over {span_days:.3g} days: "
             f"sunlight gives hundreds of W/m2 on most days (beyond "
-            f"{DIM_IRRADIANCE_W_M2:g} W/m2 every day but in a polar night); {remedy}; a free "
-            "aperture absorbs the factor and ends on its bound"
+            f"{DIM_IRRADIANCE_W_M2:g} W/m2 every day but in a polar night, which this check "
+            f"cannot tell without the site: ignore the flag for data of a polar night); "
+            f"{remedy}; a free aperture absorbs the factor and ends on its bound"
         )
     return flags
 

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from thermocal.errors import ThermocalInputError
 
 _SQRT_H = math.sqrt(3600.0)
@@ -117,6 +119,84 @@ def heat_unit_slip(heat_loss: float, unit: str) -> tuple[str, float] | None:
         if lo <= heat_loss * factor <= hi:
             return alt, heat_loss * factor
     return None
+
+
+#: An irradiance whose maximum stays below this [W/m2] over at least
+#: :data:`DIM_IRRADIANCE_DAYS` days of daylight is in another unit (kW/m2 read as W/m2):
+#: sunlight exceeds it on every day the sun climbs (:func:`dim_irradiance`).
+DIM_IRRADIANCE_W_M2 = 5.0
+DIM_IRRADIANCE_DAYS = 2.0
+#: Days whose noon sun stays below this elevation [deg] do not count as daylight for
+#: :func:`dim_irradiance`: the polar night, and the days at its edges when the sun barely rises
+#: and an overcast sky lets a few W/m2 through (at 10 deg the sun gives 236 W/m2 on a
+#: horizontal plane above the atmosphere; 5 W/m2 is 2 % of it).
+DIM_IRRADIANCE_NOON_SUN_DEG = 10.0
+
+
+def daylight_rows(index, latitude: float) -> np.ndarray:
+    """Rows of days on which the noon sun climbs above :data:`DIM_IRRADIANCE_NOON_SUN_DEG`.
+
+    The noon elevation is ``90 - |latitude - declination|``, with the declination of the day
+    (Spencer 1971, :func:`pvlib.solarposition.declination_spencer71`).
+
+    Parameters
+    ----------
+    index : pandas.DatetimeIndex
+        Row times (their calendar day is used).
+    latitude : float [deg N]
+        Site latitude.
+
+    Returns
+    -------
+    ndarray of bool
+        One per row: False in the polar night and at its edges.
+    """
+    from pvlib.solarposition import declination_spencer71
+
+    declination = np.degrees(declination_spencer71(np.asarray(index.day_of_year, float)))
+    noon_elevation = 90.0 - np.abs(float(latitude) - declination)
+    return noon_elevation > DIM_IRRADIANCE_NOON_SUN_DEG
+
+
+def dim_irradiance(values, days, daylight=None) -> tuple[float, float] | None:
+    """An irradiance too dim for W/m2: its maximum and the daylight it covers, or None.
+
+    Sunlight gives hundreds of W/m2 on most days and more than :data:`DIM_IRRADIANCE_W_M2`
+    on every day the sun climbs; a maximum below that over at least
+    :data:`DIM_IRRADIANCE_DAYS` days of daylight is a column in another unit (kW/m2, or
+    kWh/m2 per hour, read as W/m2) or a covered sensor.
+
+    Parameters
+    ----------
+    values : array_like [W/m2]
+        Irradiance of each row, one column (shape (n,)) or several (shape (n, k): the row's
+        largest counts); NaN for missing values.
+    days : array_like [d]
+        Time of each row, increasing, from any origin.
+    daylight : array_like of bool, optional
+        Rows that count (:func:`daylight_rows`, where the site's latitude is known); default:
+        every row.
+
+    Returns
+    -------
+    (float, float) or None
+        The maximum [W/m2] and the daylight span [d] (the time from each counted row to the
+        next, summed) when the irradiance is too dim; None when it exceeds the threshold, has
+        no values, or the span is shorter than :data:`DIM_IRRADIANCE_DAYS`.
+    """
+    values = np.asarray(values, float)
+    if values.ndim > 1:
+        values = np.fmax.reduce(values, axis=1)  # NaN only where every column is
+    days = np.asarray(days, float)
+    if not days.size:
+        return None
+    counted = np.ones(days.size, bool) if daylight is None else np.asarray(daylight, bool)
+    span = float(np.diff(days, append=days[-1])[counted].sum())
+    lit = values[counted]
+    if span < DIM_IRRADIANCE_DAYS or not np.isfinite(lit).any():
+        return None
+    peak = float(np.nanmax(lit))
+    return (peak, span) if peak < DIM_IRRADIANCE_W_M2 else None
 
 
 #: Factor from a time unit to seconds.

@@ -65,6 +65,43 @@ def test_retrofit_with_flow_in_m3_per_hour_declared_as_l_per_hour(tmp_path):
         run_retrofit(load_config(config))
 
 
+def test_a_fuel_meters_unit_slip_names_the_same_keys_as_verify(tmp_path):
+    """Review of fuzz round 5: the retrofit analysis wrote its own unit hint for a meter,
+    without verify's "a calorific value in MJ is 3.6 times" or heat_cumulative's values; one
+    helper (``calibration.heat_unit_keys``) now writes both. A gas meter logging litres
+    declared m3: refused naming every key of the heat's scale."""
+    from thermocal.physics.hydronics import heating_power
+    from thermocal.retrofit.calibration import heat_unit_keys
+
+    config = make_dataset(tmp_path, days=22.0)
+    cfg = yaml.safe_load(config.read_text())
+    mc = cfg["measurements"]
+    measurements = tmp_path / mc["file"]
+    frame = pd.read_csv(measurements)
+    assert mc.get("flow_unit") == "l/h"
+    heat_w = heating_power(
+        frame[mc["columns"]["flow"]] / 3.6e6, frame[mc["columns"]["temp_supply"]],
+        frame[mc["columns"]["temp_return"]],
+    ).to_numpy(float)  # fmt: skip
+    frame["gas_m3"] = heat_w / 1e3 / 0.9 / 10.5 * 1e3  # litres
+    frame.to_csv(measurements, index=False)
+    for key in ("flow", "temp_supply", "temp_return"):
+        mc["columns"].pop(key)
+    mc.pop("flow_unit")
+    mc["columns"]["heat"] = "gas_m3"
+    mc.update(heat_source="fuel_meter", heat_unit="m3", fuel_kWh_per_unit=10.5,
+              boiler_efficiency=0.9)  # fmt: skip
+    config.write_text(yaml.safe_dump(cfg))
+    loaded = load_config(config)
+    with pytest.raises(ThermocalInputError) as info:
+        run_retrofit(loaded)
+    message = str(info.value)
+    assert "over the training period" in message and "far too large" in message, message
+    assert heat_unit_keys(loaded.measurements) in message
+    assert "heat_cumulative (now false" in message
+    assert "fuel_kWh_per_unit (now 10.5 kWh per m3; a calorific value in MJ is 3.6" in message
+
+
 def test_missing_irradiance_is_not_zero_sun(tmp_path):
     """Two days of missing DNI in the training period: refused, not read as two dark days."""
     config = make_dataset(tmp_path, days=22.0)

@@ -331,6 +331,84 @@ def test_the_energy_carrier_sets_the_emission_factor_and_notes_the_oil_price():
     assert parse_config(_cfg()).economics_notes() == []
 
 
+def test_district_heating_has_its_own_system_efficiency_and_no_emission_factor():
+    """Review of fuzz round 5: district heating kept a boiler's 0.85 system efficiency without
+    a word (the final energy, cost and CO2 18 % too large). The heat bought is the heat
+    metered at the building's substation: 1; its emission factor is the utility's, so none is
+    assumed and the note names economics.emission_factor."""
+    district = parse_config(_cfg(economics={"energy_carrier": "District-Heating"}))
+    assert district.economics.system_efficiency == 1.0
+    assert district.economics.emission_factor == 0.310  # the field's default, said aloud
+    notes = district.economics_notes()
+    assert "(its emission factor is the utility's: no default)" in notes[0]
+    assert notes[0].endswith("set economics.energy_price and emission_factor for District-Heating")
+    assert "system_efficiency 1 assumed for 'District-Heating' (the heat bought is the heat " \
+           "metered at the building's substation)" in notes[1]
+    given = parse_config(_cfg(economics={"energy_carrier": "district heating",
+                                         "emission_factor": 0.12, "energy_price": 0.11,
+                                         "system_efficiency": 0.97}))  # fmt: skip
+    assert given.economics_notes() == []
+    # a carrier without defaults keeps a boiler's 0.85 too, and says so
+    propane = parse_config(_cfg(economics={"energy_carrier": "propane", "energy_price": 0.1,
+                                           "emission_factor": 0.27}))  # fmt: skip
+    assert propane.economics_notes() == [
+        "economics: energy_carrier 'propane' (none of heating oil, natural gas, electricity, heat "
+        "pump, wood, district heating, whose defaults are known) keeps a boiler's "
+        "system_efficiency 0.85 (the final energy); set economics.system_efficiency for propane"
+    ]
+
+
+def test_a_carrier_text_naming_several_carriers_takes_no_carriers_defaults():
+    """Review of fuzz round 5: any text with "heat pump" in it was a heat pump, so "gas boiler
+    + heat pump (hybrid)" silently got a COP of 3 and grid electricity's CO2. Carriers are
+    matched as whole names; a text naming several takes none's defaults, with a note."""
+    from thermocal.retrofit.config import energy_carrier_reading
+
+    hybrid = parse_config(_cfg(economics={"energy_carrier": "gas boiler + heat pump (hybrid)"}))
+    assert hybrid.economics.carrier() is None
+    assert hybrid.economics.system_efficiency == 0.85
+    notes = hybrid.economics_notes()
+    assert notes[0].startswith("economics: energy_carrier 'gas boiler + heat pump (hybrid)' "
+                               "names several carriers (heat pump, natural gas): none of their "
+                               "defaults is taken")  # fmt: skip
+    assert "set economics.energy_price, emission_factor and system_efficiency" in notes[1]
+    # one carrier's full name in a longer text is that carrier; an alias alone is not
+    assert energy_carrier_reading("Air-source heat pump") == ("heat pump", ("heat pump",))
+    assert energy_carrier_reading("electric heat pump")[0] == "heat pump"
+    assert energy_carrier_reading("natural gas condensing boiler")[0] == "natural gas"
+    assert energy_carrier_reading("heatpump, air-water")[0] == "heat pump"
+    assert energy_carrier_reading("propane gas") == (None, ("natural gas",))
+    assert energy_carrier_reading("gas")[0] == "natural gas"
+    assert energy_carrier_reading("Fernwärme")[0] == "district heating"
+
+
+def test_a_fuel_meters_volume_that_is_not_the_carriers_is_noted():
+    """Review of fuzz round 5: a gas meter in m3 beside the default heating oil (or an oil meter
+    in litres beside natural gas) gave the other fuel's CO2 without a word."""
+    gas_meter = {"file": "m.csv", "heat_source": "fuel_meter", "heat_unit": "m3",
+                 "fuel_kWh_per_unit": 10.5, "columns": {"heat": "gas"},
+                 "boiler_efficiency": 0.9}  # fmt: skip
+    default = parse_config(_cfg(measurements=gas_meter))
+    (note,) = default.economics_notes()
+    assert note.startswith("measurements.heat_unit m3 is the volume of a gas (natural gas, "
+                           "biogas, propane), but economics.energy_carrier is 'heating oil' "
+                           "(the default), sold by the litre")  # fmt: skip
+    assert note.endswith("Set economics.energy_carrier to the fuel the meter measures (e.g. "
+                         "natural gas)")  # fmt: skip
+    oil_meter = {**gas_meter, "heat_unit": "l", "fuel_kWh_per_unit": 10.0}
+    gas = parse_config(_cfg(measurements=oil_meter, economics={
+        "energy_carrier": "natural gas", "energy_price": 0.1}))  # fmt: skip
+    assert any("heat_unit l is the volume of a liquid fuel" in n and "(e.g. heating oil)" in n
+               for n in gas.economics_notes())  # fmt: skip
+    # the meter's own fuel, or a new system replacing the boiler: nothing to say of the volume
+    same = parse_config(_cfg(measurements=gas_meter, economics={
+        "energy_carrier": "natural gas", "energy_price": 0.1}))  # fmt: skip
+    assert same.economics_notes() == []
+    pump = parse_config(_cfg(measurements=gas_meter, economics={
+        "energy_carrier": "heat pump", "system_efficiency": 3.2, "energy_price": 0.3}))
+    assert pump.economics_notes() == []
+
+
 def test_the_measured_boilers_efficiency_is_the_default_system_efficiency():
     """Fuzzing r09: a fuel meter with ``boiler_efficiency: 0.95`` beside the default
     ``system_efficiency`` 0.85 made the final energy, cost and CO2 11.8 % too large, and

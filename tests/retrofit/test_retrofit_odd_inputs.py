@@ -538,6 +538,34 @@ def test_internal_gains_beyond_a_homes_per_floor_area_are_refused(tmp_path):
             run_retrofit(cfg)  # refused before the measurements are read
 
 
+def test_internal_gains_beyond_a_home_are_refused_with_the_detailed_model_alone(tmp_path):
+    """Review of fuzz round 5: the gains limit ran in ``run_retrofit`` only; ``--detailed-only``
+    with a building file beside ``constant_W: 40000`` went on without a word. The check lives
+    in ``gains.check_configured_gains`` and runs wherever the building file is read."""
+    import yaml
+    from retrofit_synthetic import building_dict
+    from typer.testing import CliRunner
+
+    from thermocal.cli import app
+
+    building = building_dict()
+    (tmp_path / "b.yaml").write_text(yaml.safe_dump(building))
+    cfg = {"building": "b.yaml", "weather": {"file": "w.epw"},
+           "internal_gains": {"source": "constant", "constant_W": 40000}}  # fmt: skip
+    (tmp_path / "cfg.yaml").write_text(yaml.safe_dump(cfg))
+    args = ["retrofit", str(tmp_path / "cfg.yaml"), "--detailed-only", "--detailed",
+            str(tmp_path / "missing.idf"), "--out", str(tmp_path / "out")]  # fmt: skip
+    result = CliRunner().invoke(app, args)
+    assert isinstance(result.exception, ThermocalInputError), result.output
+    assert str(result.exception).startswith("internal_gains.constant_W: 40,000 W is ")
+    # without a building file there is no floor to compare with (the detailed model does not
+    # use the configuration's gains): the run goes on to the detailed building
+    del cfg["building"]
+    (tmp_path / "cfg.yaml").write_text(yaml.safe_dump(cfg))
+    result = CliRunner().invoke(app, args)
+    assert "missing.idf not found" in str(result.exception), result.exception
+
+
 def test_the_summary_shows_a_missing_interval_end_as_na(capsys, tmp_path):
     """Fuzzing r12: a failed calibration whose draws left no demand to save from gave null
     interval ends in results.json, and the terminal summary crashed on them (TypeError in

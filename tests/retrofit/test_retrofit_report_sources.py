@@ -40,3 +40,10 @@ def test_a_given_value_a_carrier_default_and_the_measured_boiler_are_named():
                               "fuel_kWh_per_unit": 10.4})  # fmt: skip
     assert fuel.economics.system_efficiency == 0.95
     assert economics_source(fuel, "system_efficiency").startswith("the measured boiler's")
+
+
+def test_district_heating_is_named_as_such_not_as_electricity_or_oil():
+    heat = _cfg({"energy_carrier": "district heating"})
+    assert "metered at the building's substation" in economics_source(heat, "system_efficiency")
+    factor = economics_source(heat, "emission_factor")
+    assert "kept as a placeholder" in factor and "district heating's depends" in factor

@@ -230,6 +230,22 @@ def _check_site(cfg) -> None:
     )
 
 
+def _check_configured_gains(cfg) -> None:
+    """Refuse, before computing, configured internal gains no home has per m2 of the building
+    file's heated floor (:func:`thermocal.retrofit.gains.check_configured_gains`, the check of
+    the fifth-order analysis and the verification), for ``--detailed-only``: the building
+    file is read for it when the configuration names one beside constant or scheduled
+    gains."""
+    from thermocal.retrofit.gains import check_configured_gains
+
+    if cfg.building is None or cfg.internal_gains.source not in ("constant", "schedule"):
+        return
+    building, _ = _rc_building(cfg)
+    check_configured_gains(
+        cfg.internal_gains, float(building.heated_floor_area), building.name
+    )
+
+
 def _rc_building(cfg):
     """The RC analysis's building file, read, and its name for messages."""
     from thermocal.retrofit.workflow import load_building
@@ -408,6 +424,7 @@ def retrofit(
         )
 
         cfg = load_detailed_config(config)
+        _check_configured_gains(cfg)
         with (
             output_folder(out, command="retrofit", signature=RETROFIT_SIGNATURE) as tmp,
             console.status("retrofit with the detailed model") as status,

@@ -178,12 +178,12 @@ def _energyplus_weather(weather: pd.DataFrame, step: pd.Timedelta) -> pd.DataFra
             f"{step}"
         )
     grid = resample_weather(weather, step) if step != hour else weather.copy()
-    ends = (grid.index + step).asi8.astype(float)
-    middles = (weather.index + hour / 2).asi8.astype(float)
+    ends = (grid.index + step).as_unit("ns").asi8.astype(float)
+    middles = (weather.index + hour / 2).as_unit("ns").asi8.astype(float)
     for column in _HALF_HOUR_COLUMNS:
         if column in grid:
             grid[column] = np.interp(ends, middles, weather[column].to_numpy(dtype=float))
-    hour_ends = (weather.index + hour).asi8.astype(float)
+    hour_ends = (weather.index + hour).as_unit("ns").asi8.astype(float)
     for column in _HOUR_END_COLUMNS:
         if column in grid:
             grid[column] = np.interp(ends, hour_ends, weather[column].to_numpy(dtype=float))

@@ -176,7 +176,7 @@ def interval_solar_position(
             rows = np.flatnonzero(candidate)[special]
             refined = solar_position(moved, latitude, longitude, altitude)
             position.iloc[rows] = refined.to_numpy()
-            instants_ns = instants.asi8.copy()
+            instants_ns = instants.as_unit("ns").asi8.copy()
             instants_ns[rows] = moved.as_unit("ns").asi8
             instants = pd.DatetimeIndex(instants_ns).tz_localize("UTC").tz_convert(index.tz)
     position.insert(0, "time", instants)

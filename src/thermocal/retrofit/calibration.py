@@ -691,6 +691,56 @@ def draw_parameters(cal: Calibration, model: FifthOrderModel, n_draws: int, seed
 
 #: Heating power over H_T x (Ti - Te) outside this range is a unit slip, not a building.
 HEAT_BALANCE_RANGE = (1 / 20, 20.0)
+#: The training period of ``thermocal retrofit`` and the keys that move it, for the messages
+#: of the data checks (a verification passes its own periods and keys).
+TRAINING_PERIOD = "training period"
+TRAINING_PERIOD_KEYS = "periods.training_start / periods.training_days"
+
+
+def heat_unit_keys(mc) -> str:
+    """The configuration keys that set the scale of the metered heat, with their values.
+
+    One text for every message about the metered heat's scale (the heat balance's check of
+    ``thermocal retrofit`` and ``thermocal verify``, the verification's warnings).
+
+    Parameters
+    ----------
+    mc : thermocal.retrofit.config.MeasurementsConfig
+        ``measurements:`` of the configuration.
+
+    Returns
+    -------
+    str
+        For a message's "check ...": the flow's unit and columns (hydronic), or the heat
+        column's unit, its cumulative flag, and a fuel meter's boiler efficiency and energy per
+        unit, each with the factor a slip of it gives.
+    """
+    if mc.heat_source == "hydronic":
+        water = ("flow", "temp_supply", "temp_return")
+        names = ", ".join(repr(mc.columns.get(k, k)) for k in water)
+        return (
+            f"measurements.flow_unit (now {mc.flow_unit}; m3/h and l/h differ by 1000, l/min "
+            f"and l/h by 60) and the flow, supply and return columns ({names})"
+        )
+    cumulative = (
+        f" and heat_cumulative (now {str(mc.heat_cumulative).lower()}; a meter reading must "
+        "be declared cumulative)"
+        if mc.heat_unit not in ("W", "kW")
+        else ""
+    )
+    text = (
+        f"measurements.heat_unit (now {mc.heat_unit}; kW and W differ by 1000, kWh and MJ by "
+        f"3.6, and kWh per row are kW only for hourly rows){cumulative} of the heat column "
+        f"{mc.columns.get('heat', 'heat')!r}"
+    )
+    if mc.heat_source == "fuel_meter":
+        text += f", measurements.boiler_efficiency (now {mc.boiler_efficiency:g})"
+        if mc.fuel_kWh_per_unit is not None:
+            text += (
+                f", measurements.fuel_kWh_per_unit (now {mc.fuel_kWh_per_unit:g} kWh per "
+                f"{mc.heat_unit}; a calorific value in MJ is 3.6 times that in kWh)"
+            )
+    return text
 
 
 def check_heating_power_magnitude(
@@ -701,6 +751,8 @@ def check_heating_power_magnitude(
     flow_unit: str = "m3/s",
     flow_column: str = "flow",
     unit_hint: str | None = None,
+    period: str = TRAINING_PERIOD,
+    bounds: tuple[float, float] = HEAT_BALANCE_RANGE,
 ) -> float:
     """Compare the mean heating power with the building file's losses; refuse a unit slip.
 
@@ -712,9 +764,22 @@ def check_heating_power_magnitude(
     Parameters
     ----------
     data : DataFrame
-        Training data with ``phi_h`` [W], ``Te`` [C] and the measured indoor temperature.
+        The period's data with ``phi_h`` [W], ``Te`` [C] and the measured indoor temperature
+        [C].
     transmission_coefficient : float [W/K]
         H_T of the building file.
+    source : str
+        The measurement file, for the message.
+    flow_unit, flow_column : str
+        ``measurements.flow_unit`` and the flow column, named when ``unit_hint`` is None.
+    unit_hint : str, optional
+        The keys to check (:func:`heat_unit_keys`); default: the flow's unit and column.
+    period : str
+        The period checked, as the message names it (default the training period).
+    bounds : tuple of float [-]
+        Lowest and highest ratio accepted (:data:`HEAT_BALANCE_RANGE`); a lower bound of 0
+        checks the upward slips alone (a house after a deep retrofit needs a small fraction
+        of the losses the building file describes before it).
 
     Returns
     -------
@@ -724,7 +789,7 @@ def check_heating_power_magnitude(
     Raises
     ------
     ThermocalInputError
-        When the ratio lies outside :data:`HEAT_BALANCE_RANGE`.
+        When the ratio lies outside ``bounds``.
     """
     delta = float((data[OUTPUT_COLUMN] - data["Te"]).mean())
     if not np.isfinite(delta) or delta < 3.0 or transmission_coefficient <= 0:
@@ -732,12 +797,12 @@ def check_heating_power_magnitude(
     expected = transmission_coefficient * delta
     mean_power = float(data["phi_h"].mean())
     ratio = mean_power / expected
-    low, high = HEAT_BALANCE_RANGE
+    low, high = bounds
     if not low <= ratio <= high:
         direction = "small" if ratio < low else "large"
         raise ThermocalInputError(
             f"{source}: the measured heating power averages {mean_power:,.0f} W over the "
-            f"training period, {ratio:.3g} times the building file's transmission losses "
+            f"{period}, {ratio:.3g} times the building file's transmission losses "
             f"H_T x (Ti - Te) = {transmission_coefficient:.0f} W/K x {delta:.1f} K = "
             f"{expected:,.0f} W: far too {direction} for a heated building. Check "
             + (
@@ -752,16 +817,32 @@ def check_heating_power_magnitude(
 
 
 def check_training_data(
-    data: pd.DataFrame, source: str = "measurements", heat_source: str = "hydronic"
+    data: pd.DataFrame,
+    source: str = "measurements",
+    heat_source: str = "hydronic",
+    *,
+    period: str = TRAINING_PERIOD,
+    period_keys: str = TRAINING_PERIOD_KEYS,
 ) -> None:
-    """Raise a clear error when the training data cannot be used.
+    """Raise a clear error when the data of a calibration period cannot be used.
 
-    ``heat_source``: ``measurements.heat_source`` (the remedies name its columns and keys).
+    Parameters
+    ----------
+    data : pd.DataFrame
+        The period's model inputs, ``phi_h`` [W] and the measured indoor temperature [C].
+    source : str
+        The measurement file, for the messages.
+    heat_source : str
+        ``measurements.heat_source`` (the remedies name its columns and keys).
+    period : str
+        The period checked, as the messages name it (default the training period).
+    period_keys : str
+        The configuration keys that move the period, named in the remedy of missing inputs.
     """
     hydronic = heat_source == "hydronic"
     for col in BOUNDARY_COLUMNS + HEAT_COLUMNS + (OUTPUT_COLUMN,):
         if col not in data:
-            raise ThermocalInputError(f"{source}: training data lacks column {col!r}")
+            raise ThermocalInputError(f"{source}: {period} data lacks column {col!r}")
         frac = float(data[col].isna().mean())
         if col != OUTPUT_COLUMN and frac > 0:
             origin = (
@@ -772,13 +853,13 @@ def check_training_data(
             first = data.index[int(np.argmax(data[col].isna().to_numpy()))]
             raise ThermocalInputError(
                 f"{source}: input {col!r} has {int(data[col].isna().sum())} missing values in the "
-                f"training period{origin}, the first at {first}; inputs must be complete (fill "
-                "or shorten the period)"
+                f"{period}{origin}, the first at {first}; inputs must be complete (fill them in "
+                f"the file, or move {period_keys} to leave them out)"
             )
     n_ti = int(data[OUTPUT_COLUMN].notna().sum())
     if n_ti < 24:
         raise ThermocalInputError(
-            f"{source}: only {n_ti} measured indoor temperatures (temp_in) in the training period "
+            f"{source}: only {n_ti} measured indoor temperatures (temp_in) in the {period} "
             f"{data.index[0]} - {data.index[-1]}; the calibration needs at least a day of them"
         )
     phi = data["phi_h"].to_numpy(float)
@@ -786,7 +867,7 @@ def check_training_data(
         raise ThermocalInputError(
             f"{source}: the heating power "
             + ("(flow x (supply - return)) " if hydronic else "(heat meter) ")
-            + f"is {np.mean(phi):.0f} W on average over the training period; a heated building "
+            + f"is {np.mean(phi):.0f} W on average over the {period}; a heated building "
             "needs a positive one: check "
             + (
                 "that the supply and return temperature columns are not swapped and that the "
@@ -803,7 +884,8 @@ def check_training_data(
         raise ThermocalInputError(
             f"{source}: the heating power is clearly negative "
             + ("(supply below return) " if hydronic else "")
-            + f"in {int(negative.sum())} of {len(phi)} training intervals, the first at {first}: "
+            + f"in {int(negative.sum())} of {len(phi)} intervals of the {period}, the first at "
+            f"{first}: "
             + (
                 "check the supply and return temperature sensors and their columns"
                 if hydronic

@@ -856,7 +856,8 @@ MAJOR_CURRENCIES = frozenset({"CHF", "EUR", "USD", "GBP", "CAD", "AUD", "NZD"})
 
 
 #: Emission factor of final energy per energy carrier [kg CO2-eq/kWh]: GEG (2020) Anlage 9,
-#: the values docs/retrofit.md gives; a heat pump's final energy is grid electricity.
+#: the values docs/retrofit.md gives; a heat pump's final energy is grid electricity. District
+#: heating has none: its factor is its utility's (the plants' mix).
 CARRIER_EMISSION_FACTORS: dict[str, float] = {
     "heating oil": 0.310,
     "natural gas": 0.240,
@@ -864,8 +865,8 @@ CARRIER_EMISSION_FACTORS: dict[str, float] = {
     "heat pump": 0.560,
     "wood": 0.020,
 }
-#: Other spellings of the carriers of :data:`CARRIER_EMISSION_FACTORS` (lower case, with
-#: ``_`` and ``-`` read as spaces); any text with "heat pump" in it is a heat pump.
+#: Other spellings of the known carriers (lower case, any character other than a letter or a
+#: digit read as a space), each matched as whole words (:func:`energy_carrier_reading`).
 CARRIER_ALIASES: dict[str, str] = {
     "oil": "heating oil",
     "fuel oil": "heating oil",
@@ -875,23 +876,91 @@ CARRIER_ALIASES: dict[str, str] = {
     "electric": "electricity",
     "direct electric": "electricity",
     "electric heating": "electricity",
+    "district heat": "district heating",
+    "heat network": "district heating",
     "wood pellets": "wood",
     "pellets": "wood",
     "wood chips": "wood",
     "firewood": "wood",
     "logs": "wood",
 }
+#: Other spellings of a carrier's full name: in a longer text they name it as its name does.
+CARRIER_SPELLINGS: dict[str, str] = {
+    "heatpump": "heat pump",
+    "fernwärme": "district heating",
+    "fernwaerme": "district heating",
+}
 #: Annual system efficiency of a boiler with its distribution (useful heat / final energy)
 #: [-]: the default of ``economics.system_efficiency`` for the fuels.
 BOILER_SYSTEM_EFFICIENCY = 0.85
 #: Default system efficiency [-] of the carriers a boiler's cannot stand for: direct electric
 #: heating turns all its electricity into heat; a heat pump's is its seasonal performance
-#: factor (useful heat / electricity over the year; about 2.5-3.5 air-water, 4 brine-water).
-CARRIER_SYSTEM_EFFICIENCY: dict[str, float] = {"electricity": 1.0, "heat pump": 3.0}
+#: factor (useful heat / electricity over the year; about 2.5-3.5 air-water, 4 brine-water);
+#: district heating's is 1 at the building's substation (the heat bought is the heat metered).
+CARRIER_SYSTEM_EFFICIENCY: dict[str, float] = {
+    "electricity": 1.0,
+    "heat pump": 3.0,
+    "district heating": 1.0,
+}
+#: The carriers ``economics.energy_carrier`` can name, with a default emission factor or
+#: system efficiency (or both).
+KNOWN_CARRIERS: tuple[str, ...] = tuple(
+    dict.fromkeys([*CARRIER_EMISSION_FACTORS, *CARRIER_SYSTEM_EFFICIENCY])
+)
+#: The volume a fuel meter of each fuel reads (``measurements.heat_unit``): another volume
+#: contradicts the carrier (:func:`fuel_unit_note`).
+CARRIER_FUEL_UNIT: dict[str, str] = {"heating oil": "l", "natural gas": "m3"}
+
+
+def _carrier_words(text: str) -> str:
+    """``text`` in lower case, every run of characters other than letters and digits one
+    space (``"Air-source heat_pump (hybrid)"`` -> ``"air source heat pump hybrid"``)."""
+    return " ".join(re.sub(r"[\W_]+", " ", text.lower()).split())
+
+
+def energy_carrier_reading(text: str) -> tuple[str | None, tuple[str, ...]]:
+    """The carrier ``economics.energy_carrier`` names, and every carrier it names.
+
+    The text (case and punctuation aside) is a carrier's name or alias
+    (:data:`KNOWN_CARRIERS`, :data:`CARRIER_SPELLINGS`, :data:`CARRIER_ALIASES`), or contains
+    them as whole words. A longer text names one carrier when it contains that carrier's full
+    name (or another spelling of it) and no other
+    carrier's name or alias (``"air-source heat pump"``, ``"natural gas condensing boiler"``;
+    electricity beside a heat pump is the heat pump's); an alias alone in a longer text names
+    none (``"propane gas"`` is not natural gas); several carriers are none either
+    (``"gas boiler + heat pump (hybrid)"``: no carrier's defaults are taken, and
+    :meth:`RetrofitConfig.economics_notes` says so).
+
+    Parameters
+    ----------
+    text : str
+        The energy carrier as written.
+
+    Returns
+    -------
+    tuple of (str or None, tuple of str)
+        The carrier (None: none or several), and the carriers named (several: ambiguous).
+    """
+    words = _carrier_words(text)
+    exact = (
+        words if words in KNOWN_CARRIERS
+        else CARRIER_SPELLINGS.get(words) or CARRIER_ALIASES.get(words)
+    )  # fmt: skip
+    if exact is not None:
+        return exact, (exact,)
+    padded = f" {words} "
+    spellings = [(name, name) for name in KNOWN_CARRIERS] + list(CARRIER_SPELLINGS.items())
+    full = [name for spelling, name in spellings if f" {spelling} " in padded]
+    aliased = [c for alias, c in CARRIER_ALIASES.items() if f" {alias} " in padded]
+    named = list(dict.fromkeys(full + aliased))
+    if "heat pump" in named and "electricity" in named:
+        named.remove("electricity")  # an electric heat pump
+    one = len(named) == 1 and named[0] in full
+    return (named[0] if one else None), tuple(named)
 
 
 def energy_carrier_name(text: str) -> str | None:
-    """The carrier of :data:`CARRIER_EMISSION_FACTORS` that ``economics.energy_carrier`` names.
+    """The known carrier that ``economics.energy_carrier`` names (:func:`energy_carrier_reading`).
 
     Parameters
     ----------
@@ -901,15 +970,11 @@ def energy_carrier_name(text: str) -> str | None:
     Returns
     -------
     str or None
-        ``"heating oil"``, ``"natural gas"``, ``"electricity"``, ``"heat pump"`` or ``"wood"``;
-        None for a carrier without a default (district heating, propane, ...).
+        One of :data:`KNOWN_CARRIERS` (``"heating oil"``, ``"natural gas"``, ``"electricity"``,
+        ``"heat pump"``, ``"wood"``, ``"district heating"``); None for a carrier without
+        defaults (propane, ...) or a text naming several.
     """
-    words = " ".join(text.lower().replace("_", " ").replace("-", " ").split())
-    if "heat pump" in words or "heatpump" in words:
-        return "heat pump"
-    if words in CARRIER_EMISSION_FACTORS:
-        return words
-    return CARRIER_ALIASES.get(words)
+    return energy_carrier_reading(text)[0]
 
 
 class EconomicsConfig(_Strict):
@@ -917,10 +982,13 @@ class EconomicsConfig(_Strict):
 
     The defaults are documented in docs/retrofit.md with their sources; they are placeholders
     of the right order of magnitude for an oil-heated Swiss house, not advice: set your own.
-    ``energy_carrier`` sets the defaults of ``emission_factor`` (:data:`CARRIER_EMISSION_FACTORS`)
-    and of ``system_efficiency`` (:data:`CARRIER_SYSTEM_EFFICIENCY`; with a fuel meter, the
-    measured boiler's: ``RetrofitConfig._economics_of_the_measured_boiler``); a value given
-    always wins.
+    ``energy_carrier`` sets the default of ``emission_factor`` (:data:`CARRIER_EMISSION_FACTORS`;
+    district heating has none). ``system_efficiency`` has one rule: a value given; else the
+    carrier's own (:data:`CARRIER_SYSTEM_EFFICIENCY`: electricity 1, heat pump 3, district
+    heating 1); else, for a boiler (any other carrier) with a fuel meter, the measured
+    boiler's ``measurements.boiler_efficiency``
+    (``RetrofitConfig._economics_of_the_measured_boiler``); else
+    :data:`BOILER_SYSTEM_EFFICIENCY`.
     The price has no default per carrier (tariffs differ by country and year):
     :meth:`RetrofitConfig.economics_notes` says when a carrier other than heating oil keeps the
     oil price.
@@ -941,7 +1009,7 @@ class EconomicsConfig(_Strict):
         ge=0,
         description="greenhouse-gas emissions of final energy [kg CO2-eq/kWh]; default from the "
         "carrier (GEG 2020: heating oil 0.310, natural gas 0.240, electricity and heat pump "
-        "0.560, wood 0.020)",
+        "0.560, wood 0.020; district heating: the utility's, no default)",
     )
     #: The keys the configuration gave (the others are defaults).
     _given: frozenset[str] = PrivateAttr(frozenset())
@@ -978,7 +1046,7 @@ class EconomicsConfig(_Strict):
         carrier = self.carrier()
         if carrier is None:
             return self
-        if "emission_factor" not in self._given:
+        if "emission_factor" not in self._given and carrier in CARRIER_EMISSION_FACTORS:
             self.emission_factor = CARRIER_EMISSION_FACTORS[carrier]
         if "system_efficiency" not in self._given and carrier in CARRIER_SYSTEM_EFFICIENCY:
             self.system_efficiency = CARRIER_SYSTEM_EFFICIENCY[carrier]
@@ -1039,34 +1107,124 @@ def _short_form_measure(name: str, u_value: float) -> MeasureConfig:
         ) from None
 
 
-def _oil_defaults_note(eco: EconomicsConfig, carrier: str | None) -> list[str]:
-    """The note on a carrier other than heating oil that keeps the oil's price or (a carrier
-    without a known emission factor) its emission factor, or none.
+def _listed(items: list[str]) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def _oil_defaults_note(
+    eco: EconomicsConfig, carrier: str | None, named: tuple[str, ...], fuel_meter: bool
+) -> list[str]:
+    """The note on a carrier other than heating oil that keeps a default meant for heating
+    oil: the oil's price, the oil's emission factor (a carrier without one: district heating,
+    propane, ...) or a boiler's system efficiency (a carrier without one), or none.
 
     Parameters
     ----------
     eco : EconomicsConfig
     carrier : str or None
         :func:`energy_carrier_name` of ``eco.energy_carrier``.
+    named : tuple of str
+        The carriers the text names (:func:`energy_carrier_reading`; several: ambiguous).
+    fuel_meter : bool
+        The measurements have a fuel meter (its boiler's efficiency, not 0.85, is then the
+        system efficiency's default: nothing to say of it).
     """
     uses = {
         "energy_price": (f"{eco.currency}/kWh", "the running costs and paybacks"),
         "emission_factor": ("kg CO2-eq/kWh", "the CO2"),
     }
-    kept = [key for key in uses if not eco.given(key) and (key == "energy_price" or not carrier)]
-    if not kept:
+    kept = [
+        key for key in uses
+        if not eco.given(key)
+        and (key == "energy_price" or carrier not in CARRIER_EMISSION_FACTORS)
+    ]  # fmt: skip
+    boiler = (
+        carrier is None and not fuel_meter and not eco.given("system_efficiency")
+    )  # a boiler's 0.85 kept for a carrier without a default of its own
+    if not kept and not boiler:
         return []
-    unknown = "" if carrier else (
-        f" (none of {', '.join(CARRIER_EMISSION_FACTORS)}, whose emission factors are known)"
-    )  # fmt: skip
-    values = " and ".join(
-        f"{key} {getattr(eco, key):g} {uses[key][0]} ({uses[key][1]})" for key in kept
-    )
+    if carrier is None and len(named) > 1:
+        why = ""  # the note on the ambiguous text says why
+    elif carrier is None:
+        why = f" (none of {', '.join(KNOWN_CARRIERS)}, whose defaults are known)"
+    elif carrier not in CARRIER_EMISSION_FACTORS:
+        why = " (its emission factor is the utility's: no default)"
+    else:
+        why = ""
+    values = []
+    if kept:
+        oil = " and ".join(
+            f"{key} {getattr(eco, key):g} {uses[key][0]} ({uses[key][1]})" for key in kept
+        )
+        values.append(f"heating oil's {oil}")
+    if boiler:
+        values.append(
+            f"a boiler's system_efficiency {eco.system_efficiency:g} (the final energy)"
+        )
+    keys = kept + (["system_efficiency"] if boiler else [])
+    target = "the heat pump's electricity" if carrier == "heat pump" else eco.energy_carrier
     return [
-        f"economics: energy_carrier {eco.energy_carrier!r}{unknown} keeps heating oil's "
-        f"{values}; set economics.{' and '.join(kept)} for "
-        + ("the heat pump's electricity" if carrier == "heat pump" else eco.energy_carrier)
+        f"economics: energy_carrier {eco.energy_carrier!r}{why} keeps {', and '.join(values)}; "
+        f"set economics.{_listed(keys)} for {target}"
     ]
+
+
+def _ambiguous_carrier_note(eco: EconomicsConfig, named: tuple[str, ...]) -> list[str]:
+    """The note on an ``energy_carrier`` that names several carriers, or none.
+
+    Parameters
+    ----------
+    eco : EconomicsConfig
+    named : tuple of str
+        The carriers the text names (:func:`energy_carrier_reading`).
+    """
+    if len(named) < 2:
+        return []
+    return [
+        f"economics: energy_carrier {eco.energy_carrier!r} names several carriers "
+        f"({', '.join(named)}): none of their defaults is taken. Name the one that supplies "
+        "the heat (a hybrid's main one), or give economics.system_efficiency, emission_factor "
+        "and energy_price for the mix"
+    ]
+
+
+def fuel_unit_note(
+    heat_unit: str, carrier: str | None, energy_carrier: str, given: bool
+) -> str | None:
+    """The note on a fuel meter whose volume is not the carrier's: a gas meter's m3 beside
+    heating oil, an oil meter's l beside natural gas.
+
+    Parameters
+    ----------
+    heat_unit : str
+        ``measurements.heat_unit`` of a fuel meter (``m3`` or ``l``; others: no note).
+    carrier : str or None
+        :func:`energy_carrier_name` of ``economics.energy_carrier``.
+    energy_carrier : str
+        ``economics.energy_carrier`` as written.
+    given : bool
+        The configuration gave ``energy_carrier`` (False: the default, heating oil).
+
+    Returns
+    -------
+    str or None
+        None when the volume fits the carrier, or the carrier has no volume of its own
+        (:data:`CARRIER_FUEL_UNIT`; a heat pump or district heating replacing the boiler).
+    """
+    own = CARRIER_FUEL_UNIT.get(carrier)
+    if own is None or heat_unit not in FUEL_VOLUME_UNITS or heat_unit == own:
+        return None
+    fuel = {"m3": "a gas (natural gas, biogas, propane)",
+            "l": "a liquid fuel (heating oil, LPG)"}[heat_unit]  # fmt: skip
+    volume = {"m3": "cubic metre", "l": "litre"}
+    other = next(c for c, unit in CARRIER_FUEL_UNIT.items() if unit == heat_unit)
+    return (
+        f"measurements.heat_unit {heat_unit} is the volume of {fuel}, but "
+        f"economics.energy_carrier is {energy_carrier!r}{'' if given else ' (the default)'}, "
+        f"sold by the {volume[own]}: the final energy's CO2 and costs are {carrier}'s. Set "
+        f"economics.energy_carrier to the fuel the meter measures (e.g. {other})"
+    )
 
 
 def _other_carriers_factor_note(eco: EconomicsConfig, carrier: str | None) -> list[str]:
@@ -1079,8 +1237,8 @@ def _other_carriers_factor_note(eco: EconomicsConfig, carrier: str | None) -> li
     carrier : str or None
         :func:`energy_carrier_name` of ``eco.energy_carrier``.
     """
-    if carrier is None or not eco.given("emission_factor"):
-        return []
+    if carrier not in CARRIER_EMISSION_FACTORS or not eco.given("emission_factor"):
+        return []  # (district heating's factor is its utility's: any value may be right)
     own = CARRIER_EMISSION_FACTORS[carrier]
     other = next(
         (name for name, factor in CARRIER_EMISSION_FACTORS.items()
@@ -1219,8 +1377,12 @@ class RetrofitConfig(_Strict):
     def economics_notes(self) -> list[str]:
         """What the economics take from a default that may not fit the configured house.
 
-        A carrier other than heating oil that keeps the oil price (or, without a known emission
-        factor, the oil's), a heat pump's assumed seasonal COP, and a system efficiency other
+        A carrier text naming several carriers; a carrier other than heating oil that keeps
+        the oil price (or, without a known emission factor, the oil's; or, without a system
+        efficiency of its own and no fuel meter, a boiler's 0.85); an emission factor given as
+        another carrier's; a fuel meter's volume that is not the carrier's; the assumed system
+        efficiency of a heat pump, direct electric heating or district heating; and, for a
+        boiler (a carrier without a system efficiency of its own), a system efficiency other
         than the boiler efficiency the measurements or the reference use.
 
         Returns
@@ -1229,26 +1391,32 @@ class RetrofitConfig(_Strict):
             One note per finding, each naming the keys to set.
         """
         eco = self.economics
-        carrier = eco.carrier()
-        notes = []
+        carrier, named = energy_carrier_reading(eco.energy_carrier)
+        mc = self.measurements
+        fuel_meter = mc is not None and mc.heat_source == "fuel_meter"
+        notes = _ambiguous_carrier_note(eco, named)
         if carrier != "heating oil":
-            notes += _oil_defaults_note(eco, carrier)
+            notes += _oil_defaults_note(eco, carrier, named, fuel_meter)
         notes += _other_carriers_factor_note(eco, carrier)
+        if fuel_meter:
+            unit = fuel_unit_note(
+                mc.heat_unit, carrier, eco.energy_carrier, eco.given("energy_carrier")
+            )
+            notes += [] if unit is None else [unit]
         if carrier in CARRIER_SYSTEM_EFFICIENCY and not eco.given("system_efficiency"):
+            why = {
+                "heat pump": "its seasonal COP: useful heat / electricity over the year, about "
+                "2.5-3.5 air-water, 4 brine-water",
+                "electricity": "direct electric heating; for a heat pump give its seasonal COP",
+                "district heating": "the heat bought is the heat metered at the building's "
+                "substation",
+            }[carrier]
             notes.append(
                 f"economics: system_efficiency {eco.system_efficiency:g} assumed for "
-                f"{eco.energy_carrier!r}"
-                + (
-                    " (its seasonal COP: useful heat / electricity over the year, about 2.5-3.5 "
-                    "air-water, 4 brine-water)"
-                    if carrier == "heat pump"
-                    else " (direct electric heating; for a heat pump give its seasonal COP)"
-                )
-                + "; set economics.system_efficiency"
+                f"{eco.energy_carrier!r} ({why}); set economics.system_efficiency"
             )
         if carrier in CARRIER_SYSTEM_EFFICIENCY:  # a new system: no boiler to agree with
             return notes
-        fuel_meter = self.measurements is not None and self.measurements.heat_source == "fuel_meter"
         if eco.given("system_efficiency"):
             used = "economics.system_efficiency"
         elif fuel_meter:
@@ -1256,8 +1424,7 @@ class RetrofitConfig(_Strict):
         else:
             used = "the default of economics.system_efficiency"
         for key, value in (
-            ("measurements.boiler_efficiency", self.measurements.boiler_efficiency
-             if fuel_meter else None),
+            ("measurements.boiler_efficiency", mc.boiler_efficiency if fuel_meter else None),
             ("reference.boiler_efficiency", self.reference.boiler_efficiency),
         ):  # fmt: skip
             if value is not None and abs(value - eco.system_efficiency) > 0.005:

@@ -560,7 +560,7 @@ def meter_power(
     if not energy:
         return values.astype(float)
     t = values.index
-    seconds = np.diff(t.asi8) / 1e9 if len(t) > 1 else np.array([])
+    seconds = np.diff(t.as_unit("ns").asi8) / 1e9 if len(t) > 1 else np.array([])
     seconds = np.append(seconds, pd.Timedelta(interval).total_seconds())
     v = values.to_numpy(float)
     if cumulative:

@@ -131,6 +131,50 @@ def check_metered_electricity(
     )
 
 
+def check_configured_gains(cfg, floor_area: float, building_name: str) -> None:
+    """Refuse a constant or scheduled internal gain no home releases per m2 of heated floor.
+
+    ``constant_W: 40000`` on 220 m2 (182 W/m2: the heating power, or a value in another unit)
+    made the calibration fail its validation with a bias of +16 K, and a verification divide
+    by a baseline that needed no heat. The upper end of :data:`ELECTRICITY_PER_AREA_RANGE`,
+    the limit of a metered household's electricity (:func:`check_metered_electricity`),
+    applies to the configured gains' mean too (small values are the configuration's
+    ``MIN_HOUSEHOLD_GAINS_W`` check: a kW slip). Called wherever the building file is read
+    beside the gains: ``thermocal retrofit`` (with ``--detailed-only`` too, when the
+    configuration names the building) and ``thermocal verify``.
+
+    Parameters
+    ----------
+    cfg : thermocal.retrofit.config.InternalGainsConfig
+        ``internal_gains:`` of the configuration.
+    floor_area : float [m2]
+        The building file's heated floor area.
+    building_name : str
+        For the message.
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming ``internal_gains.constant_W`` or ``schedule_W``, the gains per m2 and the limit.
+    """
+    if cfg.source not in ("constant", "schedule") or floor_area <= 0:
+        return
+    key = f"{cfg.source}_W"
+    mean = float(np.mean(cfg.constant_W if cfg.source == "constant" else cfg.schedule_W))
+    per_area = mean / floor_area
+    high = ELECTRICITY_PER_AREA_RANGE[1]
+    if per_area <= high:
+        return
+    raise ThermocalInputError(
+        f"internal_gains.{key}: {mean:,.0f} W"
+        f"{' on average' if cfg.source == 'schedule' else ''} is {per_area:.3g} W per m2 of "
+        f"heated floor ({floor_area:g} m2 in building {building_name!r}), more than any "
+        f"home's internal gains (at most {high:g} W/m2; homes average about 0.5-8 W/m2, a "
+        "few hundred W for a house: appliances, lights, people); give the gains in W, "
+        "without the heating"
+    )
+
+
 def internal_gains(grid: pd.DataFrame, cfg) -> pd.Series | None:
     """All internal gains [W] on the measurement grid: the source's plus the occupants'.
 

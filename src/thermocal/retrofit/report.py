@@ -52,7 +52,7 @@ def economics_source(config, key: str) -> str:
         "given in the configuration", the carrier's default with its source, the measured
         boiler's efficiency, or the heating-oil placeholder of :data:`ECONOMICS_SOURCES`.
     """
-    from thermocal.retrofit.config import CARRIER_SYSTEM_EFFICIENCY
+    from thermocal.retrofit.config import CARRIER_EMISSION_FACTORS, CARRIER_SYSTEM_EFFICIENCY
 
     eco = config.economics
     if eco.given(key):
@@ -61,20 +61,28 @@ def economics_source(config, key: str) -> str:
     measurements = config.measurements
     if key == "system_efficiency":
         if carrier in CARRIER_SYSTEM_EFFICIENCY:
-            return (
-                f"default for {carrier} (useful heat per kWh of electricity"
-                + (": an assumed seasonal COP" if carrier == "heat pump" else "")
-                + "); set economics.system_efficiency"
-            )
+            why = {
+                "heat pump": "useful heat per kWh of electricity: an assumed seasonal COP",
+                "electricity": "useful heat per kWh of electricity, direct electric heating",
+                "district heating": "the heat bought is the heat metered at the building's "
+                "substation",
+            }.get(carrier, "the carrier's default")
+            return f"default for {carrier} ({why}); set economics.system_efficiency"
         if measurements is not None and measurements.heat_source == "fuel_meter":
             return (
                 "the measured boiler's (measurements.boiler_efficiency, with which the fuel "
                 "meter was turned into useful heat); set economics.system_efficiency"
             )
-    if key == "emission_factor" and carrier not in (None, "heating oil"):
+    if key == "emission_factor" and carrier != "heating oil":
+        if carrier in CARRIER_EMISSION_FACTORS:
+            return (
+                f"{refs.GEG_2020.key}: {carrier} {1000 * eco.emission_factor:.0f} g CO2-eq/kWh; "
+                "set economics.emission_factor"
+            )
         return (
-            f"{refs.GEG_2020.key}: {carrier} {1000 * eco.emission_factor:.0f} g CO2-eq/kWh; "
-            "set economics.emission_factor"
+            f"heating oil's {1000 * eco.emission_factor:.0f} g CO2-eq/kWh ({refs.GEG_2020.key}) "
+            f"kept as a placeholder: {eco.energy_carrier}'s depends on its supplier; set "
+            "economics.emission_factor"
         )
     if key == "energy_price" and carrier != "heating oil":
         return (

@@ -58,7 +58,12 @@ from thermocal.retrofit.airchange import (  # noqa: F401 - re-exported
     daily_energy,
     residual_adjustment,
 )
-from thermocal.retrofit.calibration import calibrate_to_heat, heating_setpoint
+from thermocal.retrofit.calibration import (
+    HEAT_BALANCE_RANGE,
+    calibrate_to_heat,
+    heat_unit_keys,
+    heating_setpoint,
+)
 from thermocal.retrofit.config import (
     MIN_TRAINING_DAYS,
     RetrofitConfig,
@@ -73,7 +78,6 @@ from thermocal.retrofit.verify_periods import (
     baseline_days_after_retrofit,
     baseline_days_note,
     check_period,
-    in_period_terms,
     retrofitted_days_before_the_date,
     retrofitted_days_note,
     sensor_change_notes,
@@ -552,7 +556,11 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
         with_beam_and_diffuse,
     )
     from thermocal.retrofit.demand import DEMAND_INPUTS
-    from thermocal.retrofit.gains import check_metered_electricity, internal_gains
+    from thermocal.retrofit.gains import (
+        check_configured_gains,
+        check_metered_electricity,
+        internal_gains,
+    )
     from thermocal.retrofit.model import build_fifth_order_model
     from thermocal.retrofit.workflow import (
         IRRADIANCE_SPLIT_NOTE,
@@ -565,6 +573,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
 
     building = load_building(cfg.building, config_source=source)
     mc, ig = cfg.measurements, cfg.internal_gains
+    check_configured_gains(ig, float(building.heated_floor_area), building.name)
     metered = ig.source == "electricity"
     raw = read_raw_measurements(
         mc, default_tz=_location_tz(building),
@@ -628,49 +637,22 @@ def _calibrate(cfg: RetrofitConfig, model, data: pd.DataFrame, log_interval=None
     )  # fmt: skip
 
 
-def heat_unit_keys(mc) -> str:
-    """The configuration keys that set the scale of the metered heat, with their values.
-
-    Parameters
-    ----------
-    mc : thermocal.retrofit.config.MeasurementsConfig
-        ``measurements:`` of the configuration.
-
-    Returns
-    -------
-    str
-        For a message's "check ...".
-    """
-    if mc.heat_source == "hydronic":
-        water = ("flow", "temp_supply", "temp_return")
-        names = ", ".join(repr(mc.columns.get(k, k)) for k in water)
-        return (
-            f"measurements.flow_unit (now {mc.flow_unit}; m3/h and l/h differ by 1000, l/min "
-            f"and l/h by 60) and the flow, supply and return columns ({names})"
-        )
-    cumulative = (
-        f" and heat_cumulative (now {str(mc.heat_cumulative).lower()}; a meter reading must "
-        "be declared cumulative)"
-        if mc.heat_unit not in ("W", "kW")
-        else ""
-    )
-    text = (
-        f"measurements.heat_unit (now {mc.heat_unit}; kW and W differ by 1000, kWh and MJ by "
-        f"3.6, and kWh per row are kW only for hourly rows){cumulative} of the heat column "
-        f"{mc.columns.get('heat', 'heat')!r}"
-    )
-    if mc.heat_source == "fuel_meter":
-        text += f", measurements.boiler_efficiency (now {mc.boiler_efficiency:g})"
-        if mc.fuel_kWh_per_unit is not None:
-            text += (
-                f", measurements.fuel_kWh_per_unit (now {mc.fuel_kWh_per_unit:g} kWh per "
-                f"{mc.heat_unit}; a calorific value in MJ is 3.6 times that in kWh)"
-            )
-    return text
+#: Ratio of the mean heating power to the building file's transmission losses accepted in
+#: each period (:func:`~thermocal.retrofit.calibration.check_heating_power_magnitude`). The
+#: building file describes the house before the retrofit: after it, a deep retrofit (an
+#: EnerPHit-like one needs a tenth of the heat) or a mild period needs a small fraction of
+#: those losses, so the post period is checked for the upward slips alone (a cumulative
+#: reading, kWh read as W). A downward slip of the configuration shows in the pre period; a
+#: meter exchanged at the retrofit that reads too little after it shows only as a saving far
+#: above the prediction (prebound), one that reads too much in :func:`hlc_rise_warning`.
+PERIOD_HEAT_BALANCE_RANGE: dict[str, tuple[float, float]] = {
+    "pre": HEAT_BALANCE_RANGE,
+    "post": (0.0, HEAT_BALANCE_RANGE[1]),
+}
 
 
 def check_period_data(
-    cfg: RetrofitConfig, data: pd.DataFrame, name: str, what: str, transmission: float
+    cfg: RetrofitConfig, data: pd.DataFrame, name: str, source: str, transmission: float
 ) -> None:
     """The calibration's data checks on one period, in the verification's terms.
 
@@ -678,9 +660,9 @@ def check_period_data(
     (:func:`thermocal.retrofit.calibration.check_training_data`), and a heating power of the
     order of the building file's transmission losses
     (:func:`~thermocal.retrofit.calibration.check_heating_power_magnitude`: a factor 20
-    either way is a unit, not a house), the checks ``thermocal retrofit`` makes, their
-    messages naming the period and its ``verify.`` keys
-    (:func:`thermocal.retrofit.verify_periods.in_period_terms`).
+    either way is a unit, not a house; after the retrofit only upwards,
+    :data:`PERIOD_HEAT_BALANCE_RANGE`), the checks ``thermocal retrofit`` makes, their
+    messages naming the period and its ``verify.`` keys.
 
     Parameters
     ----------
@@ -689,8 +671,8 @@ def check_period_data(
         The period's model inputs with ``phi_h`` [W], ``Te`` and the measured indoor
         temperature [C].
     name : {"pre", "post"}
-    what : str
-        The file and period, for the messages.
+    source : str
+        The measurement file, for the messages.
     transmission : float [W/K]
         The building file's transmission heat transfer coefficient H_T.
 
@@ -704,11 +686,14 @@ def check_period_data(
     )
 
     mc = cfg.measurements
-    try:
-        check_training_data(data, what, heat_source=mc.heat_source)
-        check_heating_power_magnitude(data, transmission, what, unit_hint=heat_unit_keys(mc))
-    except ThermocalInputError as exc:
-        raise ThermocalInputError(in_period_terms(str(exc), name)) from None
+    period = f"{name}-retrofit period"
+    what = f"{source} ({period})"
+    keys = f"verify.{name}_start / verify.{name}_end"
+    check_training_data(data, what, heat_source=mc.heat_source, period=period, period_keys=keys)
+    check_heating_power_magnitude(
+        data, transmission, what, unit_hint=heat_unit_keys(mc), period=period,
+        bounds=PERIOD_HEAT_BALANCE_RANGE[name],
+    )  # fmt: skip
 
 
 def with_boiler_after(
@@ -742,11 +727,23 @@ def with_boiler_after(
 
 
 def fuel_meter_note(mc) -> str:
-    """The note of a fuel meter verified with one boiler efficiency for both periods.
+    """The note of a fuel meter verified without ``verify.boiler_efficiency_after``.
+
+    A fuel meter measures the fuel; the heat is the fuel times the boiler's efficiency. One
+    ``measurements.boiler_efficiency`` for both periods credits a boiler replaced with the
+    retrofit to the envelope. ``verify.boiler_efficiency_after`` gives the boiler's efficiency
+    from the retrofit date on; equal to ``measurements.boiler_efficiency`` it says the boiler
+    is the same one, and either way the note is not given.
 
     Parameters
     ----------
     mc : thermocal.retrofit.config.MeasurementsConfig
+        ``measurements:`` of the configuration (a fuel meter).
+
+    Returns
+    -------
+    str
+        The note, naming both ways of answering it.
     """
     eff = float(mc.boiler_efficiency)
     return (
@@ -754,18 +751,34 @@ def fuel_meter_note(mc) -> str:
         f"measurements.boiler_efficiency {eff:g}, before and after the retrofit alike. If the "
         "boiler was replaced with the retrofit, set verify.boiler_efficiency_after to the new "
         "one's: else its saving is counted as the envelope's (a boiler going from 0.80 to "
-        "0.95 alone saves 16 % of the fuel)"
+        "0.95 alone saves 16 % of the fuel); if it is the same boiler, say so with "
+        f"verify.boiler_efficiency_after: {eff:g} (this note is then left out)"
     )
 
 
 #: The heat loss coefficient calibrated before the retrofit this many times the building
 #: file's calculated one (or its inverse) is warned about: old houses' descriptions miss by
-#: 20-50 %, the unit slips of the metered heat give a factor 2 and more (kWh for MJ 3.6, a
-#: cumulative reading, kWh per 30 min as kW 0.5).
+#: 20-50 %.
 DESCRIBED_HLC_RATIO = 1.7
 #: A baseline whose daily heat misses the meter's by more than this on average (NMBE [%],
-#: Guideline 14 allows 10) is warned about as a possible unit of the metered heat.
+#: Guideline 14 allows 10) is warned about.
 UNIT_NMBE_PCT = 25.0
+#: The factors a unit slip of the metered heat gives (either way), as the ranges of a ratio
+#: "near" them [-], with the slip, per ``measurements.heat_source``. Between
+#: :data:`DESCRIBED_HLC_RATIO` and the lowest range the building file's description is the
+#: likely cause, elsewhere unmodelled internal gains (:func:`heat_scale_causes`).
+UNIT_SLIP_RATIOS: dict[str, tuple[tuple[float, float, float, str], ...]] = {
+    "meter": (
+        (2.0, 1.9, 2.25, "kWh per half-hourly row read as kW, or the reverse"),
+        (3.6, 3.2, 4.0, "MJ read as kWh, or kWh as MJ"),
+        (1000.0, 300.0, 3000.0, "W read as kW or Wh as kWh, or the reverse"),
+    ),
+    "hydronic": (
+        (3.6, 3.2, 4.0, "l/s read as m3/h, or the reverse"),
+        (60.0, 45.0, 80.0, "l/min read as l/h, or the reverse"),
+        (1000.0, 300.0, 3000.0, "m3/h read as l/h, or the reverse"),
+    ),
+}
 
 
 def described_hlc(model) -> float:
@@ -781,7 +794,115 @@ def described_hlc(model) -> float:
     return calculated_hlc(model.conductances()) + float(model.audit_h_est)
 
 
-def described_hlc_warning(calibrated: float, described: float, keys: str) -> str | None:
+def internal_gains_text(cfg) -> str:
+    """What ``internal_gains:`` gives, for the warnings that name it.
+
+    Parameters
+    ----------
+    cfg : thermocal.retrofit.config.InternalGainsConfig
+
+    Returns
+    -------
+    str
+        E.g. ``"not set"``, ``"constant_W 400 W"``, ``"the electricity meter, 3 occupants"``.
+    """
+    parts = []
+    if cfg.source == "constant":
+        parts.append(f"constant_W {float(cfg.constant_W):,.0f} W")
+    elif cfg.source == "schedule":
+        parts.append(f"schedule_W {float(np.mean(cfg.schedule_W)):,.0f} W on average")
+    elif cfg.source == "electricity":
+        parts.append("the electricity meter")
+    if cfg.occupants:
+        parts.append(f"{float(cfg.occupants):g} occupants")
+    return ", ".join(parts) or "not set"
+
+
+def unit_slip_near(ratio: float, heat_source: str) -> tuple[float, str] | None:
+    """The unit slip whose factor a ratio of the metered heat's scale is near, or None.
+
+    Parameters
+    ----------
+    ratio : float [-]
+        Metered heat over what the house needs (either way round: 0.5 and 2 alike).
+    heat_source : str
+        ``measurements.heat_source``: the flow's units (hydronic) or a meter's
+        (:data:`UNIT_SLIP_RATIOS`).
+
+    Returns
+    -------
+    tuple of (float, str) or None
+        The slip's factor (e.g. 2, 3.6, 1000) and the slip.
+    """
+    if not (np.isfinite(ratio) and ratio > 0):
+        return None
+    factor = max(ratio, 1.0 / ratio)
+    slips = UNIT_SLIP_RATIOS["hydronic" if heat_source == "hydronic" else "meter"]
+    for nominal, low, high, slip in slips:
+        if low <= factor <= high:
+            return nominal, slip
+    return None
+
+
+def heat_scale_causes(ratio: float, keys: str, gains: str, heat_source: str) -> str:
+    """The likely causes of metered heat out of scale with the house, most likely first.
+
+    Unmodelled internal gains first (a shop, a server room, ``internal_gains`` unset), then
+    the building file's description, except between :data:`DESCRIBED_HLC_RATIO` and the
+    lowest factor of a unit slip, where old houses' descriptions miss; a unit only when the
+    ratio is near the factor of a unit slip (:func:`unit_slip_near`), first when it is near
+    1000.
+
+    Parameters
+    ----------
+    ratio : float [-]
+        Metered heat over what the house needs or is described to lose (above 1: more heat
+        metered; infinite: the house needs none).
+    keys : str
+        The keys of the heat's unit (:func:`heat_unit_keys`).
+    gains : str
+        What ``internal_gains`` gives (:func:`internal_gains_text`).
+    heat_source : str
+        ``measurements.heat_source``.
+
+    Returns
+    -------
+    str
+        Sentences starting "Likely ...".
+    """
+    slip = unit_slip_near(ratio, heat_source)
+    factor = max(ratio, 1.0 / ratio) if ratio > 0 else float("inf")
+    shown = f"{factor:,.0f}" if factor >= 100.0 else f"{factor:.3g}"
+    unit = (
+        f"the factor {shown} is near {slip[0]:,g}, a unit slip ({slip[1]}): check {keys}"
+        if slip is not None
+        else None
+    )
+    if slip is not None and slip[0] >= 1000.0:
+        return f"Likely a unit: {unit}."
+    gains_cause = (
+        f"heat the model is not told of: internal gains missing from internal_gains (now "
+        f"{gains}; a shop, a server room, more people, a stove)"
+        if ratio < 1.0
+        else f"heat metered that the rooms do not lose: internal_gains (now {gains}) larger than "
+        "the house's, or domestic hot water on the same meter"
+        if gains != "not set"
+        else "heat metered that the rooms do not lose: domestic hot water, or another dwelling, "
+        "on the same meter"
+    )
+    description = (
+        "the building file's description (old houses' areas, U-values and air change miss by "
+        "20-50 %)"
+    )
+    described_band = DESCRIBED_HLC_RATIO <= factor < UNIT_SLIP_RATIOS["meter"][0][1]
+    first, second = (description, gains_cause) if described_band else (gains_cause, description)
+    text = f"Likely {first}; else {second}."
+    return text + (f" Also, {unit}." if unit is not None else "")
+
+
+def described_hlc_warning(
+    calibrated: float, described: float, keys: str, gains: str, heat_source: str
+) -> str | None:
     """Warning when the calibrated heat loss coefficient is far from the building file's.
 
     Parameters
@@ -792,11 +913,16 @@ def described_hlc_warning(calibrated: float, described: float, keys: str) -> str
         The building file's (:func:`described_hlc`).
     keys : str
         The keys of the heat's unit (:func:`heat_unit_keys`).
+    gains : str
+        What ``internal_gains`` gives (:func:`internal_gains_text`).
+    heat_source : str
+        ``measurements.heat_source``.
 
     Returns
     -------
     str or None
-        None within :data:`DESCRIBED_HLC_RATIO` either way.
+        None within :data:`DESCRIBED_HLC_RATIO` either way; else the likely causes
+        (:func:`heat_scale_causes`).
     """
     if not (calibrated > 0 and described > 0):
         return None
@@ -805,10 +931,9 @@ def described_hlc_warning(calibrated: float, described: float, keys: str) -> str
         return None
     return (
         f"the heat loss coefficient calibrated before the retrofit, {calibrated:,.0f} W/K, is "
-        f"{ratio:.2f} times the building file's calculated {described:,.0f} W/K (its U-values, "
-        f"air change and thermal bridges): beyond {DESCRIBED_HLC_RATIO:g} times either way "
-        f"this is more often the unit of the metered heat than the house. Check {keys}; then "
-        "the building file's areas and U-values"
+        f"{ratio:.3g} times the building file's calculated {described:,.0f} W/K (its U-values, "
+        f"air change and thermal bridges), beyond {DESCRIBED_HLC_RATIO:g} times either way. "
+        + heat_scale_causes(ratio, keys, gains, heat_source)
     )
 
 
@@ -839,31 +964,42 @@ def hlc_rise_warning(pre: dict, post: dict, keys: str) -> str | None:
     )
 
 
-def baseline_bias_warning(nmbe_pct: float, keys: str) -> str | None:
+def baseline_bias_warning(
+    nmbe_pct: float, keys: str, gains: str, heat_source: str
+) -> str | None:
     """Warning when the baseline's daily heat misses the metered heat by far on average.
 
     Parameters
     ----------
     nmbe_pct : float [%]
-        The baseline's NMBE over the pre-retrofit period (measured minus model; negative:
-        the model needs more heat than metered).
+        The baseline's NMBE over the pre-retrofit period (measured minus model over the
+        measured; negative: the model needs more heat than metered).
     keys : str
         The keys of the heat's unit (:func:`heat_unit_keys`).
+    gains : str
+        What ``internal_gains`` gives (:func:`internal_gains_text`).
+    heat_source : str
+        ``measurements.heat_source``.
 
     Returns
     -------
     str or None
-        None within :data:`UNIT_NMBE_PCT`.
+        None within :data:`UNIT_NMBE_PCT`; else the likely causes
+        (:func:`heat_scale_causes`, with metered over model heat ``1 / (1 - NMBE)``).
     """
     if not abs(nmbe_pct) > UNIT_NMBE_PCT:
         return None
-    side = "more" if nmbe_pct < 0 else "less"
+    model_share = 1.0 - nmbe_pct / 100.0  # the model's heat over the metered
+    ratio = 1.0 / model_share if model_share > 0 else float("inf")
+    need = (
+        f"{abs(nmbe_pct):.0f} % {'more' if nmbe_pct < 0 else 'less'} heat than was metered"
+        if model_share > 0
+        else "no heat, where heat was metered,"
+    )
     return (
-        f"the baseline model needs {abs(nmbe_pct):.0f} % {side} heat than was metered over the "
-        f"pre-retrofit period (NMBE {nmbe_pct:+.0f} %; Guideline 14 allows 10 %) to hold the "
-        "measured indoor temperatures: a mismatch this large usually means the heat is in "
-        f"another unit or scale than declared. Check {keys}; with the units right, the model "
-        "does not describe the house"
+        f"the baseline model needs {need} over the pre-retrofit period (NMBE {nmbe_pct:+.0f} "
+        "%; Guideline 14 allows 10 %) to hold the measured indoor temperatures. "
+        + heat_scale_causes(ratio, keys, gains, heat_source)
     )
 
 
@@ -944,13 +1080,62 @@ def fractional_savings_uncertainty(
     rho = max(float(rho), 0.0) if np.isfinite(rho) else 0.0
     n_eff = n * (1.0 - rho) / (1.0 + rho)
     t = float(student.ppf(0.5 + 0.5 * interval, max(n - p, 1)))
-    half = t * FSU_FACTOR * cv_rmse_pct / 100.0 * np.sqrt((n / n_eff) * (1.0 + 2.0 / n) / m)
+    # residuals correlated throughout (rho 1) leave no independent point: no interval
+    inflation = n / n_eff if n_eff > 0 else float("inf")
+    half = t * FSU_FACTOR * cv_rmse_pct / 100.0 * np.sqrt(inflation * (1.0 + 2.0 / n) / m)
     return {
         "half_width": float(half),
         "fsu": float(half / fraction) if fraction else float("inf"),
         "t": t,
         "n_eff": float(n_eff),
     }
+
+
+def check_baseline_heat(
+    baseline: float,
+    baseline_old_comfort: float,
+    measured: float,
+    post: tuple[pd.Timestamp, pd.Timestamp],
+    source: str,
+    gains: str,
+) -> None:
+    """Refuse a post period over which the baseline model needs no heat.
+
+    The saving is measured against the baseline's heat (the fraction saved, the normalised
+    saving, the take-back): a baseline that needs none, while heat was metered, leaves
+    nothing to measure against (it divided by zero). Internal gains that cover the model's
+    losses (``internal_gains`` in kW, or the heating's power) or a post period out of the
+    heating season are the causes.
+
+    Parameters
+    ----------
+    baseline, baseline_old_comfort : float [kWh]
+        The baseline model's heat over the post period, at the measured indoor temperatures
+        and at the pre period's.
+    measured : float [kWh]
+        The metered heat of the post period.
+    post : tuple of pd.Timestamp
+        The post-retrofit period.
+    source : str
+        The measurement file, for the message.
+    gains : str
+        What ``internal_gains`` gives (:func:`internal_gains_text`).
+
+    Raises
+    ------
+    ThermocalInputError
+    """
+    if baseline > 0 and baseline_old_comfort > 0:
+        return
+    raise ThermocalInputError(
+        f"{source}: the baseline model (calibrated on the pre-retrofit period) needs "
+        f"{max(min(baseline, baseline_old_comfort), 0.0):,.0f} kWh of heat over the "
+        f"post-retrofit period ({post[0]} - {post[1]}), where {measured:,.0f} kWh were metered: "
+        "there is no heat to measure the saving against. Check internal_gains (now "
+        f"{gains}: gains that cover the house's losses in the model, in W and without the "
+        "heating), then that the post period lies in the heating season (verify.post_start / "
+        "verify.post_end)"
+    )
 
 
 def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) -> Verification:
@@ -1003,7 +1188,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     for name, sel in (("pre", sel_pre), ("post", sel_post)):
         check_period(inputs.loc[sel], name, sec.min_days, source)
         check_period_data(
-            cfg, inputs.loc[sel], name, f"{source} ({name}-retrofit period)",
+            cfg, inputs.loc[sel], name, source,
             float(building.transmission_heat_transfer_coefficient),
         )  # fmt: skip
     # the fit the retrofit analysis would choose on the pre period (one rule for both)
@@ -1131,6 +1316,9 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     e_meas = float(d_post["measured"].sum())
     e_save = e_base - e_meas
     e_base_old = float(d_post["baseline_old_comfort"].sum())
+    check_baseline_heat(
+        e_base, e_base_old, e_meas, post, source, internal_gains_text(cfg.internal_gains)
+    )
     frac = e_save / e_base if e_base > 0 else float("nan")
 
     def _fsu(level):
@@ -1354,11 +1542,14 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     comparison["model_prediction_from_pre_period"] = summary(s_model)
     # the metered heat's scale against the building file and between the periods
     keys = heat_unit_keys(mc)
+    gains_now = internal_gains_text(cfg.internal_gains)
     hl = physical["heat_loss_coefficient_W_per_K"]
     comparison["warnings"] = [
         w for w in (
-            described_hlc_warning(hl["pre"]["value"], described_hlc(model), keys),
-            baseline_bias_warning(stats["nmbe_pct"], keys),
+            described_hlc_warning(
+                hl["pre"]["value"], described_hlc(model), keys, gains_now, mc.heat_source
+            ),
+            baseline_bias_warning(stats["nmbe_pct"], keys, gains_now, mc.heat_source),
             hlc_rise_warning(hl["pre"], hl["post"], keys),
         )
         if w is not None

@@ -31,7 +31,6 @@ __all__ = [
     "baseline_days_note",
     "check_period",
     "data_end",
-    "in_period_terms",
     "retrofitted_days_before_the_date",
     "retrofitted_days_note",
     "sensor_change_notes",
@@ -167,38 +166,6 @@ def split_periods(
         if not a < b:
             raise ThermocalInputError(f"verify.{name}_start must be before verify.{name}_end")
     return pre, post, date, notes
-
-
-def in_period_terms(message: str, name: str) -> str:
-    """A message of the calibration's data checks in the verification's terms.
-
-    The checks shared with the retrofit analysis
-    (:func:`thermocal.retrofit.calibration.check_training_data`,
-    :func:`~thermocal.retrofit.calibration.check_heating_power_magnitude`) speak of its
-    training period; a verification has a pre- and a post-retrofit period, set by
-    ``verify.<name>_start`` and ``verify.<name>_end``.
-
-    Parameters
-    ----------
-    message : str
-        The check's message.
-    name : {"pre", "post"}
-        The period checked.
-
-    Returns
-    -------
-    str
-        The message naming the period and its keys.
-    """
-    keys = f"verify.{name}_start / verify.{name}_end"
-    return (
-        message.replace(
-            "(fill or shorten the period)",
-            f"(fill them in the file, or move {keys} to leave them out)",
-        )
-        .replace("training intervals", f"intervals of the {name}-retrofit period")
-        .replace("training period", f"{name}-retrofit period")
-    )
 
 
 def check_period(frame: pd.DataFrame, name: str, min_days: float, source: str) -> None:

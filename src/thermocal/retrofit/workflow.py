@@ -33,6 +33,7 @@ from thermocal.retrofit.calibration import (
     check_heating_power_magnitude,
     check_training_data,
     draw_parameters,
+    heat_unit_keys,
     heating_setpoint,
     tight_control,
 )
@@ -50,7 +51,7 @@ from thermocal.retrofit.data import (
 )
 from thermocal.retrofit.demand import DEMAND_INPUTS, DemandResult, simulate_demand
 from thermocal.retrofit.gains import (
-    ELECTRICITY_PER_AREA_RANGE,
+    check_configured_gains,
     check_metered_electricity,
     combined_rel_std,
     gains_day_profile,
@@ -258,42 +259,6 @@ def simulate_indoor(
     return states[list(STATE_NAMES)]
 
 
-def check_configured_gains(gains_cfg, floor_area: float, building_name: str) -> None:
-    """Refuse a constant or scheduled internal gain no home releases per m2 of heated floor.
-
-    ``constant_W: 40000`` on 220 m2 (182 W/m2: the heating power, or a value in another unit)
-    made the calibration fail its validation with a bias of +16 K. The upper end of
-    :data:`~thermocal.retrofit.gains.ELECTRICITY_PER_AREA_RANGE`, the limit of a metered
-    household's electricity, applies to the configured gains' mean too (small values are the
-    configuration's ``MIN_HOUSEHOLD_GAINS_W`` check: a kW slip).
-
-    Parameters
-    ----------
-    gains_cfg : thermocal.retrofit.config.InternalGainsConfig
-    floor_area : float [m2]
-        The building file's heated floor area.
-    building_name : str
-        For the message.
-    """
-    if gains_cfg.source not in ("constant", "schedule") or floor_area <= 0:
-        return
-    key = f"{gains_cfg.source}_W"
-    mean = float(np.mean(gains_cfg.constant_W if gains_cfg.source == "constant"
-                         else gains_cfg.schedule_W))  # fmt: skip
-    per_area = mean / floor_area
-    high = ELECTRICITY_PER_AREA_RANGE[1]
-    if per_area <= high:
-        return
-    raise ThermocalInputError(
-        f"internal_gains.{key}: {mean:,.0f} W"
-        f"{' on average' if gains_cfg.source == 'schedule' else ''} is {per_area:.3g} W per m2 of "
-        f"heated floor ({floor_area:g} m2 in building {building_name!r}), more than any "
-        f"home's internal gains (at most {high:g} W/m2; homes average about 0.5-8 W/m2, a "
-        "few hundred W for a house: appliances, lights, people); give the gains in W, "
-        "without the heating"
-    )
-
-
 def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     """Run the whole retrofit analysis.
 
@@ -429,14 +394,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         train,
         building.transmission_heat_transfer_coefficient,
         source,
-        flow_unit=cfg.measurements.flow_unit,
-        flow_column=cfg.measurements.columns.get("flow", "flow"),
-        unit_hint=None
-        if mc.heat_source == "hydronic"
-        else f"measurements.heat_unit (now {mc.heat_unit}; kW and W differ by 1000, a "
-        f"cumulative meter reading needs heat_cumulative: true) and the heat column "
-        f"{mc.columns['heat']!r}"
-        + (f" and boiler_efficiency {mc.boiler_efficiency:g}" if mc.boiler_efficiency else ""),
+        unit_hint=heat_unit_keys(mc),
     )
     setpoint = heating_setpoint(
         inputs[OUTPUT_COLUMN], inputs["phi_h_measured"], [training] + ([test] if test else [])

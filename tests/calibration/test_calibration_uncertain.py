@@ -131,3 +131,25 @@ def test_an_entry_that_scales_what_the_campaign_varies_is_refused():
         uncertain_inputs({INFILTRATION_FACTOR: 0.4}, NOMINAL, [*VARIED, "zone/A/infiltration_ach"])
     with pytest.raises(ThermocalInputError, match="scales the air change rates"):
         uncertain_inputs({"zone/*/infiltration_ach": 0.4}, NOMINAL, [*VARIED, INFILTRATION_FACTOR])
+
+
+def test_a_bad_entry_stops_the_campaign_before_anything_is_simulated(tmp_path, monkeypatch):
+    """The pattern is checked against the building with the other inputs, not after an hour of
+    samples."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_calibration_workflow import _campaign
+
+    from thermocal.calibration.config import load_campaign
+    from thermocal.calibration.workflow import calibrate
+    from thermocal.identification.problem import IdentificationProblem
+
+    path = _campaign(tmp_path, samples=12, extra="posterior: {uncertain: {'zone/*/ach': 0.3}}")
+    runs = []
+    monkeypatch.setattr(IdentificationProblem, "run", lambda self, p=None: runs.append(p))
+    with pytest.raises(ThermocalInputError, match=r"posterior\.uncertain\['zone/\*/ach'\]"):
+        calibrate(load_campaign(path), workers=1, store_path=tmp_path / "s.sqlite",
+                  progress=False, log=lambda line: None)  # fmt: skip
+    assert runs == []

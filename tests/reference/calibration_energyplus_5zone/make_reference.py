@@ -129,19 +129,43 @@ def main() -> None:
             envelope=without_loads(source),
             energyplus_steps_per_hour=60,
         )
-    log = twin.temperature[list(ZONES)].round(2)
+    description = "5ZoneAirCooled, hidden envelope: " + ", ".join(
+        f"{k} {n or 'all'} field {i} x{f:.4g}" for k, n, i, f in PERTURBATION
+    )
+    write_reference(HERE, twin.temperature[list(ZONES)], nominal, truth, description)
+
+
+def write_reference(folder: Path, temperatures, nominal: dict, truth: dict, description: str):
+    """Write a twin's reference files into ``folder``: ``sensors.csv.gz`` (the zones' air
+    temperatures [C] rounded to 0.01 K, stamped at each step's end with the UTC offset),
+    ``mapping.yaml`` and ``truth.json`` (``nominal`` and ``truth`` element values [unit of
+    each], their changed ratios and ``description``); prints the changed ratios.
+
+    Parameters
+    ----------
+    folder : Path
+    temperatures : DataFrame
+        EnergyPlus' zone air temperatures at 5 minutes, one column per zone of ``ZONES``,
+        labelled by the start of each step [C].
+    nominal, truth : dict
+        Element-level parameters thermocal reads from the nominal and the hidden file.
+    description : str
+        What was hidden.
+    """
+    log = temperatures.round(2)
     log.index = log.index + (log.index[1] - log.index[0])  # stamped at the step's end
     log.index.name = "time"
     log = log.rename(columns={z: f"T_{z}" for z in ZONES})
-    with gzip.open(HERE / "sensors.csv.gz", "wt", compresslevel=9) as fh:
+    with gzip.open(folder / "sensors.csv.gz", "wt", compresslevel=9) as fh:
         log.to_csv(fh, date_format="%Y-%m-%dT%H:%M:%S%z")
-    (HERE / "mapping.yaml").write_text("sensors:\n" + "".join(f"  T_{z}: {z}\n" for z in ZONES))
+    (folder / "mapping.yaml").write_text(
+        "sensors:\n" + "".join(f"  T_{z}: {z}\n" for z in ZONES)
+    )
     changed = {k: truth[k] / nominal[k] for k in nominal if abs(truth[k] - nominal[k]) > 1e-9}
-    (HERE / "truth.json").write_text(
+    (folder / "truth.json").write_text(
         json.dumps(
             {
-                "description": "5ZoneAirCooled, hidden envelope: "
-                + ", ".join(f"{k} {n or 'all'} field {i} x{f:.4g}" for k, n, i, f in PERTURBATION),
+                "description": description,
                 "energyplus_steps_per_hour": 60,
                 "sensor_step": "5min",
                 "nominal": nominal,

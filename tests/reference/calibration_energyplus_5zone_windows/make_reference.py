@@ -33,7 +33,6 @@ it does not, because the free-floating offices sit below it (``screen.json``).
 
 from __future__ import annotations
 
-import gzip
 import importlib.util
 import json
 import sys
@@ -186,35 +185,14 @@ def main() -> None:
         tmp = Path(tmp)
         nominal = with_factor(element_values(source, tmp))
         truth = with_factor(element_values(secret, tmp))
-        log = zone_temperatures(secret, tmp / "twin", 60).round(2)
-    log.index = log.index + (log.index[1] - log.index[0])  # stamped at the step's end
-    log.index.name = "time"
-    log = log.rename(columns={z: f"T_{z}" for z in ZONES})
-    with gzip.open(HERE / "sensors.csv.gz", "wt", compresslevel=9) as fh:
-        log.to_csv(fh, date_format="%Y-%m-%dT%H:%M:%S%z")
-    (HERE / "mapping.yaml").write_text("sensors:\n" + "".join(f"  T_{z}: {z}\n" for z in ZONES))
-    changed = {k: truth[k] / nominal[k] for k in nominal if abs(truth[k] - nominal[k]) > 1e-9}
+        temperatures = zone_temperatures(secret, tmp / "twin", 60)
     description = (
         f"5ZoneAirCooled, hidden envelope: {WINDOW}'s inner pane {LOW_E['name']} (fields "
         + ", ".join(f"{i}={v}" for i, v in LOW_E["fields"].items())
         + "), "
         + ", ".join(f"{k} {n} field {i} x{f:.4g}" for k, n, i, f in OPAQUE)
     )
-    (HERE / "truth.json").write_text(
-        json.dumps(
-            {
-                "description": description,
-                "energyplus_steps_per_hour": 60,
-                "sensor_step": "5min",
-                "nominal": nominal,
-                "truth": truth,
-                "changed_ratio": changed,
-            },
-            indent=2,
-        )
-        + "\n"
-    )
-    print(json.dumps(changed, indent=2))
+    base.write_reference(HERE, temperatures, nominal, truth, description)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,19 @@
+"""A target every EnergyPlus calibration twin's test holds (issue 26 item 7)."""
+
+from __future__ import annotations
+
+
+def check_metric_near_the_true_envelope(summary: dict) -> None:
+    """Assert that the confirmed metric is within 1.2x the true envelope's and never below it
+    without the "below model error" flag.
+
+    Parameters
+    ----------
+    summary : dict
+        A twin's summary (``calibrate_twin.summarise``): ``calibrated_metric``,
+        ``true_metric`` [W^2] and ``flags``.
+    """
+    ratio = summary["calibrated_metric"] / summary["true_metric"]
+    below = any(f.get("kind") == "below model error" for f in summary["flags"])
+    assert ratio <= 1.2, ratio
+    assert ratio >= 1.0 or below, (ratio, summary["flags"])

@@ -341,3 +341,119 @@ def test_glass_conductance_ratio_follows_gap_radiation_and_gas_conduction():
     # a single pane has no gap: constant
     single = LayeredGlazing([CASE600_GLASS], [])
     np.testing.assert_array_equal(single.glass_conductance_ratio([0.0, 50.0]), [1.0, 1.0])
+
+
+def _double_clear(front_emissivity_inner=0.84):
+    """Clear 3 mm / 13 mm air / clear 3 mm (5ZoneAirCooled's ``Dbl Clr 3mm/13mm Air``), the
+    inner pane with ``front_emissivity_inner`` on its face towards the gap (surface 3)."""
+    clear = GlassPane(0.003, 0.837, 0.075, 0.075, 0.84, 0.84, 0.9, name="CLEAR 3MM")
+    inner = GlassPane(0.003, 0.837, 0.075, 0.075, front_emissivity_inner, 0.84, 0.9)
+    return LayeredGlazing([clear, inner], [GasGap(0.013, gas("air"))], name="double")
+
+
+def test_coated_family_follows_grey_gap_radiation():
+    # a low-e gap (0.05 against uncoated 0.837): radiation 4 sigma T^3 / (1/e1 + 1/e2 - 1) is
+    # then a small part of the gap's conductance, so the coated glazing's table is flatter in
+    # temperature than the clear one's: the closed form of the grey gap at Nu = 1 gives it
+    sigma = 5.670374419e-8
+    temperatures = [-20.0, 20.0, 60.0]
+    u_values, ratios = _double_clear().coated_conductance_family(temperatures, (0.837, 0.05))
+
+    def resistance(t_mean, e):
+        t = t_mean + 273.15
+        h_gap = GASES["air"].properties(t)[0] / 0.013 + 4 * sigma * t**3 / (1 / 0.837 + 1 / e - 1)
+        return 2 * 0.003 / 0.9 + 1 / h_gap
+
+    assert u_values[0] < 2.0 < 2.6 < u_values[1]  # coated first (increasing U)
+    # (the coated gap carries most of the 10 K across the glazing: a little convection, Nu ~
+    # 1.02, which the closed form leaves out)
+    for row, e, rtol in ((ratios[0], 0.05, 0.02), (ratios[1], 0.837, 0.01)):
+        expected = [resistance(-20.0, e) / resistance(t, e) for t in (20, 60)]
+        np.testing.assert_allclose(row[1:] / row[0], expected, rtol=rtol)
+    assert ratios[0][2] / ratios[0][0] < 0.8 * ratios[1][2] / ratios[1][0]  # 1.34 vs 1.84
+    with pytest.raises(ThermocalInputError, match="single pane"):
+        LayeredGlazing([CASE600_GLASS], []).coated_conductance_family(temperatures)
+
+
+@pytest.mark.parametrize("emissivity", [0.6, 0.3, 0.1, 0.03])
+def test_a_lower_u_value_takes_the_coated_glazings_temperature_table(emissivity):
+    """``WindowType.with_u_value`` on the imported clear glazing at the U-value of a coated one
+    gives the coated glazing's own temperature table (within 0.3 %), not the clear gap's: at
+    6 C the clear gap's is 13 % more conductive than the coated glazing's at e = 0.1 (the
+    campaign parameter's error on the windows twin of 5ZoneAirCooled, 0.076 K of the offices'
+    air before)."""
+    from thermocal.multizone.idf.constructions import (
+        GLASS_CONDUCTANCE_TEMPERATURES,
+        window_type_from_glazing,
+    )
+
+    clear = window_type_from_glazing("double", _double_clear())
+    coated = _double_clear(emissivity)
+    target = coated.glass_conductance_ratio(GLASS_CONDUCTANCE_TEMPERATURES)
+    moved = clear.with_u_value(coated.u_value())
+    assert moved.u_value == pytest.approx(coated.u_value())
+    np.testing.assert_allclose(moved.glass_conductance_ratio, target, rtol=0.003)
+    kept = np.asarray(clear.glass_conductance_ratio)
+    assert np.max(np.abs(kept / target - 1)) > 0.03  # the clear gap's table is another one
+
+
+def test_with_u_value_keeps_the_nominal_and_holds_the_ends():
+    from thermocal.multizone.idf.constructions import window_type_from_glazing
+    from thermocal.multizone.model import WindowType
+
+    clear = window_type_from_glazing("double", _double_clear())
+    same = clear.with_u_value(clear.u_value)
+    assert same.glass_conductance_ratio == clear.glass_conductance_ratio
+    # above the uncoated glazing's U-value nothing is more conductive: its table is kept
+    assert clear.with_u_value(3.5).glass_conductance_ratio == pytest.approx(
+        clear.glass_conductance_ratio, rel=1e-3
+    )
+    best_coating = clear.with_u_value(min(clear.coated_u_values))
+    lowest = clear.with_u_value(0.5).glass_conductance_ratio
+    assert lowest == pytest.approx(best_coating.glass_conductance_ratio)
+    # a simple window type (U and SHGC only) has no coated family: the U-value alone changes
+    simple = WindowType("simple", 2.0, 0.6)
+    assert simple.with_u_value(1.2).u_value == 1.2
+    assert simple.with_u_value(1.2).glass_conductance_ratio is None
+    with pytest.raises(ThermocalInputError, match="coated_glass_conductance_ratio"):
+        WindowType(
+            "bad",
+            2.0,
+            0.6,
+            glass_conductance_temperatures=(0.0, 10.0),
+            glass_conductance_ratio=(1.0, 1.1),
+            coated_u_values=(1.0, 2.0),
+            coated_glass_conductance_ratio=[[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]],
+        )
+    with pytest.raises(ThermocalInputError, match="increase strictly"):
+        WindowType(
+            "bad",
+            2.0,
+            0.6,
+            glass_conductance_temperatures=(0.0, 10.0),
+            glass_conductance_ratio=(1.0, 1.1),
+            coated_u_values=(2.0, 1.0),
+            coated_glass_conductance_ratio=[[1.0, 1.0], [1.0, 1.0]],
+        )
+
+
+def test_the_coated_tables_survive_the_building_file(tmp_path):
+    """The calibrated building file (``thermocal calibrate`` writes one) keeps an imported
+    glazing's coated tables, so its window U-value moves the same way after reading it."""
+    import warnings
+
+    from conftest import shared_data_path
+    from thermocal.multizone.files import load_building, save_building
+    from thermocal.multizone.idf import read_idf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = read_idf(shared_data_path("energyplus_reference", "5ZoneAirCooled_FF_v25.idf"))
+    window = building.window_types["Dbl Clr 3mm/13mm Air"]
+    assert len(window.coated_u_values) == 8
+    read = load_building(save_building(building, tmp_path / "building.yaml"))
+    again = read.window_types["Dbl Clr 3mm/13mm Air"]
+    assert again.coated_u_values == pytest.approx(window.coated_u_values)
+    assert again.with_u_value(1.8).glass_conductance_ratio == pytest.approx(
+        window.with_u_value(1.8).glass_conductance_ratio
+    )

@@ -101,14 +101,15 @@ INDEPENDENT_CALIBRATIONS: dict[str, IndependentCalibration] = {
         building="NREL 5ZoneAirCooled (low-e glazing: window U -34 %, ground slab R x2, roof R "
         "x0.7 hidden; 48 samples)",
         determined_resistances=3,
-        max_resistance_error_pct=19.3,
+        max_resistance_error_pct=19.1,
         covered=3,
         parameters=6,
         determined_covered=3,
         determined=6,
-        metric_vs_truth_pct=-6.5,
-        note="the roof +19 % and the unchanged wall -18 % (it trades with the window U, found at "
-        "-13 %); the slab's x2 lies beyond the default range; the SHGC ends at the glazing's "
-        "limit: the model wants more sun through this low-e glazing than EnergyPlus admits",
+        metric_vs_truth_pct=-4.8,
+        note="the roof +19 % and the unchanged wall -17 % (it trades with the window U, found at "
+        "-11 %); the slab's x2 lies beyond the default range; the SHGC ends at the glazing's "
+        "limit: the model wants more sun through this glazing than EnergyPlus admits (also "
+        "with the file's clear glazing)",
     ),
 }

@@ -392,6 +392,14 @@ class WindowType:
         Temperature dependence of the glass-to-glass conductance (gas gaps): the conductance at a
         mean glazing temperature over the one implied by ``u_value`` (interpolated, end values
         held outside the table). None = constant conductance.
+    coated_u_values, coated_glass_conductance_ratio : sequence of float, array-like or None
+        [W/(m2 K)], [-]
+        The same panes and gaps with coated gap faces
+        (:meth:`~thermocal.multizone.glazing.LayeredGlazing.coated_conductance_family`): their
+        U-values (increasing) and their glass conductance tables (one row per U-value, at
+        ``glass_conductance_temperatures``). :meth:`with_u_value` takes the table of a new
+        U-value from them, so a lower U-value behaves as a coated glazing of that U-value does.
+        None (a simple or single-pane window type): a new U-value keeps the table.
     """
 
     name: str
@@ -410,9 +418,12 @@ class WindowType:
     emissivity_inside: float = 0.84
     glass_conductance_temperatures: tuple[float, ...] | None = None
     glass_conductance_ratio: tuple[float, ...] | None = None
+    coated_u_values: tuple[float, ...] | None = None
+    coated_glass_conductance_ratio: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         what = f"window type '{self.name}'"
+        self._check_coated_family(what)
         if (self.glass_conductance_temperatures is None) != (self.glass_conductance_ratio is None):
             raise ThermocalInputError(
                 f"{what}: give both glass_conductance_temperatures and glass_conductance_ratio, "
@@ -486,6 +497,74 @@ class WindowType:
                     "(len(incidence_angles), len(pane_absorptances))"
                 )
             self.pane_absorptances_angular = table
+
+    def _check_coated_family(self, what: str) -> None:
+        """Validate (and normalise) the coated glazings' U-values and tables."""
+        if (self.coated_u_values is None) != (self.coated_glass_conductance_ratio is None):
+            raise ThermocalInputError(
+                f"{what}: give both coated_u_values and coated_glass_conductance_ratio, or neither"
+            )
+        if self.coated_u_values is None:
+            return
+        u_values = np.asarray(self.coated_u_values, dtype=float)
+        table = np.asarray(self.coated_glass_conductance_ratio, dtype=float)
+        temps = self.glass_conductance_temperatures
+        if (
+            temps is None
+            or u_values.ndim != 1
+            or u_values.size < 2
+            or table.shape != (u_values.size, len(temps))
+        ):
+            raise ThermocalInputError(
+                f"{what}: coated_glass_conductance_ratio must have one row per coated U-value "
+                "and one column per glass_conductance_temperatures value (both tables given)"
+            )
+        if np.any(np.diff(u_values) <= 0) or not np.all(u_values > 0) or not np.all(table > 0):
+            raise ThermocalInputError(
+                f"{what}: coated_u_values must be positive and increase strictly, and "
+                "coated_glass_conductance_ratio must be > 0"
+            )
+        self.coated_u_values = tuple(float(u) for u in u_values)
+        self.coated_glass_conductance_ratio = table
+
+    def with_u_value(self, u_value: float) -> WindowType:
+        """Copy with another U-value [W/(m2 K)], with the glass conductance of that glazing.
+
+        With the coated glazings of the same panes and gaps (``coated_u_values``), the glass
+        conductance's temperature table is interpolated in U-value between them and the
+        nominal glazing (held at their ends: beyond the uncoated glazing's U-value, the most
+        conductive table), so a window whose U-value is lowered loses the temperature
+        dependence a coating removes; otherwise the table is kept.
+
+        Parameters
+        ----------
+        u_value : float [W/(m2 K)]
+        """
+        u_value = float(u_value)
+        if self.coated_u_values is None or self.glass_conductance_ratio is None:
+            return dataclasses.replace(self, u_value=u_value)
+        if u_value == self.u_value:
+            return dataclasses.replace(self)
+        u_values, rows = self._conductance_family()
+        table = [np.interp(u_value, u_values, rows[:, j]) for j in range(rows.shape[1])]
+        return dataclasses.replace(
+            self, u_value=u_value, glass_conductance_ratio=tuple(float(r) for r in table)
+        )
+
+    def _conductance_family(self) -> tuple[np.ndarray, np.ndarray]:
+        """The nominal glazing and the coated ones: U-values (increasing) and table rows.
+
+        A coated glazing within 0.01 W/(m2 K) of the nominal U-value is left out (the nominal's
+        own table is the better one there).
+        """
+        coated_u = np.asarray(self.coated_u_values)
+        keep = np.abs(coated_u - self.u_value) > 0.01
+        u_values = np.concatenate([coated_u[keep], [self.u_value]])
+        rows = np.vstack(
+            [self.coated_glass_conductance_ratio[keep], [self.glass_conductance_ratio]]
+        )
+        order = np.argsort(u_values)
+        return u_values[order], rows[order]
 
     # -- optics ---------------------------------------------------------------------------------
     @property
@@ -1118,7 +1197,7 @@ class Building:
             elif kind == "window" and name in window_types:
                 wt = window_types[name]
                 if attr == "u_value":
-                    window_types[name] = dataclasses.replace(wt, u_value=value)
+                    window_types[name] = wt.with_u_value(value)
                     ok = True
                 elif attr == "shgc":
                     window_types[name] = wt.with_shgc(value)

@@ -439,8 +439,10 @@ def bias_cases(nominal, low_e, truth: dict) -> dict:
     -------
     dict of str to Building
         The low-e file as read; the clear file at the truth's U-value with the truth's SHGC,
-        0.80 and 0.85 (the calibration's representation); the low-e file with the truth
-        point's temperature table, and with its scaled clear optics.
+        0.80 and 0.85 (the calibration's representation: since 2026-11-30 the new U-value
+        brings the coated glazing's temperature table, ``WindowType.with_u_value``); the same
+        with the clear gap's table kept (the representation before); the low-e file with the
+        clear gap's table, and with the truth point's scaled clear optics.
     """
     u_value, shgc = truth[WINDOW_U], truth[WINDOW_SHGC]
     cases = {"low-e glazing as read": low_e}
@@ -448,8 +450,13 @@ def bias_cases(nominal, low_e, truth: dict) -> dict:
         label = f"clear glazing, U {u_value:.3f}, SHGC {value:.3g}"
         cases[label] = nominal.with_parameters({WINDOW_U: u_value, WINDOW_SHGC: value})
     donor = nominal.with_parameters({WINDOW_U: u_value, WINDOW_SHGC: shgc}).window_types[GLAZING]
+    clear_gap = nominal.window_types[GLAZING]
+    label = f"clear glazing, U {u_value:.3f}, SHGC {shgc:.3g}, the clear gap's table kept"
+    cases[label] = with_window_fields(
+        nominal.with_parameters({WINDOW_U: u_value, WINDOW_SHGC: shgc}), clear_gap, TABLE
+    )
     cases["low-e optics + clear glazing's temperature table"] = with_window_fields(
-        low_e, donor, TABLE
+        low_e, clear_gap, TABLE
     )
     cases["scaled clear optics + low-e temperature table"] = with_window_fields(
         low_e, donor, OPTICS
@@ -459,9 +466,9 @@ def bias_cases(nominal, low_e, truth: dict) -> dict:
 
 def conductance_ratios(cases: dict, temperature: float) -> dict:
     """The glass conductance's temperature factor [-] at ``temperature`` [C] of the low-e
-    glazing as read and of the calibration's truth point (the clear gap's table)."""
+    glazing as read, of the calibration's truth point and of the clear gap's table."""
     out = {"mean_glazing_temperature_C": temperature}
-    for label, key in (("low_e", 0), ("truth_point", 1)):
+    for label, key in (("low_e", 0), ("truth_point", 1), ("clear_gap", 4)):
         window = list(cases.values())[key].window_types[GLAZING]
         out[f"ratio_{label}"] = float(
             np.interp(
@@ -519,10 +526,11 @@ def run() -> dict:
     out["window_paths"]["clear"].pop("mean_glazing_temperature_C")
     out["glass_conductance"] = conductance_ratios(cases, temperature)
     rows = list(out["office_bias"].values())
-    as_read, point, table, optics = rows[0], rows[1], rows[4], rows[5]
+    as_read, point, before, table, optics = rows[0], rows[1], rows[4], rows[5], rows[6]
     out["bias_split_K"] = {
         "total": point["bias_K"] - as_read["bias_K"],
-        "temperature_table": table["bias_K"] - as_read["bias_K"],
+        "total_with_the_clear_gap_table": before["bias_K"] - as_read["bias_K"],
+        "clear_gap_table": table["bias_K"] - as_read["bias_K"],
         "optics": optics["bias_K"] - as_read["bias_K"],
         "optics_day": optics["bias_day_K"] - as_read["bias_day_K"],
     }

@@ -115,7 +115,10 @@ def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
     0.04 + 0.13 the model removes to get the glass-to-glass resistance). With gas gaps, the
     glass-to-glass conductance relative to its NFRC winter value is tabulated against the mean
     glazing temperature (:meth:`LayeredGlazing.glass_conductance_ratio`), so the simulation
-    follows the temperature dependence of the gap as EnergyPlus' window heat balance does.
+    follows the temperature dependence of the gap as EnergyPlus' window heat balance does; the
+    same table for the panes and gaps with coated gap faces
+    (:meth:`LayeredGlazing.coated_conductance_family`) lets a new U-value
+    (:meth:`WindowType.with_u_value`) bring the dependence of the glazing that has it.
     ``shgc`` is the NFRC
     summer SHGC at normal incidence. Transmittance and per-pane absorptances are tabulated
     against the angle of incidence; their hemispherical averages give the diffuse values.
@@ -132,6 +135,11 @@ def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
         system = glazing
         u_value, shgc = system.u_value(), system.shgc(0.0)
     angles = np.asarray(angles, dtype=float)
+    coated_u, coated_ratio = (
+        system.coated_conductance_family(GLASS_CONDUCTANCE_TEMPERATURES)
+        if system.gaps
+        else (None, None)
+    )
     tau, _, absorbed = system.optics(angles)
     tau0 = float(tau[0])
     relative = tau / tau0 if tau0 > 0 else np.zeros_like(tau)
@@ -155,6 +163,8 @@ def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
         )
         if system.gaps
         else None,
+        coated_u_values=None if coated_u is None else tuple(float(u) for u in coated_u),
+        coated_glass_conductance_ratio=coated_ratio,
     )
 
 

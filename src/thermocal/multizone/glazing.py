@@ -747,6 +747,9 @@ NFRC_WINTER = BoundaryConditions(-18.0, 21.0, 26.0, None, 0.0, 1.0, "NFRC winter
 NFRC_SUMMER = BoundaryConditions(32.0, 24.0, 15.0, None, 783.0, 1.0, "NFRC summer")
 #: Hemispherical infrared emissivity of uncoated soda-lime glass [-] (EN 673).
 UNCOATED_GLASS_EMISSIVITY = 0.837
+#: A gap face is coated when its emissivity is below this [-] (uncoated glass 0.84; hard
+#: low-e coatings about 0.15-0.2, soft ones 0.02-0.1).
+COATED_BELOW = 0.5
 #: Infrared emissivities [-] of the coated gap faces of
 #: :meth:`LayeredGlazing.coated_conductance_family`: uncoated glass down to the best
 #: soft low-e coatings (about 0.02; hard coatings 0.15-0.2, ISO 10292 / EN 673 practice).
@@ -1089,18 +1092,20 @@ class LayeredGlazing:
     def coated_conductance_family(
         self, temperatures, emissivities=COATING_EMISSIVITIES, *, reference=NFRC_WINTER
     ) -> tuple[np.ndarray, np.ndarray]:
-        """U-values and glass conductance tables of these panes and gaps with coated gap faces.
+        """U-values and glass conductance tables of these panes and gaps with coated gap faces,
+        this glazing's own among them.
 
         A lower U-value of a glazing of the same build comes from a low-emissivity coating on a
         gap face (or a heavier gas): radiation across the gap, which goes with ``T^3``, then
         carries less of the heat and the glass-to-glass conductance depends less on the
         temperature. So a new U-value should bring the temperature dependence of the glazing
         that has it, not the nominal gaps' dependence scaled. This gives that dependence for a
-        range of coatings: in every gap the face of the inner pane gets the emissivity ``e``
-        (surface 3 of a double glazing, where heating climates put the coating; for the gap's
-        conductance either face is the same) and the other face that of uncoated glass (0.837),
-        for each ``e`` of ``emissivities``; the panes' optics are kept (the SHGC is a parameter
-        of its own).
+        range of coatings, each ``e`` of ``emissivities`` on the faces :meth:`coated_faces`
+        names (the glazing's own coated faces; in an uncoated glazing the inner pane's face in
+        every gap, surface 3 of a double glazing, where heating climates put the coating: for
+        a gap's conductance either face is the same), the other faces and the panes' optics
+        kept (the SHGC is a parameter of its own). The glazing itself is one of the rows, so
+        the family passes through it exactly.
 
         Parameters
         ----------
@@ -1114,11 +1119,11 @@ class LayeredGlazing:
         Returns
         -------
         u_values : numpy.ndarray [W/(m2 K)]
-            Increasing; one per distinct coating (the nominal panes' U-value is not among them
-            unless a coating equals the nominal faces).
+            Increasing, distinct (a coating within 0.01 W/(m2 K) of the glazing's own U-value
+            is left out: its own row is the better one there).
         ratios : numpy.ndarray [-]
-            Shape ``(len(u_values), len(temperatures))``: each coated glazing's conductance over
-            its own value at ``reference``.
+            Shape ``(len(u_values), len(temperatures))``: each glazing's conductance over its
+            own value at ``reference``.
 
         Raises
         ------
@@ -1129,23 +1134,36 @@ class LayeredGlazing:
             raise ThermocalInputError(
                 f"glazing '{self.name}': a single pane has no gap whose coating sets its U-value"
             )
-        rows = []
+        own_u = self.u_value(reference)
+        rows = [(own_u, self.glass_conductance_ratio(temperatures, reference=reference))]
+        faces = self.coated_faces()
         for e in emissivities:
             panes = list(self.panes)
-            for j in range(1, len(panes)):
-                panes[j - 1] = replace(panes[j - 1], back_emissivity=UNCOATED_GLASS_EMISSIVITY)
-                panes[j] = replace(panes[j], front_emissivity=float(e))
+            for pane, side in faces:
+                panes[pane] = replace(panes[pane], **{f"{side}_emissivity": float(e)})
             coated = LayeredGlazing(panes, self.gaps, name=self.name)
-            rows.append(
-                (
-                    coated.u_value(reference),
-                    coated.glass_conductance_ratio(temperatures, reference=reference),
-                )
-            )
+            u = coated.u_value(reference)
+            if abs(u - own_u) > 0.01:
+                rows.append((u, coated.glass_conductance_ratio(temperatures, reference=reference)))
         rows.sort(key=lambda row: row[0])
         u_values = np.array([u for u, _ in rows])
         keep = np.concatenate([[True], np.diff(u_values) > 1e-9])
         return u_values[keep], np.array([r for _, r in rows])[keep]
+
+    def coated_faces(self) -> list[tuple[int, str]]:
+        """The gap faces :meth:`coated_conductance_family` coats: ``(pane index, "front" or
+        "back")``.
+
+        The faces already coated (emissivity below :data:`COATED_BELOW`); when none is, the
+        inner pane's face in every gap (its front).
+        """
+        coated = []
+        for j in range(1, len(self.panes)):
+            if self.panes[j - 1].back_emissivity < COATED_BELOW:
+                coated.append((j - 1, "back"))
+            if self.panes[j].front_emissivity < COATED_BELOW:
+                coated.append((j, "front"))
+        return coated or [(j, "front") for j in range(1, len(self.panes))]
 
     @cached_property
     def inward_flowing_fractions(self) -> np.ndarray:

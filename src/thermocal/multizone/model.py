@@ -40,6 +40,20 @@ from thermocal.multizone.parameters import INFILTRATION_FACTOR
 BOUNDARIES = ("outdoors", "ground", "zone", "adiabatic")
 
 
+def _finite_table(values, what: str, field_name: str) -> np.ndarray:
+    """``values`` as a float array of finite numbers, or a clear error naming the field."""
+    try:
+        table = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        table = None
+    if table is None or table.ndim == 0 or not np.all(np.isfinite(table)):
+        raise ThermocalInputError(
+            f"{what}: {field_name} must be a table of finite numbers (a list, or a list of "
+            f"equal-length lists), got {values!r:.80}"
+        )
+    return table
+
+
 def _positive(value: float, what: str, *, allow_zero: bool = False) -> float:
     try:
         number = float(value)
@@ -394,12 +408,13 @@ class WindowType:
         held outside the table). None = constant conductance.
     coated_u_values, coated_glass_conductance_ratio : sequence of float, array-like or None
         [W/(m2 K)], [-]
-        The same panes and gaps with coated gap faces
+        The glazing and the same panes and gaps with other coatings on their gap faces
         (:meth:`~thermocal.multizone.glazing.LayeredGlazing.coated_conductance_family`): their
         U-values (increasing) and their glass conductance tables (one row per U-value, at
-        ``glass_conductance_temperatures``). :meth:`with_u_value` takes the table of a new
-        U-value from them, so a lower U-value behaves as a coated glazing of that U-value does.
-        None (a simple or single-pane window type): a new U-value keeps the table.
+        ``glass_conductance_temperatures``). When given, ``glass_conductance_ratio`` is the
+        family's table at ``u_value`` (interpolated in U-value, held at the ends), so a changed
+        U-value (:meth:`with_u_value`, or an edited building file) behaves as a glazing of that
+        U-value does. None (a simple or single-pane window type): the table stays as given.
     """
 
     name: str
@@ -423,15 +438,16 @@ class WindowType:
 
     def __post_init__(self) -> None:
         what = f"window type '{self.name}'"
-        self._check_coated_family(what)
+        self.u_value = _positive(self.u_value, f"{what}: u_value [W/(m2 K)]")
         if (self.glass_conductance_temperatures is None) != (self.glass_conductance_ratio is None):
             raise ThermocalInputError(
                 f"{what}: give both glass_conductance_temperatures and glass_conductance_ratio, "
                 "or neither"
             )
         if self.glass_conductance_temperatures is not None:
-            temps = np.asarray(self.glass_conductance_temperatures, dtype=float)
-            ratio = np.asarray(self.glass_conductance_ratio, dtype=float)
+            temps = _finite_table(self.glass_conductance_temperatures, what,
+                                  "glass_conductance_temperatures")  # fmt: skip
+            ratio = _finite_table(self.glass_conductance_ratio, what, "glass_conductance_ratio")
             if temps.ndim != 1 or temps.shape != ratio.shape or temps.size < 2:
                 raise ThermocalInputError(
                     f"{what}: glass_conductance_temperatures and glass_conductance_ratio must be "
@@ -444,9 +460,9 @@ class WindowType:
                 )
             self.glass_conductance_temperatures = tuple(float(t) for t in temps)
             self.glass_conductance_ratio = tuple(float(r) for r in ratio)
+        self._follow_coated_family(what)
         self.emissivity_outside = _fraction(self.emissivity_outside, f"{what}: emissivity_outside")
         self.emissivity_inside = _fraction(self.emissivity_inside, f"{what}: emissivity_inside")
-        self.u_value = _positive(self.u_value, f"{what}: u_value [W/(m2 K)]")
         if self.u_value > 10:
             raise ThermocalInputError(
                 f"{what}: u_value {self.u_value} W/(m2 K) is implausible (single glazing ~5.8)"
@@ -498,16 +514,17 @@ class WindowType:
                 )
             self.pane_absorptances_angular = table
 
-    def _check_coated_family(self, what: str) -> None:
-        """Validate (and normalise) the coated glazings' U-values and tables."""
+    def _follow_coated_family(self, what: str) -> None:
+        """Validate the coated family and take its table at ``u_value``."""
         if (self.coated_u_values is None) != (self.coated_glass_conductance_ratio is None):
             raise ThermocalInputError(
                 f"{what}: give both coated_u_values and coated_glass_conductance_ratio, or neither"
             )
         if self.coated_u_values is None:
             return
-        u_values = np.asarray(self.coated_u_values, dtype=float)
-        table = np.asarray(self.coated_glass_conductance_ratio, dtype=float)
+        u_values = _finite_table(self.coated_u_values, what, "coated_u_values")
+        table = _finite_table(self.coated_glass_conductance_ratio, what,
+                              "coated_glass_conductance_ratio")  # fmt: skip
         temps = self.glass_conductance_temperatures
         if (
             temps is None
@@ -526,45 +543,25 @@ class WindowType:
             )
         self.coated_u_values = tuple(float(u) for u in u_values)
         self.coated_glass_conductance_ratio = table
+        self.glass_conductance_ratio = tuple(
+            float(np.interp(self.u_value, u_values, table[:, j])) for j in range(table.shape[1])
+        )
 
     def with_u_value(self, u_value: float) -> WindowType:
         """Copy with another U-value [W/(m2 K)], with the glass conductance of that glazing.
 
-        With the coated glazings of the same panes and gaps (``coated_u_values``), the glass
-        conductance's temperature table is interpolated in U-value between them and the
-        nominal glazing (held at their ends: beyond the uncoated glazing's U-value, the most
-        conductive table), so a window whose U-value is lowered loses the temperature
-        dependence a coating removes; otherwise the table is kept.
+        With the coated family of the same panes and gaps (``coated_u_values``), the glass
+        conductance's temperature table is the family's at the new U-value (interpolated in
+        U-value; beyond the uncoated glazing's U-value the most conductive table, below the
+        best coating's the least), so a window whose U-value is lowered loses the temperature
+        dependence a coating removes. The result depends on the family and the U-value only
+        (not on U-values set before). Without a family the table is kept.
 
         Parameters
         ----------
         u_value : float [W/(m2 K)]
         """
-        u_value = float(u_value)
-        if self.coated_u_values is None or self.glass_conductance_ratio is None:
-            return dataclasses.replace(self, u_value=u_value)
-        if u_value == self.u_value:
-            return dataclasses.replace(self)
-        u_values, rows = self._conductance_family()
-        table = [np.interp(u_value, u_values, rows[:, j]) for j in range(rows.shape[1])]
-        return dataclasses.replace(
-            self, u_value=u_value, glass_conductance_ratio=tuple(float(r) for r in table)
-        )
-
-    def _conductance_family(self) -> tuple[np.ndarray, np.ndarray]:
-        """The nominal glazing and the coated ones: U-values (increasing) and table rows.
-
-        A coated glazing within 0.01 W/(m2 K) of the nominal U-value is left out (the nominal's
-        own table is the better one there).
-        """
-        coated_u = np.asarray(self.coated_u_values)
-        keep = np.abs(coated_u - self.u_value) > 0.01
-        u_values = np.concatenate([coated_u[keep], [self.u_value]])
-        rows = np.vstack(
-            [self.coated_glass_conductance_ratio[keep], [self.glass_conductance_ratio]]
-        )
-        order = np.argsort(u_values)
-        return u_values[order], rows[order]
+        return dataclasses.replace(self, u_value=u_value)
 
     # -- optics ---------------------------------------------------------------------------------
     @property

@@ -265,6 +265,73 @@ def _partner_notes(building: Building) -> list[str]:
     return [unmirrored_partners_note(built, far, walls) for (built, far), walls in pairs.items()]
 
 
+def _surfaceless_zones(building: Building) -> tuple[list[str], list[str]]:
+    """The zones of a building that no surface bounds (an inter-zone surface bounds both its
+    zones), split by whether infiltration couples their air to the outdoor air.
+
+    Parameters
+    ----------
+    building : Building
+
+    Returns
+    -------
+    (list of str, list of str)
+        Names of the zones without surfaces and without infiltration, and of those with
+        infiltration (``infiltration_ach > 0`` [1/h]).
+    """
+    bounded = {surface.zone for surface in building.surfaces.values()}
+    bounded |= {s.other_zone for s in building.surfaces.values() if s.other_zone is not None}
+    alone = [name for name in building.zones if name not in bounded]
+    sealed = [name for name in alone if building.zones[name].infiltration_ach <= 0.0]
+    aired = [name for name in alone if building.zones[name].infiltration_ach > 0.0]
+    return sealed, aired
+
+
+def _check_surfaceless_zones(building: Building) -> str | None:
+    """Refuse the zones of a building file without surfaces or infiltration; a note for those
+    with infiltration only.
+
+    A zone without surfaces or infiltration exchanges no heat with anything: it would be
+    reported at its start temperature for the whole run (the model refuses it too when the
+    building has other surfaces; a file without any surface reaches here). A zone without
+    surfaces but with infiltration is an air node the model allows on purpose (a shaft or a
+    ventilated void whose air follows the outdoor air; the test suite simulates one against
+    the exact solution), but in a building file it is more often a zone whose surfaces were
+    forgotten or misnamed: its temperature then follows the outdoor air with no wall, window
+    or sun, so it is named in a warning.
+
+    Parameters
+    ----------
+    building : Building
+
+    Returns
+    -------
+    str or None
+        The note on the zones with infiltration only.
+
+    Raises
+    ------
+    ThermocalInputError
+        Naming the zones without surfaces or infiltration.
+    """
+    sealed, aired = _surfaceless_zones(building)
+    if sealed:
+        raise ThermocalInputError(
+            f"zone(s) {sealed[:5]} have no surfaces (no entry of 'surfaces' names them in "
+            "'zone' or 'other_zone') and no infiltration: nothing connects their air to the "
+            "outside or to another zone, so their temperature would stay where it starts and "
+            "their heat at zero; add their surfaces or remove them"
+        )
+    if not aired:
+        return None
+    return (
+        f"zone(s) {aired[:5]} have no surfaces (no entry of 'surfaces' names them in 'zone' or "
+        "'other_zone'): their air exchanges heat only by its infiltration with the outdoor air "
+        "(no walls, windows or sun), so their temperature follows the outdoor air's; if they "
+        "have walls, add them to 'surfaces'"
+    )
+
+
 def _check_user_zone(zone: Zone) -> None:
     """A zone of a building file a user writes: refused on a unit slip.
 
@@ -295,7 +362,8 @@ def building_from_dict(data: Mapping, *, source: str | None = None) -> Building:
     -----
     BuildingFileWarning
         A value that is unusual but possible: an air change above
-        :data:`MAX_INFILTRATION_ACH`, inter-zone walls whose sides are not each other's mirror.
+        :data:`MAX_INFILTRATION_ACH`, inter-zone walls whose sides are not each other's mirror,
+        a zone without surfaces whose air is coupled by infiltration only.
     """
     if not isinstance(data, Mapping):
         raise ThermocalInputError("the file must contain a mapping (name, zones, surfaces, ...)")
@@ -338,7 +406,11 @@ def building_from_dict(data: Mapping, *, source: str | None = None) -> Building:
         ground_reflectance=data.get("ground_reflectance"),
         **objects,
     )
-    notes = [_infiltration_note(objects["zones"]), *_partner_notes(building)]
+    notes = [
+        _check_surfaceless_zones(building),
+        _infiltration_note(objects["zones"]),
+        *_partner_notes(building),
+    ]
     for note in filter(None, notes):
         warnings.warn(
             f"{source}: {note}" if source else note, BuildingFileWarning, stacklevel=2

@@ -3,7 +3,10 @@ mapping to a multi-zone Building.
 
 The importer covers the envelope subset of EnergyPlus input that the multi-zone model represents:
 ``Zone``, ``BuildingSurface:Detailed`` (and its ``Wall/RoofCeiling/Floor:Detailed`` siblings),
-``FenestrationSurface:Detailed`` and ``Window``/``Door``/``GlazedDoor``, ``Material``,
+``FenestrationSurface:Detailed`` and ``Window``/``Door``/``GlazedDoor``, the simple-geometry
+classes (``Wall:Exterior``, ``Roof``, ``Floor:Interzone``, ``Window:Interzone``,
+``Shading:Site``, ... read as the detailed objects EnergyPlus makes of them,
+:mod:`.simple_geometry`), ``Material``,
 ``Material:NoMass``, ``Material:AirGap``, ``Construction``,
 ``WindowMaterial:SimpleGlazingSystem``, ``WindowMaterial:Glazing`` + ``WindowMaterial:Gas``
 (layered glazing, optics by :mod:`thermocal.multizone.glazing`),
@@ -39,8 +42,9 @@ Modules of this package, each usable on its own:
    as given).
 4. :mod:`.schedules`: :class:`ScheduleEvaluator`, the file's schedules over a calendar year.
 5. The stages of :func:`read_idf` -> :class:`thermocal.multizone.model.Building`, one module per
-   group of classes: :mod:`.site`, :mod:`.constructions`, :mod:`.surfaces`, :mod:`.shading`,
-   :mod:`.loads`; :mod:`.report` holds :class:`IdfImportInfo` and the warning. The builder below
+   group of classes: :mod:`.site`, :mod:`.constructions`, :mod:`.surfaces` (with
+   :mod:`.simple_geometry`), :mod:`.shading`, :mod:`.loads`; :mod:`.report` holds
+   :class:`IdfImportInfo` and the warning. The builder below
    runs them in order.
 
 References
@@ -109,6 +113,7 @@ from thermocal.multizone.idf.schedules import (
     UnsupportedScheduleError,
 )
 from thermocal.multizone.idf.shading import ShadingStages
+from thermocal.multizone.idf.simple_geometry import RectangularGeometryStages
 from thermocal.multizone.idf.site import ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE, SiteStages
 from thermocal.multizone.idf.surfaces import SurfaceStages
 
@@ -256,7 +261,14 @@ def read_idf(path: str | Path, *, year: int | None = None):
     return _IdfReader(Path(path), year).build()
 
 
-class _IdfReader(SiteStages, ConstructionStages, SurfaceStages, ShadingStages, LoadStages):
+class _IdfReader(
+    SiteStages,
+    ConstructionStages,
+    SurfaceStages,
+    RectangularGeometryStages,
+    ShadingStages,
+    LoadStages,
+):
     """One import by :func:`read_idf`: the file's objects, lookups and the stages of the mapping.
 
     Each ``_stage`` method reads one group of classes and stores what later stages need as

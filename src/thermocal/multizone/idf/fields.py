@@ -59,14 +59,29 @@ IMPORTED_CLASSES = (
     "Wall:Detailed",
     "RoofCeiling:Detailed",
     "Floor:Detailed",
+    "Wall:Exterior",
+    "Wall:Adiabatic",
+    "Wall:Underground",
+    "Wall:Interzone",
+    "Roof",
+    "Ceiling:Adiabatic",
+    "Ceiling:Interzone",
+    "Floor:GroundContact",
+    "Floor:Adiabatic",
+    "Floor:Interzone",
     "FenestrationSurface:Detailed",
     "Window",
     "Door",
     "GlazedDoor",
+    "Window:Interzone",
+    "Door:Interzone",
+    "GlazedDoor:Interzone",
     "InternalMass",
     "Shading:Zone:Detailed",
     "Shading:Building:Detailed",
     "Shading:Site:Detailed",
+    "Shading:Site",
+    "Shading:Building",
     "Shading:Overhang",
     "Shading:Overhang:Projection",
     "Shading:Fin",
@@ -238,6 +253,21 @@ _SURFACE_CLASS_TYPE = {
 }
 _SURFACE_CLASSES = ("BUILDINGSURFACE:DETAILED", *_SURFACE_CLASS_TYPE)
 
+#: The simple-geometry (rectangular) surface classes: their ``Space Name`` field (9.6 and later)
+#: sits before the azimuth, which older files write in its place.
+_RECTANGULAR_SURFACE_CLASSES = (
+    "WALL:EXTERIOR",
+    "WALL:ADIABATIC",
+    "WALL:UNDERGROUND",
+    "WALL:INTERZONE",
+    "ROOF",
+    "CEILING:ADIABATIC",
+    "CEILING:INTERZONE",
+    "FLOOR:GROUNDCONTACT",
+    "FLOOR:ADIABATIC",
+    "FLOOR:INTERZONE",
+)
+
 _BOUNDARY_CONDITIONS = {
     "OUTDOORS",
     "GROUND",
@@ -265,6 +295,15 @@ def _without(names: tuple[str, ...], name: str) -> tuple[str, ...]:
     return tuple(n for n in names if n != name)
 
 
+def _is_number(text: str) -> bool:
+    """Whether a raw field is a number (a blank one is not)."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def layout(
     key: str, fields: tuple[str, ...] | list[str], version: tuple[int, int]
 ) -> tuple[tuple[str, ...], str | None, int]:
@@ -290,6 +329,9 @@ def layout(
     * surfaces (``BuildingSurface:Detailed``, ``Wall/RoofCeiling/Floor:Detailed``): the
       ``Space Name`` field after ``Zone Name`` (EnergyPlus 9.6 and later) is dropped unless it is
       there, i.e. unless the field after it is an outside boundary condition while it is not;
+    * the simple-geometry surfaces (``Wall:Exterior``, ``Roof``, ``Floor:Interzone``, ...): the
+      ``Space Name`` field after ``Zone Name`` (9.6 and later) is dropped when the field before
+      the azimuth's place is a number (the azimuth of a file written without it);
     * ``Window`` and ``GlazedDoor`` before version 9.0: the ``Shading Control Name`` field after
       ``Building Surface Name`` (removed in 9.0) is inserted;
     * ``InternalMass``: ``Space or SpaceList Name`` (9.6 and later) is dropped for objects of 4
@@ -308,6 +350,10 @@ def layout(
             and fields[i + 1].upper() in _BOUNDARY_CONDITIONS
         ):
             names = _without(names, "space_name")
+    elif key in _RECTANGULAR_SURFACE_CLASSES:
+        i = names.index("azimuth_angle")
+        if len(fields) >= i and _is_number(fields[i - 1]):
+            names = _without(names, "space_name")  # written before 9.6: the azimuth moves up
     elif key == "FENESTRATIONSURFACE:DETAILED" and version < (9, 0):
         i = names.index("view_factor_to_ground") + 1
         names = (*names[:i], "shading_control_name", *names[i:])

@@ -107,11 +107,16 @@ class GeometryRules:
     coordinate_system : str
         ``Relative`` (to the zone origin and rotated by zone and building north) or
         ``World``/``Absolute``.
+    rectangular_surface_coordinate_system : str
+        The field of the same name: the system of the starting corners of the simple-geometry
+        classes (``Wall:Exterior``, ``Window``, ``Shading:Building``, ...), ``Relative``
+        (EnergyPlus' default) or ``World``/``Absolute``.
     """
 
     starting_vertex_position: str = "UpperLeftCorner"
     vertex_entry_direction: str = "Counterclockwise"
     coordinate_system: str = "Relative"
+    rectangular_surface_coordinate_system: str = "Relative"
 
     @property
     def clockwise(self) -> bool:
@@ -120,6 +125,10 @@ class GeometryRules:
     @property
     def relative(self) -> bool:
         return self.coordinate_system.upper() == "RELATIVE"
+
+    @property
+    def rectangular_relative(self) -> bool:
+        return self.rectangular_surface_coordinate_system.upper() == "RELATIVE"
 
 
 def _rotate_z(points: np.ndarray, angle_deg: float) -> np.ndarray:
@@ -168,6 +177,41 @@ def to_world_coordinates(
         return v.copy()
     building = _rotate_z(v, zone_north_axis) + np.asarray(zone_origin, dtype=float)
     return _rotate_z(building, building_north_axis)
+
+
+def from_world_coordinates(
+    world: np.ndarray,
+    *,
+    rules: GeometryRules,
+    zone_origin: Sequence[float] = (0.0, 0.0, 0.0),
+    zone_north_axis: float = 0.0,
+    building_north_axis: float = 0.0,
+) -> np.ndarray:
+    """Vertices as a file with these rules writes them: the inverse of
+    :func:`to_world_coordinates`.
+
+    Parameters
+    ----------
+    world : array-like, shape (n, 3) [m]
+        Vertices in world coordinates (x east, y north, z up).
+    rules : GeometryRules
+    zone_origin : sequence of 3 floats [m]
+        Zone X/Y/Z origin (relative coordinates only).
+    zone_north_axis : float [deg]
+        Zone "Direction of Relative North", clockwise.
+    building_north_axis : float [deg]
+        Building "North Axis", clockwise from true north.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3) [m]
+        ``to_world_coordinates(from_world_coordinates(w, ...), ...) == w`` (to round-off).
+    """
+    w = np.asarray(world, dtype=float).reshape(-1, 3)
+    if not rules.relative:
+        return w.copy()
+    building = _rotate_z(w, -building_north_axis)
+    return _rotate_z(building - np.asarray(zone_origin, dtype=float), -zone_north_axis)
 
 
 def _check_planar(world: np.ndarray, normal: np.ndarray, obj) -> None:

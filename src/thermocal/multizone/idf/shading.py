@@ -2,7 +2,8 @@
 
 Stage of the import (:class:`ShadingStages`, mixed into the builder of
 :func:`thermocal.multizone.idf.read_idf`): ``Shading:Zone:Detailed``,
-``Shading:Building:Detailed``, ``Shading:Site:Detailed`` polygons, the overhangs and fins of
+``Shading:Building:Detailed``, ``Shading:Site:Detailed`` polygons (and the rectangles of
+``Shading:Building`` and ``Shading:Site``, :mod:`.simple_geometry`), the overhangs and fins of
 windows (``Shading:Overhang``, ``Shading:Overhang:Projection``, ``Shading:Fin``,
 ``Shading:Fin:Projection``), and the solar and convection settings read with them
 (``ShadowCalculation``, ``SurfaceConvectionAlgorithm:Inside`` / ``:Outside``).
@@ -71,8 +72,14 @@ class ShadingStages:
             )
         for rec in self.records("SHADING:BUILDING:DETAILED"):
             found.append(polygon(rec, building_north_axis=self.north_axis))
+        for rec in self.records("SHADING:BUILDING"):
+            found.append(
+                polygon(self._rectangular_shading(rec), building_north_axis=self.north_axis)
+            )
         for rec in self.records("SHADING:SITE:DETAILED"):
             found.append(polygon(rec))  # site coordinates: not rotated with the building
+        for rec in self.records("SHADING:SITE"):
+            found.append(polygon(self._rectangular_shading(rec)))
         for key in ("SHADING:OVERHANG", "SHADING:OVERHANG:PROJECTION"):
             for rec in self.records(key):
                 found.append(self._overhang(rec, projection=key.endswith("PROJECTION")))
@@ -181,8 +188,8 @@ class ShadingStages:
         entry = self.fenestration.get(target)
         if entry is None:
             raise ThermocalInputError(
-                f"{obj.where()}: field 'Window or Door Name' = '{target}' is not a "
-                "FenestrationSurface:Detailed of the file."
+                f"{obj.where()}: field 'Window or Door Name' = '{target}' is not a window or "
+                "door (FenestrationSurface:Detailed, Window, Door, GlazedDoor) of the file."
             )
         world = self.info.surface_vertices[entry[0]]
         normal = newell_normal(world)

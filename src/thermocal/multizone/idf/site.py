@@ -160,6 +160,7 @@ class SiteStages:
                 rules_rec["starting_vertex_position"] or "UpperLeftCorner",
                 rules_rec["vertex_entry_direction"] or "Counterclockwise",
                 rules_rec["coordinate_system"] or "Relative",
+                rules_rec["rectangular_surface_coordinate_system"] or "Relative",
             )
             if self.rules.vertex_entry_direction.upper() not in ("COUNTERCLOCKWISE", "CLOCKWISE"):
                 raise ThermocalInputError(
@@ -170,6 +171,16 @@ class SiteStages:
                 raise ThermocalInputError(
                     f"{rules_rec['_object'].where()}: field 'Coordinate System' = "
                     f"'{self.rules.coordinate_system}' must be Relative, World or Absolute."
+                )
+            if self.rules.rectangular_surface_coordinate_system.upper() not in (
+                "RELATIVE",
+                "WORLD",
+                "ABSOLUTE",
+            ):
+                raise ThermocalInputError(
+                    f"{rules_rec['_object'].where()}: field 'Rectangular Surface Coordinate "
+                    f"System' = '{self.rules.rectangular_surface_coordinate_system}' must be "
+                    "Relative, World or Absolute."
                 )
         self.location = self.mz.Location()
         loc_rec = self.single("SITE:LOCATION")
@@ -305,9 +316,7 @@ class SiteStages:
         """
         kinds = {"GROUND": 0, "GROUNDFCFACTORMETHOD": 0}
         preprocessor: dict[str, int] = {}
-        for rec in self.records(
-            "BUILDINGSURFACE:DETAILED", "WALL:DETAILED", "ROOFCEILING:DETAILED", "FLOOR:DETAILED"
-        ):
+        for _name, _obj, rec in self.surfaces.values():  # simple-geometry ones included
             key = (rec.get("outside_boundary_condition") or "").upper()
             if key in kinds:
                 kinds[key] += 1

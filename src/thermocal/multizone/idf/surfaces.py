@@ -15,12 +15,11 @@ import numpy as np
 
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone.idf.constructions import _reversed_construction
-from thermocal.multizone.idf.fields import _SURFACE_CLASS_TYPE
+from thermocal.multizone.idf.fields import _SURFACE_CLASS_TYPE, SCHEMA
 from thermocal.multizone.idf.geometry import (
     _boundary,
     _check_planar,
     _vertices,
-    newell_normal,
     outward_normal,
     polyhedron_is_closed,
     tilt_azimuth,
@@ -29,6 +28,7 @@ from thermocal.multizone.idf.geometry import (
 )
 from thermocal.multizone.idf.loads import local_wind_factor
 from thermocal.multizone.idf.parse import _is_auto, _Names, _number, _wrap
+from thermocal.multizone.idf.simple_geometry import RECTANGULAR_SUBSURFACE_CLASSES
 
 
 class SurfaceStages:
@@ -82,6 +82,8 @@ class SurfaceStages:
         self.surfaces = _Names("surface")
         for rec in self.records("BUILDINGSURFACE:DETAILED", *_SURFACE_CLASS_TYPE):
             self.surfaces.add(rec)
+        for rec in self._rectangular_surfaces():  # Wall:Exterior, Roof, ... (simple geometry)
+            self.surfaces.add(rec)
         self.fenestration = _Names("fenestration surface")
         for rec in self.records("FENESTRATIONSURFACE:DETAILED"):
             if rec["name"].upper() in self.surfaces:
@@ -89,7 +91,7 @@ class SurfaceStages:
                     f"{rec['_object'].where()}: the name is already used by a building surface."
                 )
             self.fenestration.add(rec)
-        for key, kind in (("WINDOW", "Window"), ("DOOR", "Door"), ("GLAZEDDOOR", "GlassDoor")):
+        for key, kind in RECTANGULAR_SUBSURFACE_CLASSES.items():
             for rec in self.records(key):
                 if rec["name"].upper() in self.surfaces:
                     raise ThermocalInputError(
@@ -200,7 +202,8 @@ class SurfaceStages:
             if base is None:
                 raise ThermocalInputError(
                     f"{obj.where()}: field 'Building Surface Name' = "
-                    f"'{rec['building_surface_name']}' is not a building surface of the file."
+                    f"'{rec['building_surface_name']}' is not a building surface of the file"
+                    f"{self._unread_surface_hint(rec['building_surface_name'])}."
                 )
             kind = (rec["surface_type"] or "Window").upper()
             world, normal, area = self._world_polygon(rec, base["zone"])
@@ -224,7 +227,8 @@ class SurfaceStages:
                 if wt is None:
                     raise ThermocalInputError(
                         f"{obj.where()}: field 'Construction Name' = '{cons}' is not a window "
-                        "construction (Construction of WindowMaterial layers) of the file."
+                        "construction (Construction of WindowMaterial layers) of the file"
+                        f"{self._unread_window_construction_hint(cons)}."
                     )
                 if base["boundary"] != "outdoors":
                     self.info.notes.append(
@@ -262,6 +266,54 @@ class SurfaceStages:
                     f"sub-surface '{name}' of type {kind.title()} is not modelled"
                 )
 
+    def _unread_window_construction_hint(self, name: str) -> str:
+        """What to do when a window names a construction of a class the importer does not
+        read (``Construction:WindowDataFile``, ``Construction:ComplexFenestrationState``,
+        ...): the class and its replacement, else ""."""
+        found = next(
+            (
+                o
+                for o in self.objects
+                if o.key.startswith("CONSTRUCTION:")
+                and o.key not in SCHEMA
+                and o.name.upper() == name.upper()
+            ),
+            None,
+        )
+        if found is None:
+            return ""
+        replacement = (
+            "describe the glazing as a Construction of WindowMaterial:Glazing and "
+            "WindowMaterial:Gas layers (the panes and gaps of the Window5 data file's entry) "
+            "or as a WindowMaterial:SimpleGlazingSystem with the entry's U-factor and SHGC"
+            if found.key == "Construction:WindowDataFile".upper()
+            else "describe the glazing as a Construction of WindowMaterial:Glazing and "
+            "WindowMaterial:Gas layers or as a WindowMaterial:SimpleGlazingSystem"
+        )
+        return (
+            f" (it is the {found.class_name} of line {found.line}, a class thermocal does not "
+            f"import; {replacement})"
+        )
+
+    def _check_zones_have_surfaces(self) -> None:
+        """Refuse a zone that no heat-transfer surface bounds: it would exchange no heat
+        through an envelope and float at its start temperature (or at the outdoor air's with
+        infiltration), a wrong number with no sign of it."""
+        bounded = {data["zone"] for data in self.surface_data.values()}
+        bounded |= {data["zone"] for data in self._zone_partners()}
+        for name, obj, _rec in self.zones.values():
+            if name in bounded:
+                continue
+            raise ThermocalInputError(
+                f"{obj.where()}: zone '{name}' has no heat-transfer surface: no "
+                "BuildingSurface:Detailed, Wall:Detailed, RoofCeiling:Detailed, Floor:Detailed "
+                "or simple-geometry surface (Wall:Exterior, Roof, Floor:Adiabatic, ...) names "
+                "it in field 'Zone Name', and no surface with Outside Boundary Condition = Zone "
+                "faces it. Without surfaces the zone exchanges no heat through an envelope and "
+                "its temperature would stay where it starts; add its surfaces, or remove the "
+                "zone and the objects that name it."
+            )
+
     def _closed_with_reversed(self, surfaces: list[dict], k: int) -> bool:
         """True if the zone's polygons close edge to edge with polygon ``k`` reversed."""
         polygons = []
@@ -269,58 +321,6 @@ class SurfaceStages:
             world = data["world"][::-1] if i == k else data["world"]
             polygons.append(world[::-1] if self.rules.clockwise else world)
         return polyhedron_is_closed(polygons)
-
-    def _rectangular_subsurface(self, rec: dict, kind: str) -> dict:
-        """A ``Window``, ``Door`` or ``GlazedDoor`` object as the record of the equivalent
-        ``FenestrationSurface:Detailed``: a rectangle ``length`` x ``height`` [m] whose lower-left
-        corner (seen from outside) is at ``(starting x, starting z)`` [m] from the lower-left
-        corner of its base surface, in the base surface's plane (EnergyPlus' convention: x
-        along the base surface's bottom edge, left to right seen from outside, z up along the
-        surface), in the base surface's coordinates, vertex order per GlobalGeometryRules."""
-        obj = rec["_object"]
-        base = self.surfaces.get(rec["building_surface_name"])
-        if base is None:
-            raise ThermocalInputError(
-                f"{obj.where()}: field 'Building Surface Name' = "
-                f"'{rec['building_surface_name']}' is not a building surface of the file."
-            )
-        points = _vertices(base[2])
-        normal = newell_normal(points)
-        if self.rules.clockwise:
-            normal = -normal
-        normal = normal / np.linalg.norm(normal)
-        right = np.cross([0.0, 0.0, 1.0], normal)
-        if np.linalg.norm(right) < 1e-6:
-            raise ThermocalInputError(
-                f"{obj.where()}: base surface '{base[0]}' is horizontal; give this {kind} as a "
-                "FenestrationSurface:Detailed with its vertices."
-            )
-        right = right / np.linalg.norm(right)
-        up = np.cross(normal, right)
-        corner = points[0] + np.min((points - points[0]) @ right) * right
-        corner = corner + np.min((points - points[0]) @ up) * up
-        x0, z0 = _number(rec, "starting_x_coordinate"), _number(rec, "starting_z_coordinate")
-        length, height = _number(rec, "length"), _number(rec, "height")
-        if length <= 0.0 or height <= 0.0:
-            raise ThermocalInputError(
-                f"{obj.where()}: fields 'Length' and 'Height' must be positive "
-                f"(got {length:g} m and {height:g} m)."
-            )
-        lower_left = corner + x0 * right + z0 * up
-        rectangle = [
-            lower_left + height * up,
-            lower_left,
-            lower_left + length * right,
-            lower_left + length * right + height * up,
-        ]  # counterclockwise seen from outside, from the upper-left corner
-        if self.rules.clockwise:
-            rectangle = rectangle[::-1]
-        return {
-            **rec,
-            "surface_type": kind,
-            "number_of_vertices": "4",
-            "vertices": [[repr(float(c)) for c in point] for point in rectangle],
-        }
 
     def _world_polygon(self, rec: dict, zone_name: str):
         """World vertices, outward (Newell) normal and area [m2] of a surface's polygon in the
@@ -539,6 +539,7 @@ class SurfaceStages:
 
     def _zone_volumes(self) -> None:
         """Stage: zone areas and volumes (the partners of Zone-boundary surfaces included)."""
+        self._check_zones_have_surfaces()
         self.zone_floor_area: dict[str, float] = {}
         self.zone_polygons: dict[str, list] = {}
         for data in [*self.surface_data.values(), *self._zone_partners()]:

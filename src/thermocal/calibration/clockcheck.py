@@ -15,6 +15,12 @@ reported. On the twin with its right clock the unshifted log is the minimum by f
 against 1.29 and 1.32 kW an hour either way; docs/calibration.md, "The sensor log's clock").
 A model whose own timing is off (its capacities) could in principle prefer a shifted log too,
 so the warning names both causes.
+
+One implementation for both commands: :func:`check_log_clock` is the campaign's (the nominal
+problem rebuilt on the shifted log); ``thermocal identify`` computes its own standard deviation
+per shift (:func:`thermocal.identification.workflow.check_identified_log_clock`); both take the
+period (:func:`clock_check_window`), the search (:func:`best_clock_shift`), the verdict and its
+note (:func:`clock_result`) and the warning (:func:`warn_if_clock_off`) from here.
 """
 
 from __future__ import annotations
@@ -27,7 +33,8 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 
-__all__ = ["CLOCK_TOLERANCE", "SHIFTS", "LogClockWarning", "check_log_clock",
+__all__ = ["CAMPAIGN_CONSEQUENCE", "CLOCK_TOLERANCE", "SHIFTS", "LogClockWarning",
+           "best_clock_shift", "check_log_clock", "clock_check_window", "clock_result",
            "warn_if_clock_off"]  # fmt: skip
 
 
@@ -82,12 +89,10 @@ def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict | Non
     """
     from thermocal.calibration.inputs import build_problem
 
-    step = campaign.step_timedelta()
-    margin = pd.Timedelta(hours=MAX_SHIFT_H)
-    start = (pd.Timestamp(inputs.start) + margin).ceil(step)
-    end = (pd.Timestamp(inputs.end) - margin).floor(step)
-    if end - start < pd.Timedelta(days=2):
+    window = clock_check_window(inputs.start, inputs.end, campaign.step_timedelta())
+    if window is None:
         return None
+    start, end = window
     log("sensor log's clock: identifying the nominal model with the log shifted by +-1 h")
 
     def unoccupied_std(hours: float) -> float:
@@ -102,9 +107,61 @@ def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict | Non
         candidate.series_outputs = True
         return float(evaluator_for(candidate).outputs(candidate.run({}).heat)["unoccupied_std"])
 
+    found = best_clock_shift(unoccupied_std)
+    if found is None:
+        return None  # nothing to compare with (the shortened period left no quiet hours)
+    result = clock_result(*found, consequence=CAMPAIGN_CONSEQUENCE)
+    warn_if_clock_off(result, campaign.path)
+    return result
+
+
+def clock_check_window(start, end, step) -> tuple[pd.Timestamp, pd.Timestamp] | None:
+    """The hours every shift of the log is compared over: the period less :data:`MAX_SHIFT_H`
+    at each end, on the step's grid.
+
+    Parameters
+    ----------
+    start, end : timestamp-like
+        The period ``[start, end)`` of the identification.
+    step : Timedelta
+        The model's step [time].
+
+    Returns
+    -------
+    (Timestamp, Timestamp) or None
+        ``[start + MAX_SHIFT_H, end - MAX_SHIFT_H)`` rounded inwards to the step; None when it
+        is shorter than two days (too short to tell a shift from the weather).
+    """
+    margin = pd.Timedelta(hours=MAX_SHIFT_H)
+    first = (pd.Timestamp(start) + margin).ceil(step)
+    last = (pd.Timestamp(end) - margin).floor(step)
+    if last - first < pd.Timedelta(days=2):
+        return None
+    return first, last
+
+
+def best_clock_shift(unoccupied_std) -> tuple[dict, float] | None:
+    """Search the log's shift that makes the model's unoccupied heat smoothest.
+
+    The log as written and :data:`SHIFTS` are tried; a shift better than the log as written is
+    followed an hour at a time while it keeps improving, up to :data:`MAX_SHIFT_H`.
+
+    Parameters
+    ----------
+    unoccupied_std : callable
+        ``unoccupied_std(hours)`` -> the standard deviation [W] of the building's identified
+        heat over the quiet hours with the log's time stamps moved by ``hours`` [h] (NaN when
+        that shift cannot be identified).
+
+    Returns
+    -------
+    (dict, float) or None
+        The standard deviations tried (shift [h] -> std [W]) and the best shift [h]; None when
+        the log as written gives no finite, positive standard deviation to compare with.
+    """
     std = {0.0: unoccupied_std(0.0)}
     if not np.isfinite(std[0.0]) or std[0.0] <= 0.0:
-        return None  # nothing to compare with (the shortened period left no quiet hours)
+        return None
     for first in SHIFTS:
         std[first] = unoccupied_std(first)
     best = min((h for h in std if np.isfinite(std[h])), key=std.get, default=0.0)
@@ -115,12 +172,38 @@ def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict | Non
         if not std[further] < std[best]:
             break
         best = further
-    result = _result(std, best)
-    warn_if_clock_off(result, campaign.path)
-    return result
+    return std, best
 
 
-def _result(std: dict, best: float) -> dict:
+#: What a log an hour off does to a calibration campaign, and its remedy (the warning's middle).
+CAMPAIGN_CONSEQUENCE = (
+    "A campaign on a log an hour off fits the timing error into the envelope; correct the time "
+    "stamps (or 'tz' in the campaign's identification section) and run again."
+)
+
+
+def clock_result(std: dict, best: float, *, consequence: str) -> dict:
+    """The clock check's figures and its note (the warning's text when a shift is better).
+
+    Parameters
+    ----------
+    std : dict
+        Shift of the log [h] -> standard deviation of the unoccupied heat [W]
+        (:func:`best_clock_shift`); 0.0 is the log as written.
+    best : float
+        The shift with the lowest [h].
+    consequence : str
+        What a log an hour off does to this command's answer and how to correct the clock
+        (:data:`CAMPAIGN_CONSEQUENCE` for a campaign), put between the question about the clocks
+        and the other cause (the model's timing).
+
+    Returns
+    -------
+    dict
+        ``std`` (by the shift as text), ``best`` [h], ``gain`` (relative reduction of the
+        standard deviation at ``best`` [-]), ``tolerance`` (:data:`CLOCK_TOLERANCE`),
+        ``passed`` and ``note``.
+    """
     own = std[0.0]
     gain = 1.0 - std[best] / own
     passed = best == 0.0 or not gain > CLOCK_TOLERANCE
@@ -137,9 +220,8 @@ def _result(std: dict, best: float) -> dict:
             f"{abs(best):g} h {later} ({std[best] / 1000:.3f} kW standard deviation of the "
             f"unoccupied heat against {own / 1000:.3f} kW as written; shifted {around}). Is "
             "the log written in local time with the wrong UTC offset (daylight saving time, a "
-            "logger set to another zone), or the weather file's clock off? A campaign on a "
-            "log an hour off fits the timing error into the envelope; correct the time stamps "
-            "(or 'tz' in the campaign's identification section) and run again. If both clocks "
+            "logger set to another zone), or the weather file's clock off? "
+            f"{consequence} If both clocks "
             "are right, the model's timing (its heat capacities) is far from the building's."
         )
     return {

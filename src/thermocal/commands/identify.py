@@ -105,6 +105,15 @@ def identify(
         str | None,
         typer.Option(help="Time of 0 of numeric time stamps (default 1970-01-01 UTC)."),
     ] = None,
+    clock_check: Annotated[
+        bool,
+        typer.Option(
+            "--clock-check/--no-clock-check",
+            help="Check the sensor log's clock against the model's: the exact inverse with the "
+            "log shifted by an hour either way; a warning when a shift makes the unoccupied "
+            "heat much smoother (a log an hour off). Two to four more inverses.",
+        ),
+    ] = True,
     demo: Annotated[
         bool, typer.Option("--demo", help="Run on the built-in clinic demo data.")
     ] = False,
@@ -112,7 +121,8 @@ def identify(
     """Identify, for every zone and step, the heat the model needs to follow the sensors.
 
     Writes into OUT: identification.json (gains with Ku and Pu, tracking per zone,
-    every zone's reference source, the unoccupied-variance metric, PID vs inverse),
+    every zone's reference source, the unoccupied-variance metric, PID vs inverse, the
+    sensor log's clock check),
     q_id.parquet (per zone and total, per step), figures and report.html.
     """
     import warnings
@@ -234,6 +244,7 @@ def identify(
             silence=silence,
             progress=True,
             log_name=log_name,
+            clock_check=clock_check,
         )
     from thermocal.multizone.simulation import notes_summary
 
@@ -429,6 +440,20 @@ def _parse_limits(text: str | None) -> tuple[float, float] | None:
     return low, high
 
 
+def _clock_summary(log_clock: dict | None) -> str:
+    """The summary's line of the sensor log's clock check
+    (:func:`thermocal.identification.workflow.check_identified_log_clock`; None: not checked):
+    the unoccupied standard deviations [kW] as written and shifted."""
+    if log_clock is None:
+        return "not checked"
+    std = {float(hours): value / 1000 for hours, value in log_clock["std"].items()}
+    shifted = ", ".join(f"{h:+g} h {v:.3f}" for h, v in sorted(std.items()) if h != 0.0)
+    if log_clock["passed"]:
+        return f"as written {std[0.0]:.3f} kW ({shifted})"
+    best = log_clock["best"]
+    return f"{best:+g} h better, see the warning: {std[best]:.3f} vs {std[0.0]:.3f} kW"
+
+
 def _print_summary(result, truth) -> None:
     import numpy as np
     from rich.console import Console
@@ -452,6 +477,7 @@ def _print_summary(result, truth) -> None:
     difference = result.method_difference()
     if difference is not None:
         summary.add_row("PID - inverse, building RMS", f"{difference['building_rms_W']:.0f} W")
+    summary.add_row("sensor log's clock", _clock_summary(result.log_clock))
     for key, value in result.timings.items():
         summary.add_row(f"time: {key}", f"{value:.2f} s")
     counts = result.sources["source"].value_counts().to_dict()

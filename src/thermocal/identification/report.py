@@ -47,11 +47,20 @@ def add_section(
         "Zones": f"{result.q_id.shape[1]}",
         "Steps": f"{result.q_id.shape[0]}",
     }
+    clock = getattr(result, "log_clock", None)
+    items["Sensor log's clock"] = (
+        "not checked" if clock is None else "as written" if clock["passed"]
+        else f"{clock['best']:+g} h fits better: see the note"
+    )  # fmt: skip
     for key, value in result.timings.items():
         items[f"time: {key}"] = f"{value:.2f} s"
     report.key_values(items)
     for note in result.notes:
         report.note(note)
+    if clock is not None and clock["passed"]:
+        report.note(clock["note"])
+    elif clock is not None:  # a log an hour off: a warning box
+        report.flags([clock["note"]])
     report.figure(
         figure("building_q_id", lambda: figures.building_heat(result)),
         caption="Building-wide identified heat.",

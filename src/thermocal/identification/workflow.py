@@ -97,6 +97,11 @@ class IdentificationResult:
     weather_year : dict or None
         How the weather file's year met the measurements (``kind`` typical/actual, ``years``,
         ``statement`` with the weekday alignment; :func:`thermocal.io.weather.weather_for_period`).
+    log_clock : dict or None
+        The sensor log's clock check (:func:`check_identified_log_clock`): ``std`` (shift [h]
+        -> unoccupied standard deviation of the exact inverse's building heat [W]), ``best``
+        [h], ``gain`` [-], ``tolerance`` [-], ``passed``, ``note``; None when not checked
+        (switched off, or a period under two days once 3 h are taken off each end).
     """
 
     q_id: pd.DataFrame
@@ -121,6 +126,7 @@ class IdentificationResult:
     floating_temperature: pd.DataFrame | None = None
     import_notes: list = field(default_factory=list)
     weather_year: dict | None = None
+    log_clock: dict | None = None
 
     @property
     def building_heat(self) -> pd.Series:
@@ -198,6 +204,7 @@ class IdentificationResult:
             "notes": self.notes,
             "import_notes": self.import_notes,
             "weather_year": self.weather_year,
+            "log_clock": self.log_clock,
         }
         return jsonable(out)
 
@@ -450,6 +457,7 @@ def identify(
     metric_source: str | None = None,
     progress: bool = False,
     log_name: str = "sensor log",
+    clock_check: bool = True,
 ) -> IdentificationResult:
     """Identify the heat every zone needs to track the measured temperatures.
 
@@ -516,10 +524,19 @@ def identify(
     progress : bool
     log_name : str
         Name of the sensor log for messages.
+    clock_check : bool
+        Check the sensor log's clock against the model's (:func:`check_identified_log_clock`:
+        two to four more exact inverses over the period; a :class:`~thermocal.calibration.
+        clockcheck.LogClockWarning` when the log shifted by an hour or more fits much better).
 
     Returns
     -------
     IdentificationResult
+
+    Warns
+    -----
+    LogClockWarning
+        The model's unoccupied heat is much smoother with the log's time stamps shifted.
     """
     from thermocal.multizone.simulation import Simulation
 
@@ -694,6 +711,14 @@ def identify(
             floating_temperature = result.air_temperature[floating]
         model_temperature["pid"] = result.tracked_temperature()
         tracking["pid"] = tracking_metrics(model_temperature["pid"], reference)
+    log_clock = None
+    if clock_check:
+        t0 = time.perf_counter()
+        log_clock = check_identified_log_clock(
+            sim, reference, track_form, schedule=schedule, settle=settle,
+            known_heat=known_heat, inverse_heat=q_inverse, log_name=log_name,
+        )  # fmt: skip
+        timings["clock_check"] = time.perf_counter() - t0
     source = metric_source or ("inverse" if q_inverse is not None else "pid")
     q_id = q_inverse if source == "inverse" else q_pid
     if q_id is None:
@@ -726,7 +751,151 @@ def identify(
         floating_temperature=floating_temperature,
         import_notes=list(sim.approximations()),
         weather_year=weather_year,
+        log_clock=log_clock,
     )
+
+
+#: What a log an hour off does to identified heat, and its remedy (the clock warning's middle;
+#: :func:`thermocal.calibration.clockcheck.clock_result`).
+IDENTIFY_CONSEQUENCE = (
+    "Heat identified with a log an hour off is the heat a wrong timing needs, not the "
+    "building's; correct the log's time stamps (or the time zone they are read in, --tz) and "
+    "identify again."
+)
+
+
+def check_identified_log_clock(
+    sim, reference: pd.DataFrame, track_form: dict, *, schedule, settle, known_heat=None,
+    inverse_heat: pd.DataFrame | None = None, log_name: str = "sensor log",
+) -> dict | None:  # fmt: skip
+    """The sensor log's clock against the model's, as ``thermocal calibrate`` checks it.
+
+    The exact inverse is run with the zone references as a log with its time stamps moved by
+    an hour either way would give them (:func:`shifted_reference`; a better shift followed up
+    to 3 h), and the building's identified heat compared over the same quiet hours (the
+    identification's unoccupied steps in the period less 3 h at each end, after ``settle``):
+    the search, tolerance and messages are :mod:`thermocal.calibration.clockcheck`'s.
+
+    Parameters
+    ----------
+    sim : Simulation
+        The identification's simulation (its period, step and warm-up).
+    reference : DataFrame (steps x tracked zones) [C]
+        The zone references of the log as written, on ``sim.times``.
+    track_form : dict
+        The tracked ``zones``, ``feedback`` and ``radiant_fraction`` of the identification.
+    schedule : OccupancySchedule
+        The identification's unoccupied hours.
+    settle : str or None
+        Left out at the start of the compared hours (time).
+    known_heat : DataFrame, optional [W]
+        Known heat (on the model's clock: not shifted).
+    inverse_heat : DataFrame, optional [W]
+        The exact inverse's heat of the log as written when it ran already (saves one run).
+    log_name : str
+        The sensor log, named in the warning.
+
+    Returns
+    -------
+    dict or None
+        :func:`~thermocal.calibration.clockcheck.clock_result`'s figures and note; None when
+        the period is too short to shift or the log as written gives no quiet heat to compare.
+
+    Warns
+    -----
+    LogClockWarning
+        A shift lowers the unoccupied standard deviation by more than
+        :data:`~thermocal.calibration.clockcheck.CLOCK_TOLERANCE`.
+    """
+    from thermocal.calibration.clockcheck import (
+        best_clock_shift,
+        clock_check_window,
+        clock_result,
+        warn_if_clock_off,
+    )
+
+    window = clock_check_window(sim.times[0], sim.times[-1] + sim.step_size, sim.step_size)
+    if window is None:
+        return None
+    quiet = clock_check_steps(sim.times, schedule, settle, window)
+
+    def unoccupied_std(hours: float) -> float:
+        if hours == 0.0 and inverse_heat is not None:
+            heat = inverse_heat.to_numpy()
+        else:
+            heat = sim.track_heat(
+                shifted_reference(reference, hours).to_numpy(), method="inverse",
+                heat_input=known_heat, **track_form,
+            ).heat  # fmt: skip
+        return quiet_heat_std(np.asarray(heat).sum(axis=1), quiet)
+
+    found = best_clock_shift(unoccupied_std)
+    if found is None:
+        return None
+    result = clock_result(*found, consequence=IDENTIFY_CONSEQUENCE)
+    warn_if_clock_off(result, log_name)
+    return result
+
+
+def shifted_reference(reference: pd.DataFrame, hours: float) -> pd.DataFrame:
+    """The zone references a log with every time stamp moved by ``hours`` [h] gives.
+
+    Each column's value at step ``t`` is the references' at ``t - hours``, linearly
+    interpolated between steps (exact for a shift by whole steps) and held at the first or
+    last value beyond the period's ends (the clock check leaves those hours out).
+
+    Parameters
+    ----------
+    reference : DataFrame (steps x zones) [C]
+        Indexed by the step starts.
+    hours : float
+        The shift [h]; positive: the time stamps later.
+
+    Returns
+    -------
+    DataFrame (steps x zones) [C]
+        Same index and columns.
+    """
+    elapsed = ((reference.index - reference.index[0]) / pd.Timedelta(hours=1)).to_numpy(float)
+    values = reference.to_numpy(dtype=float)
+    moved = np.column_stack(
+        [np.interp(elapsed - hours, elapsed, values[:, j]) for j in range(values.shape[1])]
+    )
+    return pd.DataFrame(moved, index=reference.index, columns=reference.columns)
+
+
+def clock_check_steps(times: pd.DatetimeIndex, schedule, settle, window) -> np.ndarray:
+    """The steps the clock check compares: unoccupied, inside ``window`` and after ``settle``
+    counted from the window's start.
+
+    Parameters
+    ----------
+    times : DatetimeIndex
+        Step starts.
+    schedule : OccupancySchedule
+    settle : str, Timedelta or None
+        Left out at the start of the window (time).
+    window : (Timestamp, Timestamp)
+        ``[first, last)`` (:func:`~thermocal.calibration.clockcheck.clock_check_window`).
+
+    Returns
+    -------
+    ndarray of bool
+    """
+    first, last = window
+    keep = (times >= first) & (times < last)
+    if settle is not None:
+        keep &= times >= first + pd.Timedelta(settle)
+    return np.asarray(keep) & unoccupied_steps(times, schedule, settle=None)
+
+
+def quiet_heat_std(total: np.ndarray, quiet: np.ndarray) -> float:
+    """Population standard deviation [W] of the building heat ``total`` [W] over the steps
+    ``quiet``; NaN with fewer than two steps or a non-finite value."""
+    values = total[quiet]
+    if len(values) < 2 or not np.isfinite(values).all():
+        return float("nan")
+    return float(np.std(values))
 
 
 def _weather_for_log(weather, metadata, sensor_log, start, end):

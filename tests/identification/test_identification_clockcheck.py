@@ -1,0 +1,171 @@
+"""``thermocal identify`` checks the sensor log's clock as ``thermocal calibrate`` does
+(:mod:`thermocal.calibration.clockcheck`), on a building thermocal did not write: NREL's
+5ZoneAirCooled, the nominal IDF without its loads and the log EnergyPlus wrote of its hidden
+envelope (``tests/reference/calibration_energyplus_5zone``: ``sensors.csv.gz``, stamped with
+the UTC offset).
+
+Before, a log an hour off was identified without a word: its identified heat is the heat a
+wrong timing needs. Measured 2026-11-30 on these five January days (exact inverse, the paper's
+unoccupied hours, kW of the building's unoccupied standard deviation): the log as written
+0.464 (-1 h 1.649, +1 h 1.608); the same log with its stamps an hour late 1.608 as written,
+0.464 shifted back, a LogClockWarning.
+"""
+
+from __future__ import annotations
+
+import gzip
+import json
+import shutil
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from conftest import requires_energyplus, shared_data_path
+from thermocal.cli import app
+
+REFERENCE = Path(__file__).resolve().parents[1] / "reference" / "calibration_energyplus_5zone"
+#: Wednesday to Monday, one weekend: the check compares the period less 3 h at each end
+START, END = "2023-01-04", "2023-01-09"
+
+
+@pytest.fixture(scope="module")
+def twin(tmp_path_factory):
+    """nominal.idf, weather.epw, mapping.yaml, the committed log (sensors.csv) and the same log
+    with every time stamp an hour late (late.csv), as a logger on the wrong offset writes it."""
+    from thermocal.multizone.energyplus import energyplus_weather_folder
+
+    shared = shared_data_path("energyplus_reference")
+    sys.path.insert(0, str(REFERENCE))
+    sys.modules.pop("make_reference", None)  # other reference folders have one too
+    try:
+        from make_reference import nominal_envelope
+    finally:
+        sys.path.remove(str(REFERENCE))
+    folder = tmp_path_factory.mktemp("identify_clock")
+    nominal_envelope(folder / "nominal.idf", shared)
+    weather = energyplus_weather_folder() / "USA_IL_Chicago-OHare.Intl.AP.725300_TMY3.epw"
+    shutil.copy(weather, folder / "weather.epw")
+    shutil.copy(REFERENCE / "mapping.yaml", folder / "mapping.yaml")
+    with gzip.open(REFERENCE / "sensors.csv.gz", "rb") as fh:
+        (folder / "sensors.csv").write_bytes(fh.read())
+    log = pd.read_csv(folder / "sensors.csv")
+    late = pd.to_datetime(log["time"]) + pd.Timedelta(hours=1)
+    log.assign(time=late.dt.strftime("%Y-%m-%dT%H:%M:%S%z")).to_csv(
+        folder / "late.csv", index=False
+    )
+    return folder
+
+
+def _identify(folder: Path, out: Path, log: str, *options):
+    args = [
+        "identify", str(folder / "nominal.idf"), str(folder / "weather.epw"), str(folder / log),
+        "--mapping", str(folder / "mapping.yaml"), "--out", str(out), "--method", "inverse",
+        "--start", START, "--end", END, *options,
+    ]  # fmt: skip
+    result = CliRunner().invoke(app, args, terminal_width=200)
+    assert result.exit_code == 0, (result.exception, result.output)
+    summary = json.loads((out / "identification.json").read_text())
+    return " ".join(result.output.split()), summary
+
+
+@requires_energyplus
+def test_a_log_an_hour_late_is_a_warning_with_its_numbers_in_the_summary(twin, tmp_path):
+    text, summary = _identify(twin, tmp_path / "out", "late.csv")
+    assert "warning: " in text and "late.csv: Sensor log's clock" in text, text
+    assert "time stamps 1 h earlier" in text
+    assert "the model's timing (its heat capacities)" in text  # the other cause named
+    assert "--tz" in text and "identify again" in text  # what to do
+    clock = summary["log_clock"]
+    assert clock["passed"] is False and clock["best"] == -1.0, clock
+    std = {float(hours): value for hours, value in clock["std"].items()}
+    assert std[-1.0] < 0.5 * std[0.0], std
+    assert clock["gain"] > clock["tolerance"] == 0.2
+    assert "clock_check" in summary["timings_s"]
+    report = (tmp_path / "out" / "report.html").read_text()
+    assert "Sensor log&#x27;s clock" in report or "Sensor log's clock" in report
+
+
+@requires_energyplus
+def test_the_log_as_written_passes_with_its_numbers_in_the_summary(twin, tmp_path):
+    text, summary = _identify(twin, tmp_path / "out", "sensors.csv")
+    assert "Sensor log's clock:" not in text  # no warning
+    assert "as written 0." in text  # the summary's line of the check
+    clock = summary["log_clock"]
+    assert clock["passed"] is True and clock["best"] == 0.0, clock
+    std = {float(hours): value for hours, value in clock["std"].items()}
+    assert sorted(std) == [-1.0, 0.0, 1.0]
+    assert std[-1.0] > 2.0 * std[0.0] and std[1.0] > 2.0 * std[0.0], std
+    assert "smoothest with the log as written" in clock["note"]
+
+
+@requires_energyplus
+def test_no_clock_check_switches_it_off(twin, tmp_path):
+    text, summary = _identify(twin, tmp_path / "out", "late.csv", "--no-clock-check")
+    assert "Sensor log's clock" not in text, text
+    assert "not checked" in text
+    assert summary["log_clock"] is None
+    assert "clock_check" not in summary["timings_s"]
+
+
+def test_shifted_reference_moves_the_references_by_whole_and_partial_steps():
+    from thermocal.identification.workflow import shifted_reference
+
+    times = pd.date_range("2023-01-01", periods=6, freq="30min", tz="UTC")
+    reference = pd.DataFrame({"A": np.arange(6.0), "B": 10.0 + np.arange(6.0)}, index=times)
+    later = shifted_reference(reference, 1.0)  # the stamps an hour later: values two steps on
+    assert later.index.equals(times) and list(later.columns) == ["A", "B"]
+    np.testing.assert_allclose(later["A"], [0.0, 0.0, 0.0, 1.0, 2.0, 3.0])  # held at the start
+    np.testing.assert_allclose(shifted_reference(reference, -0.25)["B"],
+                               [10.5, 11.5, 12.5, 13.5, 14.5, 15.0])  # fmt: skip
+
+
+def test_the_shift_search_follows_a_better_shift_to_its_minimum():
+    from thermocal.calibration.clockcheck import best_clock_shift, clock_check_window
+
+    tried = []
+
+    def std(hours):  # smoothest two hours earlier
+        tried.append(hours)
+        return 100.0 + 50.0 * abs(hours + 2.0)
+
+    values, best = best_clock_shift(std)
+    assert best == -2.0 and tried == [0.0, -1.0, 1.0, -2.0, -3.0], (best, tried)
+    assert values[-2.0] == 100.0
+    assert best_clock_shift(lambda hours: float("nan")) is None  # nothing to compare with
+    step = pd.Timedelta("5min")
+    assert clock_check_window("2023-01-04", "2023-01-06", step) is None  # under two days left
+    first, last = clock_check_window("2023-01-04", "2023-01-09", step)
+    assert (first, last) == (pd.Timestamp("2023-01-04 03:00"), pd.Timestamp("2023-01-08 21:00"))
+
+
+@requires_energyplus
+def test_the_python_identify_warns_and_can_be_switched_off(twin):
+    """``identify(..., clock_check=False)`` in Python, the log an hour late."""
+    from thermocal.calibration.clockcheck import LogClockWarning
+    from thermocal.identification.sensors import load_mapping
+    from thermocal.identification.workflow import identify
+    from thermocal.io.measurements import read_measurements
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone.files import load_building
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = load_building(twin / "nominal.idf")
+    weather, site = read_weather(twin / "weather.epw")
+    log, _ = read_measurements(twin / "late.csv")
+    mapping = load_mapping(twin / "mapping.yaml")
+    kwargs = dict(start=START, end=END, method="inverse", log_name="late.csv")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        checked = identify(building, weather, site, log, mapping, **kwargs)
+        unchecked = identify(building, weather, site, log, mapping, clock_check=False, **kwargs)
+    clock_warnings = [w for w in caught if issubclass(w.category, LogClockWarning)]
+    assert len(clock_warnings) == 1, [str(w.message) for w in caught]
+    assert str(clock_warnings[0].message).startswith("late.csv: Sensor log's clock")
+    assert checked.log_clock["best"] == -1.0 and unchecked.log_clock is None
+    pd.testing.assert_frame_equal(checked.q_id, unchecked.q_id)  # the answer itself unchanged

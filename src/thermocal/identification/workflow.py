@@ -819,15 +819,18 @@ def check_identified_log_clock(
         return None
     quiet = clock_check_steps(sim.times, schedule, settle, window)
 
+    values = reference.to_numpy(dtype=float)
+    elapsed = ((reference.index - reference.index[0]) / pd.Timedelta(hours=1)).to_numpy(float)
+
     def unoccupied_std(hours: float) -> float:
         if hours == 0.0 and inverse_heat is not None:
-            heat = inverse_heat.to_numpy()
+            total = inverse_heat.to_numpy().sum(axis=1)
         else:
-            heat = sim.track_heat(
-                shifted_reference(reference, hours).to_numpy(), method="inverse",
+            total = sim.track_heat(
+                shifted_values(values, elapsed, hours), method="inverse",
                 heat_input=known_heat, **track_form,
-            ).heat  # fmt: skip
-        return quiet_heat_std(np.asarray(heat).sum(axis=1), quiet)
+            ).heat.sum(axis=1)  # fmt: skip
+        return quiet_heat_std(np.asarray(total), quiet)
 
     found = best_clock_shift(unoccupied_std)
     if found is None:
@@ -857,11 +860,37 @@ def shifted_reference(reference: pd.DataFrame, hours: float) -> pd.DataFrame:
         Same index and columns.
     """
     elapsed = ((reference.index - reference.index[0]) / pd.Timedelta(hours=1)).to_numpy(float)
-    values = reference.to_numpy(dtype=float)
-    moved = np.column_stack(
-        [np.interp(elapsed - hours, elapsed, values[:, j]) for j in range(values.shape[1])]
-    )
+    moved = shifted_values(reference.to_numpy(dtype=float), elapsed, hours)
     return pd.DataFrame(moved, index=reference.index, columns=reference.columns)
+
+
+def shifted_values(values: np.ndarray, elapsed: np.ndarray, hours: float) -> np.ndarray:
+    """:func:`shifted_reference` on arrays: one C-ordered array, by row index when the shift
+    is a whole number of equal steps (one allocation: the clock check's extra memory).
+
+    Parameters
+    ----------
+    values : ndarray (steps, zones) [C]
+    elapsed : ndarray (steps,) [h]
+        Each step's time since the first.
+    hours : float
+        The shift [h].
+
+    Returns
+    -------
+    ndarray (steps, zones) [C]
+    """
+    n = len(elapsed)
+    if n > 1:
+        step = elapsed[1] - elapsed[0]
+        whole = hours / step
+        if np.allclose(np.diff(elapsed), step) and abs(whole - round(whole)) < 1e-9:
+            rows = np.clip(np.arange(n) - int(round(whole)), 0, n - 1)
+            return np.ascontiguousarray(values[rows])
+    moved = np.empty_like(values, dtype=float, order="C")
+    for j in range(values.shape[1]):
+        moved[:, j] = np.interp(elapsed - hours, elapsed, values[:, j])
+    return moved
 
 
 def clock_check_steps(times: pd.DatetimeIndex, schedule, settle, window) -> np.ndarray:

@@ -86,6 +86,33 @@ def test_a_log_hours_off_is_a_warning_naming_the_shift(twin, hours):
     later = "earlier" if hours > 0 else "later"
     assert f"time stamps {abs(hours):g} h {later}" in str(caught[0].message)
     assert result["gain"] > 0.3
+    # the whole log off: both halves of the period prefer the shift (not a clock that jumped)
+    assert result["halves"]["shifted"] == [True, True], result["halves"]
+    assert "the whole log is off, not a clock that jumped" in str(caught[0].message)
+
+
+def test_a_period_too_short_to_check_says_why(twin):
+    """Found by fuzzing (C.7, 2026-12): a period too short to shift was skipped without a word
+    (None, nothing in the campaign's notes); now its result says why, logged, without a warning
+    and without an identification."""
+    import dataclasses
+
+    from thermocal.calibration.clockcheck import check_log_clock
+
+    campaign, inputs, problem = twin
+    short = dataclasses.replace(inputs, start=pd.Timestamp("2023-01-05", tz=inputs.start.tz),
+                                end=pd.Timestamp("2023-01-07", tz=inputs.start.tz))  # fmt: skip
+    lines = []
+
+    def unused(p):
+        raise AssertionError("no identification for a period too short to check")
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no LogClockWarning
+        result = check_log_clock(campaign, short, problem, unused, lines.append)
+    assert result["checked"] is False and result["passed"] is None, result
+    assert result["reason"] == "period too short (48 h; the check needs at least 54 h)"
+    assert lines == [result["note"]] and "longer period" in result["note"]
 
 
 def test_shifted_log_moves_long_and_wide_logs():

@@ -58,14 +58,20 @@ def twin(tmp_path_factory):
     log.assign(time=late.dt.strftime("%Y-%m-%dT%H:%M:%S%z")).to_csv(
         folder / "late.csv", index=False
     )
+    times = pd.to_datetime(log["time"])  # the clock an hour on from 6 January noon (a switch)
+    after = (times >= pd.Timestamp("2023-01-06 12:00-06:00")).astype(int)
+    switched = times + pd.to_timedelta(after, unit="h")
+    log.assign(time=switched.dt.strftime("%Y-%m-%dT%H:%M:%S%z")).to_csv(
+        folder / "switch.csv", index=False
+    )
     return folder
 
 
-def _identify(folder: Path, out: Path, log: str, *options):
+def _identify(folder: Path, out: Path, log: str, *options, start=START, end=END):
     args = [
         "identify", str(folder / "nominal.idf"), str(folder / "weather.epw"), str(folder / log),
         "--mapping", str(folder / "mapping.yaml"), "--out", str(out), "--method", "inverse",
-        "--start", START, "--end", END, *options,
+        "--start", start, "--end", end, *options,
     ]  # fmt: skip
     result = CliRunner().invoke(app, args, terminal_width=200)
     assert result.exit_code == 0, (result.exception, result.output)
@@ -85,6 +91,8 @@ def test_a_log_an_hour_late_is_a_warning_with_its_numbers_in_the_summary(twin, t
     std = {float(hours): value for hours, value in clock["std"].items()}
     assert std[-1.0] < 0.5 * std[0.0], std
     assert clock["gain"] > clock["tolerance"] == 0.2
+    assert clock["halves"]["disagree"] is False and clock["at_limit"] is False, clock
+    assert "the whole log is off" in text  # both halves of the period agree
     assert "clock_check" in summary["timings_s"]
     report = (tmp_path / "out" / "report.html").read_text()
     assert "Sensor log&#x27;s clock" in report or "Sensor log's clock" in report
@@ -107,7 +115,7 @@ def test_the_log_as_written_passes_with_its_numbers_in_the_summary(twin, tmp_pat
 def test_no_clock_check_switches_it_off(twin, tmp_path):
     text, summary = _identify(twin, tmp_path / "out", "late.csv", "--no-clock-check")
     assert "Sensor log's clock" not in text, text
-    assert "not checked" in text
+    assert "not checked (--no-clock-check)" in text
     assert summary["log_clock"] is None
     assert "clock_check" not in summary["timings_s"]
 
@@ -169,3 +177,113 @@ def test_the_python_identify_warns_and_can_be_switched_off(twin):
     assert str(clock_warnings[0].message).startswith("late.csv: Sensor log's clock")
     assert checked.log_clock["best"] == -1.0 and unchecked.log_clock is None
     pd.testing.assert_frame_equal(checked.q_id, unchecked.q_id)  # the answer itself unchanged
+
+
+@requires_energyplus
+def test_a_period_too_short_to_check_says_why(twin, tmp_path):
+    """Found by fuzzing (C.7, 2026-12): on a 2-day period the check was skipped and the summary
+    said "not checked", as --no-clock-check does; now the summary, identification.json and the
+    report say the period is too short and how long it must be."""
+    text, summary = _identify(twin, tmp_path / "out", "late.csv", start="2023-01-05",
+                              end="2023-01-07")  # fmt: skip
+    from thermocal.commands.identify import _clock_summary
+
+    assert "not checked: period too short (48 h;" in text, text  # the summary (wrapped)
+    clock = summary["log_clock"]
+    assert _clock_summary(clock) == (
+        "not checked: period too short (48 h; the check needs at least 54 h)"
+    )
+    assert clock["checked"] is False and clock["passed"] is None, clock
+    assert "54 h" in clock["note"] and "longer period" in clock["note"]
+    assert "Sensor log's clock:" not in text.split("heat-balance identification")[0]  # no warning
+    report = (tmp_path / "out" / "report.html").read_text()
+    assert "period too short (48 h" in report
+
+
+@requires_energyplus
+def test_a_clock_that_jumps_mid_log_is_told_from_a_whole_log_shift(twin, tmp_path):
+    """Found by fuzzing (C.8, 2026-12): the log right until 6 January noon and an hour late
+    after (a daylight-saving switch) was warned as a whole log to shift an hour earlier, which
+    breaks its first half. The halves of the period are compared (on the same inverses) and
+    disagree: the warning says the clock jumped and to correct only the stamps after it."""
+    text, summary = _identify(twin, tmp_path / "out", "switch.csv")
+    clock = summary["log_clock"]
+    assert clock["passed"] is False and clock["best"] == -1.0, clock
+    assert clock["halves"]["disagree"] is True and clock["halves"]["shifted"] == [False, True]
+    first, second = clock["halves"]["halves"]
+    assert first["gain"] < 0.0 < 0.2 < second["gain"], clock["halves"]
+    assert "jumped by about 1 h within the period" in text, text
+    assert "correct only the stamps after the jump, not the whole log" in text
+    from thermocal.commands.identify import _clock_summary
+
+    assert _clock_summary(clock).startswith("-1 h better in the second half only (a clock jump?)")
+    report = (tmp_path / "out" / "report.html").read_text()
+    assert "in one half only (a clock jump?)" in report
+
+
+def test_a_best_shift_at_the_search_limit_is_at_least_that():
+    """Found by fuzzing (C.6, 2026-12): UTC stamps read as Chicago time (6 h off) were warned as
+    "3 h earlier" with the spread still falling at the search's limit; following the advice
+    left the log 3 h off. The warning says "at least" and points at the time zone."""
+    from thermocal.calibration.clockcheck import MAX_SHIFT_H, best_clock_shift, clock_result
+
+    std, best = best_clock_shift(lambda hours: 100.0 + 50.0 * abs(hours + 6.0))
+    assert best == -MAX_SHIFT_H == -3.0
+    result = clock_result(std, best, consequence="REMEDY.")
+    assert not result["passed"] and result["at_limit"] is True
+    assert "time stamps at least 3 h earlier" in result["note"], result["note"]
+    assert "may be larger" in result["note"] and "time-zone error" in result["note"]
+    assert "REMEDY." in result["note"]
+    std, best = best_clock_shift(lambda hours: 100.0 + 50.0 * abs(hours + 2.0))
+    two = clock_result(std, best, consequence="REMEDY.")
+    assert two["at_limit"] is False and "at least" not in two["note"]  # a minimum: the shift
+
+
+def test_a_shift_smoother_within_the_tolerance_is_named_with_its_numbers():
+    """Found by fuzzing (C.9, 2026-12): +1 h gave 5.377 kW against 5.445 kW as written, and the
+    note said the heat was "smoothest with the log as written"."""
+    from thermocal.calibration.clockcheck import clock_result
+
+    std = {-1.0: 5692.0, 0.0: 5445.0, 1.0: 5377.0, 2.0: 5599.0}
+    result = clock_result(std, 1.0, consequence="REMEDY.")
+    assert result["passed"] is True and result["best"] == 1.0
+    note = result["note"]
+    assert "smoothest with the log as written" not in note, note
+    assert "no shift of the log makes the model's unoccupied heat markedly smoother" in note
+    assert "+1 h gives 5.377 kW" in note and "5.445 kW as written, 1.2 % lower" in note
+    assert "under the 20 %" in note
+
+
+def test_the_halves_and_the_skipped_check_are_pure_functions():
+    """C.7 and C.8 without a model: the halves' split and verdict, a skipped check's result
+    (no warning: ``passed`` None)."""
+    from thermocal.calibration.clockcheck import (
+        clock_halves,
+        clock_skipped,
+        compare_halves,
+        too_short_reason,
+        warn_if_clock_off,
+    )
+
+    step = pd.Timedelta("10min")
+    window = (pd.Timestamp("2023-01-04 03:00"), pd.Timestamp("2023-01-08 21:00"))
+    halves = clock_halves(window, step)
+    assert halves == ((window[0], pd.Timestamp("2023-01-06 12:00")),
+                      (pd.Timestamp("2023-01-06 12:00"), window[1]))  # fmt: skip
+
+    def jumped(hours, half):  # right in the first half, an hour late in the second
+        off = 0.0 if half[0] == window[0] else -1.0
+        return 100.0 + 300.0 * abs(hours - off)
+
+    split = compare_halves(jumped, -1.0, halves)
+    assert split["shifted"] == [False, True] and split["disagree"] is True
+    whole = compare_halves(lambda hours, half: 100.0 + 300.0 * abs(hours + 1.0), -1.0, halves)
+    assert whole["disagree"] is False
+    assert compare_halves(lambda hours, half: float("nan"), -1.0, halves) is None
+    reason = too_short_reason("2023-01-05", "2023-01-07")
+    assert reason == "period too short (48 h; the check needs at least 54 h)"
+    skipped = clock_skipped(reason)
+    assert skipped["checked"] is False and skipped["passed"] is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warn_if_clock_off(skipped, "log.csv")  # no warning

@@ -20,7 +20,18 @@ One implementation for both commands: :func:`check_log_clock` is the campaign's 
 problem rebuilt on the shifted log); ``thermocal identify`` computes its own standard deviation
 per shift (:func:`thermocal.identification.workflow.check_identified_log_clock`); both take the
 period (:func:`clock_check_window`), the search (:func:`best_clock_shift`), the verdict and its
-note (:func:`clock_result`) and the warning (:func:`warn_if_clock_off`) from here.
+note (:func:`clock_result`) and the warning (:func:`warn_if_clock_off`) from here, through
+:func:`run_clock_check`.
+
+Found by fuzzing (2026-12, findings C.6-C.9) and now said: a best shift at the search's limit
+(:data:`MAX_SHIFT_H`; UTC stamps read as Chicago time are 6 h off) is "at least" that, the
+search having stopped while the spread still fell; a failed check compares the two halves of
+the period (:func:`compare_halves`, only then: no cost for a passing log) and says when they
+disagree, a clock that jumped within the log (a daylight-saving switch) whose remedy is not a
+whole-log shift; a period too short to check, or without quiet heat to compare, is a result
+that says why (:func:`clock_skipped`), not the silence of a check switched off; and a shift
+smoother within the tolerance is named with its figures, not called worse than the log as
+written.
 """
 
 from __future__ import annotations
@@ -33,9 +44,10 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 
-__all__ = ["CAMPAIGN_CONSEQUENCE", "CLOCK_TOLERANCE", "SHIFTS", "LogClockWarning",
-           "best_clock_shift", "check_log_clock", "clock_check_window", "clock_result",
-           "warn_if_clock_off"]  # fmt: skip
+__all__ = ["CAMPAIGN_CONSEQUENCE", "CLOCK_TOLERANCE", "MIN_CHECK_PERIOD", "SHIFTS",
+           "LogClockWarning", "best_clock_shift", "check_log_clock", "clock_check_window",
+           "clock_halves", "clock_result", "clock_skipped", "compare_halves", "run_clock_check",
+           "too_short_reason", "warn_if_clock_off"]  # fmt: skip
 
 
 class LogClockWarning(UserWarning):
@@ -49,6 +61,14 @@ MAX_SHIFT_H = 3.0
 #: Relative reduction of the unoccupied standard deviation a shift must bring to be reported
 #: [-]: the twin's wrong clock gave 2.3 times its right clock's.
 CLOCK_TOLERANCE = 0.2
+#: Shortest period the check runs on: two days compared once :data:`MAX_SHIFT_H` is left out at
+#: each end (:func:`clock_check_window`) [time].
+MIN_CHECK_PERIOD = pd.Timedelta(days=2) + 2 * pd.Timedelta(hours=MAX_SHIFT_H)
+#: Why a check was not made when the log as written gives nothing to compare.
+NO_QUIET_HEAT = (
+    "no unoccupied heat to compare (no quiet steps with identified heat in the compared hours: "
+    "the period less 3 h at each end, after the settling time)"
+)
 
 
 def shifted_log(sensor_log: pd.DataFrame, hours: float) -> pd.DataFrame:
@@ -62,7 +82,7 @@ def shifted_log(sensor_log: pd.DataFrame, hours: float) -> pd.DataFrame:
     return out
 
 
-def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict | None:
+def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict:
     """Identify the nominal model with the log as it is and shifted; report a better shift.
 
     Parameters
@@ -81,37 +101,81 @@ def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict | Non
 
     Returns
     -------
-    dict or None
+    dict
         ``std`` (shift [h] -> unoccupied std [W]), ``best`` (the shift [h] with the lowest),
-        ``passed`` and the report's ``note`` (a :class:`LogClockWarning` when it failed); None
-        when the period is too short to shift (under two days once :data:`MAX_SHIFT_H` is taken
-        off each end) or the log as written gives no unoccupied heat to compare.
+        ``passed`` and the report's ``note`` (a :class:`LogClockWarning` when it failed; the
+        two halves of the period compared then, ``halves``); :func:`clock_skipped`'s (``passed``
+        None, the ``reason`` in the note, logged) when the period is too short to shift (under
+        :data:`MIN_CHECK_PERIOD`) or the log as written gives no unoccupied heat to compare.
     """
     from thermocal.calibration.inputs import build_problem
 
     window = clock_check_window(inputs.start, inputs.end, campaign.step_timedelta())
     if window is None:
-        return None
-    start, end = window
+        result = clock_skipped(too_short_reason(inputs.start, inputs.end))
+        log(result["note"])
+        return result
     log("sensor log's clock: identifying the nominal model with the log shifted by +-1 h")
 
-    def unoccupied_std(hours: float) -> float:
+    def unoccupied_std(hours: float, period=window) -> float:
         shifted = dataclasses.replace(inputs, sensor_log=shifted_log(inputs.sensor_log, hours))
         try:
             with warnings.catch_warnings():  # the campaign's own set-up said them already
                 warnings.simplefilter("ignore")
-                candidate, _ = build_problem(campaign, shifted, start=start, end=end,
+                candidate, _ = build_problem(campaign, shifted, start=period[0], end=period[1],
                                              schedule=problem.schedule)  # fmt: skip
         except ThermocalInputError:
             return float("nan")
         candidate.series_outputs = True
         return float(evaluator_for(candidate).outputs(candidate.run({}).heat)["unoccupied_std"])
 
+    result = run_clock_check(
+        unoccupied_std, unoccupied_std, clock_halves(window, campaign.step_timedelta()),
+        consequence=CAMPAIGN_CONSEQUENCE, path=campaign.path,
+    )  # fmt: skip
+    if result["passed"] is None:
+        log(result["note"])
+    return result
+
+
+def run_clock_check(unoccupied_std, half_std, halves, *, consequence: str, path) -> dict:
+    """The check once the compared hours are set: the search, the halves when it fails, the
+    verdict and its warning (both commands').
+
+    Parameters
+    ----------
+    unoccupied_std : callable
+        ``unoccupied_std(hours)`` -> the unoccupied standard deviation [W] of the building's
+        identified heat over the compared hours with the log shifted by ``hours`` [h].
+    half_std : callable
+        ``half_std(hours, (start, end))`` -> the same over the hours ``[start, end)`` only.
+    halves : ((Timestamp, Timestamp), (Timestamp, Timestamp))
+        The two halves of the compared hours (:func:`clock_halves`).
+    consequence : str
+        The command's consequence and remedy (:func:`clock_result`).
+    path : path or str
+        The file named in the warning.
+
+    Returns
+    -------
+    dict
+        :func:`clock_result`'s, or :func:`clock_skipped`'s when the log as written gives no
+        unoccupied heat to compare.
+
+    Warns
+    -----
+    LogClockWarning
+        A shift lowers the unoccupied standard deviation by more than :data:`CLOCK_TOLERANCE`.
+    """
     found = best_clock_shift(unoccupied_std)
     if found is None:
-        return None  # nothing to compare with (the shortened period left no quiet hours)
-    result = clock_result(*found, consequence=CAMPAIGN_CONSEQUENCE)
-    warn_if_clock_off(result, campaign.path)
+        return clock_skipped(NO_QUIET_HEAT)
+    std, best = found
+    split = None
+    if not shift_within_tolerance(std, best):  # only a failed check pays for the halves
+        split = compare_halves(half_std, best, halves)
+    result = clock_result(std, best, consequence=consequence, halves=split)
+    warn_if_clock_off(result, path)
     return result
 
 
@@ -130,7 +194,8 @@ def clock_check_window(start, end, step) -> tuple[pd.Timestamp, pd.Timestamp] | 
     -------
     (Timestamp, Timestamp) or None
         ``[start + MAX_SHIFT_H, end - MAX_SHIFT_H)`` rounded inwards to the step; None when it
-        is shorter than two days (too short to tell a shift from the weather).
+        is shorter than two days (too short to tell a shift from the weather; a period under
+        :data:`MIN_CHECK_PERIOD`, :func:`too_short_reason`).
     """
     margin = pd.Timedelta(hours=MAX_SHIFT_H)
     first = (pd.Timestamp(start) + margin).ceil(step)
@@ -138,6 +203,55 @@ def clock_check_window(start, end, step) -> tuple[pd.Timestamp, pd.Timestamp] | 
     if last - first < pd.Timedelta(days=2):
         return None
     return first, last
+
+
+def too_short_reason(start, end) -> str:
+    """Why a period is not checked (:func:`clock_check_window` gave None).
+
+    Parameters
+    ----------
+    start, end : timestamp-like
+        The period ``[start, end)``.
+
+    Returns
+    -------
+    str
+        "period too short (...)" with the period's length [h] and the length the check needs
+        (:data:`MIN_CHECK_PERIOD`) [h].
+    """
+    hours = (pd.Timestamp(end) - pd.Timestamp(start)) / pd.Timedelta(hours=1)
+    needed = MIN_CHECK_PERIOD / pd.Timedelta(hours=1)
+    return f"period too short ({hours:g} h; the check needs at least {needed:g} h)"
+
+
+def clock_skipped(reason: str) -> dict:
+    """The result of a check that could not be made, saying why (not a switched-off check).
+
+    Parameters
+    ----------
+    reason : str
+        Why (:func:`too_short_reason`, :data:`NO_QUIET_HEAT`).
+
+    Returns
+    -------
+    dict
+        ``checked`` False, ``passed`` None (no verdict, no warning), ``reason``, ``note``,
+        an empty ``std`` and ``best`` None.
+    """
+    return {
+        "checked": False,
+        "passed": None,
+        "reason": reason,
+        "std": {},
+        "best": None,
+        "note": (
+            f"Sensor log's clock: not checked: {reason}: two days are compared once "
+            f"{MAX_SHIFT_H:g} h, the largest shift, are left out at each end. A log an hour off "
+            "goes unnoticed; give a longer period to have its clock checked."
+            if reason.startswith("period too short")
+            else f"Sensor log's clock: not checked: {reason}."
+        ),
+    }
 
 
 def best_clock_shift(unoccupied_std) -> tuple[dict, float] | None:
@@ -182,7 +296,108 @@ CAMPAIGN_CONSEQUENCE = (
 )
 
 
-def clock_result(std: dict, best: float, *, consequence: str) -> dict:
+def shift_within_tolerance(std: dict, best: float) -> bool:
+    """Whether the log as written passes: no shift lowers the unoccupied standard deviation
+    by more than :data:`CLOCK_TOLERANCE`.
+
+    Parameters
+    ----------
+    std : dict
+        Shift [h] -> standard deviation [W] (:func:`best_clock_shift`).
+    best : float
+        The shift with the lowest [h].
+
+    Returns
+    -------
+    bool
+    """
+    return best == 0.0 or not 1.0 - std[best] / std[0.0] > CLOCK_TOLERANCE
+
+
+def clock_halves(window, step) -> tuple[tuple[pd.Timestamp, pd.Timestamp], ...]:
+    """The two halves of the compared hours, split on the step's grid.
+
+    Parameters
+    ----------
+    window : (Timestamp, Timestamp)
+        ``[first, last)`` (:func:`clock_check_window`).
+    step : Timedelta
+        The model's step [time].
+
+    Returns
+    -------
+    ((Timestamp, Timestamp), (Timestamp, Timestamp))
+        ``[first, middle)`` and ``[middle, last)``.
+    """
+    first, last = window
+    middle = (first + (last - first) / 2).floor(step)
+    return (first, middle), (middle, last)
+
+
+def compare_halves(half_std, best: float, halves) -> dict | None:
+    """The log as written and shifted by ``best`` on each half of the compared hours: a clock
+    that jumped within the log (a daylight-saving switch, a logger reset) is off in one half
+    only.
+
+    Parameters
+    ----------
+    half_std : callable
+        ``half_std(hours, (start, end))`` -> the unoccupied standard deviation [W] over the
+        hours ``[start, end)`` with the log shifted by ``hours`` [h] (NaN: not identified).
+    best : float
+        The whole period's best shift [h].
+    halves : ((Timestamp, Timestamp), (Timestamp, Timestamp))
+        :func:`clock_halves`.
+
+    Returns
+    -------
+    dict or None
+        ``halves``: per half ``start``, ``end`` (ISO text), ``std`` (as written, shifted [W])
+        and ``gain`` [-]; ``shifted``: per half whether ``best`` is better by more than
+        :data:`CLOCK_TOLERANCE`; ``disagree``: one half is, the other is not. None when a half
+        gives no finite, positive standard deviation.
+    """
+    out = []
+    for start, end in halves:
+        own, moved = half_std(0.0, (start, end)), half_std(best, (start, end))
+        if not (np.isfinite(own) and np.isfinite(moved) and own > 0.0):
+            return None
+        out.append({"start": pd.Timestamp(start).isoformat(), "end": pd.Timestamp(end).isoformat(),
+                    "std": [own, moved], "gain": 1.0 - moved / own})  # fmt: skip
+    shifted = [half["gain"] > CLOCK_TOLERANCE for half in out]
+    return {"halves": out, "shifted": shifted, "disagree": shifted[0] != shifted[1]}
+
+
+def _halves_text(split: dict | None, best: float) -> str:
+    """The failed check's sentence on the halves of the period (:func:`compare_halves`)."""
+    shift = f"{best:+g} h"
+    if split is None:
+        return (
+            "If the clock jumped within the log (a daylight-saving switch, a logger reset), "
+            "only the stamps after the jump are off: correct those, not the whole log."
+        )
+    figures = "; ".join(
+        f"{half['start'][:16]} to {half['end'][:16]}: {half['std'][0] / 1000:.3f} kW as "
+        f"written, {half['std'][1] / 1000:.3f} kW at {shift}"
+        for half in split["halves"]
+    )
+    if not split["disagree"]:
+        return (
+            f"Both halves of the compared hours prefer {shift} ({figures}): the whole log is "
+            "off, not a clock that jumped within it."
+        )
+    which, side = ("second", "after") if split["shifted"][1] else ("first", "before")
+    return (
+        f"But the two halves of the compared hours disagree ({figures}): only the {which} "
+        f"is markedly smoother at {shift}. The log's clock most likely jumped by about "
+        f"{abs(best):g} h within the period (a daylight-saving switch, a logger reset): "
+        f"correct only the stamps {side} the jump, not the whole log "
+        "(local stamps without a UTC offset read in a zone with daylight saving time follow "
+        "such a switch)."
+    )
+
+
+def clock_result(std: dict, best: float, *, consequence: str, halves: dict | None = None) -> dict:
     """The clock check's figures and its note (the warning's text when a shift is better).
 
     Parameters
@@ -196,39 +411,64 @@ def clock_result(std: dict, best: float, *, consequence: str) -> dict:
         What a log an hour off does to this command's answer and how to correct the clock
         (:data:`CAMPAIGN_CONSEQUENCE` for a campaign), put between the question about the clocks
         and the other cause (the model's timing).
+    halves : dict, optional
+        :func:`compare_halves` of a failed check (None: not compared, or nothing to compare).
 
     Returns
     -------
     dict
-        ``std`` (by the shift as text), ``best`` [h], ``gain`` (relative reduction of the
-        standard deviation at ``best`` [-]), ``tolerance`` (:data:`CLOCK_TOLERANCE`),
-        ``passed`` and ``note``.
+        ``checked`` (True), ``std`` (by the shift as text), ``best`` [h], ``gain`` (relative
+        reduction of the standard deviation at ``best`` [-]), ``tolerance``
+        (:data:`CLOCK_TOLERANCE`), ``at_limit`` (``best`` is the search's largest shift,
+        :data:`MAX_SHIFT_H`: the offset may be larger), ``halves`` (as given), ``passed`` and
+        ``note``.
     """
     own = std[0.0]
     gain = 1.0 - std[best] / own
-    passed = best == 0.0 or not gain > CLOCK_TOLERANCE
+    passed = shift_within_tolerance(std, best)
+    at_limit = abs(best) >= MAX_SHIFT_H
     around = ", ".join(f"{h:+g} h {std[h] / 1000:.3f} kW" for h in sorted(std) if h != 0.0)
-    if passed:
+    if passed and best == 0.0:
         note = (
             f"Sensor log's clock: the model's unoccupied heat is smoothest with the log as "
             f"written ({own / 1000:.3f} kW standard deviation; shifted {around})."
         )
+    elif passed:
+        note = (
+            f"Sensor log's clock: no shift of the log makes the model's unoccupied heat "
+            f"markedly smoother: {best:+g} h gives {std[best] / 1000:.3f} kW standard deviation "
+            f"against {own / 1000:.3f} kW as written, {100 * gain:.1f} % lower, under the "
+            f"{100 * CLOCK_TOLERANCE:g} % a shift must bring to be reported (shifted {around}); "
+            "the log is taken as written."
+        )
     else:
         later = "later" if best > 0 else "earlier"
+        least = "at least " if at_limit else ""
+        limit = (
+            f" The search stops at {MAX_SHIFT_H:g} h and the spread was still falling there: "
+            f"the offset is at least {abs(best):g} h and may be larger, as a time-zone error is "
+            "(stamps in UTC read as local time or the reverse: up to 12-14 h); check the zone "
+            f"the stamps are read in before shifting them by {abs(best):g} h."
+            if at_limit
+            else ""
+        )
         note = (
             f"Sensor log's clock: the model follows the log much better with its time stamps "
-            f"{abs(best):g} h {later} ({std[best] / 1000:.3f} kW standard deviation of the "
-            f"unoccupied heat against {own / 1000:.3f} kW as written; shifted {around}). Is "
-            "the log written in local time with the wrong UTC offset (daylight saving time, a "
-            "logger set to another zone), or the weather file's clock off? "
-            f"{consequence} If both clocks "
+            f"{least}{abs(best):g} h {later} ({std[best] / 1000:.3f} kW standard deviation of "
+            f"the unoccupied heat against {own / 1000:.3f} kW as written; shifted {around})."
+            f"{limit} Is the log written in local time with the wrong UTC offset (daylight "
+            "saving time, a logger set to another zone), or the weather file's clock off? "
+            f"{_halves_text(halves, best)} {consequence} If both clocks "
             "are right, the model's timing (its heat capacities) is far from the building's."
         )
     return {
+        "checked": True,
         "std": {str(h): v for h, v in sorted(std.items())},
         "best": best,
         "gain": gain,
         "tolerance": CLOCK_TOLERANCE,
+        "at_limit": bool(at_limit),
+        "halves": halves,
         "passed": bool(passed),
         "note": note,
     }
@@ -236,7 +476,7 @@ def clock_result(std: dict, best: float, *, consequence: str) -> dict:
 
 def warn_if_clock_off(result: dict, path) -> None:
     """Warn (:class:`LogClockWarning`, naming the campaign file ``path``) when a clock check's
-    ``result`` found a better shift.
+    ``result`` found a better shift (not when it was skipped: ``passed`` None).
 
     Parameters
     ----------
@@ -245,5 +485,5 @@ def warn_if_clock_off(result: dict, path) -> None:
     path : path
         The campaign file.
     """
-    if not result["passed"]:
+    if result["passed"] is False:
         warnings.warn(f"{path}: {result['note']}", LogClockWarning, stacklevel=3)

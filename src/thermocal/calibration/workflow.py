@@ -347,7 +347,7 @@ def _step_check(campaign, inputs, problem, design, nominal_outputs, store, resum
 def _clock_check(campaign, inputs, problem, store, resume, timings, log):
     """The sensor log's clock against the model's
     (:func:`thermocal.calibration.clockcheck.check_log_clock`), kept in the store. Returns the
-    check's result or None (a period too short to shift)."""
+    check's result (``passed`` None when it could not be made: its note says why)."""
     from thermocal.calibration import clockcheck
     from thermocal.calibration.spatial import campaign_evaluator
 

@@ -442,16 +442,25 @@ def _parse_limits(text: str | None) -> tuple[float, float] | None:
 
 def _clock_summary(log_clock: dict | None) -> str:
     """The summary's line of the sensor log's clock check
-    (:func:`thermocal.identification.workflow.check_identified_log_clock`; None: not checked):
-    the unoccupied standard deviations [kW] as written and shifted."""
+    (:func:`thermocal.identification.workflow.check_identified_log_clock`; None: switched off):
+    the unoccupied standard deviations [kW] as written and shifted, or why it was not made."""
     if log_clock is None:
-        return "not checked"
+        return "not checked (--no-clock-check)"
+    if log_clock["passed"] is None:  # not made: the reason
+        return f"not checked: {log_clock['reason']}"
     std = {float(hours): value / 1000 for hours, value in log_clock["std"].items()}
     shifted = ", ".join(f"{h:+g} h {v:.3f}" for h, v in sorted(std.items()) if h != 0.0)
     if log_clock["passed"]:
         return f"as written {std[0.0]:.3f} kW ({shifted})"
     best = log_clock["best"]
-    return f"{best:+g} h better, see the warning: {std[best]:.3f} vs {std[0.0]:.3f} kW"
+    if (log_clock.get("halves") or {}).get("disagree"):
+        which = "second" if log_clock["halves"]["shifted"][1] else "first"
+        better = f"{best:+g} h better in the {which} half only (a clock jump?)"
+    elif log_clock.get("at_limit"):
+        better = f"{best:+g} h or more better (the search's limit)"
+    else:
+        better = f"{best:+g} h better"
+    return f"{better}, see the warning: {std[best]:.3f} vs {std[0.0]:.3f} kW"
 
 
 def _print_summary(result, truth) -> None:

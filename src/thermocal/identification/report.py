@@ -48,16 +48,13 @@ def add_section(
         "Steps": f"{result.q_id.shape[0]}",
     }
     clock = getattr(result, "log_clock", None)
-    items["Sensor log's clock"] = (
-        "not checked" if clock is None else "as written" if clock["passed"]
-        else f"{clock['best']:+g} h fits better: see the note"
-    )  # fmt: skip
+    items["Sensor log's clock"] = _clock_item(clock)
     for key, value in result.timings.items():
         items[f"time: {key}"] = f"{value:.2f} s"
     report.key_values(items)
     for note in result.notes:
         report.note(note)
-    if clock is not None and clock["passed"]:
+    if clock is not None and clock["passed"] is not False:  # passed, or not made: why
         report.note(clock["note"])
     elif clock is not None:  # a log an hour off: a warning box
         report.flags([clock["note"]])
@@ -150,6 +147,21 @@ def add_section(
         )
     report.references([REFERENCE])
     return report
+
+
+def _clock_item(clock: dict | None) -> str:
+    """The key-value line of the sensor log's clock check (``result.log_clock``; None: switched
+    off): its verdict, or why it was not made."""
+    if clock is None:
+        return "not checked (switched off)"
+    if clock["passed"] is None:
+        return f"not checked: {clock['reason']}"
+    if clock["passed"]:
+        return "as written"
+    if (clock.get("halves") or {}).get("disagree"):
+        return f"{clock['best']:+g} h fits better in one half only (a clock jump?): see the note"
+    least = "at least " if clock.get("at_limit") else ""
+    return f"{least}{clock['best']:+g} h fits better: see the note"
 
 
 def write_report(result, path: str | Path, *, pngs: dict | None = None) -> Path:

@@ -100,8 +100,9 @@ class IdentificationResult:
     log_clock : dict or None
         The sensor log's clock check (:func:`check_identified_log_clock`): ``std`` (shift [h]
         -> unoccupied standard deviation of the exact inverse's building heat [W]), ``best``
-        [h], ``gain`` [-], ``tolerance`` [-], ``passed``, ``note``; None when not checked
-        (switched off, or a period under two days once 3 h are taken off each end).
+        [h], ``gain`` [-], ``tolerance`` [-], ``passed``, ``note`` (and ``halves`` when a shift
+        fits better); with ``checked: false``, ``passed: None`` and a ``reason`` when the check
+        could not run (a period too short to shift); None when switched off.
     """
 
     q_id: pd.DataFrame
@@ -767,7 +768,7 @@ IDENTIFY_CONSEQUENCE = (
 def check_identified_log_clock(
     sim, reference: pd.DataFrame, track_form: dict, *, schedule, settle, known_heat=None,
     inverse_heat: pd.DataFrame | None = None, log_name: str = "sensor log",
-) -> dict | None:  # fmt: skip
+) -> dict:  # fmt: skip
     """The sensor log's clock against the model's, as ``thermocal calibrate`` checks it.
 
     The exact inverse is run with the zone references as a log with its time stamps moved by
@@ -797,9 +798,12 @@ def check_identified_log_clock(
 
     Returns
     -------
-    dict or None
-        :func:`~thermocal.calibration.clockcheck.clock_result`'s figures and note; None when
-        the period is too short to shift or the log as written gives no quiet heat to compare.
+    dict
+        :func:`~thermocal.calibration.clockcheck.clock_result`'s figures and note (a failed
+        check's two halves compared on the same runs: no extra inverse);
+        :func:`~thermocal.calibration.clockcheck.clock_skipped`'s (``passed`` None, the reason
+        in ``reason`` and ``note``) when the period is too short to shift or the log as written
+        gives no quiet heat to compare.
 
     Warns
     -----
@@ -808,36 +812,42 @@ def check_identified_log_clock(
         :data:`~thermocal.calibration.clockcheck.CLOCK_TOLERANCE`.
     """
     from thermocal.calibration.clockcheck import (
-        best_clock_shift,
         clock_check_window,
-        clock_result,
-        warn_if_clock_off,
+        clock_halves,
+        clock_skipped,
+        run_clock_check,
+        too_short_reason,
     )
 
-    window = clock_check_window(sim.times[0], sim.times[-1] + sim.step_size, sim.step_size)
+    end = sim.times[-1] + sim.step_size
+    window = clock_check_window(sim.times[0], end, sim.step_size)
     if window is None:
-        return None
+        return clock_skipped(too_short_reason(sim.times[0], end))
     quiet = clock_check_steps(sim.times, schedule, settle, window)
 
     values = reference.to_numpy(dtype=float)
     elapsed = ((reference.index - reference.index[0]) / pd.Timedelta(hours=1)).to_numpy(float)
+    heat = {}  # shift [h] -> building heat per step [W]: the halves reuse the whole's runs
 
-    def unoccupied_std(hours: float) -> float:
-        if hours == 0.0 and inverse_heat is not None:
-            total = inverse_heat.to_numpy().sum(axis=1)
-        else:
-            total = sim.track_heat(
-                shifted_values(values, elapsed, hours), method="inverse",
-                heat_input=known_heat, **track_form,
-            ).heat.sum(axis=1)  # fmt: skip
-        return quiet_heat_std(np.asarray(total), quiet)
+    def building_heat(hours: float) -> np.ndarray:
+        if hours not in heat:
+            if hours == 0.0 and inverse_heat is not None:
+                heat[hours] = inverse_heat.to_numpy().sum(axis=1)
+            else:
+                heat[hours] = np.asarray(sim.track_heat(
+                    shifted_values(values, elapsed, hours), method="inverse",
+                    heat_input=known_heat, **track_form,
+                ).heat.sum(axis=1))  # fmt: skip
+        return heat[hours]
 
-    found = best_clock_shift(unoccupied_std)
-    if found is None:
-        return None
-    result = clock_result(*found, consequence=IDENTIFY_CONSEQUENCE)
-    warn_if_clock_off(result, log_name)
-    return result
+    def half_std(hours: float, half) -> float:
+        inside = quiet & np.asarray((sim.times >= half[0]) & (sim.times < half[1]))
+        return quiet_heat_std(building_heat(hours), inside)
+
+    return run_clock_check(
+        lambda hours: quiet_heat_std(building_heat(hours), quiet), half_std,
+        clock_halves(window, sim.step_size), consequence=IDENTIFY_CONSEQUENCE, path=log_name,
+    )  # fmt: skip
 
 
 def shifted_reference(reference: pd.DataFrame, hours: float) -> pd.DataFrame:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -10,6 +11,9 @@ from pathlib import Path
 
 def atomic_write(path: Path | str, write: Callable[[Path], object]) -> Path:
     """Write a file atomically: ``write(tmp_path)`` into the same folder, then ``os.replace``.
+
+    The file gets the permissions an ordinary write would give it (:func:`_ordinary_mode`), not
+    the owner-only 0600 of the temporary file.
 
     Parameters
     ----------
@@ -25,15 +29,39 @@ def atomic_write(path: Path | str, write: Callable[[Path], object]) -> Path:
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    mode = _ordinary_mode(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(fd)
     try:
         write(Path(tmp))
+        os.chmod(tmp, mode)  # mkstemp's 0600 would survive the rename
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def _ordinary_mode(path: Path) -> int:
+    """The permission bits an ordinary ``open(path, "w")`` would leave on ``path``.
+
+    Parameters
+    ----------
+    path : Path
+        Destination file.
+
+    Returns
+    -------
+    int
+        The mode of the file being replaced when there is one (as opening it for writing keeps
+        it), else ``0o666`` less the process's umask (0644 under umask 022).
+    """
+    try:
+        return stat.S_IMODE(path.stat().st_mode)
+    except FileNotFoundError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
 
 
 def atomic_parquet(path: Path | str, frame) -> Path:

@@ -304,6 +304,36 @@ def _is_number(text: str) -> bool:
     return True
 
 
+def _without_space_name(
+    names: tuple[str, ...], fields: tuple[str, ...] | list[str], version: tuple[int, int]
+) -> bool:
+    """Whether a simple-geometry surface (``Wall:Exterior``, ``Roof``, ...) was written without
+    the ``Space Name`` field of EnergyPlus 9.6 and later.
+
+    Parameters
+    ----------
+    names : tuple of str
+        The class's field names with ``space_name`` (:data:`SCHEMA`).
+    fields : sequence of str
+        The object's raw fields.
+    version : tuple of int
+        EnergyPlus version of the file (``Version`` object).
+
+    Returns
+    -------
+    bool
+        True when the field in the azimuth's place less one is a number (the azimuth of a file
+        written without the field) and either the file is older than 9.6 or the object is one
+        field short of the full layout (its last field, the height or width, is required). A
+        9.6+ object with all its fields keeps its ``Space Name`` even when that is a number (a
+        room number such as ``101``).
+    """
+    i = names.index("azimuth_angle")
+    if len(fields) < i or not _is_number(fields[i - 1]):
+        return False
+    return version < (9, 6) or len(fields) < len(names)
+
+
 def layout(
     key: str, fields: tuple[str, ...] | list[str], version: tuple[int, int]
 ) -> tuple[tuple[str, ...], str | None, int]:
@@ -330,8 +360,8 @@ def layout(
       ``Space Name`` field after ``Zone Name`` (EnergyPlus 9.6 and later) is dropped unless it is
       there, i.e. unless the field after it is an outside boundary condition while it is not;
     * the simple-geometry surfaces (``Wall:Exterior``, ``Roof``, ``Floor:Interzone``, ...): the
-      ``Space Name`` field after ``Zone Name`` (9.6 and later) is dropped when the field before
-      the azimuth's place is a number (the azimuth of a file written without it);
+      ``Space Name`` field after ``Zone Name`` (9.6 and later) is dropped when the object was
+      written without it (:func:`_without_space_name`);
     * ``Window`` and ``GlazedDoor`` before version 9.0: the ``Shading Control Name`` field after
       ``Building Surface Name`` (removed in 9.0) is inserted;
     * ``InternalMass``: ``Space or SpaceList Name`` (9.6 and later) is dropped for objects of 4
@@ -351,8 +381,7 @@ def layout(
         ):
             names = _without(names, "space_name")
     elif key in _RECTANGULAR_SURFACE_CLASSES:
-        i = names.index("azimuth_angle")
-        if len(fields) >= i and _is_number(fields[i - 1]):
+        if _without_space_name(names, fields, version):
             names = _without(names, "space_name")  # written before 9.6: the azimuth moves up
     elif key == "FENESTRATIONSURFACE:DETAILED" and version < (9, 0):
         i = names.index("view_factor_to_ground") + 1

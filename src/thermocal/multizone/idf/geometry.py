@@ -250,6 +250,70 @@ def outward_normal(vertices_world: np.ndarray, rules: GeometryRules) -> np.ndarr
     return -n if rules.clockwise else n
 
 
+def outside_of_host(sub: np.ndarray, host: np.ndarray, normal: np.ndarray) -> float:
+    """How far a sub-surface reaches beyond its host, in the host's plane [m].
+
+    Parameters
+    ----------
+    sub, host : numpy.ndarray, shape (n, 3) and (m, 3) [m]
+        World vertices of the sub-surface and of its (convex or not) host polygon.
+    normal : numpy.ndarray, shape (3,)
+        The host's normal (either sense; only its direction is used).
+
+    Returns
+    -------
+    float
+        0 when every vertex of ``sub`` lies in ``host`` (edges included), else the largest
+        distance of a vertex outside ``host`` to its boundary [m].
+    """
+    n = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
+    helper = np.array([0.0, 0.0, 1.0]) if abs(n[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(helper, n)
+    u /= np.linalg.norm(u)
+    v = np.cross(n, u)
+    origin = host[0]
+    poly = np.column_stack([(host - origin) @ u, (host - origin) @ v])
+    points = np.column_stack([(sub - origin) @ u, (sub - origin) @ v])
+    start, end = poly, np.roll(poly, -1, axis=0)
+    worst = 0.0
+    for p in points:
+        crosses = (start[:, 1] > p[1]) != (end[:, 1] > p[1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = start[:, 0] + (p[1] - start[:, 1]) * (end[:, 0] - start[:, 0]) / (
+                end[:, 1] - start[:, 1]
+            )
+        if np.count_nonzero(crosses & (p[0] < x)) % 2:
+            continue  # inside
+        edge = end - start
+        share = np.clip(
+            np.einsum("ij,ij->i", p - start, edge) / np.maximum((edge**2).sum(axis=1), 1e-30),
+            0.0,
+            1.0,
+        )
+        gap = np.linalg.norm(start + share[:, None] * edge - p, axis=1).min()
+        worst = max(worst, float(gap))
+    return worst
+
+
+def outward_order(vertices_world: np.ndarray, rules: GeometryRules) -> np.ndarray:
+    """A surface's vertices counter-clockwise seen from outside, whatever the file's order.
+
+    Parameters
+    ----------
+    vertices_world : numpy.ndarray, shape (n, 3) [m]
+        The vertices in the file's order (``GlobalGeometryRules`` ``Vertex Entry Direction``).
+    rules : GeometryRules
+        The file's rules.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 3) [m]
+        Reversed under ``Clockwise``, else as given: the order EnergyPlus holds them in, and the
+        one the shadow and solar code expects (Newell normal pointing out of the zone).
+    """
+    return vertices_world[::-1].copy() if rules.clockwise else vertices_world
+
+
 def zone_volume_from_surfaces(
     polygons: Sequence[np.ndarray], normals: Sequence[np.ndarray]
 ) -> float:

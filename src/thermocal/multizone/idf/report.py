@@ -488,6 +488,10 @@ def unsupported_kind(class_name: str) -> str:
     return "physics"
 
 
+#: How a note on an input EnergyPlus ignores, refuses or warns about begins: such notes name
+#: their object and are repeated in full in the import warning (:func:`import_summary`).
+EP_CHECK = "EnergyPlus check: "
+
 #: Kinds of import notes, in report order: (kind, label, test on the note's text).
 NOTE_KINDS = (
     (
@@ -500,6 +504,7 @@ NOTE_KINDS = (
     ("ventilation", "ventilation", lambda n: "ZoneVentilation" in n),
     ("solar", "solar distribution", lambda n: n.startswith("Solar Distribution")),
     ("convection", "convection algorithms", lambda n: "ConvectionAlgorithm" in n),
+    ("energyplus", "inputs EnergyPlus ignores or warns about", lambda n: n.startswith(EP_CHECK)),
     ("ground", "ground", lambda n: "ground" in n.lower()),
     ("other", "other", lambda n: True),
 )
@@ -549,6 +554,7 @@ def import_summary(source: str, info: IdfImportInfo) -> str:
             f"{len(v)} {labels[k]}" for k, v in notes.items() if k != "constant_schedules"
         )
         lines.append(f"{source}: {len(info.notes) - constant} import notes ({counts}).")
+        lines.extend(notes.get("energyplus", []))
     if constant:
         lines.append(
             f"{source}: {constant} more notes apply only where the file's schedules are "

@@ -18,6 +18,7 @@ import numpy as np
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone.idf.geometry import _vertices, newell_normal, to_world_coordinates
 from thermocal.multizone.idf.parse import _number
+from thermocal.multizone.idf.report import EP_CHECK
 
 
 class ShadingStages:
@@ -182,7 +183,15 @@ class ShadingStages:
         return found
 
     def _window_frame(self, rec):
-        """Corner, right and up axes, outward normal, width and height of a window or door."""
+        """Corner, right and up axes, outward normal, width and height of a window or door.
+
+        ``info.surface_vertices`` holds the window counter-clockwise seen from outside whatever
+        the file's vertex order (:func:`.geometry.outward_order`): the normal points out. One
+        exception follows EnergyPlus 25.2 (:func:`_overhang_side`): under ``ClockWise`` it
+        builds the overhangs and fins of a ``FenestrationSurface:Detailed`` on the zone's side
+        (noted); those of a simple ``Window``/``Door``/``GlazedDoor``, whose vertices it makes
+        itself, outside.
+        """
         obj = rec["_object"]
         target = rec["window_or_door_name"]
         entry = self.fenestration.get(target)
@@ -192,7 +201,15 @@ class ShadingStages:
                 "door (FenestrationSurface:Detailed, Window, Door, GlazedDoor) of the file."
             )
         world = self.info.surface_vertices[entry[0]]
-        normal = newell_normal(world)
+        side = _overhang_side(entry[1].key, clockwise=self.rules.clockwise)
+        if side < 0:
+            self.info.notes.append(
+                f"{EP_CHECK}{obj.where()}: built on the inside of '{entry[0]}' (a "
+                f"{entry[1].class_name} of a file with GlobalGeometryRules ClockWise), where "
+                "EnergyPlus 25.2 builds it; for an overhang or fin outside, give the window "
+                "counter-clockwise (or as a simple Window) or use Shading:Zone:Detailed"
+            )
+        normal = side * newell_normal(world)
         normal = normal / np.linalg.norm(normal)
         up = np.array([0.0, 0.0, 1.0]) - normal[2] * normal
         if np.linalg.norm(up) < 1e-6:
@@ -258,6 +275,32 @@ class ShadingStages:
                 ShadingSurface(f"{rec['name']} {side}", vertices, None, rec["_object"].where())
             )
         return fins
+
+
+def _overhang_side(window_class: str, *, clockwise: bool) -> float:
+    """The side of a window EnergyPlus builds its ``Shading:Overhang`` / ``Shading:Fin`` on.
+
+    Parameters
+    ----------
+    window_class : str
+        Upper-case class of the window or door (``FENESTRATIONSURFACE:DETAILED``, ``WINDOW``,
+        ...).
+    clockwise : bool
+        Whether the file's ``GlobalGeometryRules`` say ``ClockWise``.
+
+    Returns
+    -------
+    float
+        +1 outside, -1 on the zone's side: a ``FenestrationSurface:Detailed`` of a clockwise
+        file (measured with EnergyPlus 25.2: NREL 4ZoneWithShading_Simple_1 rewritten as
+        detailed objects, clockwise, with the same overhangs and fins, runs 0.3-0.6 K warmer
+        than counter-clockwise, as without them shading the windows). The simple classes
+        (:data:`.simple_geometry.RECTANGULAR_SUBSURFACE_CLASSES`) get outside whatever the
+        vertex order: EnergyPlus makes their vertices itself.
+    """
+    from thermocal.multizone.idf.simple_geometry import RECTANGULAR_SUBSURFACE_CLASSES
+
+    return -1.0 if clockwise and window_class not in RECTANGULAR_SUBSURFACE_CLASSES else 1.0
 
 
 def _outward(world: np.ndarray, normal: np.ndarray) -> np.ndarray:

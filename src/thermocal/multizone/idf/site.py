@@ -17,6 +17,7 @@ from thermocal.errors import ThermocalInputError
 from thermocal.multizone.idf.fields import SCHEMA
 from thermocal.multizone.idf.geometry import GeometryRules
 from thermocal.multizone.idf.parse import _number, _wrap
+from thermocal.multizone.idf.report import EP_CHECK
 from thermocal.multizone.idf.schedules import ScheduleEvaluator, year_for_start_day
 
 #: EnergyPlus default ground temperature [C] when Site:GroundTemperature:BuildingSurface is absent.
@@ -155,7 +156,15 @@ class SiteStages:
             }
         rules_rec = self.single("GLOBALGEOMETRYRULES")
         self.rules = GeometryRules()
-        if rules_rec is not None:
+        if rules_rec is None:
+            self.info.notes.append(
+                f"{EP_CHECK}{self.path.name}: no GlobalGeometryRules object; EnergyPlus refuses "
+                "the file (\"Missing required property 'GlobalGeometryRules'\"); read with "
+                "UpperLeftCorner, Counterclockwise, Relative coordinates (zone origins and "
+                "north axes applied); add e.g. 'GlobalGeometryRules,UpperLeftCorner,"
+                "Counterclockwise,Relative;' (or World if the coordinates are absolute)"
+            )
+        else:
             self.rules = GeometryRules(
                 rules_rec["starting_vertex_position"] or "UpperLeftCorner",
                 rules_rec["vertex_entry_direction"] or "Counterclockwise",
@@ -182,6 +191,7 @@ class SiteStages:
                     f"System' = '{self.rules.rectangular_surface_coordinate_system}' must be "
                     "Relative, World or Absolute."
                 )
+            self.info.notes.extend(_absolute_notes(rules_rec))
         self.location = self.mz.Location()
         loc_rec = self.single("SITE:LOCATION")
         if loc_rec is not None:
@@ -374,3 +384,20 @@ class SiteStages:
                 "no Site:GroundTemperature:BuildingSurface: ground surfaces see the EnergyPlus "
                 f"default {ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE:g} C"
             )
+
+
+def _absolute_notes(rules_rec: dict) -> list[str]:
+    """Notes on ``Absolute`` in the coordinate-system fields of ``GlobalGeometryRules``: read as
+    ``World`` (its meaning in older EnergyPlus input), but EnergyPlus 25.2 accepts only
+    ``Relative`` or ``World`` and refuses the file ("Failed to match against any enum
+    values")."""
+    fields = {
+        "coordinate_system": "Coordinate System",
+        "rectangular_surface_coordinate_system": "Rectangular Surface Coordinate System",
+    }
+    return [
+        f"{EP_CHECK}{rules_rec['_object'].where()}: field '{label}' = 'Absolute' is read as "
+        "World; EnergyPlus 25.2 refuses it (its choices are Relative and World): write World"
+        for key, label in fields.items()
+        if (rules_rec.get(key) or "").upper() == "ABSOLUTE"
+    ]

@@ -20,7 +20,9 @@ from thermocal.multizone.idf.geometry import (
     _boundary,
     _check_planar,
     _vertices,
+    outside_of_host,
     outward_normal,
+    outward_order,
     polyhedron_is_closed,
     tilt_azimuth,
     to_world_coordinates,
@@ -28,7 +30,11 @@ from thermocal.multizone.idf.geometry import (
 )
 from thermocal.multizone.idf.loads import local_wind_factor
 from thermocal.multizone.idf.parse import _is_auto, _Names, _number, _wrap
-from thermocal.multizone.idf.simple_geometry import RECTANGULAR_SUBSURFACE_CLASSES
+from thermocal.multizone.idf.report import EP_CHECK
+from thermocal.multizone.idf.simple_geometry import (
+    RECTANGULAR_SUBSURFACE_CLASSES,
+    RECTANGULAR_SURFACE_CLASSES,
+)
 
 
 class SurfaceStages:
@@ -153,7 +159,7 @@ class SurfaceStages:
                 "azimuth": azimuth,
                 "boundary": _boundary(rec["outside_boundary_condition"], obj),
             }
-            self.info.surface_vertices[name] = world
+            self.info.surface_vertices[name] = outward_order(world, self.rules)
             self.info.surface_types[name] = surface_type.title()
         self._check_closed_zones()
 
@@ -217,9 +223,18 @@ class SurfaceStages:
                     f"{math.degrees(math.acos(max(-1, min(1, cos_angle)))):.1f} "
                     "deg; check the vertex order and coplanarity."
                 )
-            multiplier = _number(rec, "multiplier", default=1.0)
+            outside = outside_of_host(world, base["world"], base["normal"])
+            if outside > 1e-3:
+                self.info.notes.append(
+                    f"{EP_CHECK}{obj.where()}: reaches {outside:.2f} m beyond its base surface "
+                    f"'{base['name']}' (EnergyPlus warns 'Base surface does not surround "
+                    "subsurface (CHKSBS)' and runs it; so does thermocal, the area taken "
+                    "from the base surface as given); check 'Starting X/Z Coordinate', "
+                    "'Length' and 'Height' or the vertices"
+                )
+            multiplier = self._subsurface_multiplier(rec, obj)
             total_area = area * multiplier
-            self.info.surface_vertices[name] = world
+            self.info.surface_vertices[name] = outward_order(world, self.rules)
             self.info.surface_types[name] = kind.title()
             cons = rec["construction_name"]
             if kind in ("WINDOW", "GLASSDOOR"):
@@ -265,6 +280,47 @@ class SurfaceStages:
                 self.info.notes.append(
                     f"sub-surface '{name}' of type {kind.title()} is not modelled"
                 )
+
+    def _check_partner_faces_back(self, data: dict, partner: dict) -> None:
+        """Note an interzone pair whose outward normals are not opposite (EnergyPlus warns
+        "InterZone Surface Tilts do not match as expected" and runs it, each side as given;
+        so does thermocal)."""
+        a, b = data["normal"], partner["normal"]
+        cosine = float(a @ b) / float(np.linalg.norm(a) * np.linalg.norm(b))
+        if cosine <= -0.999:
+            return
+        self.info.notes.append(
+            f"{EP_CHECK}{data['obj'].where()} (tilt {data['tilt']:.0f} deg, azimuth "
+            f"{data['azimuth']:.0f} deg) and its partner {partner['obj'].where()} (tilt "
+            f"{partner['tilt']:.0f} deg, azimuth {partner['azimuth']:.0f} deg) do not face "
+            "each other (EnergyPlus warns 'InterZone Surface Tilts do not match as expected'); "
+            "a floor faces down (tilt 180), the ceiling under it up (tilt 0): check the "
+            "'Tilt Angle' / 'Azimuth Angle' or the vertex order"
+        )
+
+    def _subsurface_multiplier(self, rec: dict, obj) -> float:
+        """A sub-surface's ``Multiplier`` [-] as EnergyPlus applies it.
+
+        A ``FenestrationSurface:Detailed``'s multiplies its area (EnergyPlus: the window's
+        area, the host's net area and the solar through it). A simple ``Window``, ``Door``,
+        ``GlazedDoor`` (or ``:Interzone``) has one too, but EnergyPlus (25.2) does not apply it:
+        ``GetRectSubSurfaces`` stores it, ``MakeRelativeRectangularVertices`` then sets the area
+        to one rectangle's, and the host loses one rectangle (EnergyPlus 25.2's eio lists a
+        3 x 5 m Window of Multiplier 3 at 15 m2 and its 20 x 10 m wall, which holds one more
+        such window, at 170 m2 net; as a FenestrationSurface:Detailed, 45 m2 and 140 m2). So 1
+        here, noted when the file gives another value.
+        """
+        multiplier = _number(rec, "multiplier", default=1.0)
+        if obj.key in RECTANGULAR_SUBSURFACE_CLASSES and multiplier != 1.0:
+            self.info.notes.append(
+                f"{EP_CHECK}{obj.where()}: field 'Multiplier' = {multiplier:g} is not applied, "
+                f"as EnergyPlus does not apply it to a {obj.class_name} (one "
+                f"{rec['length']} x {rec['height']} m rectangle, area and solar once); for "
+                f"{multiplier:g} of them give it as a FenestrationSurface:Detailed with this "
+                "Multiplier or as separate objects, or set the Multiplier to 1"
+            )
+            return 1.0
+        return multiplier
 
     def _unread_window_construction_hint(self, name: str) -> str:
         """What to do when a window names a construction of a class the importer does not
@@ -363,6 +419,9 @@ class SurfaceStages:
                     # at its inside face's temperature
                     boundary = "adiabatic"
                 else:
+                    _check_partner_points_back(data, partner)
+                    if key < partner["name"].upper():  # each pair once
+                        self._check_partner_faces_back(data, partner)
                     boundary = "zone"
                     other_surface = partner["name"]
                     other_zone = partner["zone"]
@@ -634,3 +693,34 @@ def _ceiling_height(polys: list[dict]) -> float:
         return top - bottom
     z = np.concatenate([d["world"][:, 2] for d in polys])
     return float(z.max() - z.min())
+
+
+def _check_partner_points_back(data: dict, partner: dict) -> None:
+    """Refuse an interzone pair whose second surface does not name the first back, in the
+    file's terms (class, object, line and field of both).
+
+    Parameters
+    ----------
+    data, partner : dict
+        Entries of the surface registry (``surface_data``): the surface whose ``Outside
+        Boundary Condition Object`` names ``partner``, and that partner.
+    """
+    rec = partner["rec"]
+    back = rec.get("outside_boundary_condition_object", "")
+    if partner["boundary"] == "surface" and back.upper() == data["name"].upper():
+        return
+    named = f"its Outside Boundary Condition Object '{back}'"
+    if partner["obj"].key not in RECTANGULAR_SURFACE_CLASSES:  # a class with the field
+        named = f"its Outside Boundary Condition '{rec['outside_boundary_condition']}', {named}"
+    fix = (
+        f"set its field 'Outside Boundary Condition Object' to '{data['name']}'"
+        if partner["boundary"] == "surface"
+        else f"make it a surface with Outside Boundary Condition 'Surface' and Outside "
+        f"Boundary Condition Object '{data['name']}'"
+    )
+    raise ThermocalInputError(
+        f"{data['obj'].where()}: field 'Outside Boundary Condition Object' names "
+        f"'{partner['name']}', but {partner['obj'].where()} does not name it back ({named}); "
+        f"the two sides of an interzone surface name each other: {fix}, or point "
+        f"'{data['name']}' at the surface that names it."
+    )

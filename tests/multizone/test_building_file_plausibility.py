@@ -269,3 +269,43 @@ def test_an_off_set_point_is_left_out_of_a_written_file(tmp_path):
     again = load_building(path)
     assert again.zones["living"].heating_setpoint is None
     assert again.zones["living"].cooling_setpoint is None
+
+
+def test_a_building_file_naming_an_idf_and_parameters(tmp_path):
+    """The calibrated building of an IDF (``thermocal calibrate`` writes it so): the IDF as
+    imported with the parameters applied, its importer's schedules and loads kept; bad entries
+    named with the file; an IDF that changed since the calibration warned about."""
+    import shutil
+
+    from conftest import shared_data_path
+    from thermocal.io.digest import file_sha256
+    from thermocal.multizone.files import BuildingFileWarning
+    from thermocal.multizone.idf import read_idf
+
+    idf = tmp_path / "nominal.idf"
+    shutil.copy(shared_data_path("energyplus_reference", "5ZoneAirCooled_FF_v25.idf"), idf)
+    values = {"construction/ROOF-1/resistance": 3.0, "window/Dbl Clr 3mm/13mm Air/u_value": 1.9}
+    path = tmp_path / "calibrated.yaml"
+
+    def write(**content):
+        path.write_text(yaml.safe_dump(content))
+        return path
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        digest = file_sha256(idf)
+        back = load_building(write(idf="nominal.idf", idf_sha256=digest, parameters=values))
+        expected = read_idf(idf).with_parameters(values)
+    assert not [w for w in caught if issubclass(w.category, BuildingFileWarning)]
+    assert back.idf_info is not None
+    assert back.parameters() == pytest.approx(expected.parameters(), rel=1e-12)
+    with pytest.raises(ThermocalInputError, match="calibrated.yaml.*unknown keys \\['zones'\\]"):
+        load_building(write(idf="nominal.idf", zones=[]))
+    with pytest.raises(ThermocalInputError, match="calibrated.yaml.*'other.idf'.*does not exist"):
+        load_building(write(idf="other.idf"))
+    with pytest.raises(ThermocalInputError, match="calibrated.yaml.*ROOF-2"):
+        load_building(write(idf="nominal.idf", parameters={"construction/ROOF-2/resistance": 3}))
+    with pytest.raises(ThermocalInputError, match="'parameters' must map"):
+        load_building(write(idf="nominal.idf", parameters={"construction/ROOF-1/resistance": "x"}))
+    with pytest.warns(BuildingFileWarning, match="not the IDF the parameters were calibrated on"):
+        load_building(write(idf="nominal.idf", idf_sha256="0" * 64, parameters=values))

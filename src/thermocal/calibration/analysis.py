@@ -172,9 +172,8 @@ def analyse(
         )
         if inputs.true_loads is not None:
             confirmed["guideline14_vs_true_loads"] = _guideline14(heat, inputs.true_loads)
-    calibrated = inputs.building.with_parameters(
-        {name: calibrated_values[name] for name in space.names}
-    )
+    calibrated_parameters = {name: float(calibrated_values[name]) for name in space.names}
+    calibrated = inputs.building.with_parameters(calibrated_parameters)
     return CalibrationResult(
         space=space,
         samples=sample_set,
@@ -193,6 +192,8 @@ def analyse(
         morris=screening,
         truth_comparison=comparison,
         calibrated_building=calibrated,
+        calibrated_parameters=calibrated_parameters,
+        building_path="" if campaign.building_path is None else str(campaign.building_path),
         timings=timings,
         notes=notes,
         campaign_path=str(campaign.path),

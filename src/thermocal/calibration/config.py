@@ -50,6 +50,7 @@ from pydantic import (
 
 from thermocal.calibration.store import campaign_fingerprint
 from thermocal.errors import ThermocalInputError
+from thermocal.io.digest import file_sha256
 from thermocal.io.heat_flux_log import InSituConfig
 
 __all__ = [
@@ -363,7 +364,7 @@ class CampaignFile(_Strict):
             elif key == "building" and self.is_demo:
                 files[key] = value
             else:
-                files[key] = _file_digest(Path(value))
+                files[key] = file_sha256(value)
         return json.loads(
             json.dumps(
                 {
@@ -415,14 +416,6 @@ class CampaignFile(_Strict):
                 "sampling": sampling,
             }
         )
-
-
-def _file_digest(path: Path) -> str:
-    digest = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
 
 
 # ----------------------------------------------------------------------------------------------

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -43,6 +44,8 @@ class CalibrationResult:
     metric: str = "building"
     runs: dict = field(default_factory=dict)
     zoom: dict | None = None
+    calibrated_parameters: dict = field(default_factory=dict)
+    building_path: str = ""
 
     def table1(self) -> pd.DataFrame:
         """The paper's Table 1: nominal, min-variance and max-variance critical values."""
@@ -92,8 +95,21 @@ class CalibrationResult:
         }
         return jsonable(out)
 
-    def calibrated_building_text(self) -> str:
-        """The calibrated building as a thermocal YAML file, ready for ``thermocal simulate``."""
+    def calibrated_building_text(self, directory=None) -> str:
+        """The calibrated building as a thermocal building file, ready for ``thermocal
+        simulate`` and ``thermocal retrofit``.
+
+        A building imported from an IDF is written as the IDF and the calibrated values
+        (:func:`thermocal.multizone.files.idf_with_parameters`): the YAML form cannot hold the
+        IDF's schedules, loads, scheduled and wind-driven infiltration or shading, and a file
+        without them would be another building (1.7-2.9 K colder on a twin). Any other building
+        is written whole.
+
+        Parameters
+        ----------
+        directory : path-like, optional
+            Where the file goes: the IDF is named relative to it (absolute without it).
+        """
         import yaml
 
         from thermocal.calibration.space import parameter_unit
@@ -116,10 +132,41 @@ class CalibrationResult:
                 lines.append(
                     f"#   {name}: {nominal[name]:.6g} -> {values[name]:.6g} {parameter_unit(name)}"
                 )
-        body = yaml.safe_dump(
-            building_to_dict(self.calibrated_building), sort_keys=False, allow_unicode=True
-        )
+        if self._from_idf():
+            lines.append(
+                "# the IDF as imported with the calibrated values (its schedules, loads, "
+                "airflows and shading kept)"
+            )
+            content = self._idf_with_parameters(directory)
+        else:
+            content = building_to_dict(self.calibrated_building)
+        body = yaml.safe_dump(content, sort_keys=False, allow_unicode=True)
         return "\n".join(lines) + "\n" + body
+
+    def _from_idf(self) -> bool:
+        """True when the calibrated building was imported from an IDF file."""
+        return (
+            getattr(self.calibrated_building, "idf_info", None) is not None
+            and Path(self.building_path).suffix.lower() == ".idf"
+            and bool(self.calibrated_parameters)
+        )
+
+    def _idf_with_parameters(self, directory=None) -> dict:
+        """The ``idf`` / ``idf_sha256`` / ``parameters`` form of the calibrated building."""
+        import os
+
+        from thermocal.io.digest import file_sha256
+
+        idf = Path(self.building_path).resolve()
+        name = str(idf)
+        if directory is not None:
+            with contextlib.suppress(ValueError):  # another drive: keep it absolute
+                name = os.path.relpath(idf, Path(directory).resolve())
+        return {
+            "idf": name,
+            "idf_sha256": file_sha256(idf),
+            "parameters": {k: float(v) for k, v in self.calibrated_parameters.items()},
+        }
 
     def to_files(self, directory) -> list[Path]:
         """calibration.json, table1.csv, campaign export, calibrated building, figures, report."""
@@ -139,7 +186,7 @@ class CalibrationResult:
             atomic_write(directory / "samples.csv", lambda p: self.store_frame.to_csv(p)),
             atomic_write(
                 directory / "calibrated_building.yaml",
-                lambda p: p.write_text(self.calibrated_building_text()),
+                lambda p: p.write_text(self.calibrated_building_text(directory)),
             ),
         ]
         pngs = {}

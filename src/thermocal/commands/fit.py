@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from thermocal.cli import app
+from thermocal.io.digest import file_sha256
 
 
 def read_table(path: Path, *, sep: str | None = None, decimal: str = ".", sheet: str | None = None):
@@ -458,17 +459,6 @@ def _readable(seconds: float) -> str:
     if seconds < 7200:
         return f"{seconds / 60:.0f} min"
     return f"{seconds / 3600:.1f} h"
-
-
-def file_sha256(path: Path) -> str:
-    """SHA-256 of a file's bytes."""
-    import hashlib
-
-    h = hashlib.sha256()
-    with path.open("rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
 
 
 FIT_HELP = (

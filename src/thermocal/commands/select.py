@@ -226,7 +226,6 @@ def select(
     from thermocal.commands.fit import (
         check_numbers,
         check_time_axis,
-        file_sha256,
         fitted_model_yaml,
         heat_loss_text,
         parse_mapping,
@@ -235,6 +234,7 @@ def select(
         shift_end_stamped,
     )
     from thermocal.errors import ThermocalInputError
+    from thermocal.io.digest import file_sha256
     from thermocal.io.output import output_folder
     from thermocal.statespace.families import FAMILIES, family_scale
     from thermocal.statespace.results import heat_loss_coefficients, single_start_flag

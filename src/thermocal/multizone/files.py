@@ -119,6 +119,8 @@ def load_building(path: str | Path) -> Building:
     from thermocal.io.yamlfile import read_yaml
 
     data = read_yaml(path, what="building file")
+    if isinstance(data, Mapping) and "idf" in data:
+        return idf_with_parameters(data, path)
     if is_envelope_tree(data):
         raise ThermocalInputError(
             f"{path} is an envelope description (components with areas and U-values, the "
@@ -130,6 +132,81 @@ def load_building(path: str | Path) -> Building:
         return building_from_dict(data, source=f"building file {path}")
     except ThermocalInputError as exc:
         raise ThermocalInputError(f"building file {path}: {exc}") from None
+
+
+#: Keys of a building file that names an IDF and the parameters to change in it.
+IDF_WITH_PARAMETERS_KEYS = ("idf", "idf_sha256", "parameters")
+
+
+def idf_with_parameters(data: Mapping, path: Path) -> Building:
+    """The building of a file that names an EnergyPlus IDF and parameters to change in it.
+
+    ``thermocal calibrate`` writes its calibrated building in this form when the campaign's
+    building is an IDF: a thermocal YAML file cannot hold what the importer keeps besides the
+    envelope (schedules, internal loads, scheduled and wind-driven infiltration, shading
+    surfaces, the run period), so the calibrated building is the IDF as imported with the
+    calibrated values applied (:meth:`Building.with_parameters`)::
+
+        idf: ../nominal.idf            # relative to this file
+        idf_sha256: 3f5c...            # optional: the IDF the values were calibrated on
+        parameters:
+          construction/ROOF-1/resistance: 3.04
+          window/Dbl Clr 3mm/13mm Air/u_value: 1.60
+
+    Parameters
+    ----------
+    data : Mapping
+        The file's content.
+    path : Path
+        The file (for the IDF's relative path and messages).
+
+    Returns
+    -------
+    Building
+
+    Warns
+    -----
+    BuildingFileWarning
+        The IDF differs from the one the values were calibrated on (``idf_sha256``).
+    """
+    from thermocal.io.digest import file_sha256
+    from thermocal.multizone.idf import read_idf
+
+    where = f"building file {path}"
+    unknown = sorted(set(data) - set(IDF_WITH_PARAMETERS_KEYS))
+    if unknown:
+        raise ThermocalInputError(
+            f"{where}: unknown keys {unknown} beside 'idf' (allowed: "
+            f"{', '.join(IDF_WITH_PARAMETERS_KEYS)}); a file naming an IDF holds only the IDF "
+            "and the parameters to change in it"
+        )
+    idf = Path(str(data["idf"]))
+    idf = idf if idf.is_absolute() else path.parent / idf
+    if not idf.is_file():
+        raise ThermocalInputError(
+            f"{where}: its 'idf' {data['idf']!r} ({idf}) does not exist; the path is relative "
+            "to the building file: fix it or copy the IDF there"
+        )
+    parameters = data.get("parameters") or {}
+    if not isinstance(parameters, Mapping) or not all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in parameters.values()
+    ):
+        raise ThermocalInputError(
+            f"{where}: 'parameters' must map parameter names to numbers, e.g. "
+            "{'construction/ROOF-1/resistance': 3.04}"
+        )
+    expected = data.get("idf_sha256")
+    if expected is not None and str(expected) != file_sha256(idf):
+        warnings.warn(
+            f"{where}: {idf} is not the IDF the parameters were calibrated on (its SHA-256 "
+            "differs from 'idf_sha256'); they are applied to the file as it is now",
+            BuildingFileWarning,
+            stacklevel=3,
+        )
+    try:
+        return read_idf(idf).with_parameters(dict(parameters))
+    except ThermocalInputError as exc:
+        raise ThermocalInputError(f"{where}: {exc}") from None
 
 
 def _entries(section: str, value) -> list[dict]:

@@ -287,3 +287,25 @@ def test_the_halves_and_the_skipped_check_are_pure_functions():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         warn_if_clock_off(skipped, "log.csv")  # no warning
+
+
+@requires_energyplus
+def test_a_clock_that_jumps_near_the_middle_is_found_by_the_halves(twin, tmp_path):
+    """Found by a review (2026-11-30): the log right until 11 January and an hour late after,
+    identified January 4-18: over the whole period neither shift is better (1.12 kW at -1 h
+    against 1.04 kW as written), so the check passed "smoothest as written" while the second
+    half is 55 % smoother an hour earlier. identify compares the halves on the runs it made."""
+    log = pd.read_csv(twin / "sensors.csv")
+    times = pd.to_datetime(log["time"])
+    after = (times >= pd.Timestamp("2023-01-11 00:00-06:00")).astype(int)
+    jumped = times + pd.to_timedelta(after, unit="h")
+    log.assign(time=jumped.dt.strftime("%Y-%m-%dT%H:%M:%S%z")).to_csv(
+        twin / "jump_middle.csv", index=False
+    )
+    text, summary = _identify(twin, tmp_path / "out", "jump_middle.csv", end="2023-01-18")
+    clock = summary["log_clock"]
+    std = {float(hours): value for hours, value in clock["std"].items()}
+    assert std[0.0] <= min(std.values()), std  # the whole period alone passes
+    assert clock["passed"] is False and clock["best"] == -1.0, clock
+    assert clock["halves"]["disagree"] is True and clock["halves"]["shifted"] == [False, True]
+    assert "warning: " in text and "the two halves of the compared hours disagree" in text

@@ -372,6 +372,15 @@ def test_the_envelope_reader_names_a_multizone_file_and_where_it_belongs():
     assert "is a multi-zone building file" in text and "single_family_house_1953.yaml" in text
 
 
+def test_the_envelope_reader_names_a_calibrated_idf_file(tmp_path):
+    """``calibrate``'s calibrated building of an IDF (``idf`` + ``parameters``) given as the
+    retrofit analysis' envelope: named as a multi-zone file (before: "unknown field 'idf'")."""
+    path = tmp_path / "calibrated_building.yaml"
+    path.write_text("idf: nominal.idf\nparameters: {}\n")
+    with pytest.raises(ThermocalInputError, match="is a multi-zone building file"):
+        read_envelope(path)
+
+
 def test_the_multizone_reader_names_an_envelope_description():
     from thermocal.multizone.files import load_building
 

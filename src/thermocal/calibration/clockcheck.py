@@ -46,8 +46,8 @@ from thermocal.errors import ThermocalInputError
 
 __all__ = ["CAMPAIGN_CONSEQUENCE", "CLOCK_TOLERANCE", "MIN_CHECK_PERIOD", "SHIFTS",
            "LogClockWarning", "best_clock_shift", "check_log_clock", "clock_check_window",
-           "clock_halves", "clock_result", "clock_skipped", "compare_halves", "run_clock_check",
-           "too_short_reason", "warn_if_clock_off"]  # fmt: skip
+           "clock_halves", "clock_jump_result", "clock_result", "clock_skipped", "compare_halves",
+           "run_clock_check", "too_short_reason", "warn_if_clock_off"]  # fmt: skip
 
 
 class LogClockWarning(UserWarning):
@@ -138,7 +138,9 @@ def check_log_clock(campaign, inputs, problem, evaluator_for, log) -> dict:
     return result
 
 
-def run_clock_check(unoccupied_std, half_std, halves, *, consequence: str, path) -> dict:
+def run_clock_check(
+    unoccupied_std, half_std, halves, *, consequence: str, path, halves_always: bool = False
+) -> dict:
     """The check once the compared hours are set: the search, the halves when it fails, the
     verdict and its warning (both commands').
 
@@ -155,12 +157,17 @@ def run_clock_check(unoccupied_std, half_std, halves, *, consequence: str, path)
         The command's consequence and remedy (:func:`clock_result`).
     path : path or str
         The file named in the warning.
+    halves_always : bool
+        Compare the halves also when the whole period passes (when ``half_std`` costs nothing,
+        as in ``identify``): a clock that jumped near the middle of the log leaves neither
+        direction better over the whole period, one half much better shifted
+        (:func:`clock_jump_result`).
 
     Returns
     -------
     dict
-        :func:`clock_result`'s, or :func:`clock_skipped`'s when the log as written gives no
-        unoccupied heat to compare.
+        :func:`clock_result`'s, :func:`clock_jump_result`'s, or :func:`clock_skipped`'s when
+        the log as written gives no unoccupied heat to compare.
 
     Warns
     -----
@@ -175,8 +182,46 @@ def run_clock_check(unoccupied_std, half_std, halves, *, consequence: str, path)
     if not shift_within_tolerance(std, best):  # only a failed check pays for the halves
         split = compare_halves(half_std, best, halves)
     result = clock_result(std, best, consequence=consequence, halves=split)
+    if result["passed"] and halves_always:
+        for shift in sorted((h for h in std if h != 0.0), key=abs):
+            split = compare_halves(half_std, shift, halves)
+            if split is not None and split["disagree"]:
+                result = clock_jump_result(std, shift, split, consequence=consequence)
+                break
     warn_if_clock_off(result, path)
     return result
+
+
+def clock_jump_result(std: dict, shift: float, split: dict, *, consequence: str) -> dict:
+    """A failed check by the halves alone: over the whole period no shift is markedly better,
+    but one half of the compared hours is (a clock that jumped near the middle of the log).
+
+    Parameters
+    ----------
+    std : dict
+        Shift [h] -> the whole period's unoccupied standard deviation [W].
+    shift : float
+        The shift one half prefers [h].
+    split : dict
+        :func:`compare_halves` at ``shift``, the halves disagreeing.
+    consequence : str
+        As :func:`clock_result`.
+
+    Returns
+    -------
+    dict
+        :func:`clock_result`'s keys, ``passed`` False, ``best`` the half's ``shift``.
+    """
+    result = clock_result(std, 0.0 if 0.0 in std else shift, consequence=consequence)
+    around = ", ".join(f"{h:+g} h {std[h] / 1000:.3f} kW" for h in sorted(std) if h != 0.0)
+    note = (
+        f"Sensor log's clock: over the whole period the log fits best as written "
+        f"({std[0.0] / 1000:.3f} kW standard deviation of the unoccupied heat; shifted "
+        f"{around}), but the two halves of the compared hours disagree. "
+        f"{_halves_text(split, shift)} {consequence}"
+    )
+    return {**result, "best": shift, "gain": 1.0 - std[shift] / std[0.0], "halves": split,
+            "passed": False, "note": note}  # fmt: skip
 
 
 def clock_check_window(start, end, step) -> tuple[pd.Timestamp, pd.Timestamp] | None:

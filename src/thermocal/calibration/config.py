@@ -365,6 +365,10 @@ class CampaignFile(_Strict):
                 files[key] = value
             else:
                 files[key] = file_sha256(value)
+                if key == "building":
+                    named = _named_idf(Path(value))
+                    if named is not None:
+                        files["building_idf"] = file_sha256(named)
         return json.loads(
             json.dumps(
                 {
@@ -416,6 +420,24 @@ class CampaignFile(_Strict):
                 "sampling": sampling,
             }
         )
+
+
+def _named_idf(path: Path) -> Path | None:
+    """The IDF a building file names (``idf:``, docs/multizone-file.md), if it names one and
+    it exists: its content determines the campaign's problem as much as the file's."""
+    if path.suffix.lower() not in (".yaml", ".yml") or not path.is_file():
+        return None
+    import yaml
+
+    try:
+        data = yaml.safe_load(path.read_text())
+    except (yaml.YAMLError, OSError, UnicodeDecodeError):
+        return None
+    if not isinstance(data, dict) or "idf" not in data:
+        return None
+    idf = Path(str(data["idf"]))
+    idf = idf if idf.is_absolute() else path.parent / idf
+    return idf if idf.is_file() else None
 
 
 # ----------------------------------------------------------------------------------------------

@@ -144,20 +144,26 @@ class CalibrationResult:
         return "\n".join(lines) + "\n" + body
 
     def _from_idf(self) -> bool:
-        """True when the calibrated building was imported from an IDF file."""
-        return (
-            getattr(self.calibrated_building, "idf_info", None) is not None
-            and Path(self.building_path).suffix.lower() == ".idf"
-            and bool(self.calibrated_parameters)
-        )
+        """True when the calibrated building was imported from an IDF file (given as such or
+        through a building file naming it)."""
+        return self._imported_idf() is not None and bool(self.calibrated_parameters)
+
+    def _imported_idf(self) -> Path | None:
+        """The IDF the calibrated building was imported from (the importer's record)."""
+        source = getattr(getattr(self.calibrated_building, "idf_info", None), "source", None)
+        if source and str(source).lower().endswith(".idf") and Path(source).is_file():
+            return Path(source).resolve()
+        return None
 
     def _idf_with_parameters(self, directory=None) -> dict:
-        """The ``idf`` / ``idf_sha256`` / ``parameters`` form of the calibrated building."""
+        """The ``idf`` / ``idf_sha256`` / ``parameters`` form of the calibrated building: the
+        parameters of the campaign's building file when it names the IDF too, the calibrated
+        ones over them."""
         import os
 
         from thermocal.io.digest import file_sha256
 
-        idf = Path(self.building_path).resolve()
+        idf = self._imported_idf()
         name = str(idf)
         if directory is not None:
             with contextlib.suppress(ValueError):  # another drive: keep it absolute
@@ -165,7 +171,10 @@ class CalibrationResult:
         return {
             "idf": name,
             "idf_sha256": file_sha256(idf),
-            "parameters": {k: float(v) for k, v in self.calibrated_parameters.items()},
+            "parameters": {
+                **_file_parameters(self.building_path),
+                **{k: float(v) for k, v in self.calibrated_parameters.items()},
+            },
         }
 
     def to_files(self, directory) -> list[Path]:
@@ -249,3 +258,16 @@ def truth_comparison(
             }
         )
     return pd.DataFrame(rows).set_index("parameter")
+
+
+def _file_parameters(path) -> dict:
+    """The ``parameters`` of a building file naming an IDF (``{}`` for any other file)."""
+    path = Path(path) if path else None
+    if path is None or path.suffix.lower() not in (".yaml", ".yml") or not path.is_file():
+        return {}
+    from thermocal.io.yamlfile import read_yaml
+
+    data = read_yaml(path, what="building file")
+    if not isinstance(data, dict) or "idf" not in data:
+        return {}
+    return {str(k): float(v) for k, v in (data.get("parameters") or {}).items()}

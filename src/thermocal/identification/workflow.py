@@ -847,6 +847,7 @@ def check_identified_log_clock(
     return run_clock_check(
         lambda hours: quiet_heat_std(building_heat(hours), quiet), half_std,
         clock_halves(window, sim.step_size), consequence=IDENTIFY_CONSEQUENCE, path=log_name,
+        halves_always=True,  # the heat of each shift is at hand: the halves cost nothing
     )  # fmt: skip
 
 

@@ -927,8 +927,13 @@ def is_envelope_tree(data: Any) -> bool:
 
 
 def is_multizone_tree(data: Any) -> bool:
-    """True for the content of a multi-zone building file (zones, surfaces, constructions)."""
-    return isinstance(data, Mapping) and "zones" in data and "components" not in data
+    """True for the content of a multi-zone building file (zones, surfaces, constructions; or
+    an IDF and parameters to change in it, as ``thermocal calibrate`` writes for an IDF)."""
+    return (
+        isinstance(data, Mapping)
+        and ("zones" in data or "idf" in data)
+        and "components" not in data
+    )
 
 
 def _validate(data: Any, *, source: str, lines: Mapping[tuple, int] | None) -> EnvelopeDescription:

@@ -23,6 +23,7 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io.atomic import current_umask
 
 #: Name of the marker file identifying a folder written by thermocal.
 MARKER = ".thermocal-output"
@@ -246,9 +247,7 @@ def output_folder(
     try:
         try:
             tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(tmp, 0o777 & ~umask)  # mkdtemp's 0700 would survive the rename
+            os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp's 0700 would survive the rename
             (tmp / MARKER).write_text(f"written by thermocal {command}\n", encoding="utf-8")
         except OSError as exc:
             raise ThermocalInputError(f"--out {out}: {_describe_os_error(exc)}") from None

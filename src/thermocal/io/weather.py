@@ -37,7 +37,11 @@ Time convention (the same for every format)
   then gives the right value at any time (this is what EnergyPlus does with hourly weather) and
   :func:`resample_weather` interpolates them. The first row's instant values (the end of the hour
   *before* the file starts) are taken from the file's last row when the file covers a whole year (a
-  typical year is cyclic; EnergyPlus wraps the same way), otherwise the first file row is repeated.
+  typical year is cyclic), otherwise the first file row is repeated. EnergyPlus does not wrap: for
+  the hour before a run period (and on each warm-up day) it interpolates from the first day's own
+  hour-24 values (RunPeriod "First Hour Interpolation Starting Values", default Hour24); on
+  1 January of a Chicago file -5.0 C and 8.8 m/s against the wrapped -19.4 C and calm
+  (docs/energyplus.md, "The first hour of a run").
   Downstream code that needs an interval mean of the temperature uses
   ``(T(t) + T(t + step)) / 2``.
 * Sun positions for interval data must be computed at the interval midpoints ``t + step / 2``:

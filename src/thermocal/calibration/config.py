@@ -425,19 +425,10 @@ class CampaignFile(_Strict):
 def _named_idf(path: Path) -> Path | None:
     """The IDF a building file names (``idf:``, docs/multizone-file.md), if it names one and
     it exists: its content determines the campaign's problem as much as the file's."""
-    if path.suffix.lower() not in (".yaml", ".yml") or not path.is_file():
-        return None
-    import yaml
+    from thermocal.multizone.files import named_idf
 
-    try:
-        data = yaml.safe_load(path.read_text())
-    except (yaml.YAMLError, OSError, UnicodeDecodeError):
-        return None
-    if not isinstance(data, dict) or "idf" not in data:
-        return None
-    idf = Path(str(data["idf"]))
-    idf = idf if idf.is_absolute() else path.parent / idf
-    return idf if idf.is_file() else None
+    named = named_idf(path)
+    return named[0] if named is not None and named[0].is_file() else None
 
 
 # ----------------------------------------------------------------------------------------------

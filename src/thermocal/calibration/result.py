@@ -262,12 +262,7 @@ def truth_comparison(
 
 def _file_parameters(path) -> dict:
     """The ``parameters`` of a building file naming an IDF (``{}`` for any other file)."""
-    path = Path(path) if path else None
-    if path is None or path.suffix.lower() not in (".yaml", ".yml") or not path.is_file():
-        return {}
-    from thermocal.io.yamlfile import read_yaml
+    from thermocal.multizone.files import named_idf
 
-    data = read_yaml(path, what="building file")
-    if not isinstance(data, dict) or "idf" not in data:
-        return {}
-    return {str(k): float(v) for k, v in (data.get("parameters") or {}).items()}
+    named = named_idf(path) if path else None
+    return {} if named is None else {str(k): float(v) for k, v in named[1].items()}

@@ -180,8 +180,7 @@ def idf_with_parameters(data: Mapping, path: Path) -> Building:
             f"{', '.join(IDF_WITH_PARAMETERS_KEYS)}); a file naming an IDF holds only the IDF "
             "and the parameters to change in it"
         )
-    idf = Path(str(data["idf"]))
-    idf = idf if idf.is_absolute() else path.parent / idf
+    idf = _idf_path(data, path)
     if not idf.is_file():
         raise ThermocalInputError(
             f"{where}: its 'idf' {data['idf']!r} ({idf}) does not exist; the path is relative "
@@ -207,6 +206,41 @@ def idf_with_parameters(data: Mapping, path: Path) -> Building:
         return read_idf(idf).with_parameters(dict(parameters))
     except ThermocalInputError as exc:
         raise ThermocalInputError(f"{where}: {exc}") from None
+
+
+def _idf_path(data: Mapping, path: Path) -> Path:
+    """The ``idf`` of a building file's content, relative to the file unless absolute."""
+    idf = Path(str(data["idf"]))
+    return idf if idf.is_absolute() else Path(path).parent / idf
+
+
+def named_idf(path: str | Path) -> tuple[Path, dict] | None:
+    """The IDF a building file names and the parameters it changes in it.
+
+    Parameters
+    ----------
+    path : str or Path
+        A building file.
+
+    Returns
+    -------
+    (Path, dict) or None
+        The IDF (which may not exist) and ``parameters`` (name -> value); None for a file that
+        is not a readable YAML file naming an IDF.
+    """
+    import yaml
+
+    path = Path(path)
+    if path.suffix.lower() not in (".yaml", ".yml") or not path.is_file():
+        return None
+    try:
+        data = yaml.safe_load(path.read_text())
+    except (yaml.YAMLError, OSError, UnicodeDecodeError):
+        return None
+    if not isinstance(data, Mapping) or "idf" not in data:
+        return None
+    parameters = data.get("parameters") or {}
+    return _idf_path(data, path), dict(parameters) if isinstance(parameters, Mapping) else {}
 
 
 def _entries(section: str, value) -> list[dict]:

@@ -53,6 +53,11 @@ def test_simple_window_multiplier_is_not_applied_as_in_energyplus(tmp_path):
     assert "Window 'Zn002:Wall001:Win001'" in text
     assert "field 'Multiplier' = 3 is not applied" in text
     assert "FenestrationSurface:Detailed" in text
+    # identify prints such notes in full, as simulate does (it counted them only)
+    from thermocal.commands.identify import energyplus_check_notes
+
+    (line,) = [n for n in energyplus_check_notes(building.idf_info.notes) if "Multiplier" in n]
+    assert "Zn002:Wall001:Win001" in line
 
 
 def test_mismatched_interzone_partner_in_idf_terms(tmp_path):

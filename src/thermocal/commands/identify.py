@@ -260,11 +260,28 @@ def identify(
             f"[yellow]import:[/yellow] {summary or 'see the notes'} "
             "(full list in identification.json and report.html)"
         )
+    for note in energyplus_check_notes(result.import_notes):
+        console.print(f"[yellow]import:[/yellow] {note}")
     with output_folder(out, command="identify", signature=signature) as tmp:
         written = [out / Path(p).name for p in result.to_files(tmp)]
     _print_summary(result, truth)
     for path in written:
         console.print(f"wrote {path}")
+
+
+def energyplus_check_notes(notes) -> list[str]:
+    """The import notes on inputs EnergyPlus itself ignores, warns about or refuses (an IDF's
+    ``EnergyPlus check:`` notes), which ``identify`` prints in full as ``simulate`` does: they
+    say where the file does not mean what it seems to.
+
+    Parameters
+    ----------
+    notes : sequence of str
+        The import's notes (``IdentificationResult.import_notes``).
+    """
+    from thermocal.multizone.idf.report import EP_CHECK
+
+    return [str(n) for n in notes if str(n).startswith(EP_CHECK)]
 
 
 def _check_time_options(

@@ -120,15 +120,15 @@ def test_no_clock_check_switches_it_off(twin, tmp_path):
     assert "clock_check" not in summary["timings_s"]
 
 
-def test_shifted_reference_moves_the_references_by_whole_and_partial_steps():
-    from thermocal.identification.workflow import shifted_reference
+def test_shifted_values_move_the_references_by_whole_and_partial_steps():
+    from thermocal.identification.workflow import shifted_values
 
-    times = pd.date_range("2023-01-01", periods=6, freq="30min", tz="UTC")
-    reference = pd.DataFrame({"A": np.arange(6.0), "B": 10.0 + np.arange(6.0)}, index=times)
-    later = shifted_reference(reference, 1.0)  # the stamps an hour later: values two steps on
-    assert later.index.equals(times) and list(later.columns) == ["A", "B"]
-    np.testing.assert_allclose(later["A"], [0.0, 0.0, 0.0, 1.0, 2.0, 3.0])  # held at the start
-    np.testing.assert_allclose(shifted_reference(reference, -0.25)["B"],
+    elapsed = 0.5 * np.arange(6.0)  # 30-minute steps [h]
+    reference = np.column_stack([np.arange(6.0), 10.0 + np.arange(6.0)])  # zones A, B
+    later = shifted_values(reference, elapsed, 1.0)  # the stamps an hour later: two steps on
+    assert later.shape == reference.shape and later.flags["C_CONTIGUOUS"]
+    np.testing.assert_allclose(later[:, 0], [0.0, 0.0, 0.0, 1.0, 2.0, 3.0])  # held at the start
+    np.testing.assert_allclose(shifted_values(reference, elapsed, -0.25)[:, 1],
                                [10.5, 11.5, 12.5, 13.5, 14.5, 15.0])  # fmt: skip
 
 

@@ -772,7 +772,7 @@ def check_identified_log_clock(
     """The sensor log's clock against the model's, as ``thermocal calibrate`` checks it.
 
     The exact inverse is run with the zone references as a log with its time stamps moved by
-    an hour either way would give them (:func:`shifted_reference`; a better shift followed up
+    an hour either way would give them (:func:`shifted_values`; a better shift followed up
     to 3 h), and the building's identified heat compared over the same quiet hours (the
     identification's unoccupied steps in the period less 3 h at each end, after ``settle``):
     the search, tolerance and messages are :mod:`thermocal.calibration.clockcheck`'s.
@@ -851,32 +851,12 @@ def check_identified_log_clock(
     )  # fmt: skip
 
 
-def shifted_reference(reference: pd.DataFrame, hours: float) -> pd.DataFrame:
+def shifted_values(values: np.ndarray, elapsed: np.ndarray, hours: float) -> np.ndarray:
     """The zone references a log with every time stamp moved by ``hours`` [h] gives.
 
     Each column's value at step ``t`` is the references' at ``t - hours``, linearly
-    interpolated between steps (exact for a shift by whole steps) and held at the first or
-    last value beyond the period's ends (the clock check leaves those hours out).
-
-    Parameters
-    ----------
-    reference : DataFrame (steps x zones) [C]
-        Indexed by the step starts.
-    hours : float
-        The shift [h]; positive: the time stamps later.
-
-    Returns
-    -------
-    DataFrame (steps x zones) [C]
-        Same index and columns.
-    """
-    elapsed = ((reference.index - reference.index[0]) / pd.Timedelta(hours=1)).to_numpy(float)
-    moved = shifted_values(reference.to_numpy(dtype=float), elapsed, hours)
-    return pd.DataFrame(moved, index=reference.index, columns=reference.columns)
-
-
-def shifted_values(values: np.ndarray, elapsed: np.ndarray, hours: float) -> np.ndarray:
-    """:func:`shifted_reference` on arrays: one C-ordered array, by row index when the shift
+    interpolated between steps and held at the first or last value beyond the period's ends
+    (the clock check leaves those hours out); one C-ordered array, by row index when the shift
     is a whole number of equal steps (one allocation: the clock check's extra memory).
 
     Parameters

@@ -320,7 +320,7 @@ def test_a_calibration_of_a_file_naming_an_idf_names_the_idf_again(tmp_path):
 
     from conftest import shared_data_path
     from thermocal.calibration.result import CalibrationResult
-    from thermocal.retrofit.detailed import imported_idf
+    from thermocal.multizone.files import imported_idf
 
     idf = tmp_path / "nominal.idf"
     shutil.copy(shared_data_path("energyplus_reference", "5ZoneAirCooled_FF_v25.idf"), idf)

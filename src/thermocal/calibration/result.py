@@ -150,10 +150,9 @@ class CalibrationResult:
 
     def _imported_idf(self) -> Path | None:
         """The IDF the calibrated building was imported from (the importer's record)."""
-        source = getattr(getattr(self.calibrated_building, "idf_info", None), "source", None)
-        if source and str(source).lower().endswith(".idf") and Path(source).is_file():
-            return Path(source).resolve()
-        return None
+        from thermocal.multizone.files import imported_idf
+
+        return imported_idf(self.calibrated_building)
 
     def _idf_with_parameters(self, directory=None) -> dict:
         """The ``idf`` / ``idf_sha256`` / ``parameters`` form of the calibrated building: the

@@ -243,6 +243,26 @@ def named_idf(path: str | Path) -> tuple[Path, dict] | None:
     return _idf_path(data, path), dict(parameters) if isinstance(parameters, Mapping) else {}
 
 
+def imported_idf(building, source=None) -> Path | None:
+    """The IDF a building was imported from: ``source`` when it is one, else the importer's
+    record of it (also for a building file naming an IDF and parameters, as ``thermocal
+    calibrate`` writes); None for a building that is not an IDF's. For what the import leaves
+    to its users: the retrofit's ``Foundation:Kiva`` floors, the calibrated file's ``idf``.
+
+    Parameters
+    ----------
+    building : Building
+    source : str or Path, optional
+        The file the building was read from.
+    """
+    if source is not None and str(source).lower().endswith(".idf"):
+        return Path(source)
+    recorded = getattr(getattr(building, "idf_info", None), "source", None)
+    if recorded and str(recorded).lower().endswith(".idf") and Path(recorded).is_file():
+        return Path(recorded).resolve()
+    return None
+
+
 def _entries(section: str, value) -> list[dict]:
     """A section as a list of dicts: accepts a list of mappings or a name-keyed mapping."""
     if value is None:

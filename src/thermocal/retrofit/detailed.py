@@ -204,26 +204,6 @@ def _slab_u_value(area: float, perimeter: float, wall: float, floor_r: float) ->
     return float(_floor_transmittance(SOIL_CONDUCTIVITY, b_prime, d_t))
 
 
-def imported_idf(building, source=None) -> Path | None:
-    """The IDF a building was imported from, for what the import leaves to the retrofit (its
-    ``Foundation:Kiva`` floors): ``source`` when it is one, else the importer's record of it
-    (a building file naming an IDF and parameters, as ``thermocal calibrate`` writes); None
-    for a building that is not an IDF's.
-
-    Parameters
-    ----------
-    building : Building
-    source : str or Path, optional
-        The file the building was read from.
-    """
-    if source is not None and str(source).lower().endswith(".idf"):
-        return Path(source)
-    recorded = getattr(getattr(building, "idf_info", None), "source", None)
-    if recorded and str(recorded).lower().endswith(".idf") and Path(recorded).is_file():
-        return Path(recorded)
-    return None
-
-
 def foundations_as_ground(building, idf_path: str | Path, weather: pd.DataFrame):
     """Floors on EnergyPlus ``Foundation`` boundaries as floors on an ISO 13370 soil layer.
 
@@ -726,6 +706,8 @@ def simulate_strategies(
     t0 = time.perf_counter()
     notes: list[str] = []
     ground_notes: list[str] = []
+    from thermocal.multizone.files import imported_idf
+
     idf = imported_idf(building, source)
     if idf is not None:
         building, ground_notes = foundations_as_ground(building, idf, weather)

@@ -299,3 +299,32 @@ def test_the_command_hands_freed_arrays_back_to_the_system():
     }  # fmt: skip
     assert grown["default"] > 160.0, grown
     assert 80.0 < grown["set"] < 110.0, grown
+
+
+_ARROW_POOL_SCRIPT = """
+import pyarrow as pa
+from thermocal.cli import _arrow_on_the_system_allocator
+applied = _arrow_on_the_system_allocator()
+print(applied, pa.default_memory_pool().backend_name)
+"""
+
+
+def test_the_command_reads_parquet_through_the_system_allocator():
+    """pyarrow's own pool keeps freed buffers' pages (issue 22, the clinic month's memory):
+    the command hands pyarrow the C library's allocator, whose large blocks go back to the
+    system when freed; a pool the user chose in ``ARROW_DEFAULT_MEMORY_POOL`` is kept."""
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k != "ARROW_DEFAULT_MEMORY_POOL"}
+
+    def run(extra):
+        out = subprocess.run(
+            [sys.executable, "-c", _ARROW_POOL_SCRIPT],
+            capture_output=True, text=True, check=True, env={**env, **extra},
+        )  # fmt: skip
+        return out.stdout.split()
+
+    assert run({}) == ["True", "system"]
+    assert run({"ARROW_DEFAULT_MEMORY_POOL": "jemalloc"}) == ["False", "jemalloc"]

@@ -14,6 +14,31 @@ import numpy as np
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone.idf.parse import _Names, _number, _wrap
 
+#: Layer classes of a ``Construction`` the model reads.
+SUPPORTED_LAYER_CLASSES = (
+    "Material",
+    "Material:NoMass",
+    "Material:AirGap",
+    "WindowMaterial:Glazing",
+    "WindowMaterial:Gas",
+    "WindowMaterial:SimpleGlazingSystem",
+)
+
+#: Window shading materials (class -> what it is), which the model does not have: a
+#: construction with one of them as a layer is refused (``WindowShadingControl`` is listed as
+#: not simulated). Written as EnergyPlus spells them: the importer reads none of these classes.
+WINDOW_SHADING_MATERIALS = {
+    "WindowMaterial:Screen": "screen",
+    "WindowMaterial:Shade": "shade",
+    "WindowMaterial:Blind": "blind",
+    "WindowMaterial:ComplexShade": "shade (complex fenestration)",
+    "WindowMaterial:Screen:EquivalentLayer": "screen (equivalent layer)",
+    "WindowMaterial:Shade:EquivalentLayer": "shade (equivalent layer)",
+    "WindowMaterial:Drape:EquivalentLayer": "drape (equivalent layer)",
+    "WindowMaterial:Blind:EquivalentLayer": "blind (equivalent layer)",
+}
+_SHADING_BY_KEY = {k.upper(): v for k, v in WINDOW_SHADING_MATERIALS.items()}
+
 #: Angles [deg] of the angular optics tables handed to the WindowType.
 WINDOW_TABLE_ANGLES = tuple(float(a) for a in range(0, 91, 5))
 
@@ -314,9 +339,8 @@ class ConstructionStages:
                 entry = self.materials.get(layer)
                 if entry is None:
                     raise ThermocalInputError(
-                        f"{obj.where()}: field 'Layer {index}' = '{layer}' is not defined (no "
-                        "Material, Material:NoMass, Material:AirGap "
-                        "or WindowMaterial of that name)."
+                        f"{obj.where()}: field 'Layer {index}' = '{layer}' "
+                        + self._unsupported_layer(name, layer)
                     )
                 resolved.append(entry)
             kinds = {entry[1].key.startswith("WINDOWMATERIAL") for entry in resolved}
@@ -350,6 +374,50 @@ class ConstructionStages:
                 glazing = _wrap(obj, self.gz.LayeredGlazing, panes, gaps, name=name)
             self.info.glazing[name] = glazing
             self.window_types[name.upper()] = (name, obj, glazing)
+
+    def _unsupported_layer(self, construction: str, layer: str) -> str:
+        """The end of the refusal of a construction layer that is no material the model reads:
+        the class of the object of that name (a window screen, shade or blind, which thermocal
+        does not model, with what to do), or that none is defined."""
+        other = next(
+            (
+                o
+                for o in self.objects
+                if o.key.startswith(("MATERIAL", "WINDOWMATERIAL"))
+                and o.name.upper() == layer.upper()
+            ),
+            None,
+        )
+        if other is None:
+            return (
+                "is not defined (no Material, Material:NoMass, Material:AirGap or WindowMaterial "
+                "of that name)."
+            )
+        if other.key not in _SHADING_BY_KEY:
+            return (
+                f"is a {other.class_name} ({other.source} line {other.line}), which thermocal "
+                f"does not support; layers can be {', '.join(SUPPORTED_LAYER_CLASSES)}."
+            )
+        controls = [
+            o.name
+            for o in self.objects
+            if o.key == "WINDOWSHADINGCONTROL"
+            and any(f.upper() == construction.upper() for f in o.fields[1:])
+        ]
+        if controls:
+            names = ", ".join(f"'{c}'" for c in controls)
+            control = "WindowShadingControl" if len(controls) == 1 else "WindowShadingControls"
+            todo = (
+                f"remove the {control} {names} and this construction (its windows "
+                "keep their unshaded construction)"
+            )
+        else:
+            todo = "remove the layer (or the construction, where nothing uses it)"
+        return (
+            f"is a {other.class_name} ({other.source} line {other.line}), a window "
+            f"{_SHADING_BY_KEY[other.key]}; thermocal does not model window screens, "
+            f"shades or blinds. For an unshaded comparison {todo}."
+        )
 
     def _fc_factor_constructions(self) -> None:
         """``Construction:FfactorGroundFloor`` / ``Construction:CfactorUndergroundWall`` as

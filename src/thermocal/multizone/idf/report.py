@@ -143,6 +143,10 @@ class IdfImportInfo:
     shadow_update_days: int = 20
     #: SurfaceConvectionAlgorithm:Inside / :Outside as written ({"inside": "TARP", ...})
     convection: dict[str, str] = field(default_factory=dict)
+    #: the Zone objects' non-blank Zone Inside / Outside Convection Algorithm as written
+    #: ({"inside": {zone: "TrombeWall"}, "outside": {...}}); the model's algorithms are
+    #: building-wide, so these are only noted (:meth:`network_options`)
+    zone_convection: dict[str, dict[str, str]] = field(default_factory=dict)
     #: the Building object's Solar Distribution as written (EnergyPlus' default FullExterior)
     solar_distribution: str = "FullExterior"
     #: the Building object's warm-up: Temperature Convergence Tolerance Value [K], Maximum and
@@ -192,7 +196,55 @@ class IdfImportInfo:
             notes.append(
                 f"SurfaceConvectionAlgorithm:Outside {outside} is not available: DOE-2 used"
             )
+        notes += self._zone_convection_notes("inside", inside, interior)
+        notes += self._zone_convection_notes("outside", outside, exterior)
         return NetworkOptions(interior_convection=interior, exterior_convection=exterior), notes
+
+    def _zone_convection_notes(self, side: str, written: str, used: str) -> list[str]:
+        """Notes on the Zone objects' own convection algorithm of one side (``"inside"`` or
+        ``"outside"``) where it differs from the building-wide one the model uses (``used``, a
+        NetworkOptions key; ``written``: the file's SurfaceConvectionAlgorithm:<Side>), zones of
+        the same algorithm grouped in one note."""
+        asked = self.zone_convection.get(side, {})
+        if not asked:
+            return []
+        keys = ZONE_CONVECTION_KEYS[side]
+        label = f"Zone {side.capitalize()} Convection Algorithm"
+        building = f"SurfaceConvectionAlgorithm:{side.capitalize()}"
+        name = CONVECTION_NAMES[used]
+        if side not in self.convection:
+            used_text = f"{name} (EnergyPlus' default {building})"
+        elif keys.get(written.upper()) == used:
+            used_text = f"the file's {name} ({building})"
+        else:
+            used_text = f"{name} (in place of the file's {building} {written})"
+        by_algorithm: dict[str, tuple[str, list[str]]] = {}  # upper case: (as first written, zones)
+        for zone, algorithm in self.zone_convection[side].items():
+            if keys.get(algorithm.upper()) != used:
+                by_algorithm.setdefault(algorithm.upper(), (algorithm, []))[1].append(zone)
+        notes = []
+        for algorithm, zones in by_algorithm.values():
+            names = ", ".join(f"'{z}'" for z in zones)
+            head = f"Zone {names}" if len(zones) == 1 else f"Zones {names}"
+            if algorithm.upper() in keys:
+                note = (
+                    f"{head}: {label} {algorithm} is not applied per zone (the model's convection "
+                    f"algorithms are building-wide): {used_text} used for every zone"
+                )
+            else:
+                note = (
+                    f"{head}: {label} {algorithm} is not available: {used_text} used for its "
+                    "surfaces"
+                )
+            if side == "inside" and algorithm.upper() == "TROMBEWALL":
+                note += (
+                    "; TrombeWall is EnergyPlus' correlation for a narrow glazed cavity (ISO "
+                    "15099, the cavity's two large faces): without it thermocal ran 5-7 K warmer "
+                    "than EnergyPlus in the cavity and in the room behind the wall in January "
+                    "(about 2 K in July; NREL's PassiveTrombeWall, hourly mean bias)"
+                )
+            notes.append(note)
+        return notes
 
     def scheduled_inputs(self, zones, times, step, weather) -> ScheduledInputs:
         """Set points, internal gains and infiltration of every zone on a simulation grid.
@@ -487,6 +539,26 @@ def unsupported_kind(class_name: str) -> str:
         return "hvac"
     return "physics"
 
+
+#: The model's convection algorithms (NetworkOptions keys) as EnergyPlus names them.
+CONVECTION_NAMES = {
+    "tarp": "TARP",
+    "simple": "Simple",
+    "doe2": "DOE-2",
+    "mowitt": "MoWiTT",
+    "simple_combined": "SimpleCombined",
+}
+
+#: EnergyPlus' per-zone algorithms the model has (upper case -> NetworkOptions key), by side.
+ZONE_CONVECTION_KEYS = {
+    "inside": {"TARP": "tarp", "SIMPLE": "simple"},
+    "outside": {
+        "DOE-2": "doe2",
+        "TARP": "tarp",
+        "MOWITT": "mowitt",
+        "SIMPLECOMBINED": "simple_combined",
+    },
+}
 
 #: How a note on an input EnergyPlus ignores, refuses or warns about begins: such notes name
 #: their object and are repeated in full in the import warning (:func:`import_summary`).

@@ -18,6 +18,8 @@ Mapping file (YAML)::
       Room 3: {radiant_fraction: 0.2, sensor: operative}
       Boiler room: {plausible: [40, 80]}  # a zone whose sensors may average 40-80 C [C]
     ignore: [S77]       # optional: sensors of the log left out
+    constant_readings: accept   # optional: accept long constant readings of every sensor
+                                # (or per sensor: {S01: accept}); see below
 
 Sensor and zone names are read as written (``0101`` stays ``0101``, not YAML's octal 65). A
 sensor under ``ignore:`` that is not in the log, or that is also mapped (it is left out), is
@@ -28,6 +30,14 @@ A sensor whose mean is not an indoor temperature (outside -30..35 C) or far from
 refused as a unit slip (Kelvin, Fahrenheit, tenths...); ``plausible: [low, high]`` declares the
 mean range of a zone that is really that warm or cold (its sensors are then checked against that
 range only, not against the other zones').
+
+A sensor reading exactly the same value for :data:`STUCK_AFTER` or longer is refused as stuck
+(a frozen logger repeats its last value) unless the run is explained
+(:func:`constant_run_reason`, a warning says which): the value is a set point the building
+declares for the sensor's zone throughout the run, or the log's resolution explains it (the
+sensor's values lie on a grid of at least :data:`COARSE_RESOLUTION`, the value is a controlled
+room's (:data:`CONTROLLED_RANGE`) and the log's other sensors change meanwhile), or the mapping
+says ``constant_readings: accept`` (for all sensors, or ``{sensor: accept}`` for some).
 
 A zone with neither a sensor nor a named substitute **floats** by default: it is simulated with
 ``Q_ID = 0`` and its temperature is reported. With ``unsensed: neighbour`` (globally or per zone,
@@ -81,6 +91,14 @@ class SensorMapping:
     zone_sensor: dict[str, str | float] = field(default_factory=dict)
     #: declared plausible mean temperature [C] per zone (low, high)
     zone_plausible: dict[str, tuple[float, float]] = field(default_factory=dict)
+    #: long constant readings: "check" (refused unless explained) or "accept", for every
+    #: sensor, and per sensor overriding it
+    constant_readings: str = "check"
+    sensor_constant_readings: dict[str, str] = field(default_factory=dict)
+
+    def constant_readings_of(self, sensor: str) -> str:
+        """``"accept"`` or ``"check"``: how a long constant reading of ``sensor`` is judged."""
+        return self.sensor_constant_readings.get(str(sensor), self.constant_readings)
 
 
 @dataclass(frozen=True)
@@ -161,6 +179,12 @@ def names_as_written(data, text: str):
                 }
             elif section == "ignore" and isinstance(node, yaml.SequenceNode):
                 out[section] = [_name_as_written(loader, item) for item in node.value]
+            elif section == "constant_readings" and isinstance(node, yaml.MappingNode):
+                loader.flatten_mapping(node)
+                out[section] = {
+                    _name_as_written(loader, key): loader.construct_object(value, deep=True)
+                    for key, value in node.value
+                }
     finally:
         loader.dispose()
     return out
@@ -194,7 +218,7 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
         raise ThermocalInputError(
             f"{source}: expected a mapping with a 'sensors' section (sensor name -> zone name)"
         )
-    sections = {"sensors", "zones", "ignore", "unsensed", "identified_heat"}
+    sections = {"sensors", "zones", "ignore", "unsensed", "identified_heat", "constant_readings"}
     unknown = set(data) - sections
     if unknown:
         raise ThermocalInputError(
@@ -257,6 +281,7 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
     ignore = data.get("ignore") or []
     if not isinstance(ignore, list):
         raise ThermocalInputError(f"{source}: 'ignore' must be a list of sensor names")
+    constant, per_sensor = _constant_readings(data.get("constant_readings", "check"), out, source)
     return SensorMapping(
         out,
         substitutes,
@@ -269,7 +294,36 @@ def mapping_from_dict(data, *, source: str = "mapping") -> SensorMapping:
         zone_radiant_fraction=zone_radiant,
         zone_sensor=zone_sensor,
         zone_plausible=zone_plausible,
+        constant_readings=constant,
+        sensor_constant_readings=per_sensor,
     )
+
+
+def _constant_readings(value, sensors: Mapping[str, str], source: str) -> tuple[str, dict]:
+    """The mapping's ``constant_readings``: ``accept`` or ``check`` for every sensor, or
+    ``{sensor: accept | check}`` (the others ``check``); returns (global, per sensor)."""
+    allowed = ("accept", "check")
+    usage = (
+        f"{source}: constant_readings must be accept or check (for every sensor), or "
+        "{sensor: accept | check} for some"
+    )
+    if isinstance(value, str):
+        if value not in allowed:
+            raise ThermocalInputError(f"{usage}, got {value!r}")
+        return value, {}
+    if not isinstance(value, Mapping) or not value:
+        raise ThermocalInputError(f"{usage}, got {value!r}")
+    per_sensor = {}
+    for sensor, how in value.items():
+        if how not in allowed:
+            raise ThermocalInputError(f"{usage}, got {how!r} for sensor {sensor!r}")
+        if str(sensor) not in sensors:
+            raise ThermocalInputError(
+                f"{source}: constant_readings names sensor {sensor!r}, which is not under "
+                f"'sensors:'{_suggest(str(sensor), list(sensors))}"
+            )
+        per_sensor[str(sensor)] = how
+    return "check", per_sensor
 
 
 def _plausible_range(value, where: str) -> tuple[float, float]:
@@ -684,7 +738,15 @@ def zone_references(
     grid.index = times
     checked = [c for c in grid.columns if c in mapping.sensors and c not in mapping.ignore]
     declared_units = raw.attrs.get("measurements", {}).get("units_in_file", {})
-    check_sensor_plausibility(grid[checked], mapping, step, source, declared_units=declared_units)
+    check_sensor_plausibility(
+        grid[checked],
+        mapping,
+        step,
+        source,
+        declared_units=declared_units,
+        raw=raw,
+        setpoints=lambda: zone_setpoints(building, times),
+    )
     for sensor in checked:
         if grid[sensor].isna().all():
             raise ThermocalInputError(
@@ -1202,6 +1264,8 @@ def check_sensor_plausibility(
     source: str,
     *,
     declared_units: Mapping[str, str | None] | None = None,
+    raw: pd.DataFrame | None = None,
+    setpoints=None,
 ) -> None:
     """Refuse sensors in the wrong unit or stuck, naming file, sensor, zone and what to do.
 
@@ -1215,7 +1279,10 @@ def check_sensor_plausibility(
     * a sensor that disagrees with its own history: a day whose mean is such a factor away
       from the sensor's median day (the logger's unit changed);
     * a sensor reading exactly the same value for :data:`STUCK_AFTER` or longer (a frozen
-      logger repeats its last value; identifying against it gives a plausible but wrong heat).
+      logger repeats its last value; identifying against it gives a plausible but wrong heat),
+      unless :func:`constant_run_reason` explains the run (a set point of the zone, the log's
+      resolution) or the mapping accepts it (``constant_readings``): then a
+      :class:`ReferenceWarning` says it was accepted and why.
 
     Parameters
     ----------
@@ -1231,6 +1298,12 @@ def check_sensor_plausibility(
     declared_units : mapping of sensor -> str or None, optional
         The unit each sensor's values were declared in in the log (``units_in_file`` of
         :func:`thermocal.io.measurements.read_measurements`; None: undeclared), for messages.
+    raw : DataFrame, optional
+        The log as read, for the resolution of a sensor with a long constant run
+        (:func:`log_resolution`); None: unknown.
+    setpoints : DataFrame or callable returning one, optional
+        The zones' set points on the grid (:func:`zone_setpoints`); a callable is called only
+        when a sensor has a long constant run. None: none known.
 
     Raises
     ------
@@ -1318,21 +1391,227 @@ def check_sensor_plausibility(
                     "that part)"
                 )
     steps_per_day = int(round(STUCK_AFTER / step))
+    if not steps_per_day:
+        return
     for sensor in grid.columns:
         values = grid[sensor].to_numpy(dtype=float)
         same = np.abs(np.diff(values)) <= 1e-9 * np.maximum(1.0, np.abs(values[1:]))
         runs = _runs(np.append(same, False), grid.index, step, min_steps=int(STUCK_AFTER // step))
         long = [r for r in runs if r["hours"] * pd.Timedelta("1h") >= STUCK_AFTER]
-        if steps_per_day and long:
-            first = long[0]
-            stuck_value = grid[sensor].loc[first["start"]]
-            raise ThermocalInputError(
-                f"{where(sensor)} reads exactly {stuck_value:g} C from {first['start']} for "
-                f"{first['hours'] / 24:.1f} days ({len(long)} such period(s)): a stuck or frozen "
-                "sensor repeats its last value, and identifying against it gives a wrong heat; "
-                "remove those values from the log (a gap), or list the sensor under 'ignore:' "
-                f"in {mapping.source}"
-            )
+        if not long:
+            continue
+        first = long[0]
+        stuck_value = float(grid[sensor].loc[first["start"]])
+        head = (
+            f"{where(sensor)} reads exactly {stuck_value:g} C from {first['start']} for "
+            f"{first['hours'] / 24:.1f} days ({len(long)} such period(s))"
+        )
+        if mapping.constant_readings_of(str(sensor)) == "accept":
+            _warn_constant(head, f"'constant_readings' in {mapping.source} accepts it")
+            continue
+        if callable(setpoints):
+            setpoints = setpoints()
+        resolution = None if raw is None else log_resolution(_raw_values(raw, str(sensor)))
+        reasons = []
+        for run in long:
+            value = float(grid[sensor].loc[run["start"]])
+            reason, why_not = constant_run_reason(
+                grid, str(sensor), mapping.sensors.get(str(sensor)), run, value, step,
+                setpoints=setpoints, resolution=resolution,
+            )  # fmt: skip
+            if reason is None:
+                days = run["hours"] / 24
+                raise ThermocalInputError(
+                    f"{where(sensor)} reads exactly {value:g} C from {run['start']} for "
+                    f"{days:.1f} days ({len(long)} period(s) of a day or more): a stuck or frozen "
+                    "sensor repeats its last value, and identifying against it gives a wrong "
+                    f"heat ({why_not}); remove those values from the log (a gap), list the "
+                    f"sensor under 'ignore:' in {mapping.source}, or, if the room really read "
+                    f"{value:g} C all that time, accept it there with 'constant_readings: "
+                    f"{{{sensor}: accept}}' (or 'constant_readings: accept' for every sensor)"
+                )
+            reasons.append(reason)
+        _warn_constant(head, "; ".join(dict.fromkeys(reasons)))
+
+
+#: A sensor whose values lie on a grid at least this coarse [K] (0.1 K, 0.5 K, 0.1 F) may
+#: read one value for days in a controlled room: the room stays within half a step of it.
+COARSE_RESOLUTION = 0.05
+#: Temperatures a heated or cooled room is held at [C]: a constant outside is no control.
+CONTROLLED_RANGE = (10.0, 30.0)
+#: Largest difference [K] between a constant reading and a set point it is taken to be (at
+#: least; half the sensor's resolution when coarser).
+SETPOINT_TOLERANCE = 0.05
+
+
+def _warn_constant(head: str, reason: str) -> None:
+    warnings.warn(
+        f"{head}: accepted as a room held at that temperature, not refused as a stuck sensor: "
+        f"{reason}. Identifying against a frozen sensor gives a wrong heat: check that the room "
+        "really was held there",
+        ReferenceWarning,
+        stacklevel=3,
+    )
+
+
+def constant_run_reason(
+    grid: pd.DataFrame,
+    sensor: str,
+    zone: str | None,
+    run: Mapping,
+    value: float,
+    step: pd.Timedelta,
+    *,
+    setpoints: pd.DataFrame | None = None,
+    resolution: float | None = None,
+) -> tuple[str | None, str]:
+    """Why a sensor's constant reading over a day or more is a controlled room, if it is.
+
+    The rule (documented in docs/identification.md, "Stuck sensors"):
+
+    1. **Set point**: the value is within :data:`SETPOINT_TOLERANCE` (or half the sensor's
+       resolution when coarser) of the zone's heating or cooling set point at every step of
+       the run (``setpoints``: the building's thermostat schedules, or its constant set
+       points): a room held at its set point.
+    2. **Resolution**: the sensor's values lie on a grid of ``resolution`` >=
+       :data:`COARSE_RESOLUTION` (0.1 K, 0.5 K: a BMS that logs rounded values, or on change of
+       value), the value is in :data:`CONTROLLED_RANGE`, and another sensor of the log changes
+       during the run (the logger records; a frozen logger repeats all its columns).
+
+    Parameters
+    ----------
+    grid : DataFrame
+        The sensors on the simulation grid [C].
+    sensor, zone : str
+        The sensor and its zone (None: unmapped).
+    run : mapping
+        ``start``, ``end`` (exclusive) and ``hours`` of the run (the grid's times).
+    value : float
+        The constant [C].
+    step : Timedelta
+        The grid step.
+    setpoints : DataFrame, optional
+        :func:`zone_setpoints` on the grid.
+    resolution : float, optional
+        :func:`log_resolution` of the sensor's values [K].
+
+    Returns
+    -------
+    (str or None, str)
+        The reason it is accepted (None: not explained), and why not (for a refusal).
+    """
+    rows = slice(run["start"], run["end"] - step)
+    tolerance = max(SETPOINT_TOLERANCE, (resolution or 0.0) / 2) + 1e-6
+    named = []
+    if setpoints is not None and zone is not None and len(setpoints.columns):
+        for kind in ("heating", "cooling"):
+            if (zone, kind) not in setpoints.columns:
+                continue
+            named.append(kind)
+        if named:
+            window = setpoints.loc[rows, [(zone, kind) for kind in named]].to_numpy(float)
+            match = np.abs(window - value) <= tolerance
+            if len(match) and match.any(axis=1).all():
+                kinds = [kind for j, kind in enumerate(named) if match[:, j].any()]
+                return (
+                    f"{value:g} C is the {' and '.join(kinds)} set point the building declares "
+                    f"for zone {zone!r} throughout the run, and a room held at its set point "
+                    "reads it",
+                    "",
+                )
+    lacks = (
+        f"{value:g} C is no set point the building declares for zone {zone!r} throughout"
+        if named
+        else f"the building declares no set point for zone {zone!r}"
+    )
+    low, high = CONTROLLED_RANGE
+    if resolution is None:
+        return None, f"{lacks}, and the sensor's other values show no coarse resolution"
+    if resolution < COARSE_RESOLUTION:
+        return None, (
+            f"{lacks}, and its values have a resolution of {resolution:.3g} K, too fine for a "
+            "room to read the same value for a day"
+        )
+    if not low <= value <= high:
+        return None, (
+            f"{lacks}, and {value:g} C is no temperature a room is held at ({low:g} to {high:g} C)"
+        )
+    others = grid.loc[rows, [c for c in grid.columns if str(c) != sensor]]
+    moving = [str(c) for c in others.columns if np.nanmax(others[c]) - np.nanmin(others[c]) > 1e-9]
+    if not moving:
+        return None, (
+            f"{lacks}, and no other sensor of the log changes meanwhile (the logger itself may "
+            "have stopped)"
+        )
+    return (
+        f"the log's resolution of {resolution:.3g} K explains it (a room held within "
+        f"{resolution / 2:.3g} K of {value:g} C reads it), while other sensors of the log change "
+        f"(e.g. {moving[0]!r})",
+        "",
+    )
+
+
+def log_resolution(values) -> float | None:
+    """The step of the grid a sensor's values lie on [K] (0.1 for a log rounded to 0.1 K), or
+    None when they lie on none (fewer than three distinct values, or not evenly stepped).
+
+    Parameters
+    ----------
+    values : array-like
+        The sensor's values [C] (NaN ignored).
+    """
+    v = np.asarray(values, dtype=float)
+    distinct = np.unique(np.round(v[np.isfinite(v)], 6))
+    if len(distinct) < 3:
+        return None
+    step = float(np.diff(distinct).min())
+    if step <= 0:
+        return None
+    k = (distinct - distinct[0]) / step
+    if float(np.max(np.abs(k - np.round(k)))) > 0.02:
+        return None
+    return step
+
+
+def _raw_values(raw: pd.DataFrame, sensor: str) -> np.ndarray:
+    """A sensor's values in the log as read (long or wide) [C]."""
+    if {"sensor", "value"} <= set(raw.columns):
+        values = raw.loc[(raw["sensor"].astype(str) == sensor).to_numpy(), "value"]
+    else:
+        columns = {str(c): c for c in raw.columns}
+        if sensor not in columns:
+            return np.array([], dtype=float)
+        values = raw[columns[sensor]]
+    return pd.to_numeric(values, errors="coerce").to_numpy(float)
+
+
+def zone_setpoints(building, times: pd.DatetimeIndex) -> pd.DataFrame:
+    """Heating and cooling set points [C] of the zones at ``times``: columns
+    ``(zone, "heating" | "cooling")``, from an imported IDF's thermostat schedules
+    (``building.idf_info.setpoint_profile``), else the zones' constant set points; a zone
+    without either has no column.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+    times : DatetimeIndex
+        The grid (local times of the building's calendar).
+    """
+    out = {}
+    info = getattr(building, "idf_info", None)
+    if info is not None and getattr(info, "setpoint_schedules", None):
+        profile = info.setpoint_profile(times)
+        for column in profile.columns:
+            out[column] = profile[column].to_numpy(float)
+    for name, zone in getattr(building, "zones", {}).items():
+        for kind in ("heating", "cooling"):
+            constant = getattr(zone, f"{kind}_setpoint", None)
+            if constant is not None and (str(name), kind) not in out:
+                out[(str(name), kind)] = np.full(len(times), float(constant))
+    frame = pd.DataFrame(out, index=times)
+    if out:
+        frame.columns = pd.MultiIndex.from_tuples(list(out))
+    return frame
 
 
 def _plausible_indoor(mean: float) -> bool:

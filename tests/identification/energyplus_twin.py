@@ -60,10 +60,12 @@ def _join(objects: list[str]) -> str:
     return ";\n\n".join(objects) + ";\n"
 
 
-def twin_idf(source: str, days: int, *, timesteps_per_hour: int = 12) -> str:
+def twin_idf(
+    source: str, days: int, *, timesteps_per_hour: int = 12, variables: tuple[str, ...] = ()
+) -> str:
     """The reference file: January 1 to ``days``, ``timesteps_per_hour`` steps, timestep
-    outputs of the zone temperature and gains (the file's own Output:Variable objects
-    dropped)."""
+    outputs of the zone temperature and gains and of ``variables`` (the file's own
+    Output:Variable objects dropped)."""
     out = []
     for obj in _objects(source):
         kind = _class(obj)
@@ -76,7 +78,7 @@ def twin_idf(source: str, days: int, *, timesteps_per_hour: int = 12) -> str:
         elif kind == "output:variable":
             continue
         out.append(obj)
-    for variable in ("Zone Mean Air Temperature", *GAIN_VARIABLES):
+    for variable in ("Zone Mean Air Temperature", *GAIN_VARIABLES, *variables):
         out.append(f"Output:Variable,\n  *,\n  {variable},\n  Timestep")
     return _join(out)
 
@@ -170,9 +172,11 @@ def make_twin_of(
     timesteps_per_hour: int = 12,
     envelope: str | None = None,
     energyplus_steps_per_hour: int | None = None,
+    variables: tuple[str, ...] = (),
 ) -> Twin:
     """Run EnergyPlus on the twin of an IDF text (in ``directory``) and read what thermocal
-    needs.
+    needs (``variables``: more timestep outputs EnergyPlus writes, read from
+    ``directory / "energyplus" / "eplusout.eso"``).
 
     Parameters
     ----------
@@ -198,7 +202,9 @@ def make_twin_of(
     zones = [z.upper() for z in (zones or zone_names(source))]
     reference_idf = directory / "twin.idf"
     energyplus_steps_per_hour = energyplus_steps_per_hour or timesteps_per_hour
-    reference_idf.write_text(twin_idf(source, days, timesteps_per_hour=energyplus_steps_per_hour))
+    reference_idf.write_text(
+        twin_idf(source, days, timesteps_per_hour=energyplus_steps_per_hour, variables=variables)
+    )
     envelope_idf = directory / "envelope.idf"
     envelope_text = without_loads(source) if envelope is None else envelope
     envelope_idf.write_text(twin_idf(envelope_text, days, timesteps_per_hour=timesteps_per_hour))

@@ -602,6 +602,9 @@ def identify(
             "one sensor to a zone"
         )
     form = identified_heat_form(building, mapping, feedback, radiant_fraction)
+    note = equipment_form_note(building, form.loc[zones], mapping, radiant_fraction)
+    if note:
+        notes.append(note)
     weights = form.loc[zones, "sensor_air_weight"].to_numpy()
     fractions = form.loc[zones, "radiant_fraction"].to_numpy()
     if isinstance(radiant_fraction, pd.DataFrame):
@@ -945,8 +948,10 @@ def identified_heat_form(
 
     Precedence: the arguments (one value or a dict zone -> value; a per-step DataFrame of
     radiant fractions counts with each zone's mean over the period), then the mapping's
-    per-zone and global entries (``mapping`` may be None), then the defaults
-    (:data:`DEFAULT_RADIANT_FRACTION`, air sensors).
+    per-zone and global entries (``mapping`` may be None), then the defaults: the radiant share
+    of the heat the zone's equipment declared in the building's IDF delivers
+    (:func:`equipment_radiant_fractions`: 0 for an air system), else
+    :data:`DEFAULT_RADIANT_FRACTION`; air sensors.
 
     Returns
     -------
@@ -975,15 +980,16 @@ def identified_heat_form(
             elif global_value is not None:
                 value = global_value
             else:
-                value = default
+                value = default.get(zone, fallback) if isinstance(default, Mapping) else default
             values[zone] = check(value, what)
         return values
 
+    fallback = DEFAULT_RADIANT_FRACTION
     fractions = resolve(
         radiant_fraction,
         mapping.zone_radiant_fraction,
         mapping.radiant_fraction,
-        DEFAULT_RADIANT_FRACTION,
+        equipment_radiant_fractions(building),
         _fraction,
         "radiant_fraction",
     )
@@ -993,6 +999,110 @@ def identified_heat_form(
     return pd.DataFrame(
         {"radiant_fraction": fractions, "sensor_air_weight": weights}, index=pd.Index(zones)
     )
+
+
+def equipment_radiant_fractions(building) -> dict[str, float]:
+    """The radiant share [-] of the heat each zone's declared HVAC equipment delivers.
+
+    From the building's IDF (``idf_info.zone_heat_delivery``,
+    :func:`thermocal.multizone.idf.hvac.zone_heat_delivery`): 0 for a zone heated or cooled by
+    an air system (an ideal-loads system, air terminals, fan coils, terminal units, convective
+    baseboards), a radiant-convective baseboard's or radiant heater's stated fraction. Zones
+    without declared equipment, or whose equipment states no split (a radiant floor), are not
+    in the result. A building not imported from an IDF has none.
+
+    Returns
+    -------
+    dict
+        Zone name -> radiant fraction [-].
+    """
+    delivery = getattr(getattr(building, "idf_info", None), "zone_heat_delivery", None) or {}
+    return {
+        zone: d.radiant_fraction
+        for zone, d in delivery.items()
+        if zone in building.zones and d.radiant_fraction is not None
+    }
+
+
+def equipment_form_note(building, form: pd.DataFrame, mapping, radiant_fraction) -> str | None:
+    """A note naming the zones whose identified heat takes its form from their equipment, or
+    whose form (given or declared) contradicts an air system's convective heat.
+
+    Parameters
+    ----------
+    building : Building
+    form : DataFrame
+        :func:`identified_heat_form`'s (per zone ``radiant_fraction``).
+    mapping : SensorMapping
+    radiant_fraction : float, dict, DataFrame, "declared" or None
+        The form as asked for (None: not given as an argument).
+
+    Returns
+    -------
+    str or None
+    """
+    delivery = getattr(getattr(building, "idf_info", None), "zone_heat_delivery", None) or {}
+    delivery = {z: d for z, d in delivery.items() if z in form.index}
+    if not delivery:
+        return None
+    given = (radiant_fraction is not None and not isinstance(radiant_fraction, pd.DataFrame))
+    declared = isinstance(radiant_fraction, pd.DataFrame)
+    by_share: dict = {}
+    for zone, d in delivery.items():
+        taken = (
+            not given
+            and not declared
+            and zone not in mapping.zone_radiant_fraction
+            and mapping.radiant_fraction is None
+            and d.radiant_fraction is not None
+        )
+        if taken:
+            by_share.setdefault(d.radiant_fraction, []).append(zone)
+    parts = []
+    for share, zones in sorted(by_share.items()):
+        kinds = sorted({e.class_name for z in zones for e in delivery[z].equipment})
+        parts.append(
+            f"{share:g} for {_zone_list(zones)} ({', '.join(kinds[:3])}"
+            f"{', ...' if len(kinds) > 3 else ''})"
+        )
+    text = []
+    if parts:
+        without = [z for z in form.index if z not in delivery]
+        rest = (
+            f"; {_zone_list(without)} without equipment take {DEFAULT_RADIANT_FRACTION:g} "
+            "(internal gains)"
+            if without and not given and mapping.radiant_fraction is None
+            else ""
+        )
+        text.append(
+            "The identified heat's radiant fraction comes from the zones' equipment declared "
+            f"in the IDF (an air system's heat enters the air): {'; '.join(parts)}{rest}. Give "
+            "--radiant-fraction or the mapping's radiant_fraction to override."
+        )
+    air = [z for z, d in delivery.items() if d.radiant_fraction == 0.0]
+    contradicted = [z for z in air if declared or float(form.loc[z, "radiant_fraction"]) > 0.0]
+    if contradicted:
+        how = (
+            "the declared form gives the heat the composition of the file's internal loads"
+            if declared
+            else "the identified heat is given a radiant fraction above 0"
+        )
+        named = _zone_list(contradicted)
+        verb = "are" if len(contradicted) > 1 else "is"
+        text.append(
+            f"{named[0].upper()}{named[1:]} {verb} heated or cooled by an air system in the IDF, "
+            f"whose heat enters the air, but {how}: on EnergyPlus twins with ideal loads this put "
+            "5-25 % of the month's heat and up to 40-110 % of the hour's in error (and heating "
+            "identified in a cooling month); leave the form out (or give radiant_fraction 0) "
+            "for the equipment's heat alone, the loads being simulated as known heat."
+        )
+    return " ".join(text) or None
+
+
+def _zone_list(zones: list, shown: int = 4) -> str:
+    names = ", ".join(f"'{z}'" for z in zones[:shown])
+    more = f" and {len(zones) - shown} more" if len(zones) > shown else ""
+    return f"zone{'s' if len(zones) > 1 else ''} {names}{more}"
 
 
 def per_step_fraction(per_step: pd.DataFrame, zones: list, times: pd.DatetimeIndex):

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
+from thermocal.multizone.idf.hvac import zone_heat_delivery
 from thermocal.multizone.idf.parse import IdfObject, _is_auto, _number
 from thermocal.multizone.idf.schedules import UnsupportedScheduleError
 
@@ -588,8 +589,13 @@ class LoadStages:
         if self.setpoints and hvac:
             self.info.notes.append(
                 f"HVAC equipment ({', '.join(hvac[:3])}{', ...' if len(hvac) > 3 else ''}) is not "
-                "modelled: thermostatted zones get ideal heating/cooling at their set points"
+                "modelled: thermostatted zones get ideal heating/cooling at their set points "
+                "when simulated (an identification ignores set points: its identified heat "
+                "stands for the equipment's)"
             )
+        self.info.zone_heat_delivery = zone_heat_delivery(
+            self.by_key, {key: entry[0] for key, entry in self.zones.items.items()}
+        )
 
 
 #: Indoor-temperature limits of ZoneVentilation:DesignFlowRate and their "no limit" defaults

@@ -147,6 +147,10 @@ class IdfImportInfo:
     #: ({"inside": {zone: "TrombeWall"}, "outside": {...}}); the model's algorithms are
     #: building-wide, so these are only noted (:meth:`network_options`)
     zone_convection: dict[str, dict[str, str]] = field(default_factory=dict)
+    #: zone -> its declared HVAC equipment and the radiant share of their heat
+    #: (:func:`thermocal.multizone.idf.hvac.zone_heat_delivery`); the identification's default
+    #: heat form uses it
+    zone_heat_delivery: dict = field(default_factory=dict)
     #: the Building object's Solar Distribution as written (EnergyPlus' default FullExterior)
     solar_distribution: str = "FullExterior"
     #: the Building object's warm-up: Temperature Convergence Tolerance Value [K], Maximum and

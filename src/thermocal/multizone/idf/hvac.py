@@ -1,0 +1,222 @@
+"""How a file's zone equipment delivers its heat: the radiant share of the heat each zone's
+declared HVAC equipment puts into the zone.
+
+thermocal does not simulate a file's HVAC (a thermostatted zone gets ideal heating and cooling
+in ``simulate``; ``identify`` ignores set points and identifies the heat). What the equipment
+says is still worth reading: the heat an air system (an ideal-loads system, an air terminal, a
+fan coil, a packaged terminal unit, a convective baseboard) delivers enters the zone air, while
+a radiant-convective baseboard or a high-temperature radiant heater puts its stated fraction on
+the zone's surfaces. The identification's default heat form takes it from here
+(:func:`thermocal.identification.workflow.identified_heat_form`).
+
+The equipment of a zone is found as EnergyPlus finds it: ``ZoneHVAC:EquipmentConnections``
+names the zone's ``ZoneHVAC:EquipmentList``, whose extensible groups name each equipment's class
+and object; ``HVACTemplate:Zone:*`` objects name their zone directly (their expansion makes air
+systems and convective baseboards). Fields are read by position from EnergyPlus 25.2's IDD
+(``Energy+.schema.epJSON``, ``legacy_idd``); a value that is not a fraction is reported, not used.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = [
+    "AIR_EQUIPMENT_PREFIXES",
+    "SURFACE_SOURCE_PREFIXES",
+    "EquipmentHeat",
+    "ZoneHeatDelivery",
+    "zone_heat_delivery",
+]
+
+#: Equipment whose heat enters the zone air (convective): air systems, air terminals, fan
+#: coils, terminal units, unit heaters and ventilators, convective baseboards (EnergyPlus'
+#: spelling, matched case-insensitively as prefixes of the class name).
+AIR_EQUIPMENT_PREFIXES = (
+    "ZoneHVAC:IdealLoadsAirSystem",
+    "ZoneHVAC:FourPipeFanCoil",
+    "ZoneHVAC:WindowAirConditioner",
+    "ZoneHVAC:PackagedTerminalAirConditioner",
+    "ZoneHVAC:PackagedTerminalHeatPump",
+    "ZoneHVAC:WaterToAirHeatPump",
+    "ZoneHVAC:Dehumidifier:DX",
+    "ZoneHVAC:EnergyRecoveryVentilator",
+    "ZoneHVAC:UnitVentilator",
+    "ZoneHVAC:UnitHeater",
+    "ZoneHVAC:EvaporativeCoolerUnit",
+    "ZoneHVAC:HybridUnitaryHVAC",
+    "ZoneHVAC:OutdoorAirUnit",
+    "ZoneHVAC:TerminalUnit:VariableRefrigerantFlow",
+    "ZoneHVAC:Baseboard:Convective:",
+    "ZoneHVAC:AirDistributionUnit",
+    "ZoneHVAC:ForcedAir:UserDefined",
+    "ZoneHVAC:RefrigerationChillerSet",
+    "AirTerminal:",
+    "AirLoopHVAC:UnitarySystem",
+    "HVACTemplate:Zone:",
+)
+_AIR = tuple(p.upper() for p in AIR_EQUIPMENT_PREFIXES)
+
+#: Equipment whose heat enters a construction's source layer (radiant floors and ceilings,
+#: ventilated slabs): no split between the air and the surfaces' faces describes it.
+SURFACE_SOURCE_PREFIXES = ("ZoneHVAC:LowTemperatureRadiant:", "ZoneHVAC:VentilatedSlab")
+_SURFACE_SOURCE = tuple(p.upper() for p in SURFACE_SOURCE_PREFIXES)
+
+#: Radiant-convective equipment: (position of its fraction radiant, or of the name of the
+#: design object holding it; that design object's class; the fraction's position there;
+#: positions of the latent and lost fractions of the input, for the high-temperature heater).
+_RADIANT_CONVECTIVE = {
+    key.upper(): (position, design and design.upper(), design_position, losses)
+    for key, position, design, design_position, losses in (
+        ("ZoneHVAC:Baseboard:RadiantConvective:Electric", 7, None, None, ()),
+        ("ZoneHVAC:Baseboard:RadiantConvective:Water", 1,
+         "ZoneHVAC:Baseboard:RadiantConvective:Water:Design", 5, ()),
+        ("ZoneHVAC:Baseboard:RadiantConvective:Steam", 1,
+         "ZoneHVAC:Baseboard:RadiantConvective:Steam:Design", 5, ()),
+        ("ZoneHVAC:HighTemperatureRadiant", 9, None, None, (10, 11)),
+        ("ZoneHVAC:CoolingPanel:RadiantConvective:Water", 17, None, None, ()),
+    )
+}  # fmt: skip
+_EQUIPMENT_LIST = "ZoneHVAC:EquipmentList".upper()
+_CONNECTIONS = "ZoneHVAC:EquipmentConnections".upper()
+_TEMPLATE_ZONE = "HVACTemplate:Zone:".upper()
+
+
+@dataclass(frozen=True)
+class EquipmentHeat:
+    """One piece of zone equipment and how its heat enters the zone.
+
+    Attributes
+    ----------
+    class_name : str
+        The equipment's class as written (e.g. ``ZoneHVAC:IdealLoadsAirSystem``).
+    name : str
+        Its object name.
+    radiant_fraction : float or None
+        Share of its sensible heat onto the zone's surfaces [-] (0 for air systems); None when
+        no constant split describes it (a construction's source layer, a class not known here,
+        or a field that is not a fraction).
+    how : str
+        How the fraction was found, for notes.
+    """
+
+    class_name: str
+    name: str
+    radiant_fraction: float | None
+    how: str
+
+
+@dataclass(frozen=True)
+class ZoneHeatDelivery:
+    """The declared equipment of one zone and the radiant share of its heat.
+
+    Attributes
+    ----------
+    equipment : tuple of EquipmentHeat
+    radiant_fraction : float or None
+        The equipment's radiant share [-] when every piece states one and they agree (several
+        with different shares: their mean, the split of the heat between them being unknown);
+        None when a piece states none.
+    """
+
+    equipment: tuple[EquipmentHeat, ...]
+    radiant_fraction: float | None
+
+    def describe(self) -> str:
+        """The equipment as a short phrase, e.g. ``ZoneHVAC:IdealLoadsAirSystem 'Z1 Ideal'``."""
+        return ", ".join(f"{e.class_name} '{e.name}'" for e in self.equipment)
+
+
+def _fraction(fields: tuple, position: int) -> float | None:
+    try:
+        value = float(fields[position])
+    except (IndexError, ValueError):
+        return None
+    return value if 0.0 <= value <= 1.0 else None
+
+
+def _equipment_heat(class_name: str, name: str, objects: dict) -> EquipmentHeat:
+    """How one equipment object delivers its heat (``objects``: upper-case class -> {upper
+    name: IdfObject})."""
+    key = class_name.upper()
+    if key.startswith(_AIR):
+        return EquipmentHeat(class_name, name, 0.0, "an air system: convective")
+    if key.startswith(_SURFACE_SOURCE):
+        return EquipmentHeat(
+            class_name, name, None, "heat in a construction's source layer, not a split"
+        )
+    spec = _RADIANT_CONVECTIVE.get(key)
+    if spec is None:
+        return EquipmentHeat(class_name, name, None, "a class whose heat split is not known here")
+    position, design_class, design_position, losses = spec
+    obj = objects.get(key, {}).get(name.upper())
+    if obj is None:
+        return EquipmentHeat(class_name, name, None, "the object is not in the file")
+    where = f"its field {position + 1}"
+    if design_class is not None:
+        design_name = obj.fields[position] if position < len(obj.fields) else ""
+        design = objects.get(design_class, {}).get(design_name.upper())
+        if design is None:
+            return EquipmentHeat(class_name, name, None, f"its design object '{design_name}' is "
+                                 "not in the file")  # fmt: skip
+        obj, position, where = design, design_position, f"its design object '{design_name}'"
+    radiant = _fraction(obj.fields, position)
+    if radiant is None:
+        return EquipmentHeat(class_name, name, None, f"{where} is not a fraction")
+    lost = sum(_fraction(obj.fields, p) or 0.0 for p in losses)
+    if losses and lost < 1.0:  # a heater's radiant share of its input, of the heat it delivers
+        radiant = min(radiant / (1.0 - lost), 1.0)
+    return EquipmentHeat(class_name, name, radiant, f"fraction radiant {radiant:g} ({where})")
+
+
+def zone_heat_delivery(by_key: dict, zone_names: dict) -> dict[str, ZoneHeatDelivery]:
+    """The declared zone equipment of a file and the radiant share of its heat, per zone.
+
+    Parameters
+    ----------
+    by_key : dict
+        Upper-case class name -> list of the file's objects (``IdfObject``).
+    zone_names : dict
+        Upper-case zone name -> the zone's name as the model spells it.
+
+    Returns
+    -------
+    dict
+        Zone name -> :class:`ZoneHeatDelivery`, for the zones with declared equipment only.
+    """
+    objects = {
+        key: {obj.name.upper(): obj for obj in found}
+        for key, found in by_key.items()
+        if key.startswith(("ZONEHVAC:", "AIRTERMINAL:"))
+    }
+    lists = objects.get(_EQUIPMENT_LIST, {})
+    found: dict[str, list[EquipmentHeat]] = {}
+    for obj in by_key.get(_CONNECTIONS, []):
+        zone = zone_names.get(obj.fields[0].upper()) if obj.fields else None
+        listed = lists.get(obj.fields[1].upper()) if zone and len(obj.fields) > 1 else None
+        if listed is None:
+            continue
+        fields = listed.fields
+        # extensible groups after the Name (and the Load Distribution Scheme, since 9.2):
+        # class, name, sequences, ... (six fields in 25.2, four before): a class field is
+        # recognised by what it names
+        for i in range(1, len(fields) - 1):
+            key = fields[i].upper()
+            if key.startswith(("ZONEHVAC:", "AIRTERMINAL:", "AIRLOOPHVAC:")) and fields[i + 1]:
+                found.setdefault(zone, []).append(
+                    _equipment_heat(fields[i], fields[i + 1], objects)
+                )
+    for key, templates in by_key.items():
+        if key.startswith(_TEMPLATE_ZONE):
+            for obj in templates:
+                zone = zone_names.get(obj.fields[0].upper()) if obj.fields else None
+                if zone is not None:
+                    found.setdefault(zone, []).append(
+                        EquipmentHeat(obj.class_name, obj.fields[0], 0.0,
+                                      "an air system or convective baseboard: convective")
+                    )  # fmt: skip
+    out = {}
+    for zone, equipment in found.items():
+        shares = [e.radiant_fraction for e in equipment]
+        share = None if any(s is None for s in shares) else sum(shares) / len(shares)
+        out[zone] = ZoneHeatDelivery(tuple(equipment), share)
+    return out

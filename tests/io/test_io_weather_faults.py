@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -144,6 +145,8 @@ def test_simulate_says_when_the_weather_is_another_sites(shared_data, tmp_path, 
     text = " ".join(text.split())
     assert code == 0, text
     assert "1,424 km apart: simulated at the weather file's site and climate" in text, text
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert any("1,424 km apart: simulated at the weather" in n for n in summary["approximations"])
 
 
 def test_an_epw_saved_with_a_byte_order_mark_is_read(shared_data, tmp_path):

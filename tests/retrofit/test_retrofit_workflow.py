@@ -298,7 +298,8 @@ def test_gaps_in_indoor_temperature_and_finer_logging(synthetic, tmp_path):
         (lambda m: pd.concat([m.iloc[:5], m.iloc[4:]]), r"'time'.*line 7.*(duplicat|repeat)"),
         (
             lambda m: m.assign(Ti=m["Ti"].astype(object).where(m.index != 7, "21,5")),
-            r"'Ti', line 9: cannot read '21,5' as a number \(a decimal comma: write decimal",
+            r"'Ti', line 9: cannot read '21,5' as a number \(a decimal comma: "
+            r"set measurements\.decimal",
         ),
         (
             lambda m: m.drop(columns=["time"]),

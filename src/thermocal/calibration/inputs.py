@@ -25,6 +25,21 @@ IDENTIFICATION_KEYS = {
     "warmup_days": 7,
     "tuning_zone": None,
 }
+#: keys of the ``identification`` section that say how the sensor log is read (as identify's
+#: --tz, --decimal, --time-format and --rows)
+LOG_KEYS = {"tz": None, "decimal": ".", "time_format": None, "rows": "reports"}
+#: The sensor-log reader's remedies name its Python options; a campaign has these keys.
+_READER_REMEDIES = (
+    ("pass tz= (", "set identification.tz in the campaign file ("),
+    ("or pass tz=", "or set identification.tz in the campaign file"),
+    ("pass the time zone (--tz Europe/Zurich)", "set identification.tz (e.g. Europe/Zurich)"),
+    ("pass a fixed offset, e.g. tz=1.0", "set identification.tz to an offset, e.g. 1.0"),
+    ("(a decimal comma: pass decimal=',')", "(a decimal comma: set identification.decimal: ',')"),
+    ("pass time_format=", "set identification.time_format"),
+    (": sort it, or pass sort=True", ": sort it by time"),
+    (", or pass duplicates='first' or 'last'", ""),
+    ("; pass interval=", "; log more than one row per sensor"),
+)
 
 
 @dataclass
@@ -80,7 +95,7 @@ def load_inputs(campaign) -> CampaignInputs:
         )
     from thermocal.identification.sensors import load_mapping
     from thermocal.io.measurements import read_measurements
-    from thermocal.io.weather import check_building_site, check_weather_clock, read_weather
+    from thermocal.io.weather import building_site_or_weather, check_weather_clock, read_weather
     from thermocal.multizone.files import load_building
 
     if campaign.mapping is None:
@@ -89,12 +104,37 @@ def load_inputs(campaign) -> CampaignInputs:
         )
     building = load_building(campaign.building_path)
     weather, site = read_weather(campaign.weather)
-    check_building_site(
-        building, site, building_source=str(campaign.building), weather_source=str(campaign.weather)
+    site_note = building_site_or_weather(
+        building,
+        site,
+        campaign.identification.get("site", "building"),
+        building_source=str(campaign.building),
+        weather_source=str(campaign.weather),
+        option="identification.site",
+        opt_in="identification.site: weather in the campaign file",
     )
+    if site_note:
+        import warnings
+
+        warnings.warn(site_note, stacklevel=2)
     check_weather_clock(weather, site, source=str(campaign.weather))
-    tz = campaign.identification.get("tz")
-    raw, _ = read_measurements(campaign.sensors, tz=tz)
+    log = {key: campaign.identification.get(key, default) for key, default in LOG_KEYS.items()}
+    if log["decimal"] not in (".", ","):
+        raise ThermocalInputError(
+            f"{campaign.path}: identification.decimal {log['decimal']!r}: use '.' or ','"
+        )
+    if log["rows"] not in ("reports", "interval_start", "interval_end"):
+        raise ThermocalInputError(
+            f"{campaign.path}: identification.rows {log['rows']!r}: use reports, interval_start "
+            "or interval_end"
+        )
+    try:
+        raw, _ = read_measurements(campaign.sensors, **log)
+    except ThermocalInputError as exc:  # the reader's remedies in the campaign file's terms
+        text = str(exc)
+        for option, remedy in _READER_REMEDIES:
+            text = text.replace(option, remedy)
+        raise ThermocalInputError(text) from None
     mapping = load_mapping(campaign.mapping)
     if campaign.period is not None:
         start = _localise(campaign.period.start, weather.index[0])
@@ -126,14 +166,16 @@ def _localise(value, like) -> pd.Timestamp:
 def identification_options(campaign) -> dict:
     """The campaign's identification options with their defaults (unknown keys rejected)."""
     options = dict(IDENTIFICATION_KEYS)
-    allowed = set(IDENTIFICATION_KEYS) | {"tz"}
+    allowed = set(IDENTIFICATION_KEYS) | set(LOG_KEYS) | {"site"}
     unknown = set(campaign.identification) - allowed
     if unknown:
         raise ThermocalInputError(
             f"{campaign.path}: identification: unknown keys {sorted(unknown)} (allowed: "
             f"{', '.join(sorted(allowed))})"
         )
-    options.update({k: v for k, v in campaign.identification.items() if k != "tz"})
+    options.update(
+        {k: v for k, v in campaign.identification.items() if k not in LOG_KEYS and k != "site"}
+    )
     return options
 
 

@@ -19,9 +19,15 @@ _READER_REMEDIES = (
     ("(--time-origin, start=; ", "(--time-origin; "),
     (": sort it, or pass sort=True", ": sort it by time"),
     (", or pass duplicates='first' or 'last'", ""),
-    ("(a decimal comma: pass decimal=',')", "(a decimal comma: write decimal points)"),
+    ("(a decimal comma: pass decimal=',')", "(a decimal comma: pass --decimal ,)"),
     ("; pass interval=", "; log more than one row per sensor"),
+    ("pass time_format=", "pass --time-format"),
+    ("rows = ", "--rows "),
 )
+
+#: What a row of the sensor log is (``--rows``): a reading at its time, or the mean over the
+#: logging interval labelled by the interval's start or end.
+ROWS = ("reports", "interval_start", "interval_end")
 
 
 @app.command()
@@ -105,6 +111,29 @@ def identify(
         str | None,
         typer.Option(help="Time of 0 of numeric time stamps (default 1970-01-01 UTC)."),
     ] = None,
+    decimal: Annotated[
+        str,
+        typer.Option(
+            help="Decimal mark of the sensor log's numbers: . or , (a European export, "
+            "usually ;-separated: --decimal ,)."
+        ),
+    ] = ".",
+    time_format: Annotated[
+        str | None,
+        typer.Option(
+            help="strftime format of the sensor log's time stamps when they are not ISO 8601, "
+            "e.g. '%d.%m.%Y %H:%M' (day-first or month-first dates and 12-hour AM/PM clocks "
+            "are recognised without it)."
+        ),
+    ] = None,
+    rows: Annotated[
+        str,
+        typer.Option(
+            help="What a row of the sensor log is: reports (a reading at its time), "
+            "interval_start or interval_end (the mean over the logging interval, labelled by "
+            "its start or its end, as many loggers and BMS exports write)."
+        ),
+    ] = "reports",
     clock_check: Annotated[
         bool,
         typer.Option(
@@ -114,6 +143,16 @@ def identify(
             "heat much smoother (a log an hour off). Two to four more inverses.",
         ),
     ] = True,
+    site_choice: Annotated[
+        str,
+        typer.Option(
+            "--site",
+            help="Whose site when the building's location is more than 300 km from the weather "
+            "file's: building (refused, the default: another city's weather) or weather (the "
+            "weather file's site replaces the building's, as EnergyPlus does for a weather-file "
+            "run; said in a warning and in the outputs' notes)."
+        ),
+    ] = "building",
     demo: Annotated[
         bool, typer.Option("--demo", help="Run on the built-in clinic demo data.")
     ] = False,
@@ -145,6 +184,7 @@ def identify(
     check_output_folder(out, signature=signature)
     console = Console(stderr=True)
     truth = None
+    site_note = None
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if demo:
@@ -174,18 +214,37 @@ def identify(
                 )
             from thermocal.identification.sensors import load_mapping
             from thermocal.io.measurements import read_measurements
-            from thermocal.io.weather import check_building_site, check_weather_clock, read_weather
+            from thermocal.io.weather import (
+                building_site_or_weather,
+                check_weather_clock,
+                read_weather,
+            )
             from thermocal.multizone.files import load_building
 
+            _check_log_options(decimal, rows)
             model = load_building(building)
             frame, site = read_weather(weather)
-            check_building_site(
-                model, site, building_source=str(building), weather_source=str(weather)
+            site_note = building_site_or_weather(
+                model,
+                site,
+                site_choice,
+                building_source=str(building),
+                weather_source=str(weather),
+                option="--site",
+                opt_in="--site weather",
             )
+            if site_note:  # at once: also when a later check stops the run
+                console.print(f"[yellow]warning:[/yellow] {site_note}")
             check_weather_clock(frame, site, source=str(weather))
             try:
                 raw, meta = read_measurements(
-                    sensors, tz=tz, time_unit=time_unit, start=time_origin
+                    sensors,
+                    tz=tz,
+                    time_unit=time_unit,
+                    start=time_origin,
+                    decimal=decimal,
+                    time_format=time_format,
+                    rows=rows,
                 )
             except ThermocalInputError as exc:  # the reader's remedies in this command's terms
                 text = str(exc)
@@ -262,6 +321,8 @@ def identify(
         )
     for note in energyplus_check_notes(result.import_notes):
         console.print(f"[yellow]import:[/yellow] {note}")
+    if site_note:  # in identification.json and the report, not only on the console
+        result.notes.insert(0, site_note)
     with output_folder(out, command="identify", signature=signature) as tmp:
         written = [out / Path(p).name for p in result.to_files(tmp)]
     _print_summary(result, truth)
@@ -347,6 +408,16 @@ def _check_time_options(
         f"--tz {tz} has no effect (it places time stamps written without offset); the "
         "identification uses the file's times"
     )
+
+
+def _check_log_options(decimal: str, rows: str) -> None:
+    """Refuse a ``--decimal`` or ``--rows`` the sensor-log reader has no meaning for."""
+    from thermocal.errors import ThermocalInputError
+
+    if decimal not in (".", ","):
+        raise ThermocalInputError(f"--decimal {decimal!r}: use . or ,")
+    if rows not in ROWS:
+        raise ThermocalInputError(f"--rows {rows!r}: use {', '.join(ROWS)}")
 
 
 def _weather_for_measurements(frame, site, raw, start, end, source: str):

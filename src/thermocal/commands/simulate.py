@@ -194,6 +194,8 @@ def simulate(
             frame, metadata = read_weather(weather)
         from thermocal.io.weather import check_building_site, check_weather_clock
 
+        site_note = None
+
         # irradiance hours away from the sun (UTC labels, a shifted export) heats rooms by the
         # sun at night or sunrise: refused, as identify and calibrate do
         check_weather_clock(frame, metadata, source=str(weather))
@@ -202,12 +204,13 @@ def simulate(
                 model, metadata, building_source=str(building), weather_source=str(weather)
             )
         except ThermocalInputError as exc:  # a forward run elsewhere is legitimate: said
-            warnings.warn(
+            site_note = (
                 f"{str(exc).split(' (at most')[0]}: simulated at the weather file's site and "
-                "climate (as EnergyPlus does, with a warning); identify, calibrate and retrofit "
-                "refuse such a pair",
-                stacklevel=1,
+                "climate (as EnergyPlus does, with a warning); identify and calibrate refuse "
+                "such a pair unless told to use the weather's site (--site weather, "
+                "identification.site: weather), retrofit refuses it"
             )
+            warnings.warn(site_note, stacklevel=1)
         per_hour = getattr(getattr(model, "idf_info", None), "timesteps_per_hour", None)
         step_note = None
         if step is None:
@@ -248,7 +251,7 @@ def simulate(
     )
     with output_folder(out, command="simulate", signature=signature) as tmp:
         result = sim.run(free_float=free_float, progress=True)
-        for note in (step_note, period_note):
+        for note in (step_note, period_note, site_note):
             if note:
                 result.approximations.insert(0, note)
         written = [

@@ -34,9 +34,12 @@ _OFFSET = re.compile(r"(Z|[+-]\d\d(:?\d\d)?)$")
 _HOURS = re.compile(r"^\s*(?:UTC|GMT)?\s*[+-]?\d{1,2}(\.\d+)?\s*$", re.IGNORECASE)
 #: ... or as an ISO 8601 offset: ``+01:00``, ``-0700``, ``UTC+05:30``.
 _HHMM = re.compile(r"^\s*(?:UTC|GMT)?\s*([+-])(\d\d):?(\d\d)\s*$", re.IGNORECASE)
-#: A date with numeric day and month before the year, either way round, and an optional time:
-#: ``01/02/2015 00:00``, ``1.2.2015``, ``01-02-2015 00:00:00``.
-_DAY_MONTH = re.compile(r"(\d{1,2})([/.-])(\d{1,2})\2(\d{4})(?:([ T])\d{1,2}:\d\d(:\d\d)?)?")
+#: A date with numeric day and month before the year, either way round, and an optional time,
+#: 24-hour or 12-hour with AM/PM (a US spreadsheet's export): ``01/02/2015 00:00``,
+#: ``1.2.2015``, ``01-02-2015 00:00:00``, ``01/02/2015 12:05 AM``, ``1/2/2015 1:05:00 pm``.
+_DAY_MONTH = re.compile(
+    r"(\d{1,2})([/.-])(\d{1,2})\2(\d{4})(?:([ T])\d{1,2}:\d\d(:\d\d)?( ?[AaPp][Mm])?)?"
+)
 #: How a reader's note starts when the times were numbers (``time_unit``, ``start`` used) ...
 NUMERIC_TIMES_NOTE = "numeric times in"
 #: ... and when stamps without UTC offset were placed in ``tz``: a caller can tell from
@@ -252,7 +255,13 @@ def day_month_order(
     first = _DAY_MONTH.fullmatch(str(written.iloc[0]))
     sep, clock = first.group(2), ""
     if first.group(5):
-        clock = first.group(5) + "%H:%M" + (":%S" if first.group(6) else "")
+        twelve = first.group(7)
+        clock = (
+            first.group(5)
+            + ("%I:%M" if twelve else "%H:%M")
+            + (":%S" if first.group(6) else "")
+            + ("" if not twelve else " %p" if twelve.startswith(" ") else "%p")
+        )
     formats = {"day-first": f"%d{sep}%m{sep}%Y{clock}", "month-first": f"%m{sep}%d{sep}%Y{clock}"}
     clocks = _clock_formats(text)
     readings = {
@@ -317,11 +326,14 @@ def day_month_readings(text: str) -> dict[str, _dt.date] | None:
 
 
 def _clock_formats(text: pd.Series) -> pd.Series:
-    """Per row, the strftime form of its time of day (``" %H:%M"``, ``"T%H:%M:%S"``, or
-    ``""`` for a date alone: spreadsheets write midnight as the date alone)."""
+    """Per row, the strftime form of its time of day (``" %H:%M"``, ``"T%H:%M:%S"``,
+    ``" %I:%M %p"`` with AM/PM, or ``""`` for a date alone: spreadsheets write midnight as the
+    date alone)."""
     parts = text.str.extract(_DAY_MONTH.pattern)
-    joint, seconds = parts[4].fillna(""), parts[5].notna()
-    return joint + np.where(joint != "", "%H:%M", "") + np.where(seconds, ":%S", "")
+    joint, seconds, twelve = parts[4].fillna(""), parts[5].notna(), parts[6].fillna("")
+    hours = np.where(twelve != "", "%I:%M", "%H:%M")
+    marker = np.where(twelve == "", "", np.where(twelve.str.startswith(" "), " %p", "%p"))
+    return joint + np.where(joint != "", hours, "") + np.where(seconds, ":%S", "") + marker
 
 
 def _read_dates(text: pd.Series, clocks: pd.Series, date_format: str) -> pd.Series:

@@ -634,6 +634,7 @@ def check_site_matches_weather(
     building_source: str,
     weather_source: str,
     max_km: float = MAX_SITE_DISTANCE_KM,
+    remedy: str = "",
 ) -> float | None:
     """Refuse weather data from a site far from the building.
 
@@ -650,6 +651,9 @@ def check_site_matches_weather(
         The files, for the message.
     max_km : float
         Largest accepted distance [km].
+    remedy : str
+        The caller's way to simulate at the weather's site instead (its option or key, e.g.
+        ``"pass --site weather ..."``), appended to the message; "" names none.
 
     Returns
     -------
@@ -677,18 +681,24 @@ def check_site_matches_weather(
             f"{float(w_lat):.2f}, longitude {float(w_lon):.2f}: {distance:,.0f} km apart "
             f"(at most {max_km:g} km accepted); sun and climate would be another place's. "
             "Use weather of the building's site, or correct the building's location (or the "
-            "weather file's header if its data are the site's)"
+            "weather file's header if its data are the site's)" + (f"; {remedy}" if remedy else "")
         )
     return distance
 
 
 def check_building_site(
-    building, weather_meta: Mapping[str, Any], *, building_source: str, weather_source: str
+    building,
+    weather_meta: Mapping[str, Any],
+    *,
+    building_source: str,
+    weather_source: str,
+    remedy: str = "",
 ) -> float | None:
     """:func:`check_site_matches_weather` for a multi-zone building (``building.location``).
 
     A building without a location of its own (the model's default site, as when a YAML file
     has no ``location:`` or an IDF no ``Site:Location``) takes the weather's and is not checked.
+    ``remedy`` is the caller's opt-in to the weather's site, named in the message.
     """
     location = getattr(building, "location", None)
     if location is None or location == type(location)():
@@ -699,6 +709,89 @@ def check_building_site(
         weather_meta,
         building_source=building_source,
         weather_source=weather_source,
+        remedy=remedy,
+    )
+
+
+#: The values of the option (``--site``, ``identification.site``) choosing whose site a run
+#: uses when the building's and the weather's are more than :data:`MAX_SITE_DISTANCE_KM` apart.
+SITE_CHOICES = ("building", "weather")
+
+
+def building_site_or_weather(
+    building,
+    weather_meta: Mapping[str, Any],
+    site: str,
+    *,
+    building_source: str,
+    weather_source: str,
+    option: str,
+    opt_in: str,
+) -> str | None:
+    """The site check of a run, with the user's choice when the sites are far apart.
+
+    ``site="building"`` (the default of every command): :func:`check_building_site`, whose
+    refusal names ``opt_in`` as the way out. ``site="weather"``: what EnergyPlus does for a
+    weather-file run (it warns and uses the weather file's site, so a stale ``Site:Location``
+    does not matter there): the building's location is replaced by the weather file's latitude,
+    longitude and altitude (its time zone kept) when they are more than
+    :data:`MAX_SITE_DISTANCE_KM` apart, and the note saying so is returned for the caller's
+    warning and outputs.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+        Its ``location`` is replaced in place with ``site="weather"``.
+    weather_meta : mapping
+        The weather reader's metadata.
+    site : {"building", "weather"}
+    building_source, weather_source : str
+        The files, for the messages.
+    option : str
+        The option or key as the user writes it (``"--site"``, ``"identification.site"``).
+    opt_in : str
+        How the user asks for the weather's site (``"--site weather"``,
+        ``"identification.site: weather in the campaign file"``).
+
+    Returns
+    -------
+    str or None
+        The note when the building's site was replaced, else None.
+    """
+    if site not in SITE_CHOICES:
+        raise ThermocalInputError(
+            f"{option} {site!r}: use building (refuse weather of another site, the default) or "
+            "weather (use the weather file's site, as EnergyPlus does)"
+        )
+    remedy = (
+        f"or, if the building's location is stale and the weather is the site's (EnergyPlus "
+        f"warns and uses the weather file's site), {opt_in} runs at the weather file's site"
+    )
+    try:
+        check_building_site(
+            building,
+            weather_meta,
+            building_source=building_source,
+            weather_source=weather_source,
+            remedy=remedy if site == "building" else "",
+        )
+        return None
+    except ThermocalInputError as exc:
+        if site == "building":
+            raise
+        text = str(exc).split(" (at most")[0]
+    location = building.location
+    altitude = weather_meta.get("altitude")
+    building.location = type(location)(
+        latitude=float(weather_meta["latitude"]),
+        longitude=float(weather_meta["longitude"]),
+        altitude=float(location.altitude if altitude is None else altitude),
+        timezone=location.timezone,
+    )
+    return (
+        f"site replaced ({opt_in}): {text}; the building's written location was replaced by "
+        "the weather file's (latitude, longitude, altitude), as EnergyPlus does for a "
+        "weather-file run: sun and climate are the weather's site"
     )
 
 

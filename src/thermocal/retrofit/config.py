@@ -232,6 +232,20 @@ class MeasurementsConfig(_Strict):
     timezone: str | float | None = Field(
         None, description="time zone of naive timestamps (name or hours from UTC)"
     )
+    decimal: Literal[".", ","] = Field(
+        ".", description="decimal mark of the file's numbers: ',' for a European export"
+    )
+    time_format: str | None = Field(
+        None,
+        description="strftime format of the time column when it is not ISO 8601, e.g. "
+        "'%d.%m.%Y %H:%M' (day-first or month-first dates and 12-hour AM/PM clocks are "
+        "recognised without it)",
+    )
+    rows: Literal["interval_start", "interval_end"] = Field(
+        "interval_start",
+        description="each row is the mean over the logging interval, labelled by its start "
+        "(default) or by its end (as many loggers and BMS exports write)",
+    )
     irradiance: Literal["dni_dhi", "ghi"] = Field(
         "dni_dhi",
         description="dni_dhi: the columns dni and dhi; ghi: a pyranometer's global horizontal "

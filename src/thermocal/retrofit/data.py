@@ -51,8 +51,8 @@ def _timezone(tz):
 _READER_REMEDIES = (
     ("; pass time_column=", "; set measurements.time_column in the retrofit configuration"),
     (": sort it, or pass sort=True", ": sort the file by time"),
-    ("(a decimal comma: pass decimal=',')", "(a decimal comma: write decimal points)"),
-    (", or pass time_format= (e.g. '%d.%m.%Y %H:%M')", " (the retrofit workflow reads ISO 8601)"),
+    ("(a decimal comma: pass decimal=',')", "(a decimal comma: set measurements.decimal: ',')"),
+    ("pass time_format=", "set measurements.time_format"),
     ("pass tz=", "set measurements.timezone"),
     ("pass the time zone (--tz Europe/Zurich)", "set measurements.timezone (e.g. Europe/Zurich)"),
     ("pass a fixed offset, e.g. tz=1.0", "set measurements.timezone to an offset, e.g. 1.0"),
@@ -388,9 +388,11 @@ def read_raw_measurements(
     """Measurement table with standard column names [C, m3/s, W/m2], tz-aware DatetimeIndex.
 
     Read by :func:`thermocal.io.measurements.read_measurements` (CSV or parquet, ISO 8601
-    times, rows = interval means labelled by their start); ``raw.attrs["measurements"]`` keeps
-    its metadata (logging interval, units, notes). Only the columns of the configured heat
-    source (``measurements.heat_source``) are read, plus the electricity meter when
+    times or ``measurements.time_format``, rows = interval means labelled by their start or,
+    with ``measurements.rows: interval_end``, their end; ``measurements.decimal``);
+    ``raw.attrs["measurements"]`` keeps its metadata (logging interval, units, notes). Only
+    the columns of the configured heat source (``measurements.heat_source``) are read, plus
+    the electricity meter when
     ``electricity_unit`` is given; meter columns come in W (power) or J (energy).
 
     Raises
@@ -418,7 +420,9 @@ def read_raw_measurements(
             sensors=names,
             units=_units(cfg, electricity_unit),
             tz=tz,
-            rows="interval_start",
+            rows=cfg.rows,
+            decimal=cfg.decimal,
+            time_format=cfg.time_format,
             unknown_sensors="ignore",
         )
     except ThermocalInputError as exc:

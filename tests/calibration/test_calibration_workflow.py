@@ -190,9 +190,12 @@ def test_calibrate_cli_unreachable_scheduler_is_a_clear_error(tmp_path):
 
 
 def test_validation_period_keeps_the_lower_variance(tmp_path):
+    # 32 samples: since the windows' room side takes ISO 15099's convection (2026-11-30) 24
+    # left the window U undetermined and the calibrated building (its SHGC alone) no better
+    # than the nominal on the validation week (ratio 1.02); 32 and 48 give 0.12 and 0.10
     path = _campaign(
         tmp_path,
-        samples=24,
+        samples=32,
         end="2001-01-22",
         extra="validation: {start: 2001-01-15, end: 2001-01-22}",
     )

@@ -54,19 +54,21 @@ class IndependentCalibration:
     note: str
 
 
-#: Measured 2026-11-29, keyed by the reference folder under ``tests/reference``.
+#: Measured 2026-11-29 (the 5ZoneAirCooled and multifamily twins again on 2026-11-30, after the
+#: windows took ISO 15099's room-side convection), keyed by the reference folder under
+#: ``tests/reference``.
 INDEPENDENT_CALIBRATIONS: dict[str, IndependentCalibration] = {
     "calibration_energyplus_5zone": IndependentCalibration(
         building="NREL 5ZoneAirCooled (wall R x0.6, roof R x1.5, infiltration x1.4 hidden; "
         "48 samples)",
         determined_resistances=2,
-        max_resistance_error_pct=8.9,
+        max_resistance_error_pct=9.1,
         covered=6,
         parameters=7,
         determined_covered=2,
         determined=3,
-        metric_vs_truth_pct=14.9,
-        note="the roof's interval ends 1.6 % below its truth (-6.5 %): the affine meta-model "
+        metric_vs_truth_pct=14.8,
+        note="the roof's interval ends 1.6 % below its truth (-6.6 %): the affine meta-model "
         "in log R; the zoom stage (sampling.zoom: 32) or the curvature term "
         "(metamodel.series_terms: auto) cover it",
     ),
@@ -74,14 +76,14 @@ INDEPENDENT_CALIBRATIONS: dict[str, IndependentCalibration] = {
         building="DOE/PNNL multifamily prototype (wall R x1.5, attic floor R x0.6, leakage x1.4 "
         "hidden; 32 samples)",
         determined_resistances=2,
-        max_resistance_error_pct=8.5,
+        max_resistance_error_pct=7.8,
         covered=1,
         parameters=3,
         determined_covered=1,
         determined=3,
-        metric_vs_truth_pct=-4.3,
-        note="the attic's infiltration +11 %, its interval 9 % above the truth, and the wall "
-        "-8.5 %, its interval 3.3 % below: the unvaried flats' infiltration (+4-10 %) is a "
+        metric_vs_truth_pct=-2.9,
+        note="the attic's infiltration +10 %, its interval 7 % above the truth, and the wall "
+        "-7.8 %, its interval 3.0 % below: the unvaried flats' infiltration (+4-10 %) is a "
         "model error they absorb",
     ),
     "calibration_energyplus_outpatient": IndependentCalibration(

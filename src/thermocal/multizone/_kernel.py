@@ -52,6 +52,7 @@ from thermocal.multizone._kernel_parts import (  # noqa: F401 - the loop's piece
     _sync_inverse,
     cube_root_update,
     ideal_loads,
+    iso15099_window_interior,
     lu_solve,
     outdoor_air_excess,
     people_excess,
@@ -102,6 +103,8 @@ def run_steps(
     face_hmax,
     tarp_on,
     face_root,
+    face_iso,
+    iso_pressure,
     air_node,
     inf_ratio,
     inf_base,
@@ -336,6 +339,17 @@ def run_steps(
                 face_root[f] = root
                 if tarp_on == 2:
                     h = simple_interior(dt_s, face_cos[f])
+                elif face_iso[f, 0] > 0.0 and abs(dt_s) < 100.0:
+                    # a window: ISO 15099 at its height (EnergyPlus' TARP for windows); beyond
+                    # 100 K (a diverging run) TARP, whose growth lets the loop's checks see it
+                    h = iso15099_window_interior(
+                        x[face_node[f]],
+                        x[face_air[f]],
+                        face_iso[f, 0],
+                        face_iso[f, 1],
+                        face_iso[f, 2],
+                        iso_pressure,
+                    )
                 else:
                     h = tarp_from_root(dt_s, root, face_cos[f])
                 if h > face_hmax[f]:

@@ -144,6 +144,8 @@ class Stepping:
                 context.face_hmax,
                 tarp_on,
                 self._face_root,
+                net.face_iso,
+                float(self._pressure),
                 net.air_node,
                 *inf_dh,
                 np.zeros((0, nz)) if linear else context.inf_dt,

@@ -891,6 +891,10 @@ class Window:
         Frame share of ``area`` (no solar transmission).
     shading_factor : float [-]
         Constant external shading reduction of incident solar radiation (1 = unshaded).
+    height : float or None [m]
+        Height of the glazing (its extent along the slope of the host surface), used by the
+        ISO 15099 natural convection on the room side (EnergyPlus' TARP for windows). None:
+        ``sqrt(area)`` (a square window).
     """
 
     name: str
@@ -899,6 +903,7 @@ class Window:
     area: float
     frame_fraction: float = 0.0
     shading_factor: float = 1.0
+    height: float | None = None
 
     def __post_init__(self) -> None:
         what = f"window '{self.name}'"
@@ -907,6 +912,8 @@ class Window:
         if self.frame_fraction >= 1.0:
             raise ThermocalInputError(f"{what}: frame_fraction must be < 1")
         self.shading_factor = _fraction(self.shading_factor, f"{what}: shading_factor")
+        if self.height is not None:
+            self.height = _positive(self.height, f"{what}: height [m]")
 
     @property
     def glazed_area(self) -> float:

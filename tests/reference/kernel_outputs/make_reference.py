@@ -1,7 +1,9 @@
 """Outputs of the multi-zone time loop on a small building, stored as the reference that any
 speed-up of the compiled kernel (``thermocal.multizone._kernel``) must reproduce (issue 22).
 
-Generated with the kernel of commit de53112 (before the speed-ups), by
+Generated with the kernel of commit de53112 (before the speed-ups) and regenerated on
+2026-11-30 when the room side of windows took ISO 15099's natural convection and the glass
+its resistance from EnergyPlus' film correlations (physics, not speed), by
 ``python tests/reference/kernel_outputs/make_reference.py``; the test
 ``tests/multizone/test_multizone_kernel_reference.py`` recomputes the same cases with the
 current code. The building is the generated single-family house (9 zones, TARP interior

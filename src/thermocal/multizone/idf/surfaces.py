@@ -269,6 +269,7 @@ class SurfaceStages:
                         window_type=wt[0],
                         area=total_area,
                         frame_fraction=0.0,
+                        height=_slope_height(world, normal, area),
                     )
                 )
             elif kind == "DOOR":
@@ -687,6 +688,21 @@ def _exterior_exposure(world: np.ndarray, terrain: str) -> dict:
         "wind_speed_factor": local_wind_factor(float(np.mean(world[:, 2])), terrain),
         "perimeter": float(np.linalg.norm(np.roll(world, -1, axis=0) - world, axis=1).sum()),
     }
+
+
+def _slope_height(world, normal, area: float) -> float:
+    """Height [m] of a planar polygon along its slope (the vertical extent of a wall window,
+    the length up the slope of a tilted one), as EnergyPlus' surface height; ``sqrt(area)``
+    for a horizontal polygon, whose slope is undefined."""
+    n = np.asarray(normal, dtype=float)
+    n = n / np.linalg.norm(n)
+    up = np.array([0.0, 0.0, 1.0]) - n[2] * n
+    if np.linalg.norm(up) < 1e-6:
+        return math.sqrt(area)
+    up = up / np.linalg.norm(up)
+    along = np.asarray(world, dtype=float) @ up
+    height = float(along.max() - along.min())
+    return height if height > 0 else math.sqrt(area)
 
 
 def _ceiling_height(polys: list[dict]) -> float:

@@ -18,6 +18,10 @@ dni                W/m2    interval     direct normal irradiance
 dhi                W/m2    interval     diffuse horizontal irradiance
 ghi_infrared       W/m2    interval     horizontal long-wave (infrared) irradiance from the sky
 albedo             -       interval     ground reflectance
+precipitation      mm/h    interval     liquid precipitation (EPW field 33, depth per hour;
+                                        missing values 0, as EnergyPlus reads them)
+weather_rain       -       interval     EPW present-weather rain (1 rain), only when the file
+                                        has observations (indicator 0)
 =================  ======  ===========  ==================================================
 
 Time convention (the same for every format)
@@ -100,7 +104,15 @@ __all__ = [
 ]
 
 #: Quantities that are means over the interval ``[t, t + step)`` [W/m2 or -].
-INTERVAL_COLUMNS = ("ghi", "dni", "dhi", "ghi_infrared", "albedo")
+INTERVAL_COLUMNS = (
+    "ghi",
+    "dni",
+    "dhi",
+    "ghi_infrared",
+    "albedo",
+    "precipitation",
+    "weather_rain",
+)
 #: Quantities that are instantaneous values at the label time.
 INSTANT_COLUMNS = (
     "temp_air",
@@ -123,6 +135,8 @@ STANDARD_COLUMNS = (
     "wind_speed",
     "wind_direction",
     "albedo",
+    "precipitation",
+    "weather_rain",
 )
 
 # EPW "missing" codes per field (EnergyPlus Auxiliary Programs, EPW data dictionary); a value
@@ -139,6 +153,7 @@ _EPW_MISSING = {
     "wind_direction": 999.0,
     "wind_speed": 999.0,
     "albedo": 999.0,
+    "precipitation": 999.0,
 }
 
 # Physically plausible ranges used to catch unit mix-ups and corrupt values.
@@ -154,6 +169,8 @@ _PLAUSIBLE = {
     "wind_speed": (0.0, 80.0, "m/s"),
     "wind_direction": (0.0, 360.0, "deg"),
     "albedo": (0.0, 1.0, "-"),
+    "precipitation": (0.0, 1000.0, "mm/h"),
+    "weather_rain": (0.0, 1.0, "-"),
 }
 
 _EPW_FIELDS = 35
@@ -332,7 +349,15 @@ def read_epw(
     frame = pd.DataFrame(index=index)
     missing: dict[str, int] = {}
     for column in STANDARD_COLUMNS:
-        source = "atmospheric_pressure" if column == "pressure" else column
+        if column == "weather_rain":
+            flag = _present_weather_rain(raw)
+            if flag is not None:
+                frame[column] = flag
+            continue
+        source = {
+            "pressure": "atmospheric_pressure",
+            "precipitation": "liquid_precipitation_depth",
+        }.get(column, column)
         if source not in raw.columns:
             continue
         _require_numeric(raw, source, path, first_line=n_header + 1, what="EPW field")
@@ -345,6 +370,9 @@ def read_epw(
                 "Kelvin; EPW temperatures are in C: subtract 273.15"
             )
         values = np.where(values >= _EPW_MISSING[column], np.nan, values)
+        if column == "precipitation":
+            # depth per record [mm] -> rate [mm/h]; a missing depth is no rain (EnergyPlus)
+            values = np.where(np.isnan(values), 0.0, values) * records_per_hour
         if np.all(np.isnan(values)):
             continue  # absent from the file: absent from the frame
         frame[column] = values
@@ -1620,6 +1648,20 @@ def _covers_whole_year(index: pd.DatetimeIndex, step: pd.Timedelta) -> bool:
             pd.Timedelta(days=366),
         )
     )
+
+
+def _present_weather_rain(raw: pd.DataFrame) -> np.ndarray | None:
+    """EPW present weather as EnergyPlus reads it: rain (1.0) when the observation indicator is 0
+    and one of the first three weather-code digits (thunderstorm, rain, rain squalls/drizzle) is
+    below 9; None when no row has an observation (indicator 9 everywhere, the usual case)."""
+    if "present_weather_observation" not in raw or "present_weather_codes" not in raw:
+        return None
+    obs = pd.to_numeric(raw["present_weather_observation"], errors="coerce").to_numpy()
+    if not np.any(obs == 0):
+        return None
+    codes = raw["present_weather_codes"].astype(str).str.strip().str.zfill(9)
+    wet = codes.str[:3].apply(lambda c: any(ch.isdigit() and int(ch) < 9 for ch in c))
+    return np.where((obs == 0) & wet.to_numpy(dtype=bool), 1.0, 0.0)
 
 
 def _instant_values_to_true_time(frame: pd.DataFrame, *, wrap: bool) -> pd.DataFrame:

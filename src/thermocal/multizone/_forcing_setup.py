@@ -17,6 +17,8 @@ from thermocal.multizone.forcing import (
     _period_sun_vectors,
     _sun_position,
     _window_inputs,
+    rain_steps,
+    wet_bulb_temperature,
 )
 from thermocal.multizone.network import (
     AIR_SPECIFIC_HEAT,
@@ -34,6 +36,80 @@ class ForcingSetup:
     """The forcing of a run prepared once (part of
     :class:`~thermocal.multizone.simulation.Simulation`).
     """
+
+    #: EnergyPlus' convection coefficient of a wet outside face [W/m2K]
+    WET_H = 1000.0
+
+    def _rain_setup(self, weather) -> None:
+        """Wet steps (``_rain_flags`` (steps,) uint8, empty when no step of the period is wet or
+        rain is off) and the outdoor wet bulb of each step ``_t_wb`` [C]."""
+        self._rain_flags = np.zeros(0, dtype=np.uint8)
+        self._t_wb = np.zeros(0)
+        if not self.rain:
+            return
+        flags = rain_steps(weather, self._grid, self.step_size, self.weather_interpolation)
+        if flags is None or not flags.any():
+            return
+        g = self._grid
+        t_air = g["temp_air_mean"].to_numpy(dtype=float)
+        if "temp_dew" in g:
+            dew = g["temp_dew"].to_numpy(dtype=float)
+        else:
+            dew = np.full_like(t_air, np.nan)
+        if "pressure" in g:
+            pressure = g["pressure"].to_numpy(dtype=float)
+            pressure = np.where(np.isfinite(pressure), pressure, 101325.0)
+        else:
+            pressure = np.full_like(t_air, 101325.0)
+        t_wb = wet_bulb_temperature(t_air, np.where(np.isfinite(dew), dew, t_air), pressure)
+        self._t_wb = np.ascontiguousarray(t_wb)
+        self._rain_flags = flags.astype(np.uint8)
+
+    def _wet_arrays(self, context, dirichlet: bool = False) -> tuple:
+        """Kernel arrays of the wet faces for ``context`` (cached in it): ``(wet_of, wet_node,
+        wet_d, wet_h0a, wet_m, wet_c)``, see :func:`thermocal.multizone._kernel.run_steps`;
+        ``dirichlet``: their response with the context's tracked air held (the exact inverse)."""
+        key = "wet_dirichlet" if dirichlet else "wet"
+        cached = context.implicit.get(key)
+        if cached is not None:
+            return cached
+        factors = context.dirichlet if dirichlet else context.factors
+        from thermocal.multizone._kernel_parts import lu_solve
+
+        net = self.network
+        n_ext = len(net.ext_node)
+        # the faces EnergyPlus wets: wind-exposed ones (NoWind faces have no wind factor)
+        idx = np.flatnonzero(np.asarray(net.ext_wind_factor) > 0.0)
+        m = len(idx)
+        wet_of = np.full(n_ext, -1, dtype=np.int64)
+        wet_of[idx] = np.arange(m)
+        wet_node = np.ascontiguousarray(net.ext_node[idx], dtype=np.int64)
+        hc0 = np.asarray(net.ext_hc0, dtype=float)[idx]
+        area = np.asarray(net.ext_area, dtype=float)[idx]
+        wet_d = (self.WET_H - hc0) * area
+        wet_h0a = hc0 * area
+        n = net.n_nodes
+        g = np.empty((m, m))
+        b = np.zeros(n)
+        work = np.empty(n)
+        out = np.empty(n)
+        for j in range(m):
+            b[wet_node[j]] = 1.0
+            lu_solve(*factors, b, work, out)
+            b[wet_node[j]] = 0.0
+            g[:, j] = out[wet_node]
+        wet_m = np.linalg.inv(np.eye(m) + g * wet_d[None, :])
+        wet_c = wet_m @ (g @ wet_d)
+        cached = (
+            wet_of,
+            wet_node,
+            np.ascontiguousarray(wet_d),
+            np.ascontiguousarray(wet_h0a),
+            np.ascontiguousarray(wet_m),
+            np.ascontiguousarray(wet_c),
+        )
+        context.implicit[key] = cached
+        return cached
 
     def _shadow_setup(self) -> dict | None:
         """Sunlit fractions (per step) and sky-diffuse ratios of the shaded receivers."""

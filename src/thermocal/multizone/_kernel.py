@@ -194,6 +194,14 @@ def run_steps(
     gt_m,
     gt_d,
     gt_inv,
+    rain,
+    t_wb,
+    wet_of,
+    wet_node,
+    wet_d,
+    wet_h0a,
+    wet_m,
+    wet_c,
 ):
     """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
 
@@ -223,6 +231,16 @@ def run_steps(
     open, they add ``vent_g`` [W/K] to the zone's outdoor-air conductance, ``vent_gdt |dT|``
     [W/K^2] lagged and the fan heat ``vent_fan`` [W]; ``vent_open[k, j]`` records the open
     fraction (an object crossing its lower limit within the step is open for a fraction of it).
+
+    Rain (``rain`` (steps,) nonzero on wet steps; empty: no rain in the period): the
+    wind-exposed exterior faces ``wet_node`` (m,) (``wet_of`` (n_ext,): index among them or -1)
+    take, as EnergyPlus' wet outside faces, a convection coefficient of 1000 W/m2K to the outdoor
+    wet-bulb temperature ``t_wb`` (steps,) instead of the wind's coefficient to the dry bulb: the
+    matrix part ``hc0 A`` is moved to the wet bulb (``wet_h0a``, explicit), the excess
+    ``wet_d = (1000 - hc0) A`` is implicit in the step (Woodbury on the faces' response: with
+    ``y0`` their temperatures without it, ``y = wet_m y0 + wet_c T_wb``, ``wet_m = (I + G D)^-1``,
+    ``wet_c = wet_m G D 1``, one more substitution per wet step, with the tracked air held in the
+    exact inverse) and the wind's explicit excess is not applied.
 
     General exact inverse (``track_general``): the tracked zones ``gt_zone`` (mt,) with
     scheduled outdoor air take it in the step it belongs to, solved with the tracking heat:
@@ -280,6 +298,10 @@ def run_steps(
     h_t = np.zeros(mt)
     res_t = np.zeros(mt)
     n_faces = face_node.shape[0]
+    rain_rows = rain.shape[0]
+    m_wet = wet_node.shape[0]
+    wet_x = np.empty(n if rain_rows > 0 else 0)
+    wet_y = np.empty(m_wet)
     # the zones' interior convective conductance in the matrix (constant over the steps)
     for f in range(n_faces):
         zone_g0[face_zone[f]] += face_h0[f] * face_area[f]
@@ -299,10 +321,26 @@ def run_steps(
             rhs[air_node[z]] += heat_extra[s, z]
         t_out = u[k, 0]
         t_sky = u[k, 1]
+        wet = rain_rows > 0 and rain[k] != 0
         # 2. explicit corrections
         for e in range(ext_node.shape[0]):
             node = ext_node[e]
             ts = x[node]
+            if wet and wet_of[e] >= 0:
+                # a wet face: convection to the wet bulb (below), no wind excess
+                if exact_sky:
+                    ts2 = (ts + KELVIN) * (ts + KELVIN)
+                    to2 = (t_out + KELVIN) * (t_out + KELVIN)
+                    tk2 = (t_sky + KELVIN) * (t_sky + KELVIN)
+                    ts4 = ts2 * ts2
+                    exact = SIGMA * (
+                        ext_view_air[e] * (to2 * to2 - ts4) + ext_view_sky[e] * (tk2 * tk2 - ts4)
+                    )
+                    linear = ext_hr0 * (
+                        ext_view_air[e] * (t_out - ts) + ext_view_sky[e] * (t_sky - ts)
+                    )
+                    rhs[node] += ext_area_eps[e, 1] * (exact - linear)
+                continue
             # the wind's series is shared by the faces of one class (orientation, exposure)
             dh = ext_dh[k, ext_class[e]]
             mode = ext_natural[e, 0]
@@ -502,6 +540,29 @@ def run_steps(
                 q[c] = u_c
                 for p in range(track_ptr[c], track_ptr[c + 1]):
                     rhs[track_idx[p]] += track_val[p] * u_c
+        # 1b. rain: the wet faces' convection to the wet bulb, implicit in the step
+        if wet and m_wet > 0:
+            twb = t_wb[k]
+            for i in range(m_wet):
+                rhs[wet_node[i]] += wet_h0a[i] * (twb - t_out)
+            if dirichlet_first:  # the tracked zones' air at its reference (the step's system)
+                for i in range(n):
+                    rhs_d[i] = rhs[i]
+                for c in range(nc):
+                    rhs_d[air_node[ctrl_zone[c]]] = track_ref[s, c]
+                lu_solve(
+                    dlp, dli, dlx, dup, dui, dux, d_inv_diag, d_inverse_r, d_perm_c, rhs_d, work,
+                    wet_x,
+                )  # fmt: skip
+            else:
+                lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, wet_x)
+            for i in range(m_wet):
+                acc = wet_c[i] * twb
+                for j in range(m_wet):
+                    acc += wet_m[i, j] * wet_x[wet_node[j]]
+                wet_y[i] = acc
+            for i in range(m_wet):
+                rhs[wet_node[i]] += wet_d[i] * (twb - wet_y[i])
         # 2'. outdoor air of the implicit zones in the step it belongs to (Woodbury on the first
         #     solve's system): y = air temperatures without it, then (I + G D) y = y0 + G D T_out
         if m_imp > 0:

@@ -122,6 +122,16 @@ class Outputs:
             )
         else:
             out.append("weather held over each hour (weather_interpolation='hold')")
+        wet = int(np.count_nonzero(self._rain_flags))
+        if wet:
+            out.append(
+                f"rain on {wet} of {len(self.times)} steps (the weather's liquid precipitation, "
+                "at least 0.8 mm/h, and present weather, as EnergyPlus): wind-exposed outside "
+                "faces at 1000 W/(m2 K) to the outdoor wet bulb; not applied in an identification "
+                "with a sensor form other than the air (the general inverse)"
+            )
+        elif not self.rain and getattr(info, "use_weather_rain", True) is False:
+            out.append("rain indicators off (RunPeriod 'Use Weather File Rain Indicators' No)")
         shaders = getattr(info, "shading_surfaces", None)
         if shaders:
             if self._shadows is not None:

@@ -25,6 +25,18 @@ def _daily_extremes(air: np.ndarray) -> np.ndarray:
     """Each zone's maximum and minimum air temperature of a day [C] (steps x zones in)."""
     return np.concatenate([air.max(axis=0), air.min(axis=0)])
 
+#: kernel arrays of a dry run (see the rain arguments of _kernel.run_steps)
+_NO_RAIN = (
+    np.zeros(0, dtype=np.uint8),
+    np.zeros(0),
+    np.zeros(0, dtype=np.int64),
+    np.zeros(0, dtype=np.int64),
+    np.zeros(0),
+    np.zeros(0),
+    np.zeros((0, 0)),
+    np.zeros(0),
+)
+
 
 class Stepping:
     """The time loop (part of :class:`~thermocal.multizone.simulation.Simulation`)."""
@@ -117,6 +129,13 @@ class Stepping:
         tracked_air = context.implicit.get("tracked", _NO_TRACKED_AIR) if general else None
         if tracked_air is None or linear:
             tracked_air = _NO_TRACKED_AIR
+        # rain on the simulation's own steps (not a coarse warm-up's): a free run, ideal loads
+        # (their faces' response the free system's), the PID and the exact air inverse (the
+        # tracked air held); not the general inverse
+        if len(self._rain_flags) and not linear and not general and context.dt == self.dt:
+            rain = (self._rain_flags, self._t_wb, *self._wet_arrays(context, dirichlet_first))
+        else:
+            rain = _NO_RAIN
         try:
             _kernel.run_steps(
                 k0,
@@ -204,6 +223,7 @@ class Stepping:
                 *imp,
                 *vent,
                 *tracked_air,
+                *rain,
             )
         except ZeroDivisionError:
             self._diverged(k0, n, None)

@@ -299,3 +299,105 @@ def _irradiance(
         }
         out[key]["aoi"] = np.where(np.isfinite(frame["aoi"].to_numpy()), out[key]["aoi"], 90.0)
     return out
+
+
+#: EnergyPlus' rain threshold: a step is wet when its (interpolated) liquid precipitation is at
+#: least 0.8 mm per hour (WeatherManager: ``IsRainThreshold = 0.8 / TimeStepsInHour`` [mm] on the
+#: step's depth)
+RAIN_THRESHOLD_MM_PER_H = 0.8
+#: liquid precipitation EnergyPlus assumes in an hour whose present weather says rain but whose
+#: precipitation depth is zero or missing [mm/h]
+PRESENT_WEATHER_RAIN_MM = 2.0
+
+
+def _saturation_pressure(t):
+    """Saturation vapour pressure over water (t >= 0) or ice [Pa] (ASHRAE HOF 2017, ch. 1)."""
+    tk = np.asarray(t, dtype=float) + 273.15
+    ice = np.exp(
+        -5.6745359e3 / tk
+        + 6.3925247
+        - 9.677843e-3 * tk
+        + 6.2215701e-7 * tk**2
+        + 2.0747825e-9 * tk**3
+        - 9.484024e-13 * tk**4
+        + 4.1635019 * np.log(tk)
+    )
+    water = np.exp(
+        -5.8002206e3 / tk
+        + 1.3914993
+        - 4.8640239e-2 * tk
+        + 4.1764768e-5 * tk**2
+        - 1.4452093e-8 * tk**3
+        + 6.5459673 * np.log(tk)
+    )
+    return np.where(tk >= 273.15, water, ice)
+
+
+def wet_bulb_temperature(temp_air, temp_dew, pressure):
+    """Psychrometric wet-bulb temperature [C] from dry bulb [C], dew point [C], pressure [Pa]
+    (ASHRAE HOF 2017 ch. 1 eq. 33/35 solved by bisection; EnergyPlus' PsyTwbFnTdbWPb)."""
+    t = np.asarray(temp_air, dtype=float)
+    p = np.broadcast_to(np.asarray(pressure, dtype=float), t.shape)
+    pw = _saturation_pressure(np.minimum(np.asarray(temp_dew, dtype=float), t))
+    w = 0.621945 * pw / (p - pw)
+    lo = np.full(t.shape, -100.0)
+    hi = t.copy()
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        ps = _saturation_pressure(mid)
+        ws = 0.621945 * ps / (p - ps)
+        w_mid = np.where(
+            mid >= 0.0,
+            ((2501.0 - 2.326 * mid) * ws - 1.006 * (t - mid)) / (2501.0 + 1.86 * t - 4.186 * mid),
+            ((2830.0 - 0.24 * mid) * ws - 1.006 * (t - mid)) / (2830.0 + 1.86 * t - 2.1 * mid),
+        )
+        # w_mid grows with the guess: the wet bulb lies above mid when w_mid < w
+        above = w_mid < w
+        lo = np.where(above, mid, lo)
+        hi = np.where(above, hi, mid)
+    return 0.5 * (lo + hi)
+
+
+def rain_steps(weather: pd.DataFrame, grid: pd.DataFrame, step: pd.Timedelta, interpolation: str):
+    """Wet steps of the simulation grid as EnergyPlus flags them (bool (steps,)), None when the
+    weather has neither precipitation nor present-weather observations.
+
+    Hourly liquid precipitation (missing = 0; an hour whose present weather says rain with no
+    depth takes 2 mm) is, with ``interpolation="energyplus"``, placed at the end of its hour and
+    interpolated linearly to each step's end (EnergyPlus' weather manager); a step is wet when
+    the rate is at least 0.8 mm/h. At one step per hour EnergyPlus skips that interpolation and
+    takes the present-weather flag alone. With ``"hold"`` the step's mean rate is compared.
+    """
+    if "precipitation" not in weather and "weather_rain" not in weather:
+        return None
+    hour = pd.Timedelta("1h")
+    flag = (
+        weather["weather_rain"].fillna(0.0).to_numpy(dtype=float) > 0.0
+        if "weather_rain" in weather
+        else np.zeros(len(weather), dtype=bool)
+    )
+    if "precipitation" in weather:
+        rate = weather["precipitation"].fillna(0.0).to_numpy(dtype=float)
+    else:
+        rate = np.zeros(len(weather))
+    rate = np.where(flag & (rate == 0.0), PRESENT_WEATHER_RAIN_MM, rate)
+    if interpolation == "energyplus":
+        from thermocal.io.weather import weather_step
+
+        wstep = weather_step(weather)
+        if step == hour and wstep == hour:
+            on = pd.Series(flag, index=weather.index).reindex(grid.index).fillna(0.0)
+            return on.to_numpy(dtype=float) > 0.0
+        n = int(round(hour / step))
+        ends = (grid.index + step).as_unit("ns").asi8.astype(float)
+        hour_ends = (weather.index + wstep).as_unit("ns").asi8.astype(float)
+        depth = np.interp(ends, hour_ends, rate) * (wstep / hour) / n
+        return depth >= RAIN_THRESHOLD_MM_PER_H / n
+    if "precipitation" in grid:
+        g = grid["precipitation"].fillna(0.0).to_numpy(dtype=float)
+    else:
+        g = np.zeros(len(grid))
+    if "weather_rain" in grid:
+        pw = grid["weather_rain"].fillna(0.0).to_numpy(dtype=float) > 0.0
+        g = np.where(pw & (g == 0.0), PRESENT_WEATHER_RAIN_MM, g)
+    return g >= RAIN_THRESHOLD_MM_PER_H

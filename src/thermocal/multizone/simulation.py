@@ -113,6 +113,11 @@ class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Ou
         surfaces, beam and the sky's circumsolar part by the sunlit fraction of each step, the
         sky dome and horizon band by their unshaded views, as EnergyPlus
         (:mod:`thermocal.multizone.shading`); False ignores them.
+    rain : bool or None
+        Wet exterior faces on rain steps as EnergyPlus (wind-exposed faces: 1000 W/m2K to the
+        outdoor wet bulb; rain from the weather's liquid precipitation, >= 0.8 mm/h, and present
+        weather). None: an imported IDF follows its RunPeriod 'Use Weather File Rain Indicators',
+        other models are dry.
     weather_interpolation : {None, "hold", "energyplus"}
         How hourly weather becomes sub-hourly steps. ``"hold"``: irradiance means held over each
         hour, each step's air temperature the mean of its end values (linear in time between the
@@ -151,6 +156,7 @@ class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Ou
         schedules: str = "file",
         shading: bool = True,
         weather_interpolation: str | None = None,
+        rain: bool | None = None,
     ) -> None:
         if not isinstance(building, Building):
             raise ThermocalInputError("Simulation: building must be a thermocal Building")
@@ -207,6 +213,12 @@ class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Ou
             weather, self.step_size, start, end, interpolation=weather_interpolation
         )
         self.times = self._grid.index
+        if rain is None:
+            # an imported model follows its RunPeriod ('Use Weather File Rain Indicators', Yes
+            # when blank), as EnergyPlus; thermocal's own models stay dry unless asked
+            rain = bool(getattr(info, "use_weather_rain", True)) if info is not None else False
+        self.rain = bool(rain)
+        self._rain_setup(weather)
         if schedules not in ("file", "constant"):
             raise ThermocalInputError(
                 f"Simulation: schedules must be 'file' or 'constant', got {schedules!r}"

@@ -133,6 +133,9 @@ class IdfImportInfo:
     zone_wind_factor: dict[str, float] = field(default_factory=dict)
     zone_nominal_ach: dict[str, float] = field(default_factory=dict)
     zone_volume: dict[str, float] = field(default_factory=dict)
+    #: RunPeriod 'Use Weather File Rain Indicators' (Yes when blank): wet outside faces on rain
+    #: steps
+    use_weather_rain: bool = True
     run_period: tuple | None = None  # site.RunPeriod: name, begin/end month, day, year, where
     #: ``Timestep``: steps per hour of the file (EnergyPlus' default 6 when absent)
     timesteps_per_hour: int | None = None

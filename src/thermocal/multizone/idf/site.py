@@ -273,6 +273,8 @@ class SiteStages:
         calendar_flags = {}
         for rp in self.by_key.get("RUNPERIOD", [])[:1] if self.version >= (9, 0) else []:
             f = [x.strip().upper() for x in rp.fields] + [""] * 11
+            # 'Use Weather File Rain Indicators' (field 12, Yes when blank)
+            self.info.use_weather_rain = f[11] != "NO"
             calendar_flags = {
                 "weather_holidays": f[8] != "NO",
                 "weather_daylight_saving": f[9] != "NO",

@@ -1,6 +1,6 @@
 """thermocal against EnergyPlus 25.2 on NREL EnergyPlus test files thermocal was not written for.
 
-Four files of NREL/EnergyPlus ``testfiles/``, converted to 25.2 and free floating, are kept in
+Six files of NREL/EnergyPlus ``testfiles/``, converted to 25.2 and free floating, are kept in
 ``tests/reference/forward_nrel_testfiles/`` (one folder each: the IDF, the conversion script
 from the survey's transcription, a README.md with the source commit, every edit and why).
 Both engines simulate the same IDF, a winter (January 1-15) and a summer (July 1-15) period,
@@ -23,6 +23,14 @@ a zone of three surfaces (not enclosed, volume autocalculated as EnergyPlus), an
 concrete floor, +352/-352 W of OtherEquipment. 1ZoneUncontrolled_win_1: a double glazing of
 ``WindowMaterial:Glazing``/``Gas`` layers (the file's ``Construction:WindowDataFile`` replaced by
 the glazing its Window5 entry describes), a floor facing itself (``Surface`` boundary).
+InternalMass_wZoneList (Version 9.6, via NREL/Spawn): three office zones with one ``InternalMass``
+on a ``ZoneList``, Relative coordinates with zone origins, ``Material:NoMass``, floors
+``Outdoors`` NoSun/NoWind facing themselves, a single-pane window, gains on weekday schedules,
+and July's rain steps (wet wind-exposed faces, as EnergyPlus). WindowTestsSimple (9.6, via
+NREL/Spawn) with its shading devices removed: nine 94 %-glazed cubes of
+``WindowMaterial:SimpleGlazingSystem`` windows (U 1.3-5.8 W/(m2 K)), where the windows' room-side
+film (ISO 15099, as EnergyPlus's TARP for windows) carries the balance; five distinct cubes are
+compared (the other four are DPW's copies).
 
 Measured 2026-11-30 (hourly, days 2-15; MAE / bias / max [K]; the bounds in ``BOUNDS``):
 
@@ -32,6 +40,14 @@ Measured 2026-11-30 (hourly, days 2-15; MAE / bias / max [K]; the bounds in ``BO
 | 1ZoneUncontrolled_FCfactor_Slab_UGWall | ZONE ONE | 0.16 / -0.16 / 0.41 | 0.06 / -0.04 / 0.69 |
 | 1ZoneUncontrolled3SurfaceZone | ZONE ONE | 0.31 / +0.06 / 0.97 | 0.21 / -0.07 / 1.07 |
 | 1ZoneUncontrolled_win_1 | ZONE ONE | 0.35 / +0.01 / 1.00 | 0.28 / -0.12 / 1.41 |
+| InternalMass_wZoneList | West Zone | 0.38 / +0.12 / 1.32 | 0.30 / +0.01 / 0.87 |
+| InternalMass_wZoneList | East Zone | 0.21 / +0.10 / 0.72 | 0.16 / -0.00 / 0.48 |
+| InternalMass_wZoneList | North Zone | 0.24 / +0.10 / 0.79 | 0.21 / -0.00 / 0.62 |
+| WindowTestsSimple | SPHW | 0.20 / +0.07 / 1.10 | 0.18 / -0.00 / 0.82 |
+| WindowTestsSimple | DPW | 0.51 / +0.04 / 1.71 | 0.52 / -0.08 / 1.66 |
+| WindowTestsSimple | TPW | 0.72 / +0.06 / 2.45 | 0.73 / -0.12 / 1.86 |
+| WindowTestsSimple | QPW | 0.83 / +0.08 / 2.81 | 0.84 / -0.15 / 2.31 |
+| WindowTestsSimple | DPM | 0.53 / +0.04 / 1.76 | 0.53 / -0.08 / 1.68 |
 
 Most of the 15-minute MAE of the two light one-zone files (NoMass walls) is time-step error of
 both engines (0.11-0.16 K with both at 3 minutes, docs/energyplus.md); the bounds are at 15
@@ -39,7 +55,9 @@ minutes. Each test fails when the physics is broken after import (README.md of t
 2026-11-30): the double glazing's U-value x 1.5 (win_1), the internal gains dropped
 (VentilationSimpleTest winter), the R-13 walls' U-value x 1.5 (the one-zone files), the
 ventilation flows / 1.5 (VentilationSimpleTest summer), the shading surfaces dropped
-(VentilationSimpleTest).
+(VentilationSimpleTest); and with two options of the simulation: thermocal without rain
+(InternalMass_wZoneList summer), the windows' room side by TARP's wall correlation instead of
+ISO 15099 (WindowTestsSimple, both periods).
 """
 
 from __future__ import annotations
@@ -91,6 +109,16 @@ CASES = {
     "1ZoneUncontrolled_win_1": Case(
         "1ZoneUncontrolled_win_1/1ZoneUncontrolled_win_1_layered_v25.idf", ("ZONE ONE",)
     ),
+    "InternalMass_wZoneList": Case(
+        "InternalMass_wZoneList/InternalMass_wZoneList_v25.idf",
+        ("West Zone", "East Zone", "North Zone"),
+    ),
+    # all nine cubes are simulated; DPWB, DPWD, DPWS and SCWINDOW are DPW's copies once the
+    # shading devices are removed (same window; both engines give them DPW's temperatures)
+    "WindowTestsSimple": Case(
+        "WindowTestsSimple/WindowTestsSimple_noShadingControl_v25.idf",
+        ("SPHW", "DPW", "TPW", "QPW", "DPM"),
+    ),
 }
 
 #: simulated periods: (begin, end) month and day, both inclusive; the first day is start-up
@@ -126,6 +154,32 @@ BOUNDS: dict[tuple[str, str], dict[str, tuple[float, float, float]]] = {
     },
     ("1ZoneUncontrolled_win_1", "summer"): {
         "ZONE ONE": (0.39, 0.18, 1.90),  # 0.279 / -0.124 / 1.413
+    },
+    # InternalMass_wZoneList and WindowTestsSimple measured 2026-11-30 with the windows' ISO
+    # 15099 room side and rain as EnergyPlus
+    ("InternalMass_wZoneList", "winter"): {  # zones -2.7..28.8 C
+        "West Zone": (0.52, 0.16, 1.80),  # 0.383 / +0.117 / 1.317
+        "East Zone": (0.29, 0.14, 1.00),  # 0.210 / +0.099 / 0.716
+        "North Zone": (0.32, 0.14, 1.10),  # 0.237 / +0.096 / 0.788
+    },
+    ("InternalMass_wZoneList", "summer"): {  # zones 26.4-48.3 C, rain on some steps
+        "West Zone": (0.41, 0.05, 1.20),  # 0.301 / +0.012 / 0.866
+        "East Zone": (0.22, 0.05, 0.67),  # 0.161 / -0.001 / 0.478
+        "North Zone": (0.28, 0.05, 0.85),  # 0.206 / -0.002 / 0.617
+    },
+    ("WindowTestsSimple", "winter"): {  # glass cubes -10.7..61.3 C
+        "SPHW": (0.27, 0.09, 1.50),  # 0.200 / +0.067 / 1.098
+        "DPW": (0.70, 0.06, 2.30),  # 0.512 / +0.042 / 1.706
+        "TPW": (0.97, 0.08, 3.30),  # 0.715 / +0.056 / 2.449
+        "QPW": (1.12, 0.11, 3.80),  # 0.831 / +0.081 / 2.809
+        "DPM": (0.72, 0.06, 2.40),  # 0.525 / +0.040 / 1.758
+    },
+    ("WindowTestsSimple", "summer"): {  # 15.4-80.3 C
+        "SPHW": (0.25, 0.05, 1.15),  # 0.180 / -0.002 / 0.820
+        "DPW": (0.70, 0.12, 2.25),  # 0.518 / -0.082 / 1.658
+        "TPW": (0.99, 0.17, 2.55),  # 0.735 / -0.123 / 1.860
+        "QPW": (1.13, 0.21, 3.15),  # 0.840 / -0.151 / 2.309
+        "DPM": (0.72, 0.12, 2.30),  # 0.530 / -0.083 / 1.679
     },
 }
 
@@ -175,7 +229,7 @@ def hourly_errors(reference: pd.DataFrame, result, zone: str, period: str) -> di
     ours = result.air_temperature[zone].resample("1h").mean()
     if ours.index.tz is not None:
         ours.index = ours.index.tz_localize(None)
-    theirs = reference[f"{zone}:Zone Mean Air Temperature [C]"]
+    theirs = reference[f"{zone.upper()}:Zone Mean Air Temperature [C]"]  # EnergyPlus' names
     start, end = period_bounds(period)
     hours = pd.date_range(start + pd.Timedelta(days=1), end, freq="1h", inclusive="left")
     diff = ours.reindex(hours).to_numpy() - theirs.reindex(hours).to_numpy()

@@ -106,7 +106,7 @@ def main() -> None:
                 start, end = T.period_bounds(period)
                 compared = reference.loc[start + T.pd.Timedelta(days=1) : end]
                 ranges = {
-                    z: [round(float(f(compared[f"{z}:Zone Mean Air Temperature [C]"])), 2)
+                    z: [round(float(f(compared[f"{z.upper()}:Zone Mean Air Temperature [C]"])), 2)
                         for f in (T.np.min, T.np.mean, T.np.max)]
                     for z in zones
                 }  # fmt: skip

@@ -32,14 +32,18 @@ NREL/Spawn) with its shading devices removed: nine 94 %-glazed cubes of
 film (ISO 15099, as EnergyPlus's TARP for windows) carries the balance; five distinct cubes are
 compared (the other four are DPW's copies).
 
-Measured 2026-11-30 (hourly, days 2-15; MAE / bias / max [K]; the bounds in ``BOUNDS``):
+Measured 2026-11-30, after thermocal took rain as EnergyPlus does and the windows' room side ISO
+15099's convection (hourly, days 2-15; MAE / bias / max [K]; the bounds in ``BOUNDS``; the
+bounds' comments give the summer figures before, thermocal dry against a wet EnergyPlus: July's
+rain cools EnergyPlus's light one-zone files by 0.14-0.27 K and thermocal's now within 0.01 K of
+that, which leaves a cold July bias of 0.09-0.23 K the missing rain had offset):
 
 | file | zone | winter | summer |
 |---|---|---|---|
-| VentilationSimpleTest | ZONE 1, 2, 3 | 0.06 / -0.00 / 0.25 | 0.13-0.14 / +0.08..+0.11 / 0.77 |
-| 1ZoneUncontrolled_FCfactor_Slab_UGWall | ZONE ONE | 0.16 / -0.16 / 0.41 | 0.06 / -0.04 / 0.69 |
-| 1ZoneUncontrolled3SurfaceZone | ZONE ONE | 0.31 / +0.06 / 0.97 | 0.21 / -0.07 / 1.07 |
-| 1ZoneUncontrolled_win_1 | ZONE ONE | 0.35 / +0.01 / 1.00 | 0.28 / -0.12 / 1.41 |
+| VentilationSimpleTest | ZONE 1, 2, 3 | 0.07 / +0.04 / 0.27 | 0.06-0.08 / -0.00..+0.02 / 0.56 |
+| 1ZoneUncontrolled_FCfactor_Slab_UGWall | ZONE ONE | 0.16 / -0.16 / 0.41 | 0.09 / -0.09 / 0.18 |
+| 1ZoneUncontrolled3SurfaceZone | ZONE ONE | 0.31 / +0.06 / 0.97 | 0.25 / -0.20 / 0.65 |
+| 1ZoneUncontrolled_win_1 | ZONE ONE | 0.34 / +0.03 / 1.00 | 0.30 / -0.23 / 0.73 |
 | InternalMass_wZoneList | West Zone | 0.38 / +0.12 / 1.32 | 0.30 / +0.01 / 0.87 |
 | InternalMass_wZoneList | East Zone | 0.21 / +0.10 / 0.72 | 0.16 / -0.00 / 0.48 |
 | InternalMass_wZoneList | North Zone | 0.24 / +0.10 / 0.79 | 0.21 / -0.00 / 0.62 |
@@ -128,32 +132,32 @@ PERIODS = {"winter": ((1, 1), (1, 15)), "summer": ((7, 1), (7, 15))}
 #: in the comments (MAE / bias / max, 2026-11-30)
 BOUNDS: dict[tuple[str, str], dict[str, tuple[float, float, float]]] = {
     ("VentilationSimpleTest", "winter"): {  # vents off (zones 2.5-16.6 C, below 18 C)
-        "ZONE 1": (0.09, 0.05, 0.35),  # 0.064 / -0.002 / 0.251
-        "ZONE 2": (0.09, 0.05, 0.35),  # 0.063 / -0.001 / 0.252
-        "ZONE 3": (0.09, 0.05, 0.35),  # 0.063 / -0.001 / 0.252
+        "ZONE 1": (0.09, 0.05, 0.35),  # 0.067 / +0.036 / 0.272
+        "ZONE 2": (0.09, 0.05, 0.35),  # 0.067 / +0.038 / 0.273
+        "ZONE 3": (0.09, 0.05, 0.35),  # 0.067 / +0.038 / 0.273
     },
     ("VentilationSimpleTest", "summer"): {  # vents on above 18 C (zones 17.8-33.1 C)
-        "ZONE 1": (0.18, 0.12, 1.05),  # 0.127 / +0.081 / 0.759
-        "ZONE 2": (0.20, 0.15, 1.05),  # 0.144 / +0.110 / 0.774
-        "ZONE 3": (0.19, 0.13, 1.05),  # 0.136 / +0.089 / 0.760
+        "ZONE 1": (0.11, 0.05, 0.75),  # 0.074 / +0.014 / 0.517 (rain: +0.081 dry)
+        "ZONE 2": (0.09, 0.05, 0.60),  # 0.057 / -0.002 / 0.401 (+0.110 dry)
+        "ZONE 3": (0.12, 0.05, 0.80),  # 0.083 / +0.023 / 0.563 (+0.089 dry)
     },
     ("1ZoneUncontrolled_FCfactor_Slab_UGWall", "winter"): {
         "ZONE ONE": (0.23, 0.22, 0.58),  # 0.161 / -0.160 / 0.411
     },
     ("1ZoneUncontrolled_FCfactor_Slab_UGWall", "summer"): {
-        "ZONE ONE": (0.09, 0.06, 0.95),  # 0.061 / -0.040 / 0.689
+        "ZONE ONE": (0.13, 0.13, 0.27),  # 0.091 / -0.090 / 0.184 (dry: 0.061 / -0.040 / 0.689)
     },
     ("1ZoneUncontrolled3SurfaceZone", "winter"): {
         "ZONE ONE": (0.42, 0.09, 1.35),  # 0.307 / +0.059 / 0.969
     },
     ("1ZoneUncontrolled3SurfaceZone", "summer"): {
-        "ZONE ONE": (0.29, 0.10, 1.45),  # 0.207 / -0.068 / 1.069
+        "ZONE ONE": (0.35, 0.28, 0.95),  # 0.246 / -0.198 / 0.652 (dry: 0.207 / -0.068 / 1.069)
     },
     ("1ZoneUncontrolled_win_1", "winter"): {
-        "ZONE ONE": (0.48, 0.05, 1.35),  # 0.349 / +0.005 / 0.997
+        "ZONE ONE": (0.48, 0.05, 1.35),  # 0.344 / +0.025 / 0.998
     },
     ("1ZoneUncontrolled_win_1", "summer"): {
-        "ZONE ONE": (0.39, 0.18, 1.90),  # 0.279 / -0.124 / 1.413
+        "ZONE ONE": (0.42, 0.33, 1.05),  # 0.301 / -0.235 / 0.729 (dry: 0.279 / -0.124 / 1.413)
     },
     # InternalMass_wZoneList and WindowTestsSimple measured 2026-11-30 with the windows' ISO
     # 15099 room side and rain as EnergyPlus

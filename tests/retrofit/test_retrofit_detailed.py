@@ -175,25 +175,28 @@ def year_run():
 def test_baseline_demand_within_5_percent_of_energyplus(year_run):
     kwh, _, ref_kwh, _ = year_run["none"]
     # measured 2026-11-25: 10,230 vs 10,302 kWh (-0.7 %; -6.4 % with the outside natural
-    # convection at a nominal 3 K, docs/retrofit.md)
+    # convection at a nominal 3 K, docs/retrofit.md); 2026-11-30 with rain as EnergyPlus:
+    # 10,387 kWh (+0.8 %; 10,090 without rain)
     assert kwh == pytest.approx(ref_kwh["none"], rel=0.05)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("measure", ["attic_ceiling", "windows"])
+@pytest.mark.parametrize("measure", ["attic_ceiling", "windows", "walls"])
 def test_saving_within_3_points_of_energyplus(year_run, measure):
     _, saving, _, ref = year_run[measure]
-    # measured 2026-11-25: attic ceiling 5.3 vs 5.3 %, windows 19.8 vs 20.8 %
+    # measured 2026-11-30 (rain as EnergyPlus, the windows' ISO 15099 convection): attic
+    # ceiling 5.2 vs 5.3 %, windows 18.5 vs 20.8 %, walls 56.4 vs 59.3 % (-2.9 pp; -3.5 pp
+    # without rain: the wet walls' days, which the insulation shortens, were missing)
     assert saving == pytest.approx(ref["saving_pct"][measure], abs=3.0)
 
 
 @pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
-    reason="known gap (docs/retrofit.md, 'Retrofit on the detailed model'): walls 55 vs 59 % "
-    "(-4 pp), slab +13 pp (ISO 13370 soil layer vs Kiva's 2-D ground)",
+    reason="known gap (docs/retrofit.md, 'Retrofit on the detailed model'): slab 12.8 vs 0.7 % "
+    "(+12 pp; ISO 13370 soil layer vs Kiva's 2-D ground)",
 )
-@pytest.mark.parametrize("measure", ["walls", "ground_floor"])
+@pytest.mark.parametrize("measure", ["ground_floor"])
 def test_saving_within_3_points_of_energyplus_not_yet(year_run, measure):
     _, saving, _, ref = year_run[measure]
     assert saving == pytest.approx(ref["saving_pct"][measure], abs=3.0)

@@ -386,6 +386,7 @@ def run_steps(
                         face_iso[f, 0],
                         face_iso[f, 1],
                         face_iso[f, 2],
+                        face_iso[f, 3:5],
                         iso_pressure,
                     )
                 else:

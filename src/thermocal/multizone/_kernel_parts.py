@@ -124,7 +124,7 @@ def tarp_from_root(delta_t, root, cos_up):
 
 
 @njit(cache=True)
-def iso15099_window_interior(t_surface, t_air, height, tilt, sin_tilt, pressure):
+def iso15099_window_interior(t_surface, t_air, height, tilt, sin_tilt, ra_cv, pressure):
     """Room-side natural convection of a window, ISO 15099 §8.3.2.2, as EnergyPlus' TARP
     algorithm takes it for windows (ConvectionCoefficients.cc, CalcISO15099WindowIntConvCoeff)
     [W/(m2 K)].
@@ -142,6 +142,10 @@ def iso15099_window_interior(t_surface, t_air, height, tilt, sin_tilt, pressure)
     tilt : float [deg]
         0 facing up, 90 vertical.
     sin_tilt : float [-]
+    ra_cv : (float, float)
+        The critical Rayleigh number of the 15-90 degree correlation at ``tilt`` (glass colder
+        than the air) and at ``180 - tilt`` (warmer), computed once per window
+        (:func:`thermocal.multizone.network.iso15099_critical_rayleigh`) [-].
     pressure : float [Pa]
     """
     # the correlations hold near room temperature: a diverging run (far outside them) keeps
@@ -154,25 +158,21 @@ def iso15099_window_interior(t_surface, t_air, height, tilt, sin_tilt, pressure)
     cp = 1006.0
     ra = rho * rho * height * height * height * 9.81 * cp * abs(dt) / (t_film * mu * k)
     angle = tilt
+    critical = ra_cv[0]
     if dt > 0.0:
         angle = 180.0 - tilt
+        critical = ra_cv[1]
     if angle < 15.0:
         nu = 0.13 * np.cbrt(ra)
     elif angle <= 90.0:
         s = max(sin_tilt, 1e-6)
-        ra_cv = 2.5e5 * (np.exp(0.72 * angle) / s) ** 0.2
-        if ra <= ra_cv:
-            nu = 0.56 * (ra * s) ** 0.25
+        if ra <= critical:
+            nu = 0.56 * np.sqrt(np.sqrt(ra * s))
         else:
-            nu = 0.13 * (np.cbrt(ra) - np.cbrt(ra_cv)) + 0.56 * (ra_cv * s) ** 0.25
+            nu = 0.13 * (np.cbrt(ra) - np.cbrt(critical)) + 0.56 * np.sqrt(np.sqrt(critical * s))
     elif angle <= 179.0:
-        x = ra * sin_tilt
-        if x < 1.0e5:
-            nu = 0.56 * 1.0e5**0.25
-        elif x >= 1.0e11:
-            nu = 0.56 * 1.0e11**0.25
-        else:
-            nu = 0.56 * x**0.25
+        x = min(max(ra * sin_tilt, 1.0e5), 1.0e11)
+        nu = 0.56 * np.sqrt(np.sqrt(x))
     else:
         if ra > 1.0e11:
             nu = 0.58 * 1.0e11**0.2

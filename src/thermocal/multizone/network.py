@@ -78,6 +78,16 @@ def window_film_resistance(u_value: float) -> float:
         r_in = 1.0 / (1.788041 * u - 2.886625)
     return r_in + 1.0 / (0.025342 * u + 29.163853)
 
+
+def iso15099_critical_rayleigh(angle: float, sin_tilt: float) -> float:
+    """ISO 15099's critical Rayleigh number of a window at ``angle`` [deg] from facing up, where
+    its 15-90 degree correlation turns turbulent: ``2.5e5 (exp(0.72 angle) / sin)^(1/5)`` [-]
+    (0 outside that range, unused there)."""
+    if not 15.0 <= angle <= 90.0:
+        return 0.0
+    return 2.5e5 * (math.exp(0.72 * angle) / max(sin_tilt, 1e-6)) ** 0.2
+
+
 #: MoWiTT smooth-surface forced convection ``a V^b`` (a [W/(m2 K (m/s)^b)], b [-]) as EnergyPlus
 #: uses it in its DOE-2 exterior model (Engineering Reference, table "MoWiTT coefficients").
 MOWITT_WINDWARD = (3.26, 0.89)
@@ -907,9 +917,10 @@ class Network:
     lw_pair_a: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     lw_pair_b: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     lw_pair_g: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    #: per face: (window height [m], tilt [deg], sin tilt) of the windows whose room side uses
-    #: ISO 15099 convection; height 0 for the other faces
-    face_iso: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    #: per face: (window height [m], tilt [deg], sin tilt, the critical Rayleigh numbers at the
+    #: tilt and at 180 - tilt) of the windows whose room side uses ISO 15099 convection;
+    #: height 0 for the other faces
+    face_iso: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
 
     def system_matrix(self, step: float) -> sp.csc_matrix:
         """``C / dt + K`` [W/K]."""
@@ -1241,7 +1252,7 @@ def assemble(
         return cache[key]
 
     # ---- interior convection -----------------------------------------------------------------
-    face_iso = np.zeros((len(face_node), 3))
+    face_iso = np.zeros((len(face_node), 5))
     if options.interior_convection == "tarp":
         nominal = 2.0  # [K] representative surface-air difference for the matrix part
         h0 = np.where(
@@ -1262,7 +1273,14 @@ def assemble(
                 window = building.windows[f_name[k]]
                 height = window.height if window.height else math.sqrt(window.area)
                 tilt = float(tilt_all[k])
-                face_iso[k] = (height, tilt, math.sin(math.radians(tilt)))
+                sin_tilt = math.sin(math.radians(tilt))
+                face_iso[k] = (
+                    height,
+                    tilt,
+                    sin_tilt,
+                    iso15099_critical_rayleigh(tilt, sin_tilt),
+                    iso15099_critical_rayleigh(180.0 - tilt, sin_tilt),
+                )
         # explicit-correction stability bound (see simulation module)
         hmax = 2.0 * h0 + face_cap / step
     else:

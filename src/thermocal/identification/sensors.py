@@ -53,7 +53,7 @@ import dataclasses
 import logging
 import math
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -576,12 +576,20 @@ class ReferenceReport:
     substituted : DataFrame
         Longer gaps filled with another zone's reference (zone, from_zone, start, end, hours).
     quality : thermocal.io.measurements.QualityReport
+    accepted_constant_readings : list of dict
+        Long constant readings accepted as a controlled room (not refused as stuck): one
+        record per run (:func:`check_sensor_plausibility`); :meth:`constant_notes` says them.
     """
 
     sources: dict
     interpolated: pd.DataFrame
     substituted: pd.DataFrame
     quality: object
+    accepted_constant_readings: list = field(default_factory=list)
+
+    def constant_notes(self) -> list[str]:
+        """One note per sensor whose long constant reading was accepted (for the outputs)."""
+        return accepted_constant_notes(self.accepted_constant_readings)
 
     def zone_table(self) -> pd.DataFrame:
         rows = []
@@ -738,7 +746,7 @@ def zone_references(
     grid.index = times
     checked = [c for c in grid.columns if c in mapping.sensors and c not in mapping.ignore]
     declared_units = raw.attrs.get("measurements", {}).get("units_in_file", {})
-    check_sensor_plausibility(
+    accepted_constant = check_sensor_plausibility(
         grid[checked],
         mapping,
         step,
@@ -830,6 +838,7 @@ def zone_references(
             substituted, columns=["zone", "from_zone", "start", "end", "hours"]
         ),
         quality=quality,
+        accepted_constant_readings=accepted_constant,
     )
     return reference, report
 
@@ -1266,7 +1275,7 @@ def check_sensor_plausibility(
     declared_units: Mapping[str, str | None] | None = None,
     raw: pd.DataFrame | None = None,
     setpoints=None,
-) -> None:
+) -> list[dict]:
     """Refuse sensors in the wrong unit or stuck, naming file, sensor, zone and what to do.
 
     * a sensor whose mean is not an indoor temperature, or disagrees with the other sensors by
@@ -1304,6 +1313,13 @@ def check_sensor_plausibility(
     setpoints : DataFrame or callable returning one, optional
         The zones' set points on the grid (:func:`zone_setpoints`); a callable is called only
         when a sensor has a long constant run. None: none known.
+
+    Returns
+    -------
+    list of dict
+        The long constant readings accepted (warned), one record per run: ``sensor``,
+        ``zone``, ``value_C``, ``start``, ``end`` (exclusive), ``duration_h`` and ``why``
+        (the set point, the resolution or the mapping's ``constant_readings``); [] when none.
 
     Raises
     ------
@@ -1391,8 +1407,21 @@ def check_sensor_plausibility(
                     "that part)"
                 )
     steps_per_day = int(round(STUCK_AFTER / step))
+    accepted: list[dict] = []
     if not steps_per_day:
-        return
+        return accepted
+
+    def accept(sensor, run, why: str) -> None:
+        accepted.append({
+            "sensor": str(sensor),
+            "zone": mapping.sensors.get(str(sensor)),
+            "value_C": float(grid[sensor].loc[run["start"]]),
+            "start": str(run["start"]),
+            "end": str(run["end"]),
+            "duration_h": float(run["hours"]),
+            "why": why,
+        })
+
     for sensor in grid.columns:
         values = grid[sensor].to_numpy(dtype=float)
         same = np.abs(np.diff(values)) <= 1e-9 * np.maximum(1.0, np.abs(values[1:]))
@@ -1407,7 +1436,10 @@ def check_sensor_plausibility(
             f"{first['hours'] / 24:.1f} days ({len(long)} such period(s))"
         )
         if mapping.constant_readings_of(str(sensor)) == "accept":
-            _warn_constant(head, f"'constant_readings' in {mapping.source} accepts it")
+            why = f"'constant_readings' in {mapping.source} accepts it"
+            _warn_constant(head, why)
+            for run in long:
+                accept(sensor, run, why)
             continue
         if callable(setpoints):
             setpoints = setpoints()
@@ -1432,6 +1464,9 @@ def check_sensor_plausibility(
                 )
             reasons.append(reason)
         _warn_constant(head, "; ".join(dict.fromkeys(reasons)))
+        for run, reason in zip(long, reasons, strict=True):
+            accept(sensor, run, reason)
+    return accepted
 
 
 #: A sensor whose values lie on a grid at least this coarse [K] (0.1 K, 0.5 K, 0.1 F) may
@@ -1442,6 +1477,32 @@ CONTROLLED_RANGE = (10.0, 30.0)
 #: Largest difference [K] between a constant reading and a set point it is taken to be (at
 #: least; half the sensor's resolution when coarser).
 SETPOINT_TOLERANCE = 0.05
+
+
+def accepted_constant_notes(records: Sequence[Mapping]) -> list[str]:
+    """One note per sensor of the long constant readings accepted as a controlled room
+    (the records of :func:`check_sensor_plausibility`), for identification.json's and the
+    report's notes: the warning's content, kept with the results."""
+    by_sensor: dict[str, list[Mapping]] = {}
+    for record in records:
+        by_sensor.setdefault(str(record["sensor"]), []).append(record)
+    notes = []
+    for sensor, runs in by_sensor.items():
+        zone = runs[0].get("zone")
+        periods = "; ".join(
+            f"{r['value_C']:g} C from {r['start']} for {r['duration_h'] / 24:.1f} days "
+            f"({r['why']})"
+            for r in runs
+        )
+        notes.append(
+            f"Constant reading accepted: sensor {sensor!r}"
+            + (f" (zone {zone!r})" if zone else "")
+            + f" reads exactly {periods}: taken as a room held at that temperature, not "
+            "refused as a stuck sensor (accepted_constant_readings in identification.json). "
+            "Identifying against a frozen sensor gives a wrong heat: check that the room "
+            "really was held there"
+        )
+    return notes
 
 
 def _warn_constant(head: str, reason: str) -> None:

@@ -97,6 +97,11 @@ class IdentificationResult:
     weather_year : dict or None
         How the weather file's year met the measurements (``kind`` typical/actual, ``years``,
         ``statement`` with the weekday alignment; :func:`thermocal.io.weather.weather_for_period`).
+    accepted_constant_readings : list of dict
+        Long constant sensor readings accepted as a controlled room rather than refused as a
+        stuck sensor (a set point, the log's resolution, the mapping's ``constant_readings``):
+        ``sensor``, ``zone``, ``value_C``, ``start``, ``end``, ``duration_h``, ``why``
+        (:func:`thermocal.identification.sensors.check_sensor_plausibility`).
     log_clock : dict or None
         The sensor log's clock check (:func:`check_identified_log_clock`): ``std`` (shift [h]
         -> unoccupied standard deviation of the exact inverse's building heat [W]), ``best``
@@ -128,6 +133,7 @@ class IdentificationResult:
     import_notes: list = field(default_factory=list)
     weather_year: dict | None = None
     log_clock: dict | None = None
+    accepted_constant_readings: list = field(default_factory=list)
 
     @property
     def building_heat(self) -> pd.Series:
@@ -206,6 +212,7 @@ class IdentificationResult:
             "import_notes": self.import_notes,
             "weather_year": self.weather_year,
             "log_clock": self.log_clock,
+            "accepted_constant_readings": self.accepted_constant_readings,
         }
         return jsonable(out)
 
@@ -593,6 +600,7 @@ def identify(
         source=log_name,
     )
     timings["references"] = time.perf_counter() - t0
+    notes += ref_report.constant_notes()  # accepted long constant readings, with the results
     all_zones = list(building.zones)
     zones = [z for z in all_zones if z in reference.columns]
     floating = [z for z in all_zones if z not in reference.columns]
@@ -756,6 +764,7 @@ def identify(
         import_notes=list(sim.approximations()),
         weather_year=weather_year,
         log_clock=log_clock,
+        accepted_constant_readings=ref_report.accepted_constant_readings,
     )
 
 

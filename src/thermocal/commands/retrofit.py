@@ -209,25 +209,30 @@ def _track_record_line() -> str:
     )
 
 
-def _check_site(cfg) -> None:
+def _check_site(cfg, opt_in: str | None = None) -> str | None:
     """Refuse, before computing, a weather file far from the building or not one whole year
     (:func:`thermocal.io.weather.check_full_year`: the annual demand of a half year would be
     a half year's); the measurements' clock against the sun is checked where the analysis
-    reads them (:func:`thermocal.retrofit.data.clock_notes`)."""
-    from thermocal.io.weather import check_full_year, check_site_matches_weather, read_weather
-    from thermocal.retrofit.workflow import resolve_weather_path
+    reads them (:func:`thermocal.retrofit.data.clock_notes`). With ``weather.site: weather``
+    a building far from its weather is not refused: the analysis runs at the weather file's
+    site (:func:`thermocal.retrofit.workflow.building_at_weather_site`, which warns and notes
+    it there); the note is returned. ``opt_in`` is how the configuration asks for that, named
+    in the refusal (default: the retrofit configuration's key)."""
+    from thermocal.io.weather import check_full_year, read_weather
+    from thermocal.retrofit.workflow import (
+        SITE_OPT_IN,
+        building_at_weather_site,
+        resolve_weather_path,
+    )
 
     building, source = _rc_building(cfg)
     weather = resolve_weather_path(cfg.weather.file)
     year, meta = read_weather(weather, format=cfg.weather.format, columns=cfg.weather.columns)
     check_full_year(year, meta, source=str(cfg.weather.file))
-    check_site_matches_weather(
-        building.location.latitude,
-        building.location.longitude,
-        meta,
-        building_source=source,
-        weather_source=str(cfg.weather.file),
+    _, note = building_at_weather_site(
+        building, cfg, building_source=source, weather_meta=meta, opt_in=opt_in or SITE_OPT_IN
     )
+    return note
 
 
 def _check_configured_gains(cfg) -> None:

@@ -119,7 +119,12 @@ def verify(
     from thermocal.demos.verify import prepare_verify_demo
     from thermocal.errors import ThermocalInputError
     from thermocal.io.output import check_output_folder, output_folder
-    from thermocal.retrofit.verify import VERIFY_SIGNATURE, load_verify_config, run_verify
+    from thermocal.retrofit.verify import (
+        VERIFY_SIGNATURE,
+        VERIFY_SITE_OPT_IN,
+        load_verify_config,
+        run_verify,
+    )
     from thermocal.retrofit.verify_report import write_verify_outputs
 
     if demo == (config is not None):
@@ -134,7 +139,7 @@ def verify(
     if vcfg is not None:  # weather far from the building (the clock: where it is read)
         from thermocal.commands.retrofit import _check_site
 
-        _check_site(vcfg.retrofit)
+        _check_site(vcfg.retrofit, opt_in=VERIFY_SITE_OPT_IN)
     with (
         output_folder(out, command="verify", signature=VERIFY_SIGNATURE) as tmp,
         console.status("post-retrofit verification") as status,

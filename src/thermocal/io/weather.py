@@ -714,6 +714,15 @@ def check_site_matches_weather(
     return distance
 
 
+def _default_location(location) -> bool:
+    """Whether ``location`` is its type's default (no site of the building's own)."""
+    try:
+        default = type(location)()
+    except (TypeError, ValueError):  # no default (pydantic's ValidationError is a ValueError)
+        return False
+    return location == default
+
+
 def check_building_site(
     building,
     weather_meta: Mapping[str, Any],
@@ -726,10 +735,12 @@ def check_building_site(
 
     A building without a location of its own (the model's default site, as when a YAML file
     has no ``location:`` or an IDF no ``Site:Location``) takes the weather's and is not checked.
-    ``remedy`` is the caller's opt-in to the weather's site, named in the message.
+    ``remedy`` is the caller's opt-in to the weather's site, named in the message. A location
+    type without a default (the retrofit envelope's ``Site``: latitude, longitude and time zone
+    required) is always the building's own and checked.
     """
     location = getattr(building, "location", None)
-    if location is None or location == type(location)():
+    if location is None or _default_location(location):
         return None
     return check_site_matches_weather(
         location.latitude,

@@ -409,6 +409,13 @@ class WeatherConfig(_Strict):
     file: Path
     format: Literal["epw", "tmy3", "csv"] | None = None
     columns: dict[str, str] | None = None
+    site: Literal["building", "weather"] = Field(
+        "building",
+        description="whose site when the building's location is more than 300 km from the "
+        "weather file's: building (refused, the default: another place's sun and climate) or "
+        "weather (the weather file's latitude, longitude and altitude replace the building's, "
+        "as EnergyPlus does for a weather-file run; said in a warning and the notes)",
+    )
 
 
 def date_text(value: Any) -> Any:

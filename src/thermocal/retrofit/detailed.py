@@ -1018,10 +1018,14 @@ def run_detailed_retrofit(
     ------
     ThermocalInputError
         Weather that is not one whole year (:func:`thermocal.io.weather.check_full_year`, the
-        check of the RC analysis) or of another site than the building's.
+        check of the RC analysis) or of another site than the building's (unless
+        ``weather.site: weather``: then the weather file's site replaces the building's, with
+        a warning and a note).
     """
-    from thermocal.io.weather import check_full_year, check_site_matches_weather, read_weather
-    from thermocal.retrofit.workflow import resolve_weather_path
+    import logging
+
+    from thermocal.io.weather import check_full_year, read_weather
+    from thermocal.retrofit.workflow import building_at_weather_site, resolve_weather_path
 
     building = heated_detailed_building(building_path, setpoint)
     weather_path = resolve_weather_path(cfg.weather.file)
@@ -1029,14 +1033,12 @@ def run_detailed_retrofit(
         weather_path, format=cfg.weather.format, columns=cfg.weather.columns
     )
     check_full_year(weather, meta, source=str(cfg.weather.file))
-    check_site_matches_weather(
-        building.location.latitude,
-        building.location.longitude,
-        meta,
-        building_source=str(building_path),
-        weather_source=str(cfg.weather.file),
+    building, site_note = building_at_weather_site(
+        building, cfg, building_source=str(building_path), weather_meta=meta
     )
-    return simulate_strategies(
+    if site_note:  # at once; and in the detailed model's notes (results.json, the report)
+        logging.getLogger("thermocal.retrofit").warning("%s", site_note)
+    result = simulate_strategies(
         building,
         weather,
         meta,
@@ -1045,6 +1047,9 @@ def run_detailed_retrofit(
         source=building_path,
         progress=progress,
     )
+    if site_note:
+        result.notes.insert(0, site_note)
+    return result
 
 
 def detailed_results(result: DetailedRetrofitResult, cfg) -> dict:

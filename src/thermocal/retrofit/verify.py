@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -93,6 +94,9 @@ FSU_FACTOR = 1.26
 DEFAULT_INCONCLUSIVE_PP = 10.0
 #: Files that identify a verify output folder.
 VERIFY_SIGNATURE = ("verify.json", "report.html")
+#: How a verification configuration asks for the weather file's site (a building far from its
+#: weather; :func:`thermocal.retrofit.workflow.building_at_weather_site`).
+VERIFY_SITE_OPT_IN = "weather.site: weather in the verification configuration"
 
 ASHRAE_14 = Reference(
     key="ASHRAE Guideline 14-2014",
@@ -565,6 +569,8 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     from thermocal.retrofit.workflow import (
         IRRADIANCE_SPLIT_NOTE,
         _location_tz,
+        building_at_weather_site,
+        building_name,
         interior_for,
         load_building,
         load_weather_year,
@@ -572,6 +578,13 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     )
 
     building = load_building(cfg.building, config_source=source)
+    site_note = None
+    if cfg.weather.site == "weather":  # the default's refusal: the command, before computing
+        building, site_note = building_at_weather_site(
+            building, cfg, building_source=building_name(cfg), opt_in=VERIFY_SITE_OPT_IN
+        )
+        if site_note:  # at once; and in verify.json's notes and the report
+            logging.getLogger("thermocal.retrofit").warning("%s", site_note)
     mc, ig = cfg.measurements, cfg.internal_gains
     check_configured_gains(ig, float(building.heated_floor_area), building.name)
     metered = ig.source == "electricity"
@@ -590,7 +603,7 @@ def prepare_inputs(cfg: RetrofitConfig, source: str):
     clock = clock_notes(raw, mc, building.location)
     check_irradiance_limits(grid, mc, building.location, str(mc.file))
     grid = with_beam_and_diffuse(grid, mc, building.location)
-    notes = list(removed_values_notes(quality, mc.columns))
+    notes = ([site_note] if site_note else []) + list(removed_values_notes(quality, mc.columns))
     if mc.irradiance == "ghi":
         notes.append(IRRADIANCE_SPLIT_NOTE)
     quality = {"quality": quality, "raw": raw}

@@ -129,6 +129,11 @@ def load_building(source, *, config_source: str = "the retrofit configuration"):
     return read_envelope(Path(source))
 
 
+def building_name(cfg: RetrofitConfig) -> str:
+    """The configuration's building file, or "the inline building", for messages."""
+    return str(cfg.building if isinstance(cfg.building, Path) else "the inline building")
+
+
 def resolve_weather_path(path) -> Path:
     """A weather path; ``pvlib:NAME`` (e.g. ``pvlib:723170TYA.CSV``) names a file shipped
     with pvlib."""
@@ -137,6 +142,74 @@ def resolve_weather_path(path) -> Path:
         name = text.split("pvlib:", 1)[1]
         return Path(__import__("pvlib").__file__).parent / "data" / name
     return Path(path)
+
+
+#: How a retrofit configuration asks for the weather file's site (named in the refusal of a
+#: building far from its weather, and in the note when the site was replaced).
+SITE_OPT_IN = "weather.site: weather in the retrofit configuration"
+
+
+def building_at_weather_site(
+    building,
+    cfg: RetrofitConfig,
+    *,
+    building_source: str,
+    weather_meta: dict | None = None,
+    opt_in: str = SITE_OPT_IN,
+):
+    """The building at the site ``weather.site`` of the configuration chooses.
+
+    :func:`thermocal.io.weather.building_site_or_weather` for a retrofit configuration: with
+    ``weather.site: building`` (the default) a building more than 300 km from the weather file's
+    site is refused, the message naming ``opt_in``; with ``weather.site: weather`` the weather
+    file's latitude, longitude and altitude replace the building's (its time zone kept), as
+    EnergyPlus does for a weather-file run, and the note saying so is returned.
+
+    Parameters
+    ----------
+    building : EnvelopeDescription or thermocal.multizone.Building
+        The building as read (an envelope is frozen: a copy is returned).
+    cfg : RetrofitConfig
+        ``weather.file``, ``weather.format``, ``weather.columns``, ``weather.site``.
+    building_source : str
+        The building file, for the messages.
+    weather_meta : dict, optional
+        The weather reader's metadata when already read (else the file is read).
+    opt_in : str
+        How the user asks for the weather's site, for the messages.
+
+    Returns
+    -------
+    (building, str or None)
+        The building (with the weather's site when it was replaced) and the note, else None.
+    """
+    from types import SimpleNamespace
+
+    from thermocal.io.weather import building_site_or_weather, read_weather
+
+    if weather_meta is None:
+        path = resolve_weather_path(cfg.weather.file)
+        if not path.is_file():
+            raise ThermocalInputError(f"weather file {path} not found (weather.file)")
+        _, weather_meta = read_weather(
+            path, format=cfg.weather.format, columns=cfg.weather.columns
+        )
+    holder = SimpleNamespace(location=building.location)
+    note = building_site_or_weather(
+        holder,
+        weather_meta,
+        cfg.weather.site,
+        building_source=building_source,
+        weather_source=str(cfg.weather.file),
+        option="weather.site",
+        opt_in=opt_in,
+    )
+    if note is None:
+        return building, None
+    if hasattr(building, "model_copy"):  # the envelope description is frozen
+        return building.model_copy(update={"location": holder.location}), note
+    building.location = holder.location
+    return building, note
 
 
 #: Said with every analysis of a pyranometer's global irradiance (measurements.irradiance: ghi).
@@ -287,6 +360,13 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     building = load_building(
         cfg.building, config_source=f"the retrofit configuration in {cfg.base_dir}"
     )
+    site_note = None
+    if cfg.weather.site == "weather":  # the default's refusal: the command, before computing
+        building, site_note = building_at_weather_site(
+            building, cfg, building_source=building_name(cfg)
+        )
+        if site_note:
+            log.warning(site_note)
     source = str(cfg.measurements.file)
     if cfg.model.solar_gains and not building.windows:
         raise ThermocalInputError(
@@ -329,6 +409,8 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     weather, weather_meta = load_weather_year(cfg, step)
     ground_params = ground_temperature_parameters(weather)
     training, test, notes = _periods(grid, cfg, source)
+    if site_note:
+        notes.insert(0, site_note)
     notes += cfg.economics_notes()
     if cfg.measurements.irradiance == "ghi":
         notes.append(IRRADIANCE_SPLIT_NOTE)

@@ -5,7 +5,7 @@ and the identification problems of the calibration and validation periods.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -58,6 +58,9 @@ class CampaignInputs:
     log_name: str = "sensor log"
     #: True when the campaign file gives no ``period:`` and the period is the log's span
     period_from_log: bool = False
+    #: what loading changed, for calibration.json and the report (``identification.site:
+    #: weather``: the weather file's site replaced the building's)
+    notes: list = field(default_factory=list)
 
 
 def load_inputs(campaign) -> CampaignInputs:
@@ -153,6 +156,7 @@ def load_inputs(campaign) -> CampaignInputs:
         end,
         log_name=str(campaign.sensors),
         period_from_log=campaign.period is None and start is not None,
+        notes=[site_note] if site_note else [],
     )
 
 

@@ -165,6 +165,7 @@ def calibrate(
             "another)"
         )
     check_campaign_period(campaign, inputs)
+    notes.extend(inputs.notes)  # identification.site: weather (warned when loading)
     space = campaign_space(campaign, inputs.building)
     notes.extend(left_out_notes(space, log))
     measure_in_situ(campaign, space)  # a bad log stops here, before any simulation
@@ -212,6 +213,8 @@ def calibrate(
         ) as store,
     ):
         store.record_run({}, nominal_outputs, nominal_run.heat.sum(axis=1))
+        if inputs.notes:  # for a re-analysis's notes
+            store.set_info("input_notes", {"notes": list(inputs.notes)})
         grid = problem.simulation().weather_on_grid
         store.set_info(
             "analysis",
@@ -522,7 +525,8 @@ def reanalyse(campaign, store_path, *, log=print) -> CalibrationResult:
             wall_time_s=0.0,
             backend="store (re-analysis)",
         )
-        notes = left_out_notes(space, log)
+        notes = list((store.info("input_notes") or {}).get("notes", []))  # the site's, ...
+        notes += left_out_notes(space, log)
         # the checks made before the campaign's samples (their warnings were given then)
         notes.extend(
             check["note"]

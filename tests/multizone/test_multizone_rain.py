@@ -109,3 +109,41 @@ def test_a_wet_step_cools_the_exposed_envelope_and_nothing_before_it(tmp_path):
     assert np.array_equal(a[:first], b[:first])
     assert (a[first : first + 8] < b[first : first + 8]).all()
     assert (b - a)[first : first + 16].max() > 0.2
+
+
+def test_the_identification_sees_the_rain_whatever_its_heat_form(tmp_path):
+    """The exact inverse of a rainy free run (no heat) finds no heat on the wet steps, with the
+    heat into the air (the air held: the Dirichlet response of the wet faces) and with a radiant
+    share (the general inverse: the free system's response). Before, the general inverse ran
+    dry: about -930 W on the wet steps with a radiant fraction of 0.6 (review, 2026-11-30)."""
+    weather_path = shared_data_path("ashrae140_bestest", "725650TYCST.epw")
+    sim = _simulation(_july(tmp_path), weather_path)
+    air = sim.run().air_temperature
+    wet = np.flatnonzero(sim._rain_flags)
+    for fraction in (0.0, 0.6):
+        heat = sim.track_heat(air.to_numpy(), method="inverse", radiant_fraction=fraction).heat
+        assert np.abs(np.asarray(heat)[wet]).mean() < 60.0, (fraction, np.asarray(heat)[wet])
+
+
+def test_sub_hourly_weather_is_wet_at_the_same_rate():
+    """A 15-minute weather file's precipitation is a rate [mm/h] like an hourly one's: 1 mm/h
+    is wet (EnergyPlus: 0.8 mm/h), 0.5 mm/h is not, at 15-minute and 5-minute steps."""
+    from thermocal.multizone.forcing import rain_steps
+
+    for rate, expected in ((1.0, True), (0.5, False)):
+        index = pd.date_range("2023-07-01", periods=16, freq="15min", tz="UTC")
+        weather = pd.DataFrame({"precipitation": np.r_[np.zeros(4), np.full(8, rate), np.zeros(4)]},
+                               index=index)  # fmt: skip
+        for step in ("15min", "5min"):
+            grid = pd.DataFrame(index=pd.date_range(index[0], index[-1], freq=step))
+            wet = rain_steps(weather, grid, pd.Timedelta(step), "energyplus")
+            assert wet.any() == expected, (rate, step)
+
+
+def test_dew_point_from_relative_humidity():
+    from thermocal.multizone.forcing import dew_point_temperature
+
+    # psychrometric tables (ASHRAE): 20 C at 50 % -> 9.3 C; at 100 % the air temperature
+    assert dew_point_temperature(20.0, 50.0) == pytest.approx(9.27, abs=0.05)
+    assert dew_point_temperature(10.0, 100.0) == pytest.approx(10.0, abs=1e-6)
+    assert np.isnan(dew_point_temperature(10.0, np.nan))

@@ -9,6 +9,7 @@ changes parameters (:meth:`thermocal.multizone.Simulation.set_parameters`).
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
@@ -367,8 +368,10 @@ def problem_from_measurements(
     )
     from thermocal.identification.workflow import (
         DEFAULT_RADIANT_FRACTION,
+        EquipmentFormWarning,
         _weather_for_log,
         check_pid_only_options,
+        equipment_form_note,
         gap_duration,
         identified_heat_form,
         pid_gains_for,
@@ -381,7 +384,6 @@ def problem_from_measurements(
     if not isinstance(mapping, SensorMapping):
         mapping = mapping_from_dict(mapping)
     mapping, spelling = in_building_spelling(mapping, building)
-    import warnings
 
     for note in spelling:
         warnings.warn(note, ReferenceWarning, stacklevel=2)
@@ -415,6 +417,12 @@ def problem_from_measurements(
             building, mapping, sim.times, sim.step_size, DEFAULT_RADIANT_FRACTION
         )
     form = identified_heat_form(building, mapping, feedback, radiant_fraction)
+    note = equipment_form_note(
+        building, form.loc[[z for z in form.index if z in reference.columns]], mapping,
+        radiant_fraction, declared=declared,
+    )  # fmt: skip
+    if note:
+        warnings.warn(note, EquipmentFormWarning, stacklevel=2)
     feedback = form["sensor_air_weight"].to_dict()
     if not _is_per_step(radiant_fraction):
         radiant_fraction = form["radiant_fraction"].to_dict()

@@ -502,7 +502,9 @@ def identify(
         for them; :mod:`thermocal.identification.form`). Without "declared" a file's load
         objects are simulated as known heat and the identified heat is the heat beyond them.
         Default: the mapping's (``identified_heat.radiant_fraction``, per zone
-        ``radiant_fraction``), else :data:`DEFAULT_RADIANT_FRACTION`. The method's paper puts
+        ``radiant_fraction``), else the radiant share of the heat the zone's HVAC equipment
+        declared in the IDF delivers (:func:`equipment_radiant_fractions`: 0 for an air
+        system), else :data:`DEFAULT_RADIANT_FRACTION`. The method's paper puts
         all of it into the air (``radiant_fraction=0, feedback="air"``).
     gains : PIDGains or dict of zone -> PIDGains, optional
         Discrete PID gains [W/K]: one set (scaled by zone volume relative to ``tuning_zone``,
@@ -610,7 +612,9 @@ def identify(
             "one sensor to a zone"
         )
     form = identified_heat_form(building, mapping, feedback, radiant_fraction)
-    note = equipment_form_note(building, form.loc[zones], mapping, radiant_fraction)
+    note = equipment_form_note(
+        building, form.loc[zones], mapping, radiant_fraction, declared=declared
+    )
     if note:
         notes.append(note)
     weights = form.loc[zones, "sensor_air_weight"].to_numpy()
@@ -1010,6 +1014,11 @@ def identified_heat_form(
     )
 
 
+class EquipmentFormWarning(UserWarning):
+    """The identified heat's form taken from (or set against) the IDF's zone equipment, in a
+    calibration campaign's identification (``identify`` gives it as a note)."""
+
+
 def equipment_radiant_fractions(building) -> dict[str, float]:
     """The radiant share [-] of the heat each zone's declared HVAC equipment delivers.
 
@@ -1033,7 +1042,9 @@ def equipment_radiant_fractions(building) -> dict[str, float]:
     }
 
 
-def equipment_form_note(building, form: pd.DataFrame, mapping, radiant_fraction) -> str | None:
+def equipment_form_note(
+    building, form: pd.DataFrame, mapping, radiant_fraction, *, declared: bool = False
+) -> str | None:
     """A note naming the zones whose identified heat takes its form from their equipment, or
     whose form (given or declared) contradicts an air system's convective heat.
 
@@ -1041,46 +1052,63 @@ def equipment_form_note(building, form: pd.DataFrame, mapping, radiant_fraction)
     ----------
     building : Building
     form : DataFrame
-        :func:`identified_heat_form`'s (per zone ``radiant_fraction``).
+        :func:`identified_heat_form`'s (per zone ``radiant_fraction``), for the tracked zones.
     mapping : SensorMapping
-    radiant_fraction : float, dict, DataFrame, "declared" or None
-        The form as asked for (None: not given as an argument).
+    radiant_fraction : float, dict, DataFrame or None
+        The form as asked for (None: not given as an argument; a DataFrame: per step).
+    declared : bool
+        The per-step form is the file's own loads' composition (``"declared"``).
 
     Returns
     -------
     str or None
     """
     delivery = getattr(getattr(building, "idf_info", None), "zone_heat_delivery", None) or {}
-    delivery = {z: d for z, d in delivery.items() if z in form.index}
-    if not delivery:
+    if not any(z in form.index for z in delivery):
         return None
-    given = (radiant_fraction is not None and not isinstance(radiant_fraction, pd.DataFrame))
-    declared = isinstance(radiant_fraction, pd.DataFrame)
+    mapping = mapping if mapping is not None else SensorMapping({})
+    per_step = isinstance(radiant_fraction, pd.DataFrame)
+
+    def chosen(zone) -> bool:  # the zone's form given by the user or declared, not defaulted
+        if per_step:
+            return zone in radiant_fraction.columns
+        if isinstance(radiant_fraction, Mapping):
+            if zone in radiant_fraction:
+                return True
+        elif radiant_fraction is not None:
+            return True
+        return zone in mapping.zone_radiant_fraction or mapping.radiant_fraction is not None
+
+    defaulted = [z for z in form.index if not chosen(z)]
     by_share: dict = {}
-    for zone, d in delivery.items():
-        taken = (
-            not given
-            and not declared
-            and zone not in mapping.zone_radiant_fraction
-            and mapping.radiant_fraction is None
-            and d.radiant_fraction is not None
-        )
-        if taken:
+    unsplit, without = [], []
+    for zone in defaulted:
+        d = delivery.get(zone)
+        if d is None:
+            without.append(zone)
+        elif d.radiant_fraction is None:
+            unsplit.append(zone)
+        else:
             by_share.setdefault(d.radiant_fraction, []).append(zone)
-    parts = []
-    for share, zones in sorted(by_share.items()):
-        kinds = sorted({e.class_name for z in zones for e in delivery[z].equipment})
-        parts.append(
-            f"{share:g} for {_zone_list(zones)} ({', '.join(kinds[:3])}"
-            f"{', ...' if len(kinds) > 3 else ''})"
-        )
     text = []
-    if parts:
-        without = [z for z in form.index if z not in delivery]
+    if by_share or unsplit:
+        parts = []
+        for share, zones in sorted(by_share.items()):
+            kinds = sorted({e.class_name for z in zones for e in delivery[z].equipment})
+            parts.append(
+                f"{share:g} for {_zone_list(zones)} ({', '.join(kinds[:3])}"
+                f"{', ...' if len(kinds) > 3 else ''})"
+            )
+        if unsplit:
+            parts.append(
+                f"{DEFAULT_RADIANT_FRACTION:g} for {_zone_list(unsplit)}, whose equipment states "
+                f"no split ({delivery[unsplit[0]].equipment[0].class_name}: "
+                f"{delivery[unsplit[0]].equipment[0].how})"
+            )
         rest = (
             f"; {_zone_list(without)} without equipment take {DEFAULT_RADIANT_FRACTION:g} "
             "(internal gains)"
-            if without and not given and mapping.radiant_fraction is None
+            if without
             else ""
         )
         text.append(
@@ -1088,16 +1116,19 @@ def equipment_form_note(building, form: pd.DataFrame, mapping, radiant_fraction)
             f"in the IDF (an air system's heat enters the air): {'; '.join(parts)}{rest}. Give "
             "--radiant-fraction or the mapping's radiant_fraction to override."
         )
-    air = [z for z, d in delivery.items() if d.radiant_fraction == 0.0]
-    contradicted = [z for z in air if declared or float(form.loc[z, "radiant_fraction"]) > 0.0]
-    if contradicted:
+    air = [z for z, d in delivery.items() if z in form.index and d.radiant_fraction == 0.0]
+    if per_step:
+        above = [z for z in air if z in radiant_fraction.columns and radiant_fraction[z].max() > 0]
+    else:
+        above = [z for z in air if float(form.loc[z, "radiant_fraction"]) > 0.0]
+    if above:
         how = (
             "the declared form gives the heat the composition of the file's internal loads"
             if declared
             else "the identified heat is given a radiant fraction above 0"
         )
-        named = _zone_list(contradicted)
-        verb = "are" if len(contradicted) > 1 else "is"
+        named = _zone_list(above)
+        verb = "are" if len(above) > 1 else "is"
         text.append(
             f"{named[0].upper()}{named[1:]} {verb} heated or cooled by an air system in the IDF, "
             f"whose heat enters the air, but {how}: on EnergyPlus twins with ideal loads this put "

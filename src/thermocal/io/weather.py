@@ -1670,8 +1670,10 @@ def _present_weather_rain(raw: pd.DataFrame) -> np.ndarray | None:
     obs = pd.to_numeric(raw["present_weather_observation"], errors="coerce").to_numpy()
     if not np.any(obs == 0):
         return None
-    codes = raw["present_weather_codes"].astype(str).str.strip().str.zfill(9)
-    wet = codes.str[:3].apply(lambda c: any(ch.isdigit() and int(ch) < 9 for ch in c))
+    written = raw["present_weather_codes"].astype(str).str.strip()
+    # a code written as a number lost its leading zeros (restored); a blank one says nothing
+    codes = written.where(written.str.fullmatch(r"\d{1,9}"), "999999999").str.zfill(9)
+    wet = codes.str[:3].apply(lambda c: any(int(ch) < 9 for ch in c))
     return np.where((obs == 0) & wet.to_numpy(dtype=bool), 1.0, 0.0)
 
 

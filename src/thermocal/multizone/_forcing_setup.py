@@ -17,6 +17,7 @@ from thermocal.multizone.forcing import (
     _period_sun_vectors,
     _sun_position,
     _window_inputs,
+    dew_point_temperature,
     rain_steps,
     wet_bulb_temperature,
 )
@@ -45,17 +46,22 @@ class ForcingSetup:
         rain is off) and the outdoor wet bulb of each step ``_t_wb`` [C]."""
         self._rain_flags = np.zeros(0, dtype=np.uint8)
         self._t_wb = np.zeros(0)
+        self._rain_source = None
         if not self.rain:
             return
         flags = rain_steps(weather, self._grid, self.step_size, self.weather_interpolation)
+        self._rain_source = "none" if flags is None else "weather"
         if flags is None or not flags.any():
             return
         g = self._grid
         t_air = g["temp_air_mean"].to_numpy(dtype=float)
         if "temp_dew" in g:
             dew = g["temp_dew"].to_numpy(dtype=float)
-        else:
+        elif "relative_humidity" in g:
+            dew = dew_point_temperature(t_air, g["relative_humidity"].to_numpy(dtype=float))
+        else:  # no humidity at all: the wet faces at the dry bulb (said in the run's notes)
             dew = np.full_like(t_air, np.nan)
+            self._rain_source = "weather, no humidity"
         if "pressure" in g:
             pressure = g["pressure"].to_numpy(dtype=float)
             pressure = np.where(np.isfinite(pressure), pressure, 101325.0)

@@ -127,11 +127,20 @@ class Outputs:
             out.append(
                 f"rain on {wet} of {len(self.times)} steps (the weather's liquid precipitation, "
                 "at least 0.8 mm/h, and present weather, as EnergyPlus): wind-exposed outside "
-                "faces at 1000 W/(m2 K) to the outdoor wet bulb; not applied in an identification "
-                "with a sensor form other than the air (the general inverse)"
+                "faces at 1000 W/(m2 K) to the outdoor wet bulb"
+                + (
+                    " (the weather has no humidity: taken at the dry bulb)"
+                    if self._rain_source == "weather, no humidity"
+                    else ""
+                )
             )
         elif not self.rain and getattr(info, "use_weather_rain", True) is False:
             out.append("rain indicators off (RunPeriod 'Use Weather File Rain Indicators' No)")
+        elif self.rain and self._rain_source == "none":
+            out.append(
+                "rain indicators on (RunPeriod), but the weather has neither precipitation nor "
+                "present weather: run dry"
+            )
         shaders = getattr(info, "shading_surfaces", None)
         if shaders:
             if self._shadows is not None:

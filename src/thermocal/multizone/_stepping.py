@@ -129,10 +129,11 @@ class Stepping:
         tracked_air = context.implicit.get("tracked", _NO_TRACKED_AIR) if general else None
         if tracked_air is None or linear:
             tracked_air = _NO_TRACKED_AIR
-        # rain on the simulation's own steps (not a coarse warm-up's): a free run, ideal loads
-        # (their faces' response the free system's), the PID and the exact air inverse (the
-        # tracked air held); not the general inverse
-        if len(self._rain_flags) and not linear and not general and context.dt == self.dt:
+        # rain on the simulation's own steps (not a coarse warm-up's): a free run, the PID and
+        # the exact air inverse (the tracked air held); ideal loads and the general inverse (a
+        # radiant share or an operative sensor) with the free system's response of the wet
+        # faces, the step's heat not fed back into them (their 1000 W/(m2 K) pins them)
+        if len(self._rain_flags) and not linear and context.dt == self.dt:
             rain = (self._rain_flags, self._t_wb, *self._wet_arrays(context, dirichlet_first))
         else:
             rain = _NO_RAIN

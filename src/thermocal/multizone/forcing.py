@@ -333,6 +333,23 @@ def _saturation_pressure(t):
     return np.where(tk >= 273.15, water, ice)
 
 
+def dew_point_temperature(temp_air, relative_humidity):
+    """Dew point [C] of air at ``temp_air`` [C] and ``relative_humidity`` [%]: the temperature
+    whose saturation pressure (:func:`_saturation_pressure`, ASHRAE) is the air's vapour
+    pressure, found by bisection; NaN where the humidity is missing or not positive."""
+    t = np.asarray(temp_air, dtype=float)
+    rh = np.asarray(relative_humidity, dtype=float)
+    target = np.clip(rh, 1e-3, 100.0) / 100.0 * _saturation_pressure(t)
+    lo = np.full(t.shape, -100.0)
+    hi = t.copy()
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        below = _saturation_pressure(mid) < target
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    return np.where(np.isfinite(rh) & (rh > 0), 0.5 * (lo + hi), np.nan)
+
+
 def wet_bulb_temperature(temp_air, temp_dew, pressure):
     """Psychrometric wet-bulb temperature [C] from dry bulb [C], dew point [C], pressure [Pa]
     (ASHRAE HOF 2017 ch. 1 eq. 33/35 solved by bisection; EnergyPlus' PsyTwbFnTdbWPb)."""
@@ -391,7 +408,7 @@ def rain_steps(weather: pd.DataFrame, grid: pd.DataFrame, step: pd.Timedelta, in
         n = int(round(hour / step))
         ends = (grid.index + step).as_unit("ns").asi8.astype(float)
         hour_ends = (weather.index + wstep).as_unit("ns").asi8.astype(float)
-        depth = np.interp(ends, hour_ends, rate) * (wstep / hour) / n
+        depth = np.interp(ends, hour_ends, rate) / n  # [mm] per step (``rate`` in mm/h)
         return depth >= RAIN_THRESHOLD_MM_PER_H / n
     if "precipitation" in grid:
         g = grid["precipitation"].fillna(0.0).to_numpy(dtype=float)

@@ -129,7 +129,9 @@ class NetworkOptions:
         natural convection at the window's height and the site's air pressure, as EnergyPlus'
         TARP algorithm does for windows (``CalcISO15099WindowIntConvCoeff``), or by the TARP
         wall correlation as the opaque faces (the behaviour before 2026-12). ISO 15099 gives a
-        lower coefficient than ``1.31 |dT|^(1/3)``: -25 % for a 1.5 m window at 5 K.
+        coefficient that depends on the window's height and the air's density: for a 1.5 m
+        window at 5 K 12 % below ``1.31 |dT|^(1/3)`` at sea level and 20 % below at 83 kPa
+        (Denver), 25-45 % below for 10 m glazing; above it for windows under about 0.5 m.
     exterior_convection : {"doe2", "tarp", "mowitt", "fixed", "simple_combined"}
         Wind-dependent exterior convection as EnergyPlus names it: "doe2" (its default,
         :func:`doe2_exterior_convection`), "tarp" (:func:`tarp_exterior_convection`), "mowitt"

@@ -136,8 +136,9 @@ def window_type_from_glazing(name: str, glazing, *, angles=WINDOW_TABLE_ANGLES):
     Notes
     -----
     ``u_value`` is the NFRC winter centre-of-glass U-factor incl. films (EnergyPlus reports the
-    same quantity; its film resistances, about 0.034 + 0.136 m2 K/W, are close to the ISO 6946
-    0.04 + 0.13 the model removes to get the glass-to-glass resistance). With gas gaps, the
+    same quantity; its film resistances, about 0.034 + 0.136 m2 K/W, are what the model removes
+    to get the glass-to-glass resistance: EnergyPlus' simple-glazing films,
+    :func:`thermocal.multizone.network.window_film_resistance`). With gas gaps, the
     glass-to-glass conductance relative to its NFRC winter value is tabulated against the mean
     glazing temperature (:meth:`LayeredGlazing.glass_conductance_ratio`), so the simulation
     follows the temperature dependence of the gap as EnergyPlus' window heat balance does; the

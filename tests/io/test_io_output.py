@@ -165,7 +165,10 @@ def _slow_fit_data(path: Path, n: int = 20000) -> None:
 
 
 def _start_fit(data: Path, out: Path, cwd: Path, extra_env: dict | None = None) -> subprocess.Popen:
-    env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "200", **(extra_env or {})}
+    # a crash (one SIGSEGV in about 60 runs under a loaded full suite, 2026-11-30, not
+    # reproduced since) prints where it happened into the assertion's message
+    env = {**os.environ, "PYTHONUNBUFFERED": "1", "COLUMNS": "200", "PYTHONFAULTHANDLER": "1",
+           **(extra_env or {})}  # fmt: skip
     return subprocess.Popen(
         [sys.executable, "-c", "from thermocal.cli import main; main()", "fit", str(MODEL),
          str(data), "--out", str(out), "--no-figures", "--n-starts", "4", "--jobs", "1"],

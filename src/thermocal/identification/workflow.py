@@ -1019,6 +1019,12 @@ class EquipmentFormWarning(UserWarning):
     calibration campaign's identification (``identify`` gives it as a note)."""
 
 
+def _declared_equipment(building) -> dict:
+    """Zone -> :class:`~thermocal.multizone.idf.hvac.ZoneHeatDelivery` of the building's IDF
+    (empty for a building not imported from one)."""
+    return getattr(getattr(building, "idf_info", None), "zone_heat_delivery", None) or {}
+
+
 def equipment_radiant_fractions(building) -> dict[str, float]:
     """The radiant share [-] of the heat each zone's declared HVAC equipment delivers.
 
@@ -1034,7 +1040,7 @@ def equipment_radiant_fractions(building) -> dict[str, float]:
     dict
         Zone name -> radiant fraction [-].
     """
-    delivery = getattr(getattr(building, "idf_info", None), "zone_heat_delivery", None) or {}
+    delivery = _declared_equipment(building)
     return {
         zone: d.radiant_fraction
         for zone, d in delivery.items()
@@ -1063,7 +1069,7 @@ def equipment_form_note(
     -------
     str or None
     """
-    delivery = getattr(getattr(building, "idf_info", None), "zone_heat_delivery", None) or {}
+    delivery = _declared_equipment(building)
     if not any(z in form.index for z in delivery):
         return None
     mapping = mapping if mapping is not None else SensorMapping({})

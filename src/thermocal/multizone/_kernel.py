@@ -326,25 +326,12 @@ def run_steps(
         for e in range(ext_node.shape[0]):
             node = ext_node[e]
             ts = x[node]
-            if wet and wet_of[e] >= 0:
-                # a wet face: convection to the wet bulb (below), no wind excess
-                if exact_sky:
-                    ts2 = (ts + KELVIN) * (ts + KELVIN)
-                    to2 = (t_out + KELVIN) * (t_out + KELVIN)
-                    tk2 = (t_sky + KELVIN) * (t_sky + KELVIN)
-                    ts4 = ts2 * ts2
-                    exact = SIGMA * (
-                        ext_view_air[e] * (to2 * to2 - ts4) + ext_view_sky[e] * (tk2 * tk2 - ts4)
-                    )
-                    linear = ext_hr0 * (
-                        ext_view_air[e] * (t_out - ts) + ext_view_sky[e] * (t_sky - ts)
-                    )
-                    rhs[node] += ext_area_eps[e, 1] * (exact - linear)
-                continue
             # the wind's series is shared by the faces of one class (orientation, exposure)
             dh = ext_dh[k, ext_class[e]]
             mode = ext_natural[e, 0]
-            if mode == 0.0:
+            if wet and wet_of[e] >= 0:
+                dh = 0.0  # a wet face: convection to the wet bulb (1b below), no wind excess
+            elif mode == 0.0:
                 # the series is the excess over hc0: clipped to the stable range of the lag
                 dh = min(max(dh, 0.1 - ext_natural[e, 3]), ext_natural[e, 4])
             else:

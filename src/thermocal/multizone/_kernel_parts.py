@@ -148,9 +148,9 @@ def iso15099_window_interior(t_surface, t_air, height, tilt, sin_tilt, ra_cv, pr
         (:func:`thermocal.multizone.network.iso15099_critical_rayleigh`) [-].
     pressure : float [Pa]
     """
-    # the correlations hold near room temperature: a diverging run (far outside them) keeps
-    # the coefficient of a 100 K difference, so the divergence is caught where it starts
-    dt = min(max(t_surface - t_air, -100.0), 100.0)
+    # the time loop calls it for differences below 100 K (beyond, TARP); the film temperature
+    # is held to the air properties' range, so a diverging air node keeps a finite coefficient
+    dt = t_surface - t_air
     t_film = min(max(t_air + 273.15 + 0.25 * dt, 200.0), 500.0)
     k = 2.873e-3 + 7.76e-5 * t_film
     mu = 3.723e-6 + 4.94e-8 * t_film

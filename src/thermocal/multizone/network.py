@@ -57,9 +57,6 @@ from thermocal.multizone.model import ROUGHNESS_FACTORS, Building, Material
 STEFAN_BOLTZMANN = 5.670374419e-8
 #: Specific heat of air at constant pressure [J/(kg K)].
 AIR_SPECIFIC_HEAT = 1006.0
-#: Standard surface resistances of ISO 6946 [m2 K/W] (0.13 + 0.04; windows now split their
-#: U-value by :func:`window_film_resistance`).
-WINDOW_FILM_RESISTANCE = 0.13 + 0.04
 
 
 def window_film_resistance(u_value: float) -> float:

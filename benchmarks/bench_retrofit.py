@@ -98,7 +98,7 @@ def detailed(repeats: int) -> None:
     cases = {
         "demo house, 9 zones (8 heated), roof/walls/windows/cellar ceiling": (
             lambda: demo, None, paper_measures()),
-        "EnergyPlus house, 3 zones (1 heated) + ISO 13370 soil, attic/walls/windows/slab": (
+        "EnergyPlus house, 3 zones (1 heated), Kiva floors, attic/walls/windows/slab": (
             lambda: load_detailed_building(idf), idf, house_measures),
     }  # fmt: skip
     _detailed_case(demo, None, paper_measures(), weather.iloc[: 24 * 40], meta)  # compile
@@ -110,8 +110,8 @@ def detailed(repeats: int) -> None:
     stamp = dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     print(f"# detailed-model retrofit benchmark, {stamp}, {platform.node()}, "
           f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.1f}")  # fmt: skip
-    print("| case (16 strategies, a year at 15 min, warm-up year with soil) | best [s] | "
-          "median [s] | target [s] | pass |")  # fmt: skip
+    print("| case (16 strategies, a year at 15 min, warm-up year with ground sections) | "
+          "best [s] | median [s] | target [s] | pass |")  # fmt: skip
     print("|---|---|---|---|---|")
     for name, times in rows:
         med = statistics.median(times)

@@ -55,7 +55,8 @@ class IndependentCalibration:
 
 
 #: Measured 2026-11-29 (every twin again on 2026-11-30, after the windows took ISO 15099's
-#: room-side convection), keyed by the reference folder under
+#: room-side convection; the multifamily twin on 2026-11-30, after the roofs' long-wave took
+#: their tilt instead of the file's view factor to the ground), keyed by the reference folder under
 #: ``tests/reference``.
 INDEPENDENT_CALIBRATIONS: dict[str, IndependentCalibration] = {
     "calibration_energyplus_5zone": IndependentCalibration(
@@ -76,14 +77,14 @@ INDEPENDENT_CALIBRATIONS: dict[str, IndependentCalibration] = {
         building="DOE/PNNL multifamily prototype (wall R x1.5, attic floor R x0.6, leakage x1.4 "
         "hidden; 32 samples)",
         determined_resistances=2,
-        max_resistance_error_pct=7.8,
+        max_resistance_error_pct=8.4,
         covered=1,
         parameters=3,
         determined_covered=1,
         determined=3,
-        metric_vs_truth_pct=-2.9,
-        note="the attic's infiltration +10 %, its interval 7 % above the truth, and the wall "
-        "-7.8 %, its interval 3.0 % below: the unvaried flats' infiltration (+4-10 %) is a "
+        metric_vs_truth_pct=-2.6,
+        note="the attic's infiltration +10 %, its interval 9 % above the truth, and the wall "
+        "-8.4 %, its interval 3.3 % below: the unvaried flats' infiltration (+4-10 %) is a "
         "model error they absorb",
     ),
     "calibration_energyplus_outpatient": IndependentCalibration(

@@ -277,8 +277,11 @@ class ForcingSetup:
                 )
             irr = cache
             for key, col in net.orientation_inputs.items():
-                if len(key) == 3:  # a shaded receiver
-                    u[:, col] = self._shaded(irr[key[:2]], key[2])["poa_global"]
+                if len(key) == 3:  # a shaded receiver, or a given view factor to the ground
+                    source = irr[key[:2]]
+                    if self._shadows and key[2] in self._shadows["beam"]:
+                        source = self._shaded(source, key[2])
+                    u[:, col] = self._ground_viewed(source, key, grid)["poa_global"]
                 else:
                     u[:, col] = irr[key]["poa_global"]
             for wkey, cols in net.window_inputs.items():
@@ -377,6 +380,27 @@ class ForcingSetup:
         )
         self._vent = self._ventilation_arrays(rho, n_steps)
         return u
+
+    def _ground_viewed(self, irradiance: dict, key, grid) -> dict:
+        """The ground-reflected part with the surface's given view factor to the ground
+        (EnergyPlus: ground solar x 'View Factor to Ground'), when it has one."""
+        overrides = self.__dict__.setdefault("_vf_overrides", self._ground_view_overrides())
+        name = key[2]
+        if name not in overrides:
+            return irradiance
+        tilt = float(key[0])
+        vf_tilt = 0.5 * (1.0 - np.cos(np.radians(tilt)))
+        out = dict(irradiance)
+        if vf_tilt > 1e-6:
+            out["poa_ground_diffuse"] = irradiance["poa_ground_diffuse"] * overrides[name] / vf_tilt
+        else:  # a horizontal face given a view of the ground: the ground's reflected sun
+            albedo = _ground_reflectance(grid, self.building.ground_reflectance)
+            if isinstance(albedo, str):
+                albedo = grid["albedo"].fillna(0.2).to_numpy()
+            ghi = np.nan_to_num(grid["ghi"].to_numpy())
+            out["poa_ground_diffuse"] = ghi * albedo * overrides[name]
+        out["poa_global"] = out["poa_direct"] + out["poa_sky_diffuse"] + out["poa_ground_diffuse"]
+        return out
 
     def _shaded(self, irradiance: dict, name: str) -> dict:
         """Irradiance on a shaded receiver, as EnergyPlus' ``AnisoSkyViewFactors``: beam and

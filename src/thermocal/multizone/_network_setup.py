@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg  # noqa: F401 - sp.linalg
 
 from thermocal.multizone import _kernel
 from thermocal.multizone._simtools import (
@@ -58,7 +59,10 @@ class NetworkSetup:
             pressure=pressure,
             cache=self._assembly_cache,
             gain_input_zones=gain_zones,
-            own_solar_inputs=frozenset(self._shadows["beam"]) if self._shadows else frozenset(),
+            own_solar_inputs=(
+                frozenset(self._shadows["beam"]) if self._shadows else frozenset()
+            )
+            | frozenset(self._ground_view_overrides()),
             sky_view_ratio=self._shadows["sky"] if self._shadows else None,
             interior_beam=(
                 {w: names for w, (names, *_) in self._interior_beam.items()}
@@ -68,6 +72,48 @@ class NetworkSetup:
         )
         self._inputs = self._input_matrix()
         self._factorise()
+
+    def _initial_state(self, temperature: float) -> np.ndarray:
+        """Node temperatures [C] to start from: ``temperature`` everywhere but in the
+        foundations' ground sections, which start from their steady state between the building
+        at ``temperature`` and the outdoor air at the weather's annual mean, without sun
+        (EnergyPlus's Kiva starts from a steady state too, at the conditions of 120 days
+        before the start, then steps three months ahead)."""
+        net = self.network
+        x = np.full(net.n_nodes, float(temperature))
+        ground = net.foundation_nodes
+        if not len(ground):
+            return x
+        weather = getattr(self, "_weather", None)
+        if weather is not None and "temp_air" in weather and weather["temp_air"].notna().any():
+            mean_out = float(np.nanmean(weather["temp_air"]))
+        else:
+            mean_out = self._mean_tout
+        u = np.zeros(len(net.input_names))
+        u[:3] = mean_out  # outdoor air, sky and ground temperatures
+        u[3] = 1.0  # the constant column
+        k = net.conductance.tocsr()
+        rest = np.ones(net.n_nodes, dtype=bool)
+        rest[ground] = False
+        k_gg = k[ground][:, ground].tocsc()
+        rhs = net.inputs[ground] @ u - k[ground][:, rest] @ x[rest]
+        x[ground] = sp.linalg.spsolve(k_gg, rhs)
+        return x
+
+    def _ground_view_overrides(self) -> dict[str, float]:
+        """Sun-exposed exterior surfaces whose given view factor to the ground departs from
+        the tilt's ``(1 - cos)/2``: name -> the given factor. EnergyPlus takes the field for the
+        ground-reflected solar (its long-wave follows the tilt, see network.assemble)."""
+        import math
+
+        out = {}
+        for surface in self.building.surfaces.values():
+            vf = surface.view_factor_ground
+            if vf is None or surface.boundary != "outdoors" or not surface.sun_exposed:
+                continue
+            if abs(vf - 0.5 * (1.0 - math.cos(math.radians(surface.tilt)))) > 1e-3:
+                out[surface.name] = float(vf)
+        return out
 
     def _evaluate_schedules(self):
         """The IDF file's schedules on the grid (None: no file schedules or 'constant')."""

@@ -147,7 +147,7 @@ class TrackedHeat:
         pid = _pid_coefficients(method, pid, nt)
         q_low, q_high = _heat_limits(limits, nt)
         heat = self._heat_array(heat_input, n_steps, nz)
-        self._x = np.full(net.n_nodes, self.initial_temperature)
+        self._x = self._initial_state(self.initial_temperature)
         self._face_root = np.ones(len(net.face_node))
         self._reset_ideal_state()
         self._k = 0

@@ -41,6 +41,7 @@ _TOP_LEVEL = {
     "location",
     "ground_temperatures",
     "ground_reflectance",
+    "foundations",
     "description",
     *_SECTIONS,
 }
@@ -535,6 +536,7 @@ def building_from_dict(data: Mapping, *, source: str | None = None) -> Building:
         location=location,
         ground_temperatures=data.get("ground_temperatures"),
         ground_reflectance=data.get("ground_reflectance"),
+        foundations=_foundations_from(data.get("foundations")),
         **objects,
     )
     notes = [
@@ -547,6 +549,38 @@ def building_from_dict(data: Mapping, *, source: str | None = None) -> Building:
             f"{source}: {note}" if source else note, BuildingFileWarning, stacklevel=2
         )
     return building
+
+
+def _foundations_from(value) -> dict:
+    """``foundations:`` of a building file: surface name -> the fields of
+    :class:`thermocal.multizone.foundation.FoundationGround` (``exposed_perimeter`` [m],
+    ``soil`` [conductivity W/(m K), density kg/m3, specific heat J/(kg K)], ``wall_layers``
+    [[thickness m, conductivity, density, specific heat], ...] inside first, ...)."""
+    from thermocal.multizone.foundation import FoundationGround
+
+    if not value:
+        return {}
+    if not isinstance(value, Mapping):
+        raise ThermocalInputError("foundations: expected a mapping of surface name -> fields")
+    allowed = {f.name for f in dataclasses.fields(FoundationGround)}
+    out = {}
+    for name, fields in value.items():
+        if not isinstance(fields, Mapping) or set(fields) - allowed:
+            raise ThermocalInputError(
+                f"foundations '{name}': expected the fields {', '.join(sorted(allowed))}"
+            )
+        fields = dict(fields)
+        if "soil" in fields:
+            fields["soil"] = tuple(float(v) for v in fields["soil"])
+        if "wall_layers" in fields:
+            fields["wall_layers"] = tuple(
+                tuple(float(v) for v in layer) for layer in fields["wall_layers"]
+            )
+        try:
+            out[str(name)] = FoundationGround(**fields)
+        except TypeError as exc:
+            raise ThermocalInputError(f"foundations '{name}': {exc}") from None
+    return out
 
 
 def building_to_dict(building: Building) -> dict:
@@ -588,6 +622,11 @@ def building_to_dict(building: Building) -> dict:
         **(
             {"ground_reflectance": list(building.ground_reflectance)}
             if building.ground_reflectance is not None
+            else {}
+        ),
+        **(
+            {"foundations": {n: clean(f) for n, f in building.foundations.items()}}
+            if building.foundations
             else {}
         ),
         "materials": [clean(m) for m in building.materials.values()],

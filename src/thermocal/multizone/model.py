@@ -979,6 +979,9 @@ class Building:
     (annual mean outdoor temperature, ISO 13370 Annex-style damped and lagged annual wave).
     ``ground_reflectance``: 12 monthly ground reflectances [-] (January first) for the sun
     reflected onto the facades; None takes the weather file's albedo (0.2 where it has none).
+    ``foundations``: floors on the ground (by surface name) whose ground is a two-dimensional
+    section (:class:`thermocal.multizone.foundation.FoundationGround`, EnergyPlus's
+    ``Foundation`` boundary) instead of the ground temperature.
     """
 
     name: str
@@ -991,6 +994,7 @@ class Building:
     windows: dict[str, Window] = field(default_factory=dict)
     ground_temperatures: tuple[float, ...] | None = None
     ground_reflectance: tuple[float, ...] | None = None
+    foundations: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if isinstance(self.location, Mapping):
@@ -1042,6 +1046,13 @@ class Building:
                 raise ThermocalInputError(
                     f"{owner}: other_zone/other_surface given but boundary is "
                     f"'{surface.boundary}'; set boundary: zone or remove them"
+                )
+        for name in self.foundations:
+            surface = self.surfaces.get(name)
+            if surface is None or surface.boundary != "ground":
+                raise ThermocalInputError(
+                    f"building '{self.name}': foundation '{name}' must name a surface with "
+                    "boundary: ground"
                 )
         bounded = {s.zone for s in self.surfaces.values()}
         lonely = [

@@ -184,6 +184,11 @@ class NetworkOptions:
     conduction_tolerance : float [K/K]
         Largest change of a surface temperature per kelvin of oscillation of its surroundings
         that the "reduced" conduction model may make (surface coefficients 3-30 W/(m2 K)).
+    foundation_states : int or None
+        States of each floor's two-dimensional ground section after balanced truncation
+        (:func:`thermocal.multizone.foundation.reduced_section`; exact at steady state; 24
+        reproduce the section's 328 cells to the kWh on NREL's SingleFamilyHouse, 12 within
+        0.2 %); None: every cell a node.
     """
 
     fourier_min: float = 1.0 / 3.0
@@ -205,6 +210,7 @@ class NetworkOptions:
     radiant_temperature: float = 20.0
     conduction: str = "full"
     conduction_tolerance: float = 1e-3
+    foundation_states: int | None = 16
 
     def __post_init__(self) -> None:
         if self.conduction not in ("full", "reduced"):
@@ -217,6 +223,13 @@ class NetworkOptions:
             raise ThermocalInputError(
                 "conduction_tolerance must be a positive number [K/K] (e.g. 1e-3), got "
                 f"{self.conduction_tolerance!r}"
+            )
+        if self.foundation_states is not None and not (
+            isinstance(self.foundation_states, int) and self.foundation_states >= 1
+        ):
+            raise ThermocalInputError(
+                "foundation_states must be a positive integer or None, got "
+                f"{self.foundation_states!r}"
             )
         if self.interior_convection not in ("tarp", "fixed", "simple"):
             raise ThermocalInputError(
@@ -657,6 +670,8 @@ class ConstructionTemplate:
     resistance: float  # [m2 K/W], surface to surface
     matrix: np.ndarray | None = None  # (n_nodes, n_nodes) [W/(m2 K)]
     n_full: int = 0  # finite-difference nodes of the construction
+    #: node at the outside face of each layer (finite-difference chain; empty when reduced)
+    layer_nodes: tuple[int, ...] = ()
 
     @functools.cached_property
     def links(self) -> list[tuple[int, int, float]]:
@@ -789,7 +804,9 @@ def construction_template(
     """
     conductance: list[float] = []
     capacity = [0.0]
+    layer_nodes = []
     for layer in layers:
+        layer_nodes.append(len(capacity) - 1)
         if isinstance(layer, Material):
             if options.cells_per_layer is not None:
                 n = int(options.cells_per_layer)
@@ -818,6 +835,7 @@ def construction_template(
         capacity=capacity_arr,
         resistance=float(np.sum(1.0 / conductance_arr)),
         n_full=len(capacity_arr),
+        layer_nodes=tuple(layer_nodes),
     )
     if options.conduction == "full":
         return template
@@ -836,7 +854,9 @@ def construction_template(
             conductance_arr, capacity_arr, step, options.conduction_tolerance
         )
     reduced = cache[key]
-    return dataclasses.replace(template, capacity=reduced.capacity, matrix=reduced.conductance)
+    return dataclasses.replace(
+        template, capacity=reduced.capacity, matrix=reduced.conductance, layer_nodes=()
+    )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -853,6 +873,7 @@ class Network:
     """
 
     n_nodes: int
+    foundation_nodes: np.ndarray  # nodes of the foundations' ground sections (int)
     capacity: np.ndarray  # (n,) [J/K]
     # K (n, n) [W/K]: Laplacian + boundary diagonal, symmetric but for the rows of the
     # outside faces held at their inside face's temperature (mirrored_outside_entries)
@@ -1024,6 +1045,11 @@ def assemble(
         input_names.append(name)
         return len(input_names) - 1
 
+    def entry(i: int, j: int, value: float) -> None:  # one entry of K
+        rows.append(i)
+        cols.append(j)
+        vals.append(value)
+
     # zone air capacity and infiltration
     if pressure is None:
         pressure = pressure_at_altitude(building.location.altitude)
@@ -1067,6 +1093,16 @@ def assemble(
     e_win: list[bool] = []  # a window's outer glass face
     e_pa: list[float] = []  # perimeter over area [1/m]
     surface_nodes: dict[str, tuple[int, int]] = {}  # name -> (outside node, inside node)
+    foundation_nodes: list[np.ndarray] = []  # the nodes of each foundation's ground section
+
+    def foundation_sun() -> int:
+        # the grade's sun: the horizontal plane's irradiance (shared with horizontal faces)
+        key = (0.0, 0.0)
+        if key not in orientation_inputs:
+            orientation_inputs[key] = new_input("poa_global/0.0/0.0")
+        return orientation_inputs[key]
+
+    orientation_inputs: dict[tuple[float, ...], int] = {}
 
     def face_props(surface, layers, inside: bool):
         mat = layers[-1] if inside else layers[0]
@@ -1132,6 +1168,13 @@ def assemble(
             f_az.append(partner.azimuth)
             f_mass.append(False)
             f_back.append((0.0, 0.0))
+        elif surface.boundary == "ground" and surface.name in building.foundations:
+            foundation_nodes.append(
+                _add_foundation(
+                    building.foundations[surface.name], layers, tpl, outside, area,
+                    options.foundation_states, new_nodes, entry, source, foundation_sun,
+                )
+            )
         elif surface.boundary == "ground":
             boundary(outside, IN_TEMP_GROUND, options.ground_contact_conductance * area)
         elif surface.boundary == "outdoors":
@@ -1393,7 +1436,10 @@ def assemble(
     ext_area = np.asarray(e_area, dtype=float)
     ext_tilt = np.asarray(e_tilt, dtype=float)
     ext_eps = np.asarray(e_eps, dtype=float)
-    f_sky = 1.0 - np.asarray(e_fg, dtype=float)
+    # EnergyPlus' long-wave view factors follow the tilt alone (ViewFactorSkyIR = (1 + cos)/2,
+    # SurfaceGeometry.cc); a surface's 'View Factor to Ground' field is its ground-reflected
+    # solar only (a north roof of NREL's SingleFamilyHouse has 0.9: it still sees the sky)
+    f_sky = 0.5 * (1.0 + np.cos(np.radians(ext_tilt)))
     if sky_view_ratio:
         # shading surfaces hide part of the sky in the long-wave too (EnergyPlus multiplies the
         # sky IR view factor by the isotropic sky-diffuse shading ratio; the hidden part sees
@@ -1455,7 +1501,6 @@ def assemble(
             boundary(node, IN_TEMP_SKY, float(hr0 * ext_eps[k] * view_sky[k] * ext_area[k]))
 
     # ---- solar: opaque exterior faces ------------------------------------------------------------
-    orientation_inputs: dict[tuple[float, float], int] = {}
     for k in range(len(ext_node)):
         if not e_sun[k] or e_alpha[k] == 0:
             continue
@@ -1617,6 +1662,9 @@ def assemble(
     zone_transmitted = sp.coo_matrix((zt_vals, (zt_rows, zt_cols)), shape=(nz, n_inputs)).tocsr()
     return Network(
         n_nodes=n,
+        foundation_nodes=(
+            np.concatenate(foundation_nodes) if foundation_nodes else np.zeros(0, dtype=np.int64)
+        ),
         capacity=np.concatenate([np.asarray(cap, dtype=float), *cap_blocks]),
         conductance=conductance,
         inputs=inputs,
@@ -1676,6 +1724,94 @@ def assemble(
 #: Faces whose tilts and azimuths differ by at most this much lie in one plane and do not see each
 #: other (EnergyPlus, CalcApproximateViewFactors: SameAngleLimit) [deg].
 SAME_PLANE_ANGLE = 10.0
+
+
+@functools.lru_cache(maxsize=64)
+def _foundation_grid(ground, area: float, floor_layers: tuple):
+    """:func:`thermocal.multizone.foundation.foundation_grid`, kept between assemblies (the
+    strategies of a retrofit, the samples of a campaign share their floors' sections)."""
+    from thermocal.multizone.foundation import foundation_grid
+
+    return foundation_grid(ground, area, floor_layers)
+
+
+@functools.lru_cache(maxsize=64)
+def _reduced_section(ground, area: float, floor_layers: tuple, n_states: int):
+    """:func:`thermocal.multizone.foundation.reduced_section` of :func:`_foundation_grid`'s
+    section, kept between assemblies."""
+    from thermocal.multizone.foundation import reduced_section
+
+    return reduced_section(_foundation_grid(ground, area, floor_layers), n_states)
+
+
+def _add_foundation(
+    ground, layers, template, outside, area, n_states, new_nodes, entry, source, sun_column
+) -> np.ndarray:
+    """Add a floor's two-dimensional ground section (:mod:`thermocal.multizone.foundation`).
+
+    The section couples to the floor's outside node (the top of the soil under the floor) and
+    to the chain's node above any insulation under the slab (the slab's edge on the wall; the
+    outside node for a reduced construction), to the outdoor air, the sky and the sun on the
+    grade. With ``n_states`` its cells are replaced by that many balanced states
+    (:func:`thermocal.multizone.foundation.reduced_section`, exact at steady state); with None
+    every cell is a node.
+
+    Returns
+    -------
+    ndarray of int
+        The section's nodes.
+    """
+    from thermocal.multizone.foundation import section_matrices
+
+    floor_layers = []
+    for layer in layers:
+        if isinstance(layer, Material):
+            floor_layers.append(
+                (layer.thickness, layer.conductivity, layer.density, layer.specific_heat)
+            )
+        else:  # a resistance without mass: a thin layer of that resistance
+            floor_layers.append((0.001, 0.001 / layer.resistance, 1.0, 1.0))
+    grid = _foundation_grid(ground, float(area), tuple(floor_layers))
+    if template.layer_nodes and grid.slab_interface < len(template.layer_nodes):
+        slab = outside + template.layer_nodes[grid.slab_interface]
+    else:
+        slab = outside
+    floor = (outside, slab)
+    columns = (IN_TEMP_OUT, IN_TEMP_SKY, sun_column())
+    if n_states is None or n_states >= len(grid.capacity) - 1:
+        a, capacity, h = section_matrices(grid)
+        first = new_nodes(capacity)
+        rows, cols = np.nonzero(a)
+        for i, j in zip(rows, cols, strict=True):
+            entry(first + int(i), first + int(j), float(a[i, j]))
+        for c in range(len(capacity)):
+            for k in range(2):
+                if h[c, k]:
+                    entry(first + c, floor[k], -h[c, k])
+                    entry(floor[k], first + c, -h[c, k])
+                    entry(floor[k], floor[k], h[c, k])
+            for k, column in enumerate(columns):
+                if h[c, 2 + k]:
+                    source(first + c, column, h[c, 2 + k])
+        return np.arange(first, first + len(capacity), dtype=np.int64)
+    reduced = _reduced_section(ground, float(area), tuple(floor_layers), int(n_states))
+    m = len(reduced.rates)
+    first = new_nodes(np.ones(m))
+    d = reduced.feedthrough
+    for q in range(m):
+        entry(first + q, first + q, float(reduced.rates[q]))
+        for k in range(2):
+            entry(first + q, floor[k], -float(reduced.coupling[q, k]))
+            entry(floor[k], first + q, -float(reduced.coupling[q, k]))
+        for k, column in enumerate(columns):
+            source(first + q, column, float(reduced.coupling[q, 2 + k]))
+    for k in range(2):
+        entry(floor[k], floor[k], float(reduced.floor_conductance[k]))
+        for kk in range(2):
+            entry(floor[k], floor[kk], -float(d[k, kk]))
+        for kk, column in enumerate(columns):
+            source(floor[k], column, float(d[k, 2 + kk]))
+    return np.arange(first, first + m, dtype=np.int64)
 
 
 def approximate_view_factors(area, tilt, azimuth, internal_mass=None, iterations=200):

@@ -260,7 +260,7 @@ class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Ou
             Uniform initial temperature; None = the constructor's value (with warm-up).
         """
         temp = self.initial_temperature if initial_temperature is None else initial_temperature
-        self._x = np.full(self.network.n_nodes, float(temp))
+        self._x = self._initial_state(float(temp))
         self._face_root = np.ones(len(self.network.face_node))
         self._reset_ideal_state()
         self._k = 0
@@ -332,7 +332,7 @@ class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Ou
             self._x = x_old
             self._k = k_old
         else:
-            self._x = np.full(self.network.n_nodes, self.initial_temperature)
+            self._x = self._initial_state(self.initial_temperature)
             self._face_root = np.ones(len(self.network.face_node))
 
     # ------------------------------------------------------------------------------------------
@@ -363,7 +363,7 @@ class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Ou
         nz = len(net.zone_names)
         n_steps = len(self.times)
         heat = self._heat_array(heat_input, n_steps, nz)
-        self._x = np.full(net.n_nodes, self.initial_temperature)
+        self._x = self._initial_state(self.initial_temperature)
         self._face_root = np.ones(len(net.face_node))
         self._reset_ideal_state()
         self._k = 0

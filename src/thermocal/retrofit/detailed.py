@@ -20,15 +20,12 @@ simulates each strategy for the weather year under the same heating:
   in the unheated zone gets the mirrored construction. A window measure replaces the glazing
   by EnergyPlus's simple glazing model with the target U and g (the existing g when none is
   given). A target that does not improve a construction is refused.
-* **Slab on ground.** EnergyPlus's ``Foundation`` boundary (Kiva, a 2-D ground model) is not
-  part of the multi-zone model, which would keep the floor adiabatic. Here it becomes a floor on
-  the ground with a soil layer under it: ISO 13370 soil (lambda 2.0 W/(m K), rho c 2.0 MJ/(m3
-  K)) of the thickness that gives the slab its ISO 13370 U-value (exposed perimeter from
-  ``SurfaceProperty:ExposedFoundationPerimeter``, wall thickness from the foundation's wall
-  construction), its lower face at the undisturbed ground temperature at that depth (annual
-  wave of the weather's air temperature, Kusuda & Achenbach 1965). The soil's heat capacity
-  carries the summer's heat into the autumn, as the ground under a house does; a preceding year
-  of the same weather brings it to its periodic state.
+* **Slab on ground.** A floor on EnergyPlus's ``Foundation`` boundary (Kiva) keeps the
+  two-dimensional ground section the IDF import gives it (:mod:`thermocal.multizone.foundation`:
+  the foundation wall, the soil of the file's ``Foundation:Kiva:Settings`` or EnergyPlus's
+  defaults, 40 m of it); a preceding year of the same weather brings that ground to its
+  periodic state. Insulation under the slab is a layer of the floor's construction below its
+  slab, whose edge still meets the foundation wall, as in Kiva.
 * **Heating.** Ideal heating at each zone's set point (the file's thermostat schedules for an
   IDF, the zone's ``heating_setpoint`` otherwise), the annual demand the heating delivered to
   the heated zones over the weather year.
@@ -43,11 +40,7 @@ References
 ----------
 .. [1] ISO 6946:2017, Building components and building elements -- Thermal resistance and
    thermal transmittance -- Calculation methods (surface resistances, Table 7).
-.. [2] ISO 13370:2017, Thermal performance of buildings -- Heat transfer via the ground --
-   Calculation methods (slab on ground, 7.2; soil properties, Table 7).
-.. [3] Kusuda, T. and Achenbach, P. R. (1965), "Earth temperature and thermal diffusivity at
-   selected stations in the United States", ASHRAE Transactions 71(1).
-.. [4] Kruis, N. and Krarti, M. (2015), "Kiva: a numerical framework for foundation heat
+.. [2] Kruis, N. and Krarti, M. (2015), "Kiva: a numerical framework for foundation heat
    transfer simulation", Proceedings of Building Simulation 2015 (EnergyPlus's Foundation).
 """
 
@@ -70,7 +63,6 @@ __all__ = [
     "DetailedRetrofitResult",
     "apply_measures",
     "check_same_building",
-    "foundations_as_ground",
     "load_detailed_building",
     "measure_surfaces",
     "simulate_strategies",
@@ -83,10 +75,6 @@ INSULATION_CONDUCTIVITY = 0.035
 INSULATION_DENSITY, INSULATION_SPECIFIC_HEAT = 30.0, 1450.0
 #: A render or cladding thinner than this [m] stays outside added wall / roof insulation.
 FINISH_MAX_THICKNESS = 0.03
-#: ISO 13370 soil when the type is unknown: lambda [W/(m K)], rho [kg/m3], c [J/(kg K)].
-SOIL_CONDUCTIVITY, SOIL_DENSITY, SOIL_SPECIFIC_HEAT = 2.0, 2000.0, 1000.0
-#: Wall thickness at ground level [m] when the file does not give one (ISO 13370 'w').
-DEFAULT_WALL_THICKNESS = 0.3
 
 #: ISO 6946 surface resistances (inside, outside) [m2 K/W] by component.
 SURFACE_RESISTANCES: dict[str, tuple[float, float]] = {
@@ -144,165 +132,6 @@ def load_detailed_building(path: str | Path):
         return load_building(path)
 
 
-def _foundation_records(path: Path) -> tuple[list[dict], dict[str, tuple[str, list[str]]], dict]:
-    """Surfaces on a ``Foundation`` boundary, exposed perimeters and Kiva wall constructions."""
-    from thermocal.multizone.idf.parse import _version_tuple, read_idf_objects, record
-
-    objects = read_idf_objects(path)
-    version = _version_tuple(objects)
-    surfaces, perimeters, walls = [], {}, {}
-    for obj in objects:
-        if obj.key == "BUILDINGSURFACE:DETAILED":
-            rec = record(obj, version=version)
-            if rec.get("outside_boundary_condition", "").upper() == "FOUNDATION":
-                surfaces.append(rec)
-        elif obj.key == "SURFACEPROPERTY:EXPOSEDFOUNDATIONPERIMETER":
-            perimeters[obj.fields[0].upper()] = (obj.fields[1], list(obj.fields[2:]), obj)
-        elif obj.key == "FOUNDATION:KIVA":
-            # field 15: Footing Wall Construction Name (the foundation wall; default: none)
-            walls[obj.fields[0].upper()] = obj.fields[14] if len(obj.fields) > 14 else ""
-    return surfaces, perimeters, walls
-
-
-def _polygon_perimeter(vertices) -> float:
-    pts = np.asarray(vertices, dtype=float)
-    return float(np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1).sum())
-
-
-def _exposed_perimeter(rec: dict, perimeters: dict) -> float:
-    """Exposed perimeter [m] of a foundation floor from its ExposedFoundationPerimeter."""
-    full = _polygon_perimeter(rec["vertices"])
-    entry = perimeters.get(rec["name"].upper())
-    if entry is None:
-        return full
-    method, values, obj = entry
-    method = method.upper()
-    try:
-        if method == "TOTALEXPOSEDPERIMETER":
-            return float(values[0])
-        if method == "EXPOSEDPERIMETERFRACTION":
-            return full * float(values[1])
-        if method == "BYSEGMENT":
-            pts = np.asarray(rec["vertices"], dtype=float)
-            sides = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
-            flags = [v.strip().upper() == "YES" for v in values[2 : 2 + len(sides)]]
-            return float(sum(s for s, f in zip(sides, flags, strict=False) if f))
-    except (IndexError, ValueError) as exc:
-        raise ThermocalInputError(
-            f"{obj.where()}: cannot read the exposed perimeter ({exc})"
-        ) from None
-    raise ThermocalInputError(f"{obj.where()}: unknown calculation method {method!r}")
-
-
-def _slab_u_value(area: float, perimeter: float, wall: float, floor_r: float) -> float:
-    """ISO 13370 U-value [W/(m2 K)] of a slab with an exposed perimeter [m] (which, unlike the
-    whole perimeter, can be shorter than a circle's: a floor beside an unheated space)."""
-    from thermocal.physics.ground import _floor_transmittance, equivalent_thickness
-
-    b_prime = area / (0.5 * perimeter)
-    d_t = equivalent_thickness(SOIL_CONDUCTIVITY, floor_r, wall_thickness=wall)
-    return float(_floor_transmittance(SOIL_CONDUCTIVITY, b_prime, d_t))
-
-
-def foundations_as_ground(building, idf_path: str | Path, weather: pd.DataFrame):
-    """Floors on EnergyPlus ``Foundation`` boundaries as floors on an ISO 13370 soil layer.
-
-    Parameters
-    ----------
-    building : thermocal.multizone.model.Building
-        The building imported from ``idf_path`` (its foundation floors adiabatic).
-    idf_path : str or Path
-    weather : pandas.DataFrame
-        Standard weather frame (``temp_air`` [C], a year) for the undisturbed ground temperature.
-
-    Returns
-    -------
-    building : Building
-        Each foundation floor with ``boundary="ground"`` and its own construction: a soil layer
-        (ISO 13370 soil) of thickness ``lambda (1/U - R_si - R_f)`` under the floor's layers,
-        ``U`` the ISO 13370 slab-on-ground U-value; ``ground_temperatures`` the monthly
-        undisturbed ground temperature at the mean soil depth.
-    notes : list of str
-        One line per converted floor (U-value, exposed perimeter, soil thickness).
-    """
-    from thermocal.multizone.model import Construction, Material
-    from thermocal.physics.ground import ground_temperature, ground_temperature_parameters
-
-    records, perimeters, walls = _foundation_records(Path(idf_path))
-    if not records:
-        return building, []
-    existing = [s.name for s in building.surfaces.values() if s.boundary == "ground"]
-    if existing:
-        raise ThermocalInputError(
-            f"{idf_path}: floors on a Foundation boundary together with surfaces on the ground "
-            f"({', '.join(existing[:3])}) are not supported by the detailed retrofit (one ground "
-            "temperature for both); put them all on one kind of boundary"
-        )
-    rsi_down = SURFACE_RESISTANCES["ground_floor"][0]
-    materials = dict(building.materials)
-    constructions = dict(building.constructions)
-    surfaces = dict(building.surfaces)
-    notes, depths = [], []
-    for rec in records:
-        surface = surfaces.get(rec["name"])
-        if surface is None:
-            continue
-        wall = walls.get(rec["outside_boundary_condition_object"].upper(), "")
-        if wall and wall in building.constructions:
-            layers = building.construction_layers(wall)
-            thickness = sum(getattr(m, "thickness", 0.0) for m in layers)
-        else:
-            thickness = DEFAULT_WALL_THICKNESS
-        perimeter = _exposed_perimeter(rec, perimeters)
-        floor_r = sum(m.resistance for m in building.construction_layers(surface.construction))
-        if perimeter <= 0.0:
-            u_value = 0.0
-        else:
-            u_value = _slab_u_value(surface.area, perimeter, thickness, floor_r)
-        soil_r = (1.0 / u_value if u_value > 0 else 1e3) - rsi_down - floor_r
-        soil_r = max(soil_r, 0.05)
-        soil = Material(
-            name=f"soil under {surface.name}",
-            conductivity=SOIL_CONDUCTIVITY,
-            density=SOIL_DENSITY,
-            specific_heat=SOIL_SPECIFIC_HEAT,
-            thickness=soil_r * SOIL_CONDUCTIVITY,
-        )
-        materials[soil.name] = soil
-        cname = f"{surface.construction} on the ground ({surface.name})"
-        constructions[cname] = Construction(
-            cname, (soil.name, *building.constructions[surface.construction].layers)
-        )
-        surfaces[surface.name] = dataclasses.replace(
-            surface, construction=cname, boundary="ground", view_factor_ground=None
-        )
-        depths.append((soil.thickness, surface.area))
-        notes.append(
-            f"floor '{surface.name}' on EnergyPlus's Foundation (Kiva): ISO 13370 slab on "
-            f"ground, exposed perimeter {perimeter:.2f} m, wall {thickness:.2f} m, U "
-            f"{u_value:.3f} W/(m2 K) ({u_value * surface.area:.1f} W/K), soil layer "
-            f"{soil.thickness:.2f} m (lambda {SOIL_CONDUCTIVITY} W/(m K))"
-        )
-    depth = sum(d * a for d, a in depths) / sum(a for _, a in depths)
-    params = ground_temperature_parameters(weather)
-    months = pd.date_range("2001-01-01", periods=12, freq="MS") + pd.Timedelta(days=14)
-    monthly = ground_temperature(months, depth, **params).to_numpy()
-    notes.append(
-        f"ground under the soil layers ({depth:.2f} m): undisturbed ground temperature of the "
-        f"weather's annual wave, monthly {monthly.min():.1f} to {monthly.max():.1f} C"
-    )
-    changed = building.replaced(
-        materials=materials,
-        constructions=constructions,
-        surfaces=surfaces,
-        ground_temperatures=tuple(float(t) for t in monthly),
-    )
-    return changed, notes
-
-
-# ----------------------------------------------------------------------------------------------
-# measures -> surfaces, constructions and windows
-# ----------------------------------------------------------------------------------------------
 def _heated(building) -> set[str]:
     return {name for name, zone in building.zones.items() if zone.conditioned}
 
@@ -402,11 +231,11 @@ def _insulation_layer(name: str, thickness: float, covered):
     )
 
 
-def _insulated_layers(building, construction: str, measure: Measure, soil_layers: int):
+def _insulated_layers(building, construction: str, measure: Measure):
     """(new layer tuple outside -> inside, insulation Material, U before [W/(m2 K)])."""
     layers = list(building.constructions[construction].layers)
     mats = [building.materials[n] for n in layers]
-    own = mats[soil_layers:]  # the construction itself, without a soil layer under a slab
+    own = mats
     rsi, rse = SURFACE_RESISTANCES[measure.component]
     u_now = 1.0 / (rsi + rse + sum(m.resistance for m in own))
     if measure.u_value >= u_now - 1e-9:
@@ -416,7 +245,7 @@ def _insulated_layers(building, construction: str, measure: Measure, soil_layers
             "resistances); lower the target or remove the measure"
         )
     thickness = INSULATION_CONDUCTIVITY * (1.0 / measure.u_value - 1.0 / u_now)
-    at = soil_layers
+    at = 0
     if (
         _POSITION[measure.component] == "outside"
         and len(own) > 1
@@ -475,8 +304,7 @@ def apply_measures(building, measures: Sequence[Measure]):
         for name in names:
             by_construction.setdefault(building.surfaces[name].construction, []).append(name)
         for cname, on in by_construction.items():
-            n_soil = sum(1 for layer in building.constructions[cname].layers if _is_soil(layer))
-            layers, layer, u_now = _insulated_layers(building, cname, measure, n_soil)
+            layers, layer, u_now = _insulated_layers(building, cname, measure)
             materials[layer.name] = layer
             new = f"{cname} + {measure.name}"
             constructions[new] = Construction(new, layers)
@@ -502,10 +330,6 @@ def apply_measures(building, measures: Sequence[Measure]):
         windows=windows,
     )
     return changed, changes
-
-
-def _is_soil(material_name: str) -> bool:
-    return str(material_name).startswith("soil under ")
 
 
 def _apply_window_measure(building, measure: Measure, window_types: dict, windows: dict):
@@ -602,22 +426,6 @@ class DetailedRetrofitResult:
         return 100.0 * (1.0 - self.annual_kwh / self.annual_kwh[0])
 
 
-def _import_notes(notes: Sequence[str], *, converted: bool) -> list[str]:
-    """The simulation's notes without what :func:`foundations_as_ground` took over."""
-    import re
-
-    out = []
-    for note in notes:
-        if converted and "Foundation is not modelled" in note:
-            continue
-        if converted and note.startswith("objects not represented"):
-            for cls in ("Foundation:Kiva", "SurfaceProperty:ExposedFoundationPerimeter"):
-                note = re.sub(rf"{cls} \(\d+\)(, )?", "", note)
-            note = note.rstrip(", ")
-        out.append(note)
-    return out
-
-
 def _variant_simulation():
     """:class:`~thermocal.multizone.simulation.Simulation` whose envelope can be swapped.
 
@@ -682,15 +490,14 @@ def simulate_strategies(
         The first one must be "no retrofit".
     measures : mapping name -> Measure
     source : str or Path, optional
-        The building file; for an IDF its ``Foundation`` floors become ISO 13370 floors on the
-        ground (:func:`foundations_as_ground`).
+        The building file (recorded in the result).
     step : str, optional
         Time step; default the IDF's ``Timestep``, else 15 min.
     warmup_year : bool or None
         Simulate the year before (the same weather) first, so that slow parts (soil under a
         slab, time constants of months) start in their periodic state; else (or when the
         weather is shorter than a year) the model's week of warm-up. None (default): a warm-up
-        year when the building has soil layers (:func:`foundations_as_ground`).
+        year when the building has a ground section under a floor (``Building.foundations``).
     start, end : timestamp-like, optional
         A shorter period ``[start, end)`` (tests); default the whole weather frame.
     progress : callable, optional
@@ -705,13 +512,6 @@ def simulate_strategies(
         raise ThermocalInputError("the first strategy must be '0' (no retrofit)")
     t0 = time.perf_counter()
     notes: list[str] = []
-    ground_notes: list[str] = []
-    from thermocal.multizone.files import imported_idf
-
-    idf = imported_idf(building, source)
-    if idf is not None:
-        building, ground_notes = foundations_as_ground(building, idf, weather)
-        notes += ground_notes
     heated = sorted(_heated(building), key=list(building.zones).index)
     if not any(building.zones[z].heating_setpoint is not None for z in heated):
         raise ThermocalInputError(
@@ -722,7 +522,7 @@ def simulate_strategies(
     sim_weather, year_start = weather, None
     span = pd.DatetimeIndex(weather.index)[-1] - pd.DatetimeIndex(weather.index)[0]
     if warmup_year is None:
-        warmup_year = any(_is_soil(m) for m in building.materials)
+        warmup_year = bool(building.foundations)
     if warmup_year and start is None and end is None:
         if span >= pd.Timedelta(days=364):
             sim_weather, year_start = _with_year_before(weather)
@@ -757,20 +557,8 @@ def simulate_strategies(
         monthly[strategy.code] = kwh.groupby(kwh.index.month).sum()
         timings[strategy.code] = time.perf_counter() - t1
         if strategy is strategies[0]:
-            notes += _import_notes(sim.approximations(), converted=bool(ground_notes))
+            notes += list(sim.approximations())
     timings["total"] = time.perf_counter() - t0
-    on_soil = any(
-        c["component"] == "ground_floor" and any(_is_soil(n) for n in building.materials)
-        for done in changes.values()
-        for c in done
-    )
-    if on_soil:
-        notes.append(
-            "insulation under a slab on the ground: ISO 13370 lets it act over the whole floor "
-            "and the soil layer is one-dimensional, without the slab-edge thermal bridge and the "
-            "ground that the house warms in 2-D; on the EnergyPlus reference house its saving is "
-            "about 13 points higher than Kiva's (docs/retrofit.md): read it as an upper bound"
-        )
     return DetailedRetrofitResult(
         strategies=list(strategies),
         annual_kwh=np.asarray(annual),

@@ -344,7 +344,6 @@ class _IdfReader(
 
     def _unsupported_classes(self) -> None:
         """Stage: unsupported classes."""
-        unsupported = Counter(obj.class_name for obj in self.objects if obj.key not in SCHEMA)
         canonical: dict[str, str] = {}
         for obj in self.objects:
             canonical.setdefault(obj.key, obj.class_name)
@@ -353,7 +352,6 @@ class _IdfReader(
             if obj.key not in SCHEMA:
                 grouped[canonical[obj.key]] += 1
         self.info.unsupported = dict(sorted(grouped.items()))
-        del unsupported
 
     def _model_zones(self) -> None:
         """Stage: zones."""
@@ -399,6 +397,7 @@ class _IdfReader(
                 windows=self.model_windows,
                 ground_temperatures=self.ground,
                 ground_reflectance=self.ground_reflectance,
+                foundations=self.foundations,
             )
         except ThermocalInputError as exc:
             raise ThermocalInputError(f"{self.path.name}: {exc}") from None

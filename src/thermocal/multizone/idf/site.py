@@ -380,7 +380,11 @@ class SiteStages:
                         else "the weather file's 0.5 m ground temperatures"
                     )
                 )
-        if self.ground is None and any(s.boundary == "ground" for s in self.model_surfaces):
+        on_ground = [
+            s for s in self.model_surfaces
+            if s.boundary == "ground" and s.name not in getattr(self, "foundations", {})
+        ]  # fmt: skip
+        if self.ground is None and on_ground:
             self.ground = (ENERGYPLUS_DEFAULT_GROUND_TEMPERATURE,) * 12
             self.info.notes.append(
                 "no Site:GroundTemperature:BuildingSurface: ground surfaces see the EnergyPlus "

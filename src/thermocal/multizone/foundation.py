@@ -1,0 +1,500 @@
+"""Two-dimensional ground under a slab floor, as EnergyPlus's ``Foundation`` boundary (Kiva).
+
+EnergyPlus couples a floor on a ``Foundation`` boundary to Kiva, a finite-volume model of the
+ground around the foundation. By default it reduces the three-dimensional foundation to a
+two-dimensional section (Kruis and Krarti 2017, the "area over perimeter" reduction): the slab
+extends from a symmetry plane to ``A / P`` (floor area over exposed perimeter), the foundation wall
+stands at its edge, ``Wall Height Above Grade`` (0.2 m) of it exposed to the outdoor air, and the
+soil reaches 40 m beyond the wall and 40 m down; the results per metre of section times ``P``
+give the floor's heat flow. This module builds that section as a grid of cells
+(:func:`foundation_grid`) and reduces it by balanced truncation (:func:`reduced_section`) to a
+few states that the multi-zone network (:func:`thermocal.multizone.network.assemble`) adds as
+linear nodes: the floor's own construction stays the one-dimensional chain of every surface and
+its outside node lies on the soil under the slab; the slab's edge touches the foundation wall.
+
+The section, ``x`` from the slab's centre, ``z`` up from the grade:
+
+* the floor's construction occupies ``0 <= x <= A/P`` between the top of the wall ``h`` and
+  ``h - t_floor``; soil below it (the fill inside the wall included);
+* the foundation wall (the ``Footing Wall Construction``, inside layer first) occupies
+  ``A/P <= x <= A/P + t_wall`` from ``h`` down to ``Wall Depth Below Slab`` under the floor;
+* outside the wall the soil's surface is the grade at ``z = 0``, exposed to the sky, the outdoor
+  air (convection and long-wave linearised) and the sun (absorptance 0.9, Kiva's default);
+  the wall's outside face above the grade to the outdoor air;
+* zero heat flow across the symmetry plane, the far field and the deep-ground boundary (Kiva's
+  ``Autoselect`` for a water table deeper than 40 m).
+
+What the section leaves out (stated in the import's notes): the grade's convection and long-wave
+exchange are linearised at fixed coefficients rather than evaluated each step, and a floor with
+insulation added under it keeps its one-dimensional chain (Kiva meshes the slab in the section,
+so the slab's edge meets the wall across its whole thickness; here the chain's node above any
+insulation touches the wall's cells beside the slab).
+
+References
+----------
+.. [1] Kruis, N. and Krarti, M. (2017), "Three-dimensional accuracy of two-dimensional
+   approximations of foundation heat transfer", Journal of Building Performance Simulation
+   10(3).
+.. [2] Moore, B.C. (1981), "Principal component analysis in linear systems"; Fernando, K.V.
+   and Nicholson, H. (1982), "Singular perturbational model reduction of balanced systems"
+   (as :mod:`thermocal.multizone.conduction_reduction`).
+.. [3] EnergyPlus 25.2 Input Output Reference, ``Foundation:Kiva``, ``Foundation:Kiva:Settings``
+   and ``SurfaceProperty:ExposedFoundationPerimeter``; the settings' defaults when the file has
+   none are those of ``KivaManager::Settings`` (soil 0.864 W/(m K), 1510 kg/m3, 1260 J/(kg K)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+
+__all__ = [
+    "KIVA_DEFAULT_SOIL",
+    "FoundationGround",
+    "FoundationGrid",
+    "ReducedSection",
+    "foundation_grid",
+    "reduced_section",
+    "steady_floor_conductance",
+]
+
+#: EnergyPlus's Kiva soil when the file has no ``Foundation:Kiva:Settings`` or leaves a field
+#: blank: conductivity [W/(m K)], density [kg/m3], specific heat [J/(kg K)]
+#: (``KivaManager::Settings``; the Input Output Reference documents 1.73, 1842 and 419, which an
+#: object with blank fields does not give: checked with EnergyPlus 25.2).
+KIVA_DEFAULT_SOIL = (0.864, 1510.0, 1260.0)
+#: Convection coefficient of the grade and of the wall above it [W/(m2 K)], constant: Kiva
+#: takes the wind at the grade's roughness height (0.9 m, about half the weather station's) and
+#: evaluates the outside algorithm each step; 2 lies between its natural and its low-wind values
+#: (measured 2026-11-30: the steady slab of docs/energyplus.md moves by 6 % between 0.5 and 4). The
+#: long-wave part is linearised at 10 C, to the sky from the grade.
+GRADE_CONVECTION = 2.0
+#: The grade's long-wave emissivity and solar absorptance [-] (Kiva's defaults).
+GRADE_EMISSIVITY, GRADE_ABSORPTANCE = 0.9, 0.9
+#: Largest cell of the section [m] (the far field and the deep ground).
+MAX_CELL = 10.0
+#: The floor's inside surface resistance, heat flow down [m2 K/W] (ISO 6946), for the fin.
+FLOOR_INSIDE_RESISTANCE = 0.17
+
+
+@dataclass(frozen=True)
+class FoundationGround:
+    """The ground section under one floor on a ``Foundation`` boundary.
+
+    Attributes
+    ----------
+    exposed_perimeter : float [m]
+        Perimeter of the floor next to the outside (``SurfaceProperty:ExposedFoundationPerimeter``).
+    soil : tuple of float
+        Conductivity [W/(m K)], density [kg/m3] and specific heat [J/(kg K)] of the soil.
+    wall_layers : tuple of (thickness [m], conductivity [W/(m K)], density [kg/m3],
+        specific heat [J/(kg K)])
+        The foundation wall from the inside to the outside; empty: no wall (soil at the slab's
+        edge).
+    wall_height_above_grade : float [m]
+        Top of the wall (and of the floor) above the grade.
+    wall_depth_below_slab : float [m]
+        Bottom of the wall below the floor's construction.
+    deep_ground_depth, far_field_width : float [m]
+        Depth of the zero-flux bottom below the grade and width of the soil beyond the wall.
+    """
+
+    exposed_perimeter: float
+    soil: tuple[float, float, float] = KIVA_DEFAULT_SOIL
+    wall_layers: tuple[tuple[float, float, float, float], ...] = ()
+    wall_height_above_grade: float = 0.2
+    wall_depth_below_slab: float = 0.0
+    deep_ground_depth: float = 40.0
+    far_field_width: float = 40.0
+
+    def __post_init__(self) -> None:
+        checks = {
+            "exposed_perimeter [m]": self.exposed_perimeter,
+            "soil conductivity [W/(m K)]": self.soil[0],
+            "soil density [kg/m3]": self.soil[1],
+            "soil specific heat [J/(kg K)]": self.soil[2],
+            "deep_ground_depth [m]": self.deep_ground_depth,
+            "far_field_width [m]": self.far_field_width,
+        }
+        for name, value in checks.items():
+            if not np.isfinite(value) or value <= 0:
+                raise ThermocalInputError(f"foundation: {name} must be > 0, got {value!r}")
+        if self.wall_height_above_grade < 0 or self.wall_depth_below_slab < 0:
+            raise ThermocalInputError(
+                "foundation: wall_height_above_grade and wall_depth_below_slab [m] must be >= 0"
+            )
+        for layer in self.wall_layers:
+            if len(layer) != 4 or min(layer) <= 0:
+                raise ThermocalInputError(
+                    f"foundation: a wall layer needs thickness [m], conductivity [W/(m K)], "
+                    f"density [kg/m3] and specific heat [J/(kg K)] > 0, got {layer!r}"
+                )
+
+    @property
+    def wall_thickness(self) -> float:
+        """Thickness of the foundation wall [m]."""
+        return float(sum(layer[0] for layer in self.wall_layers))
+
+
+@dataclass(frozen=True)
+class FoundationGrid:
+    """The section's cells as network nodes (every value already times the exposed perimeter).
+
+    The last node is the slab's edge: the band of the floor's slab within a fin length of the
+    wall (``sqrt(k t / h)``, with ``k t`` the slab's in-plane conductance and ``h`` its
+    exchange with the room and through any insulation below it), linked to the slab's node of
+    the floor's chain by the fin's conductance and to the wall's cells beside the floor.
+
+    Attributes
+    ----------
+    capacity : ndarray (n,) [J/K]
+    links : ndarray (m, 3)
+        Node ``i``, node ``j`` (as floats) and their conductance [W/K].
+    under_floor : ndarray (k, 2)
+        Cell and its conductance [W/K] to the floor's outside node (the top of the soil under
+        the slab, half a cell's resistance).
+    edge_node : int
+        Index of the slab's edge node.
+    fin_conductance : float [W/K]
+        Between the slab's node of the floor's chain and the edge node.
+    slab_interface : int
+        Layer interface of the floor's chain that is the slab's node: the number of its outside
+        layers below 0.1 W/(m K) (0: the outside node).
+    outdoor : ndarray (g, 3)
+        Cell, its exposed area [m2] and whether it is the grade (1.0, sees the sky and the sun)
+        or the wall's face above it (0.0).
+    """
+
+    capacity: np.ndarray
+    links: np.ndarray
+    under_floor: np.ndarray
+    edge_node: int
+    fin_conductance: float
+    slab_interface: int
+    outdoor: np.ndarray
+
+
+def _edges(start: float, end: float, fine: list[float], first: float, growth: float) -> np.ndarray:
+    """Cell edges from ``start`` to ``end`` [m]: ``first``-sized cells at each point of
+    ``fine``, growing geometrically by ``growth`` away from them (at most ``MAX_CELL``)."""
+    points = sorted({start, end, *[p for p in fine if start < p < end]})
+    edges = [start]
+    for a, b in zip(points[:-1], points[1:], strict=True):
+        # grow from both ends of [a, b] towards its middle
+        left, right, size = [a], [b], first
+        while left[-1] + size < right[-1] - size:
+            left.append(left[-1] + size)
+            right.append(right[-1] - size)
+            size = min(size * growth, MAX_CELL)
+        segment = left + right[::-1]
+        edges.extend(segment[1:])
+    out = np.unique(np.round(np.asarray(edges), 9))
+    return out
+
+
+def foundation_grid(
+    ground: FoundationGround,
+    floor_area: float,
+    floor_layers,
+    *,
+    first_cell: float = 0.1,
+    growth: float = 2.5,
+) -> FoundationGrid:
+    """Cells of the two-dimensional section under a floor (see the module's description).
+
+    Parameters
+    ----------
+    ground : FoundationGround
+    floor_area : float [m2]
+        Area of the floor.
+    floor_layers : sequence of (thickness [m], conductivity [W/(m K)], density [kg/m3],
+        specific heat [J/(kg K)])
+        The floor's construction from the outside (the soil's side) to the inside: its chain
+        lies above the section's soil, and its layers above any insulation (layers below 0.1
+        W/(m K) at its outside) form the slab whose edge meets the wall.
+    first_cell : float [m]
+        Cell size at the slab's edge, the wall's faces and the grade.
+    growth : float [-]
+        Growth factor of the cells away from those.
+
+    Returns
+    -------
+    FoundationGrid
+    """
+    p = float(ground.exposed_perimeter)
+    half = float(floor_area) / p  # the section's slab half-width A / P [m]
+    t_wall = ground.wall_thickness
+    h = float(ground.wall_height_above_grade)
+    floor_thickness = sum(layer[0] for layer in floor_layers)
+    slab_bottom = h - float(floor_thickness)
+    wall_bottom = slab_bottom - float(ground.wall_depth_below_slab)
+    x_far = half + t_wall + float(ground.far_field_width)
+    z_deep = -float(ground.deep_ground_depth)
+    wall_faces = [half, half + t_wall]
+    x_fine = [*wall_faces]
+    acc = half
+    for layer in ground.wall_layers:
+        acc += layer[0]
+        x_fine.append(acc)
+    xe = _edges(0.0, x_far, x_fine, first_cell, growth)
+    ze = _edges(z_deep, max(h, 0.0), [0.0, slab_bottom, wall_bottom, h], first_cell, growth)
+    xc, zc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ze[1:] + ze[:-1])
+    dx, dz = np.diff(xe), np.diff(ze)
+    soil_k, soil_rho, soil_cp = ground.soil
+    # material of each cell: conductivity, volumetric capacity; 0 = not part of the section
+    k = np.zeros((len(xc), len(zc)))
+    rc = np.zeros_like(k)
+    layer_edges = half + np.cumsum([0.0] + [layer[0] for layer in ground.wall_layers])
+    for i, x in enumerate(xc):
+        for j, z in enumerate(zc):
+            if x < half:
+                inside = z < slab_bottom
+                material = (soil_k, soil_rho * soil_cp) if inside else None
+            elif x < half + t_wall:
+                if z < wall_bottom:
+                    material = (soil_k, soil_rho * soil_cp)
+                elif z < h:
+                    n = int(np.searchsorted(layer_edges, x, side="right")) - 1
+                    layer = ground.wall_layers[min(n, len(ground.wall_layers) - 1)]
+                    material = (layer[1], layer[2] * layer[3])
+                else:
+                    material = None
+            else:
+                material = (soil_k, soil_rho * soil_cp) if z < 0.0 else None
+            if material is not None:
+                k[i, j], rc[i, j] = material
+    active = k > 0
+    index = -np.ones(k.shape, dtype=np.int64)
+    index[active] = np.arange(int(active.sum()))
+    capacity = (rc * dx[:, None] * dz[None, :] * p)[active]
+    links = []
+    for i in range(len(xc) - 1):  # horizontal neighbours
+        for j in range(len(zc)):
+            if active[i, j] and active[i + 1, j]:
+                r = 0.5 * dx[i] / k[i, j] + 0.5 * dx[i + 1] / k[i + 1, j]
+                links.append((index[i, j], index[i + 1, j], dz[j] * p / r))
+    for i in range(len(xc)):  # vertical neighbours
+        for j in range(len(zc) - 1):
+            if active[i, j] and active[i, j + 1]:
+                r = 0.5 * dz[j] / k[i, j] + 0.5 * dz[j + 1] / k[i, j + 1]
+                links.append((index[i, j], index[i, j + 1], dx[i] * p / r))
+    under, edge, outdoor = [], [], []
+    for i in range(len(xc)):
+        for j in range(len(zc)):
+            if not active[i, j]:
+                continue
+            top_open = not (j + 1 < len(zc) and active[i, j + 1])
+            if xc[i] < half and top_open:  # the top of the soil under the floor
+                under.append((index[i, j], dx[i] * p / (0.5 * dz[j] / k[i, j])))
+            elif top_open and xc[i] > half + t_wall:  # the grade
+                outdoor.append((index[i, j], dx[i] * p, 1.0))
+            if half <= xc[i] < half + t_wall and i > 0 and not active[i - 1, j]:
+                # the wall's inside face beside the floor: the slab's edge
+                edge.append((index[i, j], dz[j] * p / (0.5 * dx[i] / k[i, j])))
+            if i + 1 < len(xc) and not active[i + 1, j] and zc[j] > 0.0:
+                outdoor.append((index[i, j], dz[j] * p, 0.0))  # the wall's face above the grade
+    if not under:
+        raise ThermocalInputError("foundation: the section has no soil under the floor")
+    # the slab's edge band (a fin of the slab's layers above any insulation)
+    insulated = _insulated_layers([(layer[0], layer[1]) for layer in floor_layers])
+    slab = floor_layers[insulated:]
+    kt = sum(layer[0] * layer[1] for layer in slab)
+    r_up = FLOOR_INSIDE_RESISTANCE + 0.5 * sum(layer[0] / layer[1] for layer in slab)
+    r_down = sum(layer[0] / layer[1] for layer in floor_layers[:insulated])
+    h_fin = 1.0 / r_up + (1.0 / r_down if r_down > 0 else 0.0)
+    fin_length = float(np.sqrt(kt / h_fin)) if kt > 0 else 0.0
+    n_cells = int(active.sum())
+    edge_node = n_cells
+    capacity = np.append(
+        capacity, fin_length * p * sum(layer[0] * layer[2] * layer[3] for layer in slab)
+    )
+    links.extend((edge_node, c, g) for c, g in edge)
+    return FoundationGrid(
+        capacity=np.asarray(capacity, float),
+        links=np.asarray(links, float).reshape(-1, 3),
+        under_floor=np.asarray(under, float).reshape(-1, 2),
+        edge_node=edge_node,
+        fin_conductance=float(np.sqrt(kt * h_fin)) * p if kt > 0 else 0.0,
+        slab_interface=insulated,
+        outdoor=np.asarray(outdoor, float).reshape(-1, 3),
+    )
+
+
+@dataclass(frozen=True)
+class ReducedSection:
+    """A ground section reduced by balanced truncation with singular perturbation.
+
+    The section's cells obey ``C dT/dt = -A T + H v``, ``v`` = (floor's outside node, slab
+    node, outdoor air, sky, horizontal irradiance) and ``H`` their couplings; the floor's nodes
+    receive ``H[:, :2]^T T - diag(sum H[:, :2]) v[:2]``. In ``x = C^1/2 T`` the system is
+    symmetric (its port flows are the transpose of its inputs), so its two Gramians are equal
+    and balancing is the eigenbasis of one (Moore 1981; Liu, Sreeram and Teo 1998); the weakest
+    balanced states follow the others quasi-statically (Fernando and Nicholson 1982), which keeps
+    every steady state exact; the kept ones are rotated onto the eigenvectors of their block:
+    ``dq/dt = -rates q + coupling v``, the ports seeing ``coupling^T q + feedthrough v``.
+    Symmetric, so it enters the network as nodes of unit capacity.
+
+    Attributes
+    ----------
+    rates : ndarray (m,) [1/s]
+    coupling : ndarray (m, 5)
+        [W/K per unit of q; the irradiance's column in m2 per unit of q].
+    feedthrough : ndarray (5, 5) [W/K; m2]
+        The quasi-static states' direct coupling of the ports.
+    floor_conductance : ndarray (2,) [W/K]
+        ``sum H[:, :2]``: the floor's outside and slab nodes' own coupling to the section.
+    """
+
+    rates: np.ndarray
+    coupling: np.ndarray
+    feedthrough: np.ndarray
+    floor_conductance: np.ndarray
+
+
+#: Weight of the irradiance's column in the Gramian [K per W/m2]: a kelvin of air temperature
+#: and 50 W/m2 of sun count alike when the states are ranked.
+SUN_WEIGHT = 1.0 / 50.0
+
+
+def section_matrices(grid: FoundationGrid) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The section's ``A`` (n, n) [W/K], ``C`` (n,) [J/K] and couplings ``H`` (n, 5) (floor's
+    outside node, slab node [W/K]; outdoor air, sky [W/K]; horizontal irradiance [m2])."""
+    n = len(grid.capacity)
+    a = np.zeros((n, n))
+    i, j, g = grid.links[:, 0].astype(int), grid.links[:, 1].astype(int), grid.links[:, 2]
+    np.add.at(a, (i, j), -g)
+    np.add.at(a, (j, i), -g)
+    np.add.at(a, (i, i), g)
+    np.add.at(a, (j, j), g)
+    h = np.zeros((n, 5))
+    cells = grid.under_floor[:, 0].astype(int)
+    np.add.at(h[:, 0], cells, grid.under_floor[:, 1])
+    h[grid.edge_node, 1] = grid.fin_conductance
+    hr = 4.0 * 5.670374419e-8 * GRADE_EMISSIVITY * 283.15**3
+    for c, area, is_grade in grid.outdoor:
+        c = int(c)
+        if is_grade:
+            h[c, 2] += GRADE_CONVECTION * area
+            h[c, 3] += hr * area
+            h[c, 4] += GRADE_ABSORPTANCE * area
+        else:
+            h[c, 2] += (GRADE_CONVECTION + 0.5 * hr) * area
+            h[c, 3] += 0.5 * hr * area
+    a[np.diag_indices(n)] += h[:, :4].sum(axis=1)
+    return a, np.asarray(grid.capacity, float), h
+
+
+def reduced_section(grid: FoundationGrid, n_states: int) -> ReducedSection:
+    """The section reduced to ``n_states`` balanced states (:class:`ReducedSection`).
+
+    Parameters
+    ----------
+    grid : FoundationGrid
+    n_states : int
+        States kept (fewer than the section's nodes).
+    """
+    import scipy.linalg
+
+    a, c, h = section_matrices(grid)
+    m = int(min(n_states, len(c) - 1))
+    scale = 1.0 / np.sqrt(c)
+    a_x = -(a * scale[:, None] * scale[None, :])  # dx/dt = a_x x + b_x v
+    b_x = h * scale[:, None]
+    weights = np.array([1.0, 1.0, 1.0, 1.0, 1.0 / SUN_WEIGHT])
+    b_w = b_x / weights[None, :]
+    gramian = scipy.linalg.solve_continuous_lyapunov(a_x, -b_w @ b_w.T)
+    _, v = np.linalg.eigh(0.5 * (gramian + gramian.T))
+    v = v[:, ::-1]  # largest Hankel singular value first
+    a_t, b_t = v.T @ a_x @ v, v.T @ b_x
+    a11, a12, a22 = a_t[:m, :m], a_t[:m, m:], a_t[m:, m:]
+    b1, b2 = b_t[:m], b_t[m:]
+    a_r = a11 - a12 @ np.linalg.solve(a22, a12.T)
+    b_r = b1 - a12 @ np.linalg.solve(a22, b2)
+    feedthrough = -b2.T @ np.linalg.solve(a22, b2)
+    rates, w = np.linalg.eigh(-0.5 * (a_r + a_r.T))
+    return ReducedSection(
+        rates=rates,
+        coupling=w.T @ b_r,
+        feedthrough=0.5 * (feedthrough + feedthrough.T),
+        floor_conductance=h[:, :2].sum(axis=0),
+    )
+
+
+def steady_floor_conductance(
+    ground: FoundationGround,
+    floor_area: float,
+    floor_layers,
+    inside_resistance: float = FLOOR_INSIDE_RESISTANCE,
+    **grid_options,
+) -> float:
+    """Steady heat flow [W/K] from the room's air through the floor and the section to the
+    outdoor air, per kelvin of their difference (the sky at the air's temperature, no sun).
+
+    Parameters
+    ----------
+    ground : FoundationGround
+    floor_area : float [m2]
+    floor_layers : sequence of (thickness [m], conductivity [W/(m K)], density [kg/m3],
+        specific heat [J/(kg K)])
+        The floor's construction from the outside (the soil's side) to the inside.
+    inside_resistance : float [m2 K/W]
+        The floor's inside surface resistance (ISO 6946, heat flow down: 0.17).
+    **grid_options
+        Passed to :func:`foundation_grid`.
+    """
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    grid = foundation_grid(ground, floor_area, floor_layers, **grid_options)
+    n = len(grid.capacity)
+    # nodes: the section's, then the floor's outside node and its slab node
+    outside, slab = n, n + 1
+    rows, cols, vals = [], [], []
+
+    def link(i: int, j: int, g: float) -> None:
+        rows.extend((i, j, i, j))
+        cols.extend((i, j, j, i))
+        vals.extend((g, g, -g, -g))
+
+    for i, j, g in grid.links:
+        link(int(i), int(j), g)
+    for c, g in grid.under_floor:
+        link(int(c), outside, g)
+    link(slab, grid.edge_node, grid.fin_conductance)
+    for c, area, is_grade in grid.outdoor:
+        rows.append(int(c))
+        cols.append(int(c))
+        vals.append(exposed_coefficient(bool(is_grade)) * area)
+    below = floor_layers[: grid.slab_interface]
+    r_below = sum(layer[0] / layer[1] for layer in below)
+    r_above = sum(layer[0] / layer[1] for layer in floor_layers[grid.slab_interface :])
+    link(outside, slab, floor_area / r_below if r_below > 0 else 1e9)
+    g_room = floor_area / (r_above + inside_resistance)
+    rows.append(slab)
+    cols.append(slab)
+    vals.append(g_room)
+    rhs = np.zeros(n + 2)
+    rhs[slab] = g_room  # the room at 1 K above the outdoor air
+    a = sp.csc_matrix((vals, (rows, cols)), shape=(n + 2, n + 2))
+    t = spla.spsolve(a, rhs)
+    return float(g_room * (1.0 - t[slab]))
+
+
+def exposed_coefficient(grade: bool) -> float:
+    """Coefficient [W/(m2 K)] of an exposed cell to the outdoor air: convection and long-wave
+    (at 10 C) linearised; the grade's long-wave goes to the sky in a simulation, to the air here."""
+    del grade
+    return GRADE_CONVECTION + 4.0 * 5.670374419e-8 * GRADE_EMISSIVITY * 283.15**3
+
+
+def _insulated_layers(floor_layers) -> int:
+    """Number of the floor's outermost layers below 0.1 W/(m K) (insulation under the slab)."""
+    count = 0
+    for _, conductivity in floor_layers:
+        if conductivity >= 0.1:
+            break
+        count += 1
+    return count

@@ -1,0 +1,211 @@
+"""EnergyPlus's ``Foundation`` boundary (Kiva) read into a ground section.
+
+A floor whose ``Outside Boundary Condition`` is ``Foundation`` gets the two-dimensional section
+of :mod:`thermocal.multizone.foundation` from its ``Foundation:Kiva`` object (the foundation
+wall's construction, its height above grade and depth below the slab), its
+``SurfaceProperty:ExposedFoundationPerimeter`` and the file's ``Foundation:Kiva:Settings``
+(soil, far field, deep ground), with EnergyPlus's own defaults for what the file leaves out.
+Walls on a ``Foundation`` boundary (a basement's) stay adiabatic, with a note.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from thermocal.errors import ThermocalInputError
+
+__all__ = ["exposed_perimeter", "foundation_ground", "kiva_settings"]
+
+#: Foundation:Kiva fields (0-based) the section takes, and the insulation and footing fields it
+#: does not model.
+_WALL_HEIGHT, _WALL_DEPTH, _WALL_CONSTRUCTION = 12, 13, 14
+_NOT_MODELLED = {
+    2: "interior horizontal insulation",
+    5: "interior vertical insulation",
+    7: "exterior horizontal insulation",
+    10: "exterior vertical insulation",
+    15: "footing",
+}
+#: EnergyPlus's defaults of Foundation:Kiva's wall (Input Output Reference).
+_DEFAULT_HEIGHT_ABOVE_GRADE, _DEFAULT_DEPTH_BELOW_SLAB = 0.2, 0.0
+#: The water table's depth per metre of the site's elevation (Kiva's ``Autoselect``).
+_WATER_TABLE_PER_ELEVATION = 0.1022
+
+
+def _number(obj, index: int, default: float, what: str) -> float:
+    fields = obj.fields
+    raw = fields[index].strip() if index < len(fields) else ""
+    if not raw or raw.upper() == "AUTOCALCULATE":
+        return default
+    try:
+        return float(raw)
+    except ValueError:
+        raise ThermocalInputError(
+            f"{obj.where()}: field '{what}' = '{raw}' is not a number"
+        ) from None
+
+
+def kiva_settings(objects, elevation: float) -> tuple[dict, list[str]]:
+    """The soil and the domain of the file's ``Foundation:Kiva:Settings`` (EnergyPlus's code
+    defaults for what it leaves blank or when it has none).
+
+    Parameters
+    ----------
+    objects : list of IdfObject
+    elevation : float [m]
+        The site's elevation (Kiva puts the water table at 0.1022 m per metre of it).
+
+    Returns
+    -------
+    settings : dict
+        ``soil`` (conductivity [W/(m K)], density [kg/m3], specific heat [J/(kg K)]),
+        ``far_field_width`` and ``deep_ground_depth`` [m].
+    notes : list of str
+    """
+    from thermocal.multizone.foundation import KIVA_DEFAULT_SOIL
+
+    found = [o for o in objects if o.key == "FOUNDATION:KIVA:SETTINGS"]
+    notes = []
+    k, rho, cp = KIVA_DEFAULT_SOIL
+    far, deep, boundary = 40.0, 40.0, "AUTOSELECT"
+    if found:
+        obj = found[0]
+        k = _number(obj, 0, k, "Soil Conductivity")
+        rho = _number(obj, 1, rho, "Soil Density")
+        cp = _number(obj, 2, cp, "Soil Specific Heat")
+        far = _number(obj, 6, far, "Far-Field Width")
+        boundary = (obj.fields[7].strip().upper() if len(obj.fields) > 7 else "") or boundary
+        deep = _number(obj, 8, deep, "Deep-Ground Depth")
+    else:
+        notes.append(
+            "Foundation floors: no Foundation:Kiva:Settings, so EnergyPlus's own soil "
+            f"(conductivity {k} W/(m K), density {rho:.0f} kg/m3, specific heat {cp:.0f} "
+            "J/(kg K); not the 1.73 W/(m K) its Input Output Reference documents)"
+        )
+    water_table = _WATER_TABLE_PER_ELEVATION * max(float(elevation), 0.0)
+    if boundary == "GROUNDWATER" or (boundary == "AUTOSELECT" and water_table <= 40.0):
+        depth = water_table if boundary == "AUTOSELECT" else deep
+        notes.append(
+            "Foundation floors: Kiva holds the deep ground at the annual mean air temperature "
+            f"at {depth:.1f} m (a water table); thermocal's section has no heat flow across "
+            f"its bottom at that depth"
+        )
+        deep = max(depth, 1.0)
+    return {"soil": (k, rho, cp), "far_field_width": far, "deep_ground_depth": deep}, notes
+
+
+def exposed_perimeter(name: str, vertices, objects) -> float:
+    """Exposed perimeter [m] of a floor from its ``SurfaceProperty:ExposedFoundationPerimeter``
+    (the whole polygon's when it has none, as EnergyPlus before it required one)."""
+    pts = np.asarray(vertices, dtype=float)
+    sides = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
+    for obj in objects:
+        if obj.key != "SURFACEPROPERTY:EXPOSEDFOUNDATIONPERIMETER":
+            continue
+        if not obj.fields or obj.fields[0].strip().upper() != name.upper():
+            continue
+        method = (obj.fields[1] if len(obj.fields) > 1 else "").strip().upper()
+        values = list(obj.fields[2:])
+        try:
+            if method == "TOTALEXPOSEDPERIMETER":
+                return float(values[0])
+            if method == "EXPOSEDPERIMETERFRACTION":
+                return float(sides.sum()) * float(values[1])
+            if method == "BYSEGMENT":
+                flags = [v.strip().upper() == "YES" for v in values[2 : 2 + len(sides)]]
+                return float(sum(s for s, f in zip(sides, flags, strict=False) if f))
+        except (IndexError, ValueError) as exc:
+            raise ThermocalInputError(
+                f"{obj.where()}: cannot read the exposed perimeter ({exc})"
+            ) from None
+        raise ThermocalInputError(f"{obj.where()}: unknown calculation method {method!r}")
+    return float(sides.sum())
+
+
+def foundation_ground(name, vertices, foundation_name, objects, materials, constructions, settings):
+    """The ground section of one floor on a ``Foundation`` boundary.
+
+    Parameters
+    ----------
+    name : str
+        The floor surface.
+    vertices : array (n, 3) [m]
+        Its vertices.
+    foundation_name : str
+        Its ``Outside Boundary Condition Object`` (the ``Foundation:Kiva``).
+    objects : list of IdfObject
+    materials : dict
+        thermocal materials by upper-case name (for the foundation wall's layers).
+    constructions : dict
+        thermocal constructions by upper-case name.
+    settings : dict
+        :func:`kiva_settings`'s.
+
+    Returns
+    -------
+    ground : FoundationGround or None
+        None when the floor has no exposed perimeter (no heat to the outside through it).
+    notes : list of str
+    """
+    from thermocal.multizone.foundation import FoundationGround
+    from thermocal.multizone.model import Material
+
+    notes = []
+    kiva = next(
+        (
+            o
+            for o in objects
+            if o.key == "FOUNDATION:KIVA" and o.fields and o.fields[0].strip().upper()
+            == foundation_name.strip().upper()
+        ),
+        None,
+    )
+    height, depth, wall_layers = _DEFAULT_HEIGHT_ABOVE_GRADE, _DEFAULT_DEPTH_BELOW_SLAB, ()
+    if kiva is not None:
+        height = _number(kiva, _WALL_HEIGHT, height, "Wall Height Above Grade")
+        depth = _number(kiva, _WALL_DEPTH, depth, "Wall Depth Below Slab")
+        missing = [
+            what
+            for index, what in _NOT_MODELLED.items()
+            if index < len(kiva.fields) and kiva.fields[index].strip()
+        ]
+        if missing:
+            notes.append(
+                f"floor '{name}': the {', '.join(missing)} of {kiva.where()} is not modelled "
+                "(the ground section has the wall and the soil only)"
+            )
+        wall = kiva.fields[_WALL_CONSTRUCTION].strip() if len(kiva.fields) > 14 else ""
+        if wall:
+            construction = constructions.get(wall.upper())
+            if construction is None:
+                raise ThermocalInputError(
+                    f"{kiva.where()}: field 'Footing Wall Construction Name' = '{wall}' is not a "
+                    "construction of the file"
+                )
+            layers = []
+            for layer_name in reversed(construction.layers):  # inside first
+                layer = materials.get(layer_name.upper())
+                if not isinstance(layer, Material):
+                    raise ThermocalInputError(
+                        f"{kiva.where()}: the footing wall's layer '{layer_name}' is not a "
+                        "Material with thickness, conductivity, density and specific heat "
+                        "(EnergyPlus refuses it too)"
+                    )
+                layers.append(
+                    (layer.thickness, layer.conductivity, layer.density, layer.specific_heat)
+                )
+            wall_layers = tuple(layers)
+    perimeter = exposed_perimeter(name, vertices, objects)
+    if perimeter <= 0.0:
+        notes.append(f"floor '{name}': no exposed perimeter; treated as adiabatic")
+        return None, notes
+    ground = FoundationGround(
+        exposed_perimeter=perimeter,
+        soil=settings["soil"],
+        wall_layers=wall_layers,
+        wall_height_above_grade=height,
+        wall_depth_below_slab=depth,
+        deep_ground_depth=settings["deep_ground_depth"],
+        far_field_width=settings["far_field_width"],
+    )
+    return ground, notes

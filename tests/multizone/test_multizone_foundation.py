@@ -1,0 +1,192 @@
+"""The two-dimensional ground section under a floor on EnergyPlus's Foundation boundary (Kiva).
+
+Truth we did not make: EnergyPlus 25.2's Kiva on NREL's SingleFamilyHouse
+(``tests/reference/retrofit_energyplus_house``, ``make_reference.py --ground``:
+``ground_study.json``), the slab's steady heat loss coefficient at Kiva's own soil (no settings
+object: 0.864 W/(m K)) and at 2.0 W/(m K), without and with 12.2 cm of insulation under the slab
+(U 0.25); the whole house's steady heat loss coefficient (``reference.json``, 299.2 W/K).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from thermocal.errors import ThermocalInputError
+from thermocal.multizone.foundation import (
+    KIVA_DEFAULT_SOIL,
+    FoundationGround,
+    foundation_grid,
+    steady_floor_conductance,
+)
+
+REF = Path(__file__).resolve().parents[1] / "reference" / "retrofit_energyplus_house"
+#: The house's foundation wall (EXTWALL:GARAGE, inside first) and floor (outside first).
+WALL = ((0.2032, 1.048, 1105.0, 837.0), (0.0254, 0.6918, 1858.1, 836.8))
+FLOOR = [(0.1016, 1.31, 2243.0, 837.0), (0.0127, 0.0585, 200.0, 1300.0)]
+INSULATED = [(0.122, 0.035, 30.0, 1450.0), *FLOOR]
+AREA, PERIMETER = 185.8, 49.121
+
+
+def _kiva() -> dict:
+    return json.loads((REF / "ground_study.json").read_text())["floor_W_per_K_steady"]
+
+
+@pytest.mark.parametrize(
+    ("soil", "floor", "case", "measured"),
+    [
+        (0.864, FLOOR, "steady_soil173", 58.9),
+        (0.864, INSULATED, "steady_soil173_slab", 38.5),
+        (2.0, FLOOR, "steady_soil2", 100.5),
+        (2.0, INSULATED, "steady_soil2_slab", 47.3),
+    ],
+)
+def test_steady_slab_against_kiva(soil, floor, case, measured):
+    """The slab's steady conductance within 20 % of Kiva's (measured 2026-11-30: 58.9 vs 61.9,
+    38.5 vs 46.1, 100.5 vs 94.1, 47.3 vs 52.9 W/K; ISO 13370 gives 47.1, 23.4, 89.0 and 31.8:
+    it has no slab edge on the foundation wall). ``steady_soil173`` is the reference run
+    without a settings object, i.e. at Kiva's own 0.864 W/(m K)."""
+    ground = FoundationGround(PERIMETER, soil=(soil, 1510.0, 1260.0), wall_layers=WALL)
+    value = steady_floor_conductance(ground, AREA, floor)
+    assert value == pytest.approx(_kiva()[case], rel=0.20)
+    assert value == pytest.approx(measured, rel=0.02)
+
+
+def test_the_insulation_keeps_the_edge_through_the_wall():
+    """Insulation under the slab leaves the slab's edge on the foundation wall (Kiva keeps
+    21-23 W/K more than ISO 13370 there, ground_study.json): the wall adds 11.7 W/K to the
+    insulated floor (38.9 against 27.2 W/K without a wall; measured 2026-11-30), and the
+    insulated floor loses about 15 W/K more than ISO 13370's whole-floor insulation (23.4)."""
+    from thermocal.physics.ground import iso13370_slab_on_ground
+
+    ground = FoundationGround(PERIMETER, soil=KIVA_DEFAULT_SOIL, wall_layers=WALL)
+    insulated = steady_floor_conductance(ground, AREA, INSULATED)
+    no_wall = steady_floor_conductance(FoundationGround(PERIMETER), AREA, INSULATED)
+    assert insulated - no_wall == pytest.approx(11.7, abs=1.5)
+    r_floor = sum(t / k for t, k, *_ in INSULATED)
+    iso = AREA * iso13370_slab_on_ground(
+        AREA, PERIMETER, wall_thickness=0.2286, floor_resistance=r_floor, soil_conductivity=0.864
+    )
+    assert insulated - iso > 10.0
+
+
+def test_grid_is_consistent():
+    """Every cell's capacity is its volume's (times the perimeter), the links are symmetric
+    pairs with positive conductances, and the soil's volume is the domain's."""
+    ground = FoundationGround(PERIMETER, soil=KIVA_DEFAULT_SOIL, wall_layers=WALL)
+    grid = foundation_grid(ground, AREA, FLOOR)
+    n = len(grid.capacity)
+    assert grid.edge_node == n - 1
+    assert np.all(grid.links[:, 2] > 0) and np.all(grid.links[:, :2] < n)
+    soil_rc = KIVA_DEFAULT_SOIL[1] * KIVA_DEFAULT_SOIL[2]
+    width = AREA / PERIMETER + 0.2286 + 40.0
+    # soil: the whole domain 40 m deep, less the wall above its bottom, plus the fill above the
+    # grade under the slab (0.2 - 0.114 m)
+    soil_volume = width * 40.0 + AREA / PERIMETER * (0.2 - 0.1143)
+    wall_rc = sum(t * r * c for t, _, r, c in WALL) * 0.1143
+    total = (soil_volume * soil_rc + wall_rc) * PERIMETER
+    assert grid.capacity[:-1].sum() == pytest.approx(total, rel=0.01)
+    assert grid.under_floor[:, 1].min() > 0 and len(grid.outdoor) > 0
+
+
+def test_bad_foundation_input_is_refused():
+    with pytest.raises(ThermocalInputError, match="exposed_perimeter"):
+        FoundationGround(0.0)
+    with pytest.raises(ThermocalInputError, match="soil conductivity"):
+        FoundationGround(10.0, soil=(-1.0, 1500.0, 1000.0))
+    with pytest.raises(ThermocalInputError, match="wall layer"):
+        FoundationGround(10.0, wall_layers=((0.2, 1.0, 1000.0),))
+
+
+def test_house_steady_heat_loss_against_energyplus(tmp_path):
+    """The whole house on its ground sections, held at 20 C above a constant 0 C without sun
+    or gains (the IDF EnergyPlus ran, its weather made steady as make_reference.py made it):
+    286.5 W/K against EnergyPlus's 299.2 (-4.2 %; floors adiabatic 246.1 against 246.0, so the
+    two floors' ground 40 against 53 W/K). The ground starts in its steady state
+    (``Simulation._initial_state``), as Kiva's does; half a year lets the rest settle."""
+    import importlib.util
+    import warnings
+
+    from conftest import shared_data_path
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone import Simulation, load_building
+
+    spec = importlib.util.spec_from_file_location("make_reference_house", REF / "make_reference.py")
+    mr = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mr)
+    epw = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
+    weather, meta = read_weather(mr.steady_weather(Path(epw), tmp_path / "steady.epw"))
+    idf = tmp_path / "house_without_gains.idf"
+    idf.write_text(mr.house_idf(gains=False))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = load_building(idf)
+    sim = Simulation(
+        building, weather, meta, start="2015-01-01", end="2015-07-01", warmup_days=0,
+        initial_temperature=20.0,
+    )  # fmt: skip
+    heating = sim.run().heating["LIVING ZONE"]
+    hlc = float(heating.iloc[-len(heating) // 20 :].mean()) / 20.0
+    reference = json.loads((REF / "reference.json").read_text())["heat_loss_coefficient_W_per_K"]
+    assert hlc == pytest.approx(reference, rel=0.08)
+    assert hlc == pytest.approx(286.5, rel=0.02)
+
+
+def test_foundations_round_trip_through_a_building_file(tmp_path):
+    """An imported house's ground sections survive ``save_building`` / ``load_building``
+    (the calibrated file of a Kiva house keeps them), and a misspelt field is refused."""
+    import warnings
+
+    import yaml
+
+    from thermocal.multizone import load_building
+    from thermocal.multizone.files import building_from_dict, building_to_dict, save_building
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = load_building(REF / "house_v25.idf")
+    path = save_building(building, tmp_path / "house.yaml")
+    again = load_building(path)
+    assert again.foundations == building.foundations
+    data = yaml.safe_load(path.read_text())
+    data["foundations"]["Living:Floor"]["perimeter"] = 40.0
+    with pytest.raises(ThermocalInputError, match="'Living:Floor': expected the fields"):
+        building_from_dict(data)
+    data = building_to_dict(building)
+    data["foundations"] = {"Living:North": {"exposed_perimeter": 10.0}}
+    with pytest.raises(ThermocalInputError, match="must name a surface with boundary: ground"):
+        building_from_dict(data)
+
+
+def test_the_reduced_section_follows_the_full_one():
+    """Balanced truncation (``NetworkOptions.foundation_states``, default 16) against every cell:
+    the same steady heat loss coefficient to rounding, and the house's heating over a Zurich
+    winter month (the floors' ground started in its steady state) within 0.3 %."""
+    import warnings
+
+    from conftest import shared_data_path
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone import Simulation, load_building
+    from thermocal.multizone.network import NetworkOptions
+    from thermocal.multizone.simulation import steady_state_heat_loss_coefficient
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = load_building(REF / "house_v25.idf")
+    full, reduced = NetworkOptions(foundation_states=None), NetworkOptions()
+    assert reduced.foundation_states == 16
+    assert steady_state_heat_loss_coefficient(building, options=reduced) == pytest.approx(
+        steady_state_heat_loss_coefficient(building, options=full), rel=1e-9
+    )
+    weather, meta = read_weather(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw"))
+    heating = []
+    for options in (full, reduced):
+        sim = Simulation(
+            building, weather, meta, start="2015-01-01", end="2015-02-01", options=options
+        )
+        assert len(sim.network.foundation_nodes) == (656 if options is full else 32)
+        heating.append(float(sim.run().heating["LIVING ZONE"].sum()))
+    assert heating[1] == pytest.approx(heating[0], rel=0.003)

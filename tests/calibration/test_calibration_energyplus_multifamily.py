@@ -171,7 +171,8 @@ def test_every_interval_covers_the_truth_with_the_building_metric(twin):
     "truth of 0.827 (+10 %, inside the 15 % target), 90 % interval 0.899-1.027 1/h, missing by "
     "9 %, and the wall's resistance 3.674 m2 K/W against 4.011 (-8.4 %), interval 3.382-3.880, "
     "missing by 3.3 %; the ceiling +6.8 %, covered (before the roofs' fix: +10 %, -7.8 %, "
-    "missing by 7 % and 3.0 %; 2026-11-29: +11 % and -8.5 %, missing by 9 % and 3.3 %). With the earlier fourth parameter (no effect) the wall "
+    "missing by 7 % and 3.0 %; 2026-11-29: +11 % and -8.5 %, missing by 9 % and 3.3 %). "
+    "With the earlier fourth parameter (no effect) the wall "
     "covered and the attic missed by 2.2 %; it covered before the forward model's mirrored "
     "adiabatic faces and the file's constant infiltration schedule (issue 28, 2026-11-28)",
 )

@@ -154,11 +154,11 @@ def test_baseline_demand_within_10_percent_of_energyplus(year_run):
     kwh, _, ref_kwh, _ = year_run["none"]
     spun_up = _spun_up()["reference"]["second_year"]["heating_kWh"]
     # measured 2026-11-30 (the foundation floors on their two-dimensional ground section, the
-    # roofs' long-wave from their tilt): 9,460 kWh against EnergyPlus's spun-up 10,005 (-5.4 %;
-    # its first year 10,302, -8.2 %). Before, the ISO 13370 soil layer at 2.0 W/(m K) gave
+    # roofs' long-wave from their tilt): 9,793 kWh against EnergyPlus's spun-up 10,005 (-2.1 %;
+    # its first year 10,302, -4.9 %). Before, the ISO 13370 soil layer at 2.0 W/(m K) gave
     # 10,387 (+0.8 %) by compensation: at the file's soil (0.864) it gave 8,959 (-13 %).
     assert kwh == pytest.approx(spun_up, rel=0.10)
-    assert kwh == pytest.approx(9469, rel=0.03)
+    assert kwh == pytest.approx(9793, rel=0.03)
 
 
 @pytest.mark.slow
@@ -166,7 +166,7 @@ def test_baseline_demand_within_10_percent_of_energyplus(year_run):
 def test_saving_within_3_points_of_energyplus(year_run, measure):
     _, saving, _, ref = year_run[measure]
     # measured 2026-11-30 (the ground section, the roofs' long-wave from their tilt): attic
-    # ceiling 6.4 vs 5.3 %, windows 20.0 vs 20.8 %, walls 61.1 vs 59.3 %, slab 1.2 vs 0.7 %
+    # ceiling 6.2 vs 5.3 %, windows 19.4 vs 20.8 %, walls 59.5 vs 59.3 %, slab 2.2 vs 0.7 %
     # (EnergyPlus's spun-up year -0.4 %). With the ISO 13370 soil layer before: 5.2, 18.5,
     # 56.4 and 12.8 %.
     assert saving == pytest.approx(ref["saving_pct"][measure], abs=3.0)
@@ -178,7 +178,78 @@ def test_slab_saving_against_the_spun_up_energyplus(year_run):
     runs = _spun_up()
     base = runs["reference"]["second_year"]["heating_kWh"]
     slab = runs["reference_slab"]["second_year"]["heating_kWh"]
-    assert saving == pytest.approx(100.0 * (1.0 - slab / base), abs=3.0)  # 1.2 vs -0.4 %
+    assert saving == pytest.approx(100.0 * (1.0 - slab / base), abs=3.0)  # 2.2 vs -0.4 %
+
+
+BASEMENT = REF.parent / "retrofit_energyplus_basement"
+
+
+@pytest.fixture(scope="module")
+def basement_year():
+    """The DOE/PNNL prototype with its unheated basement on Kiva (the second EnergyPlus
+    twin): the baseline and the four single measures with the detailed model, a year of Zurich
+    2015 after a warm-up year, and the basement's monthly air temperature."""
+    from thermocal.io.weather import read_weather
+
+    weather, meta = read_weather(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw"))
+    ref = json.loads((BASEMENT / "reference.json").read_text())
+    measures = {
+        name: Measure(name=name, component=name, u_value=m["u_value"], g_value=m.get("g_value"))
+        for name, m in ref["measures"].items()
+    }
+    strategies = [Strategy("0", ())] + [Strategy(f"1{n}", (n,)) for n in measures]
+    building = det.load_detailed_building(BASEMENT / "house_v25.idf")
+    result = det.simulate_strategies(
+        building, weather, meta, strategies, measures, source=BASEMENT / "house_v25.idf"
+    )
+    return building, result, ref
+
+
+@pytest.mark.slow
+def test_basement_house_against_energyplus(basement_year):
+    """A basement on Kiva (walls and floor on one Foundation:Kiva): the import gives the floor
+    its ground section with the four walls' outside faces beside the soil. Measured 2026-11-30:
+    baseline 9,191 kWh against EnergyPlus's 9,297 (-1.1 %); attic 4.4 vs 4.3 %, walls 21.4 vs
+    21.3 %, windows 25.8 vs 25.8 %, cellar ceiling 1.6 vs 2.0 % (every one of the 16 strategies
+    within 0.4 pp, docs/retrofit.md). Before (floor and walls adiabatic, the roofs' long-wave from
+    the file's view factor): +3.0 %, the cellar ceiling +0.9 pp."""
+    building, result, ref = basement_year
+    ground = building.foundations["Extfloor_unit1"]
+    assert ground.basement_depth == pytest.approx(2.134, abs=0.01)
+    assert {w for w, _ in ground.walls} == {
+        "BGWall_lower_ldf", "BGWall_lower_sdr", "BGWall_lower_ldb", "BGWall_lower_sdl"
+    }  # fmt: skip
+    assert sum(share for _, share in ground.walls) == pytest.approx(1.0)
+    assert result.annual_kwh[0] == pytest.approx(ref["annual_heating_kWh"]["none"], rel=0.05)
+    for strategy, saving in zip(result.strategies[1:], result.saving_pct[1:], strict=True):
+        (name,) = strategy.measures
+        assert saving == pytest.approx(ref["saving_pct"][name], abs=1.0), name
+
+
+@pytest.mark.slow
+def test_basement_temperature_against_energyplus(basement_year):
+    """The unheated basement's monthly air temperature against EnergyPlus's (reference.json):
+    measured 2026-11-30 January-March 14.0 / 12.7 / 13.9 C against 12.7 / 11.8 / 12.8 (+0.9 to
+    +1.3 K); the summer is warmer by up to 2.8 K (July 25.2 against 22.2 C), where the
+    grade's convection (here at the year's mean wind, Kiva's every step) and the walls' one
+    outside node (Kiva's face varies with depth) are the candidates, not separated."""
+    import pandas as pd  # noqa: PLC0415
+
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone import Simulation
+    from thermocal.retrofit.detailed import _with_year_before
+
+    building, _, ref = basement_year
+    weather, meta = read_weather(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw"))
+    both, start = _with_year_before(weather)
+    sim = Simulation(building, both, meta, step="15min", store_surfaces=False)
+    air = sim.run().air_temperature["unheatedbsmt_unit1"]
+    monthly = air[air.index >= start].resample("MS").mean().to_numpy()
+    energyplus = ref["basement"]["none"]["basement_C_monthly"]
+    assert len(monthly) == 12 and isinstance(air.index, pd.DatetimeIndex)
+    for month in range(3):
+        assert monthly[month] == pytest.approx(energyplus[month], abs=2.0), month
+    assert max(monthly - energyplus) < 3.5
 
 
 @pytest.mark.slow

@@ -384,7 +384,9 @@ class ForcingSetup:
     def _ground_viewed(self, irradiance: dict, key, grid) -> dict:
         """The ground-reflected part with the surface's given view factor to the ground
         (EnergyPlus: ground solar x 'View Factor to Ground'), when it has one."""
-        overrides = self.__dict__.setdefault("_vf_overrides", self._ground_view_overrides())
+        if "_vf_overrides" not in self.__dict__:
+            self._vf_overrides = self._ground_view_overrides()
+        overrides = self._vf_overrides
         name = key[2]
         if name not in overrides:
             return irradiance

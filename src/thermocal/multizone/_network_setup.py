@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg  # noqa: F401 - sp.linalg
 
 from thermocal.multizone import _kernel
 from thermocal.multizone._simtools import (
@@ -75,10 +74,14 @@ class NetworkSetup:
 
     def _initial_state(self, temperature: float) -> np.ndarray:
         """Node temperatures [C] to start from: ``temperature`` everywhere but in the
-        foundations' ground sections, which start from their steady state between the building
-        at ``temperature`` and the outdoor air at the weather's annual mean, without sun
-        (EnergyPlus's Kiva starts from a steady state too, at the conditions of 120 days
-        before the start, then steps three months ahead)."""
+        foundations' ground sections, which start from the building's steady state at the
+        weather's annual mean air temperature (sky and ground alike), without sun or gains, its
+        heated zones at their heating set points (else at ``temperature``) and the others
+        floating: an unheated basement's ground starts near the basement's temperature, as
+        EnergyPlus's Kiva starts from a steady state (at the conditions of 120 days before the
+        start, then three months ahead)."""
+        import scipy.sparse.linalg as spla
+
         net = self.network
         x = np.full(net.n_nodes, float(temperature))
         ground = net.foundation_nodes
@@ -92,12 +95,23 @@ class NetworkSetup:
         u = np.zeros(len(net.input_names))
         u[:3] = mean_out  # outdoor air, sky and ground temperatures
         u[3] = 1.0  # the constant column
+        zones = self.building.zones
+        fixed, values = [], []
+        for i, name in enumerate(net.zone_names):
+            setpoint = zones[name].heating_setpoint if name in zones else None
+            if setpoint is not None:
+                fixed.append(int(net.air_node[i]))
+                values.append(float(setpoint))
+        if not fixed:  # nothing heated: the first zone at the given temperature
+            fixed, values = [int(net.air_node[0])], [float(temperature)]
+        free = np.ones(net.n_nodes, dtype=bool)
+        free[fixed] = False
         k = net.conductance.tocsr()
-        rest = np.ones(net.n_nodes, dtype=bool)
-        rest[ground] = False
-        k_gg = k[ground][:, ground].tocsc()
-        rhs = net.inputs[ground] @ u - k[ground][:, rest] @ x[rest]
-        x[ground] = sp.linalg.spsolve(k_gg, rhs)
+        rhs = net.inputs[free] @ u - k[free][:, fixed] @ np.asarray(values)
+        steady = np.empty(net.n_nodes)
+        steady[fixed] = values
+        steady[free] = spla.spsolve(k[free][:, free].tocsc(), rhs)
+        x[ground] = steady[ground]
         return x
 
     def _ground_view_overrides(self) -> dict[str, float]:

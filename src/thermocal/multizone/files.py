@@ -576,6 +576,8 @@ def _foundations_from(value) -> dict:
             fields["wall_layers"] = tuple(
                 tuple(float(v) for v in layer) for layer in fields["wall_layers"]
             )
+        if "walls" in fields:
+            fields["walls"] = tuple((str(w[0]), float(w[1])) for w in fields["walls"])
         try:
             out[str(name)] = FoundationGround(**fields)
         except TypeError as exc:

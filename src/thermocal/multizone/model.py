@@ -1047,13 +1047,14 @@ class Building:
                     f"{owner}: other_zone/other_surface given but boundary is "
                     f"'{surface.boundary}'; set boundary: zone or remove them"
                 )
-        for name in self.foundations:
-            surface = self.surfaces.get(name)
-            if surface is None or surface.boundary != "ground":
-                raise ThermocalInputError(
-                    f"building '{self.name}': foundation '{name}' must name a surface with "
-                    "boundary: ground"
-                )
+        for name, ground in self.foundations.items():
+            for named in (name, *(w for w, _ in ground.walls)):
+                surface = self.surfaces.get(named)
+                if surface is None or surface.boundary != "ground":
+                    raise ThermocalInputError(
+                        f"building '{self.name}': foundation '{name}' must name surfaces with "
+                        f"boundary: ground ('{named}' is not one)"
+                    )
         bounded = {s.zone for s in self.surfaces.values()}
         lonely = [
             name

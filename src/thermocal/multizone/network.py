@@ -1094,6 +1094,8 @@ def assemble(
     e_pa: list[float] = []  # perimeter over area [1/m]
     surface_nodes: dict[str, tuple[int, int]] = {}  # name -> (outside node, inside node)
     foundation_nodes: list[np.ndarray] = []  # the nodes of each foundation's ground section
+    pending_foundations: list[tuple] = []  # added once every wall's outside node is known
+    foundation_walls = {w for f in building.foundations.values() for w, _ in f.walls}
 
     def foundation_sun() -> int:
         # the grade's sun: the horizontal plane's irradiance (shared with horizontal faces)
@@ -1169,12 +1171,9 @@ def assemble(
             f_mass.append(False)
             f_back.append((0.0, 0.0))
         elif surface.boundary == "ground" and surface.name in building.foundations:
-            foundation_nodes.append(
-                _add_foundation(
-                    building.foundations[surface.name], layers, tpl, outside, area,
-                    options.foundation_states, new_nodes, entry, source, foundation_sun,
-                )
-            )
+            pending_foundations.append((surface.name, layers, tpl, outside, area))
+        elif surface.boundary == "ground" and surface.name in foundation_walls:
+            pass  # a basement's wall: its outside node meets its floor's ground section
         elif surface.boundary == "ground":
             boundary(outside, IN_TEMP_GROUND, options.ground_contact_conductance * area)
         elif surface.boundary == "outdoors":
@@ -1206,6 +1205,19 @@ def assemble(
             vals.extend(mirror_vals)
         # adiabatic: nothing on the outside
     entries.add_links(*_chain_links(chains), before_pending=True)
+    if pending_foundations:
+        from thermocal.multizone.foundation import grade_convection
+
+        grade_h = grade_convection(mean_wind_speed)
+    for name, layers, tpl, outside, area in pending_foundations:
+        ground = building.foundations[name]
+        walls = [(surface_nodes[w][0], float(share)) for w, share in ground.walls]
+        foundation_nodes.append(
+            _add_foundation(
+                ground, layers, tpl, outside, area, walls, options.foundation_states, grade_h,
+                new_nodes, entry, source, foundation_sun,
+            )
+        )
 
     # ---- windows -----------------------------------------------------------------------------
     window_nodes: dict[str, tuple[int, int]] = {}
@@ -1736,23 +1748,28 @@ def _foundation_grid(ground, area: float, floor_layers: tuple):
 
 
 @functools.lru_cache(maxsize=64)
-def _reduced_section(ground, area: float, floor_layers: tuple, n_states: int):
+def _reduced_section(ground, area: float, floor_layers: tuple, n_states: int, grade_h: float):
     """:func:`thermocal.multizone.foundation.reduced_section` of :func:`_foundation_grid`'s
     section, kept between assemblies."""
     from thermocal.multizone.foundation import reduced_section
 
-    return reduced_section(_foundation_grid(ground, area, floor_layers), n_states)
+    return reduced_section(_foundation_grid(ground, area, floor_layers), n_states, grade_h)
 
 
 def _add_foundation(
-    ground, layers, template, outside, area, n_states, new_nodes, entry, source, sun_column
+    ground, layers, template, outside, area, walls, n_states, grade_h, new_nodes, entry,
+    source, sun_column,
 ) -> np.ndarray:
     """Add a floor's two-dimensional ground section (:mod:`thermocal.multizone.foundation`).
 
-    The section couples to the floor's outside node (the top of the soil under the floor) and
-    to the chain's node above any insulation under the slab (the slab's edge on the wall; the
-    outside node for a reduced construction), to the outdoor air, the sky and the sun on the
-    grade. With ``n_states`` its cells are replaced by that many balanced states
+    The section couples to its node ports: the floor's outside node (the top of the soil under
+    the floor), the chain's node above any insulation under the slab (the slab's edge on the
+    wall; the outside node for a reduced construction) and a basement's walls' outside nodes
+    ``walls`` (node, share of the perimeter), whose port is their shares' weighted temperature
+    and whose flow each takes by its share; and to the outdoor air, the sky and the sun on the
+    grade (``grade_h`` its convection coefficient [W/(m2 K)]). A basement's walls above the
+    grade meet the outdoor air directly. With ``n_states``
+    the cells are replaced by that many balanced states
     (:func:`thermocal.multizone.foundation.reduced_section`, exact at steady state); with None
     every cell is a node.
 
@@ -1761,7 +1778,7 @@ def _add_foundation(
     ndarray of int
         The section's nodes.
     """
-    from thermocal.multizone.foundation import section_matrices
+    from thermocal.multizone.foundation import GRADE_EMISSIVITY, section_matrices
 
     floor_layers = []
     for layer in layers:
@@ -1776,41 +1793,57 @@ def _add_foundation(
         slab = outside + template.layer_nodes[grid.slab_interface]
     else:
         slab = outside
-    floor = (outside, slab)
+    # the node ports as (node, weight) lists, then the input columns
+    ports = [[(outside, 1.0)], [(slab, 1.0)], walls]
     columns = (IN_TEMP_OUT, IN_TEMP_SKY, sun_column())
+    if grid.wall_above_grade > 0:  # a basement's walls above the grade: to the outdoor air
+        hr = 4.0 * STEFAN_BOLTZMANN * GRADE_EMISSIVITY * 283.15**3
+        for node, share in walls:
+            g_air = (grade_h + 0.5 * hr) * grid.wall_above_grade * share
+            g_sky = 0.5 * hr * grid.wall_above_grade * share
+            entry(node, node, g_air + g_sky)
+            source(node, IN_TEMP_OUT, g_air)
+            source(node, IN_TEMP_SKY, g_sky)
     if n_states is None or n_states >= len(grid.capacity) - 1:
-        a, capacity, h = section_matrices(grid)
+        a, capacity, h = section_matrices(grid, grade_h)
         first = new_nodes(capacity)
         rows, cols = np.nonzero(a)
         for i, j in zip(rows, cols, strict=True):
             entry(first + int(i), first + int(j), float(a[i, j]))
         for c in range(len(capacity)):
-            for k in range(2):
-                if h[c, k]:
-                    entry(first + c, floor[k], -h[c, k])
-                    entry(floor[k], first + c, -h[c, k])
-                    entry(floor[k], floor[k], h[c, k])
+            for k, port in enumerate(ports):
+                if not h[c, k]:
+                    continue
+                for node, weight in port:
+                    entry(first + c, node, -h[c, k] * weight)
+                    entry(node, first + c, -h[c, k] * weight)
+                    entry(node, node, h[c, k] * weight)
             for k, column in enumerate(columns):
-                if h[c, 2 + k]:
-                    source(first + c, column, h[c, 2 + k])
+                if h[c, 3 + k]:
+                    source(first + c, column, h[c, 3 + k])
         return np.arange(first, first + len(capacity), dtype=np.int64)
-    reduced = _reduced_section(ground, float(area), tuple(floor_layers), int(n_states))
+    reduced = _reduced_section(
+        ground, float(area), tuple(floor_layers), int(n_states), round(float(grade_h), 6)
+    )
     m = len(reduced.rates)
     first = new_nodes(np.ones(m))
     d = reduced.feedthrough
     for q in range(m):
         entry(first + q, first + q, float(reduced.rates[q]))
-        for k in range(2):
-            entry(first + q, floor[k], -float(reduced.coupling[q, k]))
-            entry(floor[k], first + q, -float(reduced.coupling[q, k]))
+        for k, port in enumerate(ports):
+            for node, weight in port:
+                entry(first + q, node, -float(reduced.coupling[q, k]) * weight)
+                entry(node, first + q, -float(reduced.coupling[q, k]) * weight)
         for k, column in enumerate(columns):
-            source(first + q, column, float(reduced.coupling[q, 2 + k]))
-    for k in range(2):
-        entry(floor[k], floor[k], float(reduced.floor_conductance[k]))
-        for kk in range(2):
-            entry(floor[k], floor[kk], -float(d[k, kk]))
-        for kk, column in enumerate(columns):
-            source(floor[k], column, float(d[k, 2 + kk]))
+            source(first + q, column, float(reduced.coupling[q, 3 + k]))
+    for k, port in enumerate(ports):
+        for node, weight in port:
+            entry(node, node, float(reduced.node_conductance[k]) * weight)
+            for kk, other in enumerate(ports):
+                for node2, weight2 in other:
+                    entry(node, node2, -float(d[k, kk]) * weight * weight2)
+            for kk, column in enumerate(columns):
+                source(node, column, float(d[k, 3 + kk]) * weight)
     return np.arange(first, first + m, dtype=np.int64)
 
 

@@ -331,6 +331,9 @@ class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Ou
         if len(x_old) == self.network.n_nodes:
             self._x = x_old
             self._k = k_old
+            ground = self.network.foundation_nodes
+            if len(ground):  # a changed section's states are another basis: restart them
+                self._x[ground] = self._initial_state(self.initial_temperature)[ground]
         else:
             self._x = self._initial_state(self.initial_temperature)
             self._face_root = np.ones(len(self.network.face_node))
@@ -446,8 +449,10 @@ def steady_state_heat_loss_coefficient(
     """Heat needed to hold every conditioned zone 1 K above outdoors, per kelvin [W/K].
 
     Steady state of the network with no sun and no internal gains, sky and ground at the outdoor
-    temperature (``ground_at_outdoor=True``) or ground at the indoor temperature (``False``: ground
-    losses excluded), unconditioned zones floating. Interior coefficients as in the simulation
+    temperature (``ground_at_outdoor=True``) or ground at the indoor temperature (``False``: the
+    losses to the ground temperature excluded; a floor on a two-dimensional ground section,
+    ``Building.foundations``, still loses through it to the outdoor air), unconditioned zones
+    floating. Interior coefficients as in the simulation
     (matrix part), exterior convection at ``wind_speed``.
 
     With ``interior_convection="tarp"`` (the default) the simulation adds a temperature-difference

@@ -6,7 +6,10 @@ detailed model adds lambda 0.035 layers exactly as ``make_reference.py`` did) an
 16-strategy table: EnergyPlus / thermocal detailed / difference.
 
     python tests/reference/retrofit_energyplus_house/measure_detailed.py \\
-        /work/shared/data/weather_switzerland/Zuerich-SMA_2015.epw
+        /work/shared/data/weather_switzerland/Zuerich-SMA_2015.epw [REFERENCE_FOLDER]
+
+``REFERENCE_FOLDER`` another reference with the same files (``house_v25.idf``,
+``reference.json``), e.g. ``tests/reference/retrofit_energyplus_basement``.
 """
 
 from __future__ import annotations
@@ -19,12 +22,15 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 
 
-def main(weather_path: str) -> dict:
+def main(weather_path: str, folder: Path = HERE) -> dict:
+    """The table for the reference in ``folder`` (this house's; the basement house's folder,
+    ``../retrofit_energyplus_basement``, has the same files)."""
     from thermocal.io.weather import read_weather
     from thermocal.retrofit.detailed import load_detailed_building, simulate_strategies
     from thermocal.retrofit.strategies import Measure, all_strategies
 
-    ref = json.loads((HERE / "reference.json").read_text())
+    folder = Path(folder)
+    ref = json.loads((folder / "reference.json").read_text())
     measures = {
         name: Measure(name=name, component=name, u_value=m["u_value"], g_value=m.get("g_value"),
                       cost_per_m2=m["cost_per_m2"])
@@ -33,9 +39,9 @@ def main(weather_path: str) -> dict:
     strategies = all_strategies(tuple(measures))
     weather, meta = read_weather(weather_path)
     t0 = time.perf_counter()
-    building = load_detailed_building(HERE / "house_v25.idf")
+    building = load_detailed_building(folder / "house_v25.idf")
     result = simulate_strategies(
-        building, weather, meta, strategies, measures, source=HERE / "house_v25.idf"
+        building, weather, meta, strategies, measures, source=folder / "house_v25.idf"
     )
     elapsed = time.perf_counter() - t0
     rows = []
@@ -62,4 +68,4 @@ def main(weather_path: str) -> dict:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], *(Path(a) for a in sys.argv[2:3]))

@@ -28,6 +28,10 @@ _NOT_MODELLED = {
 }
 #: EnergyPlus's defaults of Foundation:Kiva's wall (Input Output Reference).
 _DEFAULT_HEIGHT_ABOVE_GRADE, _DEFAULT_DEPTH_BELOW_SLAB = 0.2, 0.0
+#: Kiva's default foundation wall without a Footing Wall Construction: 0.3 m of concrete
+#: (``KivaManager::defineDefaultFoundation``): thickness [m], conductivity [W/(m K)], density
+#: [kg/m3], specific heat [J/(kg K)].
+_DEFAULT_WALL = ((0.3, 1.95, 2400.0, 900.0),)
 #: The water table's depth per metre of the site's elevation (Kiva's ``Autoselect``).
 _WATER_TABLE_PER_ELEVATION = 0.1022
 
@@ -88,15 +92,17 @@ def kiva_settings(objects, elevation: float) -> tuple[dict, list[str]]:
         notes.append(
             "Foundation floors: Kiva holds the deep ground at the annual mean air temperature "
             f"at {depth:.1f} m (a water table); thermocal's section has no heat flow across "
-            f"its bottom at that depth"
+            f"its bottom at {max(deep, 40.0):.0f} m instead (a shallow zero-flux bottom would "
+            "insulate the slab: 45.7 against 59.9 W/K at 1 m on NREL's SingleFamilyHouse)"
         )
-        deep = max(depth, 1.0)
+        deep = max(deep, 40.0)
     return {"soil": (k, rho, cp), "far_field_width": far, "deep_ground_depth": deep}, notes
 
 
 def exposed_perimeter(name: str, vertices, objects) -> float:
     """Exposed perimeter [m] of a floor from its ``SurfaceProperty:ExposedFoundationPerimeter``
-    (the whole polygon's when it has none, as EnergyPlus before it required one)."""
+    (the whole polygon's when it has none: EnergyPlus 25.2 refuses such a file, see
+    :func:`foundation_ground`'s note)."""
     pts = np.asarray(vertices, dtype=float)
     sides = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
     for obj in objects:
@@ -122,7 +128,32 @@ def exposed_perimeter(name: str, vertices, objects) -> float:
     return float(sides.sum())
 
 
-def foundation_ground(name, vertices, foundation_name, objects, materials, constructions, settings):
+def _construction_layers(construction_name: str, where: str, materials, constructions):
+    """A construction's layers, inside first, as (thickness, conductivity, density, specific
+    heat) tuples (EnergyPlus's Kiva refuses a layer without mass too)."""
+    from thermocal.multizone.model import Material
+
+    construction = constructions.get(construction_name.upper())
+    if construction is None:
+        raise ThermocalInputError(
+            f"{where}: construction '{construction_name}' is not a construction of the file"
+        )
+    layers = []
+    for layer_name in reversed(construction.layers):
+        layer = materials.get(layer_name.upper())
+        if not isinstance(layer, Material):
+            raise ThermocalInputError(
+                f"{where}: layer '{layer_name}' of construction '{construction_name}' is not a "
+                "Material with thickness, conductivity, density and specific heat (EnergyPlus's "
+                "Kiva refuses it too)"
+            )
+        layers.append((layer.thickness, layer.conductivity, layer.density, layer.specific_heat))
+    return tuple(layers)
+
+
+def foundation_ground(
+    name, vertices, foundation_name, objects, materials, constructions, settings, walls=()
+):
     """The ground section of one floor on a ``Foundation`` boundary.
 
     Parameters
@@ -140,6 +171,9 @@ def foundation_ground(name, vertices, foundation_name, objects, materials, const
         thermocal constructions by upper-case name.
     settings : dict
         :func:`kiva_settings`'s.
+    walls : sequence of (name, vertices (n, 3) [m], construction name)
+        The walls of the same zone on the same ``Foundation:Kiva`` (a basement): EnergyPlus
+        takes their height as the foundation's depth and their construction as its wall.
 
     Returns
     -------
@@ -148,7 +182,6 @@ def foundation_ground(name, vertices, foundation_name, objects, materials, const
     notes : list of str
     """
     from thermocal.multizone.foundation import FoundationGround
-    from thermocal.multizone.model import Material
 
     notes = []
     kiva = next(
@@ -160,7 +193,11 @@ def foundation_ground(name, vertices, foundation_name, objects, materials, const
         ),
         None,
     )
-    height, depth, wall_layers = _DEFAULT_HEIGHT_ABOVE_GRADE, _DEFAULT_DEPTH_BELOW_SLAB, ()
+    height, depth, wall_layers = (
+        _DEFAULT_HEIGHT_ABOVE_GRADE,
+        _DEFAULT_DEPTH_BELOW_SLAB,
+        _DEFAULT_WALL,
+    )
     if kiva is not None:
         height = _number(kiva, _WALL_HEIGHT, height, "Wall Height Above Grade")
         depth = _number(kiva, _WALL_DEPTH, depth, "Wall Depth Below Slab")
@@ -176,29 +213,46 @@ def foundation_ground(name, vertices, foundation_name, objects, materials, const
             )
         wall = kiva.fields[_WALL_CONSTRUCTION].strip() if len(kiva.fields) > 14 else ""
         if wall:
-            construction = constructions.get(wall.upper())
-            if construction is None:
-                raise ThermocalInputError(
-                    f"{kiva.where()}: field 'Footing Wall Construction Name' = '{wall}' is not a "
-                    "construction of the file"
-                )
-            layers = []
-            for layer_name in reversed(construction.layers):  # inside first
-                layer = materials.get(layer_name.upper())
-                if not isinstance(layer, Material):
-                    raise ThermocalInputError(
-                        f"{kiva.where()}: the footing wall's layer '{layer_name}' is not a "
-                        "Material with thickness, conductivity, density and specific heat "
-                        "(EnergyPlus refuses it too)"
-                    )
-                layers.append(
-                    (layer.thickness, layer.conductivity, layer.density, layer.specific_heat)
-                )
-            wall_layers = tuple(layers)
+            wall_layers = _construction_layers(
+                wall, f"{kiva.where()} (Footing Wall Construction Name)", materials, constructions
+            )
     perimeter = exposed_perimeter(name, vertices, objects)
+    if not any(
+        o.key == "SURFACEPROPERTY:EXPOSEDFOUNDATIONPERIMETER"
+        and o.fields and o.fields[0].strip().upper() == name.upper()
+        for o in objects
+    ):
+        notes.append(
+            f"floor '{name}': no SurfaceProperty:ExposedFoundationPerimeter (EnergyPlus needs "
+            f"one): its whole perimeter, {perimeter:.1f} m, taken as exposed"
+        )
     if perimeter <= 0.0:
         notes.append(f"floor '{name}': no exposed perimeter; treated as adiabatic")
         return None, notes
+    basement_depth, shares = 0.0, ()
+    if walls:
+        lengths, heights = [], []
+        for _, wall_vertices, _ in walls:
+            pts = np.asarray(wall_vertices, dtype=float)
+            heights.append(float(np.ptp(pts[:, 2])))
+            lengths.append(float(np.ptp(pts[:, 0]) ** 2 + np.ptp(pts[:, 1]) ** 2) ** 0.5)
+        total = sum(lengths)
+        basement_depth = float(np.average(heights, weights=lengths))
+        shares = tuple((w[0], length / total) for w, length in zip(walls, lengths, strict=True))
+        wall_layers = _construction_layers(
+            walls[0][2], f"wall '{walls[0][0]}'", materials, constructions
+        )
+        notes.append(
+            f"floor '{name}': a basement on {foundation_name} ({len(walls)} walls "
+            f"{basement_depth:.2f} m high, {total:.1f} m of the exposed perimeter's "
+            f"{perimeter:.1f} m): one ground section under the floor and beside the walls, whose "
+            "outside faces meet the soil below the grade and the outdoor air above it"
+            + (
+                "; the walls' constructions differ, the section takes the first's"
+                if len({w[2].upper() for w in walls}) > 1
+                else ""
+            )
+        )
     ground = FoundationGround(
         exposed_perimeter=perimeter,
         soil=settings["soil"],
@@ -207,5 +261,7 @@ def foundation_ground(name, vertices, foundation_name, objects, materials, const
         wall_depth_below_slab=depth,
         deep_ground_depth=settings["deep_ground_depth"],
         far_field_width=settings["far_field_width"],
+        basement_depth=basement_depth,
+        walls=shares,
     )
     return ground, notes

@@ -402,56 +402,48 @@ class SurfaceStages:
             )
         return world, normal, area
 
-    def _on_foundation(self, data: dict, rec: dict) -> bool:
-        """Whether a floor on a ``Foundation`` boundary gets its ground section (and record
-        it in ``self.foundations``); walls on one, and floors without an exposed perimeter,
-        do not."""
+    def _foundation_grounds(self) -> None:
+        """The ground sections of the floors on a ``Foundation`` boundary
+        (``self.foundations``, by floor) and the basements' walls that meet them
+        (``self.foundation_walls``); floors without an exposed perimeter stay adiabatic."""
         from thermocal.multizone.idf.foundation import foundation_ground, kiva_settings
 
-        if rec["outside_boundary_condition"].upper() != "FOUNDATION" or data["tilt"] < 135.0:
-            return False
-        target = rec.get("outside_boundary_condition_object", "").upper()
-        walls = [
-            other["name"]
-            for other in self.surface_data.values()
-            if other["zone"] == data["zone"]
-            and 45.0 <= other["tilt"] < 135.0
-            and other["rec"]["outside_boundary_condition"].upper() == "FOUNDATION"
-            and other["rec"].get("outside_boundary_condition_object", "").upper() == target
-        ]
-        if walls:
-            self.info.notes.append(
-                f"floor '{data['name']}': a basement on a Foundation boundary (walls "
-                f"{', '.join(walls[:3])} on the same Foundation:Kiva) is not modelled; its floor "
-                "and walls are treated as adiabatic (no heat crosses them)"
-            )
-            return False
-        if not hasattr(self, "_kiva_settings"):
-            self._kiva_settings, notes = kiva_settings(
-                self.objects, float(self.location.altitude or 0.0)
-            )
-            self.info.notes.extend(notes)
+        self.foundations, self.foundation_walls = {}, set()
+
+        def on_foundation(data) -> bool:
+            return data["rec"]["outside_boundary_condition"].upper() == "FOUNDATION"
+
+        floors = [d for d in self.surface_data.values() if on_foundation(d) and d["tilt"] >= 135.0]
+        if not floors:
+            return
+        settings, notes = kiva_settings(self.objects, float(self.location.altitude or 0.0))
+        self.info.notes.extend(notes)
         materials = {m.name.upper(): m for m in self.model_materials}
         constructions = {c.name.upper(): c for c in self.model_constructions}
-        ground, notes = foundation_ground(
-            data["name"],
-            data["world"],
-            rec.get("outside_boundary_condition_object", ""),
-            self.objects,
-            materials,
-            constructions,
-            self._kiva_settings,
-        )
-        self.info.notes.extend(notes)
-        if ground is None:
-            return False
-        self.foundations[data["name"]] = ground
-        return True
+        for data in floors:
+            target = data["rec"].get("outside_boundary_condition_object", "")
+            walls = [
+                other
+                for other in self.surface_data.values()
+                if on_foundation(other)
+                and other["zone"] == data["zone"]
+                and 45.0 <= other["tilt"] < 135.0
+                and other["rec"].get("outside_boundary_condition_object", "").upper()
+                == target.upper()
+            ]
+            ground, notes = foundation_ground(
+                data["name"], data["world"], target, self.objects, materials, constructions,
+                settings, walls=[(w["name"], w["world"], w["construction"]) for w in walls],
+            )  # fmt: skip
+            self.info.notes.extend(notes)
+            if ground is not None:
+                self.foundations[data["name"]] = ground
+                self.foundation_walls.update(w for w, _ in ground.walls)
 
     def _model_surfaces(self) -> None:
         """Stage: model surfaces."""
         self.model_surfaces = []
-        self.foundations = {}
+        self._foundation_grounds()
         for key, data in self.surface_data.items():
             obj, rec = data["obj"], data["rec"]
             boundary = data["boundary"]
@@ -489,7 +481,9 @@ class SurfaceStages:
                 boundary = "zone"
                 other_zone = other[0]
                 other_surface = f"{data['name']} (partner)"
-            elif boundary == "unsupported" and self._on_foundation(data, rec):
+            elif boundary == "unsupported" and (
+                data["name"] in self.foundations or data["name"] in self.foundation_walls
+            ):
                 boundary = "ground"
             elif boundary == "unsupported":
                 condition = rec["outside_boundary_condition"]

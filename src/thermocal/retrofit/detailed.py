@@ -840,6 +840,16 @@ def run_detailed_retrofit(
     return result
 
 
+def _detailed_track_record() -> list[dict]:
+    """The detailed model's record on the EnergyPlus houses
+    (:data:`thermocal.retrofit.track_record.DETAILED_CHECKS`), JSON-ready."""
+    from thermocal.retrofit.track_record import DETAILED_CHECKS
+
+    return [
+        dataclasses.asdict(check) | {"reference": key} for key, check in DETAILED_CHECKS.items()
+    ]
+
+
 def detailed_results(result: DetailedRetrofitResult, cfg) -> dict:
     """Strategies, economics, CO2 and the recommendation of the detailed model (JSON-ready).
 
@@ -896,6 +906,7 @@ def detailed_results(result: DetailedRetrofitResult, cfg) -> dict:
             for code in result.monthly_kwh.columns
         },
         "areas_m2": result.areas,
+        "track_record": _detailed_track_record(),
         "scenarios": scenarios,
         "recommendation": None if best is None else best["code"],
         "recommendation_rule": None if best is None else best["rule"],

@@ -52,13 +52,14 @@ import numpy as np
 from thermocal.errors import ThermocalInputError
 
 __all__ = [
-    "GRADE_WIND_FACTOR",
+    "KIVA_DEFAULT_ROUGHNESS",
     "KIVA_DEFAULT_SOIL",
     "FoundationGround",
     "FoundationGrid",
     "ReducedSection",
     "foundation_grid",
     "grade_convection",
+    "grade_wind_factor",
     "reduced_section",
     "steady_floor_conductance",
 ]
@@ -68,10 +69,16 @@ __all__ = [
 #: (``KivaManager::Settings``; the Input Output Reference documents 1.73, 1842 and 419, which an
 #: object with blank fields does not give: checked with EnergyPlus 25.2).
 KIVA_DEFAULT_SOIL = (0.864, 1510.0, 1260.0)
-#: Kiva's wind at the grade per metre per second at the weather station: EnergyPlus's
-#: weather-file modifier ``(270 / 10)^0.14`` times the default (suburbs) boundary layer at the
-#: grade's roughness height, ``(0.9 / 370)^0.22`` [-].
-GRADE_WIND_FACTOR = (270.0 / 10.0) ** 0.14 * (0.9 / 370.0) ** 0.22
+#: Kiva's grade roughness height without a ``Foundation:Kiva:Settings`` [m]
+#: (``KivaManager::Settings``; the Input Output Reference documents 0.03 m).
+KIVA_DEFAULT_ROUGHNESS = 0.9
+
+
+def grade_wind_factor(roughness: float = KIVA_DEFAULT_ROUGHNESS) -> float:
+    """Kiva's wind at the grade per m/s at the weather station [-]: EnergyPlus's weather-file
+    modifier ``(270 / 10)^0.14`` times the default (suburbs) boundary layer at the grade's
+    roughness height [m], ``(roughness / 370)^0.22``."""
+    return (270.0 / 10.0) ** 0.14 * (float(roughness) / 370.0) ** 0.22
 #: The grade's long-wave emissivity and solar absorptance [-] (Kiva's defaults).
 GRADE_EMISSIVITY, GRADE_ABSORPTANCE = 0.9, 0.9
 #: Largest cell of the section [m] (the far field and the deep ground).
@@ -80,22 +87,25 @@ MAX_CELL = 10.0
 FLOOR_INSIDE_RESISTANCE = 0.17
 
 
-def grade_convection(mean_wind_speed: float) -> float:
+def grade_convection(mean_wind_speed: float, roughness: float = KIVA_DEFAULT_ROUGHNESS) -> float:
     """Convection coefficient of the grade and of a foundation wall above it [W/(m2 K)].
 
     Kiva takes the floor's outside algorithm (EnergyPlus's default DOE-2) at the wind at the
-    grade (:data:`GRADE_WIND_FACTOR`) each step; here it is taken once at the period's mean wind,
-    with TARP's natural part at a grade 3 K warmer than the air and a medium-rough surface.
+    grade (:func:`grade_wind_factor`) each step; here it is taken once at the period's mean
+    wind, with TARP's natural part at a grade 3 K warmer than the air and a medium-rough
+    surface.
 
     Parameters
     ----------
     mean_wind_speed : float [m/s]
         The weather station's mean wind speed.
+    roughness : float [m]
+        The grade's roughness height (``Foundation:Kiva:Settings``).
     """
     from thermocal.multizone.network import doe2_exterior_convection, tarp_natural_convection
 
     h_natural = tarp_natural_convection(3.0, 1.0)
-    wind = GRADE_WIND_FACTOR * max(float(mean_wind_speed), 0.0)
+    wind = grade_wind_factor(roughness) * max(float(mean_wind_speed), 0.0)
     return float(
         doe2_exterior_convection(wind, True, h_natural=h_natural, roughness_factor=1.52)
     )
@@ -128,6 +138,9 @@ class FoundationGround:
         A basement's walls on the same foundation (surface name, share of the exposed
         perimeter [-]): their own constructions are their one-dimensional chains, whose outside
         nodes meet the soil beside them below the grade and the outdoor air above it.
+    grade_roughness : float [m]
+        The grade's roughness height, which sets the wind at the grade
+        (:func:`grade_convection`).
     """
 
     exposed_perimeter: float
@@ -139,6 +152,7 @@ class FoundationGround:
     far_field_width: float = 40.0
     basement_depth: float = 0.0
     walls: tuple[tuple[str, float], ...] = ()
+    grade_roughness: float = KIVA_DEFAULT_ROUGHNESS
 
     def __post_init__(self) -> None:
         # tuples, so that a section can be cached by its ground (lists from Python or YAML)
@@ -154,6 +168,7 @@ class FoundationGround:
             "soil specific heat [J/(kg K)]": self.soil[2],
             "deep_ground_depth [m]": self.deep_ground_depth,
             "far_field_width [m]": self.far_field_width,
+            "grade_roughness [m]": self.grade_roughness,
         }
         for name, value in checks.items():
             if not np.isfinite(value) or value <= 0:
@@ -535,7 +550,7 @@ def steady_floor_conductance(
     import scipy.linalg
 
     grid = foundation_grid(ground, floor_area, floor_layers, **grid_options)
-    a, _, h = section_matrices(grid, grade_convection(wind_speed))
+    a, _, h = section_matrices(grid, grade_convection(wind_speed, ground.grade_roughness))
     n = len(a)
     r_below = sum(layer[0] / layer[1] for layer in floor_layers[: grid.slab_interface])
     r_above = sum(layer[0] / layer[1] for layer in floor_layers[grid.slab_interface :])

@@ -1205,12 +1205,11 @@ def assemble(
             vals.extend(mirror_vals)
         # adiabatic: nothing on the outside
     entries.add_links(*_chain_links(chains), before_pending=True)
-    if pending_foundations:
+    for name, layers, tpl, outside, area in pending_foundations:
         from thermocal.multizone.foundation import grade_convection
 
-        grade_h = grade_convection(mean_wind_speed)
-    for name, layers, tpl, outside, area in pending_foundations:
         ground = building.foundations[name]
+        grade_h = grade_convection(mean_wind_speed, ground.grade_roughness)
         walls = [(surface_nodes[w][0], float(share)) for w, share in ground.walls]
         foundation_nodes.append(
             _add_foundation(

@@ -63,20 +63,22 @@ def kiva_settings(objects, elevation: float) -> tuple[dict, list[str]]:
     -------
     settings : dict
         ``soil`` (conductivity [W/(m K)], density [kg/m3], specific heat [J/(kg K)]),
-        ``far_field_width`` and ``deep_ground_depth`` [m].
+        ``far_field_width``, ``deep_ground_depth`` and ``grade_roughness`` [m].
     notes : list of str
     """
-    from thermocal.multizone.foundation import KIVA_DEFAULT_SOIL
+    from thermocal.multizone.foundation import KIVA_DEFAULT_ROUGHNESS, KIVA_DEFAULT_SOIL
 
     found = [o for o in objects if o.key == "FOUNDATION:KIVA:SETTINGS"]
     notes = []
     k, rho, cp = KIVA_DEFAULT_SOIL
     far, deep, boundary = 40.0, 40.0, "AUTOSELECT"
+    roughness = KIVA_DEFAULT_ROUGHNESS
     if found:
         obj = found[0]
         k = _number(obj, 0, k, "Soil Conductivity")
         rho = _number(obj, 1, rho, "Soil Density")
         cp = _number(obj, 2, cp, "Soil Specific Heat")
+        roughness = _number(obj, 5, roughness, "Ground Surface Roughness")
         far = _number(obj, 6, far, "Far-Field Width")
         boundary = (obj.fields[7].strip().upper() if len(obj.fields) > 7 else "") or boundary
         deep = _number(obj, 8, deep, "Deep-Ground Depth")
@@ -96,7 +98,12 @@ def kiva_settings(objects, elevation: float) -> tuple[dict, list[str]]:
             "insulate the slab: 45.7 against 59.9 W/K at 1 m on NREL's SingleFamilyHouse)"
         )
         deep = max(deep, 40.0)
-    return {"soil": (k, rho, cp), "far_field_width": far, "deep_ground_depth": deep}, notes
+    return {
+        "soil": (k, rho, cp),
+        "far_field_width": far,
+        "deep_ground_depth": deep,
+        "grade_roughness": roughness,
+    }, notes
 
 
 def exposed_perimeter(name: str, vertices, objects) -> float:
@@ -261,6 +268,7 @@ def foundation_ground(
         wall_depth_below_slab=depth,
         deep_ground_depth=settings["deep_ground_depth"],
         far_field_width=settings["far_field_width"],
+        grade_roughness=settings.get("grade_roughness", 0.9),
         basement_depth=basement_depth,
         walls=shares,
     )

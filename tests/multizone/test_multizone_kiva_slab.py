@@ -1,0 +1,187 @@
+"""thermocal's Kiva ground section against EnergyPlus 25.2 on NREL's ZoneCoupledKivaSlab.
+
+Truth we did not make: ``tests/reference/forward_nrel_kiva_slab/`` (NREL/EnergyPlus
+``testfiles/ZoneCoupledKivaSlab.idf``, commit 0db13e02, converted to 25.2; README.md there): a
+10 x 10 m one-zone house on a 6-inch slab over 1 inch of insulation, ``Foundation:Kiva`` with the
+wall 0.2 m above grade and 1.3 m below the slab and no footing wall construction (Kiva's own
+0.3 m of concrete), soil 1.8 W/(m K) (``Foundation:Kiva:Settings``), no windows, no gains. The
+variants: the file's exterior vertical insulation removed (``noins``: thermocal models no
+insulation block), the floor adiabatic (``adiabatic``, the ground's contribution removed), each
+held at 20 C by ideal loads and free floating (``ff_``). EnergyPlus's results
+(``energyplus_results.json``, ``make_reference.py``) are its second year on Denver's TMY3 repeated
+(2022 then 2023), so that neither engine's initial ground state counts; thermocal runs the same
+two years here (15-minute steps, about 2 s a variant), no EnergyPlus needed.
+
+Measured 2026-11-30 with the grade's convection a constant 2 W/(m2 K) (main with Kiva's
+default footing wall and the grade's coefficient 2 gives +1.0 % to +2.3 % / +9.5 % / 0.50-0.56 K;
+without the default wall ``ff_noins`` was 1.56 / +1.55 K and the
+heating -15 %, which these bounds fail): held at 20 C, heating 5,175 against 5,122 kWh (+1.0 %),
+cooling 2,922 against 2,652 (+10.2 %), the floor's monthly heat loss within 90 kWh (December to
+April within 42 kWh, +10 to +15 %; summer's gain about 30 % larger: thermocal's grade a little warm
+in summer, its convection a constant 2 W/(m2 K)); free float, hourly 0.50 / +0.03 / 1.19 K (MAE /
+bias / max), monthly bias -0.72 .. +0.87 K; floor adiabatic 4,051 against 4,050 kWh heating, 1,728
+against 1,754 cooling, free float 0.08 / -0.06 / 0.36 K. The bounds are about 30 % above those.
+
+Main (2026-11-30) takes the grade's coefficient once, from DOE-2 at the period's mean wind at
+the file's ``Ground Surface Roughness`` (0.03 m here; Kiva's code default 0.9 m without a
+settings object), medium rough: 4.1 W/(m2 K) on Denver. The spun-up heating is then +12.9 %, the
+cooling -9.7 % and the free-floating zone 1.11 K too cold (hourly MAE 1.11, max 1.87 K), so the
+two tests of the slab are strict expected failures that report when the grade is brought into
+line. The same coefficient brought NREL's SingleFamilyHouse (baseline -8.2 -> -4.9 % of
+EnergyPlus's first year) and the DOE basement house (its basement's summer +5 -> +2.8 K) closer
+to EnergyPlus than a constant 2: one constant does not fit the three; Kiva evaluates the
+coefficient every step from the grade's own temperature and wind, which a linear section cannot.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from conftest import shared_data_path
+from thermocal.io.weather import read_weather
+from thermocal.multizone.idf import read_idf
+from thermocal.multizone.simulation import Simulation
+
+pytestmark = pytest.mark.slow  # about 10 s: four two-year runs
+
+FOLDER = Path(__file__).resolve().parents[1] / "reference" / "forward_nrel_kiva_slab"
+WEATHER = ("ashrae140_bestest", "725650TYCST.epw")
+YEAR = 2023
+
+
+@pytest.fixture(scope="module")
+def reference() -> dict:
+    return json.loads((FOLDER / "energyplus_results.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def weather():
+    path = shared_data_path(*WEATHER)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        frame, meta = read_weather(path, coerce_year=YEAR)
+    before = frame.copy()  # the weather year twice, as EnergyPlus repeats it: 2022 then 2023
+    before.index = before.index - pd.DateOffset(years=1)
+    return pd.concat([before, frame]), meta
+
+
+_RUNS: dict = {}
+
+
+def spun_up_year(variant: str, weather) -> pd.DataFrame:
+    """thermocal's hourly air temperature [C], heating and cooling [W] of 2023, after 2022."""
+    if variant not in _RUNS:
+        frame, meta = weather
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            building = read_idf(FOLDER / f"ZoneCoupledKivaSlab_{variant}_v25.idf")
+        start, end = pd.Timestamp(YEAR - 1, 1, 1), pd.Timestamp(YEAR + 1, 1, 1)
+        if frame.index.tz is not None:
+            start, end = start.tz_localize(frame.index.tz), end.tz_localize(frame.index.tz)
+        result = Simulation(
+            building, frame, meta, step="15min", start=start, end=end, store_surfaces=False
+        ).run()
+        hourly = (
+            pd.DataFrame(
+                {
+                    "air": result.air_temperature["Main Floor"],
+                    "heating": result.heating["Main Floor"],
+                    "cooling": result.cooling["Main Floor"],
+                }
+            )
+            .resample("1h")
+            .mean()
+        )
+        if hourly.index.tz is not None:
+            hourly.index = hourly.index.tz_localize(None)
+        _RUNS[variant] = hourly.loc[str(YEAR)]
+    return _RUNS[variant]
+
+
+def monthly_kwh(series: pd.Series) -> np.ndarray:
+    return series.groupby(series.index.month).sum().to_numpy() / 1000.0
+
+
+def test_blank_footing_wall_is_kivas_concrete():
+    """Kiva always has a footing wall: a blank ``Footing Wall Construction Name`` is its own
+    0.3 m of concrete (1.95 W/(m K), 2400 kg/m3, 900 J/(kg K); the eio says "<Default Footing
+    Wall Construction>"), not the soil at the slab's edge."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = read_idf(FOLDER / "ZoneCoupledKivaSlab_noins_v25.idf")
+    ground = building.foundations["Zone Floor"]
+    assert ground.wall_layers == ((0.3, 1.95, 2400.0, 900.0),)
+    assert ground.soil == (1.8, 3200.0, 836.0)
+    assert (ground.wall_height_above_grade, ground.wall_depth_below_slab) == (0.2, 1.3)
+    assert ground.exposed_perimeter == pytest.approx(40.0)
+
+
+#: the slab's tests against main's grade coefficient (measured 2026-11-30)
+GRADE = pytest.mark.xfail(
+    strict=True,
+    reason="the grade's convection, DOE-2 at the mean wind at the file's 0.03 m roughness (4.1 "
+    "W/(m2 K) on Denver): heating +12.9 %, cooling -9.7 %, ff_noins 1.11 / -1.11 / 1.87 K "
+    "(a constant 2 W/(m2 K): +1.0 %, +10.2 %, 0.50 / +0.03 / 1.19 K)",
+)
+
+
+@GRADE
+def test_held_at_20C_heating_cooling_and_floor(reference, weather):
+    """Zone held at 20 C on the slab: annual heating within 3 % (+1.0 %), cooling within 14 %
+    (+10.2 %), every month's heating within 75 kWh (42, in October; at 2 W/(m2 K)); the floor's
+    monthly heat loss, as the net load (heating - cooling) less the adiabatic
+    floor's in both engines, within 120 kWh (90, in August: summer's gain 30 % larger; December-
+    April within 42 kWh; the year -69 against +174 kWh). EnergyPlus's floor conduction itself is
+    5-10 % larger than that difference every month (179 kWh in the year), thermocal's as well
+    (from its network's state, the helper's measure.py)."""
+    ref = reference["monthly"]
+    ours, adiabatic = spun_up_year("noins", weather), spun_up_year("adiabatic", weather)
+    heating, cooling = monthly_kwh(ours["heating"]), monthly_kwh(ours["cooling"])
+    assert heating.sum() == pytest.approx(sum(ref["noins"]["heating_kWh"]), rel=0.03)
+    assert cooling.sum() == pytest.approx(sum(ref["noins"]["cooling_kWh"]), rel=0.14)
+    assert np.abs(heating - ref["noins"]["heating_kWh"]).max() < 75.0
+    floor = (heating - cooling) - (
+        monthly_kwh(adiabatic["heating"]) - monthly_kwh(adiabatic["cooling"])
+    )
+    theirs = [
+        ref["noins"]["heating_kWh"][m] - ref["noins"]["cooling_kWh"][m]
+        - ref["adiabatic"]["heating_kWh"][m] + ref["adiabatic"]["cooling_kWh"][m]
+        for m in range(12)
+    ]  # fmt: skip
+    assert np.abs(floor - theirs).max() < 120.0
+
+
+def test_adiabatic_floor_control(reference, weather):
+    """The same house with the floor adiabatic in both engines (the rest of the envelope):
+    heating within 1 % (+0.02 %), cooling within 3 % (-1.5 %)."""
+    ref = reference["monthly"]["adiabatic"]
+    ours = spun_up_year("adiabatic", weather)
+    assert monthly_kwh(ours["heating"]).sum() == pytest.approx(sum(ref["heating_kWh"]), rel=0.01)
+    assert monthly_kwh(ours["cooling"]).sum() == pytest.approx(sum(ref["cooling_kWh"]), rel=0.03)
+
+
+@pytest.mark.parametrize(
+    ("variant", "bounds"),
+    [
+        # hourly MAE, |bias|, max |error| [K]; largest monthly |bias| [K]
+        pytest.param(
+            "ff_noins", (0.65, 0.15, 1.6, 1.15), marks=GRADE
+        ),  # 0.498 / +0.035 / 1.19; months 0.87 (0.56 / -0.04 / 1.21 at 2 W/(m2 K))
+        ("ff_adiabatic", (0.11, 0.09, 0.5, 0.17)),  # 0.080 / -0.063 / 0.36; months 0.13
+    ],
+)
+def test_free_float_air_temperature(variant, bounds, reference, weather):
+    ours = spun_up_year(variant, weather)["air"].to_numpy()
+    theirs = np.asarray(reference["hourly_air"][variant])
+    assert len(ours) == len(theirs) == 8760
+    diff = ours - theirs
+    months = pd.date_range(f"{YEAR}-01-01", periods=8760, freq="1h").month
+    monthly_bias = pd.Series(diff).groupby(months).mean().abs().max()
+    measured = (np.abs(diff).mean(), abs(diff.mean()), np.abs(diff).max(), monthly_bias)
+    assert all(m < b for m, b in zip(measured, bounds, strict=True)), (measured, bounds)

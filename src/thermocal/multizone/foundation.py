@@ -87,7 +87,11 @@ MAX_CELL = 10.0
 FLOOR_INSIDE_RESISTANCE = 0.17
 
 
-def grade_convection(mean_wind_speed: float, roughness: float = KIVA_DEFAULT_ROUGHNESS) -> float:
+def grade_convection(
+    mean_wind_speed: float,
+    roughness: float = KIVA_DEFAULT_ROUGHNESS,
+    roughness_factor: float = 1.52,
+) -> float:
     """Convection coefficient of the grade and of a foundation wall above it [W/(m2 K)].
 
     Kiva takes the floor's outside algorithm (EnergyPlus's default DOE-2) at the wind at the
@@ -101,13 +105,18 @@ def grade_convection(mean_wind_speed: float, roughness: float = KIVA_DEFAULT_ROU
         The weather station's mean wind speed.
     roughness : float [m]
         The grade's roughness height (``Foundation:Kiva:Settings``).
+    roughness_factor : float [-]
+        DOE-2's roughness multiplier: Kiva passes the floor surface's (its construction's
+        outside layer, ``CalcDOE2Forced``): 1.52 medium rough, 1.11 smooth.
     """
     from thermocal.multizone.network import doe2_exterior_convection, tarp_natural_convection
 
     h_natural = tarp_natural_convection(3.0, 1.0)
     wind = grade_wind_factor(roughness) * max(float(mean_wind_speed), 0.0)
     return float(
-        doe2_exterior_convection(wind, True, h_natural=h_natural, roughness_factor=1.52)
+        doe2_exterior_convection(
+            wind, True, h_natural=h_natural, roughness_factor=float(roughness_factor)
+        )
     )
 
 
@@ -141,6 +150,9 @@ class FoundationGround:
     grade_roughness : float [m]
         The grade's roughness height, which sets the wind at the grade
         (:func:`grade_convection`).
+    grade_roughness_factor : float [-]
+        DOE-2's roughness multiplier of the grade's forced convection: Kiva's is the floor's
+        outside layer's (1.52 medium rough, 1.11 smooth).
     """
 
     exposed_perimeter: float
@@ -153,6 +165,7 @@ class FoundationGround:
     basement_depth: float = 0.0
     walls: tuple[tuple[str, float], ...] = ()
     grade_roughness: float = KIVA_DEFAULT_ROUGHNESS
+    grade_roughness_factor: float = 1.52
 
     def __post_init__(self) -> None:
         # tuples, so that a section can be cached by its ground (lists from Python or YAML)
@@ -169,6 +182,7 @@ class FoundationGround:
             "deep_ground_depth [m]": self.deep_ground_depth,
             "far_field_width [m]": self.far_field_width,
             "grade_roughness [m]": self.grade_roughness,
+            "grade_roughness_factor [-]": self.grade_roughness_factor,
         }
         for name, value in checks.items():
             if not np.isfinite(value) or value <= 0:
@@ -550,7 +564,8 @@ def steady_floor_conductance(
     import scipy.linalg
 
     grid = foundation_grid(ground, floor_area, floor_layers, **grid_options)
-    a, _, h = section_matrices(grid, grade_convection(wind_speed, ground.grade_roughness))
+    h_grade = grade_convection(wind_speed, ground.grade_roughness, ground.grade_roughness_factor)
+    a, _, h = section_matrices(grid, h_grade)
     n = len(a)
     r_below = sum(layer[0] / layer[1] for layer in floor_layers[: grid.slab_interface])
     r_above = sum(layer[0] / layer[1] for layer in floor_layers[grid.slab_interface :])

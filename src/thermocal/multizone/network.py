@@ -1209,7 +1209,9 @@ def assemble(
         from thermocal.multizone.foundation import grade_convection
 
         ground = building.foundations[name]
-        grade_h = grade_convection(mean_wind_speed, ground.grade_roughness)
+        grade_h = grade_convection(
+            mean_wind_speed, ground.grade_roughness, ground.grade_roughness_factor
+        )
         walls = [(surface_nodes[w][0], float(share)) for w, share in ground.walls]
         foundation_nodes.append(
             _add_foundation(

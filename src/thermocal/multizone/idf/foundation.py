@@ -159,8 +159,9 @@ def _construction_layers(construction_name: str, where: str, materials, construc
 
 
 def foundation_ground(
-    name, vertices, foundation_name, objects, materials, constructions, settings, walls=()
-):
+    name, vertices, foundation_name, objects, materials, constructions, settings, walls=(),
+    floor_construction=None,
+):  # fmt: skip
     """The ground section of one floor on a ``Foundation`` boundary.
 
     Parameters
@@ -181,6 +182,9 @@ def foundation_ground(
     walls : sequence of (name, vertices (n, 3) [m], construction name)
         The walls of the same zone on the same ``Foundation:Kiva`` (a basement): EnergyPlus
         takes their height as the foundation's depth and their construction as its wall.
+    floor_construction : str, optional
+        The floor's construction: its outside layer's roughness is DOE-2's multiplier of the
+        grade's convection in Kiva (medium rough, 1.52, without it).
 
     Returns
     -------
@@ -260,6 +264,14 @@ def foundation_ground(
                 else ""
             )
         )
+    # Kiva's grade takes DOE-2's roughness multiplier of the floor surface (its outside layer)
+    from thermocal.multizone.model import ROUGHNESS_FACTORS
+
+    roughness_factor = 1.52
+    floor = constructions.get(str(floor_construction or "").upper())
+    if floor is not None and floor.layers:
+        outer = materials.get(floor.layers[0].upper())
+        roughness_factor = ROUGHNESS_FACTORS.get(getattr(outer, "roughness", None), 1.52)
     ground = FoundationGround(
         exposed_perimeter=perimeter,
         soil=settings["soil"],
@@ -269,6 +281,7 @@ def foundation_ground(
         deep_ground_depth=settings["deep_ground_depth"],
         far_field_width=settings["far_field_width"],
         grade_roughness=settings.get("grade_roughness", 0.9),
+        grade_roughness_factor=roughness_factor,
         basement_depth=basement_depth,
         walls=shares,
     )

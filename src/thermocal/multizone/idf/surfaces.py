@@ -434,6 +434,7 @@ class SurfaceStages:
             ground, notes = foundation_ground(
                 data["name"], data["world"], target, self.objects, materials, constructions,
                 settings, walls=[(w["name"], w["world"], w["construction"]) for w in walls],
+                floor_construction=data["construction"],
             )  # fmt: skip
             self.info.notes.extend(notes)
             if ground is not None:

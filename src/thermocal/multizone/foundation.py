@@ -81,6 +81,13 @@ def grade_wind_factor(roughness: float = KIVA_DEFAULT_ROUGHNESS) -> float:
     return (270.0 / 10.0) ** 0.14 * (float(roughness) / 370.0) ** 0.22
 #: The grade's long-wave emissivity and solar absorptance [-] (Kiva's defaults).
 GRADE_EMISSIVITY, GRADE_ABSORPTANCE = 0.9, 0.9
+#: ``Foundation:Kiva``'s insulation blocks, in the order of its fields.
+INSULATION_KINDS = (
+    "interior_horizontal",
+    "interior_vertical",
+    "exterior_horizontal",
+    "exterior_vertical",
+)
 #: Largest cell of the section [m] (the far field and the deep ground).
 MAX_CELL = 10.0
 #: The floor's inside surface resistance, heat flow down [m2 K/W] (ISO 6946), for the fin.
@@ -150,6 +157,13 @@ class FoundationGround:
     grade_roughness : float [m]
         The grade's roughness height, which sets the wind at the grade
         (:func:`grade_convection`).
+    insulation : tuple of (kind, thickness [m], conductivity [W/(m K)], density [kg/m3],
+        specific heat [J/(kg K)], depth [m], width [m])
+        ``Foundation:Kiva``'s insulation: ``interior_horizontal`` (under the slab, ``depth``
+        below the slab's bottom, ``width`` from the wall inwards), ``interior_vertical`` (on
+        the wall's inside face, from its top down to ``depth``), ``exterior_horizontal``
+        (``depth`` below the grade, ``width`` from the wall outwards), ``exterior_vertical``
+        (on the wall's outside face, from its top down to ``depth``).
     grade_roughness_factor : float [-]
         DOE-2's roughness multiplier of the grade's forced convection: Kiva's is the floor's
         outside layer's (1.52 medium rough, 1.11 smooth).
@@ -166,6 +180,7 @@ class FoundationGround:
     walls: tuple[tuple[str, float], ...] = ()
     grade_roughness: float = KIVA_DEFAULT_ROUGHNESS
     grade_roughness_factor: float = 1.52
+    insulation: tuple[tuple, ...] = ()
 
     def __post_init__(self) -> None:
         # tuples, so that a section can be cached by its ground (lists from Python or YAML)
@@ -174,6 +189,18 @@ class FoundationGround:
             self, "wall_layers", tuple(tuple(float(v) for v in w) for w in self.wall_layers)
         )
         object.__setattr__(self, "walls", tuple((str(w[0]), float(w[1])) for w in self.walls))
+        object.__setattr__(
+            self,
+            "insulation",
+            tuple((str(b[0]), *(float(v) for v in b[1:])) for b in self.insulation),
+        )
+        for block in self.insulation:
+            if block[0] not in INSULATION_KINDS or len(block) != 7 or min(block[1:5]) <= 0:
+                raise ThermocalInputError(
+                    f"foundation: insulation is (kind in {', '.join(INSULATION_KINDS)}, "
+                    "thickness [m], conductivity, density, specific heat > 0, depth [m], width "
+                    f"[m]), got {block!r}"
+                )
         checks = {
             "exposed_perimeter [m]": self.exposed_perimeter,
             "soil conductivity [W/(m K)]": self.soil[0],
@@ -320,14 +347,20 @@ def foundation_grid(
     x_far = half + t_wall + float(ground.far_field_width)
     z_deep = -float(ground.deep_ground_depth)
     wall_faces = [half, half + t_wall]
-    x_fine = [*wall_faces]
+    blocks = _insulation_rectangles(ground.insulation, half, t_wall, h, slab_bottom)
+    x_fine = [*wall_faces, *(b[0] for b in blocks), *(b[1] for b in blocks)]
     acc = half
     for layer in ground.wall_layers:
         acc += layer[0]
         x_fine.append(acc)
     xe = _edges(0.0, x_far, x_fine, first_cell, growth)
     ze = _edges(
-        z_deep, max(h, 0.0), [0.0, slab_top, slab_bottom, wall_bottom, h], first_cell, growth
+        z_deep,
+        max(h, 0.0),
+        [0.0, slab_top, slab_bottom, wall_bottom, h, *(b[2] for b in blocks)]
+        + [b[3] for b in blocks],
+        first_cell,
+        growth,
     )
     xc, zc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ze[1:] + ze[:-1])
     dx, dz = np.diff(xe), np.diff(ze)
@@ -352,6 +385,13 @@ def foundation_grid(
                     material = None
             else:
                 material = (soil_k, soil_rho * soil_cp) if z < 0.0 else None
+            for x0, x1, z0, z1, lam, vol in blocks:
+                inside_block = x0 <= x < x1 and z0 <= z < z1
+                # a block replaces soil or wall; outside the wall above the grade it stands in
+                # the air (exterior vertical insulation up to the wall's top)
+                outside = x > half + t_wall and 0.0 <= z < h
+                if inside_block and (material is not None or outside):
+                    material = (lam, vol)
             if material is not None:
                 k[i, j], rc[i, j] = material
     active = k > 0
@@ -462,6 +502,24 @@ SUN_WEIGHT = 1.0 / 50.0
 #: basement's walls (nodes), the outdoor air and the sky (temperatures), the horizontal
 #: irradiance.
 PORTS = ("floor", "slab", "walls", "outdoor", "sky", "sun")
+
+
+def _insulation_rectangles(insulation, half, t_wall, h, slab_bottom) -> list[tuple]:
+    """``(x0, x1, z0, z1, conductivity, volumetric capacity)`` of each insulation block in the
+    section's coordinates [m; W/(m K); J/(m3 K)] (see :class:`FoundationGround`)."""
+    out = []
+    for kind, thickness, lam, rho, cp, depth, width in insulation:
+        if kind == "interior_horizontal":
+            top = slab_bottom - depth
+            box = (max(half - width, 0.0), half, top - thickness, top)
+        elif kind == "interior_vertical":
+            box = (half - thickness, half, h - depth, h)
+        elif kind == "exterior_horizontal":
+            box = (half + t_wall, half + t_wall + width, -depth - thickness, -depth)
+        else:  # exterior_vertical
+            box = (half + t_wall, half + t_wall + thickness, h - depth, h)
+        out.append((*box, lam, rho * cp))
+    return out
 
 
 def section_matrices(

@@ -19,12 +19,14 @@ __all__ = ["exposed_perimeter", "foundation_ground", "kiva_settings"]
 #: Foundation:Kiva fields (0-based) the section takes, and the insulation and footing fields it
 #: does not model.
 _WALL_HEIGHT, _WALL_DEPTH, _WALL_CONSTRUCTION = 12, 13, 14
-_NOT_MODELLED = {
-    2: "interior horizontal insulation",
-    5: "interior vertical insulation",
-    7: "exterior horizontal insulation",
-    10: "exterior vertical insulation",
-    15: "footing",
+_NOT_MODELLED = {15: "footing"}
+#: Foundation:Kiva's insulation: kind, (material, depth, width) field positions (None: no
+#: width field).
+_INSULATION_FIELDS = {
+    "interior_horizontal": (2, 3, 4),
+    "interior_vertical": (5, 6, None),
+    "exterior_horizontal": (7, 8, 9),
+    "exterior_vertical": (10, 11, None),
 }
 #: EnergyPlus's defaults of Foundation:Kiva's wall (Input Output Reference).
 _DEFAULT_HEIGHT_ABOVE_GRADE, _DEFAULT_DEPTH_BELOW_SLAB = 0.2, 0.0
@@ -158,6 +160,35 @@ def _construction_layers(construction_name: str, where: str, materials, construc
     return tuple(layers)
 
 
+def _insulation_blocks(kiva, materials) -> tuple:
+    """``Foundation:Kiva``'s insulation blocks as
+    :attr:`thermocal.multizone.foundation.FoundationGround.insulation` (a block's thickness is
+    its material's; a depth or width left blank is 0, and a block of no extent is none)."""
+    from thermocal.multizone.model import Material
+
+    out = []
+    fields = kiva.fields
+    for kind, (mat_at, depth_at, width_at) in _INSULATION_FIELDS.items():
+        name = fields[mat_at].strip() if mat_at < len(fields) else ""
+        if not name:
+            continue
+        material = materials.get(name.upper())
+        if not isinstance(material, Material):
+            raise ThermocalInputError(
+                f"{kiva.where()}: insulation material '{name}' is not a Material with thickness, "
+                "conductivity, density and specific heat (EnergyPlus's Kiva refuses it too)"
+            )
+        depth = _number(kiva, depth_at, 0.0, f"{kind.replace('_', ' ')} depth")
+        width = 0.0 if width_at is None else _number(kiva, width_at, 0.0, "insulation width")
+        if (width if kind.endswith("horizontal") else depth) <= 0.0:
+            continue  # a block of no extent is none
+        out.append((
+            kind, material.thickness, material.conductivity, material.density,
+            material.specific_heat, depth, width,
+        ))  # fmt: skip
+    return tuple(out)
+
+
 def foundation_ground(
     name, vertices, foundation_name, objects, materials, constructions, settings, walls=(),
     floor_construction=None,
@@ -204,6 +235,7 @@ def foundation_ground(
         ),
         None,
     )
+    insulation = ()
     height, depth, wall_layers = (
         _DEFAULT_HEIGHT_ABOVE_GRADE,
         _DEFAULT_DEPTH_BELOW_SLAB,
@@ -220,8 +252,9 @@ def foundation_ground(
         if missing:
             notes.append(
                 f"floor '{name}': the {', '.join(missing)} of {kiva.where()} is not modelled "
-                "(the ground section has the wall and the soil only)"
+                "(the ground section has the wall, its insulation and the soil)"
             )
+        insulation = _insulation_blocks(kiva, materials)
         wall = kiva.fields[_WALL_CONSTRUCTION].strip() if len(kiva.fields) > 14 else ""
         if wall:
             wall_layers = _construction_layers(
@@ -282,6 +315,7 @@ def foundation_ground(
         far_field_width=settings["far_field_width"],
         grade_roughness=settings.get("grade_roughness", 0.9),
         grade_roughness_factor=roughness_factor,
+        insulation=insulation,
         basement_depth=basement_depth,
         walls=shares,
     )

@@ -94,6 +94,12 @@ MAX_CELL = 10.0
 FLOOR_INSIDE_RESISTANCE = 0.17
 
 
+def grade_longwave_coefficient() -> float:
+    """The grade's (and a foundation wall's) long-wave coefficient [W/(m2 K)], linearised at
+    10 C with :data:`GRADE_EMISSIVITY`."""
+    return 4.0 * 5.670374419e-8 * GRADE_EMISSIVITY * 283.15**3
+
+
 def grade_convection(
     mean_wind_speed: float,
     roughness: float = KIVA_DEFAULT_ROUGHNESS,
@@ -540,7 +546,7 @@ def section_matrices(
     h[grid.edge_node, 1] = grid.fin_conductance
     if len(grid.wall_face):
         np.add.at(h[:, 2], grid.wall_face[:, 0].astype(int), grid.wall_face[:, 1])
-    hr = 4.0 * 5.670374419e-8 * GRADE_EMISSIVITY * 283.15**3
+    hr = grade_longwave_coefficient()
     for c, area, is_grade in grid.outdoor:
         c = int(c)
         if is_grade:

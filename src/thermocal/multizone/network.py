@@ -1086,8 +1086,8 @@ def assemble(
     f_mass: list[bool] = []
     f_back: list[tuple[float, float]] = []
     # exterior faces
-    e_name, e_node, e_area, e_tilt, e_az, e_eps, e_fg, e_alpha, e_cap, e_sun, e_rough = (
-        [] for _ in range(11)
+    e_name, e_node, e_area, e_tilt, e_az, e_eps, e_alpha, e_cap, e_sun, e_rough = (
+        [] for _ in range(10)
     )
     e_wind: list[float] = []  # local over station wind speed [-]
     e_win: list[bool] = []  # a window's outer glass face
@@ -1183,7 +1183,6 @@ def assemble(
             e_tilt.append(surface.tilt)
             e_az.append(surface.azimuth)
             e_eps.append(eps_out)
-            e_fg.append(surface.ground_view_factor)
             e_alpha.append(alpha_out if surface.sun_exposed else 0.0)
             e_cap.append(tpl.capacity[0])
             e_sun.append(surface.sun_exposed)
@@ -1265,7 +1264,6 @@ def assemble(
         e_tilt.append(host.tilt)
         e_az.append(host.azimuth)
         e_eps.append(wt.emissivity_outside)
-        e_fg.append(host.ground_view_factor)
         e_alpha.append(0.0)
         e_cap.append(0.0)
         e_sun.append(False)
@@ -1779,7 +1777,7 @@ def _add_foundation(
     ndarray of int
         The section's nodes.
     """
-    from thermocal.multizone.foundation import GRADE_EMISSIVITY, section_matrices
+    from thermocal.multizone.foundation import grade_longwave_coefficient, section_matrices
 
     floor_layers = []
     for layer in layers:
@@ -1798,7 +1796,7 @@ def _add_foundation(
     ports = [[(outside, 1.0)], [(slab, 1.0)], walls]
     columns = (IN_TEMP_OUT, IN_TEMP_SKY, sun_column())
     if grid.wall_above_grade > 0:  # a basement's walls above the grade: to the outdoor air
-        hr = 4.0 * STEFAN_BOLTZMANN * GRADE_EMISSIVITY * 283.15**3
+        hr = grade_longwave_coefficient()
         for node, share in walls:
             g_air = (grade_h + 0.5 * hr) * grid.wall_above_grade * share
             g_sky = 0.5 * hr * grid.wall_above_grade * share

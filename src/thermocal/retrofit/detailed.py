@@ -83,7 +83,7 @@ SURFACE_RESISTANCES: dict[str, tuple[float, float]] = {
     "attic_ceiling": (0.10, 0.10),  # heat flow up, unheated attic on the other side
     "cellar_ceiling": (0.17, 0.17),  # heat flow down, unheated cellar below
     "wall_to_unheated": (0.13, 0.13),
-    "ground_floor": (0.17, 0.04),  # the construction's U; ISO 13370 adds the ground
+    "ground_floor": (0.17, 0.04),  # the construction's U; the ground section adds the ground
 }
 
 #: Where the insulation goes: "outside" (behind a thin finish) or "outermost".

@@ -185,16 +185,19 @@ def write_reference(folder: Path, temperatures, nominal: dict, truth: dict, desc
 PLATE_SURFACE, PLATE_DAYS = "TOP-1", (3, 17)
 
 
-def heat_flux_study() -> dict:
-    """An in-situ measurement of the roof as a building physicist makes it (ISO 9869-1 with
-    surface temperatures: the construction's thermal resistance): EnergyPlus runs the hidden
-    building (loads included, free floating, 1-minute steps) with the roof's inside-face
-    conduction and its two surface temperatures as hourly outputs; two weeks of them, the
-    plate reading 3 % high with 2 % noise per hour, the surface sensors with 0.1 K noise.
+def plate_log(hidden: str, surface: str, days=PLATE_DAYS, seed: int = 98693):
+    """An ISO 9869-1 heat-flux plate with surface thermometers on ``surface`` of the building
+    ``hidden`` (IDF text, loads included): EnergyPlus runs it free floating at 1-minute steps
+    with the surface's inside-face conduction and its two face temperatures as outputs; their
+    hourly means over ``days`` (days after the run's start, end excluded), the plate reading 3 %
+    high with 2 % noise per hour, the thermometers with 0.1 K noise (``seed``).
 
-    Writes ``heat_flux_roof.csv`` (time = start of each hour, ``q_W_m2`` outward, ``Tsi``,
-    ``Tse`` [C]) and adds ``heat_flux`` (the plate and its seed) to ``truth.json``: the truth it
-    estimates is the hidden roof's ``construction/ROOF-1/resistance`` already there.
+    Returns
+    -------
+    log : DataFrame
+        ``time`` (start of each hour), ``q_W_m2`` (outward), ``Tsi``, ``Tse`` [C].
+    period : list of str
+        The first and last hour.
     """
     import numpy as np
     import pandas as pd
@@ -206,14 +209,13 @@ def heat_flux_study() -> dict:
         run_energyplus,
     )
 
-    hidden = perturbed((SHARED / IDF_NAME).read_text())
     variables = {
         "q": "Surface Inside Face Conduction Heat Transfer Rate per Area",
         "Tsi": "Surface Inside Face Temperature",
         "Tse": "Surface Outside Face Temperature",
     }
     text = twin_idf(hidden, DAYS, timesteps_per_hour=60) + "".join(
-        f"Output:Variable, {PLATE_SURFACE}, {v}, Timestep;\n" for v in variables.values()
+        f"Output:Variable, {surface}, {v}, Timestep;\n" for v in variables.values()
     )
     weather_path = energyplus_weather_folder() / WEATHER_NAME
     with warnings.catch_warnings():
@@ -225,16 +227,16 @@ def heat_flux_study() -> dict:
         eso = run_energyplus(idf, weather_path, Path(tmp) / "energyplus")
         frame = read_eso(eso, year=int(weather.index[0].year), frequency="timestep")
     columns = {
-        k: next(c for c in frame.columns if c.upper().startswith(f"{PLATE_SURFACE}:{v}".upper()))
+        k: next(c for c in frame.columns if c.upper().startswith(f"{surface}:{v}".upper()))
         for k, v in variables.items()
     }
     # hourly means labelled by the hour's start (read_eso labels each step by its start)
     minute = frame[list(columns.values())].rename(columns={c: k for k, c in columns.items()})
     hourly = minute.groupby(minute.index.floor("1h")).mean()
     first = hourly.index[0].normalize()
-    days = (hourly.index - first) / pd.Timedelta(days=1)
-    hourly = hourly[(days >= PLATE_DAYS[0]) & (days < PLATE_DAYS[1])]
-    rng = np.random.default_rng(98693)
+    elapsed = (hourly.index - first) / pd.Timedelta(days=1)
+    hourly = hourly[(elapsed >= days[0]) & (elapsed < days[1])]
+    rng = np.random.default_rng(seed)
     n = len(hourly)
     log = pd.DataFrame(
         {
@@ -245,20 +247,39 @@ def heat_flux_study() -> dict:
             "Tse": hourly["Tse"].to_numpy() + rng.normal(0, 0.1, n),
         }
     )
-    log.round(3).to_csv(HERE / "heat_flux_roof.csv", index=False)
-    truth = json.loads((HERE / "truth.json").read_text())
-    truth["heat_flux"] = {
-        "file": "heat_flux_roof.csv",
-        "surface": PLATE_SURFACE,
-        "construction": "ROOF-1",
-        "period": [str(hourly.index[0]), str(hourly.index[-1])],
+    return log.round(3), [str(hourly.index[0]), str(hourly.index[-1])]
+
+
+def plate_record(file: str, surface: str, construction: str, period, seed: int) -> dict:
+    """What ``truth.json`` keeps of a plate of :func:`plate_log`."""
+    return {
+        "file": file,
+        "surface": surface,
+        "construction": construction,
+        "period": period,
         "temperatures": "surface",
         "plate_bias": 1.03,
         "plate_noise_rel": 0.02,
         "temperature_noise_K": 0.1,
-        "seed": 98693,
-        "truth": "truth['construction/ROOF-1/resistance']",
+        "seed": seed,
+        "truth": f"truth['construction/{construction}/resistance']",
     }
+
+
+def heat_flux_study() -> dict:
+    """An in-situ measurement of the roof as a building physicist makes it (ISO 9869-1 with
+    surface temperatures: the construction's thermal resistance), :func:`plate_log` on the
+    roof (:data:`PLATE_SURFACE`) of the hidden building, January 4-17.
+
+    Writes ``heat_flux_roof.csv`` (time = start of each hour, ``q_W_m2`` outward, ``Tsi``,
+    ``Tse`` [C]) and adds ``heat_flux`` (the plate and its seed) to ``truth.json``: the truth it
+    estimates is the hidden roof's ``construction/ROOF-1/resistance`` already there.
+    """
+    hidden = perturbed((SHARED / IDF_NAME).read_text())
+    log, period = plate_log(hidden, PLATE_SURFACE, PLATE_DAYS, seed=98693)
+    log.to_csv(HERE / "heat_flux_roof.csv", index=False)
+    truth = json.loads((HERE / "truth.json").read_text())
+    truth["heat_flux"] = plate_record("heat_flux_roof.csv", PLATE_SURFACE, "ROOF-1", period, 98693)
     (HERE / "truth.json").write_text(json.dumps(truth, indent=2) + "\n")
     return truth["heat_flux"]
 

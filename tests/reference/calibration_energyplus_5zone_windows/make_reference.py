@@ -195,8 +195,37 @@ def main() -> None:
     base.write_reference(HERE, temperatures, nominal, truth, description)
 
 
+#: The heat-flux plate of :func:`heat_flux_study`: on the inside face of the north office's
+#: exterior wall (``BACK-1``, construction ``WALL-1``: the plate away from the sun, as ISO
+#: 9869-1 asks), January 4-17; the element the calibration's advice and the wall/window trade
+#: leave open.
+PLATE_SURFACE, PLATE_CONSTRUCTION, PLATE_SEED = "BACK-1", "WALL-1", 98694
+
+
+def heat_flux_study() -> dict:
+    """An in-situ measurement of the exterior wall as a building physicist makes it (ISO 9869-1
+    with surface temperatures: the construction's resistance), the 5-zone folder's
+    ``plate_log`` on :data:`PLATE_SURFACE` of the hidden building, January 4-17.
+
+    Writes ``heat_flux_wall.csv`` (time = start of each hour, ``q_W_m2`` outward, ``Tsi``,
+    ``Tse`` [C]) and adds ``heat_flux`` to ``truth.json``: the truth it estimates is the hidden
+    wall's ``construction/WALL-1/resistance`` (unchanged from the file's) already there.
+    """
+    text = hidden((SHARED / IDF_NAME).read_text())
+    log, period = base.plate_log(text, PLATE_SURFACE, base.PLATE_DAYS, seed=PLATE_SEED)
+    log.to_csv(HERE / "heat_flux_wall.csv", index=False)
+    truth = json.loads((HERE / "truth.json").read_text())
+    truth["heat_flux"] = base.plate_record(
+        "heat_flux_wall.csv", PLATE_SURFACE, PLATE_CONSTRUCTION, period, PLATE_SEED
+    )
+    (HERE / "truth.json").write_text(json.dumps(truth, indent=2) + "\n")
+    return truth["heat_flux"]
+
+
 if __name__ == "__main__":
     if "--screen" in sys.argv:
         print(json.dumps(screen(), indent=1))
+    elif "--heat-flux" in sys.argv:
+        print(json.dumps(heat_flux_study(), indent=1))
     else:
         main()

@@ -126,10 +126,12 @@ def test_twin_with_an_in_situ_wall_u_value(tmp_path):
     got = measured_check(run, _reference(), MEASURES)
     # the report's record of the plate on this house is this run
     assert not differs_from(IN_SITU_CHECKS[REF.name], got), got
-    assert got["within_3pp"] == 15, got  # the target (13 without the plate)
-    assert got["savings_mean_abs_pp"] < 1.5  # 1.25 pp (2.0 without)
+    # 15, the target, while new windows took their rated U-value; since they keep the old
+    # ones' films correction 14 (all four measures +3.15 pp; 11 without the plate)
+    assert got["within_3pp"] >= 14, got
+    assert got["savings_mean_abs_pp"] < 1.6  # 1.45 pp (2.27 without; 1.25 target windows)
     assert got["covered"] == 15
-    assert got["median_half_width_pp"] < 10.0  # 9.7 pp (10.8 without; target 6)
+    assert got["median_half_width_pp"] < 8.5  # 7.8 pp (10.3 without; target 6)
 
 
 def _savings(twin):
@@ -372,14 +374,19 @@ def test_strategy_savings(twin):
     the ground's inputs were drawn, 12.1 with the gains' factor drawn independently).
     The strategy with all four measures saves most in both. (Before the daily step kept its
     weight and the measures added their insulation to the corrected constructions: 1.4, 3.7,
-    14 of 15, 15 of 15, 15.9 pp; temperature fit: 2.1, 5.0, 11 of 15, 15 of 15, 13.3 pp.)"""
+    14 of 15, 15 of 15, 15.9 pp; temperature fit: 2.1, 5.0, 11 of 15, 15 of 15, 13.3 pp.)
+    Since 2026-11-30 new windows keep the old ones' films correction (``replaced_window_u``,
+    within 3-5 % of EnergyPlus's new windows, ``tests/reference/retrofit_window_films``): 2.27,
+    4.05, 11 of 15, 15 of 15, 10.3 pp: the windows' savings 0.4 pp further above EnergyPlus's,
+    because the data leave the old windows at 0.94 of their rated U-value where EnergyPlus's
+    conduct 0.81 of it (the target's U on the new ones had hidden part of that)."""
     assert twin["calibration"]["interior"] == "split"  # auto, with the heat fit
     diff, covered, half = _savings(twin)
     assert covered >= 12, covered  # the issue's coverage target (80 %)
     assert covered >= 14, covered  # (15)
     assert np.abs(diff).max() < 4.5, diff  # (3.6; combined 5.2; target 3)
     assert np.abs(diff).mean() < 2.5, diff  # (2.05; combined 3.1)
-    assert (np.abs(diff) <= 3.0).sum() >= 12  # (13 of 15; combined 7)
+    assert (np.abs(diff) <= 3.0).sum() >= 11  # (11 of 15; 13 with the target windows)
     assert np.median(half) < 11.5  # (10.8; combined 11.8; target 6)
     best = max(twin["scenarios"][1:], key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)
@@ -406,8 +413,8 @@ def test_strategy_savings_with_the_combined_inside(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 3.6 pp "
-                   "(13 of 15 within 3 pp), median half-width 10.8 pp")  # fmt: skip
+@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 4.05 pp "
+                   "(11 of 15 within 3 pp), median half-width 10.3 pp")  # fmt: skip
 def test_strategy_savings_targets(twin):
     diff, _, half = _savings(twin)
     assert np.abs(diff).max() <= 3.0

@@ -301,13 +301,20 @@ def test_uncertain_u_values_keep_the_calibrated_hlc():
     walls = np.array([e.walls_u for e in base])
     assert 0.08 < np.std(walls / m.envelope.walls_u) < 0.25
     # retrofitted walls get the insulation that takes the described wall to the target, added
-    # to each draw's wall (the estimate: the target); windows are replaced (the target)
+    # to each draw's wall (the estimate: the target); new windows keep each draw's correction
+    # of the old ones as their films' resistance (the estimate: the target)
     target = PAPER_MEASURE_U_VALUES["walls"]
     d_r = 1.0 / target - 1.0 / m.envelope.walls_u
     after = np.array([e.walls_u for e in envs[-1]])
     assert after[0] == pytest.approx(target, rel=1e-12)
     assert np.allclose(after, 1.0 / (1.0 / walls + d_r), rtol=1e-12)
-    assert all(e.windows_u == PAPER_MEASURE_U_VALUES["windows"] for e in envs[-1])
+    from thermocal.retrofit.model import replaced_window_u
+
+    new = PAPER_MEASURE_U_VALUES["windows"]
+    assert envs[-1][0].windows_u == pytest.approx(new, rel=1e-12)
+    for before, after in zip(base, envs[-1], strict=True):
+        expected = replaced_window_u(new, before.windows_u, m.envelope.windows_u)
+        assert after.windows_u == pytest.approx(expected, rel=1e-12)
 
 
 def _ground_variant(kind):

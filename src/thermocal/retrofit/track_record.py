@@ -66,18 +66,19 @@ class IndependentCheck:
     note: str
 
 
-#: Measured 2026-11-29 (Zurich 2015; six weeks of measurements, 200 draws), keyed by the
+#: Measured 2026-11-29, the savings again 2026-11-30 after new windows kept the old ones' films
+#: correction (Zurich 2015; six weeks of measurements, 200 draws), keyed by the
 #: reference folder under ``tests/reference``.
 INDEPENDENT_CHECKS: dict[str, IndependentCheck] = {
     "retrofit_energyplus_house": IndependentCheck(
         house="NREL SingleFamilyHouse (one storey, block walls, slab, attic)",
         hlc_error_pct=-4.8,
         demand_error_pct=9.5,
-        savings_mean_abs_pp=5.8,
-        savings_max_abs_pp=10.9,
-        within_3pp=4,
+        savings_mean_abs_pp=5.4,
+        savings_max_abs_pp=10.3,
+        within_3pp=5,
         covered=13,
-        median_half_width_pp=12.6,
+        median_half_width_pp=12.0,
         gate_passed=True,
         note="every saving but the slab's below EnergyPlus's: the building file's default air "
         "change (0.5 1/h) against the house's 0.08 1/h puts too much of the loss where no "
@@ -88,14 +89,15 @@ INDEPENDENT_CHECKS: dict[str, IndependentCheck] = {
         house="DOE/PNNL single-family prototype (two storeys, unheated basement, attic)",
         hlc_error_pct=0.3,
         demand_error_pct=-1.4,
-        savings_mean_abs_pp=2.0,
-        savings_max_abs_pp=3.6,
-        within_3pp=13,
+        savings_mean_abs_pp=2.3,
+        savings_max_abs_pp=4.0,
+        within_3pp=11,
         covered=15,
-        median_half_width_pp=10.8,
+        median_half_width_pp=10.3,
         gate_passed=False,
         note="the validation gate failed on the indoor temperature's MAE (1.63 K), so the "
-        "report recommended nothing",
+        "report recommended nothing; the windows' savings 2-4 pp above EnergyPlus's: the data "
+        "correct the old windows to 0.94 of their rated U-value where EnergyPlus's conduct 0.81",
     ),
 }
 
@@ -109,11 +111,11 @@ IN_SITU_CHECKS: dict[str, IndependentCheck] = {
         house="NREL SingleFamilyHouse, with a heat-flux plate on the north wall",
         hlc_error_pct=-5.2,
         demand_error_pct=8.9,
-        savings_mean_abs_pp=4.7,
-        savings_max_abs_pp=9.0,
+        savings_mean_abs_pp=4.2,
+        savings_max_abs_pp=8.1,
         within_3pp=5,
         covered=14,
-        median_half_width_pp=8.8,
+        median_half_width_pp=8.5,
         gate_passed=True,
         note="the walls' measures within 3 pp of EnergyPlus; the windows' still below it: the "
         "default air change shares the loss with them",
@@ -122,14 +124,14 @@ IN_SITU_CHECKS: dict[str, IndependentCheck] = {
         house="DOE/PNNL single-family prototype, with a heat-flux plate on the north wall",
         hlc_error_pct=0.2,
         demand_error_pct=-0.4,
-        savings_mean_abs_pp=1.3,
-        savings_max_abs_pp=2.8,
-        within_3pp=15,
+        savings_mean_abs_pp=1.4,
+        savings_max_abs_pp=3.1,
+        within_3pp=14,
         covered=15,
-        median_half_width_pp=9.7,
+        median_half_width_pp=7.8,
         gate_passed=False,
-        note="every saving within 3 pp of EnergyPlus; the validation gate still fails on the "
-        "indoor temperature's MAE",
+        note="14 of 15 savings within 3 pp of EnergyPlus (all four measures: +3.1 pp); the "
+        "validation gate still fails on the indoor temperature's MAE",
     ),
 }
 

@@ -792,7 +792,9 @@ def scenario_envelopes(
     audit U-values of roof, walls, windows and floor by independent log-normal factors of
     that relative spread. The data identify the total heat loss coefficient, not its split,
     so the draw's ``H_est`` is shifted to keep the calibrated HLC (``draws`` is updated in
-    place, clipped at 1 W/K). The retrofitted components take the measure's U-value.
+    place, clipped at 1 W/K). Each draw's retrofitted components keep its correction: an opaque
+    one gets the measure's insulation, a new window the old ones' films
+    (:meth:`~thermocal.retrofit.model.EnvelopeComponents.apply`).
 
     ``ground`` (``inputs``, ``overrides``, ``means``; :mod:`thermocal.retrofit.ground_draws`)
     gives each draw its ground path; its ``H_est`` keeps the calibration period's heat

@@ -552,6 +552,16 @@ def test_window_construction_on_opaque_surface_and_one_sided_partner(tmp_path):
     partner = building.surfaces["North (partner)"]
     assert partner.zone == "Z2" and partner.other_surface == "North"
     assert partner.azimuth == pytest.approx(180)
+    # a door in that wall is merged into it (an inter-zone door), on both sides: the file
+    # loads (it was refused: "area 10.0 m2 differs from its partner (8.0 m2)", survey of NREL's
+    # 4ZoneWithShading_Simple_2, 2026-11-30)
+    door = "Construction,DoorC,M1;\nFenestrationSurface:Detailed,D1,Door,DoorC,North,,0.5,,1,4,"
+    door += "2,3,2,2,3,0,1,3,0,1,3,2;\n"
+    path.write_text(text + door)
+    building, _ = _read(path)
+    assert "D1" not in building.surfaces
+    assert building.surfaces["North"].area == pytest.approx(4 * 2.5)
+    assert building.surfaces["North (partner)"].area == pytest.approx(4 * 2.5)
 
 
 def test_world_coordinates_ignore_zone_origin_and_north(tmp_path):

@@ -58,9 +58,7 @@ class NetworkSetup:
             pressure=pressure,
             cache=self._assembly_cache,
             gain_input_zones=gain_zones,
-            own_solar_inputs=(
-                frozenset(self._shadows["beam"]) if self._shadows else frozenset()
-            )
+            own_solar_inputs=(frozenset(self._shadows["beam"]) if self._shadows else frozenset())
             | frozenset(self._ground_view_overrides()),
             sky_view_ratio=self._shadows["sky"] if self._shadows else None,
             interior_beam=(
@@ -211,14 +209,26 @@ class NetworkSetup:
             c = self._scheduled.cooling_setpoint[:, self._ctrl]
             h = np.where(np.isnan(h), -np.inf, h)
             c = np.where(np.isnan(c), np.inf, c)
-            # a zone without the schedule keeps its constant value
-            h = np.where(np.isfinite(heat) & ~np.isfinite(h), heat, h)
-            c = np.where(np.isfinite(cool) & ~np.isfinite(c), cool, c)
+            # a zone without the schedule keeps its constant value; one whose thermostat's
+            # control type varies has none on the steps its control type leaves out
+            switched = getattr(self._scheduled, "setpoint_switched", None)
+            keep = (
+                np.isfinite(heat) if switched is None else np.isfinite(heat) & ~switched[self._ctrl]
+            )
+            h = np.where(keep & ~np.isfinite(h), heat, h)
+            keep = (
+                np.isfinite(cool) if switched is None else np.isfinite(cool) & ~switched[self._ctrl]
+            )
+            c = np.where(keep & ~np.isfinite(c), cool, c)
             if (
                 np.ptp(np.where(np.isfinite(h), h, 0.0), axis=0).any()
                 or np.ptp(np.where(np.isfinite(c), c, 0.0), axis=0).any()
             ):
                 heat, cool = h, c
+            elif len(h) and not (np.array_equal(h[:1], heat) and np.array_equal(c[:1], cool)):
+                # constant over the run but not the zones' constants (the schedules' values in
+                # effect most of the year): the run's own values
+                heat, cool = h[:1], c[:1]
         return np.ascontiguousarray(heat, dtype=float), np.ascontiguousarray(cool, dtype=float)
 
     def _factorise(self) -> None:

@@ -798,6 +798,30 @@ def declared_radiant_fraction(info, zones, times, step, fallback: float) -> np.n
     return np.clip(out, 0.0, 1.0)
 
 
+#: ZoneControl:Thermostat control types (the values of its Control Type Schedule)
+_CONTROL_CLASSES = {
+    1: "THERMOSTATSETPOINT:SINGLEHEATING",
+    2: "THERMOSTATSETPOINT:SINGLECOOLING",
+    3: "THERMOSTATSETPOINT:SINGLEHEATINGORCOOLING",
+    4: "THERMOSTATSETPOINT:DUALSETPOINT",
+}
+
+
+def _setpoint_schedule_names(cls: str, sp: dict) -> tuple[str | None, str | None]:
+    """(heating, cooling) set-point schedule names of a ThermostatSetpoint:* record."""
+    if cls == "THERMOSTATSETPOINT:DUALSETPOINT":
+        return (
+            sp["heating_setpoint_temperature_schedule_name"] or None,
+            sp["cooling_setpoint_temperature_schedule_name"] or None,
+        )
+    name = sp["setpoint_temperature_schedule_name"] or None
+    if cls == "THERMOSTATSETPOINT:SINGLEHEATING":
+        return name, None
+    if cls == "THERMOSTATSETPOINT:SINGLECOOLING":
+        return None, name
+    return name, name
+
+
 def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
     """Zone -> (heating set point, cooling set point) from the thermostat objects."""
     setpoint_objects: dict[str, dict] = {}
@@ -844,19 +868,27 @@ def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
             mode = int(round(schedules.mode(control_schedule))) if control_schedule else 4
         except UnsupportedScheduleError as exc:
             raise ThermocalInputError(f"{obj.where()}: {exc}") from None
-        wanted = {
-            1: "THERMOSTATSETPOINT:SINGLEHEATING",
-            2: "THERMOSTATSETPOINT:SINGLECOOLING",
-            3: "THERMOSTATSETPOINT:SINGLEHEATINGORCOOLING",
-            4: "THERMOSTATSETPOINT:DUALSETPOINT",
-        }.get(mode)
+        wanted = _CONTROL_CLASSES.get(mode)
+        varying = False
         if control_schedule:
             low, high = schedules.value_range(control_schedule)
             if low != high:
+                varying = True
                 info.notes.append(
-                    f"{obj.where()}: control type schedule varies; control type {mode} "
-                    "(most of the year) is used"
+                    f"{obj.where()}: control type schedule '{control_schedule}' varies "
+                    f"({low:g}..{high:g}); the set points follow it step by step (control type "
+                    f"{mode}, in effect most of the year, gives the constant set points of "
+                    "schedules='constant')"
                 )
+        if varying:
+            by_type = {}
+            for kind, cls in _CONTROL_CLASSES.items():
+                sp_name = control_types.get(cls)
+                sp_rec = setpoint_objects.get(sp_name.upper()) if sp_name else None
+                if sp_rec is not None:
+                    by_type[kind] = _setpoint_schedule_names(cls, sp_rec)
+            for zone_name in targets:
+                info.setpoint_control[zone_name] = (control_schedule, by_type)
         name = control_types.get(wanted or "")
         if name is None:
             info.notes.append(f"{obj.where()}: no set-point object for control type {mode}")
@@ -867,16 +899,7 @@ def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
                 f"{obj.where()}: the set-point object '{name}' ({wanted.title()}) is not defined."
             )
         sp_obj = sp["_object"]
-        heating_schedule = cooling_schedule = None
-        if wanted == "THERMOSTATSETPOINT:DUALSETPOINT":
-            heating_schedule = sp["heating_setpoint_temperature_schedule_name"]
-            cooling_schedule = sp["cooling_setpoint_temperature_schedule_name"]
-        elif wanted == "THERMOSTATSETPOINT:SINGLEHEATING":
-            heating_schedule = sp["setpoint_temperature_schedule_name"]
-        elif wanted == "THERMOSTATSETPOINT:SINGLECOOLING":
-            cooling_schedule = sp["setpoint_temperature_schedule_name"]
-        else:
-            heating_schedule = cooling_schedule = sp["setpoint_temperature_schedule_name"]
+        heating_schedule, cooling_schedule = _setpoint_schedule_names(wanted, sp)
         heating = constant(heating_schedule, sp_obj, "heating set-point")
         cooling = constant(cooling_schedule, sp_obj, "cooling set-point")
         for zone_name in targets:

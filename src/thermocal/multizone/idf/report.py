@@ -86,6 +86,9 @@ class ScheduledInputs:
     people_per_kelvin: np.ndarray | None = None
     people_per_kelvin2: np.ndarray | None = None
     ventilation: dict | None = None
+    #: (n_zones,) bool: zones whose thermostat's control type varies; a NaN set point there is
+    #: "no such control on this step", not "use the zone's constant set point"
+    setpoint_switched: np.ndarray | None = None
 
 
 @dataclass
@@ -126,6 +129,11 @@ class IdfImportInfo:
     glazing: dict = field(default_factory=dict)
     internal_gains: list[InternalGainInfo] = field(default_factory=list)
     setpoint_schedules: dict[str, tuple[str | None, str | None]] = field(default_factory=dict)
+    #: zones whose ZoneControl:Thermostat has a varying Control Type Schedule: ``{zone:
+    #: (control type schedule, {control type: (heating schedule or None, cooling schedule or
+    #: None)})}``; on a step whose control type has no entry (0: uncontrolled) the zone floats.
+    #: ``setpoint_schedules`` then holds the most frequent control type's (schedules='constant')
+    setpoint_control: dict[str, tuple[str, dict]] = field(default_factory=dict)
     infiltration_schedules: dict[str, list[str]] = field(default_factory=dict)
     zone_multipliers: dict[str, float] = field(default_factory=dict)
     schedules: ScheduleEvaluator | None = None
@@ -279,8 +287,16 @@ class IdfImportInfo:
 
         heating = np.full((n, nz), np.nan)
         cooling = np.full((n, nz), np.nan)
-        for zone, (heat_name, cool_name) in self.setpoint_schedules.items():
+        switched = np.zeros(nz, dtype=bool)
+        zone_setpoints = {z: (None, None) for z in self.setpoint_control}
+        zone_setpoints.update(self.setpoint_schedules)
+        for zone, (heat_name, cool_name) in zone_setpoints.items():
             if zone not in column:
+                continue
+            if zone in self.setpoint_control:
+                heat, cool = self._controlled_setpoints(zone, values)
+                heating[:, column[zone]], cooling[:, column[zone]] = heat, cool
+                switched[column[zone]] = True
                 continue
             if heat_name:
                 heating[:, column[zone]] = values(heat_name)
@@ -377,6 +393,7 @@ class IdfImportInfo:
             _constant_as_view(people_b),
             _constant_as_view(people_c),
             ventilation,
+            switched,
         )
 
     def internal_gains_profile(self, times) -> pd.DataFrame:  # noqa: F821 (pandas lazily)
@@ -412,13 +429,39 @@ class IdfImportInfo:
             out[gain.zone] = out.get(gain.zone, 0.0) + series
         return pd.DataFrame(out, index=times)
 
+    def _controlled_setpoints(self, zone: str, values) -> tuple[np.ndarray, np.ndarray]:
+        """Heating and cooling set points [C] (NaN: none) of a zone whose thermostat's control
+        type varies, with ``values(schedule name)`` evaluating a schedule on the grid."""
+        control_schedule, by_type = self.setpoint_control[zone]
+        control = np.rint(values(control_schedule)).astype(int)
+        heat = np.full(control.shape, np.nan)
+        cool = np.full(control.shape, np.nan)
+        for kind, (heat_name, cool_name) in by_type.items():
+            on = control == kind
+            if not on.any():
+                continue
+            if heat_name:
+                heat[on] = values(heat_name)[on]
+            if cool_name:
+                cool[on] = values(cool_name)[on]
+        return heat, cool
+
     def setpoint_profile(self, times) -> pd.DataFrame:  # noqa: F821
         """Hourly heating and cooling set points [C], columns ``(zone, "heating"|"cooling")``."""
         import pandas as pd
 
         hour_of_year = _hour_of_year(times, self.schedules.n_days)
         out = {}
+        for zone in self.setpoint_control:
+            heat, cool = self._controlled_setpoints(
+                zone, lambda name: self.schedules.hourly(name)[hour_of_year]
+            )
+            for kind, series in (("heating", heat), ("cooling", cool)):
+                if np.isfinite(series).any():
+                    out[(zone, kind)] = series
         for zone, (heating, cooling) in self.setpoint_schedules.items():
+            if zone in self.setpoint_control:
+                continue
             for kind, name in (("heating", heating), ("cooling", cooling)):
                 if name is not None:
                     out[(zone, kind)] = self.schedules.hourly(name)[hour_of_year]

@@ -562,6 +562,11 @@ class SurfaceStages:
                     f"door '{name}' in inter-zone surface '{base['name']}' is merged into its host"
                 )
                 base_surface.area += area
+                # the partner EnergyPlus makes for a Zone boundary was given the host's net area
+                partner = f"{base['name']} (partner)"
+                for surface in self.model_surfaces:
+                    if surface.name == partner:
+                        surface.area += area
                 continue
             exposure = {}
             if base_surface.boundary == "outdoors":

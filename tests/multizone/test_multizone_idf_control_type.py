@@ -113,3 +113,28 @@ def test_a_set_point_constant_over_the_run_is_the_runs_value(tmp_path):
         warmup_days=1, store_surfaces=False,
     ).run()  # fmt: skip
     assert result.air_temperature["ZONE ONE"].min() > 19.9
+
+
+COOLING_MOSTLY_WITHOUT_ITS_OBJECT = """
+Schedule:Compact, Heating 20, Any Number, Through: 12/31, For: AllDays, Until: 24:00, 20;
+Schedule:Compact, Control Type, Any Number, Through: 3/31, For: AllDays, Until: 24:00, 1,
+    Through: 10/31, For: AllDays, Until: 24:00, 2, Through: 12/31, For: AllDays, Until: 24:00, 1;
+ZoneControl:Thermostat, Zone One Thermostat, ZONE ONE, Control Type,
+    ThermostatSetpoint:SingleHeating, Heat Only;
+ThermostatSetpoint:SingleHeating, Heat Only, Heating 20;
+"""
+
+
+def test_a_zone_whose_most_frequent_control_type_has_no_set_point_object_still_heats(tmp_path):
+    """Cooling-only (type 2) from April to October, most of the year, without a cooling
+    set-point object; heating-only (type 1) the rest: the zone heats at 20 C in winter and
+    floats in summer (it was left uncontrolled the whole year, with a note)."""
+    building = _building(tmp_path, COOLING_MOSTLY_WITHOUT_ITS_OBJECT)
+    info = building.idf_info
+    assert building.zones["ZONE ONE"].heating_setpoint == 20.0
+    times = pd.date_range("2023-01-01", "2023-12-31 23:00", freq="1h")
+    inputs = info.scheduled_inputs(["ZONE ONE"], times, pd.Timedelta("1h"), pd.DataFrame())
+    heating = inputs.heating_setpoint[:, 0]
+    assert np.all(heating[times.month == 1] == 20)
+    assert np.isnan(heating[times.month == 7]).all()
+    assert any("the zone floats on its steps" in note for note in info.notes)

@@ -890,6 +890,19 @@ def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
             for zone_name in targets:
                 info.setpoint_control[zone_name] = (control_schedule, by_type)
         name = control_types.get(wanted or "")
+        if name is None and varying and by_type:
+            # the most frequent control type has no set-point object: the zone floats on its
+            # steps and is controlled on the others; the constant set points are those of the
+            # most frequent type that has one
+            hours = np.rint(schedules.hourly(control_schedule)).astype(int)
+            kind = max(by_type, key=lambda k: int(np.sum(hours == k)))
+            info.notes.append(
+                f"{obj.where()}: no set-point object for control type {mode} (in effect most of "
+                f"the year): the zone floats on its steps; control type {kind} gives the "
+                "constant set points of schedules='constant'"
+            )
+            wanted = _CONTROL_CLASSES[kind]
+            name = control_types[wanted]
         if name is None:
             info.notes.append(f"{obj.where()}: no set-point object for control type {mode}")
             continue

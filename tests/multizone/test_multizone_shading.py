@@ -167,3 +167,23 @@ def test_interior_beam_lands_where_the_sun_puts_it():
     assert oblique[names.index("east")] > 0.3 and oblique[names.index("west")] == 0.0
     # the sun behind the window: no beam
     assert not interior_beam_fractions(window, faces, sun_vectors([60.0], [0.0])).any()
+
+
+def test_interior_beam_skips_faces_in_the_windows_plane():
+    """A window a few micrometres outside its host wall's plane (vertices written to five
+    decimals on a wall off the axes): the rays leave the wall's plane and land on the floor and
+    the far wall, none on the host (before: the cells outside the plane hit the host at once)."""
+    faces = {
+        "floor": [[0, 0, 0], [8, 0, 0], [8, 6, 0], [0, 6, 0]],
+        "south": [[0, 0, 0], [0, 0, 2.7], [8, 0, 2.7], [8, 0, 0]],
+        "north": [[0, 6, 0], [8, 6, 0], [8, 6, 2.7], [0, 6, 2.7]],
+        "east": [[8, 0, 0], [8, 0, 2.7], [8, 6, 2.7], [8, 6, 0]],
+        "west": [[0, 0, 0], [0, 6, 0], [0, 6, 2.7], [0, 0, 2.7]],
+    }
+    faces = {name: np.array(v, float) for name, v in faces.items()}
+    # the window's upper edge 4 micrometres outside the south wall, its sill 4 inside
+    window = np.array([[7, -4e-6, 2.2], [1, -4e-6, 2.2], [1, 4e-6, 0.2], [7, 4e-6, 0.2]], float)
+    shares = interior_beam_fractions(window, faces, sun_vectors([60.0, 80.0], [180.0, 200.0]))
+    names = list(faces)
+    assert not shares[:, names.index("south")].any()
+    np.testing.assert_allclose(shares.sum(axis=1), 1.0)

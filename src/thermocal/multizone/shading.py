@@ -561,7 +561,12 @@ def interior_beam_fractions(
     Rays from cells of the window (weighted by their covered share) travel along the sun's
     direction into the zone; each lands on the nearest face it crosses (EnergyPlus'
     ``FullInteriorAndExterior`` projects the sunlit window onto the zone's back surfaces, for
-    convex zones the same). Rays that find no face (an open zone) are not counted.
+    convex zones the same). Rays that find no face (an open zone) are not counted. Faces in the
+    window's own plane (its host wall, the other windows of that wall: every vertex of the
+    window within :data:`PLANE_TOLERANCE` of the face's plane) receive none: the rays leave that
+    plane, and coordinates written to a few digits put part of the window a few micrometres
+    outside its host, where the rays would otherwise land on the host at once (EnergyPlus
+    projects onto back surfaces only).
 
     Parameters
     ----------
@@ -598,6 +603,8 @@ def interior_beam_fractions(
         verts = np.asarray(faces[name], dtype=float)
         normal = newell_normal(verts)
         normal = normal / max(np.linalg.norm(normal), 1e-12)
+        if np.max(np.abs((window - verts[0]) @ normal)) <= PLANE_TOLERANCE:
+            continue  # in the window's plane: left with a zero normal, which _land skips
         u_axis, v_axis = _plane_axes(normal)
         origins[k], normals[k], u_axes[k], v_axes[k] = verts[0], normal, u_axis, v_axis
         polygons[k, : len(verts)] = np.stack(

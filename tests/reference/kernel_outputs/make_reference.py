@@ -3,7 +3,9 @@ speed-up of the compiled kernel (``thermocal.multizone._kernel``) must reproduce
 
 Generated with the kernel of commit de53112 (before the speed-ups) and regenerated on
 2026-11-30 when the room side of windows took ISO 15099's natural convection and the glass
-its resistance from EnergyPlus' film correlations (physics, not speed), by
+its resistance from EnergyPlus' film correlations, and on 2026-12-01 when the windows' ISO
+15099 coefficient was no longer clipped at twice its matrix part (at most 1.2e-5 K, 0.3 W)
+(physics, not speed), by
 ``python tests/reference/kernel_outputs/make_reference.py``; the test
 ``tests/multizone/test_multizone_kernel_reference.py`` recomputes the same cases with the
 current code. The building is the generated single-family house (9 zones, TARP interior

@@ -27,6 +27,7 @@ from thermocal.multizone.network import (
     IN_TEMP_GROUND,
     IN_TEMP_OUT,
     IN_TEMP_SKY,
+    KIVA_WALL_SUN,
     air_density,
     exterior_convection,
     mowitt_forced,
@@ -297,6 +298,22 @@ class ForcingSetup:
                 for col, values in zip(cols, self._input_cache[key], strict=True):
                     u[:, col] = values
         _drop_unused(self._input_cache, "window", used_windows)
+        if KIVA_WALL_SUN in net.input_names:
+            # a foundation wall above the grade: Kiva's two-dimensional wall sees the beam on a
+            # vertical cylinder, half the sky and half the grade's reflection
+            # (Ground::setBoundaryConditions, the grade's absorptance Kiva's default)
+            from thermocal.multizone.foundation import GRADE_ABSORPTANCE
+
+            horizontal = self._irradiance_cache[(0.0, 0.0)]
+            beam_h = np.nan_to_num(np.asarray(horizontal["poa_direct"], dtype=float))
+            diffuse_h = np.nan_to_num(np.asarray(horizontal["poa_sky_diffuse"], dtype=float))
+            dni = np.nan_to_num(grid["dni"].to_numpy(dtype=float))
+            beam_cylinder = np.sqrt(np.maximum(dni**2 - beam_h**2, 0.0)) / np.pi
+            beam_cylinder[beam_h <= 0.0] = 0.0
+            global_h = beam_h + diffuse_h
+            wall_sun = beam_cylinder + 0.5 * diffuse_h + 0.5 * (1.0 - GRADE_ABSORPTANCE) * global_h
+            wall_sun[global_h <= 0.0] = 0.0
+            u[:, net.input_names.index(KIVA_WALL_SUN)] = wall_sun
         interior = []
         for window, (beam_col, area, targets) in net.window_beam_targets.items():
             names, shares, step_row = self._interior_beam[window]
@@ -311,6 +328,8 @@ class ForcingSetup:
             # rows hold the curve at each step's end: the step is forced by the mean of its start
             # and end values (the first step keeps its end value)
             weather_driven = [IN_TEMP_OUT, IN_TEMP_SKY, *net.orientation_inputs.values()]
+            if KIVA_WALL_SUN in net.input_names:
+                weather_driven.append(net.input_names.index(KIVA_WALL_SUN))
             weather_driven += [col for cols in net.window_inputs.values() for col in cols]
             weather_driven += interior
             # the mean over all columns, copied into the weather-driven ones: the same values
@@ -327,6 +346,23 @@ class ForcingSetup:
         if key not in self._input_cache:
             self._input_cache[key] = self._exterior_convection_excess()
         self._ext_dh_raw, self._ext_class = self._input_cache[key]
+        faces = net.ground_faces
+        if len(faces.column):
+            # the foundations' faces: Kiva's forced term at the wind at the grade's roughness
+            # height each step, appended as classes of their own (the kernel's gf_class)
+            station = grid["wind_speed"].to_numpy() if "wind_speed" in grid else np.zeros(n_steps)
+            local = np.nan_to_num(station)[:, None] * faces.wind_factor[None, :]
+            forced = np.where(
+                faces.leeward_mean[None, :],
+                0.5 * (mowitt_forced(local, True) + mowitt_forced(local, False)),
+                mowitt_forced(local, True),
+            )
+            if self.options.exterior_convection == "fixed":
+                forced = np.zeros_like(forced)
+            self._gf_class = self._ext_dh_raw.shape[1] + np.arange(len(faces.column))
+            self._ext_dh_raw = np.ascontiguousarray(np.hstack([self._ext_dh_raw, forced]))
+        else:
+            self._gf_class = np.zeros(0, dtype=np.int64)
         pressure = grid["pressure"].to_numpy() if "pressure" in grid else None
         if pressure is None or not np.isfinite(pressure).all():
             pressure = np.full(n_steps, self._pressure)
@@ -507,20 +543,34 @@ class ForcingSetup:
         net = self.network
         mode = {"doe2": 1.0, "tarp": 2.0}.get(self.options.exterior_convection, 0.0)
         n_ext = len(net.ext_node)
-        if not n_ext:
-            return np.zeros((0, 5))
-        return np.ascontiguousarray(
-            np.stack(
+        rows = np.stack(
+            [
+                np.full(n_ext, mode),
+                net.ext_roughness,
+                np.cos(np.radians(net.ext_tilt)),
+                net.ext_hc0,
+                upper[:n_ext],
+            ],
+            axis=1,
+        )
+        faces = net.ground_faces
+        if len(faces.column):
+            # then the foundations' faces (the kernel's rows n_ext + g): Kiva's DOE-2 with
+            # TARP's natural part at each step's face-to-air difference (a fixed exterior
+            # convection: the matrix's constant, the series zero in mode 0)
+            gf_mode = 0.0 if self.options.exterior_convection == "fixed" else 1.0
+            gf_rows = np.stack(
                 [
-                    np.full(n_ext, mode),
-                    net.ext_roughness,
-                    np.cos(np.radians(net.ext_tilt)),
-                    net.ext_hc0,
-                    upper,
+                    np.full(len(faces.column), gf_mode),
+                    faces.roughness,
+                    np.cos(np.radians(faces.tilt)),
+                    faces.hc0,
+                    upper[n_ext:],
                 ],
                 axis=1,
             )
-        )
+            rows = np.concatenate([rows, gf_rows])
+        return np.ascontiguousarray(rows)
 
     # ------------------------------------------------------------------------------------------
     def _ground_temperature(self) -> np.ndarray:

@@ -66,6 +66,46 @@ SIGMA = 5.670374419e-8
 KELVIN = 273.15
 
 
+@njit(cache=True, fastmath=True, inline="always")
+def exterior_excess(
+    ts, t_out, t_sky, dh, mode, rough, cos_up, hc0, hmax, area, area_eps, view_air, view_sky, hr0,
+    exact,
+):  # fmt: skip
+    """An exterior face's lagged correction [W]: its convection beyond the matrix's ``hc0`` and,
+    with ``exact``, its long-wave's exact ``sigma T^4`` beyond the matrix's linearisation
+    ``hr0``, at the face's temperature ``ts`` of the previous step.
+
+    ``mode``, ``rough``, ``cos_up``, ``hc0``, ``hmax`` are the face's row of ``ext_natural`` (mode,
+    DOE-2 roughness multiplier, cosine of the tilt, ``hc0``, largest excess; scalars: passing
+    the row cost the clinic's step 5-8 us); ``dh`` the step's wind series: mode 0 the excess over
+    ``hc0``, 1 DOE-2 and 2 TARP the forced term, combined with TARP's natural part at the face's
+    difference from the air (EnergyPlus' outside ``CalcASHRAETARPNatural``)."""
+    if mode < 0.0:
+        dh = 0.0  # no convection excess (a wet face)
+    elif mode == 0.0:
+        # the series is the excess over hc0: clipped to the stable range of the lag
+        dh = min(max(dh, 0.1 - hc0), hmax)
+    else:
+        hn = tarp(ts - t_out, cos_up)
+        if mode == 1.0:
+            hc = hn + rough * (np.sqrt(hn * hn + dh * dh) - hn)
+        else:
+            hc = hn + dh
+        dh = min(max(hc - hc0, 0.1 - hc0), hmax)
+    corr = dh * area * (t_out - ts)
+    if exact:
+        ts2 = (ts + KELVIN) * (ts + KELVIN)
+        to2 = (t_out + KELVIN) * (t_out + KELVIN)
+        tk2 = (t_sky + KELVIN) * (t_sky + KELVIN)
+        ts4 = ts2 * ts2
+        to4 = to2 * to2
+        tk4 = tk2 * tk2
+        exact_flux = SIGMA * (view_air * (to4 - ts4) + view_sky * (tk4 - ts4))
+        linear = hr0 * (view_air * (t_out - ts) + view_sky * (t_sky - ts))
+        corr += area_eps * (exact_flux - linear)
+    return corr
+
+
 @njit(cache=True, fastmath=True)
 def run_steps(
     k0,
@@ -202,6 +242,19 @@ def run_steps(
     wet_h0a,
     wet_m,
     wet_c,
+    gf_column,
+    gf_class,
+    gf_out_ptr,
+    gf_out_idx,
+    gf_out_val,
+    gf_u_ptr,
+    gf_u_idx,
+    gf_u_val,
+    gf_eps,
+    gf_view_air,
+    gf_view_sky,
+    gf_hr0,
+    gf_exact,
 ):
     """Advance ``n_steps`` steps from step index ``k0``; ``x`` is updated in place.
 
@@ -311,6 +364,24 @@ def run_steps(
         sp_k = k if sp_rows > 1 else 0
         heat_sp_k = ctrl_heat_sp[sp_k]
         cool_sp_k = ctrl_cool_sp[sp_k]
+        # 0. the foundations' exterior faces (Kiva's grade, the walls above it): their lagged
+        # correction per m2 into their input columns, the faces' temperatures the ground
+        # sections' outputs at the previous step's end (its states and, through the quasi-static
+        # states, its inputs); the same excess as the exterior faces' (2. below)
+        k_prev = k - 1 if k > 0 else 0
+        n_ext = ext_node.shape[0]
+        for g in range(gf_column.shape[0]):
+            ts = 0.0
+            for p in range(gf_out_ptr[g], gf_out_ptr[g + 1]):
+                ts += gf_out_val[p] * x[gf_out_idx[p]]
+            for p in range(gf_u_ptr[g], gf_u_ptr[g + 1]):
+                ts += gf_u_val[p] * u[k_prev, gf_u_idx[p]]
+            f = n_ext + g
+            u[k, gf_column[g]] = exterior_excess(
+                ts, u[k, 0], u[k, 1], ext_dh[k, gf_class[g]], ext_natural[f, 0],
+                ext_natural[f, 1], ext_natural[f, 2], ext_natural[f, 3], ext_natural[f, 4], 1.0,
+                gf_eps[g], gf_view_air[g], gf_view_sky[g], gf_hr0, gf_exact,
+            )  # fmt: skip
         # 1. rhs = C/dt x + B u_k
         for i in range(n):
             acc = c_dt[i] * x[i]
@@ -327,34 +398,19 @@ def run_steps(
             node = ext_node[e]
             ts = x[node]
             # the wind's series is shared by the faces of one class (orientation, exposure)
-            dh = ext_dh[k, ext_class[e]]
-            mode = ext_natural[e, 0]
             if wet and wet_of[e] >= 0:
-                dh = 0.0  # a wet face: convection to the wet bulb (1b below), no wind excess
-            elif mode == 0.0:
-                # the series is the excess over hc0: clipped to the stable range of the lag
-                dh = min(max(dh, 0.1 - ext_natural[e, 3]), ext_natural[e, 4])
+                # a wet face: convection to the wet bulb (1b below), no wind excess
+                corr = exterior_excess(
+                    ts, t_out, t_sky, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, ext_area_eps[e, 0],
+                    ext_area_eps[e, 1], ext_view_air[e], ext_view_sky[e], ext_hr0, exact_sky,
+                )  # fmt: skip
             else:
-                # the natural part at the face's (lagged) difference from the air, as EnergyPlus'
-                # outside TARP natural term: 1 DOE-2 (ext_dh holds the MoWiTT forced term
-                # a V^b), 2 TARP (ext_dh holds the forced term)
-                hn = tarp(ts - t_out, ext_natural[e, 2])
-                if mode == 1.0:
-                    hc = hn + ext_natural[e, 1] * (np.sqrt(hn * hn + dh * dh) - hn)
-                else:
-                    hc = hn + dh
-                dh = min(max(hc - ext_natural[e, 3], 0.1 - ext_natural[e, 3]), ext_natural[e, 4])
-            corr = dh * ext_area_eps[e, 0] * (t_out - ts)
-            if exact_sky:
-                ts2 = (ts + KELVIN) * (ts + KELVIN)
-                to2 = (t_out + KELVIN) * (t_out + KELVIN)
-                tk2 = (t_sky + KELVIN) * (t_sky + KELVIN)
-                ts4 = ts2 * ts2
-                to4 = to2 * to2
-                tk4 = tk2 * tk2
-                exact = SIGMA * (ext_view_air[e] * (to4 - ts4) + ext_view_sky[e] * (tk4 - ts4))
-                linear = ext_hr0 * (ext_view_air[e] * (t_out - ts) + ext_view_sky[e] * (t_sky - ts))
-                corr += ext_area_eps[e, 1] * (exact - linear)
+                corr = exterior_excess(
+                    ts, t_out, t_sky, ext_dh[k, ext_class[e]], ext_natural[e, 0],
+                    ext_natural[e, 1], ext_natural[e, 2], ext_natural[e, 3], ext_natural[e, 4],
+                    ext_area_eps[e, 0], ext_area_eps[e, 1], ext_view_air[e], ext_view_sky[e],
+                    ext_hr0, exact_sky,
+                )  # fmt: skip
             rhs[node] += corr
         if tarp_on:
             # per face (independent, no scatter: the compiler can keep several faces in flight)

@@ -354,6 +354,10 @@ class NetworkSetup:
                 / (net.face_area[iso] * _lagged_resistance(lu, net, net.face_node[iso], iso)),
             )
         upper = net.ext_hc0 + net.ext_hr0 * net.ext_emissivity + net.ext_capacity / dt
+        faces = net.ground_faces
+        upper = np.concatenate(
+            [upper, faces.hc0 + faces.hr0 * faces.emissivity + faces.capacity / dt]
+        )
         # the loop clips each face's excess to [0.1 - hc0, upper] (the series is per class)
         ext_natural = self._ext_natural(upper)
         per_step = (

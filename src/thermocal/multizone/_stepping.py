@@ -108,6 +108,7 @@ class Stepping:
         ):
             tarp_on = 2
         ext_dh = np.zeros_like(context.ext_dh) if linear else context.ext_dh
+        faces = net.ground_faces
         inf_dh = context.inf_dh.zero() if linear else context.inf_dh
         window_ratio = (
             np.ones_like(net.window_conductance_ratio) if linear else net.window_conductance_ratio
@@ -225,6 +226,19 @@ class Stepping:
                 *vent,
                 *tracked_air,
                 *rain,
+                faces.column,
+                self._gf_class,
+                faces.out_ptr,
+                faces.out_idx,
+                faces.out_val,
+                faces.u_ptr,
+                faces.u_idx,
+                faces.u_val,
+                faces.emissivity,
+                1.0 - faces.view_sky,
+                faces.view_sky,
+                faces.hr0,
+                self.options.exact_sky_longwave and not linear,
             )
         except ZeroDivisionError:
             self._diverged(k0, n, None)

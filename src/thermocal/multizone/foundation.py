@@ -19,13 +19,23 @@ The section, ``x`` from the slab's centre, ``z`` up from the grade:
 * the foundation wall (the ``Footing Wall Construction``, inside layer first) occupies
   ``A/P <= x <= A/P + t_wall`` from ``h`` down to ``Wall Depth Below Slab`` under the floor;
 * outside the wall the soil's surface is the grade at ``z = 0``, exposed to the sky, the outdoor
-  air (convection and long-wave linearised) and the sun (absorptance 0.9, Kiva's default);
-  the wall's outside face above the grade to the outdoor air;
+  air and the sun (absorptance 0.9, Kiva's default); the wall's outside face above the grade
+  to the outdoor air, 0.354 of its long-wave to the sky (Kiva's ``F_sky cos(tilt / 2)``) and
+  Kiva's two-dimensional sun (the beam on a vertical cylinder, half the sky's diffuse and
+  half the grade's reflection, times the wall construction's outside absorptance);
 * zero heat flow across the symmetry plane, the far field and the deep-ground boundary (Kiva's
   ``Autoselect`` for a water table deeper than 40 m).
 
-What the section leaves out (stated in the import's notes): the grade's convection and long-wave
-exchange are linearised at fixed coefficients rather than evaluated each step, and a floor with
+The section's matrix holds the grade's and the wall's convection at one coefficient (DOE-2 at the
+period's mean wind, :func:`grade_convection`) and their long-wave linearised at 10 C; the time
+loop corrects both each step as Kiva evaluates them (DOE-2 with TARP's natural part at the
+face's own difference from the air, the forced term at the step's wind at the grade's roughness
+height, the exact ``sigma T^4``), lagged by a step: the faces' mean temperatures are outputs of
+the section and the corrections enter as heat fluxes spread over their cells as their sun
+(:class:`thermocal.multizone.network.GroundFaces`; one mean temperature for the whole grade,
+Kiva takes each cell's).
+
+What the section leaves out (stated in the import's notes): a floor with
 insulation added under it keeps its one-dimensional chain (Kiva meshes the slab in the section,
 so the slab's edge meets the wall across its whole thickness; here the chain's node above any
 insulation touches the wall's cells beside the slab).
@@ -81,6 +91,14 @@ def grade_wind_factor(roughness: float = KIVA_DEFAULT_ROUGHNESS) -> float:
     return (270.0 / 10.0) ** 0.14 * (float(roughness) / 370.0) ** 0.22
 #: The grade's long-wave emissivity and solar absorptance [-] (Kiva's defaults).
 GRADE_EMISSIVITY, GRADE_ABSORPTANCE = 0.9, 0.9
+#: The foundation wall's outside solar absorptance and emissivity [-] without a construction:
+#: Kiva's default footing wall's (``KivaManager::defineDefaultFoundation``); a footing wall
+#: construction (a basement: its walls' construction) gives its outside layer's.
+WALL_ABSORPTANCE, WALL_EMISSIVITY = 0.9, 0.9
+#: The long-wave share of a vertical face above the grade that sees the sky [-]: Kiva's
+#: ``getEffectiveExteriorViewFactor``, ``F_sky cos(tilt / 2)`` = 0.5 cos(45 deg), the rest the
+#: outdoor air (``getExteriorIRCoeff``: ``F = F_sky cos(tilt/2) (e_sky - 1) + 1`` on ``T_air^4``).
+WALL_SKY_SHARE = 0.5 * 0.5**0.5
 #: ``Foundation:Kiva``'s insulation blocks, in the order of its fields.
 INSULATION_KINDS = (
     "interior_horizontal",
@@ -94,10 +112,15 @@ MAX_CELL = 10.0
 FLOOR_INSIDE_RESISTANCE = 0.17
 
 
-def grade_longwave_coefficient() -> float:
+#: Temperature at which the section's long-wave exchange is linearised [K] (the time loop
+#: corrects the rest with the exact ``sigma T^4``).
+LONGWAVE_LINEARISATION = 283.15
+
+
+def grade_longwave_coefficient(emissivity: float = GRADE_EMISSIVITY) -> float:
     """The grade's (and a foundation wall's) long-wave coefficient [W/(m2 K)], linearised at
-    10 C with :data:`GRADE_EMISSIVITY`."""
-    return 4.0 * 5.670374419e-8 * GRADE_EMISSIVITY * 283.15**3
+    10 C (:data:`LONGWAVE_LINEARISATION`) with ``emissivity``."""
+    return 4.0 * 5.670374419e-8 * float(emissivity) * LONGWAVE_LINEARISATION**3
 
 
 def grade_convection(
@@ -173,6 +196,9 @@ class FoundationGround:
     grade_roughness_factor : float [-]
         DOE-2's roughness multiplier of the grade's forced convection: Kiva's is the floor's
         outside layer's (1.52 medium rough, 1.11 smooth).
+    wall_absorptance, wall_emissivity : float [-]
+        The foundation wall's outside solar absorptance and long-wave emissivity above the
+        grade (Kiva: the wall construction's outside layer's; its default wall's 0.9).
     """
 
     exposed_perimeter: float
@@ -187,6 +213,8 @@ class FoundationGround:
     grade_roughness: float = KIVA_DEFAULT_ROUGHNESS
     grade_roughness_factor: float = 1.52
     insulation: tuple[tuple, ...] = ()
+    wall_absorptance: float = WALL_ABSORPTANCE
+    wall_emissivity: float = WALL_EMISSIVITY
 
     def __post_init__(self) -> None:
         # tuples, so that a section can be cached by its ground (lists from Python or YAML)
@@ -220,6 +248,11 @@ class FoundationGround:
         for name, value in checks.items():
             if not np.isfinite(value) or value <= 0:
                 raise ThermocalInputError(f"foundation: {name} must be > 0, got {value!r}")
+        if not (0.0 <= self.wall_absorptance <= 1.0 and 0.0 <= self.wall_emissivity <= 1.0):
+            raise ThermocalInputError(
+                "foundation: wall_absorptance and wall_emissivity must be in [0, 1], got "
+                f"{self.wall_absorptance!r}, {self.wall_emissivity!r}"
+            )
         if min(self.wall_height_above_grade, self.wall_depth_below_slab, self.basement_depth) < 0:
             raise ThermocalInputError(
                 "foundation: wall_height_above_grade, wall_depth_below_slab and basement_depth "
@@ -281,6 +314,8 @@ class FoundationGrid:
         conductance [W/K] to those faces (empty for a slab).
     wall_above_grade : float [m2]
         A basement's walls' outside area above the grade (0 for a slab).
+    wall_emissivity : float [-]
+        The wall's outside long-wave emissivity above the grade.
     """
 
     capacity: np.ndarray
@@ -292,6 +327,7 @@ class FoundationGrid:
     outdoor: np.ndarray
     wall_face: np.ndarray
     wall_above_grade: float
+    wall_emissivity: float = WALL_EMISSIVITY
 
 
 def _edges(start: float, end: float, fine: list[float], first: float, growth: float) -> np.ndarray:
@@ -461,6 +497,7 @@ def foundation_grid(
         outdoor=np.asarray(outdoor, float).reshape(-1, 3),
         wall_face=np.asarray(wall_face, float).reshape(-1, 2),
         wall_above_grade=max(h, 0.0) * p if basement else 0.0,
+        wall_emissivity=float(ground.wall_emissivity),
     )
 
 
@@ -505,9 +542,12 @@ SUN_WEIGHT = 1.0 / 50.0
 
 
 #: Columns of a section's couplings ``H``: the floor's outside node, the slab's node and a
-#: basement's walls (nodes), the outdoor air and the sky (temperatures), the horizontal
-#: irradiance.
-PORTS = ("floor", "slab", "walls", "outdoor", "sky", "sun")
+#: basement's walls (nodes), the outdoor air and the sky (temperatures), and two heat fluxes
+#: [W/m2] on the grade and on the wall's face above it (their cells' exposed areas [m2]): the
+#: absorbed sun, and the time loop's lagged correction of the convection and long-wave.
+PORTS = ("floor", "slab", "walls", "outdoor", "sky", "grade", "wall_face")
+#: The flux ports' columns in :data:`PORTS`.
+GRADE_PORT, WALL_FACE_PORT = 5, 6
 
 
 def _insulation_rectangles(insulation, half, t_wall, h, slab_bottom) -> list[tuple]:
@@ -547,15 +587,17 @@ def section_matrices(
     if len(grid.wall_face):
         np.add.at(h[:, 2], grid.wall_face[:, 0].astype(int), grid.wall_face[:, 1])
     hr = grade_longwave_coefficient()
+    hr_wall = grade_longwave_coefficient(grid.wall_emissivity)
     for c, area, is_grade in grid.outdoor:
         c = int(c)
         if is_grade:
             h[c, 3] += grade_h * area
             h[c, 4] += hr * area
-            h[c, 5] += GRADE_ABSORPTANCE * area
-        else:
-            h[c, 3] += (grade_h + 0.5 * hr) * area
-            h[c, 4] += 0.5 * hr * area
+            h[c, GRADE_PORT] += area
+        else:  # the wall's face above the grade: Kiva's sky share (WALL_SKY_SHARE)
+            h[c, 3] += (grade_h + (1.0 - WALL_SKY_SHARE) * hr_wall) * area
+            h[c, 4] += WALL_SKY_SHARE * hr_wall * area
+            h[c, WALL_FACE_PORT] += area
     a[np.diag_indices(n)] += h[:, :5].sum(axis=1)
     return a, np.asarray(grid.capacity, float), h
 
@@ -578,7 +620,7 @@ def reduced_section(grid: FoundationGrid, n_states: int, grade_h: float) -> Redu
     scale = 1.0 / np.sqrt(c)
     a_x = -(a * scale[:, None] * scale[None, :])  # dx/dt = a_x x + b_x v
     b_x = h * scale[:, None]
-    weights = np.array([1.0, 1.0, 1.0, 1.0, 1.0, 1.0 / SUN_WEIGHT])
+    weights = np.array([1.0, 1.0, 1.0, 1.0, 1.0, 1.0 / SUN_WEIGHT, 1.0 / SUN_WEIGHT])
     b_w = b_x / weights[None, :]
     gramian = scipy.linalg.solve_continuous_lyapunov(a_x, -b_w @ b_w.T)
     _, v = np.linalg.eigh(0.5 * (gramian + gramian.T))

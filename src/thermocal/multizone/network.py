@@ -98,6 +98,10 @@ WINDOW_TEMPERATURE_GRID = np.arange(-40.0, 100.1, 5.0)
 
 # fixed input columns
 IN_TEMP_OUT, IN_TEMP_SKY, IN_TEMP_GROUND, IN_ONE = 0, 1, 2, 3
+#: Input of the sun on a foundation wall above the grade [W/m2]: Kiva's two-dimensional wall
+#: (``Ground::setBoundaryConditions``), the average over a vertical cylinder: the beam
+#: ``DNI cos(altitude) / pi``, half the sky's diffuse and half the grade's reflection.
+KIVA_WALL_SUN = "kiva_wall_sun"
 N_FIXED_INPUTS = 4
 
 
@@ -864,6 +868,55 @@ def construction_template(
 # ----------------------------------------------------------------------------------------------
 
 
+@dataclass(eq=False)
+class GroundFaces:
+    """The foundations' exterior faces (Kiva's grade, the foundation wall's face above it, a
+    basement's walls above it), whose convection and long-wave the time loop corrects beyond
+    the matrix's constant coefficients, lagged by a step, as an exterior face's
+    (:func:`thermocal.multizone._kernel.exterior_excess`).
+
+    A face's temperature is an output of its ground section: the sum of ``out_val`` times the
+    nodes ``out_idx`` (CSR rows ``out_ptr``) and ``u_val`` times the input columns ``u_idx``
+    (``u_ptr``) at the previous step (a reduced section's quasi-static states); its correction
+    per m2 [W/m2] is written into the input column ``column``, which spreads it over the face's
+    cells as the face's absorbed sun.
+    """
+
+    names: list[str]
+    column: np.ndarray  # (g,) int64
+    out_ptr: np.ndarray
+    out_idx: np.ndarray
+    out_val: np.ndarray
+    u_ptr: np.ndarray
+    u_idx: np.ndarray
+    u_val: np.ndarray
+    tilt: np.ndarray  # [deg]: 0 the grade, 90 a wall
+    roughness: np.ndarray  # DOE-2 roughness multiplier [-]
+    wind_factor: np.ndarray  # wind at the grade's roughness height over the station's [-]
+    leeward_mean: np.ndarray  # bool: the forced term the mean of MoWiTT's windward and leeward
+    hc0: np.ndarray  # the matrix's convection coefficient [W/(m2 K)]
+    emissivity: np.ndarray
+    view_sky: np.ndarray  # share of the long-wave to the sky (the rest to the outdoor air)
+    capacity: np.ndarray  # the face's cells' capacity per m2 [J/(m2 K)] (the lag's bound)
+    hr0: float  # the matrix's long-wave coefficient per unit emissivity [W/(m2 K)]
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, GroundFaces):
+            return NotImplemented
+        return all(
+            np.array_equal(getattr(self, f.name), getattr(other, f.name))
+            for f in dataclasses.fields(self)
+        )
+
+    @staticmethod
+    def empty() -> GroundFaces:
+        i0, f0 = np.zeros(0, dtype=np.int64), np.zeros(0)
+        return GroundFaces(
+            [], i0, np.zeros(1, dtype=np.int64), i0, f0, np.zeros(1, dtype=np.int64), i0, f0,
+            f0, f0, f0, np.zeros(0, dtype=bool), f0, f0, f0, f0, 0.0,
+        )  # fmt: skip
+
+
 @dataclass
 class Network:
     """The assembled network (see the module docstring). Node temperatures in C.
@@ -923,6 +976,8 @@ class Network:
     #: window -> (beam input col, glazed area [m2], [(face, input col)]): the beam of windows
     #: whose interior distribution follows the sun (EnergyPlus' FullInteriorAndExterior)
     window_beam_targets: dict = field(default_factory=dict)
+    #: the foundations' exterior faces corrected each step (:class:`GroundFaces`)
+    ground_faces: GroundFaces = field(default_factory=GroundFaces.empty)
     zone_transmitted: sp.csr_matrix | None = None  # (nz, n_inputs): transmitted solar per zone
     # windows: glass-face nodes, matrix conductance [W/K] and its ratio on WINDOW_TEMPERATURE_GRID
     ext_is_window: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
@@ -1105,6 +1160,16 @@ def assemble(
         return orientation_inputs[key]
 
     orientation_inputs: dict[tuple[float, ...], int] = {}
+    wall_sun_input: list[int] = []
+    ground_faces: list[dict] = []
+
+    def foundation_wall_sun() -> int:
+        # a foundation wall's sun above the grade: Kiva's vertical cylinder (KIVA_WALL_SUN),
+        # computed from the horizontal plane's components
+        foundation_sun()
+        if not wall_sun_input:
+            wall_sun_input.append(new_input(KIVA_WALL_SUN))
+        return wall_sun_input[0]
 
     def face_props(surface, layers, inside: bool):
         mat = layers[-1] if inside else layers[0]
@@ -1215,7 +1280,13 @@ def assemble(
         foundation_nodes.append(
             _add_foundation(
                 ground, layers, tpl, outside, area, walls, options.foundation_states, grade_h,
-                new_nodes, entry, source, foundation_sun,
+                new_nodes, entry, source, foundation_sun, foundation_wall_sun, new_input,
+                ground_faces, name,
+                {w: surface_nodes[w][0] for w, _ in ground.walls},
+                {
+                    w: template(building.surfaces[w].construction).capacity[0]
+                    for w, _ in ground.walls
+                },
             )
         )
 
@@ -1716,6 +1787,7 @@ def assemble(
         ext_is_window=ext_is_window,
         ext_hr0=float(hr0),
         ext_capacity=np.asarray(e_cap, dtype=float),
+        ground_faces=_ground_faces(ground_faces),
         zone_infiltration=zone_infiltration,
         zone_volume=zone_volume,
         reference_density=rho_ref,
@@ -1755,9 +1827,43 @@ def _reduced_section(ground, area: float, floor_layers: tuple, n_states: int, gr
     return reduced_section(_foundation_grid(ground, area, floor_layers), n_states, grade_h)
 
 
+def _ground_faces(faces: list[dict]) -> GroundFaces:
+    """:class:`GroundFaces` of the faces :func:`_add_foundation` recorded."""
+    from thermocal.multizone.foundation import grade_longwave_coefficient
+
+    if not faces:
+        return GroundFaces.empty()
+
+    def csr(key):
+        ptr = np.concatenate([[0], np.cumsum([len(f[key]) for f in faces])]).astype(np.int64)
+        idx = np.array([i for f in faces for i, _ in f[key]], dtype=np.int64)
+        val = np.array([v for f in faces for _, v in f[key]], dtype=float)
+        return ptr, idx, val
+
+    def column(key, dtype=float):
+        return np.array([f[key] for f in faces], dtype=dtype)
+
+    return GroundFaces(
+        [f["name"] for f in faces],
+        column("column", np.int64),
+        *csr("out"),
+        *csr("u"),
+        column("tilt"),
+        column("roughness"),
+        column("wind_factor"),
+        column("leeward_mean", bool),
+        column("hc0"),
+        column("emissivity"),
+        column("view_sky"),
+        column("capacity"),
+        grade_longwave_coefficient(1.0),
+    )
+
+
 def _add_foundation(
     ground, layers, template, outside, area, walls, n_states, grade_h, new_nodes, entry,
-    source, sun_column,
+    source, sun_column, wall_sun_column, new_input, ground_faces, name, wall_nodes,
+    wall_capacity,
 ) -> np.ndarray:
     """Add a floor's two-dimensional ground section (:mod:`thermocal.multizone.foundation`).
 
@@ -1765,10 +1871,13 @@ def _add_foundation(
     the floor), the chain's node above any insulation under the slab (the slab's edge on the
     wall; the outside node for a reduced construction) and a basement's walls' outside nodes
     ``walls`` (node, share of the perimeter), whose port is their shares' weighted temperature
-    and whose flow each takes by its share; and to the outdoor air, the sky and the sun on the
-    grade (``grade_h`` its convection coefficient [W/(m2 K)]). A basement's walls above the
-    grade meet the outdoor air directly. With ``n_states``
-    the cells are replaced by that many balanced states
+    and whose flow each takes by its share; and to the outdoor air, the sky and the heat fluxes
+    on the grade and on the wall's face above it (``grade_h`` their convection coefficient
+    [W/(m2 K)]): the absorbed sun (the horizontal plane's on the grade, Kiva's vertical cylinder
+    on the wall) and the time loop's correction of their convection and long-wave (each face an
+    entry of ``ground_faces``, :class:`GroundFaces`, its temperature an output of the section).
+    A basement's walls above the grade meet the outdoor air directly, with the same sun and
+    correction. With ``n_states`` the cells are replaced by that many balanced states
     (:func:`thermocal.multizone.foundation.reduced_section`, exact at steady state); with None
     every cell is a node.
 
@@ -1777,7 +1886,16 @@ def _add_foundation(
     ndarray of int
         The section's nodes.
     """
-    from thermocal.multizone.foundation import grade_longwave_coefficient, section_matrices
+    from thermocal.multizone.foundation import (
+        GRADE_ABSORPTANCE,
+        GRADE_EMISSIVITY,
+        GRADE_PORT,
+        WALL_FACE_PORT,
+        WALL_SKY_SHARE,
+        grade_longwave_coefficient,
+        grade_wind_factor,
+        section_matrices,
+    )
 
     floor_layers = []
     for layer in layers:
@@ -1792,17 +1910,61 @@ def _add_foundation(
         slab = outside + template.layer_nodes[grid.slab_interface]
     else:
         slab = outside
-    # the node ports as (node, weight) lists, then the input columns
+    wind = grade_wind_factor(ground.grade_roughness)
+    alpha_wall = float(ground.wall_absorptance)
+
+    def face(label, tilt, emissivity, view_sky, capacity, leeward_mean=False) -> dict:
+        record = {
+            "name": f"{name}/{label}",
+            "column": new_input(f"kiva_correction/{name}/{label}"),
+            "out": [],
+            "u": [],
+            "tilt": tilt,
+            "roughness": float(ground.grade_roughness_factor),
+            "wind_factor": wind,
+            "leeward_mean": leeward_mean,
+            "hc0": float(grade_h),
+            "emissivity": float(emissivity),
+            "view_sky": float(view_sky),
+            "capacity": float(capacity),
+        }
+        ground_faces.append(record)
+        return record
+
+    # the node ports as (node, weight) lists, then the input columns as (column, factor) lists
     ports = [[(outside, 1.0)], [(slab, 1.0)], walls]
-    columns = (IN_TEMP_OUT, IN_TEMP_SKY, sun_column())
+    is_grade = grid.outdoor[:, 2] > 0.5 if len(grid.outdoor) else np.zeros(0, dtype=bool)
+    cells, exposed = grid.outdoor[:, 0].astype(int), grid.outdoor[:, 1]
+    per_area = grid.capacity[cells] / exposed if len(cells) else np.zeros(0)
+    outputs = {}  # flux port -> its face record
+    columns = [[(IN_TEMP_OUT, 1.0)], [(IN_TEMP_SKY, 1.0)], [], []]
+    if is_grade.any():
+        grade = face("grade", 0.0, GRADE_EMISSIVITY, 1.0, per_area[is_grade].min())
+        columns[2] = [(sun_column(), GRADE_ABSORPTANCE), (grade["column"], 1.0)]
+        outputs[GRADE_PORT] = grade
+    if (~is_grade).any():  # a slab's wall face above the grade: Kiva gives it the floor's terms
+        wall = face(
+            "wall", 90.0, ground.wall_emissivity, WALL_SKY_SHARE, per_area[~is_grade].min()
+        )
+        columns[3] = [(wall_sun_column(), alpha_wall), (wall["column"], 1.0)]
+        outputs[WALL_FACE_PORT] = wall
     if grid.wall_above_grade > 0:  # a basement's walls above the grade: to the outdoor air
-        hr = grade_longwave_coefficient()
-        for node, share in walls:
-            g_air = (grade_h + 0.5 * hr) * grid.wall_above_grade * share
-            g_sky = 0.5 * hr * grid.wall_above_grade * share
+        hr = grade_longwave_coefficient(ground.wall_emissivity)
+        for (wall_name, _), (node, share) in zip(ground.walls, walls, strict=True):
+            wall_area = grid.wall_above_grade * share
+            g_air = (grade_h + (1.0 - WALL_SKY_SHARE) * hr) * wall_area
+            g_sky = WALL_SKY_SHARE * hr * wall_area
             entry(node, node, g_air + g_sky)
             source(node, IN_TEMP_OUT, g_air)
             source(node, IN_TEMP_SKY, g_sky)
+            source(node, wall_sun_column(), alpha_wall * wall_area)
+            # Kiva's wall surfaces: the mean of MoWiTT's windward and leeward forced terms
+            record = face(
+                f"wall/{wall_name}", 90.0, ground.wall_emissivity, WALL_SKY_SHARE,
+                wall_capacity[wall_name], leeward_mean=True,
+            )  # fmt: skip
+            record["out"].append((int(wall_nodes[wall_name]), 1.0))
+            source(node, record["column"], wall_area)
     if n_states is None or n_states >= len(grid.capacity) - 1:
         a, capacity, h = section_matrices(grid, grade_h)
         first = new_nodes(capacity)
@@ -1818,8 +1980,14 @@ def _add_foundation(
                     entry(node, first + c, -h[c, k] * weight)
                     entry(node, node, h[c, k] * weight)
             for k, column in enumerate(columns):
-                if h[c, 3 + k]:
-                    source(first + c, column, h[c, 3 + k])
+                for col, factor in column:
+                    if h[c, 3 + k]:
+                        source(first + c, col, h[c, 3 + k] * factor)
+        for k, record in outputs.items():
+            total = h[:, k].sum()
+            record["out"].extend(
+                (first + int(c), float(h[c, k] / total)) for c in np.flatnonzero(h[:, k])
+            )
         return np.arange(first, first + len(capacity), dtype=np.int64)
     reduced = _reduced_section(
         ground, float(area), tuple(floor_layers), int(n_states), round(float(grade_h), 6)
@@ -1834,7 +2002,8 @@ def _add_foundation(
                 entry(first + q, node, -float(reduced.coupling[q, k]) * weight)
                 entry(node, first + q, -float(reduced.coupling[q, k]) * weight)
         for k, column in enumerate(columns):
-            source(first + q, column, float(reduced.coupling[q, 3 + k]))
+            for col, factor in column:
+                source(first + q, col, float(reduced.coupling[q, 3 + k]) * factor)
     for k, port in enumerate(ports):
         for node, weight in port:
             entry(node, node, float(reduced.node_conductance[k]) * weight)
@@ -1842,7 +2011,21 @@ def _add_foundation(
                 for node2, weight2 in other:
                     entry(node, node2, -float(d[k, kk]) * weight * weight2)
             for kk, column in enumerate(columns):
-                source(node, column, float(d[k, 3 + kk]) * weight)
+                for col, factor in column:
+                    source(node, col, float(d[k, 3 + kk]) * weight * factor)
+    # a flux port's face temperature: (its cells' areas) x T / its area, from the states and,
+    # through the quasi-static ones, the ports (the previous step's inputs)
+    for k, record in outputs.items():
+        total = float(exposed[is_grade].sum() if k == GRADE_PORT else exposed[~is_grade].sum())
+        record["out"].extend(
+            (first + q, float(reduced.coupling[q, k]) / total) for q in range(m)
+        )
+        for kk, port in enumerate(ports):
+            for node, weight in port:
+                record["out"].append((node, float(d[k, kk]) * weight / total))
+        for kk, column in enumerate(columns):
+            for col, factor in column:
+                record["u"].append((col, float(d[k, 3 + kk]) * factor / total))
     return np.arange(first, first + m, dtype=np.int64)
 
 

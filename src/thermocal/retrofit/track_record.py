@@ -169,20 +169,22 @@ class DetailedCheck:
 DETAILED_CHECKS: dict[str, DetailedCheck] = {
     "retrofit_energyplus_house": DetailedCheck(
         house="NREL SingleFamilyHouse (slab on Kiva, attic, garage)",
-        baseline_error_pct=-4.9,
-        savings_mean_abs_pp=0.8,
-        savings_max_abs_pp=2.2,
+        baseline_error_pct=-8.4,
+        savings_mean_abs_pp=1.3,
+        savings_max_abs_pp=3.0,
         within_3pp=15,
         note="against EnergyPlus's second year (its ground after a year of the house, as the "
-        "warm-up year here) the baseline is -2.1 %",
+        "warm-up year here) the baseline is -5.7 %; with the floors adiabatic the two engines "
+        "agree (9,208 against 9,195 kWh): the gap is the ground's share of the heating "
+        "(thermocal 229 kWh, EnergyPlus 1,107 in its first year), not explained",
     ),
     "retrofit_energyplus_basement": DetailedCheck(
         house="DOE/PNNL single-family prototype (unheated basement on Kiva, attic)",
-        baseline_error_pct=-1.1,
+        baseline_error_pct=-0.8,
         savings_mean_abs_pp=0.2,
-        savings_max_abs_pp=0.4,
+        savings_max_abs_pp=0.3,
         within_3pp=15,
-        note="the basement's air 0.9-1.3 K warmer than EnergyPlus's in winter, up to 2.8 K in "
+        note="the basement's air 0.9-1.2 K warmer than EnergyPlus's in winter, up to 1.7 K in "
         "summer",
     ),
 }

@@ -160,6 +160,21 @@ def _construction_layers(construction_name: str, where: str, materials, construc
     return tuple(layers)
 
 
+def _outside_surface(construction_name: str, materials, constructions) -> tuple[float, float]:
+    """A construction's outside layer's solar absorptance and thermal emissivity [-] (Kiva's
+    foundation wall above the grade: ``OutsideAbsorpSolar``, ``OutsideAbsorpThermal``)."""
+    from thermocal.multizone.foundation import WALL_ABSORPTANCE, WALL_EMISSIVITY
+
+    construction = constructions.get(construction_name.upper())
+    outer = materials.get(construction.layers[0].upper()) if construction else None
+    alpha = getattr(outer, "solar_absorptance", None)
+    eps = getattr(outer, "thermal_absorptance", None)
+    return (
+        WALL_ABSORPTANCE if alpha is None else float(alpha),
+        WALL_EMISSIVITY if eps is None else float(eps),
+    )
+
+
 def _insulation_blocks(kiva, materials) -> tuple:
     """``Foundation:Kiva``'s insulation blocks as
     :attr:`thermocal.multizone.foundation.FoundationGround.insulation` (a block's thickness is
@@ -236,6 +251,9 @@ def foundation_ground(
         None,
     )
     insulation = ()
+    from thermocal.multizone.foundation import WALL_ABSORPTANCE, WALL_EMISSIVITY
+
+    wall_surface = (WALL_ABSORPTANCE, WALL_EMISSIVITY)  # Kiva's default wall's
     height, depth, wall_layers = (
         _DEFAULT_HEIGHT_ABOVE_GRADE,
         _DEFAULT_DEPTH_BELOW_SLAB,
@@ -260,6 +278,7 @@ def foundation_ground(
             wall_layers = _construction_layers(
                 wall, f"{kiva.where()} (Footing Wall Construction Name)", materials, constructions
             )
+            wall_surface = _outside_surface(wall, materials, constructions)
     perimeter = exposed_perimeter(name, vertices, objects)
     if not any(
         o.key == "SURFACEPROPERTY:EXPOSEDFOUNDATIONPERIMETER"
@@ -286,6 +305,7 @@ def foundation_ground(
         wall_layers = _construction_layers(
             walls[0][2], f"wall '{walls[0][0]}'", materials, constructions
         )
+        wall_surface = _outside_surface(walls[0][2], materials, constructions)
         notes.append(
             f"floor '{name}': a basement on {foundation_name} ({len(walls)} walls "
             f"{basement_depth:.2f} m high, {total:.1f} m of the exposed perimeter's "
@@ -318,5 +338,7 @@ def foundation_ground(
         insulation=insulation,
         basement_depth=basement_depth,
         walls=shares,
+        wall_absorptance=wall_surface[0],
+        wall_emissivity=wall_surface[1],
     )
     return ground, notes

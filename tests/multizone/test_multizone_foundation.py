@@ -45,15 +45,40 @@ def _kiva() -> dict:
     ],
 )
 def test_steady_slab_against_kiva(soil, floor, case, measured):
-    """The slab's steady conductance within 20 % of Kiva's (measured 2026-11-30, the grade's
-    convection at EnergyPlus's 3 m/s: 61.4 vs 61.9, 39.8 vs 46.1, 105.1 vs 94.1, 48.4 vs 52.9
-    W/K; ISO 13370 gives 47.1, 23.4, 89.0 and 31.8: it has no slab edge on the foundation
-    wall). ``steady_soil173`` is the reference run without a settings object, i.e. at Kiva's own
-    0.864 W/(m K)."""
+    """The slab's steady conductance from the room's air within 20 % of Kiva's (measured
+    2026-11-30, the grade's convection at EnergyPlus's 3 m/s: 61.4 vs 61.9, 39.8 vs 46.1, 105.1
+    vs 94.1, 48.4 vs 52.9 W/K; ISO 13370 gives 47.1, 23.4, 89.0 and 31.8: it has no slab edge on
+    the foundation wall). ``steady_soil173`` is the reference run without a settings object,
+    i.e. at Kiva's own 0.864 W/(m K). Caution: thermocal's number has ISO 6946's floor film
+    (0.17 m2 K/W), EnergyPlus's its own, much weaker one (heat flowing down): below the floor's
+    surface the section is 22 % less conductive than Kiva's (next test), so the agreement here
+    is partly the films'."""
     ground = FoundationGround(PERIMETER, soil=(soil, 1510.0, 1260.0), wall_layers=WALL)
     value = steady_floor_conductance(ground, AREA, floor)
     assert value == pytest.approx(_kiva()[case], rel=0.20)
     assert value == pytest.approx(measured, rel=0.02)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured 2026-11-30: below the living floor's surface thermocal's section conducts "
+    "65.0 W/K (70.7 without the carpet) where Kiva's conducts 83.8 (92.1): -22 %, the same in "
+    "the simulated house (982 against 1,237 W at a 15 C floor face); a Kiva-like grid gives "
+    "+6 %, soil instead of the footing wall at the slab's edge 86-89 W/K: the slab's 1-D chain "
+    "with a fin at its edge, where Kiva meshes the slab in two dimensions, is the suspect",
+)
+@pytest.mark.parametrize(
+    ("floor", "case"), [(FLOOR, "with_carpet"), (FLOOR[:1], "without_carpet")]
+)
+def test_the_section_below_the_floor_surface_against_kiva(floor, case):
+    """The living floor and its ground from the floor's surface to the outdoor air, at steady
+    state, against EnergyPlus's Kiva (``floor_surface_study.py`` -> ``floor_surface.json``:
+    the house at 20 C over a year of constant 0 C, the floor's inside-face conduction over its
+    face temperature), within 10 %: what the section must give below the room's film."""
+    kiva = json.loads((REF / "floor_surface.json").read_text())[case]["below_surface_W_per_K"]
+    ground = FoundationGround(PERIMETER, soil=KIVA_DEFAULT_SOIL, wall_layers=WALL)
+    value = steady_floor_conductance(ground, AREA, floor, inside_resistance=1e-9)
+    assert value == pytest.approx(kiva, rel=0.10)
 
 
 def test_the_insulation_keeps_the_edge_through_the_wall():

@@ -367,15 +367,17 @@ def run_steps(
         # 0. the foundations' exterior faces (Kiva's grade, the walls above it): their lagged
         # correction per m2 into their input columns, the faces' temperatures the ground
         # sections' outputs at the previous step's end (its states and, through the quasi-static
-        # states, its inputs); the same excess as the exterior faces' (2. below)
-        k_prev = k - 1 if k > 0 else 0
+        # states, its inputs); the same excess as the exterior faces' (2. below). At a run's
+        # first step the states alone: the inputs' row before it is not this run's (a column
+        # would hold an earlier run's correction, and the result would depend on it)
         n_ext = ext_node.shape[0]
         for g in range(gf_column.shape[0]):
             ts = 0.0
             for p in range(gf_out_ptr[g], gf_out_ptr[g + 1]):
                 ts += gf_out_val[p] * x[gf_out_idx[p]]
-            for p in range(gf_u_ptr[g], gf_u_ptr[g + 1]):
-                ts += gf_u_val[p] * u[k_prev, gf_u_idx[p]]
+            if k > 0:
+                for p in range(gf_u_ptr[g], gf_u_ptr[g + 1]):
+                    ts += gf_u_val[p] * u[k - 1, gf_u_idx[p]]
             f = n_ext + g
             u[k, gf_column[g]] = exterior_excess(
                 ts, u[k, 0], u[k, 1], ext_dh[k, gf_class[g]], ext_natural[f, 0],

@@ -343,7 +343,9 @@ class NetworkSetup:
         # explicit-correction bounds (stability of the lagged terms, see network module)
         face_hmax = 2.0 * net.face_h0 + net.face_capacity / dt
         iso = np.flatnonzero(net.face_iso[:, 0] > 0.0) if len(net.face_iso) else []
-        if len(iso):
+        if base is not None and base.dt == dt:
+            face_hmax = base.face_hmax  # the same system: the same bounds
+        elif len(iso):
             # windows with ISO 15099's room side: their massless inner pane is also held by
             # the glass and the long-wave exchange, which 2 h0 leaves out (it clipped a
             # sloped skylight's 3.4-3.8 W/(m2 K) to 2.9); the bound of the step's own system

@@ -247,7 +247,8 @@ class EnvelopeComponents:
 
         Windows are replaced, and the data's correction of the old ones is kept as what the new
         ones share with them, their surface films and frame: a series resistance
-        ``R_c = 1/U - 1/U_audit``, so ``U = 1 / (1/U_target + R_c)`` (:func:`replaced_window_u`).
+        ``R_c = 1/U - 1/U_audit``, so ``U = 1 / (1/U_target + R_c)`` (:func:`replaced_window_u`;
+        none when the data find the old windows worse than described: that goes with them).
         A rated U-value holds at the rating's films (a strong wind outside); in the building
         the films are weaker and a poor window gains relatively more from them than a good
         one: on the DOE basement house EnergyPlus's windows conduct 1.36 W/(m2 K) against the
@@ -295,19 +296,15 @@ class EnvelopeComponents:
         return env
 
 
-#: Least thermal resistance of a replaced window after its films' correction [m2 K/W] (about a
-#: single pane's with its films): a correction that would take more away is held there.
-MIN_WINDOW_RESISTANCE = 0.15
-
-
 def replaced_window_u(u_target: float, u_now: float, u_audit: float) -> float:
     """U-value of a new window that replaces windows the data corrected [W/(m2 K)].
 
     The correction of the old windows (``u_now`` against the described ``u_audit``) is taken
     as their surface films' and frame's, which the new window shares: a series resistance
     ``R_c = 1/u_now - 1/u_audit`` added to the new window's rated resistance, ``1 / (1 /
-    u_target + R_c)``, at least :data:`MIN_WINDOW_RESISTANCE`. Without a correction
-    (``u_now == u_audit``) it is the target.
+    u_target + R_c)``. Films only add resistance to a rating's (whose outside film is a strong
+    wind's), so a correction that finds the old windows worse than described (``R_c < 0``:
+    their glazing, seals or frame) goes with them: the new window then takes its target.
 
     Parameters
     ----------
@@ -317,11 +314,16 @@ def replaced_window_u(u_target: float, u_now: float, u_audit: float) -> float:
         The old windows as the data corrected them (or as an uncertainty draw has them).
     u_audit : float [W/(m2 K)]
         The old windows as described.
+
+    Returns
+    -------
+    float [W/(m2 K)]
+        The new window's U-value in the building, at most ``u_target``.
     """
     if not (u_now > 0 and u_audit > 0 and u_target > 0):
         return float(u_target)
-    resistance = 1.0 / u_target + (1.0 / u_now - 1.0 / u_audit)
-    return float(1.0 / max(resistance, MIN_WINDOW_RESISTANCE))
+    films = max(1.0 / u_now - 1.0 / u_audit, 0.0)
+    return float(1.0 / (1.0 / u_target + films))
 
 
 def check_ventilation_measures(strategies, measures, volume: float, h_est: float) -> list[str]:

@@ -78,7 +78,7 @@ INDEPENDENT_CHECKS: dict[str, IndependentCheck] = {
         savings_max_abs_pp=10.3,
         within_3pp=5,
         covered=13,
-        median_half_width_pp=12.0,
+        median_half_width_pp=12.1,
         gate_passed=True,
         note="every saving but the slab's below EnergyPlus's: the building file's default air "
         "change (0.5 1/h) against the house's 0.08 1/h puts too much of the loss where no "
@@ -128,7 +128,7 @@ IN_SITU_CHECKS: dict[str, IndependentCheck] = {
         savings_max_abs_pp=3.1,
         within_3pp=14,
         covered=15,
-        median_half_width_pp=7.8,
+        median_half_width_pp=8.4,
         gate_passed=False,
         note="14 of 15 savings within 3 pp of EnergyPlus (all four measures: +3.1 pp); the "
         "validation gate still fails on the indoor temperature's MAE",

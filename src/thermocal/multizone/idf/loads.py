@@ -869,40 +869,41 @@ def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
         except UnsupportedScheduleError as exc:
             raise ThermocalInputError(f"{obj.where()}: {exc}") from None
         wanted = _CONTROL_CLASSES.get(mode)
-        varying = False
-        if control_schedule:
-            low, high = schedules.value_range(control_schedule)
-            if low != high:
-                varying = True
-                info.notes.append(
-                    f"{obj.where()}: control type schedule '{control_schedule}' varies "
-                    f"({low:g}..{high:g}); the set points follow it step by step (control type "
-                    f"{mode}, in effect most of the year, gives the constant set points of "
-                    "schedules='constant')"
-                )
+        low, high = schedules.value_range(control_schedule) if control_schedule else (4, 4)
+        varying = low != high
+        name = control_types.get(wanted or "")
         if varying:
             by_type = {}
             for kind, cls in _CONTROL_CLASSES.items():
                 sp_name = control_types.get(cls)
-                sp_rec = setpoint_objects.get(sp_name.upper()) if sp_name else None
-                if sp_rec is not None:
-                    by_type[kind] = _setpoint_schedule_names(cls, sp_rec)
+                if not sp_name:
+                    continue
+                sp_rec = setpoint_objects.get(sp_name.upper())
+                if sp_rec is None:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: the set-point object '{sp_name}' ({cls.title()}) is not "
+                        "defined."
+                    )
+                by_type[kind] = _setpoint_schedule_names(cls, sp_rec)
             for zone_name in targets:
                 info.setpoint_control[zone_name] = (control_schedule, by_type)
-        name = control_types.get(wanted or "")
-        if name is None and varying and by_type:
-            # the most frequent control type has no set-point object: the zone floats on its
-            # steps and is controlled on the others; the constant set points are those of the
-            # most frequent type that has one
-            hours = np.rint(schedules.hourly(control_schedule)).astype(int)
-            kind = max(by_type, key=lambda k: int(np.sum(hours == k)))
+            if name is None and by_type:
+                # the most frequent control type has no set-point object: the zone floats on
+                # its steps and is controlled on the others; the constant set points are those
+                # of the most frequent type that has one
+                hours = np.rint(schedules.hourly(control_schedule)).astype(int)
+                kind = max(by_type, key=lambda k: int(np.sum(hours == k)))
+                info.notes.append(
+                    f"{obj.where()}: no set-point object for control type {mode} (in effect "
+                    f"most of the year): the zone floats on its steps"
+                )
+                mode, wanted = kind, _CONTROL_CLASSES[kind]
+                name = control_types[wanted]
             info.notes.append(
-                f"{obj.where()}: no set-point object for control type {mode} (in effect most of "
-                f"the year): the zone floats on its steps; control type {kind} gives the "
-                "constant set points of schedules='constant'"
+                f"{obj.where()}: control type schedule '{control_schedule}' varies "
+                f"({low:g}..{high:g}); the set points follow it step by step (control type "
+                f"{mode} gives the constant set points of schedules='constant')"
             )
-            wanted = _CONTROL_CLASSES[kind]
-            name = control_types[wanted]
         if name is None:
             info.notes.append(f"{obj.where()}: no set-point object for control type {mode}")
             continue

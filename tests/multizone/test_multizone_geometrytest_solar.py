@@ -1,7 +1,7 @@
 """NREL GeometryTest against EnergyPlus 25.2 numbers stored in ``tests/reference/
 geometrytest_solar/reference.json`` (``measure.py`` there wrote them; no EnergyPlus needed).
 
-Two findings of a survey (2026-12-01) on this file, whose windows' vertices are written to
+Two findings of a survey (2026-11-30) on this file, whose windows' vertices are written to
 five decimals on walls that are not aligned with the axes:
 
 - the beam entering a window landed partly on its own host wall (the window's cells lie a few

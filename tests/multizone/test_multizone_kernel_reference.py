@@ -2,7 +2,7 @@
 
 ``tests/reference/kernel_outputs/kernel_outputs.npz`` was written by the kernel of commit
 de53112 (``make_reference.py`` next to it; regenerated on 2026-11-30 for the windows' ISO 15099
-room-side convection and on 2026-12-01 for its bound in the time loop): free run, ideal
+room-side convection and on 2026-11-30 for its bound in the time loop): free run, ideal
 heating and cooling, exact inverse on air and on operative temperature, PID, on the generated
 single-family house. A faster kernel must give the same numbers: every array within 1e-9 of
 its largest magnitude (bit for bit on the machine that generated it; another CPU may round

@@ -12,17 +12,14 @@ held at 20 C by ideal loads and free floating (``ff_``). EnergyPlus's results
 (2022 then 2023), so that neither engine's initial ground state counts; thermocal runs the same
 two years here (15-minute steps, about 2 s a variant), no EnergyPlus needed.
 
-Measured 2026-11-30 with the grade's convection a constant 2 W/(m2 K) (main with Kiva's
-default footing wall and the grade's coefficient 2 gives +1.0 % to +2.3 % / +9.5 % / 0.50-0.56 K;
-without the default wall ``ff_noins`` was 1.56 / +1.55 K and the
-heating -15 %, which these bounds fail): held at 20 C, heating 5,175 against 5,122 kWh (+1.0 %),
-cooling 2,922 against 2,652 (+10.2 %), the floor's monthly heat loss within 90 kWh (December to
-April within 42 kWh, +10 to +15 %; summer's gain about 30 % larger: thermocal's grade a little warm
-in summer, its convection a constant 2 W/(m2 K)); free float, hourly 0.50 / +0.03 / 1.19 K (MAE /
-bias / max), monthly bias -0.72 .. +0.87 K; floor adiabatic 4,051 against 4,050 kWh heating, 1,728
-against 1,754 cooling, free float 0.08 / -0.06 / 0.36 K. The bounds are about 30 % above those.
+Earlier states (2026-11-30, kept for the record): the grade's convection a constant 2 W/(m2 K)
+gave heating +1.0 %, cooling +10.2 %, free float 0.50 / +0.03 / 1.19 K (a compensation of the
+missing wall sun); one DOE-2 coefficient at the period's mean wind +10.7 % / -6.0 % / 0.89 K;
+without Kiva's default footing wall ``ff_noins`` 1.56 / +1.55 K and heating -15 %. Floor
+adiabatic: 4,051 against 4,050 kWh heating, 1,728 against 1,754 cooling, free float 0.08 / -0.06
+/ 0.36 K.
 
-Kiva's exterior boundary as Kiva has it (measured with the helper's measure_slab.py): the
+Now, Kiva's exterior boundary as Kiva has it (measured by stages while it was built): the
 foundation wall above the grade gets Kiva's two-dimensional sun (``a (DNI cos(alt) / pi + DHI / 2
 + (1 - a_grade) GHI / 2)``) and sky share 0.354; the grade's and the wall's convection is DOE-2
 every step (TARP's natural part at their own difference from the air, the forced term at the wind
@@ -131,7 +128,7 @@ def test_held_at_20C_heating_cooling_and_floor(reference, weather):
     loss, as the net load (heating - cooling) less the adiabatic floor's in both engines, within
     30 kWh (22, in August; the year +71 against +174 kWh). EnergyPlus's floor conduction itself
     is 5-10 % larger than that difference every month (179 kWh in the year), thermocal's as well
-    (from its network's state, the helper's measure.py)."""
+    (from its network's state)."""
     ref = reference["monthly"]
     ours, adiabatic = spun_up_year("noins", weather), spun_up_year("adiabatic", weather)
     heating, cooling = monthly_kwh(ours["heating"]), monthly_kwh(ours["cooling"])

@@ -118,8 +118,18 @@ LONGWAVE_LINEARISATION = 283.15
 
 
 def grade_longwave_coefficient(emissivity: float = GRADE_EMISSIVITY) -> float:
-    """The grade's (and a foundation wall's) long-wave coefficient [W/(m2 K)], linearised at
-    10 C (:data:`LONGWAVE_LINEARISATION`) with ``emissivity``."""
+    """The grade's (and a foundation wall's) long-wave coefficient, linearised at 10 C
+    (:data:`LONGWAVE_LINEARISATION`).
+
+    Parameters
+    ----------
+    emissivity : float [-]
+        The surface's long-wave emissivity.
+
+    Returns
+    -------
+    float [W/(m2 K)]
+    """
     return 4.0 * 5.670374419e-8 * float(emissivity) * LONGWAVE_LINEARISATION**3
 
 

@@ -910,6 +910,7 @@ class GroundFaces:
 
     @staticmethod
     def empty() -> GroundFaces:
+        """No ground faces (a building without foundations)."""
         i0, f0 = np.zeros(0, dtype=np.int64), np.zeros(0)
         return GroundFaces(
             [], i0, np.zeros(1, dtype=np.int64), i0, f0, np.zeros(1, dtype=np.int64), i0, f0,

@@ -216,3 +216,41 @@ def test_the_reduced_section_follows_the_full_one():
         assert len(sim.network.foundation_nodes) == (656 if options is full else 32)
         heating.append(float(sim.run().heating["LIVING ZONE"].sum()))
     assert heating[1] == pytest.approx(heating[0], rel=0.003)
+
+
+def test_a_basements_walls_above_the_grade_are_ground_faces(tmp_path):
+    """A basement whose walls stand 0.3 m above the grade (the DOE prototype's basement, its
+    ``Foundation:Kiva`` wall height above grade raised from 0): each wall's part above the grade
+    is an exterior face of Kiva's boundary (its own per-step correction, the wall's sun, the sky
+    share 0.354) besides the grade; the reduced section follows every cell's within 0.5 % of a
+    winter month's heating, and reruns are bit-identical (a face's first step reads no earlier
+    run's correction)."""
+    import warnings
+
+    from conftest import shared_data_path
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone import Simulation, load_building
+    from thermocal.multizone.network import NetworkOptions
+
+    source = (REF.parent / "retrofit_energyplus_basement" / "house_v25.idf").read_text()
+    line = "Foundation:Kiva, Basement Foundation, 15, , , , , , , , , , , 0.0;"
+    assert line in source
+    path = tmp_path / "basement_above_grade.idf"
+    path.write_text(source.replace(line, line.replace("0.0;", "0.3;")))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        building = load_building(path)
+    weather, meta = read_weather(shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw"))
+    heating = []
+    for options in (NetworkOptions(foundation_states=None), NetworkOptions()):
+        sim = Simulation(
+            building, weather, meta, start="2015-01-01", end="2015-01-15", options=options
+        )
+        names = list(sim.network.ground_faces.names)
+        # the grade and the four walls of the floor's section
+        assert names[0] == "Extfloor_unit1/grade" and len(names) == 5, names
+        assert all(n.startswith("Extfloor_unit1/wall/") for n in names[1:]), names
+        first = sim.run().heating.sum().sum()
+        assert sim.run().heating.sum().sum() == first
+        heating.append(float(first))
+    assert heating[1] == pytest.approx(heating[0], rel=0.005)

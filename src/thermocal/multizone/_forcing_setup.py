@@ -229,6 +229,8 @@ class ForcingSetup:
                 if s.zone == host.zone and s.name in vertices
             )
             faces.pop(window.name, None)
+            # nor its host, however far the file's coordinates put the window off its plane
+            faces.pop(window.surface, None)
             # zones of the same shape (a grid of rooms) share the result: the key is the
             # geometry relative to the window's first vertex
             anchor = np.asarray(vertices[window.name], dtype=float)[0]

@@ -45,6 +45,24 @@ def _building(tmp_path, text=THERMOSTAT):
         return read_idf(path)
 
 
+def _january_run(building):
+    """Two January days at hourly steps on Denver's TMY3 (a day of warm-up before)."""
+    from conftest import shared_data_path
+    from thermocal.io.weather import read_weather
+    from thermocal.multizone.simulation import Simulation
+
+    weather, meta = read_weather(
+        shared_data_path("ashrae140_bestest") / "725650TYCST.epw", coerce_year=2023
+    )
+    start = pd.Timestamp("2023-01-02")
+    if weather.index.tz is not None:
+        start = start.tz_localize(weather.index.tz)
+    return Simulation(
+        building, weather, meta, step="1h", start=start, end=start + pd.Timedelta(days=2),
+        warmup_days=1, store_surfaces=False,
+    ).run()  # fmt: skip
+
+
 def test_the_set_points_follow_the_control_type_schedule(tmp_path):
     building = _building(tmp_path)
     info = building.idf_info
@@ -62,21 +80,8 @@ def test_the_set_points_follow_the_control_type_schedule(tmp_path):
 
 
 def test_a_january_run_heats_and_does_not_cool(tmp_path):
-    from conftest import shared_data_path
-    from thermocal.io.weather import read_weather
-    from thermocal.multizone.simulation import Simulation
-
     building = _building(tmp_path)
-    weather, meta = read_weather(
-        shared_data_path("ashrae140_bestest") / "725650TYCST.epw", coerce_year=2023
-    )
-    start = pd.Timestamp("2023-01-02")
-    if weather.index.tz is not None:
-        start = start.tz_localize(weather.index.tz)
-    result = Simulation(
-        building, weather, meta, step="1h", start=start, end=start + pd.Timedelta(days=2),
-        warmup_days=1, store_surfaces=False,
-    ).run()  # fmt: skip
+    result = _january_run(building)
     assert result.heating["ZONE ONE"].sum() > 0
     assert result.cooling["ZONE ONE"].sum() == 0
     assert result.air_temperature["ZONE ONE"].min() > 19.9
@@ -96,22 +101,9 @@ def test_a_set_point_constant_over_the_run_is_the_runs_value(tmp_path):
     """20 C in January-March, 15 C the rest of the year (the zone's constant): a January run
     is held at 20 C (it was held at 15 C: the per-step set points, constant over the run, were
     taken for the zone's constant ones)."""
-    from conftest import shared_data_path
-    from thermocal.io.weather import read_weather
-    from thermocal.multizone.simulation import Simulation
-
     building = _building(tmp_path, SEASONAL)
     assert building.zones["ZONE ONE"].heating_setpoint == 15.0
-    weather, meta = read_weather(
-        shared_data_path("ashrae140_bestest") / "725650TYCST.epw", coerce_year=2023
-    )
-    start = pd.Timestamp("2023-01-02")
-    if weather.index.tz is not None:
-        start = start.tz_localize(weather.index.tz)
-    result = Simulation(
-        building, weather, meta, step="1h", start=start, end=start + pd.Timedelta(days=2),
-        warmup_days=1, store_surfaces=False,
-    ).run()  # fmt: skip
+    result = _january_run(building)
     assert result.air_temperature["ZONE ONE"].min() > 19.9
 
 

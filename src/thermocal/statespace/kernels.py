@@ -612,15 +612,22 @@ def handoff_buffers(n, ny, m):
 
 @njit(cache=True, error_model="numpy")
 def _write_handoff(hand, k, z, Kfix, sfix, log_sfix, Cz, e, G0, G1):
+    # element by element: a slice assignment compiles numpy's broadcasting checks and their
+    # error messages (about 3 s of the first run's compilation)
     hand[0][0] = k
-    hand[1][:] = z
-    hand[2][:, :] = Kfix
-    hand[3][:] = sfix
-    hand[4][:] = log_sfix
-    hand[5][:, :] = Cz
-    hand[6][:] = e
-    hand[7][:, :] = G0
-    hand[8][:, :] = G1
+    n, ny, m = z.size, sfix.size, G0.shape[1]
+    for i in range(n):
+        hand[1][i] = z[i]
+        hand[6][i] = e[i]
+        for c in range(m):
+            hand[7][i, c] = G0[i, c]
+            hand[8][i, c] = G1[i, c]
+    for r in range(ny):
+        hand[3][r] = sfix[r]
+        hand[4][r] = log_sfix[r]
+        for i in range(n):
+            hand[2][r, i] = Kfix[r, i]
+            hand[5][r, i] = Cz[r, i]
 
 
 @njit(cache=True, error_model="numpy")
@@ -890,7 +897,6 @@ def _filter_theta(theta, tr, st, C, dts, U, Y, foh, seg_start, handoff, hand):
     )
 
 
-@njit(cache=True, error_model="numpy")
 def loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start):
     """Log-likelihood at unconstrained parameters ``theta``.
 
@@ -901,9 +907,7 @@ def loglike_theta(theta, tr, st, C, dts, U, Y, foh, seg_start):
     """
     hand = handoff_buffers(st[0].size, C.shape[0], U.shape[1])
     ll = _filter_theta(theta, tr, st, C, dts, U, Y, foh, seg_start, Y.shape[0] + 1, hand)
-    if not math.isfinite(ll):
-        return -np.inf
-    return ll
+    return ll if math.isfinite(ll) else -np.inf
 
 
 @njit(cache=True, error_model="numpy")
@@ -993,28 +997,58 @@ def _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, n):
                 Z[i, b] = acc[i, b]
 
 
-@njit(cache=True, error_model="numpy")
 def _batch_stationary(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
     """Samples ``k0`` to the end of the stationary filters of all columns of the batch arrays,
     advanced together (the innermost loops over the columns); the same operations, in the same
     order, as the stationary branch of :func:`kalman_filter`. One output and at most
-    :data:`FIXED_MAX_STATES` states: the specialised loops
-    of :func:`_batch_stationary_fixed` (the same numbers)."""
+    :data:`FIXED_MAX_STATES` states: the specialised loops of :func:`_batch_stationary_fixed`
+    (the same numbers), compiled for the number of states on first use only.
+
+    Called from Python, not from compiled code: a compiled caller would link (and the compiler
+    optimise again) every specialisation into its own code, which tripled the first run's
+    compilation time (about 60 s of the demo's first run were compilation)."""
+    n = Z.shape[0]
+    if k0 >= Y.shape[0]:
+        return
+    run = _BATCH_STATIONARY_FIXED.get(n) if Y.shape[1] == 1 else None
+    (run or _batch_stationary_generic)(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
+
+
+# one compiled entry per number of states (a literal argument given from Python would be
+# typed again on every call, about 0.1 s each)
+@njit(cache=True, error_model="numpy")
+def _batch_stationary_1(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
+    _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 1)
+
+
+@njit(cache=True, error_model="numpy")
+def _batch_stationary_2(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
+    _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 2)
+
+
+@njit(cache=True, error_model="numpy")
+def _batch_stationary_3(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
+    _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 3)
+
+
+@njit(cache=True, error_model="numpy")
+def _batch_stationary_4(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
+    _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 4)
+
+
+_BATCH_STATIONARY_FIXED = {
+    1: _batch_stationary_1,
+    2: _batch_stationary_2,
+    3: _batch_stationary_3,
+    4: _batch_stationary_4,
+}
+
+
+@njit(cache=True, error_model="numpy")
+def _batch_stationary_generic(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh):
+    """:func:`_batch_stationary` for any number of states and outputs."""
     n, B = Z.shape
     ny, m, N = Y.shape[1], U.shape[1], Y.shape[0]
-    if ny == 1 and k0 < N:
-        if n == 1:
-            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 1)
-            return
-        if n == 2:
-            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 2)
-            return
-        if n == 3:
-            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 3)
-            return
-        if n == 4:
-            _batch_stationary_fixed(k0, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh, 4)
-            return
     v = np.empty(B)
     acc = np.empty(B)
     for k in range(k0, N):
@@ -1196,7 +1230,10 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
                 all_steady = False
         if all_steady:
             break
-        Pprior[:, :, :] = Pc
+        for i in range(n):
+            for j in range(n):
+                for t in range(NU):
+                    Pprior[i, j, t] = Pc[i, j, t]
         for r in range(ny):
             y = Y[k, r]
             for b in range(B):
@@ -1311,15 +1348,9 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
         k += 1
     for b in range(B):
         dead[b] = dead_c[cov_of[b]]
-    if k < N:
-        _batch_stationary(k, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
-    out = np.empty(B)
-    for b in range(B):
-        out[b] = -np.inf if dead[b] or not math.isfinite(LL[b]) else LL[b]
-    return out
+    return k, dead, (Z, KF, S, LS, CZ, E, GA, GB, LL)
 
 
-@njit(cache=True, error_model="numpy")
 def loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start):
     """Log-likelihoods at the rows of ``thetas`` (see :func:`loglike_theta`), equal to
     evaluating them one by one (the same floating-point operations).
@@ -1328,19 +1359,38 @@ def loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start):
     interrupt (:func:`stationary_from`); the rows then advance together, sample by sample, with
     the innermost loops over the rows, so the independent recursions overlap in the processor
     instead of each waiting on its own chain of dependent operations.
+
+    The stages are compiled separately and joined here: a compiled caller would link its
+    callees' code into its own and optimise it again, once per level.
     """
+    N = Y.shape[0]
+    start = stationary_from(dts, Y, seg_start)
+    complete = N > 0 and not np.isnan(Y[0]).any()
+    if complete and start == 1 and seg_start.size == 0:
+        k, dead, batch = _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh)
+        _batch_stationary(k, *batch, U, Y, foh)
+        LL = batch[-1]
+        return np.where(dead | ~np.isfinite(LL), -np.inf, LL)
+    out, kst, kmax, batch = _loglike_batch_rows(thetas, tr, st, C, dts, U, Y, foh, seg_start, start)
+    if kmax >= 0:
+        _batch_stationary(kmax, *batch, U, Y, foh)
+        handed = kst < N
+        out[handed] = batch[-1][handed]
+    out[~np.isfinite(out)] = -np.inf
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def _loglike_batch_rows(thetas, tr, st, C, dts, U, Y, foh, seg_start, start):
+    """:func:`loglike_batch`'s rows filtered one by one until each is stationary: the
+    log-likelihoods of the rows that never are, the sample each was handed over at (``N``:
+    never), the latest of them (``-1``: none) and the batch arrays, every handed-over row
+    brought to that latest sample."""
     B = thetas.shape[0]
     N = Y.shape[0]
     n = st[0].size
     ny = C.shape[0]
     m = U.shape[1]
-    start = stationary_from(dts, Y, seg_start)
-    complete = True
-    for r in range(ny):
-        if N == 0 or math.isnan(Y[0, r]):
-            complete = False
-    if complete and start == 1 and seg_start.size == 0:
-        return _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh)
     out = np.empty(B)
     Z = np.zeros((n, B))
     KF = np.zeros((ny, n, B))
@@ -1377,21 +1427,13 @@ def loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start):
                 KF[r, i, b] = hand[2][r, i]
                 CZ[r, i, b] = hand[5][r, i]
     if kmax >= 0:
-        # the rows that became stationary earlier catch up one by one, then all go together
+        # the rows that became stationary earlier catch up one by one
         for b in range(B):
             if kst[b] < kmax:
                 _stationary_steps(kst[b], kmax, b, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
-        _batch_stationary(kmax, Z, KF, S, LS, CZ, E, GA, GB, LL, U, Y, foh)
-        for b in range(B):
-            if kst[b] < N:
-                out[b] = LL[b]
-    for b in range(B):
-        if not math.isfinite(out[b]):
-            out[b] = -np.inf
-    return out
+    return out, kst, kmax, (Z, KF, S, LS, CZ, E, GA, GB, LL)
 
 
-@njit(cache=True, error_model="numpy")
 def negloglike_and_gradient(theta, tr, st, C, dts, U, Y, foh, seg_start, rel_step):
     """Negative log-likelihood and its central-difference gradient in ``theta`` (the ``2p + 1``
     likelihoods evaluated together by :func:`loglike_batch`)."""

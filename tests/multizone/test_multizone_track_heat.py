@@ -139,3 +139,25 @@ def test_result_frames_hold_their_own_data():
     assert np.all(tracked.reference.to_numpy() == reference)
     sim.track(reference + 1.0, method="inverse")
     np.testing.assert_array_equal(tracked.heat.to_numpy(), heat_before)
+
+
+def test_the_time_loop_is_compiled_for_writable_arrays_only():
+    """Every mode gives the time loop writable arrays: one read-only argument (a broadcast
+    view of the PID's coefficients or heat limits did) compiles the whole loop a second time,
+    about 12 s of a first run. Checked on every signature this process has compiled."""
+    from numba import types
+
+    from thermocal.multizone import _kernel
+
+    sim, reference, _ = _case()
+    nz = reference.shape[1]
+    sim.track_heat(reference, method="pid", pid=_pid(nz), limits=(-1e4, 1e4))
+    sim.track_heat(reference, method="pid", pid=tuple(float(c[0]) for c in _pid(nz)))
+    sim.track_heat(reference)
+    read_only = [
+        (i, t)
+        for signature in _kernel.run_steps.signatures
+        for i, t in enumerate(signature)
+        if isinstance(t, types.Array) and not t.mutable
+    ]
+    assert not read_only

@@ -228,15 +228,17 @@ def _pid_coefficients(method: str, pid, n_tracked: int) -> tuple:
         return (np.zeros(n_tracked), np.zeros(n_tracked), np.zeros(n_tracked))
     if pid is None:
         raise ThermocalInputError("track: method='pid' needs the controller coefficients")
-    return tuple(np.ascontiguousarray(np.broadcast_to(c, n_tracked), dtype=float) for c in pid)
+    # copies: a broadcast view is read-only, and the kernel compiled for read-only arrays is a
+    # second compilation of the whole time loop (about 12 s on a first run)
+    return tuple(np.array(np.broadcast_to(c, n_tracked), dtype=float) for c in pid)
 
 
 def _heat_limits(limits, n_tracked: int) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper limit of each tracked zone's PID output [W] (unlimited when None)."""
     if limits is None:
         return np.full(n_tracked, -np.inf), np.full(n_tracked, np.inf)
-    q_low = np.ascontiguousarray(np.broadcast_to(limits[0], n_tracked), dtype=float)
-    q_high = np.ascontiguousarray(np.broadcast_to(limits[1], n_tracked), dtype=float)
+    q_low = np.array(np.broadcast_to(limits[0], n_tracked), dtype=float)
+    q_high = np.array(np.broadcast_to(limits[1], n_tracked), dtype=float)
     if np.any(q_low > q_high):
         raise ThermocalInputError("track: a lower heat limit exceeds its upper limit")
     return q_low, q_high

@@ -142,18 +142,23 @@ def test_result_frames_hold_their_own_data():
 
 
 def test_the_time_loop_is_compiled_for_writable_arrays_only():
-    """Every mode gives the time loop writable arrays: one read-only argument (a broadcast
-    view of the PID's coefficients or heat limits did) compiles the whole loop a second time,
+    """Every mode gives the time loop writable arrays, whatever the caller gives: one read-only
+    argument (a broadcast view of the PID's coefficients or heat limits did, and a reference or
+    heat input from a pandas frame under copy-on-write) compiles the whole loop a second time,
     about 12 s of a first run. Checked on every signature this process has compiled."""
     from numba import types
 
     from thermocal.multizone import _kernel
 
-    sim, reference, _ = _case()
+    sim, reference, heat = _case()
     nz = reference.shape[1]
     sim.track_heat(reference, method="pid", pid=_pid(nz), limits=(-1e4, 1e4))
     sim.track_heat(reference, method="pid", pid=tuple(float(c[0]) for c in _pid(nz)))
-    sim.track_heat(reference)
+    # a user's read-only arrays (a pandas frame's values under copy-on-write)
+    frozen_reference, frozen_heat = reference.copy(), heat.copy()
+    frozen_reference.flags.writeable = frozen_heat.flags.writeable = False
+    sim.track_heat(frozen_reference)
+    sim.run(free_float=True, heat_input=frozen_heat)
     read_only = [
         (i, t)
         for signature in _kernel.run_steps.signatures

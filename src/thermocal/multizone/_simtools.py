@@ -54,6 +54,14 @@ _NO_TRACKED_AIR = (
 )
 
 
+def kernel_array(values) -> np.ndarray:
+    """``values`` as the time loop takes them: contiguous float64 and writable, copied only when
+    needed. A read-only array (a broadcast view, a pandas frame's values under copy-on-write)
+    would compile the whole loop a second time, for that type: about 12 s of a first run."""
+    array = np.ascontiguousarray(values, dtype=float)
+    return array if array.flags.writeable else array.copy()
+
+
 def _no_tracking(n: int) -> dict:
     """Kernel arguments of the tracking modes when no zone is tracked."""
     empty = np.zeros(0)

@@ -17,6 +17,7 @@ from thermocal.multizone._simtools import (
     _NO_VENT,
     _Context,
     _no_tracking,
+    kernel_array,
 )
 from thermocal.multizone.network import WINDOW_TEMPERATURE_GRID
 
@@ -146,7 +147,7 @@ class Stepping:
                 context.c_dt,
                 *self._b,
                 context.inputs,
-                np.ascontiguousarray(heat, dtype=float),
+                kernel_array(heat),
                 *context.factors,
                 net.ext_node,
                 self._ext_area_eps,

@@ -18,7 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone._simtools import _progress, _tracking_form
+from thermocal.multizone._simtools import _progress, _tracking_form, kernel_array
 from thermocal.multizone._tracking import _chunks, _radiant_rows
 
 
@@ -132,7 +132,7 @@ class TrackedHeat:
         n_steps = len(self.times)
         tracked = self._zone_indices(zones)
         nt = len(tracked)
-        reference = np.ascontiguousarray(reference, dtype=float)
+        reference = kernel_array(reference)
         if reference.shape != (n_steps, nt):
             raise ThermocalInputError(
                 f"track: reference must have shape (n_steps, n_zones) = ({n_steps}, {nt}), got "
@@ -228,17 +228,15 @@ def _pid_coefficients(method: str, pid, n_tracked: int) -> tuple:
         return (np.zeros(n_tracked), np.zeros(n_tracked), np.zeros(n_tracked))
     if pid is None:
         raise ThermocalInputError("track: method='pid' needs the controller coefficients")
-    # copies: a broadcast view is read-only, and the kernel compiled for read-only arrays is a
-    # second compilation of the whole time loop (about 12 s on a first run)
-    return tuple(np.array(np.broadcast_to(c, n_tracked), dtype=float) for c in pid)
+    return tuple(kernel_array(np.broadcast_to(c, n_tracked)) for c in pid)
 
 
 def _heat_limits(limits, n_tracked: int) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper limit of each tracked zone's PID output [W] (unlimited when None)."""
     if limits is None:
         return np.full(n_tracked, -np.inf), np.full(n_tracked, np.inf)
-    q_low = np.array(np.broadcast_to(limits[0], n_tracked), dtype=float)
-    q_high = np.array(np.broadcast_to(limits[1], n_tracked), dtype=float)
+    q_low = kernel_array(np.broadcast_to(limits[0], n_tracked))
+    q_high = kernel_array(np.broadcast_to(limits[1], n_tracked))
     if np.any(q_low > q_high):
         raise ThermocalInputError("track: a lower heat limit exceeds its upper limit")
     return q_low, q_high

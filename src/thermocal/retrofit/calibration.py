@@ -1128,7 +1128,7 @@ def calibrate_to_heat(
         scaled_envelope,
     )
     from thermocal.retrofit.demand import DEMAND_INPUTS
-    from thermocal.retrofit.gate import heat_to_follow_measured
+    from thermocal.retrofit.gate import follow_inputs, heat_to_follow
     from thermocal.retrofit.model import system_matrices
 
     t0 = time.perf_counter()
@@ -1165,12 +1165,14 @@ def calibrate_to_heat(
         a, b = system_matrices(model.conductances(env), p)
         return steady_states_with_indoor(a, b, u_mean, ti0)[0]
 
+    follow = follow_inputs(u, setpoint, g_in)  # the measured series once, not per evaluation
+
     def data_resid(z, block):
         p, env = unpack(z)
-        q = heat_to_follow_measured(model, p, env, start(p, env), u, setpoint, g_in)
+        q = heat_to_follow(model, p, env, start(p, env), follow)
         n_keep = len(kept) // block * block
         rows = kept[-n_keep:] if n_keep else kept
-        r = (q.to_numpy(float)[rows] - meas[rows]) / 1000.0  # [kW]
+        r = (q[rows] - meas[rows]) / 1000.0  # [kW]
         return r.reshape(-1, block).mean(axis=1) if n_keep else r
 
     def noise_scale(e, k):

@@ -28,6 +28,8 @@ ASHRAE Guideline 14-2014, Measurement of Energy, Demand, and Water Savings, clau
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import pandas as pd
 
@@ -69,6 +71,56 @@ def ashrae14_statistics(simulated, measured, p: int = 1) -> dict[str, float]:
     }
 
 
+class FollowInputs(NamedTuple):
+    """The measured series of :func:`heat_to_follow_measured` as arrays, prepared once for
+    many parameter sets (a fit evaluates thousands)."""
+
+    dt: float  # [s]
+    u: np.ndarray  # inputs, gaps interpolated
+    ti: np.ndarray  # measured indoor temperature [C], gaps interpolated
+    gains: np.ndarray | None  # internal gains into the air node [W]
+
+
+def follow_inputs(
+    inputs: pd.DataFrame, measured_ti: pd.Series, gains: pd.Series | None = None
+) -> FollowInputs:
+    """:class:`FollowInputs` of ``inputs`` (regular index, the columns of
+    :data:`thermocal.retrofit.demand.DEMAND_INPUTS`), ``measured_ti`` [C] and ``gains`` [W]
+    (see :func:`heat_to_follow_measured`)."""
+    from thermocal.retrofit.demand import DEMAND_INPUTS
+
+    dt = (inputs.index[1] - inputs.index[0]).total_seconds()
+    u = inputs[list(DEMAND_INPUTS)].interpolate(limit_direction="both").to_numpy(float)
+    ti = measured_ti.interpolate(limit_direction="both").to_numpy(float)
+    g = None if gains is None else gains.interpolate(limit_direction="both").to_numpy(float)
+    return FollowInputs(float(dt), u, ti, g)
+
+
+def heat_to_follow(
+    model, params_si: dict, envelope, x_start: np.ndarray, follow: FollowInputs
+) -> np.ndarray:
+    """:func:`heat_to_follow_measured` on prepared arrays (:func:`follow_inputs`) [W]."""
+    from thermocal.retrofit.model import discrete_system_matrices
+    from thermocal.retrofit.simulation import ideal_heating_batch
+
+    ti, u = follow.ti, follow.u
+    # the controller's set point applies at the END of each interval: the next interval's Ti
+    sp = np.append(ti[1:], ti[-1])
+    p = {k: np.atleast_1d(float(v)) for k, v in params_si.items()}
+    h = model.conductances(envelope)
+    ad, bd = discrete_system_matrices(h, p, follow.dt, indoor_input=True)
+    if follow.gains is not None:
+        from thermocal.retrofit.demand import with_gains
+        from thermocal.retrofit.model import system_matrices
+
+        a, b = system_matrices(h, p, indoor_input=True)
+        _, _, ad, bd, u = with_gains(a, b, ad, bd, u, follow.gains, None)
+    x0 = np.asarray(x_start, float)[: ad.shape[1]].copy()
+    x0[0] = ti[0]
+    q, _, _ = ideal_heating_batch(ad, bd, x0[None, :], u, sp)
+    return q[0]
+
+
 def heat_to_follow_measured(
     model,
     params_si: dict,
@@ -104,29 +156,9 @@ def heat_to_follow_measured(
     -------
     pd.Series [W], interval means on ``inputs.index``.
     """
-    from thermocal.retrofit.demand import DEMAND_INPUTS
-    from thermocal.retrofit.model import discrete_system_matrices
-    from thermocal.retrofit.simulation import ideal_heating_batch
-
-    dt = (inputs.index[1] - inputs.index[0]).total_seconds()
-    u = inputs[list(DEMAND_INPUTS)].interpolate(limit_direction="both").to_numpy(float)
-    ti = measured_ti.interpolate(limit_direction="both").to_numpy(float)
-    # the controller's set point applies at the END of each interval: the next interval's Ti
-    sp = np.append(ti[1:], ti[-1])
-    p = {k: np.atleast_1d(float(v)) for k, v in params_si.items()}
-    h = model.conductances(envelope)
-    ad, bd = discrete_system_matrices(h, p, dt, indoor_input=True)
-    if gains is not None:
-        from thermocal.retrofit.demand import with_gains
-        from thermocal.retrofit.model import system_matrices
-
-        a, b = system_matrices(h, p, indoor_input=True)
-        g = gains.interpolate(limit_direction="both").to_numpy(float)
-        _, _, ad, bd, u = with_gains(a, b, ad, bd, u, g, None)
-    x0 = np.asarray(x_start, float)[: ad.shape[1]].copy()
-    x0[0] = ti[0]
-    q, _, _ = ideal_heating_batch(ad, bd, x0[None, :], u, sp)
-    return pd.Series(q[0], index=inputs.index, name="phi_h_model")
+    follow = follow_inputs(inputs, measured_ti, gains)
+    q = heat_to_follow(model, params_si, envelope, x_start, follow)
+    return pd.Series(q, index=inputs.index, name="phi_h_model")
 
 
 def heat_validation(simulated_w: pd.Series, measured_w: pd.Series) -> dict[str, float]:

@@ -1164,7 +1164,12 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     from thermocal.retrofit.calibration import OUTPUT_COLUMN
     from thermocal.retrofit.data import log_interval, values_in_file_units
     from thermocal.retrofit.demand import DEMAND_INPUTS, simulate_demand
-    from thermocal.retrofit.gate import ashrae14_statistics, heat_to_follow_measured
+    from thermocal.retrofit.gate import (
+        ashrae14_statistics,
+        follow_inputs,
+        heat_to_follow,
+        heat_to_follow_measured,
+    )
     from thermocal.retrofit.metrics import daily_profile
     from thermocal.retrofit.strategies import Strategy
     from thermocal.retrofit.workflow import calibration_method, interior_for
@@ -1402,13 +1407,15 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     post_rows = frame.index >= post[0]
     post_days = frame.index.normalize().isin(d_post.index) & post_rows
     post_ratio_d = np.empty(a_pre.shape[1])
+    follow = follow_inputs(
+        frame[list(DEMAND_INPUTS)], setpoint, frame["phi_int"] if has_gains else None
+    )
     for d in range(a_pre.shape[1]):
         sums = []
         for k in (0, 1):
-            q = heat_to_follow_measured(
+            q = heat_to_follow(
                 model, {n: float(draws_pre[n][d]) for n in ESTIMATED_PARAMETERS},
-                _envelope_of(env_pre[k], d), cal_pre.x0, frame[list(DEMAND_INPUTS)],
-                setpoint, frame["phi_int"] if has_gains else None,
+                _envelope_of(env_pre[k], d), cal_pre.x0, follow,
             )  # fmt: skip
             sums.append(float(q[post_days].sum()))
         post_ratio_d[d] = sums[1] / sums[0] if sums[0] > 0 else float("nan")

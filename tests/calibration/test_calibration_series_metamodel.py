@@ -140,3 +140,22 @@ def test_auto_keeps_the_affine_form_when_the_heat_is_affine():
     X, y, series, nominal, _ = _campaign(n=24)
     model = SeriesSurrogate(series=series, nominal=nominal, cv_folds=5, seed=1, terms="auto")
     assert model.fit(X, y).terms_ == "affine", model.term_errors_
+
+
+def test_a_straight_line_the_curvature_beats_out_of_fold_is_flagged():
+    """The affine form on heat that goes as 1 / (R + films) is flagged with its remedy (a
+    re-analysis with the curvature); not once the curvature is used, nor on affine heat."""
+    from thermocal.calibration.flags import linearisation_flag
+
+    X, y, S, nominal, segments, _ = _conduction_campaign()
+    affine = SeriesSurrogate(series=S, nominal=nominal, segments=segments, seed=1, terms="affine")
+    flag = linearisation_flag(affine.fit(X, y))
+    assert flag is not None and flag["kind"] == "linearisation"
+    assert flag["quadratic_W"] <= 0.5 * flag["affine_W"]
+    assert "metamodel.series_terms: auto" in flag["text"] and "--reanalyse" in flag["text"]
+    auto = SeriesSurrogate(series=S, nominal=nominal, segments=segments, seed=1, terms="auto")
+    assert linearisation_flag(auto.fit(X, y)) is None
+    X, y, series, nominal, _ = _campaign(n=24)
+    flat = SeriesSurrogate(series=series, nominal=nominal, cv_folds=5, seed=1, terms="affine")
+    assert linearisation_flag(flat.fit(X, y)) is None
+    assert linearisation_flag(None) is None

@@ -30,6 +30,18 @@ def shared_data_path(*parts: str) -> Path:
     return path
 
 
+def load_script(path: Path, name: str | None = None):
+    """A reference script (``tests/reference/...``) imported from its file as a module named
+    ``name`` (default: its file's stem): the scripts are not packages, and several folders
+    hold a ``make_reference.py`` or a ``calibrate_twin.py`` of the same name."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name or Path(path).stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 #: Skip mark of the tests that run EnergyPlus 25.2 as the reference.
 requires_energyplus = pytest.mark.skipif(
     energyplus_executable() is None,

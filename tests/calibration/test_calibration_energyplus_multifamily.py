@@ -33,7 +33,6 @@ the time). Needs EnergyPlus only for its weather file.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import sys
 import warnings
@@ -42,7 +41,7 @@ from pathlib import Path
 import pytest
 from twin_checks import check_metric_near_the_true_envelope
 
-from conftest import requires_energyplus
+from conftest import load_script, requires_energyplus
 
 REFERENCE = Path(__file__).resolve().parents[1] / "reference"
 FOLDER = REFERENCE / "calibration_energyplus_multifamily"
@@ -58,12 +57,7 @@ def _twin_script():
     """The multifamily twin's script, loaded from its file (the 5-zone twin's script has the
     same module name and is imported by it as ``calibrate_twin``)."""
     sys.path.insert(0, str(REFERENCE / "calibration_energyplus_5zone"))
-    spec = importlib.util.spec_from_file_location(
-        "calibrate_twin_multifamily", FOLDER / "calibrate_twin.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(FOLDER / "calibrate_twin.py", "calibrate_twin_multifamily")
 
 
 @pytest.fixture(scope="module")

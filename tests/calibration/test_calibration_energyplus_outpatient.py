@@ -28,7 +28,6 @@ A heavy reference run (71-98 s): it runs with ``THERMOCAL_REFERENCE_RUNS=1`` onl
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import sys
 import warnings
@@ -37,7 +36,7 @@ from pathlib import Path
 import pytest
 from twin_checks import check_metric_near_the_true_envelope
 
-from conftest import reference_run, requires_energyplus
+from conftest import load_script, reference_run, requires_energyplus
 
 REFERENCE = Path(__file__).resolve().parents[1] / "reference"
 FOLDER = REFERENCE / "calibration_energyplus_outpatient"
@@ -60,12 +59,7 @@ def _twin_script():
     if missing:
         pytest.skip(f"the outpatient twin's files are absent: {missing}")
     sys.path.insert(0, str(REFERENCE / "calibration_energyplus_5zone"))
-    spec = importlib.util.spec_from_file_location(
-        "calibrate_twin_outpatient", FOLDER / "calibrate_twin.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(FOLDER / "calibrate_twin.py", "calibrate_twin_outpatient")
 
 
 @pytest.fixture(scope="module")

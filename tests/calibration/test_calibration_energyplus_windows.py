@@ -35,7 +35,6 @@ A heavy reference run (about 20 s): it runs with ``THERMOCAL_REFERENCE_RUNS=1`` 
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import warnings
 from pathlib import Path
@@ -44,7 +43,7 @@ import numpy as np
 import pytest
 from twin_checks import check_metric_near_the_true_envelope
 
-from conftest import reference_run, requires_energyplus, shared_data_path
+from conftest import load_script, reference_run, requires_energyplus, shared_data_path
 
 FOLDER = Path(__file__).resolve().parents[1] / "reference" / "calibration_energyplus_5zone_windows"
 
@@ -60,12 +59,7 @@ WINDOW_U = "window/Dbl Clr 3mm/13mm Air/u_value"
 def _twin_script():
     """This twin's ``calibrate_twin.py``, loaded from its file (the 5-zone twin's script has
     the same module name)."""
-    spec = importlib.util.spec_from_file_location(
-        "calibrate_twin_windows", FOLDER / "calibrate_twin.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(FOLDER / "calibrate_twin.py", "calibrate_twin_windows")
 
 
 @pytest.fixture(scope="module")

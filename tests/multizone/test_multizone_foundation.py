@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import load_script
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone.foundation import (
     KIVA_DEFAULT_SOIL,
@@ -92,20 +93,11 @@ def test_the_section_against_an_independent_kiva_like_solution(soil, floor):
     Kiva's ``Foundation.cpp`` builds it (the slab meshed in 2-D with the soil and the footing
     wall; ``diagnose_floor_section.py``, which reproduces IEA BESTEST GC30a within 1 % of
     Kiva's 2,650 W). Measured 2026-11-30: +6.9, -3.6, +4.4, +7.8 and +2.8 %."""
-    section = _load_script(REF / "diagnose_floor_section.py")
+    section = load_script(REF / "diagnose_floor_section.py")
     independent = section.kiva_section(floor, soil_k=soil)
     ground = FoundationGround(PERIMETER, soil=(soil, 1510.0, 1260.0), wall_layers=WALL)
     value = steady_floor_conductance(ground, AREA, floor, inside_resistance=1e-9)
     assert value == pytest.approx(independent, rel=0.10)
-
-
-def _load_script(path: Path):
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(path.stem, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def test_the_insulation_keeps_the_edge_through_the_wall():
@@ -160,16 +152,13 @@ def test_house_steady_heat_loss_against_energyplus(tmp_path):
     286.5 W/K against EnergyPlus's 299.2 (-4.2 %; floors adiabatic 246.1 against 246.0, so the
     two floors' ground 40 against 53 W/K). The ground starts in its steady state
     (``Simulation._initial_state``), as Kiva's does; half a year lets the rest settle."""
-    import importlib.util
     import warnings
 
     from conftest import shared_data_path
     from thermocal.io.weather import read_weather
     from thermocal.multizone import Simulation, load_building
 
-    spec = importlib.util.spec_from_file_location("make_reference_house", REF / "make_reference.py")
-    mr = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mr)
+    mr = load_script(REF / "make_reference.py", "make_reference_house")
     epw = shared_data_path("weather_switzerland", "Zuerich-SMA_2015.epw")
     weather, meta = read_weather(mr.steady_weather(Path(epw), tmp_path / "steady.epw"))
     idf = tmp_path / "house_without_gains.idf"

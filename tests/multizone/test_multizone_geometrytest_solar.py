@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import shared_data_path
+from conftest import load_script, shared_data_path
 from thermocal.io.weather import read_weather
 from thermocal.multizone.idf import read_idf
 from thermocal.multizone.simulation import Simulation
@@ -36,12 +36,7 @@ REF = Path(__file__).resolve().parents[1] / "reference" / "geometrytest_solar"
 
 
 def _measure():
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("geometrytest_measure", REF / "measure.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(REF / "measure.py", "geometrytest_measure")
 
 
 def _simulation(tmp_path, text, begin, end, **kwargs):

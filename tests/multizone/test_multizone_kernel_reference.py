@@ -11,21 +11,19 @@ fused multiply-adds differently).
 
 from __future__ import annotations
 
-import importlib.util
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from conftest import load_script
+
 REFERENCE = Path(__file__).resolve().parents[1] / "reference" / "kernel_outputs"
 
 
 def _maker():
-    spec = importlib.util.spec_from_file_location("make_reference", REFERENCE / "make_reference.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(REFERENCE / "make_reference.py")
 
 
 @pytest.fixture(scope="module")

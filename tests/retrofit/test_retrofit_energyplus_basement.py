@@ -35,7 +35,6 @@ temperature fit: +14.3 %, +25.6 %, 11 of 15, 13.3 pp, bias -3.03 K.)
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from pathlib import Path
 
@@ -44,7 +43,7 @@ import pytest
 import yaml
 from typer.testing import CliRunner
 
-from conftest import shared_data_path
+from conftest import load_script, shared_data_path
 from thermocal.cli import app
 from thermocal.multizone.idf.parse import parse_idf
 
@@ -53,12 +52,7 @@ MEASURES = ("attic_ceiling", "walls", "windows", "cellar_ceiling")
 
 
 def _script():
-    spec = importlib.util.spec_from_file_location(
-        "make_reference_basement", REF / "make_reference.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(REF / "make_reference.py", "make_reference_basement")
 
 
 def _reference() -> dict:

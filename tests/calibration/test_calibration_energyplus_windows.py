@@ -128,7 +128,10 @@ ERROR_CASES = [
         ROOF,
         marks=_xfail(
             "measured 2026-11-30: roof 3.040 m2 K/W against a truth of 2.553 (+19.1 %; "
-            "median 3.096 [2.905, 3.309]); with the floor's range widened to +-150 % +3.6 %"
+            "median 3.096 [2.905, 3.309]); with the floor's range widened to +-150 % +3.6 %. "
+            "The series meta-model's straight line in log R (flagged, next tests): the forward "
+            "model agrees with EnergyPlus element by element (diagnose_forward_bias.py), a "
+            "re-analysis with series_terms: auto gives +3.0 % [2.482, 2.813]"
         ),
         id="roof",
     ),
@@ -157,7 +160,8 @@ COVER_CASES = [
         ROOF,
         marks=_xfail(
             "measured 2026-11-30: the roof's 90 % interval [2.905, 3.309] m2 K/W lies wholly "
-            "above the truth 2.553"
+            "above the truth 2.553 (the straight line in log R; with series_terms: auto "
+            "[2.482, 2.813] covers it)"
         ),
         id="roof",
     ),
@@ -190,6 +194,15 @@ def test_the_floor_outside_the_default_range_is_flagged_at_its_bound(twin):
     range's upper bound and says the range may be too narrow."""
     texts = " ".join(str(f.get("text", f)) for f in twin["flags"])
     assert "FLOOR-SLAB-1/resistance ends at its upper sampling bound" in texts, texts
+
+
+def test_the_straight_line_in_log_r_is_flagged_with_its_remedy(twin):
+    """The roof's +19 % is the series meta-model's straight line in log R, not the forward model
+    (``diagnose_forward_bias.py``): the calibration says so, with the two forms' out-of-fold
+    errors (measured 2026-11-30: 67 against 14 W) and the re-analysis that removes it (+3 %)."""
+    (flag,) = [f for f in twin["flags"] if f.get("kind") == "linearisation"]
+    assert flag["quadratic_W"] <= 0.5 * flag["affine_W"], flag
+    assert "series_terms: auto" in flag["text"] and "--reanalyse" in flag["text"]
 
 
 def test_the_shgc_stops_at_what_the_glazing_can_give_and_is_flagged_as_the_models_limit(twin):

@@ -93,7 +93,8 @@ def follow_inputs(
     u = inputs[list(DEMAND_INPUTS)].interpolate(limit_direction="both").to_numpy(float)
     ti = measured_ti.interpolate(limit_direction="both").to_numpy(float)
     g = None if gains is None else gains.interpolate(limit_direction="both").to_numpy(float)
-    return FollowInputs(float(dt), u, ti, g)
+    # C-ordered once: the controller would copy a frame's (column-ordered) values each time
+    return FollowInputs(float(dt), np.ascontiguousarray(u), ti, g)
 
 
 def heat_to_follow(

@@ -1059,7 +1059,7 @@ def _parameter_sets(h: dict, p: dict, indoor_input: bool):
     values.setdefault("g_factor", np.ones(1))
     values.update({k: np.atleast_1d(np.asarray(p[k], dtype=float)) for k in ESTIMATED_PARAMETERS})
     n = max(v.shape[0] for v in values.values())
-    values = {k: v if v.shape[0] == n else np.broadcast_to(v, (n,)) for k, v in values.items()}
+    values = {k: v if v.shape == (n,) else np.broadcast_to(v, (n,)) for k, v in values.items()}
     # retrofit measures on the ventilation part of H_est
     values["H_est"] = np.maximum(values["H_est"] + values["H_est_change"], 0.0)
     rc = simulation_network(values, demand=indoor_input)

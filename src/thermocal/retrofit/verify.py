@@ -1417,7 +1417,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
                 model, {n: float(draws_pre[n][d]) for n in ESTIMATED_PARAMETERS},
                 _envelope_of(env_pre[k], d), cal_pre.x0, follow,
             )  # fmt: skip
-            sums.append(float(q[post_days].sum()))
+            sums.append(float(np.nansum(q[post_days])))  # as a Series' sum
         post_ratio_d[d] = sums[1] / sums[0] if sums[0] > 0 else float("nan")
     post_ratio_d[0] = e_ret_model / e_base_model if e_base_model > 0 else float("nan")
     rng = np.random.default_rng(cfg.uncertainty.seed + 2161)

@@ -1438,17 +1438,12 @@ def negloglike_and_gradient(theta, tr, st, C, dts, U, Y, foh, seg_start, rel_ste
     """Negative log-likelihood and its central-difference gradient in ``theta`` (the ``2p + 1``
     likelihoods evaluated together by :func:`loglike_batch`)."""
     p = theta.size
-    thetas = np.empty((2 * p + 1, p))
-    steps = np.empty(p)
-    for j in range(2 * p + 1):
-        thetas[j, :] = theta
-    for i in range(p):
-        h = rel_step * max(1.0, abs(theta[i]))
-        steps[i] = h
-        thetas[1 + 2 * i, i] = theta[i] + h
-        thetas[2 + 2 * i, i] = theta[i] - h
+    steps = rel_step * np.maximum(1.0, np.abs(theta))
+    thetas = np.repeat(theta[None, :], 2 * p + 1, axis=0)
+    rows = np.arange(p)
+    thetas[1 + 2 * rows, rows] = theta + steps
+    thetas[2 + 2 * rows, rows] = theta - steps
     ll = loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start)
-    grad = np.empty(p)
-    for i in range(p):
-        grad[i] = (-ll[1 + 2 * i] - -ll[2 + 2 * i]) / (2.0 * steps[i])
+    with np.errstate(invalid="ignore"):  # both sides -inf: a nan, as in compiled code
+        grad = (ll[2::2] - ll[1::2]) / (2.0 * steps)
     return -ll[0], grad

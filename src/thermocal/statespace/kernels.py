@@ -1088,7 +1088,10 @@ def _loglike_batch_complete(thetas, tr, st, C, dts, U, Y, foh):
     interval: all rows' filters run together from the first sample (the innermost loops over
     the rows, also while the covariances are still converging); each row switches to its frozen
     gain when its own filter would (the same test), so the numbers are those of
-    :func:`kalman_filter` row by row."""
+    :func:`kalman_filter` row by row. Runs until every row's covariance is stationary and
+    returns that sample, the rows whose system is not finite and the batch arrays
+    ``(Z, KF, S, LS, CZ, E, GA, GB, LL)``: :func:`loglike_batch` finishes with
+    :func:`_batch_stationary`."""
     B = thetas.shape[0]
     N = Y.shape[0]
     n = st[0].size

@@ -1440,13 +1440,34 @@ def _loglike_batch_rows(thetas, tr, st, C, dts, U, Y, foh, seg_start, start):
 def negloglike_and_gradient(theta, tr, st, C, dts, U, Y, foh, seg_start, rel_step):
     """Negative log-likelihood and its central-difference gradient in ``theta`` (the ``2p + 1``
     likelihoods evaluated together by :func:`loglike_batch`)."""
-    p = theta.size
-    steps = rel_step * np.maximum(1.0, np.abs(theta))
-    thetas = np.repeat(theta[None, :], 2 * p + 1, axis=0)
-    rows = np.arange(p)
-    thetas[1 + 2 * rows, rows] = theta + steps
-    thetas[2 + 2 * rows, rows] = theta - steps
+    thetas, steps = _gradient_rows(theta, rel_step)
     ll = loglike_batch(thetas, tr, st, C, dts, U, Y, foh, seg_start)
-    with np.errstate(invalid="ignore"):  # both sides -inf: a nan, as in compiled code
-        grad = (ll[2::2] - ll[1::2]) / (2.0 * steps)
-    return -ll[0], grad
+    return -ll[0], _central_gradient(ll, steps)
+
+
+@njit(cache=True, error_model="numpy")
+def _gradient_rows(theta, rel_step):
+    """The ``2p + 1`` rows of :func:`negloglike_and_gradient` (``theta``, then each parameter
+    up and down by its step) and the steps."""
+    p = theta.size
+    thetas = np.empty((2 * p + 1, p))
+    steps = np.empty(p)
+    for j in range(2 * p + 1):
+        for i in range(p):
+            thetas[j, i] = theta[i]
+    for i in range(p):
+        h = rel_step * max(1.0, abs(theta[i]))
+        steps[i] = h
+        thetas[1 + 2 * i, i] = theta[i] + h
+        thetas[2 + 2 * i, i] = theta[i] - h
+    return thetas, steps
+
+
+@njit(cache=True, error_model="numpy")
+def _central_gradient(ll, steps):
+    """The negative log-likelihood's central differences from the rows' log-likelihoods."""
+    p = steps.size
+    grad = np.empty(p)
+    for i in range(p):
+        grad[i] = (-ll[1 + 2 * i] - -ll[2 + 2 * i]) / (2.0 * steps[i])
+    return grad

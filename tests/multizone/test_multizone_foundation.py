@@ -91,13 +91,32 @@ def test_the_section_against_an_independent_kiva_like_solution(soil, floor):
     """Below the floor's surface, thermocal's section (the slab a 1-D chain with a fin at its
     edge) within 10 % of an independent steady finite-volume solution of Kiva's section as
     Kiva's ``Foundation.cpp`` builds it (the slab meshed in 2-D with the soil and the footing
-    wall; ``diagnose_floor_section.py``, which reproduces IEA BESTEST GC30a within 1 % of
-    Kiva's 2,650 W). Measured 2026-11-30: +6.9, -3.6, +4.4, +7.8 and +2.8 %."""
+    wall; ``diagnose_floor_section.py``, checked against ISO 13370 by the next test). It
+    shares the mesh spacing and the grade's outdoor coefficient with thermocal's section, not
+    the slab's treatment. Measured 2026-11-30: +6.9, -3.6, +4.4, +7.8 and +2.8 %."""
     section = load_script(REF / "diagnose_floor_section.py")
     independent = section.kiva_section(floor, soil_k=soil)
     ground = FoundationGround(PERIMETER, soil=(soil, 1510.0, 1260.0), wall_layers=WALL)
     value = steady_floor_conductance(ground, AREA, floor, inside_resistance=1e-9)
     assert value == pytest.approx(independent, rel=0.10)
+
+
+def test_the_independent_section_meets_iso_13370_without_a_slab():
+    """The independent solution of the previous test in the limit ISO 13370's slab formula
+    describes (a floor of negligible thickness at the grade, its surface isothermal): within
+    3 % of the standard's ``2 lambda A / (pi B' + d_t) ln(pi B' / d_t + 1)`` with ``B' = 2 A /
+    P`` and ``d_t = w + lambda R_se`` (ISO 13370:2017, eq. for ``d_t < B'``; R_se 0.04 m2 K/W,
+    no inside film nor floor). Measured 2026-11-30: 59.8 against 60.3 W/K."""
+    section = load_script(REF / "diagnose_floor_section.py")
+    soil = KIVA_DEFAULT_SOIL[0]
+    thin_floor = [(1e-3, soil, 1510.0, 1260.0)]
+    independent = section.kiva_section(thin_floor, soil_k=soil, height=1e-3)
+    b_prime = 2.0 * AREA / PERIMETER
+    d_t = sum(layer[0] for layer in WALL) + soil * 0.04
+    iso = (
+        AREA * 2.0 * soil / (np.pi * b_prime + d_t) * np.log(np.pi * b_prime / d_t + 1.0)
+    )
+    assert independent == pytest.approx(iso, rel=0.03)
 
 
 def test_the_insulation_keeps_the_edge_through_the_wall():

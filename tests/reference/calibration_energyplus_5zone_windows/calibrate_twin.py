@@ -44,6 +44,17 @@ def _five_zone_script():
 
 base = _five_zone_script()
 
+
+def folder_make_reference():
+    """This folder's ``make_reference.py``, loaded from its file under its own name (the 5-zone
+    folder's script has the same file name and is imported by the 5-zone ``calibrate_twin``)."""
+    spec = importlib.util.spec_from_file_location(
+        "make_reference_windows", HERE / "make_reference.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
 WALL, ROOF = base.WALL, base.ROOF
 FLOOR = "construction/FLOOR-SLAB-1/resistance"
 WINDOW_U = "window/Dbl Clr 3mm/13mm Air/u_value"

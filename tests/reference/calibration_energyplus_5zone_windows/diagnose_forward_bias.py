@@ -47,7 +47,6 @@ heat from EnergyPlus' gains is (up to the closure) minus the sum of the elements
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import pickle
 import sys
@@ -62,6 +61,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "identification"))
 
+from calibrate_twin import folder_make_reference  # noqa: E402  (this folder, on the path when run)
 from energyplus_twin import (  # noqa: E402
     GAIN_VARIABLES,
     IDF_NAME,
@@ -70,18 +70,7 @@ from energyplus_twin import (  # noqa: E402
     without_loads,
 )
 
-
-def _this_make_reference():
-    """This folder's ``make_reference`` module (the 5-zone folder's has the same name)."""
-    spec = importlib.util.spec_from_file_location(
-        "make_reference_windows", HERE / "make_reference.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-mr = _this_make_reference()
+mr = folder_make_reference()
 PERIOD = ("2023-01-04", "2023-02-01")
 STEP = "15min"
 WARMUP_DAYS = 3

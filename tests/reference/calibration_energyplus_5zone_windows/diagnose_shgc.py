@@ -20,7 +20,6 @@ Two measurements, written to ``diagnose_shgc.json``:
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import tempfile
 import warnings
@@ -32,22 +31,12 @@ from calibrate_twin import (  # this folder's script (run as a script: its folde
     WINDOW_SHGC,
     WINDOW_U,
     base,
+    folder_make_reference,
     prepare,
     truth_file,
 )
 
-
-def _this_make_reference():
-    """This folder's ``make_reference`` module (the 5-zone folder's has the same name)."""
-    spec = importlib.util.spec_from_file_location(
-        "make_reference_windows", HERE / "make_reference.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-mr = _this_make_reference()
+mr = folder_make_reference()
 GLAZING = "Dbl Clr 3mm/13mm Air"
 SLICE = (0.60, 0.744, 0.7635, 0.80, 0.85, 0.875)
 

@@ -37,7 +37,6 @@ temperatures; the long-wave exchange linearised at the network's radiant tempera
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import json
 import sys
 import tempfile
@@ -50,6 +49,7 @@ from calibrate_twin import (  # this folder's script (run as a script: its folde
     HERE,
     WINDOW_SHGC,
     WINDOW_U,
+    folder_make_reference,
     truth_file,
 )
 
@@ -57,18 +57,7 @@ sys.path.insert(0, str(HERE.parents[1] / "identification"))
 
 from energyplus_twin import WEATHER_NAME, _class, _join, _objects, twin_idf  # noqa: E402
 
-
-def _this_make_reference():
-    """This folder's ``make_reference`` module (the 5-zone folder's has the same name)."""
-    spec = importlib.util.spec_from_file_location(
-        "make_reference_windows", HERE / "make_reference.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-mr = _this_make_reference()
+mr = folder_make_reference()
 GLAZING = mr.WINDOW
 #: office window -> its zone
 WINDOWS = {"WF-1": "SPACE1-1", "WR-1": "SPACE2-1", "WB-1": "SPACE3-1", "WL-1": "SPACE4-1"}

@@ -59,12 +59,14 @@ OUTPUTS = (
 )
 
 
-def balance(weather: Path, work: Path) -> pd.DataFrame:
-    """Monthly living-zone balance [kWh] of the reference house (hourly means summed)."""
-    df = mr._run(mr.house_idf() + OUTPUTS, weather, work)
+def paths(df: pd.DataFrame) -> pd.DataFrame:
+    """The living zone's balance, hourly [W], from a run with :data:`OUTPUTS`: the columns and
+    signs of ``balance.json`` (surfaces: inside-face conduction, positive into the zone;
+    windows: net heat out of the zone incl. the transmitted sun; infiltration: loss;
+    transmitted sun and gains: negative; heating: delivered)."""
     out = pd.DataFrame(index=df.index)
     for s in SURFACES:
-        # EnergyPlus: positive into the surface's inside face = out of the zone
+        # EnergyPlus: positive from the inside face into the zone (negative: a loss)
         out[s] = mr._col(df, f"{s}:Surface Inside Face Conduction")
     for w in WINDOWS:
         # net heat transfer: positive into the zone
@@ -85,7 +87,13 @@ def balance(weather: Path, work: Path) -> pd.DataFrame:
     out["gains_radiant"] = -mr._col(df, "Zone Total Internal Radiant Heating Rate")
     out["gains_visible"] = -mr._col(df, "Zone Total Internal Visible Radiation Heating Rate")
     out["heating"] = mr._col(df, "Zone Ideal Loads Zone Sensible Heating Rate")
-    monthly = out.resample("MS").sum() / 1000.0
+    return out
+
+
+def balance(weather: Path, work: Path) -> pd.DataFrame:
+    """Monthly living-zone balance [kWh] of the reference house (hourly means summed)."""
+    df = mr._run(mr.house_idf() + OUTPUTS, weather, work)
+    monthly = paths(df).resample("MS").sum() / 1000.0
     temps = pd.DataFrame(
         {
             "Ti": mr._col(df, "LIVING ZONE:Zone Mean Air"),

@@ -181,15 +181,14 @@ def test_group_metric_intervals_cover_the_energyplus_twin(twin):
     assert abs(rows["construction/ROOF-1/resistance"]["error"]) <= 0.03, rows
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="measured 2026-11-29 without the zoom stage (sampling.zoom: 0), the series "
-    "meta-model affine in log p fitted over the +-75 % prior: the zone-group metric's roof "
-    "4.86 [4.62, 5.12] m2K/W (truth 5.203, -6.5 %), its 90 % interval ending below the truth "
-    "(the log-linearisation of the roof's 1 / (R + films), diagnose_roof.md); removed by the "
-    "zoom stage (previous test) or the curvature term (next one)",
-)
 def test_group_metric_intervals_without_the_zoom_cover_the_energyplus_twin(twin):
+    """Without the zoom stage (``sampling.zoom: 0``), the first stage's campaign alone: measured
+    2026-11-30 with the series meta-model in the physical coordinates (the default): roof +2.6 %
+    (median 5.27 [4.87, 5.74], truth 5.203), wall -4.7 % (1.59 [1.41, 1.83], truth 1.613),
+    every interval covering, metric 1.02x the true envelope's. In the published coordinates
+    (affine in log p) the roof's interval ended below the truth: 4.86 [4.62, 5.12], -6.5 %
+    (the log-linearisation of the roof's 1 / (R + films), diagnose_roof.md; a strict xfail
+    until 2026-11-30)."""
     assert twin["no_zoom_runs"]["simulated"] == 0  # the first stage's runs, from the store
     assert twin["groups_no_zoom"]["zoom"] is None
     _check_coverage(twin["groups_no_zoom"])
@@ -257,12 +256,17 @@ def test_a_roof_plate_determines_roof_and_wall_with_the_building_metric(twin):
 def test_the_advice_names_the_plates_that_determine_roof_and_wall(twin):
     """With the building-total metric, where the data determine neither roof nor wall, the
     measurement advice (``posterior: {advise: true}``, no simulation) says which plate settles
-    them: on the wall, both; on the roof, the roof surely and the wall at its outer readings. Its
+    them: on the wall, both; on the roof, the roof surely and the wall at an outer reading. Its
     expected intervals hold against the real roof plate (EnergyPlus's roof, ISO 9869-1, read at
-    4.99 m2 K/W): in log space the roof's 90 % interval narrows to a width within 15 % of what
-    the real plate gave, and the wall's likewise (the affine meta-model's posterior narrows by
-    the same amount wherever the reading falls). Measured 2026-11-29: the roof 0.23 expected
-    (real 0.25), the wall 0.81 (0.87); the wall plate determines both with probability 1."""
+    4.99 m2 K/W, between the advice's median and upper readings): the log widths of the 90 %
+    intervals the real plate gave lie within what the advice expected over its three readings,
+    give or take 15 %, for the roof and for the wall. Measured 2026-11-30, in the physical
+    coordinates, where the narrowing depends on where the reading falls (the conductance
+    coordinate and the range's bounds): roof 0.218 / 0.230 / 0.177 expected at the lower,
+    median (3.5 m2 K/W) and upper readings, real 0.246; wall 0.577 / 0.841 / 0.606, real 0.662
+    (0.676 interpolated at the real reading). 2026-11-29, in
+    log p, where it does not: roof 0.23 (real 0.25), wall 0.81 (0.87). The wall plate determines
+    both with probability 1."""
     roof, wall = "construction/ROOF-1/resistance", "construction/WALL-1/resistance"
     advice = twin["building_advice"]
     assert advice["available"] and not advice["now"][roof]["determined"]
@@ -272,16 +276,22 @@ def test_the_advice_names_the_plates_that_determine_roof_and_wall(twin):
     assert plates[wall]["determined_probability"][roof] == 1.0
     assert plates[wall]["determined_probability"][wall] == 1.0
     assert plates[roof]["determined_probability"][roof] == 1.0
-    # the wall only after the roof's outer readings (1/6 each), not after its median
-    assert plates[roof]["determined_probability"][wall] == pytest.approx(1 / 3)
+    # the wall only after one of the roof's outer readings (weight 1/6), not after its median
+    # (after both while the meta-model was affine in log p, where the posterior narrows by the
+    # same amount wherever the reading falls)
+    assert plates[roof]["determined_probability"][wall] == pytest.approx(1 / 6)
     assert not plates[roof]["expected"][wall]["determined"]
     assert advice["summary"].startswith("A heat-flux plate on construction WALL-1")
     real = {r["parameter"]: r for r in twin["roof_plate"]["rows"]}
+    reading = twin["roof_plate_posterior"]["in_situ"][roof]["resistance_m2K_per_W"]
+    readings = np.log(plates[roof]["readings"])
+    assert readings[0] < np.log(reading) < readings[-1], (reading, readings)
     for name in (roof, wall):
-        expected = plates[roof]["expected"][name]
-        width = np.log(expected["q95"] / expected["q05"])
+        widths = [
+            np.log(e[name]["q95"] / e[name]["q05"]) for e in plates[roof]["expected_by_reading"]
+        ]
         real_width = np.log(real[name]["q95"] / real[name]["q05"])
-        assert abs(width / real_width - 1.0) < 0.15, (name, width, real_width)
+        assert 0.85 * min(widths) < real_width < 1.15 * max(widths), (name, widths, real_width)
 
 
 def test_the_reports_track_record_is_this_run(twin):

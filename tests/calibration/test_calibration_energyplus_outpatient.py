@@ -14,11 +14,15 @@ absorb, since the file's infiltration is a flow per exterior-wall area.
 
 Targets (issue 26 item 7): the element resistances the posterior declares determined within 15 % of
 the truth, their 90 % intervals covering it, the confirmed metric within 1.2x the true envelope's
-and never below it without a flag. Measured 2026-11-29 (this test's campaign, 16 s on a quiet 2-core
+and never below it without a flag. Measured 2026-11-30 with the series meta-model in the physical
+coordinates (the default since then): wall 1.207 m2 K/W, median 1.175 [1.082, 1.283] (truth 1.355,
+-10.9 %), roof 4.524, 4.369 [3.924, 4.624] (truth 4.391, +3.0 %), both determined, the wall's
+interval missing the truth (strict xfail below: the unvaried infiltration), metric 0.976x the true
+envelope's, flagged. In log p, measured 2026-11-29 (this test's campaign, 16 s on a quiet 2-core
 machine, the independent hours counted by the longer of the residual's integrated and lag-1
 autocorrelation times): wall 1.309 m2 K/W [1.179, 1.454] (truth 1.355, -3.4 %), roof 4.006 [3.733,
-4.300] (truth 4.391, -8.8 %), both determined, the roof's interval missing the truth (strict xfail
-below); metric 0.998x the true envelope's, flagged "below model error" (2026-11-28, by the lag-1
+4.300] (truth 4.391, -8.8 %), both determined, the roof's interval missing the truth (then a strict
+xfail); metric 0.998x the true envelope's, flagged "below model error" (2026-11-28, by the lag-1
 autocorrelation: wall 1.273 [1.173, 1.385], roof 4.029 [3.792, 4.273]). The script's campaign (32
 samples, 10 minutes): wall -2.9 % covered, roof -7.7 % [3.831, 4.285] missed, metric 1.002x. With
 the building-total metric nothing is determined (the script's ``results_fixed_infiltration.md``).
@@ -117,21 +121,25 @@ def test_the_groups_determine_wall_and_roof_within_15_percent(twin):
         assert abs(rows[name]["error"]) <= 0.15, rows[name]
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured 2026-11-30 with the series meta-model in the physical coordinates (the "
+    "default): the wall's resistance is determined at 1.207 m2 K/W (median 1.175), 90 % "
+    "interval [1.082, 1.283], against a truth of 1.355 (-10.9 %, inside the 15 % target): the "
+    "interval ends 5.3 % below. The unvaried infiltration (x1.4 in the truth) is a model error "
+    "the wall absorbs; with the curvature term the wall is -9.8 % [1.075, 1.263]; in log p "
+    "the wall covered ([1.128, 1.392], -7.5 %) and the roof missed (-8.8 %, [3.732, 4.300]), "
+    "the log-linearisation's bias offsetting the infiltration's on the wall",
+)
 def test_the_wall_interval_covers_the_truth(twin):
     row = _rows(twin)["Steel Frame Non-res Ext Wall"]
     assert row["covers"], row
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="measured 2026-11-29 (independent hours by the longer of the residual's integrated "
-    "and lag-1 autocorrelation times): the roof's resistance is determined at 4.006 m2 K/W, 90 % "
-    "interval [3.733, 4.300], against a truth of 4.391 (-8.8 %, inside the 15 % target): the "
-    "interval lies wholly below the truth (2026-11-28, lag-1: [3.792, 4.273]; 32 samples at 10 "
-    "minutes: 4.051 [3.831, 4.285], -7.7 %); the unvaried infiltration (x1.4 in the truth) and "
-    "the affine series meta-model's bias in log R are candidate causes, not separated",
-)
 def test_the_roof_interval_covers_the_truth(twin):
+    """Measured 2026-11-30 (physical coordinates): roof 4.524 m2 K/W, median 4.369 [3.924,
+    4.624] against 4.391 (+3.0 %). In log p its interval lay wholly below the truth: 4.006
+    [3.733, 4.300] (-8.8 %; a strict xfail until 2026-11-30)."""
     row = _rows(twin)["IEAD Non-res Roof"]
     assert row["covers"], row
 

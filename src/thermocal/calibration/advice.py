@@ -13,9 +13,10 @@ may give -- the parameter's present posterior (its 90 % interval in log space) w
 plate's own spread -- at the three points of a Gauss-Hermite rule (-sqrt(3), 0, +sqrt(3)
 standard deviations, weights 1/6, 2/3, 1/6): a parameter is *determined* by the plate with the
 weights of the readings after which the posterior determines it (preposterior analysis, Raiffa
-and Schlaifer 1961). In log space the affine meta-model's posterior narrows by the same amount
-wherever the reading falls; whether that is narrow enough to call the parameter determined
-(its interval against the sampled range) depends on the level, hence the three readings.
+and Schlaifer 1961). In the meta-model's coordinates the affine posterior narrows by about the
+same amount wherever the reading falls (exactly so in ``log p``, the published coordinates);
+whether that is narrow enough to call the parameter determined (its interval against the
+sampled range) depends on the level, hence the three readings.
 
 The plate's relative uncertainty applies to the resistance directly: a plate with surface
 thermometers measures ``R`` as the ratio of the face-to-face difference to the heat flux, so
@@ -24,7 +25,7 @@ its calibration and its spot scale ``R`` as they scale the flux.
 Checked against EnergyPlus (docs/calibration.md, "Which measurement next"): on the
 5ZoneAirCooled twin with the building-total metric, where neither the roof nor the wall is
 determined, the advice expects a plate on the wall to determine both and one on the roof to
-determine the roof (the wall only at its outer readings); the real roof plate (EnergyPlus's
+determine the roof (the wall only at an outer reading); the real roof plate (EnergyPlus's
 roof, ISO 9869-1) narrowed the roof's and the wall's intervals to log widths within 15 % of
 the advice's expectation.
 
@@ -117,8 +118,9 @@ def advise_measurements(
         parameter's median, 90 % interval, width over the prior range and whether determined)
         and ``candidates`` (per measurable parameter: the three ``readings``, each
         parameter's ``determined_probability``, those at 0.5 or more as ``determined``, the
-        ``expected`` intervals at the median reading and their ``mean_width_fraction``; the
-        one determining most besides its own parameter first), ``summary``.
+        ``expected`` intervals at the median reading and their ``mean_width_fraction``, the
+        ``expected_by_reading`` intervals after each of the three readings; the one
+        determining most besides its own parameter first), ``summary``.
     """
     from thermocal.calibration.posterior import calibration_posterior
 
@@ -147,7 +149,7 @@ def advise_measurements(
         # and the plate's
         spread = np.hypot(float(np.std(np.log(posterior.samples[name]))), s_plate)
         probability = dict.fromkeys(now, 0.0)
-        readings, central = [], None
+        readings, central, by_reading = [], None, []
         for z, w in zip(*GAUSS_HERMITE_3, strict=True):
             reading = float(np.clip(median * np.exp(z * spread), lower[i], upper[i]))
             expected = _intervals(
@@ -157,6 +159,7 @@ def advise_measurements(
                 )  # fmt: skip
             )
             readings.append(reading)
+            by_reading.append(expected)
             for n, v in expected.items():
                 probability[n] += w * v["determined"]
             if z == 0.0:
@@ -172,6 +175,7 @@ def advise_measurements(
                     np.mean([v["width_fraction"] for v in central.values()])
                 ),
                 "expected": central,
+                "expected_by_reading": by_reading,
             }
         )
     # a plate determines what it measures: ranked by what else it settles, then by how much

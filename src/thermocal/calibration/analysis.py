@@ -765,6 +765,7 @@ def _fit_metamodel(
         nominal=space.nominal_dict(),
         segments=samples.segments,
         series_terms=m.series_terms,
+        series_coordinates=m.series_coordinates,
     )
     if m.kind == "auto":
         notes.append(
@@ -936,6 +937,7 @@ def _refine(
         segments=samples.segments,
         movable=movable,
         series_terms=terms,
+        series_coordinates=campaign.metamodel.series_coordinates,
     )
     if refined[0] < candidates[start_name][0]:
         candidates[f"trust-region refinement ({len(refinement)} runs)"] = refined

@@ -221,6 +221,11 @@ class MetamodelSection(_Strict):
     kept when it lowers the out-of-fold hourly error); see
     :class:`thermocal.calibration.surrogate.SeriesSurrogate` and docs/calibration.md for
     what each does on the twins.
+
+    ``series_coordinates``: what those regressions are affine in: ``physical`` (the default:
+    each construction's conductance ``1 / (R + films)``, window U and SHGC and air change rates
+    themselves, the logarithm of the rest; :mod:`thermocal.calibration.coordinates`) or
+    ``log`` (the logarithm of every parameter, the published form).
     """
 
     kind: Literal["svr", "gp", "series", "auto"] = "auto"
@@ -228,6 +233,7 @@ class MetamodelSection(_Strict):
     cv_folds: int = Field(5, ge=2)
     log_target: bool = False
     series_terms: Literal["auto", "affine", "quadratic"] = "affine"
+    series_coordinates: Literal["physical", "log"] = "physical"
 
 
 class MorrisSection(_Strict):

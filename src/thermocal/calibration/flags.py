@@ -47,16 +47,20 @@ LINEARISATION_ERROR_RATIO = 0.5
 
 
 def linearisation_flag(series_model) -> dict | None:
-    """A flag when the series meta-model is affine in ``log p`` but one with a curvature term
-    per parameter reproduces the campaign's hourly heat at most
+    """A flag when the series meta-model is affine in its coordinates but one with a curvature
+    term per parameter reproduces the campaign's hourly heat at most
     :data:`LINEARISATION_ERROR_RATIO` times the error out of fold (None otherwise).
 
     The heat through an element goes as ``1 / (R + films)``: over a wide range a straight line
-    in ``log R`` crosses zero away from the truth, and the calibrated resistance and its
-    interval move with it (the EnergyPlus twin of 5ZoneAirCooled with other windows: roof
-    +21 % with the straight line, +3 % with the curvature, on the same 48 samples; four twins:
-    docs/calibration.md, "Curvature of the series meta-model"). The remedy costs no
-    simulation: a re-analysis with ``metamodel.series_terms: auto``.
+    in ``log R`` (the published coordinates) crosses zero away from the truth, and the
+    calibrated resistance and its interval move with it (the EnergyPlus twin of 5ZoneAirCooled
+    with other windows: roof +21 % with the straight line in ``log R``, +3 % with the
+    curvature or in the conductance, on the same 48 samples; docs/calibration.md, "Curvature
+    of the series meta-model"). The default physical coordinates
+    (:mod:`thermocal.calibration.coordinates`) remove that; what curvature remains there
+    (a layer property's logarithm, a film resistance far from ISO 6946's) is flagged the
+    same way. The remedy costs no simulation: a re-analysis with the physical coordinates or
+    ``metamodel.series_terms: auto``.
 
     Parameters
     ----------
@@ -75,17 +79,22 @@ def linearisation_flag(series_model) -> dict | None:
     affine, quadratic = float(errors["affine"]), float(errors["quadratic"])
     if not quadratic <= LINEARISATION_ERROR_RATIO * affine:
         return None
+    if getattr(series_model, "coordinates", "log") == "physical":
+        where, remedy = "its physical coordinates", "metamodel.series_terms: auto"
+    else:
+        where = "log p"
+        remedy = "metamodel.series_coordinates: physical (the default) or series_terms: auto"
     return {
         "kind": "linearisation",
         "affine_W": affine,
         "quadratic_W": quadratic,
-        "text": f"The series meta-model's straight line in log p misses the detailed model's "
+        "text": f"The series meta-model's straight line in {where} misses the detailed model's "
         f"hourly heat by {affine:.0f} W out of fold, one with a curvature term per parameter by "
-        f"{quadratic:.0f} W: the calibrated resistances and their intervals can be biased by "
-        "several per cent (their heat goes as 1 / (R + films); an EnergyPlus twin's roof, "
-        "posterior median: +21 % with the straight line, +3 % with the curvature). Re-analyse "
-        "with metamodel.series_terms: auto (thermocal calibrate CAMPAIGN --reanalyse: no new "
-        "simulation).",
+        f"{quadratic:.0f} W: the calibrated parameters and their intervals can be biased by "
+        "several per cent (a resistance's heat goes as 1 / (R + films); an EnergyPlus twin's "
+        "roof, posterior median: +21 % with the straight line in log R, +3 % with the "
+        f"curvature or in its conductance). Re-analyse with {remedy} (thermocal calibrate "
+        "CAMPAIGN --reanalyse: no new simulation).",
     }
 
 

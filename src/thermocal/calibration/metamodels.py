@@ -58,19 +58,25 @@ def series_terms_note(model, optimum: bool = False) -> str | None:
     terms = getattr(model, "terms_", None)
     if terms is None:
         return None
+    physical = getattr(model, "coordinates", "log") == "physical"
+    coordinates = (
+        "each construction's conductance 1 / (R + films), window U, SHGC and air change "
+        "rates, the logarithm of the rest"
+        if physical
+        else "log p, the published form"
+    )
     form = (
-        "with a curvature term per parameter (quadratic in log p)"
-        if terms == "quadratic"
-        else "affine in log p (the published form)"
+        "with a curvature term per parameter (quadratic)" if terms == "quadratic" else "affine"
     )
     errors = model.compare_terms()
     return (
         f"Series meta-model (posterior{' and optimum' if optimum else ''}): "
-        f"the hourly heat {form}; out-of-fold hourly error {errors['affine']:.0f} W affine, "
-        f"{errors['quadratic']:.0f} W with curvature (metamodel.series_terms: "
-        f"{model.terms}). A straight line in log p over a wide prior biases the optimum of "
-        "the resistances (their heat goes as 1 / (R + films)); the curvature removes that "
-        "bias and narrows the intervals to the residual noise and the model discrepancy."
+        f"the hourly heat {form} in {coordinates} (metamodel.series_coordinates: "
+        f"{'physical' if physical else 'log'}); out-of-fold hourly error "
+        f"{errors['affine']:.0f} W affine, {errors['quadratic']:.0f} W with curvature "
+        f"(metamodel.series_terms: {model.terms}). A straight line in log p over a wide prior "
+        "biases the optimum of the resistances (their heat goes as 1 / (R + films)); the "
+        "physical coordinates or the curvature remove that bias."
     )
 
 
@@ -88,6 +94,7 @@ def surrogate_for(kind: str, metamodel, series, space, seed: int, segments=None,
         seed=seed,
         segments=segments,
         terms=terms or getattr(metamodel, "series_terms", "affine"),
+        coordinates=getattr(metamodel, "series_coordinates", "physical"),
     )
 
 
@@ -123,6 +130,7 @@ def choose_surrogate(
     nominal=None,
     segments=None,
     series_terms: str = "affine",
+    series_coordinates: str = "physical",
 ):
     """Fit the meta-model; with ``kind="auto"`` the SVR, the GP and the series model, keeping
     the best.
@@ -135,7 +143,9 @@ def choose_surrogate(
     (:class:`~thermocal.calibration.surrogate.SeriesSurrogate`) uses the metric's structure.
     "auto" fits all three (the GP up to :data:`AUTO_GP_MAX_SAMPLES` samples, the series model
     when series are given) and keeps the highest cross-validated R2. ``series_terms`` is the
-    series model's form (``"auto"``, ``"affine"`` or ``"quadratic"``).
+    series model's form (``"auto"``, ``"affine"`` or ``"quadratic"``) and
+    ``series_coordinates`` what it is affine in (``"physical"`` or ``"log"``,
+    :mod:`thermocal.calibration.coordinates`).
 
     Returns
     -------
@@ -162,6 +172,7 @@ def choose_surrogate(
                 seed=seed,
                 segments=segments,
                 terms=series_terms,
+                coordinates=series_coordinates,
             )
         else:
             model = make_surrogate(k, cv_folds=cv_folds, log_target=log_target, seed=seed)

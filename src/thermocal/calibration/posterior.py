@@ -3,8 +3,11 @@
 The calibration's metric is the variance of the building's identified heat over the unoccupied
 hours: with the right envelope that heat is the constant internal gain plus noise. The series
 meta-model (:class:`~thermocal.calibration.surrogate.SeriesSurrogate`) predicts the whole hourly
-series as affine in the logarithms of the parameters, ``q(t) = q0(t) + J(t) z`` with
-``z = log(p / p_nominal)`` (or with a per-parameter curvature ``+ K(t) z^2``). Removing the
+series as affine in a coordinate of each parameter, ``q(t) = q0(t) + J(t) z``, with ``z`` the
+change of a construction's conductance ``1 / (R + films)``, the relative change of a window's
+U-value or SHGC or an air change rate, and ``log(p / p_nominal)`` for the rest
+(:mod:`~thermocal.calibration.coordinates`; ``log(p / p_nominal)`` for all in the published
+form), or with a per-parameter curvature ``+ K(t) z^2``. Removing the
 hourly mean (the constant gain, unknown), the residual series
 ``r(z) = (q0 - mean q0) + (J - mean J) z [+ (K - mean K) z^2]`` is the envelope's error
 signal; modelled as
@@ -17,9 +20,10 @@ identified heat, model error included: the honest floor) plus the meta-model's o
 error (:func:`emulator_variance`), and ``n_eff = sum_g n_g / tau_g`` the number of
 independent hours given each series' correlation time ``tau_g`` (the longer of its integrated
 and its lag-1 autocorrelation times, :func:`effective_hours`). The prior is
-the campaign's: uniform in each parameter between its bounds, or, for an element measured in
-situ (a heat-flux meter, ISO 9869-1), log-normal around the measurement within the same bounds
-(:func:`measured_prior`). With the affine model the
+the campaign's: uniform in each parameter between its bounds (for a construction's resistance,
+uniform in its conductance ``1 / (R + films)``, the coordinate its heat is affine in), or, for
+an element measured in situ (a heat-flux meter, ISO 9869-1), log-normal around the measurement
+within the same bounds (:func:`measured_prior`). With the affine model the
 posterior is a Gaussian in ``z`` truncated to the prior box, sampled exactly by Gibbs sweeps
 (:func:`~thermocal.calibration.mcmc.truncated_gaussian_gibbs`); with curvature by emcee's
 affine-invariant ensemble sampler (Foreman-Mackey et al. 2013); either until the draws are
@@ -57,6 +61,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pandas as pd
 
+from thermocal.calibration.coordinates import coordinate_slope, from_coordinates, to_coordinates
 from thermocal.calibration.mcmc import (
     GIBBS_SWEEPS,
     POSTERIOR_EFFECTIVE_DRAWS,
@@ -103,6 +108,9 @@ class LinearHeatModel:
         Nominal values and prior bounds [unit of each parameter].
     curvature : ndarray (n_hours, n_parameters) or None
         Hour-centred coefficients of ``log(p / p_nominal)**2`` [W] (None: affine).
+    kinds : tuple of str
+        The coordinate ``z`` of each parameter (:mod:`thermocal.calibration.coordinates`;
+        empty: ``log(p / p_nominal)`` for every one, the published form).
     """
 
     names: tuple[str, ...]
@@ -114,6 +122,7 @@ class LinearHeatModel:
     series_count: int = 1
     segments: tuple = ()
     curvature: np.ndarray | None = None
+    kinds: tuple = ()
 
     def residual(self, z: np.ndarray) -> np.ndarray:
         """Residual series for log-parameters ``z`` (shape (d,) or (m, d)) [W]."""
@@ -146,9 +155,33 @@ class LinearHeatModel:
         return replace(self, jacobian=self.jacobian_at(z), curvature=None)
 
     @property
+    def coordinate_kinds(self) -> tuple[str, ...]:
+        """The coordinate of each parameter (``"log"`` for all in the published form)."""
+        return tuple(self.kinds) or tuple("log" for _ in self.names)
+
+    @property
     def z_bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """Bounds of ``z = log(p / p_nominal)`` [-]."""
-        return np.log(self.lower / self.nominal), np.log(self.upper / self.nominal)
+        """Bounds of the coordinates ``z`` (``log(p / p_nominal)`` in the published form) [-]."""
+        kinds = self.coordinate_kinds
+        return (
+            to_coordinates(self.lower, self.nominal, kinds),
+            to_coordinates(self.upper, self.nominal, kinds),
+        )
+
+    def values(self, z: np.ndarray) -> np.ndarray:
+        """Parameter values of coordinates ``z`` (shape (d,) or (m, d)) [unit of each]."""
+        return from_coordinates(z, self.nominal, self.coordinate_kinds)
+
+    def prior_tilt(self, measured_precision: np.ndarray) -> np.ndarray:
+        """Coefficients of ``z`` in the log-density of the prior uniform in ``p`` [-].
+
+        ``p = p_nominal exp(z)`` gives the density ``exp(z)`` in ``z``; a linear coordinate
+        none. A resistance's conductance coordinate takes the prior uniform in the element's
+        conductance (no tilt; :mod:`thermocal.calibration.coordinates`). A measured parameter's
+        log-normal replaces its tilt.
+        """
+        log = np.array([k == "log" for k in self.coordinate_kinds], dtype=bool)
+        return (log & (np.asarray(measured_precision) == 0)).astype(float)
 
 
 def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHeatModel:
@@ -191,6 +224,7 @@ def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHe
         segments=tuple(
             (int(a), int(b)) for a, b in getattr(surrogate, "segments", [(0, len(offset))])
         ),
+        kinds=tuple(surrogate.kinds_[i] for i in idx) if hasattr(surrogate, "kinds_") else (),
     )
 
 
@@ -695,7 +729,7 @@ def _gaussian_form(model: LinearHeatModel, basis, woodbury, scale: float, prior)
         cross = cross - mixed @ (woodbury @ (basis.T @ r0))
     mean, measured_precision = prior
     # the uniform prior in p tilts z by exp(z); a measured parameter's log-normal replaces it
-    tilt = (measured_precision == 0).astype(float)
+    tilt = model.prior_tilt(measured_precision)
     precision = 2.0 * scale * (gram + gram.T) / 2.0 + np.diag(measured_precision)
     return precision, tilt + measured_precision * mean - 2.0 * scale * cross
 
@@ -720,7 +754,7 @@ def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float, prio
     zl, zu = model.z_bounds
     squared_norm = residual_quadratic_form(model, basis if woodbury is not None else None)
     mean, measured_precision = prior
-    tilt = (measured_precision == 0).astype(float)
+    tilt = model.prior_tilt(measured_precision)
 
     def log_probability(z: np.ndarray) -> np.ndarray:
         z = np.atleast_2d(z)
@@ -736,8 +770,12 @@ def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float, prio
     return log_probability
 
 
-def measured_prior(names, nominal, measured: dict) -> tuple[np.ndarray, np.ndarray]:
-    """Mean and precision of the log-normal priors of in-situ measured parameters, in ``z``.
+def measured_prior(names, nominal, measured: dict, kinds=None) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and precision of the priors of in-situ measured parameters, in ``z``.
+
+    A measurement's log-normal is exact in the published coordinate ``log(p / p_nominal)``; in
+    another coordinate (:mod:`thermocal.calibration.coordinates`) it is the Gaussian of the
+    delta method at the measured value.
 
     Parameters
     ----------
@@ -748,14 +786,19 @@ def measured_prior(names, nominal, measured: dict) -> tuple[np.ndarray, np.ndarr
     measured : dict
         name -> (value [unit of the parameter], relative standard uncertainty [-]); every name
         must be in ``names``.
+    kinds : sequence of str, optional
+        The coordinate of each parameter (default ``log`` for all).
 
     Returns
     -------
     mean : ndarray
-        ``ln(value / nominal)`` (0 where not measured) [-].
+        ``z`` of the value, ``ln(value / nominal)`` in the published form (0 where not
+        measured) [-].
     precision : ndarray
-        ``1 / ln(1 + r^2)`` (0 where not measured) [-].
+        ``1 / (ln(1 + r^2) s^2)``, ``s = dz / d ln p`` at the value (1 in the published form;
+        0 where not measured) [-].
     """
+    kinds = list(kinds) if kinds else ["log"] * len(list(names))
     names = list(names)
     unknown = [n for n in measured if n not in names]
     if unknown:
@@ -771,8 +814,10 @@ def measured_prior(names, nominal, measured: dict) -> tuple[np.ndarray, np.ndarr
                 f"in-situ measurement of {name!r}: value {value} and relative uncertainty "
                 f"{rel_std} must be positive"
             )
-        mean[i] = np.log(value / float(np.asarray(nominal)[i]))
-        precision[i] = 1.0 / np.log1p(rel_std**2)
+        reference, kind = float(np.asarray(nominal)[i]), [kinds[i]]
+        mean[i] = to_coordinates([value], [reference], kind)[0]
+        slope = coordinate_slope([value], [reference], kind)[0]
+        precision[i] = 1.0 / (np.log1p(rel_std**2) * slope**2)
     return mean, precision
 
 
@@ -854,7 +899,9 @@ def calibration_posterior(
     d = len(names)
     if d == 0:
         raise ThermocalInputError("posterior: no parameter to calibrate")
-    prior_mean, prior_precision = measured_prior(names, model.nominal, measured or {})
+    prior_mean, prior_precision = measured_prior(
+        names, model.nominal, measured or {}, model.coordinate_kinds
+    )
     z_hat, residual_variance, n_eff, n = _noise(model)
     variance = residual_variance + max(float(emulator_error), 0.0)
     scale = (n_eff / n) / (2.0 * variance)
@@ -908,7 +955,7 @@ def calibration_posterior(
         chain, effective, tau, acceptance = ensemble_until_precise(
             log_probability, start, int(steps), int(seed), int(effective_draws)
         )
-    values = model.nominal * np.exp(chain)
+    values = model.values(chain)
     draws = pd.DataFrame(values, columns=names)
     q05, q50, q95 = np.quantile(values, [0.05, 0.5, 0.95], axis=0)
     mcse05, mcse95 = (quantile_standard_error(values, p, effective) for p in (0.05, 0.95))
@@ -928,7 +975,7 @@ def calibration_posterior(
         {
             "unit": list(units) if units is not None else ["?"] * d,
             "nominal": model.nominal,
-            "map": model.nominal * np.exp(z_hat),
+            "map": model.values(z_hat),
             "median": q50,
             "q05": q05,
             "q95": q95,

@@ -24,6 +24,7 @@ def refine_minimum(
     segments=None,
     movable=None,
     series_terms: str = "affine",
+    series_coordinates: str = "physical",
 ):
     """Trust-region refinement of the minimum with the full model in the loop (beyond the paper).
 
@@ -38,8 +39,8 @@ def refine_minimum(
     (:class:`thermocal.calibration.workflow.RunCache`): found in the store when run before; in
     a re-analysis the refinement stops at the first candidate that is not stored. Only the
     ``movable`` parameters (default all) change; the others keep the start's values.
-    ``series_terms``: the series meta-model's form (the campaign's, see
-    :class:`~thermocal.calibration.surrogate.SeriesSurrogate`).
+    ``series_terms``, ``series_coordinates``: the series meta-model's form and coordinates
+    (the campaign's, see :class:`~thermocal.calibration.surrogate.SeriesSurrogate`).
 
     Returns
     -------
@@ -72,6 +73,7 @@ def refine_minimum(
                 cv_folds=0,
                 segments=segments,
                 terms=series_terms,
+                coordinates=series_coordinates,
             )
         else:
             model = make_surrogate(kind if kind != "series" else "gp", cv_folds=0, seed=seed)

@@ -1,0 +1,127 @@
+"""The series meta-model's coordinates: what each parameter's heat is affine in."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermocal.calibration.coordinates import (
+    FILM_RESISTANCE,
+    coordinate_kinds,
+    coordinate_slope,
+    from_coordinates,
+    to_coordinates,
+)
+from thermocal.calibration.posterior import calibration_posterior, measured_prior
+from thermocal.calibration.sampling import unit_sample
+from thermocal.calibration.surrogate import SeriesSurrogate
+from thermocal.errors import ThermocalInputError
+
+ROOF, WALL = "construction/ROOF/resistance", "construction/WALL/resistance"
+NAMES = [ROOF, WALL]
+NOMINAL = {ROOF: 1.0, WALL: 1.0}
+TRUTH = np.array([1.5, 0.7])
+
+
+def test_each_kind_gets_the_coordinate_its_heat_is_affine_in():
+    names = [
+        "construction/ROOF/resistance",
+        "material/Insulation/resistance",
+        "material/Insulation/conductivity",
+        "window/Dbl/u_value",
+        "window/Dbl/shgc",
+        "zone/Office/infiltration_ach",
+        "infiltration/building/factor",
+        "material/Concrete/density",
+    ]
+    assert coordinate_kinds(names) == (
+        "conductance",  # a construction's layers: 1 / (R + films)
+        "log",  # one layer: its heat also depends on the rest of its construction
+        "log",
+        "linear",
+        "linear",
+        "linear",
+        "linear",
+        "log",
+    )
+    assert set(coordinate_kinds(names, "log")) == {"log"}
+    with pytest.raises(ThermocalInputError, match="coordinates 'conductance' unknown"):
+        coordinate_kinds(names, "conductance")
+
+
+def test_coordinates_invert_and_their_slope_is_the_derivative():
+    kinds = ("conductance", "linear", "log")
+    nominal = np.array([2.5, 0.6, 1200.0])
+    values = np.array([[0.7, 0.2, 600.0], [4.1, 1.0, 2000.0]])
+    z = to_coordinates(values, nominal, kinds)
+    assert np.allclose(to_coordinates(nominal, nominal, kinds), 0.0)
+    assert np.allclose(from_coordinates(z, nominal, kinds), values)
+    # minus the conductance's relative change: U = 1 / (R + films)
+    u = 1.0 / (values[:, 0] + FILM_RESISTANCE)
+    u0 = 1.0 / (nominal[0] + FILM_RESISTANCE)
+    assert np.allclose(z[:, 0], 1.0 - u / u0)
+    # increasing in p, so a box of parameters is a box of coordinates
+    assert np.all(np.diff(to_coordinates(np.linspace(0.1, 9.0, 50)[:, None] * [[1, 1, 1]],
+                                         nominal, kinds), axis=0) > 0)  # fmt: skip
+    step = 1e-6
+    numeric = (
+        to_coordinates(values * np.exp(step), nominal, kinds)
+        - to_coordinates(values * np.exp(-step), nominal, kinds)
+    ) / (2 * step)
+    assert np.allclose(coordinate_slope(values, nominal, kinds), numeric, rtol=1e-6)
+    with pytest.raises(ThermocalInputError, match="must be positive"):
+        to_coordinates([[-1.0, 1.0, 1.0]], nominal, kinds)
+
+
+def test_a_measured_prior_in_physical_coordinates_matches_the_log_normal_at_the_value():
+    """The delta method: a plate reading R +- r maps to z's mean and the precision whose
+    standard deviation is the log-normal's times dz / d ln R at the reading."""
+    kinds = ("conductance", "log")
+    nominal = np.array([2.0, 3.0])
+    mean, precision = measured_prior(NAMES, nominal, {ROOF: (3.0, 0.07)}, kinds)
+    assert mean[0] == pytest.approx(float(to_coordinates([3.0], [2.0], ["conductance"])[0]))
+    slope = float(coordinate_slope([3.0], [2.0], ["conductance"])[0])
+    assert precision[0] == pytest.approx(1.0 / (np.log1p(0.07**2) * slope**2))
+    assert mean[1] == 0.0 and precision[1] == 0.0
+    log_mean, log_precision = measured_prior(NAMES, nominal, {ROOF: (3.0, 0.07)})
+    assert log_mean[0] == pytest.approx(np.log(1.5))
+    assert log_precision[0] == pytest.approx(1.0 / np.log1p(0.07**2))
+
+
+def _hourly_heat(X: np.ndarray) -> np.ndarray:
+    """Heat left over in 200 quiet hours [W] of envelopes ``X`` (roof and wall resistance
+    [m2 K/W]): each element's conduction with ``U = 1 / (R + films)`` at ISO 6946's films,
+    minus the truth's, plus a small error common to every sample."""
+    rng = np.random.default_rng(7)
+    hours = np.arange(200)
+    roof_dt = 400.0 * (1.2 + np.sin(2 * np.pi * hours / 24.0)) + 50.0 * rng.standard_normal(200)
+    wall_dt = 600.0 * (1.0 + 0.6 * np.cos(2 * np.pi * hours / 37.0))
+    error = 2.0 * rng.standard_normal(200)
+    films = FILM_RESISTANCE
+    u = 1.0 / (np.atleast_2d(X) + films) - 1.0 / (TRUTH + films)
+    return u[:, :1] * roof_dt + u[:, 1:] * wall_dt + error
+
+
+@pytest.mark.parametrize(("coordinates", "bias"), [("physical", 0.005), ("log", 0.03)])
+def test_physical_coordinates_put_the_minimum_and_the_posterior_at_the_truth(coordinates, bias):
+    """Over a +-75 % prior the straight line in log R misses a resistance whose heat goes as
+    1 / (R + films) by several per cent (more than 3 %, here -8 % / +13 %); affine in the
+    conductance it finds it (within 0.5 %), from the same 48 samples, and the posterior's 90 %
+    intervals cover it."""
+    lower, upper = np.array([0.25, 0.25]), np.array([1.75, 1.75])
+    X = pd.DataFrame(lower + unit_sample(2, 48, seed=1) * (upper - lower), columns=NAMES)
+    series = _hourly_heat(X.to_numpy())
+    model = SeriesSurrogate(
+        series=series, nominal=NOMINAL, cv_folds=5, coordinates=coordinates
+    ).fit(X, series.var(axis=1))
+    x, _ = model.box_optimum("min", lower, upper)
+    error = np.abs(np.asarray(x) / TRUTH - 1.0)
+    if coordinates == "physical":
+        assert error.max() < bias, x
+        posterior = calibration_posterior(model, NAMES, lower, upper, seed=1)
+        summary = posterior.summary
+        assert np.all(summary["q05"] <= TRUTH) and np.all(TRUTH <= summary["q95"]), summary
+        assert model.hyperparameters_()["coordinates"] == "physical"
+    else:
+        assert error.max() > bias, x

@@ -159,3 +159,33 @@ def test_a_straight_line_the_curvature_beats_out_of_fold_is_flagged():
     flat = SeriesSurrogate(series=series, nominal=nominal, cv_folds=5, seed=1, terms="affine")
     assert linearisation_flag(flat.fit(X, y)) is None
     assert linearisation_flag(None) is None
+
+
+def test_the_flag_with_a_posterior_names_what_the_curvature_would_move():
+    """With the campaign's bounds and a posterior the flag says how far the curvature would
+    move each parameter's optimum, and is raised only when that exceeds half the parameter's
+    90 % interval half-width: here the roof and the wall move by more than 5 % against
+    intervals a few per cent wide; the inert parameter, not determined, is not named (its
+    optimum is wherever the flat metric leaves it)."""
+    from types import SimpleNamespace
+
+    from thermocal.calibration.flags import curvature_shifts, linearisation_flag
+    from thermocal.calibration.posterior import calibration_posterior
+
+    X, y, S, nominal, segments, truth = _conduction_campaign()
+    names = list(X.columns)
+    lower, upper = np.full(3, 0.25), np.full(3, 1.75)
+    space = SimpleNamespace(names=names, lower=lower, upper=upper)
+    model = SeriesSurrogate(series=S, nominal=nominal, segments=segments, seed=1, terms="affine")
+    model.fit(X, y)
+    shifts = curvature_shifts(model, space)
+    assert shifts["roof"] > 0.05 and shifts["wall"] < -0.05, shifts  # towards the truth
+    posterior = calibration_posterior(model, names, lower, upper, steps=600, seed=1)
+    flag = linearisation_flag(model, space, posterior)
+    assert flag is not None and set(flag["shifts"]) == {"roof", "wall"}, flag
+    assert "It would move roof by +" in flag["text"], flag["text"]
+    # intervals as wide as the prior: the same shifts are within them, no flag
+    assert list(posterior.summary.index[posterior.summary["determined"]]) == ["roof", "wall"]
+    wide = SimpleNamespace(summary=posterior.summary.assign(q05=0.25, q95=1.75))
+    assert linearisation_flag(model, space, wide) is None
+

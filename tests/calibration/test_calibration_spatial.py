@@ -128,6 +128,12 @@ def test_flags_parameters_at_bounds_and_a_metric_below_the_model_error():
     # a calibration that ends inside the range and at the noise level is not flagged
     inside = {window: 4.0, roof_r: 2.6}
     assert calibration_flags(space, inside, 2 * 30.0**2, post, model, truth) == []
+    # a determined parameter calibrated outside its own 90 % interval is flagged
+    q05, q95 = post.summary.loc[roof_r, ["q05", "q95"]]
+    outside = {window: 4.0, roof_r: q05 * 0.95}
+    (flag,) = calibration_flags(space, outside, 2 * 30.0**2, post, model, truth)
+    assert flag["kind"] == "outside interval" and flag["parameter"] == roof_r, flag
+    assert flag["q05"] == q05 and "Take the interval as the answer" in flag["text"]
 
 
 def test_model_error_floor_of_a_group_metric_is_that_of_a_simulated_run():

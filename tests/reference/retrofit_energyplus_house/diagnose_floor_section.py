@@ -23,9 +23,15 @@ ISO 13370's 60.3 (same soil, B' = 2 A / P; kept as
 Kiva's own unit test sets it up (fixed surface temperatures, deep ground at 10 C 30 m down;
 ``bestest_gc30a.py`` -> ``gc30a.json``) gives 2,704 W mesh-converged against the three verified
 numerical models' 2,585-2,695 W (within their range widened by 2 %:
-``test_the_independent_section_meets_bestest_gc30a``). The keywords ``area``, ``perimeter``,
-``far_field``, ``deep``, ``deep_fixed`` and ``h_out`` (``None``: the grade held at the outdoor
-temperature) are for that case; their defaults are the house's section above.
+``test_the_independent_section_meets_bestest_gc30a``), and GC10a, the analytical case (the
+wall's top held linear from the room's temperature to the outdoor's, Kiva's 40 m domain;
+``bestest_gc10a.py`` -> ``gc10a.json``), 2,465.8 W mesh-converged against the analytical
+2,432.6 W, +1.37 %: the ``A / P`` section's own +1.165 % and the domain's +0.22 %; at 1,000 m it
+meets the same boundary's closed-form 2-D solution within 0.007 %
+(``test_the_independent_section_meets_bestest_gc10a``). The keywords ``area``, ``perimeter``,
+``far_field``, ``deep``, ``deep_fixed``, ``h_out`` (``None``: the grade held at the outdoor
+temperature) and ``wall_top_linear`` (``wall_top_temperature``) are for those cases; their
+defaults are the house's section above.
 """
 
 from __future__ import annotations
@@ -66,6 +72,13 @@ def boundary_conductance(face, half_cell, k, h=None):
     return face / (half_cell / k + (1.0 / h if h else 0.0))
 
 
+def wall_top_temperature(x, inner, outer):
+    """The wall top's temperature at ``x`` [m] when it is held linear across the wall (IEA
+    BESTEST GC10a's boundary): from the room's (1) at the wall's inside face ``inner`` [m] to
+    the outdoor's (0) at its outside face ``outer`` [m], as a fraction of the difference."""
+    return (outer - x) / (outer - inner)
+
+
 def kiva_section(
     floor,
     soil_k=0.864,
@@ -81,13 +94,15 @@ def kiva_section(
     deep=40.0,
     deep_fixed=False,
     h_out=H_GRADE,
+    wall_top_linear=False,
 ):
     """Steady conductance [W/K] from the floor's surface (or, with ``h_in`` [W/(m2 K)], from
     its mean surface temperature) to the outdoor air of Kiva's section (module docstring):
     ``area`` [m2] and ``perimeter`` [m] (default the house's), the far field ``far_field`` [m]
     beyond ``A / P``, the deep ground ``deep`` [m] below the grade, adiabatic or with
     ``deep_fixed`` at the outdoor temperature, the grade's coefficient ``h_out`` (``None``:
-    the grade at the outdoor temperature)."""
+    the grade at the outdoor temperature), the wall's top adiabatic or, with
+    ``wall_top_linear``, held at ``wall_top_temperature`` across the wall."""
     area = AREA if area is None else area
     perimeter = PERIMETER if perimeter is None else perimeter
     half, t = area / perimeter, sum(w[0] for w in wall)
@@ -147,8 +162,12 @@ def kiva_section(
                 a[c, c] += g
                 rhs[c] += g
                 top.append((c, g, dx[i]))
-            elif xc[i] > half + t:  # the grade (the wall's top: adiabatic)
+            elif xc[i] > half + t:  # the grade
                 a[c, c] += boundary_conductance(dx[i], 0.5 * dz[j], k[i, j], h_out)
+            elif wall_top_linear:  # the wall's top held linear (else adiabatic)
+                g = boundary_conductance(dx[i], 0.5 * dz[j], k[i, j])
+                a[c, c] += g
+                rhs[c] += g * wall_top_temperature(xc[i], half, half + t)
     temperature = spl.spsolve(a.tocsr(), rhs)
     flow = np.array([g * (1.0 - temperature[c]) for c, g, _ in top])
     width = np.array([w for *_, w in top])

@@ -125,3 +125,27 @@ def test_physical_coordinates_put_the_minimum_and_the_posterior_at_the_truth(coo
         assert model.hyperparameters_()["coordinates"] == "physical"
     else:
         assert error.max() > bias, x
+
+
+@pytest.mark.parametrize("terms", ["affine", "quadratic"])
+def test_with_heat_that_no_resistance_moves_the_posterior_is_the_prior_uniform_in_r(terms):
+    """Heat that does not depend on the envelope at all (the same series in every sample) gives
+    a flat likelihood: the posterior is the campaign's prior, uniform in R between the bounds,
+    in the conductance coordinate too. The exact Gibbs draws reweighted by (1 - z)^-2 (affine)
+    and the ensemble sampler with that density (curvature) give the uniform distribution's
+    quantiles within their Monte Carlo error, not those of a prior uniform in the conductance
+    (median 0.52 x nominal on this box)."""
+    lower, upper = np.array([0.25, 0.25]), np.array([1.75, 1.75])
+    X = pd.DataFrame(lower + unit_sample(2, 48, seed=2) * (upper - lower), columns=NAMES)
+    hours = np.arange(200)
+    pattern = 50.0 * np.sin(2 * np.pi * hours / 24.0) + 10.0 * np.cos(2 * np.pi * hours / 37.0)
+    series = np.tile(pattern, (48, 1))
+    model = SeriesSurrogate(series=series, nominal=NOMINAL, cv_folds=0, terms=terms)
+    model.fit(X, series.var(axis=1))
+    summary = calibration_posterior(model, NAMES, lower, upper, seed=3, steps=6000).summary
+    uniform = lower[0] + np.array([0.05, 0.5, 0.95]) * (upper[0] - lower[0])
+    for name in NAMES:
+        row = summary.loc[name]
+        assert not row["determined"], row
+        got = row[["q05", "median", "q95"]].to_numpy(float)
+        assert got == pytest.approx(uniform, abs=0.04), (name, got)

@@ -25,7 +25,7 @@ its calibration and its spot scale ``R`` as they scale the flux.
 Checked against EnergyPlus (docs/calibration.md, "Which measurement next"): on the
 5ZoneAirCooled twin with the building-total metric, where neither the roof nor the wall is
 determined, the advice expects a plate on the wall to determine both and one on the roof to
-determine the roof (the wall only at an outer reading); the real roof plate (EnergyPlus's
+determine the roof (the wall only at its outer readings); the real roof plate (EnergyPlus's
 roof, ISO 9869-1) narrowed the roof's and the wall's intervals to log widths within 15 % of
 the advice's expectation.
 

@@ -22,7 +22,10 @@ what the heat is affine in, with no more coefficients than the published form:
 
 Every coordinate is increasing in ``p``, so a box of parameters is a box of coordinates and the
 bounded least squares, vertex searches and truncated-Gaussian sampling in ``z`` keep their form.
-The posterior's prior is uniform in ``z`` inside the box (log-uniform in the published form).
+The posterior's prior stays uniform in each parameter: its density in ``z`` is ``exp(z)`` for a
+logarithm (a linear tilt, exact in the Gibbs sweeps), constant for a linear coordinate and
+``(1 - z)^-2`` for a conductance (importance weights on the Gibbs draws; exact in the ensemble
+sampler).
 """
 
 from __future__ import annotations

@@ -185,7 +185,7 @@ def outside_interval_flags(values, posterior) -> list[dict]:
     rests on something the meta-model does not reproduce (what curvature or interaction is
     left, or a model error the best run fits), and the interval, not the single value, is the
     answer to "how sure" (the multifamily twin's top-floor ceiling, 2026-11-30: calibrated
-    4.566 m2 K/W, the interval [3.59, 4.52], the truth 4.737).
+    4.566 m2 K/W, the interval [3.61, 4.56], the truth 4.737).
 
     Parameters
     ----------

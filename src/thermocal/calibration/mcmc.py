@@ -232,7 +232,9 @@ def _conditional_draw(shift, q, lower, upper, u):
     -------
     ndarray (k,)
     """
-    if q <= 1e-300:
+    if q * max(lower * lower, upper * upper) <= 1e-12:
+        # the quadratic term varies by less than 1e-12 over the interval: the tilted uniform
+        # (a Gaussian branch would put its mean shift / q astronomically far off)
         return _tilted_uniform_draw(np.asarray(shift, dtype=float), lower, upper, u)
     sd = 1.0 / np.sqrt(q)
     mean = shift / q

@@ -20,8 +20,8 @@ identified heat, model error included: the honest floor) plus the meta-model's o
 error (:func:`emulator_variance`), and ``n_eff = sum_g n_g / tau_g`` the number of
 independent hours given each series' correlation time ``tau_g`` (the longer of its integrated
 and its lag-1 autocorrelation times, :func:`effective_hours`). The prior is
-the campaign's: uniform in each parameter between its bounds (for a construction's resistance,
-uniform in its conductance ``1 / (R + films)``, the coordinate its heat is affine in), or, for
+the campaign's: uniform in each parameter between its bounds (in a construction's conductance
+coordinate the density ``(1 - z)^-2``, taken by importance weights on the Gibbs draws), or, for
 an element measured in situ (a heat-flux meter, ISO 9869-1), log-normal around the measurement
 within the same bounds (:func:`measured_prior`). With the affine model the
 posterior is a Gaussian in ``z`` truncated to the prior box, sampled exactly by Gibbs sweeps
@@ -93,8 +93,8 @@ EFFECT_TO_NOISE = 4.0
 
 @dataclass(frozen=True)
 class LinearHeatModel:
-    """Hour-centred affine (or per-parameter quadratic) model of the unoccupied heat in
-    log-parameters.
+    """Hour-centred affine (or per-parameter quadratic) model of the unoccupied heat in the
+    parameters' coordinates (:mod:`thermocal.calibration.coordinates`).
 
     Attributes
     ----------
@@ -103,11 +103,11 @@ class LinearHeatModel:
     offset : ndarray (n_hours,)
         Hour-centred series at the nominal parameters [W].
     jacobian : ndarray (n_hours, n_parameters)
-        Hour-centred derivative of the series by ``log(p / p_nominal)`` [W].
+        Hour-centred derivative of the series by the coordinates ``z`` [W].
     nominal, lower, upper : ndarray (n_parameters,)
         Nominal values and prior bounds [unit of each parameter].
     curvature : ndarray (n_hours, n_parameters) or None
-        Hour-centred coefficients of ``log(p / p_nominal)**2`` [W] (None: affine).
+        Hour-centred coefficients of ``z**2`` [W] (None: affine).
     kinds : tuple of str
         The coordinate ``z`` of each parameter (:mod:`thermocal.calibration.coordinates`;
         empty: ``log(p / p_nominal)`` for every one, the published form).
@@ -125,7 +125,7 @@ class LinearHeatModel:
     kinds: tuple = ()
 
     def residual(self, z: np.ndarray) -> np.ndarray:
-        """Residual series for log-parameters ``z`` (shape (d,) or (m, d)) [W]."""
+        """Residual series for coordinates ``z`` (shape (d,) or (m, d)) [W]."""
         z = np.asarray(z)
         out = self.offset + z @ self.jacobian.T
         if self.curvature is not None:
@@ -176,12 +176,33 @@ class LinearHeatModel:
         """Coefficients of ``z`` in the log-density of the prior uniform in ``p`` [-].
 
         ``p = p_nominal exp(z)`` gives the density ``exp(z)`` in ``z``; a linear coordinate
-        none. A resistance's conductance coordinate takes the prior uniform in the element's
-        conductance (no tilt; :mod:`thermocal.calibration.coordinates`). A measured parameter's
-        log-normal replaces its tilt.
+        none; a resistance's conductance coordinate a non-linear one
+        (:meth:`prior_log_density_rest`). A measured parameter's log-normal replaces it.
         """
         log = np.array([k == "log" for k in self.coordinate_kinds], dtype=bool)
         return (log & (np.asarray(measured_precision) == 0)).astype(float)
+
+    def prior_log_density_rest(self, z: np.ndarray, measured_precision: np.ndarray) -> np.ndarray:
+        """The part of the uniform prior's log-density in ``z`` that is not linear: for a
+        resistance's conductance coordinate ``R + f = (R_0 + f) / (1 - z)``, so the density
+        of ``R`` uniform is ``(1 - z)^-2`` in ``z``: ``-2 log(1 - z)`` summed over those
+        parameters (not measured ones) [-].
+
+        Parameters
+        ----------
+        z : ndarray (m, d) [-]
+        measured_precision : ndarray (d,) [-]
+
+        Returns
+        -------
+        ndarray (m,) [-]
+        """
+        z = np.atleast_2d(np.asarray(z, dtype=float))
+        kinds = np.array([k == "conductance" for k in self.coordinate_kinds], dtype=bool)
+        use = kinds & (np.asarray(measured_precision) == 0)
+        if not use.any():
+            return np.zeros(len(z))
+        return -2.0 * np.log1p(-z[:, use]).sum(axis=1)
 
 
 def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHeatModel:
@@ -347,7 +368,8 @@ class Posterior:
         Independent hours given the residual's autocorrelation [-].
     fisher_singular_values : ndarray
         Singular values of the square root of the Fisher information of all campaign
-        parameters in log-parameters [-], largest first.
+        parameters in their coordinates ``z`` [-], largest first (in the physical coordinates
+        not comparable with results in ``log p`` before 2026-11-30).
     acceptance : float
         Mean acceptance fraction of the sampler [-].
     samples : DataFrame
@@ -542,7 +564,7 @@ def emulator_variance(surrogate, X, *, folds: int = 5, seed: int = 0) -> float:
 def effect_to_noise(surrogate, names: Sequence[str], emulator_error: float) -> np.ndarray:
     """Squared norm of each parameter's fitted hour-centred effect over its estimation noise.
 
-    The ridge regression of the series on the log-parameters ``Z`` estimates each hour's
+    The ridge regression of the series on the coordinates ``Z`` estimates each hour's
     effect with the variance ``s2 [A G A]_pp``, ``G = Zc^T Zc``, ``A = (G + alpha I)^-1``
     (``s2`` the meta-model's hourly error variance, ``Zc`` the centred design; Hoerl and
     Kennard 1970); summed over the ``H`` hours, an inert parameter's fitted effect has the
@@ -582,6 +604,36 @@ def effect_to_noise(surrogate, names: Sequence[str], emulator_error: float) -> n
         signal = float(jac[p] @ jac[p])
         out.append(np.inf if noise <= 0 else signal / noise)
     return np.array(out)
+
+
+def _reweighted(chain, effective, log_weights, seed: int):
+    """Draws resampled in proportion to ``exp(log_weights)`` (importance resampling) and their
+    effective number scaled by Kish's ratio ``(sum w)^2 / (n sum w^2)``; unchanged when every
+    weight is equal.
+
+    Parameters
+    ----------
+    chain : ndarray (n, d) [-]
+    effective : float or ndarray [-]
+    log_weights : ndarray (n,) [-]
+    seed : int
+
+    Returns
+    -------
+    chain : ndarray (n, d)
+    effective : float or ndarray
+    """
+    log_weights = np.asarray(log_weights, dtype=float)
+    if not np.any(log_weights != log_weights[0]):
+        return chain, effective
+    w = np.exp(log_weights - log_weights.max())
+    w /= w.sum()
+    kish = 1.0 / (len(w) * float(np.sum(w**2)))
+    # systematic resampling: one uniform, the draws' order kept (a round-off change of the
+    # weights moves at most the draws next to a step)
+    u = (np.random.default_rng(seed + 1).random() + np.arange(len(w))) / len(w)
+    index = np.minimum(np.searchsorted(np.cumsum(w), u), len(w) - 1)
+    return chain[index], effective * kish
 
 
 def _noise(model: LinearHeatModel) -> tuple[np.ndarray, float, float, float]:
@@ -762,9 +814,12 @@ def _log_probability(model: LinearHeatModel, basis, woodbury, scale: float, prio
         quadratic, projected = squared_norm(z)
         if woodbury is not None:
             quadratic = quadratic - np.einsum("ij,ij->i", projected @ woodbury, projected)
-        # uniform prior in the parameter p = p_nominal exp(z): density exp(z) in z; a measured
-        # parameter's log-normal instead
+        # uniform prior in the parameter p = p_nominal exp(z): density exp(z) in z (and
+        # (1 - z)^-2 for a conductance coordinate); a measured parameter's log-normal instead
         lp = -scale * quadratic + z @ tilt - 0.5 * ((z - mean) ** 2 @ measured_precision)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            lp = lp + model.prior_log_density_rest(np.where(inside[:, None], z, 0.0),
+                                                   measured_precision)  # fmt: skip
         return np.where(inside, lp, -np.inf)
 
     return log_probability
@@ -798,8 +853,8 @@ def measured_prior(names, nominal, measured: dict, kinds=None) -> tuple[np.ndarr
         ``1 / (ln(1 + r^2) s^2)``, ``s = dz / d ln p`` at the value (1 in the published form;
         0 where not measured) [-].
     """
-    kinds = list(kinds) if kinds else ["log"] * len(list(names))
     names = list(names)
+    kinds = ["log"] * len(names) if kinds is None or not len(kinds) else list(kinds)
     unknown = [n for n in measured if n not in names]
     if unknown:
         raise ThermocalInputError(
@@ -937,6 +992,11 @@ def calibration_posterior(
             precision, linear, zl, zu, z_hat, sweeps=min(int(steps), GIBBS_SWEEPS), seed=int(seed),
             effective_draws=int(effective_draws),
         )  # fmt: skip
+        # the prior's non-linear part (a resistance uniform in R in its conductance
+        # coordinate) by importance weights on the exact Gaussian draws
+        chain, effective = _reweighted(
+            chain, effective, model.prior_log_density_rest(chain, prior_precision), int(seed)
+        )
     else:
         rng = np.random.default_rng(int(seed))
         n_walkers = int(walkers or max(POSTERIOR_WALKERS, 8 * d))

@@ -50,7 +50,7 @@ __all__ = [
     "series_design",
 ]
 
-#: forms of the series meta-model's hourly regressions in ``z = log(p / p_nominal)``: affine
+#: forms of the series meta-model's hourly regressions in its coordinates ``z``: affine
 #: (the published form), with a per-parameter quadratic term, or chosen by cross-validation
 SERIES_TERMS = ("auto", "affine", "quadratic")
 
@@ -61,7 +61,7 @@ def series_design(Z: np.ndarray, terms: str) -> np.ndarray:
     Parameters
     ----------
     Z : ndarray (n, d)
-        Log-parameters ``log(p / p_nominal)`` [-].
+        Coordinates of the parameters (:mod:`thermocal.calibration.coordinates`) [-].
     terms : {"affine", "quadratic"}
         ``z`` alone, or ``z`` and each ``z_k^2`` (no cross terms): ``[z, z**2]``.
 
@@ -84,7 +84,7 @@ def bounded_series_fit(
     lower: np.ndarray,
     upper: np.ndarray,
 ) -> np.ndarray:
-    """The log-parameters that minimise ``|offset + J z + K z^2|^2`` within bounds.
+    """The coordinates that minimise ``|offset + J z + K z^2|^2`` within bounds.
 
     Without curvature the problem is linear: bounded-variable least squares (the global
     minimum). With per-parameter curvature ``K`` (``z^2`` taken element-wise) it is a bounded
@@ -610,7 +610,7 @@ class SeriesSurrogate(_Surrogate):
         return from_coordinates(Z, reference, self.kinds_)
 
     def design(self, Z: np.ndarray) -> np.ndarray:
-        """The regressions' features of log-parameters ``Z`` in the fitted form [-]."""
+        """The regressions' features of coordinates ``Z`` in the fitted form [-]."""
         return series_design(Z, getattr(self, "terms_", self.terms))
 
     def compare_terms(self) -> dict[str, float]:
@@ -750,7 +750,7 @@ class SeriesSurrogate(_Surrogate):
     def box_optimum(self, sense: str, lower: Any, upper: Any) -> tuple[np.ndarray, float] | None:
         """The exact minimum or maximum of the predicted metric over a box of parameters.
 
-        In the affine form the prediction is a convex quadratic in ``z = log(p / p_nominal)``
+        In the affine form the prediction is a convex quadratic in the coordinates ``z``
         (the variance of an affine series): its minimum over the box is a bounded linear
         least-squares problem (``scipy.optimize.lsq_linear``, bounded-variable least squares:
         the global minimum), and its maximum lies at a vertex of the box (all are visited up
@@ -784,7 +784,8 @@ class SeriesSurrogate(_Surrogate):
                 zl,
                 zu,
             )
-            x = self._from_coordinates(z)
+            # within the box despite the coordinates' round trip (a U-value of 10.000000000000002)
+            x = np.clip(self._from_coordinates(z), lower, upper)
         else:
             d = zl.size
             if d > self.MAX_VERTEX_PARAMETERS:
@@ -804,7 +805,7 @@ class SeriesSurrogate(_Surrogate):
                 )
                 if -found.fun > float(values.max()):
                     z = found.x
-            x = self._from_coordinates(z)
+            x = np.clip(self._from_coordinates(z), lower, upper)
         value = float(self.predict(x[None, :])[0])
         return x, value
 

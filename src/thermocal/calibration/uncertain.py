@@ -9,12 +9,13 @@ truth. The Bayesian answer is to treat such an input as a nuisance parameter wit
 integrate it out (Kennedy and O'Hagan 2001, their "calibration inputs" against the known
 "variable inputs"; Gelman et al. 2013, chapter 3).
 
-The posterior's model is affine in the logarithms of the parameters, so one more model run per
-uncertain input gives the exact marginal: the input scaled by ``exp(s)`` (``s`` its prior
-standard deviation in the log, from a relative standard uncertainty ``r`` as
-``s^2 = ln(1 + r^2)``) changes the unoccupied-heat series by ``s`` times its signature; with the
-input's log ``u ~ N(0, s^2)`` the series' covariance gains ``s^2 b b^T`` (``b`` the signature per
-unit log), added to the likelihood beside the model discrepancy
+The posterior's model is affine in the parameters' coordinates (their logarithms in the published
+form; :mod:`thermocal.calibration.coordinates`) and the input enters through its own logarithm, so
+one more model run per uncertain input gives the exact marginal: the input scaled by ``exp(s)``
+(``s`` its prior standard deviation in the log, from a relative standard uncertainty ``r`` as ``s^2
+= ln(1 + r^2)``) changes the unoccupied-heat series by ``s`` times its signature; with the input's
+log ``u ~ N(0, s^2)`` the series' covariance gains ``s^2 b b^T`` (``b`` the signature per unit
+log), added to the likelihood beside the model discrepancy
 (:func:`thermocal.calibration.posterior.calibration_posterior`, ``uncertain``). The runs are kept
 in the campaign's store like the analysis' other runs: a re-analysis reads them.
 

@@ -542,6 +542,8 @@ class SeriesSurrogate(_Surrogate):
     ----------
     terms_ : {"affine", "quadratic"}
         The form used.
+    kinds_ : tuple of str
+        The coordinate of each fitted parameter (:func:`coordinate_kinds`).
     term_errors_ : dict of str to float
         Out-of-fold RMS hourly error of each form tried by ``"auto"`` [W] (empty otherwise).
     """
@@ -590,13 +592,6 @@ class SeriesSurrogate(_Surrogate):
         for a, b in self.segments:
             out[..., a:b] -= out[..., a:b].mean(axis=-1, keepdims=True)
         return out
-
-    @property
-    def kinds_(self) -> tuple[str, ...]:
-        """The coordinate of each fitted parameter (:func:`coordinate_kinds`)."""
-        return coordinate_kinds(
-            [str(n) for n in self.feature_names_in_], getattr(self, "coordinates", "log")
-        )
 
     def _log_parameters(self, Xa: np.ndarray) -> np.ndarray:
         """The coordinates ``z`` of parameter rows ``Xa`` [-] (the logarithms relative to the
@@ -655,6 +650,7 @@ class SeriesSurrogate(_Surrogate):
             raise ThermocalInputError(f"series meta-model: no nominal value for {missing[:3]}")
         self.feature_names_in_ = np.array(names, dtype=object)
         self.n_features_in_ = Xa.shape[1]
+        self.kinds_ = coordinate_kinds([str(n) for n in names], self.coordinates)
         Z = self._log_parameters(Xa)
         within = ya - self.series_variance(self.series)
         self.term_errors_ = {}

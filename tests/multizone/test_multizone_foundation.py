@@ -119,6 +119,25 @@ def test_the_independent_section_meets_iso_13370_without_a_slab():
     assert independent == pytest.approx(iso, rel=0.03)
 
 
+def _check_the_committed_mesh_study(committed, flow, kiva_mesh_flow):
+    """Assert that a BESTEST case's committed mesh study is ``bestest_gc30a.mesh_study``'s:
+    the meshes, the test mesh's flow (recomputed here: ``flow`` [W]) and Kiva's default mesh's
+    (``kiva_mesh_flow`` [W]), the Richardson limit and order; returns (first, growth) -> flow."""
+    study = load_script(REF / "bestest_gc30a.py")
+    meshes = [(m["first_cell_m"], m["growth"]) for m in committed["meshes"]]
+    assert meshes == study.MESHES
+    assert committed["test_mesh"]["floor_W"] == pytest.approx(flow, rel=1e-6)
+    assert committed["kiva_default_mesh_W"] == pytest.approx(kiva_mesh_flow, rel=1e-6)
+    by_mesh = {mesh: m["floor_W"] for mesh, m in zip(meshes, committed["meshes"], strict=True)}
+    assert by_mesh[study.TEST_MESH] == committed["test_mesh"]["floor_W"]
+    assert by_mesh[(0.02, 1.5)] == committed["kiva_default_mesh_W"]
+    halved = [by_mesh[(f, 1.05)] for f in (0.0025, 0.00125, 0.000625)]
+    converged, order = study.richardson(*halved)
+    assert committed["converged_W"] == pytest.approx(converged, rel=1e-12)
+    assert committed["observed_order"] == pytest.approx(order, rel=1e-12)
+    return by_mesh
+
+
 def test_the_independent_section_meets_bestest_gc30a():
     """The independent solution above on IEA BESTEST GC30a (NREL/TP-550-43388; 12 x 12 m floor
     at 30 C, grade at 10 C, soil 1.9 W/(m K), deep ground at 10 C 30 m down, far field 20 m;
@@ -142,18 +161,7 @@ def test_the_independent_section_meets_bestest_gc30a():
     assert committed["case"] == script.CASE
     assert committed["published_W"] == script.PUBLISHED
     assert committed["verified_range_W"] == [min(verified), max(verified)]
-    meshes = [(m["first_cell_m"], m["growth"]) for m in committed["meshes"]]
-    assert meshes == script.MESHES
-    assert committed["test_mesh"]["floor_W"] == pytest.approx(flow, rel=1e-6)
-    kiva_mesh = script.gc30a_flow(0.02, 1.5)
-    assert committed["kiva_default_mesh_W"] == pytest.approx(kiva_mesh, rel=1e-6)
-    by_mesh = {mesh: m["floor_W"] for mesh, m in zip(meshes, committed["meshes"], strict=True)}
-    assert by_mesh[script.TEST_MESH] == committed["test_mesh"]["floor_W"]
-    assert by_mesh[(0.02, 1.5)] == committed["kiva_default_mesh_W"]
-    halved = [by_mesh[(f, 1.05)] for f in (0.0025, 0.00125, 0.000625)]
-    converged, order = script.richardson(*halved)
-    assert committed["converged_W"] == pytest.approx(converged, rel=1e-12)
-    assert committed["observed_order"] == pytest.approx(order, rel=1e-12)
+    _check_the_committed_mesh_study(committed, flow, script.gc30a_flow(0.02, 1.5))
 
 
 def test_the_independent_section_meets_bestest_gc10a():
@@ -197,18 +205,8 @@ def test_the_independent_section_meets_bestest_gc10a():
         script.rectangle_flow(corners="product"), rel=1e-12
     )
     assert committed["a_over_p_section_cost"] == pytest.approx(strip / analytical - 1, 1e-12)
-    meshes = [(m["first_cell_m"], m["growth"]) for m in committed["meshes"]]
-    assert meshes == script.MESHES
-    assert committed["test_mesh"]["floor_W"] == pytest.approx(flow, rel=1e-6)
-    kiva_mesh = script.gc10a_flow(0.02, 1.5)
-    assert committed["kiva_default_mesh_W"] == pytest.approx(kiva_mesh, rel=1e-6)
-    by_mesh = {mesh: m["floor_W"] for mesh, m in zip(meshes, committed["meshes"], strict=True)}
-    assert by_mesh[script.TEST_MESH] == committed["test_mesh"]["floor_W"]
-    assert by_mesh[(0.02, 1.5)] == committed["kiva_default_mesh_W"]
-    halved = [by_mesh[(f, 1.05)] for f in (0.0025, 0.00125, 0.000625)]
-    converged, order = script.richardson(*halved)
-    assert committed["converged_W"] == pytest.approx(converged, rel=1e-12)
-    assert committed["observed_order"] == pytest.approx(order, rel=1e-12)
+    assert script.MESHES == load_script(REF / "bestest_gc30a.py").MESHES
+    by_mesh = _check_the_committed_mesh_study(committed, flow, script.gc10a_flow(0.02, 1.5))
     domains = [
         (d["far_field_and_deep_ground_m"], d["first_cell_m"], d["growth"])
         for d in committed["domains"]

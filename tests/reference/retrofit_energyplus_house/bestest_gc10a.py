@@ -92,10 +92,13 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parents[2] / "src"))
 
-import diagnose_floor_section as dfs  # noqa: E402
-from bestest_gc30a import richardson  # noqa: E402
-
-from thermocal.multizone.foundation import _edges  # noqa: E402
+from bestest_gc30a import (  # noqa: E402
+    MESHES,  # noqa: F401  (this case's meshes too: its test reads them here)
+    TEST_MESH,
+    mesh_study,
+    section_cells,
+    section_flow,
+)
 
 KIVA = "bigladder/kiva, commit 0fc63cf812a4b349751f0a66c4bc50a820eb2730"
 #: GC10a as Kiva's unit test sets it up (module docstring).
@@ -132,20 +135,7 @@ PUBLISHED = {
     "kiva_2d": 2480.2,
     "kiva_2d_source": f"{KIVA}: test/unit/foundation.unit.cpp, comment '// kiva: 2480.2'",
 }
-#: Meshes (first cell [m], growth), as ``bestest_gc30a.py``'s: Kiva's defaults in EnergyPlus,
-#: then the first cell halved at growth 1.05 (the last three extrapolated), and a gentler growth
-#: at the finest-but-one.
-MESHES = [
-    (0.02, 1.5),
-    (0.01, 1.05),
-    (0.005, 1.05),
-    (0.0025, 1.05),
-    (0.00125, 1.05),
-    (0.000625, 1.05),
-    (0.00125, 1.025),
-]
-#: The mesh the test solves (about 3 s).
-TEST_MESH = (0.0025, 1.05)
+#: Meshes and the test's mesh: ``bestest_gc30a.py``'s (``MESHES``, ``TEST_MESH``).
 #: Domains (far field beyond ``A / P`` = deep ground depth [m], the deep ground fixed) and
 #: meshes (first cell [m], growth): Kiva's 40 m on the test mesh, then towards the analytical
 #: solution's half-space, the largest also with the gentler growth (680,000 cells, about 30 s).
@@ -162,23 +152,7 @@ SQRT_PI = math.sqrt(math.pi)
 def gc10a_flow(first=0.02, growth=1.5, soil_k=CASE["soil_W_per_mK"], domain=None) -> float:
     """GC10a's steady floor heat flow [W] on ``diagnose_floor_section``'s section; ``domain``
     [m]: the far field and the deep ground both that far instead of Kiva's 40 and 40 m."""
-    wall = ((CASE["wall_footprint_m"], soil_k, 1490.0, 1800.0),)  # Kiva: a wall of soil
-    conductance = dfs.kiva_section(
-        [],
-        soil_k=soil_k,
-        wall=wall,
-        height=0.0,
-        first=first,
-        growth=growth,
-        area=CASE["area_m2"],
-        perimeter=CASE["perimeter_m"],
-        far_field=domain or CASE["far_field_beyond_A_over_P_m"],
-        deep=domain or CASE["deep_ground_depth_m"],
-        deep_fixed=True,
-        h_out=None,
-        wall_top_linear=True,
-    )
-    return conductance * (CASE["interior_surface_C"] - CASE["grade_surface_C"])
+    return section_flow(CASE, first, growth, soil_k, domain=domain, wall_top_linear=True)
 
 
 def strip_flow(soil_k=CASE["soil_W_per_mK"]) -> float:
@@ -257,24 +231,9 @@ def rectangle_flow(soil_k=CASE["soil_W_per_mK"], corners="mitred") -> float:
     return float(flow) + correction
 
 
-def cells(first, growth, domain=None) -> int:
-    """The section's cell count on a mesh."""
-    half = CASE["area_m2"] / CASE["perimeter_m"]
-    far = domain or CASE["far_field_beyond_A_over_P_m"]
-    deep = domain or CASE["deep_ground_depth_m"]
-    xe = _edges(0.0, half + far, [half, half + CASE["wall_footprint_m"]], first, growth)
-    ze = _edges(-deep, 0.0, [0.0], first, growth)
-    return (len(xe) - 1) * (len(ze) - 1)
-
-
 def main() -> dict:
-    meshes = [
-        {"first_cell_m": f, "growth": g, "cells": cells(f, g), "floor_W": gc10a_flow(f, g)}
-        for f, g in MESHES
-    ]
-    halved = [m["floor_W"] for m in meshes if m["growth"] == 1.05][-3:]
-    converged, order = richardson(*halved)
-    by_mesh = {(m["first_cell_m"], m["growth"]): m["floor_W"] for m in meshes}
+    study = mesh_study(CASE, gc10a_flow)
+    by_mesh, converged = study["by_mesh"], study["converged_W"]
     analytical = PUBLISHED["analytical"]
     strip = strip_flow()
     domains = []
@@ -286,7 +245,7 @@ def main() -> dict:
                 "far_field_and_deep_ground_m": d,
                 "first_cell_m": f,
                 "growth": g,
-                "cells": cells(f, g, domain=d),
+                "cells": section_cells(CASE, f, g, domain=d),
                 "floor_W": flow,
                 "against_strip": flow / strip - 1.0,
             }
@@ -300,18 +259,10 @@ def main() -> dict:
             "strip_A_over_P_section": strip,
         },
         "a_over_p_section_cost": strip / analytical - 1.0,
-        "meshes": meshes,
-        "converged_W": converged,
-        "observed_order": order,
+        **{k: study[k] for k in ("meshes", "converged_W", "observed_order")},
         "converged_against_analytical": converged / analytical - 1.0,
         "converged_against_strip": converged / strip - 1.0,
-        "kiva_default_mesh_W": by_mesh[(0.02, 1.5)],
-        "test_mesh": {
-            "first_cell_m": TEST_MESH[0],
-            "growth": TEST_MESH[1],
-            "floor_W": by_mesh[TEST_MESH],
-            "error_against_converged": by_mesh[TEST_MESH] / converged - 1.0,
-        },
+        **{k: study[k] for k in ("kiva_default_mesh_W", "test_mesh")},
         "domains": domains,
     }
     (HERE / "gc10a.json").write_text(json.dumps(out, indent=1) + "\n")

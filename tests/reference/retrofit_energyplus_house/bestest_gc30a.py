@@ -92,9 +92,13 @@ MESHES = [
 TEST_MESH = (0.0025, 1.05)
 
 
-def gc30a_flow(first=0.02, growth=1.5, soil_k=CASE["soil_W_per_mK"]) -> float:
-    """GC30a's steady floor heat flow [W] on ``diagnose_floor_section``'s section."""
-    wall = ((CASE["wall_footprint_m"], soil_k, 1490.0, 1800.0),)  # Kiva: a wall of soil
+def section_flow(case, first, growth, soil_k, *, domain=None, wall_top_linear=False) -> float:
+    """A BESTEST ground-coupling case's steady floor heat flow [W] on
+    ``diagnose_floor_section``'s section: the bare floor and a wall of soil at fixed surface
+    temperatures, the deep ground fixed; ``domain`` [m]: the far field and the deep ground
+    both that far instead of the case's; ``wall_top_linear``: the wall's top held linear
+    between the two surface temperatures (GC10a) instead of adiabatic."""
+    wall = ((case["wall_footprint_m"], soil_k, 1490.0, 1800.0),)  # Kiva: a wall of soil
     conductance = dfs.kiva_section(
         [],
         soil_k=soil_k,
@@ -102,28 +106,30 @@ def gc30a_flow(first=0.02, growth=1.5, soil_k=CASE["soil_W_per_mK"]) -> float:
         height=0.0,
         first=first,
         growth=growth,
-        area=CASE["area_m2"],
-        perimeter=CASE["perimeter_m"],
-        far_field=CASE["far_field_beyond_A_over_P_m"],
-        deep=CASE["deep_ground_depth_m"],
+        area=case["area_m2"],
+        perimeter=case["perimeter_m"],
+        far_field=domain or case["far_field_beyond_A_over_P_m"],
+        deep=domain or case["deep_ground_depth_m"],
         deep_fixed=True,
         h_out=None,
+        wall_top_linear=wall_top_linear,
     )
-    return conductance * (CASE["interior_surface_C"] - CASE["grade_surface_C"])
+    return conductance * (case["interior_surface_C"] - case["grade_surface_C"])
 
 
-def cells(first, growth) -> int:
-    """The section's cell count on a mesh."""
-    half = CASE["area_m2"] / CASE["perimeter_m"]
-    xe = _edges(
-        0.0,
-        half + CASE["far_field_beyond_A_over_P_m"],
-        [half, half + CASE["wall_footprint_m"]],
-        first,
-        growth,
-    )
-    ze = _edges(-CASE["deep_ground_depth_m"], 0.0, [0.0], first, growth)
+def section_cells(case, first, growth, domain=None) -> int:
+    """The section's cell count on a mesh (``domain`` as :func:`section_flow`'s)."""
+    half = case["area_m2"] / case["perimeter_m"]
+    far = domain or case["far_field_beyond_A_over_P_m"]
+    deep = domain or case["deep_ground_depth_m"]
+    xe = _edges(0.0, half + far, [half, half + case["wall_footprint_m"]], first, growth)
+    ze = _edges(-deep, 0.0, [0.0], first, growth)
     return (len(xe) - 1) * (len(ze) - 1)
+
+
+def gc30a_flow(first=0.02, growth=1.5, soil_k=CASE["soil_W_per_mK"]) -> float:
+    """GC30a's steady floor heat flow [W] on ``diagnose_floor_section``'s section."""
+    return section_flow(CASE, first, growth, soil_k)
 
 
 def richardson(coarse, medium, fine, ratio=2.0) -> tuple[float, float]:
@@ -132,19 +138,30 @@ def richardson(coarse, medium, fine, ratio=2.0) -> tuple[float, float]:
     return fine + (fine - medium) / (ratio**order - 1.0), order
 
 
-def main() -> dict:
+def mesh_study(case, flow) -> dict:
+    """``flow(first, growth)`` [W] on every mesh of :data:`MESHES`, extrapolated (Richardson)
+    from the three finest at growth 1.05.
+
+    Returns
+    -------
+    dict
+        ``meshes`` (first cell, growth, cells, floor flow each), ``converged_W``,
+        ``observed_order``, ``kiva_default_mesh_W``, ``test_mesh`` (on :data:`TEST_MESH`, with
+        its error against the converged value) and ``by_mesh`` ((first, growth) -> flow [W]).
+    """
     meshes = [
-        {"first_cell_m": f, "growth": g, "cells": cells(f, g), "floor_W": gc30a_flow(f, g)}
+        {
+            "first_cell_m": f,
+            "growth": g,
+            "cells": section_cells(case, f, g),
+            "floor_W": flow(f, g),
+        }
         for f, g in MESHES
     ]
     halved = [m["floor_W"] for m in meshes if m["growth"] == 1.05][-3:]
     converged, order = richardson(*halved)
-    verified = [PUBLISHED[name] for name in VERIFIED]
     by_mesh = {(m["first_cell_m"], m["growth"]): m["floor_W"] for m in meshes}
-    out = {
-        "case": CASE,
-        "published_W": PUBLISHED,
-        "verified_range_W": [min(verified), max(verified)],
+    return {
         "meshes": meshes,
         "converged_W": converged,
         "observed_order": order,
@@ -155,6 +172,19 @@ def main() -> dict:
             "floor_W": by_mesh[TEST_MESH],
             "error_against_converged": by_mesh[TEST_MESH] / converged - 1.0,
         },
+        "by_mesh": by_mesh,
+    }
+
+
+def main() -> dict:
+    study = mesh_study(CASE, gc30a_flow)
+    verified = [PUBLISHED[name] for name in VERIFIED]
+    out = {
+        "case": CASE,
+        "published_W": PUBLISHED,
+        "verified_range_W": [min(verified), max(verified)],
+        **{k: study[k] for k in ("meshes", "converged_W", "observed_order")},
+        **{k: study[k] for k in ("kiva_default_mesh_W", "test_mesh")},
     }
     (HERE / "gc30a.json").write_text(json.dumps(out, indent=1) + "\n")
     return out

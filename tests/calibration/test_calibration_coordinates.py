@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
+from calibration_evaluators import roof_and_wall_heat
 
 from thermocal.calibration.coordinates import (
     FILM_RESISTANCE,
@@ -90,17 +91,8 @@ def test_a_measured_prior_in_physical_coordinates_matches_the_log_normal_at_the_
 
 
 def _hourly_heat(X: np.ndarray) -> np.ndarray:
-    """Heat left over in 200 quiet hours [W] of envelopes ``X`` (roof and wall resistance
-    [m2 K/W]): each element's conduction with ``U = 1 / (R + films)`` at ISO 6946's films,
-    minus the truth's, plus a small error common to every sample."""
-    rng = np.random.default_rng(7)
-    hours = np.arange(200)
-    roof_dt = 400.0 * (1.2 + np.sin(2 * np.pi * hours / 24.0)) + 50.0 * rng.standard_normal(200)
-    wall_dt = 600.0 * (1.0 + 0.6 * np.cos(2 * np.pi * hours / 37.0))
-    error = 2.0 * rng.standard_normal(200)
-    films = FILM_RESISTANCE
-    u = 1.0 / (np.atleast_2d(X) + films) - 1.0 / (TRUTH + films)
-    return u[:, :1] * roof_dt + u[:, 1:] * wall_dt + error
+    """The two elements' heat at ISO 6946's films (:func:`roof_and_wall_heat`) [W]."""
+    return roof_and_wall_heat(X, TRUTH, FILM_RESISTANCE)
 
 
 @pytest.mark.parametrize(("coordinates", "bias"), [("physical", 0.005), ("log", 0.03)])

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from calibration_evaluators import QuadraticEvaluator
+from calibration_evaluators import QuadraticEvaluator, roof_and_wall_heat
 
 from conftest import reference_run
 from thermocal.calibration.config import load_campaign
@@ -33,17 +33,8 @@ FILMS = 0.05  # [m2 K/W]
 
 
 def _hourly_heat(X: np.ndarray) -> np.ndarray:
-    """Identified heat left over in 200 unoccupied hours [W] of envelopes ``X`` (rows: roof
-    and wall resistance [m2 K/W]): each element's conduction ``UA dT`` with ``U = 1 / (R +
-    films)``, minus the truth's (the sensors), plus a small error common to every sample; zero
-    (but for that error) at the truth, convex in log R like a real heat path."""
-    rng = np.random.default_rng(7)
-    hours = np.arange(200)
-    roof_dt = 400.0 * (1.2 + np.sin(2 * np.pi * hours / 24.0)) + 50.0 * rng.standard_normal(200)
-    wall_dt = 600.0 * (1.0 + 0.6 * np.cos(2 * np.pi * hours / 37.0))
-    error = 2.0 * rng.standard_normal(200)
-    u = 1.0 / (np.atleast_2d(X) + FILMS) - 1.0 / (TRUTH + FILMS)
-    return u[:, :1] * roof_dt + u[:, 1:] * wall_dt + error
+    """The two elements' heat at this test's truth and films (:func:`roof_and_wall_heat`) [W]."""
+    return roof_and_wall_heat(X, TRUTH, FILMS)
 
 
 def _series_minimum(X: pd.DataFrame, lower, upper) -> np.ndarray:

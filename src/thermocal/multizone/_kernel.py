@@ -117,12 +117,12 @@ def run_steps(
     b_val,
     u,
     heat_extra,
-    lp,
-    li,
-    lx,
-    up,
-    ui,
-    ux,
+    l_row,
+    l_col,
+    l_val,
+    u_row,
+    u_col,
+    u_val,
     inv_diag,
     inverse_r,
     perm_c,
@@ -174,12 +174,12 @@ def run_steps(
     cache_inv,
     cache_m,
     use_dirichlet,
-    dlp,
-    dli,
-    dlx,
-    dup,
-    dui,
-    dux,
+    dl_row,
+    dl_col,
+    dl_val,
+    du_row,
+    du_col,
+    du_val,
     d_inv_diag,
     d_inverse_r,
     d_perm_c,
@@ -302,6 +302,8 @@ def run_steps(
     the tracked heat, ``gt_k`` (nc, mt) = inverse sensed response x sensed response to air heat,
     ``gt_m = A_h - gt_aq gt_k`` (mt, mt)); ``gt_d``, ``gt_inv`` cache ``D`` and the inverse.
     """
+    factors = (l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm_c)
+    d_factors = (dl_row, dl_col, dl_val, du_row, du_col, du_val, d_inv_diag, d_inverse_r, d_perm_c)
     n = x.shape[0]
     nz = air_node.shape[0]
     nc = ctrl_zone.shape[0]
@@ -596,12 +598,9 @@ def run_steps(
                     rhs_d[i] = rhs[i]
                 for c in range(nc):
                     rhs_d[air_node[ctrl_zone[c]]] = track_ref[s, c]
-                lu_solve(
-                    dlp, dli, dlx, dup, dui, dux, d_inv_diag, d_inverse_r, d_perm_c, rhs_d, work,
-                    wet_x,
-                )  # fmt: skip
+                lu_solve(*d_factors, rhs_d, work, wet_x)
             else:
-                lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, wet_x)
+                lu_solve(*factors, rhs, work, wet_x)
             for i in range(m_wet):
                 acc = wet_c[i] * twb
                 for j in range(m_wet):
@@ -627,22 +626,9 @@ def run_steps(
                         rhs_d[i] = rhs[i]
                     for c in range(nc):
                         rhs_d[air_node[ctrl_zone[c]]] = track_ref[s, c]
-                    lu_solve(
-                        dlp,
-                        dli,
-                        dlx,
-                        dup,
-                        dui,
-                        dux,
-                        d_inv_diag,
-                        d_inverse_r,
-                        d_perm_c,
-                        rhs_d,
-                        work,
-                        x_new,
-                    )
+                    lu_solve(*d_factors, rhs_d, work, x_new)
                 else:
-                    lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+                    lu_solve(*factors, rhs, work, x_new)
                 for i in range(m_imp):
                     acc = x_new[air_node[imp_zone[i]]]
                     for j in range(m_imp):
@@ -697,16 +683,14 @@ def run_steps(
         done = False
         if track_mode == 2:
             # the PID heat is already in rhs (before the outdoor air, see 1'')
-            lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+            lu_solve(*factors, rhs, work, x_new)
             done = True
         elif track_mode == 1 and not track_general:
             for i in range(n):
                 rhs_d[i] = rhs[i]
             for c in range(nc):
                 rhs_d[air_node[ctrl_zone[c]]] = track_ref[s, c]
-            lu_solve(
-                dlp, dli, dlx, dup, dui, dux, d_inv_diag, d_inverse_r, d_perm_c, rhs_d, work, x_new
-            )
+            lu_solve(*d_factors, rhs_d, work, x_new)
             for c in range(nc):
                 acc = -rhs[air_node[ctrl_zone[c]]]
                 for p in range(a_ptr[c], a_ptr[c + 1]):
@@ -714,7 +698,7 @@ def run_steps(
                 q[c] = acc
             done = True
         elif track_mode == 1:
-            lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+            lu_solve(*factors, rhs, work, x_new)
             for z in range(nz):
                 mrt_tmp[z] = 0.0
             for f in range(face_node.shape[0]):
@@ -756,7 +740,7 @@ def run_steps(
             for c in range(nc):
                 for p in range(track_ptr[c], track_ptr[c + 1]):
                     rhs[track_idx[p]] += track_val[p] * q[c]
-            lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+            lu_solve(*factors, rhs, work, x_new)
             done = True
         # 3. every controlled zone at a set point in the previous step: try the Dirichlet system
         #    (controlled air temperatures prescribed) -- one substitution; accept when the implied
@@ -773,20 +757,7 @@ def run_steps(
                 for c in range(nc):
                     an = air_node[ctrl_zone[c]]
                     rhs_d[an] = heat_sp_k[c] if active[c] == 1 else cool_sp_k[c]
-                lu_solve(
-                    dlp,
-                    dli,
-                    dlx,
-                    dup,
-                    dui,
-                    dux,
-                    d_inv_diag,
-                    d_inverse_r,
-                    d_perm_c,
-                    rhs_d,
-                    work,
-                    x_new,
-                )
+                lu_solve(*d_factors, rhs_d, work, x_new)
                 done = True
                 for c in range(nc):
                     an = air_node[ctrl_zone[c]]
@@ -800,7 +771,7 @@ def run_steps(
                     cache_m[5] += 1
         if not done and track_mode == 0:
             # free response
-            lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+            lu_solve(*factors, rhs, work, x_new)
             for c in range(nc):
                 q[c] = 0.0
         # 4. ideal loads
@@ -826,7 +797,7 @@ def run_steps(
             if any_q:
                 for c in range(nc):
                     rhs[air_node[ctrl_zone[c]]] += q[c]
-                lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, rhs, work, x_new)
+                lu_solve(*factors, rhs, work, x_new)
         # 4'. a zone the ideal loads hold at a set point meets its scheduled outdoor air at that
         #     set point, not at its previous temperature: the load takes the difference (the
         #     temperatures do not change while the zone stays held)

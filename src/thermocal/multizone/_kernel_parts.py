@@ -15,14 +15,24 @@ PEOPLE_T0 = 22.0
 
 
 def prepare_factors(lower, upper, perm_r, perm_c):
-    """Strictly triangular CSC parts, inverse diagonal of ``U`` and permutations as flat arrays.
+    """The factors of ``Pr A Pc = L U`` (SuperLU, unit lower ``L``) as :func:`lu_solve` reads them.
 
-    ``Pr A Pc = L U`` (SuperLU, unit lower ``L``); the returned tuple feeds :func:`lu_solve`.
+    Each strictly triangular part is one flat list of entries in the order the substitution
+    applies them (``L`` by ascending column, ``U`` by descending column, each column's entries
+    in row order): row, column and value per entry, so that the substitution is a single loop
+    over the entries, without a loop per column whose few entries (about two here: the wall
+    chains) end at a branch the processor cannot predict. Then the inverse diagonal of ``U`` and
+    the permutations.
+
+    Returns
+    -------
+    tuple
+        ``(l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm_c)``: int32 rows
+        and columns, float64 values [-], ``1 / diag(U)``, the inverse row permutation and the
+        column permutation (int64).
     """
     lower = lower.tocsc()
     upper = upper.tocsc()
-    lower.sort_indices()
-    upper.sort_indices()
     n = lower.shape[0]
     diag = upper.diagonal()
     strict_l = (lower - _sparse_diag(lower.diagonal())).tocsc()
@@ -33,16 +43,28 @@ def prepare_factors(lower, upper, perm_r, perm_c):
     strict_u.sort_indices()
     inverse_r = np.empty(n, dtype=np.int64)
     inverse_r[np.asarray(perm_r)] = np.arange(n)
+    l_row, l_col, l_val = _entries(strict_l, np.arange(n))
+    u_row, u_col, u_val = _entries(strict_u, np.arange(n - 1, -1, -1))
     return (
-        strict_l.indptr.astype(np.int64),
-        strict_l.indices.astype(np.int32),
-        strict_l.data.copy(),
-        strict_u.indptr.astype(np.int64),
-        strict_u.indices.astype(np.int32),
-        strict_u.data.copy(),
+        l_row, l_col, l_val, u_row, u_col, u_val,
         1.0 / diag,
         inverse_r,
         np.asarray(perm_c, dtype=np.int64),
+    )  # fmt: skip
+
+
+def _entries(matrix, columns):
+    """Rows, columns and values of a sorted CSC ``matrix``'s entries, column by column in the
+    order ``columns``, each column's entries in row order."""
+    counts = np.diff(matrix.indptr)[columns]
+    starts = matrix.indptr[columns]
+    # the positions of the entries: each column's start plus 0, 1, ..., count - 1
+    offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    positions = np.repeat(starts, counts) + offsets
+    return (
+        matrix.indices[positions].astype(np.int32),
+        np.repeat(columns, counts).astype(np.int32),
+        matrix.data[positions].copy(),
     )
 
 
@@ -52,25 +74,27 @@ def _sparse_diag(values):
     return sp.diags(values, format="csc")
 
 
-@njit(cache=True, fastmath=True)
-def lu_solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, out):
-    """Solve ``A x = b`` with the factors of :func:`prepare_factors`."""
+@njit(cache=True, fastmath={"contract", "nsz", "nnan", "ninf"})
+def lu_solve(l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm_c, b, work, out):
+    """Solve ``A x = b`` with the factors of :func:`prepare_factors`.
+
+    Column-oriented substitutions, one entry at a time: an entry of column ``j`` is applied
+    once every entry of the columns before ``j`` (after, for ``U``) has been, so the value it
+    reads is final. ``U``'s column value is ``work[j] / U[j, j]``, recomputed per entry (the
+    same product each time); the floating-point flags allow contraction to fused multiply-adds
+    but not reassociation, so the result is that of the loop per column, bit for bit.
+    """
     n = b.shape[0]
     for j in range(n):
         work[j] = b[inverse_r[j]]
-    for j in range(n):
-        zj = work[j]
-        if zj != 0.0:
-            for p in range(lp[j], lp[j + 1]):
-                work[li[p]] -= lx[p] * zj
-    for j in range(n - 1, -1, -1):
-        yj = work[j] * inv_diag[j]
-        work[j] = yj
-        if yj != 0.0:
-            for p in range(up[j], up[j + 1]):
-                work[ui[p]] -= ux[p] * yj
+    for p in range(l_val.shape[0]):
+        work[l_row[p]] -= l_val[p] * work[l_col[p]]
+    for p in range(u_val.shape[0]):
+        j = u_col[p]
+        work[u_row[p]] -= u_val[p] * (work[j] * inv_diag[j])
     for i in range(n):
-        out[i] = work[perm_c[i]]
+        j = perm_c[i]
+        out[i] = work[j] * inv_diag[j]
 
 
 @njit(cache=True, fastmath=True)

@@ -112,8 +112,8 @@ def run_steps(
     n_steps,
     x,
     c_dt,
-    b_ptr,
-    b_idx,
+    b_row,
+    b_col,
     b_val,
     u,
     heat_extra,
@@ -388,10 +388,9 @@ def run_steps(
             )  # fmt: skip
         # 1. rhs = C/dt x + B u_k
         for i in range(n):
-            acc = c_dt[i] * x[i]
-            for p in range(b_ptr[i], b_ptr[i + 1]):
-                acc += b_val[p] * u[k, b_idx[p]]
-            rhs[i] = acc
+            rhs[i] = c_dt[i] * x[i]
+        for p in range(b_val.shape[0]):  # one loop over B's entries, row by row (no branch per row)
+            rhs[b_row[p]] += b_val[p] * u[k, b_col[p]]
         for z in range(nz):
             rhs[air_node[z]] += heat_extra[s, z]
         t_out = u[k, 0]

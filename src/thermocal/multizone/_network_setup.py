@@ -245,7 +245,9 @@ class NetworkSetup:
         )
         b = net.inputs.tocsr()
         b.sort_indices()
-        self._b = (b.indptr.astype(np.int64), b.indices.astype(np.int64), b.data)
+        # B's entries row by row, each row's in column order (the time loop's one flat loop)
+        b_row = np.repeat(np.arange(b.shape[0]), np.diff(b.indptr))
+        self._b = (b_row.astype(np.int64), b.indices.astype(np.int64), b.data)
         counts = np.bincount(net.face_zone, weights=net.face_area, minlength=len(zones))
         self._zone_face_area = counts.astype(float)
         # second column: the area of the exact sigma T^4 correction of the exterior long-wave;

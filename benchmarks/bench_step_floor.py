@@ -45,14 +45,16 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-FACTOR_NAMES = ["lp", "li", "lx", "up", "ui", "ux", "inv_diag", "inverse_r", "perm_c"]
+FACTOR_NAMES = [
+    "l_row", "l_col", "l_val", "u_row", "u_col", "u_val", "inv_diag", "inverse_r", "perm_c"
+]  # fmt: skip
 DIRICHLET_NAMES = [
-    "dlp",
-    "dli",
-    "dlx",
-    "dup",
-    "dui",
-    "dux",
+    "dl_row",
+    "dl_col",
+    "dl_val",
+    "du_row",
+    "du_col",
+    "du_val",
     "d_inv_diag",
     "d_inverse_r",
     "d_perm_c",
@@ -83,17 +85,21 @@ def triad_bandwidth(n_bytes: float, seconds: float = 0.3) -> float:
 
 
 @njit
-def repeated_solves(solve, n_rep, lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b):
+def repeated_solves(
+    solve, n_rep, l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm_c, b
+):
     n = b.shape[0]
     work = np.empty(n)
     out = np.empty(n)
     for _ in range(n_rep):
-        solve(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, out)
+        solve(l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm_c, b, work, out)
     return out
 
 
 @njit(fastmath=True)
-def diagonal_only(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, out):
+def diagonal_only(
+    l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm_c, b, work, out
+):
     """Stand-in for a substitution: a diagonal scaling, clipped (keeps the state bounded)."""
     for i in range(b.shape[0]):
         out[i] = min(max(b[i] * inv_diag[i], -50.0), 80.0)
@@ -101,10 +107,9 @@ def diagonal_only(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, 
 
 def factor_bytes(factors) -> tuple[int, int]:
     """Bytes of one substitution (arrays read once, vectors b, out and work) and its flops."""
-    lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c = factors
-    n = inv_diag.shape[0]
-    nnz = li.shape[0] + ui.shape[0]
-    matrix = sum(a.nbytes for a in (lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c))
+    n = factors[6].shape[0]
+    nnz = factors[2].shape[0] + factors[5].shape[0]
+    matrix = sum(a.nbytes for a in factors)
     vectors = 8 * n * 4  # b read, out written, work written and read once
     return matrix + vectors, 2 * nnz + n
 

@@ -3,7 +3,10 @@
 The clinic's factors (``benchmarks/bench_step_floor.py``'s capture: 7,083 nodes, free run)
 substituted 3,000 times per variant, alternating, on one random right-hand side:
 
-- ``current``: :func:`thermocal.multizone._kernel_parts.lu_solve` as the loop calls it;
+- ``current``: :func:`thermocal.multizone._kernel_parts.lu_solve` as the loop calls it (since
+  2026-11-30 one flat loop over the entries, row, column and value each);
+- ``per column``: the loop until 2026-11-30, a loop per column over its entries (CSC), the
+  factors rebuilt as CSC from the flat ones; the variants below are variants of it;
 - ``levels``: the same factors renumbered so that the columns run level by level of the
   substitution's dependency graph (a topological order: every column's predecessors in an
   earlier level), so that consecutive columns are independent and the processor could overlap
@@ -70,6 +73,42 @@ def level_ordered(factors):
 
 
 @njit(fastmath=True)
+def solve_per_column(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, out):
+    """The substitution of the loop until 2026-11-30 (CSC factors, a loop per column)."""
+    n = b.shape[0]
+    for j in range(n):
+        work[j] = b[inverse_r[j]]
+    for j in range(n):
+        zj = work[j]
+        if zj != 0.0:
+            for p in range(lp[j], lp[j + 1]):
+                work[li[p]] -= lx[p] * zj
+    for j in range(n - 1, -1, -1):
+        yj = work[j] * inv_diag[j]
+        work[j] = yj
+        if yj != 0.0:
+            for p in range(up[j], up[j + 1]):
+                work[ui[p]] -= ux[p] * yj
+    for i in range(n):
+        out[i] = work[perm_c[i]]
+
+
+def per_column(flat):
+    """The flat factors of :func:`prepare_factors` as CSC (:func:`solve_per_column`)."""
+    l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm_c = flat
+    n = len(inv_diag)
+    lower = sp.csc_matrix((l_val, (l_row, l_col)), shape=(n, n))
+    upper = sp.csc_matrix((u_val, (u_row, u_col)), shape=(n, n))
+    lower.sort_indices()
+    upper.sort_indices()
+    return (
+        lower.indptr.astype(np.int64), lower.indices.astype(np.int32), lower.data.copy(),
+        upper.indptr.astype(np.int64), upper.indices.astype(np.int32), upper.data.copy(),
+        inv_diag, inverse_r, perm_c,
+    )  # fmt: skip
+
+
+@njit(fastmath=True)
 def solve_without_zero_test(lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c, b, work, out):
     n = b.shape[0]
     for j in range(n):
@@ -120,7 +159,8 @@ def main() -> None:
     args = parser.parse_args()
     _, cases, _ = bench_step_floor.capture_clinic()
     case = cases["free run, given heat"]
-    factors = tuple(case[name] for name in bench_step_floor.FACTOR_NAMES)
+    flat = tuple(case[name] for name in bench_step_floor.FACTOR_NAMES)
+    factors = per_column(flat)
     lp, li, lx, up, ui, ux, inv_diag, inverse_r, perm_c = factors
     n = len(inv_diag)
     lower = sp.csc_matrix((lx, li, lp), shape=(n, n)).tocsr()
@@ -134,17 +174,18 @@ def main() -> None:
     )  # fmt: skip
     wide = (lp, li.astype(np.int64), lx, up, ui.astype(np.int64), ux, inv_diag, inverse_r, perm_c)
     variants = {
-        "current": (repeated(lu_solve), factors),
-        "levels": (repeated(lu_solve), level_ordered(factors)),
+        "current": (repeated(lu_solve), flat),
+        "per column": (repeated(solve_per_column), factors),
+        "levels": (repeated(solve_per_column), level_ordered(factors)),
         "no zero test": (repeated(solve_without_zero_test), factors),
-        "64-bit indices": (repeated(lu_solve), wide),
+        "64-bit indices": (repeated(solve_per_column), wide),
         "rows (gather)": (repeated(solve_by_rows), by_rows),
     }
     levels = dependency_levels(lp, li, up, ui, n)
     print(f"{n} columns, {len(lx) + len(ux)} off-diagonal entries, {levels.max() + 1} levels")
     b = np.random.default_rng(0).normal(size=n)
     work, out, reference = np.empty(n), np.empty(n), np.empty(n)
-    lu_solve(*factors, b, work, reference)
+    lu_solve(*flat, b, work, reference)
     times: dict[str, list[float]] = {name: [] for name in variants}
     for run, fac in variants.values():
         run(2, *fac, b, work, out)

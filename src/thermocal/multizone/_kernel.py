@@ -66,7 +66,7 @@ SIGMA = 5.670374419e-8
 KELVIN = 273.15
 
 
-@njit(cache=True, fastmath=True, inline="always")
+@njit(cache=True, error_model="numpy", fastmath=True, inline="always")
 def exterior_excess(
     ts, t_out, t_sky, dh, mode, rough, cos_up, hc0, hmax, area, area_eps, view_air, view_sky, hr0,
     exact,
@@ -106,7 +106,7 @@ def exterior_excess(
     return corr
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=True)
 def run_steps(
     k0,
     n_steps,

@@ -74,7 +74,7 @@ def _sparse_diag(values):
     return sp.diags(values, format="csc")
 
 
-@njit(cache=True, fastmath={"contract", "nsz", "nnan", "ninf"})
+@njit(cache=True, error_model="numpy", fastmath={"contract", "nsz", "nnan", "ninf"})
 def lu_solve(l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm_c, b, work, out):
     """Solve ``A x = b`` with the factors of :func:`prepare_factors`.
 
@@ -97,7 +97,7 @@ def lu_solve(l_row, l_col, l_val, u_row, u_col, u_val, inv_diag, inverse_r, perm
         out[i] = work[j] * inv_diag[j]
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=True)
 def cube_root_update(x, guess):
     """Cube root of ``x >= 0`` by three Newton steps from ``guess`` (the previous step's root).
 
@@ -111,7 +111,7 @@ def cube_root_update(x, guess):
     return y
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=True)
 def people_excess(t_air, a, b, c, limit):
     """People's sensible heat at ``t_air`` minus its value at ``PEOPLE_T0`` [W].
 
@@ -128,13 +128,13 @@ def people_excess(t_air, a, b, c, limit):
     return at_t - at_0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def tarp(delta_t, cos_up):
     """TARP natural convection (scalar version of network.tarp_natural_convection)."""
     return tarp_from_root(delta_t, np.cbrt(abs(delta_t)), cos_up)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=True)
 def tarp_from_root(delta_t, root, cos_up):
     """TARP coefficient given ``root = |delta_t|^(1/3)``."""
     abs_cos = abs(cos_up)
@@ -147,7 +147,7 @@ def tarp_from_root(delta_t, root, cos_up):
     return max(h, 0.1)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def iso15099_window_interior(t_surface, t_air, height, tilt, sin_tilt, ra_cv, pressure):
     """Room-side natural convection of a window, ISO 15099 §8.3.2.2, as EnergyPlus' TARP
     algorithm takes it for windows (ConvectionCoefficients.cc, CalcISO15099WindowIntConvCoeff)
@@ -205,7 +205,7 @@ def iso15099_window_interior(t_surface, t_air, height, tilt, sin_tilt, ra_cv, pr
     return max(nu * k / height, 0.1)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def simple_interior(delta_t, cos_up):
     """EnergyPlus' "Simple" interior coefficient (ASHRAE): 3.076 on vertical faces; on horizontal
     (tilted) faces 4.040 (3.870) when the heat flow is unstable (a face warmer than the air facing
@@ -219,7 +219,7 @@ def simple_interior(delta_t, cos_up):
     return 3.870 if product > 0.0 else 2.281
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
     """Make ``cache_inv`` the inverse of ``g`` on the active set (embedded by zone index).
 
@@ -304,7 +304,7 @@ def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
     cache_m[0] = m_new
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def ideal_loads(t_free, heat_sp, cool_sp, g, active, q, cache_member, cache_inv, cache_m):
     """Heating (+) / cooling (-) powers that bring every controlled zone inside its set points.
 
@@ -361,7 +361,7 @@ def ideal_loads(t_free, heat_sp, cool_sp, g, active, q, cache_member, cache_inv,
             return
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=True)
 def _refined_solve(inv, g, d, b, y, r, d_left):
     """Solve ``(I + G diag(d)) y = b`` (``d_left``: ``(I + diag(d) G) y = b``) with ``inv`` the
     inverse of the system at a nearby ``d`` (iterative refinement, at most 4 corrections).
@@ -406,7 +406,7 @@ def _refined_solve(inv, g, d, b, y, r, d_left):
     return False
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=True)
 def _invert_into(g, d, out, d_store, d_left):
     """``out = inv(I + G diag(d))`` (``d_left``: ``inv(I + diag(d) G)``); ``d_store`` keeps ``d``
     and its last entry marks the inverse valid."""
@@ -424,7 +424,7 @@ def _invert_into(g, d, out, d_store, d_left):
     d_store[m] = 1.0
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=True)
 def outdoor_air_excess(k, z, ratio, base, column, scheduled):
     """Outdoor-air conductance of zone ``z`` at step ``k`` beyond its matrix value [W/K].
 

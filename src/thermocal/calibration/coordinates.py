@@ -24,8 +24,8 @@ Every coordinate is increasing in ``p``, so a box of parameters is a box of coor
 bounded least squares, vertex searches and truncated-Gaussian sampling in ``z`` keep their form.
 The posterior's prior stays uniform in each parameter: its density in ``z`` is ``exp(z)`` for a
 logarithm (a linear tilt, exact in the Gibbs sweeps), constant for a linear coordinate and
-``(1 - z)^-2`` for a conductance (importance weights on the Gibbs draws; exact in the ensemble
-sampler).
+``(1 - z)^-2`` for a conductance (in that coordinate's Gibbs conditional, its logarithm
+interpolated on 32 pieces; exact in the ensemble sampler).
 """
 
 from __future__ import annotations

@@ -21,7 +21,7 @@ error (:func:`emulator_variance`), and ``n_eff = sum_g n_g / tau_g`` the number 
 independent hours given each series' correlation time ``tau_g`` (the longer of its integrated
 and its lag-1 autocorrelation times, :func:`effective_hours`). The prior is
 the campaign's: uniform in each parameter between its bounds (in a construction's conductance
-coordinate the density ``(1 - z)^-2``, taken by importance weights on the Gibbs draws), or, for
+coordinate the density ``(1 - z)^-2``, in that coordinate's Gibbs conditional), or, for
 an element measured in situ (a heat-flux meter, ISO 9869-1), log-normal around the measurement
 within the same bounds (:func:`measured_prior`). With the affine model the
 posterior is a Gaussian in ``z`` truncated to the prior box, sampled exactly by Gibbs sweeps
@@ -198,11 +198,17 @@ class LinearHeatModel:
         ndarray (m,) [-]
         """
         z = np.atleast_2d(np.asarray(z, dtype=float))
-        kinds = np.array([k == "conductance" for k in self.coordinate_kinds], dtype=bool)
-        use = kinds & (np.asarray(measured_precision) == 0)
+        use = self.conductance_prior(measured_precision)
         if not use.any():
             return np.zeros(len(z))
         return -2.0 * np.log1p(-z[:, use]).sum(axis=1)
+
+    def conductance_prior(self, measured_precision: np.ndarray) -> np.ndarray:
+        """Which coordinates carry the prior term ``-2 log(1 - z)`` of
+        :meth:`prior_log_density_rest`: the resistances in their conductance coordinate that
+        no in-situ measurement gives a prior of its own (bool (d,))."""
+        kinds = np.array([k == "conductance" for k in self.coordinate_kinds], dtype=bool)
+        return kinds & (np.asarray(measured_precision) == 0)
 
 
 def linear_heat_model(surrogate, names: Sequence[str], lower, upper) -> LinearHeatModel:
@@ -606,36 +612,6 @@ def effect_to_noise(surrogate, names: Sequence[str], emulator_error: float) -> n
     return np.array(out)
 
 
-def _reweighted(chain, effective, log_weights, seed: int):
-    """Draws resampled in proportion to ``exp(log_weights)`` (importance resampling) and their
-    effective number scaled by Kish's ratio ``(sum w)^2 / (n sum w^2)``; unchanged when every
-    weight is equal.
-
-    Parameters
-    ----------
-    chain : ndarray (n, d) [-]
-    effective : float or ndarray [-]
-    log_weights : ndarray (n,) [-]
-    seed : int
-
-    Returns
-    -------
-    chain : ndarray (n, d)
-    effective : float or ndarray
-    """
-    log_weights = np.asarray(log_weights, dtype=float)
-    if not np.any(log_weights != log_weights[0]):
-        return chain, effective
-    w = np.exp(log_weights - log_weights.max())
-    w /= w.sum()
-    kish = 1.0 / (len(w) * float(np.sum(w**2)))
-    # systematic resampling: one uniform, the draws' order kept (a round-off change of the
-    # weights moves at most the draws next to a step)
-    u = (np.random.default_rng(seed + 1).random() + np.arange(len(w))) / len(w)
-    index = np.minimum(np.searchsorted(np.cumsum(w), u), len(w) - 1)
-    return chain[index], effective * kish
-
-
 def _noise(model: LinearHeatModel) -> tuple[np.ndarray, float, float, float]:
     """Best bounded fit ``z``, residual variance [W^2], effective and total hours [-]."""
     from thermocal.calibration.surrogate import bounded_series_fit
@@ -988,15 +964,13 @@ def calibration_posterior(
         precision, linear = _gaussian_form(
             model, basis, woodbury, scale, (prior_mean, prior_precision)
         )
+        # the prior's non-linear part (a resistance uniform in R in its conductance
+        # coordinate) in the conditionals of those coordinates
         chain, effective, tau, acceptance = truncated_gaussian_gibbs(
             precision, linear, zl, zu, z_hat, sweeps=min(int(steps), GIBBS_SWEEPS), seed=int(seed),
             effective_draws=int(effective_draws),
+            conductance=model.conductance_prior(prior_precision),
         )  # fmt: skip
-        # the prior's non-linear part (a resistance uniform in R in its conductance
-        # coordinate) by importance weights on the exact Gaussian draws
-        chain, effective = _reweighted(
-            chain, effective, model.prior_log_density_rest(chain, prior_precision), int(seed)
-        )
     else:
         rng = np.random.default_rng(int(seed))
         n_walkers = int(walkers or max(POSTERIOR_WALKERS, 8 * d))

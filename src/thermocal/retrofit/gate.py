@@ -105,8 +105,13 @@ def heat_to_follow(
     from thermocal.retrofit.simulation import ideal_heating_batch
 
     ti, u = follow.ti, follow.u
-    # the controller's set point applies at the END of each interval: the next interval's Ti
-    sp = np.append(ti[1:], ti[-1])
+    # the controller's set point applies at the END of each interval. The measured Ti are
+    # interval MEANS labelled by their start, so the temperature at the boundary between
+    # intervals k and k + 1 is estimated by the mean of the two (not the next interval's mean:
+    # that moves every thermostat step, a morning recovery or a night set-back, one interval
+    # early, and the fit then shrinks the internal capacities to make the misplaced recovery
+    # heat small; issue 25, the basement twin's C_im and C_i on their lower bounds)
+    sp = 0.5 * (ti + np.append(ti[1:], ti[-1]))
     p = {k: np.atleast_1d(float(v)) for k, v in params_si.items()}
     h = model.conductances(envelope)
     ad, bd = discrete_system_matrices(h, p, follow.dt, indoor_input=True)

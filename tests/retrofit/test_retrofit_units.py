@@ -500,9 +500,15 @@ def test_binned_monthly_demand_equals_the_hourly_series():
     assert np.all(res.monthly[1, :, :2] < res.monthly[0, :, :2])  # the retrofit saves
 
 
-def test_demand_holds_the_24h_profile_at_the_end_of_each_hour():
-    """Ti is the model input in demand mode: with heat needed every hour, the indoor
-    temperature at the end of the step [t, t+1h) is the profile value of hour t+1."""
+def test_demand_holds_the_24h_profile_as_hourly_means():
+    """Ti is the model input in demand mode: the profile's value of hour h is the mean indoor
+    temperature over [h, h+1) (interval means labelled by their start, as measured), so the
+    set point at the end of the step [t, t+1h), the boundary between two hours, is the mean of
+    the two hours' values, as the heat fit's controller takes the measured series
+    (``gate.heat_to_follow``). With heat needed every hour the simulated indoor temperature
+    ends every step on its set point, and the mean of a step's two ends reproduces the hour's
+    profile value wherever the profile is linear (hours 1-22 of a ramp); the next hour's value
+    at the end of the step (until 2026-11-30) shifted it by one hour, 1/8 K here."""
     from thermocal.retrofit.demand import setpoint_series
     from thermocal.retrofit.model import discrete_system_matrices
     from thermocal.retrofit.simulation import ideal_heating_batch
@@ -511,7 +517,8 @@ def test_demand_holds_the_24h_profile_at_the_end_of_each_hour():
     idx = pd.date_range("2001-01-10", periods=24 * 5, freq="h", tz="UTC")
     profile = 18.0 + np.arange(24) / 8.0  # every hour a different value
     sp = setpoint_series(idx, profile)
-    assert sp[0] == profile[1] and sp[23] == profile[0]
+    assert sp[0] == 0.5 * (profile[0] + profile[1])
+    assert sp[23] == 0.5 * (profile[23] + profile[0])
     p = {k: np.array([v]) for k, v in initial_params_si(m).items()}
     ad, bd = discrete_system_matrices(m.conductances(), p, 3600.0, indoor_input=True)
     u = np.tile([-8.0, 6.0, 0.0, 0.0, 0.0], (len(idx), 1))
@@ -519,6 +526,15 @@ def test_demand_holds_the_24h_profile_at_the_end_of_each_hour():
     heat, temp_in, _ = ideal_heating_batch(ad, bd, x0, u, sp)
     assert np.all(heat > 0)
     np.testing.assert_allclose(temp_in[0], sp, atol=1e-9)
+    hour_mean = 0.5 * (temp_in[0][:-1] + temp_in[0][1:])  # over the steps 1 .. n-1
+    hours = np.asarray(idx.hour)[1:]
+    ramp = (hours >= 1) & (hours <= 22)
+    np.testing.assert_allclose(hour_mean[ramp], profile[hours[ramp]], atol=1e-9)
+    # steps shorter than an hour: the hour's value inside it, the mean at its end
+    quarter = pd.date_range("2001-01-10", periods=8, freq="15min", tz="UTC")
+    sq = setpoint_series(quarter, profile)
+    assert list(sq[:3]) == [profile[0]] * 3 and list(sq[4:7]) == [profile[1]] * 3
+    assert sq[3] == 0.5 * (profile[0] + profile[1]) and sq[7] == 0.5 * (profile[1] + profile[2])
 
 
 def test_air_change_rate_sets_the_prior_of_the_extra_loss():

@@ -61,7 +61,17 @@ class DemandResult:
 
 
 def setpoint_series(index: pd.DatetimeIndex, profile) -> np.ndarray:
-    """Repeat a 24-hour profile [C] (hour 0..23) or a constant over ``index``.
+    """The controller's set point [C] from a 24-hour profile (hour 0..23) or a constant.
+
+    The profile's value of hour ``h`` is the mean indoor temperature over that hour (the
+    measured interval means labelled by their start, :func:`thermocal.retrofit.metrics.
+    daily_profile`); the controller's set point applies at the END of each interval
+    (:func:`thermocal.retrofit.simulation.ideal_heating_batch`). At the boundary between
+    two hours that is the mean of the two hours' values, as the heat fit's controller
+    takes the measured series (:func:`thermocal.retrofit.gate.heat_to_follow`); inside an
+    hour (steps shorter than an hour) the hour's value. (Until 2026-11-30 the next hour's
+    value: every step of the profile, a morning recovery or a night set-back, one hour
+    early.)
 
     Parameters
     ----------
@@ -75,8 +85,9 @@ def setpoint_series(index: pd.DatetimeIndex, profile) -> np.ndarray:
     if prof.shape != (24,):
         raise ValueError(f"indoor profile needs 24 hourly values, got shape {prof.shape}")
     step = index[1] - index[0]
-    end_hours = (index + step).hour
-    return prof[np.asarray(end_hours)]
+    start_hours = np.asarray(index.hour)
+    end_hours = np.asarray((index + step).hour)
+    return 0.5 * (prof[start_hours] + prof[end_hours])
 
 
 def simulate_demand(

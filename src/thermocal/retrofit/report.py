@@ -697,7 +697,8 @@ def _assumptions(rep, analysis: RetrofitAnalysis, results: dict) -> None:
         .T.reset_index(drop=True)
         .set_axis([f"{h:02d}" for h in range(24)], axis=1)
         .iloc[1:],
-        caption="Indoor temperature profile [C] by hour of the day (end of the hour)",
+        caption="Indoor temperature profile [C] by hour of the day (the mean over the hour "
+        "from hh:00; the controller holds the mean of two hours at their boundary)",
         number_format="{:.1f}",
     )
 

@@ -12,15 +12,24 @@ knows about the gains: the electricity meter and the 3 people living in the hous
 (``internal_gains.occupants: 3``, the IDF's ``People`` count; their heat and the gas appliances' are
 on no meter).
 
+Measured 2026-11-30, since the heat fit's controller takes the boundary between two measured
+interval means as their mean (docs/retrofit.md, "The heat fit's set point at the interval boundary
+(2026-11-30)"): the heat loss coefficient (+0.3 %), the demand (-3.6 %), the intervals' coverage
+(15 of 15), the cellar-ceiling saving (item 5: +1.3 pp) and the validation gate (bias -0.17 K, MAE
+0.71 K, daily heat NMBE -0.2 %, CV(RMSE) 5.7 %) meet the issue's targets; the largest saving
+difference (5.8 pp, 5 of 15 within 3 pp) and the median half-width (10.7 pp) do not, and the report
+recommends the strategy EnergyPlus's own savings choose by the same rule (1c, new windows).
+
 Measured 2026-11-29 with ``occupants: 3`` (docs/retrofit-twins.md, "Occupants on the second
 twin"), with
 the default ``model.calibration: auto``, which finds the thermostat holding the indoor temperature
 (0.06 K) and fits the metered heat (closed-loop identification), with it the default
 ``model.interior: auto``'s split inside (docs/retrofit.md, "The default"), and the air change's
 stack term (``model.air_change: slope``): the heat loss coefficient (+0.3 %), the demand (-1.4 %),
-the intervals' coverage (15 of 15) and the cellar-ceiling saving (item 5: +1.2 pp) meet the issue's
+the intervals' coverage (15 of 15) and the cellar-ceiling saving (item 5: +1.2 pp) met the issue's
 targets; the largest saving difference (3.6 pp, 13 of 15 within 3 pp), the median half-width (10.8
-pp) and the validation gate (indoor temperature MAE 1.63 K) do not. With the method's combined
+pp) and the validation gate (indoor temperature MAE 1.63 K: the set point of each interval's end
+was the next interval's mean) did not. With the method's combined
 inside (2026-11-28): +0.6 %, -1.3 %, 15 of 15 (the cellar ceiling's by 0.06 pp), +1.5 pp; 5.2 pp
 with 7 of 15 within 3 pp, 11.8 pp, MAE 1.60 K (``test_strategy_savings_with_the_combined_inside``).
 The targets not met are asserted as they are and marked ``xfail(strict=True)`` with the measured
@@ -100,7 +109,9 @@ def test_twin_with_an_in_situ_wall_u_value(tmp_path):
     factor 0.96 (EnergyPlus 0.88), **every strategy within 3 pp** (13 of 15 without), mean /
     max absolute difference 2.0 / 3.6 -> 1.25 / 2.8 pp, 15 of 15 covered, median half-width
     10.8 -> 9.7 pp; the validation gate still fails (the indoor temperature's MAE), so nothing
-    is recommended."""
+    is recommended. Again 2026-11-30 with the heat fit's set point at the interval boundary:
+    mean / max 3.31 / 5.84 -> 2.68 / 5.06 pp, 5 -> 7 of 15 within 3 pp, 15 -> 14 covered,
+    median half-width 10.7 -> 9.5 pp; the gate passes (MAE 0.68 K)."""
     spec = {
         "walls": {
             "file": str(REF / "heat_flux_north_wall.csv"),
@@ -120,12 +131,13 @@ def test_twin_with_an_in_situ_wall_u_value(tmp_path):
     got = measured_check(run, _reference(), MEASURES)
     # the report's record of the plate on this house is this run
     assert not differs_from(IN_SITU_CHECKS[REF.name], got), got
-    # 15, the target, while new windows took their rated U-value; since they keep the old
-    # ones' films correction 14 (all four measures +3.15 pp; 11 without the plate)
-    assert got["within_3pp"] >= 14, got
-    assert got["savings_mean_abs_pp"] < 1.6  # 1.45 pp (2.27 without; 1.25 target windows)
-    assert got["covered"] == 15
-    assert got["median_half_width_pp"] < 9.0  # 8.4 pp (10.3 without; target 6)
+    # the plate brings the savings nearer EnergyPlus (without it 3.31 pp, 5 within 3 pp);
+    # the target (every saving within 3 pp) is not met: max 5.06 pp (2f, windows + cellar)
+    assert got["within_3pp"] >= 6, got  # (7; 14 before 2026-11-30)
+    assert got["savings_mean_abs_pp"] < 2.9  # 2.68 pp (3.31 without; 1.45 before 2026-11-30)
+    assert got["covered"] >= 13  # (14 of 15; target 12)
+    assert got["median_half_width_pp"] < 10.0  # 9.46 pp (10.7 without; target 6)
+    assert got["gate_passed"]
 
 
 def _savings(twin):
@@ -227,14 +239,18 @@ KIVA_DEFAULT_SOIL = 0.864
 
 @pytest.mark.slow
 def test_gate_verdict_and_recommendation(twin):
-    """The report recommends nothing when the validation fails (measured with the occupants and the
-    split inside: test bias -0.15 K, MAE 1.63 K, daily heat NMBE -0.8 %, CV(RMSE) 5.6 %: the gate
-    fails on the MAE; combined -0.12 K, 1.60 K, -0.6 %, 5.5 %; without the occupants -0.24 K, 1.75
-    K, -2.4 %, 5.8 %; the temperature fit before: bias -3.03 K, NMBE -61.9 %)."""
+    """The gate passes and the report recommends what EnergyPlus's own annual heating recommends
+    by the same rule (``economics.recommend``; none of the strategies pays back within 30 years
+    here, so the shortest payback): new windows (1c), measured 2026-11-30 at 58.7 years against
+    EnergyPlus's 64.7 (the next, attic + windows, 68.3 and 72.9). Until 2026-11-30 the gate
+    failed (MAE 1.63 K) and nothing was recommended; the rule then chose 1c on the model's
+    savings too."""
+    from thermocal.retrofit.track_record import reference_recommendation
+
     gate = twin["validation_gate"]
-    assert (twin["recommendation"] is None) == (not gate["passed"])
-    if not gate["passed"]:
-        assert "FAILED" in gate["summary"]
+    assert gate["passed"], gate["summary"]
+    assert twin["recommendation"] == "1c"
+    assert reference_recommendation(twin, _reference(), MEASURES) == twin["recommendation"]
 
 
 @pytest.mark.slow
@@ -282,46 +298,52 @@ def test_air_change_stack_coefficient_vs_sherman_grimsrud(twin):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="issue 25 item 3/6: measured test MAE 1.63 K, the heat fit's capacities on their "
-    "lower bounds swing -2.1/+2.4 K open loop (test_validation_gate_fails_on_the_open_loop_swing)",
-)
 def test_validation_gate_passes(twin):
-    assert twin["validation_gate"]["passed"]
+    """Issue 25 item 3/6, met since 2026-11-30 (the heat fit's set point at the interval
+    boundary): test bias -0.17 K, MAE 0.71 K, daily heat NMBE -0.2 %, CV(RMSE) 5.7 % against the
+    limits 1 K, 1.5 K, 10 %, 30 % (before: MAE 1.63 K, failed)."""
+    gate = twin["validation_gate"]
+    checks = {c["name"]: c for c in gate["checks"]}
+    assert gate["passed"] and all(c["passed"] for c in checks.values()), checks
+    assert len(checks) == 4  # the heat checks ran
+    assert checks["indoor temperature MAE"]["value"] < 0.8  # (0.71; limit 1.5)
+    assert abs(checks["indoor temperature bias"]["value"]) < 0.3  # (-0.17; limit 1)
+    assert abs(checks["heat NMBE (daily, ASHRAE 14)"]["value"]) < 1.0  # (-0.20 %; limit 10)
+    assert checks["heat CV(RMSE) (daily, ASHRAE 14)"]["value"] < 6.5  # (5.68 %; limit 30)
 
 
 @pytest.mark.slow
-def test_validation_gate_fails_on_the_open_loop_swing(twin):
-    """Why the gate fails (docs/retrofit-twins.md, "Validation gates (2026-11-28)"): only the indoor
-    temperature's MAE (1.63 K with the occupants and the split inside; 1.60 K combined, 1.75 K
-    without the occupants) fails; its mean (-0.15 K; -0.12 K) and
-    the daily heat (NMBE -0.6 %, CV(RMSE) 5.5 %) pass (-0.24 K, -2.4 %, 5.8 % without the
-    occupants; -0.30 K, -3.1 %, 6.1 % before the period's mean heat had its own weight). Driven
-    by the measured heat, the heat fit's model swings too far: hour-of-day means of simulated -
-    measured Ti in the test period -2.18 K at 02:00, +2.35 K at 12:00 (combined -2.05 / +2.41;
-    -2.39 / +2.48 without the
-    occupants), with the internal mass and the air on their lower bounds (the capacities that
-    reproduce the heat after each set-back). Measured, not taken: C_im held at 10 MJ/K or the
-    air-to-mass coupling convective only pass the gate (MAE 0.81 / 0.68 K) and put 6 more
-    savings outside 3 pp."""
+def test_open_loop_swing_gone_with_the_set_point_at_the_interval_boundary(twin):
+    """What failed the gate until 2026-11-30 (docs/retrofit.md, "The heat fit's set point at the
+    interval boundary (2026-11-30)"): the heat fit's controller took the NEXT interval's measured
+    mean as the indoor temperature at an interval's end, so every thermostat step (the morning
+    recovery, the night set-back) came one hour early; least squares made the misplaced recovery
+    heat small by shrinking the internal mass and the air to their lower bounds, and driven by the
+    measured heat that model swung open loop: hour-of-day means of simulated - measured Ti in the
+    test period -2.18 K at 02:00, +2.35 K at 12:00, MAE 1.63 K. With the mean of the two interval
+    means at their boundary: -0.23 K at 02:00, +0.66 K at 12:00, MAE 0.71 K; the internal mass
+    leaves its bound (C_i stays on its lower one). The largest hour-of-day error is left at the
+    morning recovery (06:00, -3.39 K; -4.21 K before), where the measured mean of the recovery
+    hour is not the temperature the thermostat steps to."""
     import pandas as pd  # noqa: PLC0415
 
     checks = {c["name"]: c for c in twin["validation_gate"]["checks"]}
-    failed = [name for name, c in checks.items() if not c["passed"]]
-    assert failed == ["indoor temperature MAE"], failed
-    assert 1.5 < checks["indoor temperature MAE"]["value"] < 1.8  # (1.63; 1.75 without occupants)
+    assert checks["indoor temperature MAE"]["value"] < 0.8  # (0.71; 1.63 before)
     v = pd.read_csv(Path(twin["_out"]) / "validation_timeseries.csv", index_col=0)
     v.index = pd.to_datetime(v.index, utc=True).tz_convert("Etc/GMT-1")
     t = v[v["period"] == "test"]
     err = (t["Ti_simulated_C"] - t["Ti_measured_C"]).groupby(t.index.hour).mean()
-    assert err[2] < -1.5 and err[12] > 1.5, err.round(2).to_dict()  # (-2.18, +2.35)
-    assert {"C_im", "C_i"} <= set(twin["calibration"]["parameters_at_bounds"])
+    assert abs(err[2]) < 0.5 and abs(err[12]) < 1.0, err.round(2).to_dict()  # (-0.23, +0.66)
+    assert err.idxmin() == 6 and err.min() > -3.8, err.round(2).to_dict()  # (-3.39 at 06:00)
+    at_bounds = set(twin["calibration"]["parameters_at_bounds"])
+    assert "C_im" not in at_bounds, at_bounds  # (["C_i"]; ["C_im", "C_i"] before)
 
 
 @pytest.mark.slow
 def test_heat_loss_coefficient_and_demand_pinned(twin):
-    """EnergyPlus 200.1 W/K steady state, 9,297 kWh at 22.2 C; thermocal with the occupants and
+    """EnergyPlus 200.1 W/K steady state, 9,297 kWh at 22.2 C; thermocal, since the heat fit's set
+    point at the interval boundary (2026-11-30), 200.7 W/K (90 %: 194-217), +0.3 %; demand 8,966
+    kWh (90 %: 8,182-10,561), -3.6 % (the issue's target 10 %). Before, with the occupants and
     the split inside 200.7 W/K (90 %: 195-218, covers EnergyPlus), +0.3 %; demand 9,169 kWh
     (90 %: 8,175-10,812), -1.4 %; combined 201.3 W/K (194-218), +0.6 %; demand 9,175 kWh (90 %:
     8,320-10,957), -1.3 %. Without the occupants 196.5 W/K (190-213), -1.8 %; 9,366 kWh
@@ -338,14 +360,14 @@ def test_heat_loss_coefficient_and_demand_pinned(twin):
     assert hlc["p05"] <= truth <= hlc["p95"]
     demand = twin["annual_heating_demand_kWh"]
     err = demand["value"] / ref["annual_heating_kWh"]["none"] - 1.0
-    assert abs(err) < 0.03  # (-0.014; 0.35 before the occupants)
+    assert abs(err) < 0.045  # (-0.036; -0.014 before 2026-11-30; target 0.10)
     assert demand["p05"] <= ref["annual_heating_kWh"]["none"] <= demand["p95"]
 
 
 @pytest.mark.slow
 def test_heat_loss_coefficient_and_demand_targets(twin):
-    """The issue's targets, met since the heat fit (measured +0.6 % and -1.3 % with the
-    occupants, -1.8 % and +0.7 % without)."""
+    """The issue's targets, met since the heat fit (measured +0.3 % and -3.6 % since
+    2026-11-30; +0.6 % and -1.3 % with the occupants before, -1.8 % and +0.7 % without)."""
     ref = _reference()
     hlc = twin["heat_loss_coefficient_W_per_K"]["value"]
     demand = twin["annual_heating_demand_kWh"]["value"]
@@ -373,15 +395,19 @@ def test_strategy_savings(twin):
     within 3-5 % of EnergyPlus's new windows, ``tests/reference/retrofit_window_films``): 2.27,
     4.05, 11 of 15, 15 of 15, 10.3 pp: the windows' savings 0.4 pp further above EnergyPlus's,
     because the data leave the old windows at 0.94 of their rated U-value where EnergyPlus's
-    conduct 0.81 of it (the target's U on the new ones had hidden part of that)."""
+    conduct 0.81 of it (the target's U on the new ones had hidden part of that). Since the heat
+    fit's set point at the interval boundary (2026-11-30; the capacities no longer on their lower
+    bounds, the base demand 3.6 % below EnergyPlus's): 3.31, 5.84 (3d), 5 of 15, 15 of 15,
+    10.7 pp, every difference but the attic's (-0.4 pp) positive: a better-fitting model, savings
+    further from EnergyPlus's."""
     assert twin["calibration"]["interior"] == "split"  # auto, with the heat fit
     diff, covered, half = _savings(twin)
     assert covered >= 12, covered  # the issue's coverage target (80 %)
     assert covered >= 14, covered  # (15)
-    assert np.abs(diff).max() < 4.5, diff  # (3.6; combined 5.2; target 3)
-    assert np.abs(diff).mean() < 2.5, diff  # (2.05; combined 3.1)
-    assert (np.abs(diff) <= 3.0).sum() >= 11  # (11 of 15; 13 with the target windows)
-    assert np.median(half) < 11.5  # (10.8; combined 11.8; target 6)
+    assert np.abs(diff).max() < 6.3, diff  # (5.84; 4.05 before 2026-11-30; target 3)
+    assert np.abs(diff).mean() < 3.6, diff  # (3.31; 2.27 before)
+    assert (np.abs(diff) <= 3.0).sum() >= 4  # (5 of 15; 11 before; target 15)
+    assert np.median(half) < 11.2  # (10.7; 10.3 before; target 6)
     best = max(twin["scenarios"][1:], key=lambda s: s["saving_pct"])
     assert set(best["measures"]) == set(MEASURES)
 
@@ -391,24 +417,27 @@ def test_strategy_savings_with_the_combined_inside(tmp_path):
     """``model.interior: combined`` (the method's surface resistances), measured 2026-11-29:
     HLC +0.6 %, demand -1.3 %, savings mean |difference| 3.1 pp, max 5.2, 7 of 15 within 3 pp,
     14 of 15 covered, median half-width 11.7 pp: every figure but the demand's further from
-    EnergyPlus than the split inside's (the previous test)."""
+    EnergyPlus than the split inside's (the previous test). Again 2026-11-30 (the heat fit's set
+    point at the interval boundary): +0.6 %, -1.7 %, 3.66 pp, 6.23, 5 of 15, 14 of 15, 10.8 pp; the
+    gate passes (MAE 1.26 K; 1.60 K before)."""
     results = run_twin(tmp_path, interior="combined")
     assert results["calibration"]["interior"] == "combined"
     ref = _reference()
     hlc = results["heat_loss_coefficient_W_per_K"]["value"]
     assert abs(hlc / ref["heat_loss_coefficient_W_per_K"] - 1.0) < 0.03  # (+0.006)
     demand = results["annual_heating_demand_kWh"]["value"]
-    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.03  # (-0.013)
+    assert abs(demand / ref["annual_heating_kWh"]["none"] - 1.0) < 0.03  # (-0.017)
     diff, covered, half = _savings(results)
     assert covered >= 13, covered  # (14)
-    assert 4.5 < np.abs(diff).max() < 6.5, diff  # (5.2)
-    assert 2.5 < np.abs(diff).mean() < 3.5, diff  # (3.1)
-    assert 5 <= (np.abs(diff) <= 3.0).sum() <= 9  # (7 of 15)
+    assert 5.5 < np.abs(diff).max() < 7.0, diff  # (6.23; 5.2 before 2026-11-30)
+    assert 3.3 < np.abs(diff).mean() < 4.0, diff  # (3.66; 3.1 before)
+    assert 3 <= (np.abs(diff) <= 3.0).sum() <= 7  # (5 of 15; 7 before)
+    assert results["validation_gate"]["passed"]  # (MAE 1.26 K; 1.60 K before)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 4.05 pp "
-                   "(11 of 15 within 3 pp), median half-width 10.3 pp")  # fmt: skip
+@pytest.mark.xfail(strict=True, reason="issue 25 item 6: measured max |difference| 5.84 pp "
+                   "(5 of 15 within 3 pp), median half-width 10.7 pp")  # fmt: skip
 def test_strategy_savings_targets(twin):
     diff, _, half = _savings(twin)
     assert np.abs(diff).max() <= 3.0

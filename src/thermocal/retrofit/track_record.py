@@ -260,14 +260,15 @@ class IndependentVerification:
     verdict: str
 
 
-#: Measured 2026-11-29 (``tests/reference/verify_energyplus_house`` with its configuration:
+#: Measured 2026-11-29, again 2026-11-30 with the heat fit's set point at the interval boundary
+#: (``tests/reference/verify_energyplus_house`` with its configuration:
 #: Chicago TMY3 reference year, the heat fit with the split inside, 40 draws), keyed by variant.
 #: With the default 200 draws the set-back case's interval is 21.1-44.9 %, wider than the
 #: inconclusive limit (10 pp either side): its verdict is then "inconclusive".
 INDEPENDENT_VERIFICATIONS: dict[str, IndependentVerification] = {
     "constant_20": IndependentVerification(
         case="EnergyPlus house held at 20 C, walls 12 -> 30 cm mineral wool (40 draws)",
-        error_pp=1.0,
+        error_pp=0.9,
         covered=True,
         post_period_error_pp=0.1,
         verdict="delivered",
@@ -275,9 +276,9 @@ INDEPENDENT_VERIFICATIONS: dict[str, IndependentVerification] = {
     "setback": IndependentVerification(
         case="the same house with its 4 K night set-back, four zones on their own schedules "
         "(40 draws; with 200 its interval, 21-45 %, is too wide: inconclusive)",
-        error_pp=1.8,
+        error_pp=2.6,
         covered=True,
-        post_period_error_pp=1.8,
+        post_period_error_pp=2.6,
         verdict="delivered",
     ),
 }

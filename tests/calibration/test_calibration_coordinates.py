@@ -75,19 +75,33 @@ def test_coordinates_invert_and_their_slope_is_the_derivative():
         to_coordinates([[-1.0, 1.0, 1.0]], nominal, kinds)
 
 
-def test_a_measured_prior_in_physical_coordinates_matches_the_log_normal_at_the_value():
-    """The delta method: a plate reading R +- r maps to z's mean and the precision whose
-    standard deviation is the log-normal's times dz / d ln R at the reading."""
+@pytest.mark.parametrize("rel_std", [0.07, 0.15, 0.25])
+def test_a_measured_prior_in_physical_coordinates_has_the_log_normals_90_percent_interval(
+    rel_std,
+):
+    """A plate reading R +- r: in the conductance coordinate the Gaussian whose 5 % and 95 %
+    quantiles, mapped back to R, are the log-normal's (R exp(-+1.645 s), s^2 = ln(1 + r^2)).
+    The delta method at the reading (until 2026-11-30) put the 95 % quantile of a 25 % plate
+    reading 3 at 4.97 against the log-normal's 4.50 (a review); in the published log
+    coordinate nothing changes."""
     kinds = ("conductance", "log")
     nominal = np.array([2.0, 3.0])
-    mean, precision = measured_prior(NAMES, nominal, {ROOF: (3.0, 0.07)}, kinds)
-    assert mean[0] == pytest.approx(float(to_coordinates([3.0], [2.0], ["conductance"])[0]))
+    mean, precision = measured_prior(NAMES, nominal, {ROOF: (3.0, rel_std)}, kinds)
+    s = np.sqrt(np.log1p(rel_std**2))
+    z = mean[0] + np.array([-1.0, 1.0]) * 1.6448536269514722 / np.sqrt(precision[0])
+    back = from_coordinates(z[:, None], [2.0], ["conductance"])[:, 0]
+    assert back == pytest.approx(3.0 * np.exp(np.array([-1.0, 1.0]) * 1.6448536269514722 * s))
+    # the delta method's 95 % quantile was well above the log-normal's at 25 %
     slope = float(coordinate_slope([3.0], [2.0], ["conductance"])[0])
-    assert precision[0] == pytest.approx(1.0 / (np.log1p(0.07**2) * slope**2))
+    delta = to_coordinates([3.0], [2.0], ["conductance"])[0] + 1.6448536269514722 * s * slope
+    delta_95 = float(from_coordinates(np.array([[delta]]), [2.0], ["conductance"])[0, 0])
+    if rel_std == 0.25:
+        assert delta_95 == pytest.approx(4.97, abs=0.01)
+        assert back[1] == pytest.approx(4.50, abs=0.01)
     assert mean[1] == 0.0 and precision[1] == 0.0
-    log_mean, log_precision = measured_prior(NAMES, nominal, {ROOF: (3.0, 0.07)})
+    log_mean, log_precision = measured_prior(NAMES, nominal, {ROOF: (3.0, rel_std)})
     assert log_mean[0] == pytest.approx(np.log(1.5))
-    assert log_precision[0] == pytest.approx(1.0 / np.log1p(0.07**2))
+    assert log_precision[0] == pytest.approx(1.0 / np.log1p(rel_std**2))
 
 
 def _hourly_heat(X: np.ndarray) -> np.ndarray:

@@ -1110,8 +1110,8 @@ def _in_situ_values(campaign, space, notes) -> tuple[dict, dict]:
         details[name] = {"source": source, **result.as_dict()}
         notes.append(
             f"{name} measured in situ: {result.resistance:.3g} m2 K/W +- "
-            f"{100 * result.resistance_rel_std:.0f} % ({source}); its log-normal prior replaces "
-            "the campaign's uniform one in the posterior."
+            f"{100 * result.resistance_rel_std:.0f} % ({source}); a prior with the measurement's "
+            "90 % interval replaces the campaign's uniform one in the posterior."
         )
         notes += [f"in_situ.{name}: {line}" for line in result.notes]
     return measured, details

@@ -45,7 +45,10 @@ LEFT_OUT = {
         ("lu_solve(*factors, rhs, work, x_new)", "_diagonal(rhs, inv_diag, x_new)"),
         ("lu_solve(*d_factors, rhs_d, work, x_new)", "_diagonal(rhs_d, d_inv_diag, x_new)"),
     ],
-    "TARP interior convection": [("        if tarp_on:\n", "        if tarp_on and k < 0:\n")],
+    "TARP interior convection": [
+        ("        if tarp_on == 1:\n", "        if tarp_on == 1 and k < 0:\n"),
+        ("        if tarp_on:\n", "        if tarp_on and k < 0:\n"),
+    ],
     "exterior faces": [
         (
             "        for e in range(ext_node.shape[0]):\n            node = ext_node[e]",

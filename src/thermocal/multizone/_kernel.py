@@ -59,6 +59,8 @@ from thermocal.multizone._kernel_parts import (  # noqa: F401 - the loop's piece
     prepare_factors,
     simple_interior,
     tarp,
+    tarp_coefficients,
+    tarp_excess,
     tarp_from_root,
 )
 
@@ -360,6 +362,19 @@ def run_steps(
     # the zones' interior convective conductance in the matrix (constant over the steps)
     for f in range(n_faces):
         zone_g0[face_zone[f]] += face_h0[f] * face_area[f]
+    # TARP's coefficients per face and direction of the flow, and the windows (ISO 15099)
+    tarp_num_up, tarp_num_down, tarp_den_up, tarp_den_down = tarp_coefficients(face_cos)
+    face_dt = np.empty(n_faces)
+    n_windows = 0
+    for f in range(n_faces):
+        if face_iso[f, 0] > 0.0:
+            n_windows += 1
+    window_faces = np.empty(n_windows, dtype=np.int64)
+    i_window = 0
+    for f in range(n_faces):
+        if face_iso[f, 0] > 0.0:
+            window_faces[i_window] = f
+            i_window += 1
     for s in range(n_steps):
         k = k0 + s
         # set points: one row per step, or a single row for the whole run
@@ -415,17 +430,17 @@ def run_steps(
                     ext_hr0, exact_sky,
                 )  # fmt: skip
             rhs[node] += corr
-        if tarp_on:
-            # per face (independent, no scatter: the compiler can keep several faces in flight)
+        if tarp_on == 1:
+            # TARP on every face at once (vector code), then ISO 15099 on the windows
             for f in range(n_faces):
-                dt_s = x[face_node[f]] - x[face_air[f]]
-                root = cube_root_update(abs(dt_s), face_root[f])
-                face_root[f] = root
-                if tarp_on == 2:
-                    h = simple_interior(dt_s, face_cos[f])
-                elif face_iso[f, 0] > 0.0 and abs(dt_s) < 100.0:
-                    # a window: ISO 15099 at its height (EnergyPlus' TARP for windows); beyond
-                    # 100 K (a diverging run) TARP, whose growth lets the loop's checks see it
+                face_dt[f] = x[face_node[f]] - x[face_air[f]]
+            tarp_excess(face_dt, face_root, face_cos, tarp_num_up, tarp_num_down, tarp_den_up,
+                        tarp_den_down, face_hmax, face_h0, face_area, face_excess)  # fmt: skip
+            for i in range(window_faces.shape[0]):
+                f = window_faces[i]
+                if abs(face_dt[f]) < 100.0:
+                    # ISO 15099 at its height (EnergyPlus' TARP for windows); beyond 100 K (a
+                    # diverging run) TARP, whose growth lets the loop's checks see it
                     h = iso15099_window_interior(
                         x[face_node[f]],
                         x[face_air[f]],
@@ -435,11 +450,19 @@ def run_steps(
                         face_iso[f, 3:5],
                         iso_pressure,
                     )
-                else:
-                    h = tarp_from_root(dt_s, root, face_cos[f])
+                    if h > face_hmax[f]:
+                        h = face_hmax[f]
+                    face_excess[f] = (h - face_h0[f]) * face_area[f]
+        elif tarp_on:
+            # EnergyPlus' Simple algorithm (tarp_on 2), per face
+            for f in range(n_faces):
+                dt_s = x[face_node[f]] - x[face_air[f]]
+                face_root[f] = cube_root_update(abs(dt_s), face_root[f])
+                h = simple_interior(dt_s, face_cos[f])
                 if h > face_hmax[f]:
                     h = face_hmax[f]
                 face_excess[f] = (h - face_h0[f]) * face_area[f]
+        if tarp_on:
             # per zone, in face order (the same sums as one pass)
             for z in range(nz):
                 zone_excess[z] = 0.0

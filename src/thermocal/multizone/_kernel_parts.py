@@ -135,6 +135,68 @@ def tarp(delta_t, cos_up):
 
 
 @njit(cache=True, error_model="numpy", fastmath=True)
+def tarp_excess(dt, root, cos_up, num_up, num_down, den_up, den_down, h_max, h0, area, excess):
+    """TARP natural convection of every face beyond its matrix coefficient [W/K], in place.
+
+    ``excess = (min(max(num root / den, 0.1), h_max) - h0) area`` with ``root = |dt|^(1/3)`` by
+    :func:`cube_root_update`'s three Newton steps from ``root`` (updated) and ``num / den`` the
+    coefficient for the direction of the heat flow (``up``: ``dt cos_up > 0``, unstable):
+    :func:`tarp_from_root`'s arithmetic without its branches, so that the compiler can run
+    several faces at once in the processor's vector units.
+
+    Parameters
+    ----------
+    dt : ndarray (n,)
+        Surface minus air temperature [K].
+    root : ndarray (n,)
+        Previous step's cube roots [K^(1/3)], updated.
+    cos_up : ndarray (n,)
+        Cosine of each face's tilt from facing up [-].
+    num_up, num_down, den_up, den_down : ndarray (n,)
+        Each face's coefficient ``num / den`` [W/(m2 K^(4/3))] for either direction of the
+        flow (:func:`tarp_coefficients`).
+    h_max : ndarray (n,)
+        Largest coefficient [W/(m2 K)].
+    h0 : ndarray (n,)
+        The matrix's coefficient [W/(m2 K)].
+    area : ndarray (n,)
+        [m2].
+    excess : ndarray (n,)
+        Output [W/K].
+    """
+    for f in range(dt.shape[0]):
+        d = dt[f]
+        a = max(abs(d), 1e-6)
+        y = max(root[f], 1e-2)
+        y = (2.0 * y + a / (y * y)) / 3.0
+        y = (2.0 * y + a / (y * y)) / 3.0
+        y = (2.0 * y + a / (y * y)) / 3.0
+        root[f] = y
+        unstable = d * cos_up[f] > 0.0
+        num = num_up[f] if unstable else num_down[f]
+        den = den_up[f] if unstable else den_down[f]
+        h = min(max(num * y / den, 0.1), h_max[f])
+        excess[f] = (h - h0[f]) * area[f]
+
+
+@njit(cache=True, error_model="numpy")
+def tarp_coefficients(cos_up):
+    """Numerators and denominators of TARP's coefficient per face for either direction of the
+    heat flow (:func:`tarp_from_root`): ``(num_up, num_down, den_up, den_down)`` [-]."""
+    n = cos_up.shape[0]
+    num_up, num_down = np.empty(n), np.empty(n)
+    den_up, den_down = np.empty(n), np.empty(n)
+    for f in range(n):
+        abs_cos = abs(cos_up[f])
+        if abs_cos < 1e-3:
+            num_up[f], num_down[f], den_up[f], den_down[f] = 1.31, 1.31, 1.0, 1.0
+        else:
+            num_up[f], num_down[f] = 9.482, 1.810
+            den_up[f], den_down[f] = 7.238 - abs_cos, 1.382 + abs_cos
+    return num_up, num_down, den_up, den_down
+
+
+@njit(cache=True, error_model="numpy", fastmath=True)
 def tarp_from_root(delta_t, root, cos_up):
     """TARP coefficient given ``root = |delta_t|^(1/3)``."""
     abs_cos = abs(cos_up)

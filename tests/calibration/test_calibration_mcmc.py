@@ -136,3 +136,29 @@ def test_a_box_far_in_the_tail_of_the_gaussian(mean):
     truth = np.interp([0.05, 0.5, 0.95], cdf / cdf[-1], z)
     sampled = np.quantile(chain[:, 0], [0.05, 0.5, 0.95])
     assert np.allclose(sampled, truth, atol=5e-4), (sampled, truth)
+
+
+@pytest.mark.parametrize(
+    ("shift", "q"),
+    [(0.0, 0.0), (3.0, 0.0), (-5.0, 0.0), (0.0, 1e-7), (0.0, 0.5), (10.0, 5.0), (-30.0, 20.0),
+     (2000.0, 1e4), (-1e5, 2e5)],
+)  # fmt: skip
+def test_the_conductance_conditional_is_its_density(shift, q):
+    """A conductance coordinate's Gibbs conditional ``exp(-q x^2 / 2 + shift x) (1 - x)^-2``
+    (a resistance from 0.5 to 6 m2 K/W, nominal 2, ISO 6946's films): its draws are
+    distributed as the density itself (Kolmogorov-Smirnov against the distribution function
+    integrated on a fine grid), flat, tilted, wide, narrow."""
+    from scipy import stats
+
+    from thermocal.calibration.mcmc import _conditional_draw_convex, _conductance_knots
+
+    lower, upper = 1.0 - 2.17 / 0.67, 1.0 - 2.17 / 6.17
+    n = 100_000
+    draws = _conditional_draw_convex(
+        np.full(n, shift), q, _conductance_knots(lower, upper), np.random.default_rng(7).random(n)
+    )
+    grid = np.linspace(lower, upper, 400_001)
+    log_density = -0.5 * q * grid**2 + shift * grid - 2.0 * np.log1p(-grid)
+    density = np.exp(log_density - log_density.max())
+    cdf = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]))])
+    assert stats.kstest(np.interp(draws, grid, cdf / cdf[-1]), "uniform").pvalue > 1e-3

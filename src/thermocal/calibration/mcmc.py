@@ -317,7 +317,10 @@ def _conditional_draw_convex(shift, q, knots, u):
     slope = (g_hi - g_lo) / (hi - lo)
     intercept = g_lo - slope * lo
     k = shift[:, None] + slope[None, :]  # (chains, pieces)
-    flat = q * max(knots[0] ** 2, knots[-1] ** 2) <= 1e-12
+    # the quadratic term varying by less than 1e-6 over the box: exponentials on the pieces
+    # (below it a Gaussian's log-mass, k^2 / 2q minus a tail of the same size, would lose
+    # more than that to round-off)
+    flat = q * max(knots[0] ** 2, knots[-1] ** 2) <= 1e-6
     if flat:
         log_mass = intercept + _log_exponential_mass(k, lo, hi)
     else:
@@ -338,7 +341,7 @@ def _conditional_draw_convex(shift, q, knots, u):
     a, b = lo[piece], hi[piece]
     if flat:
         x = _tilted_uniform_draw(k[rows, piece], a, b, local)
-    else:
+    else:  # q over the threshold above, so _conditional_draw takes its Gaussian branch
         x = _conditional_draw(k[rows, piece], q, a, b, local)
     return np.clip(x, knots[0], knots[-1])
 

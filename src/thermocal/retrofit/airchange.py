@@ -238,13 +238,15 @@ def adjust_demand(demand, slope: dict, temp_out: pd.Series, profile, seed: int =
     -------
     DemandResult (a new one; ``demand`` itself when the term is not applied).
     """
-    from thermocal.retrofit.demand import DemandResult, setpoint_series
+    from thermocal.retrofit.demand import DemandResult, interval_setpoint
 
     if not slope.get("applied"):
         return demand
     idx = demand.index
     step_h = demand.step_hours
-    sp = setpoint_series(idx, profile)
+    # the interval's mean indoor temperature, as the slope's estimate takes the measured
+    # interval means (not the controller's set point at the interval's end)
+    sp = interval_setpoint(idx, profile)
     extra = stack_regressor(sp - temp_out.to_numpy(float), slope["dT0_K"])  # [K^2]
     n_scen, n_draws, _ = demand.monthly.shape
     rng = np.random.default_rng(seed + 7919)

@@ -90,6 +90,26 @@ def setpoint_series(index: pd.DatetimeIndex, profile) -> np.ndarray:
     return 0.5 * (prof[start_hours] + prof[end_hours])
 
 
+def interval_setpoint(index: pd.DatetimeIndex, profile) -> np.ndarray:
+    """The mean indoor set point over each interval [C]: the profile's value of the hour the
+    interval starts in (a constant as it is); what a quantity of the whole interval, as the
+    air change's stack term on the hour's heat (:func:`thermocal.retrofit.airchange.
+    apply_slope`), sees, where the controller holds :func:`setpoint_series` at its end.
+
+    Parameters
+    ----------
+    index : pd.DatetimeIndex
+        Interval starts.
+    profile : float or array-like (24,) [C]
+    """
+    prof = np.asarray(profile, dtype=float)
+    if prof.ndim == 0:
+        return np.full(len(index), float(prof))
+    if prof.shape != (24,):
+        raise ValueError(f"indoor profile needs 24 hourly values, got shape {prof.shape}")
+    return prof[np.asarray(index.hour)]
+
+
 def simulate_demand(
     model: FifthOrderModel,
     params_si: dict[str, np.ndarray],

@@ -79,15 +79,10 @@ def setpoint_series(index: pd.DatetimeIndex, profile) -> np.ndarray:
         Interval starts; the set point applies at the END of each interval.
     profile : float or array-like (24,) [C]
     """
-    prof = np.asarray(profile, dtype=float)
-    if prof.ndim == 0:
-        return np.full(len(index), float(prof))
-    if prof.shape != (24,):
-        raise ValueError(f"indoor profile needs 24 hourly values, got shape {prof.shape}")
+    if np.ndim(profile) == 0:
+        return interval_setpoint(index, profile)
     step = index[1] - index[0]
-    start_hours = np.asarray(index.hour)
-    end_hours = np.asarray((index + step).hour)
-    return 0.5 * (prof[start_hours] + prof[end_hours])
+    return 0.5 * (interval_setpoint(index, profile) + interval_setpoint(index + step, profile))
 
 
 def interval_setpoint(index: pd.DatetimeIndex, profile) -> np.ndarray:

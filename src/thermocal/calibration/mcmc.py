@@ -251,11 +251,7 @@ def _conditional_draw(shift, q, lower, upper, u):
     sd = 1.0 / np.sqrt(q)
     mean = shift / q
     a, b = (lower - mean) / sd, (upper - mean) / sd
-    # in the upper tail work with the mirrored interval, and with the logarithm of the
-    # distribution function: both ends may lie dozens of standard deviations in its lower tail
-    flip = a > 0
-    lo, hi = np.where(flip, -b, a), np.where(flip, -a, b)
-    log_pa, log_pb = special.log_ndtr(lo), special.log_ndtr(hi)
+    flip, lo, hi, log_pa, log_pb = _lower_tail(a, b)
     with np.errstate(divide="ignore"):
         # log(pa + u (pb - pa)), pa <= pb
         log_p = log_pb + np.log(u + (1.0 - u) * np.exp(log_pa - log_pb))
@@ -349,11 +345,19 @@ def _conditional_draw_convex(shift, q, knots, u):
 def _log_normal_mass(alpha, beta):
     """``log(Phi(beta) - Phi(alpha))`` for ``alpha < beta`` (elementwise), accurate in both
     tails [-]."""
-    flip = alpha > 0
-    lo, hi = np.where(flip, -beta, alpha), np.where(flip, -alpha, beta)
-    log_hi, log_lo = special.log_ndtr(hi), special.log_ndtr(lo)
+    _, _, _, log_lo, log_hi = _lower_tail(alpha, beta)
     with np.errstate(divide="ignore"):
         return log_hi + np.log1p(-np.exp(np.minimum(log_lo - log_hi, 0.0)))
+
+
+def _lower_tail(alpha, beta):
+    """A standard normal interval ``[alpha, beta]`` moved into the lower tail: mirrored where
+    ``alpha > 0`` (``flip``), its ends ``lo <= hi`` and their ``log Phi``; both ends may lie
+    dozens of standard deviations out, where only the logarithm of the distribution function
+    keeps its precision [-]."""
+    flip = alpha > 0
+    lo, hi = np.where(flip, -beta, alpha), np.where(flip, -alpha, beta)
+    return flip, lo, hi, special.log_ndtr(lo), special.log_ndtr(hi)
 
 
 def _log_exponential_mass(k, lo, hi):

@@ -16,9 +16,10 @@ Measured 2026-11-30, since the heat fit's controller takes the boundary between 
 interval means as their mean (docs/retrofit.md, "The heat fit's set point at the interval boundary
 (2026-11-30)"): the heat loss coefficient (+0.3 %), the demand (-3.6 %), the intervals' coverage
 (15 of 15), the cellar-ceiling saving (item 5: +1.3 pp) and the validation gate (bias -0.17 K, MAE
-0.71 K, daily heat NMBE -0.2 %, CV(RMSE) 5.7 %) meet the issue's targets; the largest saving
-difference (5.8 pp, 5 of 15 within 3 pp) and the median half-width (10.7 pp) do not, and the report
-recommends the strategy EnergyPlus's own savings choose by the same rule (1c, new windows).
+0.71 K, 0.65 K compared as interval means; daily heat NMBE -0.2 %, CV(RMSE) 5.7 %) meet the
+issue's targets; the largest saving difference (5.8 pp, 5 of 15 within 3 pp) and the median
+half-width (10.7 pp) do not, and the report recommends the strategy EnergyPlus's own savings
+choose by the same rule (1c, new windows).
 
 Measured 2026-11-29 with ``occupants: 3`` (docs/retrofit-twins.md, "Occupants on the second
 twin"), with
@@ -301,12 +302,13 @@ def test_air_change_stack_coefficient_vs_sherman_grimsrud(twin):
 def test_validation_gate_passes(twin):
     """Issue 25 item 3/6, met since 2026-11-30 (the heat fit's set point at the interval
     boundary): test bias -0.17 K, MAE 0.71 K, daily heat NMBE -0.2 %, CV(RMSE) 5.7 % against the
-    limits 1 K, 1.5 K, 10 %, 30 % (before: MAE 1.63 K, failed)."""
+    limits 1 K, 1.5 K, 10 %, 30 % (before: MAE 1.63 K, failed); MAE 0.65 K since the simulation
+    is compared as interval means (later on 2026-11-30)."""
     gate = twin["validation_gate"]
     checks = {c["name"]: c for c in gate["checks"]}
     assert gate["passed"] and all(c["passed"] for c in checks.values()), checks
     assert len(checks) == 4  # the heat checks ran
-    assert checks["indoor temperature MAE"]["value"] < 0.8  # (0.71; limit 1.5)
+    assert checks["indoor temperature MAE"]["value"] < 0.75  # (0.65; limit 1.5)
     assert abs(checks["indoor temperature bias"]["value"]) < 0.3  # (-0.17; limit 1)
     assert abs(checks["heat NMBE (daily, ASHRAE 14)"]["value"]) < 1.0  # (-0.20 %; limit 10)
     assert checks["heat CV(RMSE) (daily, ASHRAE 14)"]["value"] < 6.5  # (5.68 %; limit 30)
@@ -324,17 +326,22 @@ def test_open_loop_swing_gone_with_the_set_point_at_the_interval_boundary(twin):
     means at their boundary: -0.23 K at 02:00, +0.66 K at 12:00, MAE 0.71 K; the internal mass
     leaves its bound (C_i stays on its lower one). The largest hour-of-day error is left at the
     morning recovery (06:00, -3.39 K; -4.21 K before), where the measured mean of the recovery
-    hour is not the temperature the thermostat steps to."""
+    hour is not the temperature the thermostat steps to. Since the simulation is compared as
+    interval means, like the measurements (later on 2026-11-30): -0.26 K at 02:00, +0.65 K at
+    12:00, MAE 0.65 K, and the recovery hour -1.83 K (the simulated mean of that hour includes
+    the recovery, the state at its start did not)."""
     import pandas as pd  # noqa: PLC0415
 
     checks = {c["name"]: c for c in twin["validation_gate"]["checks"]}
-    assert checks["indoor temperature MAE"]["value"] < 0.8  # (0.71; 1.63 before)
+    assert checks["indoor temperature MAE"]["value"] < 0.75  # (0.65; 0.71 at the interval
+    # start, 1.63 before the set point at the boundary)
     v = pd.read_csv(Path(twin["_out"]) / "validation_timeseries.csv", index_col=0)
     v.index = pd.to_datetime(v.index, utc=True).tz_convert("Etc/GMT-1")
     t = v[v["period"] == "test"]
     err = (t["Ti_simulated_C"] - t["Ti_measured_C"]).groupby(t.index.hour).mean()
-    assert abs(err[2]) < 0.5 and abs(err[12]) < 1.0, err.round(2).to_dict()  # (-0.23, +0.66)
-    assert err.idxmin() == 6 and err.min() > -3.8, err.round(2).to_dict()  # (-3.39 at 06:00)
+    assert abs(err[2]) < 0.5 and abs(err[12]) < 1.0, err.round(2).to_dict()  # (-0.26, +0.65)
+    # (-1.83 at 06:00; -3.39 with the state at the interval's start)
+    assert err.idxmin() == 6 and err.min() > -2.3, err.round(2).to_dict()
     at_bounds = set(twin["calibration"]["parameters_at_bounds"])
     assert "C_im" not in at_bounds, at_bounds  # (["C_i"]; ["C_im", "C_i"] before)
 

@@ -156,6 +156,57 @@ def test_foh_simulation_matches_ode_solution_with_linear_inputs():
     np.testing.assert_allclose(sim["yTm"], 0.5 * (sim["Tm"] + sim["Ti"]), atol=1e-12)
 
 
+@pytest.mark.parametrize("hold", ["zoh", "foh"])
+def test_interval_means_equal_the_integrated_ode(hold):
+    """``simulate(interval_means=True)``: each value is the mean over the interval its label
+    starts, against the ODE solved interval by interval with the state's integral carried along
+    (irregular samples; the last interval, beyond the data, the one before's length with the
+    last inputs held)."""
+    from scipy.integrate import solve_ivp
+
+    model = three_state_model()
+    df = random_data(25, seed=7, irregular=True)
+    prep = prepare_data(model, df)
+    A, B, C, _ = model.continuous_matrices()
+    points = model.simulate(df, hold=hold)
+    means = model.simulate(df, hold=hold, interval_means=True)
+    names = model.state_names
+    n, N = len(names), len(df)
+    x = points.iloc[0][names].to_numpy()
+    expected = np.empty((N, n))
+    for k in range(N):
+        dt = prep.dts[k] if k < N - 1 else prep.dts[N - 2]
+        u0 = prep.U[k]
+        u1 = prep.U[k + 1] if (hold == "foh" and k < N - 1) else u0
+
+        def rhs(t, z, u0=u0, u1=u1, dt=dt):
+            u = u0 + (u1 - u0) * t / dt
+            dx = A @ z[:n] + B @ u
+            return np.concatenate([dx, z[:n]])
+
+        sol = solve_ivp(rhs, (0.0, dt), np.concatenate([x, np.zeros(n)]), method="DOP853",
+                        rtol=1e-12, atol=1e-12)  # fmt: skip
+        expected[k] = sol.y[n:, -1] / dt
+        x = sol.y[:n, -1]
+        if k < N - 1:  # the simulated state at the next sample, the same solution
+            np.testing.assert_allclose(points.iloc[k + 1][names].to_numpy(), x, atol=1e-7)
+    np.testing.assert_allclose(means[names].to_numpy(), expected, atol=1e-7)
+    # the outputs are the same combination of the means as of the states
+    np.testing.assert_allclose(means["yTm"], 0.5 * (means["Tm"] + means["Ti"]), atol=1e-12)
+    # and the mean differs from the value at the label (the check can fail)
+    assert np.max(np.abs(means["Ti"] - points["Ti"])) > 0.05
+
+
+def test_interval_means_of_a_constant_state_are_the_state():
+    """At the steady state the mean over any interval is the state itself."""
+    model = three_state_model()
+    t = pd.date_range("2024-01-01", periods=3000, freq="h", tz="UTC")
+    df = pd.DataFrame({"Ta": 0.0, "Ph": 2.0, "Ps": 0.0}, index=t)
+    points = model.simulate(df)
+    means = model.simulate(df, interval_means=True)
+    np.testing.assert_allclose(means.iloc[-5:].to_numpy(), points.iloc[-5:].to_numpy(), rtol=1e-9)
+
+
 def test_steady_state_of_simulation_is_the_network_solution():
     """Constant inputs for a long time: the states reach -A^-1 B u (the resistive network)."""
     model = three_state_model()

@@ -315,20 +315,28 @@ def simulate_indoor(
     x0: np.ndarray,
     inputs: pd.DataFrame,
     envelope=None,
+    *,
+    interval_means: bool = False,
 ) -> pd.DataFrame:
     """Deterministic multi-step simulation of all states (C) over ``inputs``.
 
     The network of :func:`thermocal.retrofit.model.network_spec` simulated by
     :meth:`thermocal.statespace.RCModel.simulate` (exact zero-order-hold discretisation).
-    States are reported at the interval starts (the first row is ``x0``), like measured
-    interval means labelled by their start. ``envelope``: the calibrated (corrected) U-values
-    (default: the building file's).
+    States are reported at the interval starts (the first row is ``x0``), or with
+    ``interval_means`` as their means over the interval each label starts, which is what the
+    measured series hold (interval means labelled by their start). ``envelope``: the
+    calibrated (corrected) U-values (default: the building file's).
     """
     h = model.conductances(envelope)
     rc = simulation_network(h, demand=False)
     values = {**h, **{k: float(v) for k, v in params_si.items()}}
     x = np.asarray(x0, float)
-    states = rc.simulate(inputs, values, initial_state={s: x[i] for i, s in enumerate(STATE_NAMES)})
+    states = rc.simulate(
+        inputs,
+        values,
+        initial_state={s: x[i] for i, s in enumerate(STATE_NAMES)},
+        interval_means=interval_means,
+    )
     return states[list(STATE_NAMES)]
 
 
@@ -524,7 +532,12 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
         list(BOUNDARY_COLUMNS + HEAT_COLUMNS)
     ].interpolate(limit_direction="both")
     states = simulate_indoor(model, cal.estimates_si, cal.x0, filled, cal.envelope)
-    sim_ti = states["Ti"].rename("Ti_simulated")
+    # the measured Ti are interval means labelled by their start: the simulation is compared
+    # as the same (the state at the label is half an interval early; on the EnergyPlus twins'
+    # hourly logs the test MAE is 0.04-0.05 K lower compared like with like, 2026-11-30)
+    sim_ti = simulate_indoor(
+        model, cal.estimates_si, cal.x0, filled, cal.envelope, interval_means=True
+    )["Ti"].rename("Ti_simulated")
     validation = {}
     for name, period in (("train", training), ("test", test)):
         if period is None:

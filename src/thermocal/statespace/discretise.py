@@ -10,6 +10,10 @@ References
    Automatic Control 23(3), 395-404, 1978.
 .. [2] G. F. Franklin, J. D. Powell, M. L. Workman, "Digital Control of Dynamic Systems", 3rd ed.,
    1998, sec. 6.3 (zero- and first-order hold equivalents).
+
+:func:`interval_mean_matrices` gives the mean of the state over a sampling interval (what a
+logger that averages, labelled by the interval's start, records) from the same kind of
+augmented exponential, one integral deeper.
 """
 
 from __future__ import annotations
@@ -67,3 +71,57 @@ def discretise(
     F = expm(vl)
     Q = F[n:, n:].T @ F[:n, n:]
     return Ad, Gam0, Gam1, 0.5 * (Q + Q.T)
+
+
+def interval_mean_matrices(
+    A: np.ndarray, B: np.ndarray, dt: float, hold: str = "zoh"
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mean of the state over ``[t_k, t_k + dt]``: ``xbar[k] = S x[k] + H0 u[k] + H1 u[k+1]``.
+
+    A sensor logger that averages over its interval and labels the mean by the interval's start
+    records ``xbar[k]``, not ``x[k]``; comparing ``x[k]`` with it puts the model half an
+    interval early (on an hourly log the difference is largest at a thermostat's step).
+
+    Parameters
+    ----------
+    A : ndarray (n, n) [1/s]
+    B : ndarray (n, m) [state unit / (s input unit)]
+    dt : float [s]
+        The interval's length.
+    hold : {"zoh", "foh"}
+        The inputs' hold within the interval, as in :func:`discretise`.
+
+    Returns
+    -------
+    S : ndarray (n, n) [-]
+        ``(1/dt) int_0^dt e^{A r} dr``.
+    H0, H1 : ndarray (n, m) [state unit / input unit]
+        Coefficients of ``u[k]`` and ``u[k+1]`` (``H1 = 0`` with ``zoh``).
+
+    Notes
+    -----
+    With ``[[A dt, [B, I] dt, 0, 0], [0, 0, I, 0], [0, 0, 0, I], [0, 0, 0, 0]]`` the exponential's
+    first block row holds ``G_j = int_0^dt e^{A r} ((dt - r)/dt)^(j-1) / (j-1)! dr [B, I]``,
+    j = 1, 2, 3 (Van Loan 1978). The mean of the zero-order-hold response is
+    ``(1/dt) int_0^dt int_0^t e^{A r} dr dt B = G_2 B``; a first-order hold adds the ramp
+    ``(u[k+1] - u[k]) t / dt``, whose mean response is ``G_3 B``.
+    """
+    A = np.atleast_2d(np.asarray(A, dtype=float))
+    n = A.shape[0]
+    B = np.asarray(B, dtype=float).reshape(n, -1)
+    if hold not in ("zoh", "foh"):
+        raise ValueError(f"hold must be 'zoh' or 'foh', got {hold!r}")
+    m = B.shape[1] + n  # the inputs and an identity, whose first integral gives S
+    size = n + 3 * m
+    big = np.zeros((size, size))
+    big[:n, :n] = A * dt
+    big[:n, n : n + m] = np.hstack([B, np.eye(n)]) * dt
+    big[n : n + m, n + m : n + 2 * m] = np.eye(m)
+    big[n + m : n + 2 * m, n + 2 * m :] = np.eye(m)
+    E = expm(big)
+    G1, G2, G3 = (E[:n, n + j * m : n + (j + 1) * m] for j in range(3))
+    S = G1[:, B.shape[1] :] / dt
+    H2, H3 = G2[:, : B.shape[1]], G3[:, : B.shape[1]]
+    if hold == "zoh":
+        return S, H2, np.zeros_like(H2)
+    return S, H2 - H3, H3

@@ -109,12 +109,23 @@ def nonfinite_culprit(model, prep: PreparedData, foh: bool) -> str:
 
 
 def simulate(
-    model, data, params=None, *, hold="zoh", time_column=None, time_unit="s", initial_state=None
+    model,
+    data,
+    params=None,
+    *,
+    hold="zoh",
+    time_column=None,
+    time_unit="s",
+    initial_state=None,
+    interval_means=False,
 ):
     """Deterministic state and output trajectories from the initial-state mean.
 
     ``initial_state`` ({state: temperature [C]}) replaces the initial means of the states it
     names (a validation period starting later than the fit period starts elsewhere).
+    ``interval_means``: report each state's and output's mean over the interval a time label
+    starts (:func:`interval_means_of`), as an averaging logger records it, instead of its value
+    at the label.
 
     Returns a DataFrame (index = the data's time labels) with one column per state [C] and one per
     output (named after its data column) [C].
@@ -139,11 +150,39 @@ def simulate(
     X = kernels.simulate_states(
         lam, T, Tinv, TB, M, x0, prep.dts, prep.U, _hold_flag(hold), seg_start, seg_x0
     )
+    if interval_means:
+        X = interval_means_of(model, prep, X, params, hold)
     out = pd.DataFrame(X, index=prep.index, columns=model.state_names)
     Yhat = X @ model.structure().C.T
     for r, col in enumerate(model.output_names):
         out[col] = Yhat[:, r]
     return out
+
+
+def interval_means_of(model, prep: PreparedData, X: np.ndarray, params, hold: str) -> np.ndarray:
+    """Each state's mean over the interval that starts at each sample [C].
+
+    ``X`` (samples, states) holds the states at the samples [C], as :func:`simulate` computes
+    them; the mean over ``[t_k, t_k+1]`` follows exactly from ``X[k]`` and the inputs
+    (:func:`thermocal.statespace.discretise.interval_mean_matrices`, one set per distinct
+    interval length). The last sample's interval lies beyond the data: it takes the previous
+    interval's length with the last inputs held.
+    """
+    from thermocal.statespace.discretise import interval_mean_matrices
+
+    _hold_flag(hold)
+    A, B, _, _ = model.continuous_matrices(params)
+    N = X.shape[0]
+    if N < 2:
+        return X.copy()
+    dts = prep.dts[:N]  # dts[k]: sample k to k + 1 (the last repeats the one before)
+    U_next = np.vstack([prep.U[1:], prep.U[-1:]])
+    means = np.empty_like(X)
+    for dt in np.unique(dts):
+        rows = dts == dt
+        S, H0, H1 = interval_mean_matrices(A, B, float(dt), hold)
+        means[rows] = X[rows] @ S.T + prep.U[rows] @ H0.T + U_next[rows] @ H1.T
+    return means
 
 
 def filter_arrays(model, prep: PreparedData, params: Mapping[str, float] | None, foh: bool):

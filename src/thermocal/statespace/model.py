@@ -950,11 +950,15 @@ class RCModel:
         time_column: str | None = None,
         time_unit: str = "s",
         initial_state: Mapping[str, float] | None = None,
+        interval_means: bool = False,
     ):
         """Deterministic (noise-free) state and output trajectories from the initial-state mean.
 
         ``initial_state`` ({state: temperature [C]}) replaces the declared initial means of the
         states it names, e.g. to simulate a validation period that starts later than the fit.
+        ``interval_means``: each value is the mean over the interval its time label starts
+        [C], as a logger that averages records it (:func:`thermocal.statespace.kalman.
+        interval_means_of`), instead of the value at the label.
         Returns a DataFrame on the data's index with one column per state and per output
         (outputs named after their data column).
         """
@@ -968,6 +972,7 @@ class RCModel:
             time_column=time_column,
             time_unit=time_unit,
             initial_state=initial_state,
+            interval_means=interval_means,
         )
 
     def evaluate(

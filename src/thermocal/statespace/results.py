@@ -649,7 +649,13 @@ class FitResults:
         return time_column, time_unit
 
     def simulate(
-        self, data=None, *, time_column=None, time_unit=None, initial_state=None
+        self,
+        data=None,
+        *,
+        time_column=None,
+        time_unit=None,
+        initial_state=None,
+        interval_means=False,
     ) -> pd.DataFrame:
         """Deterministic simulation at the estimates (default: over the fit data).
 
@@ -658,11 +664,18 @@ class FitResults:
 
         It starts from the estimated initial means, which belong to the start of the fit data;
         for another period give ``initial_state`` ({state: temperature [C]}), e.g. the measured
-        output or the smoothed states at its first sample.
+        output or the smoothed states at its first sample. ``interval_means``: each value is
+        the mean over the interval its label starts [C] (to compare with a logger's interval
+        means), not the value at the label.
         """
         prep = self._prep(data, time_column, time_unit, require_outputs=False)
         return simulate(
-            self.model, prep, self.params.to_dict(), hold=self.hold, initial_state=initial_state
+            self.model,
+            prep,
+            self.params.to_dict(),
+            hold=self.hold,
+            initial_state=initial_state,
+            interval_means=interval_means,
         )
 
     def _filter(self, prep):

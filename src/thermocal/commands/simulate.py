@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Annotated
 
@@ -261,7 +262,8 @@ def simulate(
         info = getattr(model, "idf_info", None)
         if info is not None:
             _add_import_report(Path(tmp) / "summary.json", info)
-    summary = result.summary()
+    # the summary as written (computing it again costs 0.06 s of the grid's 3.6-s process)
+    summary = json.loads((out / "summary.json").read_text())
     table = Table(
         title="summary (first 20 zones; air temperature hourly-integrated, as ASHRAE 140)"
     )

@@ -726,3 +726,65 @@ def shifted_inputs(data, inputs, shift: int):
     moved[cols] = data[cols].shift(shift)
     return moved
 
+
+
+def midpoint_observations(
+    data: pd.DataFrame, outputs, *, hold: str = "zoh"
+) -> pd.DataFrame:
+    """Interval means observed at their interval's middle: a grid of half intervals.
+
+    A logger that averages over each interval and labels the mean by the interval's start
+    records the mean of ``[t_k, t_k+1]``; a filter that compares it with the state at ``t_k``
+    puts every observation half an interval early. On synthetic hourly means of a two-state
+    house with a morning recovery (three weeks, six noise seeds, 2026-11-30) that lag biased
+    the fitted heat loss coefficient by +6.8 % (sd 2.9 %) and the air's capacity by +83 %;
+    observed at ``t_k + dt/2`` (the midpoint rule for the mean, exact for a linear trend) the
+    bias is +0.2 % (sd 1.0 %) and +6 %, as with instantaneous readings at ``t_k`` (+0.15 %,
+    -1 %) (``tests/statespace/test_statespace_kalman.py::
+    test_interval_means_fitted_at_their_midpoints``, three two-week seeds).
+
+    Parameters
+    ----------
+    data : DataFrame
+        Regular or irregular rows labelled by the start of their interval (a DatetimeIndex or
+        numeric times); inputs and outputs are interval means.
+    outputs : sequence of str
+        The columns observed (interval means).
+    hold : {"zoh", "foh"}
+        The inputs' hold, as the model will be fitted with: ``zoh`` repeats row k's inputs on
+        its middle row; ``foh`` takes the mean of rows k and k + 1 there (a linear input's value
+        at the middle).
+
+    Returns
+    -------
+    DataFrame
+        Twice the rows: each start row with its inputs and no observation (NaN outputs), then
+        its middle row with the inputs and the outputs. The last row's interval takes the
+        previous interval's length. Results of a fit on it (residuals, smoothed states) are on
+        this grid: the middle rows are the observations.
+    """
+    outputs = list(outputs)
+    missing = [c for c in outputs if c not in data.columns]
+    if missing:
+        raise ThermocalInputError(f"midpoint_observations: no column {', '.join(missing)}")
+    if len(data) < 2:
+        raise ThermocalInputError("midpoint_observations: at least two rows are needed")
+    if hold not in ("zoh", "foh"):
+        raise ThermocalInputError(f"hold must be 'zoh' or 'foh', got '{hold}'")
+    index = data.index
+    steps = np.diff(index.to_numpy())
+    half = np.append(steps, steps[-1]) / 2
+    start = data.copy()
+    start[outputs] = np.nan
+    middle = data.copy()
+    if hold == "foh":
+        inputs = [c for c in data.columns if c not in outputs]
+        values = data[inputs].to_numpy(float)
+        following = np.vstack([values[1:], values[-1:]])
+        middle[inputs] = 0.5 * (values + following)
+    middle.index = pd.Index(index.to_numpy() + half, name=index.name)
+    if isinstance(index, pd.DatetimeIndex):
+        middle.index = pd.DatetimeIndex(middle.index, tz=index.tz, name=index.name)
+    both = pd.concat([start, middle])
+    order = np.argsort(np.concatenate([np.arange(len(data)) * 2, np.arange(len(data)) * 2 + 1]))
+    return both.iloc[order]

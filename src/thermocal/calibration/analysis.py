@@ -128,6 +128,8 @@ def analyse(
             final, zoom_info = zoomed
             timings.update({f"zoom_{k}": v for k, v in zoom_info.pop("timings_s").items()})
     posterior, series_model, movable = final.posterior, final.series_model, final.movable
+    if posterior is not None:
+        posterior = _with_envelope_total(posterior, space, inputs.building, campaign, log)
     calibrated_source, calibrated_metric, calibrated_values = (
         final.source,
         final.metric,
@@ -982,6 +984,21 @@ def _stored_weather(info: dict) -> pd.DataFrame:
         freq=pd.Timedelta(seconds=grid["step_s"]),
     )
     return pd.DataFrame({"temp_air": grid["temp_air"], "ghi": grid["ghi"]}, index=index)
+
+
+def _with_envelope_total(posterior, space, building, campaign, log):
+    """The posterior with the varied constructions' total conductance (:mod:`thermocal.
+    calibration.envelope_total`), said in the log when it adds to the single verdicts."""
+    from thermocal.calibration.envelope_total import (
+        total_conductance,
+        total_conductance_sentence,
+    )
+
+    total = total_conductance(posterior, space, building, seed=campaign.sampling.seed)
+    sentence = total_conductance_sentence(total)
+    if sentence:
+        log(sentence)
+    return replace(posterior, envelope_total=total)
 
 
 def _posterior_or_note(

@@ -391,6 +391,10 @@ class Posterior:
     advice : dict
         Which in-situ measurement would determine which parameters
         (:func:`thermocal.calibration.advice.advise_measurements`; empty when not asked).
+    envelope_total : dict
+        The varied constructions' total conductance to outdoors with its interval
+        (:func:`thermocal.calibration.envelope_total.total_conductance`; empty with fewer than
+        two resistances on exterior surfaces).
     uncertain : list of dict
         The uncertain inputs the posterior marginalised (:mod:`thermocal.calibration.uncertain`):
         ``label``, ``rel_std`` [-], ``parameters`` (the names it scales), ``effect`` (False: it
@@ -412,6 +416,7 @@ class Posterior:
     in_situ: dict = field(default_factory=dict)
     advice: dict = field(default_factory=dict)
     uncertain: list = field(default_factory=list)
+    envelope_total: dict = field(default_factory=dict)
 
     @property
     def determined(self) -> list[str]:
@@ -476,6 +481,11 @@ class Posterior:
                 f"{a} and {b} compensate each other (posterior correlation {r:+.2f}): the data "
                 "fix a combination of the two, not each one."
             )
+        from thermocal.calibration.envelope_total import total_conductance_sentence
+
+        together = total_conductance_sentence(self.envelope_total)
+        if together:
+            out.append(together)
         if self.advice:
             out.append(self.advice["summary"] + ".")
         out.append(
@@ -516,6 +526,7 @@ class Posterior:
             "in_situ": self.in_situ,
             "advice": self.advice,
             "uncertain": self.uncertain,
+            "envelope_total": self.envelope_total,
             "sentences": self.sentences(),
         }
 

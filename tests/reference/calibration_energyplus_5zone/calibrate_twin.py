@@ -202,7 +202,24 @@ def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
         "emulator_std_W": float(result.posterior.emulator_std),
         "correlation_wall_roof": float(result.posterior.correlation.loc[WALL, ROOF]),
         "zoom": result.zoom,
+        "envelope_total": envelope_total(result, truth),
     }
+
+
+def envelope_total(result, truth: dict) -> dict:
+    """The posterior's total conductance of the varied constructions
+    (:mod:`thermocal.calibration.envelope_total`) with the truth's, when the truth gives every
+    one of their resistances [W/K]."""
+    from thermocal.calibration.coordinates import FILM_RESISTANCE
+
+    total = dict(result.posterior.envelope_total)
+    keys = [f"construction/{c}/resistance" for c in total.get("constructions", {})]
+    if total and all(k in truth for k in keys):
+        total["truth_W_per_K"] = sum(
+            a / (truth[k] + FILM_RESISTANCE)
+            for k, a in zip(keys, total["constructions"].values(), strict=True)
+        )
+    return total
 
 
 def run(

@@ -1,0 +1,95 @@
+"""The varied constructions' total conductance (``thermocal.calibration.envelope_total``)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from thermocal.calibration.coordinates import FILM_RESISTANCE
+from thermocal.calibration.envelope_total import (
+    exterior_opaque_areas,
+    total_conductance,
+    total_conductance_sentence,
+)
+from thermocal.calibration.space import ParameterSpace
+
+ROOF, WALL = "construction/roof/resistance", "construction/wall/resistance"
+
+
+def _building():
+    """A roof of 100 m2 and walls of 80 m2 gross with 20 m2 of windows, a partition and a floor
+    on the ground (neither counted)."""
+    surface = SimpleNamespace
+    return SimpleNamespace(
+        surfaces={
+            "r": surface(name="r", boundary="outdoors", area=100.0, construction="roof"),
+            "w1": surface(name="w1", boundary="outdoors", area=50.0, construction="wall"),
+            "w2": surface(name="w2", boundary="outdoors", area=30.0, construction="wall"),
+            "p": surface(name="p", boundary="zone", area=40.0, construction="wall"),
+            "f": surface(name="f", boundary="ground", area=100.0, construction="slab"),
+        },
+        windows={
+            "a": SimpleNamespace(surface="w1", area=12.0),
+            "b": SimpleNamespace(surface="w2", area=8.0),
+        },
+    )
+
+
+def _space():
+    return ParameterSpace.from_parameters({ROOF: 4.0, WALL: 2.0}, default_range=0.5)
+
+
+def _total(roof, wall):
+    return 100.0 / (roof + FILM_RESISTANCE) + 60.0 / (wall + FILM_RESISTANCE)
+
+
+def test_net_opaque_areas_of_exterior_surfaces():
+    assert exterior_opaque_areas(_building()) == {"roof": 100.0, "wall": 60.0}
+
+
+def test_a_sum_the_data_fix_is_determined_while_its_parts_are_not():
+    """Draws along the curve of a fixed total (the roof anywhere in its range, the walls
+    compensating): the total's interval is a point, each resistance spans its range."""
+    rng = np.random.default_rng(0)
+    roof = rng.uniform(2.5, 5.5, 4000)
+    target = _total(4.0, 2.0)
+    wall = 60.0 / (target - 100.0 / (roof + FILM_RESISTANCE)) - FILM_RESISTANCE
+    keep = (wall > 1.0) & (wall < 3.0)
+    draws = pd.DataFrame({ROOF: roof[keep], WALL: wall[keep]})
+    posterior = SimpleNamespace(samples=draws, determined=[])
+    total = total_conductance(posterior, _space(), _building())
+    assert total["constructions"] == {"roof": 100.0, "wall": 60.0}
+    assert total["median_W_per_K"] == pytest.approx(target, rel=1e-9)
+    assert total["q95_W_per_K"] - total["q05_W_per_K"] < 1e-6
+    assert total["nominal_W_per_K"] == pytest.approx(target)
+    assert total["determined"] and total["separately_determined"] == []
+    # the prior: uniform in each resistance over +-50 %
+    prior = _total(rng.uniform(2, 6, 200_000), rng.uniform(1, 3, 200_000))
+    assert total["prior_q05_W_per_K"] == pytest.approx(np.quantile(prior, 0.05), rel=0.01)
+    assert total["prior_q95_W_per_K"] == pytest.approx(np.quantile(prior, 0.95), rel=0.01)
+    sentence = total_conductance_sentence(total)
+    assert "roof (100 m2), wall (60 m2)" in sentence and "the data fix the sum" in sentence
+
+
+def test_the_prior_itself_is_not_determined():
+    """Draws from the prior: the width fraction is 0.9 (the prior's own), not determined."""
+    rng = np.random.default_rng(1)
+    draws = pd.DataFrame({ROOF: rng.uniform(2, 6, 20_000), WALL: rng.uniform(1, 3, 20_000)})
+    total = total_conductance(SimpleNamespace(samples=draws, determined=[]), _space(), _building())
+    assert total["width_fraction"] == pytest.approx(0.9, abs=0.03)
+    assert not total["determined"]
+    assert "not determined either" in total_conductance_sentence(total)
+
+
+def test_nothing_to_add_with_one_resistance_or_every_one_determined():
+    draws = pd.DataFrame({ROOF: [4.0, 4.1], WALL: [2.0, 2.1]})
+    one = ParameterSpace.from_parameters({ROOF: 4.0}, default_range=0.5)
+    assert total_conductance(SimpleNamespace(samples=draws, determined=[]), one, _building()) == {}
+    both = total_conductance(
+        SimpleNamespace(samples=draws, determined=[ROOF, WALL]), _space(), _building()
+    )
+    assert both["separately_determined"] == ["roof", "wall"]
+    assert total_conductance_sentence(both) is None

@@ -227,7 +227,7 @@ def test_building_metric_determines_roof_and_walls_together(twin):
     206.1 W/K): the building's sum cannot see it, and says so. With the zone groups each one is
     determined and the total 206 W/K [195, 217]."""
     building, groups = twin["building"]["envelope_total"], twin["groups"]["envelope_total"]
-    assert set(building["constructions"]) == {"ROOF-1", "WALL-1"}
+    assert set(building["elements"]) == {"ROOF-1", "WALL-1"}
     assert building["determined"] and not building["separately_determined"], building
     assert building["width_fraction"] < 0.35, building  # (0.21)
     for total in (building, groups):
@@ -235,8 +235,8 @@ def test_building_metric_determines_roof_and_walls_together(twin):
     assert abs(building["truth_W_per_K"] / building["nominal_W_per_K"] - 1) < 0.01
     assert set(groups["separately_determined"]) == {"ROOF-1", "WALL-1"}
     # the areas: the roof's and the walls' net opaque exterior areas of 5ZoneAirCooled
-    assert building["constructions"]["ROOF-1"] == pytest.approx(463.6, abs=0.1)
-    assert building["constructions"]["WALL-1"] == pytest.approx(213.3, abs=0.1)
+    assert building["elements"]["ROOF-1"] == pytest.approx(463.6, abs=0.1)
+    assert building["elements"]["WALL-1"] == pytest.approx(213.3, abs=0.1)
 
 
 @pytest.mark.xfail(

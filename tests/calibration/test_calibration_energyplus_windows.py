@@ -162,6 +162,19 @@ def test_the_wall_that_trades_with_the_window_is_not_called_determined(twin):
     assert row["calibrated"] == pytest.approx(row["nominal"]), row
 
 
+def test_walls_windows_and_roof_together(twin):
+    """The wall trades with the window U (above); together with the roof their U A to outdoors
+    (``posterior.envelope_total``) is determined: measured 2026-11-30, 344.9 W/K [328.8, 361.0]
+    against the truth 343.6 (nominal 345.8), 7 % of the prior's 90 % width; the roof and the
+    window U are determined alone, the wall is not."""
+    total = twin["envelope_total"]
+    assert set(total["elements"]) == {"ROOF-1", "WALL-1", "window Dbl Clr 3mm/13mm Air"}
+    assert total["elements"]["window Dbl Clr 3mm/13mm Air"] == pytest.approx(51.24, abs=0.01)
+    assert total["determined"] and "WALL-1" not in total["separately_determined"], total
+    assert total["q05_W_per_K"] <= total["truth_W_per_K"] <= total["q95_W_per_K"], total
+    assert total["width_fraction"] < 0.15, total  # (0.075)
+
+
 @pytest.mark.parametrize("name", COVER_CASES)
 def test_determined_intervals_cover_the_truth(twin, name):
     row = twin["by_name"][name]

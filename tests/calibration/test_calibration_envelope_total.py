@@ -32,8 +32,8 @@ def _building():
             "f": surface(name="f", boundary="ground", area=100.0, construction="slab"),
         },
         windows={
-            "a": SimpleNamespace(surface="w1", area=12.0),
-            "b": SimpleNamespace(surface="w2", area=8.0),
+            "a": SimpleNamespace(surface="w1", area=12.0, window_type="clear"),
+            "b": SimpleNamespace(surface="w2", area=8.0, window_type="clear"),
         },
     )
 
@@ -61,7 +61,7 @@ def test_a_sum_the_data_fix_is_determined_while_its_parts_are_not():
     draws = pd.DataFrame({ROOF: roof[keep], WALL: wall[keep]})
     posterior = SimpleNamespace(samples=draws, determined=[])
     total = total_conductance(posterior, _space(), _building())
-    assert total["constructions"] == {"roof": 100.0, "wall": 60.0}
+    assert total["elements"] == {"roof": 100.0, "wall": 60.0}
     assert total["median_W_per_K"] == pytest.approx(target, rel=1e-9)
     assert total["q95_W_per_K"] - total["q05_W_per_K"] < 1e-6
     assert total["nominal_W_per_K"] == pytest.approx(target)
@@ -93,3 +93,17 @@ def test_nothing_to_add_with_one_resistance_or_every_one_determined():
     )
     assert both["separately_determined"] == ["roof", "wall"]
     assert total_conductance_sentence(both) is None
+
+
+def test_windows_count_with_their_u_value_and_area():
+    """A window type's U-value (whole window) times its windows' area joins the sum."""
+    win = "window/double/u_value"
+    building = _building()
+    for window in building.windows.values():
+        window.window_type = "double"
+    space = ParameterSpace.from_parameters({WALL: 2.0, win: 2.8}, default_range=0.5)
+    draws = pd.DataFrame({WALL: [1.5, 2.0, 2.5], win: [2.0, 2.8, 3.6]})
+    total = total_conductance(SimpleNamespace(samples=draws, determined=[]), space, building)
+    assert total["elements"] == {"wall": 60.0, "window double": 20.0}
+    assert total["median_W_per_K"] == pytest.approx(60.0 / (2.0 + FILM_RESISTANCE) + 20.0 * 2.8)
+    assert total["nominal_W_per_K"] == pytest.approx(60.0 / (2.0 + FILM_RESISTANCE) + 20.0 * 2.8)

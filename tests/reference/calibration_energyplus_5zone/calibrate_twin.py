@@ -207,17 +207,17 @@ def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
 
 
 def envelope_total(result, truth: dict) -> dict:
-    """The posterior's total conductance of the varied constructions
+    """The posterior's total conductance of the varied elements
     (:mod:`thermocal.calibration.envelope_total`) with the truth's, when the truth gives every
     one of their resistances [W/K]."""
     from thermocal.calibration.coordinates import FILM_RESISTANCE
 
     total = dict(result.posterior.envelope_total)
-    keys = [f"construction/{c}/resistance" for c in total.get("constructions", {})]
+    keys = total.get("parameters", [])
     if total and all(k in truth for k in keys):
         total["truth_W_per_K"] = sum(
-            a / (truth[k] + FILM_RESISTANCE)
-            for k, a in zip(keys, total["constructions"].values(), strict=True)
+            a * (truth[k] if k.endswith("/u_value") else 1.0 / (truth[k] + FILM_RESISTANCE))
+            for k, a in zip(keys, total["elements"].values(), strict=True)
         )
     return total
 

@@ -167,7 +167,7 @@ def test_walls_windows_and_roof_together(twin):
     (``posterior.envelope_total``) is determined: measured 2026-11-30, 344.9 W/K [328.8, 361.0]
     against the truth 343.6 (nominal 345.8), 7 % of the prior's 90 % width; the roof and the
     window U are determined alone, the wall is not."""
-    total = twin["envelope_total"]
+    total = twin["envelope_total"]["conduction"]
     assert set(total["elements"]) == {"ROOF-1", "WALL-1", "window Dbl Clr 3mm/13mm Air"}
     assert total["elements"]["window Dbl Clr 3mm/13mm Air"] == pytest.approx(51.24, abs=0.01)
     assert total["determined"] and "WALL-1" not in total["separately_determined"], total

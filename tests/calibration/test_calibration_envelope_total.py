@@ -12,7 +12,7 @@ from thermocal.calibration.coordinates import FILM_RESISTANCE
 from thermocal.calibration.envelope_total import (
     exterior_opaque_areas,
     total_conductance,
-    total_conductance_sentence,
+    total_conductance_sentences,
 )
 from thermocal.calibration.space import ParameterSpace
 
@@ -21,9 +21,14 @@ ROOF, WALL = "construction/roof/resistance", "construction/wall/resistance"
 
 def _building():
     """A roof of 100 m2 and walls of 80 m2 gross with 20 m2 of windows, a partition and a floor
-    on the ground (neither counted)."""
+    on the ground (neither counted); two zones of 300 and 150 m3."""
     surface = SimpleNamespace
+    zone = SimpleNamespace
     return SimpleNamespace(
+        zones={
+            "a": zone(volume=300.0, infiltration_ach=0.5, infiltration_group=None),
+            "b": zone(volume=150.0, infiltration_ach=1.0, infiltration_group=None),
+        },
         surfaces={
             "r": surface(name="r", boundary="outdoors", area=100.0, construction="roof"),
             "w1": surface(name="w1", boundary="outdoors", area=50.0, construction="wall"),
@@ -60,7 +65,7 @@ def test_a_sum_the_data_fix_is_determined_while_its_parts_are_not():
     keep = (wall > 1.0) & (wall < 3.0)
     draws = pd.DataFrame({ROOF: roof[keep], WALL: wall[keep]})
     posterior = SimpleNamespace(samples=draws, determined=[])
-    total = total_conductance(posterior, _space(), _building())
+    total = total_conductance(posterior, _space(), _building())["conduction"]
     assert total["elements"] == {"roof": 100.0, "wall": 60.0}
     assert total["median_W_per_K"] == pytest.approx(target, rel=1e-9)
     assert total["q95_W_per_K"] - total["q05_W_per_K"] < 1e-6
@@ -70,7 +75,7 @@ def test_a_sum_the_data_fix_is_determined_while_its_parts_are_not():
     prior = _total(rng.uniform(2, 6, 200_000), rng.uniform(1, 3, 200_000))
     assert total["prior_q05_W_per_K"] == pytest.approx(np.quantile(prior, 0.05), rel=0.01)
     assert total["prior_q95_W_per_K"] == pytest.approx(np.quantile(prior, 0.95), rel=0.01)
-    sentence = total_conductance_sentence(total)
+    (sentence,) = total_conductance_sentences({"conduction": total})
     assert "roof (100 m2), wall (60 m2)" in sentence and "the data fix the sum" in sentence
 
 
@@ -78,10 +83,11 @@ def test_the_prior_itself_is_not_determined():
     """Draws from the prior: the width fraction is 0.9 (the prior's own), not determined."""
     rng = np.random.default_rng(1)
     draws = pd.DataFrame({ROOF: rng.uniform(2, 6, 20_000), WALL: rng.uniform(1, 3, 20_000)})
-    total = total_conductance(SimpleNamespace(samples=draws, determined=[]), _space(), _building())
+    posterior = SimpleNamespace(samples=draws, determined=[])
+    total = total_conductance(posterior, _space(), _building())["conduction"]
     assert total["width_fraction"] == pytest.approx(0.9, abs=0.03)
     assert not total["determined"]
-    assert "not determined either" in total_conductance_sentence(total)
+    assert "not determined either" in total_conductance_sentences({"conduction": total})[0]
 
 
 def test_nothing_to_add_with_one_resistance_or_every_one_determined():
@@ -91,8 +97,8 @@ def test_nothing_to_add_with_one_resistance_or_every_one_determined():
     both = total_conductance(
         SimpleNamespace(samples=draws, determined=[ROOF, WALL]), _space(), _building()
     )
-    assert both["separately_determined"] == ["roof", "wall"]
-    assert total_conductance_sentence(both) is None
+    assert both["conduction"]["separately_determined"] == ["roof", "wall"]
+    assert total_conductance_sentences(both) == []
 
 
 def test_windows_count_with_their_u_value_and_area():
@@ -104,6 +110,24 @@ def test_windows_count_with_their_u_value_and_area():
     space = ParameterSpace.from_parameters({WALL: 2.0, win: 2.8}, default_range=0.5)
     draws = pd.DataFrame({WALL: [1.5, 2.0, 2.5], win: [2.0, 2.8, 3.6]})
     total = total_conductance(SimpleNamespace(samples=draws, determined=[]), space, building)
+    total = total["conduction"]
     assert total["elements"] == {"wall": 60.0, "window double": 20.0}
     assert total["median_W_per_K"] == pytest.approx(60.0 / (2.0 + FILM_RESISTANCE) + 20.0 * 2.8)
     assert total["nominal_W_per_K"] == pytest.approx(60.0 / (2.0 + FILM_RESISTANCE) + 20.0 * 2.8)
+
+
+def test_air_changes_and_everything_together():
+    """Two zones' air change rates: their conductance rho c_p V n / 3600 (1200 J/(m3 K)), and
+    with the roof the part of the heat loss coefficient the campaign varies."""
+    a, b = "zone/a/infiltration_ach", "zone/b/infiltration_ach"
+    space = ParameterSpace.from_parameters({ROOF: 4.0, a: 0.5, b: 1.0}, default_range=0.5)
+    draws = pd.DataFrame({ROOF: [3.0, 4.0, 5.0], a: [0.4, 0.5, 0.6], b: [0.8, 1.0, 1.2]})
+    totals = total_conductance(SimpleNamespace(samples=draws, determined=[]), space, _building())
+    assert set(totals) == {"air", "all"}  # one construction: no conduction total of its own
+    air = 1200.0 / 3600.0 * (300.0 * 0.5 + 150.0 * 1.0)
+    assert totals["air"]["median_W_per_K"] == pytest.approx(air)
+    assert totals["air"]["elements"] == {"a air": 300.0, "b air": 150.0}
+    assert totals["all"]["median_W_per_K"] == pytest.approx(air + 100.0 / (4.0 + FILM_RESISTANCE))
+    sentences = total_conductance_sentences(totals)
+    assert "a air (300 m3), b air (150 m3)" in sentences[0]
+    assert sentences[1].startswith("Everything varied together")

@@ -987,16 +987,16 @@ def _stored_weather(info: dict) -> pd.DataFrame:
 
 
 def _with_envelope_total(posterior, space, building, campaign, log):
-    """The posterior with the varied constructions' total conductance (:mod:`thermocal.
-    calibration.envelope_total`), said in the log when it adds to the single verdicts."""
+    """The posterior with the varied elements' and air changes' total conductances
+    (:mod:`thermocal.calibration.envelope_total`), said in the log when they add to the single
+    verdicts."""
     from thermocal.calibration.envelope_total import (
         total_conductance,
-        total_conductance_sentence,
+        total_conductance_sentences,
     )
 
     total = total_conductance(posterior, space, building, seed=campaign.sampling.seed)
-    sentence = total_conductance_sentence(total)
-    if sentence:
+    for sentence in total_conductance_sentences(total):
         log(sentence)
     return replace(posterior, envelope_total=total)
 

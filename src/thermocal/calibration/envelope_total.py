@@ -1,21 +1,29 @@
 """What the data say about the varied elements together: their total conductance.
 
 A building's summed heat often cannot tell one element from another: the roof and the walls
-compensate each other, or the walls and the windows, and neither is determined. Their sum may
-still be: the conductance to outdoors of the varied elements together, ``U A`` summed over each
-construction with ``U = 1 / (R + R_films)`` (its layers' resistance ``R`` and the ISO 6946
-films of :data:`thermocal.calibration.coordinates.FILM_RESISTANCE`) and the net opaque areas of
-its exterior surfaces, and over each window type with its ``u_value`` and its windows' areas.
-This module takes it from the posterior's draws, with its 90 % credible interval, and calls it
-determined by the criterion the single
-parameters have (:data:`thermocal.calibration.posterior.DETERMINED_FRACTION`): its interval is
-narrower than that fraction of what the prior alone allows (the prior's 90 % interval of the
-total over 0.9, so that for one parameter with a uniform prior it is the same test).
+compensate each other, or the walls and the windows, or one office's air change and another's,
+and none is determined alone. Their sum may still be. From the posterior's draws this module
+takes three totals [W/K], each with its 90 % credible interval:
+
+- ``conduction``: the varied elements' ``U A`` to outdoors, over each construction with
+  ``U = 1 / (R + R_films)`` (its layers' resistance ``R``, the ISO 6946 films of
+  :data:`thermocal.calibration.coordinates.FILM_RESISTANCE`) and the net opaque area of its
+  exterior surfaces, and over each window type with its ``u_value`` and its windows' area;
+- ``air``: the varied air changes' conductance, ``rho c_p V n / 3600`` (ISO 13789's
+  ``rho c_p`` = 1200 J/(m3 K));
+- ``all``: both, the part of the heat loss coefficient the campaign varies.
+
+Each is called determined by the criterion the single parameters have
+(:data:`thermocal.calibration.posterior.DETERMINED_FRACTION`): its interval is narrower than
+that fraction of what the prior alone allows (the prior's 90 % interval of the total, from
+uniform draws of each parameter in its range, over 0.9, so that for one parameter it is the same
+test).
 
 Measured on the EnergyPlus twin of 5ZoneAirCooled with the building-total metric (2026-11-30):
-roof and walls 216 W/K [180, 252] against the truth 205.9 W/K (the hidden envelope, walls x 0.6 and
-roof x 1.5 in insulation, keeps the total: nominal 206.1 W/K), 12 % of the prior's range, while
-the roof's interval spans 64 % of its range and the walls' 74 %.
+roof and walls 216 W/K [180, 252] against the truth 205.9 W/K (the hidden envelope, walls x 0.6
+and roof x 1.5 in insulation, keeps the total: nominal 206.1 W/K), while the roof's interval
+spans 64 % of its range and the walls' 74 %; the five offices' air 225 W/K [180, 265] (truth
+258.7, not determined); everything 440 W/K [386, 493] (truth 464.6, determined).
 """
 
 from __future__ import annotations
@@ -26,9 +34,10 @@ from thermocal.calibration.coordinates import FILM_RESISTANCE
 from thermocal.calibration.posterior import DETERMINED_FRACTION
 
 __all__ = [
+    "conductance_terms",
     "exterior_opaque_areas",
     "total_conductance",
-    "total_conductance_sentence",
+    "total_conductance_sentences",
     "window_areas",
 ]
 
@@ -62,68 +71,106 @@ def window_areas(building) -> dict[str, float]:
     return areas
 
 
-def _element(name: str) -> tuple[str, str] | None:
-    """``construction/<c>/resistance`` -> ("construction", c), ``window/<w>/u_value`` ->
-    ("window", w); None for any other parameter."""
-    kind, _, rest = name.partition("/")
-    element, _, field = rest.rpartition("/")
-    if kind == "construction" and field == "resistance" and element:
-        return kind, element
-    if kind == "window" and field == "u_value" and element:
-        return kind, element
-    return None
+#: Volumetric heat capacity of air for an air change's conductance [J/(m3 K)] (ISO 13789's
+#: rho c_p = 1200 J/(m3 K)).
+AIR_HEAT_CAPACITY = 1200.0
+
+#: The totals, in the order they are reported: the elements' U A, the air change's conductance,
+#: and both (the part of the heat loss coefficient the campaign varies).
+PARTS = ("conduction", "air", "all")
+
+
+def conductance_terms(names, building) -> dict[str, tuple[str, str, float, float]]:
+    """Each parameter's term of the totals: name -> (part, label, size, weight); parameters
+    without one (a layer's conductivity, an SHGC) are left out.
+
+    A term's conductance [W/K] is ``weight / (value + FILM_RESISTANCE)`` for a construction's
+    resistance (weight: its net opaque exterior area [m2]) and ``weight * value`` otherwise: a
+    window type's U-value (its windows' area [m2]), an air change rate or the building's
+    infiltration factor (``AIR_HEAT_CAPACITY / 3600`` times the air volume [m3], or the zones'
+    nominal ``V ACH`` [m3/h] for the factor). ``size`` is the area [m2] or volume [m3] a report
+    names.
+    """
+    opaque, glazed = exterior_opaque_areas(building), window_areas(building)
+    zones = building.zones
+    air = AIR_HEAT_CAPACITY / 3600.0
+    terms = {}
+    for name in names:
+        kind, _, rest = name.partition("/")
+        element, _, field = rest.rpartition("/")
+        if kind == "construction" and field == "resistance" and opaque.get(element, 0) > 0:
+            terms[name] = ("conduction", element, opaque[element], opaque[element])
+        elif kind == "window" and field == "u_value" and glazed.get(element, 0) > 0:
+            terms[name] = ("conduction", f"window {element}", glazed[element], glazed[element])
+        elif kind == "zone" and field == "infiltration_ach" and element in zones:
+            volume = zones[element].volume
+            terms[name] = ("air", f"{element} air", volume, air * volume)
+        elif name == "infiltration/building/factor":
+            volume = sum(z.volume for z in zones.values() if z.infiltration_ach > 0)
+            flow = sum(z.volume * z.infiltration_ach for z in zones.values())
+            terms[name] = ("air", "the building's air", volume, air * flow)
+        elif kind == "infiltration" and field == "ach":
+            volume = sum(z.volume for z in zones.values() if z.infiltration_group == element)
+            if volume > 0:
+                terms[name] = ("air", f"{element} air", volume, air * volume)
+    return terms
 
 
 def total_conductance(posterior, space, building, *, seed: int = 0) -> dict:
-    """The varied elements' total conductance to outdoors from the posterior's draws.
+    """The varied elements' and air change's total conductance from the posterior's draws.
 
     Parameters
     ----------
     posterior : Posterior
-        With draws (``samples``) of ``construction/<name>/resistance`` [m2 K/W] and
-        ``window/<type>/u_value`` [W/(m2 K)].
+        With draws (``samples``) of the campaign's parameters [unit of each]:
+        ``construction/<name>/resistance`` [m2 K/W], ``window/<type>/u_value`` [W/(m2 K)],
+        ``zone/<name>/infiltration_ach`` and ``infiltration/<group>/ach`` [1/h],
+        ``infiltration/building/factor`` [-] count.
     space : ParameterSpace
         The campaign's parameters: bounds and nominal values [unit of each].
     building : Building
-        The nominal building (its exterior surfaces' and windows' areas).
+        The nominal building (its exterior surfaces' and windows' areas, its zones' volumes).
     seed : int
         Seed of the prior's draws.
 
     Returns
     -------
     dict
-        Empty with fewer than two such elements on the building's outside; else ``elements``
-        (a construction's name or ``window <type>`` -> its area [m2]), ``parameters`` (their
+        Per part of :data:`PARTS` with at least two parameters (``all`` only when both others
+        have some): ``elements`` (label -> area [m2] or air volume [m3]), ``parameters`` (their
         names), ``median_W_per_K``, ``q05_W_per_K``, ``q95_W_per_K``, ``nominal_W_per_K``,
         ``prior_q05_W_per_K``, ``prior_q95_W_per_K``, ``width_fraction`` (the posterior's 90 %
         width over the prior's, times 0.9) [-], ``determined`` (bool) and
         ``separately_determined`` (the elements each determined alone, list).
     """
-    areas = {"construction": exterior_opaque_areas(building), "window": window_areas(building)}
+    terms = conductance_terms([n for n in space.names if n in posterior.samples], building)
+    rng = np.random.default_rng(seed)
+    out = {}
+    for part in PARTS:
+        names = [n for n, t in terms.items() if part in ("all", t[0])]
+        kinds = {terms[n][0] for n in names}
+        if len(names) < 2 or (part == "all" and len(kinds) < 2):
+            continue
+        out[part] = _summary(names, terms, posterior, space, rng)
+    return out
 
-    def area_of(name: str) -> float:
-        kind, element = _element(name) or ("", "")
-        return areas.get(kind, {}).get(element, 0.0)
 
-    names = [n for n in space.names if area_of(n) > 0 and n in posterior.samples]
-    if len(names) < 2:
-        return {}
-    area = np.array([area_of(n) for n in names])
-    window = np.array([_element(n)[0] == "window" for n in names])
+def _summary(names, terms, posterior, space, rng) -> dict:
+    """One part's total: draws, prior and nominal (see :func:`total_conductance`)."""
+    weight = np.array([terms[n][3] for n in names])
+    inverse = np.array([n.endswith("/resistance") for n in names])
     index = [space.index(n) for n in names]
 
     def total(values: np.ndarray) -> np.ndarray:
-        u = np.where(window, values, 1.0 / (values + FILM_RESISTANCE))
-        return (area * u).sum(axis=-1)
+        return (weight * np.where(inverse, 1.0 / (values + FILM_RESISTANCE), values)).sum(axis=-1)
 
     draws = total(posterior.samples[names].to_numpy(float))
-    rng = np.random.default_rng(seed)
     prior = total(rng.uniform(space.lower[index], space.upper[index], (PRIOR_DRAWS, len(names))))
     q05, q50, q95 = np.quantile(draws, [0.05, 0.5, 0.95])
     p05, p95 = np.quantile(prior, [0.05, 0.95])
     fraction = float(0.9 * (q95 - q05) / (p95 - p05))
     return {
-        "elements": {_label(n): float(a) for n, a in zip(names, area, strict=True)},
+        "elements": {terms[n][1]: float(terms[n][2]) for n in names},
         "parameters": names,
         "median_W_per_K": float(q50),
         "q05_W_per_K": float(q05),
@@ -133,30 +180,41 @@ def total_conductance(posterior, space, building, *, seed: int = 0) -> dict:
         "prior_q95_W_per_K": float(p95),
         "width_fraction": fraction,
         "determined": fraction < DETERMINED_FRACTION,
-        "separately_determined": [_label(n) for n in names if n in posterior.determined],
+        "separately_determined": [terms[n][1] for n in names if n in posterior.determined],
     }
 
 
-def _label(name: str) -> str:
-    """A construction's name, or ``window <type>``."""
-    kind, element = _element(name)
-    return element if kind == "construction" else f"window {element}"
+#: How each part is named in a sentence.
+PART_WORDS = {
+    "conduction": "The varied elements together (U A to outdoors of {listed})",
+    "air": "The varied air changes together (their conductance, {listed})",
+    "all": "Everything varied together (U A and air: the part of the heat loss coefficient the "
+    "campaign varies)",
+}
 
 
-def total_conductance_sentence(total: dict) -> str | None:
-    """The total in plain words, when it says more than the single resistances do (some of
-    them not determined alone); None otherwise."""
-    if not total or len(total["separately_determined"]) == len(total["elements"]):
-        return None
-    listed = ", ".join(f"{c} ({a:.0f} m2)" for c, a in total["elements"].items())
-    verdict = (
-        "determined by the data although not every one of them is alone: the data fix the "
-        "sum, not the split"
-        if total["determined"]
-        else "not determined either"
-    )
-    return (
-        f"The varied elements together (U A to outdoors of {listed}): "
-        f"{total['median_W_per_K']:.0f} W/K ({total['q05_W_per_K']:.0f} to "
-        f"{total['q95_W_per_K']:.0f} W/K; nominal {total['nominal_W_per_K']:.0f} W/K), {verdict}."
-    )
+def total_conductance_sentences(totals: dict) -> list[str]:
+    """The totals in plain words, each when it says more than its parts do alone (some of
+    them not determined alone)."""
+    out = []
+    for part in PARTS:
+        total = totals.get(part)
+        if not total or len(total["separately_determined"]) == len(total["elements"]):
+            continue
+        listed = ", ".join(
+            f"{label} ({size:.0f} {'m3' if part == 'air' or label.endswith(' air') else 'm2'})"
+            for label, size in total["elements"].items()
+        )
+        verdict = (
+            "determined by the data although not every one of them is alone: the data fix the "
+            "sum, not the split"
+            if total["determined"]
+            else "not determined either"
+        )
+        out.append(
+            PART_WORDS[part].format(listed=listed)
+            + f": {total['median_W_per_K']:.0f} W/K ({total['q05_W_per_K']:.0f} to "
+            f"{total['q95_W_per_K']:.0f} W/K; nominal {total['nominal_W_per_K']:.0f} W/K), "
+            f"{verdict}."
+        )
+    return out

@@ -392,9 +392,9 @@ class Posterior:
         Which in-situ measurement would determine which parameters
         (:func:`thermocal.calibration.advice.advise_measurements`; empty when not asked).
     envelope_total : dict
-        The varied constructions' total conductance to outdoors with its interval
-        (:func:`thermocal.calibration.envelope_total.total_conductance`; empty with fewer than
-        two resistances on exterior surfaces).
+        The varied elements' and air changes' total conductances with their intervals, per part
+        (:func:`thermocal.calibration.envelope_total.total_conductance`; empty when fewer than
+        two parameters have one).
     uncertain : list of dict
         The uncertain inputs the posterior marginalised (:mod:`thermocal.calibration.uncertain`):
         ``label``, ``rel_std`` [-], ``parameters`` (the names it scales), ``effect`` (False: it
@@ -481,11 +481,9 @@ class Posterior:
                 f"{a} and {b} compensate each other (posterior correlation {r:+.2f}): the data "
                 "fix a combination of the two, not each one."
             )
-        from thermocal.calibration.envelope_total import total_conductance_sentence
+        from thermocal.calibration.envelope_total import total_conductance_sentences
 
-        together = total_conductance_sentence(self.envelope_total)
-        if together:
-            out.append(together)
+        out.extend(total_conductance_sentences(self.envelope_total))
         if self.advice:
             out.append(self.advice["summary"] + ".")
         out.append(

@@ -181,6 +181,8 @@ def check_track_record(summary: dict, key: str) -> None:
 def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
     """Element rows, metrics (nominal, true envelope, calibrated), flags and timings of a
     calibration result."""
+    from thermocal.calibration.workflow import load_inputs
+
     nominal, truth = truth_file["nominal"], truth_file["truth"]
     varied = {n: truth[n] for n in result.space.names}
     envelope = true_metric(campaign, varied, metric)
@@ -202,24 +204,28 @@ def summarise(result, campaign, truth_file: dict, metric: str) -> dict:
         "emulator_std_W": float(result.posterior.emulator_std),
         "correlation_wall_roof": float(result.posterior.correlation.loc[WALL, ROOF]),
         "zoom": result.zoom,
-        "envelope_total": envelope_total(result, truth),
+        "envelope_total": envelope_total(result, truth, load_inputs(campaign).building),
     }
 
 
-def envelope_total(result, truth: dict) -> dict:
-    """The posterior's total conductance of the varied elements
-    (:mod:`thermocal.calibration.envelope_total`) with the truth's, when the truth gives every
-    one of their resistances [W/K]."""
+def envelope_total(result, truth: dict, building) -> dict:
+    """The posterior's total conductances of the varied elements and air changes
+    (:mod:`thermocal.calibration.envelope_total`) with the truth's, per part, when the truth
+    gives every one of their parameters [W/K]; ``building``: the nominal one (areas, volumes)."""
     from thermocal.calibration.coordinates import FILM_RESISTANCE
+    from thermocal.calibration.envelope_total import conductance_terms
 
-    total = dict(result.posterior.envelope_total)
-    keys = total.get("parameters", [])
-    if total and all(k in truth for k in keys):
-        total["truth_W_per_K"] = sum(
-            a * (truth[k] if k.endswith("/u_value") else 1.0 / (truth[k] + FILM_RESISTANCE))
-            for k, a in zip(keys, total["elements"].values(), strict=True)
-        )
-    return total
+    totals = {part: dict(total) for part, total in result.posterior.envelope_total.items()}
+    for total in totals.values():
+        keys = total["parameters"]
+        if all(k in truth for k in keys):
+            terms = conductance_terms(keys, building)
+            total["truth_W_per_K"] = sum(
+                terms[k][3] / (truth[k] + FILM_RESISTANCE) if k.endswith("/resistance")
+                else terms[k][3] * truth[k]
+                for k in keys
+            )  # fmt: skip
+    return totals
 
 
 def run(

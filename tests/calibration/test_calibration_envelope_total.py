@@ -131,3 +131,27 @@ def test_air_changes_and_everything_together():
     sentences = total_conductance_sentences(totals)
     assert "a air (300 m3), b air (150 m3)" in sentences[0]
     assert sentences[1].startswith("Everything varied together")
+
+
+def test_a_group_and_an_uncertain_input():
+    """A group's parameter is its members' mean rate, which scales each in proportion: its
+    conductance is rho c_p (sum V r / mean r) n / 3600. A total whose part compensates an input
+    integrated out is not called determined, however narrow."""
+    building = _building()
+    building.zones["a"].infiltration_group = building.zones["b"].infiltration_group = "flats"
+    group = "infiltration/flats/ach"  # nominal: the mean of 0.5 and 1.0
+    space = ParameterSpace.from_parameters({ROOF: 4.0, group: 0.75}, default_range=0.5)
+    draws = pd.DataFrame({ROOF: [4.0, 4.0], group: [0.75, 0.75]})
+    totals = total_conductance(SimpleNamespace(samples=draws, determined=[]), space, building)
+    flow = (300.0 * 0.5 + 150.0 * 1.0) / 0.75
+    assert totals["all"]["elements"]["flats air"] == 450.0
+    assert totals["all"]["median_W_per_K"] == pytest.approx(
+        1200.0 / 3600.0 * flow * 0.75 + 100.0 / (4.0 + FILM_RESISTANCE)
+    )
+    assert totals["all"]["determined"]  # a point: narrower than any prior
+    confounded = SimpleNamespace(
+        samples=draws, determined=[], uncertain=[{"compensates": {group: 0.83}}], in_situ={}
+    )
+    total = total_conductance(confounded, space, building)["all"]
+    assert not total["determined"] and total["compensates_uncertain_input"] == [group]
+    assert "compensate(s) an input integrated out" in total_conductance_sentences({"all": total})[0]

@@ -406,9 +406,12 @@ def test_interval_means_fitted_at_their_midpoints():
         hourly = pd.concat([minutes, states[["Ti"]]], axis=1).resample("1h").mean()
         logged = hourly[["Ta", "Ph"]].assign(yTi=hourly["Ti"] + rng.normal(0, 0.05, len(hourly)))
         for rows, out in ((logged, at_start), (midpoint_observations(logged, ["yTi"]), at_middle)):
-            p = model.fit(rows, n_starts=1, seed=0).params
+            fitted = model.fit(rows, n_starts=1, seed=0)
+            p = fitted.params
             h = 1.0 / (1.0 / p["Hie"] + 1.0 / p["Hea"])
             out.append((h / true_h - 1.0, p["Ci"] / 3.0 - 1.0))
+        # the whiteness test runs on the observed rows (every second one): a number, not NaN
+        assert np.isfinite(fitted.checks["ljung_box"]["yTi"]["pvalue"]), fitted.checks
     start, middle = np.array(at_start), np.array(at_middle)
     assert start[:, 0].mean() > 0.03 and start[:, 1].mean() > 0.3, start  # the lag's bias
     assert abs(middle[:, 0].mean()) < 0.02 and np.all(np.abs(middle[:, 0]) < 0.04), middle
@@ -430,6 +433,12 @@ def test_midpoint_observations_rows():
     assert midpoint_observations(rows, ["y"], hold="foh")["Ta"].tolist() == [1, 2, 3, 4, 5, 5]
     with pytest.raises(ThermocalInputError, match="no column"):
         midpoint_observations(rows, ["yTi"])
+    # a row before a gap averaged one logger interval, not the gap: its middle is half an hour on
+    gap = rows.drop(rows.index[1])
+    gap = pd.concat([gap, rows.iloc[[2]].set_axis([t[2] + pd.Timedelta("1h")])])
+    middles = midpoint_observations(gap, ["y"], hold="foh")["y"].dropna().index
+    assert list(middles - gap.index) == [pd.Timedelta("30min")] * 3
+    assert midpoint_observations(gap, ["y"], hold="foh")["Ta"].iloc[1] == pytest.approx(1.0 + 4 / 4)
 
 
 def test_time_constants_are_checked_against_the_observations_interval():

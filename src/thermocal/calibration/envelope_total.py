@@ -9,15 +9,22 @@ takes three totals [W/K], each with its 90 % credible interval:
   ``U = 1 / (R + R_films)`` (its layers' resistance ``R``, the ISO 6946 films of
   :data:`thermocal.calibration.coordinates.FILM_RESISTANCE`) and the net opaque area of its
   exterior surfaces, and over each window type with its ``u_value`` and its windows' area;
-- ``air``: the varied air changes' conductance, ``rho c_p V n / 3600`` (ISO 13789's
-  ``rho c_p`` = 1200 J/(m3 K));
-- ``all``: both, the part of the heat loss coefficient the campaign varies.
+- ``air``: the varied air changes' design conductance, ``rho c_p V n / 3600`` at the rates
+  the parameters set (ISO 13789's ``rho c_p`` = 1200 J/(m3 K)); an imported file's infiltration
+  schedule and wind or temperature terms act on top of it in the model, so it is the
+  conductance at the design rate, not the mean flow;
+- ``all``: both, the part of the heat loss coefficient the campaign varies (at the design air
+  change rates).
 
-Each is called determined by the criterion the single parameters have
+The films are ISO 6946's for horizontal heat flow on every element (0.14 m2 K/W for a roof's
+upward flow, 0.21 for a floor's downward: about 1 % of a total at R = 3, 4 % at R = 0.5).
+Each total is called determined by the width criterion of the single parameters
 (:data:`thermocal.calibration.posterior.DETERMINED_FRACTION`): its interval is narrower than
 that fraction of what the prior alone allows (the prior's 90 % interval of the total, from
 uniform draws of each parameter in its range, over 0.9, so that for one parameter it is the same
-test).
+test); and, as for a single parameter, not when one of its parameters compensates an input the
+posterior integrates out (``posterior: {uncertain: ...}``) and is not measured in situ: that
+input's prior, not the data, then narrows it.
 
 Measured on the EnergyPlus twin of 5ZoneAirCooled with the building-total metric (2026-11-30):
 roof and walls 216 W/K [180, 252] against the truth 205.9 W/K (the hidden envelope, walls x 0.6
@@ -41,7 +48,7 @@ __all__ = [
     "window_areas",
 ]
 
-#: Draws of the prior (uniform in each resistance between its bounds) for the total's prior
+#: Draws of the prior (uniform in each parameter between its bounds) for the total's prior
 #: interval [-].
 PRIOR_DRAWS = 4000
 
@@ -87,9 +94,11 @@ def conductance_terms(names, building) -> dict[str, tuple[str, str, float, float
     A term's conductance [W/K] is ``weight / (value + FILM_RESISTANCE)`` for a construction's
     resistance (weight: its net opaque exterior area [m2]) and ``weight * value`` otherwise: a
     window type's U-value (its windows' area [m2]), an air change rate or the building's
-    infiltration factor (``AIR_HEAT_CAPACITY / 3600`` times the air volume [m3], or the zones'
-    nominal ``V ACH`` [m3/h] for the factor). ``size`` is the area [m2] or volume [m3] a report
-    names.
+    infiltration factor (``AIR_HEAT_CAPACITY / 3600`` times the air volume [m3]; for a group's
+    mean rate its members' ``sum V r / mean r``; for the factor the zones' nominal ``sum V n``
+    [m3/h]). ``size`` is the area [m2] or volume [m3] a report names. A campaign varying the
+    building's factor together with zones' or groups' rates gets no air terms (the factor
+    multiplies them).
     """
     opaque, glazed = exterior_opaque_areas(building), window_areas(building)
     zones = building.zones
@@ -110,9 +119,19 @@ def conductance_terms(names, building) -> dict[str, tuple[str, str, float, float
             flow = sum(z.volume * z.infiltration_ach for z in zones.values())
             terms[name] = ("air", "the building's air", volume, air * flow)
         elif kind == "infiltration" and field == "ach":
-            volume = sum(z.volume for z in zones.values() if z.infiltration_group == element)
-            if volume > 0:
-                terms[name] = ("air", f"{element} air", volume, air * volume)
+            # the group's parameter is its members' mean rate; setting it scales each member's
+            # rate in proportion (Building.with_parameters): V r summed over the mean
+            members = [z for z in zones.values() if z.infiltration_group == element]
+            mean = float(np.mean([z.infiltration_ach for z in members])) if members else 0.0
+            if mean > 0:
+                volume = sum(z.volume for z in members)
+                flow = sum(z.volume * z.infiltration_ach for z in members) / mean
+                terms[name] = ("air", f"{element} air", volume, air * flow)
+    # the building's factor multiplies the zones' and groups' rates: their sum would not be the
+    # model's conductance, so a campaign varying both gets no air total
+    factor = "infiltration/building/factor"
+    if factor in terms and sum(t[0] == "air" for t in terms.values()) > 1:
+        terms = {n: t for n, t in terms.items() if t[0] != "air"}
     return terms
 
 
@@ -140,7 +159,8 @@ def total_conductance(posterior, space, building, *, seed: int = 0) -> dict:
         have some): ``elements`` (label -> area [m2] or air volume [m3]), ``parameters`` (their
         names), ``median_W_per_K``, ``q05_W_per_K``, ``q95_W_per_K``, ``nominal_W_per_K``,
         ``prior_q05_W_per_K``, ``prior_q95_W_per_K``, ``width_fraction`` (the posterior's 90 %
-        width over the prior's, times 0.9) [-], ``determined`` (bool) and
+        width over the prior's, times 0.9) [-], ``determined`` (bool),
+        ``compensates_uncertain_input`` (its parameters that do, list) and
         ``separately_determined`` (the elements each determined alone, list).
     """
     terms = conductance_terms([n for n in space.names if n in posterior.samples], building)
@@ -169,6 +189,13 @@ def _summary(names, terms, posterior, space, rng) -> dict:
     q05, q50, q95 = np.quantile(draws, [0.05, 0.5, 0.95])
     p05, p95 = np.quantile(prior, [0.05, 0.95])
     fraction = float(0.9 * (q95 - q05) / (p95 - p05))
+    measured = set(getattr(posterior, "in_situ", {}) or {})
+    confounded = sorted(
+        n
+        for item in getattr(posterior, "uncertain", []) or []
+        for n in item.get("compensates", {})
+        if n in names and n not in measured
+    )
     return {
         "elements": {terms[n][1]: float(terms[n][2]) for n in names},
         "parameters": names,
@@ -179,7 +206,8 @@ def _summary(names, terms, posterior, space, rng) -> dict:
         "prior_q05_W_per_K": float(p05),
         "prior_q95_W_per_K": float(p95),
         "width_fraction": fraction,
-        "determined": fraction < DETERMINED_FRACTION,
+        "determined": fraction < DETERMINED_FRACTION and not confounded,
+        "compensates_uncertain_input": confounded,
         "separately_determined": [terms[n][1] for n in names if n in posterior.determined],
     }
 
@@ -187,7 +215,7 @@ def _summary(names, terms, posterior, space, rng) -> dict:
 #: How each part is named in a sentence.
 PART_WORDS = {
     "conduction": "The varied elements together (U A to outdoors of {listed})",
-    "air": "The varied air changes together (their conductance, {listed})",
+    "air": "The varied air changes together (their design conductance, {listed})",
     "all": "Everything varied together (U A and air: the part of the heat loss coefficient the "
     "campaign varies)",
 }
@@ -205,12 +233,19 @@ def total_conductance_sentences(totals: dict) -> list[str]:
             f"{label} ({size:.0f} {'m3' if part == 'air' or label.endswith(' air') else 'm2'})"
             for label, size in total["elements"].items()
         )
-        verdict = (
-            "determined by the data although not every one of them is alone: the data fix the "
-            "sum, not the split"
-            if total["determined"]
-            else "not determined either"
-        )
+        if total["determined"]:
+            verdict = (
+                "determined by the data although not every one of them is alone: the data fix "
+                "the sum, not the split"
+            )
+        elif total.get("compensates_uncertain_input"):
+            verdict = (
+                "not called determined: "
+                + ", ".join(total["compensates_uncertain_input"])
+                + " compensate(s) an input integrated out, whose prior sets it"
+            )
+        else:
+            verdict = "not determined either"
         out.append(
             PART_WORDS[part].format(listed=listed)
             + f": {total['median_W_per_K']:.0f} W/K ({total['q05_W_per_K']:.0f} to "

@@ -534,7 +534,7 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
     states = simulate_indoor(model, cal.estimates_si, cal.x0, filled, cal.envelope)
     # the measured Ti are interval means labelled by their start: the simulation is compared
     # as the same (the state at the label is half an interval early; on the EnergyPlus twins'
-    # hourly logs the test MAE is 0.04-0.05 K lower compared like with like, 2026-11-30)
+    # hourly logs the test MAE is 0.05-0.06 K lower compared like with like, 2026-11-30)
     sim_ti = simulate_indoor(
         model, cal.estimates_si, cal.x0, filled, cal.envelope, interval_means=True
     )["Ti"].rename("Ti_simulated")

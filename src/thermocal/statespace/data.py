@@ -746,22 +746,26 @@ def midpoint_observations(
     Parameters
     ----------
     data : DataFrame
-        Regular or irregular rows labelled by the start of their interval (a DatetimeIndex or
-        numeric times); inputs and outputs are interval means.
+        Rows labelled by the start of their interval in the index (a DatetimeIndex or numeric
+        times; not a time column), holding only the model's inputs and outputs (numbers);
+        inputs and outputs are interval means.
     outputs : sequence of str
-        The columns observed (interval means).
+        The columns observed: every output of the model (an output left out would be observed
+        on both rows).
     hold : {"zoh", "foh"}
         The inputs' hold, as the model will be fitted with: ``zoh`` repeats row k's inputs on
-        its middle row; ``foh`` takes the mean of rows k and k + 1 there (a linear input's value
-        at the middle).
+        its middle row; ``foh`` interpolates linearly between rows k and k + 1 there.
 
     Returns
     -------
     DataFrame
         Twice the rows: each start row with its inputs and no observation (NaN outputs), then
-        its middle row with the inputs and the outputs. The last row's interval takes the
-        previous interval's length. Results of a fit on it (residuals, smoothed states) are on
-        this grid: the middle rows are the observations.
+        its middle row with the inputs and the outputs. An interval is the step to the next
+        row, at most the median step (a row before a gap in the index averaged one logger
+        interval, not the gap); the last row's is the step before it. A gap of ``g`` missing
+        rows is ``2 g`` missing rows on the new grid (a fit's ``max_gap`` counts rows). Results
+        of a fit on it (residuals, smoothed states) are on this grid: the middle rows are the
+        observations.
     """
     outputs = list(outputs)
     missing = [c for c in outputs if c not in data.columns]
@@ -773,7 +777,8 @@ def midpoint_observations(
         raise ThermocalInputError(f"hold must be 'zoh' or 'foh', got '{hold}'")
     index = data.index
     steps = np.diff(index.to_numpy())
-    half = np.append(steps, steps[-1]) / 2
+    steps = np.append(steps, steps[-1])
+    half = np.minimum(steps, np.median(steps)) / 2
     start = data.copy()
     start[outputs] = np.nan
     middle = data.copy()
@@ -781,7 +786,8 @@ def midpoint_observations(
         inputs = [c for c in data.columns if c not in outputs]
         values = data[inputs].to_numpy(float)
         following = np.vstack([values[1:], values[-1:]])
-        middle[inputs] = 0.5 * (values + following)
+        weight = (half / steps).astype(float)[:, None]  # 0.5 unless a gap follows
+        middle[inputs] = values + weight * (following - values)
     middle.index = pd.Index(index.to_numpy() + half, name=index.name)
     if isinstance(index, pd.DatetimeIndex):
         middle.index = pd.DatetimeIndex(middle.index, tz=index.tz, name=index.name)

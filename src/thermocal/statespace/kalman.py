@@ -166,7 +166,8 @@ def interval_means_of(model, prep: PreparedData, X: np.ndarray, params, hold: st
     them; the mean over ``[t_k, t_k+1]`` follows exactly from ``X[k]`` and the inputs
     (:func:`thermocal.statespace.discretise.interval_mean_matrices`, one set per distinct
     interval length). The last sample's interval lies beyond the data: it takes the previous
-    interval's length with the last inputs held.
+    interval's length with the last inputs held; so does the last sample before a gap that
+    splits the data into periods (its interval is the regular step).
     """
     from thermocal.statespace.discretise import interval_mean_matrices
 
@@ -177,6 +178,10 @@ def interval_means_of(model, prep: PreparedData, X: np.ndarray, params, hold: st
         return X.copy()
     dts = prep.dts[:N]  # dts[k]: sample k to k + 1 (the last repeats the one before)
     U_next = np.vstack([prep.U[1:], prep.U[-1:]])
+    # before a long gap that splits the data into periods the next row lies after the gap: the
+    # interval holds its inputs, as at the end of the data (its dts is the regular step)
+    ends = prep.segments[(prep.segments > 0) & (prep.segments <= N - 1)] - 1
+    U_next[ends] = prep.U[ends]
     means = np.empty_like(X)
     for dt in np.unique(dts):
         rows = dts == dt

@@ -305,12 +305,18 @@ class FitResults:
             return
         checks["ljung_box"] = {}
         checks["outliers"] = {}
+        rows = observation_rows(prep.Y)
         for col in model.output_names:
             z = res[f"{col}_standardized"].to_numpy()
-            if np.isfinite(z).sum() >= 20:
-                q, p = ljung_box(z, nlags=LJUNG_BOX_LAGS)
+            if np.isfinite(z[rows]).sum() >= 20:
+                q, p = ljung_box(z[rows], nlags=LJUNG_BOX_LAGS)
                 checks["ljung_box"][col] = {"statistic": q, "pvalue": p}
-                if p < LJUNG_BOX_ALPHA:
+                if not np.isfinite(p):
+                    self.flags.append(
+                        f"the whiteness of the one-step residuals of '{col}' could not be "
+                        "tested (Ljung-Box undefined on this pattern of missing values)"
+                    )
+                elif p < LJUNG_BOX_ALPHA:
                     self.flags.append(
                         f"one-step residuals of '{col}' are not white (Ljung-Box "
                         f"Q({min(LJUNG_BOX_LAGS, np.isfinite(z).sum() // 5)}) = {q:.1f}, "
@@ -1059,6 +1065,27 @@ def heat_loss_coefficients(
         if name not in out:
             out[name] = fits[name].heat_loss_coefficient(alpha=alpha, profile=name in todo)
     return {n: out[n] for n in names}
+
+
+def observation_rows(Y: np.ndarray) -> np.ndarray:
+    """The rows the residual tests take [-]: every row, or, when the outputs are observed
+    only on every m-th row by design (:func:`thermocal.statespace.data.midpoint_observations`:
+    every second), those rows, so that a lag is an observation interval and the unobserved
+    rows do not turn every odd lag's autocorrelation into NaN.
+
+    Parameters
+    ----------
+    Y : ndarray (samples, outputs)
+        Observed outputs, NaN where missing.
+    """
+    observed = np.flatnonzero(np.isfinite(Y).any(axis=1))
+    everything = np.arange(Y.shape[0])
+    if observed.size < 2:
+        return everything
+    stride = int(np.gcd.reduce(np.diff(observed)))
+    if stride <= 1:
+        return everything
+    return everything[observed[0] :: stride]
 
 
 def _duration(seconds: float) -> str:

@@ -141,10 +141,10 @@ def total_conductance(posterior, space, building, *, seed: int = 0) -> dict:
     Parameters
     ----------
     posterior : Posterior
-        With draws (``samples``) of the campaign's parameters [unit of each]:
-        ``construction/<name>/resistance`` [m2 K/W], ``window/<type>/u_value`` [W/(m2 K)],
-        ``zone/<name>/infiltration_ach`` and ``infiltration/<group>/ach`` [1/h],
-        ``infiltration/building/factor`` [-] count.
+        With draws (``samples``) of the campaign's parameters [unit of each]; those that count
+        toward the totals are ``construction/<name>/resistance`` [m2 K/W],
+        ``window/<type>/u_value`` [W/(m2 K)], ``zone/<name>/infiltration_ach`` and
+        ``infiltration/<group>/ach`` [1/h] and ``infiltration/building/factor`` [-].
     space : ParameterSpace
         The campaign's parameters: bounds and nominal values [unit of each].
     building : Building

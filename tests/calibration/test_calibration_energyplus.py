@@ -283,6 +283,8 @@ def test_a_roof_plate_determines_roof_and_wall_with_the_building_metric(twin):
     assert abs(measurement["resistance_m2K_per_W"] / r_true - 1) < measurement["resistance_rel_std"]
     report = twin["roof_plate_report"]
     assert "In-situ measurements in the posterior" in report and "heat_flux_roof.csv" in report
+    # the element totals' table (roof and walls together)
+    assert "The varied elements together" in report and "U A to outdoors" in report
 
 
 def test_the_advice_names_the_plates_that_determine_roof_and_wall(twin):

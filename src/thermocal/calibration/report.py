@@ -12,6 +12,13 @@ from thermocal.io.atomic import atomic_write
 from thermocal.report.html import HtmlReport
 from thermocal.textformat import format_number
 
+#: How the report names each total of :mod:`thermocal.calibration.envelope_total`.
+TOTAL_NAMES = {
+    "conduction": "U A to outdoors",
+    "air": "air changes",
+    "all": "both (varied part of the heat loss coefficient)",
+}
+
 
 def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> HtmlReport:
     """Append the calibration's tables and figures to ``report``."""
@@ -78,6 +85,27 @@ def add_section(report: HtmlReport, result, *, pngs: dict | None = None) -> Html
             "residual identified heat; emcee, Foreman-Mackey et al. 2013): median and 90 % "
             "credible interval",
         )
+        if post.envelope_total:
+            report.table(
+                pd.DataFrame(
+                    [
+                        {
+                            "together": TOTAL_NAMES[part],
+                            "of": ", ".join(total["elements"]),
+                            "nominal [W/K]": f"{total['nominal_W_per_K']:.0f}",
+                            "median [W/K]": f"{total['median_W_per_K']:.0f}",
+                            "90 % interval [W/K]": f"{total['q05_W_per_K']:.0f} to "
+                            f"{total['q95_W_per_K']:.0f}",
+                            "determined": "yes" if total["determined"] else "no",
+                            "alone": ", ".join(total["separately_determined"]) or "none",
+                        }
+                        for part, total in post.envelope_total.items()
+                    ]
+                ),
+                caption="The varied elements together (thermocal.calibration.envelope_total): "
+                "U A to outdoors, the air changes' design conductance and both, from the "
+                "posterior's draws; 'alone': those determined by themselves",
+            )
         if post.in_situ:
             report.table(
                 pd.DataFrame(

@@ -305,9 +305,9 @@ class FitResults:
             return
         checks["ljung_box"] = {}
         checks["outliers"] = {}
-        rows = observation_rows(prep.Y)
-        for col in model.output_names:
+        for r, col in enumerate(model.output_names):
             z = res[f"{col}_standardized"].to_numpy()
+            rows = observation_rows(prep.Y[:, [r]])  # each output at its own rate
             if np.isfinite(z[rows]).sum() >= 20:
                 q, p = ljung_box(z[rows], nlags=LJUNG_BOX_LAGS)
                 checks["ljung_box"][col] = {"statistic": q, "pvalue": p}

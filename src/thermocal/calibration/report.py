@@ -236,6 +236,7 @@ def _track_record(report: HtmlReport) -> None:
             ),
             "of all (an undetermined one: its prior)": f"{c.covered} of {c.parameters}",
             "metric vs the true envelope's": f"{c.metric_vs_truth_pct:+.1f} %",
+            "element totals covering the truth": f"{c.totals_covered} of {c.totals}",
         }
         for c in checks
     ]

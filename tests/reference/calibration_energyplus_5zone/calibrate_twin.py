@@ -147,8 +147,7 @@ def track_record_figures(summary: dict) -> dict:
     """The figures ``thermocal.calibration.track_record`` states for a twin, from its summary:
     the determined element resistances, their largest error [%], the intervals covering the
     truth of the parameters in the posterior (all, and those declared determined), the confirmed
-    metric against the true envelope's
-    [%]."""
+    metric against the true envelope's [%], the element totals covering the truth's."""
     rows = [r for r in summary["rows"] if "q05" in r]
     resistances = [
         r for r in rows
@@ -156,6 +155,7 @@ def track_record_figures(summary: dict) -> dict:
         and r.get("determined")
     ]  # fmt: skip
     determined = [r for r in rows if r.get("determined")]
+    totals = [t for t in summary["envelope_total"].values() if "truth_W_per_K" in t]
     return {
         "determined_resistances": len(resistances),
         "max_resistance_error_pct": max(
@@ -166,6 +166,10 @@ def track_record_figures(summary: dict) -> dict:
         "determined_covered": sum(bool(r["covers"]) for r in determined),
         "determined": len(determined),
         "metric_vs_truth_pct": 100.0 * (summary["calibrated_metric"] / summary["true_metric"] - 1),
+        "totals_covered": sum(
+            t["q05_W_per_K"] <= t["truth_W_per_K"] <= t["q95_W_per_K"] for t in totals
+        ),
+        "totals": len(totals),
     }
 
 

@@ -319,7 +319,7 @@ class FitResults:
                 elif p < LJUNG_BOX_ALPHA:
                     self.flags.append(
                         f"one-step residuals of '{col}' are not white (Ljung-Box "
-                        f"Q({min(LJUNG_BOX_LAGS, np.isfinite(z).sum() // 5)}) = {q:.1f}, "
+                        f"Q({min(LJUNG_BOX_LAGS, np.isfinite(z[rows]).sum() // 5)}) = {q:.1f}, "
                         f"p = {p:.2g}): the model misses dynamics or an input; see the ACF and "
                         "cumulated periodogram; remedy: add a state or an input, or a finer "
                         "model of the heating"

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from types import SimpleNamespace
+from types import MethodType, SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -15,6 +15,7 @@ from thermocal.calibration.envelope_total import (
     total_conductance_sentences,
 )
 from thermocal.calibration.space import ParameterSpace
+from thermocal.multizone.model import Building
 
 ROOF, WALL = "construction/roof/resistance", "construction/wall/resistance"
 
@@ -24,7 +25,7 @@ def _building():
     on the ground (neither counted); two zones of 300 and 150 m3."""
     surface = SimpleNamespace
     zone = SimpleNamespace
-    return SimpleNamespace(
+    building = SimpleNamespace(
         zones={
             "a": zone(volume=300.0, infiltration_ach=0.5, infiltration_group=None),
             "b": zone(volume=150.0, infiltration_ach=1.0, infiltration_group=None),
@@ -41,6 +42,8 @@ def _building():
             "b": SimpleNamespace(surface="w2", area=8.0, window_type="clear"),
         },
     )
+    building.net_area = MethodType(Building.net_area, building)  # the model's own net area
+    return building
 
 
 def _space():

@@ -56,16 +56,13 @@ PRIOR_DRAWS = 4000
 def exterior_opaque_areas(building) -> dict[str, float]:
     """Net opaque area of each construction's exterior surfaces [m2].
 
-    Gross areas of the surfaces with boundary ``outdoors`` minus their windows' areas, summed
-    per construction name.
+    :meth:`thermocal.multizone.Building.net_area` (gross minus its windows) of the surfaces
+    with boundary ``outdoors``, summed per construction name.
     """
-    windows: dict[str, float] = {}
-    for window in building.windows.values():
-        windows[window.surface] = windows.get(window.surface, 0.0) + window.area
     areas: dict[str, float] = {}
     for surface in building.surfaces.values():
         if surface.boundary == "outdoors":
-            net = surface.area - windows.get(surface.name, 0.0)
+            net = building.net_area(surface.name)
             areas[surface.construction] = areas.get(surface.construction, 0.0) + net
     return areas
 

@@ -821,7 +821,8 @@ def build_fifth_order_model(
     )  # fmt: skip
     bridges = float(building.thermal_bridge_allowance) * opaque
     doors = sum(float(c.area) * float(c.u_value) for c in building.components if c.type == "door")
-    air = 1200.0 / 3600.0  # rho c of air [Wh/(m3 K)] -> [W h/(m3 K)]
+    from thermocal.retrofit.strategies import AIR_HEAT_CAPACITY_WH_PER_M3K as air
+
     h_est0 = air * float(building.air_change_rate) * volume + bridges + doors
     h_est_lo = air * 0.05 * volume + 0.25 * bridges + doors * 0.5
     h_est_hi = air * 3.0 * volume + 4.0 * bridges + 2.0 * doors

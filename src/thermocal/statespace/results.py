@@ -248,10 +248,9 @@ class FitResults:
             return
         eig = np.linalg.eigvals(A) if np.all(np.isfinite(A)) else np.array([])
         taus = np.sort(-1.0 / eig.real[eig.real < 0])
-        # the observations' interval (rows without any output, e.g. the start rows of
-        # statespace.data.midpoint_observations, carry only inputs)
-        observed = prep.seconds[np.isfinite(prep.Y).any(axis=1)]
-        steps = np.diff(observed) if observed.size > 1 else prep.dts
+        # the observations' interval (on a grid observed every m-th row by design, e.g.
+        # statespace.data.midpoint_observations, the other rows carry only inputs)
+        steps = np.diff(prep.seconds[observation_rows(prep.Y)])
         dt = float(np.median(steps)) if steps.size else float("nan")
         span = float(prep.seconds[-1] - prep.seconds[0])
         checks["time_constants_h"] = [float(t / 3600.0) for t in taus]

@@ -237,6 +237,8 @@ def _exit_interrupted() -> None:
     terminated = _state["signal"] == signal.SIGTERM
     what = "terminated (SIGTERM)" if terminated else "interrupted (Ctrl-C)"
     kept = output.last_interrupted
+    if kept is None and output.last_completed is not None:
+        kept = f"after the results were complete: {output.last_completed} holds them"
     typer.secho(f"{what}; {kept}" if kept else what, err=True, fg=typer.colors.YELLOW)
     code = EXIT_TERMINATED if terminated else EXIT_INTERRUPTED
     if _state.get("signal") is not None:

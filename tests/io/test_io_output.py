@@ -7,6 +7,7 @@ SIGTERM during the computation, two concurrent runs).
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import signal
@@ -97,6 +98,47 @@ def test_folder_with_foreign_files_is_refused(tmp_path):
     with output_folder(legacy, command="fit", signature=("fit.json",)) as tmp:
         (tmp / "fit.json").write_text('{"new": 1}')
     assert (legacy / "fit.json").read_text() == '{"new": 1}'
+    # a result file's name beside a user's file does not make the folder thermocal's
+    mixed = tmp_path / "mixed"
+    mixed.mkdir()
+    (mixed / "fit.json").write_text("{}")
+    (mixed / "thesis.docx").write_text("precious")
+    with pytest.raises(ThermocalInputError, match=r"thermocal did not write \(thesis.docx\)"):
+        with output_folder(mixed, command="fit", signature=("fit.json",)):
+            pass  # pragma: no cover
+    assert (mixed / "thesis.docx").read_text() == "precious"
+
+
+def test_files_added_or_changed_after_a_run_are_not_deleted(tmp_path):
+    """The marker lists what a run wrote (size and modification time): a file the user adds
+    to the folder, or a result file they edit (a demo's configuration), makes the next run
+    refuse the folder instead of deleting it; files the command keeps up to date in place
+    (``state``) may change."""
+    out = tmp_path / "res"
+    with output_folder(out, command="test") as tmp:
+        (tmp / "a.json").write_text("1")
+        (tmp / "data").mkdir()
+        (tmp / "data" / "config.yaml").write_text("x: 1")
+        (tmp / "store.sqlite").write_text("s")
+    with output_folder(out, command="test") as tmp:  # untouched: replaced
+        (tmp / "a.json").write_text("2")
+        (tmp / "data").mkdir()
+        (tmp / "data" / "config.yaml").write_text("x: 1")
+        (tmp / "store.sqlite").write_text("s")
+    (out / "notes.txt").write_text("mine")
+    with pytest.raises(ThermocalInputError, match=r"did not write \(notes.txt\)"):
+        check_output_folder(out)
+    (out / "notes.txt").unlink()
+    (out / "data" / "config.yaml").write_text("x: 2, edited")
+    with pytest.raises(ThermocalInputError, match=r"changed since thermocal wrote them \(data/co"):
+        with output_folder(out, command="test"):
+            pass  # pragma: no cover
+    assert (out / "data" / "config.yaml").read_text() == "x: 2, edited"
+    (out / "data" / "config.yaml").unlink()
+    (out / "store.sqlite").write_text("grown by a campaign")
+    with pytest.raises(ThermocalInputError, match=r"changed since"):
+        check_output_folder(out)  # data/config.yaml is missing: fine; the store changed
+    check_output_folder(out, state=("*.sqlite",))
 
 
 def test_current_folder_is_refused(tmp_path, monkeypatch):
@@ -380,4 +422,28 @@ def test_second_run_into_a_folder_being_written_is_refused(tmp_path):
     assert "another thermocal run is writing" in err and str(out) in err
     assert "Traceback" not in err
     assert (out / "fit.json").read_text() == '{"first": true}'
+    assert leftovers(tmp_path) == []
+
+
+def test_signal_held_back_during_the_renames_leaves_the_new_results(tmp_path, monkeypatch):
+    """A Ctrl-C held back during the final renames arrives as they end: the new results are in
+    place, the old folder is removed, and the message says the folder holds them (the command
+    line's exit code 130 with "interrupted (Ctrl-C); after the results were complete: ...")."""
+    import thermocal.io.output as output
+
+    out = tmp_path / "res"
+    with output_folder(out, command="test") as tmp:
+        (tmp / "a.json").write_text("old")
+
+    @contextlib.contextmanager
+    def interrupted_at_the_end():
+        yield
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(output, "_signals_blocked", interrupted_at_the_end)
+    with pytest.raises(KeyboardInterrupt):
+        with output_folder(out, command="test") as tmp:
+            (tmp / "a.json").write_text("new")
+    assert (out / "a.json").read_text() == "new"
+    assert output.last_interrupted == f"after the results were complete: {out} holds them"
     assert leftovers(tmp_path) == []

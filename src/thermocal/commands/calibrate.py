@@ -101,7 +101,7 @@ def calibrate(
             "--reanalyse uses the samples in the store as they are; leave out --samples, "
             "--resume and --scheduler (run the campaign without --reanalyse to add samples)"
         )
-    check_output_folder(out, signature=SIGNATURE)
+    check_output_folder(out, signature=SIGNATURE, state=STATE)
     if demo:
         # the demo's campaign file, written so that it can be edited and run again
         campaign = out / "demo_campaign.yaml"
@@ -135,7 +135,9 @@ def calibrate(
                 log=lambda line: console.print(line),
                 max_hours=max_hours,
             )
-        with output_folder(out, command="calibrate", signature=SIGNATURE) as tmp:
+        with output_folder(
+            out, command="calibrate", signature=SIGNATURE, state=STATE
+        ) as tmp:
             written = [out / Path(p).name for p in result.to_files(tmp)]
             written += [out / p.name for p in _carry_over(out, tmp, store)]
     except KeyboardInterrupt:
@@ -145,6 +147,10 @@ def calibrate(
     for path in dict.fromkeys([store, *written]):
         console.print(f"wrote {path}")
 
+
+#: Files a campaign keeps up to date in its output folder between runs (the stores, SQLite's
+#: journals, the demo's campaign file, which the user may edit; see io/output.py).
+STATE = ("*.sqlite", "*.sqlite-wal", "*.sqlite-shm", "*.sqlite-journal", "demo_campaign.yaml")
 
 #: Files that mark an output folder as a calibrate result (see io/output.py).
 SIGNATURE = (

@@ -420,7 +420,7 @@ def retrofit(
             "--advise reruns the fifth-order analysis of the measurements, which --detailed-only "
             "leaves out: drop one of the two"
         )
-    check_output_folder(out, signature=RETROFIT_SIGNATURE)
+    check_output_folder(out, signature=RETROFIT_SIGNATURE, inputs=(config, detailed))
     if detailed_only:
         from thermocal.retrofit.detailed import (
             detailed_results,

@@ -134,7 +134,7 @@ def verify(
             else "give a configuration file: thermocal verify CONFIG.yaml (or --demo)"
         )
     console = Console(stderr=True)
-    check_output_folder(out, signature=VERIFY_SIGNATURE)
+    check_output_folder(out, signature=VERIFY_SIGNATURE, inputs=(config,))
     vcfg = None if demo else load_verify_config(config)
     if vcfg is not None:  # weather far from the building (the clock: where it is read)
         from thermocal.commands.retrofit import _check_site

@@ -3,7 +3,11 @@
 Every command writes its results through :func:`output_folder`:
 
 * ``--out`` is checked before any computation: a file, an unwritable parent or a folder
-  holding someone else's files is refused with a message saying what to do;
+  holding someone else's files is refused with a message saying what to do. A folder thermocal
+  wrote carries a marker listing every file it wrote with its size and modification time; a
+  file added or changed since (a user's notes, an edited configuration) makes the folder
+  someone else's too, except the files a command keeps up to date in place (``state``: a
+  calibration campaign's store);
 * a lock (``.NAME.lock`` beside the folder, an OS file lock released even when the process
   dies) refuses a second run into the same folder while the first is writing;
 * the results go into a temporary sibling folder (``.NAME.tmp-*``) that replaces ``--out`` in
@@ -15,6 +19,8 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import fnmatch
+import json
 import os
 import shutil
 import signal
@@ -32,6 +38,10 @@ MARKER = ".thermocal-output"
 #: one-line message of the command line); None when no output folder was being written.
 last_interrupted: str | None = None
 
+#: The output folder the last run of this process completed (its results in place), for the
+#: message of a signal that arrives after it: the folder then holds the new results.
+last_completed: Path | None = None
+
 try:  # POSIX file locks; on other systems the lock file's exclusive creation is used
     import fcntl
 except ImportError:  # pragma: no cover - Windows
@@ -48,13 +58,26 @@ def _describe_os_error(exc: OSError) -> str:
     return f"{exc.strerror or exc}; choose another --out"
 
 
-def check_output_folder(out: Path, *, signature: Iterable[str] = ()) -> None:
+def check_output_folder(
+    out: Path,
+    *,
+    signature: Iterable[str] = (),
+    state: Iterable[str] = (),
+    inputs: Iterable[Path | str | None] = (),
+) -> None:
     """Refuse an ``--out`` that cannot hold this command's results.
 
     Parameters
     ----------
     out : Path
         The output folder.
+    state : iterable of str
+        Patterns (``fnmatch``, relative paths) of the files the command keeps up to date in
+        ``out`` between runs (a campaign's store): they may differ from the marker's list.
+    inputs : iterable of path or None
+        The command's input files (None skipped): one inside ``out`` is refused, since the
+        new results would replace the folder and delete it (a demo's ``data/config.yaml``
+        run into the demo's own folder).
     signature : iterable of str
         File names this command writes; an existing folder is replaced only when it is empty,
         carries the thermocal marker or holds one of these files (a previous run's results).
@@ -78,6 +101,12 @@ def check_output_folder(out: Path, *, signature: Iterable[str] = ()) -> None:
         if parent.exists():
             break
     resolved = out.resolve()
+    for path in inputs:
+        if path is not None and resolved in Path(path).resolve().parents:
+            raise ThermocalInputError(
+                f"--out {out} holds the input {path}; thermocal replaces its output folder as a "
+                "whole and would delete it: choose another --out (or move the input out first)"
+            )
     cwd = Path.cwd().resolve()
     if resolved == cwd or resolved in cwd.parents:
         raise ThermocalInputError(
@@ -89,13 +118,60 @@ def check_output_folder(out: Path, *, signature: Iterable[str] = ()) -> None:
             entries = {p.name for p in out.iterdir()}
         except OSError as exc:
             raise ThermocalInputError(f"--out {out}: {_describe_os_error(exc)}") from None
-        if entries and MARKER not in entries and not entries & set(signature):
+        if MARKER not in entries and entries - set(signature):
+            # without the marker (thermocal before it, or someone else's folder) only the
+            # command's own result files may be there
+            entries = entries - set(signature)
             shown = ", ".join(sorted(entries)[:5]) + (", ..." if len(entries) > 5 else "")
             raise ThermocalInputError(
                 f"--out {out} already holds files thermocal did not write ({shown}); "
                 "thermocal replaces its output folder as a whole, so choose a new or empty "
                 "folder"
             )
+        if MARKER in entries:
+            foreign, changed = _not_as_written(out, tuple(state))
+            if foreign or changed:
+                names = foreign + changed
+                shown = ", ".join(names[:5]) + (", ..." if len(names) > 5 else "")
+                what = (
+                    "files thermocal did not write" if not changed
+                    else "files changed since thermocal wrote them" if not foreign
+                    else "files thermocal did not write or that changed since"
+                )  # fmt: skip
+                raise ThermocalInputError(
+                    f"--out {out} holds {what} ({shown}); thermocal replaces its output folder "
+                    "as a whole and would delete them: move them elsewhere or choose another "
+                    "--out"
+                )
+
+
+def _manifest(folder: Path) -> dict[str, list[int]]:
+    """Every file below ``folder`` but the marker: relative path -> [size, mtime_ns]."""
+    files = {}
+    for path in sorted(folder.rglob("*")):
+        if path.is_file() and path.name != MARKER:
+            info = path.stat()
+            files[path.relative_to(folder).as_posix()] = [info.st_size, info.st_mtime_ns]
+    return files
+
+
+def _not_as_written(out: Path, state: tuple[str, ...]) -> tuple[list[str], list[str]]:
+    """The files of ``out`` not in its marker's list, and those whose size or modification
+    time differ from it (both as relative paths); ``state`` patterns are left out. A marker
+    without a list (thermocal before 2026-11-30) lists nothing to compare: ([], [])."""
+    try:
+        written = json.loads((out / MARKER).read_text(encoding="utf-8"))["files"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return [], []
+    foreign, changed = [], []
+    for name, stamp in _manifest(out).items():
+        if any(fnmatch.fnmatch(name, pattern) for pattern in state):
+            continue
+        if name not in written:
+            foreign.append(name)
+        elif list(written[name]) != stamp:
+            changed.append(name)
+    return foreign, changed
 
 
 class FileLock:
@@ -191,24 +267,27 @@ def _signals_blocked() -> Iterator[None]:
 def _replace(tmp: Path, out: Path) -> None:
     """Move the completed ``tmp`` into place of ``out`` (the old folder removed after)."""
     old: Path | None = None
-    with _signals_blocked():
-        if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
-            old.rmdir()
-            os.replace(out, old)
-        try:
-            os.replace(tmp, out)
-        except OSError:
-            if old is not None:
-                os.replace(old, out)
-            raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+    try:
+        with _signals_blocked():
+            if out.exists():
+                old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+                old.rmdir()
+                os.replace(out, old)
+            try:
+                os.replace(tmp, out)
+            except OSError:
+                if old is not None:
+                    os.replace(old, out)
+                    old = None
+                raise
+    finally:  # also when a signal held back during the renames arrives as they end
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
 
 
 @contextlib.contextmanager
 def output_folder(
-    out: Path | str, *, command: str, signature: Iterable[str] = ()
+    out: Path | str, *, command: str, signature: Iterable[str] = (), state: Iterable[str] = ()
 ) -> Iterator[Path]:
     """Write a command's results into ``out`` atomically.
 
@@ -225,6 +304,9 @@ def output_folder(
         The command's name, written into the marker file.
     signature : iterable of str
         File names the command writes (see :func:`check_output_folder`).
+    state : iterable of str
+        Patterns of the files the command keeps up to date in ``out`` (see
+        :func:`check_output_folder`).
 
     Raises
     ------
@@ -232,9 +314,9 @@ def output_folder(
         ``out`` is unusable (see :func:`check_output_folder`), its parent is not writable or
         another run is writing it.
     """
-    global last_interrupted
+    global last_interrupted, last_completed
     out = Path(out)
-    check_output_folder(out, signature=signature)
+    check_output_folder(out, signature=signature, state=state)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -244,6 +326,7 @@ def output_folder(
     lock = _output_lock(out).acquire()
     tmp: Path | None = None
     last_interrupted = None
+    last_completed = None
     try:
         try:
             tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
@@ -269,12 +352,26 @@ def output_folder(
             )
             raise
         try:
+            # the marker lists what this run wrote: a later run refuses the folder once a
+            # file is added or changed (it would delete it)
+            (tmp / MARKER).write_text(
+                json.dumps({"written_by": f"thermocal {command}", "files": _manifest(tmp)}),
+                encoding="utf-8",
+            )
             _replace(tmp, out)
         except OSError as exc:
             raise ThermocalInputError(
                 f"moving the results into {out} failed: {_describe_os_error(exc)}"
             ) from None
+        except BaseException:
+            # a signal held back during the renames arrives as they end: the results are
+            # then complete and in place
+            if not tmp.exists():
+                last_interrupted = f"after the results were complete: {out} holds them"
+                tmp = None
+            raise
         tmp = None
+        last_completed = out
     finally:
         if tmp is not None:
             shutil.rmtree(tmp, ignore_errors=True)

@@ -275,3 +275,72 @@ def test_zone_names_in_another_case_are_read_as_the_buildings():
     kept, none = in_building_spelling(mapping_from_dict({"sensors": {"S1": "hall"}}, source="m"),
                                       twins)  # fmt: skip
     assert none == [] and kept.sensors == {"S1": "hall"}
+
+
+# ---------------------------------------------------------------------------------------------
+# impossible readings, spikes and dropouts (exploratory test, 2026-11-30)
+# ---------------------------------------------------------------------------------------------
+MAPPING_3 = {"sensors": {"S1": "SPACE1-1", "S2": "SPACE2-1", "S3": "SPACE3-1"}}
+
+
+def test_missing_value_codes_and_spikes_of_unnamed_sensors_become_gaps():
+    """Sensors named S1..S3 (no unit, no name that says temperature) were not screened: 13
+    readings of -999 (a logger's missing-value code) made the exact inverse's heat run away
+    (4e12 W, then NaN for 2.5 days) while the metric, dropping the NaN, looked better than the
+    clean log's; one 85 C reading (a DS18B20's power-on value) gave 200 times the metric. Every
+    mapped sensor is an air temperature: the code is removed as impossible, the spike as an
+    isolated spike, both bridged as gaps and named in a warning."""
+    clean = _log({"S1": 20.0, "S2": 21.0, "S3": 19.0})
+    bad = clean.copy()
+    bad.iloc[500:513, 1] = -999.0
+    bad.iloc[700, 2] = 85.0
+    reference, said = _references(bad, MAPPING_3)
+    expected, _ = _references(clean, MAPPING_3)
+    assert np.abs(reference.to_numpy() - expected.to_numpy()).max() < 0.05
+    assert any("'S2'" in w and "13 reading(s) removed as impossible" in w for w in said), said
+    assert any("'S3'" in w and "removed as outlier" in w and "85" in w for w in said), said
+
+
+def test_a_dropout_to_zero_for_hours_is_refused():
+    """Six hours of exactly 0.0 C in a room at 20 C (a logger's dropout) are shorter than a
+    stuck sensor's day and inside physical limits: refused as a jump away and back."""
+    log = _log({"S1": 20.0, "S2": 21.0, "S3": 19.0})
+    log.iloc[400:472, 0] = 0.0
+    with pytest.raises(ThermocalInputError, match=r"sensor 'S1' \(zone 'SPACE1-1'\) reads about "
+                       r"0.0 C from .* jumping there from about 2\d.\d C and back"):  # fmt: skip
+        _references(log, MAPPING_3)
+
+
+def test_level_excursions_are_jumps_away_and_back_not_steps_or_ramps():
+    from thermocal.io.measurements.quality import level_excursions
+
+    base = np.full(100, 20.0)
+    spike = base.copy()
+    spike[[40, 41]] = [85.0, 85.0]
+    assert level_excursions(spike, 10.0, 5) == [(40, 42)]
+    dropout = base.copy()
+    dropout[10:30] = 0.0
+    dropout[15] = np.nan  # a missing reading inside the run
+    assert level_excursions(dropout, 10.0, 50) == [(10, 30)]
+    assert level_excursions(dropout, 10.0, 10) == []  # longer than max_run
+    step = base.copy()
+    step[50:] = 5.0  # a jump that stays (no return): not an excursion
+    assert level_excursions(step, 10.0, 50) == []
+    ramp = 20.0 - 15.0 * np.sin(np.linspace(0, np.pi, 100))  # a deep but gradual dip
+    assert level_excursions(ramp, 10.0, 100) == []
+    setback = base.copy()
+    setback[30:60] = 14.0  # a set-back of 6 K and its recovery: below the jump
+    assert level_excursions(setback, 10.0, 100) == []
+
+
+def test_an_identified_heat_that_is_not_finite_is_refused():
+    from thermocal.identification.workflow import _refuse_non_finite_heat
+
+    index = pd.date_range("2024-01-08", periods=10, freq="5min")
+    heat = pd.DataFrame({"A": np.arange(10.0), "B": np.arange(10.0)}, index=index)
+    reference = pd.DataFrame({"A": 20.0, "B": 21.0}, index=index)
+    _refuse_non_finite_heat(heat, reference, "exact inverse")  # finite: nothing
+    heat.iloc[6:, 1] = np.nan
+    with pytest.raises(ThermocalInputError, match=r"exact inverse identification of zone 'B' "
+                       r"is not finite from 2024-01-08 00:30:00 \(1 zone\(s\), 4 step\(s\)\)"):  # fmt: skip
+        _refuse_non_finite_heat(heat, reference, "exact inverse")

@@ -735,8 +735,15 @@ def zone_references(
         max_gap=silences or silence,
         start=start,
         end=end,
-        outliers="flag",
+        # every mapped sensor is an air temperature, whatever its name: a reading outside
+        # physical limits (a logger's -999) or an isolated spike (a DS18B20's power-on 85 C)
+        # becomes a gap, which the inverse would otherwise track with absurd heat
+        quantities={s: "temperature" for s in checked},
+        limits={s: READING_LIMITS for s in checked},
+        outliers="remove",
     )
+    _warn_removed_readings(quality, mapping, source)
+    check_level_excursions(raw, checked, mapping, source, period=(start, end))
     # pandas deep-copies ``attrs`` (the sensors' units) into every column and frame taken from
     # the grid; they are not used below: drop them once
     grid.attrs = {}
@@ -841,6 +848,114 @@ def zone_references(
         accepted_constant_readings=accepted_constant,
     )
     return reference, report
+
+
+#: Readings of a mapped sensor outside this range are removed as impossible [C]: wide enough
+#: for a log in Kelvin, Fahrenheit or tenths of a degree, which the unit checks then name
+#: (:func:`check_sensor_plausibility`); beyond it a missing-value code (-999, 9999, a
+#: disconnected DS18B20's -127).
+READING_LIMITS = (-100.0, 400.0)
+#: A reading that jumps by more than this from the readings around it and back is no room's
+#: air temperature [K]: a room's air changes by a few kelvin per reporting interval at most
+#: (a heating set-back's recovery under an ideal heater: the set-back's 4-6 K in one step).
+EXCURSION_JUMP = 10.0
+#: Longest excursion called one (a logger's dropout to 0 C for hours) [duration]; a longer
+#: one is a stuck sensor's run (:data:`STUCK_AFTER`) or the room's own state.
+EXCURSION_LONGEST = pd.Timedelta("1D")
+
+
+def check_level_excursions(
+    raw: pd.DataFrame, sensors, mapping: SensorMapping, source: str, *, period=(None, None)
+) -> None:
+    """Refuse a sensor whose readings jump away by more than :data:`EXCURSION_JUMP` and back.
+
+    Runs of one or two readings are isolated spikes, which the resampling removes (the
+    QARTOD-style spike test); a longer run, up to :data:`EXCURSION_LONGEST`, is a logger's
+    dropout or missing-value code for hours, which no resampling can tell from the room.
+
+    Parameters
+    ----------
+    raw : DataFrame
+        The sensor log as read (long or wide) [C].
+    sensors : sequence of str
+        The mapped sensors checked.
+    mapping : SensorMapping
+        For the zone of each sensor.
+    source : str
+        The sensor log, for messages.
+    period : (Timestamp or None, Timestamp or None)
+        The readings checked (the period with its margins); None: no limit.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Naming the sensor, its zone, the excursion's span and levels, and what to do.
+    """
+    from thermocal.io.measurements.quality import level_excursions
+
+    for sensor in sensors:
+        times, values = _raw_series(raw, str(sensor))
+        keep = np.ones(len(values), dtype=bool)
+        if period[0] is not None and len(times) and (times.tz is None) == (period[0].tz is None):
+            keep &= np.asarray(times >= period[0]) & np.asarray(times <= period[1])
+        times, values = times[keep], values[keep]
+        if len(values) < 3:
+            continue
+        order = np.argsort(times.asi8, kind="stable")
+        times, values = times[order], values[order].copy()
+        values[(values < READING_LIMITS[0]) | (values > READING_LIMITS[1])] = np.nan
+        spacing = pd.Timedelta(int(np.median(np.diff(times.asi8))), unit="ns")
+        longest = max(3, int(EXCURSION_LONGEST / max(spacing, pd.Timedelta("1s"))))
+        found = level_excursions(values, EXCURSION_JUMP, longest, min_run=3)
+        if not found:
+            continue
+        first, end = found[0]
+        level = float(np.nanmedian(values[first:end]))
+        around = float(np.nanmedian(values[max(0, first - 12) : first]))
+        zone = mapping.sensors.get(str(sensor))
+        raise ThermocalInputError(
+            f"{source}: sensor {str(sensor)!r}" + (f" (zone {zone!r})" if zone else "")
+            + f" reads about {level:.1f} C from {times[first]} to {times[end - 1]}, jumping "
+            f"there from about {around:.1f} C and back ({len(found)} such excursion(s) of more "
+            f"than {EXCURSION_JUMP:g} K in one reading): a logger's dropout or missing-value "
+            "code, not the room's air, and the identification would track it with an absurd "
+            "heat; remove those readings from the log (empty cells: a gap) and run again"
+        )  # fmt: skip
+
+
+def _raw_series(raw: pd.DataFrame, sensor: str) -> tuple[pd.DatetimeIndex, np.ndarray]:
+    """A sensor's reading times and values in the log as read (long or wide) [C]."""
+    if {"sensor", "value"} <= set(raw.columns):
+        rows = (raw["sensor"].astype(str) == sensor).to_numpy()
+        times = pd.DatetimeIndex(raw.loc[rows, "time"])
+        values = raw.loc[rows, "value"]
+    else:
+        columns = {str(c): c for c in raw.columns}
+        if sensor not in columns:
+            return pd.DatetimeIndex([]), np.array([], dtype=float)
+        times, values = pd.DatetimeIndex(raw.index), raw[columns[sensor]]
+    values = pd.to_numeric(values, errors="coerce").to_numpy(float)
+    finite = np.isfinite(values)
+    return times[finite], values[finite]
+
+
+def _warn_removed_readings(quality, mapping: SensorMapping, source: str) -> None:
+    """One :class:`ReferenceWarning` per mapped sensor with readings removed as impossible or
+    as isolated spikes (the quality report lists them all)."""
+    flags = getattr(quality, "flags", None)
+    if flags is None or flags.empty:
+        return
+    removed = flags[(flags["action"] == "removed") & flags["sensor"].isin(list(mapping.sensors))]
+    for sensor, rows in removed.groupby("sensor", sort=True):
+        first = rows.iloc[0]
+        warnings.warn(
+            f"{source}: sensor {sensor!r} (zone {mapping.sensors[sensor]!r}): {len(rows)} "
+            f"reading(s) removed as {' or '.join(sorted(set(rows['flag'])))} (the first "
+            f"{first['value']:g} at {first['time']}; a logger's missing-value code or a spike), "
+            "bridged as gaps; the quality report in identification.json lists them",
+            ReferenceWarning,
+            stacklevel=3,
+        )
 
 
 class ReferenceWarning(UserWarning):

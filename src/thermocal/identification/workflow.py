@@ -439,6 +439,29 @@ def gap_duration(value, name: str, *, zero_allowed: bool) -> pd.Timedelta:
     return delta
 
 
+def _refuse_non_finite_heat(heat: pd.DataFrame, reference: pd.DataFrame, method: str) -> None:
+    """Refuse an identified heat that is not finite (the tracking ran away): a total that skips
+    the missing values, and a metric that drops them, would look better than a clean log's."""
+    values = heat.to_numpy(dtype=float)
+    bad = ~np.isfinite(values)
+    if not bad.any():
+        return
+    row, column = np.argwhere(bad)[0]
+    zone = heat.columns[column]
+    near = reference[zone].iloc[max(0, row - 12) : row + 1] if zone in reference else None
+    seen = (
+        f"; its reference there ranges {near.min():.1f} to {near.max():.1f} C"
+        if near is not None and np.isfinite(near.to_numpy(float)).any()
+        else ""
+    )
+    raise ThermocalInputError(
+        f"the {method} identification of zone {zone!r} is not finite from {heat.index[row]} "
+        f"({int(bad.any(axis=0).sum())} zone(s), {int(bad.any(axis=1).sum())} step(s)): the "
+        f"tracking of its reference ran away{seen}; check that zone's sensors around that time "
+        "(a jump or an impossible reading) and the building's description"
+    )
+
+
 def identify(
     building,
     weather: pd.DataFrame,
@@ -636,6 +659,7 @@ def identify(
             ref, method="inverse", heat_input=known_heat, progress=progress, **track_form
         )
         timings["inverse"] = time.perf_counter() - t0
+        _refuse_non_finite_heat(result.heat, reference, "exact inverse")
         q_inverse = _with_floating(result.heat, all_zones)
         floating_temperature = result.air_temperature[floating]
         model_temperature["inverse"] = result.tracked_temperature()
@@ -722,6 +746,7 @@ def identify(
                 "method 'inverse' or 'both'"
             )
     if method in ("pid", "both") and not result.diverged:
+        _refuse_non_finite_heat(result.heat, reference, "PID")
         q_pid = _with_floating(result.heat, all_zones)
         if floating_temperature is None:
             floating_temperature = result.air_temperature[floating]

@@ -48,6 +48,60 @@ def _spikes(values: np.ndarray, n_sigma: float, floor: float, max_run: int = 2) 
     return spikes
 
 
+def level_excursions(
+    values: np.ndarray, jump: float, max_run: int, min_run: int = 1
+) -> list[tuple[int, int]]:
+    """Runs of readings that jump away by more than ``jump`` and jump back.
+
+    A run ``values[i:j]`` (at most ``max_run`` readings, NaN left out) is an excursion when the
+    readings before and after it agree within ``jump`` and every reading of the run lies more
+    than ``jump`` above (or below) both: a logger's dropout to 0, a missing-value code
+    (-999, a sensor's power-on 85 C) or a mains spike, where a room's air never jumps by that
+    much in one reporting interval and back. A real event (a window opened, a heating
+    set-back) changes the temperature gradually or stays at its new level: it is not one.
+
+    Parameters
+    ----------
+    values : array [C]
+        One sensor's readings in time order (NaN: none).
+    jump : float [K]
+        Smallest jump into and out of the run.
+    max_run : int
+        Longest run [readings].
+    min_run : int
+        Shortest run [readings] (e.g. 3, when the spike test takes the runs of 1 and 2).
+
+    Returns
+    -------
+    list of (int, int)
+        ``(first, end)`` positions in ``values`` (``end`` exclusive) of each excursion.
+    """
+    finite = np.flatnonzero(np.isfinite(values))
+    v = values[finite]
+    if v.size < 3:
+        return []
+    steps = np.diff(v)
+    big = np.flatnonzero(np.abs(steps) > jump)
+    found = []
+    for n, a in enumerate(big):
+        if found and a < found[-1][1]:
+            continue  # inside the previous excursion
+        before = v[a]
+        for b in big[n + 1 :]:
+            if b - a > max_run:
+                break
+            if np.sign(steps[b]) == np.sign(steps[a]):
+                continue
+            after, run = v[b + 1], v[a + 1 : b + 1]
+            if abs(after - before) <= jump and (
+                run.min() - max(before, after) > jump or min(before, after) - run.max() > jump
+            ):
+                if b - a >= min_run:
+                    found.append((a + 1, b + 1))
+                break
+    return [(int(finite[i]), int(finite[j - 1]) + 1) for i, j in found]
+
+
 @dataclass
 class QualityReport:
     """What :func:`resample_measurements` did and found.

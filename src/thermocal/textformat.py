@@ -83,3 +83,33 @@ def duration_text(td) -> str:
         return f"{td.total_seconds():g}s"
     hours, rest = divmod(int(minutes), 60)
     return (f"{hours}h" if hours else "") + (f"{rest}min" if rest or not hours else "")
+
+
+def unitless_duration(value: Any) -> bool:
+    """Whether ``value`` is a duration written as a bare non-zero number (``1``, ``"15"``).
+
+    pandas reads such a number as nanoseconds, so ``--step 1`` meant one nanosecond (a grid
+    of 2.7e15 steps, a MemoryError) and ``--silence 1`` a silence of 1 ns. A number needs its
+    unit ("1h", "15min"); zero is zero in every unit.
+
+    Parameters
+    ----------
+    value : str, number or Timedelta
+        As given for a duration option or key.
+
+    Returns
+    -------
+    bool
+    """
+    if isinstance(value, bool):
+        return False
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return float(value) != 0.0
+    if isinstance(value, str):
+        text = value.strip()
+        try:
+            return float(text) != 0.0
+        except ValueError:
+            return False
+    return False
+

@@ -159,7 +159,9 @@ def test_tz_with_naive_stamps_is_used_without_a_warning(inputs, tmp_path):
     assert "has no effect" not in result.output
 
 
-@pytest.mark.parametrize("option", ["--max-gap=-1h", "--max-gap=abc", "--silence=-5min"])
+@pytest.mark.parametrize(
+    "option", ["--max-gap=-1h", "--max-gap=abc", "--silence=-5min", "--silence=1", "--step=5"]
+)
 def test_a_negative_or_unreadable_gap_duration_is_refused(inputs, tmp_path, option):
     name, value = option.split("=")
     message = _refused(_identify(inputs, tmp_path, option, "--method", "inverse"))
@@ -175,6 +177,12 @@ def test_gap_durations_in_python():
         gap_duration("0s", "silence", zero_allowed=False)
     with pytest.raises(ThermocalInputError, match=r"max_gap '-1h' must not be negative"):
         gap_duration("-1h", "max_gap", zero_allowed=True)
+    # a bare number was read as nanoseconds (a silence of 1 ns, "--silence 0min" in the warning)
+    with pytest.raises(ThermocalInputError, match=r"silence '1' has no unit .*'1min' or '1h'"):
+        gap_duration("1", "silence", zero_allowed=False)
+    with pytest.raises(ThermocalInputError, match=r"max_gap 2.5 has no unit"):
+        gap_duration(2.5, "max_gap", zero_allowed=True)
+    assert gap_duration("0", "max_gap", zero_allowed=True) == pd.Timedelta(0)  # 0 in any unit
 
 
 # -- holidays of the occupancy schedule ---------------------------------------------------------

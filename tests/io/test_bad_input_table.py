@@ -291,6 +291,8 @@ CASES = [
     ("simulate-format-unknown", ["simulate", F("bldg"), F("weather"), "--format", "xml"], 2, [r"--format must be csv or parquet"]),
     ("simulate-step-unknown", ["simulate", F("bldg"), F("weather"), "--step", "often"], 2, [r"--step|step", r"often"]),
     ("simulate-step-zero", ["simulate", F("bldg"), F("weather"), "--step", "0min"], 2, [r"step"]),
+    # a bare number was one nanosecond: a grid of 2.7e15 steps, "internal error (MemoryError)"
+    ("simulate-step-without-unit", ["simulate", F("bldg"), F("weather"), "--step", "1"], 2, [r"--step .1. has no unit", r"1min"]),
     ("simulate-start-after-end", ["simulate", F("bldg"), F("weather"), "--start", "2001-03-01", "--end", "2001-02-01"], 2, [r"period \[2001-03-01.*2001-02-01.*empty"]),
     ("simulate-warmup-negative", ["simulate", F("bldg"), F("weather"), "--warmup-days", "-1"], 2, [r"warmup"]),
     ("simulate-warmup-absurd", ["simulate", F("bldg"), F("weather"), "--warmup-days", "100000000"], 2, [r"--warmup-days"]),

@@ -178,6 +178,10 @@ def identify(
     check_pid_only_options(
         method, {"--tuning-zone": tuning_zone, "--limits": limits}, method_option="--method"
     )
+    from thermocal.textformat import unitless_duration
+
+    if step is not None and unitless_duration(step):
+        raise ThermocalInputError(f"--step {step!r} has no unit: write it with one, e.g. {step}min")
     gap_duration(max_gap, "--max-gap", zero_allowed=True)
     gap_duration(silence, "--silence", zero_allowed=False)
     signature = ("identification.json", "q_id.parquet", "report.html")
@@ -448,7 +452,12 @@ def _log_period(raw, weather_index, step: str, console, log_name: str):
 
     from thermocal.errors import ThermocalInputError
     from thermocal.identification.sensors import log_span_on_grid
+    from thermocal.textformat import unitless_duration
 
+    if unitless_duration(step):
+        raise ThermocalInputError(
+            f"--step {step!r} has no unit: write it with one, e.g. {step}min"
+        )
     try:
         delta = pd.Timedelta(step)
     except ValueError:

@@ -169,6 +169,12 @@ def simulate(
             f"--warmup-days {warmup_days}: give 0 to {MAX_WARMUP_DAYS} days (a week or two "
             "brings the walls to their periodic state)"
         )
+    from thermocal.textformat import unitless_duration
+
+    if step is not None and unitless_duration(step):
+        raise ThermocalInputError(
+            f"--step {step!r} has no unit: write it with one, e.g. {step}min or {step}h"
+        )
     if output_format not in ("csv", "parquet"):
         raise ThermocalInputError(f"--format must be csv or parquet, got {output_format!r}")
     from thermocal.multizone.simulation import output_quantities

@@ -419,6 +419,13 @@ def gap_duration(value, name: str, *, zero_allowed: bool) -> pd.Timedelta:
     thermocal.errors.ThermocalInputError
         ``value`` is not a duration, is negative, or is zero where ``zero_allowed`` is False.
     """
+    from thermocal.textformat import unitless_duration
+
+    if unitless_duration(value):
+        raise ThermocalInputError(
+            f"{name} {value!r} has no unit (it would be read as nanoseconds); write it with "
+            f"one, e.g. '{value}min' or '{value}h'"
+        )
     try:
         delta = pd.Timedelta(value)
     except (ValueError, TypeError):

@@ -64,6 +64,7 @@ from thermocal.multizone.results import (  # noqa: F401 - re-exported
     _write_parquet,
     output_quantities,
 )
+from thermocal.textformat import unitless_duration
 
 #: EnergyPlus' initial zone air and surface temperature before its warm-up [C]
 ENERGYPLUS_INITIAL_TEMPERATURE = 23.0
@@ -171,6 +172,10 @@ class Simulation(NetworkSetup, ForcingSetup, Stepping, Tracking, TrackedHeat, Ou
             options, self._convection_notes = info.network_options()
             options = dataclasses.replace(options, interior_longwave_exchange="view_factors")
         self.options = options or NetworkOptions()
+        if unitless_duration(step):
+            raise ThermocalInputError(
+                f"step {step!r} has no unit: write it with one, e.g. '{step}min' or '{step}h'"
+            )
         try:
             self.step_size = pd.Timedelta(step)
         except ValueError as exc:

@@ -452,6 +452,13 @@ def _convert_units(
 def _as_timedelta(value: Any, name: str) -> pd.Timedelta | None:
     if value is None:
         return None
+    from thermocal.textformat import unitless_duration
+
+    if unitless_duration(value):
+        raise ThermocalInputError(
+            f"{name} = {value!r} has no unit (it would be read as nanoseconds); write it with "
+            f"one, e.g. '{value}min' or '{value}h'"
+        )
     try:
         delta = pd.Timedelta(value)
     except (ValueError, TypeError):

@@ -134,13 +134,19 @@ def test_config_user_measures_and_strategies():
             "walls": 0.2,
             "triple": {"component": "windows", "u_value": 0.7, "g_value": 0.5, "cost": 9000},
             "double": {"component": "windows", "u_value": 1.1},
-            "mvhr": {"component": "heat_recovery", "air_change_rate": 0.4, "efficiency": 0.8},
+            "mvhr": {"component": "heat_recovery", "air_change_rate": 0.4, "efficiency": 0.8,
+                     "cost": 15000},
         },
         economics={"energy_price": 0.2, "currency": "EUR"},
     ))  # fmt: skip
     objs = cfg.measure_objects()
     assert objs["roof"].cost_per_m2 == 120 and objs["walls"].cost_per_m2 == 250  # default
     assert objs["triple"].cost_per_m2 == 0 and objs["triple"].cost == 9000
+    # a measure named otherwise takes its component's default (it cost 0 until 2026-11-30)
+    assert objs["double"].cost_per_m2 == 800 and objs["double"].cost == 0
+    with pytest.raises(ThermocalInputError, match=r"measure 'hr' \(heat_recovery\) has no cost"):
+        parse_config(_cfg(measures={"hr": {"component": "heat_recovery", "air_change_rate": 0.4,
+                                           "efficiency": 0.8}}))  # fmt: skip
     codes = {s.code: s.measures for s in cfg.strategy_list()}
     # two window options never together: 2**5 = 32 minus the 8 with both windows
     assert len(codes) == 32 - 8

@@ -1345,12 +1345,17 @@ class RetrofitConfig(_Strict):
                     "efficiency [-] of the ventilation with heat recovery"
                 )
             if spec.cost_per_m2 is None:
+                # without a cost of its own a measure takes its component's indicative cost
+                # per m2 (a "triple_glazing" on the windows the windows'): 0 made it free, with
+                # a payback of 0 years that flipped the recommendation
+                default = DEFAULT_COST_PER_M2.get(component)
+                if spec.cost == 0 and default is None:
+                    raise ValueError(
+                        f"measure {name!r} ({component}) has no cost and its component no default "
+                        "one: give cost [currency] (or cost_per_m2 [currency/m2])"
+                    )
                 spec = spec.model_copy(
-                    update={
-                        "cost_per_m2": DEFAULT_COST_PER_M2.get(name, 0.0)
-                        if component == name
-                        else 0.0
-                    }
+                    update={"cost_per_m2": default if spec.cost == 0 else 0.0}
                 )
             out[name] = spec.model_copy(update={"component": component})
         return out

@@ -493,3 +493,17 @@ def test_a_measure_may_name_every_component_a_measure_acts_on():
     with pytest.raises(ThermocalInputError) as info:
         parse_config(_cfg(measures={"x": {"component": "attic", "u_value": 0.2}}))
     assert all(repr(c) in str(info.value) for c in MEASURE_COMPONENTS), str(info.value)
+
+
+def test_an_extra_loss_far_from_the_description_is_flagged():
+    """Wall U-values written in imperial units (5.68 times too small) on the demo: the heat loss
+    coefficient came out right (557 W/K), H_est took 226 W/K against the description's 104, the
+    walls saved 0.4 % instead of 43 % and nothing said so (exploratory test, 2026-11-30)."""
+    from thermocal.retrofit.calibration import extra_loss_flag
+
+    flag = extra_loss_flag(226.0, 104.0)
+    assert "H_est = 226 W/K is 2.2 times what the description implies (104 W/K" in flag
+    assert "imperial units" in flag and "blower-door" in flag
+    assert "tighter house" in extra_loss_flag(38.7, 99.5)  # the NREL twin: 12 W/K leak
+    assert extra_loss_flag(68.0, 120.8) is None  # the basement twin: within a factor 2
+    assert extra_loss_flag(0.0, 100.0) is None and extra_loss_flag(50.0, 0.0) is None

@@ -354,6 +354,9 @@ def calibrate(
         z = draw_corrected(corrected, 1000, seed=seed + 1)[1:]
         hd = hlc_of_draws(model, corrected.group_factors(z), corrected.physical_si(z)["H_est"])
         flags = [remedy(f) for f in flags if not f.startswith("H_est is at its bound")]
+        far = extra_loss_flag(estimates["H_est"], model.audit_h_est)
+        if far:
+            flags.append(far)
         nuisance_flags = [remedy(f) for f in nuisance_flags]
         return Calibration(
             estimates_si=estimates, cov_si=cov_si, params=params, bse=bse, correlation=corr,
@@ -1347,3 +1350,52 @@ def calibrate_to_heat(
         at_bounds=[nm for nm in at_bounds if nm in phys], correction=corrected, envelope=env,
         heat_loss_coefficient_draws=hd,
     )  # fmt: skip
+
+
+#: ``H_est`` this many times above (or below) what the description implies is named in a flag.
+EXTRA_LOSS_FAR = 2.0
+
+
+def extra_loss_flag(h_est: float, described: float) -> str | None:
+    """A flag when the estimated extra loss is far from what the description implies.
+
+    ``H_est`` takes what the described elements do not: the air change, thermal bridges and
+    doors (its prior median ``described``). Far above it, the house leaks more than assumed or
+    the calculated conductances are too low (a U-value in imperial units is 5.68 times too
+    small: the walls then saved 0.4 % where they save 43 %, with the validation passing); far
+    below, the reverse. Either way the envelope measures' savings rest on that split.
+
+    Parameters
+    ----------
+    h_est : float [W/K]
+        The estimate.
+    described : float [W/K]
+        What the description implies (the prior's median).
+
+    Returns
+    -------
+    str or None
+    """
+    if not (described > 0 and np.isfinite(h_est)) or h_est <= 0:
+        return None
+    ratio = h_est / described
+    if 1.0 / EXTRA_LOSS_FAR <= ratio <= EXTRA_LOSS_FAR:
+        return None
+    if ratio > 1.0:
+        why = (
+            "more heat leaves than the described elements and air change explain: a leakier "
+            "house than the building file's air_change_rate, or U-values or areas too small "
+            "(a U-value in imperial units is 5.68 times too small)"
+        )
+    else:
+        why = (
+            "the described elements and air change explain more heat than leaves: a tighter "
+            "house than the building file's air_change_rate, or U-values or areas too large"
+        )
+    return (
+        f"the estimated extra loss H_est = {h_est:.0f} W/K is {ratio:.1f} times what the "
+        f"description implies ({described:.0f} W/K: air change, thermal bridges, doors): {why}; "
+        "the envelope measures' savings rest on that split: check the U-values and areas, and "
+        "give a measured air change (a blower-door test's n50 / 20) or an in-situ U-value"
+    )
+

@@ -207,6 +207,24 @@ def test_interval_means_of_a_constant_state_are_the_state():
     np.testing.assert_allclose(means.iloc[-5:].to_numpy(), points.iloc[-5:].to_numpy(), rtol=1e-9)
 
 
+@pytest.mark.parametrize("hold", ["zoh", "foh"])
+def test_the_row_before_missing_rows_is_averaged_over_one_interval(hold):
+    """A day of rows missing (the time axis jumps, the simulation bridges it): the row before
+    the gap is a logger's mean over one interval, as on the complete data; it was averaged
+    over the whole gap (21.42 C at the label, 21.54 C the hour's mean, 23.87 C the gap's;
+    review of 2026-11-30)."""
+    model = three_state_model()
+    t = pd.date_range("2024-01-01", periods=72, freq="h", tz="UTC")
+    df = pd.DataFrame({"Ta": 5.0, "Ph": np.where(t.hour < 12, 3.0, 0.0), "Ps": 0.0}, index=t)
+    full = model.simulate(df, interval_means=True, hold=hold)
+    gap = df.drop(df.index[30:54])
+    bridged = model.simulate(gap, interval_means=True, hold=hold)
+    before = gap.index[29]
+    assert bridged.loc[before, "Ti"] == pytest.approx(full.loc[before, "Ti"], abs=1e-9)
+    points = model.simulate(gap, hold=hold)
+    assert abs(bridged.loc[before, "Ti"] - points.loc[before, "Ti"]) > 0.05  # a mean, not a point
+
+
 def test_steady_state_of_simulation_is_the_network_solution():
     """Constant inputs for a long time: the states reach -A^-1 B u (the resistive network)."""
     model = three_state_model()
@@ -433,12 +451,35 @@ def test_midpoint_observations_rows():
     assert midpoint_observations(rows, ["y"], hold="foh")["Ta"].tolist() == [1, 2, 3, 4, 5, 5]
     with pytest.raises(ThermocalInputError, match="no column"):
         midpoint_observations(rows, ["yTi"])
+    with pytest.raises(ThermocalInputError, match="strictly increasing"):
+        midpoint_observations(rows.iloc[[0, 2, 1]], ["y"])
     # a row before a gap averaged one logger interval, not the gap: its middle is half an hour on
     gap = rows.drop(rows.index[1])
     gap = pd.concat([gap, rows.iloc[[2]].set_axis([t[2] + pd.Timedelta("1h")])])
     middles = midpoint_observations(gap, ["y"], hold="foh")["y"].dropna().index
     assert list(middles - gap.index) == [pd.Timedelta("30min")] * 3
     assert midpoint_observations(gap, ["y"], hold="foh")["Ta"].iloc[1] == pytest.approx(1.0 + 4 / 4)
+
+
+def test_midpoint_grid_with_missing_inputs_keeps_its_observations_every_second_row():
+    """A first-order hold's middle row before a missing input held the NaN: a gap of g rows
+    became 2 g + 1, split periods dropped an odd number of rows and the residuals' Ljung-Box
+    test, on every row then, was NaN ("could not be tested"; review of 2026-11-30)."""
+    from thermocal.statespace.data import midpoint_observations, prepare_data
+    from thermocal.statespace.results import observation_rows
+
+    model = _house_with_a_morning_recovery()
+    rng = np.random.default_rng(0)
+    t = pd.date_range("2024-01-01", periods=200, freq="h", tz="UTC")
+    rows = pd.DataFrame({"Ta": rng.normal(5, 1, 200), "Ph": rng.uniform(0, 3, 200),
+                         "yTi": rng.normal(20, 0.5, 200)}, index=t)  # fmt: skip
+    rows.iloc[100:104, rows.columns.get_loc("Ta")] = np.nan
+    grid = midpoint_observations(rows, ["yTi"], hold="foh")
+    assert int(grid["Ta"].isna().sum()) == 2 * 4
+    prep = prepare_data(model, grid, input_gaps="split")
+    assert np.all(np.diff(observation_rows(prep.Y)) == 2)
+    fit = model.fit(grid, hold="foh", input_gaps="split", n_starts=1, seed=0)
+    assert np.isfinite(fit.checks["ljung_box"]["yTi"]["pvalue"])
 
 
 def test_time_constants_are_checked_against_the_observations_interval():

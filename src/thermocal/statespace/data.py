@@ -776,6 +776,11 @@ def midpoint_observations(
     if hold not in ("zoh", "foh"):
         raise ThermocalInputError(f"hold must be 'zoh' or 'foh', got '{hold}'")
     index = data.index
+    if not (index.is_monotonic_increasing and index.is_unique):
+        raise ThermocalInputError(
+            "midpoint_observations: the rows' labels must be strictly increasing (sort the data "
+            "and remove duplicated time stamps first)"
+        )
     steps = np.diff(index.to_numpy())
     steps = np.append(steps, steps[-1])
     half = np.minimum(steps, np.median(steps)) / 2
@@ -786,6 +791,9 @@ def midpoint_observations(
         inputs = [c for c in data.columns if c not in outputs]
         values = data[inputs].to_numpy(float)
         following = np.vstack([values[1:], values[-1:]])
+        # before a missing input the middle row holds the row's own (as before a time gap):
+        # a gap of g rows stays 2 g rows, and the observed rows every second one
+        following = np.where(np.isfinite(following), following, values)
         weight = (half / steps).astype(float)[:, None]  # 0.5 unless a gap follows
         middle[inputs] = values + weight * (following - values)
     middle.index = pd.Index(index.to_numpy() + half, name=index.name)

@@ -23,7 +23,7 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 from thermocal.statespace import kernels
-from thermocal.statespace.data import PreparedData, prepare_data
+from thermocal.statespace.data import PreparedData, prepare_data, time_axis_jumps
 
 
 def _hold_flag(hold: str) -> bool:
@@ -159,6 +159,11 @@ def simulate(
     return out
 
 
+#: Share of the intervals equal to the median one (within 0.1 %) that makes a time axis a
+#: logger's regular one, whose longer steps are rows missing [-].
+REGULAR_SHARE = 0.9
+
+
 def interval_means_of(model, prep: PreparedData, X: np.ndarray, params, hold: str) -> np.ndarray:
     """Each state's mean over the interval that starts at each sample [C].
 
@@ -166,8 +171,10 @@ def interval_means_of(model, prep: PreparedData, X: np.ndarray, params, hold: st
     them; the mean over ``[t_k, t_k+1]`` follows exactly from ``X[k]`` and the inputs
     (:func:`thermocal.statespace.discretise.interval_mean_matrices`, one set per distinct
     interval length). The last sample's interval lies beyond the data: it takes the previous
-    interval's length with the last inputs held; so does the last sample before a gap that
-    splits the data into periods (its interval is the regular step).
+    interval's length with the last inputs held; so does the last sample before a gap, whether
+    the gap splits the data into periods or the time axis jumps over it (its interval is the
+    regular step: a logger's mean covers one interval, not the gap; a time axis is a logger's
+    regular one when :data:`REGULAR_SHARE` of its intervals equal the median).
     """
     from thermocal.statespace.discretise import interval_mean_matrices
 
@@ -182,6 +189,17 @@ def interval_means_of(model, prep: PreparedData, X: np.ndarray, params, hold: st
     # interval holds its inputs, as at the end of the data (its dts is the regular step)
     ends = prep.segments[(prep.segments > 0) & (prep.segments <= N - 1)] - 1
     U_next[ends] = prep.U[ends]
+    # before a jump of a regular time axis (a logger's rows missing, bridged) the same: its
+    # mean is over one regular step, not the whole jump (irregular samples are left as they
+    # are: each row's interval runs to the next)
+    seconds = np.asarray(prep.seconds[:N], dtype=float)
+    step = float(np.median(np.diff(seconds)))
+    regular = np.mean(np.abs(np.diff(seconds) - step) <= 1e-3 * step) >= REGULAR_SHARE
+    jumps = time_axis_jumps(seconds)[0] - 1 if regular else np.zeros(0, dtype=np.int64)
+    if jumps.size:
+        dts = dts.copy()
+        dts[jumps] = step
+        U_next[jumps] = prep.U[jumps]
     means = np.empty_like(X)
     for dt in np.unique(dts):
         rows = dts == dt

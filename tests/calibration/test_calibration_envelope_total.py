@@ -82,6 +82,27 @@ def test_a_sum_the_data_fix_is_determined_while_its_parts_are_not():
     assert "roof (100 m2), wall (60 m2)" in sentence and "the data fix the sum" in sentence
 
 
+def test_a_sum_with_a_part_that_has_no_effect_is_not_determined():
+    """The same narrow total, but the walls change the metric by no more than the estimation
+    noise (the single parameters' effect-to-noise test): their narrow draws may be noise that
+    looks like information, so the sum is not called determined (review, 2026-11-30)."""
+    rng = np.random.default_rng(0)
+    roof = rng.uniform(2.5, 5.5, 4000)
+    target = _total(4.0, 2.0)
+    wall = 60.0 / (target - 100.0 / (roof + FILM_RESISTANCE)) - FILM_RESISTANCE
+    keep = (wall > 1.0) & (wall < 3.0)
+    draws = pd.DataFrame({ROOF: roof[keep], WALL: wall[keep]})
+    summary = pd.DataFrame({"effect_to_noise": [30.0, 2.0]}, index=[ROOF, WALL])
+    posterior = SimpleNamespace(samples=draws, determined=[], summary=summary)
+    total = total_conductance(posterior, _space(), _building())["conduction"]
+    assert total["q95_W_per_K"] - total["q05_W_per_K"] < 1e-6  # as narrow as before
+    assert not total["determined"] and total["without_effect"] == [WALL]
+    (sentence,) = total_conductance_sentences({"conduction": total})
+    assert f"{WALL} change(s) the metric by no more than its estimation noise" in sentence
+    summary.loc[WALL, "effect_to_noise"] = 9.0  # above the threshold (4): determined again
+    assert total_conductance(posterior, _space(), _building())["conduction"]["determined"]
+
+
 def test_the_prior_itself_is_not_determined():
     """Draws from the prior: the width fraction is 0.9 (the prior's own), not determined."""
     rng = np.random.default_rng(1)

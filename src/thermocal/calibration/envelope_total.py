@@ -13,8 +13,11 @@ takes three totals [W/K], each with its 90 % credible interval:
   the parameters set (ISO 13789's ``rho c_p`` = 1200 J/(m3 K)); an imported file's infiltration
   schedule and wind or temperature terms act on top of it in the model, so it is the
   conductance at the design rate, not the mean flow;
-- ``all``: both, the part of the heat loss coefficient the campaign varies (at the design air
-  change rates).
+- ``all``: both (at the design air change rates): the part of the heat loss coefficient the
+  campaign varies where its elements bound conditioned zones; an element of an unconditioned
+  zone (a return plenum's roof, an attic's air change) acts in series with the ceiling
+  beneath it, so there the sum is a conductance to outdoors, not a share of the heat loss
+  coefficient.
 
 The films are ISO 6946's for horizontal heat flow on every element (0.14 m2 K/W for a roof's
 upward flow, 0.21 for a floor's downward: about 1 % of a total at R = 3, 4 % at R = 0.5).
@@ -24,7 +27,10 @@ that fraction of what the prior alone allows (the prior's 90 % interval of the t
 uniform draws of each parameter in its range, over 0.9, so that for one parameter it is the same
 test); and, as for a single parameter, not when one of its parameters compensates an input the
 posterior integrates out (``posterior: {uncertain: ...}``) and is not measured in situ: that
-input's prior, not the data, then narrows it.
+input's prior, not the data, then narrows it; nor when one of its parameters has no effect on
+the metric beyond the estimation noise (the single parameters'
+:data:`thermocal.calibration.posterior.EFFECT_TO_NOISE`): such a parameter's Jacobian is noise
+that can look like information, in a sum as alone.
 
 Measured on the EnergyPlus twin of 5ZoneAirCooled with the building-total metric (2026-11-30):
 roof and walls 216 W/K [180, 252] against the truth 205.9 W/K (the hidden envelope, walls x 0.6
@@ -38,7 +44,7 @@ from __future__ import annotations
 import numpy as np
 
 from thermocal.calibration.coordinates import FILM_RESISTANCE
-from thermocal.calibration.posterior import DETERMINED_FRACTION
+from thermocal.calibration.posterior import DETERMINED_FRACTION, EFFECT_TO_NOISE
 
 __all__ = [
     "conductance_terms",
@@ -80,7 +86,7 @@ def window_areas(building) -> dict[str, float]:
 AIR_HEAT_CAPACITY = 1200.0
 
 #: The totals, in the order they are reported: the elements' U A, the air change's conductance,
-#: and both (the part of the heat loss coefficient the campaign varies).
+#: and both (see the module's docstring for what their sum is).
 PARTS = ("conduction", "air", "all")
 
 
@@ -157,7 +163,8 @@ def total_conductance(posterior, space, building, *, seed: int = 0) -> dict:
         names), ``median_W_per_K``, ``q05_W_per_K``, ``q95_W_per_K``, ``nominal_W_per_K``,
         ``prior_q05_W_per_K``, ``prior_q95_W_per_K``, ``width_fraction`` (the posterior's 90 %
         width over the prior's, times 0.9) [-], ``determined`` (bool),
-        ``compensates_uncertain_input`` (its parameters that do, list) and
+        ``compensates_uncertain_input`` (its parameters that do, list), ``without_effect``
+        (its parameters whose effect is within the estimation noise, list) and
         ``separately_determined`` (the elements each determined alone, list).
     """
     terms = conductance_terms([n for n in space.names if n in posterior.samples], building)
@@ -193,6 +200,16 @@ def _summary(names, terms, posterior, space, rng) -> dict:
         for n in item.get("compensates", {})
         if n in names and n not in measured
     )
+    # the single parameters' second condition: a parameter with no effect on the metric gets
+    # a Jacobian of estimation noise that can look like information, and a sum of them too
+    summary = getattr(posterior, "summary", None)
+    without_effect = sorted(
+        n
+        for n in names
+        if summary is not None and "effect_to_noise" in summary and n in summary.index
+        and n not in measured
+        and not float(summary.loc[n, "effect_to_noise"]) > EFFECT_TO_NOISE
+    )  # fmt: skip
     return {
         "elements": {terms[n][1]: float(terms[n][2]) for n in names},
         "parameters": names,
@@ -203,8 +220,9 @@ def _summary(names, terms, posterior, space, rng) -> dict:
         "prior_q05_W_per_K": float(p05),
         "prior_q95_W_per_K": float(p95),
         "width_fraction": fraction,
-        "determined": fraction < DETERMINED_FRACTION and not confounded,
+        "determined": fraction < DETERMINED_FRACTION and not confounded and not without_effect,
         "compensates_uncertain_input": confounded,
+        "without_effect": without_effect,
         "separately_determined": [terms[n][1] for n in names if n in posterior.determined],
     }
 
@@ -213,8 +231,8 @@ def _summary(names, terms, posterior, space, rng) -> dict:
 PART_WORDS = {
     "conduction": "The varied elements together (U A to outdoors of {listed})",
     "air": "The varied air changes together (their design conductance, {listed})",
-    "all": "Everything varied together (U A and air: the part of the heat loss coefficient the "
-    "campaign varies)",
+    "all": "Everything varied together (U A and air change conductance to outdoors; where the "
+    "elements bound conditioned zones, the part of the heat loss coefficient the campaign varies)",
 }
 
 
@@ -240,6 +258,12 @@ def total_conductance_sentences(totals: dict) -> list[str]:
                 "not called determined: "
                 + ", ".join(total["compensates_uncertain_input"])
                 + " compensate(s) an input integrated out, whose prior sets it"
+            )
+        elif total.get("without_effect"):
+            verdict = (
+                "not called determined: "
+                + ", ".join(total["without_effect"])
+                + " change(s) the metric by no more than its estimation noise"
             )
         else:
             verdict = "not determined either"

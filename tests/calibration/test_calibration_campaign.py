@@ -172,7 +172,17 @@ def test_store_of_another_campaign_refuses(tmp_path):
         CampaignStore.open(path, definition=other)
     message = str(info.value)
     assert str(path) in message and "sampler.seed: 1 in the store, 2 now" in message
-    assert "--store" in message
+    # no --store option exists (it named one): the campaign file's store: key or --out
+    assert "--store" not in message and "the campaign file's store: key" in message
+    # a list of ranges names its campaign key and the entries that changed
+    from thermocal.calibration.store import _definition_differences
+
+    old_space = {"space": {"relative_range": [0.5] * 47}}
+    new_space = {"space": {"relative_range": [0.5] * 46 + [0.4]}}
+    assert _definition_differences(old_space, new_space) == [
+        "space.relative_range (parameters.default_range / parameters.ranges): entry 46: 0.5 in "
+        "the store, 0.4 now"
+    ]
     with pytest.raises(ThermocalInputError, match="--resume"):
         CampaignStore.open(path, definition=definition, resume=False)
 

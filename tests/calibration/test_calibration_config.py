@@ -77,6 +77,9 @@ def test_demo_needs_no_inputs(folder):
         ("method: sobol", "method: random", r"sampling\.method: .*'sobol', 'lhs' or 'halton'"),
         ('"*/shgc": 100.0', '"*/shgc": -1.0', r"parameters\.ranges: .*non-negative"),
         ("default_range: 0.75", "default_range: -0.5", r"parameters\.default_range"),
+        # a range of 0 ran the whole campaign, then stopped at the bounds (exploratory test)
+        ("default_range: 0.75", "default_range: 0", r"default_range is 0: .*exclude"),
+        ('"*/shgc": 100.0', '"*/shgc": 0', r"range of '\*/shgc' is 0: .*exclude: \['\*/shgc'\]"),
         ("seed: 1}\nmetamodel", "sead: 1}\nmetamodel", r"sampling\.sead: unknown key; did you "
                                                         r"mean 'seed'"),
         ("store: campaign", "stor: campaign", r"stor: unknown key; did you mean 'store'"),

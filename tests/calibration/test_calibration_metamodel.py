@@ -175,3 +175,17 @@ def test_a_constant_metamodel_is_a_result_not_a_crash():
     slope = SimpleNamespace(predict=lambda X: np.atleast_2d(X)[:, 0], cv_r2_=0.9)
     sobol = sobol_or_note(slope, space, space.lower, space.upper, 0, "svr", notes := [])
     assert notes == [] and sobol["ST"].iloc[0] > 0.9
+
+
+def test_sobol_indices_of_a_function_constant_up_to_round_off_are_refused():
+    """A GP meta-model that predicts its mean everywhere varies by round-off only: SALib turned
+    that into indices of 0 +- 0, which read as exact, and printed its own warning; an exactly
+    constant one was refused (exploratory test, 2026-11-30: the uninterrupted and the resumed
+    run of one campaign disagreed)."""
+    def almost_constant(x):
+        return 7352.0 + 1e-12 * x[:, 0]
+
+    with pytest.raises(ThermocalInputError, match="constant over the bounds"):
+        sobol_indices(almost_constant, NAMES, LOWER, UPPER, n=64, seed=0)
+    idx = sobol_indices(lambda x: 7352.0 + 1e-3 * x[:, 0], NAMES, LOWER, UPPER, n=64, seed=0)
+    assert idx.loc[NAMES[0], "ST"] > 0.9

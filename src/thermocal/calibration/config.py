@@ -97,6 +97,17 @@ class ParametersSection(_Strict):
     def _half_width(cls, value: Any) -> Any:
         return _relative_half_width(value, "default_range")
 
+    @field_validator("default_range")
+    @classmethod
+    def _positive(cls, value: float) -> float:
+        if value == 0.0:  # the whole campaign ran, then its bounds were found empty
+            raise ValueError(
+                "default_range is 0: every parameter would stay at its nominal value; give a "
+                "relative half-width (0.5 = +-50 %), and leave out what should not vary with "
+                "exclude: [PATTERN]"
+            )
+        return value
+
     @field_validator("ranges", mode="before")
     @classmethod
     def _half_widths(cls, value: Any) -> Any:
@@ -112,6 +123,12 @@ class ParametersSection(_Strict):
                 raise ValueError(
                     f"range of {pattern!r} is {v}; give a non-negative relative half-width "
                     "(0.75 = +-75 %; values are clipped to physical limits anyway)"
+                )
+            if v == 0.0:
+                raise ValueError(
+                    f"range of {pattern!r} is 0: its parameters would stay at their nominal "
+                    f"values; leave them out with exclude: [{pattern!r}], or give a relative "
+                    "half-width (0.5 = +-50 %)"
                 )
         return value
 

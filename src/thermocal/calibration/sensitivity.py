@@ -184,7 +184,10 @@ def sobol_indices(
         warnings.filterwarnings("ignore", message=".*power of 2.*")
         design = sobol_sampler.sample(problem, int(n), calc_second_order=False, seed=int(seed))
     y = np.asarray(predict(design), dtype=float).ravel()
-    if np.var(y) == 0:
+    # constant up to round-off: a GP meta-model that predicts its mean everywhere varies by
+    # 1e-12 of it, which SALib analysed into indices of 0 +- 0 (and printed its own warning)
+    scale = max(float(np.max(np.abs(y))) if y.size else 0.0, 1e-300)
+    if not np.std(y) > CONSTANT_RELATIVE_SPREAD * scale:
         raise ThermocalInputError(
             "sobol_indices: the function is constant over the bounds; no sensitivity to rank"
         )
@@ -196,6 +199,11 @@ def sobol_indices(
         index=pd.Index(names, name="parameter"),
     )
     return frame.sort_values("ST", ascending=False, kind="stable")
+
+
+#: A meta-model whose predictions spread by less than this fraction of their magnitude over the
+#: design is constant for the Sobol' indices [-].
+CONSTANT_RELATIVE_SPREAD = 1e-9
 
 
 def morris_design(

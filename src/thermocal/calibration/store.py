@@ -173,15 +173,32 @@ def _definition_differences(old: Mapping[str, Any], new: Mapping[str, Any]) -> l
             for k in sorted(set(a) | set(b), key=str):
                 walk(a.get(k), b.get(k), f"{where}.{k}" if where else str(k))
         elif a != b:
+            where_text = where + (f" ({CAMPAIGN_KEYS[where]})" if where in CAMPAIGN_KEYS else "")
             if isinstance(a, list) and isinstance(b, list) and len(a) > 6:
-                diffs.append(f"{where} (list of {len(a)} vs {len(b)} entries)")
+                changed = [i for i in range(min(len(a), len(b))) if a[i] != b[i]]
+                if len(a) == len(b) and changed:
+                    shown = ", ".join(
+                        f"entry {i}: {_short(a[i])} in the store, {_short(b[i])} now"
+                        for i in changed[:3]
+                    )
+                    more = f" and {len(changed) - 3} more" if len(changed) > 3 else ""
+                    diffs.append(f"{where_text}: {shown}{more}")
+                else:
+                    diffs.append(f"{where_text} (list of {len(a)} vs {len(b)} entries)")
             elif _is_digest(a) and _is_digest(b):
                 diffs.append(f"{where}: changed since the store was written (its content differs)")
             else:
-                diffs.append(f"{where}: {_short(a)} in the store, {_short(b)} now")
+                diffs.append(f"{where_text}: {_short(a)} in the store, {_short(b)} now")
 
     walk(dict(old), dict(new), "")
     return diffs
+
+
+#: The campaign file's keys behind a store definition's entries, for the messages.
+CAMPAIGN_KEYS = {
+    "space.relative_range": "parameters.default_range / parameters.ranges",
+    "space.names": "parameters.include / exclude",
+}
 
 
 class CampaignStore:
@@ -247,7 +264,10 @@ class CampaignStore:
             if definition is None:
                 raise ThermocalInputError("CampaignStore.open needs a fingerprint or a definition")
             fingerprint = campaign_fingerprint(definition)
-        remedy = "use another --store/--out, or delete the file to start afresh"
+        remedy = (
+            "use another store (the campaign file's store: key, or another --out), or delete "
+            "the file to start afresh"
+        )
         if path.exists():
             if path.is_dir():
                 raise ThermocalInputError(f"store {path} is a folder; give a file name ({remedy})")

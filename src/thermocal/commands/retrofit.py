@@ -153,9 +153,24 @@ def print_summary(results: dict, out: Path) -> None:
         )
     console.print(_track_record_line())
     if gate and not gate["passed"]:
-        console.print("[bold red]no strategy recommended: the model failed its validation[/]")
+        why = (
+            "the model failed its validation"
+            if gate.get("period")
+            else "the model was not checked on a test period (periods.test_days)"
+        )
+        console.print(f"[bold red]no strategy recommended: {why}[/]")
     elif results.get("recommendation"):
-        console.print(f"recommended strategy: [bold]{results['recommendation']}[/bold]")
+        rule = results.get("recommendation_rule") or ""
+        why = ""
+        if "none pays back" in rule:
+            code = results["recommendation"]
+            row = next((s for s in results["scenarios"] if s["code"] == code), {})
+            years = (row.get("economics") or {}).get("payback_years")
+            why = (
+                " (no strategy pays back within 30 years at today's energy price; this one "
+                + (f"soonest, in about {years:.0f} years)" if years else "soonest)")
+            )
+        console.print(f"recommended strategy: [bold]{results['recommendation']}[/bold]{why}")
     log = logging.getLogger("thermocal.retrofit")
     for flag in results["calibration"]["flags"]:
         log.warning("calibration: %s", flag)

@@ -16,6 +16,7 @@ from thermocal.retrofit.model import ESTIMATED_PARAMETERS
 from thermocal.retrofit.tables import (  # noqa: F401 (scenario_table: public here too)
     _areas,
     _measures_short,
+    _recommendation_rule,
     _recommended_code,
     economics_table,
     scenario_table,
@@ -188,6 +189,7 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         "heat_validation": analysis.heat_validation,
         "validation_gate": analysis.gate,
         "recommendation": _recommended_code(analysis),
+        "recommendation_rule": (_recommendation_rule(analysis) or {}).get("rule"),
         "annual_heating_demand_kWh": demand,
         "heat_balance_kWh": heat_balance_dict(analysis),
         "scenarios": scenarios,

@@ -191,8 +191,15 @@ def write_report(
         r = rec["row"]
         srow = scen[scen["code"] == rec["code"]].iloc[0]
         names = next(s.measures for s in analysis.strategies if s.code == rec["code"])
+        none_within = "none pays back" in str(rec.get("rule", ""))
+        opening = (
+            "No strategy pays for itself within 30 years (a typical service life of envelope "
+            "measures) at today's energy price; the one that pays back soonest is strategy "
+            if none_within
+            else "We recommend strategy "
+        )
         advice = (
-            f"We recommend strategy {rec['code']} ({_measures_label(names)}): it saves about "
+            f"{opening}{rec['code']} ({_measures_label(names)}): it saves about "
             f"{srow['saving_pct']:.0f} % of the heat"
             + (f" ({pct} interval {format_number(srow['saving_pct_p05'], '.0f')} to "
                f"{format_number(srow['saving_pct_p95'], '.0f')} %)" if intervals else "")

@@ -101,10 +101,16 @@ def _measures_short(measures, n_total: int = 4) -> str:
 
 
 def _recommended_code(analysis: RetrofitAnalysis) -> str | None:
+    rule = _recommendation_rule(analysis)
+    return None if rule is None else rule["code"]
+
+
+def _recommendation_rule(analysis: RetrofitAnalysis) -> dict | None:
+    """The recommended strategy's code and the rule that chose it (None: nothing is)."""
     from thermocal.retrofit.economics import recommend
 
     if analysis.gate is not None and not analysis.gate["passed"]:
         return None  # a model that failed its validation recommends nothing
     scen = scenario_table(analysis)
     rec = recommend(economics_table(analysis), scen["saving_pct"])
-    return None if rec is None else rec["code"]
+    return None if rec is None else {"code": rec["code"], "rule": rec["rule"]}

@@ -144,3 +144,31 @@ def test_simulate_ends_a_february_29_run_period_of_a_common_year_on_february_28(
     result = _simulate(given, weather, tmp_path / "given")
     assert isinstance(result.exception, ThermocalInputError), result.output
     assert "field 'End Year' = 2023 is a common year" in str(result.exception)
+
+
+def test_a_zone_multiplier_counts_in_the_building_totals(shared_data, tmp_path):
+    """Case 600 with its zone's Multiplier at 3: the zone's own rows are one zone's, as
+    EnergyPlus reports zone variables; the building's totals count it three times, as
+    EnergyPlus' facility totals do (they were one zone's, a third of EnergyPlus', with only
+    "1 other" among the console's import notes; exploratory test, 2026-11-30)."""
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    text = _case_600(shared_data, tmp_path, "1,1,,1,14,,").read_text()
+    once = tmp_path / "once.idf"
+    once.write_text(text)
+    zone_head = text.index("Zone,")
+    marker = "  1,                                    !- Multiplier"
+    at = text.index(marker, zone_head)
+    thrice = tmp_path / "thrice.idf"
+    thrice.write_text(text[:at] + marker.replace("1,", "3,", 1) + text[at + len(marker):])
+    runs = {}
+    for path in (once, thrice):
+        result = _simulate(path, weather, tmp_path / path.stem)
+        assert result.exit_code == 0, (result.output, result.exception)
+        runs[path.stem] = (json.loads((tmp_path / path.stem / "summary.json").read_text()),
+                           result.output)  # fmt: skip
+    (one, _), (three, printed) = runs["once"], runs["thrice"]
+    zone = next(iter(one["zones"]))
+    assert three["zones"][zone]["heating_kWh"] == pytest.approx(one["zones"][zone]["heating_kWh"])
+    assert three["building"]["heating_kWh"] == pytest.approx(3 * one["building"]["heating_kWh"])
+    assert three["building"]["zone_multipliers"] == {zone: 3.0}
+    assert "zone multipliers counted in the building's totals" in " ".join(printed.split())

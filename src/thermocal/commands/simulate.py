@@ -299,5 +299,13 @@ def simulate(
         f"building: heating {totals['heating_kWh']:.0f} kWh (peak {totals['heating_peak_kW']:.2f} "
         f"kW), cooling {totals['cooling_kWh']:.0f} kWh (peak {totals['cooling_peak_kW']:.2f} kW)"
     )
+    multipliers = totals.get("zone_multipliers") or {}
+    if multipliers:
+        listed = ", ".join(f"{z} x{m:g}" for z, m in list(multipliers.items())[:5])
+        more = ", ..." if len(multipliers) > 5 else ""
+        console.print(
+            f"  (zone multipliers counted in the building's totals: {listed}{more}; the zones' "
+            "own rows are one zone's, as EnergyPlus reports them)"
+        )
     for path in written:
         console.print(f"wrote {path}")

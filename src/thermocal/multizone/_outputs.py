@@ -87,6 +87,11 @@ class Outputs:
             else pd.DataFrame(faces, index=index, columns=net.face_names, copy=False),
             step=self.step_size,
             approximations=self.approximations(),
+            zone_multipliers={
+                z: m
+                for z, m in getattr(self._idf_info, "zone_multipliers", {}).items()
+                if m != 1.0 and z in zones
+            },
         )
 
     def approximations(self) -> list[str]:

@@ -36,6 +36,10 @@ class SimulationResult:
     surface_temperature : DataFrame or None [C]
         Interior surface temperatures (one column per face seen from a zone), if stored.
     step : pandas.Timedelta
+    zone_multipliers : dict of str -> float
+        An imported file's zone multipliers other than 1 (EnergyPlus' ``Zone`` field): each
+        such zone is simulated once, its outputs are one zone's, and the building's totals in
+        :meth:`summary` count it that many times, as EnergyPlus' facility totals do.
     """
 
     air_temperature: pd.DataFrame
@@ -49,6 +53,7 @@ class SimulationResult:
     surface_temperature: pd.DataFrame | None
     step: pd.Timedelta
     approximations: list = field(default_factory=list)
+    zone_multipliers: dict = field(default_factory=dict)
 
     def summary(self) -> dict:
         """Per zone: min/max/mean air temperature [C], heating/cooling energy [kWh], peaks [kW].
@@ -79,14 +84,25 @@ class SimulationResult:
             zone: {key: float(value) for key, value in row.items()}
             for zone, row in zip(table.index, table.to_dict("records"), strict=True)
         }
-        total_heat = self.heating.sum(axis=1)
-        total_cool = self.cooling.sum(axis=1)
+        # the building's totals count a zone with a multiplier that many times (EnergyPlus'
+        # facility totals); the zones' own figures are one zone's
+        weight = pd.Series(1.0, index=self.heating.columns)
+        for zone, multiplier in self.zone_multipliers.items():
+            if zone in weight.index:
+                weight[zone] = float(multiplier)
+        total_heat = self.heating.mul(weight, axis=1).sum(axis=1)
+        total_cool = self.cooling.mul(weight, axis=1).sum(axis=1)
         return {
             "start": str(self.air_temperature.index[0]),
             "end": str(self.air_temperature.index[-1] + self.step),
             "step_seconds": self.step.total_seconds(),
             "zones": zones,
             "building": {
+                **(
+                    {"zone_multipliers": {k: float(v) for k, v in self.zone_multipliers.items()}}
+                    if self.zone_multipliers
+                    else {}
+                ),
                 "heating_kWh": float(total_heat.sum() * hours / 1000.0),
                 "cooling_kWh": float(total_cool.sum() * hours / 1000.0),
                 "heating_peak_kW": float(_hourly_mean(total_heat, self.step).max() / 1000.0),

@@ -172,3 +172,42 @@ def test_a_zone_multiplier_counts_in_the_building_totals(shared_data, tmp_path):
     assert three["building"]["heating_kWh"] == pytest.approx(3 * one["building"]["heating_kWh"])
     assert three["building"]["zone_multipliers"] == {zone: 3.0}
     assert "zone multipliers counted in the building's totals" in " ".join(printed.split())
+
+
+def test_ideal_loads_settings_the_model_does_not_apply_are_named(shared_data, tmp_path):
+    """Case 600 with its ideal-loads system always off (EnergyPlus: a free float, 0 kWh) or
+    limited to 1 kW of heating (3,024 kWh against the unlimited 4,244): thermocal heats and
+    cools at the set points as before, and now says which settings it does not apply, in the
+    import warning and in full (exploratory test, 2026-11-30; they were silent)."""
+    from thermocal.multizone.files import load_building
+    from thermocal.multizone.idf import IdfImportWarning
+    from thermocal.multizone.idf.report import import_summary
+
+    text = shared_data("energyplus_reference", "case_600_v25.idf").read_text()
+    field = "  ,                                     !- Availability Schedule Name"
+    assert field in text
+    cases = {
+        "off": text.replace(field, "  AlwaysOffSch,  !- Availability Schedule Name", 1)
+        + "\nSchedule:Constant, AlwaysOffSch, , 0;\n",
+        "limited": text.replace(
+            "  ,                                     !- Heating Limit",
+            "  LimitCapacity,  !- Heating Limit", 1,
+        ).replace(
+            "  ,                                     !- Maximum Sensible Heating Capacity {W}",
+            "  1000,  !- Maximum Sensible Heating Capacity {W}", 1,
+        ),
+        "plain": text,
+    }
+    found = {}
+    for name, content in cases.items():
+        path = tmp_path / f"{name}.idf"
+        path.write_text(content)
+        with pytest.warns(IdfImportWarning):
+            building = load_building(path)
+        found[name] = [n for n in building.idf_info.notes if n.startswith("Ideal loads")]
+        if found[name]:
+            assert found[name][0] in import_summary(path.name, building.idf_info)
+    assert found["plain"] == []
+    assert "Availability Schedule Name 'AlwaysOffSch' (on 0 % of the year)" in found["off"][0]
+    assert "Heating Limit 'LimitCapacity' (capacity W 1000)" in found["limited"][0]
+    assert "unlimited and always available" in found["limited"][0]

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 __all__ = [
     "AIR_EQUIPMENT_PREFIXES",
+    "IDEAL_LOADS_NOT_APPLIED",
     "SURFACE_SOURCE_PREFIXES",
     "EquipmentHeat",
     "ZoneHeatDelivery",
@@ -220,3 +221,117 @@ def zone_heat_delivery(by_key: dict, zone_names: dict) -> dict[str, ZoneHeatDeli
         share = None if any(s is None for s in shares) else sum(shares) / len(shares)
         out[zone] = ZoneHeatDelivery(tuple(equipment), share)
     return out
+
+
+#: How a note on an ideal-loads system's settings that the model does not apply begins.
+IDEAL_LOADS_NOT_APPLIED = "Ideal loads settings not applied"
+
+#: The ideal-loads class (read by position, as the other equipment here: it is HVAC the model
+#: replaces, not an imported class) and its fields read, 0-based after the class name
+#: (EnergyPlus 25.2's IDD).
+IDEAL_LOADS_CLASS = "ZoneHVAC:IdealLoadsAirSystem"
+_IDEAL_LOADS_FIELDS = (
+    "name",
+    "availability_schedule_name",
+    "zone_supply_air_node_name",
+    "zone_exhaust_air_node_name",
+    "system_inlet_air_node_name",
+    "maximum_heating_supply_air_temperature",
+    "minimum_cooling_supply_air_temperature",
+    "maximum_heating_supply_air_humidity_ratio",
+    "minimum_cooling_supply_air_humidity_ratio",
+    "heating_limit",
+    "maximum_heating_air_flow_rate",
+    "maximum_sensible_heating_capacity",
+    "cooling_limit",
+    "maximum_cooling_air_flow_rate",
+    "maximum_total_cooling_capacity",
+    "heating_availability_schedule_name",
+    "cooling_availability_schedule_name",
+)
+
+
+def ideal_loads_records(by_key: dict) -> list[dict]:
+    """The file's ideal-loads systems as records (field name -> text, ``_object``)."""
+    out = []
+    for obj in by_key.get(IDEAL_LOADS_CLASS.upper(), []):
+        rec = dict(zip(_IDEAL_LOADS_FIELDS, obj.fields, strict=False))
+        rec["_object"] = obj
+        out.append(rec)
+    return out
+
+
+def ideal_loads_notes(records, schedule_mean) -> list[str]:
+    """Notes on the ``ZoneHVAC:IdealLoadsAirSystem`` settings the model does not apply.
+
+    The model's ideal heating and cooling are unlimited and always available at the thermostat's
+    set points. EnergyPlus' ideal-loads system can be switched off by its availability schedules
+    and limited in flow or capacity: Case 600 with its system always off is a free float in
+    EnergyPlus (0 kWh) and was heated and cooled as usual in thermocal (4,244 kWh), without a word.
+
+    Parameters
+    ----------
+    records : iterable of dict
+        The file's ``ZoneHVAC:IdealLoadsAirSystem`` records (field name -> text, ``_object``).
+    schedule_mean : callable
+        A schedule's name -> its mean over the year [-] (raises for an unknown schedule).
+
+    Returns
+    -------
+    list of str
+        One note per system with such a setting, naming the system, its fields and values.
+    """
+    notes = []
+    for rec in records:
+        obj = rec["_object"]
+
+        def field(name: str, rec=rec) -> str:
+            return str(rec.get(name) or "").strip()
+
+        found = []
+        for key, label in (
+            ("availability_schedule_name", "Availability Schedule Name"),
+            ("heating_availability_schedule_name", "Heating Availability Schedule Name"),
+            ("cooling_availability_schedule_name", "Cooling Availability Schedule Name"),
+        ):
+            name = field(key)
+            if not name:
+                continue
+            try:
+                mean = float(schedule_mean(name))
+            except Exception:  # noqa: BLE001 - an unreadable schedule is named as such
+                found.append(f"{label} '{name}' (not read)")
+                continue
+            if mean < 0.999:
+                found.append(f"{label} '{name}' (on {100 * mean:.0f} % of the year)")
+        for limit, flow, capacity, what in (
+            (
+                "heating_limit",
+                "maximum_heating_air_flow_rate",
+                "maximum_sensible_heating_capacity",
+                "Heating Limit",
+            ),
+            (
+                "cooling_limit",
+                "maximum_cooling_air_flow_rate",
+                "maximum_total_cooling_capacity",
+                "Cooling Limit",
+            ),
+        ):
+            value = field(limit)
+            if value and value.upper() != "NOLIMIT":
+                details = [
+                    f"{label} {field(key)}"
+                    for key, label in ((flow, "flow m3/s"), (capacity, "capacity W"))
+                    if field(key)
+                ]
+                found.append(f"{what} '{value}'" + (f" ({', '.join(details)})" if details else ""))
+        if found:
+            notes.append(
+                f"{IDEAL_LOADS_NOT_APPLIED}: {obj.where()} "
+                f"has {'; '.join(found)}: the model's ideal heating and cooling are unlimited and "
+                "always available at the set points, so its loads and temperatures differ from "
+                "EnergyPlus' where these apply (a system always off: simulate --free-float)"
+            )
+    return notes
+

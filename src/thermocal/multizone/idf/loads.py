@@ -16,7 +16,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from thermocal.errors import ThermocalInputError
-from thermocal.multizone.idf.hvac import zone_heat_delivery
+from thermocal.multizone.idf.hvac import (
+    ideal_loads_notes,
+    ideal_loads_records,
+    zone_heat_delivery,
+)
 from thermocal.multizone.idf.parse import IdfObject, _is_auto, _number
 from thermocal.multizone.idf.schedules import UnsupportedScheduleError
 
@@ -595,6 +599,9 @@ class LoadStages:
             )
         self.info.zone_heat_delivery = zone_heat_delivery(
             self.by_key, {key: entry[0] for key, entry in self.zones.items.items()}
+        )
+        self.info.notes.extend(
+            ideal_loads_notes(ideal_loads_records(self.by_key), self.schedules.annual_mean)
         )
 
 

@@ -622,6 +622,11 @@ NOTE_KINDS = (
         lambda n: "schedules='constant'" in n or " varies (" in n,
     ),
     ("hvac", "HVAC replaced", lambda n: n.startswith("HVAC equipment")),
+    (
+        "ideal_loads",
+        "ideal loads settings not applied",
+        lambda n: n.startswith("Ideal loads settings not applied"),
+    ),
     ("calendar", "schedule calendar", lambda n: n.startswith("schedule calendar")),
     ("ventilation", "ventilation", lambda n: "ZoneVentilation" in n),
     ("solar", "solar distribution", lambda n: n.startswith("Solar Distribution")),
@@ -676,6 +681,7 @@ def import_summary(source: str, info: IdfImportInfo) -> str:
             f"{len(v)} {labels[k]}" for k, v in notes.items() if k != "constant_schedules"
         )
         lines.append(f"{source}: {len(info.notes) - constant} import notes ({counts}).")
+        lines.extend(notes.get("ideal_loads", []))
         lines.extend(notes.get("energyplus", []))
     if constant:
         lines.append(

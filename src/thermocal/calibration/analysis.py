@@ -43,6 +43,12 @@ POSTERIOR_MAX_PARAMETERS = 30
 ZOOM_WITH_FIRST_INSIDE = False
 
 
+
+#: Below this cross-validated R2 (and above 0) the meta-model's ranking and optima are called
+#: rough in a note: at 0.04 the report listed ten critical parameters and Sobol' indices to four
+#: digits without a word (exploratory test, 2026-11-30) [-].
+WEAK_METAMODEL_R2 = 0.5
+
 def analyse(
     campaign,
     inputs,
@@ -280,6 +286,18 @@ def _calibration_stage(
         )
         notes.append(worse)
         log(worse)
+    elif fitted.surrogate.cv_r2_ < WEAK_METAMODEL_R2:
+        weak = (
+            f"The meta-model explains {100 * max(fitted.surrogate.cv_r2_, 0.0):.0f} % of the "
+            f"variance of the samples it did not see (cross-validated R2 "
+            f"{fitted.surrogate.cv_r2_:.2f}, {len(samples.y)} samples of {space.dimension} "
+            "parameters): its ranking of the parameters (the critical ones and the Sobol' "
+            "indices, whose intervals are as wide as the indices) and its optima are rough; "
+            "read them with the posterior's intervals and the confirmed runs, and run more "
+            "samples (--resume --samples N adds them) or vary fewer parameters for more."
+        )
+        notes.append(weak)
+        log(weak)
     t0 = time.perf_counter()
     confirmed, heat, unconfirmed = _confirm_optima(
         runs, fitted.optimisation, metric, nominal_outputs, nominal_heat, nominal_metric
@@ -842,9 +860,14 @@ def _movable_parameters(campaign, space, posterior, notes: list) -> list[str]:
     determined = [n for n in space.names if n in posterior.determined or n in measured]
     if len(determined) < space.dimension:
         notes.append(
-            f"Calibrated parameters: only the {len(determined)} the data determine"
-            + (f" ({', '.join(determined)})" if determined else "")
-            + "; the others stay nominal (optimisation.calibrate: all changes every one)."
+            (
+                f"Calibrated parameters: only the {len(determined)} the data determine "
+                f"({', '.join(determined)}); the others stay nominal"
+                if determined
+                else "Calibrated parameters: none, the data determine none of them; every one "
+                "stays nominal"
+            )
+            + " (optimisation.calibrate: all changes every one)."
         )
     return determined
 

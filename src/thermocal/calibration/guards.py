@@ -76,6 +76,8 @@ def check_same_campaign(campaign, space, stored: dict, path) -> None:
 
 def _format_duration(seconds: float) -> str:
     seconds = max(0.0, float(seconds))
+    if seconds < 10:
+        return f"{seconds:.2g} s"  # a fast model's few seconds: not "0 s"
     if seconds < 90:
         return f"{seconds:.0f} s"
     if seconds < 5400:
@@ -117,20 +119,20 @@ def check_campaign_time(
     if scheduler is not None:
         estimate = pending * seconds_per_sample
         log(
-            f"estimate: {pending} samples x {seconds_per_sample:.1f} s = "
+            f"estimate: {pending} samples x {seconds_per_sample:.2g} s = "
             f"{_format_duration(estimate)} of work, divided among the Dask workers"
         )
         return estimate
     n_workers = max(1, min(int(workers or os.cpu_count() or 1), max(pending, 1)))
     estimate = pending * seconds_per_sample / n_workers
     log(
-        f"estimate: {pending} samples x {seconds_per_sample:.1f} s / {n_workers} worker(s) = "
+        f"estimate: {pending} samples x {seconds_per_sample:.2g} s / {n_workers} worker(s) = "
         f"about {_format_duration(estimate)}"
     )
     if max_hours is not None and estimate > max_hours * 3600.0:
         raise ThermocalInputError(
             f"the campaign would take about {_format_duration(estimate)} ({pending} samples x "
-            f"{seconds_per_sample:.1f} s per identification / {n_workers} worker(s)), more than "
+            f"{seconds_per_sample:.2g} s per identification / {n_workers} worker(s)), more than "
             f"--max-hours {max_hours:g}; use fewer --samples, more --workers or a Dask "
             "--scheduler, or raise --max-hours (the campaign is resumable: --resume continues "
             "an interrupted one)"

@@ -189,7 +189,7 @@ def calibrate(
     timings["nominal_run"] = time.perf_counter() - t0
     log(
         f"nominal model: unoccupied std of building Q_ID "
-        f"{nominal_outputs['unoccupied_std'] / 1000:.3f} kW ({timings['nominal_run']:.1f} s per "
+        f"{nominal_outputs['unoccupied_std'] / 1000:.3f} kW ({timings['nominal_run']:.2g} s per "
         "identification)"
     )
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)

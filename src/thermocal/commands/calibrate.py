@@ -238,9 +238,9 @@ def _print_summary(result) -> None:
     console.print(table)
     confirm = result.confirmed
     title = (
-        "unoccupied std of the building-wide identified heat"
+        "unoccupied std of the building-wide identified heat [kW]"
         if result.metric == "building"
-        else "square root of the zone groups' summed unoccupied variance"
+        else "square root of the zone groups' summed unoccupied variance [kW]"
     )
     summary = Table(title=title, show_header=True)
     for column in ("model", "meta-model [kW]", "confirmed [kW]"):

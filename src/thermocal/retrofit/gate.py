@@ -189,7 +189,14 @@ def heat_validation(simulated_w: pd.Series, measured_w: pd.Series) -> dict[str, 
     return stats
 
 
-def validation_gate(validation: dict, heat: dict | None, criteria: dict[str, float]) -> dict:
+def validation_gate(
+    validation: dict,
+    heat: dict | None,
+    criteria: dict[str, float],
+    *,
+    unit_keys: str | None = None,
+    heat_source: str = "meter",
+) -> dict:
     """The verdict on the test period.
 
     Parameters
@@ -201,6 +208,13 @@ def validation_gate(validation: dict, heat: dict | None, criteria: dict[str, flo
         :func:`heat_validation` of the test period (None: no heat check).
     criteria : dict
         Limits as :data:`DEFAULT_CRITERIA`.
+    unit_keys : str, optional
+        The configuration keys that set the metered heat's scale
+        (:func:`thermocal.retrofit.calibration.heat_unit_keys`): named first when the heat
+        check fails with the metered and the model's heat a unit slip's factor apart (3.6: kWh
+        read as MJ; 4: 15-minute energies read as power; 1000).
+    heat_source : str
+        ``measurements.heat_source`` (the slips a hydronic circuit's flow units allow differ).
 
     Returns
     -------
@@ -240,12 +254,16 @@ def validation_gate(validation: dict, heat: dict | None, criteria: dict[str, flo
             else f"{c['name']} {c['value']:.2f} {c['unit']} (limit {c['limit']:g} {c['unit']})"
             for c in failed
         )
+        slip = _heat_unit_slip(heat, failed, unit_keys, heat_source)
         summary = (
             "The calibrated model FAILED its validation on the test period: "
             f"{what}. It does not reproduce this house well enough, so its demand and savings "
-            "are not reliable and no strategy is recommended. Check the building description "
-            "(areas, U-values, unheated spaces), the heat and indoor-temperature measurements "
-            "and the internal gains, then rerun."
+            "are not reliable and no strategy is recommended. "
+            + (
+                slip
+                or "Check the building description (areas, U-values, unheated spaces), the heat "
+                "and indoor-temperature measurements and the internal gains, then rerun."
+            )
         )
     else:
         summary = (
@@ -265,6 +283,41 @@ def validation_gate(validation: dict, heat: dict | None, criteria: dict[str, flo
         "criteria": dict(criteria),
         "summary": summary,
     }
+
+
+def _heat_unit_slip(heat, failed, unit_keys, heat_source) -> str | None:
+    """The sentence naming the heat's unit keys when a failed heat check's metered and model
+    heat are a unit slip's factor apart (:func:`thermocal.retrofit.verify.unit_slip_near`)."""
+    if heat is None or unit_keys is None or not any(c["name"].startswith("heat") for c in failed):
+        return None
+    from thermocal.retrofit.verify import unit_slip_near
+
+    model, measured = heat.get("model_kWh", np.nan), heat.get("measured_kWh", np.nan)
+    if not (np.isfinite(model) and np.isfinite(measured) and model > 0 and measured > 0):
+        return None
+    ratio = measured / model
+    near = unit_slip_near(ratio, heat_source)
+    if near is not None:
+        return (
+            f"The metered heat of the test period is {ratio:.3g} times the model's, near the "
+            f"factor {near[0]:g} of {near[1]}: check {unit_keys} first, then rerun."
+        )
+    if max(ratio, 1.0 / ratio) < HEAT_SCALE_SUSPECT:
+        return None
+    # the calibration absorbs part of a slip (a temperature fit drives the model with the
+    # metered heat): 3.6 or 4 in the meter's unit came out as 4.6 and 5.2 on the demo
+    return (
+        f"The metered heat of the test period is {ratio:.3g} times the model's: a unit slip of "
+        "the heat is the likely cause (the calibration absorbs part of it, so the ratio is not "
+        f"the slip's own factor): check {unit_keys} first, then the building description and "
+        "the internal gains, and rerun."
+    )
+
+
+#: A failed heat check whose metered and model heat differ by this factor or more (either
+#: way) names the heat's unit keys first [-]: a house's heat is not off by 2.5 times from a
+#: description and a calibration on the same data for another reason as often.
+HEAT_SCALE_SUSPECT = 2.5
 
 
 def _check(name: str, value: float, limit: float, unit: str, *, absolute: bool = False) -> dict:

@@ -783,7 +783,8 @@ UNIT_NMBE_PCT = 25.0
 UNIT_SLIP_RATIOS: dict[str, tuple[tuple[float, float, float, str], ...]] = {
     "meter": (
         (2.0, 1.9, 2.25, "kWh per half-hourly row read as kW, or the reverse"),
-        (3.6, 3.2, 4.0, "MJ read as kWh, or kWh as MJ"),
+        (3.6, 3.2, 3.8, "MJ read as kWh, or kWh as MJ"),
+        (4.0, 3.8, 4.5, "kWh per 15-minute row read as kW, or the reverse"),
         (1000.0, 300.0, 3000.0, "W read as kW or Wh as kWh, or the reverse"),
     ),
     "hydronic": (

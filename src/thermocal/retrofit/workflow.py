@@ -566,7 +566,10 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
             None if gains is None else inputs.loc[sel, "phi_int"],
         )
         heat_check = heat_validation(model_heat, inputs.loc[sel, "phi_h_measured"])
-    gate = validation_gate(validation, heat_check, cfg.validation.model_dump())
+    gate = validation_gate(
+        validation, heat_check, cfg.validation.model_dump(),
+        unit_keys=heat_unit_keys(cfg.measurements), heat_source=cfg.measurements.heat_source,
+    )  # fmt: skip
     air_change = None
     if cfg.model.air_change == "slope":
         # the air change's growth with the indoor-outdoor difference, from the calibration

@@ -314,3 +314,42 @@ def test_an_hour_off_the_sun_is_said_in_a_note(tmp_path):
     late = grid.set_axis(times + pd.Timedelta("1h"))
     (note,) = clock_notes(late, cfg, site)
     assert "centred 1 h later than the sun" in note and "measurements.timezone" in note
+
+
+def test_gaps_in_the_test_period_are_refused_or_left_out(tmp_path):
+    """Four days of missing outdoor temperature in the test period were filled by a straight
+    line, the validation drifted 2.3 K and the gate blamed the building file; an indoor
+    temperature measured in 2 of 21 training days passed the 24-value rule and moved the heat
+    loss coefficient by 17 % (exploratory test, 2026-11-30). Both are refused, naming the
+    period and its keys."""
+    config = make_dataset(tmp_path, days=22.0)
+    cfg = yaml.safe_load(config.read_text())
+    measurements = tmp_path / cfg["measurements"]["file"]
+    frame = pd.read_csv(measurements)
+    te = cfg["measurements"]["columns"]["temp_out"]
+    ti = cfg["measurements"]["columns"]["temp_in"]
+    training_rows = int(24 * cfg["periods"]["training_days"])
+    gap = frame.copy()
+    gap.loc[training_rows + 24 : training_rows + 71, te] = np.nan
+    gap.to_csv(measurements, index=False)
+    with pytest.raises(ThermocalInputError, match=r"input 'Te' has a gap of more than 6 h in "
+                       r"the test period \(48 intervals.*periods\.test_days"):  # fmt: skip
+        run_retrofit(load_config(config))
+    sparse = frame.copy()
+    keep = sparse.index < 48
+    sparse.loc[~keep & (sparse.index < training_rows), ti] = np.nan
+    sparse.to_csv(measurements, index=False)
+    with pytest.raises(ThermocalInputError, match=r"indoor temperature \(temp_in\) is measured "
+                       r"in only 48 of the \d+ intervals of the training period"):  # fmt: skip
+        run_retrofit(load_config(config))
+
+
+def test_long_gaps_of_the_followed_temperature():
+    from thermocal.retrofit.workflow import long_gaps
+
+    index = pd.date_range("2024-01-01", periods=48, freq="h")
+    series = pd.Series(20.0, index=index)
+    series.iloc[5:8] = np.nan  # 3 h: bridged
+    series.iloc[20:30] = np.nan  # 10 h: left out
+    mask = long_gaps(series, pd.Timedelta("6h"))
+    assert mask.sum() == 10 and mask[20:30].all()

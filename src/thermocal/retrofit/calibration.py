@@ -819,6 +819,11 @@ def check_heating_power_magnitude(
     return ratio
 
 
+#: Share of a period's intervals with a measured indoor temperature below which the period
+#: is refused [-].
+MIN_INDOOR_COVERAGE = 0.5
+
+
 def check_training_data(
     data: pd.DataFrame,
     source: str = "measurements",
@@ -864,6 +869,20 @@ def check_training_data(
         raise ThermocalInputError(
             f"{source}: only {n_ti} measured indoor temperatures (temp_in) in the {period} "
             f"{data.index[0]} - {data.index[-1]}; the calibration needs at least a day of them"
+        )
+    if n_ti < MIN_INDOOR_COVERAGE * len(data):
+        # a count alone let 2 days of indoor temperature stand for a 21-day training period
+        # (heat loss coefficient +17 %) and 5 hours for a 21-day test period
+        missing = data[OUTPUT_COLUMN].isna().to_numpy()
+        runs = np.flatnonzero(np.diff(np.concatenate([[0], missing.astype(int), [0]])))
+        starts, ends = runs[::2], runs[1::2]
+        longest = int(np.argmax(ends - starts))
+        raise ThermocalInputError(
+            f"{source}: the indoor temperature (temp_in) is measured in only {n_ti} of the "
+            f"{len(data)} intervals of the {period} ({100 * n_ti / len(data):.0f} %; the longest "
+            f"gap from {data.index[starts[longest]]} to {data.index[ends[longest] - 1]}); the "
+            f"model's temperatures there are unchecked: move {period_keys} to where it is "
+            "measured, or fill the log"
         )
     phi = data["phi_h"].to_numpy(float)
     if not np.mean(phi) > 0:

@@ -573,9 +573,13 @@ def test_campaign_time_estimate_and_limit():
 
     lines = []
     assert check_campaign_time(100, 6.0, workers=2, log=lines.append) == pytest.approx(300.0)
-    assert lines == ["estimate: 100 samples x 6.0 s / 2 worker(s) = about 5 min"]
+    assert lines == ["estimate: 100 samples x 6 s / 2 worker(s) = about 5 min"]
+    # a fast model's estimate keeps its digits (it said "0.0 s per identification" and
+    # "about 0 s" for a campaign of 5 s)
+    check_campaign_time(12, 0.04, workers=1, log=lines.append)
+    assert lines[-1] == "estimate: 12 samples x 0.04 s / 1 worker(s) = about 0.48 s"
     with pytest.raises(
-        ThermocalInputError, match=r"about 138\.9 h \(100000 samples x 10\.0 s.*--max-hours 24"
+        ThermocalInputError, match=r"about 138\.9 h \(100000 samples x 10 s.*--max-hours 24"
     ):
         check_campaign_time(100_000, 10.0, workers=2, log=lines.append)
 

@@ -108,7 +108,7 @@ def test_simulate_runs_a_period_across_new_year_on_a_typical_year(shared_data, t
         out = tmp_path / f"out{first[:4]}"
         result = _simulate(_case_600(shared_data, tmp_path, fields), weather, out)
         assert result.exit_code == 0, (fields, result.output, result.exception)
-        times = pd.read_csv(out / "zone_temperatures.csv")["time"]
+        times = pd.read_csv(out / "zone_heat_flows.csv")["time"]  # step starts
         assert (times.iloc[0][:16], times.iloc[-1][:16], len(times)) == (first, last, 62 * 24)
         notes = json.loads((out / "summary.json").read_text())["approximations"]
         assert any("crosses new year: the typical-year weather repeats" in n for n in notes)
@@ -136,7 +136,7 @@ def test_simulate_ends_a_february_29_run_period_of_a_common_year_on_february_28(
     out = tmp_path / "feb"
     result = _simulate(_case_600(shared_data, tmp_path, "2,1,,2,29,,"), weather, out)
     assert result.exit_code == 0, (result.output, result.exception)
-    times = pd.read_csv(out / "zone_temperatures.csv")["time"]
+    times = pd.read_csv(out / "zone_heat_flows.csv")["time"]  # step starts
     assert times.iloc[-1].startswith("2023-02-28 23:00") and len(times) == 28 * 24
     notes = json.loads((out / "summary.json").read_text())["approximations"]
     assert any("2/29 does not exist in 2023" in n and "ends on 2/28" in n for n in notes), notes
@@ -211,3 +211,19 @@ def test_ideal_loads_settings_the_model_does_not_apply_are_named(shared_data, tm
     assert "Availability Schedule Name 'AlwaysOffSch' (on 0 % of the year)" in found["off"][0]
     assert "Heating Limit 'LimitCapacity' (capacity W 1000)" in found["limited"][0]
     assert "unlimited and always available" in found["limited"][0]
+
+
+def test_temperature_rows_are_stamped_with_their_instant(shared_data, tmp_path):
+    """zone_temperatures holds each step's end state, stamped with that instant (as a logger and
+    EnergyPlus stamp it); zone_heat_flows holds each step's mean, stamped with its start. Fed
+    back to identify as a sensor log, start stamps had put every thermostat step one step early
+    (heat spikes of 1-2 kW at each; exploratory test, 2026-11-30)."""
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    out = tmp_path / "stamps"
+    result = _simulate(_case_600(shared_data, tmp_path, "1,1,,1,2,,"), weather, out)
+    assert result.exit_code == 0, (result.output, result.exception)
+    temps = pd.read_csv(out / "zone_temperatures.csv")["time"]
+    flows = pd.read_csv(out / "zone_heat_flows.csv")["time"]
+    assert flows.iloc[0].startswith("2023-01-01 00:00")
+    assert temps.iloc[0].startswith("2023-01-01 01:00")
+    assert temps.iloc[-1].startswith("2023-01-03 00:00") and len(temps) == len(flows) == 48

@@ -147,11 +147,11 @@ def simulate(
     """Simulate BUILDING under WEATHER; write zone temperatures, heat flows and summary.json.
 
     Outputs in OUT: zone_temperatures.csv or .parquet (air and operative temperature in C per
-    zone), zone_heat_flows.csv or .parquet (heating, cooling, given heat, transmitted solar,
-    infiltration in W per zone, mean over each step, rows labelled by step start; --outputs
-    keeps only the quantities named) and summary.json (per zone min/max/mean air temperature
-    per step and hourly-integrated, heating and cooling energy in kWh, peak hourly loads in kW,
-    and every approximation made).
+    zone at the end of each step, rows stamped with that instant), zone_heat_flows.csv or
+    .parquet (heating, cooling, given heat, transmitted solar, infiltration in W per zone, mean
+    over each step, rows labelled by step start; --outputs keeps only the quantities named)
+    and summary.json (per zone min/max/mean air temperature per step and hourly-integrated,
+    heating and cooling energy in kWh, peak hourly loads in kW, and every approximation made).
     """
     import warnings
 

@@ -116,6 +116,11 @@ class SimulationResult:
     ) -> list[Path]:
         """Write zone temperatures, heat flows and ``summary.json`` into ``directory``.
 
+        ``zone_temperatures`` rows are stamped with the instant they describe, the end of each
+        step (a logger's readings, EnergyPlus' time stamps); ``zone_heat_flows`` rows with the
+        start of the step whose mean power they hold (a logger's interval means, ``--rows
+        interval_start`` in ``identify``).
+
         Parameters
         ----------
         directory : str or Path
@@ -152,6 +157,12 @@ class SimulationResult:
                 axis=1,
             )
             flat.index = flat.index.rename("time")
+            if name == "zone_temperatures":
+                # a temperature is the state at the end of its step: its row is stamped with
+                # that instant, as a logger's reading (and EnergyPlus' outputs) would be; fed
+                # back to identify as a sensor log (--rows reports) a start stamp put every
+                # thermostat step one step early (heat spikes of 1-2 kW at each one)
+                flat.index = flat.index + self.step
             jobs.append((flat, directory / f"{name}.{format}"))
         writer = _write_csv if format == "csv" else _write_parquet
         if len(jobs) > 1:

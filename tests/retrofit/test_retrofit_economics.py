@@ -507,3 +507,29 @@ def test_an_extra_loss_far_from_the_description_is_flagged():
     assert "tighter house" in extra_loss_flag(38.7, 99.5)  # the NREL twin: 12 W/K leak
     assert extra_loss_flag(68.0, 120.8) is None  # the basement twin: within a factor 2
     assert extra_loss_flag(0.0, 100.0) is None and extra_loss_flag(50.0, 0.0) is None
+
+
+@pytest.mark.parametrize(
+    ("section", "value", "expected"),
+    [
+        ("uncertainty", {"draw": 100}, r"uncertainty\.draw = 100: .*did you mean 'draws'\?"),
+        ("economics", {"system_efficiency": 85}, r"a percentage\? write it as a fraction: 0\.85"),
+        ("uncertainty", {"interval": 90}, r"a percentage\? write it as a fraction: 0\.9"),
+        (None, {"occupants": 3}, r"'occupants' belongs under internal_gains:"),
+    ],
+)
+def test_configuration_errors_say_what_was_meant(section, value, expected):
+    """pydantic's "Extra inputs are not permitted" and "less than or equal to 5" said nothing of
+    the key's section, a close name or a percentage (exploratory test, 2026-11-30)."""
+    cfg = _cfg()
+    if section is None:
+        cfg.update(value)
+    else:
+        cfg[section] = {**(cfg.get(section) or {}), **value}
+    with pytest.raises(ThermocalInputError, match=expected):
+        parse_config(cfg)
+    if section == "economics":  # a heat pump's COP of 6 is no percentage
+        cfg["economics"]["system_efficiency"] = 6
+        with pytest.raises(ThermocalInputError) as info:
+            parse_config(cfg)
+        assert "percentage" not in str(info.value)

@@ -1588,8 +1588,57 @@ def _format_validation_error(exc: ValidationError, source: str) -> str:
         message = str(err["msg"])
         # a validator's own message, without pydantic's "Value error, " in front of it
         message = message.removeprefix("Value error, ").removeprefix("Assertion failed, ")
-        lines.append(f"  - {where}: {message}")
+        lines.append(f"  - {where}: {message}{_hint(err)}")
     return "\n".join(lines)
+
+
+def _section_fields(loc) -> dict[str, Any]:
+    """The fields of the configuration section at ``loc`` (a key path), name -> FieldInfo."""
+    model: Any = RetrofitConfig
+    for key in loc:
+        fields = getattr(model, "model_fields", None)
+        if not fields or key not in fields:
+            return {}
+        annotation = fields[key].annotation
+        candidates = [annotation, *getattr(annotation, "__args__", ())]
+        model = next((c for c in candidates if hasattr(c, "model_fields")), None)
+        if model is None:
+            return {}
+    return dict(getattr(model, "model_fields", {}))
+
+
+def _hint(err: dict) -> str:
+    """What an unknown key or an out-of-range number probably meant (a close name, the section a
+    key belongs to, a percentage where a fraction is asked)."""
+    import difflib
+
+    loc = [str(p) for p in err.get("loc", ())]
+    if err.get("type") == "extra_forbidden" and loc:
+        key, siblings = loc[-1], _section_fields(loc[:-1])
+        close = difflib.get_close_matches(key, list(siblings), n=1, cutoff=0.75)
+        if close:
+            return f"; did you mean {close[0]!r}?"
+        owners = [
+            name
+            for name in siblings
+            if key in _section_fields([*loc[:-1], name])
+        ]  # fmt: skip
+        if owners:
+            where = ".".join([*loc[:-1], owners[0]])
+            return f"; {key!r} belongs under {where}:"
+        return ""
+    limit = (err.get("ctx") or {}).get("le", (err.get("ctx") or {}).get("lt"))
+    value = err.get("input")
+    if (
+        err.get("type") in ("less_than_equal", "less_than")
+        and isinstance(value, int | float)
+        and not isinstance(value, bool)
+        and isinstance(limit, int | float)
+        # a fraction's limit (1) exceeded, or a heat pump's COP limit (5) by a percentage
+        and ((limit <= 1 and 1 < value <= 100) or (limit <= 5 and 10 <= value <= 100))
+    ):
+        return f"; a percentage? write it as a fraction: {value / 100:g}"
+    return ""
 
 
 def parse_config(

@@ -1037,3 +1037,24 @@ def test_the_midnight_sun_has_no_centre_and_is_not_refused():
     assert elevation.min() > 0  # the midnight sun
     hours = check_clock_against_sun(values, 69.65, 18.96, source="m.csv", column="GHI")
     assert abs(hours) < 1.0
+
+
+def test_local_daylight_saving_stamps_in_a_fixed_zone_are_refused(tmp_path):
+    """Naive stamps of a logger on Chicago's local time, read with --tz -6: the spring hour
+    missing at 02:00 shifted every later time by an hour, with only a warning from identify's
+    clock check (the same stamps with offsets were refused; exploratory test, 2026-11-30). In
+    the zone by name they are read right."""
+    local = pd.date_range("2023-03-11", periods=72, freq="h", tz="America/Chicago")
+    naive = [t.strftime("%Y-%m-%d %H:%M") for t in local]  # 02:00 on 2023-03-12 is missing
+    path = _log(tmp_path, naive)
+    with pytest.raises(ThermocalInputError) as info:
+        read_measurements(path, tz=-6)
+    message = str(info.value)
+    assert "from 01:00 to 03:00 on Sunday 2023-03-12" in message and "-0600" in message
+    assert "--tz America/Chicago" in message and "measurements.timezone" in message
+    raw, _ = read_measurements(path, tz="America/Chicago")
+    times = pd.DatetimeIndex(raw["time"] if "time" in raw.columns else raw.index)
+    assert (times.tz_convert("UTC") == local.tz_convert("UTC")).all()
+    winter = pd.date_range("2023-01-08", periods=72, freq="h")  # no jump: read as given
+    read_measurements(_log(tmp_path, [t.strftime("%Y-%m-%d %H:%M") for t in winter], "w.csv"),
+                      tz=-6)  # fmt: skip

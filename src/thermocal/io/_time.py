@@ -169,6 +169,8 @@ def parse_time_column(
     result = _finish(pd.DatetimeIndex(parsed), values, source, column, lines, tz, zone)
     if offset_match is not None:
         check_clock_offsets(text, result[0], source=source, column=column, lines=lines)
+    else:
+        check_fixed_zone_clock(result[0], source=source, column=column, lines=lines)
     if order_note:
         result = (result[0], "; ".join(n for n in (order_note, result[1]) if n))
     return result
@@ -498,6 +500,58 @@ def check_clock_offsets(
                 "offset, which would shift every later time by an hour. Fix the offsets (summer "
                 "time has its own, e.g. +02:00), or write the times without offsets and pass the "
                 "time zone (--tz Europe/Zurich)"
+            )
+
+
+def check_fixed_zone_clock(
+    times: pd.DatetimeIndex, *, source: str, column: str, lines: np.ndarray | None = None
+) -> None:
+    """Refuse stamps without offsets placed in a zone without clock changes (a fixed offset
+    such as ``--tz -6``, or UTC) whose clock jumps one hour forward in the small hours of a
+    spring Sunday: a logger's local time with daylight saving, which the fixed zone would shift
+    by an hour from then on (the same stamps with their offsets written were refused already).
+
+    Parameters
+    ----------
+    times : pandas.DatetimeIndex
+        The parsed, tz-aware times.
+    source, column : str
+        For the message.
+    lines : numpy.ndarray, optional
+        1-based file line of every row.
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        Naming the line, the jump and what to pass instead.
+    """
+    if times.tz is None or len(times) < 3:
+        return
+    winter = pd.Timestamp("2021-01-15", tz=times.tz).utcoffset()
+    summer = pd.Timestamp("2021-07-15", tz=times.tz).utcoffset()
+    if winter != summer:
+        return  # the zone has its clock changes: the parse placed the stamps right
+    utc = times.as_unit("ns").asi8
+    steps = np.diff(utc)
+    positive = steps[steps > 0]
+    if positive.size < 2:
+        return
+    regular = float(np.median(positive))
+    hour = 3600e9
+    if regular > hour:
+        return
+    for i in np.flatnonzero(np.abs(steps - (regular + hour)) <= 0.1 * regular):
+        before = times[i]
+        if before.day_of_week == 6 and 0 <= before.hour <= 3 and before.month in (3, 4, 9, 10):
+            raise ThermocalInputError(
+                f"{source}, column '{column}', {_where(lines, i + 1)}: the clock jumps from "
+                f"{before:%H:%M} to {times[i + 1]:%H:%M} on Sunday {before:%Y-%m-%d}, one hour "
+                f"more than the log's interval of {regular / 60e9:g} min, while the time zone "
+                f"given ({before:%z}) has no clock change: the log seems written in local time "
+                "with daylight saving, and every later time would be an hour off. Give the "
+                "zone by name, which knows its clock changes (--tz America/Chicago on the "
+                "command line, measurements.timezone: Europe/Zurich in a retrofit "
+                "configuration)"
             )
 
 

@@ -227,3 +227,20 @@ def test_temperature_rows_are_stamped_with_their_instant(shared_data, tmp_path):
     assert flows.iloc[0].startswith("2023-01-01 00:00")
     assert temps.iloc[0].startswith("2023-01-01 01:00")
     assert temps.iloc[-1].startswith("2023-01-03 00:00") and len(temps) == len(flows) == 48
+
+
+def test_start_and_end_take_a_typical_year_to_their_year(shared_data, tmp_path):
+    """Case 600's RunPeriod begins in 2009 and runs there by default; --start 2009-06-01 was
+    refused as outside the weather ("the weather runs in 2023"), which forced another calendar
+    (exploratory test, 2026-11-30). A typical year now takes the year the period asks for."""
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    idf = shared_data("energyplus_reference", "case_600_v25.idf")
+    for year in (2009, 2023):
+        out = tmp_path / str(year)
+        result = CliRunner().invoke(app, [
+            "simulate", str(idf), str(weather), "--step", "1h", "--start", f"{year}-06-01",
+            "--end", f"{year}-06-03", "--out", str(out),
+        ])  # fmt: skip
+        assert result.exit_code == 0, (result.output, result.exception)
+        times = pd.read_csv(out / "zone_heat_flows.csv")["time"]
+        assert times.iloc[0].startswith(f"{year}-06-01 00:00") and len(times) == 48

@@ -107,6 +107,37 @@ def _run_period_weather(run_period, frame, metadata, building: Path, weather: Pa
     return frame, metadata, str(start.date()), str(end.date()), note
 
 
+def _period_year(start: str | None, end: str | None, run_period) -> int | None:
+    """The year a typical-year weather file is put on for ``--start`` / ``--end``.
+
+    Until 2026-11-30 a typical year read with ``--start`` took the latest year whose calendar
+    fits the file: an IDF's RunPeriod in 2009 ran in 2009 by default, but ``--start
+    2009-06-01`` was refused as outside the weather (2023).
+
+    Parameters
+    ----------
+    start, end : str or None
+        The options as given (``end`` exclusive).
+    run_period : RunPeriod or None
+        The IDF's, for its begin year.
+
+    Returns
+    -------
+    int or None
+        None: the weather module's own choice.
+    """
+    import pandas as pd
+
+    for text, back in ((start, False), (end, True)):
+        if text:
+            try:
+                stamp = pd.Timestamp(text)
+            except (ValueError, TypeError):
+                return None  # the period's own check names it
+            return int((stamp - pd.Timedelta("1s")).year if back else stamp.year)
+    return getattr(run_period, "begin_year", None) or None
+
+
 @app.command()
 def simulate(
     building: Annotated[
@@ -198,7 +229,10 @@ def simulate(
                 run_period, frame, metadata, building, weather
             )
         else:
-            frame, metadata = read_weather(weather)
+            # a typical year is put on the year the period asks for (--start's, else --end's),
+            # else the RunPeriod's begin year; an actual-year file keeps its own
+            year = _period_year(start, end, run_period)
+            frame, metadata = read_weather(weather, coerce_year=year)
         from thermocal.io.weather import check_building_site, check_weather_clock
 
         site_note = None

@@ -803,9 +803,13 @@ def fit(
         }
         diagnostics = {}
         residuals = results.residuals
+        from thermocal.statespace.results import observation_rows
+
         for col in model.output_names:
-            acf = autocorrelation(residuals[col].to_numpy(), nlags=40)
-            cp = cumulated_periodogram(residuals[col].to_numpy())
+            # the rows the residual tests take (a midpoint grid observes every second row)
+            e = residuals[col].to_numpy()[observation_rows(residuals[[col]].to_numpy(float))]
+            acf = autocorrelation(e, nlags=40)
+            cp = cumulated_periodogram(e)
             outside = (acf["acf"].abs() > acf["bound"]).iloc[1:]
             diagnostics[col] = {
                 "residual_std": float(residuals[col].std()),

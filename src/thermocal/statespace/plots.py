@@ -56,8 +56,14 @@ def plot_prediction(results, output: str, path: str | Path, *, simulation=True) 
 
 def plot_residual_diagnostics(results, output: str, path: str | Path, *, nlags: int = 40) -> Path:
     """Autocorrelation of the one-step residuals and their cumulated periodogram, with bands."""
+    from thermocal.statespace.results import observation_rows
+
     plt = _pyplot()
-    e = results.residuals[output].to_numpy()
+    residuals = results.residuals
+    # on the rows the residual tests take (a midpoint grid's observations, every second row:
+    # all rows would make every odd lag NaN)
+    rows = observation_rows(residuals[[output]].to_numpy(dtype=float))
+    e = residuals[output].to_numpy()[rows]
     acf = autocorrelation(e, nlags=nlags)
     cp = cumulated_periodogram(e)
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4), layout="constrained")

@@ -19,3 +19,17 @@ def test_missing_values_get_the_placeholder():
         assert format_number(value, ".0f") == "n/a"
     assert format_number(np.inf, ".0f", missing="∞") == "∞"
     assert format_number(None, ".0f", missing="") == ""
+
+
+def test_report_tables_print_no_negative_zero():
+    """A value rounded to zero in a report table had a sign ("-0" in the calibration demo's
+    "share recovered"; exploratory test, 2026-11-30)."""
+    import pandas as pd
+
+    from thermocal.report.html import HtmlReport
+
+    report = HtmlReport("t")
+    report.table(pd.DataFrame({"x": [-1e-9, -0.5, 2.0]}), number_format="{:.0f}")
+    text = report.html() if hasattr(report, "html") else str(report._current)
+    assert "<td class=\"num\">0</td>" in text and "-0<" not in text
+    assert "<td class=\"num\">-0</td>" not in text and "<td class=\"num\">2</td>" in text

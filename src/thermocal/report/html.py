@@ -187,6 +187,8 @@ class HtmlReport:
                         else number_format
                     )
                     text = "" if pd.isna(v) else (fmt(v) if callable(fmt) else fmt.format(v))
+                    if text.lstrip("-").strip("0.,") == "" and text.startswith("-"):
+                        text = text[1:]  # "-0" or "-0.00": a value rounded to zero has no sign
                     cells.append(f'<td class="num">{html.escape(text)}</td>')
                 else:
                     cells.append(f"<td>{html.escape('' if v is None else str(v))}</td>")

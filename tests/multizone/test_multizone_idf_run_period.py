@@ -176,9 +176,10 @@ def test_a_zone_multiplier_counts_in_the_building_totals(shared_data, tmp_path):
 
 def test_ideal_loads_settings_the_model_does_not_apply_are_named(shared_data, tmp_path):
     """Case 600 with its ideal-loads system always off (EnergyPlus: a free float, 0 kWh) or
-    limited to 1 kW of heating (3,024 kWh against the unlimited 4,244): thermocal heats and
-    cools at the set points as before, and now says which settings it does not apply, in the
-    import warning and in full (exploratory test, 2026-11-30; they were silent)."""
+    limited to 1 kW of heating (3,024 kWh against the unlimited 4,244). Both were silent, and
+    heated and cooled at the set points (exploratory test, 2026-11-30). A system never
+    available now leaves its zone without that set point (0 kWh, as EnergyPlus); a limit, or
+    an availability for part of the year, is named in full in the import warning."""
     from thermocal.multizone.files import load_building
     from thermocal.multizone.idf import IdfImportWarning
     from thermocal.multizone.idf.report import import_summary
@@ -208,7 +209,15 @@ def test_ideal_loads_settings_the_model_does_not_apply_are_named(shared_data, tm
         if found[name]:
             assert found[name][0] in import_summary(path.name, building.idf_info)
     assert found["plain"] == []
-    assert "Availability Schedule Name 'AlwaysOffSch' (on 0 % of the year)" in found["off"][0]
+    # never available: applied, the zone floats as in EnergyPlus (0 kWh both ways)
+    assert found["off"] == [found["off"][0]] and "settings applied" in found["off"][0]
+    assert "never available for heating and cooling" in found["off"][0]
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    result = _simulate(tmp_path / "off.idf", weather, tmp_path / "off_out")
+    assert result.exit_code == 0, (result.output, result.exception)
+    totals = json.loads((tmp_path / "off_out" / "summary.json").read_text())["building"]
+    assert totals["heating_kWh"] == 0.0 and totals["cooling_kWh"] == 0.0
+    # a limit is not applied: said in full
     assert "Heating Limit 'LimitCapacity' (capacity W 1000)" in found["limited"][0]
     assert "unlimited and always available" in found["limited"][0]
 

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 __all__ = [
     "AIR_EQUIPMENT_PREFIXES",
+    "IDEAL_LOADS_CLASS",
     "IDEAL_LOADS_NOT_APPLIED",
     "SURFACE_SOURCE_PREFIXES",
     "EquipmentHeat",
@@ -302,7 +303,7 @@ def ideal_loads_notes(records, schedule_mean) -> list[str]:
             except Exception:  # noqa: BLE001 - an unreadable schedule is named as such
                 found.append(f"{label} '{name}' (not read)")
                 continue
-            if mean < 0.999:
+            if 0.0 < mean < 0.999:  # never available: applied (the zone floats), noted there
                 found.append(f"{label} '{name}' (on {100 * mean:.0f} % of the year)")
         for limit, flow, capacity, what in (
             (

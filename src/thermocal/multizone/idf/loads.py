@@ -17,6 +17,8 @@ import numpy as np
 
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone.idf.hvac import (
+    IDEAL_LOADS_CLASS,
+    IDEAL_LOADS_NOT_APPLIED,
     ideal_loads_notes,
     ideal_loads_records,
     zone_heat_delivery,
@@ -600,9 +602,55 @@ class LoadStages:
         self.info.zone_heat_delivery = zone_heat_delivery(
             self.by_key, {key: entry[0] for key, entry in self.zones.items.items()}
         )
-        self.info.notes.extend(
-            ideal_loads_notes(ideal_loads_records(self.by_key), self.schedules.annual_mean)
-        )
+        records = ideal_loads_records(self.by_key)
+        self._switch_off_ideal_loads(records)
+        self.info.notes.extend(ideal_loads_notes(records, self.schedules.annual_mean))
+
+    def _switch_off_ideal_loads(self, records) -> None:
+        """A zone whose ideal-loads system is never available (its availability schedule, or
+        its heating or cooling one, zero all year) loses that set point: EnergyPlus lets it
+        float (Case 600 with its system always off: 0 kWh, where thermocal heated 4,244)."""
+        owner = {
+            e.name.upper(): zone
+            for zone, delivery in self.info.zone_heat_delivery.items()
+            for e in delivery.equipment
+            if e.class_name.upper() == IDEAL_LOADS_CLASS.upper()
+        }
+        for rec in records:
+            zone = owner.get(str(rec.get("name") or "").upper())
+            if zone is None:
+                continue
+
+            def never(key: str, rec=rec) -> bool:
+                name = str(rec.get(key) or "").strip()
+                try:
+                    return bool(name) and self.schedules.value_range(name)[1] <= 0.0
+                except Exception:  # noqa: BLE001 - an unreadable schedule is noted elsewhere
+                    return False
+
+            off = never("availability_schedule_name")
+            heating_off = off or never("heating_availability_schedule_name")
+            cooling_off = off or never("cooling_availability_schedule_name")
+            if not (heating_off or cooling_off):
+                continue
+            heating, cooling = self.setpoints.get(zone, (None, None))
+            h_schedule, c_schedule = self.info.setpoint_schedules.get(zone, (None, None))
+            if heating_off:
+                heating = h_schedule = None
+            if cooling_off:
+                cooling = c_schedule = None
+            self.setpoints[zone] = (heating, cooling)
+            if zone in self.info.setpoint_schedules:
+                self.info.setpoint_schedules[zone] = (h_schedule, c_schedule)
+            what = "heating and cooling" if heating_off and cooling_off else (
+                "heating" if heating_off else "cooling"
+            )
+            self.info.notes.append(
+                f"{IDEAL_LOADS_NOT_APPLIED.replace('not applied', 'applied')}: "
+                f"{rec['_object'].where()} is never available for {what} (its availability "
+                f"schedule is zero all year): zone '{zone}' has no {what} set point, as "
+                "EnergyPlus lets it float"
+            )
 
 
 #: Indoor-temperature limits of ZoneVentilation:DesignFlowRate and their "no limit" defaults

@@ -624,8 +624,8 @@ NOTE_KINDS = (
     ("hvac", "HVAC replaced", lambda n: n.startswith("HVAC equipment")),
     (
         "ideal_loads",
-        "ideal loads settings not applied",
-        lambda n: n.startswith("Ideal loads settings not applied"),
+        "ideal loads settings",
+        lambda n: n.startswith("Ideal loads settings"),
     ),
     ("calendar", "schedule calendar", lambda n: n.startswith("schedule calendar")),
     ("ventilation", "ventilation", lambda n: "ZoneVentilation" in n),

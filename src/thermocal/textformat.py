@@ -101,8 +101,10 @@ def unitless_duration(value: Any) -> bool:
     -------
     bool
     """
-    if isinstance(value, bool):
-        return False
+    import datetime
+
+    if isinstance(value, bool | np.timedelta64 | datetime.timedelta):
+        return False  # a Timedelta (a datetime.timedelta) or numpy's: it has its unit
     if isinstance(value, (int, float, np.integer, np.floating)):
         return float(value) != 0.0
     if isinstance(value, str):

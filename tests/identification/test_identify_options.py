@@ -183,6 +183,11 @@ def test_gap_durations_in_python():
     with pytest.raises(ThermocalInputError, match=r"max_gap 2.5 has no unit"):
         gap_duration(2.5, "max_gap", zero_allowed=True)
     assert gap_duration("0", "max_gap", zero_allowed=True) == pd.Timedelta(0)  # 0 in any unit
+    import numpy as np
+
+    assert gap_duration(np.timedelta64(2, "h"), "max_gap", zero_allowed=True) == pd.Timedelta(
+        "2h"
+    )  # numpy's timedelta has its unit (an integer subclass: it raised TypeError)
 
 
 # -- holidays of the occupancy schedule ---------------------------------------------------------

@@ -578,6 +578,8 @@ def test_campaign_time_estimate_and_limit():
     # "about 0 s" for a campaign of 5 s)
     check_campaign_time(12, 0.04, workers=1, log=lines.append)
     assert lines[-1] == "estimate: 12 samples x 0.04 s / 1 worker(s) = about 0.48 s"
+    check_campaign_time(500, 150.0, workers=2, log=lines.append)  # not "1.5e+02 s"
+    assert lines[-1] == "estimate: 500 samples x 150 s / 2 worker(s) = about 10.4 h"
     with pytest.raises(
         ThermocalInputError, match=r"about 138\.9 h \(100000 samples x 10 s.*--max-hours 24"
     ):
@@ -1055,6 +1057,11 @@ def test_local_daylight_saving_stamps_in_a_fixed_zone_are_refused(tmp_path):
     raw, _ = read_measurements(path, tz="America/Chicago")
     times = pd.DatetimeIndex(raw["time"] if "time" in raw.columns else raw.index)
     assert (times.tz_convert("UTC") == local.tz_convert("UTC")).all()
+    # an ordinary missing hour on another spring or autumn Sunday is a gap, not a clock change
+    # (every such Sunday was refused; review of 2026-11-30)
+    stamps = pd.date_range("2021-10-09", periods=72, freq="h")
+    gap = [t.strftime("%Y-%m-%d %H:%M") for t in stamps if t != pd.Timestamp("2021-10-10 02:00")]
+    read_measurements(_log(tmp_path, gap, "gap.csv"), tz=1.0)
     winter = pd.date_range("2023-01-08", periods=72, freq="h")  # no jump: read as given
     read_measurements(_log(tmp_path, [t.strftime("%Y-%m-%d %H:%M") for t in winter], "w.csv"),
                       tz=-6)  # fmt: skip

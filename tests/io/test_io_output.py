@@ -447,3 +447,21 @@ def test_signal_held_back_during_the_renames_leaves_the_new_results(tmp_path, mo
     assert (out / "a.json").read_text() == "new"
     assert output.last_interrupted == f"after the results were complete: {out} holds them"
     assert leftovers(tmp_path) == []
+
+
+def test_a_campaign_folder_before_its_first_results_and_after_a_crash_is_resumable(tmp_path):
+    """A campaign writes its stores into --out before any result (no marker yet): the Morris
+    store, SQLite's journals and a killed run's stale lock file are the campaign's, not a
+    user's (the manifest check refused them: 1.5 min of campaign, then no results and no
+    --resume; review of 2026-11-30)."""
+    from thermocal.commands.calibrate import SIGNATURE, STATE
+
+    out = tmp_path / "out"
+    out.mkdir()
+    for name in ("campaign.sqlite", "campaign_morris.sqlite", "campaign.sqlite-wal",
+                 "campaign.sqlite-shm", ".campaign.sqlite.lock", "demo_campaign.yaml"):  # fmt: skip
+        (out / name).write_text("x")
+    check_output_folder(out, signature=SIGNATURE, state=STATE)
+    (out / "notes.txt").write_text("mine")
+    with pytest.raises(ThermocalInputError, match=r"did not write \(notes.txt\)"):
+        check_output_folder(out, signature=SIGNATURE, state=STATE)

@@ -253,3 +253,40 @@ def test_start_and_end_take_a_typical_year_to_their_year(shared_data, tmp_path):
         assert result.exit_code == 0, (result.output, result.exception)
         times = pd.read_csv(out / "zone_heat_flows.csv")["time"]
         assert times.iloc[0].startswith(f"{year}-06-01 00:00") and len(times) == 48
+
+
+def test_start_keeps_an_actual_year_weather_file_in_its_own_year(shared_data, tmp_path):
+    """--start in another year than an actual-year file's is refused as before (the period's
+    year was forced onto every weather file: Zurich 2015 ran silently as 2021; review of
+    2026-11-30); inside its year it runs."""
+    weather = shared_data("weather_switzerland", "Zuerich-SMA_2015.epw")
+    idf = shared_data("energyplus_reference", "case_600_v25.idf")
+
+    def run(start, end, name):
+        return CliRunner().invoke(app, [
+            "simulate", str(idf), str(weather), "--step", "1h", "--start", start, "--end", end,
+            "--out", str(tmp_path / name),
+        ])  # fmt: skip
+
+    refused = run("2021-01-05", "2021-01-07", "y2021")
+    assert refused.exit_code != 0 and "2015" in str(refused.exception) + refused.output
+    inside = run("2015-01-05", "2015-01-07", "y2015")
+    assert inside.exit_code == 0, (inside.output, inside.exception)
+
+
+def test_ideal_loads_fields_of_a_file_before_energyplus_8_8():
+    """EnergyPlus 8.8 added the System Inlet Air Node Name: an 8.5 file's later fields sit
+    one position earlier (its cooling availability was read as the heating one, and the
+    dehumidification control type as a schedule; review of 2026-11-30)."""
+    from types import SimpleNamespace
+
+    from thermocal.multizone.idf.hvac import ideal_loads_records
+
+    fields_85 = ["Ideal", "", "N3", "N2", "", "", "0.01", "0.01", "", "", "", "", "", "",
+                 "", "AlwaysOff", "ConstantSupplyHumidityRatio"]  # fmt: skip
+    obj = SimpleNamespace(fields=fields_85)
+    (rec,) = ideal_loads_records({"ZONEHVAC:IDEALLOADSAIRSYSTEM": [obj]}, (8, 5))
+    assert rec["heating_availability_schedule_name"] == ""
+    assert rec["cooling_availability_schedule_name"] == "AlwaysOff"
+    (new,) = ideal_loads_records({"ZONEHVAC:IDEALLOADSAIRSYSTEM": [obj]}, (25, 2))
+    assert new["heating_availability_schedule_name"] == "AlwaysOff"

@@ -533,3 +533,10 @@ def test_configuration_errors_say_what_was_meant(section, value, expected):
         with pytest.raises(ThermocalInputError) as info:
             parse_config(cfg)
         assert "percentage" not in str(info.value)
+        del cfg["economics"]
+        cfg["measures"] = {"t": {"component": "airtightness", "air_change_rate_change": -12,
+                                 "cost": 100}}  # fmt: skip
+        try:
+            parse_config(cfg)
+        except ThermocalInputError as error:  # whatever it says, no percentage
+            assert "percentage" not in str(error)

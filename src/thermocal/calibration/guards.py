@@ -74,6 +74,11 @@ def check_same_campaign(campaign, space, stored: dict, path) -> None:
         )
 
 
+def _seconds(value: float) -> str:
+    """A time in seconds with two digits below 10 s (a fast model's 0.04), whole above."""
+    return f"{value:.2g}" if value < 10 else f"{value:.0f}"
+
+
 def _format_duration(seconds: float) -> str:
     seconds = max(0.0, float(seconds))
     if seconds < 10:
@@ -119,21 +124,21 @@ def check_campaign_time(
     if scheduler is not None:
         estimate = pending * seconds_per_sample
         log(
-            f"estimate: {pending} samples x {seconds_per_sample:.2g} s = "
+            f"estimate: {pending} samples x {_seconds(seconds_per_sample)} s = "
             f"{_format_duration(estimate)} of work, divided among the Dask workers"
         )
         return estimate
     n_workers = max(1, min(int(workers or os.cpu_count() or 1), max(pending, 1)))
     estimate = pending * seconds_per_sample / n_workers
     log(
-        f"estimate: {pending} samples x {seconds_per_sample:.2g} s / {n_workers} worker(s) = "
+        f"estimate: {pending} samples x {_seconds(seconds_per_sample)} s / {n_workers} worker(s) = "
         f"about {_format_duration(estimate)}"
     )
     if max_hours is not None and estimate > max_hours * 3600.0:
         raise ThermocalInputError(
             f"the campaign would take about {_format_duration(estimate)} ({pending} samples x "
-            f"{seconds_per_sample:.2g} s per identification / {n_workers} worker(s)), more than "
-            f"--max-hours {max_hours:g}; use fewer --samples, more --workers or a Dask "
+            f"{_seconds(seconds_per_sample)} s per identification / {n_workers} worker(s)), "
+            f"more than --max-hours {max_hours:g}; use fewer --samples, more --workers or a Dask "
             "--scheduler, or raise --max-hours (the campaign is resumable: --resume continues "
             "an interrupted one)"
         )

@@ -29,6 +29,7 @@ from thermocal.calibration.analysis import (
 from thermocal.calibration.flags import AT_BOUND, calibration_flags, model_error_floor
 from thermocal.calibration.guards import (
     ProgressLines,
+    _seconds,
     check_campaign_time,
     check_same_campaign,
     refuse_filled_store,
@@ -189,8 +190,8 @@ def calibrate(
     timings["nominal_run"] = time.perf_counter() - t0
     log(
         f"nominal model: unoccupied std of building Q_ID "
-        f"{nominal_outputs['unoccupied_std'] / 1000:.3f} kW ({timings['nominal_run']:.2g} s per "
-        "identification)"
+        f"{nominal_outputs['unoccupied_std'] / 1000:.3f} kW "
+        f"({_seconds(timings['nominal_run'])} s per identification)"
     )
     sample_set = sample(space, n, campaign.sampling.method, seed=campaign.sampling.seed)
     definition = campaign_definition(

@@ -231,8 +231,12 @@ def simulate(
         else:
             # a typical year is put on the year the period asks for (--start's, else --end's),
             # else the RunPeriod's begin year; an actual-year file keeps its own
+            frame, metadata = read_weather(weather)
             year = _period_year(start, end, run_period)
-            frame, metadata = read_weather(weather, coerce_year=year)
+            if metadata.get("coerced_year") is not None and year not in (
+                None, metadata["coerced_year"]
+            ):  # a typical year (an actual-year file keeps its own years)
+                frame, metadata = read_weather(weather, coerce_year=year)
         from thermocal.io.weather import check_building_site, check_weather_clock
 
         site_note = None

@@ -503,6 +503,35 @@ def check_clock_offsets(
             )
 
 
+def spring_change_sunday(stamp: pd.Timestamp) -> bool:
+    """Whether ``stamp``'s date is a Sunday on which clocks go forward somewhere.
+
+    The rules in use: the second Sunday of March (North America), the last Sunday of March
+    (Europe), the last Sunday of September (New Zealand), the first Sunday of October
+    (Australia) and the first Sunday of September (Chile). Any other Sunday a missing hour is a
+    logger's gap, not a clock change (a check on every spring and autumn Sunday refused ordinary
+    gaps on about 35 Sundays a year; review of 2026-11-30).
+
+    Parameters
+    ----------
+    stamp : Timestamp
+        A local time.
+
+    Returns
+    -------
+    bool
+    """
+    if stamp.day_of_week != 6:
+        return False
+    day, month = stamp.day, stamp.month
+    last = day + 7 > pd.Timestamp(stamp.year, month, 1).days_in_month
+    return (
+        (month == 3 and (8 <= day <= 14 or last))
+        or (month == 9 and (last or day <= 7))
+        or (month == 10 and day <= 7)
+    )
+
+
 def check_fixed_zone_clock(
     times: pd.DatetimeIndex, *, source: str, column: str, lines: np.ndarray | None = None
 ) -> None:
@@ -542,7 +571,7 @@ def check_fixed_zone_clock(
         return
     for i in np.flatnonzero(np.abs(steps - (regular + hour)) <= 0.1 * regular):
         before = times[i]
-        if before.day_of_week == 6 and 0 <= before.hour <= 3 and before.month in (3, 4, 9, 10):
+        if spring_change_sunday(before) and 0 <= before.hour <= 2:
             raise ThermocalInputError(
                 f"{source}, column '{column}', {_where(lines, i + 1)}: the clock jumps from "
                 f"{before:%H:%M} to {times[i + 1]:%H:%M} on Sunday {before:%Y-%m-%d}, one hour "

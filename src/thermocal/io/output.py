@@ -118,10 +118,15 @@ def check_output_folder(
             entries = {p.name for p in out.iterdir()}
         except OSError as exc:
             raise ThermocalInputError(f"--out {out}: {_describe_os_error(exc)}") from None
-        if MARKER not in entries and entries - set(signature):
-            # without the marker (thermocal before it, or someone else's folder) only the
-            # command's own result files may be there
-            entries = entries - set(signature)
+        kept = {
+            name
+            for name in entries
+            if _is_lock(name) or any(fnmatch.fnmatch(name, pattern) for pattern in state)
+        }
+        if MARKER not in entries and entries - set(signature) - kept:
+            # without the marker (a first run interrupted, thermocal before it, or someone
+            # else's folder) only the command's own result and state files may be there
+            entries = entries - set(signature) - kept
             shown = ", ".join(sorted(entries)[:5]) + (", ..." if len(entries) > 5 else "")
             raise ThermocalInputError(
                 f"--out {out} already holds files thermocal did not write ({shown}); "
@@ -145,6 +150,12 @@ def check_output_folder(
                 )
 
 
+def _is_lock(name: str) -> bool:
+    """Whether a file name is a lock file (``.NAME.lock``): one a killed process left behind
+    is harmless (its OS lock died with it) and belongs to nobody's results."""
+    return name.startswith(".") and name.endswith(".lock")
+
+
 def _manifest(folder: Path) -> dict[str, list[int]]:
     """Every file below ``folder`` but the marker: relative path -> [size, mtime_ns]."""
     files = {}
@@ -165,7 +176,7 @@ def _not_as_written(out: Path, state: tuple[str, ...]) -> tuple[list[str], list[
         return [], []
     foreign, changed = [], []
     for name, stamp in _manifest(out).items():
-        if any(fnmatch.fnmatch(name, pattern) for pattern in state):
+        if _is_lock(Path(name).name) or any(fnmatch.fnmatch(name, pattern) for pattern in state):
             continue
         if name not in written:
             foreign.append(name)
@@ -267,6 +278,7 @@ def _signals_blocked() -> Iterator[None]:
 def _replace(tmp: Path, out: Path) -> None:
     """Move the completed ``tmp`` into place of ``out`` (the old folder removed after)."""
     old: Path | None = None
+    placed = False
     try:
         with _signals_blocked():
             if out.exists():
@@ -277,11 +289,11 @@ def _replace(tmp: Path, out: Path) -> None:
                 os.replace(tmp, out)
             except OSError:
                 if old is not None:
-                    os.replace(old, out)
-                    old = None
+                    os.replace(old, out)  # if this fails too, the old results stay in old
                 raise
+            placed = True
     finally:  # also when a signal held back during the renames arrives as they end
-        if old is not None:
+        if placed and old is not None:
             shutil.rmtree(old, ignore_errors=True)
 
 

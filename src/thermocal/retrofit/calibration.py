@@ -383,6 +383,9 @@ def calibrate(
             "no standard error of the HLC"
         )
     flags = [remedy(f) for f in flags]
+    far = extra_loss_flag(estimates["H_est"], model.audit_h_est)
+    if far:  # without corrections H_est takes the whole of the description's error
+        flags.append(far)
     nuisance_flags = [remedy(f) for f in nuisance_flags]
     return Calibration(
         estimates_si=estimates,
@@ -1359,6 +1362,9 @@ def calibrate_to_heat(
         zd = draw_corrected(corrected, 1000, seed=1)[1:]
         hd = hlc_of_draws(model, corrected.group_factors(zd), corrected.physical_si(zd)["H_est"])
         hlc_std = float(np.std(hd))
+    far = extra_loss_flag(float(p["H_est"]), model.audit_h_est)
+    if far:
+        flags = [*flags, far]
     return Calibration(
         estimates_si={nm: float(p[nm]) for nm in full}, cov_si=cov_si, params=declared,
         bse=bse, correlation=pd.DataFrame(corr, index=names, columns=names),

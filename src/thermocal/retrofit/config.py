@@ -1634,8 +1634,12 @@ def _hint(err: dict) -> str:
         and isinstance(value, int | float)
         and not isinstance(value, bool)
         and isinstance(limit, int | float)
-        # a fraction's limit (1) exceeded, or a heat pump's COP limit (5) by a percentage
-        and ((limit <= 1 and 1 < value <= 100) or (limit <= 5 and 10 <= value <= 100))
+        # a fraction's limit (1) exceeded, or an efficiency's (a heat pump's COP up to 5) by a
+        # percentage; not an air change rate's 3 1/h
+        and (
+            (limit <= 1 and 1 < value <= 100)
+            or (loc and "efficiency" in loc[-1] and limit <= 5 and 10 <= value <= 100)
+        )
     ):
         return f"; a percentage? write it as a fraction: {value / 100:g}"
     return ""

@@ -252,11 +252,18 @@ _IDEAL_LOADS_FIELDS = (
 )
 
 
-def ideal_loads_records(by_key: dict) -> list[dict]:
-    """The file's ideal-loads systems as records (field name -> text, ``_object``)."""
+def ideal_loads_records(by_key: dict, version: tuple[int, int] = (25, 2)) -> list[dict]:
+    """The file's ideal-loads systems as records (field name -> text, ``_object``).
+
+    ``version``: the file's EnergyPlus version; before 8.8 the class had no System Inlet Air
+    Node Name (EnergyPlus 8.8, 2017), so the later fields sit one position earlier.
+    """
+    names = _IDEAL_LOADS_FIELDS
+    if tuple(version) < (8, 8):
+        names = tuple(n for n in names if n != "system_inlet_air_node_name")
     out = []
     for obj in by_key.get(IDEAL_LOADS_CLASS.upper(), []):
-        rec = dict(zip(_IDEAL_LOADS_FIELDS, obj.fields, strict=False))
+        rec = dict(zip(names, obj.fields, strict=False))
         rec["_object"] = obj
         out.append(rec)
     return out

@@ -602,7 +602,7 @@ class LoadStages:
         self.info.zone_heat_delivery = zone_heat_delivery(
             self.by_key, {key: entry[0] for key, entry in self.zones.items.items()}
         )
-        records = ideal_loads_records(self.by_key)
+        records = ideal_loads_records(self.by_key, getattr(self, "version", (25, 2)))
         self._switch_off_ideal_loads(records)
         self.info.notes.extend(ideal_loads_notes(records, self.schedules.annual_mean))
 

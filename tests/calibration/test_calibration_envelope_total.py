@@ -54,6 +54,16 @@ def _total(roof, wall):
     return 100.0 / (roof + FILM_RESISTANCE) + 60.0 / (wall + FILM_RESISTANCE)
 
 
+def _draws_along_a_fixed_total(rng):
+    """Draws of roof and wall resistance along the curve of the nominal total (the roof
+    anywhere in part of its range, the walls compensating), and that total [W/K]."""
+    roof = rng.uniform(2.5, 5.5, 4000)
+    target = _total(4.0, 2.0)
+    wall = 60.0 / (target - 100.0 / (roof + FILM_RESISTANCE)) - FILM_RESISTANCE
+    keep = (wall > 1.0) & (wall < 3.0)
+    return pd.DataFrame({ROOF: roof[keep], WALL: wall[keep]}), target
+
+
 def test_net_opaque_areas_of_exterior_surfaces():
     assert exterior_opaque_areas(_building()) == {"roof": 100.0, "wall": 60.0}
 
@@ -62,11 +72,7 @@ def test_a_sum_the_data_fix_is_determined_while_its_parts_are_not():
     """Draws along the curve of a fixed total (the roof anywhere in its range, the walls
     compensating): the total's interval is a point, each resistance spans its range."""
     rng = np.random.default_rng(0)
-    roof = rng.uniform(2.5, 5.5, 4000)
-    target = _total(4.0, 2.0)
-    wall = 60.0 / (target - 100.0 / (roof + FILM_RESISTANCE)) - FILM_RESISTANCE
-    keep = (wall > 1.0) & (wall < 3.0)
-    draws = pd.DataFrame({ROOF: roof[keep], WALL: wall[keep]})
+    draws, target = _draws_along_a_fixed_total(rng)
     posterior = SimpleNamespace(samples=draws, determined=[])
     total = total_conductance(posterior, _space(), _building())["conduction"]
     assert total["elements"] == {"roof": 100.0, "wall": 60.0}
@@ -86,12 +92,7 @@ def test_a_sum_with_a_part_that_has_no_effect_is_not_determined():
     """The same narrow total, but the walls change the metric by no more than the estimation
     noise (the single parameters' effect-to-noise test): their narrow draws may be noise that
     looks like information, so the sum is not called determined (review, 2026-11-30)."""
-    rng = np.random.default_rng(0)
-    roof = rng.uniform(2.5, 5.5, 4000)
-    target = _total(4.0, 2.0)
-    wall = 60.0 / (target - 100.0 / (roof + FILM_RESISTANCE)) - FILM_RESISTANCE
-    keep = (wall > 1.0) & (wall < 3.0)
-    draws = pd.DataFrame({ROOF: roof[keep], WALL: wall[keep]})
+    draws, _ = _draws_along_a_fixed_total(np.random.default_rng(0))
     summary = pd.DataFrame({"effect_to_noise": [30.0, 2.0]}, index=[ROOF, WALL])
     posterior = SimpleNamespace(samples=draws, determined=[], summary=summary)
     total = total_conductance(posterior, _space(), _building())["conduction"]

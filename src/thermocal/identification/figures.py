@@ -149,9 +149,10 @@ def _shade(ax, index, mask):
     mask = np.asarray(mask)
     if not mask.any():
         return
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(int), [0]])))
+    from thermocal.io.measurements.quality import true_runs
+
     step = index[1] - index[0]
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
+    for a, b in zip(*true_runs(mask), strict=True):
         ax.axvspan(index[a], index[b - 1] + step, color="#e4e9ef", lw=0, zorder=0)
 
 

@@ -447,16 +447,11 @@ def check_clock_offsets(
         Naming the line, the local hour and both offsets.
     """
     utc = times.as_unit("ns").asi8
-    if utc.size < 3:
+    spacing = _regular_spacing(utc)
+    if spacing is None:
         return
-    steps = np.diff(utc)
-    positive = steps[steps > 0]
-    if positive.size < 2:
-        return
-    regular = float(np.median(positive))
+    steps, regular = spacing
     hour = 3600e9
-    if regular > hour:  # coarser than hourly: a one-hour slip is not visible in the spacing
-        return
     near = np.abs(steps - regular) <= 0.1 * regular
     stamp = str(text.iloc[0])
     suffix = _OFFSET.search(stamp).group(0) if _OFFSET.search(stamp) else ""
@@ -487,8 +482,7 @@ def check_clock_offsets(
                 "Europe/Zurich)"
             )
         return
-    gaps = np.flatnonzero(np.abs(steps - (regular + hour)) <= 0.1 * regular)
-    for i in gaps:
+    for i in _hour_jumps(steps, regular):
         before = pd.Timestamp(int(utc[i]), tz="UTC").tz_convert(times.tz)
         if before.day_of_week == 6 and 0 <= before.hour <= 3 and before.month in (3, 4, 9, 10, 11):
             after = pd.Timestamp(int(utc[i + 1]), tz="UTC").tz_convert(times.tz)
@@ -501,6 +495,27 @@ def check_clock_offsets(
                 "time has its own, e.g. +02:00), or write the times without offsets and pass the "
                 "time zone (--tz Europe/Zurich)"
             )
+
+
+def _regular_spacing(utc: np.ndarray) -> tuple[np.ndarray, float] | None:
+    """The steps between stamps [ns] and their regular (median positive) interval [ns]; None
+    for fewer than three stamps or two positive steps, or a log coarser than hourly (a one-hour
+    slip is not visible in its spacing)."""
+    if utc.size < 3:
+        return None
+    steps = np.diff(utc)
+    positive = steps[steps > 0]
+    if positive.size < 2:
+        return None
+    regular = float(np.median(positive))
+    if regular > 3600e9:
+        return None
+    return steps, regular
+
+
+def _hour_jumps(steps: np.ndarray, regular: float) -> np.ndarray:
+    """Positions of the steps one hour longer than the regular interval (within 10 % of it)."""
+    return np.flatnonzero(np.abs(steps - (regular + 3600e9)) <= 0.1 * regular)
 
 
 def spring_change_sunday(stamp: pd.Timestamp) -> bool:
@@ -560,16 +575,11 @@ def check_fixed_zone_clock(
     summer = pd.Timestamp("2021-07-15", tz=times.tz).utcoffset()
     if winter != summer:
         return  # the zone has its clock changes: the parse placed the stamps right
-    utc = times.as_unit("ns").asi8
-    steps = np.diff(utc)
-    positive = steps[steps > 0]
-    if positive.size < 2:
+    spacing = _regular_spacing(times.as_unit("ns").asi8)
+    if spacing is None:
         return
-    regular = float(np.median(positive))
-    hour = 3600e9
-    if regular > hour:
-        return
-    for i in np.flatnonzero(np.abs(steps - (regular + hour)) <= 0.1 * regular):
+    steps, regular = spacing
+    for i in _hour_jumps(steps, regular):
         before = times[i]
         if spring_change_sunday(before) and 0 <= before.hour <= 2:
             raise ThermocalInputError(

@@ -876,9 +876,9 @@ def check_training_data(
     if n_ti < MIN_INDOOR_COVERAGE * len(data):
         # a count alone let 2 days of indoor temperature stand for a 21-day training period
         # (heat loss coefficient +17 %) and 5 hours for a 21-day test period
-        missing = data[OUTPUT_COLUMN].isna().to_numpy()
-        runs = np.flatnonzero(np.diff(np.concatenate([[0], missing.astype(int), [0]])))
-        starts, ends = runs[::2], runs[1::2]
+        from thermocal.io.measurements.quality import true_runs
+
+        starts, ends = true_runs(data[OUTPUT_COLUMN].isna().to_numpy())
         longest = int(np.argmax(ends - starts))
         raise ThermocalInputError(
             f"{source}: the indoor temperature (temp_in) is measured in only {n_ti} of the "

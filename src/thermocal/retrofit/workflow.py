@@ -361,12 +361,12 @@ def long_gaps(series: pd.Series, longest: pd.Timedelta) -> np.ndarray:
     -------
     ndarray of bool
     """
+    from thermocal.io.measurements.quality import true_runs
+
     step = series.index[1] - series.index[0]
     most = max(1, int(longest / step))
-    missing = series.isna().to_numpy()
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], missing.astype(int), [0]])))
     inside = np.zeros(len(series), dtype=bool)
-    for start, end in zip(edges[::2], edges[1::2], strict=True):
+    for start, end in zip(*true_runs(series.isna().to_numpy()), strict=True):
         if end - start > most:
             inside[start:end] = True
     return inside

@@ -48,6 +48,22 @@ def _spikes(values: np.ndarray, n_sigma: float, floor: float, max_run: int = 2) 
     return spikes
 
 
+def true_runs(mask) -> tuple[np.ndarray, np.ndarray]:
+    """Starts and ends (exclusive) of the runs of True in a boolean mask.
+
+    Parameters
+    ----------
+    mask : array-like of bool
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        Positions of each run's first element and of the element after its last.
+    """
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], np.asarray(mask).astype(int), [0]])))
+    return edges[::2], edges[1::2]
+
+
 def level_excursions(
     values: np.ndarray, jump: float, max_run: int, min_run: int = 1
 ) -> list[tuple[int, int]]:

@@ -263,3 +263,99 @@ def test_cli_simulate_writes_only_the_quantities_asked_for(tmp_path, shared_data
     assert isinstance(bad.exception, ThermocalInputError)
     message = str(bad.exception)
     assert "--outputs" in message and "'heat'" in message and "heating" in message
+
+
+def _small_result(step="15min", periods=8 * 4, start="2023-01-10"):
+    """A two-zone result whose values are their step's position (known means per interval)."""
+    from thermocal.multizone.results import SimulationResult
+
+    index = pd.date_range(start, periods=periods, freq=step)
+    ramp = pd.DataFrame(
+        {"a": np.arange(periods, dtype=float), "b": 2.0 * np.arange(periods)}, index=index
+    )
+    return SimulationResult(
+        air_temperature=ramp,
+        operative_temperature=ramp + 0.5,
+        mean_radiant_temperature=ramp + 1.0,
+        heating=ramp * 10.0,
+        cooling=ramp * 0.0,
+        heat_input=ramp * 0.0,
+        transmitted_solar=ramp * 0.0,
+        infiltration=ramp * 0.0,
+        surface_temperature=None,
+        step=pd.Timedelta(step),
+    )
+
+
+def test_reporting_interval_rows_are_interval_means_stamped_as_energyplus(tmp_path):
+    """Hourly rows: the mean of the four 15-min steps starting in the hour; temperatures (the
+    steps' end states) stamped at the hour's end, heat flows at its start."""
+    result = _small_result()
+    result.to_files(tmp_path, report="hourly")
+    temps = pd.read_csv(tmp_path / "zone_temperatures.csv", index_col="time", parse_dates=True)
+    flows = pd.read_csv(tmp_path / "zone_heat_flows.csv", index_col="time", parse_dates=True)
+    assert len(temps) == len(flows) == 8
+    assert temps.index[0] == pd.Timestamp("2023-01-10 01:00")
+    assert flows.index[0] == pd.Timestamp("2023-01-10 00:00")
+    # steps 0..3 -> mean 1.5; steps 4..7 -> 5.5
+    assert temps["a|air_temperature_C"].iloc[:2].tolist() == [1.5, 5.5]
+    assert temps["b|operative_temperature_C"].iloc[0] == pytest.approx(3.5)
+    assert flows["a|heating_W"].iloc[:2].tolist() == [15.0, 55.0]
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["report"]["interval"] == "1h"
+    assert summary["report"]["partial_intervals"] == []
+    # the summary is every step's, whatever the interval: 10 x (0 + ... + 31) W x 0.25 h
+    assert summary["zones"]["a"]["heating_kWh"] == pytest.approx(10 * 496 * 0.25 / 1000)
+
+
+def test_reporting_interval_names_partial_intervals_and_refuses_odd_ones(tmp_path):
+    from thermocal.errors import ThermocalInputError
+    from thermocal.multizone.results import report_rule
+
+    step = pd.Timedelta("15min")
+    assert report_rule(None, step) is None
+    assert report_rule("timestep", step) is None
+    assert report_rule("15min", step) is None
+    assert report_rule("Hourly", step) == "1h"
+    assert report_rule("daily", step) == "1D"
+    assert report_rule("monthly", step) == "MS"
+    for bad, says in (
+        ("20min", "whole number of the 15min time step"),
+        ("5min", "whole number"),
+        ("weekly-ish", "give timestep, hourly"),
+        ("2", "duration with its unit"),
+    ):
+        with pytest.raises(ThermocalInputError, match=says):
+            report_rule(bad, step)
+    # a run starting at 00:30: its first hour holds two of four steps
+    result = _small_result(start="2023-01-10 00:30", periods=6)
+    result.to_files(tmp_path, report="1h", quantities="heating")
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["report"]["partial_intervals"] == ["2023-01-10 00:00:00"]
+    flows = pd.read_csv(tmp_path / "zone_heat_flows.csv", index_col="time")
+    assert flows["a|heating_W"].tolist() == [5.0, 35.0]
+
+
+def test_cli_simulate_refuses_a_reporting_interval_before_the_run(tmp_path, shared_data):
+    from thermocal.errors import ThermocalInputError
+
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    building = save_building(generators.single_family_house(), tmp_path / "house.yaml")
+    common = [
+        "simulate", str(building), str(weather), "--start", "2023-01-10", "--end", "2023-01-11",
+        "--step", "15min",
+    ]
+    odd = "whole number of the 15min time step: give a multiple of it (e.g. 30min)"
+    for report, says in (("20min", odd), ("3", "has no unit")):
+        result = CliRunner().invoke(
+            app, [*common, "--out", str(tmp_path / "x"), "--report", report]
+        )
+        assert isinstance(result.exception, ThermocalInputError), result.output
+        assert says in str(result.exception)
+        assert not (tmp_path / "x").exists()
+    result = CliRunner().invoke(
+        app, [*common, "--out", str(tmp_path / "d"), "--report", "daily"]
+    )
+    assert result.exit_code == 0, result.output
+    temps = pd.read_csv(tmp_path / "d" / "zone_temperatures.csv", index_col="time")
+    assert len(temps) == 1

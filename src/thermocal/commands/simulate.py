@@ -174,6 +174,14 @@ def simulate(
     warmup_days: Annotated[
         int, typer.Option(help="Repetitions of the first day before the run.")
     ] = 7,
+    report: Annotated[
+        str | None,
+        typer.Option(
+            help="Rows of the output files: every step (default), or means over each hourly, "
+            "daily or monthly interval or a duration such as 1h (EnergyPlus' reporting "
+            "frequency; temperatures stamped at the interval's end, heat flows at its start)."
+        ),
+    ] = None,
 ) -> None:
     """Simulate BUILDING under WEATHER; write zone temperatures, heat flows and summary.json.
 
@@ -214,6 +222,10 @@ def simulate(
         quantities = output_quantities(outputs)
     except ThermocalInputError as error:
         raise ThermocalInputError(f"--outputs: {error}") from None
+    if report is not None and unitless_duration(report):
+        raise ThermocalInputError(
+            f"--report {report!r} has no unit: write it with one, e.g. {report}h, or hourly"
+        )
     signature = ("summary.json", f"zone_temperatures.{output_format}")
     check_output_folder(out, signature=signature)
     console = Console(stderr=True)
@@ -288,6 +300,12 @@ def simulate(
             warmup_days=warmup_days,
             store_surfaces=False,
         )
+    from thermocal.multizone.results import report_rule
+
+    try:  # before the run, not after it
+        report_rule(report, sim.step_size)
+    except ThermocalInputError as error:
+        raise ThermocalInputError(f"--report: {error}") from None
     for warning in caught:
         console.print(f"[yellow]warning:[/yellow] {warning.message}")
     console.print(
@@ -301,7 +319,9 @@ def simulate(
                 result.approximations.insert(0, note)
         written = [
             out / Path(p).name
-            for p in result.to_files(tmp, format=output_format, quantities=quantities)
+            for p in result.to_files(
+                tmp, format=output_format, quantities=quantities, report=report
+            )
         ]
         info = getattr(model, "idf_info", None)
         if info is not None:

@@ -7,6 +7,7 @@ Returned by :class:`thermocal.multizone.simulation.Simulation` (``run`` and ``tr
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -112,14 +113,16 @@ class SimulationResult:
         }
 
     def to_files(
-        self, directory: str | Path, *, format: str = "csv", quantities=None
+        self, directory: str | Path, *, format: str = "csv", quantities=None, report=None
     ) -> list[Path]:
         """Write zone temperatures, heat flows and ``summary.json`` into ``directory``.
 
         ``zone_temperatures`` rows are stamped with the instant they describe, the end of each
         step (a logger's readings, EnergyPlus' time stamps); ``zone_heat_flows`` rows with the
         start of the step whose mean power they hold (a logger's interval means, ``--rows
-        interval_start`` in ``identify``).
+        interval_start`` in ``identify``). With a reporting interval, each row is the mean of
+        the steps in one interval (EnergyPlus' reporting frequency): temperatures stamped at
+        the interval's end, as EnergyPlus stamps its hourly means, heat flows at its start.
 
         Parameters
         ----------
@@ -128,6 +131,11 @@ class SimulationResult:
         quantities : sequence of str, optional
             Which of :data:`OUTPUT_QUANTITIES` to write (default: all); a file whose
             quantities are all left out is not written.
+        report : str, optional
+            Reporting interval (:func:`report_rule`): None or ``"timestep"`` for every step,
+            a duration that is a whole number of steps (``"1h"``, ``"1D"``), ``"hourly"``,
+            ``"daily"`` or ``"monthly"`` (calendar months). ``summary.json`` is computed from
+            every step whatever the interval.
 
         Returns
         -------
@@ -137,6 +145,7 @@ class SimulationResult:
         if format not in ("csv", "parquet"):
             raise ThermocalInputError(f"format must be 'csv' or 'parquet', got {format!r}")
         chosen = output_quantities(quantities)
+        rule = report_rule(report, self.step)
         directory = Path(directory)
         directory.mkdir(parents=True, exist_ok=True)
         jobs = []
@@ -157,7 +166,15 @@ class SimulationResult:
                 axis=1,
             )
             flat.index = flat.index.rename("time")
-            if name == "zone_temperatures":
+            if rule is not None:
+                # the steps starting in an interval: their temperatures are the states at
+                # the steps' ends, so the mean's instant is the interval's end
+                at_end = name == "zone_temperatures"
+                flat = flat.resample(
+                    rule, label="right" if at_end else "left", closed="left"
+                ).mean()
+                flat.index = flat.index.rename("time")
+            elif name == "zone_temperatures":
                 # a temperature is the state at the end of its step: its row is stamped with
                 # that instant, as a logger's reading (and EnergyPlus' outputs) would be; fed
                 # back to identify as a sensor log (--rows reports) a start stamp put every
@@ -176,7 +193,10 @@ class SimulationResult:
                 writer(*job)
         written = [path for _, path in jobs]
         path = directory / "summary.json"
-        path.write_text(json.dumps(self.summary(), indent=2))
+        summary = self.summary()
+        if rule is not None:
+            summary["report"] = _report_description(rule, self.air_temperature.index, self.step)
+        path.write_text(json.dumps(summary, indent=2))
         written.append(path)
         return written
 
@@ -253,6 +273,90 @@ def output_quantities(quantities=None) -> list[str]:
             f"{', '.join(OUTPUT_QUANTITIES)} (comma-separated)"
         )
     return [q for q in OUTPUT_QUANTITIES if q in quantities]
+
+
+#: Words of EnergyPlus' reporting frequencies -> pandas resampling rule (None: every step).
+REPORT_WORDS = {"timestep": None, "hourly": "1h", "daily": "1D", "monthly": "MS"}
+
+
+def report_rule(report, step: pd.Timedelta) -> str | None:
+    """The resampling rule of a reporting interval, checked against the time step.
+
+    Parameters
+    ----------
+    report : str or None
+        None or ``"timestep"`` (every step), ``"hourly"``, ``"daily"``, ``"monthly"``, or a
+        duration with its unit (``"30min"``, ``"1h"``, ``"1D"``) that is a whole number of
+        steps.
+    step : pandas.Timedelta
+        The simulation's time step.
+
+    Returns
+    -------
+    str or None
+        A pandas resampling rule, None for every step.
+    """
+    if report is None:
+        return None
+    text = str(report).strip()
+    word = text.lower()
+    if word in REPORT_WORDS:
+        rule = REPORT_WORDS[word]
+        if rule is None or rule == "MS":
+            return rule
+    else:
+        from thermocal.textformat import unitless_duration
+
+        try:
+            if unitless_duration(text):
+                raise ValueError
+            rule = text
+            pd.Timedelta(rule)
+        except (ValueError, TypeError):
+            raise ThermocalInputError(
+                f"reporting interval {text!r}: give timestep, hourly, daily, monthly or a "
+                "duration with its unit, e.g. 1h or 30min"
+            ) from None
+    interval = pd.Timedelta(rule)
+    ratio = interval / step
+    if interval < step or not float(ratio).is_integer():
+        raise ThermocalInputError(
+            f"reporting interval {text!r} is not a whole number of the {_duration(step)} "
+            f"time step: give a multiple of it (e.g. {_duration(step * max(1, math.ceil(ratio)))})"
+        )
+    return None if ratio == 1 else rule
+
+
+def _duration(value: pd.Timedelta) -> str:
+    minutes = value.total_seconds() / 60.0
+    return f"{minutes:g}min" if minutes < 60 else f"{minutes / 60.0:g}h"
+
+
+def _report_description(rule: str, index: pd.DatetimeIndex, step: pd.Timedelta) -> dict:
+    """What each row of the files holds, and the intervals the run covers only in part."""
+    full = (
+        pd.Series(1, index=index).resample(rule, closed="left", label="left").count()
+    )
+    expected = [
+        (_interval_end(start, rule) - start) / step for start in full.index
+    ]
+    partial = [
+        str(start)
+        for start, count, whole in zip(full.index, full.to_numpy(), expected, strict=True)
+        if count < whole
+    ]
+    return {
+        "interval": {"MS": "monthly"}.get(rule, rule),
+        "rows": "means over each interval of the steps starting in it; zone_temperatures "
+        "stamped at the interval's end, zone_heat_flows at its start",
+        "partial_intervals": partial,
+    }
+
+
+def _interval_end(start: pd.Timestamp, rule: str) -> pd.Timestamp:
+    if rule == "MS":
+        return start + pd.offsets.MonthBegin(1)
+    return start + pd.Timedelta(rule)
 
 
 def _write_parquet(frame: pd.DataFrame, path: Path) -> None:

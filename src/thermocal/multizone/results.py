@@ -153,11 +153,23 @@ class SimulationResult:
             parts = [q for q in chosen if OUTPUT_QUANTITIES[q][0] == name]
             if not parts:
                 continue
+            at_end = name == "zone_temperatures"
+
+            def rows(frame, at_end=at_end):
+                if rule is None:
+                    return frame
+                # the steps starting in an interval: their temperatures are the states at the
+                # steps' ends, so the mean's instant is the interval's end (each quantity on
+                # its own: resampling the frames side by side first copies them into one)
+                return frame.resample(
+                    rule, label="right" if at_end else "left", closed="left"
+                ).mean()
+
             # the quantities side by side without copying them (the writers read a block of
             # rows at a time): a year of a large building is gigabytes per copy
             flat = pd.concat(
                 [
-                    getattr(self, q).set_axis(
+                    rows(getattr(self, q)).set_axis(
                         [f"{zone}|{OUTPUT_QUANTITIES[q][1]}" for zone in getattr(self, q).columns],
                         axis=1,
                     )
@@ -166,15 +178,7 @@ class SimulationResult:
                 axis=1,
             )
             flat.index = flat.index.rename("time")
-            if rule is not None:
-                # the steps starting in an interval: their temperatures are the states at
-                # the steps' ends, so the mean's instant is the interval's end
-                at_end = name == "zone_temperatures"
-                flat = flat.resample(
-                    rule, label="right" if at_end else "left", closed="left"
-                ).mean()
-                flat.index = flat.index.rename("time")
-            elif name == "zone_temperatures":
+            if rule is None and at_end:
                 # a temperature is the state at the end of its step: its row is stamped with
                 # that instant, as a logger's reading (and EnergyPlus' outputs) would be; fed
                 # back to identify as a sensor log (--rows reports) a start stamp put every

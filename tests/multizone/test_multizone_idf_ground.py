@@ -213,3 +213,33 @@ def test_simulation_reflects_the_building_s_ground_reflectance(tmp_path):
     ghi = grid["ghi"].to_numpy()
     assert ours["poa_ground_diffuse"] == pytest.approx(0.2 * ghi / 2, rel=1e-6)
     assert weather["poa_ground_diffuse"] == pytest.approx(0.73 * ghi / 2, rel=1e-6)
+
+
+@requires_energyplus
+def test_entered_ceiling_height_gives_the_volume_as_in_energyplus(tmp_path):
+    """A Zone with its Ceiling Height entered and its Volume blank: EnergyPlus takes floor area
+    x height (Case 600, 48 m2, 4.0 m: 192 m3 in its eio), not the volume the surfaces enclose
+    (129.6 m3, which thermocal kept: heating 12 % below EnergyPlus'; exploratory test,
+    2026-11-30). The volume is read back from EnergyPlus' own eio on the same file."""
+    from conftest import shared_data_path
+    from thermocal.multizone.energyplus import run_energyplus
+
+    text = shared_data_path("energyplus_reference", "case_600_v25.idf").read_text()
+    height = "  2.7,                                  !- Ceiling Height {m}"
+    volume = "  129.6,                                !- Volume {m3}"
+    assert height in text and volume in text
+    text = text.replace(height, "  4.0,  !- Ceiling Height {m}", 1)
+    text = text.replace(volume, "  ,  !- Volume {m3}", 1)
+    begin, end = "  12,                                   !- End Month", "  1,  !- End Month"
+    path = tmp_path / "tall.idf"
+    path.write_text(text.replace(begin, end, 1) if begin in text else text)
+    run_energyplus(path, shared_data_path("ashrae140_bestest", "725650TYCST.epw"), tmp_path / "o")
+    eio = (tmp_path / "o" / "eplusout.eio").read_text()
+    line = next(x for x in eio.splitlines() if x.startswith(" Zone Information, ZONE ONE"))
+    header = next(
+        x for x in eio.splitlines() if x.startswith("! <Zone Information>")
+    ).split(",")
+    theirs = float(line.split(",")[next(i for i, h in enumerate(header) if "Volume" in h)])
+    assert theirs == pytest.approx(192.0, rel=1e-3)
+    building = _read(path)
+    assert building.zones["ZONE ONE"].volume == pytest.approx(theirs, rel=1e-6)

@@ -290,3 +290,33 @@ def test_ideal_loads_fields_of_a_file_before_energyplus_8_8():
     assert rec["cooling_availability_schedule_name"] == "AlwaysOff"
     (new,) = ideal_loads_records({"ZONEHVAC:IDEALLOADSAIRSYSTEM": [obj]}, (25, 2))
     assert new["heating_availability_schedule_name"] == "AlwaysOff"
+
+
+def test_run_periods_energyplus_would_run_and_simulate_does_not_are_named(shared_data, tmp_path):
+    """A second RunPeriod (NREL's test files often give January and July) was dropped without a
+    word, as was a SimulationControl that runs only the design days (exploratory test,
+    2026-11-30): both are now named in the import warning."""
+    from thermocal.multizone.files import load_building
+    from thermocal.multizone.idf import IdfImportWarning
+
+    path = _case_600(shared_data, tmp_path, "1,1,2009,1,31,2009,Thursday", name="two.idf")
+    runs = "  Yes;                                  !- Run Simulation for Weather File Run Periods"
+    assert runs in path.read_text()
+    path.write_text(
+        path.read_text().replace(runs, "  No;  !- Run Simulation for Weather File Run Periods")
+        + "\nRunPeriod, Summer, 7, 1, 2009, 7, 31, 2009, Wednesday, No, No, No, Yes, Yes;\n"
+    )
+    with pytest.warns(IdfImportWarning) as caught:
+        building = load_building(path)
+    printed = " ".join(str(w.message) for w in caught)
+    assert re.search(
+        r"RunPeriod 'Summer' \(two.idf line \d+\) \(7/1 to 7/31, month/day\) is not simulated",
+        printed,
+    ), printed
+    assert "simulate it with --start and --end" in printed
+    assert "'Run Simulation for Weather File Run Periods' is No" in printed
+    assert building.idf_info.run_period.name == "Run Period 1"
+    plain = _case_600(shared_data, tmp_path, "1,1,2009,1,31,2009,Thursday", name="one.idf")
+    with pytest.warns(IdfImportWarning) as caught:
+        load_building(plain)
+    assert "is not simulated" not in " ".join(str(w.message) for w in caught)

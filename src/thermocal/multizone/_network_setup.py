@@ -220,6 +220,19 @@ class NetworkSetup:
                 np.isfinite(cool) if switched is None else np.isfinite(cool) & ~switched[self._ctrl]
             )
             c = np.where(keep & ~np.isfinite(c), cool, c)
+            # an ideal-loads system switched off by its availability schedules: no set point
+            # on those steps (the zone floats, as in EnergyPlus)
+            for available, array, off in (
+                (getattr(self._scheduled, "heating_available", None), "h", -np.inf),
+                (getattr(self._scheduled, "cooling_available", None), "c", np.inf),
+            ):
+                if available is None or (available.strides == (0, 0) and available.flat[0] > 0):
+                    continue  # no schedule, or available on every step
+                on = available[:, self._ctrl] > 0.0
+                if array == "h":
+                    h = np.where(on, np.broadcast_to(h, on.shape), off)
+                else:
+                    c = np.where(on, np.broadcast_to(c, on.shape), off)
             if (
                 np.ptp(np.where(np.isfinite(h), h, 0.0), axis=0).any()
                 or np.ptp(np.where(np.isfinite(c), c, 0.0), axis=0).any()

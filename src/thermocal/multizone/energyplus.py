@@ -57,6 +57,9 @@ def run_energyplus(
 ) -> Path:
     """Run EnergyPlus on ``idf`` with ``weather``; return the ``eplusout.eso`` path.
 
+    A file with ``HVACTemplate`` objects is expanded first (EnergyPlus' ``-x``, ExpandObjects),
+    as EnergyPlus' own launchers do.
+
     Raises
     ------
     ThermocalInputError
@@ -71,8 +74,9 @@ def run_energyplus(
         )
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
+    expand = ["-x"] if "HVACTEMPLATE" in Path(idf).read_text(errors="replace").upper() else []
     proc = subprocess.run(
-        [str(exe), "-w", str(weather), "-d", str(directory), str(idf)],
+        [str(exe), *expand, "-w", str(weather), "-d", str(directory), str(idf)],
         capture_output=True,
         text=True,
         timeout=timeout,

@@ -17,6 +17,8 @@ import numpy as np
 
 from thermocal.errors import ThermocalInputError
 from thermocal.multizone.idf.hvac import (
+    COOLING_ONLY,
+    HEATING_ONLY,
     IDEAL_LOADS_CLASS,
     IDEAL_LOADS_NOT_APPLIED,
     ideal_loads_notes,
@@ -585,7 +587,7 @@ class LoadStages:
     def _setpoints(self) -> None:
         """Stage: thermostats."""
         self.setpoints = _thermostats(
-            self.records, self.zones, self.zone_lists, self.schedules, self.info
+            self.records, self.zones, self.zone_lists, self.schedules, self.info, self.by_key
         )
         hvac = sorted(
             cls
@@ -602,9 +604,66 @@ class LoadStages:
         self.info.zone_heat_delivery = zone_heat_delivery(
             self.by_key, {key: entry[0] for key, entry in self.zones.items.items()}
         )
+        self._one_sided_equipment()
+        self._plenums()
         records = ideal_loads_records(self.by_key, getattr(self, "version", (25, 2)))
         self._switch_off_ideal_loads(records)
         self.info.notes.extend(ideal_loads_notes(records, self.schedules.annual_mean))
+
+    def _plenums(self) -> None:
+        """A note per air-loop plenum: the air the loop draws or pushes through its zone is not
+        modelled (NREL's 5Zone_IdealLoadsAirSystems_ReturnPlenum: the plenum 0.84 K colder
+        than in EnergyPlus, the zones' heating 3-4 % higher)."""
+        for cls in ("AirLoopHVAC:ReturnPlenum", "AirLoopHVAC:SupplyPlenum"):
+            for obj in self.by_key.get(cls.upper(), []):
+                zone = obj.fields[1].strip() if len(obj.fields) > 1 else ""
+                air = "return air of the zones it serves" if "Return" in cls else "supply air"
+                self.info.notes.append(
+                    f"HVAC equipment not modelled: {obj.where()} carries the {air} through "
+                    f"zone '{zone}', which the model leaves out (NREL's "
+                    "5Zone_IdealLoadsAirSystems_ReturnPlenum: the plenum 0.84 K colder than in "
+                    "EnergyPlus, the zones' heating 3-4 % higher)"
+                )
+
+    def _one_sided_equipment(self) -> None:
+        """A zone whose every piece of equipment only heats (baseboards, high-temperature
+        radiant heaters, the baseboard template) gets no cooling set point, and one whose
+        equipment only cools (cooling panels) no heating set point: EnergyPlus cannot cool or
+        heat it (a baseboard zone with a dual-setpoint thermostat got 558 kWh of ideal cooling
+        in January and ran 6 K colder than in EnergyPlus)."""
+        dropped: dict[str, list[str]] = {"cooling": [], "heating": []}
+        classes: dict[str, set] = {"cooling": set(), "heating": set()}
+        for zone, delivery in self.info.zone_heat_delivery.items():
+            kinds = [e.class_name.upper() for e in delivery.equipment]
+            if not kinds or zone not in self.setpoints:
+                continue
+            for side, only in (("cooling", HEATING_ONLY), ("heating", COOLING_ONLY)):
+                if not all(k.startswith(only) for k in kinds):
+                    continue
+                heating, cooling = self.setpoints[zone]
+                h_schedule, c_schedule = self.info.setpoint_schedules.get(zone, (None, None))
+                if (cooling if side == "cooling" else heating) is None:
+                    continue
+                if side == "cooling":
+                    cooling = c_schedule = None
+                else:
+                    heating = h_schedule = None
+                self.setpoints[zone] = (heating, cooling)
+                if zone in self.info.setpoint_schedules:
+                    self.info.setpoint_schedules[zone] = (h_schedule, c_schedule)
+                self.info.setpoint_control.pop(zone, None)
+                dropped[side].append(zone)
+                classes[side].update(e.class_name for e in delivery.equipment)
+        for side, zones in dropped.items():
+            if not zones:
+                continue
+            does = "heats" if side == "cooling" else "cools"
+            names = ", ".join(f"'{z}'" for z in zones[:8]) + (", ..." if len(zones) > 8 else "")
+            self.info.notes.append(
+                f"HVAC equipment that only {does[:-1]}s ({', '.join(sorted(classes[side]))}) "
+                f"serves {len(zones)} zone(s) ({names}): no {side} set point there, as "
+                f"EnergyPlus cannot {side[:-3]} them"
+            )
 
     def _switch_off_ideal_loads(self, records) -> None:
         """A zone whose ideal-loads system is never available (its availability schedule, or
@@ -617,20 +676,37 @@ class LoadStages:
             if e.class_name.upper() == IDEAL_LOADS_CLASS.upper()
         }
         for rec in records:
-            zone = owner.get(str(rec.get("name") or "").upper())
+            if "zone_name" in rec:  # an HVACTemplate: its own Zone Name
+                entry = self.zones.get(str(rec["zone_name"]))
+                zone = entry[0] if entry is not None else None
+            else:
+                zone = owner.get(str(rec.get("name") or "").upper())
             if zone is None:
                 continue
 
-            def never(key: str, rec=rec) -> bool:
+            def readable(key: str, rec=rec) -> tuple[str, tuple[float, float]] | None:
                 name = str(rec.get(key) or "").strip()
                 try:
-                    return bool(name) and self.schedules.value_range(name)[1] <= 0.0
+                    return (name, self.schedules.value_range(name)) if name else None
                 except Exception:  # noqa: BLE001 - an unreadable schedule is noted elsewhere
-                    return False
+                    return None
 
-            off = never("availability_schedule_name")
-            heating_off = off or never("heating_availability_schedule_name")
-            cooling_off = off or never("cooling_availability_schedule_name")
+            system, heating, cooling = (
+                readable(f"{kind}availability_schedule_name")
+                for kind in ("", "heating_", "cooling_")
+            )
+            # available part of the time: switched off step by step where a schedule is 0
+            partial = {
+                kind: tuple(
+                    s[0] for s in (system, own) if s is not None and s[1][0] <= 0.0 < s[1][1]
+                )
+                for kind, own in (("heating", heating), ("cooling", cooling))
+            }
+            if partial["heating"] or partial["cooling"]:
+                self.info.ideal_loads_availability[zone] = (partial["heating"], partial["cooling"])
+            off = system is not None and system[1][1] <= 0.0
+            heating_off = off or (heating is not None and heating[1][1] <= 0.0)
+            cooling_off = off or (cooling is not None and cooling[1][1] <= 0.0)
             if not (heating_off or cooling_off):
                 continue
             heating, cooling = self.setpoints.get(zone, (None, None))
@@ -877,7 +953,44 @@ def _setpoint_schedule_names(cls: str, sp: dict) -> tuple[str | None, str | None
     return name, name
 
 
-def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
+#: The zone templates other than ideal loads (read by position, not imported) and the position
+#: of their Template Thermostat Name after the Zone Name (EnergyPlus 25.2's IDD): EnergyPlus
+#: expands each into its equipment and the zone's thermostat.
+_ZONE_TEMPLATE_THERMOSTAT = {
+    "HVACTemplate:Zone:BaseboardHeat": 1,
+    "HVACTemplate:Zone:FanCoil": 1,
+    "HVACTemplate:Zone:PTAC": 1,
+    "HVACTemplate:Zone:PTHP": 1,
+    "HVACTemplate:Zone:WaterToAirHeatPump": 1,
+    "HVACTemplate:Zone:VRF": 2,
+    "HVACTemplate:Zone:Unitary": 2,
+    "HVACTemplate:Zone:VAV": 2,
+    "HVACTemplate:Zone:VAV:FanPowered": 2,
+    "HVACTemplate:Zone:VAV:HeatAndCool": 2,
+    "HVACTemplate:Zone:ConstantVolume": 2,
+    "HVACTemplate:Zone:DualDuct": 2,
+}
+
+
+def _template_thermostat_records(records, by_key) -> list[tuple[dict, IdfObject]]:
+    """``(zone name, template thermostat name)`` records of every HVACTemplate:Zone object with
+    the object: the ideal-loads template read by name, the others by position (a zone with a
+    baseboard template lost its thermostat and floated: 0 kWh where EnergyPlus heated 564)."""
+    out = [
+        ({"zone_name": rec["zone_name"], "template_thermostat_name":
+          rec["template_thermostat_name"]}, rec["_object"])
+        for rec in records("HVACTEMPLATE:ZONE:IDEALLOADSAIRSYSTEM")
+    ]  # fmt: skip
+    for cls, position in _ZONE_TEMPLATE_THERMOSTAT.items():
+        for obj in (by_key or {}).get(cls.upper(), []):
+            fields = [f.strip() for f in obj.fields] + [""] * (position + 1)
+            out.append(
+                ({"zone_name": fields[0], "template_thermostat_name": fields[position]}, obj)
+            )
+    return out
+
+
+def _thermostats(records, zones, zone_lists, schedules, info, by_key=None) -> dict:
     """Zone -> (heating set point, cooling set point) from the thermostat objects."""
     setpoint_objects: dict[str, dict] = {}
     for rec in records(
@@ -979,8 +1092,9 @@ def _thermostats(records, zones, zone_lists, schedules, info) -> dict:
             )
 
     templates = {rec["name"].upper(): rec for rec in records("HVACTEMPLATE:THERMOSTAT")}
-    for rec in records("HVACTEMPLATE:ZONE:IDEALLOADSAIRSYSTEM"):
-        obj = rec["_object"]
+    for rec, obj in _template_thermostat_records(records, by_key):
+        if not rec["template_thermostat_name"]:
+            continue  # a template without a thermostat: the zone's own ZoneControl, if any
         entry = zones.get(rec["zone_name"])
         if entry is None:
             raise ThermocalInputError(

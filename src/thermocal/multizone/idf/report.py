@@ -89,6 +89,10 @@ class ScheduledInputs:
     #: (n_zones,) bool: zones whose thermostat's control type varies; a NaN set point there is
     #: "no such control on this step", not "use the zone's constant set point"
     setpoint_switched: np.ndarray | None = None
+    #: (steps, zones) [-]: 0 where the zone's ideal-loads system is off for heating / cooling
+    #: (its availability schedules), 1 elsewhere; the zone has no such set point there
+    heating_available: np.ndarray | None = None
+    cooling_available: np.ndarray | None = None
 
 
 @dataclass
@@ -134,6 +138,12 @@ class IdfImportInfo:
     #: None)})}``; on a step whose control type has no entry (0: uncontrolled) the zone floats.
     #: ``setpoint_schedules`` then holds the most frequent control type's (schedules='constant')
     setpoint_control: dict[str, tuple[str, dict]] = field(default_factory=dict)
+    #: zones whose ideal-loads system is available only part of the time: ``{zone: (schedules
+    #: switching its heating, schedules switching its cooling)}`` (its Availability Schedule
+    #: and its Heating / Cooling Availability Schedule); off where any is 0
+    ideal_loads_availability: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = field(
+        default_factory=dict
+    )
     infiltration_schedules: dict[str, list[str]] = field(default_factory=dict)
     zone_multipliers: dict[str, float] = field(default_factory=dict)
     schedules: ScheduleEvaluator | None = None
@@ -302,6 +312,13 @@ class IdfImportInfo:
                 heating[column[zone]] = values(heat_name)
             if cool_name:
                 cooling[column[zone]] = values(cool_name)
+        available = {"heating": np.ones((nz, n)), "cooling": np.ones((nz, n))}
+        for zone, switches in self.ideal_loads_availability.items():
+            if zone not in column:
+                continue
+            for kind, names in zip(("heating", "cooling"), switches, strict=True):
+                for name in names:
+                    available[kind][column[zone]] *= values(name) > 0.0
         convective = np.zeros((nz, n))
         radiant = np.zeros((nz, n))
         latent = np.zeros((nz, n))
@@ -396,6 +413,8 @@ class IdfImportInfo:
             _constant_as_view(people_c.T),
             ventilation,
             switched,
+            _constant_as_view(available["heating"].T),
+            _constant_as_view(available["cooling"].T),
         )
 
     def internal_gains_profile(self, times) -> pd.DataFrame:  # noqa: F821 (pandas lazily)
@@ -629,6 +648,11 @@ NOTE_KINDS = (
         "ideal loads settings",
         lambda n: n.startswith("Ideal loads settings"),
     ),
+    (
+        "period",
+        "simulated period",
+        lambda n: "first RunPeriod" in n or "Weather File Run Periods" in n,
+    ),
     ("calendar", "schedule calendar", lambda n: n.startswith("schedule calendar")),
     ("ventilation", "ventilation", lambda n: "ZoneVentilation" in n),
     ("solar", "solar distribution", lambda n: n.startswith("Solar Distribution")),
@@ -683,7 +707,9 @@ def import_summary(source: str, info: IdfImportInfo) -> str:
             f"{len(v)} {labels[k]}" for k, v in notes.items() if k != "constant_schedules"
         )
         lines.append(f"{source}: {len(info.notes) - constant} import notes ({counts}).")
+        lines.extend(notes.get("hvac", []))
         lines.extend(notes.get("ideal_loads", []))
+        lines.extend(notes.get("period", []))
         lines.extend(notes.get("energyplus", []))
     if constant:
         lines.append(

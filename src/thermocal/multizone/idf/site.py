@@ -247,6 +247,7 @@ class SiteStages:
                 raise ThermocalInputError(
                     f"{rp.where()}: the begin/end month, day and year fields must be numbers."
                 ) from None
+        self._other_run_periods()
         if self.year is None:
             self.year = 2006
             for rp in self.by_key.get("RUNPERIOD", [])[:1]:
@@ -289,6 +290,30 @@ class SiteStages:
             **calendar_flags,
         )
         self.info.schedules = self.schedules
+
+    def _other_run_periods(self) -> None:
+        """Notes on what EnergyPlus would run that ``simulate`` does not: the RunPeriods after
+        the first (EnergyPlus runs each in turn; NREL's test files often give two), and a
+        ``SimulationControl`` that runs no weather-file period at all."""
+        periods = self.by_key.get("RUNPERIOD", [])
+        for rp in periods[1:]:
+            f = [x.strip() for x in rp.fields] + [""] * 7
+            if self.version < (9, 0):
+                f = [*f[:3], "", *f[3:]]
+            span = f"{f[1]}/{f[2]} to {f[4]}/{f[5]}"
+            self.info.notes.append(
+                f"{rp.where()} ({span}, month/day) is not simulated: thermocal runs the file's "
+                f"first RunPeriod ({periods[0].where()}) where EnergyPlus runs each in turn; "
+                "simulate it with --start and --end"
+            )
+        for control in self.by_key.get("SIMULATIONCONTROL", [])[:1]:
+            fields = [x.strip().upper() for x in control.fields] + [""] * 5
+            if periods and fields[4] == "NO":
+                self.info.notes.append(
+                    f"{control.where()}: 'Run Simulation for Weather File Run Periods' is No, "
+                    "so EnergyPlus runs only the sizing periods (design days) of this file; "
+                    "thermocal simulates its RunPeriod with the weather given"
+                )
 
     def _ground_reflectance(self) -> None:
         """Stage: ground reflectance, as EnergyPlus takes it.

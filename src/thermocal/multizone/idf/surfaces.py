@@ -684,6 +684,15 @@ class SurfaceStages:
                 continue
             polys = self.zone_polygons.get(name, [])
             volume = 0.0
+            entered_height = (
+                _number(rec, "ceiling_height") if not _is_auto(rec, "ceiling_height") else 0.0
+            )
+            if entered_height > 0 and floor_area > 0:
+                # EnergyPlus: a Ceiling Height entered with the Volume blank gives floor area x
+                # height, whatever the surfaces enclose (a 48 m2 zone with 4.0 m entered: 192
+                # m3 in its eio; the closed geometry's 129.6 m3 heated 12 % less)
+                self.zone_volume[name] = floor_area * entered_height
+                continue
             if polys and polyhedron_is_closed(
                 [d["world"] if not self.rules.clockwise else d["world"][::-1] for d in polys]
             ):

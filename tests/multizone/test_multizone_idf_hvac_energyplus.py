@@ -1,0 +1,157 @@
+"""What an IDF's HVAC says about when and how a zone is heated or cooled, against EnergyPlus 25.2.
+
+thermocal replaces a file's HVAC by ideal heating and cooling at the thermostat's set points.
+Three things the HVAC objects decide were lost on the way (exploratory tests, 2026-11-30, on
+Case 600 cut to January, Denver TMY3; EnergyPlus runs the same file with ``-x`` for the
+templates):
+
+- an ideal-loads system's availability schedule (on a ``ZoneHVAC:IdealLoadsAirSystem`` or an
+  ``HVACTemplate:Zone:IdealLoadsAirSystem``) switches it off on some steps: the zone floats
+  there. The template's was ignored without a word (698 kWh of heating in a January where
+  EnergyPlus' system was off), the other's noted but not simulated;
+- the thermostat of a zone template other than ideal loads (``HVACTemplate:Zone:
+  BaseboardHeat``, PTAC, VAV, ...) was not read: the zone floated (0 kWh against 564);
+- equipment that can only heat (a baseboard) cannot cool: thermocal cooled the zone (558 kWh)
+  and ran it 6 K colder than EnergyPlus.
+
+Each case runs EnergyPlus (about 1 s) and ``thermocal simulate`` on the same file.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from conftest import requires_energyplus
+from thermocal.cli import app
+from thermocal.multizone.energyplus import read_eso, run_energyplus
+
+pytestmark = [pytest.mark.slow, requires_energyplus]
+
+#: the objects of Case 600's thermostat and ideal-loads system, removed for a template
+_HVAC_CLASSES = (
+    "ZoneControl:Thermostat",
+    "ThermostatSetpoint:DualSetpoint",
+    "ZoneHVAC:EquipmentConnections",
+    "NodeList",
+    "ZoneHVAC:IdealLoadsAirSystem",
+    "ZoneHVAC:EquipmentList",
+)
+_OUTPUTS = """
+Output:Variable,*,Zone Air System Sensible Heating Energy,Hourly;
+Output:Variable,*,Zone Air System Sensible Cooling Energy,Hourly;
+"""
+
+
+def _january(shared_data) -> str:
+    """Case 600 (EnergyPlus 25.2) run over January 2009."""
+    text = shared_data("energyplus_reference", "case_600_v25.idf").read_text()
+    end_month = "  12,                                   !- End Month"
+    assert end_month in text
+    return text.replace(end_month, "  1,  !- End Month", 1) + _OUTPUTS
+
+
+def _without(text: str, classes) -> str:
+    for cls in classes:
+        text = re.sub(rf"\n{re.escape(cls)},[^;]*;", "\n", text)
+    return text
+
+
+def _both(text, tmp_path, name, shared_data):
+    """EnergyPlus' and thermocal's January on ``text``: hourly air temperature [C], heating
+    and cooling [kWh] of each."""
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    idf = tmp_path / f"{name}.idf"
+    idf.write_text(text)
+    eso = read_eso(run_energyplus(idf, weather, tmp_path / f"{name}_ep"), year=2009)
+    theirs = {
+        "air": eso["ZONE ONE:Zone Mean Air Temperature [C]"].to_numpy(),
+        "heating": eso["ZONE ONE:Zone Air System Sensible Heating Energy [J]"].sum() / 3.6e6,
+        "cooling": eso["ZONE ONE:Zone Air System Sensible Cooling Energy [J]"].sum() / 3.6e6,
+    }
+    out = tmp_path / f"{name}_tc"
+    result = CliRunner().invoke(
+        app, ["simulate", str(idf), str(weather), "--out", str(out), "--report", "hourly"]
+    )
+    assert result.exit_code == 0, (result.output, result.exception)
+    zone = json.loads((out / "summary.json").read_text())["zones"]["ZONE ONE"]
+    air = pd.read_csv(out / "zone_temperatures.csv")["ZONE ONE|air_temperature_C"]
+    ours = {"air": air.to_numpy(), "heating": zone["heating_kWh"], "cooling": zone["cooling_kWh"]}
+    assert len(ours["air"]) == len(theirs["air"]) == 744
+    return ours, theirs, " ".join(result.output.split())
+
+
+def _agree(ours, theirs, *, mae):
+    diff = np.abs(ours["air"] - theirs["air"]).mean()
+    assert diff < mae, (diff, ours["heating"], theirs["heating"])
+    for kind in ("heating", "cooling"):
+        if theirs[kind] < 1.0:
+            assert ours[kind] < 1.0, (kind, ours[kind], theirs[kind])
+        else:
+            assert ours[kind] == pytest.approx(theirs[kind], rel=0.05), kind
+
+
+def test_availability_schedule_switches_the_ideal_loads_off_step_by_step(
+    shared_data, tmp_path
+):
+    """Off for the first half of January, on after: EnergyPlus floats the zone, then heats
+    and cools it; so does thermocal, step by step (measured: 425 against 420 kWh of heating,
+    hourly MAE 0.3 K)."""
+    text = _january(shared_data).replace(
+        "  Zone HVAC Ideal Loads Air System 1,   !- Name\n"
+        "  ,                                     !- Availability Schedule Name",
+        "  Zone HVAC Ideal Loads Air System 1,   !- Name\n"
+        "  OffFirstHalf,                         !- Availability Schedule Name",
+        1,
+    ) + (
+        "\nSchedule:Compact, OffFirstHalf, , Through: 1/15, For: AllDays, Until: 24:00, 0,"
+        " Through: 12/31, For: AllDays, Until: 24:00, 1;\n"
+    )
+    assert "OffFirstHalf,   " in text
+    ours, theirs, printed = _both(text, tmp_path, "half", shared_data)
+    assert "Ideal loads settings applied" in printed and "'OffFirstHalf'" in printed
+    _agree(ours, theirs, mae=0.6)
+    assert 0 < theirs["heating"] < 0.8 * _whole_month_heating(shared_data, tmp_path)
+
+
+def _whole_month_heating(shared_data, tmp_path) -> float:
+    out = tmp_path / "whole"
+    idf = tmp_path / "whole.idf"
+    idf.write_text(_january(shared_data))
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    result = CliRunner().invoke(app, ["simulate", str(idf), str(weather), "--out", str(out)])
+    assert result.exit_code == 0, result.output
+    return json.loads((out / "summary.json").read_text())["zones"]["ZONE ONE"]["heating_kWh"]
+
+
+@pytest.mark.parametrize(
+    "template",
+    [
+        # off all January: EnergyPlus floats the zone (0 kWh); thermocal heated 698 kWh
+        "HVACTemplate:Zone:IdealLoadsAirSystem, ZONE ONE, TT1, OffJanuary;",
+        # heats only: EnergyPlus 564 kWh, no cooling; thermocal floated the zone (0 kWh)
+        "HVACTemplate:Zone:BaseboardHeat, ZONE ONE, TT1, , Electric, , 10000, , None;",
+    ],
+    ids=["ideal-loads-off", "baseboard"],
+)
+def test_zone_templates_keep_their_thermostat_and_availability(shared_data, tmp_path, template):
+    text = _without(_january(shared_data), _HVAC_CLASSES) + (
+        "\nHVACTemplate:Thermostat, TT1, 20.0 C, , 27.0 C, ;\n"
+        f"{template}\n"
+        "Schedule:Compact, OffJanuary, , Through: 1/31, For: AllDays, Until: 24:00, 0,"
+        " Through: 12/31, For: AllDays, Until: 24:00, 1;\n"
+    )
+    assert "ZoneHVAC:IdealLoadsAirSystem," not in text
+    ours, theirs, printed = _both(text, tmp_path, "template", shared_data)
+    _agree(ours, theirs, mae=0.7)
+    if "BaseboardHeat" in template:
+        assert theirs["heating"] > 300 and theirs["cooling"] < 1.0
+        assert "only heats (HVACTemplate:Zone:BaseboardHeat)" in printed
+    else:
+        assert theirs["heating"] < 1.0
+        assert "Ideal loads settings applied" in printed

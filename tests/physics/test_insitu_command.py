@@ -75,3 +75,34 @@ def test_a_log_that_has_not_converged_is_shown_and_exits_with_1(tmp_path):
     assert "duration: 2 days < 3" in " ".join(result.output.split())
     assert not json.loads((out / "in_situ.json").read_text())["converged"]
 
+
+
+def test_numeric_times_and_header_units(tmp_path):
+    """A logger's Unix seconds (the reader's message named --time-unit, which this command did
+    not have) and units in the header under other names ('W/m²', '°C', refused as disagreeing
+    with the configured 'W/m2' and 'C'; exploratory test, 2026-11-30): the same U-value."""
+    log = pd.read_csv(LOG)
+    stamps = pd.to_datetime(log["time"], utc=True)
+    if stamps.dt.tz is None:  # pragma: no cover - the file's stamps carry their offset
+        stamps = stamps.dt.tz_localize("UTC")
+    epoch = log.assign(time=(stamps - pd.Timestamp("1970-01-01", tz="UTC")).dt.total_seconds())
+    epoch.to_csv(tmp_path / "epoch.csv", index=False)
+    units = log.rename(columns={"q_W_m2": "q [W/m²]", "Ti": "Ti [°C]", "Te": "Te [°C]"})
+    units.to_csv(tmp_path / "units.csv", index=False)
+    found = {}
+    for name, options in (
+        ("epoch", ["--heat-flux", "q_W_m2", "--time-unit", "s"]),
+        ("units", ["--heat-flux", "q"]),
+    ):
+        out = tmp_path / name
+        result = CliRunner().invoke(
+            app, ["insitu", str(tmp_path / f"{name}.csv"), *options, "--out", str(out)]
+        )
+        assert result.exit_code == 0, (result.output, result.exception)
+        found[name] = json.loads((out / "in_situ.json").read_text())["u_value_W_per_m2K"]
+    assert found["epoch"] == pytest.approx(1.578, abs=1e-3)
+    assert found["units"] == pytest.approx(1.578, abs=1e-3)
+    refused = CliRunner().invoke(app, ["insitu", str(tmp_path / "epoch.csv"), "--heat-flux",
+                                       "q_W_m2"])  # fmt: skip
+    assert isinstance(refused.exception, ThermocalInputError)
+    assert "(--time-unit)" in str(refused.exception)

@@ -412,3 +412,50 @@ def test_model_file_docs_name_python_objects_that_exist():
                 obj = getattr(obj, attr, None)
                 assert obj is not None, name
             break
+
+
+def test_fit_reads_thousands_separators_of_a_decimal_comma_export(tmp_path):
+    """A European export writes 4000 W as '4.000,0': replacing the comma alone read it as 4 W
+    (a heat loss coefficient of 1,230 W/K instead of 499 on an exploratory tester's file,
+    2026-11-30). The same data with and without thousands separators (and Excel's trailing
+    separators, refused before as a column named twice) give the same fit; a point that groups
+    no thousands ('7.5') is refused, naming the row."""
+    df = write_data(tmp_path / "clean.csv")
+
+    def export(frame, path, grouped: bool):
+        text = frame.copy()
+        text.index = text.index.tz_localize(None).strftime("%d.%m.%Y %H:%M")
+        text.index.name = "Zeit"
+        for column in text.columns:
+            values = [f"{v:,.2f}" if grouped else f"{v:.2f}" for v in frame[column]]
+            text[column] = [v.replace(",", "_").replace(".", ",").replace("_", ".") for v in values]
+        text.to_csv(path, sep=";")
+        if grouped:  # and Excel's trailing separators: two unnamed, empty columns
+            lines = path.read_text().splitlines()
+            path.write_text("\n".join(f"{line};;" for line in lines) + "\n")
+
+    runs = {}
+    for grouped in (False, True):
+        path = tmp_path / f"grouped_{grouped}.csv"
+        export(df, path, grouped)
+        assert ("4.000,00" in path.read_text()) is grouped
+        out = tmp_path / f"out_{grouped}"
+        args = ["fit", "--no-hlc", str(MODEL), str(path), "--out", str(out), "--no-figures",
+                "--decimal", ",", "--time-format", "%d.%m.%Y %H:%M",
+                "--time-column", "Zeit"]  # fmt: skip
+        result = CliRunner().invoke(app, args)
+        assert result.exit_code == 0, result.output
+        runs[grouped] = json.loads((out / "fit.json").read_text())
+    assert runs[True]["loglike"] == pytest.approx(runs[False]["loglike"], rel=1e-12)
+    assert runs[True]["params"]["H_v"]["value"] == pytest.approx(
+        runs[False]["params"]["H_v"]["value"], rel=1e-9
+    )
+    path = tmp_path / "grouped_True.csv"
+    lines = path.read_text().splitlines()
+    lines[5] = lines[5].replace("4.000,00", "4000.5") if "4.000,00" in lines[5] else lines[5]
+    assert "4000.5" in lines[5]
+    path.write_text("\n".join(lines) + "\n")
+    result = CliRunner().invoke(app, args)  # the grouped file, edited
+    assert result.exit_code != 0
+    assert "'4000.5' has a decimal point" in str(result.exception)
+    assert "row 4 (file line 6)" in str(result.exception)

@@ -79,6 +79,7 @@ def read_table(path: Path, *, sep: str | None = None, decimal: str = ".", sheet:
             sep = max(counts, key=counts.get) if max(counts.values()) > 0 else ","
         table = _read_csv(path, sep, decimal)
         _check_header(path, sep)
+        table = _drop_empty_columns(table, notes)
     if table.empty:
         raise ThermocalInputError(
             f"data file {path} has a header but no data rows; give at least two rows of data"
@@ -106,6 +107,19 @@ def _read_csv(path: Path, sep: str, decimal: str):
         ) from None
 
 
+def _drop_empty_columns(table, notes: list[str]):
+    """The table without the unnamed, empty columns a spreadsheet's trailing separators make
+    (``...;Ti;;``: Excel's export; they were refused as a column named twice)."""
+    empty = [
+        c for c in table.columns
+        if str(c).startswith("Unnamed: ") and table[c].isna().all()
+    ]  # fmt: skip
+    if empty:
+        notes.append(f"{len(empty)} unnamed empty column(s) dropped (trailing separators)")
+        table = table.drop(columns=empty)
+    return table
+
+
 def _check_header(path: Path, sep: str) -> None:
     """Refuse a header naming one column twice (pandas would rename the second silently)."""
     import csv
@@ -117,6 +131,8 @@ def _check_header(path: Path, sep: str) -> None:
     seen: dict[str, int] = {}
     for position, name in enumerate(header, start=1):
         name = name.strip()
+        if not name:
+            continue  # unnamed: dropped when empty, named "Unnamed: n" by pandas otherwise
         if name in seen:
             raise ThermocalInputError(
                 f"data file {path}: column {name!r} appears twice in the header (columns "
@@ -194,7 +210,8 @@ def heat_loss_text(hlc: dict | None) -> str:
 
 
 def check_numbers(data, columns, path: Path, decimal: str) -> None:
-    """Refuse text in the model's numeric columns, naming column, row and value."""
+    """Refuse text in the model's numeric columns, naming column, row and value; the columns
+    read as text (decimal commas with thousands separators) are replaced by their numbers."""
     import re
 
     import pandas as pd
@@ -211,9 +228,21 @@ def check_numbers(data, columns, path: Path, decimal: str) -> None:
                 f"data file {path}: column '{column}' holds decimal commas (row 0: "
                 f"{text.iloc[0]!r}); add --decimal , (and --sep ';' if needed)"
             )
-        numbers = pd.to_numeric(
-            text.str.replace(",", ".", regex=False) if decimal == "," else text, errors="coerce"
-        )
+        if decimal == ",":
+            from thermocal.io.decimal_comma import decimal_comma_numbers
+
+            # a point groups thousands (7.476 is 7,476 W, which was read as 7.476 W); any
+            # other point is ambiguous there
+            numbers, ambiguous = decimal_comma_numbers(values)
+            if ambiguous.any():
+                row = int(ambiguous.to_numpy().nonzero()[0][0])
+                raise ThermocalInputError(
+                    f"data file {path}: column '{column}', row {row} (file line {row + 2}): "
+                    f"{values.iloc[row]!r} has a decimal point, but --decimal , reads a point "
+                    "only as a thousands separator (1.203,5); write it with a decimal comma"
+                )
+        else:
+            numbers = pd.to_numeric(text, errors="coerce")
         bad = values.notna() & numbers.isna() & (text != "")
         if bad.any():
             row = int(bad.to_numpy().nonzero()[0][0])
@@ -224,6 +253,7 @@ def check_numbers(data, columns, path: Path, decimal: str) -> None:
                 f"{values.iloc[row]!r} is not a number; write a number or leave the cell empty "
                 f"(missing){hint}"
             )
+        data[column] = numbers.to_numpy(dtype=float)  # the values as read, for the fit
 
 
 def resolve_time_column(data, time_column: str | None, time_format: str | None, path: Path) -> str:
@@ -361,8 +391,10 @@ def _drop_unit_row(table, notes: list[str], decimal: str = "."):
     others = table.columns[1:]  # the first column is usually the time
 
     def as_numbers(values):
-        if decimal != "." and not pd.api.types.is_numeric_dtype(values):
-            values = values.astype(str).str.replace(decimal, ".", regex=False)
+        if decimal == ",":
+            from thermocal.io.decimal_comma import decimal_comma_numbers
+
+            return decimal_comma_numbers(values)[0]
         return pd.to_numeric(values, errors="coerce")
 
     def numbers(row) -> int:

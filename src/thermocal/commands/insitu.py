@@ -23,6 +23,8 @@ _OPTIONS = (
     ("LOG.timezone", "--timezone"),
     ("LOG.heat_flux_sign: inward", "--inward"),
     ("LOG.time_column", "--time-column"),
+    ("LOG.time_unit", "--time-unit"),
+    ("LOG.time_origin", "--time-origin"),
     ("LOG.columns.heat_flux", "--heat-flux"),
     ("LOG.columns.temp_in", "--temp-in"),
     ("LOG.columns.temp_out", "--temp-out"),
@@ -134,6 +136,14 @@ def insitu(
         str, typer.Option("--temp-out", help="column of the other side's temperature")
     ] = "Te",
     time_column: Annotated[str, typer.Option("--time-column")] = "time",
+    time_unit: Annotated[
+        str | None,
+        typer.Option("--time-unit", help="of numeric times: s (Unix seconds), min, h, d, ms"),
+    ] = None,
+    time_origin: Annotated[
+        str | None,
+        typer.Option("--time-origin", help="instant of numeric time 0 (default 1970-01-01 UTC)"),
+    ] = None,
     temperature_unit: Annotated[
         Literal["C", "K", "F"], typer.Option("--temperature-unit")
     ] = "C",
@@ -181,7 +191,8 @@ def insitu(
 
     try:
         spec = InSituConfig(
-            file=log, time_column=time_column, timezone=timezone,
+            file=log, time_column=time_column, timezone=timezone, time_unit=time_unit,
+            time_origin=time_origin,
             columns={"heat_flux": heat_flux, "temp_in": temp_in, "temp_out": temp_out},
             temperature_unit=temperature_unit, temperatures="surface" if surface else "air",
             heat_flux_sign="inward" if inward else "outward", areal_heat_capacity=heat_capacity,

@@ -46,6 +46,12 @@ class InSituConfig(BaseModel):
 
     file: Path | None = Field(None, description="heat-flux meter log (CSV or parquet)")
     time_column: str = "time"
+    time_unit: Literal["s", "min", "h", "d", "ms"] | None = Field(
+        None, description="of numeric times (a logger's Unix seconds: s); default: dates"
+    )
+    time_origin: str | None = Field(
+        None, description="the instant of numeric time 0 (default 1970-01-01 UTC)"
+    )
     columns: dict[str, str] = Field(
         default_factory=lambda: {"heat_flux": "q", "temp_in": "Ti", "temp_out": "Te"},
         description="heat_flux [W/m2], temp_in and temp_out [temperature_unit] -> file column",
@@ -180,6 +186,8 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
             tz=next((tz for tz in (spec.timezone, default_tz) if tz is not None), "UTC"),
             rows="interval_start",
             unknown_sensors="ignore",
+            time_unit=spec.time_unit,
+            start=spec.time_origin,
         )  # fmt: skip
     except ThermocalInputError as exc:
         text = str(exc)
@@ -192,6 +200,9 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
             ("pass tz=", f"set {where}.timezone:"),
             ("pass the time zone (--tz Europe/Zurich)", f"set {where}.timezone (Europe/Zurich)"),
             ("pass a fixed offset, e.g. tz=1.0", f"set {where}.timezone to an offset, e.g. 1.0"),
+            ("(--time-unit on the command line, time_unit= in Python)",
+             f"({where}.time_unit)"),
+            ("(--time-origin, start=;", f"({where}.time_origin;"),
             ("pass sort=True", "sort the log by time"),
             (", or pass duplicates='first' or 'last'", ""),
             ("pass decimal=','", "write decimal points"),

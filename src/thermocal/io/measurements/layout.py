@@ -14,7 +14,9 @@ import numpy as np
 import pandas as pd
 
 from thermocal.errors import ThermocalInputError
+from thermocal.io.decimal_comma import decimal_comma_numbers
 from thermocal.io.measurements.units import (
+    UNITS,
     _convert_units,
     _resolve_unit,
     _split_header_unit,
@@ -29,10 +31,22 @@ def _parse_numbers(
     if pd.api.types.is_numeric_dtype(series.dtype) and not pd.api.types.is_bool_dtype(series.dtype):
         return series.to_numpy(dtype=np.float64, na_value=np.nan)
     text = series.astype("string")
-    if decimal != ".":
-        text = text.str.replace(decimal, ".", regex=False)
-    numbers = pd.to_numeric(text, errors="coerce")
-    bad = numbers.isna().to_numpy() & text.notna().to_numpy()
+    if decimal == ",":
+        # a point groups thousands there (7.476 is 7,476, not 7.476); any other is ambiguous
+        numbers, ambiguous = decimal_comma_numbers(series)
+        if ambiguous.any():
+            first = int(np.flatnonzero(ambiguous.to_numpy())[0])
+            raise ThermocalInputError(
+                f"{source}, column '{column}', line {lines[first]}: {series.iloc[first]!r} has a "
+                "decimal point, but the file's decimal mark is ',' (a point is read only as a "
+                f"thousands separator, as in 1.203,5); {int(ambiguous.sum())} such value(s) in "
+                "this column: write them with a decimal comma"
+            )
+    else:
+        if decimal != ".":
+            text = text.str.replace(decimal, ".", regex=False)
+        numbers = pd.to_numeric(text, errors="coerce")
+    bad = numbers.isna().to_numpy() & text.notna().to_numpy() & (text.str.strip() != "").to_numpy()
     if bad.any():
         first = int(np.flatnonzero(bad)[0])
         value = series.iloc[first]
@@ -61,6 +75,19 @@ def _check_order(
     decreasing = np.flatnonzero(step < 0)
     if decreasing.size:
         i = int(decreasing[0])
+        back = times_ns[i] - times_ns[i + 1]
+        if back > 86_400 * 10**9 or times_ns[i + 1] < times_ns[0]:
+            # a logger whose clock was reset (to 2000-01-01, its battery changed): sorting
+            # would move the rows after the reset to the front, under wrong dates
+            raise ThermocalInputError(
+                f"{source}, column '{column}', line {lines[i + 1]}: the time goes back from "
+                f"{pd.Timestamp(times_ns[i], tz='UTC').isoformat()} (line {lines[i]}) to "
+                f"{pd.Timestamp(times_ns[i + 1], tz='UTC').isoformat()} (UTC){what}, "
+                f"{back / 86_400e9:.1f} days back"
+                + (", before the log's first time" if times_ns[i + 1] < times_ns[0] else "")
+                + ": the logger's clock was reset there. Correct the times from that line on "
+                "(or remove those rows); sorting would put them under wrong dates"
+            )
         raise ThermocalInputError(
             f"{source}, column '{column}', line {lines[i + 1]}: time "
             f"{pd.Timestamp(times_ns[i + 1], tz='UTC').isoformat()} (UTC) is earlier than the "
@@ -322,12 +349,13 @@ def _read_wide(
         )[rows]
         unit = _lookup(units, file_name, name)
         if header_unit is not None:
-            if unit is not None and _resolve_unit(unit, source) != _resolve_unit(
-                header_unit, f"{source}, column '{column}'"
-            ):
+            # the same unit under another name ('°C' and 'C', 'W/m²' and 'W/m2') agrees
+            if unit is not None and UNITS[_resolve_unit(unit, source)] != UNITS[
+                _resolve_unit(header_unit, f"{source}, column '{column}'")
+            ]:
                 raise ThermocalInputError(
                     f"{source}, column '{column}': the header declares '{header_unit}' but "
-                    f"units= says '{unit}'"
+                    f"the unit given for it (the configuration, or units=) is '{unit}'"
                 )
             unit = header_unit
         converted, quantity, canonical, note = _convert_units(

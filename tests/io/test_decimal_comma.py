@@ -65,8 +65,22 @@ def test_a_clock_reset_is_not_told_to_be_sorted(tmp_path):
     assert "line 4: the time goes back from 2019-02-02T01:00:00+00:00" in message
     assert "before the log's first time: the logger's clock was reset there" in message
     assert "sort" not in message.split("reset there")[0]
+    # a log written newest first goes back at every row: told to sort (it was told not to)
+    path.write_text("time,T\n2019-02-02T00:30:00Z,20\n2019-02-02T00:20:00Z,21\n"
+                    "2019-02-02T00:10:00Z,21\n")  # fmt: skip
+    with pytest.raises(ThermocalInputError, match="sort it"):
+        read_measurements(path)
+    assert read_measurements(path, sort=True)[0]["T"].tolist() == [21.0, 21.0, 20.0]
     # a row out of order by a few minutes is still told to sort
     path.write_text("time,T\n2019-02-02T00:10:00Z,20\n2019-02-02T00:20:00Z,21\n"
                     "2019-02-02T00:15:00Z,21\n")  # fmt: skip
     with pytest.raises(ThermocalInputError, match="sort it"):
         read_measurements(path)
+
+
+def test_numbers_among_the_text_stay_numbers():
+    """An Excel column holding both text and numbers: 1.5 was turned into '1.5' and refused."""
+    values = pd.Series(["7.476", 1.5, "994,5", None, 3, "7.5"], dtype=object)
+    numbers, ambiguous = decimal_comma_numbers(values)
+    assert numbers.tolist()[:3] == [7476.0, 1.5, 994.5] and numbers.iloc[4] == 3.0
+    assert ambiguous.tolist() == [False, False, False, False, False, True]

@@ -316,9 +316,14 @@ def test_reporting_interval_names_partial_intervals_and_refuses_odd_ones(tmp_pat
     assert report_rule(None, step) is None
     assert report_rule("timestep", step) is None
     assert report_rule("15min", step) is None
-    assert report_rule("Hourly", step) == "1h"
-    assert report_rule("daily", step) == "1D"
+    assert report_rule("Hourly", step) == "h"
+    assert report_rule("daily", step) == "24h"
     assert report_rule("monthly", step) == "MS"
+    # durations pandas reads but does not resample by ('2 hours' crashed after the run), and a
+    # week of seven days, not weeks anchored on Sundays
+    assert report_rule("2 hours", step) == "2h"
+    assert report_rule("PT1H", step) == "h"
+    assert report_rule("1W", step) == "168h"
     for bad, says in (
         ("20min", "whole number of the 15min time step"),
         ("5min", "whole number"),

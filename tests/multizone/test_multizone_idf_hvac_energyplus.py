@@ -155,3 +155,30 @@ def test_zone_templates_keep_their_thermostat_and_availability(shared_data, tmp_
     else:
         assert theirs["heating"] < 1.0
         assert "Ideal loads settings applied" in printed
+
+
+def test_heating_only_zone_keeps_its_varying_control_type(shared_data, tmp_path):
+    """A baseboard zone whose thermostat's control type is 0 (uncontrolled) for the first half
+    of January and dual after it: EnergyPlus floats it, then heats it (measured 274 kWh, none
+    in the first half). Dropping its cooling once dropped the control type too: heated on every
+    step, 577 kWh (a review, 2026-11-30)."""
+    text = _without(
+        _january(shared_data),
+        [c for c in _HVAC_CLASSES if not c.startswith(("ZoneControl", "ThermostatSetpoint"))],
+    )
+    always = (
+        "  Through: 12/31,                       !- Field 1\n"
+        "  For: AllDays,                         !- Field 2\n"
+        "  Until: 24:00,                         !- Field 3\n"
+        "  4;                                    !- Field 4"
+    )
+    assert always in text
+    text = text.replace(
+        always,
+        "Through: 1/15, For: AllDays, Until: 24:00, 0, Through: 12/31, For: AllDays, "
+        "Until: 24:00, 4;",
+    ) + "\nHVACTemplate:Zone:BaseboardHeat, ZONE ONE, , , Electric, , 10000, , None;\n"
+    ours, theirs, _ = _both(text, tmp_path, "switched", shared_data)
+    _agree(ours, theirs, mae=0.7)
+    assert 150 < theirs["heating"] < 400 and theirs["cooling"] < 1.0
+    assert ours["air"][:15 * 24].min() < 5.0  # floating in the first half, as EnergyPlus

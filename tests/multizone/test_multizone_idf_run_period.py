@@ -320,3 +320,26 @@ def test_run_periods_energyplus_would_run_and_simulate_does_not_are_named(shared
     with pytest.warns(IdfImportWarning) as caught:
         load_building(plain)
     assert "is not simulated" not in " ".join(str(w.message) for w in caught)
+
+
+def test_set_point_profile_leaves_out_the_steps_the_system_is_off(shared_data, tmp_path):
+    """The hourly set points identify reads (setpoint_profile) stayed on where the ideal-loads
+    system's availability schedule switches it off (a review, 2026-11-30)."""
+    from thermocal.multizone.files import load_building
+    from thermocal.multizone.idf import IdfImportWarning
+
+    text = shared_data("energyplus_reference", "case_600_v25.idf").read_text()
+    field = "  ,                                     !- Availability Schedule Name"
+    path = tmp_path / "half.idf"
+    path.write_text(
+        text.replace(field, "  OffFirstHalf,  !- Availability Schedule Name", 1)
+        + "\nSchedule:Compact, OffFirstHalf, , Through: 1/15, For: AllDays, Until: 24:00, 0,"
+        " Through: 12/31, For: AllDays, Until: 24:00, 1;\n"
+    )
+    with pytest.warns(IdfImportWarning):
+        building = load_building(path)
+    times = pd.date_range("2009-01-14", periods=72, freq="h")
+    profile = building.idf_info.setpoint_profile(times)
+    heating = profile[("ZONE ONE", "heating")]
+    assert heating.iloc[:48].isna().all()
+    assert (heating.iloc[48:] == 20.0).all()

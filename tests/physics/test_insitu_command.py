@@ -106,3 +106,11 @@ def test_numeric_times_and_header_units(tmp_path):
                                        "q_W_m2"])  # fmt: skip
     assert isinstance(refused.exception, ThermocalInputError)
     assert "(--time-unit)" in str(refused.exception)
+
+
+def test_header_unit_against_the_option_names_the_option(tmp_path):
+    log = pd.read_csv(LOG).rename(columns={"Ti": "Ti [°F]"})
+    log.to_csv(tmp_path / "f.csv", index=False)
+    result = CliRunner().invoke(app, ["insitu", str(tmp_path / "f.csv"), "--heat-flux", "q_W_m2"])
+    assert isinstance(result.exception, ThermocalInputError)
+    assert "declares '°F' but --temperature-unit says 'C'" in str(result.exception)

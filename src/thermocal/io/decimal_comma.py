@@ -40,6 +40,13 @@ def decimal_comma_numbers(values: pd.Series) -> tuple[pd.Series, pd.Series]:
         values.dtype
     ):
         return values.astype(float), pd.Series(False, index=values.index)
+    if pd.api.types.infer_dtype(values, skipna=True) != "string":
+        # numbers among the text (an Excel column of both): those are already numbers
+        numeric = values.map(lambda v: isinstance(v, int | float) and not isinstance(v, bool))
+        if numeric.any():
+            numbers, ambiguous = decimal_comma_numbers(values.where(~numeric).astype(object))
+            numbers[numeric] = values[numeric].astype(float)
+            return numbers, ambiguous & ~numeric
     text = values.astype("string").str.strip().str.replace(_SPACE_GROUPS, "", regex=True)
     grouped = text.str.fullmatch(_GROUPED).fillna(False).astype(bool)
     ambiguous = (text.str.contains(".", regex=False).fillna(False).astype(bool)) & ~grouped

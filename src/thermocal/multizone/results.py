@@ -308,27 +308,28 @@ def report_rule(report, step: pd.Timedelta) -> str | None:
         rule = REPORT_WORDS[word]
         if rule is None or rule == "MS":
             return rule
+        interval = pd.Timedelta(rule)
     else:
         from thermocal.textformat import unitless_duration
 
         try:
             if unitless_duration(text):
                 raise ValueError
-            rule = text
-            pd.Timedelta(rule)
+            interval = pd.Timedelta(text)
         except (ValueError, TypeError):
             raise ThermocalInputError(
                 f"reporting interval {text!r}: give timestep, hourly, daily, monthly or a "
                 "duration with its unit, e.g. 1h or 30min"
             ) from None
-    interval = pd.Timedelta(rule)
     ratio = interval / step
     if interval < step or not float(ratio).is_integer():
         raise ThermocalInputError(
             f"reporting interval {text!r} is not a whole number of the {_duration(step)} "
             f"time step: give a multiple of it (e.g. {_duration(step * max(1, math.ceil(ratio)))})"
         )
-    return None if ratio == 1 else rule
+    # the duration as pandas' fixed frequency ("2 hours", "P1D" and "1W" read as durations are
+    # not resampling rules; "1W" would be weeks anchored on Sundays)
+    return None if ratio == 1 else pd.tseries.frequencies.to_offset(interval).freqstr
 
 
 def _duration(value: pd.Timedelta) -> str:
@@ -350,7 +351,9 @@ def _report_description(rule: str, index: pd.DatetimeIndex, step: pd.Timedelta) 
         if count < whole
     ]
     return {
-        "interval": {"MS": "monthly"}.get(rule, rule),
+        "interval": "monthly"
+        if rule == "MS"
+        else _duration(pd.Timedelta(pd.tseries.frequencies.to_offset(rule))),
         "rows": "means over each interval of the steps starting in it; zone_temperatures "
         "stamped at the interval's end, zone_heat_flows at its start",
         "partial_intervals": partial,
@@ -360,7 +363,7 @@ def _report_description(rule: str, index: pd.DatetimeIndex, step: pd.Timedelta) 
 def _interval_end(start: pd.Timestamp, rule: str) -> pd.Timestamp:
     if rule == "MS":
         return start + pd.offsets.MonthBegin(1)
-    return start + pd.Timedelta(rule)
+    return start + pd.tseries.frequencies.to_offset(rule)
 
 
 def _write_parquet(frame: pd.DataFrame, path: Path) -> None:

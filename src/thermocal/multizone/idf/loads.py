@@ -651,7 +651,17 @@ class LoadStages:
                 self.setpoints[zone] = (heating, cooling)
                 if zone in self.info.setpoint_schedules:
                     self.info.setpoint_schedules[zone] = (h_schedule, c_schedule)
-                self.info.setpoint_control.pop(zone, None)
+                if zone in self.info.setpoint_control:
+                    # a varying control type keeps switching the side that remains (on a step
+                    # with control type 0 the zone floats, as before)
+                    control_schedule, by_type = self.info.setpoint_control[zone]
+                    self.info.setpoint_control[zone] = (
+                        control_schedule,
+                        {
+                            kind: (h, None) if side == "cooling" else (None, c)
+                            for kind, (h, c) in by_type.items()
+                        },
+                    )
                 dropped[side].append(zone)
                 classes[side].update(e.class_name for e in delivery.equipment)
         for side, zones in dropped.items():

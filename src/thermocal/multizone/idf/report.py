@@ -486,6 +486,15 @@ class IdfImportInfo:
             for kind, name in (("heating", heating), ("cooling", cooling)):
                 if name is not None:
                     out[(zone, kind)] = self.schedules.hourly(name)[hour_of_year]
+        # no set point where the zone's ideal-loads system is switched off
+        for zone, switches in self.ideal_loads_availability.items():
+            for kind, names in zip(("heating", "cooling"), switches, strict=True):
+                if (zone, kind) not in out:
+                    continue
+                series = np.array(out[(zone, kind)], dtype=float)
+                for name in names:
+                    series[self.schedules.hourly(name)[hour_of_year] <= 0.0] = np.nan
+                out[(zone, kind)] = series
         return pd.DataFrame(out, index=times)
 
 

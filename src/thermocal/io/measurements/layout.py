@@ -76,10 +76,10 @@ def _check_order(
     if decreasing.size:
         i = int(decreasing[0])
         back = times_ns[i] - times_ns[i + 1]
-        # a reset: the time jumps back (more than a day, or before the first row) and runs
-        # forward again; a log written newest first goes back at every row (sort it)
+        # a reset: the time jumps back more than a day and runs forward again (a log written
+        # newest first goes back at every row, two rows swapped by minutes: sort it)
         rises_again = i + 2 < times_ns.size and times_ns[i + 2] > times_ns[i + 1]
-        if rises_again and (back > 86_400 * 10**9 or times_ns[i + 1] < times_ns[0]):
+        if rises_again and back > 86_400 * 10**9:
             # a logger whose clock was reset (to 2000-01-01, its battery changed): sorting
             # would move the rows after the reset to the front, under wrong dates
             raise ThermocalInputError(

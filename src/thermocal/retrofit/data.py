@@ -540,6 +540,14 @@ def meter_power(
 ) -> pd.Series:
     """Mean power [W] over each row's interval from a meter column.
 
+    A cumulative reading's heat of a row is the next reading present minus this one, over the
+    time between them (missing rows in between included). An energy per row covers the row's
+    own logging interval ``[t, t + d)``, the span over which
+    :func:`thermocal.io.measurements.resample_measurements` holds the row: until the column's
+    next value but at most ``interval``, so ``d = min(t_next - t, interval)`` (``interval``
+    for the last row). A missing row (a gap in a regular log) then stays missing, as for a
+    power column, instead of spreading the row before it over two intervals at half its power.
+
     Parameters
     ----------
     values : pd.Series
@@ -548,31 +556,40 @@ def meter_power(
     energy : bool
         The column is an energy (of the row's interval, or cumulative), not a power.
     cumulative : bool
-        The column is a meter reading; a reading that falls is refused
+        The column is a meter reading; a reading that falls or jumps up is refused
         (:func:`check_cumulative_reading`).
     interval : pd.Timedelta
-        Logging interval (length of the last row's interval).
+        Logging interval [duration] (length of the last row's interval, and the longest an
+        energy per row covers); None: the median spacing of the rows.
     label : str
-        The file and column, for the message of a falling reading.
+        The file and column, for the message of a falling or jumping reading.
     unit : tuple of (str, float)
         The file's unit of the reading and its size [J], for that message.
 
     Returns
     -------
-    pd.Series [W]; a cumulative reading gives NaN for the last row (no next reading).
+    pd.Series [W]; a cumulative reading gives NaN for the last row (no next reading), an
+    energy per row NaN where the row's value is missing.
     """
     if not energy:
         return values.astype(float)
     t = values.index
-    seconds = np.diff(t.as_unit("ns").asi8) / 1e9 if len(t) > 1 else np.array([])
-    seconds = np.append(seconds, pd.Timedelta(interval).total_seconds())
+    ns = t.as_unit("ns").asi8
     v = values.to_numpy(float)
     if cumulative:
+        seconds = np.diff(ns) / 1e9 if len(t) > 1 else np.array([])
+        seconds = np.append(seconds, pd.Timedelta(interval).total_seconds())
         check_cumulative_reading(values, label, unit)
-        e = np.append(np.diff(v), np.nan)
-    else:
-        e = v
-    return pd.Series(e / seconds, index=t)
+        return pd.Series(np.append(np.diff(v), np.nan) / seconds, index=t)
+    if interval is None and len(t) > 1:
+        interval = pd.Series(t).diff().median()
+    longest = pd.Timedelta(interval).total_seconds()
+    present = np.flatnonzero(np.isfinite(v))
+    seconds = np.full(len(v), np.nan)
+    # each value until the column's next value, at most one logging interval
+    to_next = np.append(np.diff(ns[present]) / 1e9, longest)
+    seconds[present] = np.minimum(to_next, longest)
+    return pd.Series(v / seconds, index=t)
 
 
 #: A cumulative reading may fall by this many times the 95th percentile of its rises before
@@ -605,6 +622,63 @@ def reading_drops(readings: np.ndarray) -> np.ndarray:
     return present[1:][steps < -tolerance]
 
 
+#: A cumulative reading may rise in one step by this many times the record's 99th-percentile
+#: rise, in energy and in mean power (the rise over the time between the readings), before it
+#: is refused. A heating system runs at full load in about the coldest 1 % of the hours it is
+#: sized for, so the 99th-percentile rise is close to its output: the highest hour of the
+#: reference records (EnergyPlus houses, constant and with a night setback; the Bacher and
+#: Madsen 2011 PRBS-heated test box, 5-min rows) is 1.0-1.4 times it, a cold snap or a morning
+#: boost of an oversized boiler in a mild record a few times. Ten times is heat no system that
+#: delivered the rest of the record gives: a meter replaced by one starting at a higher
+#: register, or a misentered reading. The energy condition spares a reading a few seconds
+#: after the last one, the power condition a reading after a gap in the log.
+READING_JUMP_FACTOR = 10.0
+#: Fewer rises than this give no percentile to judge a jump by: not checked.
+READING_JUMP_MIN_RISES = 10
+
+
+def reading_jumps(readings: np.ndarray, seconds: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """Positions where a cumulative meter reading jumps up by more than any heating gives.
+
+    Parameters
+    ----------
+    readings : ndarray
+        The readings in time order, any energy unit; NaN (missing) are skipped, a rise is
+        measured between consecutive readings present.
+    seconds : ndarray
+        The time of each reading [s] (any origin).
+
+    Returns
+    -------
+    positions : ndarray of int
+        Positions in ``readings`` of the reading after each rise larger than
+        :data:`READING_JUMP_FACTOR` times the 99th percentile of the rises both in energy
+        and in mean power (rise over the time since the previous reading present); empty
+        with fewer than :data:`READING_JUMP_MIN_RISES` rises.
+    energy : float
+        The 99th percentile of the rises [the readings' unit].
+    power : float
+        The 99th percentile of the rises' mean powers [the readings' unit per second].
+    """
+    v = np.asarray(readings, float)
+    t = np.asarray(seconds, float)
+    present = np.flatnonzero(np.isfinite(v))
+    steps, spans = np.diff(v[present]), np.diff(t[present])
+    rising = (steps > 0) & (spans > 0)
+    if rising.sum() < READING_JUMP_MIN_RISES:
+        return np.array([], int), np.nan, np.nan
+    # "lower": the percentile is one of the rises, never interpolated towards a jump
+    energy = float(np.quantile(steps[rising], 0.99, method="lower"))
+    power = float(np.quantile(steps[rising] / spans[rising], 0.99, method="lower"))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        jump = (
+            rising
+            & (steps > READING_JUMP_FACTOR * energy)
+            & (steps / spans > READING_JUMP_FACTOR * power)
+        )
+    return present[1:][jump], energy, power
+
+
 def rollover_limit(before: float, after: float) -> float | None:
     """The register size a meter rolled over at, or None for another drop.
 
@@ -627,12 +701,17 @@ def rollover_limit(before: float, after: float) -> float | None:
 def check_cumulative_reading(
     values: pd.Series, label: str, unit: tuple[str, float] = ("kWh", 3.6e6)
 ) -> None:
-    """Refuse a cumulative meter reading that falls (a reset, a replaced meter, a roll-over).
+    """Refuse a cumulative meter reading that falls (a reset, a replaced meter, a roll-over)
+    or jumps up (a meter replaced by one starting at a higher register, a misentered value).
 
     The heat of an interval is the next reading minus this one; a reading that drops to 0
     or rolls over turns one interval into minus the whole count and the period's mean heat
-    negative, which is then blamed on the units. The drop is named with its time, the row
-    of the file and its size, and the edit that makes the readings continuous.
+    negative, which is then blamed on the units. A reading that jumps up puts the jump into
+    one interval as heat (the verify demo with +300 kWh on one day: a 70 kWh day read as
+    329 kWh and the measured saving 45.5 % instead of 58.3 %, with no message); a jump is a
+    rise :data:`READING_JUMP_FACTOR` times the record's 99th-percentile rise in energy and in
+    power (:func:`reading_jumps`). The first event is named with its time, the row of the
+    file and its size, and the edit that makes the readings continuous.
 
     Parameters
     ----------
@@ -646,11 +725,15 @@ def check_cumulative_reading(
     Raises
     ------
     ThermocalInputError
-        Naming the first drop (and how many there are) and what to do.
+        Naming the first drop or jump (and how many there are) and what to do.
     """
     name, size = unit
     v = values.to_numpy(float) / size
     drops = reading_drops(v)
+    seconds = values.index.as_unit("ns").asi8 / 1e9 if len(v) else np.array([])
+    jumps, typical, typical_power = reading_jumps(v, seconds)
+    if jumps.size and not (drops.size and drops[0] < jumps[0]):
+        _refuse_jump(values, v, seconds, jumps, typical, typical_power, label, unit)
     if not drops.size:
         return
     at = int(drops[0])
@@ -674,6 +757,68 @@ def check_cumulative_reading(
         f"{label}: a cumulative meter reading never falls, but it drops from {before:,.1f} "
         f"to {after:,.1f} {name} (by {before - after:,.1f} {name}) at {values.index[at]} "
         f"(row {at + 2} of the file){more}; {remedy}"
+    )
+
+
+def _refuse_jump(
+    values: pd.Series,
+    v: np.ndarray,
+    seconds: np.ndarray,
+    jumps: np.ndarray,
+    typical: float,
+    typical_power: float,
+    label: str,
+    unit: tuple[str, float],
+) -> None:
+    """Raise the message of :func:`check_cumulative_reading` for its first jump.
+
+    Parameters
+    ----------
+    values : pd.Series
+        The reading [J], rows labelled by time in the file's order.
+    v : ndarray
+        The same readings in the file's unit.
+    seconds : ndarray
+        The readings' times [s].
+    jumps, typical, typical_power
+        From :func:`reading_jumps`: positions, the 99th percentiles of the rises [file unit]
+        and of their mean powers [file unit per second].
+    label : str
+        The file and column, for the message.
+    unit : tuple of (str, float)
+        The file's unit of the reading and its size [J].
+    """
+    name, size = unit
+    at = int(jumps[0])
+    present = np.flatnonzero(np.isfinite(v))
+    before_at = int(present[present < at][-1])
+    before, after = float(v[before_at]), float(v[at])
+    jump = after - before
+    span = pd.Timedelta(seconds=float(seconds[at] - seconds[before_at]))
+    kw = size / 1e3  # the file's unit per second -> kW (the readings are held in J)
+    later = present[present > at]
+    fall = before - float(v[later[0]]) if later.size else np.nan
+    if np.isfinite(fall) and fall > -0.5 * jump:  # back near the reading before: one value
+        remedy = (
+            f"the next reading ({float(v[later[0]]):,.1f} {name}) is back near the one before: "
+            "a misentered value: correct it, or delete it (its interval is then missing)"
+        )
+    else:
+        remedy = (
+            "if the meter was replaced there (or its register set), subtract the offset (the "
+            "new meter's first reading minus the old one's last; at most the jump, "
+            f"{jump:,.1f} {name}) from every reading from that row on, or use only the "
+            "measurements on one side of it; a misentered reading: correct it"
+        )
+    more = f" ({jumps.size} jumps in all)" if jumps.size > 1 else ""
+    raise ThermocalInputError(
+        f"{label}: a cumulative meter reading rises by the energy used, but it jumps from "
+        f"{before:,.1f} to {after:,.1f} {name} (by {jump:,.1f} {name} in "
+        f"{duration_text(span)}, a mean {jump * kw / span.total_seconds():,.1f} kW) at "
+        f"{values.index[at]} (row {at + 2} of the file){more}, more than "
+        f"{READING_JUMP_FACTOR:g} times the record's 99th-percentile rise ({typical:,.1f} "
+        f"{name}, {typical_power * kw:,.1f} kW) in energy and in power, far beyond what the "
+        f"metered system gave in the rest of the record; {remedy}"
     )
 
 

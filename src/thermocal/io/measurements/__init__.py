@@ -24,7 +24,8 @@ Resampling (:func:`resample_measurements`)
     ``"mean"``          time-weighted mean of the held signal over each interval (exact for
                         step signals) -- temperatures, flows, power from event-based sensors;
     ``"mean_linear"``   time-weighted mean of the linearly interpolated signal (trapezoid) -- for
-                        instantaneous samples of a smooth quantity taken at regular times;
+                        instantaneous samples of a smooth quantity taken at regular times
+                        (interval means stand for their interval's middle);
     ``"last"``          value held at the end of the interval (states, set points, meter
                         readings);
     ``"first"``         value held at the start of the interval;

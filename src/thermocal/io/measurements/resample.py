@@ -688,7 +688,17 @@ def _aggregate(
             result = np.diff(integral) / covered + reference
         result[~enough] = np.nan
     elif operation == "mean_linear":
-        integral_lin, cover_lin = _linear_integral(t, values - reference, gap, edges)
+        # a row that is the mean over [t, t + interval) stands for the middle of its interval
+        # (stamped at its start, hourly means of a Case 600 twin put every reading 30 min
+        # early: the identified heat's CV(RMSE) 13.4 % against 6.5 % at the middle)
+        at, held, gaps = t, values, gap
+        if interval_td is not None and t.size:
+            # and the first and last rows' outer halves held at their means
+            half = 0.5 * interval_td.total_seconds()
+            at = np.concatenate(([t[0]], t + half, [t[-1] + 2.0 * half]))
+            held = np.concatenate(([values[0]], values, [values[-1]]))
+            gaps = np.concatenate(([False], gap[:-1], [False, True]))
+        integral_lin, cover_lin = _linear_integral(at, held - reference, gaps, edges)
         covered_lin = np.diff(cover_lin)
         coverage = covered_lin / step_s
         enough = (coverage >= min_coverage - 1e-12) & (covered_lin > 0)

@@ -309,3 +309,23 @@ def test_a_clock_that_jumps_near_the_middle_is_found_by_the_halves(twin, tmp_pat
     assert clock["passed"] is False and clock["best"] == -1.0, clock
     assert clock["halves"]["disagree"] is True and clock["halves"]["shifted"] == [False, True]
     assert "warning: " in text and "the two halves of the compared hours disagree" in text
+
+
+def test_a_spread_falling_all_the_way_to_the_search_limit_fails_the_check():
+    """A log in UTC read as local time 7 h off: the spread fell by 14 % at -3 h, every hour
+    lower than the last, and the check passed under its 20 % tolerance (the identified heat
+    +26 %; exploratory test, 2026-11-30). At the limit, falling all the way, 5 % suffice."""
+    from thermocal.calibration.clockcheck import clock_result, shift_within_tolerance
+
+    falling = {0.0: 2.101, -1.0: 2.013, -2.0: 1.912, -3.0: 1.805, 1.0: 2.171}
+    assert not shift_within_tolerance(falling, -3.0)
+    result = clock_result(falling, -3.0, consequence="")
+    assert not result["passed"] and result["at_limit"]
+    assert "better with its time stamps at least 3 h earlier" in result["note"]
+    assert "much better" not in result["note"]
+    # not falling all the way (the same reduction at the limit, a bump on the way): passes
+    bumpy = {0.0: 2.101, -1.0: 2.2, -2.0: 1.912, -3.0: 1.805, 1.0: 2.171}
+    assert shift_within_tolerance(bumpy, -3.0)
+    # falling all the way but by less than 5 %: passes; a 1-hour best: the 20 % tolerance
+    assert shift_within_tolerance({0.0: 2.0, -1.0: 1.99, -2.0: 1.97, -3.0: 1.96}, -3.0)
+    assert shift_within_tolerance({0.0: 2.0, -1.0: 1.7, 1.0: 2.1}, -1.0)

@@ -192,3 +192,28 @@ def test_in_situ_measurement_outside_the_campaigns_range_is_refused():
     with pytest.raises(ThermocalInputError, match="not a parameter of the campaign"):
         measure_in_situ(campaign, space)
 
+
+
+def test_mostly_clipped_parameters_are_said_with_the_percentage_hint():
+    """default_range: 50 meant +-50 %: +-5000 % clipped half the wall insulation's samples to
+    the floor and the posterior called a conductivity 7 times too good "determined"; the only
+    word was a count of clipped samples (exploratory test, 2026-11-30)."""
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    from thermocal.calibration.analysis import _campaign_notes, _range_hint
+
+    counts = pd.DataFrame(
+        {"lower": [8, 1], "upper": [0, 0], "total": [8, 1], "fraction": [0.5, 1 / 16]},
+        index=["material/IN02/conductivity", "window/G/shgc"],
+    )
+    campaign = SimpleNamespace(parameters=SimpleNamespace(default_range=50.0))
+    (note,) = _campaign_notes(SimpleNamespace(clip_counts=counts), {}, _range_hint(campaign))
+    assert "material/IN02/conductivity (8), window/G/shgc (1)" in note
+    assert "material/IN02/conductivity: more than 25 % of the samples at a limit" in note
+    assert "+-5000 %" in note and "did you mean 0.5?" in note
+    assert "window/G/shgc:" not in note
+    quiet = counts.assign(fraction=[0.1, 0.05])
+    (note,) = _campaign_notes(SimpleNamespace(clip_counts=quiet), {}, _range_hint(campaign))
+    assert "narrow the range" not in note

@@ -99,7 +99,7 @@ def analyse(
     metric = campaign.metric
     info = store.info("analysis") or {}
     occupancy = info.get("occupancy", {})
-    notes.extend(_campaign_notes(sample_set, occupancy))
+    notes.extend(_campaign_notes(sample_set, occupancy, _range_hint(campaign)))
     nominal_outputs, nominal_heat = _nominal_run(runs, store)
     nominal_metric = metric_value(nominal_outputs, metric)
     samples = _read_samples(campaign, space, store, timings, notes)
@@ -548,15 +548,33 @@ def _zoom_stage(
     return stage, info
 
 
-def _campaign_notes(sample_set, occupancy: dict) -> list[str]:
-    """Notes on the campaign itself: samples clipped to physical limits, quiet hours from data."""
+#: Share of a parameter's samples clipped to a physical limit above which the note says what
+#: that does: the meta-model then sees the parameter at the limit in many samples (a
+#: ``default_range: 50`` meant as +-50 % clipped half the wall insulation's samples to the floor
+#: and gave a "determined" conductivity 7 times too good; exploratory test, 2026-11-30).
+MOSTLY_CLIPPED = 0.25
+
+
+def _campaign_notes(sample_set, occupancy: dict, range_hint: str = "") -> list[str]:
+    """Notes on the campaign itself: samples clipped to physical limits, quiet hours from data.
+
+    ``range_hint``: :func:`_range_hint`, said when a parameter's samples are mostly clipped."""
     notes = []
     clipped = sample_set.clip_counts[sample_set.clip_counts["total"] > 0]
     if len(clipped):
-        notes.append(
-            f"{len(clipped)} parameter(s) had samples clipped to their physical limits: "
-            + ", ".join(f"{name} ({int(row['total'])})" for name, row in clipped.iterrows())
+        note = f"{len(clipped)} parameter(s) had samples clipped to their physical limits: " + (
+            ", ".join(f"{name} ({int(row['total'])})" for name, row in clipped.iterrows())
         )
+        mostly = clipped[clipped["fraction"] > MOSTLY_CLIPPED]
+        if len(mostly):
+            note += (
+                f"; {', '.join(mostly.index[:5])}{', ...' if len(mostly) > 5 else ''}: more than "
+                f"{100 * MOSTLY_CLIPPED:g} % of the samples at a limit, so the meta-model and the "
+                "posterior see those parameters mostly at their limits, and an interval near a "
+                "limit says more about the range than about the building: narrow the range"
+                + range_hint
+            )
+        notes.append(note)
     if occupancy.get("source") == "data":
         notes.append(
             "Unoccupied hours from the data: "

@@ -246,3 +246,42 @@ def test_identify_command_states_sparse_sensors_empty_columns_and_large_substitu
     done, text = _cli(tmp_path, long_gap, "gap")
     assert done.returncode == 0, done.stderr
     assert re.search(r"warning: zone 'SPACE1-1' takes its reference from zone '\S+' for 31 %", text)
+
+
+def test_a_long_gap_takes_the_neighbour_whose_temperature_is_closest():
+    """Three days missing in an office: the largest shared area chose its ceiling plenum (2 K
+    colder), and the office's identified heat came out -4.2 kW where about -25 W was true
+    (5ZoneAirCooled twin, exploratory test, 2026-11-30). Among the adjacent zones, the one whose
+    measured temperature is closest to the office's own where both are known takes over."""
+    from types import SimpleNamespace
+
+    import numpy as np
+    import pandas as pd
+
+    from thermocal.identification.sensors import _fallback_zone
+
+    def wall(zone, other, area):
+        return SimpleNamespace(boundary="zone", zone=zone, other_zone=other, area=area)
+
+    building = SimpleNamespace(
+        surfaces={
+            "ceiling": wall("office", "plenum", 100.0),
+            "partition": wall("office", "corridor", 20.0),
+            "far": wall("corridor", "lab", 20.0),
+        }
+    )
+    times = pd.date_range("2017-01-01", periods=96, freq="h")
+    hours = np.arange(96)
+    office = 21.0 + np.sin(2 * np.pi * hours / 24)
+    reference = pd.DataFrame(
+        {"office": office, "plenum": office - 2.0, "corridor": office - 0.3, "lab": office},
+        index=times,
+    )
+    reference.iloc[30:60, 0] = np.nan
+    sources = {z: SimpleNamespace(zone=z) for z in reference}
+    assert _fallback_zone(building, "office", sources["office"], sources, reference) == (
+        "corridor"
+    )
+    # the corridor without data over the gap: the plenum, the only other adjacent zone
+    reference.iloc[40, 2] = np.nan
+    assert _fallback_zone(building, "office", sources["office"], sources, reference) == "plenum"

@@ -182,3 +182,31 @@ def test_heating_only_zone_keeps_its_varying_control_type(shared_data, tmp_path)
     _agree(ours, theirs, mae=0.7)
     assert 150 < theirs["heating"] < 400 and theirs["cooling"] < 1.0
     assert ours["air"][:15 * 24].min() < 5.0  # floating in the first half, as EnergyPlus
+
+
+def test_operative_temperature_thermostat(shared_data, tmp_path):
+    """``ZoneControl:Thermostat:OperativeTemperature`` (radiative fraction 0.5): the ideal loads
+    hold (T_air + T_mrt) / 2 at the set points. Case 600 in January: EnergyPlus 820 kWh of
+    heating and 678 of cooling, thermocal 820 and 675; holding the air temperature instead (the
+    object was named NOT SIMULATED until 2026-11-30) gave 698 and 558, as EnergyPlus does for
+    the air thermostat (695 and 556)."""
+    base = _january(shared_data)
+    runs = {
+        name: _both(text, tmp_path, name, shared_data)
+        for name, text in (
+            ("air", base),
+            (
+                "operative",
+                base + "\nZoneControl:Thermostat:OperativeTemperature, ZONE ONE Thermostat, "
+                "Constant, 0.5, , None;\n",
+            ),
+        )
+    }
+    for ours, theirs, _ in runs.values():
+        _agree(ours, theirs, mae=0.3)
+    air, operative = runs["air"][1], runs["operative"][1]
+    assert operative["heating"] > 1.1 * air["heating"]
+    assert operative["cooling"] > 1.1 * air["cooling"]
+    printed = runs["operative"][2]
+    assert "hold the operative temperature" in printed
+    assert "NOT SIMULATED" not in printed

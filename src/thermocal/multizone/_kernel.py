@@ -34,7 +34,9 @@ reference temperature ``track_ref``:
 
 The sensed temperature of tracked zone ``c`` is ``w T_air + (1 - w) T_surf`` with
 ``w = track_w_air[c]`` and ``T_surf`` the area-weighted interior surface temperature (``w = 1``
-air, ``0.5`` operative); its heat enters the nodes ``track_idx[track_ptr[c]:track_ptr[c+1]]``
+air, ``0.5`` operative); in a run (``track_mode == 0``) ``track_w_air`` weighs the temperature
+the ideal loads hold (an operative thermostat: ``1 - f``, ``f`` its radiative fraction); a
+tracked zone's heat enters the nodes ``track_idx[track_ptr[c]:track_ptr[c+1]]``
 with weights ``track_val`` summing to one (the air node, and the zone's faces for a radiant
 part).
 """
@@ -316,6 +318,12 @@ def run_steps(
     t_free = np.empty(nc)
     rhs_d = np.empty(n)
     mrt_tmp = np.zeros(nz)
+    # a run's ideal loads holding an operative temperature (track_w_air < 1 for that zone)
+    operative = False
+    if track_mode == 0 and track_w_air.shape[0] == nc:
+        for c in range(nc):
+            if track_w_air[c] < 1.0:
+                operative = True
     face_excess = np.zeros(face_node.shape[0])
     face_lw = np.zeros(face_node.shape[0])
     zone_excess = np.zeros(nz)
@@ -800,6 +808,16 @@ def run_steps(
         if ideal_on and nc > 0 and not done:
             for c in range(nc):
                 t_free[c] = x_new[air_node[ctrl_zone[c]]]
+            if operative:
+                for z in range(nz):
+                    mrt_tmp[z] = 0.0
+                for f in range(face_node.shape[0]):
+                    mrt_tmp[face_zone[f]] += face_area[f] * x_new[face_node[f]]
+                for c in range(nc):
+                    z = ctrl_zone[c]
+                    w = track_w_air[c]
+                    if w < 1.0 and zone_face_area[z] > 0:
+                        t_free[c] = w * t_free[c] + (1.0 - w) * mrt_tmp[z] / zone_face_area[z]
             cache_m[6] += 1
             ideal_loads(
                 t_free,
@@ -825,8 +843,8 @@ def run_steps(
         #     temperatures do not change while the zone stays held)
         if ideal_on and track_mode == 0:
             for c in range(nc):
-                if active[c] == 0:
-                    continue
+                if active[c] == 0 or (operative and track_w_air[c] < 1.0):
+                    continue  # (an operative thermostat's air is not at the set point)
                 z = ctrl_zone[c]
                 if imp_of[z] >= 0 or gt_of[z] >= 0:
                     continue

@@ -249,6 +249,13 @@ class NetworkSetup:
         zones = list(self.building.zones.values())
         ctrl = [i for i, z in enumerate(zones) if z.conditioned]
         self._ctrl = np.asarray(ctrl, dtype=np.int64)
+        # air weight of each controlled zone's held temperature: 1 (air), 1 - f for an operative
+        # thermostat of radiative fraction f (an imported ZoneControl:Thermostat:
+        # OperativeTemperature)
+        operative = getattr(getattr(self.building, "idf_info", None), "operative_fraction", {})
+        self._ctrl_w_air = np.array(
+            [1.0 - float(operative.get(zones[i].name, 0.0)) for i in ctrl], dtype=float
+        )
         heat_sp = [zones[i].heating_setpoint for i in ctrl]
         cool_sp = [zones[i].cooling_setpoint for i in ctrl]
         self._heat_sp = np.array([-np.inf if t is None else t for t in heat_sp], dtype=float)
@@ -352,7 +359,17 @@ class NetworkSetup:
         if len(controlled) and ideal:
             unit = np.zeros((net.n_nodes, len(controlled)))
             unit[net.air_node[controlled], np.arange(len(controlled))] = 1.0
-            g_ctrl = np.ascontiguousarray(lu.solve(unit)[net.air_node[controlled], :])
+            response = lu.solve(unit)
+            g_ctrl = response[net.air_node[controlled], :]
+            w_air = self._ctrl_w_air if controlled is self._ctrl else np.ones(len(controlled))
+            for c in np.flatnonzero(w_air < 1.0):
+                # an operative thermostat: its held temperature responds as w T_air + (1 - w)
+                # T_mrt, T_mrt the zone's area-weighted interior surface temperature
+                faces = np.flatnonzero(net.face_zone == controlled[c])
+                area = net.face_area[faces]
+                mrt = area @ response[net.face_node[faces], :] / area.sum()
+                g_ctrl[c] = w_air[c] * g_ctrl[c] + (1.0 - w_air[c]) * mrt
+            g_ctrl = np.ascontiguousarray(g_ctrl)
         else:
             g_ctrl = np.zeros((0, 0))
         # explicit-correction bounds (stability of the lagged terms, see network module)

@@ -193,7 +193,8 @@ class Stepping:
             self._cache_member,
             self._cache_inv,
             self._cache_m,
-            len(self._ctrl) > 0 and self.use_dirichlet,
+            # the Dirichlet system prescribes air temperatures: not for an operative thermostat
+            len(self._ctrl) > 0 and self.use_dirichlet and bool(np.all(self._ctrl_w_air == 1.0)),
             *context.dirichlet,
             *context.air_rows,
             net.window_outer,
@@ -214,7 +215,8 @@ class Stepping:
             track["mode"],
             track["reference"],
             track["general"],
-            track["w_air"],
+            # the sensed temperature's air weight; in a run, the held temperature's
+            self._ctrl_w_air if tracking is None else track["w_air"],
             *track["distribution"],
             *track["pid"],
             track["pid_state"],

@@ -606,9 +606,80 @@ class LoadStages:
         )
         self._one_sided_equipment()
         self._plenums()
+        self._operative_thermostats()
         records = ideal_loads_records(self.by_key, getattr(self, "version", (25, 2)))
         self._switch_off_ideal_loads(records)
         self.info.notes.extend(ideal_loads_notes(records, self.schedules.annual_mean))
+
+    def _operative_thermostats(self) -> None:
+        """``ZoneControl:Thermostat:OperativeTemperature``: its zones' ideal loads hold
+        ``(1 - f) T_air + f T_mrt`` at the set points, ``f`` the radiative fraction
+        (``info.operative_fraction``). A scheduled fraction takes its mean over the year (said);
+        an adaptive comfort model is not applied (said)."""
+        key = "ZoneControl:Thermostat:OperativeTemperature"
+        found = self.by_key.get(key.upper(), [])
+        if not found:
+            return
+        thermostats = {
+            rec["name"].upper(): rec for rec in self.records("ZONECONTROL:THERMOSTAT")
+        }
+        for obj in found:
+            fields = [f.strip() for f in obj.fields] + [""] * 5
+            thermostat = thermostats.get(fields[0].upper())
+            only = None
+            if thermostat is None:  # "<Zone Name> <thermostat>" of a ZoneList's thermostat
+                for rec in thermostats.values():
+                    for zone in self.zone_targets(rec):
+                        if f"{zone} {rec['name']}".upper() == fields[0].upper():
+                            thermostat, only = rec, zone
+            if thermostat is None:
+                self.info.notes.append(
+                    f"{obj.where()}: field 'Thermostat Name' = '{fields[0]}' names no "
+                    "ZoneControl:Thermostat of the file: not applied (air temperature held)"
+                )
+                continue
+            mode = fields[1].upper() or "CONSTANT"
+            if mode == "SCHEDULED" and fields[3]:
+                try:
+                    fraction = float(self.schedules.annual_mean(fields[3]))
+                except Exception as exc:  # noqa: BLE001 - named with the object
+                    raise ThermocalInputError(f"{obj.where()}: {exc}") from None
+                self.info.notes.append(
+                    f"{obj.where()}: the scheduled radiative fraction '{fields[3]}' is taken at "
+                    f"its mean over the year, {fraction:.3g}"
+                )
+            else:
+                try:
+                    fraction = float(fields[2]) if fields[2] else 0.0
+                except ValueError:
+                    raise ThermocalInputError(
+                        f"{obj.where()}: field 'Fixed Radiative Fraction' = '{fields[2]}' is "
+                        "not a number."
+                    ) from None
+            if not 0.0 <= fraction < 0.9:
+                raise ThermocalInputError(
+                    f"{obj.where()}: the radiative fraction {fraction:g} is outside [0, 0.9) "
+                    "(EnergyPlus' limits)."
+                )
+            if fields[4] and fields[4].upper() != "NONE":
+                self.info.notes.append(
+                    f"{obj.where()}: the adaptive comfort model '{fields[4]}' is not applied: "
+                    "the thermostat's own set points are used"
+                )
+            for zone in [only] if only else self.zone_targets(thermostat):
+                if fraction > 0.0:
+                    self.info.operative_fraction[zone] = fraction
+        count = self.info.unsupported.pop(key, None) or self.info.unsupported.pop(
+            next((k for k in self.info.unsupported if k.upper() == key.upper()), ""), None
+        )
+        if count and self.info.operative_fraction:
+            zones = ", ".join(f"'{z}'" for z in list(self.info.operative_fraction)[:6])
+            self.info.notes.append(
+                f"{IDEAL_LOADS_NOT_APPLIED.replace('not applied', 'applied')}: {key}: the "
+                f"ideal loads of zone(s) {zones} hold the operative temperature "
+                "(1 - f) T_air + f T_mrt at the set points, f the radiative fraction, as "
+                "EnergyPlus does"
+            )
 
     def _plenums(self) -> None:
         """A note per air-loop plenum: the air the loop draws or pushes through its zone is not

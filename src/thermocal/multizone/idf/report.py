@@ -144,6 +144,10 @@ class IdfImportInfo:
     ideal_loads_availability: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = field(
         default_factory=dict
     )
+    #: zones whose thermostat holds the operative temperature: ``{zone: radiative fraction f}``
+    #: (``ZoneControl:Thermostat:OperativeTemperature``; the ideal loads hold
+    #: ``(1 - f) T_air + f T_mrt`` at the set points)
+    operative_fraction: dict[str, float] = field(default_factory=dict)
     infiltration_schedules: dict[str, list[str]] = field(default_factory=dict)
     zone_multipliers: dict[str, float] = field(default_factory=dict)
     schedules: ScheduleEvaluator | None = None

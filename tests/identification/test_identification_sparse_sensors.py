@@ -285,3 +285,41 @@ def test_a_long_gap_takes_the_neighbour_whose_temperature_is_closest():
     # the corridor without data over the gap: the plenum, the only other adjacent zone
     reference.iloc[40, 2] = np.nan
     assert _fallback_zone(building, "office", sources["office"], sources, reference) == "plenum"
+
+
+def test_a_zone_filled_from_another_does_not_look_like_it():
+    """A review, 2026-11-30: A's long gap filled from B made A look identical to B, and B's
+    later gap then took A (0.50 K from B where both were measured) over C (0.35 K, and the
+    larger shared area). The ranking uses the references as measured."""
+    from types import SimpleNamespace
+
+    import numpy as np
+    import pandas as pd
+
+    from thermocal.identification.sensors import _fallback_zone
+
+    def wall(zone, other, area):
+        return SimpleNamespace(boundary="zone", zone=zone, other_zone=other, area=area)
+
+    building = SimpleNamespace(
+        surfaces={
+            "ab": wall("A", "B", 10.0),
+            "ba": wall("B", "A", 10.0),
+            "bc": wall("B", "C", 50.0),
+            "cb": wall("C", "B", 50.0),
+        }
+    )
+    hours = np.arange(100)
+    b = 21 + np.sin(2 * np.pi * hours / 24)
+    reference = pd.DataFrame(
+        {"A": b + 0.5, "B": b.copy(), "C": b - 0.35},
+        index=pd.date_range("2017-01-01", periods=100, freq="h"),
+    )
+    reference.iloc[0:75, 0] = np.nan
+    reference.iloc[80:90, 1] = np.nan
+    measured = reference.copy()
+    sources = {z: SimpleNamespace(zone=z) for z in reference}
+    assert _fallback_zone(building, "A", sources["A"], sources, reference, measured) == "B"
+    gap = reference["A"].isna()
+    reference.loc[gap, "A"] = reference.loc[gap, "B"]
+    assert _fallback_zone(building, "B", sources["B"], sources, reference, measured) == "C"

@@ -258,3 +258,33 @@ def test_an_energy_per_row_is_divided_by_its_own_interval():
     reading = pd.Series(np.array([0.0, 1.0, 3.0, 4.0]) * 3.6e6, index=index)
     power = meter_power(reading, energy=True, cumulative=True, interval=pd.Timedelta("15min"))
     np.testing.assert_allclose(power.to_numpy()[:3], 4000.0)
+
+
+def test_heating_after_weeks_of_almost_none_is_not_a_jump_and_thinned_rows_keep_their_length():
+    """A review, 2026-11-30: 60 days of 0.02 kWh an hour, then 12 hours of heating at 4 kWh,
+    were refused as jumps (their 99th percentile 0.02 kWh); and an energy per row whose log
+    thins from 15 to 30 min rows had its 30-min rows divided by 15 min (4000 W for 2000)."""
+    import numpy as np
+    import pandas as pd
+
+    from thermocal.retrofit.data import meter_power, reading_jumps
+
+    rises = np.r_[np.full(60 * 24, 0.02), np.full(12, 4.0)]
+    readings = np.r_[100.0, 100.0 + np.cumsum(rises)]
+    hours = np.arange(readings.size) * 3600.0
+    assert reading_jumps(readings, hours)[0].size == 0
+    # one replaced meter among the same rises is still a jump
+    jumped = readings.copy()
+    jumped[700:] += 500.0
+    assert reading_jumps(jumped, hours)[0].tolist() == [700]
+    times = pd.DatetimeIndex(
+        list(pd.date_range("2024-01-01", periods=128, freq="15min"))
+        + list(pd.date_range("2024-01-02 08:00", periods=32, freq="30min")),
+        tz="UTC",
+    )
+    energy = pd.Series(
+        np.r_[np.full(128, 2000.0 * 900), np.full(32, 2000.0 * 1800)], index=times
+    )  # J per row at a true 2000 W
+    power = meter_power(energy, energy=True, cumulative=False, interval=pd.Timedelta("15min"),
+                        label="log.csv, column 'heat'", unit=("J", 1.0))  # fmt: skip
+    assert np.allclose(power.iloc[:127], 2000.0) and np.allclose(power.iloc[129:], 2000.0)

@@ -785,11 +785,12 @@ def zone_references(
         series, held_first = _hold_edge_step(series, first, step, "first")
         interpolated += [{"zone": zone, **gap} for gap in held_first + filled + held]
         reference[zone] = series
+    measured = reference.copy()  # before any zone takes over another's gap
     for zone, src in tracked.items():
         missing = reference[zone].isna()
         if not missing.any():
             continue
-        fallback = _fallback_zone(building, zone, src, sources, reference)
+        fallback = _fallback_zone(building, zone, src, sources, reference, measured)
         if fallback is None:
             first_missing = reference.index[missing.argmax()]
             if (
@@ -1971,7 +1972,7 @@ def _hold_edge_step(
     return series, [{"start": series.index[at], "end": series.index[at] + step, "hours": hours}]
 
 
-def _fallback_zone(building, zone, src, sources, reference) -> str | None:
+def _fallback_zone(building, zone, src, sources, reference, measured=None) -> str | None:
     """The nearest zone with complete data over a long gap of ``zone``'s own data.
 
     Adjacent zones first, then, through zones without a reference (floating ones), the zones
@@ -1979,10 +1980,12 @@ def _fallback_zone(building, zone, src, sources, reference) -> str | None:
     ``zone``'s own where both are measured (root mean square difference; then the largest
     shared area): the largest shared area alone chose an office's ceiling plenum, and three days
     of its temperature made the office's identified heat -4.2 kW where about -25 W was true
-    (exploratory test, 2026-11-30).
+    (exploratory test, 2026-11-30). ``measured``: the references before any gap was filled
+    (default ``reference``), so that a zone filled from another does not look like it.
     """
+    measured = reference if measured is None else measured
     missing = reference[zone].isna()
-    own = reference[zone]
+    own = measured[zone]
     seen = {zone}
     frontier = [zone]
     while frontier:
@@ -2001,7 +2004,7 @@ def _fallback_zone(building, zone, src, sources, reference) -> str | None:
         ]
         if candidates:
             return min(
-                candidates, key=lambda o: (_rms_difference(own, reference[o]), -ring[o], o)
+                candidates, key=lambda o: (_rms_difference(own, measured[o]), -ring[o], o)
             )
         frontier = [z for z in ring if z not in reference]
     return None

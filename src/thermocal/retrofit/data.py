@@ -583,12 +583,20 @@ def meter_power(
         return pd.Series(np.append(np.diff(v), np.nan) / seconds, index=t)
     if interval is None and len(t) > 1:
         interval = pd.Series(t).diff().median()
-    longest = pd.Timedelta(interval).total_seconds()
+    typical = pd.Timedelta(interval).total_seconds()
     present = np.flatnonzero(np.isfinite(v))
     seconds = np.full(len(v), np.nan)
-    # each value until the column's next value, at most one logging interval
-    to_next = np.append(np.diff(ns[present]) / 1e9, longest)
-    seconds[present] = np.minimum(to_next, longest)
+    # each value until the column's next value, but no longer than the spacing the log has
+    # around it (the median of the nine spacings nearest it): the row before a missing one
+    # keeps its own interval, and a log that thins from 15 to 30 min rows keeps its 30 min
+    # (capped at the file's median interval, those rows doubled their power)
+    spacing = np.diff(ns[present]) / 1e9
+    if spacing.size:
+        local = pd.Series(spacing).rolling(9, center=True, min_periods=1).median().to_numpy()
+        cap = np.append(local, local[-1])
+    else:
+        cap = np.full(present.size, typical)
+    seconds[present] = np.minimum(np.append(spacing, np.inf), cap)
     return pd.Series(v / seconds, index=t)
 
 
@@ -676,7 +684,28 @@ def reading_jumps(readings: np.ndarray, seconds: np.ndarray) -> tuple[np.ndarray
             & (steps > READING_JUMP_FACTOR * energy)
             & (steps / spans > READING_JUMP_FACTOR * power)
         )
+    # a jump stands alone: a run of READING_JUMP_MAX_RUN + 1 or more such rises is heating
+    # starting after weeks of almost none (a summer's 0.02 kWh an hour, then 4 kWh hours)
+    jump &= ~_long_runs(jump, READING_JUMP_MAX_RUN)
     return present[1:][jump], energy, power
+
+
+#: Longest run of consecutive rises above the jump threshold still called a jump [rises].
+READING_JUMP_MAX_RUN = 2
+
+
+def _long_runs(mask: np.ndarray, longest: int) -> np.ndarray:
+    """``mask`` where its runs of True are longer than ``longest``."""
+    out = np.zeros(mask.size, dtype=bool)
+    start = None
+    for i, value in enumerate(np.append(mask, False)):
+        if value and start is None:
+            start = i
+        elif not value and start is not None:
+            if i - start > longest:
+                out[start:i] = True
+            start = None
+    return out
 
 
 def rollover_limit(before: float, after: float) -> float | None:
@@ -816,8 +845,8 @@ def _refuse_jump(
         f"{before:,.1f} to {after:,.1f} {name} (by {jump:,.1f} {name} in "
         f"{duration_text(span)}, a mean {jump * kw / span.total_seconds():,.1f} kW) at "
         f"{values.index[at]} (row {at + 2} of the file){more}, more than "
-        f"{READING_JUMP_FACTOR:g} times the record's 99th-percentile rise ({typical:,.1f} "
-        f"{name}, {typical_power * kw:,.1f} kW) in energy and in power, far beyond what the "
+        f"{READING_JUMP_FACTOR:g} times the record's 99th-percentile rise ({typical:,.3g} "
+        f"{name}, {typical_power * kw:,.3g} kW) in energy and in power, far beyond what the "
         f"metered system gave in the rest of the record; {remedy}"
     )
 

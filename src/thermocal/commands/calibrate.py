@@ -278,7 +278,7 @@ def _print_summary(result) -> None:
                 "-" if towards is None else ("yes" if towards else "no"),
                 "-"
                 if not np.isfinite(row["recovered_fraction"])
-                else f"{100 * row['recovered_fraction']:.0f} %",
+                else f"{100 * row['recovered_fraction'] + 0.0:.0f} %".replace("-0 %", "0 %"),
             )
         console.print(truth)
     for note in result.notes:

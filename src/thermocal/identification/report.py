@@ -95,6 +95,7 @@ def add_section(
                 index=["ultimate gain Ku [W/K]", "ultimate period Pu [s]"],
             ),
             caption=f"Ziegler-Nichols tuning on {t.zone} ({t.volume:.0f} m3)",
+            index=True,  # the rows' names: the gain and the period
             number_format="{:,.4g}",
         )
         if getattr(t, "experiment_note", None):

@@ -40,16 +40,23 @@ def decimal_comma_numbers(values: pd.Series) -> tuple[pd.Series, pd.Series]:
         values.dtype
     ):
         return values.astype(float), pd.Series(False, index=values.index)
-    if pd.api.types.infer_dtype(values, skipna=True) != "string":
+    numeric = None
+    if pd.api.types.infer_dtype(values, skipna=True) not in ("string", "empty"):
         # numbers among the text (an Excel column of both): those are already numbers
-        numeric = values.map(lambda v: isinstance(v, int | float) and not isinstance(v, bool))
+        numeric = values.map(
+            lambda v: isinstance(v, int | float) and not isinstance(v, bool) and v == v
+        ).astype(bool)
         if numeric.any():
-            numbers, ambiguous = decimal_comma_numbers(values.where(~numeric).astype(object))
-            numbers[numeric] = values[numeric].astype(float)
-            return numbers, ambiguous & ~numeric
+            found = values[numeric].astype(float)
+            values = values.where(~numeric, None).astype(object)
+        else:
+            numeric = None
     text = values.astype("string").str.strip().str.replace(_SPACE_GROUPS, "", regex=True)
     grouped = text.str.fullmatch(_GROUPED).fillna(False).astype(bool)
     ambiguous = (text.str.contains(".", regex=False).fillna(False).astype(bool)) & ~grouped
     cleaned = text.where(~grouped, text.str.replace(".", "", regex=False))
     cleaned = cleaned.str.replace(",", ".", regex=False).where(~ambiguous)
-    return pd.to_numeric(cleaned, errors="coerce").astype(float), ambiguous
+    numbers = pd.to_numeric(cleaned, errors="coerce").astype(float)
+    if numeric is not None:
+        numbers[numeric] = found
+    return numbers, ambiguous

@@ -168,7 +168,8 @@ class HtmlReport:
         highlight_rows : iterable
             Row positions (0-based) to emphasise.
         """
-        df = frame.reset_index() if index else frame
+        # an unnamed index heads its column with nothing, not pandas' "index"
+        df = frame.rename_axis(frame.index.name or "").reset_index() if index else frame
         highlight = set(highlight_rows)
         head = "".join(
             f'<th class="{"num" if pd.api.types.is_numeric_dtype(df[c]) else ""}">'

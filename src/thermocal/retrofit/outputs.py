@@ -113,7 +113,8 @@ def results_dict(analysis: RetrofitAnalysis, *, true_hlc: float | None = None) -
         if has_draws else None,
         "indoor_profile_C": [_num(v) for v in analysis.indoor_profile],
         "weather": {
-            k: analysis.weather_meta.get(k) for k in ("name", "latitude", "longitude", "source")
+            k: analysis.weather_meta.get(k)
+            for k in ("name", "latitude", "longitude", "source", "coerced_year")
         },
         "per_m2_kWh": _num(annual[0, 0] / float(analysis.building.heated_floor_area)),
     }

@@ -411,7 +411,7 @@ def write_report(
     ref_items = {k: v for k, v in dem["references"].items() if not isinstance(v, list)}
     ref_text = "; ".join(f"{k}: {v:,.0f} kWh" for k, v in ref_items.items())
     rep.paragraph(
-        f"Simulated over the typical year of {dem['weather'].get('name') or 'the weather file'} "
+        f"Simulated over {_weather_year_text(dem['weather'])} "
         f"with the 24-hour indoor temperature profile (see Assumptions) and ideal heating: "
         f"{dem['value']:,.0f} kWh/a ({dem['per_m2_kWh']:.0f} kWh per m² heated floor area)."
         + (f" References: {ref_text}." if ref_text else "")
@@ -1140,3 +1140,12 @@ def _in_situ_table(rep, in_situ: dict) -> None:
             }
         )  # fmt: skip
     rep.table(pd.DataFrame(rows), caption="In-situ U-values [W/(m2 K)]")
+
+
+def _weather_year_text(weather: dict) -> str:
+    """"the typical year of NAME" for a typical-year file (its rows put on one year), "the
+    measured year of NAME" for an actual year (the Zurich 2015 file was called typical)."""
+    name = weather.get("name") or "the weather file"
+    if "coerced_year" in weather and weather["coerced_year"] is None:
+        return f"the measured year of {name} (the weather file's own year, not a typical one)"
+    return f"the typical year of {name}"

@@ -532,6 +532,10 @@ class FitResults:
             "wald_lower": value - z * se, "wald_upper": value + z * se,
             "state": model.heat_loss_state(), "boundaries": list(model.boundary_names),
             "alpha": alpha, "interval": "wald", "disagree": False,
+            # free parameters at a bound that the coefficient depends on: it is then the
+            # bound's, and no interval is its uncertainty (248.5 W/K [246.6, 250.3] for a
+            # truth of 166.7 with a resistance's upper bound too low, without a word)
+            "held_by_bounds": [p for i, p in enumerate(free) if p in self.at_bound and grad[i]],
         }  # fmt: skip
         if profile:
             try:

@@ -33,3 +33,18 @@ def test_report_tables_print_no_negative_zero():
     text = report.html() if hasattr(report, "html") else str(report._current)
     assert "<td class=\"num\">0</td>" in text and "-0<" not in text
     assert "<td class=\"num\">-0</td>" not in text and "<td class=\"num\">2</td>" in text
+
+
+def test_report_table_with_an_unnamed_index_heads_it_with_nothing():
+    """The identify report's tuning table lost its row names (index not shown), and the
+    calibrate report's confirmation table showed pandas' 'index' header (2026-11-30)."""
+    import pandas as pd
+
+    from thermocal.report.html import HtmlReport
+
+    report = HtmlReport("t")
+    frame = pd.DataFrame({"exact": [1.0, 2.0]}, index=["ultimate gain Ku [W/K]", "period"])
+    report.table(frame, index=True)
+    text = report.html() if hasattr(report, "html") else str(report._current)
+    assert "ultimate gain Ku [W/K]" in text
+    assert ">index<" not in text

@@ -459,3 +459,35 @@ def test_fit_reads_thousands_separators_of_a_decimal_comma_export(tmp_path):
     assert result.exit_code != 0
     assert "'4000.5' has a decimal point" in str(result.exception)
     assert "row 4 (file line 6)" in str(result.exception)
+
+
+def test_fit_says_when_a_bound_holds_the_heat_loss_coefficient_and_runs_on_few_rows(tmp_path):
+    """An exploratory round, 2026-11-30: a resistance's bound held the heat loss coefficient
+    (248.5 W/K [246.6, 250.3] for a truth of 166.7) and the headline said nothing; a fit of 12
+    rows for 10 parameters succeeded, then the time-stamp check's refits (two rows fewer)
+    stopped the command, blaming the data."""
+    data = tmp_path / "data.csv"
+    write_data(data)
+    bounded = tmp_path / "bounded.yaml"
+    text = MODEL.read_text()
+    line = "  H_v: {value: 80, lower: 0.1, upper: 2000, unit: W/K}"
+    assert line in text
+    bounded.write_text(text.replace(line, "  H_v: {value: 10, lower: 0.1, upper: 20, unit: W/K}"))
+    out = tmp_path / "out"
+    result = CliRunner().invoke(
+        app, ["fit", str(bounded), str(data), "--out", str(out), "--no-figures"], terminal_width=200
+    )
+    assert result.exit_code == 0, result.output
+    printed = " ".join(result.output.split())
+    assert "HELD BY A BOUND: H_v at its bound" in printed
+    content = json.loads((out / "fit.json").read_text())
+    assert content["heat_loss_coefficient"]["held_by_bounds"] == ["H_v"]
+    few = tmp_path / "few.csv"
+    pd.read_csv(data).iloc[:12].to_csv(few, index=False)
+    result = CliRunner().invoke(
+        app, ["fit", "--no-hlc", str(MODEL), str(few), "--out", str(tmp_path / "few"),
+              "--no-figures"],
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    notes = json.loads((tmp_path / "few" / "fit.json").read_text())["data_notes"]
+    assert any(n.startswith("time stamps not checked") for n in notes), notes

@@ -46,6 +46,9 @@ SLSQP_MAXITER = 150
 BOUND_SPAN = 40.0
 #: Stall tolerance of the profile fits (tighter than the default fit's).
 PROFILE_STALL_TOLERANCE = 1e-5
+#: Fall of the profile log-likelihood from the nearest point already computed above which a
+#: point is refitted from the optimum too [log-units]: the 95 % interval's whole depth (1.92).
+PROFILE_JUMP = 1.92
 
 
 def _inside(model, values: dict) -> dict:
@@ -96,6 +99,18 @@ class _ParameterProfile:
                 stall_tolerance=PROFILE_STALL_TOLERANCE,
             )  # fmt: skip
             ll, params = fitted.loglike, fitted.params
+            if self.cache[nearest][0] - ll > PROFILE_JUMP:
+                # a fall this large in one step may be a refit that failed from its start
+                # (it poisoned the points after it: two resistances in series, whose profile
+                # is flat, ended at 2.53 where 4 reaches the optimum); again from the optimum
+                again = _inside(self.res.model, self.res.params.to_dict())
+                again[self.name] = self.value(t)
+                retry = self.res.refit(
+                    model.with_parameters(again), n_starts=1, compute_hessian=False, n_jobs=1,
+                    progress=False, stall_tolerance=PROFILE_STALL_TOLERANCE,
+                )  # fmt: skip
+                if retry.loglike > ll:
+                    ll, params = retry.loglike, retry.params
         self.cache[t] = (ll, params)
         return ll
 

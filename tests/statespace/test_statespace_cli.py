@@ -491,3 +491,23 @@ def test_fit_says_when_a_bound_holds_the_heat_loss_coefficient_and_runs_on_few_r
     assert result.exit_code == 0, result.output
     notes = json.loads((tmp_path / "few" / "fit.json").read_text())["data_notes"]
     assert any(n.startswith("time stamps not checked") for n in notes), notes
+
+
+def test_fit_table_shows_no_standard_error_at_a_bound(tmp_path):
+    """A capacity at its bound got 4 +- 1.5e-07 kWh/K (an exploratory round, 2026-11-30): the
+    delta method maps the wide spread of its log scale to a tiny one. The table says 'at
+    bound'."""
+    data = tmp_path / "data.csv"
+    write_data(data)
+    text = MODEL.read_text()
+    line = "  Cenv: {value: 50, lower: 1, upper: 2000, unit: MJ/K}"
+    assert line in text
+    bounded = tmp_path / "bounded.yaml"
+    bounded.write_text(text.replace(line, "  Cenv: {value: 1.5, lower: 1, upper: 2, unit: MJ/K}"))
+    result = CliRunner().invoke(
+        app, ["fit", "--no-hlc", str(bounded), str(data), "--out", str(tmp_path / "o"),
+              "--no-figures"], terminal_width=200,
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    row = next(line for line in result.output.splitlines() if "│ Cenv" in line)
+    assert "at bound" in row, row

@@ -911,7 +911,10 @@ def fit(
         table.add_row(
             name,
             f"{row['value']:.6g}",
-            "" if se != se else f"{se:.3g}",
+            # at a bound the delta method maps the wide spread of the log or logit scale to a
+            # tiny one (a capacity at its bound: 4 +- 1.5e-07 kWh/K): not an uncertainty; the
+            # profile interval (--profile) is
+            "at bound" if name in results.at_bound else "" if se != se else f"{se:.3g}",
             row["unit"],
             f"{row['lower']:.4g}",
             f"{row['upper']:.4g}",

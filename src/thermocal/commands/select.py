@@ -381,22 +381,45 @@ def select(
         table.to_csv(tmp / "selection.csv", index=False)
         (tmp / "selection.md").write_text(selection_markdown(table, result.path, hlcs))
 
-    view = Table(title=f"Forward selection ({family}, alpha {alpha:g})")
-    for col in ("iteration", "model", "parent", "log-likelihood", "free", "converged",
-                "LR statistic", "df", "p-value", "best", "accepted", "HLC [W/K]",
-                "status"):  # fmt: skip
-        view.add_column(col)
+    # what fits 80 columns (13 columns cut every name to 'Ti…'; the whole table is in
+    # selection.md): a model's step, its result, and the HLC of the accepted ones
+    view = Table(title=f"Forward selection ({family}, alpha {alpha:g})", padding=(0, 1))
+    for col, justify in (("it", "right"), ("model", "left"), ("parent", "left"),
+                         ("loglik", "right"), ("k", "right"), ("LR", "right"),
+                         ("p", "right"), ("step", "left"), ("HLC [W/K]", "left")):  # fmt: skip
+        view.add_column(col, justify=justify, no_wrap=col in ("model", "parent"))
+    statuses = []
     for _, row in table.iterrows():
+        # the start model, the best candidate of a step accepted or rejected by its test
+        step = (
+            "start" if row["iteration"] == 0
+            else "accepted" if row["accepted"]
+            else "rejected" if row["selected"]
+            else ""
+        )  # fmt: skip
+        if not row["converged"]:
+            step = (step + " NOT CONVERGED").strip()
+        if row["status"]:
+            statuses.append(f"{row['model']}: {row['status']}")
+        pvalue = (
+            "" if pd.isna(row["pvalue"])
+            else "<1e-16" if row["pvalue"] < 1e-16 else f"{row['pvalue']:.2g}"
+        )  # fmt: skip
+        lr = "" if pd.isna(row["statistic"]) else f"{row['statistic']:.1f}"
+        if lr and not pd.isna(row["df"]):
+            lr += f" ({int(row['df'])})"
         view.add_row(
             str(row["iteration"]), row["model"], row["parent"], f"{row['loglike']:.1f}",
-            str(row["n_free"]), "yes" if row["converged"] else "NO",
-            "" if pd.isna(row["statistic"]) else f"{row['statistic']:.1f}",
-            "" if pd.isna(row["df"]) else str(int(row["df"])),
-            "" if pd.isna(row["pvalue"]) else f"{row['pvalue']:.2g}",
-            "yes" if row["selected"] else "", "yes" if row["accepted"] else "",
-            _hlc_cell(hlcs.get(row["model"])), row["status"] or "",
+            str(row["n_free"]), lr, pvalue, step,
+            _hlc_cell(hlcs.get(row["model"])) if step in ("start", "accepted") else "",
         )  # fmt: skip
     console.print(view)
+    console.print(
+        "LR: likelihood-ratio statistic against the parent (degrees of freedom); k: free "
+        "parameters; rejected: a step's best candidate its test does not accept"
+    )
+    for status in statuses:
+        console.print(f"status: {escape(status)}")
     for note in notes:
         console.print(f"note: {escape(note)}")
     console.print(f"selected: {' -> '.join(result.path)}")

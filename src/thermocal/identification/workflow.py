@@ -446,6 +446,58 @@ def gap_duration(value, name: str, *, zero_allowed: bool) -> pd.Timedelta:
     return delta
 
 
+#: How many times the median zone's hourly variation per floor area a zone's identified heat
+#: may vary before it is named (a swapped pair of sensors in the 5ZoneAirCooled twin: 20-30
+#: times, about 1.1 kW against 20-50 W; exploratory test, 2026-11-30).
+UNUSUAL_ZONE_FACTOR = 10.0
+#: ... and by at least this much [W], so that quiet buildings do not flag noise.
+UNUSUAL_ZONE_FLOOR = 200.0
+
+
+def unusual_zones(q_id: pd.DataFrame, building) -> str | None:
+    """A note on the zones whose identified heat varies far more, per floor area, than the
+    other zones' (a sensor mapped to another zone, swapped with one, in the sun or by a
+    heater), or None.
+
+    Parameters
+    ----------
+    q_id : DataFrame [W]
+        Identified heat per zone (floating zones are all zero).
+    building : Building
+        For the zones' floor areas [m2].
+
+    Returns
+    -------
+    str or None
+    """
+    hourly = q_id.resample("1h").mean()
+    spread = hourly.std()
+    spread = spread[spread > 0]
+    if len(spread) < 3:
+        return None
+    area = pd.Series(
+        {z: max(float(building.zones[z].floor_area), 1.0) for z in spread.index if z in
+         building.zones}  # fmt: skip
+    )
+    per_area = (spread[area.index] / area).dropna()
+    median = float(per_area.median())
+    if not median > 0:
+        return None
+    odd = per_area[(per_area > UNUSUAL_ZONE_FACTOR * median) & (spread[per_area.index] >
+                                                                 UNUSUAL_ZONE_FLOOR)]  # fmt: skip
+    if odd.empty:
+        return None
+    listed = ", ".join(
+        f"'{z}' ({spread[z]:,.0f} W, {odd[z] / median:.0f} times)" for z in odd.index[:5]
+    )
+    return (
+        f"The identified heat of zone(s) {listed} varies far more per floor area, hour by hour, "
+        f"than the median zone's ({median:.2g} W/m2 standard deviation): a sensor mapped to "
+        "another zone (two swapped?), a sensor in the sun or by a heater, or a model far from "
+        "that zone; check the mapping and the sensor's place before trusting its heat"
+    )
+
+
 def _refuse_non_finite_heat(heat: pd.DataFrame, reference: pd.DataFrame, method: str) -> None:
     """Refuse an identified heat that is not finite (the tracking ran away): a total that skips
     the missing values, and a metric that drops them, would look better than a clean log's."""
@@ -771,6 +823,12 @@ def identify(
     q_id = q_inverse if source == "inverse" else q_pid
     if q_id is None:
         raise ThermocalInputError(f"metric_source {source!r} did not run (method {method!r})")
+    unusual = unusual_zones(q_id, building)
+    if unusual:
+        import warnings
+
+        warnings.warn(unusual, stacklevel=2)
+        notes.append(unusual)
     grid = sim.weather_on_grid
     weather_cols = {"temp_air": grid["temp_air"].to_numpy()}
     weather_cols["ghi"] = (

@@ -64,6 +64,7 @@ from thermocal.multizone._kernel_parts import (  # noqa: F401 - the loop's piece
     tarp_coefficients,
     tarp_excess,
     tarp_from_root,
+    zone_mean_radiant,
 )
 
 SIGMA = 5.670374419e-8
@@ -729,15 +730,12 @@ def run_steps(
             done = True
         elif track_mode == 1:
             lu_solve(*factors, rhs, work, x_new)
-            for z in range(nz):
-                mrt_tmp[z] = 0.0
-            for f in range(face_node.shape[0]):
-                mrt_tmp[face_zone[f]] += face_area[f] * x_new[face_node[f]]
+            zone_mean_radiant(
+                x_new, face_node, face_zone, face_area, zone_face_area, air_node, mrt_tmp
+            )
             for c in range(nc):
                 z = ctrl_zone[c]
-                mrt = x_new[air_node[z]]
-                if zone_face_area[z] > 0:
-                    mrt = mrt_tmp[z] / zone_face_area[z]
+                mrt = mrt_tmp[z]
                 w = track_w_air[c]
                 t_free[c] = track_ref[s, c] - (w * x_new[air_node[z]] + (1.0 - w) * mrt)
             for c in range(nc):
@@ -809,15 +807,14 @@ def run_steps(
             for c in range(nc):
                 t_free[c] = x_new[air_node[ctrl_zone[c]]]
             if operative:
-                for z in range(nz):
-                    mrt_tmp[z] = 0.0
-                for f in range(face_node.shape[0]):
-                    mrt_tmp[face_zone[f]] += face_area[f] * x_new[face_node[f]]
+                zone_mean_radiant(
+                    x_new, face_node, face_zone, face_area, zone_face_area, air_node, mrt_tmp
+                )
                 for c in range(nc):
                     z = ctrl_zone[c]
                     w = track_w_air[c]
                     if w < 1.0 and zone_face_area[z] > 0:
-                        t_free[c] = w * t_free[c] + (1.0 - w) * mrt_tmp[z] / zone_face_area[z]
+                        t_free[c] = w * t_free[c] + (1.0 - w) * mrt_tmp[z]
             cache_m[6] += 1
             ideal_loads(
                 t_free,
@@ -863,16 +860,10 @@ def run_steps(
         # 5. outputs
         for z in range(nz):
             out_air[s, z] = x[air_node[z]]
-            out_mrt[s, z] = 0.0
-        for f in range(face_node.shape[0]):
-            out_mrt[s, face_zone[f]] += face_area[f] * x[face_node[f]]
-            if store_faces:
+        zone_mean_radiant(x, face_node, face_zone, face_area, zone_face_area, air_node, out_mrt[s])
+        if store_faces:
+            for f in range(face_node.shape[0]):
                 out_face[s, f] = x[face_node[f]]
-        for z in range(nz):
-            if zone_face_area[z] > 0:
-                out_mrt[s, z] /= zone_face_area[z]
-            else:
-                out_mrt[s, z] = x[air_node[z]]
         if track_mode != 0:
             diverged = False
             for c in range(nc):

@@ -366,6 +366,22 @@ def _sync_inverse(g, active, cache_member, cache_inv, cache_m):
     cache_m[0] = m_new
 
 
+@njit(cache=True, error_model="numpy", fastmath=True, inline="always")
+def zone_mean_radiant(x, face_node, face_zone, face_area, zone_face_area, air_node, out):
+    """Each zone's area-weighted interior surface temperature of the state ``x`` [C] into
+    ``out``; the air temperature for a zone without faces (the time loop's outputs, its
+    operative thermostats and its operative tracking)."""
+    for z in range(out.shape[0]):
+        out[z] = 0.0
+    for f in range(face_node.shape[0]):
+        out[face_zone[f]] += face_area[f] * x[face_node[f]]
+    for z in range(out.shape[0]):
+        if zone_face_area[z] > 0:
+            out[z] /= zone_face_area[z]
+        else:
+            out[z] = x[air_node[z]]
+
+
 @njit(cache=True, error_model="numpy")
 def ideal_loads(t_free, heat_sp, cool_sp, g, active, q, cache_member, cache_inv, cache_m):
     """Heating (+) / cooling (-) powers that bring every controlled zone inside its set points.

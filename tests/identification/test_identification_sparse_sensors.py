@@ -260,14 +260,11 @@ def test_a_long_gap_takes_the_neighbour_whose_temperature_is_closest():
 
     from thermocal.identification.sensors import _fallback_zone
 
-    def wall(zone, other, area):
-        return SimpleNamespace(boundary="zone", zone=zone, other_zone=other, area=area)
-
     building = SimpleNamespace(
         surfaces={
-            "ceiling": wall("office", "plenum", 100.0),
-            "partition": wall("office", "corridor", 20.0),
-            "far": wall("corridor", "lab", 20.0),
+            "ceiling": _partition("office", "plenum", 100.0),
+            "partition": _partition("office", "corridor", 20.0),
+            "far": _partition("corridor", "lab", 20.0),
         }
     )
     times = pd.date_range("2017-01-01", periods=96, freq="h")
@@ -298,15 +295,12 @@ def test_a_zone_filled_from_another_does_not_look_like_it():
 
     from thermocal.identification.sensors import _fallback_zone
 
-    def wall(zone, other, area):
-        return SimpleNamespace(boundary="zone", zone=zone, other_zone=other, area=area)
-
     building = SimpleNamespace(
         surfaces={
-            "ab": wall("A", "B", 10.0),
-            "ba": wall("B", "A", 10.0),
-            "bc": wall("B", "C", 50.0),
-            "cb": wall("C", "B", 50.0),
+            "ab": _partition("A", "B", 10.0),
+            "ba": _partition("B", "A", 10.0),
+            "bc": _partition("B", "C", 50.0),
+            "cb": _partition("C", "B", 50.0),
         }
     )
     hours = np.arange(100)
@@ -353,3 +347,11 @@ def test_zones_whose_heat_varies_far_more_than_the_others_are_named():
     note = unusual_zones(swapped, building)
     assert note is not None and "'Z1'" in note and "'Z3'" in note and "'Z0'" not in note
     assert "two swapped?" in note
+
+
+def _partition(zone, other, area):
+    """An inter-zone surface of ``area`` [m2] between ``zone`` and ``other`` (what
+    ``shared_areas`` reads)."""
+    from types import SimpleNamespace
+
+    return SimpleNamespace(boundary="zone", zone=zone, other_zone=other, area=area)

@@ -1,6 +1,6 @@
 """``python -m thermocal``: the same command line as the ``thermocal`` script."""
 
-from thermocal.cli import main
+from thermocal.cli import run
 
 if __name__ == "__main__":
-    main()
+    run()

@@ -405,5 +405,61 @@ def main() -> None:
         raise SystemExit(EXIT_INTERNAL) from None
 
 
+#: Exit status when the standard streams cannot be flushed at exit (the interpreter's own).
+_FLUSH_FAILED = 120
+
+
+def _exit_code(exc: SystemExit) -> int:
+    """The process exit status a :class:`SystemExit` stands for (as the interpreter maps it)."""
+    if exc.code is None:
+        return 0
+    if isinstance(exc.code, int):
+        return exc.code
+    print(exc.code, file=sys.stderr)
+    return 1
+
+
+def _other_threads_running() -> bool:
+    """Whether a thread the interpreter would wait for at exit is still running."""
+    import threading
+
+    return any(
+        thread.is_alive() and not thread.daemon
+        for thread in threading.enumerate()
+        if thread is not threading.main_thread()
+    )
+
+
+def run() -> None:
+    """The console script: :func:`main`, then an exit that skips the interpreter's teardown.
+
+    A finished command has written and closed its files; what the interpreter does after that
+    (clearing every module of numpy, pandas, scipy, numba and pvlib one by one and a last
+    garbage collection) took 0.25-0.33 s of a 3.4-s ``thermocal simulate``. The exit handlers
+    still run (``atexit``: the logging handlers' flush, temporary folders, multiprocessing) and
+    the standard streams are flushed; then the process ends with :func:`os._exit`, as a forked
+    worker does. Where a stream cannot be flushed (a closed pipe), the status is 120, as the
+    interpreter's own; where the interpreter would wait for another thread, the ordinary exit
+    is taken instead. :func:`main` itself raises :class:`SystemExit` as before, for callers in
+    the same process (the tests).
+    """
+    try:
+        main()
+        code = 0
+    except SystemExit as exc:
+        code = _exit_code(exc)
+    if _other_threads_running():
+        raise SystemExit(code)
+    import atexit
+
+    atexit._run_exitfuncs()  # noqa: SLF001 - the interpreter's own exit handlers, once
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        code = code or _FLUSH_FAILED
+    os._exit(code)
+
+
 if __name__ == "__main__":
-    main()
+    run()

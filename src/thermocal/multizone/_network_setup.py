@@ -331,6 +331,9 @@ class NetworkSetup:
         ``base``: a context of the same network and step whose factorisation is reused.
         """
         net = self.network
+        # the building's own thermostats (an operative one holds a mix of air and surfaces); a
+        # caller's zones are tracked by their air temperature
+        thermostats = controlled is None
         controlled = self._ctrl if controlled is None else np.asarray(controlled, dtype=np.int64)
         matrix = net.system_matrix(dt)
         if base is not None and base.dt == dt:
@@ -361,7 +364,7 @@ class NetworkSetup:
             unit[net.air_node[controlled], np.arange(len(controlled))] = 1.0
             response = lu.solve(unit)
             g_ctrl = response[net.air_node[controlled], :]
-            w_air = self._ctrl_w_air if controlled is self._ctrl else np.ones(len(controlled))
+            w_air = self._ctrl_w_air if thermostats else np.ones(len(controlled))
             for c in np.flatnonzero(w_air < 1.0):
                 # an operative thermostat: its held temperature responds as w T_air + (1 - w)
                 # T_mrt, T_mrt the zone's area-weighted interior surface temperature

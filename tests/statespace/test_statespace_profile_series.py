@@ -18,7 +18,7 @@ from thermocal.statespace.estimation import simulate_stochastic
 TITE = Path(__file__).resolve().parents[2] / "examples" / "models" / "TiTe.yaml"
 
 
-def test_profile_of_a_resistance_in_series_reaches_across_its_flat_range():
+def _data() -> pd.DataFrame:
     spec = yaml.safe_load(TITE.read_text())
     truth = dict(Ci=2.0, Ce=10.0, Rie=1.0, Rea=5.0, Aw=5.0, sigma_i=0.05, sigma_e=0.02,
                  e_std=0.05, Ti0=20.0, Te0=12.0)  # fmt: skip
@@ -39,6 +39,11 @@ def test_profile_of_a_resistance_in_series_reaches_across_its_flat_range():
     simulated = simulate_stochastic(RCModel.from_dict(spec), data, seed=1, time_column="t",
                                     time_unit="h")  # fmt: skip
     data["yTi"] = simulated["yTi"].round(4).to_numpy()
+    return data
+
+
+def test_profile_of_a_resistance_in_series_reaches_across_its_flat_range():
+    data = _data()
     series = yaml.safe_load(TITE.read_text())  # the example's starting values
     rea = series["parameters"].pop("Rea")
     for conductance in series["conductances"]:
@@ -53,3 +58,30 @@ def test_profile_of_a_resistance_in_series_reaches_across_its_flat_range():
     # flat until Rea2 reaches its bound: the upper end near the sum, not at a failed refit
     assert interval["upper"] > 0.85 * total, interval
     assert interval["open_lower"]
+
+
+def test_an_ordinary_profile_is_not_refitted_twice(monkeypatch):
+    # the same model with one resistance: every profile close to its quadratic approximation;
+    # a fall the approximation foresees is no sign of a failed refit (the first rule, a fall of
+    # 1.92 from the nearest point, refitted 21 of 159 points a second time, to the same values)
+    from thermocal.statespace import profile
+
+    fit = RCModel.from_dict(yaml.safe_load(TITE.read_text())).fit(
+        _data(), time_column="t", time_unit="h", n_starts=2
+    )
+    refits = []
+    original = type(fit).refit
+    monkeypatch.setattr(type(fit), "refit", lambda self, *a, **k: refits.append(1)
+                        or original(self, *a, **k))  # fmt: skip
+
+    def profile_all():
+        refits.clear()
+        names = ("Ci", "Rie", "Rea", "sigma_i", "Te0")
+        return [fit.profile_interval(n) for n in names], len(refits)
+
+    intervals, n_refits = profile_all()
+    monkeypatch.setattr(profile, "PROFILE_JUMP", np.inf)
+    never_again, n_once = profile_all()
+    assert n_refits == n_once
+    for got, once in zip(intervals, never_again, strict=True):
+        assert got["lower"] == once["lower"] and got["upper"] == once["upper"]

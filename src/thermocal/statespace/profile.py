@@ -46,8 +46,9 @@ SLSQP_MAXITER = 150
 BOUND_SPAN = 40.0
 #: Stall tolerance of the profile fits (tighter than the default fit's).
 PROFILE_STALL_TOLERANCE = 1e-5
-#: Fall of the profile log-likelihood from the nearest point already computed above which a
-#: point is refitted from the optimum too [log-units]: the 95 % interval's whole depth (1.92).
+#: Fall of the profile log-likelihood from the nearest point already computed, beyond what the
+#: quadratic approximation at the optimum foresees, above which a point is refitted from the
+#: optimum too [log-units]: the 95 % interval's whole depth (1.92).
 PROFILE_JUMP = 1.92
 
 
@@ -78,6 +79,8 @@ class _ParameterProfile:
         self.center = float(res.theta[self.i])
         se = math.sqrt(res._cov_theta[self.i, self.i]) if res._cov_theta.size else math.nan
         self.step = se if math.isfinite(se) and se > 0 else 0.5
+        #: the standard error the quadratic approximation foresees falls with (nan: none)
+        self.se = se if math.isfinite(se) and se > 0 else math.nan
         self.cache: dict[float, tuple[float, dict]] = {self.center: (res.loglike, res.params)}
 
     def value(self, t: float) -> float:
@@ -99,10 +102,11 @@ class _ParameterProfile:
                 stall_tolerance=PROFILE_STALL_TOLERANCE,
             )  # fmt: skip
             ll, params = fitted.loglike, fitted.params
-            if self.cache[nearest][0] - ll > PROFILE_JUMP:
-                # a fall this large in one step may be a refit that failed from its start
-                # (it poisoned the points after it: two resistances in series, whose profile
-                # is flat, ended at 2.53 where 4 reaches the optimum); again from the optimum
+            if self.cache[nearest][0] - ll - self.foreseen_fall(nearest, t) > PROFILE_JUMP:
+                # a fall this much larger than foreseen may be a refit that failed from its
+                # start (it poisoned the points after it: two resistances in series, whose
+                # profile is flat, ended at 2.53 where 4 reaches the optimum); again from the
+                # optimum
                 again = _inside(self.res.model, self.res.params.to_dict())
                 again[self.name] = self.value(t)
                 retry = self.res.refit(
@@ -113,6 +117,15 @@ class _ParameterProfile:
                     ll, params = retry.loglike, retry.params
         self.cache[t] = (ll, params)
         return ll
+
+    def foreseen_fall(self, s: float, t: float) -> float:
+        """The fall of the log-likelihood from ``s`` to ``t`` (unconstrained scale) that the
+        quadratic approximation at the optimum foresees [log-units]; 0 where it rises or
+        without a standard error."""
+        if not math.isfinite(self.se):
+            return 0.0
+        fall = ((t - self.center) ** 2 - (s - self.center) ** 2) / (2.0 * self.se**2)
+        return max(fall, 0.0)
 
 
 class _DerivedProfile:

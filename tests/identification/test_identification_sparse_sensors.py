@@ -349,6 +349,76 @@ def test_zones_whose_heat_varies_far_more_than_the_others_are_named():
     assert "two swapped?" in note
 
 
+def _zone_heat(n, *, seed=0, areas=None):
+    """Synthetic identified heat of ``n`` similar zones over a week [W] (a daily swing of 30 W
+    and noise of 20 W at 5-minute steps), their building, and the daily shape."""
+    from types import SimpleNamespace
+
+    rng = np.random.default_rng(seed)
+    times = pd.date_range("2017-01-01", periods=24 * 12 * 7, freq="5min")
+    day = np.sin(np.arange(len(times)) / 288 * 2 * np.pi)
+    areas = areas or [100.0] * n
+    zones = {f"Z{i}": SimpleNamespace(floor_area=a) for i, a in enumerate(areas)}
+    heat = pd.DataFrame(
+        {z: 30 * day * zones[z].floor_area / 100 + rng.normal(0, 20, len(times)) for z in zones},
+        index=times,
+    )
+    return heat, SimpleNamespace(zones=zones), day
+
+
+@pytest.mark.parametrize("n, pair", [(4, ("Z1", "Z3")), (3, ("Z0", "Z2"))])
+def test_a_swapped_pair_in_a_building_of_three_or_four_zones_is_named(n, pair):
+    """Two swapped sensors in a building of three or four zones: two of its zones vary about
+    20 times more per floor area than the others, their extra heats mirroring each other.
+    Against the median of all zones (which the pair itself raises) they were 1.9-2.1 times it
+    (four zones) and 1.0-1.1 times (three zones) and nothing was said; they are now judged
+    against the zones outside the pair."""
+    from thermocal.identification.workflow import unusual_zones
+
+    heat, building, day = _zone_heat(n)
+    swing = 600 * day  # about 420 W standard deviation hour by hour, ~20 times the others'
+    heat[pair[0]] += swing
+    heat[pair[1]] -= swing
+    note = unusual_zones(heat, building)
+    assert note is not None
+    for zone in heat:
+        assert (f"'{zone}'" in note) == (zone in pair), (zone, note)
+    times = [float(t) for t in re.findall(r"W, (\d+) times\)", note)]
+    assert len(times) == 2 and all(15 <= t <= 30 for t in times), note
+    assert "two swapped?" in note and "other zones' median" in note
+    assert "move against each other" in note
+
+
+@pytest.mark.parametrize("n", [3, 4, 6])
+def test_ordinary_buildings_of_few_zones_are_not_named(n):
+    """Similar zones, one zone varying 3 times the others (a sunny corner), and zones of
+    different sizes varying in proportion to their floor areas: no zone is named."""
+    from thermocal.identification.workflow import unusual_zones
+
+    heat, building, _ = _zone_heat(n)
+    assert unusual_zones(heat, building) is None
+    heat["Z1"] *= 3.0
+    assert unusual_zones(heat, building) is None
+    areas = [40.0, 400.0] + [100.0] * (n - 2)
+    heat, building, _ = _zone_heat(n, seed=1, areas=areas)
+    heat *= 10  # every zone well above the 200 W floor
+    assert unusual_zones(heat, building) is None
+
+
+@pytest.mark.parametrize("n", [3, 4])
+def test_two_busy_zones_next_to_still_ones_are_not_named(n):
+    """Two offices next to a plenum (and a second still zone): the offices vary about 20 times
+    more per floor area than the rest, as a swapped pair would, but together, with the same
+    schedule. The 5ZoneAirCooled twin with two offices and the plenum sensed (the other offices
+    floating) gave them 15 times the plenum's, and a plain leave-one-out rule named them."""
+    from thermocal.identification.workflow import unusual_zones
+
+    heat, building, day = _zone_heat(n, seed=2)
+    for zone in ("Z0", "Z1"):
+        heat[zone] += 600 * day
+    assert unusual_zones(heat, building) is None
+
+
 def _partition(zone, other, area):
     """An inter-zone surface of ``area`` [m2] between ``zone`` and ``other`` (what
     ``shared_areas`` reads)."""

@@ -446,18 +446,37 @@ def gap_duration(value, name: str, *, zero_allowed: bool) -> pd.Timedelta:
     return delta
 
 
-#: How many times the median zone's hourly variation per floor area a zone's identified heat
-#: may vary before it is named (a swapped pair of sensors in the 5ZoneAirCooled twin: 20-30
-#: times, about 1.1 kW against 20-50 W; exploratory test, 2026-11-30).
+#: How many times the other zones' median hourly variation per floor area a zone's identified
+#: heat may vary before it is named (a swapped pair of sensors in the 5ZoneAirCooled twin: 20-30
+#: times, about 1.1 kW against 20-50 W; exploratory test, 2026-11-30; SPACE1-1 and SPACE3-1
+#: swapped in its 7-day twin without loads: 29-40 times with five or six zones sensed, 34-121
+#: times against the zones outside the pair with three or four).
 UNUSUAL_ZONE_FACTOR = 10.0
 #: ... and by at least this much [W], so that quiet buildings do not flag noise.
 UNUSUAL_ZONE_FLOOR = 200.0
+#: Two zones of a building of three or four that vary that much are named together only if
+#: their hourly heats move against each other at least this much (correlation): a swapped pair's
+#: extra heats mirror each other (-1.00 in the 5ZoneAirCooled twin: three pairs with its loads,
+#: one without), two busy offices next to a still plenum move together.
+UNUSUAL_PAIR_CORRELATION = -0.5
 
 
 def unusual_zones(q_id: pd.DataFrame, building) -> str | None:
     """A note on the zones whose identified heat varies far more, per floor area, than the
     other zones' (a sensor mapped to another zone, swapped with one, in the sun or by a
     heater), or None.
+
+    The measure is the standard deviation of a zone's hourly identified heat per floor area.
+    A zone is named when it is more than ``UNUSUAL_ZONE_FACTOR`` times the median of the OTHER
+    zones' (leave-one-out) and above ``UNUSUAL_ZONE_FLOOR`` [W], provided the zones so named
+    are fewer than half of them (otherwise they are the building, not its outliers).
+
+    In a building of three or four zones a swapped pair is not fewer than half: against the
+    median of all zones, which the pair itself raised, it was never named. Two zones are then
+    named together when each is more than the factor times the median of the zones outside
+    the pair, above the floor, and their hourly heats move against each other (correlation
+    below ``UNUSUAL_PAIR_CORRELATION``), as a swapped pair's do: the same split with the two
+    moving together is two busy zones next to still ones (offices and a plenum), not named.
 
     Parameters
     ----------
@@ -480,21 +499,51 @@ def unusual_zones(q_id: pd.DataFrame, building) -> str | None:
          building.zones}  # fmt: skip
     )
     per_area = (spread[area.index] / area).dropna()
-    median = float(per_area.median())
-    if not median > 0:
+    if len(per_area) < 3:
         return None
-    odd = per_area[(per_area > UNUSUAL_ZONE_FACTOR * median) & (spread[per_area.index] >
-                                                                 UNUSUAL_ZONE_FLOOR)]  # fmt: skip
-    if odd.empty:
+    loud = spread[per_area.index] > UNUSUAL_ZONE_FLOOR
+    # each zone against the median of the others
+    ordered = np.sort(per_area.to_numpy(dtype=float))
+    reference = pd.Series(
+        [float(np.median(np.delete(ordered, np.searchsorted(ordered, v)))) for v in per_area],
+        index=per_area.index,
+    )
+    ratio = per_area / reference.where(reference > 0)
+    odd = list(per_area.index[(ratio > UNUSUAL_ZONE_FACTOR) & loud])
+    if 2 * len(odd) >= len(per_area):
+        odd = []
+    # a pair that is half of the building or more: against the zones outside it
+    pairs = []
+    if len(per_area) <= 4:
+        zones = list(per_area.index)
+        for i, a in enumerate(zones):
+            for b in zones[i + 1 :]:
+                outside = float(per_area.drop([a, b]).median())
+                if not (outside > 0 and loud[a] and loud[b]):
+                    continue
+                if min(per_area[a], per_area[b]) <= UNUSUAL_ZONE_FACTOR * outside:
+                    continue
+                r = float(hourly[a].corr(hourly[b]))
+                if r < UNUSUAL_PAIR_CORRELATION:
+                    pairs.append((a, b, r))
+                    for z in (a, b):
+                        reference[z], ratio[z] = outside, per_area[z] / outside
+                        if z not in odd:
+                            odd.append(z)
+    if not odd:
         return None
-    listed = ", ".join(
-        f"'{z}' ({spread[z]:,.0f} W, {odd[z] / median:.0f} times)" for z in odd.index[:5]
+    listed = ", ".join(f"'{z}' ({spread[z]:,.0f} W, {ratio[z]:.0f} times)" for z in odd[:5])
+    low, high = f"{reference[odd].min():.2g}", f"{reference[odd].max():.2g}"
+    others = low if low == high else f"{low}-{high}"
+    moving = "".join(
+        f"; '{a}' and '{b}' move against each other hour by hour (correlation {r:.2f})"
+        for a, b, r in pairs
     )
     return (
         f"The identified heat of zone(s) {listed} varies far more per floor area, hour by hour, "
-        f"than the median zone's ({median:.2g} W/m2 standard deviation): a sensor mapped to "
-        "another zone (two swapped?), a sensor in the sun or by a heater, or a model far from "
-        "that zone; check the mapping and the sensor's place before trusting its heat"
+        f"than the other zones' median ({others} W/m2 standard deviation){moving}: a sensor "
+        "mapped to another zone (two swapped?), a sensor in the sun or by a heater, or a model "
+        "far from that zone; check the mapping and the sensor's place before trusting its heat"
     )
 
 

@@ -180,8 +180,6 @@ class ForcingSetup:
 
         info = self._idf_info
         site = self._site
-        position = _sun_position(self._grid.index, site, self._sun_at_end)
-        sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
         days = int(getattr(info, "shadow_update_days", 0)) if info is not None else 0
         per_day = int(round(86400.0 / self.dt))
         step_index = np.arange(len(self.times))
@@ -192,6 +190,9 @@ class ForcingSetup:
             sun = _period_sun_vectors(
                 self.times, self.step_size, self._sun_at_end, site, elapsed // per_day // days, days
             )
+        else:
+            position = _sun_position(self._grid.index, site, self._sun_at_end)
+            sun = sun_vectors(position["apparent_zenith"], position["azimuth"])
         evaluated, inverse = np.unique(step_index, return_inverse=True)
         self._shadow_suns_cache = (key, (sun, evaluated, inverse))
         return sun, evaluated, inverse

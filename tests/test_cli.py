@@ -328,3 +328,20 @@ def test_the_command_reads_parquet_through_the_system_allocator():
 
     assert run({}) == ["True", "system"]
     assert run({"ARROW_DEFAULT_MEMORY_POOL": "jemalloc"}) == ["False", "jemalloc"]
+
+
+def test_command_help_paragraphs_wrap_at_the_terminal_width():
+    # typer kept each docstring line's break: at 80 columns a 95-character source line became
+    # one full and one short line ("checks the" / "standard's convergence criteria ...")
+    from thermocal.cli import reflow_help
+
+    result = CliRunner().invoke(app, ["insitu", "--help"], terminal_width=80)
+    assert result.exit_code == 0
+    lines = [line.strip(" │") for line in result.output.splitlines()]
+    paragraph = " ".join(lines[lines.index(next(x for x in lines if x.startswith("Sums"))):])
+    assert "checks the standard's convergence criteria" in paragraph
+    short = [x for x in lines[:12] if 0 < len(x) < 40 and not x.startswith("Usage")]
+    assert len(short) <= 2, short  # the two paragraphs' last lines at most
+    assert reflow_help("First.\n\nOne\ntwo\n- item a\n- item b\n  more") == (
+        "First.\n\nOne two\n- item a\n- item b\n  more"
+    )

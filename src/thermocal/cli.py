@@ -80,6 +80,38 @@ COMMAND_MODULES = (
 )
 
 
+def reflow_help(doc: str) -> str:
+    """A command's docstring with each paragraph's lines joined, for the terminal to wrap.
+
+    typer keeps the single line breaks of a docstring's later paragraphs; at the terminal's
+    80 columns each 95-character source line then wraps into one full and one short line.
+    Lines that begin a list item (``-``, ``*``) or are indented further keep their breaks.
+
+    Parameters
+    ----------
+    doc : str
+        The docstring (dedented or not).
+
+    Returns
+    -------
+    str
+        Paragraphs separated by blank lines, each one line (list items one line each).
+    """
+    import inspect
+
+    paragraphs = []
+    for paragraph in inspect.cleandoc(doc).split("\n\n"):
+        lines: list[str] = []
+        for line in paragraph.splitlines():
+            item = line.lstrip().startswith(("- ", "* ")) or line.startswith(" ")
+            if lines and not item:
+                lines[-1] = f"{lines[-1]} {line.strip()}"
+            else:
+                lines.append(line.rstrip())
+        paragraphs.append("\n".join(lines))
+    return "\n\n".join(paragraphs)
+
+
 def _register_commands() -> None:
     for name in COMMAND_MODULES:
         try:
@@ -87,6 +119,10 @@ def _register_commands() -> None:
         except ModuleNotFoundError as exc:  # a command module not written yet
             if exc.name != f"thermocal.commands.{name}":
                 raise
+    for command in app.registered_commands:
+        doc = command.help or (command.callback.__doc__ if command.callback else None)
+        if doc:
+            command.help = reflow_help(doc)
 
 
 @app.callback()

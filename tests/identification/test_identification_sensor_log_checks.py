@@ -347,3 +347,19 @@ def test_an_identified_heat_that_is_not_finite_is_refused():
     )
     with pytest.raises(ThermocalInputError, match=expected):
         _refuse_non_finite_heat(heat, reference, "exact inverse")
+
+
+def test_an_hourly_float_above_the_set_point_is_the_rooms_not_a_spike():
+    """Hourly readings of a room that floats 2-3 K in the afternoon sun and comes back
+    (EnergyPlus 25.2's zone SPHW of NREL's WindowTestsSimple, Golden, 12 January: 20.13, 23.21,
+    22.66, 20.42 C between readings of 20 C) were removed as spikes under the fixed 1.5 K floor;
+    the 3 h silence then had no zone to take over: "zone 'SPACE1-1' has no data for ...". Now
+    the readings are kept and the reference goes through them."""
+    log = _log({"S1": 20.0, "S2": 21.0, "S3": 19.0}, every="1h")
+    at = log.index.get_loc(pd.Timestamp("2024-01-09 13:00", tz="UTC"))
+    log.iloc[at : at + 4, 0] = [20.128, 23.21, 22.663, 20.415]
+    log.iloc[at + 1 : at + 3, 0] += log.iloc[at, 0] - 20.128  # on the wave's level
+    reference, said = _references(log, MAPPING_3)
+    assert not any("removed" in w for w in said), said
+    peak = reference["SPACE1-1"].max()
+    assert peak == pytest.approx(log.iloc[at + 1, 0], abs=0.3), (peak, log.iloc[at + 1, 0])

@@ -20,6 +20,7 @@ from thermocal.io.measurements.units import (
     CANONICAL_UNITS,
     OPERATIONS,
     OUTLIER_FLOORS,
+    OUTLIER_SLOPES,
     PHYSICAL_LIMITS,
     _as_timedelta,
     _guess_quantity,
@@ -294,8 +295,9 @@ def resample_measurements(
     outliers : {"flag", "remove", "ignore"}
         Spikes (up to ``outlier_max_run`` consecutive reports that jump away from both
         neighbours by more than ``outlier_sigma`` robust standard deviations of the successive
-        differences, and at least the quantity's floor in :data:`OUTLIER_FLOORS`, and come
-        back): list them, list and remove them, or skip the screening.
+        differences, and at least the quantity's floor in :data:`OUTLIER_FLOORS`, which grows
+        with the time between the neighbours by :data:`OUTLIER_SLOPES`, and come back): list
+        them, list and remove them, or skip the screening.
     outlier_sigma : float [-]
         Threshold in robust standard deviations of the successive differences (1.4826 MAD).
     outlier_max_run : int
@@ -382,7 +384,16 @@ def resample_measurements(
         lines_of = None if lines_of is None else lines_of[keep]
         n_outliers = n_removed = 0
         if outliers != "ignore" and quantity in OUTLIER_FLOORS and values.size:
-            spikes = _spikes(values, outlier_sigma, OUTLIER_FLOORS[quantity], outlier_max_run)
+            slope, ceiling = OUTLIER_SLOPES.get(quantity, (None, None))
+            spikes = _spikes(
+                values,
+                outlier_sigma,
+                OUTLIER_FLOORS[quantity],
+                outlier_max_run,
+                times_s=times_ns / 1e9,
+                slope=slope,
+                ceiling=ceiling,
+            )
             n_outliers = int(spikes.sum())
             if n_outliers:
                 flag_rows += _spike_flags(
@@ -609,10 +620,17 @@ def _spike_flags(
     name, spikes, times_ns, values, lines_of, outliers, quantity, unit, tz, sigma, max_run
 ) -> list[dict]:
     """Flag rows of the spikes found by the QARTOD-style spike test."""
+    floor = f"{OUTLIER_FLOORS[quantity]:g} {unit}"
+    if quantity in OUTLIER_SLOPES:
+        slope, ceiling = OUTLIER_SLOPES[quantity]
+        floor += (
+            f", {slope:g} {unit}/h times half the time between the neighbours (at most "
+            f"{ceiling:g} {unit})"
+        )
     reason = (
-        f"spike: jumps more than max({OUTLIER_FLOORS[quantity]:g} {unit}, {sigma:g} robust "
-        f"standard deviations of the successive differences) away from both neighbours and "
-        f"back within {max_run} report(s)"
+        f"spike: jumps away from both neighbours and back within {max_run} report(s) by more "
+        f"than the largest of {floor} and {sigma:g} robust standard deviations of the "
+        "successive differences"
     )
     action = "removed" if outliers == "remove" else "kept"
     return [

@@ -120,6 +120,21 @@ OUTLIER_FLOORS: dict[str, float] = {
 }
 
 
+#: How a real excursion's size grows with the time between readings, per quantity (canonical
+#: units): (fastest rise or fall [unit/h], largest floor [unit]). The spike floor of a run of
+#: readings is ``max(OUTLIER_FLOORS, slope * span / 2)``, at most the ceiling, ``span`` the time
+#: from the reading before it to the reading after it
+#: (:func:`thermocal.io.measurements.quality.spike_threshold`). Temperature: 10 K/h, three
+#: times the fastest float-and-return of rooms between set points in EnergyPlus 25.2 twins of
+#: NREL files (Golden and Tampa, January and July: 3.1 K above both neighbours read hourly,
+#: 1.3 K every 30 min); 1.5 K up to 18 min between the neighbours (5-minute readings keep the
+#: old floor), 10 K from 2 h (hourly readings): no room goes 10 K away and back between two
+#: readings (a dropout to 0 C, a DS18B20's 85 C do). Quantities not listed keep their floor.
+OUTLIER_SLOPES: dict[str, tuple[float, float]] = {
+    "temperature": (10.0, 10.0),
+}
+
+
 #: Resampling operations (see the module docstring).
 OPERATIONS: tuple[str, ...] = (
     "mean",

@@ -32,6 +32,18 @@ whole-log shift; a period too short to check, or without quiet heat to compare, 
 that says why (:func:`clock_skipped`), not the silence of a check switched off; and a shift
 smoother within the tolerance is named with its figures, not called worse than the log as
 written.
+
+Found by an exploratory run (2026-12-01, an EnergyPlus twin of InternalMass_wZoneList in July at
+Golden, CO, its log kept in standard time and read with ``--tz America/Denver``: every stamp an
+hour early): +1 h gave 0.177 kW against 0.214 kW as written, 17 % lower, under
+:data:`CLOCK_TOLERANCE`, and the halves, 13 % and 62 % smoother at +1 h, were reported as a clock
+that jumped, "the log fits best as written" and "correct only the stamps after the jump". Now a
+jump needs one half markedly smoother shifted and the other no smoother (it fits as written,
+:func:`compare_halves`); a best shift of one hour that lowers the whole period's spread by
+:data:`HOUR_TOLERANCE` and each half's at all is reported as the whole log an hour off
+(:func:`consistent_hour`; the daylight-saving hour); the halves of a check failed at the
+search's limit are judged against the tolerance it failed by; and the notes give the whole
+period's best shift as best.
 """
 
 from __future__ import annotations
@@ -44,10 +56,12 @@ import pandas as pd
 
 from thermocal.errors import ThermocalInputError
 
-__all__ = ["CAMPAIGN_CONSEQUENCE", "CLOCK_TOLERANCE", "MIN_CHECK_PERIOD", "SHIFTS",
-           "LogClockWarning", "best_clock_shift", "check_log_clock", "clock_check_window",
-           "clock_halves", "clock_jump_result", "clock_result", "clock_skipped", "compare_halves",
-           "run_clock_check", "too_short_reason", "warn_if_clock_off"]  # fmt: skip
+__all__ = ["CAMPAIGN_CONSEQUENCE", "CLOCK_TOLERANCE", "HOUR_TOLERANCE", "MIN_CHECK_PERIOD",
+           "SHIFTS", "LogClockWarning", "best_clock_shift", "check_log_clock",
+           "clock_check_window", "clock_halves", "clock_jump_result", "clock_result",
+           "clock_skipped", "compare_halves", "consistent_hour", "halves_tolerance",
+           "hour_candidate", "run_clock_check", "too_short_reason",
+           "warn_if_clock_off"]  # fmt: skip
 
 
 class LogClockWarning(UserWarning):
@@ -65,6 +79,11 @@ CLOCK_TOLERANCE = 0.2
 #: [-]: a log in UTC read as local time 7 h off gave -14 % at -3 h, falling all the way, and
 #: passed (the identified heat +26 %, its hourly CV(RMSE) 53 %; exploratory test, 2026-11-30).
 AT_LIMIT_TOLERANCE = 0.05
+#: The same for a best shift of one hour (a daylight-saving hour) smoother in both halves of the
+#: compared hours too [-]: a log in standard time read in a daylight-saving zone gave 17 % over
+#: the whole period and 13 % and 62 % in its halves; right clocks of the same exploration gave at
+#: most 6.4 % at a best shift of one hour (2026-12-01, :func:`consistent_hour`).
+HOUR_TOLERANCE = 0.1
 #: Shortest period the check runs on: two days compared once :data:`MAX_SHIFT_H` is left out at
 #: each end (:func:`clock_check_window`) [time].
 MIN_CHECK_PERIOD = pd.Timedelta(days=2) + 2 * pd.Timedelta(hours=MAX_SHIFT_H)
@@ -176,15 +195,19 @@ def run_clock_check(
     Warns
     -----
     LogClockWarning
-        A shift lowers the unoccupied standard deviation by more than :data:`CLOCK_TOLERANCE`.
+        A shift lowers the unoccupied standard deviation by more than :data:`CLOCK_TOLERANCE`
+        (:func:`shift_within_tolerance`), a one-hour shift by :data:`HOUR_TOLERANCE` and in both
+        halves (:func:`consistent_hour`), or one half only is markedly smoother shifted
+        (``halves_always``).
     """
     found = best_clock_shift(unoccupied_std)
     if found is None:
         return clock_skipped(NO_QUIET_HEAT)
     std, best = found
     split = None
-    if not shift_within_tolerance(std, best):  # only a failed check pays for the halves
-        split = compare_halves(half_std, best, halves)
+    # only a failed check, or a one-hour shift that may be the whole log's, pays for the halves
+    if not shift_within_tolerance(std, best) or hour_candidate(std, best):
+        split = compare_halves(half_std, best, halves, tolerance=halves_tolerance(std, best))
     result = clock_result(std, best, consequence=consequence, halves=split)
     if result["passed"] and halves_always:
         for shift in sorted((h for h in std if h != 0.0), key=abs):
@@ -207,7 +230,8 @@ def clock_jump_result(std: dict, shift: float, split: dict, *, consequence: str)
     shift : float
         The shift one half prefers [h].
     split : dict
-        :func:`compare_halves` at ``shift``, the halves disagreeing.
+        :func:`compare_halves` at ``shift``, the halves disagreeing (one markedly smoother
+        shifted, the other fitting as written).
     consequence : str
         As :func:`clock_result`.
 
@@ -216,15 +240,24 @@ def clock_jump_result(std: dict, shift: float, split: dict, *, consequence: str)
     dict
         :func:`clock_result`'s keys, ``passed`` False, ``best`` the half's ``shift``.
     """
-    result = clock_result(std, 0.0 if 0.0 in std else shift, consequence=consequence)
+    whole = min((h for h in std if np.isfinite(std[h])), key=std.get)  # named as the best
+    result = clock_result(std, whole, consequence=consequence)
     around = ", ".join(f"{h:+g} h {std[h] / 1000:.3f} kW" for h in sorted(std) if h != 0.0)
-    note = (
-        f"Sensor log's clock: over the whole period the log fits best as written "
-        f"({std[0.0] / 1000:.3f} kW standard deviation of the unoccupied heat; shifted "
-        f"{around}), but the two halves of the compared hours disagree. "
-        f"{_halves_text(split, shift)} {consequence}"
-    )
-    return {**result, "best": shift, "gain": 1.0 - std[shift] / std[0.0], "halves": split,
+    own = std[0.0]
+    if whole == 0.0:
+        overall = (
+            f"over the whole period the log fits best as written ({own / 1000:.3f} kW standard "
+            f"deviation of the unoccupied heat; shifted {around})"
+        )
+    else:
+        overall = (
+            f"over the whole period no shift makes the unoccupied heat markedly smoother (the "
+            f"best, {whole:+g} h, gives {std[whole] / 1000:.3f} kW standard deviation against "
+            f"{own / 1000:.3f} kW as written, {100 * (1.0 - std[whole] / own):.1f} % lower, under "
+            f"the {100 * CLOCK_TOLERANCE:g} %; shifted {around})"
+        )
+    note = f"Sensor log's clock: {overall}. {_halves_text(split, shift)} {consequence}"
+    return {**result, "best": shift, "gain": 1.0 - std[shift] / own, "halves": split,
             "passed": False, "note": note}  # fmt: skip
 
 
@@ -372,6 +405,71 @@ def shift_within_tolerance(std: dict, best: float) -> bool:
     )
 
 
+def halves_tolerance(std: dict, best: float) -> float:
+    """The reduction a half of the compared hours must show to count as markedly smoother at
+    ``best``: the tolerance the whole period is judged against.
+
+    Parameters
+    ----------
+    std : dict
+        Shift [h] -> standard deviation [W] (:func:`best_clock_shift`).
+    best : float
+        The shift with the lowest [h].
+
+    Returns
+    -------
+    float
+        :data:`AT_LIMIT_TOLERANCE` when the whole fails only by the search-limit rule (a
+        reduction within :data:`CLOCK_TOLERANCE`, falling all the way to the limit),
+        :data:`CLOCK_TOLERANCE` otherwise [-].
+    """
+    if best == 0.0 or 1.0 - std[best] / std[0.0] > CLOCK_TOLERANCE:
+        return CLOCK_TOLERANCE
+    return CLOCK_TOLERANCE if shift_within_tolerance(std, best) else AT_LIMIT_TOLERANCE
+
+
+def hour_candidate(std: dict, best: float) -> bool:
+    """Whether a passing check's best shift may be the whole log an hour off: one hour, lowering
+    the whole period's standard deviation by at least :data:`HOUR_TOLERANCE` (its halves then
+    decide, :func:`consistent_hour`).
+
+    Parameters
+    ----------
+    std : dict
+        Shift [h] -> standard deviation [W].
+    best : float
+        The shift with the lowest [h].
+
+    Returns
+    -------
+    bool
+    """
+    return abs(best) == 1.0 and 1.0 - std[best] / std[0.0] >= HOUR_TOLERANCE
+
+
+def consistent_hour(std: dict, best: float, halves: dict | None) -> bool:
+    """Whether the whole log is most likely an hour off although the reduction is within
+    :data:`CLOCK_TOLERANCE`: the best shift is one hour (the daylight-saving hour: a log kept in
+    standard time read in a zone with daylight saving time, or local time read as standard),
+    it lowers the whole period's standard deviation by at least :data:`HOUR_TOLERANCE`, and
+    each half's too (:func:`compare_halves`).
+
+    Parameters
+    ----------
+    std : dict
+        Shift [h] -> standard deviation [W].
+    best : float
+        The shift with the lowest [h].
+    halves : dict or None
+        :func:`compare_halves` at ``best`` (None: not compared).
+
+    Returns
+    -------
+    bool
+    """
+    return bool(hour_candidate(std, best) and halves is not None and halves["both"])
+
+
 def falls_to_the_limit(std: dict, best: float) -> bool:
     """Whether every hour shifted from 0 towards ``best`` (at the search's limit) lowered the
     standard deviation.
@@ -412,7 +510,9 @@ def clock_halves(window, step) -> tuple[tuple[pd.Timestamp, pd.Timestamp], ...]:
     return (first, middle), (middle, last)
 
 
-def compare_halves(half_std, best: float, halves) -> dict | None:
+def compare_halves(
+    half_std, best: float, halves, *, tolerance: float = CLOCK_TOLERANCE
+) -> dict | None:
     """The log as written and shifted by ``best`` on each half of the compared hours: a clock
     that jumped within the log (a daylight-saving switch, a logger reset) is off in one half
     only.
@@ -426,14 +526,19 @@ def compare_halves(half_std, best: float, halves) -> dict | None:
         The whole period's best shift [h].
     halves : ((Timestamp, Timestamp), (Timestamp, Timestamp))
         :func:`clock_halves`.
+    tolerance : float
+        The reduction that makes a half markedly smoother [-] (:func:`halves_tolerance`).
 
     Returns
     -------
     dict or None
         ``halves``: per half ``start``, ``end`` (ISO text), ``std`` (as written, shifted [W])
         and ``gain`` [-]; ``shifted``: per half whether ``best`` is better by more than
-        :data:`CLOCK_TOLERANCE`; ``disagree``: one half is, the other is not. None when a half
-        gives no finite, positive standard deviation.
+        ``tolerance``; ``as_written``: per half whether ``best`` is no better at all (the half
+        fits as written); ``disagree``: one half is markedly smoother shifted and the other
+        fits as written (a clock that jumped); ``both``: both halves are smoother shifted (the
+        whole log off); ``tolerance``. None when a half gives no finite, positive standard
+        deviation.
     """
     out = []
     for start, end in halves:
@@ -442,8 +547,11 @@ def compare_halves(half_std, best: float, halves) -> dict | None:
             return None
         out.append({"start": pd.Timestamp(start).isoformat(), "end": pd.Timestamp(end).isoformat(),
                     "std": [own, moved], "gain": 1.0 - moved / own})  # fmt: skip
-    shifted = [half["gain"] > CLOCK_TOLERANCE for half in out]
-    return {"halves": out, "shifted": shifted, "disagree": shifted[0] != shifted[1]}
+    shifted = [bool(half["gain"] > tolerance) for half in out]
+    as_written = [bool(half["gain"] <= 0.0) for half in out]
+    return {"halves": out, "shifted": shifted, "as_written": as_written,
+            "disagree": (shifted[0] and as_written[1]) or (shifted[1] and as_written[0]),
+            "both": not any(as_written), "tolerance": tolerance}  # fmt: skip
 
 
 def _halves_text(split: dict | None, best: float) -> str:
@@ -459,20 +567,62 @@ def _halves_text(split: dict | None, best: float) -> str:
         f"written, {half['std'][1] / 1000:.3f} kW at {shift}"
         for half in split["halves"]
     )
-    if not split["disagree"]:
+    if split["both"]:
         return (
             f"Both halves of the compared hours prefer {shift} ({figures}): the whole log is "
             "off, not a clock that jumped within it."
         )
+    if not split["disagree"]:
+        return (
+            f"The halves of the compared hours do not tell a whole log off from a clock that "
+            f"jumped within it ({figures}): look at the stamps of the period's middle too."
+        )
     which, side = ("second", "after") if split["shifted"][1] else ("first", "before")
+    other = "first" if which == "second" else "second"
     return (
         f"But the two halves of the compared hours disagree ({figures}): only the {which} "
-        f"is markedly smoother at {shift}. The log's clock most likely jumped by about "
+        f"is markedly smoother at {shift}, the {other} fits as written. The log's clock most "
+        f"likely jumped by about "
         f"{abs(best):g} h within the period (a daylight-saving switch, a logger reset): "
         f"correct only the stamps {side} the jump, not the whole log "
         "(local stamps without a UTC offset read in a zone with daylight saving time follow "
         "such a switch)."
     )
+
+
+def _hour_text(split: dict, best: float) -> str:
+    """The failed check's sentence when both halves prefer a shift of one hour: the whole log
+    an hour off, and which clocks give that (:func:`consistent_hour`)."""
+    figures = "; ".join(
+        f"{half['start'][:16]} to {half['end'][:16]}: {half['std'][0] / 1000:.3f} kW as "
+        f"written, {half['std'][1] / 1000:.3f} kW at {best:+g} h"
+        for half in split["halves"]
+    )
+    likely = (
+        "its stamps an hour early, as a log kept in standard time all year writes them when "
+        "they are read in a zone with daylight saving time while it is in force"
+        if best > 0
+        else "its stamps an hour late, as a log in local daylight saving time writes them when "
+        "they are read as standard time (a fixed UTC offset, a zone without daylight saving)"
+    )
+    return (
+        f"Both halves of the compared hours prefer {best:+g} h ({figures}): the whole log is "
+        f"off, not a clock that jumped within it, most likely by the daylight-saving hour: "
+        f"{likely}; or a logger set to the neighbouring time zone, or the weather file's clock "
+        "an hour off."
+    )
+
+
+def _passed_halves_text(split: dict | None, best: float) -> str:
+    """A passing check's clause on the halves compared for a one-hour shift (empty when not
+    compared): why it is not the whole log an hour off."""
+    if split is None:
+        return ""
+    figures = "; ".join(
+        f"{half['start'][:16]} to {half['end'][:16]}: {100 * half['gain']:.1f} %"
+        for half in split["halves"]
+    )
+    return f", and not smoother in both halves of the compared hours at {best:+g} h ({figures})"
 
 
 def clock_result(std: dict, best: float, *, consequence: str, halves: dict | None = None) -> dict:
@@ -490,7 +640,8 @@ def clock_result(std: dict, best: float, *, consequence: str, halves: dict | Non
         (:data:`CAMPAIGN_CONSEQUENCE` for a campaign), put between the question about the clocks
         and the other cause (the model's timing).
     halves : dict, optional
-        :func:`compare_halves` of a failed check (None: not compared, or nothing to compare).
+        :func:`compare_halves` at ``best`` of a failed check or of a one-hour shift
+        (:func:`hour_candidate`; None: not compared, or nothing to compare).
 
     Returns
     -------
@@ -498,12 +649,14 @@ def clock_result(std: dict, best: float, *, consequence: str, halves: dict | Non
         ``checked`` (True), ``std`` (by the shift as text), ``best`` [h], ``gain`` (relative
         reduction of the standard deviation at ``best`` [-]), ``tolerance``
         (:data:`CLOCK_TOLERANCE`), ``at_limit`` (``best`` is the search's largest shift,
-        :data:`MAX_SHIFT_H`: the offset may be larger), ``halves`` (as given), ``passed`` and
-        ``note``.
+        :data:`MAX_SHIFT_H`: the offset may be larger), ``halves`` (as given), ``passed``
+        (False also for a one-hour shift within the tolerance that :func:`consistent_hour`
+        finds) and ``note``.
     """
     own = std[0.0]
     gain = 1.0 - std[best] / own
-    passed = shift_within_tolerance(std, best)
+    hour = consistent_hour(std, best, halves)
+    passed = shift_within_tolerance(std, best) and not hour
     at_limit = abs(best) >= MAX_SHIFT_H
     around = ", ".join(f"{h:+g} h {std[h] / 1000:.3f} kW" for h in sorted(std) if h != 0.0)
     if passed and best == 0.0:
@@ -516,8 +669,8 @@ def clock_result(std: dict, best: float, *, consequence: str, halves: dict | Non
             f"Sensor log's clock: no shift of the log makes the model's unoccupied heat "
             f"markedly smoother: {best:+g} h gives {std[best] / 1000:.3f} kW standard deviation "
             f"against {own / 1000:.3f} kW as written, {100 * gain:.1f} % lower, under the "
-            f"{100 * CLOCK_TOLERANCE:g} % a shift must bring to be reported (shifted {around}); "
-            "the log is taken as written."
+            f"{100 * CLOCK_TOLERANCE:g} % a shift must bring to be reported (shifted {around})"
+            f"{_passed_halves_text(halves, best)}; the log is taken as written."
         )
     else:
         later = "later" if best > 0 else "earlier"
@@ -530,14 +683,26 @@ def clock_result(std: dict, best: float, *, consequence: str, halves: dict | Non
             if at_limit
             else ""
         )
+        within = (
+            f" That is under the {100 * CLOCK_TOLERANCE:g} % a shift must bring on its own, but "
+            f"a shift of one hour at least {100 * HOUR_TOLERANCE:g} % smoother over the whole "
+            "period and smoother in each of its halves is taken as the whole log an hour off."
+            if gain <= CLOCK_TOLERANCE and hour
+            else ""
+        )
+        cause = (
+            _hour_text(halves, best)
+            if abs(best) == 1.0 and halves is not None and halves["both"]
+            else "Is the log written in local time with the wrong UTC offset (daylight saving "
+            "time, a logger set to another zone), or the weather file's clock off? "
+            f"{_halves_text(halves, best)}"
+        )
         note = (
             f"Sensor log's clock: the model follows the log "
             f"{'much ' if gain > CLOCK_TOLERANCE else ''}better with its time stamps "
             f"{least}{abs(best):g} h {later} ({std[best] / 1000:.3f} kW standard deviation of "
-            f"the unoccupied heat against {own / 1000:.3f} kW as written; shifted {around})."
-            f"{limit} Is the log written in local time with the wrong UTC offset (daylight "
-            "saving time, a logger set to another zone), or the weather file's clock off? "
-            f"{_halves_text(halves, best)} {consequence} If both clocks "
+            f"the unoccupied heat against {own / 1000:.3f} kW as written, {100 * gain:.1f} % "
+            f"lower; shifted {around}).{within}{limit} {cause} {consequence} If both clocks "
             "are right, the model's timing (its heat capacities) is far from the building's."
         )
     return {

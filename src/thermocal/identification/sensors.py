@@ -591,6 +591,15 @@ class ReferenceReport:
         """One note per sensor whose long constant reading was accepted (for the outputs)."""
         return accepted_constant_notes(self.accepted_constant_readings)
 
+    def removed_readings(self) -> list[dict]:
+        """The readings removed before the identification (:func:`removed_readings`)."""
+        return removed_readings(self.quality, self.sources)
+
+    def removed_notes(self) -> list[str]:
+        """One note on the readings removed, if any (:func:`removed_readings_note`)."""
+        note = removed_readings_note(self.removed_readings())
+        return [note] if note else []
+
     def zone_table(self) -> pd.DataFrame:
         rows = []
         for zone, src in self.sources.items():
@@ -949,9 +958,82 @@ def _raw_series(raw: pd.DataFrame, sensors) -> dict[str, tuple[pd.DatetimeIndex,
     return out
 
 
+def removed_readings(quality, sources: Mapping | None = None) -> list[dict]:
+    """The readings the resampling removed, one record each (``removed_readings`` in
+    ``identification.json``).
+
+    Parameters
+    ----------
+    quality : thermocal.io.measurements.QualityReport
+        The resampling's quality report (its ``flags``; at most 1000 per sensor and flag).
+    sources : mapping of zone -> ZoneSource, optional
+        For the zone of each sensor; None: no zone.
+
+    Returns
+    -------
+    list of dict
+        ``sensor``, ``zone``, ``time`` (ISO 8601), ``value_C`` [C], ``flag`` ("impossible" or
+        "outlier"), ``reason`` (the rule that removed it), in time order per sensor.
+    """
+    flags = getattr(quality, "flags", None)
+    if flags is None or flags.empty:
+        return []
+    zone_of = {
+        sensor: zone for zone, src in (sources or {}).items() if src.kind == "sensor"
+        for sensor in src.sensors
+    }  # fmt: skip
+    removed = flags[flags["action"] == "removed"]
+    if sources is not None:  # the mapped sensors (not those under 'ignore:')
+        removed = removed[removed["sensor"].astype(str).isin(list(zone_of))]
+    removed = removed.sort_values(["sensor", "time"], kind="stable")
+    return [
+        {
+            "sensor": str(row.sensor),
+            "zone": zone_of.get(str(row.sensor)),
+            "time": pd.Timestamp(row.time).isoformat(),
+            "value_C": float(row.value),
+            "flag": str(row.flag),
+            "reason": str(row.reason),
+        }
+        for row in removed.itertuples(index=False)
+    ]
+
+
+def removed_readings_note(records: Sequence[Mapping]) -> str | None:
+    """One sentence for the outputs on the readings removed before the identification.
+
+    Parameters
+    ----------
+    records : sequence of dict
+        From :func:`removed_readings`.
+
+    Returns
+    -------
+    str or None
+        None when nothing was removed.
+    """
+    if not records:
+        return None
+    per_sensor: dict[str, list] = {}
+    for record in records:
+        per_sensor.setdefault(record["sensor"], []).append(record)
+    parts = [
+        f"{sensor} ({rows[0]['zone']}): {len(rows)}, the first {rows[0]['value_C']:g} C at "
+        f"{rows[0]['time']}"
+        for sensor, rows in list(per_sensor.items())[:5]
+    ]
+    more = f" and {len(per_sensor) - 5} more sensor(s)" if len(per_sensor) > 5 else ""
+    return (
+        f"{len(records)} sensor reading(s) removed before the identification as physically "
+        "impossible (a logger's missing-value code) or as isolated spikes, and bridged as gaps: "
+        + "; ".join(parts) + more
+        + " (each with its time, value and reason: removed_readings in identification.json)."
+    )
+
+
 def _warn_removed_readings(quality, mapping: SensorMapping, source: str) -> None:
     """One :class:`ReferenceWarning` per mapped sensor with readings removed as impossible or
-    as isolated spikes (the quality report lists them all)."""
+    as isolated spikes (``removed_readings`` in ``identification.json`` lists them all)."""
     flags = getattr(quality, "flags", None)
     if flags is None or flags.empty:
         return
@@ -962,7 +1044,8 @@ def _warn_removed_readings(quality, mapping: SensorMapping, source: str) -> None
             f"{source}: sensor {sensor!r} (zone {mapping.sensors[sensor]!r}): {len(rows)} "
             f"reading(s) removed as {' or '.join(sorted(set(rows['flag'])))} (the first "
             f"{first['value']:g} at {first['time']}; a logger's missing-value code or a spike), "
-            "bridged as gaps; the quality report in identification.json lists them",
+            "bridged as gaps; removed_readings in identification.json lists each (time, value, "
+            "reason) and report.html counts them",
             ReferenceWarning,
             stacklevel=3,
         )

@@ -108,6 +108,10 @@ class IdentificationResult:
         [h], ``gain`` [-], ``tolerance`` [-], ``passed``, ``note`` (and ``halves`` when a shift
         fits better); with ``checked: false``, ``passed: None`` and a ``reason`` when the check
         could not run (a period too short to shift); None when switched off.
+    removed_readings : list of dict
+        Sensor readings removed before the identification as physically impossible or as
+        isolated spikes, bridged as gaps: ``sensor``, ``zone``, ``time``, ``value_C``,
+        ``flag``, ``reason`` (:func:`thermocal.identification.sensors.removed_readings`).
     """
 
     q_id: pd.DataFrame
@@ -134,6 +138,7 @@ class IdentificationResult:
     weather_year: dict | None = None
     log_clock: dict | None = None
     accepted_constant_readings: list = field(default_factory=list)
+    removed_readings: list = field(default_factory=list)
 
     @property
     def building_heat(self) -> pd.Series:
@@ -213,6 +218,7 @@ class IdentificationResult:
             "weather_year": self.weather_year,
             "log_clock": self.log_clock,
             "accepted_constant_readings": self.accepted_constant_readings,
+            "removed_readings": self.removed_readings,
         }
         return jsonable(out)
 
@@ -734,6 +740,7 @@ def identify(
     )
     timings["references"] = time.perf_counter() - t0
     notes += ref_report.constant_notes()  # accepted long constant readings, with the results
+    notes += ref_report.removed_notes()  # readings removed as impossible or spikes
     all_zones = list(building.zones)
     zones = [z for z in all_zones if z in reference.columns]
     floating = [z for z in all_zones if z not in reference.columns]
@@ -908,6 +915,7 @@ def identify(
         weather_year=weather_year,
         log_clock=log_clock,
         accepted_constant_readings=ref_report.accepted_constant_readings,
+        removed_readings=ref_report.removed_readings(),
     )
 
 

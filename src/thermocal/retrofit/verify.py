@@ -79,10 +79,13 @@ from thermocal.retrofit.verify_periods import (
     baseline_days_after_retrofit,
     baseline_days_note,
     check_period,
+    meter_gap_message,
+    missing_heat_message,
     retrofitted_days_before_the_date,
     retrofitted_days_note,
     sensor_change_notes,
     split_periods,
+    unmetered_heat_runs,
 )
 
 #: Shortest pre and post period [days] by default: twice the shortest calibration period of the
@@ -670,8 +673,10 @@ def check_period_data(
     """The calibration's data checks on one period, in the verification's terms.
 
     Complete inputs and a positive heating power
-    (:func:`thermocal.retrofit.calibration.check_training_data`), and a heating power of the
-    order of the building file's transmission losses
+    (:func:`thermocal.retrofit.calibration.check_training_data`; missing metered heat first,
+    with how to mark and leave out a meter's gap,
+    :func:`~.verify_periods.missing_heat_message`), and a heating power of the order of the
+    building file's transmission losses
     (:func:`~thermocal.retrofit.calibration.check_heating_power_magnitude`: a factor 20
     either way is a unit, not a house; after the retrofit only upwards,
     :data:`PERIOD_HEAT_BALANCE_RANGE`), the checks ``thermocal retrofit`` makes, their
@@ -702,6 +707,12 @@ def check_period_data(
     period = f"{name}-retrofit period"
     what = f"{source} ({period})"
     keys = f"verify.{name}_start / verify.{name}_end"
+    if "phi_h" in data:  # how to mark and leave out a meter's gap (never zeros)
+        gap = missing_heat_message(
+            data["phi_h"], name, source, cumulative=bool(getattr(mc, "heat_cumulative", False))
+        )
+        if gap is not None:
+            raise ThermocalInputError(gap)
     check_training_data(data, what, heat_source=mc.heat_source, period=period, period_keys=keys)
     check_heating_power_magnitude(
         data, transmission, what, unit_hint=heat_unit_keys(mc), period=period,
@@ -1276,6 +1287,15 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
         model, cal_pre.estimates_si, cal_pre.envelope, cal_pre.x0, frame[list(DEMAND_INPUTS)],
         ti_old, frame["phi_int"] if has_gains else None,
     )  # fmt: skip
+    # a meter's gap exported as zeros while the rooms were held warm: not heat saved
+    for name, (a, b) in (("pre", pre), ("post", post)):
+        in_period = (frame.index >= a) & (frame.index < b)
+        runs = unmetered_heat_runs(
+            frame.loc[in_period, "phi_h_measured"], q_base[in_period],
+            frame.loc[in_period, OUTPUT_COLUMN],
+        )  # fmt: skip
+        if runs:
+            raise ThermocalInputError(meter_gap_message(runs, name, source))
     daily = daily_energy(
         pd.DataFrame({"measured": frame["phi_h_measured"], "baseline": q_base, "expected": q_ret,
                       "baseline_old_comfort": q_base_old})

@@ -31,6 +31,9 @@ __all__ = [
     "baseline_days_note",
     "check_period",
     "data_end",
+    "meter_gap_message",
+    "missing_heat_message",
+    "unmetered_heat_runs",
     "retrofitted_days_before_the_date",
     "retrofitted_days_note",
     "sensor_change_notes",
@@ -45,6 +48,18 @@ HEATING_LIMIT_C = 12.0
 #: Standard errors by which the first days of the reporting period must look more like the
 #: baseline than the rest does (:func:`baseline_days_after_retrofit`).
 BASELINE_DAYS_Z = 3.0
+#: Shortest run of zero metered heat [h] checked against the baseline's need
+#: (:func:`unmetered_heat_runs`): a day, the resolution of the saving's daily sums.
+ZERO_RUN_HOURS = 24.0
+#: Metered heat power [W] at or below which an interval counts as zero.
+ZERO_HEAT_W = 1.0
+#: Share of the period's median daily baseline heat the baseline must need over a zero run
+#: (per day) for the zeros to be a meter's gap rather than a day the gains covered.
+SUBSTANTIAL_BASELINE_SHARE = 0.25
+#: The rooms count as held over a zero run when their mean temperature is at most this far
+#: [K] below the period's median indoor temperature (heating really off: they cool).
+HELD_INDOOR_K = 1.0
+
 
 def _stamp(text: str | None, tz, default: pd.Timestamp) -> pd.Timestamp:
     if text is None:
@@ -166,6 +181,160 @@ def split_periods(
         if not a < b:
             raise ThermocalInputError(f"verify.{name}_start must be before verify.{name}_end")
     return pre, post, date, notes
+
+
+def unmetered_heat_runs(
+    measured: pd.Series,
+    baseline: pd.Series,
+    indoor: pd.Series,
+    *,
+    min_hours: float = ZERO_RUN_HOURS,
+) -> list[dict]:
+    """Runs of zero metered heat while the rooms are held warm and the baseline needs heat.
+
+    A heat meter's gap exported as zeros (or a stuck cumulative reading) reads as heat the
+    house did without: in February, with the rooms at their set point, the calibrated baseline
+    model needs tens of kWh a day there. A run of at least ``min_hours`` of metered heat at or
+    below :data:`ZERO_HEAT_W` is reported when the baseline model needs, per day of the run, at
+    least :data:`SUBSTANTIAL_BASELINE_SHARE` of the period's median daily heat and the mean
+    indoor temperature over the run is at most :data:`HELD_INDOOR_K` below the period's median
+    (heating really switched off lets the rooms cool).
+
+    Parameters
+    ----------
+    measured : pd.Series [W]
+        Metered heat power of one period on its regular grid.
+    baseline : pd.Series [W]
+        The baseline model's heat power on the same grid.
+    indoor : pd.Series [C]
+        The measured indoor temperature on the same grid.
+    min_hours : float [h]
+        Shortest run reported.
+
+    Returns
+    -------
+    list of dict
+        Per run: ``start``, ``end`` (end of its last interval), ``hours`` [h],
+        ``baseline_kWh`` [kWh] (the baseline's heat over the run), ``indoor_C`` [C] (mean
+        over the run) and ``usual_indoor_C`` [C] (the period's median).
+    """
+    from thermocal.io.measurements.quality import true_runs
+
+    if len(measured) < 2:
+        return []
+    step = measured.index[1] - measured.index[0]
+    step_h = step / pd.Timedelta(hours=1)
+    m = measured.to_numpy(float)
+    q = baseline.reindex(measured.index).to_numpy(float)
+    ti = indoor.reindex(measured.index).to_numpy(float)
+    # the period's typical day: its median daily baseline heat (at least its mean) [kWh]
+    daily_q = np.nansum(q) * step_h / 1000.0 / max(len(q) * step_h / 24.0, 1e-9)
+    per_day = pd.Series(q, index=measured.index).groupby(measured.index.normalize()).sum()
+    median_day = float(np.median(per_day.to_numpy(float)) * step_h / 1000.0)
+    usual = float(np.nanmedian(ti)) if np.isfinite(ti).any() else float("nan")
+    starts, ends = true_runs(np.isfinite(m) & (m <= ZERO_HEAT_W))
+    runs = []
+    for a, b in zip(starts, ends, strict=True):
+        hours = (b - a) * step_h
+        if hours < min_hours:
+            continue
+        need = float(np.nansum(q[a:b]) * step_h / 1000.0)
+        held = float(np.nanmean(ti[a:b])) if np.isfinite(ti[a:b]).any() else float("nan")
+        if need < SUBSTANTIAL_BASELINE_SHARE * max(median_day, daily_q) * hours / 24.0:
+            continue
+        if not held >= usual - HELD_INDOOR_K:
+            continue
+        runs.append({
+            "start": measured.index[a], "end": measured.index[b - 1] + step, "hours": hours,
+            "baseline_kWh": need, "indoor_C": held, "usual_indoor_C": usual,
+        })  # fmt: skip
+    return runs
+
+
+def meter_gap_message(runs: list[dict], name: str, source: str) -> str:
+    """The refusal of a period whose heat meter reads zero while the house needed heat.
+
+    Parameters
+    ----------
+    runs : list of dict
+        :func:`unmetered_heat_runs` of the period (not empty).
+    name : {"pre", "post"}
+    source : str
+        The measurement file.
+
+    Returns
+    -------
+    str
+    """
+    period = f"{name}-retrofit period"
+    shown = "; ".join(
+        f"{r['start']:%Y-%m-%d %H:%M} - {r['end']:%Y-%m-%d %H:%M} ({r['hours']:g} h, the "
+        f"baseline model needs {r['baseline_kWh']:,.0f} kWh there)"
+        for r in runs[:3]
+    )
+    more = f" and {len(runs) - 3} more" if len(runs) > 3 else ""
+    total = sum(r["baseline_kWh"] for r in runs)
+    effect = (
+        "counted as heat saved" if name == "post" else "counted as heat the old house did without"
+    )
+    return (
+        f"{source} ({period}): the metered heat is zero over {shown}{more}, while the rooms "
+        f"stayed at their usual temperature ({runs[0]['indoor_C']:.1f} C, the period's median "
+        f"{runs[0]['usual_indoor_C']:.1f} C): a heat meter that did not "
+        f"record (a gap exported as zeros, a stuck reading), not a house that needed no heat; "
+        f"the {total:,.0f} kWh would be {effect}. Mark these rows missing (leave the heat "
+        f"empty, not 0) and move verify.{name}_start / verify.{name}_end to leave them out "
+        "(verify needs every hour's metered heat); if the heating was really off and the rooms "
+        "were kept warm otherwise (a stove, a second heater), that heat is not metered and no "
+        "saving can be measured over those days either"
+    )
+
+
+def missing_heat_message(
+    heat: pd.Series, name: str, source: str, *, cumulative: bool = False
+) -> str | None:
+    """The refusal of a period with missing metered heat, and how to mark and leave it out.
+
+    Verify sums the metered heat of every hour of both periods and refuses gaps; writing
+    zeros into a gap reads as heat saved (:func:`unmetered_heat_runs`), and interpolating the
+    heat power over hours makes up the quantity measured.
+
+    Parameters
+    ----------
+    heat : pd.Series [W]
+        The period's metered heat power (``phi_h``).
+    name : {"pre", "post"}
+    source : str
+    cumulative : bool
+        The meter is read cumulatively (``measurements.heat_cumulative``).
+
+    Returns
+    -------
+    str or None
+        None when no value is missing.
+    """
+    gap = heat.isna().to_numpy()
+    if not gap.any():
+        return None
+    from thermocal.io.measurements.quality import true_runs
+
+    starts, ends = true_runs(gap)
+    step = heat.index[1] - heat.index[0] if len(heat) > 1 else pd.Timedelta(hours=1)
+    longest = int(np.argmax(ends - starts))
+    a, b = heat.index[starts[longest]], heat.index[ends[longest] - 1] + step
+    bridge = (
+        "If the meter's reading after the gap is right, interpolate the cumulative readings "
+        "linearly across the gap: its heat is then spread evenly and its total kept. "
+        if cumulative
+        else ""
+    )
+    return (
+        f"{source} ({name}-retrofit period): the metered heat (phi_h) is missing in "
+        f"{int(gap.sum())} intervals in {len(starts)} gap(s), the longest {a:%Y-%m-%d %H:%M} - "
+        f"{b:%Y-%m-%d %H:%M}; verify needs every hour's metered heat. {bridge}Otherwise leave "
+        f"the rows empty (never 0: a zero counts as heat saved) and move verify.{name}_start "
+        f"/ verify.{name}_end to leave the gap out"
+    )
 
 
 def check_period(frame: pd.DataFrame, name: str, min_days: float, source: str) -> None:
@@ -495,5 +664,3 @@ def sensor_change_notes(
                 "same quantity in the same place"
             )
     return out
-
-

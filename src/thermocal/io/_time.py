@@ -4,8 +4,10 @@ One parser for every table reader (weather CSV, measurement logs): ISO 8601 text
 UTC offsets (pyarrow fast path), an explicit strftime format, numbers with a unit and an origin,
 or an already parsed datetime column (parquet). Numeric dates written day and month first
 (``01/02/2015 00:00``, ``01.02.2015``) are read in the order the file's times decide, or
-refused. Naive times are placed in ``tz``; aware ones are converted to it. Every failure names
-the file, the column and the line.
+refused. Naive times are placed in ``tz``; aware ones are converted to it. In a zone with clock
+changes the autumn's repeated hour is read in file order; in a fixed offset, a clock that
+changes as a place's did is refused (:func:`check_fixed_zone_clock`). Every failure names the
+file, the column and the line.
 
 References
 ----------
@@ -15,6 +17,7 @@ References
 from __future__ import annotations
 
 import datetime as _dt
+import functools
 import logging
 import math
 import re
@@ -518,42 +521,126 @@ def _hour_jumps(steps: np.ndarray, regular: float) -> np.ndarray:
     return np.flatnonzero(np.abs(steps - (regular + 3600e9)) <= 0.1 * regular)
 
 
-def spring_change_sunday(stamp: pd.Timestamp) -> bool:
-    """Whether ``stamp``'s date is a Sunday on which clocks go forward somewhere.
+#: The areas of the IANA time zone database whose zones are places (``Europe/Zurich``); the
+#: rest are aliases (``US/Central``, ``CST6CDT``) or fixed offsets (``Etc/GMT+6``).
+_ZONE_AREAS = (
+    "Africa", "America", "Antarctica", "Asia", "Atlantic", "Australia", "Europe", "Indian",
+    "Pacific",
+)  # fmt: skip
+#: Zones a remedy names first when they fit (else the first fitting zone by name).
+_USUAL_ZONES = (
+    "America/Chicago", "America/New_York", "America/Denver", "America/Los_Angeles",
+    "Europe/Zurich", "Europe/Berlin", "Europe/London", "Australia/Sydney",
+)  # fmt: skip
+#: Zones named in a message about a clock change, at most.
+_ZONES_SHOWN = 3
 
-    The rules in use: the second Sunday of March (North America), the last Sunday of March
-    (Europe), the last Sunday of September (New Zealand), the first Sunday of October
-    (Australia) and the first Sunday of September (Chile). Any other Sunday a missing hour is a
-    logger's gap, not a clock change (a check on every spring and autumn Sunday refused ordinary
-    gaps on about 35 Sundays a year; review of 2026-11-30).
+
+@functools.lru_cache(maxsize=1)
+def _place_zones() -> tuple[str, ...]:
+    """The time zones of places in the IANA database (``zoneinfo``), sorted by name."""
+    import zoneinfo
+
+    return tuple(
+        sorted(n for n in zoneinfo.available_timezones() if n.split("/")[0] in _ZONE_AREAS)
+    )
+
+
+@functools.lru_cache(maxsize=256)
+def _zones_changing_around(day: _dt.date) -> tuple[str, ...]:
+    """The zones whose UTC offset at noon the day before ``day`` differs from that at noon the
+    day after (a clock change on, or next to, that local date)."""
+    import zoneinfo
+
+    before = _dt.datetime.combine(day - _dt.timedelta(days=1), _dt.time(12))
+    after = before + _dt.timedelta(days=2)
+    changing = []
+    for name in _place_zones():
+        zone = zoneinfo.ZoneInfo(name)
+        if before.replace(tzinfo=zone).utcoffset() != after.replace(tzinfo=zone).utcoffset():
+            changing.append(name)
+    return tuple(changing)
+
+
+def clock_change_zones(
+    before: pd.Timestamp, after: pd.Timestamp, step: pd.Timedelta, offset: pd.Timedelta
+) -> list[str]:
+    """The time zones in which two local clock readings are ``step`` apart across a clock
+    change, one side of it at ``offset`` from UTC.
+
+    A logger on local time with daylight saving read in a zone without clock changes: in
+    spring its clock jumps an hour beyond the log's interval (``01:00`` then ``03:00``), in
+    autumn it goes back by an hour less the interval (``01:00`` twice, or ``01:45`` then
+    ``01:00``). In a zone of the IANA time zone database (``zoneinfo``) that changed its
+    clocks there, the first reading taken before the change (daylight time where a reading
+    is ambiguous) and the second after it are one interval apart, as the logger's are.
 
     Parameters
     ----------
-    stamp : Timestamp
-        A local time.
+    before, after : pandas.Timestamp
+        Two consecutive clock readings of the log (naive: the wall clock).
+    step : pandas.Timedelta
+        The log's regular interval; a zone fits within 10 % of it.
+    offset : pandas.Timedelta
+        UTC offset of the zone the stamps were read in [h east of UTC, as a Timedelta]: one
+        of a fitting zone's offsets, before or after the change (the logger's standard or
+        daylight time).
 
     Returns
     -------
-    bool
+    list of str
+        The fitting zones' names, sorted: those whose standard time is at ``offset`` (a
+        weather file's time zone is standard time) when there are any, else those whose
+        daylight time is; empty when no zone changed its clocks between the two readings (an
+        ordinary gap or a repeated record).
     """
-    if stamp.day_of_week != 6:
-        return False
-    day, month = stamp.day, stamp.month
-    last = day + 7 > pd.Timestamp(stamp.year, month, 1).days_in_month
-    return (
-        (month == 3 and (8 <= day <= 14 or last))
-        or (month == 9 and (last or day <= 7))
-        or (month == 10 and day <= 7)
-    )
+    import zoneinfo
+
+    first, second = before.to_pydatetime(), after.to_pydatetime()
+    names = set(_zones_changing_around(first.date())) | set(_zones_changing_around(second.date()))
+    standard, daylight = [], []
+    for name in sorted(names):
+        zone = zoneinfo.ZoneInfo(name)
+        was = first.replace(tzinfo=zone, fold=0).utcoffset()
+        now = second.replace(tzinfo=zone, fold=1).utcoffset()
+        if was == now or offset not in (was, now):
+            continue
+        apart = (second - now) - (first - was)
+        if abs(apart - step) <= 0.1 * step:
+            (standard if offset == min(was, now) else daylight).append(name)
+    return standard or daylight
+
+
+def _zones_text(zones: list[str], offset: pd.Timedelta) -> str:
+    """``America/Cancun, America/Chicago, America/Matamoros and 9 other zone(s) at UTC-06:00``
+    for a message."""
+    shown = ", ".join(zones[:_ZONES_SHOWN])
+    others = len(zones) - _ZONES_SHOWN
+    rest = f" and {others} other zone(s)" if others > 0 else ""
+    return f"{shown}{rest} at UTC{_format_offset(offset.total_seconds() / 60)}"
+
+
+def _example_zone(zones: list[str]) -> str:
+    """The zone to name in a remedy: America/Chicago, Europe/Zurich ... when among ``zones``."""
+    for usual in _USUAL_ZONES:
+        if usual in zones:
+            return usual
+    return zones[0]
 
 
 def check_fixed_zone_clock(
     times: pd.DatetimeIndex, *, source: str, column: str, lines: np.ndarray | None = None
 ) -> None:
     """Refuse stamps without offsets placed in a zone without clock changes (a fixed offset
-    such as ``--tz -6``, or UTC) whose clock jumps one hour forward in the small hours of a
-    spring Sunday: a logger's local time with daylight saving, which the fixed zone would shift
-    by an hour from then on (the same stamps with their offsets written were refused already).
+    such as ``--tz -6``, or UTC) whose clock changes as a place's did with daylight saving: a
+    logger on local time, which the fixed zone would put an hour off all summer.
+
+    In spring the clock jumps an hour beyond the log's interval (an hour missing), in autumn
+    it goes back by an hour less the interval (an hour repeated; hourly stamps are
+    duplicated), each exactly when a zone of the time zone database at the given offset
+    changed its clocks (:func:`clock_change_zones`); the same stamps with their offsets
+    written were refused already. A gap or a repeated record on any other night is left to
+    the reader's checks.
 
     Parameters
     ----------
@@ -567,7 +654,8 @@ def check_fixed_zone_clock(
     Raises
     ------
     thermocal.errors.ThermocalInputError
-        Naming the line, the jump and what to pass instead.
+        Naming the line, the two clock readings, the zones whose clocks changed then and the
+        time zone to give by name.
     """
     if times.tz is None or len(times) < 3:
         return
@@ -579,19 +667,44 @@ def check_fixed_zone_clock(
     if spacing is None:
         return
     steps, regular = spacing
-    for i in _hour_jumps(steps, regular):
-        before = times[i]
-        if spring_change_sunday(before) and 0 <= before.hour <= 2:
-            raise ThermocalInputError(
-                f"{source}, column '{column}', {_where(lines, i + 1)}: the clock jumps from "
-                f"{before:%H:%M} to {times[i + 1]:%H:%M} on Sunday {before:%Y-%m-%d}, one hour "
-                f"more than the log's interval of {regular / 60e9:g} min, while the time zone "
-                f"given ({before:%z}) has no clock change: the log seems written in local time "
-                "with daylight saving, and every later time would be an hour off. Give the "
-                "zone by name, which knows its clock changes (--tz America/Chicago on the "
-                "command line, measurements.timezone: Europe/Zurich in a retrofit "
-                "configuration)"
+    back = np.flatnonzero(np.abs(steps - (regular - 3600e9)) <= 0.1 * regular)
+    candidates = sorted(set(_hour_jumps(steps, regular).tolist()) | set(back.tolist()))
+    interval = pd.Timedelta(int(regular), unit="ns")
+    for i in candidates[:_MAX_CLOCK_CANDIDATES]:
+        before, after = times[i], times[i + 1]
+        offset = before.utcoffset()
+        zones = clock_change_zones(
+            before.tz_localize(None), after.tz_localize(None), interval, offset
+        )
+        if not zones:
+            continue
+        at = f"{source}, column '{column}', {_where(lines, i + 1)}"
+        if after > before:
+            what = (
+                f"the clock jumps from {before:%H:%M} to {after:%H:%M} on {before:%A %Y-%m-%d}, "
+                f"one hour more than the log's interval of {regular / 60e9:g} min (an hour "
+                "missing): clocks went forward that night"
             )
+        else:
+            repeat = "repeats" if after == before else f"goes back from {before:%H:%M} to"
+            what = (
+                f"the clock {repeat} {after:%H:%M} on {before:%A %Y-%m-%d} (an hour repeated): "
+                "clocks went back from daylight saving to standard time that night"
+            )
+        example = _example_zone(zones)
+        raise ThermocalInputError(
+            f"{at}: {what} in {_zones_text(zones, offset)}, while the time zone given "
+            f"({before:%z}) has no clock change: the log is in local time with daylight "
+            "saving, and in the fixed zone the summer's times would be an hour off. Give the "
+            f"time zone by name, which knows its clock changes (--tz {example} on the command "
+            f"line, measurements.timezone: {example} in a retrofit or verify configuration), "
+            "or write the times with their UTC offsets"
+        )
+
+
+#: Steps checked by :func:`check_fixed_zone_clock` for a clock change, at most (a log with
+#: many one-hour gaps would otherwise search the time zone database at each).
+_MAX_CLOCK_CANDIDATES = 50
 
 
 def _numeric_times(values, source, column, lines, zone, time_unit, start):
@@ -687,14 +800,100 @@ def _finish(times, values, source, column, lines, tz, zone) -> tuple[pd.Datetime
             "pass tz= (e.g. 'Europe/Zurich', 'UTC' or hours east of UTC such as 1.0) or write "
             "them with an offset (2019-02-02T13:05:00+01:00)"
         )
-    localized = times.tz_localize(zone, ambiguous="NaT", nonexistent="NaT")
-    failed = np.asarray(localized.isna())
-    if failed.any():
-        first = int(np.flatnonzero(failed)[0])
+    localized, repeated_note = _localize_local_clock(
+        times, zone, values, source=source, column=column, lines=lines, tz=tz
+    )
+    note = f"{LOCAL_TIMES_NOTE} {tz}"
+    return localized.as_unit("ns"), "; ".join(n for n in (note, repeated_note) if n)
+
+
+def _localize_local_clock(times, zone, values, *, source, column, lines, tz):
+    """Naive clock readings placed in ``zone``, the autumn's repeated hour in file order.
+
+    Where the clocks go back (daylight saving to standard time), a local time such as 01:30
+    happens twice. A logger on local time writes the hour twice, in order: each run of
+    consecutive rows whose times are ambiguous in ``zone`` is read in daylight time up to
+    the row where the clock goes back (a reading not later than the one before it), and in
+    standard time from there (pandas' ``ambiguous="infer"`` does the same, but fails when
+    the hour is written once). A run the clock does not go back in, the hour written once
+    (a logger that kept one of the two hours' records), is read as the first, daylight-time
+    hour, with a warning: the standard-time hour after it is then missing, a gap as any
+    other. Where the clocks go forward, the hour skipped never happened in ``zone``: a time
+    in it is refused.
+
+    Parameters
+    ----------
+    times : pandas.DatetimeIndex
+        Naive clock readings, in file order.
+    zone : datetime.tzinfo
+        The time zone (with its clock changes).
+    values : pandas.Series
+        The column as written, for messages.
+    source, column : str
+        For messages.
+    lines : numpy.ndarray, optional
+        1-based file line of every row.
+    tz : str or float
+        The time zone as given, for messages.
+
+    Returns
+    -------
+    times : pandas.DatetimeIndex
+        In ``zone``.
+    note : str
+        How a repeated hour written once was read ("" when none was).
+
+    Raises
+    ------
+    thermocal.errors.ThermocalInputError
+        A clock reading in the hour skipped in spring, naming the line, the night's change and
+        what to do.
+    """
+    n = len(times)
+    daylight = times.tz_localize(zone, ambiguous=np.ones(n, dtype=bool), nonexistent="NaT")
+    standard = times.tz_localize(zone, ambiguous=np.zeros(n, dtype=bool), nonexistent="NaT")
+    skipped = np.asarray(daylight.isna())
+    if skipped.any():
+        first = int(np.flatnonzero(skipped)[0])
+        wall = times[first]
+        near = dict(ambiguous=True, nonexistent="shift_forward")
+        before = pd.Timestamp(wall - pd.Timedelta(hours=3)).tz_localize(zone, **near)
+        after = pd.Timestamp(wall + pd.Timedelta(hours=3)).tz_localize(zone, **near)
         raise ThermocalInputError(
             f"{source}, column '{column}', {_where(lines, first)}: the local time "
-            f"{values.iloc[first]!r} does not exist or is ambiguous in time zone {tz!r} "
-            f"(clock change; {int(failed.sum())} such time(s)); write the time stamps with UTC "
-            "offsets or in standard time and pass a fixed offset, e.g. tz=1.0"
+            f"{values.iloc[first]!r} never happened in time zone {tz!r}: that night the clocks "
+            f"went forward from UTC{before:%z} to UTC{after:%z} (daylight saving time) and "
+            f"skipped it ({int(skipped.sum())} such time(s)). A logger on that local time has "
+            "no record there: remove the row (an hour filled in by hand?). If the logger keeps "
+            "standard time all year, give the time zone as its standard time's fixed offset "
+            f"(UTC{before:%z}), which has no clock change"
         )
-    return localized.as_unit("ns"), f"{LOCAL_TIMES_NOTE} {tz}"
+    ambiguous = np.asarray(daylight != standard)
+    if not ambiguous.any():
+        return daylight, ""
+    in_daylight = np.ones(n, dtype=bool)
+    wall = times.as_unit("ns").asi8
+    starts = np.flatnonzero(ambiguous & ~np.r_[False, ambiguous[:-1]])
+    ends = np.flatnonzero(ambiguous & ~np.r_[ambiguous[1:], False]) + 1
+    once = []
+    for start, end in zip(starts, ends, strict=True):
+        goes_back = np.flatnonzero(np.diff(wall[start:end]) <= 0)
+        if goes_back.size:
+            in_daylight[start + int(goes_back[0]) + 1 : end] = False
+        else:
+            once.append(int(start))
+    utc = np.where(in_daylight, daylight.as_unit("ns").asi8, standard.as_unit("ns").asi8)
+    placed = pd.DatetimeIndex(pd.to_datetime(utc, unit="ns", utc=True))
+    placed = placed.tz_convert(zone)
+    if not once:
+        return placed, ""
+    k = once[0]
+    note = (
+        f"{_where(lines, k)} ({values.iloc[k]!r}): the hour repeated when the clocks went "
+        f"back in {tz} is written once ({len(once)} such night(s)); read as the first, "
+        f"daylight-time hour (UTC{placed[k]:%z}), so the standard-time hour after it "
+        f"(UTC{standard[k]:%z}) is missing. If the logger keeps standard time all year, give "
+        f"the time zone as its fixed offset (UTC{standard[k]:%z}) instead"
+    )
+    log.warning("%s, column '%s', %s", source, column, note)
+    return placed, note

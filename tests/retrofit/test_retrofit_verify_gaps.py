@@ -75,7 +75,8 @@ def test_missing_heat_is_refused_with_how_to_leave_it_out(tmp_path):
 
 
 def test_zero_heat_while_the_rooms_cool_or_the_gains_cover_is_not_a_meter_gap():
-    """Heating really off (the rooms cool) or a day the baseline needs no heat: not named."""
+    """Heating really off (the rooms cool), rooms warmed above the set point by the sun, or a
+    day the baseline needs no heat: not named."""
     index = pd.date_range("2006-02-01", periods=24 * 10, freq="h", tz="UTC")
     base = pd.Series(1000.0, index=index)
     heat = pd.Series(900.0, index=index)
@@ -85,6 +86,13 @@ def test_zero_heat_while_the_rooms_cool_or_the_gains_cover_is_not_a_meter_gap():
     cooling = ti.copy()
     cooling.iloc[48:120] = np.linspace(19.0, 14.0, 72)
     assert unmetered_heat_runs(heat, base, cooling) == []
+    # a sunny spell in March: the rooms float above the set point without heat (EnergyPlus'
+    # house with a 400 W heater, 39 h at 22.3 C against a median 20.0 C)
+    warm = ti.copy()
+    warm.iloc[48:120] = 22.3
+    assert unmetered_heat_runs(heat, base, warm) == []
+    warm.iloc[48:120] = 20.8 + 1.5 * np.sin(np.arange(72) * 2 * np.pi / 24)  # floating, mean +0.8
+    assert unmetered_heat_runs(heat, base, warm) == []
     mild = base.copy()
     mild.iloc[48:120] = 50.0
     assert unmetered_heat_runs(heat, mild, ti) == []

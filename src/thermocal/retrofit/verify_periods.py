@@ -57,8 +57,11 @@ ZERO_HEAT_W = 1.0
 #: (per day) for the zeros to be a meter's gap rather than a day the gains covered.
 SUBSTANTIAL_BASELINE_SHARE = 0.25
 #: The rooms count as held over a zero run when their mean temperature is at most this far
-#: [K] below the period's median indoor temperature (heating really off: they cool).
+#: [K] from the period's median indoor temperature (heating really off: they cool; the sun
+#: or the gains heating them above the set point: they warm).
 HELD_INDOOR_K = 1.0
+#: Share of a zero run's intervals that must lie within :data:`HELD_INDOOR_K` of the median.
+HELD_SHARE = 0.9
 
 
 def _stamp(text: str | None, tz, default: pd.Timestamp) -> pd.Timestamp:
@@ -196,9 +199,11 @@ def unmetered_heat_runs(
     house did without: in February, with the rooms at their set point, the calibrated baseline
     model needs tens of kWh a day there. A run of at least ``min_hours`` of metered heat at or
     below :data:`ZERO_HEAT_W` is reported when the baseline model needs, per day of the run, at
-    least :data:`SUBSTANTIAL_BASELINE_SHARE` of the period's median daily heat and the mean
-    indoor temperature over the run is at most :data:`HELD_INDOOR_K` below the period's median
-    (heating really switched off lets the rooms cool).
+    least :data:`SUBSTANTIAL_BASELINE_SHARE` of the period's median daily heat and the indoor
+    temperature stays within :data:`HELD_INDOOR_K` of the period's median (in
+    :data:`HELD_SHARE` of the run's intervals)
+    (heating really switched off lets the rooms cool; sun or gains that cover the losses warm
+    them above the set point).
 
     Parameters
     ----------
@@ -242,7 +247,9 @@ def unmetered_heat_runs(
         held = float(np.nanmean(ti[a:b])) if np.isfinite(ti[a:b]).any() else float("nan")
         if need < SUBSTANTIAL_BASELINE_SHARE * max(median_day, daily_q) * hours / 24.0:
             continue
-        if not held >= usual - HELD_INDOOR_K:
+        # held throughout: not cooled (heating off) nor warmed above (sun, gains)
+        near = np.abs(ti[a:b] - usual) <= HELD_INDOOR_K
+        if not near.mean() >= HELD_SHARE:
             continue
         runs.append({
             "start": measured.index[a], "end": measured.index[b - 1] + step, "hours": hours,

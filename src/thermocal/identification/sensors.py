@@ -579,6 +579,9 @@ class ReferenceReport:
     accepted_constant_readings : list of dict
         Long constant readings accepted as a controlled room (not refused as stuck): one
         record per run (:func:`check_sensor_plausibility`); :meth:`constant_notes` says them.
+    setpoint_excursions : list of dict
+        Zones whose reading stays beyond a set point the building file holds them at
+        (:func:`setpoint_excursions`); :meth:`setpoint_notes` says them.
     """
 
     sources: dict
@@ -586,6 +589,7 @@ class ReferenceReport:
     substituted: pd.DataFrame
     quality: object
     accepted_constant_readings: list = field(default_factory=list)
+    setpoint_excursions: list = field(default_factory=list)
 
     def constant_notes(self) -> list[str]:
         """One note per sensor whose long constant reading was accepted (for the outputs)."""
@@ -594,6 +598,10 @@ class ReferenceReport:
     def removed_readings(self) -> list[dict]:
         """The readings removed before the identification (:func:`removed_readings`)."""
         return removed_readings(self.quality, self.sources)
+
+    def setpoint_notes(self) -> list[str]:
+        """One note per zone whose reading stays beyond its set point (for the outputs)."""
+        return [setpoint_excursion_text(r) for r in self.setpoint_excursions]
 
     def removed_notes(self) -> list[str]:
         """One note on the readings removed, if any (:func:`removed_readings_note`)."""
@@ -795,6 +803,16 @@ def zone_references(
         interpolated += [{"zone": zone, **gap} for gap in held_first + filled + held]
         reference[zone] = series
     measured = reference.copy()  # before any zone takes over another's gap
+    excursions = setpoint_excursions(
+        measured[[z for z, src in tracked.items() if src.kind == "sensor"]],
+        lambda: zone_setpoints(building, times),
+        heated_or_cooled(building),
+        step,
+        sources,
+    )
+    for record in excursions:
+        text = setpoint_excursion_text(record)
+        warnings.warn(f"{source}: {text}", ReferenceWarning, stacklevel=2)
     for zone, src in tracked.items():
         missing = reference[zone].isna()
         if not missing.any():
@@ -856,6 +874,7 @@ def zone_references(
         ),
         quality=quality,
         accepted_constant_readings=accepted_constant,
+        setpoint_excursions=excursions,
     )
     return reference, report
 
@@ -1852,6 +1871,189 @@ def _raw_values(raw: pd.DataFrame, sensor: str) -> np.ndarray:
             return np.array([], dtype=float)
         values = raw[columns[sensor]]
     return pd.to_numeric(values, errors="coerce").to_numpy(float)
+
+
+#: A zone's reading beyond its set point by more than this counts as beyond it [K]: a
+#: thermostat holds the air within its throttling range (0.5-1 K), and a sensor a few metres
+#: from it in the same room reads within about as much (ASHRAE 55 allows 3 K head to ankle;
+#: two wall sensors of a heated room read well below 2 K apart, :data:`SENSOR_DISAGREEMENT`).
+SETPOINT_MARGIN = 1.0
+#: Share of the hours a set point applies above which a zone that stays beyond it is named
+#: [-]: a few hours of a short-lived overload pass unremarked.
+SETPOINT_EXCURSION_SHARE = 0.05
+#: Fewest hours beyond a set point named [h].
+SETPOINT_EXCURSION_HOURS = 2.0
+#: After a set point moves towards the room's temperature (a set-back ends), the room is
+#: allowed this long to reach it (the plant's recovery) [duration].
+SETPOINT_RECOVERY = pd.Timedelta("2h")
+#: Before a set point moves away from the room's temperature (a set-back begins), the room may
+#: leave it this early: a plant switched off ahead of the set-back (optimum stop), a log's clock
+#: an hour off [duration].
+SETPOINT_EARLY_STOP = pd.Timedelta("1h")
+
+
+def heated_or_cooled(building) -> set[str] | None:
+    """Zones the building file gives heating or cooling equipment.
+
+    Parameters
+    ----------
+    building : thermocal.multizone.Building
+
+    Returns
+    -------
+    set of str or None
+        An imported IDF's zones with declared HVAC equipment
+        (``building.idf_info.zone_heat_delivery``); None for a building without an IDF's
+        record (a zone with a set point is then held by it).
+    """
+    info = getattr(building, "idf_info", None)
+    delivery = getattr(info, "zone_heat_delivery", None)
+    if info is None or delivery is None:
+        return None
+    return {str(zone) for zone in delivery}
+
+
+def _changing(setpoint: np.ndarray, towards: int, after: int, before: int) -> np.ndarray:
+    """Steps near a change of a set point: the ``after`` steps from a move in direction
+    ``towards`` (+1 up, -1 down) or a switch-on (NaN to a value), the room still on its way
+    there; the ``before`` steps up to a move the other way or a switch-off, where a plant that
+    stops early (optimum stop) or a log's clock an hour off lets the room leave it first."""
+    previous = np.r_[np.nan, setpoint[:-1]]
+    with np.errstate(invalid="ignore"):
+        rise = towards * (setpoint - previous)
+        onto = (rise > 0.01) | (np.isnan(previous) & np.isfinite(setpoint))
+        away = (rise < -0.01) | (np.isfinite(previous) & np.isnan(setpoint))
+    onto[0] = away[0] = False
+    out = np.zeros(setpoint.size, dtype=bool)
+    for i in np.flatnonzero(onto):
+        out[i : i + after] = True
+    for i in np.flatnonzero(away):
+        out[max(0, i - before) : i] = True
+    return out
+
+
+def setpoint_excursions(
+    measured: pd.DataFrame,
+    setpoints,
+    equipped: set[str] | None,
+    step: pd.Timedelta,
+    sources: Mapping | None = None,
+) -> list[dict]:
+    """Zones whose measured temperature stays beyond a set point the building file holds them
+    at.
+
+    A zone the file heats (or cools) to a set point cannot stay well below its heating set
+    point (above its cooling set point) for long: the file's heating (cooling) would act. A
+    reading that does is not the room's air as the file's plant holds it: a sensor in the sun
+    or near a heat source (above), against a cold window or in a draught (below), or set
+    points in the file that are not the building's; the identified heat then follows the
+    reading and is wrong, with nothing else to show it (an EnergyPlus 25.2 twin of NREL's
+    InternalMass_wZoneList, Golden in January, a sensor reading 1 K per kW of sun above the
+    air: up to 4.4 K above the 24 C cooling set point for 62 h, and the zone's identified heat
+    +61 %). Steps within :data:`SETPOINT_RECOVERY` after the set point moved towards the room
+    (a set-back's end) and within :data:`SETPOINT_EARLY_STOP` before it moves away (a
+    set-back's start) are left out.
+
+    Parameters
+    ----------
+    measured : DataFrame (steps x zones) [C]
+        The zones' own measured temperatures (NaN: none).
+    setpoints : DataFrame or callable returning it
+        :func:`zone_setpoints` on the same index (columns ``(zone, "heating" | "cooling")``,
+        NaN where the plant is off); called only when there are zones to check.
+    equipped : set of str or None
+        Zones with heating or cooling equipment in the file (:func:`heated_or_cooled`); None:
+        every zone with a set point.
+    step : Timedelta
+    sources : mapping of zone -> ZoneSource, optional
+        For the sensors of each zone, in the record.
+
+    Returns
+    -------
+    list of dict
+        One record per zone and side beyond :data:`SETPOINT_MARGIN` for more than
+        :data:`SETPOINT_EXCURSION_SHARE` of the hours the set point applies and at least
+        :data:`SETPOINT_EXCURSION_HOURS`: ``zone``, ``sensors``, ``side`` ("above cooling" or
+        "below heating"), ``setpoint_C`` (the median set point there) [C], ``hours`` [h],
+        ``share`` [-] of ``hours_held`` [h] (the hours the set point applies, less those
+        near its changes), ``max_excess_K`` [K], ``first`` (time), ``margin_K`` [K].
+    """
+    zones = [z for z in measured.columns if equipped is None or str(z) in equipped]
+    if not zones or measured.empty:
+        return []
+    frame = setpoints() if callable(setpoints) else setpoints
+    if frame is None or frame.empty:
+        return []
+    hours_per_step = step / pd.Timedelta("1h")
+    recovery = max(1, int(np.ceil(SETPOINT_RECOVERY / step)))
+    early = max(1, int(np.ceil(SETPOINT_EARLY_STOP / step)))
+    out = []
+    for zone in zones:
+        reading = measured[zone].to_numpy(float)
+        for kind, side, sign in (("cooling", "above cooling", 1), ("heating", "below heating", -1)):
+            if (zone, kind) not in frame.columns:
+                continue
+            setpoint = frame[(zone, kind)].to_numpy(float)
+            held = np.isfinite(setpoint) & np.isfinite(reading)
+            held &= ~_changing(setpoint, -sign, recovery, early)
+            if not held.any():
+                continue
+            excess = np.where(held, sign * (reading - setpoint), np.nan)
+            beyond = held & (excess > SETPOINT_MARGIN)
+            hours = float(beyond.sum() * hours_per_step)
+            share = float(beyond.sum() / held.sum())
+            if hours < SETPOINT_EXCURSION_HOURS or share <= SETPOINT_EXCURSION_SHARE:
+                continue
+            src = (sources or {}).get(zone)
+            out.append(
+                {
+                    "zone": str(zone),
+                    "sensors": list(getattr(src, "sensors", ())),
+                    "side": side,
+                    "setpoint_C": float(np.median(setpoint[beyond])),
+                    "hours": hours,
+                    "share": share,
+                    "hours_held": float(held.sum() * hours_per_step),
+                    "max_excess_K": float(np.nanmax(excess[beyond])),
+                    "first": str(measured.index[np.argmax(beyond)]),
+                    "margin_K": SETPOINT_MARGIN,
+                }
+            )
+    return out
+
+
+def setpoint_excursion_text(record: Mapping) -> str:
+    """The warning and note for one record of :func:`setpoint_excursions`.
+
+    Parameters
+    ----------
+    record : dict
+
+    Returns
+    -------
+    str
+    """
+    above = record["side"] == "above cooling"
+    sensors = ", ".join(record.get("sensors") or []) or "its sensors"
+    causes = (
+        "a sensor in the sun or near a heat source (a lamp, a radiator, a computer) reads its "
+        "spot, not the room's air"
+        if above
+        else "a sensor against a cold window or wall, in a draught or near a cold source reads "
+        "its spot, not the room's air"
+    )
+    wrong = "too much heat, too little cooling" if above else "too little heat, too much cooling"
+    return (
+        f"zone {record['zone']!r} ({sensors}) reads {'above' if above else 'below'} the "
+        f"{'cooling' if above else 'heating'} set point the building file holds it at (about "
+        f"{record['setpoint_C']:g} C) by more than {record['margin_K']:g} K for "
+        f"{record['hours']:.1f} h ({100 * record['share']:.0f} % of the {record['hours_held']:.0f} "
+        f"h it applies), up to {record['max_excess_K']:.1f} K, where the file's "
+        f"{'cooling' if above else 'heating'} would hold the room at it: {causes}, or the set "
+        "points in the file are not the building's. The identified heat follows the reading "
+        f"({wrong} than the room had); check where the sensor hangs and the thermostat's "
+        "settings (setpoint_excursions in identification.json)"
+    )
 
 
 def zone_setpoints(building, times: pd.DatetimeIndex) -> pd.DataFrame:

@@ -112,6 +112,9 @@ class IdentificationResult:
         Sensor readings removed before the identification as physically impossible or as
         isolated spikes, bridged as gaps: ``sensor``, ``zone``, ``time``, ``value_C``,
         ``flag``, ``reason`` (:func:`thermocal.identification.sensors.removed_readings`).
+    setpoint_excursions : list of dict
+        Zones whose reading stays beyond a set point the building file holds them at, one
+        record per zone and side (:func:`thermocal.identification.sensors.setpoint_excursions`).
     """
 
     q_id: pd.DataFrame
@@ -139,6 +142,7 @@ class IdentificationResult:
     log_clock: dict | None = None
     accepted_constant_readings: list = field(default_factory=list)
     removed_readings: list = field(default_factory=list)
+    setpoint_excursions: list = field(default_factory=list)
 
     @property
     def building_heat(self) -> pd.Series:
@@ -219,6 +223,7 @@ class IdentificationResult:
             "log_clock": self.log_clock,
             "accepted_constant_readings": self.accepted_constant_readings,
             "removed_readings": self.removed_readings,
+            "setpoint_excursions": self.setpoint_excursions,
         }
         return jsonable(out)
 
@@ -741,6 +746,7 @@ def identify(
     timings["references"] = time.perf_counter() - t0
     notes += ref_report.constant_notes()  # accepted long constant readings, with the results
     notes += ref_report.removed_notes()  # readings removed as impossible or spikes
+    notes += ref_report.setpoint_notes()  # zones read beyond the set points the file holds
     all_zones = list(building.zones)
     zones = [z for z in all_zones if z in reference.columns]
     floating = [z for z in all_zones if z not in reference.columns]
@@ -916,6 +922,7 @@ def identify(
         log_clock=log_clock,
         accepted_constant_readings=ref_report.accepted_constant_readings,
         removed_readings=ref_report.removed_readings(),
+        setpoint_excursions=ref_report.setpoint_excursions,
     )
 
 

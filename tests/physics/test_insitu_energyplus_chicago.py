@@ -83,3 +83,45 @@ def test_rows_missing_at_the_same_hour_every_day_are_refused_with_the_hours():
     nan.loc[nan.index.hour.isin([6, 7]), "q"] = float("nan")  # kept rows, empty cells
     with pytest.raises(ValueError, match="same time of day"):
         average_method(nan.index, nan.q, nan.Ti, nan.Te)
+
+
+def _warned(result, start):
+    return [w for w in result.warnings if w.startswith(start)]
+
+
+def test_air_temperatures_on_a_sunlit_wall_are_warned_of():
+    """The south timber wall with the outdoor air temperature: U 28 % low with every criterion
+    passing and nothing said; now a warning from the flux's daily cycle (its day/night ratio
+    0.30), and the air-temperature caution in the notes. The face temperatures give the truth
+    (within 1 %) without the warning; the north walls stay quiet. The south brick wall (28 %
+    low as well) damps the day's sun out of the inside flux: only the caution is given."""
+    truth = TRUTH["light"]["u_value_W_per_m2K"]
+    sunlit = _reduce("south_light_14d_air")
+    assert sunlit.u_value / truth - 1 == pytest.approx(-0.278, abs=0.005)
+    assert "0.30 of the night's" in _warned(sunlit, "a sunlit outside face?")[0]
+    assert any("ISO 9869-1 asks to shield" in n for n in sunlit.notes)
+    faces = _reduce("south_light_14d_surface")
+    assert faces.u_value / truth - 1 == pytest.approx(0.0, abs=0.01)
+    assert not _warned(faces, "a sunlit") and not any("air temperatures" in n for n in faces.notes)
+    for name in ("north_light_14d_air", "north_heavy_14d_air", "south_heavy_14d_air"):
+        quiet = _reduce(name)
+        assert [w[:20] for w in quiet.warnings if not w.startswith(D_NOT_CHECKED)] == [], name
+        assert any("ISO 9869-1 asks to shield" in n for n in quiet.notes)
+
+
+def test_a_mild_period_with_air_temperatures_is_warned_of(tmp_path):
+    """Three April days at a mean difference of 11.5 K (just above the 10 K note): U 26 % low
+    with nothing said; now a warning that the outside face's radiation biases U by about
+    2 K / 11.5 K, beyond the uncertainty, shown by the command and kept in in_situ.json."""
+    mild = _reduce("mild_north_light_3d_air")
+    assert mild.mean_difference_K == pytest.approx(11.5, abs=0.05)
+    assert mild.u_value / TRUTH["light"]["u_value_W_per_m2K"] - 1 == pytest.approx(-0.264,
+                                                                                  abs=0.005)
+    assert "about 17 %" in _warned(mild, "mild period")[0]
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ["insitu", str(REF / "mild_north_light_3d_air.csv"),
+                                      "--out", str(out)], terminal_width=100)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert "warning: mild period" in " ".join(result.output.split())
+    saved = json.loads((out / "in_situ.json").read_text())
+    assert any(w.startswith("mild period") for w in saved["warnings"])

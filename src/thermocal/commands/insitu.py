@@ -153,7 +153,12 @@ def insitu(
     ] = "C",
     timezone: Annotated[str | None, typer.Option("--timezone", help="of naive stamps")] = None,
     surface: Annotated[
-        bool, typer.Option("--surface", help="the temperatures are the element's faces")
+        bool,
+        typer.Option(
+            "--surface",
+            help="the temperatures are the element's faces (air temperatures miss the sun on "
+            "the outside face: ISO 9869-1 asks for a spot out of direct sun)",
+        ),
     ] = False,
     flow: Annotated[
         Literal["horizontal", "upward", "downward"],

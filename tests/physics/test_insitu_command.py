@@ -114,3 +114,24 @@ def test_header_unit_against_the_option_names_the_option(tmp_path):
     result = CliRunner().invoke(app, ["insitu", str(tmp_path / "f.csv"), "--heat-flux", "q_W_m2"])
     assert isinstance(result.exception, ThermocalInputError)
     assert "declares '°F' but --temperature-unit says 'C'" in str(result.exception)
+
+
+def test_a_units_row_and_a_foreign_unit_in_the_header_are_named(tmp_path):
+    """A row of units under the header was 'cannot read nan as a time' with no hint of the
+    units row; a heat flux headed in Btu/(h ft2) was 'not found'. Both now say what they are
+    and what to do."""
+    log = pd.read_csv(LOG).rename(columns={"q_W_m2": "q"})
+    units = tmp_path / "units_row.csv"
+    units.write_text("time,q,Ti,Te\n,W/m2,C,C\n" + log.to_csv(index=False, header=False))
+    result = CliRunner().invoke(app, ["insitu", str(units)])
+    assert isinstance(result.exception, ThermocalInputError), result.output
+    assert "line 2 is a row of units (W/m2, C, C), not a reading: delete it" in str(
+        result.exception)
+    btu = tmp_path / "btu.csv"
+    log.assign(q=log["q"] / 3.1546).rename(columns={"q": "q [Btu/(h ft2)]"}).to_csv(btu,
+                                                                                  index=False)
+    result = CliRunner().invoke(app, ["insitu", str(btu)])
+    assert isinstance(result.exception, ThermocalInputError), result.output
+    text = str(result.exception)
+    assert "'q [Btu/(h ft2)]' is --heat-flux 'q' in 'Btu/(h ft2)'" in text, text
+    assert "convert the column to W/m2 (1 Btu/(h ft2) = 3.1546 W/m2)" in text and "LOG" not in text

@@ -213,11 +213,28 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
             ("pass interval=", "log more than one row"),
         ):
             text = text.replace(option, remedy)
-        if "not found" in text:
+        units_row = _units_row(path) if "cannot read" in text and "line 2" in text else None
+        if units_row:
             text += (
-                f"; map the log's columns with {where}.columns (heat_flux, temp_in, temp_out)"
-                + _header_hint(path)
+                f"; line 2 is a row of units ({', '.join(units_row)}), not a reading: delete it "
+                f"(a unit can stand in the header, e.g. '{spec.columns['heat_flux']} [W/m2]')"
             )
+        if "not found" in text:
+            unit = _foreign_unit(path, spec.columns["heat_flux"])
+            if unit:
+                text = (
+                    f"heat-flux log {path}: column {unit[0]!r} is {where}.columns.heat_flux "
+                    f"{spec.columns['heat_flux']!r} in {unit[1]!r}, which thermocal does not "
+                    "convert: convert the column to W/m2"
+                    + (" (1 Btu/(h ft2) = 3.1546 W/m2)" if "btu" in unit[1].lower() else "")
+                    + f" and head it {spec.columns['heat_flux']!r} or "
+                    f"'{spec.columns['heat_flux']} [W/m2]'"
+                )
+            else:
+                text += (
+                    f"; map the log's columns with {where}.columns (heat_flux, temp_in, "
+                    "temp_out)" + _header_hint(path)
+                )
         raise ThermocalInputError(f"{where}: {text}") from None
     q = raw["heat_flux"].to_numpy(float)
     if spec.heat_flux_sign == "inward":
@@ -233,6 +250,54 @@ def read_heat_flux_log(spec: InSituConfig, where: str, default_tz=None):
                 f"{where}.temperature_unit"
             )
     return raw.index, q, ti, te
+
+
+def _csv_head(path: Path, rows: int):
+    """The first ``rows`` rows of a CSV log as text (None for parquet or when unreadable)."""
+    import pandas as pd
+
+    if path.suffix.lower() in (".parquet", ".pq"):
+        return None
+    try:
+        return pd.read_csv(path, nrows=rows, sep=None, engine="python", dtype=str)
+    except Exception:  # noqa: BLE001 - only a hint; the reader's message stands
+        return None
+
+
+def _units_row(path: Path) -> list[str] | None:
+    """The cells of a CSV log's first row under the header when they are units, not readings
+    (no number among them, a unit-like cell such as ``W/m2`` or ``C``), else None."""
+    import re
+
+    head = _csv_head(path, 1)
+    if head is None or not len(head):
+        return None
+    cells = [str(c).strip() for c in head.iloc[0].tolist() if isinstance(c, str) and c.strip()]
+    if not cells or any(re.fullmatch(r"[-+]?\d+([.,]\d*)?([eE][-+]?\d+)?", c) for c in cells):
+        return None
+    unit = re.compile(r"(?i)^\[?\(?(w/m.?2|w/m²|mw/m2|°?c|deg\s*c|k|°?f|s|h|-|%)\)?\]?$")
+    return cells if any(unit.match(c) for c in cells) else None
+
+
+def _foreign_unit(path: Path, name: str) -> tuple[str, str] | None:
+    """``(column, unit)`` when a CSV or parquet log heads the heat flux ``name [unit]`` or
+    ``name (unit)`` with a unit the reader did not take, else None."""
+    import re
+
+    head = _csv_head(path, 0)
+    columns = list(head.columns) if head is not None else []
+    if head is None and path.suffix.lower() in (".parquet", ".pq"):
+        try:
+            import pyarrow.parquet as pq
+
+            columns = pq.read_schema(path).names
+        except Exception:  # noqa: BLE001 - only a hint
+            return None
+    for column in map(str, columns):
+        found = re.fullmatch(rf"\s*{re.escape(name)}\s*[\[(](.+)[\])]\s*", column)
+        if found:
+            return column, found.group(1).strip()
+    return None
 
 
 def _header_hint(path: Path) -> str:

@@ -226,6 +226,9 @@ def test_twin_with_an_in_situ_wall_u_value(tmp_path):
     corr = run["calibration"]["correction"]
     assert corr["measured_in_situ"] == ["k_walls"]
     assert run["calibration"]["in_situ"]["walls"]["converged"]
+    # no heat capacity given: the warning that criterion d was not checked reaches the notes
+    assert run["calibration"]["in_situ"]["walls"]["status"].endswith("d (heat stored) not checked")
+    assert any(n.startswith("in_situ.walls: criteria a-c pass") for n in run["notes"])
     assert run["calibration"]["in_situ"]["walls"]["u_value_W_per_m2K"] == pytest.approx(
         1.578, abs=0.001
     )

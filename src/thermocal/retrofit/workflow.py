@@ -524,7 +524,8 @@ def run_retrofit(cfg: RetrofitConfig, *, progress=None) -> RetrofitAnalysis:
                 "factors; they need model.correction: groups and uncertainty.u_value_rel_std > 0"
             )
         model = replace(model, in_situ=in_situ_priors(in_situ))
-        notes += [f"in_situ.{c}: {n}" for c, m in in_situ.items() for n in m.result.notes]
+        notes += [f"in_situ.{c}: {n}" for c, m in in_situ.items()
+                  for n in m.result.warnings + m.result.notes]  # fmt: skip
         for m in in_situ.values():
             say(
                 f"in situ: {m.component} U = {m.result.u_value:.3g} W/(m2 K) +- "

@@ -25,6 +25,13 @@ def test_identify_demo_writes_results(tmp_path):
     kinds = {zone["source"] for zone in result["zones"]}
     assert kinds == {"sensor", "neighbour", "named"}
     assert len(result["zones"]) == 186
+    # the identified heat's uncertainty from the sensors' accuracy: stated per zone and for
+    # the building; zones following a neighbour's sensor share its offset
+    uncertainty = result["sensor_uncertainty"]
+    assert uncertainty["accuracy_K"] == 0.2
+    assert uncertainty["sensors"] < len(uncertainty["independent"]["zones"])
+    assert 0 < uncertainty["independent"]["building_kwh"] < uncertainty["shared"]["building_kwh"]
+    assert any(note.startswith("Sensor accuracy") for note in result["notes"])
     for name in ("q_id.parquet", "report.html", "building_q_id.png", "tuning_oscillation.png"):
         assert (out / name).is_file()
     assert "Traceback" not in done.stderr
@@ -42,3 +49,9 @@ def test_identify_radiant_fraction_out_of_range_is_a_clear_error(tmp_path):
     assert done.returncode == 2
     assert "--radiant-fraction '1.5': give a number in [0, 1]" in done.stderr
     assert "or declared" in done.stderr and "Traceback" not in done.stderr
+
+
+def test_sensor_accuracy_out_of_range_is_a_clear_error(tmp_path):
+    done = _run("identify", "--demo", "--sensor-accuracy", "0", "--out", str(tmp_path / "x"))
+    assert done.returncode == 2
+    assert "--sensor-accuracy 0: give a sensor's standard uncertainty" in done.stderr

@@ -143,6 +143,15 @@ def identify(
             "heat much smoother (a log an hour off). Two to four more inverses.",
         ),
     ] = True,
+    sensor_accuracy: Annotated[
+        float,
+        typer.Option(
+            "--sensor-accuracy",
+            help="Standard uncertainty of each temperature sensor's offset [K] (default 0.2: "
+            "the common +-0.2 K logger class); stated as the identified heat's uncertainty "
+            "per zone and for the building.",
+        ),
+    ] = 0.2,
     site_choice: Annotated[
         str,
         typer.Option(
@@ -161,7 +170,7 @@ def identify(
 
     Writes into OUT: identification.json (gains with Ku and Pu, tracking per zone,
     every zone's reference source, the unoccupied-variance metric, PID vs inverse, the
-    sensor log's clock check),
+    sensor log's clock check, the identified heat's uncertainty from the sensors' accuracy),
     q_id.parquet (per zone and total, per step), figures and report.html.
     """
     import warnings
@@ -182,6 +191,11 @@ def identify(
 
     if step is not None and unitless_duration(step):
         raise ThermocalInputError(f"--step {step!r} has no unit: write it with one, e.g. {step}min")
+    if not 0.0 < sensor_accuracy <= 5.0:
+        raise ThermocalInputError(
+            f"--sensor-accuracy {sensor_accuracy:g}: give a sensor's standard uncertainty in "
+            "kelvin, more than 0 and at most 5 (e.g. 0.2)"
+        )
     gap_duration(max_gap, "--max-gap", zero_allowed=True)
     gap_duration(silence, "--silence", zero_allowed=False)
     signature = ("identification.json", "q_id.parquet", "report.html")
@@ -308,6 +322,7 @@ def identify(
             progress=True,
             log_name=log_name,
             clock_check=clock_check,
+            sensor_accuracy=sensor_accuracy,
         )
     from thermocal.multizone.simulation import notes_summary
 
@@ -584,6 +599,16 @@ def _print_summary(result, truth) -> None:
     if difference is not None:
         summary.add_row("PID - inverse, building RMS", f"{difference['building_rms_W']:.0f} W")
     summary.add_row("sensor log's clock", _clock_summary(result.log_clock))
+    if result.sensor_uncertainty is not None:
+        u = result.sensor_uncertainty
+        shared, ind = u["shared"], u["independent"]
+        share = shared["building_share"]
+        summary.add_row(
+            f"building heat +- (sensors {u['accuracy_K']:g} K)",
+            f"{shared['building_kwh']:,.0f} kWh"
+            + (f" ({100 * share:.1f} %)" if share is not None else "")
+            + f" alike, {ind['building_kwh']:,.0f} kWh each own",
+        )
     for key, value in result.timings.items():
         summary.add_row(f"time: {key}", f"{value:.2f} s")
     counts = result.sources["source"].value_counts().to_dict()

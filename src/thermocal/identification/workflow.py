@@ -29,6 +29,12 @@ from thermocal.identification.metrics import (
 )
 from thermocal.identification.occupancy import OccupancySchedule
 from thermocal.identification.pid import PIDGains, kernel_coefficients
+from thermocal.identification.sensor_accuracy import (
+    DEFAULT_SENSOR_ACCURACY_K,
+    held_zone_conductance,
+    sensor_heat_uncertainty,
+    uncertainty_note,
+)
 from thermocal.identification.sensors import (
     SensorMapping,
     frame_over_own_array,
@@ -115,6 +121,10 @@ class IdentificationResult:
     setpoint_excursions : list of dict
         Zones whose reading stays beyond a set point the building file holds them at, one
         record per zone and side (:func:`thermocal.identification.sensors.setpoint_excursions`).
+    sensor_uncertainty : dict or None
+        The identified heat's standard uncertainty from the sensors' accuracy, per zone and for
+        the building, offsets independent and shared
+        (:func:`thermocal.identification.sensor_accuracy.sensor_heat_uncertainty`).
     """
 
     q_id: pd.DataFrame
@@ -143,6 +153,7 @@ class IdentificationResult:
     accepted_constant_readings: list = field(default_factory=list)
     removed_readings: list = field(default_factory=list)
     setpoint_excursions: list = field(default_factory=list)
+    sensor_uncertainty: dict | None = None
 
     @property
     def building_heat(self) -> pd.Series:
@@ -224,6 +235,7 @@ class IdentificationResult:
             "accepted_constant_readings": self.accepted_constant_readings,
             "removed_readings": self.removed_readings,
             "setpoint_excursions": self.setpoint_excursions,
+            "sensor_uncertainty": self.sensor_uncertainty,
         }
         return jsonable(out)
 
@@ -608,6 +620,7 @@ def identify(
     progress: bool = False,
     log_name: str = "sensor log",
     clock_check: bool = True,
+    sensor_accuracy: float = DEFAULT_SENSOR_ACCURACY_K,
 ) -> IdentificationResult:
     """Identify the heat every zone needs to track the measured temperatures.
 
@@ -680,6 +693,10 @@ def identify(
         Check the sensor log's clock against the model's (:func:`check_identified_log_clock`:
         two to four more exact inverses over the period; a :class:`~thermocal.calibration.
         clockcheck.LogClockWarning` when the log shifted by an hour or more fits much better).
+    sensor_accuracy : float [K]
+        Standard uncertainty of each sensor's calibration offset, passed through the model's
+        steady-state conductances into the identified heat's uncertainty
+        (:mod:`thermocal.identification.sensor_accuracy`; a note and ``sensor_uncertainty``).
 
     Returns
     -------
@@ -885,6 +902,10 @@ def identify(
     q_id = q_inverse if source == "inverse" else q_pid
     if q_id is None:
         raise ThermocalInputError(f"metric_source {source!r} did not run (method {method!r})")
+    sources = ref_report.zone_table()
+    zone_sensors = dict(zip(sources["zone"], sources["sensors"], strict=True))
+    sensor_uncertainty = _sensor_uncertainty(sim, q_id, zones, sensor_accuracy, zone_sensors)
+    notes.append(uncertainty_note(sensor_uncertainty))
     unusual = unusual_zones(q_id, building)
     if unusual:
         import warnings
@@ -903,7 +924,7 @@ def identify(
         reference=reference,
         model_temperature=model_temperature,
         tracking=tracking,
-        sources=ref_report.zone_table(),
+        sources=sources,
         gains=zone_gains,
         tuning=tuning,
         weather=pd.DataFrame(weather_cols, index=sim.times),
@@ -923,7 +944,24 @@ def identify(
         accepted_constant_readings=ref_report.accepted_constant_readings,
         removed_readings=ref_report.removed_readings(),
         setpoint_excursions=ref_report.setpoint_excursions,
+        sensor_uncertainty=sensor_uncertainty,
     )
+
+
+def _sensor_uncertainty(
+    sim, q_id: pd.DataFrame, zones: list[str], accuracy: float, zone_sensors: dict
+) -> dict:
+    """:func:`~thermocal.identification.sensor_accuracy.sensor_heat_uncertainty` of the
+    tracked zones, with the model's conductances and the identified period."""
+    net = sim.network
+    index = {name: i for i, name in enumerate(net.zone_names)}
+    held = net.air_node[[index[z] for z in zones]]
+    step_h = sim.dt / 3600.0
+    identified = q_id[zones].abs().sum().to_numpy() * step_h / 1000.0
+    return sensor_heat_uncertainty(
+        held_zone_conductance(net.conductance, held), zones, len(q_id) * step_h, identified,
+        accuracy=accuracy, zone_sensors=zone_sensors,
+    )  # fmt: skip
 
 
 #: What a log an hour off does to identified heat, and its remedy (the clock warning's middle;

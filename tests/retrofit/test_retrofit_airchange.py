@@ -110,3 +110,17 @@ def test_draws_carry_the_coefficient_uncertainty():
     extra = annual - demand.annual_kwh()[0]
     # the change is linear in k: its spread over the draws is 0.5 of the first draw's
     assert np.std(extra[1:]) / abs(extra[0]) == pytest.approx(0.5, rel=0.15)
+
+
+def test_daily_energy_keeps_the_days_of_the_clock_changes():
+    # in a zone with clock changes the autumn day has 25 hours and the spring day 23: complete
+    # days, kept (every day was taken as 24 hours and those two dropped from verify's and the
+    # stack term's daily sums)
+    from thermocal.retrofit.airchange import daily_energy
+
+    for start, hours in (("2006-10-27", 25.0), ("2006-03-30", 23.0)):
+        index = pd.date_range(start, periods=5 * 24, freq="1h", tz="America/Chicago")
+        daily = daily_energy(pd.DataFrame({"heat": 1000.0}, index=index))
+        assert set(daily["heat"]) == {24.0, hours}
+    partial = pd.date_range("2006-01-01 06:00", periods=30, freq="1h", tz="UTC")
+    assert daily_energy(pd.DataFrame({"heat": 1000.0}, index=partial)).empty

@@ -98,11 +98,19 @@ def residual_adjustment(
 
 
 def daily_energy(power: pd.DataFrame) -> pd.DataFrame:
-    """Daily energy [kWh] of complete days of power columns [W]."""
-    step_h = (power.index[1] - power.index[0]) / pd.Timedelta(hours=1)
-    per_day = round(24.0 / step_h)
-    days = power.groupby(power.index.normalize())
-    complete = (days.count() == per_day).all(axis=1)
+    """Daily energy [kWh] of complete days of power columns [W].
+
+    A day is complete when it has a value for every step of its length on the index's clock:
+    in a time zone with clock changes the spring day has 23 hours and the autumn day 25 (both
+    kept; they were dropped as incomplete when every day was taken as 24 hours).
+    """
+    step = power.index[1] - power.index[0]
+    step_h = step / pd.Timedelta(hours=1)
+    midnight = power.index.normalize()
+    days = power.groupby(midnight)
+    starts = pd.DatetimeIndex(days.size().index)
+    per_day = np.round(((starts + pd.DateOffset(days=1)) - starts) / step).astype(int)
+    complete = days.count().eq(pd.Series(per_day, index=days.size().index), axis=0).all(axis=1)
     return (days.sum(min_count=1) * step_h / 1000.0)[complete]
 
 

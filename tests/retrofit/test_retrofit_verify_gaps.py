@@ -100,3 +100,38 @@ def test_zero_heat_while_the_rooms_cool_or_the_gains_cover_is_not_a_meter_gap():
     short.iloc[:] = 900.0
     short.iloc[48:60] = 0.0  # half a day: below the daily resolution of the saving
     assert unmetered_heat_runs(short, base, ti) == []
+
+
+def test_the_comfort_baseline_takes_the_adjustment_at_its_own_indoor_temperatures():
+    """The residual adjustment is a line in the indoor-outdoor difference: a baseline held 3 K
+    cooler takes it 3 K lower on that line, not the post period's adjustment (EnergyPlus
+    house, post period at 21.5 C against 20 C before: the comfort baseline 861 kWh against
+    EnergyPlus' 866 at the old temperatures; 898 with the post period's adjustment; lower set
+    point 18.5 C: 846 against 866, was 812)."""
+    from thermocal.retrofit.verify import adjustment_at
+
+    adj = {"applied": True, "intercept": 2.0, "slope": 0.5}
+    np.testing.assert_allclose(adjustment_at(adj, np.array([20.0, 23.0]), 21.0), [1.5, 3.0])
+    assert adjustment_at({**adj, "applied": False}, np.array([20.0]), 21.0).tolist() == [0.0]
+
+
+def test_a_comfort_baseline_without_heat_is_named_as_such():
+    """An undersized heater before the retrofit (rooms at 17 C, 20 C after; EnergyPlus): the
+    baseline needs 898 kWh, only the comfort take-back's baseline went negative (-50 kWh).
+    Before: 'the baseline model ... needs 0 kWh', the wrong diagnosis."""
+    from thermocal.retrofit.verify import check_baseline_heat
+
+    post = (pd.Timestamp("2006-02-12"), pd.Timestamp("2006-03-19"))
+    with pytest.raises(ThermocalInputError) as info:
+        check_baseline_heat(
+            898.0, -50.0, 567.0, post, "m.csv", "the electricity meter",
+            adjustment=(-2995.0, -3100.0), indoor=(17.1, 20.4),
+        )  # fmt: skip
+    msg = str(info.value)
+    assert "comfort take-back's baseline" in msg and "-50 kWh" in msg and "17.1 C" in msg
+    assert "898 kWh" in msg and "verify.pre_start" in msg
+    with pytest.raises(ThermocalInputError) as info:
+        check_baseline_heat(-5.0, -5.0, 567.0, post, "m.csv", "none")
+    assert "the baseline model (calibrated on the pre-retrofit period) needs 0 kWh" in str(
+        info.value
+    )

@@ -382,7 +382,7 @@ def test_a_baseline_without_heat_is_refused_not_divided_by():
 
     post = (pd.Timestamp("2001-02-19", tz="UTC"), pd.Timestamp("2001-03-11", tz="UTC"))
     check_baseline_heat(900.0, 950.0, 400.0, post, "m.csv", "not set")
-    for base, old in ((0.0, 950.0), (900.0, -3.0)):
+    for base, old in ((0.0, 950.0), (0.0, -3.0)):  # the comfort baseline alone: named as such
         with pytest.raises(ThermocalInputError) as info:
             check_baseline_heat(base, old, 400.0, post, "m.csv", "constant_W 20,000 W")
         message = str(info.value)

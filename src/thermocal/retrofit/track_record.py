@@ -280,7 +280,10 @@ INDEPENDENT_VERIFICATIONS: dict[str, IndependentVerification] = {
         error_pp=2.6,
         covered=True,
         post_period_error_pp=2.6,
-        verdict="delivered",
+        # the rooms 1.0 K warmer after the retrofit (the insulated house cools less at
+        # night) take back 5.3 pp since the comfort baseline takes the residual adjustment
+        # at its own indoor-outdoor difference (2026-12-01; 4.8 pp before: delivered)
+        verdict="rebound",
     ),
 }
 

@@ -1116,6 +1116,35 @@ def fractional_savings_uncertainty(
     }
 
 
+def adjustment_at(adj: dict, dt_post: np.ndarray, dt_pre_mean: float) -> np.ndarray:
+    """The baseline period's residual adjustment evaluated at other indoor-outdoor differences.
+
+    :func:`~thermocal.retrofit.airchange.residual_adjustment` fits the baseline period's daily
+    residuals as ``c + b (dT - mean dT_pre)``; a baseline that follows other indoor
+    temperatures over the reporting days (the comfort take-back's, at the pre period's indoor
+    profile) takes the same line at its own ``dT``, not the reporting period's adjustment.
+
+    Parameters
+    ----------
+    adj : dict
+        :func:`~thermocal.retrofit.airchange.residual_adjustment`'s result.
+    dt_post : ndarray [K]
+        Daily mean indoor minus outdoor temperature of the reporting days, at the indoor
+        temperatures the baseline follows.
+    dt_pre_mean : float [K]
+        Mean daily indoor-outdoor difference of the baseline period.
+
+    Returns
+    -------
+    ndarray [kWh/day]
+        The adjustment per reporting day; zeros when the adjustment was not applied.
+    """
+    dt_post = np.asarray(dt_post, float)
+    if not adj["applied"]:
+        return np.zeros(len(dt_post))
+    return adj["intercept"] + adj["slope"] * (dt_post - dt_pre_mean)
+
+
 def check_baseline_heat(
     baseline: float,
     baseline_old_comfort: float,
@@ -1123,20 +1152,26 @@ def check_baseline_heat(
     post: tuple[pd.Timestamp, pd.Timestamp],
     source: str,
     gains: str,
+    *,
+    adjustment: tuple[float, float] = (0.0, 0.0),
+    indoor: tuple[float, float] | None = None,
 ) -> None:
-    """Refuse a post period over which the baseline model needs no heat.
+    """Refuse a post period over which a baseline needs no heat, naming which and why.
 
     The saving is measured against the baseline's heat (the fraction saved, the normalised
-    saving, the take-back): a baseline that needs none, while heat was metered, leaves
-    nothing to measure against (it divided by zero). Internal gains that cover the model's
-    losses (``internal_gains`` in kW, or the heating's power) or a post period out of the
-    heating season are the causes.
+    saving), the comfort take-back against the baseline at the pre period's indoor
+    temperatures: a baseline that needs none, while heat was metered, leaves nothing to
+    measure against (it divided by zero). Internal gains that cover the model's losses
+    (``internal_gains`` in kW, or the heating's power) or a post period out of the heating
+    season are the causes for the baseline; for the comfort baseline alone, a pre period held
+    much cooler (an undersized heater, rooms left cold) whose linear residual adjustment
+    (:func:`adjustment_at`) outweighs the little heat the model needs there.
 
     Parameters
     ----------
     baseline, baseline_old_comfort : float [kWh]
         The baseline model's heat over the post period, at the measured indoor temperatures
-        and at the pre period's.
+        and at the pre period's (both adjusted).
     measured : float [kWh]
         The metered heat of the post period.
     post : tuple of pd.Timestamp
@@ -1145,6 +1180,12 @@ def check_baseline_heat(
         The measurement file, for the message.
     gains : str
         What ``internal_gains`` gives (:func:`internal_gains_text`).
+    adjustment : tuple of float [kWh]
+        The residual adjustment summed over the post period, of the baseline and of the
+        comfort baseline (included in the two heats).
+    indoor : tuple of float [C], optional
+        Mean indoor temperature the comfort baseline and the baseline follow over the post
+        period.
 
     Raises
     ------
@@ -1152,14 +1193,32 @@ def check_baseline_heat(
     """
     if baseline > 0 and baseline_old_comfort > 0:
         return
+    where = f"over the post-retrofit period ({post[0]} - {post[1]}), where {measured:,.0f} kWh "
+    if baseline <= 0:
+        raise ThermocalInputError(
+            f"{source}: the baseline model (calibrated on the pre-retrofit period) needs "
+            f"{max(baseline, 0.0):,.0f} kWh of heat {where}were metered ({adjustment[0]:+,.0f} "
+            "kWh of it the adjustment for the weather of the post period): there is no heat to "
+            "measure the saving against. Check internal_gains (now "
+            f"{gains}: gains that cover the house's losses in the model, in W and without the "
+            "heating), then that the post period lies in the heating season (verify.post_start "
+            "/ verify.post_end)"
+        )
+    temps = (
+        f" at {indoor[0]:.1f} C instead of the {indoor[1]:.1f} C held after the retrofit"
+        if indoor is not None
+        else ""
+    )
     raise ThermocalInputError(
-        f"{source}: the baseline model (calibrated on the pre-retrofit period) needs "
-        f"{max(min(baseline, baseline_old_comfort), 0.0):,.0f} kWh of heat over the "
-        f"post-retrofit period ({post[0]} - {post[1]}), where {measured:,.0f} kWh were metered: "
-        "there is no heat to measure the saving against. Check internal_gains (now "
-        f"{gains}: gains that cover the house's losses in the model, in W and without the "
-        "heating), then that the post period lies in the heating season (verify.post_start / "
-        "verify.post_end)"
+        f"{source}: the comfort take-back's baseline (the baseline model following the pre "
+        f"period's daily indoor profile{temps}) needs {baseline_old_comfort:,.0f} kWh {where}"
+        f"were metered, {adjustment[1]:+,.0f} kWh of it the residual adjustment of the "
+        "baseline period (linear in the indoor-outdoor difference): the model's heat at the "
+        "old indoor temperatures is too small to carry it, so the take-back cannot be measured "
+        f"(the baseline at the measured indoor temperatures needs {baseline:,.0f} kWh). A pre "
+        "period held much cooler than the post period (an undersized heater, rooms left cold) "
+        "does this: check the pre period's indoor temperatures (temp_in) and the heating's "
+        "power, or move verify.pre_start / verify.pre_end to days the heating held its set point"
     )
 
 
@@ -1323,8 +1382,16 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     # the model's own ratio of retrofitted to baseline heat over the post period (unadjusted)
     e_base_model = float(d_post["baseline"].sum())
     e_ret_model = float(d_post["expected"].sum())
-    for col in ("baseline", "baseline_old_comfort"):
-        daily.loc[d_post.index, col] = d_post[col] + adj["per_day"]
+    # the comfort baseline's own indoor-outdoor difference: the adjustment is linear in it, and
+    # the main baseline's (at the post period's warmer or cooler rooms) would be applied to a
+    # house held at other temperatures (a pre period at 17 C, a post period at 20 C: -50 kWh)
+    dt_old_day = (ti_old - frame["Te"]).groupby(frame.index.normalize()).mean()
+    adj_old = adjustment_at(
+        adj, dt_old_day.reindex(d_post.index).to_numpy(float),
+        float(dt_day.reindex(d_pre.index).mean()),
+    )  # fmt: skip
+    for col, per_day in (("baseline", adj["per_day"]), ("baseline_old_comfort", adj_old)):
+        daily.loc[d_post.index, col] = d_post[col] + per_day
         daily.loc[d_pre.index, col] = d_pre[col] + (resid - adj["residual"])
     # what the prediction expected the meter to show: the adjusted baseline times that ratio
     scale = (e_base_model + adj_sum) / e_base_model if e_base_model > 0 else 1.0
@@ -1356,8 +1423,11 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     e_save = e_base - e_meas
     e_base_old = float(d_post["baseline_old_comfort"].sum())
     check_baseline_heat(
-        e_base, e_base_old, e_meas, post, source, internal_gains_text(cfg.internal_gains)
-    )
+        e_base, e_base_old, e_meas, post, source, internal_gains_text(cfg.internal_gains),
+        adjustment=(adj_sum, float(np.sum(adj_old))),
+        indoor=(float(ti_old[frame.index >= post[0]].mean()),
+                float(setpoint[frame.index >= post[0]].mean())),
+    )  # fmt: skip
     frac = e_save / e_base if e_base > 0 else float("nan")
 
     def _fsu(level):

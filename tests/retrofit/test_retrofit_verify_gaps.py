@@ -135,3 +135,36 @@ def test_a_comfort_baseline_without_heat_is_named_as_such():
     assert "the baseline model (calibrated on the pre-retrofit period) needs 0 kWh" in str(
         info.value
     )
+
+
+def test_a_post_period_in_other_weather_than_the_pre_period_is_named(tmp_path):
+    """EnergyPlus twin: the pre period the coldest fortnight (26 Jan - 9 Feb, daily means
+    -18.2 to -1.6 C), the post period in March (mean 2.5 C): the baseline's adjustment is taken
+    4 K beyond its days and adds -178 kWh, 84 % of the baseline; normalised -6.3 % against
+    EnergyPlus' 30.1 %. Before: no word of it, the verdict inconclusive with "measure longer"
+    (a post period 15 Mar - 30 Apr at 8.0 C against -4.6 C gave -57 %)."""
+
+    def periods(v):
+        v.update(pre_start="2006-01-26", pre_end="2006-02-09", post_start="2006-03-01",
+                 post_end="2006-03-19")  # fmt: skip
+
+    vcfg, _ = _energyplus_variant(tmp_path, edit_verify=periods)
+    ver = run_verify(vcfg)
+    warning = [w for w in ver.comparison["warnings"] if "weather lies outside" in w]
+    assert len(warning) == 1, ver.comparison["warnings"]
+    assert "-18.2 to -1.6 C" in warning[0] and "extrapolated" in warning[0]
+    assert "verify.pre_start" in warning[0]
+    why = ver.comparison["explanation"]
+    assert why.startswith("the interval of the measured saving") or "saving rests on" in why
+    assert "weather lies outside the pre period's" in why
+    assert "measure longer" not in ver.comparison["explanation"]
+    assert ver.avoided["adjustment"]["extrapolated"]
+
+
+def test_the_default_periods_are_not_called_extrapolated(tmp_path):
+    vcfg, _ = _energyplus_variant(tmp_path)
+    ver = run_verify(vcfg)
+    assert not [w for w in ver.comparison["warnings"] if "weather lies outside" in w]
+    assert "Second answer" in ver.comparison["explanation"]
+    # the second answer's caveat where it is printed (10 of 16 EnergyPlus runs outside it)
+    assert "not the verdict's basis" in ver.comparison["explanation"]

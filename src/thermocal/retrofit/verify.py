@@ -86,6 +86,7 @@ from thermocal.retrofit.verify_periods import (
     sensor_change_notes,
     split_periods,
     unmetered_heat_runs,
+    weather_extrapolation,
 )
 
 #: Shortest pre and post period [days] by default: twice the shortest calibration period of the
@@ -1422,6 +1423,12 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     e_meas = float(d_post["measured"].sum())
     e_save = e_base - e_meas
     e_base_old = float(d_post["baseline_old_comfort"].sum())
+    te_day = frame["Te"].groupby(frame.index.normalize()).mean()
+    extrapolated = weather_extrapolation(
+        te_day.reindex(d_pre.index).to_numpy(float), te_day.reindex(d_post.index).to_numpy(float),
+        dt_day.reindex(d_pre.index).to_numpy(float), dt_day.reindex(d_post.index).to_numpy(float),
+        adj_sum, e_base, bool(adj["applied"]),
+    )  # fmt: skip
     check_baseline_heat(
         e_base, e_base_old, e_meas, post, source, internal_gains_text(cfg.internal_gains),
         adjustment=(adj_sum, float(np.sum(adj_old))),
@@ -1577,6 +1584,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
             "post_period_kWh": adj_sum, "post_period_se_kWh": adj["sum_se"],
             "mean_dT_K": {"pre": float(dt_day.reindex(d_pre.index).mean()),
                           "post": float(dt_day.reindex(d_post.index).mean())},
+            "extrapolated": extrapolated is not None,
             "adjusted_nmbe_pct": stats_adj["nmbe_pct"],
             "adjusted_cv_rmse_pct": stats_adj["cv_rmse_pct"],
         },
@@ -1649,6 +1657,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
     comparison = compare(
         s_avoided_year, prediction, interval, sec.inconclusive_pp, baseline_ok,
         take_back_pp=avoided["take_back_pp"], physical_pct=s_norm,
+        extrapolated=None if extrapolated is None else extrapolated["short"],
     )  # fmt: skip
     comparison["model_prediction_from_pre_period"] = summary(s_model)
     # the metered heat's scale against the building file and between the periods
@@ -1662,6 +1671,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
             ),
             baseline_bias_warning(stats["nmbe_pct"], keys, gains_now, mc.heat_source),
             hlc_rise_warning(hl["pre"], hl["post"], keys),
+            None if extrapolated is None else extrapolated["warning"],
         )
         if w is not None
     ]  # fmt: skip
@@ -1685,6 +1695,7 @@ def compare(
     take_back_pp: float = 0.0,
     take_back_limit_pp: float = 5.0,
     physical_pct: np.ndarray | None = None,
+    extrapolated: str | None = None,
 ) -> dict:
     """Measured minus predicted saving [pp] with its interval, and the verdict.
 
@@ -1709,6 +1720,11 @@ def compare(
         A take-back beyond this makes a delivered retrofit a rebound.
     physical_pct : ndarray [%], optional
         The second answer (models calibrated on each period), quoted in the explanation.
+    extrapolated : str, optional
+        The two periods' weather when the post period's lies outside the pre period's or the
+        residual adjustment carries much of the baseline
+        (:func:`~.verify_periods.weather_extrapolation`): said in the explanation, and an
+        interval too wide is then not cured by measuring longer.
 
     Returns
     -------
@@ -1743,9 +1759,16 @@ def compare(
         )
     elif max(m0 - m_lo, m_hi - m0) > inconclusive_pp:
         verdict = "inconclusive"
+        remedy = (
+            "measure longer before and after the retrofit"
+            if extrapolated is None
+            else f"the post period's weather {extrapolated}, and the baseline is extrapolated; "
+            "measuring longer in this weather does not help, a pre period reaching the post "
+            "period's weather does"
+        )
         why = (
             f"the interval of the measured saving ({m_lo:.1f} to {m_hi:.1f} %) is wider than "
-            f"+/- {inconclusive_pp:g} pp: measure longer before and after the retrofit"
+            f"+/- {inconclusive_pp:g} pp: {remedy}"
         )
     elif d_hi < 0.0:
         verdict = "rebound"
@@ -1774,11 +1797,18 @@ def compare(
             f"the measured saving {m0:.1f} % agrees with the predicted {p0:.1f} % within the "
             f"uncertainty ({diff})" + take_back
         )
+    if extrapolated is not None and verdict != "inconclusive":
+        why += (
+            f"; but the post period's weather {extrapolated}: the saving rests on the "
+            "baseline's extrapolation"
+        )
     if physical_pct is not None:
         lo, hi = _quantiles(physical_pct[1:] if len(physical_pct) > 1 else physical_pct, interval)
         why += (
             f". Second answer, the models calibrated before and after: "
-            f"{float(physical_pct[0]):.1f} % ({lo:.1f} to {hi:.1f} %)"
+            f"{float(physical_pct[0]):.1f} % ({lo:.1f} to {hi:.1f} %), not the verdict's basis: "
+            "its interval holds the parameters' spread, not the post model's bias (outside "
+            "EnergyPlus' true saving in 10 of 16 runs; docs/verify.md, Known limits)"
         )
     return {
         "measured_saving_pct": {"value": m0, "lo": m_lo, "hi": m_hi},

@@ -34,6 +34,7 @@ __all__ = [
     "meter_gap_message",
     "missing_heat_message",
     "unmetered_heat_runs",
+    "weather_extrapolation",
     "retrofitted_days_before_the_date",
     "retrofitted_days_note",
     "sensor_change_notes",
@@ -62,6 +63,11 @@ SUBSTANTIAL_BASELINE_SHARE = 0.25
 HELD_INDOOR_K = 1.0
 #: Share of a zero run's intervals that must lie within :data:`HELD_INDOOR_K` of the median.
 HELD_SHARE = 0.9
+#: The residual adjustment's share [%] of the post period's baseline beyond which the saving
+#: rests on the adjustment's line more than on the measurements
+#: (:func:`weather_extrapolation`; 10-15 % on the EnergyPlus house's periods, 46-100 % where
+#: the post period reached far into spring).
+MAX_ADJUSTMENT_SHARE_PCT = 25.0
 
 
 def _stamp(text: str | None, tz, default: pd.Timestamp) -> pd.Timestamp:
@@ -256,6 +262,95 @@ def unmetered_heat_runs(
             "baseline_kWh": need, "indoor_C": held, "usual_indoor_C": usual,
         })  # fmt: skip
     return runs
+
+
+def weather_extrapolation(
+    te_pre: np.ndarray,
+    te_post: np.ndarray,
+    dt_pre: np.ndarray,
+    dt_post: np.ndarray,
+    adjustment_kwh: float,
+    baseline_kwh: float,
+    applied: bool,
+) -> dict | None:
+    """The post period's weather outside the pre period's: the baseline is extrapolated.
+
+    The baseline's residual adjustment (:func:`thermocal.retrofit.airchange.residual_adjustment`)
+    is a line in the daily indoor-outdoor difference fitted on the pre period's days; a post
+    period whose mean difference lies outside the range of the pre period's days takes that
+    line beyond its data (a pre period at -4.6 C, a post period at 8.0 C: a normalised saving of
+    -57 % against EnergyPlus' 30 %), and one that needs an adjustment of more than
+    :data:`MAX_ADJUSTMENT_SHARE_PCT` of its baseline leans on the line's far end (post period
+    5 K warmer: -245 kWh on a 242 kWh baseline, 4.5 % against 30.1 %). Measuring longer in the
+    same weather does not help.
+
+    Parameters
+    ----------
+    te_pre, te_post : ndarray [C]
+        Daily mean outdoor temperatures of the pre and post periods' days.
+    dt_pre, dt_post : ndarray [K]
+        Daily mean indoor (set point) minus outdoor temperature of the same days.
+    adjustment_kwh : float [kWh]
+        The adjustment summed over the post period.
+    baseline_kwh : float [kWh]
+        The adjusted baseline heat of the post period.
+    applied : bool
+        Whether the adjustment was applied.
+
+    Returns
+    -------
+    dict or None
+        ``warning`` (the full text), ``short`` (for the verdict's explanation: "lies outside
+        the pre period's: ..." or "reaches the edge of ...") and the ranges;
+        None when the post period's mean difference lies within the pre period's days and
+        the adjustment is at most :data:`MAX_ADJUSTMENT_SHARE_PCT` of the baseline.
+    """
+    dt_pre = np.asarray(dt_pre, float)
+    dt_post = np.asarray(dt_post, float)
+    if not (np.isfinite(dt_pre).any() and np.isfinite(dt_post).any()):
+        return None
+    lo, hi = float(np.nanmin(dt_pre)), float(np.nanmax(dt_pre))
+    mean_pre, mean_post = float(np.nanmean(dt_pre)), float(np.nanmean(dt_post))
+    share = 100.0 * adjustment_kwh / baseline_kwh if baseline_kwh > 0 else float("inf")
+    outside = not lo <= mean_post <= hi
+    if not outside and not (applied and abs(share) > MAX_ADJUSTMENT_SHARE_PCT):
+        return None
+    te_pre = np.asarray(te_pre, float)
+    te_post = np.asarray(te_post, float)
+    beyond = mean_post - hi if mean_post > hi else lo - mean_post
+    relation = "lies outside" if outside else "reaches the edge of"
+    short = (
+        f"{relation} the pre period's: daily mean outdoor temperatures "
+        f"{np.nanmin(te_post):.1f} to {np.nanmax(te_post):.1f} C (mean "
+        f"{np.nanmean(te_post):.1f} C) after the retrofit, {np.nanmin(te_pre):.1f} to "
+        f"{np.nanmax(te_pre):.1f} C (mean {np.nanmean(te_pre):.1f} C) before"
+    )
+    if applied:
+        reach = (
+            f"is extrapolated {beyond:.1f} K beyond them"
+            if outside
+            else f"is carried from their mean {mean_pre:.1f} K to the edge of its data"
+        )
+        what = (
+            f"the baseline's residual adjustment, a line fitted over the pre period's "
+            f"indoor-outdoor differences ({lo:.1f} to {hi:.1f} K), {reach} at the post period's "
+            f"mean {mean_post:.1f} K and adds {adjustment_kwh:+,.0f} kWh ({share:+.0f} % of the "
+            "baseline)"
+        )
+    else:
+        what = (
+            f"the baseline model, calibrated over indoor-outdoor differences of {lo:.1f} to "
+            f"{hi:.1f} K, is extrapolated {beyond:.1f} K beyond them to the post period's mean "
+            f"{mean_post:.1f} K"
+        )
+    warning = (
+        f"the post period's weather {short}; {what}, so the "
+        "measured saving rests on that extrapolation, not on the measurements. Measuring "
+        "longer in this weather does not help: a pre period reaching the post period's weather "
+        "does (move verify.pre_start / verify.pre_end), or a post period in weather like the "
+        "pre period's (verify.post_start / verify.post_end, the next heating season)"
+    )
+    return {"warning": warning, "short": short, "dt_pre_K": (lo, hi), "dt_post_mean_K": mean_post}
 
 
 def meter_gap_message(runs: list[dict], name: str, source: str) -> str:

@@ -168,3 +168,26 @@ def test_the_default_periods_are_not_called_extrapolated(tmp_path):
     assert "Second answer" in ver.comparison["explanation"]
     # the second answer's caveat where it is printed (10 of 16 EnergyPlus runs outside it)
     assert "not the verdict's basis" in ver.comparison["explanation"]
+
+
+def test_the_normalised_interval_carries_the_baseline_error_through_the_ratio():
+    """A Monte Carlo of the definition: the baseline sum off by its Guideline 14 error
+    (``Delta E_baseline = FSU F E_baseline`` in kWh, Reddy and Claridge 2000), the saving
+    ``1 - E_measured / E_baseline`` spreads ``r = 1 - F`` times the Guideline's ``F (1 +/-
+    FSU)``; the ratio's draws reproduce that spread, not the Guideline's (which would be
+    ``1 / (1 - F)`` = 1.54 times wider here). Guards the normalised interval against
+    widening it by reading the half-width as the saving's absolute error (checked
+    2026-12-01)."""
+    from scipy.stats import norm
+
+    from thermocal.retrofit.verify import measured_ratio_draws
+
+    base, meas, half, level = 1000.0, 650.0, 0.108, 0.9
+    t = float(norm.ppf(0.5 + level / 2))
+    rng = np.random.default_rng(7)
+    b_hat = base + rng.normal(0.0, half * base / t, 200_000)  # the estimate's error, in kWh
+    spread = np.subtract(*np.quantile(1.0 - meas / b_hat, [0.95, 0.05]))
+    drawn = 1.0 - measured_ratio_draws(meas, base, half, t, 200_000, rng)[1:]
+    width = np.subtract(*np.quantile(drawn, [0.95, 0.05]))
+    assert width == pytest.approx(spread, rel=0.03)
+    assert 2 * half / width == pytest.approx(1.0 / (1.0 - 0.35), rel=0.03)

@@ -1146,6 +1146,41 @@ def adjustment_at(adj: dict, dt_post: np.ndarray, dt_pre_mean: float) -> np.ndar
     return adj["intercept"] + adj["slope"] * (dt_post - dt_pre_mean)
 
 
+def measured_ratio_draws(
+    measured: float, baseline: float, half_width: float, t: float, n: int, rng
+) -> np.ndarray:
+    """Draws of the measured-to-baseline ratio ``r = E_measured / E_baseline`` of a period.
+
+    The Guideline 14 half-width ``FSU x F`` (:func:`fractional_savings_uncertainty`) is the
+    baseline sum's relative error at Student's ``t`` (Reddy and Claridge 2000: the savings'
+    error is the baseline's, ``Delta E_save = Delta E_baseline``, and ``FSU x F = Delta
+    E_save / E_baseline``); the metered heat is exact. So ``half_width / t`` is the relative
+    standard uncertainty of ``r``, drawn log-normally, and ``1 - r`` has an absolute standard
+    uncertainty of ``r half_width / t``: narrower by ``1 - F`` than the Guideline's
+    ``F (1 +/- FSU)``, which keeps the baseline in ``F``'s denominator fixed.
+
+    Parameters
+    ----------
+    measured, baseline : float [kWh]
+        Metered and (adjusted) baseline heat of the post period.
+    half_width : float [-]
+        ``FSU x F`` at the interval's level.
+    t : float [-]
+        Student's t of that level.
+    n : int
+        Number of draws; the first is the point estimate.
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    ndarray [-], ``(n,)``
+    """
+    r = measured / baseline
+    draws = r * np.exp(rng.normal(0.0, half_width / t, n))
+    draws[0] = r
+    return draws
+
+
 def check_baseline_heat(
     baseline: float,
     baseline_old_comfort: float,
@@ -1519,9 +1554,7 @@ def run_verify(vcfg: VerifyConfig, *, progress=None, truth: dict | None = None) 
         post_ratio_d[d] = sums[1] / sums[0] if sums[0] > 0 else float("nan")
     post_ratio_d[0] = e_ret_model / e_base_model if e_base_model > 0 else float("nan")
     rng = np.random.default_rng(cfg.uncertainty.seed + 2161)
-    sigma_r = fsu["half_width"] / fsu["t"]  # relative standard uncertainty of a post sum
-    r_d = e_meas / e_base * np.exp(rng.normal(0.0, sigma_r, a_pre.shape[1]))
-    r_d[0] = e_meas / e_base
+    r_d = measured_ratio_draws(e_meas, e_base, fsu["half_width"], fsu["t"], a_pre.shape[1], rng)
     s_avoided_year = 100.0 * (1.0 - r_d * (a_pre[1] / a_pre[0]) / post_ratio_d)
     s_norm = 100.0 * (1.0 - a_post_use / a_pre[0])
     s_model = 100.0 * (1.0 - a_pre[1] / a_pre[0])

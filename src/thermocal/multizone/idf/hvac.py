@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 __all__ = [
     "AIR_EQUIPMENT_PREFIXES",
+    "AIR_LOOP_EQUIPMENT",
     "COOLING_ONLY",
     "HEATING_ONLY",
     "IDEAL_LOADS_CLASS",
@@ -29,6 +30,7 @@ __all__ = [
     "SURFACE_SOURCE_PREFIXES",
     "EquipmentHeat",
     "ZoneHeatDelivery",
+    "return_air_stays_in_zone",
     "zone_heat_delivery",
 ]
 
@@ -224,6 +226,43 @@ def zone_heat_delivery(by_key: dict, zone_names: dict) -> dict[str, ZoneHeatDeli
         share = None if any(s is None for s in shares) else sum(shares) / len(shares)
         out[zone] = ZoneHeatDelivery(tuple(equipment), share)
     return out
+
+
+#: Equipment (prefixes, upper case) that serves its zone from an air loop: the zone's return
+#: air flows back to the loop, carrying the lights' return-air heat away from the zone.
+AIR_LOOP_EQUIPMENT = tuple(
+    c.upper()
+    for c in (
+        "AirTerminal:",
+        "ZoneHVAC:AirDistributionUnit",
+        "AirLoopHVAC:",
+        "HVACTemplate:Zone:VAV",
+        "HVACTemplate:Zone:ConstantVolume",
+        "HVACTemplate:Zone:DualDuct",
+        "HVACTemplate:Zone:Unitary",
+    )
+)
+
+
+def return_air_stays_in_zone(delivery: ZoneHeatDelivery | None) -> bool:
+    """Whether EnergyPlus adds a zone's return-air heat (the lights' *Return Air Fraction*) to
+    the zone air: the zone has equipment and none of it is on an air loop.
+
+    EnergyPlus sets a zone's ``NoHeatToReturnAir`` for a zonal system (no return air flow: an
+    ideal-loads system, a baseboard, a packaged terminal unit) and then adds the return-air
+    gains to the zone's convective gains (ZoneTempPredictorCorrector, ``CalcZoneSums``). With an
+    air loop the heat leaves with the return air; without any equipment it is lost as well
+    (Case 600FF with 1,500 W of lights at a return-air fraction of 0.5: January 32.8 C against
+    41.3 C at 0; with its ideal loads the two are identical).
+
+    Parameters
+    ----------
+    delivery : ZoneHeatDelivery or None
+        The zone's declared equipment (:func:`zone_heat_delivery`); None: none declared.
+    """
+    if delivery is None or not delivery.equipment:
+        return False
+    return not any(e.class_name.upper().startswith(AIR_LOOP_EQUIPMENT) for e in delivery.equipment)
 
 
 #: Equipment classes (upper case, prefixes) that can only heat, and only cool: a zone served by

@@ -23,6 +23,7 @@ from thermocal.multizone.idf.hvac import (
     IDEAL_LOADS_NOT_APPLIED,
     ideal_loads_notes,
     ideal_loads_records,
+    return_air_stays_in_zone,
     zone_heat_delivery,
 )
 from thermocal.multizone.idf.parse import IdfObject, _is_auto, _number
@@ -550,17 +551,25 @@ class LoadStages:
                 people_count[zone_name] = people_count.get(zone_name, 0.0) + _people_number(
                     rec, self.zone_area[zone_name]
                 )
+        delivery = zone_heat_delivery(
+            self.by_key, {key: entry[0] for key, entry in self.zones.items.items()}
+        )
         for key in ("OTHEREQUIPMENT", "ELECTRICEQUIPMENT", "GASEQUIPMENT", "LIGHTS", "PEOPLE"):
             for rec in self.records(key):
                 for zone_name in self.zone_targets(rec):
+                    stays = return_air_stays_in_zone(delivery.get(zone_name))
                     gain = _internal_gain(
                         rec,
                         zone_name,
                         self.zone_area[zone_name],
                         people_count.get(zone_name, 0.0),
                         self.schedules,
+                        return_air_stays=stays,
                     )
                     self.info.internal_gains.append(gain)
+                    note = _return_air_note(rec, zone_name, delivery.get(zone_name), stays)
+                    if note:
+                        self.info.notes.append(note)
         self.zone_gains: dict[str, float] = {}
         self.zone_radiant: dict[str, float] = {}
         for zone, heat in getattr(self, "fan_heat_mean", {}).items():
@@ -881,7 +890,28 @@ def _people_number(rec: dict, floor_area: float) -> float:
     )
 
 
-def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGainInfo:
+def _return_air_note(rec, zone_name, delivery, stays: bool) -> str | None:
+    """Where a ``Lights`` object's return-air fraction goes, for the import notes (None for
+    other gains or a fraction of 0)."""
+    obj: IdfObject = rec["_object"]
+    if obj.key != "LIGHTS":
+        return None
+    fraction = _number(rec, "return_air_fraction", default=0.0)
+    if not fraction > 0:
+        return None
+    where = f"Lights '{rec['name']}' (zone {zone_name}): its return-air fraction {fraction:g}"
+    if stays:
+        return (
+            f"{where} enters the zone air, as EnergyPlus adds it to a zone whose equipment is "
+            f"not on an air loop ({delivery.describe()})"
+        )
+    why = "its equipment is on an air loop" if delivery is not None else "it has no equipment"
+    return f"{where} leaves the zone, as in EnergyPlus when {why}"
+
+
+def _internal_gain(
+    rec, zone_name, floor_area, people, schedules, *, return_air_stays: bool = False
+) -> InternalGainInfo:
     obj: IdfObject = rec["_object"]
     if obj.key == "PEOPLE":
         count = _people_number(rec, floor_area)
@@ -917,8 +947,14 @@ def _internal_gain(rec, zone_name, floor_area, people, schedules) -> InternalGai
         if obj.key == "LIGHTS":
             # the return-air fraction goes to the zone's return air path (an air loop or a
             # return plenum, which thermocal does not model, so it leaves the zones); in a
-            # zone without HVAC connections EnergyPlus adds it to no zone either
-            lost = min(_number(rec, "return_air_fraction", default=0.0), 1.0)
+            # zone without HVAC connections EnergyPlus adds it to no zone either; in a zone
+            # whose equipment is not on an air loop it enters the zone air
+            # (:func:`~thermocal.multizone.idf.hvac.return_air_stays_in_zone`)
+            lost = (
+                0.0
+                if return_air_stays
+                else min(_number(rec, "return_air_fraction", default=0.0), 1.0)
+            )
             radiant_total = _number(rec, "fraction_radiant", default=0.0) + _number(
                 rec, "fraction_visible", default=0.0
             )

@@ -247,3 +247,22 @@ def test_lights_return_air_leaves_a_zone_without_equipment(shared_data, tmp_path
     assert abs(ours.mean() - theirs.mean()) < 0.6, (ours.mean(), theirs.mean())
     summary = json.loads((out / "summary.json").read_text())
     assert "return-air fraction 0.5 leaves the zone" in json.dumps(summary["idf_import"])
+
+
+def test_a_zone_group_counts_its_zones_its_multiplier_times(shared_data, tmp_path):
+    """``ZoneGroup`` (a zone list times 3): EnergyPlus' ideal-loads system reports the zone's
+    heat three times, its zone output once; thermocal's building total and zone row the same
+    (the group was NOT SIMULATED: building totals a third; exploratory test, 2026-12-01, on
+    ASHRAE901_ApartmentMidRise: July cooling 6,193 kWh against EnergyPlus' 8,409)."""
+    text = _january(shared_data) + (
+        "\nZoneList, OneList, ZONE ONE;\nZoneGroup, Group3, OneList, 3;\n"
+        "Output:Variable,*,Zone Ideal Loads Zone Sensible Heating Energy,Hourly;\n"
+    )
+    ours, theirs, printed = _both(text, tmp_path, "group", shared_data)
+    assert ours["heating"] == pytest.approx(theirs["heating"], rel=0.03)  # one zone's
+    summary = json.loads((tmp_path / "group_tc" / "summary.json").read_text())
+    assert summary["building"]["zone_multipliers"] == {"ZONE ONE": 3.0}
+    eso = read_eso(tmp_path / "group_ep" / "eplusout.eso", year=2009)
+    system = eso[[c for c in eso.columns if "Ideal Loads Zone Sensible Heating Energy" in c][0]]
+    assert summary["building"]["heating_kWh"] == pytest.approx(system.sum() / 3.6e6, rel=0.03)
+    assert "ZoneGroup" not in json.dumps(summary["idf_import"]["unsupported"])

@@ -55,6 +55,7 @@ IMPORTED_CLASSES = (
     "SurfaceConvectionAlgorithm:Outside",
     "Zone",
     "ZoneList",
+    "ZoneGroup",
     "BuildingSurface:Detailed",
     "Wall:Detailed",
     "RoofCeiling:Detailed",

@@ -86,6 +86,33 @@ class SurfaceStages:
                 algorithm = rec.get(f"zone_{side}_convection_algorithm") or ""
                 if algorithm:  # building-wide in the model: noted by info.network_options()
                     self.info.zone_convection.setdefault(side, {})[name] = algorithm
+        self._zone_groups()
+
+    def _zone_groups(self) -> None:
+        """``ZoneGroup``: its zone list's zones count its multiplier times more (EnergyPlus'
+        *Zone List Multiplier*, times each zone's own), in the building's totals as a zone
+        multiplier does; the zones are simulated once."""
+        for rec in self.records("ZONEGROUP"):
+            members = self.zone_lists.get((rec["zone_list_name"] or "").upper())
+            if members is None:
+                raise ThermocalInputError(
+                    f"{rec['_object'].where()}: zone list '{rec['zone_list_name']}' is not "
+                    "defined."
+                )
+            factor = _number(rec, "zone_list_multiplier", default=1.0)
+            if not factor >= 1.0:
+                raise ThermocalInputError(
+                    f"{rec['_object'].where()}: field 'Zone List Multiplier' = {factor:g}: "
+                    "give a whole number of 1 or more."
+                )
+            for zone in members:
+                own = self.info.zone_multipliers.get(zone, 1.0)
+                self.info.zone_multipliers[zone] = own * factor
+            self.info.notes.append(
+                f"ZoneGroup '{rec['name']}': the {len(members)} zone(s) of zone list "
+                f"'{rec['zone_list_name']}' count {factor:g} times in the building's totals, as "
+                "EnergyPlus multiplies them; the model simulates each once"
+            )
 
     def _surfaces(self) -> None:
         """Stage: surfaces."""

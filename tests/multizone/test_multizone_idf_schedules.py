@@ -613,3 +613,17 @@ def test_day_types_against_energyplus(tmp_path):
         ours = schedules.on_grid(name, reference.index, pd.Timedelta("15min"))
         theirs = reference[f"{name}:Schedule Value []"].to_numpy()
         np.testing.assert_allclose(ours, theirs, atol=1e-9, err_msg=name)
+
+
+def test_compact_keywords_without_their_colon():
+    # 'For AllOtherDays' (ASHRAE 90.1 prototype apartment, exploratory test 2026-12-01):
+    # EnergyPlus reads it as 'For: AllOtherDays'; thermocal refused the file
+    text = """
+    Schedule:Compact, S, Any, Through: 12/31, For: Weekdays, Until: 24:00, 1,
+      For AllOtherDays, Until: 12:00, 2, Until: 24:00, 3;
+    Schedule:Compact, T, Any, Through: 12/31, For: Weekdays, Until: 24:00, 1,
+      For: AllOtherDays, Until: 12:00, 2, Until: 24:00, 3;
+    """
+    evaluator = _evaluator(text)
+    np.testing.assert_array_equal(evaluator.hourly("S"), evaluator.hourly("T"))
+    assert evaluator.hourly("S")[:24].tolist() == [2.0] * 12 + [3.0] * 12  # Sunday

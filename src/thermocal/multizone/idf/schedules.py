@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import calendar
 import datetime as _dt
+import re
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import NamedTuple
@@ -75,6 +76,19 @@ _MINUTES_PER_DAY = 1440
 
 class UnsupportedScheduleError(ThermocalInputError):
     """A referenced schedule cannot be evaluated (missing or of an unsupported class)."""
+
+
+#: A Schedule:Compact field's keyword, with or without its colon ("For AllOtherDays", which
+#: EnergyPlus accepts as "For: AllOtherDays").
+_COMPACT_KEYWORD = re.compile(r"^\s*(THROUGH|FOR|INTERPOLATE|UNTIL)\b\s*:?(.*)$", re.IGNORECASE)
+
+
+def _compact_keyword(token: str) -> tuple[str, str]:
+    """``(KEYWORD, rest)`` of a Schedule:Compact field (upper case; ``""`` for a value)."""
+    found = _COMPACT_KEYWORD.match(token)
+    if found is None:
+        return "", token
+    return found.group(1).upper(), found.group(2)
 
 
 def _parse_time(text: str, where: str) -> int:
@@ -496,8 +510,7 @@ class ScheduleEvaluator:
             assigned = {}
 
         for token in tokens:
-            head, colon, rest = token.partition(":")
-            keyword = head.strip().upper() if colon else ""
+            keyword, rest = _compact_keyword(token)
             if keyword == "THROUGH":
                 finish_block()
                 month, _, day = rest.strip().partition("/")

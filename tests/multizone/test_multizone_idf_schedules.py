@@ -627,3 +627,16 @@ def test_compact_keywords_without_their_colon():
     evaluator = _evaluator(text)
     np.testing.assert_array_equal(evaluator.hourly("S"), evaluator.hourly("T"))
     assert evaluator.hourly("S")[:24].tolist() == [2.0] * 12 + [3.0] * 12  # Sunday
+
+
+def test_shadow_settings_the_model_does_not_apply_are_named(tmp_path):
+    from test_multizone_idf import _box
+
+    path = _box(tmp_path, extra="ShadowCalculation, PolygonClipping, Periodic, 20, 15000, "
+                "SutherlandHodgman, 512, SimpleSkyDiffuseModeling, No, Yes, No;")  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IdfImportWarning)
+        notes = read_idf(path).idf_info.notes
+    assert any("Disable Self-Shading Within Shading Zone Groups' = Yes: NOT APPLIED" in n
+               for n in notes)  # fmt: skip
+    assert not any("Disable Self-Shading From" in n for n in notes)

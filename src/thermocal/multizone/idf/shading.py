@@ -106,6 +106,7 @@ class ShadingStages:
                 self.info.shadow_update_days = 0
             elif numbers:
                 self.info.shadow_update_days = max(1, int(float(numbers[0])))
+            self.info.notes.extend(_shadow_settings_not_applied(rec["_object"]))
 
     def _own_shadows(self) -> list:
         """The building's own exterior surfaces as shading polygons (EnergyPlus' FullExterior:
@@ -417,3 +418,27 @@ def _tiled_rectangle(members: list, normal: np.ndarray) -> list:
                 )
             ]
     return [surface for surface, _, _ in members]
+
+
+def _shadow_settings_not_applied(obj) -> list[str]:
+    """Notes on ``ShadowCalculation`` settings the model does not apply: a calculation method
+    other than polygon clipping (``Scheduled`` or ``Imported`` sunlit fractions, pixel
+    counting is the same geometry) and the self-shading switches of shading zone groups (the
+    model's building shades itself everywhere, as EnergyPlus' default)."""
+    fields = [f.strip() for f in obj.fields]
+    method = fields[0].upper() if fields else ""
+    notes = []
+    where = obj.where()
+    if method in ("SCHEDULED", "IMPORTED"):
+        notes.append(
+            f"{where}: 'Shading Calculation Method' = {fields[0]}: NOT APPLIED, the model computes "
+            "the sunlit fractions from the geometry (PolygonClipping)"
+        )
+    for position, label in ((8, "Disable Self-Shading Within Shading Zone Groups"),
+                            (9, "Disable Self-Shading From Shading Zone Groups to Other Zones")):
+        if len(fields) > position and fields[position].upper() == "YES":
+            notes.append(
+                f"{where}: '{label}' = Yes: NOT APPLIED, the building's surfaces shade one "
+                "another everywhere"
+            )  # fmt: skip
+    return notes

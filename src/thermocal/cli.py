@@ -489,11 +489,11 @@ def run() -> None:
     import atexit
 
     atexit._run_exitfuncs()  # noqa: SLF001 - the interpreter's own exit handlers, once
-    try:
-        sys.stdout.flush()
-        sys.stderr.flush()
-    except (OSError, ValueError):
-        code = code or _FLUSH_FAILED
+    for stream in (sys.stdout, sys.stderr):  # each, even when the other cannot be flushed
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            code = _FLUSH_FAILED
     os._exit(code)
 
 

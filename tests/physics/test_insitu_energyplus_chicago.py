@@ -85,6 +85,24 @@ def test_rows_missing_at_the_same_hour_every_day_are_refused_with_the_hours():
         average_method(nan.index, nan.q, nan.Ti, nan.Te)
 
 
+
+def test_a_log_starting_at_10_is_taken_and_its_recurring_gap_still_refused():
+    """The timber wall's log from 10:00 (its first 10 hours cut, or empty) was refused with
+    numpy's "cannot reshape array of size 356 into shape (48)"; now its 13 whole days from
+    10:00 give U 0.2106 (0.2116 from midnight over 14), the same cut or empty, and 06:00-08:00
+    missing every day is still refused on 13 of the 13 days."""
+    log = _log("north_light_14d_air")
+    cut = log.iloc[10:]
+    r = average_method(cut.index, cut.q, cut.Ti, cut.Te)
+    assert r.days == 13 and r.u_value == pytest.approx(0.2106, abs=0.0005)
+    empty = log.copy()
+    empty.iloc[:10] = float("nan")
+    same = average_method(empty.index, empty.q, empty.Ti, empty.Te)
+    assert same.days == 13 and same.u_value == pytest.approx(r.u_value, rel=1e-12)
+    daily = cut[~cut.index.hour.isin([6, 7])]
+    with pytest.raises(ValueError, match=r"06:00-08:00 \(to the half hour\) on 13 of the 13 days"):
+        average_method(daily.index, daily.q, daily.Ti, daily.Te)
+
 def _warned(result, start):
     return [w for w in result.warnings if w.startswith(start)]
 

@@ -173,3 +173,29 @@ def test_a_logger_that_changes_its_interval_is_not_a_gap_and_a_near_dead_plate_i
         average_method(times, 1e-4 * (ti - te), ti, te)
     with pytest.raises(ValueError, match="the other direction"):
         average_method(times, -0.9 * (ti - te), ti, te)
+
+
+@pytest.mark.parametrize("start", ["2025-01-06 10:00", "2025-01-06 00:10", "2025-01-06 23:50"])
+def test_a_log_that_does_not_start_at_midnight_gives_the_exact_u_value(start):
+    """The whole days count from the first valid row, not from midnight: a log starting at
+    10:00 or 00:10 was refused with numpy's "cannot reshape array of size 356 into shape (48)"
+    (the recurring-gap check cut its clock slots into days). Over whole days from any start the
+    slab's periodic response gives the steady U exactly, with leading empty rows as well, in
+    local or UTC stamps; a gap at the same hours every day is still refused with its hours."""
+    t = np.arange(0, 7 * 86400, 600.0)
+    q, u = _slab_response(1.25, 4e5, 0.13, 0.04, 86400.0, t, 0.0, 6.0, 20.0)
+    te = 6.0 * np.cos(2 * np.pi * t / 86400.0)
+    ti = np.full(len(t), 20.0)
+    times = pd.Timestamp(start) + pd.to_timedelta(t, unit="s")
+    r = average_method(times, q, ti, te)
+    assert r.u_value == pytest.approx(u, rel=1e-9) and r.days == 7
+    utc = average_method(times.tz_localize("America/Chicago").tz_convert("UTC"), q, ti, te)
+    assert utc.u_value == pytest.approx(u, rel=1e-9)
+    blank = q.copy()
+    blank[:5] = np.nan  # the first 50 minutes empty: 6 whole days from the first valid row
+    late = average_method(times, blank, ti, te)
+    assert late.days == 6 and late.u_value == pytest.approx(u, rel=1e-9)
+    gap = q.copy()
+    gap[(times.hour >= 6) & (times.hour < 8)] = np.nan
+    with pytest.raises(ValueError, match=r"06:00-08:00 \(to the half hour\) on 7 of the 7 days"):
+        average_method(times, gap, ti, te)

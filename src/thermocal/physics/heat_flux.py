@@ -302,7 +302,9 @@ def _recurring_gaps(log: _Days) -> tuple[str, int, int] | None:
     gap at the same hour every day (a logger's schedule or download) passes it yet leaves the
     same part of the daily cycle out of both sums. The log's whole days are cut into clock
     slots of :data:`SLOT_MINUTES`; a slot less than half covered by valid rows (each standing
-    for its weight, :func:`_interval_seconds`) is missing that day.
+    for its weight, :func:`_interval_seconds`) is missing that day. The whole days need not
+    start at midnight: they span parts of one more clock day than they count, and a slot counts
+    only on the clock days the whole days hold at least half of it.
 
     Parameters
     ----------
@@ -331,7 +333,7 @@ def _recurring_gaps(log: _Days) -> tuple[str, int, int] | None:
     clock = int((start - start.normalize()) / pd.Timedelta(minutes=1)) + np.arange(n)
     per_day = 1440 // SLOT_MINUTES
     key = (clock // 1440) * per_day + (clock % 1440) // SLOT_MINUTES
-    size = int(key[-1]) + 1
+    size = -(-(int(key[-1]) + 1) // per_day) * per_day  # whole clock days: partial ones padded
     within = np.bincount(key, minlength=size).reshape(-1, per_day)
     cov = np.bincount(key, weights=covered.astype(float), minlength=size).reshape(-1, per_day)
     present = within >= SLOT_MINUTES / 2

@@ -149,3 +149,38 @@ def test_a_parquet_column_of_clock_readings_is_read_in_order():
     naive = pd.Series(real.tz_localize(None).as_unit("us"))
     times, _ = parse_time_column(naive, source="x.parquet", column="time", tz="America/Chicago")
     assert (times == real).all()
+
+
+def _long_log(tmp_path, stamps, sensors=("A", "B", "C"), name="long.csv"):
+    """One row per sensor and time, sorted by time (as a data logger's export writes them)."""
+    path = tmp_path / name
+    rows = [(s, k, 20 + 0.1 * i) for i, s in enumerate(stamps) for k in sensors]
+    pd.DataFrame(rows, columns=["time", "sensor", "value"]).to_csv(path, index=False)
+    return path
+
+
+@pytest.mark.parametrize("freq", ["h", "15min"])
+def test_the_repeated_autumn_hour_of_a_long_log_is_read_per_time_not_per_row(tmp_path, freq):
+    """Was: '01:00 A' then '01:00 B' taken for the clock going back, so that sensor B's
+    daylight-time 01:00 was read in standard time ("duplicated time ... of sensor 'B'", or
+    with duplicates='first' B's reading an hour late). Every sensor's instants are the
+    zone database's."""
+    real, stamps = _clock("2006-10-28 20:00", 12 * 4, freq, "America/Chicago")
+    raw, meta = read_measurements(_long_log(tmp_path, stamps), tz="America/Chicago")
+    for sensor in ("A", "B", "C"):
+        rows = raw[raw["sensor"] == sensor]
+        assert (_times(rows).tz_convert("UTC") == real.tz_convert("UTC")).all(), sensor
+        assert np.allclose(rows["value"], 20 + 0.1 * np.arange(len(real)))
+    assert not any("written once" in note for note in meta["notes"])
+
+
+def test_the_repeated_hour_written_once_in_a_long_log_is_read_as_daylight_time(tmp_path):
+    """Each sensor's 01:00 once: daylight time for all, the note says so (not a clock going
+    back between sensors)."""
+    real, stamps = _clock("2006-10-28 20:00", 12, "h", "America/Chicago")
+    once = list(dict.fromkeys(stamps))
+    raw, meta = read_measurements(_long_log(tmp_path, once), tz="America/Chicago")
+    times = _times(raw[raw["sensor"] == "C"]).tz_convert("UTC")
+    assert times[5] == real[5].tz_convert("UTC")
+    assert times[6] - times[5] == pd.Timedelta(hours=2)
+    assert any("written once" in note for note in meta["notes"])

@@ -813,9 +813,11 @@ def _localize_local_clock(times, zone, values, *, source, column, lines, tz):
     Where the clocks go back (daylight saving to standard time), a local time such as 01:30
     happens twice. A logger on local time writes the hour twice, in order: each run of
     consecutive rows whose times are ambiguous in ``zone`` is read in daylight time up to
-    the row where the clock goes back (a reading not later than the one before it), and in
-    standard time from there (pandas' ``ambiguous="infer"`` does the same, but fails when
-    the hour is written once). A run the clock does not go back in, the hour written once
+    the row where the clock goes back (:func:`_clock_goes_back_at`: a reading earlier than
+    the one before it, or a reading written more often than the log's rows per time, so that
+    the sensors of a long log sorted by time at one reading are not taken for the clock going
+    back), and in standard time from there (pandas' ``ambiguous="infer"`` does the same, but
+    fails when the hour is written once). A run the clock does not go back in, the hour written once
     (a logger that kept one of the two hours' records), is read as the first, daylight-time
     hour, with a warning: the standard-time hour after it is then missing, a gap as any
     other. Where the clocks go forward, the hour skipped never happened in ``zone``: a time
@@ -873,13 +875,14 @@ def _localize_local_clock(times, zone, values, *, source, column, lines, tz):
         return daylight, ""
     in_daylight = np.ones(n, dtype=bool)
     wall = times.as_unit("ns").asi8
+    per_time = _rows_per_time(wall)
     starts = np.flatnonzero(ambiguous & ~np.r_[False, ambiguous[:-1]])
     ends = np.flatnonzero(ambiguous & ~np.r_[ambiguous[1:], False]) + 1
     once = []
     for start, end in zip(starts, ends, strict=True):
-        goes_back = np.flatnonzero(np.diff(wall[start:end]) <= 0)
-        if goes_back.size:
-            in_daylight[start + int(goes_back[0]) + 1 : end] = False
+        back = _clock_goes_back_at(wall[start:end], per_time)
+        if back is not None:
+            in_daylight[start + back : end] = False
         else:
             once.append(int(start))
     utc = np.where(in_daylight, daylight.as_unit("ns").asi8, standard.as_unit("ns").asi8)
@@ -897,3 +900,56 @@ def _localize_local_clock(times, zone, values, *, source, column, lines, tz):
     )
     log.warning("%s, column '%s', %s", source, column, note)
     return placed, note
+
+
+def _rows_per_time(wall: np.ndarray) -> int:
+    """The usual number of consecutive rows with the same clock reading: 1 in a wide log, the
+    number of sensors in a long log (one row per sensor and time) sorted by time.
+
+    Parameters
+    ----------
+    wall : numpy.ndarray
+        Clock readings [ns], in file order.
+
+    Returns
+    -------
+    int
+        The median length of the runs of equal consecutive readings, at least 1.
+    """
+    if wall.size == 0:
+        return 1
+    bounds = np.r_[0, np.flatnonzero(np.diff(wall) != 0) + 1, wall.size]
+    return max(1, int(np.median(np.diff(bounds))))
+
+
+def _clock_goes_back_at(wall: np.ndarray, per_time: int) -> int | None:
+    """Where, in a run of rows whose clock readings are ambiguous (the autumn's repeated hour),
+    the clock went back: the first row read in standard time; None when it did not (the hour
+    written once).
+
+    Consecutive rows with the same reading are one clock reading (the sensors of a long log
+    at one time). The clock went back at the first reading earlier than the one before it
+    (``01:45`` then ``01:00``); without one, at the row after the first ``per_time`` rows of
+    a reading written more often than ``per_time`` rows (hourly: ``01:00`` twice in a wide
+    log, ``01:00`` for each sensor twice in a long log).
+
+    Parameters
+    ----------
+    wall : numpy.ndarray
+        The run's clock readings [ns], in file order.
+    per_time : int
+        The log's usual number of rows per reading (:func:`_rows_per_time`).
+
+    Returns
+    -------
+    int or None
+        0-based position in ``wall``.
+    """
+    earlier = np.flatnonzero(np.diff(wall) < 0)
+    if earlier.size:
+        return int(earlier[0]) + 1
+    bounds = np.r_[0, np.flatnonzero(np.diff(wall) != 0) + 1, wall.size]
+    for first, end in zip(bounds[:-1], bounds[1:], strict=True):
+        if end - first > per_time:
+            return int(first) + per_time
+    return None

@@ -391,7 +391,10 @@ def test_a_log_in_standard_time_read_with_daylight_saving_is_an_hour_off(dst_twi
     assert "kept in standard time" in note and "daylight saving time" in note
     halves = clock["halves"]
     assert halves["disagree"] is False and halves["both"] is True, halves
-    assert all(0.0 < half["gain"] for half in halves["halves"]), halves
+    from thermocal.calibration.clockcheck import HOUR_HALF_TOLERANCE
+
+    # each half by the margin a model's own timing error does not reach (13 % and 62 %)
+    assert all(HOUR_HALF_TOLERANCE < half["gain"] for half in halves["halves"]), halves
     assert "warning: " in text and "standard.csv: Sensor log's clock" in text
     from thermocal.commands.identify import _clock_summary
 
@@ -413,12 +416,12 @@ def _whole(std):
     return lambda hours: std.get(hours, float("inf"))
 
 
-def _halves_of(gains, own=(260.0, 106.0), at=(1.0,)):
+def _halves_of(gains, own=(260.0, 106.0), at=(1.0,), month=7):
     """A ``half_std`` giving each half's standard deviation [W] as written, ``gains`` [-]
     smoother at the shifts ``at`` [h] and half as large again at the others, and the two halves
-    it tells apart."""
-    first = (pd.Timestamp("2023-07-09 03:00"), pd.Timestamp("2023-07-15 23:30"))
-    second = (first[1], pd.Timestamp("2023-07-22 20:00"))
+    it tells apart (9 to 22 ``month``, 2023)."""
+    first = (pd.Timestamp(f"2023-{month:02d}-09 03:00"), pd.Timestamp(f"2023-{month:02d}-15 23:30"))
+    second = (first[1], pd.Timestamp(f"2023-{month:02d}-22 20:00"))
 
     def half_std(hours, half):
         i = 0 if half == first else 1
@@ -531,3 +534,76 @@ def test_compare_halves_tells_a_jump_only_when_the_other_half_fits_as_written():
         half_std, halves = _halves_of(gains)
         split = compare_halves(half_std, 1.0, halves)
         assert (split["disagree"], split.get("both")) == (disagree, both), (gains, split)
+
+
+@pytest.mark.parametrize("gains", [(0.02, 0.03), (0.01, 0.01), (0.03, 0.62)])
+def test_a_one_hour_shift_with_a_half_barely_smoother_passes(gains):
+    """Found by a review (2026-12-01): the exploration's figures over the whole period (+1 h
+    17 % smoother) with halves only 1-3 % smoother failed the check as the whole log an hour
+    off, since each half had to be smoother "at all"; a model whose own timing is off (its heat
+    capacities before calibration) gives that. Each half must now be more than 5 % smoother."""
+    from thermocal.calibration.clockcheck import run_clock_check
+
+    std = {-1.0: 294.0, 0.0: 214.0, 1.0: 177.0, 2.0: 183.0}
+    half_std, halves = _halves_of(gains)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no LogClockWarning
+        result = run_clock_check(_whole(std), half_std, halves, consequence="", path="log.csv",
+                                 halves_always=True, tz="America/Denver")  # fmt: skip
+    assert result["passed"] is True, result["note"]
+    assert "not more than 5 % smoother in each half of the compared hours at +1 h" in (
+        result["note"]
+    )
+    assert "taken as written" in result["note"]
+
+
+def test_a_january_period_an_hour_off_does_not_blame_daylight_saving():
+    """Found by a review (2026-12-01): the note of a whole log an hour off said "most likely by
+    the daylight-saving hour ... while it is in force" for a January period in Denver, where no
+    daylight saving time is in force then. The zone's rules (the IANA database, through
+    zoneinfo) decide: January in Denver names the neighbouring zone's and the weather file's
+    clocks only; July names daylight saving; without a zone, both are named alike."""
+    from thermocal.calibration.clockcheck import LogClockWarning, run_clock_check
+
+    std = {-1.0: 294.0, 0.0: 214.0, 1.0: 177.0, 2.0: 183.0}
+
+    def note(month, tz):
+        half_std, halves = _halves_of((0.132, 0.621), month=month)
+        with pytest.warns(LogClockWarning):
+            result = run_clock_check(_whole(std), half_std, halves, consequence="REMEDY.",
+                                     path="log.csv", halves_always=True, tz=tz)  # fmt: skip
+        assert result["passed"] is False and result["best"] == 1.0
+        return result["note"]
+
+    january = note(1, "America/Denver")
+    assert "not the daylight-saving hour (America/Denver keeps standard time over 100 %" in (
+        january
+    ), january
+    assert "most likely by the daylight-saving hour" not in january
+    assert "kept in standard time" not in january and "in force" not in january
+    assert "neighbouring time zone" in january and "weather file's clock" in january
+    july = note(7, "America/Denver")
+    assert "most likely by the daylight-saving hour (America/Denver keeps daylight time" in july
+    assert "kept in standard time all year" in july
+    # the southern summer: January in Sydney is daylight time
+    assert "by the daylight-saving hour (Australia/Sydney" in note(1, "Australia/Sydney")
+    unknown = note(1, None)
+    assert "most likely by the daylight-saving hour" not in unknown
+    assert "standard against daylight time" in unknown and "neighbouring time zone" in unknown
+    assert "give the log's time zone" in unknown
+
+
+def test_daylight_fraction_follows_the_zones_rules():
+    from thermocal.calibration.clockcheck import daylight_fraction
+
+    assert daylight_fraction("2023-01-04", "2023-01-18", "America/Denver") == 0.0
+    assert daylight_fraction("2023-07-09", "2023-07-22", "America/Denver") == 1.0
+    assert daylight_fraction("2023-07-09", "2023-07-22", "America/Phoenix") == 0.0  # no DST
+    # Zurich switches on 26 March 2023 at 02:00 (to 03:00): of the 119 h from 24 March 00:00
+    # (+01:00) to 29 March 00:00 (+02:00), 21 h on the 26th and two days after in daylight time
+    share = daylight_fraction(pd.Timestamp("2023-03-24 00:00+01:00"),
+                              pd.Timestamp("2023-03-29 00:00+02:00"), "Europe/Zurich")  # fmt: skip
+    assert share == pytest.approx((21 + 48) / 119)
+    assert daylight_fraction("2023-07-09", "2023-07-22", None) is None
+    assert daylight_fraction("2023-07-09", "2023-07-22", 1.0) is None  # a fixed offset
+    assert daylight_fraction("2023-07-09", "2023-07-22", "Not/AZone") is None

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from conftest import requires_energyplus
 from thermocal.identification.sensors import (
     SETPOINT_MARGIN,
     setpoint_excursion_text,
@@ -86,3 +87,107 @@ def test_the_recovery_after_a_set_back_is_not_named():
     (record,) = setpoint_excursions(measured - 2.0, _setpoints(heating, 30.0), {"West"}, STEP)
     assert record["side"] == "below heating" and record["setpoint_C"] == 21.0
     assert record["max_excess_K"] == 2.0
+
+
+# --- the equipment the file gives a zone, against EnergyPlus 25.2 (Case 600 in January) ---
+
+_CASE_600_HVAC = (
+    "ZoneHVAC:EquipmentConnections",
+    "NodeList",
+    "ZoneHVAC:IdealLoadsAirSystem",
+    "ZoneHVAC:EquipmentList",
+)
+
+
+def _case_600(shared_data, tmp_path, extra: str):
+    """Case 600 cut to January (its 20/27 C dual-setpoint thermostat), its ideal loads replaced
+    by ``extra``: the file, and EnergyPlus' hourly zone air temperature [C]."""
+    import re
+
+    from thermocal.multizone.energyplus import read_eso, run_energyplus
+
+    text = shared_data("energyplus_reference", "case_600_v25.idf").read_text()
+    end_month = "  12,                                   !- End Month"
+    assert end_month in text
+    text = text.replace(end_month, "  1,  !- End Month", 1)
+    for cls in _CASE_600_HVAC:
+        text = re.sub(rf"\n{re.escape(cls)},[^;]*;", "\n", text)
+    idf = tmp_path / "case.idf"
+    idf.write_text(text + extra)
+    weather = shared_data("ashrae140_bestest", "725650TYCST.epw")
+    eso = read_eso(run_energyplus(idf, weather, tmp_path / "ep"), year=2009)
+    return idf, eso["ZONE ONE:Zone Mean Air Temperature [C]"]
+
+
+def _read(idf):
+    import warnings
+
+    from thermocal.multizone.idf import read_idf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return read_idf(idf)
+
+
+_BASEBOARD = "\nHVACTemplate:Zone:BaseboardHeat, ZONE ONE, , , Electric, {}, 10000, , None;\n"
+_OFF_FIRST_HALF = (
+    "\nSchedule:Compact, OffFirstHalf, , Through: 1/15, For: AllDays, Until: 24:00, 0,"
+    " Through: 12/31, For: AllDays, Until: 24:00, 1;\n"
+)
+
+
+@requires_energyplus
+def test_a_room_whose_baseboards_are_switched_off_is_not_named(shared_data, tmp_path):
+    """Baseboards only (heating), the file's dual thermostat at 20/27 C, the baseboards'
+    availability schedule off for the first half of January: EnergyPlus floats the room there
+    (down to -6 C), then heats it to 20 C. Its own air temperature as the readings gives no
+    warning. Before: the heating set point applied on the steps the baseboards were off and the
+    room was named 'below heating' for 219 h of the month's 744 (share 0.29, up to 26 K below)."""
+    from thermocal.identification.sensors import (
+        equipment_off,
+        heated_or_cooled,
+        held_setpoints,
+        zone_setpoints,
+    )
+
+    idf, air = _case_600(shared_data, tmp_path, _BASEBOARD.format("OffFirstHalf")
+                         + _OFF_FIRST_HALF)  # fmt: skip
+    building = _read(idf)
+    times = pd.date_range("2009-01-01", periods=31 * 24, freq="1h")  # the hours' starts
+    assert len(air) == len(times)
+    measured = pd.DataFrame({"ZONE ONE": air.to_numpy()}, index=times)
+    assert air.iloc[: 15 * 24].min() < 0.0 and air.iloc[20 * 24 :].min() > 19.5
+    # heating only: the importer already drops the cooling set point (no false 'above cooling')
+    setpoints = zone_setpoints(building, times)
+    assert list(setpoints.columns) == [("ZONE ONE", "heating")]
+    off = equipment_off(building, times)["ZONE ONE"]
+    assert off[: 15 * 24].all() and not off[15 * 24 :].any()
+    equipped = heated_or_cooled(building)
+    step = pd.Timedelta("1h")
+    assert setpoint_excursions(measured, held_setpoints(building, times), equipped, step) == []
+    (before,) = setpoint_excursions(measured, setpoints, equipped, step)  # the old check
+    assert before["side"] == "below heating" and before["hours"] > 200, before
+    # the same room with its baseboards always available and a sensor against the cold window
+    # (2 K below the air) is still named
+    colder = measured - 2.0
+    colder.iloc[: 15 * 24] = 20.0 - 2.0
+    (record,) = setpoint_excursions(colder, held_setpoints(building, times), equipped, step)
+    assert record["side"] == "below heating" and record["hours"] < 17 * 24
+
+
+def test_an_operative_thermostat_zone_is_not_checked(shared_data, tmp_path):
+    """An operative-temperature thermostat (radiative fraction 0.5) holds (T_air + T_mrt) / 2 at
+    20 C: beside cold walls the air sits above it, by as much as the walls are below it, so its
+    air is not checked against the set point (Case 600 in January in EnergyPlus 25.2: the air
+    up to 2-3 K above 20 C on the coldest mornings)."""
+    from thermocal.identification.sensors import held_setpoints, zone_setpoints
+
+    text = shared_data("energyplus_reference", "case_600_v25.idf").read_text()
+    idf = tmp_path / "operative.idf"
+    idf.write_text(text + "\nZoneControl:Thermostat:OperativeTemperature, ZONE ONE Thermostat, "
+                   "Constant, 0.5, , None;\n")  # fmt: skip
+    building = _read(idf)
+    times = pd.date_range("2009-01-01", periods=48, freq="1h")
+    assert building.idf_info.operative_fraction == {"ZONE ONE": 0.5}
+    assert ("ZONE ONE", "heating") in zone_setpoints(building, times).columns
+    assert held_setpoints(building, times).empty

@@ -143,3 +143,41 @@ def test_a_mild_period_with_air_temperatures_is_warned_of(tmp_path):
     assert "warning: mild period" in " ".join(result.output.split())
     saved = json.loads((out / "in_situ.json").read_text())
     assert any(w.startswith("mild period") for w in saved["warnings"])
+
+
+def test_the_sunlit_face_is_found_in_utc_stamps_from_the_outdoor_airs_daily_cycle(tmp_path):
+    """The south timber wall's log stamped in UTC (Chicago's standard time + 6 h): the day and
+    night windows on the stamps' clock fell on 04:00-10:00 and 16:00-22:00 local, the ratio
+    was 1.49 and U 28 % low was taken without a warning. The outdoor air's daily cycle (warmest
+    near 14:00 local, Parton and Logan 1981) now puts the stamps 7 h ahead (6 in truth): warned
+    at 0.22, with a note on how the hours were placed; the north walls stay quiet, the stamps
+    in Chicago's zone give the local clock's 0.30 with no such note, and the command warns. On
+    3 April days the air's cycle is too irregular to place anything: the note says so."""
+    def utc(name):
+        log = _log(name)
+        log.index = log.index.tz_localize("Etc/GMT+6").tz_convert("UTC")
+        return log
+
+    def reduce(log):
+        return average_method(log.index, log.q, log.Ti, log.Te)
+
+    sunlit = reduce(utc("south_light_14d_air"))
+    truth = TRUTH["light"]["u_value_W_per_m2K"]
+    assert sunlit.u_value / truth - 1 == pytest.approx(-0.278, abs=0.005)
+    warning = _warned(sunlit, "a sunlit outside face?")[0]
+    assert "0.22 of the night's" in warning and "the stamps' 17:00-23:00" in warning
+    assert any("puts them +7 h from local time" in n for n in sunlit.notes)
+    for name in ("north_light_14d_air", "north_heavy_14d_air", "south_heavy_14d_air"):
+        quiet = reduce(utc(name))
+        assert [w[:20] for w in quiet.warnings if not w.startswith(D_NOT_CHECKED)] == [], name
+    local = utc("south_light_14d_air").tz_convert("America/Chicago")
+    zoned = reduce(local)
+    assert "0.30 of the night's" in _warned(zoned, "a sunlit outside face?")[0]
+    assert not any("time zone" in n for n in zoned.notes)
+    path = tmp_path / "south_utc.csv"
+    utc("south_light_14d_air").to_csv(path, date_format="%Y-%m-%dT%H:%M:%SZ")
+    result = CliRunner().invoke(app, ["insitu", str(path)], terminal_width=100)
+    assert result.exit_code == 0, result.output
+    assert "warning: a sunlit outside face?" in " ".join(result.output.split())
+    mild = _reduce("mild_north_light_3d_air")
+    assert any("no regular daily cycle to place the local time" in n for n in mild.notes)

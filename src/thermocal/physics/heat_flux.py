@@ -102,8 +102,19 @@ MIN_MEAN_DIFFERENCE_K = 10.0
 MILD_DIFFERENCE_K = 15.0
 #: The outside face's typical offset from the outdoor air by radiation [K] (as above).
 RADIATION_OFFSET_K = 2.0
-#: Clock hours [h] of the day and night windows of :func:`_sunlit_ratio`: (from, to).
+#: Local hours [h] of the day and night windows of :func:`_sunlit_ratio`: (from, to).
 DAY_HOURS, NIGHT_HOURS = (10, 16), (22, 4)
+#: Local hour [h] at which the outdoor air's daily cycle peaks: its daily maximum comes some two
+#: hours after solar noon (Parton and Logan 1981: 1.86 h at screen height); the EnergyPlus
+#: Chicago winter logs' first harmonic peaks at 14.4-15.0 h local standard time.
+AIR_PEAK_HOUR = 14.0
+#: Stamps without a known local zone (UTC) whose outdoor air peaks within this many hours [h] of
+#: :data:`AIR_PEAK_HOUR` are taken as local clock time (the peak itself varies that much).
+CLOCK_TOLERANCE_H = 2.0
+#: The outdoor air's daily cycle places day and night only when its mean first harmonic is at
+#: least this [K] and the whole days' own harmonics agree in phase to a mean resultant length
+#: of :data:`MIN_PHASE_AGREEMENT` [-] (1: every day peaks at the same hour; 0: at random).
+MIN_AIR_CYCLE_K, MIN_PHASE_AGREEMENT = 0.5, 0.5
 #: A day/night ratio of the flux over the air-to-air difference below this [-] is warned of as
 #: a sunlit outside face: EnergyPlus south timber walls (Chicago, winter) 0.30-0.76, the north
 #: ones 0.97-1.54.
@@ -523,7 +534,7 @@ def average_method(
         warnings.append(_d_not_checked(days))
     if temperatures == "air":
         warnings += _air_temperature_cautions(log, q[log.first :], (ti - te)[log.first :],
-                                              mean_dt, notes)  # fmt: skip
+                                              te[log.first :], mean_dt, notes)  # fmt: skip
     if mean_dt < MIN_MEAN_DIFFERENCE_K:
         notes.append(
             f"mean inside-outside difference {mean_dt:.1f} K below the {MIN_MEAN_DIFFERENCE_K:g} "
@@ -580,9 +591,63 @@ def average_method(
     )
 
 
-def _sunlit_ratio(log: _Days, q: np.ndarray, dtemp: np.ndarray) -> float:
+def _local_hours(log: _Days, temp_out: np.ndarray) -> tuple[np.ndarray, int | None]:
+    """Each row's local hour of day [h] for the day and night windows, and how many hours the
+    stamps' clock is taken to run ahead of local time (None: the stamps' clock hours are taken
+    unchecked).
+
+    Stamps in a local zone (time-zone aware, not UTC) give their clock hours. Stamps in UTC, or
+    without a zone (a log read without ``timezone`` is read as UTC), do not say the site's
+    local time: the outdoor air's daily cycle places it. Its first harmonic over the whole days
+    (each day's mean removed) peaks some two hours after solar noon
+    (:data:`AIR_PEAK_HOUR`; Parton and Logan 1981); a peak within :data:`CLOCK_TOLERANCE_H`
+    of it leaves the clock hours as they are (local stamps), a peak further off shifts them by
+    the whole hours between. A cycle too weak or too irregular to place
+    (:data:`MIN_AIR_CYCLE_K`, :data:`MIN_PHASE_AGREEMENT`) leaves the clock hours (None).
+
+    Parameters
+    ----------
+    log : _Days
+    temp_out : ndarray [C]
+        The outdoor air temperature from the log's first valid row.
+
+    Returns
+    -------
+    hours : ndarray [h]
+        In [0, 24).
+    offset : int or None [h]
+        The stamps' clock minus local time; 0 for a local zone or local-looking stamps.
+    """
+    times = log.times
+    clock = np.asarray(times.hour + times.minute / 60.0 + times.second / 3600.0, float)
+    if times.tz is not None and str(times.tz) not in ("UTC", "Etc/UTC", "UTC+00:00"):
+        return clock, 0
+    use = log.ok & (log.day < log.days) & np.isfinite(temp_out)
+    w = np.where(use, log.weight, 0.0)
+    day = np.where(use, log.day, 0)
+    total = np.bincount(day, weights=w, minlength=log.days)
+    mean = np.bincount(day, weights=w * np.where(use, temp_out, 0.0), minlength=log.days)
+    anomaly = np.where(use, temp_out - (mean / np.where(total > 0, total, 1.0))[day], 0.0)
+    phasor = np.exp(2j * np.pi * clock / 24.0)
+    per_day = np.bincount(day, weights=(w * anomaly * phasor.real), minlength=log.days) + 1j * (
+        np.bincount(day, weights=(w * anomaly * phasor.imag), minlength=log.days)
+    )
+    resultant = np.abs(per_day.sum())
+    amplitude = 2.0 * resultant / max(float(total.sum()), 1.0)
+    agreement = resultant / max(float(np.abs(per_day).sum()), 1e-300)
+    if amplitude < MIN_AIR_CYCLE_K or agreement < MIN_PHASE_AGREEMENT:
+        return clock, None
+    peak = float(np.angle(per_day.sum()) * 24.0 / (2 * np.pi)) % 24.0
+    ahead = (peak - AIR_PEAK_HOUR + 12.0) % 24.0 - 12.0
+    if abs(ahead) <= CLOCK_TOLERANCE_H:
+        return clock, 0
+    offset = int(np.round(ahead))
+    return (clock - offset) % 24.0, offset
+
+
+def _sunlit_ratio(log: _Days, q: np.ndarray, dtemp: np.ndarray, hours: np.ndarray) -> float:
     """The flux over the air-to-air difference between :data:`DAY_HOURS` over that between
-    :data:`NIGHT_HOURS` (clock hours of the log's stamps) on its whole days [-]; NaN when a
+    :data:`NIGHT_HOURS` (local hours, :func:`_local_hours`) on its whole days [-]; NaN when a
     window's difference does not sum positive.
 
     The sun warms a sunlit outside face well above the outdoor air, so through a light element
@@ -597,15 +662,16 @@ def _sunlit_ratio(log: _Days, q: np.ndarray, dtemp: np.ndarray) -> float:
     q, dtemp : ndarray
         The heat flux [W/m2] and the inside-outside difference [K] from the log's first valid
         row.
+    hours : ndarray [h]
+        Each row's local hour of day.
 
     Returns
     -------
     float
     """
-    hour = np.asarray(log.times.hour)
     use = log.ok & (log.day < log.days)
-    day = use & (hour >= DAY_HOURS[0]) & (hour < DAY_HOURS[1])
-    night = use & ((hour >= NIGHT_HOURS[0]) | (hour < NIGHT_HOURS[1]))
+    day = use & (hours >= DAY_HOURS[0]) & (hours < DAY_HOURS[1])
+    night = use & ((hours >= NIGHT_HOURS[0]) | (hours < NIGHT_HOURS[1]))
     w = log.weight
     d_day, d_night = np.sum((dtemp * w)[day]), np.sum((dtemp * w)[night])
     if not (d_day > 0 and d_night > 0):
@@ -615,8 +681,9 @@ def _sunlit_ratio(log: _Days, q: np.ndarray, dtemp: np.ndarray) -> float:
 
 
 def _air_temperature_cautions(
-    log: _Days, q: np.ndarray, dtemp: np.ndarray, mean_dt: float, notes: list
-) -> list[str]:
+    log: _Days, q: np.ndarray, dtemp: np.ndarray, temp_out: np.ndarray, mean_dt: float,
+    notes: list,
+) -> list[str]:  # fmt: skip
     """What the outdoor air temperature does not see: a note always, warnings on a sunlit face
     (:func:`_sunlit_ratio` below :data:`SUNLIT_RATIO`) and on a mild period (a mean difference
     below :data:`MILD_DIFFERENCE_K`).
@@ -631,10 +698,13 @@ def _air_temperature_cautions(
     log : _Days
     q, dtemp : ndarray
         As :func:`_sunlit_ratio` [W/m2, K].
+    temp_out : ndarray [C]
+        The outdoor air temperature from the log's first valid row (:func:`_local_hours`).
     mean_dt : float
         The log's mean difference [K].
     notes : list of str
-        Appended to: the note.
+        Appended to: the note, and one on how the day and night windows were placed when the
+        stamps do not carry the local zone and are not taken as local time.
 
     Returns
     -------
@@ -651,12 +721,34 @@ def _air_temperature_cautions(
         f"at this {mean_dt:.1f} K); face temperatures (--surface, temperatures: surface) see it"
     )
     warnings = []
-    ratio = _sunlit_ratio(log, q, dtemp)
+    hours, offset = _local_hours(log, temp_out)
+    stamps = ""
+    if offset is None:
+        notes.append(
+            "the stamps are in UTC or carry no time zone, and the outdoor air has no regular "
+            "daily cycle to place the local time: the sunlit-face check takes day "
+            f"({DAY_HOURS[0]:02d}:00-{DAY_HOURS[1]:02d}:00) and night by the stamps' clock; "
+            "give the log's time zone (--timezone, timezone) if they are not local time"
+        )
+    elif offset:
+        a, b, c, d = ((h + offset) % 24 for h in DAY_HOURS + NIGHT_HOURS)
+        stamps = f"; the stamps' {a:02d}:00-{b:02d}:00 and {c:02d}:00-{d:02d}:00"
+        notes.append(
+            "the stamps are in UTC or carry no time zone, and the outdoor air's daily cycle "
+            f"puts them {offset:+d} h from local time (the air is warmest near "
+            f"{AIR_PEAK_HOUR:g}:00 local, some two hours after solar noon: Parton and Logan "
+            f"1981): the sunlit-face check takes the local day {DAY_HOURS[0]:02d}:00-"
+            f"{DAY_HOURS[1]:02d}:00 and night {NIGHT_HOURS[0]:02d}:00-{NIGHT_HOURS[1]:02d}:00 "
+            f"as the stamps' {a:02d}:00-{b:02d}:00 and {c:02d}:00-{d:02d}:00; give the log's "
+            "time zone (--timezone, timezone) to use the local clock"
+        )
+    ratio = _sunlit_ratio(log, q, dtemp, hours)
     if ratio < SUNLIT_RATIO:
         warnings.append(
             f"a sunlit outside face? The heat flux over the air-to-air difference between "
-            f"{DAY_HOURS[0]:02d}:00 and {DAY_HOURS[1]:02d}:00 is {ratio:.2f} of the night's "
-            f"({NIGHT_HOURS[0]:02d}:00-{NIGHT_HOURS[1]:02d}:00; below {SUNLIT_RATIO:g}): the "
+            f"{DAY_HOURS[0]:02d}:00 and {DAY_HOURS[1]:02d}:00 local time is {ratio:.2f} of the "
+            f"night's ({NIGHT_HOURS[0]:02d}:00-{NIGHT_HOURS[1]:02d}:00{stamps}; below "
+            f"{SUNLIT_RATIO:g}): the "
             "sun warms the outside face beyond the outdoor air, and U comes out low (EnergyPlus "
             "south timber walls, Chicago, winter: 28-42 % low at ratios 0.30-0.76, north walls "
             "0.97-1.54). Shield the spot or choose a face out of direct sun (ISO 9869-1), or "

@@ -389,6 +389,8 @@ def test_a_log_in_standard_time_read_with_daylight_saving_is_an_hour_off(dst_twi
     assert "time stamps 1 h later" in note, note
     assert "after the jump" not in note and "not a clock that jumped within it" in note
     assert "kept in standard time" in note and "daylight saving time" in note
+    # identify passes its --tz on: July in Denver is daylight time, said with the share
+    assert "daylight-saving hour (America/Denver keeps daylight time over 100 %" in note, note
     halves = clock["halves"]
     assert halves["disagree"] is False and halves["both"] is True, halves
     from thermocal.calibration.clockcheck import HOUR_HALF_TOLERANCE

@@ -323,6 +323,7 @@ def identify(
             log_name=log_name,
             clock_check=clock_check,
             sensor_accuracy=sensor_accuracy,
+            log_tz=None if demo else tz,
         )
     from thermocal.multizone.simulation import notes_summary
 

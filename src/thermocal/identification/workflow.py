@@ -621,6 +621,7 @@ def identify(
     log_name: str = "sensor log",
     clock_check: bool = True,
     sensor_accuracy: float = DEFAULT_SENSOR_ACCURACY_K,
+    log_tz: str | None = None,
 ) -> IdentificationResult:
     """Identify the heat every zone needs to track the measured temperatures.
 
@@ -697,6 +698,8 @@ def identify(
         Standard uncertainty of each sensor's calibration offset, passed through the model's
         steady-state conductances into the identified heat's uncertainty
         (:mod:`thermocal.identification.sensor_accuracy`; a note and ``sensor_uncertainty``).
+    log_tz : str, optional
+        The time zone the sensor log's stamps were read in (the clock check's wording).
 
     Returns
     -------
@@ -895,7 +898,7 @@ def identify(
         t0 = time.perf_counter()
         log_clock = check_identified_log_clock(
             sim, reference, track_form, schedule=schedule, settle=settle,
-            known_heat=known_heat, inverse_heat=q_inverse, log_name=log_name,
+            known_heat=known_heat, inverse_heat=q_inverse, log_name=log_name, log_tz=log_tz,
         )  # fmt: skip
         timings["clock_check"] = time.perf_counter() - t0
     source = metric_source or ("inverse" if q_inverse is not None else "pid")
@@ -976,6 +979,7 @@ IDENTIFY_CONSEQUENCE = (
 def check_identified_log_clock(
     sim, reference: pd.DataFrame, track_form: dict, *, schedule, settle, known_heat=None,
     inverse_heat: pd.DataFrame | None = None, log_name: str = "sensor log",
+    log_tz: str | None = None,
 ) -> dict:  # fmt: skip
     """The sensor log's clock against the model's, as ``thermocal calibrate`` checks it.
 
@@ -1003,6 +1007,9 @@ def check_identified_log_clock(
         The exact inverse's heat of the log as written when it ran already (saves one run).
     log_name : str
         The sensor log, named in the warning.
+    log_tz : str, optional
+        The time zone the log's stamps were read in (``--tz``): a one-hour shift is put down
+        to daylight saving only while it is in force there.
 
     Returns
     -------
@@ -1056,6 +1063,7 @@ def check_identified_log_clock(
         lambda hours: quiet_heat_std(building_heat(hours), quiet), half_std,
         clock_halves(window, sim.step_size), consequence=IDENTIFY_CONSEQUENCE, path=log_name,
         halves_always=True,  # the heat of each shift is at hand: the halves cost nothing
+        tz=log_tz,
     )  # fmt: skip
 
 

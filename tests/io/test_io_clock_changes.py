@@ -184,3 +184,38 @@ def test_the_repeated_hour_written_once_in_a_long_log_is_read_as_daylight_time(t
     assert times[5] == real[5].tz_convert("UTC")
     assert times[6] - times[5] == pd.Timedelta(hours=2)
     assert any("written once" in note for note in meta["notes"])
+
+
+def test_the_spring_hour_missing_in_an_hourly_long_log_in_a_fixed_zone_is_refused(tmp_path):
+    """Two sensors, hourly, 16 days of Chicago local time read at -6 h. Was accepted silently:
+    every zero step between the sensors at one time was searched as a clock going back, and
+    the cap of 50 searches was spent before the change (the parent of the autumn's handling
+    refused it)."""
+    _, stamps = _clock("2023-03-01 00:00", 24 * 16, "h", "America/Chicago")
+    with pytest.raises(ThermocalInputError) as info:
+        read_measurements(_long_log(tmp_path, stamps, sensors=("A", "B")), tz=-6)
+    message = str(info.value)
+    # row 266 of the clock (03:00 on 2023-03-12), sensor A: file line 2 + 2 * 266
+    assert "line 534: the clock jumps from 01:00 to 03:00 on Sunday 2023-03-12" in message
+    assert "America/Chicago" in message, message
+
+
+def test_the_spring_hour_missing_after_many_other_gaps_is_refused(tmp_path):
+    """An hour missing at 10:00 every day from New Year (70 gaps on nights without a change)
+    does not hide the spring's change (was: the first 50 gaps searched, the change never)."""
+    real, stamps = _clock("2023-01-01 00:00", 24 * 75, "h", "America/Chicago")
+    kept = [s for t, s in zip(real, stamps, strict=True) if t.hour != 10]
+    with pytest.raises(ThermocalInputError, match="clocks went forward that night in"):
+        read_measurements(_log(tmp_path, kept), tz=-6)
+
+
+def test_the_autumn_hour_in_a_long_log_in_a_fixed_zone(tmp_path):
+    """Chicago's clock in an hourly long log at -6 h: refused as the hour repeated. A logger
+    on standard time all year (Etc/GMT+6) that night: read (was: the step from sensor A's
+    01:00 to sensor B's taken for Chicago's clock going back, and refused)."""
+    _, stamps = _clock("2006-10-28 20:00", 12, "h", "America/Chicago")
+    with pytest.raises(ThermocalInputError, match=r"repeats 01:00 .* \(an hour repeated\)"):
+        read_measurements(_long_log(tmp_path, stamps), tz=-6)
+    real, stamps = _clock("2006-10-28 20:00", 12, "h", "Etc/GMT+6")
+    raw, _ = read_measurements(_long_log(tmp_path, stamps, name="standard.csv"), tz=-6)
+    assert (_times(raw[raw["sensor"] == "B"]) == real).all()

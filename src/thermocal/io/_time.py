@@ -546,17 +546,23 @@ def _place_zones() -> tuple[str, ...]:
     )
 
 
-@functools.lru_cache(maxsize=256)
+@functools.lru_cache(maxsize=1)
+def _place_zone_objects() -> tuple[tuple[str, _dt.tzinfo], ...]:
+    """The zones of :func:`_place_zones` with their loaded ``zoneinfo.ZoneInfo`` (kept: the
+    module's own cache keeps only a few, and reading a zone's file is most of a search)."""
+    import zoneinfo
+
+    return tuple((name, zoneinfo.ZoneInfo(name)) for name in _place_zones())
+
+
+@functools.lru_cache(maxsize=1024)
 def _zones_changing_around(day: _dt.date) -> tuple[str, ...]:
     """The zones whose UTC offset at noon the day before ``day`` differs from that at noon the
     day after (a clock change on, or next to, that local date)."""
-    import zoneinfo
-
     before = _dt.datetime.combine(day - _dt.timedelta(days=1), _dt.time(12))
     after = before + _dt.timedelta(days=2)
     changing = []
-    for name in _place_zones():
-        zone = zoneinfo.ZoneInfo(name)
+    for name, zone in _place_zone_objects():
         if before.replace(tzinfo=zone).utcoffset() != after.replace(tzinfo=zone).utcoffset():
             changing.append(name)
     return tuple(changing)
@@ -663,22 +669,44 @@ def check_fixed_zone_clock(
     summer = pd.Timestamp("2021-07-15", tz=times.tz).utcoffset()
     if winter != summer:
         return  # the zone has its clock changes: the parse placed the stamps right
-    spacing = _regular_spacing(times.as_unit("ns").asi8)
+    utc = times.as_unit("ns").asi8
+    unique, first_row, counts = np.unique(utc, return_index=True, return_counts=True)
+    spacing = _regular_spacing(unique)
     if spacing is None:
         return
     steps, regular = spacing
-    back = np.flatnonzero(np.abs(steps - (regular - 3600e9)) <= 0.1 * regular)
-    candidates = sorted(set(_hour_jumps(steps, regular).tolist()) | set(back.tolist()))
     interval = pd.Timedelta(int(regular), unit="ns")
-    for i in candidates[:_MAX_CLOCK_CANDIDATES]:
-        before, after = times[i], times[i + 1]
+    candidates = [(int(k), int(k) + 1, int(first_row[k + 1])) for k in _hour_jumps(steps, regular)]
+    if abs(regular - 3600e9) <= 0.1 * regular:
+        # hourly: the repeated hour is a time written more often than the log's usual rows
+        # per time (once in a wide log, once per sensor in a long one)
+        per_time = max(1, int(np.median(counts)))
+        for k in np.flatnonzero(counts > per_time):
+            row = int(np.flatnonzero(utc == unique[k])[per_time])
+            candidates.append((int(k), int(k), row))
+    else:
+        back = np.flatnonzero(np.abs(np.diff(utc) - (regular - 3600e9)) <= 0.1 * regular)
+        position = np.searchsorted(unique, utc)
+        candidates += [(int(position[i]), int(position[i + 1]), int(i) + 1) for i in back]
+    wall = unique + int(times[0].utcoffset().total_seconds() * 1e9)
+    days = pd.to_datetime(wall, unit="ns").date
+    changing = {
+        day for day in {days[k] for c in candidates for k in c[:2]} if _zones_changing_around(day)
+    }
+    candidates = sorted(
+        (c for c in candidates if days[c[0]] in changing or days[c[1]] in changing),
+        key=lambda c: c[2],
+    )
+    shown = pd.DatetimeIndex(pd.to_datetime(unique, unit="ns", utc=True)).tz_convert(times.tz)
+    for k, m, row in candidates[:_MAX_CLOCK_CANDIDATES]:
+        before, after = shown[k], shown[m]
         offset = before.utcoffset()
         zones = clock_change_zones(
             before.tz_localize(None), after.tz_localize(None), interval, offset
         )
         if not zones:
             continue
-        at = f"{source}, column '{column}', {_where(lines, i + 1)}"
+        at = f"{source}, column '{column}', {_where(lines, row)}"
         if after > before:
             what = (
                 f"the clock jumps from {before:%H:%M} to {after:%H:%M} on {before:%A %Y-%m-%d}, "
@@ -702,8 +730,8 @@ def check_fixed_zone_clock(
         )
 
 
-#: Steps checked by :func:`check_fixed_zone_clock` for a clock change, at most (a log with
-#: many one-hour gaps would otherwise search the time zone database at each).
+#: Steps checked by :func:`check_fixed_zone_clock` for a clock change, at most, among those
+#: on a date when a zone of the database changed its clocks (each fitting zone is searched).
 _MAX_CLOCK_CANDIDATES = 50
 
 

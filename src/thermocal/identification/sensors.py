@@ -605,7 +605,9 @@ class ReferenceReport:
 
     def removed_notes(self) -> list[str]:
         """One note on the readings removed, if any (:func:`removed_readings_note`)."""
-        note = removed_readings_note(self.removed_readings())
+        records = self.removed_readings()
+        counts = removed_counts(self.quality, {r["sensor"] for r in records})
+        note = removed_readings_note(records, counts)
         return [note] if note else []
 
     def zone_table(self) -> pd.DataFrame:
@@ -1018,13 +1020,57 @@ def removed_readings(quality, sources: Mapping | None = None) -> list[dict]:
     ]
 
 
-def removed_readings_note(records: Sequence[Mapping]) -> str | None:
+#: The resampling's quality report lists at most this many flagged reports per sensor and
+#: flag ("impossible", "outlier"; :mod:`thermocal.io.measurements.resample`); its per-sensor
+#: counts (``n_impossible``, ``n_outliers_removed``) are complete.
+FLAGS_LISTED_PER_KIND = 1000
+
+
+def removed_counts(quality, sensors=None) -> dict[str, int]:
+    """How many readings of each sensor the resampling removed, all of them: its impossible
+    values and the spikes it removed (the quality report's ``n_impossible`` and
+    ``n_outliers_removed``; its ``flags`` list at most :data:`FLAGS_LISTED_PER_KIND` of each).
+
+    Parameters
+    ----------
+    quality : thermocal.io.measurements.QualityReport
+    sensors : iterable of str, optional
+        The sensors counted; None: all.
+
+    Returns
+    -------
+    dict of str -> int
+        Sensor -> readings removed [-], for the sensors with any.
+    """
+    table = getattr(quality, "sensors", None)
+    if table is None or getattr(table, "empty", True):
+        return {}
+    wanted = None if sensors is None else {str(s) for s in sensors}
+    out = {}
+    for sensor, row in table.iterrows():
+        if wanted is not None and str(sensor) not in wanted:
+            continue
+        count = 0
+        for column in ("n_impossible", "n_outliers_removed"):
+            value = row.get(column, 0)
+            count += int(value) if pd.notna(value) else 0
+        if count:
+            out[str(sensor)] = count
+    return out
+
+
+def removed_readings_note(
+    records: Sequence[Mapping], counts: Mapping[str, int] | None = None
+) -> str | None:
     """One sentence for the outputs on the readings removed before the identification.
 
     Parameters
     ----------
     records : sequence of dict
         From :func:`removed_readings`.
+    counts : mapping of sensor -> int, optional
+        The true number removed per sensor (:func:`removed_counts`): ``records`` hold at most
+        :data:`FLAGS_LISTED_PER_KIND` per sensor and flag. None: ``records`` are all.
 
     Returns
     -------
@@ -1036,35 +1082,56 @@ def removed_readings_note(records: Sequence[Mapping]) -> str | None:
     per_sensor: dict[str, list] = {}
     for record in records:
         per_sensor.setdefault(record["sensor"], []).append(record)
+    number = {
+        sensor: max(len(rows), int((counts or {}).get(sensor, 0)))
+        for sensor, rows in per_sensor.items()
+    }
     parts = [
-        f"{sensor} ({rows[0]['zone']}): {len(rows)}, the first {rows[0]['value_C']:g} C at "
+        f"{sensor} ({rows[0]['zone']}): {number[sensor]}, the first {rows[0]['value_C']:g} C at "
         f"{rows[0]['time']}"
         for sensor, rows in list(per_sensor.items())[:5]
     ]
     more = f" and {len(per_sensor) - 5} more sensor(s)" if len(per_sensor) > 5 else ""
+    total = sum(number.values())
+    if total > len(records):
+        listed = (
+            f" (removed_readings in identification.json lists {len(records)} of them, with "
+            f"time, value and reason: the first {FLAGS_LISTED_PER_KIND} of each sensor's "
+            "impossible values and of its spikes)."
+        )
+    else:
+        listed = " (each with its time, value and reason: removed_readings in identification.json)."
     return (
-        f"{len(records)} sensor reading(s) removed before the identification as physically "
+        f"{total} sensor reading(s) removed before the identification as physically "
         "impossible (a logger's missing-value code) or as isolated spikes, and bridged as gaps: "
-        + "; ".join(parts) + more
-        + " (each with its time, value and reason: removed_readings in identification.json)."
+        + "; ".join(parts) + more + listed
     )
 
 
 def _warn_removed_readings(quality, mapping: SensorMapping, source: str) -> None:
     """One :class:`ReferenceWarning` per mapped sensor with readings removed as impossible or
-    as isolated spikes (``removed_readings`` in ``identification.json`` lists them all)."""
+    as isolated spikes, with the true count (:func:`removed_counts`; ``removed_readings`` in
+    ``identification.json`` lists at most :data:`FLAGS_LISTED_PER_KIND` of each kind)."""
     flags = getattr(quality, "flags", None)
     if flags is None or flags.empty:
         return
     removed = flags[(flags["action"] == "removed") & flags["sensor"].isin(list(mapping.sensors))]
+    counts = removed_counts(quality, set(removed["sensor"].astype(str)))
     for sensor, rows in removed.groupby("sensor", sort=True):
         first = rows.iloc[0]
+        count = max(len(rows), counts.get(str(sensor), 0))
+        lists = (
+            "lists each (time, value, reason)"
+            if count <= len(rows)
+            else f"lists {len(rows)} of them (time, value, reason: the first "
+            f"{FLAGS_LISTED_PER_KIND} of each kind)"
+        )
         warnings.warn(
-            f"{source}: sensor {sensor!r} (zone {mapping.sensors[sensor]!r}): {len(rows)} "
+            f"{source}: sensor {sensor!r} (zone {mapping.sensors[sensor]!r}): {count} "
             f"reading(s) removed as {' or '.join(sorted(set(rows['flag'])))} (the first "
             f"{first['value']:g} at {first['time']}; a logger's missing-value code or a spike), "
-            "bridged as gaps; removed_readings in identification.json lists each (time, value, "
-            "reason) and report.html counts them",
+            f"bridged as gaps; removed_readings in identification.json {lists} and report.html "
+            "counts them",
             ReferenceWarning,
             stacklevel=3,
         )

@@ -143,12 +143,7 @@ def test_a_room_whose_baseboards_are_switched_off_is_not_named(shared_data, tmp_
     (down to -6 C), then heats it to 20 C. Its own air temperature as the readings gives no
     warning. Before: the heating set point applied on the steps the baseboards were off and the
     room was named 'below heating' for 219 h of the month's 744 (share 0.29, up to 26 K below)."""
-    from thermocal.identification.sensors import (
-        equipment_off,
-        heated_or_cooled,
-        held_setpoints,
-        zone_setpoints,
-    )
+    from thermocal.identification.sensors import heated_or_cooled, held_setpoints, zone_setpoints
 
     idf, air = _case_600(shared_data, tmp_path, _BASEBOARD.format("OffFirstHalf")
                          + _OFF_FIRST_HALF)  # fmt: skip
@@ -160,12 +155,14 @@ def test_a_room_whose_baseboards_are_switched_off_is_not_named(shared_data, tmp_
     # heating only: the importer already drops the cooling set point (no false 'above cooling')
     setpoints = zone_setpoints(building, times)
     assert list(setpoints.columns) == [("ZONE ONE", "heating")]
-    off = equipment_off(building, times)["ZONE ONE"]
+    # the importer switches the baseboards off where their availability schedule is 0
+    off = setpoints[("ZONE ONE", "heating")].isna().to_numpy()
     assert off[: 15 * 24].all() and not off[15 * 24 :].any()
     equipped = heated_or_cooled(building)
     step = pd.Timedelta("1h")
     assert setpoint_excursions(measured, held_setpoints(building, times), equipped, step) == []
-    (before,) = setpoint_excursions(measured, setpoints, equipped, step)  # the old check
+    always = setpoints.fillna(20.0)  # the set point on every step: the old check
+    (before,) = setpoint_excursions(measured, always, equipped, step)
     assert before["side"] == "below heating" and before["hours"] > 200, before
     # the same room with its baseboards always available and a sensor against the cold window
     # (2 K below the air) is still named

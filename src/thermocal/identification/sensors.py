@@ -1980,105 +1980,12 @@ def heated_or_cooled(building) -> set[str] | None:
     return {str(zone) for zone in delivery}
 
 
-#: Where an equipment class (upper-case prefix, most specific first) keeps its availability
-#: schedule: the 0-based field, the object's name field 0 (EnergyPlus 25.2's IDD; a template's
-#: System or Baseboard Heating Availability Schedule). Ideal-loads systems are left out: the
-#: importer already switches their set points off (``idf_info.ideal_loads_availability``).
-EQUIPMENT_AVAILABILITY_FIELD = (
-    ("HVACTEMPLATE:ZONE:BASEBOARDHEAT", 4),
-    ("HVACTEMPLATE:ZONE:FANCOIL", 9),
-    ("HVACTEMPLATE:ZONE:PTAC", 11),
-    ("HVACTEMPLATE:ZONE:PTHP", 11),
-    ("HVACTEMPLATE:ZONE:WATERTOAIRHEATPUMP", 11),
-    ("HVACTEMPLATE:ZONE:VRF", 19),
-    ("ZONEHVAC:BASEBOARD:RADIANTCONVECTIVE:WATER", 2),
-    ("ZONEHVAC:BASEBOARD:RADIANTCONVECTIVE:STEAM", 2),
-    ("ZONEHVAC:LOWTEMPERATURERADIANT:VARIABLEFLOW", 2),
-    ("ZONEHVAC:LOWTEMPERATURERADIANT:CONSTANTFLOW", 2),
-    ("ZONEHVAC:IDEALLOADSAIRSYSTEM", None),
-    ("ZONEHVAC:AIRDISTRIBUTIONUNIT", None),
-    ("ZONEHVAC:", 1),
-    ("AIRTERMINAL:SINGLEDUCT:MIXER", None),
-    ("AIRTERMINAL:SINGLEDUCT:USERDEFINED", None),
-    ("AIRTERMINAL:", 1),
-)
-
-
-def _availability_field(class_name: str) -> int | None:
-    """The field holding an equipment class's availability schedule
-    (:data:`EQUIPMENT_AVAILABILITY_FIELD`); None: not read here (always available)."""
-    key = class_name.upper()
-    for prefix, position in EQUIPMENT_AVAILABILITY_FIELD:
-        if key.startswith(prefix):
-            return position
-    return None
-
-
-def equipment_off(building, times: pd.DatetimeIndex) -> dict[str, np.ndarray]:
-    """Steps on which every piece of a zone's equipment is switched off by its availability
-    schedule (0): the zone floats there whatever its thermostat says.
-
-    The importer switches an ideal-loads system off step by step
-    (``idf_info.ideal_loads_availability``); other equipment (a baseboard, a packaged terminal
-    unit, an air terminal, their templates) keeps its set points in the record, so a zone whose
-    baseboards are off all summer would be checked against its heating set point there.
-
-    Parameters
-    ----------
-    building : thermocal.multizone.Building
-    times : DatetimeIndex
-        The grid (local times of the building's calendar).
-
-    Returns
-    -------
-    dict of str -> ndarray of bool
-        Zone -> True on the steps all its equipment is off; only zones with such steps. Equipment
-        whose schedule is not read (an ideal-loads system, an unreadable or blank schedule, a
-        class not in :data:`EQUIPMENT_AVAILABILITY_FIELD`) counts as always available.
-    """
-    info = getattr(building, "idf_info", None)
-    delivery = getattr(info, "zone_heat_delivery", None) or {}
-    schedules = getattr(info, "schedules", None)
-    if not delivery or schedules is None:
-        return {}
-    try:
-        from thermocal.multizone.idf.parse import read_idf_objects
-        from thermocal.multizone.idf.report import _hour_of_year
-
-        objects = {}
-        for obj in read_idf_objects(info.source):
-            key = (obj.class_name.upper(), (obj.fields[0] if obj.fields else "").upper())
-            objects[key] = obj
-        hour_of_year = _hour_of_year(times, schedules.n_days)
-    except Exception:  # noqa: BLE001 - the file is read and checked by the import already
-        return {}
-    out = {}
-    for zone, zone_delivery in delivery.items():
-        off = np.ones(len(times), dtype=bool)
-        for equipment in zone_delivery.equipment:
-            position = _availability_field(equipment.class_name)
-            obj = objects.get((equipment.class_name.upper(), str(equipment.name).upper()))
-            name = (
-                obj.fields[position]
-                if position is not None and obj is not None and position < len(obj.fields)
-                else ""
-            )
-            try:
-                values = np.asarray(schedules.hourly(name)[hour_of_year], float) if name else None
-            except Exception:  # noqa: BLE001 - an unreadable schedule is noted by the import
-                values = None
-            if values is None:
-                off[:] = False
-                break
-            off &= values <= 0.0
-        if off.any():
-            out[str(zone)] = off
-    return out
-
 
 def held_setpoints(building, times: pd.DatetimeIndex) -> pd.DataFrame:
-    """The set points a zone's equipment holds its air at [C]: :func:`zone_setpoints`, NaN on
-    the steps all the zone's equipment is switched off (:func:`equipment_off`), and without the
+    """The set points a zone's equipment holds its air at [C]: :func:`zone_setpoints` (NaN on
+    the steps all the zone's equipment is switched off by its availability schedule: the
+    import's ``idf_info.ideal_loads_availability``, for ideal loads and other equipment alike,
+    :func:`thermocal.multizone.idf.hvac.equipment_availability`), without the
     zones whose thermostat holds the operative temperature (``idf_info.operative_fraction``:
     their air legitimately sits beyond the set point, by ``f / (1 - f)`` times the operative
     temperature's distance from the mean radiant one).
@@ -2096,12 +2003,7 @@ def held_setpoints(building, times: pd.DatetimeIndex) -> pd.DataFrame:
     operative = {str(z) for z, f in (getattr(info, "operative_fraction", None) or {}).items()
                  if f and f > 0}  # fmt: skip
     keep = [c for c in frame.columns if str(c[0]) not in operative]
-    frame = frame[keep].copy()
-    for zone, off in equipment_off(building, times).items():
-        for kind in ("heating", "cooling"):
-            if (zone, kind) in frame.columns:
-                frame.loc[off, (zone, kind)] = np.nan
-    return frame
+    return frame[keep].copy()
 
 
 def _changing(setpoint: np.ndarray, towards: int, after: int, before: int) -> np.ndarray:

@@ -22,6 +22,9 @@ from dataclasses import dataclass
 
 __all__ = [
     "AIR_EQUIPMENT_PREFIXES",
+    "EQUIPMENT_AVAILABILITY_FIELD",
+    "availability_field",
+    "equipment_availability",
     "AIR_LOOP_EQUIPMENT",
     "COOLING_ONLY",
     "HEATING_ONLY",
@@ -263,6 +266,82 @@ def return_air_stays_in_zone(delivery: ZoneHeatDelivery | None) -> bool:
     if delivery is None or not delivery.equipment:
         return False
     return not any(e.class_name.upper().startswith(AIR_LOOP_EQUIPMENT) for e in delivery.equipment)
+
+
+#: Position of the availability schedule's field of zone equipment classes (upper-case
+#: prefixes, the first that matches; EnergyPlus 25.2's IDD): None where the class has none, or
+#: where its availability is read elsewhere (ideal loads: :func:`ideal_loads_records`).
+EQUIPMENT_AVAILABILITY_FIELD = tuple(
+    (prefix.upper(), position)
+    for prefix, position in (
+        ("HVACTemplate:Zone:BaseboardHeat", 4),
+        ("HVACTemplate:Zone:FanCoil", 9),
+        ("HVACTemplate:Zone:PTAC", 11),
+        ("HVACTemplate:Zone:PTHP", 11),
+        ("HVACTemplate:Zone:WaterToAirHeatPump", 11),
+        ("HVACTemplate:Zone:VRF", 19),
+        ("HVACTemplate:Zone:", None),
+        ("ZoneHVAC:Baseboard:RadiantConvective:Water", 2),
+        ("ZoneHVAC:Baseboard:RadiantConvective:Steam", 2),
+        ("ZoneHVAC:LowTemperatureRadiant:VariableFlow", 2),
+        ("ZoneHVAC:LowTemperatureRadiant:ConstantFlow", 2),
+        ("ZoneHVAC:IdealLoadsAirSystem", None),
+        ("ZoneHVAC:AirDistributionUnit", None),
+        ("ZoneHVAC:", 1),
+        ("AirTerminal:SingleDuct:Mixer", None),
+        ("AirTerminal:SingleDuct:UserDefined", None),
+        ("AirTerminal:", 1),
+    )
+)
+
+
+def availability_field(class_name: str) -> int | None:
+    """The field holding an equipment class's availability schedule
+    (:data:`EQUIPMENT_AVAILABILITY_FIELD`); None: none read."""
+    key = class_name.upper()
+    for prefix, position in EQUIPMENT_AVAILABILITY_FIELD:
+        if key.startswith(prefix):
+            return position
+    return None
+
+
+def equipment_availability(delivery: ZoneHeatDelivery, by_key: dict) -> str | None:
+    """The one availability schedule that switches all of a zone's equipment off, or None.
+
+    EnergyPlus runs a piece of zone equipment only where its availability schedule is above 0;
+    a zone whose every piece is off floats whatever its thermostat says. The model holds a
+    zone's set points through a per-step availability mask with AND semantics, so a schedule is
+    returned only when every piece names the same one (one baseboard, one terminal unit: the
+    common case); an ideal-loads system (read by :func:`ideal_loads_records`), a piece without a
+    schedule or with another one gives None (taken as always available).
+
+    Parameters
+    ----------
+    delivery : ZoneHeatDelivery
+        The zone's declared equipment (:func:`zone_heat_delivery`).
+    by_key : dict
+        Upper-case class name -> list of the file's objects.
+    """
+    names: dict[str, str] = {}
+    for piece in delivery.equipment:
+        key = piece.class_name.upper()
+        if key.startswith((IDEAL_LOADS_CLASS.upper(), _TEMPLATE_ZONE + "IDEALLOADSAIRSYSTEM")):
+            return None
+        position = availability_field(key)
+        found = next(
+            (o for o in by_key.get(key, ())
+             if (o.fields[0] if o.fields else "").upper() == str(piece.name).upper()),
+            None,
+        )  # fmt: skip
+        name = (
+            found.fields[position].strip()
+            if position is not None and found is not None and position < len(found.fields)
+            else ""
+        )
+        if not name:
+            return None
+        names[name.upper()] = name
+    return next(iter(names.values())) if len(names) == 1 else None
 
 
 #: Equipment classes (upper case, prefixes) that can only heat, and only cool: a zone served by

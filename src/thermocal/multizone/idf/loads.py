@@ -21,6 +21,7 @@ from thermocal.multizone.idf.hvac import (
     HEATING_ONLY,
     IDEAL_LOADS_CLASS,
     IDEAL_LOADS_NOT_APPLIED,
+    equipment_availability,
     ideal_loads_notes,
     ideal_loads_records,
     return_air_stays_in_zone,
@@ -619,6 +620,37 @@ class LoadStages:
         records = ideal_loads_records(self.by_key, getattr(self, "version", (25, 2)))
         self._switch_off_ideal_loads(records)
         self.info.notes.extend(ideal_loads_notes(records, self.schedules.annual_mean))
+        self._equipment_availability()
+
+    def _equipment_availability(self) -> None:
+        """Zone equipment other than ideal loads switched off by its availability schedule (a
+        baseboard off in summer, a terminal unit off at night): the zone floats on those steps,
+        as in EnergyPlus, through the same per-step mask as an ideal-loads system's
+        (``info.ideal_loads_availability``; :func:`~thermocal.multizone.idf.hvac.
+        equipment_availability`)."""
+        for zone, delivery in self.info.zone_heat_delivery.items():
+            if zone in self.info.ideal_loads_availability or zone not in self.setpoints:
+                continue
+            name = equipment_availability(delivery, self.by_key)
+            if name is None:
+                continue
+            try:
+                low, high = self.schedules.value_range(name)
+            except Exception:  # noqa: BLE001 - an unreadable schedule: always available
+                self.info.notes.append(
+                    f"zone {zone}: the availability schedule '{name}' of its equipment "
+                    f"({delivery.describe()}) could not be read: taken as always available"
+                )
+                continue
+            if low > 0.0:
+                continue
+            self.info.ideal_loads_availability[zone] = ((name,), (name,))
+            when = "always" if high <= 0.0 else "part of the time"
+            self.info.notes.append(
+                f"zone {zone}: its equipment ({delivery.describe()}) is switched off where its "
+                f"availability schedule '{name}' is 0 ({when}): the zone floats there, as in "
+                "EnergyPlus"
+            )
 
     def _operative_thermostats(self) -> None:
         """``ZoneControl:Thermostat:OperativeTemperature``: its zones' ideal loads hold

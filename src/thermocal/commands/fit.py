@@ -802,6 +802,20 @@ def fit(
                 content["flags"] = list(results.flags)
             if stamps["note"]:
                 notes.append(stamps["note"])
+        elif stamp_check:  # --gaps split: each piece its own start; the refits do not apply
+            notes.append(
+                "time stamps not checked: with --gaps split the data are separate pieces, each "
+                "with its own start, which the refits with the inputs moved one sample do not "
+                "handle; fill short gaps (--gaps interpolate) to have them checked"
+            )
+            content["time_stamp_check"] = {"message": None, "note": None,
+                                           "skipped": "--gaps split"}  # fmt: skip
+        if not hlc_split and hlc_halves and hlc and gaps == "split":
+            notes.append(
+                "heat loss coefficient per half of the data not compared: with --gaps split the "
+                "halves would cut the pieces again; give the periods with --hlc-split to compare "
+                "them"
+            )
         halves = (
             not hlc_split and hlc_halves and hlc and gaps != "split"
             and model.heat_loss_state() is not None

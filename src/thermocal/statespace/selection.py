@@ -120,6 +120,14 @@ def forward_selection(
     they share with the earlier fits (``reuse`` of :func:`~thermocal.statespace.estimation.fit`:
     the same start on the same problem ends at the same point) and run only the new ones.
 
+    The eligibility rule holds for the model's best fit, not only for the fit it was accepted
+    with: when the re-polish of an accepted model (the current one) finds a better optimum that
+    is not eligible (not converged, or a physical parameter on a bound), the pre-polish fit is
+    not kept (it is shown not to be the model's optimum, so its test was against a point the
+    model does not end at); the model is withdrawn instead: its row says so and is no longer
+    accepted, the path steps back to its parent, and the parent's extensions are chosen among
+    again without it (in a new iteration of the table). The start model is not withdrawn.
+
     Parameters
     ----------
     models : mapping
@@ -264,6 +272,7 @@ def _forward_selection(models, extensions, data, start, alpha, n_starts, seed, f
     path = [start]
     current = start
     iteration = 0
+    withdrawn: set[str] = set()  # accepted, then ineligible after a re-polish
     while extensions.get(current):
         iteration += 1
         candidates = list(extensions[current])
@@ -286,6 +295,27 @@ def _forward_selection(models, extensions, data, start, alpha, n_starts, seed, f
                         filter(None, [status(fits[current]), "re-polished from an extension"])
                     )
                     r.update(new)
+            if status(fits[current]) and len(path) > 1:
+                # the accepted model's better optimum is not eligible: not accepted after all,
+                # the selection steps back to its parent and chooses again without it
+                grand = path[-2]
+                for r in rows:
+                    if r["model"] == current and r["accepted"]:
+                        r["accepted"] = False
+                        r["status"] = "; ".join([
+                            r["status"], "no longer eligible after the re-polish: not accepted, "
+                            f"the selection steps back to '{grand}'",
+                        ])  # fmt: skip
+                for cand in candidates:
+                    rows.append(
+                        row(iteration, cand, current, None, False, False,
+                            "; ".join(filter(None, [status(fits[cand]), f"parent '{current}' "
+                                                    "not accepted after its re-polish: no test"])))
+                    )  # fmt: skip
+                withdrawn.add(current)
+                path.pop()
+                current = grand
+                continue
             # the extensions again from the better parent
             for cand in candidates:
                 old = fits[cand]
@@ -302,13 +332,18 @@ def _forward_selection(models, extensions, data, start, alpha, n_starts, seed, f
             elif not parent_ok:
                 note = "; ".join(filter(None, [note, f"parent '{current}' not converged: no test"]))
             notes[cand] = note
-        eligible = [c for c in candidates if c in tests and not physical_at_bound(fits[c])]
+        eligible = [
+            c for c in candidates
+            if c in tests and not physical_at_bound(fits[c]) and c not in withdrawn
+        ]  # fmt: skip
         best = max(eligible, key=lambda c: fits[c].loglike) if eligible else None
         accepted = best is not None and tests[best].reject(alpha)
         for cand in candidates:
             note = notes[cand]
             if cand == best and not accepted:
                 note = note or f"likelihood-ratio test not significant at {alpha:g}"
+            elif cand in withdrawn:
+                note = note or "withdrawn after a re-polish made it ineligible"
             elif cand in tests and cand not in eligible:
                 note = note or "not eligible"
             rows.append(

@@ -552,7 +552,9 @@ class LoadStages:
                 people_count[zone_name] = people_count.get(zone_name, 0.0) + _people_number(
                     rec, self.zone_area[zone_name]
                 )
-        delivery = zone_heat_delivery(
+        # the zones' declared equipment, read once: where the lights' return air goes here, the
+        # thermostats and the identification's heat form later (info.zone_heat_delivery)
+        delivery = self.info.zone_heat_delivery = zone_heat_delivery(
             self.by_key, {key: entry[0] for key, entry in self.zones.items.items()}
         )
         for key in ("OTHEREQUIPMENT", "ELECTRICEQUIPMENT", "GASEQUIPMENT", "LIGHTS", "PEOPLE"):
@@ -611,9 +613,6 @@ class LoadStages:
                 "when simulated (an identification ignores set points: its identified heat "
                 "stands for the equipment's)"
             )
-        self.info.zone_heat_delivery = zone_heat_delivery(
-            self.by_key, {key: entry[0] for key, entry in self.zones.items.items()}
-        )
         self._one_sided_equipment()
         self._plenums()
         self._operative_thermostats()

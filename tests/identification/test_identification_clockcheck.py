@@ -67,9 +67,11 @@ def twin(tmp_path_factory):
     return folder
 
 
-def _identify(folder: Path, out: Path, log: str, *options, start=START, end=END):
+def _identify(folder: Path, out: Path, log: str, *options, start=START, end=END,
+              idf="nominal.idf", weather=None):  # fmt: skip
+    weather = weather or folder / "weather.epw"
     args = [
-        "identify", str(folder / "nominal.idf"), str(folder / "weather.epw"), str(folder / log),
+        "identify", str(folder / idf), str(weather), str(folder / log),
         "--mapping", str(folder / "mapping.yaml"), "--out", str(out), "--method", "inverse",
         "--start", start, "--end", end, *options,
     ]  # fmt: skip
@@ -357,16 +359,10 @@ def _identify_dst(folder: Path, out: Path, log: str):
     from thermocal.multizone.energyplus import energyplus_weather_folder
 
     weather = energyplus_weather_folder() / "USA_CO_Golden-NREL.724666_TMY3.epw"
-    args = [
-        "identify", str(folder / "user.idf"), str(weather), str(folder / log),
-        "--mapping", str(folder / "mapping.yaml"), "--out", str(out), "--method", "inverse",
-        "--start", "2023-07-09T00:00", "--end", "2023-07-22T23:00", "--step", "5min",
-        "--tz", "America/Denver", "--site", "weather",
-    ]  # fmt: skip
-    result = CliRunner().invoke(app, args, terminal_width=200)
-    assert result.exit_code == 0, (result.exception, result.output)
-    summary = json.loads((out / "identification.json").read_text())
-    return " ".join(result.output.split()), summary
+    return _identify(
+        folder, out, log, "--step", "5min", "--tz", "America/Denver", "--site", "weather",
+        start="2023-07-09T00:00", end="2023-07-22T23:00", idf="user.idf", weather=weather,
+    )  # fmt: skip
 
 
 @requires_energyplus
